@@ -1,0 +1,298 @@
+"""Second-order Taylor jets: the arithmetic behind the linearization.
+
+A :class:`Jet` is a polynomial of degree at most two in the *small
+quantities* of a model (coordinate deviations, their rates, signals and their
+rates), with symbolic coefficients (expressions of the parameters)::
+
+    c + sum_a lin[a] z_a + sum_{a <= b} quad[a, b] z_a z_b
+
+Evaluating T, U, D and the forces as jets gives their second-order expansion
+directly, without ever forming the full nonlinear expressions. Lagrange's
+operator applied to a jet of degree two is exact to first order, which is
+all the linearized equation of motion needs.
+
+A small quantity is named by a pair ``(name, order)``: ``("x1", 0)`` is the
+deviation of coordinate ``x1``, ``("x1", 1)`` its rate, ``("r", 2)`` the
+second derivative of signal ``r``.
+
+Examples
+--------
+>>> import sympy
+>>> x = Jet.variable(("x", 0))
+>>> j = (x * x + x * 3).apply("cos")
+>>> j.const, j.lin, j.quad
+(1, {}, {(('x', 0), ('x', 0)): -9/2})
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import sympy
+
+Var = tuple[str, int]
+Coefficient = Any  # a sympy expression (or any field element)
+
+_ZERO = sympy.Integer(0)
+_ONE = sympy.Integer(1)
+_U = sympy.Dummy("u")
+_V = sympy.Dummy("v")
+
+#: sympy constructors of the model language's functions
+SYMPY_FUNCTIONS: dict[str, Callable[..., Any]] = {
+    "sin": sympy.sin, "cos": sympy.cos, "tan": sympy.tan,
+    "asin": sympy.asin, "acos": sympy.acos, "atan": sympy.atan,
+    "sinh": sympy.sinh, "cosh": sympy.cosh, "tanh": sympy.tanh,
+    "exp": sympy.exp, "log": sympy.log, "sqrt": sympy.sqrt,
+    "atan2": sympy.atan2,
+}
+
+# derivative formulas f'(u), f''(u) of each one-argument function, computed once
+_DERIVATIVES: dict[str, tuple[Any, Any]] = {}
+
+
+def _derivatives(func: str) -> tuple[Any, Any]:
+    if func not in _DERIVATIVES:
+        f = SYMPY_FUNCTIONS[func](_U)
+        d1 = sympy.diff(f, _U)
+        _DERIVATIVES[func] = (d1, sympy.diff(d1, _U))
+    return _DERIVATIVES[func]
+
+
+def _key(a: Var, b: Var) -> tuple[Var, Var]:
+    return (a, b) if a <= b else (b, a)
+
+
+def _nonzero(c: Coefficient) -> bool:
+    return not (c == 0)
+
+
+class NotDifferentiable(ValueError):
+    """The expression has no Taylor expansion at the reference state."""
+
+
+class Jet:
+    """A polynomial of degree <= 2 in small quantities, truncated on multiplication."""
+
+    __slots__ = ("const", "lin", "quad")
+
+    def __init__(self, const: Coefficient = _ZERO,
+                 lin: Mapping[Var, Coefficient] | None = None,
+                 quad: Mapping[tuple[Var, Var], Coefficient] | None = None) -> None:
+        self.const = const
+        self.lin: dict[Var, Coefficient] = dict(lin) if lin else {}
+        self.quad: dict[tuple[Var, Var], Coefficient] = dict(quad) if quad else {}
+
+    # -- construction -------------------------------------------------------
+    @classmethod
+    def constant(cls, value: Coefficient) -> "Jet":
+        return cls(value)
+
+    @classmethod
+    def variable(cls, var: Var, offset: Coefficient = _ZERO) -> "Jet":
+        return cls(offset, {var: _ONE})
+
+    def is_constant(self) -> bool:
+        return not self.lin and not self.quad
+
+    def degree(self) -> int:
+        return 2 if self.quad else (1 if self.lin else 0)
+
+    def variables(self) -> set[Var]:
+        out = set(self.lin)
+        for a, b in self.quad:
+            out.add(a)
+            out.add(b)
+        return out
+
+    def __repr__(self) -> str:
+        return f"Jet({self.const!r}, {self.lin!r}, {self.quad!r})"
+
+    # -- linear operations --------------------------------------------------
+    @staticmethod
+    def _merge(x: dict, y: Mapping, sign: int = 1) -> dict:
+        out = dict(x)
+        for k, v in y.items():
+            v = v if sign > 0 else -v
+            out[k] = out[k] + v if k in out else v
+        return {k: v for k, v in out.items() if _nonzero(v)}
+
+    def __add__(self, other: "Jet") -> "Jet":
+        return Jet(self.const + other.const, self._merge(self.lin, other.lin),
+                   self._merge(self.quad, other.quad))
+
+    def __sub__(self, other: "Jet") -> "Jet":
+        return Jet(self.const - other.const, self._merge(self.lin, other.lin, -1),
+                   self._merge(self.quad, other.quad, -1))
+
+    def __neg__(self) -> "Jet":
+        return Jet(-self.const, {k: -v for k, v in self.lin.items()},
+                   {k: -v for k, v in self.quad.items()})
+
+    def scale(self, factor: Coefficient) -> "Jet":
+        if factor == 0:
+            return Jet()
+        return Jet(self.const * factor, {k: v * factor for k, v in self.lin.items()},
+                   {k: v * factor for k, v in self.quad.items()})
+
+    # -- products and functions ---------------------------------------------
+    def __mul__(self, other: "Jet | Coefficient") -> "Jet":
+        if not isinstance(other, Jet):
+            return self.scale(other)
+        if other.is_constant():
+            return self.scale(other.const)
+        if self.is_constant():
+            return other.scale(self.const)
+        c1, c2 = self.const, other.const
+        lin: dict[Var, Coefficient] = {}
+        if _nonzero(c2):
+            lin = {k: v * c2 for k, v in self.lin.items()}
+        if _nonzero(c1):
+            for k, v in other.lin.items():
+                lin[k] = lin[k] + c1 * v if k in lin else c1 * v
+        quad: dict[tuple[Var, Var], Coefficient] = {}
+        if _nonzero(c2):
+            quad = {k: v * c2 for k, v in self.quad.items()}
+        if _nonzero(c1):
+            for k, v in other.quad.items():
+                quad[k] = quad[k] + c1 * v if k in quad else c1 * v
+        for a, va in self.lin.items():
+            for b, vb in other.lin.items():
+                k = _key(a, b)
+                quad[k] = quad[k] + va * vb if k in quad else va * vb
+        return Jet(c1 * c2, {k: v for k, v in lin.items() if _nonzero(v)},
+                   {k: v for k, v in quad.items() if _nonzero(v)})
+
+    __rmul__ = __mul__
+
+    def _compose(self, f0: Coefficient, f1: Coefficient, f2: Coefficient) -> "Jet":
+        """f(c + d) ~ f0 + f1 d + f2/2 d^2 with d = self - c."""
+        delta = Jet(_ZERO, self.lin, self.quad)
+        out = delta.scale(f1)
+        if self.lin and _nonzero(f2):
+            sq = Jet(_ZERO, self.lin) * Jet(_ZERO, self.lin)
+            out = out + sq.scale(f2 / 2)
+        return Jet(f0) + out
+
+    def apply(self, func: str) -> "Jet":
+        """The jet of ``func(self)`` for a one-argument function of the model language."""
+        f0 = SYMPY_FUNCTIONS[func](self.const)
+        if self.is_constant():
+            return Jet(f0)
+        d1, d2 = _derivatives(func)
+        f1 = d1.subs(_U, self.const)
+        f2 = d2.subs(_U, self.const) if self.lin else _ZERO
+        _check_finite(func, f0, f1, f2)
+        return self._compose(f0, f1, f2)
+
+    def atan2(self, x: "Jet") -> "Jet":
+        """The jet of ``atan2(self, x)`` (self is the y argument)."""
+        y0, x0 = self.const, x.const
+        f0 = sympy.atan2(y0, x0)
+        if self.is_constant() and x.is_constant():
+            return Jet(f0)
+        r2 = x0**2 + y0**2
+        if r2 == 0:
+            raise NotDifferentiable("atan2(0, 0) has no expansion at the reference state")
+        dy, dx = Jet(_ZERO, self.lin, self.quad), Jet(_ZERO, x.lin, x.quad)
+        first = dy.scale(x0 / r2) - dx.scale(y0 / r2)
+        ly, lx = Jet(_ZERO, self.lin), Jet(_ZERO, x.lin)
+        # Hessian of atan2(y, x): f_yy = -2xy/r^4, f_xx = 2xy/r^4, f_xy = (y^2-x^2)/r^4
+        r4 = r2**2
+        second = ((ly * ly).scale(-x0 * y0 / r4) + (lx * lx).scale(x0 * y0 / r4)
+                  + (ly * lx).scale((y0**2 - x0**2) / r4))
+        return Jet(f0) + first + second
+
+    def reciprocal(self) -> "Jet":
+        c = self.const
+        if c == 0:
+            raise NotDifferentiable("division by a quantity that is zero at the reference state")
+        if self.is_constant():
+            return Jet(1 / c)
+        return self._compose(1 / c, -1 / c**2, 2 / c**3)
+
+    def __truediv__(self, other: "Jet") -> "Jet":
+        if other.is_constant():
+            if other.const == 0:
+                raise NotDifferentiable("division by zero")
+            return self.scale(1 / other.const)
+        return self * other.reciprocal()
+
+    def __pow__(self, exponent: "Jet") -> "Jet":
+        if not exponent.is_constant():
+            # a^b = exp(b log a)
+            return (exponent * self.apply("log")).apply("exp")
+        b = exponent.const
+        if self.is_constant():
+            return Jet(self.const**b)
+        if b.is_Integer:
+            n = int(b)
+            if n == 0:
+                return Jet(_ONE)
+            base = self if n > 0 else self.reciprocal()
+            return _integer_power(base, abs(n))
+        c = self.const
+        if c == 0:
+            raise NotDifferentiable(
+                f"a power with exponent {b} of a quantity that is zero at the reference state")
+        return self._compose(c**b, b * c**(b - 1), b * (b - 1) * c**(b - 2))
+
+    # -- calculus -------------------------------------------------------------
+    def diff(self, var: Var) -> "Jet":
+        """Partial derivative with respect to a small quantity (degree drops by one)."""
+        const = self.lin.get(var, _ZERO)
+        lin: dict[Var, Coefficient] = {}
+        for (a, b), v in self.quad.items():
+            if a == var and b == var:
+                lin[a] = lin.get(a, _ZERO) + 2 * v
+            elif a == var:
+                lin[b] = lin.get(b, _ZERO) + v
+            elif b == var:
+                lin[a] = lin.get(a, _ZERO) + v
+        return Jet(const, {k: v for k, v in lin.items() if _nonzero(v)})
+
+    def dt(self) -> "Jet":
+        """Total time derivative: each small quantity (name, k) becomes (name, k+1).
+
+        Exact to degree two because the coefficients do not depend on time
+        (everything that moves is a declared signal).
+        """
+        lin = {(n, k + 1): v for (n, k), v in self.lin.items()}
+        out = Jet(_ZERO, lin)
+        for (a, b), v in self.quad.items():
+            a1, b1 = (a[0], a[1] + 1), (b[0], b[1] + 1)
+            out = out + Jet(_ZERO, None, {_key(a1, b): v}) + Jet(_ZERO, None, {_key(a, b1): v})
+        return out
+
+    def truncate(self, degree: int) -> "Jet":
+        if degree >= 2:
+            return self
+        if degree == 1:
+            return Jet(self.const, self.lin)
+        return Jet(self.const)
+
+    def map_coefficients(self, fn: Callable[[Coefficient], Coefficient]) -> "Jet":
+        return Jet(fn(self.const), {k: fn(v) for k, v in self.lin.items()},
+                   {k: fn(v) for k, v in self.quad.items()})
+
+
+def _integer_power(base: Jet, n: int) -> Jet:
+    result = Jet(_ONE)
+    square = base
+    while n:
+        if n & 1:
+            result = result * square
+        n >>= 1
+        if n:
+            square = square * square
+    return result
+
+
+def _check_finite(func: str, *values: Coefficient) -> None:
+    for v in values:
+        if isinstance(v, sympy.Basic) and v.has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
+            raise NotDifferentiable(f"{func}() is not differentiable at the reference state")
+
+
+__all__ = ["Jet", "Var", "NotDifferentiable", "SYMPY_FUNCTIONS"]

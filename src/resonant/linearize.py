@@ -1,0 +1,410 @@
+"""Stage 2: the linearized equation of motion M q'' + C q' + K q = Q(t).
+
+Lagrange's equations of the second kind are formed from the second-order
+Taylor expansions (:class:`~resonant.jet.Jet`) of T, D, U and of the power of
+each force about the reference state.  Small of first order are the
+coordinate deviations, their derivatives, the signals and their derivatives,
+so a T, U or D that depends on time through a signal (moving support,
+rotating unbalance) contributes to Q(t) exactly as in the reference
+exercise, Eqs. (5)-(6) and (22)-(25).
+
+Examples
+--------
+>>> from resonant.model import loads
+>>> eom = loads('''
+... [parameters]
+... m = 1
+... k = 4
+... c = 0.1
+... [coordinates]
+... x = "displacement"
+... [signals]
+... y = "sin(2*t)"
+... [energy]
+... T = "m*x'^2/2"
+... U = "k*(x - y)^2/2"
+... D = "c*x'^2/2"
+... ''').linearize()
+>>> eom.M, eom.C, eom.K
+(Matrix([[m]]), Matrix([[c]]), Matrix([[k]]))
+>>> eom.Q
+Matrix([[k*sin(2*t)]])
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any
+
+import sympy
+
+from .errors import AnalysisError, ModelError, Problem
+from .expr import Expression
+from .harmonics import SignalHarmonics, decompose_signals
+from .jet import Jet, NotDifferentiable, Var
+from .model import TIME, Model, symbol
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .numeric import NumericEOM
+    from .stationary import StationarySolution
+
+
+@dataclass(frozen=True)
+class LinearMap:
+    """A linearized quantity: value + sum over small quantities of coefficient * quantity.
+
+    ``terms`` maps ``(name, order)`` (coordinate or signal and derivative order)
+    to its symbolic coefficient.
+    """
+
+    value: sympy.Expr
+    terms: Mapping[Var, sympy.Expr]
+
+
+@dataclass(frozen=True)
+class LinearEOM:
+    """The symbolic linearized equation of motion of a model.
+
+    Attributes
+    ----------
+    M, C, K : sympy.ImmutableMatrix
+        Mass, damping and stiffness matrices in the model's own symbols.
+    excitation : mapping
+        ``(signal, order) -> column`` such that
+        Q(t) = sum of column * d^order signal / dt^order.
+    residual : sympy.ImmutableMatrix
+        The generalized forces left at the reference state with all signals
+        zero (zero at an equilibrium).
+    outputs : mapping
+        Each output as a :class:`LinearMap`.
+    """
+
+    model: Model
+    coordinates: tuple[str, ...]
+    M: sympy.ImmutableMatrix
+    C: sympy.ImmutableMatrix
+    K: sympy.ImmutableMatrix
+    excitation: Mapping[Var, sympy.ImmutableMatrix]
+    residual: sympy.ImmutableMatrix
+    outputs: Mapping[str, LinearMap] = field(default_factory=dict)
+    #: signal functions given directly (matrix models' harmonics) instead of [signals]
+    given_signals: Mapping[Var, sympy.Expr] | None = None
+
+    @cached_property
+    def signal_functions(self) -> dict[Var, sympy.Expr]:
+        """d^order s/dt^order as functions of t for every signal derivative in Q or outputs."""
+        if self.given_signals is not None:
+            return dict(self.given_signals)
+        needed = set(self.excitation)
+        for out in self.outputs.values():
+            needed |= {v for v in out.terms if v[0] in self.model.signals}
+        return _signal_derivatives(self.model, needed)
+
+    @cached_property
+    def Q(self) -> sympy.ImmutableMatrix:
+        """Q(t) with the signals written out as functions of time (Eq. (32))."""
+        n = len(self.coordinates)
+        q = sympy.zeros(n, 1)
+        for var, column in self.excitation.items():
+            q += column * self.signal_functions[var]
+        return sympy.ImmutableMatrix(q)
+
+    @cached_property
+    def Q_signals(self) -> sympy.ImmutableMatrix:
+        """Q(t) written with the signal names (r, r', ...) as symbols."""
+        n = len(self.coordinates)
+        q = sympy.zeros(n, 1)
+        for (name, order), column in self.excitation.items():
+            q += column * signal_symbol(name, order)
+        return sympy.ImmutableMatrix(q)
+
+    @cached_property
+    def harmonics(self) -> SignalHarmonics | None:
+        """The harmonic decomposition of the signals, or None if some are not harmonic."""
+        return decompose_signals(self.signal_functions)
+
+    def numeric(self, **overrides: float) -> "NumericEOM":
+        """The equation of motion with the parameter values substituted."""
+        from .numeric import evaluate
+
+        model = self.model.with_parameters(**overrides) if overrides else self.model
+        return evaluate(self, model)
+
+    def stationary(self, **overrides: float) -> "StationarySolution":
+        """The stationary solution for harmonic signals (see :mod:`resonant.stationary`)."""
+        from .stationary import stationary
+
+        return stationary(self.numeric(**overrides))
+
+    def to_dict(self) -> dict[str, Any]:
+        if self.model.is_matrix_model:
+            return {}
+        return {
+            "coordinates": list(self.coordinates),
+            "M": _strings(self.M), "C": _strings(self.C), "K": _strings(self.K),
+            "Q": [str(e) for e in self.Q],
+        }
+
+    def _repr_latex_(self) -> str:
+        from .display import eom_latex
+
+        return eom_latex(self)
+
+
+def signal_symbol(name: str, order: int) -> sympy.Symbol:
+    """The symbol used for the order-th derivative of a signal, e.g. ``r'``."""
+    return symbol(name + "'" * order)
+
+
+def _strings(matrix: sympy.MatrixBase) -> list[list[str]]:
+    return [[str(matrix[i, j]) for j in range(matrix.cols)] for i in range(matrix.rows)]
+
+
+def _signal_derivatives(model: Model, needed: set[Var]) -> dict[Var, sympy.Expr]:
+    params = {name: symbol(name) for name in model.parameters}
+    out: dict[Var, sympy.Expr] = {}
+    base: dict[str, sympy.Expr] = {}
+    for name, order in sorted(needed):
+        if name not in base:
+            base[name] = model.signals[name].to_sympy(
+                lambda n, p: TIME if n == "t" else params[n])
+        out[(name, order)] = sympy.diff(base[name], TIME, order) if order else base[name]
+    return out
+
+
+# -- jet evaluation of the model's expressions -------------------------------------------
+
+class _JetOps:
+    """Folds a parsed expression into its second-order jet."""
+
+    def __init__(self, model: Model) -> None:
+        self.model = model
+        self.params = {name: Jet(symbol(name)) for name in model.parameters}
+        self.equilibrium = {
+            q: (model.equilibrium[q].to_sympy(lambda n, p: symbol(n) if p == 0 else 0)
+                if q in model.equilibrium else sympy.Integer(0))
+            for q in model.coordinates}
+        self.coordinates = set(model.coordinates)
+        self.definition_jets: dict[tuple[str, int], Jet] = {}
+        self.where = ("", "")
+
+    def jet(self, expression: Expression, section: str, key: str) -> Jet:
+        self.where = (section, key)
+        try:
+            return expression.fold(self)
+        except NotDifferentiable as exc:
+            raise ModelError(Problem(f"{exc} (in '{_short(expression.text)}')",
+                                     self.model.source, section, key)) from None
+        except ZeroDivisionError:
+            raise ModelError(Problem(f"division by zero in '{_short(expression.text)}'",
+                                     self.model.source, section, key)) from None
+
+    # fold operations
+    def num(self, text: str) -> Jet:
+        return Jet(sympy.Rational(text))
+
+    def pi(self) -> Jet:
+        return Jet(sympy.pi)
+
+    def name(self, name: str, primes: int) -> Jet:
+        if name in self.coordinates:
+            return Jet.variable((name, primes), self.equilibrium[name] if primes == 0 else 0)
+        if name in self.model.signals:
+            return Jet.variable((name, primes))
+        if name in self.params:
+            return self.params[name] if primes == 0 else Jet()
+        return self.definition(name, primes)
+
+    def definition(self, name: str, primes: int) -> Jet:
+        key = (name, primes)
+        if key not in self.definition_jets:
+            if primes == 0:
+                saved = self.where
+                self.definition_jets[key] = self.jet(self.model.definitions[name],
+                                                     "definitions", name)
+                self.where = saved
+            else:
+                self.definition_jets[key] = self.definition(name, primes - 1).dt()
+        return self.definition_jets[key]
+
+    def add(self, a: Jet, b: Jet) -> Jet:
+        return a + b
+
+    def sub(self, a: Jet, b: Jet) -> Jet:
+        return a - b
+
+    def mul(self, a: Jet, b: Jet) -> Jet:
+        return a * b
+
+    def div(self, a: Jet, b: Jet) -> Jet:
+        return a / b
+
+    def pow(self, a: Jet, b: Jet) -> Jet:
+        return a ** b
+
+    def neg(self, a: Jet) -> Jet:
+        return -a
+
+    def call(self, func: str, args: list[Jet]) -> Jet:
+        if func == "atan2":
+            return args[0].atan2(args[1])
+        return args[0].apply(func)
+
+
+def _short(text: str, limit: int = 60) -> str:
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def linearize(model: Model) -> LinearEOM:
+    """Derive the linearized equation of motion of an energy model.
+
+    Parameters
+    ----------
+    model : Model
+        A validated model (see :func:`resonant.load`).
+
+    Returns
+    -------
+    LinearEOM
+
+    Raises
+    ------
+    ModelError
+        If an expression cannot be expanded at the reference state, an energy
+        depends on accelerations, or the reference state is not an
+        equilibrium (the message gives the residual per coordinate and, where
+        one is found nearby, the equilibrium to put in ``[equilibrium]``).
+    """
+    if model.is_matrix_model:
+        from .matrices import linearize_matrices
+
+        return linearize_matrices(model)
+    ops = _JetOps(model)
+    coords = model.coordinates
+    energies = {key: ops.jet(model.energy[key], "energy", key) if key in model.energy else Jet()
+                for key in ("T", "U", "D")}
+    for key, jet in energies.items():
+        too_high = sorted({v for v in jet.variables() if v[0] in ops.coordinates and
+                           v[1] > (0 if key == "U" else 1)})
+        if too_high:
+            name, order = too_high[0]
+            what = "velocities" if key == "U" else "accelerations"
+            raise ModelError(Problem(
+                f"{key} depends on {name}{chr(39) * order}; {key} may not depend on {what}",
+                model.source, "energy", key))
+    T, U, D = energies["T"], energies["U"], energies["D"]
+    equations = [T.diff((q, 1)).dt() - T.diff((q, 0)) + D.diff((q, 1)) + U.diff((q, 0))
+                 for q in coords]
+    for k, force in enumerate(_generalized_forces(model, ops)):
+        equations[k] = equations[k] - force
+
+    n = len(coords)
+    index = {q: i for i, q in enumerate(coords)}
+    mats = {order: sympy.zeros(n, n) for order in (0, 1, 2)}
+    excitation: dict[Var, sympy.Matrix] = {}
+    for k, eq in enumerate(equations):
+        for (name, order), coef in eq.lin.items():
+            if name in index:
+                if order > 2:
+                    raise ModelError(Problem(
+                        f"the equations contain {name}{chr(39) * order}: forces may depend on "
+                        "coordinates and their first two derivatives only", model.source,
+                        "force"))
+                mats[order][k, index[name]] += coef
+            else:
+                excitation.setdefault((name, order), sympy.zeros(n, 1))[k] -= coef
+    residual = sympy.ImmutableMatrix([eq.const for eq in equations])
+    _check_equilibrium(model, residual)
+    outputs = {}
+    for name, expression in model.outputs.items():
+        jet = ops.jet(expression, "outputs", name)
+        outputs[name] = LinearMap(jet.const, MappingProxyType(dict(jet.lin)))
+    return LinearEOM(
+        model=model, coordinates=coords,
+        M=_clean(mats[2]), C=_clean(mats[1]), K=_clean(mats[0]),
+        excitation=MappingProxyType({v: sympy.ImmutableMatrix(_clean(c))
+                                     for v, c in sorted(excitation.items())
+                                     if any(e != 0 for e in c)}),
+        residual=residual, outputs=MappingProxyType(outputs))
+
+
+def _clean(matrix: sympy.MatrixBase) -> sympy.ImmutableMatrix:
+    """Light, bounded simplification of each entry (cheap rational normalisation)."""
+    def tidy(e: sympy.Expr) -> sympy.Expr:
+        if e == 0 or e.is_Atom:
+            return e
+        if sympy.count_ops(e) <= 40:
+            tidied = sympy.factor_terms(sympy.cancel(e)) if not e.has(sympy.Function) \
+                else sympy.factor_terms(e)
+            return tidied if sympy.count_ops(tidied) <= sympy.count_ops(e) else e
+        return e
+    return sympy.ImmutableMatrix(matrix.rows, matrix.cols, [tidy(e) for e in matrix])
+
+
+def _generalized_forces(model: Model, ops: _JetOps) -> list[Jet]:
+    """Q_k = F . d(point)/d(q_k), to first order (the force is not differentiated)."""
+    coords = model.coordinates
+    total = [Jet() for _ in coords]
+    for i, force in enumerate(model.forces, start=1):
+        section = f"force '{force.name}'"
+        if force.generalized:
+            for k, q in enumerate(coords):
+                if q in force.generalized:
+                    total[k] = total[k] + ops.jet(force.generalized[q], section,
+                                                  f"generalized.{q}").truncate(1)
+            continue
+        vector = [ops.jet(v, section, f"vector[{j}]").truncate(1)
+                  for j, v in enumerate(force.vector)]
+        point = [ops.jet(p, section, f"point[{j}]") for j, p in enumerate(force.point)]
+        for p, expression in zip(point, force.point):
+            rates = {v for v in p.variables() if v[0] in ops.coordinates and v[1] > 0}
+            if rates:
+                raise ModelError(Problem(
+                    f"the point depends on a velocity ({rates.pop()[0]}'); a point is a "
+                    "position", model.source, section, "point"))
+        for k, q in enumerate(coords):
+            for f, p in zip(vector, point):
+                total[k] = total[k] + (f * p.diff((q, 0))).truncate(1)
+    return total
+
+
+def _check_equilibrium(model: Model, residual: sympy.ImmutableMatrix) -> None:
+    subs = {symbol(n): v for n, v in model.exact_values.items()}
+    bad = []
+    for k, expr in enumerate(residual):
+        if expr == 0:
+            continue
+        value = complex(expr.evalf(30, subs=subs))
+        scale = sum(abs(complex(term.evalf(30, subs=subs)))
+                    for term in sympy.Add.make_args(sympy.expand(expr)))
+        if abs(value) > 1e-9 * max(scale, 1e-300) and abs(value) > 1e-300:
+            bad.append((model.coordinates[k], expr, value.real))
+    if not bad:
+        return
+    lines = [f"the reference state is not an equilibrium: with all signals zero the "
+             f"generalized forces do not balance"]
+    for name, expr, value in bad:
+        lines.append(f"  residual in the equation of {name}: {expr} = {value:.6g}")
+    nearby = _nearby_equilibrium(model)
+    if nearby:
+        lines.append("  a nearby equilibrium: " + ", ".join(
+            f"{q} = {v:.10g}" for q, v in nearby.items())
+            + " -- put it in [equilibrium]")
+    else:
+        lines.append("  set the reference state in [equilibrium] (coordinate = value)")
+    raise ModelError(Problem("\n".join(lines), model.source, "equilibrium"))
+
+
+def _nearby_equilibrium(model: Model) -> dict[str, float] | None:
+    try:
+        from .nonlinear import find_equilibrium
+
+        return find_equilibrium(model)
+    except (AnalysisError, ModelError, ArithmeticError, ValueError, TypeError):
+        return None
+
+
+__all__ = ["LinearEOM", "LinearMap", "linearize", "signal_symbol"]

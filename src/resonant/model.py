@@ -1,0 +1,585 @@
+"""Stage 1 of the pipeline: read, parse and validate a model file.
+
+A model file (TOML) is untrusted input: its expressions are parsed by
+:mod:`resonant.expr` into syntax trees, never evaluated as code.  Every
+problem found is collected into one :class:`~resonant.errors.ModelError`.
+
+Examples
+--------
+>>> model = loads('''
+... [parameters]
+... m = 2
+... k = 800
+... [coordinates]
+... x = "displacement"
+... [energy]
+... T = "m*x'^2/2"
+... U = "k*x^2/2"
+... ''')
+>>> model.coordinates
+('x',)
+>>> model.parameter_values["k"]
+800.0
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import tomllib
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any
+
+import sympy
+
+from .errors import ModelError, Problem
+from .expr import Expression, ExpressionError, parse, validate_name
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .linearize import LinearEOM
+
+TIME = sympy.Symbol("t", real=True)
+
+TOP_LEVEL = ("title", "description", "parameters", "coordinates", "equilibrium", "signals",
+             "definitions", "energy", "force", "outputs", "matrices", "harmonic")
+ENERGY_KEYS = ("T", "U", "D")
+#: largest model accepted, so that a hostile file cannot exhaust memory
+MAX_FILE_BYTES = 5_000_000
+MAX_COORDINATES = 2000
+
+
+def symbol(name: str) -> sympy.Symbol:
+    """The sympy symbol of a model name (parameters, signals, coordinates).
+
+    Examples
+    --------
+    >>> symbol("m1")
+    m1
+    """
+    return sympy.Symbol(name, real=True)
+
+
+@dataclass(frozen=True)
+class Force:
+    """A ``[[force]]`` entry: a force vector acting on a point, or generalized forces."""
+
+    name: str
+    vector: tuple[Expression, ...] = ()
+    point: tuple[Expression, ...] = ()
+    generalized: Mapping[str, Expression] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Harmonic:
+    """One harmonic excitation of a matrix model: Q = F_S sin(omega t) + F_C cos(omega t)."""
+
+    omega: Expression
+    F_S: tuple[Expression, ...]
+    F_C: tuple[Expression, ...]
+
+
+@dataclass(frozen=True)
+class MatrixSpec:
+    """The ``[matrices]`` section: M, K, optional C, given directly."""
+
+    M: Any
+    K: Any
+    C: Any = None
+    harmonics: tuple[Harmonic, ...] = ()
+
+
+@dataclass(frozen=True)
+class Model:
+    """A validated model: names, parsed expressions and parameter values.
+
+    Build it with :func:`load` or :func:`loads`; derive the linearized
+    equation of motion with :meth:`linearize`.
+    """
+
+    title: str
+    source: str
+    parameters: Mapping[str, Expression]
+    parameter_values: Mapping[str, float]
+    exact_values: Mapping[str, sympy.Expr]
+    coordinates: tuple[str, ...]
+    descriptions: Mapping[str, str]
+    equilibrium: Mapping[str, Expression]
+    signals: Mapping[str, Expression]
+    definitions: Mapping[str, Expression]
+    energy: Mapping[str, Expression]
+    forces: tuple[Force, ...]
+    outputs: Mapping[str, Expression]
+    matrices: MatrixSpec | None = None
+
+    @property
+    def is_matrix_model(self) -> bool:
+        return self.matrices is not None
+
+    def symbols(self) -> dict[str, sympy.Symbol]:
+        """The parameter symbols by name."""
+        return {name: symbol(name) for name in self.parameters}
+
+    def parameter_substitution(self) -> dict[sympy.Symbol, float]:
+        return {symbol(n): v for n, v in self.parameter_values.items()}
+
+    def with_parameters(self, **values: float | str) -> "Model":
+        """A copy with some parameters replaced (values are parsed, not evaluated).
+
+        Examples
+        --------
+        >>> m = loads('[parameters]\\nk = 1\\n[coordinates]\\nx = ""\\n[energy]\\nT = "x\\'^2/2"\\nU = "k*x^2/2"')
+        >>> m.with_parameters(k=4).parameter_values["k"]
+        4.0
+        """
+        params = dict(self.parameters)
+        problems: list[Problem] = []
+        for name, value in values.items():
+            if name not in params:
+                problems.append(_unknown_parameter(name, self.source, params))
+                continue
+            try:
+                params[name] = parse(value, allowed=list(params), file=self.source,
+                                     section="parameters", key=name)
+            except ExpressionError as exc:
+                problems.extend(exc.problems)
+        if problems:
+            raise ModelError(problems)
+        exact, floats = _evaluate_parameters(params, self.source)
+        return _replace(self, parameters=MappingProxyType(params),
+                        exact_values=MappingProxyType(exact),
+                        parameter_values=MappingProxyType(floats))
+
+    def linearize(self) -> "LinearEOM":
+        """The linearized equation of motion M q'' + C q' + K q = Q(t)."""
+        from .linearize import linearize
+
+        return linearize(self)
+
+    @cached_property
+    def _linear(self) -> "LinearEOM":
+        return self.linearize()
+
+
+def _replace(model: Model, **changes: Any) -> Model:
+    from dataclasses import replace
+
+    return replace(model, **changes)
+
+
+def _unknown_parameter(name: str, source: str, params: Iterable[str]) -> Problem:
+    close = difflib.get_close_matches(name, list(params), n=1)
+    hint = f"; did you mean '{close[0]}'?" if close else f"; known: {', '.join(params) or 'none'}"
+    return Problem(f"--set names unknown parameter '{name}'{hint}", source, "parameters", name)
+
+
+# -- parameters ------------------------------------------------------------------------
+
+def _evaluate_parameters(params: Mapping[str, Expression], source: str
+                         ) -> tuple[dict[str, sympy.Expr], dict[str, float]]:
+    """Exact and floating values of the parameters, in declaration order."""
+    exact: dict[str, sympy.Expr] = {}
+    floats: dict[str, float] = {}
+    problems: list[Problem] = []
+    for name, expression in params.items():
+        try:
+            value = expression.to_sympy(lambda n, p, _e=exact: _e[n] if p == 0 else sympy.Integer(0))
+        except ExpressionError as exc:
+            problems.extend(exc.problems)
+            continue
+        except KeyError as exc:  # refers to a parameter that failed itself
+            problems.append(Problem(f"depends on the invalid parameter {exc}", source,
+                                    "parameters", name))
+            continue
+        try:
+            number = complex(value.evalf(30))
+        except (TypeError, ValueError):
+            problems.append(Problem(f"'{expression.text}' is not a number", source,
+                                    "parameters", name))
+            continue
+        if abs(number.imag) > 1e-12 * max(1.0, abs(number.real)):
+            problems.append(Problem(f"'{expression.text}' is not a real number ({number})",
+                                    source, "parameters", name))
+            continue
+        if not math.isfinite(number.real) or abs(number.real) > 1e300:
+            problems.append(Problem(
+                f"'{expression.text}' is not a finite number; use a value below 1e300",
+                source, "parameters", name))
+            continue
+        exact[name] = value
+        floats[name] = float(number.real)
+    if problems:
+        raise ModelError(problems)
+    return exact, floats
+
+
+# -- loading -------------------------------------------------------------------------------
+
+def load(path: str | Path, overrides: Mapping[str, float | str] | None = None) -> Model:
+    """Read and validate a model file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The TOML model file.
+    overrides : mapping, optional
+        Parameter values that replace those of the file (``--set``); strings
+        are parsed as expressions.
+
+    Raises
+    ------
+    ModelError
+        With every problem found: file, section, key and what is wrong.
+    """
+    path = Path(path)
+    name = str(path)
+    try:
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise ModelError(Problem(
+                f"the file is {size} bytes; model files are limited to {MAX_FILE_BYTES}", name))
+        data = path.read_bytes()
+    except OSError as exc:
+        raise ModelError(Problem(f"cannot read the model file: {exc.strerror or exc}", name)
+                         ) from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ModelError(Problem(f"the file is not UTF-8 text (byte {exc.start})", name)
+                         ) from None
+    return loads(text, source=name, base_dir=path.parent, overrides=overrides)
+
+
+def loads(text: str, source: str = "<string>", base_dir: str | Path | None = None,
+          overrides: Mapping[str, float | str] | None = None) -> Model:
+    """Parse and validate a model given as TOML text. See :func:`load`."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelError(Problem(f"invalid TOML: {exc}", source)) from None
+    except RecursionError:
+        raise ModelError(Problem("invalid TOML: nested too deeply", source)) from None
+    return _Builder(data, source, Path(base_dir) if base_dir else Path.cwd(),
+                    overrides or {}).build()
+
+
+class _Builder:
+    """Validates the TOML data section by section, collecting problems."""
+
+    def __init__(self, data: dict, source: str, base_dir: Path,
+                 overrides: Mapping[str, float | str]) -> None:
+        self.data = data
+        self.source = source
+        self.base_dir = base_dir
+        self.overrides = overrides
+        self.problems: list[Problem] = []
+        self.declared: dict[str, str] = {}  # name -> section
+
+    # helpers
+    def problem(self, message: str, section: str = "", key: str = "") -> None:
+        self.problems.append(Problem(message, self.source, section, key))
+
+    def table(self, key: str, required: bool = False) -> dict:
+        value = self.data.get(key, {})
+        if key not in self.data and required:
+            self.problem(f"the section [{key}] is missing", key)
+        if not isinstance(value, dict):
+            self.problem(f"[{key}] must be a table (name = value lines), "
+                         f"not {type(value).__name__}", key)
+            return {}
+        return value
+
+    def declare(self, name: str, section: str) -> bool:
+        reason = validate_name(name)
+        if reason:
+            self.problem(f"'{name}' cannot be used as a name: {reason}", section, name)
+            return False
+        if name in self.declared:
+            self.problem(f"'{name}' is already declared in [{self.declared[name]}]; "
+                         "every name must be unique", section, name)
+            return False
+        self.declared[name] = section
+        return True
+
+    def expression(self, value: Any, section: str, key: str,
+                   allowed: Iterable[str]) -> Expression | None:
+        if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+            self.problem(f"expected a number or an expression string, got "
+                         f"{type(value).__name__}", section, key)
+            return None
+        try:
+            return parse(value, allowed=allowed, file=self.source, section=section, key=key)
+        except ExpressionError as exc:
+            self.problems.extend(exc.problems)
+            return None
+
+    # sections
+    def build(self) -> Model:
+        for key in self.data:
+            if key not in TOP_LEVEL:
+                close = difflib.get_close_matches(key, TOP_LEVEL, n=1)
+                hint = f"did you mean '{close[0]}'?" if close else \
+                    f"known sections: {', '.join(TOP_LEVEL)}"
+                self.problem(f"unknown section or key '{key}'; {hint}", key)
+        title = self.data.get("title", "")
+        if not isinstance(title, str):
+            self.problem("title must be a string", "title")
+            title = ""
+        parameters = self.parameters()
+        param_names = list(parameters)
+        matrices = self.data.get("matrices") is not None
+        coordinates, descriptions = self.coordinates(required=not matrices)
+        equilibrium = self.simple_table("equilibrium", param_names, keys=coordinates)
+        signals = self.named_table("signals", [*param_names, "t"])
+        state_names = [*param_names, *coordinates, *signals]
+        definitions = self.definitions(state_names)
+        allowed = [*state_names, *definitions]
+        energy = self.energy(allowed, required=not matrices)
+        forces = self.forces(allowed, coordinates)
+        outputs = self.simple_table("outputs", allowed, declare=False)
+        if outputs:
+            for name in outputs:
+                if validate_name(name):
+                    self.problem(f"'{name}' cannot be used as a name: {validate_name(name)}",
+                                 "outputs", name)
+        matrix_spec = self.matrices(param_names, coordinates) if matrices else None
+        if matrices and (energy or forces):
+            self.problem("a model gives either [energy] (and [[force]]) or [matrices], not both",
+                         "matrices")
+        exact: dict[str, sympy.Expr] = {}
+        floats: dict[str, float] = {}
+        if not self.problems:
+            try:
+                exact, floats = _evaluate_parameters(parameters, self.source)
+            except ModelError as exc:
+                self.problems.extend(exc.problems)
+        if self.problems:
+            raise ModelError(self.problems)
+        if matrix_spec is not None and not coordinates:
+            n = _matrix_size(matrix_spec.M)
+            coordinates = tuple(f"q{i + 1}" for i in range(n))
+        return Model(
+            title=title, source=self.source,
+            parameters=MappingProxyType(parameters),
+            parameter_values=MappingProxyType(floats), exact_values=MappingProxyType(exact),
+            coordinates=tuple(coordinates), descriptions=MappingProxyType(descriptions),
+            equilibrium=MappingProxyType(equilibrium), signals=MappingProxyType(signals),
+            definitions=MappingProxyType(definitions), energy=MappingProxyType(energy),
+            forces=tuple(forces), outputs=MappingProxyType(outputs), matrices=matrix_spec)
+
+    def parameters(self) -> dict[str, Expression]:
+        table = self.table("parameters")
+        params: dict[str, Expression] = {}
+        for name, value in table.items():
+            if not self.declare(name, "parameters"):
+                continue
+            expression = self.expression(value, "parameters", name, list(params))
+            if expression is not None:
+                params[name] = expression
+        for name, value in self.overrides.items():
+            if name not in params:
+                if name not in table:
+                    self.problems.append(_unknown_parameter(name, self.source, params))
+                continue
+            earlier = list(params)[: list(params).index(name)]
+            try:
+                params[name] = parse(value, allowed=earlier, file=f"--set {name}",
+                                     section="", key="")
+            except ExpressionError as exc:
+                self.problems.extend(exc.problems)
+        return params
+
+    def coordinates(self, required: bool) -> tuple[list[str], dict[str, str]]:
+        raw = self.data.get("coordinates", {} if not required else None)
+        if raw is None:
+            self.problem("the section [coordinates] is missing: list the generalized "
+                         "coordinates, e.g. x1 = \"displacement of the cart\"", "coordinates")
+            return [], {}
+        if isinstance(raw, list):
+            raw = {name: "" for name in raw if isinstance(name, str)}
+        if not isinstance(raw, dict):
+            self.problem("[coordinates] must be a table: name = \"description\"", "coordinates")
+            return [], {}
+        if required and not raw:
+            self.problem("[coordinates] is empty: a model needs at least one coordinate",
+                         "coordinates")
+        if len(raw) > MAX_COORDINATES:
+            self.problem(f"{len(raw)} coordinates; energy models are limited to "
+                         f"{MAX_COORDINATES} (use [matrices] for larger systems)", "coordinates")
+            return [], {}
+        names, descriptions = [], {}
+        for name, text in raw.items():
+            if self.declare(name, "coordinates"):
+                names.append(name)
+                descriptions[name] = text if isinstance(text, str) else str(text)
+        return names, descriptions
+
+    def simple_table(self, section: str, allowed: list[str], keys: Iterable[str] | None = None,
+                     declare: bool = False) -> dict[str, Expression]:
+        out: dict[str, Expression] = {}
+        keys = list(keys) if keys is not None else None
+        for name, value in self.table(section).items():
+            if keys is not None and name not in keys:
+                self.problem(f"'{name}' is not a coordinate; [{section}] takes coordinates "
+                             f"({', '.join(keys) or 'none declared'})", section, name)
+                continue
+            if declare and not self.declare(name, section):
+                continue
+            expression = self.expression(value, section, name, allowed)
+            if expression is not None:
+                out[name] = expression
+        return out
+
+    def named_table(self, section: str, allowed: list[str]) -> dict[str, Expression]:
+        out: dict[str, Expression] = {}
+        table = self.table(section)
+        for name in table:
+            self.declare(name, section)
+        for name, value in table.items():
+            if self.declared.get(name) != section:
+                continue
+            expression = self.expression(value, section, name, allowed)
+            if expression is not None:
+                out[name] = expression
+                if section == "signals" and any(p for n, p in expression.names() if n != "t"):
+                    self.problem("a signal may not contain primes; write its derivative "
+                                 "out or use a definition", section, name)
+        return out
+
+    def definitions(self, allowed: list[str]) -> dict[str, Expression]:
+        table = self.table("definitions")
+        names = [n for n in table if self.declare(n, "definitions")]
+        parsed: dict[str, Expression] = {}
+        for name in names:
+            expression = self.expression(table[name], "definitions", name, [*allowed, *names])
+            if expression is not None:
+                parsed[name] = expression
+        # topological order, rejecting cycles
+        order: list[str] = []
+        state: dict[str, int] = {}
+
+        def visit(name: str, path: list[str]) -> None:
+            if state.get(name) == 2:
+                return
+            if state.get(name) == 1:
+                cycle = path[path.index(name):] + [name]
+                self.problem("definitions refer to each other in a cycle: "
+                             + " -> ".join(cycle) + "; break the cycle", "definitions", name)
+                raise _Cycle
+            state[name] = 1
+            for dep, _ in sorted(parsed[name].names()):
+                if dep in parsed:
+                    visit(dep, path + [name])
+            state[name] = 2
+            order.append(name)
+
+        for name in parsed:
+            try:
+                visit(name, [])
+            except _Cycle:
+                return {}
+        return {name: parsed[name] for name in order}
+
+    def energy(self, allowed: list[str], required: bool) -> dict[str, Expression]:
+        table = self.table("energy", required=required)
+        out: dict[str, Expression] = {}
+        for key, value in table.items():
+            if key not in ENERGY_KEYS:
+                self.problem(f"unknown energy '{key}'; [energy] takes T (kinetic), "
+                             "U (potential) and D (Rayleigh dissipation)", "energy", key)
+                continue
+            expression = self.expression(value, "energy", key, allowed)
+            if expression is not None:
+                out[key] = expression
+        if required and table and "T" not in table:
+            self.problem("the kinetic energy T is missing; without it there is no mass "
+                         "matrix", "energy", "T")
+        return out
+
+    def forces(self, allowed: list[str], coordinates: list[str]) -> list[Force]:
+        raw = self.data.get("force", [])
+        if isinstance(raw, dict):
+            raw = [raw]
+        if not isinstance(raw, list):
+            self.problem("[[force]] entries must be tables", "force")
+            return []
+        forces = []
+        for i, entry in enumerate(raw, start=1):
+            section = f"force {i}"
+            if not isinstance(entry, dict):
+                self.problem("each [[force]] must be a table", section)
+                continue
+            name = entry.get("name", f"force {i}")
+            if not isinstance(name, str):
+                self.problem("name must be a string", section, "name")
+                name = f"force {i}"
+            section = f"force '{name}'"
+            unknown = set(entry) - {"name", "vector", "point", "generalized"}
+            for key in sorted(unknown):
+                self.problem(f"unknown key '{key}'; a force has name, vector + point, "
+                             "or generalized", section, key)
+            if "generalized" in entry:
+                if "vector" in entry or "point" in entry:
+                    self.problem("give either vector + point or generalized, not both", section)
+                gen = entry["generalized"]
+                if not isinstance(gen, dict) or not gen:
+                    self.problem("generalized must be a table { coordinate = \"force\" }",
+                                 section, "generalized")
+                    continue
+                parsed = {}
+                for coord, value in gen.items():
+                    if coord not in coordinates:
+                        self.problem(f"'{coord}' is not a coordinate", section,
+                                     f"generalized.{coord}")
+                        continue
+                    expression = self.expression(value, section, f"generalized.{coord}", allowed)
+                    if expression is not None:
+                        parsed[coord] = expression
+                forces.append(Force(name, generalized=MappingProxyType(parsed)))
+                continue
+            vector, point = entry.get("vector"), entry.get("point")
+            if vector is None or point is None:
+                self.problem("a force needs both vector and point (or generalized)", section)
+                continue
+            if isinstance(vector, (str, int, float)) and not isinstance(vector, bool):
+                vector = [vector]
+            if isinstance(point, (str, int, float)) and not isinstance(point, bool):
+                point = [point]
+            if not isinstance(vector, list) or not isinstance(point, list) \
+                    or not 1 <= len(vector) <= 3 or len(vector) != len(point):
+                self.problem("vector and point must be lists of the same length (1 to 3 "
+                             "components)", section)
+                continue
+            vec = [self.expression(v, section, f"vector[{j}]", allowed)
+                   for j, v in enumerate(vector)]
+            pnt = [self.expression(v, section, f"point[{j}]", allowed)
+                   for j, v in enumerate(point)]
+            if all(e is not None for e in vec + pnt):
+                forces.append(Force(name, vector=tuple(vec), point=tuple(pnt)))  # type: ignore
+        return forces
+
+    def matrices(self, params: list[str], coordinates: list[str]) -> MatrixSpec | None:
+        from .matrices import read_matrix_spec
+
+        section = self.data.get("matrices")
+        harmonics = self.data.get("harmonic", [])
+        try:
+            return read_matrix_spec(section, harmonics, params, coordinates, self.source,
+                                    self.base_dir)
+        except ModelError as exc:
+            self.problems.extend(exc.problems)
+            return None
+
+
+class _Cycle(Exception):
+    pass
+
+
+def _matrix_size(matrix: Any) -> int:
+    return int(matrix.shape[0]) if hasattr(matrix, "shape") else len(matrix)
+
+
+__all__ = ["Model", "Force", "Harmonic", "MatrixSpec", "load", "loads", "symbol", "TIME"]

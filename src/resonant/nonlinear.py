@@ -1,0 +1,168 @@
+"""The full (not linearized) Lagrange equations of an energy model.
+
+Used to find an equilibrium near a reference state that is not one, and by
+the nonlinear time simulation.  Coordinates and their derivatives are plain
+symbols ``x``, ``x'``, ``x''``; signals are symbols ``r``, ``r'``, ... that a
+caller replaces by the signal functions.  Explicit time enters only through
+signals, so the total time derivative is a sum over these symbols.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import sympy
+
+from .expr import Expression
+from .model import Model, symbol
+
+
+def derivative_symbol(name: str, order: int) -> sympy.Symbol:
+    """The symbol of the order-th time derivative of a coordinate or signal."""
+    return symbol(name + "'" * order)
+
+
+class _SympyOps:
+    """Folds a parsed expression into a full sympy expression."""
+
+    def __init__(self, model: Model) -> None:
+        self.model = model
+        self.coordinates = set(model.coordinates)
+        self.signals = set(model.signals)
+        self.definitions: dict[tuple[str, int], sympy.Expr] = {}
+        self.registry: dict[sympy.Symbol, tuple[str, int]] = {}
+
+    def expr(self, expression: Expression) -> sympy.Expr:
+        return expression.fold(self)
+
+    def num(self, text: str) -> sympy.Expr:
+        return sympy.Rational(text)
+
+    def pi(self) -> sympy.Expr:
+        return sympy.pi
+
+    def dvar(self, name: str, order: int) -> sympy.Symbol:
+        s = derivative_symbol(name, order)
+        self.registry[s] = (name, order)
+        return s
+
+    def name(self, name: str, primes: int) -> sympy.Expr:
+        if name in self.coordinates or name in self.signals:
+            return self.dvar(name, primes)
+        if name in self.model.parameters:
+            return symbol(name) if primes == 0 else sympy.Integer(0)
+        key = (name, primes)
+        if key not in self.definitions:
+            self.definitions[key] = (self.expr(self.model.definitions[name]) if primes == 0
+                                     else self.dt(self.name(name, primes - 1)))
+        return self.definitions[key]
+
+    def dt(self, e: sympy.Expr) -> sympy.Expr:
+        """Total time derivative (explicit time only through the signals)."""
+        out = sympy.Integer(0)
+        for s in list(e.free_symbols):
+            if s in self.registry:
+                name, order = self.registry[s]
+                out += sympy.diff(e, s) * self.dvar(name, order + 1)
+        return out
+
+    add = staticmethod(lambda a, b: a + b)
+    sub = staticmethod(lambda a, b: a - b)
+    mul = staticmethod(lambda a, b: a * b)
+    div = staticmethod(lambda a, b: a / b)
+    pow = staticmethod(lambda a, b: a ** b)
+    neg = staticmethod(lambda a: -a)
+
+    def call(self, func: str, args: list[sympy.Expr]) -> sympy.Expr:
+        from .jet import SYMPY_FUNCTIONS
+
+        return SYMPY_FUNCTIONS[func](*args)
+
+
+@dataclass(frozen=True)
+class NonlinearEquations:
+    """E_k = d/dt dT/dq'_k - dT/dq_k + dD/dq'_k + dU/dq_k - Q_k = 0 in full.
+
+    ``mass`` is the matrix of the accelerations and ``rest`` the remainder, so
+    that the equations read ``mass * q'' + rest = 0``.
+    """
+
+    model: Model
+    mass: sympy.Matrix
+    rest: sympy.Matrix
+    ops: _SympyOps
+
+    @property
+    def q(self) -> list[sympy.Symbol]:
+        return [derivative_symbol(c, 0) for c in self.model.coordinates]
+
+    @property
+    def qd(self) -> list[sympy.Symbol]:
+        return [derivative_symbol(c, 1) for c in self.model.coordinates]
+
+    @property
+    def qdd(self) -> list[sympy.Symbol]:
+        return [derivative_symbol(c, 2) for c in self.model.coordinates]
+
+    @cached_property
+    def signal_symbols(self) -> dict[sympy.Symbol, tuple[str, int]]:
+        free = self.mass.free_symbols | self.rest.free_symbols
+        return {s: v for s, v in self.ops.registry.items()
+                if s in free and v[0] in self.model.signals}
+
+
+def nonlinear_equations(model: Model) -> NonlinearEquations:
+    """Form the full Lagrange equations of an energy model."""
+    ops = _SympyOps(model)
+    zero = sympy.Integer(0)
+    T = ops.expr(model.energy["T"]) if "T" in model.energy else zero
+    U = ops.expr(model.energy["U"]) if "U" in model.energy else zero
+    D = ops.expr(model.energy["D"]) if "D" in model.energy else zero
+    coords = model.coordinates
+    q = [ops.dvar(c, 0) for c in coords]
+    qd = [ops.dvar(c, 1) for c in coords]
+    qdd = [ops.dvar(c, 2) for c in coords]
+    forces = [zero] * len(coords)
+    for force in model.forces:
+        if force.generalized:
+            for k, c in enumerate(coords):
+                if c in force.generalized:
+                    forces[k] += ops.expr(force.generalized[c])
+            continue
+        vector = [ops.expr(v) for v in force.vector]
+        point = [ops.expr(p) for p in force.point]
+        for k in range(len(coords)):
+            forces[k] += sum((f * sympy.diff(p, q[k]) for f, p in zip(vector, point)), zero)
+    equations = []
+    for k in range(len(coords)):
+        equations.append(ops.dt(sympy.diff(T, qd[k])) - sympy.diff(T, q[k])
+                         + sympy.diff(D, qd[k]) + sympy.diff(U, q[k]) - forces[k])
+    E = sympy.Matrix(equations)
+    mass = E.jacobian(qdd)
+    rest = E.subs({a: 0 for a in qdd})
+    return NonlinearEquations(model, mass, rest, ops)
+
+
+def find_equilibrium(model: Model) -> dict[str, float] | None:
+    """An equilibrium near the reference state with all signals zero, or None."""
+    import scipy.optimize
+
+    eq = nonlinear_equations(model)
+    rest_state = {s: 0 for s in eq.ops.registry if eq.ops.registry[s][1] > 0
+                  or eq.ops.registry[s][0] in model.signals}
+    params = {symbol(n): v for n, v in model.parameter_values.items()}
+    static = eq.rest.subs(rest_state).subs(params)
+    fn = sympy.lambdify([eq.q], list(static), modules="numpy")
+    start = np.array([float(model.equilibrium[c].to_sympy(
+        lambda n, p: sympy.Float(model.parameter_values[n])))
+        if c in model.equilibrium else 0.0 for c in model.coordinates])
+    with np.errstate(all="ignore"):
+        result = scipy.optimize.root(lambda x: np.asarray(fn(x), dtype=float), start)
+    if not result.success or not np.all(np.isfinite(result.x)):
+        return None
+    return {c: float(v) for c, v in zip(model.coordinates, result.x)}
+
+
+__all__ = ["NonlinearEquations", "nonlinear_equations", "find_equilibrium", "derivative_symbol"]

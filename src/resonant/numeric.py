@@ -1,0 +1,195 @@
+"""The numeric equation of motion: parameter values substituted into M, C, K, Q.
+
+Symbolic entries are compiled once with :func:`sympy.lambdify` (common
+subexpressions shared) and evaluated for the parameter values, so a sweep over
+a parameter costs one compiled call per point, never a symbolic substitution.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import sympy
+
+from .errors import AnalysisError, ModelError, Problem
+from .jet import Var
+from .model import Model, symbol
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .linearize import LinearEOM
+    from .stationary import StationarySolution
+
+
+@dataclass(frozen=True)
+class NumericHarmonic:
+    """One excitation frequency: Q = F_S sin(omega t) + F_C cos(omega t).
+
+    ``signals`` holds the (S, C) pair of every signal derivative at this
+    frequency (needed for outputs that depend on signals). ``omega = 0`` is a
+    static load (F_C only).
+    """
+
+    omega: float
+    F_S: np.ndarray
+    F_C: np.ndarray
+    signals: Mapping[Var, tuple[float, float]] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class NumericOutput:
+    """A linearized output y = value + sum coefficient * (coordinate or signal derivative)."""
+
+    value: float
+    terms: Mapping[Var, float]
+
+
+@dataclass(frozen=True)
+class NumericEOM:
+    """M q'' + C q' + K q = Q(t) with numbers.
+
+    Attributes
+    ----------
+    harmonics : tuple of NumericHarmonic
+        The excitation, grouped by numeric frequency (ascending); None-free.
+    harmonic : bool
+        False when some signal is not a sum of harmonics (no stationary solution).
+    """
+
+    coordinates: tuple[str, ...]
+    M: np.ndarray
+    C: np.ndarray
+    K: np.ndarray
+    harmonics: tuple[NumericHarmonic, ...] = ()
+    harmonic: bool = True
+    outputs: Mapping[str, NumericOutput] = field(default_factory=dict)
+    parameters: Mapping[str, float] = field(default_factory=dict)
+    title: str = ""
+    source: str = ""
+    symbolic: "LinearEOM | None" = None
+
+    @property
+    def n(self) -> int:
+        return len(self.coordinates)
+
+    def stationary(self) -> "StationarySolution":
+        from .stationary import stationary
+
+        return stationary(self)
+
+
+def compile_expressions(expressions: Sequence[sympy.Expr], symbols: Sequence[sympy.Symbol]
+                        ) -> Callable[..., np.ndarray]:
+    """One compiled function returning all expressions as a float array."""
+    if not expressions:
+        return lambda *args: np.zeros(0)
+    fn = sympy.lambdify(list(symbols), list(expressions), modules="numpy", cse=True)
+
+    def call(*args: Any) -> np.ndarray:
+        with np.errstate(all="ignore"):
+            values = fn(*args)
+        return np.array([np.broadcast_to(v, np.broadcast(*args).shape if args else ())
+                         for v in values], dtype=complex)
+    return call
+
+
+def evaluate(eom: "LinearEOM", model: Model) -> NumericEOM:
+    """Substitute the model's parameter values into a symbolic equation of motion."""
+    names = list(model.parameters)
+    values = [model.parameter_values[n] for n in names]
+    symbols = [symbol(n) for n in names]
+    n = len(eom.coordinates)
+    harmonics = eom.harmonics
+    exprs: list[sympy.Expr] = [*eom.M, *eom.C, *eom.K]
+    layout: list[tuple] = []
+    if harmonics is not None:
+        for w in harmonics.frequencies:
+            f_s, f_c = harmonics.forcing(eom.excitation, w)
+            exprs.append(w)
+            exprs.extend(f_s)
+            exprs.extend(f_c)
+            parts = [(var, *harmonics.parts[var].get(w, (0, 0))) for var in harmonics.parts]
+            for _, s, c in parts:
+                exprs.extend((sympy.sympify(s), sympy.sympify(c)))
+            layout.append((w, [p[0] for p in parts]))
+    output_layout = []
+    for name, out in eom.outputs.items():
+        exprs.append(out.value)
+        exprs.extend(out.terms.values())
+        output_layout.append((name, list(out.terms)))
+    flat = compile_expressions(exprs, symbols)(*values)
+    bad = ~np.isfinite(flat)
+    if bad.any() or np.any(np.abs(flat.imag) > 1e-9 * (1 + np.abs(flat.real))):
+        _raise_not_finite(eom, model, flat)
+    flat = flat.real
+    pos = 0
+
+    def take(count: int) -> np.ndarray:
+        nonlocal pos
+        out = flat[pos:pos + count]
+        pos += count
+        return out
+
+    M = take(n * n).reshape(n, n)
+    C = take(n * n).reshape(n, n)
+    K = take(n * n).reshape(n, n)
+    merged: dict[float, list] = {}
+    for w, variables in layout:
+        omega = float(take(1)[0])
+        f_s, f_c = take(n), take(n)
+        sig = take(2 * len(variables)).reshape(-1, 2)
+        sign = 1.0
+        if omega < 0:  # sin(-w t) = -sin(w t)
+            omega, sign = -omega, -1.0
+        if omega == 0:
+            f_s, sig = np.zeros(n), np.column_stack([np.zeros(len(variables)), sig[:, 1]])
+        key = next((k for k in merged if math.isclose(k, omega, rel_tol=1e-12, abs_tol=0.0)),
+                   omega)
+        entry = merged.setdefault(key, [np.zeros(n), np.zeros(n), {}])
+        entry[0] = entry[0] + sign * f_s
+        entry[1] = entry[1] + f_c
+        for var, (s, c) in zip(variables, sig):
+            old = entry[2].get(var, (0.0, 0.0))
+            entry[2][var] = (old[0] + sign * s, old[1] + c)
+    outputs = {}
+    for name, variables in output_layout:
+        value = float(take(1)[0])
+        coefs = take(len(variables))
+        outputs[name] = NumericOutput(value, MappingProxyType(dict(zip(variables, coefs))))
+    return NumericEOM(
+        coordinates=eom.coordinates, M=M, C=C, K=K,
+        harmonics=tuple(NumericHarmonic(w, fs, fc, MappingProxyType(sig))
+                        for w, (fs, fc, sig) in sorted(merged.items())),
+        harmonic=harmonics is not None, outputs=MappingProxyType(outputs),
+        parameters=MappingProxyType(dict(model.parameter_values)),
+        title=model.title, source=model.source, symbolic=eom)
+
+
+def _raise_not_finite(eom: "LinearEOM", model: Model, flat: np.ndarray) -> None:
+    n = len(eom.coordinates)
+    for label, matrix, offset in (("M", eom.M, 0), ("C", eom.C, n * n), ("K", eom.K, 2 * n * n)):
+        for idx in range(n * n):
+            v = flat[offset + idx]
+            if not np.isfinite(v):
+                i, j = divmod(idx, n)
+                raise ModelError(Problem(
+                    f"{label}[{i + 1},{j + 1}] = {matrix[i, j]} is not finite for the given "
+                    "parameter values (a zero mass or length?)", model.source, "parameters"))
+    raise ModelError(Problem("the excitation or an output is not finite (or not real) for the "
+                             "given parameter values", model.source, "parameters"))
+
+
+def check_finite(name: str, array: np.ndarray) -> np.ndarray:
+    """Guard: NaN or infinity never reaches the output silently."""
+    if not np.all(np.isfinite(array)):
+        raise AnalysisError(f"{name} is not finite: the computation overflowed or divided "
+                            "by zero; check the parameter values")
+    return array
+
+
+__all__ = ["NumericEOM", "NumericHarmonic", "NumericOutput", "evaluate", "compile_expressions",
+           "check_finite"]

@@ -1,0 +1,285 @@
+"""Stage 3: the stationary (steady-state) solution for harmonic excitation.
+
+For each excitation frequency w the particular solution
+q_p = L cos(w t) + N sin(w t) solves (reference exercise, Eq. (38))::
+
+    [ K - w^2 M    w C      ] [L]   [F_C]
+    [ -w C         K - w^2 M] [N] = [F_S]
+
+solved here in its complex form (K - w^2 M + i w C)(L - i N) = F_C - i F_S.
+
+Examples
+--------
+>>> import numpy as np
+>>> from resonant.numeric import NumericEOM, NumericHarmonic
+>>> eom = NumericEOM(("x",), np.eye(1), np.zeros((1, 1)), 4 * np.eye(1),
+...                  (NumericHarmonic(1.0, np.array([3.0]), np.array([0.0])),))
+>>> sol = stationary(eom)
+>>> sol.harmonics[0].N, sol.amplitudes["x"]
+(array([1.]), 1.0)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from fractions import Fraction
+from functools import reduce
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from .errors import AnalysisError
+from .numeric import NumericEOM, NumericHarmonic, check_finite
+from .stability import (UNSTABLE, check_mass_matrix, classify, natural_frequencies,
+                        state_eigenvalues, undamped_eigen)
+
+NEAR_RESONANCE = 0.02       # relative distance to a natural frequency that earns a warning
+SINGULAR_CONDITION = 1e13   # condition number treated as exactly singular
+LOSS_CONDITION = 1e8        # condition number that earns a "digits lost" warning
+
+
+@dataclass(frozen=True)
+class HarmonicResponse:
+    """The response at one frequency: x = L cos(omega t) + N sin(omega t)."""
+
+    omega: float
+    F_S: np.ndarray
+    F_C: np.ndarray
+    L: np.ndarray
+    N: np.ndarray
+    condition: float = 1.0
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"omega": self.omega, "F_S": self.F_S.tolist(), "F_C": self.F_C.tolist(),
+                "L": self.L.tolist(), "N": self.N.tolist()}
+
+
+@dataclass(frozen=True)
+class StationarySolution:
+    """The stationary solution of a harmonically excited linear system.
+
+    Attributes
+    ----------
+    harmonics : tuple of HarmonicResponse
+        One per excitation frequency (L and N of the coordinates).
+    output_harmonics : mapping
+        ``name -> [(L, N), ...]`` per frequency, for coordinates and outputs.
+    amplitudes, phases : mapping
+        Peak absolute deviation, and delta = atan2(L, N) (single frequency only).
+    """
+
+    eom: NumericEOM
+    natural_frequencies: np.ndarray
+    eigenvalues: np.ndarray
+    stability: str
+    harmonics: tuple[HarmonicResponse, ...]
+    output_harmonics: Mapping[str, tuple[tuple[float, float], ...]]
+    amplitudes: Mapping[str, float]
+    phases: Mapping[str, float]
+    warnings: tuple[str, ...] = ()
+    available: bool = True
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(self.output_harmonics)
+
+    def response(self, t: np.ndarray | float) -> dict[str, np.ndarray]:
+        """The stationary time history of every coordinate and output."""
+        t = np.asarray(t, dtype=float)
+        out = {}
+        for name, pairs in self.output_harmonics.items():
+            y = np.zeros_like(t)
+            for h, (L, N) in zip(self.harmonics, pairs):
+                y = y + L * np.cos(h.omega * t) + N * np.sin(h.omega * t)
+            out[name] = y
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        e = self.eom
+        data: dict[str, Any] = {
+            "title": e.title,
+            "coordinates": list(e.coordinates),
+            "parameters": dict(e.parameters),
+            "M": e.M.tolist(), "C": e.C.tolist(), "K": e.K.tolist(),
+        }
+        if e.symbolic is not None:
+            data["symbolic"] = e.symbolic.to_dict()
+            data["symbolic"].pop("coordinates", None)
+        data.update({
+            "natural_frequencies": self.natural_frequencies.tolist(),
+            "harmonics": [h.to_dict() for h in self.harmonics],
+            "amplitudes": dict(self.amplitudes),
+            "phases": dict(self.phases),
+            "stability": self.stability,
+            "eigenvalues": [[float(v.real), float(v.imag)] for v in self.eigenvalues],
+            "stationary_available": self.available,
+            "warnings": list(self.warnings),
+        })
+        return data
+
+    def _repr_html_(self) -> str:
+        from .display import stationary_html
+
+        return stationary_html(self)
+
+
+def _solve(eom: NumericEOM, h: NumericHarmonic, omegas: np.ndarray,
+           warnings: list[str]) -> HarmonicResponse:
+    w = h.omega
+    A = eom.K - w**2 * eom.M + 1j * w * eom.C
+    rhs = h.F_C - 1j * h.F_S
+    condition = float(np.linalg.cond(A)) if eom.n <= 1500 else 1.0
+    nearest = int(np.argmin(np.abs(omegas - w))) if omegas.size else -1
+    if not math.isfinite(condition) or condition > SINGULAR_CONDITION:
+        if w == 0:
+            raise AnalysisError(
+                "a static load acts on a system with a zero-stiffness (rigid-body) mode: "
+                "the static deflection is unbounded; support the system or remove the "
+                "constant part of the excitation")
+        where = (f" = natural frequency {nearest + 1} ({omegas[nearest]:.6g} rad/s, mode "
+                 f"{nearest + 1})") if nearest >= 0 else ""
+        raise AnalysisError(
+            f"resonance: the excitation frequency {w:.6g} rad/s{where} and the system has no "
+            "damping in that mode, so the stationary amplitude is unbounded; change the "
+            "frequency or add damping")
+    if condition > LOSS_CONDITION:
+        digits = int(math.log10(condition))
+        warnings.append(f"ill-conditioned system at omega = {w:.6g} rad/s (condition number "
+                        f"{condition:.2g}): about {digits} of 16 digits are lost")
+    X = np.linalg.solve(A, rhs)
+    check_finite("the stationary solution", X)
+    return HarmonicResponse(w, h.F_S, h.F_C, X.real.copy(), -X.imag.copy(), condition)
+
+
+def _output_pairs(eom: NumericEOM, responses: tuple[HarmonicResponse, ...]
+                  ) -> dict[str, tuple[tuple[float, float], ...]]:
+    index = {q: i for i, q in enumerate(eom.coordinates)}
+    out: dict[str, tuple[tuple[float, float], ...]] = {}
+    for i, q in enumerate(eom.coordinates):
+        out[q] = tuple((float(r.L[i]), float(r.N[i])) for r in responses)
+    for name, output in eom.outputs.items():
+        pairs = []
+        for r, h in zip(responses, eom.harmonics):
+            L = N = 0.0
+            w = r.omega
+            for (var, order), coef in output.terms.items():
+                if var in index:
+                    l, n = r.L[index[var]], r.N[index[var]]
+                    # d/dt maps (L, N) -> (w N, -w L)
+                    for _ in range(order):
+                        l, n = w * n, -w * l
+                else:
+                    s, c = h.signals.get((var, order), (0.0, 0.0))
+                    l, n = c, s
+                L += coef * l
+                N += coef * n
+            pairs.append((float(L), float(N)))
+        out[name] = tuple(pairs)
+    return out
+
+
+def peak(omegas: list[float], pairs: tuple[tuple[float, float], ...]) -> float:
+    """Peak |x(t)| of x = sum L_i cos(w_i t) + N_i sin(w_i t) (w = 0: constant L).
+
+    Exact for one frequency; sampled and refined over the common period for
+    commensurate frequencies; the supremum sum of amplitudes otherwise.
+    """
+    amps = [math.hypot(L, N) for L, N in pairs]
+    active = [(w, L, N) for w, (L, N), a in zip(omegas, pairs, amps) if a > 0]
+    if not active:
+        return 0.0
+    static = sum(L for w, L, N in active if w == 0)
+    moving = [(w, L, N) for w, L, N in active if w > 0]
+    if len(moving) <= 1:
+        return abs(static) + sum(math.hypot(L, N) for _, L, N in moving)
+    base = min(w for w, _, _ in moving)
+    fractions = [Fraction(w / base).limit_denominator(1000) for w, _, _ in moving]
+    if any(abs(float(f) - w / base) > 1e-9 * w / base for f, (w, _, _) in zip(fractions, moving)):
+        return abs(static) + sum(math.hypot(L, N) for _, L, N in moving)
+    denominator = reduce(math.lcm, (f.denominator for f in fractions), 1)
+    period = 2 * math.pi * denominator / base
+    highest = max(w for w, _, _ in moving)
+    samples = int(min(2_000_000, max(4000, 200 * highest * period / (2 * math.pi))))
+    t = np.linspace(0.0, period, samples, endpoint=False)
+    ws = np.array([w for w, _, _ in moving])
+    Ls = np.array([L for _, L, _ in moving])
+    Ns = np.array([N for _, _, N in moving])
+
+    def value(tt: np.ndarray) -> np.ndarray:
+        return static + np.cos(np.outer(tt, ws)) @ Ls + np.sin(np.outer(tt, ws)) @ Ns
+
+    best = 0.0
+    for chunk in np.array_split(t, max(1, samples // 100_000)):
+        y = np.abs(value(chunk))
+        best = max(best, float(y.max()))
+    # refine the sampled maximum by a local golden-section search
+    y = np.abs(value(t))
+    i = int(np.argmax(y))
+    a, b = t[i] - period / samples, t[i] + period / samples
+    g = (math.sqrt(5) - 1) / 2
+    for _ in range(60):
+        c, d = b - g * (b - a), a + g * (b - a)
+        if abs(value(np.array([c]))[0]) > abs(value(np.array([d]))[0]):
+            b = d
+        else:
+            a = c
+    return max(best, float(abs(value(np.array([(a + b) / 2]))[0])))
+
+
+def stationary(eom: NumericEOM) -> StationarySolution:
+    """Solve for the stationary response of every coordinate and output.
+
+    Raises
+    ------
+    AnalysisError
+        For a singular mass matrix, or an undamped system excited exactly at a
+        natural frequency (exit status 3).
+    """
+    check_mass_matrix(eom.M, eom.coordinates)
+    check_finite("M, C, K", np.concatenate([eom.M.ravel(), eom.C.ravel(), eom.K.ravel()]))
+    warnings: list[str] = []
+    omegas = natural_frequencies(eom.M, eom.K)
+    eigenvalues = state_eigenvalues(eom.M, eom.C, eom.K)
+    stability = classify(eigenvalues)
+    lam, _ = undamped_eigen(eom.M, eom.K)
+    if np.any(lam < -1e-12 * max(1.0, float(np.abs(lam).max()))):
+        warnings.append("K is not positive definite about this reference state: a statically "
+                        "unstable (buckling, inverted) mode exists")
+    if stability == UNSTABLE:
+        warnings.append("the equilibrium is unstable: free vibrations grow, so the stationary "
+                        "solution is never reached in practice")
+    if not eom.harmonic:
+        warnings.append("the stationary solution needs signals that are sums of harmonics "
+                        "(sin/cos of a*t + b, constants); the equation of motion is derived, "
+                        "use `resonant simulate` for other signals")
+        return StationarySolution(eom, omegas, eigenvalues, stability, (),
+                                  MappingProxyType({}), MappingProxyType({}),
+                                  MappingProxyType({}), tuple(warnings), available=False)
+    for h in eom.harmonics:
+        for i, wn in enumerate(omegas):
+            if h.omega > 0 and wn > 0 and abs(h.omega - wn) <= NEAR_RESONANCE * wn:
+                warnings.append(
+                    f"near resonance: the excitation frequency {h.omega:.6g} rad/s is within "
+                    f"{100 * abs(h.omega - wn) / wn:.2g}% of natural frequency {i + 1} "
+                    f"({wn:.6g} rad/s); the amplitudes are sensitive to the data")
+    responses = tuple(_solve(eom, h, omegas, warnings) for h in eom.harmonics)
+    pairs = _output_pairs(eom, responses)
+    freqs = [r.omega for r in responses]
+    amplitudes = {name: peak(freqs, p) for name, p in pairs.items()}
+    moving = [i for i, w in enumerate(freqs) if w > 0]
+    phases = {}
+    if len(moving) == 1:
+        i = moving[0]
+        for name, p in pairs.items():
+            L, N = p[i]
+            if math.hypot(L, N) > 0:
+                phases[name] = math.atan2(L, N)
+    return StationarySolution(eom, omegas, eigenvalues, stability, responses,
+                              MappingProxyType(pairs), MappingProxyType(amplitudes),
+                              MappingProxyType(phases), tuple(warnings))
+
+
+__all__ = ["StationarySolution", "HarmonicResponse", "stationary", "peak"]

@@ -1,0 +1,85 @@
+"""Shared helpers for the resonant test suite.
+
+The helpers drive the command line in-process (``resonant.cli.main``), so tests see
+exactly what a user sees: the exit status, standard output and standard error.
+
+Plain functions (importable as ``from conftest import run_cli, solve_json``) and
+fixtures with the same behaviour (``examples_dir``, ``cli``, ``solve``) are provided.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+from pathlib import Path
+from typing import Any, Callable
+
+import pytest
+
+#: The directory holding the example model files.
+EXAMPLES = Path(__file__).parents[1] / "examples"
+
+
+def run_cli(args: list[str]) -> tuple[int, str, str]:
+    """Run ``resonant.cli.main(args)`` in-process.
+
+    Returns ``(exit_status, stdout, stderr)``.  A ``SystemExit`` (argparse errors,
+    ``--help``) is caught and turned into its exit status, as a shell would see it.
+    """
+    # Imported here so that collecting the tests does not fail while the core is
+    # missing or broken: only the tests that run the CLI fail.
+    from resonant.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            status = main([str(a) for a in args])
+        except SystemExit as exc:
+            code = exc.code
+            if code is None:
+                status = 0
+            elif isinstance(code, int):
+                status = code
+            else:  # sys.exit("message"): the message goes to stderr, status 1
+                print(code, file=err)
+                status = 1
+    if status is None:  # a main() that forgets to return counts as success
+        status = 0
+    return int(status), out.getvalue(), err.getvalue()
+
+
+def run_json(command: str, path: str | Path, *extra: str) -> dict[str, Any]:
+    """Run ``resonant COMMAND PATH --json *extra``; assert exit 0; return the JSON."""
+    status, out, err = run_cli([command, str(path), "--json", *extra])
+    assert status == 0, (
+        f"resonant {command} {path} {' '.join(extra)} exited with {status}\n"
+        f"stderr:\n{err}\nstdout:\n{out}"
+    )
+    try:
+        return json.loads(out)
+    except json.JSONDecodeError as exc:  # pragma: no cover - diagnostic only
+        raise AssertionError(f"stdout is not one JSON object ({exc}):\n{out}") from exc
+
+
+def solve_json(path: str | Path, *extra: str) -> dict[str, Any]:
+    """Run ``resonant solve PATH --json *extra``; assert exit 0; return the JSON object."""
+    return run_json("solve", path, *extra)
+
+
+@pytest.fixture
+def examples_dir() -> Path:
+    """The directory holding the example model files."""
+    return EXAMPLES
+
+
+@pytest.fixture
+def cli() -> Callable[[list[str]], tuple[int, str, str]]:
+    """The :func:`run_cli` helper as a fixture."""
+    return run_cli
+
+
+@pytest.fixture
+def solve() -> Callable[..., dict[str, Any]]:
+    """The :func:`solve_json` helper as a fixture."""
+    return solve_json
