@@ -18,7 +18,7 @@ from typing import Any
 from .errors import ModelError, Problem, ResonantError
 
 #: modules that add subcommands: each has ``register(subparsers, common)``
-COMMAND_MODULES = ("resonant.cli_analyses", "resonant.cli_report")
+COMMAND_MODULES = ("resonant.cli_analyses", "resonant.cli_simulate", "resonant.cli_report")
 
 
 def parse_settings(items: Sequence[str] | None) -> dict[str, str]:

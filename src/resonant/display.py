@@ -1,4 +1,28 @@
-"""Text, LaTeX and HTML views of results (reads results, computes nothing new)."""
+"""Text, LaTeX and HTML views of models and results (reads results, computes nothing new).
+
+The LaTeX views use the notation of the worked-solution report
+(:mod:`resonant.report.notation`): ``x1'`` is shown as a dotted symbol,
+``eps`` as varepsilon, matrices as ``bmatrix``.  They back the Jupyter hooks
+``_repr_latex_`` / ``_repr_html_`` of Model, LinearEOM and StationarySolution.
+
+Examples
+--------
+>>> from resonant.model import loads
+>>> model = loads('''
+... [parameters]
+... m = 2
+... k = 800
+... [coordinates]
+... x1 = "displacement"
+... [energy]
+... T = "m*x1'^2/2"
+... U = "k*x1^2/2"
+... ''')
+>>> print(model_latex(model))
+$\\displaystyle \\begin{aligned} \\mathbf{q} &= \\begin{bmatrix} x_{1} \\end{bmatrix} \\\\ T &= \\frac{m \\dot{x}_{1}^{2}}{2} \\\\ U &= \\frac{k x_{1}^{2}}{2} \\end{aligned}$
+>>> print(eom_latex(model.linearize()))
+$\\displaystyle \\begin{bmatrix} m \\end{bmatrix}\\begin{bmatrix} \\ddot{x}_{1} \\end{bmatrix} + \\begin{bmatrix} k \\end{bmatrix}\\begin{bmatrix} x_{1} \\end{bmatrix} = \\begin{bmatrix} 0 \\end{bmatrix}$
+"""
 
 from __future__ import annotations
 
@@ -11,6 +35,7 @@ import sympy
 
 if TYPE_CHECKING:  # pragma: no cover
     from .linearize import LinearEOM
+    from .model import Model
     from .stationary import StationarySolution
 
 
@@ -88,17 +113,83 @@ def solution_text(sol: "StationarySolution") -> str:
     return "\n".join(out) + "\n"
 
 
+def _namer(model: "Model"):
+    from .model import symbol
+    from .nonlinear import derivative_symbol
+    from .report.notation import Namer
+
+    namer = Namer(frozenset(model.signals))
+    symbols = [symbol(p) for p in model.parameters]
+    for name in [*model.coordinates, *model.signals]:
+        symbols.extend(derivative_symbol(name, order) for order in range(4))
+    return namer, namer.symbol_names(symbols)
+
+
 def eom_latex(eom: "LinearEOM") -> str:
     """The equation of motion as one LaTeX display (Jupyter ``_repr_latex_``)."""
-    q = sympy.Matrix([sympy.Symbol(c) for c in eom.coordinates])
+    from .report.notation import column_latex, sympy_latex
+
+    namer, names = _namer(eom.model)
     parts = []
-    for mat, dots in ((eom.M, r"\ddot{\mathbf{q}}"), (eom.C, r"\dot{\mathbf{q}}"),
-                      (eom.K, r"\mathbf{q}")):
+    for mat, order in ((eom.M, 2), (eom.C, 1), (eom.K, 0)):
         if any(e != 0 for e in mat):
-            parts.append(sympy.latex(mat) + dots)
+            parts.append(sympy_latex(mat, names)
+                         + column_latex([namer(c, order) for c in eom.coordinates]))
     lhs = " + ".join(parts) or "0"
-    return (rf"$\displaystyle {lhs} = {sympy.latex(eom.Q)},\quad "
-            rf"\mathbf{{q}} = {sympy.latex(q)}$")
+    return rf"$\displaystyle {lhs} = {sympy_latex(eom.Q, names)}$"
+
+
+def model_latex(model: "Model") -> str:
+    """The coordinates, energies (as given) or matrices of a model (``_repr_latex_``)."""
+    from .report.notation import column_latex, expression_latex
+
+    namer, _ = _namer(model)
+    lines = [r"\mathbf{q} &= " + column_latex([namer(c) for c in model.coordinates])]
+    for name, expression in model.definitions.items():
+        lines.append(f"{namer(name)} &= {expression_latex(expression, namer)}")
+    for key in ("T", "D", "U"):
+        if key in model.energy:
+            label = r"\mathcal{D}" if key == "D" else key
+            lines.append(f"{label} &= {expression_latex(model.energy[key], namer)}")
+    for name, expression in model.signals.items():
+        lines.append(f"{namer(name)} &= {expression_latex(expression, namer)}")
+    if model.is_matrix_model:
+        eom = model.linearize()
+        from .report.notation import sympy_latex
+
+        for label in ("M", "C", "K"):
+            lines.append(rf"\mathbf{{{label}}} &= {sympy_latex(getattr(eom, label), {})}")
+    return r"$\displaystyle \begin{aligned} " + r" \\ ".join(lines) + r" \end{aligned}$"
+
+
+def _mathml(latex: str) -> str:
+    try:
+        from .report.html import _math
+    except ImportError:  # pragma: no cover - latex2mathml missing
+        return f"<pre>{html.escape(latex)}</pre>"
+    return _math(latex, True)
+
+
+def model_html(model: "Model") -> str:
+    """The model as HTML with MathML (``_repr_html_``)."""
+    body = model_latex(model).removeprefix(r"$\displaystyle ").removesuffix("$")
+    title = html.escape(model.title or model.source or "model")
+    return f"<p><b>{title}</b></p>{_mathml(body)}"
+
+
+def stationary_latex(sol: "StationarySolution") -> str:
+    """q_p(t) = sum of L cos(w t) + N sin(w t) with numbers (``_repr_latex_``)."""
+    from .report.notation import number_latex, vector_latex
+
+    terms = []
+    for h in sol.harmonics:
+        if h.omega == 0:
+            terms.append(vector_latex(h.L))
+        else:
+            wt = number_latex(h.omega) + "t"
+            terms.append(rf"{vector_latex(h.L)}\cos({wt}) + {vector_latex(h.N)}\sin({wt})")
+    rhs = " + ".join(terms) or r"\mathbf{0}"
+    return rf"$\displaystyle \mathbf{{q}}_{{p}}(t) = {rhs}$"
 
 
 def stationary_html(sol: "StationarySolution") -> str:
@@ -109,6 +200,8 @@ def stationary_html(sol: "StationarySolution") -> str:
         for n, a in sol.amplitudes.items())
     freqs = ", ".join(f"{w:.6g}" for w in sol.natural_frequencies)
     warn = "".join(f"<p><b>warning:</b> {html.escape(w)}</p>" for w in sol.warnings)
-    return (f"<p>natural frequencies: {freqs} rad/s; {html.escape(sol.stability)}</p>"
+    solution = _mathml(stationary_latex(sol).removeprefix(r"$\displaystyle ").removesuffix("$")) \
+        if sol.harmonics else ""
+    return (f"{solution}<p>natural frequencies: {freqs} rad/s; {html.escape(sol.stability)}</p>"
             f"<table><tr><th>quantity</th><th>amplitude</th><th>phase [rad]</th></tr>{rows}"
             f"</table>{warn}")

@@ -17,6 +17,7 @@ Grammar (``^`` and ``**`` are the same, right-associative operator)::
 from __future__ import annotations
 
 import math
+import operator
 import re
 from collections.abc import Callable, Collection
 from dataclasses import dataclass, field
@@ -25,12 +26,6 @@ from typing import Any, Union
 import sympy
 
 from resonant.errors import ModelError, Problem
-
-__all__ = [
-    "FUNCTIONS", "RESERVED", "MAX_LENGTH", "MAX_DEPTH", "MAX_NODES", "MAX_EXPONENT",
-    "ExpressionError", "Num", "Name", "Call", "BinOp", "Neg", "Node", "Expression",
-    "parse", "validate_name",
-]
 
 FUNCTIONS: dict[str, int] = {
     "sin": 1, "cos": 1, "tan": 1, "asin": 1, "acos": 1, "atan": 1, "atan2": 2,
@@ -184,19 +179,13 @@ class Expression:
 
         Examples
         --------
-        >>> import math
-        >>> class Floats:
-        ...     num = float
-        ...     def name(self, name, primes): return {"x": 2.0}[name]
-        ...     def pi(self): return math.pi
-        ...     def add(self, a, b): return a + b
-        ...     def sub(self, a, b): return a - b
-        ...     def mul(self, a, b): return a * b
-        ...     def div(self, a, b): return a / b
-        ...     def pow(self, a, b): return a ** b
-        ...     def neg(self, a): return -a
-        ...     def call(self, func, args): return getattr(math, func)(*args)
-        >>> parse("-x^2 + 2^3^2 + cos(pi)").fold(Floats())
+        >>> import math, operator as op
+        >>> from types import SimpleNamespace
+        >>> floats = SimpleNamespace(
+        ...     num=float, name=lambda name, primes: 2.0, pi=lambda: math.pi, add=op.add,
+        ...     sub=op.sub, mul=op.mul, div=op.truediv, pow=op.pow, neg=op.neg,
+        ...     call=lambda func, args: getattr(math, func)(*args))
+        >>> parse("-x^2 + 2^3^2 + cos(pi)").fold(floats)
         507.0
         """
         stack: list[tuple[Node, bool]] = [(self.root, False)]
@@ -222,7 +211,7 @@ class Expression:
                     out.append(ops.call(node.func, args))
         return out[0]
 
-    def to_sympy(self, resolve: Callable[[str, int], sympy.Expr]) -> sympy.Expr:
+    def to_sympy(self, resolve: Callable[[str, int], sympy.Expr | int | float]) -> sympy.Expr:
         """The exact sympy expression; ``resolve(name, primes)`` supplies the names.
 
         Raises :class:`ExpressionError` instead of building a huge number.
@@ -232,7 +221,8 @@ class Expression:
         >>> parse("0.5*x + 1e-3").to_sympy(lambda name, primes: sympy.Symbol(name))
         x/2 + 1/1000
         """
-        return self.fold(_SympyOps(resolve, self))
+        ops = _SympyOps(resolve, self)
+        return ops.done(self.fold(ops))
 
 
 def _decimal(text: str) -> tuple[str, int]:
@@ -260,11 +250,9 @@ def _number_problem(text: str) -> str | None:
     return None
 
 
-_FLOAT_FUNCS: dict[str, Callable[..., float]] = {f: getattr(math, f) for f in FUNCTIONS}
-_FLOAT_OPS: dict[str, Callable[..., float]] = {
-    "+": lambda a, b: a + b, "-": lambda a, b: a - b, "*": lambda a, b: a * b,
-    "/": lambda a, b: a / b, "^": math.pow, "neg": lambda a: -a, **_FLOAT_FUNCS,
-}
+_FLOAT_OPS: dict[str, Callable[..., float]] = {f: getattr(math, f) for f in FUNCTIONS} | {
+    "+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv,
+    "^": math.pow, "neg": operator.neg}
 
 
 def _const(op: str, *values: float | None) -> float | None:
@@ -523,10 +511,24 @@ def _huge(n: sympy.Expr, limit: float) -> bool:
     return bool(n.is_Number and n is not sympy.nan and abs(n) > limit)
 
 
-class _SympyOps:
-    """Fold operations building an exact sympy expression, with size guards."""
+class _Pending:
+    """A sum or product being collected, so a long chain costs one sympy call."""
 
-    def __init__(self, resolve: Callable[[str, int], sympy.Expr], expression: Expression):
+    __slots__ = ("mul", "coeff", "items")
+
+    def __init__(self, mul: bool) -> None:
+        self.mul, self.coeff, self.items = mul, sympy.Integer(int(mul)), []
+
+
+class _SympyOps:
+    """Fold operations building an exact sympy expression, with size guards.
+
+    Chains ``a + b - c ...`` and ``a * b / c ...`` are collected and built by
+    a single ``Add``/``Mul`` (pairwise building is quadratic in sympy), their
+    numeric coefficient accumulated eagerly so it can be bounded at each step.
+    """
+
+    def __init__(self, resolve: Callable[[str, int], Any], expression: Expression):
         self.resolve, self.expression = resolve, expression
 
     def fail(self, reason: str) -> ExpressionError:
@@ -543,35 +545,56 @@ class _SympyOps:
                 raise self.fail(f"exponent too large (at most {MAX_EXPONENT} in magnitude)")
         return e
 
+    def done(self, x: sympy.Expr | _Pending) -> sympy.Expr:
+        if isinstance(x, _Pending):
+            x = self.check((sympy.Mul if x.mul else sympy.Add)(x.coeff, *x.items))
+        return x
+
+    def collect(self, a: sympy.Expr | _Pending, b: sympy.Expr, mul: bool) -> _Pending:
+        if not (isinstance(a, _Pending) and a.mul == mul):
+            a = self.collect(_Pending(mul), self.done(a), mul)
+        coeff, rest = b.as_coeff_Mul() if mul else b.as_coeff_Add()
+        if coeff.is_Rational:
+            a.coeff = self.check(a.coeff * coeff if mul else a.coeff + coeff)
+            b = rest
+        if b != int(mul):
+            a.items.append(b)
+        return a
+
     def num(self, text: str) -> sympy.Expr:
         digits, scale = _decimal(text)  # bounded by the tokenizer's checks
         return sympy.Integer(int(digits or "0")) * sympy.Integer(10) ** scale
 
     def name(self, name: str, primes: int) -> sympy.Expr:
         value = self.resolve(name, primes)
-        if not isinstance(value, sympy.Basic):
-            raise TypeError(f"resolve({name!r}, {primes}) must return a sympy expression")
+        if isinstance(value, int) and not isinstance(value, bool):
+            return sympy.Integer(value)
+        if isinstance(value, float):
+            return sympy.Float(value)
+        if not isinstance(value, sympy.Basic):  # never sympify: a str would be parsed
+            raise TypeError(f"resolve({name!r}, {primes}) must return a sympy expression or a number")
         return value
 
     def pi(self) -> sympy.Expr:
         return sympy.pi
 
-    def add(self, a: sympy.Expr, b: sympy.Expr) -> sympy.Expr:
-        return self.check(a + b)
+    def add(self, a: Any, b: Any) -> _Pending:
+        return self.collect(a, self.done(b), mul=False)
 
-    def sub(self, a: sympy.Expr, b: sympy.Expr) -> sympy.Expr:
-        return self.check(a - b)
+    def sub(self, a: Any, b: Any) -> _Pending:
+        return self.collect(a, -self.done(b), mul=False)
 
-    def mul(self, a: sympy.Expr, b: sympy.Expr) -> sympy.Expr:
-        return self.check(a * b)
+    def mul(self, a: Any, b: Any) -> _Pending:
+        return self.collect(a, self.done(b), mul=True)
 
-    def div(self, a: sympy.Expr, b: sympy.Expr) -> sympy.Expr:
-        return self.check(a / b)
+    def div(self, a: Any, b: Any) -> _Pending:
+        return self.collect(a, sympy.Pow(self.done(b), -1), mul=True)
 
-    def neg(self, a: sympy.Expr) -> sympy.Expr:
-        return -a
+    def neg(self, a: Any) -> sympy.Expr:
+        return -self.done(a)
 
-    def pow(self, a: sympy.Expr, b: sympy.Expr) -> sympy.Expr:
+    def pow(self, a: Any, b: Any) -> sympy.Expr:
+        a, b = self.done(a), self.done(b)
         if _huge(b, MAX_EXPONENT):
             raise self.fail(f"exponent too large (at most {MAX_EXPONENT} in magnitude)")
         if a.is_Rational and b.is_Rational and a not in (0, 1, -1):
@@ -579,7 +602,8 @@ class _SympyOps:
                 raise self.fail("number too large")
         return self.check(sympy.Pow(a, b))
 
-    def call(self, func: str, args: list[sympy.Expr]) -> sympy.Expr:
+    def call(self, func: str, args: list[Any]) -> sympy.Expr:
+        args = [self.done(a) for a in args]
         # exp(c*log(b)) evaluates to b**c: bound c like any exponent.
         if func == "exp" and args[0].has(sympy.log) and any(
                 _huge(n, MAX_EXPONENT) for n in args[0].atoms(sympy.Number)):

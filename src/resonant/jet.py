@@ -2,7 +2,9 @@
 
 A :class:`Jet` is a polynomial of degree at most two in the *small
 quantities* of a model (coordinate deviations, their rates, signals and their
-rates), with symbolic coefficients (expressions of the parameters)::
+rates), with symbolic coefficients (symengine expressions of the parameters: the
+arithmetic of a large derivation is symengine's, converted to sympy once at
+the end)::
 
     c + sum_a lin[a] z_a + sum_{a <= b} quad[a, b] z_a z_b
 
@@ -17,7 +19,6 @@ second derivative of signal ``r``.
 
 Examples
 --------
->>> import sympy
 >>> x = Jet.variable(("x", 0))
 >>> j = (x * x + x * 3).apply("cos")
 >>> j.const, j.lin, j.quad
@@ -29,24 +30,24 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from typing import Any
 
+import symengine as se
 import sympy
+from sympy.core.add import _addsort
+from sympy.core.mul import _mulsort
 
 Var = tuple[str, int]
-Coefficient = Any  # a sympy expression (or any field element)
+Coefficient = Any  # a symengine expression
 
-_ZERO = sympy.Integer(0)
-_ONE = sympy.Integer(1)
-_U = sympy.Dummy("u")
-_V = sympy.Dummy("v")
+_ZERO = se.Integer(0)
+_ONE = se.Integer(1)
+_U = se.Symbol("_jet_u")
 
+_NAMES = ("sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "exp", "log",
+          "sqrt", "atan2")
 #: sympy constructors of the model language's functions
-SYMPY_FUNCTIONS: dict[str, Callable[..., Any]] = {
-    "sin": sympy.sin, "cos": sympy.cos, "tan": sympy.tan,
-    "asin": sympy.asin, "acos": sympy.acos, "atan": sympy.atan,
-    "sinh": sympy.sinh, "cosh": sympy.cosh, "tanh": sympy.tanh,
-    "exp": sympy.exp, "log": sympy.log, "sqrt": sympy.sqrt,
-    "atan2": sympy.atan2,
-}
+SYMPY_FUNCTIONS: dict[str, Callable[..., Any]] = {name: getattr(sympy, name) for name in _NAMES}
+#: symengine constructors of the same functions (the jets' coefficient arithmetic)
+SE_FUNCTIONS: dict[str, Callable[..., Any]] = {name: getattr(se, name) for name in _NAMES}
 
 # derivative formulas f'(u), f''(u) of each one-argument function, computed once
 _DERIVATIVES: dict[str, tuple[Any, Any]] = {}
@@ -54,9 +55,9 @@ _DERIVATIVES: dict[str, tuple[Any, Any]] = {}
 
 def _derivatives(func: str) -> tuple[Any, Any]:
     if func not in _DERIVATIVES:
-        f = SYMPY_FUNCTIONS[func](_U)
-        d1 = sympy.diff(f, _U)
-        _DERIVATIVES[func] = (d1, sympy.diff(d1, _U))
+        f = SE_FUNCTIONS[func](_U)
+        d1 = se.diff(f, _U)
+        _DERIVATIVES[func] = (d1, se.diff(d1, _U))
     return _DERIVATIVES[func]
 
 
@@ -177,19 +178,19 @@ class Jet:
 
     def apply(self, func: str) -> "Jet":
         """The jet of ``func(self)`` for a one-argument function of the model language."""
-        f0 = SYMPY_FUNCTIONS[func](self.const)
+        f0 = SE_FUNCTIONS[func](self.const)
         if self.is_constant():
             return Jet(f0)
         d1, d2 = _derivatives(func)
-        f1 = d1.subs(_U, self.const)
-        f2 = d2.subs(_U, self.const) if self.lin else _ZERO
+        f1 = d1.subs({_U: self.const})
+        f2 = d2.subs({_U: self.const}) if self.lin else _ZERO
         _check_finite(func, f0, f1, f2)
         return self._compose(f0, f1, f2)
 
     def atan2(self, x: "Jet") -> "Jet":
         """The jet of ``atan2(self, x)`` (self is the y argument)."""
         y0, x0 = self.const, x.const
-        f0 = sympy.atan2(y0, x0)
+        f0 = se.atan2(y0, x0)
         if self.is_constant() and x.is_constant():
             return Jet(f0)
         r2 = x0**2 + y0**2
@@ -259,11 +260,11 @@ class Jet:
         (everything that moves is a declared signal).
         """
         lin = {(n, k + 1): v for (n, k), v in self.lin.items()}
-        out = Jet(_ZERO, lin)
+        quad: dict[tuple[Var, Var], Coefficient] = {}
         for (a, b), v in self.quad.items():
-            a1, b1 = (a[0], a[1] + 1), (b[0], b[1] + 1)
-            out = out + Jet(_ZERO, None, {_key(a1, b): v}) + Jet(_ZERO, None, {_key(a, b1): v})
-        return out
+            for key in (_key((a[0], a[1] + 1), b), _key(a, (b[0], b[1] + 1))):
+                quad[key] = quad[key] + v if key in quad else v
+        return Jet(_ZERO, lin, {k: v for k, v in quad.items() if _nonzero(v)})
 
     def truncate(self, degree: int) -> "Jet":
         if degree >= 2:
@@ -291,8 +292,62 @@ def _integer_power(base: Jet, n: int) -> Jet:
 
 def _check_finite(func: str, *values: Coefficient) -> None:
     for v in values:
-        if isinstance(v, sympy.Basic) and v.has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
+        if isinstance(v, se.Basic) and (v.has(se.zoo) or v.has(se.nan) or v.has(se.oo)):
             raise NotDifferentiable(f"{func}() is not differentiable at the reference state")
 
 
-__all__ = ["Jet", "Var", "NotDifferentiable", "SYMPY_FUNCTIONS"]
+CANONICAL_SORT_LIMIT = 12
+
+
+def to_sympy(value: Coefficient, cache: dict | None = None) -> sympy.Expr:
+    """Convert a symengine coefficient to sympy (model symbols carry no assumptions).
+
+    symengine's result is already canonical (like terms combined), so sums
+    and products are rebuilt without sympy's costly re-flattening; this is
+    what keeps a 100-coordinate derivation within seconds.
+
+    Examples
+    --------
+    >>> a = se.Symbol("a")
+    >>> to_sympy(se.Rational(1, 2) * a + 3 * a**2)
+    3*a**2 + a/2
+    """
+    if not isinstance(value, se.Basic):
+        return sympy.sympify(value)
+    return _convert(value, {} if cache is None else cache)
+
+
+def _convert(e: Any, cache: dict) -> sympy.Expr:
+    if e in cache:
+        return cache[e]
+    if isinstance(e, se.Symbol):
+        out = sympy.Symbol(e.name)
+    elif isinstance(e, (se.Add, se.Mul)):
+        args = [_convert(a, cache) for a in e.args]
+        # sympy's canonical order for ordinary sizes; for long sums (large
+        # systems) only the numeric coefficient goes first, which is all sympy's
+        # algorithms rely on -- the full sort would cost more than the derivation
+        if len(args) <= CANONICAL_SORT_LIMIT:
+            (_addsort if isinstance(e, se.Add) else _mulsort)(args)
+        else:
+            args.sort(key=lambda a: not a.is_Number)
+        cls = sympy.Add if isinstance(e, se.Add) else sympy.Mul
+        out = cls._from_args(args, is_commutative=True)
+    elif isinstance(e, se.Pow):
+        base, exponent = (_convert(a, cache) for a in e.args)
+        out = sympy.Pow(base, exponent)
+    elif e.args and isinstance(e, se.Function) and type(e).__name__.lower() in SYMPY_FUNCTIONS:
+        out = SYMPY_FUNCTIONS[type(e).__name__.lower()](*(_convert(a, cache) for a in e.args))
+    else:
+        out = e._sympy_()
+    cache[e] = out
+    return out
+
+
+def from_sympy(value: sympy.Expr) -> Coefficient:
+    """Convert a sympy expression (built by resonant, never user text) to symengine."""
+    return se.sympify(value)
+
+
+__all__ = ["Jet", "Var", "NotDifferentiable", "SYMPY_FUNCTIONS", "SE_FUNCTIONS", "to_sympy",
+           "from_sympy"]

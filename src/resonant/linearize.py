@@ -44,7 +44,11 @@ import sympy
 from .errors import AnalysisError, ModelError, Problem
 from .expr import Expression
 from .harmonics import SignalHarmonics, decompose_signals
-from .jet import Jet, NotDifferentiable, Var
+from fractions import Fraction
+
+import symengine as se
+
+from .jet import Jet, NotDifferentiable, Var, from_sympy, to_sympy
 from .model import TIME, Model, symbol
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -182,11 +186,13 @@ class _JetOps:
 
     def __init__(self, model: Model) -> None:
         self.model = model
-        self.params = {name: Jet(symbol(name)) for name in model.parameters}
+        self.params = {name: Jet(se.Symbol(name)) for name in model.parameters}
         self.equilibrium = {
-            q: (model.equilibrium[q].to_sympy(lambda n, p: symbol(n) if p == 0 else 0)
-                if q in model.equilibrium else sympy.Integer(0))
+            q: (from_sympy(model.equilibrium[q].to_sympy(
+                lambda n, p: symbol(n) if p == 0 else sympy.Integer(0)))
+                if q in model.equilibrium else se.Integer(0))
             for q in model.coordinates}
+        self.converted: dict = {}  # symengine -> sympy conversions, shared across entries
         self.coordinates = set(model.coordinates)
         self.definition_jets: dict[tuple[str, int], Jet] = {}
         self.where = ("", "")
@@ -204,10 +210,14 @@ class _JetOps:
 
     # fold operations
     def num(self, text: str) -> Jet:
-        return Jet(sympy.Rational(text))
+        value = Fraction(text)
+        return Jet(se.Rational(value.numerator, value.denominator))
 
     def pi(self) -> Jet:
-        return Jet(sympy.pi)
+        return Jet(se.pi)
+
+    def to_sympy(self, value: Any) -> sympy.Expr:
+        return to_sympy(value, self.converted)
 
     def name(self, name: str, primes: int) -> Jet:
         if name in self.coordinates:
@@ -313,15 +323,16 @@ def linearize(model: Model) -> LinearEOM:
                         f"the equations contain {name}{chr(39) * order}: forces may depend on "
                         "coordinates and their first two derivatives only", model.source,
                         "force"))
-                mats[order][k, index[name]] += coef
+                mats[order][k, index[name]] += ops.to_sympy(coef)
             else:
-                excitation.setdefault((name, order), sympy.zeros(n, 1))[k] -= coef
-    residual = sympy.ImmutableMatrix([eq.const for eq in equations])
+                excitation.setdefault((name, order), sympy.zeros(n, 1))[k] -= ops.to_sympy(coef)
+    residual = sympy.ImmutableMatrix([ops.to_sympy(eq.const) for eq in equations])
     _check_equilibrium(model, residual)
     outputs = {}
     for name, expression in model.outputs.items():
         jet = ops.jet(expression, "outputs", name)
-        outputs[name] = LinearMap(jet.const, MappingProxyType(dict(jet.lin)))
+        outputs[name] = LinearMap(ops.to_sympy(jet.const), MappingProxyType(
+            {v: ops.to_sympy(c) for v, c in jet.lin.items()}))
     return LinearEOM(
         model=model, coordinates=coords,
         M=_clean(mats[2]), C=_clean(mats[1]), K=_clean(mats[0]),
@@ -331,8 +342,17 @@ def linearize(model: Model) -> LinearEOM:
         residual=residual, outputs=MappingProxyType(outputs))
 
 
+TIDY_MAX_COORDINATES = 8  # textbook-sized systems get tidied entries; larger ones stay raw
+
+
 def _clean(matrix: sympy.MatrixBase) -> sympy.ImmutableMatrix:
-    """Light, bounded simplification of each entry (cheap rational normalisation)."""
+    """Light, bounded simplification of each entry (cheap rational normalisation).
+
+    Only for small systems: on large ones it would cost far more than the
+    derivation itself, and nobody reads a 50 x 50 symbolic matrix.
+    """
+    if matrix.rows > TIDY_MAX_COORDINATES:
+        return sympy.ImmutableMatrix(matrix)
     def tidy(e: sympy.Expr) -> sympy.Expr:
         if e == 0 or e.is_Atom:
             return e

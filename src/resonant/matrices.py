@@ -7,7 +7,9 @@ like the matrix, or the only one) or Matrix Market ``.mtx`` files.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
@@ -15,8 +17,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import sympy
 
-from .errors import ModelError, Problem
+from .errors import AnalysisError, ModelError, Problem
 from .expr import Expression, ExpressionError, parse
+from .numeric import NumericEOM, NumericHarmonic
 
 if TYPE_CHECKING:  # pragma: no cover
     from .linearize import LinearEOM
@@ -26,6 +29,9 @@ MATRIX_KEYS = ("M", "K", "C")
 FILE_SUFFIXES = (".npy", ".npz", ".mtx")
 
 
+SPARSE_NPZ_KEYS = {"format", "shape", "data"}
+
+
 def _read_file(path: Path, key: str) -> Any:
     suffix = path.suffix.lower()
     if suffix == ".npy":
@@ -33,6 +39,10 @@ def _read_file(path: Path, key: str) -> Any:
     if suffix == ".npz":
         with np.load(path, allow_pickle=False) as archive:
             names = list(archive.keys())
+            if SPARSE_NPZ_KEYS <= set(names):  # written by scipy.sparse.save_npz
+                import scipy.sparse
+
+                return scipy.sparse.load_npz(path).tocsr()
             if key in names:
                 return archive[key]
             if len(names) == 1:
@@ -67,7 +77,7 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
         if isinstance(value, str) and value.lower().endswith(FILE_SUFFIXES):
             try:
                 array = _read_file((base_dir / value), key)
-            except (OSError, ValueError) as exc:
+            except Exception as exc:  # noqa: BLE001 - any unreadable file is the user's input
                 problems.append(Problem(f"cannot read '{value}': {exc}", source, "matrices", key))
                 continue
             if not (hasattr(array, "shape") and len(array.shape) == 2
@@ -75,13 +85,14 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
                 problems.append(Problem(f"'{value}' does not hold a square matrix", source,
                                         "matrices", key))
                 continue
-            if not np.issubdtype(array.dtype, np.number) or \
+            if not (np.issubdtype(array.dtype, np.integer)
+                    or np.issubdtype(array.dtype, np.floating)) or \
                     not np.all(np.isfinite(array.data if hasattr(array, "tocsr") else array)):
-                problems.append(Problem(f"'{value}' holds non-numeric or non-finite entries",
-                                        source, "matrices", key))
+                problems.append(Problem(f"'{value}' holds non-real, non-numeric or non-finite "
+                                        "entries", source, "matrices", key))
                 continue
-            matrices[key] = array.tocsr() if hasattr(array, "tocsr") else np.asarray(
-                array, dtype=float)
+            matrices[key] = array.tocsr().astype(float) if hasattr(array, "tocsr") else \
+                np.asarray(array, dtype=float)
         elif isinstance(value, list) and value and all(isinstance(r, list) for r in value):
             n = len(value)
             if any(len(row) != n for row in value):
@@ -155,13 +166,214 @@ def _entry(value: Any, params: Sequence[str], source: str, key: str,
         raise ModelError(list(exc.problems)) from None
 
 
+# -- numeric evaluation (no sympy) -----------------------------------------------------------
+
+class FloatOps:
+    """Fold operations evaluating a parsed expression with numpy floats.
+
+    Names resolve through ``values`` (parameter name -> float or array), so
+    an expression is evaluated for a whole array of parameter values at once.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> parse("k*(2 + x^2)").fold(FloatOps({"k": 2.0, "x": np.array([0.0, 1.0])}))
+    array([4., 6.])
+    """
+
+    _FUNCS = {"sin": np.sin, "cos": np.cos, "tan": np.tan, "asin": np.arcsin,
+              "acos": np.arccos, "atan": np.arctan, "atan2": np.arctan2, "sinh": np.sinh,
+              "cosh": np.cosh, "tanh": np.tanh, "exp": np.exp, "log": np.log, "sqrt": np.sqrt}
+
+    def __init__(self, values: Any) -> None:
+        self.values = values
+
+    def num(self, text: str) -> float:
+        return float(text)
+
+    def name(self, name: str, primes: int) -> Any:
+        if primes:
+            return 0.0  # parameters are constants: their time derivatives vanish
+        return self.values[name]
+
+    def pi(self) -> float:
+        return float(np.pi)
+
+    def add(self, a: Any, b: Any) -> Any:
+        return a + b
+
+    def sub(self, a: Any, b: Any) -> Any:
+        return a - b
+
+    def mul(self, a: Any, b: Any) -> Any:
+        return a * b
+
+    def div(self, a: Any, b: Any) -> Any:
+        return np.divide(a, b)
+
+    def neg(self, a: Any) -> Any:
+        return -a
+
+    def pow(self, a: Any, b: Any) -> Any:
+        return np.power(np.asarray(a, dtype=float), b)
+
+    def call(self, func: str, args: list[Any]) -> Any:
+        return self._FUNCS[func](*args)
+
+
+def numeric_value(expression: Expression, values: Any) -> Any:
+    """The float (or array) value of a parsed expression; ``values`` maps names to numbers."""
+    with np.errstate(all="ignore"):
+        return expression.fold(FloatOps(values))
+
+
+@dataclass(frozen=True)
+class MatrixSystem:
+    """A matrix model with numbers: M, C, K dense (numpy) or sparse (scipy CSR).
+
+    This is the numeric path for matrix models: nothing goes through sympy,
+    so models with 10^4 - 10^5 coordinates stay cheap.  ``harmonics`` has the
+    same meaning as in :class:`~resonant.numeric.NumericEOM`.
+    """
+
+    coordinates: tuple[str, ...]
+    M: Any
+    C: Any
+    K: Any
+    harmonics: tuple[NumericHarmonic, ...] = ()
+    parameters: Mapping[str, float] = field(default_factory=dict)
+    title: str = ""
+    source: str = ""
+
+    @property
+    def n(self) -> int:
+        return len(self.coordinates)
+
+    @property
+    def sparse(self) -> bool:
+        return any(hasattr(a, "tocsr") for a in (self.M, self.C, self.K))
+
+    def dense(self, symbolic: "LinearEOM | None" = None) -> NumericEOM:
+        """The same system as a dense :class:`~resonant.numeric.NumericEOM`."""
+        if self.n > DENSE_LIMIT:
+            raise AnalysisError(
+                f"the model has {self.n} coordinates; dense analyses (resonant solve) are "
+                f"limited to {DENSE_LIMIT}: use `resonant modes --count K` or `resonant sweep`, "
+                "which work with sparse matrices")
+        return NumericEOM(
+            coordinates=self.coordinates, M=_dense(self.M), C=_dense(self.C),
+            K=_dense(self.K), harmonics=self.harmonics, harmonic=True, outputs={},
+            parameters=self.parameters, title=self.title, source=self.source,
+            symbolic=symbolic)
+
+
+#: largest matrix model turned into dense matrices (solve, dense modes)
+DENSE_LIMIT = 4000
+
+
+def _dense(matrix: Any) -> np.ndarray:
+    return matrix.toarray() if hasattr(matrix, "toarray") else np.asarray(matrix, dtype=float)
+
+
+def matrix_values(model: "Model", key: str, values: Any) -> Any:
+    """M, C or K of a matrix model for the parameter ``values``.
+
+    File matrices are returned as read (dense array or CSR); inline matrices
+    as an (n, n) array, or (N, n, n) when an entry depends on an array value.
+    A missing C is an all-zero matrix of M's kind.
+    """
+    spec = model.matrices
+    assert spec is not None
+    matrix = getattr(spec, key)
+    n = len(model.coordinates)
+    if matrix is None:
+        if hasattr(spec.M, "tocsr"):
+            import scipy.sparse
+
+            return scipy.sparse.csr_matrix((n, n))
+        return np.zeros((n, n))
+    if not isinstance(matrix, list):
+        return matrix
+    entries = [[numeric_value(e, values) for e in row] for row in matrix]
+    shape = np.broadcast_shapes(*(np.shape(v) for row in entries for v in row))
+    out = np.empty((*shape, n, n))
+    for i, row in enumerate(entries):
+        for j, v in enumerate(row):
+            out[..., i, j] = v
+    _check_finite(out, model, key)
+    return out
+
+
+def _check_finite(array: Any, model: "Model", key: str, section: str = "matrices") -> None:
+    if not np.all(np.isfinite(array)):
+        raise ModelError(Problem(f"{key} is not finite (or not real) for the given parameter "
+                                 "values", model.source, section, key))
+
+
+def harmonic_values(model: "Model", values: Any) -> list[tuple[Any, Any, Any]]:
+    """``[(omega, F_S, F_C)]`` of a matrix model's harmonics for the parameter ``values``.
+
+    omega may be an array (shape (N,)), F_S and F_C then (N, n) or (n,).
+    """
+    spec = model.matrices
+    assert spec is not None
+    out = []
+    for j, h in enumerate(spec.harmonics, start=1):
+        omega = np.asarray(numeric_value(h.omega, values), dtype=float)
+        vectors = []
+        for label, vector in (("F_S", h.F_S), ("F_C", h.F_C)):
+            entries = [numeric_value(e, values) for e in vector]
+            shape = np.broadcast_shapes(*(np.shape(v) for v in entries)) if entries else ()
+            vec = np.empty((*shape, len(entries)))
+            for i, v in enumerate(entries):
+                vec[..., i] = v
+            _check_finite(vec, model, label, f"harmonic {j}")
+            vectors.append(vec)
+        _check_finite(omega, model, "omega", f"harmonic {j}")
+        out.append((omega, vectors[0], vectors[1]))
+    return out
+
+
+def numeric_system(model: "Model") -> MatrixSystem:
+    """The matrix model with its parameter values substituted, without sympy."""
+    from .numeric import NumericHarmonic
+
+    values = dict(model.parameter_values)
+    M, C, K = (matrix_values(model, key, values) for key in ("M", "C", "K"))
+    merged: dict[float, list] = {}
+    for j, (omega, f_s, f_c) in enumerate(harmonic_values(model, values), start=1):
+        w, sign = float(omega), 1.0
+        if w < 0:  # sin(-w t) = -sin(w t)
+            w, sign = -w, -1.0
+        if w == 0:
+            f_s = np.zeros_like(f_s)
+        key = next((k for k in merged if math.isclose(k, w, rel_tol=1e-12, abs_tol=0.0)), w)
+        entry = merged.setdefault(key, [np.zeros(len(f_s)), np.zeros(len(f_c)), {}])
+        entry[0] = entry[0] + sign * f_s
+        entry[1] = entry[1] + f_c
+        if np.any(f_s):
+            entry[2][(f"harmonic{j}_s", 0)] = (sign, 0.0) if w else (0.0, 0.0)
+        if np.any(f_c):
+            entry[2][(f"harmonic{j}_c", 0)] = (0.0, 1.0)
+    harmonics = tuple(NumericHarmonic(w, fs, fc, MappingProxyType(sig))
+                      for w, (fs, fc, sig) in sorted(merged.items()))
+    return MatrixSystem(model.coordinates, M, C, K, harmonics,
+                        MappingProxyType(dict(model.parameter_values)), model.title,
+                        model.source)
+
+
+# -- the symbolic form ------------------------------------------------------------------------
+
 def _to_sympy(matrix: Any, n: int) -> sympy.ImmutableMatrix:
     from .model import symbol
 
     if matrix is None:
-        return sympy.ImmutableMatrix.zeros(n, n)
-    if hasattr(matrix, "toarray"):
-        matrix = matrix.toarray()
+        return sympy.ImmutableSparseMatrix(n, n, {})
+    if hasattr(matrix, "tocoo"):
+        coo = matrix.tocoo()
+        return sympy.ImmutableSparseMatrix(n, n, {
+            (int(i), int(j)): sympy.Float(float(v))
+            for i, j, v in zip(coo.row, coo.col, coo.data) if v != 0})
     if isinstance(matrix, np.ndarray):
         return sympy.ImmutableMatrix(matrix.shape[0], matrix.shape[1],
                                      [sympy.Float(float(v)) for v in matrix.ravel()])
@@ -169,34 +381,97 @@ def _to_sympy(matrix: Any, n: int) -> sympy.ImmutableMatrix:
                                    for e in row] for row in matrix])
 
 
+class _LazyMatrix:
+    """A data descriptor: M, C, K of a matrix model become sympy matrices only when read."""
+
+    def __init__(self, key: str) -> None:
+        self.key = key
+        self.slot = f"_symbolic_{key}"
+
+    def __set__(self, obj: Any, value: Any) -> None:
+        obj.__dict__[self.slot] = value
+
+    def __get__(self, obj: Any, owner: Any = None) -> Any:
+        if obj is None:
+            return self
+        value = obj.__dict__.get(self.slot)
+        if value is None:
+            spec = obj.model.matrices
+            value = _to_sympy(getattr(spec, self.key), len(obj.coordinates))
+            obj.__dict__[self.slot] = value
+        return value
+
+
+def _matrix_eom_class() -> type:
+    from .linearize import LinearEOM
+
+    @dataclass(frozen=True, eq=False)
+    class MatrixEOM(LinearEOM):
+        """The equation of motion of a ``[matrices]`` model.
+
+        M, C and K are built as sympy matrices only when read; :meth:`numeric`
+        substitutes the parameters without sympy (see :class:`MatrixSystem`),
+        so large file-based models are cheap.
+        """
+
+        def system(self, **overrides: float) -> MatrixSystem:
+            """The numeric matrices (dense or sparse, as given) and harmonics."""
+            model = self.model.with_parameters(**overrides) if overrides else self.model
+            return numeric_system(model)
+
+        def numeric(self, **overrides: float) -> NumericEOM:
+            return self.system(**overrides).dense(symbolic=self)
+
+    for key in MATRIX_KEYS:
+        setattr(MatrixEOM, key, _LazyMatrix(key))
+    MatrixEOM.__module__ = __name__
+    return MatrixEOM
+
+
+_MATRIX_EOM: type | None = None
+
+
 def linearize_matrices(model: "Model") -> "LinearEOM":
     """The equation of motion of a matrix model, in the same form as for energies.
 
     Each harmonic j becomes two internal signals ``sin(omega_j t)`` and
     ``cos(omega_j t)`` whose columns are F_S and F_C, so every later stage
-    treats both kinds of model alike.
+    treats both kinds of model alike.  M, C and K are sympy matrices built on
+    first use; ``numeric()`` never needs them.
     """
-    from .linearize import LinearEOM
+    global _MATRIX_EOM
     from .model import TIME, symbol
 
+    if _MATRIX_EOM is None:
+        _MATRIX_EOM = _matrix_eom_class()
     spec = model.matrices
     assert spec is not None
     n = len(model.coordinates)
-    M, K, C = _to_sympy(spec.M, n), _to_sympy(spec.K, n), _to_sympy(spec.C, n)
     resolve = lambda name, p: symbol(name) if p == 0 else 0  # noqa: E731
     excitation, signals = {}, {}
     for j, h in enumerate(spec.harmonics):
         w = h.omega.to_sympy(resolve)
         for label, vector, fn in (("s", h.F_S, sympy.sin), ("c", h.F_C, sympy.cos)):
-            column = sympy.ImmutableMatrix([e.to_sympy(resolve) for e in vector])
-            if any(e != 0 for e in column):
+            nonzero = {i: e.to_sympy(resolve) for i, e in enumerate(vector)
+                       if e.text.strip() not in ("0", "0.0")}
+            nonzero = {i: v for i, v in nonzero.items() if v != 0}
+            if nonzero:
+                column = sympy.ImmutableSparseMatrix(n, 1, {(i, 0): v
+                                                            for i, v in nonzero.items()})
                 var = (f"harmonic{j + 1}_{label}", 0)
                 excitation[var] = column
                 signals[var] = fn(w * TIME)
-    return LinearEOM(model=model, coordinates=model.coordinates, M=M, C=C, K=K,
-                     excitation=MappingProxyType(excitation),
-                     residual=sympy.ImmutableMatrix.zeros(n, 1),
-                     outputs=MappingProxyType({}), given_signals=MappingProxyType(signals))
+    return _MATRIX_EOM(model=model, coordinates=model.coordinates, M=None, C=None, K=None,
+                       excitation=MappingProxyType(excitation),
+                       residual=sympy.ImmutableSparseMatrix(n, 1, {}),
+                       outputs=MappingProxyType({}), given_signals=MappingProxyType(signals))
 
 
-__all__ = ["read_matrix_spec", "linearize_matrices"]
+def is_matrix_eom(eom: Any) -> bool:
+    """True for the equation of motion of a ``[matrices]`` model (has ``system()``)."""
+    return _MATRIX_EOM is not None and isinstance(eom, _MATRIX_EOM)
+
+
+__all__ = ["read_matrix_spec", "linearize_matrices", "numeric_system", "MatrixSystem",
+           "FloatOps", "numeric_value", "matrix_values", "harmonic_values", "is_matrix_eom",
+           "DENSE_LIMIT"]

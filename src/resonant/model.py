@@ -42,7 +42,7 @@ from .expr import Expression, ExpressionError, parse, validate_name
 if TYPE_CHECKING:  # pragma: no cover
     from .linearize import LinearEOM
 
-TIME = sympy.Symbol("t", real=True)
+TIME = sympy.Symbol("t")
 
 TOP_LEVEL = ("title", "description", "parameters", "coordinates", "equilibrium", "signals",
              "definitions", "energy", "force", "outputs", "matrices", "harmonic")
@@ -60,7 +60,7 @@ def symbol(name: str) -> sympy.Symbol:
     >>> symbol("m1")
     m1
     """
-    return sympy.Symbol(name, real=True)
+    return sympy.Symbol(name)
 
 
 @dataclass(frozen=True)

@@ -114,7 +114,25 @@ class NonlinearEquations:
 
 
 def nonlinear_equations(model: Model) -> NonlinearEquations:
-    """Form the full Lagrange equations of an energy model."""
+    """Form the full Lagrange equations of an energy model.
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> eq = nonlinear_equations(loads('''
+    ... [parameters]
+    ... m = 1
+    ... l = 2
+    ... g = 9.81
+    ... [coordinates]
+    ... th = "angle"
+    ... [energy]
+    ... T = "m*l^2*th'^2/2"
+    ... U = "-m*g*l*cos(th)"
+    ... '''))
+    >>> eq.mass, eq.rest
+    (Matrix([[l**2*m]]), Matrix([[g*l*m*sin(th)]]))
+    """
     ops = _SympyOps(model)
     zero = sympy.Integer(0)
     T = ops.expr(model.energy["T"]) if "T" in model.energy else zero
@@ -145,6 +163,49 @@ def nonlinear_equations(model: Model) -> NonlinearEquations:
     return NonlinearEquations(model, mass, rest, ops)
 
 
+def linearized_matrices(eq: NonlinearEquations) -> tuple[sympy.Matrix, sympy.Matrix,
+                                                         sympy.Matrix]:
+    """M, C, K as the Jacobians of the full equations at the reference state.
+
+    The derivatives of ``mass * q'' + rest`` with respect to q'', q' and q at
+    the reference state (``[equilibrium]``, velocities and signals zero): an
+    independent route to the matrices :func:`resonant.linearize.linearize`
+    derives from second-order jets, used to cross-check the two.
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> eq = nonlinear_equations(loads('''
+    ... [parameters]
+    ... m = 1
+    ... l = 2
+    ... g = 9.81
+    ... [coordinates]
+    ... th = "angle"
+    ... [energy]
+    ... T = "m*l^2*th'^2/2"
+    ... U = "-m*g*l*cos(th)"
+    ... '''))
+    >>> linearized_matrices(eq)
+    (Matrix([[l**2*m]]), Matrix([[0]]), Matrix([[g*l*m]]))
+    """
+    model = eq.model
+    equations = eq.mass * sympy.Matrix(eq.qdd) + eq.rest
+    at_rest: dict[sympy.Symbol, sympy.Expr] = {}
+    for s, (name, order) in eq.ops.registry.items():
+        if name in model.signals or order > 0:
+            at_rest[s] = sympy.Integer(0)
+    for q, name in zip(eq.q, model.coordinates):
+        at_rest[q] = (model.equilibrium[name].to_sympy(
+            lambda n, p: symbol(n) if p == 0 else sympy.Integer(0))
+            if name in model.equilibrium else sympy.Integer(0))
+
+    def jacobian(variables: list[sympy.Symbol]) -> sympy.Matrix:
+        return equations.jacobian(variables).xreplace(at_rest).applyfunc(sympy.simplify)
+
+    return jacobian(eq.qdd), jacobian(eq.qd), jacobian(eq.q)
+
+
 def find_equilibrium(model: Model) -> dict[str, float] | None:
     """An equilibrium near the reference state with all signals zero, or None."""
     import scipy.optimize
@@ -165,4 +226,5 @@ def find_equilibrium(model: Model) -> dict[str, float] | None:
     return {c: float(v) for c, v in zip(model.coordinates, result.x)}
 
 
-__all__ = ["NonlinearEquations", "nonlinear_equations", "find_equilibrium", "derivative_symbol"]
+__all__ = ["NonlinearEquations", "nonlinear_equations", "find_equilibrium", "derivative_symbol",
+           "linearized_matrices"]

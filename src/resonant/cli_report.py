@@ -1,0 +1,44 @@
+"""``resonant report MODEL -o FILE``: the worked solution as HTML, Markdown or LaTeX."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+
+def register(subparsers, common: argparse.ArgumentParser) -> None:
+    parser = subparsers.add_parser(
+        "report", parents=[common],
+        help="write the worked solution (.html, .md or .tex)",
+        description="Write the solution of the model as a worked example, in the order and "
+                    "notation of a textbook exercise: energies, derivatives, M, C, K, Q(t), "
+                    "the stationary solution, amplitudes, natural frequencies and plots. "
+                    "The format follows the file ending: .html (self-contained, MathML and "
+                    "SVG), .md (Markdown with $$ LaTeX; figures as SVG files beside it) or "
+                    ".tex (LaTeX for pdflatex; figures as PDF files beside it).")
+    parser.add_argument("-o", "--output", required=True, metavar="FILE",
+                        help="the output file: .html, .md or .tex")
+    parser.add_argument("--no-plots", action="store_true",
+                        help="leave out the frequency response and time history plots")
+    parser.set_defaults(run=run_report)
+
+
+def run_report(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from .cli import load_model
+    from .errors import ModelError, Problem
+    from .report import build_report, render, report_format
+
+    fmt = report_format(args.output)  # check the ending before any work
+    model = load_model(args)
+    report = build_report(model, plots=not args.no_plots)
+    path = Path(args.output)
+    text = render(report, fmt, path)
+    try:
+        path.write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise ModelError(Problem(f"cannot write the report: {exc.strerror or exc}",
+                                 str(args.output))) from None
+    print(f"wrote {path}", file=sys.stderr)
+    return 0

@@ -1,0 +1,134 @@
+"""``resonant simulate``: time simulation, linear or full nonlinear.
+
+    resonant simulate MODEL [--duration T] [--nonlinear] [--initial x1=0.01,x2'=0 ...]
+                      [--start auto|rest|stationary] [--periods P] [--method M]
+                      [--plot FILE.png|svg|pdf] [--csv FILE] [--json] [--set NAME=VALUE ...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from .errors import AnalysisError, ModelError, Problem
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .simulate import Simulation
+
+PLOT_SUFFIXES = (".png", ".svg", ".pdf")
+#: the same as resonant.simulate.START_MODES / METHODS, repeated here so that building the
+#: parser (``resonant --help``) does not import numpy and sympy
+START_MODES = ("auto", "rest", "stationary")
+METHODS = ("DOP853", "RK45", "LSODA", "Radau", "BDF")
+
+
+def parse_initial_items(items: list[str] | None) -> dict[str, str]:
+    """``["x1=0.01,x2=0", "x1'=1"]`` -> ``{"x1": "0.01", "x2": "0", "x1'": "1"}``.
+
+    Examples
+    --------
+    >>> parse_initial_items(["x1=0.01, x2=0", "x1'=l/10"])
+    {'x1': '0.01', 'x2': '0', "x1'": 'l/10'}
+    """
+    out: dict[str, str] = {}
+    for item in items or ():
+        for part in item.split(","):
+            if not part.strip():
+                continue
+            name, sep, value = part.partition("=")
+            if not sep or not name.strip() or not value.strip():
+                raise ModelError(Problem(f"--initial expects NAME=VALUE[,NAME=VALUE...], got "
+                                         f"'{item}'", "--initial"))
+            out[name.strip()] = value.strip()
+    return out
+
+
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got '{text}'") from None
+    if not (value > 0 and value < float("inf")):
+        raise argparse.ArgumentTypeError(f"expected a positive number, got '{text}'")
+    return value
+
+
+def register(subparsers: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:
+    parser = subparsers.add_parser(
+        "simulate", parents=[common],
+        help="time simulation (linearized or --nonlinear) compared with the stationary "
+             "solution",
+        description="Integrate the equations of motion in time and compare the steady-state "
+                    "amplitudes (peak absolute deviation over the last periods) with the "
+                    "linear stationary prediction.")
+    parser.add_argument("--duration", type=_positive, metavar="T",
+                        help="end time in s (default: until the transient has decayed, or "
+                             "15 periods + the window for undamped systems)")
+    parser.add_argument("--nonlinear", action="store_true",
+                        help="integrate the full (not linearized) Lagrange equations")
+    parser.add_argument("--initial", action="append", default=[], metavar="NAME=VALUE,...",
+                        help="initial deviation from the reference state (x1=0.01) or "
+                             "velocity (x1'=0.1); the others start as --start says")
+    parser.add_argument("--start", choices=START_MODES, default="auto",
+                        help="initial state: rest, the linear stationary solution's q_p(0), "
+                             "q_p'(0), or auto (stationary for undamped systems, else rest)")
+    parser.add_argument("--periods", type=_positive, default=None, metavar="P",
+                        help="measurement window in periods of the lowest excitation "
+                             "frequency (default 5)")
+    parser.add_argument("--method", choices=METHODS, default=None,
+                        help="integrator (default DOP853, LSODA for stiff systems)")
+    parser.add_argument("--plot", metavar="FILE", help="write a plot (.png, .svg or .pdf)")
+    parser.add_argument("--csv", metavar="FILE", help="write the time history as CSV")
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.set_defaults(run=run_simulate)
+
+
+def run_simulate(args: argparse.Namespace) -> int:
+    from .cli import emit_json, load_model, warn
+    from .simulate import DEFAULT_PERIODS, simulate
+
+    if args.plot and Path(args.plot).suffix.lower() not in PLOT_SUFFIXES:
+        raise ModelError(Problem(f"--plot needs a file ending in {', '.join(PLOT_SUFFIXES)}, "
+                                 f"got '{args.plot}'", "--plot"))
+    initial = parse_initial_items(args.initial)
+    model = load_model(args)
+    sim = simulate(model, duration=args.duration, nonlinear=args.nonlinear,
+                   initial=initial or None, start=args.start,
+                   periods=args.periods or DEFAULT_PERIODS, method=args.method)
+    written = []
+    for path, write in ((args.csv, sim.to_csv), (args.plot, sim.plot)):
+        if not path:
+            continue
+        try:
+            write(path)
+        except OSError as exc:
+            raise AnalysisError(f"cannot write '{path}': {exc.strerror or exc}") from None
+        written.append(path)
+    if args.json:
+        emit_json(sim.to_dict())
+    else:
+        sys.stdout.write(simulation_text(sim))
+        for path in written:
+            print(f"wrote {path}")
+    warn(sim.warnings)
+    return 0
+
+
+def simulation_text(sim: "Simulation") -> str:
+    """A short plain-text report of a :class:`~resonant.simulate.Simulation`."""
+    kind = "nonlinear" if sim.nonlinear else "linear"
+    lines = [sim.title,
+             f"{kind} simulation, t = 0 ... {sim.t_end:.6g} s ({sim.method}, start: "
+             f"{sim.start})",
+             f"steady amplitudes (peak |deviation| over t = {sim.window[0]:.6g} ... "
+             f"{sim.window[1]:.6g} s):",
+             f"  {'name':<12} {'simulated':>14} {'linear':>14} {'difference':>11}"]
+    for name, value in sim.steady_amplitudes.items():
+        linear = sim.linear_amplitudes.get(name)
+        diff = sim.relative_difference.get(name)
+        lines.append(f"  {name:<12} {value:>14.6g} "
+                     f"{'-' if linear is None else format(linear, '.6g'):>14} "
+                     f"{'-' if diff is None else format(100 * diff, '+.3g') + '%':>11}")
+    return "\n".join(line for line in lines if line) + "\n"

@@ -1,0 +1,94 @@
+"""Worked-solution reports: the solution of a model in the order of a textbook exercise.
+
+:func:`build_report` runs the steps of :mod:`resonant.report.steps` and returns
+a :class:`~resonant.report.blocks.Report` (headings, paragraphs, numbered
+equations, tables, figures); the writers turn it into a self-contained HTML
+page (MathML + inline SVG), Markdown (``$$`` LaTeX) or a LaTeX document.
+
+Examples
+--------
+>>> import pathlib, resonant
+>>> from resonant.report import build_report, render
+>>> path = pathlib.Path(resonant.__file__).parents[2] / "examples" / "two_dof_free.toml"
+>>> report = build_report(resonant.load(path))
+>>> report.headings()[:2]
+['Data', 'Task 1: the linearized equation of motion']
+>>> "\\\\omega_{1} = 20" in render(report, "md")
+True
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..errors import ModelError, Problem
+from .blocks import Report
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..model import Model
+
+FORMATS = {".html": "html", ".htm": "html", ".md": "md", ".markdown": "md", ".tex": "tex"}
+
+
+def build_report(model: "Model", plots: bool = True) -> Report:
+    """The worked solution of ``model`` as a list of blocks.
+
+    Raises
+    ------
+    ModelError, AnalysisError
+        As ``resonant solve`` does (invalid model; resonance, singular M).
+    """
+    from .derivation import derive
+    from .steps import Context, step_order
+
+    eom = model.linearize()
+    solution = eom.stationary()
+    derivation = None if model.is_matrix_model else derive(eom)
+    ctx = Context(model, eom, solution, derivation, plots=plots)
+    blocks = []
+    for step in step_order(ctx):
+        blocks.extend(step(ctx))
+    return Report(model.title or Path(model.source).stem or "Worked solution", tuple(blocks))
+
+
+def render(report: Report, fmt: str, figure_path: Path | None = None) -> str:
+    """The report as text: ``fmt`` is ``"html"``, ``"md"`` or ``"tex"``.
+
+    Markdown and LaTeX figures are written next to ``figure_path`` (the
+    output file) as ``<stem>-figN.svg`` / ``.pdf``; without it they are left out.
+    """
+    if fmt == "html":
+        from .html import render_html
+
+        return render_html(report)
+    if fmt == "md":
+        from .markdown import render_markdown
+
+        return render_markdown(report, figure_path)
+    if fmt == "tex":
+        from .latex import render_latex
+
+        return render_latex(report, figure_path)
+    raise ValueError(f"unknown report format '{fmt}'")
+
+
+def report_format(path: str | Path) -> str:
+    """The format of an output file from its ending; ModelError for an unknown one."""
+    suffix = Path(path).suffix.lower()
+    if suffix not in FORMATS:
+        raise ModelError(Problem(f"cannot tell the report format from '{path}': use a file "
+                                 "ending in .html, .md or .tex", "-o"))
+    return FORMATS[suffix]
+
+
+def write_report(model: "Model", path: str | Path, plots: bool = True) -> Path:
+    """Write the worked solution of ``model`` to ``path`` (.html, .md or .tex)."""
+    path = Path(path)
+    fmt = report_format(path)
+    text = render(build_report(model, plots=plots), fmt, path)
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+__all__ = ["build_report", "render", "write_report", "report_format", "Report"]

@@ -1,0 +1,117 @@
+"""HTML writer: one self-contained page, math as MathML, plots as inline SVG.
+
+No JavaScript, no web fonts, no external files: the page opens offline in any
+modern browser (MathML Core is rendered natively by Chromium 109+, Firefox and
+Safari).  LaTeX is converted to MathML with ``latex2mathml``; should a formula
+ever fail to convert, its LaTeX source is shown instead of breaking the page.
+"""
+
+from __future__ import annotations
+
+import html
+import re
+
+from .blocks import Equation, Figure, Heading, Math, Note, Paragraph, Part, Report, Table
+
+_FENCE = re.compile(r'<mo( stretchy="true" fence="true" form="(?:prefix|postfix)")>')
+
+_SIMPLE_FENCE = re.compile(
+    r"\\left\(((?:(?!\\left|\\right|\\frac|\\begin|\\sum|\\sqrt|\\int).)*?)\\right\)",
+    re.DOTALL)
+
+CSS = """
+:root { color-scheme: light; }
+body { margin: 0; background: #f4f2ee; color: #1d1d1f;
+  font-family: "STIX Two Text", "Latin Modern Roman", "Computer Modern Serif", Cambria,
+    "Noto Serif", "DejaVu Serif", Georgia, serif;
+  font-size: 17px; line-height: 1.55; }
+main { max-width: 60rem; margin: 2rem auto; background: #fff; padding: 2.5rem 3.5rem 3rem;
+  box-shadow: 0 1px 4px rgba(0,0,0,.12); border-radius: 2px; }
+h1 { font-size: 1.7rem; line-height: 1.25; margin: 0 0 .4rem; font-weight: 600; }
+h2 { font-size: 1.3rem; margin: 2.2rem 0 .6rem; padding-bottom: .2rem;
+  border-bottom: 1px solid #d8d4cc; font-weight: 600; }
+h3 { font-size: 1.08rem; margin: 1.6rem 0 .4rem; font-weight: 600; font-style: italic; }
+p { margin: .55rem 0; text-align: justify; hyphens: auto; }
+math { font-family: "STIX Two Math", "Latin Modern Math", "Cambria Math", "Noto Sans Math",
+  math; font-size: 1.06em; }
+.equation { display: flex; align-items: center; gap: 1rem; margin: .7rem 0; }
+.equation .body { flex: 1 1 auto; overflow-x: auto; overflow-y: hidden; padding: .15rem 0; }
+.equation .body math { margin: 0 auto; }
+.equation .number { flex: 0 0 auto; color: #444; min-width: 2.8rem; text-align: right; }
+table { border-collapse: collapse; margin: .8rem auto; min-width: 50%; }
+th, td { padding: .3rem .9rem; text-align: left; }
+thead th { border-top: 2px solid #333; border-bottom: 1px solid #333; font-weight: 600; }
+tbody tr:last-child td { border-bottom: 2px solid #333; }
+figure { margin: 1.4rem 0; text-align: center; }
+figure svg { max-width: 100%; height: auto; }
+figcaption { font-size: .92rem; color: #333; margin-top: .3rem; text-align: left; }
+.note { border-left: 4px solid #c9822b; background: #fbf4ea; padding: .5rem .9rem;
+  margin: .6rem 0; }
+.source { color: #555; font-size: .95rem; }
+code { font-family: "DejaVu Sans Mono", monospace; font-size: .9em; }
+@media print { body { background: #fff; } main { box-shadow: none; margin: 0; } }
+"""
+
+
+def simple_parentheses(latex: str) -> str:
+    """``\\left( x \\right)`` -> ``(x)`` where nothing tall is inside.
+
+    Stretchy fences are drawn with loose spacing by browsers without a math
+    font; plain parentheses look right and still grow around fractions when
+    those keep their ``\\left(``.
+    """
+    while True:
+        replaced = _SIMPLE_FENCE.sub(lambda m: "(" + m.group(1).strip() + ")", latex)
+        if replaced == latex:
+            return latex
+        latex = replaced
+
+
+def _math(latex: str, display: bool) -> str:
+    from latex2mathml.converter import convert
+
+    latex = simple_parentheses(latex)
+    try:
+        mathml = convert(latex, display="block" if display else "inline")
+    except Exception:  # noqa: BLE001 - any converter failure: show the source instead
+        return f"<code>{html.escape(latex)}</code>"
+    # \left( ... \right) fences: no operator spacing inside the parentheses
+    return _FENCE.sub(r'<mo\1 lspace="0em" rspace="0em">', mathml)
+
+
+def _inline(parts: tuple[Part, ...]) -> str:
+    return "".join(_math(p.latex, False) if isinstance(p, Math) else html.escape(p)
+                   for p in parts)
+
+
+def render_html(report: Report) -> str:
+    from .plots import to_svg
+
+    out = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
+           '<meta name="viewport" content="width=device-width, initial-scale=1">',
+           f"<title>{html.escape(report.title)}</title>",
+           '<meta name="generator" content="resonant report">',
+           f"<style>{CSS}</style>", "</head>", "<body>", "<main>",
+           f"<h1>{html.escape(report.title)}</h1>"]
+    for block in report.blocks:
+        if isinstance(block, Heading):
+            level = min(6, block.level)
+            out.append(f"<h{level}>{html.escape(block.text)}</h{level}>")
+        elif isinstance(block, Paragraph):
+            out.append(f"<p>{_inline(block.parts)}</p>")
+        elif isinstance(block, Equation):
+            number = f"({block.number})" if block.number is not None else ""
+            out.append(f'<div class="equation"><div class="body">{_math(block.latex, True)}'
+                       f'</div><div class="number">{number}</div></div>')
+        elif isinstance(block, Table):
+            head = "".join(f"<th>{_inline(c)}</th>" for c in block.header)
+            rows = "".join("<tr>" + "".join(f"<td>{_inline(c)}</td>" for c in row) + "</tr>"
+                           for row in block.rows)
+            out.append(f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>")
+        elif isinstance(block, Note):
+            out.append(f'<p class="note"><b>Warning:</b> {_inline(block.parts)}</p>')
+        elif isinstance(block, Figure):
+            out.append(f"<figure>{to_svg(block.plot, block.number)}<figcaption>Figure "
+                       f"{block.number}: {html.escape(block.caption)}</figcaption></figure>")
+    out += ["</main>", "</body>", "</html>"]
+    return "\n".join(out) + "\n"

@@ -1,0 +1,62 @@
+"""Markdown writer: ``$$`` display math with ``\\tag``, ``$...$`` inline, pipe tables.
+
+Renders on GitHub, GitLab, VS Code and Jupyter (MathJax/KaTeX).  Figures are
+written as SVG files next to the Markdown file and linked relatively.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from .blocks import Equation, Figure, Heading, Math, Note, Paragraph, Part, Report, Table
+
+_SPECIAL = re.compile(r"([\\`*_\[\]<>#|$])")
+
+
+def _escape(text: str) -> str:
+    return _SPECIAL.sub(r"\\\1", text)
+
+
+def _inline(parts: tuple[Part, ...]) -> str:
+    out = []
+    for part in parts:
+        if isinstance(part, Math):
+            out.append("$" + part.latex + "$")
+        else:
+            out.append(_escape(part))
+    return "".join(out)
+
+
+def _one_line(latex: str) -> str:
+    return " ".join(latex.split())
+
+
+def render_markdown(report: Report, figure_path: Path | None = None) -> str:
+    lines = [f"# {_escape(report.title)}", ""]
+    for block in report.blocks:
+        if isinstance(block, Heading):
+            lines += ["#" * (block.level) + " " + _escape(block.text), ""]
+        elif isinstance(block, Paragraph):
+            lines += [_inline(block.parts), ""]
+        elif isinstance(block, Equation):
+            tag = rf" \tag{{{block.number}}}" if block.number is not None else ""
+            lines += ["$$", _one_line(block.latex) + tag, "$$", ""]
+        elif isinstance(block, Table):
+            lines.append("| " + " | ".join(_inline(c) for c in block.header) + " |")
+            lines.append("|" + "---|" * len(block.header))
+            for row in block.rows:
+                lines.append("| " + " | ".join(_inline(c) for c in row) + " |")
+            lines.append("")
+        elif isinstance(block, Note):
+            lines += ["> **Warning:** " + _inline(block.parts), ""]
+        elif isinstance(block, Figure):
+            if figure_path is None:
+                continue
+            from .plots import save
+
+            name = f"{figure_path.stem}-fig{block.number}.svg"
+            save(block.plot, figure_path.with_name(name), block.number)
+            lines += [f"![Figure {block.number}]({name})", "",
+                      f"*Figure {block.number}: {_escape(block.caption)}*", ""]
+    return "\n".join(lines).rstrip() + "\n"

@@ -1,0 +1,246 @@
+"""Plot data of the report (computed first) and its drawing with matplotlib (separately).
+
+:func:`frequency_response` sweeps the excitation frequency through the model:
+when the frequency is a parameter (``omega``), every parameter-dependent
+excitation amplitude follows it (a rotating unbalance grows with Omega^2);
+otherwise the force amplitudes are held at their operating values.
+
+Examples
+--------
+>>> from resonant.model import load
+>>> from resonant.report.plots import frequency_response, to_svg
+>>> import resonant, pathlib
+>>> path = pathlib.Path(resonant.__file__).parents[2] / "examples" / "cart_pendulum.toml"
+>>> eom = load(path).linearize()
+>>> frf = frequency_response(eom, eom.stationary())
+>>> frf.parameter, round(frf.operating, 6), round(float(frf.operating_amplitudes["x2"]), 4)
+('omega', 20.0, 0.0451)
+>>> to_svg(frf, 1).startswith("<svg")
+True
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Union
+
+import numpy as np
+import sympy
+
+from ..model import symbol
+from ..numeric import compile_expressions
+from .notation import name_latex
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..linearize import LinearEOM
+    from ..stationary import StationarySolution
+
+MAX_PLOT_COORDINATES = 12
+
+
+@dataclass(frozen=True)
+class FrequencyResponse:
+    """Amplitude of each coordinate against the excitation frequency."""
+
+    omega: np.ndarray
+    amplitudes: Mapping[str, np.ndarray]
+    operating: float
+    operating_amplitudes: Mapping[str, float]
+    natural_frequencies: np.ndarray
+    #: the swept parameter, or None when the force amplitudes are held fixed
+    parameter: str | None
+
+    def to_dict(self) -> dict:
+        return {"omega": self.omega.tolist(), "parameter": self.parameter,
+                "amplitudes": {k: v.tolist() for k, v in self.amplitudes.items()},
+                "operating": self.operating}
+
+
+@dataclass(frozen=True)
+class TimeHistory:
+    """The stationary response of each coordinate over two periods."""
+
+    t: np.ndarray
+    values: Mapping[str, np.ndarray]
+    period: float
+
+    def to_dict(self) -> dict:
+        return {"t": self.t.tolist(), "values": {k: v.tolist() for k, v in self.values.items()}}
+
+
+PlotData = Union[FrequencyResponse, TimeHistory]
+
+
+# -- data ----------------------------------------------------------------------------------
+
+def _dependents(model, name: str) -> set[str]:
+    """Parameters whose value depends (transitively) on parameter ``name``."""
+    found = {name}
+    for other, expression in model.parameters.items():
+        if any(n in found for n, _ in expression.names()):
+            found.add(other)
+    return found - {name}
+
+
+def frequency_response(eom: "LinearEOM", solution: "StationarySolution",
+                       points: int = 500) -> FrequencyResponse | None:
+    """Amplitudes of the coordinates for excitation frequencies from 0 to ~1.6x the highest
+    natural frequency (or the excitation); None unless there is one excitation frequency."""
+    moving = [h for h in solution.harmonics if h.omega > 0]
+    n = len(eom.coordinates)
+    if len(moving) != 1 or n > MAX_PLOT_COORDINATES or eom.harmonics is None:
+        return None
+    w0 = moving[0].omega
+    model = eom.model
+    top = max([w0, *solution.natural_frequencies.tolist()])
+    grid = np.linspace(top * 1.6 / points, top * 1.6, points)
+    grid = np.union1d(grid, [w0])
+    parameter = _swept_parameter(eom, w0)
+    if parameter is not None:
+        f_s, f_c, M, C, K = _compiled_system(eom, parameter, grid)
+    else:
+        h = moving[0]
+        nm = solution.eom
+        f_s = np.broadcast_to(h.F_S, (grid.size, n))
+        f_c = np.broadcast_to(h.F_C, (grid.size, n))
+        M, C, K = (np.broadcast_to(a, (grid.size, n, n)) for a in (nm.M, nm.C, nm.K))
+    w = grid[:, None, None]
+    A = K - w**2 * M + 1j * w * C
+    rhs = (f_c - 1j * f_s)[:, :, None]
+    X = np.full((grid.size, n), np.nan, dtype=complex)
+    with np.errstate(all="ignore"):
+        for i in range(grid.size):
+            try:
+                X[i] = np.linalg.solve(A[i], rhs[i])[:, 0]
+            except np.linalg.LinAlgError:
+                pass  # exactly at an undamped resonance: left out of the curve
+    amplitudes = {c: np.abs(X[:, i]) for i, c in enumerate(eom.coordinates)}
+    at = int(np.argmin(np.abs(grid - w0)))
+    return FrequencyResponse(grid, amplitudes, w0,
+                             {c: float(a[at]) for c, a in amplitudes.items()},
+                             solution.natural_frequencies, parameter)
+
+
+def _swept_parameter(eom: "LinearEOM", w0: float) -> str | None:
+    """The parameter that is the excitation frequency, if the sweep can vary it alone."""
+    model = eom.model
+    if model.is_matrix_model:
+        candidates = [h.omega.text.strip() for h in model.matrices.harmonics]
+    else:
+        candidates = [str(w) for w in eom.harmonics.frequencies if isinstance(w, sympy.Symbol)]
+    for name in candidates:
+        if name in model.parameter_values and math.isclose(
+                abs(model.parameter_values[name]), w0, rel_tol=1e-9) \
+                and not _dependents(model, name):
+            return name
+    return None
+
+
+def _compiled_system(eom: "LinearEOM", parameter: str, grid: np.ndarray):
+    """F_S, F_C, M, C, K along the grid of the frequency parameter (one compiled call)."""
+    model = eom.model
+    n = len(eom.coordinates)
+    p = symbol(parameter)
+    f_s = sympy.zeros(n, 1)
+    f_c = sympy.zeros(n, 1)
+    for w in eom.harmonics.frequencies:
+        if w == p:
+            s, c = eom.harmonics.forcing(eom.excitation, w)
+            f_s, f_c = f_s + s, f_c + c
+        elif w == -p:
+            s, c = eom.harmonics.forcing(eom.excitation, w)
+            f_s, f_c = f_s - s, f_c + c
+    names = list(model.parameters)
+    exprs = [*f_s, *f_c, *eom.M, *eom.C, *eom.K]
+    fn = compile_expressions(exprs, [symbol(x) for x in names])
+    args = [grid if x == parameter else model.parameter_values[x] for x in names]
+    values = np.broadcast_to(fn(*args).real.T, (grid.size, len(exprs)))
+    out = np.split(values, [n, 2 * n, 2 * n + n * n, 2 * n + 2 * n * n], axis=1)
+    return (out[0], out[1], *(a.reshape(grid.size, n, n) for a in out[2:]))
+
+
+def time_history(solution: "StationarySolution", points: int = 600) -> TimeHistory | None:
+    """Two periods of the slowest excitation frequency; None without a harmonic excitation."""
+    moving = [h.omega for h in solution.harmonics if h.omega > 0]
+    n = len(solution.eom.coordinates)
+    if not moving or n > MAX_PLOT_COORDINATES:
+        return None
+    period = 2 * math.pi / min(moving)
+    t = np.linspace(0.0, 2 * period, points)
+    response = solution.response(t)
+    return TimeHistory(t, {c: response[c] for c in solution.eom.coordinates}, period)
+
+
+# -- drawing ---------------------------------------------------------------------------------
+
+def _label(name: str) -> str:
+    return "$" + name_latex(name) + "$"
+
+
+def draw(plot: PlotData, figure) -> None:
+    """Draw ``plot`` on a matplotlib figure."""
+    ax = figure.add_subplot(1, 1, 1)
+    if isinstance(plot, FrequencyResponse):
+        for name, amp in plot.amplitudes.items():
+            positive = np.where(amp > 0, amp, np.nan)
+            line, = ax.semilogy(plot.omega, positive, label=_label(name), linewidth=1.4)
+            value = plot.operating_amplitudes[name]
+            if value > 0:
+                ax.plot([plot.operating], [value], "o", color=line.get_color(),
+                        markersize=5, zorder=3)
+        for w in plot.natural_frequencies:
+            if 0 < w <= plot.omega[-1]:
+                ax.axvline(w, color="0.6", linestyle=":", linewidth=1.0)
+        ax.axvline(plot.operating, color="0.25", linestyle="--", linewidth=1.0)
+        ax.set_xlabel(r"excitation frequency $\omega$ [rad/s]")
+        ax.set_ylabel("amplitude $X$")
+        ax.set_xlim(0, plot.omega[-1])
+    else:
+        for name, y in plot.values.items():
+            ax.plot(plot.t, y, label=_label(name), linewidth=1.4)
+        ax.axhline(0.0, color="0.6", linewidth=0.8)
+        ax.set_xlabel("time $t$ [s]")
+        ax.set_ylabel("stationary response $q_p(t)$")
+        ax.set_xlim(plot.t[0], plot.t[-1])
+    ax.grid(True, which="major", color="0.9")
+    ax.legend(loc="best", frameon=False)
+    figure.tight_layout()
+
+
+def _figure(plot: PlotData):
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(7.0, 3.6))
+    draw(plot, figure)
+    return figure
+
+
+def to_svg(plot: PlotData, number: int) -> str:
+    """The plot as an ``<svg>`` element for inline HTML (no XML prolog)."""
+    import matplotlib
+
+    buffer = io.StringIO()
+    # unique, reproducible ids: several SVGs share one HTML document
+    with matplotlib.rc_context({"svg.hashsalt": f"resonant-figure-{number}",
+                                "svg.fonttype": "path"}):
+        _figure(plot).savefig(buffer, format="svg", metadata={"Date": None})
+    text = buffer.getvalue()
+    start = text.find("<svg")
+    return text[start:].strip()
+
+
+def save(plot: PlotData, path, number: int) -> None:
+    """Write the plot to a file (format from the suffix: .svg, .pdf, .png)."""
+    import matplotlib
+
+    with matplotlib.rc_context({"svg.hashsalt": f"resonant-figure-{number}"}):
+        metadata = {"Date": None} if str(path).endswith(".svg") else None
+        _figure(plot).savefig(path, metadata=metadata)
+
+
+__all__ = ["FrequencyResponse", "TimeHistory", "PlotData", "frequency_response",
+           "time_history", "draw", "to_svg", "save"]

@@ -1,0 +1,791 @@
+"""Time simulation of a model: the linearized and the full nonlinear equations.
+
+The linear simulation integrates ``M q'' + C q' + K q = Q(t)`` with the
+signals written out as functions of time (:attr:`LinearEOM.Q`); the nonlinear
+one integrates the full Lagrange equations ``mass(q, ...) q'' + rest(q, q',
+signals) = 0`` of :func:`resonant.nonlinear.nonlinear_equations`, with each
+signal symbol ``s^(k)`` replaced by the k-th time derivative of the signal's
+expression.  Both are compiled once (:func:`sympy.lambdify` with common
+subexpressions, numpy) and integrated with :func:`scipy.integrate.solve_ivp`.
+
+Both report **deviations from the reference state** (``[equilibrium]``), so
+they compare with each other and with the linear stationary solution.  The
+steady-state amplitude is the **peak absolute deviation** over the last
+periods of the lowest excitation frequency, the same definition as the
+stationary ``amplitudes``; their relative difference shows how far "small
+oscillations" hold.
+
+Examples
+--------
+>>> from resonant.model import loads
+>>> model = loads('''
+... [parameters]
+... m = 1
+... k = 100
+... c = 4
+... [coordinates]
+... x = "displacement"
+... [signals]
+... F = "sin(5*t)"
+... [energy]
+... T = "m*x'^2/2"
+... U = "k*x^2/2"
+... D = "c*x'^2/2"
+... [[force]]
+... name = "F"
+... generalized = { x = "F" }
+... ''')
+>>> sim = simulate(model, duration=8.0)
+>>> round(sim.linear_amplitudes["x"], 6), abs(sim.relative_difference["x"]) < 1e-4
+(0.012883, True)
+"""
+
+from __future__ import annotations
+
+import csv
+import html
+import math
+import sys
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import sympy
+
+from .errors import AnalysisError, ModelError, Problem
+from .model import TIME, Model, symbol
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
+    from .linearize import LinearEOM
+    from .numeric import NumericEOM
+    from .stationary import StationarySolution
+
+#: measurement window: this many periods of the lowest excitation frequency
+DEFAULT_PERIODS = 5.0
+#: a damped run lasts until the slowest transient has decayed by exp(-DECAY_TIMES)
+DECAY_TIMES = 12.0
+#: default duration of an undamped run, in periods of the lowest frequency (+ the window)
+UNDAMPED_PERIODS = 15.0
+#: upper bound of a default duration, in cycles of the highest frequency involved
+MAX_DEFAULT_CYCLES = 4000.0
+#: spread of the natural frequencies above which an implicit (stiff) method is used
+STIFF_RATIO = 1e3
+#: stored samples per period of the highest frequency (the amplitude is measured finer)
+SAMPLES_PER_PERIOD = 40
+MAX_SAMPLES = 200_001
+#: samples per period of the highest frequency in the measurement window
+WINDOW_SAMPLES_PER_PERIOD = 2000
+MAX_WINDOW_SAMPLES = 400_001
+#: |relative difference| above which a warning says small oscillations do not hold
+LARGE_DIFFERENCE = 0.05
+START_MODES = ("auto", "rest", "stationary")
+METHODS = ("DOP853", "RK45", "LSODA", "Radau", "BDF")
+
+
+@dataclass(frozen=True)
+class Simulation:
+    """A simulated time history and its steady-state amplitudes.
+
+    Attributes
+    ----------
+    t : numpy.ndarray
+        Sample times in s (uniform, from 0 to ``t_end``).
+    states : mapping
+        ``name -> deviation from the reference state`` at ``t`` for every
+        coordinate and output.
+    linear_response : mapping
+        The linear stationary prediction at ``t`` (empty when there is none).
+    steady_amplitudes : mapping
+        Peak absolute deviation over the measurement ``window``.
+    linear_amplitudes : mapping
+        The stationary prediction (``StationarySolution.amplitudes``).
+    relative_difference : mapping
+        ``steady / linear - 1`` (signed) where the prediction is nonzero.
+    window : tuple of float
+        The interval the steady amplitudes are measured over.
+    start : str
+        ``"rest"``, ``"stationary"`` (the stationary solution's initial state)
+        or ``"given"`` (``initial`` values).
+    """
+
+    title: str
+    coordinates: tuple[str, ...]
+    t: np.ndarray
+    states: Mapping[str, np.ndarray]
+    linear_response: Mapping[str, np.ndarray]
+    steady_amplitudes: Mapping[str, float]
+    linear_amplitudes: Mapping[str, float]
+    relative_difference: Mapping[str, float]
+    window: tuple[float, float]
+    nonlinear: bool
+    start: str
+    method: str
+    initial: Mapping[str, float] = field(default_factory=dict)
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def t_end(self) -> float:
+        return float(self.t[-1])
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(self.states)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form (without the time history; see :meth:`to_csv`)."""
+        return {
+            "title": self.title,
+            "coordinates": list(self.coordinates),
+            "nonlinear": self.nonlinear,
+            "t_end": self.t_end,
+            "samples": int(self.t.size),
+            "method": self.method,
+            "start": self.start,
+            "initial": dict(self.initial),
+            "window": list(self.window),
+            "amplitude_definition": "peak absolute deviation from the reference state "
+                                    "over the window",
+            "steady_amplitudes": dict(self.steady_amplitudes),
+            "linear_amplitudes": dict(self.linear_amplitudes),
+            "relative_difference": dict(self.relative_difference),
+            "warnings": list(self.warnings),
+        }
+
+    def to_csv(self, path: str | Path) -> None:
+        """Write ``t`` and every deviation (and the linear prediction) as CSV."""
+        columns = [("t", self.t)] + list(self.states.items()) + [
+            (f"{name} (linear stationary)", y) for name, y in self.linear_response.items()]
+        with open(path, "w", newline="") as handle:
+            writer = csv.writer(handle)
+            writer.writerow([c[0] for c in columns])
+            data = np.column_stack([c[1] for c in columns])
+            writer.writerows([[f"{v:.10g}" for v in row] for row in data])
+
+    def plot(self, path: str | Path | None = None) -> "Figure":
+        """Deviations vs time, one panel per coordinate/output, prediction dashed.
+
+        Saves to ``path`` (format from the suffix) when given; returns the figure.
+        """
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure
+
+        names = self.names
+        fig = Figure(figsize=(9, 1.2 + 2.1 * len(names)), layout="constrained")
+        FigureCanvasAgg(fig)
+        axes = fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]
+        kind = "nonlinear" if self.nonlinear else "linear"
+        for ax, name in zip(axes, names):
+            ax.plot(self.t, self.states[name], lw=1.0, color="C0", label=f"{kind} simulation")
+            if name in self.linear_response:
+                ax.plot(self.t, self.linear_response[name], "--", lw=1.0, color="C3",
+                        label="linear stationary prediction")
+            ax.axvspan(*self.window, color="0.9", zorder=0, label="amplitude window")
+            steady = self.steady_amplitudes.get(name)
+            text = f"steady amplitude {steady:.4g}" if steady is not None else ""
+            if name in self.linear_amplitudes:
+                text += f", linear {self.linear_amplitudes[name]:.4g}"
+            if name in self.relative_difference:
+                text += f" ({100 * self.relative_difference[name]:+.3g}%)"
+            ax.set_title(f"{name}: {text}", fontsize=9, loc="left")
+            kindof = "coordinate" if name in self.coordinates else "output"
+            ax.set_ylabel(f"{name} ({kindof}, deviation)", fontsize=9)
+            ax.grid(True, lw=0.4, alpha=0.6)
+        axes[-1].set_xlabel("t (s)")
+        handles, labels = axes[0].get_legend_handles_labels()
+        fig.legend(handles, labels, loc="outside lower center", fontsize=9, ncols=3,
+                   frameon=False)
+        start = {"rest": "from rest", "stationary": "from the stationary initial state",
+                 "given": "from the given initial state"}[self.start]
+        fig.suptitle(f"{self.title or 'simulation'} — {kind}, {start}", fontsize=11)
+        if path is not None:
+            fig.savefig(path, dpi=120)
+        return fig
+
+    def _repr_html_(self) -> str:
+        rows = "".join(
+            f"<tr><td>{html.escape(n)}</td><td>{a:.6g}</td>"
+            f"<td>{_fmt(self.linear_amplitudes.get(n))}</td>"
+            f"<td>{_fmt(self.relative_difference.get(n), percent=True)}</td></tr>"
+            for n, a in self.steady_amplitudes.items())
+        warn = "".join(f"<p><b>warning:</b> {html.escape(w)}</p>" for w in self.warnings)
+        kind = "nonlinear" if self.nonlinear else "linear"
+        return (f"<p>{kind} simulation to t = {self.t_end:.6g} s ({html.escape(self.method)}), "
+                f"amplitudes over t = {self.window[0]:.6g} … {self.window[1]:.6g} s</p>"
+                "<table><tr><th>quantity</th><th>steady amplitude</th><th>linear "
+                f"stationary</th><th>difference</th></tr>{rows}</table>{warn}")
+
+
+def _peak(y: np.ndarray) -> float:
+    """max |y| of finely sampled smooth data, refined by a parabola through the top 3 samples.
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 1, 50)
+    >>> round(_peak(np.sin(2 * np.pi * t + 0.1)), 6)
+    1.0
+    """
+    a = np.abs(y)
+    i = int(np.argmax(a))
+    top = float(a[i])
+    if 0 < i < a.size - 1:
+        left, right = float(a[i - 1]), float(a[i + 1])
+        curvature = 2 * top - left - right
+        if curvature > 0:
+            return top + (right - left) ** 2 / (8 * curvature)
+    return top
+
+
+def _fmt(value: float | None, percent: bool = False) -> str:
+    if value is None:
+        return ""
+    return f"{100 * value:+.4g}%" if percent else f"{value:.6g}"
+
+
+# -- the two right-hand sides ----------------------------------------------------------------
+
+class _Breakdown(Exception):
+    """The integration cannot continue (not finite, singular mass matrix)."""
+
+    def __init__(self, t: float, reason: str) -> None:
+        super().__init__(reason)
+        self.t = t
+        self.reason = reason
+        self.state: np.ndarray | None = None
+
+
+def _lambdify(exprs: Sequence[sympy.Expr], args: Sequence[sympy.Symbol]
+              ) -> Callable[..., list[Any]]:
+    return sympy.lambdify(list(args), list(exprs), modules="numpy", cse=True)
+
+
+def _stack(values: Sequence[Any], shape: tuple[int, ...]) -> np.ndarray:
+    """Values of a lambdified list (scalars where an entry is constant) as one float array."""
+    if not shape:  # one instant: every value is a scalar (the integrator's hot path)
+        return np.array(values, dtype=float)
+    return np.array([np.broadcast_to(np.asarray(v, dtype=float), shape) for v in values],
+                    dtype=float)
+
+
+def _parameter_args(model: Model) -> tuple[list[sympy.Symbol], list[float]]:
+    names = list(model.parameters)
+    return [symbol(n) for n in names], [float(model.parameter_values[n]) for n in names]
+
+
+def _signal_function(model: Model, name: str, order: int) -> sympy.Expr:
+    """d^order s/dt^order of a declared signal as a function of t and the parameters."""
+    base = model.signals[name].to_sympy(lambda n, p: TIME if n == "t" else symbol(n))
+    return sympy.diff(base, TIME, order) if order else base
+
+
+class _LinearSystem:
+    """y = [q, q'] of M q'' + C q' + K q = Q(t); q are deviations."""
+
+    def __init__(self, eom: "LinearEOM", num: "NumericEOM", model: Model) -> None:
+        self.n = num.n
+        self.M, self.C, self.K = num.M, num.C, num.K
+        self.Minv = np.linalg.inv(num.M)
+        n = self.n
+        self.A = np.block([[np.zeros((n, n)), np.eye(n)],
+                           [-self.Minv @ num.K, -self.Minv @ num.C]])
+        params, self.pvals = _parameter_args(model)
+        self._q = _lambdify(list(eom.Q), [TIME, *params]) if eom.excitation else None
+        signals = eom.signal_functions
+        self.outputs: dict[str, list[tuple[tuple[str, int], float]]] = {}
+        self.unsupported: list[str] = []
+        needed_signals = []
+        index = {c: i for i, c in enumerate(num.coordinates)}
+        for name, out in num.outputs.items():
+            terms = list(out.terms.items())
+            for (var, order), _ in terms:
+                if var in index and order > 2:
+                    self.unsupported.append(name)
+                elif var not in index:
+                    needed_signals.append((var, order))
+            self.outputs[name] = terms
+        self.outputs = {k: v for k, v in self.outputs.items() if k not in self.unsupported}
+        self.index = index
+        self.signal_vars = sorted(set(needed_signals))
+        self._signals = _lambdify([signals[v] for v in self.signal_vars], [TIME, *params]) \
+            if self.signal_vars else None
+
+    def forcing(self, t: Any) -> np.ndarray:
+        shape = np.shape(t)
+        if self._q is None:
+            return np.zeros((self.n, *shape))
+        return _stack(self._q(t, *self.pvals), shape)
+
+    def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
+        dy = self.A @ y
+        if self._q is not None:
+            dy[self.n:] += self.Minv @ self.forcing(t)
+        return dy
+
+    def to_state(self, deviation: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+        return np.concatenate([deviation, velocity])
+
+    def evaluate(self, t: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        """Deviations (n, N) of the coordinates and the outputs at the samples."""
+        q, v = Y[:self.n], Y[self.n:]
+        a = self.Minv @ (self.forcing(t) - self.C @ v - self.K @ q)
+        derivs = (q, v, a)
+        sig = _stack(self._signals(t, *self.pvals), t.shape) if self._signals else None
+        outputs = {}
+        for name, terms in self.outputs.items():
+            y = np.zeros_like(t)
+            for (var, order), coef in terms:
+                if var in self.index:
+                    y = y + coef * derivs[order][self.index[var]]
+                else:
+                    y = y + coef * sig[self.signal_vars.index((var, order))]
+            outputs[name] = y
+        return q, outputs
+
+
+class _NonlinearSystem:
+    """y = [q, q'] (absolute coordinates) of mass(q, ...) q'' + rest(q, q', t) = 0."""
+
+    def __init__(self, model: Model, equilibrium: np.ndarray) -> None:
+        from .nonlinear import nonlinear_equations
+
+        eq = nonlinear_equations(model)
+        self.n = n = len(model.coordinates)
+        self.equilibrium = equilibrium
+        params, self.pvals = _parameter_args(model)
+        q, qd, qdd = eq.q, eq.qd, eq.qdd
+        # outputs in full, and their value at the reference state with all signals zero
+        self.outputs: dict[str, Callable[..., Any]] = {}
+        self.output_reference: dict[str, float] = {}
+        self.unsupported: list[str] = []
+        coordinates = set(model.coordinates)
+        folded: dict[str, sympy.Expr] = {}
+        for name, expression in model.outputs.items():
+            if any(v in coordinates and p > 2 for v, p in expression.names()):
+                self.unsupported.append(name)
+                continue
+            full = sympy.sympify(eq.ops.expr(expression))
+            too_high = [s for s in full.free_symbols if s in eq.ops.registry and
+                        eq.ops.registry[s][0] in coordinates and eq.ops.registry[s][1] > 2]
+            if too_high:
+                self.unsupported.append(name)
+                continue
+            at_rest = full.xreplace({s: 0 for s, (nm, order) in eq.ops.registry.items()
+                                     if nm in model.signals or order > 0})
+            at_rest = at_rest.xreplace({**{s: sympy.Float(v) for s, v in zip(q, equilibrium)},
+                                        **{s: sympy.Float(v) for s, v in zip(params, self.pvals)}})
+            try:
+                self.output_reference[name] = float(at_rest)
+            except TypeError:
+                self.unsupported.append(name)
+                continue
+            folded[name] = full
+        # folding the outputs may register more signal derivatives: substitute them last
+        signal_subs = {s: _signal_function(model, name, order)
+                       for s, (name, order) in eq.ops.registry.items()
+                       if name in model.signals}
+        exprs = [sympy.sympify(e).xreplace(signal_subs) for e in [*eq.mass, *eq.rest]]
+        self._equations = _lambdify(exprs, [TIME, *q, *qd, *params])
+        for name, full in folded.items():
+            self.outputs[name] = _lambdify([full.xreplace(signal_subs)],
+                                           [TIME, *q, *qd, *qdd, *params])
+
+    def matrices(self, t: Any, q: Any, v: Any) -> tuple[np.ndarray, np.ndarray]:
+        shape = np.shape(t)
+        values = _stack(self._equations(t, *q, *v, *self.pvals), shape)
+        n = self.n
+        return values[:n * n].reshape(n, n, *shape), values[n * n:]
+
+    def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
+        q, v = y[:self.n], y[self.n:]
+        with np.errstate(all="ignore"):
+            mass, rest = self.matrices(t, q, v)
+        if not (np.all(np.isfinite(mass)) and np.all(np.isfinite(rest))):
+            raise _Breakdown(t, "the equations of motion are not finite there (a coordinate "
+                                "left the range where the model is defined)")
+        try:
+            a = np.linalg.solve(mass, -rest)
+        except np.linalg.LinAlgError:
+            raise _Breakdown(t, "the mass matrix became singular") from None
+        return np.concatenate([v, a])
+
+    def to_state(self, deviation: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+        return np.concatenate([self.equilibrium + deviation, velocity])
+
+    def evaluate(self, t: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        n = self.n
+        q, v = Y[:n], Y[n:]
+        outputs = {}
+        if self.outputs:
+            with np.errstate(all="ignore"):
+                mass, rest = self.matrices(t, q, v)
+                a = np.linalg.solve(np.moveaxis(mass, -1, 0),
+                                    -np.moveaxis(rest, -1, 0)[..., None])[..., 0].T
+            for name, fn in self.outputs.items():
+                with np.errstate(all="ignore"):
+                    y = _stack(fn(t, *q, *v, *a, *self.pvals), t.shape)[0]
+                outputs[name] = y - self.output_reference[name]
+        return q - self.equilibrium[:, None], outputs
+
+
+# -- the simulation ---------------------------------------------------------------------------
+
+def _equilibrium_values(model: Model) -> np.ndarray:
+    values = []
+    for c in model.coordinates:
+        if c in model.equilibrium:
+            expr = model.equilibrium[c].to_sympy(
+                lambda n, p: sympy.Float(model.parameter_values[n]) if p == 0 else 0)
+            values.append(float(expr))
+        else:
+            values.append(0.0)
+    return np.array(values, dtype=float)
+
+
+def parse_initial(model: Model, initial: Mapping[str, float | str] | None
+                  ) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """Deviations and velocities from ``{"x1": 0.01, "x2'": "0.1*l"}`` (None where not given).
+
+    Values may be expressions of the parameters (parsed, never evaluated as code).
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> m = loads('[parameters]\\nl = 2\\n[coordinates]\\nx = ""\\n[energy]\\nT = "x\\'^2/2"')
+    >>> parse_initial(m, {"x": "l/4", "x'": 1})
+    (array([0.5]), array([1.]))
+    """
+    if not initial:
+        return None, None
+    from .expr import parse
+
+    n = len(model.coordinates)
+    index = {c: i for i, c in enumerate(model.coordinates)}
+    q0, v0 = np.full(n, np.nan), np.full(n, np.nan)
+    problems = []
+    for key, value in initial.items():
+        name = key.strip()
+        order = len(name) - len(name.rstrip("'"))
+        base = name.rstrip("'")
+        if base not in index or order > 1:
+            problems.append(Problem(
+                f"'{key}' is not a coordinate or a coordinate's velocity (coordinates: "
+                f"{', '.join(model.coordinates)}; a velocity is written x')", "--initial"))
+            continue
+        try:
+            expression = parse(value, allowed=set(model.parameters), file="--initial", key=name)
+            number = float(expression.to_sympy(
+                lambda nm, p: sympy.Float(model.parameter_values[nm])).evalf())
+        except ModelError as exc:
+            problems.extend(exc.problems)
+            continue
+        except (TypeError, ValueError):
+            problems.append(Problem(f"'{value}' is not a real number", "--initial", "", name))
+            continue
+        if not math.isfinite(number):
+            problems.append(Problem(f"'{value}' is not finite", "--initial", "", name))
+            continue
+        (v0 if order else q0)[index[base]] = number
+    if problems:
+        raise ModelError(problems)
+    return q0, v0
+
+
+class _Progress:
+    """A one-line progress indication on stderr for runs longer than a second."""
+
+    def __init__(self, duration: float, enabled: bool) -> None:
+        self.duration, self.enabled = duration, enabled
+        self.started = time.monotonic()
+        self.shown = -1
+
+    def __call__(self, t: float) -> None:
+        percent = int(100 * t / self.duration)
+        if self.enabled and percent > self.shown and time.monotonic() - self.started > 1.0:
+            self.shown = percent
+            print(f"\rsimulating: {percent:3d}% (t = {t:.4g} of {self.duration:.4g} s)",
+                  end="", file=sys.stderr, flush=True)
+
+    def done(self) -> None:
+        if self.shown >= 0:
+            print("\r" + " " * 60 + "\r", end="", file=sys.stderr, flush=True)
+
+
+def simulate(model: Model | str | Path, duration: float | None = None, nonlinear: bool = False,
+             initial: Mapping[str, float | str] | None = None, *, start: str = "auto",
+             periods: float = DEFAULT_PERIODS, method: str | None = None, rtol: float = 1e-9,
+             progress: bool | None = None) -> Simulation:
+    """Integrate the model's equations of motion in time.
+
+    Parameters
+    ----------
+    model : Model or path
+        An energy model (``nonlinear=True`` needs energies, not ``[matrices]``).
+    duration : float, optional
+        End time in s.  Default: for an asymptotically stable system, long
+        enough for the slowest transient to decay by ``exp(-12)``; otherwise
+        (undamped) 15 periods of the lowest excitation frequency (or natural
+        frequency, for free vibration) plus the measurement window; capped at
+        4000 cycles of the highest frequency (a warning says so).
+    nonlinear : bool
+        Integrate the full Lagrange equations instead of the linearized ones.
+    initial : mapping, optional
+        Initial deviations from the reference state and velocities, e.g.
+        ``{"x1": 0.01, "x2'": 0}``; values may be expressions of parameters.
+        Coordinates not given start at their ``start`` value.
+    start : {"auto", "rest", "stationary"}
+        ``"rest"``: zero deviations and velocities.  ``"stationary"``: the
+        linear stationary solution's q_p(0), q_p'(0), so that a linear run
+        is stationary from the start.  ``"auto"`` (default): ``"stationary"``
+        when the system is not asymptotically stable (undamped: a free
+        vibration never decays) and no ``initial`` is given, else ``"rest"``.
+    periods : float
+        Length of the measurement window, in periods of the lowest excitation
+        frequency (of the lowest natural frequency without excitation).
+    method : str, optional
+        A :func:`scipy.integrate.solve_ivp` method; default ``"DOP853"``, or
+        ``"LSODA"`` when the natural frequencies spread over more than 3
+        decades (stiff).
+    rtol : float
+        Relative tolerance; the absolute tolerance is ``rtol`` times 1e-2 of
+        the expected amplitude (times the frequency for velocities).
+    progress : bool, optional
+        Show progress on stderr; default: only when stderr is a terminal.
+
+    Returns
+    -------
+    Simulation
+        The amplitude of each coordinate and output is the **peak absolute
+        deviation** from the reference state over the window (the stationary
+        ``amplitudes`` use the same definition), measured on a fine sampling
+        of the integrator's dense output.
+
+    Raises
+    ------
+    AnalysisError
+        If the integration breaks down (the response blows up, the pendulum
+        leaves the range where the model is defined): the message gives the
+        time.  For ``nonlinear=True`` on a ``[matrices]`` model.
+    """
+    import scipy.integrate
+
+    from .stability import ASYMPTOTIC, UNSTABLE, check_mass_matrix, classify, state_eigenvalues
+
+    if not isinstance(model, Model):
+        from .model import load
+
+        model = load(model)
+    if start not in START_MODES:
+        raise AnalysisError(f"start must be one of {', '.join(START_MODES)}, not '{start}'")
+    if method is not None and method not in METHODS:
+        raise AnalysisError(f"method must be one of {', '.join(METHODS)}, not '{method}'")
+    if duration is not None and not (math.isfinite(duration) and duration > 0):
+        raise AnalysisError(f"the duration must be a positive number of seconds, not {duration}")
+    if not (math.isfinite(periods) and periods > 0):
+        raise AnalysisError(f"periods must be positive, not {periods}")
+    if nonlinear and model.is_matrix_model:
+        raise AnalysisError("a [matrices] model has no nonlinear equations: --nonlinear needs "
+                            "a model given by its energies")
+    warnings: list[str] = []
+    eom = model.linearize()
+    num = eom.numeric()
+    check_mass_matrix(num.M, num.coordinates)
+    n = num.n
+    eigenvalues = state_eigenvalues(num.M, num.C, num.K)
+    stability = classify(eigenvalues)
+    omegas_n = np.abs(eigenvalues.imag)
+    omegas_n = omegas_n[omegas_n > 1e-9 * max(1.0, float(omegas_n.max(initial=0.0)))]
+    excitation = [h.omega for h in num.harmonics if h.omega > 0] if num.harmonic else []
+
+    solution: "StationarySolution | None" = None
+    if not num.harmonic:
+        warnings.append("the signals are not sums of harmonics: there is no linear stationary "
+                        "prediction to compare with (relative_difference is empty)")
+    elif num.harmonics:
+        try:
+            solution = num.stationary()
+        except AnalysisError as exc:
+            warnings.append(f"no linear stationary prediction: {exc}")
+    if stability == UNSTABLE:
+        warnings.append("the equilibrium is unstable: the response grows with time")
+
+    # time scales
+    highest = max([*excitation, *omegas_n, 1e-300])
+    if excitation:
+        window_length = periods * 2 * math.pi / min(excitation)
+    elif omegas_n.size:
+        window_length = periods * 2 * math.pi / float(omegas_n.min())
+    else:
+        window_length = None
+    if highest <= 1e-300:
+        highest = 2 * math.pi  # no frequency at all (rigid bodies, no signals)
+
+    # initial state
+    q_given, v_given = parse_initial(model, initial)
+    if start == "auto":
+        use_stationary = (initial is None or not initial) and stability != ASYMPTOTIC \
+            and solution is not None
+        start_kind = "stationary" if use_stationary else "rest"
+    else:
+        start_kind = start
+    if start_kind == "stationary" and solution is None:
+        raise AnalysisError("there is no linear stationary solution to start from; use "
+                            "start 'rest' or give the initial state")
+    q0, v0 = np.zeros(n), np.zeros(n)
+    if start_kind == "stationary":
+        assert solution is not None
+        for h in solution.harmonics:
+            q0 += h.L
+            v0 += h.omega * h.N
+    if q_given is not None and v_given is not None:
+        q0 = np.where(np.isnan(q_given), q0, q_given)
+        v0 = np.where(np.isnan(v_given), v0, v_given)
+        if start_kind == "rest":
+            start_kind = "given"
+    if not eom.excitation and not np.any(q0) and not np.any(v0):
+        warnings.append("nothing excites the system (no signals, initial state at rest): the "
+                        "response is zero; give an initial state")
+    if start_kind == "stationary":
+        warnings.append("started from the linear stationary solution's initial state "
+                        "q_p(0), q_p'(0)" + (" (undamped: a free vibration would never "
+                                             "decay)" if stability != ASYMPTOTIC else ""))
+
+    # duration
+    if duration is None:
+        if stability == ASYMPTOTIC and start_kind != "stationary" and (
+                excitation or np.any(q0) or np.any(v0) or not num.harmonic):
+            sigma = float(np.min(-eigenvalues.real))
+            duration = DECAY_TIMES / sigma + (window_length or 0.0)
+        else:
+            slowest = (min(excitation) if excitation else
+                       float(omegas_n.min()) if omegas_n.size else 2 * math.pi / 10)
+            duration = UNDAMPED_PERIODS * 2 * math.pi / slowest + (window_length or 0.0)
+        cap = MAX_DEFAULT_CYCLES * 2 * math.pi / highest
+        if duration > cap:
+            warnings.append(f"the default duration ({duration:.4g} s) is capped at {cap:.4g} s "
+                            f"({MAX_DEFAULT_CYCLES:.0f} cycles of the highest frequency): the "
+                            "transient may not have decayed; give --duration")
+            duration = cap
+    if window_length is None or window_length > duration / 2:
+        if window_length is not None:
+            warnings.append(f"the run is shorter than two measurement windows: amplitudes are "
+                            f"measured over the second half (t > {duration / 2:.4g} s)")
+        window_length = duration / 2
+    window = (duration - window_length, duration)
+
+    # the system
+    if nonlinear:
+        system: Any = _NonlinearSystem(model, _equilibrium_values(model))
+    else:
+        system = _LinearSystem(eom, num, model)
+    for name in system.unsupported:
+        warnings.append(f"output '{name}' depends on a coordinate's derivative of order > 2 "
+                        "and is not simulated")
+    y0 = system.to_state(q0, v0)
+
+    scale = max([*(solution.amplitudes[c] for c in num.coordinates)] if solution else [0.0])
+    scale = max(scale, float(np.abs(q0).max(initial=0.0)),
+                float(np.abs(v0).max(initial=0.0)) / highest)
+    if scale == 0.0:
+        scale = 1.0
+    atol = np.concatenate([np.full(n, 1e-2 * rtol * scale),
+                           np.full(n, 1e-2 * rtol * scale * highest)])
+    if method is None:
+        spread = highest / max(min([*excitation, *omegas_n, highest]), 1e-300)
+        method = "LSODA" if spread > STIFF_RATIO else "DOP853"
+
+    show = sys.stderr.isatty() if progress is None else progress
+    report = _Progress(duration, show)
+    calls = [0]
+
+    def rhs(t: float, y: np.ndarray) -> np.ndarray:
+        calls[0] += 1
+        if calls[0] % 2000 == 0:
+            report(t)
+        try:
+            dy = system.rhs(t, y)
+            if not math.isfinite(dy.sum()):  # one cheap test catches NaN and infinity
+                raise _Breakdown(t, "the response is not finite")
+        except _Breakdown as exc:
+            exc.state = np.array(y, dtype=float)
+            raise
+        return dy
+
+    kind = "nonlinear" if nonlinear else "linear"
+    try:
+        result = scipy.integrate.solve_ivp(rhs, (0.0, duration), y0, method=method,
+                                           rtol=rtol, atol=atol, dense_output=True)
+    except _Breakdown as exc:
+        where = ""
+        if exc.state is not None:
+            where = " (" + ", ".join(f"{c} = {v:.6g}" for c, v in
+                                     zip(num.coordinates, exc.state[:n])) + ")"
+        hint = (": the motion is no longer small (a pendulum flipping over, a rod angle "
+                "leaving the range of asin, ...)" if nonlinear else "")
+        raise AnalysisError(f"the {kind} integration broke down at t = {exc.t:.6g} s"
+                            f"{where}: {exc.reason}{hint}") from None
+    finally:
+        report.done()
+    if result.status != 0:
+        reached = float(result.t[-1]) if result.t.size else 0.0
+        raise AnalysisError(f"the {kind} integration failed at t = {reached:.6g} s of "
+                            f"{duration:.6g} s: {result.message}")
+
+    # samples: a uniform grid for the history and a finer one for the amplitudes
+    count = int(min(MAX_SAMPLES, max(2001, duration * highest / (2 * math.pi)
+                                     * SAMPLES_PER_PERIOD + 1)))
+    t = np.linspace(0.0, duration, count)
+    q, outputs = system.evaluate(t, result.sol(t))
+    states = {c: q[i] for i, c in enumerate(num.coordinates)}
+    states.update(outputs)
+    fine = int(min(MAX_WINDOW_SAMPLES, max(5001, window_length * highest / (2 * math.pi)
+                                           * WINDOW_SAMPLES_PER_PERIOD + 1)))
+    tw = np.linspace(window[0], window[1], fine)
+    qw, outw = system.evaluate(tw, result.sol(tw))
+    steady = {c: _peak(qw[i]) for i, c in enumerate(num.coordinates)}
+    steady.update({name: _peak(y) for name, y in outw.items()})
+    bad = [name for name, a in steady.items() if not math.isfinite(a)]
+    if bad:
+        raise AnalysisError(f"the {kind} response of {', '.join(bad)} is not finite")
+
+    linear: dict[str, float] = {}
+    response: dict[str, np.ndarray] = {}
+    relative: dict[str, float] = {}
+    if solution is not None:
+        linear = {name: float(solution.amplitudes[name]) for name in states
+                  if name in solution.amplitudes}
+        predicted = solution.response(t)
+        response = {name: predicted[name] for name in states if name in predicted}
+        largest = max(linear.values(), default=0.0)
+        for name, a in linear.items():
+            if a > 1e-9 * largest and a > 0:
+                relative[name] = steady[name] / a - 1.0
+        skipped = [name for name in linear if name not in relative]
+        if skipped:
+            warnings.append(f"no relative difference for {', '.join(skipped)}: the linear "
+                            "stationary amplitude is zero")
+        large = {name: d for name, d in relative.items() if abs(d) > LARGE_DIFFERENCE}
+        if large:
+            worst = max(large, key=lambda k: abs(large[k]))
+            what = ("small oscillations do not hold: the nonlinear response differs from the "
+                    "linear prediction" if nonlinear else
+                    "the simulated response has not settled to the stationary solution")
+            warnings.append(f"{what} by up to {100 * large[worst]:+.3g}% ({worst}: "
+                            f"{steady[worst]:.4g} vs {linear[worst]:.4g})")
+    return Simulation(
+        title=model.title, coordinates=num.coordinates, t=t,
+        states=MappingProxyType(states), linear_response=MappingProxyType(response),
+        steady_amplitudes=MappingProxyType(steady), linear_amplitudes=MappingProxyType(linear),
+        relative_difference=MappingProxyType(relative), window=window, nonlinear=nonlinear,
+        start=start_kind, method=method,
+        initial=MappingProxyType({**{c: float(q0[i]) for i, c in enumerate(num.coordinates)},
+                                  **{c + "'": float(v0[i])
+                                     for i, c in enumerate(num.coordinates)}}),
+        warnings=tuple(warnings))
+
+
+__all__ = ["Simulation", "simulate", "parse_initial"]
