@@ -114,8 +114,8 @@ def test_find_equilibrium_tilted_pendulum():
                                         rel=1e-9)
 
 
-@settings(max_examples=15, deadline=None)
-@given(m=st.floats(0.1, 10.0), ratio=st.floats(-2.0, 2.0))
+@settings(max_examples=10, deadline=None)
+@given(m=st.floats(0.1, 10.0), ratio=st.floats(-2.0, 2.0).map(lambda r: round(r, 6)))
 def test_find_equilibrium_tilted_pendulum_property(m, ratio):
     F0 = ratio * m * 9.81
     found = find_equilibrium(loads(TILTED.format(m=repr(m), F0=repr(F0))))

@@ -24,6 +24,7 @@ _EXPORTS = {
     "ResonantError": "resonant.errors", "ModelError": "resonant.errors",
     "AnalysisError": "resonant.errors", "ResonantWarning": "resonant.errors",
     "Problem": "resonant.errors",
+    "simulate": "resonant.simulate", "Simulation": "resonant.simulate",
 }
 
 __all__ = sorted([*_EXPORTS, "__version__"])

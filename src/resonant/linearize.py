@@ -397,9 +397,13 @@ def _check_equilibrium(model: Model, residual: sympy.ImmutableMatrix) -> None:
     for k, expr in enumerate(residual):
         if expr == 0:
             continue
+        expanded = sympy.expand(expr)
+        if expanded == 0:
+            continue
         value = complex(expr.evalf(30, subs=subs))
-        scale = sum(abs(complex(term.evalf(30, subs=subs)))
-                    for term in sympy.Add.make_args(sympy.expand(expr)))
+        # the size of the terms that cancel: a residual is judged relative to it
+        scale = max(sum(abs(complex(term.evalf(30, subs=subs)))
+                        for term in sympy.Add.make_args(e)) for e in (expr, expanded))
         if abs(value) > 1e-9 * max(scale, 1e-300) and abs(value) > 1e-300:
             bad.append((model.coordinates[k], expr, value.real))
     if not bad:

@@ -69,8 +69,9 @@ import sys
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -90,13 +91,13 @@ CHUNK_BYTES = 64 * 2**20
 EAGER_EIGEN = 400
 
 
-@dataclass(frozen=True)
-class Extremum:
+class Extremum(NamedTuple):
     """A resonance peak or antiresonance of one response curve.
 
     ``value`` is the refined parameter value (parabolic interpolation through
     the three grid points around the extremum: on log amplitude for peaks, on
     amplitude squared for antiresonances); ``amplitude`` the interpolated value.
+    (A named tuple: a long sweep of a large model has tens of thousands.)
     """
 
     name: str
@@ -105,6 +106,29 @@ class Extremum:
 
     def to_dict(self) -> dict[str, Any]:
         return {"name": self.name, "value": self.value, "amplitude": self.amplitude}
+
+
+@dataclass(frozen=True)
+class ExtremaTable:
+    """Extrema as arrays (built into :class:`Extremum` tuples only when asked for)."""
+
+    names: tuple[str, ...] = ()
+    index: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    amplitudes: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def __len__(self) -> int:
+        return len(self.index)
+
+    def entries(self) -> tuple[Extremum, ...]:
+        names = self.names
+        return tuple(map(Extremum, [names[i] for i in self.index.tolist()],
+                         self.values.tolist(), self.amplitudes.tolist()))
+
+    def to_list(self) -> list[dict[str, Any]]:
+        names = self.names
+        return [{"name": names[i], "value": v, "amplitude": a} for i, v, a in
+                zip(self.index.tolist(), self.values.tolist(), self.amplitudes.tolist())]
 
 
 @dataclass(frozen=True)
@@ -134,8 +158,8 @@ class FrequencyResponse:
     values: np.ndarray
     amplitudes: Mapping[str, np.ndarray]
     phases: Mapping[str, np.ndarray]
-    peaks: tuple[Extremum, ...]
-    antiresonances: tuple[Extremum, ...]
+    peak_table: ExtremaTable
+    antiresonance_table: ExtremaTable
     method: str
     frequency_sweep: bool = False
     natural_frequencies: np.ndarray | None = None
@@ -148,6 +172,14 @@ class FrequencyResponse:
     @property
     def names(self) -> tuple[str, ...]:
         return tuple(self.amplitudes)
+
+    @cached_property
+    def peaks(self) -> tuple[Extremum, ...]:
+        return self.peak_table.entries()
+
+    @cached_property
+    def antiresonances(self) -> tuple[Extremum, ...]:
+        return self.antiresonance_table.entries()
 
     @property
     def unit(self) -> str:
@@ -165,8 +197,8 @@ class FrequencyResponse:
             "values": self.values.tolist(),
             "amplitudes": {k: clean(v) for k, v in self.amplitudes.items()},
             "phases": {k: clean(v) for k, v in self.phases.items()},
-            "peaks": [p.to_dict() for p in self.peaks],
-            "antiresonances": [p.to_dict() for p in self.antiresonances],
+            "peaks": self.peak_table.to_list(),
+            "antiresonances": self.antiresonance_table.to_list(),
             "method": self.method,
             "skipped": list(self.skipped),
             "warnings": list(self.warnings),
@@ -714,61 +746,60 @@ def _solve_modal(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
 # -- amplitudes, phases, extrema ------------------------------------------------------------
 
 def _responses(batch: _Batch, responses: list[np.ndarray], names: Sequence[str]
-               ) -> dict[str, list[np.ndarray]]:
-    """name -> [Z per harmonic (N,)] for the selected coordinates and every output."""
+               ) -> tuple[list[str], np.ndarray]:
+    """The selected coordinates and every output: names and Z, shape (H, N, m)."""
     index = {q: i for i, q in enumerate(batch.coordinates)}
-    out: dict[str, list[np.ndarray]] = {}
-    for name in names:
-        out[name] = [Z[:, index[name]] for Z in responses]
-    for name, terms in batch.outputs.items():
-        series = []
-        for h, Z in zip(batch.harmonics, responses):
-            z = np.zeros(Z.shape[0], dtype=complex)
+    columns = [index[q] for q in names]
+    out_names = list(names) + list(batch.outputs)
+    N = responses[0].shape[0] if responses else 0
+    Z = np.empty((len(responses), N, len(out_names)), dtype=complex)
+    for k, (h, R) in enumerate(zip(batch.harmonics, responses)):
+        Z[k, :, :len(columns)] = R[:, columns]
+        for m, terms in enumerate(batch.outputs.values(), start=len(columns)):
+            z = np.zeros(N, dtype=complex)
             for (var, order), coef in terms.items():
                 if var in index:
-                    z = z + coef * (1j * h.omega) ** order * Z[:, index[var]]
+                    z = z + coef * (1j * h.omega) ** order * R[:, index[var]]
                 else:
                     s, c = h.signals.get((var, order), (0.0, 0.0))
                     z = z + coef * (np.asarray(c) - 1j * np.asarray(s))
-            series.append(z)
-        out[name] = series
-    return out
+            Z[k, :, m] = z
+    return out_names, Z
 
 
-def _amplitude_phase(batch: _Batch, series: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """Amplitude and phase per point, with the semantics of :func:`stationary.peak`."""
+def _amplitude_phase(batch: _Batch, Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Amplitude and phase, shape (N, m), with the semantics of :func:`stationary.peak`."""
     from .stationary import peak
 
-    N = batch.harmonics[0].omega.shape[0] if batch.harmonics else 0
-    omegas = np.array([h.omega for h in batch.harmonics]).reshape(len(series), N)
-    Zs = np.array(series).reshape(len(series), N)
-    bad = ~np.isfinite(Zs).all(axis=0)
-    moving = omegas > 0
-    amplitude = np.full(N, np.nan)
-    phase = np.full(N, np.nan)
-    if len(series) == 1:
-        z = Zs[0]
-        L, Nn = z.real, -z.imag
-        static = ~moving[0]
+    H, N, m = Z.shape
+    omegas = np.array([np.broadcast_to(h.omega, (N,)) for h in batch.harmonics])
+    bad = ~np.isfinite(Z).all(axis=0)
+    if H == 1:
+        L, Nn = Z[0].real, -Z[0].imag
+        static = (omegas[0] == 0)[:, None]
         amplitude = np.where(static, np.abs(L), np.hypot(L, Nn))
         with np.errstate(invalid="ignore"):
             phase = np.where(~static & (amplitude > 0), np.arctan2(L, Nn), np.nan)
     else:
+        amplitude = np.full((N, m), np.nan)
+        phase = np.full((N, m), np.nan)
         for i in range(N):
-            if bad[i]:
-                continue
             # merge harmonics that coincide at this point (superposition)
-            merged: dict[float, complex] = {}
-            for w, z in zip(omegas[:, i], Zs[:, i]):
-                key = next((k for k in merged if math.isclose(k, w, rel_tol=1e-12,
-                                                                abs_tol=0.0)), float(w))
-                merged[key] = merged.get(key, 0j) + z
-            freqs = list(merged)
-            pairs = tuple((float(z.real), float(-z.imag)) for z in merged.values())
-            amplitude[i] = peak(freqs, pairs)
+            groups: dict[float, list[int]] = {}
+            for k, w in enumerate(omegas[:, i]):
+                key = next((g for g in groups if math.isclose(g, w, rel_tol=1e-12,
+                                                              abs_tol=0.0)), float(w))
+                groups.setdefault(key, []).append(k)
+            freqs = list(groups)
+            merged = np.array([Z[ks, i, :].sum(axis=0) for ks in groups.values()])
             active = [k for k, f in enumerate(freqs) if f > 0]
-            if len(active) == 1 and math.hypot(*pairs[active[0]]) > 0:
-                phase[i] = math.atan2(*pairs[active[0]])
+            for j in range(m):
+                if bad[i, j]:
+                    continue
+                pairs = tuple((float(z.real), float(-z.imag)) for z in merged[:, j])
+                amplitude[i, j] = peak(freqs, pairs)
+                if len(active) == 1 and math.hypot(*pairs[active[0]]) > 0:
+                    phase[i, j] = math.atan2(*pairs[active[0]])
     amplitude[bad] = np.nan
     phase[bad] = np.nan
     return amplitude, phase
@@ -795,17 +826,18 @@ def _vertices(u: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 EXTREMUM_RELATIVE = 1e-10
 
 
-def _extrema(name: str, values: np.ndarray, amplitude: np.ndarray, log: bool
-             ) -> tuple[list[Extremum], list[Extremum]]:
+def _extrema(names: Sequence[str], values: np.ndarray, amplitude: np.ndarray, log: bool
+             ) -> tuple[ExtremaTable, ExtremaTable]:
+    """Peaks and antiresonances of every column of ``amplitude`` (N, m), in name order."""
+    N, m = amplitude.shape
+    names = tuple(names)
+    if N < 3 or m == 0:
+        return ExtremaTable(names), ExtremaTable(names)
     finite = np.isfinite(amplitude)
-    if len(values) < 3 or finite.sum() < 3:
-        return [], []
-    top = float(amplitude[finite].max())
-    if top <= 0:
-        return [], []
+    top = np.where(finite, amplitude, -np.inf).max(axis=0)
     u = np.log(values) if log else values
     a0, a1, a2 = amplitude[:-2], amplitude[1:-1], amplitude[2:]
-    ok = finite[:-2] & finite[1:-1] & finite[2:]
+    ok = finite[:-2] & finite[1:-1] & finite[2:] & (top > 0)
     margin = EXTREMUM_RELATIVE * np.maximum(np.maximum(a0, a1), a2)
     with np.errstate(invalid="ignore"):
         is_peak = ok & (a1 >= a0) & (a1 >= a2) & (a1 - np.minimum(a0, a2) > margin) & \
@@ -815,15 +847,12 @@ def _extrema(name: str, values: np.ndarray, amplitude: np.ndarray, log: bool
     out = []
     for mask, transform, back in ((is_peak, np.log, np.exp),
                                   (is_dip, np.square, lambda y: np.sqrt(np.maximum(y, 0)))):
-        idx = np.nonzero(mask)[0] + 1
-        if idx.size == 0:
-            out.append([])
-            continue
-        triples = np.stack([idx - 1, idx, idx + 1])
+        cols, rows = np.nonzero(mask.T)      # name-major order
+        rows = rows + 1
+        triples = np.stack([rows - 1, rows, rows + 1])
         with np.errstate(all="ignore"):
-            x, y = _vertices(u[triples], transform(amplitude[triples]))
-        x = np.exp(x) if log else x
-        out.append([Extremum(name, float(v), float(w)) for v, w in zip(x, back(y))])
+            x, y = _vertices(u[triples], transform(amplitude[triples, cols]))
+        out.append(ExtremaTable(names, cols, np.exp(x) if log else x, back(y)))
     return out[0], out[1]
 
 
@@ -898,28 +927,25 @@ def sweep(source: Any, param: str, values: Sequence[float] | np.ndarray, *,
         skipped_mask |= singular
     if not batch.harmonics:
         warnings.append("the model has no harmonic excitation: every amplitude is zero")
-    series = _responses(batch, responses, names)
-    amplitudes, phases = {}, {}
-    for name, s in series.items():
-        if batch.harmonics:
-            amplitude, phase = _amplitude_phase(batch, s)
-        else:
-            amplitude, phase = np.zeros(len(values)), np.full(len(values), np.nan)
-        amplitude[skipped_mask] = np.nan
-        phase[skipped_mask] = np.nan
-        amplitudes[name], phases[name] = amplitude, phase
     if log is None:
         log = bool(len(values) > 2 and np.all(values > 0) and
                    np.allclose(np.diff(np.log(values)), np.log(values[1] / values[0]),
                                rtol=1e-6) and not np.allclose(np.diff(values),
                                                               values[1] - values[0], rtol=1e-9))
-    peaks, dips = [], []
-    increasing = bool(np.all(np.diff(values) > 0))
-    if increasing:
-        for name, amplitude in amplitudes.items():
-            p, d = _extrema(name, values, amplitude, log)
-            peaks.extend(p)
-            dips.extend(d)
+    if batch.harmonics:
+        all_names, Z = _responses(batch, responses, names)
+        amplitude, phase = _amplitude_phase(batch, Z)
+    else:
+        all_names = list(names) + list(batch.outputs)
+        amplitude = np.zeros((len(values), len(all_names)))
+        phase = np.full((len(values), len(all_names)), np.nan)
+    amplitude[skipped_mask] = np.nan
+    phase[skipped_mask] = np.nan
+    peaks = dips = ExtremaTable(tuple(all_names))
+    if np.all(np.diff(values) > 0):
+        peaks, dips = _extrema(all_names, values, amplitude, log)
+    amplitudes = {name: amplitude[:, j] for j, name in enumerate(all_names)}
+    phases = {name: phase[:, j] for j, name in enumerate(all_names)}
     skipped = tuple(float(v) for v in values[skipped_mask])
     if skipped:
         shown = ", ".join(f"{v:.6g}" for v in skipped[:5])
@@ -939,7 +965,7 @@ def sweep(source: Any, param: str, values: Sequence[float] | np.ndarray, *,
             natural = None
     return FrequencyResponse(
         parameter=param, values=values, amplitudes=MappingProxyType(amplitudes),
-        phases=MappingProxyType(phases), peaks=tuple(peaks), antiresonances=tuple(dips),
+        phases=MappingProxyType(phases), peak_table=peaks, antiresonance_table=dips,
         method=method, frequency_sweep=bool(frequency_sweep), natural_frequencies=natural,
         skipped=skipped, warnings=tuple(dict.fromkeys(warnings)), log=bool(log),
         title=batch.title, coordinates=tuple(batch.coordinates))
@@ -973,5 +999,5 @@ def linspace(start: float, stop: float, points: int, log: bool = False) -> np.nd
     return np.linspace(start, stop, points)
 
 
-__all__ = ["sweep", "FrequencyResponse", "Extremum", "choose_method", "parameter_values",
+__all__ = ["sweep", "FrequencyResponse", "Extremum", "ExtremaTable", "choose_method", "parameter_values",
            "linspace", "METHODS"]

@@ -229,8 +229,8 @@ def to_svg(plot: PlotData, number: int) -> str:
                                 "svg.fonttype": "path"}):
         _figure(plot).savefig(buffer, format="svg", metadata={"Date": None})
     text = buffer.getvalue()
-    start = text.find("<svg")
-    return text[start:].strip()
+    text = re.sub(r"<metadata>.*?</metadata>\s*", "", text[text.find("<svg"):], flags=re.S)
+    return text.strip()
 
 
 def save(plot: PlotData, path, number: int) -> None:

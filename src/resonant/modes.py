@@ -1,0 +1,409 @@
+"""Modal analysis: natural frequencies, mode shapes, damping ratios, stability.
+
+The undamped modes solve K phi = omega^2 M phi.  They are reported twice:
+mass-normalised (phi^T M phi = 1) and scaled so that the largest component
+is +1 (the view of the model-file contract, ``mode_shapes``).
+
+Damping is described by the eigenvalues s of the state matrix
+(s^2 M + s C + K) x = 0: damping ratio zeta = -Re s / |s| and damped
+frequency Im s.  When the damping is *proportional* (Caughey & O'Kelly:
+K M^-1 C = C M^-1 K, which includes Rayleigh damping C = a M + b K) the
+undamped modes decouple C too, so each mode j has c_j = phi_j^T C phi_j,
+zeta_j = c_j / (2 omega_j) and s = (-c_j +- sqrt(c_j^2 - 4 omega_j^2)) / 2;
+these are reported per mode, together with a and b when C = a M + b K.
+
+Large sparse matrix models: with ``count`` the lowest modes come from
+shift-invert Lanczos (``scipy.sparse.linalg.eigsh`` with a small negative
+shift, so rigid-body modes are found too) and nothing dense of size n x n is
+formed.
+
+Examples
+--------
+>>> from resonant.model import load
+>>> from resonant.modes import modes
+>>> from pathlib import Path
+>>> path = Path(__file__).parents[2] / "examples" / "two_dof_free.toml"
+>>> result = modes(load(path))
+>>> result.natural_frequencies.round(4).tolist()     # sqrt(k/m), sqrt(3k/m)
+[20.0, 34.641]
+>>> result.mode_shapes.round(12).T.tolist()
+[[1.0, 1.0], [-1.0, 1.0]]
+"""
+
+from __future__ import annotations
+
+import html
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .errors import AnalysisError
+
+#: matrices up to this size are analysed densely when no ``count`` is given
+DENSE_MODES = 1500
+#: relative tolerance of the proportional-damping and Rayleigh tests
+PROPORTIONAL_TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True)
+class ModalAnalysis:
+    """The modes of M q'' + C q' + K q = 0.
+
+    Attributes
+    ----------
+    coordinates : tuple of str
+    omega_squared : ndarray
+        Eigenvalues lambda of K phi = lambda M phi, ascending (negative: a
+        statically unstable mode).
+    natural_frequencies : ndarray
+        sqrt(lambda) in rad/s for the modes with lambda >= 0, ascending.
+    mode_shapes : ndarray
+        (n, modes): one column per natural frequency, largest component +1.
+    mass_normalised_modes : ndarray
+        The same modes with phi^T M phi = 1 (largest component positive).
+    eigenvalues : ndarray
+        Complex eigenvalues s of the state matrix (all 2n, or 2 per computed
+        mode for proportional damping), ordered by |s|, then Im s.
+    damping_ratios, damped_frequencies : ndarray
+        Per mode (proportional damping), else per eigenvalue pair with
+        Im s >= 0 ordered by |s|.
+    proportional_damping : bool
+        C is diagonalised by the undamped modes (always true without damping).
+    rayleigh : tuple of float or None
+        (a, b) with C = a M + b K, when C has that form.
+    stability : str
+    method : str
+        ``"dense"`` or ``"shift-invert Lanczos"``.
+    """
+
+    coordinates: tuple[str, ...]
+    omega_squared: np.ndarray
+    natural_frequencies: np.ndarray
+    mode_shapes: np.ndarray
+    mass_normalised_modes: np.ndarray
+    eigenvalues: np.ndarray
+    damping_ratios: np.ndarray
+    damped_frequencies: np.ndarray
+    proportional_damping: bool
+    rayleigh: tuple[float, float] | None
+    damped: bool
+    stability: str
+    method: str = "dense"
+    warnings: tuple[str, ...] = ()
+    title: str = ""
+
+    @property
+    def frequencies_hz(self) -> np.ndarray:
+        return self.natural_frequencies / (2 * math.pi)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "title": self.title,
+            "coordinates": list(self.coordinates),
+            "natural_frequencies": self.natural_frequencies.tolist(),
+            "frequencies_hz": self.frequencies_hz.tolist(),
+            "omega_squared": self.omega_squared.tolist(),
+            "mode_shapes": self.mode_shapes.T.tolist(),
+            "mass_normalised_modes": self.mass_normalised_modes.T.tolist(),
+            "eigenvalues": [[float(s.real), float(s.imag)] for s in self.eigenvalues],
+            "damping_ratios": self.damping_ratios.tolist(),
+            "damped_frequencies": self.damped_frequencies.tolist(),
+            "damped": self.damped,
+            "proportional_damping": self.proportional_damping,
+            "rayleigh": None if self.rayleigh is None else
+            {"a": self.rayleigh[0], "b": self.rayleigh[1]},
+            "stability": self.stability,
+            "method": self.method,
+            "warnings": list(self.warnings),
+        }
+
+    def limited(self, count: int | None) -> "ModalAnalysis":
+        """The analysis restricted to the lowest ``count`` modes (dense path with --count)."""
+        if count is None or count >= len(self.omega_squared):
+            return self
+        from dataclasses import replace
+
+        keep = int(np.sum(self.omega_squared[:count] >= 0))
+        per_mode = len(self.damping_ratios) == len(self.natural_frequencies)
+        eig = self.eigenvalues
+        if self.proportional_damping:
+            # two eigenvalues per kept mode: those of the modes' quadratic factors
+            eig = eig[np.argsort(np.abs(eig), kind="stable")][:2 * count]
+        return replace(self, omega_squared=self.omega_squared[:count],
+                       natural_frequencies=self.natural_frequencies[:keep],
+                       mode_shapes=self.mode_shapes[:, :keep],
+                       mass_normalised_modes=self.mass_normalised_modes[:, :keep],
+                       eigenvalues=eig,
+                       damping_ratios=self.damping_ratios[:keep if per_mode else count],
+                       damped_frequencies=self.damped_frequencies[:keep if per_mode else count])
+
+    def plot(self, path: Any = None, count: int | None = 6) -> Any:
+        """Bar (few coordinates) or line plots of the mode shapes; see :mod:`resonant.plotting`."""
+        from .plotting import plot_modes
+
+        return plot_modes(self, path=path, count=count)
+
+    def _repr_html_(self) -> str:
+        head = "".join(f"<th>{html.escape(q)}</th>" for q in self.coordinates[:12])
+        rows = []
+        for j, w in enumerate(self.natural_frequencies):
+            zeta = (f"{self.damping_ratios[j]:.4g}" if self.proportional_damping and
+                    j < len(self.damping_ratios) else "")
+            shape = "".join(f"<td>{v:.4g}</td>" for v in self.mode_shapes[:12, j])
+            rows.append(f"<tr><td>{j + 1}</td><td>{w:.6g}</td><td>{w / (2 * math.pi):.6g}</td>"
+                        f"<td>{zeta}</td>{shape}</tr>")
+        return (f"<p><b>Modes</b> ({html.escape(self.stability)}"
+                f"{', proportional damping' if self.damped and self.proportional_damping else ''}"
+                f")</p><table><tr><th>mode</th><th>&omega; [rad/s]</th><th>f [Hz]</th>"
+                f"<th>&zeta;</th>{head}</tr>{''.join(rows)}</table>")
+
+    def _repr_latex_(self) -> str:
+        freqs = r",\ ".join(f"{w:.6g}" for w in self.natural_frequencies[:12])
+        return rf"$\omega_j = {freqs}\ \mathrm{{rad/s}}$"
+
+
+# -- the numeric system ---------------------------------------------------------------------
+
+def _system(source: Any) -> tuple[tuple[str, ...], Any, Any, Any, str]:
+    """(coordinates, M, C, K, title): dense arrays, or sparse for file-based matrix models."""
+    from .linearize import LinearEOM
+    from .matrices import MatrixSystem, is_matrix_eom
+    from .model import Model
+    from .numeric import NumericEOM
+
+    if isinstance(source, Model):
+        source = source.linearize()
+    if isinstance(source, LinearEOM):
+        source = source.system() if is_matrix_eom(source) else source.numeric()
+    if isinstance(source, (NumericEOM, MatrixSystem)):
+        return tuple(source.coordinates), source.M, source.C, source.K, source.title
+    raise TypeError(f"modes() takes a Model, LinearEOM, NumericEOM or MatrixSystem, "
+                    f"not {type(source).__name__}")
+
+
+def _is_sparse(a: Any) -> bool:
+    return hasattr(a, "tocsr")
+
+
+def _dense(a: Any) -> np.ndarray:
+    return a.toarray() if _is_sparse(a) else np.asarray(a, dtype=float)
+
+
+def _symmetric(a: Any) -> bool:
+    if _is_sparse(a):
+        diff = abs(a - a.T)
+        return diff.nnz == 0 or diff.max() <= 1e-12 * abs(a).max()
+    return bool(np.allclose(a, a.T, rtol=1e-12, atol=1e-12 * (np.abs(a).max() if a.size else 0)))
+
+
+def _rayleigh(M: Any, C: Any, K: Any) -> tuple[float, float] | None:
+    """(a, b) with C = a M + b K to relative accuracy 1e-9, else None."""
+    def dot(x: Any, y: Any) -> float:
+        return float(x.multiply(y).sum()) if _is_sparse(x) else float(np.sum(x * y))
+
+    gram = np.array([[dot(M, M), dot(M, K)], [dot(K, M), dot(K, K)]])
+    rhs = np.array([dot(M, C), dot(K, C)])
+    try:
+        a, b = np.linalg.lstsq(gram, rhs, rcond=None)[0]
+    except np.linalg.LinAlgError:
+        return None
+    residual = C - a * M - b * K
+    scale = math.sqrt(max(dot(C, C), 1e-300))
+    if math.sqrt(max(dot(residual, residual), 0.0)) <= PROPORTIONAL_TOLERANCE * scale:
+        return float(a), float(b)
+    return None
+
+
+def _commutes(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> bool:
+    """Caughey & O'Kelly: C M^-1 K = K M^-1 C."""
+    minv_k = np.linalg.solve(M, K)
+    minv_c = np.linalg.solve(M, C)
+    scale = np.linalg.norm(C) * np.linalg.norm(minv_k) + 1e-300
+    return bool(np.linalg.norm(C @ minv_k - K @ minv_c) <= PROPORTIONAL_TOLERANCE * scale)
+
+
+def _normalise(phi: np.ndarray, M: Any) -> tuple[np.ndarray, np.ndarray]:
+    """(mass-normalised, largest component +1) versions of the columns of phi."""
+    phi = np.array(phi, dtype=float)
+    mass = np.einsum("ij,ij->j", phi, M @ phi)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        scale = np.where(mass > 0, 1 / np.sqrt(np.abs(mass)), 1 / np.linalg.norm(phi, axis=0))
+    phi = phi * scale
+    if phi.size:
+        big = phi[np.argmax(np.abs(phi), axis=0), np.arange(phi.shape[1])]
+        # tiny components are rounding noise of exact zeros: clean them in the +1 view
+        unit = phi / big
+        unit[np.abs(unit) < 1e-13] = 0.0
+        phi = phi * np.sign(big)
+    else:
+        unit = phi
+    return phi, unit
+
+
+def _modal_eigenvalues(lam: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Both roots of s^2 + c s + lambda = 0 for every mode."""
+    root = np.sqrt((c * c - 4 * lam).astype(complex))
+    return np.concatenate([(-c + root) / 2, (-c - root) / 2])
+
+
+def _order(eigenvalues: np.ndarray) -> np.ndarray:
+    return eigenvalues[np.lexsort((eigenvalues.imag, np.round(np.abs(eigenvalues), 12)))]
+
+
+def _ratios(eigenvalues: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Damping ratio -Re s/|s| and damped frequency Im s for each s with Im s >= 0."""
+    upper = eigenvalues[eigenvalues.imag >= -1e-12 * np.maximum(1.0, np.abs(eigenvalues))]
+    upper = upper[np.argsort(np.abs(upper), kind="stable")]
+    size = np.abs(upper)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        zeta = np.where(size > 0, -upper.real / np.where(size > 0, size, 1), 0.0)
+    return zeta, np.abs(upper.imag)
+
+
+# -- the analysis -------------------------------------------------------------------------
+
+def modes(source: Any, count: int | None = None) -> ModalAnalysis:
+    """Natural frequencies, mode shapes, damping and stability of a linear system.
+
+    Parameters
+    ----------
+    source : Model, LinearEOM, NumericEOM or MatrixSystem
+    count : int, optional
+        Report only the ``count`` lowest modes.  For sparse matrices with
+        ``count < n - 1`` (and for any model larger than 1500 coordinates)
+        they are computed by shift-invert Lanczos; the default then is 10.
+
+    Returns
+    -------
+    ModalAnalysis
+
+    Raises
+    ------
+    AnalysisError
+        For a singular mass matrix or a non-positive ``count``.
+    """
+    from .stability import (ASYMPTOTIC, MARGINAL, UNSTABLE, check_mass_matrix, classify,
+                            state_eigenvalues)
+
+    coordinates, M, C, K, title = _system(source)
+    n = len(coordinates)
+    if count is not None and count < 1:
+        raise AnalysisError("--count must be at least 1")
+    warnings: list[str] = []
+    damped = bool((C.nnz and abs(C).max() > 0) if _is_sparse(C) else np.any(C))
+    symmetric = _symmetric(M) and _symmetric(K) and _symmetric(C)
+    sparse = any(_is_sparse(a) for a in (M, C, K))
+    lanczos = n > DENSE_MODES or (sparse and count is not None and count < n - 1)
+    if lanczos:
+        if count is None:
+            count = 10
+            warnings.append(f"{n} coordinates: only the lowest {count} modes are computed "
+                            "(use --count)")
+        count = min(count, n - 1)
+        lam, phi = _lanczos(M, K, count)
+        method = "shift-invert Lanczos"
+    else:
+        M, C, K = _dense(M), _dense(C), _dense(K)
+        check_mass_matrix(M, coordinates)
+        from .stability import undamped_eigen
+
+        lam, phi = undamped_eigen(M, K)
+        method = "dense"
+    scale = max(float(np.abs(lam).max(initial=0.0)), 1e-300)
+    lam = np.where(np.abs(lam) < 1e-12 * scale, 0.0, lam)
+    mass_phi, unit_phi = _normalise(phi, M)
+    rayleigh = _rayleigh(M, C, K) if damped and symmetric else (0.0, 0.0) if not damped else None
+    if not damped:
+        proportional = True
+    elif rayleigh is not None:
+        proportional = True
+    elif symmetric and not lanczos:
+        proportional = _commutes(M, C, K)
+    else:
+        proportional = False
+        if symmetric and lanczos:
+            modal_c = mass_phi.T @ (C @ mass_phi)
+            off = modal_c - np.diag(np.diag(modal_c))
+            proportional = bool(np.abs(off).max(initial=0) <= PROPORTIONAL_TOLERANCE *
+                                np.abs(np.diag(modal_c)).max(initial=1e-300))
+    if not symmetric:
+        warnings.append("M, C or K is not symmetric (gyroscopic or circulatory terms): the "
+                        "undamped modes are those of the symmetric problem K phi = lambda M phi "
+                        "as computed by a general eigensolver; see the complex eigenvalues")
+    if proportional and symmetric:
+        c_modal = np.einsum("ij,ij->j", mass_phi, C @ mass_phi) if damped else np.zeros(len(lam))
+        eigenvalues = _modal_eigenvalues(lam, c_modal)
+        ok = lam > 0
+        zeta = np.where(ok, c_modal / (2 * np.sqrt(np.where(ok, lam, 1.0))), 0.0)
+        damping_ratios = zeta[lam >= 0]
+        damped_freq = np.sqrt(np.maximum(lam - c_modal**2 / 4, 0.0))[lam >= 0]
+    elif not lanczos:
+        eigenvalues = state_eigenvalues(M, C, K)
+        damping_ratios, damped_freq = _ratios(eigenvalues)
+    else:
+        raise AnalysisError(
+            f"the damping of this {n}-coordinate model is not proportional: its complex "
+            "eigenvalues need the dense state matrix, which is limited to "
+            f"{DENSE_MODES} coordinates")
+    eigenvalues = _order(eigenvalues)
+    stability = classify(eigenvalues)
+    if lanczos:
+        warnings.append(f"stability judged from the lowest {len(lam)} modes only")
+        if stability == ASYMPTOTIC and not damped:
+            stability = MARGINAL
+    if np.any(lam < 0):
+        warnings.append(f"{int(np.sum(lam < 0))} mode(s) with omega^2 < 0: K is not positive "
+                        "definite (statically unstable)")
+        stability = UNSTABLE if stability != UNSTABLE and not damped else stability
+    keep = lam >= 0
+    return ModalAnalysis(
+        coordinates=coordinates, omega_squared=lam, natural_frequencies=np.sqrt(lam[keep]),
+        mode_shapes=unit_phi[:, keep], mass_normalised_modes=mass_phi[:, keep],
+        eigenvalues=eigenvalues,
+        damping_ratios=np.asarray(damping_ratios), damped_frequencies=np.asarray(damped_freq),
+        proportional_damping=bool(proportional), rayleigh=rayleigh, damped=damped,
+        stability=stability, method=method, warnings=tuple(warnings),
+        title=title).limited(count if not lanczos else None)
+
+
+def _lanczos(M: Any, K: Any, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` lowest eigenpairs of K phi = lambda M phi (sparse, symmetric)."""
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import eigsh
+
+    if not (_symmetric(M) and _symmetric(K)):
+        raise AnalysisError("the sparse eigensolver needs symmetric M and K; this model has "
+                            "gyroscopic or circulatory terms")
+    M, K = sp.csc_matrix(M), sp.csc_matrix(K)
+    diag_m = np.abs(M.diagonal())
+    if np.any(diag_m == 0):
+        raise AnalysisError("the mass matrix M has a zero diagonal entry (a coordinate without "
+                            "inertia): M is singular")
+    # a small negative shift: K itself may be singular (rigid-body modes)
+    shift = -1e-6 * float(np.mean(np.abs(K.diagonal())) / np.mean(diag_m) or 1.0)
+    try:
+        lam, phi = eigsh(K, k=count, M=M, sigma=shift, which="LM")
+    except (RuntimeError, ValueError) as exc:
+        raise AnalysisError(f"the sparse eigensolver failed: {exc}") from None
+    order = np.argsort(lam)
+    return lam[order], phi[:, order]
+
+
+def modal_damping_ratios(rayleigh: tuple[float, float], omegas: Sequence[float] | np.ndarray
+                         ) -> np.ndarray:
+    """zeta_j = a / (2 omega_j) + b omega_j / 2 for Rayleigh damping C = a M + b K.
+
+    Examples
+    --------
+    >>> modal_damping_ratios((0.1, 1e-4), [10.0]).round(6).tolist()
+    [0.0055]
+    """
+    a, b = rayleigh
+    w = np.asarray(omegas, dtype=float)
+    return a / (2 * w) + b * w / 2
+
+
+__all__ = ["modes", "ModalAnalysis", "modal_damping_ratios"]
