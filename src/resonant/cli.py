@@ -10,15 +10,18 @@ from __future__ import annotations
 import argparse
 import importlib
 import json
+import math
 import os
 import sys
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from .errors import ModelError, Problem, ResonantError
+from .errors import AnalysisError, ModelError, Problem, ResonantError
 
 #: modules that add subcommands: each has ``register(subparsers, common)``
 COMMAND_MODULES = ("resonant.cli_analyses", "resonant.cli_simulate", "resonant.cli_report")
+#: default time budget of the symbolic derivation (``--timeout``), in seconds
+DEFAULT_TIMEOUT = 120.0
 
 
 def parse_settings(items: Sequence[str] | None) -> dict[str, str]:
@@ -49,7 +52,8 @@ def emit_json(data: Any) -> None:
     try:
         text = json.dumps(data, indent=2, allow_nan=False)
     except ValueError:
-        raise ResonantError("the result holds NaN or infinity and cannot be written as JSON")
+        raise AnalysisError("the result holds NaN or infinity and cannot be written as "
+                            "JSON; check the parameter values") from None
     sys.stdout.write(text + "\n")
 
 
@@ -63,7 +67,20 @@ def common_parser() -> argparse.ArgumentParser:
     common.add_argument("model", help="the model file (TOML)")
     common.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                         help="override a parameter (the value may be an expression)")
+    common.add_argument("--timeout", type=_seconds, default=DEFAULT_TIMEOUT, metavar="SECONDS",
+                        help="time budget of the symbolic derivation (default "
+                             f"{DEFAULT_TIMEOUT:g}; 0 for none)")
     return common
+
+
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value) or value < 0:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds >= 0, got '{text}'")
+    return value
 
 
 # -- solve / check ---------------------------------------------------------------------------
@@ -126,6 +143,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     if run is None:
         parser.print_help(sys.stderr)
         return 2
+    from . import model as model_module
+
+    saved_timeout = model_module.DERIVATION_TIMEOUT
+    model_module.DERIVATION_TIMEOUT = getattr(args, "timeout", None) or None
     try:
         return run(args)
     except ResonantError as exc:
@@ -141,6 +162,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"internal error ({type(exc).__name__}: {exc}); this is a bug in resonant — "
               "rerun with RESONANT_DEBUG=1 for details", file=sys.stderr)
         return 1
+    finally:
+        model_module.DERIVATION_TIMEOUT = saved_timeout
 
 
 def entry_point() -> None:  # pragma: no cover - console script

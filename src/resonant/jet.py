@@ -2,9 +2,8 @@
 
 A :class:`Jet` is a polynomial of degree at most two in the *small
 quantities* of a model (coordinate deviations, their rates, signals and their
-rates), with symbolic coefficients (symengine expressions of the parameters: the
-arithmetic of a large derivation is symengine's, converted to sympy once at
-the end)::
+rates), with symbolic coefficients (expressions of the parameters, in sympy or, for
+large models, symengine — see :class:`Backend`)::
 
     c + sum_a lin[a] z_a + sum_{a <= b} quad[a, b] z_a z_b
 
@@ -28,37 +27,83 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
-import symengine as se
 import sympy
 from sympy.core.add import _addsort
 from sympy.core.mul import _mulsort
 
 Var = tuple[str, int]
-Coefficient = Any  # a symengine expression
-
-_ZERO = se.Integer(0)
-_ONE = se.Integer(1)
-_U = se.Symbol("_jet_u")
+Coefficient = Any  # a sympy or symengine expression (or a Python int)
 
 _NAMES = ("sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "exp", "log",
           "sqrt", "atan2")
 #: sympy constructors of the model language's functions
 SYMPY_FUNCTIONS: dict[str, Callable[..., Any]] = {name: getattr(sympy, name) for name in _NAMES}
-#: symengine constructors of the same functions (the jets' coefficient arithmetic)
-SE_FUNCTIONS: dict[str, Callable[..., Any]] = {name: getattr(se, name) for name in _NAMES}
-
-# derivative formulas f'(u), f''(u) of each one-argument function, computed once
-_DERIVATIVES: dict[str, tuple[Any, Any]] = {}
 
 
-def _derivatives(func: str) -> tuple[Any, Any]:
-    if func not in _DERIVATIVES:
-        f = SE_FUNCTIONS[func](_U)
-        d1 = se.diff(f, _U)
-        _DERIVATIVES[func] = (d1, se.diff(d1, _U))
-    return _DERIVATIVES[func]
+@dataclass(frozen=True)
+class Backend:
+    """The computer algebra system that does a jet's coefficient arithmetic.
+
+    sympy for small models (nothing more to import), symengine for large
+    ones (its arithmetic is an order of magnitude faster); the results are
+    sympy either way.
+    """
+
+    name: str
+    module: Any
+    functions: Mapping[str, Callable[..., Any]]
+    basic: type
+    _derivatives: dict = field(default_factory=dict, compare=False, repr=False)
+
+    def symbol(self, name: str) -> Any:
+        return self.module.Symbol(name)
+
+    def rational(self, numerator: int, denominator: int) -> Any:
+        return self.module.Rational(numerator, denominator)
+
+    @property
+    def pi(self) -> Any:
+        return self.module.pi
+
+    def derivatives(self, func: str) -> tuple[Any, Any, Any]:
+        """(u, f'(u), f''(u)) for a one-argument function, computed once."""
+        if func not in self._derivatives:
+            u = self.module.Symbol("_jet_u")
+            d1 = self.module.diff(self.functions[func](u), u)
+            self._derivatives[func] = (u, d1, self.module.diff(d1, u))
+        return self._derivatives[func]
+
+    def is_bad(self, value: Any) -> bool:
+        """True for infinities and NaN (a function evaluated at a singularity)."""
+        m = self.module
+        return isinstance(value, self.basic) and any(
+            value.has(x) for x in (m.zoo, m.nan, m.oo))
+
+    def to_sympy(self, value: Any, cache: dict | None = None) -> sympy.Expr:
+        if self.name == "sympy":
+            return sympy.sympify(value)
+        return to_sympy(value, cache)
+
+    def from_sympy(self, value: sympy.Expr) -> Any:
+        """Convert a sympy expression built by resonant (never user text)."""
+        return value if self.name == "sympy" else self.module.sympify(value)
+
+
+SYMPY = Backend("sympy", sympy, SYMPY_FUNCTIONS, sympy.Basic)
+_BACKENDS: dict[str, Backend] = {"sympy": SYMPY}
+
+
+def backend(name: str) -> Backend:
+    """The backend called ``"sympy"`` or ``"symengine"`` (imported on first use)."""
+    if name not in _BACKENDS:
+        import symengine
+
+        _BACKENDS[name] = Backend("symengine", symengine,
+                                  {n: getattr(symengine, n) for n in _NAMES}, symengine.Basic)
+    return _BACKENDS[name]
 
 
 def _key(a: Var, b: Var) -> tuple[Var, Var]:
@@ -78,7 +123,7 @@ class Jet:
 
     __slots__ = ("const", "lin", "quad")
 
-    def __init__(self, const: Coefficient = _ZERO,
+    def __init__(self, const: Coefficient = 0,
                  lin: Mapping[Var, Coefficient] | None = None,
                  quad: Mapping[tuple[Var, Var], Coefficient] | None = None) -> None:
         self.const = const
@@ -91,8 +136,8 @@ class Jet:
         return cls(value)
 
     @classmethod
-    def variable(cls, var: Var, offset: Coefficient = _ZERO) -> "Jet":
-        return cls(offset, {var: _ONE})
+    def variable(cls, var: Var, offset: Coefficient = 0) -> "Jet":
+        return cls(offset, {var: 1})
 
     def is_constant(self) -> bool:
         return not self.lin and not self.quad
@@ -169,36 +214,37 @@ class Jet:
 
     def _compose(self, f0: Coefficient, f1: Coefficient, f2: Coefficient) -> "Jet":
         """f(c + d) ~ f0 + f1 d + f2/2 d^2 with d = self - c."""
-        delta = Jet(_ZERO, self.lin, self.quad)
+        delta = Jet(0, self.lin, self.quad)
         out = delta.scale(f1)
         if self.lin and _nonzero(f2):
-            sq = Jet(_ZERO, self.lin) * Jet(_ZERO, self.lin)
+            sq = Jet(0, self.lin) * Jet(0, self.lin)
             out = out + sq.scale(f2 / 2)
         return Jet(f0) + out
 
-    def apply(self, func: str) -> "Jet":
+    def apply(self, func: str, backend: Backend = SYMPY) -> "Jet":
         """The jet of ``func(self)`` for a one-argument function of the model language."""
-        f0 = SE_FUNCTIONS[func](self.const)
+        f0 = backend.functions[func](self.const)
         if self.is_constant():
             return Jet(f0)
-        d1, d2 = _derivatives(func)
-        f1 = d1.subs({_U: self.const})
-        f2 = d2.subs({_U: self.const}) if self.lin else _ZERO
-        _check_finite(func, f0, f1, f2)
+        u, d1, d2 = backend.derivatives(func)
+        f1 = d1.subs({u: self.const})
+        f2 = d2.subs({u: self.const}) if self.lin else 0
+        if any(backend.is_bad(v) for v in (f0, f1, f2)):
+            raise NotDifferentiable(f"{func}() is not differentiable at the reference state")
         return self._compose(f0, f1, f2)
 
-    def atan2(self, x: "Jet") -> "Jet":
+    def atan2(self, x: "Jet", backend: Backend = SYMPY) -> "Jet":
         """The jet of ``atan2(self, x)`` (self is the y argument)."""
         y0, x0 = self.const, x.const
-        f0 = se.atan2(y0, x0)
+        f0 = backend.functions["atan2"](y0, x0)
         if self.is_constant() and x.is_constant():
             return Jet(f0)
         r2 = x0**2 + y0**2
         if r2 == 0:
             raise NotDifferentiable("atan2(0, 0) has no expansion at the reference state")
-        dy, dx = Jet(_ZERO, self.lin, self.quad), Jet(_ZERO, x.lin, x.quad)
+        dy, dx = Jet(0, self.lin, self.quad), Jet(0, x.lin, x.quad)
         first = dy.scale(x0 / r2) - dx.scale(y0 / r2)
-        ly, lx = Jet(_ZERO, self.lin), Jet(_ZERO, x.lin)
+        ly, lx = Jet(0, self.lin), Jet(0, x.lin)
         # Hessian of atan2(y, x): f_yy = -2xy/r^4, f_xx = 2xy/r^4, f_xy = (y^2-x^2)/r^4
         r4 = r2**2
         second = ((ly * ly).scale(-x0 * y0 / r4) + (lx * lx).scale(x0 * y0 / r4)
@@ -222,15 +268,15 @@ class Jet:
 
     def __pow__(self, exponent: "Jet") -> "Jet":
         if not exponent.is_constant():
-            # a^b = exp(b log a)
-            return (exponent * self.apply("log")).apply("exp")
+            raise NotDifferentiable("a power whose exponent varies with the motion; write it "
+                                    "as exp(b*log(a))")
         b = exponent.const
         if self.is_constant():
             return Jet(self.const**b)
-        if b.is_Integer:
+        if isinstance(b, int) or getattr(b, "is_Integer", False):
             n = int(b)
             if n == 0:
-                return Jet(_ONE)
+                return Jet(1)
             base = self if n > 0 else self.reciprocal()
             return _integer_power(base, abs(n))
         c = self.const
@@ -242,15 +288,15 @@ class Jet:
     # -- calculus -------------------------------------------------------------
     def diff(self, var: Var) -> "Jet":
         """Partial derivative with respect to a small quantity (degree drops by one)."""
-        const = self.lin.get(var, _ZERO)
+        const = self.lin.get(var, 0)
         lin: dict[Var, Coefficient] = {}
         for (a, b), v in self.quad.items():
             if a == var and b == var:
-                lin[a] = lin.get(a, _ZERO) + 2 * v
+                lin[a] = lin.get(a, 0) + 2 * v
             elif a == var:
-                lin[b] = lin.get(b, _ZERO) + v
+                lin[b] = lin.get(b, 0) + v
             elif b == var:
-                lin[a] = lin.get(a, _ZERO) + v
+                lin[a] = lin.get(a, 0) + v
         return Jet(const, {k: v for k, v in lin.items() if _nonzero(v)})
 
     def dt(self) -> "Jet":
@@ -264,7 +310,7 @@ class Jet:
         for (a, b), v in self.quad.items():
             for key in (_key((a[0], a[1] + 1), b), _key(a, (b[0], b[1] + 1))):
                 quad[key] = quad[key] + v if key in quad else v
-        return Jet(_ZERO, lin, {k: v for k, v in quad.items() if _nonzero(v)})
+        return Jet(0, lin, {k: v for k, v in quad.items() if _nonzero(v)})
 
     def truncate(self, degree: int) -> "Jet":
         if degree >= 2:
@@ -279,7 +325,7 @@ class Jet:
 
 
 def _integer_power(base: Jet, n: int) -> Jet:
-    result = Jet(_ONE)
+    result = Jet(1)
     square = base
     while n:
         if n & 1:
@@ -288,12 +334,6 @@ def _integer_power(base: Jet, n: int) -> Jet:
         if n:
             square = square * square
     return result
-
-
-def _check_finite(func: str, *values: Coefficient) -> None:
-    for v in values:
-        if isinstance(v, se.Basic) and (v.has(se.zoo) or v.has(se.nan) or v.has(se.oo)):
-            raise NotDifferentiable(f"{func}() is not differentiable at the reference state")
 
 
 CANONICAL_SORT_LIMIT = 12
@@ -308,22 +348,25 @@ def to_sympy(value: Coefficient, cache: dict | None = None) -> sympy.Expr:
 
     Examples
     --------
-    >>> a = se.Symbol("a")
-    >>> to_sympy(se.Rational(1, 2) * a + 3 * a**2)
+    >>> se = backend("symengine")
+    >>> a = se.symbol("a")
+    >>> to_sympy(se.rational(1, 2) * a + 3 * a**2)
     3*a**2 + a/2
     """
+    import symengine as se
+
     if not isinstance(value, se.Basic):
         return sympy.sympify(value)
-    return _convert(value, {} if cache is None else cache)
+    return _convert(value, {} if cache is None else cache, se)
 
 
-def _convert(e: Any, cache: dict) -> sympy.Expr:
+def _convert(e: Any, cache: dict, se: Any) -> sympy.Expr:
     if e in cache:
         return cache[e]
     if isinstance(e, se.Symbol):
         out = sympy.Symbol(e.name)
     elif isinstance(e, (se.Add, se.Mul)):
-        args = [_convert(a, cache) for a in e.args]
+        args = [_convert(a, cache, se) for a in e.args]
         # sympy's canonical order for ordinary sizes; for long sums (large
         # systems) only the numeric coefficient goes first, which is all sympy's
         # algorithms rely on -- the full sort would cost more than the derivation
@@ -334,20 +377,15 @@ def _convert(e: Any, cache: dict) -> sympy.Expr:
         cls = sympy.Add if isinstance(e, se.Add) else sympy.Mul
         out = cls._from_args(args, is_commutative=True)
     elif isinstance(e, se.Pow):
-        base, exponent = (_convert(a, cache) for a in e.args)
+        base, exponent = (_convert(a, cache, se) for a in e.args)
         out = sympy.Pow(base, exponent)
     elif e.args and isinstance(e, se.Function) and type(e).__name__.lower() in SYMPY_FUNCTIONS:
-        out = SYMPY_FUNCTIONS[type(e).__name__.lower()](*(_convert(a, cache) for a in e.args))
+        out = SYMPY_FUNCTIONS[type(e).__name__.lower()](*(_convert(a, cache, se) for a in e.args))
     else:
         out = e._sympy_()
     cache[e] = out
     return out
 
 
-def from_sympy(value: sympy.Expr) -> Coefficient:
-    """Convert a sympy expression (built by resonant, never user text) to symengine."""
-    return se.sympify(value)
-
-
-__all__ = ["Jet", "Var", "NotDifferentiable", "SYMPY_FUNCTIONS", "SE_FUNCTIONS", "to_sympy",
-           "from_sympy"]
+__all__ = ["Jet", "Var", "NotDifferentiable", "Backend", "backend", "SYMPY", "SYMPY_FUNCTIONS",
+           "to_sympy"]

@@ -46,9 +46,7 @@ from .expr import Expression
 from .harmonics import SignalHarmonics, decompose_signals
 from fractions import Fraction
 
-import symengine as se
-
-from .jet import Jet, NotDifferentiable, Var, from_sympy, to_sympy
+from .jet import SYMPY, Backend, Jet, NotDifferentiable, Var, backend
 from .model import TIME, Model, symbol
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -181,16 +179,27 @@ def _signal_derivatives(model: Model, needed: set[Var]) -> dict[Var, sympy.Expr]
 
 # -- jet evaluation of the model's expressions -------------------------------------------
 
+#: from this many coordinates on, jets compute with symengine (sympy below: no extra import)
+SYMENGINE_MIN_COORDINATES = 4
+
+
+def choose_backend(model: Model) -> Backend:
+    """sympy for textbook-sized models, symengine for larger ones."""
+    return backend("symengine") if len(model.coordinates) >= SYMENGINE_MIN_COORDINATES \
+        else SYMPY
+
+
 class _JetOps:
     """Folds a parsed expression into its second-order jet."""
 
-    def __init__(self, model: Model) -> None:
+    def __init__(self, model: Model, cas: Backend | None = None) -> None:
         self.model = model
-        self.params = {name: Jet(se.Symbol(name)) for name in model.parameters}
+        self.cas = cas or choose_backend(model)
+        self.params = {name: Jet(self.cas.symbol(name)) for name in model.parameters}
         self.equilibrium = {
-            q: (from_sympy(model.equilibrium[q].to_sympy(
+            q: (self.cas.from_sympy(model.equilibrium[q].to_sympy(
                 lambda n, p: symbol(n) if p == 0 else sympy.Integer(0)))
-                if q in model.equilibrium else se.Integer(0))
+                if q in model.equilibrium else 0)
             for q in model.coordinates}
         self.converted: dict = {}  # symengine -> sympy conversions, shared across entries
         self.coordinates = set(model.coordinates)
@@ -211,13 +220,13 @@ class _JetOps:
     # fold operations
     def num(self, text: str) -> Jet:
         value = Fraction(text)
-        return Jet(se.Rational(value.numerator, value.denominator))
+        return Jet(self.cas.rational(value.numerator, value.denominator))
 
     def pi(self) -> Jet:
-        return Jet(se.pi)
+        return Jet(self.cas.pi)
 
     def to_sympy(self, value: Any) -> sympy.Expr:
-        return to_sympy(value, self.converted)
+        return self.cas.to_sympy(value, self.converted)
 
     def name(self, name: str, primes: int) -> Jet:
         if name in self.coordinates:
@@ -253,6 +262,8 @@ class _JetOps:
         return a / b
 
     def pow(self, a: Jet, b: Jet) -> Jet:
+        if not b.is_constant():  # a^b = exp(b log a)
+            return (b * a.apply("log", self.cas)).apply("exp", self.cas)
         return a ** b
 
     def neg(self, a: Jet) -> Jet:
@@ -260,21 +271,23 @@ class _JetOps:
 
     def call(self, func: str, args: list[Jet]) -> Jet:
         if func == "atan2":
-            return args[0].atan2(args[1])
-        return args[0].apply(func)
+            return args[0].atan2(args[1], self.cas)
+        return args[0].apply(func, self.cas)
 
 
 def _short(text: str, limit: int = 60) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
-def linearize(model: Model) -> LinearEOM:
+def linearize(model: Model, cas: str | None = None) -> LinearEOM:
     """Derive the linearized equation of motion of an energy model.
 
     Parameters
     ----------
     model : Model
         A validated model (see :func:`resonant.load`).
+    cas : {"sympy", "symengine"}, optional
+        The algebra system of the jets; by default chosen by the model's size.
 
     Returns
     -------
@@ -292,7 +305,7 @@ def linearize(model: Model) -> LinearEOM:
         from .matrices import linearize_matrices
 
         return linearize_matrices(model)
-    ops = _JetOps(model)
+    ops = _JetOps(model, backend(cas) if cas else None)
     coords = model.coordinates
     energies = {key: ops.jet(model.energy[key], "energy", key) if key in model.energy else Jet()
                 for key in ("T", "U", "D")}

@@ -26,8 +26,12 @@ from __future__ import annotations
 
 import difflib
 import math
+import signal
+import threading
+import time
 import tomllib
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -37,7 +41,8 @@ from typing import TYPE_CHECKING, Any
 import sympy
 
 from .errors import ModelError, Problem
-from .expr import Expression, ExpressionError, parse, validate_name
+from .expr import (BinOp, Call, Expression, ExpressionError, Name, Neg, Num, parse,
+                   validate_name)
 
 if TYPE_CHECKING:  # pragma: no cover
     from .linearize import LinearEOM
@@ -50,6 +55,15 @@ ENERGY_KEYS = ("T", "U", "D")
 #: largest model accepted, so that a hostile file cannot exhaust memory
 MAX_FILE_BYTES = 5_000_000
 MAX_COORDINATES = 2000
+#: largest size (syntax-tree nodes) of a definition with the definitions it uses
+#: substituted, counted with multiplicity: ``d2 = d1*d1`` doubles, a chain
+#: ``y2 = y1 + x2`` only adds.  Beyond it the derivation grows exponentially.
+MAX_INLINED_NODES = 1_000_000
+#: largest polynomial degree of a definition after substitution (``d2 = d1^2`` ...)
+MAX_INLINED_DEGREE = 10_000
+#: default time budget of :meth:`Model.linearize` in seconds (None: unlimited); the
+#: command line sets it from ``--timeout``
+DERIVATION_TIMEOUT: float | None = None
 
 
 def symbol(name: str) -> sympy.Symbol:
@@ -153,11 +167,38 @@ class Model:
                         exact_values=MappingProxyType(exact),
                         parameter_values=MappingProxyType(floats))
 
-    def linearize(self) -> "LinearEOM":
-        """The linearized equation of motion M q'' + C q' + K q = Q(t)."""
+    def linearize(self, timeout: float | None = None) -> "LinearEOM":
+        """The linearized equation of motion M q'' + C q' + K q = Q(t).
+
+        Parameters
+        ----------
+        timeout : float, optional
+            Time budget in seconds (default :data:`DERIVATION_TIMEOUT`); only
+            enforced in the main thread, where ``SIGALRM`` can interrupt it.
+
+        Raises
+        ------
+        ModelError
+            If the derivation exceeds the time budget, overflows or nests too
+            deeply; the message names the expression being worked on.
+        """
         from .linearize import linearize
 
-        return linearize(self)
+        budget = DERIVATION_TIMEOUT if timeout is None else timeout
+        try:
+            with time_budget(budget, self.source):
+                return linearize(self)
+        except RecursionError:
+            raise ModelError(Problem(
+                "the derivation nests too deeply" + _definition_chain(self.definitions)
+                + "; use fewer levels of definitions that refer to each other",
+                self.source, "definitions")) from None
+        except OverflowError as exc:
+            section, key, what = _working_on(exc.__traceback__)
+            raise ModelError(Problem(
+                f"a number overflowed {what}: the model's numbers (or functions such as "
+                "exp of large values) exceed the floating-point range; rescale the "
+                "parameters or simplify the expression", self.source, section, key)) from None
 
     @cached_property
     def _linear(self) -> "LinearEOM":
@@ -329,7 +370,9 @@ class _Builder:
             self.problem("title must be a string", "title")
             title = ""
         parameters = self.parameters()
-        param_names = list(parameters)
+        # every declared parameter, also those whose value is invalid, so that one bad
+        # value is reported once and not again as an unknown name wherever it is used
+        param_names = [n for n, sec in self.declared.items() if sec == "parameters"]
         matrices = self.data.get("matrices") is not None
         coordinates, descriptions = self.coordinates(required=not matrices)
         equilibrium = self.simple_table("equilibrium", param_names, keys=coordinates)
@@ -481,7 +524,10 @@ class _Builder:
                 visit(name, [])
             except _Cycle:
                 return {}
-        return {name: parsed[name] for name in order}
+        ordered = {name: parsed[name] for name in order}
+        for name, message in _inlined_size_problems(ordered):
+            self.problem(message, "definitions", name)
+        return ordered
 
     def energy(self, allowed: list[str], required: bool) -> dict[str, Expression]:
         table = self.table("energy", required=required)
@@ -578,8 +624,202 @@ class _Cycle(Exception):
     pass
 
 
+# -- resource limits ---------------------------------------------------------------------------
+
+def _exponent_value(node: Any) -> float | None:
+    """The value of a literal exponent (``2``, ``-1``, ``(3)``), else None."""
+    if isinstance(node, Num):
+        return float(node.value)
+    if isinstance(node, Neg):
+        inner = _exponent_value(node.operand)
+        return None if inner is None else -inner
+    return None
+
+
+def _inlined_cost(expression: Expression, costs: Mapping[str, tuple[float, float]]
+                  ) -> tuple[float, float]:
+    """(size, degree) of an expression with the definitions in ``costs`` substituted.
+
+    ``size`` counts tree nodes with multiplicity (what repeated substitution builds);
+    ``degree`` is the polynomial degree, functions counted as their argument's.
+    """
+    stack: list[tuple[Any, bool]] = [(expression.root, False)]
+    out: list[tuple[float, float]] = []
+    while stack:
+        node, expanded = stack.pop()
+        if isinstance(node, Num):
+            out.append((1.0, 0.0))
+        elif isinstance(node, Name):
+            size, degree = costs.get(node.name, (1.0, 0.0 if node.name == "pi" else 1.0))
+            out.append((size, degree))
+        elif not expanded:
+            stack.append((node, True))
+            children = (node.left, node.right) if isinstance(node, BinOp) else \
+                (node.operand,) if isinstance(node, Neg) else node.args
+            stack.extend((child, False) for child in reversed(children))
+        else:
+            count = 2 if isinstance(node, BinOp) else 1 if isinstance(node, Neg) \
+                else len(node.args)
+            args = out[len(out) - count:]
+            del out[len(out) - count:]
+            size = 1.0 + sum(a[0] for a in args)
+            if isinstance(node, BinOp) and node.op in "+-":
+                degree = max(args[0][1], args[1][1])
+            elif isinstance(node, BinOp) and node.op == "^":
+                power = _exponent_value(node.right)
+                degree = args[0][1] * abs(power) if power is not None \
+                    else args[0][1] + args[1][1]
+            elif isinstance(node, BinOp):
+                degree = args[0][1] + args[1][1]
+            else:  # Neg and function calls keep the degree of their argument(s)
+                degree = max(a[1] for a in args)
+            out.append((size, degree))
+    return out[0]
+
+
+def _inlined_size_problems(definitions: Mapping[str, Expression]) -> list[tuple[str, str]]:
+    """Definitions that explode when the definitions they use are substituted.
+
+    ``definitions`` must be in dependency order.  Checked before any symbolic
+    work, so ``d2 = d1*d1``, ``d3 = d2*d2``, ... fails at once instead of hanging.
+    """
+    costs: dict[str, tuple[float, float]] = {}
+    problems = []
+    for name, expression in definitions.items():
+        size, degree = _inlined_cost(expression, costs)
+        costs[name] = (size, degree)
+        uses = sorted({n for n, _ in expression.names() if n in definitions})
+        via = f" (it uses {', '.join(uses)})" if uses else ""
+        if size > MAX_INLINED_NODES:
+            problems.append((name, (
+                f"'{name}' grows to about {size:.2g} terms when the definitions it uses are "
+                f"substituted{via}; at most {MAX_INLINED_NODES:.0e} are derived in reasonable "
+                "time -- a definition that uses another several times repeats it, so "
+                "such chains grow exponentially; simplify them")))
+            costs[name] = (1.0, 1.0)  # reported once, not again for every user of it
+        elif degree > MAX_INLINED_DEGREE:
+            problems.append((name, (
+                f"'{name}' has polynomial degree about {degree:.3g} once the definitions "
+                f"it uses are substituted{via}; at most {MAX_INLINED_DEGREE} -- products "
+                "and powers of definitions multiply their degrees; simplify them")))
+            costs[name] = (1.0, 1.0)
+    return problems
+
+
+def _definition_chain(definitions: Mapping[str, Expression]) -> str:
+    """`` (definition chain d3 -> d2 -> d1, 3 levels)`` for the longest chain, or ''."""
+    depth: dict[str, tuple[int, str | None]] = {}
+    for name, expression in definitions.items():  # dependency order
+        uses = [n for n, _ in expression.names() if n in depth]
+        best = max(uses, key=lambda n: depth[n][0], default=None)
+        depth[name] = (1 + (depth[best][0] if best else 0), best)
+    if not depth:
+        return ""
+    name: str | None = max(depth, key=lambda n: depth[n][0])
+    levels, chain = depth[name][0], []
+    while name is not None and len(chain) < 6:
+        chain.append(name)
+        name = depth[name][1]
+    more = " -> ..." if levels > len(chain) else ""
+    return f" (definition chain {' -> '.join(chain)}{more}, {levels} levels)"
+
+
+#: what the derivation is doing, by function name in resonant.linearize
+_STAGES = {
+    "_clean": "while simplifying the matrix entries",
+    "_check_equilibrium": "while checking that the reference state is an equilibrium",
+    "_nearby_equilibrium": "while searching for a nearby equilibrium",
+    "_generalized_forces": "while forming the generalized forces",
+    "_signal_derivatives": "while differentiating the signals",
+    "decompose_signals": "while splitting the signals into harmonics",
+    "linearize_matrices": "while reading the matrices",
+}
+
+
+def _working_on(tb_or_frame: Any) -> tuple[str, str, str]:
+    """(section, key, description) of the expression being derived in a stack.
+
+    Looks for the jet expansion of an expression (``_JetOps.jet(expression,
+    section, key)``) and the stage functions of :mod:`resonant.linearize`.
+    """
+    frames = []
+    if hasattr(tb_or_frame, "tb_frame"):  # a traceback: outermost first
+        tb = tb_or_frame
+        while tb is not None:
+            frames.append(tb.tb_frame)
+            tb = tb.tb_next
+        frames.reverse()
+    else:  # a frame: innermost first
+        frame = tb_or_frame
+        while frame is not None:
+            frames.append(frame)
+            frame = frame.f_back
+    section = key = stage = ""
+    for frame in frames:  # innermost first
+        code, local = frame.f_code, frame.f_locals
+        if not section and code.co_name == "jet" and "section" in local and "key" in local \
+                and isinstance(local.get("section"), str):
+            section, key = local["section"], str(local["key"])
+            text = getattr(local.get("expression"), "text", "")
+            short = text if len(text) <= 60 else text[:57] + "..."
+            stage = f"while expanding '{key}'" + (f" = '{short}'" if short else "")
+        if not stage and code.co_name in _STAGES:
+            stage = _STAGES[code.co_name]
+    return section, key, stage or "during the derivation"
+
+
+class DerivationTimeout(ModelError):
+    """The derivation exceeded its time budget (exit status 2)."""
+
+
+@contextmanager
+def time_budget(seconds: float | None, source: str = "") -> Iterator[None]:
+    """Interrupt the enclosed derivation after ``seconds`` with a :class:`ModelError`.
+
+    Uses ``SIGALRM`` (a real-time interval timer), so it works only in the main
+    thread of a POSIX process; elsewhere, or with ``seconds`` None or 0, it does
+    nothing.  An enclosing timer that expires earlier is left in charge and one
+    that expires later is re-armed afterwards.  A long computation inside a C
+    extension is interrupted only when it returns to Python.
+
+    Examples
+    --------
+    >>> with time_budget(5.0):
+    ...     sum(range(10))
+    45
+    """
+    if not seconds or seconds <= 0 or not hasattr(signal, "setitimer") \
+            or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    start = time.monotonic()
+    outer_delay, outer_interval = signal.getitimer(signal.ITIMER_REAL)
+    if outer_delay and outer_delay <= seconds:
+        yield  # the enclosing budget runs out first: let it
+        return
+
+    def expired(signum: int, frame: Any) -> None:
+        section, key, what = _working_on(frame)
+        raise DerivationTimeout(Problem(
+            f"the derivation exceeded {seconds:g} s {what}; the expression is too large "
+            "to expand in reasonable time (simplify it, or allow more time with "
+            "--timeout SECONDS, 0 for none)", source, section, key))
+
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+        if outer_delay:
+            left = outer_delay - (time.monotonic() - start)
+            signal.setitimer(signal.ITIMER_REAL, max(left, 1e-3), outer_interval)
+
+
 def _matrix_size(matrix: Any) -> int:
     return int(matrix.shape[0]) if hasattr(matrix, "shape") else len(matrix)
 
 
-__all__ = ["Model", "Force", "Harmonic", "MatrixSpec", "load", "loads", "symbol", "TIME"]
+__all__ = ["Model", "Force", "Harmonic", "MatrixSpec", "load", "loads", "symbol", "TIME",
+           "time_budget", "DerivationTimeout"]

@@ -27,7 +27,7 @@ Examples
 >>> result.natural_frequencies.round(4).tolist()     # sqrt(k/m), sqrt(3k/m)
 [20.0, 34.641]
 >>> result.mode_shapes.round(12).T.tolist()
-[[1.0, 1.0], [-1.0, 1.0]]
+[[1.0, 1.0], [1.0, -1.0]]
 """
 
 from __future__ import annotations
@@ -206,13 +206,18 @@ def _rayleigh(M: Any, C: Any, K: Any) -> tuple[float, float] | None:
 
     gram = np.array([[dot(M, M), dot(M, K)], [dot(K, M), dot(K, K)]])
     rhs = np.array([dot(M, C), dot(K, C)])
-    try:
-        a, b = np.linalg.lstsq(gram, rhs, rcond=None)[0]
-    except np.linalg.LinAlgError:
-        return None
+    if np.linalg.cond(gram) > 1e12:  # K proportional to M (one coordinate): take C = a M
+        a, b = rhs[0] / gram[0, 0], 0.0
+    else:
+        a, b = np.linalg.solve(gram, rhs)
+    size_c = math.sqrt(max(dot(C, C), 1e-300))
+    # terms below the tolerance are rounding noise of an exact zero
+    if abs(a) * math.sqrt(gram[0, 0]) <= PROPORTIONAL_TOLERANCE * size_c:
+        a = 0.0
+    if abs(b) * math.sqrt(gram[1, 1]) <= PROPORTIONAL_TOLERANCE * size_c:
+        b = 0.0
     residual = C - a * M - b * K
-    scale = math.sqrt(max(dot(C, C), 1e-300))
-    if math.sqrt(max(dot(residual, residual), 0.0)) <= PROPORTIONAL_TOLERANCE * scale:
+    if math.sqrt(max(dot(residual, residual), 0.0)) <= PROPORTIONAL_TOLERANCE * size_c:
         return float(a), float(b)
     return None
 

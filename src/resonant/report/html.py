@@ -15,6 +15,7 @@ from .blocks import Equation, Figure, Heading, Math, Note, Paragraph, Part, Repo
 
 _FENCE = re.compile(r'<mo( stretchy="true" fence="true" form="(?:prefix|postfix)")>')
 
+_PAREN = re.compile(r'<mo stretchy="false">(&#x00028;|&#x00029;)</mo>')
 _SIMPLE_FENCE = re.compile(
     r"\\left\(((?:(?!\\left|\\right|\\frac|\\begin|\\sum|\\sqrt|\\int).)*?)\\right\)",
     re.DOTALL)
@@ -76,7 +77,8 @@ def _math(latex: str, display: bool) -> str:
     except Exception:  # noqa: BLE001 - any converter failure: show the source instead
         return f"<code>{html.escape(latex)}</code>"
     # \left( ... \right) fences: no operator spacing inside the parentheses
-    return _FENCE.sub(r'<mo\1 lspace="0em" rspace="0em">', mathml)
+    mathml = _FENCE.sub(r'<mo\1 lspace="0em" rspace="0em">', mathml)
+    return _PAREN.sub(r'<mo stretchy="false" lspace="0em" rspace="0em">\1</mo>', mathml)
 
 
 def _inline(parts: tuple[Part, ...]) -> str:

@@ -25,7 +25,7 @@ from ..model import Model, symbol
 from ..nonlinear import derivative_symbol
 from ..stability import undamped_eigen
 from ..stationary import StationarySolution
-from .blocks import Block, Equation, Figure, Heading, Math, Note, Paragraph, Table, cell, paragraph
+from .blocks import Block, Equation, Figure, Heading, Math, Note, Table, cell, paragraph
 from .derivation import Derivation, LinearPart
 from .notation import (Namer, column_latex, expression_latex, matrix_latex, number_latex,
                        number_text, sympy_latex, vector_latex, with_subscript)
@@ -796,9 +796,8 @@ def _numeric_system(ctx: Context, response) -> list[Block]:
     solution_N = ", ".join(f"{a} = {number_latex(v)}" for a, v in zip(N_names, response.N))
     blocks.append(paragraph("By substituting the numerical data, it yields"))
     if not np.any(B) or w == 0:
-        if np.any(B) is False or True:
-            blocks.append(paragraph("two independent systems (the damping terms vanish):")
-                          if w != 0 else paragraph("the static system:"))
+        blocks.append(paragraph("two independent systems (the damping terms vanish):")
+                      if w != 0 else paragraph("the static system:"))
         rows = [[_numeric_coef(v) for v in row] for row in A]
         blocks.append(ctx.equation(_cases(rows, L_names, [number_latex(v) for v in response.F_C])
                                    + r" \implies " + solution_L + ",", label="L-numeric"))
