@@ -51,8 +51,12 @@ def _vector_text(vector: np.ndarray) -> str:
 
 
 def _pretty(expr: sympy.Basic, indent: str = "    ") -> str:
-    text = sympy.pretty(expr, use_unicode=True, wrap_line=False)
-    return "\n".join(indent + line for line in text.splitlines())
+    """A symbolic matrix as an aligned grid of its entries (cheap: no 2-D pretty-printer)."""
+    matrix = sympy.Matrix(expr)
+    rows = [[sympy.sstr(matrix[i, j]) for j in range(matrix.cols)] for i in range(matrix.rows)]
+    widths = [max(len(rows[i][j]) for i in range(matrix.rows)) for j in range(matrix.cols)]
+    return "\n".join(indent + "[" + "   ".join(c.ljust(w) for c, w in zip(row, widths)) + "]"
+                     for row in rows)
 
 
 def solution_text(sol: "StationarySolution") -> str:

@@ -33,7 +33,6 @@ import tomllib
 from collections.abc import Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from functools import cached_property
 from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
@@ -200,9 +199,15 @@ class Model:
                 "exp of large values) exceed the floating-point range; rescale the "
                 "parameters or simplify the expression", self.source, section, key)) from None
 
-    @cached_property
-    def _linear(self) -> "LinearEOM":
-        return self.linearize()
+    def _repr_latex_(self) -> str:
+        from .display import model_latex
+
+        return model_latex(self)
+
+    def _repr_html_(self) -> str:
+        from .display import model_html
+
+        return model_html(self)
 
 
 def _replace(model: Model, **changes: Any) -> Model:
@@ -685,10 +690,15 @@ def _inlined_size_problems(definitions: Mapping[str, Expression]) -> list[tuple[
     """
     costs: dict[str, tuple[float, float]] = {}
     problems = []
+    exploded: set[str] = set()  # reported once, not again for every definition using it
     for name, expression in definitions.items():
+        uses = sorted({n for n, _ in expression.names() if n in definitions})
+        if exploded.intersection(uses):
+            exploded.add(name)
+            costs[name] = (1.0, 1.0)
+            continue
         size, degree = _inlined_cost(expression, costs)
         costs[name] = (size, degree)
-        uses = sorted({n for n, _ in expression.names() if n in definitions})
         via = f" (it uses {', '.join(uses)})" if uses else ""
         if size > MAX_INLINED_NODES:
             problems.append((name, (
@@ -696,13 +706,14 @@ def _inlined_size_problems(definitions: Mapping[str, Expression]) -> list[tuple[
                 f"substituted{via}; at most {MAX_INLINED_NODES:.0e} are derived in reasonable "
                 "time -- a definition that uses another several times repeats it, so "
                 "such chains grow exponentially; simplify them")))
-            costs[name] = (1.0, 1.0)  # reported once, not again for every user of it
         elif degree > MAX_INLINED_DEGREE:
             problems.append((name, (
                 f"'{name}' has polynomial degree about {degree:.3g} once the definitions "
                 f"it uses are substituted{via}; at most {MAX_INLINED_DEGREE} -- products "
                 "and powers of definitions multiply their degrees; simplify them")))
-            costs[name] = (1.0, 1.0)
+        else:
+            continue
+        exploded.add(name)
     return problems
 
 

@@ -41,15 +41,28 @@ def check_mass_matrix(M: np.ndarray, names: tuple[str, ...] = ()) -> None:
             "(a zero mass, or a coordinate that does not appear in T?)")
 
 
+def _require_finite(what: str, *arrays: np.ndarray) -> None:
+    """AnalysisError (exit 3) instead of a LinAlgError or NaN results further on."""
+    if not all(np.all(np.isfinite(a)) for a in arrays):
+        raise AnalysisError(
+            f"{what} is not finite: the parameter values span too many orders of magnitude "
+            "(an overflow to infinity); use units in which the masses and stiffnesses are "
+            "nearer to 1")
+
+
 def undamped_eigen(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Eigenvalues lambda = omega^2 (ascending) and mode shapes (columns) of K x = lambda M x."""
+    _require_finite("M or K", M, K)
     if is_symmetric(M) and is_symmetric(K):
         try:
             lam, vec = scipy.linalg.eigh(K, M)
+            _require_finite("an eigenvalue K x = lambda M x", lam)
             return lam, vec
         except np.linalg.LinAlgError:
             pass  # M not positive definite: fall back to the general problem
-    lam, vec = scipy.linalg.eig(K, M)
+    with np.errstate(all="ignore"):
+        lam, vec = scipy.linalg.eig(K, M)
+    _require_finite("an eigenvalue K x = lambda M x", lam)
     order = np.argsort(lam.real)
     return lam[order].real, vec[:, order].real
 
@@ -67,6 +80,7 @@ def state_matrix(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> np.ndarray:
     n = M.shape[0]
     minv_k = np.linalg.solve(M, K)
     minv_c = np.linalg.solve(M, C)
+    _require_finite("the state matrix (M^-1 K, M^-1 C)", minv_k, minv_c)
     return np.block([[np.zeros((n, n)), np.eye(n)], [-minv_k, -minv_c]])
 
 

@@ -125,6 +125,11 @@ class StationarySolution:
 
         return stationary_html(self)
 
+    def _repr_latex_(self) -> str:
+        from .display import stationary_latex
+
+        return stationary_latex(self)
+
 
 def _solve(eom: NumericEOM, h: NumericHarmonic, omegas: np.ndarray,
            warnings: list[str]) -> HarmonicResponse:

@@ -826,9 +826,15 @@ def _vertices(u: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 EXTREMUM_RELATIVE = 1e-10
 
 
-def _extrema(names: Sequence[str], values: np.ndarray, amplitude: np.ndarray, log: bool
-             ) -> tuple[ExtremaTable, ExtremaTable]:
-    """Peaks and antiresonances of every column of ``amplitude`` (N, m), in name order."""
+def _extrema(names: Sequence[str], values: np.ndarray, amplitude: np.ndarray, log: bool,
+             response: np.ndarray | None = None) -> tuple[ExtremaTable, ExtremaTable]:
+    """Peaks and antiresonances of every column of ``amplitude`` (N, m), in name order.
+
+    ``response`` (N, m), the complex response of a single-frequency sweep, refines deep
+    antiresonances (a zero of the response between grid points): with the local linear
+    model z(u) = z1 + beta (u - u1), beta = (z2 - z0)/(u2 - u0), |z| is least at
+    u = u1 - Re(conj(beta) z1)/|beta|^2 (exact where z is linear in u).
+    """
     N, m = amplitude.shape
     names = tuple(names)
     if N < 3 or m == 0:
@@ -852,7 +858,20 @@ def _extrema(names: Sequence[str], values: np.ndarray, amplitude: np.ndarray, lo
         triples = np.stack([rows - 1, rows, rows + 1])
         with np.errstate(all="ignore"):
             x, y = _vertices(u[triples], transform(amplitude[triples, cols]))
-        out.append(ExtremaTable(names, cols, np.exp(x) if log else x, back(y)))
+        y = back(y)
+        if response is not None and mask is is_dip and cols.size:
+            z0, z1, z2 = response[triples, cols]
+            u0, u1, u2 = u[triples]
+            deep = np.abs(z1) < 0.1 * np.maximum(np.abs(z0), np.abs(z2))
+            with np.errstate(all="ignore"):
+                beta = (z2 - z0) / (u2 - u0)
+                step = -(np.conj(beta) * z1).real / np.abs(beta) ** 2
+                linear_x = np.clip(u1 + np.where(np.isfinite(step), step, 0.0), u0, u2)
+            x = np.where(deep, np.exp(linear_x) if log else linear_x, np.exp(x) if log else x)
+            y = np.where(deep, np.abs(z1 + beta * (linear_x - u1)), y)
+            out.append(ExtremaTable(names, cols, x, y))
+            continue
+        out.append(ExtremaTable(names, cols, np.exp(x) if log else x, y))
     return out[0], out[1]
 
 
@@ -943,7 +962,8 @@ def sweep(source: Any, param: str, values: Sequence[float] | np.ndarray, *,
     phase[skipped_mask] = np.nan
     peaks = dips = ExtremaTable(tuple(all_names))
     if np.all(np.diff(values) > 0):
-        peaks, dips = _extrema(all_names, values, amplitude, log)
+        single = Z[0] if batch.harmonics and len(batch.harmonics) == 1 else None
+        peaks, dips = _extrema(all_names, values, amplitude, log, single)
     amplitudes = {name: amplitude[:, j] for j, name in enumerate(all_names)}
     phases = {name: phase[:, j] for j, name in enumerate(all_names)}
     skipped = tuple(float(v) for v in values[skipped_mask])
