@@ -29,7 +29,7 @@ from resonant.model import load, loads
 from resonant.sweep import choose_method, sweep
 
 sys.path.insert(0, str(EXAMPLES))
-from make_chain import chain_matrices, write_chain  # noqa: E402
+from make_chain import write_chain  # noqa: E402
 
 SDOF = """
 [parameters]
@@ -285,3 +285,14 @@ def test_unknown_names_and_bad_method():
         sweep(model, "omega", [1.0], method="fast")
     with pytest.raises(ModelError, match="unknown parameter"):
         sweep(model, "nope", [1.0])
+
+
+def test_progress_bar_and_only(tmp_path):
+    """--progress draws a text bar on stderr; --only limits the reported coordinates."""
+    path = write_chain(tmp_path, 50)
+    code, out, err = run_cli(["sweep", path, "--param", "omega", "--from", "1", "--to", "100",
+                              "--points", "50", "--progress", "--only", "q1,q50", "--json"])
+    assert code == 0, err
+    assert "sweep [" in err and "100.0%" in err
+    data = json.loads(out)
+    assert set(data["amplitudes"]) == {"q1", "q50"} and data["method"] == "banded"

@@ -25,6 +25,8 @@ _EXPORTS = {
     "AnalysisError": "resonant.errors", "ResonantWarning": "resonant.errors",
     "Problem": "resonant.errors",
     "simulate": "resonant.simulate", "Simulation": "resonant.simulate",
+    "modes": "resonant.modes", "ModalAnalysis": "resonant.modes",
+    "sweep": "resonant.sweep", "FrequencyResponse": "resonant.sweep",
 }
 
 __all__ = sorted([*_EXPORTS, "__version__"])

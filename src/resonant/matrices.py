@@ -362,6 +362,138 @@ def numeric_system(model: "Model") -> MatrixSystem:
                         model.source)
 
 
+#: matrix models above this size use :func:`large_stationary` in ``resonant solve``
+FAST_STATIONARY = 200
+
+
+def _undamped_eigenvalues(M: Any, K: Any) -> np.ndarray:
+    """omega^2 of K x = omega^2 M x, ascending, without eigenvectors.
+
+    A diagonal M and a banded symmetric K use LAPACK's banded symmetric
+    eigensolver on M^-1/2 K M^-1/2 (cost n b^2); anything else the dense one.
+    """
+    import scipy.linalg
+
+    Md, Kd = _dense(M), _dense(K)
+    diag = np.diag(Md)
+    lower = 0
+    rows, cols = np.nonzero(Kd)
+    if rows.size:
+        lower = int(np.abs(rows - cols).max())
+    symmetric = np.allclose(Kd, Kd.T, rtol=1e-12, atol=1e-12 * np.abs(Kd).max(initial=0))
+    if symmetric and np.all(diag > 0) and np.count_nonzero(Md - np.diag(diag)) == 0 and \
+            lower + 1 <= max(8, Kd.shape[0] // 20):
+        scale = 1 / np.sqrt(diag)
+        S = Kd * scale[:, None] * scale[None, :]
+        band = np.zeros((lower + 1, S.shape[0]))
+        for d in range(lower + 1):  # lower band storage: band[d, j] = S[j + d, j]
+            band[d, :S.shape[0] - d] = np.diagonal(S, -d)
+        return scipy.linalg.eig_banded(band, lower=True, eigvals_only=True)
+    try:
+        return scipy.linalg.eigh(Kd, Md, eigvals_only=True)
+    except (np.linalg.LinAlgError, ValueError):
+        return np.sort(scipy.linalg.eigvals(Kd, Md).real)
+
+
+def large_stationary(system: MatrixSystem, symbolic: "LinearEOM | None" = None) -> Any:
+    """The stationary solution of a large matrix model (same result as ``stationary``).
+
+    Exact like :func:`resonant.stationary.stationary`; only the bookkeeping
+    around the solves is cheaper: the undamped eigenvalues by a banded
+    eigensolver where possible, the state eigenvalues from them when
+    C = a M + b K (roots of s^2 + (a + b w^2) s + w^2 = 0), sparse LU solves,
+    and a cheap lower bound of the condition number instead of an SVD.
+    """
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import splu
+
+    from .modes import _rayleigh
+    from .stability import UNSTABLE, classify, state_eigenvalues
+    from .stationary import (LOSS_CONDITION, NEAR_RESONANCE, SINGULAR_CONDITION,
+                             HarmonicResponse, StationarySolution, _output_pairs, peak)
+
+    eom = system.dense(symbolic=symbolic)
+    n = system.n
+    M, C, K = (sp.csc_matrix(a) for a in (system.M, system.C, system.K))
+    if np.any(np.asarray(abs(M).sum(axis=1)).ravel() == 0):
+        row = int(np.argmax(np.asarray(abs(M).sum(axis=1)).ravel() == 0))
+        raise AnalysisError(f"the mass matrix M is singular ({system.coordinates[row]} has no "
+                            "inertia)")
+    try:
+        splu(M)
+    except RuntimeError:
+        raise AnalysisError("the mass matrix M is singular: every coordinate needs mass or "
+                            "inertia") from None
+    lam = _undamped_eigenvalues(eom.M, eom.K)
+    top = max(float(np.abs(lam).max(initial=0.0)), 1e-300)
+    lam = np.where(np.abs(lam) < 1e-12 * top, 0.0, lam)
+    omegas = np.sqrt(lam[lam >= 0])
+    rayleigh = _rayleigh(M, C, K) if C.nnz else (0.0, 0.0)
+    if rayleigh is not None:
+        c = rayleigh[0] + rayleigh[1] * lam
+        root = np.sqrt((c * c - 4 * lam).astype(complex))
+        eigenvalues = np.concatenate([(-c + root) / 2, (-c - root) / 2])
+    else:
+        eigenvalues = state_eigenvalues(eom.M, eom.C, eom.K)
+    stability = classify(eigenvalues)
+    warnings: list[str] = []
+    if np.any(lam < -1e-12 * top):
+        warnings.append("K is not positive definite about this reference state: a statically "
+                        "unstable (buckling, inverted) mode exists")
+    if stability == UNSTABLE:
+        warnings.append("the equilibrium is unstable: free vibrations grow, so the stationary "
+                        "solution is never reached in practice")
+    for h in system.harmonics:
+        for i, wn in enumerate(omegas):
+            if h.omega > 0 and wn > 0 and abs(h.omega - wn) <= NEAR_RESONANCE * wn:
+                warnings.append(
+                    f"near resonance: the excitation frequency {h.omega:.6g} rad/s is within "
+                    f"{100 * abs(h.omega - wn) / wn:.2g}% of natural frequency {i + 1} "
+                    f"({wn:.6g} rad/s); the amplitudes are sensitive to the data")
+    responses = []
+    for h in system.harmonics:
+        w = h.omega
+        A = (K - w * w * M + 1j * w * C).tocsc()
+        rhs = h.F_C - 1j * h.F_S
+        try:
+            X = splu(A).solve(rhs.astype(complex))
+            norm_a = float(abs(A).sum(axis=1).max())
+            condition = norm_a * np.abs(X).max() / max(np.abs(rhs).max(), 1e-300)
+        except RuntimeError:
+            X, condition = np.full(n, np.nan), math.inf
+        if not np.all(np.isfinite(X)) or not condition <= SINGULAR_CONDITION:
+            if w == 0:
+                raise AnalysisError(
+                    "a static load acts on a system with a zero-stiffness (rigid-body) mode: "
+                    "the static deflection is unbounded; support the system or remove the "
+                    "constant part of the excitation")
+            raise AnalysisError(
+                f"resonance: the excitation frequency {w:.6g} rad/s is a natural frequency and "
+                "the system has no damping in that mode, so the stationary amplitude is "
+                "unbounded; change the frequency or add damping")
+        if condition > LOSS_CONDITION:
+            warnings.append(f"ill-conditioned system at omega = {w:.6g} rad/s (condition number "
+                            f"at least {condition:.2g}): about {int(math.log10(condition))} of "
+                            "16 digits are lost")
+        responses.append(HarmonicResponse(w, h.F_S, h.F_C, X.real.copy(), -X.imag.copy(),
+                                          float(condition)))
+    responses_t = tuple(responses)
+    pairs = _output_pairs(eom, responses_t)
+    freqs = [r.omega for r in responses_t]
+    amplitudes = {name: peak(freqs, p) for name, p in pairs.items()}
+    moving = [i for i, w in enumerate(freqs) if w > 0]
+    phases = {}
+    if len(moving) == 1:
+        for name, p in pairs.items():
+            L, N = p[moving[0]]
+            if math.hypot(L, N) > 0:
+                phases[name] = math.atan2(L, N)
+    order = np.lexsort((eigenvalues.imag, np.abs(eigenvalues)))
+    return StationarySolution(eom, omegas, eigenvalues[order], stability, responses_t,
+                              MappingProxyType(pairs), MappingProxyType(amplitudes),
+                              MappingProxyType(phases), tuple(warnings))
+
+
 # -- the symbolic form ------------------------------------------------------------------------
 
 def _to_sympy(matrix: Any, n: int) -> sympy.ImmutableMatrix:
@@ -422,6 +554,23 @@ def _matrix_eom_class() -> type:
         def numeric(self, **overrides: float) -> NumericEOM:
             return self.system(**overrides).dense(symbolic=self)
 
+        def stationary(self, **overrides: float) -> Any:
+            """As :meth:`LinearEOM.stationary`; large models take a sparse path.
+
+            Up to :data:`FAST_STATIONARY` coordinates this is exactly
+            :func:`resonant.stationary.stationary`.  Above, the same result is
+            computed without the dense 2n x 2n state eigenproblem when the
+            damping is Rayleigh (C = a M + b K): eigenvalues from the undamped
+            ones, sparse LU solves, the condition number estimated as
+            ||A|| ||X|| / ||F|| (see :func:`large_stationary`).
+            """
+            system = self.system(**overrides)
+            if system.n <= FAST_STATIONARY:
+                from .stationary import stationary
+
+                return stationary(system.dense(symbolic=self))
+            return large_stationary(system, symbolic=self)
+
     for key in MATRIX_KEYS:
         setattr(MatrixEOM, key, _LazyMatrix(key))
     MatrixEOM.__module__ = __name__
@@ -474,4 +623,4 @@ def is_matrix_eom(eom: Any) -> bool:
 
 __all__ = ["read_matrix_spec", "linearize_matrices", "numeric_system", "MatrixSystem",
            "FloatOps", "numeric_value", "matrix_values", "harmonic_values", "is_matrix_eom",
-           "DENSE_LIMIT"]
+           "DENSE_LIMIT", "large_stationary", "FAST_STATIONARY"]

@@ -57,7 +57,7 @@ MAX_COORDINATES = 2000
 #: largest size (syntax-tree nodes) of a definition with the definitions it uses
 #: substituted, counted with multiplicity: ``d2 = d1*d1`` doubles, a chain
 #: ``y2 = y1 + x2`` only adds.  Beyond it the derivation grows exponentially.
-MAX_INLINED_NODES = 1_000_000
+MAX_INLINED_NODES = 250_000
 #: largest polynomial degree of a definition after substitution (``d2 = d1^2`` ...)
 MAX_INLINED_DEGREE = 10_000
 #: default time budget of :meth:`Model.linearize` in seconds (None: unlimited); the
@@ -646,7 +646,7 @@ def _inlined_cost(expression: Expression, costs: Mapping[str, tuple[float, float
     """(size, degree) of an expression with the definitions in ``costs`` substituted.
 
     ``size`` counts tree nodes with multiplicity (what repeated substitution builds);
-    ``degree`` is the polynomial degree, functions counted as their argument's.
+    ``degree`` is the polynomial degree, a function of a variable counting as 1.
     """
     stack: list[tuple[Any, bool]] = [(expression.root, False)]
     out: list[tuple[float, float]] = []
@@ -676,8 +676,10 @@ def _inlined_cost(expression: Expression, costs: Mapping[str, tuple[float, float
                     else args[0][1] + args[1][1]
             elif isinstance(node, BinOp):
                 degree = args[0][1] + args[1][1]
-            else:  # Neg and function calls keep the degree of their argument(s)
-                degree = max(a[1] for a in args)
+            elif isinstance(node, Neg):
+                degree = args[0][1]
+            else:  # sin(u), exp(u)...: coefficients are values of the function, not powers
+                degree = min(1.0, max(a[1] for a in args))
             out.append((size, degree))
     return out[0]
 

@@ -87,14 +87,40 @@ def compile_expressions(expressions: Sequence[sympy.Expr], symbols: Sequence[sym
     """One compiled function returning all expressions as a float array."""
     if not expressions:
         return lambda *args: np.zeros(0)
-    fn = sympy.lambdify(list(symbols), list(expressions), modules="numpy", cse=True)
+    expressions = list(expressions)
+    # zoo, nan, oo cannot be compiled (lambdify fails on them): they evaluate to NaN,
+    # which the callers turn into an error naming the entry
+    infinite = [i for i, e in enumerate(expressions)
+                if isinstance(e, sympy.Basic) and e.has(sympy.zoo, sympy.nan, sympy.oo)]
+    for i in infinite:
+        expressions[i] = sympy.Integer(0)
+    fn = sympy.lambdify(list(symbols), expressions, modules="numpy", cse=True)
 
     def call(*args: Any) -> np.ndarray:
-        with np.errstate(all="ignore"):
-            values = fn(*args)
-        return np.array([np.broadcast_to(v, np.broadcast(*args).shape if args else ())
-                         for v in values], dtype=complex)
+        shape = np.broadcast(*args).shape if args else ()
+        try:
+            with np.errstate(all="ignore"):
+                values = fn(*args)
+        except ArithmeticError:  # Python floats raise on overflow and division by zero
+            values = _one_by_one(expressions, symbols, args)
+        out = np.array([np.broadcast_to(v, shape) for v in values], dtype=complex)
+        if infinite:
+            out[infinite] = np.nan
+        return out
     return call
+
+
+def _one_by_one(expressions: Sequence[sympy.Expr], symbols: Sequence[sympy.Symbol],
+                args: Sequence[Any]) -> list[Any]:
+    """Evaluate each expression alone, NaN where the arithmetic fails (the slow path)."""
+    values: list[Any] = []
+    for expression in expressions:
+        try:
+            with np.errstate(all="ignore"):
+                values.append(sympy.lambdify(list(symbols), expression, modules="numpy")(*args))
+        except ArithmeticError:
+            values.append(np.nan)
+    return values
 
 
 def evaluate(eom: "LinearEOM", model: Model) -> NumericEOM:
@@ -176,8 +202,10 @@ def _raise_not_finite(eom: "LinearEOM", model: Model, flat: np.ndarray) -> None:
             v = flat[offset + idx]
             if not np.isfinite(v):
                 i, j = divmod(idx, n)
+                entry = str(matrix[i, j])
+                entry = entry if len(entry) <= 80 else entry[:77] + "..."
                 raise ModelError(Problem(
-                    f"{label}[{i + 1},{j + 1}] = {matrix[i, j]} is not finite for the given "
+                    f"{label}[{i + 1},{j + 1}] = {entry} is not finite for the given "
                     "parameter values (a zero mass or length?)", model.source, "parameters"))
     raise ModelError(Problem("the excitation or an output is not finite (or not real) for the "
                              "given parameter values", model.source, "parameters"))

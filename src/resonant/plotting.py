@@ -79,6 +79,7 @@ def plot_frequency_response(response: "FrequencyResponse", path: Any = None,
     for p in response.antiresonances:
         dips_by_name.setdefault(p.name, []).append(p)
     any_positive = False
+    labelled: list[float] = []
     for k, name in enumerate(names):
         color = colors[k % len(colors)]
         amplitude = np.array(response.amplitudes[name], dtype=float)
@@ -93,8 +94,12 @@ def plot_frequency_response(response: "FrequencyResponse", path: Any = None,
                       color=color, lw=1.2)
         for p in peaks_by_name.get(name, [])[:20]:
             ax_amp.plot([p.value], [p.amplitude], "v", color=color, ms=7, mec="black", mew=0.6)
-            ax_amp.annotate(f"{p.value:.4g}", (p.value, p.amplitude), textcoords="offset points",
-                            xytext=(0, 7), ha="center", fontsize=8, color=color)
+            # one label per resonance: curves peaking at nearly the same value share it
+            if all(abs(p.value - v) > 0.06 * abs(v) for v in labelled):
+                labelled.append(p.value)
+                ax_amp.annotate(f"{p.value:.4g}", (p.value, p.amplitude),
+                                textcoords="offset points", xytext=(0, 7), ha="center",
+                                fontsize=8, color=color)
         for p in dips_by_name.get(name, [])[:20]:
             if p.amplitude > 0:
                 ax_amp.plot([p.value], [p.amplitude], "o", mfc="white", color=color, ms=6)

@@ -105,7 +105,7 @@ class StationarySolution:
             "parameters": dict(e.parameters),
             "M": e.M.tolist(), "C": e.C.tolist(), "K": e.K.tolist(),
         }
-        if e.symbolic is not None:
+        if e.symbolic is not None and not e.symbolic.model.is_matrix_model:
             data["symbolic"] = e.symbolic.to_dict()
             data["symbolic"].pop("coordinates", None)
         data.update({
@@ -131,11 +131,43 @@ class StationarySolution:
         return stationary_latex(self)
 
 
+def equilibration(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Row and column scale factors (powers of 2) giving ``row A col`` entries of order 1.
+
+    As LAPACK's ``xGEEQU``: each row scaled by its largest entry, then each column;
+    powers of two make the scaling exact, so only the conditioning changes.
+
+    Examples
+    --------
+    >>> A = np.array([[1e6, 1e3], [1e3, 4.0]])
+    >>> row, col = equilibration(A)
+    >>> scaled = row[:, None] * A * col[None, :]
+    >>> bool(np.all((0.5 <= np.abs(scaled).max(axis=1)) & (np.abs(scaled).max(axis=1) <= 2)))
+    True
+    >>> float(np.linalg.cond(A)) > 1e5, float(np.linalg.cond(scaled)) < 10
+    (True, True)
+    """
+    def power_of_two_inverse(largest: np.ndarray) -> np.ndarray:
+        safe = np.where(largest > 0, largest, 1.0)  # an all-zero row or column stays
+        return np.exp2(-np.round(np.log2(safe)))
+
+    magnitude = np.abs(A)
+    row = power_of_two_inverse(magnitude.max(axis=1, initial=0.0))
+    col = power_of_two_inverse((row[:, None] * magnitude).max(axis=0, initial=0.0))
+    return row, col
+
+
 def _solve(eom: NumericEOM, h: NumericHarmonic, omegas: np.ndarray,
            warnings: list[str]) -> HarmonicResponse:
     w = h.omega
     A = eom.K - w**2 * eom.M + 1j * w * eom.C
     rhs = h.F_C - 1j * h.F_S
+    # Equilibrate before solving and judging the condition: in badly scaled units (mm
+    # with GPa, translations beside rotations) the raw condition number reflects the
+    # units, not the physics, and would warn of digits that are not lost.
+    row, col = equilibration(A)
+    A = row[:, None] * A * col[None, :]
+    rhs = row * rhs
     condition = float(np.linalg.cond(A)) if eom.n <= 1500 else 1.0
     nearest = int(np.argmin(np.abs(omegas - w))) if omegas.size else -1
     if not math.isfinite(condition) or condition > SINGULAR_CONDITION:
@@ -154,7 +186,7 @@ def _solve(eom: NumericEOM, h: NumericHarmonic, omegas: np.ndarray,
         digits = int(math.log10(condition))
         warnings.append(f"ill-conditioned system at omega = {w:.6g} rad/s (condition number "
                         f"{condition:.2g}): about {digits} of 16 digits are lost")
-    X = np.linalg.solve(A, rhs)
+    X = col * np.linalg.solve(A, rhs)
     check_finite("the stationary solution", X)
     return HarmonicResponse(w, h.F_S, h.F_C, X.real.copy(), -X.imag.copy(), condition)
 
@@ -287,4 +319,4 @@ def stationary(eom: NumericEOM) -> StationarySolution:
                               MappingProxyType(phases), tuple(warnings))
 
 
-__all__ = ["StationarySolution", "HarmonicResponse", "stationary", "peak"]
+__all__ = ["StationarySolution", "HarmonicResponse", "stationary", "peak", "equilibration"]

@@ -87,6 +87,8 @@ SINGULAR_CONDITION = 1e13
 MODAL_TOLERANCE = 1e-10
 #: bytes of complex matrices built at once by the dense method
 CHUNK_BYTES = 64 * 2**20
+#: above this many coordinates only the loaded ones are reported unless names are given
+MAX_DEFAULT_NAMES = 2000
 #: largest n for which the dense natural frequencies are computed with every sweep
 EAGER_EIGEN = 400
 
@@ -232,7 +234,7 @@ class FrequencyResponse:
 
         rows = "".join(
             f"<tr><td>{html.escape(p.name)}</td><td>{p.value:.6g}</td>"
-            f"<td>{p.amplitude:.6g}</td></tr>" for p in self.peaks)
+            f"<td>{p.amplitude:.6g}</td></tr>" for p in self.peaks[:50])
         unit = f" [{self.unit}]" if self.unit else ""
         return (f"<p><b>Sweep of {html.escape(self.parameter)}</b>{unit}: {len(self.values)} "
                 f"values from {self.values[0]:.6g} to {self.values[-1]:.6g} "
@@ -545,30 +547,56 @@ class _Progress:
         sys.stderr.flush()
 
 
+class _Store:
+    """The responses kept from the solves: only the columns ``keep`` (memory stays
+    bounded for large models), plus the largest |component| of every full solution."""
+
+    def __init__(self, N: int, keep: np.ndarray) -> None:
+        self.keep = keep
+        self.values = np.empty((N, len(keep)), dtype=complex)
+        self.largest = np.zeros(N)
+
+    def __setitem__(self, index: Any, x: Any) -> None:
+        x = np.asarray(x, dtype=complex)
+        if x.ndim == 0:
+            self.values[index] = x
+            self.largest[index] = abs(x)
+            return
+        self.values[index] = x[..., self.keep]
+        with np.errstate(invalid="ignore"):
+            self.largest[index] = np.abs(x).max(axis=-1)
+
+    def __getitem__(self, index: Any) -> np.ndarray:
+        return self.values[index]
+
+
 def _solve_harmonic(batch: _Batch, h: _Harmonic, method: str, progress: _Progress,
-                    warnings: list[str]) -> tuple[np.ndarray, np.ndarray]:
-    """Complex responses Z = L - i N, shape (N, n), and a per-point "singular" mask."""
+                    warnings: list[str], keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Complex responses Z = L - i N of the columns ``keep``, shape (N, len(keep)), and a
+    per-point "singular" mask."""
     w = h.omega
-    N, n = w.shape[0], len(batch.coordinates)
+    N = w.shape[0]
     rhs = np.asarray(h.F_C, dtype=complex) - 1j * np.asarray(h.F_S, dtype=float)
     if not np.any(rhs):
         progress.advance(N)
-        return np.zeros((N, n), dtype=complex), np.zeros(N, dtype=bool)
+        return np.zeros((N, len(keep)), dtype=complex), np.zeros(N, dtype=bool)
+    store = _Store(N, keep)
     if method == "dense":
-        Z, singular = _solve_dense(batch, w, rhs, progress)
+        singular = _solve_dense(batch, w, rhs, progress, store)
     elif method == "banded":
-        Z, singular = _solve_banded(batch, w, rhs, progress)
+        singular = _solve_banded(batch, w, rhs, progress, store)
     elif method == "sparse":
-        Z, singular = _solve_sparse(batch, w, rhs, progress)
+        singular = _solve_sparse(batch, w, rhs, progress, store)
     else:
-        Z, singular = _solve_modal(batch, w, rhs, progress, warnings)
+        singular = _solve_modal(batch, w, rhs, progress, warnings, store)
+    Z = store.values
     # a lower bound of the condition number: ||A|| ||Z|| / ||rhs|| (exact resonance: huge)
     norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
     a_norm = norms[0] + w**2 * norms[1] + w * norms[2]
-    b_norm = np.abs(np.broadcast_to(rhs, Z.shape)).max(axis=1)
+    b_norm = np.abs(rhs).max(axis=-1) * np.ones(N)
     with np.errstate(all="ignore"):
-        estimate = a_norm * np.abs(Z).max(axis=1) / np.where(b_norm > 0, b_norm, np.inf)
-    singular |= ~np.isfinite(Z).all(axis=1) | ~(estimate <= SINGULAR_CONDITION)
+        estimate = a_norm * store.largest / np.where(b_norm > 0, b_norm, np.inf)
+    singular |= ~np.isfinite(store.largest) | ~(estimate <= SINGULAR_CONDITION)
     singular &= b_norm > 0
     Z[singular] = np.nan
     return Z, singular
@@ -580,12 +608,11 @@ def _norm_inf(a: Any) -> Any:
     return np.abs(a).sum(axis=-1).max(axis=-1)
 
 
-def _solve_dense(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress
-                 ) -> tuple[np.ndarray, np.ndarray]:
+def _solve_dense(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
+                 Z: _Store) -> np.ndarray:
     N, n = w.shape[0], len(batch.coordinates)
     M, C, K = (a.toarray() if hasattr(a, "toarray") else a for a in (batch.M, batch.C, batch.K))
     chunk = max(1, int(CHUNK_BYTES // (16 * n * n)))
-    Z = np.empty((N, n), dtype=complex)
     singular = np.zeros(N, dtype=bool)
     for start in range(0, N, chunk):
         sl = slice(start, min(N, start + chunk))
@@ -607,7 +634,7 @@ def _solve_dense(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
                 cond = np.linalg.cond(A)
             singular[sl] |= ~(cond <= SINGULAR_CONDITION)
         progress.advance(A.shape[0])
-    return Z, singular
+    return singular
 
 
 def _band_storage(a: Any, lower: int, upper: int, rows: int, offset: int) -> np.ndarray:
@@ -624,13 +651,12 @@ def _band_storage(a: Any, lower: int, upper: int, rows: int, offset: int) -> np.
     return ab
 
 
-def _solve_banded(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress
-                  ) -> tuple[np.ndarray, np.ndarray]:
+def _solve_banded(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
+                  Z: _Store) -> np.ndarray:
     from scipy.linalg import lapack
 
     N, n = w.shape[0], len(batch.coordinates)
     lower, upper = _bandwidths(batch.M, batch.C, batch.K)
-    Z = np.empty((N, n), dtype=complex)
     singular = np.zeros(N, dtype=bool)
     varying_rhs = rhs.ndim == 2
     if lower == upper == 1:  # tridiagonal: LAPACK gtsv (partial pivoting)
@@ -648,7 +674,7 @@ def _solve_banded(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Prog
             if i % 64 == 63:
                 progress.advance(64)
         progress.advance(N % 64)
-        return Z, singular
+        return singular
     rows = 2 * lower + upper + 1  # gbsv needs lower extra rows for the LU fill-in
     Mb, Cb, Kb = (_band_storage(a, lower, upper, rows, lower) for a in
                   (batch.M, batch.C, batch.K))
@@ -665,17 +691,16 @@ def _solve_banded(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Prog
         if i % 64 == 63:
             progress.advance(64)
     progress.advance(N % 64)
-    return Z, singular
+    return singular
 
 
-def _solve_sparse(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress
-                  ) -> tuple[np.ndarray, np.ndarray]:
+def _solve_sparse(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
+                  Z: _Store) -> np.ndarray:
     import scipy.sparse as sp
     from scipy.sparse.linalg import splu
 
     N, n = w.shape[0], len(batch.coordinates)
     M, C, K = (sp.csc_matrix(a) for a in (batch.M, batch.C, batch.K))
-    Z = np.empty((N, n), dtype=complex)
     singular = np.zeros(N, dtype=bool)
     for i in range(N):
         wi = w[i]
@@ -687,11 +712,11 @@ def _solve_sparse(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Prog
             Z[i] = np.nan
             singular[i] = True
         progress.advance()
-    return Z, singular
+    return singular
 
 
 def _solve_modal(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
-                 warnings: list[str]) -> tuple[np.ndarray, np.ndarray]:
+                 warnings: list[str], store: _Store) -> np.ndarray:
     """Superposition of all undamped modes (exact for proportional damping), checked."""
     import scipy.linalg
 
@@ -712,43 +737,53 @@ def _solve_modal(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
                             "'sparse'")
     N, n = w.shape[0], len(batch.coordinates)
     forces = (rhs @ phi) if rhs.ndim == 2 else np.broadcast_to(rhs @ phi, (N, n))
-    Z = np.empty((N, n), dtype=complex)
+
+    def modal(sl: Any) -> np.ndarray:
+        ww = w[sl, None]
+        with np.errstate(all="ignore"):
+            return (forces[sl] / (lam - ww**2 + 1j * ww * diag_c)) @ phi.T
+
     chunk = max(1, int(CHUNK_BYTES // (16 * n)))
     for start in range(0, N, chunk):
         sl = slice(start, min(N, start + chunk))
-        ww = w[sl, None]
-        with np.errstate(all="ignore"):
-            Z[sl] = (forces[sl] / (lam - ww**2 + 1j * ww * diag_c)) @ phi.T
+        store[sl] = modal(sl)
         progress.advance(sl.stop - sl.start)
-    singular = ~np.isfinite(Z).all(axis=1)
+    singular = ~np.isfinite(store.largest)
     # check: the same as a direct solve at the largest response and both ends
-    amplitude = np.where(singular, -np.inf, np.abs(Z).max(axis=1))
-    check = sorted({0, N - 1, int(np.argmax(amplitude))})
-    A_stack = [K - w[i]**2 * M + 1j * w[i] * C for i in check]
-    for i, A in zip(check, A_stack):
+    check = sorted({0, N - 1, int(np.argmax(np.where(singular, -np.inf, store.largest)))})
+    for i in check:
         if singular[i]:
             continue
         b = rhs[i] if rhs.ndim == 2 else rhs
         try:
-            direct = np.linalg.solve(A, b)
+            direct = np.linalg.solve(K - w[i]**2 * M + 1j * w[i] * C, b)
         except np.linalg.LinAlgError:
             continue
-        error = np.abs(Z[i] - direct).max() / max(np.abs(direct).max(), 1e-300)
+        error = np.abs(modal(slice(i, i + 1))[0] - direct).max() / max(
+            np.abs(direct).max(), 1e-300)
         if error > MODAL_TOLERANCE:
             warnings.append(f"modal superposition differs from the direct solve by {error:.2g} "
                             f"at {w[i]:.6g} rad/s; solved directly instead")
-            method = "banded" if sum(_bandwidths(M, C, K)) + 1 <= max(3, n // 10) else "dense"
-            silent = _Progress(N, False)
-            return (_solve_banded if method == "banded" else _solve_dense)(batch, w, rhs, silent)
-    return Z, singular
+            banded = sum(_bandwidths(M, C, K)) + 1 <= max(3, n // 10)
+            return (_solve_banded if banded else _solve_dense)(batch, w, rhs,
+                                                              _Progress(N, False), store)
+    return singular
 
 
 # -- amplitudes, phases, extrema ------------------------------------------------------------
 
+def _kept_names(batch: _Batch, names: Sequence[str]) -> list[str]:
+    """The coordinates whose responses are kept: those reported and those outputs use."""
+    wanted = set(names)
+    for terms in batch.outputs.values():
+        wanted |= {var for var, _ in terms}
+    return [q for q in batch.coordinates if q in wanted]
+
+
 def _responses(batch: _Batch, responses: list[np.ndarray], names: Sequence[str]
                ) -> tuple[list[str], np.ndarray]:
     """The selected coordinates and every output: names and Z, shape (H, N, m)."""
-    index = {q: i for i, q in enumerate(batch.coordinates)}
+    index = {q: k for k, q in enumerate(_kept_names(batch, names))}
     columns = [index[q] for q in names]
     out_names = list(names) + list(batch.outputs)
     N = responses[0].shape[0] if responses else 0
@@ -924,6 +959,21 @@ def sweep(source: Any, param: str, values: Sequence[float] | np.ndarray, *,
     n = len(batch.coordinates)
     if names is None:
         names = list(batch.coordinates)
+        if n > MAX_DEFAULT_NAMES:
+            # a full table of a huge model is neither wanted nor storable: report the
+            # loaded coordinates (select others with names=/--only)
+            loaded = set()
+            for h in batch.harmonics:
+                for f in (h.F_S, h.F_C):
+                    loaded |= set(np.nonzero(np.atleast_2d(f).any(axis=0))[0].tolist())
+            names = [batch.coordinates[i] for i in sorted(loaded)] or [batch.coordinates[-1]]
+            default_note = (f"{n} coordinates: only the loaded ones ({', '.join(names[:5])}"
+                            f"{' ...' if len(names) > 5 else ''}) are reported; choose others "
+                            "with names= (--only)")
+        else:
+            default_note = ""
+    else:
+        default_note = ""
     unknown = [q for q in names if q not in batch.coordinates]
     if unknown:
         raise AnalysisError(f"unknown coordinate(s) {', '.join(unknown)}; the coordinates are "
@@ -935,13 +985,15 @@ def sweep(source: Any, param: str, values: Sequence[float] | np.ndarray, *,
         raise AnalysisError(f"method '{method}' needs M, C and K that do not depend on "
                             f"'{param}'; use 'dense'")
     _check_mass(batch)
-    warnings: list[str] = []
+    warnings: list[str] = [default_note] if default_note else []
     if progress is None:
         progress = sys.stderr.isatty() and len(values) * n * max(n, 1) > 5e7
     bar = _Progress(len(values) * max(len(batch.harmonics), 1), bool(progress))
     responses, skipped_mask = [], np.zeros(len(values), dtype=bool)
+    position = {q: i for i, q in enumerate(batch.coordinates)}
+    keep = np.array([position[q] for q in _kept_names(batch, names)], dtype=int)
     for h in batch.harmonics:
-        Z, singular = _solve_harmonic(batch, h, method, bar, warnings)
+        Z, singular = _solve_harmonic(batch, h, method, bar, warnings, keep)
         responses.append(Z)
         skipped_mask |= singular
     if not batch.harmonics:
