@@ -110,7 +110,7 @@ def run(sizes: list[int], *, skip_after: float = 60.0, timeout: float = 240.0,
 
     A side stops growing after a size that took longer than ``skip_after``
     seconds, or when its power law (fitted so far) predicts more than
-    ``2 * skip_after`` for the next size; the remaining sizes are extrapolated
+    ``skip_after`` for the next size; the remaining sizes are extrapolated
     and marked so.  A derivation faster than ``repeat_below`` seconds is run
     ``repeats`` times (fresh processes) and the median kept.
     """
@@ -122,7 +122,7 @@ def run(sizes: list[int], *, skip_after: float = 60.0, timeout: float = 240.0,
             measured = {k: v for k, v in results[side].items() if not v["extrapolated"]}
             if not stopped and len(measured) >= 3:
                 fit = _fit(measured)
-                if extrapolate(fit, n) > 2 * skip_after:
+                if extrapolate(fit, n) > skip_after:
                     stopped = True
             if stopped:
                 fit = _fit(measured)

@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import collections
 import contextlib
+import copy
 import io
 import json
 import math
@@ -146,11 +147,11 @@ def mutate_structure(text: str, rng: random.Random) -> str:
         if op < 0.3 and table:
             del table[rng.choice(list(table))]
         elif op < 0.6 and table:
-            table[rng.choice(list(table))] = rng.choice(NASTY_VALUES)
+            table[rng.choice(list(table))] = copy.deepcopy(rng.choice(NASTY_VALUES))
         elif op < 0.8:
             name = rng.choice(["x1", "m", "T", "__init__", "q", "t", "sin", "a b", "1x",
                                "force", "matrices", "harmonic", "signals", "é"])
-            table[name] = rng.choice(NASTY_VALUES + ["x1", "m*x1'^2/2", "0"])
+            table[name] = copy.deepcopy(rng.choice(NASTY_VALUES + ["x1", "m*x1'^2/2", "0"]))
         else:  # swap two values
             slots = _expression_slots(data)
             if len(slots) >= 2:
@@ -200,8 +201,8 @@ def mutant(rng: random.Random) -> tuple[str, str, str]:
     for _ in range(rng.randint(1, 2)):
         try:
             text = MUTATORS[kind](text, rng)
-        except tomllib.TOMLDecodeError:  # an earlier round broke the TOML: go on by bytes
-            text = mutate_bytes(text, rng)
+        except (tomllib.TOMLDecodeError, RecursionError, ValueError):
+            text = mutate_bytes(text, rng)  # an earlier round broke the TOML: go on by bytes
     return path.name, kind, text
 
 

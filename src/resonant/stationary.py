@@ -160,8 +160,14 @@ def equilibration(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _solve(eom: NumericEOM, h: NumericHarmonic, omegas: np.ndarray,
            warnings: list[str]) -> HarmonicResponse:
     w = h.omega
-    A = eom.K - w**2 * eom.M + 1j * w * eom.C
+    with np.errstate(all="ignore"):  # numpy floats: an overflow gives inf, checked below
+        A = eom.K - np.float64(w) ** 2 * eom.M + 1j * np.float64(w) * eom.C
     rhs = h.F_C - 1j * h.F_S
+    if not (np.all(np.isfinite(A)) and np.all(np.isfinite(rhs))):
+        raise AnalysisError(
+            f"the dynamic stiffness K - w^2 M + i w C overflows at the excitation frequency "
+            f"{w:.6g} rad/s: the parameter values span too many orders of magnitude; use "
+            "units in which the masses, stiffnesses and frequencies are nearer to 1")
     # Equilibrate before solving and judging the condition: in badly scaled units (mm
     # with GPa, translations beside rotations) the raw condition number reflects the
     # units, not the physics, and would warn of digits that are not lost.
@@ -211,8 +217,9 @@ def _output_pairs(eom: NumericEOM, responses: tuple[HarmonicResponse, ...]
                 else:
                     s, c = h.signals.get((var, order), (0.0, 0.0))
                     l, n = c, s
-                L += coef * l
-                N += coef * n
+                with np.errstate(all="ignore"):  # an overflow is caught with the result
+                    L += coef * l
+                    N += coef * n
             pairs.append((float(L), float(N)))
         out[name] = tuple(pairs)
     return out
@@ -278,6 +285,14 @@ def stationary(eom: NumericEOM) -> StationarySolution:
     check_mass_matrix(eom.M, eom.coordinates)
     check_finite("M, C, K", np.concatenate([eom.M.ravel(), eom.C.ravel(), eom.K.ravel()]))
     warnings: list[str] = []
+    if 0 < eom.n <= 1500:
+        row, col = equilibration(eom.M)
+        mass_condition = float(np.linalg.cond(row[:, None] * eom.M * col[None, :]))
+        if mass_condition > LOSS_CONDITION:
+            warnings.append(
+                f"the mass matrix M is nearly singular (condition number {mass_condition:.2g}"
+                f" after scaling): about {int(math.log10(mass_condition))} of 16 digits of "
+                "the natural frequencies and amplitudes are lost; is a mass nearly zero?")
     omegas = natural_frequencies(eom.M, eom.K)
     eigenvalues = state_eigenvalues(eom.M, eom.C, eom.K)
     stability = classify(eigenvalues)
@@ -305,6 +320,11 @@ def stationary(eom: NumericEOM) -> StationarySolution:
     responses = tuple(_solve(eom, h, omegas, warnings) for h in eom.harmonics)
     pairs = _output_pairs(eom, responses)
     freqs = [r.omega for r in responses]
+    for name, p in pairs.items():
+        if not all(math.isfinite(v) for pair in p for v in pair):
+            raise AnalysisError(
+                f"the stationary response of '{name}' is not finite: the computation "
+                "overflowed; check the parameter values (their orders of magnitude)")
     amplitudes = {name: peak(freqs, p) for name, p in pairs.items()}
     moving = [i for i, w in enumerate(freqs) if w > 0]
     phases = {}

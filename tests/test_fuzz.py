@@ -1,0 +1,106 @@
+"""Fuzzing the loader and the command line with mutated examples (issue 5).
+
+A short, deterministic CI run of the mutation fuzzer in ``fuzz/run_fuzz.py``
+(hypothesis chooses the seeds, so a failure shrinks to one seed and is replayed):
+every mutant of an example must end with exit 0, 2 or 3 and a message -- never an
+internal error (exit 1), a traceback, NaN in the JSON or a hang.  The long run and
+its statistics are in docs/fuzzing.md.
+"""
+
+from __future__ import annotations
+
+import random
+import sys
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from conftest import EXAMPLES, run_cli
+
+sys.path.insert(0, str(Path(__file__).parents[1] / "fuzz"))
+import run_fuzz  # noqa: E402
+
+#: per input: the derivation budget (--timeout) and the hang detector above it
+DERIVATION_BUDGET = 2.0
+HANG_BUDGET = 8.0
+
+
+@settings(max_examples=300, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(min_value=0, max_value=2**32 - 1))
+def test_mutated_examples_never_crash_or_hang(seed, tmp_path_factory):
+    workdir = tmp_path_factory.mktemp("fuzz")
+    example, kind, command, status, bug, err = run_fuzz.fuzz_one(
+        random.Random(seed), workdir, HANG_BUDGET, DERIVATION_BUDGET)
+    assert bug is None, f"{example} mutated by {kind}, resonant {command}: {bug}\n{err}"
+
+
+@pytest.mark.parametrize("kind", sorted(run_fuzz.MUTATORS))
+def test_each_mutator_changes_the_text(kind):
+    rng = random.Random(3)
+    text = (EXAMPLES / "cart_pendulum.toml").read_text()
+    assert any(run_fuzz.MUTATORS[kind](text, rng) != text for _ in range(5))
+
+
+def test_the_toml_writer_round_trips_every_example():
+    import tomllib
+
+    for path in sorted(EXAMPLES.glob("*.toml")):
+        data = tomllib.loads(path.read_text())
+        assert tomllib.loads(run_fuzz.dump_toml(data)) == data, path.name
+
+
+def test_verdict_flags_each_kind_of_bug():
+    assert run_fuzz.verdict("hang", "", "", False) == "hang"
+    assert run_fuzz.verdict(1, "", "internal error", False) == "exit status 1"
+    assert run_fuzz.verdict(2, "", "Traceback (most recent call last)", False) == "traceback"
+    assert run_fuzz.verdict(3, "", "", False) == "failure without a message"
+    assert run_fuzz.verdict(0, '{"a": NaN}', "", True).startswith("bad JSON")
+    assert run_fuzz.verdict(0, '{"a": 1}', "", True) is None
+    assert run_fuzz.verdict(2, "", "error: x", False) is None
+
+
+def test_run_one_detects_a_hang(monkeypatch):
+    import resonant.cli
+
+    def spin(argv):
+        while True:
+            pass
+    monkeypatch.setattr(resonant.cli, "main", spin)
+    status, _, _ = run_fuzz.run_one(["solve", "x.toml"], 0.2)
+    assert status == "hang"
+
+
+# -- regressions: the bugs the fuzzer found (docs/fuzzing.md) -------------------------------
+
+ROTATING = (EXAMPLES / "rotating_unbalance.toml").read_text()
+CART = (EXAMPLES / "cart_pendulum.toml").read_text()
+
+
+@pytest.mark.parametrize("name, text, words", [
+    # log(0) in an output made a zoo coefficient that lambdify could not compile (KeyError)
+    ("zoo-output", ROTATING.replace('F_T = "k*x + c*x\'"', 'F_T = "log((k*x + c*x\')^3)"'),
+     ("not finite",)),
+    # a huge power overflowed Python float arithmetic in the compiled code (OverflowError)
+    ("float-overflow", CART.replace('U = "k*(x1 - r)^2/2 - m2*g*l/2*cos(phi)"',
+                                    'U = "(k*(x1 - r)^2/2 - m2*g*l/2*cos(phi))^999"')
+     .replace("m2 = 1", 'm2 = "cos(1)"'), ("not finite",)),
+    # an overflow while checking the equilibrium (mpmath OverflowError)
+    ("equilibrium-overflow", CART.replace('D = "0"', 'D = "0"\nV = "0"').replace(
+        '\nV = "0"', "").replace('U = "k*(x1 - r)^2/2', 'U = "exp(exp(exp(exp(x1 + 10)))) + k*(x1 - r)^2/2'),
+     ("overflowed",)),
+    # M^-1 K overflowed to infinity in the state matrix (LinAlgError)
+    ("state-matrix-overflow", CART.replace("m1 = 2", "m1 = 1e-299").replace("m2 = 1", "m2 = 1e-299")
+     .replace("k = 100", "k = 1e299"), ("not finite",)),
+])
+def test_found_bugs_stay_fixed(name, text, words, tmp_path):
+    assert text != ROTATING and text != CART, "the regression input no longer applies"
+    path = tmp_path / "model.toml"
+    path.write_text(text)
+    code, out, err = run_cli(["solve", str(path), "--json"])
+    assert code in (2, 3), f"{name}: {code} {err}"
+    assert "internal error" not in err
+    for word in words:
+        assert word in err, err
