@@ -208,7 +208,7 @@ def mutant(rng: random.Random) -> tuple[str, str, str]:
 
 # -- running -----------------------------------------------------------------------------------
 
-class Hang(Exception):
+class Hang(BaseException):
     """The per-input time budget ran out."""
 
 

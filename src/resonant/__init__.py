@@ -3,8 +3,10 @@
 Describe a system by its energies (or matrices) in a TOML model file, then::
 
     >>> import resonant
-    >>> model = resonant.load(resonant.example_path("cart_pendulum"))   # doctest: +SKIP
-    >>> sol = model.linearize().stationary()                           # doctest: +SKIP
+    >>> model = resonant.load("examples/cart_pendulum.toml")            # doctest: +SKIP
+    >>> eom = model.linearize()                                        # doctest: +SKIP
+    >>> sol = eom.stationary()                                         # doctest: +SKIP
+    >>> eom.modes(), eom.sweep("omega", [10, 20, 30]), model.simulate()  # doctest: +SKIP
 
 Imports are lazy: ``import resonant`` loads nothing heavy until it is used.
 """
@@ -24,10 +26,12 @@ _EXPORTS = {
     "ResonantError": "resonant.errors", "ModelError": "resonant.errors",
     "AnalysisError": "resonant.errors", "ResonantWarning": "resonant.errors",
     "Problem": "resonant.errors",
-    "simulate": "resonant.simulate", "Simulation": "resonant.simulate",
-    "modes": "resonant.modes", "ModalAnalysis": "resonant.modes",
-    "sweep": "resonant.sweep", "FrequencyResponse": "resonant.sweep",
+    "Simulation": "resonant.simulate", "ModalAnalysis": "resonant.modes",
+    "FrequencyResponse": "resonant.sweep",
 }
+# The analyses are methods (``eom.modes()``, ``eom.sweep(...)``, ``model.simulate(...)``) or
+# functions of their modules (``resonant.sweep.sweep``): a package-level function named like
+# its submodule would be replaced by the module as soon as the submodule is imported.
 
 __all__ = sorted([*_EXPORTS, "__version__"])
 

@@ -141,6 +141,18 @@ class LinearEOM:
 
         return stationary(self.numeric(**overrides))
 
+    def modes(self, count: int | None = None) -> Any:
+        """Natural frequencies, mode shapes, damping ratios (:func:`resonant.modes.modes`)."""
+        from .modes import modes
+
+        return modes(self, count=count)
+
+    def sweep(self, param: str, values: Any, **options: Any) -> Any:
+        """Amplitudes and phases against a parameter (:func:`resonant.sweep.sweep`)."""
+        from .sweep import sweep
+
+        return sweep(self, param, values, **options)
+
     def to_dict(self) -> dict[str, Any]:
         if self.model.is_matrix_model:
             return {}

@@ -199,6 +199,13 @@ class Model:
                 "exp of large values) exceed the floating-point range; rescale the "
                 "parameters or simplify the expression", self.source, section, key)) from None
 
+    def simulate(self, duration: float | None = None, nonlinear: bool = False,
+                 **options: Any) -> Any:
+        """Time integration, linear or full nonlinear (:func:`resonant.simulate.simulate`)."""
+        from .simulate import simulate
+
+        return simulate(self, duration, nonlinear, **options)
+
     def _repr_latex_(self) -> str:
         from .display import model_latex
 

@@ -135,6 +135,8 @@ def evaluate(eom: "LinearEOM", model: Model) -> NumericEOM:
     if harmonics is not None:
         for w in harmonics.frequencies:
             f_s, f_c = harmonics.forcing(eom.excitation, w)
+            if len(f_s) != n or len(f_c) != n:  # no excitation column at all: Q = 0
+                f_s = f_c = [sympy.Integer(0)] * n
             exprs.append(w)
             exprs.extend(f_s)
             exprs.extend(f_c)

@@ -158,10 +158,11 @@ class FrequencyResponse:
 
     parameter: str
     values: np.ndarray
-    amplitudes: Mapping[str, np.ndarray]
-    phases: Mapping[str, np.ndarray]
-    peak_table: ExtremaTable
-    antiresonance_table: ExtremaTable
+    quantities: tuple[str, ...]
+    #: complex responses z = L - i N, shape (harmonics, values, quantities)
+    response: np.ndarray
+    #: the excitation frequency of each harmonic at each value, shape (harmonics, values)
+    harmonic_omegas: np.ndarray
     method: str
     frequency_sweep: bool = False
     natural_frequencies: np.ndarray | None = None
@@ -171,9 +172,49 @@ class FrequencyResponse:
     title: str = ""
     coordinates: tuple[str, ...] = ()
 
+    # Amplitudes, phases and extrema are derived on first use: the solve is the
+    # sweep's job, and a caller who only needs the responses of a large model
+    # should not pay for a million amplitudes and their peaks.
+    @cached_property
+    def _amplitude_phase(self) -> tuple[np.ndarray, np.ndarray]:
+        N, m = len(self.values), len(self.quantities)
+        if self.response.shape[0] == 0:
+            return np.zeros((N, m)), np.full((N, m), np.nan)
+        amplitude, phase = _amplitude_phase(self.harmonic_omegas, self.response)
+        skipped = np.isin(self.values, np.asarray(self.skipped, dtype=float))
+        amplitude[skipped] = np.nan
+        phase[skipped] = np.nan
+        return amplitude, phase
+
+    @cached_property
+    def amplitudes(self) -> Mapping[str, np.ndarray]:
+        amplitude = self._amplitude_phase[0]
+        return MappingProxyType({n: amplitude[:, j] for j, n in enumerate(self.quantities)})
+
+    @cached_property
+    def phases(self) -> Mapping[str, np.ndarray]:
+        phase = self._amplitude_phase[1]
+        return MappingProxyType({n: phase[:, j] for j, n in enumerate(self.quantities)})
+
+    @cached_property
+    def _extrema(self) -> tuple[ExtremaTable, ExtremaTable]:
+        if not np.all(np.diff(self.values) > 0):
+            return ExtremaTable(self.quantities), ExtremaTable(self.quantities)
+        single = self.response[0] if self.response.shape[0] == 1 else None
+        return _extrema(self.quantities, self.values, self._amplitude_phase[0], self.log,
+                        single)
+
+    @property
+    def peak_table(self) -> ExtremaTable:
+        return self._extrema[0]
+
+    @property
+    def antiresonance_table(self) -> ExtremaTable:
+        return self._extrema[1]
+
     @property
     def names(self) -> tuple[str, ...]:
-        return tuple(self.amplitudes)
+        return self.quantities
 
     @cached_property
     def peaks(self) -> tuple[Extremum, ...]:
@@ -802,12 +843,14 @@ def _responses(batch: _Batch, responses: list[np.ndarray], names: Sequence[str]
     return out_names, Z
 
 
-def _amplitude_phase(batch: _Batch, Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Amplitude and phase, shape (N, m), with the semantics of :func:`stationary.peak`."""
+def _amplitude_phase(omegas: np.ndarray, Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Amplitude and phase, shape (N, m), with the semantics of :func:`stationary.peak`.
+
+    ``omegas`` (H, N) are the harmonics' frequencies, ``Z`` (H, N, m) the responses.
+    """
     from .stationary import peak
 
     H, N, m = Z.shape
-    omegas = np.array([np.broadcast_to(h.omega, (N,)) for h in batch.harmonics])
     bad = ~np.isfinite(Z).all(axis=0)
     if H == 1:
         L, Nn = Z[0].real, -Z[0].imag
@@ -1005,19 +1048,11 @@ def sweep(source: Any, param: str, values: Sequence[float] | np.ndarray, *,
                                                               values[1] - values[0], rtol=1e-9))
     if batch.harmonics:
         all_names, Z = _responses(batch, responses, names)
-        amplitude, phase = _amplitude_phase(batch, Z)
     else:
         all_names = list(names) + list(batch.outputs)
-        amplitude = np.zeros((len(values), len(all_names)))
-        phase = np.full((len(values), len(all_names)), np.nan)
-    amplitude[skipped_mask] = np.nan
-    phase[skipped_mask] = np.nan
-    peaks = dips = ExtremaTable(tuple(all_names))
-    if np.all(np.diff(values) > 0):
-        single = Z[0] if batch.harmonics and len(batch.harmonics) == 1 else None
-        peaks, dips = _extrema(all_names, values, amplitude, log, single)
-    amplitudes = {name: amplitude[:, j] for j, name in enumerate(all_names)}
-    phases = {name: phase[:, j] for j, name in enumerate(all_names)}
+        Z = np.zeros((0, len(values), len(all_names)), dtype=complex)
+    omegas = np.array([np.broadcast_to(h.omega, values.shape) for h in batch.harmonics],
+                      dtype=float).reshape(len(batch.harmonics), len(values))
     skipped = tuple(float(v) for v in values[skipped_mask])
     if skipped:
         shown = ", ".join(f"{v:.6g}" for v in skipped[:5])
@@ -1036,9 +1071,8 @@ def sweep(source: Any, param: str, values: Sequence[float] | np.ndarray, *,
         except (np.linalg.LinAlgError, ValueError):
             natural = None
     return FrequencyResponse(
-        parameter=param, values=values, amplitudes=MappingProxyType(amplitudes),
-        phases=MappingProxyType(phases), peak_table=peaks, antiresonance_table=dips,
-        method=method, frequency_sweep=bool(frequency_sweep), natural_frequencies=natural,
+        parameter=param, values=values, quantities=tuple(all_names), response=Z,
+        harmonic_omegas=omegas, method=method, frequency_sweep=bool(frequency_sweep), natural_frequencies=natural,
         skipped=skipped, warnings=tuple(dict.fromkeys(warnings)), log=bool(log),
         title=batch.title, coordinates=tuple(batch.coordinates))
 
