@@ -124,11 +124,21 @@ def run_memory(cfg: dict[str, Any]) -> dict[str, Any]:
 # ---------------------------------------------------------------- report
 
 
-def _ratio(a: float | None, b: float | None) -> str:
+def _ratio(a: float | None, b: float | None, extrapolated: bool = False) -> str:
     if not a or not b:
         return "n/a"
     r = a / b
-    return f"{r:,.0f}x" if r >= 100 else f"{r:.3g}x"
+    text = f"{r:,.0f}x" if r >= 100 else f"{r:.3g}x"
+    return f"~{text}*" if extrapolated else text
+
+
+def local_exponent(points: dict[Any, dict[str, Any]], count: int = 3) -> float | None:
+    """The power-law exponent through the ``count`` largest measured sizes."""
+    meas = sorted((int(n), p["time"]) for n, p in points.items()
+                  if not p["extrapolated"] and p.get("time"))[-count:]
+    if len(meas) < 2:
+        return None
+    return fit_power_law([m[0] for m in meas], [m[1] for m in meas])[0]
 
 
 def derivation_section(d: dict[str, Any]) -> list[str]:
@@ -150,12 +160,16 @@ def derivation_section(d: dict[str, Any]) -> list[str]:
         lines.append(
             f"| {n} | {fmt_time(r['time'], r['extrapolated'])} | "
             f"{fmt_time(lg.get('time'), lg.get('extrapolated', False))} | "
-            f"{_ratio(lg.get('time'), r['time'])} | "
+            f"{_ratio(lg.get('time'), r['time'], lg.get('extrapolated', False))} | "
             f"{fmt_time(kn.get('time'), kn.get('extrapolated', False))} | "
-            f"{_ratio(kn.get('time'), r['time'])} | {'; '.join(checks) or '-'} |")
+            f"{_ratio(kn.get('time'), r['time'], kn.get('extrapolated', False))} | "
+            f"{'; '.join(checks) or '-'} |")
     fits = d["fits"]
     lines += ["", "Fitted scaling (least squares of log t on log N over the measured sizes "
-              "N >= 5): " + ", ".join(f"{k} t ~ N^{v[0]:.2f}" for k, v in fits.items()) + ".",
+              "N >= 5): " + ", ".join(f"{k} t ~ N^{v[0]:.2f}" for k, v in fits.items()) + "; "
+              "through the three largest measured sizes only: " + ", ".join(
+                  f"{k} N^{local_exponent(res[k]):.2f}" for k in fits
+                  if local_exponent(res[k]) is not None) + ".",
               "", "`~ ... *` = extrapolated with the fitted power law of that side (not run: "
               "the previous size exceeded the time budget). 'exact' = expand(M_resonant - "
               "M_sympy) == 0 and the same for K (N <= 5); the number is the largest relative "
@@ -304,7 +318,9 @@ def plot(results: dict[str, Any], path: Path) -> None:
             extr = sorted((int(n), p["time"]) for n, p in points.items()
                           if p["extrapolated"] and p.get("time"))
             fit = d["fits"].get(side)
-            label = labels[side] + (f"  (t ~ N^{fit[0]:.2f})" if fit else "")
+            local = local_exponent(points)
+            label = labels[side] + (f"  (t ~ N^{fit[0]:.2f}; largest sizes N^{local:.2f})"
+                                    if fit and local is not None else "")
             if meas:
                 ax.loglog(*zip(*meas), marker=marker, color=color, label=label)
             if extr:
@@ -362,8 +378,12 @@ def plot(results: dict[str, Any], path: Path) -> None:
     plt.close(fig)
 
 
-def write_report(results: dict[str, Any], out: Path, command: str) -> None:
+def write_report(results: dict[str, Any], out: Path, command: str,
+                 notes: bool = True) -> None:
+    """The markdown report; ``notes`` adds the hand-written analysis (benchmarks/notes.md),
+    which describes the full run."""
     meta = results["meta"]
+    readme = Path(os.path.relpath(HERE / "README.md", out.resolve().parent)).as_posix()
     lines = ["# Performance", "",
              "Benchmarks of resonant side by side with the alternatives; every number below is "
              "from one run of", "", f"    {command}", "",
@@ -374,9 +394,9 @@ def write_report(results: dict[str, Any], out: Path, command: str) -> None:
              f"side; {meta['date']}, {meta['seconds']:.0f} s in total. The machine "
              "is noisy: read the ratios (both sides of a ratio ran in the same run, "
              "interleaved or back to back), not the absolute times. How the benchmarks work: "
-             "[benchmarks/README.md](../benchmarks/README.md).", "",
+             f"[benchmarks/README.md]({readme}).", "",
              "## Targets", ""] + target_rows(results)
-    if (HERE / "notes.md").exists():
+    if notes and (HERE / "notes.md").exists():
         lines += ["", (HERE / "notes.md").read_text(encoding="utf-8").strip()]
     lines += ["", f"![time against size]({out.with_suffix('.png').name})", ""]
     if "derivation" in results:
@@ -462,7 +482,7 @@ def main(argv: list[str] | None = None) -> int:
     raw.parent.mkdir(exist_ok=True)
     raw.write_text(json.dumps(results, indent=1, default=_jsonable), encoding="utf-8")
     plot(results, out.with_suffix(".png"))
-    write_report(results, out, command)
+    write_report(results, out, command, notes=mode == "full")
     log(f"wrote {out}, {out.with_suffix('.png')} and {raw} in {results['meta']['seconds']:.0f} s")
     return 0
 

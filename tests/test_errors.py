@@ -219,6 +219,8 @@ CASES: list[tuple[str, str | bytes, tuple[str, ...], int, tuple[str, ...], str]]
         f"a{i}" for i in range(10)) + ')^50"').replace(
         "w = 10", "w = 10\n" + "".join(f"a{i} = {i + 1}\n" for i in range(10))),
      ("--timeout", "0.5"), 2, ("the derivation exceeded 0.5 s", "--timeout"), ""),
+    ("harmonics-timeout", edit(BASE, 'F = "F0*sin(w*t)"', 'F = "sin((F0*sin(w*t))^999)"'),
+     ("--timeout", "0.5"), 2, ("exceeded 0.5 s", "splitting the signals into harmonics"), ""),
     ("overflow", edit(BASE, 'U = "k*x^2/2"', 'U = "k*x^2/2 + exp(exp(exp(exp(x + 10))))"'),
      (), 2, ("a number overflowed",), ""),
     ("entry-not-finite", edit(BASE, 'U = "k*x^2/2"', 'U = "(k*x^2/2 + 10)^999"'), (), 2,

@@ -86,9 +86,13 @@ def _seconds(text: str) -> float:
 # -- solve / check ---------------------------------------------------------------------------
 
 def run_solve(args: argparse.Namespace) -> int:
+    from .model import time_budget
+
     model = load_model(args)
     eom = model.linearize()
-    solution = eom.stationary()
+    # the harmonic split of the signals and the compilation are symbolic work too
+    with time_budget(getattr(args, "timeout", None), model.source):
+        solution = eom.stationary()
     if args.json:
         emit_json(solution.to_dict())
         warn(solution.warnings)
@@ -100,9 +104,12 @@ def run_solve(args: argparse.Namespace) -> int:
 
 
 def run_check(args: argparse.Namespace) -> int:
+    from .model import time_budget
+
     model = load_model(args)
     eom = model.linearize()
-    eom.numeric()
+    with time_budget(getattr(args, "timeout", None), model.source):
+        eom.numeric()
     print(f"{args.model}: valid model, {len(model.coordinates)} coordinate(s): "
           f"{', '.join(model.coordinates)}")
     return 0
