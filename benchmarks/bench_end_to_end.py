@@ -15,9 +15,6 @@ Examples
 
 from __future__ import annotations
 
-import cProfile
-import io
-import pstats
 import statistics
 import subprocess
 import sys

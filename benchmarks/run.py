@@ -221,7 +221,8 @@ def target_rows(results: dict[str, Any]) -> list[str]:
     lines = ["| target | measured | met? |", "|:---|:---|:---:|"]
 
     def add(name: str, figure: str, ok: bool | None) -> None:
-        lines.append(f"| {name} | {figure} | {'n/a' if ok is None else ('yes' if ok else '**no**')} |")
+        verdict = "n/a" if ok is None else ("yes" if ok else "**no**")
+        lines.append(f"| {name} | {figure} | {verdict} |")
 
     d = results.get("derivation")
     if d:
@@ -442,7 +443,12 @@ def main(argv: list[str] | None = None) -> int:
                         help="BLAS threads for every side (default 1; 0 = the library's "
                              "default). On a shared machine OpenBLAS's spinning threads made "
                              "small solves up to 100x slower and the ratios irreproducible.")
+    parser.add_argument("--report-only", action="store_true",
+                        help="re-render the report and plot from the last run's JSON "
+                             "(benchmarks/results/<mode>.json) without running anything")
     args = parser.parse_args(argv)
+    if args.report_only:
+        return rerender("quick" if args.quick else "full", args.out)
     if args.threads > 0:
         # Before numpy is first imported here; child processes inherit the setting.
         for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
@@ -478,12 +484,29 @@ def main(argv: list[str] | None = None) -> int:
         (f" --threads {args.threads}" if args.threads != 1 else "") + \
         (f" --out {args.out}" if args.out else "") + \
         (f" --only {' '.join(args.only)}" if set(args.only) != set(BENCHMARKS) else "")
+    results["meta"]["command"] = command
+    results["meta"]["out"] = os.path.relpath(out, ROOT)
     raw = HERE / "results" / f"{mode}.json"
     raw.parent.mkdir(exist_ok=True)
     raw.write_text(json.dumps(results, indent=1, default=_jsonable), encoding="utf-8")
     plot(results, out.with_suffix(".png"))
     write_report(results, out, command, notes=mode == "full")
     log(f"wrote {out}, {out.with_suffix('.png')} and {raw} in {results['meta']['seconds']:.0f} s")
+    return 0
+
+
+def rerender(mode: str, out: Path | None) -> int:
+    """Write the report and plot again from ``benchmarks/results/<mode>.json``."""
+    raw = HERE / "results" / f"{mode}.json"
+    results = json.loads(raw.read_text(encoding="utf-8"))
+    derivation = results.get("derivation")
+    if derivation:  # JSON turned the integer sizes into strings
+        derivation["results"] = {side: {int(n): v for n, v in points.items()}
+                                 for side, points in derivation["results"].items()}
+    out = out or ROOT / results["meta"]["out"]
+    plot(results, out.with_suffix(".png"))
+    write_report(results, out, results["meta"]["command"], notes=mode == "full")
+    log(f"re-rendered {out} from {raw}")
     return 0
 
 

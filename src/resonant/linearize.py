@@ -367,26 +367,14 @@ def linearize(model: Model, cas: str | None = None) -> LinearEOM:
         residual=residual, outputs=MappingProxyType(outputs))
 
 
-TIDY_MAX_COORDINATES = 8  # textbook-sized systems get tidied entries; larger ones stay raw
-
-
 def _clean(matrix: sympy.MatrixBase) -> sympy.ImmutableMatrix:
-    """Light, bounded simplification of each entry (cheap rational normalisation).
+    """The immutable form of an assembled matrix.
 
-    Only for small systems: on large ones it would cost far more than the
-    derivation itself, and nobody reads a 50 x 50 symbolic matrix.
+    No simplification pass: sympy's automatic evaluation already combines the
+    jets' terms (``m2/4 + m2/12`` is ``m2/3``), and a pass such as ``cancel``
+    would expand powers like ``(a + b)^50`` term by term.
     """
-    if matrix.rows > TIDY_MAX_COORDINATES:
-        return sympy.ImmutableMatrix(matrix)
-    def tidy(e: sympy.Expr) -> sympy.Expr:
-        if e == 0 or e.is_Atom:
-            return e
-        if sympy.count_ops(e) <= 40:
-            tidied = sympy.factor_terms(sympy.cancel(e)) if not e.has(sympy.Function) \
-                else sympy.factor_terms(e)
-            return tidied if sympy.count_ops(tidied) <= sympy.count_ops(e) else e
-        return e
-    return sympy.ImmutableMatrix(matrix.rows, matrix.cols, [tidy(e) for e in matrix])
+    return sympy.ImmutableMatrix(matrix)
 
 
 def _generalized_forces(model: Model, ops: _JetOps) -> list[Jet]:
@@ -422,13 +410,11 @@ def _check_equilibrium(model: Model, residual: sympy.ImmutableMatrix) -> None:
     for k, expr in enumerate(residual):
         if expr == 0:
             continue
-        expanded = sympy.expand(expr)
-        if expanded == 0:
-            continue
         value = complex(expr.evalf(30, subs=subs))
         # the size of the terms that cancel: a residual is judged relative to it
-        scale = max(sum(abs(complex(term.evalf(30, subs=subs)))
-                        for term in sympy.Add.make_args(e)) for e in (expr, expanded))
+        # (evaluated term by term, never expanded: expansion can explode)
+        scale = sum(abs(complex(term.evalf(30, subs=subs)))
+                    for term in sympy.Add.make_args(expr))
         if abs(value) > 1e-9 * max(scale, 1e-300) and abs(value) > 1e-300:
             bad.append((model.coordinates[k], expr, value.real))
     if not bad:

@@ -18,7 +18,7 @@ import numpy as np
 import sympy
 
 from .errors import AnalysisError, ModelError, Problem
-from .expr import Expression, ExpressionError, parse
+from .expr import Num, Expression, ExpressionError, parse
 from .numeric import NumericEOM, NumericHarmonic
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -322,7 +322,9 @@ def harmonic_values(model: "Model", values: Any) -> list[tuple[Any, Any, Any]]:
         omega = np.asarray(numeric_value(h.omega, values), dtype=float)
         vectors = []
         for label, vector in (("F_S", h.F_S), ("F_C", h.F_C)):
-            entries = [numeric_value(e, values) for e in vector]
+            # plain numbers (the bulk of a large model's load vectors) skip the fold
+            entries = [float(e.root.value) if type(e.root) is Num else numeric_value(e, values)
+                       for e in vector]
             shape = np.broadcast_shapes(*(np.shape(v) for v in entries)) if entries else ()
             vec = np.empty((*shape, len(entries)))
             for i, v in enumerate(entries):

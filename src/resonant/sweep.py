@@ -827,6 +827,8 @@ def _responses(batch: _Batch, responses: list[np.ndarray], names: Sequence[str]
     index = {q: k for k, q in enumerate(_kept_names(batch, names))}
     columns = [index[q] for q in names]
     out_names = list(names) + list(batch.outputs)
+    if not batch.outputs and len(responses) == 1 and columns == list(range(len(index))):
+        return out_names, responses[0][None]  # all kept coordinates in order: no copy
     N = responses[0].shape[0] if responses else 0
     Z = np.empty((len(responses), N, len(out_names)), dtype=complex)
     for k, (h, R) in enumerate(zip(batch.harmonics, responses)):
@@ -1017,7 +1019,8 @@ def sweep(source: Any, param: str, values: Sequence[float] | np.ndarray, *,
             default_note = ""
     else:
         default_note = ""
-    unknown = [q for q in names if q not in batch.coordinates]
+    known = set(batch.coordinates)
+    unknown = [q for q in names if q not in known]
     if unknown:
         raise AnalysisError(f"unknown coordinate(s) {', '.join(unknown)}; the coordinates are "
                             f"{', '.join(batch.coordinates[:20])}"
