@@ -83,3 +83,22 @@ def cli() -> Callable[[list[str]], tuple[int, str, str]]:
 def solve() -> Callable[..., dict[str, Any]]:
     """The :func:`solve_json` helper as a fixture."""
     return solve_json
+
+
+def pendulum_chain_text(links: int) -> str:
+    """An N-link planar pendulum chain as a model file: a derivation that takes a while
+    (seconds at 80 links), for tests of the time budget."""
+    lines = ["[parameters]", "g = 9.81"]
+    lines += [f"m{i} = 1\nl{i} = 1" for i in range(1, links + 1)]
+    lines.append("[coordinates]")
+    lines += [f'th{i} = ""' for i in range(1, links + 1)]
+    lines.append("[definitions]")
+    for i in range(1, links + 1):
+        x = f"x{i - 1} + " if i > 1 else ""
+        y = f"y{i - 1} " if i > 1 else ""
+        lines += [f'x{i} = "{x}l{i}*sin(th{i})"', f'y{i} = "{y}- l{i}*cos(th{i})"']
+    lines.append("[energy]")
+    lines.append('T = "' + " + ".join(f"m{i}*(x{i}'^2 + y{i}'^2)/2"
+                                      for i in range(1, links + 1)) + '"')
+    lines.append('U = "' + " + ".join(f"m{i}*g*y{i}" for i in range(1, links + 1)) + '"')
+    return "\n".join(lines) + "\n"

@@ -23,7 +23,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from conftest import run_cli
+from conftest import pendulum_chain_text, run_cli
 
 from resonant.model import loads, time_budget
 from resonant.stationary import equilibration
@@ -288,11 +288,7 @@ def test_time_budget_interrupts_and_restores_the_outer_timer():
 
 
 def test_time_budget_names_the_expression(tmp_path):
-    sums = " + ".join(f"a{i}" for i in range(10))
-    text = ("[parameters]\n" + "".join(f"a{i} = {i + 1}\n" for i in range(10))
-            + f"[coordinates]\nx = \"\"\n[definitions]\nbig = \"(x + {sums})^60\"\n"
-            + "[energy]\nT = \"x'^2/2\"\nU = \"x^2/2 + big\"\n")
-    model = loads(text, source="chain.toml")
+    model = loads(pendulum_chain_text(80), source="chain.toml")
     from resonant.errors import ModelError
 
     start = time.monotonic()
