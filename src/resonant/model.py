@@ -826,7 +826,9 @@ def time_budget(seconds: float | None, source: str = "") -> Iterator[None]:
             "--timeout SECONDS, 0 for none)", source, section, key))
 
     previous = signal.signal(signal.SIGALRM, expired)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    # repeat every 0.1 s after expiry: a signal that lands in a weakref callback or
+    # __del__ has its exception swallowed by Python, so the next one must follow
+    signal.setitimer(signal.ITIMER_REAL, seconds, 0.1)
     try:
         yield
     finally:
