@@ -419,8 +419,8 @@ def _check_equilibrium(model: Model, residual: sympy.ImmutableMatrix) -> None:
             bad.append((model.coordinates[k], expr, value.real))
     if not bad:
         return
-    lines = [f"the reference state is not an equilibrium: with all signals zero the "
-             f"generalized forces do not balance"]
+    lines = ["the reference state is not an equilibrium: with all signals zero the "
+             "generalized forces do not balance"]
     for name, expr, value in bad:
         lines.append(f"  residual in the equation of {name}: {expr} = {value:.6g}")
     nearby = _nearby_equilibrium(model)

@@ -410,9 +410,10 @@ def large_stationary(system: MatrixSystem, symbolic: "LinearEOM | None" = None) 
     from scipy.sparse.linalg import splu
 
     from .modes import _rayleigh
-    from .stability import UNSTABLE, classify, state_eigenvalues
-    from .stationary import (LOSS_CONDITION, NEAR_RESONANCE, SINGULAR_CONDITION,
-                             HarmonicResponse, StationarySolution, _output_pairs, peak)
+    from .stability import classify, frequencies_from_eigenvalues, state_eigenvalues
+    from .stationary import (LOSS_CONDITION, SINGULAR_CONDITION, HarmonicResponse,
+                             StationarySolution, _output_pairs, peak, resonance_warnings,
+                             system_warnings)
 
     eom = system.dense(symbolic=symbolic)
     n = system.n
@@ -427,9 +428,7 @@ def large_stationary(system: MatrixSystem, symbolic: "LinearEOM | None" = None) 
         raise AnalysisError("the mass matrix M is singular: every coordinate needs mass or "
                             "inertia") from None
     lam = _undamped_eigenvalues(eom.M, eom.K)
-    top = max(float(np.abs(lam).max(initial=0.0)), 1e-300)
-    lam = np.where(np.abs(lam) < 1e-12 * top, 0.0, lam)
-    omegas = np.sqrt(lam[lam >= 0])
+    omegas = frequencies_from_eigenvalues(lam)
     rayleigh = _rayleigh(M, C, K) if C.nnz else (0.0, 0.0)
     if rayleigh is not None:
         c = rayleigh[0] + rayleigh[1] * lam
@@ -438,20 +437,8 @@ def large_stationary(system: MatrixSystem, symbolic: "LinearEOM | None" = None) 
     else:
         eigenvalues = state_eigenvalues(eom.M, eom.C, eom.K)
     stability = classify(eigenvalues)
-    warnings: list[str] = []
-    if np.any(lam < -1e-12 * top):
-        warnings.append("K is not positive definite about this reference state: a statically "
-                        "unstable (buckling, inverted) mode exists")
-    if stability == UNSTABLE:
-        warnings.append("the equilibrium is unstable: free vibrations grow, so the stationary "
-                        "solution is never reached in practice")
-    for h in system.harmonics:
-        for i, wn in enumerate(omegas):
-            if h.omega > 0 and wn > 0 and abs(h.omega - wn) <= NEAR_RESONANCE * wn:
-                warnings.append(
-                    f"near resonance: the excitation frequency {h.omega:.6g} rad/s is within "
-                    f"{100 * abs(h.omega - wn) / wn:.2g}% of natural frequency {i + 1} "
-                    f"({wn:.6g} rad/s); the amplitudes are sensitive to the data")
+    warnings = system_warnings(lam, stability) + resonance_warnings(
+        [h.omega for h in system.harmonics], omegas)
     responses = []
     for h in system.harmonics:
         w = h.omega

@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING, Any
 import sympy
 
 from .errors import ModelError, Problem
-from .expr import (BinOp, Call, Expression, ExpressionError, Name, Neg, Num, parse,
+from .expr import (BinOp, Expression, ExpressionError, Name, Neg, Num, parse,
                    validate_name)
 
 if TYPE_CHECKING:  # pragma: no cover

@@ -354,7 +354,7 @@ class _NonlinearSystem:
         from .nonlinear import nonlinear_equations
 
         eq = nonlinear_equations(model)
-        self.n = n = len(model.coordinates)
+        self.n = len(model.coordinates)
         self.equilibrium = equilibrium
         params, self.pvals = _parameter_args(model)
         q, qd, qdd = eq.q, eq.qd, eq.qdd

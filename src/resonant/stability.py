@@ -67,12 +67,16 @@ def undamped_eigen(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return lam[order].real, vec[:, order].real
 
 
-def natural_frequencies(M: np.ndarray, K: np.ndarray) -> np.ndarray:
-    """Undamped natural angular frequencies in rad/s, ascending (stable modes only)."""
-    lam, _ = undamped_eigen(M, K)
+def frequencies_from_eigenvalues(lam: np.ndarray) -> np.ndarray:
+    """sqrt of the eigenvalues lambda = omega^2 that are >= 0 (round-off zeros count as 0)."""
     scale = max(float(np.abs(lam).max(initial=0.0)), 1e-300)
     lam = np.where(np.abs(lam) < 1e-12 * scale, 0.0, lam)
     return np.sqrt(lam[lam >= 0])
+
+
+def natural_frequencies(M: np.ndarray, K: np.ndarray) -> np.ndarray:
+    """Undamped natural angular frequencies in rad/s, ascending (stable modes only)."""
+    return frequencies_from_eigenvalues(undamped_eigen(M, K)[0])
 
 
 def state_matrix(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> np.ndarray:
@@ -105,5 +109,5 @@ def classify(eigenvalues: np.ndarray) -> str:
     return MARGINAL
 
 
-__all__ = ["natural_frequencies", "undamped_eigen", "state_matrix", "state_eigenvalues",
+__all__ = ["natural_frequencies", "frequencies_from_eigenvalues", "undamped_eigen", "state_matrix", "state_eigenvalues",
            "classify", "check_mass_matrix", "is_symmetric", "ASYMPTOTIC", "MARGINAL", "UNSTABLE"]

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
 from functools import reduce
 from types import MappingProxyType
@@ -33,7 +33,7 @@ import numpy as np
 
 from .errors import AnalysisError
 from .numeric import NumericEOM, NumericHarmonic, check_finite
-from .stability import (UNSTABLE, check_mass_matrix, classify, natural_frequencies,
+from .stability import (UNSTABLE, check_mass_matrix, classify, frequencies_from_eigenvalues,
                         state_eigenvalues, undamped_eigen)
 
 NEAR_RESONANCE = 0.02       # relative distance to a natural frequency that earns a warning
@@ -273,6 +273,31 @@ def peak(omegas: list[float], pairs: tuple[tuple[float, float], ...]) -> float:
     return max(best, float(abs(value(np.array([(a + b) / 2]))[0])))
 
 
+def system_warnings(lam: np.ndarray, stability: str) -> list[str]:
+    """Warnings about the system itself: an indefinite K, an unstable equilibrium."""
+    out = []
+    if np.any(lam < -1e-12 * max(1.0, float(np.abs(lam).max(initial=0.0)))):
+        out.append("K is not positive definite about this reference state: a statically "
+                   "unstable (buckling, inverted) mode exists")
+    if stability == UNSTABLE:
+        out.append("the equilibrium is unstable: free vibrations grow, so the stationary "
+                   "solution is never reached in practice")
+    return out
+
+
+def resonance_warnings(excitation: list[float], omegas: np.ndarray) -> list[str]:
+    """A warning for each excitation frequency within NEAR_RESONANCE of a natural one."""
+    out = []
+    for w in excitation:
+        for i, wn in enumerate(omegas):
+            if w > 0 and wn > 0 and abs(w - wn) <= NEAR_RESONANCE * wn:
+                out.append(
+                    f"near resonance: the excitation frequency {w:.6g} rad/s is within "
+                    f"{100 * abs(w - wn) / wn:.2g}% of natural frequency {i + 1} "
+                    f"({wn:.6g} rad/s); the amplitudes are sensitive to the data")
+    return out
+
+
 def stationary(eom: NumericEOM) -> StationarySolution:
     """Solve for the stationary response of every coordinate and output.
 
@@ -293,16 +318,11 @@ def stationary(eom: NumericEOM) -> StationarySolution:
                 f"the mass matrix M is nearly singular (condition number {mass_condition:.2g}"
                 f" after scaling): about {int(math.log10(mass_condition))} of 16 digits of "
                 "the natural frequencies and amplitudes are lost; is a mass nearly zero?")
-    omegas = natural_frequencies(eom.M, eom.K)
+    lam, _ = undamped_eigen(eom.M, eom.K)
+    omegas = frequencies_from_eigenvalues(lam)
     eigenvalues = state_eigenvalues(eom.M, eom.C, eom.K)
     stability = classify(eigenvalues)
-    lam, _ = undamped_eigen(eom.M, eom.K)
-    if np.any(lam < -1e-12 * max(1.0, float(np.abs(lam).max()))):
-        warnings.append("K is not positive definite about this reference state: a statically "
-                        "unstable (buckling, inverted) mode exists")
-    if stability == UNSTABLE:
-        warnings.append("the equilibrium is unstable: free vibrations grow, so the stationary "
-                        "solution is never reached in practice")
+    warnings += system_warnings(lam, stability)
     if not eom.harmonic:
         warnings.append("the stationary solution needs signals that are sums of harmonics "
                         "(sin/cos of a*t + b, constants); the equation of motion is derived, "
@@ -310,13 +330,7 @@ def stationary(eom: NumericEOM) -> StationarySolution:
         return StationarySolution(eom, omegas, eigenvalues, stability, (),
                                   MappingProxyType({}), MappingProxyType({}),
                                   MappingProxyType({}), tuple(warnings), available=False)
-    for h in eom.harmonics:
-        for i, wn in enumerate(omegas):
-            if h.omega > 0 and wn > 0 and abs(h.omega - wn) <= NEAR_RESONANCE * wn:
-                warnings.append(
-                    f"near resonance: the excitation frequency {h.omega:.6g} rad/s is within "
-                    f"{100 * abs(h.omega - wn) / wn:.2g}% of natural frequency {i + 1} "
-                    f"({wn:.6g} rad/s); the amplitudes are sensitive to the data")
+    warnings += resonance_warnings([h.omega for h in eom.harmonics], omegas)
     responses = tuple(_solve(eom, h, omegas, warnings) for h in eom.harmonics)
     pairs = _output_pairs(eom, responses)
     freqs = [r.omega for r in responses]

@@ -696,7 +696,7 @@ def _solve_banded(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Prog
                   Z: _Store) -> np.ndarray:
     from scipy.linalg import lapack
 
-    N, n = w.shape[0], len(batch.coordinates)
+    N = w.shape[0]
     lower, upper = _bandwidths(batch.M, batch.C, batch.K)
     singular = np.zeros(N, dtype=bool)
     varying_rhs = rhs.ndim == 2
@@ -740,7 +740,7 @@ def _solve_sparse(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Prog
     import scipy.sparse as sp
     from scipy.sparse.linalg import splu
 
-    N, n = w.shape[0], len(batch.coordinates)
+    N = w.shape[0]
     M, C, K = (sp.csc_matrix(a) for a in (batch.M, batch.C, batch.K))
     singular = np.zeros(N, dtype=bool)
     for i in range(N):
