@@ -123,50 +123,73 @@ def _one_by_one(expressions: Sequence[sympy.Expr], symbols: Sequence[sympy.Symbo
     return values
 
 
+@dataclass(frozen=True)
+class ExpressionLayout:
+    """Every symbolic quantity of a LinearEOM in one flat list, in reading order.
+
+    M, C, K (row-major); per frequency: omega, F_S, F_C and the (S, C) pair of
+    each signal variable in ``frequencies[i]``; per output: its value and the
+    coefficients of the variables in ``outputs[j][1]``.  Compiled once, it is
+    read back with :class:`FlatReader`.
+    """
+
+    expressions: tuple[sympy.Expr, ...]
+    frequencies: tuple[tuple[Var, ...], ...]
+    outputs: tuple[tuple[str, tuple[Var, ...]], ...]
+
+
+def expression_layout(eom: "LinearEOM") -> ExpressionLayout:
+    n = len(eom.coordinates)
+    harmonics = eom.harmonics
+    exprs: list[sympy.Expr] = [*eom.M, *eom.C, *eom.K]
+    frequencies = []
+    if harmonics is not None:
+        variables = tuple(harmonics.parts)
+        for w in harmonics.frequencies:
+            f_s, f_c = harmonics.forcing(eom.excitation, w)
+            if len(f_s) != n or len(f_c) != n:  # no excitation column at all: Q = 0
+                f_s = f_c = [sympy.Integer(0)] * n
+            exprs += [w, *f_s, *f_c]
+            for var in variables:
+                s, c = harmonics.parts[var].get(w, (0, 0))
+                exprs += [sympy.sympify(s), sympy.sympify(c)]
+            frequencies.append(variables)
+    outputs = []
+    for name, out in eom.outputs.items():
+        exprs += [out.value, *out.terms.values()]
+        outputs.append((name, tuple(out.terms)))
+    return ExpressionLayout(tuple(exprs), tuple(frequencies), tuple(outputs))
+
+
+class FlatReader:
+    """Reads consecutive blocks (along the first axis) of compiled values."""
+
+    def __init__(self, flat: np.ndarray) -> None:
+        self.flat, self.pos = flat, 0
+
+    def take(self, count: int) -> np.ndarray:
+        out = self.flat[self.pos:self.pos + count]
+        self.pos += count
+        return out
+
+
 def evaluate(eom: "LinearEOM", model: Model) -> NumericEOM:
     """Substitute the model's parameter values into a symbolic equation of motion."""
     names = list(model.parameters)
     values = [model.parameter_values[n] for n in names]
     symbols = [symbol(n) for n in names]
     n = len(eom.coordinates)
-    harmonics = eom.harmonics
-    exprs: list[sympy.Expr] = [*eom.M, *eom.C, *eom.K]
-    layout: list[tuple] = []
-    if harmonics is not None:
-        for w in harmonics.frequencies:
-            f_s, f_c = harmonics.forcing(eom.excitation, w)
-            if len(f_s) != n or len(f_c) != n:  # no excitation column at all: Q = 0
-                f_s = f_c = [sympy.Integer(0)] * n
-            exprs.append(w)
-            exprs.extend(f_s)
-            exprs.extend(f_c)
-            parts = [(var, *harmonics.parts[var].get(w, (0, 0))) for var in harmonics.parts]
-            for _, s, c in parts:
-                exprs.extend((sympy.sympify(s), sympy.sympify(c)))
-            layout.append((w, [p[0] for p in parts]))
-    output_layout = []
-    for name, out in eom.outputs.items():
-        exprs.append(out.value)
-        exprs.extend(out.terms.values())
-        output_layout.append((name, list(out.terms)))
-    flat = compile_expressions(exprs, symbols)(*values)
+    layout = expression_layout(eom)
+    flat = compile_expressions(layout.expressions, symbols)(*values)
     bad = ~np.isfinite(flat)
     if bad.any() or np.any(np.abs(flat.imag) > 1e-9 * (1 + np.abs(flat.real))):
         _raise_not_finite(eom, model, flat)
-    flat = flat.real
-    pos = 0
-
-    def take(count: int) -> np.ndarray:
-        nonlocal pos
-        out = flat[pos:pos + count]
-        pos += count
-        return out
-
+    take = FlatReader(flat.real).take
     M = take(n * n).reshape(n, n)
     C = take(n * n).reshape(n, n)
     K = take(n * n).reshape(n, n)
     merged: dict[float, list] = {}
-    for w, variables in layout:
+    for variables in layout.frequencies:
         omega = float(take(1)[0])
         f_s, f_c = take(n), take(n)
         sig = take(2 * len(variables)).reshape(-1, 2)
@@ -184,7 +207,7 @@ def evaluate(eom: "LinearEOM", model: Model) -> NumericEOM:
             old = entry[2].get(var, (0.0, 0.0))
             entry[2][var] = (old[0] + sign * s, old[1] + c)
     outputs = {}
-    for name, variables in output_layout:
+    for name, variables in layout.outputs:
         value = float(take(1)[0])
         coefs = take(len(variables))
         outputs[name] = NumericOutput(value, MappingProxyType(dict(zip(variables, coefs))))
@@ -192,7 +215,7 @@ def evaluate(eom: "LinearEOM", model: Model) -> NumericEOM:
         coordinates=eom.coordinates, M=M, C=C, K=K,
         harmonics=tuple(NumericHarmonic(w, fs, fc, MappingProxyType(sig))
                         for w, (fs, fc, sig) in sorted(merged.items())),
-        harmonic=harmonics is not None, outputs=MappingProxyType(outputs),
+        harmonic=eom.harmonics is not None, outputs=MappingProxyType(outputs),
         parameters=MappingProxyType(dict(model.parameter_values)),
         title=model.title, source=model.source, symbolic=eom)
 

@@ -425,33 +425,15 @@ def _matrix_batch(model: "Model", params: dict, values: np.ndarray) -> _Batch:
 
 
 def _symbolic_batch(eom: Any, model: "Model", params: dict, values: np.ndarray) -> _Batch:
-    import sympy
-
     from .model import symbol
-    from .numeric import compile_expressions
+    from .numeric import FlatReader, compile_expressions, expression_layout
 
     N, n = values.shape[0], len(eom.coordinates)
     names = list(model.parameters)
     symbols = [symbol(name) for name in names]
     args = [params[name] for name in names]
-    harmonics = eom.harmonics
-    exprs: list = [*eom.M, *eom.C, *eom.K]
-    layout = []
-    if harmonics is not None:
-        for w in harmonics.frequencies:
-            f_s, f_c = harmonics.forcing(eom.excitation, w)
-            exprs.append(w)
-            exprs.extend(f_s)
-            exprs.extend(f_c)
-            variables = list(harmonics.parts)
-            for var in variables:
-                s, c = harmonics.parts[var].get(w, (0, 0))
-                exprs.extend((sympy.sympify(s), sympy.sympify(c)))
-            layout.append(variables)
-    output_layout = []
-    for name, out in eom.outputs.items():
-        exprs.extend(out.terms.values())
-        output_layout.append((name, list(out.terms)))
+    layout = expression_layout(eom)
+    exprs = layout.expressions
     flat = compile_expressions(exprs, symbols)(*args)
     flat = np.broadcast_to(flat.reshape(len(exprs), -1), (len(exprs), N))
     bad = ~np.isfinite(flat) | (np.abs(flat.imag) > 1e-9 * (1 + np.abs(flat.real)))
@@ -460,14 +442,7 @@ def _symbolic_batch(eom: Any, model: "Model", params: dict, values: np.ndarray) 
         raise ModelError(Problem(
             f"the equation of motion is not finite (or not real) at {values[point]:.6g} "
             "(a zero mass or length?)", model.source, "parameters"))
-    flat = flat.real
-    pos = 0
-
-    def take(count: int) -> np.ndarray:
-        nonlocal pos
-        out = flat[pos:pos + count]
-        pos += count
-        return out
+    take = FlatReader(flat.real).take
 
     def matrix() -> np.ndarray:
         a = take(n * n).T.reshape(N, n, n)
@@ -475,7 +450,7 @@ def _symbolic_batch(eom: Any, model: "Model", params: dict, values: np.ndarray) 
 
     M, C, K = matrix(), matrix(), matrix()
     batch_harmonics = []
-    for variables in layout:
+    for variables in layout.frequencies:
         omega = take(1)[0]
         f_s, f_c = take(n).T, take(n).T
         sig = take(2 * len(variables)).reshape(len(variables), 2, N)
@@ -486,7 +461,8 @@ def _symbolic_batch(eom: Any, model: "Model", params: dict, values: np.ndarray) 
                    for k, var in enumerate(variables)}
         batch_harmonics.append(_Harmonic(np.abs(omega), _squeeze(f_s), _squeeze(f_c), signals))
     outputs = {}
-    for name, variables in output_layout:
+    for name, variables in layout.outputs:
+        take(1)  # the output's value at the reference state: not part of a response
         coefs = take(len(variables))
         outputs[name] = dict(zip(variables, coefs))
     return _Batch(eom.coordinates, M, C, K, batch_harmonics, outputs, model.title)
