@@ -87,6 +87,10 @@ class Backend:
             return sympy.sympify(value)
         return to_sympy(value, cache)
 
+    def add(self, terms: list[Any]) -> Any:
+        """The sum of many terms, built at once (pairwise sums cost O(size) each)."""
+        return terms[0] if len(terms) == 1 else self.module.Add(*terms)
+
     def from_sympy(self, value: sympy.Expr) -> Any:
         """Convert a sympy expression built by resonant (never user text)."""
         return value if self.name == "sympy" else self.module.sympify(value)
@@ -175,6 +179,24 @@ class Jet:
     def __neg__(self) -> "Jet":
         return Jet(-self.const, {k: -v for k, v in self.lin.items()},
                    {k: -v for k, v in self.quad.items()})
+
+    @staticmethod
+    def sum(jets: list["Jet"], backend: Backend = SYMPY) -> "Jet":
+        """The sum of many jets, each coefficient built once from all its terms."""
+        if len(jets) == 1:
+            return jets[0]
+        lin: dict[Var, list] = {}
+        quad: dict[tuple[Var, Var], list] = {}
+        for jet in jets:
+            for k, v in jet.lin.items():
+                lin.setdefault(k, []).append(v)
+            for k, v in jet.quad.items():
+                quad.setdefault(k, []).append(v)
+        add = backend.add
+        consts = [j.const for j in jets if _nonzero(j.const)]
+        return Jet(add(consts) if consts else 0,
+                   {k: c for k, v in lin.items() if _nonzero(c := add(v))},
+                   {k: c for k, v in quad.items() if _nonzero(c := add(v))})
 
     def scale(self, factor: Coefficient) -> "Jet":
         if factor == 0:

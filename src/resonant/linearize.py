@@ -221,7 +221,7 @@ class _JetOps:
     def jet(self, expression: Expression, section: str, key: str) -> Jet:
         self.where = (section, key)
         try:
-            return expression.fold(self)
+            return self.whole(expression.fold(self))
         except NotDifferentiable as exc:
             raise ModelError(Problem(f"{exc} (in '{_short(expression.text)}')",
                                      self.model.source, section, key)) from None
@@ -261,30 +261,49 @@ class _JetOps:
                 self.definition_jets[key] = self.definition(name, primes - 1).dt()
         return self.definition_jets[key]
 
-    def add(self, a: Jet, b: Jet) -> Jet:
-        return a + b
+    # Sums are collected lazily (a list of terms) and built once when used: a sum of
+    # N jets then costs O(N) per coefficient instead of O(N^2) for pairwise sums.
+    def whole(self, value: "Jet | _Terms") -> Jet:
+        return Jet.sum(value.jets, self.cas) if isinstance(value, _Terms) else value
 
-    def sub(self, a: Jet, b: Jet) -> Jet:
-        return a - b
+    def add(self, a: "Jet | _Terms", b: "Jet | _Terms") -> "_Terms":
+        # each fold value is used by exactly one parent, so a term list may grow in place
+        terms = a if isinstance(a, _Terms) else _Terms([a])
+        terms.jets.extend(b.jets if isinstance(b, _Terms) else [b])
+        return terms
 
-    def mul(self, a: Jet, b: Jet) -> Jet:
-        return a * b
+    def sub(self, a: "Jet | _Terms", b: "Jet | _Terms") -> "_Terms":
+        return self.add(a, -self.whole(b))
 
-    def div(self, a: Jet, b: Jet) -> Jet:
-        return a / b
+    def mul(self, a: "Jet | _Terms", b: "Jet | _Terms") -> Jet:
+        return self.whole(a) * self.whole(b)
 
-    def pow(self, a: Jet, b: Jet) -> Jet:
+    def div(self, a: "Jet | _Terms", b: "Jet | _Terms") -> Jet:
+        return self.whole(a) / self.whole(b)
+
+    def pow(self, a: "Jet | _Terms", b: "Jet | _Terms") -> Jet:
+        a, b = self.whole(a), self.whole(b)
         if not b.is_constant():  # a^b = exp(b log a)
             return (b * a.apply("log", self.cas)).apply("exp", self.cas)
         return a ** b
 
-    def neg(self, a: Jet) -> Jet:
-        return -a
+    def neg(self, a: "Jet | _Terms") -> Jet:
+        return -self.whole(a)
 
-    def call(self, func: str, args: list[Jet]) -> Jet:
+    def call(self, func: str, args: list) -> Jet:
+        args = [self.whole(a) for a in args]
         if func == "atan2":
             return args[0].atan2(args[1], self.cas)
         return args[0].apply(func, self.cas)
+
+
+class _Terms:
+    """A sum of jets not yet built (see ``_JetOps.whole``)."""
+
+    __slots__ = ("jets",)
+
+    def __init__(self, jets: list[Jet]) -> None:
+        self.jets = jets
 
 
 def _short(text: str, limit: int = 60) -> str:
