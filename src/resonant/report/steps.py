@@ -774,9 +774,20 @@ def _symbolic_system(ctx: Context, w: sympy.Expr | None) -> list[Block]:
     f_s, f_c = eom.harmonics.forcing(eom.excitation, w)
     rhs = sympy.Matrix([*f_c.applyfunc(sympy.factor_terms), *f_s.applyfunc(sympy.factor_terms)])
     unknowns = [f"L_{{{i + 1}}}" for i in range(n)] + [f"N_{{{i + 1}}}" for i in range(n)]
-    return [paragraph("For our system this yields"),
-            ctx.equation(ctx.tex(big) + _vector(unknowns) + " = " + ctx.tex(rhs) + ",",
-                         label="LN-symbolic")]
+    blocks = [paragraph("For our system this yields"),
+              ctx.equation(ctx.tex(big) + _vector(unknowns) + " = " + ctx.tex(rhs) + ",",
+                           label="LN-symbolic")]
+    if all(e == 0 for e in eom.C):
+        # no damping: the system splits into one for L and one for N (exercise (40)-(41))
+        rows = [[_symbolic_coef(ctx, A[i, j]) for j in range(n)]
+                for i in range(n)]
+        blocks.append(paragraph("which can be divided into two independent systems of "
+                                f"equations with {n} unknowns:"))
+        for names, vector, label in ((unknowns[:n], rhs[:n], "L-symbolic"),
+                                     (unknowns[n:], rhs[n:], "N-symbolic")):
+            blocks.append(ctx.equation(_cases(rows, names, [ctx.tex(v) for v in vector]),
+                                       label=label))
+    return blocks
 
 
 def _numeric_system(ctx: Context, response) -> list[Block]:
