@@ -677,30 +677,25 @@ def _solve_banded(batch: _Batch, w: np.ndarray, rhs: np.ndarray, progress: _Prog
     singular = np.zeros(N, dtype=bool)
     varying_rhs = rhs.ndim == 2
     if lower == upper == 1:  # tridiagonal: LAPACK gtsv (partial pivoting)
-        Mb, Cb, Kb = (_band_storage(a, 1, 1, 3, 0) for a in (batch.M, batch.C, batch.K))
+        storage = [_band_storage(a, 1, 1, 3, 0) for a in (batch.M, batch.C, batch.K)]
         gtsv = lapack.get_lapack_funcs("gtsv", (np.zeros(1, complex),))
-        for i in range(N):
-            wi = w[i]
-            ab = Kb - (wi * wi) * Mb + (1j * wi) * Cb
-            b = rhs[i] if varying_rhs else rhs
+
+        def solve(ab: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, int]:
             _, _, _, x, info = gtsv(ab[2, :-1], ab[1], ab[0, 1:], b)
-            if info != 0:
-                singular[i] = True
-                x = np.nan
-            Z[i] = x
-            if i % 64 == 63:
-                progress.advance(64)
-        progress.advance(N % 64)
-        return singular
-    rows = 2 * lower + upper + 1  # gbsv needs lower extra rows for the LU fill-in
-    Mb, Cb, Kb = (_band_storage(a, lower, upper, rows, lower) for a in
-                  (batch.M, batch.C, batch.K))
-    gbsv = lapack.get_lapack_funcs("gbsv", (np.zeros(1, complex),))
+            return x, info
+    else:
+        rows = 2 * lower + upper + 1  # gbsv needs lower extra rows for the LU fill-in
+        storage = [_band_storage(a, lower, upper, rows, lower)
+                   for a in (batch.M, batch.C, batch.K)]
+        gbsv = lapack.get_lapack_funcs("gbsv", (np.zeros(1, complex),))
+
+        def solve(ab: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, int]:
+            _, _, x, info = gbsv(lower, upper, ab, b, overwrite_ab=True)
+            return x, info
+    Mb, Cb, Kb = storage
     for i in range(N):
         wi = w[i]
-        ab = Kb - (wi * wi) * Mb + (1j * wi) * Cb
-        b = rhs[i] if varying_rhs else rhs
-        _, _, x, info = gbsv(lower, upper, ab, b, overwrite_ab=True)
+        x, info = solve(Kb - (wi * wi) * Mb + (1j * wi) * Cb, rhs[i] if varying_rhs else rhs)
         if info != 0:
             singular[i] = True
             x = np.nan
