@@ -756,6 +756,21 @@ _STAGES = {
 }
 
 
+def _in_callback(frame: Any) -> bool:
+    """True when the interrupted code is a GC/weakref callback or a pytest hook, where
+    Python swallows (or mishandles) an exception raised by a signal handler."""
+    if frame is not None and "_pytest" in frame.f_code.co_filename:
+        return True
+    for _ in range(2):  # the callback itself, or a helper it just called
+        if frame is None:
+            return False
+        code = frame.f_code
+        if "callback" in code.co_name or code.co_filename.endswith("weakref.py"):
+            return True
+        frame = frame.f_back
+    return False
+
+
 def _working_on(tb_or_frame: Any) -> tuple[str, str, str]:
     """(section, key, description) of the expression being derived in a stack.
 
@@ -819,6 +834,8 @@ def time_budget(seconds: float | None, source: str = "") -> Iterator[None]:
         return
 
     def expired(signum: int, frame: Any) -> None:
+        if _in_callback(frame):
+            return  # an exception here would be swallowed (or break a hook): retry in 0.1 s
         section, key, what = _working_on(frame)
         raise DerivationTimeout(Problem(
             f"the derivation exceeded {seconds:g} s {what}; the expression is too large "
