@@ -16,7 +16,7 @@ Three families of models, all loaded at the free end by Q = cos(w t) e_n:
 
 Frequencies: ``n_f`` log-spaced from 0.1 x the first to 1.5 x the highest
 undamped natural frequency.  resonant's side is
-``resonant.sweep.sweep(model, "w", omegas)`` on a ``[matrices]`` model file
+``resonant.analyses.sweep.sweep(model, "w", omegas)`` on a ``[matrices]`` model file
 whose M, C, K are ``.mtx`` (chains) or ``.npy`` (dense) files in a temporary
 directory and whose harmonic has ``omega = "w"``.  The complex response
 z = L - i N is rebuilt from the returned amplitude X and phase delta
@@ -203,7 +203,7 @@ def resonant_sweep(path: Path, omegas: np.ndarray, repeats: int
                    ) -> tuple[float | None, np.ndarray | None, str]:
     """(median time, z, method or the reason it is not available)."""
     try:
-        import resonant.sweep as rsweep
+        import resonant.analyses.sweep as rsweep
         from resonant.model import load
     except ImportError as exc:
         return None, None, f"not available ({exc})"
@@ -213,7 +213,7 @@ def resonant_sweep(path: Path, omegas: np.ndarray, repeats: int
     # Every DOF, as the issue asks (by default a large model reports only the loaded ones).
     names = list(model.coordinates)
     t, result, _ = median_time(
-        lambda: rsweep.sweep(model, "w", omegas, names=names, progress=False), repeats=repeats)
+        lambda: rsweep.sweep(model.linearize(), "w", omegas, names=names, progress=False), repeats=repeats)
     return t, complex_from_sweep(result, n), result.method
 
 
@@ -279,14 +279,14 @@ def dense_loop_fit(rows: list[dict[str, Any]]) -> tuple[float, float] | None:
 
 def memory_child(n: int, n_f: int, variant: str, do_sweep: bool) -> None:
     """Child process of the memory benchmark: build, load and (optionally) sweep."""
-    import resonant.sweep as rsweep
+    import resonant.analyses.sweep as rsweep
     from resonant.model import load
 
     M, C, K = chain_matrices(n, variant)
     omegas = frequencies(M, K, variant, n_f)
     with tempfile.TemporaryDirectory() as tmp:
         model = load(write_model(Path(tmp), M, C, K, variant))
-        result = rsweep.sweep(model, "w", omegas, names=list(model.coordinates),
+        result = rsweep.sweep(model.linearize(), "w", omegas, names=list(model.coordinates),
                               progress=False) if do_sweep else None
         reported = len(result.amplitudes) if result is not None else 0
     import resource

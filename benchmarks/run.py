@@ -409,7 +409,7 @@ def write_report(results: dict[str, Any], out: Path, command: str,
                   "unit force at the free end), `nonprop` = the same plus a damper c = 10 between "
                   "DOF 1 and 2, `dense` = fully coupled random M and K with the same "
                   "non-proportional damping; n_f frequencies log-spaced from 0.1 x the first to "
-                  "1.5 x the highest natural frequency. resonant: `resonant.sweep.sweep(model, "
+                  "1.5 x the highest natural frequency. resonant: `resonant.analyses.sweep.sweep(model, "
                   "'w', omegas)` on a `[matrices]` model file (`.mtx` / `.npy` files in a "
                   "temporary directory, harmonic `omega = \"w\"`), model loading not timed.",
                   ""] + sweep_section(results["sweep"]) + [""]

@@ -17,9 +17,9 @@ import sympy.parsing.sympy_parser as sympy_parser
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-import resonant.expr as expr_module
+import resonant.expressions.parser as expr_module
 from resonant.errors import ModelError, Problem
-from resonant.expr import (
+from resonant.expressions.parser import (
     FUNCTIONS, MAX_DEPTH, RESERVED, BinOp, Call, Expression, ExpressionError, Name, Neg, Num,
     parse, validate_name,
 )

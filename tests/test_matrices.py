@@ -20,10 +20,12 @@ import scipy.sparse as sp
 from conftest import EXAMPLES, run_cli, solve_json
 
 from resonant.errors import ModelError
-from resonant.matrices import is_matrix_eom, large_stationary, numeric_system
+from resonant.system import LinearEOM, MatrixEOM
+import importlib
+
+stationary_module = importlib.import_module("resonant.analyses.stationary")
 from resonant.model import load, loads
-from resonant.numeric import evaluate
-from resonant.stationary import stationary
+from resonant.analyses.stationary import stationary
 
 sys.path.insert(0, str(EXAMPLES))
 from make_chain import chain_matrices, write_chain  # noqa: E402
@@ -74,8 +76,8 @@ def test_inline_expressions_match_symbolic_path():
                   'C = [["c", 0], [0, "c"]]\n[[harmonic]]\nomega = "w"\nF_S = [0, 1]\n'
                   '[[harmonic]]\nomega = "-2*w"\nF_S = [1, 0]\nF_C = [0, "sqrt(k)"]\n')
     eom = model.linearize()
-    assert is_matrix_eom(eom)
-    fast, slow = eom.numeric(), evaluate(eom, model)
+    assert isinstance(eom, MatrixEOM)
+    fast, slow = eom.numeric(), _symbolic_route(eom).numeric()
     for key in ("M", "C", "K"):
         np.testing.assert_allclose(getattr(fast, key), getattr(slow, key), rtol=1e-14)
     for a, b in zip(fast.harmonics, slow.harmonics):
@@ -85,6 +87,19 @@ def test_inline_expressions_match_symbolic_path():
     assert str(eom.M) == "Matrix([[m, 0], [0, m/2]])"  # the symbolic form is still there
     assert fast.stationary().amplitudes == pytest.approx(slow.stationary().amplitudes,
                                                          rel=1e-12)
+
+
+class _SymbolicCopy(LinearEOM):
+    """The matrix model's sympy matrices, evaluated by the compiled symbolic route."""
+
+    def __init__(self, eom):
+        super().__init__(eom.model, eom.coordinates, eom.M, eom.C, eom.K, eom.excitation,
+                         eom.residual, {})
+        object.__setattr__(self, "signal_functions", eom.signal_functions)
+
+
+def _symbolic_route(eom):
+    return _SymbolicCopy(eom)
 
 
 def test_npy_files(tmp_path):
@@ -105,7 +120,7 @@ def test_mtx_files(tmp_path):
     scipy.io.mmwrite(str(tmp_path / "M.mtx"), M3)  # dense Matrix Market ("array")
     np.save(tmp_path / "C.npy", C3)
     model = load(write(tmp_path, 'M = "M.mtx"\nK = "K.mtx"\nC = "C.npy"\n'))
-    assert sp.issparse(numeric_system(model).K)
+    assert sp.issparse(model.linearize().numeric().K)
     check_solution(model)
 
 
@@ -166,8 +181,14 @@ def test_large_chain_solve_is_fast_and_exact(tmp_path):
 
 def test_large_stationary_equals_stationary_on_medium_chain(tmp_path):
     """The sparse path and stationary() agree (n = 150, below the switch-over)."""
-    system = numeric_system(load(write_chain(tmp_path, 150)))
-    fast, slow = large_stationary(system), stationary(system.dense())
+    eom = load(write_chain(tmp_path, 150)).linearize()
+    slow = stationary(eom)
+    saved = stationary_module.LARGE
+    stationary_module.LARGE = 0  # the sparse path for this medium model too
+    try:
+        fast = stationary(eom)
+    finally:
+        stationary_module.LARGE = saved
     np.testing.assert_allclose(fast.natural_frequencies, slow.natural_frequencies, rtol=1e-9)
     for key, value in slow.amplitudes.items():
         assert fast.amplitudes[key] == pytest.approx(value, rel=1e-9)

@@ -28,10 +28,16 @@ from hypothesis import strategies as st
 from conftest import EXAMPLES, run_cli
 
 from resonant.model import load, loads
-from resonant.modes import modal_damping_ratios, modes
+from resonant.analyses.modes import modal_damping_ratios
+from resonant.analyses.modes import modes as _modes
 
 sys.path.insert(0, str(EXAMPLES))
 from make_chain import chain_matrices, write_chain  # noqa: E402
+
+
+def modes(model, *args, **kwargs):
+    """The analysis takes the model's linear system (issue 9: analyses take LinearSystem)."""
+    return _modes(model.linearize(), *args, **kwargs)
 
 
 def chain_frequencies(n: int, k: float, m: float) -> np.ndarray:
@@ -138,7 +144,7 @@ def test_rayleigh_damped_chain_damping_ratios():
     np.testing.assert_allclose(result.damping_ratios, modal_damping_ratios((a, b), w),
                                rtol=1e-12)
     # the modal eigenvalues are those of the state matrix
-    from resonant.stability import state_eigenvalues
+    from resonant.system.stability import state_eigenvalues
 
     eom = loads(chain_model(n, m, k, damping=(a, b))).linearize().numeric()
     dense = np.sort_complex(state_eigenvalues(eom.M, eom.C, eom.K))

@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from conftest import EXAMPLES
 from resonant.model import load, loads, symbol
-from resonant.nonlinear import (derivative_symbol, find_equilibrium, linearized_matrices,
+from resonant.derivation.nonlinear import (derivative_symbol, find_equilibrium, linearized_matrices,
                                 nonlinear_equations)
 
 PENDULUM = """

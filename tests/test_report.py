@@ -271,7 +271,7 @@ def test_derivation_is_checked_against_the_equation_of_motion():
     lambda v: v == 0 or abs(v) > 1e-12))
 @settings(max_examples=200, deadline=None)
 def test_numbers_round_trip(value):
-    from resonant.report.notation import number_latex
+    from resonant.views.notation import number_latex
 
     text = number_latex(value)
     assert math.isclose(to_float(text), value, rel_tol=5e-4, abs_tol=0.0)
@@ -280,14 +280,14 @@ def test_numbers_round_trip(value):
 @given(st.from_regex(r"[A-Za-z][A-Za-z0-9]{0,6}(_[A-Za-z0-9]{1,5})?", fullmatch=True),
        st.integers(0, 3))
 def test_names_are_balanced_latex(name, primes):
-    from resonant.report.notation import name_latex
+    from resonant.views.notation import name_latex
 
     text = name_latex(name, primes)
     assert text.count("{") == text.count("}") and text
 
 
 def test_jupyter_views():
-    from resonant import display
+    from resonant.views import display
     from resonant.model import load
 
     model = load(EXAMPLES / "cart_pendulum.toml")

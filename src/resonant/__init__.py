@@ -20,18 +20,19 @@ __version__ = "0.1.0"
 
 _EXPORTS = {
     "load": "resonant.model", "loads": "resonant.model", "Model": "resonant.model",
-    "linearize": "resonant.linearize", "LinearEOM": "resonant.linearize",
-    "NumericEOM": "resonant.numeric", "stationary": "resonant.stationary",
-    "StationarySolution": "resonant.stationary",
+    "linear_system": "resonant.system", "LinearSystem": "resonant.system",
+    "LinearEOM": "resonant.system", "MatrixEOM": "resonant.system",
+    "NumericEOM": "resonant.system",
+    "stationary": "resonant.analyses.stationary", "modes": "resonant.analyses.modes",
+    "sweep": "resonant.analyses.sweep", "simulate": "resonant.analyses.simulate",
+    "StationarySolution": "resonant.analyses", "Simulation": "resonant.analyses",
+    "ModalAnalysis": "resonant.analyses", "FrequencyResponse": "resonant.analyses",
     "ResonantError": "resonant.errors", "ModelError": "resonant.errors",
-    "AnalysisError": "resonant.errors", "ResonantWarning": "resonant.errors",
-    "Problem": "resonant.errors",
-    "Simulation": "resonant.simulate", "ModalAnalysis": "resonant.modes",
-    "FrequencyResponse": "resonant.sweep",
+    "AnalysisError": "resonant.errors", "Problem": "resonant.errors",
+    "Deadline": "resonant.deadline",
 }
-# The analyses are methods (``eom.modes()``, ``eom.sweep(...)``, ``model.simulate(...)``) or
-# functions of their modules (``resonant.sweep.sweep``): a package-level function named like
-# its submodule would be replaced by the module as soon as the submodule is imported.
+# No package-level name equals a subpackage's name (``resonant.analyses`` is a package,
+# ``resonant.sweep`` a function): an import of the subpackage would replace the function.
 
 __all__ = sorted([*_EXPORTS, "__version__"])
 

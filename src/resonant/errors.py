@@ -81,5 +81,4 @@ class AnalysisError(ResonantError, ValueError):
     exit_code = 3
 
 
-class ResonantWarning(UserWarning):
-    """A result is valid but deserves attention (near resonance, instability...)."""
+__all__ = ["Problem", "ResonantError", "ModelError", "AnalysisError"]

@@ -20,13 +20,16 @@ True
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from ..errors import ModelError, Problem
+from ..model import Model
+from ..system import LinearEOM
 from .blocks import Report
-
-if TYPE_CHECKING:  # pragma: no cover
-    from ..model import Model
+from .derivation import derive
+from .html import render_html
+from .latex import render_latex
+from .markdown import render_markdown
+from .steps import Context, step_order
 
 FORMATS = {".html": "html", ".htm": "html", ".md": "md", ".markdown": "md", ".tex": "tex"}
 
@@ -39,12 +42,9 @@ def build_report(model: "Model", plots: bool = True) -> Report:
     ModelError, AnalysisError
         As ``resonant solve`` does (invalid model; resonance, singular M).
     """
-    from .derivation import derive
-    from .steps import Context, step_order
-
     eom = model.linearize()
     solution = eom.stationary()
-    derivation = None if model.is_matrix_model else derive(eom)
+    derivation = derive(eom) if isinstance(eom, LinearEOM) else None
     ctx = Context(model, eom, solution, derivation, plots=plots)
     blocks = []
     for step in step_order(ctx):
@@ -59,16 +59,10 @@ def render(report: Report, fmt: str, figure_path: Path | None = None) -> str:
     output file) as ``<stem>-figN.svg`` / ``.pdf``; without it they are left out.
     """
     if fmt == "html":
-        from .html import render_html
-
         return render_html(report)
     if fmt == "md":
-        from .markdown import render_markdown
-
         return render_markdown(report, figure_path)
     if fmt == "tex":
-        from .latex import render_latex
-
         return render_latex(report, figure_path)
     raise ValueError(f"unknown report format '{fmt}'")
 

@@ -3,7 +3,7 @@
 The report explains where each entry of M, C, K and Q(t) comes from, as in
 the reference exercise (Eqs. (2)-(6), (15)-(31)).  Everything here is
 computed from the *full* nonlinear expressions of T, D, U and of the
-generalized forces (:class:`resonant.nonlinear._SympyOps`), independently of
+generalized forces (:class:`resonant.derivation.nonlinear.SympyOps`), independently of
 the jet arithmetic of :mod:`resonant.linearize`, and then checked against the
 :class:`~resonant.linearize.LinearEOM`: the report can only show numbers that
 the solver also uses.
@@ -36,13 +36,14 @@ from typing import TYPE_CHECKING
 
 import sympy
 
-from ..jet import Var
-from ..linearize import _clean
+from ..derivation.jet import Var
+from ..derivation.lagrange import clean as _clean
+from ..derivation.nonlinear import SympyOps as _SympyOps
+from ..derivation.nonlinear import derivative_symbol
 from ..model import Model, symbol
-from ..nonlinear import _SympyOps, derivative_symbol
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..linearize import LinearEOM
+    from ..system import LinearEOM
 
 ENERGIES = ("T", "D", "U")
 

@@ -11,14 +11,10 @@ from __future__ import annotations
 import html
 import re
 
+from ..views.mathml import latex_to_mathml as _math
+from .plots import to_svg
 from .blocks import Equation, Figure, Heading, Math, Note, Paragraph, Part, Report, Table
 
-_FENCE = re.compile(r'<mo( stretchy="true" fence="true" form="(?:prefix|postfix)")>')
-
-_PAREN = re.compile(r'<mo stretchy="false">(&#x00028;|&#x00029;)</mo>')
-_SIMPLE_FENCE = re.compile(
-    r"\\left\(((?:(?!\\left|\\right|\\frac|\\begin|\\sum|\\sqrt|\\int).)*?)\\right\)",
-    re.DOTALL)
 
 CSS = """
 :root { color-scheme: light; }
@@ -54,41 +50,12 @@ code { font-family: "DejaVu Sans Mono", monospace; font-size: .9em; }
 """
 
 
-def simple_parentheses(latex: str) -> str:
-    """``\\left( x \\right)`` -> ``(x)`` where nothing tall is inside.
-
-    Stretchy fences are drawn with loose spacing by browsers without a math
-    font; plain parentheses look right and still grow around fractions when
-    those keep their ``\\left(``.
-    """
-    while True:
-        replaced = _SIMPLE_FENCE.sub(lambda m: "(" + m.group(1).strip() + ")", latex)
-        if replaced == latex:
-            return latex
-        latex = replaced
-
-
-def _math(latex: str, display: bool) -> str:
-    from latex2mathml.converter import convert
-
-    latex = simple_parentheses(latex)
-    try:
-        mathml = convert(latex, display="block" if display else "inline")
-    except Exception:  # noqa: BLE001 - any converter failure: show the source instead
-        return f"<code>{html.escape(latex)}</code>"
-    # \left( ... \right) fences: no operator spacing inside the parentheses
-    mathml = _FENCE.sub(r'<mo\1 lspace="0em" rspace="0em">', mathml)
-    return _PAREN.sub(r'<mo stretchy="false" lspace="0em" rspace="0em">\1</mo>', mathml)
-
-
 def _inline(parts: tuple[Part, ...]) -> str:
     return "".join(_math(p.latex, False) if isinstance(p, Math) else html.escape(p)
                    for p in parts)
 
 
 def render_html(report: Report) -> str:
-    from .plots import to_svg
-
     out = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
            '<meta name="viewport" content="width=device-width, initial-scale=1">',
            f"<title>{html.escape(report.title)}</title>",

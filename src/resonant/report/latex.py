@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from .plots import save
 from .blocks import Equation, Figure, Heading, Math, Note, Paragraph, Part, Report, Table
 
 _SPECIAL = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#",
@@ -72,8 +73,6 @@ def render_latex(report: Report, figure_path: Path | None = None) -> str:
         elif isinstance(block, Figure):
             if figure_path is None:
                 continue
-            from .plots import save
-
             name = f"{figure_path.stem}-fig{block.number}.pdf"
             save(block.plot, figure_path.with_name(name), block.number)
             out.append("\n".join([r"\begin{figure}[ht]", r"\centering",

@@ -9,6 +9,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from .plots import save
 from .blocks import Equation, Figure, Heading, Math, Note, Paragraph, Part, Report, Table
 
 _SPECIAL = re.compile(r"([\\`*_\[\]<>#|$])")
@@ -53,8 +54,6 @@ def render_markdown(report: Report, figure_path: Path | None = None) -> str:
         elif isinstance(block, Figure):
             if figure_path is None:
                 continue
-            from .plots import save
-
             name = f"{figure_path.stem}-fig{block.number}.svg"
             save(block.plot, figure_path.with_name(name), block.number)
             lines += [f"![Figure {block.number}]({name})", "",

@@ -32,12 +32,12 @@ import numpy as np
 import sympy
 
 from ..model import symbol
-from ..numeric import compile_expressions
-from .notation import name_latex
+from ..system.numeric import compile_expressions
+from ..views.notation import name_latex
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..linearize import LinearEOM
-    from ..stationary import StationarySolution
+    from ..analyses import StationarySolution
+    from ..system import LinearEOM
 
 MAX_PLOT_COORDINATES = 12
 
@@ -128,7 +128,7 @@ def frequency_response(eom: "LinearEOM", solution: "StationarySolution",
 def _swept_parameter(eom: "LinearEOM", w0: float) -> str | None:
     """The parameter that is the excitation frequency, if the sweep can vary it alone."""
     model = eom.model
-    if model.is_matrix_model:
+    if model.matrices is not None:
         candidates = [h.omega.text.strip() for h in model.matrices.harmonics]
     else:
         candidates = [str(w) for w in eom.harmonics.frequencies if isinstance(w, sympy.Symbol)]

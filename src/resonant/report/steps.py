@@ -20,15 +20,17 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy
 
-from ..linearize import LinearEOM
+from ..analyses import StationarySolution
+from ..derivation import derivative_symbol
+from ..derivation.lagrange import signal_derivatives
 from ..model import Model, symbol
-from ..nonlinear import derivative_symbol
-from ..stability import undamped_eigen
-from ..stationary import StationarySolution
+from ..system import LinearEOM
+from ..system.stability import undamped_eigen
+from ..views.notation import (Namer, column_latex, expression_latex, matrix_latex, number_latex,
+                       number_text, sympy_latex, vector_latex, with_subscript)
 from .blocks import Block, Equation, Figure, Heading, Math, Note, Table, cell, paragraph
 from .derivation import Derivation, LinearPart
-from .notation import (Namer, column_latex, expression_latex, matrix_latex, number_latex,
-                       number_text, sympy_latex, vector_latex, with_subscript)
+from .plots import frequency_response, time_history
 
 #: above this many coordinates, element-by-element listings and symbolic 2n x 2n
 #: systems are left out (they would fill pages without helping anyone)
@@ -120,9 +122,8 @@ def _energy_symbol(key: str) -> str:
 
 
 def _signal_functions(ctx: Context, column_vars) -> dict[tuple[str, int], sympy.Expr]:
-    from ..linearize import _signal_derivatives
 
-    return _signal_derivatives(ctx.model, set(column_vars))
+    return signal_derivatives(ctx.model, set(column_vars))
 
 
 def _q_with_functions(ctx: Context, part_q: dict) -> sympy.Matrix:
@@ -762,7 +763,7 @@ def _symbolic_frequency(ctx: Context, omega: float, freqs: list[sympy.Expr]) -> 
 def _symbolic_system(ctx: Context, w: sympy.Expr | None) -> list[Block]:
     eom = ctx.eom
     n = ctx.n
-    if w is None or n > MAX_SYMBOLIC_SYSTEM or ctx.model.is_matrix_model:
+    if w is None or n > MAX_SYMBOLIC_SYSTEM or ctx.model.matrices is not None:
         return []
     A = eom.K - w**2 * eom.M
     B = (w * eom.C).applyfunc(sympy.expand)
@@ -903,7 +904,7 @@ def excursions(ctx: Context) -> list[Block]:
 def _characteristic(ctx: Context) -> list[Block]:
     eom = ctx.eom
     blocks: list[Block] = []
-    if ctx.n <= 2 and not ctx.model.is_matrix_model:
+    if ctx.n <= 2 and not ctx.model.matrices is not None:
         w = sympy.Symbol("omega_n", positive=True)
         det = sympy.collect(sympy.expand((eom.K - w**2 * eom.M).det()), w)
         names = dict(ctx.names)
@@ -993,7 +994,6 @@ def _stability(ctx: Context) -> list[Block]:
 def plots(ctx: Context) -> list[Block]:
     if not ctx.plots:
         return []
-    from .plots import frequency_response, time_history
 
     sol = ctx.solution
     if not sol.available or not sol.harmonics:
@@ -1065,7 +1065,7 @@ Step = Callable[[Context], list[Block]]
 def step_order(ctx: Context) -> list[Step]:
     """The steps for this model, in the exercise's order."""
     free = not ctx.eom.excitation
-    if ctx.model.is_matrix_model:
+    if ctx.model.matrices is not None:
         steps: list[Step] = [title, data, given_matrices]
     else:
         steps = [title, data, method, coordinates, kinetic, dissipation, potential, forces,

@@ -10,18 +10,13 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Any
 
-from .errors import AnalysisError, ModelError, Problem
-
-if TYPE_CHECKING:  # pragma: no cover
-    from .simulate import Simulation
+from ..analyses.simulate import DEFAULT_PERIODS, METHODS, START_MODES
+from ..errors import AnalysisError, ModelError, Problem
+from . import common
 
 PLOT_SUFFIXES = (".png", ".svg", ".pdf")
-#: the same as resonant.simulate.START_MODES / METHODS, repeated here so that building the
-#: parser (``resonant --help``) does not import numpy and sympy
-START_MODES = ("auto", "rest", "stationary")
-METHODS = ("DOP853", "RK45", "LSODA", "Radau", "BDF")
 
 
 def parse_initial_items(items: list[str] | None) -> dict[str, str]:
@@ -55,9 +50,9 @@ def _positive(text: str) -> float:
     return value
 
 
-def register(subparsers: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:
+def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
     parser = subparsers.add_parser(
-        "simulate", parents=[common],
+        "simulate", parents=[parent],
         help="time simulation (linearized or --nonlinear) compared with the stationary "
              "solution",
         description="Integrate the equations of motion in time and compare the steady-state "
@@ -86,17 +81,16 @@ def register(subparsers: argparse._SubParsersAction, common: argparse.ArgumentPa
 
 
 def run_simulate(args: argparse.Namespace) -> int:
-    from .cli import emit_json, load_model, warn
-    from .simulate import DEFAULT_PERIODS, simulate
-
     if args.plot and Path(args.plot).suffix.lower() not in PLOT_SUFFIXES:
         raise ModelError(Problem(f"--plot needs a file ending in {', '.join(PLOT_SUFFIXES)}, "
                                  f"got '{args.plot}'", "--plot"))
     initial = parse_initial_items(args.initial)
-    model = load_model(args)
-    sim = simulate(model, duration=args.duration, nonlinear=args.nonlinear,
-                   initial=initial or None, start=args.start,
-                   periods=args.periods or DEFAULT_PERIODS, method=args.method)
+    model = common.load_model(args)
+    deadline = common.deadline(args)
+    sim = model.simulate(duration=args.duration, nonlinear=args.nonlinear,
+                         initial=initial or None, start=args.start,
+                         periods=args.periods or DEFAULT_PERIODS, method=args.method,
+                         deadline=deadline)
     written = []
     for path, write in ((args.csv, sim.to_csv), (args.plot, sim.plot)):
         if not path:
@@ -107,28 +101,10 @@ def run_simulate(args: argparse.Namespace) -> int:
             raise AnalysisError(f"cannot write '{path}': {exc.strerror or exc}") from None
         written.append(path)
     if args.json:
-        emit_json(sim.to_dict())
+        common.emit_json(sim.to_dict())
     else:
-        sys.stdout.write(simulation_text(sim))
+        sys.stdout.write(sim.summary())
         for path in written:
             print(f"wrote {path}")
-    warn(sim.warnings)
+    common.warn(sim.warnings)
     return 0
-
-
-def simulation_text(sim: "Simulation") -> str:
-    """A short plain-text report of a :class:`~resonant.simulate.Simulation`."""
-    kind = "nonlinear" if sim.nonlinear else "linear"
-    lines = [sim.title,
-             f"{kind} simulation, t = 0 ... {sim.t_end:.6g} s ({sim.method}, start: "
-             f"{sim.start})",
-             f"steady amplitudes (peak |deviation| over t = {sim.window[0]:.6g} ... "
-             f"{sim.window[1]:.6g} s):",
-             f"  {'name':<12} {'simulated':>14} {'linear':>14} {'difference':>11}"]
-    for name, value in sim.steady_amplitudes.items():
-        linear = sim.linear_amplitudes.get(name)
-        diff = sim.relative_difference.get(name)
-        lines.append(f"  {name:<12} {value:>14.6g} "
-                     f"{'-' if linear is None else format(linear, '.6g'):>14} "
-                     f"{'-' if diff is None else format(100 * diff, '+.3g') + '%':>11}")
-    return "\n".join(line for line in lines if line) + "\n"

@@ -10,7 +10,7 @@ Examples
 --------
 >>> name_latex("m1"), name_latex("eps"), name_latex("x2", 1), name_latex("n_rpm")
 ('m_{1}', '\\\\varepsilon', '\\\\dot{x}_{2}', 'n_{\\\\mathrm{rpm}}')
->>> from resonant.expr import parse
+>>> from resonant.expressions import parse
 >>> expression_latex(parse("k*(x1 - r)^2/2 - m2*g*l/2*cos(phi)"), Namer())
 '\\\\frac{k \\\\left(x_{1} - r\\\\right)^{2}}{2} - \\\\frac{m_{2} g l}{2} \\\\cos\\\\left(\\\\varphi\\\\right)'
 >>> number_latex(0.0021656), number_latex(-1100.0), number_latex(2.5013e-4)
@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy
 
-from ..expr import Expression
+from ..expressions import Expression
 
 GREEK = ("alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "iota",
          "kappa", "lambda", "mu", "nu", "xi", "pi", "rho", "sigma", "tau", "upsilon", "phi",

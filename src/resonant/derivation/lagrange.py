@@ -35,23 +35,20 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from functools import cached_property
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import sympy
 
-from .errors import AnalysisError, ModelError, Problem
-from .expr import Expression
-from .harmonics import SignalHarmonics, decompose_signals
 from fractions import Fraction
 
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import AnalysisError, ModelError, Problem
+from ..expressions import Expression
+from ..model import TIME, Model, symbol
+from ..model.loader import definition_chain
 from .jet import SYMPY, Backend, Jet, NotDifferentiable, Var, backend
-from .model import TIME, Model, symbol
-
-if TYPE_CHECKING:  # pragma: no cover
-    from .numeric import NumericEOM
-    from .stationary import StationarySolution
+from .nonlinear import find_equilibrium
 
 
 @dataclass(frozen=True)
@@ -67,8 +64,8 @@ class LinearMap:
 
 
 @dataclass(frozen=True)
-class LinearEOM:
-    """The symbolic linearized equation of motion of a model.
+class Linearization:
+    """What Lagrange's equations give at the reference state (read by :mod:`resonant.system`).
 
     Attributes
     ----------
@@ -92,80 +89,6 @@ class LinearEOM:
     excitation: Mapping[Var, sympy.ImmutableMatrix]
     residual: sympy.ImmutableMatrix
     outputs: Mapping[str, LinearMap] = field(default_factory=dict)
-    #: signal functions given directly (matrix models' harmonics) instead of [signals]
-    given_signals: Mapping[Var, sympy.Expr] | None = None
-
-    @cached_property
-    def signal_functions(self) -> dict[Var, sympy.Expr]:
-        """d^order s/dt^order as functions of t for every signal derivative in Q or outputs."""
-        if self.given_signals is not None:
-            return dict(self.given_signals)
-        needed = set(self.excitation)
-        for out in self.outputs.values():
-            needed |= {v for v in out.terms if v[0] in self.model.signals}
-        return _signal_derivatives(self.model, needed)
-
-    @cached_property
-    def Q(self) -> sympy.ImmutableMatrix:
-        """Q(t) with the signals written out as functions of time (Eq. (32))."""
-        n = len(self.coordinates)
-        q = sympy.zeros(n, 1)
-        for var, column in self.excitation.items():
-            q += column * self.signal_functions[var]
-        return sympy.ImmutableMatrix(q)
-
-    @cached_property
-    def Q_signals(self) -> sympy.ImmutableMatrix:
-        """Q(t) written with the signal names (r, r', ...) as symbols."""
-        n = len(self.coordinates)
-        q = sympy.zeros(n, 1)
-        for (name, order), column in self.excitation.items():
-            q += column * signal_symbol(name, order)
-        return sympy.ImmutableMatrix(q)
-
-    @cached_property
-    def harmonics(self) -> SignalHarmonics | None:
-        """The harmonic decomposition of the signals, or None if some are not harmonic."""
-        return decompose_signals(self.signal_functions)
-
-    def numeric(self, **overrides: float) -> "NumericEOM":
-        """The equation of motion with the parameter values substituted."""
-        from .numeric import evaluate
-
-        model = self.model.with_parameters(**overrides) if overrides else self.model
-        return evaluate(self, model)
-
-    def stationary(self, **overrides: float) -> "StationarySolution":
-        """The stationary solution for harmonic signals (see :mod:`resonant.stationary`)."""
-        from .stationary import stationary
-
-        return stationary(self.numeric(**overrides))
-
-    def modes(self, count: int | None = None) -> Any:
-        """Natural frequencies, mode shapes, damping ratios (:func:`resonant.modes.modes`)."""
-        from .modes import modes
-
-        return modes(self, count=count)
-
-    def sweep(self, param: str, values: Any, **options: Any) -> Any:
-        """Amplitudes and phases against a parameter (:func:`resonant.sweep.sweep`)."""
-        from .sweep import sweep
-
-        return sweep(self, param, values, **options)
-
-    def to_dict(self) -> dict[str, Any]:
-        if self.model.is_matrix_model:
-            return {}
-        return {
-            "coordinates": list(self.coordinates),
-            "M": _strings(self.M), "C": _strings(self.C), "K": _strings(self.K),
-            "Q": [str(e) for e in self.Q],
-        }
-
-    def _repr_latex_(self) -> str:
-        from .display import eom_latex
-
-        return eom_latex(self)
 
 
 def signal_symbol(name: str, order: int) -> sympy.Symbol:
@@ -177,7 +100,7 @@ def _strings(matrix: sympy.MatrixBase) -> list[list[str]]:
     return [[str(matrix[i, j]) for j in range(matrix.cols)] for i in range(matrix.rows)]
 
 
-def _signal_derivatives(model: Model, needed: set[Var]) -> dict[Var, sympy.Expr]:
+def signal_derivatives(model: Model, needed: set[Var]) -> dict[Var, sympy.Expr]:
     params = {name: symbol(name) for name in model.parameters}
     out: dict[Var, sympy.Expr] = {}
     base: dict[str, sympy.Expr] = {}
@@ -204,8 +127,10 @@ def choose_backend(model: Model) -> Backend:
 class _JetOps:
     """Folds a parsed expression into its second-order jet."""
 
-    def __init__(self, model: Model, cas: Backend | None = None) -> None:
+    def __init__(self, model: Model, cas: Backend | None = None,
+                 deadline: Deadline = NO_DEADLINE) -> None:
         self.model = model
+        self.deadline = deadline
         self.cas = cas or choose_backend(model)
         self.params = {name: Jet(self.cas.symbol(name)) for name in model.parameters}
         self.equilibrium = {
@@ -275,7 +200,14 @@ class _JetOps:
     def sub(self, a: "Jet | _Terms", b: "Jet | _Terms") -> "_Terms":
         return self.add(a, -self.whole(b))
 
+    def tick(self) -> None:
+        """The deadline, checked every few products (the costly operations)."""
+        section, key = self.where
+        self.deadline.every(16, f"while expanding '{key}'" if key else "during the derivation",
+                            section, key)
+
     def mul(self, a: "Jet | _Terms", b: "Jet | _Terms") -> Jet:
+        self.tick()
         return self.whole(a) * self.whole(b)
 
     def div(self, a: "Jet | _Terms", b: "Jet | _Terms") -> Jet:
@@ -291,6 +223,7 @@ class _JetOps:
         return -self.whole(a)
 
     def call(self, func: str, args: list) -> Jet:
+        self.tick()
         args = [self.whole(a) for a in args]
         if func == "atan2":
             return args[0].atan2(args[1], self.cas)
@@ -310,33 +243,50 @@ def _short(text: str, limit: int = 60) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
-def linearize(model: Model, cas: str | None = None) -> LinearEOM:
-    """Derive the linearized equation of motion of an energy model.
+def linearize(model: Model, cas: str | None = None, deadline: Deadline = NO_DEADLINE
+              ) -> Linearization:
+    """Derive the linearized equation of motion of a model given by its energies.
 
     Parameters
     ----------
     model : Model
-        A validated model (see :func:`resonant.load`).
+        A validated model (see :func:`resonant.load`) with ``[energy]``.
     cas : {"sympy", "symengine"}, optional
         The algebra system of the jets; by default chosen by the model's size.
+    deadline : Deadline, optional
+        Checked between the operations of the derivation.
 
     Returns
     -------
-    LinearEOM
+    Linearization
 
     Raises
     ------
     ModelError
         If an expression cannot be expanded at the reference state, an energy
-        depends on accelerations, or the reference state is not an
-        equilibrium (the message gives the residual per coordinate and, where
-        one is found nearby, the equilibrium to put in ``[equilibrium]``).
+        depends on accelerations, the reference state is not an equilibrium
+        (the message gives the residual per coordinate and, where one is found
+        nearby, the equilibrium to put in ``[equilibrium]``), the derivation
+        overflows, nests too deeply or exceeds the deadline.
     """
-    if model.is_matrix_model:
-        from .matrices import linearize_matrices
+    ops = _JetOps(model, backend(cas) if cas else None, deadline)
+    try:
+        return _linearize(model, ops)
+    except RecursionError:
+        raise ModelError(Problem(
+            "the derivation nests too deeply" + definition_chain(model.definitions)
+            + "; use fewer levels of definitions that refer to each other",
+            model.source, "definitions")) from None
+    except OverflowError:
+        section, key = ops.where
+        what = f" while expanding '{key}'" if key else ""
+        raise ModelError(Problem(
+            f"a number overflowed{what}: the model's numbers (or functions such as "
+            "exp of large values) exceed the floating-point range; rescale the "
+            "parameters or simplify the expression", model.source, section, key)) from None
 
-        return linearize_matrices(model)
-    ops = _JetOps(model, backend(cas) if cas else None)
+
+def _linearize(model: Model, ops: _JetOps) -> Linearization:
     coords = model.coordinates
     energies = {key: ops.jet(model.energy[key], "energy", key) if key in model.energy else Jet()
                 for key in ("T", "U", "D")}
@@ -371,22 +321,25 @@ def linearize(model: Model, cas: str | None = None) -> LinearEOM:
             else:
                 excitation.setdefault((name, order), sympy.zeros(n, 1))[k] -= ops.to_sympy(coef)
     residual = sympy.ImmutableMatrix([ops.to_sympy(eq.const) for eq in equations])
+    ops.where = ("equilibrium", "")
+    ops.deadline.check("while checking that the reference state is an equilibrium",
+                       "equilibrium")
     _check_equilibrium(model, residual)
     outputs = {}
     for name, expression in model.outputs.items():
         jet = ops.jet(expression, "outputs", name)
         outputs[name] = LinearMap(ops.to_sympy(jet.const), MappingProxyType(
             {v: ops.to_sympy(c) for v, c in jet.lin.items()}))
-    return LinearEOM(
+    return Linearization(
         model=model, coordinates=coords,
-        M=_clean(mats[2]), C=_clean(mats[1]), K=_clean(mats[0]),
-        excitation=MappingProxyType({v: sympy.ImmutableMatrix(_clean(c))
+        M=clean(mats[2]), C=clean(mats[1]), K=clean(mats[0]),
+        excitation=MappingProxyType({v: sympy.ImmutableMatrix(clean(c))
                                      for v, c in sorted(excitation.items())
                                      if any(e != 0 for e in c)}),
         residual=residual, outputs=MappingProxyType(outputs))
 
 
-def _clean(matrix: sympy.MatrixBase) -> sympy.ImmutableMatrix:
+def clean(matrix: sympy.MatrixBase) -> sympy.ImmutableMatrix:
     """The immutable form of an assembled matrix.
 
     No simplification pass: sympy's automatic evaluation already combines the
@@ -454,11 +407,10 @@ def _check_equilibrium(model: Model, residual: sympy.ImmutableMatrix) -> None:
 
 def _nearby_equilibrium(model: Model) -> dict[str, float] | None:
     try:
-        from .nonlinear import find_equilibrium
-
         return find_equilibrium(model)
     except (AnalysisError, ModelError, ArithmeticError, ValueError, TypeError):
         return None
 
 
-__all__ = ["LinearEOM", "LinearMap", "linearize", "signal_symbol"]
+__all__ = ["Linearization", "LinearMap", "linearize", "signal_symbol", "signal_derivatives",
+           "clean"]

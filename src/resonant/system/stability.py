@@ -12,10 +12,16 @@ array([1.      , 1.732051])
 
 from __future__ import annotations
 
+import math
+from typing import Any
+
 import numpy as np
 import scipy.linalg
 
-from .errors import AnalysisError
+from ..errors import AnalysisError
+
+#: relative tolerance of the proportional-damping and Rayleigh tests
+PROPORTIONAL_TOLERANCE = 1e-9
 
 ASYMPTOTIC = "asymptotically stable"
 MARGINAL = "marginally stable"
@@ -109,5 +115,59 @@ def classify(eigenvalues: np.ndarray) -> str:
     return MARGINAL
 
 
+def undamped_eigenvalues(M: Any, K: Any) -> np.ndarray:
+    """omega^2 of K x = omega^2 M x, ascending, without eigenvectors.
+
+    A diagonal M and a banded symmetric K use LAPACK's banded symmetric
+    eigensolver on M^-1/2 K M^-1/2 (cost n b^2); anything else the dense one.
+    """
+    import scipy.linalg
+
+    Md, Kd = (a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
+              for a in (M, K))
+    diag = np.diag(Md)
+    lower = 0
+    rows, cols = np.nonzero(Kd)
+    if rows.size:
+        lower = int(np.abs(rows - cols).max())
+    symmetric = np.allclose(Kd, Kd.T, rtol=1e-12, atol=1e-12 * np.abs(Kd).max(initial=0))
+    if symmetric and np.all(diag > 0) and np.count_nonzero(Md - np.diag(diag)) == 0 and \
+            lower + 1 <= max(8, Kd.shape[0] // 20):
+        scale = 1 / np.sqrt(diag)
+        S = Kd * scale[:, None] * scale[None, :]
+        band = np.zeros((lower + 1, S.shape[0]))
+        for d in range(lower + 1):  # lower band storage: band[d, j] = S[j + d, j]
+            band[d, :S.shape[0] - d] = np.diagonal(S, -d)
+        return scipy.linalg.eig_banded(band, lower=True, eigvals_only=True)
+    try:
+        return scipy.linalg.eigh(Kd, Md, eigvals_only=True)
+    except (np.linalg.LinAlgError, ValueError):
+        return np.sort(scipy.linalg.eigvals(Kd, Md).real)
+
+
+def rayleigh(M: Any, C: Any, K: Any) -> tuple[float, float] | None:
+    """(a, b) with C = a M + b K to relative accuracy 1e-9, else None."""
+    def dot(x: Any, y: Any) -> float:
+        return float(x.multiply(y).sum()) if hasattr(x, "tocsr") else float(np.sum(x * y))
+
+    gram = np.array([[dot(M, M), dot(M, K)], [dot(K, M), dot(K, K)]])
+    rhs = np.array([dot(M, C), dot(K, C)])
+    if np.linalg.cond(gram) > 1e12:  # K proportional to M (one coordinate): take C = a M
+        a, b = rhs[0] / gram[0, 0], 0.0
+    else:
+        a, b = np.linalg.solve(gram, rhs)
+    size_c = math.sqrt(max(dot(C, C), 1e-300))
+    # terms below the tolerance are rounding noise of an exact zero
+    if abs(a) * math.sqrt(gram[0, 0]) <= PROPORTIONAL_TOLERANCE * size_c:
+        a = 0.0
+    if abs(b) * math.sqrt(gram[1, 1]) <= PROPORTIONAL_TOLERANCE * size_c:
+        b = 0.0
+    residual = C - a * M - b * K
+    if math.sqrt(max(dot(residual, residual), 0.0)) <= PROPORTIONAL_TOLERANCE * size_c:
+        return float(a), float(b)
+    return None
+
+
+
 __all__ = ["natural_frequencies", "frequencies_from_eigenvalues", "undamped_eigen", "state_matrix", "state_eigenvalues",
-           "classify", "check_mass_matrix", "is_symmetric", "ASYMPTOTIC", "MARGINAL", "UNSTABLE"]
+           "classify", "undamped_eigenvalues", "rayleigh", "check_mass_matrix", "is_symmetric", "ASYMPTOTIC", "MARGINAL", "UNSTABLE"]

@@ -33,10 +33,16 @@ from typing import TYPE_CHECKING
 import numpy as np
 import sympy
 
+from .. import hooks
+from ..derivation import derivative_symbol
+from ..model import Model, symbol
+from ..system import LinearEOM
+from .mathml import latex_to_mathml
+from .notation import Namer, column_latex, expression_latex, number_latex, sympy_latex, vector_latex
+
 if TYPE_CHECKING:  # pragma: no cover
-    from .linearize import LinearEOM
-    from .model import Model
-    from .stationary import StationarySolution
+    from ..analyses import ModalAnalysis, Simulation, StationarySolution  # noqa: F401
+    from ..system import LinearSystem  # noqa: F401
 
 
 def _matrix_text(matrix: np.ndarray, indent: str = "    ") -> str:
@@ -59,6 +65,7 @@ def _pretty(expr: sympy.Basic, indent: str = "    ") -> str:
                      for row in rows)
 
 
+@hooks.provides("solution_text")
 def solution_text(sol: "StationarySolution") -> str:
     """The human-readable report of ``resonant solve``."""
     e = sol.eom
@@ -69,8 +76,8 @@ def solution_text(sol: "StationarySolution") -> str:
     out.append(f"generalized coordinates q = [{', '.join(e.coordinates)}]")
     out.append("")
     out.append("linearized equation of motion:  M q'' + C q' + K q = Q(t)")
-    sym = e.symbolic if e.symbolic is not None and not e.symbolic.model.is_matrix_model \
-        else None
+    # the symbolic form where it says more than the numbers (energies, not given matrices)
+    sym = e.system if isinstance(e.system, LinearEOM) else None
     for label, numeric in (("M", e.M), ("C", e.C), ("K", e.K)):
         out.append(f"  {label} =")
         if sym is not None:
@@ -117,11 +124,7 @@ def solution_text(sol: "StationarySolution") -> str:
     return "\n".join(out) + "\n"
 
 
-def _namer(model: "Model"):
-    from .model import symbol
-    from .nonlinear import derivative_symbol
-    from .report.notation import Namer
-
+def _namer(model: Model) -> tuple[Namer, dict]:
     namer = Namer(frozenset(model.signals))
     symbols = [symbol(p) for p in model.parameters]
     for name in [*model.coordinates, *model.signals]:
@@ -129,10 +132,9 @@ def _namer(model: "Model"):
     return namer, namer.symbol_names(symbols)
 
 
-def eom_latex(eom: "LinearEOM") -> str:
+@hooks.provides("eom_latex")
+def eom_latex(eom: "LinearSystem") -> str:
     """The equation of motion as one LaTeX display (Jupyter ``_repr_latex_``)."""
-    from .report.notation import column_latex, sympy_latex
-
     namer, names = _namer(eom.model)
     parts = []
     for mat, order in ((eom.M, 2), (eom.C, 1), (eom.K, 0)):
@@ -143,10 +145,9 @@ def eom_latex(eom: "LinearEOM") -> str:
     return rf"$\displaystyle {lhs} = {sympy_latex(eom.Q, names)}$"
 
 
-def model_latex(model: "Model") -> str:
+@hooks.provides("model_latex")
+def model_latex(model: Model) -> str:
     """The coordinates, energies (as given) or matrices of a model (``_repr_latex_``)."""
-    from .report.notation import column_latex, expression_latex
-
     namer, _ = _namer(model)
     lines = [r"\mathbf{q} &= " + column_latex([namer(c) for c in model.coordinates])]
     for name, expression in model.definitions.items():
@@ -157,34 +158,28 @@ def model_latex(model: "Model") -> str:
             lines.append(f"{label} &= {expression_latex(model.energy[key], namer)}")
     for name, expression in model.signals.items():
         lines.append(f"{namer(name)} &= {expression_latex(expression, namer)}")
-    if model.is_matrix_model:
+    if model.matrices is not None:
         eom = model.linearize()
-        from .report.notation import sympy_latex
-
         for label in ("M", "C", "K"):
             lines.append(rf"\mathbf{{{label}}} &= {sympy_latex(getattr(eom, label), {})}")
     return r"$\displaystyle \begin{aligned} " + r" \\ ".join(lines) + r" \end{aligned}$"
 
 
 def _mathml(latex: str) -> str:
-    try:
-        from .report.html import _math
-    except ImportError:  # pragma: no cover - latex2mathml missing
-        return f"<pre>{html.escape(latex)}</pre>"
-    return _math(latex, True)
+    return latex_to_mathml(latex, True)
 
 
-def model_html(model: "Model") -> str:
+@hooks.provides("model_html")
+def model_html(model: Model) -> str:
     """The model as HTML with MathML (``_repr_html_``)."""
     body = model_latex(model).removeprefix(r"$\displaystyle ").removesuffix("$")
     title = html.escape(model.title or model.source or "model")
     return f"<p><b>{title}</b></p>{_mathml(body)}"
 
 
+@hooks.provides("stationary_latex")
 def stationary_latex(sol: "StationarySolution") -> str:
     """q_p(t) = sum of L cos(w t) + N sin(w t) with numbers (``_repr_latex_``)."""
-    from .report.notation import number_latex, vector_latex
-
     terms = []
     for h in sol.harmonics:
         if h.omega == 0:
@@ -196,6 +191,7 @@ def stationary_latex(sol: "StationarySolution") -> str:
     return rf"$\displaystyle \mathbf{{q}}_{{p}}(t) = {rhs}$"
 
 
+@hooks.provides("stationary_html")
 def stationary_html(sol: "StationarySolution") -> str:
     """A compact HTML table of amplitudes and phases (Jupyter ``_repr_html_``)."""
     rows = "".join(
@@ -209,3 +205,81 @@ def stationary_html(sol: "StationarySolution") -> str:
     return (f"{solution}<p>natural frequencies: {freqs} rad/s; {html.escape(sol.stability)}</p>"
             f"<table><tr><th>quantity</th><th>amplitude</th><th>phase [rad]</th></tr>{rows}"
             f"</table>{warn}")
+
+
+@hooks.provides("modes_text")
+def modes_text(result: Any) -> str:
+    """The human-readable table of ``resonant modes``."""
+    out = [result.title or "modes", ""]
+    names = result.coordinates
+    shown = names[:8]
+    out.append(f"{'mode':>4}  {'omega [rad/s]':>14}  {'f [Hz]':>12}  {'zeta':>8}   "
+               f"shape (largest component +1): {', '.join(shown)}{' ...' if len(names) > 8 else ''}")
+    per_mode = result.proportional_damping
+    for j, w in enumerate(result.natural_frequencies):
+        zeta = f"{result.damping_ratios[j]:8.4g}" if per_mode and j < len(
+            result.damping_ratios) else " " * 8
+        shape = ", ".join(f"{v: .4g}" for v in result.mode_shapes[:8, j])
+        out.append(f"{j + 1:>4}  {w:14.6g}  {w / (2 * math.pi):12.6g}  {zeta}   [{shape}]")
+    if result.damped:
+        out.append("")
+        if result.rayleigh is not None:
+            a, b = result.rayleigh
+            out.append(f"proportional (Rayleigh) damping: C = {a:.6g} M + {b:.6g} K")
+        elif result.proportional_damping:
+            out.append("proportional damping (K M^-1 C = C M^-1 K): the modes decouple C")
+        else:
+            out.append("non-proportional damping: eigenvalues s of the state matrix")
+            out.append(f"{'Re s':>14}  {'Im s':>14}  {'zeta':>8}")
+            for s in result.eigenvalues[:2 * 20]:
+                if s.imag >= 0:
+                    zeta = -s.real / abs(s) if abs(s) else 0.0
+                    out.append(f"{s.real:14.6g}  {s.imag:14.6g}  {zeta:8.4g}")
+    out.append("")
+    out.append(f"stability: {result.stability}   (method: {result.method})")
+    return "\n".join(out) + "\n"
+
+
+@hooks.provides("sweep_text")
+def sweep_text(result: Any) -> str:
+    """The human-readable summary of ``resonant sweep``."""
+    unit = f" {result.unit}" if result.unit else ""
+    out = [result.title or "sweep",
+           f"{result.parameter} from {result.values[0]:.6g} to {result.values[-1]:.6g}{unit}, "
+           f"{len(result.values)} values, method {result.method}", ""]
+    if result.natural_frequencies is not None and result.frequency_sweep:
+        inside = [w for w in result.natural_frequencies
+                  if result.values.min() <= w <= result.values.max()]
+        if inside:
+            out.append("natural frequencies in range: " +
+                       ", ".join(f"{w:.6g}" for w in inside[:20]) + unit)
+    for title, items in (("resonance peaks", result.peaks),
+                         ("antiresonances", result.antiresonances)):
+        out.append(f"{title}:")
+        if not items:
+            out.append("  none")
+        for p in items[:50]:
+            out.append(f"  {p.name:>12}  at {result.parameter} = {p.value:.6g}{unit}   "
+                       f"amplitude {p.amplitude:.6g}")
+        if len(items) > 50:
+            out.append(f"  ... {len(items) - 50} more (use --json)")
+    return "\n".join(out) + "\n"
+
+
+@hooks.provides("simulation_text")
+def simulation_text(sim: "Simulation") -> str:
+    """A short plain-text report of a :class:`~resonant.simulate.Simulation`."""
+    kind = "nonlinear" if sim.nonlinear else "linear"
+    lines = [sim.title,
+             f"{kind} simulation, t = 0 ... {sim.t_end:.6g} s ({sim.method}, start: "
+             f"{sim.start})",
+             f"steady amplitudes (peak |deviation| over t = {sim.window[0]:.6g} ... "
+             f"{sim.window[1]:.6g} s):",
+             f"  {'name':<12} {'simulated':>14} {'linear':>14} {'difference':>11}"]
+    for name, value in sim.steady_amplitudes.items():
+        linear = sim.linear_amplitudes.get(name)
+        diff = sim.relative_difference.get(name)
+        lines.append(f"  {name:<12} {value:>14.6g} "
+                     f"{'-' if linear is None else format(linear, '.6g'):>14} "
+                     f"{'-' if diff is None else format(100 * diff, '+.3g') + '%':>11}")
+    return "\n".join(line for line in lines if line) + "\n"

@@ -35,7 +35,7 @@ Examples
 ... name = "F"
 ... generalized = { x = "F" }
 ... ''')
->>> sim = simulate(model, duration=8.0)
+>>> sim = simulate(model.linearize(), duration=8.0)
 >>> round(sim.linear_amplitudes["x"], 6), abs(sim.relative_difference["x"]) < 1e-4
 (0.012883, True)
 """
@@ -56,15 +56,18 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import sympy
 
-from .errors import AnalysisError, ModelError, Problem
-from .model import TIME, Model, symbol
+from .. import hooks
+from ..deadline import NO_DEADLINE, Deadline
+from ..derivation import nonlinear_equations
+from ..errors import AnalysisError, ModelError, Problem
+from ..expressions import parse
+from ..model import TIME, Model, symbol
+from ..system import LinearSystem, NumericEOM
+from ..system.stability import ASYMPTOTIC, UNSTABLE, check_mass_matrix, classify, state_eigenvalues
+from .stationary import StationarySolution, stationary
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
-
-    from .linearize import LinearEOM
-    from .numeric import NumericEOM
-    from .stationary import StationarySolution
 
 #: measurement window: this many periods of the lowest excitation frequency
 DEFAULT_PERIODS = 5.0
@@ -167,45 +170,26 @@ class Simulation:
             data = np.column_stack([c[1] for c in columns])
             writer.writerows([[f"{v:.10g}" for v in row] for row in data])
 
-    def plot(self, path: str | Path | None = None) -> "Figure":
-        """Deviations vs time, one panel per coordinate/output, prediction dashed.
+    def plot(self, path: str | Path | None = None, **options: Any) -> "Figure":
+        """Deviations vs time, one panel per coordinate/output, prediction dashed
+        (:func:`resonant.views.plotting.plot_simulation`).
 
-        Saves to ``path`` (format from the suffix) when given; returns the figure.
+        Parameters
+        ----------
+        path : str or Path, optional
+            Save the figure there (format from the suffix).
+        **options
+            ``axes=`` and more, passed on.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
         """
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-        from matplotlib.figure import Figure
+        return hooks.call("plot_simulation", self, path=path, **options)
 
-        names = self.names
-        fig = Figure(figsize=(9, 1.2 + 2.1 * len(names)), layout="constrained")
-        FigureCanvasAgg(fig)
-        axes = fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]
-        kind = "nonlinear" if self.nonlinear else "linear"
-        for ax, name in zip(axes, names):
-            ax.plot(self.t, self.states[name], lw=1.0, color="C0", label=f"{kind} simulation")
-            if name in self.linear_response:
-                ax.plot(self.t, self.linear_response[name], "--", lw=1.0, color="C3",
-                        label="linear stationary prediction")
-            ax.axvspan(*self.window, color="0.9", zorder=0, label="amplitude window")
-            steady = self.steady_amplitudes.get(name)
-            text = f"steady amplitude {steady:.4g}" if steady is not None else ""
-            if name in self.linear_amplitudes:
-                text += f", linear {self.linear_amplitudes[name]:.4g}"
-            if name in self.relative_difference:
-                text += f" ({100 * self.relative_difference[name]:+.3g}%)"
-            ax.set_title(f"{name}: {text}", fontsize=9, loc="left")
-            kindof = "coordinate" if name in self.coordinates else "output"
-            ax.set_ylabel(f"{name} ({kindof}, deviation)", fontsize=9)
-            ax.grid(True, lw=0.4, alpha=0.6)
-        axes[-1].set_xlabel("t (s)")
-        handles, labels = axes[0].get_legend_handles_labels()
-        fig.legend(handles, labels, loc="outside lower center", fontsize=9, ncols=3,
-                   frameon=False)
-        start = {"rest": "from rest", "stationary": "from the stationary initial state",
-                 "given": "from the given initial state"}[self.start]
-        fig.suptitle(f"{self.title or 'simulation'} — {kind}, {start}", fontsize=11)
-        if path is not None:
-            fig.savefig(path, dpi=120)
-        return fig
+    def summary(self) -> str:
+        """The text ``resonant simulate`` prints."""
+        return str(hooks.call("simulation_text", self))
 
     def _repr_html_(self) -> str:
         rows = "".join(
@@ -286,7 +270,7 @@ def _signal_function(model: Model, name: str, order: int) -> sympy.Expr:
 class _LinearSystem:
     """y = [q, q'] of M q'' + C q' + K q = Q(t); q are deviations."""
 
-    def __init__(self, eom: "LinearEOM", num: "NumericEOM", model: Model) -> None:
+    def __init__(self, eom: Any, num: NumericEOM, model: Model) -> None:
         self.n = num.n
         self.M, self.C, self.K = num.M, num.C, num.K
         self.Minv = np.linalg.inv(num.M)
@@ -351,8 +335,6 @@ class _NonlinearSystem:
     """y = [q, q'] (absolute coordinates) of mass(q, ...) q'' + rest(q, q', t) = 0."""
 
     def __init__(self, model: Model, equilibrium: np.ndarray) -> None:
-        from .nonlinear import nonlinear_equations
-
         eq = nonlinear_equations(model)
         self.n = len(model.coordinates)
         self.equilibrium = equilibrium
@@ -461,7 +443,6 @@ def parse_initial(model: Model, initial: Mapping[str, float | str] | None
     """
     if not initial:
         return None, None
-    from .expr import parse
 
     n = len(model.coordinates)
     index = {c: i for i, c in enumerate(model.coordinates)}
@@ -515,16 +496,18 @@ class _Progress:
             print("\r" + " " * 60 + "\r", end="", file=sys.stderr, flush=True)
 
 
-def simulate(model: Model | str | Path, duration: float | None = None, nonlinear: bool = False,
+@hooks.provides("simulate")
+def simulate(system: LinearSystem, duration: float | None = None, nonlinear: bool = False,
              initial: Mapping[str, float | str] | None = None, *, start: str = "auto",
              periods: float = DEFAULT_PERIODS, method: str | None = None, rtol: float = 1e-9,
-             progress: bool | None = None) -> Simulation:
+             progress: bool | None = None, deadline: Deadline = NO_DEADLINE) -> Simulation:
     """Integrate the model's equations of motion in time.
 
     Parameters
     ----------
-    model : Model or path
-        An energy model (``nonlinear=True`` needs energies, not ``[matrices]``).
+    system : LinearSystem
+        The system of a model (``nonlinear=True`` needs a model given by its
+        energies, not ``[matrices]``).
     duration : float, optional
         End time in s.  Default: for an asymptotically stable system, long
         enough for the slowest transient to decay by ``exp(-12)``; otherwise
@@ -555,6 +538,8 @@ def simulate(model: Model | str | Path, duration: float | None = None, nonlinear
         the expected amplitude (times the frequency for velocities).
     progress : bool, optional
         Show progress on stderr; default: only when stderr is a terminal.
+    deadline : Deadline, optional
+        Checked during the integration.
 
     Returns
     -------
@@ -573,12 +558,7 @@ def simulate(model: Model | str | Path, duration: float | None = None, nonlinear
     """
     import scipy.integrate
 
-    from .stability import ASYMPTOTIC, UNSTABLE, check_mass_matrix, classify, state_eigenvalues
-
-    if not isinstance(model, Model):
-        from .model import load
-
-        model = load(model)
+    model = system._model()
     if start not in START_MODES:
         raise AnalysisError(f"start must be one of {', '.join(START_MODES)}, not '{start}'")
     if method is not None and method not in METHODS:
@@ -587,12 +567,12 @@ def simulate(model: Model | str | Path, duration: float | None = None, nonlinear
         raise AnalysisError(f"the duration must be a positive number of seconds, not {duration}")
     if not (math.isfinite(periods) and periods > 0):
         raise AnalysisError(f"periods must be positive, not {periods}")
-    if nonlinear and model.is_matrix_model:
+    if nonlinear and model.matrices is not None:
         raise AnalysisError("a [matrices] model has no nonlinear equations: --nonlinear needs "
                             "a model given by its energies")
     warnings: list[str] = []
-    eom = model.linearize()
-    num = eom.numeric()
+    eom: Any = system
+    num = system.numeric(deadline).dense()
     check_mass_matrix(num.M, num.coordinates)
     n = num.n
     eigenvalues = state_eigenvalues(num.M, num.C, num.K)
@@ -607,7 +587,7 @@ def simulate(model: Model | str | Path, duration: float | None = None, nonlinear
                         "prediction to compare with (relative_difference is empty)")
     elif num.harmonics:
         try:
-            solution = num.stationary()
+            solution = stationary(num, deadline)
         except AnalysisError as exc:
             warnings.append(f"no linear stationary prediction: {exc}")
     if stability == UNSTABLE:
@@ -706,6 +686,9 @@ def simulate(model: Model | str | Path, duration: float | None = None, nonlinear
         calls[0] += 1
         if calls[0] % 2000 == 0:
             report(t)
+        if calls[0] % 200 == 0:
+            deadline.check(f"while integrating (t = {t:.4g} of {duration:.4g} s)",
+                           analysis=True)
         try:
             dy = system.rhs(t, y)
             if not math.isfinite(dy.sum()):  # one cheap test catches NaN and infinity

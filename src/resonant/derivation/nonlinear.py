@@ -15,8 +15,9 @@ from functools import cached_property
 import numpy as np
 import sympy
 
-from .expr import Expression
-from .model import Model, symbol
+from ..expressions import Expression
+from ..expressions.functions import SYMPY as SYMPY_FUNCTIONS
+from ..model import Model, symbol
 
 
 def derivative_symbol(name: str, order: int) -> sympy.Symbol:
@@ -24,7 +25,7 @@ def derivative_symbol(name: str, order: int) -> sympy.Symbol:
     return symbol(name + "'" * order)
 
 
-class _SympyOps:
+class SympyOps:
     """Folds a parsed expression into a full sympy expression."""
 
     def __init__(self, model: Model) -> None:
@@ -76,8 +77,6 @@ class _SympyOps:
     neg = staticmethod(lambda a: -a)
 
     def call(self, func: str, args: list[sympy.Expr]) -> sympy.Expr:
-        from .jet import SYMPY_FUNCTIONS
-
         return SYMPY_FUNCTIONS[func](*args)
 
 
@@ -92,7 +91,7 @@ class NonlinearEquations:
     model: Model
     mass: sympy.Matrix
     rest: sympy.Matrix
-    ops: _SympyOps
+    ops: SympyOps
 
     @property
     def q(self) -> list[sympy.Symbol]:
@@ -133,7 +132,7 @@ def nonlinear_equations(model: Model) -> NonlinearEquations:
     >>> eq.mass, eq.rest
     (Matrix([[l**2*m]]), Matrix([[g*l*m*sin(th)]]))
     """
-    ops = _SympyOps(model)
+    ops = SympyOps(model)
     zero = sympy.Integer(0)
     T = ops.expr(model.energy["T"]) if "T" in model.energy else zero
     U = ops.expr(model.energy["U"]) if "U" in model.energy else zero

@@ -1,8 +1,8 @@
-"""Stage 1 of the pipeline: read, parse and validate a model file.
+"""Read, parse and validate a model file (the model layer's entry point).
 
 A model file (TOML) is untrusted input: its expressions are parsed by
-:mod:`resonant.expr` into syntax trees, never evaluated as code.  Every
-problem found is collected into one :class:`~resonant.errors.ModelError`.
+:mod:`resonant.expressions`, never evaluated as code.  Every problem found is
+collected into one :class:`~resonant.errors.ModelError`.
 
 Examples
 --------
@@ -25,248 +25,21 @@ Examples
 from __future__ import annotations
 
 import difflib
-import math
-import signal
-import threading
-import time
 import tomllib
-from collections.abc import Iterable, Iterator, Mapping
-from contextlib import contextmanager
-from dataclasses import dataclass, field
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import sympy
 
-from .errors import ModelError, Problem
-from .expr import (BinOp, Expression, ExpressionError, Name, Neg, Num, parse,
-                   validate_name)
-
-if TYPE_CHECKING:  # pragma: no cover
-    from .linearize import LinearEOM
-
-TIME = sympy.Symbol("t")
-
-TOP_LEVEL = ("title", "description", "parameters", "coordinates", "equilibrium", "signals",
-             "definitions", "energy", "force", "outputs", "matrices", "harmonic")
-ENERGY_KEYS = ("T", "U", "D")
-#: largest model accepted, so that a hostile file cannot exhaust memory
-MAX_FILE_BYTES = 5_000_000
-MAX_COORDINATES = 2000
-#: largest size (syntax-tree nodes) of a definition with the definitions it uses
-#: substituted, counted with multiplicity: ``d2 = d1*d1`` doubles, a chain
-#: ``y2 = y1 + x2`` only adds.  Beyond it the derivation grows exponentially.
-MAX_INLINED_NODES = 250_000
-#: largest polynomial degree of a definition after substitution (``d2 = d1^2`` ...)
-MAX_INLINED_DEGREE = 10_000
-#: default time budget of :meth:`Model.linearize` in seconds (None: unlimited); the
-#: command line sets it from ``--timeout``
-DERIVATION_TIMEOUT: float | None = None
-
-
-def symbol(name: str) -> sympy.Symbol:
-    """The sympy symbol of a model name (parameters, signals, coordinates).
-
-    Examples
-    --------
-    >>> symbol("m1")
-    m1
-    """
-    return sympy.Symbol(name)
-
-
-@dataclass(frozen=True)
-class Force:
-    """A ``[[force]]`` entry: a force vector acting on a point, or generalized forces."""
-
-    name: str
-    vector: tuple[Expression, ...] = ()
-    point: tuple[Expression, ...] = ()
-    generalized: Mapping[str, Expression] = field(default_factory=dict)
-
-
-@dataclass(frozen=True)
-class Harmonic:
-    """One harmonic excitation of a matrix model: Q = F_S sin(omega t) + F_C cos(omega t)."""
-
-    omega: Expression
-    F_S: tuple[Expression, ...]
-    F_C: tuple[Expression, ...]
-
-
-@dataclass(frozen=True)
-class MatrixSpec:
-    """The ``[matrices]`` section: M, K, optional C, given directly."""
-
-    M: Any
-    K: Any
-    C: Any = None
-    harmonics: tuple[Harmonic, ...] = ()
-
-
-@dataclass(frozen=True)
-class Model:
-    """A validated model: names, parsed expressions and parameter values.
-
-    Build it with :func:`load` or :func:`loads`; derive the linearized
-    equation of motion with :meth:`linearize`.
-    """
-
-    title: str
-    source: str
-    parameters: Mapping[str, Expression]
-    parameter_values: Mapping[str, float]
-    exact_values: Mapping[str, sympy.Expr]
-    coordinates: tuple[str, ...]
-    descriptions: Mapping[str, str]
-    equilibrium: Mapping[str, Expression]
-    signals: Mapping[str, Expression]
-    definitions: Mapping[str, Expression]
-    energy: Mapping[str, Expression]
-    forces: tuple[Force, ...]
-    outputs: Mapping[str, Expression]
-    matrices: MatrixSpec | None = None
-
-    @property
-    def is_matrix_model(self) -> bool:
-        return self.matrices is not None
-
-    def symbols(self) -> dict[str, sympy.Symbol]:
-        """The parameter symbols by name."""
-        return {name: symbol(name) for name in self.parameters}
-
-    def parameter_substitution(self) -> dict[sympy.Symbol, float]:
-        return {symbol(n): v for n, v in self.parameter_values.items()}
-
-    def with_parameters(self, **values: float | str) -> "Model":
-        """A copy with some parameters replaced (values are parsed, not evaluated).
-
-        Examples
-        --------
-        >>> m = loads('[parameters]\\nk = 1\\n[coordinates]\\nx = ""\\n[energy]\\nT = "x\\'^2/2"\\nU = "k*x^2/2"')
-        >>> m.with_parameters(k=4).parameter_values["k"]
-        4.0
-        """
-        params = dict(self.parameters)
-        problems: list[Problem] = []
-        for name, value in values.items():
-            if name not in params:
-                problems.append(_unknown_parameter(name, self.source, params))
-                continue
-            try:
-                params[name] = parse(value, allowed=list(params), file=self.source,
-                                     section="parameters", key=name)
-            except ExpressionError as exc:
-                problems.extend(exc.problems)
-        if problems:
-            raise ModelError(problems)
-        exact, floats = _evaluate_parameters(params, self.source)
-        return _replace(self, parameters=MappingProxyType(params),
-                        exact_values=MappingProxyType(exact),
-                        parameter_values=MappingProxyType(floats))
-
-    def linearize(self, timeout: float | None = None) -> "LinearEOM":
-        """The linearized equation of motion M q'' + C q' + K q = Q(t).
-
-        Parameters
-        ----------
-        timeout : float, optional
-            Time budget in seconds (default :data:`DERIVATION_TIMEOUT`); only
-            enforced in the main thread, where ``SIGALRM`` can interrupt it.
-
-        Raises
-        ------
-        ModelError
-            If the derivation exceeds the time budget, overflows or nests too
-            deeply; the message names the expression being worked on.
-        """
-        from .linearize import linearize
-
-        budget = DERIVATION_TIMEOUT if timeout is None else timeout
-        try:
-            with time_budget(budget, self.source):
-                return linearize(self)
-        except RecursionError:
-            raise ModelError(Problem(
-                "the derivation nests too deeply" + _definition_chain(self.definitions)
-                + "; use fewer levels of definitions that refer to each other",
-                self.source, "definitions")) from None
-        except OverflowError as exc:
-            section, key, what = _working_on(exc.__traceback__)
-            raise ModelError(Problem(
-                f"a number overflowed {what}: the model's numbers (or functions such as "
-                "exp of large values) exceed the floating-point range; rescale the "
-                "parameters or simplify the expression", self.source, section, key)) from None
-
-    def simulate(self, duration: float | None = None, nonlinear: bool = False,
-                 **options: Any) -> Any:
-        """Time integration, linear or full nonlinear (:func:`resonant.simulate.simulate`)."""
-        from .simulate import simulate
-
-        return simulate(self, duration, nonlinear, **options)
-
-    def _repr_latex_(self) -> str:
-        from .display import model_latex
-
-        return model_latex(self)
-
-    def _repr_html_(self) -> str:
-        from .display import model_html
-
-        return model_html(self)
-
-
-def _replace(model: Model, **changes: Any) -> Model:
-    from dataclasses import replace
-
-    return replace(model, **changes)
-
-
-def _unknown_parameter(name: str, source: str, params: Iterable[str]) -> Problem:
-    close = difflib.get_close_matches(name, list(params), n=1)
-    hint = f"; did you mean '{close[0]}'?" if close else f"; known: {', '.join(params) or 'none'}"
-    return Problem(f"--set names unknown parameter '{name}'{hint}", source, "parameters", name)
-
-
-# -- parameters ------------------------------------------------------------------------
-
-def _evaluate_parameters(params: Mapping[str, Expression], source: str
-                         ) -> tuple[dict[str, sympy.Expr], dict[str, float]]:
-    """Exact and floating values of the parameters, in declaration order."""
-    exact: dict[str, sympy.Expr] = {}
-    floats: dict[str, float] = {}
-    problems: list[Problem] = []
-    for name, expression in params.items():
-        try:
-            value = expression.to_sympy(lambda n, p, _e=exact: _e[n] if p == 0 else sympy.Integer(0))
-        except ExpressionError as exc:
-            problems.extend(exc.problems)
-            continue
-        except KeyError as exc:  # refers to a parameter that failed itself
-            problems.append(Problem(f"depends on the invalid parameter {exc}", source,
-                                    "parameters", name))
-            continue
-        try:
-            number = complex(value.evalf(30))
-        except (TypeError, ValueError):
-            problems.append(Problem(f"'{expression.text}' is not a number", source,
-                                    "parameters", name))
-            continue
-        if abs(number.imag) > 1e-12 * max(1.0, abs(number.real)):
-            problems.append(Problem(f"'{expression.text}' is not a real number ({number})",
-                                    source, "parameters", name))
-            continue
-        if not math.isfinite(number.real) or abs(number.real) > 1e300:
-            problems.append(Problem(
-                f"'{expression.text}' is not a finite number; use a value below 1e300",
-                source, "parameters", name))
-            continue
-        exact[name] = value
-        floats[name] = float(number.real)
-    if problems:
-        raise ModelError(problems)
-    return exact, floats
+from ..errors import ModelError, Problem
+from ..expressions import (BinOp, Expression, ExpressionError, Name, Neg, Num, parse,
+                           validate_name)
+from .limits import (ENERGY_KEYS, MAX_COORDINATES, MAX_FILE_BYTES, MAX_INLINED_DEGREE,
+                     MAX_INLINED_NODES, TOP_LEVEL)
+from .matrix_files import read_matrix_spec
+from .types import Force, MatrixSpec, Model, evaluate_parameters, unknown_parameter
 
 
 # -- loading -------------------------------------------------------------------------------
@@ -408,7 +181,7 @@ class _Builder:
         floats: dict[str, float] = {}
         if not self.problems:
             try:
-                exact, floats = _evaluate_parameters(parameters, self.source)
+                exact, floats = evaluate_parameters(parameters, self.source)
             except ModelError as exc:
                 self.problems.extend(exc.problems)
         if self.problems:
@@ -437,7 +210,7 @@ class _Builder:
         for name, value in self.overrides.items():
             if name not in params:
                 if name not in table:
-                    self.problems.append(_unknown_parameter(name, self.source, params))
+                    self.problems.append(unknown_parameter(name, self.source, params))
                 continue
             earlier = list(params)[: list(params).index(name)]
             try:
@@ -620,8 +393,6 @@ class _Builder:
         return forces
 
     def matrices(self, params: list[str], coordinates: list[str]) -> MatrixSpec | None:
-        from .matrices import read_matrix_spec
-
         section = self.data.get("matrices")
         harmonics = self.data.get("harmonic", [])
         try:
@@ -726,7 +497,7 @@ def _inlined_size_problems(definitions: Mapping[str, Expression]) -> list[tuple[
     return problems
 
 
-def _definition_chain(definitions: Mapping[str, Expression]) -> str:
+def definition_chain(definitions: Mapping[str, Expression]) -> str:
     """`` (definition chain d3 -> d2 -> d1, 3 levels)`` for the longest chain, or ''."""
     depth: dict[str, tuple[int, str | None]] = {}
     for name, expression in definitions.items():  # dependency order
@@ -744,121 +515,9 @@ def _definition_chain(definitions: Mapping[str, Expression]) -> str:
     return f" (definition chain {' -> '.join(chain)}{more}, {levels} levels)"
 
 
-#: what the derivation is doing, by function name in resonant.linearize
-_STAGES = {
-    "_clean": "while simplifying the matrix entries",
-    "_check_equilibrium": "while checking that the reference state is an equilibrium",
-    "_nearby_equilibrium": "while searching for a nearby equilibrium",
-    "_generalized_forces": "while forming the generalized forces",
-    "_signal_derivatives": "while differentiating the signals",
-    "decompose_signals": "while splitting the signals into harmonics",
-    "linearize_matrices": "while reading the matrices",
-}
-
-
-def _in_callback(frame: Any) -> bool:
-    """True when the interrupted code is a GC/weakref callback or a pytest hook, where
-    Python swallows (or mishandles) an exception raised by a signal handler."""
-    if frame is not None and "_pytest" in frame.f_code.co_filename:
-        return True
-    for _ in range(2):  # the callback itself, or a helper it just called
-        if frame is None:
-            return False
-        code = frame.f_code
-        if "callback" in code.co_name or code.co_filename.endswith("weakref.py"):
-            return True
-        frame = frame.f_back
-    return False
-
-
-def _working_on(tb_or_frame: Any) -> tuple[str, str, str]:
-    """(section, key, description) of the expression being derived in a stack.
-
-    Looks for the jet expansion of an expression (``_JetOps.jet(expression,
-    section, key)``) and the stage functions of :mod:`resonant.linearize`.
-    """
-    frames = []
-    if hasattr(tb_or_frame, "tb_frame"):  # a traceback: outermost first
-        tb = tb_or_frame
-        while tb is not None:
-            frames.append(tb.tb_frame)
-            tb = tb.tb_next
-        frames.reverse()
-    else:  # a frame: innermost first
-        frame = tb_or_frame
-        while frame is not None:
-            frames.append(frame)
-            frame = frame.f_back
-    section = key = stage = ""
-    for frame in frames:  # innermost first
-        code, local = frame.f_code, frame.f_locals
-        if not section and code.co_name == "jet" and "section" in local and "key" in local \
-                and isinstance(local.get("section"), str):
-            section, key = local["section"], str(local["key"])
-            text = getattr(local.get("expression"), "text", "")
-            short = text if len(text) <= 60 else text[:57] + "..."
-            stage = f"while expanding '{key}'" + (f" = '{short}'" if short else "")
-        if not stage and code.co_name in _STAGES:
-            stage = _STAGES[code.co_name]
-    return section, key, stage or "during the derivation"
-
-
-class DerivationTimeout(ModelError):
-    """The derivation exceeded its time budget (exit status 2)."""
-
-
-@contextmanager
-def time_budget(seconds: float | None, source: str = "") -> Iterator[None]:
-    """Interrupt the enclosed derivation after ``seconds`` with a :class:`ModelError`.
-
-    Uses ``SIGALRM`` (a real-time interval timer), so it works only in the main
-    thread of a POSIX process; elsewhere, or with ``seconds`` None or 0, it does
-    nothing.  An enclosing timer that expires earlier is left in charge and one
-    that expires later is re-armed afterwards.  A long computation inside a C
-    extension is interrupted only when it returns to Python.
-
-    Examples
-    --------
-    >>> with time_budget(5.0):
-    ...     sum(range(10))
-    45
-    """
-    if not seconds or seconds <= 0 or not hasattr(signal, "setitimer") \
-            or threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    start = time.monotonic()
-    outer_delay, outer_interval = signal.getitimer(signal.ITIMER_REAL)
-    if outer_delay and outer_delay <= seconds:
-        yield  # the enclosing budget runs out first: let it
-        return
-
-    def expired(signum: int, frame: Any) -> None:
-        if _in_callback(frame):
-            return  # an exception here would be swallowed (or break a hook): retry in 0.1 s
-        section, key, what = _working_on(frame)
-        raise DerivationTimeout(Problem(
-            f"the derivation exceeded {seconds:g} s {what}; the expression is too large "
-            "to expand in reasonable time (simplify it, or allow more time with "
-            "--timeout SECONDS, 0 for none)", source, section, key))
-
-    previous = signal.signal(signal.SIGALRM, expired)
-    # repeat every 0.1 s after expiry: a signal that lands in a weakref callback or
-    # __del__ has its exception swallowed by Python, so the next one must follow
-    signal.setitimer(signal.ITIMER_REAL, seconds, 0.1)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
-        if outer_delay:
-            left = outer_delay - (time.monotonic() - start)
-            signal.setitimer(signal.ITIMER_REAL, max(left, 1e-3), outer_interval)
-
-
 def _matrix_size(matrix: Any) -> int:
     return int(matrix.shape[0]) if hasattr(matrix, "shape") else len(matrix)
 
 
-__all__ = ["Model", "Force", "Harmonic", "MatrixSpec", "load", "loads", "symbol", "TIME",
-           "time_budget", "DerivationTimeout"]
+
+__all__ = ["load", "loads", "definition_chain"]

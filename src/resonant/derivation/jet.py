@@ -34,13 +34,13 @@ import sympy
 from sympy.core.add import _addsort
 from sympy.core.mul import _mulsort
 
+from ..expressions.functions import SYMPY as SYMPY_CONSTRUCTORS
+
 Var = tuple[str, int]
 Coefficient = Any  # a sympy or symengine expression (or a Python int)
 
-_NAMES = ("sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "exp", "log",
-          "sqrt", "atan2")
 #: sympy constructors of the model language's functions
-SYMPY_FUNCTIONS: dict[str, Callable[..., Any]] = {name: getattr(sympy, name) for name in _NAMES}
+SYMPY_FUNCTIONS: Mapping[str, Callable[..., Any]] = SYMPY_CONSTRUCTORS
 
 
 @dataclass(frozen=True)
@@ -106,7 +106,7 @@ def backend(name: str) -> Backend:
         import symengine
 
         _BACKENDS[name] = Backend("symengine", symengine,
-                                  {n: getattr(symengine, n) for n in _NAMES}, symengine.Basic)
+                                  {n: getattr(symengine, n) for n in SYMPY_CONSTRUCTORS}, symengine.Basic)
     return _BACKENDS[name]
 
 
@@ -340,10 +340,6 @@ class Jet:
         if degree == 1:
             return Jet(self.const, self.lin)
         return Jet(self.const)
-
-    def map_coefficients(self, fn: Callable[[Coefficient], Coefficient]) -> "Jet":
-        return Jet(fn(self.const), {k: fn(v) for k, v in self.lin.items()},
-                   {k: fn(v) for k, v in self.quad.items()})
 
 
 def _integer_power(base: Jet, n: int) -> Jet:

@@ -25,12 +25,11 @@ from typing import Any, Union
 
 import sympy
 
-from resonant.errors import ModelError, Problem
+from ..errors import ModelError, Problem
+from .functions import ARITY, MATH, SYMPY
 
-FUNCTIONS: dict[str, int] = {
-    "sin": 1, "cos": 1, "tan": 1, "asin": 1, "acos": 1, "atan": 1, "atan2": 2,
-    "sinh": 1, "cosh": 1, "tanh": 1, "exp": 1, "log": 1, "sqrt": 1,
-}
+#: name -> number of arguments of the language's functions
+FUNCTIONS: dict[str, int] = ARITY
 RESERVED: frozenset[str] = frozenset(FUNCTIONS) | {"pi", "t"}
 MAX_LENGTH = 20_000
 MAX_DEPTH = 100
@@ -250,7 +249,7 @@ def _number_problem(text: str) -> str | None:
     return None
 
 
-_FLOAT_OPS: dict[str, Callable[..., float]] = {f: getattr(math, f) for f in FUNCTIONS} | {
+_FLOAT_OPS: dict[str, Callable[..., float]] = dict(MATH) | {
     "+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv,
     "^": math.pow, "neg": operator.neg}
 
@@ -504,7 +503,6 @@ def validate_name(name: str) -> str | None:
     return None
 
 
-_SYMPY_FUNCS = {f: getattr(sympy, f) for f in FUNCTIONS}
 
 
 def _huge(n: sympy.Expr, limit: float) -> bool:
@@ -608,4 +606,4 @@ class _SympyOps:
         if func == "exp" and args[0].has(sympy.log) and any(
                 _huge(n, MAX_EXPONENT) for n in args[0].atoms(sympy.Number)):
             raise self.fail(f"exponent too large (at most {MAX_EXPONENT} in magnitude)")
-        return self.check(_SYMPY_FUNCS[func](*args))
+        return self.check(SYMPY[func](*args))

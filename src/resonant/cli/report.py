@@ -4,11 +4,17 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
+from typing import Any
+
+from ..errors import ModelError, Problem
+from ..report import build_report, render, report_format
+from . import common
 
 
-def register(subparsers, common: argparse.ArgumentParser) -> None:
+def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
     parser = subparsers.add_parser(
-        "report", parents=[common],
+        "report", parents=[parent],
         help="write the worked solution (.html, .md or .tex)",
         description="Write the solution of the model as a worked example, in the order and "
                     "notation of a textbook exercise: energies, derivatives, M, C, K, Q(t), "
@@ -24,14 +30,8 @@ def register(subparsers, common: argparse.ArgumentParser) -> None:
 
 
 def run_report(args: argparse.Namespace) -> int:
-    from pathlib import Path
-
-    from .cli import load_model
-    from .errors import ModelError, Problem
-    from .report import build_report, render, report_format
-
     fmt = report_format(args.output)  # check the ending before any work
-    model = load_model(args)
+    model = common.load_model(args)
     report = build_report(model, plots=not args.no_plots)
     path = Path(args.output)
     text = render(report, fmt, path)

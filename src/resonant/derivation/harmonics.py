@@ -23,7 +23,7 @@ import sympy
 from sympy.simplify.fu import TR8
 
 from .jet import Var
-from .model import TIME
+from ..model import TIME
 
 ZERO = sympy.Integer(0)
 

@@ -14,11 +14,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .errors import AnalysisError
+from .. import hooks
+from ..errors import AnalysisError
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .modes import ModalAnalysis
-    from .sweep import FrequencyResponse
+    from ..analyses import FrequencyResponse, ModalAnalysis, Simulation
 
 #: at most this many curves are drawn (a 1000-coordinate sweep shows the first ones)
 MAX_CURVES = 8
@@ -47,6 +47,7 @@ def _save(fig: Any, path: Any) -> None:
         raise AnalysisError(f"cannot write the plot '{path}': {exc.strerror or exc}") from None
 
 
+@hooks.provides("plot_frequency_response")
 def plot_frequency_response(response: "FrequencyResponse", path: Any = None,
                             names: Sequence[str] | None = None) -> Any:
     """Amplitude (log axis) above phase, against the swept parameter.
@@ -138,6 +139,7 @@ def plot_frequency_response(response: "FrequencyResponse", path: Any = None,
     return fig
 
 
+@hooks.provides("plot_modes")
 def plot_modes(analysis: "ModalAnalysis", path: Any = None, count: int | None = 6) -> Any:
     """The mode shapes (largest component +1): bars for few coordinates, lines for many."""
     plt = _pyplot()
@@ -178,5 +180,54 @@ def plot_modes(analysis: "ModalAnalysis", path: Any = None, count: int | None = 
     _save(fig, path)
     return fig
 
+
+@hooks.provides("plot_simulation")
+def plot_simulation(sim: "Simulation", path: Any = None) -> Any:
+    """Deviations vs time, one panel per coordinate/output, the linear prediction dashed.
+
+    Parameters
+    ----------
+    sim : Simulation
+    path : str or Path, optional
+        Save the figure there (format from the suffix).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    names = sim.names
+    fig = Figure(figsize=(9, 1.2 + 2.1 * len(names)), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]
+    kind = "nonlinear" if sim.nonlinear else "linear"
+    for ax, name in zip(axes, names):
+        ax.plot(sim.t, sim.states[name], lw=1.0, color="C0", label=f"{kind} simulation")
+        if name in sim.linear_response:
+            ax.plot(sim.t, sim.linear_response[name], "--", lw=1.0, color="C3",
+                    label="linear stationary prediction")
+        ax.axvspan(*sim.window, color="0.9", zorder=0, label="amplitude window")
+        steady = sim.steady_amplitudes.get(name)
+        text = f"steady amplitude {steady:.4g}" if steady is not None else ""
+        if name in sim.linear_amplitudes:
+            text += f", linear {sim.linear_amplitudes[name]:.4g}"
+        if name in sim.relative_difference:
+            text += f" ({100 * sim.relative_difference[name]:+.3g}%)"
+        ax.set_title(f"{name}: {text}", fontsize=9, loc="left")
+        kindof = "coordinate" if name in sim.coordinates else "output"
+        ax.set_ylabel(f"{name} ({kindof}, deviation)", fontsize=9)
+        ax.grid(True, lw=0.4, alpha=0.6)
+    axes[-1].set_xlabel("t (s)")
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", fontsize=9, ncols=3,
+               frameon=False)
+    start = {"rest": "from rest", "stationary": "from the stationary initial state",
+             "given": "from the given initial state"}[sim.start]
+    fig.suptitle(f"{sim.title or 'simulation'} — {kind}, {start}", fontsize=11)
+    if path is not None:
+        fig.savefig(path, dpi=120)
+    return fig
 
 __all__ = ["plot_frequency_response", "plot_modes"]

@@ -20,10 +20,10 @@ formed.
 Examples
 --------
 >>> from resonant.model import load
->>> from resonant.modes import modes
+>>> from resonant.analyses.modes import modes
 >>> from pathlib import Path
->>> path = Path(__file__).parents[2] / "examples" / "two_dof_free.toml"
->>> result = modes(load(path))
+>>> path = Path(__file__).parents[3] / "examples" / "two_dof_free.toml"
+>>> result = modes(load(path).linearize())
 >>> result.natural_frequencies.round(4).tolist()     # sqrt(k/m), sqrt(3k/m)
 [20.0, 34.641]
 >>> result.mode_shapes.round(12).T.tolist()
@@ -35,17 +35,21 @@ from __future__ import annotations
 import html
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
-from .errors import AnalysisError
+from .. import hooks
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import AnalysisError
+from ..system import LinearSystem
+from ..system.stability import (ASYMPTOTIC, MARGINAL, PROPORTIONAL_TOLERANCE, UNSTABLE,
+                                check_mass_matrix, classify, rayleigh, state_eigenvalues,
+                                undamped_eigen)
 
 #: matrices up to this size are analysed densely when no ``count`` is given
 DENSE_MODES = 1500
-#: relative tolerance of the proportional-damping and Rayleigh tests
-PROPORTIONAL_TOLERANCE = 1e-9
 
 
 @dataclass(frozen=True)
@@ -124,8 +128,6 @@ class ModalAnalysis:
         """The analysis restricted to the lowest ``count`` modes (dense path with --count)."""
         if count is None or count >= len(self.omega_squared):
             return self
-        from dataclasses import replace
-
         keep = int(np.sum(self.omega_squared[:count] >= 0))
         per_mode = len(self.damping_ratios) == len(self.natural_frequencies)
         eig = self.eigenvalues
@@ -140,11 +142,28 @@ class ModalAnalysis:
                        damping_ratios=self.damping_ratios[:keep if per_mode else count],
                        damped_frequencies=self.damped_frequencies[:keep if per_mode else count])
 
-    def plot(self, path: Any = None, count: int | None = 6) -> Any:
-        """Bar (few coordinates) or line plots of the mode shapes; see :mod:`resonant.plotting`."""
-        from .plotting import plot_modes
+    def plot(self, path: Any = None, count: int | None = 6, **options: Any) -> Any:
+        """Bar (few coordinates) or line plots of the mode shapes
+        (:func:`resonant.views.plotting.plot_modes`).
 
-        return plot_modes(self, path=path, count=count)
+        Parameters
+        ----------
+        path : str or Path, optional
+            Save the figure there (format from the suffix).
+        count : int, optional
+            How many modes to draw.
+        **options
+            ``ax=`` and more, passed on.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        return hooks.call("plot_modes", self, path=path, count=count, **options)
+
+    def summary(self) -> str:
+        """The text ``resonant modes`` prints."""
+        return str(hooks.call("modes_text", self))
 
     def _repr_html_(self) -> str:
         head = "".join(f"<th>{html.escape(q)}</th>" for q in self.coordinates[:12])
@@ -167,23 +186,6 @@ class ModalAnalysis:
 
 # -- the numeric system ---------------------------------------------------------------------
 
-def _system(source: Any) -> tuple[tuple[str, ...], Any, Any, Any, str]:
-    """(coordinates, M, C, K, title): dense arrays, or sparse for file-based matrix models."""
-    from .linearize import LinearEOM
-    from .matrices import MatrixSystem, is_matrix_eom
-    from .model import Model
-    from .numeric import NumericEOM
-
-    if isinstance(source, Model):
-        source = source.linearize()
-    if isinstance(source, LinearEOM):
-        source = source.system() if is_matrix_eom(source) else source.numeric()
-    if isinstance(source, (NumericEOM, MatrixSystem)):
-        return tuple(source.coordinates), source.M, source.C, source.K, source.title
-    raise TypeError(f"modes() takes a Model, LinearEOM, NumericEOM or MatrixSystem, "
-                    f"not {type(source).__name__}")
-
-
 def _is_sparse(a: Any) -> bool:
     return hasattr(a, "tocsr")
 
@@ -197,29 +199,6 @@ def _symmetric(a: Any) -> bool:
         diff = abs(a - a.T)
         return diff.nnz == 0 or diff.max() <= 1e-12 * abs(a).max()
     return bool(np.allclose(a, a.T, rtol=1e-12, atol=1e-12 * (np.abs(a).max() if a.size else 0)))
-
-
-def _rayleigh(M: Any, C: Any, K: Any) -> tuple[float, float] | None:
-    """(a, b) with C = a M + b K to relative accuracy 1e-9, else None."""
-    def dot(x: Any, y: Any) -> float:
-        return float(x.multiply(y).sum()) if _is_sparse(x) else float(np.sum(x * y))
-
-    gram = np.array([[dot(M, M), dot(M, K)], [dot(K, M), dot(K, K)]])
-    rhs = np.array([dot(M, C), dot(K, C)])
-    if np.linalg.cond(gram) > 1e12:  # K proportional to M (one coordinate): take C = a M
-        a, b = rhs[0] / gram[0, 0], 0.0
-    else:
-        a, b = np.linalg.solve(gram, rhs)
-    size_c = math.sqrt(max(dot(C, C), 1e-300))
-    # terms below the tolerance are rounding noise of an exact zero
-    if abs(a) * math.sqrt(gram[0, 0]) <= PROPORTIONAL_TOLERANCE * size_c:
-        a = 0.0
-    if abs(b) * math.sqrt(gram[1, 1]) <= PROPORTIONAL_TOLERANCE * size_c:
-        b = 0.0
-    residual = C - a * M - b * K
-    if math.sqrt(max(dot(residual, residual), 0.0)) <= PROPORTIONAL_TOLERANCE * size_c:
-        return float(a), float(b)
-    return None
 
 
 def _commutes(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> bool:
@@ -270,12 +249,14 @@ def _ratios(eigenvalues: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 # -- the analysis -------------------------------------------------------------------------
 
-def modes(source: Any, count: int | None = None) -> ModalAnalysis:
+@hooks.provides("modes")
+def modes(system: LinearSystem, count: int | None = None,
+          deadline: Deadline = NO_DEADLINE) -> ModalAnalysis:
     """Natural frequencies, mode shapes, damping and stability of a linear system.
 
     Parameters
     ----------
-    source : Model, LinearEOM, NumericEOM or MatrixSystem
+    system : LinearSystem
     count : int, optional
         Report only the ``count`` lowest modes.  For sparse matrices with
         ``count < n - 1`` (and for any model larger than 1500 coordinates)
@@ -290,13 +271,11 @@ def modes(source: Any, count: int | None = None) -> ModalAnalysis:
     AnalysisError
         For a singular mass matrix or a non-positive ``count``.
     """
-    from .stability import (ASYMPTOTIC, MARGINAL, UNSTABLE, check_mass_matrix, classify,
-                            state_eigenvalues)
-
-    coordinates, M, C, K, title = _system(source)
-    n = len(coordinates)
     if count is not None and count < 1:
-        raise AnalysisError("--count must be at least 1")
+        raise AnalysisError(f"count must be at least 1, not {count}")
+    eom = system.numeric(deadline)
+    coordinates, M, C, K, title = eom.coordinates, eom.M, eom.C, eom.K, eom.title
+    n = len(coordinates)
     warnings: list[str] = []
     damped = bool((C.nnz and abs(C).max() > 0) if _is_sparse(C) else np.any(C))
     symmetric = _symmetric(M) and _symmetric(K) and _symmetric(C)
@@ -313,17 +292,15 @@ def modes(source: Any, count: int | None = None) -> ModalAnalysis:
     else:
         M, C, K = _dense(M), _dense(C), _dense(K)
         check_mass_matrix(M, coordinates)
-        from .stability import undamped_eigen
-
         lam, phi = undamped_eigen(M, K)
         method = "dense"
     scale = max(float(np.abs(lam).max(initial=0.0)), 1e-300)
     lam = np.where(np.abs(lam) < 1e-12 * scale, 0.0, lam)
     mass_phi, unit_phi = _normalise(phi, M)
-    rayleigh = _rayleigh(M, C, K) if damped and symmetric else (0.0, 0.0) if not damped else None
+    fit = rayleigh(M, C, K) if damped and symmetric else (0.0, 0.0) if not damped else None
     if not damped:
         proportional = True
-    elif rayleigh is not None:
+    elif fit is not None:
         proportional = True
     elif symmetric and not lanczos:
         proportional = _commutes(M, C, K)
@@ -369,7 +346,7 @@ def modes(source: Any, count: int | None = None) -> ModalAnalysis:
         mode_shapes=unit_phi[:, keep], mass_normalised_modes=mass_phi[:, keep],
         eigenvalues=eigenvalues,
         damping_ratios=np.asarray(damping_ratios), damped_frequencies=np.asarray(damped_freq),
-        proportional_damping=bool(proportional), rayleigh=rayleigh, damped=damped,
+        proportional_damping=bool(proportional), rayleigh=fit, damped=damped,
         stability=stability, method=method, warnings=tuple(warnings),
         title=title).limited(count if not lanczos else None)
 

@@ -11,7 +11,7 @@ solved here in its complex form (K - w^2 M + i w C)(L - i N) = F_C - i F_S.
 Examples
 --------
 >>> import numpy as np
->>> from resonant.numeric import NumericEOM, NumericHarmonic
+>>> from resonant.system import NumericEOM, NumericHarmonic
 >>> eom = NumericEOM(("x",), np.eye(1), np.zeros((1, 1)), 4 * np.eye(1),
 ...                  (NumericHarmonic(1.0, np.array([3.0]), np.array([0.0])),))
 >>> sol = stationary(eom)
@@ -31,14 +31,22 @@ from typing import Any
 
 import numpy as np
 
-from .errors import AnalysisError
-from .numeric import NumericEOM, NumericHarmonic, check_finite
-from .stability import (UNSTABLE, check_mass_matrix, classify, frequencies_from_eigenvalues,
-                        state_eigenvalues, undamped_eigen)
+from .. import hooks
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import AnalysisError
+from ..system import Batch, LinearSystem, NumericEOM, NumericHarmonic
+from ..system.numeric import check_finite, frozen_array
+from ..system.stability import (UNSTABLE, classify, frequencies_from_eigenvalues, rayleigh,
+                                state_eigenvalues, undamped_eigen, undamped_eigenvalues)
+from .kernel import (LOSS_CONDITION, SINGULAR_CONDITION, KernelResult, check_batch_mass,
+                     equilibration, solve_harmonic)
 
 NEAR_RESONANCE = 0.02       # relative distance to a natural frequency that earns a warning
-SINGULAR_CONDITION = 1e13   # condition number treated as exactly singular
-LOSS_CONDITION = 1e8        # condition number that earns a "digits lost" warning
+#: above this many coordinates (or with sparse matrices) the eigenvalues come from the
+#: undamped ones where the damping allows (no dense 2n x 2n problem) and solves are sparse
+LARGE = 200
+#: largest system whose stationary solution (with all eigenvalues) is computed
+DENSE_LIMIT = 4000
 
 
 @dataclass(frozen=True)
@@ -105,8 +113,9 @@ class StationarySolution:
             "parameters": dict(e.parameters),
             "M": e.M.tolist(), "C": e.C.tolist(), "K": e.K.tolist(),
         }
-        if e.symbolic is not None and not e.symbolic.model.is_matrix_model:
-            data["symbolic"] = e.symbolic.to_dict()
+        symbolic = e.symbolic_dict()
+        if symbolic:
+            data["symbolic"] = symbolic
             data["symbolic"].pop("coordinates", None)
         data.update({
             "natural_frequencies": self.natural_frequencies.tolist(),
@@ -120,81 +129,15 @@ class StationarySolution:
         })
         return data
 
-    def _repr_html_(self) -> str:
-        from .display import stationary_html
+    def summary(self) -> str:
+        """The text ``resonant solve`` prints."""
+        return str(hooks.call("solution_text", self))
 
-        return stationary_html(self)
+    def _repr_html_(self) -> str:
+        return str(hooks.call("stationary_html", self))
 
     def _repr_latex_(self) -> str:
-        from .display import stationary_latex
-
-        return stationary_latex(self)
-
-
-def equilibration(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Row and column scale factors (powers of 2) giving ``row A col`` entries of order 1.
-
-    As LAPACK's ``xGEEQU``: each row scaled by its largest entry, then each column;
-    powers of two make the scaling exact, so only the conditioning changes.
-
-    Examples
-    --------
-    >>> A = np.array([[1e6, 1e3], [1e3, 4.0]])
-    >>> row, col = equilibration(A)
-    >>> scaled = row[:, None] * A * col[None, :]
-    >>> bool(np.all((0.5 <= np.abs(scaled).max(axis=1)) & (np.abs(scaled).max(axis=1) <= 2)))
-    True
-    >>> float(np.linalg.cond(A)) > 1e5, float(np.linalg.cond(scaled)) < 10
-    (True, True)
-    """
-    def power_of_two_inverse(largest: np.ndarray) -> np.ndarray:
-        safe = np.where(largest > 0, largest, 1.0)  # an all-zero row or column stays
-        return np.exp2(-np.round(np.log2(safe)))
-
-    magnitude = np.abs(A)
-    row = power_of_two_inverse(magnitude.max(axis=1, initial=0.0))
-    col = power_of_two_inverse((row[:, None] * magnitude).max(axis=0, initial=0.0))
-    return row, col
-
-
-def _solve(eom: NumericEOM, h: NumericHarmonic, omegas: np.ndarray,
-           warnings: list[str]) -> HarmonicResponse:
-    w = h.omega
-    with np.errstate(all="ignore"):  # numpy floats: an overflow gives inf, checked below
-        A = eom.K - np.float64(w) ** 2 * eom.M + 1j * np.float64(w) * eom.C
-    rhs = h.F_C - 1j * h.F_S
-    if not (np.all(np.isfinite(A)) and np.all(np.isfinite(rhs))):
-        raise AnalysisError(
-            f"the dynamic stiffness K - w^2 M + i w C overflows at the excitation frequency "
-            f"{w:.6g} rad/s: the parameter values span too many orders of magnitude; use "
-            "units in which the masses, stiffnesses and frequencies are nearer to 1")
-    # Equilibrate before solving and judging the condition: in badly scaled units (mm
-    # with GPa, translations beside rotations) the raw condition number reflects the
-    # units, not the physics, and would warn of digits that are not lost.
-    row, col = equilibration(A)
-    A = row[:, None] * A * col[None, :]
-    rhs = row * rhs
-    condition = float(np.linalg.cond(A)) if eom.n <= 1500 else 1.0
-    nearest = int(np.argmin(np.abs(omegas - w))) if omegas.size else -1
-    if not math.isfinite(condition) or condition > SINGULAR_CONDITION:
-        if w == 0:
-            raise AnalysisError(
-                "a static load acts on a system with a zero-stiffness (rigid-body) mode: "
-                "the static deflection is unbounded; support the system or remove the "
-                "constant part of the excitation")
-        where = (f" = natural frequency {nearest + 1} ({omegas[nearest]:.6g} rad/s, mode "
-                 f"{nearest + 1})") if nearest >= 0 else ""
-        raise AnalysisError(
-            f"resonance: the excitation frequency {w:.6g} rad/s{where} and the system has no "
-            "damping in that mode, so the stationary amplitude is unbounded; change the "
-            "frequency or add damping")
-    if condition > LOSS_CONDITION:
-        digits = int(math.log10(condition))
-        warnings.append(f"ill-conditioned system at omega = {w:.6g} rad/s (condition number "
-                        f"{condition:.2g}): about {digits} of 16 digits are lost")
-    X = col * np.linalg.solve(A, rhs)
-    check_finite("the stationary solution", X)
-    return HarmonicResponse(w, h.F_S, h.F_C, X.real.copy(), -X.imag.copy(), condition)
+        return str(hooks.call("stationary_latex", self))
 
 
 def _output_pairs(eom: NumericEOM, responses: tuple[HarmonicResponse, ...]
@@ -298,8 +241,22 @@ def resonance_warnings(excitation: list[float], omegas: np.ndarray) -> list[str]
     return out
 
 
-def stationary(eom: NumericEOM) -> StationarySolution:
+@hooks.provides("stationary")
+def stationary(system: LinearSystem, deadline: Deadline = NO_DEADLINE,
+               **overrides: float | str) -> StationarySolution:
     """Solve for the stationary response of every coordinate and output.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The system (its numbers are taken at the model's parameter values).
+    deadline : Deadline, optional
+    **overrides
+        Parameter values replacing the model's.
+
+    Returns
+    -------
+    StationarySolution
 
     Raises
     ------
@@ -307,20 +264,44 @@ def stationary(eom: NumericEOM) -> StationarySolution:
         For a singular mass matrix, or an undamped system excited exactly at a
         natural frequency (exit status 3).
     """
-    check_mass_matrix(eom.M, eom.coordinates)
-    check_finite("M, C, K", np.concatenate([eom.M.ravel(), eom.C.ravel(), eom.K.ravel()]))
+    eom = system.numeric(deadline, **overrides)
+    n = eom.n
+    large = n > LARGE
+    if n > DENSE_LIMIT:
+        raise AnalysisError(
+            f"the model has {n} coordinates; the stationary solution with all natural "
+            f"frequencies and eigenvalues is limited to {DENSE_LIMIT}: use `modes` with a "
+            "count and `sweep`, which work with sparse matrices")
+    sparse_eom, eom = eom, eom.dense()  # the solution reports dense matrices
+    dense = eom
+    batch = Batch.constant_system(sparse_eom if large else dense, 1)
+    check_batch_mass(batch)
     warnings: list[str] = []
-    if 0 < eom.n <= 1500:
-        row, col = equilibration(eom.M)
-        mass_condition = float(np.linalg.cond(row[:, None] * eom.M * col[None, :]))
+    check_finite("M, C, K", np.concatenate([dense.M.ravel(), dense.C.ravel(), dense.K.ravel()]))
+    if 0 < n <= 1500:
+        row, col = equilibration(dense.M)
+        mass_condition = float(np.linalg.cond(row[:, None] * dense.M * col[None, :]))
         if mass_condition > LOSS_CONDITION:
             warnings.append(
                 f"the mass matrix M is nearly singular (condition number {mass_condition:.2g}"
                 f" after scaling): about {int(math.log10(mass_condition))} of 16 digits of "
                 "the natural frequencies and amplitudes are lost; is a mass nearly zero?")
-    lam, _ = undamped_eigen(eom.M, eom.K)
+    deadline.check("while computing the eigenvalues", analysis=True)
+    if large:
+        lam = undamped_eigenvalues(sparse_eom.M, sparse_eom.K)
+        proportional = rayleigh(sparse_eom.M, sparse_eom.C, sparse_eom.K) if np.any(dense.C) \
+            else (0.0, 0.0)
+    else:
+        lam, _ = undamped_eigen(dense.M, dense.K)
+        proportional = None
     omegas = frequencies_from_eigenvalues(lam)
-    eigenvalues = state_eigenvalues(eom.M, eom.C, eom.K)
+    if proportional is not None:  # eigenvalues from the undamped ones, no 2n x 2n problem
+        c = proportional[0] + proportional[1] * lam
+        root = np.sqrt((c * c - 4 * lam).astype(complex))
+        eigenvalues = np.concatenate([(-c + root) / 2, (-c - root) / 2])
+        eigenvalues = eigenvalues[np.lexsort((eigenvalues.imag, np.abs(eigenvalues)))]
+    else:
+        eigenvalues = state_eigenvalues(dense.M, dense.C, dense.K)
     stability = classify(eigenvalues)
     warnings += system_warnings(lam, stability)
     if not eom.harmonic:
@@ -331,9 +312,14 @@ def stationary(eom: NumericEOM) -> StationarySolution:
                                   MappingProxyType({}), MappingProxyType({}),
                                   MappingProxyType({}), tuple(warnings), available=False)
     warnings += resonance_warnings([h.omega for h in eom.harmonics], omegas)
-    responses = tuple(_solve(eom, h, omegas, warnings) for h in eom.harmonics)
-    pairs = _output_pairs(eom, responses)
-    freqs = [r.omega for r in responses]
+    method = "sparse" if large else "dense"
+    responses = []
+    for h, bh in zip(eom.harmonics, batch.harmonics):
+        result = solve_harmonic(batch, bh, method, deadline=deadline)
+        responses.append(_response(h, result, omegas, warnings))
+    responses_t = tuple(responses)
+    pairs = _output_pairs(eom, responses_t)
+    freqs = [r.omega for r in responses_t]
     for name, p in pairs.items():
         if not all(math.isfinite(v) for pair in p for v in pair):
             raise AnalysisError(
@@ -348,9 +334,39 @@ def stationary(eom: NumericEOM) -> StationarySolution:
             L, N = p[i]
             if math.hypot(L, N) > 0:
                 phases[name] = math.atan2(L, N)
-    return StationarySolution(eom, omegas, eigenvalues, stability, responses,
+    return StationarySolution(eom, omegas, eigenvalues, stability, responses_t,
                               MappingProxyType(pairs), MappingProxyType(amplitudes),
                               MappingProxyType(phases), tuple(warnings))
 
 
-__all__ = ["StationarySolution", "HarmonicResponse", "stationary", "peak", "equilibration"]
+def _response(h: NumericHarmonic, result: KernelResult, omegas: np.ndarray,
+              warnings: list[str]) -> HarmonicResponse:
+    """The kernel's answer at one excitation frequency, or the resonance error."""
+    w = h.omega
+    condition = float(result.condition[0])
+    if result.singular[0]:
+        if w == 0:
+            raise AnalysisError(
+                "a static load acts on a system with a zero-stiffness (rigid-body) mode: "
+                "the static deflection is unbounded; support the system or remove the "
+                "constant part of the excitation")
+        nearest = int(np.argmin(np.abs(omegas - w))) if omegas.size else -1
+        where = (f" = natural frequency {nearest + 1} ({omegas[nearest]:.6g} rad/s, mode "
+                 f"{nearest + 1})") if nearest >= 0 and math.isclose(
+                     omegas[nearest], w, rel_tol=1e-6) else ""
+        raise AnalysisError(
+            f"resonance: the excitation frequency {w:.6g} rad/s{where} and the system has no "
+            "damping in that mode, so the stationary amplitude is unbounded; change the "
+            "frequency or add damping")
+    if condition > LOSS_CONDITION:
+        digits = int(math.log10(condition))
+        bound = "" if result.exact else "at least "
+        warnings.append(f"ill-conditioned system at omega = {w:.6g} rad/s (condition number "
+                        f"{bound}{condition:.2g}): about {digits} of 16 digits are lost")
+    X = result.Z[0]
+    check_finite("the stationary solution", X)
+    return HarmonicResponse(w, h.F_S, h.F_C, frozen_array(X.real.copy()),
+                            frozen_array(-X.imag.copy()), condition)
+
+
+__all__ = ["StationarySolution", "HarmonicResponse", "stationary", "peak"]

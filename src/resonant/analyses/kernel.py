@@ -1,0 +1,536 @@
+"""The one harmonic kernel: (K - w^2 M + i w C) z = F_C - i F_S for every w of a batch.
+
+The stationary solution is the kernel at the excitation frequencies, a sweep
+the kernel at every value of the swept parameter.  The complex systems are
+solved by the cheapest exact method for their structure:
+
+``"dense"``
+    a stack of complex matrices, one ``numpy.linalg.solve`` per chunk of points
+    (equilibrated first, with exact condition numbers where they are cheap);
+``"banded"``
+    LAPACK ``gbsv`` (``gtsv`` for tridiagonal) per point, when M, C, K do not
+    depend on the parameter and their bandwidth is small;
+``"sparse"``
+    a sparse LU (SuperLU) per point, for large sparse matrices with a wide band;
+``"modal"``
+    superposition of *all* undamped modes, exact only when the damping is
+    proportional (``K M^-1 C = C M^-1 K``); its accuracy is checked against a
+    direct solve at a few points, with a direct method as the fallback.
+
+Every point gets a condition number (exact, or the lower bound
+``||A|| ||z|| / ||F||``); above :data:`SINGULAR_CONDITION` the point is an
+exact resonance (singular), above :data:`LOSS_CONDITION` digits are lost.
+The callers decide what a singular point means: an error for the stationary
+solution, a skipped point for a sweep.
+
+Examples
+--------
+>>> import numpy as np
+>>> from resonant.system import NumericEOM, NumericHarmonic
+>>> eom = NumericEOM(("x",), np.eye(1), np.zeros((1, 1)), 4 * np.eye(1),
+...                  (NumericHarmonic(1.0, np.array([3.0]), np.array([0.0])),))
+>>> batch = eom.batch("omega", np.array([1.0, 3.0]))
+>>> result = solve_harmonic(batch, batch.harmonics[0], "dense")
+>>> result.Z.round(12).tolist()     # z = L - i N: N = 3/(4 - w^2)
+[[-1j], [(-0+0.6j)]]
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import AnalysisError
+from ..system import Batch, BatchHarmonic
+from ..system.stability import check_mass_matrix
+
+METHODS = ("auto", "dense", "banded", "sparse", "modal")
+#: a point whose condition number exceeds this is an exact resonance
+SINGULAR_CONDITION = 1e13
+#: condition number that earns a "digits lost" warning
+LOSS_CONDITION = 1e8
+#: agreement required of modal superposition with a direct solve at the check points
+MODAL_TOLERANCE = 1e-10
+#: bytes of complex matrices built at once by the dense method
+CHUNK_BYTES = 64 * 2**20
+#: exact condition numbers (an SVD per point) up to this many coordinates ...
+EXACT_CONDITION = 64
+#: ... or, for a single point (the stationary solution), up to this many
+EXACT_CONDITION_SINGLE = 1500
+
+
+@dataclass(frozen=True)
+class KernelResult:
+    """The responses of one harmonic at every point of a batch.
+
+    Attributes
+    ----------
+    Z : ndarray
+        z = L - i N of the kept coordinates, shape (N, kept); NaN at singular points.
+    singular : ndarray of bool
+        Points where the system is singular (undamped resonance), shape (N,).
+    condition : ndarray
+        Condition number (exact or a lower bound) per point, shape (N,).
+    exact : bool
+        Whether ``condition`` holds exact condition numbers.
+    """
+
+    Z: np.ndarray
+    singular: np.ndarray
+    condition: np.ndarray
+    exact: bool
+
+
+def check_batch_mass(batch: Batch, values: np.ndarray | None = None, param: str = "",
+                     warnings: list[str] | None = None) -> None:
+    """The mass-matrix check at every point of a batch (the one check, as for one point).
+
+    Parameters
+    ----------
+    batch : Batch
+    values : ndarray, optional
+        The swept values, to name the failing one.
+    param : str
+        The swept parameter's name.
+    warnings : list of str, optional
+        Receives a warning for each point where M is not positive definite.
+
+    Raises
+    ------
+    AnalysisError
+        If M is singular at some point (the message names the value).
+    """
+    M = batch.M
+    names = tuple(batch.coordinates)
+    if hasattr(M, "tocsr"):
+        rows = np.asarray(abs(M).sum(axis=1)).ravel()
+        if (rows == 0).any():
+            row = int(np.argmax(rows == 0))
+            raise AnalysisError(f"the mass matrix M is singular ({names[row]} has no inertia)")
+        return
+    stack = M if np.ndim(M) == 3 else M[None]
+    if stack.shape[-1] > EXACT_CONDITION_SINGLE:
+        return
+    for i, Mi in enumerate(stack):
+        where = f" at {param} = {values[i]:.6g}" if values is not None and np.ndim(M) == 3 \
+            else ""
+        try:
+            check_mass_matrix(Mi, names)
+        except AnalysisError as exc:
+            raise AnalysisError(str(exc).replace("the mass matrix M is singular",
+                                                 f"the mass matrix M is singular{where}", 1)
+                                ) from None
+        if warnings is not None and np.allclose(Mi, Mi.T):
+            lowest = float(np.linalg.eigvalsh(Mi)[0])
+            if lowest < 0:
+                warnings.append(f"the mass matrix M is not positive definite{where}: a "
+                                "negative mass or inertia; the results there are not physical")
+
+
+
+def _bandwidths(*matrices: Any) -> tuple[int, int]:
+    lower = upper = 0
+    for a in matrices:
+        if hasattr(a, "tocoo"):
+            coo = a.tocoo()
+            rows, cols = coo.row[coo.data != 0], coo.col[coo.data != 0]
+        else:
+            rows, cols = np.nonzero(a)
+        if rows.size:
+            lower = max(lower, int((rows - cols).max()))
+            upper = max(upper, int((cols - rows).max()))
+    return lower, upper
+
+
+def _is_proportional(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> bool:
+    """C M^-1 K = K M^-1 C (Caughey & O'Kelly): the undamped modes diagonalize C."""
+    if not np.any(C):
+        return True
+    minv_k = np.linalg.solve(M, K)
+    minv_c = np.linalg.solve(M, C)
+    lhs, rhs = C @ minv_k, K @ minv_c
+    scale = np.linalg.norm(C) * np.linalg.norm(minv_k) + 1e-300
+    return bool(np.linalg.norm(lhs - rhs) <= 1e-9 * scale)
+
+
+def choose_method(batch_or_matrices: Any, n_points: int = 1) -> str:
+    """The method ``method="auto"`` uses for a sweep.
+
+    Matrices that change with the parameter: ``dense`` (stacked solve).
+    Fixed matrices: ``dense`` for n <= 40 (one batched LAPACK call beats a
+    Python loop); ``banded`` when the total bandwidth is at most n/10 (cost
+    n * bandwidth^2 per point, exact); ``sparse`` for other sparse matrices
+    with few nonzeros; ``modal`` for dense symmetric, proportionally damped
+    systems with n <= 3000 (one eigendecomposition, then n^2 per point);
+    ``dense`` otherwise.
+    """
+    b = batch_or_matrices
+    if not b.constant:
+        return "dense"
+    n = len(b.coordinates)
+    if n <= 40:
+        return "dense"
+    lower, upper = _bandwidths(b.M, b.C, b.K)
+    if lower + upper + 1 <= max(3, n // 10):
+        return "banded"
+    sparse = any(hasattr(a, "tocsr") for a in (b.M, b.C, b.K))
+    if sparse:
+        nnz = sum(a.nnz if hasattr(a, "nnz") else np.count_nonzero(a) for a in (b.M, b.C, b.K))
+        if nnz < 0.05 * n * n or n > 3000:
+            return "sparse"
+    if n <= 3000:
+        M, C, K = (_dense(a) for a in (b.M, b.C, b.K))
+        if _symmetric(M) and _symmetric(K) and _symmetric(C) and _is_proportional(M, C, K):
+            return "modal"
+    return "dense" if n <= 3000 else "sparse"
+
+
+def _dense(a: Any) -> np.ndarray:
+    return a.toarray() if hasattr(a, "toarray") else np.asarray(a)
+
+
+def _symmetric(a: np.ndarray) -> bool:
+    return bool(np.allclose(a, a.T, rtol=1e-12, atol=1e-12 * (np.abs(a).max() if a.size else 0)))
+
+
+class _Progress:
+    """A plain text progress bar on standard error (no dependency)."""
+
+    def __init__(self, total: int, enabled: bool, label: str = "sweep") -> None:
+        self.total, self.enabled, self.label = max(total, 1), enabled, label
+        self.last = 0.0
+        self.done = 0
+
+    def advance(self, count: int = 1) -> None:
+        self.done += count
+        if not self.enabled:
+            return
+        now = time.monotonic()
+        if now - self.last < 0.2 and self.done < self.total:
+            return
+        self.last = now
+        frac = min(1.0, self.done / self.total)
+        bar = "#" * int(30 * frac)
+        sys.stderr.write(f"\r{self.label} [{bar:<30}] {100 * frac:5.1f}%")
+        if self.done >= self.total:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+
+class _Store:
+    """The responses kept from the solves: only the columns ``keep`` (memory stays
+    bounded for large models), plus the largest |component| of every full solution."""
+
+    def __init__(self, N: int, keep: np.ndarray) -> None:
+        self.keep = keep
+        self.values = np.empty((N, len(keep)), dtype=complex)
+        self.largest = np.zeros(N)
+
+    def __setitem__(self, index: Any, x: Any) -> None:
+        x = np.asarray(x, dtype=complex)
+        if x.ndim == 0:
+            self.values[index] = x
+            self.largest[index] = abs(x)
+            return
+        self.values[index] = x[..., self.keep]
+        with np.errstate(invalid="ignore"):
+            self.largest[index] = np.abs(x).max(axis=-1)
+
+    def __getitem__(self, index: Any) -> np.ndarray:
+        return self.values[index]
+
+
+def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
+                   progress: "_Progress | None" = None, warnings: list[str] | None = None,
+                   keep: np.ndarray | None = None, deadline: Deadline = NO_DEADLINE
+                   ) -> KernelResult:
+    """Complex responses z = L - i N of one harmonic at every point of a batch.
+
+    Parameters
+    ----------
+    batch : Batch
+        The system at N points.
+    h : BatchHarmonic
+        The harmonic: omega (N,), F_S, F_C.
+    method : {"auto", "dense", "banded", "sparse", "modal"}
+        See the module docstring; ``auto`` uses :func:`choose_method`.
+    progress : _Progress, optional
+    warnings : list of str, optional
+        Receives the modal fallback's warning.
+    keep : ndarray of int, optional
+        The coordinates to keep (default all).
+    deadline : Deadline, optional
+        Checked between points.
+
+    Returns
+    -------
+    KernelResult
+    """
+    if method == "auto":
+        method = choose_method(batch)
+    w = h.omega
+    N = w.shape[0]
+    n = len(batch.coordinates)
+    keep = np.arange(n) if keep is None else keep
+    progress = progress or _Progress(N, False)
+    warnings = [] if warnings is None else warnings
+    rhs = np.asarray(h.F_C, dtype=complex) - 1j * np.asarray(h.F_S, dtype=float)
+    if not np.any(rhs):
+        progress.advance(N)
+        return KernelResult(np.zeros((N, len(keep)), dtype=complex), np.zeros(N, dtype=bool),
+                            np.ones(N), False)
+    store = _Store(N, keep)
+    exact = method == "dense" and (n <= EXACT_CONDITION or (N == 1 and
+                                                            n <= EXACT_CONDITION_SINGLE))
+    condition = np.ones(N)
+    if method == "dense":
+        singular = _solve_dense(batch, w, rhs, progress, store, deadline,
+                                condition if exact else None)
+    elif method == "banded":
+        singular = _solve_banded(batch, w, rhs, progress, store, deadline)
+    elif method == "sparse":
+        singular = _solve_sparse(batch, w, rhs, progress, store, deadline)
+    else:
+        singular = _solve_modal(batch, w, rhs, progress, warnings, store, deadline)
+    Z = store.values
+    if not exact:
+        # a lower bound of the condition number: ||A|| ||Z|| / ||rhs|| (exact resonance: huge)
+        norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
+        a_norm = norms[0] + w**2 * norms[1] + w * norms[2]
+        b_norm = np.abs(rhs).max(axis=-1) * np.ones(N)
+        with np.errstate(all="ignore"):
+            condition = a_norm * store.largest / np.where(b_norm > 0, b_norm, np.inf)
+    b_norm = np.abs(rhs).max(axis=-1) * np.ones(N)
+    singular |= ~np.isfinite(store.largest) | ~(condition <= SINGULAR_CONDITION)
+    singular &= b_norm > 0
+    Z[singular] = np.nan
+    return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact)
+
+
+def equilibration(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Row and column scale factors (powers of 2) giving ``row A col`` entries of order 1.
+
+    As LAPACK's ``xGEEQU``: each row scaled by its largest entry, then each column;
+    powers of two make the scaling exact, so only the conditioning changes.  Works
+    on a stack of matrices (..., n, n).
+
+    Parameters
+    ----------
+    A : ndarray
+        (..., n, n).
+
+    Returns
+    -------
+    row, col : ndarray
+        (..., n) each.
+
+    Examples
+    --------
+    >>> A = np.array([[1e6, 1e3], [1e3, 4.0]])
+    >>> row, col = equilibration(A)
+    >>> scaled = row[:, None] * A * col[None, :]
+    >>> bool(np.all((0.5 <= np.abs(scaled).max(axis=1)) & (np.abs(scaled).max(axis=1) <= 2)))
+    True
+    >>> float(np.linalg.cond(A)) > 1e5, float(np.linalg.cond(scaled)) < 10
+    (True, True)
+    """
+    def power_of_two_inverse(largest: np.ndarray) -> np.ndarray:
+        safe = np.where(largest > 0, largest, 1.0)  # an all-zero row or column stays
+        return np.exp2(-np.round(np.log2(safe)))
+
+    magnitude = np.abs(A)
+    row = power_of_two_inverse(magnitude.max(axis=-1, initial=0.0))
+    col = power_of_two_inverse((row[..., :, None] * magnitude).max(axis=-2, initial=0.0))
+    return row, col
+
+
+def _norm_inf(a: Any) -> Any:
+    if hasattr(a, "tocsr"):
+        return float(abs(a).sum(axis=1).max()) if a.nnz else 0.0
+    return np.abs(a).sum(axis=-1).max(axis=-1)
+
+
+def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
+                 Z: _Store, deadline: Deadline, condition: np.ndarray | None) -> np.ndarray:
+    N, n = w.shape[0], len(batch.coordinates)
+    M, C, K = (a.toarray() if hasattr(a, "toarray") else a for a in (batch.M, batch.C, batch.K))
+    chunk = max(1, int(CHUNK_BYTES // (16 * n * n)))
+    singular = np.zeros(N, dtype=bool)
+    for start in range(0, N, chunk):
+        sl = slice(start, min(N, start + chunk))
+        ww = w[sl, None, None]
+        pick = (lambda a: a[sl] if a.ndim == 3 else a)  # noqa: E731
+        deadline.check("while solving the harmonic systems", analysis=True)
+        with np.errstate(all="ignore"):  # an overflow gives inf, caught as not finite
+            A = pick(K) - ww**2 * pick(M) + 1j * ww * pick(C)
+        b = np.broadcast_to(rhs[sl] if rhs.ndim == 2 else rhs, (A.shape[0], n))
+        finite = np.isfinite(A).all(axis=(-2, -1)) & np.isfinite(b).all(axis=-1)
+        A = np.where(finite[:, None, None], A, 0.0)
+        # Equilibrate before solving and judging the condition: in badly scaled units
+        # (mm with GPa, translations beside rotations) the raw condition number reflects
+        # the units, not the physics, and would warn of digits that are not lost.
+        row, col = equilibration(A)
+        A = row[..., :, None] * A * col[..., None, :]
+        b = row * b
+        try:
+            X = np.linalg.solve(A, b[..., None])[..., 0]
+        except np.linalg.LinAlgError:  # an exactly singular point: solve point by point
+            X = np.empty((A.shape[0], n), dtype=complex)
+            for i in range(A.shape[0]):
+                try:
+                    X[i] = np.linalg.solve(A[i], b[i])
+                except np.linalg.LinAlgError:
+                    X[i] = np.nan
+                    singular[start + i] = True
+        X = col * X
+        X[~finite] = np.nan
+        Z[sl] = X
+        if condition is not None:  # exact condition numbers, where they are cheap
+            with np.errstate(all="ignore"):
+                condition[sl] = np.where(finite, np.linalg.cond(A), np.inf)
+        progress.advance(A.shape[0])
+    return singular
+
+
+def _band_storage(a: Any, lower: int, upper: int, rows: int, offset: int) -> np.ndarray:
+    """LAPACK band storage: ab[offset + upper + i - j, j] = a[i, j]."""
+    n = a.shape[0]
+    ab = np.zeros((rows, n))
+    coo = a.tocoo() if hasattr(a, "tocoo") else None
+    if coo is not None:
+        i, j, v = coo.row, coo.col, coo.data
+    else:
+        i, j = np.nonzero(a)
+        v = a[i, j]
+    np.add.at(ab, (offset + upper + i - j, j), v)
+    return ab
+
+
+def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
+                  Z: _Store, deadline: Deadline) -> np.ndarray:
+    from scipy.linalg import lapack
+
+    N = w.shape[0]
+    lower, upper = _bandwidths(batch.M, batch.C, batch.K)
+    singular = np.zeros(N, dtype=bool)
+    varying_rhs = rhs.ndim == 2
+    if lower == upper == 1:  # tridiagonal: LAPACK gtsv (partial pivoting)
+        storage = [_band_storage(a, 1, 1, 3, 0) for a in (batch.M, batch.C, batch.K)]
+        gtsv = lapack.get_lapack_funcs("gtsv", (np.zeros(1, complex),))
+
+        def solve(ab: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, int]:
+            _, _, _, x, info = gtsv(ab[2, :-1], ab[1], ab[0, 1:], b)
+            return x, info
+    else:
+        rows = 2 * lower + upper + 1  # gbsv needs lower extra rows for the LU fill-in
+        storage = [_band_storage(a, lower, upper, rows, lower)
+                   for a in (batch.M, batch.C, batch.K)]
+        gbsv = lapack.get_lapack_funcs("gbsv", (np.zeros(1, complex),))
+
+        def solve(ab: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, int]:
+            _, _, x, info = gbsv(lower, upper, ab, b, overwrite_ab=True)
+            return x, info
+    Mb, Cb, Kb = storage
+    for i in range(N):
+        wi = w[i]
+        x, info = solve(Kb - (wi * wi) * Mb + (1j * wi) * Cb, rhs[i] if varying_rhs else rhs)
+        if info != 0:
+            singular[i] = True
+            x = np.nan
+        Z[i] = x
+        if i % 64 == 63:
+            progress.advance(64)
+            deadline.check("while solving the harmonic systems", analysis=True)
+    progress.advance(N % 64)
+    return singular
+
+
+def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
+                  Z: _Store, deadline: Deadline) -> np.ndarray:
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import splu
+
+    N = w.shape[0]
+    M, C, K = (sp.csc_matrix(a) for a in (batch.M, batch.C, batch.K))
+    singular = np.zeros(N, dtype=bool)
+    for i in range(N):
+        wi = w[i]
+        A = (K - (wi * wi) * M + (1j * wi) * C).tocsc()
+        b = rhs[i] if rhs.ndim == 2 else rhs
+        try:
+            Z[i] = splu(A).solve(np.asarray(b, dtype=complex))
+        except RuntimeError:  # "Factor is exactly singular"
+            Z[i] = np.nan
+            singular[i] = True
+        progress.advance()
+        deadline.check("while solving the harmonic systems", analysis=True)
+    return singular
+
+
+def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
+                 warnings: list[str], store: _Store, deadline: Deadline) -> np.ndarray:
+    """Superposition of all undamped modes (exact for proportional damping), checked."""
+    import scipy.linalg
+
+    M, C, K = (_dense(a).astype(float) for a in (batch.M, batch.C, batch.K))
+    if not (_symmetric(M) and _symmetric(K) and _symmetric(C)):
+        raise AnalysisError("method 'modal' needs symmetric M, C and K (no gyroscopic or "
+                            "circulatory terms); use 'dense', 'banded' or 'sparse'")
+    try:
+        lam, phi = scipy.linalg.eigh(K, M)
+    except np.linalg.LinAlgError:
+        raise AnalysisError("method 'modal' needs a positive definite mass matrix") from None
+    modal_c = phi.T @ C @ phi
+    diag_c = np.diag(modal_c).copy()
+    off = modal_c - np.diag(diag_c)
+    if np.abs(off).max(initial=0.0) > 1e-9 * max(np.abs(diag_c).max(initial=0.0), 1e-300):
+        raise AnalysisError("method 'modal' needs proportional damping (C M^-1 K = K M^-1 C): "
+                            "the undamped modes do not decouple C; use 'dense', 'banded' or "
+                            "'sparse'")
+    N, n = w.shape[0], len(batch.coordinates)
+    forces = (rhs @ phi) if rhs.ndim == 2 else np.broadcast_to(rhs @ phi, (N, n))
+
+    def modal(sl: Any) -> np.ndarray:
+        ww = w[sl, None]
+        with np.errstate(all="ignore"):
+            return (forces[sl] / (lam - ww**2 + 1j * ww * diag_c)) @ phi.T
+
+    chunk = max(1, int(CHUNK_BYTES // (16 * n)))
+    for start in range(0, N, chunk):
+        sl = slice(start, min(N, start + chunk))
+        store[sl] = modal(sl)
+        progress.advance(sl.stop - sl.start)
+        deadline.check("while summing the modes", analysis=True)
+    singular = ~np.isfinite(store.largest)
+    # check: the same as a direct solve at the largest response and both ends
+    check = sorted({0, N - 1, int(np.argmax(np.where(singular, -np.inf, store.largest)))})
+    for i in check:
+        if singular[i]:
+            continue
+        b = rhs[i] if rhs.ndim == 2 else rhs
+        try:
+            direct = np.linalg.solve(K - w[i]**2 * M + 1j * w[i] * C, b)
+        except np.linalg.LinAlgError:
+            continue
+        error = np.abs(modal(slice(i, i + 1))[0] - direct).max() / max(
+            np.abs(direct).max(), 1e-300)
+        if error > MODAL_TOLERANCE:
+            warnings.append(f"modal superposition differs from the direct solve by {error:.2g} "
+                            f"at {w[i]:.6g} rad/s; solved directly instead")
+            banded = sum(_bandwidths(M, C, K)) + 1 <= max(3, n // 10)
+            if banded:
+                return _solve_banded(batch, w, rhs, _Progress(N, False), store, deadline)
+            return _solve_dense(batch, w, rhs, _Progress(N, False), store, deadline, None)
+    return singular
+
+
+
+
+__all__ = ["solve_harmonic", "KernelResult", "choose_method", "check_batch_mass", "equilibration",
+           "METHODS", "SINGULAR_CONDITION", "LOSS_CONDITION"]

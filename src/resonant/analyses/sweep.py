@@ -1,0 +1,578 @@
+"""Frequency (and parameter) sweeps of the stationary response.
+
+:func:`sweep` evaluates the stationary amplitude and phase of every coordinate
+and output while one parameter runs through an array of values: usually the
+excitation frequency, but any parameter works (an absorber stiffness changes
+K, a mass changes M).  The equation of motion is derived once; its symbolic
+entries are compiled once (:func:`resonant.numeric.compile_expressions`) and
+evaluated for all values at once, and the complex systems
+
+    (K - w^2 M + i w C) (L - i N) = F_C - i F_S
+
+are solved by the cheapest exact method for their structure:
+
+``"dense"``
+    a stack of complex matrices, one ``numpy.linalg.solve`` per chunk of points;
+``"banded"``
+    LAPACK ``gbsv`` (``gtsv`` for tridiagonal) per point, when M, C, K do not
+    depend on the parameter and their bandwidth is small;
+``"sparse"``
+    a sparse LU (SuperLU) per point, for large sparse matrices with a wide band;
+``"modal"``
+    superposition of *all* undamped modes, exact only when the damping is
+    proportional (``K M^-1 C = C M^-1 K``); its accuracy is checked against a
+    direct solve at a few points, and the sweep falls back to a direct method
+    when the check fails.
+
+``method="auto"`` picks one of these (see :func:`choose_method`); the result
+says which.  Amplitudes and phases mean exactly what they mean for
+:func:`resonant.stationary.stationary`: for one frequency X = sqrt(L^2 + N^2)
+and delta = atan2(L, N); for several, the peak of the summed time history.
+
+An undamped system swept exactly through a natural frequency has no bounded
+stationary solution there.  Such a point is not an error: its amplitude and
+phase are NaN in the arrays (``null`` in JSON, a gap in the plot), its value is
+listed in ``skipped`` and a warning names it.
+
+Examples
+--------
+>>> from resonant.analyses.sweep import sweep
+>>> import numpy as np, resonant.model
+>>> model = resonant.model.loads('''
+... [parameters]
+... m = 1
+... k = 100
+... c = 2
+... omega = 5
+... [coordinates]
+... x = "displacement"
+... [signals]
+... F = "sin(omega*t)"
+... [energy]
+... T = "m*x'^2/2"
+... U = "k*x^2/2"
+... D = "c*x'^2/2"
+... [[force]]
+... generalized = { x = "F" }
+... ''')
+>>> fr = sweep(model.linearize(), "omega", np.linspace(1, 20, 191))
+>>> [round(p.value, 2) for p in fr.peaks]     # sqrt(k/m - c^2/(2 m^2)) = 9.899
+[9.9]
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import sys
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from functools import cached_property
+from types import MappingProxyType
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from .. import hooks
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import AnalysisError
+from ..system import Batch, LinearSystem
+from ..system.numeric import frozen_array, group_frequencies
+from ..system.stability import natural_frequencies as _natural_frequencies
+from .kernel import METHODS, _dense, _Progress, check_batch_mass, choose_method, solve_harmonic
+from .stationary import peak
+#: above this many coordinates only the loaded ones are reported unless names are given
+MAX_DEFAULT_NAMES = 2000
+#: largest n for which the dense natural frequencies are computed with every sweep
+EAGER_EIGEN = 400
+
+
+class Extremum(NamedTuple):
+    """A resonance peak or antiresonance of one response curve.
+
+    ``value`` is the refined parameter value (parabolic interpolation through
+    the three grid points around the extremum: on log amplitude for peaks, on
+    amplitude squared for antiresonances); ``amplitude`` the interpolated value.
+    (A named tuple: a long sweep of a large model has tens of thousands.)
+    """
+
+    name: str
+    value: float
+    amplitude: float
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"name": self.name, "value": self.value, "amplitude": self.amplitude}
+
+
+@dataclass(frozen=True)
+class ExtremaTable:
+    """Extrema as arrays (built into :class:`Extremum` tuples only when asked for)."""
+
+    names: tuple[str, ...] = ()
+    index: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    amplitudes: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def __len__(self) -> int:
+        return len(self.index)
+
+    def entries(self) -> tuple[Extremum, ...]:
+        names = self.names
+        return tuple(map(Extremum, [names[i] for i in self.index.tolist()],
+                         self.values.tolist(), self.amplitudes.tolist()))
+
+    def to_list(self) -> list[dict[str, Any]]:
+        names = self.names
+        return [{"name": names[i], "value": v, "amplitude": a} for i, v, a in
+                zip(self.index.tolist(), self.values.tolist(), self.amplitudes.tolist())]
+
+
+@dataclass(frozen=True)
+class FrequencyResponse:
+    """Amplitudes and phases of coordinates and outputs against one parameter.
+
+    Attributes
+    ----------
+    parameter : str
+        The swept parameter.
+    values : ndarray
+        Its values, shape (N,).
+    amplitudes, phases : mapping
+        ``name -> ndarray (N,)``; NaN at skipped points (and phases also where
+        there are several frequencies or the amplitude is zero).
+    peaks, antiresonances : tuple of Extremum
+    method : str
+        The solution method used (``dense``, ``banded``, ``sparse``, ``modal``).
+    frequency_sweep : bool
+        True when the parameter is the excitation frequency (unit rad/s; M, C,
+        K stay fixed); then ``natural_frequencies`` are those of the system.
+    skipped : tuple of float
+        Values where the stationary solution does not exist (undamped resonance).
+    """
+
+    parameter: str
+    values: np.ndarray
+    quantities: tuple[str, ...]
+    #: complex responses z = L - i N, shape (harmonics, values, quantities)
+    response: np.ndarray
+    #: the excitation frequency of each harmonic at each value, shape (harmonics, values)
+    harmonic_omegas: np.ndarray
+    method: str
+    frequency_sweep: bool = False
+    natural_frequencies: np.ndarray | None = None
+    skipped: tuple[float, ...] = ()
+    warnings: tuple[str, ...] = ()
+    log: bool = False
+    title: str = ""
+    coordinates: tuple[str, ...] = ()
+
+    # Amplitudes, phases and extrema are derived on first use: the solve is the
+    # sweep's job, and a caller who only needs the responses of a large model
+    # should not pay for a million amplitudes and their peaks.
+    @cached_property
+    def _amplitude_phase(self) -> tuple[np.ndarray, np.ndarray]:
+        N, m = len(self.values), len(self.quantities)
+        if self.response.shape[0] == 0:
+            return np.zeros((N, m)), np.full((N, m), np.nan)
+        amplitude, phase = _amplitude_phase(self.harmonic_omegas, self.response)
+        skipped = np.isin(self.values, np.asarray(self.skipped, dtype=float))
+        amplitude[skipped] = np.nan
+        phase[skipped] = np.nan
+        return amplitude, phase
+
+    @cached_property
+    def amplitudes(self) -> Mapping[str, np.ndarray]:
+        amplitude = self._amplitude_phase[0]
+        return MappingProxyType({n: amplitude[:, j] for j, n in enumerate(self.quantities)})
+
+    @cached_property
+    def phases(self) -> Mapping[str, np.ndarray]:
+        phase = self._amplitude_phase[1]
+        return MappingProxyType({n: phase[:, j] for j, n in enumerate(self.quantities)})
+
+    @cached_property
+    def _extrema(self) -> tuple[ExtremaTable, ExtremaTable]:
+        if not np.all(np.diff(self.values) > 0):
+            return ExtremaTable(self.quantities), ExtremaTable(self.quantities)
+        single = self.response[0] if self.response.shape[0] == 1 else None
+        return _extrema(self.quantities, self.values, self._amplitude_phase[0], self.log,
+                        single)
+
+    @property
+    def peak_table(self) -> ExtremaTable:
+        return self._extrema[0]
+
+    @property
+    def antiresonance_table(self) -> ExtremaTable:
+        return self._extrema[1]
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return self.quantities
+
+    @cached_property
+    def peaks(self) -> tuple[Extremum, ...]:
+        return self.peak_table.entries()
+
+    @cached_property
+    def antiresonances(self) -> tuple[Extremum, ...]:
+        return self.antiresonance_table.entries()
+
+    @property
+    def unit(self) -> str:
+        """The unit of the parameter where known ("rad/s" for the excitation frequency)."""
+        return "rad/s" if self.frequency_sweep else ""
+
+    def to_dict(self) -> dict[str, Any]:
+        def clean(a: np.ndarray) -> list[float | None]:
+            return [float(v) if math.isfinite(v) else None for v in a]
+
+        data: dict[str, Any] = {
+            "title": self.title,
+            "parameter": self.parameter,
+            "unit": self.unit,
+            "values": self.values.tolist(),
+            "amplitudes": {k: clean(v) for k, v in self.amplitudes.items()},
+            "phases": {k: clean(v) for k, v in self.phases.items()},
+            "peaks": self.peak_table.to_list(),
+            "antiresonances": self.antiresonance_table.to_list(),
+            "method": self.method,
+            "skipped": list(self.skipped),
+            "warnings": list(self.warnings),
+        }
+        if self.natural_frequencies is not None:
+            data["natural_frequencies"] = self.natural_frequencies.tolist()
+        return data
+
+    def to_csv(self, path: Any) -> None:
+        """Write one row per value: the parameter, then amplitude and phase of each name."""
+        with open(path, "w", newline="", encoding="utf-8") as handle:
+            writer = csv.writer(handle)
+            writer.writerow([self.parameter] + [f"{kind}_{name}" for name in self.names
+                                                for kind in ("amplitude", "phase")])
+            for i, value in enumerate(self.values):
+                row = [repr(float(value))]
+                for name in self.names:
+                    for series in (self.amplitudes[name], self.phases[name]):
+                        v = float(series[i])
+                        row.append(repr(v) if math.isfinite(v) else "")
+                writer.writerow(row)
+
+    def plot(self, path: Any = None, names: Sequence[str] | None = None, **options: Any
+             ) -> Any:
+        """Amplitude (log axis) and phase against the parameter
+        (:func:`resonant.views.plotting.plot_frequency_response`).
+
+        Parameters
+        ----------
+        path : str or Path, optional
+            Save the figure there (format from the suffix).
+        names : sequence of str, optional
+            The quantities to draw.
+        **options
+            ``ax=`` and more, passed on.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        return hooks.call("plot_frequency_response", self, path=path, names=names, **options)
+
+    def summary(self) -> str:
+        """The text ``resonant sweep`` prints."""
+        return str(hooks.call("sweep_text", self))
+
+    def _repr_html_(self) -> str:
+        import html
+
+        rows = "".join(
+            f"<tr><td>{html.escape(p.name)}</td><td>{p.value:.6g}</td>"
+            f"<td>{p.amplitude:.6g}</td></tr>" for p in self.peaks[:50])
+        unit = f" [{self.unit}]" if self.unit else ""
+        return (f"<p><b>Sweep of {html.escape(self.parameter)}</b>{unit}: {len(self.values)} "
+                f"values from {self.values[0]:.6g} to {self.values[-1]:.6g} "
+                f"(method {self.method})</p><table><tr><th>name</th>"
+                f"<th>peak at {html.escape(self.parameter)}</th><th>amplitude</th></tr>"
+                f"{rows}</table>")
+
+
+# -- amplitudes, phases, extrema ------------------------------------------------------------
+
+def _kept_names(batch: Batch, names: Sequence[str]) -> list[str]:
+    """The coordinates whose responses are kept: those reported and those outputs use."""
+    wanted = set(names)
+    for _, terms in batch.outputs.values():
+        wanted |= {var for var, _ in terms}
+    return [q for q in batch.coordinates if q in wanted]
+
+
+def _responses(batch: Batch, responses: list[np.ndarray], names: Sequence[str]
+               ) -> tuple[list[str], np.ndarray]:
+    """The selected coordinates and every output: names and Z, shape (H, N, m)."""
+    index = {q: k for k, q in enumerate(_kept_names(batch, names))}
+    columns = [index[q] for q in names]
+    out_names = list(names) + list(batch.outputs)
+    if not batch.outputs and len(responses) == 1 and columns == list(range(len(index))):
+        return out_names, responses[0][None]  # all kept coordinates in order: no copy
+    N = responses[0].shape[0] if responses else 0
+    Z = np.empty((len(responses), N, len(out_names)), dtype=complex)
+    for k, (h, R) in enumerate(zip(batch.harmonics, responses)):
+        Z[k, :, :len(columns)] = R[:, columns]
+        for m, (_, terms) in enumerate(batch.outputs.values(), start=len(columns)):
+            z = np.zeros(N, dtype=complex)
+            for (var, order), coef in terms.items():
+                if var in index:
+                    z = z + coef * (1j * h.omega) ** order * R[:, index[var]]
+                else:
+                    s, c = h.signals.get((var, order), (0.0, 0.0))
+                    z = z + coef * (np.asarray(c) - 1j * np.asarray(s))
+            Z[k, :, m] = z
+    return out_names, Z
+
+
+def _amplitude_phase(omegas: np.ndarray, Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Amplitude and phase, shape (N, m), with the semantics of :func:`stationary.peak`.
+
+    ``omegas`` (H, N) are the harmonics' frequencies, ``Z`` (H, N, m) the responses.
+    """
+    H, N, m = Z.shape
+    bad = ~np.isfinite(Z).all(axis=0)
+    if H == 1:
+        L, Nn = Z[0].real, -Z[0].imag
+        static = (omegas[0] == 0)[:, None]
+        amplitude = np.where(static, np.abs(L), np.hypot(L, Nn))
+        with np.errstate(invalid="ignore"):
+            phase = np.where(~static & (amplitude > 0), np.arctan2(L, Nn), np.nan)
+    else:
+        amplitude = np.full((N, m), np.nan)
+        phase = np.full((N, m), np.nan)
+        for i in range(N):
+            # merge harmonics that coincide at this point (superposition)
+            groups = group_frequencies(omegas[:, i].tolist())
+            freqs = [float(omegas[ks[0], i]) for ks in groups]
+            merged = np.array([Z[ks, i, :].sum(axis=0) for ks in groups])
+            active = [k for k, f in enumerate(freqs) if f > 0]
+            for j in range(m):
+                if bad[i, j]:
+                    continue
+                pairs = tuple((float(z.real), float(-z.imag)) for z in merged[:, j])
+                amplitude[i, j] = peak(freqs, pairs)
+                if len(active) == 1 and math.hypot(*pairs[active[0]]) > 0:
+                    phase[i, j] = math.atan2(*pairs[active[0]])
+    amplitude[bad] = np.nan
+    phase[bad] = np.nan
+    return amplitude, phase
+
+
+def _vertices(u: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices of the parabolas through point triples (any spacing), kept in [u0, u2].
+
+    ``u`` and ``y`` have shape (3, m): one triple per column.
+    """
+    (u0, u1, u2), (y0, y1, y2) = u, y
+    with np.errstate(all="ignore"):
+        d01, d12 = (y1 - y0) / (u1 - u0), (y2 - y1) / (u2 - u1)
+        a = (d12 - d01) / (u2 - u0)
+        b = d01 - a * (u0 + u1)
+        x = np.clip(-b / (2 * a), u0, u2)
+        value = y0 + d01 * (x - u0) + a * (x - u0) * (x - u1)
+    flat = ~np.isfinite(x) | (a == 0)
+    return np.where(flat, u1, x), np.where(flat, y1, value)
+
+
+#: a grid point is an extremum only if it differs from a neighbour by more than this
+#: (relative): rounding noise on a flat curve is not a peak
+EXTREMUM_RELATIVE = 1e-10
+
+
+def _extrema(names: Sequence[str], values: np.ndarray, amplitude: np.ndarray, log: bool,
+             response: np.ndarray | None = None) -> tuple[ExtremaTable, ExtremaTable]:
+    """Peaks and antiresonances of every column of ``amplitude`` (N, m), in name order.
+
+    ``response`` (N, m), the complex response of a single-frequency sweep, refines deep
+    antiresonances (a zero of the response between grid points): with the local linear
+    model z(u) = z1 + beta (u - u1), beta = (z2 - z0)/(u2 - u0), |z| is least at
+    u = u1 - Re(conj(beta) z1)/|beta|^2 (exact where z is linear in u).
+    """
+    N, m = amplitude.shape
+    names = tuple(names)
+    if N < 3 or m == 0:
+        return ExtremaTable(names), ExtremaTable(names)
+    finite = np.isfinite(amplitude)
+    top = np.where(finite, amplitude, -np.inf).max(axis=0)
+    u = np.log(values) if log else values
+    a0, a1, a2 = amplitude[:-2], amplitude[1:-1], amplitude[2:]
+    ok = finite[:-2] & finite[1:-1] & finite[2:] & (top > 0)
+    margin = EXTREMUM_RELATIVE * np.maximum(np.maximum(a0, a1), a2)
+    with np.errstate(invalid="ignore"):
+        is_peak = ok & (a1 >= a0) & (a1 >= a2) & (a1 - np.minimum(a0, a2) > margin) & \
+            (a1 > 1e-9 * top) & (a0 > 0) & (a2 > 0)
+        is_dip = ok & (a1 <= a0) & (a1 <= a2) & (np.maximum(a0, a2) - a1 > margin) & \
+            (np.maximum(a0, a2) > 1e-9 * top)
+    out = []
+    for mask, transform, back in ((is_peak, np.log, np.exp),
+                                  (is_dip, np.square, lambda y: np.sqrt(np.maximum(y, 0)))):
+        cols, rows = np.nonzero(mask.T)      # name-major order
+        rows = rows + 1
+        triples = np.stack([rows - 1, rows, rows + 1])
+        with np.errstate(all="ignore"):
+            x, y = _vertices(u[triples], transform(amplitude[triples, cols]))
+        y = back(y)
+        if response is not None and mask is is_dip and cols.size:
+            z0, z1, z2 = response[triples, cols]
+            u0, u1, u2 = u[triples]
+            deep = np.abs(z1) < 0.1 * np.maximum(np.abs(z0), np.abs(z2))
+            with np.errstate(all="ignore"):
+                beta = (z2 - z0) / (u2 - u0)
+                step = -(np.conj(beta) * z1).real / np.abs(beta) ** 2
+                linear_x = np.clip(u1 + np.where(np.isfinite(step), step, 0.0), u0, u2)
+            x = np.where(deep, np.exp(linear_x) if log else linear_x, np.exp(x) if log else x)
+            y = np.where(deep, np.abs(z1 + beta * (linear_x - u1)), y)
+            out.append(ExtremaTable(names, cols, x, y))
+            continue
+        out.append(ExtremaTable(names, cols, np.exp(x) if log else x, y))
+    return out[0], out[1]
+
+
+# -- the public function ------------------------------------------------------------------
+
+@hooks.provides("sweep")
+def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray, *,
+          method: str = "auto", names: Sequence[str] | None = None,
+          progress: bool | None = None, log: bool | None = None,
+          deadline: Deadline = NO_DEADLINE) -> FrequencyResponse:
+    """Stationary amplitude and phase of every coordinate and output against a parameter.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The system; a NumericEOM that does not carry its model can only be
+        swept over ``param="omega"`` (the excitation frequency).
+    param : str
+        The parameter to vary (parameters defined from it follow it).
+    values : array_like
+        Its values (at least one; finite).
+    method : {"auto", "dense", "banded", "sparse", "modal"}
+        How to solve; see the module docstring.  ``auto`` picks with
+        :func:`choose_method`.
+    names : sequence of str, optional
+        The coordinates to report (default all; outputs are always reported).
+    progress : bool, optional
+        Show a text progress bar on standard error (default: when standard
+        error is a terminal and the sweep is long).
+    log : bool, optional
+        Whether the values are logarithmically spaced (for peak refinement
+        and plots); detected from the values when omitted.
+    deadline : Deadline, optional
+        Checked between the points.
+
+    Returns
+    -------
+    FrequencyResponse
+
+    Raises
+    ------
+    ModelError
+        For an unknown parameter or values that make the model invalid.
+    AnalysisError
+        For a method that does not fit the system (``modal`` with
+        non-proportional damping, ``banded`` with matrices that change).
+    """
+    if method not in METHODS:
+        raise AnalysisError(f"unknown method '{method}'; choose one of {', '.join(METHODS)}")
+    values = np.asarray(values, dtype=float).ravel()
+    if values.size == 0 or not np.all(np.isfinite(values)):
+        raise AnalysisError("the sweep needs at least one finite parameter value")
+    batch = system.batch(param, values, deadline)
+    n = len(batch.coordinates)
+    if names is None:
+        names = list(batch.coordinates)
+        if n > MAX_DEFAULT_NAMES:
+            # a full table of a huge model is neither wanted nor storable: report the
+            # loaded coordinates (select others with names=/--only)
+            loaded = set()
+            for h in batch.harmonics:
+                for f in (h.F_S, h.F_C):
+                    loaded |= set(np.nonzero(np.atleast_2d(f).any(axis=0))[0].tolist())
+            names = [batch.coordinates[i] for i in sorted(loaded)] or [batch.coordinates[-1]]
+            default_note = (f"{n} coordinates: only the loaded ones ({', '.join(names[:5])}"
+                            f"{' ...' if len(names) > 5 else ''}) are reported; choose others "
+                            "with names= (--only)")
+        else:
+            default_note = ""
+    else:
+        default_note = ""
+    known = set(batch.coordinates)
+    unknown = [q for q in names if q not in known]
+    if unknown:
+        raise AnalysisError(f"unknown coordinate(s) {', '.join(unknown)}; the coordinates are "
+                            f"{', '.join(batch.coordinates[:20])}"
+                            f"{' ...' if n > 20 else ''}")
+    if method == "auto":
+        method = choose_method(batch, len(values))
+    elif method in ("banded", "sparse", "modal") and not batch.constant:
+        raise AnalysisError(f"method '{method}' needs M, C and K that do not depend on "
+                            f"'{param}'; use 'dense'")
+    warnings: list[str] = [default_note] if default_note else []
+    check_batch_mass(batch, values, param, warnings)
+    if progress is None:
+        progress = sys.stderr.isatty() and len(values) * n * max(n, 1) > 5e7
+    bar = _Progress(len(values) * max(len(batch.harmonics), 1), bool(progress))
+    responses, skipped_mask = [], np.zeros(len(values), dtype=bool)
+    position = {q: i for i, q in enumerate(batch.coordinates)}
+    keep = np.array([position[q] for q in _kept_names(batch, names)], dtype=int)
+    for h in batch.harmonics:
+        result = solve_harmonic(batch, h, method, progress=bar, warnings=warnings, keep=keep,
+                                deadline=deadline)
+        responses.append(result.Z)
+        skipped_mask |= result.singular
+    if not batch.harmonics:
+        warnings.append("the model has no harmonic excitation: every amplitude is zero")
+    if log is None:
+        log = bool(len(values) > 2 and np.all(values > 0) and
+                   np.allclose(np.diff(np.log(values)), np.log(values[1] / values[0]),
+                               rtol=1e-6) and not np.allclose(np.diff(values),
+                                                              values[1] - values[0], rtol=1e-9))
+    if batch.harmonics:
+        all_names, Z = _responses(batch, responses, names)
+    else:
+        all_names = list(names) + list(batch.outputs)
+        Z = np.zeros((0, len(values), len(all_names)), dtype=complex)
+    omegas = np.array([np.broadcast_to(h.omega, values.shape) for h in batch.harmonics],
+                      dtype=float).reshape(len(batch.harmonics), len(values))
+    skipped = tuple(float(v) for v in values[skipped_mask])
+    if skipped:
+        shown = ", ".join(f"{v:.6g}" for v in skipped[:5])
+        warnings.append(
+            f"no stationary solution at {param} = {shown}{' ...' if len(skipped) > 5 else ''} "
+            "(undamped resonance: the amplitude is unbounded); these points are skipped "
+            "(NaN, null in JSON)")
+    frequency_sweep = batch.constant and any(
+        np.ptp(h.omega) > 0 for h in batch.harmonics)
+    natural = None
+    if batch.constant and n <= EAGER_EIGEN:
+        try:
+            natural = _natural_frequencies(_dense(batch.M), _dense(batch.K))
+        except (np.linalg.LinAlgError, ValueError):
+            natural = None
+    return FrequencyResponse(
+        parameter=param, values=values, quantities=tuple(all_names), response=Z,
+        harmonic_omegas=omegas, method=method, frequency_sweep=bool(frequency_sweep), natural_frequencies=natural,
+        skipped=skipped, warnings=tuple(dict.fromkeys(warnings)), log=bool(log),
+        title=batch.title, coordinates=tuple(batch.coordinates))
+
+
+def linspace(start: float, stop: float, points: int, log: bool = False) -> np.ndarray:
+    """The sweep values: evenly spaced, or logarithmically (``log=True``, positive ends)."""
+    if points < 1:
+        raise AnalysisError(f"a sweep needs at least 1 point, not {points}")
+    if log:
+        if start <= 0 or stop <= 0:
+            raise AnalysisError("a logarithmic sweep needs positive start and end values")
+        return np.geomspace(start, stop, points)
+    return np.linspace(start, stop, points)
+
+
+__all__ = ["sweep", "FrequencyResponse", "Extremum", "ExtremaTable", "choose_method", "linspace",
+           "METHODS"]

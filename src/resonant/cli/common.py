@@ -1,0 +1,83 @@
+"""What every subcommand shares: the common options, loading, JSON and warnings output."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from collections.abc import Sequence
+from typing import Any
+
+from ..deadline import Deadline
+from ..errors import AnalysisError, ModelError, Problem
+from ..model import Model, load
+
+#: default time limit of a command (``--timeout``), in seconds
+DEFAULT_TIMEOUT = 120.0
+
+
+def parse_settings(items: Sequence[str] | None) -> dict[str, str]:
+    """``["k=200", "omega=2*pi"]`` -> ``{"k": "200", "omega": "2*pi"}`` (values stay text).
+
+    Examples
+    --------
+    >>> parse_settings(["k=200", "w = 2*pi"])
+    {'k': '200', 'w': '2*pi'}
+    """
+    out: dict[str, str] = {}
+    for item in items or ():
+        name, sep, value = item.partition("=")
+        if not sep or not name.strip() or not value.strip():
+            raise ModelError(Problem(f"--set expects NAME=VALUE, got '{item}'", "--set"))
+        out[name.strip()] = value.strip()
+    return out
+
+
+def deadline(args: argparse.Namespace) -> Deadline:
+    """The deadline of this run (``--timeout``), made once per command."""
+    if not hasattr(args, "_deadline"):
+        args._deadline = Deadline(getattr(args, "timeout", None) or None, args.model)
+    return args._deadline
+
+
+def load_model(args: argparse.Namespace) -> Model:
+    """Load ``args.model`` with the ``--set`` overrides applied."""
+    return load(args.model, overrides=parse_settings(getattr(args, "set", None)))
+
+
+def emit_json(data: Any) -> None:
+    try:
+        text = json.dumps(data, indent=2, allow_nan=False)
+    except ValueError:
+        raise AnalysisError("the result holds NaN or infinity and cannot be written as "
+                            "JSON; check the parameter values") from None
+    sys.stdout.write(text + "\n")
+
+
+def warn(messages: Sequence[str]) -> None:
+    for message in messages:
+        print(f"warning: {message}", file=sys.stderr)
+
+
+def common_parser() -> argparse.ArgumentParser:
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("model", help="the model file (TOML)")
+    common.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
+                        help="override a parameter (the value may be an expression)")
+    common.add_argument("--timeout", type=_seconds, default=DEFAULT_TIMEOUT, metavar="SECONDS",
+                        help="time limit of the whole command (default "
+                             f"{DEFAULT_TIMEOUT:g}; 0 for none)")
+    return common
+
+
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value) or value < 0:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds >= 0, got '{text}'")
+    return value
+
+

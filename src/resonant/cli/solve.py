@@ -1,0 +1,39 @@
+"""``resonant solve`` and ``resonant check``."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+from . import common
+
+
+def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+    solve = subparsers.add_parser("solve", parents=[parent], help="linearized EOM, natural "
+                                  "frequencies and the stationary solution")
+    solve.add_argument("--json", action="store_true", help="print one JSON object")
+    solve.set_defaults(run=run_solve)
+    check = subparsers.add_parser("check", parents=[parent], help="validate a model only")
+    check.set_defaults(run=run_check)
+
+
+def run_solve(args: argparse.Namespace) -> int:
+    deadline = common.deadline(args)
+    model = common.load_model(args)
+    solution = model.linearize(deadline=deadline).stationary(deadline=deadline)
+    if args.json:
+        common.emit_json(solution.to_dict())
+        common.warn(solution.warnings)
+    else:
+        sys.stdout.write(solution.summary())
+    return 0
+
+
+def run_check(args: argparse.Namespace) -> int:
+    deadline = common.deadline(args)
+    model = common.load_model(args)
+    model.linearize(deadline=deadline).numeric(deadline)
+    print(f"{args.model}: valid model, {len(model.coordinates)} coordinate(s): "
+          f"{', '.join(model.coordinates)}")
+    return 0

@@ -1,0 +1,10 @@
+"""Layer 2, the model: its types, the loader (TOML schema), matrix files and limits.
+
+Imports only from :mod:`resonant.errors`, :mod:`resonant.deadline`,
+:mod:`resonant.hooks` and :mod:`resonant.expressions`.
+"""
+
+from .loader import load, loads
+from .types import TIME, Force, Harmonic, MatrixSpec, Model, symbol
+
+__all__ = ["load", "loads", "Model", "Force", "Harmonic", "MatrixSpec", "symbol", "TIME"]

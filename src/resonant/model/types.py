@@ -1,0 +1,236 @@
+"""The validated model: names, parsed expressions and parameter values.
+
+These are the model layer's types; :mod:`resonant.model.loader` builds them
+from a TOML file.
+
+Examples
+--------
+>>> from resonant.model import loads
+>>> m = loads('[parameters]\\nk = 1\\n[coordinates]\\nx = ""\\n[energy]\\nT = "x\\'^2/2"\\nU = "k*x^2/2"')
+>>> m.coordinates, m.parameter_values["k"]
+(('x',), 1.0)
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field, replace
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any
+
+import sympy
+
+from .. import hooks
+from ..deadline import Deadline
+from ..errors import ModelError, Problem
+from ..expressions import Expression, ExpressionError, parse
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..system import LinearSystem
+
+TIME = sympy.Symbol("t")
+
+
+def symbol(name: str) -> sympy.Symbol:
+    """The sympy symbol of a model name (parameters, signals, coordinates).
+
+    Examples
+    --------
+    >>> symbol("m1")
+    m1
+    """
+    return sympy.Symbol(name)
+
+
+@dataclass(frozen=True)
+class Force:
+    """A ``[[force]]`` entry: a force vector acting on a point, or generalized forces."""
+
+    name: str
+    vector: tuple[Expression, ...] = ()
+    point: tuple[Expression, ...] = ()
+    generalized: Mapping[str, Expression] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Harmonic:
+    """One harmonic excitation of a matrix model: Q = F_S sin(omega t) + F_C cos(omega t)."""
+
+    omega: Expression
+    F_S: tuple[Expression, ...]
+    F_C: tuple[Expression, ...]
+
+
+@dataclass(frozen=True)
+class MatrixSpec:
+    """The ``[matrices]`` section: M, K, optional C, given directly."""
+
+    M: Any
+    K: Any
+    C: Any = None
+    harmonics: tuple[Harmonic, ...] = ()
+
+
+@dataclass(frozen=True)
+class Model:
+    """A validated model: names, parsed expressions and parameter values.
+
+    Build it with :func:`load` or :func:`loads`; derive the linearized
+    equation of motion with :meth:`linearize`.
+    """
+
+    title: str
+    source: str
+    parameters: Mapping[str, Expression]
+    parameter_values: Mapping[str, float]
+    exact_values: Mapping[str, sympy.Expr]
+    coordinates: tuple[str, ...]
+    descriptions: Mapping[str, str]
+    equilibrium: Mapping[str, Expression]
+    signals: Mapping[str, Expression]
+    definitions: Mapping[str, Expression]
+    energy: Mapping[str, Expression]
+    forces: tuple[Force, ...]
+    outputs: Mapping[str, Expression]
+    matrices: MatrixSpec | None = None
+
+    def symbols(self) -> dict[str, sympy.Symbol]:
+        """The parameter symbols by name."""
+        return {name: symbol(name) for name in self.parameters}
+
+    def with_parameters(self, **values: float | str) -> "Model":
+        """A copy with some parameters replaced (values are parsed, not evaluated).
+
+        Examples
+        --------
+        >>> from resonant.model import loads
+        >>> m = loads('[parameters]\\nk = 1\\n[coordinates]\\nx = ""\\n[energy]\\nT = "x\\'^2/2"\\nU = "k*x^2/2"')
+        >>> m.with_parameters(k=4).parameter_values["k"]
+        4.0
+        """
+        params = dict(self.parameters)
+        problems: list[Problem] = []
+        for name, value in values.items():
+            if name not in params:
+                problems.append(unknown_parameter(name, self.source, params))
+                continue
+            try:
+                params[name] = parse(value, allowed=list(params), file=self.source,
+                                     section="parameters", key=name)
+            except ExpressionError as exc:
+                problems.extend(exc.problems)
+        if problems:
+            raise ModelError(problems)
+        exact, floats = evaluate_parameters(params, self.source)
+        return replace(self, parameters=MappingProxyType(params),
+                        exact_values=MappingProxyType(exact),
+                        parameter_values=MappingProxyType(floats))
+
+    def linearize(self, timeout: float | None = None, deadline: Deadline | None = None
+                  ) -> "LinearSystem":
+        """The linearized equation of motion M q'' + C q' + K q = Q(t).
+
+        One-line delegate to :func:`resonant.system.linear_system`.
+
+        Parameters
+        ----------
+        timeout : float, optional
+            Time limit of the derivation in seconds (used when no ``deadline`` is given).
+        deadline : Deadline, optional
+            The cooperative deadline of the whole run.
+
+        Returns
+        -------
+        LinearSystem
+            :class:`~resonant.system.LinearEOM` for a model given by its energies,
+            :class:`~resonant.system.MatrixEOM` for ``[matrices]``.
+
+        Raises
+        ------
+        ModelError
+            If the derivation fails, exceeds the time limit, overflows or nests
+            too deeply; the message names the expression being worked on.
+        """
+        return hooks.call("linear_system", self, deadline or Deadline(timeout, self.source))
+
+    def simulate(self, duration: float | None = None, nonlinear: bool = False,
+                 **options: Any) -> Any:
+        """Time integration, linear or full nonlinear.
+
+        One-line delegate to :func:`resonant.analyses.simulate.simulate`.
+
+        Parameters
+        ----------
+        duration : float, optional
+            End time in s (default: chosen from the system's time scales).
+        nonlinear : bool
+            Integrate the full Lagrange equations instead of the linearized ones.
+        **options
+            Passed on to :func:`~resonant.analyses.simulate.simulate`.
+
+        Returns
+        -------
+        Simulation
+        """
+        return hooks.call("simulate", self.linearize(deadline=options.get("deadline")),
+                          duration, nonlinear, **options)
+
+    def _repr_latex_(self) -> str:
+        return str(hooks.call("model_latex", self))
+
+    def _repr_html_(self) -> str:
+        return str(hooks.call("model_html", self))
+
+
+def unknown_parameter(name: str, source: str, params: Iterable[str]) -> Problem:
+    close = difflib.get_close_matches(name, list(params), n=1)
+    hint = f"; did you mean '{close[0]}'?" if close else f"; known: {', '.join(params) or 'none'}"
+    return Problem(f"--set names unknown parameter '{name}'{hint}", source, "parameters", name)
+
+
+
+# -- parameters ---------------------------------------------------------------------------
+
+def evaluate_parameters(params: Mapping[str, Expression], source: str
+                         ) -> tuple[dict[str, sympy.Expr], dict[str, float]]:
+    """Exact and floating values of the parameters, in declaration order."""
+    exact: dict[str, sympy.Expr] = {}
+    floats: dict[str, float] = {}
+    problems: list[Problem] = []
+    for name, expression in params.items():
+        try:
+            value = expression.to_sympy(lambda n, p, _e=exact: _e[n] if p == 0 else sympy.Integer(0))
+        except ExpressionError as exc:
+            problems.extend(exc.problems)
+            continue
+        except KeyError as exc:  # refers to a parameter that failed itself
+            problems.append(Problem(f"depends on the invalid parameter {exc}", source,
+                                    "parameters", name))
+            continue
+        try:
+            number = complex(value.evalf(30))
+        except (TypeError, ValueError):
+            problems.append(Problem(f"'{expression.text}' is not a number", source,
+                                    "parameters", name))
+            continue
+        if abs(number.imag) > 1e-12 * max(1.0, abs(number.real)):
+            problems.append(Problem(f"'{expression.text}' is not a real number ({number})",
+                                    source, "parameters", name))
+            continue
+        if not math.isfinite(number.real) or abs(number.real) > 1e300:
+            problems.append(Problem(
+                f"'{expression.text}' is not a finite number; use a value below 1e300",
+                source, "parameters", name))
+            continue
+        exact[name] = value
+        floats[name] = float(number.real)
+    if problems:
+        raise ModelError(problems)
+    return exact, floats
+
+
+
+__all__ = ["Model", "Force", "Harmonic", "MatrixSpec", "symbol", "TIME", "evaluate_parameters",
+           "unknown_parameter"]

@@ -1,0 +1,46 @@
+"""Layer 4, the system: the one linear-system type every analysis takes.
+
+:func:`linear_system` turns a model into its :class:`LinearSystem`: a
+:class:`LinearEOM` (derived from energies by :mod:`resonant.derivation`) or a
+:class:`MatrixEOM` (``[matrices]``).  Numbers come as :class:`NumericEOM` (one
+parameter point) or :class:`Batch` (many).
+"""
+
+from __future__ import annotations
+
+from .. import hooks
+from ..deadline import NO_DEADLINE, Deadline
+from ..derivation import linearize
+from ..model import Model
+from .base import LinearSystem, parameter_values
+from .matrix import MatrixEOM
+from .numeric import Batch, BatchHarmonic, NumericEOM, NumericHarmonic, NumericOutput
+from .symbolic import LinearEOM
+
+
+@hooks.provides("linear_system")
+def linear_system(model: Model, deadline: Deadline = NO_DEADLINE) -> LinearSystem:
+    """The linear system of a model: derived from its energies, or its given matrices.
+
+    Parameters
+    ----------
+    model : Model
+    deadline : Deadline, optional
+        Checked throughout the derivation.
+
+    Returns
+    -------
+    LinearSystem
+
+    Raises
+    ------
+    ModelError
+        If the derivation fails (see :func:`resonant.derivation.linearize`).
+    """
+    if model.matrices is not None:
+        return MatrixEOM(model, model.coordinates)
+    return LinearEOM.from_linearization(linearize(model, deadline=deadline))
+
+
+__all__ = ["LinearSystem", "LinearEOM", "MatrixEOM", "NumericEOM", "NumericHarmonic",
+           "NumericOutput", "Batch", "BatchHarmonic", "linear_system", "parameter_values"]

@@ -1,0 +1,204 @@
+"""The linear system of a ``[matrices]`` model: M, K, optional C and ``[[harmonic]]`` loads.
+
+Inline matrices hold expressions of the parameters (evaluated with numpy, no
+sympy); file matrices hold numbers, dense or sparse, used as read.  The
+symbolic form (sympy matrices) is built only when asked for (reports, JSON).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+import sympy
+
+from ..deadline import NO_DEADLINE, Deadline
+from ..derivation import SignalHarmonics, decompose_signals
+from ..errors import ModelError, Problem
+from ..expressions import Num, numeric_value
+from ..model import TIME, Model, symbol
+from .base import LinearSystem
+from .numeric import Batch, BatchHarmonic
+
+Var = tuple[str, int]
+
+
+@dataclass(frozen=True, eq=False)
+class MatrixEOM(LinearSystem):
+    """The equation of motion of a ``[matrices]`` model.
+
+    Each harmonic j acts as two signals ``sin(omega_j t)`` and ``cos(omega_j t)``
+    whose columns are F_S and F_C (:attr:`excitation`), so reports and
+    outputs treat both kinds of model alike.
+    """
+
+    model: Model  # type: ignore[assignment]
+    coordinates: tuple[str, ...]
+
+    def _spec_matrix(self, key: str) -> Any:
+        spec = self.model.matrices
+        if spec is None:
+            raise ModelError(Problem("the model has no [matrices] section", self.source))
+        return getattr(spec, key)
+
+    # the symbolic form, built on first use
+    @cached_property
+    def M(self) -> sympy.ImmutableMatrix:
+        return _to_sympy(self._spec_matrix("M"), self.n)
+
+    @cached_property
+    def C(self) -> sympy.ImmutableMatrix:
+        return _to_sympy(self._spec_matrix("C"), self.n)
+
+    @cached_property
+    def K(self) -> sympy.ImmutableMatrix:
+        return _to_sympy(self._spec_matrix("K"), self.n)
+
+    @cached_property
+    def _signals(self) -> tuple[dict[Var, sympy.ImmutableMatrix], dict[Var, sympy.Expr]]:
+        spec = self.model.matrices
+        assert spec is not None
+        n = self.n
+        resolve = lambda name, p: symbol(name) if p == 0 else 0  # noqa: E731
+        excitation, signals = {}, {}
+        for j, h in enumerate(spec.harmonics):
+            w = h.omega.to_sympy(resolve)
+            for label, vector, fn in (("s", h.F_S, sympy.sin), ("c", h.F_C, sympy.cos)):
+                nonzero = {i: e.to_sympy(resolve) for i, e in enumerate(vector)
+                           if e.text.strip() not in ("0", "0.0")}
+                nonzero = {i: v for i, v in nonzero.items() if v != 0}
+                if nonzero:
+                    var = (f"harmonic{j + 1}_{label}", 0)
+                    excitation[var] = sympy.ImmutableSparseMatrix(
+                        n, 1, {(i, 0): v for i, v in nonzero.items()})
+                    signals[var] = fn(w * TIME)
+        return excitation, signals
+
+    @property
+    def excitation(self) -> Mapping[Var, sympy.ImmutableMatrix]:
+        """``(signal, 0) -> column``: F_S and F_C of each harmonic."""
+        return self._signals[0]
+
+    @property
+    def signal_functions(self) -> dict[Var, sympy.Expr]:
+        """The internal signals sin(omega_j t) and cos(omega_j t)."""
+        return dict(self._signals[1])
+
+    @cached_property
+    def harmonics(self) -> SignalHarmonics | None:
+        """The harmonic decomposition of the internal signals."""
+        return decompose_signals(self.signal_functions)
+
+    @property
+    def outputs(self) -> Mapping[str, Any]:
+        return {}
+
+    @cached_property
+    def Q(self) -> sympy.ImmutableMatrix:
+        """Q(t) with the harmonics written out."""
+        q = sympy.zeros(self.n, 1)
+        for var, column in self.excitation.items():
+            q += column * self.signal_functions[var]
+        return sympy.ImmutableMatrix(q)
+
+    @property
+    def residual(self) -> sympy.ImmutableMatrix:
+        return sympy.ImmutableSparseMatrix(self.n, 1, {})
+
+    # numbers, without sympy
+    def evaluate(self, values: Mapping[str, Any], count: int,
+                 deadline: Deadline = NO_DEADLINE) -> Batch:
+        spec = self.model.matrices
+        assert spec is not None
+        M, C, K = (self._matrix_values(key, values) for key in ("M", "C", "K"))
+        harmonics = []
+        for j, h in enumerate(spec.harmonics, start=1):
+            deadline.check("while evaluating the harmonic loads", f"harmonic {j}")
+            where = f"harmonic {j}"
+            omega = np.asarray(numeric_value(h.omega, values), dtype=float)
+            self._check_finite(omega, "omega", where)
+            omega = np.broadcast_to(omega, (count,)).astype(float)
+            vectors = []
+            for label, vector in (("F_S", h.F_S), ("F_C", h.F_C)):
+                # plain numbers (the bulk of a large model's load vectors) skip the fold
+                entries = [float(e.root.value) if type(e.root) is Num
+                           else numeric_value(e, values) for e in vector]
+                shape = np.broadcast_shapes(*(np.shape(v) for v in entries)) if entries else ()
+                vec = np.empty((*shape, len(entries)))
+                for i, v in enumerate(entries):
+                    vec[..., i] = v
+                self._check_finite(vec, label, where)
+                vectors.append(vec)
+            f_s, f_c = vectors
+            sign = np.where(omega < 0, -1.0, 1.0)  # sin(-w t) = -sin(w t)
+            static = omega == 0
+            if (sign < 0).any() or static.any():
+                f_s = np.where(static[:, None], 0.0, sign[:, None] * f_s)
+                if np.all(f_s == f_s[:1]):
+                    f_s = f_s[0].copy()
+            signals = {}
+            if np.any(f_s):
+                signals[(f"harmonic{j}_s", 0)] = (np.where(static, 0.0, sign), np.zeros(count))
+            if np.any(f_c):
+                signals[(f"harmonic{j}_c", 0)] = (np.zeros(count), np.ones(count))
+            harmonics.append(BatchHarmonic(np.abs(omega), f_s, f_c, signals))
+        return Batch(self.coordinates, M, C, K, harmonics, {}, self.title, True, count)
+
+    def _matrix_values(self, key: str, values: Mapping[str, Any]) -> Any:
+        """File matrices as read (dense or CSR); inline ones as (n, n) or (N, n, n)."""
+        matrix = self._spec_matrix(key)
+        n = self.n
+        if matrix is None:
+            M = self._spec_matrix("M")
+            if hasattr(M, "tocsr"):
+                import scipy.sparse
+
+                return scipy.sparse.csr_matrix((n, n))
+            return np.zeros((n, n))
+        if not isinstance(matrix, list):
+            return matrix
+        entries = [[numeric_value(e, values) for e in row] for row in matrix]
+        shape = np.broadcast_shapes(*(np.shape(v) for row in entries for v in row))
+        out = np.empty((*shape, n, n))
+        for i, row in enumerate(entries):
+            for j, v in enumerate(row):
+                out[..., i, j] = v
+        self._check_finite(out, key)
+        return out
+
+    def _check_finite(self, array: Any, key: str, section: str = "matrices") -> None:
+        if not np.all(np.isfinite(array)):
+            raise ModelError(Problem(f"{key} is not finite (or not real) for the given "
+                                     "parameter values", self.source, section, key))
+
+    def to_dict(self) -> dict[str, Any]:
+        if self.n > 200:  # the symbolic text of a large model is no use to anyone
+            return {}
+        return {"coordinates": list(self.coordinates),
+                "M": _strings(self.M), "C": _strings(self.C), "K": _strings(self.K),
+                "Q": [str(e) for e in self.Q]}
+
+
+def _strings(matrix: sympy.MatrixBase) -> list[list[str]]:
+    return [[str(matrix[i, j]) for j in range(matrix.cols)] for i in range(matrix.rows)]
+
+
+def _to_sympy(matrix: Any, n: int) -> sympy.ImmutableMatrix:
+    if matrix is None:
+        return sympy.ImmutableSparseMatrix(n, n, {})
+    if hasattr(matrix, "tocoo"):
+        coo = matrix.tocoo()
+        return sympy.ImmutableSparseMatrix(n, n, {
+            (int(i), int(j)): sympy.Float(float(v))
+            for i, j, v in zip(coo.row, coo.col, coo.data) if v != 0})
+    if isinstance(matrix, np.ndarray):
+        return sympy.ImmutableMatrix(matrix.shape[0], matrix.shape[1],
+                                     [sympy.Float(float(v)) for v in matrix.ravel()])
+    return sympy.ImmutableMatrix([[e.to_sympy(lambda name, p: symbol(name) if p == 0 else 0)
+                                   for e in row] for row in matrix])
+
+
+__all__ = ["MatrixEOM"]
