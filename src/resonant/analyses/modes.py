@@ -44,9 +44,17 @@ from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..system import LinearSystem
-from ..system.stability import (ASYMPTOTIC, MARGINAL, PROPORTIONAL_TOLERANCE, UNSTABLE,
-                                check_mass_matrix, classify, rayleigh, state_eigenvalues,
-                                undamped_eigen)
+from ..system.stability import (
+    ASYMPTOTIC,
+    MARGINAL,
+    PROPORTIONAL_TOLERANCE,
+    UNSTABLE,
+    check_mass_matrix,
+    classify,
+    rayleigh,
+    state_eigenvalues,
+    undamped_eigen,
+)
 
 #: matrices up to this size are analysed densely when no ``count`` is given
 DENSE_MODES = 1500

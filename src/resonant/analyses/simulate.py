@@ -63,7 +63,13 @@ from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import parse
 from ..model import TIME, Model, symbol
 from ..system import LinearSystem, NumericEOM
-from ..system.stability import ASYMPTOTIC, UNSTABLE, check_mass_matrix, classify, state_eigenvalues
+from ..system.stability import (
+    ASYMPTOTIC,
+    UNSTABLE,
+    check_mass_matrix,
+    classify,
+    state_eigenvalues,
+)
 from .stationary import StationarySolution, stationary
 
 if TYPE_CHECKING:  # pragma: no cover

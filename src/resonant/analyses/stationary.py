@@ -35,11 +35,24 @@ from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..system import Batch, LinearSystem, NumericEOM, NumericHarmonic
-from ..system.numeric import check_finite, frozen_array
-from ..system.stability import (UNSTABLE, classify, frequencies_from_eigenvalues, rayleigh,
-                                state_eigenvalues, undamped_eigen, undamped_eigenvalues)
-from .kernel import (LOSS_CONDITION, SINGULAR_CONDITION, KernelResult, check_batch_mass,
-                     equilibration, solve_harmonic)
+from ..system.batch import check_finite, frozen_array
+from ..system.stability import (
+    UNSTABLE,
+    classify,
+    frequencies_from_eigenvalues,
+    rayleigh,
+    state_eigenvalues,
+    undamped_eigen,
+    undamped_eigenvalues,
+)
+from .kernel import (
+    LOSS_CONDITION,
+    SINGULAR_CONDITION,
+    KernelResult,
+    check_batch_mass,
+    equilibration,
+    solve_harmonic,
+)
 
 NEAR_RESONANCE = 0.02       # relative distance to a natural frequency that earns a warning
 #: above this many coordinates (or with sparse matrices) the eigenvalues come from the

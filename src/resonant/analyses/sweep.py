@@ -78,10 +78,18 @@ from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..system import Batch, LinearSystem
-from ..system.numeric import frozen_array, group_frequencies
+from ..system.batch import frozen_array, group_frequencies
 from ..system.stability import natural_frequencies as _natural_frequencies
-from .kernel import METHODS, _dense, _Progress, check_batch_mass, choose_method, solve_harmonic
+from .kernel import (
+    METHODS,
+    _dense,
+    _Progress,
+    check_batch_mass,
+    choose_method,
+    solve_harmonic,
+)
 from .stationary import peak
+
 #: above this many coordinates only the loaded ones are reported unless names are given
 MAX_DEFAULT_NAMES = 2000
 #: largest n for which the dense natural frequencies are computed with every sweep

@@ -15,9 +15,10 @@ import math
 import sys
 from typing import Any
 
+import resonant.cli.common as cli
+
 from ..analyses.sweep import linspace
 from ..errors import AnalysisError
-from . import common as cli
 
 
 def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:

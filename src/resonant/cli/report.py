@@ -7,9 +7,10 @@ import sys
 from pathlib import Path
 from typing import Any
 
+import resonant.cli.common as common
+
 from ..errors import ModelError, Problem
 from ..report import build_report, render, report_format
-from . import common
 
 
 def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:

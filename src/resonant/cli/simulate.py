@@ -12,9 +12,10 @@ import sys
 from pathlib import Path
 from typing import Any
 
+import resonant.cli.common as common
+
 from ..analyses.simulate import DEFAULT_PERIODS, METHODS, START_MODES
 from ..errors import AnalysisError, ModelError, Problem
-from . import common
 
 PLOT_SUFFIXES = (".png", ".svg", ".pdf")
 

@@ -6,7 +6,7 @@ import argparse
 import sys
 from typing import Any
 
-from . import common
+import resonant.cli.common as common
 
 
 def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:

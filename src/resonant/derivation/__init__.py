@@ -4,8 +4,13 @@ equations and the harmonic split of the signals.  Imports from the model layer a
 
 from .harmonics import SignalHarmonics, decompose, decompose_signals
 from .jet import Jet, Var
-from .lagrange import LinearMap, Linearization, linearize, signal_symbol
-from .nonlinear import NonlinearEquations, derivative_symbol, find_equilibrium, nonlinear_equations
+from .lagrange import Linearization, LinearMap, linearize, signal_symbol
+from .nonlinear import (
+           NonlinearEquations,
+           derivative_symbol,
+           find_equilibrium,
+           nonlinear_equations,
+)
 
 __all__ = ["SignalHarmonics", "decompose", "decompose_signals", "Jet", "Var", "LinearMap",
            "Linearization", "linearize", "signal_symbol", "NonlinearEquations",

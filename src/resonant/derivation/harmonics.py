@@ -22,8 +22,8 @@ from dataclasses import dataclass
 import sympy
 from sympy.simplify.fu import TR8
 
-from .jet import Var
 from ..model import TIME
+from .jet import Var
 
 ZERO = sympy.Integer(0)
 

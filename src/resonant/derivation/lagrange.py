@@ -35,12 +35,11 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from fractions import Fraction
 from types import MappingProxyType
 from typing import Any
 
 import sympy
-
-from fractions import Fraction
 
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem

@@ -3,8 +3,17 @@ numeric evaluation.  Imports only :mod:`resonant.errors`."""
 
 from .functions import FUNCTIONS, Function
 from .numeric import FloatOps, numeric_value
-from .parser import (BinOp, Call, Expression, ExpressionError, Name, Neg, Num, parse,
-                     validate_name)
+from .parser import (
+                     BinOp,
+                     Call,
+                     Expression,
+                     ExpressionError,
+                     Name,
+                     Neg,
+                     Num,
+                     parse,
+                     validate_name,
+)
 
 __all__ = ["FUNCTIONS", "Function", "FloatOps", "numeric_value", "BinOp", "Call", "Expression",
            "ExpressionError", "Name", "Neg", "Num", "parse", "validate_name"]

@@ -34,13 +34,26 @@ from typing import Any
 import sympy
 
 from ..errors import ModelError, Problem
-from ..expressions import (BinOp, Expression, ExpressionError, Name, Neg, Num, parse,
-                           validate_name)
-from .limits import (ENERGY_KEYS, MAX_COORDINATES, MAX_FILE_BYTES, MAX_INLINED_DEGREE,
-                     MAX_INLINED_NODES, TOP_LEVEL)
+from ..expressions import (
+    BinOp,
+    Expression,
+    ExpressionError,
+    Name,
+    Neg,
+    Num,
+    parse,
+    validate_name,
+)
+from .limits import (
+    ENERGY_KEYS,
+    MAX_COORDINATES,
+    MAX_FILE_BYTES,
+    MAX_INLINED_DEGREE,
+    MAX_INLINED_NODES,
+    TOP_LEVEL,
+)
 from .matrix_files import read_matrix_spec
 from .types import Force, MatrixSpec, Model, evaluate_parameters, unknown_parameter
-
 
 # -- loading -------------------------------------------------------------------------------
 

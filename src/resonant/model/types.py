@@ -18,7 +18,7 @@ import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import sympy
 
@@ -26,9 +26,6 @@ from .. import hooks
 from ..deadline import Deadline
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
-
-if TYPE_CHECKING:  # pragma: no cover
-    from ..system import LinearSystem
 
 TIME = sympy.Symbol("t")
 
@@ -129,7 +126,7 @@ class Model:
                         parameter_values=MappingProxyType(floats))
 
     def linearize(self, timeout: float | None = None, deadline: Deadline | None = None
-                  ) -> "LinearSystem":
+                  ) -> Any:
         """The linearized equation of motion M q'' + C q' + K q = Q(t).
 
         One-line delegate to :func:`resonant.system.linear_system`.

@@ -12,9 +12,18 @@ import html
 import re
 
 from ..views.mathml import latex_to_mathml as _math
+from .blocks import (
+    Equation,
+    Figure,
+    Heading,
+    Math,
+    Note,
+    Paragraph,
+    Part,
+    Report,
+    Table,
+)
 from .plots import to_svg
-from .blocks import Equation, Figure, Heading, Math, Note, Paragraph, Part, Report, Table
-
 
 CSS = """
 :root { color-scheme: light; }

@@ -8,8 +8,18 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from .blocks import (
+    Equation,
+    Figure,
+    Heading,
+    Math,
+    Note,
+    Paragraph,
+    Part,
+    Report,
+    Table,
+)
 from .plots import save
-from .blocks import Equation, Figure, Heading, Math, Note, Paragraph, Part, Report, Table
 
 _SPECIAL = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#",
             "_": r"\_", "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}",

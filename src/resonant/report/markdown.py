@@ -9,8 +9,18 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from .blocks import (
+    Equation,
+    Figure,
+    Heading,
+    Math,
+    Note,
+    Paragraph,
+    Part,
+    Report,
+    Table,
+)
 from .plots import save
-from .blocks import Equation, Figure, Heading, Math, Note, Paragraph, Part, Report, Table
 
 _SPECIAL = re.compile(r"([\\`*_\[\]<>#|$])")
 

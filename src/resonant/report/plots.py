@@ -32,7 +32,7 @@ import numpy as np
 import sympy
 
 from ..model import symbol
-from ..system.numeric import compile_expressions
+from ..system.batch import compile_expressions
 from ..views.notation import name_latex
 
 if TYPE_CHECKING:  # pragma: no cover

@@ -26,8 +26,17 @@ from ..derivation.lagrange import signal_derivatives
 from ..model import Model, symbol
 from ..system import LinearEOM
 from ..system.stability import undamped_eigen
-from ..views.notation import (Namer, column_latex, expression_latex, matrix_latex, number_latex,
-                       number_text, sympy_latex, vector_latex, with_subscript)
+from ..views.notation import (
+    Namer,
+    column_latex,
+    expression_latex,
+    matrix_latex,
+    number_latex,
+    number_text,
+    sympy_latex,
+    vector_latex,
+    with_subscript,
+)
 from .blocks import Block, Equation, Figure, Heading, Math, Note, Table, cell, paragraph
 from .derivation import Derivation, LinearPart
 from .plots import frequency_response, time_history

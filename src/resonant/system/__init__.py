@@ -12,9 +12,15 @@ from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..derivation import linearize
 from ..model import Model
-from .base import LinearSystem, parameter_values
+from .base import (
+    LinearSystem,
+    NumericEOM,
+    NumericHarmonic,
+    NumericOutput,
+    parameter_values,
+)
+from .batch import Batch, BatchHarmonic
 from .matrix import MatrixEOM
-from .numeric import Batch, BatchHarmonic, NumericEOM, NumericHarmonic, NumericOutput
 from .symbolic import LinearEOM
 
 

@@ -7,7 +7,7 @@ a model, with three implementations:
   the model's own symbols;
 * :class:`~resonant.system.matrix.MatrixEOM` -- a ``[matrices]`` model (inline
   expressions or matrix files, dense or sparse);
-* :class:`~resonant.system.numeric.NumericEOM` -- numbers at one parameter point
+* :class:`~resonant.system.base.NumericEOM` -- numbers at one parameter point
   (what :meth:`LinearSystem.numeric` returns; also a system in its own right).
 
 Every analysis asks the system for numbers in one of two ways:
@@ -20,7 +20,9 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any
+from dataclasses import dataclass, field, replace
+from types import MappingProxyType
+from typing import Any
 
 import numpy as np
 
@@ -29,9 +31,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem
 from ..expressions import numeric_value
 from ..model import Model
-
-if TYPE_CHECKING:  # pragma: no cover
-    from .numeric import Batch, NumericEOM
+from .batch import Batch, BatchHarmonic, frozen_array, group_frequencies
 
 
 class LinearSystem(ABC):
@@ -66,7 +66,7 @@ class LinearSystem(ABC):
     # -- numbers ---------------------------------------------------------------------------
     @abstractmethod
     def evaluate(self, values: Mapping[str, Any], count: int,
-                 deadline: Deadline = NO_DEADLINE) -> "Batch":
+                 deadline: Deadline = NO_DEADLINE) -> Batch:
         """Every matrix, load and output coefficient for the parameter ``values``.
 
         Parameters
@@ -100,10 +100,10 @@ class LinearSystem(ABC):
         if overrides:
             model = model.with_parameters(**overrides)
         values = dict(model.parameter_values)
-        return self.evaluate(values, 1, deadline).point(0, self, values)
+        return numeric_point(self.evaluate(values, 1, deadline), 0, self, values)
 
     def batch(self, param: str, values: np.ndarray, deadline: Deadline = NO_DEADLINE
-              ) -> "Batch":
+              ) -> Batch:
         """The system while ``param`` runs through ``values`` (parameters defined from it
         follow it).
 
@@ -257,4 +257,169 @@ def parameter_values(model: Model, param: str, values: np.ndarray,
     return out
 
 
-__all__ = ["LinearSystem", "parameter_values"]
+
+@dataclass(frozen=True)
+class NumericHarmonic:
+    """One excitation frequency: Q = F_S sin(omega t) + F_C cos(omega t).
+
+    ``signals`` holds the (S, C) pair of every signal derivative at this
+    frequency (needed for outputs that depend on signals). ``omega = 0`` is a
+    static load (F_C only).
+    """
+
+    omega: float
+    F_S: np.ndarray
+    F_C: np.ndarray
+    signals: Mapping[Var, tuple[float, float]] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "F_S", frozen_array(np.asarray(self.F_S, dtype=float)))
+        object.__setattr__(self, "F_C", frozen_array(np.asarray(self.F_C, dtype=float)))
+
+
+@dataclass(frozen=True)
+class NumericOutput:
+    """A linearized output y = value + sum coefficient * (coordinate or signal derivative)."""
+
+    value: float
+    terms: Mapping[Var, float]
+
+
+@dataclass(frozen=True, eq=False)
+class NumericEOM(LinearSystem):
+    """M q'' + C q' + K q = Q(t) with numbers (dense arrays or scipy sparse matrices).
+
+    Attributes
+    ----------
+    harmonics : tuple of NumericHarmonic
+        The excitation, grouped by frequency (ascending).
+    harmonic : bool
+        False when some signal is not a sum of harmonics (no stationary solution).
+    outputs : mapping
+        name -> NumericOutput.
+    parameters : mapping
+        The parameter values these numbers are for.
+    system : LinearSystem or None
+        The system these numbers were evaluated from.
+    """
+
+    coordinates: tuple[str, ...]
+    M: Any
+    C: Any
+    K: Any
+    harmonics: tuple[NumericHarmonic, ...] = ()
+    harmonic: bool = True
+    outputs: Mapping[str, NumericOutput] = field(default_factory=dict)
+    parameters: Mapping[str, float] = field(default_factory=dict)
+    title_: str = ""
+    source_: str = ""
+    system: LinearSystem | None = None
+
+    def __post_init__(self) -> None:
+        for key in ("M", "C", "K"):
+            object.__setattr__(self, key, frozen_array(getattr(self, key)))
+
+    @property
+    def model(self) -> Model | None:  # type: ignore[override]
+        return self.system.model if self.system is not None else None
+
+    @property
+    def title(self) -> str:
+        return self.title_ or (self.system.title if self.system is not None else "")
+
+    @property
+    def source(self) -> str:
+        return self.source_ or (self.system.source if self.system is not None else "")
+
+    @property
+    def sparse(self) -> bool:
+        """True when M, C or K is a scipy sparse matrix."""
+        return any(hasattr(a, "tocsr") for a in (self.M, self.C, self.K))
+
+    def dense(self) -> "NumericEOM":
+        """The same system with dense M, C, K (itself when they are dense)."""
+        if not self.sparse:
+            return self
+        return replace(self, M=_dense(self.M), C=_dense(self.C), K=_dense(self.K))
+
+    def evaluate(self, values: Mapping[str, Any], count: int,
+                 deadline: Deadline = NO_DEADLINE) -> "Batch":
+        return Batch.constant_system(self, count)
+
+    def numeric(self, deadline: Deadline = NO_DEADLINE, **overrides: float | str
+                ) -> "NumericEOM":
+        if not overrides:
+            return self
+        if self.system is None:
+            raise ModelError("a numeric system without its model cannot change its parameters")
+        return self.system.numeric(deadline, **{**dict(self.parameters), **overrides})
+
+    def batch(self, param: str, values: np.ndarray, deadline: Deadline = NO_DEADLINE
+              ) -> "Batch":
+        values = np.asarray(values, dtype=float)
+        if self.system is not None and self.system.model is not None:
+            return self.system.evaluate(parameter_values(self.system.model, param, values,
+                                                         base=self.parameters),
+                                        len(values), deadline)
+        moving = [h for h in self.harmonics if h.omega > 0]
+        if param != "omega" or len(moving) != 1:
+            raise AnalysisError(
+                "without its model, a numeric equation of motion can only be swept over the "
+                "excitation frequency 'omega' of a single harmonic; pass the model's system "
+                "to sweep other parameters")
+        batch = Batch.constant_system(self, len(values))
+        h = moving[0]
+        static = [BatchHarmonic(np.zeros_like(values), np.zeros(self.n), s.F_C)
+                  for s in self.harmonics if s.omega == 0]
+        return Batch(batch.coordinates, batch.M, batch.C, batch.K,
+                     [*static, BatchHarmonic(values.copy(), h.F_S, h.F_C)], batch.outputs,
+                     batch.title)
+
+    def to_dict(self) -> dict[str, Any]:
+        return self.system.to_dict() if self.system is not None else {}
+
+    def symbolic_dict(self) -> dict[str, Any] | None:
+        return self.system.symbolic_dict() if self.system is not None else None
+
+
+def _dense(a: Any) -> np.ndarray:
+    return a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
+
+
+def numeric_point(batch: Batch, i: int, system: "LinearSystem | None" = None,
+          parameters: Mapping[str, Any] | None = None) -> "NumericEOM":
+    """The numeric system at point ``i``, its excitations merged by frequency."""
+    n = len(batch.coordinates)
+    entries = []
+    for h in batch.harmonics:
+        f_s = np.asarray(h.F_S, dtype=float)
+        f_c = np.asarray(h.F_C, dtype=float)
+        entries.append((float(h.omega[i]), f_s[i] if f_s.ndim == 2 else f_s,
+                        f_c[i] if f_c.ndim == 2 else f_c,
+                        {v: (float(s[i]), float(c[i])) for v, (s, c) in h.signals.items()}))
+    harmonics = []
+    for members in group_frequencies([e[0] for e in entries]):
+        f_s, f_c, sig = np.zeros(n), np.zeros(n), {}
+        for k in members:
+            f_s = f_s + entries[k][1]
+            f_c = f_c + entries[k][2]
+            for var, (s, c) in entries[k][3].items():
+                old = sig.get(var, (0.0, 0.0))
+                sig[var] = (old[0] + s, old[1] + c)
+        harmonics.append(NumericHarmonic(entries[members[0]][0], f_s, f_c,
+                                         MappingProxyType(sig)))
+    harmonics.sort(key=lambda h: h.omega)
+    outputs = {name: NumericOutput(float(value[i]), MappingProxyType(
+        {v: float(c[i]) for v, c in terms.items()}))
+        for name, (value, terms) in batch.outputs.items()}
+    params = {k: float(np.asarray(v).ravel()[i] if np.ndim(v) else v)
+              for k, v in (parameters or {}).items()}
+    return NumericEOM(
+        coordinates=tuple(batch.coordinates), M=batch.matrix("M", i), C=batch.matrix("C", i),
+        K=batch.matrix("K", i), harmonics=tuple(harmonics), harmonic=batch.harmonic,
+        outputs=MappingProxyType(outputs), parameters=MappingProxyType(params),
+        system=system)
+
+
+__all__ = ["LinearSystem", "parameter_values", "NumericEOM", "NumericHarmonic", "NumericOutput",
+           "numeric_point"]

@@ -21,7 +21,7 @@ from ..errors import ModelError, Problem
 from ..expressions import Num, numeric_value
 from ..model import TIME, Model, symbol
 from .base import LinearSystem
-from .numeric import Batch, BatchHarmonic
+from .batch import Batch, BatchHarmonic
 
 Var = tuple[str, int]
 

@@ -34,12 +34,18 @@ import numpy as np
 import sympy
 
 from ..deadline import NO_DEADLINE, Deadline
-from ..derivation import LinearMap, Linearization, SignalHarmonics, decompose_signals
+from ..derivation import Linearization, LinearMap, SignalHarmonics, decompose_signals
 from ..derivation.lagrange import signal_derivatives, signal_symbol
+from ..errors import ModelError, Problem
 from ..model import Model, symbol
 from .base import LinearSystem
-from .numeric import (Batch, BatchHarmonic, FlatReader, compile_expressions,
-                      not_finite_problem)
+from .batch import (
+    Batch,
+    BatchHarmonic,
+    FlatReader,
+    compile_expressions,
+    not_finite_problem,
+)
 
 Var = tuple[str, int]
 
@@ -138,8 +144,6 @@ class LinearEOM(LinearSystem):
                 if bad[offset + idx, point]:
                     i, j = divmod(idx, n)
                     raise not_finite_problem(label, i, j, str(matrix[i, j]), self.source, where)
-        from ..errors import ModelError, Problem
-
         raise ModelError(Problem("the excitation or an output is not finite (or not real) for "
                                  f"the given parameter values{where}", self.source,
                                  "parameters"))

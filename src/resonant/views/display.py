@@ -38,7 +38,14 @@ from ..derivation import derivative_symbol
 from ..model import Model, symbol
 from ..system import LinearEOM
 from .mathml import latex_to_mathml
-from .notation import Namer, column_latex, expression_latex, number_latex, sympy_latex, vector_latex
+from .notation import (
+    Namer,
+    column_latex,
+    expression_latex,
+    number_latex,
+    sympy_latex,
+    vector_latex,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..analyses import ModalAnalysis, Simulation, StationarySolution  # noqa: F401

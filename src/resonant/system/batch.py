@@ -1,0 +1,224 @@
+"""Numbers of a system at many parameter points (:class:`Batch`), and the compiled
+evaluation of symbolic entries.
+
+Symbolic entries are compiled once with :func:`sympy.lambdify` (common
+subexpressions shared) and evaluated for all parameter values at once, so a
+sweep over a parameter costs one compiled call, never a symbolic substitution.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import sympy
+
+from ..errors import AnalysisError, ModelError, Problem
+
+Var = tuple[str, int]
+
+#: two excitation frequencies closer than this (relative) are one frequency
+SAME_FREQUENCY = 1e-12
+
+
+def frozen_array(a: Any) -> Any:
+    """A read-only view of an array (sparse matrices and non-arrays pass unchanged)."""
+    if isinstance(a, np.ndarray):
+        a = a.view()
+        a.flags.writeable = False
+    return a
+
+
+def group_frequencies(omegas: Sequence[float]) -> list[list[int]]:
+    """Indices of equal frequencies (within :data:`SAME_FREQUENCY`), in first-seen order.
+
+    The one rule by which excitations are merged: terms at the same frequency
+    superpose into one harmonic.
+
+    Parameters
+    ----------
+    omegas : sequence of float
+
+    Returns
+    -------
+    list of list of int
+
+    Examples
+    --------
+    >>> group_frequencies([2.0, 1.0, 2.0 * (1 + 1e-14), 0.0])
+    [[0, 2], [1], [3]]
+    """
+    groups: list[tuple[float, list[int]]] = []
+    for i, w in enumerate(omegas):
+        for key, members in groups:
+            if math.isclose(key, w, rel_tol=SAME_FREQUENCY, abs_tol=0.0):
+                members.append(i)
+                break
+        else:
+            groups.append((float(w), [i]))
+    return [members for _, members in groups]
+
+
+# -- the batch: everything evaluated for all values at once ------------------------------
+
+@dataclass
+class BatchHarmonic:
+    """One excitation frequency of a batch: omega (N,), F_S and F_C (N, n) or (n,)."""
+
+    omega: np.ndarray
+    F_S: np.ndarray
+    F_C: np.ndarray
+    #: signal variable -> (S (N,), C (N,)), for outputs that depend on signals
+    signals: dict[Var, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
+
+
+@dataclass
+class Batch:
+    """The system at N parameter points.
+
+    M, C, K are (n, n) (dense or sparse) when they do not change, else (N, n, n).
+    ``outputs`` maps a name to ``(value (N,), {variable: coefficient (N,)})``.
+    """
+
+    coordinates: tuple[str, ...]
+    M: Any
+    C: Any
+    K: Any
+    harmonics: list[BatchHarmonic]
+    outputs: dict[str, tuple[np.ndarray, dict[Var, np.ndarray]]]
+    title: str = ""
+    harmonic: bool = True
+    count: int = 1
+
+    @property
+    def constant(self) -> bool:
+        """True when M, C and K do not change with the parameter."""
+        return all(hasattr(a, "tocsr") or np.ndim(a) == 2 for a in (self.M, self.C, self.K))
+
+    @classmethod
+    def constant_system(cls, eom: Any, count: int) -> "Batch":
+        """A batch of ``count`` copies of a numeric system."""
+        return cls(tuple(eom.coordinates), eom.M, eom.C, eom.K,
+                   [BatchHarmonic(np.full(count, h.omega), h.F_S, h.F_C,
+                                  {v: (np.full(count, s), np.full(count, c))
+                                   for v, (s, c) in h.signals.items()})
+                    for h in eom.harmonics],
+                   {name: (np.full(count, out.value),
+                           {v: np.full(count, c) for v, c in out.terms.items()})
+                    for name, out in eom.outputs.items()},
+                   eom.title, eom.harmonic, count)
+
+    def matrix(self, key: str, i: int) -> Any:
+        """M, C or K at point ``i``."""
+        a = getattr(self, key)
+        return a if hasattr(a, "tocsr") or np.ndim(a) == 2 else a[i]
+
+
+# -- compiled symbolic expressions -----------------------------------------------------------
+
+def compile_expressions(expressions: Sequence[sympy.Expr], symbols: Sequence[sympy.Symbol]
+                        ) -> Callable[..., np.ndarray]:
+    """One compiled function returning all expressions as a complex array.
+
+    Parameters
+    ----------
+    expressions : sequence of sympy.Expr
+    symbols : sequence of sympy.Symbol
+        The arguments, in order (any number of them).
+
+    Returns
+    -------
+    callable
+        ``f(*values)``: values are numbers or arrays of one shape; the result has
+        shape ``(len(expressions), *shape)``; NaN where an entry is not finite.
+    """
+    if not expressions:
+        return lambda *args: np.zeros(0)
+    expressions = list(expressions)
+    # zoo, nan, oo cannot be compiled (lambdify fails on them): they evaluate to NaN,
+    # which the callers turn into an error naming the entry
+    infinite = [i for i, e in enumerate(expressions)
+                if isinstance(e, sympy.Basic) and e.has(sympy.zoo, sympy.nan, sympy.oo)]
+    for i in infinite:
+        expressions[i] = sympy.Integer(0)
+    fn = sympy.lambdify(list(symbols), expressions, modules="numpy", cse=True)
+
+    def call(*args: Any) -> np.ndarray:
+        # np.broadcast takes at most 64 arguments; the shapes alone have no limit
+        shape = np.broadcast_shapes(*(np.shape(a) for a in args)) if args else ()
+        try:
+            with np.errstate(all="ignore"):
+                values = fn(*args)
+        except ArithmeticError:  # Python floats raise on overflow and division by zero
+            values = _one_by_one(expressions, symbols, args)
+        out = np.array([np.broadcast_to(v, shape) for v in values], dtype=complex)
+        if infinite:
+            out[infinite] = np.nan
+        return out
+    return call
+
+
+def _one_by_one(expressions: Sequence[sympy.Expr], symbols: Sequence[sympy.Symbol],
+                args: Sequence[Any]) -> list[Any]:
+    """Evaluate each expression alone, NaN where the arithmetic fails (the slow path)."""
+    values: list[Any] = []
+    for expression in expressions:
+        try:
+            with np.errstate(all="ignore"):
+                values.append(sympy.lambdify(list(symbols), expression, modules="numpy")(*args))
+        except ArithmeticError:
+            values.append(np.nan)
+    return values
+
+
+class FlatReader:
+    """Reads consecutive blocks (along the first axis) of compiled values."""
+
+    def __init__(self, flat: np.ndarray) -> None:
+        self.flat, self.pos = flat, 0
+
+    def take(self, count: int) -> np.ndarray:
+        out = self.flat[self.pos:self.pos + count]
+        self.pos += count
+        return out
+
+
+def check_finite(name: str, array: np.ndarray) -> np.ndarray:
+    """Guard: NaN or infinity never reaches the output silently.
+
+    Parameters
+    ----------
+    name : str
+        What the array is, for the message.
+    array : ndarray
+
+    Returns
+    -------
+    ndarray
+        ``array`` itself.
+
+    Raises
+    ------
+    AnalysisError
+        If an entry is NaN or infinite.
+    """
+    if not np.all(np.isfinite(array)):
+        raise AnalysisError(f"{name} is not finite: the computation overflowed or divided "
+                            "by zero; check the parameter values")
+    return array
+
+
+def not_finite_problem(label: str, i: int, j: int, entry: str, source: str,
+                       where: str = "") -> ModelError:
+    """The error for a matrix entry that is not finite at the given parameter values."""
+    entry = entry if len(entry) <= 80 else entry[:77] + "..."
+    return ModelError(Problem(
+        f"{label}[{i + 1},{j + 1}] = {entry} is not finite for the given parameter values"
+        f"{where} (a zero mass or length?)", source, "parameters"))
+
+
+__all__ = ["Batch", "BatchHarmonic", "compile_expressions", "FlatReader", "check_finite",
+           "group_frequencies", "frozen_array", "SAME_FREQUENCY", "not_finite_problem"]
