@@ -64,7 +64,7 @@ class ModelError(ResonantError, ValueError):
 
     exit_code = 2
 
-    def __init__(self, problems: "list[Problem] | Problem | str") -> None:
+    def __init__(self, problems: list[Problem] | Problem | str) -> None:
         if isinstance(problems, (str, Problem)):
             problems = [problems if isinstance(problems, Problem) else Problem(problems)]
         self.problems: tuple[Problem, ...] = tuple(problems)

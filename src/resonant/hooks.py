@@ -38,6 +38,7 @@ PROVIDERS: dict[str, str] = {
     "plot_modes": "resonant.views.plotting",
     "plot_simulation": "resonant.views.plotting",
     "eom_latex": "resonant.views.display",
+    "numeric_eom_latex": "resonant.views.display",
     "model_latex": "resonant.views.display",
     "model_html": "resonant.views.display",
     "stationary_latex": "resonant.views.display",

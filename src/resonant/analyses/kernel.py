@@ -37,7 +37,6 @@ Examples
 
 from __future__ import annotations
 
-import math
 import sys
 import time
 from dataclasses import dataclass
@@ -247,7 +246,7 @@ class _Store:
 
 
 def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
-                   progress: "_Progress | None" = None, warnings: list[str] | None = None,
+                   progress: _Progress | None = None, warnings: list[str] | None = None,
                    keep: np.ndarray | None = None, deadline: Deadline = NO_DEADLINE
                    ) -> KernelResult:
     """Complex responses z = L - i N of one harmonic at every point of a batch.
@@ -365,19 +364,23 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
     for start in range(0, N, chunk):
         sl = slice(start, min(N, start + chunk))
         ww = w[sl, None, None]
-        pick = (lambda a: a[sl] if a.ndim == 3 else a)  # noqa: E731
+        pick = (lambda a, sl=sl: a[sl] if a.ndim == 3 else a)  # noqa: E731
         deadline.check("while solving the harmonic systems", analysis=True)
         with np.errstate(all="ignore"):  # an overflow gives inf, caught as not finite
             A = pick(K) - ww**2 * pick(M) + 1j * ww * pick(C)
         b = np.broadcast_to(rhs[sl] if rhs.ndim == 2 else rhs, (A.shape[0], n))
-        finite = np.isfinite(A).all(axis=(-2, -1)) & np.isfinite(b).all(axis=-1)
-        A = np.where(finite[:, None, None], A, 0.0)
-        # Equilibrate before solving and judging the condition: in badly scaled units
-        # (mm with GPa, translations beside rotations) the raw condition number reflects
-        # the units, not the physics, and would warn of digits that are not lost.
-        row, col = equilibration(A)
-        A = row[..., :, None] * A * col[..., None, :]
-        b = row * b
+        finite = np.ones(A.shape[0], dtype=bool)
+        if not (np.isfinite(A).all() and np.isfinite(b).all()):  # rare: find the points
+            finite = np.isfinite(A).all(axis=(-2, -1)) & np.isfinite(b).all(axis=-1)
+            A = np.where(finite[:, None, None], A, 0.0)
+        col = None
+        if condition is not None:
+            # Equilibrate before solving and judging the condition: in badly scaled units
+            # (mm with GPa, translations beside rotations) the raw condition number reflects
+            # the units, not the physics, and would warn of digits that are not lost.
+            row, col = equilibration(A)
+            A = row[..., :, None] * A * col[..., None, :]
+            b = row * b
         try:
             X = np.linalg.solve(A, b[..., None])[..., 0]
         except np.linalg.LinAlgError:  # an exactly singular point: solve point by point
@@ -388,7 +391,8 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
                 except np.linalg.LinAlgError:
                     X[i] = np.nan
                     singular[start + i] = True
-        X = col * X
+        if col is not None:
+            X = col * X
         X[~finite] = np.nan
         Z[sl] = X
         if condition is not None:  # exact condition numbers, where they are cheap
@@ -442,8 +446,9 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
         x, info = solve(Kb - (wi * wi) * Mb + (1j * wi) * Cb, rhs[i] if varying_rhs else rhs)
         if info != 0:
             singular[i] = True
-            x = np.nan
-        Z[i] = x
+            Z[i] = np.nan
+        else:
+            Z[i] = x
         if i % 64 == 63:
             progress.advance(64)
             deadline.check("while solving the harmonic systems", analysis=True)

@@ -55,6 +55,7 @@ from ..system.stability import (
     state_eigenvalues,
     undamped_eigen,
 )
+from .stationary import freeze_fields
 
 #: matrices up to this size are analysed densely when no ``count`` is given
 DENSE_MODES = 1500
@@ -107,6 +108,9 @@ class ModalAnalysis:
     warnings: tuple[str, ...] = ()
     title: str = ""
 
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
     @property
     def frequencies_hz(self) -> np.ndarray:
         return self.natural_frequencies / (2 * math.pi)
@@ -132,7 +136,7 @@ class ModalAnalysis:
             "warnings": list(self.warnings),
         }
 
-    def limited(self, count: int | None) -> "ModalAnalysis":
+    def limited(self, count: int | None) -> ModalAnalysis:
         """The analysis restricted to the lowest ``count`` modes (dense path with --count)."""
         if count is None or count >= len(self.omega_squared):
             return self

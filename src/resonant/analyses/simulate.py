@@ -70,7 +70,7 @@ from ..system.stability import (
     classify,
     state_eigenvalues,
 )
-from .stationary import StationarySolution, stationary
+from .stationary import StationarySolution, freeze_fields, stationary
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -138,6 +138,9 @@ class Simulation:
     initial: Mapping[str, float] = field(default_factory=dict)
     warnings: tuple[str, ...] = ()
 
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
     @property
     def t_end(self) -> float:
         return float(self.t[-1])
@@ -176,7 +179,7 @@ class Simulation:
             data = np.column_stack([c[1] for c in columns])
             writer.writerows([[f"{v:.10g}" for v in row] for row in data])
 
-    def plot(self, path: str | Path | None = None, **options: Any) -> "Figure":
+    def plot(self, path: str | Path | None = None, **options: Any) -> Figure:
         """Deviations vs time, one panel per coordinate/output, prediction dashed
         (:func:`resonant.views.plotting.plot_simulation`).
 
@@ -332,6 +335,7 @@ class _LinearSystem:
                 if var in self.index:
                     y = y + coef * derivs[order][self.index[var]]
                 else:
+                    assert sig is not None  # a term not on a coordinate is on a signal
                     y = y + coef * sig[self.signal_vars.index((var, order))]
             outputs[name] = y
         return q, outputs
@@ -587,7 +591,7 @@ def simulate(system: LinearSystem, duration: float | None = None, nonlinear: boo
     omegas_n = omegas_n[omegas_n > 1e-9 * max(1.0, float(omegas_n.max(initial=0.0)))]
     excitation = [h.omega for h in num.harmonics if h.omega > 0] if num.harmonic else []
 
-    solution: "StationarySolution | None" = None
+    solution: StationarySolution | None = None
     if not num.harmonic:
         warnings.append("the signals are not sums of harmonics: there is no linear stationary "
                         "prediction to compare with (relative_difference is empty)")
@@ -665,13 +669,13 @@ def simulate(system: LinearSystem, duration: float | None = None, nonlinear: boo
 
     # the system
     if nonlinear:
-        system: Any = _NonlinearSystem(model, _equilibrium_values(model))
+        dynamics: Any = _NonlinearSystem(model, _equilibrium_values(model))
     else:
-        system = _LinearSystem(eom, num, model)
-    for name in system.unsupported:
+        dynamics = _LinearSystem(eom, num, model)
+    for name in dynamics.unsupported:
         warnings.append(f"output '{name}' depends on a coordinate's derivative of order > 2 "
                         "and is not simulated")
-    y0 = system.to_state(q0, v0)
+    y0 = dynamics.to_state(q0, v0)
 
     scale = max([*(solution.amplitudes[c] for c in num.coordinates)] if solution else [0.0])
     scale = max(scale, float(np.abs(q0).max(initial=0.0)),
@@ -696,7 +700,7 @@ def simulate(system: LinearSystem, duration: float | None = None, nonlinear: boo
             deadline.check(f"while integrating (t = {t:.4g} of {duration:.4g} s)",
                            analysis=True)
         try:
-            dy = system.rhs(t, y)
+            dy = dynamics.rhs(t, y)
             if not math.isfinite(dy.sum()):  # one cheap test catches NaN and infinity
                 raise _Breakdown(t, "the response is not finite")
         except _Breakdown as exc:
@@ -728,13 +732,13 @@ def simulate(system: LinearSystem, duration: float | None = None, nonlinear: boo
     count = int(min(MAX_SAMPLES, max(2001, duration * highest / (2 * math.pi)
                                      * SAMPLES_PER_PERIOD + 1)))
     t = np.linspace(0.0, duration, count)
-    q, outputs = system.evaluate(t, result.sol(t))
+    q, outputs = dynamics.evaluate(t, result.sol(t))
     states = {c: q[i] for i, c in enumerate(num.coordinates)}
     states.update(outputs)
     fine = int(min(MAX_WINDOW_SAMPLES, max(5001, window_length * highest / (2 * math.pi)
                                            * WINDOW_SAMPLES_PER_PERIOD + 1)))
     tw = np.linspace(window[0], window[1], fine)
-    qw, outw = system.evaluate(tw, result.sol(tw))
+    qw, outw = dynamics.evaluate(tw, result.sol(tw))
     steady = {c: _peak(qw[i]) for i, c in enumerate(num.coordinates)}
     steady.update({name: _peak(y) for name, y in outw.items()})
     bad = [name for name, a in steady.items() if not math.isfinite(a)]

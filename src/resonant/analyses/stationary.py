@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from fractions import Fraction
 from functools import reduce
 from types import MappingProxyType
@@ -47,7 +47,6 @@ from ..system.stability import (
 )
 from .kernel import (
     LOSS_CONDITION,
-    SINGULAR_CONDITION,
     KernelResult,
     check_batch_mass,
     equilibration,
@@ -62,6 +61,24 @@ LARGE = 200
 DENSE_LIMIT = 4000
 
 
+def freeze_fields(result: Any) -> None:
+    """Make a frozen dataclass's arrays read-only, in place (for ``__post_init__``).
+
+    Every ndarray field becomes a read-only view
+    (:func:`resonant.system.batch.frozen_array`), and so does every ndarray value of a
+    mapping field (the mapping is then replaced by a read-only ``MappingProxyType``).
+    Other fields are left as they are.
+    """
+    for f in fields(result):
+        value = getattr(result, f.name)
+        if isinstance(value, np.ndarray):
+            object.__setattr__(result, f.name, frozen_array(value))
+        elif isinstance(value, Mapping) and any(isinstance(v, np.ndarray)
+                                                for v in value.values()):
+            object.__setattr__(result, f.name, MappingProxyType(
+                {k: frozen_array(v) for k, v in value.items()}))
+
+
 @dataclass(frozen=True)
 class HarmonicResponse:
     """The response at one frequency: x = L cos(omega t) + N sin(omega t)."""
@@ -72,6 +89,9 @@ class HarmonicResponse:
     L: np.ndarray
     N: np.ndarray
     condition: float = 1.0
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
 
     def to_dict(self) -> dict[str, Any]:
         return {"omega": self.omega, "F_S": self.F_S.tolist(), "F_C": self.F_C.tolist(),
@@ -102,6 +122,9 @@ class StationarySolution:
     phases: Mapping[str, float]
     warnings: tuple[str, ...] = ()
     available: bool = True
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -166,16 +189,16 @@ def _output_pairs(eom: NumericEOM, responses: tuple[HarmonicResponse, ...]
             w = r.omega
             for (var, order), coef in output.terms.items():
                 if var in index:
-                    l, n = r.L[index[var]], r.N[index[var]]
+                    lt, nt = r.L[index[var]], r.N[index[var]]
                     # d/dt maps (L, N) -> (w N, -w L)
                     for _ in range(order):
-                        l, n = w * n, -w * l
+                        lt, nt = w * nt, -w * lt
                 else:
                     s, c = h.signals.get((var, order), (0.0, 0.0))
-                    l, n = c, s
+                    lt, nt = c, s
                 with np.errstate(all="ignore"):  # an overflow is caught with the result
-                    L += coef * l
-                    N += coef * n
+                    L += coef * lt
+                    N += coef * nt
             pairs.append((float(L), float(N)))
         out[name] = tuple(pairs)
     return out
@@ -382,4 +405,4 @@ def _response(h: NumericHarmonic, result: KernelResult, omegas: np.ndarray,
                             frozen_array(-X.imag.copy()), condition)
 
 
-__all__ = ["StationarySolution", "HarmonicResponse", "stationary", "peak"]
+__all__ = ["StationarySolution", "HarmonicResponse", "stationary", "peak", "freeze_fields"]

@@ -65,7 +65,6 @@ from __future__ import annotations
 import csv
 import math
 import sys
-import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -88,7 +87,7 @@ from .kernel import (
     choose_method,
     solve_harmonic,
 )
-from .stationary import peak
+from .stationary import freeze_fields, peak
 
 #: above this many coordinates only the loaded ones are reported unless names are given
 MAX_DEFAULT_NAMES = 2000
@@ -121,6 +120,9 @@ class ExtremaTable:
     index: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     values: np.ndarray = field(default_factory=lambda: np.zeros(0))
     amplitudes: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
 
     def __len__(self) -> int:
         return len(self.index)
@@ -175,6 +177,9 @@ class FrequencyResponse:
     title: str = ""
     coordinates: tuple[str, ...] = ()
 
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
     # Amplitudes, phases and extrema are derived on first use: the solve is the
     # sweep's job, and a caller who only needs the responses of a large model
     # should not pay for a million amplitudes and their peaks.
@@ -182,12 +187,12 @@ class FrequencyResponse:
     def _amplitude_phase(self) -> tuple[np.ndarray, np.ndarray]:
         N, m = len(self.values), len(self.quantities)
         if self.response.shape[0] == 0:
-            return np.zeros((N, m)), np.full((N, m), np.nan)
+            return frozen_array(np.zeros((N, m))), frozen_array(np.full((N, m), np.nan))
         amplitude, phase = _amplitude_phase(self.harmonic_omegas, self.response)
         skipped = np.isin(self.values, np.asarray(self.skipped, dtype=float))
         amplitude[skipped] = np.nan
         phase[skipped] = np.nan
-        return amplitude, phase
+        return frozen_array(amplitude), frozen_array(phase)
 
     @cached_property
     def amplitudes(self) -> Mapping[str, np.ndarray]:
@@ -564,9 +569,10 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
             natural = _natural_frequencies(_dense(batch.M), _dense(batch.K))
         except (np.linalg.LinAlgError, ValueError):
             natural = None
-    return FrequencyResponse(
-        parameter=param, values=values, quantities=tuple(all_names), response=Z,
-        harmonic_omegas=omegas, method=method, frequency_sweep=bool(frequency_sweep), natural_frequencies=natural,
+    return FrequencyResponse(  # values copied: the caller's array may change later
+        parameter=param, values=values.copy(), quantities=tuple(all_names), response=Z,
+        harmonic_omegas=omegas, method=method, frequency_sweep=bool(frequency_sweep),
+        natural_frequencies=natural,
         skipped=skipped, warnings=tuple(dict.fromkeys(warnings)), log=bool(log),
         title=batch.title, coordinates=tuple(batch.coordinates))
 

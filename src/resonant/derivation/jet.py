@@ -55,7 +55,7 @@ class Backend:
     name: str
     module: Any
     functions: Mapping[str, Callable[..., Any]]
-    basic: type
+    basic: type[Any]
     _derivatives: dict = field(default_factory=dict, compare=False, repr=False)
 
     def symbol(self, name: str) -> Any:
@@ -105,8 +105,8 @@ def backend(name: str) -> Backend:
     if name not in _BACKENDS:
         import symengine
 
-        _BACKENDS[name] = Backend("symengine", symengine,
-                                  {n: getattr(symengine, n) for n in SYMPY_CONSTRUCTORS}, symengine.Basic)
+        constructors = {n: getattr(symengine, n) for n in SYMPY_CONSTRUCTORS}
+        _BACKENDS[name] = Backend("symengine", symengine, constructors, symengine.Basic)
     return _BACKENDS[name]
 
 
@@ -136,11 +136,11 @@ class Jet:
 
     # -- construction -------------------------------------------------------
     @classmethod
-    def constant(cls, value: Coefficient) -> "Jet":
+    def constant(cls, value: Coefficient) -> Jet:
         return cls(value)
 
     @classmethod
-    def variable(cls, var: Var, offset: Coefficient = 0) -> "Jet":
+    def variable(cls, var: Var, offset: Coefficient = 0) -> Jet:
         return cls(offset, {var: 1})
 
     def is_constant(self) -> bool:
@@ -168,20 +168,20 @@ class Jet:
             out[k] = out[k] + v if k in out else v
         return {k: v for k, v in out.items() if _nonzero(v)}
 
-    def __add__(self, other: "Jet") -> "Jet":
+    def __add__(self, other: Jet) -> Jet:
         return Jet(self.const + other.const, self._merge(self.lin, other.lin),
                    self._merge(self.quad, other.quad))
 
-    def __sub__(self, other: "Jet") -> "Jet":
+    def __sub__(self, other: Jet) -> Jet:
         return Jet(self.const - other.const, self._merge(self.lin, other.lin, -1),
                    self._merge(self.quad, other.quad, -1))
 
-    def __neg__(self) -> "Jet":
+    def __neg__(self) -> Jet:
         return Jet(-self.const, {k: -v for k, v in self.lin.items()},
                    {k: -v for k, v in self.quad.items()})
 
     @staticmethod
-    def sum(jets: list["Jet"], backend: Backend = SYMPY) -> "Jet":
+    def sum(jets: list[Jet], backend: Backend = SYMPY) -> Jet:
         """The sum of many jets, each coefficient built once from all its terms."""
         if len(jets) == 1:
             return jets[0]
@@ -190,22 +190,22 @@ class Jet:
         for jet in jets:
             for k, v in jet.lin.items():
                 lin.setdefault(k, []).append(v)
-            for k, v in jet.quad.items():
-                quad.setdefault(k, []).append(v)
+            for kq, v in jet.quad.items():
+                quad.setdefault(kq, []).append(v)
         add = backend.add
         consts = [j.const for j in jets if _nonzero(j.const)]
         return Jet(add(consts) if consts else 0,
                    {k: c for k, v in lin.items() if _nonzero(c := add(v))},
                    {k: c for k, v in quad.items() if _nonzero(c := add(v))})
 
-    def scale(self, factor: Coefficient) -> "Jet":
+    def scale(self, factor: Coefficient) -> Jet:
         if factor == 0:
             return Jet()
         return Jet(self.const * factor, {k: v * factor for k, v in self.lin.items()},
                    {k: v * factor for k, v in self.quad.items()})
 
     # -- products and functions ---------------------------------------------
-    def __mul__(self, other: "Jet | Coefficient") -> "Jet":
+    def __mul__(self, other: Jet | Coefficient) -> Jet:
         if not isinstance(other, Jet):
             return self.scale(other)
         if other.is_constant():
@@ -223,18 +223,18 @@ class Jet:
         if _nonzero(c2):
             quad = {k: v * c2 for k, v in self.quad.items()}
         if _nonzero(c1):
-            for k, v in other.quad.items():
-                quad[k] = quad[k] + c1 * v if k in quad else c1 * v
+            for kq, v in other.quad.items():
+                quad[kq] = quad[kq] + c1 * v if kq in quad else c1 * v
         for a, va in self.lin.items():
             for b, vb in other.lin.items():
-                k = _key(a, b)
-                quad[k] = quad[k] + va * vb if k in quad else va * vb
+                kq = _key(a, b)
+                quad[kq] = quad[kq] + va * vb if kq in quad else va * vb
         return Jet(c1 * c2, {k: v for k, v in lin.items() if _nonzero(v)},
                    {k: v for k, v in quad.items() if _nonzero(v)})
 
     __rmul__ = __mul__
 
-    def _compose(self, f0: Coefficient, f1: Coefficient, f2: Coefficient) -> "Jet":
+    def _compose(self, f0: Coefficient, f1: Coefficient, f2: Coefficient) -> Jet:
         """f(c + d) ~ f0 + f1 d + f2/2 d^2 with d = self - c."""
         delta = Jet(0, self.lin, self.quad)
         out = delta.scale(f1)
@@ -243,7 +243,7 @@ class Jet:
             out = out + sq.scale(f2 / 2)
         return Jet(f0) + out
 
-    def apply(self, func: str, backend: Backend = SYMPY) -> "Jet":
+    def apply(self, func: str, backend: Backend = SYMPY) -> Jet:
         """The jet of ``func(self)`` for a one-argument function of the model language."""
         f0 = backend.functions[func](self.const)
         if self.is_constant():
@@ -255,7 +255,7 @@ class Jet:
             raise NotDifferentiable(f"{func}() is not differentiable at the reference state")
         return self._compose(f0, f1, f2)
 
-    def atan2(self, x: "Jet", backend: Backend = SYMPY) -> "Jet":
+    def atan2(self, x: Jet, backend: Backend = SYMPY) -> Jet:
         """The jet of ``atan2(self, x)`` (self is the y argument)."""
         y0, x0 = self.const, x.const
         f0 = backend.functions["atan2"](y0, x0)
@@ -273,7 +273,7 @@ class Jet:
                   + (ly * lx).scale((y0**2 - x0**2) / r4))
         return Jet(f0) + first + second
 
-    def reciprocal(self) -> "Jet":
+    def reciprocal(self) -> Jet:
         c = self.const
         if c == 0:
             raise NotDifferentiable("division by a quantity that is zero at the reference state")
@@ -281,14 +281,14 @@ class Jet:
             return Jet(1 / c)
         return self._compose(1 / c, -1 / c**2, 2 / c**3)
 
-    def __truediv__(self, other: "Jet") -> "Jet":
+    def __truediv__(self, other: Jet) -> Jet:
         if other.is_constant():
             if other.const == 0:
                 raise NotDifferentiable("division by zero")
             return self.scale(1 / other.const)
         return self * other.reciprocal()
 
-    def __pow__(self, exponent: "Jet") -> "Jet":
+    def __pow__(self, exponent: Jet) -> Jet:
         if not exponent.is_constant():
             raise NotDifferentiable("a power whose exponent varies with the motion; write it "
                                     "as exp(b*log(a))")
@@ -308,7 +308,7 @@ class Jet:
         return self._compose(c**b, b * c**(b - 1), b * (b - 1) * c**(b - 2))
 
     # -- calculus -------------------------------------------------------------
-    def diff(self, var: Var) -> "Jet":
+    def diff(self, var: Var) -> Jet:
         """Partial derivative with respect to a small quantity (degree drops by one)."""
         const = self.lin.get(var, 0)
         lin: dict[Var, Coefficient] = {}
@@ -321,7 +321,7 @@ class Jet:
                 lin[a] = lin.get(a, 0) + v
         return Jet(const, {k: v for k, v in lin.items() if _nonzero(v)})
 
-    def dt(self) -> "Jet":
+    def dt(self) -> Jet:
         """Total time derivative: each small quantity (name, k) becomes (name, k+1).
 
         Exact to degree two because the coefficients do not depend on time
@@ -334,7 +334,7 @@ class Jet:
                 quad[key] = quad[key] + v if key in quad else v
         return Jet(0, lin, {k: v for k, v in quad.items() if _nonzero(v)})
 
-    def truncate(self, degree: int) -> "Jet":
+    def truncate(self, degree: int) -> Jet:
         if degree >= 2:
             return self
         if degree == 1:

@@ -187,16 +187,16 @@ class _JetOps:
 
     # Sums are collected lazily (a list of terms) and built once when used: a sum of
     # N jets then costs O(N) per coefficient instead of O(N^2) for pairwise sums.
-    def whole(self, value: "Jet | _Terms") -> Jet:
+    def whole(self, value: Jet | _Terms) -> Jet:
         return Jet.sum(value.jets, self.cas) if isinstance(value, _Terms) else value
 
-    def add(self, a: "Jet | _Terms", b: "Jet | _Terms") -> "_Terms":
+    def add(self, a: Jet | _Terms, b: Jet | _Terms) -> _Terms:
         # each fold value is used by exactly one parent, so a term list may grow in place
         terms = a if isinstance(a, _Terms) else _Terms([a])
         terms.jets.extend(b.jets if isinstance(b, _Terms) else [b])
         return terms
 
-    def sub(self, a: "Jet | _Terms", b: "Jet | _Terms") -> "_Terms":
+    def sub(self, a: Jet | _Terms, b: Jet | _Terms) -> _Terms:
         return self.add(a, -self.whole(b))
 
     def tick(self) -> None:
@@ -205,20 +205,20 @@ class _JetOps:
         self.deadline.every(16, f"while expanding '{key}'" if key else "during the derivation",
                             section, key)
 
-    def mul(self, a: "Jet | _Terms", b: "Jet | _Terms") -> Jet:
+    def mul(self, a: Jet | _Terms, b: Jet | _Terms) -> Jet:
         self.tick()
         return self.whole(a) * self.whole(b)
 
-    def div(self, a: "Jet | _Terms", b: "Jet | _Terms") -> Jet:
+    def div(self, a: Jet | _Terms, b: Jet | _Terms) -> Jet:
         return self.whole(a) / self.whole(b)
 
-    def pow(self, a: "Jet | _Terms", b: "Jet | _Terms") -> Jet:
+    def pow(self, a: Jet | _Terms, b: Jet | _Terms) -> Jet:
         a, b = self.whole(a), self.whole(b)
         if not b.is_constant():  # a^b = exp(b log a)
             return (b * a.apply("log", self.cas)).apply("exp", self.cas)
         return a ** b
 
-    def neg(self, a: "Jet | _Terms") -> Jet:
+    def neg(self, a: Jet | _Terms) -> Jet:
         return -self.whole(a)
 
     def call(self, func: str, args: list) -> Jet:
@@ -352,7 +352,7 @@ def _generalized_forces(model: Model, ops: _JetOps) -> list[Jet]:
     """Q_k = F . d(point)/d(q_k), to first order (the force is not differentiated)."""
     coords = model.coordinates
     total = [Jet() for _ in coords]
-    for i, force in enumerate(model.forces, start=1):
+    for force in model.forces:
         section = f"force '{force.name}'"
         if force.generalized:
             for k, q in enumerate(coords):
@@ -363,7 +363,7 @@ def _generalized_forces(model: Model, ops: _JetOps) -> list[Jet]:
         vector = [ops.jet(v, section, f"vector[{j}]").truncate(1)
                   for j, v in enumerate(force.vector)]
         point = [ops.jet(p, section, f"point[{j}]") for j, p in enumerate(force.point)]
-        for p, expression in zip(point, force.point):
+        for p in point:
             rates = {v for v in p.variables() if v[0] in ops.coordinates and v[1] > 0}
             if rates:
                 raise ModelError(Problem(

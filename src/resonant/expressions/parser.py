@@ -21,7 +21,7 @@ import operator
 import re
 from collections.abc import Callable, Collection
 from dataclasses import dataclass, field
-from typing import Any, Union
+from typing import Any
 
 import sympy
 
@@ -38,7 +38,8 @@ MAX_EXPONENT = 1000
 MAX_NAME_LENGTH = 64
 _MAX_NUMBER = 1e300
 _MAX_BITS = 1100  # ~330 decimal digits: the largest exact number we let sympy build
-_TIME_HINT = "time 't' may only appear in [signals]; declare a signal for anything that moves with time"
+_TIME_HINT = ("time 't' may only appear in [signals]; "
+              "declare a signal for anything that moves with time")
 
 _TOKEN = re.compile(
     r"(?P<ws>[ \t\r\n]+)"
@@ -127,7 +128,7 @@ class Neg:
     operand: Node
 
 
-Node = Union[Num, Name, Call, BinOp, Neg]
+Node = Num | Name | Call | BinOp | Neg
 _OPS = {"+": "add", "-": "sub", "*": "mul", "/": "div", "^": "pow"}
 
 
@@ -334,7 +335,8 @@ class _Parser:
             hint = (f"write {prev}*{tok}"
                     if prev_kind in ("num", "name") and kind in ("num", "name")
                     else "insert '*' where you mean a product")
-            raise self.error(f"missing operator (implicit multiplication is not supported: {hint})", pos)
+            raise self.error(
+                f"missing operator (implicit multiplication is not supported: {hint})", pos)
         if tok != closing:
             raise self.error("unmatched ')'" if tok == ")" else f"unexpected {tok!r}", pos)
         self.i += 1
@@ -351,7 +353,8 @@ class _Parser:
                 term = self.node(BinOp, tok, term[0], right[0]), _const(tok, term[1], right[1])
             else:
                 if total is not None:
-                    term = self.node(BinOp, add_op, total[0], term[0]), _const(add_op, total[1], term[1])
+                    term = (self.node(BinOp, add_op, total[0], term[0]),
+                            _const(add_op, total[1], term[1]))
                 total, add_op, term = term, tok, right
         if total is not None:
             term = self.node(BinOp, add_op, total[0], term[0]), _const(add_op, total[1], term[1])
@@ -515,7 +518,8 @@ class _Pending:
     __slots__ = ("mul", "coeff", "items")
 
     def __init__(self, mul: bool) -> None:
-        self.mul, self.coeff, self.items = mul, sympy.Integer(int(mul)), []
+        self.mul, self.coeff = mul, sympy.Integer(int(mul))
+        self.items: list[Any] = []
 
 
 class _SympyOps:
@@ -570,7 +574,8 @@ class _SympyOps:
         if isinstance(value, float):
             return sympy.Float(value)
         if not isinstance(value, sympy.Basic):  # never sympify: a str would be parsed
-            raise TypeError(f"resolve({name!r}, {primes}) must return a sympy expression or a number")
+            raise TypeError(
+                f"resolve({name!r}, {primes}) must return a sympy expression or a number")
         return value
 
     def pi(self) -> sympy.Expr:

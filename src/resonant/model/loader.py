@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import difflib
 import tomllib
-from collections.abc import Iterable, Mapping
+from collections.abc import Collection, Iterable, Mapping
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any
@@ -144,7 +144,7 @@ class _Builder:
         return True
 
     def expression(self, value: Any, section: str, key: str,
-                   allowed: Iterable[str]) -> Expression | None:
+                   allowed: Collection[str]) -> Expression | None:
         if isinstance(value, bool) or not isinstance(value, (str, int, float)):
             self.problem(f"expected a number or an expression string, got "
                          f"{type(value).__name__}", section, key)
@@ -201,7 +201,7 @@ class _Builder:
             raise ModelError(self.problems)
         if matrix_spec is not None and not coordinates:
             n = _matrix_size(matrix_spec.M)
-            coordinates = tuple(f"q{i + 1}" for i in range(n))
+            coordinates = [f"q{i + 1}" for i in range(n)]
         return Model(
             title=title, source=self.source,
             parameters=MappingProxyType(parameters),
@@ -519,11 +519,12 @@ def definition_chain(definitions: Mapping[str, Expression]) -> str:
         depth[name] = (1 + (depth[best][0] if best else 0), best)
     if not depth:
         return ""
-    name: str | None = max(depth, key=lambda n: depth[n][0])
-    levels, chain = depth[name][0], []
-    while name is not None and len(chain) < 6:
-        chain.append(name)
-        name = depth[name][1]
+    deepest = max(depth, key=lambda n: depth[n][0])
+    levels, chain = depth[deepest][0], list[str]()
+    link: str | None = deepest
+    while link is not None and len(chain) < 6:
+        chain.append(link)
+        link = depth[link][1]
     more = " -> ..." if levels > len(chain) else ""
     return f" (definition chain {' -> '.join(chain)}{more}, {levels} levels)"
 

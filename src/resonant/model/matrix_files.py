@@ -7,7 +7,7 @@ like the matrix, or the only one) or Matrix Market ``.mtx`` files.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 

@@ -6,7 +6,8 @@ from a TOML file.
 Examples
 --------
 >>> from resonant.model import loads
->>> m = loads('[parameters]\\nk = 1\\n[coordinates]\\nx = ""\\n[energy]\\nT = "x\\'^2/2"\\nU = "k*x^2/2"')
+>>> m = loads('[parameters]\\nk = 1\\n[coordinates]\\nx = ""\\n'
+...           '[energy]\\nT = "x\\'^2/2"\\nU = "k*x^2/2"')
 >>> m.coordinates, m.parameter_values["k"]
 (('x',), 1.0)
 """
@@ -97,13 +98,14 @@ class Model:
         """The parameter symbols by name."""
         return {name: symbol(name) for name in self.parameters}
 
-    def with_parameters(self, **values: float | str) -> "Model":
+    def with_parameters(self, **values: float | str) -> Model:
         """A copy with some parameters replaced (values are parsed, not evaluated).
 
         Examples
         --------
         >>> from resonant.model import loads
-        >>> m = loads('[parameters]\\nk = 1\\n[coordinates]\\nx = ""\\n[energy]\\nT = "x\\'^2/2"\\nU = "k*x^2/2"')
+        >>> m = loads('[parameters]\\nk = 1\\n[coordinates]\\nx = ""\\n'
+        ...           '[energy]\\nT = "x\\'^2/2"\\nU = "k*x^2/2"')
         >>> m.with_parameters(k=4).parameter_values["k"]
         4.0
         """
@@ -196,9 +198,13 @@ def evaluate_parameters(params: Mapping[str, Expression], source: str
     exact: dict[str, sympy.Expr] = {}
     floats: dict[str, float] = {}
     problems: list[Problem] = []
+
+    def resolve(n: str, p: int) -> sympy.Expr:
+        return exact[n] if p == 0 else sympy.Integer(0)
+
     for name, expression in params.items():
         try:
-            value = expression.to_sympy(lambda n, p, _e=exact: _e[n] if p == 0 else sympy.Integer(0))
+            value = expression.to_sympy(resolve)
         except ExpressionError as exc:
             problems.extend(exc.problems)
             continue

@@ -34,7 +34,7 @@ from .steps import Context, step_order
 FORMATS = {".html": "html", ".htm": "html", ".md": "md", ".markdown": "md", ".tex": "tex"}
 
 
-def build_report(model: "Model", plots: bool = True) -> Report:
+def build_report(model: Model, plots: bool = True) -> Report:
     """The worked solution of ``model`` as a list of blocks.
 
     Raises
@@ -76,7 +76,7 @@ def report_format(path: str | Path) -> str:
     return FORMATS[suffix]
 
 
-def write_report(model: "Model", path: str | Path, plots: bool = True) -> Path:
+def write_report(model: Model, path: str | Path, plots: bool = True) -> Path:
     """Write the worked solution of ``model`` to ``path`` (.html, .md or .tex)."""
     path = Path(path)
     fmt = report_format(path)

@@ -14,7 +14,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Union
+from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # pragma: no cover
     from .plots import PlotData
@@ -27,7 +27,7 @@ class Math:
     latex: str
 
 
-Part = Union[str, Math]
+Part = str | Math
 
 
 @dataclass(frozen=True)
@@ -59,7 +59,7 @@ class Table:
 class Figure:
     """A plot (data, drawn by each writer) with its caption and figure number."""
 
-    plot: "PlotData"
+    plot: PlotData
     caption: str
     number: int
 
@@ -71,7 +71,7 @@ class Note:
     parts: tuple[Part, ...]
 
 
-Block = Union[Heading, Paragraph, Equation, Table, Figure, Note]
+Block = Heading | Paragraph | Equation | Table | Figure | Note
 
 
 def paragraph(*parts: Part) -> Paragraph:

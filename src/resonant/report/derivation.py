@@ -123,7 +123,7 @@ def _tidy(e: sympy.Expr) -> sympy.Expr:
     return expanded if sympy.count_ops(expanded) <= sympy.count_ops(e) + 2 else e
 
 
-def derive(eom: "LinearEOM") -> Derivation:
+def derive(eom: LinearEOM) -> Derivation:
     """Differentiate T, D, U and the forces of ``eom.model`` and check against ``eom``.
 
     Raises
@@ -147,7 +147,7 @@ def derive(eom: "LinearEOM") -> Derivation:
     lagrange = {"T": [ops.dt(sympy.diff(T, qd[k])) - sympy.diff(T, q[k]) for k in range(n)],
                 "D": [sympy.diff(D, v) for v in qd],
                 "U": [sympy.diff(U, v) for v in q]}
-    forces = tuple(_force_terms(model, ops, force, q) for force in model.forces)
+    raw_forces = tuple(_force_terms(model, ops, force, q) for force in model.forces)
     reference = _reference(model, ops)
     second = {}
     for key, variables in (("T", qd), ("D", qd), ("U", q)):
@@ -163,7 +163,7 @@ def derive(eom: "LinearEOM") -> Derivation:
     forces = tuple(
         ForceTerms(f.name, f.vector, f.velocity, f.power, f.generalized,
                    _linear_part(list(f.generalized), ops, reference, coords, sign=-1), f.given)
-        for f in forces)
+        for f in raw_forces)
     derivation = Derivation(model, q, qd, energies, first, second, lagrange, parts, forces,
                             reference, set(ops.registry))
     _check(derivation, eom)
@@ -179,7 +179,7 @@ def _reference(model: Model, ops: _SympyOps) -> dict[sympy.Symbol, sympy.Expr]:
         reference[ops.dvar(c, 0)] = value
         for order in (1, 2, 3):
             reference[ops.dvar(c, order)] = sympy.Integer(0)
-    for s, (name, order) in ops.registry.items():
+    for s, (name, _order) in ops.registry.items():
         if name in model.signals:
             reference[s] = sympy.Integer(0)
     return reference
@@ -256,7 +256,7 @@ def _equal(a: sympy.Expr, b: sympy.Expr, model: Model) -> bool:
     return True
 
 
-def _check(d: Derivation, eom: "LinearEOM") -> None:
+def _check(d: Derivation, eom: LinearEOM) -> None:
     n = len(eom.coordinates)
     parts = [*d.parts.values(), *(f.part for f in d.forces)]
     totals = {label: sum((getattr(p, label) for p in parts), sympy.zeros(n, n))

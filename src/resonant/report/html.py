@@ -9,7 +9,6 @@ ever fail to convert, its LaTeX source is shown instead of breaking the page.
 from __future__ import annotations
 
 import html
-import re
 
 from ..views.mathml import latex_to_mathml as _math
 from .blocks import (

@@ -25,14 +25,14 @@ import io
 import math
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Union
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy
 
-from ..model import symbol
-from ..system.batch import compile_expressions
+from ..analyses.sweep import sweep
+from ..system import LinearSystem
 from ..views.notation import name_latex
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -72,7 +72,7 @@ class TimeHistory:
         return {"t": self.t.tolist(), "values": {k: v.tolist() for k, v in self.values.items()}}
 
 
-PlotData = Union[FrequencyResponse, TimeHistory]
+PlotData = FrequencyResponse | TimeHistory
 
 
 # -- data ----------------------------------------------------------------------------------
@@ -86,7 +86,7 @@ def _dependents(model, name: str) -> set[str]:
     return found - {name}
 
 
-def frequency_response(eom: "LinearEOM", solution: "StationarySolution",
+def frequency_response(eom: LinearEOM, solution: StationarySolution,
                        points: int = 500) -> FrequencyResponse | None:
     """Amplitudes of the coordinates for excitation frequencies from 0 to ~1.6x the highest
     natural frequency (or the excitation); None unless there is one excitation frequency."""
@@ -95,29 +95,31 @@ def frequency_response(eom: "LinearEOM", solution: "StationarySolution",
     if len(moving) != 1 or n > MAX_PLOT_COORDINATES or eom.harmonics is None:
         return None
     w0 = moving[0].omega
-    model = eom.model
     top = max([w0, *solution.natural_frequencies.tolist()])
     grid = np.linspace(top * 1.6 / points, top * 1.6, points)
     grid = np.union1d(grid, [w0])
     parameter = _swept_parameter(eom, w0)
     if parameter is not None:
-        f_s, f_c, M, C, K = _compiled_system(eom, parameter, grid)
+        # the model swept over its frequency parameter: amplitudes that depend on it follow
+        system: LinearSystem = eom
     else:
-        h = moving[0]
+        # the force amplitudes held at their operating values: the numeric system with only
+        # the moving harmonic, swept over its frequency
         nm = solution.eom
-        f_s = np.broadcast_to(h.F_S, (grid.size, n))
-        f_c = np.broadcast_to(h.F_C, (grid.size, n))
-        M, C, K = (np.broadcast_to(a, (grid.size, n, n)) for a in (nm.M, nm.C, nm.K))
-    w = grid[:, None, None]
-    A = K - w**2 * M + 1j * w * C
-    rhs = (f_c - 1j * f_s)[:, :, None]
-    X = np.full((grid.size, n), np.nan, dtype=complex)
-    with np.errstate(all="ignore"):
-        for i in range(grid.size):
-            try:
-                X[i] = np.linalg.solve(A[i], rhs[i])[:, 0]
-            except np.linalg.LinAlgError:
-                pass  # exactly at an undamped resonance: left out of the curve
+        h = next(h for h in nm.harmonics if h.omega > 0)
+        system = replace(nm, harmonics=(h,), outputs={}, system=None)
+    result = sweep(system, parameter or "omega", grid, names=list(eom.coordinates),
+                   progress=False)
+    # the response at the excitation frequency alone (a static load does not count): the
+    # sum over the harmonics running with the grid (the frequency p and -p, signs folded)
+    follows = [k for k, w in enumerate(result.harmonic_omegas)
+               if np.allclose(w, grid, rtol=1e-9, atol=0.0)]
+    columns = [result.quantities.index(c) for c in eom.coordinates]
+    X = np.zeros((grid.size, n), dtype=complex)
+    for k in follows:
+        X = X + result.response[k][:, columns]
+    skipped = np.isin(grid, np.asarray(result.skipped, dtype=float))
+    X[skipped] = np.nan  # exactly at an undamped resonance: left out of the curve
     amplitudes = {c: np.abs(X[:, i]) for i, c in enumerate(eom.coordinates)}
     at = int(np.argmin(np.abs(grid - w0)))
     return FrequencyResponse(grid, amplitudes, w0,
@@ -125,13 +127,14 @@ def frequency_response(eom: "LinearEOM", solution: "StationarySolution",
                              solution.natural_frequencies, parameter)
 
 
-def _swept_parameter(eom: "LinearEOM", w0: float) -> str | None:
+def _swept_parameter(eom: LinearEOM, w0: float) -> str | None:
     """The parameter that is the excitation frequency, if the sweep can vary it alone."""
     model = eom.model
     if model.matrices is not None:
         candidates = [h.omega.text.strip() for h in model.matrices.harmonics]
     else:
-        candidates = [str(w) for w in eom.harmonics.frequencies if isinstance(w, sympy.Symbol)]
+        frequencies = eom.harmonics.frequencies if eom.harmonics is not None else ()
+        candidates = [str(w) for w in frequencies if isinstance(w, sympy.Symbol)]
     for name in candidates:
         if name in model.parameter_values and math.isclose(
                 abs(model.parameter_values[name]), w0, rel_tol=1e-9) \
@@ -140,30 +143,7 @@ def _swept_parameter(eom: "LinearEOM", w0: float) -> str | None:
     return None
 
 
-def _compiled_system(eom: "LinearEOM", parameter: str, grid: np.ndarray):
-    """F_S, F_C, M, C, K along the grid of the frequency parameter (one compiled call)."""
-    model = eom.model
-    n = len(eom.coordinates)
-    p = symbol(parameter)
-    f_s = sympy.zeros(n, 1)
-    f_c = sympy.zeros(n, 1)
-    for w in eom.harmonics.frequencies:
-        if w == p:
-            s, c = eom.harmonics.forcing(eom.excitation, w)
-            f_s, f_c = f_s + s, f_c + c
-        elif w == -p:
-            s, c = eom.harmonics.forcing(eom.excitation, w)
-            f_s, f_c = f_s - s, f_c + c
-    names = list(model.parameters)
-    exprs = [*f_s, *f_c, *eom.M, *eom.C, *eom.K]
-    fn = compile_expressions(exprs, [symbol(x) for x in names])
-    args = [grid if x == parameter else model.parameter_values[x] for x in names]
-    values = np.broadcast_to(fn(*args).real.T, (grid.size, len(exprs)))
-    out = np.split(values, [n, 2 * n, 2 * n + n * n, 2 * n + 2 * n * n], axis=1)
-    return (out[0], out[1], *(a.reshape(grid.size, n, n) for a in out[2:]))
-
-
-def time_history(solution: "StationarySolution", points: int = 600) -> TimeHistory | None:
+def time_history(solution: StationarySolution, points: int = 600) -> TimeHistory | None:
     """Two periods of the slowest excitation frequency; None without a harmonic excitation."""
     moving = [h.omega for h in solution.harmonics if h.omega > 0]
     n = len(solution.eom.coordinates)

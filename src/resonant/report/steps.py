@@ -76,6 +76,13 @@ class Context:
     def n(self) -> int:
         return len(self.eom.coordinates)
 
+    @property
+    def derived(self) -> Derivation:
+        """The derivation, for the steps that run only when there is one."""
+        if self.derivation is None:
+            raise ValueError("this step needs the derivation of the model's energies")
+        return self.derivation
+
     def equation(self, latex: str, label: str | None = None) -> Equation:
         self.count += 1
         if label:
@@ -186,7 +193,8 @@ def _source_labels(ctx: Context) -> dict[str, str]:
         if unique:
             labels[key] = ",".join(ctx.namer(s).replace("(t)", "") for s in signals)
         elif key.startswith("F"):
-            labels[key] = rf"F_{{{int(key[1:]) + 1}}}" if len(d.forces) > 1 else "F"
+            several = d is not None and len(d.forces) > 1
+            labels[key] = rf"F_{{{int(key[1:]) + 1}}}" if several else "F"
         else:
             labels[key] = _energy_symbol(key)
     return labels
@@ -197,7 +205,7 @@ def _cases(rows: list[list[tuple[str, bool]]], unknowns: Sequence[str],
     """A system of linear equations; a coefficient is ``(latex, negative)``."""
     lines = []
     for row, right in zip(rows, rhs):
-        terms = []
+        terms: list[str] = []
         for (coef, negative), unknown in zip(row, unknowns):
             if coef == "":
                 continue
@@ -349,7 +357,7 @@ def _uses_definitions(ctx: Context, key: str) -> bool:
 
 def _energy_statement(ctx: Context, key: str, intro: str) -> list[Block]:
     """The energy as given and, if it uses definitions, in the coordinates."""
-    d = ctx.derivation
+    d = ctx.derived
     symbol_ = _energy_symbol(key)
     blocks: list[Block] = [paragraph(intro)]
     given = expression_latex(ctx.model.energy[key], ctx.namer)
@@ -364,7 +372,7 @@ def _energy_statement(ctx: Context, key: str, intro: str) -> list[Block]:
 
 def _derivatives(ctx: Context, key: str, dotted: bool, letter: str) -> list[Block]:
     """First derivatives, the second derivatives element by element and their values."""
-    d = ctx.derivation
+    d = ctx.derived
     order = 1 if dotted else 0
     names = ctx.q_symbols(order)
     energy = _energy_symbol(key)
@@ -382,9 +390,9 @@ def _derivatives(ctx: Context, key: str, dotted: bool, letter: str) -> list[Bloc
     if not entries:
         return blocks
     ref = _at_reference(ctx)
+    at = f"Eq. {ctx.ref(letter + 'ij')}" if ctx.ref(letter + 'ij') else ""
     blocks.append(paragraph("and the second derivatives, taken at the equilibrium "
-                            f"({'Eq. ' + ctx.ref(letter + 'ij') if ctx.ref(letter + 'ij') else ''}),"
-                            " give the nonzero elements"))
+                            f"({at}), give the nonzero elements"))
     for (i, j), (full, value) in entries.items():
         element = f"{letter}_{{{i + 1}{j + 1}}}"
         if i != j:
@@ -400,7 +408,7 @@ def _derivatives(ctx: Context, key: str, dotted: bool, letter: str) -> list[Bloc
 def _time_part(ctx: Context, key: str, lhs: str, matrix_labels: dict[str, str],
                label: str) -> list[Block]:
     """The linearized part of Lagrange's equation of one energy that holds signals."""
-    d = ctx.derivation
+    d = ctx.derived
     part = d.parts[key]
     if not part.Q and _is_zero(part.C if key == "T" else sympy.zeros(1)) and \
             (key != "T" or _is_zero(part.K)):
@@ -428,7 +436,7 @@ def _energy_symbol_text(key: str) -> str:
 
 
 def kinetic(ctx: Context) -> list[Block]:
-    d = ctx.derivation
+    d = ctx.derived
     blocks = _energy_statement(ctx, "T", "The kinetic energy of the system is")
     if d.time_dependent("T"):
         blocks.append(paragraph("The kinetic energy depends explicitly on time through the "
@@ -451,7 +459,7 @@ def kinetic(ctx: Context) -> list[Block]:
 
 
 def dissipation(ctx: Context) -> list[Block]:
-    d = ctx.derivation
+    d = ctx.derived
     if "D" not in ctx.model.energy or d.energies["D"] == 0:
         return []
     blocks: list[Block] = [Heading("Dissipation function and damping matrix", 3)]
@@ -465,7 +473,7 @@ def dissipation(ctx: Context) -> list[Block]:
 
 
 def potential(ctx: Context) -> list[Block]:
-    d = ctx.derivation
+    d = ctx.derived
     blocks: list[Block] = [Heading("Potential energy function and stiffness matrix", 3)]
     if "U" not in ctx.model.energy or d.energies["U"] == 0:
         blocks.append(paragraph("There is no potential energy: U = 0."))
@@ -521,7 +529,7 @@ def potential(ctx: Context) -> list[Block]:
 
 
 def _other_stiffness(ctx: Context) -> str:
-    d = ctx.derivation
+    d = ctx.derived
     sources = []
     if not _is_zero(d.parts["T"].K):
         sources.append("the kinetic energy")
@@ -542,13 +550,11 @@ def _join_math(items: Sequence[str]) -> list:
 
 
 def forces(ctx: Context) -> list[Block]:
-    d = ctx.derivation
-    eom = ctx.eom
+    d = ctx.derived
     blocks: list[Block] = [Heading("Excitation forces", 3)]
     labels = _source_labels(ctx)
     parts_shown = [(labels[k], k) for k in ("T", "D", "U") if k in labels]
     if parts_shown:
-        which = ", ".join(f"Q^{lab}" for lab, _ in parts_shown)
         blocks.append(paragraph("One part of the excitation, ",
                                 *_join_math([rf"\mathbf{{Q}}^{{{lab}}}(t)"
                                              for lab, _ in parts_shown]),
@@ -632,7 +638,6 @@ def harmonic_split(ctx: Context) -> list[Block]:
                          rf"\mathbf{{F}}_{{C{sub}}} \cos\left({wt}\right)")
     blocks.append(ctx.equation(r"\mathbf{Q}(t) = " + " + ".join(terms) + ",", label="QSC"))
     blocks.append(paragraph("where, using trigonometric identities,"))
-    numeric = {round(x.omega, 12): x for x in ctx.solution.eom.harmonics}
     for i, w in enumerate(freqs):
         sub = "" if len(freqs) == 1 else f",{i + 1}"
         f_s, f_c = h.forcing(eom.excitation, w)
@@ -710,7 +715,6 @@ def _rhs_latex(ctx: Context) -> str:
 
 def stationary(ctx: Context) -> list[Block]:
     sol = ctx.solution
-    eom = ctx.eom
     blocks: list[Block] = [Heading("Task 2: the stationary solution")]
     if not sol.available:
         blocks.append(Note(("The signals are not sums of harmonics: there is no stationary "
@@ -736,7 +740,7 @@ def stationary(ctx: Context) -> list[Block]:
     freqs = _frequencies(ctx)
     responses = sol.harmonics
     several = len(responses) > 1
-    for index, response in enumerate(responses):
+    for response in responses:
         if several:
             what = "the static part" if response.omega == 0 else \
                 f"the frequency ω = {number_text(response.omega)} rad/s"
@@ -781,12 +785,14 @@ def _symbolic_system(ctx: Context, w: sympy.Expr | None) -> list[Block]:
     big[n:, n:] = A
     big[:n, n:] = B
     big[n:, :n] = -B
+    assert eom.harmonics is not None  # a stationary solution exists: the signals are harmonic
     f_s, f_c = eom.harmonics.forcing(eom.excitation, w)
     rhs = sympy.Matrix([*f_c.applyfunc(sympy.factor_terms), *f_s.applyfunc(sympy.factor_terms)])
     unknowns = [f"L_{{{i + 1}}}" for i in range(n)] + [f"N_{{{i + 1}}}" for i in range(n)]
-    blocks = [paragraph("For our system this yields"),
-              ctx.equation(ctx.tex(big) + _vector(unknowns) + " = " + ctx.tex(rhs) + ",",
-                           label="LN-symbolic")]
+    blocks: list[Block] = [
+        paragraph("For our system this yields"),
+        ctx.equation(ctx.tex(big) + _vector(unknowns) + " = " + ctx.tex(rhs) + ",",
+                     label="LN-symbolic")]
     if all(e == 0 for e in eom.C):
         # no damping: the system splits into one for L and one for N (exercise (40)-(41))
         rows = [[_symbolic_coef(ctx, A[i, j]) for j in range(n)]
@@ -888,7 +894,8 @@ def excursions(ctx: Context) -> list[Block]:
         amp = sol.amplitudes[name]
         if single:
             L, N = sol.output_harmonics[name][0]
-            text = (rf"{with_subscript(pretty, MAX)} = \sqrt{{L_{{{pretty}}}^{{2}} + N_{{{pretty}}}^{{2}}}} = "
+            text = (rf"{with_subscript(pretty, MAX)} = "
+                    rf"\sqrt{{L_{{{pretty}}}^{{2}} + N_{{{pretty}}}^{{2}}}} = "
                     rf"\sqrt{{({number_latex(L)})^{{2}} + ({number_latex(N)})^{{2}}}} = "
                     f"{number_latex(amp)}")
             phase = sol.phases.get(name)

@@ -28,10 +28,10 @@ import numpy as np
 
 from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import ModelError, Problem
+from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
 from ..model import Model
-from .batch import Batch, BatchHarmonic, frozen_array, group_frequencies
+from .batch import Batch, BatchHarmonic, Var, frozen_array, group_frequencies
 
 
 class LinearSystem(ABC):
@@ -83,7 +83,7 @@ class LinearSystem(ABC):
         """
 
     def numeric(self, deadline: Deadline = NO_DEADLINE, **overrides: float | str
-                ) -> "NumericEOM":
+                ) -> NumericEOM:
         """The equation of motion with the parameter values substituted.
 
         Parameters
@@ -336,18 +336,18 @@ class NumericEOM(LinearSystem):
         """True when M, C or K is a scipy sparse matrix."""
         return any(hasattr(a, "tocsr") for a in (self.M, self.C, self.K))
 
-    def dense(self) -> "NumericEOM":
+    def dense(self) -> NumericEOM:
         """The same system with dense M, C, K (itself when they are dense)."""
         if not self.sparse:
             return self
         return replace(self, M=_dense(self.M), C=_dense(self.C), K=_dense(self.K))
 
     def evaluate(self, values: Mapping[str, Any], count: int,
-                 deadline: Deadline = NO_DEADLINE) -> "Batch":
+                 deadline: Deadline = NO_DEADLINE) -> Batch:
         return Batch.constant_system(self, count)
 
     def numeric(self, deadline: Deadline = NO_DEADLINE, **overrides: float | str
-                ) -> "NumericEOM":
+                ) -> NumericEOM:
         if not overrides:
             return self
         if self.system is None:
@@ -355,7 +355,7 @@ class NumericEOM(LinearSystem):
         return self.system.numeric(deadline, **{**dict(self.parameters), **overrides})
 
     def batch(self, param: str, values: np.ndarray, deadline: Deadline = NO_DEADLINE
-              ) -> "Batch":
+              ) -> Batch:
         values = np.asarray(values, dtype=float)
         if self.system is not None and self.system.model is not None:
             return self.system.evaluate(parameter_values(self.system.model, param, values,
@@ -381,13 +381,16 @@ class NumericEOM(LinearSystem):
     def symbolic_dict(self) -> dict[str, Any] | None:
         return self.system.symbolic_dict() if self.system is not None else None
 
+    def _repr_latex_(self) -> str:
+        return str(hooks.call("numeric_eom_latex", self))
+
 
 def _dense(a: Any) -> np.ndarray:
     return a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
 
 
-def numeric_point(batch: Batch, i: int, system: "LinearSystem | None" = None,
-          parameters: Mapping[str, Any] | None = None) -> "NumericEOM":
+def numeric_point(batch: Batch, i: int, system: LinearSystem | None = None,
+          parameters: Mapping[str, Any] | None = None) -> NumericEOM:
     """The numeric system at point ``i``, its excitations merged by frequency."""
     n = len(batch.coordinates)
     entries = []
@@ -399,7 +402,8 @@ def numeric_point(batch: Batch, i: int, system: "LinearSystem | None" = None,
                         {v: (float(s[i]), float(c[i])) for v, (s, c) in h.signals.items()}))
     harmonics = []
     for members in group_frequencies([e[0] for e in entries]):
-        f_s, f_c, sig = np.zeros(n), np.zeros(n), {}
+        f_s, f_c = np.zeros(n), np.zeros(n)
+        sig: dict[Var, tuple[float, float]] = {}
         for k in members:
             f_s = f_s + entries[k][1]
             f_c = f_c + entries[k][2]

@@ -35,7 +35,7 @@ class MatrixEOM(LinearSystem):
     outputs treat both kinds of model alike.
     """
 
-    model: Model  # type: ignore[assignment]
+    model: Model
     coordinates: tuple[str, ...]
 
     def _spec_matrix(self, key: str) -> Any:

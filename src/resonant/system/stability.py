@@ -169,5 +169,6 @@ def rayleigh(M: Any, C: Any, K: Any) -> tuple[float, float] | None:
 
 
 
-__all__ = ["natural_frequencies", "frequencies_from_eigenvalues", "undamped_eigen", "state_matrix", "state_eigenvalues",
-           "classify", "undamped_eigenvalues", "rayleigh", "check_mass_matrix", "is_symmetric", "ASYMPTOTIC", "MARGINAL", "UNSTABLE"]
+__all__ = ["natural_frequencies", "frequencies_from_eigenvalues", "undamped_eigen", "state_matrix",
+           "state_eigenvalues", "classify", "undamped_eigenvalues", "rayleigh", "check_mass_matrix",
+           "is_symmetric", "ASYMPTOTIC", "MARGINAL", "UNSTABLE"]

@@ -22,13 +22,13 @@ Examples
 $\\displaystyle \\begin{aligned} \\mathbf{q} &= \\begin{bmatrix} x_{1} \\end{bmatrix} \\\\ T &= \\frac{m \\dot{x}_{1}^{2}}{2} \\\\ U &= \\frac{k x_{1}^{2}}{2} \\end{aligned}$
 >>> print(eom_latex(model.linearize()))
 $\\displaystyle \\begin{bmatrix} m \\end{bmatrix}\\begin{bmatrix} \\ddot{x}_{1} \\end{bmatrix} + \\begin{bmatrix} k \\end{bmatrix}\\begin{bmatrix} x_{1} \\end{bmatrix} = \\begin{bmatrix} 0 \\end{bmatrix}$
-"""
+"""  # noqa: E501 - doctest expected output is one line and cannot be wrapped
 
 from __future__ import annotations
 
 import html
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import sympy
@@ -36,12 +36,14 @@ import sympy
 from .. import hooks
 from ..derivation import derivative_symbol
 from ..model import Model, symbol
-from ..system import LinearEOM
+from ..system import LinearEOM, MatrixEOM, NumericEOM
 from .mathml import latex_to_mathml
 from .notation import (
     Namer,
     column_latex,
     expression_latex,
+    matrix_latex,
+    name_latex,
     number_latex,
     sympy_latex,
     vector_latex,
@@ -49,7 +51,6 @@ from .notation import (
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..analyses import ModalAnalysis, Simulation, StationarySolution  # noqa: F401
-    from ..system import LinearSystem  # noqa: F401
 
 
 def _matrix_text(matrix: np.ndarray, indent: str = "    ") -> str:
@@ -73,7 +74,7 @@ def _pretty(expr: sympy.Basic, indent: str = "    ") -> str:
 
 
 @hooks.provides("solution_text")
-def solution_text(sol: "StationarySolution") -> str:
+def solution_text(sol: StationarySolution) -> str:
     """The human-readable report of ``resonant solve``."""
     e = sol.eom
     out: list[str] = []
@@ -140,7 +141,7 @@ def _namer(model: Model) -> tuple[Namer, dict]:
 
 
 @hooks.provides("eom_latex")
-def eom_latex(eom: "LinearSystem") -> str:
+def eom_latex(eom: LinearEOM | MatrixEOM) -> str:
     """The equation of motion as one LaTeX display (Jupyter ``_repr_latex_``)."""
     namer, names = _namer(eom.model)
     parts = []
@@ -150,6 +151,26 @@ def eom_latex(eom: "LinearSystem") -> str:
                          + column_latex([namer(c, order) for c in eom.coordinates]))
     lhs = " + ".join(parts) or "0"
     return rf"$\displaystyle {lhs} = {sympy_latex(eom.Q, names)}$"
+
+
+@hooks.provides("numeric_eom_latex")
+def numeric_eom_latex(eom: NumericEOM) -> str:
+    """M q'' + C q' + K q = Q with numbers (Jupyter ``_repr_latex_`` of a NumericEOM)."""
+    if eom.n > 12:
+        return rf"$\text{{{eom.n} coordinates}}$"
+    q = [name_latex(c) for c in eom.coordinates]
+    parts = [matrix_latex(getattr(eom.dense(), key)) + column_latex(
+        [rf"\{dots}{{{c}}}" if dots else c for c in q])
+        for key, dots in (("M", "ddot"), ("C", "dot"), ("K", ""))
+        if np.any(getattr(eom.dense(), key))]
+    terms = []
+    for h in eom.harmonics:
+        wt = number_latex(h.omega) + "t"
+        terms += [rf"{vector_latex(h.F_S)}\sin({wt})" if np.any(h.F_S) else "",
+                  rf"{vector_latex(h.F_C)}\cos({wt})" if np.any(h.F_C) and h.omega else "",
+                  vector_latex(h.F_C) if np.any(h.F_C) and not h.omega else ""]
+    rhs = " + ".join(t for t in terms if t) or r"\mathbf{0}"
+    return rf"$\displaystyle {' + '.join(parts) or '0'} = {rhs}$"
 
 
 @hooks.provides("model_latex")
@@ -185,7 +206,7 @@ def model_html(model: Model) -> str:
 
 
 @hooks.provides("stationary_latex")
-def stationary_latex(sol: "StationarySolution") -> str:
+def stationary_latex(sol: StationarySolution) -> str:
     """q_p(t) = sum of L cos(w t) + N sin(w t) with numbers (``_repr_latex_``)."""
     terms = []
     for h in sol.harmonics:
@@ -199,7 +220,7 @@ def stationary_latex(sol: "StationarySolution") -> str:
 
 
 @hooks.provides("stationary_html")
-def stationary_html(sol: "StationarySolution") -> str:
+def stationary_html(sol: StationarySolution) -> str:
     """A compact HTML table of amplitudes and phases (Jupyter ``_repr_html_``)."""
     rows = "".join(
         f"<tr><td>{html.escape(n)}</td><td>{a:.6g}</td>"
@@ -219,9 +240,9 @@ def modes_text(result: Any) -> str:
     """The human-readable table of ``resonant modes``."""
     out = [result.title or "modes", ""]
     names = result.coordinates
-    shown = names[:8]
+    shown = ", ".join(names[:8]) + (" ..." if len(names) > 8 else "")
     out.append(f"{'mode':>4}  {'omega [rad/s]':>14}  {'f [Hz]':>12}  {'zeta':>8}   "
-               f"shape (largest component +1): {', '.join(shown)}{' ...' if len(names) > 8 else ''}")
+               f"shape (largest component +1): {shown}")
     per_mode = result.proportional_damping
     for j, w in enumerate(result.natural_frequencies):
         zeta = f"{result.damping_ratios[j]:8.4g}" if per_mode and j < len(
@@ -240,8 +261,8 @@ def modes_text(result: Any) -> str:
             out.append(f"{'Re s':>14}  {'Im s':>14}  {'zeta':>8}")
             for s in result.eigenvalues[:2 * 20]:
                 if s.imag >= 0:
-                    zeta = -s.real / abs(s) if abs(s) else 0.0
-                    out.append(f"{s.real:14.6g}  {s.imag:14.6g}  {zeta:8.4g}")
+                    ratio = -s.real / abs(s) if abs(s) else 0.0
+                    out.append(f"{s.real:14.6g}  {s.imag:14.6g}  {ratio:8.4g}")
     out.append("")
     out.append(f"stability: {result.stability}   (method: {result.method})")
     return "\n".join(out) + "\n"
@@ -274,7 +295,7 @@ def sweep_text(result: Any) -> str:
 
 
 @hooks.provides("simulation_text")
-def simulation_text(sim: "Simulation") -> str:
+def simulation_text(sim: Simulation) -> str:
     """A short plain-text report of a :class:`~resonant.simulate.Simulation`."""
     kind = "nonlinear" if sim.nonlinear else "linear"
     lines = [sim.title,

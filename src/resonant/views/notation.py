@@ -15,7 +15,7 @@ Examples
 '\\\\frac{k \\\\left(x_{1} - r\\\\right)^{2}}{2} - \\\\frac{m_{2} g l}{2} \\\\cos\\\\left(\\\\varphi\\\\right)'
 >>> number_latex(0.0021656), number_latex(-1100.0), number_latex(2.5013e-4)
 ('0.002166', '-1100', '2.501 \\\\cdot 10^{-4}')
-"""
+"""  # noqa: E501 - doctest expected output is one line and cannot be wrapped
 
 from __future__ import annotations
 

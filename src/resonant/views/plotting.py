@@ -1,8 +1,15 @@
-"""Plots of analysis results (matplotlib, Agg backend, imported only when drawing).
+"""Plots of analysis results (matplotlib, imported only when drawing).
 
 Analyses return data; these functions draw it.  Each returns the matplotlib
 ``Figure`` and, given a ``path``, also writes it (the format follows the
 suffix: ``.png``, ``.svg``, ``.pdf``).
+
+Only matplotlib's object API is used: a :class:`matplotlib.figure.Figure` is
+made directly (an Agg canvas is attached only to write a file), never through
+``pyplot``, and the backend is never switched, so drawing here neither changes
+the caller's backend nor registers figures in pyplot's figure manager (nothing
+to close, no memory kept).  Given ``ax=`` (``axes=`` for simulations) the
+functions draw into the caller's figure instead and return that figure.
 """
 
 from __future__ import annotations
@@ -26,37 +33,89 @@ MAX_CURVES = 8
 MAX_LINES = 30
 
 
-def _pyplot() -> Any:
-    import matplotlib
+def _new_figure(**options: Any) -> Any:
+    """A figure of its own, without pyplot (no backend switch, no figure manager)."""
+    from matplotlib.figure import Figure
 
-    matplotlib.use("Agg", force=True)
-    import matplotlib.pyplot as plt
-
-    return plt
+    return Figure(**options)
 
 
-def _save(fig: Any, path: Any) -> None:
+def _figure_of(ax: Any) -> Any:
+    """The figure an Axes belongs to (the top-level one for a subfigure)."""
+    fig = ax.figure
+    root = getattr(fig, "get_figure", None)
+    if root is not None:
+        try:
+            return root(root=True)
+        except TypeError:  # matplotlib < 3.8: no ``root`` argument
+            pass
+    return getattr(fig, "figure", fig)
+
+
+def _check_path(path: Any) -> Path | None:
     if path is None:
-        return
+        return None
     path = Path(path)
     if path.suffix.lower() not in (".png", ".svg", ".pdf"):
         raise AnalysisError(f"cannot write a plot to '{path}': use a .png, .svg or .pdf file")
+    return path
+
+
+def _save(fig: Any, path: Any, **options: Any) -> None:
+    """Write ``fig`` to ``path`` (nothing for None), attaching an Agg canvas if it has none."""
+    path = _check_path(path)
+    if path is None:
+        return
+    from matplotlib.backend_bases import FigureCanvasBase
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    if type(fig.canvas) is FigureCanvasBase:  # a bare Figure: give it a canvas to print on
+        FigureCanvasAgg(fig)
     try:
-        fig.savefig(path, dpi=150, bbox_inches="tight")
+        fig.savefig(path, **options)
     except OSError as exc:
         raise AnalysisError(f"cannot write the plot '{path}': {exc.strerror or exc}") from None
 
 
 @hooks.provides("plot_frequency_response")
-def plot_frequency_response(response: "FrequencyResponse", path: Any = None,
-                            names: Sequence[str] | None = None) -> Any:
+def plot_frequency_response(response: FrequencyResponse, path: Any = None,
+                            names: Sequence[str] | None = None, ax: Any = None) -> Any:
     """Amplitude (log axis) above phase, against the swept parameter.
 
     Resonance peaks are marked with triangles, antiresonances with circles;
     natural frequencies in the range of a frequency sweep are dashed vertical
     lines.  Skipped points (undamped resonance) are gaps.
+
+    Parameters
+    ----------
+    response : FrequencyResponse
+        The sweep to draw.
+    path : str or Path, optional
+        Also write the figure there; the format follows the suffix (``.png``,
+        ``.svg`` or ``.pdf``, anything else raises :class:`AnalysisError`).
+    names : sequence of str, optional
+        The coordinates and outputs to draw (default: all, at most
+        :data:`MAX_CURVES`, outputs included).
+    ax : pair of matplotlib.axes.Axes, or Axes, optional
+        Draw into the caller's figure: ``(amplitude_axes, phase_axes)`` for both
+        panels, or a single Axes for the amplitude panel alone.  The axes are
+        drawn into as they are (no layout change); by default a new figure with
+        the two panels stacked is made.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The new figure, or the one ``ax`` belongs to.
+
+    Raises
+    ------
+    AnalysisError
+        For an unknown name or an unsupported file suffix.
     """
-    plt = _pyplot()
+    import matplotlib
+    from matplotlib.lines import Line2D
+
+    _check_path(path)
     if names is None:
         names = list(response.names)
         if len(names) > MAX_CURVES:
@@ -67,12 +126,25 @@ def plot_frequency_response(response: "FrequencyResponse", path: Any = None,
     if unknown:
         raise AnalysisError(f"nothing to plot named {', '.join(unknown)}")
     x = response.values
-    fig, (ax_amp, ax_phase) = plt.subplots(
-        2, 1, sharex=True, figsize=(8, 6.5), gridspec_kw={"height_ratios": [2.2, 1]})
+    own = ax is None
+    if own:
+        fig = _new_figure(figsize=(8, 6.5))
+        ax_amp, ax_phase = fig.subplots(2, 1, sharex=True,
+                                        gridspec_kw={"height_ratios": [2.2, 1]})
+    else:
+        if isinstance(ax, (tuple, list)) or (isinstance(ax, np.ndarray) and ax.ndim == 1):
+            if len(ax) != 2:
+                raise AnalysisError("ax= takes a pair of Axes (amplitude, phase) or one Axes "
+                                    "(amplitude only)")
+            ax_amp, ax_phase = ax
+        else:
+            ax_amp, ax_phase = ax, None
+        fig = _figure_of(ax_amp)
+    panels = [a for a in (ax_amp, ax_phase) if a is not None]
     unit = f" [{response.unit}]" if response.unit else ""
     label_x = ("excitation frequency " if response.frequency_sweep else "") + \
         f"{response.parameter}{unit}"
-    colors = plt.rcParams["axes.prop_cycle"].by_key().get("color", ["C0"])
+    colors = matplotlib.rcParams["axes.prop_cycle"].by_key().get("color", ["C0"])
     peaks_by_name: dict[str, list] = {}
     for p in response.peaks:
         peaks_by_name.setdefault(p.name, []).append(p)
@@ -91,8 +163,9 @@ def plot_frequency_response(response: "FrequencyResponse", path: Any = None,
         phase = np.degrees(np.array(response.phases[name], dtype=float))
         # break the curve where the phase wraps from -180 to +180 degrees
         wraps = np.nonzero(np.abs(np.diff(phase)) > 180)[0] + 1
-        ax_phase.plot(np.insert(x, wraps, np.nan), np.insert(phase, wraps, np.nan),
-                      color=color, lw=1.2)
+        if ax_phase is not None:
+            ax_phase.plot(np.insert(x, wraps, np.nan), np.insert(phase, wraps, np.nan),
+                          color=color, lw=1.2)
         for p in peaks_by_name.get(name, [])[:20]:
             ax_amp.plot([p.value], [p.amplitude], "v", color=color, ms=7, mec="black", mew=0.6)
             # one label per resonance: curves peaking at nearly the same value share it
@@ -110,100 +183,160 @@ def plot_frequency_response(response: "FrequencyResponse", path: Any = None,
         lo, hi = float(np.min(x)), float(np.max(x))
         inside = [w for w in response.natural_frequencies if lo <= w <= hi][:MAX_LINES]
         for j, w in enumerate(inside):
-            for ax in (ax_amp, ax_phase):
-                ax.axvline(w, color="0.45", lw=0.9, ls="--",
-                           label="natural frequency" if (j == 0 and ax is ax_amp) else None)
+            for panel in panels:
+                panel.axvline(w, color="0.45", lw=0.9, ls="--",
+                              label="natural frequency" if (j == 0 and panel is ax_amp)
+                              else None)
     if any_positive:
         ax_amp.set_yscale("log")
     ax_amp.set_ylabel("amplitude (peak of the stationary response)")
     ax_amp.grid(True, which="both", alpha=0.3)
-    marker_handles = [plt.Line2D([], [], ls="", marker="v", color="0.3", mec="black",
-                                 label="resonance peak"),
-                      plt.Line2D([], [], ls="", marker="o", mfc="white", color="0.3",
-                                 label="antiresonance")]
+    marker_handles = [Line2D([], [], ls="", marker="v", color="0.3", mec="black",
+                             label="resonance peak"),
+                      Line2D([], [], ls="", marker="o", mfc="white", color="0.3",
+                             label="antiresonance")]
     handles, labels = ax_amp.get_legend_handles_labels()
     ax_amp.legend(handles + marker_handles, labels + [h.get_label() for h in marker_handles],
                   fontsize=8, loc="best", ncol=2)
-    ax_phase.set_ylabel("phase delta [deg]")
-    ax_phase.set_yticks([-180, -90, 0, 90, 180])
-    ax_phase.set_ylim(-190, 190)
-    ax_phase.grid(True, alpha=0.3)
-    ax_phase.set_xlabel(label_x)
+    if ax_phase is not None:
+        ax_phase.set_ylabel("phase delta [deg]")
+        ax_phase.set_yticks([-180, -90, 0, 90, 180])
+        ax_phase.set_ylim(-190, 190)
+        ax_phase.grid(True, alpha=0.3)
+    panels[-1].set_xlabel(label_x)
     if response.log:
-        ax_phase.set_xscale("log")
+        for panel in panels:
+            panel.set_xscale("log")
     title = response.title or "frequency response"
     ax_amp.set_title(f"{title}\nx = X sin({'omega' if response.frequency_sweep else 'w'} t "
                      "+ delta)", fontsize=10)
-    fig.tight_layout()
-    _save(fig, path)
+    if own:
+        fig.tight_layout()
+    _save(fig, path, dpi=150, bbox_inches="tight")
     return fig
 
 
 @hooks.provides("plot_modes")
-def plot_modes(analysis: "ModalAnalysis", path: Any = None, count: int | None = 6) -> Any:
-    """The mode shapes (largest component +1): bars for few coordinates, lines for many."""
-    plt = _pyplot()
+def plot_modes(analysis: ModalAnalysis, path: Any = None, count: int | None = 6,
+               ax: Any = None) -> Any:
+    """The mode shapes (largest component +1): bars for few coordinates, lines for many.
+
+    Parameters
+    ----------
+    analysis : ModalAnalysis
+        The modes to draw (those with omega^2 >= 0).
+    path : str or Path, optional
+        Also write the figure there; the format follows the suffix (``.png``,
+        ``.svg`` or ``.pdf``, anything else raises :class:`AnalysisError`).
+    count : int, optional
+        How many modes to draw, lowest first (default 6; None: all).
+    ax : matplotlib.axes.Axes or sequence of Axes, optional
+        Draw into the caller's figure: one mode per Axes (a single Axes shows
+        the first mode), at most ``count``.  By default a new figure with a
+        grid of two columns is made.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The new figure, or the one ``ax`` belongs to.
+
+    Raises
+    ------
+    AnalysisError
+        Without modes to draw, or for an unsupported file suffix.
+    """
+    _check_path(path)
     shapes = analysis.mode_shapes
     total = shapes.shape[1]
     if total == 0:
         raise AnalysisError("there are no modes with omega^2 >= 0 to plot")
     count = total if count is None else max(1, min(count, total))
-    columns = 2 if count > 1 else 1
-    rows = math.ceil(count / columns)
-    fig, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 2.4 * rows), squeeze=False)
-    n = shapes.shape[0]
-    positions = np.arange(1, n + 1)
-    for j in range(rows * columns):
-        ax = axes[j // columns][j % columns]
-        if j >= count:
-            ax.set_visible(False)
-            continue
-        shape = shapes[:, j]
-        if n <= 24:
-            ax.bar(positions, shape, color=np.where(shape >= 0, "C0", "C3"), width=0.6)
-            ax.set_xticks(positions)
-            ax.set_xticklabels(analysis.coordinates, fontsize=8,
-                               rotation=0 if n <= 8 else 90)
-        else:
-            ax.plot(positions, shape, color="C0", lw=1.2)
-            ax.set_xlabel("coordinate number", fontsize=8)
-        ax.axhline(0, color="black", lw=0.6)
-        ax.set_ylim(-1.15, 1.15)
-        w = analysis.natural_frequencies[j]
-        text = f"mode {j + 1}: omega = {w:.5g} rad/s ({w / (2 * math.pi):.4g} Hz)"
-        if analysis.proportional_damping and analysis.damped and j < len(analysis.damping_ratios):
-            text += f", zeta = {analysis.damping_ratios[j]:.3g}"
-        ax.set_title(text, fontsize=9)
-        ax.grid(True, axis="y", alpha=0.3)
-    fig.suptitle((analysis.title or "mode shapes") + " (largest component +1)", fontsize=10)
-    fig.tight_layout()
-    _save(fig, path)
+    if ax is None:
+        columns = 2 if count > 1 else 1
+        rows = math.ceil(count / columns)
+        fig = _new_figure(figsize=(4.2 * columns, 2.4 * rows))
+        panels = list(fig.subplots(rows, columns, squeeze=False).ravel())
+        for extra in panels[count:]:
+            extra.set_visible(False)
+        panels = panels[:count]
+    else:
+        panels = list(np.ravel(np.asarray(ax, dtype=object)))[:count]
+        if not panels:
+            raise AnalysisError("ax= takes an Axes or a non-empty sequence of Axes")
+        fig = _figure_of(panels[0])
+    for j, panel in enumerate(panels):
+        _draw_mode(panel, analysis, j)
+    if ax is None:
+        fig.suptitle((analysis.title or "mode shapes") + " (largest component +1)",
+                     fontsize=10)
+        fig.tight_layout()
+    _save(fig, path, dpi=150, bbox_inches="tight")
     return fig
 
 
+def _draw_mode(ax: Any, analysis: ModalAnalysis, j: int) -> None:
+    """Mode ``j`` (0-based) on one Axes: bars for up to 24 coordinates, else a line."""
+    shape = analysis.mode_shapes[:, j]
+    n = shape.shape[0]
+    positions = np.arange(1, n + 1)
+    if n <= 24:
+        ax.bar(positions, shape, color=np.where(shape >= 0, "C0", "C3"), width=0.6)
+        ax.set_xticks(positions)
+        ax.set_xticklabels(analysis.coordinates, fontsize=8,
+                           rotation=0 if n <= 8 else 90)
+    else:
+        ax.plot(positions, shape, color="C0", lw=1.2)
+        ax.set_xlabel("coordinate number", fontsize=8)
+    ax.axhline(0, color="black", lw=0.6)
+    ax.set_ylim(-1.15, 1.15)
+    w = analysis.natural_frequencies[j]
+    text = f"mode {j + 1}: omega = {w:.5g} rad/s ({w / (2 * math.pi):.4g} Hz)"
+    if analysis.proportional_damping and analysis.damped and j < len(analysis.damping_ratios):
+        text += f", zeta = {analysis.damping_ratios[j]:.3g}"
+    ax.set_title(text, fontsize=9)
+    ax.grid(True, axis="y", alpha=0.3)
+
+
 @hooks.provides("plot_simulation")
-def plot_simulation(sim: "Simulation", path: Any = None) -> Any:
+def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None) -> Any:
     """Deviations vs time, one panel per coordinate/output, the linear prediction dashed.
 
     Parameters
     ----------
     sim : Simulation
+        The simulation to draw.
     path : str or Path, optional
-        Save the figure there (format from the suffix).
+        Also write the figure there; the format follows the suffix (``.png``,
+        ``.svg`` or ``.pdf``, anything else raises :class:`AnalysisError`).
+    axes : matplotlib.axes.Axes or sequence of Axes, optional
+        Draw into the caller's figure: one Axes per coordinate/output in the
+        order of ``sim.names`` (fewer Axes draw the first names only; a single
+        Axes shows the first).  By default a new figure with one panel per
+        name is made.
 
     Returns
     -------
     matplotlib.figure.Figure
-    """
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
+        The new figure, or the one ``axes`` belong to.
 
+    Raises
+    ------
+    AnalysisError
+        For an unsupported file suffix.
+    """
+    _check_path(path)
     names = sim.names
-    fig = Figure(figsize=(9, 1.2 + 2.1 * len(names)), layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]
+    own = axes is None
+    if own:
+        fig = _new_figure(figsize=(9, 1.2 + 2.1 * len(names)), layout="constrained")
+        panels = list(fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0])
+    else:
+        panels = list(np.ravel(np.asarray(axes, dtype=object)))
+        if not panels:
+            raise AnalysisError("axes= takes an Axes or a non-empty sequence of Axes")
+        fig = _figure_of(panels[0])
     kind = "nonlinear" if sim.nonlinear else "linear"
-    for ax, name in zip(axes, names):
+    for ax, name in zip(panels, names):
         ax.plot(sim.t, sim.states[name], lw=1.0, color="C0", label=f"{kind} simulation")
         if name in sim.linear_response:
             ax.plot(sim.t, sim.linear_response[name], "--", lw=1.0, color="C3",
@@ -219,15 +352,19 @@ def plot_simulation(sim: "Simulation", path: Any = None) -> Any:
         kindof = "coordinate" if name in sim.coordinates else "output"
         ax.set_ylabel(f"{name} ({kindof}, deviation)", fontsize=9)
         ax.grid(True, lw=0.4, alpha=0.6)
-    axes[-1].set_xlabel("t (s)")
-    handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside lower center", fontsize=9, ncols=3,
-               frameon=False)
-    start = {"rest": "from rest", "stationary": "from the stationary initial state",
-             "given": "from the given initial state"}[sim.start]
-    fig.suptitle(f"{sim.title or 'simulation'} — {kind}, {start}", fontsize=11)
-    if path is not None:
-        fig.savefig(path, dpi=120)
+    panels[min(len(panels), len(names)) - 1].set_xlabel("t (s)")
+    if own:
+        handles, labels = panels[0].get_legend_handles_labels()
+        fig.legend(handles, labels, loc="outside lower center", fontsize=9, ncols=3,
+                   frameon=False)
+        start = {"rest": "from rest", "stationary": "from the stationary initial state",
+                 "given": "from the given initial state"}[sim.start]
+        fig.suptitle(f"{sim.title or 'simulation'} — {kind}, {start}", fontsize=11)
+    else:
+        panels[0].legend(fontsize=8, loc="best")
+    _save(fig, path, dpi=120)
     return fig
 
-__all__ = ["plot_frequency_response", "plot_modes"]
+
+__all__ = ["plot_frequency_response", "plot_modes", "plot_simulation", "MAX_CURVES",
+           "MAX_LINES"]
