@@ -31,6 +31,9 @@ from .latex import render_latex
 from .markdown import render_markdown
 from .steps import Context, step_order
 
+#: largest energy model whose derivation the report shows step by step
+MAX_DERIVED = 12
+
 FORMATS = {".html": "html", ".htm": "html", ".md": "md", ".markdown": "md", ".tex": "tex"}
 
 
@@ -44,7 +47,10 @@ def build_report(model: Model, plots: bool = True) -> Report:
     """
     eom = model.linearize()
     solution = eom.stationary()
-    derivation = derive(eom) if isinstance(eom, LinearEOM) else None
+    # the source-by-source derivation (a second, independent one, checked against the
+    # solver's) is shown element by element only for small models: above MAX_DERIVED
+    # coordinates it would cost what a full symbolic Lagrange derivation costs
+    derivation = derive(eom) if isinstance(eom, LinearEOM) and eom.n <= MAX_DERIVED else None
     ctx = Context(model, eom, solution, derivation, plots=plots)
     blocks = []
     for step in step_order(ctx):

@@ -1045,8 +1045,19 @@ def warnings(ctx: Context) -> list[Block]:
 def given_matrices(ctx: Context) -> list[Block]:
     eom = ctx.eom
     blocks: list[Block] = [Heading("Task 1: the equation of motion")]
-    blocks.append(paragraph("The model gives the matrices of the linearized equation of "
-                            "motion directly:"))
+    if ctx.model.matrices is not None:
+        blocks.append(paragraph("The model gives the matrices of the linearized equation of "
+                                "motion directly:"))
+    else:  # a large energy model: the energies, then the matrices Lagrange's equations give
+        blocks.append(paragraph("The model gives its energies:"))
+        for key, label in (("T", "T"), ("D", r"\mathcal{D}"), ("U", "U")):
+            if key in ctx.model.energy:
+                blocks.append(ctx.equation(
+                    f"{label} = {expression_latex(ctx.model.energy[key], ctx.namer)}",
+                    label=key))
+        blocks.append(paragraph(
+            f"With {ctx.n} coordinates the element-by-element derivation is left out; "
+            "Lagrange's equations of the second kind at the reference state give"))
     blocks.append(ctx.equation(r"\mathbf{M}\ddot{\mathbf{q}}(t) + \mathbf{C}\dot{\mathbf{q}}(t)"
                                r" + \mathbf{K}\mathbf{q}(t) = \mathbf{Q}(t),", label="eom"))
     blocks.extend(coordinates(ctx, "Generalized coordinates"))
@@ -1081,7 +1092,7 @@ Step = Callable[[Context], list[Block]]
 def step_order(ctx: Context) -> list[Step]:
     """The steps for this model, in the exercise's order."""
     free = not ctx.eom.excitation
-    if ctx.model.matrices is not None:
+    if ctx.model.matrices is not None or ctx.derivation is None:
         steps: list[Step] = [title, data, given_matrices]
     else:
         steps = [title, data, method, coordinates, kinetic, dissipation, potential, forces,

@@ -22,6 +22,7 @@ from ..expressions import Num, numeric_value
 from ..model import TIME, Model, symbol
 from .base import LinearSystem
 from .batch import Batch, BatchHarmonic
+from .symbolic import matrix_strings
 
 Var = tuple[str, int]
 
@@ -178,12 +179,9 @@ class MatrixEOM(LinearSystem):
         if self.n > 200:  # the symbolic text of a large model is no use to anyone
             return {}
         return {"coordinates": list(self.coordinates),
-                "M": _strings(self.M), "C": _strings(self.C), "K": _strings(self.K),
+                "M": matrix_strings(self.M), "C": matrix_strings(self.C),
+                "K": matrix_strings(self.K),
                 "Q": [str(e) for e in self.Q]}
-
-
-def _strings(matrix: sympy.MatrixBase) -> list[list[str]]:
-    return [[str(matrix[i, j]) for j in range(matrix.cols)] for i in range(matrix.rows)]
 
 
 def _to_sympy(matrix: Any, n: int) -> sympy.ImmutableMatrix:

@@ -159,13 +159,30 @@ class LinearEOM(LinearSystem):
     def to_dict(self) -> dict[str, Any]:
         return {
             "coordinates": list(self.coordinates),
-            "M": _strings(self.M), "C": _strings(self.C), "K": _strings(self.K),
+            "M": matrix_strings(self.M), "C": matrix_strings(self.C), "K": matrix_strings(self.K),
             "Q": [str(e) for e in self.Q],
         }
 
 
-def _strings(matrix: sympy.MatrixBase) -> list[list[str]]:
-    return [[str(matrix[i, j]) for j in range(matrix.cols)] for i in range(matrix.rows)]
+def matrix_strings(matrix: sympy.MatrixBase) -> list[list[str]]:
+    """The entries as text, each distinct entry printed once (symmetric matrices: half).
+
+    Parameters
+    ----------
+    matrix : sympy matrix
+
+    Returns
+    -------
+    list of list of str
+    """
+    printed: dict[sympy.Expr, str] = {}
+
+    def text(entry: sympy.Expr) -> str:
+        if entry not in printed:
+            printed[entry] = str(entry)
+        return printed[entry]
+
+    return [[text(matrix[i, j]) for j in range(matrix.cols)] for i in range(matrix.rows)]
 
 
 @dataclass(frozen=True)
@@ -244,4 +261,4 @@ def _squeeze(vectors: np.ndarray) -> np.ndarray:
     return vectors[0].copy() if np.all(vectors == vectors[:1]) else vectors
 
 
-__all__ = ["LinearEOM"]
+__all__ = ["LinearEOM", "matrix_strings"]
