@@ -6,6 +6,12 @@ written by resonant 0.1.0 (commit b3ff181) before the package was split into
 layers.  Numbers must agree to a relative 1e-9 (absolute 1e-12 for values near
 zero, which are rounding noise); strings and keys must be identical.  New keys
 may be added to the output (the stored ones must all still be there).
+
+One deliberate change since (issue 11): an antiresonance is a true zero of the response,
+so the sweeps of the tuned mass damper (damped: its dips are minima, not zeros) and of
+the cart-pendulum (x2's dip at 6.44 rad/s is a minimum of 0.031, not the 0.0 that a
+clamped parabola reported) list none; their stored ``antiresonances`` were updated, and
+the undamped cart-pendulum's sweep now warns that its peaks are unbounded.
 """
 
 from __future__ import annotations

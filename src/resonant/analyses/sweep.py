@@ -4,7 +4,7 @@
 and output while one parameter runs through an array of values: usually the
 excitation frequency, but any parameter works (an absorber stiffness changes
 K, a mass changes M).  The equation of motion is derived once; its symbolic
-entries are compiled once (:func:`resonant.numeric.compile_expressions`) and
+entries are compiled once (:func:`resonant.system.batch.compile_expressions`) and
 evaluated for all values at once, and the complex systems
 
     (K - w^2 M + i w C) (L - i N) = F_C - i F_S
@@ -26,7 +26,7 @@ are solved by the cheapest exact method for their structure:
 
 ``method="auto"`` picks one of these (see :func:`choose_method`); the result
 says which.  Amplitudes and phases mean exactly what they mean for
-:func:`resonant.stationary.stationary`: for one frequency X = sqrt(L^2 + N^2)
+:func:`resonant.analyses.stationary.stationary`: for one frequency X = sqrt(L^2 + N^2)
 and delta = atan2(L, N); for several, the peak of the summed time history.
 
 An undamped system swept exactly through a natural frequency has no bounded
@@ -155,8 +155,13 @@ class FrequencyResponse:
     method : str
         The solution method used (``dense``, ``banded``, ``sparse``, ``modal``).
     frequency_sweep : bool
-        True when the parameter is the excitation frequency (unit rad/s; M, C,
-        K stay fixed); then ``natural_frequencies`` are those of the system.
+        True when the parameter is the excitation frequency in rad/s (M, C, K
+        stay fixed and omega = value).
+    frequency_scale : float or None
+        omega = frequency_scale * value for the (lowest) moving excitation when
+        M, C, K stay fixed (1 for omega itself, 2 pi for a frequency in Hz,
+        anything for e.g. a vehicle speed); None when the parameter changes the
+        system or no excitation frequency is proportional to it.
     skipped : tuple of float
         Values where the stationary solution does not exist (undamped resonance).
     """
@@ -171,6 +176,7 @@ class FrequencyResponse:
     method: str
     frequency_sweep: bool = False
     natural_frequencies: np.ndarray | None = None
+    frequency_scale: float | None = None
     skipped: tuple[float, ...] = ()
     warnings: tuple[str, ...] = ()
     log: bool = False
@@ -234,8 +240,23 @@ class FrequencyResponse:
 
     @property
     def unit(self) -> str:
-        """The unit of the parameter where known ("rad/s" for the excitation frequency)."""
-        return "rad/s" if self.frequency_sweep else ""
+        """The unit of the parameter where known: "rad/s" for the excitation frequency,
+        "Hz" for a parameter f with omega = 2 pi f, else ""."""
+        if self.frequency_scale is None:
+            return ""
+        if math.isclose(self.frequency_scale, 1.0, rel_tol=1e-9):
+            return "rad/s"
+        if math.isclose(self.frequency_scale, 2 * math.pi, rel_tol=1e-9):
+            return "Hz"
+        return ""
+
+    @property
+    def natural_values(self) -> np.ndarray | None:
+        """The parameter values at which the excitation meets a natural frequency
+        (natural frequency / ``frequency_scale``), or None."""
+        if self.frequency_scale is None or self.natural_frequencies is None:
+            return None
+        return frozen_array(self.natural_frequencies / self.frequency_scale)
 
     def to_dict(self) -> dict[str, Any]:
         def clean(a: np.ndarray) -> list[float | None]:
@@ -256,6 +277,8 @@ class FrequencyResponse:
         }
         if self.natural_frequencies is not None:
             data["natural_frequencies"] = self.natural_frequencies.tolist()
+        if self.natural_values is not None:
+            data["natural_values"] = self.natural_values.tolist()
         return data
 
     def to_csv(self, path: Any) -> None:
@@ -394,6 +417,9 @@ def _vertices(u: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.where(flat, u1, x), np.where(flat, y1, value)
 
 
+#: a dip is an antiresonance when the response comes this close (relative to its
+#: neighbours) to zero: a zero of the transfer function, not a minimum between peaks
+TRUE_ZERO = 1e-6
 #: a grid point is an extremum only if it differs from a neighbour by more than this
 #: (relative): rounding noise on a flat curve is not a peak
 EXTREMUM_RELATIVE = 1e-10
@@ -403,10 +429,13 @@ def _extrema(names: Sequence[str], values: np.ndarray, amplitude: np.ndarray, lo
              response: np.ndarray | None = None) -> tuple[ExtremaTable, ExtremaTable]:
     """Peaks and antiresonances of every column of ``amplitude`` (N, m), in name order.
 
-    ``response`` (N, m), the complex response of a single-frequency sweep, refines deep
-    antiresonances (a zero of the response between grid points): with the local linear
-    model z(u) = z1 + beta (u - u1), beta = (z2 - z0)/(u2 - u0), |z| is least at
-    u = u1 - Re(conj(beta) z1)/|beta|^2 (exact where z is linear in u).
+    An antiresonance is a true zero of the response, not any minimum between two
+    peaks: ``response`` (N, m), the complex response of a single-frequency sweep, is
+    modelled near a dip as z(u) = z1 + beta (u - u1), beta = (z2 - z0)/(u2 - u0), whose
+    modulus is least at u = u1 - Re(conj(beta) z1)/|beta|^2; the dip is an
+    antiresonance when z passes through zero there (|z| below :data:`TRUE_ZERO` of its
+    neighbours: real and imaginary parts change sign together).  Without a single
+    frequency's response there are no antiresonances.
     """
     N, m = amplitude.shape
     names = tuple(names)
@@ -432,17 +461,20 @@ def _extrema(names: Sequence[str], values: np.ndarray, amplitude: np.ndarray, lo
         with np.errstate(all="ignore"):
             x, y = _vertices(u[triples], transform(amplitude[triples, cols]))
         y = back(y)
-        if response is not None and mask is is_dip and cols.size:
+        if mask is is_dip:
+            if response is None or not cols.size:
+                out.append(ExtremaTable(names))
+                continue
             z0, z1, z2 = response[triples, cols]
             u0, u1, u2 = u[triples]
-            deep = np.abs(z1) < 0.1 * np.maximum(np.abs(z0), np.abs(z2))
             with np.errstate(all="ignore"):
                 beta = (z2 - z0) / (u2 - u0)
                 step = -(np.conj(beta) * z1).real / np.abs(beta) ** 2
                 linear_x = np.clip(u1 + np.where(np.isfinite(step), step, 0.0), u0, u2)
-            x = np.where(deep, np.exp(linear_x) if log else linear_x, np.exp(x) if log else x)
-            y = np.where(deep, np.abs(z1 + beta * (linear_x - u1)), y)
-            out.append(ExtremaTable(names, cols, x, y))
+                closest = np.abs(z1 + beta * (linear_x - u1))
+                zero = closest <= TRUE_ZERO * np.maximum(np.abs(z0), np.abs(z2))
+            x = np.exp(linear_x) if log else linear_x
+            out.append(ExtremaTable(names, cols[zero], x[zero], closest[zero]))
             continue
         out.append(ExtremaTable(names, cols, np.exp(x) if log else x, y))
     return out[0], out[1]
@@ -561,20 +593,42 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
             f"no stationary solution at {param} = {shown}{' ...' if len(skipped) > 5 else ''} "
             "(undamped resonance: the amplitude is unbounded); these points are skipped "
             "(NaN, null in JSON)")
-    frequency_sweep = batch.constant and any(
-        np.ptp(h.omega) > 0 for h in batch.harmonics)
+    scale = _frequency_scale(batch, values)
     natural = None
     if batch.constant and n <= EAGER_EIGEN:
         try:
             natural = _natural_frequencies(_dense(batch.M), _dense(batch.K))
         except (np.linalg.LinAlgError, ValueError):
             natural = None
+    if natural is not None and scale is not None and not np.any(_dense(batch.C)):
+        hit = [w / scale for w in natural if values.min() <= w / scale <= values.max()]
+        if hit:
+            warnings.append(
+                "the system has no damping: the response is unbounded at " + ", ".join(
+                    f"{param} = {v:.6g}" for v in hit[:5]) + (" ..." if len(hit) > 5 else "")
+                + "; the peaks shown are the values on the grid, not the true (infinite) "
+                "peaks")
     return FrequencyResponse(  # values copied: the caller's array may change later
         parameter=param, values=values.copy(), quantities=tuple(all_names), response=Z,
-        harmonic_omegas=omegas, method=method, frequency_sweep=bool(frequency_sweep),
-        natural_frequencies=natural,
+        harmonic_omegas=omegas, method=method,
+        frequency_sweep=scale is not None and math.isclose(scale, 1.0, rel_tol=1e-9),
+        natural_frequencies=natural, frequency_scale=scale,
         skipped=skipped, warnings=tuple(dict.fromkeys(warnings)), log=bool(log),
         title=batch.title, coordinates=tuple(batch.coordinates))
+
+
+def _frequency_scale(batch: Batch, values: np.ndarray) -> float | None:
+    """c with omega = c * value for the lowest moving excitation, when M, C, K are fixed."""
+    if not batch.constant or values.size < 2:
+        return None
+    moving = [h.omega for h in batch.harmonics if np.ptp(h.omega) > 0]
+    if not moving or np.any(values == 0):
+        return None
+    lowest = min(moving, key=lambda w: float(np.abs(w).min()))
+    ratio = lowest / values
+    if np.allclose(ratio, ratio[0], rtol=1e-9, atol=0.0) and ratio[0] > 0:
+        return float(ratio[0])
+    return None
 
 
 def linspace(start: float, stop: float, points: int, log: bool = False) -> np.ndarray:

@@ -34,6 +34,7 @@ import numpy as np
 import sympy
 
 from .. import hooks
+from ..errors import printable
 from ..derivation import derivative_symbol
 from ..model import Model, symbol
 from ..system import LinearEOM, MatrixEOM, NumericEOM
@@ -78,8 +79,8 @@ def solution_text(sol: StationarySolution) -> str:
     """The human-readable report of ``resonant solve``."""
     e = sol.eom
     out: list[str] = []
-    title = e.title or "model"
-    out.append(f"{title}" + (f"  ({e.source})" if e.source else ""))
+    title = printable(e.title or "model")
+    out.append(f"{title}" + (f"  ({printable(e.source)})" if e.source else ""))
     out.append("=" * min(78, len(out[0])))
     out.append(f"generalized coordinates q = [{', '.join(e.coordinates)}]")
     out.append("")
@@ -238,7 +239,7 @@ def stationary_html(sol: StationarySolution) -> str:
 @hooks.provides("modes_text")
 def modes_text(result: Any) -> str:
     """The human-readable table of ``resonant modes``."""
-    out = [result.title or "modes", ""]
+    out = [printable(result.title or "modes"), ""]
     names = result.coordinates
     shown = ", ".join(names[:8]) + (" ..." if len(names) > 8 else "")
     out.append(f"{'mode':>4}  {'omega [rad/s]':>14}  {'f [Hz]':>12}  {'zeta':>8}   "
@@ -272,14 +273,17 @@ def modes_text(result: Any) -> str:
 def sweep_text(result: Any) -> str:
     """The human-readable summary of ``resonant sweep``."""
     unit = f" {result.unit}" if result.unit else ""
-    out = [result.title or "sweep",
+    out = [printable(result.title or "sweep"),
            f"{result.parameter} from {result.values[0]:.6g} to {result.values[-1]:.6g}{unit}, "
            f"{len(result.values)} values, method {result.method}", ""]
-    if result.natural_frequencies is not None and result.frequency_sweep:
-        inside = [w for w in result.natural_frequencies
-                  if result.values.min() <= w <= result.values.max()]
-        if inside:
+    natural = result.natural_values
+    if natural is not None:
+        inside = [w for w in natural if result.values.min() <= w <= result.values.max()]
+        if inside and result.frequency_sweep:
             out.append("natural frequencies in range: " +
+                       ", ".join(f"{w:.6g}" for w in inside[:20]) + unit)
+        elif inside:
+            out.append(f"the excitation meets a natural frequency at {result.parameter} = " +
                        ", ".join(f"{w:.6g}" for w in inside[:20]) + unit)
     for title, items in (("resonance peaks", result.peaks),
                          ("antiresonances", result.antiresonances)):
@@ -296,9 +300,9 @@ def sweep_text(result: Any) -> str:
 
 @hooks.provides("simulation_text")
 def simulation_text(sim: Simulation) -> str:
-    """A short plain-text report of a :class:`~resonant.simulate.Simulation`."""
+    """A short plain-text report of a :class:`~resonant.analyses.simulate.Simulation`."""
     kind = "nonlinear" if sim.nonlinear else "linear"
-    lines = [sim.title,
+    lines = [printable(sim.title),
              f"{kind} simulation, t = 0 ... {sim.t_end:.6g} s ({sim.method}, start: "
              f"{sim.start})",
              f"steady amplitudes (peak |deviation| over t = {sim.window[0]:.6g} ... "

@@ -22,13 +22,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .. import hooks
-from ..errors import AnalysisError
+from ..errors import AnalysisError, printable
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..analyses import FrequencyResponse, ModalAnalysis, Simulation
 
 #: at most this many curves are drawn (a 1000-coordinate sweep shows the first ones)
 MAX_CURVES = 8
+#: amplitudes below this fraction of the largest one are drawn at the curve's floor
+FLOOR = 1e-9
 #: at most this many natural frequencies are drawn as vertical lines
 MAX_LINES = 30
 
@@ -143,7 +145,7 @@ def plot_frequency_response(response: FrequencyResponse, path: Any = None,
     panels = [a for a in (ax_amp, ax_phase) if a is not None]
     unit = f" [{response.unit}]" if response.unit else ""
     label_x = ("excitation frequency " if response.frequency_sweep else "") + \
-        f"{response.parameter}{unit}"
+        f"{printable(response.parameter, limit=40)}{unit}"
     colors = matplotlib.rcParams["axes.prop_cycle"].by_key().get("color", ["C0"])
     peaks_by_name: dict[str, list] = {}
     for p in response.peaks:
@@ -153,10 +155,16 @@ def plot_frequency_response(response: FrequencyResponse, path: Any = None,
         dips_by_name.setdefault(p.name, []).append(p)
     any_positive = False
     labelled: list[float] = []
+    # the plotted floor: true zeros (antiresonances of undamped systems, 1e-19 and less)
+    # are drawn there instead of stretching the log axis over many decades
+    sampled = np.array([response.amplitudes[name] for name in names], dtype=float)
+    top = float(np.nanmax(sampled, initial=0.0)) if np.isfinite(sampled).any() else 0.0
+    meaningful = sampled[np.isfinite(sampled) & (sampled > FLOOR * top)]
+    floor = float(meaningful.min()) if meaningful.size else 0.0
     for k, name in enumerate(names):
         color = colors[k % len(colors)]
         amplitude = np.array(response.amplitudes[name], dtype=float)
-        shown = np.where(amplitude > 0, amplitude, np.nan)  # log axis: no zeros
+        shown = np.where(amplitude > 0, np.maximum(amplitude, floor), np.nan)  # log: no zeros
         any_positive = any_positive or bool(np.any(np.isfinite(shown)))
         kind = "" if name in response.coordinates else " (output)"
         ax_amp.plot(x, shown, color=color, lw=1.5, label=f"{name}{kind}")
@@ -175,26 +183,30 @@ def plot_frequency_response(response: FrequencyResponse, path: Any = None,
                                 textcoords="offset points", xytext=(0, 7), ha="center",
                                 fontsize=8, color=color)
         for p in dips_by_name.get(name, [])[:20]:
-            if p.amplitude > 0:
-                ax_amp.plot([p.value], [p.amplitude], "o", mfc="white", color=color, ms=6)
-            else:
-                ax_amp.axvline(p.value, color=color, lw=0.8, ls=":")
-    if response.frequency_sweep and response.natural_frequencies is not None:
+            # a true zero: marked at the curve's plotted floor
+            ax_amp.plot([p.value], [max(p.amplitude, floor)], "o", mfc="white", color=color,
+                        ms=6)
+    natural = response.natural_values
+    if natural is not None:
         lo, hi = float(np.min(x)), float(np.max(x))
-        inside = [w for w in response.natural_frequencies if lo <= w <= hi][:MAX_LINES]
+        inside = [w for w in natural if lo <= w <= hi][:MAX_LINES]
+        what = "natural frequency" if response.frequency_sweep else \
+            "excitation at a natural frequency"
         for j, w in enumerate(inside):
             for panel in panels:
                 panel.axvline(w, color="0.45", lw=0.9, ls="--",
-                              label="natural frequency" if (j == 0 and panel is ax_amp)
-                              else None)
+                              label=what if (j == 0 and panel is ax_amp) else None)
     if any_positive:
         ax_amp.set_yscale("log")
+        if floor > 0 and top > 0:  # clipped to the sampled data
+            ax_amp.set_ylim(floor / 1.5, top * 1.5)
     ax_amp.set_ylabel("amplitude (peak of the stationary response)")
     ax_amp.grid(True, which="both", alpha=0.3)
     marker_handles = [Line2D([], [], ls="", marker="v", color="0.3", mec="black",
-                             label="resonance peak"),
-                      Line2D([], [], ls="", marker="o", mfc="white", color="0.3",
-                             label="antiresonance")]
+                             label="resonance peak")] if response.peaks else []
+    if response.antiresonances:
+        marker_handles.append(Line2D([], [], ls="", marker="o", mfc="white", color="0.3",
+                                     label="antiresonance (zero)"))
     handles, labels = ax_amp.get_legend_handles_labels()
     ax_amp.legend(handles + marker_handles, labels + [h.get_label() for h in marker_handles],
                   fontsize=8, loc="best", ncol=2)
@@ -207,7 +219,7 @@ def plot_frequency_response(response: FrequencyResponse, path: Any = None,
     if response.log:
         for panel in panels:
             panel.set_xscale("log")
-    title = response.title or "frequency response"
+    title = printable(response.title or "frequency response", limit=80)
     ax_amp.set_title(f"{title}\nx = X sin({'omega' if response.frequency_sweep else 'w'} t "
                      "+ delta)", fontsize=10)
     if own:
@@ -267,7 +279,7 @@ def plot_modes(analysis: ModalAnalysis, path: Any = None, count: int | None = 6,
     for j, panel in enumerate(panels):
         _draw_mode(panel, analysis, j)
     if ax is None:
-        fig.suptitle((analysis.title or "mode shapes") + " (largest component +1)",
+        fig.suptitle(printable(analysis.title or "mode shapes", limit=80) + " (largest component +1)",
                      fontsize=10)
         fig.tight_layout()
     _save(fig, path, dpi=150, bbox_inches="tight")
@@ -359,7 +371,7 @@ def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None) -> Any:
                    frameon=False)
         start = {"rest": "from rest", "stationary": "from the stationary initial state",
                  "given": "from the given initial state"}[sim.start]
-        fig.suptitle(f"{sim.title or 'simulation'} — {kind}, {start}", fontsize=11)
+        fig.suptitle(f"{printable(sim.title or 'simulation', limit=80)} — {kind}, {start}", fontsize=11)
     else:
         panels[0].legend(fontsize=8, loc="best")
     _save(fig, path, dpi=120)
