@@ -21,7 +21,7 @@ import sympy  # noqa: F401
 
 with atheris.instrument_imports(include=["resonant"]):
     import resonant.cli  # noqa: F401  (instrumented for coverage feedback)
-    import resonant.expr  # noqa: F401
+    import resonant.expressions  # noqa: F401
     import resonant.model  # noqa: F401
 
 sys.path.insert(0, str(Path(__file__).parent))

@@ -11,7 +11,8 @@ One deliberate change since (issue 11): an antiresonance is a true zero of the r
 so the sweeps of the tuned mass damper (damped: its dips are minima, not zeros) and of
 the cart-pendulum (x2's dip at 6.44 rad/s is a minimum of 0.031, not the 0.0 that a
 clamped parabola reported) list none; their stored ``antiresonances`` were updated, and
-the undamped cart-pendulum's sweep now warns that its peaks are unbounded.
+the undamped cart-pendulum's sweep now warns that its peaks are unbounded.  Phases are
+compared as angles: -pi is now written as pi.
 """
 
 from __future__ import annotations
@@ -36,6 +37,9 @@ SWEEPS = {
 
 
 def _compare(stored, now, path="$"):
+    if ".phases" in path and isinstance(stored, float) and isinstance(now, float):
+        # phases are angles in (-pi, pi] since issue 11 (-pi is written as pi)
+        stored = math.remainder(stored - now, 2 * math.pi) + now
     if isinstance(stored, dict):
         assert isinstance(now, dict), path
         for key, value in stored.items():

@@ -229,7 +229,8 @@ def test_html_is_self_contained(tmp_path):
     code, _, err = run_cli(["report", EXAMPLES / "rotating_unbalance.toml", "-o", out])
     assert code == 0, err
     page = out.read_text()
-    assert page.count("<math") >= 30 and page.count("<svg") == 2
+    # two plots; the formulas are SVG too since issue 11 (with MathML for screen readers)
+    assert page.count("<math") >= 30 and page.count("<figure><svg") == 2
     assert "<script" not in page.lower()
     assert not re.search(r"""(src|href)\s*=\s*["']?(https?:|//)""", page)  # nothing fetched
     assert "<code>" not in page  # every formula converted to MathML

@@ -93,8 +93,14 @@ def test_nonlinear_agrees_for_small_and_differs_for_large_amplitudes():
     large = simulate(large_model, duration=3.0, nonlinear=True)
     linear = simulate(large_model, duration=3.0)
     assert abs(linear.relative_difference["x2"]) < 1e-6  # the linear model scales exactly
-    assert large.relative_difference["x2"] > 0.05
+    # undamped: the run starts on the periodic solution of the full equations (issue 14),
+    # whose x2 amplitude is 6.4 % below the linear one; from the linear stationary state
+    # the run beats, and its peak (+11 %) is not a steady state
+    assert large.start == "periodic"
+    assert large.relative_difference["x2"] == pytest.approx(-0.0642, abs=1e-3)
     assert any("small oscillations do not hold" in w for w in large.warnings)
+    beating = simulate(large_model, duration=3.0, nonlinear=True, start="stationary")
+    assert beating.relative_difference["x2"] > 0.05
 
 
 def test_nonlinear_equals_linear_for_a_linear_model():

@@ -8,7 +8,77 @@ Every error the command line reports is a :class:`ResonantError`; its
 
 from __future__ import annotations
 
+import unicodedata
+from collections.abc import Iterable
 from dataclasses import dataclass
+
+#: longest string from a model file shown in a message (longer ones end in "...")
+PRINTABLE_LIMIT = 200
+#: names listed in one message before "... and N more"
+LISTED_NAMES = 5
+
+
+def _escape(char: str) -> str:
+    code = ord(char)
+    if code < 0x100:
+        return f"\\x{code:02x}"
+    if code < 0x10000:
+        return f"\\u{code:04x}"
+    return f"\\U{code:08x}"
+
+
+def printable(text: object, limit: int | None = PRINTABLE_LIMIT) -> str:
+    """``text`` safe to print on a terminal: control characters escaped, long text shortened.
+
+    C0 and C1 control characters, DEL, and the Unicode format characters
+    (bidirectional overrides and isolates, zero-width characters, ...) and
+    separators other than the space are shown as ``\\x1b``/``\\u202e`` escapes, so a
+    string from a model file can neither move the cursor, erase a line, change
+    colours nor reorder what follows it.  More than ``limit`` characters (after
+    escaping) are cut, ending in ``...``.
+
+    Examples
+    --------
+    >>> printable("\\x1b[2K\\rvalid model")
+    '\\\\x1b[2K\\\\rvalid model'
+    >>> printable("abc\\u202edef")
+    'abc\\\\u202edef'
+    >>> printable("x" * 30, limit=10)
+    'xxxxxxx...'
+    """
+    text = str(text)
+    if not text.isprintable() or any(unicodedata.category(c) == "Cf" for c in text):
+        out = []
+        for char in text:
+            if char == "\r":
+                out.append("\\r")
+            elif char == "\n":
+                out.append("\\n")
+            elif char == "\t":
+                out.append("\\t")
+            elif (char != " " and not char.isprintable()) or unicodedata.category(char) == "Cf":
+                out.append(_escape(char))
+            else:
+                out.append(char)
+        text = "".join(out)
+    if limit is not None and len(text) > limit:
+        text = text[:max(limit - 3, 1)] + "..."
+    return text
+
+
+def name_list(names: Iterable[object], limit: int = LISTED_NAMES) -> str:
+    """``a, b, c, d, e ... and 7 more``: names (made printable) for a one-line message.
+
+    Examples
+    --------
+    >>> name_list(["a", "b"])
+    'a, b'
+    >>> name_list([f"x{i}" for i in range(8)])
+    'x0, x1, x2, x3, x4 ... and 3 more'
+    """
+    items = [printable(n, limit=64) for n in names]
+    shown = ", ".join(items[:limit])
+    return shown + (f" ... and {len(items) - limit} more" if len(items) > limit else "")
 
 
 @dataclass(frozen=True)
@@ -33,15 +103,17 @@ class Problem:
     key: str = ""
 
     def location(self) -> str:
-        where = self.file or "<model>"
+        where = printable(self.file) if self.file else "<model>"
         if self.section:
-            where += f": [{self.section}]"
+            where += f": [{printable(self.section, limit=64)}]"
         if self.key:
-            where += f" {self.key}"
+            where += f" {printable(self.key, limit=64)}"
         return where
 
     def __str__(self) -> str:
-        return f"{self.location()}: {self.message}"
+        # the message may quote the file (names, expressions): escape it but keep its lines
+        message = "\n".join(printable(line, limit=None) for line in self.message.split("\n"))
+        return f"{self.location()}: {message}"
 
 
 class ResonantError(Exception):
@@ -81,4 +153,5 @@ class AnalysisError(ResonantError, ValueError):
     exit_code = 3
 
 
-__all__ = ["Problem", "ResonantError", "ModelError", "AnalysisError"]
+__all__ = ["printable", "name_list", "PRINTABLE_LIMIT", "LISTED_NAMES",
+           "Problem", "ResonantError", "ModelError", "AnalysisError"]

@@ -51,6 +51,7 @@ from ..system.stability import (
     UNSTABLE,
     check_mass_matrix,
     classify,
+    mass_warning,
     rayleigh,
     state_eigenvalues,
     undamped_eigen,
@@ -348,9 +349,13 @@ def modes(system: LinearSystem, count: int | None = None,
         warnings.append(f"stability judged from the lowest {len(lam)} modes only")
         if stability == ASYMPTOTIC and not damped:
             stability = MARGINAL
+    negative_mass = mass_warning(M) if isinstance(M, np.ndarray) else None
+    if negative_mass:
+        warnings.append(negative_mass)
     if np.any(lam < 0):
-        warnings.append(f"{int(np.sum(lam < 0))} mode(s) with omega^2 < 0: K is not positive "
-                        "definite (statically unstable)")
+        warnings.append(f"{int(np.sum(lam < 0))} mode(s) with omega^2 < 0: " + (
+            "M is not positive definite (see above)" if negative_mass else
+            "K is not positive definite (statically unstable)"))
         stability = UNSTABLE if stability != UNSTABLE and not damped else stability
     keep = lam >= 0
     return ModalAnalysis(

@@ -59,9 +59,10 @@ import sympy
 from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..derivation import nonlinear_equations
-from ..errors import AnalysisError, ModelError, Problem
-from ..expressions import parse
+from ..errors import AnalysisError, ModelError, Problem, name_list
+from ..expressions import compilable, parse
 from ..model import TIME, Model, symbol
+from ..model.types import constant_prime_message, primed_names
 from ..system import LinearSystem, NumericEOM
 from ..system.stability import (
     ASYMPTOTIC,
@@ -93,8 +94,21 @@ WINDOW_SAMPLES_PER_PERIOD = 2000
 MAX_WINDOW_SAMPLES = 400_001
 #: |relative difference| above which a warning says small oscillations do not hold
 LARGE_DIFFERENCE = 0.05
-START_MODES = ("auto", "rest", "stationary")
+#: most right-hand-side evaluations of one run (all attempts together): beyond it the run
+#: stops with exit 3 and the time reached (about 100 s and 200 MB for a small system)
+MAX_RHS_CALLS = 2_000_000
+#: an explicit method on a stiff system (natural frequencies spread over more than
+#: STIFF_RATIO) gets this many evaluations before the run is retried with STIFF_METHOD
+STIFF_TRIAL_CALLS = 50_000
+#: the method a stiff run falls back to (LSODA switches to an implicit BDF method)
+STIFF_METHOD = "LSODA"
+EXPLICIT_METHODS = ("DOP853", "RK45")
+#: longest run, in periods of the highest frequency involved (excitation or natural)
+MAX_PERIODS = 1e6
+START_MODES = ("auto", "rest", "stationary", "periodic")
 METHODS = ("DOP853", "RK45", "LSODA", "Radau", "BDF")
+#: largest initial deviation or velocity: squares and the error norms stay finite
+MAX_INITIAL = 1e100
 
 
 @dataclass(frozen=True)
@@ -230,7 +244,11 @@ def _peak(y: np.ndarray) -> float:
         left, right = float(a[i - 1]), float(a[i + 1])
         curvature = 2 * top - left - right
         if curvature > 0:
-            return top + (right - left) ** 2 / (8 * curvature)
+            try:
+                refined = top + (right - left) ** 2 / (8 * curvature)
+            except (OverflowError, ZeroDivisionError):  # Python floats raise
+                return top
+            return refined if math.isfinite(refined) else top
     return top
 
 
@@ -242,19 +260,28 @@ def _fmt(value: float | None, percent: bool = False) -> str:
 
 # -- the two right-hand sides ----------------------------------------------------------------
 
+class _Budget(Exception):
+    """The integration used up its evaluations of the right-hand side."""
+
+    def __init__(self, t: float) -> None:
+        super().__init__(t)
+        self.t = t
+
+
 class _Breakdown(Exception):
     """The integration cannot continue (not finite, singular mass matrix)."""
 
-    def __init__(self, t: float, reason: str) -> None:
+    def __init__(self, t: float, reason: str, small: bool = True) -> None:
         super().__init__(reason)
         self.t = t
+        self.small = small  # may be because the motion is no longer small
         self.reason = reason
         self.state: np.ndarray | None = None
 
 
 def _lambdify(exprs: Sequence[sympy.Expr], args: Sequence[sympy.Symbol]
               ) -> Callable[..., list[Any]]:
-    return sympy.lambdify(list(args), list(exprs), modules="numpy", cse=True)
+    return sympy.lambdify(list(args), [compilable(e) for e in exprs], modules="numpy", cse=True)
 
 
 def _stack(values: Sequence[Any], shape: tuple[int, ...]) -> np.ndarray:
@@ -322,6 +349,10 @@ class _LinearSystem:
     def to_state(self, deviation: np.ndarray, velocity: np.ndarray) -> np.ndarray:
         return np.concatenate([deviation, velocity])
 
+    def jacobian(self) -> np.ndarray | None:
+        """The constant Jacobian of the right-hand side (for the implicit methods)."""
+        return self.A
+
     def evaluate(self, t: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
         """Deviations (n, N) of the coordinates and the outputs at the samples."""
         q, v = Y[:self.n], Y[self.n:]
@@ -366,7 +397,7 @@ class _NonlinearSystem:
             if too_high:
                 self.unsupported.append(name)
                 continue
-            at_rest = full.xreplace({s: 0 for s, (nm, order) in eq.ops.registry.items()
+            at_rest = full.xreplace({s: sympy.S.Zero for s, (nm, order) in eq.ops.registry.items()
                                      if nm in model.signals or order > 0})
             at_rest = at_rest.xreplace({**{s: sympy.Float(v) for s, v in zip(q, equilibrium)},
                                         **{s: sympy.Float(v) for s, v in zip(params, self.pvals)}})
@@ -408,6 +439,9 @@ class _NonlinearSystem:
     def to_state(self, deviation: np.ndarray, velocity: np.ndarray) -> np.ndarray:
         return np.concatenate([self.equilibrium + deviation, velocity])
 
+    def jacobian(self) -> np.ndarray | None:
+        return None  # estimated by finite differences
+
     def evaluate(self, t: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
         n = self.n
         q, v = Y[:n], Y[n:]
@@ -425,6 +459,49 @@ class _NonlinearSystem:
 
 
 # -- the simulation ---------------------------------------------------------------------------
+
+def _periodic_start(system: LinearSystem, start: str, nonlinear: bool, given: bool,
+                    stability: str, solution: StationarySolution | None, warnings: list[str],
+                    deadline: Deadline) -> Any:
+    """The periodic solution of the full equations to start on (start "periodic", or "auto"
+    for a nonlinear run of a model that is not asymptotically stable), or None.
+
+    It comes from :mod:`resonant.analyses.periodic` (harmonic balance, which builds on this
+    module) through :func:`hooks.call`, so that this module does not import it."""
+    wanted = start == "periodic" or (start == "auto" and nonlinear and not given
+                                     and stability != ASYMPTOTIC and solution is not None)
+    if not wanted:
+        return None
+    if not nonlinear:
+        if start == "periodic":
+            raise AnalysisError("start 'periodic' is the periodic solution of the full "
+                                "equations: it needs nonlinear=True (--nonlinear); the linear "
+                                "periodic solution is start 'stationary'")
+        return None
+    try:
+        periodic = hooks.call("periodic_solution", system, deadline=deadline)
+    except AnalysisError as exc:
+        if start == "periodic":
+            raise
+        warnings.append(f"no periodic solution of the full equations was found ({exc}); the "
+                        "model is not asymptotically stable, so a run from the linear "
+                        "stationary state beats and never settles: there is no steady state "
+                        "to measure (the amplitudes are the peaks of the beating)")
+        return None
+    if not periodic.stable and start == "auto":
+        largest = float(np.abs(periodic.multipliers).max())
+        warnings.append(f"the periodic solution of the full equations near the linear one is "
+                        f"unstable (largest Floquet multiplier {largest:.3g}): there is no "
+                        "steady state to measure; started from the linear stationary state "
+                        "(start 'periodic' starts on it anyway)")
+        return None
+    warnings.append(f"started on the periodic solution of the full equations (harmonic "
+                    f"balance, H = {periodic.harmonics}, residual {periodic.residual:.2g}"
+                    f"{'' if periodic.stable else ', unstable'}): "
+                    + ("an undamped model never settles, a run from rest beats forever"
+                       if stability != ASYMPTOTIC else "no transient"))
+    return periodic
+
 
 def _equilibrium_values(model: Model) -> np.ndarray:
     values = []
@@ -465,10 +542,14 @@ def parse_initial(model: Model, initial: Mapping[str, float | str] | None
         if base not in index or order > 1:
             problems.append(Problem(
                 f"'{key}' is not a coordinate or a coordinate's velocity (coordinates: "
-                f"{', '.join(model.coordinates)}; a velocity is written x')", "--initial"))
+                f"{name_list(model.coordinates)}; a velocity is written x')", "--initial"))
             continue
         try:
             expression = parse(value, allowed=set(model.parameters), file="--initial", key=name)
+            primed = primed_names(expression)
+            if primed:
+                problems.append(Problem(constant_prime_message(primed), "--initial", "", name))
+                continue
             number = float(expression.to_sympy(
                 lambda nm, p: sympy.Float(model.parameter_values[nm])).evalf())
         except ModelError as exc:
@@ -477,8 +558,11 @@ def parse_initial(model: Model, initial: Mapping[str, float | str] | None
         except (TypeError, ValueError):
             problems.append(Problem(f"'{value}' is not a real number", "--initial", "", name))
             continue
-        if not math.isfinite(number):
-            problems.append(Problem(f"'{value}' is not finite", "--initial", "", name))
+        except (ArithmeticError, RecursionError):
+            number = math.inf
+        if not math.isfinite(number) or abs(number) > MAX_INITIAL:
+            problems.append(Problem(f"'{value}' is not a finite number of at most "
+                                    f"{MAX_INITIAL:g} in magnitude", "--initial", "", name))
             continue
         (v0 if order else q0)[index[base]] = number
     if problems:
@@ -530,12 +614,17 @@ def simulate(system: LinearSystem, duration: float | None = None, nonlinear: boo
         Initial deviations from the reference state and velocities, e.g.
         ``{"x1": 0.01, "x2'": 0}``; values may be expressions of parameters.
         Coordinates not given start at their ``start`` value.
-    start : {"auto", "rest", "stationary"}
+    start : {"auto", "rest", "stationary", "periodic"}
         ``"rest"``: zero deviations and velocities.  ``"stationary"``: the
         linear stationary solution's q_p(0), q_p'(0), so that a linear run
-        is stationary from the start.  ``"auto"`` (default): ``"stationary"``
-        when the system is not asymptotically stable (undamped: a free
-        vibration never decays) and no ``initial`` is given, else ``"rest"``.
+        is stationary from the start.  ``"periodic"`` (nonlinear runs): the
+        periodic solution of the full equations by harmonic balance
+        (:func:`resonant.analyses.periodic.periodic_solution`).  ``"auto"``
+        (default): for a model that is not asymptotically stable (undamped: a
+        free vibration never decays) and no ``initial``, ``"periodic"`` for a
+        nonlinear run when harmonic balance converges (else a warning says
+        there is no steady state to measure) and ``"stationary"`` otherwise;
+        ``"rest"`` for an asymptotically stable model.
     periods : float
         Length of the measurement window, in periods of the lowest excitation
         frequency (of the lowest natural frequency without excitation).
@@ -616,7 +705,11 @@ def simulate(system: LinearSystem, duration: float | None = None, nonlinear: boo
 
     # initial state
     q_given, v_given = parse_initial(model, initial)
-    if start == "auto":
+    periodic = _periodic_start(system, start, nonlinear, bool(initial), stability, solution,
+                               warnings, deadline)
+    if periodic is not None:
+        start_kind = "periodic"
+    elif start == "auto":
         use_stationary = (initial is None or not initial) and stability != ASYMPTOTIC \
             and solution is not None
         start_kind = "stationary" if use_stationary else "rest"
@@ -631,6 +724,9 @@ def simulate(system: LinearSystem, duration: float | None = None, nonlinear: boo
         for h in solution.harmonics:
             q0 += h.L
             v0 += h.omega * h.N
+    if periodic is not None:
+        q0 = np.array([periodic.initial[c] for c in num.coordinates])
+        v0 = np.array([periodic.initial[c + "'"] for c in num.coordinates])
     if q_given is not None and v_given is not None:
         q0 = np.where(np.isnan(q_given), q0, q_given)
         v0 = np.where(np.isnan(v_given), v0, v_given)
@@ -646,7 +742,7 @@ def simulate(system: LinearSystem, duration: float | None = None, nonlinear: boo
 
     # duration
     if duration is None:
-        if stability == ASYMPTOTIC and start_kind != "stationary" and (
+        if stability == ASYMPTOTIC and start_kind not in ("stationary", "periodic") and (
                 excitation or np.any(q0) or np.any(v0) or not num.harmonic):
             sigma = float(np.min(-eigenvalues.real))
             duration = DECAY_TIMES / sigma + (window_length or 0.0)
@@ -660,6 +756,13 @@ def simulate(system: LinearSystem, duration: float | None = None, nonlinear: boo
                             f"({MAX_DEFAULT_CYCLES:.0f} cycles of the highest frequency): the "
                             "transient may not have decayed; give --duration")
             duration = cap
+    periods_run = duration * highest / (2 * math.pi)
+    if periods_run > MAX_PERIODS:
+        longest = MAX_PERIODS * 2 * math.pi / highest
+        raise AnalysisError(
+            f"a duration of {duration:.6g} s is {periods_run:.3g} periods of the highest "
+            f"frequency ({highest:.6g} rad/s); a run is limited to {MAX_PERIODS:.0e} periods: "
+            f"ask for --duration {longest:.6g} or less")
     if window_length is None or window_length > duration / 2:
         if window_length is not None:
             warnings.append(f"the run is shorter than two measurement windows: amplitudes are "
@@ -684,66 +787,115 @@ def simulate(system: LinearSystem, duration: float | None = None, nonlinear: boo
         scale = 1.0
     atol = np.concatenate([np.full(n, 1e-2 * rtol * scale),
                            np.full(n, 1e-2 * rtol * scale * highest)])
+    spread = highest / max(min([*excitation, *omegas_n, highest]), 1e-300)
     if method is None:
-        spread = highest / max(min([*excitation, *omegas_n, highest]), 1e-300)
         method = "LSODA" if spread > STIFF_RATIO else "DOP853"
 
     show = sys.stderr.isatty() if progress is None else progress
     report = _Progress(duration, show)
-    calls = [0]
+    calls = [0, MAX_RHS_CALLS]  # evaluations so far, and where this attempt must stop
+    reached = [0.0]
 
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
         calls[0] += 1
+        reached[0] = max(reached[0], t)
         if calls[0] % 2000 == 0:
             report(t)
         if calls[0] % 200 == 0:
             deadline.check(f"while integrating (t = {t:.4g} of {duration:.4g} s)",
                            analysis=True)
+        if calls[0] > calls[1]:
+            raise _Budget(t)
         try:
-            dy = dynamics.rhs(t, y)
+            with np.errstate(all="ignore"):
+                dy = dynamics.rhs(t, y)
             if not math.isfinite(dy.sum()):  # one cheap test catches NaN and infinity
                 raise _Breakdown(t, "the response is not finite")
+        except ArithmeticError as exc:  # Python floats: 1/t at t = 0, overflow
+            error = _Breakdown(t, f"the equations cannot be evaluated there ({exc}; a signal "
+                                  "such as 1/t undefined at that time?)", small=False)
+            error.state = np.array(y, dtype=float)
+            raise error from None
         except _Breakdown as exc:
             exc.state = np.array(y, dtype=float)
             raise
         return dy
 
     kind = "nonlinear" if nonlinear else "linear"
+    jacobian = dynamics.jacobian()
+
+    def integrate(how: str) -> Any:
+        options: dict[str, Any] = {}
+        if jacobian is not None and how in ("Radau", "BDF", "LSODA"):
+            options["jac"] = lambda t, y: jacobian
+        with np.errstate(over="ignore", invalid="ignore"):  # the rhs checks finiteness
+            return scipy.integrate.solve_ivp(rhs, (0.0, duration), y0, method=how, rtol=rtol,
+                                             atol=atol, dense_output=True, **options)
+
+    stiff_trial = method in EXPLICIT_METHODS and spread > STIFF_RATIO
     try:
-        result = scipy.integrate.solve_ivp(rhs, (0.0, duration), y0, method=method,
-                                           rtol=rtol, atol=atol, dense_output=True)
+        result = None
+        if method in EXPLICIT_METHODS:
+            calls[1] = STIFF_TRIAL_CALLS if stiff_trial else MAX_RHS_CALLS
+            try:
+                result = integrate(method)
+            except _Budget:
+                if not stiff_trial:
+                    raise
+            if result is None or result.status != 0:
+                why = (f"needed more than {STIFF_TRIAL_CALLS:.0e} evaluations" if result is None
+                       else f"failed ({result.message})")
+                decades = f"{math.log10(max(spread, 1.0)):.1f} decades"
+                warnings.append(
+                    f"{method} {why} at t = {reached[0]:.4g} s: the system "
+                    f"{'is' if stiff_trial else 'may be'} stiff (its frequencies spread over "
+                    f"{decades}); integrated with {STIFF_METHOD} (implicit, for stiff systems) "
+                    "instead")
+                method = STIFF_METHOD
+                reached[0] = 0.0
+                result = None
+        if result is None:
+            calls[1] = MAX_RHS_CALLS
+            result = integrate(method)
+    except _Budget as exc:
+        raise AnalysisError(
+            f"the {kind} integration stopped at t = {exc.t:.6g} s of {duration:.6g} s: it "
+            f"needed more than {MAX_RHS_CALLS:.0e} evaluations of the equations (the limit "
+            "of one run); ask for a shorter --duration") from None
     except _Breakdown as exc:
         where = ""
         if exc.state is not None:
             where = " (" + ", ".join(f"{c} = {v:.6g}" for c, v in
                                      zip(num.coordinates, exc.state[:n])) + ")"
         hint = (": the motion is no longer small (a pendulum flipping over, a rod angle "
-                "leaving the range of asin, ...)" if nonlinear else "")
+                "leaving the range of asin, ...)" if nonlinear and exc.small else "")
         raise AnalysisError(f"the {kind} integration broke down at t = {exc.t:.6g} s"
                             f"{where}: {exc.reason}{hint}") from None
     finally:
         report.done()
     if result.status != 0:
-        reached = float(result.t[-1]) if result.t.size else 0.0
-        raise AnalysisError(f"the {kind} integration failed at t = {reached:.6g} s of "
+        stopped = float(result.t[-1]) if result.t.size else 0.0
+        raise AnalysisError(f"the {kind} integration failed at t = {stopped:.6g} s of "
                             f"{duration:.6g} s: {result.message}")
 
     # samples: a uniform grid for the history and a finer one for the amplitudes
     count = int(min(MAX_SAMPLES, max(2001, duration * highest / (2 * math.pi)
                                      * SAMPLES_PER_PERIOD + 1)))
     t = np.linspace(0.0, duration, count)
-    q, outputs = dynamics.evaluate(t, result.sol(t))
+    with np.errstate(all="ignore"):  # not finite: reported below
+        q, outputs = dynamics.evaluate(t, result.sol(t))
     states = {c: q[i] for i, c in enumerate(num.coordinates)}
     states.update(outputs)
     fine = int(min(MAX_WINDOW_SAMPLES, max(5001, window_length * highest / (2 * math.pi)
                                            * WINDOW_SAMPLES_PER_PERIOD + 1)))
     tw = np.linspace(window[0], window[1], fine)
-    qw, outw = dynamics.evaluate(tw, result.sol(tw))
+    with np.errstate(all="ignore"):
+        qw, outw = dynamics.evaluate(tw, result.sol(tw))
     steady = {c: _peak(qw[i]) for i, c in enumerate(num.coordinates)}
     steady.update({name: _peak(y) for name, y in outw.items()})
     bad = [name for name, a in steady.items() if not math.isfinite(a)]
     if bad:
-        raise AnalysisError(f"the {kind} response of {', '.join(bad)} is not finite")
+        raise AnalysisError(f"the {kind} response of {name_list(bad)} is not finite")
 
     linear: dict[str, float] = {}
     response: dict[str, np.ndarray] = {}
@@ -759,7 +911,7 @@ def simulate(system: LinearSystem, duration: float | None = None, nonlinear: boo
                 relative[name] = steady[name] / a - 1.0
         skipped = [name for name in linear if name not in relative]
         if skipped:
-            warnings.append(f"no relative difference for {', '.join(skipped)}: the linear "
+            warnings.append(f"no relative difference for {name_list(skipped)}: the linear "
                             "stationary amplitude is zero")
         large = {name: d for name, d in relative.items() if abs(d) > LARGE_DIFFERENCE}
         if large:

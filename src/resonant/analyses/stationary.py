@@ -40,6 +40,7 @@ from ..system.stability import (
     UNSTABLE,
     classify,
     frequencies_from_eigenvalues,
+    mass_warning,
     rayleigh,
     state_eigenvalues,
     undamped_eigen,
@@ -59,6 +60,12 @@ NEAR_RESONANCE = 0.02       # relative distance to a natural frequency that earn
 LARGE = 200
 #: largest system whose stationary solution (with all eigenvalues) is computed
 DENSE_LIMIT = 4000
+#: largest system whose mass matrix is checked for positive definiteness (dense eigenvalues)
+EXACT_MASS_CHECK = 1500
+#: samples of the common period in :func:`peak` (several commensurate frequencies); the
+#: largest PEAK_CANDIDATES samples are then refined by a golden-section search each
+MAX_PEAK_SAMPLES = 20_000
+PEAK_CANDIDATES = 16
 
 
 def freeze_fields(result: Any) -> None:
@@ -204,6 +211,28 @@ def _output_pairs(eom: NumericEOM, responses: tuple[HarmonicResponse, ...]
     return out
 
 
+def common_period(omegas: list[float]) -> float | None:
+    """The common period 2 pi q / w_min of frequencies with rational ratios p/q (q <= 1000),
+    None when they are incommensurate.
+
+    Examples
+    --------
+    >>> round(common_period([2.0, 3.0]), 12) == round(2 * math.pi, 12)
+    True
+    >>> common_period([1.0, math.sqrt(2)]) is None
+    True
+    """
+    moving = [w for w in omegas if w > 0]
+    if not moving:
+        return None
+    base = min(moving)
+    fractions = [Fraction(w / base).limit_denominator(1000) for w in moving]
+    if any(abs(float(f) - w / base) > 1e-9 * w / base for f, w in zip(fractions, moving)):
+        return None
+    denominator = reduce(math.lcm, (f.denominator for f in fractions), 1)
+    return 2 * math.pi * denominator / base
+
+
 def peak(omegas: list[float], pairs: tuple[tuple[float, float], ...]) -> float:
     """Peak |x(t)| of x = sum L_i cos(w_i t) + N_i sin(w_i t) (w = 0: constant L).
 
@@ -218,14 +247,11 @@ def peak(omegas: list[float], pairs: tuple[tuple[float, float], ...]) -> float:
     moving = [(w, L, N) for w, L, N in active if w > 0]
     if len(moving) <= 1:
         return abs(static) + sum(math.hypot(L, N) for _, L, N in moving)
-    base = min(w for w, _, _ in moving)
-    fractions = [Fraction(w / base).limit_denominator(1000) for w, _, _ in moving]
-    if any(abs(float(f) - w / base) > 1e-9 * w / base for f, (w, _, _) in zip(fractions, moving)):
+    period = common_period([w for w, _, _ in moving])
+    if period is None:
         return abs(static) + sum(math.hypot(L, N) for _, L, N in moving)
-    denominator = reduce(math.lcm, (f.denominator for f in fractions), 1)
-    period = 2 * math.pi * denominator / base
     highest = max(w for w, _, _ in moving)
-    samples = int(min(2_000_000, max(4000, 200 * highest * period / (2 * math.pi))))
+    samples = int(min(MAX_PEAK_SAMPLES, max(4000, 200 * highest * period / (2 * math.pi))))
     t = np.linspace(0.0, period, samples, endpoint=False)
     ws = np.array([w for w, _, _ in moving])
     Ls = np.array([L for _, L, _ in moving])
@@ -234,28 +260,42 @@ def peak(omegas: list[float], pairs: tuple[tuple[float, float], ...]) -> float:
     def value(tt: np.ndarray) -> np.ndarray:
         return static + np.cos(np.outer(tt, ws)) @ Ls + np.sin(np.outer(tt, ws)) @ Ns
 
-    best = 0.0
-    for chunk in np.array_split(t, max(1, samples // 100_000)):
-        y = np.abs(value(chunk))
-        best = max(best, float(y.max()))
-    # refine the sampled maximum by a local golden-section search
     y = np.abs(value(t))
-    i = int(np.argmax(y))
-    a, b = t[i] - period / samples, t[i] + period / samples
+    best = float(y.max())
+    # refine the largest samples by a local golden-section search each (all at once): with
+    # fewer samples than 200 per cycle of the highest frequency the top sample may lie
+    # beside a lower local maximum, so several candidates are refined
+    top = np.argsort(y)[-PEAK_CANDIDATES:]
+    step = period / samples
+    a, b = t[top] - step, t[top] + step
     g = (math.sqrt(5) - 1) / 2
     for _ in range(60):
         c, d = b - g * (b - a), a + g * (b - a)
-        if abs(value(np.array([c]))[0]) > abs(value(np.array([d]))[0]):
-            b = d
-        else:
-            a = c
-    return max(best, float(abs(value(np.array([(a + b) / 2]))[0])))
+        left = np.abs(value(c)) > np.abs(value(d))
+        b = np.where(left, d, b)
+        a = np.where(left, a, c)
+    return max(best, float(np.abs(value((a + b) / 2)).max()))
 
 
-def system_warnings(lam: np.ndarray, stability: str) -> list[str]:
+def phase_angle(L: float, N: float) -> float:
+    """delta = atan2(L, N) in (-pi, pi]: -pi is written as pi, -0 as 0.
+
+    Examples
+    --------
+    >>> phase_angle(-0.0, -1.0), phase_angle(-0.0, 1.0)
+    (3.141592653589793, 0.0)
+    """
+    delta = math.atan2(L, N) + 0.0
+    return math.pi if delta <= -math.pi else delta
+
+
+def system_warnings(lam: np.ndarray, stability: str, mass_definite: bool = True) -> list[str]:
     """Warnings about the system itself: an indefinite K, an unstable equilibrium."""
     out = []
-    if np.any(lam < -1e-12 * max(1.0, float(np.abs(lam).max(initial=0.0)))):
+    if np.any(lam < -1e-12 * max(1.0, float(np.abs(lam).max(initial=0.0)))) and not mass_definite:
+        out.append("omega^2 < 0 for some mode because M is not positive definite (see above), "
+                   "not necessarily because of K")
+    elif np.any(lam < -1e-12 * max(1.0, float(np.abs(lam).max(initial=0.0)))):
         out.append("K is not positive definite about this reference state: a statically "
                    "unstable (buckling, inverted) mode exists")
     if stability == UNSTABLE:
@@ -313,6 +353,9 @@ def stationary(system: LinearSystem, deadline: Deadline = NO_DEADLINE,
     batch = Batch.constant_system(sparse_eom if large else dense, 1)
     check_batch_mass(batch)
     warnings: list[str] = []
+    negative_mass = mass_warning(dense.M) if n <= EXACT_MASS_CHECK else None
+    if negative_mass:
+        warnings.append(negative_mass)
     check_finite("M, C, K", np.concatenate([dense.M.ravel(), dense.C.ravel(), dense.K.ravel()]))
     if 0 < n <= 1500:
         row, col = equilibration(dense.M)
@@ -339,7 +382,7 @@ def stationary(system: LinearSystem, deadline: Deadline = NO_DEADLINE,
     else:
         eigenvalues = state_eigenvalues(dense.M, dense.C, dense.K)
     stability = classify(eigenvalues)
-    warnings += system_warnings(lam, stability)
+    warnings += system_warnings(lam, stability, mass_definite=negative_mass is None)
     if not eom.harmonic:
         warnings.append("the stationary solution needs signals that are sums of harmonics "
                         "(sin/cos of a*t + b, constants); the equation of motion is derived, "
@@ -369,7 +412,7 @@ def stationary(system: LinearSystem, deadline: Deadline = NO_DEADLINE,
         for name, p in pairs.items():
             L, N = p[i]
             if math.hypot(L, N) > 0:
-                phases[name] = math.atan2(L, N)
+                phases[name] = phase_angle(L, N)
     return StationarySolution(eom, omegas, eigenvalues, stability, responses_t,
                               MappingProxyType(pairs), MappingProxyType(amplitudes),
                               MappingProxyType(phases), tuple(warnings))

@@ -87,12 +87,17 @@ from .kernel import (
     choose_method,
     solve_harmonic,
 )
-from .stationary import freeze_fields, peak
+from .stationary import freeze_fields, peak, phase_angle
 
 #: above this many coordinates only the loaded ones are reported unless names are given
 MAX_DEFAULT_NAMES = 2000
 #: largest n for which the dense natural frequencies are computed with every sweep
 EAGER_EIGEN = 400
+#: most values of one sweep (3 million took 3.7 GB)
+MAX_SWEEP_POINTS = 100_000
+#: most complex results of one sweep: values x reported quantities x harmonics (memory
+#: is a few hundred bytes per result, all intermediate arrays included)
+MAX_SWEEP_RESULTS = 2_000_000
 
 
 class Extremum(NamedTuple):
@@ -379,7 +384,8 @@ def _amplitude_phase(omegas: np.ndarray, Z: np.ndarray) -> tuple[np.ndarray, np.
         static = (omegas[0] == 0)[:, None]
         amplitude = np.where(static, np.abs(L), np.hypot(L, Nn))
         with np.errstate(invalid="ignore"):
-            phase = np.where(~static & (amplitude > 0), np.arctan2(L, Nn), np.nan)
+            phase = np.where(~static & (amplitude > 0), np.arctan2(L, Nn) + 0.0, np.nan)
+            phase = np.where(phase <= -np.pi, np.pi, phase)  # (-pi, pi], as phase_angle
     else:
         amplitude = np.full((N, m), np.nan)
         phase = np.full((N, m), np.nan)
@@ -395,7 +401,7 @@ def _amplitude_phase(omegas: np.ndarray, Z: np.ndarray) -> tuple[np.ndarray, np.
                 pairs = tuple((float(z.real), float(-z.imag)) for z in merged[:, j])
                 amplitude[i, j] = peak(freqs, pairs)
                 if len(active) == 1 and math.hypot(*pairs[active[0]]) > 0:
-                    phase[i, j] = math.atan2(*pairs[active[0]])
+                    phase[i, j] = phase_angle(*pairs[active[0]])
     amplitude[bad] = np.nan
     phase[bad] = np.nan
     return amplitude, phase
@@ -529,6 +535,7 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
     values = np.asarray(values, dtype=float).ravel()
     if values.size == 0 or not np.all(np.isfinite(values)):
         raise AnalysisError("the sweep needs at least one finite parameter value")
+    check_points(values.size)
     batch = system.batch(param, values, deadline)
     n = len(batch.coordinates)
     if names is None:
@@ -554,6 +561,14 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
         raise AnalysisError(f"unknown coordinate(s) {', '.join(unknown)}; the coordinates are "
                             f"{', '.join(batch.coordinates[:20])}"
                             f"{' ...' if n > 20 else ''}")
+    quantities = len(_kept_names(batch, names)) + len(batch.outputs)
+    results = len(values) * max(quantities, 1) * max(len(batch.harmonics), 1)
+    if results > MAX_SWEEP_RESULTS:
+        raise AnalysisError(
+            f"{len(values)} values x {quantities} reported quantities x "
+            f"{max(len(batch.harmonics), 1)} harmonic(s) = {results:.3g} results; a sweep is "
+            f"limited to {MAX_SWEEP_RESULTS:.0e}: use fewer --points or report fewer "
+            "quantities (--only)")
     if method == "auto":
         method = choose_method(batch, len(values))
     elif method in ("banded", "sparse", "modal") and not batch.constant:
@@ -586,6 +601,17 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
         Z = np.zeros((0, len(values), len(all_names)), dtype=complex)
     omegas = np.array([np.broadcast_to(h.omega, values.shape) for h in batch.harmonics],
                       dtype=float).reshape(len(batch.harmonics), len(values))
+    with np.errstate(all="ignore"):  # omega^2 beyond the floating-point range
+        overflow = skipped_mask & ~np.all(np.isfinite(omegas ** 2), axis=0)
+    if overflow.any():
+        first = ", ".join(f"{v:.6g}" for v in values[overflow][:5])
+        message = (f"numerical overflow at {param} = {first}"
+                   f"{' ...' if overflow.sum() > 5 else ''}: the excitation frequency squared "
+                   "exceeds the floating-point range (about 1e308); use units nearer to 1")
+        if overflow.all():
+            raise AnalysisError(message)
+        warnings.append(message + "; these points are skipped (NaN, null in JSON)")
+        skipped_mask = skipped_mask & ~overflow
     skipped = tuple(float(v) for v in values[skipped_mask])
     if skipped:
         shown = ", ".join(f"{v:.6g}" for v in skipped[:5])
@@ -631,10 +657,19 @@ def _frequency_scale(batch: Batch, values: np.ndarray) -> float | None:
     return None
 
 
+def check_points(points: int) -> None:
+    """Refuse more than :data:`MAX_SWEEP_POINTS` values, before anything is allocated."""
+    if points > MAX_SWEEP_POINTS:
+        raise AnalysisError(f"{points} points; a sweep is limited to {MAX_SWEEP_POINTS} "
+                            "(the curves are refined between the points: a few hundred "
+                            "suffice)")
+
+
 def linspace(start: float, stop: float, points: int, log: bool = False) -> np.ndarray:
     """The sweep values: evenly spaced, or logarithmically (``log=True``, positive ends)."""
     if points < 1:
         raise AnalysisError(f"a sweep needs at least 1 point, not {points}")
+    check_points(points)
     if log:
         if start <= 0 or stop <= 0:
             raise AnalysisError("a logarithmic sweep needs positive start and end values")
@@ -643,4 +678,4 @@ def linspace(start: float, stop: float, points: int, log: bool = False) -> np.nd
 
 
 __all__ = ["sweep", "FrequencyResponse", "Extremum", "ExtremaTable", "choose_method", "linspace",
-           "METHODS"]
+           "METHODS", "MAX_SWEEP_POINTS", "MAX_SWEEP_RESULTS", "check_points"]

@@ -9,16 +9,18 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import sys
+import warnings
 from collections.abc import Callable, Sequence
 
 from .. import __version__
 from ..deadline import DeadlineExceeded
-from ..errors import ResonantError
-from . import analyses, common, report, simulate, solve
+from ..errors import ResonantError, printable
+from . import analyses, common, energies, exercise, report, simulate, solve
 
 #: the modules that add subcommands: each has ``register(subparsers, parent)``
-COMMANDS = (solve, analyses, simulate, report)
+COMMANDS = (solve, analyses, simulate, report, exercise, energies)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -43,12 +45,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     if run is None:
         parser.print_help(sys.stderr)
         return 2
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            return _run(run, args)
+        finally:
+            for line in python_warnings(caught):
+                print(f"warning: {line}", file=sys.stderr)
+
+
+def _run(run: Callable[[argparse.Namespace], int], args: argparse.Namespace) -> int:
+    """Run one command, mapping its errors to exit statuses and one-line messages."""
     try:
         return run(args)
     except ResonantError as exc:
         label = "error" if exc.exit_code == 2 else "analysis impossible"
         hint = " [--timeout SECONDS sets the limit]" if isinstance(exc, DeadlineExceeded) else ""
-        print(f"{label}: {exc}{hint}", file=sys.stderr)
+        print(f"{label}: {_printable_lines(str(exc))}{hint}", file=sys.stderr)
         return exc.exit_code
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
@@ -56,9 +69,52 @@ def main(argv: Sequence[str] | None = None) -> int:
     except Exception as exc:  # a bug: say so in one line, never a traceback
         if os.environ.get("RESONANT_DEBUG"):
             raise
-        print(f"internal error ({type(exc).__name__}: {exc}); this is a bug in resonant — "
-              "rerun with RESONANT_DEBUG=1 for details", file=sys.stderr)
+        print(f"internal error ({type(exc).__name__}: {printable(exc)}); this is a bug in "
+              "resonant — rerun with RESONANT_DEBUG=1 for details", file=sys.stderr)
         return 1
 
 
-__all__ = ["main", "build_parser"]
+def _printable_lines(text: str) -> str:
+    """An error message safe for the terminal: each line escaped, at most 2000 characters."""
+    return "\n".join(printable(line, limit=2000) for line in text.split("\n"))
+
+
+#: numpy's floating-point messages in words
+_NUMPY_EVENTS = {"overflow": "numerical overflow", "invalid value": "invalid value (NaN)",
+                 "divide by zero": "division by zero", "underflow": "numerical underflow"}
+
+
+def python_warnings(caught: Sequence[warnings.WarningMessage]) -> list[str]:
+    """Python warnings raised during a command, as resonant's own one-line warnings.
+
+    Deduplicated, in words, never with the file, line or source text of the
+    Python code that raised them (a library detail, useless to the user).
+
+    Examples
+    --------
+    >>> w = warnings.WarningMessage(RuntimeWarning("overflow encountered in matmul"),
+    ...                             RuntimeWarning, "/x/numpy/core.py", 3)
+    >>> python_warnings([w, w])
+    ['numerical overflow in matmul (numpy): results may be inaccurate']
+    """
+    lines: list[str] = []
+    for item in caught:
+        text = str(item.message).strip().splitlines()[0] if str(item.message).strip() else ""
+        category = item.category.__name__
+        match = re.match(r"(.*?) encountered in (\w+)", text)
+        if match:
+            event = _NUMPY_EVENTS.get(match.group(1).strip(), match.group(1).strip())
+            line = f"{event} in {match.group(2)} (numpy): results may be inaccurate"
+        elif category == "ComplexWarning":
+            line = ("complex values were cast to real numbers, discarding the imaginary part "
+                    "(numpy): results may be inaccurate")
+        elif category in ("DeprecationWarning", "PendingDeprecationWarning", "FutureWarning"):
+            continue  # about library versions, not about the model
+        else:
+            line = f"{printable(text, limit=200)} ({category})"
+        if line not in lines:
+            lines.append(line)
+    return lines
+
+
+__all__ = ["main", "build_parser", "python_warnings"]

@@ -1,11 +1,11 @@
 """Subcommands ``resonant modes`` and ``resonant sweep``.
 
 ``modes MODEL [--count K] [--plot FILE] [--json]`` prints natural frequencies,
-mode shapes, damping and stability (:func:`resonant.modes.modes`).
+mode shapes, damping and stability (:func:`resonant.analyses.modes.modes`).
 
 ``sweep MODEL --param P --from A --to B [--points N] [--log] [--method M]
 [--only NAMES] [--plot FILE] [--csv FILE] [--progress] [--json]`` sweeps a
-parameter (:func:`resonant.sweep.sweep`).
+parameter (:func:`resonant.analyses.sweep.sweep`).
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from typing import Any
 
 import resonant.cli.common as cli
 
+from ..analyses.backbone import backbone
 from ..analyses.sweep import linspace
 from ..errors import AnalysisError
 
@@ -28,6 +29,16 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
                        help="only the K lowest modes (sparse Lanczos for large matrix models)")
     modes.add_argument("--plot", metavar="FILE", help="draw the mode shapes (.png, .svg, .pdf)")
     modes.add_argument("--json", action="store_true", help="print one JSON object")
+    modes.add_argument("--nonlinear", action="store_true",
+                       help="backbone curves: the free-vibration frequency of each mode of the "
+                            "full undamped equations against the amplitude (harmonic balance)")
+    modes.add_argument("--amplitude", type=float, metavar="A",
+                       help="with --nonlinear: the largest amplitude (default: until the "
+                            "frequency has changed by 20 %%)")
+    modes.add_argument("--harmonics", type=int, metavar="H",
+                       help="with --nonlinear: number of harmonics (default 5)")
+    modes.add_argument("--points", type=int, default=41, metavar="N",
+                       help="with --nonlinear: amplitudes per curve (default 41)")
     modes.set_defaults(run=run_modes)
 
     sweep = subparsers.add_parser(
@@ -52,13 +63,39 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
     sweep.add_argument("--progress", action="store_true",
                        help="show a progress bar on standard error")
     sweep.add_argument("--json", action="store_true", help="print one JSON object")
+    sweep.add_argument("--nonlinear", action="store_true",
+                       help="periodic steady state of the full equations (harmonic balance, "
+                            "continuation through folds, stability)")
+    sweep.add_argument("--harmonics", type=int, metavar="H",
+                       help="with --nonlinear: number of harmonics (default: chosen from "
+                            "their decay, at least 7)")
     sweep.set_defaults(run=run_sweep)
 
 
 def run_modes(args: argparse.Namespace) -> int:
     deadline = cli.deadline(args)
     model = cli.load_model(args)
+    if args.nonlinear:
+        return _run_backbones(args, model, deadline)
+    if args.amplitude is not None or args.harmonics is not None:
+        raise AnalysisError("--amplitude and --harmonics need --nonlinear")
     result = model.linearize(deadline=deadline).modes(count=args.count, deadline=deadline)
+    if args.plot:
+        result.plot(args.plot)
+    if args.json:
+        cli.emit_json(result.to_dict())
+    else:
+        sys.stdout.write(result.summary())
+    cli.warn(result.warnings)
+    return 0
+
+
+def _run_backbones(args: argparse.Namespace, model: Any, deadline: Any) -> int:
+    """``modes --nonlinear``: :func:`resonant.analyses.backbone.backbone`."""
+    if args.count is not None:
+        raise AnalysisError("--count applies to the linear modes, not to --nonlinear")
+    result = backbone(model, args.amplitude, harmonics=args.harmonics, points=args.points,
+                      deadline=deadline)
     if args.plot:
         result.plot(args.plot)
     if args.json:
@@ -73,6 +110,10 @@ def run_sweep(args: argparse.Namespace) -> int:
     if not (math.isfinite(args.start) and math.isfinite(args.stop)):
         raise AnalysisError("--from and --to must be finite numbers")
     model = cli.load_model(args)
+    if args.nonlinear:
+        return _run_nonlinear(args, model)
+    if args.harmonics is not None:
+        raise AnalysisError("--harmonics needs --nonlinear")
     values = linspace(args.start, args.stop, args.points, log=args.log)
     names = None
     if args.only:
@@ -81,6 +122,30 @@ def run_sweep(args: argparse.Namespace) -> int:
     result = model.linearize(deadline=deadline).sweep(
         args.param, values, method=args.method, names=names,
         progress=True if args.progress else None, log=args.log, deadline=deadline)
+    if args.plot:
+        result.plot(args.plot)
+    if args.csv:
+        try:
+            result.to_csv(args.csv)
+        except OSError as exc:
+            raise AnalysisError(f"cannot write '{args.csv}': {exc.strerror or exc}") from None
+    if args.json:
+        cli.emit_json(result.to_dict())
+    else:
+        sys.stdout.write(result.summary())
+    cli.warn(result.warnings)
+    return 0
+
+
+def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
+    """``sweep --nonlinear``: :func:`resonant.analyses.harmonic_balance.nonlinear_sweep`."""
+    if args.log or args.only or args.method != "auto":
+        raise AnalysisError("--log, --only and --method apply to the linear sweep, not to "
+                            "--nonlinear")
+    deadline = cli.deadline(args)
+    result = model.nonlinear_sweep(args.param, args.start, args.stop,
+                                   harmonics=args.harmonics, points=args.points,
+                                   deadline=deadline)
     if args.plot:
         result.plot(args.plot)
     if args.csv:

@@ -10,7 +10,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from ..deadline import Deadline
-from ..errors import AnalysisError, ModelError, Problem
+from ..errors import AnalysisError, ModelError, Problem, printable
 from ..model import Model, load
 
 #: default time limit of a command (``--timeout``), in seconds
@@ -43,7 +43,8 @@ def deadline(args: argparse.Namespace) -> Deadline:
 
 def load_model(args: argparse.Namespace) -> Model:
     """Load ``args.model`` with the ``--set`` overrides applied."""
-    return load(args.model, overrides=parse_settings(getattr(args, "set", None)))
+    return load(args.model, overrides=parse_settings(getattr(args, "set", None)),
+                allow_paths=getattr(args, "allow_path", None) or ())
 
 
 def emit_json(data: Any) -> None:
@@ -57,7 +58,7 @@ def emit_json(data: Any) -> None:
 
 def warn(messages: Sequence[str]) -> None:
     for message in messages:
-        print(f"warning: {message}", file=sys.stderr)
+        print(f"warning: {printable(message, limit=2000)}", file=sys.stderr)
 
 
 def common_parser() -> argparse.ArgumentParser:
@@ -68,6 +69,9 @@ def common_parser() -> argparse.ArgumentParser:
     common.add_argument("--timeout", type=_seconds, default=DEFAULT_TIMEOUT, metavar="SECONDS",
                         help="time limit of the whole command (default "
                              f"{DEFAULT_TIMEOUT:g}; 0 for none)")
+    common.add_argument("--allow-path", action="append", metavar="DIR", default=[],
+                        help="also read [matrices] files from DIR (repeatable; by default "
+                             "only files inside the model file's folder are read)")
     return common
 
 

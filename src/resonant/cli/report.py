@@ -27,19 +27,31 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
                         help="the output file: .html, .md or .tex")
     parser.add_argument("--no-plots", action="store_true",
                         help="leave out the frequency response and time history plots")
+    parser.add_argument("--nonlinear", action="store_true",
+                        help="add the section 'Beyond small oscillations': the periodic steady "
+                             "state of the full equations (harmonic balance), its frequency-"
+                             "response curve and the operating point on it")
     parser.set_defaults(run=run_report)
+
+
+def _cannot_write(path: str, exc: OSError) -> ModelError:
+    return ModelError(Problem(f"cannot write the report: {exc.strerror or type(exc).__name__}",
+                              str(path)))
 
 
 def run_report(args: argparse.Namespace) -> int:
     fmt = report_format(args.output)  # check the ending before any work
-    model = common.load_model(args)
-    report = build_report(model, plots=not args.no_plots)
     path = Path(args.output)
-    text = render(report, fmt, path)
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():  # before any work, and before the figures beside it are written
+        raise ModelError(Problem(f"cannot write the report: the folder '{folder}' does not "
+                                 "exist", str(args.output)))
+    model = common.load_model(args)
+    report = build_report(model, plots=not args.no_plots, nonlinear=args.nonlinear)
     try:
+        text = render(report, fmt, path)  # writes the figures of .md and .tex beside it
         path.write_text(text, encoding="utf-8")
     except OSError as exc:
-        raise ModelError(Problem(f"cannot write the report: {exc.strerror or exc}",
-                                 str(args.output))) from None
+        raise _cannot_write(args.output, exc) from None
     print(f"wrote {path}", file=sys.stderr)
     return 0

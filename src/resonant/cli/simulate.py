@@ -1,7 +1,7 @@
 """``resonant simulate``: time simulation, linear or full nonlinear.
 
     resonant simulate MODEL [--duration T] [--nonlinear] [--initial x1=0.01,x2'=0 ...]
-                      [--start auto|rest|stationary] [--periods P] [--method M]
+                      [--start auto|rest|stationary|periodic] [--periods P] [--method M]
                       [--plot FILE.png|svg|pdf] [--csv FILE] [--json] [--set NAME=VALUE ...]
 """
 
@@ -69,7 +69,9 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
                              "velocity (x1'=0.1); the others start as --start says")
     parser.add_argument("--start", choices=START_MODES, default="auto",
                         help="initial state: rest, the linear stationary solution's q_p(0), "
-                             "q_p'(0), or auto (stationary for undamped systems, else rest)")
+                             "q_p'(0), periodic (with --nonlinear: the periodic solution of "
+                             "the full equations, harmonic balance), or auto (periodic or "
+                             "stationary for undamped systems, else rest)")
     parser.add_argument("--periods", type=_positive, default=None, metavar="P",
                         help="measurement window in periods of the lowest excitation "
                              "frequency (default 5)")

@@ -48,6 +48,7 @@ from ..model import TIME, Model, symbol
 from ..model.loader import definition_chain
 from .jet import SYMPY, Backend, Jet, NotDifferentiable, Var, backend
 from .nonlinear import find_equilibrium
+from .residual import is_zero
 
 
 @dataclass(frozen=True)
@@ -381,12 +382,10 @@ def _check_equilibrium(model: Model, residual: sympy.ImmutableMatrix) -> None:
     for k, expr in enumerate(residual):
         if expr == 0:
             continue
-        value = complex(expr.evalf(30, subs=subs))
-        # the size of the terms that cancel: a residual is judged relative to it
-        # (evaluated term by term, never expanded: expansion can explode)
-        scale = sum(abs(complex(term.evalf(30, subs=subs)))
-                    for term in sympy.Add.make_args(expr))
-        if abs(value) > 1e-9 * max(scale, 1e-300) and abs(value) > 1e-300:
+        # judged against the size of every term that forms it, at every level of the
+        # tree (never expanded: expansion can explode); see derivation.residual
+        zero, value = is_zero(expr, subs)
+        if not zero:
             bad.append((model.coordinates[k], expr, value.real))
     if not bad:
         return

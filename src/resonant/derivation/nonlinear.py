@@ -15,7 +15,7 @@ from functools import cached_property
 import numpy as np
 import sympy
 
-from ..expressions import Expression
+from ..expressions import Expression, compilable
 from ..expressions.functions import SYMPY as SYMPY_FUNCTIONS
 from ..model import Model, symbol
 
@@ -168,7 +168,7 @@ def linearized_matrices(eq: NonlinearEquations) -> tuple[sympy.Matrix, sympy.Mat
 
     The derivatives of ``mass * q'' + rest`` with respect to q'', q' and q at
     the reference state (``[equilibrium]``, velocities and signals zero): an
-    independent route to the matrices :func:`resonant.linearize.linearize`
+    independent route to the matrices :func:`resonant.derivation.lagrange.linearize`
     derives from second-order jets, used to cross-check the two.
 
     Examples
@@ -214,7 +214,7 @@ def find_equilibrium(model: Model) -> dict[str, float] | None:
                   or eq.ops.registry[s][0] in model.signals}
     params = {symbol(n): v for n, v in model.parameter_values.items()}
     static = eq.rest.subs(rest_state).subs(params)
-    fn = sympy.lambdify([eq.q], list(static), modules="numpy")
+    fn = sympy.lambdify([eq.q], [compilable(e) for e in static], modules="numpy")
     start = np.array([float(model.equilibrium[c].to_sympy(
         lambda n, p: sympy.Float(model.parameter_values[n])))
         if c in model.equilibrium else 0.0 for c in model.coordinates])

@@ -2,7 +2,7 @@
 numeric evaluation.  Imports only :mod:`resonant.errors`."""
 
 from .functions import FUNCTIONS, Function
-from .numeric import FloatOps, numeric_value
+from .numeric import FloatOps, compilable, numeric_value
 from .parser import (
                      BinOp,
                      Call,
@@ -15,5 +15,6 @@ from .parser import (
                      validate_name,
 )
 
-__all__ = ["FUNCTIONS", "Function", "FloatOps", "numeric_value", "BinOp", "Call", "Expression",
+__all__ = ["FUNCTIONS", "Function", "FloatOps", "compilable", "numeric_value",
+           "BinOp", "Call", "Expression",
            "ExpressionError", "Name", "Neg", "Num", "parse", "validate_name"]

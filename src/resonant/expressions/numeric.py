@@ -1,4 +1,4 @@
-"""Numeric evaluation of parsed expressions with numpy (no sympy).
+"""Numeric evaluation of parsed expressions with numpy (sympy only to prepare compilation).
 
 Examples
 --------
@@ -14,6 +14,7 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+import sympy
 
 from .functions import NUMPY
 from .parser import Expression
@@ -86,4 +87,36 @@ def numeric_value(expression: Expression, values: Mapping[str, Any]) -> Any:
         return expression.fold(FloatOps(values))
 
 
-__all__ = ["FloatOps", "numeric_value"]
+#: exact numbers beyond this magnitude (or with a larger denominator) are compiled as floats
+_EXACT_LIMIT = 2**53
+
+
+def _inexact(number: sympy.Basic) -> bool:
+    return bool(number.is_Rational and (abs(number.p) > _EXACT_LIMIT or number.q > _EXACT_LIMIT))
+
+
+def compilable(expression: Any) -> Any:
+    """``expression`` with its huge exact numbers as floats, ready for :func:`sympy.lambdify`.
+
+    A lambdified sympy expression writes an exact integer as a Python ``int``;
+    one beyond 64 bits (``123456789012345678901234567``, or ``10^1196`` built
+    by the derivation) reaches numpy as an object and fails inside the
+    ufuncs.  As a float it is exact to 16 digits, or infinite beyond 1e308,
+    which the callers report as "not finite".
+
+    Examples
+    --------
+    >>> x = sympy.Symbol("x")
+    >>> compilable(sympy.cos(x + sympy.Integer(10)**30))
+    cos(x + 1.0e+30)
+    >>> compilable(x + 1)
+    x + 1
+    """
+    if not isinstance(expression, sympy.Basic) or not any(
+            _inexact(a) for a in expression.atoms(sympy.Rational)):
+        return expression
+    return expression.xreplace({a: sympy.Float(a, 17) for a in expression.atoms(sympy.Rational)
+                                if _inexact(a)})
+
+
+__all__ = ["FloatOps", "numeric_value", "compilable"]

@@ -25,8 +25,9 @@ Examples
 from __future__ import annotations
 
 import difflib
+import os
 import tomllib
-from collections.abc import Collection, Iterable, Mapping
+from collections.abc import Collection, Iterable, Mapping, Sequence
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any
@@ -44,6 +45,8 @@ from ..expressions import (
     parse,
     validate_name,
 )
+from . import limits
+from .exercise import parse_exercise
 from .limits import (
     ENERGY_KEYS,
     MAX_COORDINATES,
@@ -52,21 +55,35 @@ from .limits import (
     MAX_INLINED_NODES,
     TOP_LEVEL,
 )
-from .matrix_files import read_matrix_spec
-from .types import Force, MatrixSpec, Model, evaluate_parameters, unknown_parameter
+from .matrix_files import FileRefused, open_regular_file, read_bounded, read_matrix_spec
+from .part_energies import Mechanism, derive_energies, point_expressions
+from .parts import DerivedEnergies, read_parts
+from .types import (
+    Force,
+    MatrixSpec,
+    Model,
+    constant_prime_message,
+    evaluate_parameters,
+    primed_names,
+    unknown_parameter,
+)
 
 # -- loading -------------------------------------------------------------------------------
 
-def load(path: str | Path, overrides: Mapping[str, float | str] | None = None) -> Model:
+def load(path: str | Path, overrides: Mapping[str, float | str] | None = None,
+         allow_paths: Sequence[str | os.PathLike[str]] = ()) -> Model:
     """Read and validate a model file.
 
     Parameters
     ----------
     path : str or Path
-        The TOML model file.
+        The TOML model file (a regular file; symbolic links are followed).
     overrides : mapping, optional
         Parameter values that replace those of the file (``--set``); strings
         are parsed as expressions.
+    allow_paths : sequence of paths, optional
+        Directories, besides the model file's folder, that ``[matrices]`` files
+        may be read from (``--allow-path DIR``).  See docs/security.md.
 
     Raises
     ------
@@ -76,46 +93,57 @@ def load(path: str | Path, overrides: Mapping[str, float | str] | None = None) -
     path = Path(path)
     name = str(path)
     try:
-        size = path.stat().st_size
-        if size > MAX_FILE_BYTES:
-            raise ModelError(Problem(
-                f"the file is {size} bytes; model files are limited to {MAX_FILE_BYTES}", name))
-        data = path.read_bytes()
+        with open_regular_file(path, follow_symlinks=True, max_bytes=MAX_FILE_BYTES) as handle:
+            data = read_bounded(handle, MAX_FILE_BYTES)
+    except FileRefused as exc:
+        raise ModelError(Problem(f"cannot read the model file: {exc}", name)) from None
     except OSError as exc:
-        raise ModelError(Problem(f"cannot read the model file: {exc.strerror or exc}", name)
-                         ) from None
+        raise ModelError(Problem(f"cannot read the model file: {exc.strerror or 'I/O error'}",
+                                 name)) from None
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise ModelError(Problem(f"the file is not UTF-8 text (byte {exc.start})", name)
                          ) from None
-    return loads(text, source=name, base_dir=path.parent, overrides=overrides)
+    return loads(text, source=name, base_dir=path.parent, overrides=overrides,
+                 allow_paths=allow_paths)
 
 
 def loads(text: str, source: str = "<string>", base_dir: str | Path | None = None,
-          overrides: Mapping[str, float | str] | None = None) -> Model:
-    """Parse and validate a model given as TOML text. See :func:`load`."""
+          overrides: Mapping[str, float | str] | None = None,
+          allow_paths: Sequence[str | os.PathLike[str]] = ()) -> Model:
+    """Parse and validate a model given as TOML text. See :func:`load`.
+
+    ``[matrices]`` file paths are relative to ``base_dir``; without it a model
+    that names a matrix file is refused (there is no folder to confine it to).
+    """
+    if not isinstance(text, str):
+        raise ModelError(Problem(f"the model text must be a str, not {type(text).__name__}",
+                                 source))
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(Problem(f"invalid TOML: {exc}", source)) from None
     except RecursionError:
         raise ModelError(Problem("invalid TOML: nested too deeply", source)) from None
-    return _Builder(data, source, Path(base_dir) if base_dir else Path.cwd(),
-                    overrides or {}).build()
+    return _Builder(data, source, Path(base_dir) if base_dir is not None else None,
+                    overrides or {}, tuple(allow_paths)).build()
 
 
 class _Builder:
     """Validates the TOML data section by section, collecting problems."""
 
-    def __init__(self, data: dict, source: str, base_dir: Path,
-                 overrides: Mapping[str, float | str]) -> None:
+    def __init__(self, data: dict, source: str, base_dir: Path | None,
+                 overrides: Mapping[str, float | str],
+                 allow_paths: Sequence[str | os.PathLike[str]] = ()) -> None:
         self.data = data
         self.source = source
         self.base_dir = base_dir
+        self.allow_paths = allow_paths
         self.overrides = overrides
         self.problems: list[Problem] = []
         self.declared: dict[str, str] = {}  # name -> section
+        self.force_points: dict[str, str] = {}  # [[force]] name -> the named point (parts)
 
     # helpers
     def problem(self, message: str, section: str = "", key: str = "") -> None:
@@ -156,13 +184,36 @@ class _Builder:
             return None
 
     # sections
+    def counts(self) -> None:
+        """Refuse tables with more entries than the limits, before any expression is parsed."""
+        for section, limit in (("parameters", limits.MAX_PARAMETERS),
+                               ("signals", limits.MAX_SIGNALS),
+                               ("definitions", limits.MAX_DEFINITIONS),
+                               ("outputs", limits.MAX_OUTPUTS),
+                               ("force", limits.MAX_FORCES),
+                               ("harmonic", limits.MAX_HARMONICS),
+                               *((kind, limits.MAX_PARTS) for kind in limits.PART_SECTIONS)):
+            value = self.data.get(section)
+            if isinstance(value, (dict, list)) and len(value) > limit:
+                kind = f"[{section}] entries" if isinstance(value, dict) else \
+                    f"[[{section}]] entries"
+                self.problem(f"{len(value)} {kind}; a model is limited to {limit} (see "
+                             "docs/security.md; large systems belong in [matrices] files)",
+                             section)
+        if self.problems:
+            raise ModelError(self.problems)
+
     def build(self) -> Model:
+        self.counts()
+        misplaced: set[str] = set()  # names declared in a misspelled section
         for key in self.data:
             if key not in TOP_LEVEL:
                 close = difflib.get_close_matches(key, TOP_LEVEL, n=1)
                 hint = f"did you mean '{close[0]}'?" if close else \
                     f"known sections: {', '.join(TOP_LEVEL)}"
                 self.problem(f"unknown section or key '{key}'; {hint}", key)
+                if isinstance(self.data[key], dict):
+                    misplaced |= {str(name) for name in self.data[key]}
         title = self.data.get("title", "")
         if not isinstance(title, str):
             self.problem("title must be a string", "title")
@@ -174,12 +225,22 @@ class _Builder:
         matrices = self.data.get("matrices") is not None
         coordinates, descriptions = self.coordinates(required=not matrices)
         equilibrium = self.simple_table("equilibrium", param_names, keys=coordinates)
+        for name, expression in equilibrium.items():
+            if primed_names(expression):
+                self.problem(constant_prime_message(primed_names(expression)), "equilibrium",
+                             name)
         signals = self.named_table("signals", [*param_names, "t"])
         state_names = [*param_names, *coordinates, *signals]
         definitions = self.definitions(state_names)
-        allowed = [*state_names, *definitions]
-        energy = self.energy(allowed, required=not matrices)
-        forces = self.forces(allowed, coordinates)
+        # every declared definition, also those that failed: a failed one is reported
+        # once, not again as an unknown name wherever it is used
+        allowed = [*state_names, *(n for n, sec in self.declared.items()
+                                   if sec == "definitions")]
+        parts = read_parts(self.data, param_names, allowed, self.source, self.problems)
+        mechanism = self.mechanism(parts, param_names, coordinates, signals, definitions,
+                                   equilibrium)
+        energy = self.energy(allowed, required=not matrices and not parts)
+        forces = self.forces(allowed, coordinates, mechanism)
         outputs = self.simple_table("outputs", allowed, declare=False)
         if outputs:
             for name in outputs:
@@ -190,6 +251,10 @@ class _Builder:
         if matrices and (energy or forces):
             self.problem("a model gives either [energy] (and [[force]]) or [matrices], not both",
                          "matrices")
+        names = coordinates or ([f"q{i + 1}" for i in range(_matrix_size(matrix_spec.M))]
+                                if matrix_spec is not None else [])
+        exercise = parse_exercise(self.data.get("exercise"), self.data.get("variants"),
+                                  param_names, names, list(outputs), self.source, self.problems)
         exact: dict[str, sympy.Expr] = {}
         floats: dict[str, float] = {}
         if not self.problems:
@@ -197,8 +262,22 @@ class _Builder:
                 exact, floats = evaluate_parameters(parameters, self.source)
             except ModelError as exc:
                 self.problems.extend(exc.problems)
+        derived: DerivedEnergies | None = None
+        if mechanism is not None and not self.problems:
+            try:
+                derived, energy, torques = derive_energies(mechanism, energy, exact, allowed,
+                                                           self.force_points)
+                forces = [*forces, *torques]
+            except ModelError as exc:
+                self.problems.extend(exc.problems)
+            if derived is not None and "T" not in energy and not matrices:
+                self.problem("there is no kinetic energy: no body has a mass and [energy] "
+                             "gives no T", "body")
         if self.problems:
-            raise ModelError(self.problems)
+            # a misspelled section explains the unknown names it declares: say it once
+            cascade = {f"unknown name '{name}'" for name in misplaced}
+            raise ModelError([p for p in self.problems
+                              if not any(p.message.startswith(c) for c in cascade)])
         if matrix_spec is not None and not coordinates:
             n = _matrix_size(matrix_spec.M)
             coordinates = [f"q{i + 1}" for i in range(n)]
@@ -209,7 +288,8 @@ class _Builder:
             coordinates=tuple(coordinates), descriptions=MappingProxyType(descriptions),
             equilibrium=MappingProxyType(equilibrium), signals=MappingProxyType(signals),
             definitions=MappingProxyType(definitions), energy=MappingProxyType(energy),
-            forces=tuple(forces), outputs=MappingProxyType(outputs), matrices=matrix_spec)
+            forces=tuple(forces), outputs=MappingProxyType(outputs), matrices=matrix_spec,
+            exercise=exercise, parts=derived)
 
     def parameters(self) -> dict[str, Expression]:
         table = self.table("parameters")
@@ -240,7 +320,16 @@ class _Builder:
                          "coordinates, e.g. x1 = \"displacement of the cart\"", "coordinates")
             return [], {}
         if isinstance(raw, list):
-            raw = {name: "" for name in raw if isinstance(name, str)}
+            wrong = [item for item in raw if not isinstance(item, str)]
+            if wrong:
+                self.problem("coordinates = [...] must list names as strings (coordinates = "
+                             f"[\"x1\", \"x2\"]), got {type(wrong[0]).__name__}", "coordinates")
+                return [], {}
+            repeated = sorted({name for name in raw if raw.count(name) > 1})
+            if repeated:
+                self.problem(f"'{repeated[0]}' is listed twice in coordinates = [...]",
+                             "coordinates", repeated[0])
+            raw = {name: "" for name in raw}
         if not isinstance(raw, dict):
             self.problem("[coordinates] must be a table: name = \"description\"", "coordinates")
             return [], {}
@@ -343,7 +432,21 @@ class _Builder:
                          "matrix", "energy", "T")
         return out
 
-    def forces(self, allowed: list[str], coordinates: list[str]) -> list[Force]:
+    def mechanism(self, parts: Any, params: list[str], coordinates: list[str],
+                  signals: Mapping[str, Expression], definitions: Mapping[str, Expression],
+                  equilibrium: Mapping[str, Expression]) -> Mechanism | None:
+        """The geometry of the parts (resonant.model.part_energies), None without parts."""
+        if not parts:
+            return None
+        try:
+            return Mechanism(parts, params, coordinates, signals, definitions, equilibrium,
+                             self.source)
+        except ExpressionError as exc:
+            self.problems.extend(exc.problems)
+            return None
+
+    def forces(self, allowed: list[str], coordinates: list[str],
+               mechanism: Mechanism | None = None) -> list[Force]:
         raw = self.data.get("force", [])
         if isinstance(raw, dict):
             raw = [raw]
@@ -385,6 +488,20 @@ class _Builder:
                 forces.append(Force(name, generalized=MappingProxyType(parsed)))
                 continue
             vector, point = entry.get("vector"), entry.get("point")
+            if isinstance(point, str) and mechanism is not None and \
+                    point in mechanism.parts.point_names():
+                resolved = point_expressions(mechanism, point, allowed, self.source, section,
+                                             self.problems)
+                if resolved is None:
+                    continue
+                self.force_points[name] = point
+                point = [e.text for e in resolved]
+            elif isinstance(point, str) and "." in point:
+                known = mechanism.parts.point_names() if mechanism is not None else []
+                self.problem(f"unknown point '{point}'; known points: "
+                             f"{', '.join(known) or 'none (no [[body]] or [[point]])'}",
+                             section, "point")
+                continue
             if vector is None or point is None:
                 self.problem("a force needs both vector and point (or generalized)", section)
                 continue
@@ -410,7 +527,7 @@ class _Builder:
         harmonics = self.data.get("harmonic", [])
         try:
             return read_matrix_spec(section, harmonics, params, coordinates, self.source,
-                                    self.base_dir)
+                                    self.base_dir, self.allow_paths)
         except ModelError as exc:
             self.problems.extend(exc.problems)
             return None

@@ -2,61 +2,499 @@
 
 Matrices are inline arrays (numbers or expressions of the parameters) or
 paths, relative to the model file, to ``.npy``, ``.npz`` (the array named
-like the matrix, or the only one) or Matrix Market ``.mtx`` files.
+like the matrix, or the only one, or a sparse matrix in scipy's
+``save_npz`` layout) or Matrix Market ``.mtx`` files.
+
+Matrix files are untrusted input (docs/security.md):
+
+* only files inside the model file's folder (symbolic links resolved) or inside
+  a directory the user allows (``allow_paths``, ``--allow-path DIR``) are read;
+  a path outside gets the same message whether or not it exists;
+* only regular files are opened (``O_NONBLOCK``, then ``fstat``): a FIFO or a
+  device never blocks or streams;
+* sizes come from the headers (``.npy`` header, zip directory, Matrix Market
+  size line) and are checked against :mod:`resonant.model.limits` before
+  anything is allocated or decompressed; reads are bounded;
+* only real integer or floating-point arrays are accepted (never pickles), and a
+  sparse matrix's structure (``indptr``, ``indices``, ``row``, ``col``) is
+  validated before scipy sees it;
+* error messages name the problem, never archive member names or operating
+  system errors about other paths.
 """
 
 from __future__ import annotations
 
+import errno
+import math
+import os
+import stat
+import struct
+import zipfile
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 import numpy as np
 
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
+from . import limits
 from .types import Harmonic, MatrixSpec
 
 MATRIX_KEYS = ("M", "K", "C")
 FILE_SUFFIXES = (".npy", ".npz", ".mtx")
-
-
 SPARSE_NPZ_KEYS = {"format", "shape", "data"}
+SPARSE_FORMATS = ("csr", "csc", "coo")
+OUTSIDE = ("the path leads outside the model's folder; matrix files are read only from the "
+           "folder of the model file and its subfolders (allow another directory with "
+           "--allow-path DIR, or allow_paths=[...] in load/loads)")
 
 
-def _read_file(path: Path, key: str) -> Any:
-    suffix = path.suffix.lower()
-    if suffix == ".npy":
-        return np.load(path, allow_pickle=False)
-    if suffix == ".npz":
-        with np.load(path, allow_pickle=False) as archive:
-            names = list(archive.keys())
-            if SPARSE_NPZ_KEYS <= set(names):  # written by scipy.sparse.save_npz
-                import scipy.sparse
+class FileRefused(ValueError):
+    """A file that is not read; the message says why and is safe to show."""
 
-                return scipy.sparse.load_npz(path).tocsr()
-            if key in names:
-                return archive[key]
-            if len(names) == 1:
-                return archive[names[0]]
-            raise ValueError(f"the archive holds {', '.join(names)} but no array named '{key}'")
-    if suffix == ".mtx":
-        import scipy.io
 
-        return scipy.io.mmread(str(path))
-    raise ValueError(f"unknown matrix file type '{suffix}'; use {', '.join(FILE_SUFFIXES)}")
+# -- opening files -----------------------------------------------------------------------------
+
+def open_regular_file(path: str | os.PathLike[str], *, follow_symlinks: bool,
+                      max_bytes: int) -> IO[bytes]:
+    """Open a regular file for reading without blocking on FIFOs or devices.
+
+    ``O_NONBLOCK`` makes opening a FIFO return at once; ``fstat`` on the open
+    descriptor then refuses everything but a regular file (no race between a
+    check and the open).  Files larger than ``max_bytes`` are refused; callers
+    still read at most ``max_bytes + 1`` bytes.
+    """
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0) \
+        | getattr(os, "O_BINARY", 0)
+    if not follow_symlinks:
+        flags |= getattr(os, "O_NOFOLLOW", 0)
+    try:
+        fd = os.open(path, flags)
+    except OSError as exc:
+        raise FileRefused(_os_reason(exc)) from None
+    try:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode):
+            raise FileRefused(f"it is not a regular file but {_file_kind(info.st_mode)}")
+        if info.st_size > max_bytes:
+            raise FileRefused(f"the file is {info.st_size} bytes; limited to {max_bytes}")
+        return os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise
+
+
+def read_bounded(handle: IO[bytes], max_bytes: int) -> bytes:
+    """At most ``max_bytes`` bytes of ``handle``; more is an error (never trusts st_size)."""
+    data = handle.read(max_bytes + 1)
+    if len(data) > max_bytes:
+        raise FileRefused(f"the file is larger than {max_bytes} bytes; limited to {max_bytes}")
+    return data
+
+
+def _os_reason(exc: OSError) -> str:
+    reasons = {errno.ENOENT: "no such file", errno.ENOTDIR: "no such file",
+               errno.EACCES: "permission denied", errno.EPERM: "permission denied",
+               errno.ELOOP: "it is a symbolic link", errno.ENXIO: "it is not a regular file",
+               errno.EISDIR: "it is a directory"}
+    return reasons.get(exc.errno or 0, "it cannot be opened")
+
+
+def _file_kind(mode: int) -> str:
+    for test, name in ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+                       (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                       (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return name
+    return "a special file"
+
+
+def resolve_matrix_path(value: str, base_dir: Path | None,
+                        allow_paths: Sequence[str | os.PathLike[str]] = ()) -> str:
+    """The real path of a matrix file named in a model, if the file policy allows it.
+
+    The path, joined to the model's folder, must lie inside the folder or an
+    allowed directory both as written (no ``..`` escape, no absolute path
+    elsewhere) and with every symbolic link resolved.  Nothing outside is
+    touched beyond resolving links, and the message does not depend on
+    whether an outside path exists.
+    """
+    if base_dir is None:
+        raise FileRefused("the model was given as text, so there is no folder to read matrix "
+                          "files from; use load(path), or loads(text, base_dir=folder)")
+    if "\x00" in value:
+        raise FileRefused("the path contains a NUL character")
+    roots = [os.path.abspath(base_dir), *(os.path.abspath(p) for p in allow_paths)]
+    target = os.path.abspath(os.path.join(roots[0], value))
+    if not any(_inside(target, root) for root in roots):
+        raise FileRefused(OUTSIDE)
+    real = os.path.realpath(target)
+    if not any(_inside(real, os.path.realpath(root)) for root in roots):
+        raise FileRefused(OUTSIDE)
+    return real
+
+
+def _inside(path: str, root: str) -> bool:
+    try:
+        return os.path.commonpath([path, root]) == root
+    except ValueError:  # different drives
+        return False
+
+
+# -- reading matrix files ----------------------------------------------------------------------
+
+def read_matrix_file(value: str, key: str, base_dir: Path | None,
+                     allow_paths: Sequence[str | os.PathLike[str]] = ()) -> Any:
+    """The matrix in file ``value``: a float64 ndarray or a scipy CSR matrix.
+
+    Raises :class:`FileRefused` with a message safe to show for every problem.
+    """
+    suffix = os.path.splitext(value)[1].lower()
+    if suffix not in FILE_SUFFIXES:
+        raise FileRefused(f"unknown matrix file type; use {', '.join(FILE_SUFFIXES)}")
+    path = resolve_matrix_path(value, base_dir, allow_paths)
+    with open_regular_file(path, follow_symlinks=False,
+                           max_bytes=limits.MAX_MATRIX_FILE_BYTES) as handle:
+        size = os.fstat(handle.fileno()).st_size
+        try:
+            if suffix == ".npy":
+                return _dense(_read_npy(handle, "the array", size, matrix=True))
+            if suffix == ".npz":
+                return _read_npz(handle, size, key)
+            return _read_mtx(handle, size)
+        except FileRefused:
+            raise
+        except MemoryError:
+            raise FileRefused("not enough memory to read it") from None
+        except Exception:  # noqa: BLE001 - never echo a library's message about the file
+            raise FileRefused(f"it is damaged or not a valid {suffix} file") from None
+
+
+def _read_exact(handle: IO[bytes], count: int, what: str) -> bytes:
+    data = handle.read(count)
+    if len(data) != count:
+        raise FileRefused(f"{what} is truncated")
+    return data
+
+
+def _check_dtype(dtype: np.dtype, what: str, text: bool = False) -> None:
+    kind = dtype.kind
+    if dtype.hasobject:
+        reason = "holds Python objects (pickled data), which resonant never loads"
+    elif dtype.names is not None or dtype.subdtype is not None or kind == "V":
+        reason = "holds a structured (record) array; save a plain 2-D array of numbers"
+    elif kind == "c":
+        reason = "holds complex numbers; M, K and C must be real"
+    elif kind in "SU" and text and dtype.itemsize:
+        return
+    elif kind in "SU":
+        reason = "holds text, not numbers"
+    elif kind == "f" and dtype.itemsize > 8:
+        reason = "holds long-double (float128) numbers; save it as float64"
+    elif kind == "b":
+        reason = "holds booleans, not numbers"
+    elif kind in "iuf" and dtype.itemsize:
+        return
+    else:
+        reason = f"holds {dtype.name} values; save integers or floating-point numbers"
+    raise FileRefused(f"{what} {reason}")
+
+
+def _check_size(n: Any, m: Any, what: str) -> int:
+    """The size n of an n x n matrix, checked against the limits."""
+    if not (isinstance(n, (int, np.integer)) and isinstance(m, (int, np.integer))):
+        raise FileRefused(f"{what} has no valid shape")
+    n, m = int(n), int(m)
+    if n <= 0 or m <= 0:
+        raise FileRefused(f"{what} is {n}x{m}; a matrix needs at least one row and column")
+    if n != m:
+        raise FileRefused(f"{what} is {n}x{m}, not a square matrix")
+    if n > limits.MAX_MATRIX_DIMENSION:
+        raise FileRefused(f"{what} is {n}x{n}; matrices are limited to "
+                          f"{limits.MAX_MATRIX_DIMENSION}x{limits.MAX_MATRIX_DIMENSION} "
+                          "(resonant.model.limits.MAX_MATRIX_DIMENSION)")
+    return n
+
+
+def _read_npy(handle: IO[bytes], what: str, available: int, *, matrix: bool = False,
+              text: bool = False, max_entries: int | None = None) -> np.ndarray:
+    """One .npy array from ``handle``, its header checked before its data is read.
+
+    ``available`` bounds the bytes the data may take (the file or member size).
+    """
+    try:
+        version = np.lib.format.read_magic(handle)
+        if version == (1, 0):
+            shape, fortran, dtype = np.lib.format.read_array_header_1_0(handle)
+        elif version == (2, 0):
+            shape, fortran, dtype = np.lib.format.read_array_header_2_0(handle)
+        else:
+            raise FileRefused(f"{what} uses .npy format version {version[0]}.{version[1]}; "
+                              "save it with numpy.save")
+    except FileRefused:
+        raise
+    except Exception:  # noqa: BLE001 - a malformed header
+        raise FileRefused(f"{what} is not a valid .npy array") from None
+    _check_dtype(dtype, what, text=text)
+    if not isinstance(shape, tuple) or any(not isinstance(d, int) or d < 0 for d in shape):
+        raise FileRefused(f"{what} has an invalid shape")
+    if matrix:
+        if len(shape) != 2:
+            raise FileRefused(f"{what} has {len(shape)} dimensions; a matrix has 2")
+        n = _check_size(shape[0], shape[1], what)
+        if n * n > limits.MAX_DENSE_ENTRIES:
+            raise FileRefused(f"{what} is a dense {n}x{n} matrix; dense matrices are limited "
+                              f"to {limits.MAX_DENSE_ENTRIES} entries "
+                              "(resonant.model.limits.MAX_DENSE_ENTRIES); save large "
+                              "matrices sparse (scipy.sparse.save_npz or .mtx)")
+    count = math.prod(shape)
+    if max_entries is not None and count > max_entries:
+        raise FileRefused(f"{what} holds {count} entries; at most {max_entries} here")
+    nbytes = count * dtype.itemsize
+    if nbytes > available:
+        raise FileRefused(f"{what} claims {nbytes} bytes of data but the file holds fewer")
+    array = np.frombuffer(_read_exact(handle, nbytes, what), dtype=dtype)
+    return array.reshape(shape, order="F" if fortran else "C")
+
+
+def _dense(array: np.ndarray, what: str = "the matrix") -> np.ndarray:
+    out = np.array(array, dtype=float)  # a writable copy in native byte order
+    if not np.all(np.isfinite(out)):
+        raise FileRefused(f"{what} holds non-finite entries (inf or nan)")
+    return out
+
+
+def _check_archive_directory(handle: IO[bytes], size: int) -> None:
+    """Refuse archives whose central directory is large before zipfile reads it."""
+    tail_length = min(size, 22 + 65535)
+    handle.seek(size - tail_length)
+    tail = handle.read(tail_length)
+    at = tail.rfind(b"PK\x05\x06")
+    if at < 0 or len(tail) - at < 22:
+        raise FileRefused("it is not a valid .npz (zip) archive")
+    _, _, _, on_disk, total, directory_size, _, _ = struct.unpack("<4s4H2LH",
+                                                                    tail[at:at + 22])
+    if at >= 20 and tail[at - 20:at - 16] == b"PK\x06\x07":
+        raise FileRefused("it is a ZIP64 archive; .npz files of matrices within the limits "
+                          "are plain zip archives")
+    most = limits.MAX_ARCHIVE_MEMBERS
+    if max(on_disk, total) > most or directory_size > most * 1024:
+        raise FileRefused(f"the archive has more than {most} members; numpy and scipy write "
+                          "a few (resonant.model.limits.MAX_ARCHIVE_MEMBERS)")
+    handle.seek(0)
+
+
+def _read_npz(handle: IO[bytes], size: int, key: str) -> Any:
+    _check_archive_directory(handle, size)
+    try:
+        archive = zipfile.ZipFile(handle)
+    except Exception:  # noqa: BLE001
+        raise FileRefused("it is not a valid .npz (zip) archive") from None
+    with archive:
+        infos = archive.infolist()
+        if len(infos) > limits.MAX_ARCHIVE_MEMBERS:
+            raise FileRefused(f"the archive has more than {limits.MAX_ARCHIVE_MEMBERS} members")
+        members: dict[str, zipfile.ZipInfo] = {}
+        total = 0
+        for info in infos:
+            if info.flag_bits & 0x1:
+                raise FileRefused("the archive is encrypted")
+            if info.compress_type not in (zipfile.ZIP_STORED, zipfile.ZIP_DEFLATED):
+                raise FileRefused("the archive uses a compression method numpy does not "
+                                  "write; only stored and deflated members are read")
+            if info.file_size > limits.MAX_COMPRESSION_RATIO * max(info.compress_size, 1):
+                raise FileRefused("a member of the archive claims to expand more than "
+                                  f"{limits.MAX_COMPRESSION_RATIO}-fold; not a numpy archive")
+            total += info.file_size
+            if info.filename.endswith(".npy"):
+                name = info.filename[:-4]
+                if name in members:
+                    raise FileRefused("the archive holds two arrays of the same name")
+                members[name] = info
+        if total > limits.MAX_DECOMPRESSED_BYTES:
+            raise FileRefused(f"the archive's arrays take {total} bytes decompressed; "
+                              f"limited to {limits.MAX_DECOMPRESSED_BYTES} "
+                              "(resonant.model.limits.MAX_DECOMPRESSED_BYTES)")
+        if SPARSE_NPZ_KEYS <= set(members):  # written by scipy.sparse.save_npz
+            return _read_sparse(archive, members)
+        if key in members:
+            chosen = members[key]
+        elif len(members) == 1:
+            chosen = next(iter(members.values()))
+        else:
+            raise FileRefused(f"the archive holds {len(members)} arrays but none named "
+                              f"'{key}'; name the array like the matrix (numpy.savez(file, "
+                              f"{key}=...)) or store only one")
+        with archive.open(chosen) as member:
+            return _dense(_read_npy(member, "the array", chosen.file_size, matrix=True))
+
+
+def _member(archive: zipfile.ZipFile, members: dict[str, zipfile.ZipInfo], name: str,
+            max_entries: int, text: bool = False) -> np.ndarray:
+    info = members.get(name)
+    if info is None:
+        raise FileRefused(f"the sparse matrix has no '{name}' array")
+    with archive.open(info) as member:
+        return _read_npy(member, f"its '{name}' array", info.file_size, text=text,
+                         max_entries=max_entries)
+
+
+def _index(array: np.ndarray, name: str, length: int, upper: int) -> np.ndarray:
+    """An integer index array of ``length`` entries, each in [0, upper)."""
+    if array.ndim != 1 or array.dtype.kind not in "iu":
+        raise FileRefused(f"its '{name}' array must be a 1-D array of integers")
+    if array.shape[0] != length:
+        raise FileRefused(f"its '{name}' array has {array.shape[0]} entries; expected {length}")
+    if length and (array.min() < 0 or array.max() >= upper):
+        raise FileRefused(f"its '{name}' array holds an index outside 0..{upper - 1}")
+    return array.astype(np.int64)
+
+
+def _read_sparse(archive: zipfile.ZipFile, members: dict[str, zipfile.ZipInfo]) -> Any:
+    """A sparse matrix in scipy's save_npz layout, validated before scipy builds it."""
+    import scipy.sparse
+
+    fmt_array = _member(archive, members, "format", 1, text=True)
+    fmt = fmt_array.item() if fmt_array.ndim == 0 else None
+    if isinstance(fmt, bytes):
+        fmt = fmt.decode("ascii", "replace")
+    if fmt not in SPARSE_FORMATS:
+        named = f"'{fmt}' " if fmt in ("bsr", "dia", "lil", "dok") else "an unknown format "
+        raise FileRefused(f"the sparse matrix is stored in {named}; save it as csr, csc or coo")
+    shape = _member(archive, members, "shape", 2)
+    if shape.shape != (2,) or shape.dtype.kind not in "iu":
+        raise FileRefused("its 'shape' array must hold two integers")
+    n = _check_size(shape[0], shape[1], "the sparse matrix")
+    data = _member(archive, members, "data", limits.MAX_MATRIX_NONZEROS)
+    _check_dtype(data.dtype, "the sparse matrix")
+    if data.ndim != 1:
+        raise FileRefused("its 'data' array must be 1-D")
+    nnz = data.shape[0]
+    values = _dense(data, "the sparse matrix")
+    if fmt == "coo":
+        rows = _index(_member(archive, members, "row", nnz), "row", nnz, n)
+        cols = _index(_member(archive, members, "col", nnz), "col", nnz, n)
+    else:
+        indptr = _index(_member(archive, members, "indptr", n + 1), "indptr", n + 1, nnz + 1)
+        if indptr[0] != 0 or indptr[-1] != nnz or np.any(np.diff(indptr) < 0):
+            raise FileRefused(f"its 'indptr' array must rise from 0 to {nnz} (the number of "
+                              "stored entries) without decreasing")
+        indices = _index(_member(archive, members, "indices", nnz), "indices", nnz, n)
+        outer = np.repeat(np.arange(n, dtype=np.int64), np.diff(indptr))
+        rows, cols = (outer, indices) if fmt == "csr" else (indices, outer)
+    matrix = scipy.sparse.coo_matrix((values, (rows, cols)), shape=(n, n)).tocsr()
+    matrix.sum_duplicates()
+    return matrix
+
+
+MTX_FIELDS = ("real", "integer", "complex", "pattern")
+
+
+class _StreamForScipy:
+    """Only ``read(n)``, which never raises: scipy's C++ Matrix Market reader aborts
+    the whole process (``terminate``) when the Python stream it reads raises, and
+    fails on some real file objects; an error ends the stream and scipy reports
+    a truncated file instead."""
+
+    def __init__(self, handle: IO[bytes]) -> None:
+        self.handle = handle
+
+    def read(self, size: int = -1) -> bytes:
+        if size is None or size < 0 or size > 1 << 24:
+            size = 1 << 24
+        try:
+            return self.handle.read(size)
+        except Exception:  # noqa: BLE001 - see the class docstring
+            return b""
+
+
+def _read_mtx(handle: IO[bytes], size: int) -> Any:
+    import scipy.io
+    import scipy.sparse
+
+    try:
+        rows, cols, entries, layout, field, symmetry = scipy.io.mminfo(
+            _StreamForScipy(handle))
+    except Exception:  # noqa: BLE001
+        raise FileRefused("it is not a valid Matrix Market file (it must start with "
+                          "'%%MatrixMarket matrix' and a size line)") from None
+    if field not in ("real", "integer"):
+        named = f"{field} " if field in MTX_FIELDS else "non-numeric "
+        raise FileRefused(f"it holds {named}entries; M, K and C must be real numbers")
+    if layout not in ("coordinate", "array"):
+        raise FileRefused("it is neither a coordinate nor an array Matrix Market file")
+    n = _check_size(rows, cols, "the matrix")
+    entries = int(entries)
+    if layout == "array":
+        if n * n > limits.MAX_DENSE_ENTRIES:
+            raise FileRefused(f"the matrix is a dense {n}x{n} matrix; dense matrices are "
+                              f"limited to {limits.MAX_DENSE_ENTRIES} entries "
+                              "(resonant.model.limits.MAX_DENSE_ENTRIES)")
+        least = n * n // 2
+    else:
+        stored = entries * (1 if symmetry == "general" else 2)
+        if entries < 0 or stored > limits.MAX_MATRIX_NONZEROS:
+            raise FileRefused(f"the matrix has {entries} stored entries; sparse matrices are "
+                              f"limited to {limits.MAX_MATRIX_NONZEROS} "
+                              "(resonant.model.limits.MAX_MATRIX_NONZEROS)")
+        least = entries * 6  # "1 1 1\n" is the shortest entry line
+    if least > size:
+        raise FileRefused(f"its size line claims more entries than the file's {size} bytes "
+                          "can hold")
+    handle.seek(0)
+    try:
+        matrix = scipy.io.mmread(_StreamForScipy(handle))
+    except ValueError as exc:  # fast_matrix_market: "Line 4: Row index out of bounds"
+        first = str(exc).splitlines()[0] if str(exc) else ""
+        detail = "".join(c for c in first[:160] if c.isprintable())
+        raise FileRefused("it is not a valid Matrix Market file" +
+                          (f": {detail}" if detail else "")) from None
+    if not scipy.sparse.issparse(matrix):
+        array = np.asarray(matrix)
+        _check_dtype(array.dtype, "the matrix")
+        if array.shape != (n, n):
+            raise FileRefused("the matrix does not match its size line")
+        return _dense(array)
+    coo = matrix.tocoo()
+    _check_dtype(coo.data.dtype, "the matrix")
+    if coo.shape != (n, n):
+        raise FileRefused("the matrix does not match its size line")
+    nnz = coo.data.shape[0]
+    rows_ = _index(np.asarray(coo.row), "row", nnz, n)
+    cols_ = _index(np.asarray(coo.col), "col", nnz, n)
+    out = scipy.sparse.coo_matrix((_dense(coo.data), (rows_, cols_)), shape=(n, n)).tocsr()
+    out.sum_duplicates()
+    return out
 
 
 def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
-                     coordinates: Sequence[str], source: str, base_dir: Path) -> MatrixSpec:
-    """Validate ``[matrices]`` and ``[[harmonic]]``; every problem in one ModelError."""
+                     coordinates: Sequence[str], source: str, base_dir: Path | None,
+                     allow_paths: Sequence[str | os.PathLike[str]] = ()) -> MatrixSpec:
+    """Validate ``[matrices]`` and ``[[harmonic]]``; every problem in one ModelError.
+
+    ``base_dir`` is the model file's folder (None for a model given as text:
+    file references are then refused); ``allow_paths`` are further directories
+    matrix files may be read from.
+    """
 
     problems: list[Problem] = []
     if not isinstance(section, dict):
         raise ModelError(Problem("[matrices] must be a table with M, K and optionally C",
                                  source, "matrices"))
-    if isinstance(section.get("harmonic"), list) and not harmonics:
-        harmonics = section["harmonic"]
+    if "harmonic" in section:
+        inner = section["harmonic"]
+        if not isinstance(inner, list) or not all(isinstance(h, dict) for h in inner):
+            problems.append(Problem(
+                "harmonic inside [matrices] must be an array of tables (harmonic = [{ omega "
+                "= ..., F_S = [...] }] or [[matrices.harmonic]]); or use top-level "
+                "[[harmonic]] tables", source, "matrices", "harmonic"))
+        elif harmonics and inner:
+            problems.append(Problem("give the harmonics either as top-level [[harmonic]] "
+                                    "tables or inside [matrices], not both", source,
+                                    "matrices", "harmonic"))
+        else:
+            harmonics = inner
     matrices: dict[str, Any] = {}
     for key, value in section.items():
         if key == "harmonic":
@@ -67,23 +505,9 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
             continue
         if isinstance(value, str) and value.lower().endswith(FILE_SUFFIXES):
             try:
-                array = _read_file((base_dir / value), key)
-            except Exception as exc:  # noqa: BLE001 - any unreadable file is the user's input
+                matrices[key] = read_matrix_file(value, key, base_dir, allow_paths)
+            except FileRefused as exc:
                 problems.append(Problem(f"cannot read '{value}': {exc}", source, "matrices", key))
-                continue
-            if not (hasattr(array, "shape") and len(array.shape) == 2
-                    and array.shape[0] == array.shape[1]):
-                problems.append(Problem(f"'{value}' does not hold a square matrix", source,
-                                        "matrices", key))
-                continue
-            if not (np.issubdtype(array.dtype, np.integer)
-                    or np.issubdtype(array.dtype, np.floating)) or \
-                    not np.all(np.isfinite(array.data if hasattr(array, "tocsr") else array)):
-                problems.append(Problem(f"'{value}' holds non-real, non-numeric or non-finite "
-                                        "entries", source, "matrices", key))
-                continue
-            matrices[key] = array.tocsr().astype(float) if hasattr(array, "tocsr") else \
-                np.asarray(array, dtype=float)
         elif isinstance(value, list) and value and all(isinstance(r, list) for r in value):
             n = len(value)
             if any(len(row) != n for row in value):
@@ -158,4 +582,5 @@ def _entry(value: Any, params: Sequence[str], source: str, key: str,
 
 
 
-__all__ = ["read_matrix_spec", "MATRIX_KEYS", "FILE_SUFFIXES"]
+__all__ = ["read_matrix_spec", "read_matrix_file", "resolve_matrix_path", "open_regular_file",
+           "read_bounded", "FileRefused", "MATRIX_KEYS", "FILE_SUFFIXES"]

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import difflib
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 from typing import Any
@@ -27,6 +27,8 @@ from .. import hooks
 from ..deadline import Deadline
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
+from .exercise import Exercise
+from .parts import DerivedEnergies
 
 TIME = sympy.Symbol("t")
 
@@ -93,6 +95,11 @@ class Model:
     forces: tuple[Force, ...]
     outputs: Mapping[str, Expression]
     matrices: MatrixSpec | None = None
+    #: the teacher's ``[exercise]`` and ``[variants]`` (None without them)
+    exercise: Exercise | None = None
+    #: parts -> energies (``[[body]]``, ``[[spring]]``, ...; None without parts);
+    #: ``energy`` then holds the totals, ``parts.written`` what ``[energy]`` gives
+    parts: DerivedEnergies | None = None
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""
@@ -176,6 +183,13 @@ class Model:
         return hooks.call("simulate", self.linearize(deadline=options.get("deadline")),
                           duration, nonlinear, **options)
 
+    def nonlinear_sweep(self, param: str, start: float, stop: float, **options: Any) -> Any:
+        """Periodic steady state of the full equations against a parameter (harmonic
+        balance, continuation, stability): delegate to
+        :func:`resonant.analyses.harmonic_balance.nonlinear_sweep`."""
+        return hooks.call("nonlinear_sweep", self.linearize(deadline=options.get("deadline")),
+                          param, start, stop, **options)
+
     def _repr_latex_(self) -> str:
         return str(hooks.call("model_latex", self))
 
@@ -192,6 +206,17 @@ def unknown_parameter(name: str, source: str, params: Iterable[str]) -> Problem:
 
 # -- parameters ---------------------------------------------------------------------------
 
+def primed_names(expression: Expression) -> list[str]:
+    """The time derivatives (``k'``) in an expression that may only use constants."""
+    return sorted(name + "'" * primes for name, primes in expression.names() if primes)
+
+
+def constant_prime_message(primed: Sequence[str]) -> str:
+    """Why ``k'`` is refused where only parameters (constants) are allowed."""
+    return (f"{primed[0]} is the time derivative of a parameter; parameters are constants "
+            "and have no time derivative here (remove the prime)")
+
+
 def evaluate_parameters(params: Mapping[str, Expression], source: str
                          ) -> tuple[dict[str, sympy.Expr], dict[str, float]]:
     """Exact and floating values of the parameters, in declaration order."""
@@ -203,6 +228,10 @@ def evaluate_parameters(params: Mapping[str, Expression], source: str
         return exact[n] if p == 0 else sympy.Integer(0)
 
     for name, expression in params.items():
+        primed = primed_names(expression)
+        if primed:
+            problems.append(Problem(constant_prime_message(primed), source, "parameters", name))
+            continue
         try:
             value = expression.to_sympy(resolve)
         except ExpressionError as exc:
@@ -218,6 +247,8 @@ def evaluate_parameters(params: Mapping[str, Expression], source: str
             problems.append(Problem(f"'{expression.text}' is not a number", source,
                                     "parameters", name))
             continue
+        except (ArithmeticError, RecursionError):  # exp(cosh(1e300)): beyond any precision
+            number = complex(math.inf)
         if abs(number.imag) > 1e-12 * max(1.0, abs(number.real)):
             problems.append(Problem(f"'{expression.text}' is not a real number ({number})",
                                     source, "parameters", name))
@@ -236,4 +267,5 @@ def evaluate_parameters(params: Mapping[str, Expression], source: str
 
 
 __all__ = ["Model", "Force", "Harmonic", "MatrixSpec", "symbol", "TIME", "evaluate_parameters",
+           "primed_names", "constant_prime_message",
            "unknown_parameter"]

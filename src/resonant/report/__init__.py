@@ -29,6 +29,7 @@ from .derivation import derive
 from .html import render_html
 from .latex import render_latex
 from .markdown import render_markdown
+from .nonlinear import beyond_small_oscillations
 from .steps import Context, step_order
 
 #: largest energy model whose derivation the report shows step by step
@@ -37,8 +38,12 @@ MAX_DERIVED = 12
 FORMATS = {".html": "html", ".htm": "html", ".md": "md", ".markdown": "md", ".tex": "tex"}
 
 
-def build_report(model: Model, plots: bool = True) -> Report:
+def build_report(model: Model, plots: bool = True, nonlinear: bool = False) -> Report:
     """The worked solution of ``model`` as a list of blocks.
+
+    ``nonlinear=True`` adds the section "Beyond small oscillations" (the periodic steady
+    state of the full equations by harmonic balance, :mod:`resonant.report.nonlinear`)
+    for a forced model, before the warnings.
 
     Raises
     ------
@@ -52,8 +57,11 @@ def build_report(model: Model, plots: bool = True) -> Report:
     # coordinates it would cost what a full symbolic Lagrange derivation costs
     derivation = derive(eom) if isinstance(eom, LinearEOM) and eom.n <= MAX_DERIVED else None
     ctx = Context(model, eom, solution, derivation, plots=plots)
+    steps = step_order(ctx)
+    if nonlinear and ctx.eom.excitation:
+        steps.insert(len(steps) - 1, beyond_small_oscillations)  # before the warnings
     blocks = []
-    for step in step_order(ctx):
+    for step in steps:
         blocks.extend(step(ctx))
     return Report(model.title or Path(model.source).stem or "Worked solution", tuple(blocks))
 

@@ -4,8 +4,8 @@ The report explains where each entry of M, C, K and Q(t) comes from, as in
 the reference exercise (Eqs. (2)-(6), (15)-(31)).  Everything here is
 computed from the *full* nonlinear expressions of T, D, U and of the
 generalized forces (:class:`resonant.derivation.nonlinear.SympyOps`), independently of
-the jet arithmetic of :mod:`resonant.linearize`, and then checked against the
-:class:`~resonant.linearize.LinearEOM`: the report can only show numbers that
+the jet arithmetic of :mod:`resonant.derivation.lagrange`, and then checked against the
+:class:`~resonant.system.LinearEOM`: the report can only show numbers that
 the solver also uses.
 
 Examples

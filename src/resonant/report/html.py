@@ -1,16 +1,21 @@
-"""HTML writer: one self-contained page, math as MathML, plots as inline SVG.
+"""HTML writer: one self-contained page, formulas and plots as inline SVG.
 
 No JavaScript, no web fonts, no external files: the page opens offline in any
-modern browser (MathML Core is rendered natively by Chromium 109+, Firefox and
-Safari).  LaTeX is converted to MathML with ``latex2mathml``; should a formula
-ever fail to convert, its LaTeX source is shown instead of breaking the page.
+modern browser and looks the same whatever fonts the reader has.  Formulas are
+drawn as SVG with ``ziamath`` and its bundled STIX Two Math font (stretchy
+brackets need an OpenType math font, which a plain system lacks); each glyph is
+defined once per page.  A visually hidden MathML copy (``latex2mathml``) is kept
+for screen readers, and a formula ziamath cannot draw is shown as MathML.  Wide
+display formulas are broken between their top-level pieces, and a piece wider
+than the page is scaled down, so nothing is cut on screen or in print.
 """
 
 from __future__ import annotations
 
 import html
 
-from ..views.mathml import latex_to_mathml as _math
+from ..errors import printable
+from ..views.mathml import SvgMath
 from .blocks import (
     Equation,
     Figure,
@@ -24,11 +29,17 @@ from .blocks import (
 )
 from .plots import to_svg
 
+
+def _text(text: str) -> str:
+    """Model text for HTML: control and bidi characters shown as escapes, then HTML-escaped."""
+    return html.escape(printable(text, limit=None))
+
+
 CSS = """
 :root { color-scheme: light; }
 body { margin: 0; background: #f4f2ee; color: #1d1d1f;
   font-family: "STIX Two Text", "Latin Modern Roman", "Computer Modern Serif", Cambria,
-    "Noto Serif", "DejaVu Serif", Georgia, serif;
+    "Times New Roman", "Liberation Serif", Tinos, "Noto Serif", "DejaVu Serif", Georgia, serif;
   font-size: 17px; line-height: 1.55; }
 main { max-width: 60rem; margin: 2rem auto; background: #fff; padding: 2.5rem 3.5rem 3rem;
   box-shadow: 0 1px 4px rgba(0,0,0,.12); border-radius: 2px; }
@@ -39,9 +50,17 @@ h3 { font-size: 1.08rem; margin: 1.6rem 0 .4rem; font-weight: 600; font-style: i
 p { margin: .55rem 0; text-align: justify; hyphens: auto; }
 math { font-family: "STIX Two Math", "Latin Modern Math", "Cambria Math", "Noto Sans Math",
   math; font-size: 1.06em; }
+svg.m { overflow: visible; max-width: 100%; height: auto; }
+svg.glyphs { position: absolute; width: 0; height: 0; overflow: hidden; }
+.mathml { position: absolute; width: 1px; height: 1px; margin: -1px; padding: 0;
+  overflow: hidden; clip-path: inset(50%); white-space: nowrap; }
+.mp { display: inline-block; max-width: 100%; }
+.g-quad { margin-left: 1.2em; }
+.g-space { margin-left: .35em; }
 .equation { display: flex; align-items: center; gap: 1rem; margin: .7rem 0; }
-.equation .body { flex: 1 1 auto; overflow-x: auto; overflow-y: hidden; padding: .15rem 0; }
-.equation .body math { margin: 0 auto; }
+.equation .body { flex: 1 1 auto; min-width: 0; text-align: center; padding: .15rem 0;
+  line-height: 1.2; }
+.equation .body > math { margin: 0 auto; overflow-x: auto; max-width: 100%; }
 .equation .number { flex: 0 0 auto; color: #444; min-width: 2.8rem; text-align: right; }
 table { border-collapse: collapse; margin: .8rem auto; min-width: 50%; }
 th, td { padding: .3rem .9rem; text-align: left; }
@@ -54,31 +73,37 @@ figcaption { font-size: .92rem; color: #333; margin-top: .3rem; text-align: left
   margin: .6rem 0; }
 .source { color: #555; font-size: .95rem; }
 code { font-family: "DejaVu Sans Mono", monospace; font-size: .9em; }
-@media print { body { background: #fff; } main { box-shadow: none; margin: 0; } }
+@media print {
+  body { background: #fff; font-size: 11pt; }
+  main { box-shadow: none; margin: 0; padding: 0; max-width: none; }
+  .equation, figure, table { break-inside: avoid; }
+  svg.m, figure svg { max-width: 100%; height: auto; }
+}
 """
 
 
-def _inline(parts: tuple[Part, ...]) -> str:
-    return "".join(_math(p.latex, False) if isinstance(p, Math) else html.escape(p)
-                   for p in parts)
-
-
 def render_html(report: Report) -> str:
+    math = SvgMath()
+
+    def _inline(parts: tuple[Part, ...]) -> str:
+        return "".join(math.inline(p.latex) if isinstance(p, Math) else _text(p)
+                       for p in parts)
+
     out = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
            '<meta name="viewport" content="width=device-width, initial-scale=1">',
-           f"<title>{html.escape(report.title)}</title>",
+           f"<title>{_text(report.title)}</title>",
            '<meta name="generator" content="resonant report">',
-           f"<style>{CSS}</style>", "</head>", "<body>", "<main>",
-           f"<h1>{html.escape(report.title)}</h1>"]
+           f"<style>{CSS}</style>", "</head>", "<body>", "", "<main>",
+           f"<h1>{_text(report.title)}</h1>"]
     for block in report.blocks:
         if isinstance(block, Heading):
             level = min(6, block.level)
-            out.append(f"<h{level}>{html.escape(block.text)}</h{level}>")
+            out.append(f"<h{level}>{_text(block.text)}</h{level}>")
         elif isinstance(block, Paragraph):
             out.append(f"<p>{_inline(block.parts)}</p>")
         elif isinstance(block, Equation):
             number = f"({block.number})" if block.number is not None else ""
-            out.append(f'<div class="equation"><div class="body">{_math(block.latex, True)}'
+            out.append(f'<div class="equation"><div class="body">{math.display(block.latex)}'
                        f'</div><div class="number">{number}</div></div>')
         elif isinstance(block, Table):
             head = "".join(f"<th>{_inline(c)}</th>" for c in block.header)
@@ -89,6 +114,7 @@ def render_html(report: Report) -> str:
             out.append(f'<p class="note"><b>Warning:</b> {_inline(block.parts)}</p>')
         elif isinstance(block, Figure):
             out.append(f"<figure>{to_svg(block.plot, block.number)}<figcaption>Figure "
-                       f"{block.number}: {html.escape(block.caption)}</figcaption></figure>")
+                       f"{block.number}: {_text(block.caption)}</figcaption></figure>")
+    out[out.index("<body>") + 1] = math.glyphs()
     out += ["</main>", "</body>", "</html>"]
     return "\n".join(out) + "\n"

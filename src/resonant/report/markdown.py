@@ -9,6 +9,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from ..errors import printable
 from .blocks import (
     Equation,
     Figure,
@@ -26,7 +27,7 @@ _SPECIAL = re.compile(r"([\\`*_\[\]<>#|$])")
 
 
 def _escape(text: str) -> str:
-    return _SPECIAL.sub(r"\\\1", text)
+    return _SPECIAL.sub(r"\\\1", printable(text, limit=None))
 
 
 def _inline(parts: tuple[Part, ...]) -> str:

@@ -26,11 +26,12 @@ import math
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 import sympy
 
+from ..analyses.stationary import common_period
 from ..analyses.sweep import sweep
 from ..system import LinearSystem
 from ..views.notation import name_latex
@@ -67,12 +68,23 @@ class TimeHistory:
     t: np.ndarray
     values: Mapping[str, np.ndarray]
     period: float
+    #: whether ``period`` is the common period of every excitation frequency
+    periodic: bool = True
 
     def to_dict(self) -> dict:
         return {"t": self.t.tolist(), "values": {k: v.tolist() for k, v in self.values.items()}}
 
 
-PlotData = FrequencyResponse | TimeHistory
+class DrawnPlot(Protocol):
+    """Plot data of another step that draws itself (the nonlinear frequency-response curve of
+    :mod:`resonant.report.nonlinear`)."""
+
+    def draw(self, figure: Any) -> None: ...  # pragma: no cover
+
+    def to_dict(self) -> dict: ...  # pragma: no cover
+
+
+PlotData = FrequencyResponse | TimeHistory | DrawnPlot
 
 
 # -- data ----------------------------------------------------------------------------------
@@ -144,15 +156,20 @@ def _swept_parameter(eom: LinearEOM, w0: float) -> str | None:
 
 
 def time_history(solution: StationarySolution, points: int = 600) -> TimeHistory | None:
-    """Two periods of the slowest excitation frequency; None without a harmonic excitation."""
+    """Two periods of the excitation (the common period of all its frequencies; of the
+    slowest one when they are incommensurate); None without a harmonic excitation."""
     moving = [h.omega for h in solution.harmonics if h.omega > 0]
     n = len(solution.eom.coordinates)
     if not moving or n > MAX_PLOT_COORDINATES:
         return None
-    period = 2 * math.pi / min(moving)
+    common = common_period(moving)
+    period = common if common is not None else 2 * math.pi / min(moving)
+    fastest = max(moving)
+    points = int(min(20_000, max(points, 60 * 2 * period * fastest / (2 * math.pi))))
     t = np.linspace(0.0, 2 * period, points)
     response = solution.response(t)
-    return TimeHistory(t, {c: response[c] for c in solution.eom.coordinates}, period)
+    return TimeHistory(t, {c: response[c] for c in solution.eom.coordinates}, period,
+                       common is not None)
 
 
 # -- drawing ---------------------------------------------------------------------------------
@@ -163,6 +180,9 @@ def _label(name: str) -> str:
 
 def draw(plot: PlotData, figure) -> None:
     """Draw ``plot`` on a matplotlib figure."""
+    if not isinstance(plot, FrequencyResponse | TimeHistory):
+        plot.draw(figure)
+        return
     ax = figure.add_subplot(1, 1, 1)
     if isinstance(plot, FrequencyResponse):
         for name, amp in plot.amplitudes.items():
@@ -222,5 +242,5 @@ def save(plot: PlotData, path, number: int) -> None:
         _figure(plot).savefig(path, metadata=metadata)
 
 
-__all__ = ["FrequencyResponse", "TimeHistory", "PlotData", "frequency_response",
+__all__ = ["FrequencyResponse", "TimeHistory", "DrawnPlot", "PlotData", "frequency_response",
            "time_history", "draw", "to_svg", "save"]

@@ -21,8 +21,10 @@ import numpy as np
 import sympy
 
 from ..analyses import StationarySolution
+from ..analyses.modes import modes
 from ..derivation import derivative_symbol
 from ..derivation.lagrange import signal_derivatives
+from ..expressions import numeric_value
 from ..model import Model, symbol
 from ..system import LinearEOM
 from ..system.stability import undamped_eigen
@@ -845,6 +847,16 @@ def _numeric_system(ctx: Context, response) -> list[Block]:
 
 # -- Task 3 ---------------------------------------------------------------------------------
 
+def _reference_values(ctx: Context) -> dict[str, float]:
+    """The numeric reference state q0 of every coordinate ([equilibrium], else 0)."""
+    values = ctx.model.parameter_values
+    out = {}
+    for c in ctx.eom.coordinates:
+        expression = ctx.model.equilibrium.get(c)
+        out[c] = float(numeric_value(expression, values)) if expression is not None else 0.0
+    return out
+
+
 def excursions(ctx: Context) -> list[Block]:
     sol = ctx.solution
     if not sol.available or not sol.harmonics:
@@ -865,9 +877,15 @@ def excursions(ctx: Context) -> list[Block]:
         blocks.append(paragraph("With several frequencies, the maximal excursion is the peak "
                                 "of the sum over the common period:"))
     rows = []
+    shifted = {c: q0 for c, q0 in _reference_values(ctx).items() if q0 != 0}
+    if shifted:
+        blocks.append(paragraph(
+            "The coordinates " + ", ".join(ctx.namer(c) for c in shifted) + " oscillate "
+            "about their reference values, so their excursions are deviations from them, "
+            "written with a Δ:"))
     for k, c in enumerate(coords):
         amp = sol.amplitudes[c]
-        name = ctx.namer(c)
+        name = (r"\Delta " + ctx.namer(c)) if c in shifted else ctx.namer(c)
         if single:
             L, N = sol.output_harmonics[c][0]
             phase = sol.phases.get(c)
@@ -879,13 +897,25 @@ def excursions(ctx: Context) -> list[Block]:
         else:
             blocks.append(ctx.equation(rf"\max_{{t}} \left|{name}(t)\right| = "
                                        f"{number_latex(amp)},", label=f"X:{c}"))
+        if c in shifted:  # the absolute values a reader expects
+            q0 = shifted[c]
+            plain = ctx.namer(c)
+            blocks.append(ctx.equation(
+                rf"{plain}_{{0}} = {number_latex(q0)}, \quad {plain}(t) \in "
+                rf"[{number_latex(q0 - amp)},\ {number_latex(q0 + amp)}],",
+                label=f"range:{c}"))
         rows.append((c, amp))
     outputs = ctx.eom.outputs
     if outputs:
         blocks.append(paragraph("The outputs of the model are linearized like everything "
                                 "else:"))
+    deviation = {c: sympy.Symbol(f"Delta_{c}") for c in shifted}
+    for c, s in deviation.items():
+        ctx.names[s] = r"\Delta " + ctx.namer(c)
     for name, out in outputs.items():
-        lin = out.value + sum((coef * derivative_symbol(v, order)
+        # linear in the deviations: Delta r (not r) where the reference value is not zero
+        lin = out.value + sum((coef * (deviation[v] if order == 0 and v in deviation
+                                       else derivative_symbol(v, order))
                                for (v, order), coef in out.terms.items()), sympy.Integer(0))
         given = expression_latex(ctx.model.outputs[name], ctx.namer)
         pretty = ctx.namer(name)
@@ -908,7 +938,8 @@ def excursions(ctx: Context) -> list[Block]:
     table_rows = []
     for name in [*coords, *outputs]:
         phase = sol.phases.get(name)
-        table_rows.append((cell(_m(ctx.namer(name))), cell(_m(number_latex(sol.amplitudes[name]))),
+        label = (r"\Delta " + ctx.namer(name)) if name in shifted else ctx.namer(name)
+        table_rows.append((cell(_m(label)), cell(_m(number_latex(sol.amplitudes[name]))),
                            cell(_m(number_latex(phase))) if phase is not None else cell("")))
     blocks.append(paragraph("Summary of the stationary response:"))
     blocks.append(Table(header, tuple(table_rows)))
@@ -951,10 +982,29 @@ def natural_frequencies(ctx: Context, with_modes: bool = False) -> list[Block]:
         blocks.append(ctx.equation(text + ".", label="omega-n"))
     else:
         blocks.append(paragraph("There is no positive eigenvalue: no natural frequency."))
-    if with_modes and ctx.n <= MAX_MATRIX:
+    if ctx.n <= MAX_MATRIX and freqs.size:
         blocks.extend(_modes(ctx))
+        blocks.extend(_modal_damping(ctx))
     blocks.extend(_stability(ctx))
     return blocks
+
+
+def _modal_damping(ctx: Context) -> list[Block]:
+    """Modal damping ratios (proportional damping) or those of the complex modes."""
+    num = ctx.solution.eom
+    if not np.any(num.C):
+        return []
+    analysis = modes(num)
+    zetas = analysis.damping_ratios
+    if not zetas.size:
+        return []
+    how = ("The damping is proportional (the undamped modes decouple it); the modal "
+           "damping ratios are" if analysis.proportional_damping else
+           "The damping is not proportional; from the complex eigenvalues s of the state "
+           "matrix, the damping ratios -Re s/|s| are")
+    text = r", \quad ".join(rf"\zeta_{{{i + 1}}} = {number_latex(z)}"
+                            for i, z in enumerate(zetas))
+    return [paragraph(how), ctx.equation(text + ".", label="zeta")]
 
 
 def _modes(ctx: Context) -> list[Block]:
@@ -1027,8 +1077,13 @@ def plots(ctx: Context) -> list[Block]:
                                  f"frequency ({how}); dots: the operating point, dashed: the "
                                  "excitation frequency, dotted: the natural frequencies."))
     if history is not None:
-        blocks.append(ctx.figure(history, "The stationary solution over two periods of the "
-                                 "excitation."))
+        several = len([h for h in ctx.solution.harmonics if h.omega > 0]) > 1
+        what = ("two periods of the excitation" if not several else
+                f"two common periods (T = {history.period:.4g} s) of the excitation's "
+                "frequencies" if history.periodic else
+                "two periods of the slowest excitation frequency (the frequencies are "
+                "incommensurate: the excitation is not periodic)")
+        blocks.append(ctx.figure(history, f"The stationary solution over {what}."))
     return blocks
 
 

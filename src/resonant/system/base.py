@@ -129,12 +129,13 @@ class LinearSystem(ABC):
         return self.model
 
     # -- conveniences: one-line delegates to the analyses ------------------------------------
-    def stationary(self, **overrides: float | str) -> Any:
+    def stationary(self, deadline: Deadline = NO_DEADLINE, **overrides: float | str) -> Any:
         """The stationary solution for harmonic excitation
         (:func:`resonant.analyses.stationary.stationary`).
 
         Parameters
         ----------
+        deadline : Deadline, optional
         **overrides
             Parameter values replacing the model's.
 
@@ -142,7 +143,7 @@ class LinearSystem(ABC):
         -------
         StationarySolution
         """
-        return hooks.call("stationary", self, **overrides)
+        return hooks.call("stationary", self, deadline, **overrides)
 
     def modes(self, count: int | None = None, **options: Any) -> Any:
         """Natural frequencies, mode shapes, damping ratios

@@ -17,6 +17,7 @@ import numpy as np
 import sympy
 
 from ..errors import AnalysisError, ModelError, Problem
+from ..expressions import compilable
 
 Var = tuple[str, int]
 
@@ -144,6 +145,7 @@ def compile_expressions(expressions: Sequence[sympy.Expr], symbols: Sequence[sym
                 if isinstance(e, sympy.Basic) and e.has(sympy.zoo, sympy.nan, sympy.oo)]
     for i in infinite:
         expressions[i] = sympy.Integer(0)
+    expressions = [compilable(e) for e in expressions]
     if len(expressions) >= SYMENGINE_MIN_EXPRESSIONS:
         compiled = _symengine_compiled(expressions, symbols)
         if compiled is not None:

@@ -47,6 +47,27 @@ def check_mass_matrix(M: np.ndarray, names: tuple[str, ...] = ()) -> None:
             "(a zero mass, or a coordinate that does not appear in T?)")
 
 
+def mass_warning(M: np.ndarray) -> str | None:
+    """A warning naming M when the (dense, symmetric) mass matrix is not positive definite.
+
+    Examples
+    --------
+    >>> mass_warning(-np.eye(2))[:40]
+    'the mass matrix M is negative definite ('
+    >>> mass_warning(np.eye(2)) is None
+    True
+    """
+    if M.size == 0 or M.ndim != 2 or not np.all(np.isfinite(M)) or not np.allclose(M, M.T):
+        return None
+    eig = np.linalg.eigvalsh(M)
+    if eig[0] >= 0:
+        return None
+    kind = "negative definite" if eig[-1] < 0 else "indefinite (not positive definite)"
+    return (f"the mass matrix M is {kind} (eigenvalues from {eig[0]:.4g} to {eig[-1]:.4g}): "
+            "a negative mass or inertia, so the kinetic energy is not positive; the natural "
+            "frequencies and the results are not physical (check the signs in T or M)")
+
+
 def _require_finite(what: str, *arrays: np.ndarray) -> None:
     """AnalysisError (exit 3) instead of a LinAlgError or NaN results further on."""
     if not all(np.all(np.isfinite(a)) for a in arrays):

@@ -34,8 +34,8 @@ import numpy as np
 import sympy
 
 from .. import hooks
-from ..errors import printable
 from ..derivation import derivative_symbol
+from ..errors import printable
 from ..model import Model, symbol
 from ..system import LinearEOM, MatrixEOM, NumericEOM
 from .mathml import latex_to_mathml
@@ -55,14 +55,14 @@ if TYPE_CHECKING:  # pragma: no cover
 
 
 def _matrix_text(matrix: np.ndarray, indent: str = "    ") -> str:
-    rows = [[f"{v: .6g}" for v in row] for row in np.atleast_2d(matrix)]
+    rows = [[f"{v + 0.0: .6g}" for v in row] for row in np.atleast_2d(matrix)]  # no -0
     width = max((len(c) for row in rows for c in row), default=1)
     return "\n".join(indent + "[" + "  ".join(c.rjust(width) for c in row) + "]"
                      for row in rows)
 
 
 def _vector_text(vector: np.ndarray) -> str:
-    return "[" + ", ".join(f"{v:.6g}" for v in vector) + "]"
+    return "[" + ", ".join(f"{v + 0.0:.6g}" for v in vector) + "]"  # -0 printed as 0
 
 
 def _pretty(expr: sympy.Basic, indent: str = "    ") -> str:
@@ -87,14 +87,16 @@ def solution_text(sol: StationarySolution) -> str:
     out.append("linearized equation of motion:  M q'' + C q' + K q = Q(t)")
     # the symbolic form where it says more than the numbers (energies, not given matrices)
     sym = e.system if isinstance(e.system, LinearEOM) else None
-    for label, numeric in (("M", e.M), ("C", e.C), ("K", e.K)):
+    # headings say what the matrix is: a parameter may be called M, C or L too
+    for key, label, numeric in (("M", "mass matrix M", e.M), ("C", "damping matrix C", e.C),
+                                ("K", "stiffness matrix K", e.K)):
         out.append(f"  {label} =")
         if sym is not None:
-            out.append(_pretty(getattr(sym, label)))
+            out.append(_pretty(getattr(sym, key)))
             out.append("    =")
         out.append(_matrix_text(numeric))
     if sym is not None:
-        out.append("  Q(t) =")
+        out.append("  excitation Q(t) =")
         out.append(_pretty(sym.Q))
     out.append("")
     freqs = sol.natural_frequencies
@@ -117,8 +119,8 @@ def solution_text(sol: StationarySolution) -> str:
             out.append(f"  {head}")
             out.append(f"    F_S = {_vector_text(h.F_S)}")
             out.append(f"    F_C = {_vector_text(h.F_C)}")
-            out.append(f"    L   = {_vector_text(h.L)}")
-            out.append(f"    N   = {_vector_text(h.N)}")
+            out.append(f"    cos coefficients L = {_vector_text(h.L)}")
+            out.append(f"    sin coefficients N = {_vector_text(h.N)}")
         out.append("  amplitudes (peak deviation) and phases delta = atan2(L, N):")
         width = max(len(n) for n in sol.amplitudes)
         for name, amp in sol.amplitudes.items():
@@ -252,7 +254,14 @@ def modes_text(result: Any) -> str:
         out.append(f"{j + 1:>4}  {w:14.6g}  {w / (2 * math.pi):12.6g}  {zeta}   [{shape}]")
     if result.damped:
         out.append("")
-        if result.rayleigh is not None:
+        if result.rayleigh is not None and len(names) <= 2:
+            # with two coordinates every C that commutes with M^-1 K is some a M + b K:
+            # the fit says nothing about the damping, the modal ratios do
+            out.append("proportional damping: the modes decouple C (with two coordinates "
+                       "every such C is a M + b K); modal damping ratios: " + ", ".join(
+                           f"zeta_{j + 1} = {z:.4g}"
+                           for j, z in enumerate(result.damping_ratios)))
+        elif result.rayleigh is not None:
             a, b = result.rayleigh
             out.append(f"proportional (Rayleigh) damping: C = {a:.6g} M + {b:.6g} K")
         elif result.proportional_damping:

@@ -279,7 +279,8 @@ def plot_modes(analysis: ModalAnalysis, path: Any = None, count: int | None = 6,
     for j, panel in enumerate(panels):
         _draw_mode(panel, analysis, j)
     if ax is None:
-        fig.suptitle(printable(analysis.title or "mode shapes", limit=80) + " (largest component +1)",
+        fig.suptitle(printable(analysis.title or "mode shapes", limit=80)
+                     + " (largest component +1)",
                      fontsize=10)
         fig.tight_layout()
     _save(fig, path, dpi=150, bbox_inches="tight")
@@ -371,7 +372,8 @@ def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None) -> Any:
                    frameon=False)
         start = {"rest": "from rest", "stationary": "from the stationary initial state",
                  "given": "from the given initial state"}[sim.start]
-        fig.suptitle(f"{printable(sim.title or 'simulation', limit=80)} — {kind}, {start}", fontsize=11)
+        title = printable(sim.title or "simulation", limit=80)
+        fig.suptitle(f"{title} — {kind}, {start}", fontsize=11)
     else:
         panels[0].legend(fontsize=8, loc="best")
     _save(fig, path, dpi=120)

@@ -1,0 +1,315 @@
+"""Backbone curves: the amplitude-dependent free-vibration frequency of each mode.
+
+The undamped, unforced system (the model's signals set to zero, its dissipation
+function D = 0) has, near each linear mode, a family of periodic solutions (a
+nonlinear normal mode) whose frequency depends on the amplitude.  They are
+computed by harmonic balance (:mod:`resonant.analyses.harmonic_balance`: the
+same full Lagrange equations, the alternating frequency-time residual and the
+exact Jacobian) with the frequency W as an unknown, and two more conditions:
+
+* the phase: the sine coefficient b_1 of the mode's reference coordinate (its
+  largest component) is zero;
+* the amplitude: its cosine coefficient a_1 is the continuation parameter A.
+
+The system is made square by the usual fictitious damping term ``xi M q'``
+(Krack & Gross, Harmonic Balance for Nonlinear Vibration Problems, 2019, Sect.
+4.5): xi is an unknown that comes out zero (to rounding) for a conservative
+system, and its value is reported.  The Jacobian with respect to x, W and xi is
+exact.  A is continued from small amplitude (the linear mode shape and natural
+frequency) to the given amplitude, with step halving when Newton fails.
+
+Examples
+--------
+>>> from resonant.model import loads
+>>> model = loads('''
+... [parameters]
+... k3 = 0.5
+... [coordinates]
+... x = ""
+... [energy]
+... T = "x'^2/2"
+... U = "x^2/2 + k3*x^4/4"
+... ''')
+>>> b = backbone(model, amplitude=1.0, harmonics=1, points=11)
+>>> float(b.curves[0].frequencies[-1]) == round((1 + 0.75 * 0.5) ** 0.5, 15)
+True
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+from pathlib import Path
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .. import hooks
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import AnalysisError
+from ..expressions import parse
+from ..model import Model
+from ..system import LinearSystem
+from ..system.stability import undamped_eigen
+from .harmonic_balance import NEWTON_MAX, NEWTON_TOL, _amplitudes, _Equations, _HarmonicBalance
+from .stationary import freeze_fields
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
+DEFAULT_HARMONICS = 5
+DEFAULT_POINTS = 41
+#: without an amplitude, continue until the frequency has changed by this fraction
+DEFAULT_SHIFT = 0.2
+
+
+@dataclass(frozen=True)
+class BackboneCurve:
+    """One mode's backbone: frequency against amplitude.
+
+    ``amplitude`` is the continuation parameter A (the first-harmonic cosine coefficient of
+    ``reference``); ``amplitudes`` the peak |deviation| of every coordinate over a period.
+    """
+
+    mode: int
+    reference: str
+    linear_frequency: float
+    amplitude: np.ndarray
+    frequencies: np.ndarray
+    amplitudes: Mapping[str, np.ndarray]
+    coefficients: np.ndarray
+    damping: float
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"mode": self.mode, "reference": self.reference,
+                "linear_frequency": self.linear_frequency,
+                "amplitude": self.amplitude.tolist(), "frequencies": self.frequencies.tolist(),
+                "amplitudes": {k: v.tolist() for k, v in self.amplitudes.items()},
+                "fictitious_damping": self.damping}
+
+
+@dataclass(frozen=True)
+class Backbones:
+    """The backbone curves of the modes of a model (``resonant modes --nonlinear``)."""
+
+    title: str
+    coordinates: tuple[str, ...]
+    harmonics: int
+    curves: tuple[BackboneCurve, ...]
+    residual: float
+    warnings: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"title": self.title, "coordinates": list(self.coordinates),
+                "harmonics": self.harmonics, "residual": self.residual,
+                "backbones": [c.to_dict() for c in self.curves],
+                "warnings": list(self.warnings)}
+
+    def plot(self, path: str | Path | None = None, **options: Any) -> Figure:
+        """Frequency against amplitude, one curve per mode."""
+        return hooks.call("plot_backbones", self, path, **options)
+
+    def summary(self) -> str:
+        lines = [f"{self.title or 'model'}: backbone curves (free vibration of the full "
+                 f"undamped equations, harmonic balance, H = {self.harmonics}; largest "
+                 f"residual {self.residual:.3g})"]
+        for c in self.curves:
+            lines.append(f"  mode {c.mode} (amplitude of {c.reference}): linear "
+                         f"{c.linear_frequency:.6g} rad/s")
+            picks = sorted({0, c.amplitude.size // 4, c.amplitude.size // 2,
+                            3 * c.amplitude.size // 4, c.amplitude.size - 1})
+            for i in picks:
+                lines.append(f"    {c.reference} = {c.amplitudes[c.reference][i]:<12.6g} "
+                             f"omega = {c.frequencies[i]:.6g} rad/s "
+                             f"({100 * (c.frequencies[i] / c.linear_frequency - 1):+.3g}%)")
+        return "\n".join(lines) + "\n"
+
+
+def _free_model(model: Model) -> Model:
+    """The model with every signal zero and no dissipation."""
+    zero = parse("0")
+    return replace(model,
+                   signals=MappingProxyType({name: zero for name in model.signals}),
+                   energy=MappingProxyType({**model.energy, "D": zero}))
+
+
+class _Free:
+    """Residual and exact Jacobian in y = [x, W, xi] with the phase and amplitude rows."""
+
+    def __init__(self, hb: _HarmonicBalance, M: np.ndarray, ref: int) -> None:
+        self.hb, self.M, self.ref = hb, M, ref
+        self.n, self.m = hb.n, hb.m
+        self.pv = hb.eqs.pvals
+
+    def system(self, y: np.ndarray, A: float) -> tuple[np.ndarray, np.ndarray]:
+        hb, n, m = self.hb, self.n, self.m
+        x, W, xi = y[:-2], float(y[-2]), float(y[-1])
+        X = x.reshape(n, m)
+        v1 = X @ hb.dphi.T            # dq/dtau
+        v2 = X @ hb.d2phi.T           # d2q/dtau2
+        q = hb.eqs.equilibrium[:, None] + X @ hb.phi.T
+        E, G0, G1, G2 = hb.eqs(hb.tau, q, W * v1, W * W * v2, self.pv)
+        Mv = self.M @ v1
+        R = hb.project(E + xi * W * Mv)
+        G1d = G1 + xi * self.M[:, :, None]
+        J = hb.galerkin((G0, hb.phi), (G1d, W * hb.dphi), (G2, W * W * hb.d2phi))
+        dW = hb.project(np.einsum("ijk,jk->ik", G1d, v1)
+                        + 2 * W * np.einsum("ijk,jk->ik", G2, v2))
+        dxi = hb.project(W * Mv)
+        size = n * m
+        full = np.zeros((size + 2, size + 2))
+        full[:size, :size] = J
+        full[:size, size] = dW
+        full[:size, size + 1] = dxi
+        a1, b1 = self.ref * m + 1, self.ref * m + 2
+        full[size, b1] = 1.0
+        full[size + 1, a1] = 1.0
+        res = np.concatenate([R, [x[b1], x[a1] - A]])
+        return res, full
+
+    def newton(self, y: np.ndarray, A: float) -> tuple[np.ndarray, bool]:
+        for _ in range(NEWTON_MAX):
+            res, J = self.system(y, A)
+            try:
+                dy = np.linalg.solve(J, -res)
+            except np.linalg.LinAlgError:
+                return y, False
+            y = y + dy
+            if not np.all(np.isfinite(y)) or y[-2] <= 0:
+                return y, False
+            if np.linalg.norm(dy) <= NEWTON_TOL * max(float(np.linalg.norm(y)), abs(A)):
+                return y, True
+        return y, False
+
+
+def _follow(free: _Free, y0: np.ndarray, A0: float, targets: np.ndarray, deadline: Deadline
+            ) -> tuple[list[np.ndarray], str | None]:
+    """Solve at every target amplitude in turn from the solution y0 at A0 (secant
+    predictor, step halving)."""
+    out: list[np.ndarray] = []
+    y_prev, A_prev = y0, A0
+    slope = np.zeros_like(y0)
+    for A in targets:
+        deadline.check(f"while following a backbone curve (amplitude {A:.4g})", analysis=True)
+        A_now, y_now = A_prev, y_prev
+        step = A - A_prev
+        while A_now < A:
+            trial = min(A, A_now + step)
+            y, ok = free.newton(y_now + slope * (trial - A_now), trial)
+            if ok:
+                if trial > A_now:
+                    slope = (y - y_now) / (trial - A_now)
+                A_now, y_now = trial, y
+            else:
+                step /= 2
+                if step < 1e-9 * max(A, 1e-300):
+                    return out, f"no converged solution beyond amplitude {A_now:.6g}"
+        out.append(y_now)
+        y_prev, A_prev = y_now, A
+    return out, None
+
+
+@hooks.provides("backbone")
+def backbone(system_or_model: LinearSystem | Model, amplitude: float | None = None, *,
+             harmonics: int | None = None, points: int = DEFAULT_POINTS,
+             modes: list[int] | None = None, deadline: Deadline = NO_DEADLINE) -> Backbones:
+    """Backbone curves of the modes: frequency of free vibration against amplitude.
+
+    Parameters
+    ----------
+    system_or_model : LinearSystem or Model
+        A model given by its energies.
+    amplitude : float, optional
+        The largest amplitude A (first-harmonic amplitude of each mode's reference
+        coordinate).  Default: doubled from 1e-3 of the unit until the frequency has
+        changed by 20 % (at most 2^30 times).
+    harmonics : int, optional
+        H (default 5).
+    points : int
+        Amplitudes from A/points to A, evenly spaced.
+    modes : list of int, optional
+        1-based mode numbers (default all modes with a positive natural frequency).
+    """
+    model = system_or_model if isinstance(system_or_model, Model) else system_or_model._model()
+    if model.matrices is not None:
+        raise AnalysisError("a [matrices] model has no nonlinear equations: backbone curves "
+                            "need a model given by its energies")
+    if harmonics is not None and not 1 <= harmonics <= 200:
+        raise AnalysisError(f"harmonics must be between 1 and 200, not {harmonics}")
+    if points < 2:
+        raise AnalysisError("points must be at least 2")
+    if amplitude is not None and not (math.isfinite(amplitude) and amplitude > 0):
+        raise AnalysisError(f"the amplitude must be a positive number, not {amplitude}")
+    if not model.parameters:
+        raise AnalysisError("backbone curves need a model with parameters")
+    free_model = _free_model(model)
+    param = next(iter(model.parameters))
+    num = model.linearize(deadline=deadline).numeric(deadline).dense()
+    lam, shapes = undamped_eigen(num.M, num.K)
+    H = harmonics or DEFAULT_HARMONICS
+    eqs = _Equations(free_model, autonomous=True)
+    hb = _HarmonicBalance(eqs, param, H)
+    n = eqs.n
+    chosen = modes or [k + 1 for k in range(n) if lam[k] > 0]
+    curves = []
+    warnings: list[str] = []
+    residual = 0.0
+    for mode in chosen:
+        if not 1 <= mode <= n or lam[mode - 1] <= 0:
+            raise AnalysisError(f"mode {mode} has no positive natural frequency")
+        w0 = math.sqrt(float(lam[mode - 1]))
+        shape = shapes[:, mode - 1].real
+        ref = int(np.argmax(np.abs(shape)))
+        shape = shape / shape[ref]
+        free = _Free(hb, num.M, ref)
+
+        def start(A: float, shape: np.ndarray = shape, w0: float = w0) -> np.ndarray:
+            x = np.zeros((n, hb.m))
+            x[:, 1] = A * shape
+            return np.concatenate([x.ravel(), [w0, 0.0]])
+
+        small = 1e-6 * (amplitude or 1.0)
+        y0, ok = free.newton(start(small), small)
+        if not ok:
+            raise AnalysisError(f"harmonic balance did not converge near mode {mode}'s "
+                                "linear solution")
+        top = amplitude
+        if top is None:  # double until the frequency has moved by DEFAULT_SHIFT
+            A, y, A_prev = 1e-3, y0, small
+            for _ in range(31):
+                got, _ = _follow(free, y, A_prev, np.array([A]), deadline)
+                if not got:
+                    A /= 2
+                    break
+                y, A_prev = got[0], A
+                if abs(y[-2] / w0 - 1) >= DEFAULT_SHIFT:
+                    break
+                A *= 2
+            top = A
+        targets = np.linspace(top / points, top, points)
+        solutions, stopped = _follow(free, y0, small, targets, deadline)
+        if stopped:
+            warnings.append(f"mode {mode}: {stopped}; the curve ends there")
+        if not solutions:
+            continue
+        Y = np.array(solutions)
+        coeffs = Y[:, :-2].reshape(len(solutions), n, hb.m)
+        amps = _amplitudes(coeffs, H)
+        for y, A in zip(solutions, targets):
+            residual = max(residual, float(np.abs(free.system(y, A)[0][:-2]).max()))
+        curves.append(BackboneCurve(
+            mode=mode, reference=model.coordinates[ref], linear_frequency=w0,
+            amplitude=targets[:len(solutions)], frequencies=Y[:, -2],
+            amplitudes=MappingProxyType({c: amps[:, j] for j, c in
+                                         enumerate(model.coordinates)}),
+            coefficients=coeffs, damping=float(np.abs(Y[:, -1]).max())))
+    return Backbones(title=model.title, coordinates=tuple(model.coordinates), harmonics=H,
+                     curves=tuple(curves), residual=residual, warnings=tuple(warnings))
+
+
+__all__ = ["Backbones", "BackboneCurve", "backbone"]

@@ -1,0 +1,252 @@
+"""The periodic steady state of the full equations at fixed parameters (one Newton solve).
+
+:func:`periodic_solution` solves the harmonic balance of
+:mod:`resonant.analyses.harmonic_balance` at the model's parameter values, from
+the linear stationary solution, with Newton's method and the exact Jacobian:
+no continuation.  H is raised from 7 until the highest harmonics carry less
+than 1e-6 of the amplitude (at most 40) unless given.  The result carries the
+Fourier coefficients, the initial state q(0), q'(0) (so that a simulation can
+start on the periodic orbit), the peak amplitudes, the linear stationary
+amplitudes and their relative difference, and the Floquet multipliers (Hill's
+method).
+
+It is what ``simulate(..., nonlinear=True)`` starts on for an undamped or
+lightly damped model (start ``"periodic"``): a run from rest, or from the
+linear stationary state, would beat forever around the periodic orbit, so its
+peak over a window is not a steady state.
+
+Examples
+--------
+>>> from resonant.model import loads
+>>> model = loads('''
+... [parameters]
+... omega = 3
+... [coordinates]
+... x = ""
+... [signals]
+... F = "0.1*cos(omega*t)"
+... [energy]
+... T = "x'^2/2"
+... U = "x^2/2 + x^4/4"
+... [[force]]
+... generalized = { x = "F" }
+... ''')
+>>> p = periodic_solution(model, harmonics=5)
+>>> p.residual < 1e-12, round(p.amplitudes["x"], 6), round(p.linear_amplitudes["x"], 6)
+(True, 0.012496, 0.0125)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from .. import hooks
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import AnalysisError
+from ..model import Model
+from ..system import LinearSystem
+from .harmonic_balance import (
+    DEFAULT_HARMONICS,
+    MAX_HARMONICS,
+    STABILITY_TOL,
+    TRUNCATION_TOL,
+    _amplitudes,
+    _Equations,
+    _HarmonicBalance,
+    _resize,
+    _truncation,
+)
+from .stationary import freeze_fields
+
+
+@dataclass(frozen=True)
+class PeriodicSolution:
+    """One periodic solution of the full equations (harmonic balance at fixed parameters).
+
+    Attributes
+    ----------
+    coefficients : numpy.ndarray
+        (n, 2H+1): per coordinate ``[a_0, a_1, b_1, ..., a_H, b_H]`` of the deviation
+        from the reference state, in the time ``tau = W t``.
+    base_frequency : float
+        W (rad/s); the period is ``2 pi / W``.
+    initial : mapping
+        ``{x: q(0), x': q'(0)}``: deviations and velocities at t = 0.
+    amplitudes : mapping
+        Peak |deviation| over one period.
+    linear_amplitudes, relative_difference : mapping
+        The linear stationary amplitudes and ``amplitude / linear - 1``.
+    multipliers : numpy.ndarray
+        The 2n Floquet multipliers (Hill's method); ``stable`` when all |mu| <= 1 + 1e-6.
+    residual : float
+        max |R| of the harmonic balance; ``truncation`` the relative amplitude of the
+        highest harmonic pair.
+    """
+
+    title: str
+    coordinates: tuple[str, ...]
+    harmonics: int
+    coefficients: np.ndarray
+    base_frequency: float
+    initial: Mapping[str, float]
+    amplitudes: Mapping[str, float]
+    linear_amplitudes: Mapping[str, float]
+    relative_difference: Mapping[str, float]
+    multipliers: np.ndarray
+    stable: bool
+    residual: float
+    truncation: float
+    warnings: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
+    @property
+    def period(self) -> float:
+        return 2 * math.pi / self.base_frequency
+
+    def response(self, t: np.ndarray) -> dict[str, np.ndarray]:
+        """The deviations q(t) of the periodic solution at times t."""
+        tau = self.base_frequency * np.asarray(t, dtype=float)
+        k = np.arange(1, self.harmonics + 1)
+        c, s = np.cos(np.multiply.outer(tau, k)), np.sin(np.multiply.outer(tau, k))
+        return {name: self.coefficients[j, 0] + c @ self.coefficients[j, 1::2]
+                + s @ self.coefficients[j, 2::2] for j, name in enumerate(self.coordinates)}
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "title": self.title,
+            "harmonics": self.harmonics,
+            "base_frequency": self.base_frequency,
+            "period": self.period,
+            "initial": dict(self.initial),
+            "amplitudes": dict(self.amplitudes),
+            "linear_amplitudes": dict(self.linear_amplitudes),
+            "relative_difference": dict(self.relative_difference),
+            "stable": self.stable,
+            "multipliers": [[float(m.real), float(m.imag)] for m in self.multipliers],
+            "residual": self.residual,
+            "truncation": self.truncation,
+            "coefficients": {name: [[float(c[0])]] + [[float(c[2 * k - 1]), float(c[2 * k])]
+                                                      for k in range(1, self.harmonics + 1)]
+                             for name, c in zip(self.coordinates, self.coefficients)},
+            "warnings": list(self.warnings),
+        }
+
+    def summary(self) -> str:
+        lines = [f"{self.title or 'model'}: periodic solution of the full equations "
+                 f"(harmonic balance, H = {self.harmonics}, period {self.period:.6g} s, "
+                 f"{'stable' if self.stable else 'unstable'})"]
+        for name in self.coordinates:
+            lin = self.linear_amplitudes.get(name)
+            diff = self.relative_difference.get(name)
+            lines.append(f"  {name}: amplitude {self.amplitudes[name]:.6g}"
+                         + (f", linear {lin:.6g}" if lin is not None else "")
+                         + (f" ({100 * diff:+.3g}%)" if diff is not None else ""))
+        return "\n".join(lines) + "\n"
+
+
+def _model_and_system(system_or_model: LinearSystem | Model, deadline: Deadline
+                      ) -> tuple[Model, LinearSystem]:
+    if isinstance(system_or_model, Model):
+        return system_or_model, system_or_model.linearize(deadline=deadline)
+    return system_or_model._model(), system_or_model
+
+
+@hooks.provides("periodic_solution")
+def periodic_solution(system_or_model: LinearSystem | Model, harmonics: int | None = None, *,
+                      deadline: Deadline = NO_DEADLINE) -> PeriodicSolution:
+    """The periodic solution of the full equations near the linear stationary solution.
+
+    Parameters
+    ----------
+    system_or_model : LinearSystem or Model
+        A model given by its energies (not ``[matrices]``), with a periodic excitation.
+    harmonics : int, optional
+        H; default: 7, raised by 4 until the highest harmonics carry less than 1e-6 (at
+        most 40).
+
+    Raises
+    ------
+    AnalysisError
+        When Newton's method does not converge from the linear stationary solution (the
+        response is too far from linear, or there is no periodic solution nearby), for a
+        ``[matrices]`` model or a non-periodic excitation.
+    """
+    model, system = _model_and_system(system_or_model, deadline)
+    if model.matrices is not None:
+        raise AnalysisError("a [matrices] model has no nonlinear equations: a periodic "
+                            "solution of the full equations needs a model given by its "
+                            "energies")
+    if harmonics is not None and not 1 <= harmonics <= 200:
+        raise AnalysisError(f"harmonics must be between 1 and 200, not {harmonics}")
+    if not model.parameters:
+        raise AnalysisError("the model has no parameters, so no excitation frequency")
+    eqs = _Equations(model)
+    n = eqs.n
+    param = next(iter(model.parameters))
+    p = float(model.parameter_values[param])
+    solution = system.stationary(deadline=deadline)
+    H = harmonics or DEFAULT_HARMONICS
+    hb = _HarmonicBalance(eqs, param, H)
+    W = eqs.base(hb.pvals(p))
+    X = np.zeros((n, hb.m))
+    for h in solution.harmonics:
+        k = int(round(h.omega / W))
+        if k == 0:
+            X[:, 0] += h.L
+        elif k <= H:
+            X[:, 2 * k - 1] += h.L
+            X[:, 2 * k] += h.N
+    scale = max(float(np.abs(X).max()), 1e-300)
+    deadline.check("before the harmonic balance", analysis=True)
+    x, ok = hb.newton(X.ravel(), p, scale)
+    if not ok:
+        raise AnalysisError("harmonic balance did not converge from the linear stationary "
+                            "solution: no periodic solution of the full equations near it "
+                            "(the response is far from linear)")
+    if harmonics is None:
+        while _truncation(x.reshape(1, n, hb.m), H)[0] > TRUNCATION_TOL and H < MAX_HARMONICS:
+            deadline.check("while raising the number of harmonics", analysis=True)
+            H_next = min(MAX_HARMONICS, H + 4)
+            trial = _HarmonicBalance(eqs, param, H_next)
+            x_next, ok = trial.newton(_resize(x, n, H, H_next), p, scale)
+            if not ok:
+                break
+            x, H, hb = x_next, H_next, trial
+    R, J, blocks = hb.jacobian(x, p)
+    lam = hb.exponents(J, blocks)
+    W = float(blocks[3])
+    mult = np.exp(lam * 2 * np.pi / W)
+    coeffs = x.reshape(n, hb.m)
+    amps = _amplitudes(coeffs[None], H)[0]
+    orders = np.arange(1, H + 1)
+    q0 = coeffs[:, 0] + coeffs[:, 1::2].sum(axis=1)
+    v0 = W * (coeffs[:, 2::2] @ orders)
+    names = tuple(model.coordinates)
+    amplitudes = {c: float(amps[j]) for j, c in enumerate(names)}
+    linear = {c: float(solution.amplitudes[c]) for c in names if c in solution.amplitudes}
+    relative = {c: amplitudes[c] / a - 1 for c, a in linear.items() if a > 0}
+    trunc = float(_truncation(coeffs[None], H)[0])
+    warnings = []
+    if trunc > TRUNCATION_TOL:
+        warnings.append(f"the highest harmonics carry {trunc:.3g} of the amplitude: raise "
+                        "harmonics for a more accurate solution")
+    return PeriodicSolution(
+        title=model.title, coordinates=names, harmonics=H, coefficients=coeffs,
+        base_frequency=W,
+        initial=MappingProxyType({**{c: float(q0[j]) for j, c in enumerate(names)},
+                                  **{c + "'": float(v0[j]) for j, c in enumerate(names)}}),
+        amplitudes=MappingProxyType(amplitudes), linear_amplitudes=MappingProxyType(linear),
+        relative_difference=MappingProxyType(relative), multipliers=mult,
+        stable=bool(np.all(np.abs(mult) <= 1 + STABILITY_TOL)),
+        residual=float(np.abs(R).max()), truncation=trunc, warnings=tuple(warnings))
+
+
+__all__ = ["PeriodicSolution", "periodic_solution"]

@@ -1,0 +1,432 @@
+"""A planar mechanism described by its parts (../shared/spec/components.md).
+
+``gravity``, ``[[point]]``, ``[[body]]``, ``[[spring]]``, ``[[damper]]`` and
+``[[torque]]`` are read here into frozen types; :mod:`resonant.model.part_energies`
+turns them into T, U, D (the :class:`DerivedEnergies` stored on the model as
+``model.parts``).  Every problem is collected with file, section and key, the
+section naming the part (``spring "k"`` or ``spring 2``).
+
+Examples
+--------
+>>> problems = []
+>>> parts = read_parts({"body": [{"name": "cart", "mass": "m", "position": ["x", "0"]}]},
+...                    params=["m"], allowed=["m", "x"], source="m.toml", problems=problems)
+>>> parts.bodies[0].name, parts.bodies[0].position[0].text, problems
+('cart', 'x', [])
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Collection, Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any
+
+from ..errors import Problem
+from ..expressions import Expression, ExpressionError, parse, validate_name
+
+#: the part sections of a model file (besides the top-level key ``gravity``)
+PART_SECTIONS = ("point", "body", "spring", "damper", "torque")
+#: how the elongation of a spring or damper is given
+ELONGATION_KEYS = ("length", "along", "elongation")
+
+Vector = tuple[Expression, Expression]
+
+
+@dataclass(frozen=True)
+class FixedPoint:
+    """A ``[[point]]``: a point of the fixed frame, moving if its position holds a signal."""
+
+    name: str
+    position: Vector
+
+
+@dataclass(frozen=True)
+class Body:
+    """A ``[[body]]``: origin at ``position`` or at the ``pin`` point, turned by ``angle``."""
+
+    name: str
+    mass: Expression
+    inertia: Expression | None = None
+    position: Vector | None = None
+    pin: str | None = None
+    angle: Expression | None = None
+    centre: Vector | None = None
+    points: Mapping[str, Vector] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Link:
+    """A ``[[spring]]`` or ``[[damper]]`` between two points.
+
+    ``mode`` is ``"length"`` (exact geometry, free length ``length``), ``"along"``
+    (the change of (B - A) . e), ``"elongation"`` (the given expression) or
+    ``"free"`` (exact geometry, free length = the distance at the reference state).
+    """
+
+    kind: str
+    name: str
+    between: tuple[str, str]
+    coefficient: Expression
+    mode: str
+    length: Expression | None = None
+    along: Vector | None = None
+    elongation: Expression | None = None
+
+
+@dataclass(frozen=True)
+class Torque:
+    """A ``[[torque]]``: a moment acting on a body (on its angle)."""
+
+    name: str
+    body: str
+    moment: Expression
+
+
+@dataclass(frozen=True)
+class Parts:
+    """Everything a model file says about its parts, validated for structure."""
+
+    gravity: Expression | None = None
+    points: tuple[FixedPoint, ...] = ()
+    bodies: tuple[Body, ...] = ()
+    springs: tuple[Link, ...] = ()
+    dampers: tuple[Link, ...] = ()
+    torques: tuple[Torque, ...] = ()
+
+    def __bool__(self) -> bool:
+        return bool(self.points or self.bodies or self.springs or self.dampers
+                    or self.torques or self.gravity is not None)
+
+    def point_names(self) -> list[str]:
+        """Every name that may be used as a point: points, bodies, ``body.P``."""
+        names = [p.name for p in self.points] + [b.name for b in self.bodies]
+        names += [f"{b.name}.{p}" for b in self.bodies for p in b.points]
+        return names
+
+
+@dataclass(frozen=True)
+class Contribution:
+    """One part's share of T, U or D (``energy``), as model-language text."""
+
+    kind: str
+    name: str
+    energy: str
+    text: str
+
+
+@dataclass(frozen=True)
+class DerivedEnergies:
+    """Parts -> energies: the stage object stored on the model as ``model.parts``.
+
+    Attributes
+    ----------
+    parts : Parts
+        The parts as read.
+    contributions : tuple of Contribution
+        Each part's T, U or D, in the model's own symbols (``x'`` for a rate).
+    derived : mapping
+        ``"T"``/``"U"``/``"D"`` -> the sum of the parts' contributions (text).
+    written : mapping
+        What ``[energy]`` gives (parsed); ``model.energy`` holds the totals.
+    positions : mapping
+        Every named point -> its ``(x, y)`` in the fixed frame (text).
+    centres : mapping
+        Every body -> the ``(x, y)`` of its centre of gravity (text).
+    angles : mapping
+        Every body -> its absolute angle (text).
+    force_points : mapping
+        ``[[force]]`` name -> the named point it acts on.
+    """
+
+    parts: Parts
+    contributions: tuple[Contribution, ...]
+    derived: Mapping[str, str]
+    written: Mapping[str, Expression]
+    positions: Mapping[str, tuple[str, str]] = field(default_factory=dict)
+    centres: Mapping[str, tuple[str, str]] = field(default_factory=dict)
+    angles: Mapping[str, str] = field(default_factory=dict)
+    force_points: Mapping[str, str] = field(default_factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{"T", "U", "D", "parts": [{"kind", "name", "T"|"U"|"D"}]}`` (the derived ones)."""
+        return {**{key: self.derived.get(key, "0") for key in ("T", "U", "D")},
+                "parts": [{"kind": c.kind, "name": c.name, c.energy: c.text}
+                          for c in self.contributions]}
+
+
+# -- reading -------------------------------------------------------------------------------
+
+_KEYS = {
+    "point": ("name", "position"),
+    "body": ("name", "mass", "inertia", "position", "pin", "angle", "centre", "points"),
+    "spring": ("name", "between", "stiffness", *ELONGATION_KEYS),
+    "damper": ("name", "between", "damping", *ELONGATION_KEYS),
+    "torque": ("name", "body", "moment"),
+}
+
+
+class _Reader:
+    def __init__(self, params: Collection[str], allowed: Collection[str], source: str,
+                 problems: list[Problem]) -> None:
+        self.params, self.allowed = list(params), list(allowed)
+        self.source, self.problems = source, problems
+
+    def problem(self, message: str, section: str, key: str = "") -> None:
+        self.problems.append(Problem(message, self.source, section, key))
+
+    def expression(self, value: Any, section: str, key: str, constant: bool = False,
+                   position: bool = False) -> Expression | None:
+        if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+            self.problem(f"expected a number or an expression string, got "
+                         f"{type(value).__name__}", section, key)
+            return None
+        try:
+            expression = parse(value, allowed=self.allowed, file=self.source, section=section,
+                               key=key)
+        except ExpressionError as exc:
+            self.problems.extend(exc.problems)
+            return None
+        varying = sorted(n for n, _ in expression.names() if n not in self.params)
+        if constant and varying:
+            self.problem(f"{key or section} must be a constant: it may use parameters only, "
+                         f"not '{varying[0]}'", section, key)
+            return None
+        primed = sorted(n + "'" * p for n, p in expression.names() if p)
+        if (constant or position) and primed:
+            what = "a position (or angle)" if position else key
+            self.problem(f"{what} may not depend on a rate ({primed[0]}): it is a "
+                         "function of the coordinates and signals only", section, key)
+            return None
+        return expression
+
+    def vector(self, value: Any, section: str, key: str, position: bool = True
+               ) -> Vector | None:
+        if not isinstance(value, list) or len(value) != 2:
+            self.problem(f"{key} must be a list of two expressions [x, y] (the plane)",
+                         section, key)
+            return None
+        x = self.expression(value[0], section, f"{key}[0]", position=position)
+        y = self.expression(value[1], section, f"{key}[1]", position=position)
+        return (x, y) if x is not None and y is not None else None
+
+    def entries(self, data: Mapping[str, Any], kind: str) -> list[tuple[str, dict]]:
+        raw = data.get(kind, [])
+        if isinstance(raw, dict):
+            raw = [raw]
+        if not isinstance(raw, list):
+            self.problem(f"[[{kind}]] entries must be tables", kind)
+            return []
+        out = []
+        for i, entry in enumerate(raw, start=1):
+            if not isinstance(entry, dict):
+                self.problem(f"each [[{kind}]] must be a table", f"{kind} {i}")
+                continue
+            name = entry.get("name", f"{i}")
+            if not isinstance(name, str) or not name:
+                self.problem("name must be a non-empty string", f"{kind} {i}", "name")
+                name = f"{i}"
+            section = f"{kind} {i}" if "name" not in entry else f'{kind} "{name}"'
+            for key in entry:
+                if key not in _KEYS[kind]:
+                    close = difflib.get_close_matches(key, _KEYS[kind], n=1)
+                    hint = f"did you mean '{close[0]}'?" if close else \
+                        f"a {kind} has {', '.join(_KEYS[kind])}"
+                    self.problem(f"unknown key '{key}'; {hint}", section, key)
+            out.append((section, {**entry, "name": name}))
+        return out
+
+
+def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collection[str],
+               source: str, problems: list[Problem]) -> Parts:
+    """Read and validate the parts of a model file's TOML data.
+
+    ``params`` are the names a constant (mass, inertia, gravity) may use, ``allowed``
+    those of any other expression (as for ``[energy]``).  Problems are appended to
+    ``problems``; the parts that could be read are returned.
+    """
+    reader = _Reader(params, allowed, source, problems)
+    gravity = None
+    if "gravity" in data:
+        gravity = reader.expression(data["gravity"], "gravity", "", constant=True)
+    names: dict[str, str] = {}  # point or body name -> section
+
+    def declare(name: str, section: str) -> bool:
+        reason = validate_name(name)
+        if reason and name not in ("t",):
+            reader.problem(f"'{name}' cannot be used as a name: {reason}", section, "name")
+            return False
+        if name in names:
+            reader.problem(f"'{name}' is already the name of [[{names[name].split()[0]}]] "
+                           f"{names[name].split(' ', 1)[1]}; points and bodies need unique "
+                           "names", section, "name")
+            return False
+        names[name] = section
+        return True
+
+    points = []
+    for section, entry in reader.entries(data, "point"):
+        if "name" not in entry or not declare(entry["name"], section):
+            continue
+        if "position" not in entry:
+            reader.problem("a point needs a position = [x, y]", section, "position")
+            continue
+        position = reader.vector(entry["position"], section, "position")
+        if position is not None:
+            points.append(FixedPoint(entry["name"], position))
+
+    bodies = []
+    for section, entry in reader.entries(data, "body"):
+        ok = declare(entry["name"], section)
+        if "mass" not in entry:
+            reader.problem("a body needs a mass (0 for a massless link)", section, "mass")
+        mass = reader.expression(entry.get("mass", 0), section, "mass", constant=True)
+        inertia = reader.expression(entry["inertia"], section, "inertia", constant=True) \
+            if "inertia" in entry else None
+        has_position, has_pin = "position" in entry, "pin" in entry
+        if has_position == has_pin:
+            reader.problem("a body has exactly one of position (a body that translates) and "
+                           "pin (a body turning about a point of another)" if has_pin else
+                           "a body needs position = [x, y] or pin = \"point\"", section,
+                           "pin" if has_pin else "position")
+            ok = False
+        position = reader.vector(entry["position"], section, "position") \
+            if has_position else None
+        pin = entry.get("pin")
+        if has_pin and not isinstance(pin, str):
+            reader.problem("pin must name a point: \"body\", \"body.P\" or a [[point]]",
+                           section, "pin")
+            ok = False
+        angle = reader.expression(entry["angle"], section, "angle", position=True) \
+            if "angle" in entry else None
+        centre = reader.vector(entry["centre"], section, "centre") \
+            if "centre" in entry else None
+        body_points: dict[str, Vector] = {}
+        raw_points = entry.get("points", {})
+        if not isinstance(raw_points, dict):
+            reader.problem("points must be a table { P = [\"x\", \"y\"] } in the body's frame",
+                           section, "points")
+            raw_points = {}
+        for pname, value in raw_points.items():
+            reason = validate_name(pname)
+            if reason:
+                reader.problem(f"'{pname}' cannot be used as a point name: {reason}", section,
+                               f"points.{pname}")
+                continue
+            vector = reader.vector(value, section, f"points.{pname}")
+            if vector is not None:
+                body_points[pname] = vector
+        if ok and mass is not None and (position is not None or has_pin) \
+                and ("angle" not in entry or angle is not None) \
+                and ("centre" not in entry or centre is not None) \
+                and ("inertia" not in entry or inertia is not None):
+            bodies.append(Body(entry["name"], mass, inertia, position,
+                               pin if has_pin else None, angle, centre,
+                               MappingProxyType(body_points)))
+
+    known = {p.name for p in points} | {b.name for b in bodies}
+    known_points = set(Parts(points=tuple(points), bodies=tuple(bodies)).point_names())
+
+    def check_point(name: Any, section: str, key: str) -> bool:
+        if not isinstance(name, str):
+            reader.problem(f"{key} must name a point (a string)", section, key)
+            return False
+        if name in known_points:
+            return True
+        close = difflib.get_close_matches(name, sorted(known_points), n=1)
+        hint = f"; did you mean '{close[0]}'?" if close else \
+            f"; known points: {', '.join(sorted(known_points)) or 'none'}"
+        owner = name.split(".", 1)[0]
+        if "." in name and owner in known and owner not in {p.name for p in points}:
+            hint = f"; body '{owner}' has no point '{name.split('.', 1)[1]}'" + \
+                (f" (its points: {', '.join(sorted(b.points))})" if (b := next(
+                    x for x in bodies if x.name == owner)).points else "")
+        reader.problem(f"unknown point '{name}'{hint}", section, key)
+        return False
+
+    # pins: known points, no cycles
+    good = []
+    for body in bodies:
+        section = names.get(body.name, f'body "{body.name}"')
+        if body.pin is not None and not check_point(body.pin, section, "pin"):
+            continue
+        good.append(body)
+    bodies = good
+    by_name = {b.name: b for b in bodies}
+    in_cycle: set[str] = set()
+    for body in bodies:
+        chain, link = [body.name], body
+        while link.pin is not None:
+            owner = link.pin.split(".", 1)[0]
+            if owner not in by_name:
+                break
+            if owner in chain:
+                cycle = chain[chain.index(owner):] + [owner]
+                if not in_cycle.intersection(cycle):
+                    reader.problem("bodies are pinned to each other in a cycle: "
+                                   + " -> ".join(cycle) + "; one of them needs a position",
+                                   names.get(body.name, body.name), "pin")
+                in_cycle.update(cycle)
+                break
+            chain.append(owner)
+            link = by_name[owner]
+    bodies = [b for b in bodies if b.name not in in_cycle]
+
+    links: dict[str, list[Link]] = {"spring": [], "damper": []}
+    for kind, coefficient_key in (("spring", "stiffness"), ("damper", "damping")):
+        for section, entry in reader.entries(data, kind):
+            between = entry.get("between")
+            if not isinstance(between, list) or len(between) != 2:
+                reader.problem("between must name two points: between = [\"A\", \"B\"]",
+                               section, "between")
+                between = None
+            elif not all([check_point(between[0], section, "between[0]"),
+                          check_point(between[1], section, "between[1]")]):
+                between = None
+            if coefficient_key not in entry:
+                reader.problem(f"a {kind} needs its {coefficient_key}", section,
+                               coefficient_key)
+            coefficient = reader.expression(entry.get(coefficient_key, 0), section,
+                                            coefficient_key)
+            given = [key for key in ELONGATION_KEYS if key in entry]
+            if len(given) > 1:
+                reader.problem(f"give at most one of length, along and elongation, not "
+                               f"{' and '.join(given)}", section, given[1])
+                continue
+            mode = given[0] if given else "free"
+            length = along = elongation = None
+            if mode == "length":
+                length = reader.expression(entry["length"], section, "length")
+            elif mode == "along":
+                along = reader.vector(entry["along"], section, "along", position=False)
+            elif mode == "elongation":
+                elongation = reader.expression(entry["elongation"], section, "elongation",
+                                               position=True)
+            if between is None or coefficient is None or \
+                    (mode != "free" and length is None and along is None and elongation is None):
+                continue
+            links[kind].append(Link(kind, entry["name"], (between[0], between[1]),
+                                    coefficient, mode, length, along, elongation))
+
+    torques = []
+    for section, entry in reader.entries(data, "torque"):
+        body_name = entry.get("body")
+        if not isinstance(body_name, str) or body_name not in known:
+            reader.problem(f"unknown body {body_name!r}; a torque acts on a [[body]] "
+                           f"({', '.join(sorted(b.name for b in bodies)) or 'none declared'})",
+                           section, "body")
+            continue
+        if "moment" not in entry:
+            reader.problem("a torque needs its moment", section, "moment")
+            continue
+        moment = reader.expression(entry["moment"], section, "moment")
+        if moment is not None:
+            torques.append(Torque(entry["name"], body_name, moment))
+
+    return Parts(gravity, tuple(points), tuple(bodies), tuple(links["spring"]),
+                 tuple(links["damper"]), tuple(torques))
+
+
+__all__ = ["PART_SECTIONS", "ELONGATION_KEYS", "FixedPoint", "Body", "Link", "Torque", "Parts",
+           "Contribution", "DerivedEnergies", "read_parts"]

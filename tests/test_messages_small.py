@@ -1,0 +1,185 @@
+"""Issue 11, point 6: one message per mistake (a misspelled section, a failed definition)."""
+
+from __future__ import annotations
+
+from conftest import run_cli
+
+TYPO = """
+[parameter]
+m = 1
+k = 100
+[coordinates]
+x = ""
+[energy]
+T = "m*x'^2/2"
+U = "k*x^2/2"
+"""
+
+FAILED_DEFINITION = """
+[parameters]
+k = 100
+[coordinates]
+x = ""
+[definitions]
+ytip = "2*x + )"
+yy = "ytip*3"
+[energy]
+T = "x'^2/2"
+U = "k*x^2/2 + ytip^2 + yy^2"
+"""
+
+
+def test_misspelled_section_is_reported_once_with_a_suggestion(tmp_path):
+    path = tmp_path / "m.toml"
+    path.write_text(TYPO)
+    code, _, err = run_cli(["check", path])
+    assert code == 2
+    assert "did you mean 'parameters'?" in err
+    assert "unknown name" not in err  # no follow-on errors for m and k
+
+
+def test_failed_definition_is_not_reported_again_as_unknown(tmp_path):
+    path = tmp_path / "m.toml"
+    path.write_text(FAILED_DEFINITION)
+    code, _, err = run_cli(["check", path])
+    assert code == 2 and "[definitions] ytip" in err
+    assert "unknown name 'ytip'" not in err
+
+
+NAMED_LIKE_MATRICES = """
+[parameters]
+M = 2          # a parameter called M (a mass), C (a damping), L (a length)
+C = 0.5
+L = 1
+k = 50
+omega = 3
+[coordinates]
+x = ""
+[signals]
+F = "sin(omega*t)"
+[energy]
+T = "M*x'^2/2"
+U = "k*x^2/2 + 0*L"
+D = "C*x'^2/2"
+[[force]]
+generalized = { x = "-F" }
+"""
+
+
+def test_text_output_headings_zeros_and_phases(tmp_path):
+    path = tmp_path / "m.toml"
+    path.write_text(NAMED_LIKE_MATRICES)
+    code, out, _ = run_cli(["solve", path])
+    assert code == 0
+    for heading in ("mass matrix M =", "damping matrix C =", "stiffness matrix K =",
+                    "cos coefficients L =", "sin coefficients N ="):
+        assert heading in out
+    assert "-0 " not in out and "-0]" not in out and "-0," not in out
+
+
+def test_phases_lie_in_the_half_open_interval():
+    """delta = atan2(L, N) in (-pi, pi]: an undamped system below resonance driven by a
+    negative force has L = -0 and N < 0, i.e. delta = pi, never -pi."""
+    import math
+
+    from resonant.analyses.stationary import phase_angle
+    from resonant.model import loads
+
+    sol = loads(NAMED_LIKE_MATRICES.replace('D = "C*x\'^2/2"', "")).linearize().stationary()
+    assert math.isclose(sol.phases["x"], math.pi)
+    assert phase_angle(-0.0, -1.0) == math.pi and phase_angle(0.0, -1.0) == math.pi
+
+
+def test_two_coordinates_give_modal_ratios_not_a_rayleigh_fit():
+    """With two DOF any commuting C is a M + b K (e.g. a < 0): the text gives zeta_j."""
+    from resonant.model import loads
+
+    two = loads("""
+[parameters]
+m = 1
+k = 100
+[coordinates]
+x1 = ""
+x2 = ""
+[energy]
+T = "m*x1'^2/2 + m*x2'^2/2"
+U = "k*x1^2/2 + k*(x2 - x1)^2/2"
+D = "(1.9*x1'^2 - 2*x1'*x2' + 0.9*x2'^2)/2"   # C = -0.1 M + 0.01 K
+""")
+    result = two.linearize().modes()
+    assert result.proportional_damping and result.rayleigh is not None
+    text = result.summary()
+    assert "Rayleigh" not in text and "zeta_1 = " in text and "zeta_2 = " in text
+
+
+def test_two_frequency_report_shows_the_common_period(tmp_path):
+    """sin(2t) + sin(3t) repeats after 2 pi, not after pi (two periods of the slower one)."""
+    import math
+
+    from resonant.model import loads
+    from resonant.report.plots import time_history
+
+    model = loads("""
+[parameters]
+k = 100
+[coordinates]
+x = ""
+[signals]
+F = "sin(2*t) + 0.5*sin(3*t)"
+[energy]
+T = "x'^2/2"
+U = "k*x^2/2"
+D = "x'^2/2"
+[[force]]
+generalized = { x = "F" }
+""")
+    history = time_history(model.linearize().stationary())
+    assert history is not None and history.periodic
+    assert math.isclose(history.period, 2 * math.pi) and math.isclose(history.t[-1], 4 * math.pi)
+
+
+def test_report_writes_deviations_about_a_nonzero_reference(tmp_path):
+    """Issue 11, point 4: a spring pendulum with static sag (r0 = l0 + m g/k)."""
+    path = tmp_path / "sag.toml"
+    path.write_text("""
+[parameters]
+m = 1
+k = 100
+g = 9.81
+l0 = 0.5
+c = 0.5
+w = 5
+[coordinates]
+r = "length of the spring"
+[equilibrium]
+r = "l0 + m*g/k"
+[signals]
+F = "sin(w*t)"
+[energy]
+T = "m*r'^2/2"
+U = "k*(r - l0)^2/2 - m*g*r"
+D = "c*r'^2/2"
+[[force]]
+generalized = { r = "F" }
+[outputs]
+sag = "1000*(r - l0 - m*g/k)"
+""")
+    out = tmp_path / "sag.md"
+    code, _, err = run_cli(["report", path, "-o", out, "--no-plots"])
+    assert code == 0, err
+    text = out.read_text()
+    assert r"\Delta r_{\max} = X_{1}" in text and r"r_{\max} = X" not in text.replace(
+        r"\Delta r_{\max}", "")
+    assert r"\approx 1000 \Delta r" in text
+    assert r"r_{0} = 0.5981" in text
+
+
+def test_forced_report_shows_mode_shapes_and_modal_damping(tmp_path):
+    """Issue 11, point 6: mode shapes and modal damping ratios belong in the report."""
+    from conftest import EXAMPLES
+
+    out = tmp_path / "c3.md"
+    code, _, err = run_cli(["report", EXAMPLES / "chain3_damped.toml", "-o", out, "--no-plots"])
+    assert code == 0, err
+    text = out.read_text()
+    assert r"\mathbf{u}_{3} = " in text and r"\zeta_{1} = " in text
