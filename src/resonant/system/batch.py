@@ -139,6 +139,12 @@ def compile_expressions(expressions: Sequence[sympy.Expr], symbols: Sequence[sym
     if not expressions:
         return lambda *args: np.zeros(0)
     expressions = list(expressions)
+    if len(expressions) >= SYMENGINE_MIN_EXPRESSIONS:
+        # symengine evaluates in doubles: infinities give NaN/inf, exact integers of any
+        # size become floats, so no pass over the (large) expressions is needed first
+        compiled = _symengine_compiled(expressions, symbols)
+        if compiled is not None:
+            return compiled
     # zoo, nan, oo cannot be compiled (lambdify fails on them): they evaluate to NaN,
     # which the callers turn into an error naming the entry
     infinite = [i for i, e in enumerate(expressions)
@@ -146,10 +152,6 @@ def compile_expressions(expressions: Sequence[sympy.Expr], symbols: Sequence[sym
     for i in infinite:
         expressions[i] = sympy.Integer(0)
     expressions = [compilable(e) for e in expressions]
-    if len(expressions) >= SYMENGINE_MIN_EXPRESSIONS:
-        compiled = _symengine_compiled(expressions, symbols)
-        if compiled is not None:
-            return _with_infinite(compiled, infinite)
     fn = sympy.lambdify(list(symbols), expressions, modules="numpy", cse=True)
 
     def call(*args: Any) -> np.ndarray:
@@ -195,18 +197,6 @@ def _symengine_compiled(expressions: Sequence[sympy.Expr], symbols: Sequence[sym
         with np.errstate(all="ignore"):
             values = np.asarray(fn(table), dtype=float)  # (*shape, count)
         return np.moveaxis(values.reshape(*shape, count), -1, 0).astype(complex)
-    return call
-
-
-def _with_infinite(fn: Callable[..., np.ndarray], infinite: list[int]
-                   ) -> Callable[..., np.ndarray]:
-    if not infinite:
-        return fn
-
-    def call(*args: Any) -> np.ndarray:
-        out = fn(*args)
-        out[infinite] = np.nan
-        return out
     return call
 
 
