@@ -6,7 +6,14 @@ mutant under a per-input time budget.  Every outcome must be exit 0, 2 or 3 with
 message; exit 1 (internal error), a traceback, NaN in the JSON or a hang is a bug,
 and the input is saved under ``fuzz/crashes/``.
 
+A second generator (``fuzz/matrix_fuzz.py``, issue 10) builds hostile ``[matrices]``
+models -- ``.npy``/``.npz``/``.mtx`` files, hand-built zip archives, FIFOs, symbolic
+links, directories, escaping paths -- and runs each in a forked child (or a fresh
+interpreter, ``--isolation subprocess``) under ``RLIMIT_AS`` and the time budget, so a
+signal (SIGSEGV), a hang or a memory blow-up is recorded, not suffered.
+
     PYTHONPATH=src python fuzz/run_fuzz.py --minutes 5 [--seed 1] [--budget 10]
+        [--generators text,matrix] [--matrix-share 0.5] [--memory 1.5] [--rss-bound 1.0]
 
 The mutators are also used by ``tests/test_fuzz.py`` (a short run in CI).
 """
@@ -29,6 +36,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # matrix_fuzz
 EXAMPLES = sorted((ROOT / "examples").glob("*.toml"))
 
 #: hostile or awkward fragments spliced into expressions and values
@@ -262,20 +270,32 @@ def verdict(status: int | str, out: str, err: str, json_expected: bool) -> str |
 COMMANDS = (["solve", "--json"], ["check"], ["solve"], ["modes", "--json"])
 
 
-def fuzz_one(rng: random.Random, workdir: Path, budget: float, derivation_budget: float
-             ) -> tuple[str, str, str, int | str, str | None, str]:
-    """One mutant through one command: (example, mutator, command, status, bug, stderr)."""
+def fuzz_one(rng: random.Random, workdir: Path, budget: float, derivation_budget: float,
+             isolate: bool = False) -> tuple[str, str, str, int | str, str | None, str]:
+    """One mutant through one command: (example, mutator, command, status, bug, stderr).
+
+    ``isolate`` runs it in a forked child (``matrix_fuzz.run_forked``) instead of
+    in-process, so that a crash by a signal is recorded instead of ending the fuzzer."""
     example, kind, text = mutant(rng)
     path = workdir / f"fuzz_{example}"
     path.write_text(text, encoding="utf-8", errors="surrogateescape")
     command = rng.choice(COMMANDS)
     args = [command[0], str(path), "--timeout", str(derivation_budget), *command[1:]]
-    status, out, err = run_one(args, budget)
+    if isolate:
+        import matrix_fuzz
+
+        status, out, err, _, _ = matrix_fuzz.run_forked(args, budget)
+    else:
+        status, out, err = run_one(args, budget)
     return example, kind, command[0], status, verdict(status, out, err, "--json" in command), err
 
 
 def main(argv: list[str] | None = None) -> int:
+    import resource
+    import shutil
     import tempfile
+
+    import matrix_fuzz
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--minutes", type=float, default=5.0)
@@ -283,36 +303,93 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--budget", type=float, default=20.0, help="seconds per input")
     parser.add_argument("--derivation-budget", type=float, default=5.0,
                         help="--timeout passed to resonant (seconds)")
+    parser.add_argument("--generators", default="text,matrix",
+                        help="comma-separated: text (mutated examples, in-process), matrix "
+                             "(hostile [matrices] files and special files, one forked child "
+                             "per input)")
+    parser.add_argument("--matrix-share", type=float, default=0.5,
+                        help="fraction of inputs from the matrix generator when both run")
+    parser.add_argument("--isolation", choices=("fork", "subprocess"), default="fork",
+                        help="matrix inputs: forked child or fresh interpreter")
+    parser.add_argument("--isolate-text", action="store_true",
+                        help="run the text mutants in forked children too (default: "
+                             "in-process, faster; a crash by a signal would end the run)")
+    parser.add_argument("--memory", type=float, default=1.5,
+                        help="RLIMIT_AS of each matrix child, GiB")
+    parser.add_argument("--rss-bound", type=float, default=1.0,
+                        help="peak RSS of a matrix child above this (GiB) is a bug")
     args = parser.parse_args(argv)
+    generators = set(args.generators.split(","))
     rng = random.Random(args.seed)
     crashes = ROOT / "fuzz" / "crashes"
     outcomes: collections.Counter[str] = collections.Counter()
     by_kind: collections.Counter[str] = collections.Counter()
     bugs: collections.Counter[str] = collections.Counter()
+    bug_inputs: list[str] = []
     canary = Path("/tmp/resonant-fuzz-canary")
     canary.unlink(missing_ok=True)
-    start, tried, slowest = time.monotonic(), 0, (0.0, "")
+    memory = int(args.memory * 2**30)
+    rss_bound = int(args.rss_bound * 2**30)
+    start, tried, slowest, peak = time.monotonic(), 0, (0.0, ""), (0, "")
+    hangs = signals = internal = 0
     with tempfile.TemporaryDirectory() as tmp:
         while time.monotonic() - start < 60 * args.minutes:
-            t0 = time.monotonic()
-            example, kind, command, status, bug, err = fuzz_one(
-                rng, Path(tmp), args.budget, args.derivation_budget)
-            elapsed = time.monotonic() - t0
-            slowest = max(slowest, (elapsed, f"{example}/{kind}/{command}"))
             tried += 1
+            use_matrix = "matrix" in generators and (
+                "text" not in generators or rng.random() < args.matrix_share)
+            t0 = time.monotonic()
+            if use_matrix:
+                folder = Path(tmp) / f"case{tried}"
+                result = matrix_fuzz.fuzz_case(rng, folder, args.budget, memory, args.isolation,
+                                               rss_bound)
+                kind, command, status, bug, err = (f"matrix/{result['kind']}", result["command"],
+                                                   result["status"], result["bug"],
+                                                   result["stderr"])
+                label = f"{kind}/{command}"
+                if result["rss"] > peak[0]:
+                    peak = (result["rss"], label)
+            else:
+                example, kind, command, status, bug, err = fuzz_one(
+                    rng, Path(tmp), args.budget, args.derivation_budget, args.isolate_text)
+                kind = f"text/{kind}"
+                label = f"{example}/{kind}/{command}"
+            elapsed = time.monotonic() - t0
+            slowest = max(slowest, (elapsed, label))
             outcomes[f"{command} exit {status}"] += 1
             by_kind[kind] += 1
             if bug:
+                hangs += bug == "hang"
+                signals += bug.startswith("signal")
+                internal += bug in ("internal error", "traceback") or bug.startswith("exit status")
                 key = f"{bug}: {err.strip().splitlines()[-1][:160] if err.strip() else ''}"
                 bugs[key] += 1
                 crashes.mkdir(exist_ok=True)
-                (crashes / f"{tried:06d}_{example}").write_bytes(
-                    (Path(tmp) / f"fuzz_{example}").read_bytes())
+                if bugs[key] > 3:  # the same bug again: count it, keep three inputs
+                    pass
+                elif use_matrix:
+                    target = crashes / f"{args.seed}_{tried:06d}_{result['kind']}"
+                    if target.exists():
+                        shutil.rmtree(target)
+                    matrix_fuzz.save_case(folder, target, f"{command}: {bug}\n{err[-2000:]}")
+                else:
+                    target = crashes / f"{args.seed}_{tried:06d}_{example}"
+                    target.write_bytes((Path(tmp) / f"fuzz_{example}").read_bytes())
+                bug_inputs.append(str(target.relative_to(ROOT)))
+            if use_matrix:
+                shutil.rmtree(folder, ignore_errors=True)
+    self_rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
     report = {
         "seed": args.seed, "minutes": round((time.monotonic() - start) / 60, 2),
+        "command": "python fuzz/run_fuzz.py " + " ".join(sys.argv[1:] if argv is None else argv),
         "inputs": tried, "outcomes": dict(sorted(outcomes.items())),
-        "mutators": dict(sorted(by_kind.items())), "bugs": dict(bugs),
+        "generators": dict(sorted(by_kind.items())),
+        "generator_totals": dict(sorted(collections.Counter(
+            k.split("/")[0] for k in by_kind.elements()).items())),
+        "internal_errors": internal, "hangs": hangs, "crashes_by_signal": signals,
+        "bugs": dict(bugs), "bug_inputs": bug_inputs,
         "slowest_input_s": round(slowest[0], 2), "slowest_input": slowest[1],
+        "peak_rss_matrix_child_mib": round(peak[0] / 2**20, 1), "peak_rss_input": peak[1],
+        "peak_rss_fuzzer_mib": round(self_rss / 2**20, 1),
         "canary_created": canary.exists(),
     }
     print(json.dumps(report, indent=2))

@@ -111,3 +111,101 @@ def test_found_bugs_stay_fixed(name, text, words, tmp_path):
     assert "internal error" not in err
     for word in words:
         assert word in err, err
+
+
+# -- hostile [matrices] files and special files (issue 10, fuzz/matrix_fuzz.py) ---------------
+
+import matrix_fuzz  # noqa: E402
+
+#: the known scipy crash (fuzz/crashes/mtx-integer-no-final-newline-sigsegv): an integer
+#: Matrix Market file whose last entry has a fraction and no final newline
+SCIPY_MTX_SEGV = b"%%MatrixMarket matrix coordinate integer general\n3 3 1\n2 1 1.5"
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_hostile_matrix_files_never_crash_hang_or_blow_up(seed, tmp_path):
+    result = matrix_fuzz.fuzz_case(random.Random(seed), tmp_path / "case", budget=20.0)
+    assert result["bug"] is None, \
+        f"{result['kind']}, resonant {result['command']}: {result['bug']}\n{result['stderr']}"
+
+
+def test_the_matrix_sample_covers_every_generator(tmp_path):
+    kinds = {matrix_fuzz.make_case(random.Random(seed), tmp_path / str(seed))[0].split("+")[0]
+             for seed in range(40)}
+    assert kinds == set(matrix_fuzz.GENERATORS)
+
+
+def test_special_cases_make_fifos_links_and_escapes(tmp_path):
+    import stat
+
+    seen = set()
+    for seed in range(200):
+        folder = tmp_path / str(seed)
+        rng = random.Random(seed)
+        folder.mkdir()
+        value = matrix_fuzz._special(rng, folder)
+        entry = folder / value if value.startswith("K.") and len(value) == 5 else None
+        if entry is not None and entry.is_symlink():
+            seen.add("link")
+        elif entry is not None and entry.exists() and stat.S_ISFIFO(entry.lstat().st_mode):
+            seen.add("fifo")
+        elif value.startswith("/") or ".." in value:
+            seen.add("escape")
+    assert seen == {"link", "fifo", "escape"}
+
+
+def _forked(monkeypatch, body, **kwargs):
+    import resonant.cli
+
+    monkeypatch.setattr(resonant.cli, "main", body)
+    return matrix_fuzz.run_forked(["solve", "x.toml"], **kwargs)
+
+
+def test_the_forked_runner_sees_a_signal_a_hang_and_memory(monkeypatch):
+    import os
+    import signal
+
+    status, *_ = _forked(monkeypatch, lambda argv: os.kill(os.getpid(), signal.SIGSEGV),
+                         budget=10)
+    assert status == "signal SIGSEGV"
+    assert matrix_fuzz.verdict(status, "", "", 0) == "signal SIGSEGV"
+
+    def spin(argv):
+        while True:
+            pass
+    status, *_ = _forked(monkeypatch, spin, budget=0.5)
+    assert status == "hang"
+
+    def allocate(argv):  # beyond RLIMIT_AS: a MemoryError, not a dead machine
+        return len(bytearray(3 * 2**30))
+    status, out, err, _, _ = _forked(monkeypatch, allocate, budget=10)
+    assert matrix_fuzz.verdict(status, out, err, 0) in ("exit status 1", "MemoryError")
+
+    def touch(argv):  # 300 MiB really used: peak RSS over a 200 MiB bound
+        block = bytearray(300 * 2**20)
+        block[::4096] = b"x" * len(block[::4096])
+        return 0
+    status, out, err, _, rss = _forked(monkeypatch, touch, budget=10)
+    assert status == 0 and rss > 300 * 2**20
+    assert matrix_fuzz.verdict(status, out, err, rss, 200 * 2**20).startswith("peak RSS")
+
+
+def test_matrix_verdict():
+    assert matrix_fuzz.verdict(2, "", "error: bad file", 10) is None
+    assert matrix_fuzz.verdict(0, "{}", "", 10) is None
+    assert matrix_fuzz.verdict(1, "", "internal error", 10) == "exit status 1"
+    assert matrix_fuzz.verdict(2, "", "internal error: x", 10) == "internal error"
+    assert matrix_fuzz.verdict(2, "", "Traceback (most", 10) == "traceback"
+    assert matrix_fuzz.verdict(2, "", "", 10) == "failure without a message"
+    assert matrix_fuzz.verdict("hang", "", "", 10) == "hang"
+
+
+def test_known_scipy_mtx_segfault_is_survived(tmp_path):
+    """scipy.io.mmread (fast_matrix_market, scipy 1.17.1) segfaults on this file (an
+    `integer` file whose last entry has a fraction and no final newline); resonant hands
+    scipy a newline-terminated `real` copy, so the file is simply read."""
+    (tmp_path / "K.mtx").write_bytes(SCIPY_MTX_SEGV)
+    (tmp_path / "model.toml").write_text(matrix_fuzz._model('"K.mtx"'))
+    status, out, err, _, rss = matrix_fuzz.run_forked(
+        ["solve", str(tmp_path / "model.toml")], budget=20)
+    assert matrix_fuzz.verdict(status, out, err, rss) is None and status in (0, 2), (status, err)

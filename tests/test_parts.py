@@ -50,7 +50,7 @@ def load_text(text: str) -> resonant.Model:
 
 def errors_of(text: str) -> str:
     with pytest.raises(ModelError) as info:
-        load_text(text)
+        load_text(text).linearize()
     return str(info.value)
 
 
@@ -383,7 +383,7 @@ def chains(draw: st.DrawFn) -> tuple[str, str]:
             D.append(f"c{i}/2*(x{i}' - {prev_x}')^2".replace("0'", "0"))
         if draw(st.booleans()):  # a pendulum hanging from the body
             mp, lp = draw(values), draw(values)
-            params += [f"p{i} = {mp}", f"l{i} = {lp}/10"]
+            params += [f"p{i} = {mp}", f'l{i} = "{lp}/10"']
             coords.append(f'th{i} = ""')
             bodies.append(f'[[body]]\nname = "p{i}"\nmass = "p{i}"\npin = "b{i}"\n'
                           f'angle = "th{i}"\ncentre = ["0", "-l{i}"]')
@@ -416,6 +416,25 @@ def test_random_chains_parts_equal_energies(chain: tuple[str, str]) -> None:
             load_text(parts_text).linearize()
         return
     assert_same_system(load_text(parts_text), load_text(energy_text))
+
+
+# -- the derived text is the model language, parsed back exactly ----------------------------
+
+def test_to_text_round_trip() -> None:
+    from resonant.model.part_energies import to_text
+
+    t = sympy.Symbol("t")
+    x, phi = sympy.Function("x")(t), sympy.Function("phi")(t)
+    a, b = sympy.symbols("a b")
+    cases = [(a * sympy.diff(x, t) * sympy.cos(phi) / 2) ** 2, sympy.sqrt((a + x) ** 2) - a,
+             (a - b) ** sympy.Rational(3, 2) / (a * x), -x ** 2 + sympy.exp(1) * sympy.pi,
+             sympy.diff(x, t, 2) * sympy.atan2(x, a) - sympy.Float(0.25) * b]
+    for expr in cases:
+        text = to_text(expr)
+        back = resonant.expressions.parse(text).to_sympy(
+            lambda n, p: sympy.diff(sympy.Function(n)(t), t, p) if n in ("x", "phi")
+            else sympy.Symbol(n))
+        assert sympy.simplify(back - expr) == 0, (text, expr)
 
 
 # -- errors name the part and the key ---------------------------------------------------------
@@ -465,6 +484,8 @@ position = ["0", "0"]
     ('[[body]]\nname = "b"\nmass = "m"\nposition = ["x", "0"]\nwidth = 3',
      ['[body "b"] width', "unknown key 'width'"]),
     ('[[torque]]\nbody = "nobody"\nmoment = "1"', ["[torque 1] body", "unknown body"]),
+    ('[[body]]\nmass = "m"\nposition = ["x", "0"]', ["[body 1] name", "needs a name"]),
+    ('[[point]]\nposition = ["1", "0"]', ["[point 2] name", "needs a name"]),
 ])
 def test_errors_name_the_part_and_key(extra: str, expected: list[str]) -> None:
     message = errors_of(BASE + extra + '\n[energy]\nT = "m*x\'^2/2"\n')
@@ -485,6 +506,26 @@ def test_parts_alone_need_a_mass() -> None:
     assert "no kinetic energy" in message
 
 
+def test_parts_and_matrices_exclude_each_other() -> None:
+    text = ('[parameters]\nm = 1\n[matrices]\nM = [[1]]\nK = [[1]]\n'
+            '[[body]]\nname = "b"\nmass = "m"\nposition = ["0", "0"]\n')
+    assert "parts ([[body]], [[spring]], ...) or [matrices]" in errors_of(text)
+
+
+def test_too_many_parts_are_refused_before_parsing() -> None:
+    from resonant.model import limits
+
+    bodies = "".join(f'[[body]]\nname = "b{i}"\nmass = 1\nposition = ["x", "0"]\n'
+                     for i in range(limits.MAX_PARTS + 1))
+    message = errors_of(BASE + bodies)
+    assert f"{limits.MAX_PARTS + 1} [[body]] entries" in message
+
+
+def test_negative_mass_from_set_is_refused() -> None:
+    status, _, err = run_cli(["check", PARTS / "cart_pendulum.toml", "--set", "m2=-1"])
+    assert status == 2 and 'body "rod"' in err and "negative" in err
+
+
 # -- resonant energies ------------------------------------------------------------------------
 
 def test_cli_energies_json() -> None:
@@ -492,7 +533,7 @@ def test_cli_energies_json() -> None:
     assert status == 0, err
     data = json.loads(out)
     assert set(data) >= {"T", "U", "D", "parts"}
-    assert data["parts"][0] == {"kind": "body", "name": "cart", "T": "m1*x1'^2/2"}
+    assert data["parts"][0] == {"kind": "body", "name": "cart", "T": "m1/2*x1'^2"}
     assert data["D"] == "0" and "cos(phi)" in data["U"]
     for key in ("T", "U"):  # the derived energies are expressions of the model language
         resonant.expressions.parse(data[key])
@@ -516,4 +557,6 @@ def test_parts_model_is_still_exact() -> None:
     """Everything after the model layer is unchanged: simulate the nonlinear equations."""
     model = resonant.load(PARTS / "pendulum.toml")
     sim = model.simulate(duration=1.0, nonlinear=True)
-    assert math.isfinite(float(sim.to_dict()["t"][-1]))
+    data = sim.to_dict()
+    assert data["nonlinear"] and data["t_end"] == pytest.approx(1.0)
+    assert all(math.isfinite(v) for v in data["steady_amplitudes"].values())

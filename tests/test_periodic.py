@@ -21,7 +21,8 @@ import scipy.integrate
 
 from conftest import EXAMPLES, run_cli
 from resonant.analyses.periodic import PeriodicSolution, periodic_solution
-from resonant.analyses.simulate import _equilibrium_values, _NonlinearSystem
+from resonant.analyses.simulate import _equilibrium_values, _NonlinearSystem, _periodic_start
+from resonant.deadline import NO_DEADLINE
 from resonant.errors import AnalysisError
 from resonant.model import Model, load
 
@@ -133,3 +134,20 @@ def test_no_periodic_solution_is_said(model: Model) -> None:
     sim = far.simulate(nonlinear=True, duration=2.0, progress=False)
     assert sim.start == "stationary"
     assert any("no steady state to measure" in w for w in sim.warnings)
+
+
+def test_unstable_periodic_solution_is_not_started_on() -> None:
+    """The exact rod kinematics (asin): the periodic solution at omega = 20 is unstable (a
+    real Floquet multiplier of about 15), so "auto" does not start on it and says that
+    there is no steady state to measure."""
+    exact = load(EXAMPLES / "cart_pendulum_exact.toml").with_parameters(F0="50", r0="0.1")
+    periodic = periodic_solution(exact)
+    assert not periodic.stable and np.abs(periodic.multipliers).max() > 10
+    warnings: list[str] = []
+    assert _periodic_start(exact.linearize(), "auto", True, False, "marginally stable",
+                           exact.linearize().stationary(), warnings, NO_DEADLINE) is None
+    assert any("unstable" in w and "no steady state to measure" in w for w in warnings)
+    with pytest.raises(AnalysisError, match="broke down"):  # from the linear stationary state
+        exact.simulate(nonlinear=True, duration=0.5, progress=False)
+    on = exact.simulate(nonlinear=True, duration=0.5, start="periodic", progress=False)
+    assert on.start == "periodic"

@@ -57,7 +57,7 @@ import numpy as np
 import sympy
 
 from .. import hooks
-from ..deadline import NO_DEADLINE, Deadline
+from ..deadline import NO_DEADLINE, AnalysisTimeout, Deadline
 from ..derivation import nonlinear_equations
 from ..errors import AnalysisError, ModelError, Problem, name_list
 from ..expressions import compilable, parse
@@ -480,8 +480,8 @@ def _periodic_start(system: LinearSystem, start: str, nonlinear: bool, given: bo
         return None
     try:
         periodic = hooks.call("periodic_solution", system, deadline=deadline)
-    except AnalysisError as exc:
-        if start == "periodic":
+    except (AnalysisError, np.linalg.LinAlgError, ValueError) as exc:
+        if start == "periodic" or isinstance(exc, AnalysisTimeout):
             raise
         warnings.append(f"no periodic solution of the full equations was found ({exc}); the "
                         "model is not asymptotically stable, so a run from the linear "

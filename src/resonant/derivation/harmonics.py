@@ -52,6 +52,33 @@ def _single(factor: sympy.Expr) -> tuple[sympy.Expr, sympy.Expr, sympy.Expr] | N
     return a, -sympy.sin(b), sympy.cos(b)
 
 
+#: highest power of a sine or cosine that is split into harmonics (sin^n has n/2 + 1 terms;
+#: beyond this the split is slow and the signal is treated as not harmonic)
+MAX_HARMONIC_POWER = 64
+
+
+def _finite_harmonic_form(expr: sympy.Expr) -> bool:
+    """Whether ``expr`` is built from sin/cos of arguments linear in t by sums, products and
+    integer powers up to :data:`MAX_HARMONIC_POWER` (decided without expanding anything).
+
+    Anything else that depends on t (sin of a sine, a root of a sine, exp(t), t itself
+    outside a linear argument) is not a finite sum of harmonics: saying so at once avoids
+    handing sympy an expansion that never ends (``sin((F0*sin(w*t))^999)``).
+    """
+    if not expr.has(TIME):
+        return True
+    if isinstance(expr, (sympy.sin, sympy.cos)):
+        argument = expr.args[0]
+        return not sympy.diff(argument, TIME).has(TIME)
+    if isinstance(expr, (sympy.Add, sympy.Mul)):
+        return all(_finite_harmonic_form(a) for a in expr.args)
+    if isinstance(expr, sympy.Pow):
+        base, exponent = expr.args
+        return (exponent.is_Integer and 0 < int(exponent) <= MAX_HARMONIC_POWER
+                and _finite_harmonic_form(base))
+    return False
+
+
 def decompose(expr: sympy.Expr, _depth: int = 0) -> dict[sympy.Expr, tuple[sympy.Expr, sympy.Expr]]:
     """Split a function of t into ``{w: (S, C)}``; ``w = 0`` is the constant part.
 
@@ -80,6 +107,8 @@ def decompose(expr: sympy.Expr, _depth: int = 0) -> dict[sympy.Expr, tuple[sympy
             else:
                 add(w, coeff * s, coeff * c)
             continue
+        if not _finite_harmonic_form(dependent):
+            raise NotHarmonic(str(term))
         rewritten = TR8(dependent) if _depth < 3 else dependent
         if rewritten == dependent:
             raise NotHarmonic(str(term))

@@ -214,6 +214,8 @@ def find_equilibrium(model: Model) -> dict[str, float] | None:
                   or eq.ops.registry[s][0] in model.signals}
     params = {symbol(n): v for n, v in model.parameter_values.items()}
     static = eq.rest.subs(rest_state).subs(params)
+    if any(e.has(sympy.zoo, sympy.oo, sympy.nan) for e in static):
+        return None  # not finite at the reference state (log(0), 1/0 ...): no Newton start
     fn = sympy.lambdify([eq.q], [compilable(e) for e in static], modules="numpy")
     start = np.array([float(model.equilibrium[c].to_sympy(
         lambda n, p: sympy.Float(model.parameter_values[n])))

@@ -251,6 +251,9 @@ class _Builder:
         if matrices and (energy or forces):
             self.problem("a model gives either [energy] (and [[force]]) or [matrices], not both",
                          "matrices")
+        elif matrices and parts:
+            self.problem("a model gives either parts ([[body]], [[spring]], ...) or [matrices], "
+                         "not both", "matrices")
         names = coordinates or ([f"q{i + 1}" for i in range(_matrix_size(matrix_spec.M))]
                                 if matrix_spec is not None else [])
         exercise = parse_exercise(self.data.get("exercise"), self.data.get("variants"),

@@ -25,6 +25,7 @@ Matrix files are untrusted input (docs/security.md):
 from __future__ import annotations
 
 import errno
+import io
 import math
 import os
 import stat
@@ -443,8 +444,16 @@ def _read_mtx(handle: IO[bytes], size: int) -> Any:
         raise FileRefused(f"its size line claims more entries than the file's {size} bytes "
                           "can hold")
     handle.seek(0)
+    text = handle.read(size + 1)
+    # scipy's C++ reader dies with SIGSEGV on an `integer` file whose last entry has a
+    # fraction and no final newline: end every file with a newline, and read integer
+    # files as real ones (their values are used as floats anyway)
+    if not text.endswith(b"\n"):
+        text += b"\n"
+    banner, sep, body = text.partition(b"\n")
+    text = banner.replace(b" integer ", b" real ") + sep + body
     try:
-        matrix = scipy.io.mmread(_StreamForScipy(handle))
+        matrix = scipy.io.mmread(_StreamForScipy(io.BytesIO(text)))
     except ValueError as exc:  # fast_matrix_market: "Line 4: Row index out of bounds"
         first = str(exc).splitlines()[0] if str(exc) else ""
         detail = "".join(c for c in first[:160] if c.isprintable())

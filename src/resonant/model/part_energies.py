@@ -34,7 +34,7 @@ Examples
 ... along = ["1", "0"]
 ... ''')
 >>> m.parts.derived["T"], m.parts.derived["U"]
-("m*x'^2/2", 'k*x^2/2')
+("m/2*x'^2", 'k/2*x^2')
 """
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ from sympy.core.function import AppliedUndef
 from sympy.printing.str import StrPrinter
 
 from ..errors import ModelError, Problem
-from ..expressions import Expression, ExpressionError, parse
+from ..expressions import BinOp, Expression, ExpressionError, parse
 from .parts import Body, Contribution, DerivedEnergies, Link, Parts
 from .types import TIME, Force
 
@@ -180,15 +180,56 @@ class Mechanism:
             ex, ey = (ex, ey) if norm == 1 else (ex / norm, ey / norm)
             change = dx * ex + dy * ey
             return change - self.at_reference(change)
-        distance = sympy.sqrt(dx**2 + dy**2)
+        # not evaluated: sympy's sqrt of a square of functions of time asks its
+        # assumptions about them, which is slow and gives nothing here
+        distance = sympy.Pow(_square(dx) + _square(dy), sympy.Rational(1, 2), evaluate=False)
         if link.mode == "length":
             assert link.length is not None
             return distance - self.expr(link.length)
-        return distance - self.at_reference(distance)
+        return distance - self.reference_distance(link)
 
     def reference_distance(self, link: Link) -> sympy.Expr:
+        """|AB| at the reference state (exact, in the parameters)."""
         (xa, ya), (xb, yb) = self.point(link.between[0]), self.point(link.between[1])
-        return self.at_reference(sympy.sqrt((xb - xa)**2 + (yb - ya)**2))
+        return sympy.sqrt(self.at_reference(xb - xa)**2 + self.at_reference(yb - ya)**2)
+
+
+def _factor(expr: sympy.Expr) -> str:
+    """The text of a factor of a product, in parentheses if it is a sum."""
+    text = to_text(expr)
+    return f"({text})" if expr.is_Add or text.startswith("-") else text
+
+
+def _base(expr: sympy.Expr) -> str:
+    """The text of the base of a power: in parentheses unless a name or a rate."""
+    text = to_text(expr)
+    simple = expr.is_Symbol or isinstance(expr, (AppliedUndef, sympy.Derivative)) or \
+        (expr.is_Integer and expr >= 0)
+    return text if simple else f"({text})"
+
+
+def _half_squares(coefficient: sympy.Expr, rates: Sequence[sympy.Expr]) -> str:
+    """``c/2*(a^2 + b^2)`` as text ('' when zero), composed as text: a sympy product
+    of squares of sums of functions of time is slow to build and gains nothing."""
+    squares = [f"{_base(rate)}^2" for rate in rates if rate != 0]
+    if coefficient == 0 or not squares:
+        return ""
+    body = squares[0] if len(squares) == 1 else f"({' + '.join(squares)})"
+    half = coefficient / 2
+    return f"{_factor(half)}*{body}"
+
+
+def _product(coefficient: sympy.Expr, expr: sympy.Expr) -> str:
+    """``c*e`` as text ('' when zero)."""
+    if coefficient == 0 or expr == 0:
+        return ""
+    return f"{_factor(coefficient)}*{_factor(expr)}"
+
+
+def _square(expr: sympy.Expr) -> sympy.Expr:
+    """expr^2, not evaluated when expr is a sum: sympy would ask its assumptions about every
+    term (functions of time), which is slow and changes nothing."""
+    return sympy.Pow(expr, 2, evaluate=False) if expr.is_Add else expr**2
 
 
 def _section(kind: str, name: str, index: int) -> str:
@@ -219,16 +260,12 @@ def derive_energies(mechanism: Mechanism, written: Mapping[str, Expression],
     parts, source = mechanism.parts, mechanism.source
     problems: list[Problem] = []
     contributions: list[Contribution] = []
-    sums: dict[str, list[sympy.Expr]] = {"T": [], "U": [], "D": []}
     texts: dict[str, list[str]] = {"T": [], "U": [], "D": []}
 
-    def add(kind: str, name: str, energy: str, expr: sympy.Expr) -> None:
-        if expr == 0:
-            return
-        text = to_text(expr)
-        contributions.append(Contribution(kind, name, energy, text))
-        sums[energy].append(expr)
-        texts[energy].append(text)
+    def add(kind: str, name: str, energy: str, text: str) -> None:
+        if text:
+            contributions.append(Contribution(kind, name, energy, text))
+            texts[energy].append(text)
 
     gravity = mechanism.expr(parts.gravity) if parts.gravity is not None else None
     for index, body in enumerate(parts.bodies, start=1):
@@ -242,13 +279,13 @@ def derive_energies(mechanism: Mechanism, written: Mapping[str, Expression],
                                         "at least 0", source, section, key))
         mass = mechanism.expr(body.mass)
         xs, ys = mechanism.centre(body)
-        angle = mechanism.angle(body)
-        kinetic = mass / 2 * (sympy.diff(xs, _T)**2 + sympy.diff(ys, _T)**2)
+        kinetic = [_half_squares(mass, [sympy.diff(xs, _T), sympy.diff(ys, _T)])]
         if body.inertia is not None:
-            kinetic += mechanism.expr(body.inertia) / 2 * sympy.diff(angle, _T)**2
-        add("body", body.name, "T", kinetic)
+            kinetic.append(_half_squares(mechanism.expr(body.inertia),
+                                         [sympy.diff(mechanism.angle(body), _T)]))
+        add("body", body.name, "T", " + ".join(k for k in kinetic if k))
         if gravity is not None:
-            add("body", body.name, "U", mass * gravity * ys)
+            add("body", body.name, "U", _product(mass * gravity, ys))
 
     for kind, links, energy in (("spring", parts.springs, "U"), ("damper", parts.dampers, "D")):
         for index, link in enumerate(links, start=1):
@@ -264,11 +301,9 @@ def derive_energies(mechanism: Mechanism, written: Mapping[str, Expression],
                         "length" if link.mode == "length" else "between"))
                     continue
             stretch = mechanism.elongation(link)
-            coefficient = mechanism.expr(link.coefficient)
-            if energy == "U":
-                add(kind, link.name, "U", coefficient / 2 * stretch**2)
-            else:
-                add(kind, link.name, "D", coefficient / 2 * sympy.diff(stretch, _T)**2)
+            rate = stretch if energy == "U" else sympy.diff(stretch, _T)
+            add(kind, link.name, energy,
+                _half_squares(mechanism.expr(link.coefficient), [rate]))
 
     forces = [Force(f"torque {torque.name}" if torque.name.isdigit() else torque.name,
                     vector=(torque.moment,),
@@ -284,11 +319,17 @@ def derive_energies(mechanism: Mechanism, written: Mapping[str, Expression],
     for key, items in texts.items():
         if not items:
             continue
-        pieces = ([f"({written[key].text})"] if key in written else []) + \
-            [f"({text})" for text in items]
-        expression = _parse(" + ".join(pieces), allowed, source, "energy", key, problems)
-        if expression is not None:
-            totals[key] = expression
+        # each part is parsed on its own (each within the parser's limits) and the sum is
+        # built from their trees, so a mechanism of many parts is not one huge text
+        pieces = ([written[key]] if key in written else []) + \
+            [_parse(text, allowed, source, "energy", key, problems) for text in items]
+        if any(piece is None for piece in pieces):
+            continue
+        root = pieces[0].root
+        for piece in pieces[1:]:
+            root = BinOp("+", root, piece.root)
+        totals[key] = Expression(" + ".join(f"({piece.text})" for piece in pieces), root,
+                                 (source, "energy", key))
     if problems:
         raise ModelError(problems)
 

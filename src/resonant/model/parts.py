@@ -253,8 +253,12 @@ def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collec
     names: dict[str, str] = {}  # point or body name -> section
 
     def declare(name: str, section: str) -> bool:
+        if section.split()[1:] == [name]:  # no name = "..." given: the section is "body 2"
+            reader.problem("a point or body needs a name (name = \"...\"): other parts "
+                           "refer to it by name", section, "name")
+            return False
         reason = validate_name(name)
-        if reason and name not in ("t",):
+        if reason:
             reader.problem(f"'{name}' cannot be used as a name: {reason}", section, "name")
             return False
         if name in names:
@@ -267,7 +271,7 @@ def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collec
 
     points = []
     for section, entry in reader.entries(data, "point"):
-        if "name" not in entry or not declare(entry["name"], section):
+        if not declare(entry["name"], section):
             continue
         if "position" not in entry:
             reader.problem("a point needs a position = [x, y]", section, "position")
