@@ -369,10 +369,11 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
         with np.errstate(all="ignore"):  # an overflow gives inf, caught as not finite
             A = pick(K) - ww**2 * pick(M) + 1j * ww * pick(C)
         b = np.broadcast_to(rhs[sl] if rhs.ndim == 2 else rhs, (A.shape[0], n))
+        # an overflow (inf) gives NaN in the solution: marked singular by the caller
         finite = np.ones(A.shape[0], dtype=bool)
-        if not (np.isfinite(A).all() and np.isfinite(b).all()):  # rare: find the points
-            finite = np.isfinite(A).all(axis=(-2, -1)) & np.isfinite(b).all(axis=-1)
-            A = np.where(finite[:, None, None], A, 0.0)
+        if condition is not None and not np.isfinite(A).all():
+            finite = np.isfinite(A).all(axis=(-2, -1))
+            A = np.where(finite[:, None, None], A, 0.0)  # cond() of inf raises
         col = None
         if condition is not None:
             # Equilibrate before solving and judging the condition: in badly scaled units
@@ -382,7 +383,8 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
             A = row[..., :, None] * A * col[..., None, :]
             b = row * b
         try:
-            X = np.linalg.solve(A, b[..., None])[..., 0]
+            with np.errstate(all="ignore"):
+                X = np.linalg.solve(A, b[..., None])[..., 0]
         except np.linalg.LinAlgError:  # an exactly singular point: solve point by point
             X = np.empty((A.shape[0], n), dtype=complex)
             for i in range(A.shape[0]):
