@@ -122,19 +122,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     result = model.linearize(deadline=deadline).sweep(
         args.param, values, method=args.method, names=names,
         progress=True if args.progress else None, log=args.log, deadline=deadline)
-    if args.plot:
-        result.plot(args.plot)
-    if args.csv:
-        try:
-            result.to_csv(args.csv)
-        except OSError as exc:
-            raise AnalysisError(f"cannot write '{args.csv}': {exc.strerror or exc}") from None
-    if args.json:
-        cli.emit_json(result.to_dict())
-    else:
-        sys.stdout.write(result.summary())
-    cli.warn(result.warnings)
-    return 0
+    return _emit(args, result)
 
 
 def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
@@ -146,6 +134,11 @@ def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
     result = model.nonlinear_sweep(args.param, args.start, args.stop,
                                    harmonics=args.harmonics, points=args.points,
                                    deadline=deadline)
+    return _emit(args, result)
+
+
+def _emit(args: argparse.Namespace, result: Any) -> int:
+    """Plot, CSV, JSON or text of a sweep result (linear or nonlinear), then its warnings."""
     if args.plot:
         result.plot(args.plot)
     if args.csv:
