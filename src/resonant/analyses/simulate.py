@@ -92,6 +92,8 @@ MAX_SAMPLES = 200_001
 #: samples per period of the highest frequency in the measurement window
 WINDOW_SAMPLES_PER_PERIOD = 2000
 MAX_WINDOW_SAMPLES = 400_001
+#: a transient counts as decayed at exp(-SETTLED_DECAY) (about 1e-3) of its size
+SETTLED_DECAY = 7.0
 #: |relative difference| above which a warning says small oscillations do not hold
 LARGE_DIFFERENCE = 0.05
 #: most right-hand-side evaluations of one run (all attempts together): beyond it the run
@@ -462,14 +464,16 @@ class _NonlinearSystem:
 
 def _periodic_start(system: LinearSystem, start: str, nonlinear: bool, given: bool,
                     stability: str, solution: StationarySolution | None, warnings: list[str],
-                    deadline: Deadline) -> Any:
+                    deadline: Deadline, slow: bool = False) -> Any:
     """The periodic solution of the full equations to start on (start "periodic", or "auto"
     for a nonlinear run of a model that is not asymptotically stable), or None.
 
     It comes from :mod:`resonant.analyses.periodic` (harmonic balance, which builds on this
     module) through :func:`hooks.call`, so that this module does not import it."""
+    # auto: also for a damped model whose transient would not decay within the default run
     wanted = start == "periodic" or (start == "auto" and nonlinear and not given
-                                     and stability != ASYMPTOTIC and solution is not None)
+                                     and (stability != ASYMPTOTIC or slow)
+                                     and solution is not None)
     if not wanted:
         return None
     if not nonlinear:
@@ -705,8 +709,13 @@ def simulate(system: LinearSystem, duration: float | None = None, nonlinear: boo
 
     # initial state
     q_given, v_given = parse_initial(model, initial)
+    # the slowest decay rate: a transient falls to exp(-sigma t) of its size
+    sigma = float(np.min(-eigenvalues.real)) if stability == ASYMPTOTIC else 0.0
+    settle_time = SETTLED_DECAY / sigma if sigma > 0 else math.inf
+    slow = stability == ASYMPTOTIC and duration is None and \
+        settle_time > MAX_DEFAULT_CYCLES * 2 * math.pi / highest
     periodic = _periodic_start(system, start, nonlinear, bool(initial), stability, solution,
-                               warnings, deadline)
+                               warnings, deadline, slow)
     if periodic is not None:
         start_kind = "periodic"
     elif start == "auto":
@@ -914,6 +923,21 @@ def simulate(system: LinearSystem, duration: float | None = None, nonlinear: boo
             warnings.append(f"no relative difference for {name_list(skipped)}: the linear "
                             "stationary amplitude is zero")
         large = {name: d for name, d in relative.items() if abs(d) > LARGE_DIFFERENCE}
+        # like with like: a run from rest (or a given state) whose slowest transient has not
+        # decayed by the window compares a transient with a steady state
+        settled = start_kind in ("stationary", "periodic") or sigma * window[0] >= SETTLED_DECAY
+        if large and not settled:
+            worst = max(large, key=lambda k: abs(large[k]))
+            left = math.exp(-sigma * window[0]) if sigma > 0 else 1.0
+            warnings.append(
+                f"the response has not settled: the slowest mode decays as "
+                f"exp(-{sigma:.3g} t), so {100 * left:.3g}% of the transient is left when the "
+                f"amplitude window starts; settling takes about {settle_time:.4g} s. The "
+                f"difference of up to {100 * large[worst]:+.3g}% ({worst}) includes the "
+                "transient" + (", not only the nonlinearity (start 'periodic' measures the "
+                               "steady state of the full equations directly)"
+                               if nonlinear else ""))
+            large = {}
         if large:
             worst = max(large, key=lambda k: abs(large[k]))
             what = ("small oscillations do not hold: the nonlinear response differs from the "
