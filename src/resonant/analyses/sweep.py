@@ -97,7 +97,7 @@ EAGER_EIGEN = 400
 MAX_SWEEP_POINTS = 100_000
 #: most complex results of one sweep: values x reported quantities x harmonics (memory
 #: is a few hundred bytes per result, all intermediate arrays included)
-MAX_SWEEP_RESULTS = 2_000_000
+MAX_SWEEP_RESULTS = 20_000_000
 
 
 class Extremum(NamedTuple):

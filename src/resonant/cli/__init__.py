@@ -13,18 +13,33 @@ import re
 import sys
 import warnings
 from collections.abc import Callable, Sequence
+from importlib import import_module
 
 from .. import __version__
 from ..deadline import DeadlineExceeded
 from ..errors import ResonantError, printable
-from . import analyses, common, energies, exercise, report, simulate, solve
+from . import common
 
-#: the modules that add subcommands: each has ``register(subparsers, parent)``
-COMMANDS = (solve, analyses, simulate, report, exercise, energies)
+#: subcommand -> (the module that registers and runs it, one line of help).  Only the
+#: module of the command being run is imported (the others only for ``--help``): the
+#: report, exercise and nonlinear machinery is not start-up time of ``resonant solve``.
+COMMANDS: dict[str, tuple[str, str]] = {
+    "solve": ("resonant.cli.solve", "linearized EOM, natural frequencies and the stationary "
+              "solution"),
+    "check": ("resonant.cli.solve", "validate a model only"),
+    "modes": ("resonant.cli.analyses", "natural frequencies, mode shapes, damping ratios"),
+    "sweep": ("resonant.cli.analyses", "amplitude and phase against a parameter"),
+    "simulate": ("resonant.cli.simulate", "time simulation, linear or full nonlinear"),
+    "report": ("resonant.cli.report", "write the worked solution (.html, .md or .tex)"),
+    "energies": ("resonant.cli.energies", "T, U, D derived from the parts, per part"),
+    "exercise": ("resonant.cli.exercise", "exercise variants with solutions and answer key"),
+    "grade": ("resonant.cli.exercise", "check a student's answers against the key"),
+}
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of every subcommand."""
+def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
+    """The argument parser: the full one for the command in ``argv`` (every command's
+    without one), one-line entries for the others."""
     parser = argparse.ArgumentParser(
         prog="resonant",
         description="Vibrations of discrete mechanical systems: linearized equations of "
@@ -32,14 +47,21 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"resonant {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     parent = common.common_parser()
-    for module in COMMANDS:
-        module.register(sub, parent)
+    chosen = next((a for a in (argv if argv is not None else sys.argv[1:])
+                   if not a.startswith("-")), None)
+    modules = [COMMANDS[chosen][0]] if chosen in COMMANDS else \
+        list(dict.fromkeys(module for module, _ in COMMANDS.values()))
+    for name in modules:  # the cli is the top layer: importing its own parts is no cycle
+        import_module(name).register(sub, parent)
+    for command, (_, text) in COMMANDS.items():
+        if command not in sub.choices:
+            sub.add_parser(command, help=text)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
-    parser = build_parser()
+    parser = build_parser(argv)
     args = parser.parse_args(argv)
     run: Callable[[argparse.Namespace], int] | None = getattr(args, "run", None)
     if run is None:
