@@ -32,8 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from ..analyses import StationarySolution
-from ..analyses.stationary import stationary
+from ..analyses.stationary import StationarySolution, stationary
 from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..derivation.residual import is_zero
 from ..errors import AnalysisError, ModelError, Problem, printable

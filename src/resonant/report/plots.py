@@ -37,7 +37,7 @@ from ..system import LinearSystem
 from ..views.notation import name_latex
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..analyses import StationarySolution
+    from ..analyses.stationary import StationarySolution
     from ..system import LinearEOM
 
 MAX_PLOT_COORDINATES = 12

@@ -20,8 +20,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy
 
-from ..analyses import StationarySolution
 from ..analyses.modes import modes
+from ..analyses.stationary import StationarySolution
 from ..derivation import derivative_symbol
 from ..derivation.lagrange import signal_derivatives
 from ..expressions import numeric_value

@@ -51,7 +51,9 @@ from .notation import (
 )
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..analyses import ModalAnalysis, Simulation, StationarySolution  # noqa: F401
+    from ..analyses.modes import ModalAnalysis  # noqa: F401
+    from ..analyses.simulate import Simulation  # noqa: F401
+    from ..analyses.stationary import StationarySolution  # noqa: F401
 
 
 def _matrix_text(matrix: np.ndarray, indent: str = "    ") -> str:

@@ -25,7 +25,9 @@ from .. import hooks
 from ..errors import AnalysisError, printable
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..analyses import FrequencyResponse, ModalAnalysis, Simulation
+    from ..analyses.modes import ModalAnalysis
+    from ..analyses.simulate import Simulation
+    from ..analyses.sweep import FrequencyResponse
 
 #: at most this many curves are drawn (a 1000-coordinate sweep shows the first ones)
 MAX_CURVES = 8
