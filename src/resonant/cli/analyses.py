@@ -80,14 +80,7 @@ def run_modes(args: argparse.Namespace) -> int:
     if args.amplitude is not None or args.harmonics is not None:
         raise AnalysisError("--amplitude and --harmonics need --nonlinear")
     result = model.linearize(deadline=deadline).modes(count=args.count, deadline=deadline)
-    if args.plot:
-        result.plot(args.plot)
-    if args.json:
-        cli.emit_json(result.to_dict())
-    else:
-        sys.stdout.write(result.summary())
-    cli.warn(result.warnings)
-    return 0
+    return _emit(args, result)
 
 
 def _run_backbones(args: argparse.Namespace, model: Any, deadline: Any) -> int:
@@ -96,14 +89,7 @@ def _run_backbones(args: argparse.Namespace, model: Any, deadline: Any) -> int:
         raise AnalysisError("--count applies to the linear modes, not to --nonlinear")
     result = backbone(model, args.amplitude, harmonics=args.harmonics, points=args.points,
                       deadline=deadline)
-    if args.plot:
-        result.plot(args.plot)
-    if args.json:
-        cli.emit_json(result.to_dict())
-    else:
-        sys.stdout.write(result.summary())
-    cli.warn(result.warnings)
-    return 0
+    return _emit(args, result)
 
 
 def run_sweep(args: argparse.Namespace) -> int:
@@ -138,10 +124,10 @@ def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
 
 
 def _emit(args: argparse.Namespace, result: Any) -> int:
-    """Plot, CSV, JSON or text of a sweep result (linear or nonlinear), then its warnings."""
+    """Plot, CSV (sweeps), JSON or text of a result, then its warnings."""
     if args.plot:
         result.plot(args.plot)
-    if args.csv:
+    if getattr(args, "csv", None):
         try:
             result.to_csv(args.csv)
         except OSError as exc:
