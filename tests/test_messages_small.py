@@ -183,3 +183,18 @@ def test_forced_report_shows_mode_shapes_and_modal_damping(tmp_path):
     assert code == 0, err
     text = out.read_text()
     assert r"\mathbf{u}_{3} = " in text and r"\zeta_{1} = " in text
+
+
+def test_report_frequency_response_includes_the_outputs():
+    """Issue 11, point 6: the outputs' frequency responses belong in the report too."""
+    from conftest import EXAMPLES
+
+    from resonant.model import load
+    from resonant.report.plots import frequency_response
+
+    eom = load(EXAMPLES / "cart_pendulum.toml").linearize()
+    frf = frequency_response(eom, eom.stationary())
+    assert frf is not None and list(frf.amplitudes) == ["x1", "x2", "phi"]
+    # phi = x2/l: its curve is x2's divided by l = 0.5
+    import numpy as np
+    np.testing.assert_allclose(frf.amplitudes["phi"], frf.amplitudes["x2"] / 0.5, rtol=1e-12)

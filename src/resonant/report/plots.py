@@ -126,13 +126,15 @@ def frequency_response(eom: LinearEOM, solution: StationarySolution,
     # sum over the harmonics running with the grid (the frequency p and -p, signs folded)
     follows = [k for k, w in enumerate(result.harmonic_omegas)
                if np.allclose(w, grid, rtol=1e-9, atol=0.0)]
-    columns = [result.quantities.index(c) for c in eom.coordinates]
-    X = np.zeros((grid.size, n), dtype=complex)
+    # the coordinates, and the outputs where the sweep gives them (the model's own sweep)
+    names = [*eom.coordinates, *(q for q in result.quantities if q not in eom.coordinates)]
+    columns = [result.quantities.index(c) for c in names]
+    X = np.zeros((grid.size, len(names)), dtype=complex)
     for k in follows:
         X = X + result.response[k][:, columns]
     skipped = np.isin(grid, np.asarray(result.skipped, dtype=float))
     X[skipped] = np.nan  # exactly at an undamped resonance: left out of the curve
-    amplitudes = {c: np.abs(X[:, i]) for i, c in enumerate(eom.coordinates)}
+    amplitudes = {c: np.abs(X[:, i]) for i, c in enumerate(names)}
     at = int(np.argmin(np.abs(grid - w0)))
     return FrequencyResponse(grid, amplitudes, w0,
                              {c: float(a[at]) for c, a in amplitudes.items()},

@@ -1073,7 +1073,8 @@ def plots(ctx: Context) -> list[Block]:
         how = (f"the excitation frequency {frf.parameter} is swept and the excitation "
                "amplitudes follow it" if frf.parameter else
                "the excitation amplitudes are held at their operating values")
-        blocks.append(ctx.figure(frf, "Amplitudes of the coordinates against the excitation "
+        what = "coordinates and outputs" if len(frf.amplitudes) > ctx.n else "coordinates"
+        blocks.append(ctx.figure(frf, f"Amplitudes of the {what} against the excitation "
                                  f"frequency ({how}); dots: the operating point, dashed: the "
                                  "excitation frequency, dotted: the natural frequencies."))
     if history is not None:
