@@ -198,3 +198,26 @@ def test_report_frequency_response_includes_the_outputs():
     # phi = x2/l: its curve is x2's divided by l = 0.5
     import numpy as np
     np.testing.assert_allclose(frf.amplitudes["phi"], frf.amplitudes["x2"] / 0.5, rtol=1e-12)
+
+
+def test_characteristic_polynomial_is_factored_where_that_is_shorter(tmp_path):
+    """Issue 11, point 4: two uncoupled oscillators: (k1 - m1 w^2)(k2 - m2 w^2) = 0."""
+    path = tmp_path / "two.toml"
+    path.write_text("""
+[parameters]
+m1 = 1
+m2 = 2
+k1 = 100
+k2 = 300
+[coordinates]
+x1 = ""
+x2 = ""
+[energy]
+T = "m1*x1'^2/2 + m2*x2'^2/2"
+U = "k1*x1^2/2 + k2*x2^2/2"
+""")
+    out = tmp_path / "two.md"
+    code, _, err = run_cli(["report", path, "-o", out, "--no-plots"])
+    assert code == 0, err
+    line = next(x for x in out.read_text().splitlines() if x.startswith(r"\det"))
+    assert line.count(r"\right)") >= 3 and r"\omega_{n}^{4}" not in line

@@ -954,6 +954,10 @@ def _characteristic(ctx: Context) -> list[Block]:
     if ctx.n <= 2 and not ctx.model.matrices is not None:
         w = sympy.Symbol("omega_n", positive=True)
         det = sympy.collect(sympy.expand((eom.K - w**2 * eom.M).det()), w)
+        # factored where that is shorter (uncoupled or symmetric systems): the roots show
+        factored = sympy.factor(det)
+        if isinstance(factored, sympy.Mul) and sympy.count_ops(factored) < sympy.count_ops(det):
+            det = factored
         names = dict(ctx.names)
         names[w] = r"\omega_{n}"
         blocks.append(paragraph("The undamped natural frequencies are the roots of the "
