@@ -324,3 +324,16 @@ def test_negative_mass_matrix_is_named(tmp_path, command):
     assert status == 0
     assert "the mass matrix M is negative definite" in err
     assert "K is not positive definite" not in err
+
+
+def test_subnormal_mass_is_a_clean_analysis_error(tmp_path):
+    """Found by the fuzz campaign of stop 17 (seed 2027): M = 1e-320 I from a .npy made the
+    equilibration overflow (2^1063) and the SVD fail (internal error); now exit 3."""
+    import numpy as np
+
+    np.save(tmp_path / "M.npy", np.eye(3) * 1e-320)
+    (tmp_path / "m.toml").write_text('[parameters]\nw = 3\n[matrices]\nM = "M.npy"\n'
+                                     'K = [[2, -1, 0], [-1, 2, -1], [0, -1, 2]]\n'
+                                     '[[harmonic]]\nomega = "w"\nF_S = [1, 0, 0]\n')
+    code, _, err = run_cli(["solve", tmp_path / "m.toml"])
+    assert code == 3 and "internal error" not in err

@@ -341,7 +341,8 @@ def equilibration(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """
     def power_of_two_inverse(largest: np.ndarray) -> np.ndarray:
         safe = np.where(largest > 0, largest, 1.0)  # an all-zero row or column stays
-        return np.exp2(-np.round(np.log2(safe)))
+        # clipped: a subnormal entry (1e-320) would ask for 2^1063, which overflows
+        return np.exp2(-np.clip(np.round(np.log2(safe)), -1000.0, 1000.0))
 
     magnitude = np.abs(A)
     row = power_of_two_inverse(magnitude.max(axis=-1, initial=0.0))
@@ -399,7 +400,10 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
         Z[sl] = X
         if condition is not None:  # exact condition numbers, where they are cheap
             with np.errstate(all="ignore"):
-                condition[sl] = np.where(finite, np.linalg.cond(A), np.inf)
+                try:
+                    condition[sl] = np.where(finite, np.linalg.cond(A), np.inf)
+                except np.linalg.LinAlgError:  # the SVD failed: numbers beyond doubles
+                    condition[sl] = np.inf
         progress.advance(A.shape[0])
     return singular
 

@@ -359,7 +359,12 @@ def stationary(system: LinearSystem, deadline: Deadline = NO_DEADLINE,
     check_finite("M, C, K", np.concatenate([dense.M.ravel(), dense.C.ravel(), dense.K.ravel()]))
     if 0 < n <= 1500:
         row, col = equilibration(dense.M)
-        mass_condition = float(np.linalg.cond(row[:, None] * dense.M * col[None, :]))
+        try:
+            mass_condition = float(np.linalg.cond(row[:, None] * dense.M * col[None, :]))
+        except np.linalg.LinAlgError:  # the SVD failed: entries beyond double precision
+            raise AnalysisError("the mass matrix M cannot be analysed: its entries lie beyond "
+                                "the range of double precision (subnormal or huge values); "
+                                "rescale the units") from None
         if mass_condition > LOSS_CONDITION:
             warnings.append(
                 f"the mass matrix M is nearly singular (condition number {mass_condition:.2g}"
