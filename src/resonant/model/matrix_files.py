@@ -28,6 +28,7 @@ import errno
 import io
 import math
 import os
+import re
 import stat
 import struct
 import zipfile
@@ -410,6 +411,35 @@ class _StreamForScipy:
             return b""
 
 
+#: a data line: numbers (nan and inf included, refused later as not finite)
+_MTX_LINE = re.compile(rb"[ \t]*[-+0-9.eEnNaAiIfFtTyY]+([ \t]+[-+0-9.eEnNaAiIfFtTyY]+)*[ \t]*\r?")
+
+
+def _check_mtx_body(body: bytes, n: int, coordinate: bool) -> None:
+    """Every line after the banner is a comment, blank, or numbers; coordinate indices lie in
+    [1, n] (the size line's first two numbers are the size, already checked)."""
+    size_line_seen = False
+    for line in body.split(b"\n"):
+        if not line.strip() or line.startswith(b"%"):
+            continue
+        if not _MTX_LINE.fullmatch(line):
+            raise FileRefused("it is not a valid Matrix Market file: a data line holds "
+                              "something other than numbers")
+        if not size_line_seen:
+            size_line_seen = True
+            continue
+        if coordinate:
+            fields = line.split()
+            try:
+                i, j = int(fields[0]), int(fields[1])
+            except (ValueError, IndexError):
+                raise FileRefused("it is not a valid Matrix Market file: an entry's row "
+                                  "and column must be integers") from None
+            if not (1 <= i <= n and 1 <= j <= n):
+                raise FileRefused(f"it is not a valid Matrix Market file: an entry at ({i}, "
+                                  f"{j}) lies outside the {n}x{n} matrix")
+
+
 def _read_mtx(handle: IO[bytes], size: int) -> Any:
     import scipy.io
     import scipy.sparse
@@ -452,6 +482,9 @@ def _read_mtx(handle: IO[bytes], size: int) -> Any:
         text += b"\n"
     banner, sep, body = text.partition(b"\n")
     text = banner.replace(b" integer ", b" real ") + sep + body
+    # nor may it see anything but numbers: NUL bytes, other characters or indices beyond
+    # the size line have crashed it; every data line is checked here first
+    _check_mtx_body(body, n, layout == "coordinate")
     try:
         matrix = scipy.io.mmread(_StreamForScipy(io.BytesIO(text)))
     except ValueError as exc:  # fast_matrix_market: "Line 4: Row index out of bounds"
