@@ -34,6 +34,8 @@ from typing import Any
 
 import sympy
 
+import resonant.model.limits as limits
+
 from ..errors import ModelError, Problem
 from ..expressions import (
     BinOp,
@@ -45,7 +47,6 @@ from ..expressions import (
     parse,
     validate_name,
 )
-from . import limits
 from .exercise import parse_exercise
 from .limits import (
     ENERGY_KEYS,

@@ -38,9 +38,10 @@ from typing import IO, Any
 
 import numpy as np
 
+import resonant.model.limits as limits
+
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
-from . import limits
 from .types import Harmonic, MatrixSpec
 
 MATRIX_KEYS = ("M", "K", "C")
