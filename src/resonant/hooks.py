@@ -29,6 +29,14 @@ F = TypeVar("F", bound=Callable[..., Any])
 
 #: hook name -> the module that registers it
 PROVIDERS: dict[str, str] = {
+    # optional model sections, imported only when a model uses them (start-up time)
+    "read_parts": "resonant.model.parts",
+    "mechanism": "resonant.model.part_energies",
+    "derive_energies": "resonant.model.part_energies",
+    "point_expressions": "resonant.model.part_energies",
+    "parse_exercise": "resonant.model.exercise",
+    "read_matrix_spec": "resonant.model.matrix_files",
+    "latex_to_mathml": "resonant.views.mathml",
     "linear_system": "resonant.system",
     "stationary": "resonant.analyses.stationary",
     "modes": "resonant.analyses.modes",

@@ -30,12 +30,13 @@ import tomllib
 from collections.abc import Collection, Iterable, Mapping, Sequence
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import sympy
 
 import resonant.model.limits as limits
 
+from .. import hooks
 from ..errors import ModelError, Problem
 from ..expressions import (
     BinOp,
@@ -47,7 +48,7 @@ from ..expressions import (
     parse,
     validate_name,
 )
-from .exercise import parse_exercise
+from .files import FileRefused, open_regular_file, read_bounded
 from .limits import (
     ENERGY_KEYS,
     MAX_COORDINATES,
@@ -56,9 +57,6 @@ from .limits import (
     MAX_INLINED_NODES,
     TOP_LEVEL,
 )
-from .matrix_files import FileRefused, open_regular_file, read_bounded, read_matrix_spec
-from .part_energies import Mechanism, derive_energies, point_expressions
-from .parts import DerivedEnergies, read_parts
 from .types import (
     Force,
     MatrixSpec,
@@ -68,6 +66,10 @@ from .types import (
     primed_names,
     unknown_parameter,
 )
+
+if TYPE_CHECKING:
+    from .part_energies import Mechanism
+    from .parts import DerivedEnergies
 
 # -- loading -------------------------------------------------------------------------------
 
@@ -237,7 +239,11 @@ class _Builder:
         # once, not again as an unknown name wherever it is used
         allowed = [*state_names, *(n for n, sec in self.declared.items()
                                    if sec == "definitions")]
-        parts = read_parts(self.data, param_names, allowed, self.source, self.problems)
+        # the optional sections' modules are imported only when a model uses them
+        # (hooks.PROVIDERS), so that a plain energy model starts fast
+        parts = hooks.call("read_parts", self.data, param_names, allowed, self.source,
+                           self.problems) \
+            if any(section in self.data for section in limits.PART_SECTIONS) else None
         mechanism = self.mechanism(parts, param_names, coordinates, signals, definitions,
                                    equilibrium)
         energy = self.energy(allowed, required=not matrices and not parts)
@@ -257,8 +263,10 @@ class _Builder:
                          "not both", "matrices")
         names = coordinates or ([f"q{i + 1}" for i in range(_matrix_size(matrix_spec.M))]
                                 if matrix_spec is not None else [])
-        exercise = parse_exercise(self.data.get("exercise"), self.data.get("variants"),
-                                  param_names, names, list(outputs), self.source, self.problems)
+        exercise = hooks.call("parse_exercise", self.data.get("exercise"),
+                              self.data.get("variants"), param_names, names, list(outputs),
+                              self.source, self.problems) \
+            if "exercise" in self.data or "variants" in self.data else None
         exact: dict[str, sympy.Expr] = {}
         floats: dict[str, float] = {}
         if not self.problems:
@@ -269,8 +277,8 @@ class _Builder:
         derived: DerivedEnergies | None = None
         if mechanism is not None and not self.problems:
             try:
-                derived, energy, torques = derive_energies(mechanism, energy, exact, allowed,
-                                                           self.force_points)
+                derived, energy, torques = hooks.call("derive_energies", mechanism, energy,
+                                                      exact, allowed, self.force_points)
                 forces = [*forces, *torques]
             except ModelError as exc:
                 self.problems.extend(exc.problems)
@@ -443,8 +451,8 @@ class _Builder:
         if not parts:
             return None
         try:
-            return Mechanism(parts, params, coordinates, signals, definitions, equilibrium,
-                             self.source)
+            return hooks.call("mechanism", parts, params, coordinates, signals, definitions,
+                              equilibrium, self.source)
         except ExpressionError as exc:
             self.problems.extend(exc.problems)
             return None
@@ -494,8 +502,8 @@ class _Builder:
             vector, point = entry.get("vector"), entry.get("point")
             if isinstance(point, str) and mechanism is not None and \
                     point in mechanism.parts.point_names():
-                resolved = point_expressions(mechanism, point, allowed, self.source, section,
-                                             self.problems)
+                resolved = hooks.call("point_expressions", mechanism, point, allowed,
+                                      self.source, section, self.problems)
                 if resolved is None:
                     continue
                 self.force_points[name] = point
@@ -530,8 +538,10 @@ class _Builder:
         section = self.data.get("matrices")
         harmonics = self.data.get("harmonic", [])
         try:
-            return read_matrix_spec(section, harmonics, params, coordinates, self.source,
-                                    self.base_dir, self.allow_paths)
+            spec: MatrixSpec = hooks.call("read_matrix_spec", section, harmonics, params,
+                                          coordinates, self.source, self.base_dir,
+                                          self.allow_paths)
+            return spec
         except ModelError as exc:
             self.problems.extend(exc.problems)
             return None

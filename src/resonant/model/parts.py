@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
+from .. import hooks
 from ..errors import Problem
 from ..expressions import Expression, ExpressionError, parse, validate_name
 
@@ -238,6 +239,7 @@ class _Reader:
         return out
 
 
+@hooks.provides("read_parts")
 def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collection[str],
                source: str, problems: list[Problem]) -> Parts:
     """Read and validate the parts of a model file's TOML data.

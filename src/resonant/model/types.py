@@ -19,7 +19,7 @@ import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import sympy
 
@@ -27,8 +27,10 @@ from .. import hooks
 from ..deadline import Deadline
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
-from .exercise import Exercise
-from .parts import DerivedEnergies
+
+if TYPE_CHECKING:
+    from .exercise import Exercise
+    from .parts import DerivedEnergies
 
 TIME = sympy.Symbol("t")
 

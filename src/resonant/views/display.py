@@ -38,7 +38,6 @@ from ..derivation import derivative_symbol
 from ..errors import printable
 from ..model import Model, symbol
 from ..system import LinearEOM, MatrixEOM, NumericEOM
-from .mathml import latex_to_mathml
 from .notation import (
     Namer,
     column_latex,
@@ -199,7 +198,8 @@ def model_latex(model: Model) -> str:
 
 
 def _mathml(latex: str) -> str:
-    return latex_to_mathml(latex, True)
+    # MathML (xml.etree, ziamath) is imported only when HTML is asked for
+    return str(hooks.call("latex_to_mathml", latex, True))
 
 
 @hooks.provides("model_html")
