@@ -29,6 +29,7 @@ import math
 import os
 import re
 import struct
+import warnings
 import zipfile
 from collections.abc import Sequence
 from pathlib import Path
@@ -334,119 +335,134 @@ def _read_sparse(archive: zipfile.ZipFile, members: dict[str, zipfile.ZipInfo]) 
 MTX_FIELDS = ("real", "integer", "complex", "pattern")
 
 
-class _StreamForScipy:
-    """Only ``read(n)``, which never raises: scipy's C++ Matrix Market reader aborts
-    the whole process (``terminate``) when the Python stream it reads raises, and
-    fails on some real file objects; an error ends the stream and scipy reports
-    a truncated file instead."""
+#: the banner: ``%%MatrixMarket matrix <layout> <field> <symmetry>``
+_MTX_BANNER = re.compile(rb"%%MatrixMarket[ \t]+matrix[ \t]+([A-Za-z-]+)[ \t]+([A-Za-z-]+)"
+                         rb"[ \t]+([A-Za-z-]+)[ \t]*\r?", re.IGNORECASE)
+MTX_SYMMETRIES = ("general", "symmetric", "skew-symmetric")
+_MTX_INVALID = "it is not a valid Matrix Market file"
 
-    def __init__(self, handle: IO[bytes]) -> None:
-        self.handle = handle
 
-    def read(self, size: int = -1) -> bytes:
-        if size is None or size < 0 or size > 1 << 24:
-            size = 1 << 24
+def _mtx_size_line(text: bytes) -> tuple[list[bytes], int]:
+    """The fields of the size line (the first line after the banner that is neither blank
+    nor a comment) and the offset of the data after it."""
+    start = text.find(b"\n") + 1
+    while start and start < len(text):
+        end = text.find(b"\n", start)
+        end = len(text) if end < 0 else end
+        line = text[start:end]
+        if line.strip() and not line.startswith(b"%"):
+            return line.split(), end + 1
+        start = end + 1
+    raise FileRefused(f"{_MTX_INVALID}: there is no size line after the banner")
+
+
+def _mtx_numbers(data: bytes, rows: int, columns: int) -> np.ndarray:
+    """The data lines as a ``rows x columns`` float array (numpy's C reader: scipy's C++
+    Matrix Market reader crashed the process on hostile files, fuzz campaigns of stop 17)."""
+    if rows == 0:
+        if data.strip(b" \t\r\n") and any(line.strip() and not line.startswith(b"%")
+                                           for line in data.split(b"\n")):
+            raise FileRefused(f"{_MTX_INVALID}: it holds more entries than its size line says")
+        return np.empty((0, columns))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
         try:
-            return self.handle.read(size)
-        except Exception:  # noqa: BLE001 - see the class docstring
-            return b""
-
-
-#: a data line: numbers (nan and inf included, refused later as not finite)
-_MTX_LINE = re.compile(rb"[ \t]*[-+0-9.eEnNaAiIfFtTyY]+([ \t]+[-+0-9.eEnNaAiIfFtTyY]+)*[ \t]*\r?")
-
-
-def _check_mtx_body(body: bytes, n: int, coordinate: bool) -> None:
-    """Every line after the banner is a comment, blank, or numbers; coordinate indices lie in
-    [1, n] (the size line's first two numbers are the size, already checked)."""
-    size_line_seen = False
-    for line in body.split(b"\n"):
-        if not line.strip() or line.startswith(b"%"):
-            continue
-        if not _MTX_LINE.fullmatch(line):
-            raise FileRefused("it is not a valid Matrix Market file: a data line holds "
-                              "something other than numbers")
-        if not size_line_seen:
-            size_line_seen = True
-            continue
-        if coordinate:
-            fields = line.split()
-            try:
-                i, j = int(fields[0]), int(fields[1])
-            except (ValueError, IndexError):
-                raise FileRefused("it is not a valid Matrix Market file: an entry's row "
-                                  "and column must be integers") from None
-            if not (1 <= i <= n and 1 <= j <= n):
-                raise FileRefused(f"it is not a valid Matrix Market file: an entry at ({i}, "
-                                  f"{j}) lies outside the {n}x{n} matrix")
+            values = np.loadtxt(io.BytesIO(data), dtype=np.float64, comments="%", ndmin=2,
+                                encoding="latin-1")
+        except (ValueError, UnicodeError):
+            raise FileRefused(f"{_MTX_INVALID}: a data line holds something other than "
+                              f"numbers (expected {columns} per line)") from None
+    if values.shape[1] != columns:
+        raise FileRefused(f"{_MTX_INVALID}: a data line holds {values.shape[1]} numbers; "
+                          f"expected {columns}")
+    if values.shape[0] != rows:
+        raise FileRefused(f"{_MTX_INVALID}: its size line announces {rows} entries, the file "
+                          f"holds {values.shape[0]}")
+    return values
 
 
 def _read_mtx(handle: IO[bytes], size: int) -> Any:
-    import scipy.io
+    """A Matrix Market file (real or integer; general, symmetric or skew-symmetric; coordinate
+    or array), read by resonant itself: banner and size line first, checked against the
+    limits before the data are parsed."""
     import scipy.sparse
 
-    try:
-        rows, cols, entries, layout, field, symmetry = scipy.io.mminfo(
-            _StreamForScipy(handle))
-    except Exception:  # noqa: BLE001
-        raise FileRefused("it is not a valid Matrix Market file (it must start with "
-                          "'%%MatrixMarket matrix' and a size line)") from None
+    text = handle.read(size + 1)
+    banner = _MTX_BANNER.fullmatch(text.split(b"\n", 1)[0])
+    if banner is None:
+        raise FileRefused(f"{_MTX_INVALID} (it must start with '%%MatrixMarket matrix' and a "
+                          "size line)")
+    layout, field, symmetry = (g.decode("ascii").lower() for g in banner.groups())
     if field not in ("real", "integer"):
         named = f"{field} " if field in MTX_FIELDS else "non-numeric "
         raise FileRefused(f"it holds {named}entries; M, K and C must be real numbers")
     if layout not in ("coordinate", "array"):
         raise FileRefused("it is neither a coordinate nor an array Matrix Market file")
-    n = _check_size(rows, cols, "the matrix")
-    entries = int(entries)
-    if layout == "array":
-        if n * n > limits.MAX_DENSE_ENTRIES:
-            raise FileRefused(f"the matrix is a dense {n}x{n} matrix; dense matrices are "
-                              f"limited to {limits.MAX_DENSE_ENTRIES} entries "
-                              "(resonant.model.limits.MAX_DENSE_ENTRIES)")
-        least = n * n // 2
-    else:
+    if symmetry not in MTX_SYMMETRIES:
+        raise FileRefused(f"{_MTX_INVALID}: the symmetry must be one of "
+                          f"{', '.join(MTX_SYMMETRIES)}")
+    fields, offset = _mtx_size_line(text)
+    coordinate = layout == "coordinate"
+    try:
+        numbers = [int(f) for f in fields]
+    except ValueError:
+        numbers = []
+    if len(numbers) != (3 if coordinate else 2):
+        raise FileRefused(f"{_MTX_INVALID}: the size line must hold "
+                          f"{'rows, columns and entries' if coordinate else 'rows and columns'}"
+                          " as integers")
+    n = _check_size(numbers[0], numbers[1], "the matrix")
+    if coordinate:
+        entries = numbers[2]
         stored = entries * (1 if symmetry == "general" else 2)
         if entries < 0 or stored > limits.MAX_MATRIX_NONZEROS:
             raise FileRefused(f"the matrix has {entries} stored entries; sparse matrices are "
                               f"limited to {limits.MAX_MATRIX_NONZEROS} "
                               "(resonant.model.limits.MAX_MATRIX_NONZEROS)")
         least = entries * 6  # "1 1 1\n" is the shortest entry line
+    else:
+        if n * n > limits.MAX_DENSE_ENTRIES:
+            raise FileRefused(f"the matrix is a dense {n}x{n} matrix; dense matrices are "
+                              f"limited to {limits.MAX_DENSE_ENTRIES} entries "
+                              "(resonant.model.limits.MAX_DENSE_ENTRIES)")
+        entries = {"general": n * n, "symmetric": n * (n + 1) // 2,
+                   "skew-symmetric": n * (n - 1) // 2}[symmetry]
+        least = entries * 2  # "1\n"
     if least > size:
         raise FileRefused(f"its size line claims more entries than the file's {size} bytes "
                           "can hold")
-    handle.seek(0)
-    text = handle.read(size + 1)
-    # scipy's C++ reader dies with SIGSEGV on an `integer` file whose last entry has a
-    # fraction and no final newline: end every file with a newline, and read integer
-    # files as real ones (their values are used as floats anyway)
-    if not text.endswith(b"\n"):
-        text += b"\n"
-    banner, sep, body = text.partition(b"\n")
-    text = banner.replace(b" integer ", b" real ") + sep + body
-    # nor may it see anything but numbers: NUL bytes, other characters or indices beyond
-    # the size line have crashed it; every data line is checked here first
-    _check_mtx_body(body, n, layout == "coordinate")
-    try:
-        matrix = scipy.io.mmread(_StreamForScipy(io.BytesIO(text)))
-    except ValueError as exc:  # fast_matrix_market: "Line 4: Row index out of bounds"
-        first = str(exc).splitlines()[0] if str(exc) else ""
-        detail = "".join(c for c in first[:160] if c.isprintable())
-        raise FileRefused("it is not a valid Matrix Market file" +
-                          (f": {detail}" if detail else "")) from None
-    if not scipy.sparse.issparse(matrix):
-        array = np.asarray(matrix)
-        _check_dtype(array.dtype, "the matrix")
-        if array.shape != (n, n):
-            raise FileRefused("the matrix does not match its size line")
-        return _dense(array)
-    coo = matrix.tocoo()
-    _check_dtype(coo.data.dtype, "the matrix")
-    if coo.shape != (n, n):
-        raise FileRefused("the matrix does not match its size line")
-    nnz = coo.data.shape[0]
-    rows_ = _index(np.asarray(coo.row), "row", nnz, n)
-    cols_ = _index(np.asarray(coo.col), "col", nnz, n)
-    out = scipy.sparse.coo_matrix((_dense(coo.data), (rows_, cols_)), shape=(n, n)).tocsr()
+    values = _mtx_numbers(text[offset:], entries, 3 if coordinate else 1)
+    if not np.all(np.isfinite(values)):
+        raise FileRefused("the matrix holds non-finite entries (inf or nan)")
+    if not coordinate:
+        if symmetry == "general":
+            return np.array(values[:, 0].reshape(n, n, order="F"))
+        # the lower triangle column by column: (i, j), i >= j, ordered by j then i
+        cols, rows = np.triu_indices(n, 0 if symmetry == "symmetric" else 1)
+        dense = np.zeros((n, n))
+        dense[rows, cols] = values[:, 0]
+        dense[cols, rows] = values[:, 0] if symmetry == "symmetric" else -values[:, 0]
+        return dense
+    index = values[:, :2]
+    if np.any(index != np.floor(index)):
+        raise FileRefused(f"{_MTX_INVALID}: an entry's row and column must be integers")
+    outside = np.flatnonzero(np.any((index < 1) | (index > n), axis=1))
+    if outside.size:
+        i, j = (int(v) for v in index[outside[0]])
+        raise FileRefused(f"{_MTX_INVALID}: an entry at ({i}, {j}) lies outside the {n}x{n} "
+                          "matrix")
+    rows_, cols_, data = index[:, 0].astype(np.int64) - 1, index[:, 1].astype(np.int64) - 1, \
+        values[:, 2]
+    if symmetry != "general":
+        if symmetry == "skew-symmetric" and np.any(rows_ == cols_):
+            raise FileRefused(f"{_MTX_INVALID}: a skew-symmetric matrix stores no diagonal "
+                              "entries")
+        off = rows_ != cols_
+        sign = 1.0 if symmetry == "symmetric" else -1.0
+        rows_, cols_, data = (np.concatenate([rows_, cols_[off]]),
+                              np.concatenate([cols_, rows_[off]]),
+                              np.concatenate([data, sign * data[off]]))
+    out = scipy.sparse.coo_matrix((data, (rows_, cols_)), shape=(n, n)).tocsr()
     out.sum_duplicates()
     return out
 
