@@ -414,7 +414,8 @@ def write_report(results: dict[str, Any], out: Path, command: str,
                   "temporary directory, harmonic `omega = \"w\"`), model loading not timed.",
                   ""] + sweep_section(results["sweep"]) + [""]
     if "end_to_end" in results:
-        lines += ["## 3. End to end", ""] + end_to_end_section(results["end_to_end"]) + [""]
+        lines += ["## 3. End to end", ""] + _rerun_note(meta, "end_to_end") + \
+            end_to_end_section(results["end_to_end"]) + [""]
     if "memory" in results:
         m = results["memory"]
         lines += ["## 4. Memory", ""]
@@ -429,7 +430,33 @@ def write_report(results: dict[str, Any], out: Path, command: str,
                       f"{m['self_maxrss_mb']:.0f} MB).", ""]
         else:
             lines += [f"Not measured: {m['error']}", ""]
-    out.write_text("\n".join(lines), encoding="utf-8")
+    out.write_text("\n".join(lines) + _kept_sections(out), encoding="utf-8")
+
+
+def _rerun_note(meta: dict[str, Any], name: str) -> list[str]:
+    """A line saying that section ``name`` comes from a later partial run, if it does."""
+    reruns = [r for r in meta.get("partial_reruns", []) if r["benchmark"] == name]
+    if not reruns:
+        return []
+    last = reruns[-1]
+    return [f"Re-measured alone on {last['date']} (load average {last['load_before']}) with "
+            f"`python benchmarks/run.py --only {name} --out /tmp/x.md`, merged into "
+            "`benchmarks/results/full.json`; the other sections are from the full run.", ""]
+
+
+#: sections of the report below this line come from other benchmark scripts (nonlinear,
+#: reduced-order, units, ...) with their own commands; a re-run keeps them as they are
+KEEP_MARKER = "<!-- sections below are written by other benchmark scripts and kept by run.py -->"
+
+
+def _kept_sections(out: Path) -> str:
+    """The part of an existing report from :data:`KEEP_MARKER` on ("" if none)."""
+    try:
+        old = out.read_text(encoding="utf-8")
+    except OSError:
+        return ""
+    at = old.find(KEEP_MARKER)
+    return "\n" + old[at:] if at >= 0 else ""
 
 
 def main(argv: list[str] | None = None) -> int:
