@@ -215,7 +215,7 @@ CASES: list[tuple[str, str | bytes, tuple[str, ...], int, tuple[str, ...], str]]
      ("atan2(0, 0)",), "[energy] U"),
     ("not-an-equilibrium", edit(BASE, 'U = "k*x^2/2"', 'U = "k*x^2/2 + 3*x"'), (), 2,
      ("not an equilibrium", "residual", "x = -0.00375"), "[equilibrium]"),
-    ("derivation-timeout", pendulum_chain_text(80),
+    ("derivation-timeout", pendulum_chain_text(300),
      ("--timeout", "0.5"), 2, ("the derivation exceeded 0.5 s", "--timeout"), ""),
     ("overflow", edit(BASE, 'U = "k*x^2/2"', 'U = "k*x^2/2 + exp(exp(exp(exp(x + 10))))"'),
      (), 2, ("a number overflowed",), ""),

@@ -13,6 +13,12 @@ the cart-pendulum (x2's dip at 6.44 rad/s is a minimum of 0.031, not the 0.0 tha
 clamped parabola reported) list none; their stored ``antiresonances`` were updated, and
 the undamped cart-pendulum's sweep now warns that its peaks are unbounded.  Phases are
 compared as angles: -pi is now written as pi.
+
+Another deliberate change (issue 13, physical units): the examples now give their data
+with units, with the same SI values, except the rotating unbalance's speed, now
+``n_rpm = "1200 rpm"``: a value in rpm holds its 2 pi, so its SI value (what
+``parameters`` reports) is 125.66 rad/s instead of the bare 1200, and ``Omega = "n_rpm"``
+(125.66 rad/s, unchanged).  The stored ``parameters.n_rpm`` was updated.
 """
 
 from __future__ import annotations

@@ -385,7 +385,7 @@ def chains(draw: st.DrawFn) -> tuple[str, str]:
             mp, lp = draw(values), draw(values)
             params += [f"p{i} = {mp}", f'l{i} = "{lp}/10"']
             coords.append(f'th{i} = ""')
-            bodies.append(f'[[body]]\nname = "p{i}"\nmass = "p{i}"\npin = "b{i}"\n'
+            bodies.append(f'[[body]]\nname = "pendulum{i}"\nmass = "p{i}"\npin = "b{i}"\n'
                           f'angle = "th{i}"\ncentre = ["0", "-l{i}"]')
             T.append(f"p{i}/2*((x{i}' + l{i}*cos(th{i})*th{i}')^2 + (l{i}*sin(th{i})*th{i}')^2)")
             U.append(f"-p{i}*g*l{i}*cos(th{i})")

@@ -29,6 +29,8 @@ import sympy as sp
 
 from conftest import EXAMPLES, run_json, solve_json
 
+from resonant.model.units import parse_unit, split_value
+
 # --------------------------------------------------------------------------- helpers
 
 
@@ -96,10 +98,13 @@ class ModelSymbols:
         self.base: dict[str, float] = {}
         self.derived: dict[str, sp.Expr] = {}
         for n, v in data["parameters"].items():
-            if isinstance(v, str):
-                self.derived[n] = self._sympify(v)
-            else:
-                self.base[n] = float(v)
+            # "2 kg", "pi/3 rad" (issue 13): the value times its unit's SI factor
+            text, unit = split_value(v) if isinstance(v, str) else (v, None)
+            factor = parse_unit(unit).to_si() if unit is not None else 1.0
+            try:
+                self.base[n] = float(text) * factor
+            except ValueError:
+                self.derived[n] = self._sympify(text) * factor
         self.signals = {n: self._sympify(e) for n, e in data.get("signals", {}).items()}
 
     def _sympify(self, text: str) -> sp.Expr:

@@ -31,6 +31,7 @@ F = TypeVar("F", bound=Callable[..., Any])
 PROVIDERS: dict[str, str] = {
     # optional model sections, imported only when a model uses them (start-up time)
     "read_parts": "resonant.model.parts",
+    "check_part_values": "resonant.model.parts",
     "mechanism": "resonant.model.part_energies",
     "derive_energies": "resonant.model.part_energies",
     "point_expressions": "resonant.model.part_energies",

@@ -15,7 +15,19 @@ solved by the cheapest exact method for their structure:
 ``"modal"``
     superposition of *all* undamped modes, exact only when the damping is
     proportional (``K M^-1 C = C M^-1 K``); its accuracy is checked against a
-    direct solve at a few points, with a direct method as the fallback.
+    direct solve at a few points, with a direct method as the fallback;
+``"reduced"``
+    a reduced-order model (:mod:`resonant.analyses.reduced`: multi-point
+    second-order Krylov basis from a few sparse factorizations, a posteriori
+    error estimate, adaptive enrichment) for large models and many
+    frequencies, accurate to the tolerance ``tol`` rather than exact.
+
+``"direct"`` is the cheapest exact method among dense, banded and sparse by
+their estimated costs (:func:`direct_costs`: the band's work n kl (kl + ku)
+against the measured factorization of a sparse LU with a fill-reducing
+ordering); ``"auto"`` tries ``"reduced"`` where the direct sweep would be long
+and keeps it only when its estimated error is below ``tol``, and otherwise
+uses :func:`choose_method`.
 
 Every point gets a condition number (exact, or the lower bound
 ``||A|| ||z|| / ||F||``); above :data:`SINGULAR_CONDITION` the point is an
@@ -44,12 +56,13 @@ from typing import Any
 
 import numpy as np
 
-from ..deadline import NO_DEADLINE, Deadline
+from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
 from ..system import Batch, BatchHarmonic
 from ..system.stability import check_mass_matrix
+from .reduced import DEFAULT_TOL, backward_stable, reduced_response, sparse_lu_options
 
-METHODS = ("auto", "dense", "banded", "sparse", "modal")
+METHODS = ("auto", "direct", "dense", "banded", "sparse", "modal", "reduced")
 #: a point whose condition number exceeds this is an exact resonance
 SINGULAR_CONDITION = 1e13
 #: condition number that earns a "digits lost" warning
@@ -62,6 +75,24 @@ CHUNK_BYTES = 64 * 2**20
 EXACT_CONDITION = 64
 #: ... or, for a single point (the stationary solution), up to this many
 EXACT_CONDITION_SINGLE = 1500
+#: ``auto`` tries a reduced model only when the direct solves are estimated to take longer
+#: than this (seconds) ...
+REDUCED_WORTH = 1.0
+#: ... for at least this many coordinates and distinct frequencies
+REDUCED_MIN_SIZE = 500
+REDUCED_MIN_POINTS = 20
+#: the reduced model may spend this fraction of the direct solves' estimated time before
+#: ``auto`` gives up on it (at least REDUCED_MIN_BUDGET seconds)
+REDUCED_BUDGET = 0.3
+REDUCED_MIN_BUDGET = 1.0
+#: cost model of the direct solves (seconds): dense LU and banded LAPACK rates (real
+#: FLOP/s of the complex factorizations) and the per-point overhead of a Python call
+DENSE_RATE = 2e10
+BANDED_RATE = 1.5e10
+#: SuperLU's rate on the FLOPs counted from the structure of its factors (measured here
+#: 0.9-2.2 GFLOP/s on 2-D grids of 900 to 40,000 DOF)
+SPARSE_RATE = 1.5e9
+CALL_OVERHEAD = 2e-5
 
 
 @dataclass(frozen=True)
@@ -84,6 +115,10 @@ class KernelResult:
     singular: np.ndarray
     condition: np.ndarray
     exact: bool
+    #: the method used ("dense", "banded", "sparse", "modal", "reduced")
+    method: str = ""
+    #: the estimated largest relative error (reduced), None for the exact methods
+    error: float | None = None
 
 
 def check_batch_mass(batch: Batch, values: np.ndarray | None = None, param: str = "",
@@ -158,16 +193,105 @@ def _is_proportional(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> bool:
     return bool(np.linalg.norm(lhs - rhs) <= 1e-9 * scale)
 
 
+def direct_costs(batch: Any) -> dict[str, float]:
+    """Estimated seconds per frequency of the exact direct methods for fixed M, C, K.
+
+    ``dense``: (32/3) n^3 real FLOPs of a complex LU at :data:`DENSE_RATE`;
+    ``banded``: 8 n kl (kl + ku + 1) FLOPs of LAPACK ``gbtrf`` at
+    :data:`BANDED_RATE` (less for narrow bands) plus the band storage;
+    ``sparse`` (sparse matrices only): from one *measured* SuperLU factorization
+    (fill-reducing ordering, :func:`resonant.analyses.reduced.sparse_lu_options`)
+    of A at a representative frequency: the FLOPs sum_k 8 |L_k| |U_k| counted
+    from the structure of its factors at :data:`SPARSE_RATE`, plus the solve
+    and the assembly; its fill nnz(L + U) is returned as ``"sparse_fill"``.
+    (Not its wall time: on a shared machine that varies tenfold.)  The probe is
+    skipped when the band is so narrow that no sparse LU can beat it.
+
+    Parameters
+    ----------
+    batch : Batch
+        With ``constant`` matrices.
+
+    Returns
+    -------
+    dict
+        Method -> seconds per frequency (and ``"sparse_fill"`` when measured).
+
+    Examples
+    --------
+    >>> import numpy as np, scipy.sparse as sp
+    >>> from resonant.system import NumericEOM, NumericHarmonic
+    >>> n = 400
+    >>> K = sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1], format="csr")
+    >>> load = NumericHarmonic(1.0, np.zeros(n), np.ones(n))
+    >>> eom = NumericEOM(tuple(f"q{i}" for i in range(n)), sp.identity(n, format="csr"),
+    ...                  sp.csr_matrix((n, n)), K, (load,))
+    >>> costs = direct_costs(eom.batch("omega", np.array([1.0])))
+    >>> min(costs, key=costs.get)     # a chain: the band wins
+    'banded'
+    """
+    n = len(batch.coordinates)
+    lower, upper = _bandwidths(batch.M, batch.C, batch.K)
+    band_rate = BANDED_RATE * min(1.0, 0.1 + (lower + upper) / 200)
+    costs = {
+        "dense": 32.0 / 3.0 * n ** 3 / DENSE_RATE + 16.0 * n * n * 4 / DENSE_RATE
+        + CALL_OVERHEAD,
+        "banded": 8.0 * n * max(lower, 1) * (lower + upper + 1) / band_rate
+        + 2e-9 * n * (2 * lower + upper + 1) * 3 + CALL_OVERHEAD,
+    }
+    if not any(hasattr(a, "tocsr") for a in (batch.M, batch.C, batch.K)):
+        return costs
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import splu
+
+    M, C, K = (sp.csc_matrix(a) for a in (batch.M, batch.C, batch.K))
+    pattern = (abs(K) + abs(M) + abs(C)).tocsc()
+    # no sparse LU can do with less than its nonzeros and a call into SuperLU
+    floor = 3e-8 * pattern.nnz + 1e-4
+    if costs["banded"] <= floor:
+        return costs
+    options = sparse_lu_options(pattern)
+    diag_k, diag_m = np.abs(K.diagonal()), np.abs(M.diagonal())
+    s = float(np.sqrt(diag_k.mean() / diag_m.mean())) if diag_m.mean() > 0 else 1.0
+    s = s if np.isfinite(s) and s > 0 else 1.0
+    try:
+        lu = splu((K - (s * s) * M + (1j * s) * C).tocsc(), **options)
+    except RuntimeError:  # exactly singular there: the fill is not known
+        return costs
+    # the factorization's work from its structure: column k of L times row k of U
+    lower_counts = np.diff(lu.L.indptr) - 1
+    upper_counts = np.bincount(lu.U.indices, minlength=n) - 1
+    flops = 8.0 * float(np.dot(lower_counts, upper_counts)) + 8.0 * float(lower_counts.sum())
+    fill = float(lu.L.nnz + lu.U.nnz)
+    costs["sparse"] = flops / SPARSE_RATE + 2e-8 * fill + 5e-8 * pattern.nnz + 1e-4
+    costs["sparse_fill"] = fill
+    return costs
+
+
+def choose_direct(batch: Any) -> str:
+    """The cheapest exact direct method (``dense``, ``banded`` or ``sparse``) by
+    :func:`direct_costs`; ``dense`` for matrices that change with the parameter."""
+    if not batch.constant:
+        return "dense"
+    if len(batch.coordinates) <= 40:
+        return "dense"
+    costs = direct_costs(batch)
+    costs.pop("sparse_fill", None)
+    return min(costs, key=lambda k: costs[k])
+
+
 def choose_method(batch_or_matrices: Any, n_points: int = 1) -> str:
-    """The method ``method="auto"`` uses for a sweep.
+    """The exact method ``method="auto"`` uses for a sweep (when no reduced model is tried
+    or it misses the tolerance).
 
     Matrices that change with the parameter: ``dense`` (stacked solve).
     Fixed matrices: ``dense`` for n <= 40 (one batched LAPACK call beats a
-    Python loop); ``banded`` when the total bandwidth is at most n/10 (cost
-    n * bandwidth^2 per point, exact); ``sparse`` for other sparse matrices
-    with few nonzeros; ``modal`` for dense symmetric, proportionally damped
-    systems with n <= 3000 (one eigendecomposition, then n^2 per point);
-    ``dense`` otherwise.
+    Python loop); for sparse matrices the cheaper of ``banded`` and ``sparse``
+    by their estimated costs (:func:`direct_costs`: band work against the
+    measured sparse LU, not the band alone); ``banded`` for dense arrays whose
+    total bandwidth is at most n/10; ``modal`` for dense symmetric,
+    proportionally damped systems with n <= 3000 (one eigendecomposition, then
+    n^2 per point); ``dense`` otherwise.
     """
     b = batch_or_matrices
     if not b.constant:
@@ -176,13 +300,14 @@ def choose_method(batch_or_matrices: Any, n_points: int = 1) -> str:
     if n <= 40:
         return "dense"
     lower, upper = _bandwidths(b.M, b.C, b.K)
-    if lower + upper + 1 <= max(3, n // 10):
-        return "banded"
     sparse = any(hasattr(a, "tocsr") for a in (b.M, b.C, b.K))
     if sparse:
         nnz = sum(a.nnz if hasattr(a, "nnz") else np.count_nonzero(a) for a in (b.M, b.C, b.K))
-        if nnz < 0.05 * n * n or n > 3000:
-            return "sparse"
+        if lower + upper + 1 <= max(3, n // 10) or nnz < 0.05 * n * n or n > 3000:
+            costs = direct_costs(b)
+            return "sparse" if costs.get("sparse", np.inf) < costs["banded"] else "banded"
+    elif lower + upper + 1 <= max(3, n // 10):
+        return "banded"
     if n <= 3000:
         M, C, K = (_dense(a) for a in (b.M, b.C, b.K))
         if _symmetric(M) and _symmetric(K) and _symmetric(C) and _is_proportional(M, C, K):
@@ -247,8 +372,8 @@ class _Store:
 
 def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                    progress: _Progress | None = None, warnings: list[str] | None = None,
-                   keep: np.ndarray | None = None, deadline: Deadline = NO_DEADLINE
-                   ) -> KernelResult:
+                   keep: np.ndarray | None = None, deadline: Deadline = NO_DEADLINE,
+                   tol: float = DEFAULT_TOL) -> KernelResult:
     """Complex responses z = L - i N of one harmonic at every point of a batch.
 
     Parameters
@@ -257,8 +382,9 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
         The system at N points.
     h : BatchHarmonic
         The harmonic: omega (N,), F_S, F_C.
-    method : {"auto", "dense", "banded", "sparse", "modal"}
-        See the module docstring; ``auto`` uses :func:`choose_method`.
+    method : {"auto", "direct", "dense", "banded", "sparse", "modal", "reduced"}
+        See the module docstring; ``direct`` uses :func:`choose_direct`, ``auto``
+        a reduced model where it pays and meets ``tol``, else :func:`choose_method`.
     progress : _Progress, optional
     warnings : list of str, optional
         Receives the modal fallback's warning.
@@ -266,13 +392,13 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
         The coordinates to keep (default all).
     deadline : Deadline, optional
         Checked between points.
+    tol : float
+        Relative tolerance of the reduced model (``reduced``, ``auto``).
 
     Returns
     -------
     KernelResult
     """
-    if method == "auto":
-        method = choose_method(batch)
     w = h.omega
     N = w.shape[0]
     n = len(batch.coordinates)
@@ -283,7 +409,36 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     if not np.any(rhs):
         progress.advance(N)
         return KernelResult(np.zeros((N, len(keep)), dtype=complex), np.zeros(N, dtype=bool),
-                            np.ones(N), False)
+                            np.ones(N), False,
+                            method if method not in ("auto", "direct") else "dense")
+    if rhs.ndim == 2 and np.all(rhs == rhs[:1]):
+        rhs = rhs[0]
+    if method == "reduced":
+        if not batch.constant or rhs.ndim == 2:
+            raise AnalysisError("method 'reduced' needs M, C, K and the load that do not "
+                                "depend on the swept parameter; use 'direct'")
+        result = _solve_reduced(batch, w, rhs, keep, tol, deadline, None)
+        progress.advance(N)
+        if result.error is not None and not result.error <= tol:
+            warnings.append(f"the reduced model's estimated error {result.error:.2g} exceeds "
+                            f"the tolerance {tol:.2g}; use method 'direct' for an exact solve")
+        return result
+    if method == "auto":
+        budget = _reduced_budget(batch, w, rhs)
+        if budget is not None:
+            try:
+                attempt: KernelResult | None = _solve_reduced(batch, w, rhs, keep, tol,
+                                                              deadline, budget)
+            except DeadlineExceeded:
+                raise
+            except AnalysisError:  # no basis (A singular wherever tried): solve directly
+                attempt = None
+            if attempt is not None and attempt.error is not None and attempt.error <= tol:
+                progress.advance(N)
+                return attempt
+        method = choose_method(batch, N)
+    elif method == "direct":
+        method = choose_direct(batch)
     store = _Store(N, keep)
     exact = method == "dense" and (n <= EXACT_CONDITION or (N == 1 and
                                                             n <= EXACT_CONDITION_SINGLE))
@@ -309,7 +464,44 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     singular |= ~np.isfinite(store.largest) | ~(condition <= SINGULAR_CONDITION)
     singular &= b_norm > 0
     Z[singular] = np.nan
-    return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact)
+    return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact, method)
+
+
+def _reduced_budget(batch: Batch, w: np.ndarray, rhs: np.ndarray) -> float | None:
+    """Seconds a reduced model may take in ``auto``, or None when it is not worth trying:
+    fixed sparse (or very large) matrices and load, many distinct frequencies, and
+    direct solves estimated at more than :data:`REDUCED_WORTH` seconds."""
+    n = len(batch.coordinates)
+    if not batch.constant or rhs.ndim == 2 or n < REDUCED_MIN_SIZE:
+        return None
+    if not (any(hasattr(a, "tocsr") for a in (batch.M, batch.C, batch.K)) or n > 3000):
+        return None
+    if len(np.unique(w)) < REDUCED_MIN_POINTS:
+        return None
+    costs = direct_costs(batch)
+    costs.pop("sparse_fill", None)
+    direct = min(costs.values()) * len(w)
+    if direct < REDUCED_WORTH:
+        return None
+    return max(REDUCED_MIN_BUDGET, REDUCED_BUDGET * direct)
+
+
+def _solve_reduced(batch: Batch, w: np.ndarray, rhs: np.ndarray, keep: np.ndarray,
+                   tol: float, deadline: Deadline, budget: float | None) -> KernelResult:
+    """The reduced model (:func:`resonant.analyses.reduced.reduced_response`) as a
+    KernelResult; condition numbers are the lower bound ||A|| ||z||_2 / ||b||."""
+    red = reduced_response(batch.M, batch.C, batch.K, rhs, w, tol=tol, keep=keep,
+                           deadline=deadline, budget=budget)
+    norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
+    a_norm = norms[0] + w**2 * norms[1] + w * norms[2]
+    b_norm = float(np.abs(rhs).max())
+    with np.errstate(all="ignore"):
+        condition = a_norm * red.norms / b_norm
+    singular = red.singular | ~(condition <= SINGULAR_CONDITION)
+    Z = np.array(red.Z)
+    Z[singular] = np.nan
+    return KernelResult(Z, singular, np.asarray(condition, dtype=float), False, "reduced",
+                        red.estimated_error)
 
 
 def equilibration(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -469,13 +661,20 @@ def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
 
     N = w.shape[0]
     M, C, K = (sp.csc_matrix(a) for a in (batch.M, batch.C, batch.K))
+    options = sparse_lu_options(abs(K) + abs(M) + abs(C))
+    row_norms = [_norm_inf(a) for a in (K, M, C)]
     singular = np.zeros(N, dtype=bool)
     for i in range(N):
         wi = w[i]
         A = (K - (wi * wi) * M + (1j * wi) * C).tocsc()
         b = rhs[i] if rhs.ndim == 2 else rhs
+        b = np.asarray(b, dtype=complex)
         try:
-            Z[i] = splu(A).solve(np.asarray(b, dtype=complex))
+            x = splu(A, **options).solve(b)
+            if "options" in options and not backward_stable(
+                    A, x, b, row_norms[0] + wi * wi * row_norms[1] + wi * row_norms[2]):
+                x = splu(A).solve(b)  # threshold pivoting grew too much: partial pivoting
+            Z[i] = x
         except RuntimeError:  # "Factor is exactly singular"
             Z[i] = np.nan
             singular[i] = True
@@ -543,5 +742,6 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
 
 
 
-__all__ = ["solve_harmonic", "KernelResult", "choose_method", "check_batch_mass", "equilibration",
-           "METHODS", "SINGULAR_CONDITION", "LOSS_CONDITION"]
+__all__ = ["solve_harmonic", "KernelResult", "choose_method", "choose_direct", "direct_costs",
+           "check_batch_mass", "equilibration", "METHODS", "SINGULAR_CONDITION",
+           "LOSS_CONDITION", "DEFAULT_TOL"]

@@ -22,10 +22,18 @@ are solved by the cheapest exact method for their structure:
     superposition of *all* undamped modes, exact only when the damping is
     proportional (``K M^-1 C = C M^-1 K``); its accuracy is checked against a
     direct solve at a few points, and the sweep falls back to a direct method
-    when the check fails.
+    when the check fails;
+``"reduced"``
+    a reduced-order model of a large model (:mod:`resonant.analyses.reduced`),
+    accurate to the relative tolerance ``tol`` (default 1e-6) by an a
+    posteriori error estimate, with adaptive enrichment.
 
-``method="auto"`` picks one of these (see :func:`choose_method`); the result
-says which.  Amplitudes and phases mean exactly what they mean for
+``method="direct"`` picks the cheapest exact one of dense, banded and sparse by
+their estimated costs; ``method="auto"`` uses a reduced model where the direct
+solves would be long and the model meets ``tol``, an exact method otherwise
+(see :func:`resonant.analyses.kernel.solve_harmonic`); the result says which
+(``method``) and, for a reduced model, its estimated error (``estimated_error``).
+Amplitudes and phases mean exactly what they mean for
 :func:`resonant.analyses.stationary.stationary`: for one frequency X = sqrt(L^2 + N^2)
 and delta = atan2(L, N); for several, the peak of the summed time history.
 
@@ -80,6 +88,7 @@ from ..system import Batch, LinearSystem
 from ..system.batch import frozen_array, group_frequencies
 from ..system.stability import natural_frequencies as _natural_frequencies
 from .kernel import (
+    DEFAULT_TOL,
     METHODS,
     _dense,
     _Progress,
@@ -158,7 +167,13 @@ class FrequencyResponse:
         there are several frequencies or the amplitude is zero).
     peaks, antiresonances : tuple of Extremum
     method : str
-        The solution method used (``dense``, ``banded``, ``sparse``, ``modal``).
+        The solution method used (``dense``, ``banded``, ``sparse``, ``modal``,
+        ``reduced``; several joined by ", " when the harmonics differ).
+    estimated_error : float or None
+        The estimated largest relative error of a reduced model (normwise, per
+        value); None for the exact methods.
+    tolerance : float or None
+        The tolerance asked of a reduced model (None for the exact methods).
     frequency_sweep : bool
         True when the parameter is the excitation frequency in rad/s (M, C, K
         stay fixed and omega = value).
@@ -187,6 +202,8 @@ class FrequencyResponse:
     log: bool = False
     title: str = ""
     coordinates: tuple[str, ...] = ()
+    estimated_error: float | None = None
+    tolerance: float | None = None
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -277,6 +294,8 @@ class FrequencyResponse:
             "peaks": self.peak_table.to_list(),
             "antiresonances": self.antiresonance_table.to_list(),
             "method": self.method,
+            "estimated_error": self.estimated_error,
+            "tolerance": self.tolerance,
             "skipped": list(self.skipped),
             "warnings": list(self.warnings),
         }
@@ -492,7 +511,7 @@ def _extrema(names: Sequence[str], values: np.ndarray, amplitude: np.ndarray, lo
 def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray, *,
           method: str = "auto", names: Sequence[str] | None = None,
           progress: bool | None = None, log: bool | None = None,
-          deadline: Deadline = NO_DEADLINE) -> FrequencyResponse:
+          deadline: Deadline = NO_DEADLINE, tol: float = DEFAULT_TOL) -> FrequencyResponse:
     """Stationary amplitude and phase of every coordinate and output against a parameter.
 
     Parameters
@@ -504,9 +523,10 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
         The parameter to vary (parameters defined from it follow it).
     values : array_like
         Its values (at least one; finite).
-    method : {"auto", "dense", "banded", "sparse", "modal"}
-        How to solve; see the module docstring.  ``auto`` picks with
-        :func:`choose_method`.
+    method : {"auto", "direct", "dense", "banded", "sparse", "modal", "reduced"}
+        How to solve; see the module docstring.  ``direct`` is the cheapest exact
+        method, ``auto`` a reduced model where it pays and meets ``tol``, else
+        the exact method of :func:`choose_method`.
     names : sequence of str, optional
         The coordinates to report (default all; outputs are always reported).
     progress : bool, optional
@@ -517,6 +537,8 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
         and plots); detected from the values when omitted.
     deadline : Deadline, optional
         Checked between the points.
+    tol : float
+        Relative tolerance of a reduced model (default 1e-6).
 
     Returns
     -------
@@ -532,6 +554,8 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
     """
     if method not in METHODS:
         raise AnalysisError(f"unknown method '{method}'; choose one of {', '.join(METHODS)}")
+    if not (isinstance(tol, (int, float)) and math.isfinite(tol) and 0 < tol < 1):
+        raise AnalysisError(f"the tolerance must be a number between 0 and 1, not {tol}")
     values = np.asarray(values, dtype=float).ravel()
     if values.size == 0 or not np.all(np.isfinite(values)):
         raise AnalysisError("the sweep needs at least one finite parameter value")
@@ -569,9 +593,7 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
             f"{max(len(batch.harmonics), 1)} harmonic(s) = {results:.3g} results; a sweep is "
             f"limited to {MAX_SWEEP_RESULTS:.0e}: use fewer --points or report fewer "
             "quantities (--only)")
-    if method == "auto":
-        method = choose_method(batch, len(values))
-    elif method in ("banded", "sparse", "modal") and not batch.constant:
+    if method in ("banded", "sparse", "modal", "reduced") and not batch.constant:
         raise AnalysisError(f"method '{method}' needs M, C and K that do not depend on "
                             f"'{param}'; use 'dense'")
     warnings: list[str] = [default_note] if default_note else []
@@ -580,12 +602,17 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
         progress = sys.stderr.isatty() and len(values) * n * max(n, 1) > 5e7
     bar = _Progress(len(values) * max(len(batch.harmonics), 1), bool(progress))
     responses, skipped_mask = [], np.zeros(len(values), dtype=bool)
+    used: list[str] = []
+    errors: list[float] = []
     position = {q: i for i, q in enumerate(batch.coordinates)}
     keep = np.array([position[q] for q in _kept_names(batch, names)], dtype=int)
     for h in batch.harmonics:
         result = solve_harmonic(batch, h, method, progress=bar, warnings=warnings, keep=keep,
-                                deadline=deadline)
+                                deadline=deadline, tol=tol)
         responses.append(result.Z)
+        used.append(result.method)
+        if result.error is not None:
+            errors.append(result.error)
         skipped_mask |= result.singular
     if not batch.harmonics:
         warnings.append("the model has no harmonic excitation: every amplitude is zero")
@@ -636,7 +663,11 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
                 "peaks")
     return FrequencyResponse(  # values copied: the caller's array may change later
         parameter=param, values=values.copy(), quantities=tuple(all_names), response=Z,
-        harmonic_omegas=omegas, method=method,
+        harmonic_omegas=omegas,
+        method=", ".join(dict.fromkeys(used)) or (
+            choose_method(batch, len(values)) if method == "auto" else method),
+        estimated_error=max(errors) if errors else None,
+        tolerance=tol if errors else None,
         frequency_sweep=scale is not None and math.isclose(scale, 1.0, rel_tol=1e-9),
         natural_frequencies=natural, frequency_scale=scale,
         skipped=skipped, warnings=tuple(dict.fromkeys(warnings)), log=bool(log),

@@ -32,6 +32,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "simulate": ("resonant.cli.simulate", "time simulation, linear or full nonlinear"),
     "report": ("resonant.cli.report", "write the worked solution (.html, .md or .tex)"),
     "energies": ("resonant.cli.energies", "T, U, D derived from the parts, per part"),
+    "draw": ("resonant.cli.draw", "draw a mechanism given by its parts (.svg, .png, .pdf)"),
     "exercise": ("resonant.cli.exercise", "exercise variants with solutions and answer key"),
     "grade": ("resonant.cli.exercise", "check a student's answers against the key"),
 }

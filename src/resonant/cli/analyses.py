@@ -3,7 +3,7 @@
 ``modes MODEL [--count K] [--plot FILE] [--json]`` prints natural frequencies,
 mode shapes, damping and stability (:func:`resonant.analyses.modes.modes`).
 
-``sweep MODEL --param P --from A --to B [--points N] [--log] [--method M]
+``sweep MODEL --param P --from A --to B [--points N] [--log] [--method M] [--tol T]
 [--only NAMES] [--plot FILE] [--csv FILE] [--progress] [--json]`` sweeps a
 parameter (:func:`resonant.analyses.sweep.sweep`).
 """
@@ -20,6 +20,7 @@ import resonant.cli.common as cli
 from ..analyses.backbone import backbone
 from ..analyses.sweep import linspace
 from ..errors import AnalysisError
+from ..views.units_display import ResultUnits, result_units
 
 
 def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
@@ -52,8 +53,13 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
                        help="number of values (default 201)")
     sweep.add_argument("--log", action="store_true", help="logarithmic spacing")
     sweep.add_argument("--method", default="auto",
-                       choices=["auto", "dense", "banded", "sparse", "modal"],
-                       help="solution method (default: chosen from the matrix structure)")
+                       choices=["auto", "direct", "dense", "banded", "sparse", "modal",
+                                "reduced"],
+                       help="solution method (default auto: a reduced-order model for large "
+                            "models when its estimated error is below --tol, else the "
+                            "cheapest exact method; direct: the cheapest exact method)")
+    sweep.add_argument("--tol", type=float, default=None, metavar="T",
+                       help="relative tolerance of a reduced-order model (default 1e-6)")
     sweep.add_argument("--only", metavar="NAMES",
                        help="comma-separated coordinates to report (default all; outputs "
                             "are always reported)")
@@ -80,7 +86,7 @@ def run_modes(args: argparse.Namespace) -> int:
     if args.amplitude is not None or args.harmonics is not None:
         raise AnalysisError("--amplitude and --harmonics need --nonlinear")
     result = model.linearize(deadline=deadline).modes(count=args.count, deadline=deadline)
-    return _emit(args, result)
+    return _emit(args, result, result_units(model))
 
 
 def _run_backbones(args: argparse.Namespace, model: Any, deadline: Any) -> int:
@@ -105,17 +111,18 @@ def run_sweep(args: argparse.Namespace) -> int:
     if args.only:
         names = [n.strip() for n in args.only.split(",") if n.strip()]
     deadline = cli.deadline(args)
+    tol = {} if args.tol is None else {"tol": args.tol}
     result = model.linearize(deadline=deadline).sweep(
         args.param, values, method=args.method, names=names,
-        progress=True if args.progress else None, log=args.log, deadline=deadline)
-    return _emit(args, result)
+        progress=True if args.progress else None, log=args.log, deadline=deadline, **tol)
+    return _emit(args, result, result_units(model), plot_units=True)
 
 
 def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
     """``sweep --nonlinear``: :func:`resonant.analyses.harmonic_balance.nonlinear_sweep`."""
-    if args.log or args.only or args.method != "auto":
-        raise AnalysisError("--log, --only and --method apply to the linear sweep, not to "
-                            "--nonlinear")
+    if args.log or args.only or args.method != "auto" or args.tol is not None:
+        raise AnalysisError("--log, --only, --method and --tol apply to the linear sweep, not "
+                            "to --nonlinear")
     deadline = cli.deadline(args)
     result = model.nonlinear_sweep(args.param, args.start, args.stop,
                                    harmonics=args.harmonics, points=args.points,
@@ -123,17 +130,28 @@ def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
     return _emit(args, result)
 
 
-def _emit(args: argparse.Namespace, result: Any) -> int:
-    """Plot, CSV (sweeps), JSON or text of a result, then its warnings."""
+def _emit(args: argparse.Namespace, result: Any, units: ResultUnits | None = None,
+          plot_units: bool = False) -> int:
+    """Plot, CSV (sweeps), JSON or text of a result, then its warnings.
+
+    ``units`` (a model with units) labels the plot's axes and adds the JSON's
+    ``"units"`` map (the numbers stay SI).
+    """
     if args.plot:
-        result.plot(args.plot)
+        if plot_units and units is not None:
+            result.plot(args.plot, units=units.si)
+        else:
+            result.plot(args.plot)
     if getattr(args, "csv", None):
         try:
             result.to_csv(args.csv)
         except OSError as exc:
             raise AnalysisError(f"cannot write '{args.csv}': {exc.strerror or exc}") from None
     if args.json:
-        cli.emit_json(result.to_dict())
+        data = result.to_dict()
+        if units is not None:
+            data["units"] = units.to_json()
+        cli.emit_json(data)
     else:
         sys.stdout.write(result.summary())
     cli.warn(result.warnings)

@@ -7,11 +7,14 @@ import json
 import math
 import sys
 from collections.abc import Sequence
+from dataclasses import replace
+from types import MappingProxyType
 from typing import Any
 
 from ..deadline import Deadline
 from ..errors import AnalysisError, ModelError, Problem, printable
 from ..model import Model, load
+from ..model.units import ModelUnits, UnitError, display_units
 
 #: default time limit of a command (``--timeout``), in seconds
 DEFAULT_TIMEOUT = 120.0
@@ -42,9 +45,26 @@ def deadline(args: argparse.Namespace) -> Deadline:
 
 
 def load_model(args: argparse.Namespace) -> Model:
-    """Load ``args.model`` with the ``--set`` overrides applied."""
-    return load(args.model, overrides=parse_settings(getattr(args, "set", None)),
-                allow_paths=getattr(args, "allow_path", None) or ())
+    """Load ``args.model`` with the ``--set`` overrides applied.
+
+    A model with units says once what it could not check (and where a value in Hz
+    is used as an angular frequency), on standard error.
+    """
+    model = load(args.model, overrides=parse_settings(getattr(args, "set", None)),
+                 allow_paths=getattr(args, "allow_path", None) or ())
+    if model.units is not None:
+        warn(model.units.notes)
+    chosen = getattr(args, "units", None)
+    if chosen:
+        try:
+            display = display_units(t for t in chosen.split(",") if t.strip())
+        except UnitError as exc:
+            raise ModelError(Problem(f"{exc} (--units takes units of length, angle, "
+                                     "frequency, ... like mm,deg,Hz)", "--units")) from None
+        own = model.units or ModelUnits()
+        model = replace(model, units=replace(own, display=MappingProxyType(
+            {**own.display, **display})))
+    return model
 
 
 def emit_json(data: Any) -> None:
@@ -69,6 +89,9 @@ def common_parser() -> argparse.ArgumentParser:
     common.add_argument("--timeout", type=_seconds, default=DEFAULT_TIMEOUT, metavar="SECONDS",
                         help="time limit of the whole command (default "
                              f"{DEFAULT_TIMEOUT:g}; 0 for none)")
+    common.add_argument("--units", metavar="UNITS", default=None,
+                        help="units of the text output, e.g. mm,deg,Hz (one per quantity: "
+                             "length, angle, frequency, mass, force, ...; JSON stays SI)")
     common.add_argument("--allow-path", action="append", metavar="DIR", default=[],
                         help="also read [matrices] files from DIR (repeatable; by default "
                              "only files inside the model file's folder are read)")

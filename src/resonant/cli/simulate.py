@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -16,6 +17,7 @@ import resonant.cli.common as common
 
 from ..analyses.simulate import DEFAULT_PERIODS, METHODS, START_MODES
 from ..errors import AnalysisError, ModelError, Problem
+from ..views.units_display import result_units
 
 PLOT_SUFFIXES = (".png", ".svg", ".pdf")
 
@@ -95,7 +97,9 @@ def run_simulate(args: argparse.Namespace) -> int:
                          periods=args.periods or DEFAULT_PERIODS, method=args.method,
                          deadline=deadline)
     written = []
-    for path, write in ((args.csv, sim.to_csv), (args.plot, sim.plot)):
+    units = result_units(model)
+    plot = partial(sim.plot, units=units.si) if units is not None else sim.plot
+    for path, write in ((args.csv, sim.to_csv), (args.plot, plot)):
         if not path:
             continue
         try:
@@ -104,7 +108,10 @@ def run_simulate(args: argparse.Namespace) -> int:
             raise AnalysisError(f"cannot write '{path}': {exc.strerror or exc}") from None
         written.append(path)
     if args.json:
-        common.emit_json(sim.to_dict())
+        data = sim.to_dict()
+        if units is not None:  # JSON stays SI; the units say which
+            data["units"] = units.to_json()
+        common.emit_json(data)
     else:
         sys.stdout.write(sim.summary())
         for path in written:

@@ -8,6 +8,8 @@ from typing import Any
 
 import resonant.cli.common as common
 
+from ..views.units_display import result_units
+
 
 def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
     solve = subparsers.add_parser("solve", parents=[parent], help="linearized EOM, natural "
@@ -23,7 +25,11 @@ def run_solve(args: argparse.Namespace) -> int:
     model = common.load_model(args)
     solution = model.linearize(deadline=deadline).stationary(deadline=deadline)
     if args.json:
-        common.emit_json(solution.to_dict())
+        data = solution.to_dict()
+        units = result_units(model)
+        if units is not None:  # JSON stays SI; the units say which
+            data["units"] = units.to_json()
+        common.emit_json(data)
         common.warn(solution.warnings)
     else:
         sys.stdout.write(solution.summary())

@@ -28,6 +28,7 @@ import difflib
 import os
 import tomllib
 from collections.abc import Collection, Iterable, Mapping, Sequence
+from fractions import Fraction
 from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
@@ -48,6 +49,7 @@ from ..expressions import (
     parse,
     validate_name,
 )
+from .dimensions import check_units
 from .files import FileRefused, open_regular_file, read_bounded
 from .limits import (
     ENERGY_KEYS,
@@ -65,6 +67,16 @@ from .types import (
     evaluate_parameters,
     primed_names,
     unknown_parameter,
+)
+from .units import (
+    DISPLAY_QUANTITIES,
+    ModelUnits,
+    Unit,
+    UnitError,
+    display_units,
+    parse_unit,
+    parse_with_unit,
+    split_value,
 )
 
 if TYPE_CHECKING:
@@ -147,6 +159,10 @@ class _Builder:
         self.problems: list[Problem] = []
         self.declared: dict[str, str] = {}  # name -> section
         self.force_points: dict[str, str] = {}  # [[force]] name -> the named point (parts)
+        # physical units (resonant.model.units): what the file gives, checked in build()
+        self.unit_given: dict[str, tuple[Expression, Unit]] = {}
+        self.coordinate_units: dict[str, Unit] = {}
+        self.output_units: dict[str, Unit] = {}
 
     # helpers
     def problem(self, message: str, section: str = "", key: str = "") -> None:
@@ -185,6 +201,26 @@ class _Builder:
         except ExpressionError as exc:
             self.problems.extend(exc.problems)
             return None
+
+    def valued(self, value: Any, section: str, key: str, allowed: Collection[str],
+               file: str | None = None, name: str | None = None) -> Expression | None:
+        """A parameter value, with an optional unit after it (converted to SI)."""
+        if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+            self.problems.append(Problem(f"expected a number or an expression string, got "
+                                         f"{type(value).__name__}", file or self.source,
+                                         section, key))
+            return None
+        try:
+            expression, given = parse_with_unit(value, allowed, file or self.source,
+                                                section, key)
+        except ExpressionError as exc:
+            self.problems.extend(exc.problems)
+            return None
+        if given is not None:
+            self.unit_given[name or key] = given
+        else:
+            self.unit_given.pop(name or key, None)
+        return expression
 
     # sections
     def counts(self) -> None:
@@ -248,7 +284,8 @@ class _Builder:
                                    equilibrium)
         energy = self.energy(allowed, required=not matrices and not parts)
         forces = self.forces(allowed, coordinates, mechanism)
-        outputs = self.simple_table("outputs", allowed, declare=False)
+        outputs = self.outputs(allowed)
+        display = self.display()
         if outputs:
             for name in outputs:
                 if validate_name(name):
@@ -285,6 +322,15 @@ class _Builder:
             if derived is not None and "T" not in energy and not matrices:
                 self.problem("there is no kinetic energy: no body has a mass and [energy] "
                              "gives no T", "body")
+        units = None
+        if self.unit_given or self.coordinate_units or self.output_units:
+            units, unit_problems = check_units(
+                self.source, parameters, self.unit_given, self.coordinate_units,
+                self.output_units, display, equilibrium, signals, definitions, energy,
+                forces, outputs, matrix_spec)
+            self.problems.extend(unit_problems)
+        elif display:  # no units in the model: [display] still chooses phases and frequencies
+            units = ModelUnits(display=MappingProxyType(display))
         if self.problems:
             # a misspelled section explains the unknown names it declares: say it once
             cascade = {f"unknown name '{name}'" for name in misplaced}
@@ -301,7 +347,7 @@ class _Builder:
             equilibrium=MappingProxyType(equilibrium), signals=MappingProxyType(signals),
             definitions=MappingProxyType(definitions), energy=MappingProxyType(energy),
             forces=tuple(forces), outputs=MappingProxyType(outputs), matrices=matrix_spec,
-            exercise=exercise, parts=derived)
+            exercise=exercise, parts=derived, units=units)
 
     def parameters(self) -> dict[str, Expression]:
         table = self.table("parameters")
@@ -309,7 +355,7 @@ class _Builder:
         for name, value in table.items():
             if not self.declare(name, "parameters"):
                 continue
-            expression = self.expression(value, "parameters", name, list(params))
+            expression = self.valued(value, "parameters", name, list(params))
             if expression is not None:
                 params[name] = expression
         for name, value in self.overrides.items():
@@ -318,11 +364,15 @@ class _Builder:
                     self.problems.append(unknown_parameter(name, self.source, params))
                 continue
             earlier = list(params)[: list(params).index(name)]
-            try:
-                params[name] = parse(value, allowed=earlier, file=f"--set {name}",
-                                     section="", key="")
-            except ExpressionError as exc:
-                self.problems.extend(exc.problems)
+            had = self.unit_given.get(name)
+            override = self.valued(value, "", "", earlier, file=f"--set {name}", name=name)
+            if override is not None:
+                params[name] = override
+                if had is not None and name not in self.unit_given and \
+                        not override.names() and not had[0].names():
+                    # a bare number replacing a value with a unit: SI, of the same dimension
+                    dim = had[1].dimension
+                    self.unit_given[name] = (override, Unit(dim.text(), Fraction(1), 0, dim))
         return params
 
     def coordinates(self, required: bool) -> tuple[list[str], dict[str, str]]:
@@ -356,8 +406,30 @@ class _Builder:
         for name, text in raw.items():
             if self.declare(name, "coordinates"):
                 names.append(name)
+                if isinstance(text, dict):  # { description = "...", unit = "m" }
+                    text = self.coordinate_entry(name, text)
                 descriptions[name] = text if isinstance(text, str) else str(text)
         return names, descriptions
+
+    def coordinate_entry(self, name: str, entry: dict) -> str:
+        """The description of ``name = { description = ..., unit = ... }``; its unit noted."""
+        for key in sorted(set(entry) - {"description", "unit"}):
+            self.problem(f"unknown key '{key}'; a coordinate takes description and unit",
+                         "coordinates", f"{name}.{key}")
+        description = entry.get("description", "")
+        if not isinstance(description, str):
+            self.problem("description must be a string", "coordinates", f"{name}.description")
+            description = ""
+        unit = entry.get("unit")
+        if unit is not None:
+            try:
+                if not isinstance(unit, str):
+                    raise UnitError(f"the unit must be a string like \"m\" or \"rad\", "
+                                    f"not {type(unit).__name__}")
+                self.coordinate_units[name] = parse_unit(unit.strip())
+            except UnitError as exc:
+                self.problem(str(exc), "coordinates", f"{name}.unit")
+        return description
 
     def simple_table(self, section: str, allowed: list[str], keys: Iterable[str] | None = None,
                      declare: bool = False) -> dict[str, Expression]:
@@ -373,6 +445,41 @@ class _Builder:
             expression = self.expression(value, section, name, allowed)
             if expression is not None:
                 out[name] = expression
+        return out
+
+    def outputs(self, allowed: list[str]) -> dict[str, Expression]:
+        """``[outputs]``: name = "expression", optionally with the unit to show it in."""
+        out: dict[str, Expression] = {}
+        for name, value in self.table("outputs").items():
+            text, unit = split_value(value) if isinstance(value, str) else (value, None)
+            expression = self.expression(text, "outputs", name, allowed)
+            if expression is None:
+                continue
+            out[name] = expression
+            if unit is not None:
+                try:
+                    self.output_units[name] = parse_unit(unit)
+                except UnitError as exc:
+                    self.problem(str(exc), "outputs", name)
+        return out
+
+    def display(self) -> dict[str, Unit]:
+        """``[display]``: quantity = "unit" (length = "mm", angle = "deg", frequency = "Hz")."""
+        out: dict[str, Unit] = {}
+        for key, value in self.table("display").items():
+            if key not in DISPLAY_QUANTITIES:
+                self.problem(f"unknown quantity '{key}'; [display] takes "
+                             f"{', '.join(DISPLAY_QUANTITIES)}", "display", key)
+                continue
+            try:
+                if not isinstance(value, str):
+                    raise UnitError(f"expected a unit string, got {type(value).__name__}")
+                chosen = display_units([value])
+                if key not in chosen and not (key == "moment" and "energy" in chosen):
+                    raise UnitError(f"'{value.strip()}' is not a unit of {key}")
+                out[key] = next(iter(chosen.values()))
+            except UnitError as exc:
+                self.problem(str(exc), "display", key)
         return out
 
     def named_table(self, section: str, allowed: list[str]) -> dict[str, Expression]:

@@ -18,6 +18,7 @@ Examples
 from __future__ import annotations
 
 import difflib
+import math
 from collections.abc import Collection, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -31,6 +32,8 @@ from ..expressions import Expression, ExpressionError, parse, validate_name
 PART_SECTIONS = ("point", "body", "spring", "damper", "torque")
 #: how the elongation of a spring or damper is given
 ELONGATION_KEYS = ("length", "along", "elongation")
+#: the drawing hint ``shape`` of a body (``resonant draw``; not part of the energies)
+SHAPES = ("block", "disc", "bar", "point", "none")
 
 Vector = tuple[Expression, Expression]
 
@@ -55,6 +58,11 @@ class Body:
     angle: Expression | None = None
     centre: Vector | None = None
     points: Mapping[str, Vector] = field(default_factory=dict)
+    #: drawing hints (an extension of the spec, used by ``resonant draw`` only):
+    #: ``shape`` one of :data:`SHAPES`, ``size`` one or two constants (width [, height]
+    #: of a block; radius of a disc or point mass; width of a bar)
+    shape: str | None = None
+    size: tuple[Expression, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -161,7 +169,8 @@ class DerivedEnergies:
 
 _KEYS = {
     "point": ("name", "position"),
-    "body": ("name", "mass", "inertia", "position", "pin", "angle", "centre", "points"),
+    "body": ("name", "mass", "inertia", "position", "pin", "angle", "centre", "points",
+             "shape", "size"),
     "spring": ("name", "between", "stiffness", *ELONGATION_KEYS),
     "damper": ("name", "between", "damping", *ELONGATION_KEYS),
     "torque": ("name", "body", "moment"),
@@ -239,6 +248,60 @@ class _Reader:
         return out
 
 
+@hooks.provides("check_part_values")
+def check_values(parts: Parts, exact_values: Mapping[str, Any], source: str) -> list[Problem]:
+    """Masses and inertias that are negative at these parameter values (as problems naming
+    the body and the key); used again when parameters are replaced
+    (:meth:`resonant.model.Model.with_parameters`).
+
+    Examples
+    --------
+    >>> from resonant.expressions import parse
+    >>> body = Body("cart", parse("m"), position=(parse("x"), parse("0")))
+    >>> [p.message for p in check_values(Parts(bodies=(body,)), {"m": -2}, "m.toml")]
+    ['the mass is negative (-2); a mass is at least 0']
+    """
+    import sympy  # noqa: PLC0415 - a third-party library, loaded only when checking
+
+    problems = []
+    values = {name: sympy.sympify(value) for name, value in exact_values.items()}
+    for index, body in enumerate(parts.bodies, start=1):
+        section = f'body "{body.name}"' if body.name != str(index) else f"body {index}"
+        for key, expression in (("mass", body.mass), ("inertia", body.inertia)):
+            if expression is None:
+                continue
+            try:
+                value = complex(expression.to_sympy(
+                    lambda name, primes: values[name] if not primes else 0).evalf(30))
+            except (KeyError, TypeError, ValueError, ArithmeticError, ExpressionError):
+                continue
+            if math.isfinite(value.real) and value.real < 0:
+                article = "an" if key[0] in "aeiou" else "a"
+                problems.append(Problem(f"the {key} is negative ({value.real:.6g}); {article} "
+                                        f"{key} is at least 0", source, section, key))
+    return problems
+
+
+def _hints(reader: _Reader, entry: Mapping[str, Any], section: str
+           ) -> tuple[str | None, tuple[Expression, ...]]:
+    """The drawing hints ``shape`` and ``size`` of a body (checked, never required)."""
+    shape = entry.get("shape")
+    if shape is not None and shape not in SHAPES:
+        reader.problem(f"shape must be one of {', '.join(SHAPES)} (a drawing hint)", section,
+                       "shape")
+        shape = None
+    raw = entry.get("size")
+    if raw is None:
+        return shape, ()
+    values = raw if isinstance(raw, list) else [raw]
+    if not 1 <= len(values) <= 2:
+        reader.problem("size is one constant (or [width, height] of a block; a drawing "
+                       "hint)", section, "size")
+        return shape, ()
+    size = tuple(reader.expression(v, section, "size", constant=True) for v in values)
+    return shape, tuple(e for e in size if e is not None) if None not in size else ()
+
+
 @hooks.provides("read_parts")
 def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collection[str],
                source: str, problems: list[Problem]) -> Parts:
@@ -253,6 +316,7 @@ def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collec
     if "gravity" in data:
         gravity = reader.expression(data["gravity"], "gravity", "", constant=True)
     names: dict[str, str] = {}  # point or body name -> section
+    model_names = {*params, *allowed}  # parameters, coordinates, signals, definitions
 
     def declare(name: str, section: str) -> bool:
         if section.split()[1:] == [name]:  # no name = "..." given: the section is "body 2"
@@ -262,6 +326,11 @@ def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collec
         reason = validate_name(name)
         if reason:
             reader.problem(f"'{name}' cannot be used as a name: {reason}", section, "name")
+            return False
+        if name in model_names:
+            reader.problem(f"'{name}' is already a name of the model (a parameter, "
+                           "coordinate, signal or definition); a point or body needs a name "
+                           "of its own", section, "name")
             return False
         if name in names:
             reader.problem(f"'{name}' is already the name of [[{names[name].split()[0]}]] "
@@ -323,13 +392,14 @@ def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collec
             vector = reader.vector(value, section, f"points.{pname}")
             if vector is not None:
                 body_points[pname] = vector
+        shape, size = _hints(reader, entry, section)
         if ok and mass is not None and (position is not None or has_pin) \
                 and ("angle" not in entry or angle is not None) \
                 and ("centre" not in entry or centre is not None) \
                 and ("inertia" not in entry or inertia is not None):
             bodies.append(Body(entry["name"], mass, inertia, position,
                                pin if has_pin else None, angle, centre,
-                               MappingProxyType(body_points)))
+                               MappingProxyType(body_points), shape, size))
 
     known = {p.name for p in points} | {b.name for b in bodies}
     known_points = set(Parts(points=tuple(points), bodies=tuple(bodies)).point_names())
@@ -434,5 +504,5 @@ def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collec
                  tuple(links["damper"]), tuple(torques))
 
 
-__all__ = ["PART_SECTIONS", "ELONGATION_KEYS", "FixedPoint", "Body", "Link", "Torque", "Parts",
-           "Contribution", "DerivedEnergies", "read_parts"]
+__all__ = ["PART_SECTIONS", "ELONGATION_KEYS", "SHAPES", "FixedPoint", "Body", "Link", "Torque",
+           "Parts", "Contribution", "DerivedEnergies", "read_parts"]

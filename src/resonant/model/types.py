@@ -26,7 +26,8 @@ import sympy
 from .. import hooks
 from ..deadline import Deadline
 from ..errors import ModelError, Problem
-from ..expressions import Expression, ExpressionError, parse
+from ..expressions import Expression, ExpressionError
+from .units import ModelUnits, parse_with_unit
 
 if TYPE_CHECKING:
     from .exercise import Exercise
@@ -102,6 +103,9 @@ class Model:
     #: parts -> energies (``[[body]]``, ``[[spring]]``, ...; None without parts);
     #: ``energy`` then holds the totals, ``parts.written`` what ``[energy]`` gives
     parts: DerivedEnergies | None = None
+    #: physical units (resonant.model.units): what was given, the dimensions, the
+    #: display units; None for a model without units (every number SI, nothing checked)
+    units: ModelUnits | None = None
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""
@@ -125,13 +129,17 @@ class Model:
                 problems.append(unknown_parameter(name, self.source, params))
                 continue
             try:
-                params[name] = parse(value, allowed=list(params), file=self.source,
-                                     section="parameters", key=name)
+                params[name] = parse_with_unit(value, list(params), self.source,
+                                               "parameters", name)[0]
             except ExpressionError as exc:
                 problems.extend(exc.problems)
         if problems:
             raise ModelError(problems)
         exact, floats = evaluate_parameters(params, self.source)
+        if self.parts is not None:  # a mass or inertia of a part may have turned negative
+            negative = hooks.call("check_part_values", self.parts.parts, exact, self.source)
+            if negative:
+                raise ModelError(negative)
         return replace(self, parameters=MappingProxyType(params),
                         exact_values=MappingProxyType(exact),
                         parameter_values=MappingProxyType(floats))

@@ -298,7 +298,19 @@ def generate(model: Model, count: int, seed: int, deadline: Deadline = NO_DEADLI
 def _value_text(variant: Variant, name: str) -> str:
     if name in variant.texts:
         return variant.texts[name]
+    given = variant.model.units.given.get(name) if variant.model.units is not None else None
+    if given is not None:  # "2 kg": the number here, the unit from _unit
+        return given[0].text.strip()
     return variant.model.parameters[name].text.strip()
+
+
+def _unit(variant: Variant, exercise: Exercise, name: str) -> str | None:
+    """The unit shown after a value: [exercise.units], else the unit the value was given in."""
+    units = exercise.units or {}
+    if name in units or name in variant.texts:
+        return units.get(name)
+    given = variant.model.units.given.get(name) if variant.model.units is not None else None
+    return given[1].text if given is not None else None
 
 
 def _with_unit(text: str, unit: str | None) -> str:
@@ -307,21 +319,26 @@ def _with_unit(text: str, unit: str | None) -> str:
 
 def filled_statement(variant: Variant, exercise: Exercise) -> str:
     """The teacher's statement with the variant's values (and units) filled in."""
-    units = exercise.units or {}
-    return "".join(_with_unit(_value_text(variant, name), units.get(name))
+    return "".join(_with_unit(_value_text(variant, name), _unit(variant, exercise, name))
                    if name else text
                    for text, name in statement_parts(exercise.statement))
 
 
 def _data_rows(variant: Variant, exercise: Exercise) -> list[tuple[str, str, str]]:
-    units = exercise.units or {}
     rows = []
     for name in variant.model.parameters:
         given = _value_text(variant, name)
         value = variant.model.parameter_values[name]
         shown = format(value, ".6g")
-        rows.append((name, given if given == shown else f"{given} = {shown}",
-                     units.get(name, "")))
+        unit = _unit(variant, exercise, name) or ""
+        units = variant.model.units
+        written = units.given.get(name) if units is not None and name not in variant.texts \
+            else None
+        if units is not None and written is not None and \
+                (written[1].factor != 1 or written[1].pi_power):  # "500 mm = 0.5" m
+            given, dim = f"{given} {written[1].text}", units.dimensions.get(name)
+            unit = dim.text() if dim is not None else ""
+        rows.append((name, given if given == shown else f"{given} = {shown}", unit))
     return rows
 
 

@@ -25,7 +25,7 @@ import io
 import math
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
@@ -35,6 +35,7 @@ from ..analyses.stationary import common_period
 from ..analyses.sweep import sweep
 from ..system import LinearSystem
 from ..views.notation import name_latex
+from ..views.units_display import result_units
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..analyses.stationary import StationarySolution
@@ -54,6 +55,8 @@ class FrequencyResponse:
     natural_frequencies: np.ndarray
     #: the swept parameter, or None when the force amplitudes are held fixed
     parameter: str | None
+    #: name -> SI unit of the amplitudes (a model with units; empty without)
+    units: Mapping[str, str] = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         return {"omega": self.omega.tolist(), "parameter": self.parameter,
@@ -70,6 +73,8 @@ class TimeHistory:
     period: float
     #: whether ``period`` is the common period of every excitation frequency
     periodic: bool = True
+    #: name -> SI unit of the values (a model with units; empty without)
+    units: Mapping[str, str] = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         return {"t": self.t.tolist(), "values": {k: v.tolist() for k, v in self.values.items()}}
@@ -136,9 +141,11 @@ def frequency_response(eom: LinearEOM, solution: StationarySolution,
     X[skipped] = np.nan  # exactly at an undamped resonance: left out of the curve
     amplitudes = {c: np.abs(X[:, i]) for i, c in enumerate(names)}
     at = int(np.argmin(np.abs(grid - w0)))
+    units = result_units(eom.model)
     return FrequencyResponse(grid, amplitudes, w0,
                              {c: float(a[at]) for c, a in amplitudes.items()},
-                             solution.natural_frequencies, parameter)
+                             solution.natural_frequencies, parameter,
+                             units.si if units is not None else {})
 
 
 def _swept_parameter(eom: LinearEOM, w0: float) -> str | None:
@@ -170,14 +177,26 @@ def time_history(solution: StationarySolution, points: int = 600) -> TimeHistory
     points = int(min(20_000, max(points, 60 * 2 * period * fastest / (2 * math.pi))))
     t = np.linspace(0.0, 2 * period, points)
     response = solution.response(t)
+    units = result_units(solution.eom.model)
     return TimeHistory(t, {c: response[c] for c in solution.eom.coordinates}, period,
-                       common is not None)
+                       common is not None, units.si if units is not None else {})
 
 
 # -- drawing ---------------------------------------------------------------------------------
 
-def _label(name: str) -> str:
-    return "$" + name_latex(name) + "$"
+def _label(name: str, units: Mapping[str, str] | None = None) -> str:
+    unit = (units or {}).get(name, "")
+    return "$" + name_latex(name) + "$" + (f" [{unit}]" if unit and unit != "1" else "")
+
+
+def _unit_suffix(plot: FrequencyResponse | TimeHistory) -> tuple[str, Mapping[str, str]]:
+    """`` [m]`` for the y axis when every curve has that unit, else per-curve units."""
+    shown = {plot.units.get(n, "") for n in (plot.amplitudes if isinstance(
+        plot, FrequencyResponse) else plot.values)}
+    if len(shown) == 1:
+        unit = next(iter(shown))
+        return (f" [{unit}]" if unit and unit != "1" else ""), {}
+    return "", plot.units
 
 
 def draw(plot: PlotData, figure) -> None:
@@ -186,10 +205,12 @@ def draw(plot: PlotData, figure) -> None:
         plot.draw(figure)
         return
     ax = figure.add_subplot(1, 1, 1)
+    suffix, per_curve = _unit_suffix(plot)
     if isinstance(plot, FrequencyResponse):
         for name, amp in plot.amplitudes.items():
             positive = np.where(amp > 0, amp, np.nan)
-            line, = ax.semilogy(plot.omega, positive, label=_label(name), linewidth=1.4)
+            line, = ax.semilogy(plot.omega, positive, label=_label(name, per_curve),
+                                linewidth=1.4)
             value = plot.operating_amplitudes[name]
             if value > 0:
                 ax.plot([plot.operating], [value], "o", color=line.get_color(),
@@ -199,14 +220,14 @@ def draw(plot: PlotData, figure) -> None:
                 ax.axvline(w, color="0.6", linestyle=":", linewidth=1.0)
         ax.axvline(plot.operating, color="0.25", linestyle="--", linewidth=1.0)
         ax.set_xlabel(r"excitation frequency $\omega$ [rad/s]")
-        ax.set_ylabel("amplitude $X$")
+        ax.set_ylabel("amplitude $X$" + suffix)
         ax.set_xlim(0, plot.omega[-1])
     else:
         for name, y in plot.values.items():
-            ax.plot(plot.t, y, label=_label(name), linewidth=1.4)
+            ax.plot(plot.t, y, label=_label(name, per_curve), linewidth=1.4)
         ax.axhline(0.0, color="0.6", linewidth=0.8)
         ax.set_xlabel("time $t$ [s]")
-        ax.set_ylabel("stationary response $q_p(t)$")
+        ax.set_ylabel("stationary response $q_p(t)$" + suffix)
         ax.set_xlim(plot.t[0], plot.t[-1])
     ax.grid(True, which="major", color="0.9")
     ax.legend(loc="best", frameon=False)

@@ -39,6 +39,8 @@ from ..views.notation import (
     vector_latex,
     with_subscript,
 )
+from ..views.units_display import NO_UNIT, RAD, result_units, unit_latex
+from . import parts
 from .blocks import Block, Equation, Figure, Heading, Math, Note, Table, cell, paragraph
 from .derivation import Derivation, LinearPart
 from .plots import frequency_response, time_history
@@ -253,10 +255,20 @@ def data(ctx: Context) -> list[Block]:
     model = ctx.model
     blocks: list[Block] = [Heading("Data")]
     rows = []
+    units = model.units
     for name, expression in model.parameters.items():
         value = model.parameter_values[name]
         given = expression_latex(expression, ctx.namer)
         shown = number_latex(value, 6)
+        if units is not None:  # "500 mm" given, 0.5 m the (SI) value
+            written = units.given.get(name)
+            if written is not None:
+                given = expression_latex(written[0], ctx.namer) + unit_latex(written[1].text)
+            dim = units.dimensions.get(name)
+            same = written is not None and written[1].factor == 1 and not written[1].pi_power
+            shown += unit_latex(written[1].text if same and written is not None
+                                else dim.text() if dim is not None and not dim.dimensionless
+                                else "rad" if written is not None and written[1].angle else "")
         rows.append((cell(_m(ctx.namer(name))),
                      cell(_m(given)) if given != shown else cell(""),
                      cell(_m(shown))))
@@ -877,6 +889,9 @@ def excursions(ctx: Context) -> list[Block]:
         blocks.append(paragraph("With several frequencies, the maximal excursion is the peak "
                                 "of the sum over the common period:"))
     rows = []
+    units = result_units(ctx.model)
+    si = {name: unit_latex(text) for name, text in units.si.items() if text != "1"} \
+        if units is not None else {}
     shifted = {c: q0 for c, q0 in _reference_values(ctx).items() if q0 != 0}
     if shifted:
         blocks.append(paragraph(
@@ -890,7 +905,7 @@ def excursions(ctx: Context) -> list[Block]:
             L, N = sol.output_harmonics[c][0]
             phase = sol.phases.get(c)
             text = (rf"{with_subscript(name, MAX)} = X_{{{k + 1}}} = \sqrt{{L_{{{k + 1}}}^{{2}} + "
-                    rf"N_{{{k + 1}}}^{{2}}}} = {number_latex(amp)}")
+                    rf"N_{{{k + 1}}}^{{2}}}} = {number_latex(amp)}{si.get(c, '')}")
             if phase is not None:
                 text += rf", \quad \delta_{{{k + 1}}} = {number_latex(phase)}\ \text{{rad}}"
             blocks.append(ctx.equation(text + ",", label=f"X:{c}"))
@@ -927,20 +942,24 @@ def excursions(ctx: Context) -> list[Block]:
             text = (rf"{with_subscript(pretty, MAX)} = "
                     rf"\sqrt{{L_{{{pretty}}}^{{2}} + N_{{{pretty}}}^{{2}}}} = "
                     rf"\sqrt{{({number_latex(L)})^{{2}} + ({number_latex(N)})^{{2}}}} = "
-                    f"{number_latex(amp)}")
+                    f"{number_latex(amp)}{si.get(name, '')}")
             phase = sol.phases.get(name)
             if phase is not None:
                 text += rf", \quad \delta_{{{pretty}}} = {number_latex(phase)}\ \text{{rad}}"
         else:
             text = rf"\max_{{t}} \left|{pretty}(t)\right| = {number_latex(amp)}"
         blocks.append(ctx.equation(text + ".", label=f"X:{name}"))
-    header = (cell("quantity"), cell("amplitude"), cell("phase δ [rad]"))
+    phase_unit = units.phase if units is not None else RAD
+    header = (cell("quantity"), cell("amplitude"), cell(f"phase δ [{phase_unit.text}]"))
     table_rows = []
     for name in [*coords, *outputs]:
         phase = sol.phases.get(name)
         label = (r"\Delta " + ctx.namer(name)) if name in shifted else ctx.namer(name)
-        table_rows.append((cell(_m(label)), cell(_m(number_latex(sol.amplitudes[name]))),
-                           cell(_m(number_latex(phase))) if phase is not None else cell("")))
+        shown = units.unit(name) if units is not None else NO_UNIT
+        table_rows.append((cell(_m(label)), cell(_m(number_latex(shown(sol.amplitudes[name]))
+                                                    + unit_latex(shown.text))),
+                           cell(_m(number_latex(phase_unit(phase)))) if phase is not None
+                           else cell("")))
     blocks.append(paragraph("Summary of the stationary response:"))
     blocks.append(Table(header, tuple(table_rows)))
     return blocks
@@ -948,12 +967,32 @@ def excursions(ctx: Context) -> list[Block]:
 
 # -- natural frequencies, modes, stability ---------------------------------------------------
 
+#: above this many operations the characteristic polynomial is not expanded in the report
+MAX_CHARACTERISTIC_OPS = 300
+
+
+def _small_determinant(matrix: sympy.Matrix) -> sympy.Expr | None:
+    """The determinant of a 1x1 or 2x2 matrix by its formula, or None where expanding it
+    would not help a reader: entries with radicals (sympy's ``det`` and ``expand`` took
+    minutes on the elastic pendulum's sqrt((L0 + g*m/k)^2)) or too many operations."""
+    if matrix.shape == (1, 1):
+        det = matrix[0, 0]
+    else:
+        det = matrix[0, 0] * matrix[1, 1] - matrix[0, 1] * matrix[1, 0]
+    radical = any(not power.exp.is_Integer for power in det.atoms(sympy.Pow))
+    if radical or sympy.count_ops(det) > MAX_CHARACTERISTIC_OPS:
+        return None
+    return det
+
+
 def _characteristic(ctx: Context) -> list[Block]:
     eom = ctx.eom
     blocks: list[Block] = []
-    if ctx.n <= 2 and not ctx.model.matrices is not None:
-        w = sympy.Symbol("omega_n", positive=True)
-        det = sympy.collect(sympy.expand((eom.K - w**2 * eom.M).det()), w)
+    w = sympy.Symbol("omega_n", positive=True)
+    det = _small_determinant(eom.K - w**2 * eom.M) \
+        if ctx.n <= 2 and ctx.model.matrices is None else None
+    if det is not None:
+        det = sympy.collect(sympy.expand(det), w)
         # factored where that is shorter (uncoupled or symmetric systems): the roots show
         factored = sympy.factor(det)
         if isinstance(factored, sympy.Mul) and sympy.count_ops(factored) < sympy.count_ops(det):
@@ -1154,9 +1193,15 @@ def step_order(ctx: Context) -> list[Step]:
     free = not ctx.eom.excitation
     if ctx.model.matrices is not None or ctx.derivation is None:
         steps: list[Step] = [title, data, given_matrices]
+    elif ctx.model.parts is not None:  # the energies derived part by part (report/parts.py)
+        steps = [title, data, method, coordinates, parts.kinetic, kinetic,
+                 parts.after_heading(dissipation, parts.dissipation),
+                 parts.after_heading(potential, parts.potential), forces, equation_of_motion]
     else:
         steps = [title, data, method, coordinates, kinetic, dissipation, potential, forces,
                  equation_of_motion]
+    if ctx.model.parts is not None:
+        steps.insert(1, parts.figure)  # "In Fig. 1 ...": the figure first, as the exercise
     if free:
         steps.append(lambda c: natural_frequencies(c, with_modes=True))
     else:

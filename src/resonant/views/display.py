@@ -48,6 +48,14 @@ from .notation import (
     sympy_latex,
     vector_latex,
 )
+from .units_display import (
+    HZ,
+    ResultUnits,
+    result_units,
+    shown_vector,
+    uniform,
+    units_grid,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..analyses.modes import ModalAnalysis  # noqa: F401
@@ -75,6 +83,23 @@ def _pretty(expr: sympy.Basic, indent: str = "    ") -> str:
                      for row in rows)
 
 
+def _coordinate_units(coordinates: tuple[str, ...], units: ResultUnits | None) -> str:
+    """`` in m`` or `` in [m, rad]`` after the coordinates (their SI units), or ''."""
+    if units is None or not any(units.si.get(q) for q in coordinates):
+        return ""
+    texts = [units.si.get(q) or "?" for q in coordinates]
+    return f" in {texts[0]}" if len(set(texts)) == 1 else f" in [{', '.join(texts)}]"
+
+
+def _load_units(units: ResultUnits | None) -> str:
+    """The unit(s) of the rows of F_S and F_C (N, or N*m for a rotation), or ''."""
+    rows = units.matrices.get("Q") if units is not None else None
+    if not rows:
+        return ""
+    one = uniform(rows)
+    return f" {one}" if one else f"  ([{', '.join(rows)}])"
+
+
 @hooks.provides("solution_text")
 def solution_text(sol: StationarySolution) -> str:
     """The human-readable report of ``resonant solve``."""
@@ -83,7 +108,9 @@ def solution_text(sol: StationarySolution) -> str:
     title = printable(e.title or "model")
     out.append(f"{title}" + (f"  ({printable(e.source)})" if e.source else ""))
     out.append("=" * min(78, len(out[0])))
-    out.append(f"generalized coordinates q = [{', '.join(e.coordinates)}]")
+    units = result_units(e.model)
+    out.append(f"generalized coordinates q = [{', '.join(e.coordinates)}]"
+               + _coordinate_units(e.coordinates, units))
     out.append("")
     out.append("linearized equation of motion:  M q'' + C q' + K q = Q(t)")
     # the symbolic form where it says more than the numbers (energies, not given matrices)
@@ -91,11 +118,17 @@ def solution_text(sol: StationarySolution) -> str:
     # headings say what the matrix is: a parameter may be called M, C or L too
     for key, label, numeric in (("M", "mass matrix M", e.M), ("C", "damping matrix C", e.C),
                                 ("K", "stiffness matrix K", e.K)):
-        out.append(f"  {label} =")
+        entry_units = units.matrices.get(key) if units is not None else None
+        one = uniform(entry_units) if entry_units else None
+        out.append(f"  {label}" + (f" [{one}]" if one else
+                                   " (entries in the units below)" if entry_units else "") + " =")
         if sym is not None:
             out.append(_pretty(getattr(sym, key)))
             out.append("    =")
         out.append(_matrix_text(numeric))
+        if entry_units and not one:
+            out.append("    units:")
+            out.append(units_grid(entry_units))
     if sym is not None:
         out.append("  excitation Q(t) =")
         out.append(_pretty(sym.Q))
@@ -104,7 +137,9 @@ def solution_text(sol: StationarySolution) -> str:
     out.append("natural frequencies (undamped):")
     if freqs.size:
         for i, w in enumerate(freqs, start=1):
-            out.append(f"  omega_{i} = {w:.6g} rad/s  ({w / (2 * math.pi):.6g} Hz)")
+            shown = units.frequency if units is not None else HZ
+            out.append(f"  omega_{i} = {w:.6g} rad/s"
+                       + (f"  ({shown(w):.6g} {shown.text})" if shown.text != "rad/s" else ""))
     else:
         out.append("  none (no positive eigenvalue of K q = lambda M q)")
     out.append(f"stability: {sol.stability}")
@@ -117,18 +152,32 @@ def solution_text(sol: StationarySolution) -> str:
         out.append("stationary solution  q_p = sum of L cos(omega t) + N sin(omega t):")
         for h in sol.harmonics:
             head = "static load" if h.omega == 0 else f"omega = {h.omega:.6g} rad/s"
+            if units is not None and h.omega and units.frequency.text not in ("rad/s", "Hz"):
+                head += f"  ({units.frequency(h.omega):.6g} {units.frequency.text})"
             out.append(f"  {head}")
-            out.append(f"    F_S = {_vector_text(h.F_S)}")
-            out.append(f"    F_C = {_vector_text(h.F_C)}")
-            out.append(f"    cos coefficients L = {_vector_text(h.L)}")
-            out.append(f"    sin coefficients N = {_vector_text(h.N)}")
+            load = _load_units(units)
+            out.append(f"    F_S = {_vector_text(h.F_S)}{load}")
+            out.append(f"    F_C = {_vector_text(h.F_C)}{load}")
+            if units is None:
+                out.append(f"    cos coefficients L = {_vector_text(h.L)}")
+                out.append(f"    sin coefficients N = {_vector_text(h.N)}")
+            else:
+                out.append(f"    cos coefficients L = {shown_vector(h.L, e.coordinates, units)}")
+                out.append(f"    sin coefficients N = {shown_vector(h.N, e.coordinates, units)}")
         out.append("  amplitudes (peak deviation) and phases delta = atan2(L, N):")
         width = max(len(n) for n in sol.amplitudes)
         for name, amp in sol.amplitudes.items():
             phase = sol.phases.get(name)
-            extra = f"   delta = {phase: .6g} rad" if phase is not None else ""
             kind = "" if name in e.coordinates else "  (output)"
-            out.append(f"    {name.ljust(width)}  X = {amp:.6g}{extra}{kind}")
+            if units is None:
+                extra = f"   delta = {phase: .6g} rad" if phase is not None else ""
+                out.append(f"    {name.ljust(width)}  X = {amp:.6g}{extra}{kind}")
+                continue
+            unit = units.unit(name)
+            extra = f"   delta = {units.phase(phase): .6g} {units.phase.text}" \
+                if phase is not None else ""
+            out.append(f"    {name.ljust(width)}  X = {unit(amp):.6g}"
+                       f"{' ' + unit.text if unit.text else ''}{extra}{kind}")
     if sol.warnings:
         out.append("")
         for w in sol.warnings:
@@ -286,7 +335,10 @@ def sweep_text(result: Any) -> str:
     unit = f" {result.unit}" if result.unit else ""
     out = [printable(result.title or "sweep"),
            f"{result.parameter} from {result.values[0]:.6g} to {result.values[-1]:.6g}{unit}, "
-           f"{len(result.values)} values, method {result.method}", ""]
+           f"{len(result.values)} values, method {result.method}" + (
+               f" (estimated error {result.estimated_error:.2g}, tolerance "
+               f"{result.tolerance:.2g})" if getattr(result, "estimated_error", None) is not None
+               else ""), ""]
     natural = result.natural_values
     if natural is not None:
         inside = [w for w in natural if result.values.min() <= w <= result.values.max()]

@@ -15,7 +15,7 @@ functions draw into the caller's figure instead and return that figure.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -83,7 +83,8 @@ def _save(fig: Any, path: Any, **options: Any) -> None:
 
 @hooks.provides("plot_frequency_response")
 def plot_frequency_response(response: FrequencyResponse, path: Any = None,
-                            names: Sequence[str] | None = None, ax: Any = None) -> Any:
+                            names: Sequence[str] | None = None, ax: Any = None,
+                            units: Mapping[str, str] | None = None) -> Any:
     """Amplitude (log axis) above phase, against the swept parameter.
 
     Resonance peaks are marked with triangles, antiresonances with circles;
@@ -105,6 +106,10 @@ def plot_frequency_response(response: FrequencyResponse, path: Any = None,
         panels, or a single Axes for the amplitude panel alone.  The axes are
         drawn into as they are (no layout change); by default a new figure with
         the two panels stacked is made.
+    units : mapping, optional
+        name -> SI unit of the amplitudes (``ResultUnits.si`` of
+        :mod:`resonant.views.units_display`): the amplitude axis is labelled with the
+        unit, or each curve where the units differ.
 
     Returns
     -------
@@ -157,6 +162,8 @@ def plot_frequency_response(response: FrequencyResponse, path: Any = None,
         dips_by_name.setdefault(p.name, []).append(p)
     any_positive = False
     labelled: list[float] = []
+    amplitude_units = {units.get(n, "") for n in names} if units else set()
+    mixed = len(amplitude_units) > 1
     # the plotted floor: true zeros (antiresonances of undamped systems, 1e-19 and less)
     # are drawn there instead of stretching the log axis over many decades
     sampled = np.array([response.amplitudes[name] for name in names], dtype=float)
@@ -169,6 +176,8 @@ def plot_frequency_response(response: FrequencyResponse, path: Any = None,
         shown = np.where(amplitude > 0, np.maximum(amplitude, floor), np.nan)  # log: no zeros
         any_positive = any_positive or bool(np.any(np.isfinite(shown)))
         kind = "" if name in response.coordinates else " (output)"
+        if mixed and units and units.get(name):
+            kind += f" [{units[name]}]"
         ax_amp.plot(x, shown, color=color, lw=1.5, label=f"{name}{kind}")
         phase = np.degrees(np.array(response.phases[name], dtype=float))
         # break the curve where the phase wraps from -180 to +180 degrees
@@ -202,7 +211,9 @@ def plot_frequency_response(response: FrequencyResponse, path: Any = None,
         ax_amp.set_yscale("log")
         if floor > 0 and top > 0:  # clipped to the sampled data
             ax_amp.set_ylim(floor / 1.5, top * 1.5)
-    ax_amp.set_ylabel("amplitude (peak of the stationary response)")
+    ax_amp.set_ylabel("amplitude (peak of the stationary response)" + (
+        f" [{next(iter(amplitude_units))}]" if len(amplitude_units) == 1 and
+        next(iter(amplitude_units)) not in ("", "1") else ""))
     ax_amp.grid(True, which="both", alpha=0.3)
     marker_handles = [Line2D([], [], ls="", marker="v", color="0.3", mec="black",
                              label="resonance peak")] if response.peaks else []
@@ -313,7 +324,8 @@ def _draw_mode(ax: Any, analysis: ModalAnalysis, j: int) -> None:
 
 
 @hooks.provides("plot_simulation")
-def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None) -> Any:
+def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None,
+                    units: Mapping[str, str] | None = None) -> Any:
     """Deviations vs time, one panel per coordinate/output, the linear prediction dashed.
 
     Parameters
@@ -328,6 +340,8 @@ def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None) -> Any:
         order of ``sim.names`` (fewer Axes draw the first names only; a single
         Axes shows the first).  By default a new figure with one panel per
         name is made.
+    units : mapping, optional
+        name -> SI unit (``ResultUnits.si``), shown in each panel's label.
 
     Returns
     -------
@@ -365,7 +379,9 @@ def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None) -> Any:
             text += f" ({100 * sim.relative_difference[name]:+.3g}%)"
         ax.set_title(f"{name}: {text}", fontsize=9, loc="left")
         kindof = "coordinate" if name in sim.coordinates else "output"
-        ax.set_ylabel(f"{name} ({kindof}, deviation)", fontsize=9)
+        unit = (units or {}).get(name, "")
+        unit = f" [{unit}]" if unit not in ("", "1") else ""
+        ax.set_ylabel(f"{name}{unit} ({kindof}, deviation)", fontsize=9)
         ax.grid(True, lw=0.4, alpha=0.6)
     panels[min(len(panels), len(names)) - 1].set_xlabel("t (s)")
     if own:

@@ -1,0 +1,622 @@
+"""Reduced-order frequency response of large matrix models, exact to a tolerance.
+
+The harmonic response of a large model, (K - w^2 M + i w C) z = b at N
+frequencies, is computed in a small subspace instead of by N sparse
+factorizations (the Krylov harmonic method of ANSYS, the asymptotic waveform
+evaluation of COMSOL):
+
+1. **Basis.**  At a few *expansion frequencies* s_j in the band the matrix
+   A(s_j) = K - s_j^2 M + i s_j C is factorized once (SuperLU, fill-reducing
+   ordering) and the Taylor coefficients ("moments") of z(w) about s_j,
+   A0 x_k = -(A1 x_(k-1) + A2 x_(k-2)) with A1 = -2 s_j M + i C, A2 = -M,
+   are generated stably as the second-order Krylov space of the linearization
+   (Arnoldi on the 2n vectors [x_k; x_(k-1)], as in SOAR/TOAR).  Real and
+   imaginary parts of the moments are split, so the basis V is *real*, then
+   orthonormalised (block Gram-Schmidt twice, rank-revealing SVD dropping
+   directions that carry nothing new).  A real V keeps M, C, K's symmetry
+   and definiteness in the reduced matrices Vᵀ M V, Vᵀ C V, Vᵀ K V, and
+   reproduces z(s_j) and its first moments exactly.
+2. **Reduced solve.**  The small quadratic problem is linearized (2r x 2r)
+   and diagonalized once; y(w) at all N frequencies is then a sum over the
+   reduced poles (a stacked dense solve when the eigenvectors are
+   ill-conditioned), z = V y.
+3. **Error estimate.**  The residual of the *full* equation
+   r(w) = A(w) V y(w) - b is computed at every frequency without forming
+   the n x N responses: with the real QR factorization [KV, MV, CV, Re b,
+   Im b] = Q R, ||r(w)|| = ||R u(w)|| for u = [y; -w^2 y; i w y; -1; -i]
+   (no cancellation, unlike a Gram matrix).  The relative residual
+   rho(w) = ||r|| / ||b|| is turned into an error estimate by *validation*:
+   at the frequency of the largest rho the full system is factorized and
+   solved exactly, giving the true error there; the estimate is
+   ``max(true errors, SAFETY * gamma * rho(w))`` with gamma the largest
+   ratio of true error to rho at the latest validations (at least 1).
+4. **Adaptive enrichment.**  While the estimate exceeds the tolerance, the
+   validation frequency (whose factorization is already there) becomes a new
+   expansion point; the loop stops at the tolerance or at a cap (expansion
+   points, basis size, memory, time budget, the caller's deadline), and then
+   says so (``converged`` is False and ``reason`` tells why).
+
+Limits: the estimate is not a bound (a safety factor over validated ratios;
+on random grids and mass-spring systems it exceeded the largest true error by
+15-700x, while at single frequencies it fell to 0.15x of the true error there).
+The residual has a rounding floor near 1e-10 relative, so tolerances much
+below 1e-8 may not be certified (``converged`` False, ``reason`` says so) even
+where the true error is smaller.  The basis needs one real column per moment
+and part: bands with hundreds of resonances need hundreds of vectors (capped by
+:data:`MAX_BASIS` and :data:`MEMORY_BYTES`).
+
+Examples
+--------
+A chain of 300 masses, Rayleigh-damped, swept over its ten lowest resonances:
+
+>>> import numpy as np, scipy.sparse as sp
+>>> n = 300
+>>> K = sp.diags([-np.ones(n - 1), np.r_[2 * np.ones(n - 1), 1.0], -np.ones(n - 1)],
+...              [-1, 0, 1], format="csr") * 1e4
+>>> M = sp.identity(n, format="csr")
+>>> C = 0.05 * M + 1e-4 * K
+>>> b = np.zeros(n, dtype=complex); b[-1] = 1.0
+>>> w = np.linspace(1.0, 10.0, 400)
+>>> red = reduced_response(M, C, K, b, w, tol=1e-8)
+>>> red.converged, red.estimated_error <= 1e-8, red.basis_size < 100
+(True, True, True)
+>>> import scipy.sparse.linalg as sla
+>>> i = 200
+>>> exact = sla.spsolve((K - w[i]**2 * M + 1j * w[i] * C).tocsc(), b)
+>>> bool(np.linalg.norm(red.Z[i] - exact) <= 1e-8 * np.linalg.norm(exact))
+True
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import AnalysisError
+
+#: default relative tolerance of the reduced response (normwise, per frequency)
+DEFAULT_TOL = 1e-6
+#: moments (Krylov vectors) generated at each expansion point
+MOMENTS = 12
+#: expansion points placed across the band before any enrichment
+INITIAL_POINTS = 3
+#: most expansion points (factorizations used for the basis)
+MAX_POINTS = 40
+#: most basis vectors
+MAX_BASIS = 800
+#: memory for the basis and the residual's QR factorization (bytes)
+MEMORY_BYTES = 768 * 2**20
+#: the estimate is this many times the relative residual scaled by the worst ratio
+#: of true error to residual seen at the validation solves
+SAFETY = 4.0
+#: the ratio of true error to residual is taken from this many latest validations (the
+#: first bases' ratios say little about the last)
+RECENT = 3
+#: enrichment stops when the largest residual has not halved over this many steps
+STALL = 4
+#: condition number (||A|| ||z|| / ||b||) beyond which a point is an exact resonance
+SINGULAR_CONDITION = 1e13
+#: bytes of complex responses computed at once
+_CHUNK_BYTES = 32 * 2**20
+
+
+@dataclass(frozen=True)
+class ReducedResponse:
+    """The reduced-order responses of one load at N frequencies.
+
+    Attributes
+    ----------
+    Z : ndarray
+        z = V y at the kept coordinates, shape (N, kept); NaN at singular points.
+    norms : ndarray
+        ||z(w)||_2 of the whole response (all coordinates), shape (N,).
+    residual : ndarray
+        Relative residual of the full equation ||A(w) z - b|| / ||b||, shape (N,).
+    error : ndarray
+        Estimated relative error ||z - z_exact|| / ||z_exact|| per frequency, shape (N,).
+    estimated_error : float
+        The largest of ``error`` (NaN points left out).
+    converged : bool
+        Whether ``estimated_error`` is at most the tolerance.
+    expansion : tuple of float
+        The expansion frequencies (rad/s) of the basis.
+    basis_size : int
+        Columns of the real basis V.
+    checks : tuple of (float, float)
+        The validation solves: frequency and true relative error of the reduced
+        response there (with the basis of that moment).
+    singular : ndarray of bool
+        Points where the reduced system is singular (undamped resonance), shape (N,).
+    reason : str
+        Why the enrichment stopped before the tolerance ("" when converged).
+    seconds : float
+        Wall time of the whole computation.
+    """
+
+    Z: np.ndarray
+    norms: np.ndarray
+    residual: np.ndarray
+    error: np.ndarray
+    estimated_error: float
+    converged: bool
+    expansion: tuple[float, ...]
+    basis_size: int
+    checks: tuple[tuple[float, float], ...]
+    singular: np.ndarray
+    reason: str = ""
+    seconds: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("Z", "norms", "residual", "error", "singular"):
+            array = np.array(getattr(self, name))
+            array.flags.writeable = False
+            object.__setattr__(self, name, array)
+
+
+# -- factorizations ---------------------------------------------------------------------------
+
+def sparse_lu_options(pattern: Any) -> dict[str, Any]:
+    """SuperLU options (``scipy.sparse.linalg.splu`` keywords) for matrices of this pattern.
+
+    A structurally symmetric pattern (every mass-spring-damper model) gets a
+    minimum degree ordering on A^T + A (about half the fill of COLAMD on a 2-D
+    grid) and *symmetric mode* with threshold pivoting (a diagonal pivot is kept
+    when it is at least 0.1 of the largest in its column): strict partial
+    pivoting of an indefinite K - w^2 M + i w C (above the first resonances)
+    leaves the ordering and multiplied the fill of a 10,000-DOF grid by 47
+    (23 s instead of 0.03 s per factorization).  Other patterns: COLAMD and
+    partial pivoting.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> sparse_lu_options(sp.diags([1.0, 2.0, 1.0], [-1, 0, 1], shape=(4, 4)))["permc_spec"]
+    'MMD_AT_PLUS_A'
+    >>> sparse_lu_options(sp.diags([2.0, 1.0], [0, 1], shape=(4, 4)))
+    {'permc_spec': 'COLAMD'}
+    """
+    coo = (pattern != 0).astype(np.int8)
+    if abs(coo - coo.T).nnz:
+        return {"permc_spec": "COLAMD"}
+    return {"permc_spec": "MMD_AT_PLUS_A", "diag_pivot_thresh": 0.1,
+            "options": {"SymmetricMode": True}}
+
+
+def backward_stable(A: Any, x: np.ndarray, b: np.ndarray, a_norm: float | None = None
+                    ) -> bool:
+    """Whether ||A x - b|| <= 1e-10 (||A|| ||x|| + ||b||) (infinity norms): the solve was
+    backward stable (a stable LU gives about 1e-15; not finite counts as stable, the
+    callers judge singular points).  ``a_norm``: ||A||_inf or a bound of it, if known.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> A = sp.csr_matrix(np.array([[2.0, 1.0], [1.0, 3.0]]))
+    >>> backward_stable(A, np.array([0.4, 0.2]), np.array([1.0, 1.0]))
+    True
+    >>> backward_stable(A, np.array([0.5, 0.2]), np.array([1.0, 1.0]))
+    False
+    """
+    with np.errstate(all="ignore"):
+        r = float(np.abs(A @ x - b).max(initial=0.0))
+        if a_norm is None:
+            a_norm = float(abs(A).sum(axis=1).max())
+        scale = a_norm * float(np.abs(x).max(initial=0.0)) + \
+            float(np.abs(b).max(initial=0.0))
+    return not np.isfinite(r) or r <= 1e-10 * scale
+
+
+def _rayleigh(M: Any, C: Any, K: Any) -> tuple[float, float] | None:
+    """(alpha, beta) when C = alpha M + beta K (to rounding), else None: tested on two
+    random vectors (a C of another form fits them only by accident of measure zero)."""
+    X = np.random.default_rng(0).standard_normal((M.shape[0], 2))
+    A = np.column_stack([(M @ X).ravel(), (K @ X).ravel()])
+    c = (C @ X).ravel()
+    coef, *_ = np.linalg.lstsq(A, c, rcond=None)
+    if np.linalg.norm(A @ coef - c) <= 1e-12 * np.linalg.norm(c):
+        return float(coef[0]), float(coef[1])
+    return None
+
+
+class _Operators:
+    """M, C, K as real CSR matrices, with the factorization of A(s) at any s."""
+
+    def __init__(self, M: Any, C: Any, K: Any) -> None:
+        import scipy.sparse as sp
+
+        self.M, self.C, self.K = (sp.csr_matrix(a, dtype=float) for a in (M, C, K))
+        self.C.eliminate_zeros()
+        self.damped = self.C.nnz > 0
+        self.rayleigh = _rayleigh(self.M, self.C, self.K) if self.damped else None
+        self.n = self.M.shape[0]
+        self.lu_options = sparse_lu_options(self.K + self.M + self.C)
+
+    def matrix(self, s: float) -> Any:
+        return (self.K - (s * s) * self.M + (1j * s) * self.C).tocsc()
+
+    def factor(self, s: float, partial: bool = False) -> Any:
+        """The LU of A(s) (``partial``: with partial pivoting); RuntimeError when A(s) is
+        exactly singular."""
+        from scipy.sparse.linalg import splu
+
+        return splu(self.matrix(s), **({} if partial else self.lu_options))
+
+
+def _krylov(ops: _Operators, lu: Any, b: np.ndarray, s: float, q: int,
+            deadline: Deadline) -> np.ndarray:
+    """q moments of z(w) about s, as the top halves of an Arnoldi basis of the
+    linearization (columns complex, shape (n, <= q))."""
+    n = ops.n
+    x0 = lu.solve(b)
+    U = np.zeros((2 * n, q), dtype=complex)
+    nrm = np.linalg.norm(x0)
+    if not np.isfinite(nrm) or nrm == 0:
+        return np.zeros((n, 0), dtype=complex)
+    U[:n, 0] = x0 / nrm
+    for k in range(1, q):
+        deadline.check("while building the reduced basis", analysis=True)
+        top, bottom = U[:n, k - 1], U[n:, k - 1]
+        v = np.empty(2 * n, dtype=complex)
+        v[:n] = -lu.solve(ops.M @ ((-2.0 * s) * top - bottom) + 1j * (ops.C @ top))
+        v[n:] = top
+        for _ in range(2):  # classical Gram-Schmidt, twice (no conjugated copy of U)
+            v -= U[:, :k] @ (v.conj() @ U[:, :k]).conj()
+        nv = np.linalg.norm(v)
+        if not np.isfinite(nv) or nv < 1e-13:
+            return U[:n, :k]
+        U[:, k] = v / nv
+    return U[:n]
+
+
+def _extend(V: np.ndarray, X: np.ndarray, drop: float) -> np.ndarray:
+    """V with the new directions of X (complex columns split into real and imaginary
+    parts), orthonormal; directions below ``drop`` (relative) are left out."""
+    X = np.hstack([X.real, X.imag])
+    norms = np.linalg.norm(X, axis=0)
+    X = X[:, norms > 0] / norms[norms > 0]
+    if X.shape[1] == 0:
+        return V
+    for _ in range(2):
+        if V.shape[1]:
+            X -= V @ (V.T @ X)
+    U, S, _ = np.linalg.svd(X, full_matrices=False)
+    Q = U[:, S > drop]
+    if Q.shape[1] == 0:
+        return V
+    if V.shape[1]:
+        Q -= V @ (V.T @ Q)
+        Q, _ = np.linalg.qr(Q)
+    return np.hstack([V, Q])
+
+
+# -- the reduced system -----------------------------------------------------------------------
+
+class _Reduced:
+    """Vᵀ M V, Vᵀ C V, Vᵀ K V and Vᵀ b, solved at any frequencies."""
+
+    def __init__(self, ops: _Operators, V: np.ndarray, b: np.ndarray) -> None:
+        self.V = V
+        self.KV, self.MV = np.asarray(ops.K @ V), np.asarray(ops.M @ V)
+        self.CV = np.asarray(ops.C @ V) if ops.damped else None
+        self.Kr, self.Mr = V.T @ self.KV, V.T @ self.MV
+        self.Cr = V.T @ self.CV if self.CV is not None else np.zeros_like(self.Kr)
+        self.br = V.T @ b
+        self.b = b
+        self._modal = self._diagonalize()
+
+    def _diagonalize(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        r = self.V.shape[1]
+        try:
+            minv = np.linalg.solve(self.Mr, np.hstack([self.Kr, self.Cr,
+                                                        self.br.real[:, None],
+                                                        self.br.imag[:, None]]))
+            H = np.zeros((2 * r, 2 * r))
+            H[:r, r:] = np.eye(r)
+            H[r:, :r] = -minv[:, :r]
+            H[r:, r:] = -minv[:, r:2 * r]
+            mu, X = np.linalg.eig(H)
+            if not np.all(np.isfinite(X)) or np.linalg.cond(X) > 1e8:
+                return None
+            rhs = np.zeros(2 * r, dtype=complex)
+            rhs[r:] = minv[:, 2 * r] + 1j * minv[:, 2 * r + 1]
+            g = np.linalg.solve(X, rhs)
+        except np.linalg.LinAlgError:
+            return None
+        return mu, g, X[:r]
+
+    def solve(self, w: np.ndarray) -> np.ndarray:
+        """y(w), shape (len(w), r); inf/NaN rows where the reduced system is singular."""
+        r = self.V.shape[1]
+        out = np.empty((len(w), r), dtype=complex)
+        per_point = 4 * r if self._modal is not None else r * r  # complex numbers
+        chunk = max(1, _CHUNK_BYTES // (16 * max(per_point, 1)))
+        for start in range(0, len(w), chunk):
+            ww = w[start:start + chunk]
+            with np.errstate(all="ignore"):
+                if self._modal is not None:
+                    mu, g, top = self._modal
+                    out[start:start + chunk] = (g / (1j * ww[:, None] - mu)) @ top.T
+                    continue
+                A = self.Kr - ww[:, None, None] ** 2 * self.Mr + 1j * ww[:, None, None] * self.Cr
+                try:
+                    out[start:start + chunk] = np.linalg.solve(
+                        A, np.broadcast_to(self.br, (len(ww), r))[..., None])[..., 0]
+                except np.linalg.LinAlgError:
+                    for i, Ai in enumerate(A):
+                        try:
+                            out[start + i] = np.linalg.solve(Ai, self.br)
+                        except np.linalg.LinAlgError:
+                            out[start + i] = np.nan
+        return out
+
+
+class _Residual:
+    """||A(w) V y(w) - b||_2 at every frequency without forming an n x N array.
+
+    The real matrix P = [Re b, Im b, K V, M V, C V] (columns added block by block as
+    the basis grows) is kept as P = Q R (block Gram-Schmidt twice); then
+    A(w) V y - b = P u(w) with u = [-1, -i, y, -w^2 y, i w y] and ||P u|| = ||R u||,
+    with no cancellation (a Gram matrix would lose half the digits).  Rayleigh
+    damping C = alpha M + beta K needs no C V columns.
+    """
+
+    def __init__(self, ops: _Operators, b: np.ndarray) -> None:
+        self.ops = ops
+        self.Q = np.zeros((ops.n, 0))
+        self.R = np.zeros((0, 0))   # (directions, columns of P): upper trapezoidal
+        self.column: list[int] = []   # basis column of each column of P (-1: the load)
+        self.kind: list[int] = []     # 0: K, 1: M, 2: C; for the load 0: Re b, 1: Im b
+        self._add(np.column_stack([b.real, b.imag]), [-1, -1], [0, 1])
+        self.size = 0
+
+    def _add(self, X: np.ndarray, column: list[int], kind: list[int]) -> None:
+        m = self.Q.shape[1]
+        scale = float(np.abs(X).max(initial=0.0))
+        R12 = np.zeros((m, X.shape[1]))
+        for _ in range(2):
+            if m:
+                h = self.Q.T @ X
+                X = X - self.Q @ h
+                R12 += h
+        # What is left spans at most n - m new directions; rounding noise of columns that
+        # were (nearly) in the span of Q is dropped (below 1e-14 of the block).
+        U, S, Wt = np.linalg.svd(X, full_matrices=False)
+        rank = min(int(np.count_nonzero(S > 1e-14 * max(scale, 1e-300))), self.Q.shape[0] - m)
+        Qn, R22 = U[:, :rank], S[:rank, None] * Wt[:rank]
+        # orthogonalize Qn again and book the part taken out into R12 (X = Q R12 + Qn R22
+        # stays exact, [Q Qn] stays orthonormal)
+        if m and rank:
+            h = self.Q.T @ Qn
+            Qn = Qn - self.Q @ h
+            R12 += h @ R22
+            Qn, T = np.linalg.qr(Qn)
+            R22 = T @ R22
+        R = np.zeros((m + rank, self.R.shape[1] + X.shape[1]))
+        R[:m, :self.R.shape[1]], R[:m, self.R.shape[1]:] = self.R, R12
+        R[m:, self.R.shape[1]:] = R22
+        self.Q, self.R = np.hstack([self.Q, Qn]), R
+        self.column += column
+        self.kind += kind
+
+    def extend(self, red: _Reduced) -> None:
+        """Add the columns of the basis vectors not yet included."""
+        r = red.V.shape[1]
+        if r == self.size:
+            return
+        new = range(self.size, r)
+        blocks = [red.KV[:, self.size:], red.MV[:, self.size:]]
+        kinds = [0, 1]
+        if red.CV is not None and self.ops.rayleigh is None:  # (Rayleigh: C V is in there)
+            blocks.append(red.CV[:, self.size:])
+            kinds.append(2)
+        self._add(np.hstack(blocks), [j for _ in kinds for j in new],
+                  [k for k in kinds for _ in new])
+        self.size = r
+
+    def norms(self, w: np.ndarray, Y: np.ndarray) -> np.ndarray:
+        column, kind = np.array(self.column), np.array(self.kind)
+        load = column < 0
+        out = np.empty(len(w))
+        chunk = max(1, _CHUNK_BYTES // (16 * max(len(column), 1)))
+        for start in range(0, len(w), chunk):
+            ww, yy = w[start:start + chunk, None], Y[start:start + chunk]
+            if self.ops.rayleigh is None:
+                factor = np.stack([np.ones_like(ww) + 0j, -(ww ** 2) + 0j, 1j * ww])
+            else:  # C = alpha M + beta K: i w C V y goes onto the K and M columns
+                alpha, beta = self.ops.rayleigh
+                factor = np.stack([1 + 1j * beta * ww, -(ww ** 2) + 1j * alpha * ww])
+            u = np.empty((len(ww), len(column)), dtype=complex)
+            u[:, ~load] = factor[kind[~load], :, 0].T * yy[:, column[~load]]
+            u[:, load] = np.where(kind[load] == 0, -1.0, -1j)
+            with np.errstate(all="ignore"):
+                out[start:start + chunk] = np.linalg.norm(u @ self.R.T, axis=1)
+        return out
+
+
+# -- the public function ----------------------------------------------------------------------
+
+def _initial_points(w: np.ndarray, count: int) -> list[float]:
+    lo, hi = float(w.min()), float(w.max())
+    if hi <= lo:
+        return [lo]
+    return [lo + (hi - lo) * (j + 0.5) / count for j in range(count)]
+
+
+def reduced_response(M: Any, C: Any, K: Any, b: np.ndarray, w: np.ndarray, *,
+                     tol: float = DEFAULT_TOL, keep: np.ndarray | None = None,
+                     deadline: Deadline = NO_DEADLINE, budget: float | None = None,
+                     max_points: int | None = None, moments: int = MOMENTS,
+                     ) -> ReducedResponse:
+    """The response z(w) of (K - w^2 M + i w C) z = b by a reduced model, to ``tol``.
+
+    Parameters
+    ----------
+    M, C, K : sparse matrix or ndarray
+        Real (n, n) matrices, the same at every frequency.
+    b : ndarray
+        The complex load F_C - i F_S, shape (n,).
+    w : ndarray
+        The frequencies (rad/s), shape (N,).
+    tol : float
+        Relative tolerance of ||z - z_exact|| / ||z_exact|| at every frequency.
+    keep : ndarray of int, optional
+        The coordinates whose responses are returned (default all).
+    deadline : Deadline, optional
+        Checked between the factorizations and the moments.
+    budget : float, optional
+        Seconds after which no further expansion point is added (the result is
+        then returned with ``converged`` False).
+    max_points : int, optional
+        Most expansion points (default :data:`MAX_POINTS`).
+    moments : int
+        Moments per expansion point.
+
+    Returns
+    -------
+    ReducedResponse
+
+    Raises
+    ------
+    AnalysisError
+        When no expansion point can be factorized (A singular everywhere tried).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> M, K, C = np.eye(2), np.array([[2.0, -1.0], [-1.0, 1.0]]), 0.01 * np.eye(2)
+    >>> red = reduced_response(M, C, K, np.array([0.0, 1.0 + 0j]), np.linspace(0.1, 2, 50))
+    >>> red.basis_size, red.converged
+    (2, True)
+    """
+    start = time.monotonic()
+    max_points = MAX_POINTS if max_points is None else max_points
+    if not tol > 0:
+        raise AnalysisError(f"the tolerance must be positive, not {tol}")
+    w = np.abs(np.asarray(w, dtype=float))
+    b = np.asarray(b, dtype=complex).ravel()
+    ops = _Operators(M, C, K)
+    n = ops.n
+    keep = np.arange(n) if keep is None else np.asarray(keep, dtype=int)
+    b_norm = float(np.linalg.norm(b))
+    N = w.shape[0]
+    if b_norm == 0:
+        zeros = np.zeros(N)
+        return ReducedResponse(np.zeros((N, len(keep)), dtype=complex), zeros, zeros, zeros,
+                               0.0, True, (), 0, (), np.zeros(N, dtype=bool),
+                               seconds=time.monotonic() - start)
+    drop = min(1e-8, 1e-3 * tol)
+    norms = [float(np.linalg.norm(a.data)) if a.nnz else 0.0 for a in (ops.K, ops.M, ops.C)]
+
+    def a_norm(w: np.ndarray) -> np.ndarray:  # Frobenius norm bound of A(w)
+        return norms[0] + w**2 * norms[1] + w * norms[2]
+
+    # bytes per basis column: V, KV, MV, CV and the QR copy
+    max_basis = int(min(MAX_BASIS, MEMORY_BYTES // (8 * n * 9)))
+    width = float(w.max() - w.min())
+    V = np.zeros((n, 0))
+    expansion: list[float] = []
+    checks: list[tuple[float, float]] = []
+    ratios: list[float] = []
+    history: list[float] = []
+    pending = [(s, None) for s in _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))]
+    residual = _Residual(ops, b)
+    reason = ""
+    while True:
+        # enrich: the moments at every pending point (its factorization, if known)
+        for s, lu in pending:
+            deadline.check("while building the reduced basis", analysis=True)
+            if lu is None:
+                lu, s = _factor_near(ops, s, width)
+                if lu is None:
+                    continue
+            expansion.append(float(s))
+            V = _extend(V, _krylov(ops, lu, b, s, moments, deadline), drop)
+            if V.shape[1] >= max_basis:
+                V = V[:, :max_basis]
+                break
+        pending = []
+        if V.shape[1] == 0:
+            raise AnalysisError("the reduced model has no basis: A(w) is singular at every "
+                                "expansion point tried; use a direct method")
+        red = _Reduced(ops, V, b)
+        Y = red.solve(w)
+        # an undamped resonance (condition number beyond SINGULAR_CONDITION, as in the
+        # kernel) has no response to estimate: such points are singular, not errors
+        with np.errstate(all="ignore"):
+            condition = a_norm(w) * np.linalg.norm(Y, axis=1) / b_norm
+        finite = np.all(np.isfinite(Y), axis=1) & (condition <= SINGULAR_CONDITION)
+        rho = np.full(N, np.inf)
+        residual.extend(red)
+        if finite.any():
+            rho[finite] = residual.norms(w[finite], Y[finite]) / b_norm
+        gamma = max([1.0] + ratios[-RECENT:])
+        estimate = SAFETY * gamma * rho
+        # validate where the residual is largest (the expansion points themselves are exact)
+        candidates = np.where(finite & ~np.isin(w, expansion), rho, -np.inf)
+        worst = int(np.argmax(candidates))
+        if not np.isfinite(candidates[worst]):
+            break
+        deadline.check("while checking the reduced model", analysis=True)
+        s = float(w[worst])
+        lu, s = _factor_near(ops, s, 0.0)
+        if lu is None:  # a singular point of the full system: nothing to validate there
+            break
+        exact = lu.solve(b)
+        if not backward_stable(ops.matrix(s), exact, b):  # threshold pivoting grew too much
+            exact = ops.factor(s, partial=True).solve(b)
+        approx = V @ Y[worst]
+        true = float(np.linalg.norm(approx - exact)) / max(float(np.linalg.norm(exact)), 1e-300)
+        checks.append((s, true))
+        if rho[worst] > 0:
+            ratios.append(true / rho[worst])
+        gamma = max([1.0] + ratios[-RECENT:])
+        estimate = np.maximum(SAFETY * gamma * rho, 0.0)
+        estimate[worst] = max(true, estimate[worst])
+        if float(np.max(estimate[finite], initial=0.0)) <= tol and true <= tol:
+            break
+        history.append(float(np.max(rho[finite], initial=0.0)))
+        if len(history) > STALL and history[-1] > 0.5 * history[-1 - STALL]:
+            reason = (f"the residual stopped decreasing at {history[-1]:.2g} (rounding "
+                      "floor: ask for a larger tolerance)")
+            break
+        if len(expansion) >= max_points:
+            reason = f"the cap of {max_points} expansion points was reached"
+            break
+        if V.shape[1] >= max_basis:
+            reason = f"the cap of {max_basis} basis vectors was reached"
+            break
+        if budget is not None and time.monotonic() - start > budget:
+            reason = f"the time budget of {budget:.3g} s was used up"
+            break
+        pending = [(s, lu)]
+    singular = ~finite
+    estimate = np.where(finite, estimate, np.nan)
+    top = float(np.nanmax(estimate)) if np.any(finite) else float("inf")
+    converged = top <= tol
+    if not converged and not reason:
+        reason = "the estimated error stayed above the tolerance"
+    Z = np.full((N, len(keep)), np.nan + 0j)
+    Z[finite] = Y[finite] @ V[keep].T
+    norm_z = np.where(finite, np.linalg.norm(np.where(finite[:, None], Y, 0), axis=1), np.inf)
+    return ReducedResponse(Z, norm_z, np.where(finite, rho, np.nan), estimate, top, converged,
+                           tuple(expansion), int(V.shape[1]), tuple(checks), singular,
+                           "" if converged else reason, time.monotonic() - start)
+
+
+def _factor_near(ops: _Operators, s: float, width: float) -> tuple[Any, float]:
+    """The LU of A(s), or of A at a nearby frequency when A(s) is exactly singular."""
+    for shift in (0.0, 1e-3, -1e-3, 1e-2):
+        t = s + shift * max(width, abs(s), 1e-12)
+        try:
+            return ops.factor(t), t
+        except RuntimeError:  # "Factor is exactly singular"
+            continue
+    return None, s
+
+
+__all__ = ["reduced_response", "ReducedResponse", "DEFAULT_TOL", "sparse_lu_options",
+           "backward_stable"]

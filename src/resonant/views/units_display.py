@@ -1,0 +1,226 @@
+"""The units of results: SI units for JSON, chosen display units for text, plots, reports.
+
+The analyses compute in SI and never see units; this module only labels and
+converts their numbers for display.  Units follow from the model
+(:attr:`Model.units <resonant.model.Model.units>`): a coordinate's declared unit, an
+output's inferred (or declared) one, and the entries of M, C, K and Q from the
+coordinates' units (mixed translational and rotational coordinates give mixed
+units per entry).  The display unit of a quantity is, in this order, the one chosen
+by ``--units`` / ``[display]`` for its kind (length, angle, frequency, ...), the unit
+declared for it, or its SI unit.  A model without units shows what it always showed.
+
+Examples
+--------
+>>> from resonant.model import loads
+>>> model = loads('''
+... [parameters]
+... m = "2 kg"
+... J = "0.5 kg*m^2"
+... k = "0.8 N/mm"
+... kt = "10 N*m"
+... [coordinates]
+... x = { description = "displacement", unit = "mm" }
+... phi = { description = "rotation", unit = "rad" }
+... [energy]
+... T = "m*x'^2/2 + J*phi'^2/2"
+... U = "k*x^2/2 + kt*phi^2/2"
+... [display]
+... angle = "deg"
+... ''')
+>>> units = result_units(model)
+>>> units.shown["x"].text, units.shown["phi"].text, units.si["phi"]
+('mm', 'deg', 'rad')
+>>> units.matrices["K"]
+[['N/m', 'N'], ['N', 'N*m']]
+>>> units.frequency.text, round(units.frequency(2 * 3.141592653589793), 12)
+('Hz', 1.0)
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..model import Model
+from ..model.units import (
+    DIMENSIONLESS,
+    ENERGY,
+    FORCE,
+    FREQUENCY,
+    LENGTH,
+    MASS,
+    TIME,
+    Dimension,
+    Unit,
+    display_quantity,
+)
+
+
+@dataclass(frozen=True)
+class Shown:
+    """A display unit: its text and the SI value of one of it (``shown = si / factor``)."""
+
+    text: str
+    factor: float = 1.0
+
+    def __call__(self, value: Any) -> Any:
+        return value / self.factor if self.factor != 1.0 else value
+
+
+NO_UNIT = Shown("")
+RAD = Shown("rad")
+RAD_PER_S = Shown("rad/s")
+HZ = Shown("Hz", 2 * math.pi)
+
+
+@dataclass(frozen=True)
+class ResultUnits:
+    """The units of a model's results.
+
+    Attributes
+    ----------
+    si : mapping
+        coordinate or output -> its SI unit (``""`` where unknown); what JSON reports.
+    shown : mapping
+        coordinate or output -> its display unit.
+    matrices : mapping
+        ``"M"``, ``"C"``, ``"K"`` -> the SI unit of every entry (lists of rows);
+        ``"Q"`` -> the unit of every row of the excitation (N, or N*m for an angle).
+    phase, frequency : Shown
+        The display units of phases and of (angular) frequencies.
+    """
+
+    si: Mapping[str, str] = field(default_factory=dict)
+    shown: Mapping[str, Shown] = field(default_factory=dict)
+    matrices: Mapping[str, Any] = field(default_factory=dict)
+    phase: Shown = RAD
+    frequency: Shown = HZ
+
+    def unit(self, name: str) -> Shown:
+        return self.shown.get(name, NO_UNIT)
+
+    def to_json(self) -> dict[str, Any]:
+        """``{name: SI unit}`` for every coordinate, output and matrix (JSON stays SI)."""
+        out: dict[str, Any] = {name: unit for name, unit in self.si.items()}
+        out.update(self.matrices)
+        out.update({"natural_frequencies": "rad/s", "omega": "rad/s", "phases": "rad"})
+        return out
+
+
+def _display_unit(unit: Unit, frequency: bool = False) -> Shown:
+    """A unit for display; a cyclic one (Hz) shows an angular frequency divided by 2 pi."""
+    factor = unit.to_si() * (2 * math.pi if frequency and unit.cyclic else 1.0)
+    return Shown(unit.text, factor)
+
+
+def _si_text(dim: Dimension | None, angle: bool) -> str:
+    if dim is None:
+        return ""
+    if angle and dim.dimensionless:
+        return "rad"
+    return dim.text()
+
+
+def _quantity(dim: Dimension | None, declared: Unit | None) -> str | None:
+    if declared is not None and declared.angle:
+        return "angle"
+    return {LENGTH: "length", MASS: "mass", FORCE: "force", TIME: "time", ENERGY: "energy",
+            FREQUENCY: "frequency"}.get(dim) if dim is not None else None
+
+
+def result_units(model: Model | None, chosen: Mapping[str, Unit] | None = None
+                 ) -> ResultUnits | None:
+    """The units of the results of ``model`` (None for a model without units).
+
+    ``chosen`` (quantity -> unit, like ``--units``) takes precedence over the model's
+    ``[display]`` section.
+    """
+    if model is None or model.units is None:
+        return None
+    units = model.units
+    display = {**units.display, **(chosen or {})}
+    si: dict[str, str] = {}
+    shown: dict[str, Shown] = {}
+    declared_all = {**units.coordinates, **units.outputs}
+    for name in [*model.coordinates, *model.outputs]:
+        dim = units.dimensions.get(name)
+        declared = declared_all.get(name)
+        angle = declared is not None and declared.angle
+        si[name] = _si_text(dim, angle)
+        kind = _quantity(dim, declared)
+        if kind is not None and kind in display:
+            shown[name] = _display_unit(display[kind], kind == "frequency")
+        elif declared is not None:
+            shown[name] = _display_unit(declared)
+        elif si[name] and si[name] != "1":
+            shown[name] = Shown(si[name])
+    coordinate_dims = [units.dimensions.get(q) for q in model.coordinates]
+    matrices: dict[str, Any] = {}
+    if coordinate_dims and all(d is not None for d in coordinate_dims):
+        dims: list[Dimension] = [d for d in coordinate_dims if d is not None]
+        for key, scale in (("M", TIME ** 2), ("C", TIME), ("K", DIMENSIONLESS)):
+            matrices[key] = [[(ENERGY * scale / (di * dj)).text(moment=True) for dj in dims]
+                             for di in dims]
+        matrices["Q"] = [(ENERGY / di).text(moment=True) for di in dims]
+    phase = _display_unit(display["angle"]) if "angle" in display else RAD
+    frequency = _display_unit(display["frequency"], True) if "frequency" in display else HZ
+    return ResultUnits(si, shown, matrices, phase, frequency)
+
+
+def uniform(units: Sequence[Any]) -> str | None:
+    """The one unit of all entries (rows of units flattened), or None if they differ.
+
+    Examples
+    --------
+    >>> uniform([["kg", "kg"], ["kg", "kg"]]), uniform(["N", "N*m"])
+    ('kg', None)
+    """
+    flat = [u for row in units for u in (row if isinstance(row, list) else [row])]
+    return flat[0] if flat and all(u == flat[0] for u in flat) else None
+
+
+def units_grid(units: Sequence[Sequence[str]], indent: str = "    ") -> str:
+    """The units of a matrix's entries as an aligned grid (for mixed units)."""
+    width = max((len(u) for row in units for u in row), default=1)
+    return "\n".join(indent + "[" + "  ".join(u.rjust(width) for u in row) + "]"
+                     for row in units)
+
+
+def shown_vector(values: np.ndarray, names: Sequence[str], units: ResultUnits) -> str:
+    """``[2.17, -38.6] mm`` (one unit) or ``[2.17 mm, 5.1 deg]`` (mixed), in display units."""
+    shown = [units.unit(n) for n in names]
+    numbers = [f"{shown[i](float(v)) + 0.0:.6g}" for i, v in enumerate(values)]
+    texts = {s.text for s in shown}
+    if len(texts) == 1:
+        text = next(iter(texts))
+        return "[" + ", ".join(numbers) + "]" + (f" {text}" if text else "")
+    return "[" + ", ".join(f"{n} {s.text}".rstrip() for n, s in zip(numbers, shown)) + "]"
+
+
+def unit_latex(text: str) -> str:
+    r"""A unit in LaTeX after a number: ``kg*m^2/s`` -> ``\ \mathrm{kg\,m^{2}/s}``.
+
+    Examples
+    --------
+    >>> unit_latex("N*s/m"), unit_latex("")
+    ('\\ \\mathrm{N\\,s/m}', '')
+    """
+    if not text:
+        return ""
+    body = re.sub(r"\^\(?(-?[0-9/]+)\)?", r"^{\1}", text.replace("*", r"\,"))
+    body = body.replace("deg", r"^{\circ}") if text == "deg" else body
+    return r"\ \mathrm{" + body + "}"
+
+
+def axis_label(label: str, unit: str) -> str:
+    """``amplitude [mm]`` (or the label alone without a unit)."""
+    return f"{label} [{unit}]" if unit else label
+
+
+__all__ = ["ResultUnits", "Shown", "result_units", "uniform", "units_grid", "shown_vector",
+           "axis_label", "unit_latex", "HZ", "RAD", "RAD_PER_S", "NO_UNIT", "display_quantity"]

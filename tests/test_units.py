@@ -1,0 +1,519 @@
+"""Physical units (issue 13, contract ../shared/spec/units.md).
+
+The reference exercise (BME Department of Applied Mechanics, Vibrations BMEGEMMBXM4,
+"Practice 12 - 2 DoF forced system": cart + pendulum, data m1 = 2 kg, m2 = 1 kg,
+l = 0.5 m, k = 100 N/m, F0 = 5 N, eps = pi/3, r0 = 0.01 m, omega = 20 rad/s) is solved
+with its data in mixed units (g, mm, N/mm, deg, rpm) and must give the numbers of the SI
+version to a relative 1e-12 (the conversions are exact rationals and pi: only the last
+floating-point bits may differ), and the exercise's own rounded results (Eqs. (42)-(48):
+L = [0.00217, -0.03856] m, N = [0.00199, -0.02347] m, X2 = 0.0451 m, phi = 0.090 rad) to
+the digits it prints.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy
+
+from resonant.cli import main
+from resonant.errors import ModelError
+from resonant.model import load, loads
+from resonant.model.units import (
+    ENERGY,
+    UNITS,
+    UnitError,
+    display_units,
+    parse_unit,
+    split_value,
+)
+
+ROOT = Path(__file__).parents[1]
+EXAMPLES = ROOT / "examples"
+
+CART_PENDULUM = """
+title = "Cart with pendulum"
+[parameters]
+m1 = {m1}
+m2 = {m2}
+l = {l}
+k = {k}
+g = {g}
+F0 = {F0}
+eps = {eps}
+r0 = {r0}
+omega = {omega}
+[coordinates]
+x1 = {x1}
+x2 = {x2}
+[signals]
+r = "r0*cos(omega*t)"
+F = "F0*sin(omega*t + eps)"
+[definitions]
+phi = "x2/l"
+[energy]
+T = "m1*x1'^2/2 + m2*(x1'^2 + x2'^2/4 + x1'*x2'*cos(phi))/2 + m2*l^2*phi'^2/24"
+U = "k*(x1 - r)^2/2 - m2*g*l/2*cos(phi)"
+[[force]]
+name = "F at C"
+vector = ["F", "0"]
+point = ["x1 + x2", "-l*cos(phi)"]
+[outputs]
+phi = {phi}
+"""
+SI = dict(m1="2", m2="1", l="0.5", k="100", g="9.81", F0="5", eps='"pi/3"', r0="0.01",
+          omega="20", x1='"cart"', x2='"rod end C"', phi='"x2/l"')
+MIXED = dict(m1='"2000 g"', m2='"0.001 t"', l='"500 mm"', k='"0.1 N/mm"', g='"9.81 m/s^2"',
+             F0='"0.005 kN"', eps='"60 deg"', r0='"10 mm"', omega='"20 rad/s"',
+             x1='{ description = "cart", unit = "m" }',
+             x2='{ description = "rod end C", unit = "mm" }', phi='"x2/l rad"')
+
+
+def _write(tmp_path: Path, text: str, name: str = "model.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def _solve_json(path: Path, *extra: str, capsys) -> dict:
+    assert main(["solve", str(path), "--json", *extra]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+# -- the reference exercise in mixed units -------------------------------------------------
+
+@pytest.mark.parametrize("omega", ['"20 rad/s"', f'"{600 / math.pi!r} rpm"'])
+def test_reference_exercise_in_mixed_units_gives_the_si_numbers(tmp_path, capsys, omega):
+    si = _solve_json(_write(tmp_path, CART_PENDULUM.format(**SI), "si.toml"), capsys=capsys)
+    mixed = _solve_json(_write(tmp_path, CART_PENDULUM.format(**{**MIXED, "omega": omega}),
+                               "mixed.toml"), capsys=capsys)
+    for key in ("M", "C", "K", "natural_frequencies"):
+        np.testing.assert_allclose(mixed[key], si[key], rtol=1e-12, atol=1e-15)
+    for key in ("omega", "F_S", "F_C", "L", "N"):
+        np.testing.assert_allclose(mixed["harmonics"][0][key], si["harmonics"][0][key],
+                                   rtol=1e-12, atol=1e-15)
+    for name in ("x1", "x2", "phi"):
+        assert mixed["amplitudes"][name] == pytest.approx(si["amplitudes"][name], rel=1e-12)
+        assert mixed["phases"][name] == pytest.approx(si["phases"][name], rel=1e-12)
+    assert mixed["symbolic"] == si["symbolic"]
+    assert mixed["warnings"] == si["warnings"]
+    # the exercise's printed results, Eqs. (42)-(48)
+    h = mixed["harmonics"][0]
+    assert h["L"] == pytest.approx([0.00217, -0.03856], abs=5e-6)
+    assert h["N"] == pytest.approx([0.00199, -0.02347], abs=5e-6)
+    assert mixed["amplitudes"]["x2"] == pytest.approx(0.0451, abs=5e-5)
+    assert mixed["amplitudes"]["phi"] == pytest.approx(0.090, abs=5e-4)
+    # JSON stays SI and says so
+    assert mixed["units"]["x1"] == "m" and mixed["units"]["x2"] == "m"
+    assert mixed["units"]["phi"] == "rad"
+    assert mixed["units"]["M"] == [["kg", "kg"], ["kg", "kg"]]
+    assert mixed["units"]["K"][0][0] == "N/m" and mixed["units"]["Q"] == ["N", "N"]
+    assert mixed["units"]["natural_frequencies"] == "rad/s"
+    assert mixed["parameters"]["l"] == 0.5 and mixed["parameters"]["m1"] == 2.0
+    assert "units" not in si  # a model without units: the output as before
+
+
+def test_reference_exercise_text_output_shows_units(tmp_path, capsys):
+    path = _write(tmp_path, CART_PENDULUM.format(**MIXED))
+    assert main(["solve", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert "mass matrix M [kg] =" in text and "stiffness matrix K [N/m] =" in text
+    assert "F_S = [2.5, 2.5] N" in text
+    assert "cos coefficients L = [0.00216562 m, -38.5616 mm]" in text  # x2 declared in mm
+    assert "x2   X = 45.1413 mm   delta = -2.1175 rad" in text
+    assert main(["solve", str(path), "--units", "mm,deg,Hz"]) == 0
+    text = capsys.readouterr().out
+    assert "cos coefficients L = [2.16562, -38.5616] mm" in text
+    assert "phi  X = 5.17281 deg   delta = -121.324 deg  (output)" in text
+    assert "omega_1 = 4.56071 rad/s  (0.72586 Hz)" in text
+    assert main(["solve", str(path), "--units", "rpm"]) == 0
+    assert "omega = 20 rad/s  (190.986 rpm)" in capsys.readouterr().out
+
+
+def test_display_section_chooses_the_output_units(tmp_path, capsys):
+    path = _write(tmp_path, CART_PENDULUM.format(**MIXED) + '[display]\nlength = "cm"\n'
+                  'angle = "deg"\n')
+    assert main(["solve", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert "x1   X = 0.294391 cm" in text and "delta =  47.3603 deg" in text
+    # --units wins over [display]
+    assert main(["solve", str(path), "--units", "mm"]) == 0
+    assert "x1   X = 2.94391 mm" in capsys.readouterr().out
+
+
+def test_display_section_without_units_converts_phases_and_frequencies(tmp_path, capsys):
+    path = _write(tmp_path, CART_PENDULUM.format(**SI) + '[display]\nangle = "deg"\n'
+                  'frequency = "rpm"\n')
+    assert main(["solve", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert "delta = -121.324 deg" in text and "omega_1 = 4.56071 rad/s  (43.5516 rpm)" in text
+    assert "x2   X = 0.0451413   delta" in text  # lengths: no unit known, as given
+
+
+def test_report_data_table_shows_given_and_si_units(tmp_path, capsys):
+    path = _write(tmp_path, CART_PENDULUM.format(**MIXED))
+    out = tmp_path / "report.md"
+    assert main(["report", str(path), "-o", str(out)]) == 0
+    md = out.read_text()
+    assert r"| $l$ | $500\ \mathrm{mm}$ | $0.5\ \mathrm{m}$ |" in md
+    assert r"| $k$ | $0.1\ \mathrm{N/mm}$ | $100\ \mathrm{N/m}$ |" in md
+    assert r"0.04514\ \mathrm{m}" in md  # the maximal excursion of C, Eq. (47)
+
+
+# -- mixed translational and rotational coordinates ------------------------------------------
+
+CART_AND_ANGLE = """
+[parameters]
+m = "2 kg"
+ml = "0.5 kg"
+l = "400 mm"
+k = "2 kN/m"
+g = "9.81 m/s^2"
+M0 = "0.3 N*m"
+w = "5 rad/s"
+[coordinates]
+x = { description = "cart", unit = "m" }
+phi = { description = "pendulum angle", unit = "rad" }
+[signals]
+Mt = "M0*sin(w*t)"
+[energy]
+T = "m*x'^2/2 + ml*((x' + l*phi'*cos(phi))^2 + (l*phi'*sin(phi))^2)/2"
+U = "k*x^2/2 - ml*g*l*cos(phi)"
+[[force]]
+name = "drive torque"
+generalized = { phi = "Mt" }
+"""
+
+
+def test_mixed_coordinates_give_units_per_matrix_entry(tmp_path, capsys):
+    data = _solve_json(_write(tmp_path, CART_AND_ANGLE), capsys=capsys)
+    units = data["units"]
+    assert units["M"] == [["kg", "kg*m"], ["kg*m", "kg*m^2"]]
+    assert units["K"] == [["N/m", "N"], ["N", "N*m"]]
+    assert units["C"] == [["N*s/m", "N*s"], ["N*s", "N*m*s"]]
+    assert units["Q"] == ["N", "N*m"]
+    assert main(["solve", str(_write(tmp_path, CART_AND_ANGLE)), "--units", "deg"]) == 0
+    text = capsys.readouterr().out
+    assert "mass matrix M (entries in the units below) =" in text
+    assert "[  kg*m  kg*m^2]" in text and "[  N  N*m]" in text
+
+
+# -- dimension errors ------------------------------------------------------------------------
+
+BASE = """
+[parameters]
+m = "2 kg"
+c = "3 N*s/m"
+k = "100 N/m"
+l = "0.5 m"
+g = "9.81 m/s^2"
+F0 = "5 N"
+w = "20 rad/s"
+[coordinates]
+x = { description = "displacement", unit = "m" }
+[signals]
+F = "F0*sin(w*t)"
+[energy]
+T = "m*x'^2/2"
+U = "k*x^2/2"
+D = "c*x'^2/2"
+[[force]]
+name = "push"
+vector = ["F"]
+point = ["x"]
+"""
+
+
+def _error(text: str) -> str:
+    with pytest.raises(ModelError) as info:
+        loads(text, source="m.toml")
+    return str(info.value)
+
+
+@pytest.mark.parametrize(("old", "new", "expected"), [
+    # T not an energy
+    ('T = "m*x\'^2/2"', 'T = "m*x\'/2"',
+     "m.toml: [energy] T: m*x'/2 is N*s but T must be an energy (J)"),
+    # a spring term k*x instead of k*x^2/2
+    ('U = "k*x^2/2"', 'U = "k*x/2 + m*g*x"',
+     "m.toml: [energy] U: k*x/2 is N but m*g*x is J: the terms of a sum must have the same "
+     "unit"),
+    ('U = "k*x^2/2"', 'U = "k*x^2/2 - m*g"',
+     "m.toml: [energy] U: k*x^2/2 is J but m*g is N"),
+    # a force given in N*m
+    ('F0 = "5 N"', 'F0 = "5 N*m"',
+     "m.toml: [force 'push'] vector[0]: F is N*m but its point's position point[0] = x is "
+     "m: it must be a force (N)"),
+    # sin of a length
+    ('T = "m*x\'^2/2"', 'T = "m*x\'^2/2*cos(x)"',
+     "m.toml: [energy] T: the argument of cos() must be dimensionless (an angle in rad) but "
+     "x is m"),
+    # D not a power
+    ('D = "c*x\'^2/2"', 'D = "c*x\'*x/2"',
+     "m.toml: [energy] D: c*x'*x/2 is J but D must be a power (W)"),
+    # a sum in a signal, a function argument in a signal
+    ('F = "F0*sin(w*t)"', 'F = "F0*sin(w*t) + m"', "[signals] F: F0*sin(w*t) is N but m is kg"),
+    ('F = "F0*sin(w*t)"', 'F = "F0*sin(w)"',
+     "[signals] F: the argument of sin() must be dimensionless (an angle in rad) but w is 1/s"),
+    # a generalized force that is not a force
+    ('vector = ["F"]\npoint = ["x"]', 'generalized = { x = "F*l" }',
+     "[force 'push'] generalized.x: F*l is N*m but its coordinate x is m: it must be a force"),
+    # an exponent with a unit
+    ('T = "m*x\'^2/2"', 'T = "m*x\'^l"', "the exponent l is m: an exponent must be dimensionless"),
+])
+def test_each_dimension_error_is_named(old, new, expected):
+    assert old in BASE
+    assert expected in _error(BASE.replace(old, new))
+
+
+def test_dimension_error_exits_2_with_one_line_per_problem(tmp_path, capsys):
+    text = BASE.replace('T = "m*x\'^2/2"', 'T = "m*x\'/2"').replace('D = "c*x\'^2/2"',
+                                                                   'D = "c*x\'*x/2"')
+    assert main(["check", str(_write(tmp_path, text))]) == 2
+    err = capsys.readouterr().err
+    assert "[energy] T:" in err and "[energy] D:" in err and "Traceback" not in err
+
+
+def test_torque_on_an_angle_and_zero_fit_any_unit():
+    text = CART_AND_ANGLE.replace('U = "k*x^2/2 - ml*g*l*cos(phi)"',
+                                  'U = "k*x^2/2 - ml*g*l*cos(phi) + 0"')
+    assert loads(text).units is not None
+    assert "must be a moment (N*m)" in _error(CART_AND_ANGLE.replace('M0 = "0.3 N*m"',
+                                                                     'M0 = "0.3 N"'))
+
+
+def test_output_and_equilibrium_units_are_checked():
+    assert "[outputs] v: x is m but its unit rad is 1" in _error(BASE + '[outputs]\nv = "x rad"\n')
+    assert "[equilibrium] x: m is kg but x must be in the unit of x (m)" in _error(
+        BASE.replace("[signals]", '[equilibrium]\nx = "m"\n[signals]'))
+
+
+# -- partial units, Hz, rpm ------------------------------------------------------------------
+
+def test_partially_united_model_says_once_what_it_could_not_check(tmp_path, capsys):
+    model = loads(BASE.replace('c = "3 N*s/m"', "c = 3"))
+    assert len(model.units.notes) == 1
+    assert model.units.notes[0].startswith("units: could not check D: c has no unit")
+    assert main(["check", str(_write(tmp_path, BASE.replace('k = "100 N/m"', "k = 100")))]) == 0
+    err = capsys.readouterr().err
+    assert err.count("could not check") == 1 and "k has no unit" in err
+
+
+def test_hz_rpm_and_expressions_convert_as_documented():
+    model = loads("""
+[parameters]
+f = "50 Hz"
+Omega = "2*pi*f"
+n = "1200 rpm"
+eps = "60 deg"
+k2 = "150 N/mm"
+I = "2 kg*m^2"
+c = "2.5 N*s/m"
+mt = "(1 + 1) kg"
+[coordinates]
+x = ""
+[energy]
+T = "x'^2"
+""")
+    values, exact = model.parameter_values, model.exact_values
+    assert values["f"] == 50.0
+    assert values["Omega"] == pytest.approx(314.159265358979, rel=1e-14)
+    assert values["n"] == pytest.approx(125.663706143592, rel=1e-14)
+    assert exact["eps"] == sympy.pi / 3 and exact["n"] == 40 * sympy.pi
+    assert values["k2"] == 150000.0 and values["I"] == 2.0 and values["mt"] == 2.0
+    assert model.units.dimensions["Omega"].text() == "1/s"
+    assert model.units.dimensions["c"].text() == "N*s/m"
+
+
+def test_a_value_in_hz_used_as_angular_frequency_is_warned_once():
+    text = BASE.replace('w = "20 rad/s"', 'w = "20 Hz"')
+    notes = loads(text).units.notes
+    assert len(notes) == 1 and "w is given in Hz" in notes[0] and "2*pi*w*t" in notes[0]
+    assert loads(text.replace("sin(w*t)", "sin(2*pi*w*t)")).units.notes == ()
+    assert loads(BASE).units.notes == ()
+
+
+def test_names_inside_expressions_are_the_models_own():
+    model = loads("""
+[parameters]
+m = "3 kg"
+g = "9.81 m/s^2"
+W = "m*g"
+[coordinates]
+x = { description = "", unit = "m" }
+[energy]
+T = "m*x'^2/2"
+U = "W*x"
+""")
+    assert model.parameter_values["W"] == pytest.approx(29.43)
+    assert model.units.dimensions["W"].text() == "N"
+
+
+def test_set_accepts_a_unit(tmp_path, capsys):
+    path = _write(tmp_path, BASE)
+    data = _solve_json(path, "--set", "k=0.2 N/mm", capsys=capsys)
+    assert data["K"] == [[200.0]]
+    data = _solve_json(path, "--set", "k=300", capsys=capsys)  # a bare number: SI, N/m
+    assert data["K"] == [[300.0]]
+    assert "could not check" not in capsys.readouterr().err
+    assert main(["check", str(path), "--set", "k=0.2 N"]) == 2
+    assert "k*x^2/2 is kg*m^3/s^2 but U must be an energy (J)" in capsys.readouterr().err
+
+
+# -- a model without units -------------------------------------------------------------------
+
+def test_model_without_units_is_unchanged_and_does_not_import_pint(tmp_path):
+    path = _write(tmp_path, CART_PENDULUM.format(**SI))
+    code = ("import sys; from resonant.model import load; m = load(sys.argv[1]); "
+            "assert m.units is None; "
+            "m2 = load(sys.argv[2]); assert m2.units is not None; "
+            "print('pint' in sys.modules)")
+    mixed = _write(tmp_path, CART_PENDULUM.format(**MIXED), "mixed.toml")
+    out = subprocess.run([sys.executable, "-c", code, str(path), str(mixed)],
+                         capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"  # the usual units need no pint at all
+
+
+# -- unit text -------------------------------------------------------------------------------
+
+@pytest.mark.parametrize(("text", "expected"), [
+    ("2 kg", ("2", "kg")), ("2*pi*f", ("2*pi*f", None)), ("(a + b) N*s/m", ("(a + b)", "N*s/m")),
+    ("1e-3 m", ("1e-3", "m")), ("x'^2", ("x'^2", None)), ("60 °", ("60", "°")),
+    ("sin(a) m", ("sin(a)", "m")), ("3 1/s", ("3", "1/s")),
+])
+def test_split_value(text, expected):
+    assert split_value(text) == expected
+
+
+@pytest.mark.parametrize(("text", "message"), [
+    ("N/mmm", "unknown unit 'mmm'; did you mean 'mm'?"),
+    ("kg m", "unexpected 'm'"),
+    ("m^x", "the exponent of a unit must be an integer"),
+    ("m^99", "unit exponent too large"),
+    ("__import__", "unknown unit"),
+    ("m;rm", "unexpected character ';'"),
+    ("degC", "offset"),
+])
+def test_bad_unit_text_is_refused_in_words(text, message):
+    with pytest.raises(UnitError, match=None) as info:
+        parse_unit(text)
+    assert message in str(info.value)
+
+
+def test_bad_unit_in_a_model_names_file_section_key(tmp_path, capsys):
+    path = _write(tmp_path, BASE.replace('k = "100 N/m"', 'k = "100 N/mx"'))
+    assert main(["check", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "[parameters] k: unknown unit 'mx'" in err
+    path = _write(tmp_path, BASE.replace('unit = "m"', 'unit = "meters please"'))
+    assert main(["check", str(path)]) == 2
+    assert "[coordinates] x.unit:" in capsys.readouterr().err
+
+
+def test_unit_names_in_messages_are_escaped(tmp_path, capsys):
+    path = _write(tmp_path, BASE.replace('k = "100 N/m"', 'k = "100 N/m\\u001b[2K"'))
+    assert main(["check", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "\x1b" not in err and "\\x1b" in err
+
+
+def test_display_units_classify_and_refuse():
+    chosen = display_units(["mm", "deg", "Hz", "kN"])
+    assert set(chosen) == {"length", "angle", "frequency", "force"}
+    with pytest.raises(UnitError):
+        display_units(["N/m"])
+
+
+@pytest.mark.parametrize("name", sorted(UNITS))
+def test_unit_table_agrees_with_pint(name):
+    """Every unit resonant knows without pint has pint's factor and dimension."""
+    pint = pytest.importorskip("pint")
+    ours = parse_unit(name)
+    if name in ("°", "Nm", "kNm", "rev", "revolution", "turn", "rps", "dimensionless"):
+        aliases = {"°": "degree", "Nm": "N*m", "kNm": "kN*m", "rev": "revolution",
+                   "revolution": "revolution", "turn": "turn",
+                   "rps": "revolution/second", "dimensionless": "dimensionless"}
+        target = aliases[name]
+    else:
+        target = name
+    registry = _pint_registry(pint)
+    quantity = registry.Quantity(1, target).to_base_units()
+    assert float(quantity.magnitude) == pytest.approx(ours.to_si(), rel=1e-12)
+    dims = {k: Fraction(v) for k, v in dict(quantity.dimensionality).items()}
+    mine = dict(zip(("[length]", "[mass]", "[time]"), ours.dimension.exponents[:3]))
+    assert {k: v for k, v in mine.items() if v} == dims
+
+
+_REGISTRY: list = []
+
+
+def _pint_registry(pint):
+    if not _REGISTRY:
+        _REGISTRY.append(pint.UnitRegistry())
+    return _REGISTRY[0]
+
+
+def test_unit_outside_the_table_comes_from_pint():
+    unit = parse_unit("mile")
+    assert unit.to_si() == pytest.approx(1609.344) and unit.dimension.text() == "m"
+
+
+# -- the bundled examples --------------------------------------------------------------------
+
+@pytest.mark.parametrize("path", sorted(EXAMPLES.rglob("*.toml")),
+                         ids=lambda p: str(p.relative_to(EXAMPLES)))
+def test_every_bundled_example_passes_the_unit_check(path):
+    model = load(path)
+    assert model.units is not None, "the example gives no units"
+    assert model.units.notes == (), model.units.notes
+    for q in model.coordinates:
+        assert model.units.dimensions[q] is not None
+    assert ENERGY.text() == "J"
+
+
+# -- other commands, plots, the benchmark ------------------------------------------------------
+
+def test_modes_sweep_and_simulate_json_carry_units(tmp_path, capsys):
+    path = _write(tmp_path, CART_PENDULUM.format(**MIXED))
+    for args in (["modes"], ["sweep", "--param", "omega", "--from", "1", "--to", "30",
+                             "--points", "5"], ["simulate", "--duration", "1"]):
+        assert main([args[0], str(path), *args[1:], "--json"]) == 0
+        data = json.loads(capsys.readouterr().out)
+        assert data["units"]["x1"] == "m" and data["units"]["phi"] == "rad", args[0]
+
+
+def test_plot_axes_are_labelled_with_units(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from resonant.views.units_display import result_units
+
+    model = loads(CART_PENDULUM.format(**MIXED))
+    units = result_units(model)
+    response = model.linearize().sweep("omega", np.linspace(1, 30, 7))
+    figure = response.plot(units=units.si)
+    labels = [text.get_text() for text in figure.axes[0].get_legend().get_texts()]
+    assert "x1 [m]" in labels and "phi (output) [rad]" in labels
+    same = response.plot(names=["x1", "x2"], units=units.si)
+    assert same.axes[0].get_ylabel().endswith("[m]")
+    sim = model.simulate(duration=0.5)
+    assert sim.plot(units=units.si).axes[0].get_ylabel().startswith("x1 [m]")
+
+
+def test_units_benchmark_versions_agree():
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    import bench_units
+
+    versions = bench_units.texts()
+    assert loads(versions["si"]).units is None
+    values = [loads(text).parameter_values for text in versions.values()]
+    for name in values[0]:
+        assert values[1][name] == pytest.approx(values[0][name], rel=1e-14)
+        assert values[2][name] == pytest.approx(values[0][name], rel=1e-14)
