@@ -425,7 +425,7 @@ def write_report(results: dict[str, Any], out: Path, command: str,
         lines += ["## 1. Derivation: N-link pendulum chain", ""] + \
             derivation_section(results["derivation"]) + [""]
     if "sweep" in results:
-        lines += ["## 2. Frequency sweep", "",
+        lines += ["## 2. Frequency sweep", ""] + _rerun_note(meta, "sweep") + [
                   "Fixed-free spring-mass chain (masses 1, springs 1e4, C = 0.1 M + 1e-4 K, "
                   "unit force at the free end), `nonprop` = the same plus a damper c = 10 between "
                   "DOF 1 and 2, `dense` = fully coupled random M and K with the same "

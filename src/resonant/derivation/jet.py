@@ -26,14 +26,17 @@ Examples
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
 import sympy
 from sympy.core.add import _addsort
 from sympy.core.mul import _mulsort
 
+from ..expressions.functions import MATH
 from ..expressions.functions import SYMPY as SYMPY_CONSTRUCTORS
 
 Var = tuple[str, int]
@@ -76,6 +79,11 @@ class Backend:
             self._derivatives[func] = (u, d1, self.module.diff(d1, u))
         return self._derivatives[func]
 
+    def slopes(self, func: str, value: Any, second: bool) -> tuple[Any, Any]:
+        """(f'(value), f''(value)) of a one-argument function (f'' only if ``second``)."""
+        u, d1, d2 = self.derivatives(func)
+        return d1.subs({u: value}), (d2.subs({u: value}) if second else 0)
+
     def is_bad(self, value: Any) -> bool:
         """True for infinities and NaN (a function evaluated at a singularity)."""
         m = self.module
@@ -97,6 +105,54 @@ class Backend:
 
 
 SYMPY = Backend("sympy", sympy, SYMPY_FUNCTIONS, sympy.Basic)
+
+
+class FloatBackend(Backend):
+    """Coefficients as Python numbers: the jets of a model at one parameter point.
+
+    The numeric path of large models (see
+    :func:`resonant.derivation.lagrange.linearize_numeric`): a coefficient is a
+    float (or an exact ``int``), a function's slopes are evaluated with
+    :mod:`math` from its symbolic derivatives, and a sum of many jets is added up
+    key by key with numpy (:func:`_float_sum`; a cancellation to rounding noise is
+    zero).  Anything that is not a finite real number is "bad" (the caller then
+    falls back to the symbolic derivation).
+    """
+
+    def symbol(self, name: str) -> Any:
+        raise TypeError("the float backend has no symbols: give every name its value")
+
+    def rational(self, numerator: int, denominator: int) -> Any:
+        return numerator if denominator == 1 else numerator / denominator
+
+    @property
+    def pi(self) -> Any:
+        return math.pi
+
+    def slopes(self, func: str, value: Any, second: bool) -> tuple[Any, Any]:
+        if func not in self._derivatives:
+            u = sympy.Symbol("_jet_u")
+            d1 = sympy.diff(SYMPY_FUNCTIONS[func](u), u)
+            self._derivatives[func] = (sympy.lambdify([u], d1, "math"),
+                                       sympy.lambdify([u], sympy.diff(d1, u), "math"))
+        first, other = self._derivatives[func]
+        return first(value), (other(value) if second else 0)
+
+    def is_bad(self, value: Any) -> bool:
+        return not isinstance(value, (int, float)) or not math.isfinite(value)
+
+    def to_sympy(self, value: Any, cache: dict | None = None) -> sympy.Expr:
+        return sympy.sympify(value)
+
+    def add(self, terms: list[Any]) -> Any:
+        return terms[0] if len(terms) == 1 else math.fsum(terms)
+
+    def from_sympy(self, value: sympy.Expr) -> Any:
+        return float(value)
+
+
+#: the numeric backend (coefficients are numbers at one parameter point)
+FLOAT = FloatBackend("float", math, MATH, float)
 _BACKENDS: dict[str, Backend] = {"sympy": SYMPY}
 
 
@@ -115,7 +171,11 @@ def _key(a: Var, b: Var) -> tuple[Var, Var]:
 
 
 def _nonzero(c: Coefficient) -> bool:
-    return not (c == 0)
+    # an expression that is not a number is never structurally zero (sympy and symengine
+    # keep sums and products canonical): only numbers need the comparison
+    if getattr(c, "is_Number", True):
+        return not (c == 0)
+    return True
 
 
 class NotDifferentiable(ValueError):
@@ -185,6 +245,9 @@ class Jet:
         """The sum of many jets, each coefficient built once from all its terms."""
         if len(jets) == 1:
             return jets[0]
+        if isinstance(backend, FloatBackend):
+            return Jet(math.fsum(j.const for j in jets), _float_sum([j.lin for j in jets]),
+                       _float_sum([j.quad for j in jets]))
         lin: dict[Var, list] = {}
         quad: dict[tuple[Var, Var], list] = {}
         for jet in jets:
@@ -225,10 +288,14 @@ class Jet:
         if _nonzero(c1):
             for kq, v in other.quad.items():
                 quad[kq] = quad[kq] + c1 * v if kq in quad else c1 * v
-        for a, va in self.lin.items():
-            for b, vb in other.lin.items():
-                kq = _key(a, b)
-                quad[kq] = quad[kq] + va * vb if kq in quad else va * vb
+        if other is self and self.lin and not isinstance(next(iter(self.lin.values())),
+                                                          sympy.Basic):
+            _square_terms(self.lin, quad)
+        else:
+            for a, va in self.lin.items():
+                for b, vb in other.lin.items():
+                    kq = _key(a, b)
+                    quad[kq] = quad[kq] + va * vb if kq in quad else va * vb
         return Jet(c1 * c2, {k: v for k, v in lin.items() if _nonzero(v)},
                    {k: v for k, v in quad.items() if _nonzero(v)})
 
@@ -248,9 +315,7 @@ class Jet:
         f0 = backend.functions[func](self.const)
         if self.is_constant():
             return Jet(f0)
-        u, d1, d2 = backend.derivatives(func)
-        f1 = d1.subs({u: self.const})
-        f2 = d2.subs({u: self.const}) if self.lin else 0
+        f1, f2 = backend.slopes(func, self.const, bool(self.lin))
         if any(backend.is_bad(v) for v in (f0, f1, f2)):
             raise NotDifferentiable(f"{func}() is not differentiable at the reference state")
         return self._compose(f0, f1, f2)
@@ -321,6 +386,32 @@ class Jet:
                 lin[a] = lin.get(a, 0) + v
         return Jet(const, {k: v for k, v in lin.items() if _nonzero(v)})
 
+    def partials(self, variables: set[Var]) -> dict[Var, Jet]:
+        """:meth:`diff` with respect to each of ``variables``, in one pass over the terms.
+
+        Examples
+        --------
+        >>> x, y = Jet.variable(("x", 0)), Jet.variable(("y", 0))
+        >>> d = (x * x + x * y * 3).partials({("x", 0), ("y", 0)})
+        >>> d[("x", 0)].lin == {("x", 0): 2, ("y", 0): 3}, d[("y", 0)].lin
+        (True, {('x', 0): 3})
+        """
+        lin: dict[Var, dict[Var, Coefficient]] = {var: {} for var in variables}
+        for (a, b), v in self.quad.items():
+            if a == b:
+                if a in lin:
+                    out = lin[a]
+                    out[a] = out.get(a, 0) + 2 * v
+                continue
+            if a in lin:
+                out = lin[a]
+                out[b] = out.get(b, 0) + v
+            if b in lin:
+                out = lin[b]
+                out[a] = out.get(a, 0) + v
+        return {var: Jet(self.lin.get(var, 0), {k: v for k, v in lin[var].items() if _nonzero(v)})
+                for var in variables}
+
     def dt(self) -> Jet:
         """Total time derivative: each small quantity (name, k) becomes (name, k+1).
 
@@ -342,16 +433,62 @@ class Jet:
         return Jet(self.const)
 
 
+def _square_terms(lin: Mapping[Var, Coefficient], quad: dict) -> None:
+    """Add the products of ``lin`` with itself to ``quad``: each pair once (x y + y x = 2 x y).
+
+    For symengine and float coefficients (sympy's are left to the general loop, so that
+    the textbook models' expressions keep their exact form).
+    """
+    items = sorted(lin.items())  # then a < b for every later b: the key needs no sorting
+    for i, (a, va) in enumerate(items):
+        kq = (a, a)
+        term = va * va
+        quad[kq] = quad[kq] + term if kq in quad else term
+        twice = 2 * va
+        for b, vb in items[i + 1:]:
+            kq = (a, b)
+            term = twice * vb
+            quad[kq] = quad[kq] + term if kq in quad else term
+
+
+#: a float sum smaller than this times the sum of its terms' sizes is rounding noise of
+#: an exact cancellation: it is zero (as the symbolic sum would be)
+CANCELLED = 1e-14
+
+
+def _float_sum(parts: list[Mapping[Any, Any]]) -> dict[Any, float]:
+    """Add up the coefficients of many float jets key by key, at C speed.
+
+    Sums that cancel to rounding noise (:data:`CANCELLED`) become exactly zero and
+    are dropped, like a cancelling symbolic sum.
+    """
+    keys: list[Any] = []
+    values: list[Any] = []
+    for part in parts:
+        keys.extend(part)
+        values.extend(part.values())
+    if not keys:
+        return {}
+    index: dict[Any, int] = {}
+    where = np.fromiter((index.setdefault(k, len(index)) for k in keys), dtype=np.intp,
+                        count=len(keys))
+    terms = np.array(values, dtype=float)
+    total = np.bincount(where, weights=terms, minlength=len(index))
+    size = np.bincount(where, weights=np.abs(terms), minlength=len(index))
+    total[np.abs(total) <= CANCELLED * size] = 0.0
+    return {k: t for k, t in zip(index, total.tolist()) if t != 0.0}
+
+
 def _integer_power(base: Jet, n: int) -> Jet:
-    result = Jet(1)
+    result: Jet | None = None
     square = base
     while n:
         if n & 1:
-            result = result * square
+            result = square if result is None else result * square
         n >>= 1
         if n:
             square = square * square
-    return result
+    return Jet(1) if result is None else result
 
 
 CANONICAL_SORT_LIMIT = 12
@@ -378,6 +515,32 @@ def to_sympy(value: Coefficient, cache: dict | None = None) -> sympy.Expr:
     return _convert(value, {} if cache is None else cache, se)
 
 
+def _factor_key(factor: sympy.Expr) -> tuple[int, str, int] | None:
+    """sympy's canonical order (``Basic.compare``) of a symbol or an integer power of one;
+    None for anything else."""
+    if factor.is_Symbol:
+        return (0, factor.name, 0)  # Symbol before Pow; symbols by name
+    if factor.is_Pow and factor.base.is_Symbol and factor.exp.is_Integer:
+        return (1, factor.base.name, int(factor.exp))  # powers by base, then exponent
+    return None
+
+
+def _sorted_factors(args: list[sympy.Expr]) -> list[sympy.Expr]:
+    """The factors of a product in sympy's canonical order (as ``_mulsort`` sorts them).
+
+    The common products of symbols and their integer powers (with at most one number,
+    which goes first) are sorted by a plain key; anything else by sympy's comparison.
+    """
+    numbers = [a for a in args if a.is_Number]
+    rest = [a for a in args if not a.is_Number]
+    keyed = [(_factor_key(a), a) for a in rest]
+    if len(numbers) > 1 or any(k is None for k, _ in keyed):
+        _mulsort(args)
+        return args
+    keyed.sort(key=lambda pair: pair[0])  # type: ignore[arg-type, return-value]
+    return numbers + [a for _, a in keyed]
+
+
 def _convert(e: Any, cache: dict, se: Any) -> sympy.Expr:
     if e in cache:
         return cache[e]
@@ -388,8 +551,10 @@ def _convert(e: Any, cache: dict, se: Any) -> sympy.Expr:
         # sympy's canonical order for ordinary sizes; for long sums (large
         # systems) only the numeric coefficient goes first, which is all sympy's
         # algorithms rely on -- the full sort would cost more than the derivation
-        if len(args) <= CANONICAL_SORT_LIMIT:
-            (_addsort if isinstance(e, se.Add) else _mulsort)(args)
+        if isinstance(e, se.Mul):
+            args = _sorted_factors(args)
+        elif len(args) <= CANONICAL_SORT_LIMIT:
+            _addsort(args)
         else:
             args.sort(key=lambda a: not a.is_Number)
         cls = sympy.Add if isinstance(e, se.Add) else sympy.Mul
@@ -405,5 +570,5 @@ def _convert(e: Any, cache: dict, se: Any) -> sympy.Expr:
     return out
 
 
-__all__ = ["Jet", "Var", "NotDifferentiable", "Backend", "backend", "SYMPY", "SYMPY_FUNCTIONS",
-           "to_sympy"]
+__all__ = ["Jet", "Var", "NotDifferentiable", "Backend", "FloatBackend", "backend", "SYMPY",
+           "FLOAT", "SYMPY_FUNCTIONS", "to_sympy"]

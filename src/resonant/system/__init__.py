@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
-from ..derivation import linearize
 from ..model import Model
 from .base import (
     LinearSystem,
@@ -45,7 +44,7 @@ def linear_system(model: Model, deadline: Deadline = NO_DEADLINE) -> LinearSyste
     """
     if model.matrices is not None:
         return MatrixEOM(model, model.coordinates)
-    return LinearEOM.from_linearization(linearize(model, deadline=deadline))
+    return LinearEOM.of_model(model, deadline)
 
 
 __all__ = ["LinearSystem", "LinearEOM", "MatrixEOM", "NumericEOM", "NumericHarmonic",

@@ -181,22 +181,26 @@ def _symengine_compiled(expressions: Sequence[sympy.Expr], symbols: Sequence[sym
     import symengine
 
     try:
-        fn = symengine.Lambdify([symengine.sympify(s) for s in symbols],
-                                [symengine.sympify(e) for e in expressions],
+        # each distinct expression once: a symmetric matrix's mirrored entries and the
+        # zeros are compiled (and evaluated) a single time
+        unique: dict[Any, int] = {}
+        where = np.array([unique.setdefault(symengine.sympify(e), len(unique))
+                          for e in expressions], dtype=np.intp)
+        fn = symengine.Lambdify([symengine.sympify(s) for s in symbols], list(unique),
                                 backend="lambda", real=True)
     except (RuntimeError, TypeError, ValueError, NotImplementedError, AttributeError):
         return None
-    count = len(expressions)
+    count = len(unique)
 
     def call(*args: Any) -> np.ndarray:
         shape = np.broadcast_shapes(*(np.shape(a) for a in args)) if args else ()
         if not args:
-            return np.asarray(fn([]), dtype=complex).reshape(count, *shape)
+            return np.asarray(fn([]), dtype=complex).reshape(count, *shape)[where]
         table = np.stack([np.broadcast_to(np.asarray(a, dtype=float), shape) for a in args],
                          axis=-1)
         with np.errstate(all="ignore"):
             values = np.asarray(fn(table), dtype=float)  # (*shape, count)
-        return np.moveaxis(values.reshape(*shape, count), -1, 0).astype(complex)
+        return np.moveaxis(values.reshape(*shape, count), -1, 0)[where].astype(complex)
     return call
 
 
@@ -259,5 +263,6 @@ def not_finite_problem(label: str, i: int, j: int, entry: str, source: str,
         f"{where} (a zero mass or length?)", source, "parameters"))
 
 
-__all__ = ["Batch", "BatchHarmonic", "compile_expressions", "FlatReader", "check_finite",
-           "group_frequencies", "frozen_array", "SAME_FREQUENCY", "not_finite_problem"]
+__all__ = ["Batch", "BatchHarmonic", "compile_expressions", "SYMENGINE_MIN_EXPRESSIONS",
+           "FlatReader", "check_finite", "group_frequencies", "frozen_array", "SAME_FREQUENCY",
+           "not_finite_problem"]

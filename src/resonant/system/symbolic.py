@@ -34,12 +34,26 @@ import numpy as np
 import sympy
 
 from ..deadline import NO_DEADLINE, Deadline
-from ..derivation import Linearization, LinearMap, SignalHarmonics, decompose_signals
-from ..derivation.lagrange import signal_derivatives, signal_symbol
+from ..derivation import (
+    Linearization,
+    LinearMap,
+    SignalHarmonics,
+    decompose_signals,
+    linearize,
+)
+from ..derivation.lagrange import (
+    NumericLinearization,
+    RawLinearization,
+    linearize_numeric,
+    linearize_raw,
+    signal_derivatives,
+    signal_symbol,
+)
 from ..errors import ModelError, Problem
 from ..model import Model, symbol
 from .base import LinearSystem
 from .batch import (
+    SYMENGINE_MIN_EXPRESSIONS,
     Batch,
     BatchHarmonic,
     FlatReader,
@@ -82,6 +96,44 @@ class LinearEOM(LinearSystem):
         """The system of a derivation's result."""
         return cls(lin.model, lin.coordinates, lin.M, lin.C, lin.K, lin.excitation,
                    lin.residual, lin.outputs)
+
+    @classmethod
+    def of_model(cls, model: Model, deadline: Deadline = NO_DEADLINE,
+                 numeric: bool | None = None) -> LinearEOM:
+        """The system of a model given by its energies.
+
+        A large model (:data:`NUMERIC_MIN_COORDINATES` coordinates or more) is
+        derived numerically at its parameter values first
+        (:func:`~resonant.derivation.lagrange.linearize_numeric`, which also checks
+        the model and the equilibrium); its symbolic matrices are derived only when
+        asked for (:class:`DeferredEOM`).  When the numbers cannot decide (see
+        there), or for a small model, the symbolic derivation runs at once.
+
+        Parameters
+        ----------
+        model : Model
+        deadline : Deadline, optional
+            Checked throughout the derivation (also the deferred one).
+        numeric : bool, optional
+            Force (True) or forbid (False) the numeric path; by default by size.
+
+        Returns
+        -------
+        LinearEOM
+
+        Raises
+        ------
+        ModelError
+            If the derivation fails (see :func:`resonant.derivation.linearize`).
+        """
+        if numeric is None:
+            numeric = len(model.coordinates) >= NUMERIC_MIN_COORDINATES
+        if numeric:
+            values = dict(model.parameter_values)
+            found = linearize_numeric(model, values, deadline)
+            if found is not None:
+                return DeferredEOM(model, found, values, deadline)
+        return cls.from_linearization(linearize(model, deadline=deadline))
 
     @cached_property
     def signal_functions(self) -> dict[Var, sympy.Expr]:
@@ -162,6 +214,263 @@ class LinearEOM(LinearSystem):
             "M": matrix_strings(self.M), "C": matrix_strings(self.C), "K": matrix_strings(self.K),
             "Q": [str(e) for e in self.Q],
         }
+
+
+#: from this many coordinates on, a model's numbers come from the numeric derivation
+#: (:meth:`LinearEOM.of_model`); its symbolic matrices are derived when asked for
+NUMERIC_MIN_COORDINATES = 12
+
+#: numeric derivations kept per system (one per distinct parameter point)
+NUMERIC_CACHE = 8
+
+
+class DeferredEOM(LinearEOM):
+    """A :class:`LinearEOM` whose numbers come from the numeric derivation.
+
+    ``numeric()`` and ``batch()`` evaluate the jets with floats at the
+    parameter point (:func:`~resonant.derivation.lagrange.linearize_numeric`)
+    and compile only the signals' harmonic parts; M, C, K, the excitation,
+    the residual and the outputs as expressions (for reports, LaTeX,
+    ``to_dict``) are derived symbolically on first access, under the time limit
+    the system was made with (counted from then, see :meth:`raw`).  A batch in
+    which a parameter of the matrices varies is compiled from the symbolic
+    derivation's own (symengine) coefficients, without sympy (:meth:`raw`); a
+    point where the numbers cannot decide, or a value that is not finite, is
+    evaluated exactly as by a :class:`LinearEOM` (which names the culprit).
+
+    Parameters
+    ----------
+    model : Model
+    found : NumericLinearization
+        The numeric derivation at ``values``.
+    values : mapping
+        The parameter values of ``found``.
+    deadline : Deadline, optional
+        For the symbolic derivation, when it is needed.
+    """
+
+    _deadline: Deadline
+    _used: tuple[str, ...]
+    _points: dict[tuple[float, ...], NumericLinearization]
+
+    def __new__(cls, *args: Any, **fields: Any) -> Any:
+        # dataclasses.replace() calls the class with every field of a LinearEOM: the copy
+        # is then a LinearEOM with those (symbolic) fields
+        if "M" in fields:
+            return LinearEOM(*args, **fields)
+        return super().__new__(cls)
+
+    def __init__(self, model: Model, found: NumericLinearization,
+                 values: Mapping[str, float], deadline: Deadline = NO_DEADLINE) -> None:
+        object.__setattr__(self, "model", model)
+        object.__setattr__(self, "coordinates", tuple(model.coordinates))
+        object.__setattr__(self, "_deadline", deadline)
+        object.__setattr__(self, "_used", tuple(sorted(found.parameters)))
+        object.__setattr__(self, "_points", {self._key(values): found})
+
+    def __repr__(self) -> str:
+        return f"DeferredEOM({self.title or self.source!r}, n={self.n})"
+
+    # -- the symbolic form, derived on first use ---------------------------------------
+    @cached_property
+    def linearization(self) -> Linearization:
+        """The symbolic derivation (run once, when a symbolic quantity is first asked for)."""
+        return self.raw().linearization()
+
+    @cached_property
+    def M(self) -> sympy.ImmutableMatrix:
+        """The symbolic mass matrix (derived on first access)."""
+        return self.linearization.M
+
+    @cached_property
+    def C(self) -> sympy.ImmutableMatrix:
+        """The symbolic damping matrix (derived on first access)."""
+        return self.linearization.C
+
+    @cached_property
+    def K(self) -> sympy.ImmutableMatrix:
+        """The symbolic stiffness matrix (derived on first access)."""
+        return self.linearization.K
+
+    @cached_property
+    def excitation(self) -> Mapping[Var, sympy.ImmutableMatrix]:
+        """The symbolic excitation columns (derived on first access)."""
+        return self.linearization.excitation
+
+    @cached_property
+    def residual(self) -> sympy.ImmutableMatrix:
+        """The symbolic residual (derived on first access)."""
+        return self.linearization.residual
+
+    @cached_property
+    def outputs(self) -> Mapping[str, LinearMap]:
+        """The symbolic linearized outputs (derived on first access)."""
+        return self.linearization.outputs
+
+    # -- numbers -------------------------------------------------------------------------
+    def _key(self, values: Mapping[str, Any]) -> tuple[float, ...]:
+        return tuple(float(values[name]) for name in self._used)
+
+    def point(self, values: Mapping[str, Any], deadline: Deadline = NO_DEADLINE
+              ) -> NumericLinearization | None:
+        """The numeric derivation at ``values`` (None when it cannot decide, or when a
+        parameter it depends on is an array)."""
+        if any(np.ndim(values[name]) for name in self._used):
+            return None
+        key = self._key(values)
+        if key not in self._points:
+            scalars = {k: (v if not np.ndim(v) else 0.0) for k, v in values.items()}
+            found = linearize_numeric(self.model, scalars, deadline, check_equilibrium=False)
+            if found is None:
+                return None
+            if len(self._points) >= NUMERIC_CACHE:
+                self._points.pop(next(iter(self._points)))
+            self._points[key] = found
+        return self._points[key]
+
+    def raw(self, deadline: Deadline | None = None) -> RawLinearization:
+        """The symbolic derivation before its conversion to sympy (run once).
+
+        Under ``deadline`` when it has a limit, else under the time limit the system
+        was made with, counted afresh (the deferred derivation is new work: a limit
+        that ran out while the numbers were used must not fail it).
+        """
+        if "_raw" not in self.__dict__:
+            if deadline is None or deadline.seconds is None:
+                deadline = Deadline(self._deadline.seconds, self._deadline.source)
+            self.__dict__["_raw"] = linearize_raw(self.model, deadline=deadline)
+        return self.__dict__["_raw"]
+
+    def _compiled_numbers(self, values: Mapping[str, Any], count: int, deadline: Deadline
+                          ) -> _Numbers | None:
+        """The numbers from the symbolic derivation compiled without sympy (symengine's
+        coefficients straight into its ``Lambdify``); None for a small system."""
+        n = self.n
+        if 3 * n * n < SYMENGINE_MIN_EXPRESSIONS:
+            return None
+        if "_raw_compiled" not in self.__dict__:
+            raw = self.raw(deadline)
+            deadline.check("while compiling the equation of motion")
+            zero = sympy.Integer(0)
+            exprs = [raw.entries[order].get((i, j), zero) for order in (2, 1, 0)
+                     for i in range(n) for j in range(n)]
+            columns = tuple(sorted(raw.excitation))
+            for var in columns:
+                exprs += [raw.excitation[var].get(k, zero) for k in range(n)]
+            outputs = []
+            for name, (value, terms) in raw.outputs.items():
+                exprs += [value, *terms.values()]
+                outputs.append((name, tuple(terms)))
+            symbols = [symbol(name) for name in self.model.parameters]
+            self.__dict__["_raw_compiled"] = (len(exprs), columns, tuple(outputs),
+                                              compile_expressions(exprs, symbols))
+        size, columns, outputs, compiled = self.__dict__["_raw_compiled"]
+        flat = compiled(*(values[name] for name in self.model.parameters))
+        take = FlatReader(np.broadcast_to(flat.reshape(size, -1), (size, count))).take
+        matrices = (take(n * n), take(n * n), take(n * n))
+        excitation = {var: -take(n) for var in columns}
+        out = {}
+        for name, variables in outputs:
+            value = take(1)[0]
+            out[name] = (value, dict(zip(variables, take(len(variables)))))
+        return _Numbers(matrices, excitation, out)
+
+    def evaluate(self, values: Mapping[str, Any], count: int,
+                 deadline: Deadline = NO_DEADLINE) -> Batch:
+        found = self.point(values, deadline)
+        numbers = (_Numbers.of(found) if found is not None
+                   else self._compiled_numbers(values, count, deadline))
+        if numbers is None:
+            return super().evaluate(values, count, deadline)
+        signals = _NumericSignals.of(self, numbers, deadline)
+        names = list(self.model.parameters)
+        parts = np.zeros((0, count), dtype=complex)
+        if signals.expressions:
+            parts = signals.compiled(*(values[name] for name in names))
+            parts = np.broadcast_to(parts.reshape(len(signals.expressions), -1),
+                                    (len(signals.expressions), count))
+        n = self.n
+        rows: list[np.ndarray] = [np.broadcast_to(np.asarray(a, dtype=complex), (n * n, count))
+                                  for a in numbers.matrices]
+        take = FlatReader(parts).take
+        for variables in signals.layout.frequencies:
+            rows.append(take(1))
+            f_s = np.zeros((n, count), dtype=complex)
+            f_c = np.zeros((n, count), dtype=complex)
+            sig = take(2 * len(variables)).reshape(len(variables), 2, count)
+            for k, var in enumerate(variables):
+                column = numbers.excitation.get(var)
+                if column is not None:
+                    f_s += column * sig[k, 0]
+                    f_c += column * sig[k, 1]
+            rows += [f_s, f_c, sig.reshape(2 * len(variables), count)]
+        for name, variables in signals.layout.outputs:
+            value, terms = numbers.outputs[name]
+            rows.append(np.broadcast_to(np.asarray(value, dtype=complex), (1, count)))
+            rows += [np.broadcast_to(np.asarray(terms[v], dtype=complex), (1, count))
+                     for v in variables]
+        flat = np.concatenate(rows, axis=0)
+        bad = ~np.isfinite(flat) | (np.abs(flat.imag) > 1e-9 * (1 + np.abs(flat.real)))
+        if bad.any():  # the symbolic evaluation names the culprit
+            return super().evaluate(values, count, deadline)
+        return signals.layout.read(flat.real, self, count)
+
+
+@dataclass(frozen=True)
+class _Numbers:
+    """M, C, K (rows of the flattened matrices, (n*n, count) or (n*n, 1)), the excitation
+    columns ((n, count) or (n, 1), Q = sum column * signal derivative) and the outputs
+    (value, {variable: coefficient}) of a :class:`DeferredEOM` at the points."""
+
+    matrices: tuple[np.ndarray, np.ndarray, np.ndarray]
+    excitation: Mapping[Var, np.ndarray]
+    outputs: Mapping[str, tuple[Any, Mapping[Var, Any]]]
+
+    @classmethod
+    def of(cls, found: NumericLinearization) -> _Numbers:
+        """The numbers of a numeric derivation (one point)."""
+        return cls((found.M.reshape(-1, 1), found.C.reshape(-1, 1), found.K.reshape(-1, 1)),
+                   {var: c[:, None] for var, c in found.excitation.items()}, found.outputs)
+
+
+@dataclass(frozen=True)
+class _NumericSignals:
+    """The signal part of a :class:`DeferredEOM`'s layout: the harmonic split of the
+    signal derivatives its numbers need, compiled once (frequencies, S and C)."""
+
+    expressions: tuple[sympy.Expr, ...]
+    layout: _Layout
+    compiled: Callable[..., np.ndarray]
+
+    @classmethod
+    def of(cls, eom: DeferredEOM, numbers: _Numbers, deadline: Deadline) -> _NumericSignals:
+        model = eom.model
+        needed = set(numbers.excitation)
+        for _, terms in numbers.outputs.values():
+            needed |= {v for v in terms if v[0] in model.signals}
+        outputs = tuple((name, tuple(terms)) for name, (_, terms) in numbers.outputs.items())
+        cache: dict[tuple, _NumericSignals] = eom.__dict__.setdefault("_signal_layouts", {})
+        key = (frozenset(needed), outputs)
+        if key in cache:
+            return cache[key]
+        harmonics = decompose_signals(signal_derivatives(model, needed))
+        deadline.check("while splitting the signals into harmonics", "signals")
+        exprs: list[sympy.Expr] = []
+        frequencies = []
+        if harmonics is not None:
+            variables = tuple(harmonics.parts)
+            for w in harmonics.frequencies:
+                exprs.append(w)
+                for var in variables:
+                    s, c = harmonics.parts[var].get(w, (0, 0))
+                    exprs += [sympy.sympify(s), sympy.sympify(c)]
+                frequencies.append(variables)
+        symbols = [symbol(name) for name in model.parameters]
+        layout = _Layout((), tuple(frequencies), outputs, harmonics is not None,
+                         lambda *args: np.zeros(0))
+        out = cls(tuple(exprs), layout, compile_expressions(exprs, symbols))
+        cache[key] = out
+        return out
 
 
 def matrix_strings(matrix: sympy.MatrixBase) -> list[list[str]]:
@@ -261,4 +570,4 @@ def _squeeze(vectors: np.ndarray) -> np.ndarray:
     return vectors[0].copy() if np.all(vectors == vectors[:1]) else vectors
 
 
-__all__ = ["LinearEOM", "matrix_strings"]
+__all__ = ["LinearEOM", "DeferredEOM", "NUMERIC_MIN_COORDINATES", "matrix_strings"]
