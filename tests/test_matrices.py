@@ -10,7 +10,6 @@ from __future__ import annotations
 import json
 import math
 import sys
-import time
 
 import numpy as np
 import pytest
@@ -160,14 +159,20 @@ def test_harmonic_size_mismatch(tmp_path):
         load(path)
 
 
-def test_large_chain_solve_is_fast_and_exact(tmp_path):
+def test_large_chain_solve_is_fast_and_exact(tmp_path, monkeypatch):
     """1000-mass chain from files: `resonant solve` (sparse path) equals the dense
-    stationary() (amplitudes rel 1e-9, natural frequencies vs the closed form rel 1e-9)."""
+    stationary() (amplitudes rel 1e-9, natural frequencies vs the closed form rel 1e-9).
+
+    Fast: the proportional damping gives the eigenvalues from the undamped ones; the dense
+    2000 x 2000 state eigenproblem (minutes here) must not run -- checked by making it fail
+    rather than by a wall-clock bound, which a loaded CI machine can break."""
+    def state_eigenproblem(*args, **kwargs):
+        raise AssertionError("the dense 2n x 2n state eigenproblem was solved")
+
+    monkeypatch.setattr(stationary_module, "state_eigenvalues", state_eigenproblem)
     path = write_chain(tmp_path, 1000)
     model = load(path)
-    start = time.perf_counter()
     fast = model.linearize().stationary()
-    elapsed = time.perf_counter() - start
     j = np.arange(1, 1001)
     exact = 200 * np.sin((2 * j - 1) * math.pi / (2 * 2001))
     np.testing.assert_allclose(fast.natural_frequencies, exact, rtol=1e-9)
@@ -176,7 +181,6 @@ def test_large_chain_solve_is_fast_and_exact(tmp_path):
     np.testing.assert_allclose(fast.harmonics[0].L, X.real, rtol=1e-9, atol=1e-15)
     np.testing.assert_allclose(fast.harmonics[0].N, -X.imag, rtol=1e-9, atol=1e-15)
     assert fast.stability == "asymptotically stable"
-    assert elapsed < 20  # the dense path (2000 x 2000 state eig) takes minutes on this machine
 
 
 def test_large_stationary_equals_stationary_on_medium_chain(tmp_path):
