@@ -517,3 +517,14 @@ def test_units_benchmark_versions_agree():
     for name in values[0]:
         assert values[1][name] == pytest.approx(values[0][name], rel=1e-14)
         assert values[2][name] == pytest.approx(values[0][name], rel=1e-14)
+
+
+def test_with_parameters_checks_the_unit_of_a_new_value():
+    """A replaced value in a unit of another dimension is an error naming the parameter;
+    a value in another unit of the same dimension is converted (the reference exercise's
+    k = 100 N/m is 0.1 N/mm)."""
+    model = load(EXAMPLES / "cart_pendulum.toml")
+    with pytest.raises(ModelError) as info:
+        model.with_parameters(k="3 kg")
+    assert "[parameters] k: the value is in kg (a mass), but k is in N/m" in str(info.value)
+    assert model.with_parameters(k="0.1 N/mm").parameter_values["k"] == pytest.approx(100.0)

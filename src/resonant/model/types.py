@@ -129,10 +129,15 @@ class Model:
                 problems.append(unknown_parameter(name, self.source, params))
                 continue
             try:
-                params[name] = parse_with_unit(value, list(params), self.source,
-                                               "parameters", name)[0]
+                params[name], given = parse_with_unit(value, list(params), self.source,
+                                                      "parameters", name)
             except ExpressionError as exc:
                 problems.extend(exc.problems)
+                continue
+            mismatch = self.units.replacement_problem(name, *given) \
+                if given is not None and self.units is not None else None
+            if mismatch:
+                problems.append(Problem(mismatch, self.source, "parameters", name))
         if problems:
             raise ModelError(problems)
         exact, floats = evaluate_parameters(params, self.source)

@@ -553,6 +553,27 @@ class ModelUnits:
     display: Mapping[str, Unit] = field(default_factory=dict)
     notes: tuple[str, ...] = ()
 
+    def replacement_problem(self, name: str, written: Expression, unit: Unit) -> str | None:
+        """Why a new value ``written unit`` cannot replace parameter ``name`` (its dimension
+        differs from the parameter's), or None. Only a number with a unit is judged: an
+        expression's dimension needs the other parameters' (the loader's full check).
+
+        Examples
+        --------
+        >>> units = ModelUnits(dimensions={"k": parse_unit("N/m").dimension})
+        >>> units.replacement_problem("k", parse("3"), parse_unit("kg"))
+        'the value is in kg (a mass), but k is in N/m; give it in a unit of N/m'
+        >>> units.replacement_problem("k", parse("3"), parse_unit("N/mm")) is None
+        True
+        """
+        expected = self.dimensions.get(name)
+        if expected is None or written.names() or unit.dimension == expected:
+            return None
+        kind = display_quantity(unit)
+        kind = f" ({'an' if kind and kind[0] in 'aeiou' else 'a'} {kind})" if kind else ""
+        return (f"the value is in {unit.text}{kind}, but {name} is in {expected.text()}; "
+                f"give it in a unit of {expected.text()}")
+
     def dimension(self, name: str) -> Dimension | None:
         return self.dimensions.get(name)
 
