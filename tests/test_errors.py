@@ -155,7 +155,7 @@ CASES: list[tuple[str, str | bytes, tuple[str, ...], int, tuple[str, ...], str]]
      ("is not a finite number",), "[parameters] w"),
     ("set-format", BASE, ("--set", "k"), 2, ("--set expects NAME=VALUE",), ""),
     ("set-unknown-parameter", BASE, ("--set", "kk=1"), 2,
-     ("--set names unknown parameter 'kk'", "did you mean 'k'"), "[parameters] kk"),
+     ("cannot set unknown parameter 'kk'", "did you mean 'k'"), "[parameters] kk"),
     ("set-invalid-value", BASE, ("--set", "k=__import__('os')"), 2,
      ("a prime (') may only directly follow a name",), "--set k"),
     # -- sections -------------------------------------------------------------------------------

@@ -215,7 +215,7 @@ class Model:
 def unknown_parameter(name: str, source: str, params: Iterable[str]) -> Problem:
     close = difflib.get_close_matches(name, list(params), n=1)
     hint = f"; did you mean '{close[0]}'?" if close else f"; known: {', '.join(params) or 'none'}"
-    return Problem(f"--set names unknown parameter '{name}'{hint}", source, "parameters", name)
+    return Problem(f"cannot set unknown parameter '{name}'{hint}", source, "parameters", name)
 
 
 
