@@ -423,6 +423,7 @@ def write_report(results: dict[str, Any], out: Path, command: str,
     lines += ["", f"![time against size]({out.with_suffix('.png').name})", ""]
     if "derivation" in results:
         lines += ["## 1. Derivation: N-link pendulum chain", ""] + \
+            _rerun_note(meta, "derivation") + \
             derivation_section(results["derivation"]) + [""]
     if "sweep" in results:
         lines += ["## 2. Frequency sweep", ""] + _rerun_note(meta, "sweep") + [
