@@ -209,3 +209,24 @@ def test_simulation_is_read_only(results):
         s.states["x1"] = s.t                # type: ignore[index]
     # the data still work: CSV and JSON read the arrays
     assert s.to_dict()["samples"] == s.t.size
+
+
+def test_solve_text_of_a_large_model_summarizes_the_matrices(monkeypatch):
+    """Beyond 12 coordinates the text of ``solve`` gives the matrices' sizes, not their
+    entries, and never derives the symbolic matrices (a 100-link chain printed 15 MB of
+    symbolic entries and took 30 s; the JSON output keeps them, as the contract says)."""
+    from conftest import pendulum_chain_text
+
+    from resonant.model import loads
+    from resonant.system import symbolic
+
+    eom = loads(pendulum_chain_text(20)).linearize()
+    assert isinstance(eom, symbolic.DeferredEOM)
+
+    def symbolic_derivation(*args, **kwargs):
+        raise AssertionError("the text derived the symbolic matrices")
+
+    monkeypatch.setattr(symbolic.DeferredEOM, "raw", symbolic_derivation)
+    text = eom.stationary().summary()
+    assert "mass matrix M: 20 x 20, 400 nonzero entries" in text
+    assert "not printed entry by entry" in text and "omega_20" in text

@@ -100,19 +100,30 @@ def _load_units(units: ResultUnits | None) -> str:
     return f" {one}" if one else f"  ([{', '.join(rows)}])"
 
 
-@hooks.provides("solution_text")
-def solution_text(sol: StationarySolution) -> str:
-    """The human-readable report of ``resonant solve``."""
-    e = sol.eom
-    out: list[str] = []
-    title = printable(e.title or "model")
-    out.append(f"{title}" + (f"  ({printable(e.source)})" if e.source else ""))
-    out.append("=" * min(78, len(out[0])))
-    units = result_units(e.model)
-    out.append(f"generalized coordinates q = [{', '.join(e.coordinates)}]"
-               + _coordinate_units(e.coordinates, units))
-    out.append("")
-    out.append("linearized equation of motion:  M q'' + C q' + K q = Q(t)")
+
+
+#: matrices of more coordinates are summarized in the text of ``solve`` (their entries, numeric
+#: and symbolic, are in ``to_dict()``/JSON and the report): a 100-link chain printed 15 MB of
+#: symbolic entries and spent 30 s deriving them for the screen
+PRINTED_MATRIX_SIZE = 12
+
+
+def _matrices_in_brief(e: NumericEOM, units: ResultUnits | None) -> list[str]:
+    out = []
+    for key, label, numeric in (("M", "mass matrix M", e.M), ("C", "damping matrix C", e.C),
+                                ("K", "stiffness matrix K", e.K)):
+        entry_units = units.matrices.get(key) if units is not None else None
+        one = uniform(entry_units) if entry_units else None
+        out.append(f"  {label}: {e.n} x {e.n}, {np.count_nonzero(numeric)} nonzero entries"
+                   + (f" [{one}]" if one else ""))
+    out.append(f"  (matrices of more than {PRINTED_MATRIX_SIZE} coordinates are not printed "
+               "entry by entry; the JSON output and the report hold them, numeric and "
+               "symbolic)")
+    return out
+
+
+def _matrices_in_full(e: NumericEOM, units: ResultUnits | None) -> list[str]:
+    out = []
     # the symbolic form where it says more than the numbers (energies, not given matrices)
     sym = e.system if isinstance(e.system, LinearEOM) else None
     # headings say what the matrix is: a parameter may be called M, C or L too
@@ -132,6 +143,26 @@ def solution_text(sol: StationarySolution) -> str:
     if sym is not None:
         out.append("  excitation Q(t) =")
         out.append(_pretty(sym.Q))
+    return out
+
+
+@hooks.provides("solution_text")
+def solution_text(sol: StationarySolution) -> str:
+    """The human-readable report of ``resonant solve``."""
+    e = sol.eom
+    out: list[str] = []
+    title = printable(e.title or "model")
+    out.append(f"{title}" + (f"  ({printable(e.source)})" if e.source else ""))
+    out.append("=" * min(78, len(out[0])))
+    units = result_units(e.model)
+    out.append(f"generalized coordinates q = [{', '.join(e.coordinates)}]"
+               + _coordinate_units(e.coordinates, units))
+    out.append("")
+    out.append("linearized equation of motion:  M q'' + C q' + K q = Q(t)")
+    if e.n > PRINTED_MATRIX_SIZE:
+        out.extend(_matrices_in_brief(e, units))
+    else:
+        out.extend(_matrices_in_full(e, units))
     out.append("")
     freqs = sol.natural_frequencies
     out.append("natural frequencies (undamped):")
