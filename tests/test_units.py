@@ -23,6 +23,8 @@ import numpy as np
 import pytest
 import sympy
 
+from conftest import run_cli
+
 from resonant.cli import main
 from resonant.errors import ModelError
 from resonant.model import load, loads
@@ -528,3 +530,14 @@ def test_with_parameters_checks_the_unit_of_a_new_value():
         model.with_parameters(k="3 kg")
     assert "[parameters] k: the value is in kg (a mass), but k is in N/m" in str(info.value)
     assert model.with_parameters(k="0.1 N/mm").parameter_values["k"] == pytest.approx(100.0)
+
+
+def test_modes_text_in_the_chosen_frequency_unit():
+    """``modes --units rpm``: the cyclic column in rpm (omega * 60 / 2 pi); JSON stays in
+    rad/s. Reference exercise: omega_1 = 4.56071 rad/s = 43.5516 rpm."""
+    status, out, err = run_cli(["modes", str(EXAMPLES / "cart_pendulum.toml"), "--units", "rpm"])
+    assert status == 0, err
+    assert "f [rpm]" in out
+    first = out.splitlines()[3].split()
+    assert float(first[1]) == pytest.approx(4.56071, rel=1e-5)
+    assert float(first[2]) == pytest.approx(4.56071 * 60 / (2 * math.pi), rel=1e-5)

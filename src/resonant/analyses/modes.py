@@ -174,9 +174,10 @@ class ModalAnalysis:
         """
         return hooks.call("plot_modes", self, path=path, count=count, **options)
 
-    def summary(self) -> str:
-        """The text ``resonant modes`` prints."""
-        return str(hooks.call("modes_text", self))
+    def summary(self, units: Any = None) -> str:
+        """The text ``resonant modes`` prints; ``units`` (a views ``ResultUnits``) chooses
+        the unit of its cyclic-frequency column (Hz by default)."""
+        return str(hooks.call("modes_text", self, units))
 
     def _repr_html_(self) -> str:
         head = "".join(f"<th>{html.escape(q)}</th>" for q in self.coordinates[:12])

@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from collections.abc import Callable
 from typing import Any
 
 import resonant.cli.common as cli
@@ -86,7 +87,8 @@ def run_modes(args: argparse.Namespace) -> int:
     if args.amplitude is not None or args.harmonics is not None:
         raise AnalysisError("--amplitude and --harmonics need --nonlinear")
     result = model.linearize(deadline=deadline).modes(count=args.count, deadline=deadline)
-    return _emit(args, result, result_units(model))
+    units = result_units(model)
+    return _emit(args, result, units, text=lambda: result.summary(units))
 
 
 def _run_backbones(args: argparse.Namespace, model: Any, deadline: Any) -> int:
@@ -131,7 +133,7 @@ def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
 
 
 def _emit(args: argparse.Namespace, result: Any, units: ResultUnits | None = None,
-          plot_units: bool = False) -> int:
+          plot_units: bool = False, text: Callable[[], str] | None = None) -> int:
     """Plot, CSV (sweeps), JSON or text of a result, then its warnings.
 
     ``units`` (a model with units) labels the plot's axes and adds the JSON's
@@ -153,6 +155,6 @@ def _emit(args: argparse.Namespace, result: Any, units: ResultUnits | None = Non
             data["units"] = units.to_json()
         cli.emit_json(data)
     else:
-        sys.stdout.write(result.summary())
+        sys.stdout.write(text() if text is not None else result.summary())
     cli.warn(result.warnings)
     return 0

@@ -27,7 +27,6 @@ $\\displaystyle \\begin{bmatrix} m \\end{bmatrix}\\begin{bmatrix} \\ddot{x}_{1} 
 from __future__ import annotations
 
 import html
-import math
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -321,19 +320,23 @@ def stationary_html(sol: StationarySolution) -> str:
 
 
 @hooks.provides("modes_text")
-def modes_text(result: Any) -> str:
-    """The human-readable table of ``resonant modes``."""
+def modes_text(result: Any, units: ResultUnits | None = None) -> str:
+    """The human-readable table of ``resonant modes``; the second frequency column is in
+    the display unit of frequencies (``units.frequency``, Hz by default)."""
     out = [printable(result.title or "modes"), ""]
     names = result.coordinates
     shown = ", ".join(names[:8]) + (" ..." if len(names) > 8 else "")
-    out.append(f"{'mode':>4}  {'omega [rad/s]':>14}  {'f [Hz]':>12}  {'zeta':>8}   "
+    frequency = units.frequency if units is not None and units.frequency.text != "rad/s" \
+        else HZ
+    column = f"f [{frequency.text}]"
+    out.append(f"{'mode':>4}  {'omega [rad/s]':>14}  {column:>12}  {'zeta':>8}   "
                f"shape (largest component +1): {shown}")
     per_mode = result.proportional_damping
     for j, w in enumerate(result.natural_frequencies):
         zeta = f"{result.damping_ratios[j]:8.4g}" if per_mode and j < len(
             result.damping_ratios) else " " * 8
         shape = ", ".join(f"{v: .4g}" for v in result.mode_shapes[:8, j])
-        out.append(f"{j + 1:>4}  {w:14.6g}  {w / (2 * math.pi):12.6g}  {zeta}   [{shape}]")
+        out.append(f"{j + 1:>4}  {w:14.6g}  {frequency(w):12.6g}  {zeta}   [{shape}]")
     if result.damped:
         out.append("")
         if result.rayleigh is not None and len(names) <= 2:
