@@ -541,3 +541,12 @@ def test_modes_text_in_the_chosen_frequency_unit():
     first = out.splitlines()[3].split()
     assert float(first[1]) == pytest.approx(4.56071, rel=1e-5)
     assert float(first[2]) == pytest.approx(4.56071 * 60 / (2 * math.pi), rel=1e-5)
+
+
+def test_a_torque_part_in_newton_is_named_as_a_torque(tmp_path):
+    """A [[torque]] part's moment in N (not N*m): the error names the torque and its key."""
+    text = (EXAMPLES / "parts" / "torsional_chain.toml").read_text().replace(
+        'M0 = "2 N*m"', 'M0 = "2 N"')
+    assert 'M0 = "2 N"' in text
+    message = _error(text)
+    assert "[torque 'drive'] moment:" in message and "must be a moment (N*m)" in message

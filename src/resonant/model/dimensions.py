@@ -365,14 +365,18 @@ def check_units(source: str, parameters: Mapping[str, Expression],
     for key, expression in energy.items():
         checker.expect(expression, "energy", key, POWER if key == "D" else ENERGY)
     for force in forces:
-        section = f"force '{force.name}'"
+        section = f"{force.kind} '{force.name}'"
         for coord, expression in force.generalized.items():
             displacement = Expression(coord, Name(coord), ("", "", ""))
             checker.work(expression, displacement, section, f"generalized.{coord}",
                          "its coordinate", section)
         for j, (component, point) in enumerate(zip(force.vector, force.point)):
-            checker.work(component, point, section, f"vector[{j}]",
-                         f"its point's position point[{j}] =", section)
+            if force.kind == "torque":  # a moment acting on its body's angle
+                checker.work(component, point, section, "moment", "its body's angle",
+                             section)
+            else:
+                checker.work(component, point, section, f"vector[{j}]",
+                             f"its point's position point[{j}] =", section)
     for name, expression in outputs.items():
         dim = checker.infer(name, expression, "outputs")
         shown = output_units.get(name)
@@ -395,7 +399,7 @@ def check_units(source: str, parameters: Mapping[str, Expression],
     uses = [(f"[signals] {n}", e) for n, e in signals.items()] + \
         [(f"[definitions] {n}", e) for n, e in definitions.items()] + \
         [(f"[energy] {k}", e) for k, e in energy.items()] + \
-        [(f"[force '{f.name}']", e) for f in forces for e in (*f.vector,
+        [(f"[{f.kind} '{f.name}']", e) for f in forces for e in (*f.vector,
                                                               *f.generalized.values())]
     notes = [*cyclic_uses(uses, cyclic), *harmonic_omegas]
     note = checker.note()

@@ -312,7 +312,7 @@ def derive_energies(mechanism: Mechanism, written: Mapping[str, Expression],
                     vector=(torque.moment,),
                     point=(_parse(to_text(mechanism.angle(mechanism.bodies[torque.body])),
                                   allowed, source, _section("torque", torque.name, i),
-                                  "body", problems),))
+                                  "body", problems),), kind="torque")
               for i, torque in enumerate(parts.torques, start=1)]
     if problems:
         raise ModelError(problems)

@@ -49,12 +49,17 @@ def symbol(name: str) -> sympy.Symbol:
 
 @dataclass(frozen=True)
 class Force:
-    """A ``[[force]]`` entry: a force vector acting on a point, or generalized forces."""
+    """A ``[[force]]`` entry: a force vector acting on a point, or generalized forces.
+
+    ``kind`` is ``"torque"`` for a ``[[torque]]`` part (a moment acting on a body's angle,
+    given as a one-component vector at the angle): messages name it as such.
+    """
 
     name: str
     vector: tuple[Expression, ...] = ()
     point: tuple[Expression, ...] = ()
     generalized: Mapping[str, Expression] = field(default_factory=dict)
+    kind: str = "force"
 
 
 @dataclass(frozen=True)
