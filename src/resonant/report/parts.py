@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol, TypeVar
 
 import sympy
 from sympy.core.function import AppliedUndef
@@ -36,12 +36,23 @@ from ..model import Model
 from ..model.part_energies import TIME, Mechanism
 from ..model.parts import Body, Contribution, Link
 from ..views.drawing import draw_sketch
-from ..views.notation import column_latex, expression_latex, name_latex
+from ..views.notation import Namer, column_latex, expression_latex, name_latex
 from ..views.sketch import Sketch, sketch
-from .blocks import Block, Heading, Math, paragraph
+from .blocks import Block, Equation, Figure, Heading, Math, paragraph
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .steps import Context
+
+class Context(Protocol):
+    """What these steps use of :class:`resonant.report.steps.Context` (which inserts them:
+    a protocol, so that this module does not import ``steps``)."""
+
+    model: Model
+    namer: Namer
+    names: dict[sympy.Symbol, str]
+    figures: int
+
+    def equation(self, latex: str, label: str | None = None) -> Equation: ...
+
+    def figure(self, plot: Any, caption: str) -> Figure: ...
 
 #: above this many operations a velocity squared is shown unsimplified
 MAX_SIMPLIFY = 400
@@ -377,13 +388,15 @@ def dissipation(ctx: Context) -> list[Block]:
     return blocks
 
 
-Step = Callable[["Context"], list[Block]]
+StepContext = TypeVar("StepContext", bound=Context)
 
 
-def after_heading(step: Step, extra: Step) -> Step:
+def after_heading(step: Callable[[StepContext], list[Block]],
+                  extra: Callable[[StepContext], list[Block]]
+                  ) -> Callable[[StepContext], list[Block]]:
     """``step`` with the blocks of ``extra`` after its first heading (a section of the
     solution that, for a model with parts, first derives its energy from the parts)."""
-    def combined(ctx: Context) -> list[Block]:
+    def combined(ctx: StepContext) -> list[Block]:
         first = extra(ctx)  # first: its equations are numbered before the step's
         blocks = step(ctx)
         if not blocks:

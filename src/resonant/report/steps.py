@@ -20,6 +20,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy
 
+import resonant.report.parts as part_steps
+
 from ..analyses.modes import modes
 from ..analyses.stationary import StationarySolution
 from ..derivation import derivative_symbol
@@ -40,7 +42,6 @@ from ..views.notation import (
     with_subscript,
 )
 from ..views.units_display import NO_UNIT, RAD, result_units, unit_latex
-from . import parts
 from .blocks import Block, Equation, Figure, Heading, Math, Note, Table, cell, paragraph
 from .derivation import Derivation, LinearPart
 from .plots import frequency_response, time_history
@@ -1194,14 +1195,15 @@ def step_order(ctx: Context) -> list[Step]:
     if ctx.model.matrices is not None or ctx.derivation is None:
         steps: list[Step] = [title, data, given_matrices]
     elif ctx.model.parts is not None:  # the energies derived part by part (report/parts.py)
-        steps = [title, data, method, coordinates, parts.kinetic, kinetic,
-                 parts.after_heading(dissipation, parts.dissipation),
-                 parts.after_heading(potential, parts.potential), forces, equation_of_motion]
+        steps = [title, data, method, coordinates, part_steps.kinetic, kinetic,
+                 part_steps.after_heading(dissipation, part_steps.dissipation),
+                 part_steps.after_heading(potential, part_steps.potential), forces,
+                 equation_of_motion]
     else:
         steps = [title, data, method, coordinates, kinetic, dissipation, potential, forces,
                  equation_of_motion]
     if ctx.model.parts is not None:
-        steps.insert(1, parts.figure)  # "In Fig. 1 ...": the figure first, as the exercise
+        steps.insert(1, part_steps.figure)  # "In Fig. 1 ...": the figure first, as the exercise
     if free:
         steps.append(lambda c: natural_frequencies(c, with_modes=True))
     else:
