@@ -29,6 +29,7 @@ from typing import Any
 
 from ..errors import AnalysisError, ModelError, Problem
 from ..model import Model
+from .plotting import _figure_of
 from .sketch import Arc, Arrow, BodyShape, Label, LinkShape, Point, Sketch, Support, sketch
 
 #: formats ``resonant draw`` writes (from the file ending)
@@ -367,17 +368,6 @@ def draw_sketch(data: Sketch, ax: Any = None) -> Any:
     ax.set_aspect("equal", adjustable="box")
     ax.set_axis_off()
     return fig
-
-
-def _figure_of(ax: Any) -> Any:
-    fig = ax.figure
-    root = getattr(fig, "get_figure", None)
-    if root is not None:
-        try:
-            return root(root=True)
-        except TypeError:  # matplotlib < 3.8
-            pass
-    return getattr(fig, "figure", fig)
 
 
 def draw_mechanism(model: Model | Sketch, path: str | Path | None = None, ax: Any = None
