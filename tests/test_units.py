@@ -550,3 +550,42 @@ def test_a_torque_part_in_newton_is_named_as_a_torque(tmp_path):
     assert 'M0 = "2 N"' in text
     message = _error(text)
     assert "[torque 'drive'] moment:" in message and "must be a moment (N*m)" in message
+
+
+MATRIX_MODEL = """title = "cart and rotor, given by matrices"
+[parameters]
+k = "100 N/m"
+m = "2 kg"
+J = "0.5 kg*m^2"
+kt = "3 N*m/rad"
+F0 = "1 N"
+w = "5 rad/s"
+[coordinates]
+x = { description = "cart", unit = "m" }
+phi = { description = "rotor angle", unit = "rad" }
+[matrices]
+M = [["m", 0], [0, "J"]]
+K = [["k", 0], [0, "kt"]]
+[[harmonic]]
+omega = "w"
+F_S = ["F0", 0]
+F_C = [0, 0]
+"""
+
+
+@pytest.mark.parametrize(("old", "new", "expected"), [
+    ('[0, "J"]]', '[0, "m"]]',
+     "[matrices] M[2][2]: m is kg but M[2][2] must be the M entry of (phi, phi) (kg*m^2)"),
+    ('K = [["k", 0]', 'K = [["kt", 0]',
+     "[matrices] K[1][1]: kt is J but K[1][1] must be the K entry of (x, x) (N/m)"),
+    ('F_S = ["F0", 0]', 'F_S = ["J", 0]',
+     "[harmonic 1] F_S[1]: J is kg*m^2 but F_S[1] must be the generalized force on x (N)"),
+])
+def test_matrix_entries_are_checked_against_the_coordinates_units(old, new, expected):
+    """An entry (i, j) of M, C, K times q_i q_j is J s^2, J s, J; F_i q_i is J. The
+    consistent model loads (and plain numbers, SI of unknown dimension, are not judged)."""
+    assert loads(MATRIX_MODEL).units is not None
+    assert loads(MATRIX_MODEL.replace('[0, "J"]]', '[0, 0.5]]')).units is not None
+    text = MATRIX_MODEL.replace(old, new)
+    assert text != MATRIX_MODEL
+    assert expected in _error(text)

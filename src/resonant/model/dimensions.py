@@ -25,7 +25,7 @@ model.toml: [energy] U: k*x1^2/2 is J but m2*g is N: the terms of a sum must hav
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
@@ -317,14 +317,46 @@ class Checker:
                 "unit (a bare number is taken as SI with an unknown dimension)")
 
 
+#: the unit of an entry (i, j) of M, C, K times the units of q_i and q_j
+_MATRIX_SCALE = {"M": ENERGY * TIME ** 2, "C": ENERGY * TIME, "K": ENERGY}
+
+
+def _check_matrices(checker: Checker, matrices: Any, q: Sequence[Dimension | None],
+                    coordinates: Sequence[str]) -> None:
+    """The inline entries of ``[matrices]`` and the harmonics' loads that are expressions of
+    parameters with units, against the coordinates' units: (M q'')_i, (C q')_i, (K q)_i and
+    F_i are generalized forces, so M_ij q_i q_j has the unit of J s^2, C_ij q_i q_j of J s,
+    K_ij q_i q_j of J and F_i q_i of J.  Plain numbers are SI of unknown dimension (as bare
+    parameter values) and entries read from files are numbers: neither is judged."""
+    for key, scale in _MATRIX_SCALE.items():
+        rows = getattr(matrices, key, None)
+        if not isinstance(rows, list):
+            continue
+        for i, row in enumerate(rows[:len(q)]):
+            for j, entry in enumerate(row[:len(q)]):
+                qi, qj = q[i], q[j]
+                if qi is None or qj is None or not entry.names():
+                    continue
+                checker.expect(entry, "matrices", f"{key}[{i + 1}][{j + 1}]", scale / (qi * qj),
+                               what=f"the {key} entry of ({coordinates[i]}, {coordinates[j]})")
+    for number, harmonic in enumerate(getattr(matrices, "harmonics", ()), start=1):
+        for key in ("F_S", "F_C"):
+            for j, entry in enumerate(getattr(harmonic, key)[:len(q)]):
+                qj = q[j]
+                if qj is None or not entry.names():
+                    continue
+                checker.expect(entry, f"harmonic {number}", f"{key}[{j + 1}]", ENERGY / qj,
+                               what=f"the generalized force on {coordinates[j]}")
+
+
 def check_units(source: str, parameters: Mapping[str, Expression],
                 given: Mapping[str, tuple[Expression, Unit]],
                 coordinate_units: Mapping[str, Unit], output_units: Mapping[str, Unit],
                 display: Mapping[str, Unit], equilibrium: Mapping[str, Expression],
                 signals: Mapping[str, Expression], definitions: Mapping[str, Expression],
                 energy: Mapping[str, Expression], forces: Iterable[Any],
-                outputs: Mapping[str, Expression], matrices: Any = None
-                ) -> tuple[ModelUnits, list[Problem]]:
+                outputs: Mapping[str, Expression], matrices: Any = None,
+                coordinates: Sequence[str] = ()) -> tuple[ModelUnits, list[Problem]]:
     """Infer every name's dimension and check the model's expressions (the loader's step).
 
     Returns the model's :class:`~resonant.model.units.ModelUnits` (with the notes on
@@ -377,6 +409,9 @@ def check_units(source: str, parameters: Mapping[str, Expression],
             else:
                 checker.work(component, point, section, f"vector[{j}]",
                              f"its point's position point[{j}] =", section)
+    if matrices is not None:
+        _check_matrices(checker, matrices, [checker.dimensions.get(q) if q in coordinate_units
+                                            else None for q in coordinates], coordinates)
     for name, expression in outputs.items():
         dim = checker.infer(name, expression, "outputs")
         shown = output_units.get(name)

@@ -327,7 +327,7 @@ class _Builder:
             units, unit_problems = check_units(
                 self.source, parameters, self.unit_given, self.coordinate_units,
                 self.output_units, display, equilibrium, signals, definitions, energy,
-                forces, outputs, matrix_spec)
+                forces, outputs, matrix_spec, coordinates)
             self.problems.extend(unit_problems)
         elif display:  # no units in the model: [display] still chooses phases and frequencies
             units = ModelUnits(display=MappingProxyType(display))
