@@ -50,6 +50,8 @@ FUNCTIONS: dict[str, Function] = {f.name: f for f in (
     _function("sinh", 1, "sinh", r"\sinh"), _function("cosh", 1, "cosh", r"\cosh"),
     _function("tanh", 1, "tanh", r"\tanh"), _function("exp", 1, "exp", r"\exp"),
     _function("log", 1, "log", r"\ln"), _function("sqrt", 1, "sqrt", r"\sqrt"),
+    # |x|: for forces such as c x'|x'| (quadratic damping) of nonlinear elements
+    Function("abs", 1, abs, np.abs, sympy.Abs, r"\operatorname{abs}"),
 )}
 #: name -> number of arguments
 ARITY: dict[str, int] = {name: f.arity for name, f in FUNCTIONS.items()}

@@ -25,6 +25,7 @@ Examples
 from __future__ import annotations
 
 import difflib
+from dataclasses import replace
 import os
 import tomllib
 from collections.abc import Collection, Iterable, Mapping, Sequence
@@ -51,6 +52,7 @@ from ..expressions import (
 )
 from .dimensions import check_units
 from .files import FileRefused, open_regular_file, read_bounded
+from .nonlinear_elements import read_nonlinear_elements
 from .limits import (
     ENERGY_KEYS,
     MAX_COORDINATES,
@@ -292,6 +294,9 @@ class _Builder:
                     self.problem(f"'{name}' cannot be used as a name: {validate_name(name)}",
                                  "outputs", name)
         matrix_spec = self.matrices(param_names, coordinates) if matrices else None
+        if "nonlinear" in self.data and not matrices:
+            self.problem("[[nonlinear]] elements belong to a [matrices] model; a model given "
+                         "by its energies writes its nonlinear terms into [energy]", "nonlinear")
         if matrices and (energy or forces):
             self.problem("a model gives either [energy] (and [[force]]) or [matrices], not both",
                          "matrices")
@@ -648,6 +653,10 @@ class _Builder:
             spec: MatrixSpec = hooks.call("read_matrix_spec", section, harmonics, params,
                                           coordinates, self.source, self.base_dir,
                                           self.allow_paths)
+            if "nonlinear" in self.data:
+                names = coordinates or [f"q{i + 1}" for i in range(_matrix_size(spec.M))]
+                spec = replace(spec, nonlinear=read_nonlinear_elements(
+                    self.data["nonlinear"], params, names, self.source))
             return spec
         except ModelError as exc:
             self.problems.extend(exc.problems)

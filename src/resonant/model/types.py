@@ -79,6 +79,8 @@ class MatrixSpec:
     K: Any
     C: Any = None
     harmonics: tuple[Harmonic, ...] = ()
+    #: the ``[[nonlinear]]`` elements (resonant.model.nonlinear_elements.NonlinearElement)
+    nonlinear: tuple[Any, ...] = ()
 
 
 @dataclass(frozen=True)
