@@ -234,6 +234,8 @@ class _Operators:
         self.rayleigh = _rayleigh(self.M, self.C, self.K) if self.damped else None
         self.n = self.M.shape[0]
         self.lu_options = sparse_lu_options(self.K + self.M + self.C)
+        #: factorizations kept by frequency (several loads share them), or None
+        self.cache: dict[float, Any] | None = None
 
     def matrix(self, s: float) -> Any:
         return (self.K - (s * s) * self.M + (1j * s) * self.C).tocsc()
@@ -446,6 +448,127 @@ def _initial_points(w: np.ndarray, count: int) -> list[float]:
     return [lo + (hi - lo) * (j + 0.5) / count for j in range(count)]
 
 
+@dataclass
+class _Fit:
+    """The state of the enrichment loop for one load."""
+
+    V: np.ndarray
+    Y: np.ndarray
+    rho: np.ndarray
+    estimate: np.ndarray
+    finite: np.ndarray
+    expansion: list[float]
+    checks: list[tuple[float, float]]
+    reason: str
+
+
+def _check_point(ops: _Operators, b: np.ndarray, s: float, approx: np.ndarray
+                 ) -> tuple[Any, float, float] | None:
+    """(LU, frequency, true relative error) of the reduced response at s, by an exact solve
+    (None when A is singular there)."""
+    lu, s = _factor_near(ops, s, 0.0)
+    if lu is None:
+        return None
+    exact = lu.solve(b)
+    if not backward_stable(ops.matrix(s), exact, b):  # threshold pivoting grew too much
+        exact = ops.factor(s, partial=True).solve(b)
+    true = float(np.linalg.norm(approx - exact)) / max(float(np.linalg.norm(exact)), 1e-300)
+    return lu, s, true
+
+
+def _stop_reason(fit: _Fit, history: list[float], max_points: int, max_basis: int,
+                 budget: float | None, start: float) -> str:
+    """Why the enrichment must stop before the tolerance ("" to go on)."""
+    if len(history) > STALL and history[-1] > 0.5 * history[-1 - STALL]:
+        return (f"the residual stopped decreasing at {history[-1]:.2g} (rounding floor: ask "
+                "for a larger tolerance)")
+    if len(fit.expansion) >= max_points:
+        return f"the cap of {max_points} expansion points was reached"
+    if fit.V.shape[1] >= max_basis:
+        return f"the cap of {max_basis} basis vectors was reached"
+    if budget is not None and time.monotonic() - start > budget:
+        return f"the time budget of {budget:.3g} s was used up"
+    return ""
+
+
+def _enrich(ops: _Operators, V: np.ndarray, pending: list[tuple[float, Any]], b: np.ndarray,
+            moments: int, drop: float, max_basis: int, width: float,
+            expansion: list[float], deadline: Deadline) -> np.ndarray:
+    """V with the moments of b at every pending point (its factorization, if known)."""
+    for s, lu in pending:
+        deadline.check("while building the reduced basis", analysis=True)
+        if lu is None:
+            lu, s = _factor_near(ops, s, width)
+            if lu is None:
+                continue
+        expansion.append(float(s))
+        V = _extend(V, _krylov(ops, lu, b, s, moments, deadline), drop)
+        if V.shape[1] >= max_basis:
+            return V[:, :max_basis]
+    return V
+
+
+def _fit(ops: _Operators, b: np.ndarray, w: np.ndarray, tol: float, V: np.ndarray,
+         deadline: Deadline, budget: float | None, max_points: int, moments: int,
+         start: float) -> _Fit:
+    """Enrich V until the reduced response to b meets ``tol`` at every w (or a cap)."""
+    b_norm = float(np.linalg.norm(b))
+    N, n = w.shape[0], ops.n
+    drop = min(1e-8, 1e-3 * tol)
+    norms = [float(np.linalg.norm(a.data)) if a.nnz else 0.0 for a in (ops.K, ops.M, ops.C)]
+    a_norm = norms[0] + w**2 * norms[1] + w * norms[2]  # Frobenius norm bound of A(w)
+    # bytes per basis column: V, KV, MV, CV and the QR copy
+    max_basis = int(min(MAX_BASIS, MEMORY_BYTES // (8 * n * 9)))
+    width = float(w.max() - w.min())
+    fit = _Fit(V, np.zeros((N, 0), dtype=complex), np.full(N, np.inf), np.full(N, np.inf),
+               np.zeros(N, dtype=bool), [], [], "")
+    ratios: list[float] = []
+    history: list[float] = []
+    pending: list[tuple[float, Any]] = [
+        (s, None) for s in _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))]
+    residual = _Residual(ops, b)
+    while True:
+        fit.V = _enrich(ops, fit.V, pending, b, moments, drop, max_basis, width,
+                        fit.expansion, deadline)
+        if fit.V.shape[1] == 0:
+            raise AnalysisError("the reduced model has no basis: A(w) is singular at every "
+                                "expansion point tried; use a direct method")
+        red = _Reduced(ops, fit.V, b)
+        fit.Y = Y = red.solve(w)
+        # an undamped resonance (condition number beyond SINGULAR_CONDITION, as in the
+        # kernel) has no response to estimate: such points are singular, not errors
+        with np.errstate(all="ignore"):
+            condition = a_norm * np.linalg.norm(Y, axis=1) / b_norm
+        fit.finite = finite = np.all(np.isfinite(Y), axis=1) & (condition <= SINGULAR_CONDITION)
+        fit.rho = rho = np.full(N, np.inf)
+        residual.extend(red)
+        if finite.any():
+            rho[finite] = residual.norms(w[finite], Y[finite]) / b_norm
+        fit.estimate = SAFETY * max([1.0] + ratios[-RECENT:]) * rho
+        # validate where the residual is largest (the expansion points themselves are exact)
+        candidates = np.where(finite & ~np.isin(w, fit.expansion), rho, -np.inf)
+        worst = int(np.argmax(candidates))
+        if not np.isfinite(candidates[worst]):
+            return fit
+        deadline.check("while checking the reduced model", analysis=True)
+        found = _check_point(ops, b, float(w[worst]), fit.V @ Y[worst])
+        if found is None:  # a singular point of the full system: nothing to validate there
+            return fit
+        lu, s, true = found
+        fit.checks.append((s, true))
+        if rho[worst] > 0:
+            ratios.append(true / rho[worst])
+        fit.estimate = np.maximum(SAFETY * max([1.0] + ratios[-RECENT:]) * rho, 0.0)
+        fit.estimate[worst] = max(true, fit.estimate[worst])
+        if float(np.max(fit.estimate[finite], initial=0.0)) <= tol and true <= tol:
+            return fit
+        history.append(float(np.max(rho[finite], initial=0.0)))
+        fit.reason = _stop_reason(fit, history, max_points, max_basis, budget, start)
+        if fit.reason:
+            return fit
+        pending = [(s, lu)]
+
+
 def reduced_response(M: Any, C: Any, K: Any, b: np.ndarray, w: np.ndarray, *,
                      tol: float = DEFAULT_TOL, keep: np.ndarray | None = None,
                      deadline: Deadline = NO_DEADLINE, budget: float | None = None,
@@ -493,130 +616,177 @@ def reduced_response(M: Any, C: Any, K: Any, b: np.ndarray, w: np.ndarray, *,
     (2, True)
     """
     start = time.monotonic()
-    max_points = MAX_POINTS if max_points is None else max_points
     if not tol > 0:
         raise AnalysisError(f"the tolerance must be positive, not {tol}")
     w = np.abs(np.asarray(w, dtype=float))
     b = np.asarray(b, dtype=complex).ravel()
     ops = _Operators(M, C, K)
-    n = ops.n
-    keep = np.arange(n) if keep is None else np.asarray(keep, dtype=int)
-    b_norm = float(np.linalg.norm(b))
+    keep = np.arange(ops.n) if keep is None else np.asarray(keep, dtype=int)
     N = w.shape[0]
-    if b_norm == 0:
+    if float(np.linalg.norm(b)) == 0:
         zeros = np.zeros(N)
         return ReducedResponse(np.zeros((N, len(keep)), dtype=complex), zeros, zeros, zeros,
                                0.0, True, (), 0, (), np.zeros(N, dtype=bool),
                                seconds=time.monotonic() - start)
-    drop = min(1e-8, 1e-3 * tol)
-    norms = [float(np.linalg.norm(a.data)) if a.nnz else 0.0 for a in (ops.K, ops.M, ops.C)]
-
-    def a_norm(w: np.ndarray) -> np.ndarray:  # Frobenius norm bound of A(w)
-        return norms[0] + w**2 * norms[1] + w * norms[2]
-
-    # bytes per basis column: V, KV, MV, CV and the QR copy
-    max_basis = int(min(MAX_BASIS, MEMORY_BYTES // (8 * n * 9)))
-    width = float(w.max() - w.min())
-    V = np.zeros((n, 0))
-    expansion: list[float] = []
-    checks: list[tuple[float, float]] = []
-    ratios: list[float] = []
-    history: list[float] = []
-    pending = [(s, None) for s in _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))]
-    residual = _Residual(ops, b)
-    reason = ""
-    while True:
-        # enrich: the moments at every pending point (its factorization, if known)
-        for s, lu in pending:
-            deadline.check("while building the reduced basis", analysis=True)
-            if lu is None:
-                lu, s = _factor_near(ops, s, width)
-                if lu is None:
-                    continue
-            expansion.append(float(s))
-            V = _extend(V, _krylov(ops, lu, b, s, moments, deadline), drop)
-            if V.shape[1] >= max_basis:
-                V = V[:, :max_basis]
-                break
-        pending = []
-        if V.shape[1] == 0:
-            raise AnalysisError("the reduced model has no basis: A(w) is singular at every "
-                                "expansion point tried; use a direct method")
-        red = _Reduced(ops, V, b)
-        Y = red.solve(w)
-        # an undamped resonance (condition number beyond SINGULAR_CONDITION, as in the
-        # kernel) has no response to estimate: such points are singular, not errors
-        with np.errstate(all="ignore"):
-            condition = a_norm(w) * np.linalg.norm(Y, axis=1) / b_norm
-        finite = np.all(np.isfinite(Y), axis=1) & (condition <= SINGULAR_CONDITION)
-        rho = np.full(N, np.inf)
-        residual.extend(red)
-        if finite.any():
-            rho[finite] = residual.norms(w[finite], Y[finite]) / b_norm
-        gamma = max([1.0] + ratios[-RECENT:])
-        estimate = SAFETY * gamma * rho
-        # validate where the residual is largest (the expansion points themselves are exact)
-        candidates = np.where(finite & ~np.isin(w, expansion), rho, -np.inf)
-        worst = int(np.argmax(candidates))
-        if not np.isfinite(candidates[worst]):
-            break
-        deadline.check("while checking the reduced model", analysis=True)
-        s = float(w[worst])
-        lu, s = _factor_near(ops, s, 0.0)
-        if lu is None:  # a singular point of the full system: nothing to validate there
-            break
-        exact = lu.solve(b)
-        if not backward_stable(ops.matrix(s), exact, b):  # threshold pivoting grew too much
-            exact = ops.factor(s, partial=True).solve(b)
-        approx = V @ Y[worst]
-        true = float(np.linalg.norm(approx - exact)) / max(float(np.linalg.norm(exact)), 1e-300)
-        checks.append((s, true))
-        if rho[worst] > 0:
-            ratios.append(true / rho[worst])
-        gamma = max([1.0] + ratios[-RECENT:])
-        estimate = np.maximum(SAFETY * gamma * rho, 0.0)
-        estimate[worst] = max(true, estimate[worst])
-        if float(np.max(estimate[finite], initial=0.0)) <= tol and true <= tol:
-            break
-        history.append(float(np.max(rho[finite], initial=0.0)))
-        if len(history) > STALL and history[-1] > 0.5 * history[-1 - STALL]:
-            reason = (f"the residual stopped decreasing at {history[-1]:.2g} (rounding "
-                      "floor: ask for a larger tolerance)")
-            break
-        if len(expansion) >= max_points:
-            reason = f"the cap of {max_points} expansion points was reached"
-            break
-        if V.shape[1] >= max_basis:
-            reason = f"the cap of {max_basis} basis vectors was reached"
-            break
-        if budget is not None and time.monotonic() - start > budget:
-            reason = f"the time budget of {budget:.3g} s was used up"
-            break
-        pending = [(s, lu)]
-    singular = ~finite
-    estimate = np.where(finite, estimate, np.nan)
+    fit = _fit(ops, b, w, tol, np.zeros((ops.n, 0)), deadline, budget,
+               MAX_POINTS if max_points is None else max_points, moments, start)
+    finite, V, Y = fit.finite, fit.V, fit.Y
+    estimate = np.where(finite, fit.estimate, np.nan)
     top = float(np.nanmax(estimate)) if np.any(finite) else float("inf")
     converged = top <= tol
-    if not converged and not reason:
-        reason = "the estimated error stayed above the tolerance"
+    reason = "" if converged else (fit.reason or
+                                   "the estimated error stayed above the tolerance")
     Z = np.full((N, len(keep)), np.nan + 0j)
     Z[finite] = Y[finite] @ V[keep].T
     norm_z = np.where(finite, np.linalg.norm(np.where(finite[:, None], Y, 0), axis=1), np.inf)
-    return ReducedResponse(Z, norm_z, np.where(finite, rho, np.nan), estimate, top, converged,
-                           tuple(expansion), int(V.shape[1]), tuple(checks), singular,
-                           "" if converged else reason, time.monotonic() - start)
+    return ReducedResponse(Z, norm_z, np.where(finite, fit.rho, np.nan), estimate, top,
+                           converged, tuple(fit.expansion), int(V.shape[1]), tuple(fit.checks),
+                           ~finite, reason, time.monotonic() - start)
 
 
 def _factor_near(ops: _Operators, s: float, width: float) -> tuple[Any, float]:
     """The LU of A(s), or of A at a nearby frequency when A(s) is exactly singular."""
     for shift in (0.0, 1e-3, -1e-3, 1e-2):
         t = s + shift * max(width, abs(s), 1e-12)
+        if ops.cache is not None and t in ops.cache:
+            return ops.cache[t], t
         try:
-            return ops.factor(t), t
+            lu = ops.factor(t)
+            if ops.cache is not None:
+                ops.cache[t] = lu
+            return lu, t
         except RuntimeError:  # "Factor is exactly singular"
             continue
     return None, s
 
 
-__all__ = ["reduced_response", "ReducedResponse", "DEFAULT_TOL", "sparse_lu_options",
+@dataclass(frozen=True)
+class ReducedModel:
+    """A reduced-order model of (K - w^2 M + i w C) z = B u for several loads over a band.
+
+    One real orthonormal basis V (n, r) serves every load column of B; the reduced
+    matrices are its Galerkin projections.  The transfer from the loads to any
+    coordinate at any frequency is then an r x r solve
+    (:meth:`transfer`).
+
+    Attributes
+    ----------
+    V : ndarray
+        (n, r) basis.
+    Mr, Cr, Kr : ndarray
+        (r, r) reduced matrices Vᵀ M V, Vᵀ C V, Vᵀ K V.
+    Br : ndarray
+        (r, p) reduced loads Vᵀ B (complex).
+    estimated_error : ndarray
+        (p,) the estimated largest relative error of each load's response over the
+        band (an estimate, not a bound: see the module docstring).
+    checks : tuple of (float, float)
+        Validation solves: frequency and true relative error there.
+    converged : bool
+        Whether every load met the tolerance.
+    reason : str
+        Why not ("" when converged).
+    expansion : tuple of float
+    seconds : float
+    """
+
+    V: np.ndarray
+    Mr: np.ndarray
+    Cr: np.ndarray
+    Kr: np.ndarray
+    Br: np.ndarray
+    estimated_error: np.ndarray
+    checks: tuple[tuple[float, float], ...]
+    converged: bool
+    reason: str
+    expansion: tuple[float, ...]
+    seconds: float
+
+    def __post_init__(self) -> None:
+        for name in ("V", "Mr", "Cr", "Kr", "Br", "estimated_error"):
+            array = np.array(getattr(self, name))
+            array.flags.writeable = False
+            object.__setattr__(self, name, array)
+
+    def transfer(self, w: float, rows: np.ndarray, loads: np.ndarray | None = None
+                 ) -> np.ndarray:
+        """z at the coordinates ``rows`` for each reduced load column, shape (rows, p).
+
+        ``loads``: (r, c) reduced loads instead of :attr:`Br`.
+        """
+        A = self.Kr - w * w * self.Mr + 1j * w * self.Cr
+        rhs = self.Br if loads is None else loads
+        return self.V[rows] @ np.linalg.solve(A, rhs)
+
+
+def reduced_model(M: Any, C: Any, K: Any, B: np.ndarray, w: np.ndarray, *,
+                  tol: float = DEFAULT_TOL, deadline: Deadline = NO_DEADLINE,
+                  budget: float | None = None, max_points: int | None = None,
+                  moments: int = MOMENTS) -> ReducedModel:
+    """One reduced basis for the responses to every column of B at the frequencies w.
+
+    The enrichment of :func:`reduced_response` runs for each load in turn on the
+    basis the previous ones built (factorizations are shared), so later loads
+    mostly find their response already in the span.
+
+    Parameters
+    ----------
+    M, C, K : sparse matrix or ndarray
+        Real (n, n).
+    B : ndarray
+        (n, p) complex loads.
+    w : ndarray
+        Frequencies (rad/s) where each response must meet ``tol``.
+    tol, deadline, budget, max_points, moments
+        As for :func:`reduced_response`.
+
+    Returns
+    -------
+    ReducedModel
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> M, K, C = np.eye(3), np.diag([2.0, 3.0, 4.0]), 0.01 * np.eye(3)
+    >>> K[0, 1] = K[1, 0] = -1.0
+    >>> rom = reduced_model(M, C, K, np.eye(3)[:, :2].astype(complex), np.linspace(0, 2, 30))
+    >>> z = rom.transfer(1.0, np.arange(3))
+    >>> exact = np.linalg.solve(K - M + 0.01j * np.eye(3), np.eye(3)[:, :2])
+    >>> bool(np.abs(z - exact).max() < 1e-10), rom.converged
+    (True, True)
+    """
+    start = time.monotonic()
+    if not tol > 0:
+        raise AnalysisError(f"the tolerance must be positive, not {tol}")
+    w = np.abs(np.asarray(w, dtype=float)).ravel()
+    B = np.asarray(B, dtype=complex).reshape(np.shape(B)[0], -1)
+    ops = _Operators(M, C, K)
+    ops.cache = {}
+    V = np.zeros((ops.n, 0))
+    errors, checks, expansion, reasons = [], [], [], []
+    for j in range(B.shape[1]):
+        if not np.any(B[:, j]):
+            errors.append(0.0)
+            continue
+        fit = _fit(ops, B[:, j], w, tol, V, deadline, budget,
+                   MAX_POINTS if max_points is None else max_points, moments, start)
+        V = fit.V
+        errors.append(float(np.nanmax(np.where(fit.finite, fit.estimate, np.nan)))
+                      if fit.finite.any() else float("inf"))
+        checks += fit.checks
+        expansion += fit.expansion
+        if fit.reason:
+            reasons.append(fit.reason)
+    ops.cache = None
+    KV, MV, CV = (np.asarray(a @ V) for a in (ops.K, ops.M, ops.C))
+    err = np.array(errors)
+    converged = bool(np.all(err <= tol))
+    reason = "" if converged else (reasons[0] if reasons else
+                                   "the estimated error stayed above the tolerance")
+    return ReducedModel(V, V.T @ MV, V.T @ CV, V.T @ KV, V.T @ B, err, tuple(checks),
+                        converged, reason, tuple(sorted(set(expansion))),
+                        time.monotonic() - start)
+
+
+__all__ = ["reduced_response", "ReducedResponse", "reduced_model", "ReducedModel", "DEFAULT_TOL", "sparse_lu_options",
            "backward_stable"]

@@ -103,24 +103,24 @@ def _entry(entry: Any, number: int, params: Sequence[str], coordinates: Sequence
     names = entry.get("coordinates")
     if isinstance(names, str):
         names = [names]
+    position = {q: i for i, q in enumerate(coordinates)}
+    count = len(problems)
     if not (isinstance(names, list) and 1 <= len(names) <= 2
             and all(isinstance(q, str) for q in names)):
         problems.append(Problem("coordinates must be a list of one name (to the ground) or two "
                                 "(between them), e.g. [\"q5\"] or [\"q5\", \"q9\"]",
                                 source, where, "coordinates"))
-        return None
-    position = {q: i for i, q in enumerate(coordinates)}
-    unknown = [q for q in names if q not in position]
-    if unknown:
+        names = []
+    elif [q for q in names if q not in position]:
+        unknown = [q for q in names if q not in position]
         problems.append(Problem(f"unknown coordinate(s) {', '.join(map(repr, unknown))}; the "
                                 f"coordinates are {', '.join(coordinates[:8])}"
                                 f"{' ...' if len(coordinates) > 8 else ''}",
                                 source, where, "coordinates"))
-        return None
-    if len(names) == 2 and names[0] == names[1]:
+    elif len(names) == 2 and names[0] == names[1]:
         problems.append(Problem("the two coordinates must differ (one name: to the ground)",
                                 source, where, "coordinates"))
-        return None
+    placed = len(problems) == count
     parsed: dict[str, Expression] = {}
     for key in KIND_KEYS[kind]:
         if key not in entry:
@@ -148,7 +148,7 @@ def _entry(entry: Any, number: int, params: Sequence[str], coordinates: Sequence
             if wrong:
                 problems.append(Problem("a force may use the coordinates and their first "
                                         f"rates only (not {wrong[0]}'')", source, where, key))
-    if len(parsed) != len(KIND_KEYS[kind]):
+    if len(parsed) != len(KIND_KEYS[kind]) or not placed:
         return None
     return NonlinearElement(name, tuple(names), tuple(position[q] for q in names), kind,
                             **parsed)

@@ -1,0 +1,242 @@
+"""The nonlinear elements of a ``[matrices]`` model, compiled: forces over one period.
+
+:class:`ElementForces` evaluates the forces of the ``[[nonlinear]]`` elements at
+time samples of the coordinates they connect (the *local* coordinates, m of
+them) and their derivatives along given directions, as the alternating
+frequency-time scheme of harmonic balance needs them:
+
+``force``
+    the expression and its partial derivatives (sympy, compiled once);
+``gap``
+    ``kc max(u - g, 0)`` with u = q_a - q_b;
+``friction``
+    a Jenkins element (spring kt in series with a slider at ``slip_force``),
+    *marched* through the samples: f_j = clip(f_(j-1) + kt (u_j - u_(j-1)),
+    -F_s, F_s), two periods from f = clip(kt (u_0 - mean u)), the second one
+    kept (a slip in the first erases the start); its derivative is marched
+    alongside (zero where it slips).
+
+Each element's force f enters the first coordinate's equation with + and the
+second's with - (``M q'' + C q' + K q + f_nl = F``).
+
+Examples
+--------
+>>> import numpy as np
+>>> from resonant.model.nonlinear_elements import read_nonlinear_elements
+>>> el = read_nonlinear_elements([{"coordinates": ["q1"], "force": "k3*q1^3"}],
+...                              ["k3"], ["q1"], "m.toml")
+>>> forces = ElementForces(el, {"k3": 2.0})
+>>> F, _ = forces.evaluate(np.array([[0.5, -1.0]]), np.zeros((1, 2)))
+>>> F.tolist()
+[[0.25, -2.0]]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+import sympy
+
+from ..errors import AnalysisError
+from ..expressions import compilable, numeric_value
+from ..model.nonlinear_elements import NonlinearElement
+
+
+def _rate(name: str) -> sympy.Symbol:
+    return sympy.Symbol(f"{name}__rate", real=True)
+
+
+class _Expression:
+    """A force expression and its derivatives, compiled once."""
+
+    def __init__(self, element: NonlinearElement, params: Sequence[str]) -> None:
+        assert element.force is not None
+        names = element.coordinates
+
+        def resolve(name: str, primes: int) -> sympy.Expr:
+            if name in names:
+                return _rate(name) if primes else sympy.Symbol(name, real=True)
+            return sympy.Symbol(name, real=True)
+
+        expr = element.force.to_sympy(resolve)
+        q = [sympy.Symbol(n, real=True) for n in names]
+        qd = [_rate(n) for n in names]
+        p = [sympy.Symbol(n, real=True) for n in params]
+        parts = [expr] + [sympy.diff(expr, v) for v in q + qd]
+        self.count = len(names)
+        self._fn = sympy.lambdify([*q, *qd, *p], [compilable(e) for e in parts],
+                                  modules="numpy", cse=True)
+
+    def __call__(self, q: np.ndarray, qd: np.ndarray, pvals: Sequence[float]
+                 ) -> list[np.ndarray]:
+        with np.errstate(all="ignore"):
+            raw = self._fn(*q, *qd, *pvals)
+        N = q.shape[1]
+        return [np.broadcast_to(np.asarray(v, dtype=float), (N,)) for v in raw]
+
+
+class ElementForces:
+    """The forces of the ``[[nonlinear]]`` elements at time samples of their coordinates.
+
+    Parameters
+    ----------
+    elements : sequence of NonlinearElement
+    parameters : mapping
+        Parameter name -> value (the elements' expressions use them).
+
+    Attributes
+    ----------
+    dofs : tuple of int
+        The model coordinates the elements connect (the local coordinates, in order).
+    """
+
+    def __init__(self, elements: Sequence[NonlinearElement],
+                 parameters: Mapping[str, float]) -> None:
+        self.elements = tuple(elements)
+        self.params = tuple(parameters)
+        self.values = {k: float(v) for k, v in parameters.items()}
+        dofs: list[int] = []
+        for e in self.elements:
+            dofs += [i for i in e.indices if i not in dofs]
+        self.dofs = tuple(dofs)
+        self.local = [tuple(dofs.index(i) for i in e.indices) for e in self.elements]
+        self._compiled = [_Expression(e, self.params) if e.kind == "force" else None
+                          for e in self.elements]
+        self.hysteretic = any(e.kind == "friction" for e in self.elements)
+
+    def with_parameters(self, values: Mapping[str, float]) -> ElementForces:
+        """The same elements with other parameter values (no recompilation)."""
+        out = object.__new__(ElementForces)
+        out.__dict__.update(self.__dict__)
+        out.values = {**self.values, **{k: float(v) for k, v in values.items()}}
+        return out
+
+    def _constant(self, e: NonlinearElement, key: str) -> float:
+        value = float(numeric_value(getattr(e, key), self.values))
+        if not np.isfinite(value):
+            raise AnalysisError(f"[nonlinear '{e.name}'] {key} is not finite for the given "
+                                "parameter values")
+        if key in ("stiffness", "slip_force") and value < 0:
+            raise AnalysisError(f"[nonlinear '{e.name}'] {key} must not be negative, not "
+                                f"{value:g}")
+        return value
+
+    def _relative(self, loc: tuple[int, ...], X: np.ndarray) -> np.ndarray:
+        return X[loc[0]] - X[loc[1]] if len(loc) == 2 else X[loc[0]]
+
+    def evaluate(self, U: np.ndarray, Ud: np.ndarray, dU: np.ndarray | None = None,
+                 dUd: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray | None]:
+        """Forces at the samples and, optionally, their derivatives along directions.
+
+        Parameters
+        ----------
+        U, Ud : ndarray
+            Displacements and velocities of the local coordinates, shape (m, N): N
+            samples of one period (evenly spaced).
+        dU, dUd : ndarray, optional
+            Directions, shape (m, N, c): the derivative of the forces along each.
+
+        Returns
+        -------
+        F : ndarray
+            (m, N) generalized forces on the local coordinates.
+        dF : ndarray or None
+            (m, N, c) their derivatives along the directions.
+        """
+        m, N = U.shape
+        F = np.zeros((m, N))
+        dF = None if dU is None else np.zeros(dU.shape)
+        pvals = [self.values[k] for k in self.params]
+        for e, loc, fn in zip(self.elements, self.local, self._compiled):
+            u, ud = self._relative(loc, U), self._relative(loc, Ud)
+            du = None if dU is None else self._relative(loc, dU)
+            dud = None if dUd is None else self._relative(loc, dUd)
+            if e.kind == "force":
+                assert fn is not None
+                parts = fn(U[list(loc)], Ud[list(loc)], pvals)
+                f = parts[0]
+                if dU is not None and dUd is not None:
+                    k = len(loc)
+                    g = sum(parts[1 + j][:, None] * dU[loc[j]] for j in range(k)) + \
+                        sum(parts[1 + k + j][:, None] * dUd[loc[j]] for j in range(k))
+            elif e.kind == "gap":
+                gap, kc = self._constant(e, "gap"), self._constant(e, "stiffness")
+                closed = u > gap
+                f = np.where(closed, kc * (u - gap), 0.0)
+                if du is not None:
+                    g = np.where(closed[:, None], kc * du, 0.0)
+            else:
+                f, g = self._friction(e, u, du)
+            F[loc[0]] += f
+            if len(loc) == 2:
+                F[loc[1]] -= f
+            if dF is not None:
+                dF[loc[0]] += g
+                if len(loc) == 2:
+                    dF[loc[1]] -= g
+        return F, dF
+
+    def _friction(self, e: NonlinearElement, u: np.ndarray, du: np.ndarray | None
+                  ) -> tuple[np.ndarray, Any]:
+        kt, fs = self._constant(e, "stiffness"), self._constant(e, "slip_force")
+        N = u.size
+        c = 0 if du is None else du.shape[1]
+        f = np.empty(N)
+        g = np.zeros((N, c))
+        mean_du = du.mean(axis=0) if du is not None else None
+        trial = kt * (u[0] - u.mean())
+        prev = float(np.clip(trial, -fs, fs))
+        dprev = kt * (du[0] - mean_du) if du is not None and abs(trial) <= fs else np.zeros(c)
+        for step in range(1, 2 * N + 1):
+            j = step % N
+            trial = prev + kt * (u[j] - u[j - 1])
+            if abs(trial) <= fs:
+                prev = trial
+                if du is not None:
+                    dprev = dprev + kt * (du[j] - du[j - 1])
+            else:
+                prev = fs if trial > 0 else -fs
+                dprev = np.zeros(c)
+            if step > N:
+                f[j] = prev
+                g[j] = dprev
+        return f, g
+
+    def stiffness(self, U: np.ndarray, Ud: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The instantaneous tangent stiffness and damping, shape (m, m, N) each.
+
+        For the friction element: kt while it sticks, zero while it slips (the
+        linearization of the march about the periodic motion).
+        """
+        m, N = U.shape
+        G0, G1 = np.zeros((m, m, N)), np.zeros((m, m, N))
+        pvals = [self.values[k] for k in self.params]
+        for e, loc, fn in zip(self.elements, self.local, self._compiled):
+            k = len(loc)
+            sign = np.array([1.0, -1.0][:k])
+            if e.kind == "force":
+                assert fn is not None
+                parts = fn(U[list(loc)], Ud[list(loc)], pvals)
+                for a in range(k):
+                    for b in range(k):
+                        G0[loc[a], loc[b]] += sign[a] * parts[1 + b]
+                        G1[loc[a], loc[b]] += sign[a] * parts[1 + k + b]
+                continue
+            u = self._relative(loc, U)
+            if e.kind == "gap":
+                gap, kc = self._constant(e, "gap"), self._constant(e, "stiffness")
+                t = np.where(u > gap, kc, 0.0)
+            else:
+                f, _ = self._friction(e, u, None)
+                fs = self._constant(e, "slip_force")
+                kt = self._constant(e, "stiffness")
+                t = np.where(np.abs(f) < fs * (1 - 1e-12), kt, 0.0)
+            for a in range(k):
+                for b in range(k):
+                    G0[loc[a], loc[b]] += sign[a] * sign[b] * t
+        return G0, G1
+
+
+__all__ = ["ElementForces"]
