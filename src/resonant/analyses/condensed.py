@@ -1,0 +1,787 @@
+"""Harmonic balance of large matrix models condensed onto their nonlinear coordinates.
+
+A ``[matrices]`` model ``M q'' + C q' + K q + f_nl(q, q') = F(t)`` whose
+nonlinear elements (``[[nonlinear]]``) touch only m of its n coordinates is
+solved for periodic motions of the excitation's base frequency W with the m
+coordinates' harmonics as the only unknowns:
+
+**Condensation.**  With q = sum_k Re(z_k e^{i k W t}) the linear part gives,
+harmonic by harmonic, z_k = H(kW) (F_k - B g_k) with H(w) = (K - w^2 M + i w
+C)^-1 and g_k the harmonics of the elements' forces; restricted to the m
+nonlinear coordinates u this is the residual
+
+    r_k = u_k - H_uF(kW) F_k + H_uu(kW) g_k(u) = 0,    k = 0 ... H,
+
+m(2H+1) real unknowns whatever n.  H_uu and H_uF come from one reduced-order
+model of the whole band 0 ... H W_max (:func:`resonant.analyses.reduced.
+reduced_model`, loads: F and a unit load at each nonlinear coordinate, its
+error estimate reported), or, for models of at most :data:`EXACT_SIZE`
+coordinates or ``exact=True``, from the full matrices.  The reduced (or full)
+system is diagonalized once (first-order form, poles mu_j), so each H(w) costs
+O(r m^2).
+
+**Forces** by the alternating frequency-time scheme
+(:class:`resonant.system.nonlinear_elements.ElementForces`): the force of each
+element at N samples of one period, its harmonics by the FFT; the Jacobian by
+the chain rule along the harmonic basis (a friction element's derivative is
+marched with it).
+
+**Continuation** by pseudo-arclength in (x / s_x, p / s_p), Newton correctors,
+step control from the iteration count and the change per step; folds where the
+parameter component of the tangent changes sign, refined by regula falsi.
+
+**Stability** by Hill's method on the linearization about each point in the
+modal coordinates of the (reduced) linear part: the modes with |Im mu| up to
+:data:`DYNAMIC_FACTOR` W are kept dynamic, the others enter as their static
+flexibility at the nonlinear coordinates (a residual flexibility), so the
+eigenvalue problem has 2s(2H+1) rows for s kept modes, not 2n(2H+1).  This is
+an approximation where modes above the cutoff respond dynamically to the
+perturbation; the tests check it against time simulations of the full
+equations.
+
+Examples
+--------
+>>> from resonant.model import loads
+>>> model = loads('''
+... [parameters]
+... w = 0.8
+... [matrices]
+... M = [[1, 0], [0, 1]]
+... K = [[2, -1], [-1, 1]]
+... C = [[0.05, 0], [0, 0.05]]
+... [[harmonic]]
+... omega = "w"
+... F_C = [0, 0.05]
+... [[nonlinear]]
+... name = "spring"
+... coordinates = ["q2"]
+... force = "0.5*q2^3"
+... ''')
+>>> r = condensed_sweep(model.linearize(), "w", 0.3, 0.5, harmonics=3, points=20,
+...                     linear=False)
+>>> bool(r.stable.all()), r.coordinates
+(True, ('q2',))
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import AnalysisError
+from ..expressions import numeric_value
+from ..model import Model
+from ..system import LinearSystem
+from ..system.base import parameter_values
+from ..system.nonlinear_elements import ElementForces
+from .harmonic_balance import NonlinearResponse, SpecialPoint
+from .reduced import DEFAULT_TOL, reduced_model
+from .sweep import sweep
+
+#: models up to this many coordinates use the full matrices (no reduced model)
+EXACT_SIZE = 400
+#: modes with |Im mu| up to this multiple of W stay dynamic in the stability analysis
+DYNAMIC_FACTOR = 3.0
+#: most modes kept dynamic in the stability analysis
+MAX_DYNAMIC = 40
+#: default harmonics
+DEFAULT_HARMONICS = 5
+NEWTON_TOL = 1e-10
+NEWTON_MAX = 15
+STABILITY_TOL = 1e-6
+MAX_RELATIVE_CHANGE = 0.08
+#: frequencies per unit of the band where the reduced model's error is checked
+BAND_POINTS = 400
+
+
+# -- the linear part ----------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class LinearPart:
+    """The linear model's transfer to the kept coordinates, as poles and residues.
+
+    ``transfer(w)`` is ``rows -> (nonlinear unit loads, external loads)`` at w:
+    Lq diag(1/(i w - mu)) Rin.  ``rows`` are the nonlinear coordinates (first m)
+    then the observed ones.
+    """
+
+    mu: np.ndarray          # (2r,) poles
+    Lq: np.ndarray          # (rows, 2r) displacements of the kept coordinates
+    Lv: np.ndarray          # (rows, 2r) their velocities
+    Rin: np.ndarray         # (2r, m + p) inputs: unit loads at the nonlinear coordinates, loads
+    m: int
+    error: float            # the reduced model's estimated error (0 for the full matrices)
+    size: int               # r
+    seconds: float
+
+    def transfer(self, w: float) -> np.ndarray:
+        with np.errstate(all="ignore"):
+            return (self.Lq / (1j * w - self.mu)) @ self.Rin
+
+
+def _first_order(Mr: np.ndarray, Cr: np.ndarray, Kr: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Poles mu, right eigenvectors X and X^-1 of [[0, I], [-M^-1 K, -M^-1 C]]."""
+    import scipy.linalg
+
+    r = Mr.shape[0]
+    try:
+        minv = np.linalg.solve(Mr, np.hstack([Kr, Cr]))
+    except np.linalg.LinAlgError:
+        raise AnalysisError("the mass matrix M is singular: the condensed harmonic balance "
+                            "needs a positive definite M") from None
+    A = np.zeros((2 * r, 2 * r))
+    A[:r, r:] = np.eye(r)
+    A[r:, :r], A[r:, r:] = -minv[:, :r], -minv[:, r:]
+    mu, X = scipy.linalg.eig(A)
+    if not np.all(np.isfinite(X)) or np.linalg.cond(X) > 1e10:
+        raise AnalysisError("the linear part is defective (its modes are not independent): "
+                            "the condensed harmonic balance cannot diagonalize it")
+    return mu, X, np.linalg.inv(X)
+
+
+def linear_part(M: Any, C: Any, K: Any, loads: np.ndarray, nonlinear: Sequence[int],
+                observed: Sequence[int], band: np.ndarray, *, exact: bool | None = None,
+                tol: float = DEFAULT_TOL, deadline: Deadline = NO_DEADLINE) -> LinearPart:
+    """The transfer of the linear model to the nonlinear and observed coordinates.
+
+    Parameters
+    ----------
+    M, C, K : sparse matrix or ndarray
+        (n, n), fixed.
+    loads : ndarray
+        (n, p) complex external loads (F_C - i F_S of each harmonic).
+    nonlinear, observed : sequence of int
+        The nonlinear coordinates (unit loads there) and further coordinates to recover.
+    band : ndarray
+        Frequencies where the reduced model must meet ``tol``.
+    exact : bool, optional
+        Use the full matrices (default: for n <= :data:`EXACT_SIZE`).
+    tol : float
+        Tolerance of the reduced model.
+
+    Returns
+    -------
+    LinearPart
+    """
+    start = time.monotonic()
+    n = M.shape[0]
+    nl = list(nonlinear)
+    rows = nl + [i for i in observed if i not in nl]
+    exact = n <= EXACT_SIZE if exact is None else exact
+    unit = np.zeros((n, len(nl)), dtype=complex)
+    unit[nl, range(len(nl))] = 1.0
+    B = np.hstack([unit, np.asarray(loads, dtype=complex).reshape(n, -1)])
+    if exact:
+        dense = [a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
+                 for a in (M, C, K)]
+        V = None
+        Mr, Cr, Kr = dense
+        Br = B
+        error = 0.0
+    else:
+        rom = reduced_model(M, C, K, B, band, tol=tol, deadline=deadline)
+        if not rom.converged:
+            raise AnalysisError(f"the reduced model of the linear part did not reach the "
+                                f"tolerance {tol:.2g}: {rom.reason}")
+        V, Mr, Cr, Kr, Br = rom.V, rom.Mr, rom.Cr, rom.Kr, rom.Br
+        error = float(np.max(rom.estimated_error, initial=0.0))
+    r = Mr.shape[0]
+    mu, X, Xinv = _first_order(Mr, Cr, Kr)
+    Vrows = np.eye(n)[rows] if V is None else V[rows]
+    Rin = Xinv[:, r:] @ np.linalg.solve(Mr, Br)
+    return LinearPart(mu, Vrows @ X[:r], Vrows @ X[r:], Rin, len(nl), error, r,
+                      time.monotonic() - start)
+
+
+# -- the harmonic balance -----------------------------------------------------------------
+
+class _Basis:
+    """The real Fourier basis [1, cos t, sin t, ..., cos Ht, sin Ht] at N samples."""
+
+    def __init__(self, H: int, N: int) -> None:
+        self.H, self.N, self.size = H, N, 2 * H + 1
+        tau = 2 * np.pi * np.arange(N) / N
+        k = np.arange(1, H + 1)
+        c, s = np.cos(np.outer(tau, k)), np.sin(np.outer(tau, k))
+        self.phi = np.ones((N, self.size))
+        self.dphi = np.zeros((N, self.size))
+        self.phi[:, 1::2], self.phi[:, 2::2] = c, s
+        self.dphi[:, 1::2], self.dphi[:, 2::2] = -k * s, k * c
+        self.P = np.empty((self.size, N))
+        self.P[0] = 1.0 / N
+        self.P[1::2], self.P[2::2] = 2.0 / N * c.T, 2.0 / N * s.T
+
+    def complex(self, X: np.ndarray) -> np.ndarray:
+        """(..., 2H+1) real coefficients -> (..., H+1) complex z_k = a_k - i b_k."""
+        Z = np.empty((*X.shape[:-1], self.H + 1), dtype=complex)
+        Z[..., 0] = X[..., 0]
+        Z[..., 1:] = X[..., 1::2] - 1j * X[..., 2::2]
+        return Z
+
+    def real(self, Z: np.ndarray) -> np.ndarray:
+        X = np.empty((*Z.shape[:-1], self.size))
+        X[..., 0] = Z[..., 0].real
+        X[..., 1::2], X[..., 2::2] = Z[..., 1:].real, -Z[..., 1:].imag
+        return X
+
+
+class CondensedBalance:
+    """Residual, Jacobian and stability of the condensed harmonic balance.
+
+    Parameters
+    ----------
+    linear : LinearPart
+    forces : callable
+        p -> ElementForces at the parameter value p.
+    loads : list of (int, int)
+        (harmonic order k, column of the external loads in ``linear``) pairs.
+    base : callable
+        p -> base frequency W.
+    H, N : int
+        Harmonics and samples per period.
+    """
+
+    def __init__(self, linear: LinearPart, forces: Any, loads: list[tuple[int, int]],
+                 base: Any, H: int, N: int) -> None:
+        self.linear, self.forces, self.loads, self.base = linear, forces, loads, base
+        self.m = linear.m
+        self.basis = _Basis(H, N)
+        self.H = H
+        self.size = self.m * self.basis.size
+        self._cache: dict[float, np.ndarray] = {}
+
+    def transfers(self, W: float) -> np.ndarray:
+        """(H+1, rows, m + p) transfers at kW."""
+        if W not in self._cache:
+            if len(self._cache) > 64:
+                self._cache.clear()
+            self._cache[W] = np.array([self.linear.transfer(k * W) for k in range(self.H + 1)])
+        return self._cache[W]
+
+    def _directions(self, W: float) -> tuple[np.ndarray, np.ndarray]:
+        m, b = self.m, self.basis
+        dU = np.zeros((m, b.N, self.size))
+        dUd = np.zeros((m, b.N, self.size))
+        for i in range(m):
+            dU[i, :, i * b.size:(i + 1) * b.size] = b.phi
+            dUd[i, :, i * b.size:(i + 1) * b.size] = W * b.dphi
+        return dU, dUd
+
+    def samples(self, x: np.ndarray, W: float) -> tuple[np.ndarray, np.ndarray]:
+        X = x.reshape(self.m, self.basis.size)
+        return X @ self.basis.phi.T, W * (X @ self.basis.dphi.T)
+
+    def linear_response(self, T: np.ndarray, rows: slice | np.ndarray) -> np.ndarray:
+        """(rows, H+1) complex response to the external loads."""
+        out = np.zeros((T[0][rows].shape[0], self.H + 1), dtype=complex)
+        for k, column in self.loads:
+            if k <= self.H:
+                out[:, k] += T[k][rows, self.m + column]
+        return out
+
+    def evaluate(self, x: np.ndarray, p: float, jacobian: bool = True
+                 ) -> tuple[np.ndarray, np.ndarray | None]:
+        W = self.base(p)
+        T = self.transfers(W)
+        U, Ud = self.samples(x, W)
+        b, m = self.basis, self.m
+        dU, dUd = self._directions(W) if jacobian else (None, None)
+        F, dF = self.forces(p).evaluate(U, Ud, dU, dUd)
+        G = b.complex(F @ b.P.T)                                  # (m, H+1)
+        Uc = b.complex(x.reshape(m, b.size))
+        Hnl = T[:, :m, :m]                                        # (H+1, m, m)
+        r = Uc - self.linear_response(T, slice(0, m)) + np.einsum("kij,jk->ik", Hnl, G)
+        R = b.real(r).ravel()
+        if not jacobian:
+            return R, None
+        assert dF is not None
+        dG = b.complex(np.einsum("inc,jn->icj", dF, b.P))        # (m, c, H+1)
+        dr = np.einsum("kij,jck->ick", Hnl, dG)                   # (m, c, H+1)
+        J = b.real(dr).transpose(0, 2, 1).reshape(self.size, self.size) + np.eye(self.size)
+        return R, J
+
+    def dp(self, x: np.ndarray, p: float) -> np.ndarray:
+        h = 1e-6 * max(1.0, abs(p))
+        return (self.evaluate(x, p + h, False)[0] - self.evaluate(x, p - h, False)[0]) / (2 * h)
+
+    def newton(self, x: np.ndarray, p: float, scale: float) -> tuple[np.ndarray, bool]:
+        for _ in range(NEWTON_MAX):
+            R, J = self.evaluate(x, p)
+            assert J is not None
+            try:
+                dx = np.linalg.solve(J, -R)
+            except np.linalg.LinAlgError:
+                return x, False
+            x = x + dx
+            if not np.all(np.isfinite(x)):
+                return x, False
+            if np.linalg.norm(dx) <= NEWTON_TOL * max(float(np.linalg.norm(x)), scale):
+                return x, True
+        return x, False
+
+    def exponents(self, x: np.ndarray, p: float) -> np.ndarray:
+        """Floquet exponents by Hill's method on the kept modes (see the module docstring)."""
+        W = self.base(p)
+        lin, m, b = self.linear, self.m, self.basis
+        U, Ud = self.samples(x, W)
+        G0, G1 = self.forces(p).stiffness(U, Ud)                  # (m, m, N)
+        keep = np.abs(lin.mu.imag) <= DYNAMIC_FACTOR * W
+        if keep.sum() > MAX_DYNAMIC:
+            order = np.argsort(np.abs(lin.mu.imag))
+            keep = np.zeros_like(keep)
+            keep[order[:MAX_DYNAMIC]] = True
+        mu_s = lin.mu[keep]
+        Cq, Cv = lin.Lq[:m, keep], lin.Lv[:m, keep]
+        Bs = lin.Rin[keep, :m]
+        fast = ~keep
+        Rres = (lin.Lq[:m, fast] / lin.mu[fast]) @ lin.Rin[fast, :m]
+        s = mu_s.size
+        if s == 0:
+            return np.zeros(0, dtype=complex)
+        eye = np.eye(m)
+        A = np.empty((b.N, s, s), dtype=complex)
+        for j in range(b.N):
+            g0, g1 = G0[:, :, j], G1[:, :, j]
+            Tj = np.linalg.solve(eye - Rres @ g0, Cq + Rres @ g1 @ Cv)
+            A[j] = np.diag(mu_s) - Bs @ (g0 @ Tj + g1 @ Cv)
+        return _hill(A, W, self.H, s)
+
+
+def _hill(A: np.ndarray, W: float, H: int, s: int) -> np.ndarray:
+    """The s exponents of the periodic system eta' = A(t) eta (samples (N, s, s)) in the
+    fundamental strip, by Hill's method with harmonics -H ... H."""
+    N = A.shape[0]
+    coef = np.fft.fft(A, axis=0) / N                 # coef[k] multiplies e^{i k W t}
+    size = s * (2 * H + 1)
+    hill = np.zeros((size, size), dtype=complex)
+    for a, k in enumerate(range(-H, H + 1)):
+        for c, l in enumerate(range(-H, H + 1)):
+            block = coef[(k - l) % N] if abs(k - l) < N // 2 else 0.0
+            hill[a * s:(a + 1) * s, c * s:(c + 1) * s] = block
+        hill[a * s:(a + 1) * s, a * s:(a + 1) * s] -= 1j * k * W * np.eye(s)
+    lam = np.linalg.eigvals(hill)
+    order = np.argsort(np.abs(lam.imag), kind="stable")
+    return lam[order[:s]]
+
+
+# -- continuation -------------------------------------------------------------------------
+
+@dataclass
+class _Branch:
+    x: list[np.ndarray]
+    p: list[float]
+    tangents: list[np.ndarray]
+    warnings: list[str]
+    sx: float
+    sp: float
+
+
+def _tangent(J: np.ndarray, Rp: np.ndarray, sx: float, sp: float, previous: np.ndarray
+             ) -> np.ndarray:
+    A = np.vstack([np.hstack([J * sx, (Rp * sp)[:, None]]), previous[None, :]])
+    rhs = np.zeros(A.shape[0])
+    rhs[-1] = 1.0
+    t = np.linalg.solve(A, rhs)
+    t /= np.linalg.norm(t)
+    return t if t @ previous >= 0 else -t
+
+
+def _correct(hb: CondensedBalance, pred: np.ndarray, t: np.ndarray, sx: float, sp: float
+             ) -> tuple[np.ndarray, bool, int]:
+    """Newton on R(x, p) = 0 and t . (v - pred) = 0 (scaled variables)."""
+    v = pred.copy()
+    Rp = hb.dp(pred[:-1] * sx, pred[-1] * sp)
+    for iterations in range(1, NEWTON_MAX + 1):
+        R, J = hb.evaluate(v[:-1] * sx, v[-1] * sp)
+        assert J is not None
+        A = np.vstack([np.hstack([J * sx, (Rp * sp)[:, None]]), t[None, :]])
+        try:
+            dv = np.linalg.solve(A, -np.concatenate([R, [t @ (v - pred)]]))
+        except np.linalg.LinAlgError:
+            return v, False, iterations
+        v = v + dv
+        if not np.all(np.isfinite(v)):
+            return v, False, iterations
+        if np.linalg.norm(dv) <= NEWTON_TOL * max(float(np.linalg.norm(v)), 1.0):
+            return v, True, iterations
+    return v, False, NEWTON_MAX
+
+
+def _step(hb: CondensedBalance, branch: _Branch, ds: float, name: str
+          ) -> tuple[np.ndarray, float, np.ndarray, int, float] | None:
+    """One predictor-corrector step from the last point (None: no acceptable step)."""
+    sx, sp = branch.sx, branch.sp
+    x, p, t = branch.x[-1], branch.p[-1], branch.tangents[-1]
+    u = np.concatenate([x / sx, [p / sp]])
+    v, ok, iterations = _correct(hb, u + ds * t, t, sx, sp)
+    x_new, p_new = v[:-1] * sx, float(v[-1] * sp)
+    change = float(np.linalg.norm(x_new - x)) / max(float(np.linalg.norm(x)), 1e-3 * sx)
+    if not ok or change > 2 * MAX_RELATIVE_CHANGE:
+        return None
+    _, J = hb.evaluate(x_new, p_new)
+    assert J is not None
+    t_new = _tangent(J, hb.dp(x_new, p_new), sx, sp, t)
+    if t_new @ t < 0.8 and ds > 1e-4:  # turned too sharply: maybe a jump between branches
+        return None
+    return x_new, p_new, t_new, iterations, change
+
+
+def _continue(hb: CondensedBalance, x0: np.ndarray, start: float, stop: float, points: int,
+              name: str, deadline: Deadline) -> _Branch:
+    sp = abs(stop - start)
+    direction = 1.0 if stop > start else -1.0
+    sx = max(float(np.linalg.norm(x0)), 1e-12)
+    previous = np.zeros(x0.size + 1)
+    previous[-1] = direction
+    _, J = hb.evaluate(x0, start)
+    assert J is not None
+    t = _tangent(J, hb.dp(x0, start), sx, sp, previous)
+    branch = _Branch([x0], [start], [t], [], sx, sp)
+    ds_max, ds_min = 1.0 / max(points - 1, 2), 1e-7
+    ds = ds_max
+    for _ in range(50 * points):
+        p = branch.p[-1]
+        deadline.check(f"while following the branch ({name} = {p:.6g})", analysis=True)
+        found = _step(hb, branch, ds, name)
+        if found is None:
+            ds /= 2
+            if ds < ds_min:
+                branch.warnings.append(f"the continuation stopped at {name} = {p:.6g}: no "
+                                       f"converged step (step size below {ds_min:g})")
+                break
+            continue
+        x, p_new, t, iterations, change = found
+        if (p_new - stop) * direction > 0:  # passed the end: finish exactly at stop
+            xs, ps = branch.x[-1], branch.p[-1]
+            guess = xs + (x - xs) * (stop - ps) / (p_new - ps) if p_new != ps else x
+            xe, converged = hb.newton(guess, stop, sx)
+            if converged:
+                branch.x.append(xe)
+                branch.p.append(stop)
+                branch.tangents.append(t)
+            return branch
+        if (p_new - start) * direction < -0.05 * sp:
+            branch.warnings.append(f"the branch turned back out of the range at {name} = "
+                                   f"{p_new:.6g}; stopped there")
+            break
+        branch.x.append(x)
+        branch.p.append(p_new)
+        branch.tangents.append(t)
+        dp_rel = abs(p_new - p) / sp
+        factor = 1.5 if iterations <= 3 else (1.0 if iterations <= 5 else 0.6)
+        factor = min(factor, MAX_RELATIVE_CHANGE / max(change, 1e-12),
+                     ds_max / max(dp_rel, 1e-12))
+        ds = float(np.clip(ds * max(factor, 0.3), ds_min, 20 * ds_max))
+    else:
+        branch.warnings.append(f"the continuation stopped after {50 * points} steps before "
+                               f"reaching {stop:g}")
+    return branch
+
+
+def _refine_fold(hb: CondensedBalance, branch: _Branch, i: int
+                 ) -> tuple[np.ndarray, float] | None:
+    """The fold between points i and i+1: the tangent's parameter component is zero
+    (regula falsi, Illinois, on the arclength from point i)."""
+    sx, sp = branch.sx, branch.sp
+    t = branch.tangents[i]
+    ui = np.concatenate([branch.x[i] / sx, [branch.p[i] / sp]])
+    uj = np.concatenate([branch.x[i + 1] / sx, [branch.p[i + 1] / sp]])
+    a, b = 0.0, float(t @ (uj - ui))
+    fa, fb = float(branch.tangents[i][-1]), float(branch.tangents[i + 1][-1])
+    if not (fa * fb < 0 and b > 0):
+        return None
+    best = None
+    for _ in range(40):
+        sigma = (a * fb - b * fa) / (fb - fa)
+        v, ok, _ = _correct(hb, ui + sigma * t, t, sx, sp)
+        if not ok:
+            return best
+        x, p = v[:-1] * sx, float(v[-1] * sp)
+        _, J = hb.evaluate(x, p)
+        assert J is not None
+        f = float(_tangent(J, hb.dp(x, p), sx, sp, t)[-1])
+        best = (x, p)
+        if f * fb < 0:
+            a, fa = b, fb
+        else:
+            fa /= 2
+        b, fb = sigma, f
+        if abs(b - a) < 1e-13 * max(1.0, abs(b)) or f == 0:
+            break
+    return best
+
+
+# -- the model ----------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class _Setup:
+    M: Any
+    C: Any
+    K: Any
+    loads: np.ndarray
+    orders: list[tuple[int, int]]
+    base: Any
+    forces: Any
+
+
+def _setup(system: LinearSystem, model: Model, param: str, start: float, stop: float
+           ) -> _Setup:
+    """The fixed matrices, the loads with their harmonic orders and the parameter maps."""
+    spec = model.matrices
+    if spec is None or not spec.nonlinear:
+        raise AnalysisError("the condensed harmonic balance needs a [matrices] model with "
+                            "[[nonlinear]] elements")
+    batch = system.batch(param, np.array([start, stop], dtype=float))
+    if not batch.constant:
+        raise AnalysisError(f"M, C and K change with '{param}': the condensed harmonic "
+                            "balance needs them fixed")
+    columns = []
+    for h in batch.harmonics:
+        f_s, f_c = np.atleast_2d(h.F_S), np.atleast_2d(h.F_C)
+        if not (np.allclose(f_s, f_s[:1]) and np.allclose(f_c, f_c[:1])):
+            raise AnalysisError(f"a harmonic load changes with '{param}': the condensed "
+                                "harmonic balance needs fixed load vectors")
+        columns.append(f_c[0] - 1j * f_s[0])
+    if not columns:
+        raise AnalysisError("nothing excites the model periodically (no [[harmonic]] load)")
+
+    def values(p: float) -> dict[str, float]:
+        out = parameter_values(model, param, np.array([float(p)]))
+        return {k: float(np.asarray(v, dtype=float).ravel()[0]) for k, v in out.items()}
+
+    def omegas(p: float) -> np.ndarray:
+        v = values(p)
+        return np.abs(np.array([float(numeric_value(h.omega, v)) for h in spec.harmonics]))
+
+    w0 = omegas(start)
+    lowest = float(w0[w0 > 0].min()) if np.any(w0 > 0) else 0.0
+    if not lowest > 0:
+        raise AnalysisError("every excitation frequency is zero at the start value")
+    ratios = w0 / lowest
+    if np.any(np.abs(ratios - np.round(ratios)) > 1e-9 * np.maximum(ratios, 1)):
+        raise AnalysisError("the excitation frequencies are not integer multiples of the "
+                            "lowest: the condensed harmonic balance needs one base frequency")
+    index = int(np.argmin(np.where(w0 > 0, w0, np.inf)))
+    orders = [(int(round(r)), j) for j, r in enumerate(ratios)]
+    elements = ElementForces(spec.nonlinear, values(start))
+
+    def base(p: float) -> float:
+        return float(omegas(p)[index])
+
+    cache: dict[float, ElementForces] = {}
+
+    def forces(p: float) -> ElementForces:
+        if p not in cache:
+            if len(cache) > 256:
+                cache.clear()
+            cache[p] = elements.with_parameters(values(p))
+        return cache[p]
+
+    return _Setup(batch.M, batch.C, batch.K, np.array(columns).T, orders, base, forces)
+
+
+def _start_point(hb: CondensedBalance, start: float) -> np.ndarray:
+    """The linear response at the start (the elements' forces left out), refined."""
+    W = hb.base(start)
+    T = hb.transfers(W)
+    x = hb.basis.real(hb.linear_response(T, slice(0, hb.m))).ravel()
+    x0, ok = hb.newton(x, start, max(float(np.abs(x).max()), 1e-300))
+    if not ok:
+        raise AnalysisError(f"harmonic balance did not converge at the start value {start:g} "
+                            "from the linear response; start the range where the response "
+                            "is small")
+    return x0
+
+
+def _recover(hb: CondensedBalance, branch: _Branch, rows: np.ndarray) -> np.ndarray:
+    """(points, rows, 2H+1) coefficients of the kept rows (nonlinear and observed)."""
+    b, m = hb.basis, hb.m
+    out = np.empty((len(branch.x), len(rows), b.size))
+    for i, (x, p) in enumerate(zip(branch.x, branch.p)):
+        W = hb.base(p)
+        T = hb.transfers(W)
+        U, Ud = hb.samples(x, W)
+        F, _ = hb.forces(p).evaluate(U, Ud)
+        G = b.complex(F @ b.P.T)
+        z = hb.linear_response(T, rows) - np.einsum("kij,jk->ik", T[:, rows, :m], G)
+        out[i] = b.real(z)
+    return out
+
+
+def _amplitudes(coeffs: np.ndarray, H: int) -> np.ndarray:
+    """(points, rows) peak |deviation| over one period (fine sampling)."""
+    fine = max(512, 16 * (2 * H + 1))
+    basis = _Basis(H, fine)
+    series = coeffs @ basis.phi.T
+    return np.asarray(np.abs(series).max(axis=-1))
+
+
+def _classify(lam: np.ndarray, W: float) -> tuple[int, int, int]:
+    """Counts of unstable exponents: (real positive mu, real negative mu, complex)."""
+    T = 2 * np.pi / W
+    unstable = lam[lam.real * T > math.log1p(STABILITY_TOL)]
+    phase = np.abs(unstable.imag) / W
+    pos = int(np.sum(phase < 0.02))
+    neg = int(np.sum(phase > 0.48))
+    return pos, neg, unstable.size - pos - neg
+
+
+def _special_points(hb: CondensedBalance, branch: _Branch, lam: list[np.ndarray],
+                    Ws: np.ndarray, names: tuple[str, ...], rows: np.ndarray
+                    ) -> list[SpecialPoint]:
+    special: list[SpecialPoint] = []
+    folds: set[int] = set()
+
+    def point(i: int, kind: str, found: tuple[np.ndarray, float] | None) -> SpecialPoint:
+        if found is None:
+            found = (0.5 * (branch.x[i] + branch.x[i + 1]),
+                     0.5 * (branch.p[i] + branch.p[i + 1]))
+        x, p = found
+        single = _Branch([x], [p], [], [], branch.sx, branch.sp)
+        a = _amplitudes(_recover(hb, single, rows), hb.H)[0]
+        return SpecialPoint(kind, float(p), MappingProxyType(
+            {nm: float(a[j]) for j, nm in enumerate(names)}), i)
+
+    tp = [float(t[-1]) for t in branch.tangents]
+    for i in range(len(tp) - 1):
+        if tp[i] * tp[i + 1] < 0:
+            special.append(point(i, "fold", _refine_fold(hb, branch, i)))
+            folds.update({i - 1, i, i + 1})
+    counts = [_classify(lam[i], Ws[i]) for i in range(len(lam))]
+    for i in range(len(counts) - 1):
+        a, b = counts[i], counts[i + 1]
+        for j, kind in ((1, "period-doubling"), (2, "neimark-sacker"), (0, "branch")):
+            if a[j] != b[j] and not (j == 0 and i in folds):
+                special.append(point(i, kind, None))
+    special.sort(key=lambda s: s.index)
+    return special
+
+
+def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float, *,
+                    harmonics: int = DEFAULT_HARMONICS, points: int = 101,
+                    observe: Sequence[str] | None = None, samples: int | None = None,
+                    exact: bool | None = None, tol: float = DEFAULT_TOL,
+                    linear: bool = True, deadline: Deadline = NO_DEADLINE
+                    ) -> NonlinearResponse:
+    """Follow the periodic response of a ``[matrices]`` model with ``[[nonlinear]]`` elements.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        ``model.linearize()`` of a ``[matrices]`` model with nonlinear elements.
+    param : str
+        The continuation parameter (usually the excitation frequency); M, C, K and
+        the load vectors must not depend on it.
+    start, stop : float
+        The range; the continuation starts from the linear response at ``start``.
+    harmonics : int
+        H.
+    points : int
+        About this many steps across the range (more near folds).
+    observe : sequence of str, optional
+        Further coordinates whose amplitudes are recovered (the nonlinear ones always are).
+    samples : int, optional
+        Time samples per period of the alternating frequency-time scheme (default
+        max(64, 8 (2H+1))).
+    exact : bool, optional
+        Use the full matrices instead of a reduced model (default: for n <= 400).
+    tol : float
+        Tolerance of the reduced model of the linear part.
+    linear : bool
+        Also compute the linear sweep of the reported coordinates over the range.
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    NonlinearResponse
+        With the nonlinear and observed coordinates; ``warnings`` carries the
+        reduced model's estimated error.
+
+    Raises
+    ------
+    AnalysisError
+        For a model without nonlinear elements, matrices or loads that change with
+        ``param``, incommensurate excitations, or no convergence at the start.
+    """
+    model = system._model()
+    if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
+        raise AnalysisError("the range must be two different finite numbers")
+    if not 1 <= harmonics <= 100:
+        raise AnalysisError(f"harmonics must be between 1 and 100, not {harmonics}")
+    if points < 3:
+        raise AnalysisError("points must be at least 3")
+    setup = _setup(system, model, param, start, stop)
+    coords = model.coordinates or tuple(f"q{i + 1}" for i in range(setup.M.shape[0]))
+    position = {q: i for i, q in enumerate(coords)}
+    unknown = [q for q in (observe or ()) if q not in position]
+    if unknown:
+        raise AnalysisError(f"unknown coordinate(s) {', '.join(unknown)}")
+    elements = setup.forces(start)
+    nl = list(elements.dofs)
+    observed = [position[q] for q in (observe or ()) if position[q] not in nl]
+    grid = np.linspace(min(start, stop), max(start, stop), 64)
+    Wmax = max(setup.base(float(p)) for p in grid)
+    band = np.linspace(0.0, harmonics * Wmax * 1.05, BAND_POINTS)
+    lin = linear_part(setup.M, setup.C, setup.K, setup.loads, nl, observed, band,
+                      exact=exact, tol=tol, deadline=deadline)
+    N = samples or max(64, 8 * (2 * harmonics + 1))
+    hb = CondensedBalance(lin, setup.forces, setup.orders, setup.base, harmonics, N)
+    x0 = _start_point(hb, start)
+    branch = _continue(hb, x0, start, stop, points, param, deadline)
+    rows = np.arange(len(nl) + len(observed))
+    names = tuple(coords[i] for i in nl + observed)
+    coeffs = _recover(hb, branch, rows)
+    lam, residual = [], 0.0
+    for x, p in zip(branch.x, branch.p):
+        deadline.check("during the stability analysis", analysis=True)
+        residual = max(residual, float(np.abs(hb.evaluate(x, p, False)[0]).max()))
+        lam.append(hb.exponents(x, p))
+    Ws = np.array([hb.base(p) for p in branch.p])
+    width = max((v.size for v in lam), default=0)
+    lam_arr = np.array([np.pad(v, (0, width - v.size)) for v in lam])
+    mult = np.exp(lam_arr * (2 * np.pi / Ws)[:, None])
+    stable = np.all(np.abs(mult) <= 1 + STABILITY_TOL, axis=1)
+    amps = _amplitudes(coeffs, harmonics)
+    special = _special_points(hb, branch, lam, Ws, names, rows)
+    warnings = list(branch.warnings)
+    if lin.error > 0:
+        warnings.append(f"linear part: reduced model of {lin.size} vectors, estimated error "
+                        f"{lin.error:.2g} (an estimate, not a bound)")
+    linear_response = None
+    if linear:
+        try:
+            linear_response = sweep(system, param, np.linspace(min(start, stop),
+                                                               max(start, stop), 201),
+                                    names=list(names), deadline=deadline)
+        except AnalysisError as exc:
+            warnings.append(f"no linear sweep to compare with: {exc}")
+    return NonlinearResponse(
+        title=model.title, parameter=param, coordinates=names, values=np.array(branch.p),
+        amplitudes=MappingProxyType({nm: amps[:, j] for j, nm in enumerate(names)}),
+        coefficients=coeffs, base_frequencies=Ws, stable=stable, multipliers=mult,
+        special_points=tuple(special), harmonics=harmonics, residual=residual,
+        truncation=float(_truncation(coeffs)), start=float(start), stop=float(stop),
+        linear=linear_response, warnings=tuple(warnings))
+
+
+def _truncation(coeffs: np.ndarray) -> float:
+    """The largest share of the highest harmonic in a coordinate's amplitude."""
+    amps = np.concatenate([np.abs(coeffs[..., :1]),
+                           np.hypot(coeffs[..., 1::2], coeffs[..., 2::2])], axis=-1)
+    total = amps.sum(axis=-1)
+    with np.errstate(all="ignore"):
+        ratio = np.where(total > 1e-12 * max(float(total.max(initial=0.0)), 1e-300),
+                         amps[..., -1] / total, 0.0)
+    return float(ratio.max(initial=0.0))
+
+
+__all__ = ["condensed_sweep", "CondensedBalance", "LinearPart", "linear_part",
+           "EXACT_SIZE"]
