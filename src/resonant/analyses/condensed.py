@@ -121,9 +121,10 @@ class LinearPart:
     size: int               # r
     seconds: float
 
-    def transfer(self, w: float) -> np.ndarray:
+    def transfer(self, w: float, rows: slice | np.ndarray = slice(None)) -> np.ndarray:
+        """(rows, m + p) transfer at w (default: every kept row)."""
         with np.errstate(all="ignore"):
-            return (self.Lq / (1j * w - self.mu)) @ self.Rin
+            return (self.Lq[rows] / (1j * w - self.mu)) @ self.Rin
 
 
 def _first_order(Mr: np.ndarray, Cr: np.ndarray, Kr: np.ndarray
@@ -258,12 +259,15 @@ class CondensedBalance:
         self.size = self.m * self.basis.size
         self._cache: dict[float, np.ndarray] = {}
 
-    def transfers(self, W: float) -> np.ndarray:
-        """(H+1, rows, m + p) transfers at kW."""
+    def transfers(self, W: float, rows: np.ndarray | None = None) -> np.ndarray:
+        """(H+1, rows, m + p) transfers at kW (default rows: the nonlinear coordinates)."""
+        if rows is not None:
+            return np.array([self.linear.transfer(k * W, rows) for k in range(self.H + 1)])
         if W not in self._cache:
             if len(self._cache) > 64:
                 self._cache.clear()
-            self._cache[W] = np.array([self.linear.transfer(k * W) for k in range(self.H + 1)])
+            self._cache[W] = np.array([self.linear.transfer(k * W, slice(0, self.m))
+                                       for k in range(self.H + 1)])
         return self._cache[W]
 
     def _directions(self, W: float) -> tuple[np.ndarray, np.ndarray]:
@@ -607,21 +611,25 @@ def _recover(hb: CondensedBalance, branch: _Branch, rows: np.ndarray) -> np.ndar
     out = np.empty((len(branch.x), len(rows), b.size))
     for i, (x, p) in enumerate(zip(branch.x, branch.p)):
         W = hb.base(p)
-        T = hb.transfers(W)
+        T = hb.transfers(W, rows)
         U, Ud = hb.samples(x, W)
         F, _ = hb.forces(p).evaluate(U, Ud)
         G = b.complex(F @ b.P.T)
-        z = hb.linear_response(T, rows) - np.einsum("kij,jk->ik", T[:, rows, :m], G)
+        z = hb.linear_response(T, slice(None)) - np.einsum("kij,jk->ik", T[:, :, :m], G)
         out[i] = b.real(z)
     return out
 
 
 def _amplitudes(coeffs: np.ndarray, H: int) -> np.ndarray:
     """(points, rows) peak |deviation| over one period (fine sampling)."""
-    fine = max(512, 16 * (2 * H + 1))
-    basis = _Basis(H, fine)
-    series = coeffs @ basis.phi.T
-    return np.asarray(np.abs(series).max(axis=-1))
+    fine = max(256, 16 * (2 * H + 1))
+    phi = _Basis(H, fine).phi.T
+    flat = coeffs.reshape(-1, coeffs.shape[-1])
+    out = np.empty(flat.shape[0])
+    chunk = max(1, 2**22 // fine)
+    for start in range(0, flat.shape[0], chunk):
+        out[start:start + chunk] = np.abs(flat[start:start + chunk] @ phi).max(axis=-1)
+    return out.reshape(coeffs.shape[:-1])
 
 
 def _classify(lam: np.ndarray, W: float) -> tuple[int, int, int]:
