@@ -24,7 +24,8 @@ from resonant.analyses.periodic import PeriodicSolution, periodic_solution
 from resonant.analyses.simulate import _equilibrium_values, _NonlinearSystem, _periodic_start
 from resonant.deadline import NO_DEADLINE
 from resonant.errors import AnalysisError
-from resonant.model import Model, load
+from resonant.api import load
+from resonant.model import Model
 
 CART = EXAMPLES / "cart_pendulum.toml"
 

@@ -40,24 +40,22 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
-from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..expressions import parse
 from ..model import Model
-from ..system import LinearSystem
+from ..system import LinearSystem, linear_system
 from ..system.stability import undamped_eigen
 from .harmonic_balance import NEWTON_MAX, NEWTON_TOL, _amplitudes, _Equations, _HarmonicBalance
 from .stationary import freeze_fields
 
 if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.figure import Figure
+    pass
 
 DEFAULT_HARMONICS = 5
 DEFAULT_POINTS = 41
@@ -109,10 +107,6 @@ class Backbones:
                 "harmonics": self.harmonics, "residual": self.residual,
                 "backbones": [c.to_dict() for c in self.curves],
                 "warnings": list(self.warnings)}
-
-    def plot(self, path: str | Path | None = None, **options: Any) -> Figure:
-        """Frequency against amplitude, one curve per mode."""
-        return hooks.call("plot_backbones", self, path, **options)
 
     def summary(self) -> str:
         lines = [f"{self.title or 'model'}: backbone curves (free vibration of the full "
@@ -214,7 +208,6 @@ def _follow(free: _Free, y0: np.ndarray, A0: float, targets: np.ndarray, deadlin
     return out, None
 
 
-@hooks.provides("backbone")
 def backbone(system_or_model: LinearSystem | Model, amplitude: float | None = None, *,
              harmonics: int | None = None, points: int = DEFAULT_POINTS,
              modes: list[int] | None = None, deadline: Deadline = NO_DEADLINE) -> Backbones:
@@ -249,7 +242,7 @@ def backbone(system_or_model: LinearSystem | Model, amplitude: float | None = No
         raise AnalysisError("backbone curves need a model with parameters")
     free_model = _free_model(model)
     param = next(iter(model.parameters))
-    num = model.linearize(deadline=deadline).numeric(deadline).dense()
+    num = linear_system(model, deadline).numeric(deadline).dense()
     lam, shapes = undamped_eigen(num.M, num.K)
     H = harmonics or DEFAULT_HARMONICS
     eqs = _Equations(free_model, autonomous=True)

@@ -38,7 +38,7 @@ turn), real negative -> ``period-doubling``, complex pair -> ``neimark-sacker``.
 
 Examples
 --------
->>> from resonant.model import loads
+>>> from resonant.api import loads
 >>> model = loads('''
 ... [parameters]
 ... k3 = 0.5
@@ -74,21 +74,20 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import sympy
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..derivation import nonlinear_equations
 from ..derivation.harmonics import NotHarmonic, decompose
 from ..errors import AnalysisError
 from ..expressions import compilable
 from ..model import TIME, Model, symbol
-from ..system import LinearSystem
+from ..system import LinearSystem, linear_system
 from ..system.base import parameter_values
 from .simulate import _equilibrium_values, _peak, _signal_function
-from .stationary import freeze_fields
+from .stationary import freeze_fields, stationary
 from .sweep import FrequencyResponse, sweep
 
 if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.figure import Figure
+    pass
 
 #: default number of harmonics (the start of the automatic choice)
 DEFAULT_HARMONICS = 7
@@ -215,15 +214,6 @@ class NonlinearResponse:
             for i in range(self.values.size):
                 writer.writerow([repr(float(self.values[i])), int(self.stable[i]),
                                  *(repr(float(self.amplitudes[n][i])) for n in names)])
-
-    def plot(self, path: Any = None, **options: Any) -> Figure:
-        """Amplitude against the parameter (stable solid, unstable dashed, special points)."""
-        return hooks.call("plot_nonlinear_response", self, path, **options)
-
-    def summary(self) -> str:
-        """The text ``resonant sweep --nonlinear`` prints."""
-        return str(hooks.call("nonlinear_text", self))
-
 
 # -- the equations -------------------------------------------------------------------------
 
@@ -594,7 +584,6 @@ def _classify(lam: np.ndarray, W: float) -> tuple[int, int, int]:
     return pos, neg, unstable.size - pos - neg
 
 
-@hooks.provides("nonlinear_sweep")
 def nonlinear_sweep(system: LinearSystem, param: str, start: float, stop: float, *,
                     harmonics: int | None = None, points: int = 101, linear: bool = True,
                     deadline: Deadline = NO_DEADLINE) -> NonlinearResponse:
@@ -644,7 +633,7 @@ def nonlinear_sweep(system: LinearSystem, param: str, start: float, stop: float,
     hb = _HarmonicBalance(eqs, param, H)
 
     # the start: the linear stationary solution, refined
-    solution = at_start.linearize(deadline=deadline).stationary(deadline=deadline)
+    solution = stationary(linear_system(at_start, deadline), deadline)
     W0 = eqs.base(hb.pvals(start))
     X = np.zeros((n, hb.m))
     for h in solution.harmonics:

@@ -19,7 +19,7 @@ formed.
 
 Examples
 --------
->>> from resonant.model import load
+>>> from resonant.api import load
 >>> from resonant.analyses.modes import modes
 >>> from pathlib import Path
 >>> path = Path(__file__).parents[3] / "examples" / "two_dof_free.toml"
@@ -40,7 +40,6 @@ from typing import Any
 
 import numpy as np
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..system import LinearSystem
@@ -155,30 +154,6 @@ class ModalAnalysis:
                        damping_ratios=self.damping_ratios[:keep if per_mode else count],
                        damped_frequencies=self.damped_frequencies[:keep if per_mode else count])
 
-    def plot(self, path: Any = None, count: int | None = 6, **options: Any) -> Any:
-        """Bar (few coordinates) or line plots of the mode shapes
-        (:func:`resonant.views.plotting.plot_modes`).
-
-        Parameters
-        ----------
-        path : str or Path, optional
-            Save the figure there (format from the suffix).
-        count : int, optional
-            How many modes to draw.
-        **options
-            ``ax=`` and more, passed on.
-
-        Returns
-        -------
-        matplotlib.figure.Figure
-        """
-        return hooks.call("plot_modes", self, path=path, count=count, **options)
-
-    def summary(self, units: Any = None) -> str:
-        """The text ``resonant modes`` prints; ``units`` (a views ``ResultUnits``) chooses
-        the unit of its cyclic-frequency column (Hz by default)."""
-        return str(hooks.call("modes_text", self, units))
-
     def _repr_html_(self) -> str:
         head = "".join(f"<th>{html.escape(q)}</th>" for q in self.coordinates[:12])
         rows = []
@@ -263,7 +238,6 @@ def _ratios(eigenvalues: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 # -- the analysis -------------------------------------------------------------------------
 
-@hooks.provides("modes")
 def modes(system: LinearSystem, count: int | None = None,
           deadline: Deadline = NO_DEADLINE) -> ModalAnalysis:
     """Natural frequencies, mode shapes, damping and stability of a linear system.

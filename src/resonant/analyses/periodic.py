@@ -50,7 +50,7 @@ from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model import Model
-from ..system import LinearSystem
+from ..system import LinearSystem, linear_system
 from .harmonic_balance import (
     DEFAULT_HARMONICS,
     MAX_HARMONICS,
@@ -62,7 +62,7 @@ from .harmonic_balance import (
     _resize,
     _truncation,
 )
-from .stationary import freeze_fields
+from .stationary import freeze_fields, stationary
 
 
 @dataclass(frozen=True)
@@ -155,7 +155,7 @@ class PeriodicSolution:
 def _model_and_system(system_or_model: LinearSystem | Model, deadline: Deadline
                       ) -> tuple[Model, LinearSystem]:
     if isinstance(system_or_model, Model):
-        return system_or_model, system_or_model.linearize(deadline=deadline)
+        return system_or_model, linear_system(system_or_model, deadline)
     return system_or_model._model(), system_or_model
 
 
@@ -192,7 +192,7 @@ def periodic_solution(system_or_model: LinearSystem | Model, harmonics: int | No
     n = eqs.n
     param = next(iter(model.parameters))
     p = float(model.parameter_values[param])
-    solution = system.stationary(deadline=deadline)
+    solution = stationary(system, deadline)
     H = harmonics or DEFAULT_HARMONICS
     hb = _HarmonicBalance(eqs, param, H)
     W = eqs.base(hb.pvals(p))

@@ -17,7 +17,7 @@ oscillations" hold.
 
 Examples
 --------
->>> from resonant.model import loads
+>>> from resonant.api import loads
 >>> model = loads('''
 ... [parameters]
 ... m = 1
@@ -74,7 +74,7 @@ from ..system.stability import (
 from .stationary import StationarySolution, freeze_fields, stationary
 
 if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.figure import Figure
+    pass
 
 #: measurement window: this many periods of the lowest excitation frequency
 DEFAULT_PERIODS = 5.0
@@ -194,27 +194,6 @@ class Simulation:
             writer.writerow([c[0] for c in columns])
             data = np.column_stack([c[1] for c in columns])
             writer.writerows([[f"{v:.10g}" for v in row] for row in data])
-
-    def plot(self, path: str | Path | None = None, **options: Any) -> Figure:
-        """Deviations vs time, one panel per coordinate/output, prediction dashed
-        (:func:`resonant.views.plotting.plot_simulation`).
-
-        Parameters
-        ----------
-        path : str or Path, optional
-            Save the figure there (format from the suffix).
-        **options
-            ``axes=`` and more, passed on.
-
-        Returns
-        -------
-        matplotlib.figure.Figure
-        """
-        return hooks.call("plot_simulation", self, path=path, **options)
-
-    def summary(self) -> str:
-        """The text ``resonant simulate`` prints."""
-        return str(hooks.call("simulation_text", self))
 
     def _repr_html_(self) -> str:
         rows = "".join(
@@ -527,7 +506,7 @@ def parse_initial(model: Model, initial: Mapping[str, float | str] | None
 
     Examples
     --------
-    >>> from resonant.model import loads
+    >>> from resonant.api import loads
     >>> m = loads('[parameters]\\nl = 2\\n[coordinates]\\nx = ""\\n[energy]\\nT = "x\\'^2/2"')
     >>> parse_initial(m, {"x": "l/4", "x'": 1})
     (array([0.5]), array([1.]))
@@ -594,7 +573,6 @@ class _Progress:
             print("\r" + " " * 60 + "\r", end="", file=sys.stderr, flush=True)
 
 
-@hooks.provides("simulate")
 def simulate(system: LinearSystem, duration: float | None = None, nonlinear: bool = False,
              initial: Mapping[str, float | str] | None = None, *, start: str = "auto",
              periods: float = DEFAULT_PERIODS, method: str | None = None, rtol: float = 1e-9,

@@ -31,7 +31,6 @@ from typing import Any
 
 import numpy as np
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..system import Batch, LinearSystem, NumericEOM, NumericHarmonic
@@ -172,17 +171,6 @@ class StationarySolution:
         })
         return data
 
-    def summary(self) -> str:
-        """The text ``resonant solve`` prints."""
-        return str(hooks.call("solution_text", self))
-
-    def _repr_html_(self) -> str:
-        return str(hooks.call("stationary_html", self))
-
-    def _repr_latex_(self) -> str:
-        return str(hooks.call("stationary_latex", self))
-
-
 def _output_pairs(eom: NumericEOM, responses: tuple[HarmonicResponse, ...]
                   ) -> dict[str, tuple[tuple[float, float], ...]]:
     index = {q: i for i, q in enumerate(eom.coordinates)}
@@ -317,7 +305,6 @@ def resonance_warnings(excitation: list[float], omegas: np.ndarray) -> list[str]
     return out
 
 
-@hooks.provides("stationary")
 def stationary(system: LinearSystem, deadline: Deadline = NO_DEADLINE,
                **overrides: float | str) -> StationarySolution:
     """Solve for the stationary response of every coordinate and output.

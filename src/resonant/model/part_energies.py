@@ -48,7 +48,6 @@ import sympy
 from sympy.core.function import AppliedUndef
 from sympy.printing.str import StrPrinter
 
-from .. import hooks
 from ..errors import ModelError, Problem
 from ..expressions import BinOp, Expression, ExpressionError, parse
 from .parts import Body, Contribution, DerivedEnergies, Link, Parts
@@ -82,7 +81,6 @@ def to_text(expr: sympy.Expr) -> str:
     return str(_Printer({"order": "none"}).doprint(expr)).replace("**", "^")
 
 
-@hooks.provides("mechanism")
 class Mechanism:
     """The geometry of the parts in sympy: positions, centres, angles, elongations."""
 
@@ -246,7 +244,6 @@ def _value(expr: sympy.Expr, values: Mapping[str, sympy.Expr]) -> float | None:
     return number.real if math.isfinite(number.real) else None
 
 
-@hooks.provides("derive_energies")
 def derive_energies(mechanism: Mechanism, written: Mapping[str, Expression],
                     exact_values: Mapping[str, sympy.Expr], allowed: Collection[str],
                     force_points: Mapping[str, str] | None = None
@@ -361,7 +358,6 @@ def _parse(text: str, allowed: Collection[str], source: str, section: str, key: 
         return None
 
 
-@hooks.provides("point_expressions")
 def point_expressions(mechanism: Mechanism, name: str, allowed: Collection[str],
                       source: str, section: str, problems: list[Problem]
                       ) -> tuple[Expression, Expression] | None:

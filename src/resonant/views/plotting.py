@@ -21,7 +21,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .. import hooks
 from ..errors import AnalysisError, printable
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -81,7 +80,6 @@ def _save(fig: Any, path: Any, **options: Any) -> None:
         raise AnalysisError(f"cannot write the plot '{path}': {exc.strerror or exc}") from None
 
 
-@hooks.provides("plot_frequency_response")
 def plot_frequency_response(response: FrequencyResponse, path: Any = None,
                             names: Sequence[str] | None = None, ax: Any = None,
                             units: Mapping[str, str] | None = None) -> Any:
@@ -241,7 +239,6 @@ def plot_frequency_response(response: FrequencyResponse, path: Any = None,
     return fig
 
 
-@hooks.provides("plot_modes")
 def plot_modes(analysis: ModalAnalysis, path: Any = None, count: int | None = 6,
                ax: Any = None) -> Any:
     """The mode shapes (largest component +1): bars for few coordinates, lines for many.
@@ -323,7 +320,6 @@ def _draw_mode(ax: Any, analysis: ModalAnalysis, j: int) -> None:
     ax.grid(True, axis="y", alpha=0.3)
 
 
-@hooks.provides("plot_simulation")
 def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None,
                     units: Mapping[str, str] | None = None) -> Any:
     """Deviations vs time, one panel per coordinate/output, the linear prediction dashed.
