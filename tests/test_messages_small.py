@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
+import pytest
 from conftest import run_cli
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 TYPO = """
 [parameter]
@@ -221,3 +226,38 @@ U = "k1*x1^2/2 + k2*x2^2/2"
     assert code == 0, err
     line = next(x for x in out.read_text().splitlines() if x.startswith(r"\det"))
     assert line.count(r"\right)") >= 3 and r"\omega_{n}^{4}" not in line
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["sweep", "{m}", "--param", "omega", "--from", "0.5", "--to", "1.5", "--nonlinear",
+      "--harmonics", "100000"], "--harmonics"),
+    (["sweep", "{m}", "--param", "omega", "--from", "0.5", "--to", "1.5", "--tol", "nan"],
+     "--tol"),
+    (["sweep", "{m}", "--param", "omega", "--from", "0.5", "--to", "1.5", "--points", "-5"],
+     "--points"),
+    (["sweep", "{m}", "--param", "omega", "--from", "inf", "--to", "1.5"], "--from"),
+    (["solve", "{m}", "--timeout", "nan"], "--timeout"),
+    (["modes", "{m}", "--count", "0"], "--count"),
+    (["modes", "{m}", "--nonlinear", "--points", "1"], "--points"),
+    (["simulate", "{m}", "--duration", "-1"], "--duration"),
+])
+def test_invalid_option_values_are_invalid_input_naming_the_option(argv, option, capsys):
+    """Every invalid value on the command line: exit 2, the message names the option."""
+    from resonant.cli import main
+
+    model = str(EXAMPLES / "duffing.toml")
+    with pytest.raises(SystemExit) as exit_info:
+        main([a.replace("{m}", model) for a in argv])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert f"argument {option}" in err and "Traceback" not in err
+
+
+def test_a_value_beyond_double_precision_is_an_analysis_error():
+    """``sweep("omega", [10**400])`` raised OverflowError; it is an AnalysisError."""
+    from resonant.api import load
+    from resonant.errors import AnalysisError
+
+    system = load(EXAMPLES / "duffing.toml").linearize()
+    with pytest.raises(AnalysisError, match="finite numbers"):
+        system.sweep("omega", [10**400])

@@ -482,6 +482,32 @@ def _extrema(names: Sequence[str], values: np.ndarray, amplitude: np.ndarray, lo
 
 # -- the public function ------------------------------------------------------------------
 
+def swept_values(values: Sequence[float] | np.ndarray) -> np.ndarray:
+    """The swept values as a flat float array: at least one, every one a finite number.
+
+    Raises
+    ------
+    AnalysisError
+        For a value that is not a number or is beyond double precision (``10**400``),
+        NaN or infinite, and for no values at all.
+
+    Examples
+    --------
+    >>> swept_values([1, 2.5]).tolist()
+    [1.0, 2.5]
+    >>> swept_values([10**400])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    resonant.errors.AnalysisError: the swept values must be finite numbers: int too large ...
+    """
+    try:
+        array = np.asarray(values, dtype=float).ravel()
+    except (OverflowError, ValueError, TypeError) as exc:
+        raise AnalysisError(f"the swept values must be finite numbers: {exc}") from None
+    if array.size == 0 or not np.all(np.isfinite(array)):
+        raise AnalysisError("the sweep needs at least one finite parameter value")
+    return array
+
+
 def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray, *,
           method: str = "auto", names: Sequence[str] | None = None,
           progress: bool | None = None, log: bool | None = None,
@@ -530,9 +556,7 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
         raise AnalysisError(f"unknown method '{method}'; choose one of {', '.join(METHODS)}")
     if not (isinstance(tol, (int, float)) and math.isfinite(tol) and 0 < tol < 1):
         raise AnalysisError(f"the tolerance must be a number between 0 and 1, not {tol}")
-    values = np.asarray(values, dtype=float).ravel()
-    if values.size == 0 or not np.all(np.isfinite(values)):
-        raise AnalysisError("the sweep needs at least one finite parameter value")
+    values = swept_values(values)
     check_points(values.size)
     batch = system.batch(param, values, deadline)
     n = len(batch.coordinates)

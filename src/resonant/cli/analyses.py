@@ -21,7 +21,7 @@ import resonant.cli.common as cli
 from ..analyses.backbone import backbone
 from ..analyses.harmonic_balance import nonlinear_sweep
 from ..analyses.modes import modes
-from ..analyses.sweep import linspace, sweep
+from ..analyses.sweep import MAX_SWEEP_POINTS, linspace, sweep
 from ..errors import AnalysisError
 from ..system import linear_system
 from ..views.display import modes_text, sweep_text
@@ -29,23 +29,26 @@ from ..views.nonlinear_plots import nonlinear_text, plot_backbones, plot_nonline
 from ..views.plotting import plot_frequency_response, plot_modes
 from ..views.units_display import ResultUnits, result_units
 
+#: the most harmonics a nonlinear analysis takes (the analyses' own limit)
+MAX_HARMONICS_OPTION = 200
+
 
 def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
     modes = subparsers.add_parser(
         "modes", parents=[parent], help="natural frequencies, mode shapes, damping ratios")
-    modes.add_argument("--count", type=int, metavar="K",
+    modes.add_argument("--count", type=cli.integer(1, 10**9), metavar="K",
                        help="only the K lowest modes (sparse Lanczos for large matrix models)")
     modes.add_argument("--plot", metavar="FILE", help="draw the mode shapes (.png, .svg, .pdf)")
     modes.add_argument("--json", action="store_true", help="print one JSON object")
     modes.add_argument("--nonlinear", action="store_true",
                        help="backbone curves: the free-vibration frequency of each mode of the "
                             "full undamped equations against the amplitude (harmonic balance)")
-    modes.add_argument("--amplitude", type=float, metavar="A",
+    modes.add_argument("--amplitude", type=cli.number(0, open_low=True), metavar="A",
                        help="with --nonlinear: the largest amplitude (default: until the "
                             "frequency has changed by 20 %%)")
-    modes.add_argument("--harmonics", type=int, metavar="H",
+    modes.add_argument("--harmonics", type=cli.integer(1, MAX_HARMONICS_OPTION), metavar="H",
                        help="with --nonlinear: number of harmonics (default 5)")
-    modes.add_argument("--points", type=int, default=41, metavar="N",
+    modes.add_argument("--points", type=cli.integer(2, MAX_SWEEP_POINTS), default=41, metavar="N",
                        help="with --nonlinear: amplitudes per curve (default 41)")
     modes.set_defaults(run=run_modes)
 
@@ -54,9 +57,9 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
         "(frequency response)")
     sweep.add_argument("--param", required=True, metavar="P",
                        help="the parameter to sweep (usually the excitation frequency)")
-    sweep.add_argument("--from", dest="start", required=True, type=float, metavar="A")
-    sweep.add_argument("--to", dest="stop", required=True, type=float, metavar="B")
-    sweep.add_argument("--points", type=int, default=201, metavar="N",
+    sweep.add_argument("--from", dest="start", required=True, type=cli.number(), metavar="A")
+    sweep.add_argument("--to", dest="stop", required=True, type=cli.number(), metavar="B")
+    sweep.add_argument("--points", type=cli.integer(1, MAX_SWEEP_POINTS), default=201, metavar="N",
                        help="number of values (default 201)")
     sweep.add_argument("--log", action="store_true", help="logarithmic spacing")
     sweep.add_argument("--method", default="auto",
@@ -65,7 +68,8 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
                        help="solution method (default auto: a reduced-order model for large "
                             "models when its estimated error is below --tol, else the "
                             "cheapest exact method; direct: the cheapest exact method)")
-    sweep.add_argument("--tol", type=float, default=None, metavar="T",
+    sweep.add_argument("--tol", type=cli.number(0, 1, open_low=True, open_high=True),
+                       default=None, metavar="T",
                        help="relative tolerance of a reduced-order model (default 1e-6)")
     sweep.add_argument("--only", metavar="NAMES",
                        help="comma-separated coordinates to report (default all; outputs "
@@ -79,7 +83,7 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
     sweep.add_argument("--nonlinear", action="store_true",
                        help="periodic steady state of the full equations (harmonic balance, "
                             "continuation through folds, stability)")
-    sweep.add_argument("--harmonics", type=int, metavar="H",
+    sweep.add_argument("--harmonics", type=cli.integer(1, MAX_HARMONICS_OPTION), metavar="H",
                        help="with --nonlinear: number of harmonics (default: chosen from "
                             "their decay, at least 7)")
     sweep.set_defaults(run=run_sweep)
