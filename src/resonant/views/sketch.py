@@ -66,6 +66,9 @@ Point = tuple[float, float]
 MAX_LABEL = 40
 #: the smallest drawn size of a part, as a fraction of the figure's scale
 MIN_SIZE = 0.04
+#: the largest coordinate of a point that is drawn: beyond it the figure's arithmetic
+#: (distances, squares of lengths) overflows double precision
+DRAWABLE = 1e100
 #: the drawn length of an ``along`` spring or damper, at least, as a fraction of the scale
 MIN_LINK = 0.8
 
@@ -352,8 +355,27 @@ class _Layout:
                        for b in self.parts.bodies}
         self.inertias = {b.name: max(0.0, self.geo.value(self.geo.expr(b.inertia)))
                          if b.inertia is not None else 0.0 for b in self.parts.bodies}
+        self._check_drawable()
         self.scale = self._scale()
         self.shift: dict[str, Point] = {}
+
+    def _check_drawable(self) -> None:
+        """Refuse positions too large to draw, naming the part (not an overflow later)."""
+        problems = []
+        for name, (x, y) in {**self.actual, **self.centres}.items():
+            if all(math.isfinite(v) and abs(v) <= DRAWABLE for v in (x, y)):
+                continue
+            owner = self.owner(name)
+            kind = "point" if owner in self.fixed else "body"
+            problems.append(Problem(
+                f"{name} is at ({x:.3g}, {y:.3g}) at the reference state: too far out to "
+                f"draw (each coordinate of a point is drawn up to {DRAWABLE:.0e}); check "
+                "the position's units and values", self.model.source,
+                f'{kind} "{printable(owner, limit=60)}"', "position"))
+            if len(problems) >= 5:
+                break
+        if problems:
+            raise ModelError(problems)
 
     # -- sizes -------------------------------------------------------------------------
     def _scale(self) -> float:
