@@ -257,7 +257,8 @@ def _curve(hb: HarmonicBalance, M: np.ndarray, mode: int, w0: float, shape: np.n
         return None, 0.0
     Y = np.array(solutions)
     coeffs = Y[:, :-2].reshape(len(solutions), n, hb.m)
-    amps = np.array([hb.amplitudes(y[:-2], math.nan, outputs=False) for y in solutions])
+    amps = hb.amplitudes_of([y[:-2] for y in solutions], [math.nan] * len(solutions),
+                            outputs=False)
     residual = max(float(np.abs(free.system(y, A)[0][:-2]).max())
                    for y, A in zip(solutions, targets))
     return BackboneCurve(

@@ -291,7 +291,7 @@ def _points(hb: HarmonicBalance, branch: Branch, deadline: Deadline
     residuals = np.array([float(np.abs(hb.residual(x, p)).max())
                           for x, p in zip(branch.x, branch.p)])
     _polish(hb, branch, residuals)
-    exps, Ws, amps = [], [], []
+    exps, Ws = [], []
     residual = 0.0
     for x, p in zip(branch.x, branch.p):
         deadline.check("during the stability analysis", analysis=True)
@@ -299,8 +299,7 @@ def _points(hb: HarmonicBalance, branch: Branch, deadline: Deadline
         residual = max(residual, float(np.abs(R).max()))
         exps.append(hb.exponents(J, blocks))
         Ws.append(blocks[3])
-        amps.append(hb.amplitudes(x, p))
-    return np.array(exps), np.array(Ws), np.array(amps), residual
+    return np.array(exps), np.array(Ws), hb.amplitudes_of(branch.x, branch.p), residual
 
 
 def _linear_sweep(system: NonlinearSystem, param: str, start: float, stop: float,

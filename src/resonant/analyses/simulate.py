@@ -49,7 +49,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 import sympy
@@ -655,7 +655,7 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
     solution = _linear_solution(num, scales, warnings, deadline)
     slow = scales.stability == ASYMPTOTIC and duration is None and \
         scales.settle_time > MAX_DEFAULT_CYCLES * 2 * math.pi / scales.highest
-    excited = bool(getattr(linear_system, "excitation"))  # signals or loads present
+    excited = bool(cast(Any, linear_system).excitation)  # signals or loads present
     q0, v0, start_kind = _initial_state(model, num, initial, start, scales, solution, full,
                                         slow, excited, warnings, deadline)
     duration, window = _duration(duration, scales, start_kind,
