@@ -61,6 +61,35 @@ def _difference(a: float, linear: float) -> str:
     return f"{100 * (a / linear - 1):+.3g} %" if linear > 0 else "-"
 
 
+def _operating_point(periodic: PeriodicSolution) -> list[Block]:
+    """The periodic solution at the operating point against the linear amplitudes."""
+    blocks: list[Block] = []
+    rows = []
+    for name in periodic.coordinates:
+        lin = periodic.linear_amplitudes.get(name, float("nan"))
+        a = periodic.amplitudes[name]
+        rows.append((cell(Math(f"{_label(name)[1:-1]}")), cell(number_text(lin)),
+                     cell(number_text(a)), cell(_difference(a, lin))))
+    blocks.append(paragraph(
+        "At the operating point the periodic solution of the full equations "
+        f"(H = {periodic.harmonics}, period {number_text(periodic.period)} s, residual "
+        f"{periodic.residual:.2g}) is {'stable' if periodic.stable else 'unstable'}"
+        + (" (undamped: the multipliers lie on the unit circle)"
+           if periodic.stable and np.allclose(np.abs(periodic.multipliers), 1, atol=1e-6)
+           else "")
+        + ". Its peak amplitudes against the linear ones:"))
+    blocks.append(Table((cell("coordinate"), cell("linear"), cell("full equations"),
+                         cell("difference")), tuple(rows)))
+    worst = max(periodic.relative_difference.items(), key=lambda kv: abs(kv[1]),
+                default=None)
+    if worst is not None:
+        blocks.append(paragraph(
+            f"The largest difference is {100 * worst[1]:+.3g} % ({worst[0]}): "
+            + ("small oscillations hold to within 1 %." if abs(worst[1]) < 0.01 else
+               "the small-oscillation answer is off by that much.")))
+    return blocks
+
+
 def beyond_small_oscillations(ctx: Context) -> list[Block]:
     """The step: the nonlinear curve, the operating point on it, the difference to linear."""
     blocks: list[Block] = [Heading("Beyond small oscillations")]
@@ -118,29 +147,7 @@ def beyond_small_oscillations(ctx: Context) -> list[Block]:
                 + (" (every point stable)." if curve.stable.all() else ".")))
         blocks.extend(Note((w,)) for w in curve.warnings)
     if periodic is not None:
-        rows = []
-        for name in periodic.coordinates:
-            lin = periodic.linear_amplitudes.get(name, float("nan"))
-            a = periodic.amplitudes[name]
-            rows.append((cell(Math(f"{_label(name)[1:-1]}")), cell(number_text(lin)),
-                         cell(number_text(a)), cell(_difference(a, lin))))
-        blocks.append(paragraph(
-            "At the operating point the periodic solution of the full equations "
-            f"(H = {periodic.harmonics}, period {number_text(periodic.period)} s, residual "
-            f"{periodic.residual:.2g}) is {'stable' if periodic.stable else 'unstable'}"
-            + (" (undamped: the multipliers lie on the unit circle)"
-               if periodic.stable and np.allclose(np.abs(periodic.multipliers), 1, atol=1e-6)
-               else "")
-            + ". Its peak amplitudes against the linear ones:"))
-        blocks.append(Table((cell("coordinate"), cell("linear"), cell("full equations"),
-                             cell("difference")), tuple(rows)))
-        worst = max(periodic.relative_difference.items(), key=lambda kv: abs(kv[1]),
-                    default=None)
-        if worst is not None:
-            blocks.append(paragraph(
-                f"The largest difference is {100 * worst[1]:+.3g} % ({worst[0]}): "
-                + ("small oscillations hold to within 1 %." if abs(worst[1]) < 0.01 else
-                   "the small-oscillation answer is off by that much.")))
+        blocks.extend(_operating_point(periodic))
     return blocks
 
 
