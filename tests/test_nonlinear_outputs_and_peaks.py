@@ -134,3 +134,20 @@ def test_cli_json_of_the_cart_has_the_outputs() -> None:
     assert status == 0, err
     data = json.loads(out)
     assert all("phi" in p["amplitudes"] for p in data["branch"])
+
+
+def test_a_point_whose_residual_stands_out_is_polished() -> None:
+    """A branch point off the branch by 1e-7 (residual about 1e-8 against 1e-15 of the
+    others) is converged again by Newton's method to the residual the rest reach."""
+    from resonant.analyses.harmonic_balance import _branch, _points
+    from resonant.deadline import NO_DEADLINE
+
+    system = nonlinear_system(load(DUFFING))
+    hb, branch = _branch(system, "omega", 0.5, 2.5, 1, 30, NO_DEADLINE)
+    i = len(branch.x) // 2
+    branch.x[i] = branch.x[i] * (1 + 1e-7)
+    before = float(np.abs(hb.residual(branch.x[i], branch.p[i])).max())
+    _, _, amplitudes, residual = _points(hb, branch, NO_DEADLINE)
+    assert before > 1e-9 and residual < 1e-13
+    X = amplitudes[:, 0]
+    assert np.max(np.abs(relation(X, np.array(branch.p)))) / F ** 2 < 1e-12

@@ -275,31 +275,40 @@ def _branch(system: NonlinearSystem, param: str, start: float, stop: float,
     return hb, branch
 
 
-def _polish(hb: HarmonicBalance, branch: Branch, residuals: np.ndarray) -> None:
-    """Newton at fixed parameter for every point whose residual stands out (in place)."""
+def _polish(hb: HarmonicBalance, branch: Branch, residuals: np.ndarray) -> list[int]:
+    """Newton at fixed parameter for every point whose residual stands out (in place);
+    the indices of the points changed."""
     typical = float(np.median(residuals)) if residuals.size else 0.0
+    changed = []
     for i in np.flatnonzero(residuals > POLISH_FACTOR * max(typical, 1e-300)):
         x, ok = hb.newton(branch.x[i], branch.p[i], float(np.linalg.norm(branch.x[i])))
         if ok:
             branch.x[i] = x
+            changed.append(int(i))
+    return changed
 
 
 def _points(hb: HarmonicBalance, branch: Branch, deadline: Deadline
             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """Floquet exponents (points, 2n), base frequencies, amplitudes (points, quantities) and
-    the largest residual of every branch point."""
-    residuals = np.array([float(np.abs(hb.residual(x, p)).max())
-                          for x, p in zip(branch.x, branch.p)])
-    _polish(hb, branch, residuals)
-    exps, Ws = [], []
-    residual = 0.0
-    for x, p in zip(branch.x, branch.p):
+    the largest residual of the branch points (a point whose residual stands out is
+    polished first)."""
+    exps, Ws, residuals = [], [], []
+
+    def evaluate(x: np.ndarray, p: float) -> tuple[float, np.ndarray, float]:
         deadline.check("during the stability analysis", analysis=True)
         R, J, blocks = hb.jacobian(x, p)
-        residual = max(residual, float(np.abs(R).max()))
-        exps.append(hb.exponents(J, blocks))
-        Ws.append(blocks[3])
-    return np.array(exps), np.array(Ws), hb.amplitudes_of(branch.x, branch.p), residual
+        return float(np.abs(R).max()), hb.exponents(J, blocks), float(blocks[3])
+
+    for x, p in zip(branch.x, branch.p):
+        r, lam, W = evaluate(x, p)
+        residuals.append(r)
+        exps.append(lam)
+        Ws.append(W)
+    for i in _polish(hb, branch, np.array(residuals)):
+        residuals[i], exps[i], Ws[i] = evaluate(branch.x[i], branch.p[i])
+    return (np.array(exps), np.array(Ws), hb.amplitudes_of(branch.x, branch.p),
+            max(residuals, default=0.0))
 
 
 def _linear_sweep(system: NonlinearSystem, param: str, start: float, stop: float,
