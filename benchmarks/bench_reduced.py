@@ -147,7 +147,7 @@ def run_case(nx: int, n_f: int = 1000, direct_subset: int = 100, full: bool = Fa
     import scipy.sparse.linalg as sla
 
     import resonant.analyses.sweep as rsweep
-    from resonant.model import load
+    from resonant.api import load
 
     say = log or (lambda message: None)
     M, C, K, f = grid_matrices(nx)

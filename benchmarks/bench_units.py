@@ -63,7 +63,7 @@ def texts() -> dict[str, str]:
 _CHILD = """
 import sys, time
 start = time.perf_counter()
-from resonant.model import loads
+from resonant.api import loads
 model = loads(sys.stdin.read())
 loaded = time.perf_counter()
 solution = model.linearize().stationary()
@@ -74,7 +74,7 @@ print(model.units is not None, 'pint' in sys.modules, loaded - start, solved - l
 
 
 def measure(repeats: int = 200) -> dict[str, Any]:
-    from resonant.model import loads
+    from resonant.api import loads
 
     versions = texts()
     assert loads(versions["si"]).units is None

@@ -13,7 +13,7 @@ import scipy.io
 import scipy.sparse as sp
 
 from resonant.analyses.modes import complex_modes
-from resonant.model import load
+from resonant.api import load
 
 
 def nonproportional_chain(n: int, k: float = 1e4, m: float = 1.0):

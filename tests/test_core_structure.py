@@ -13,7 +13,7 @@ from conftest import EXAMPLES, run_cli
 import resonant
 from resonant.deadline import AnalysisTimeout, Deadline
 from resonant.errors import AnalysisError
-from resonant.model import loads
+from resonant.api import loads
 from resonant.system import LinearEOM, LinearSystem, MatrixEOM, NumericEOM
 
 SDOF = """

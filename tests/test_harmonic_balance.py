@@ -35,7 +35,7 @@ from conftest import EXAMPLES, run_cli
 from resonant.analyses.harmonic_balance import NonlinearResponse, nonlinear_sweep
 from resonant.analyses.sweep import sweep
 from resonant.errors import AnalysisError
-from resonant.model import load, loads
+from resonant.api import load, loads
 
 DUFFING = EXAMPLES / "duffing.toml"
 M, C, K, K3, F = 1.0, 0.1, 1.0, 0.5, 0.2

@@ -83,7 +83,7 @@ def test_phases_lie_in_the_half_open_interval():
     import math
 
     from resonant.analyses.stationary import phase_angle
-    from resonant.model import loads
+    from resonant.api import loads
 
     sol = loads(NAMED_LIKE_MATRICES.replace('D = "C*x\'^2/2"', "")).linearize().stationary()
     assert math.isclose(sol.phases["x"], math.pi)
@@ -92,7 +92,7 @@ def test_phases_lie_in_the_half_open_interval():
 
 def test_two_coordinates_give_modal_ratios_not_a_rayleigh_fit():
     """With two DOF any commuting C is a M + b K (e.g. a < 0): the text gives zeta_j."""
-    from resonant.model import loads
+    from resonant.api import loads
 
     two = loads("""
 [parameters]
@@ -116,7 +116,7 @@ def test_two_frequency_report_shows_the_common_period(tmp_path):
     """sin(2t) + sin(3t) repeats after 2 pi, not after pi (two periods of the slower one)."""
     import math
 
-    from resonant.model import loads
+    from resonant.api import loads
     from resonant.report.plots import time_history
 
     model = loads("""
@@ -189,7 +189,7 @@ def test_report_frequency_response_includes_the_outputs():
     """Issue 11, point 6: the outputs' frequency responses belong in the report too."""
     from conftest import EXAMPLES
 
-    from resonant.model import load
+    from resonant.api import load
     from resonant.report.plots import frequency_response
 
     eom = load(EXAMPLES / "cart_pendulum.toml").linearize()

@@ -27,7 +27,7 @@ from hypothesis import strategies as st
 
 from conftest import EXAMPLES, run_cli
 
-from resonant.model import load, loads
+from resonant.api import load, loads
 from resonant.analyses.modes import modal_damping_ratios
 from resonant.analyses.modes import modes as _modes
 

@@ -33,7 +33,7 @@ from resonant.analyses.periodic import periodic_solution
 from resonant.analyses.simulate import simulate
 from resonant.errors import AnalysisError
 from resonant.model import load, loads
-from resonant.system import EnergySystem, NonlinearSystem, nonlinear_system
+from resonant.system import EnergySystem, NonlinearSystem, linear_system, nonlinear_system
 
 DUFFING = EXAMPLES / "duffing.toml"
 CART = EXAMPLES / "cart_pendulum.toml"
@@ -77,7 +77,7 @@ def test_the_full_equations_are_compiled_once(monkeypatch: pytest.MonkeyPatch) -
 def test_matrices_model_has_no_nonlinear_system() -> None:
     model = loads("[matrices]\nM = [[1]]\nC = [[0.1]]\nK = [[4]]\n"
                   "[[harmonic]]\nomega = 1\nF_S = [0]\nF_C = [1]\n")
-    for source in (model, model.linearize()):
+    for source in (model, linear_system(model)):
         with pytest.raises(AnalysisError, match=r"\[matrices\] model has no nonlinear"):
             nonlinear_system(source)
 

@@ -25,7 +25,8 @@ from resonant.analyses.simulate import _periodic_start
 from resonant.analyses.time_integration import NonlinearDynamics
 from resonant.deadline import NO_DEADLINE
 from resonant.errors import AnalysisError
-from resonant.model import Model, load
+from resonant.api import load
+from resonant.model import Model
 from resonant.system import nonlinear_system
 from resonant.system.nonlinear import reference_values
 

@@ -34,7 +34,8 @@ from resonant.analyses import kernel
 from resonant.analyses.reduced import reduced_response
 from resonant.analyses.sweep import sweep
 from resonant.errors import AnalysisError
-from resonant.model import load
+from resonant.api import load
+from resonant.views.display import sweep_text
 
 
 def grid(nx: int, ny: int | None = None, k: float = 1e4, alpha: float = 0.1,
@@ -194,7 +195,7 @@ def test_grid_sweep_methods_agree(grid_cases, tmp_path):
     data = red.to_dict()
     assert data["method"] == "reduced" and data["estimated_error"] == red.estimated_error
     assert data["tolerance"] == 1e-7
-    assert "method reduced (estimated error" in red.summary()
+    assert "method reduced (estimated error" in sweep_text(red)
     assert direct.to_dict()["estimated_error"] is None
 
 

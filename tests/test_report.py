@@ -256,7 +256,7 @@ def test_errors(tmp_path):
 
 
 def test_derivation_is_checked_against_the_equation_of_motion():
-    from resonant.model import load
+    from resonant.api import load
     from resonant.report.derivation import derive
 
     eom = load(EXAMPLES / "cart_pendulum.toml").linearize()
@@ -289,7 +289,7 @@ def test_names_are_balanced_latex(name, primes):
 
 def test_jupyter_views():
     from resonant.views import display
-    from resonant.model import load
+    from resonant.api import load
 
     model = load(EXAMPLES / "cart_pendulum.toml")
     eom = model.linearize()

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from conftest import EXAMPLES, run_cli
-from resonant.model import load
+from resonant.api import load
 from resonant.report import build_report, render
 from resonant.report.blocks import Figure, Heading, Table
 from resonant.report.nonlinear import NonlinearCurve

@@ -25,7 +25,7 @@ from hypothesis import strategies as st
 
 from conftest import pendulum_chain_text, run_cli
 
-from resonant.model import loads
+from resonant.api import loads
 from resonant.analyses.kernel import equilibration
 
 FAST = settings(max_examples=25, deadline=None,

@@ -26,7 +26,8 @@ import scipy.sparse as sp
 from conftest import run_cli
 
 from resonant.errors import ModelError
-from resonant.model import limits, load, loads
+from resonant.api import load, loads
+from resonant.model import limits
 
 MEMORY = 1 << 30  # the address-space limit of the subprocess runs
 HEADER = "[parameters]\nw = 3\n[matrices]\n"

@@ -21,7 +21,8 @@ from resonant.analyses import simulate as simulate_module
 from resonant.analyses import stationary as stationary_module
 from resonant.analyses import sweep as sweep_module
 from resonant.errors import ModelError, Problem, name_list, printable
-from resonant.model import limits, loads
+from resonant.api import loads
+from resonant.model import limits
 
 CHAIN = EXAMPLES / "chain3_damped.toml"
 MEMORY = 1500 * 2**20  # bytes of address space for a heavy subprocess

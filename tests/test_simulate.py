@@ -17,9 +17,9 @@ from hypothesis import strategies as st
 
 from conftest import EXAMPLES, run_cli
 from resonant.errors import AnalysisError, ModelError
-from resonant.model import load, loads
+from resonant.api import load, loads
+from resonant.api import simulate as simulate_system
 from resonant.analyses.simulate import Simulation, parse_initial
-from resonant.analyses.simulate import simulate as _simulate
 
 OSCILLATOR = """
 [parameters]
@@ -43,8 +43,8 @@ generalized = {{ x = "F" }}
 
 
 def simulate(model, *args, **kwargs):
-    """The analysis takes the model's linear system (issue 9: analyses take LinearSystem)."""
-    return _simulate(model.linearize(), *args, **kwargs)
+    """The simulation of the model's linear system, as the user calls it (with views)."""
+    return simulate_system(model.linearize(), *args, **kwargs)
 
 
 def test_damped_linear_simulation_converges_to_the_stationary_solution():

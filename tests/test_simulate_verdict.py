@@ -8,7 +8,7 @@ not the nonlinearity; the default nonlinear run starts on the periodic solution 
 
 from __future__ import annotations
 
-from resonant.model import loads
+from resonant.api import loads
 
 BLOCK_PENDULUM = """
 [parameters]

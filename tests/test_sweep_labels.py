@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from resonant.model import loads
+from resonant.api import loads
 
 ROAD = """
 [parameters]

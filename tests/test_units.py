@@ -27,7 +27,7 @@ from conftest import run_cli
 
 from resonant.cli import main
 from resonant.errors import ModelError
-from resonant.model import load, loads
+from resonant.api import load, loads
 from resonant.model.units import (
     ENERGY,
     UNITS,

@@ -29,39 +29,7 @@ F = TypeVar("F", bound=Callable[..., Any])
 
 #: hook name -> the module that registers it
 PROVIDERS: dict[str, str] = {
-    # optional model sections, imported only when a model uses them (start-up time)
-    "read_parts": "resonant.model.parts",
-    "check_part_values": "resonant.model.parts",
-    "mechanism": "resonant.model.part_energies",
-    "derive_energies": "resonant.model.part_energies",
-    "point_expressions": "resonant.model.part_energies",
-    "parse_exercise": "resonant.model.exercise",
-    "read_matrix_spec": "resonant.model.matrix_files",
-    "latex_to_mathml": "resonant.views.mathml",
-    "linear_system": "resonant.system",
-    "stationary": "resonant.analyses.stationary",
-    "modes": "resonant.analyses.modes",
-    "sweep": "resonant.analyses.sweep",
-    "simulate": "resonant.analyses.simulate",
-    "nonlinear_sweep": "resonant.analyses.harmonic_balance",
     "periodic_solution": "resonant.analyses.periodic",
-    "backbone": "resonant.analyses.backbone",
-    "plot_nonlinear_response": "resonant.views.nonlinear_plots",
-    "nonlinear_text": "resonant.views.nonlinear_plots",
-    "plot_backbones": "resonant.views.nonlinear_plots",
-    "plot_frequency_response": "resonant.views.plotting",
-    "plot_modes": "resonant.views.plotting",
-    "plot_simulation": "resonant.views.plotting",
-    "eom_latex": "resonant.views.display",
-    "numeric_eom_latex": "resonant.views.display",
-    "model_latex": "resonant.views.display",
-    "model_html": "resonant.views.display",
-    "stationary_latex": "resonant.views.display",
-    "stationary_html": "resonant.views.display",
-    "solution_text": "resonant.views.display",
-    "modes_text": "resonant.views.display",
-    "sweep_text": "resonant.views.display",
-    "simulation_text": "resonant.views.display",
 }
 
 _registry: dict[str, Callable[..., Any]] = {}

@@ -22,7 +22,7 @@ frequency) to the given amplitude, with step halving when Newton fails.
 
 Examples
 --------
->>> from resonant.model import loads
+>>> from resonant.api import loads
 >>> model = loads('''
 ... [parameters]
 ... k3 = 0.5
@@ -43,13 +43,11 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from pathlib import Path
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model import Model
@@ -57,9 +55,6 @@ from ..system import LinearSystem, NonlinearSystem, nonlinear_system
 from ..system.stability import undamped_eigen
 from .hb_solver import NEWTON_MAX, NEWTON_TOL, HarmonicBalance
 from .stationary import freeze_fields
-
-if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.figure import Figure
 
 DEFAULT_HARMONICS = 5
 DEFAULT_POINTS = 41
@@ -111,10 +106,6 @@ class Backbones:
                 "harmonics": self.harmonics, "residual": self.residual,
                 "backbones": [c.to_dict() for c in self.curves],
                 "warnings": list(self.warnings)}
-
-    def plot(self, path: str | Path | None = None, **options: Any) -> Figure:
-        """Frequency against amplitude, one curve per mode."""
-        return hooks.call("plot_backbones", self, path, **options)
 
     def summary(self) -> str:
         lines = [f"{self.title or 'model'}: backbone curves (free vibration of the full "
@@ -268,7 +259,6 @@ def _curve(hb: HarmonicBalance, M: np.ndarray, mode: int, w0: float, shape: np.n
         coefficients=coeffs, damping=float(np.abs(Y[:, -1]).max())), residual
 
 
-@hooks.provides("backbone")
 def backbone(system: NonlinearSystem | LinearSystem | Model, amplitude: float | None = None, *,
              harmonics: int | None = None, points: int = DEFAULT_POINTS,
              modes: list[int] | None = None, deadline: Deadline = NO_DEADLINE) -> Backbones:

@@ -38,7 +38,7 @@ special point of kind ``peak`` (:mod:`resonant.analyses.special_points`).
 
 Examples
 --------
->>> from resonant.model import loads
+>>> from resonant.api import loads
 >>> model = loads('''
 ... [parameters]
 ... k3 = 0.5
@@ -68,11 +68,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model import Model
@@ -83,9 +82,6 @@ from .hb_solver import HarmonicBalance, resize, start_coefficients, truncation
 from .special_points import SPECIAL_KINDS, STABILITY_TOL, SpecialPoint, special_points
 from .stationary import freeze_fields, stationary
 from .sweep import FrequencyResponse, sweep
-
-if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.figure import Figure
 
 #: default number of harmonics (the start of the automatic choice)
 DEFAULT_HARMONICS = 7
@@ -204,14 +200,6 @@ class NonlinearResponse:
                 writer.writerow([repr(float(self.values[i])), int(self.stable[i]),
                                  *(repr(float(self.amplitudes[n][i])) for n in names)])
 
-    def plot(self, path: Any = None, **options: Any) -> Figure:
-        """Amplitude against the parameter (stable solid, unstable dashed, special points)."""
-        return hooks.call("plot_nonlinear_response", self, path, **options)
-
-    def summary(self) -> str:
-        """The text ``resonant sweep --nonlinear`` prints."""
-        return str(hooks.call("nonlinear_text", self))
-
 
 def _check(system: NonlinearSystem, param: str, start: float, stop: float,
            harmonics: int | None, points: int) -> None:
@@ -322,7 +310,6 @@ def _linear_sweep(system: NonlinearSystem, param: str, start: float, stop: float
         return None
 
 
-@hooks.provides("nonlinear_sweep")
 def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, start: float,
                     stop: float, *, harmonics: int | None = None, points: int = 101,
                     linear: bool = True, deadline: Deadline = NO_DEADLINE

@@ -17,7 +17,7 @@ peak over a window is not a steady state.
 
 Examples
 --------
->>> from resonant.model import loads
+>>> from resonant.api import loads
 >>> model = loads('''
 ... [parameters]
 ... omega = 3
@@ -47,7 +47,6 @@ from typing import Any
 
 import numpy as np
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model import Model
@@ -175,7 +174,6 @@ def _solve(system: NonlinearSystem, harmonics: int | None, deadline: Deadline
     return hb, x, solution
 
 
-@hooks.provides("periodic_solution")
 def periodic_solution(system: NonlinearSystem | LinearSystem | Model,
                       harmonics: int | None = None, *,
                       deadline: Deadline = NO_DEADLINE) -> PeriodicSolution:

@@ -16,7 +16,7 @@ oscillations" hold.
 
 Examples
 --------
->>> from resonant.model import loads
+>>> from resonant.api import loads
 >>> model = loads('''
 ... [parameters]
 ... m = 1
@@ -49,12 +49,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, cast
+from typing import Any, cast
 
 import numpy as np
 import sympy
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, AnalysisTimeout, Deadline
 from ..errors import AnalysisError, ModelError, Problem, name_list
 from ..expressions import parse
@@ -72,12 +71,6 @@ from .peaks import sampled_peak
 from .periodic import PeriodicSolution, periodic_solution
 from .stationary import StationarySolution, freeze_fields, stationary
 from .time_integration import STIFF_RATIO, LinearDynamics, NonlinearDynamics, integrate
-
-if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.figure import Figure
-
-if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.figure import Figure
 
 #: measurement window: this many periods of the lowest excitation frequency
 DEFAULT_PERIODS = 5.0
@@ -185,27 +178,6 @@ class Simulation:
             writer.writerow([c[0] for c in columns])
             data = np.column_stack([c[1] for c in columns])
             writer.writerows([[f"{v:.10g}" for v in row] for row in data])
-
-    def plot(self, path: str | Path | None = None, **options: Any) -> Figure:
-        """Deviations vs time, one panel per coordinate/output, prediction dashed
-        (:func:`resonant.views.plotting.plot_simulation`).
-
-        Parameters
-        ----------
-        path : str or Path, optional
-            Save the figure there (format from the suffix).
-        **options
-            ``axes=`` and more, passed on.
-
-        Returns
-        -------
-        matplotlib.figure.Figure
-        """
-        return hooks.call("plot_simulation", self, path=path, **options)
-
-    def summary(self) -> str:
-        """The text ``resonant simulate`` prints."""
-        return str(hooks.call("simulation_text", self))
 
     def _repr_html_(self) -> str:
         rows = "".join(
@@ -321,7 +293,7 @@ def parse_initial(model: Model, initial: Mapping[str, float | str] | None
 
     Examples
     --------
-    >>> from resonant.model import loads
+    >>> from resonant.api import loads
     >>> m = loads('[parameters]\\nl = 2\\n[coordinates]\\nx = ""\\n[energy]\\nT = "x\\'^2/2"')
     >>> parse_initial(m, {"x": "l/4", "x'": 1})
     (array([0.5]), array([1.]))
@@ -576,7 +548,6 @@ def _compare(solution: StationarySolution | None, t: np.ndarray, states: Mapping
     return linear, response, relative
 
 
-@hooks.provides("simulate")
 def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = None,
              nonlinear: bool | None = None, initial: Mapping[str, float | str] | None = None,
              *, start: str = "auto", periods: float = DEFAULT_PERIODS,

@@ -45,8 +45,8 @@ listed in ``skipped`` and a warning names it.
 Examples
 --------
 >>> from resonant.analyses.sweep import sweep
->>> import numpy as np, resonant.model
->>> model = resonant.model.loads('''
+>>> import numpy as np, resonant.api
+>>> model = resonant.api.loads('''
 ... [parameters]
 ... m = 1
 ... k = 100
@@ -81,7 +81,6 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..system import Batch, LinearSystem
@@ -319,30 +318,6 @@ class FrequencyResponse:
                         row.append(repr(v) if math.isfinite(v) else "")
                 writer.writerow(row)
 
-    def plot(self, path: Any = None, names: Sequence[str] | None = None, **options: Any
-             ) -> Any:
-        """Amplitude (log axis) and phase against the parameter
-        (:func:`resonant.views.plotting.plot_frequency_response`).
-
-        Parameters
-        ----------
-        path : str or Path, optional
-            Save the figure there (format from the suffix).
-        names : sequence of str, optional
-            The quantities to draw.
-        **options
-            ``ax=`` and more, passed on.
-
-        Returns
-        -------
-        matplotlib.figure.Figure
-        """
-        return hooks.call("plot_frequency_response", self, path=path, names=names, **options)
-
-    def summary(self) -> str:
-        """The text ``resonant sweep`` prints."""
-        return str(hooks.call("sweep_text", self))
-
     def _repr_html_(self) -> str:
         import html
 
@@ -507,7 +482,6 @@ def _extrema(names: Sequence[str], values: np.ndarray, amplitude: np.ndarray, lo
 
 # -- the public function ------------------------------------------------------------------
 
-@hooks.provides("sweep")
 def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray, *,
           method: str = "auto", names: Sequence[str] | None = None,
           progress: bool | None = None, log: bool | None = None,

@@ -19,8 +19,14 @@ from typing import Any
 import resonant.cli.common as cli
 
 from ..analyses.backbone import backbone
-from ..analyses.sweep import linspace
+from ..analyses.harmonic_balance import nonlinear_sweep
+from ..analyses.modes import modes
+from ..analyses.sweep import linspace, sweep
 from ..errors import AnalysisError
+from ..system import linear_system
+from ..views.display import modes_text, sweep_text
+from ..views.nonlinear_plots import nonlinear_text, plot_backbones, plot_nonlinear_response
+from ..views.plotting import plot_frequency_response, plot_modes
 from ..views.units_display import ResultUnits, result_units
 
 
@@ -86,9 +92,10 @@ def run_modes(args: argparse.Namespace) -> int:
         return _run_backbones(args, model, deadline)
     if args.amplitude is not None or args.harmonics is not None:
         raise AnalysisError("--amplitude and --harmonics need --nonlinear")
-    result = model.linearize(deadline=deadline).modes(count=args.count, deadline=deadline)
+    result = modes(linear_system(model, deadline), args.count, deadline)
     units = result_units(model)
-    return _emit(args, result, units, text=lambda: result.summary(units))
+    return _emit(args, result, lambda: modes_text(result, units),
+                 lambda path: plot_modes(result, path), units)
 
 
 def _run_backbones(args: argparse.Namespace, model: Any, deadline: Any) -> int:
@@ -97,7 +104,7 @@ def _run_backbones(args: argparse.Namespace, model: Any, deadline: Any) -> int:
         raise AnalysisError("--count applies to the linear modes, not to --nonlinear")
     result = backbone(model, args.amplitude, harmonics=args.harmonics, points=args.points,
                       deadline=deadline)
-    return _emit(args, result)
+    return _emit(args, result, result.summary, lambda path: plot_backbones(result, path))
 
 
 def run_sweep(args: argparse.Namespace) -> int:
@@ -114,10 +121,13 @@ def run_sweep(args: argparse.Namespace) -> int:
         names = [n.strip() for n in args.only.split(",") if n.strip()]
     deadline = cli.deadline(args)
     tol = {} if args.tol is None else {"tol": args.tol}
-    result = model.linearize(deadline=deadline).sweep(
-        args.param, values, method=args.method, names=names,
-        progress=True if args.progress else None, log=args.log, deadline=deadline, **tol)
-    return _emit(args, result, result_units(model), plot_units=True)
+    result = sweep(linear_system(model, deadline), args.param, values, method=args.method,
+                   names=names, progress=True if args.progress else None, log=args.log,
+                   deadline=deadline, **tol)
+    units = result_units(model)
+    return _emit(args, result, lambda: sweep_text(result),
+                 lambda path: plot_frequency_response(
+                     result, path, units=units.si if units is not None else None), units)
 
 
 def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
@@ -126,24 +136,22 @@ def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
         raise AnalysisError("--log, --only, --method and --tol apply to the linear sweep, not "
                             "to --nonlinear")
     deadline = cli.deadline(args)
-    result = model.nonlinear_sweep(args.param, args.start, args.stop,
-                                   harmonics=args.harmonics, points=args.points,
-                                   deadline=deadline)
-    return _emit(args, result)
+    result = nonlinear_sweep(linear_system(model, deadline), args.param, args.start,
+                             args.stop, harmonics=args.harmonics, points=args.points,
+                             deadline=deadline)
+    return _emit(args, result, lambda: nonlinear_text(result),
+                 lambda path: plot_nonlinear_response(result, path))
 
 
-def _emit(args: argparse.Namespace, result: Any, units: ResultUnits | None = None,
-          plot_units: bool = False, text: Callable[[], str] | None = None) -> int:
+def _emit(args: argparse.Namespace, result: Any, text: Callable[[], str],
+          plot: Callable[[str], Any], units: ResultUnits | None = None) -> int:
     """Plot, CSV (sweeps), JSON or text of a result, then its warnings.
 
-    ``units`` (a model with units) labels the plot's axes and adds the JSON's
-    ``"units"`` map (the numbers stay SI).
+    ``text`` and ``plot`` are the result's views; ``units`` (a model with units) adds
+    the JSON's ``"units"`` map (the numbers stay SI).
     """
     if args.plot:
-        if plot_units and units is not None:
-            result.plot(args.plot, units=units.si)
-        else:
-            result.plot(args.plot)
+        plot(args.plot)
     if getattr(args, "csv", None):
         try:
             result.to_csv(args.csv)
@@ -155,6 +163,6 @@ def _emit(args: argparse.Namespace, result: Any, units: ResultUnits | None = Non
             data["units"] = units.to_json()
         cli.emit_json(data)
     else:
-        sys.stdout.write(text() if text is not None else result.summary())
+        sys.stdout.write(text())
     cli.warn(result.warnings)
     return 0

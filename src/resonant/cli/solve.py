@@ -8,6 +8,9 @@ from typing import Any
 
 import resonant.cli.common as common
 
+from ..analyses.stationary import stationary
+from ..system import linear_system
+from ..views.display import solution_text
 from ..views.units_display import result_units
 
 
@@ -23,7 +26,7 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
 def run_solve(args: argparse.Namespace) -> int:
     deadline = common.deadline(args)
     model = common.load_model(args)
-    solution = model.linearize(deadline=deadline).stationary(deadline=deadline)
+    solution = stationary(linear_system(model, deadline), deadline)
     if args.json:
         data = solution.to_dict()
         units = result_units(model)
@@ -32,14 +35,14 @@ def run_solve(args: argparse.Namespace) -> int:
         common.emit_json(data)
         common.warn(solution.warnings)
     else:
-        sys.stdout.write(solution.summary())
+        sys.stdout.write(solution_text(solution))
     return 0
 
 
 def run_check(args: argparse.Namespace) -> int:
     deadline = common.deadline(args)
     model = common.load_model(args)
-    model.linearize(deadline=deadline).numeric(deadline)
+    linear_system(model, deadline).numeric(deadline)
     print(f"{args.model}: valid model, {len(model.coordinates)} coordinate(s): "
           f"{', '.join(model.coordinates)}")
     return 0

@@ -10,7 +10,7 @@ exercise, Eqs. (5)-(6) and (22)-(25).
 
 Examples
 --------
->>> from resonant.model import loads
+>>> from resonant.api import loads
 >>> eom = loads('''
 ... [parameters]
 ... m = 1

@@ -25,7 +25,6 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from typing import Any
 
-from .. import hooks
 from ..errors import Problem
 from ..expressions import ExpressionError, numeric_value, parse
 
@@ -193,7 +192,6 @@ def _values(raw: Any, where: tuple[str, str, str], problems: list[Problem]
     return values, texts
 
 
-@hooks.provides("parse_exercise")
 def parse_exercise(exercise: Any, variants: Any, parameters: Sequence[str],
                    coordinates: Sequence[str], outputs: Sequence[str], source: str,
                    problems: list[Problem]) -> Exercise | None:

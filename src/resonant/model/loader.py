@@ -31,13 +31,12 @@ from collections.abc import Collection, Iterable, Mapping, Sequence
 from fractions import Fraction
 from pathlib import Path
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import sympy
 
 import resonant.model.limits as limits
 
-from .. import hooks
 from ..errors import ModelError, Problem
 from ..expressions import (
     BinOp,
@@ -50,6 +49,7 @@ from ..expressions import (
     validate_name,
 )
 from .dimensions import check_units
+from .exercise import parse_exercise
 from .files import FileRefused, open_regular_file, read_bounded
 from .limits import (
     ENERGY_KEYS,
@@ -59,6 +59,9 @@ from .limits import (
     MAX_INLINED_NODES,
     TOP_LEVEL,
 )
+from .matrix_files import read_matrix_spec
+from .part_energies import Mechanism, derive_energies, point_expressions
+from .parts import DerivedEnergies, read_parts
 from .types import (
     Force,
     MatrixSpec,
@@ -78,10 +81,6 @@ from .units import (
     parse_with_unit,
     split_value,
 )
-
-if TYPE_CHECKING:
-    from .part_energies import Mechanism
-    from .parts import DerivedEnergies
 
 # -- loading -------------------------------------------------------------------------------
 
@@ -275,10 +274,7 @@ class _Builder:
         # once, not again as an unknown name wherever it is used
         allowed = [*state_names, *(n for n, sec in self.declared.items()
                                    if sec == "definitions")]
-        # the optional sections' modules are imported only when a model uses them
-        # (hooks.PROVIDERS), so that a plain energy model starts fast
-        parts = hooks.call("read_parts", self.data, param_names, allowed, self.source,
-                           self.problems) \
+        parts = read_parts(self.data, param_names, allowed, self.source, self.problems) \
             if any(section in self.data for section in limits.PART_SECTIONS) else None
         mechanism = self.mechanism(parts, param_names, coordinates, signals, definitions,
                                    equilibrium)
@@ -300,9 +296,9 @@ class _Builder:
                          "not both", "matrices")
         names = coordinates or ([f"q{i + 1}" for i in range(_matrix_size(matrix_spec.M))]
                                 if matrix_spec is not None else [])
-        exercise = hooks.call("parse_exercise", self.data.get("exercise"),
-                              self.data.get("variants"), param_names, names, list(outputs),
-                              self.source, self.problems) \
+        exercise = parse_exercise(self.data.get("exercise"), self.data.get("variants"),
+                                  param_names, names, list(outputs), self.source,
+                                  self.problems) \
             if "exercise" in self.data or "variants" in self.data else None
         exact: dict[str, sympy.Expr] = {}
         floats: dict[str, float] = {}
@@ -314,8 +310,8 @@ class _Builder:
         derived: DerivedEnergies | None = None
         if mechanism is not None and not self.problems:
             try:
-                derived, energy, torques = hooks.call("derive_energies", mechanism, energy,
-                                                      exact, allowed, self.force_points)
+                derived, energy, torques = derive_energies(mechanism, energy, exact, allowed,
+                                                           self.force_points)
                 forces = [*forces, *torques]
             except ModelError as exc:
                 self.problems.extend(exc.problems)
@@ -558,8 +554,8 @@ class _Builder:
         if not parts:
             return None
         try:
-            return hooks.call("mechanism", parts, params, coordinates, signals, definitions,
-                              equilibrium, self.source)
+            return Mechanism(parts, params, coordinates, signals, definitions, equilibrium,
+                             self.source)
         except ExpressionError as exc:
             self.problems.extend(exc.problems)
             return None
@@ -609,8 +605,8 @@ class _Builder:
             vector, point = entry.get("vector"), entry.get("point")
             if isinstance(point, str) and mechanism is not None and \
                     point in mechanism.parts.point_names():
-                resolved = hooks.call("point_expressions", mechanism, point, allowed,
-                                      self.source, section, self.problems)
+                resolved = point_expressions(mechanism, point, allowed, self.source,
+                                             section, self.problems)
                 if resolved is None:
                     continue
                 self.force_points[name] = point
@@ -645,9 +641,8 @@ class _Builder:
         section = self.data.get("matrices")
         harmonics = self.data.get("harmonic", [])
         try:
-            spec: MatrixSpec = hooks.call("read_matrix_spec", section, harmonics, params,
-                                          coordinates, self.source, self.base_dir,
-                                          self.allow_paths)
+            spec: MatrixSpec = read_matrix_spec(section, harmonics, params, coordinates,
+                                                self.source, self.base_dir, self.allow_paths)
             return spec
         except ModelError as exc:
             self.problems.extend(exc.problems)

@@ -39,7 +39,6 @@ import numpy as np
 
 import resonant.model.limits as limits
 
-from .. import hooks
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
 from .files import FileRefused, open_regular_file, read_bounded
@@ -467,7 +466,6 @@ def _read_mtx(handle: IO[bytes], size: int) -> Any:
     return out
 
 
-@hooks.provides("read_matrix_spec")
 def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
                      coordinates: Sequence[str], source: str, base_dir: Path | None,
                      allow_paths: Sequence[str | os.PathLike[str]] = ()) -> MatrixSpec:

@@ -24,7 +24,6 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
-from .. import hooks
 from ..errors import Problem
 from ..expressions import Expression, ExpressionError, parse, validate_name
 
@@ -248,7 +247,6 @@ class _Reader:
         return out
 
 
-@hooks.provides("check_part_values")
 def check_values(parts: Parts, exact_values: Mapping[str, Any], source: str) -> list[Problem]:
     """Masses and inertias that are negative at these parameter values (as problems naming
     the body and the key); used again when parameters are replaced
@@ -302,7 +300,6 @@ def _hints(reader: _Reader, entry: Mapping[str, Any], section: str
     return shape, tuple(e for e in size if e is not None) if None not in size else ()
 
 
-@hooks.provides("read_parts")
 def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collection[str],
                source: str, problems: list[Problem]) -> Parts:
     """Read and validate the parts of a model file's TOML data.

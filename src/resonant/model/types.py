@@ -23,10 +23,9 @@ from typing import TYPE_CHECKING, Any
 
 import sympy
 
-from .. import hooks
-from ..deadline import Deadline
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError
+from .parts import check_values as check_part_values
 from .units import ModelUnits, parse_with_unit
 
 if TYPE_CHECKING:
@@ -85,8 +84,9 @@ class MatrixSpec:
 class Model:
     """A validated model: names, parsed expressions and parameter values.
 
-    Build it with :func:`load` or :func:`loads`; derive the linearized
-    equation of motion with :meth:`linearize`.
+    Build it with :func:`load` or :func:`loads`.  This is the data; the object
+    :func:`resonant.load` returns (:class:`resonant.api.Model`) adds the analyses
+    as methods.
     """
 
     title: str
@@ -147,74 +147,12 @@ class Model:
             raise ModelError(problems)
         exact, floats = evaluate_parameters(params, self.source)
         if self.parts is not None:  # a mass or inertia of a part may have turned negative
-            negative = hooks.call("check_part_values", self.parts.parts, exact, self.source)
+            negative = check_part_values(self.parts.parts, exact, self.source)
             if negative:
                 raise ModelError(negative)
         return replace(self, parameters=MappingProxyType(params),
                         exact_values=MappingProxyType(exact),
                         parameter_values=MappingProxyType(floats))
-
-    def linearize(self, timeout: float | None = None, deadline: Deadline | None = None
-                  ) -> Any:
-        """The linearized equation of motion M q'' + C q' + K q = Q(t).
-
-        One-line delegate to :func:`resonant.system.linear_system`.
-
-        Parameters
-        ----------
-        timeout : float, optional
-            Time limit of the derivation in seconds (used when no ``deadline`` is given).
-        deadline : Deadline, optional
-            The cooperative deadline of the whole run.
-
-        Returns
-        -------
-        LinearSystem
-            :class:`~resonant.system.LinearEOM` for a model given by its energies,
-            :class:`~resonant.system.MatrixEOM` for ``[matrices]``.
-
-        Raises
-        ------
-        ModelError
-            If the derivation fails, exceeds the time limit, overflows or nests
-            too deeply; the message names the expression being worked on.
-        """
-        return hooks.call("linear_system", self, deadline or Deadline(timeout, self.source))
-
-    def simulate(self, duration: float | None = None, nonlinear: bool = False,
-                 **options: Any) -> Any:
-        """Time integration, linear or full nonlinear.
-
-        One-line delegate to :func:`resonant.analyses.simulate.simulate`.
-
-        Parameters
-        ----------
-        duration : float, optional
-            End time in s (default: chosen from the system's time scales).
-        nonlinear : bool
-            Integrate the full Lagrange equations instead of the linearized ones.
-        **options
-            Passed on to :func:`~resonant.analyses.simulate.simulate`.
-
-        Returns
-        -------
-        Simulation
-        """
-        return hooks.call("simulate", self.linearize(deadline=options.get("deadline")),
-                          duration, nonlinear, **options)
-
-    def nonlinear_sweep(self, param: str, start: float, stop: float, **options: Any) -> Any:
-        """Periodic steady state of the full equations against a parameter (harmonic
-        balance, continuation, stability): delegate to
-        :func:`resonant.analyses.harmonic_balance.nonlinear_sweep`."""
-        return hooks.call("nonlinear_sweep", self.linearize(deadline=options.get("deadline")),
-                          param, start, stop, **options)
-
-    def _repr_latex_(self) -> str:
-        return str(hooks.call("model_latex", self))
-
-    def _repr_html_(self) -> str:
-        return str(hooks.call("model_html", self))
 
 
 def unknown_parameter(name: str, source: str, params: Iterable[str]) -> Problem:

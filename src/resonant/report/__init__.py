@@ -20,10 +20,12 @@ True
 from __future__ import annotations
 
 from pathlib import Path
+from typing import cast
 
+from ..analyses.stationary import stationary
 from ..errors import ModelError, Problem
 from ..model import Model
-from ..system import LinearEOM
+from ..system import LinearEOM, linear_system
 from .blocks import Report
 from .derivation import derive
 from .html import render_html
@@ -50,13 +52,14 @@ def build_report(model: Model, plots: bool = True, nonlinear: bool = False) -> R
     ModelError, AnalysisError
         As ``resonant solve`` does (invalid model; resonance, singular M).
     """
-    eom = model.linearize()
-    solution = eom.stationary()
+    eom = linear_system(model)
+    solution = stationary(eom)
     # the source-by-source derivation (a second, independent one, checked against the
     # solver's) is shown element by element only for small models: above MAX_DERIVED
     # coordinates it would cost what a full symbolic Lagrange derivation costs
     derivation = derive(eom) if isinstance(eom, LinearEOM) and eom.n <= MAX_DERIVED else None
-    ctx = Context(model, eom, solution, derivation, plots=plots)
+    # the steps read a MatrixEOM through what it shares with a LinearEOM (M, C, K, Q)
+    ctx = Context(model, cast(LinearEOM, eom), solution, derivation, plots=plots)
     steps = step_order(ctx)
     if nonlinear and ctx.eom.excitation:
         steps.insert(len(steps) - 1, beyond_small_oscillations)  # before the warnings

@@ -38,7 +38,7 @@ from ..derivation.residual import is_zero
 from ..errors import AnalysisError, ModelError, Problem, printable
 from ..model import Model, symbol
 from ..model.exercise import Exercise, statement_parts
-from ..system import LinearEOM, LinearSystem
+from ..system import LinearEOM, LinearSystem, linear_system
 from ..system.stability import UNSTABLE
 from .blocks import Equation, Figure, Heading, Math, Note, Paragraph, Part, Report, Table
 from .derivation import Derivation, derive
@@ -257,7 +257,7 @@ def generate(model: Model, count: int, seed: int, deadline: Deadline = NO_DEADLI
         raise ModelError(Problem(f"{count} variants asked for, but [variants] allows only "
                                  f"{exercise.combinations} distinct value sets", model.source,
                                  "variants"))
-    eom = model.linearize(deadline=deadline)
+    eom = linear_system(model, deadline)
     eom.numeric(deadline)  # the harmonic split and the compilation, once, for all variants
     rng = np.random.Generator(np.random.PCG64(seed))
     variants: list[Variant] = []

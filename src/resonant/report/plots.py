@@ -7,7 +7,7 @@ otherwise the force amplitudes are held at their operating values.
 
 Examples
 --------
->>> from resonant.model import load
+>>> from resonant.api import load
 >>> from resonant.report.plots import frequency_response, to_svg
 >>> import resonant, pathlib
 >>> path = pathlib.Path(resonant.__file__).parents[2] / "examples" / "cart_pendulum.toml"

@@ -10,7 +10,6 @@ parameter point) or :class:`Batch` (many).
 
 from __future__ import annotations
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..model import Model
 from .base import (
@@ -26,7 +25,6 @@ from .nonlinear import EnergySystem, NonlinearSystem, nonlinear_system
 from .symbolic import LinearEOM
 
 
-@hooks.provides("linear_system")
 def linear_system(model: Model, deadline: Deadline = NO_DEADLINE) -> LinearSystem:
     """The linear system of a model: derived from its energies, or its given matrices.
 

@@ -26,7 +26,6 @@ from typing import Any
 
 import numpy as np
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
@@ -128,58 +127,6 @@ class LinearSystem(ABC):
             raise ModelError("this system has no model: its parameters cannot change")
         return self.model
 
-    # -- conveniences: one-line delegates to the analyses ------------------------------------
-    def stationary(self, deadline: Deadline = NO_DEADLINE, **overrides: float | str) -> Any:
-        """The stationary solution for harmonic excitation
-        (:func:`resonant.analyses.stationary.stationary`).
-
-        Parameters
-        ----------
-        deadline : Deadline, optional
-        **overrides
-            Parameter values replacing the model's.
-
-        Returns
-        -------
-        StationarySolution
-        """
-        return hooks.call("stationary", self, deadline, **overrides)
-
-    def modes(self, count: int | None = None, **options: Any) -> Any:
-        """Natural frequencies, mode shapes, damping ratios
-        (:func:`resonant.analyses.modes.modes`).
-
-        Parameters
-        ----------
-        count : int, optional
-            Only the ``count`` lowest modes.
-        **options
-            Passed on.
-
-        Returns
-        -------
-        ModalAnalysis
-        """
-        return hooks.call("modes", self, count=count, **options)
-
-    def sweep(self, param: str, values: Any, **options: Any) -> Any:
-        """Amplitudes and phases against a parameter (:func:`resonant.analyses.sweep.sweep`).
-
-        Parameters
-        ----------
-        param : str
-            The parameter to vary.
-        values : array_like
-            Its values.
-        **options
-            Passed on.
-
-        Returns
-        -------
-        FrequencyResponse
-        """
-        return hooks.call("sweep", self, param, values, **options)
-
     def to_dict(self) -> dict[str, Any]:
         """The JSON form of the equation of motion (coordinates, M, C, K, Q as text).
 
@@ -198,9 +145,6 @@ class LinearSystem(ABC):
         dict or None
         """
         return None
-
-    def _repr_latex_(self) -> str:
-        return str(hooks.call("eom_latex", self))
 
 
 def parameter_values(model: Model, param: str, values: np.ndarray,
@@ -381,9 +325,6 @@ class NumericEOM(LinearSystem):
 
     def symbolic_dict(self) -> dict[str, Any] | None:
         return self.system.symbolic_dict() if self.system is not None else None
-
-    def _repr_latex_(self) -> str:
-        return str(hooks.call("numeric_eom_latex", self))
 
 
 def _dense(a: Any) -> np.ndarray:

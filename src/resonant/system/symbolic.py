@@ -2,7 +2,7 @@
 
 Examples
 --------
->>> from resonant.model import loads
+>>> from resonant.api import loads
 >>> eom = loads('''
 ... [parameters]
 ... m = 1

@@ -14,7 +14,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .. import hooks
 from .plotting import MAX_CURVES, _figure_of, _new_figure, _save
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -25,7 +24,6 @@ MARKERS = {"fold": "o", "period-doubling": "s", "neimark-sacker": "D", "branch":
            "peak": "*"}
 
 
-@hooks.provides("plot_nonlinear_response")
 def plot_nonlinear_response(response: NonlinearResponse, path: Any = None,
                             names: Sequence[str] | None = None, ax: Any = None,
                             linear: bool = True) -> Any:
@@ -78,7 +76,6 @@ def plot_nonlinear_response(response: NonlinearResponse, path: Any = None,
     return fig
 
 
-@hooks.provides("nonlinear_text")
 def nonlinear_text(response: NonlinearResponse) -> str:
     """Special points and the peak of the stable branch, as plain text."""
     lines = [f"{response.title or 'model'}: nonlinear steady state (harmonic balance, "
@@ -112,7 +109,6 @@ def nonlinear_text(response: NonlinearResponse) -> str:
     return "\n".join(lines) + "\n"
 
 
-@hooks.provides("plot_backbones")
 def plot_backbones(backbones: Backbones, path: Any = None, ax: Any = None) -> Any:
     """Backbone curves: the free-vibration frequency (x) against the amplitude of each mode's
     reference coordinate (y), the linear natural frequencies dotted; returns the Figure."""
