@@ -167,7 +167,11 @@ class NonlinearDynamics:
     def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
         q, v = y[:self.n, None], y[self.n:, None]
         with np.errstate(all="ignore"):
-            mass, rest, _ = self.matrices(np.array([t]), q, v)
+            mass, rest, s = self.matrices(np.array([t]), q, v)
+        if not np.all(np.isfinite(s)):
+            raise Breakdown(t, "the equations cannot be evaluated there (a signal is not "
+                               "finite at that time: a signal such as 1/t undefined there?)",
+                            small=False)
         if not (np.all(np.isfinite(mass)) and np.all(np.isfinite(rest))):
             raise Breakdown(t, "the equations of motion are not finite there (a coordinate "
                                "left the range where the model is defined)")
