@@ -14,7 +14,8 @@ Checked against (examples/duffing.toml: m = 1, c = 0.1, k = 1, k3 = 0.5, F = 0.2
   and w to 1e-9 relative (before, the largest branch point: 1.9e-5 off).
 * The cart with pendulum (examples/cart_pendulum.toml) has the output phi = x2/l: its
   amplitude on every branch point and special point is the amplitude of x2 divided by l
-  (to 1e-12), and at small forcing equals the linear sweep's phi to 1e-6.
+  (to 1e-12), so are its harmonics (to 1e-9), and at small forcing its amplitude equals
+  the linear sweep's phi to 1e-6.
 """
 
 from __future__ import annotations
@@ -113,6 +114,9 @@ def test_outputs_on_every_branch_point_and_special_point(cart: NonlinearResponse
         assert point.amplitudes["phi"] == pytest.approx(point.amplitudes["x2"] / l, rel=1e-12)
     data = json.loads(json.dumps(cart.to_dict()))
     assert all(set(p["amplitudes"]) == {"x1", "x2", "phi"} for p in data["branch"])
+    for p in data["branch"]:  # the output's harmonics: those of x2 over l
+        assert np.allclose(np.concatenate(p["harmonics"]["phi"]),
+                           np.concatenate(p["harmonics"]["x2"]) / l, rtol=1e-9, atol=1e-14)
     assert all("phi" in p["amplitudes"] for p in data["special_points"])
     lines = {line.get_label() for line in plot_nonlinear_response(cart).axes[0].lines}
     assert "phi (harmonic balance, H = 3)" in lines

@@ -107,6 +107,11 @@ class NonlinearResponse:
         period, at every branch point.
     coefficients : numpy.ndarray
         (points, n, 2H+1): per coordinate ``[a_0, a_1, b_1, ..., a_H, b_H]``.
+    outputs : tuple of str
+        The model's outputs (``[outputs]``), evaluated in full on every point.
+    output_coefficients : numpy.ndarray or None
+        (points, outputs, 2H+1): the first H harmonics of every output's deviation (None
+        without outputs).
     base_frequencies : numpy.ndarray
         The base frequency W (rad/s) at every point.
     stable : numpy.ndarray
@@ -143,18 +148,20 @@ class NonlinearResponse:
     stop: float
     linear: FrequencyResponse | None = None
     warnings: tuple[str, ...] = ()
+    outputs: tuple[str, ...] = ()
+    output_coefficients: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         freeze_fields(self)
 
     def harmonic_lists(self, i: int) -> dict[str, list[list[float]]]:
-        """``name -> [[a_0], [a_1, b_1], ...]`` of branch point i."""
-        out = {}
-        for j, name in enumerate(self.coordinates):
-            c = self.coefficients[i, j]
-            out[name] = [[float(c[0])]] + [[float(c[2 * k - 1]), float(c[2 * k])]
-                                           for k in range(1, self.harmonics + 1)]
-        return out
+        """``name -> [[a_0], [a_1, b_1], ...]`` of branch point i (coordinates, outputs)."""
+        rows = list(zip(self.coordinates, self.coefficients[i]))
+        if self.output_coefficients is not None:
+            rows += list(zip(self.outputs, self.output_coefficients[i]))
+        return {name: [[float(c[0])]] + [[float(c[2 * k - 1]), float(c[2 * k])]
+                                         for k in range(1, self.harmonics + 1)]
+                for name, c in rows}
 
     def peak(self) -> tuple[float, dict[str, float]] | None:
         """(value, amplitudes) of the largest stable amplitude of the first coordinate: its
@@ -369,7 +376,9 @@ def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, 
         coefficients=coeffs, base_frequencies=Ws, stable=stable, multipliers=mult,
         special_points=special, harmonics=hb.H, residual=residual, truncation=trunc,
         start=float(start), stop=float(stop), linear=linear_response,
-        warnings=tuple(warnings))
+        warnings=tuple(warnings), outputs=system.outputs,
+        output_coefficients=hb.output_coefficients(branch.x, branch.p)
+        if system.outputs else None)
 
 
 __all__ = ["NonlinearResponse", "SpecialPoint", "nonlinear_sweep", "SPECIAL_KINDS",

@@ -115,8 +115,9 @@ class HarmonicBalance:
         return (*self.evaluate(x.reshape(self.n, self.m), W, pv), W)
 
     def project(self, E: np.ndarray) -> np.ndarray:
+        """The first H harmonics ``[c_0, a_1, b_1, ...]`` of each row of samples E, raveled."""
         F = np.fft.rfft(E, axis=1)
-        R = np.empty((self.n, self.m))
+        R = np.empty((E.shape[0], self.m))
         N, H = self.N, self.H
         R[:, 0] = F[:, 0].real / N
         R[:, 1::2] = 2.0 / N * F[:, 1:H + 1].real
@@ -188,6 +189,16 @@ class HarmonicBalance:
         out = self.system.output_values(self.reference[:, None] + dev, W * (X @ dphi.T),
                                         W * W * (X @ d2phi.T), s, pv)
         return np.vstack([dev, *(out[name][None] for name in self.system.outputs)])
+
+    def output_coefficients(self, xs: Sequence[np.ndarray], ps: Sequence[float]) -> np.ndarray:
+        """(points, outputs, 2H+1): the first H harmonics of every output's deviation."""
+        count = len(self.system.outputs)
+        out = np.empty((len(xs), count, self.m))
+        with np.errstate(all="ignore"):
+            for i, (x, p) in enumerate(zip(xs, ps)):
+                out[i] = self.project(self.quantities(x, p, self.tau)[self.n:]).reshape(
+                    count, self.m)
+        return out
 
     def names(self) -> tuple[str, ...]:
         """The coordinates and the outputs, the rows of :meth:`quantities`."""
