@@ -74,7 +74,25 @@ def correct(hb: HarmonicBalance, pred: np.ndarray, t: np.ndarray, sx: float, sp:
 
 
 def follow(hb: HarmonicBalance, x0: np.ndarray, start: float, stop: float, points: int,
-              deadline: Deadline) -> Branch:
+           deadline: Deadline) -> Branch:
+    """Continue the solution x0 at ``start`` to ``stop`` by pseudo-arclength.
+
+    Parameters
+    ----------
+    hb : HarmonicBalance
+    x0 : numpy.ndarray
+        A converged solution at ``start``.
+    start, stop : float
+        The range of the continuation parameter.
+    points : int
+        About this many steps across the range in the parameter direction.
+    deadline : Deadline
+
+    Returns
+    -------
+    Branch
+        The points, their tangents and the warnings (stopped early, turned back).
+    """
     sp = abs(stop - start)
     direction = 1.0 if stop > start else -1.0
     sx = max(float(np.linalg.norm(x0)), 1e-12)
@@ -138,8 +156,8 @@ def follow(hb: HarmonicBalance, x0: np.ndarray, start: float, stop: float, point
 
 
 def refine(hb: HarmonicBalance, branch: Branch, i: int,
-            g: Callable[[np.ndarray, float, np.ndarray], float], g0: float, g1: float
-            ) -> tuple[np.ndarray, float] | None:
+           g: Callable[[np.ndarray, float, np.ndarray], float], g0: float, g1: float
+           ) -> tuple[np.ndarray, float] | None:
     """The point between branch points i and i+1 where g(x, p, tangent) = 0 (regula falsi
     with the Illinois modification on the arc-length coordinate)."""
     sx, sp = branch.sx, branch.sp

@@ -171,7 +171,25 @@ class Locator:
 
 def special_points(hb: HarmonicBalance, branch: Branch, lam: np.ndarray, Ws: np.ndarray,
                    amplitudes: np.ndarray) -> tuple[SpecialPoint, ...]:
-    """Folds, changes of stability and peaks of a branch, in the order of the arc."""
+    """Folds, changes of stability and peaks of a branch, in the order of the arc.
+
+    Parameters
+    ----------
+    hb : HarmonicBalance
+        The equations the branch solves.
+    branch : Branch
+        The continued points with their tangents.
+    lam : numpy.ndarray
+        (points, 2n) Floquet exponents of every point.
+    Ws : numpy.ndarray
+        (points,) base frequencies.
+    amplitudes : numpy.ndarray
+        (points, quantities) amplitudes of the coordinates and outputs (``hb.names()``).
+
+    Returns
+    -------
+    tuple of SpecialPoint
+    """
     locator = Locator(hb, branch, lam, Ws)
     folds, near = locator.folds()
     found = folds + locator.stability_changes(near) + locator.peaks(amplitudes)

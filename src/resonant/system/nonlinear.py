@@ -112,29 +112,110 @@ class NonlinearSystem(ABC):
 
     @abstractmethod
     def reference(self, pvals: np.ndarray) -> np.ndarray:
-        """The reference state q_ref (absolute coordinates) at the parameter values."""
+        """The reference state q_ref (absolute coordinates) at the parameter values.
+
+        Parameters
+        ----------
+        pvals : numpy.ndarray
+            The values of :attr:`parameters`, in that order.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n,) the coordinates of the reference state (``[equilibrium]``, else 0).
+        """
 
     @abstractmethod
     def forcing(self, t: np.ndarray, pvals: np.ndarray) -> np.ndarray:
-        """The excitation terms at the times ``t``: shape (forcing_size, t.size)."""
+        """The excitation terms s at the times ``t``.
+
+        Parameters
+        ----------
+        t : numpy.ndarray
+            (N,) times in s.
+        pvals : numpy.ndarray
+            The values of :attr:`parameters`.
+
+        Returns
+        -------
+        numpy.ndarray
+            (forcing_size, N); what each row means is the system's own business (for an
+            energy model: the signals and their time derivatives the equations contain).
+        """
 
     @abstractmethod
     def equations(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, s: np.ndarray,
                   pvals: np.ndarray, damping: float = 1.0
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """E (n, N) and dE/dq, dE/dq', dE/dq'' (n, n, N) at N samples."""
+        """The residual of the full equations and its partial derivatives at N samples.
+
+        Parameters
+        ----------
+        q, qd, qdd : numpy.ndarray
+            (n, N) absolute coordinates, velocities and accelerations.
+        s : numpy.ndarray
+            (forcing_size, N) the forcing (:meth:`forcing`; zeros for free vibration).
+        pvals : numpy.ndarray
+            The values of :attr:`parameters`.
+        damping : float
+            Factor on the dissipation (1: the model; 0: undamped).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            E (n, N), dE/dq, dE/dq', dE/dq'' (n, n, N each; ``[i, j]`` = dE_i/dq_j).
+        """
 
     @abstractmethod
     def output_values(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, s: np.ndarray,
                       pvals: np.ndarray) -> dict[str, np.ndarray]:
-        """Every supported output's deviation from its reference value, (N,) each."""
+        """The outputs at N samples, as deviations from their value at the reference state.
+
+        Parameters
+        ----------
+        q, qd, qdd, s, pvals : numpy.ndarray
+            As for :meth:`equations`.
+
+        Returns
+        -------
+        dict
+            ``name -> (N,)`` for every name of :attr:`outputs`.
+        """
 
     @abstractmethod
     def base_frequency(self, pvals: np.ndarray) -> float:
-        """W (rad/s) of the periodic forcing; AnalysisError when it is not periodic."""
+        """The base frequency W (rad/s) of the periodic forcing.
+
+        Parameters
+        ----------
+        pvals : numpy.ndarray
+            The values of :attr:`parameters`.
+
+        Returns
+        -------
+        float
+            The largest common divisor of the forcing's frequencies.
+
+        Raises
+        ------
+        AnalysisError
+            When the forcing is not periodic (not harmonic, incommensurate, absent).
+        """
 
     def parameter_point(self, param: str, value: float) -> np.ndarray:
-        """All parameter values with ``param = value`` (its dependents follow)."""
+        """All parameter values with ``param = value`` (its dependents follow).
+
+        Parameters
+        ----------
+        param : str
+            A name of :attr:`parameters`.
+        value : float
+
+        Returns
+        -------
+        numpy.ndarray
+            The values of :attr:`parameters`, in that order.
+        """
         if param not in self._dependent:
             probe = parameter_values(self.model, param, np.array([1.0, 2.0]))
             self._dependent[param] = any(
