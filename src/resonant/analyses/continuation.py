@@ -40,7 +40,7 @@ class Branch:
 
 
 def tangent(J: np.ndarray, Rp: np.ndarray, sx: float, sp: float,
-             previous: np.ndarray) -> np.ndarray:
+            previous: np.ndarray) -> np.ndarray:
     A = np.vstack([np.hstack([J * sx, (Rp * sp)[:, None]]), previous[None, :]])
     b = np.zeros(A.shape[0])
     b[-1] = 1.0
@@ -50,7 +50,7 @@ def tangent(J: np.ndarray, Rp: np.ndarray, sx: float, sp: float,
 
 
 def correct(hb: HarmonicBalance, pred: np.ndarray, t: np.ndarray, sx: float, sp: float
-             ) -> tuple[np.ndarray, bool, int]:
+            ) -> tuple[np.ndarray, bool, int]:
     """Newton on R(x, p) = 0 and t . (v - pred) = 0 from the predictor (scaled variables)."""
     v = pred.copy()
     # dR/dp (a central difference, two residuals) once at the predictor: a chord column
