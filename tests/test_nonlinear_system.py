@@ -2,7 +2,8 @@
 small-oscillation limit is its linear system.
 
 * Compiled once: building the system derives the full equations once and compiles them
-  (equations with their three Jacobians, the forcing, the outputs, the base frequency);
+  (equations with their three Jacobians, mass and rest for the time integration, the
+  forcing, the outputs, the base frequency);
   a nonlinear simulation, a harmonic-balance sweep, a periodic solution and backbone
   curves on that one system compile nothing more (every ``sympy.lambdify`` call is
   counted, with the module that makes it).
@@ -59,8 +60,9 @@ def test_the_full_equations_are_compiled_once(monkeypatch: pytest.MonkeyPatch) -
     model = load(DUFFING).with_parameters(F="0.01")
     system = nonlinear_system(model)
     assert isinstance(system, NonlinearSystem) and len(derived) == 1
-    # equations + Jacobians, forcing, outputs, base frequency: four compilations
-    assert compiled.count("resonant.system.nonlinear") == 4
+    # equations + Jacobians, mass + rest (time integration), forcing, outputs, base
+    # frequency: five compilations
+    assert compiled.count("resonant.system.nonlinear") == 5
     compiled.clear()
 
     simulate(system, duration=30.0, progress=False)

@@ -155,20 +155,13 @@ class NonlinearDynamics:
         self.pvals = system.parameter_values
         self.equilibrium = system.reference(self.pvals)
         self.unsupported = list(system.unsupported_outputs)
-        self._zero = np.zeros((self.n, 1))
-
-    def matrices(self, t: np.ndarray, q: np.ndarray, v: np.ndarray
-                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """mass (n, n, N), rest (n, N) (E at q'' = 0) and the forcing at the times t."""
-        s = self.system.forcing(t, self.pvals)
-        E, _, _, mass = self.system.equations(q, v, np.zeros_like(q), s, self.pvals)
-        return mass, E, s
 
     def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
-        q, v = y[:self.n, None], y[self.n:, None]
+        q, v = y[:self.n], y[self.n:]
         with np.errstate(all="ignore"):
-            mass, rest, s = self.matrices(np.array([t]), q, v)
-        if not np.all(np.isfinite(s)):
+            mass, rest = self.system.dynamics(t, q, v, self.pvals)
+        if not (np.all(np.isfinite(mass)) and np.all(np.isfinite(rest))) and \
+                not np.all(np.isfinite(self.system.forcing(np.array([t]), self.pvals))):
             raise Breakdown(t, "the equations cannot be evaluated there (a signal is not "
                                "finite at that time: a signal such as 1/t undefined there?)",
                             small=False)
@@ -176,10 +169,10 @@ class NonlinearDynamics:
             raise Breakdown(t, "the equations of motion are not finite there (a coordinate "
                                "left the range where the model is defined)")
         try:
-            a = np.linalg.solve(mass[:, :, 0], -rest[:, 0])
+            a = np.linalg.solve(mass, -rest)
         except np.linalg.LinAlgError:
             raise Breakdown(t, "the mass matrix became singular") from None
-        return np.concatenate([y[self.n:], a])
+        return np.concatenate([v, a])
 
     def to_state(self, deviation: np.ndarray, velocity: np.ndarray) -> np.ndarray:
         return np.concatenate([self.equilibrium + deviation, velocity])
@@ -193,7 +186,8 @@ class NonlinearDynamics:
         outputs = {}
         if self.system.outputs:
             with np.errstate(all="ignore"):
-                mass, rest, s = self.matrices(t, q, v)
+                mass, rest = self.system.dynamics(t, q, v, self.pvals)
+                s = self.system.forcing(t, self.pvals)
                 a = np.linalg.solve(np.moveaxis(mass, -1, 0),
                                     -np.moveaxis(rest, -1, 0)[..., None])[..., 0].T
                 outputs = self.system.output_values(q, v, a, s, self.pvals)

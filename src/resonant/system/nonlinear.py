@@ -22,10 +22,13 @@ The interface (all arrays float; ``N`` samples in the last axis):
 * ``parameter_point(param, value)``: all parameter values with one changed
   (parameters defined by expressions of it follow);
 * ``forcing(t, pvals)``: ``s`` at the times ``t``, shape ``(forcing_size, N)``
-  (free vibration: zeros of that shape);
+  (free vibration: zeros of that shape; a scalar t gives ``(forcing_size,)``);
 * ``equations(q, qd, qdd, s, pvals, damping=1.0)``: ``E`` (n, N) and its
   partial derivatives ``dE/dq``, ``dE/dq'``, ``dE/dq''`` (n, n, N); the
   equations are linear in ``q''``, so ``dE/dq''`` is the mass matrix;
+* ``dynamics(t, q, qd, pvals)``: the forced equations at time t as ``mass q'' + rest``
+  for the time integration (a default from ``forcing`` and ``equations``; a system may
+  compile a cheaper kernel);
 * ``output_values(q, qd, qdd, s, pvals)``: ``name -> (N,)`` deviation of every
   output from its value at the reference state;
 * ``base_frequency(pvals)``: the base frequency W of a periodic forcing (the
@@ -202,6 +205,33 @@ class NonlinearSystem(ABC):
             When the forcing is not periodic (not harmonic, incommensurate, absent).
         """
 
+    def dynamics(self, t: Any, q: np.ndarray, qd: np.ndarray, pvals: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray]:
+        """The forced equations at time(s) t as ``mass q'' + rest = 0`` (for time integration).
+
+        The default takes both from :meth:`forcing` and :meth:`equations` (the mass matrix
+        is dE/dq'', the rest E at q'' = 0); a system may compile a cheaper kernel.
+
+        Parameters
+        ----------
+        t : float or numpy.ndarray
+            One time, or (N,) times.
+        q, qd : numpy.ndarray
+            (n,) at one time, or (n, N).
+        pvals : numpy.ndarray
+            The values of :attr:`parameters`.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            mass (n, n) or (n, n, N), rest (n,) or (n, N).
+        """
+        one = np.ndim(q) == 1
+        s = np.reshape(self.forcing(np.atleast_1d(t), pvals), (self.forcing_size, -1))
+        q2, qd2 = np.reshape(q, (self.n, -1)), np.reshape(qd, (self.n, -1))
+        E, _, _, mass = self.equations(q2, qd2, np.zeros_like(q2), s, pvals)
+        return (mass[:, :, 0], E[:, 0]) if one else (mass, E)
+
     def parameter_point(self, param: str, value: float) -> np.ndarray:
         """All parameter values with ``param = value`` (its dependents follow).
 
@@ -235,6 +265,13 @@ class NonlinearSystem(ABC):
         if cache is None:
             cache = self.__dict__["_dependent_cache"] = {}
         return cache
+
+
+def _stack_at(values: Sequence[Any], shape: tuple[int, ...]) -> np.ndarray:
+    """Values of a lambdified list at one instant (shape ()) or at samples of ``shape``."""
+    if not shape:  # one instant: every value is a scalar (the integrator's hot path)
+        return np.array(values, dtype=float)
+    return _stack(values, int(np.prod(shape))).reshape(len(values), *shape)
 
 
 def _stack(values: Sequence[Any], count: int) -> np.ndarray:
@@ -331,6 +368,12 @@ class EnergySystem(NonlinearSystem):
         self._equations = sympy.lambdify(
             [*eq.q, *eq.qd, *eq.qdd, *params, *signals, _DAMPING],
             [compilable(e) for e in exprs], modules="numpy", cse=True)
+        forced = {symbol_: signal_function(model, name, order)
+                  for symbol_, (name, order) in zip(signals, signal_keys)}
+        self._dynamics = sympy.lambdify(
+            [TIME, *eq.q, *eq.qd, *params],
+            [compilable(sympy.sympify(e).xreplace(forced)) for e in [*eq.mass, *eq.rest]],
+            modules="numpy", cse=True)
         self._forcing = sympy.lambdify(
             [TIME, *params], [compilable(signal_function(model, name, order))
                               for name, order in signal_keys] or [0], modules="numpy",
@@ -378,10 +421,16 @@ class EnergySystem(NonlinearSystem):
         return reference_values(self.model, dict(zip(self.parameters, map(float, pvals))))
 
     def forcing(self, t: np.ndarray, pvals: np.ndarray) -> np.ndarray:
-        t = np.asarray(t, dtype=float)
         if not self.forcing_size:
-            return np.zeros((0, t.size))
-        return _stack(self._forcing(t, *pvals), t.size)
+            return np.zeros((0, *np.shape(t)))
+        return _stack_at(self._forcing(t, *pvals), np.shape(t))
+
+    def dynamics(self, t: Any, q: np.ndarray, qd: np.ndarray, pvals: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray]:
+        n, shape = self.n, np.shape(q)[1:]
+        with np.errstate(all="ignore"):
+            values = _stack_at(self._dynamics(t, *q, *qd, *pvals), shape)
+        return values[:n * n].reshape(n, n, *shape), values[n * n:]
 
     def equations(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, s: np.ndarray,
                   pvals: np.ndarray, damping: float = 1.0
