@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 from conftest import EXAMPLES, run_cli
-from resonant.analyses import simulate as simulate_module
+from resonant.analyses import time_integration
 from resonant.analyses import stationary as stationary_module
 from resonant.analyses import sweep as sweep_module
 from resonant.errors import ModelError, Problem, name_list, printable
@@ -109,7 +109,7 @@ def test_simulate_absurd_duration_is_refused_up_front():
 
 
 def test_simulate_step_budget_gives_exit_3_with_the_time_reached(monkeypatch):
-    monkeypatch.setattr(simulate_module, "MAX_RHS_CALLS", 20_000)
+    monkeypatch.setattr(time_integration, "MAX_RHS_CALLS", 20_000)  # the integration budget
     started = time.monotonic()
     status, _, err = run_cli(["simulate", CHAIN, "--duration", "1e5"])
     assert status == 3, err

@@ -85,13 +85,16 @@ class NonlinearEquations:
     """E_k = d/dt dT/dq'_k - dT/dq_k + dD/dq'_k + dU/dq_k - Q_k = 0 in full.
 
     ``mass`` is the matrix of the accelerations and ``rest`` the remainder, so
-    that the equations read ``mass * q'' + rest = 0``.
+    that the equations read ``mass * q'' + rest = 0``; ``dissipation`` is the
+    part ``dD/dq'_k`` of ``rest`` (zero for a model without D), so that the
+    undamped equations are ``mass * q'' + rest - dissipation = 0``.
     """
 
     model: Model
     mass: sympy.Matrix
     rest: sympy.Matrix
     ops: SympyOps
+    dissipation: sympy.Matrix | None = None
 
     @property
     def q(self) -> list[sympy.Symbol]:
@@ -153,13 +156,14 @@ def nonlinear_equations(model: Model) -> NonlinearEquations:
         for k in range(len(coords)):
             forces[k] += sum((f * sympy.diff(p, q[k]) for f, p in zip(vector, point)), zero)
     equations = []
+    dissipation = [sympy.diff(D, qd[k]) for k in range(len(coords))]
     for k in range(len(coords)):
         equations.append(ops.dt(sympy.diff(T, qd[k])) - sympy.diff(T, q[k])
-                         + sympy.diff(D, qd[k]) + sympy.diff(U, q[k]) - forces[k])
+                         + dissipation[k] + sympy.diff(U, q[k]) - forces[k])
     E = sympy.Matrix(equations)
     mass = E.jacobian(qdd)
     rest = E.subs({a: 0 for a in qdd})
-    return NonlinearEquations(model, mass, rest, ops)
+    return NonlinearEquations(model, mass, rest, ops, sympy.Matrix(dissipation))
 
 
 def linearized_matrices(eq: NonlinearEquations) -> tuple[sympy.Matrix, sympy.Matrix,

@@ -1,4 +1,6 @@
-"""Layer 4, the system: the one linear-system type every analysis takes.
+"""Layer 4, the system: the one linear-system type every analysis takes, and the
+nonlinear-system type (:class:`NonlinearSystem`: the full equations of motion, compiled
+once, :func:`nonlinear_system`) the analyses beyond small oscillations take.
 
 :func:`linear_system` turns a model into its :class:`LinearSystem`: a
 :class:`LinearEOM` (derived from energies by :mod:`resonant.derivation`) or a
@@ -19,6 +21,7 @@ from .base import (
 )
 from .batch import Batch, BatchHarmonic
 from .matrix import MatrixEOM
+from .nonlinear import EnergySystem, NonlinearSystem, nonlinear_system
 from .symbolic import LinearEOM
 
 
@@ -46,4 +49,5 @@ def linear_system(model: Model, deadline: Deadline = NO_DEADLINE) -> LinearSyste
 
 
 __all__ = ["LinearSystem", "LinearEOM", "MatrixEOM", "NumericEOM", "NumericHarmonic",
-           "NumericOutput", "Batch", "BatchHarmonic", "linear_system", "parameter_values"]
+           "NumericOutput", "Batch", "BatchHarmonic", "linear_system", "parameter_values",
+           "NonlinearSystem", "EnergySystem", "nonlinear_system"]

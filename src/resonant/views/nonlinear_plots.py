@@ -2,8 +2,9 @@
 
 The plot draws the peak amplitude of each coordinate against the parameter:
 stable parts solid, unstable parts dashed, special points marked (fold: circle,
-period-doubling: square, Neimark-Sacker: diamond, branch: triangle), and the
-linear frequency response thin and grey beside it.
+period-doubling: square, Neimark-Sacker: diamond, branch: triangle, the peak of a
+curve: a star on that curve), and the linear frequency response dotted beside it.
+The curves are the coordinates' and the outputs' (``[outputs]``).
 """
 
 from __future__ import annotations
@@ -19,7 +20,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..analyses.backbone import Backbones
     from ..analyses.harmonic_balance import NonlinearResponse
 
-MARKERS = {"fold": "o", "period-doubling": "s", "neimark-sacker": "D", "branch": "^"}
+MARKERS = {"fold": "o", "period-doubling": "s", "neimark-sacker": "D", "branch": "^",
+           "peak": "*"}
 
 
 def plot_nonlinear_response(response: NonlinearResponse, path: Any = None,
@@ -53,9 +55,10 @@ def plot_nonlinear_response(response: NonlinearResponse, path: Any = None,
                 first = False
                 start = i
         for point in response.special_points:
-            if name in point.amplitudes:
+            if name in point.amplitudes and point.quantity in (None, name):
+                big = point.kind == "peak"
                 ax.plot([point.value], [point.amplitudes[name]], MARKERS.get(point.kind, "x"),
-                        color="k", mfc="none", ms=7)
+                        color="k", mfc="none", ms=10 if big else 7)
     kinds = sorted({p.kind for p in response.special_points})
     for kind in kinds:
         ax.plot([], [], MARKERS.get(kind, "x"), color="k", mfc="none", label=kind)
@@ -84,10 +87,13 @@ def nonlinear_text(response: NonlinearResponse) -> str:
     if response.special_points:
         lines.append("  special points:")
         for p in response.special_points:
-            amps = ", ".join(f"{k} = {v:.6g}" for k, v in p.amplitudes.items())
-            lines.append(f"    {p.kind:16s} {response.parameter} = {p.value:.6g}   {amps}")
+            amps = ", ".join(f"{k} = {v:.10g}" for k, v in p.amplitudes.items())
+            kind = f"peak of {p.quantity}" if p.kind == "peak" else p.kind
+            if p.stable is False:
+                kind += " (unstable)"
+            lines.append(f"    {kind:16s} {response.parameter} = {p.value:.10g}   {amps}")
     else:
-        lines.append("  no special points (no fold, no change of stability)")
+        lines.append("  no special points (no fold, no change of stability, no peak)")
     top = response.peak()
     if top is not None:
         value, peak_amps = top
