@@ -224,7 +224,7 @@ def test_cli_modes_text_set_and_plot(tmp_path):
 
 def test_cli_modes_errors():
     code, _, err = run_cli(["modes", EXAMPLES / "two_dof_free.toml", "--count", "0"])
-    assert code == 3 and "count" in err
+    assert code == 2 and "--count" in err
     code, _, err = run_cli(["modes", "/nonexistent/model.toml"])
     assert code == 2
     singular = loads('[matrices]\nM = [[1, 0], [0, 0]]\nK = [[1, 0], [0, 1]]\n')

@@ -57,7 +57,7 @@ Examples
 >>> from resonant.system import nonlinear_system
 >>> r = nonlinear_sweep(nonlinear_system(model), "omega", 0.5, 1.5, harmonics=3, points=40)
 >>> [(p.kind, p.quantity, round(p.value, 4)) for p in r.special_points], bool(r.stable.all())
-([('peak', 'x', 1.0077)], True)
+([('peak', 'x', 0.9994)], True)
 """
 
 from __future__ import annotations
