@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ModelError, Problem, printable
+from .key import KEY_FORMAT
 
 #: largest key.json read
 MAX_KEY_BYTES = 200_000_000
@@ -28,7 +29,6 @@ MAX_KEY_BYTES = 200_000_000
 MAX_ANSWERS_BYTES = 2_000_000
 #: most entries of one answer (a matrix of the largest size an exercise has)
 MAX_ENTRIES = 1_000_000
-KEY_FORMAT = "resonant-exercise-key"
 
 
 def read_json(path: str | Path, limit: int, what: str) -> Any:
