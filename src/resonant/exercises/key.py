@@ -11,7 +11,28 @@ KEY_FORMAT = "resonant-exercise-key"
 # -- key and Moodle -----------------------------------------------------------------------------
 
 def key_data(batch: ExerciseSet) -> dict[str, Any]:
-    """The answer key as JSON data."""
+    """The answer key as JSON data.
+
+    Parameters
+    ----------
+    batch : ExerciseSet
+        The variants.
+
+    Returns
+    -------
+    dict
+        ``format``, ``seed``, ``tolerance`` and per variant its varied values, all
+        parameters and every answer with its tolerance and unit.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> from resonant.exercises import generate
+    >>> batch = generate(resonant.load("examples/teaching/cart_pendulum.toml"), 2, seed=1)
+    >>> data = key_data(batch)
+    >>> data["format"], [v["variant"] for v in data["variants"]]
+    ('resonant-exercise-key', [1, 2])
+    """
     ex = batch.exercise
     return {
         "format": KEY_FORMAT, "version": 1,

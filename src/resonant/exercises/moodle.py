@@ -22,7 +22,24 @@ def _tex_html(latex: str) -> str:
 
 def moodle_feedback(report: Report) -> tuple[str, list[tuple[str, bytes]]]:
     """The report as HTML for Moodle (TeX in \\( \\) and \\[ \\] for its MathJax filter) and
-    its figures as files (name, SVG bytes) referenced by ``@@PLUGINFILE@@``."""
+    its figures as files (name, SVG bytes) referenced by ``@@PLUGINFILE@@``.
+
+    Parameters
+    ----------
+    report : Report
+        A variant's worked solution.
+
+    Returns
+    -------
+    tuple
+        The HTML text and the list of (file name, SVG bytes).
+
+    Examples
+    --------
+    >>> from resonant.report.blocks import Heading, Report
+    >>> moodle_feedback(Report("t", (Heading("Data", 1),)))
+    ('<h2>Data</h2>', [])
+    """
     def inline(parts: tuple[Part, ...]) -> str:
         return "".join(r"\(" + _tex_html(p.latex) + r"\)" if isinstance(p, Math) else _h(p)
                        for p in parts)
@@ -65,6 +82,18 @@ def _number(value: float) -> str:
 def cloze(value: float, tolerance: float) -> str:
     """One NUMERICAL sub-question: ``{1:NUMERICAL:=value:absolute tolerance}``.
 
+    Parameters
+    ----------
+    value : float
+        The right answer.
+    tolerance : float
+        The relative tolerance.
+
+    Returns
+    -------
+    str
+        The Cloze text.
+
     Examples
     --------
     >>> cloze(-0.5, 0.01)
@@ -95,7 +124,29 @@ def _xml(text: str) -> str:
 
 def moodle_xml(batch: ExerciseSet, feedback: Sequence[tuple[str, list[tuple[str, bytes]]]]
                ) -> str:
-    """A Moodle XML question bank: one category, one Cloze question per variant."""
+    """A Moodle XML question bank: one category, one Cloze question per variant.
+
+    Parameters
+    ----------
+    batch : ExerciseSet
+        The variants.
+    feedback : sequence
+        Per variant the feedback of :func:`moodle_feedback`.
+
+    Returns
+    -------
+    str
+        The XML document.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> from resonant.exercises import generate
+    >>> batch = generate(resonant.load("examples/teaching/cart_pendulum.toml"), 2, seed=1)
+    >>> xml = moodle_xml(batch, [("", [])] * 2)
+    >>> xml.count('<question type="cloze">')
+    2
+    """
     ex = batch.exercise
     title = batch.model.title or Path(batch.model.source).stem or "exercise"
     category = "$course$/top/resonant/" + title.replace("/", "-")

@@ -14,7 +14,30 @@ from .variants import Variant
 
 def solution_report(variant: Variant, derivation: Derivation | None, plots: bool) -> Report:
     """The worked solution of one variant (the report of ``resonant report``), built on the
-    shared derivation."""
+    shared derivation.
+
+    Parameters
+    ----------
+    variant : Variant
+        The variant.
+    derivation : Derivation or None
+        The derivation shared by all variants (None: the solution starts from M, C, K).
+    plots : bool
+        Whether to include the figures.
+
+    Returns
+    -------
+    Report
+        The blocks of the solution.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> from resonant.exercises import generate
+    >>> batch = generate(resonant.load("examples/teaching/cart_pendulum.toml"), 2, seed=1)
+    >>> solution_report(batch.variants[0], None, plots=False).title.endswith("variant 1")
+    True
+    """
     d = dataclasses.replace(derivation, model=variant.model) if derivation is not None \
         else None
     ctx = Context(variant.model, variant.eom, variant.solution, d,  # type: ignore[arg-type]

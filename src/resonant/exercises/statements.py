@@ -36,7 +36,28 @@ def _with_unit(text: str, unit: str | None) -> str:
 
 
 def filled_statement(variant: Variant, exercise: Exercise) -> str:
-    """The teacher's statement with the variant's values (and units) filled in."""
+    """The teacher's statement with the variant's values (and units) filled in.
+
+    Parameters
+    ----------
+    variant : Variant
+        The variant.
+    exercise : Exercise
+        The model's ``[exercise]``.
+
+    Returns
+    -------
+    str
+        The statement's text.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> from resonant.exercises import generate
+    >>> batch = generate(resonant.load("examples/teaching/cart_pendulum.toml"), 2, seed=1)
+    >>> "{" in filled_statement(batch.variants[0], batch.exercise)  # every name filled in
+    False
+    """
     return "".join(_with_unit(_value_text(variant, name), _unit(variant, exercise, name))
                    if name else text
                    for text, name in statement_parts(exercise.statement))

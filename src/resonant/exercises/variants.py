@@ -49,7 +49,24 @@ _LABELS = {"M": "mass matrix M", "C": "damping matrix C", "K": "stiffness matrix
 
 @dataclass(frozen=True)
 class Answer:
-    """One answer of a variant: a number, a vector or a matrix (nested lists)."""
+    """One answer of a variant: a number, a vector or a matrix (nested lists).
+
+    Parameters
+    ----------
+    key : str
+        What is asked, as in ``[exercise] answers`` (``"K"``, ``"amplitude:x1"`` ...).
+    label : str
+        The question in words.
+    value : float or list
+        The right answer.
+    unit : str or None
+        Its unit (models with units).
+
+    Examples
+    --------
+    >>> Answer("K", "stiffness matrix K", [[100.0, 0.0], [0.0, 9.81]], None).label
+    'stiffness matrix K'
+    """
 
     key: str
     label: str
@@ -59,7 +76,33 @@ class Answer:
 
 @dataclass(frozen=True)
 class Variant:
-    """One student's exercise: the varied values, the model with them, the solution."""
+    """One student's exercise: the varied values, the model with them, the solution.
+
+    Parameters
+    ----------
+    number : int
+        The variant's number, from 1.
+    values : mapping
+        The varied parameters' values (SI).
+    texts : mapping
+        The same values as written in the statement (with units).
+    model : Model
+        The model with these values.
+    eom : LinearSystem
+        Its linear system (sharing the symbolic derivation).
+    solution : StationarySolution
+        Its stationary solution.
+    answers : mapping
+        key -> :class:`Answer`.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> batch = generate(resonant.load("examples/teaching/cart_pendulum.toml"), 2, seed=1)
+    >>> batch.variants[1].number, sorted(batch.variants[1].values) == sorted(
+    ...     v.name for v in batch.exercise.variants)
+    (2, True)
+    """
 
     number: int
     values: Mapping[str, float]
@@ -72,7 +115,20 @@ class Variant:
 
 @dataclass(frozen=True)
 class Replacement:
-    """A drawn value set that was not used, and why."""
+    """A drawn value set that was not used, and why.
+
+    Parameters
+    ----------
+    values : mapping
+        The drawn values.
+    reason : str
+        Why it was replaced (not an equilibrium, unstable, near resonance).
+
+    Examples
+    --------
+    >>> Replacement({"k": 90.0}, "within 5 % of a natural frequency").reason
+    'within 5 % of a natural frequency'
+    """
 
     values: Mapping[str, float]
     reason: str
@@ -80,7 +136,30 @@ class Replacement:
 
 @dataclass(frozen=True)
 class ExerciseSet:
-    """The variants of one run (``seed``), the replaced value sets, the shared derivation."""
+    """The variants of one run (``seed``), the replaced value sets, the shared derivation.
+
+    Parameters
+    ----------
+    model : Model
+        The teacher's model.
+    exercise : Exercise
+        Its ``[exercise]`` and ``[variants]``.
+    seed : int
+        The seed the values were drawn with.
+    variants : tuple of Variant
+        The variants, numbered from 1.
+    replaced : tuple of Replacement
+        The value sets drawn but not used.
+    eom : LinearSystem
+        The symbolic system all variants share.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> batch = generate(resonant.load("examples/teaching/cart_pendulum.toml"), 2, seed=1)
+    >>> batch.seed, len(batch.variants)
+    (1, 2)
+    """
 
     model: Model
     exercise: Exercise
@@ -216,10 +295,33 @@ def generate(model: Model, count: int, seed: int, deadline: Deadline = NO_DEADLI
              ) -> ExerciseSet:
     """``count`` distinct, solved variants of the model's exercise.
 
+    Parameters
+    ----------
+    model : Model
+        A model with ``[exercise]`` and ``[variants]``.
+    count : int
+        How many variants.
+    seed : int
+        The seed of the draw (the same seed, the same variants).
+    deadline : Deadline, optional
+        Checked between variants.
+
+    Returns
+    -------
+    ExerciseSet
+        The variants and the replaced value sets.
+
     Raises
     ------
     ModelError
         No ``[exercise]``; fewer acceptable value sets than ``count``.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> batch = generate(resonant.load("examples/teaching/cart_pendulum.toml"), 2, seed=1)
+    >>> [v.number for v in batch.variants]
+    [1, 2]
     """
     exercise = model.exercise
     if exercise is None:

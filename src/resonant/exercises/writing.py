@@ -27,7 +27,32 @@ FORMATS = ("html", "md", "tex", "moodle", "json")
 def write(batch: ExerciseSet, folder: str | Path, formats: Sequence[str] = ("html",),
           plots: bool = True) -> list[Path]:
     """Write every variant's statement and solution, ``key.json`` and (format ``moodle``)
-    ``moodle.xml`` into ``folder``; returns the files written (figures excluded)."""
+    ``moodle.xml`` into ``folder``.
+
+    Parameters
+    ----------
+    batch : ExerciseSet
+        The variants.
+    folder : str or Path
+        Where to write (one subfolder per variant).
+    formats : sequence of str
+        Any of :data:`FORMATS`.
+    plots : bool
+        Whether the solutions include figures.
+
+    Returns
+    -------
+    list of Path
+        The files written (figures excluded).
+
+    Examples
+    --------
+    >>> import resonant, tempfile
+    >>> from resonant.exercises import generate
+    >>> batch = generate(resonant.load("examples/teaching/cart_pendulum.toml"), 1, seed=1)
+    >>> [p.name for p in write(batch, tempfile.mkdtemp(), ["json"], plots=False)]
+    ['solution.json', 'key.json']
+    """
     folder = Path(folder)
     ex = batch.exercise
     title = batch.model.title or Path(batch.model.source).stem or "Exercise"
