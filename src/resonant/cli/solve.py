@@ -9,6 +9,7 @@ from typing import Any
 import resonant.cli.common as common
 
 from ..analyses.stationary import stationary
+from ..errors import name_list
 from ..system import linear_system
 from ..views.display import solution_text
 from ..views.units_display import result_units
@@ -39,10 +40,14 @@ def run_solve(args: argparse.Namespace) -> int:
     return 0
 
 
+#: coordinates named by `resonant check` before "... and N more"
+CHECK_LISTED = 12
+
+
 def run_check(args: argparse.Namespace) -> int:
     deadline = common.deadline(args)
     model = common.load_model(args)
     linear_system(model, deadline).numeric(deadline)
     print(f"{args.model}: valid model, {len(model.coordinates)} coordinate(s): "
-          f"{', '.join(model.coordinates)}")
+          f"{name_list(model.coordinates, limit=CHECK_LISTED)}")
     return 0

@@ -36,7 +36,9 @@ MAX_DEPTH = 100
 MAX_NODES = 20_000
 MAX_EXPONENT = 1000
 MAX_NAME_LENGTH = 64
-_MAX_NUMBER = 1e300
+#: the largest magnitude of a number in a model, and the smallest nonzero one
+MAX_NUMBER = 1e300
+MIN_NUMBER = 1e-300
 _MAX_BITS = 1100  # ~330 decimal digits: the largest exact number we let sympy build
 _FLOAT_DIGITS = 30  # the precision an exact number continues with beyond _MAX_BITS
 _TIME_HINT = ("time 't' may only appear in [signals]; "
@@ -325,7 +327,7 @@ def _number_problem(text: str) -> str | None:
     digits, scale = _decimal(text)
     if len(digits) > 300:
         return "number has too many digits (at most 300)"
-    if float(text) > _MAX_NUMBER or len(digits) + scale > 301:
+    if float(text) > MAX_NUMBER or len(digits) + scale > 301:
         return "number too large (at most 1e300)"
     if digits and len(digits) + scale < -299:
         return "number too small (at least 1e-300 unless zero)"

@@ -51,6 +51,7 @@ from ..expressions import (
 from .dimensions import check_units
 from .exercise import parse_exercise
 from .files import FileRefused, open_regular_file, read_bounded
+from .inline_matrices import extract_numeric_matrices
 from .limits import (
     ENERGY_KEYS,
     MAX_COORDINATES,
@@ -173,14 +174,17 @@ def loads(text: str, source: str = "<string>", base_dir: str | Path | None = Non
     if not isinstance(text, str):
         raise ModelError(Problem(f"the model text must be a str, not {type(text).__name__}",
                                  source))
+    text, inline_arrays = extract_numeric_matrices(text)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(Problem(f"invalid TOML: {exc}", source)) from None
     except RecursionError:
         raise ModelError(Problem("invalid TOML: nested too deeply", source)) from None
-    return _Builder(data, source, Path(base_dir) if base_dir is not None else None,
-                    overrides or {}, tuple(allow_paths)).build()
+    builder = _Builder(data, source, Path(base_dir) if base_dir is not None else None,
+                       overrides or {}, tuple(allow_paths))
+    builder.inline_arrays = inline_arrays
+    return builder.build()
 
 
 class _Builder:
@@ -195,6 +199,7 @@ class _Builder:
         self.allow_paths = allow_paths
         self.overrides = overrides
         self.problems: list[Problem] = []
+        self.inline_arrays: dict[str, Any] = {}  # placeholder -> large number-only matrix
         self.declared: dict[str, str] = {}  # name -> section
         self.force_points: dict[str, str] = {}  # [[force]] name -> the named point (parts)
         # physical units (resonant.model.units): what the file gives, checked in build()
@@ -685,7 +690,8 @@ class _Builder:
         harmonics = self.data.get("harmonic", [])
         try:
             spec: MatrixSpec = read_matrix_spec(section, harmonics, params, coordinates,
-                                                self.source, self.base_dir, self.allow_paths)
+                                                self.source, self.base_dir, self.allow_paths,
+                                                self.inline_arrays)
             return spec
         except ModelError as exc:
             self.problems.extend(exc.problems)

@@ -31,7 +31,7 @@ import re
 import struct
 import warnings
 import zipfile
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import IO, Any
 
@@ -41,6 +41,7 @@ import resonant.model.limits as limits
 
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
+from . import inline_matrices
 from .files import FileRefused, open_regular_file, read_bounded
 from .types import Harmonic, MatrixSpec
 
@@ -468,13 +469,17 @@ def _read_mtx(handle: IO[bytes], size: int) -> Any:
 
 def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
                      coordinates: Sequence[str], source: str, base_dir: Path | None,
-                     allow_paths: Sequence[str | os.PathLike[str]] = ()) -> MatrixSpec:
+                     allow_paths: Sequence[str | os.PathLike[str]] = (),
+                     inline_arrays: Mapping[str, np.ndarray] | None = None) -> MatrixSpec:
     """Validate ``[matrices]`` and ``[[harmonic]]``; every problem in one ModelError.
 
     ``base_dir`` is the model file's folder (None for a model given as text:
     file references are then refused); ``allow_paths`` are further directories
-    matrix files may be read from.
+    matrix files may be read from; ``inline_arrays`` the large number-only inline
+    matrices already read (:func:`resonant.model.inline_matrices.extract_numeric_matrices`),
+    by the placeholder that stands for them in ``section``.
     """
+    inline_arrays = inline_arrays or {}
 
     problems: list[Problem] = []
     if not isinstance(section, dict):
@@ -501,7 +506,9 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
             problems.append(Problem(f"unknown key '{key}'; [matrices] takes M, K and C",
                                     source, "matrices", key))
             continue
-        if isinstance(value, str) and value.lower().endswith(FILE_SUFFIXES):
+        if isinstance(value, str) and value in inline_arrays:
+            matrices[key] = inline_arrays[value]
+        elif isinstance(value, str) and value.lower().endswith(FILE_SUFFIXES):
             try:
                 matrices[key] = read_matrix_file(value, key, base_dir, allow_paths)
             except FileRefused as exc:
@@ -512,16 +519,9 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
                 problems.append(Problem(f"{key} must be square: {n} rows of {n} entries",
                                         source, "matrices", key))
                 continue
-            rows = []
-            for i, row in enumerate(value):
-                parsed = []
-                for j, entry in enumerate(row):
-                    try:
-                        parsed.append(_entry(entry, params, source, f"{key}[{i + 1}][{j + 1}]"))
-                    except ModelError as exc:
-                        problems.extend(exc.problems)
-                rows.append(parsed)
-            matrices[key] = rows
+            numbers = _plain_numbers(value) if n > inline_matrices.INLINE_EXPRESSION_SIZE else None
+            matrices[key] = numbers if numbers is not None else \
+                _inline_entries(value, key, params, source, problems)
         else:
             problems.append(Problem(
                 f"{key} must be an array of rows ([[1, 0], [0, 1]]) or a path to a "
@@ -566,6 +566,38 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
         raise ModelError(problems)
     return MatrixSpec(M=matrices["M"], K=matrices["K"], C=matrices.get("C"),
                       harmonics=tuple(parsed_harmonics))
+
+
+def _plain_numbers(rows: list[list[Any]]) -> np.ndarray | None:
+    """A large inline matrix of number literals as one float array, without the expression
+    parser (8 bytes an entry instead of a syntax tree); None if an entry is anything else
+    (an expression, a bool, a number beyond the limits), which then takes the parser's
+    way and gets its message."""
+    if not all(type(v) is int or type(v) is float for row in rows for v in row):
+        return None
+    try:
+        array = np.array(rows, dtype=float)
+    except OverflowError:
+        return None
+    if not inline_matrices.within_limits(array):
+        return None
+    array.flags.writeable = False
+    return array
+
+
+def _inline_entries(value: list[list[Any]], key: str, params: Sequence[str], source: str,
+                    problems: list[Problem]) -> list[list[Expression]]:
+    """Every entry of an inline matrix parsed as an expression of the parameters."""
+    rows = []
+    for i, row in enumerate(value):
+        parsed = []
+        for j, entry in enumerate(row):
+            try:
+                parsed.append(_entry(entry, params, source, f"{key}[{i + 1}][{j + 1}]"))
+            except ModelError as exc:
+                problems.extend(exc.problems)
+        rows.append(parsed)
+    return rows
 
 
 def _entry(value: Any, params: Sequence[str], source: str, key: str,
