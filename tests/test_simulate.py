@@ -93,7 +93,7 @@ def test_nonlinear_agrees_for_small_and_differs_for_large_amplitudes():
     large = simulate(large_model, duration=3.0, nonlinear=True)
     linear = simulate(large_model, duration=3.0)
     assert abs(linear.relative_difference["x2"]) < 1e-6  # the linear model scales exactly
-    # undamped: the run starts on the periodic solution of the full equations (issue 14),
+    # undamped: the run starts on the periodic solution of the full equations,
     # whose x2 amplitude is 6.4 % below the linear one; from the linear stationary state
     # the run beats, and its peak (+11 %) is not a steady state
     assert large.start == "periodic"

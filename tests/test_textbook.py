@@ -1,12 +1,13 @@
 """Textbook checks: every example model against its published or closed-form solution.
 
 Each test names its source (the reference exercise "Practice 12 - 2 DoF forced system"
-of BME's Department of Applied Mechanics, or a textbook section) and states the
+of BME's Department of Applied Mechanics, docs/reference-exercise.md, or a textbook
+section) and states the
 tolerance of every comparison.  Expected values are computed here, independently of
 resonant's internals: from closed forms, or with numpy from matrices written down by
 hand from the physics.  The program is driven only through its command line
 (``resonant solve/modes/sweep ... --json``), following the contract in
-``/work/shared/spec/model-format.md``:
+``docs/model-format.md``:
 
 * the stationary solution of ``M q'' + C q' + K q = F_S sin(wt) + F_C cos(wt)`` is
   ``q = L cos(wt) + N sin(wt)`` with
@@ -98,7 +99,7 @@ class ModelSymbols:
         self.base: dict[str, float] = {}
         self.derived: dict[str, sp.Expr] = {}
         for n, v in data["parameters"].items():
-            # "2 kg", "pi/3 rad" (issue 13): the value times its unit's SI factor
+            # "2 kg", "pi/3 rad" (docs/units.md): the value times its unit's SI factor
             text, unit = split_value(v) if isinstance(v, str) else (v, None)
             factor = parse_unit(unit).to_si() if unit is not None else 1.0
             try:

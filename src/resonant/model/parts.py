@@ -1,4 +1,4 @@
-"""A planar mechanism described by its parts (../shared/spec/components.md).
+"""A planar mechanism described by its parts (the contract: docs/parts.md).
 
 ``gravity``, ``[[point]]``, ``[[body]]``, ``[[spring]]``, ``[[damper]]`` and
 ``[[torque]]`` are read here into frozen types; :mod:`resonant.model.part_energies`
