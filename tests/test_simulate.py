@@ -73,7 +73,8 @@ def test_damped_oscillator_amplitude_property(m, wn, zeta, r):
 
 
 def test_undamped_linear_run_starts_stationary_and_reproduces_the_reference():
-    """Reference exercise (practice 12), Eq. (48): X2 = 0.0451 m; X1 from Eqs. (42)-(47)."""
+    """Reference exercise (docs/reference-exercise.md), Eq. (48): X2 = 0.0451 m; X1 from
+    Eqs. (42)-(47)."""
     sim = simulate(load(EXAMPLES / "cart_pendulum.toml"), duration=2.0, periods=3)
     assert sim.start == "stationary"
     assert any("stationary solution's initial state" in w for w in sim.warnings)

@@ -199,7 +199,7 @@ def test_example_solves_with_contract_keys(name):
     assert wn == sorted(wn)
 
 
-# ------------------------------------------------- reference exercise (cart + pendulum)
+# ----------------------- reference exercise (cart + pendulum, docs/reference-exercise.md)
 
 REF = "cart_pendulum.toml"
 REF_EXACT = "cart_pendulum_exact.toml"

@@ -57,7 +57,7 @@ class Body:
     angle: Expression | None = None
     centre: Vector | None = None
     points: Mapping[str, Vector] = field(default_factory=dict)
-    #: drawing hints (an extension of the spec, used by ``resonant draw`` only):
+    #: drawing hints (an extension, docs/parts.md; used by ``resonant draw`` only):
     #: ``shape`` one of :data:`SHAPES`, ``size`` one or two constants (width [, height]
     #: of a block; radius of a disc or point mass; width of a bar)
     shape: str | None = None

@@ -284,7 +284,7 @@ def _link_intro(link: Link, index: int, what: str, coefficient: str) -> list[Any
 
 def _elongation(ctx: Context, parts: _Parts, link: Link, symbol: str, intro: list[Any]
                 ) -> list[Block]:
-    """Δl of a spring or damper, from its points as the spec defines it."""
+    """Δl of a spring or damper, from its points as docs/parts.md defines it."""
     mech = parts.mechanism
     stretch = mech.elongation(link)
     (xa, ya), (xb, yb) = mech.point(link.between[0]), mech.point(link.between[1])
