@@ -329,7 +329,7 @@ def test_the_deferred_symbolic_derivation_has_the_time_limit_afresh() -> None:
 
 
 def test_a_copy_with_another_model_is_a_symbolic_system() -> None:
-    """dataclasses.replace (report.exercises shares a system this way) gives a LinearEOM
+    """dataclasses.replace (resonant.exercises shares a system this way) gives a LinearEOM
     with the symbolic fields, derived once, and the same numbers."""
     model = resonant.loads(pendulum_chain_toml(NUMERIC_MIN_COORDINATES))
     eom = model.linearize()

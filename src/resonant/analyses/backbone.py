@@ -92,7 +92,25 @@ class BackboneCurve:
 
 @dataclass(frozen=True)
 class Backbones:
-    """The backbone curves of the modes of a model (``resonant modes --nonlinear``)."""
+    """The backbone curves of the modes of a model (``resonant modes --nonlinear``).
+
+    Attributes
+    ----------
+    title, coordinates
+        The model's title and its coordinates.
+    harmonics : int
+        The harmonics H of the balance.
+    curves : tuple of BackboneCurve
+        One per followed mode: amplitude against the free periodic frequency.
+    residual : float
+        The largest harmonic-balance residual of the curves.
+    warnings : tuple of str
+        What the user should know (a curve that stopped early).
+
+    Examples
+    --------
+    See :func:`backbone`.
+    """
 
     title: str
     coordinates: tuple[str, ...]

@@ -124,11 +124,21 @@ class NonlinearResponse:
     harmonics : int
         H.
     residual : float
-        The largest harmonic-balance residual (max |R|) of the branch.
+        The largest harmonic-balance residual (max ``|R|``) of the branch.
     truncation : float
         The largest relative amplitude of the highest harmonic pair (H, H-1).
     linear : FrequencyResponse or None
         The linear sweep over the same range, for comparison.
+    title, coordinates
+        The model's title and its coordinates.
+    start, stop : float
+        The range of the parameter asked for.
+    warnings : tuple of str
+        What the user should know (truncation, a branch that left the range).
+
+    Examples
+    --------
+    See :func:`nonlinear_sweep` and the module's example.
     """
 
     title: str

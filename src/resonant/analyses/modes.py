@@ -79,10 +79,10 @@ class ModalAnalysis:
         The same modes with phi^T M phi = 1 (largest component positive).
     eigenvalues : ndarray
         Complex eigenvalues s of the state matrix (all 2n, or 2 per computed
-        mode for proportional damping), ordered by |s|, then Im s.
+        mode for proportional damping), ordered by ``|s|``, then Im s.
     damping_ratios, damped_frequencies : ndarray
         Per mode (proportional damping), else per eigenvalue pair with
-        Im s >= 0 ordered by |s|.
+        Im s >= 0 ordered by ``|s|``.
     proportional_damping : bool
         C is diagonalised by the undamped modes (always true without damping).
     rayleigh : tuple of float or None
@@ -90,6 +90,19 @@ class ModalAnalysis:
     stability : str
     method : str
         ``"dense"`` or ``"shift-invert Lanczos"``.
+    damped : bool
+        Whether C is nonzero.
+    warnings : tuple of str
+        What the user should know (rigid-body modes, unstable modes).
+    title : str
+        The model's title.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> m = modes(resonant.load("examples/two_dof_free.toml").linearize())
+    >>> m.natural_frequencies.round(6).tolist()
+    [20.0, 34.641016]
     """
 
     coordinates: tuple[str, ...]

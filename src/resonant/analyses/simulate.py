@@ -121,6 +121,24 @@ class Simulation:
     start : str
         ``"rest"``, ``"stationary"`` (the stationary solution's initial state)
         or ``"given"`` (``initial`` values).
+    title, coordinates
+        The model's title and its coordinates.
+    nonlinear : bool
+        Whether the full equations were integrated.
+    method : str
+        The integrator (a :func:`scipy.integrate.solve_ivp` method).
+    initial : mapping
+        The initial deviation of every coordinate and its rate (``"x'"``).
+    warnings : tuple of str
+        What the user should know.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> sim = simulate(resonant.load("examples/two_dof_free.toml").linearize(), duration=0.1,
+    ...                initial={"x1": 0.01})
+    >>> sim.start, sim.nonlinear, float(sim.t[0])
+    ('given', False, 0.0)
     """
 
     title: str

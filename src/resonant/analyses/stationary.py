@@ -116,6 +116,25 @@ class StationarySolution:
         ``name -> [(L, N), ...]`` per frequency, for coordinates and outputs.
     amplitudes, phases : mapping
         Peak absolute deviation, and delta = atan2(L, N) (single frequency only).
+    eom : NumericEOM
+        The numbers the solution was computed from.
+    natural_frequencies : ndarray
+        The undamped natural frequencies (rad/s), ascending.
+    eigenvalues : ndarray
+        The eigenvalues of the state matrix.
+    stability : str
+        ``"asymptotically stable"``, ``"marginally stable"`` or ``"unstable"``.
+    warnings : tuple of str
+        What the user should know (near resonance, no equilibrium ...).
+    available : bool
+        False when there is no stationary solution (then only the eigenvalues).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> sol = stationary(resonant.load("examples/cart_pendulum.toml").linearize())
+    >>> sol.natural_frequencies.round(6).tolist(), sol.stability
+    ([4.560711, 7.929966], 'marginally stable')
     """
 
     eom: NumericEOM

@@ -183,6 +183,28 @@ class FrequencyResponse:
         system or no excitation frequency is proportional to it.
     skipped : tuple of float
         Values where the stationary solution does not exist (undamped resonance).
+    quantities : tuple of str
+        The coordinates and outputs computed, in the order of ``response``.
+    response : ndarray
+        (N, quantities, harmonics) complex amplitudes L - iN per frequency.
+    harmonic_omegas : ndarray
+        (N, harmonics) the excitation frequencies at every value.
+    natural_frequencies : ndarray or None
+        The undamped natural frequencies when M, C, K do not change along the sweep.
+    warnings : tuple of str
+        What the user should know (skipped points, a coarse grid near a peak).
+    log : bool or None
+        Whether the values are spaced logarithmically (the plot's axis).
+    title, coordinates
+        The model's title and its coordinates.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> eom = resonant.load("examples/cart_pendulum.toml").linearize()
+    >>> r = sweep(eom, "omega", [5.0, 10.0])
+    >>> r.parameter, r.values.tolist(), r.frequency_sweep
+    ('omega', [5.0, 10.0], True)
     """
 
     parameter: str

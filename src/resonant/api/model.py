@@ -32,17 +32,25 @@ from ..analyses import simulate as simulate_analysis
 from ..deadline import Deadline
 from ..report import write_report
 from ..views import display, drawing
-from .results import Backbones, NonlinearResponse, Simulation, promote
+from .results import Backbones, NonlinearResponse, Simulation, fields_of_base, promote
 from .systems import SystemMethods, linear_system
 
 __all__ = ["Model", "load", "loads", "simulate", "with_methods"]
 
 
+@fields_of_base
 class Model(model_layer.Model):
     """A validated model with its analyses as methods.
 
     Build it with :func:`load` or :func:`loads`.  Every field is that of
     :class:`resonant.model.Model`; :meth:`with_parameters` keeps the class.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> model.coordinates, round(model.linearize().stationary().amplitudes["x1"], 6)
+    (('x1', 'x2'), 0.002944)
     """
 
     def linearize(self, timeout: float | None = None, deadline: Deadline | None = None
@@ -288,5 +296,13 @@ def simulate(system: SystemMethods | Any, duration: float | None = None,
     Returns
     -------
     Simulation
+        The time histories and the steady-state amplitudes.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> eom = resonant.load("examples/two_dof_free.toml").linearize()
+    >>> simulate(eom, 0.05, initial={"x2": 0.01}).initial["x2"]
+    0.01
     """
     return promote(Simulation, simulate_analysis.simulate(system, duration, nonlinear, **options))

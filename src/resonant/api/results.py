@@ -19,6 +19,7 @@ Cart with pendulum under force and support excitation
 
 from __future__ import annotations
 
+import inspect
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -31,22 +32,38 @@ __all__ = ["Backbones", "FrequencyResponse", "ModalAnalysis", "NonlinearResponse
 T = TypeVar("T")
 
 
-def promote(cls: type[T], result: object) -> T:
-    """The same result as an instance of ``cls``, a subclass of its type that adds views.
+def fields_of_base(cls: type[T]) -> type[T]:
+    """Append the base result's Attributes section to ``cls``'s docstring: the fields are
+    the base's, documented once, where they are defined."""
+    base_doc = inspect.getdoc(cls.__mro__[1]) or ""
+    start = base_doc.find("Attributes\n----------")
+    end = base_doc.find("Examples\n--------")
+    own = inspect.getdoc(cls) or ""
+    head, examples = own.split("Examples\n--------", 1) if "Examples\n--------" in own \
+        else (own, "")
+    fields = base_doc[start:end if end > start else None].rstrip() if start >= 0 else ""
+    cls.__doc__ = head.rstrip() + "\n\n" + fields + \
+        ("\n\nExamples\n--------" + examples if examples else "")
+    return cls
+
+
+def promote(subclass: type[T], result: object) -> T:
+    """The same result as an instance of ``subclass``, a subclass of its type that adds views.
 
     The fields are shared, not copied (results are frozen, their arrays read-only).
 
     Parameters
     ----------
-    cls : type
+    subclass : type
         The subclass to promote to.
     result : object
-        An instance of a base class of ``cls``.
+        An instance of a base class of ``subclass``.
 
     Returns
     -------
     object
-        ``result`` itself if it already is a ``cls``, else a new ``cls`` holding its fields.
+        ``result`` itself if it already is a ``subclass``, else a new ``subclass``
+        holding its fields.
 
     Examples
     --------
@@ -59,17 +76,26 @@ def promote(cls: type[T], result: object) -> T:
     >>> promote(WithView, Base()).show()
     'x = 1'
     """
-    if isinstance(result, cls):
+    if isinstance(result, subclass):
         return result
-    if not issubclass(cls, type(result)):
-        raise TypeError(f"cannot promote a {type(result).__name__} to {cls.__name__}")
-    promoted = object.__new__(cls)
+    if not issubclass(subclass, type(result)):
+        raise TypeError(f"cannot promote a {type(result).__name__} to {subclass.__name__}")
+    promoted = object.__new__(subclass)
     promoted.__dict__.update(result.__dict__)
     return promoted
 
 
+@fields_of_base
 class StationarySolution(stationary.StationarySolution):
-    """A :class:`resonant.analyses.stationary.StationarySolution` with its text and reprs."""
+    """A :class:`resonant.analyses.stationary.StationarySolution` with its text and reprs.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> sol = resonant.load("examples/cart_pendulum.toml").linearize().stationary()
+    >>> sol.natural_frequencies.round(4).tolist()
+    [4.5607, 7.93]
+    """
 
     def summary(self) -> str:
         """The text ``resonant solve`` prints.
@@ -87,8 +113,17 @@ class StationarySolution(stationary.StationarySolution):
         return display.stationary_latex(self)
 
 
+@fields_of_base
 class ModalAnalysis(modes.ModalAnalysis):
-    """A :class:`resonant.analyses.modes.ModalAnalysis` with its plot and text."""
+    """A :class:`resonant.analyses.modes.ModalAnalysis` with its plot and text.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> m = resonant.load("examples/two_dof_free.toml").linearize().modes()
+    >>> "mode" in m.summary().lower()
+    True
+    """
 
     def plot(self, path: str | Path | None = None, count: int | None = None,
              **options: Any) -> Any:
@@ -124,8 +159,18 @@ class ModalAnalysis(modes.ModalAnalysis):
         return display.modes_text(self, units)
 
 
+@fields_of_base
 class FrequencyResponse(sweep.FrequencyResponse):
-    """A :class:`resonant.analyses.sweep.FrequencyResponse` with its plot and text."""
+    """A :class:`resonant.analyses.sweep.FrequencyResponse` with its plot and text.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> r = resonant.load("examples/cart_pendulum.toml").linearize().sweep("omega", [5, 10])
+    >>> fig = r.plot()
+    >>> len(fig.axes) >= 2
+    True
+    """
 
     def plot(self, path: str | Path | None = None, names: Any = None, **options: Any) -> Any:
         """Amplitude and phase against the swept parameter
@@ -156,8 +201,17 @@ class FrequencyResponse(sweep.FrequencyResponse):
         return display.sweep_text(self)
 
 
+@fields_of_base
 class Simulation(simulate.Simulation):
-    """A :class:`resonant.analyses.simulate.Simulation` with its plot and text."""
+    """A :class:`resonant.analyses.simulate.Simulation` with its plot and text.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> sim = resonant.load("examples/two_dof_free.toml").simulate(0.05, initial={"x1": 0.01})
+    >>> sim.start
+    'given'
+    """
 
     def plot(self, path: str | Path | None = None, **options: Any) -> Any:
         """The time histories (:func:`resonant.views.plotting.plot_simulation`).
@@ -185,8 +239,18 @@ class Simulation(simulate.Simulation):
         return display.simulation_text(self)
 
 
+@fields_of_base
 class NonlinearResponse(harmonic_balance.NonlinearResponse):
-    """A :class:`resonant.analyses.harmonic_balance.NonlinearResponse` with plot and text."""
+    """A :class:`resonant.analyses.harmonic_balance.NonlinearResponse` with plot and text.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> r = resonant.load("examples/duffing.toml").nonlinear_sweep(
+    ...     "omega", 0.8, 1.2, harmonics=1, points=20)
+    >>> r.parameter, r.harmonics
+    ('omega', 1)
+    """
 
     def plot(self, path: str | Path | None = None, **options: Any) -> Any:
         """Amplitude against the parameter: stable solid, unstable dashed, special points
@@ -215,8 +279,17 @@ class NonlinearResponse(harmonic_balance.NonlinearResponse):
         return nonlinear_plots.nonlinear_text(self)
 
 
+@fields_of_base
 class Backbones(backbone.Backbones):
-    """:class:`resonant.analyses.backbone.Backbones` with their plot."""
+    """:class:`resonant.analyses.backbone.Backbones` with their plot.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> b = resonant.load("examples/duffing.toml").backbone(harmonics=1, points=10)
+    >>> len(b.curves) >= 1
+    True
+    """
 
     def plot(self, path: str | Path | None = None, **options: Any) -> Any:
         """Frequency against amplitude, one curve per mode

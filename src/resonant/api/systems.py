@@ -38,7 +38,18 @@ __all__ = ["DeferredEOM", "LinearEOM", "MatrixEOM", "NumericEOM", "SystemMethods
 
 
 class SystemMethods(base.LinearSystem):
-    """The analyses of a :class:`~resonant.system.LinearSystem` as its methods."""
+    """The analyses of a :class:`~resonant.system.LinearSystem` as its methods.
+
+    Mixed into each system type by :func:`with_methods`; each method is one call of its
+    analysis in :mod:`resonant.analyses`, its result promoted to the class with views.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> eom = resonant.load("examples/two_dof_free.toml").linearize()
+    >>> isinstance(eom, SystemMethods), eom.modes().natural_frequencies.round(3).tolist()
+    (True, [20.0, 34.641])
+    """
 
     def stationary(self, deadline: Deadline = NO_DEADLINE, **overrides: float | str
                    ) -> StationarySolution:

@@ -88,6 +88,12 @@ def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
     Returns
     -------
     argparse.ArgumentParser
+        The parser of ``resonant``'s command line.
+
+    Examples
+    --------
+    >>> build_parser(["solve", "model.toml"]).prog
+    'resonant'
     """
     parser = argparse.ArgumentParser(
         prog="resonant",
@@ -109,7 +115,24 @@ def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status."""
+    """Run the command line.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0 done, 2 invalid input (the model, a file, an option),
+        3 the analysis is impossible for this model.
+
+    Examples
+    --------
+    >>> main(["check", "/nonexistent/model.toml"])  # the message goes to stderr
+    2
+    """
     parser = build_parser(argv)
     args = parser.parse_args(argv)
     run: Callable[[argparse.Namespace], int] | None = getattr(args, "run", None)
@@ -160,6 +183,16 @@ def python_warnings(caught: Sequence[warnings.WarningMessage]) -> list[str]:
 
     Deduplicated, in words, never with the file, line or source text of the
     Python code that raised them (a library detail, useless to the user).
+
+    Parameters
+    ----------
+    caught : sequence of warnings.WarningMessage
+        The warnings recorded during the command.
+
+    Returns
+    -------
+    list of str
+        One line per distinct warning.
 
     Examples
     --------

@@ -11,8 +11,7 @@ from typing import Any
 import resonant.cli.common as common
 
 from ..errors import ModelError, Problem, printable
-from ..report.exercises import FORMATS, generate, write
-from ..report.grading import grade, grade_text
+from ..exercises import FORMATS, generate, grade, grade_text, write
 
 
 def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:

@@ -21,7 +21,25 @@ from ..model import Model, symbol
 
 
 def derivative_symbol(name: str, order: int) -> sympy.Symbol:
-    """The symbol of the order-th time derivative of a coordinate or signal."""
+    """The symbol of the order-th time derivative of a coordinate or signal.
+
+    Parameters
+    ----------
+    name : str
+        The coordinate or signal.
+    order : int
+        The order of the derivative (0: the quantity itself).
+
+    Returns
+    -------
+    sympy.Symbol
+        ``x``, ``x'``, ``x''`` ...
+
+    Examples
+    --------
+    >>> derivative_symbol("x", 2)
+    x''
+    """
     return symbol(name + "'" * order)
 
 
@@ -88,6 +106,23 @@ class NonlinearEquations:
     that the equations read ``mass * q'' + rest = 0``; ``dissipation`` is the
     part ``dD/dq'_k`` of ``rest`` (zero for a model without D), so that the
     undamped equations are ``mass * q'' + rest - dissipation = 0``.
+
+    Parameters
+    ----------
+    model : Model
+        The model the equations are of.
+    mass : sympy.Matrix
+        The matrix of the accelerations.
+    rest : sympy.Matrix
+        Everything else.
+    ops : SympyOps
+        The fold that built them (its registry of derivative symbols).
+    dissipation : sympy.Matrix, optional
+        The part dD/dq' of ``rest``.
+
+    Examples
+    --------
+    See :func:`nonlinear_equations`.
     """
 
     model: Model
@@ -117,6 +152,16 @@ class NonlinearEquations:
 
 def nonlinear_equations(model: Model) -> NonlinearEquations:
     """Form the full Lagrange equations of an energy model.
+
+    Parameters
+    ----------
+    model : Model
+        A model given by its energies.
+
+    Returns
+    -------
+    NonlinearEquations
+        ``mass * q'' + rest = 0`` in full.
 
     Examples
     --------
@@ -210,7 +255,26 @@ def linearized_matrices(eq: NonlinearEquations) -> tuple[sympy.Matrix, sympy.Mat
 
 
 def find_equilibrium(model: Model) -> dict[str, float] | None:
-    """An equilibrium near the reference state with all signals zero, or None."""
+    """An equilibrium near the reference state with all signals zero, or None.
+
+    Parameters
+    ----------
+    model : Model
+        A model given by its energies.
+
+    Returns
+    -------
+    dict or None
+        coordinate -> value of an equilibrium found by Newton's method from the
+        reference state, or None where none is found.
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> find_equilibrium(loads('[parameters]\\nk = 4\\n[coordinates]\\nx = ""\\n'
+    ...     '[equilibrium]\\nx = 0.1\\n[energy]\\nT = "x\\'^2/2"\\nU = "k*(x - 1)^2/2"'))
+    {'x': 1.0}
+    """
     import scipy.optimize
 
     eq = nonlinear_equations(model)

@@ -55,9 +55,19 @@ _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*", re.ASCII)
 class ExpressionError(ModelError):
     """An expression in a model file is invalid.
 
-    Attributes ``text``, ``position`` (0-based offset, or None) and ``reason``
-    describe the problem; ``str(err)`` shows the location, the reason and,
-    when the position is known, the expression with a caret under the culprit.
+    ``str(err)`` shows the location, the reason and, when the position is known, the
+    expression with a caret under the culprit.
+
+    Parameters
+    ----------
+    reason : str
+        What is wrong.
+    text : str
+        The expression.
+    position : int or None
+        0-based offset of the culprit in ``text``.
+    file, section, key : str
+        Where the expression is.
 
     Examples
     --------
@@ -90,14 +100,40 @@ def _caret(text: str, pos: int) -> str:
 
 @dataclass(frozen=True)
 class Num:
-    """A numeric literal, kept as its text (e.g. ``"0.5"``, ``"1e-3"``)."""
+    """A numeric literal, kept as its text (e.g. ``"0.5"``, ``"1e-3"``).
+
+    Parameters
+    ----------
+    value : str
+        The literal as written.
+
+    Examples
+    --------
+    >>> parse("1e-3").root
+    Num(value='1e-3')
+    """
 
     value: str
 
 
 @dataclass(frozen=True)
 class Name:
-    """A name with ``primes`` time derivatives; ``position`` is its offset in the text."""
+    """A name with ``primes`` time derivatives; ``position`` is its offset in the text.
+
+    Parameters
+    ----------
+    name : str
+        The name.
+    primes : int
+        How many time derivatives (``x''``: 2).
+    position : int
+        Its offset in the expression's text.
+
+    Examples
+    --------
+    >>> parse("2*x''").root.right
+    Name(name='x', primes=2, position=2)
+    """
 
     name: str
     primes: int = 0
@@ -106,7 +142,20 @@ class Name:
 
 @dataclass(frozen=True)
 class Call:
-    """A call of one of :data:`FUNCTIONS`."""
+    """A call of one of :data:`FUNCTIONS`.
+
+    Parameters
+    ----------
+    func : str
+        The function's name.
+    args : tuple of Node
+        Its arguments.
+
+    Examples
+    --------
+    >>> parse("sin(x)").root.func
+    'sin'
+    """
 
     func: str
     args: tuple[Node, ...]
@@ -114,7 +163,20 @@ class Call:
 
 @dataclass(frozen=True)
 class BinOp:
-    """A binary operation; ``op`` is one of ``+ - * / ^``."""
+    """A binary operation; ``op`` is one of ``+ - * / ^``.
+
+    Parameters
+    ----------
+    op : str
+        The operator.
+    left, right : Node
+        The operands.
+
+    Examples
+    --------
+    >>> parse("a^2").root.op
+    '^'
+    """
 
     op: str
     left: Node
@@ -123,7 +185,18 @@ class BinOp:
 
 @dataclass(frozen=True)
 class Neg:
-    """Unary minus."""
+    """Unary minus.
+
+    Parameters
+    ----------
+    operand : Node
+        What is negated.
+
+    Examples
+    --------
+    >>> parse("-a").root
+    Neg(operand=Name(name='a', primes=0, position=1))
+    """
 
     operand: Node
 
@@ -144,8 +217,16 @@ def _children(node: Node) -> tuple[Node, ...]:
 class Expression:
     """A parsed expression: its source ``text`` and syntax tree ``root``.
 
-    Equality and hashing use the text only.  ``origin`` is the
-    ``(file, section, key)`` it came from, used in error messages.
+    Equality and hashing use the text only.
+
+    Parameters
+    ----------
+    text : str
+        The source text.
+    root : Node
+        The syntax tree.
+    origin : tuple of str
+        The ``(file, section, key)`` it came from, used in error messages.
 
     Examples
     --------
@@ -487,6 +568,16 @@ def parse(text: str | int | float, *, allowed: Collection[str] | None = None,
 
 def validate_name(name: str) -> str | None:
     """Why ``name`` cannot be declared by a model, or None if it can.
+
+    Parameters
+    ----------
+    name : str
+        A name a model declares.
+
+    Returns
+    -------
+    str or None
+        The reason, or None for a valid name.
 
     Examples
     --------

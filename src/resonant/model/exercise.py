@@ -5,7 +5,7 @@ values), the answers that are asked and checked, and the relative tolerance;
 ``[variants]`` says which values each parameter may take (a list, or a range
 ``{ from, to, step }``).  Both are validated here (file, section, key of every
 problem) and stored on the :class:`~resonant.model.types.Model`; generating the
-variants is the report layer's work (:mod:`resonant.report.exercises`).
+variants is the exercises layer's work (:mod:`resonant.exercises`).
 
 Examples
 --------

@@ -99,10 +99,20 @@ def load(path: str | Path, overrides: Mapping[str, float | str] | None = None,
         Directories, besides the model file's folder, that ``[matrices]`` files
         may be read from (``--allow-path DIR``).  See docs/security.md.
 
+    Returns
+    -------
+    Model
+        The validated model.
+
     Raises
     ------
     ModelError
         With every problem found: file, section, key and what is wrong.
+
+    Examples
+    --------
+    >>> load("examples/two_dof_free.toml", {"k": "3000 N/m"}).parameter_values["k3"]
+    3000.0
     """
     path = Path(path)
     name = str(path)
@@ -128,8 +138,37 @@ def loads(text: str, source: str = "<string>", base_dir: str | Path | None = Non
           allow_paths: Sequence[str | os.PathLike[str]] = ()) -> Model:
     """Parse and validate a model given as TOML text. See :func:`load`.
 
-    ``[matrices]`` file paths are relative to ``base_dir``; without it a model
-    that names a matrix file is refused (there is no folder to confine it to).
+    Parameters
+    ----------
+    text : str
+        The TOML model.
+    source : str
+        The name used in messages (a file name).
+    base_dir : str or Path, optional
+        The folder ``[matrices]`` file paths are relative to; without it a model
+        that names a matrix file is refused (there is no folder to confine it to).
+    overrides : mapping, optional
+        Parameter values that replace those of the text.
+    allow_paths : sequence of paths, optional
+        Further folders from which matrix files may be read.
+
+    Returns
+    -------
+    Model
+        The validated model.
+
+    Raises
+    ------
+    ModelError
+        With every problem found: source, section, key and what is wrong.
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> model = loads('[parameters]\\nm = 1\\nk = 400\\nc = 4\\n[coordinates]\\nx = ""\\n'
+    ...               '[energy]\\nT = "m*x\\'^2/2"\\nU = "k*x^2/2"\\nD = "c*x\\'^2/2"')
+    >>> model.coordinates, model.parameter_values["k"]
+    (('x',), 400.0)
     """
     if not isinstance(text, str):
         raise ModelError(Problem(f"the model text must be a str, not {type(text).__name__}",

@@ -38,6 +38,16 @@ TIME = sympy.Symbol("t")
 def symbol(name: str) -> sympy.Symbol:
     """The sympy symbol of a model name (parameters, signals, coordinates).
 
+    Parameters
+    ----------
+    name : str
+        A name of the model.
+
+    Returns
+    -------
+    sympy.Symbol
+        The symbol every stage uses for it.
+
     Examples
     --------
     >>> symbol("m1")
@@ -52,6 +62,25 @@ class Force:
 
     ``kind`` is ``"torque"`` for a ``[[torque]]`` part (a moment acting on a body's angle,
     given as a one-component vector at the angle): messages name it as such.
+
+    Parameters
+    ----------
+    name : str
+        The entry's name (or its number), used in messages.
+    vector : tuple of Expression
+        The force's components (empty for generalized forces).
+    point : tuple of Expression
+        The position of the point it acts on.
+    generalized : mapping
+        coordinate -> generalized force, when given that way.
+    kind : str
+        ``"force"`` or ``"torque"``.
+
+    Examples
+    --------
+    >>> from resonant.expressions import parse
+    >>> Force("push", generalized={"x": parse("F0")}).kind
+    'force'
     """
 
     name: str
@@ -63,7 +92,21 @@ class Force:
 
 @dataclass(frozen=True)
 class Harmonic:
-    """One harmonic excitation of a matrix model: Q = F_S sin(omega t) + F_C cos(omega t)."""
+    """One harmonic excitation of a matrix model: Q = F_S sin(omega t) + F_C cos(omega t).
+
+    Parameters
+    ----------
+    omega : Expression
+        The circular frequency (rad/s).
+    F_S, F_C : tuple of Expression
+        The sine and cosine amplitudes, one per coordinate.
+
+    Examples
+    --------
+    >>> from resonant.expressions import parse
+    >>> Harmonic(parse("w"), (parse("1"),), (parse("0"),)).omega.text
+    'w'
+    """
 
     omega: Expression
     F_S: tuple[Expression, ...]
@@ -72,7 +115,24 @@ class Harmonic:
 
 @dataclass(frozen=True)
 class MatrixSpec:
-    """The ``[matrices]`` section: M, K, optional C, given directly."""
+    """The ``[matrices]`` section: M, K, optional C, given directly.
+
+    Parameters
+    ----------
+    M, K : array_like or sparse matrix
+        Mass and stiffness (numbers, or expressions for inline matrices).
+    C : array_like or sparse matrix, optional
+        Damping (None: undamped).
+    harmonics : tuple of Harmonic
+        The ``[[harmonic]]`` loads.
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> m = loads('[matrices]\\nM = [[1]]\\nK = [[4]]\\n')
+    >>> m.matrices.C is None, len(m.matrices.harmonics)
+    (True, 0)
+    """
 
     M: Any
     K: Any
@@ -87,6 +147,51 @@ class Model:
     Build it with :func:`load` or :func:`loads`.  This is the data; the object
     :func:`resonant.load` returns (:class:`resonant.api.Model`) adds the analyses
     as methods.
+
+    Attributes
+    ----------
+    title : str
+        The model's title (``title = "..."``), may be empty.
+    source : str
+        The file it was read from (``"<string>"`` for text).
+    parameters : mapping
+        name -> parsed :class:`~resonant.expressions.Expression`, in file order.
+    parameter_values : mapping
+        name -> float (SI): every parameter evaluated.
+    exact_values : mapping
+        name -> exact sympy value (rationals where the text is exact).
+    coordinates : tuple of str
+        The generalized coordinates, in order.
+    descriptions : mapping
+        coordinate -> the description given in ``[coordinates]``.
+    equilibrium : mapping
+        coordinate -> the reference state (``[equilibrium]``; 0 if not given).
+    signals : mapping
+        name -> prescribed function of t (``[signals]``).
+    definitions : mapping
+        name -> expression (``[definitions]``), usable in energies and outputs.
+    energy : mapping
+        ``"T"``, ``"U"``, ``"D"`` -> expression (the totals for a model with parts).
+    forces : tuple of Force
+        The ``[[force]]`` entries (and the parts' forces and torques).
+    outputs : mapping
+        name -> expression of a quantity to report (``[outputs]``).
+    matrices : MatrixSpec or None
+        The ``[matrices]`` section (None for a model given by energies or parts).
+    exercise : Exercise or None
+        The teacher's ``[exercise]`` and ``[variants]``.
+    parts : DerivedEnergies or None
+        The mechanism's parts and the energies derived from them.
+    units : ModelUnits or None
+        Physical units (None for a model without units: every number SI).
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> m = loads('[parameters]\\nm = 3\\nk = "2*m"\\n[coordinates]\\nx = ""\\n'
+    ...           '[energy]\\nT = "m*x\\'^2/2"\\nU = "k*x^2/2"')
+    >>> m.coordinates, m.parameter_values["k"]
+    (('x',), 6.0)
     """
 
     title: str

@@ -43,6 +43,20 @@ FORMATS = {".html": "html", ".htm": "html", ".md": "md", ".markdown": "md", ".te
 def build_report(model: Model, plots: bool = True, nonlinear: bool = False) -> Report:
     """The worked solution of ``model`` as a list of blocks.
 
+    Parameters
+    ----------
+    model : Model
+        A validated model.
+    plots : bool
+        Whether to include the figures.
+    nonlinear : bool
+        Add the section beyond small oscillations (see below).
+
+    Returns
+    -------
+    Report
+        The blocks of the worked solution, in the reference exercise's order.
+
     ``nonlinear=True`` adds the section "Beyond small oscillations" (the periodic steady
     state of the full equations by harmonic balance, :mod:`resonant.report.nonlinear`)
     for a forced model, before the warnings.
@@ -51,6 +65,12 @@ def build_report(model: Model, plots: bool = True, nonlinear: bool = False) -> R
     ------
     ModelError, AnalysisError
         As ``resonant solve`` does (invalid model; resonance, singular M).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> build_report(resonant.load("examples/two_dof_free.toml"), plots=False).headings()[0]
+    'Data'
     """
     eom = linear_system(model)
     solution = stationary(eom)
@@ -72,8 +92,29 @@ def build_report(model: Model, plots: bool = True, nonlinear: bool = False) -> R
 def render(report: Report, fmt: str, figure_path: Path | None = None) -> str:
     """The report as text: ``fmt`` is ``"html"``, ``"md"`` or ``"tex"``.
 
+    Parameters
+    ----------
+    report : Report
+        What :func:`build_report` returns.
+    fmt : str
+        ``"html"``, ``"md"`` or ``"tex"``.
+    figure_path : Path, optional
+        The output file, next to which figures are written (Markdown, LaTeX).
+
+    Returns
+    -------
+    str
+        The document.
+
     Markdown and LaTeX figures are written next to ``figure_path`` (the
     output file) as ``<stem>-figN.svg`` / ``.pdf``; without it they are left out.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> report = build_report(resonant.load("examples/two_dof_free.toml"), plots=False)
+    >>> render(report, "md").startswith("# ")
+    True
     """
     if fmt == "html":
         return render_html(report)
@@ -85,7 +126,28 @@ def render(report: Report, fmt: str, figure_path: Path | None = None) -> str:
 
 
 def report_format(path: str | Path) -> str:
-    """The format of an output file from its ending; ModelError for an unknown one."""
+    """The format of an output file from its ending.
+
+    Parameters
+    ----------
+    path : str or Path
+        The output file.
+
+    Returns
+    -------
+    str
+        ``"html"``, ``"md"`` or ``"tex"``.
+
+    Raises
+    ------
+    ModelError
+        For an ending that is none of these.
+
+    Examples
+    --------
+    >>> report_format("solution.markdown")
+    'md'
+    """
     suffix = Path(path).suffix.lower()
     if suffix not in FORMATS:
         raise ModelError(Problem(f"cannot tell the report format from '{path}': use a file "
@@ -94,7 +156,29 @@ def report_format(path: str | Path) -> str:
 
 
 def write_report(model: Model, path: str | Path, plots: bool = True) -> Path:
-    """Write the worked solution of ``model`` to ``path`` (.html, .md or .tex)."""
+    """Write the worked solution of ``model`` to ``path`` (.html, .md or .tex).
+
+    Parameters
+    ----------
+    model : Model
+        A validated model.
+    path : str or Path
+        The output file; its ending gives the format.
+    plots : bool
+        Whether to include the figures.
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile, resonant
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "solution.md"
+    >>> write_report(resonant.load("examples/two_dof_free.toml"), out, plots=False).name
+    'solution.md'
+    """
     path = Path(path)
     fmt = report_format(path)
     text = render(build_report(model, plots=plots), fmt, path)

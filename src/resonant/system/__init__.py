@@ -42,6 +42,12 @@ def linear_system(model: Model, deadline: Deadline = NO_DEADLINE) -> LinearSyste
     ------
     ModelError
         If the derivation fails (see :func:`resonant.derivation.linearize`).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> type(linear_system(resonant.load("examples/two_dof_free.toml"))).__name__
+    'LinearEOM'
     """
     if model.matrices is not None:
         return MatrixEOM(model, model.coordinates)

@@ -91,6 +91,13 @@ class NonlinearSystem(ABC):
     """The full equations of motion of a model, compiled (see the module docstring).
 
     Subclasses set the attributes in ``__init__`` and implement the abstract methods.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> system = nonlinear_system(resonant.load("examples/duffing.toml"))
+    >>> isinstance(system, NonlinearSystem), system.linear.coordinates
+    (True, ('x',))
     """
 
     model: Model
@@ -346,7 +353,22 @@ def _raiser(message: str) -> Callable[[np.ndarray], float]:
 
 
 class EnergySystem(NonlinearSystem):
-    """The full Lagrange equations of a model given by its energies, compiled once."""
+    """The full Lagrange equations of a model given by its energies, compiled once.
+
+    Parameters
+    ----------
+    model : Model
+        A model given by its energies.
+    linear : LinearSystem
+        Its linear system at the reference state.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> system = nonlinear_system(resonant.load("examples/duffing.toml"))
+    >>> type(system).__name__, system.coordinates
+    ('EnergySystem', ('x',))
+    """
 
     def __init__(self, model: Model, linear: LinearSystem) -> None:
         self.model, self.linear = model, linear
