@@ -176,9 +176,9 @@ ALL_EXAMPLES = sorted(p.name for p in EXAMPLES.glob("*.toml"))
 
 @pytest.mark.parametrize("name", ALL_EXAMPLES)
 def test_example_solves_with_contract_keys(name):
-    """Spec section 2 (``resonant solve --json`` keys): every example is a valid model
-    and the output carries every required key, with an amplitude for every coordinate
-    and output declared in the file."""
+    """docs/model-format.md, section 2 (``resonant solve --json`` keys): every example is a
+    valid model and the output carries every required key, with an amplitude for every
+    coordinate and output declared in the file."""
     data = tomllib.loads((EXAMPLES / name).read_text())
     res = solved(name)
     for key in ("coordinates", "M", "C", "K", "symbolic", "natural_frequencies",
@@ -467,7 +467,7 @@ def test_two_dof_free_vibration():
     Sect. 4.1: m1 = m2 = m = 5 kg, k1 = k2 = k3 = k = 2000 N/m; M = m I,
     K = [[2k, -k], [-k, 2k]], w1 = sqrt(k/m) = 20 rad/s, w2 = sqrt(3k/m) = 34.641 rad/s
     (rel 1e-9).  No signals: empty harmonics, zero amplitudes (abs 1e-15), no phases,
-    "marginally stable" (spec section 2)."""
+    "marginally stable" (docs/model-format.md, section 2)."""
     m, k_ = 5.0, 2000.0
     res = solved("two_dof_free.toml")
     assert arr(res["M"]) == pytest.approx(np.diag([m, m]), rel=1e-12, abs=1e-12)
