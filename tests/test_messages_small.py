@@ -261,3 +261,39 @@ def test_a_value_beyond_double_precision_is_an_analysis_error():
     system = load(EXAMPLES / "duffing.toml").linearize()
     with pytest.raises(AnalysisError, match="finite numbers"):
         system.sweep("omega", [10**400])
+
+
+def _chain(first: str, step: str, count: int) -> str:
+    return ("[parameters]\na0 = " + first + "\n"
+            + "".join(f'a{i} = "a{i - 1}{step}"\n' for i in range(1, count))
+            + '[coordinates]\nx = ""\n[energy]\nT = "x\'^2/2"\n'
+            + f'U = "a{count - 1}*x^2/2 + x^2/2"\n')
+
+
+def test_a_long_parameter_chain_continues_in_floating_point():
+    """Exact rationals that outgrow the exact limit (a chain of 200 parameters of about
+    0.01, each from the one before) become 30-digit floats instead of an error; the
+    last value equals the recurrence evaluated with Python's fractions (rel 1e-15)."""
+    from fractions import Fraction
+
+    from resonant.api import loads
+
+    model = loads(_chain("0.01", "*1.01 + 0.0003", 200))
+    value = Fraction(1, 100)
+    for _ in range(199):
+        value = value * Fraction(101, 100) + Fraction(3, 10_000)
+    assert model.parameter_values["a199"] == pytest.approx(float(value), rel=1e-15)
+
+
+def test_an_invalid_parameter_is_one_line_with_the_count_of_its_dependents():
+    """A parameter chain whose value underflows: one line for the root cause, one for the
+    160 parameters that depend on it (not one line each)."""
+    from resonant.api import loads
+    from resonant.errors import ModelError
+
+    with pytest.raises(ModelError) as info:
+        loads(_chain("1e-200", "*1e-200", 162))
+    lines = str(info.value).splitlines()
+    assert len(lines) == 2, lines
+    assert "[parameters] a1: number too small" in lines[0]
+    assert "[parameters] a1: and 160 parameters that depend on it: a2, a3" in lines[1]

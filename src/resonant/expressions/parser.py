@@ -38,6 +38,7 @@ MAX_EXPONENT = 1000
 MAX_NAME_LENGTH = 64
 _MAX_NUMBER = 1e300
 _MAX_BITS = 1100  # ~330 decimal digits: the largest exact number we let sympy build
+_FLOAT_DIGITS = 30  # the precision an exact number continues with beyond _MAX_BITS
 _TIME_HINT = ("time 't' may only appear in [signals]; "
               "declare a signal for anything that moves with time")
 
@@ -628,15 +629,27 @@ class _SympyOps:
         return ExpressionError(reason, self.expression.text, None, *self.expression.origin)
 
     def check(self, e: sympy.Expr) -> sympy.Expr:
-        """Refuse results holding a huge exact number or a merged huge exponent."""
+        """Refuse results holding a huge number or a merged huge exponent; an exact
+        rational whose digits outgrow the limit while its value does not (a chain of
+        parameters like 0.01*1.01 + 0.0003 ...) continues as a float of 30 digits."""
+        inexact: dict[sympy.Expr, sympy.Expr] = {}
         for part in (e, *e.args) if e.is_Add or e.is_Mul else (e,):
             if part.is_Mul:
                 part = part.args[0]
             if part.is_Rational and max(abs(part.p).bit_length(), part.q.bit_length()) > _MAX_BITS:
-                raise self.fail("number too large")
+                inexact[part] = self.rounded(part)
             if part.is_Pow and _huge(part.exp, MAX_EXPONENT):
                 raise self.fail(f"exponent too large (at most {MAX_EXPONENT} in magnitude)")
-        return e
+        return e.xreplace(inexact) if inexact else e
+
+    def rounded(self, value: sympy.Rational) -> sympy.Expr:
+        """A rational of too many digits as a 30-digit float, if its value is not huge."""
+        magnitude = abs(value.p).bit_length() - value.q.bit_length()
+        if magnitude > _MAX_BITS:
+            raise self.fail("number too large")
+        if magnitude < -_MAX_BITS:
+            raise self.fail("number too small (a value below 1e-300 is 0 in floating point)")
+        return sympy.Float(value, _FLOAT_DIGITS)
 
     def done(self, x: sympy.Expr | _Pending) -> sympy.Expr:
         if isinstance(x, _Pending):
@@ -693,7 +706,12 @@ class _SympyOps:
             raise self.fail(f"exponent too large (at most {MAX_EXPONENT} in magnitude)")
         if a.is_Rational and b.is_Rational and a not in (0, 1, -1):
             if abs(b) * max(math.log2(abs(a.p)), math.log2(a.q)) > _MAX_BITS:
-                raise self.fail("number too large")
+                # too many digits to keep exact: huge in value, or else a float
+                if abs(b) * abs(math.log2(abs(a.p)) - math.log2(a.q)) > _MAX_BITS:
+                    huge = (math.log2(abs(a.p)) > math.log2(a.q)) == (b > 0)
+                    raise self.fail("number too large" if huge else "number too small "
+                                    "(a value below 1e-300 is 0 in floating point)")
+                return self.check(sympy.Pow(sympy.Float(a, _FLOAT_DIGITS), b))
         return self.check(sympy.Pow(a, b))
 
     def call(self, func: str, args: list[Any]) -> sympy.Expr:

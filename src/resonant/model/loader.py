@@ -387,10 +387,14 @@ class _Builder:
     def parameters(self) -> dict[str, Expression]:
         table = self.table("parameters")
         params: dict[str, Expression] = {}
+        # the names before this one, also those whose value is invalid: one bad value is
+        # reported once, not again as an unknown name in every parameter that uses it
+        earlier: list[str] = []
         for name, value in table.items():
             if not self.declare(name, "parameters"):
                 continue
-            expression = self.valued(value, "parameters", name, list(params))
+            expression = self.valued(value, "parameters", name, list(earlier))
+            earlier.append(name)
             if expression is not None:
                 params[name] = expression
         for name, value in self.overrides.items():

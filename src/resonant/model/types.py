@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 import sympy
 
-from ..errors import ModelError, Problem
+from ..errors import ModelError, Problem, name_list
 from ..expressions import Expression, ExpressionError
 from .parts import check_values as check_part_values
 from .units import ModelUnits, parse_with_unit
@@ -286,6 +286,8 @@ def evaluate_parameters(params: Mapping[str, Expression], source: str
     exact: dict[str, sympy.Expr] = {}
     floats: dict[str, float] = {}
     problems: list[Problem] = []
+    root_of: dict[str, str] = {}  # failed parameter -> the invalid one it comes from
+    dependents: dict[str, list[str]] = {}
 
     def resolve(n: str, p: int) -> sympy.Expr:
         return exact[n] if p == 0 else sympy.Integer(0)
@@ -301,8 +303,9 @@ def evaluate_parameters(params: Mapping[str, Expression], source: str
             problems.extend(exc.problems)
             continue
         except KeyError as exc:  # refers to a parameter that failed itself
-            problems.append(Problem(f"depends on the invalid parameter {exc}", source,
-                                    "parameters", name))
+            root = root_of.get(exc.args[0], exc.args[0])
+            root_of[name] = root
+            dependents.setdefault(root, []).append(name)
             continue
         try:
             number = complex(value.evalf(30))
@@ -323,9 +326,34 @@ def evaluate_parameters(params: Mapping[str, Expression], source: str
             continue
         exact[name] = value
         floats[name] = float(number.real)
-    if problems:
-        raise ModelError(problems)
+    if problems or dependents:
+        raise ModelError(_with_dependents(problems, dependents, source))
     return exact, floats
+
+
+def _with_dependents(problems: list[Problem], dependents: Mapping[str, list[str]],
+                     source: str) -> list[Problem]:
+    """One line per invalid parameter, followed by the parameters that depend on it."""
+    last = {p.key: i for i, p in enumerate(problems) if p.section == "parameters"}
+    out: list[Problem] = []
+    for i, problem in enumerate(problems):
+        out.append(problem)
+        if last.get(problem.key) == i and problem.key in dependents:
+            out.append(_dependents_line(dependents[problem.key], source, problem.key))
+    for root, names in dependents.items():
+        if root not in last:  # its own problem was reported elsewhere
+            out.append(Problem(f"depends on the invalid parameter '{root}'", source,
+                               "parameters", names[0]))
+            if names[1:]:
+                out.append(_dependents_line(names[1:], source, names[0]))
+    return out
+
+
+def _dependents_line(names: Sequence[str], source: str, key: str) -> Problem:
+    many = len(names) > 1
+    return Problem(f"and {len(names)} parameter{'s' if many else ''} that "
+                   f"depend{'' if many else 's'} on it: {name_list(names)}", source,
+                   "parameters", key)
 
 
 
