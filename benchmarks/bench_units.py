@@ -1,6 +1,6 @@
-"""Benchmark: loading a model with units against the same model without (issue 13).
+"""Benchmark: loading a model with units against the same model without (docs/units.md).
 
-Issue 13's target: a model with units costs at most a few ms more to load than the
+The target: a model with units costs at most a few ms more to load than the
 same model in bare SI numbers, and no analysis pays anything (the numbers are SI
 after loading).  Three versions of the reference exercise (cart + pendulum) are
 loaded in one process, alternating, ``--repeats`` times each after a warm-up:

@@ -454,7 +454,7 @@ def write_report(results: dict[str, Any], out: Path, command: str,
     if "reduced" in results:
         import bench_reduced
 
-        lines += ["## Reduced-order frequency response (issue 16)", ""] + \
+        lines += ["## Reduced-order frequency response", ""] + \
             _rerun_note(meta, "reduced") + [bench_reduced.DESCRIPTION, ""] + \
             bench_reduced.table(results["reduced"]["rows"]) + [""]
     out.write_text("\n".join(lines) + _kept_sections(out), encoding="utf-8")

@@ -1,4 +1,4 @@
-"""Issue 9: one linear-system type, one set of checks at every swept value, a deadline on
+"""One linear-system type, one set of checks at every swept value, a deadline on
 every command.  (Layering itself is checked in tests/test_architecture.py.)"""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Issue 12, item 3: ``resonant draw`` -- the figure of a mechanism described by its parts.
+"""``resonant draw`` -- the figure of a mechanism described by its parts (docs/parts.md).
 
 The geometry is checked on the sketch (the computed figure data, in model units), the
 drawing on the matplotlib Figure (its texts and patches), the command on its files and

@@ -1,4 +1,4 @@
-"""The numeric derivation of large energy models agrees with the symbolic one (issue 16).
+"""The numeric derivation of large energy models agrees with the symbolic one.
 
 A model of 12 or more coordinates is linearized numerically (float jets at the
 parameter point, :func:`resonant.derivation.lagrange.linearize_numeric`); its

@@ -226,7 +226,7 @@ def test_errors(model) -> None:  # type: ignore[no-untyped-def]
 
 def test_dependent_parameter_follows() -> None:
     """A parameter defined from the swept one (W = omega) follows it along the branch."""
-    # the example gives units since issue 13: W = "omega" then takes rad/s from omega
+    # the example gives units: W = "omega" then takes rad/s from omega
     text = DUFFING.read_text().replace('omega = "1 rad/s"\n', 'omega = "1 rad/s"\nW = "omega"\n') \
         .replace("F*cos(omega*t)", "F*cos(W*t)")
     result = loads(text).nonlinear_sweep("omega", 0.5, 2.5, harmonics=1, points=60,

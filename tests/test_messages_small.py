@@ -1,4 +1,4 @@
-"""Issue 11, point 6: one message per mistake (a misspelled section, a failed definition)."""
+"""One message per mistake (a misspelled section, a failed definition)."""
 
 from __future__ import annotations
 
@@ -144,7 +144,7 @@ generalized = { x = "F" }
 
 
 def test_report_writes_deviations_about_a_nonzero_reference(tmp_path):
-    """Issue 11, point 4: a spring pendulum with static sag (r0 = l0 + m g/k)."""
+    """A spring pendulum with static sag (r0 = l0 + m g/k)."""
     path = tmp_path / "sag.toml"
     path.write_text("""
 [parameters]
@@ -180,7 +180,7 @@ sag = "1000*(r - l0 - m*g/k)"
 
 
 def test_forced_report_shows_mode_shapes_and_modal_damping(tmp_path):
-    """Issue 11, point 6: mode shapes and modal damping ratios belong in the report."""
+    """Mode shapes and modal damping ratios belong in the report."""
     from conftest import EXAMPLES
 
     out = tmp_path / "c3.md"
@@ -191,7 +191,7 @@ def test_forced_report_shows_mode_shapes_and_modal_damping(tmp_path):
 
 
 def test_report_frequency_response_includes_the_outputs():
-    """Issue 11, point 6: the outputs' frequency responses belong in the report too."""
+    """The outputs' frequency responses belong in the report too."""
     from conftest import EXAMPLES
 
     from resonant.api import load
@@ -206,7 +206,7 @@ def test_report_frequency_response_includes_the_outputs():
 
 
 def test_characteristic_polynomial_is_factored_where_that_is_shorter(tmp_path):
-    """Issue 11, point 4: two uncoupled oscillators: (k1 - m1 w^2)(k2 - m2 w^2) = 0."""
+    """Two uncoupled oscillators: (k1 - m1 w^2)(k2 - m2 w^2) = 0."""
     path = tmp_path / "two.toml"
     path.write_text("""
 [parameters]

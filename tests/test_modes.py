@@ -36,7 +36,7 @@ from make_chain import chain_matrices, write_chain  # noqa: E402
 
 
 def modes(model, *args, **kwargs):
-    """The analysis takes the model's linear system (issue 9: analyses take LinearSystem)."""
+    """The analysis takes the model's linear system (analyses take a LinearSystem)."""
     return _modes(model.linearize(), *args, **kwargs)
 
 

@@ -1,7 +1,7 @@
 """resonant's own Matrix Market reader agrees with scipy's on every layout it accepts.
 
 The reader replaced ``scipy.io.mmread`` (whose C++ reader crashed the process on hostile
-files in the fuzz campaigns of stop 17); scipy's writer and reader are the reference here,
+files in the fuzz campaigns, docs/fuzzing.md); scipy's writer and reader are the reference here,
 exact agreement (the numbers are written with 17 significant digits and read back).
 """
 

@@ -1,4 +1,4 @@
-"""Issue 12 leftovers: names of points and bodies that collide with the model's names, and
+"""Parts (docs/parts.md): names of points and bodies that collide with the model's names, and
 negative masses or inertias after the parameters are replaced (``Model.with_parameters``)."""
 
 from __future__ import annotations

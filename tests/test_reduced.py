@@ -1,4 +1,4 @@
-"""Reduced-order frequency response (issue 16, item 1): ``method="reduced"`` and ``auto``.
+"""Reduced-order frequency response: ``method="reduced"`` and ``auto`` (docs/performance.md).
 
 Every reduced response is checked against an exact direct solve (numpy dense or SuperLU)
 of the same complex system (K - w^2 M + i w C) z = F_C - i F_S, per frequency and

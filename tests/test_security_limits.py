@@ -1,4 +1,4 @@
-"""Issue 10, "untrusted input, for real": limits on every command, exit codes and one-line
+"""Untrusted input (docs/security.md): limits on every command, exit codes and one-line
 messages instead of internal errors, and no terminal injection from a model file.
 
 Heavy cases run in a subprocess under ``RLIMIT_AS`` (a memory bound) and a wall-clock
@@ -329,7 +329,7 @@ def test_negative_mass_matrix_is_named(tmp_path, command):
 
 
 def test_subnormal_mass_is_a_clean_analysis_error(tmp_path):
-    """Found by the fuzz campaign of stop 17 (seed 2027): M = 1e-320 I from a .npy made the
+    """Found by fuzz campaign 2 (seed 2027, docs/fuzzing.md): M = 1e-320 I from a .npy made the
     equilibration overflow (2^1063) and the SVD fail (internal error); now exit 3."""
     import numpy as np
 

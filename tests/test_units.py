@@ -1,8 +1,9 @@
-"""Physical units (issue 13, contract ../shared/spec/units.md).
+"""Physical units (the contract: docs/units.md).
 
-The reference exercise (BME Department of Applied Mechanics, Vibrations BMEGEMMBXM4,
-"Practice 12 - 2 DoF forced system": cart + pendulum, data m1 = 2 kg, m2 = 1 kg,
-l = 0.5 m, k = 100 N/m, F0 = 5 N, eps = pi/3, r0 = 0.01 m, omega = 20 rad/s) is solved
+The reference exercise (docs/reference-exercise.md; BME Department of Applied Mechanics,
+Vibrations BMEGEMMBXM4, "Practice 12 - 2 DoF forced system": cart + pendulum, data
+m1 = 2 kg, m2 = 1 kg, l = 0.5 m, k = 100 N/m, F0 = 5 N, eps = pi/3, r0 = 0.01 m,
+omega = 20 rad/s) is solved
 with its data in mixed units (g, mm, N/mm, deg, rpm) and must give the numbers of the SI
 version to a relative 1e-12 (the conversions are exact rationals and pi: only the last
 floating-point bits may differ), and the exercise's own rounded results (Eqs. (42)-(48):

@@ -358,7 +358,7 @@ def _mtx_size_line(text: bytes) -> tuple[list[bytes], int]:
 
 def _mtx_numbers(data: bytes, rows: int, columns: int) -> np.ndarray:
     """The data lines as a ``rows x columns`` float array (numpy's C reader: scipy's C++
-    Matrix Market reader crashed the process on hostile files, fuzz campaigns of stop 17)."""
+    Matrix Market reader crashed the process on hostile files: docs/fuzzing.md)."""
     if rows == 0:
         if data.strip(b" \t\r\n") and any(line.strip() and not line.startswith(b"%")
                                            for line in data.split(b"\n")):

@@ -1,4 +1,4 @@
-"""Parts -> energies: the "Meaning" of ../shared/spec/components.md.
+"""Parts -> energies: what the part sections mean (docs/parts.md, "Meaning").
 
 The positions of the body origins (pin chains resolved), of the centres of
 gravity and of the named points are built as sympy expressions in the model's

@@ -1,4 +1,4 @@
-"""A planar mechanism described by its parts (../shared/spec/components.md).
+"""A planar mechanism described by its parts (the contract: docs/parts.md).
 
 ``gravity``, ``[[point]]``, ``[[body]]``, ``[[spring]]``, ``[[damper]]`` and
 ``[[torque]]`` are read here into frozen types; :mod:`resonant.model.part_energies`
@@ -57,7 +57,7 @@ class Body:
     angle: Expression | None = None
     centre: Vector | None = None
     points: Mapping[str, Vector] = field(default_factory=dict)
-    #: drawing hints (an extension of the spec, used by ``resonant draw`` only):
+    #: drawing hints (an extension, docs/parts.md; used by ``resonant draw`` only):
     #: ``shape`` one of :data:`SHAPES`, ``size`` one or two constants (width [, height]
     #: of a block; radius of a disc or point mass; width of a bar)
     shape: str | None = None
