@@ -318,11 +318,13 @@ class _Builder:
         # once, not again as an unknown name wherever it is used
         allowed = [*state_names, *(n for n, sec in self.declared.items()
                                    if sec == "definitions")]
+        has_parts = any(section in self.data for section in limits.PART_SECTIONS)
         parts = read_parts(self.data, param_names, allowed, self.source, self.problems) \
-            if any(section in self.data for section in limits.PART_SECTIONS) else None
+            if has_parts else None
         mechanism = self.mechanism(parts, param_names, coordinates, signals, definitions,
                                    equilibrium)
-        energy = self.energy(allowed, required=not matrices and not parts)
+        # a model with parts needs no [energy], also when its parts are invalid
+        energy = self.energy(allowed, required=not matrices and not has_parts)
         forces = self.forces(allowed, coordinates, mechanism)
         outputs = self.outputs(allowed)
         display = self.display()
