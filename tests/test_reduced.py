@@ -139,13 +139,16 @@ def mass_spring(draw):
 def test_reduced_matches_direct_on_random_systems(system, tol):
     M, C, K, b, w = system
     red = reduced_response(M, C, K, b, w, tol=tol)
-    ref = np.linalg.solve((K.toarray()[None] - w[:, None, None] ** 2 * M.toarray()[None]
-                           + 1j * w[:, None, None] * C.toarray()[None]), b[None, :, None])[..., 0]
+    A = (K.toarray()[None] - w[:, None, None] ** 2 * M.toarray()[None]
+         + 1j * w[:, None, None] * C.toarray()[None])
+    ref = np.linalg.solve(A, b[None, :, None])[..., 0]
     err = relative_errors(red.Z, ref)
     assert red.converged, (red.reason, red.estimated_error)
     assert err.max() <= tol
-    # (the reference is a double precision solve too: below 1e-11 both are rounding)
-    assert err.max() <= max(red.estimated_error, 1e-11)
+    # the reference is a double precision solve too: its own error is up to about
+    # eps * cond(A) (1e-11 near a lightly damped resonance), below which both are rounding
+    rounding = 10 * np.finfo(float).eps * np.linalg.cond(A)
+    assert np.all(err <= np.maximum(red.estimated_error, np.maximum(rounding, 1e-11)))
     assert np.all(red.error >= 0) and red.estimated_error == np.nanmax(red.error)
     assert not red.Z.flags.writeable
 
