@@ -493,118 +493,175 @@ def reduced_response(M: Any, C: Any, K: Any, b: np.ndarray, w: np.ndarray, *,
     (2, True)
     """
     start = time.monotonic()
-    max_points = MAX_POINTS if max_points is None else max_points
     if not tol > 0:
         raise AnalysisError(f"the tolerance must be positive, not {tol}")
     w = np.abs(np.asarray(w, dtype=float))
     b = np.asarray(b, dtype=complex).ravel()
     ops = _Operators(M, C, K)
-    n = ops.n
-    keep = np.arange(n) if keep is None else np.asarray(keep, dtype=int)
-    b_norm = float(np.linalg.norm(b))
-    N = w.shape[0]
-    if b_norm == 0:
-        zeros = np.zeros(N)
-        return ReducedResponse(np.zeros((N, len(keep)), dtype=complex), zeros, zeros, zeros,
-                               0.0, True, (), 0, (), np.zeros(N, dtype=bool),
+    keep = np.arange(ops.n) if keep is None else np.asarray(keep, dtype=int)
+    if float(np.linalg.norm(b)) == 0:
+        zeros = np.zeros(w.shape[0])
+        return ReducedResponse(np.zeros((w.shape[0], len(keep)), dtype=complex), zeros, zeros,
+                               zeros, 0.0, True, (), 0, (), np.zeros(w.shape[0], dtype=bool),
                                seconds=time.monotonic() - start)
-    drop = min(1e-8, 1e-3 * tol)
-    norms = [float(np.linalg.norm(a.data)) if a.nnz else 0.0 for a in (ops.K, ops.M, ops.C)]
-
-    def a_norm(w: np.ndarray) -> np.ndarray:  # Frobenius norm bound of A(w)
-        return norms[0] + w**2 * norms[1] + w * norms[2]
-
-    # bytes per basis column: V, KV, MV, CV and the QR copy
-    max_basis = int(min(MAX_BASIS, MEMORY_BYTES // (8 * n * 9)))
-    width = float(w.max() - w.min())
-    V = np.zeros((n, 0))
-    expansion: list[float] = []
-    checks: list[tuple[float, float]] = []
-    ratios: list[float] = []
-    history: list[float] = []
-    pending = [(s, None) for s in _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))]
-    residual = _Residual(ops, b)
-    reason = ""
+    model = _Enrichment(ops, b, w, tol, moments, deadline)
+    stop = _Limits(MAX_POINTS if max_points is None else max_points, budget, start)
     while True:
-        # enrich: the moments at every pending point (its factorization, if known)
-        for s, lu in pending:
-            deadline.check("while building the reduced basis", analysis=True)
+        model.enrich()
+        worst = model.evaluate()
+        if worst is None:
+            break
+        deadline.check("while checking the reduced model", analysis=True)
+        lu = model.validate(worst)
+        if lu is None or model.done():
+            break
+        model.reason = model.stalled() or stop.reached(model)
+        if model.reason:
+            break
+        model.pending = [(float(model.checks[-1][0]), lu)]
+    return model.result(keep, time.monotonic() - start)
+
+
+class _Limits:
+    """When the enrichment stops short of the tolerance: points, basis, time."""
+
+    def __init__(self, max_points: int, budget: float | None, start: float) -> None:
+        self.max_points, self.budget, self.start = max_points, budget, start
+
+    def reached(self, model: _Enrichment) -> str:
+        if len(model.expansion) >= self.max_points:
+            return f"the cap of {self.max_points} expansion points was reached"
+        if model.V.shape[1] >= model.max_basis:
+            return f"the cap of {model.max_basis} basis vectors was reached"
+        if self.budget is not None and time.monotonic() - self.start > self.budget:
+            return f"the time budget of {self.budget:.3g} s was used up"
+        return ""
+
+
+class _Enrichment:
+    """The reduced basis grown point by point, with its residual-based error estimate
+    calibrated by exact solves where the residual is largest."""
+
+    def __init__(self, ops: _Operators, b: np.ndarray, w: np.ndarray, tol: float,
+                 moments: int, deadline: Deadline) -> None:
+        self.ops, self.b, self.w, self.tol = ops, b, w, tol
+        self.moments, self.deadline = moments, deadline
+        self.b_norm = float(np.linalg.norm(b))
+        self.drop = min(1e-8, 1e-3 * tol)
+        self.norms = [float(np.linalg.norm(a.data)) if a.nnz else 0.0
+                      for a in (ops.K, ops.M, ops.C)]
+        # bytes per basis column: V, KV, MV, CV and the QR copy
+        self.max_basis = int(min(MAX_BASIS, MEMORY_BYTES // (8 * ops.n * 9)))
+        self.width = float(w.max() - w.min())
+        self.V = np.zeros((ops.n, 0))
+        self.expansion: list[float] = []
+        self.checks: list[tuple[float, float]] = []
+        self.ratios: list[float] = []
+        self.history: list[float] = []
+        self.pending: list[tuple[float, Any]] = [
+            (s, None) for s in _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))]
+        self.residual = _Residual(ops, b)
+        self.reason = ""
+        N = w.shape[0]
+        self.Y = np.zeros((N, 0), dtype=complex)
+        self.finite = np.zeros(N, dtype=bool)
+        self.rho = np.full(N, np.inf)
+        self.estimate = np.full(N, np.inf)
+
+    def a_norm(self, w: np.ndarray) -> np.ndarray:
+        """A bound of the Frobenius norm of A(w)."""
+        return self.norms[0] + w**2 * self.norms[1] + w * self.norms[2]
+
+    def enrich(self) -> None:
+        """The moments at every pending point (its factorization, if known)."""
+        for s, lu in self.pending:
+            self.deadline.check("while building the reduced basis", analysis=True)
             if lu is None:
-                lu, s = _factor_near(ops, s, width)
+                lu, s = _factor_near(self.ops, s, self.width)
                 if lu is None:
                     continue
-            expansion.append(float(s))
-            V = _extend(V, _krylov(ops, lu, b, s, moments, deadline), drop)
-            if V.shape[1] >= max_basis:
-                V = V[:, :max_basis]
+            self.expansion.append(float(s))
+            self.V = _extend(self.V, _krylov(self.ops, lu, self.b, s, self.moments,
+                                             self.deadline), self.drop)
+            if self.V.shape[1] >= self.max_basis:
+                self.V = self.V[:, :self.max_basis]
                 break
-        pending = []
-        if V.shape[1] == 0:
+        self.pending = []
+        if self.V.shape[1] == 0:
             raise AnalysisError("the reduced model has no basis: A(w) is singular at every "
                                 "expansion point tried; use a direct method")
-        red = _Reduced(ops, V, b)
-        Y = red.solve(w)
+
+    def evaluate(self) -> int | None:
+        """Solve the reduced model at every frequency, estimate the errors; the index of
+        the frequency to validate next (None: nothing left to validate)."""
+        w = self.w
+        red = _Reduced(self.ops, self.V, self.b)
+        self.Y = red.solve(w)
         # an undamped resonance (condition number beyond SINGULAR_CONDITION, as in the
         # kernel) has no response to estimate: such points are singular, not errors
         with np.errstate(all="ignore"):
-            condition = a_norm(w) * np.linalg.norm(Y, axis=1) / b_norm
-        finite = np.all(np.isfinite(Y), axis=1) & (condition <= SINGULAR_CONDITION)
-        rho = np.full(N, np.inf)
-        residual.extend(red)
-        if finite.any():
-            rho[finite] = residual.norms(w[finite], Y[finite]) / b_norm
-        gamma = max([1.0] + ratios[-RECENT:])
-        estimate = SAFETY * gamma * rho
+            condition = self.a_norm(w) * np.linalg.norm(self.Y, axis=1) / self.b_norm
+        self.finite = np.all(np.isfinite(self.Y), axis=1) & (condition <= SINGULAR_CONDITION)
+        self.rho = np.full(w.shape[0], np.inf)
+        self.residual.extend(red)
+        if self.finite.any():
+            self.rho[self.finite] = self.residual.norms(w[self.finite],
+                                                        self.Y[self.finite]) / self.b_norm
+        self.estimate = SAFETY * self.gamma() * self.rho
         # validate where the residual is largest (the expansion points themselves are exact)
-        candidates = np.where(finite & ~np.isin(w, expansion), rho, -np.inf)
+        candidates = np.where(self.finite & ~np.isin(w, self.expansion), self.rho, -np.inf)
         worst = int(np.argmax(candidates))
-        if not np.isfinite(candidates[worst]):
-            break
-        deadline.check("while checking the reduced model", analysis=True)
-        s = float(w[worst])
-        lu, s = _factor_near(ops, s, 0.0)
-        if lu is None:  # a singular point of the full system: nothing to validate there
-            break
-        exact = lu.solve(b)
-        if not backward_stable(ops.matrix(s), exact, b):  # threshold pivoting grew too much
-            exact = ops.factor(s, partial=True).solve(b)
-        approx = V @ Y[worst]
-        true = float(np.linalg.norm(approx - exact)) / max(float(np.linalg.norm(exact)), 1e-300)
-        checks.append((s, true))
-        if rho[worst] > 0:
-            ratios.append(true / rho[worst])
-        gamma = max([1.0] + ratios[-RECENT:])
-        estimate = np.maximum(SAFETY * gamma * rho, 0.0)
-        estimate[worst] = max(true, estimate[worst])
-        if float(np.max(estimate[finite], initial=0.0)) <= tol and true <= tol:
-            break
-        history.append(float(np.max(rho[finite], initial=0.0)))
-        if len(history) > STALL and history[-1] > 0.5 * history[-1 - STALL]:
-            reason = (f"the residual stopped decreasing at {history[-1]:.2g} (rounding "
-                      "floor: ask for a larger tolerance)")
-            break
-        if len(expansion) >= max_points:
-            reason = f"the cap of {max_points} expansion points was reached"
-            break
-        if V.shape[1] >= max_basis:
-            reason = f"the cap of {max_basis} basis vectors was reached"
-            break
-        if budget is not None and time.monotonic() - start > budget:
-            reason = f"the time budget of {budget:.3g} s was used up"
-            break
-        pending = [(s, lu)]
-    singular = ~finite
-    estimate = np.where(finite, estimate, np.nan)
-    top = float(np.nanmax(estimate)) if np.any(finite) else float("inf")
-    converged = top <= tol
-    if not converged and not reason:
-        reason = "the estimated error stayed above the tolerance"
-    Z = np.full((N, len(keep)), np.nan + 0j)
-    Z[finite] = Y[finite] @ V[keep].T
-    norm_z = np.where(finite, np.linalg.norm(np.where(finite[:, None], Y, 0), axis=1), np.inf)
-    return ReducedResponse(Z, norm_z, np.where(finite, rho, np.nan), estimate, top, converged,
-                           tuple(expansion), int(V.shape[1]), tuple(checks), singular,
-                           "" if converged else reason, time.monotonic() - start)
+        return worst if np.isfinite(candidates[worst]) else None
+
+    def gamma(self) -> float:
+        """How far the true error has been seen above the residual, recently."""
+        return max([1.0] + self.ratios[-RECENT:])
+
+    def validate(self, worst: int) -> Any:
+        """The exact solve at ``w[worst]``: calibrates the estimate; its factorization
+        (None where A is singular: nothing to validate there)."""
+        lu, s = _factor_near(self.ops, float(self.w[worst]), 0.0)
+        if lu is None:
+            return None
+        exact = lu.solve(self.b)
+        if not backward_stable(self.ops.matrix(s), exact, self.b):  # pivots grew too much
+            exact = self.ops.factor(s, partial=True).solve(self.b)
+        approx = self.V @ self.Y[worst]
+        true = float(np.linalg.norm(approx - exact)) / max(float(np.linalg.norm(exact)),
+                                                            1e-300)
+        self.checks.append((s, true))
+        if self.rho[worst] > 0:
+            self.ratios.append(true / self.rho[worst])
+        self.estimate = np.maximum(SAFETY * self.gamma() * self.rho, 0.0)
+        self.estimate[worst] = max(true, self.estimate[worst])
+        return lu
+
+    def done(self) -> bool:
+        """The estimate and the last exact check both within the tolerance."""
+        top = float(np.max(self.estimate[self.finite], initial=0.0))
+        return top <= self.tol and self.checks[-1][1] <= self.tol
+
+    def stalled(self) -> str:
+        self.history.append(float(np.max(self.rho[self.finite], initial=0.0)))
+        if len(self.history) > STALL and self.history[-1] > 0.5 * self.history[-1 - STALL]:
+            return (f"the residual stopped decreasing at {self.history[-1]:.2g} (rounding "
+                    "floor: ask for a larger tolerance)")
+        return ""
+
+    def result(self, keep: np.ndarray, seconds: float) -> ReducedResponse:
+        finite, N = self.finite, self.w.shape[0]
+        estimate = np.where(finite, self.estimate, np.nan)
+        top = float(np.nanmax(estimate)) if np.any(finite) else float("inf")
+        converged = top <= self.tol
+        reason = self.reason or "the estimated error stayed above the tolerance"
+        Z = np.full((N, len(keep)), np.nan + 0j)
+        Z[finite] = self.Y[finite] @ self.V[keep].T
+        norm_z = np.where(finite, np.linalg.norm(np.where(finite[:, None], self.Y, 0), axis=1),
+                          np.inf)
+        return ReducedResponse(Z, norm_z, np.where(finite, self.rho, np.nan), estimate, top,
+                               converged, tuple(self.expansion), int(self.V.shape[1]),
+                               tuple(self.checks), ~finite, "" if converged else reason,
+                               seconds)
 
 
 def _factor_near(ops: _Operators, s: float, width: float) -> tuple[Any, float]:
