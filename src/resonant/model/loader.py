@@ -287,30 +287,15 @@ class _Builder:
 
     def build(self) -> Model:
         self.counts()
-        misplaced: set[str] = set()  # names declared in a misspelled section
-        for key in self.data:
-            if key not in TOP_LEVEL:
-                close = difflib.get_close_matches(key, TOP_LEVEL, n=1)
-                hint = f"did you mean '{close[0]}'?" if close else \
-                    f"known sections: {', '.join(TOP_LEVEL)}"
-                self.problem(f"unknown section or key '{key}'; {hint}", key)
-                if isinstance(self.data[key], dict):
-                    misplaced |= {str(name) for name in self.data[key]}
-        title = self.data.get("title", "")
-        if not isinstance(title, str):
-            self.problem("title must be a string", "title")
-            title = ""
+        misplaced = self.unknown_sections()
+        title = self.title()
         parameters = self.parameters()
         # every declared parameter, also those whose value is invalid, so that one bad
         # value is reported once and not again as an unknown name wherever it is used
         param_names = [n for n, sec in self.declared.items() if sec == "parameters"]
         matrices = self.data.get("matrices") is not None
         coordinates, descriptions = self.coordinates(required=not matrices)
-        equilibrium = self.simple_table("equilibrium", param_names, keys=coordinates)
-        for name, expression in equilibrium.items():
-            if primed_names(expression):
-                self.problem(constant_prime_message(primed_names(expression)), "equilibrium",
-                             name)
+        equilibrium = self.equilibrium(param_names, coordinates)
         signals = self.named_table("signals", [*param_names, "t"])
         state_names = [*param_names, *coordinates, *signals]
         definitions = self.definitions(state_names)
@@ -328,42 +313,18 @@ class _Builder:
         forces = self.forces(allowed, coordinates, mechanism)
         outputs = self.outputs(allowed)
         display = self.display()
-        if outputs:
-            for name in outputs:
-                if validate_name(name):
-                    self.problem(f"'{name}' cannot be used as a name: {validate_name(name)}",
-                                 "outputs", name)
         matrix_spec = self.matrices(param_names, coordinates) if matrices else None
-        if matrices and (energy or forces):
-            self.problem("a model gives either [energy] (and [[force]]) or [matrices], not both",
-                         "matrices")
-        elif matrices and parts:
-            self.problem("a model gives either parts ([[body]], [[spring]], ...) or [matrices], "
-                         "not both", "matrices")
+        self.check_one_kind(matrices, bool(energy or forces), parts is not None)
         names = coordinates or ([f"q{i + 1}" for i in range(_matrix_size(matrix_spec.M))]
                                 if matrix_spec is not None else [])
         exercise = parse_exercise(self.data.get("exercise"), self.data.get("variants"),
                                   param_names, names, list(outputs), self.source,
                                   self.problems) \
             if "exercise" in self.data or "variants" in self.data else None
-        exact: dict[str, sympy.Expr] = {}
-        floats: dict[str, float] = {}
-        if not self.problems:
-            try:
-                exact, floats = evaluate_parameters(parameters, self.source)
-            except ModelError as exc:
-                self.problems.extend(exc.problems)
+        exact, floats = self.values(parameters)
         derived: DerivedEnergies | None = None
         if mechanism is not None and not self.problems:
-            try:
-                derived, energy, torques = derive_energies(mechanism, energy, exact, allowed,
-                                                           self.force_points)
-                forces = [*forces, *torques]
-            except ModelError as exc:
-                self.problems.extend(exc.problems)
-            if derived is not None and "T" not in energy and not matrices:
-                self.problem("there is no kinetic energy: no body has a mass and [energy] "
-                             "gives no T", "body")
+            derived, energy, forces = self.derived(mechanism, energy, forces, exact, allowed)
         units = None
         if self.unit_given or self.coordinate_units or self.output_units:
             units, unit_problems = check_units(
@@ -373,11 +334,7 @@ class _Builder:
             self.problems.extend(unit_problems)
         elif display:  # no units in the model: [display] still chooses phases and frequencies
             units = ModelUnits(display=MappingProxyType(display))
-        if self.problems:
-            # a misspelled section explains the unknown names it declares: say it once
-            cascade = {f"unknown name '{name}'" for name in misplaced}
-            raise ModelError([p for p in self.problems
-                              if not any(p.message.startswith(c) for c in cascade)])
+        self.raise_problems(misplaced)
         if matrix_spec is not None and not coordinates:
             n = _matrix_size(matrix_spec.M)
             coordinates = [f"q{i + 1}" for i in range(n)]
@@ -390,6 +347,77 @@ class _Builder:
             definitions=MappingProxyType(definitions), energy=MappingProxyType(energy),
             forces=tuple(forces), outputs=MappingProxyType(outputs), matrices=matrix_spec,
             exercise=exercise, parts=derived, units=units)
+
+    def unknown_sections(self) -> set[str]:
+        """A problem for each unknown top-level key; the names a misspelled section declares
+        (their "unknown name" problems are then left out)."""
+        misplaced: set[str] = set()
+        for key in self.data:
+            if key not in TOP_LEVEL:
+                close = difflib.get_close_matches(key, TOP_LEVEL, n=1)
+                hint = f"did you mean '{close[0]}'?" if close else \
+                    f"known sections: {', '.join(TOP_LEVEL)}"
+                self.problem(f"unknown section or key '{key}'; {hint}", key)
+                if isinstance(self.data[key], dict):
+                    misplaced |= {str(name) for name in self.data[key]}
+        return misplaced
+
+    def title(self) -> str:
+        title = self.data.get("title", "")
+        if not isinstance(title, str):
+            self.problem("title must be a string", "title")
+            return ""
+        return title
+
+    def equilibrium(self, param_names: list[str], coordinates: list[str]
+                    ) -> dict[str, Expression]:
+        equilibrium = self.simple_table("equilibrium", param_names, keys=coordinates)
+        for name, expression in equilibrium.items():
+            if primed_names(expression):
+                self.problem(constant_prime_message(primed_names(expression)), "equilibrium",
+                             name)
+        return equilibrium
+
+    def check_one_kind(self, matrices: bool, energies: bool, parts: bool) -> None:
+        """A model is given by its energies (and parts) or by matrices, not both."""
+        if matrices and energies:
+            self.problem("a model gives either [energy] (and [[force]]) or [matrices], not both",
+                         "matrices")
+        elif matrices and parts:
+            self.problem("a model gives either parts ([[body]], [[spring]], ...) or [matrices], "
+                         "not both", "matrices")
+
+    def values(self, parameters: dict[str, Expression]
+               ) -> tuple[dict[str, sympy.Expr], dict[str, float]]:
+        """The parameters' exact and float values, once the file has no other problem."""
+        if not self.problems:
+            try:
+                return evaluate_parameters(parameters, self.source)
+            except ModelError as exc:
+                self.problems.extend(exc.problems)
+        return {}, {}
+
+    def derived(self, mechanism: Mechanism, energy: dict[str, Expression],
+                forces: list[Force], exact: Mapping[str, sympy.Expr], allowed: list[str]
+                ) -> tuple[DerivedEnergies | None, dict[str, Expression], list[Force]]:
+        """The energies (and the torques' forces) of the parts."""
+        try:
+            derived, energy, torques = derive_energies(mechanism, energy, exact, allowed,
+                                                       self.force_points)
+        except ModelError as exc:
+            self.problems.extend(exc.problems)
+            return None, energy, forces
+        if "T" not in energy:
+            self.problem("there is no kinetic energy: no body has a mass and [energy] "
+                         "gives no T", "body")
+        return derived, energy, [*forces, *torques]
+
+    def raise_problems(self, misplaced: set[str]) -> None:
+        if self.problems:
+            # a misspelled section explains the unknown names it declares: say it once
+            cascade = {f"unknown name '{name}'" for name in misplaced}
+            raise ModelError([p for p in self.problems
+                              if not any(p.message.startswith(c) for c in cascade)])
 
     def parameters(self) -> dict[str, Expression]:
         table = self.table("parameters")
@@ -502,6 +530,9 @@ class _Builder:
             if expression is None:
                 continue
             out[name] = expression
+            if validate_name(name):
+                self.problem(f"'{name}' cannot be used as a name: {validate_name(name)}",
+                             "outputs", name)
             if unit is not None:
                 try:
                     self.output_units[name] = parse_unit(unit)
