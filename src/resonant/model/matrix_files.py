@@ -508,24 +508,11 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
     by the placeholder that stands for them in ``section``.
     """
     inline_arrays = inline_arrays or {}
-
     problems: list[Problem] = []
     if not isinstance(section, dict):
         raise ModelError(Problem("[matrices] must be a table with M, K and optionally C",
                                  source, "matrices"))
-    if "harmonic" in section:
-        inner = section["harmonic"]
-        if not isinstance(inner, list) or not all(isinstance(h, dict) for h in inner):
-            problems.append(Problem(
-                "harmonic inside [matrices] must be an array of tables (harmonic = [{ omega "
-                "= ..., F_S = [...] }] or [[matrices.harmonic]]); or use top-level "
-                "[[harmonic]] tables", source, "matrices", "harmonic"))
-        elif harmonics and inner:
-            problems.append(Problem("give the harmonics either as top-level [[harmonic]] "
-                                    "tables or inside [matrices], not both", source,
-                                    "matrices", "harmonic"))
-        else:
-            harmonics = inner
+    harmonics = _harmonics_given(section, harmonics, source, problems)
     matrices: dict[str, Any] = {}
     for key, value in section.items():
         if key == "harmonic":
@@ -534,26 +521,70 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
             problems.append(Problem(f"unknown key '{key}'; [matrices] takes M, K and C",
                                     source, "matrices", key))
             continue
-        if isinstance(value, str) and value in inline_arrays:
-            matrices[key] = inline_arrays[value]
-        elif isinstance(value, str) and value.lower().endswith(FILE_SUFFIXES):
-            try:
-                matrices[key] = read_matrix_file(value, key, base_dir, allow_paths)
-            except FileRefused as exc:
-                problems.append(Problem(f"cannot read '{value}': {exc}", source, "matrices", key))
-        elif isinstance(value, list) and value and all(isinstance(r, list) for r in value):
-            n = len(value)
-            if any(len(row) != n for row in value):
-                problems.append(Problem(f"{key} must be square: {n} rows of {n} entries",
-                                        source, "matrices", key))
-                continue
-            numbers = _plain_numbers(value) if n > inline_matrices.INLINE_EXPRESSION_SIZE else None
-            matrices[key] = numbers if numbers is not None else \
-                _inline_entries(value, key, params, source, problems)
-        else:
-            problems.append(Problem(
-                f"{key} must be an array of rows ([[1, 0], [0, 1]]) or a path to a "
-                f"{'/'.join(FILE_SUFFIXES)} file", source, "matrices", key))
+        matrix = _matrix(key, value, params, source, base_dir, allow_paths, inline_arrays,
+                         problems)
+        if matrix is not None:
+            matrices[key] = matrix
+    n = _check_sizes(section, matrices, coordinates, source, problems)
+    parsed = [_harmonic(entry, f"harmonic {i}", n, params, source, problems)
+              for i, entry in enumerate(harmonics if isinstance(harmonics, list)
+                                        else [harmonics], start=1)]
+    if problems:
+        raise ModelError(problems)
+    return MatrixSpec(M=matrices["M"], K=matrices["K"], C=matrices.get("C"),
+                      harmonics=tuple(h for h in parsed if h is not None))
+
+
+def _harmonics_given(section: dict, harmonics: Any, source: str, problems: list[Problem]
+                     ) -> Any:
+    """The harmonics: top-level ``[[harmonic]]`` or ``harmonic = [...]`` in [matrices]."""
+    if "harmonic" not in section:
+        return harmonics
+    inner = section["harmonic"]
+    if not isinstance(inner, list) or not all(isinstance(h, dict) for h in inner):
+        problems.append(Problem(
+            "harmonic inside [matrices] must be an array of tables (harmonic = [{ omega "
+            "= ..., F_S = [...] }] or [[matrices.harmonic]]); or use top-level "
+            "[[harmonic]] tables", source, "matrices", "harmonic"))
+        return harmonics
+    if harmonics and inner:
+        problems.append(Problem("give the harmonics either as top-level [[harmonic]] "
+                                "tables or inside [matrices], not both", source,
+                                "matrices", "harmonic"))
+        return harmonics
+    return inner
+
+
+def _matrix(key: str, value: Any, params: Sequence[str], source: str, base_dir: Path | None,
+            allow_paths: Sequence[str | os.PathLike[str]],
+            inline_arrays: Mapping[str, np.ndarray], problems: list[Problem]) -> Any:
+    """One of M, C, K: read from its file, inline numbers or expressions (None: a problem)."""
+    if isinstance(value, str) and value in inline_arrays:
+        return inline_arrays[value]
+    if isinstance(value, str) and value.lower().endswith(FILE_SUFFIXES):
+        try:
+            return read_matrix_file(value, key, base_dir, allow_paths)
+        except FileRefused as exc:
+            problems.append(Problem(f"cannot read '{value}': {exc}", source, "matrices", key))
+            return None
+    if isinstance(value, list) and value and all(isinstance(r, list) for r in value):
+        n = len(value)
+        if any(len(row) != n for row in value):
+            problems.append(Problem(f"{key} must be square: {n} rows of {n} entries",
+                                    source, "matrices", key))
+            return None
+        numbers = _plain_numbers(value) if n > inline_matrices.INLINE_EXPRESSION_SIZE else None
+        return numbers if numbers is not None else \
+            _inline_entries(value, key, params, source, problems)
+    problems.append(Problem(
+        f"{key} must be an array of rows ([[1, 0], [0, 1]]) or a path to a "
+        f"{'/'.join(FILE_SUFFIXES)} file", source, "matrices", key))
+    return None
+
+
+def _check_sizes(section: dict, matrices: Mapping[str, Any], coordinates: Sequence[str],
+                 source: str, problems: list[Problem]) -> int:
+    """M and K given, all of one size, one coordinate per row; the size."""
     for key in ("M", "K"):
         if key not in section:
             problems.append(Problem(f"{key} is missing", source, "matrices", key))
@@ -565,35 +596,33 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
     if coordinates and n and len(coordinates) != n:
         problems.append(Problem(f"{len(coordinates)} coordinates for {n}x{n} matrices",
                                 source, "coordinates"))
-    parsed_harmonics = []
-    if not isinstance(harmonics, list):
-        harmonics = [harmonics]
-    for i, entry in enumerate(harmonics, start=1):
-        where = f"harmonic {i}"
-        if not isinstance(entry, dict) or "omega" not in entry:
-            problems.append(Problem("a harmonic needs omega and F_S and/or F_C", source, where))
-            continue
-        unknown = set(entry) - {"omega", "F_S", "F_C"}
-        if unknown:
-            problems.append(Problem(f"unknown keys {sorted(unknown)}; a harmonic has omega, "
-                                    "F_S, F_C", source, where))
-        try:
-            omega = _entry(entry["omega"], params, source, "omega", where)
-            vectors = []
-            for key in ("F_S", "F_C"):
-                vec = entry.get(key, [0] * n)
-                if not isinstance(vec, list) or (n and len(vec) != n):
-                    raise ModelError(Problem(f"{key} must be a list of {n} entries", source,
-                                             where, key))
-                vectors.append(tuple(_entry(v, params, source, f"{key}[{j + 1}]", where)
-                                     for j, v in enumerate(vec)))
-            parsed_harmonics.append(Harmonic(omega, vectors[0], vectors[1]))
-        except ModelError as exc:
-            problems.extend(exc.problems)
-    if problems:
-        raise ModelError(problems)
-    return MatrixSpec(M=matrices["M"], K=matrices["K"], C=matrices.get("C"),
-                      harmonics=tuple(parsed_harmonics))
+    return n
+
+
+def _harmonic(entry: Any, where: str, n: int, params: Sequence[str], source: str,
+              problems: list[Problem]) -> Harmonic | None:
+    """One ``[[harmonic]]``: omega and the load vectors F_S, F_C of n entries."""
+    if not isinstance(entry, dict) or "omega" not in entry:
+        problems.append(Problem("a harmonic needs omega and F_S and/or F_C", source, where))
+        return None
+    unknown = set(entry) - {"omega", "F_S", "F_C"}
+    if unknown:
+        problems.append(Problem(f"unknown keys {sorted(unknown)}; a harmonic has omega, "
+                                "F_S, F_C", source, where))
+    try:
+        omega = _entry(entry["omega"], params, source, "omega", where)
+        vectors = []
+        for key in ("F_S", "F_C"):
+            vec = entry.get(key, [0] * n)
+            if not isinstance(vec, list) or (n and len(vec) != n):
+                raise ModelError(Problem(f"{key} must be a list of {n} entries", source,
+                                         where, key))
+            vectors.append(tuple(_entry(v, params, source, f"{key}[{j + 1}]", where)
+                                 for j, v in enumerate(vec)))
+        return Harmonic(omega, vectors[0], vectors[1])
+    except ModelError as exc:
+        problems.extend(exc.problems)
+        return None
 
 
 def _plain_numbers(rows: list[list[Any]]) -> np.ndarray | None:
