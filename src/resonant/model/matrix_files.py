@@ -409,14 +409,9 @@ def _mtx_numbers_with_pandas(data: bytes, rows: int, columns: int) -> np.ndarray
     return values if values.shape == (rows, columns) else None
 
 
-def _read_mtx(handle: IO[bytes], size: int) -> Any:
-    """A Matrix Market file (real or integer; general, symmetric or skew-symmetric; coordinate
-    or array), read by resonant itself: banner and size line first, checked against the
-    limits before the data are parsed."""
-    import scipy.sparse
-
-    text = handle.read(size + 1)
-    banner = _MTX_BANNER.fullmatch(text.split(b"\n", 1)[0])
+def _mtx_banner(first_line: bytes) -> tuple[str, str, str]:
+    """Layout, field and symmetry of a Matrix Market banner, each one resonant reads."""
+    banner = _MTX_BANNER.fullmatch(first_line)
     if banner is None:
         raise FileRefused(f"{_MTX_INVALID} (it must start with '%%MatrixMarket matrix' and a "
                           "size line)")
@@ -429,8 +424,13 @@ def _read_mtx(handle: IO[bytes], size: int) -> Any:
     if symmetry not in MTX_SYMMETRIES:
         raise FileRefused(f"{_MTX_INVALID}: the symmetry must be one of "
                           f"{', '.join(MTX_SYMMETRIES)}")
-    fields, offset = _mtx_size_line(text)
-    coordinate = layout == "coordinate"
+    return layout, field, symmetry
+
+
+def _mtx_entries(fields: list[bytes], coordinate: bool, symmetry: str, size: int
+                 ) -> tuple[int, int]:
+    """The matrix size and the number of data lines from the size line, within the limits
+    and what the file's bytes can hold."""
     try:
         numbers = [int(f) for f in fields]
     except ValueError:
@@ -459,18 +459,25 @@ def _read_mtx(handle: IO[bytes], size: int) -> Any:
     if least > size:
         raise FileRefused(f"its size line claims more entries than the file's {size} bytes "
                           "can hold")
-    values = _mtx_numbers(text[offset:], entries, 3 if coordinate else 1)
-    if not np.all(np.isfinite(values)):
-        raise FileRefused("the matrix holds non-finite entries (inf or nan)")
-    if not coordinate:
-        if symmetry == "general":
-            return np.array(values[:, 0].reshape(n, n, order="F"))
-        # the lower triangle column by column: (i, j), i >= j, ordered by j then i
-        cols, rows = np.triu_indices(n, 0 if symmetry == "symmetric" else 1)
-        dense = np.zeros((n, n))
-        dense[rows, cols] = values[:, 0]
-        dense[cols, rows] = values[:, 0] if symmetry == "symmetric" else -values[:, 0]
-        return dense
+    return n, entries
+
+
+def _mtx_dense(values: np.ndarray, n: int, symmetry: str) -> np.ndarray:
+    """An array file's column-major values (the lower triangle for a symmetric one)."""
+    if symmetry == "general":
+        return np.array(values[:, 0].reshape(n, n, order="F"))
+    # the lower triangle column by column: (i, j), i >= j, ordered by j then i
+    cols, rows = np.triu_indices(n, 0 if symmetry == "symmetric" else 1)
+    dense = np.zeros((n, n))
+    dense[rows, cols] = values[:, 0]
+    dense[cols, rows] = values[:, 0] if symmetry == "symmetric" else -values[:, 0]
+    return dense
+
+
+def _mtx_sparse(values: np.ndarray, n: int, symmetry: str) -> Any:
+    """A coordinate file's (i, j, value) lines as a CSR matrix, indices checked."""
+    import scipy.sparse
+
     index = values[:, :2]
     if np.any(index != np.floor(index)):
         raise FileRefused(f"{_MTX_INVALID}: an entry's row and column must be integers")
@@ -493,6 +500,21 @@ def _read_mtx(handle: IO[bytes], size: int) -> Any:
     out = scipy.sparse.coo_matrix((data, (rows_, cols_)), shape=(n, n)).tocsr()
     out.sum_duplicates()
     return out
+
+
+def _read_mtx(handle: IO[bytes], size: int) -> Any:
+    """A Matrix Market file (real or integer; general, symmetric or skew-symmetric; coordinate
+    or array), read by resonant itself: banner and size line first, checked against the
+    limits before the data are parsed."""
+    text = handle.read(size + 1)
+    layout, _, symmetry = _mtx_banner(text.split(b"\n", 1)[0])
+    fields, offset = _mtx_size_line(text)
+    coordinate = layout == "coordinate"
+    n, entries = _mtx_entries(fields, coordinate, symmetry, size)
+    values = _mtx_numbers(text[offset:], entries, 3 if coordinate else 1)
+    if not np.all(np.isfinite(values)):
+        raise FileRefused("the matrix holds non-finite entries (inf or nan)")
+    return _mtx_sparse(values, n, symmetry) if coordinate else _mtx_dense(values, n, symmetry)
 
 
 def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
