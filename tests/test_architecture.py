@@ -187,3 +187,26 @@ def test_lazy_loaders_import_downward_only() -> None:
     imported = [t for node in ast.walk(func) if isinstance(node, ast.ImportFrom)
                 for t in _targets(node, "resonant.cli", True)]
     assert imported and all(_layer_of(t, layers) == (0, "resonant.cli") for t in imported)
+
+
+#: the longest function body (without its docstring) of one idea, in lines
+MAX_FUNCTION_LINES = 80
+
+
+def test_functions_of_one_idea() -> None:
+    """No function of the package runs past MAX_FUNCTION_LINES (docs/architecture.md)."""
+    import ast
+
+    long = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            lines = (node.end_lineno or node.lineno) - node.lineno + 1
+            first = node.body[0]
+            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant) \
+                    and isinstance(first.value.value, str):
+                lines -= (first.end_lineno or first.lineno) - first.lineno + 1
+            if lines > MAX_FUNCTION_LINES:
+                long.append(f"{path.relative_to(PACKAGE)}:{node.lineno} {node.name} ({lines})")
+    assert not long, "functions longer than one idea: " + "; ".join(long)

@@ -363,27 +363,8 @@ def check_units(source: str, parameters: Mapping[str, Expression],
     what could not be checked, and on values in Hz used as angular frequencies) and the
     problems found.
     """
-    dims: dict[str, Dimension | None] = {}
-    checker = Checker(dims, source)
-    for name, expression in parameters.items():
-        if name in given:
-            written, unit = given[name]
-            checker._unknown = set()
-            try:
-                value = checker.value(written.root)
-            except DimensionMismatch as exc:
-                checker.problems.append(Problem(str(exc), source, "parameters", name))
-                value = _Value(None)
-            if value.dim is None and not value.any and written.names():
-                checker.roots[name] = set(checker._unknown)
-                checker.dimensions[name] = None
-            else:  # a number (or an expression of numbers) with its unit
-                own = value.dim if value.dim is not None else DIMENSIONLESS
-                checker.dimensions[name] = own * unit.dimension
-        elif expression.names():
-            checker.infer(name, expression, "parameters")
-        else:
-            checker.dimensions[name] = None  # a bare number: SI, dimension unknown
+    checker = Checker({}, source)
+    _parameter_dimensions(checker, parameters, given)
     for name, unit in coordinate_units.items():
         checker.dimensions[name] = unit.dimension
     for name, expression in equilibrium.items():
@@ -396,6 +377,54 @@ def check_units(source: str, parameters: Mapping[str, Expression],
         checker.infer(name, expression, "definitions")
     for key, expression in energy.items():
         checker.expect(expression, "energy", key, POWER if key == "D" else ENERGY)
+    _check_forces(checker, forces)
+    if matrices is not None:
+        _check_matrices(checker, matrices, [checker.dimensions.get(q) if q in coordinate_units
+                                            else None for q in coordinates], coordinates)
+    _check_outputs(checker, outputs, output_units)
+    cyclic = {name for name, (_, unit) in given.items() if unit.cyclic}
+    uses = [(f"[signals] {n}", e) for n, e in signals.items()] + \
+        [(f"[definitions] {n}", e) for n, e in definitions.items()] + \
+        [(f"[energy] {k}", e) for k, e in energy.items()] + \
+        [(f"[{f.kind} '{f.name}']", e) for f in forces for e in (*f.vector,
+                                                              *f.generalized.values())]
+    notes = [*cyclic_uses(uses, cyclic), *_harmonic_notes(checker, matrices, cyclic)]
+    note = checker.note()
+    if note:
+        notes.insert(0, note)
+    units = ModelUnits(**frozen(given=given, dimensions=checker.dimensions,
+                                coordinates=coordinate_units, outputs=output_units,
+                                display=display), notes=tuple(notes))
+    return units, checker.problems
+
+
+def _parameter_dimensions(checker: Checker, parameters: Mapping[str, Expression],
+                          given: Mapping[str, tuple[Expression, Unit]]) -> None:
+    """Each parameter's dimension: from its unit, from the parameters it is made of, or
+    unknown (a bare number: SI)."""
+    for name, expression in parameters.items():
+        if name in given:
+            written, unit = given[name]
+            checker._unknown = set()
+            try:
+                value = checker.value(written.root)
+            except DimensionMismatch as exc:
+                checker.problems.append(Problem(str(exc), checker.source, "parameters", name))
+                value = _Value(None)
+            if value.dim is None and not value.any and written.names():
+                checker.roots[name] = set(checker._unknown)
+                checker.dimensions[name] = None
+            else:  # a number (or an expression of numbers) with its unit
+                own = value.dim if value.dim is not None else DIMENSIONLESS
+                checker.dimensions[name] = own * unit.dimension
+        elif expression.names():
+            checker.infer(name, expression, "parameters")
+        else:
+            checker.dimensions[name] = None  # a bare number: SI, dimension unknown
+
+
+def _check_forces(checker: Checker, forces: Iterable[Any]) -> None:
+    """Each force's virtual work has the dimension of an energy."""
     for force in forces:
         section = f"{force.kind} '{force.name}'"
         for coord, expression in force.generalized.items():
@@ -409,41 +438,32 @@ def check_units(source: str, parameters: Mapping[str, Expression],
             else:
                 checker.work(component, point, section, f"vector[{j}]",
                              f"its point's position point[{j}] =", section)
-    if matrices is not None:
-        _check_matrices(checker, matrices, [checker.dimensions.get(q) if q in coordinate_units
-                                            else None for q in coordinates], coordinates)
+
+
+def _check_outputs(checker: Checker, outputs: Mapping[str, Expression],
+                   output_units: Mapping[str, Unit]) -> None:
+    """Each output's dimension, against the unit it is to be shown in."""
     for name, expression in outputs.items():
         dim = checker.infer(name, expression, "outputs")
         shown = output_units.get(name)
         if shown is not None and dim is not None and dim != shown.dimension:
             checker.problems.append(Problem(
                 f"{node_text(expression.root)} is {dim.text()} but its unit "
-                f"{shown.text} is {shown.dimension.text()}", source, "outputs", name))
-    cyclic = {name for name, (_, unit) in given.items() if unit.cyclic}
-    harmonic_omegas = []
-    if matrices is not None:
-        for i, harmonic in enumerate(getattr(matrices, "harmonics", ()), start=1):
-            checker.expect(harmonic.omega, f"harmonic {i}", "omega", FREQUENCY)
-            if {n for n, _ in harmonic.omega.names()} & cyclic and \
-                    "pi" not in harmonic.omega.text:
-                harmonic_omegas.append(
-                    f"[[harmonic]] {i}: omega = {harmonic.omega.text} is given in Hz, a "
-                    "cyclic frequency, but omega is an angular frequency: resonant keeps a "
-                    "value in Hz as its number (1/s); write 2*pi*f or give it in rad/s "
-                    "(docs/units.md)")
-    uses = [(f"[signals] {n}", e) for n, e in signals.items()] + \
-        [(f"[definitions] {n}", e) for n, e in definitions.items()] + \
-        [(f"[energy] {k}", e) for k, e in energy.items()] + \
-        [(f"[{f.kind} '{f.name}']", e) for f in forces for e in (*f.vector,
-                                                              *f.generalized.values())]
-    notes = [*cyclic_uses(uses, cyclic), *harmonic_omegas]
-    note = checker.note()
-    if note:
-        notes.insert(0, note)
-    units = ModelUnits(**frozen(given=given, dimensions=checker.dimensions,
-                                coordinates=coordinate_units, outputs=output_units,
-                                display=display), notes=tuple(notes))
-    return units, checker.problems
+                f"{shown.text} is {shown.dimension.text()}", checker.source, "outputs", name))
+
+
+def _harmonic_notes(checker: Checker, matrices: Any, cyclic: set[str]) -> list[str]:
+    """Each harmonic's omega is a frequency; a note where it is a value in Hz."""
+    notes = []
+    for i, harmonic in enumerate(getattr(matrices, "harmonics", ()), start=1):
+        checker.expect(harmonic.omega, f"harmonic {i}", "omega", FREQUENCY)
+        if {n for n, _ in harmonic.omega.names()} & cyclic and "pi" not in harmonic.omega.text:
+            notes.append(
+                f"[[harmonic]] {i}: omega = {harmonic.omega.text} is given in Hz, a "
+                "cyclic frequency, but omega is an angular frequency: resonant keeps a "
+                "value in Hz as its number (1/s); write 2*pi*f or give it in rad/s "
+                "(docs/units.md)")
+    return notes
 
 
 def cyclic_uses(expressions: Iterable[tuple[str, Expression]], cyclic: set[str]) -> list[str]:
