@@ -195,8 +195,6 @@ MAX_FUNCTION_LINES = 80
 
 def test_functions_of_one_idea() -> None:
     """No function of the package runs past MAX_FUNCTION_LINES (docs/architecture.md)."""
-    import ast
-
     long = []
     for path in sorted(PACKAGE.rglob("*.py")):
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
