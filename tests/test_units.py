@@ -23,6 +23,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import sympy
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from conftest import run_cli
 
@@ -301,12 +303,33 @@ def test_output_and_equilibrium_units_are_checked():
 # -- partial units, Hz, rpm ------------------------------------------------------------------
 
 def test_partially_united_model_says_once_what_it_could_not_check(tmp_path, capsys):
-    model = loads(BASE.replace('c = "3 N*s/m"', "c = 3"))
+    """A bare number whose uses leave its dimension open (here only the product a*b is
+    fixed by D) is named once in a note; one whose uses fix it is inferred (docs/units.md)."""
+    model = loads(BASE.replace('c = "3 N*s/m"', 'a = 3\nb = 1\nc = "a*b"'))
     assert len(model.units.notes) == 1
-    assert model.units.notes[0].startswith("units: could not check D: c has no unit")
-    assert main(["check", str(_write(tmp_path, BASE.replace('k = "100 N/m"', "k = 100")))]) == 0
+    assert model.units.notes[0].startswith("units: could not check ")
+    assert "a, b have no unit" in model.units.notes[0]
+    assert main(["check", str(_write(tmp_path, BASE.replace(
+        'c = "3 N*s/m"', 'a = 3\nb = 1\nc = "a*b"')))]) == 0
     err = capsys.readouterr().err
-    assert err.count("could not check") == 1 and "k has no unit" in err
+    assert err.count("could not check") == 1
+
+
+def test_a_bare_number_gets_the_dimension_its_uses_imply():
+    """D is a power, so c in D = c*x'^2/2 is N*s/m; so z in c = 2*z*sqrt(k*m) is
+    dimensionless; an output adding k*x (N) and c*x (N*s) is then an error."""
+    damped = BASE.replace('c = "3 N*s/m"\n', "").replace(
+        'k = "100 N/m"\n', 'k = "100 N/m"\nz = 0.1\nc = "2*z*sqrt(k*m)"\n')
+    model = loads(damped)
+    assert model.units.dimensions["z"].dimensionless
+    assert model.units.dimensions["c"].text() == "N*s/m"
+    assert model.units.notes == ("units: inferred from their uses: z in 1 (dimensionless)",)
+    assert loads(BASE.replace('c = "3 N*s/m"', "c = 3")).units.dimensions["c"].text() \
+        == "N*s/m"
+    bad = _error(damped + '[outputs]\nF_spring = "k*x + c*x"\n')
+    assert "[outputs] F_spring" in bad and "k*x is N but c*x is N*s" in bad
+    assert "k*x + c*x'" not in bad
+    loads(damped + '[outputs]\nF_spring = "k*x + c*x\'"\n')  # N + N: fine
 
 
 def test_hz_rpm_and_expressions_convert_as_documented():
@@ -590,3 +613,21 @@ def test_matrix_entries_are_checked_against_the_coordinates_units(old, new, expe
     text = MATRIX_MODEL.replace(old, new)
     assert text != MATRIX_MODEL
     assert expected in _error(text)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.sampled_from(["-1", "-1/2", "0", "1/2", "1", "2"]),
+       st.sampled_from(["-1", "-1/2", "0", "1/2", "1"]))
+def test_inferred_dimension_is_the_one_a_unit_would_give(a, b):
+    """Two routes to one dimension: z bare in c = z*k^a*m^b with D = c*x'^2/2 (a power)
+    is inferred as N*s/m / (N/m)^a / kg^b, the dimension that makes c N*s/m."""
+    from resonant.model.units import Dimension
+
+    text = BASE.replace('c = "3 N*s/m"\n', "").replace(
+        'k = "100 N/m"\n', f'k = "100 N/m"\nz = 2\nc = "z*k^({a})*m^({b})"\n')
+    dims = loads(text).units.dimensions
+    newton = Dimension.of(kg=1, m=1, s=-2)
+    damping = newton * Dimension.of(s=1, m=-1)
+    expected = damping / (newton / Dimension.of(m=1)) ** Fraction(a) / \
+        Dimension.of(kg=1) ** Fraction(b)
+    assert dims["z"] == expected and dims["c"] == damping

@@ -33,6 +33,7 @@ from typing import Any
 from ..errors import Problem, name_list
 from ..expressions import BinOp, Call, Expression, Name, Neg, Num
 from ..expressions.parser import Node
+from .dimension_inference import infer_dimensions
 from .units import (
     DIMENSIONLESS,
     ENERGY,
@@ -363,8 +364,10 @@ def check_units(source: str, parameters: Mapping[str, Expression],
     what could not be checked, and on values in Hz used as angular frequencies) and the
     problems found.
     """
+    inferred = _inferred(source, parameters, given, coordinate_units, equilibrium, signals,
+                         definitions, energy, forces)
     checker = Checker({}, source)
-    _parameter_dimensions(checker, parameters, given)
+    _parameter_dimensions(checker, parameters, given, inferred)
     for name, unit in coordinate_units.items():
         checker.dimensions[name] = unit.dimension
     for name, expression in equilibrium.items():
@@ -389,6 +392,10 @@ def check_units(source: str, parameters: Mapping[str, Expression],
         [(f"[{f.kind} '{f.name}']", e) for f in forces for e in (*f.vector,
                                                               *f.generalized.values())]
     notes = [*cyclic_uses(uses, cyclic), *_harmonic_notes(checker, matrices, cyclic)]
+    if inferred:
+        notes.append("units: inferred from their uses: " + ", ".join(
+            f"{name} in {dim.text() if not dim.dimensionless else '1 (dimensionless)'}"
+            for name, dim in inferred.items()))
     note = checker.note()
     if note:
         notes.insert(0, note)
@@ -399,9 +406,10 @@ def check_units(source: str, parameters: Mapping[str, Expression],
 
 
 def _parameter_dimensions(checker: Checker, parameters: Mapping[str, Expression],
-                          given: Mapping[str, tuple[Expression, Unit]]) -> None:
-    """Each parameter's dimension: from its unit, from the parameters it is made of, or
-    unknown (a bare number: SI)."""
+                          given: Mapping[str, tuple[Expression, Unit]],
+                          inferred: Mapping[str, Dimension]) -> None:
+    """Each parameter's dimension: from its unit, from the parameters it is made of, from
+    its uses (a bare number, :mod:`resonant.model.dimension_inference`), or unknown."""
     for name, expression in parameters.items():
         if name in given:
             written, unit = given[name]
@@ -419,8 +427,34 @@ def _parameter_dimensions(checker: Checker, parameters: Mapping[str, Expression]
                 checker.dimensions[name] = own * unit.dimension
         elif expression.names():
             checker.infer(name, expression, "parameters")
-        else:
-            checker.dimensions[name] = None  # a bare number: SI, dimension unknown
+        else:  # a bare number: SI, of the dimension its uses imply (or unknown)
+            checker.dimensions[name] = inferred.get(name)
+
+
+def _inferred(source: str, parameters: Mapping[str, Expression],
+              given: Mapping[str, tuple[Expression, Unit]],
+              coordinate_units: Mapping[str, Unit], equilibrium: Mapping[str, Expression],
+              signals: Mapping[str, Expression], definitions: Mapping[str, Expression],
+              energy: Mapping[str, Expression], forces: Iterable[Any]) -> dict[str, Dimension]:
+    """The dimensions of the bare-number parameters that the model's physics determines."""
+    scratch = Checker({}, source)
+    _parameter_dimensions(scratch, parameters, given, {})
+    bare = [n for n, e in parameters.items() if n not in given and not e.names()]
+    defined = [("parameters", n, e) for n, e in parameters.items()
+               if n not in given and e.names()]
+    defined += [("signals", n, e) for n, e in signals.items()]
+    defined += [("definitions", n, e) for n, e in definitions.items()]
+    known = {n: d for n, d in scratch.dimensions.items() if n in given}
+    known.update({n: u.dimension for n, u in coordinate_units.items()})
+    constraints = [(e, POWER if key == "D" else ENERGY) for key, e in energy.items()]
+    constraints += [(e, coordinate_units[n].dimension) for n, e in equilibrium.items()
+                    if n in coordinate_units]
+    for force in forces:
+        pairs = [(e, Expression(q, Name(q), ("", "", ""))) for q, e in force.generalized.items()]
+        pairs += list(zip(force.vector, force.point))
+        constraints += [(Expression("", BinOp("*", f.root, d.root), ("", "", "")), ENERGY)
+                        for f, d in pairs]
+    return infer_dimensions(known, bare, defined, constraints)
 
 
 def _check_forces(checker: Checker, forces: Iterable[Any]) -> None:
