@@ -27,10 +27,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from conftest import run_cli
-
+from resonant.api import load, loads
 from resonant.cli import main
 from resonant.errors import ModelError
-from resonant.api import load, loads
 from resonant.model.units import (
     ENERGY,
     UNITS,
@@ -631,3 +630,23 @@ def test_inferred_dimension_is_the_one_a_unit_would_give(a, b):
     expected = damping / (newton / Dimension.of(m=1)) ** Fraction(a) / \
         Dimension.of(kg=1) ** Fraction(b)
     assert dims["z"] == expected and dims["c"] == damping
+
+
+def test_inline_matrices_and_harmonics_are_uses_that_fix_a_bare_number():
+    """In a model given by matrices, C_ij q_i q_j is J*s and a harmonic's omega a frequency:
+    c = 0.4 in C[1][1] on a cart (m) is N*s/m, w = 5 as omega is 1/s, and z in
+    ct = 2*z*sqrt(kt*J) on a rotor angle (rad) is dimensionless; an output then adding k*x
+    (N) and c*x (N*s) is an error (docs/units.md)."""
+    text = MATRIX_MODEL.replace('w = "5 rad/s"', 'w = 5\nc = 0.4\nz = 0.05\n'
+                                'ct = "2*z*sqrt(kt*J)"').replace(
+        'K = [["k", 0]', 'C = [["c", 0], [0, "ct"]]\nK = [["k", 0]')
+    assert text.count("c = 0.4") == 1 and "C = [[" in text
+    model = loads(text)
+    dims = model.units.dimensions
+    assert dims["c"].text() == "N*s/m" and dims["w"].text() == "1/s"
+    assert dims["z"].dimensionless
+    assert model.units.notes == (
+        "units: inferred from their uses: w in 1/s, c in N*s/m, z in 1 (dimensionless)",)
+    bad = _error(text + '[outputs]\nF = "k*x + c*x"\n')
+    assert "[outputs] F: k*x is N but c*x is N*s" in bad
+    loads(text + '[outputs]\nF = "k*x + c*x\'"\n')  # N + N: fine

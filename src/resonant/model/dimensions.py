@@ -322,13 +322,15 @@ class Checker:
 _MATRIX_SCALE = {"M": ENERGY * TIME ** 2, "C": ENERGY * TIME, "K": ENERGY}
 
 
-def _check_matrices(checker: Checker, matrices: Any, q: Sequence[Dimension | None],
-                    coordinates: Sequence[str]) -> None:
+def _matrix_uses(matrices: Any, q: Sequence[Dimension | None], coordinates: Sequence[str]
+                 ) -> list[tuple[str, str, Expression, Dimension, str]]:
     """The inline entries of ``[matrices]`` and the harmonics' loads that are expressions of
-    parameters with units, against the coordinates' units: (M q'')_i, (C q')_i, (K q)_i and
-    F_i are generalized forces, so M_ij q_i q_j has the unit of J s^2, C_ij q_i q_j of J s,
-    K_ij q_i q_j of J and F_i q_i of J.  Plain numbers are SI of unknown dimension (as bare
-    parameter values) and entries read from files are numbers: neither is judged."""
+    parameters, with the dimension each must have: ``(section, key, expression, dimension,
+    what)``.  (M q'')_i, (C q')_i, (K q)_i and F_i are generalized forces, so M_ij q_i q_j
+    has the unit of J s^2, C_ij q_i q_j of J s, K_ij q_i q_j of J and F_i q_i of J.  Plain
+    numbers are SI of unknown dimension (as bare parameter values) and entries read from
+    files are numbers: neither is judged."""
+    uses = []
     for key, scale in _MATRIX_SCALE.items():
         rows = getattr(matrices, key, None)
         if not isinstance(rows, list):
@@ -338,16 +340,24 @@ def _check_matrices(checker: Checker, matrices: Any, q: Sequence[Dimension | Non
                 qi, qj = q[i], q[j]
                 if qi is None or qj is None or not entry.names():
                     continue
-                checker.expect(entry, "matrices", f"{key}[{i + 1}][{j + 1}]", scale / (qi * qj),
-                               what=f"the {key} entry of ({coordinates[i]}, {coordinates[j]})")
+                uses.append(("matrices", f"{key}[{i + 1}][{j + 1}]", entry, scale / (qi * qj),
+                             f"the {key} entry of ({coordinates[i]}, {coordinates[j]})"))
     for number, harmonic in enumerate(getattr(matrices, "harmonics", ()), start=1):
         for key in ("F_S", "F_C"):
             for j, entry in enumerate(getattr(harmonic, key)[:len(q)]):
                 qj = q[j]
                 if qj is None or not entry.names():
                     continue
-                checker.expect(entry, f"harmonic {number}", f"{key}[{j + 1}]", ENERGY / qj,
-                               what=f"the generalized force on {coordinates[j]}")
+                uses.append((f"harmonic {number}", f"{key}[{j + 1}]", entry, ENERGY / qj,
+                             f"the generalized force on {coordinates[j]}"))
+    return uses
+
+
+def _check_matrices(checker: Checker, matrices: Any, q: Sequence[Dimension | None],
+                    coordinates: Sequence[str]) -> None:
+    """The inline matrix entries and harmonic loads against the coordinates' units."""
+    for section, key, entry, wanted, what in _matrix_uses(matrices, q, coordinates):
+        checker.expect(entry, section, key, wanted, what=what)
 
 
 def check_units(source: str, parameters: Mapping[str, Expression],
@@ -365,7 +375,7 @@ def check_units(source: str, parameters: Mapping[str, Expression],
     problems found.
     """
     inferred = _inferred(source, parameters, given, coordinate_units, equilibrium, signals,
-                         definitions, energy, forces)
+                         definitions, energy, forces, matrices, coordinates)
     checker = Checker({}, source)
     _parameter_dimensions(checker, parameters, given, inferred)
     for name, unit in coordinate_units.items():
@@ -435,8 +445,10 @@ def _inferred(source: str, parameters: Mapping[str, Expression],
               given: Mapping[str, tuple[Expression, Unit]],
               coordinate_units: Mapping[str, Unit], equilibrium: Mapping[str, Expression],
               signals: Mapping[str, Expression], definitions: Mapping[str, Expression],
-              energy: Mapping[str, Expression], forces: Iterable[Any]) -> dict[str, Dimension]:
-    """The dimensions of the bare-number parameters that the model's physics determines."""
+              energy: Mapping[str, Expression], forces: Iterable[Any], matrices: Any = None,
+              coordinates: Sequence[str] = ()) -> dict[str, Dimension]:
+    """The dimensions of the bare-number parameters that the model's physics determines
+    (the inline matrices' entries, harmonic loads and frequencies are uses too)."""
     scratch = Checker({}, source)
     _parameter_dimensions(scratch, parameters, given, {})
     bare = [n for n, e in parameters.items() if n not in given and not e.names()]
@@ -454,6 +466,12 @@ def _inferred(source: str, parameters: Mapping[str, Expression],
         pairs += list(zip(force.vector, force.point))
         constraints += [(Expression("", BinOp("*", f.root, d.root), ("", "", "")), ENERGY)
                         for f, d in pairs]
+    if matrices is not None:
+        q = [coordinate_units[c].dimension if c in coordinate_units else None
+             for c in coordinates]
+        constraints += [(e, wanted) for _, _, e, wanted, _ in _matrix_uses(matrices, q,
+                                                                           coordinates)]
+        constraints += [(h.omega, FREQUENCY) for h in getattr(matrices, "harmonics", ())]
     return infer_dimensions(known, bare, defined, constraints)
 
 
