@@ -650,3 +650,29 @@ def test_inline_matrices_and_harmonics_are_uses_that_fix_a_bare_number():
     bad = _error(text + '[outputs]\nF = "k*x + c*x"\n')
     assert "[outputs] F: k*x is N but c*x is N*s" in bad
     loads(text + '[outputs]\nF = "k*x + c*x\'"\n')  # N + N: fine
+
+
+def test_contradicting_uses_leave_open_only_the_numbers_they_involve():
+    """p = 2 used as N*s in T (p*x') and as N in U (p*x) fits no dimension: it stays
+    unknown and is named, while z, linked to it by no use, is still inferred
+    (dimensionless, from D a power) so that the output adding N and N*s is an error."""
+    damped = BASE.replace('c = "3 N*s/m"\n', "").replace(
+        'k = "100 N/m"\n', 'k = "100 N/m"\nz = 0.1\nc = "2*z*sqrt(k*m)"\np = 0\n')
+    text = damped.replace('T = "m*x\'^2/2"', 'T = "m*x\'^2/2 + p*x\'"').replace(
+        'U = "k*x^2/2"', 'U = "k*x^2/2 + p*x"')
+    assert text.count("p*x") == 2
+    model = loads(text)
+    assert model.units.dimensions["z"].dimensionless and model.units.dimensions["p"] is None
+    assert "units: inferred from their uses: z in 1 (dimensionless)" in model.units.notes
+    assert any(n.startswith("units: the uses of p contradict each other")
+               for n in model.units.notes)
+    assert "k*x is N but c*x is N*s" in _error(text + '[outputs]\nF = "k*x + c*x"\n')
+
+
+def test_a_literal_zero_in_a_sum_fixes_no_dimension():
+    """0 fits any unit: k = 100 bare in U = k*x^2/2 + 0 is N/m (from U an energy), not
+    dimensionless (as if 0 were a dimensionless term of the sum)."""
+    text = BASE.replace('k = "100 N/m"', "k = 100").replace('U = "k*x^2/2"',
+                                                          'U = "k*x^2/2 + 0"')
+    assert "k = 100\n" in text and "+ 0" in text
+    assert loads(text).units.dimensions["k"].text() == "N/m"

@@ -107,7 +107,8 @@ class _Equations:
         if isinstance(node, Call):
             return self._call(node)
         if node.op in "+-":
-            terms = [self._try(term) for term in (node.left, node.right)]
+            terms = [self._try(term) for term in (node.left, node.right)
+                     if _constant(term) != 0]  # a literal 0 fits any unit
             known = [t for t in terms if t is not None]
             for other in known[1:]:
                 self.alike(known[0], other)
@@ -164,10 +165,37 @@ class _Equations:
         return base ** power
 
 
+def _components(equations: Sequence[tuple[Monomial, Dimension]]
+                ) -> list[list[tuple[Monomial, Dimension]]]:
+    """The equations grouped by the unknowns they link (connected components), so that uses
+    contradicting each other leave open only the unknowns they involve."""
+    parent: dict[str, str] = {}
+
+    def root(name: str) -> str:
+        while parent.setdefault(name, name) != name:
+            name = parent[name]
+        return name
+
+    for monomial, _ in equations:
+        first, *rest = monomial.unknown
+        for name in rest:
+            parent[root(name)] = root(first)
+    groups: dict[str, list[tuple[Monomial, Dimension]]] = {}
+    for equation in equations:
+        groups.setdefault(root(next(iter(equation[0].unknown))), []).append(equation)
+    return list(groups.values())
+
+
 def _solve(equations: Sequence[tuple[Monomial, Dimension]], unknowns: Sequence[str]
-           ) -> dict[str, Dimension]:
+           ) -> dict[str, Dimension | None]:
     """The unknowns the equations determine: Gauss-Jordan elimination with fractions on
-    the exponent matrix, one right-hand side per SI base unit."""
+    the exponent matrix, one right-hand side per SI base unit (one linked group of
+    unknowns at a time)."""
+    if len(_components(equations)) > 1:
+        merged: dict[str, Dimension | None] = {}
+        for group in _components(equations):
+            merged.update(_solve(group, unknowns))
+        return merged
     rows = [[m.unknown.get(u, Fraction(0)) for u in unknowns]
             + [Fraction(e) for e in (target / m.known).exponents]
             for m, target in equations]
@@ -188,8 +216,9 @@ def _solve(equations: Sequence[tuple[Monomial, Dimension]], unknowns: Sequence[s
         pivots.append(column)
         r += 1
     if any(not any(row[:width]) and any(row[width:]) for row in rows):
-        return {}  # contradictory uses: decide nothing, the checker will say what is wrong
-    found = {}
+        # contradictory uses: decide nothing of the unknowns they link (None: contradicted)
+        return {u: None for m, _ in equations for u in m.unknown}
+    found: dict[str, Dimension | None] = {}
     for i, column in enumerate(pivots):
         if not any(rows[i][c] for c in range(width) if c != column):
             found[unknowns[column]] = Dimension(tuple(_integral(v) for v in rows[i][width:]))
@@ -203,7 +232,7 @@ def _integral(value: Fraction) -> int | Fraction:
 def infer_dimensions(known: Mapping[str, Dimension | None], unknowns: Sequence[str],
                      definitions: Sequence[tuple[str, str, Expression]],
                      constraints: Sequence[tuple[Expression, Dimension]]
-                     ) -> dict[str, Dimension]:
+                     ) -> dict[str, Dimension | None]:
     """The dimensions of ``unknowns`` that their uses determine.
 
     Parameters

@@ -402,10 +402,15 @@ def check_units(source: str, parameters: Mapping[str, Expression],
         [(f"[{f.kind} '{f.name}']", e) for f in forces for e in (*f.vector,
                                                               *f.generalized.values())]
     notes = [*cyclic_uses(uses, cyclic), *_harmonic_notes(checker, matrices, cyclic)]
-    if inferred:
+    found = {name: dim for name in parameters if (dim := inferred.get(name)) is not None}
+    if found:
         notes.append("units: inferred from their uses: " + ", ".join(
             f"{name} in {dim.text() if not dim.dimensionless else '1 (dimensionless)'}"
-            for name, dim in inferred.items()))
+            for name, dim in found.items()))
+    contradicted = [name for name in parameters if name in inferred and inferred[name] is None]
+    if contradicted:
+        notes.append(f"units: the uses of {', '.join(contradicted)} contradict each other (no "
+                     "one dimension fits them all): check the terms that hold them")
     note = checker.note()
     if note:
         notes.insert(0, note)
@@ -417,7 +422,7 @@ def check_units(source: str, parameters: Mapping[str, Expression],
 
 def _parameter_dimensions(checker: Checker, parameters: Mapping[str, Expression],
                           given: Mapping[str, tuple[Expression, Unit]],
-                          inferred: Mapping[str, Dimension]) -> None:
+                          inferred: Mapping[str, Dimension | None]) -> None:
     """Each parameter's dimension: from its unit, from the parameters it is made of, from
     its uses (a bare number, :mod:`resonant.model.dimension_inference`), or unknown."""
     for name, expression in parameters.items():
@@ -446,7 +451,7 @@ def _inferred(source: str, parameters: Mapping[str, Expression],
               coordinate_units: Mapping[str, Unit], equilibrium: Mapping[str, Expression],
               signals: Mapping[str, Expression], definitions: Mapping[str, Expression],
               energy: Mapping[str, Expression], forces: Iterable[Any], matrices: Any = None,
-              coordinates: Sequence[str] = ()) -> dict[str, Dimension]:
+              coordinates: Sequence[str] = ()) -> dict[str, Dimension | None]:
     """The dimensions of the bare-number parameters that the model's physics determines
     (the inline matrices' entries, harmonic loads and frequencies are uses too)."""
     scratch = Checker({}, source)
