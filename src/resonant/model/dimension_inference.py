@@ -250,7 +250,10 @@ def infer_dimensions(known: Mapping[str, Dimension | None], unknowns: Sequence[s
     Returns
     -------
     dict
-        name -> dimension, for the unknowns the uses determine.
+        name -> dimension, for the unknowns the uses determine; name -> None for those whose
+        uses contradict each other (no one dimension fits them all).  The equations are
+        solved one linked group of unknowns at a time, so a contradiction leaves open only
+        the unknowns it links.
     """
     if not unknowns:
         return {}
