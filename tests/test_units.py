@@ -30,9 +30,12 @@ from conftest import run_cli
 from resonant.api import load, loads
 from resonant.cli import main
 from resonant.errors import ModelError
+from resonant.expressions import parse
+from resonant.model.dimension_inference import infer_dimensions
 from resonant.model.units import (
     ENERGY,
     UNITS,
+    Dimension,
     UnitError,
     display_units,
     parse_unit,
@@ -620,8 +623,6 @@ def test_matrix_entries_are_checked_against_the_coordinates_units(old, new, expe
 def test_inferred_dimension_is_the_one_a_unit_would_give(a, b):
     """Two routes to one dimension: z bare in c = z*k^a*m^b with D = c*x'^2/2 (a power)
     is inferred as N*s/m / (N/m)^a / kg^b, the dimension that makes c N*s/m."""
-    from resonant.model.units import Dimension
-
     text = BASE.replace('c = "3 N*s/m"\n', "").replace(
         'k = "100 N/m"\n', f'k = "100 N/m"\nz = 2\nc = "z*k^({a})*m^({b})"\n')
     dims = loads(text).units.dimensions
@@ -676,3 +677,20 @@ def test_a_literal_zero_in_a_sum_fixes_no_dimension():
                                                           'U = "k*x^2/2 + 0"')
     assert "k = 100\n" in text and "+ 0" in text
     assert loads(text).units.dimensions["k"].text() == "N/m"
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.integers(-3, 3), min_size=3, max_size=3),
+       st.sampled_from(["-1", "1/2", "1", "2"]))
+def test_a_contradiction_elsewhere_does_not_change_an_inference(exponents, a):
+    """Two routes to one dimension: z in z*k^a = J*s^-1 (a power) inferred alone and next to
+    a number p used as both m and s, which contradicts itself and is reported as None."""
+    k = Dimension.of(kg=exponents[0], m=exponents[1], s=exponents[2])
+    power = ENERGY / Dimension.of(s=1)
+    known = {"k": k}
+    alone = infer_dimensions(known, ["z"], [], [(parse(f"z*k^({a})"), power)])
+    both = infer_dimensions(known, ["z", "p"], [], [
+        (parse(f"z*k^({a})"), power), (parse("p"), Dimension.of(m=1)),
+        (parse("p"), Dimension.of(s=1))])
+    assert alone["z"] == power / k ** Fraction(a) == both["z"]
+    assert both["p"] is None and "p" not in alone
