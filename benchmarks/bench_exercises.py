@@ -1,6 +1,6 @@
 """Benchmark: ``resonant exercise`` -- N variants of the teaching model with HTML solutions.
 
-Issue 15's target: 100 variants of examples/teaching/cart_pendulum.toml with HTML
+The target: 100 variants of examples/teaching/cart_pendulum.toml with HTML
 solutions in under 30 s (one derivation; numbers substituted per variant).  Runs the
 command as a process, with and without the plots of the solutions, and prints the
 wall times as JSON.  ``python benchmarks/bench_exercises.py [N]``.

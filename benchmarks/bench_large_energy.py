@@ -1,4 +1,4 @@
-"""Large energy models (issue 16): the N-link pendulum chain end to end.
+"""Large energy models: the N-link pendulum chain end to end.
 
 What a user does with a large model given by its energies, each stage timed in
 a fresh process (imports and a 4-link warm-up outside the clock):
@@ -9,7 +9,7 @@ a fresh process (imports and a 4-link warm-up outside the clock):
 * **first solve** -- ``eom.stationary()`` (the pivot of the chain moves
   horizontally, ``s = s0 cos(w t)``, so that there is a load);
 * **symbolic M, K** -- then ``eom.M``, ``eom.K`` as sympy matrices (what
-  ``bench_derivation.py`` times; since issue 16 derived only when asked for).
+  ``bench_derivation.py`` times; derived only when asked for).
 
 ``--sweeps`` times instead, after the derivation, a batch over a mass (50 values, M
 changes), then a sweep over the load's frequency (200 values).

@@ -50,7 +50,7 @@ DUFFING = ROOT / "examples" / "duffing.toml"
 RESONANT = f"""
 import time, json
 t0 = time.perf_counter()
-from resonant.model import load
+from resonant.api import load
 import numpy as np
 import resonant.analyses.harmonic_balance as hb
 model = load({str(DUFFING)!r})

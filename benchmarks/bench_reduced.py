@@ -1,4 +1,4 @@
-"""Benchmark 6: reduced-order frequency response of 2-D mass-spring grids (issue 16).
+"""Benchmark 6: reduced-order frequency response of 2-D mass-spring grids (docs/performance.md).
 
 The model: an ``nx x nx`` grid of masses (1 ... 1.3, random), each joined to its four
 neighbours by springs 1e4 ... 1.2e4 (random), the edge masses grounded by a spring
@@ -147,7 +147,7 @@ def run_case(nx: int, n_f: int = 1000, direct_subset: int = 100, full: bool = Fa
     import scipy.sparse.linalg as sla
 
     import resonant.analyses.sweep as rsweep
-    from resonant.model import load
+    from resonant.api import load
 
     say = log or (lambda message: None)
     M, C, K, f = grid_matrices(nx)

@@ -204,7 +204,7 @@ def resonant_sweep(path: Path, omegas: np.ndarray, repeats: int
     """(median time, z, method or the reason it is not available)."""
     try:
         import resonant.analyses.sweep as rsweep
-        from resonant.model import load
+        from resonant.api import load
     except ImportError as exc:
         return None, None, f"not available ({exc})"
     model = load(path)
@@ -280,7 +280,7 @@ def dense_loop_fit(rows: list[dict[str, Any]]) -> tuple[float, float] | None:
 def memory_child(n: int, n_f: int, variant: str, do_sweep: bool) -> None:
     """Child process of the memory benchmark: build, load and (optionally) sweep."""
     import resonant.analyses.sweep as rsweep
-    from resonant.model import load
+    from resonant.api import load
 
     M, C, K = chain_matrices(n, variant)
     omegas = frequencies(M, K, variant, n_f)

@@ -1,6 +1,6 @@
-"""Benchmark: loading a model with units against the same model without (issue 13).
+"""Benchmark: loading a model with units against the same model without (docs/units.md).
 
-Issue 13's target: a model with units costs at most a few ms more to load than the
+The target: a model with units costs at most a few ms more to load than the
 same model in bare SI numbers, and no analysis pays anything (the numbers are SI
 after loading).  Three versions of the reference exercise (cart + pendulum) are
 loaded in one process, alternating, ``--repeats`` times each after a warm-up:
@@ -63,7 +63,7 @@ def texts() -> dict[str, str]:
 _CHILD = """
 import sys, time
 start = time.perf_counter()
-from resonant.model import loads
+from resonant.api import loads
 model = loads(sys.stdin.read())
 loaded = time.perf_counter()
 solution = model.linearize().stationary()
@@ -74,7 +74,7 @@ print(model.units is not None, 'pint' in sys.modules, loaded - start, solved - l
 
 
 def measure(repeats: int = 200) -> dict[str, Any]:
-    from resonant.model import loads
+    from resonant.api import loads
 
     versions = texts()
     assert loads(versions["si"]).units is None

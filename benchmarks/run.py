@@ -405,7 +405,6 @@ def write_report(results: dict[str, Any], out: Path, command: str,
     """The markdown report; ``notes`` adds the hand-written analysis (benchmarks/notes.md),
     which describes the full run."""
     meta = results["meta"]
-    readme = Path(os.path.relpath(HERE / "README.md", out.resolve().parent)).as_posix()
     lines = ["# Performance", "",
              "Benchmarks of resonant side by side with the alternatives; every number below is "
              "from one run of", "", f"    {command}", "",
@@ -416,7 +415,7 @@ def write_report(results: dict[str, Any], out: Path, command: str,
              f"side; {meta['date']}, {meta['seconds']:.0f} s in total. The machine "
              "is noisy: read the ratios (both sides of a ratio ran in the same run, "
              "interleaved or back to back), not the absolute times. How the benchmarks work: "
-             f"[benchmarks/README.md]({readme}).", "",
+             "`benchmarks/README.md` in the repository.", "",
              "## Targets", ""] + target_rows(results)
     if notes and (HERE / "notes.md").exists():
         lines += ["", (HERE / "notes.md").read_text(encoding="utf-8").strip()]
@@ -455,7 +454,7 @@ def write_report(results: dict[str, Any], out: Path, command: str,
     if "reduced" in results:
         import bench_reduced
 
-        lines += ["## Reduced-order frequency response (issue 16)", ""] + \
+        lines += ["## Reduced-order frequency response", ""] + \
             _rerun_note(meta, "reduced") + [bench_reduced.DESCRIPTION, ""] + \
             bench_reduced.table(results["reduced"]["rows"]) + [""]
     out.write_text("\n".join(lines) + _kept_sections(out), encoding="utf-8")

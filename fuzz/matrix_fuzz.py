@@ -1,4 +1,4 @@
-"""Generator of hostile ``[matrices]`` models and a crash-isolating runner (issue 10).
+"""Generator of hostile ``[matrices]`` models and a crash-isolating runner (docs/fuzzing.md).
 
 Each case is a fresh folder holding a valid model whose ``M``, ``K`` or ``C`` is a
 path to a hostile matrix file or special file:

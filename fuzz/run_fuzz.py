@@ -6,7 +6,7 @@ mutant under a per-input time budget.  Every outcome must be exit 0, 2 or 3 with
 message; exit 1 (internal error), a traceback, NaN in the JSON or a hang is a bug,
 and the input is saved under ``fuzz/crashes/``.
 
-A second generator (``fuzz/matrix_fuzz.py``, issue 10) builds hostile ``[matrices]``
+A second generator (``fuzz/matrix_fuzz.py``) builds hostile ``[matrices]``
 models -- ``.npy``/``.npz``/``.mtx`` files, hand-built zip archives, FIFOs, symbolic
 links, directories, escaping paths -- and runs each in a forked child (or a fresh
 interpreter, ``--isolation subprocess``) under ``RLIMIT_AS`` and the time budget, so a

@@ -87,7 +87,7 @@ def solve() -> Callable[..., dict[str, Any]]:
 
 def pendulum_chain_text(links: int) -> str:
     """An N-link planar pendulum chain as a model file: a derivation that takes a while
-    (seconds at 300 links since the numeric derivation of issue 16; 80 links take a
+    (seconds at 300 links with the numeric derivation; 80 links take a
     fraction of a second), for tests of the time budget."""
     lines = ["[parameters]", "g = 9.81"]
     lines += [f"m{i} = 1\nl{i} = 1" for i in range(1, links + 1)]
@@ -106,7 +106,7 @@ def pendulum_chain_text(links: int) -> str:
 
 
 def without_units(text: str) -> str:
-    """A model text with its units taken out, the same SI values as bare numbers (issue 13).
+    """A model text with its units taken out, the same SI values as bare numbers.
 
     For tests that build variants of the bundled examples whose point is not units (the
     fuzzer's regressions): ``m1 = "2000 g"`` becomes ``m1 = 2.0``, ``x = { description =

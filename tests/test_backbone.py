@@ -21,7 +21,7 @@ import scipy.integrate
 from conftest import EXAMPLES, run_cli
 from resonant.analyses.backbone import Backbones, backbone
 from resonant.errors import AnalysisError
-from resonant.model import load
+from resonant.api import load
 
 DUFFING = EXAMPLES / "duffing.toml"
 M, K, K3 = 1.0, 1.0, 0.5
@@ -59,7 +59,7 @@ def test_duffing_many_harmonics_exact_period() -> None:
 
 
 def test_softening_pendulum_and_views(tmp_path) -> None:  # type: ignore[no-untyped-def]
-    result = backbone(load(EXAMPLES / "cart_pendulum.toml"), amplitude=0.5, points=10)
+    result = load(EXAMPLES / "cart_pendulum.toml").backbone(amplitude=0.5, points=10)
     assert isinstance(result, Backbones) and len(result.curves) == 2
     second = result.curves[1]
     assert second.frequencies[-1] < second.linear_frequency  # softening

@@ -1,4 +1,4 @@
-"""Issue 16, point 2: complex modes of large non-proportionally damped models by sparse
+"""Complex modes of large non-proportionally damped models by sparse
 shift-invert, without dense 2n x 2n matrices (it used to raise above 1,500 DOF).
 
 Reference: the dense eigenvalues of the state matrix [[0, I], [-M^-1 K, -M^-1 C]]
@@ -13,7 +13,7 @@ import scipy.io
 import scipy.sparse as sp
 
 from resonant.analyses.modes import complex_modes
-from resonant.model import load
+from resonant.api import load
 
 
 def nonproportional_chain(n: int, k: float = 1e4, m: float = 1.0):

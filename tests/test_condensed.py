@@ -21,7 +21,7 @@ from resonant.analyses.condensed import condensed_sweep
 from resonant.analyses.harmonic_balance import nonlinear_sweep
 from resonant.analyses.sweep import sweep
 from resonant.errors import ModelError
-from resonant.model import loads
+from resonant.api import loads
 
 
 def _rows(A: np.ndarray) -> str:

@@ -18,7 +18,8 @@ from hypothesis import strategies as st
 import resonant
 from resonant.errors import AnalysisError, ModelError
 from resonant.derivation.harmonics import decompose
-from resonant.model import TIME, loads, symbol
+from resonant.api import loads
+from resonant.model import TIME, symbol
 from resonant.derivation.nonlinear import derivative_symbol, nonlinear_equations
 
 from conftest import run_cli

@@ -1,4 +1,4 @@
-"""Issue 9: one linear-system type, one set of checks at every swept value, a deadline on
+"""One linear-system type, one set of checks at every swept value, a deadline on
 every command.  (Layering itself is checked in tests/test_architecture.py.)"""
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from conftest import EXAMPLES, run_cli
 import resonant
 from resonant.deadline import AnalysisTimeout, Deadline
 from resonant.errors import AnalysisError
-from resonant.model import loads
+from resonant.api import loads
 from resonant.system import LinearEOM, LinearSystem, MatrixEOM, NumericEOM
 
 SDOF = """

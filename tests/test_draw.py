@@ -1,4 +1,4 @@
-"""Issue 12, item 3: ``resonant draw`` -- the figure of a mechanism described by its parts.
+"""``resonant draw`` -- the figure of a mechanism described by its parts (docs/parts.md).
 
 The geometry is checked on the sketch (the computed figure data, in model units), the
 drawing on the matplotlib Figure (its texts and patches), the command on its files and
@@ -290,3 +290,49 @@ def test_unbalance_on_its_circle() -> None:
     # at t = 0: u = e, w = 0 -> on the circle to the right of the axle
     assert unbalance.centre[0] - machine.centre[0] == pytest.approx(unbalance.path)
     assert unbalance.path >= 0.1 * data.scale
+
+
+EXTREME = """title = "a block far out"
+[parameters]
+m = 1
+k = 100
+[coordinates]
+x = "cart"
+[[point]]
+name = "wall"
+position = ["{wall}", "0"]
+[[body]]
+name = "cart"
+mass = "m"
+position = ["x", "0"]
+size = "{size}"
+[[spring]]
+name = "k"
+between = ["wall", "cart"]
+stiffness = "k"
+"""
+
+
+@pytest.mark.parametrize("wall", ["1e300", "-1e300", "1e150"])
+def test_a_point_too_far_out_to_draw_names_the_part(tmp_path: Path, wall: str) -> None:
+    """A position of 1e300 overflowed the figure's arithmetic (exit 1); now exit 2 naming
+    the part and the key, or (1e150, still drawable after the check) a figure."""
+    path = tmp_path / "far.toml"
+    path.write_text(EXTREME.format(wall=wall, size="0.2"), encoding="utf-8")
+    status, _, err = run_cli(["draw", path, "-o", tmp_path / "far.svg"])
+    if abs(float(wall)) > 1e100:
+        assert status == 2 and '[point "wall"] position' in err and "too far out" in err
+    else:
+        assert status in (0, 2) and "internal error" not in err
+
+
+@pytest.mark.parametrize("size", ["1e300", "-1e300", "1e-300"])
+def test_an_extreme_body_size_gives_a_bounded_figure(tmp_path: Path, size: str) -> None:
+    """A body size of 1e300 draws (the figure is scaled to it), never an overflow."""
+    path = tmp_path / "big.toml"
+    path.write_text(EXTREME.format(wall="-1", size=size), encoding="utf-8")
+    for suffix in ("svg", "png"):
+        status, _, err = run_cli(["draw", path, "-o", tmp_path / f"big.{suffix}"])
+        assert status == 0, err
+    status, _, err = run_cli(["report", path, "-o", tmp_path / "big.html"])
+    assert status == 0, err

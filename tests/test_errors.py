@@ -1,4 +1,4 @@
-"""The error catalogue (docs/errors.md), one test per entry, plus issue 2's malformed inputs.
+"""The error catalogue (docs/errors.md), one test per entry, plus malicious and malformed inputs.
 
 Each case writes a model file, runs ``resonant solve`` in-process and checks the exact
 exit status (2: invalid model, 3: analysis impossible), the key words of the message,
@@ -338,7 +338,7 @@ def test_warning_entry(case, tmp_path):
     assert all(line.startswith("warning: ") for line in err.splitlines() if line)
 
 
-# -- issue 2: malicious and malformed model files ----------------------------------------------
+# -- malicious and malformed model files -------------------------------------------------------
 
 CANARY_COMMAND = "__import__('os').system('touch {canary}')"
 

@@ -1,4 +1,4 @@
-"""Exercise variants for teachers (issue 15; contract ../shared/spec/exercises.md).
+"""Exercise variants for teachers (the contract: docs/exercises.md).
 
 The reference exercise as a teacher's model (examples/teaching/cart_pendulum.toml):
 30 variants, reproducible from the seed, every answer equal to ``resonant solve`` of

@@ -1,4 +1,4 @@
-"""Fuzzing the loader and the command line with mutated examples (issue 5).
+"""Fuzzing the loader and the command line with mutated examples.
 
 A short, deterministic CI run of the mutation fuzzer in ``fuzz/run_fuzz.py``
 (hypothesis chooses the seeds, so a failure shrinks to one seed and is replayed):
@@ -75,7 +75,7 @@ def test_run_one_detects_a_hang(monkeypatch):
 
 # -- regressions: the bugs the fuzzer found (docs/fuzzing.md) -------------------------------
 
-# the examples give units since issue 13; these regressions are about the numbers, in SI
+# the examples give units; these regressions are about the numbers, in SI
 ROTATING = without_units((EXAMPLES / "rotating_unbalance.toml").read_text())
 CART = without_units((EXAMPLES / "cart_pendulum.toml").read_text())
 PENDULUM = without_units((EXAMPLES / "pendulum.toml").read_text())
@@ -115,7 +115,7 @@ def test_found_bugs_stay_fixed(name, text, words, tmp_path):
         assert word in err, err
 
 
-# -- hostile [matrices] files and special files (issue 10, fuzz/matrix_fuzz.py) ---------------
+# -- hostile [matrices] files and special files (fuzz/matrix_fuzz.py) ------------------------
 
 import matrix_fuzz  # noqa: E402
 

@@ -1,4 +1,4 @@
-"""Every bundled example gives the numbers it gave before the restructuring (issue 9).
+"""Every bundled example gives the numbers it gave before the restructuring into layers.
 
 The files in ``tests/golden/`` are the ``--json`` output of ``resonant solve``,
 ``resonant modes`` and a few ``resonant sweep`` runs of the bundled examples,
@@ -7,14 +7,14 @@ layers.  Numbers must agree to a relative 1e-9 (absolute 1e-12 for values near
 zero, which are rounding noise); strings and keys must be identical.  New keys
 may be added to the output (the stored ones must all still be there).
 
-One deliberate change since (issue 11): an antiresonance is a true zero of the response,
+One deliberate change since: an antiresonance is a true zero of the response,
 so the sweeps of the tuned mass damper (damped: its dips are minima, not zeros) and of
 the cart-pendulum (x2's dip at 6.44 rad/s is a minimum of 0.031, not the 0.0 that a
 clamped parabola reported) list none; their stored ``antiresonances`` were updated, and
 the undamped cart-pendulum's sweep now warns that its peaks are unbounded.  Phases are
 compared as angles: -pi is now written as pi.
 
-Another deliberate change (issue 13, physical units): the examples now give their data
+Another deliberate change (physical units, docs/units.md): the examples now give their data
 with units, with the same SI values, except the rotating unbalance's speed, now
 ``n_rpm = "1200 rpm"``: a value in rpm holds its 2 pi, so its SI value (what
 ``parameters`` reports) is 125.66 rad/s instead of the bare 1200, and ``Omega = "n_rpm"``
@@ -44,7 +44,7 @@ SWEEPS = {
 
 def _compare(stored, now, path="$"):
     if ".phases" in path and isinstance(stored, float) and isinstance(now, float):
-        # phases are angles in (-pi, pi] since issue 11 (-pi is written as pi)
+        # phases are angles in (-pi, pi] (-pi is written as pi)
         stored = math.remainder(stored - now, 2 * math.pi) + now
     if isinstance(stored, dict):
         assert isinstance(now, dict), path

@@ -14,7 +14,11 @@ Checked against (examples/duffing.toml: m = 1, c = 0.1, k = 1, k3 = 0.5, F = 0.2
 * Floquet multipliers from the monodromy matrix of the variational equation
   y'' + c y' + (k + 3 k3 x(t)^2) y = 0 integrated over one period (scipy, rtol 1e-12)
   agree with Hill's method to 1e-6.
-* Small forcing (F = 1e-6): the branch equals the linear sweep to 1e-6 relative.
+* Small forcing (F = 1e-6): the branch equals the linear sweep to 1e-6 relative, and its
+  peak lies at the linear resonance sqrt(k/m - c^2/(2 m^2)).
+
+Since the peaks are special points (kind "peak", one per resonance of x), the lists of
+special points expected here include them (changed on purpose with the peak points).
 """
 
 from __future__ import annotations
@@ -31,7 +35,7 @@ from conftest import EXAMPLES, run_cli
 from resonant.analyses.harmonic_balance import NonlinearResponse, nonlinear_sweep
 from resonant.analyses.sweep import sweep
 from resonant.errors import AnalysisError
-from resonant.model import load, loads
+from resonant.api import load, loads
 
 DUFFING = EXAMPLES / "duffing.toml"
 M, C, K, K3, F = 1.0, 0.1, 1.0, 0.5, 0.2
@@ -77,7 +81,9 @@ def test_h1_satisfies_the_classical_amplitude_relation(h1: NonlinearResponse) ->
 
 def test_h1_folds_match_the_relation(h1: NonlinearResponse) -> None:
     folds = [p for p in h1.special_points if p.kind == "fold"]
-    assert len(folds) == 2 and len(h1.special_points) == 2
+    # and one peak (of x: tests/test_nonlinear_outputs_and_peaks.py checks it)
+    assert len(folds) == 2 and [p.kind for p in h1.special_points].count("peak") == 1
+    assert len(h1.special_points) == 3
     for point, (X, w) in zip(folds, analytic_folds()):
         assert point.value == pytest.approx(w, abs=1e-8)
         assert point.amplitudes["x"] == pytest.approx(X, abs=1e-6)
@@ -95,7 +101,7 @@ def test_harmonics_chosen_from_their_decay(auto: NonlinearResponse) -> None:
     assert auto.truncation < 1e-6
     assert auto.residual < 1e-12
     kinds = [p.kind for p in auto.special_points]
-    assert kinds == ["fold", "fold"]
+    assert kinds == ["peak", "fold", "fold"]  # the peak of x just before the upper fold
 
 
 def _initial(result: NonlinearResponse, i: int) -> dict[str, str]:
@@ -151,7 +157,10 @@ def test_small_forcing_gives_the_linear_sweep(model) -> None:  # type: ignore[no
     result = small.nonlinear_sweep("omega", 0.5, 2.5, harmonics=3, points=60)
     linear = sweep(small.linearize(), "omega", result.values)
     assert np.max(np.abs(result.amplitudes["x"] / linear.amplitudes["x"] - 1)) < 1e-6
-    assert result.stable.all() and result.special_points == ()
+    # the one special point is the peak of the linear resonance, sqrt(k/m - c^2/(2 m^2))
+    assert result.stable.all() and [p.kind for p in result.special_points] == ["peak"]
+    assert result.special_points[0].value == pytest.approx(math.sqrt(K / M - C ** 2 / 2 / M ** 2),
+                                                           abs=1e-6)
 
 
 def test_any_parameter_forcing_amplitude(model) -> None:  # type: ignore[no-untyped-def]
@@ -177,7 +186,7 @@ def test_result_is_frozen_and_serializes(h1: NonlinearResponse, tmp_path) -> Non
     point = data["branch"][0]
     assert set(point) == {"value", "amplitudes", "stable", "harmonics"}
     assert len(point["harmonics"]["x"]) == 2 and len(point["harmonics"]["x"][1]) == 2
-    assert data["special_points"][0]["kind"] == "fold"
+    assert [p["kind"] for p in data["special_points"]] == ["peak", "fold", "fold"]
     assert "fold" in h1.summary() and "peak of the stable branch" in h1.summary()
     h1.to_csv(tmp_path / "branch.csv")
     assert (tmp_path / "branch.csv").read_text().splitlines()[0] == "omega,stable,x"
@@ -194,7 +203,7 @@ def test_cli(tmp_path) -> None:  # type: ignore[no-untyped-def]
     assert status == 0, err
     data = json.loads(out)
     assert data["harmonics"] == 3 and [p["kind"] for p in data["special_points"]] == \
-        ["fold", "fold"]
+        ["peak", "fold", "fold"]
     assert (tmp_path / "b.svg").exists() and (tmp_path / "b.csv").exists()
     status, out, err = run_cli(["sweep", DUFFING, "--param", "omega", "--from", "0.5",
                                 "--to", "2.5", "--nonlinear", "--harmonics", "3",
@@ -217,10 +226,11 @@ def test_errors(model) -> None:  # type: ignore[no-untyped-def]
 
 def test_dependent_parameter_follows() -> None:
     """A parameter defined from the swept one (W = omega) follows it along the branch."""
-    # the example gives units since issue 13: W = "omega" then takes rad/s from omega
+    # the example gives units: W = "omega" then takes rad/s from omega
     text = DUFFING.read_text().replace('omega = "1 rad/s"\n', 'omega = "1 rad/s"\nW = "omega"\n') \
         .replace("F*cos(omega*t)", "F*cos(W*t)")
     result = loads(text).nonlinear_sweep("omega", 0.5, 2.5, harmonics=1, points=60,
                                          linear=False)
-    for point, (_, w) in zip(result.special_points, analytic_folds()):
+    folds = [p for p in result.special_points if p.kind != "peak"]
+    for point, (_, w) in zip(folds, analytic_folds(), strict=True):
         assert point.kind == "fold" and point.value == pytest.approx(w, abs=1e-8)

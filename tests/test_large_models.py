@@ -1,4 +1,4 @@
-"""Models with more than 64 parameters (issue 9, item 7).
+"""Models with more than 64 parameters.
 
 Such models used to fail in every command with ``Need at least 0 and at most 64
 array objects`` (``np.broadcast`` in the compiled evaluation, now

@@ -1,8 +1,13 @@
-"""Issue 11, point 6: one message per mistake (a misspelled section, a failed definition)."""
+"""One message per mistake (a misspelled section, a failed definition)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
+import pytest
 from conftest import run_cli
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 TYPO = """
 [parameter]
@@ -83,7 +88,7 @@ def test_phases_lie_in_the_half_open_interval():
     import math
 
     from resonant.analyses.stationary import phase_angle
-    from resonant.model import loads
+    from resonant.api import loads
 
     sol = loads(NAMED_LIKE_MATRICES.replace('D = "C*x\'^2/2"', "")).linearize().stationary()
     assert math.isclose(sol.phases["x"], math.pi)
@@ -92,7 +97,7 @@ def test_phases_lie_in_the_half_open_interval():
 
 def test_two_coordinates_give_modal_ratios_not_a_rayleigh_fit():
     """With two DOF any commuting C is a M + b K (e.g. a < 0): the text gives zeta_j."""
-    from resonant.model import loads
+    from resonant.api import loads
 
     two = loads("""
 [parameters]
@@ -116,7 +121,7 @@ def test_two_frequency_report_shows_the_common_period(tmp_path):
     """sin(2t) + sin(3t) repeats after 2 pi, not after pi (two periods of the slower one)."""
     import math
 
-    from resonant.model import loads
+    from resonant.api import loads
     from resonant.report.plots import time_history
 
     model = loads("""
@@ -139,7 +144,7 @@ generalized = { x = "F" }
 
 
 def test_report_writes_deviations_about_a_nonzero_reference(tmp_path):
-    """Issue 11, point 4: a spring pendulum with static sag (r0 = l0 + m g/k)."""
+    """A spring pendulum with static sag (r0 = l0 + m g/k)."""
     path = tmp_path / "sag.toml"
     path.write_text("""
 [parameters]
@@ -175,7 +180,7 @@ sag = "1000*(r - l0 - m*g/k)"
 
 
 def test_forced_report_shows_mode_shapes_and_modal_damping(tmp_path):
-    """Issue 11, point 6: mode shapes and modal damping ratios belong in the report."""
+    """Mode shapes and modal damping ratios belong in the report."""
     from conftest import EXAMPLES
 
     out = tmp_path / "c3.md"
@@ -186,10 +191,10 @@ def test_forced_report_shows_mode_shapes_and_modal_damping(tmp_path):
 
 
 def test_report_frequency_response_includes_the_outputs():
-    """Issue 11, point 6: the outputs' frequency responses belong in the report too."""
+    """The outputs' frequency responses belong in the report too."""
     from conftest import EXAMPLES
 
-    from resonant.model import load
+    from resonant.api import load
     from resonant.report.plots import frequency_response
 
     eom = load(EXAMPLES / "cart_pendulum.toml").linearize()
@@ -201,7 +206,7 @@ def test_report_frequency_response_includes_the_outputs():
 
 
 def test_characteristic_polynomial_is_factored_where_that_is_shorter(tmp_path):
-    """Issue 11, point 4: two uncoupled oscillators: (k1 - m1 w^2)(k2 - m2 w^2) = 0."""
+    """Two uncoupled oscillators: (k1 - m1 w^2)(k2 - m2 w^2) = 0."""
     path = tmp_path / "two.toml"
     path.write_text("""
 [parameters]
@@ -221,3 +226,74 @@ U = "k1*x1^2/2 + k2*x2^2/2"
     assert code == 0, err
     line = next(x for x in out.read_text().splitlines() if x.startswith(r"\det"))
     assert line.count(r"\right)") >= 3 and r"\omega_{n}^{4}" not in line
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["sweep", "{m}", "--param", "omega", "--from", "0.5", "--to", "1.5", "--nonlinear",
+      "--harmonics", "100000"], "--harmonics"),
+    (["sweep", "{m}", "--param", "omega", "--from", "0.5", "--to", "1.5", "--tol", "nan"],
+     "--tol"),
+    (["sweep", "{m}", "--param", "omega", "--from", "0.5", "--to", "1.5", "--points", "-5"],
+     "--points"),
+    (["sweep", "{m}", "--param", "omega", "--from", "inf", "--to", "1.5"], "--from"),
+    (["solve", "{m}", "--timeout", "nan"], "--timeout"),
+    (["modes", "{m}", "--count", "0"], "--count"),
+    (["modes", "{m}", "--nonlinear", "--points", "1"], "--points"),
+    (["simulate", "{m}", "--duration", "-1"], "--duration"),
+])
+def test_invalid_option_values_are_invalid_input_naming_the_option(argv, option, capsys):
+    """Every invalid value on the command line: exit 2, the message names the option."""
+    from resonant.cli import main
+
+    model = str(EXAMPLES / "duffing.toml")
+    with pytest.raises(SystemExit) as exit_info:
+        main([a.replace("{m}", model) for a in argv])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert f"argument {option}" in err and "Traceback" not in err
+
+
+def test_a_value_beyond_double_precision_is_an_analysis_error():
+    """``sweep("omega", [10**400])`` raised OverflowError; it is an AnalysisError."""
+    from resonant.api import load
+    from resonant.errors import AnalysisError
+
+    system = load(EXAMPLES / "duffing.toml").linearize()
+    with pytest.raises(AnalysisError, match="finite numbers"):
+        system.sweep("omega", [10**400])
+
+
+def _chain(first: str, step: str, count: int) -> str:
+    return ("[parameters]\na0 = " + first + "\n"
+            + "".join(f'a{i} = "a{i - 1}{step}"\n' for i in range(1, count))
+            + '[coordinates]\nx = ""\n[energy]\nT = "x\'^2/2"\n'
+            + f'U = "a{count - 1}*x^2/2 + x^2/2"\n')
+
+
+def test_a_long_parameter_chain_continues_in_floating_point():
+    """Exact rationals that outgrow the exact limit (a chain of 200 parameters of about
+    0.01, each from the one before) become 30-digit floats instead of an error; the
+    last value equals the recurrence evaluated with Python's fractions (rel 1e-15)."""
+    from fractions import Fraction
+
+    from resonant.api import loads
+
+    model = loads(_chain("0.01", "*1.01 + 0.0003", 200))
+    value = Fraction(1, 100)
+    for _ in range(199):
+        value = value * Fraction(101, 100) + Fraction(3, 10_000)
+    assert model.parameter_values["a199"] == pytest.approx(float(value), rel=1e-15)
+
+
+def test_an_invalid_parameter_is_one_line_with_the_count_of_its_dependents():
+    """A parameter chain whose value underflows: one line for the root cause, one for the
+    160 parameters that depend on it (not one line each)."""
+    from resonant.api import loads
+    from resonant.errors import ModelError
+
+    with pytest.raises(ModelError) as info:
+        loads(_chain("1e-200", "*1e-200", 162))
+    lines = str(info.value).splitlines()
+    assert len(lines) == 2, lines
+    assert "[parameters] a1: number too small" in lines[0]
+    assert "[parameters] a1: and 160 parameters that depend on it: a2, a3" in lines[1]

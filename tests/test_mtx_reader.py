@@ -1,7 +1,7 @@
 """resonant's own Matrix Market reader agrees with scipy's on every layout it accepts.
 
 The reader replaced ``scipy.io.mmread`` (whose C++ reader crashed the process on hostile
-files in the fuzz campaigns of stop 17); scipy's writer and reader are the reference here,
+files in the fuzz campaigns, docs/fuzzing.md); scipy's writer and reader are the reference here,
 exact agreement (the numbers are written with 17 significant digits and read back).
 """
 
@@ -76,3 +76,26 @@ def test_refused(text, words):
     with pytest.raises(FileRefused) as info:
         _read(text)
     assert words in str(info.value)
+
+
+@settings(max_examples=30, deadline=None)
+@given(n=st.integers(1, 9), seed=st.integers(0, 2**32 - 1), sparse=st.booleans(),
+       spacing=st.sampled_from([b" ", b"  ", b"\t"]))
+def test_pandas_and_numpy_read_the_same_numbers(n, seed, sparse, spacing):
+    """Two routes to one answer: the data lines read by pandas' C reader and by numpy's
+    reader give bitwise the same matrix (other blanks than one space take numpy's way)."""
+    from unittest import mock
+
+    import resonant.model.matrix_files as matrix_files
+
+    rng = np.random.default_rng(seed)
+    a = rng.normal(size=(n, n)) * 10.0 ** rng.integers(-30, 30, (n, n))
+    a *= rng.random((n, n)) < 0.6
+    data = _written(sp.coo_matrix(a) if sparse else a)
+    head, body = data.split(b"\n", 2)[:2], data.split(b"\n", 2)[2]
+    data = b"\n".join([*head, body.replace(b" ", spacing)])
+    fast = _as_array(_read(data))
+    with mock.patch.object(matrix_files, "_mtx_numbers_with_pandas", lambda *args: None):
+        plain = _as_array(_read(data))
+    np.testing.assert_array_equal(fast, plain)
+    np.testing.assert_array_equal(fast, a)

@@ -14,7 +14,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from conftest import EXAMPLES
-from resonant.model import load, loads, symbol
+from resonant.api import load, loads
+from resonant.model import symbol
 from resonant.derivation.nonlinear import (derivative_symbol, find_equilibrium, linearized_matrices,
                                 nonlinear_equations)
 

@@ -20,7 +20,8 @@ import pytest
 
 from conftest import EXAMPLES
 from resonant.analyses.harmonic_balance import NonlinearResponse
-from resonant.model import Model, load
+from resonant.api import load
+from resonant.model import Model
 
 TWO_DOF = EXAMPLES / "two_dof_cubic.toml"
 

@@ -1,4 +1,4 @@
-"""Issue 12: a planar mechanism described by its parts (../shared/spec/components.md).
+"""A planar mechanism described by its parts (the contract: docs/parts.md).
 
 Every example in examples/parts/ is checked against the same system written as energies
 (symbolic M, C, K and Q equal), two of them also against sympy.physics.mechanics'

@@ -1,4 +1,4 @@
-"""Issue 12 leftovers: names of points and bodies that collide with the model's names, and
+"""Parts (docs/parts.md): names of points and bodies that collide with the model's names, and
 negative masses or inertias after the parameters are replaced (``Model.with_parameters``)."""
 
 from __future__ import annotations
@@ -45,3 +45,14 @@ def test_with_parameters_rechecks_masses_and_inertias() -> None:
     assert model.with_parameters(m2=3).parameter_values["m2"] == 3.0
     with pytest.raises(ModelError, match=r'\[body "cart"\] mass: the mass is negative'):
         model.with_parameters(m1="1 - 3")
+
+
+def test_an_invalid_body_is_one_problem_not_also_a_missing_energy(tmp_path):
+    """A model of parts whose only body is invalid: its problem alone, not also "the
+    section [energy] is missing" (the parts give the energies)."""
+    from resonant.api import loads
+    from resonant.errors import ModelError
+
+    with pytest.raises(ModelError) as info:
+        loads('[parameters]\nm = 1\n[coordinates]\nx = ""\n[[body]]\nname = "a"\nmass = "m"\n')
+    assert [p.section for p in info.value.problems] == ['body "a"']

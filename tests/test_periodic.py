@@ -21,10 +21,14 @@ import scipy.integrate
 
 from conftest import EXAMPLES, run_cli
 from resonant.analyses.periodic import PeriodicSolution, periodic_solution
-from resonant.analyses.simulate import _equilibrium_values, _NonlinearSystem, _periodic_start
+from resonant.analyses.simulate import _periodic_start
+from resonant.analyses.time_integration import NonlinearDynamics
 from resonant.deadline import NO_DEADLINE
 from resonant.errors import AnalysisError
-from resonant.model import Model, load
+from resonant.api import load
+from resonant.model import Model
+from resonant.system import nonlinear_system
+from resonant.system.nonlinear import reference_values
 
 CART = EXAMPLES / "cart_pendulum.toml"
 
@@ -40,7 +44,7 @@ def periodic(model: Model) -> PeriodicSolution:
 
 
 def _flow(model: Model, y0: np.ndarray, T: float) -> np.ndarray:
-    system = _NonlinearSystem(model, _equilibrium_values(model))
+    system = NonlinearDynamics(nonlinear_system(model))
     sol = scipy.integrate.solve_ivp(system.rhs, (0.0, T), y0, method="DOP853", rtol=1e-12,
                                     atol=1e-13)
     return np.asarray(sol.y[:, -1])
@@ -71,9 +75,9 @@ def test_harmonic_balance_agrees_with_shooting(model: Model,
     names = periodic.coordinates
     hb = np.array([periodic.initial[c] for c in names]
                   + [periodic.initial[c + "'"] for c in names])
-    y0 = hb + np.concatenate([_equilibrium_values(model), np.zeros(len(names))])
+    y0 = hb + np.concatenate([reference_values(model), np.zeros(len(names))])
     shot = _shooting(model, y0, periodic.period)
-    shot[:len(names)] -= _equilibrium_values(model)
+    shot[:len(names)] -= reference_values(model)
     # displacements to 1e-4 of the amplitude, velocities to 1e-4 of amplitude * omega
     scale = np.array([periodic.amplitudes[c] for c in names] * 2)
     scale[len(names):] *= 20
@@ -144,7 +148,7 @@ def test_unstable_periodic_solution_is_not_started_on() -> None:
     periodic = periodic_solution(exact)
     assert not periodic.stable and np.abs(periodic.multipliers).max() > 10
     warnings: list[str] = []
-    assert _periodic_start(exact.linearize(), "auto", True, False, "marginally stable",
+    assert _periodic_start(nonlinear_system(exact), "auto", False, "marginally stable",
                            exact.linearize().stationary(), warnings, NO_DEADLINE) is None
     assert any("unstable" in w and "no steady state to measure" in w for w in warnings)
     with pytest.raises(AnalysisError, match="broke down"):  # from the linear stationary state

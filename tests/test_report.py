@@ -1,7 +1,7 @@
 """The worked-solution report (``resonant report``): content, order, formats.
 
 Reference values: the exercise "Practice 12 - 2 DoF forced system" (BME, Department of
-Applied Mechanics), /work/shared/reference/practice-12-2dof-forced.md, Eqs. (20), (26),
+Applied Mechanics), docs/reference-exercise.md, Eqs. (20), (26),
 (34), (42)-(48).  The exercise rounds to three significant digits, so its numbers are
 compared with a tolerance of half a unit in their last printed digit.  The other
 examples are checked against the closed forms quoted in their files' headers.
@@ -229,7 +229,7 @@ def test_html_is_self_contained(tmp_path):
     code, _, err = run_cli(["report", EXAMPLES / "rotating_unbalance.toml", "-o", out])
     assert code == 0, err
     page = out.read_text()
-    # two plots; the formulas are SVG too since issue 11 (with MathML for screen readers)
+    # two plots; the formulas are SVG too (with MathML for screen readers)
     assert page.count("<math") >= 30 and page.count("<figure><svg") == 2
     assert "<script" not in page.lower()
     assert not re.search(r"""(src|href)\s*=\s*["']?(https?:|//)""", page)  # nothing fetched
@@ -256,7 +256,7 @@ def test_errors(tmp_path):
 
 
 def test_derivation_is_checked_against_the_equation_of_motion():
-    from resonant.model import load
+    from resonant.api import load
     from resonant.report.derivation import derive
 
     eom = load(EXAMPLES / "cart_pendulum.toml").linearize()
@@ -289,7 +289,7 @@ def test_names_are_balanced_latex(name, primes):
 
 def test_jupyter_views():
     from resonant.views import display
-    from resonant.model import load
+    from resonant.api import load
 
     model = load(EXAMPLES / "cart_pendulum.toml")
     eom = model.linearize()

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from conftest import EXAMPLES, run_cli
-from resonant.model import load
+from resonant.api import load
 from resonant.report import build_report, render
 from resonant.report.blocks import Figure, Heading, Table
 from resonant.report.nonlinear import NonlinearCurve
@@ -24,7 +24,8 @@ def test_duffing_section_has_curve_operating_point_and_difference() -> None:
     assert len(curves) == 1
     curve = curves[0].plot
     assert curve.operating == pytest.approx(1.0)
-    assert [p.kind for p in curve.response.special_points] == ["fold", "fold"]
+    # the peak of x (a special point since the peaks are located) and the two folds
+    assert [p.kind for p in curve.response.special_points] == ["peak", "fold", "fold"]
     table = next(b for b in section if isinstance(b, Table))
     assert len(table.rows) == 1 and "%" in str(table.rows[0][3])
     text = render(report, "html")

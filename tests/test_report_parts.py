@@ -1,4 +1,4 @@
-"""Issue 12, item 4: the report of a model with parts starts from its figure ("Fig. 1") and
+"""The report of a model with parts (docs/parts.md) starts from its figure ("Fig. 1") and
 derives the energies part by part, as the reference exercise does (its Eqs. (8)-(14))."""
 
 from __future__ import annotations

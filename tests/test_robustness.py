@@ -1,7 +1,7 @@
-"""Numerical robustness and pipeline properties on random systems (issue 5).
+"""Numerical robustness and pipeline properties on random systems.
 
 * stationary residual: the solution satisfies Eq. (38) of the reference exercise
-  (docs/../shared/reference/practice-12-2dof-forced.md) to 1e-9 relative;
+  (docs/reference-exercise.md) to 1e-9 relative;
 * symbolic = numeric: an energy model T = q'^T M q'/2, U = q^T K q/2, D = q'^T C q'/2
   written from random matrices gives back exactly those matrices and the same answer as
   the ``[matrices]`` model;
@@ -25,7 +25,7 @@ from hypothesis import strategies as st
 
 from conftest import pendulum_chain_text, run_cli
 
-from resonant.model import loads
+from resonant.api import loads
 from resonant.analyses.kernel import equilibration
 
 FAST = settings(max_examples=25, deadline=None,
@@ -187,7 +187,7 @@ def beam_model(elements: int, E: float, I: float, L: float, rhoA: float, F0: flo
 def test_same_beam_in_metres_and_millimetres(elements, tmp_path):
     """E = 210 GPa steel strip, 1 m long: in mm/kg/s E is 2.1e8 kg/(mm s^2), I in mm^4,
     the force in kg mm/s^2.  Deflections scale by 1000, rotations not at all; the
-    natural frequencies are the same.  Tolerance 1e-9 relative (issue 5)."""
+    natural frequencies are the same.  Tolerance 1e-9 relative."""
     metre = solve(tmp_path, beam_model(elements, 2.1e11, 8e-9, 1.0, 0.8, 10.0, 200.0), "m.toml")
     milli = solve(tmp_path, beam_model(elements, 2.1e8, 8e-9 * 1e12, 1000.0, 0.8e-3, 1e4, 200.0),
                   "mm.toml")
@@ -267,7 +267,7 @@ def test_extreme_parameters_never_give_nan(m, k, c, w, tmp_path):
 # -- the time budget -------------------------------------------------------------------------
 
 def test_deadline_is_cooperative_and_leaves_signals_alone():
-    """The deadline replaced SIGALRM (issue 9): no timer is armed, an outer one is untouched."""
+    """The deadline is cooperative, not SIGALRM: no timer is armed, an outer one is untouched."""
     from resonant.deadline import Deadline, DerivationTimeout
 
     fired = []

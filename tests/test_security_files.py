@@ -1,4 +1,4 @@
-"""Matrix files and the model file are untrusted input (issue 10, docs/security.md).
+"""Matrix files and the model file are untrusted input (docs/security.md).
 
 Every attack below was found in a review: out-of-range sparse indices (SIGSEGV, double
 free, silent corruption), paths leaving the model's folder, FIFOs and devices, headers
@@ -26,7 +26,8 @@ import scipy.sparse as sp
 from conftest import run_cli
 
 from resonant.errors import ModelError
-from resonant.model import limits, load, loads
+from resonant.api import load, loads
+from resonant.model import limits
 
 MEMORY = 1 << 30  # the address-space limit of the subprocess runs
 HEADER = "[parameters]\nw = 3\n[matrices]\n"
@@ -308,7 +309,7 @@ MTX = "%%MatrixMarket matrix coordinate real general\n"
     (MTX + "3 3 19000000\n1 1 1\n", "claims more entries than the file"),
     (MTX + "3 3 30000000\n1 1 1\n", "limited to 20000000"),
     (MTX + "3 3 2\n1 1 1\n9 2 3\n", "an entry at (9, 2) lies outside the 3x3 matrix"),
-    # found by the fuzz campaign of stop 17 (seed 2028): NUL bytes crashed scipy's reader
+    # found by fuzz campaign 3 (seed 2028, docs/fuzzing.md): NUL bytes crashed scipy's reader
     (MTX + "3 3 2\n1 1 2.0\n3 3 2\x00\x00\x00\x80 2 -1.0\n", "other than numbers"),
     (MTX + "0 0 0\n", "at least one row"),
     (MTX + "3 2 1\n1 1 1\n", "not a square matrix"),

@@ -1,4 +1,4 @@
-"""Issue 10, "untrusted input, for real": limits on every command, exit codes and one-line
+"""Untrusted input (docs/security.md): limits on every command, exit codes and one-line
 messages instead of internal errors, and no terminal injection from a model file.
 
 Heavy cases run in a subprocess under ``RLIMIT_AS`` (a memory bound) and a wall-clock
@@ -17,11 +17,12 @@ from pathlib import Path
 import pytest
 
 from conftest import EXAMPLES, run_cli
-from resonant.analyses import simulate as simulate_module
+from resonant.analyses import time_integration
 from resonant.analyses import stationary as stationary_module
 from resonant.analyses import sweep as sweep_module
 from resonant.errors import ModelError, Problem, name_list, printable
-from resonant.model import limits, loads
+from resonant.api import loads
+from resonant.model import limits
 
 CHAIN = EXAMPLES / "chain3_damped.toml"
 MEMORY = 1500 * 2**20  # bytes of address space for a heavy subprocess
@@ -108,7 +109,7 @@ def test_simulate_absurd_duration_is_refused_up_front():
 
 
 def test_simulate_step_budget_gives_exit_3_with_the_time_reached(monkeypatch):
-    monkeypatch.setattr(simulate_module, "MAX_RHS_CALLS", 20_000)
+    monkeypatch.setattr(time_integration, "MAX_RHS_CALLS", 20_000)  # the integration budget
     started = time.monotonic()
     status, _, err = run_cli(["simulate", CHAIN, "--duration", "1e5"])
     assert status == 3, err
@@ -162,7 +163,8 @@ def test_simulate_output_that_is_a_signal_nonlinear(tmp_path):
 def test_sweep_points_are_bounded():
     status, _, err, seconds = run_limited(["sweep", CHAIN, "--param", "omega", "--from", "1",
                                            "--to", "2", "--points", "3000000"])
-    assert status == 3 and f"limited to {sweep_module.MAX_SWEEP_POINTS}" in err
+    # refused where the option is parsed: invalid input (exit 2), the option named
+    assert status == 2 and "--points" in err and str(sweep_module.MAX_SWEEP_POINTS) in err
     assert seconds < 30
 
 
@@ -327,7 +329,7 @@ def test_negative_mass_matrix_is_named(tmp_path, command):
 
 
 def test_subnormal_mass_is_a_clean_analysis_error(tmp_path):
-    """Found by the fuzz campaign of stop 17 (seed 2027): M = 1e-320 I from a .npy made the
+    """Found by fuzz campaign 2 (seed 2027, docs/fuzzing.md): M = 1e-320 I from a .npy made the
     equilibration overflow (2^1063) and the SVD fail (internal error); now exit 3."""
     import numpy as np
 

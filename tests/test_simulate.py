@@ -17,9 +17,9 @@ from hypothesis import strategies as st
 
 from conftest import EXAMPLES, run_cli
 from resonant.errors import AnalysisError, ModelError
-from resonant.model import load, loads
+from resonant.api import load, loads
+from resonant.api import simulate as simulate_system
 from resonant.analyses.simulate import Simulation, parse_initial
-from resonant.analyses.simulate import simulate as _simulate
 
 OSCILLATOR = """
 [parameters]
@@ -43,8 +43,8 @@ generalized = {{ x = "F" }}
 
 
 def simulate(model, *args, **kwargs):
-    """The analysis takes the model's linear system (issue 9: analyses take LinearSystem)."""
-    return _simulate(model.linearize(), *args, **kwargs)
+    """The simulation of the model's linear system, as the user calls it (with views)."""
+    return simulate_system(model.linearize(), *args, **kwargs)
 
 
 def test_damped_linear_simulation_converges_to_the_stationary_solution():
@@ -73,7 +73,8 @@ def test_damped_oscillator_amplitude_property(m, wn, zeta, r):
 
 
 def test_undamped_linear_run_starts_stationary_and_reproduces_the_reference():
-    """Reference exercise (practice 12), Eq. (48): X2 = 0.0451 m; X1 from Eqs. (42)-(47)."""
+    """Reference exercise (docs/reference-exercise.md), Eq. (48): X2 = 0.0451 m; X1 from
+    Eqs. (42)-(47)."""
     sim = simulate(load(EXAMPLES / "cart_pendulum.toml"), duration=2.0, periods=3)
     assert sim.start == "stationary"
     assert any("stationary solution's initial state" in w for w in sim.warnings)
@@ -93,7 +94,7 @@ def test_nonlinear_agrees_for_small_and_differs_for_large_amplitudes():
     large = simulate(large_model, duration=3.0, nonlinear=True)
     linear = simulate(large_model, duration=3.0)
     assert abs(linear.relative_difference["x2"]) < 1e-6  # the linear model scales exactly
-    # undamped: the run starts on the periodic solution of the full equations (issue 14),
+    # undamped: the run starts on the periodic solution of the full equations,
     # whose x2 amplitude is 6.4 % below the linear one; from the linear stationary state
     # the run beats, and its peak (+11 %) is not a steady state
     assert large.start == "periodic"

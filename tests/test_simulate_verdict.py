@@ -1,4 +1,4 @@
-"""Issue 11, point 1: `simulate` compares like with like.
+"""`simulate` compares like with like.
 
 A pendulum hung from a block on a spring, the pendulum mode nearly undamped
 (zeta ~ 1e-5), driven harmonically: started from rest, the transient has not decayed
@@ -8,7 +8,7 @@ not the nonlinearity; the default nonlinear run starts on the periodic solution 
 
 from __future__ import annotations
 
-from resonant.model import loads
+from resonant.api import loads
 
 BLOCK_PENDULUM = """
 [parameters]

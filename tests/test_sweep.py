@@ -25,9 +25,8 @@ from hypothesis import strategies as st
 from conftest import EXAMPLES, run_cli
 
 from resonant.errors import AnalysisError, ModelError
-from resonant.model import load, loads
+from resonant.api import load, loads
 from resonant.analyses.sweep import choose_method
-from resonant.analyses.sweep import sweep as _sweep
 
 sys.path.insert(0, str(EXAMPLES))
 from make_chain import write_chain  # noqa: E402
@@ -55,8 +54,8 @@ v = "x'"
 
 
 def sweep(model, *args, **kwargs):
-    """The analysis takes the model's linear system (issue 9: analyses take LinearSystem)."""
-    return _sweep(model.linearize(), *args, **kwargs)
+    """The sweep of the model's linear system, as the user calls it (a result with views)."""
+    return model.linearize().sweep(*args, **kwargs)
 
 
 def sdof(m=1.0, k=100.0, c=2.0, F0=1.0):

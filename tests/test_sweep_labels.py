@@ -1,4 +1,4 @@
-"""Issue 11, points 2 and 3: a swept parameter that is not the excitation frequency is
+"""A swept parameter that is not the excitation frequency is
 labelled as itself; antiresonances are true zeros; undamped peaks are said to be unbounded.
 
 Models of our own: a quarter-car on a road of wavelength lam driven at speed v
@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from resonant.model import loads
+from resonant.api import loads
 
 ROAD = """
 [parameters]

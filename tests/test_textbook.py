@@ -1,12 +1,13 @@
 """Textbook checks: every example model against its published or closed-form solution.
 
 Each test names its source (the reference exercise "Practice 12 - 2 DoF forced system"
-of BME's Department of Applied Mechanics, or a textbook section) and states the
+of BME's Department of Applied Mechanics, docs/reference-exercise.md, or a textbook
+section) and states the
 tolerance of every comparison.  Expected values are computed here, independently of
 resonant's internals: from closed forms, or with numpy from matrices written down by
 hand from the physics.  The program is driven only through its command line
 (``resonant solve/modes/sweep ... --json``), following the contract in
-``/work/shared/spec/model-format.md``:
+``docs/model-format.md``:
 
 * the stationary solution of ``M q'' + C q' + K q = F_S sin(wt) + F_C cos(wt)`` is
   ``q = L cos(wt) + N sin(wt)`` with
@@ -98,7 +99,7 @@ class ModelSymbols:
         self.base: dict[str, float] = {}
         self.derived: dict[str, sp.Expr] = {}
         for n, v in data["parameters"].items():
-            # "2 kg", "pi/3 rad" (issue 13): the value times its unit's SI factor
+            # "2 kg", "pi/3 rad" (docs/units.md): the value times its unit's SI factor
             text, unit = split_value(v) if isinstance(v, str) else (v, None)
             factor = parse_unit(unit).to_si() if unit is not None else 1.0
             try:
@@ -175,9 +176,9 @@ ALL_EXAMPLES = sorted(p.name for p in EXAMPLES.glob("*.toml"))
 
 @pytest.mark.parametrize("name", ALL_EXAMPLES)
 def test_example_solves_with_contract_keys(name):
-    """Spec section 2 (``resonant solve --json`` keys): every example is a valid model
-    and the output carries every required key, with an amplitude for every coordinate
-    and output declared in the file."""
+    """docs/model-format.md, section 2 (``resonant solve --json`` keys): every example is a
+    valid model and the output carries every required key, with an amplitude for every
+    coordinate and output declared in the file."""
     data = tomllib.loads((EXAMPLES / name).read_text())
     res = solved(name)
     for key in ("coordinates", "M", "C", "K", "symbolic", "natural_frequencies",
@@ -198,7 +199,7 @@ def test_example_solves_with_contract_keys(name):
     assert wn == sorted(wn)
 
 
-# ------------------------------------------------- reference exercise (cart + pendulum)
+# ----------------------- reference exercise (cart + pendulum, docs/reference-exercise.md)
 
 REF = "cart_pendulum.toml"
 REF_EXACT = "cart_pendulum_exact.toml"
@@ -466,7 +467,7 @@ def test_two_dof_free_vibration():
     Sect. 4.1: m1 = m2 = m = 5 kg, k1 = k2 = k3 = k = 2000 N/m; M = m I,
     K = [[2k, -k], [-k, 2k]], w1 = sqrt(k/m) = 20 rad/s, w2 = sqrt(3k/m) = 34.641 rad/s
     (rel 1e-9).  No signals: empty harmonics, zero amplitudes (abs 1e-15), no phases,
-    "marginally stable" (spec section 2)."""
+    "marginally stable" (docs/model-format.md, section 2)."""
     m, k_ = 5.0, 2000.0
     res = solved("two_dof_free.toml")
     assert arr(res["M"]) == pytest.approx(np.diag([m, m]), rel=1e-12, abs=1e-12)

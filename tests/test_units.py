@@ -1,8 +1,9 @@
-"""Physical units (issue 13, contract ../shared/spec/units.md).
+"""Physical units (the contract: docs/units.md).
 
-The reference exercise (BME Department of Applied Mechanics, Vibrations BMEGEMMBXM4,
-"Practice 12 - 2 DoF forced system": cart + pendulum, data m1 = 2 kg, m2 = 1 kg,
-l = 0.5 m, k = 100 N/m, F0 = 5 N, eps = pi/3, r0 = 0.01 m, omega = 20 rad/s) is solved
+The reference exercise (docs/reference-exercise.md; BME Department of Applied Mechanics,
+Vibrations BMEGEMMBXM4, "Practice 12 - 2 DoF forced system": cart + pendulum, data
+m1 = 2 kg, m2 = 1 kg, l = 0.5 m, k = 100 N/m, F0 = 5 N, eps = pi/3, r0 = 0.01 m,
+omega = 20 rad/s) is solved
 with its data in mixed units (g, mm, N/mm, deg, rpm) and must give the numbers of the SI
 version to a relative 1e-12 (the conversions are exact rationals and pi: only the last
 floating-point bits may differ), and the exercise's own rounded results (Eqs. (42)-(48):
@@ -22,15 +23,19 @@ from pathlib import Path
 import numpy as np
 import pytest
 import sympy
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from conftest import run_cli
-
+from resonant.api import load, loads
 from resonant.cli import main
 from resonant.errors import ModelError
-from resonant.model import load, loads
+from resonant.expressions import parse
+from resonant.model.dimension_inference import infer_dimensions
 from resonant.model.units import (
     ENERGY,
     UNITS,
+    Dimension,
     UnitError,
     display_units,
     parse_unit,
@@ -300,12 +305,33 @@ def test_output_and_equilibrium_units_are_checked():
 # -- partial units, Hz, rpm ------------------------------------------------------------------
 
 def test_partially_united_model_says_once_what_it_could_not_check(tmp_path, capsys):
-    model = loads(BASE.replace('c = "3 N*s/m"', "c = 3"))
+    """A bare number whose uses leave its dimension open (here only the product a*b is
+    fixed by D) is named once in a note; one whose uses fix it is inferred (docs/units.md)."""
+    model = loads(BASE.replace('c = "3 N*s/m"', 'a = 3\nb = 1\nc = "a*b"'))
     assert len(model.units.notes) == 1
-    assert model.units.notes[0].startswith("units: could not check D: c has no unit")
-    assert main(["check", str(_write(tmp_path, BASE.replace('k = "100 N/m"', "k = 100")))]) == 0
+    assert model.units.notes[0].startswith("units: could not check ")
+    assert "a, b have no unit" in model.units.notes[0]
+    assert main(["check", str(_write(tmp_path, BASE.replace(
+        'c = "3 N*s/m"', 'a = 3\nb = 1\nc = "a*b"')))]) == 0
     err = capsys.readouterr().err
-    assert err.count("could not check") == 1 and "k has no unit" in err
+    assert err.count("could not check") == 1
+
+
+def test_a_bare_number_gets_the_dimension_its_uses_imply():
+    """D is a power, so c in D = c*x'^2/2 is N*s/m; so z in c = 2*z*sqrt(k*m) is
+    dimensionless; an output adding k*x (N) and c*x (N*s) is then an error."""
+    damped = BASE.replace('c = "3 N*s/m"\n', "").replace(
+        'k = "100 N/m"\n', 'k = "100 N/m"\nz = 0.1\nc = "2*z*sqrt(k*m)"\n')
+    model = loads(damped)
+    assert model.units.dimensions["z"].dimensionless
+    assert model.units.dimensions["c"].text() == "N*s/m"
+    assert model.units.notes == ("units: inferred from their uses: z in 1 (dimensionless)",)
+    assert loads(BASE.replace('c = "3 N*s/m"', "c = 3")).units.dimensions["c"].text() \
+        == "N*s/m"
+    bad = _error(damped + '[outputs]\nF_spring = "k*x + c*x"\n')
+    assert "[outputs] F_spring" in bad and "k*x is N but c*x is N*s" in bad
+    assert "k*x + c*x'" not in bad
+    loads(damped + '[outputs]\nF_spring = "k*x + c*x\'"\n')  # N + N: fine
 
 
 def test_hz_rpm_and_expressions_convert_as_documented():
@@ -589,3 +615,82 @@ def test_matrix_entries_are_checked_against_the_coordinates_units(old, new, expe
     text = MATRIX_MODEL.replace(old, new)
     assert text != MATRIX_MODEL
     assert expected in _error(text)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.sampled_from(["-1", "-1/2", "0", "1/2", "1", "2"]),
+       st.sampled_from(["-1", "-1/2", "0", "1/2", "1"]))
+def test_inferred_dimension_is_the_one_a_unit_would_give(a, b):
+    """Two routes to one dimension: z bare in c = z*k^a*m^b with D = c*x'^2/2 (a power)
+    is inferred as N*s/m / (N/m)^a / kg^b, the dimension that makes c N*s/m."""
+    text = BASE.replace('c = "3 N*s/m"\n', "").replace(
+        'k = "100 N/m"\n', f'k = "100 N/m"\nz = 2\nc = "z*k^({a})*m^({b})"\n')
+    dims = loads(text).units.dimensions
+    newton = Dimension.of(kg=1, m=1, s=-2)
+    damping = newton * Dimension.of(s=1, m=-1)
+    expected = damping / (newton / Dimension.of(m=1)) ** Fraction(a) / \
+        Dimension.of(kg=1) ** Fraction(b)
+    assert dims["z"] == expected and dims["c"] == damping
+
+
+def test_inline_matrices_and_harmonics_are_uses_that_fix_a_bare_number():
+    """In a model given by matrices, C_ij q_i q_j is J*s and a harmonic's omega a frequency:
+    c = 0.4 in C[1][1] on a cart (m) is N*s/m, w = 5 as omega is 1/s, and z in
+    ct = 2*z*sqrt(kt*J) on a rotor angle (rad) is dimensionless; an output then adding k*x
+    (N) and c*x (N*s) is an error (docs/units.md)."""
+    text = MATRIX_MODEL.replace('w = "5 rad/s"', 'w = 5\nc = 0.4\nz = 0.05\n'
+                                'ct = "2*z*sqrt(kt*J)"').replace(
+        'K = [["k", 0]', 'C = [["c", 0], [0, "ct"]]\nK = [["k", 0]')
+    assert text.count("c = 0.4") == 1 and "C = [[" in text
+    model = loads(text)
+    dims = model.units.dimensions
+    assert dims["c"].text() == "N*s/m" and dims["w"].text() == "1/s"
+    assert dims["z"].dimensionless
+    assert model.units.notes == (
+        "units: inferred from their uses: w in 1/s, c in N*s/m, z in 1 (dimensionless)",)
+    bad = _error(text + '[outputs]\nF = "k*x + c*x"\n')
+    assert "[outputs] F: k*x is N but c*x is N*s" in bad
+    loads(text + '[outputs]\nF = "k*x + c*x\'"\n')  # N + N: fine
+
+
+def test_contradicting_uses_leave_open_only_the_numbers_they_involve():
+    """p = 2 used as N*s in T (p*x') and as N in U (p*x) fits no dimension: it stays
+    unknown and is named, while z, linked to it by no use, is still inferred
+    (dimensionless, from D a power) so that the output adding N and N*s is an error."""
+    damped = BASE.replace('c = "3 N*s/m"\n', "").replace(
+        'k = "100 N/m"\n', 'k = "100 N/m"\nz = 0.1\nc = "2*z*sqrt(k*m)"\np = 0\n')
+    text = damped.replace('T = "m*x\'^2/2"', 'T = "m*x\'^2/2 + p*x\'"').replace(
+        'U = "k*x^2/2"', 'U = "k*x^2/2 + p*x"')
+    assert text.count("p*x") == 2
+    model = loads(text)
+    assert model.units.dimensions["z"].dimensionless and model.units.dimensions["p"] is None
+    assert "units: inferred from their uses: z in 1 (dimensionless)" in model.units.notes
+    assert any(n.startswith("units: the uses of p contradict each other")
+               for n in model.units.notes)
+    assert "k*x is N but c*x is N*s" in _error(text + '[outputs]\nF = "k*x + c*x"\n')
+
+
+def test_a_literal_zero_in_a_sum_fixes_no_dimension():
+    """0 fits any unit: k = 100 bare in U = k*x^2/2 + 0 is N/m (from U an energy), not
+    dimensionless (as if 0 were a dimensionless term of the sum)."""
+    text = BASE.replace('k = "100 N/m"', "k = 100").replace('U = "k*x^2/2"',
+                                                          'U = "k*x^2/2 + 0"')
+    assert "k = 100\n" in text and "+ 0" in text
+    assert loads(text).units.dimensions["k"].text() == "N/m"
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.integers(-3, 3), min_size=3, max_size=3),
+       st.sampled_from(["-1", "1/2", "1", "2"]))
+def test_a_contradiction_elsewhere_does_not_change_an_inference(exponents, a):
+    """Two routes to one dimension: z in z*k^a = J*s^-1 (a power) inferred alone and next to
+    a number p used as both m and s, which contradicts itself and is reported as None."""
+    k = Dimension.of(kg=exponents[0], m=exponents[1], s=exponents[2])
+    power = ENERGY / Dimension.of(s=1)
+    known = {"k": k}
+    alone = infer_dimensions(known, ["z"], [], [(parse(f"z*k^({a})"), power)])
+    both = infer_dimensions(known, ["z", "p"], [], [
+        (parse(f"z*k^({a})"), power), (parse("p"), Dimension.of(m=1)),
+        (parse("p"), Dimension.of(s=1))])
+    assert alone["z"] == power / k ** Fraction(a) == both["z"]
+    assert both["p"] is None and "p" not in alone

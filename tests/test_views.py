@@ -6,6 +6,7 @@ import matplotlib
 import numpy as np
 import pytest
 
+import resonant.api
 import resonant.model
 from resonant.errors import AnalysisError
 
@@ -39,7 +40,7 @@ spring = "x2 - x1"
 
 
 def _model(m2: float = 0.5, k2: float = 40.0):
-    return resonant.model.loads(TWO_DOF.format(m2=m2, k2=k2))
+    return resonant.api.loads(TWO_DOF.format(m2=m2, k2=k2))
 
 
 @pytest.fixture(scope="module")
@@ -217,7 +218,7 @@ def test_solve_text_of_a_large_model_summarizes_the_matrices(monkeypatch):
     symbolic entries and took 30 s; the JSON output keeps them, as the contract says)."""
     from conftest import pendulum_chain_text
 
-    from resonant.model import loads
+    from resonant.api import loads
     from resonant.system import symbolic
 
     eom = loads(pendulum_chain_text(20)).linearize()

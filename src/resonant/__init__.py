@@ -8,7 +8,12 @@ Describe a system by its energies (or matrices) in a TOML model file, then::
     >>> sol = eom.stationary()                                         # doctest: +SKIP
     >>> eom.modes(), eom.sweep("omega", [10, 20, 30]), model.simulate()  # doctest: +SKIP
 
-Imports are lazy: ``import resonant`` loads nothing heavy until it is used.
+The names below are those of :mod:`resonant.api` (the top of the library) and
+the error types.  ``import resonant`` itself loads nothing heavy: the command
+line starts through this package and must not pay for sympy-based analyses it
+does not run, so :mod:`resonant.api` is imported on the first use of one of its
+names (the scientific Python community's lazy-loading convention, SPEC 1; the
+stub ``__init__.pyi`` states the same imports for editors and type checkers).
 """
 
 from __future__ import annotations
@@ -16,31 +21,27 @@ from __future__ import annotations
 from importlib import import_module
 from typing import Any
 
+from .deadline import Deadline
+from .errors import AnalysisError, ModelError, Problem, ResonantError
+
 __version__ = "0.1.0"
 
-_EXPORTS = {
-    "load": "resonant.model", "loads": "resonant.model", "Model": "resonant.model",
-    "linear_system": "resonant.system", "LinearSystem": "resonant.system",
-    "LinearEOM": "resonant.system", "MatrixEOM": "resonant.system",
-    "NumericEOM": "resonant.system",
-    "stationary": "resonant.analyses.stationary", "modes": "resonant.analyses.modes",
-    "sweep": "resonant.analyses.sweep", "simulate": "resonant.analyses.simulate",
-    "StationarySolution": "resonant.analyses.stationary",
-    "Simulation": "resonant.analyses.simulate", "ModalAnalysis": "resonant.analyses.modes",
-    "FrequencyResponse": "resonant.analyses.sweep",
-    "ResonantError": "resonant.errors", "ModelError": "resonant.errors",
-    "AnalysisError": "resonant.errors", "Problem": "resonant.errors",
-    "Deadline": "resonant.deadline",
-}
-# No package-level name equals a subpackage's name (``resonant.analyses`` is a package,
-# ``resonant.sweep`` a function): an import of the subpackage would replace the function.
+#: the names taken from :mod:`resonant.api` on first use
+API_NAMES = ("load", "loads", "Model", "linear_system", "stationary", "modes", "sweep",
+             "simulate", "StationarySolution", "ModalAnalysis", "FrequencyResponse",
+             "Simulation", "NonlinearResponse", "Backbones", "LinearSystem", "LinearEOM",
+             "MatrixEOM", "NumericEOM")
 
-__all__ = sorted([*_EXPORTS, "__version__"])
+__all__ = ["AnalysisError", "Backbones", "Deadline", "FrequencyResponse", "LinearEOM",
+           "LinearSystem", "MatrixEOM", "ModalAnalysis", "Model", "ModelError",
+           "NonlinearResponse", "NumericEOM", "Problem", "ResonantError", "Simulation",
+           "StationarySolution", "__version__", "linear_system", "load", "loads", "modes",
+           "simulate", "stationary", "sweep"]
 
 
 def __getattr__(name: str) -> Any:
-    if name in _EXPORTS:
-        return getattr(import_module(_EXPORTS[name]), name)
+    if name in API_NAMES:
+        return getattr(import_module("resonant.api"), name)
     raise AttributeError(f"module 'resonant' has no attribute '{name}'")
 
 

@@ -55,6 +55,12 @@ class Deadline:
     -----
     :meth:`check` costs one monotonic clock read; call it freely between units
     of work, but not inside a tight numeric loop (use :meth:`every`).
+
+    Examples
+    --------
+    >>> deadline = Deadline(60, "model.toml")
+    >>> deadline.expired, Deadline().seconds is None
+    (False, True)
     """
 
     __slots__ = ("seconds", "source", "end", "_count")

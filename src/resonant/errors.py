@@ -95,6 +95,11 @@ class Problem:
         TOML section, e.g. ``"energy"``; empty for the top level.
     key : str
         The key inside the section, e.g. ``"T"``; may be empty.
+
+    Examples
+    --------
+    >>> print(Problem("unknown name 'q'", "m.toml", "energy", "T"))
+    m.toml: [energy] T: unknown name 'q'
     """
 
     message: str
@@ -117,7 +122,15 @@ class Problem:
 
 
 class ResonantError(Exception):
-    """Base class of all resonant errors."""
+    """Base class of all resonant errors.
+
+    Its subclasses carry the command line's exit status as ``exit_code``.
+
+    Examples
+    --------
+    >>> issubclass(ModelError, ResonantError), ResonantError.exit_code
+    (True, 1)
+    """
 
     exit_code = 1
 
@@ -126,6 +139,11 @@ class ModelError(ResonantError, ValueError):
     """The model is invalid (exit status 2).
 
     Collects every problem found, so a user fixes them all in one go.
+
+    Parameters
+    ----------
+    problems : list of Problem, Problem or str
+        The problems (a plain message becomes a problem without a location).
 
     Examples
     --------
@@ -146,8 +164,14 @@ class ModelError(ResonantError, ValueError):
 class AnalysisError(ResonantError, ValueError):
     """The analysis is impossible for this (valid) model (exit status 3).
 
-    Examples: an undamped system excited exactly at a natural frequency,
-    a singular mass matrix.
+    For example an undamped system excited exactly at a natural frequency, or a
+    singular mass matrix.
+
+    Examples
+    --------
+    >>> err = AnalysisError("the mass matrix is singular")
+    >>> isinstance(err, ValueError), err.exit_code
+    (True, 3)
     """
 
     exit_code = 3

@@ -3,9 +3,11 @@
 The undamped, unforced system (the model's signals set to zero, its dissipation
 function D = 0) has, near each linear mode, a family of periodic solutions (a
 nonlinear normal mode) whose frequency depends on the amplitude.  They are
-computed by harmonic balance (:mod:`resonant.analyses.harmonic_balance`: the
-same full Lagrange equations, the alternating frequency-time residual and the
-exact Jacobian) with the frequency W as an unknown, and two more conditions:
+computed by harmonic balance (:mod:`resonant.analyses.hb_solver`: the same
+compiled full equations of the :class:`~resonant.system.NonlinearSystem`, with
+the forcing zero and the dissipation off, the alternating frequency-time
+residual and the exact Jacobian) with the frequency W as an unknown, and two
+more conditions:
 
 * the phase: the sine coefficient b_1 of the mode's reference coordinate (its
   largest component) is zero;
@@ -20,7 +22,7 @@ frequency) to the given amplitude, with step halving when Newton fails.
 
 Examples
 --------
->>> from resonant.model import loads
+>>> from resonant.api import loads
 >>> model = loads('''
 ... [parameters]
 ... k3 = 0.5
@@ -30,7 +32,8 @@ Examples
 ... T = "x'^2/2"
 ... U = "x^2/2 + k3*x^4/4"
 ... ''')
->>> b = backbone(model, amplitude=1.0, harmonics=1, points=11)
+>>> from resonant.system import nonlinear_system
+>>> b = backbone(nonlinear_system(model), amplitude=1.0, harmonics=1, points=11)
 >>> abs(float(b.curves[0].frequencies[-1]) - (1 + 0.75 * 0.5) ** 0.5) < 1e-12
 True
 """
@@ -39,25 +42,19 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
-from pathlib import Path
+from dataclasses import dataclass
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
-from ..expressions import parse
 from ..model import Model
-from ..system import LinearSystem
+from ..system import LinearSystem, NonlinearSystem, nonlinear_system
 from ..system.stability import undamped_eigen
-from .harmonic_balance import NEWTON_MAX, NEWTON_TOL, _amplitudes, _Equations, _HarmonicBalance
+from .hb_solver import NEWTON_MAX, NEWTON_TOL, HarmonicBalance
 from .stationary import freeze_fields
-
-if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.figure import Figure
 
 DEFAULT_HARMONICS = 5
 DEFAULT_POINTS = 41
@@ -95,7 +92,25 @@ class BackboneCurve:
 
 @dataclass(frozen=True)
 class Backbones:
-    """The backbone curves of the modes of a model (``resonant modes --nonlinear``)."""
+    """The backbone curves of the modes of a model (``resonant modes --nonlinear``).
+
+    Attributes
+    ----------
+    title, coordinates
+        The model's title and its coordinates.
+    harmonics : int
+        The harmonics H of the balance.
+    curves : tuple of BackboneCurve
+        One per followed mode: amplitude against the free periodic frequency.
+    residual : float
+        The largest harmonic-balance residual of the curves.
+    warnings : tuple of str
+        What the user should know (a curve that stopped early).
+
+    Examples
+    --------
+    See :func:`backbone`.
+    """
 
     title: str
     coordinates: tuple[str, ...]
@@ -109,10 +124,6 @@ class Backbones:
                 "harmonics": self.harmonics, "residual": self.residual,
                 "backbones": [c.to_dict() for c in self.curves],
                 "warnings": list(self.warnings)}
-
-    def plot(self, path: str | Path | None = None, **options: Any) -> Figure:
-        """Frequency against amplitude, one curve per mode."""
-        return hooks.call("plot_backbones", self, path, **options)
 
     def summary(self) -> str:
         lines = [f"{self.title or 'model'}: backbone curves (free vibration of the full "
@@ -130,21 +141,13 @@ class Backbones:
         return "\n".join(lines) + "\n"
 
 
-def _free_model(model: Model) -> Model:
-    """The model with every signal zero and no dissipation."""
-    zero = parse("0")
-    return replace(model,
-                   signals=MappingProxyType({name: zero for name in model.signals}),
-                   energy=MappingProxyType({**model.energy, "D": zero}))
-
-
 class _Free:
     """Residual and exact Jacobian in y = [x, W, xi] with the phase and amplitude rows."""
 
-    def __init__(self, hb: _HarmonicBalance, M: np.ndarray, ref: int) -> None:
+    def __init__(self, hb: HarmonicBalance, M: np.ndarray, ref: int) -> None:
         self.hb, self.M, self.ref = hb, M, ref
         self.n, self.m = hb.n, hb.m
-        self.pv = hb.eqs.pvals
+        self.pv = hb.system.parameter_values
 
     def system(self, y: np.ndarray, A: float) -> tuple[np.ndarray, np.ndarray]:
         hb, n, m = self.hb, self.n, self.m
@@ -152,8 +155,7 @@ class _Free:
         X = x.reshape(n, m)
         v1 = X @ hb.dphi.T            # dq/dtau
         v2 = X @ hb.d2phi.T           # d2q/dtau2
-        q = hb.eqs.equilibrium[:, None] + X @ hb.phi.T
-        E, G0, G1, G2 = hb.eqs(hb.tau, q, W * v1, W * W * v2, self.pv)
+        E, G0, G1, G2 = hb.evaluate(X, W, self.pv, damping=0.0)
         Mv = self.M @ v1
         R = hb.project(E + xi * W * Mv)
         G1d = G1 + xi * self.M[:, :, None]
@@ -214,16 +216,77 @@ def _follow(free: _Free, y0: np.ndarray, A0: float, targets: np.ndarray, deadlin
     return out, None
 
 
-@hooks.provides("backbone")
-def backbone(system_or_model: LinearSystem | Model, amplitude: float | None = None, *,
+def _check(system: NonlinearSystem, amplitude: float | None, harmonics: int | None,
+           points: int) -> None:
+    if harmonics is not None and not 1 <= harmonics <= 200:
+        raise AnalysisError(f"harmonics must be between 1 and 200, not {harmonics}")
+    if points < 2:
+        raise AnalysisError("points must be at least 2")
+    if amplitude is not None and not (math.isfinite(amplitude) and amplitude > 0):
+        raise AnalysisError(f"the amplitude must be a positive number, not {amplitude}")
+    if not system.parameters:
+        raise AnalysisError("backbone curves need a model with parameters")
+
+
+def _top(free: _Free, y0: np.ndarray, small: float, w0: float, deadline: Deadline) -> float:
+    """The amplitude where the frequency has moved by DEFAULT_SHIFT (doubled from 1e-3)."""
+    A, y, A_prev = 1e-3, y0, small
+    for _ in range(31):
+        got, _ = _follow(free, y, A_prev, np.array([A]), deadline)
+        if not got:
+            return A / 2
+        y, A_prev = got[0], A
+        if abs(y[-2] / w0 - 1) >= DEFAULT_SHIFT:
+            break
+        A *= 2
+    return A
+
+
+def _curve(hb: HarmonicBalance, M: np.ndarray, mode: int, w0: float, shape: np.ndarray,
+           amplitude: float | None, points: int, warnings: list[str], deadline: Deadline
+           ) -> tuple[BackboneCurve | None, float]:
+    """One mode's backbone and its largest residual."""
+    n, system = hb.n, hb.system
+    ref = int(np.argmax(np.abs(shape)))
+    shape = shape / shape[ref]
+    free = _Free(hb, M, ref)
+    small = 1e-6 * (amplitude or 1.0)
+    x = np.zeros((n, hb.m))
+    x[:, 1] = small * shape
+    y0, ok = free.newton(np.concatenate([x.ravel(), [w0, 0.0]]), small)
+    if not ok:
+        raise AnalysisError(f"harmonic balance did not converge near mode {mode}'s "
+                            "linear solution")
+    top = amplitude if amplitude is not None else _top(free, y0, small, w0, deadline)
+    targets = np.linspace(top / points, top, points)
+    solutions, stopped = _follow(free, y0, small, targets, deadline)
+    if stopped:
+        warnings.append(f"mode {mode}: {stopped}; the curve ends there")
+    if not solutions:
+        return None, 0.0
+    Y = np.array(solutions)
+    coeffs = Y[:, :-2].reshape(len(solutions), n, hb.m)
+    amps = hb.amplitudes_of([y[:-2] for y in solutions], [math.nan] * len(solutions),
+                            outputs=False)
+    residual = max(float(np.abs(free.system(y, A)[0][:-2]).max())
+                   for y, A in zip(solutions, targets))
+    return BackboneCurve(
+        mode=mode, reference=system.coordinates[ref], linear_frequency=w0,
+        amplitude=targets[:len(solutions)], frequencies=Y[:, -2],
+        amplitudes=MappingProxyType({c: amps[:, j] for j, c in enumerate(system.coordinates)}),
+        coefficients=coeffs, damping=float(np.abs(Y[:, -1]).max())), residual
+
+
+def backbone(system: NonlinearSystem | LinearSystem | Model, amplitude: float | None = None, *,
              harmonics: int | None = None, points: int = DEFAULT_POINTS,
              modes: list[int] | None = None, deadline: Deadline = NO_DEADLINE) -> Backbones:
     """Backbone curves of the modes: frequency of free vibration against amplitude.
 
     Parameters
     ----------
-    system_or_model : LinearSystem or Model
-        A model given by its energies.
+    system : NonlinearSystem
+        The full equations (:func:`resonant.system.nonlinear_system`; a model or its
+        linear system is turned into one).
     amplitude : float, optional
         The largest amplitude A (first-harmonic amplitude of each mode's reference
         coordinate).  Default: doubled from 1e-3 of the unit until the frequency has
@@ -234,81 +297,31 @@ def backbone(system_or_model: LinearSystem | Model, amplitude: float | None = No
         Amplitudes from A/points to A, evenly spaced.
     modes : list of int, optional
         1-based mode numbers (default all modes with a positive natural frequency).
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    Backbones
     """
-    model = system_or_model if isinstance(system_or_model, Model) else system_or_model._model()
-    if model.matrices is not None:
-        raise AnalysisError("a [matrices] model has no nonlinear equations: backbone curves "
-                            "need a model given by its energies")
-    if harmonics is not None and not 1 <= harmonics <= 200:
-        raise AnalysisError(f"harmonics must be between 1 and 200, not {harmonics}")
-    if points < 2:
-        raise AnalysisError("points must be at least 2")
-    if amplitude is not None and not (math.isfinite(amplitude) and amplitude > 0):
-        raise AnalysisError(f"the amplitude must be a positive number, not {amplitude}")
-    if not model.parameters:
-        raise AnalysisError("backbone curves need a model with parameters")
-    free_model = _free_model(model)
-    param = next(iter(model.parameters))
-    num = model.linearize(deadline=deadline).numeric(deadline).dense()
+    system = nonlinear_system(system, deadline)
+    _check(system, amplitude, harmonics, points)
+    num = system.linear.numeric(deadline).dense()
     lam, shapes = undamped_eigen(num.M, num.K)
     H = harmonics or DEFAULT_HARMONICS
-    eqs = _Equations(free_model, autonomous=True)
-    hb = _HarmonicBalance(eqs, param, H)
-    n = eqs.n
-    chosen = modes or [k + 1 for k in range(n) if lam[k] > 0]
+    hb = HarmonicBalance(system, system.parameters[0], H, free=True)
+    chosen = modes or [k + 1 for k in range(hb.n) if lam[k] > 0]
     curves = []
     warnings: list[str] = []
     residual = 0.0
     for mode in chosen:
-        if not 1 <= mode <= n or lam[mode - 1] <= 0:
+        if not 1 <= mode <= hb.n or lam[mode - 1] <= 0:
             raise AnalysisError(f"mode {mode} has no positive natural frequency")
-        w0 = math.sqrt(float(lam[mode - 1]))
-        shape = shapes[:, mode - 1].real
-        ref = int(np.argmax(np.abs(shape)))
-        shape = shape / shape[ref]
-        free = _Free(hb, num.M, ref)
-
-        def start(A: float, shape: np.ndarray = shape, w0: float = w0) -> np.ndarray:
-            x = np.zeros((n, hb.m))
-            x[:, 1] = A * shape
-            return np.concatenate([x.ravel(), [w0, 0.0]])
-
-        small = 1e-6 * (amplitude or 1.0)
-        y0, ok = free.newton(start(small), small)
-        if not ok:
-            raise AnalysisError(f"harmonic balance did not converge near mode {mode}'s "
-                                "linear solution")
-        top = amplitude
-        if top is None:  # double until the frequency has moved by DEFAULT_SHIFT
-            A, y, A_prev = 1e-3, y0, small
-            for _ in range(31):
-                got, _ = _follow(free, y, A_prev, np.array([A]), deadline)
-                if not got:
-                    A /= 2
-                    break
-                y, A_prev = got[0], A
-                if abs(y[-2] / w0 - 1) >= DEFAULT_SHIFT:
-                    break
-                A *= 2
-            top = A
-        targets = np.linspace(top / points, top, points)
-        solutions, stopped = _follow(free, y0, small, targets, deadline)
-        if stopped:
-            warnings.append(f"mode {mode}: {stopped}; the curve ends there")
-        if not solutions:
-            continue
-        Y = np.array(solutions)
-        coeffs = Y[:, :-2].reshape(len(solutions), n, hb.m)
-        amps = _amplitudes(coeffs, H)
-        for y, A in zip(solutions, targets):
-            residual = max(residual, float(np.abs(free.system(y, A)[0][:-2]).max()))
-        curves.append(BackboneCurve(
-            mode=mode, reference=model.coordinates[ref], linear_frequency=w0,
-            amplitude=targets[:len(solutions)], frequencies=Y[:, -2],
-            amplitudes=MappingProxyType({c: amps[:, j] for j, c in
-                                         enumerate(model.coordinates)}),
-            coefficients=coeffs, damping=float(np.abs(Y[:, -1]).max())))
-    return Backbones(title=model.title, coordinates=tuple(model.coordinates), harmonics=H,
+        curve, worst = _curve(hb, num.M, mode, math.sqrt(float(lam[mode - 1])),
+                              shapes[:, mode - 1].real, amplitude, points, warnings, deadline)
+        residual = max(residual, worst)
+        if curve is not None:
+            curves.append(curve)
+    return Backbones(title=system.title, coordinates=system.coordinates, harmonics=H,
                      curves=tuple(curves), residual=residual, warnings=tuple(warnings))
 
 

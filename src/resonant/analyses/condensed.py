@@ -42,6 +42,7 @@ equations.
 Examples
 --------
 >>> from resonant.model import loads
+>>> from resonant.system import linear_system
 >>> model = loads('''
 ... [parameters]
 ... w = 0.8
@@ -57,7 +58,7 @@ Examples
 ... coordinates = ["q2"]
 ... force = "0.5*q2^3"
 ... ''')
->>> r = condensed_sweep(model.linearize(), "w", 0.3, 0.5, harmonics=3, points=20,
+>>> r = condensed_sweep(linear_system(model), "w", 0.3, 0.5, harmonics=3, points=20,
 ...                     linear=False)
 >>> bool(r.stable.all()), r.coordinates
 (True, ('q2',))

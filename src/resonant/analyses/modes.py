@@ -19,7 +19,7 @@ formed.
 
 Examples
 --------
->>> from resonant.model import load
+>>> from resonant.api import load
 >>> from resonant.analyses.modes import modes
 >>> from pathlib import Path
 >>> path = Path(__file__).parents[3] / "examples" / "two_dof_free.toml"
@@ -40,7 +40,6 @@ from typing import Any
 
 import numpy as np
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..system import LinearSystem
@@ -80,10 +79,10 @@ class ModalAnalysis:
         The same modes with phi^T M phi = 1 (largest component positive).
     eigenvalues : ndarray
         Complex eigenvalues s of the state matrix (all 2n, or 2 per computed
-        mode for proportional damping), ordered by |s|, then Im s.
+        mode for proportional damping), ordered by ``|s|``, then Im s.
     damping_ratios, damped_frequencies : ndarray
         Per mode (proportional damping), else per eigenvalue pair with
-        Im s >= 0 ordered by |s|.
+        Im s >= 0 ordered by ``|s|``.
     proportional_damping : bool
         C is diagonalised by the undamped modes (always true without damping).
     rayleigh : tuple of float or None
@@ -91,6 +90,19 @@ class ModalAnalysis:
     stability : str
     method : str
         ``"dense"`` or ``"shift-invert Lanczos"``.
+    damped : bool
+        Whether C is nonzero.
+    warnings : tuple of str
+        What the user should know (rigid-body modes, unstable modes).
+    title : str
+        The model's title.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> m = modes(resonant.load("examples/two_dof_free.toml").linearize())
+    >>> m.natural_frequencies.round(6).tolist()
+    [20.0, 34.641016]
     """
 
     coordinates: tuple[str, ...]
@@ -154,30 +166,6 @@ class ModalAnalysis:
                        eigenvalues=eig,
                        damping_ratios=self.damping_ratios[:keep if per_mode else count],
                        damped_frequencies=self.damped_frequencies[:keep if per_mode else count])
-
-    def plot(self, path: Any = None, count: int | None = 6, **options: Any) -> Any:
-        """Bar (few coordinates) or line plots of the mode shapes
-        (:func:`resonant.views.plotting.plot_modes`).
-
-        Parameters
-        ----------
-        path : str or Path, optional
-            Save the figure there (format from the suffix).
-        count : int, optional
-            How many modes to draw.
-        **options
-            ``ax=`` and more, passed on.
-
-        Returns
-        -------
-        matplotlib.figure.Figure
-        """
-        return hooks.call("plot_modes", self, path=path, count=count, **options)
-
-    def summary(self, units: Any = None) -> str:
-        """The text ``resonant modes`` prints; ``units`` (a views ``ResultUnits``) chooses
-        the unit of its cyclic-frequency column (Hz by default)."""
-        return str(hooks.call("modes_text", self, units))
 
     def _repr_html_(self) -> str:
         head = "".join(f"<th>{html.escape(q)}</th>" for q in self.coordinates[:12])
@@ -263,7 +251,6 @@ def _ratios(eigenvalues: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 # -- the analysis -------------------------------------------------------------------------
 
-@hooks.provides("modes")
 def modes(system: LinearSystem, count: int | None = None,
           deadline: Deadline = NO_DEADLINE) -> ModalAnalysis:
     """Natural frequencies, mode shapes, damping and stability of a linear system.
@@ -288,7 +275,7 @@ def modes(system: LinearSystem, count: int | None = None,
     if count is not None and count < 1:
         raise AnalysisError(f"count must be at least 1, not {count}")
     eom = system.numeric(deadline)
-    coordinates, M, C, K, title = eom.coordinates, eom.M, eom.C, eom.K, eom.title
+    coordinates, M, C, K = eom.coordinates, eom.M, eom.C, eom.K
     n = len(coordinates)
     warnings: list[str] = []
     damped = bool((C.nnz and abs(C).max() > 0) if _is_sparse(C) else np.any(C))
@@ -312,38 +299,63 @@ def modes(system: LinearSystem, count: int | None = None,
     lam = np.where(np.abs(lam) < 1e-12 * scale, 0.0, lam)
     mass_phi, unit_phi = _normalise(phi, M)
     fit = rayleigh(M, C, K) if damped and symmetric else (0.0, 0.0) if not damped else None
-    if not damped:
-        proportional = True
-    elif fit is not None:
-        proportional = True
-    elif symmetric and not lanczos:
-        proportional = _commutes(M, C, K)
-    else:
-        proportional = False
-        if symmetric and lanczos:
-            modal_c = mass_phi.T @ (C @ mass_phi)
-            off = modal_c - np.diag(np.diag(modal_c))
-            proportional = bool(np.abs(off).max(initial=0) <= PROPORTIONAL_TOLERANCE *
-                                np.abs(np.diag(modal_c)).max(initial=1e-300))
+    proportional = _is_proportional(M, C, K, mass_phi, damped, symmetric, lanczos, fit)
     if not symmetric:
         warnings.append("M, C or K is not symmetric (gyroscopic or circulatory terms): the "
                         "undamped modes are those of the symmetric problem K phi = lambda M phi "
                         "as computed by a general eigensolver; see the complex eigenvalues")
-    if proportional and symmetric:
+    eigenvalues, damping_ratios, damped_freq, extra = _damped_modes(
+        M, C, K, lam, mass_phi, damped, proportional and symmetric, lanczos)
+    stability = _modal_stability(_order(eigenvalues), lam, M, damped, lanczos, warnings)
+    keep = lam >= 0
+    return ModalAnalysis(
+        coordinates=coordinates, omega_squared=lam, natural_frequencies=np.sqrt(lam[keep]),
+        mode_shapes=unit_phi[:, keep], mass_normalised_modes=mass_phi[:, keep],
+        eigenvalues=_order(eigenvalues),
+        damping_ratios=np.asarray(damping_ratios), damped_frequencies=np.asarray(damped_freq),
+        proportional_damping=bool(proportional), rayleigh=fit, damped=damped,
+        stability=stability, method=method + extra, warnings=tuple(warnings),
+        title=eom.title).limited(count if not lanczos else None)
+
+
+def _is_proportional(M: Any, C: Any, K: Any, mass_phi: np.ndarray, damped: bool,
+                     symmetric: bool, lanczos: bool, fit: tuple[float, float] | None) -> bool:
+    """Whether C is diagonal in the undamped modes (Rayleigh fit, commuting matrices, or,
+    for a large model, the modal damping matrix of the computed modes)."""
+    if not damped or fit is not None:
+        return True
+    if symmetric and not lanczos:
+        return bool(_commutes(M, C, K))
+    if not (symmetric and lanczos):
+        return False
+    modal_c = mass_phi.T @ (C @ mass_phi)
+    off = modal_c - np.diag(np.diag(modal_c))
+    return bool(np.abs(off).max(initial=0) <= PROPORTIONAL_TOLERANCE *
+                np.abs(np.diag(modal_c)).max(initial=1e-300))
+
+
+def _damped_modes(M: Any, C: Any, K: Any, lam: np.ndarray, mass_phi: np.ndarray,
+                  damped: bool, modal: bool, lanczos: bool
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
+    """(eigenvalues, damping ratios, damped frequencies, what was added to the method):
+    from the undamped modes where the damping is modal, else from the state-space
+    eigenproblem (dense, or by sparse shift-invert for a large model)."""
+    if modal:
         c_modal = np.einsum("ij,ij->j", mass_phi, C @ mass_phi) if damped else np.zeros(len(lam))
-        eigenvalues = _modal_eigenvalues(lam, c_modal)
         ok = lam > 0
         zeta = np.where(ok, c_modal / (2 * np.sqrt(np.where(ok, lam, 1.0))), 0.0)
-        damping_ratios = zeta[lam >= 0]
         damped_freq = np.sqrt(np.maximum(lam - c_modal**2 / 4, 0.0))[lam >= 0]
-    elif not lanczos:
+        return _modal_eigenvalues(lam, c_modal), zeta[lam >= 0], damped_freq, ""
+    if not lanczos:
         eigenvalues = state_eigenvalues(M, C, K)
-        damping_ratios, damped_freq = _ratios(eigenvalues)
-    else:  # large, non-proportional: the complex modes by sparse shift-invert
-        eigenvalues = complex_modes(M, C, K, len(lam))
-        damping_ratios, damped_freq = _ratios(eigenvalues)
-        method += " + shift-invert Arnoldi (complex modes)"
-    eigenvalues = _order(eigenvalues)
+        return (eigenvalues, *_ratios(eigenvalues), "")
+    eigenvalues = complex_modes(M, C, K, len(lam))
+    return (eigenvalues, *_ratios(eigenvalues), " + shift-invert Arnoldi (complex modes)")
+
+
+def _modal_stability(eigenvalues: np.ndarray, lam: np.ndarray, M: Any, damped: bool,
+                     lanczos: bool, warnings: list[str]) -> str:
+    """The stability verdict, with the warnings that qualify it."""
     stability = classify(eigenvalues)
     if lanczos:
         warnings.append(f"stability judged from the lowest {len(lam)} modes only")
@@ -357,15 +369,7 @@ def modes(system: LinearSystem, count: int | None = None,
             "M is not positive definite (see above)" if negative_mass else
             "K is not positive definite (statically unstable)"))
         stability = UNSTABLE if stability != UNSTABLE and not damped else stability
-    keep = lam >= 0
-    return ModalAnalysis(
-        coordinates=coordinates, omega_squared=lam, natural_frequencies=np.sqrt(lam[keep]),
-        mode_shapes=unit_phi[:, keep], mass_normalised_modes=mass_phi[:, keep],
-        eigenvalues=eigenvalues,
-        damping_ratios=np.asarray(damping_ratios), damped_frequencies=np.asarray(damped_freq),
-        proportional_damping=bool(proportional), rayleigh=fit, damped=damped,
-        stability=stability, method=method, warnings=tuple(warnings),
-        title=title).limited(count if not lanczos else None)
+    return stability
 
 
 def _lanczos(M: Any, K: Any, count: int) -> tuple[np.ndarray, np.ndarray]:

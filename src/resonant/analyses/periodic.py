@@ -17,7 +17,7 @@ peak over a window is not a steady state.
 
 Examples
 --------
->>> from resonant.model import loads
+>>> from resonant.api import loads
 >>> model = loads('''
 ... [parameters]
 ... omega = 3
@@ -31,7 +31,8 @@ Examples
 ... [[force]]
 ... generalized = { x = "F" }
 ... ''')
->>> p = periodic_solution(model, harmonics=5)
+>>> from resonant.system import nonlinear_system
+>>> p = periodic_solution(nonlinear_system(model), harmonics=5)
 >>> p.residual < 1e-12, round(p.amplitudes["x"], 6), round(p.linear_amplitudes["x"], 6)
 (True, 0.251541, 0.25)
 """
@@ -46,23 +47,14 @@ from typing import Any
 
 import numpy as np
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model import Model
-from ..system import LinearSystem
-from .harmonic_balance import (
-    DEFAULT_HARMONICS,
-    MAX_HARMONICS,
-    STABILITY_TOL,
-    TRUNCATION_TOL,
-    _amplitudes,
-    _Equations,
-    _HarmonicBalance,
-    _resize,
-    _truncation,
-)
-from .stationary import freeze_fields
+from ..system import LinearSystem, NonlinearSystem, nonlinear_system
+from .harmonic_balance import DEFAULT_HARMONICS, MAX_HARMONICS, TRUNCATION_TOL
+from .hb_solver import HarmonicBalance, resize, start_coefficients, truncation
+from .special_points import STABILITY_TOL
+from .stationary import freeze_fields, stationary
 
 
 @dataclass(frozen=True)
@@ -79,7 +71,7 @@ class PeriodicSolution:
     initial : mapping
         ``{x: q(0), x': q'(0)}``: deviations and velocities at t = 0.
     amplitudes : mapping
-        Peak |deviation| over one period.
+        Peak |deviation| over one period of every coordinate and output.
     linear_amplitudes, relative_difference : mapping
         The linear stationary amplitudes and ``amplitude / linear - 1``.
     multipliers : numpy.ndarray
@@ -143,7 +135,7 @@ class PeriodicSolution:
         lines = [f"{self.title or 'model'}: periodic solution of the full equations "
                  f"(harmonic balance, H = {self.harmonics}, period {self.period:.6g} s, "
                  f"{'stable' if self.stable else 'unstable'})"]
-        for name in self.coordinates:
+        for name in self.amplitudes:
             lin = self.linear_amplitudes.get(name)
             diff = self.relative_difference.get(name)
             lines.append(f"  {name}: amplitude {self.amplitudes[name]:.6g}"
@@ -152,58 +144,16 @@ class PeriodicSolution:
         return "\n".join(lines) + "\n"
 
 
-def _model_and_system(system_or_model: LinearSystem | Model, deadline: Deadline
-                      ) -> tuple[Model, LinearSystem]:
-    if isinstance(system_or_model, Model):
-        return system_or_model, system_or_model.linearize(deadline=deadline)
-    return system_or_model._model(), system_or_model
-
-
-@hooks.provides("periodic_solution")
-def periodic_solution(system_or_model: LinearSystem | Model, harmonics: int | None = None, *,
-                      deadline: Deadline = NO_DEADLINE) -> PeriodicSolution:
-    """The periodic solution of the full equations near the linear stationary solution.
-
-    Parameters
-    ----------
-    system_or_model : LinearSystem or Model
-        A model given by its energies (not ``[matrices]``), with a periodic excitation.
-    harmonics : int, optional
-        H; default: 7, raised by 4 until the highest harmonics carry less than 1e-6 (at
-        most 40).
-
-    Raises
-    ------
-    AnalysisError
-        When Newton's method does not converge from the linear stationary solution (the
-        response is too far from linear, or there is no periodic solution nearby), for a
-        ``[matrices]`` model or a non-periodic excitation.
-    """
-    model, system = _model_and_system(system_or_model, deadline)
-    if model.matrices is not None:
-        raise AnalysisError("a [matrices] model has no nonlinear equations: a periodic "
-                            "solution of the full equations needs a model given by its "
-                            "energies")
-    if harmonics is not None and not 1 <= harmonics <= 200:
-        raise AnalysisError(f"harmonics must be between 1 and 200, not {harmonics}")
-    if not model.parameters:
-        raise AnalysisError("the model has no parameters, so no excitation frequency")
-    eqs = _Equations(model)
-    n = eqs.n
-    param = next(iter(model.parameters))
-    p = float(model.parameter_values[param])
-    solution = system.stationary(deadline=deadline)
+def _solve(system: NonlinearSystem, harmonics: int | None, deadline: Deadline
+           ) -> tuple[HarmonicBalance, np.ndarray, Any]:
+    """(harmonic balance, coefficients, linear stationary solution) at the model's values,
+    with H raised until the truncation is small (H not given)."""
+    param = system.parameters[0]
+    p = float(system.parameter_values[0])
+    solution = stationary(system.linear.numeric(deadline), deadline)
     H = harmonics or DEFAULT_HARMONICS
-    hb = _HarmonicBalance(eqs, param, H)
-    W = eqs.base(hb.pvals(p))
-    X = np.zeros((n, hb.m))
-    for h in solution.harmonics:
-        k = int(round(h.omega / W))
-        if k == 0:
-            X[:, 0] += h.L
-        elif k <= H:
-            X[:, 2 * k - 1] += h.L
-            X[:, 2 * k] += h.N
+    hb = HarmonicBalance(system, param, H)
+    X = start_coefficients(solution, hb.n, H, system.base_frequency(hb.pvals(p)))
     scale = max(float(np.abs(X).max()), 1e-300)
     deadline.check("before the harmonic balance", analysis=True)
     x, ok = hb.newton(X.ravel(), p, scale)
@@ -212,34 +162,69 @@ def periodic_solution(system_or_model: LinearSystem | Model, harmonics: int | No
                             "solution: no periodic solution of the full equations near it "
                             "(the response is far from linear)")
     if harmonics is None:
-        while _truncation(x.reshape(1, n, hb.m), H)[0] > TRUNCATION_TOL and H < MAX_HARMONICS:
+        while truncation(x.reshape(1, hb.n, hb.m), H)[0] > TRUNCATION_TOL and \
+                H < MAX_HARMONICS:
             deadline.check("while raising the number of harmonics", analysis=True)
             H_next = min(MAX_HARMONICS, H + 4)
-            trial = _HarmonicBalance(eqs, param, H_next)
-            x_next, ok = trial.newton(_resize(x, n, H, H_next), p, scale)
+            trial = HarmonicBalance(system, param, H_next)
+            x_next, ok = trial.newton(resize(x, hb.n, H, H_next), p, scale)
             if not ok:
                 break
             x, H, hb = x_next, H_next, trial
+    return hb, x, solution
+
+
+def periodic_solution(system: NonlinearSystem | LinearSystem | Model,
+                      harmonics: int | None = None, *,
+                      deadline: Deadline = NO_DEADLINE) -> PeriodicSolution:
+    """The periodic solution of the full equations near the linear stationary solution.
+
+    Parameters
+    ----------
+    system : NonlinearSystem
+        The full equations (:func:`resonant.system.nonlinear_system`; a model or its
+        linear system is turned into one), with a periodic excitation.
+    harmonics : int, optional
+        H; default: 7, raised by 4 until the highest harmonics carry less than 1e-6 (at
+        most 40).
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    PeriodicSolution
+
+    Raises
+    ------
+    AnalysisError
+        When Newton's method does not converge from the linear stationary solution (the
+        response is too far from linear, or there is no periodic solution nearby), for a
+        ``[matrices]`` model or a non-periodic excitation.
+    """
+    system = nonlinear_system(system, deadline)
+    if harmonics is not None and not 1 <= harmonics <= 200:
+        raise AnalysisError(f"harmonics must be between 1 and 200, not {harmonics}")
+    if not system.parameters:
+        raise AnalysisError("the model has no parameters, so no excitation frequency")
+    hb, x, solution = _solve(system, harmonics, deadline)
+    p = float(system.parameter_values[0])
     R, J, blocks = hb.jacobian(x, p)
-    lam = hb.exponents(J, blocks)
     W = float(blocks[3])
-    mult = np.exp(lam * 2 * np.pi / W)
-    coeffs = x.reshape(n, hb.m)
-    amps = _amplitudes(coeffs[None], H)[0]
-    orders = np.arange(1, H + 1)
+    mult = np.exp(hb.exponents(J, blocks) * 2 * np.pi / W)
+    coeffs = x.reshape(hb.n, hb.m)
+    amps = hb.amplitudes(x, p)
     q0 = coeffs[:, 0] + coeffs[:, 1::2].sum(axis=1)
-    v0 = W * (coeffs[:, 2::2] @ orders)
-    names = tuple(model.coordinates)
-    amplitudes = {c: float(amps[j]) for j, c in enumerate(names)}
-    linear = {c: float(solution.amplitudes[c]) for c in names if c in solution.amplitudes}
+    v0 = W * (coeffs[:, 2::2] @ np.arange(1, hb.H + 1))
+    names = system.coordinates
+    amplitudes = {c: float(amps[j]) for j, c in enumerate(hb.names())}
+    linear = {c: float(solution.amplitudes[c]) for c in amplitudes if c in solution.amplitudes}
     relative = {c: amplitudes[c] / a - 1 for c, a in linear.items() if a > 0}
-    trunc = float(_truncation(coeffs[None], H)[0])
+    trunc = float(truncation(coeffs[None], hb.H)[0])
     warnings = []
     if trunc > TRUNCATION_TOL:
         warnings.append(f"the highest harmonics carry {trunc:.3g} of the amplitude: raise "
                         "harmonics for a more accurate solution")
     return PeriodicSolution(
-        title=model.title, coordinates=names, harmonics=H, coefficients=coeffs,
+        title=system.title, coordinates=names, harmonics=hb.H, coefficients=coeffs,
         base_frequency=W,
         initial=MappingProxyType({**{c: float(q0[j]) for j, c in enumerate(names)},
                                   **{c + "'": float(v0[j]) for j, c in enumerate(names)}}),

@@ -448,127 +448,6 @@ def _initial_points(w: np.ndarray, count: int) -> list[float]:
     return [lo + (hi - lo) * (j + 0.5) / count for j in range(count)]
 
 
-@dataclass
-class _Fit:
-    """The state of the enrichment loop for one load."""
-
-    V: np.ndarray
-    Y: np.ndarray
-    rho: np.ndarray
-    estimate: np.ndarray
-    finite: np.ndarray
-    expansion: list[float]
-    checks: list[tuple[float, float]]
-    reason: str
-
-
-def _check_point(ops: _Operators, b: np.ndarray, s: float, approx: np.ndarray
-                 ) -> tuple[Any, float, float] | None:
-    """(LU, frequency, true relative error) of the reduced response at s, by an exact solve
-    (None when A is singular there)."""
-    lu, s = _factor_near(ops, s, 0.0)
-    if lu is None:
-        return None
-    exact = lu.solve(b)
-    if not backward_stable(ops.matrix(s), exact, b):  # threshold pivoting grew too much
-        exact = ops.factor(s, partial=True).solve(b)
-    true = float(np.linalg.norm(approx - exact)) / max(float(np.linalg.norm(exact)), 1e-300)
-    return lu, s, true
-
-
-def _stop_reason(fit: _Fit, history: list[float], max_points: int, max_basis: int,
-                 budget: float | None, start: float) -> str:
-    """Why the enrichment must stop before the tolerance ("" to go on)."""
-    if len(history) > STALL and history[-1] > 0.5 * history[-1 - STALL]:
-        return (f"the residual stopped decreasing at {history[-1]:.2g} (rounding floor: ask "
-                "for a larger tolerance)")
-    if len(fit.expansion) >= max_points:
-        return f"the cap of {max_points} expansion points was reached"
-    if fit.V.shape[1] >= max_basis:
-        return f"the cap of {max_basis} basis vectors was reached"
-    if budget is not None and time.monotonic() - start > budget:
-        return f"the time budget of {budget:.3g} s was used up"
-    return ""
-
-
-def _enrich(ops: _Operators, V: np.ndarray, pending: list[tuple[float, Any]], b: np.ndarray,
-            moments: int, drop: float, max_basis: int, width: float,
-            expansion: list[float], deadline: Deadline) -> np.ndarray:
-    """V with the moments of b at every pending point (its factorization, if known)."""
-    for s, lu in pending:
-        deadline.check("while building the reduced basis", analysis=True)
-        if lu is None:
-            lu, s = _factor_near(ops, s, width)
-            if lu is None:
-                continue
-        expansion.append(float(s))
-        V = _extend(V, _krylov(ops, lu, b, s, moments, deadline), drop)
-        if V.shape[1] >= max_basis:
-            return V[:, :max_basis]
-    return V
-
-
-def _fit(ops: _Operators, b: np.ndarray, w: np.ndarray, tol: float, V: np.ndarray,
-         deadline: Deadline, budget: float | None, max_points: int, moments: int,
-         start: float) -> _Fit:
-    """Enrich V until the reduced response to b meets ``tol`` at every w (or a cap)."""
-    b_norm = float(np.linalg.norm(b))
-    N, n = w.shape[0], ops.n
-    drop = min(1e-8, 1e-3 * tol)
-    norms = [float(np.linalg.norm(a.data)) if a.nnz else 0.0 for a in (ops.K, ops.M, ops.C)]
-    a_norm = norms[0] + w**2 * norms[1] + w * norms[2]  # Frobenius norm bound of A(w)
-    # bytes per basis column: V, KV, MV, CV and the QR copy
-    max_basis = int(min(MAX_BASIS, MEMORY_BYTES // (8 * n * 9)))
-    width = float(w.max() - w.min())
-    fit = _Fit(V, np.zeros((N, 0), dtype=complex), np.full(N, np.inf), np.full(N, np.inf),
-               np.zeros(N, dtype=bool), [], [], "")
-    ratios: list[float] = []
-    history: list[float] = []
-    pending: list[tuple[float, Any]] = [
-        (s, None) for s in _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))]
-    residual = _Residual(ops, b)
-    while True:
-        fit.V = _enrich(ops, fit.V, pending, b, moments, drop, max_basis, width,
-                        fit.expansion, deadline)
-        if fit.V.shape[1] == 0:
-            raise AnalysisError("the reduced model has no basis: A(w) is singular at every "
-                                "expansion point tried; use a direct method")
-        red = _Reduced(ops, fit.V, b)
-        fit.Y = Y = red.solve(w)
-        # an undamped resonance (condition number beyond SINGULAR_CONDITION, as in the
-        # kernel) has no response to estimate: such points are singular, not errors
-        with np.errstate(all="ignore"):
-            condition = a_norm * np.linalg.norm(Y, axis=1) / b_norm
-        fit.finite = finite = np.all(np.isfinite(Y), axis=1) & (condition <= SINGULAR_CONDITION)
-        fit.rho = rho = np.full(N, np.inf)
-        residual.extend(red)
-        if finite.any():
-            rho[finite] = residual.norms(w[finite], Y[finite]) / b_norm
-        fit.estimate = SAFETY * max([1.0] + ratios[-RECENT:]) * rho
-        # validate where the residual is largest (the expansion points themselves are exact)
-        candidates = np.where(finite & ~np.isin(w, fit.expansion), rho, -np.inf)
-        worst = int(np.argmax(candidates))
-        if not np.isfinite(candidates[worst]):
-            return fit
-        deadline.check("while checking the reduced model", analysis=True)
-        found = _check_point(ops, b, float(w[worst]), fit.V @ Y[worst])
-        if found is None:  # a singular point of the full system: nothing to validate there
-            return fit
-        lu, s, true = found
-        fit.checks.append((s, true))
-        if rho[worst] > 0:
-            ratios.append(true / rho[worst])
-        fit.estimate = np.maximum(SAFETY * max([1.0] + ratios[-RECENT:]) * rho, 0.0)
-        fit.estimate[worst] = max(true, fit.estimate[worst])
-        if float(np.max(fit.estimate[finite], initial=0.0)) <= tol and true <= tol:
-            return fit
-        history.append(float(np.max(rho[finite], initial=0.0)))
-        fit.reason = _stop_reason(fit, history, max_points, max_basis, budget, start)
-        if fit.reason:
-            return fit
-        pending = [(s, lu)]
-
-
 def reduced_response(M: Any, C: Any, K: Any, b: np.ndarray, w: np.ndarray, *,
                      tol: float = DEFAULT_TOL, keep: np.ndarray | None = None,
                      deadline: Deadline = NO_DEADLINE, budget: float | None = None,
@@ -622,26 +501,174 @@ def reduced_response(M: Any, C: Any, K: Any, b: np.ndarray, w: np.ndarray, *,
     b = np.asarray(b, dtype=complex).ravel()
     ops = _Operators(M, C, K)
     keep = np.arange(ops.n) if keep is None else np.asarray(keep, dtype=int)
-    N = w.shape[0]
     if float(np.linalg.norm(b)) == 0:
-        zeros = np.zeros(N)
-        return ReducedResponse(np.zeros((N, len(keep)), dtype=complex), zeros, zeros, zeros,
-                               0.0, True, (), 0, (), np.zeros(N, dtype=bool),
+        zeros = np.zeros(w.shape[0])
+        return ReducedResponse(np.zeros((w.shape[0], len(keep)), dtype=complex), zeros, zeros,
+                               zeros, 0.0, True, (), 0, (), np.zeros(w.shape[0], dtype=bool),
                                seconds=time.monotonic() - start)
-    fit = _fit(ops, b, w, tol, np.zeros((ops.n, 0)), deadline, budget,
-               MAX_POINTS if max_points is None else max_points, moments, start)
-    finite, V, Y = fit.finite, fit.V, fit.Y
-    estimate = np.where(finite, fit.estimate, np.nan)
-    top = float(np.nanmax(estimate)) if np.any(finite) else float("inf")
-    converged = top <= tol
-    reason = "" if converged else (fit.reason or
-                                   "the estimated error stayed above the tolerance")
-    Z = np.full((N, len(keep)), np.nan + 0j)
-    Z[finite] = Y[finite] @ V[keep].T
-    norm_z = np.where(finite, np.linalg.norm(np.where(finite[:, None], Y, 0), axis=1), np.inf)
-    return ReducedResponse(Z, norm_z, np.where(finite, fit.rho, np.nan), estimate, top,
-                           converged, tuple(fit.expansion), int(V.shape[1]), tuple(fit.checks),
-                           ~finite, reason, time.monotonic() - start)
+    model = _Enrichment(ops, b, w, tol, moments, deadline)
+    _grow(model, _Limits(MAX_POINTS if max_points is None else max_points, budget, start))
+    return model.result(keep, time.monotonic() - start)
+
+
+def _grow(model: _Enrichment, stop: _Limits) -> None:
+    """Enrich until the tolerance is met, a limit is reached or nothing is left to check."""
+    while True:
+        model.enrich()
+        worst = model.evaluate()
+        if worst is None:
+            return
+        model.deadline.check("while checking the reduced model", analysis=True)
+        lu = model.validate(worst)
+        if lu is None or model.done():
+            return
+        model.reason = model.stalled() or stop.reached(model)
+        if model.reason:
+            return
+        model.pending = [(float(model.checks[-1][0]), lu)]
+
+
+class _Limits:
+    """When the enrichment stops short of the tolerance: points, basis, time."""
+
+    def __init__(self, max_points: int, budget: float | None, start: float) -> None:
+        self.max_points, self.budget, self.start = max_points, budget, start
+
+    def reached(self, model: _Enrichment) -> str:
+        if len(model.expansion) >= self.max_points:
+            return f"the cap of {self.max_points} expansion points was reached"
+        if model.V.shape[1] >= model.max_basis:
+            return f"the cap of {model.max_basis} basis vectors was reached"
+        if self.budget is not None and time.monotonic() - self.start > self.budget:
+            return f"the time budget of {self.budget:.3g} s was used up"
+        return ""
+
+
+class _Enrichment:
+    """The reduced basis grown point by point, with its residual-based error estimate
+    calibrated by exact solves where the residual is largest."""
+
+    def __init__(self, ops: _Operators, b: np.ndarray, w: np.ndarray, tol: float,
+                 moments: int, deadline: Deadline, V: np.ndarray | None = None) -> None:
+        self.ops, self.b, self.w, self.tol = ops, b, w, tol
+        self.moments, self.deadline = moments, deadline
+        self.b_norm = float(np.linalg.norm(b))
+        self.drop = min(1e-8, 1e-3 * tol)
+        self.norms = [float(np.linalg.norm(a.data)) if a.nnz else 0.0
+                      for a in (ops.K, ops.M, ops.C)]
+        # bytes per basis column: V, KV, MV, CV and the QR copy
+        self.max_basis = int(min(MAX_BASIS, MEMORY_BYTES // (8 * ops.n * 9)))
+        self.width = float(w.max() - w.min())
+        # a basis given (other loads') is enriched further
+        self.V = np.zeros((ops.n, 0)) if V is None else V
+        self.expansion: list[float] = []
+        self.checks: list[tuple[float, float]] = []
+        self.ratios: list[float] = []
+        self.history: list[float] = []
+        self.pending: list[tuple[float, Any]] = [
+            (s, None) for s in _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))]
+        self.residual = _Residual(ops, b)
+        self.reason = ""
+        N = w.shape[0]
+        self.Y = np.zeros((N, 0), dtype=complex)
+        self.finite = np.zeros(N, dtype=bool)
+        self.rho = np.full(N, np.inf)
+        self.estimate = np.full(N, np.inf)
+
+    def a_norm(self, w: np.ndarray) -> np.ndarray:
+        """A bound of the Frobenius norm of A(w)."""
+        return self.norms[0] + w**2 * self.norms[1] + w * self.norms[2]
+
+    def enrich(self) -> None:
+        """The moments at every pending point (its factorization, if known)."""
+        for s, lu in self.pending:
+            self.deadline.check("while building the reduced basis", analysis=True)
+            if lu is None:
+                lu, s = _factor_near(self.ops, s, self.width)
+                if lu is None:
+                    continue
+            self.expansion.append(float(s))
+            self.V = _extend(self.V, _krylov(self.ops, lu, self.b, s, self.moments,
+                                             self.deadline), self.drop)
+            if self.V.shape[1] >= self.max_basis:
+                self.V = self.V[:, :self.max_basis]
+                break
+        self.pending = []
+        if self.V.shape[1] == 0:
+            raise AnalysisError("the reduced model has no basis: A(w) is singular at every "
+                                "expansion point tried; use a direct method")
+
+    def evaluate(self) -> int | None:
+        """Solve the reduced model at every frequency, estimate the errors; the index of
+        the frequency to validate next (None: nothing left to validate)."""
+        w = self.w
+        red = _Reduced(self.ops, self.V, self.b)
+        self.Y = red.solve(w)
+        # an undamped resonance (condition number beyond SINGULAR_CONDITION, as in the
+        # kernel) has no response to estimate: such points are singular, not errors
+        with np.errstate(all="ignore"):
+            condition = self.a_norm(w) * np.linalg.norm(self.Y, axis=1) / self.b_norm
+        self.finite = np.all(np.isfinite(self.Y), axis=1) & (condition <= SINGULAR_CONDITION)
+        self.rho = np.full(w.shape[0], np.inf)
+        self.residual.extend(red)
+        if self.finite.any():
+            self.rho[self.finite] = self.residual.norms(w[self.finite],
+                                                        self.Y[self.finite]) / self.b_norm
+        self.estimate = SAFETY * self.gamma() * self.rho
+        # validate where the residual is largest (the expansion points themselves are exact)
+        candidates = np.where(self.finite & ~np.isin(w, self.expansion), self.rho, -np.inf)
+        worst = int(np.argmax(candidates))
+        return worst if np.isfinite(candidates[worst]) else None
+
+    def gamma(self) -> float:
+        """How far the true error has been seen above the residual, recently."""
+        return max([1.0] + self.ratios[-RECENT:])
+
+    def validate(self, worst: int) -> Any:
+        """The exact solve at ``w[worst]``: calibrates the estimate; its factorization
+        (None where A is singular: nothing to validate there)."""
+        lu, s = _factor_near(self.ops, float(self.w[worst]), 0.0)
+        if lu is None:
+            return None
+        exact = lu.solve(self.b)
+        if not backward_stable(self.ops.matrix(s), exact, self.b):  # pivots grew too much
+            exact = self.ops.factor(s, partial=True).solve(self.b)
+        approx = self.V @ self.Y[worst]
+        true = float(np.linalg.norm(approx - exact)) / max(float(np.linalg.norm(exact)),
+                                                            1e-300)
+        self.checks.append((s, true))
+        if self.rho[worst] > 0:
+            self.ratios.append(true / self.rho[worst])
+        self.estimate = np.maximum(SAFETY * self.gamma() * self.rho, 0.0)
+        self.estimate[worst] = max(true, self.estimate[worst])
+        return lu
+
+    def done(self) -> bool:
+        """The estimate and the last exact check both within the tolerance."""
+        top = float(np.max(self.estimate[self.finite], initial=0.0))
+        return top <= self.tol and self.checks[-1][1] <= self.tol
+
+    def stalled(self) -> str:
+        self.history.append(float(np.max(self.rho[self.finite], initial=0.0)))
+        if len(self.history) > STALL and self.history[-1] > 0.5 * self.history[-1 - STALL]:
+            return (f"the residual stopped decreasing at {self.history[-1]:.2g} (rounding "
+                    "floor: ask for a larger tolerance)")
+        return ""
+
+    def result(self, keep: np.ndarray, seconds: float) -> ReducedResponse:
+        finite, N = self.finite, self.w.shape[0]
+        estimate = np.where(finite, self.estimate, np.nan)
+        top = float(np.nanmax(estimate)) if np.any(finite) else float("inf")
+        converged = top <= self.tol
+        reason = self.reason or "the estimated error stayed above the tolerance"
+        Z = np.full((N, len(keep)), np.nan + 0j)
+        Z[finite] = self.Y[finite] @ self.V[keep].T
+        norm_z = np.where(finite, np.linalg.norm(np.where(finite[:, None], self.Y, 0), axis=1),
+                          np.inf)
+        return ReducedResponse(Z, norm_z, np.where(finite, self.rho, np.nan), estimate, top,
+                               converged, tuple(self.expansion), int(self.V.shape[1]),
+                               tuple(self.checks), ~finite, "" if converged else reason,
+                               seconds)
 
 
 def _factor_near(ops: _Operators, s: float, width: float) -> tuple[Any, float]:
@@ -763,20 +790,21 @@ def reduced_model(M: Any, C: Any, K: Any, B: np.ndarray, w: np.ndarray, *,
     ops = _Operators(M, C, K)
     ops.cache = {}
     V = np.zeros((ops.n, 0))
+    stop = _Limits(MAX_POINTS if max_points is None else max_points, budget, start)
     errors, checks, expansion, reasons = [], [], [], []
     for j in range(B.shape[1]):
         if not np.any(B[:, j]):
             errors.append(0.0)
             continue
-        fit = _fit(ops, B[:, j], w, tol, V, deadline, budget,
-                   MAX_POINTS if max_points is None else max_points, moments, start)
-        V = fit.V
-        errors.append(float(np.nanmax(np.where(fit.finite, fit.estimate, np.nan)))
-                      if fit.finite.any() else float("inf"))
-        checks += fit.checks
-        expansion += fit.expansion
-        if fit.reason:
-            reasons.append(fit.reason)
+        model = _Enrichment(ops, B[:, j], w, tol, moments, deadline, V)
+        _grow(model, stop)
+        V = model.V
+        errors.append(float(np.nanmax(np.where(model.finite, model.estimate, np.nan)))
+                      if model.finite.any() else float("inf"))
+        checks += model.checks
+        expansion += model.expansion
+        if model.reason:
+            reasons.append(model.reason)
     ops.cache = None
     KV, MV, CV = (np.asarray(a @ V) for a in (ops.K, ops.M, ops.C))
     err = np.array(errors)
@@ -788,5 +816,5 @@ def reduced_model(M: Any, C: Any, K: Any, B: np.ndarray, w: np.ndarray, *,
                         time.monotonic() - start)
 
 
-__all__ = ["reduced_response", "ReducedResponse", "reduced_model", "ReducedModel", "DEFAULT_TOL", "sparse_lu_options",
-           "backward_stable"]
+__all__ = ["reduced_response", "ReducedResponse", "reduced_model", "ReducedModel",
+           "DEFAULT_TOL", "sparse_lu_options", "backward_stable"]

@@ -31,7 +31,6 @@ from typing import Any
 
 import numpy as np
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..system import Batch, LinearSystem, NumericEOM, NumericHarmonic
@@ -117,6 +116,25 @@ class StationarySolution:
         ``name -> [(L, N), ...]`` per frequency, for coordinates and outputs.
     amplitudes, phases : mapping
         Peak absolute deviation, and delta = atan2(L, N) (single frequency only).
+    eom : NumericEOM
+        The numbers the solution was computed from.
+    natural_frequencies : ndarray
+        The undamped natural frequencies (rad/s), ascending.
+    eigenvalues : ndarray
+        The eigenvalues of the state matrix.
+    stability : str
+        ``"asymptotically stable"``, ``"marginally stable"`` or ``"unstable"``.
+    warnings : tuple of str
+        What the user should know (near resonance, no equilibrium ...).
+    available : bool
+        False when there is no stationary solution (then only the eigenvalues).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> sol = stationary(resonant.load("examples/cart_pendulum.toml").linearize())
+    >>> sol.natural_frequencies.round(6).tolist(), sol.stability
+    ([4.560711, 7.929966], 'marginally stable')
     """
 
     eom: NumericEOM
@@ -171,17 +189,6 @@ class StationarySolution:
             "warnings": list(self.warnings),
         })
         return data
-
-    def summary(self) -> str:
-        """The text ``resonant solve`` prints."""
-        return str(hooks.call("solution_text", self))
-
-    def _repr_html_(self) -> str:
-        return str(hooks.call("stationary_html", self))
-
-    def _repr_latex_(self) -> str:
-        return str(hooks.call("stationary_latex", self))
-
 
 def _output_pairs(eom: NumericEOM, responses: tuple[HarmonicResponse, ...]
                   ) -> dict[str, tuple[tuple[float, float], ...]]:
@@ -317,7 +324,6 @@ def resonance_warnings(excitation: list[float], omegas: np.ndarray) -> list[str]
     return out
 
 
-@hooks.provides("stationary")
 def stationary(system: LinearSystem, deadline: Deadline = NO_DEADLINE,
                **overrides: float | str) -> StationarySolution:
     """Solve for the stationary response of every coordinate and output.
@@ -341,53 +347,21 @@ def stationary(system: LinearSystem, deadline: Deadline = NO_DEADLINE,
         natural frequency (exit status 3).
     """
     eom = system.numeric(deadline, **overrides)
-    n = eom.n
-    large = n > LARGE
-    if n > DENSE_LIMIT:
+    large = eom.n > LARGE
+    if eom.n > DENSE_LIMIT:
         raise AnalysisError(
-            f"the model has {n} coordinates; the stationary solution with all natural "
+            f"the model has {eom.n} coordinates; the stationary solution with all natural "
             f"frequencies and eigenvalues is limited to {DENSE_LIMIT}: use `modes` with a "
             "count and `sweep`, which work with sparse matrices")
     sparse_eom, eom = eom, eom.dense()  # the solution reports dense matrices
-    dense = eom
-    batch = Batch.constant_system(sparse_eom if large else dense, 1)
+    batch = Batch.constant_system(sparse_eom if large else eom, 1)
     check_batch_mass(batch)
-    warnings: list[str] = []
-    negative_mass = mass_warning(dense.M) if n <= EXACT_MASS_CHECK else None
-    if negative_mass:
-        warnings.append(negative_mass)
-    check_finite("M, C, K", np.concatenate([dense.M.ravel(), dense.C.ravel(), dense.K.ravel()]))
-    if 0 < n <= 1500:
-        row, col = equilibration(dense.M)
-        try:
-            mass_condition = float(np.linalg.cond(row[:, None] * dense.M * col[None, :]))
-        except np.linalg.LinAlgError:  # the SVD failed: entries beyond double precision
-            raise AnalysisError("the mass matrix M cannot be analysed: its entries lie beyond "
-                                "the range of double precision (subnormal or huge values); "
-                                "rescale the units") from None
-        if mass_condition > LOSS_CONDITION:
-            warnings.append(
-                f"the mass matrix M is nearly singular (condition number {mass_condition:.2g}"
-                f" after scaling): about {int(math.log10(mass_condition))} of 16 digits of "
-                "the natural frequencies and amplitudes are lost; is a mass nearly zero?")
+    warnings = _mass_warnings(eom)
     deadline.check("while computing the eigenvalues", analysis=True)
-    if large:
-        lam = undamped_eigenvalues(sparse_eom.M, sparse_eom.K)
-        proportional = rayleigh(sparse_eom.M, sparse_eom.C, sparse_eom.K) if np.any(dense.C) \
-            else (0.0, 0.0)
-    else:
-        lam, _ = undamped_eigen(dense.M, dense.K)
-        proportional = None
+    lam, eigenvalues = _eigenvalues(sparse_eom, eom, large)
     omegas = frequencies_from_eigenvalues(lam)
-    if proportional is not None:  # eigenvalues from the undamped ones, no 2n x 2n problem
-        c = proportional[0] + proportional[1] * lam
-        root = np.sqrt((c * c - 4 * lam).astype(complex))
-        eigenvalues = np.concatenate([(-c + root) / 2, (-c - root) / 2])
-        eigenvalues = eigenvalues[np.lexsort((eigenvalues.imag, np.abs(eigenvalues)))]
-    else:
-        eigenvalues = state_eigenvalues(dense.M, dense.C, dense.K)
     stability = classify(eigenvalues)
-    warnings += system_warnings(lam, stability, mass_definite=negative_mass is None)
+    warnings += system_warnings(lam, stability, mass_definite=not _negative_mass(eom))
     if not eom.harmonic:
         warnings.append("the stationary solution needs signals that are sums of harmonics "
                         "(sin/cos of a*t + b, constants); the equation of motion is derived, "
@@ -397,13 +371,68 @@ def stationary(system: LinearSystem, deadline: Deadline = NO_DEADLINE,
                                   MappingProxyType({}), tuple(warnings), available=False)
     warnings += resonance_warnings([h.omega for h in eom.harmonics], omegas)
     method = "sparse" if large else "dense"
-    responses = []
-    for h, bh in zip(eom.harmonics, batch.harmonics):
-        result = solve_harmonic(batch, bh, method, deadline=deadline)
-        responses.append(_response(h, result, omegas, warnings))
-    responses_t = tuple(responses)
-    pairs = _output_pairs(eom, responses_t)
-    freqs = [r.omega for r in responses_t]
+    responses = tuple(_response(h, solve_harmonic(batch, bh, method, deadline=deadline),
+                                omegas, warnings)
+                      for h, bh in zip(eom.harmonics, batch.harmonics))
+    pairs = _output_pairs(eom, responses)
+    amplitudes, phases = _amplitudes_and_phases(pairs, [r.omega for r in responses])
+    return StationarySolution(eom, omegas, eigenvalues, stability, responses,
+                              MappingProxyType(pairs), MappingProxyType(amplitudes),
+                              MappingProxyType(phases), tuple(warnings))
+
+
+def _negative_mass(eom: NumericEOM) -> str | None:
+    """The warning of a mass matrix that is not positive definite (small models only)."""
+    return mass_warning(eom.M) if eom.n <= EXACT_MASS_CHECK else None
+
+
+def _mass_warnings(eom: NumericEOM) -> list[str]:
+    """Warnings about M: not positive definite, nearly singular (digits lost)."""
+    warnings: list[str] = []
+    negative_mass = _negative_mass(eom)
+    if negative_mass:
+        warnings.append(negative_mass)
+    check_finite("M, C, K", np.concatenate([eom.M.ravel(), eom.C.ravel(), eom.K.ravel()]))
+    if 0 < eom.n <= 1500:
+        row, col = equilibration(eom.M)
+        try:
+            mass_condition = float(np.linalg.cond(row[:, None] * eom.M * col[None, :]))
+        except np.linalg.LinAlgError:  # the SVD failed: entries beyond double precision
+            raise AnalysisError("the mass matrix M cannot be analysed: its entries lie beyond "
+                                "the range of double precision (subnormal or huge values); "
+                                "rescale the units") from None
+        if mass_condition > LOSS_CONDITION:
+            warnings.append(
+                f"the mass matrix M is nearly singular (condition number {mass_condition:.2g}"
+                f" after scaling): about {int(math.log10(mass_condition))} of 16 digits of "
+                "the natural frequencies and amplitudes are lost; is a mass nearly zero?")
+    return warnings
+
+
+def _eigenvalues(sparse: NumericEOM, dense: NumericEOM, large: bool
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """(undamped eigenvalues w², state-space eigenvalues) of the system, given as it was
+    made (``sparse``) and dense.
+
+    A large model with proportional damping gets its damped eigenvalues from the
+    undamped ones, without the 2n x 2n problem.
+    """
+    if not large:
+        lam, _ = undamped_eigen(dense.M, dense.K)
+        return lam, state_eigenvalues(dense.M, dense.C, dense.K)
+    lam = undamped_eigenvalues(sparse.M, sparse.K)
+    proportional = rayleigh(sparse.M, sparse.C, sparse.K) if np.any(dense.C) else (0.0, 0.0)
+    if proportional is None:
+        return lam, state_eigenvalues(dense.M, dense.C, dense.K)
+    c = proportional[0] + proportional[1] * lam
+    root = np.sqrt((c * c - 4 * lam).astype(complex))
+    eigenvalues = np.concatenate([(-c + root) / 2, (-c - root) / 2])
+    return lam, eigenvalues[np.lexsort((eigenvalues.imag, np.abs(eigenvalues)))]
+
+
+def _amplitudes_and_phases(pairs: Mapping[str, Any], freqs: list[float]
+                           ) -> tuple[dict[str, float], dict[str, float]]:
+    """The peak amplitude of every name, and its phase where one frequency moves."""
     for name, p in pairs.items():
         if not all(math.isfinite(v) for pair in p for v in pair):
             raise AnalysisError(
@@ -418,9 +447,7 @@ def stationary(system: LinearSystem, deadline: Deadline = NO_DEADLINE,
             L, N = p[i]
             if math.hypot(L, N) > 0:
                 phases[name] = phase_angle(L, N)
-    return StationarySolution(eom, omegas, eigenvalues, stability, responses_t,
-                              MappingProxyType(pairs), MappingProxyType(amplitudes),
-                              MappingProxyType(phases), tuple(warnings))
+    return amplitudes, phases
 
 
 def _response(h: NumericHarmonic, result: KernelResult, omegas: np.ndarray,

@@ -45,8 +45,8 @@ listed in ``skipped`` and a warning names it.
 Examples
 --------
 >>> from resonant.analyses.sweep import sweep
->>> import numpy as np, resonant.model
->>> model = resonant.model.loads('''
+>>> import numpy as np, resonant.api
+>>> model = resonant.api.loads('''
 ... [parameters]
 ... m = 1
 ... k = 100
@@ -81,7 +81,6 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..system import Batch, LinearSystem
@@ -184,6 +183,28 @@ class FrequencyResponse:
         system or no excitation frequency is proportional to it.
     skipped : tuple of float
         Values where the stationary solution does not exist (undamped resonance).
+    quantities : tuple of str
+        The coordinates and outputs computed, in the order of ``response``.
+    response : ndarray
+        (N, quantities, harmonics) complex amplitudes L - iN per frequency.
+    harmonic_omegas : ndarray
+        (N, harmonics) the excitation frequencies at every value.
+    natural_frequencies : ndarray or None
+        The undamped natural frequencies when M, C, K do not change along the sweep.
+    warnings : tuple of str
+        What the user should know (skipped points, a coarse grid near a peak).
+    log : bool or None
+        Whether the values are spaced logarithmically (the plot's axis).
+    title, coordinates
+        The model's title and its coordinates.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> eom = resonant.load("examples/cart_pendulum.toml").linearize()
+    >>> r = sweep(eom, "omega", [5.0, 10.0])
+    >>> r.parameter, r.values.tolist(), r.frequency_sweep
+    ('omega', [5.0, 10.0], True)
     """
 
     parameter: str
@@ -318,30 +339,6 @@ class FrequencyResponse:
                         v = float(series[i])
                         row.append(repr(v) if math.isfinite(v) else "")
                 writer.writerow(row)
-
-    def plot(self, path: Any = None, names: Sequence[str] | None = None, **options: Any
-             ) -> Any:
-        """Amplitude (log axis) and phase against the parameter
-        (:func:`resonant.views.plotting.plot_frequency_response`).
-
-        Parameters
-        ----------
-        path : str or Path, optional
-            Save the figure there (format from the suffix).
-        names : sequence of str, optional
-            The quantities to draw.
-        **options
-            ``ax=`` and more, passed on.
-
-        Returns
-        -------
-        matplotlib.figure.Figure
-        """
-        return hooks.call("plot_frequency_response", self, path=path, names=names, **options)
-
-    def summary(self) -> str:
-        """The text ``resonant sweep`` prints."""
-        return str(hooks.call("sweep_text", self))
 
     def _repr_html_(self) -> str:
         import html
@@ -507,7 +504,32 @@ def _extrema(names: Sequence[str], values: np.ndarray, amplitude: np.ndarray, lo
 
 # -- the public function ------------------------------------------------------------------
 
-@hooks.provides("sweep")
+def swept_values(values: Sequence[float] | np.ndarray) -> np.ndarray:
+    """The swept values as a flat float array: at least one, every one a finite number.
+
+    Raises
+    ------
+    AnalysisError
+        For a value that is not a number or is beyond double precision (``10**400``),
+        NaN or infinite, and for no values at all.
+
+    Examples
+    --------
+    >>> swept_values([1, 2.5]).tolist()
+    [1.0, 2.5]
+    >>> swept_values([10**400])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    resonant.errors.AnalysisError: the swept values must be finite numbers: int too large ...
+    """
+    try:
+        array = np.asarray(values, dtype=float).ravel()
+    except (OverflowError, ValueError, TypeError) as exc:
+        raise AnalysisError(f"the swept values must be finite numbers: {exc}") from None
+    if array.size == 0 or not np.all(np.isfinite(array)):
+        raise AnalysisError("the sweep needs at least one finite parameter value")
+    return array
+
+
 def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray, *,
           method: str = "auto", names: Sequence[str] | None = None,
           progress: bool | None = None, log: bool | None = None,
@@ -552,33 +574,88 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
         For a method that does not fit the system (``modal`` with
         non-proportional damping, ``banded`` with matrices that change).
     """
+    _check_options(method, tol)
+    values = swept_values(values)
+    check_points(values.size)
+    batch = system.batch(param, values, deadline)
+    names, default_note = _reported_names(batch, names)
+    _check_request(batch, names, values, method, param)
+    warnings: list[str] = [default_note] if default_note else []
+    check_batch_mass(batch, values, param, warnings)
+    n = len(batch.coordinates)
+    if progress is None:
+        progress = sys.stderr.isatty() and len(values) * n * max(n, 1) > 5e7
+    bar = _Progress(len(values) * max(len(batch.harmonics), 1), bool(progress))
+    position = {q: i for i, q in enumerate(batch.coordinates)}
+    keep = np.array([position[q] for q in _kept_names(batch, names)], dtype=int)
+    results = [solve_harmonic(batch, h, method, progress=bar, warnings=warnings, keep=keep,
+                              deadline=deadline, tol=tol) for h in batch.harmonics]
+    skipped_mask = np.zeros(len(values), dtype=bool)
+    for result in results:
+        skipped_mask |= result.singular
+    if not batch.harmonics:
+        warnings.append("the model has no harmonic excitation: every amplitude is zero")
+    if batch.harmonics:
+        all_names, Z = _responses(batch, [r.Z for r in results], names)
+    else:
+        all_names = list(names) + list(batch.outputs)
+        Z = np.zeros((0, len(values), len(all_names)), dtype=complex)
+    omegas = np.array([np.broadcast_to(h.omega, values.shape) for h in batch.harmonics],
+                      dtype=float).reshape(len(batch.harmonics), len(values))
+    skipped_mask = _without_overflow(skipped_mask, omegas, values, param, warnings)
+    skipped = tuple(float(v) for v in values[skipped_mask])
+    if skipped:
+        warnings.append(_skipped_warning(param, skipped))
+    scale = _frequency_scale(batch, values)
+    natural = _natural_frequencies_of(batch)
+    if natural is not None and scale is not None and not np.any(_dense(batch.C)):
+        warnings.extend(_undamped_warning(natural / scale, values, param))
+    errors = [r.error for r in results if r.error is not None]
+    used = [r.method for r in results]
+    return FrequencyResponse(  # values copied: the caller's array may change later
+        parameter=param, values=values.copy(), quantities=tuple(all_names), response=Z,
+        harmonic_omegas=omegas,
+        method=", ".join(dict.fromkeys(used)) or (
+            choose_method(batch, len(values)) if method == "auto" else method),
+        estimated_error=max(errors) if errors else None,
+        tolerance=tol if errors else None,
+        frequency_sweep=scale is not None and math.isclose(scale, 1.0, rel_tol=1e-9),
+        natural_frequencies=natural, frequency_scale=scale,
+        skipped=skipped, warnings=tuple(dict.fromkeys(warnings)),
+        log=_is_log(values) if log is None else bool(log),
+        title=batch.title, coordinates=tuple(batch.coordinates))
+
+
+def _check_options(method: str, tol: float) -> None:
     if method not in METHODS:
         raise AnalysisError(f"unknown method '{method}'; choose one of {', '.join(METHODS)}")
     if not (isinstance(tol, (int, float)) and math.isfinite(tol) and 0 < tol < 1):
         raise AnalysisError(f"the tolerance must be a number between 0 and 1, not {tol}")
-    values = np.asarray(values, dtype=float).ravel()
-    if values.size == 0 or not np.all(np.isfinite(values)):
-        raise AnalysisError("the sweep needs at least one finite parameter value")
-    check_points(values.size)
-    batch = system.batch(param, values, deadline)
+
+
+def _reported_names(batch: Batch, names: Sequence[str] | None) -> tuple[list[str], str]:
+    """The coordinates to report and, when a huge model's default was narrowed, why."""
+    if names is not None:
+        return list(names), ""
     n = len(batch.coordinates)
-    if names is None:
-        names = list(batch.coordinates)
-        if n > MAX_DEFAULT_NAMES:
-            # a full table of a huge model is neither wanted nor storable: report the
-            # loaded coordinates (select others with names=/--only)
-            loaded = set()
-            for h in batch.harmonics:
-                for f in (h.F_S, h.F_C):
-                    loaded |= set(np.nonzero(np.atleast_2d(f).any(axis=0))[0].tolist())
-            names = [batch.coordinates[i] for i in sorted(loaded)] or [batch.coordinates[-1]]
-            default_note = (f"{n} coordinates: only the loaded ones ({', '.join(names[:5])}"
-                            f"{' ...' if len(names) > 5 else ''}) are reported; choose others "
-                            "with names= (--only)")
-        else:
-            default_note = ""
-    else:
-        default_note = ""
+    if n <= MAX_DEFAULT_NAMES:
+        return list(batch.coordinates), ""
+    # a full table of a huge model is neither wanted nor storable: report the loaded
+    # coordinates (select others with names=/--only)
+    loaded: set[int] = set()
+    for h in batch.harmonics:
+        for f in (h.F_S, h.F_C):
+            loaded |= set(np.nonzero(np.atleast_2d(f).any(axis=0))[0].tolist())
+    names = [batch.coordinates[i] for i in sorted(loaded)] or [batch.coordinates[-1]]
+    return names, (f"{n} coordinates: only the loaded ones ({', '.join(names[:5])}"
+                   f"{' ...' if len(names) > 5 else ''}) are reported; choose others "
+                   "with names= (--only)")
+
+
+def _check_request(batch: Batch, names: Sequence[str], values: np.ndarray, method: str,
+                   param: str) -> None:
+    """Known names, a bounded number of results, a method that fits the batch."""
+    n = len(batch.coordinates)
     known = set(batch.coordinates)
     unknown = [q for q in names if q not in known]
     if unknown:
@@ -596,82 +673,59 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
     if method in ("banded", "sparse", "modal", "reduced") and not batch.constant:
         raise AnalysisError(f"method '{method}' needs M, C and K that do not depend on "
                             f"'{param}'; use 'dense'")
-    warnings: list[str] = [default_note] if default_note else []
-    check_batch_mass(batch, values, param, warnings)
-    if progress is None:
-        progress = sys.stderr.isatty() and len(values) * n * max(n, 1) > 5e7
-    bar = _Progress(len(values) * max(len(batch.harmonics), 1), bool(progress))
-    responses, skipped_mask = [], np.zeros(len(values), dtype=bool)
-    used: list[str] = []
-    errors: list[float] = []
-    position = {q: i for i, q in enumerate(batch.coordinates)}
-    keep = np.array([position[q] for q in _kept_names(batch, names)], dtype=int)
-    for h in batch.harmonics:
-        result = solve_harmonic(batch, h, method, progress=bar, warnings=warnings, keep=keep,
-                                deadline=deadline, tol=tol)
-        responses.append(result.Z)
-        used.append(result.method)
-        if result.error is not None:
-            errors.append(result.error)
-        skipped_mask |= result.singular
-    if not batch.harmonics:
-        warnings.append("the model has no harmonic excitation: every amplitude is zero")
-    if log is None:
-        log = bool(len(values) > 2 and np.all(values > 0) and
-                   np.allclose(np.diff(np.log(values)), np.log(values[1] / values[0]),
-                               rtol=1e-6) and not np.allclose(np.diff(values),
-                                                              values[1] - values[0], rtol=1e-9))
-    if batch.harmonics:
-        all_names, Z = _responses(batch, responses, names)
-    else:
-        all_names = list(names) + list(batch.outputs)
-        Z = np.zeros((0, len(values), len(all_names)), dtype=complex)
-    omegas = np.array([np.broadcast_to(h.omega, values.shape) for h in batch.harmonics],
-                      dtype=float).reshape(len(batch.harmonics), len(values))
+
+
+def _is_log(values: np.ndarray) -> bool:
+    """Whether the values are spaced logarithmically (and not also linearly)."""
+    return bool(len(values) > 2 and np.all(values > 0) and
+                np.allclose(np.diff(np.log(values)), np.log(values[1] / values[0]),
+                            rtol=1e-6) and not np.allclose(np.diff(values),
+                                                           values[1] - values[0], rtol=1e-9))
+
+
+def _without_overflow(skipped: np.ndarray, omegas: np.ndarray, values: np.ndarray,
+                      param: str, warnings: list[str]) -> np.ndarray:
+    """The skipped points less those where omega^2 overflowed (said in a warning; an
+    AnalysisError when every point did)."""
     with np.errstate(all="ignore"):  # omega^2 beyond the floating-point range
-        overflow = skipped_mask & ~np.all(np.isfinite(omegas ** 2), axis=0)
-    if overflow.any():
-        first = ", ".join(f"{v:.6g}" for v in values[overflow][:5])
-        message = (f"numerical overflow at {param} = {first}"
-                   f"{' ...' if overflow.sum() > 5 else ''}: the excitation frequency squared "
-                   "exceeds the floating-point range (about 1e308); use units nearer to 1")
-        if overflow.all():
-            raise AnalysisError(message)
-        warnings.append(message + "; these points are skipped (NaN, null in JSON)")
-        skipped_mask = skipped_mask & ~overflow
-    skipped = tuple(float(v) for v in values[skipped_mask])
-    if skipped:
-        shown = ", ".join(f"{v:.6g}" for v in skipped[:5])
-        warnings.append(
-            f"no stationary solution at {param} = {shown}{' ...' if len(skipped) > 5 else ''} "
+        overflow = skipped & ~np.all(np.isfinite(omegas ** 2), axis=0)
+    if not overflow.any():
+        return skipped
+    first = ", ".join(f"{v:.6g}" for v in values[overflow][:5])
+    message = (f"numerical overflow at {param} = {first}"
+               f"{' ...' if overflow.sum() > 5 else ''}: the excitation frequency squared "
+               "exceeds the floating-point range (about 1e308); use units nearer to 1")
+    if overflow.all():
+        raise AnalysisError(message)
+    warnings.append(message + "; these points are skipped (NaN, null in JSON)")
+    return skipped & ~overflow
+
+
+def _skipped_warning(param: str, skipped: Sequence[float]) -> str:
+    shown = ", ".join(f"{v:.6g}" for v in skipped[:5])
+    return (f"no stationary solution at {param} = {shown}{' ...' if len(skipped) > 5 else ''} "
             "(undamped resonance: the amplitude is unbounded); these points are skipped "
             "(NaN, null in JSON)")
-    scale = _frequency_scale(batch, values)
-    natural = None
-    if batch.constant and n <= EAGER_EIGEN:
-        try:
-            natural = _natural_frequencies(_dense(batch.M), _dense(batch.K))
-        except (np.linalg.LinAlgError, ValueError):
-            natural = None
-    if natural is not None and scale is not None and not np.any(_dense(batch.C)):
-        hit = [w / scale for w in natural if values.min() <= w / scale <= values.max()]
-        if hit:
-            warnings.append(
-                "the system has no damping: the response is unbounded at " + ", ".join(
-                    f"{param} = {v:.6g}" for v in hit[:5]) + (" ..." if len(hit) > 5 else "")
-                + "; the peaks shown are the values on the grid, not the true (infinite) "
-                "peaks")
-    return FrequencyResponse(  # values copied: the caller's array may change later
-        parameter=param, values=values.copy(), quantities=tuple(all_names), response=Z,
-        harmonic_omegas=omegas,
-        method=", ".join(dict.fromkeys(used)) or (
-            choose_method(batch, len(values)) if method == "auto" else method),
-        estimated_error=max(errors) if errors else None,
-        tolerance=tol if errors else None,
-        frequency_sweep=scale is not None and math.isclose(scale, 1.0, rel_tol=1e-9),
-        natural_frequencies=natural, frequency_scale=scale,
-        skipped=skipped, warnings=tuple(dict.fromkeys(warnings)), log=bool(log),
-        title=batch.title, coordinates=tuple(batch.coordinates))
+
+
+def _natural_frequencies_of(batch: Batch) -> np.ndarray | None:
+    """The undamped natural frequencies when M, K are fixed and small enough to ask."""
+    if not (batch.constant and len(batch.coordinates) <= EAGER_EIGEN):
+        return None
+    try:
+        return _natural_frequencies(_dense(batch.M), _dense(batch.K))
+    except (np.linalg.LinAlgError, ValueError):
+        return None
+
+
+def _undamped_warning(resonances: np.ndarray, values: np.ndarray, param: str) -> list[str]:
+    """The warning of an undamped system whose resonances lie in the swept range."""
+    hit = [v for v in resonances if values.min() <= v <= values.max()]
+    if not hit:
+        return []
+    return ["the system has no damping: the response is unbounded at " + ", ".join(
+        f"{param} = {v:.6g}" for v in hit[:5]) + (" ..." if len(hit) > 5 else "")
+        + "; the peaks shown are the values on the grid, not the true (infinite) peaks"]
 
 
 def _frequency_scale(batch: Batch, values: np.ndarray) -> float | None:

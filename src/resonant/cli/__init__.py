@@ -13,34 +13,88 @@ import re
 import sys
 import warnings
 from collections.abc import Callable, Sequence
-from importlib import import_module
+from typing import Any
 
 from .. import __version__
 from ..deadline import DeadlineExceeded
 from ..errors import ResonantError, printable
 from . import common
 
-#: subcommand -> (the module that registers and runs it, one line of help).  Only the
-#: module of the command being run is imported (the others only for ``--help``): the
-#: report, exercise and nonlinear machinery is not start-up time of ``resonant solve``.
-COMMANDS: dict[str, tuple[str, str]] = {
-    "solve": ("resonant.cli.solve", "linearized EOM, natural frequencies and the stationary "
-              "solution"),
-    "check": ("resonant.cli.solve", "validate a model only"),
-    "modes": ("resonant.cli.analyses", "natural frequencies, mode shapes, damping ratios"),
-    "sweep": ("resonant.cli.analyses", "amplitude and phase against a parameter"),
-    "simulate": ("resonant.cli.simulate", "time simulation, linear or full nonlinear"),
-    "report": ("resonant.cli.report", "write the worked solution (.html, .md or .tex)"),
-    "energies": ("resonant.cli.energies", "T, U, D derived from the parts, per part"),
-    "draw": ("resonant.cli.draw", "draw a mechanism given by its parts (.svg, .png, .pdf)"),
-    "exercise": ("resonant.cli.exercise", "exercise variants with solutions and answer key"),
-    "grade": ("resonant.cli.exercise", "check a student's answers against the key"),
+#: subcommand -> one line of help (for ``resonant --help``)
+COMMANDS: dict[str, str] = {
+    "solve": "linearized EOM, natural frequencies and the stationary solution",
+    "check": "validate a model only",
+    "modes": "natural frequencies, mode shapes, damping ratios",
+    "sweep": "amplitude and phase against a parameter",
+    "simulate": "time simulation, linear or full nonlinear",
+    "report": "write the worked solution (.html, .md or .tex)",
+    "energies": "T, U, D derived from the parts, per part",
+    "draw": "draw a mechanism given by its parts (.svg, .png, .pdf)",
+    "exercise": "exercise variants with solutions and answer key",
+    "grade": "check a student's answers against the key",
 }
+
+Register = Callable[[Any, argparse.ArgumentParser], None]
+
+
+def command_registrar(command: str) -> Register:
+    """The function that adds ``command``'s parser (and its runner) to the subparsers.
+
+    This is the one place of the package that imports inside a function: only the
+    module of the command being run is loaded, so that ``resonant solve`` does not
+    pay for the report, exercise, nonlinear and study machinery at start-up.  Each
+    import names its module, downward (the command line is the top layer), so
+    editors, mypy and import-linter follow it like any other.
+
+    Examples
+    --------
+    >>> command_registrar("solve").__module__
+    'resonant.cli.solve'
+    """
+    match command:
+        case "solve" | "check":
+            from . import solve
+            return solve.register
+        case "modes" | "sweep":
+            from . import analyses
+            return analyses.register
+        case "simulate":
+            from . import simulate
+            return simulate.register
+        case "report":
+            from . import report
+            return report.register
+        case "energies":
+            from . import energies
+            return energies.register
+        case "draw":
+            from . import draw
+            return draw.register
+        case "exercise" | "grade":
+            from . import exercise
+            return exercise.register
+    raise KeyError(command)
 
 
 def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
     """The argument parser: the full one for the command in ``argv`` (every command's
-    without one), one-line entries for the others."""
+    without one), one-line entries for the others.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The parser of ``resonant``'s command line.
+
+    Examples
+    --------
+    >>> build_parser(["solve", "model.toml"]).prog
+    'resonant'
+    """
     parser = argparse.ArgumentParser(
         prog="resonant",
         description="Vibrations of discrete mechanical systems: linearized equations of "
@@ -50,18 +104,35 @@ def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
     parent = common.common_parser()
     chosen = next((a for a in (argv if argv is not None else sys.argv[1:])
                    if not a.startswith("-")), None)
-    modules = [COMMANDS[chosen][0]] if chosen in COMMANDS else \
-        list(dict.fromkeys(module for module, _ in COMMANDS.values()))
-    for name in modules:  # the cli is the top layer: importing its own parts is no cycle
-        import_module(name).register(sub, parent)
-    for command, (_, text) in COMMANDS.items():
+    registrars = [command_registrar(chosen)] if chosen in COMMANDS else \
+        list(dict.fromkeys(command_registrar(c) for c in COMMANDS))
+    for register in registrars:
+        register(sub, parent)
+    for command, text in COMMANDS.items():
         if command not in sub.choices:
             sub.add_parser(command, help=text)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status."""
+    """Run the command line.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0 done, 2 invalid input (the model, a file, an option),
+        3 the analysis is impossible for this model.
+
+    Examples
+    --------
+    >>> main(["check", "/nonexistent/model.toml"])  # the message goes to stderr
+    2
+    """
     parser = build_parser(argv)
     args = parser.parse_args(argv)
     run: Callable[[argparse.Namespace], int] | None = getattr(args, "run", None)
@@ -112,6 +183,16 @@ def python_warnings(caught: Sequence[warnings.WarningMessage]) -> list[str]:
 
     Deduplicated, in words, never with the file, line or source text of the
     Python code that raised them (a library detail, useless to the user).
+
+    Parameters
+    ----------
+    caught : sequence of warnings.WarningMessage
+        The warnings recorded during the command.
+
+    Returns
+    -------
+    list of str
+        One line per distinct warning.
 
     Examples
     --------

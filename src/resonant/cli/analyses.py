@@ -19,27 +19,36 @@ from typing import Any
 import resonant.cli.common as cli
 
 from ..analyses.backbone import backbone
-from ..analyses.sweep import linspace
+from ..analyses.harmonic_balance import nonlinear_sweep
+from ..analyses.modes import modes
+from ..analyses.sweep import MAX_SWEEP_POINTS, linspace, sweep
 from ..errors import AnalysisError
+from ..system import linear_system
+from ..views.display import modes_text, sweep_text
+from ..views.nonlinear_plots import nonlinear_text, plot_backbones, plot_nonlinear_response
+from ..views.plotting import plot_frequency_response, plot_modes
 from ..views.units_display import ResultUnits, result_units
+
+#: the most harmonics a nonlinear analysis takes (the analyses' own limit)
+MAX_HARMONICS_OPTION = 200
 
 
 def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
     modes = subparsers.add_parser(
         "modes", parents=[parent], help="natural frequencies, mode shapes, damping ratios")
-    modes.add_argument("--count", type=int, metavar="K",
+    modes.add_argument("--count", type=cli.integer(1, 10**9), metavar="K",
                        help="only the K lowest modes (sparse Lanczos for large matrix models)")
     modes.add_argument("--plot", metavar="FILE", help="draw the mode shapes (.png, .svg, .pdf)")
     modes.add_argument("--json", action="store_true", help="print one JSON object")
     modes.add_argument("--nonlinear", action="store_true",
                        help="backbone curves: the free-vibration frequency of each mode of the "
                             "full undamped equations against the amplitude (harmonic balance)")
-    modes.add_argument("--amplitude", type=float, metavar="A",
+    modes.add_argument("--amplitude", type=cli.number(0, open_low=True), metavar="A",
                        help="with --nonlinear: the largest amplitude (default: until the "
                             "frequency has changed by 20 %%)")
-    modes.add_argument("--harmonics", type=int, metavar="H",
+    modes.add_argument("--harmonics", type=cli.integer(1, MAX_HARMONICS_OPTION), metavar="H",
                        help="with --nonlinear: number of harmonics (default 5)")
-    modes.add_argument("--points", type=int, default=41, metavar="N",
+    modes.add_argument("--points", type=cli.integer(2, MAX_SWEEP_POINTS), default=41, metavar="N",
                        help="with --nonlinear: amplitudes per curve (default 41)")
     modes.set_defaults(run=run_modes)
 
@@ -48,9 +57,9 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
         "(frequency response)")
     sweep.add_argument("--param", required=True, metavar="P",
                        help="the parameter to sweep (usually the excitation frequency)")
-    sweep.add_argument("--from", dest="start", required=True, type=float, metavar="A")
-    sweep.add_argument("--to", dest="stop", required=True, type=float, metavar="B")
-    sweep.add_argument("--points", type=int, default=201, metavar="N",
+    sweep.add_argument("--from", dest="start", required=True, type=cli.number(), metavar="A")
+    sweep.add_argument("--to", dest="stop", required=True, type=cli.number(), metavar="B")
+    sweep.add_argument("--points", type=cli.integer(1, MAX_SWEEP_POINTS), default=201, metavar="N",
                        help="number of values (default 201)")
     sweep.add_argument("--log", action="store_true", help="logarithmic spacing")
     sweep.add_argument("--method", default="auto",
@@ -59,7 +68,8 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
                        help="solution method (default auto: a reduced-order model for large "
                             "models when its estimated error is below --tol, else the "
                             "cheapest exact method; direct: the cheapest exact method)")
-    sweep.add_argument("--tol", type=float, default=None, metavar="T",
+    sweep.add_argument("--tol", type=cli.number(0, 1, open_low=True, open_high=True),
+                       default=None, metavar="T",
                        help="relative tolerance of a reduced-order model (default 1e-6)")
     sweep.add_argument("--only", metavar="NAMES",
                        help="comma-separated coordinates to report (default all; outputs "
@@ -73,7 +83,7 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
     sweep.add_argument("--nonlinear", action="store_true",
                        help="periodic steady state of the full equations (harmonic balance, "
                             "continuation through folds, stability)")
-    sweep.add_argument("--harmonics", type=int, metavar="H",
+    sweep.add_argument("--harmonics", type=cli.integer(1, MAX_HARMONICS_OPTION), metavar="H",
                        help="with --nonlinear: number of harmonics (default: chosen from "
                             "their decay, at least 7)")
     sweep.set_defaults(run=run_sweep)
@@ -86,9 +96,10 @@ def run_modes(args: argparse.Namespace) -> int:
         return _run_backbones(args, model, deadline)
     if args.amplitude is not None or args.harmonics is not None:
         raise AnalysisError("--amplitude and --harmonics need --nonlinear")
-    result = model.linearize(deadline=deadline).modes(count=args.count, deadline=deadline)
+    result = modes(linear_system(model, deadline), args.count, deadline)
     units = result_units(model)
-    return _emit(args, result, units, text=lambda: result.summary(units))
+    return _emit(args, result, lambda: modes_text(result, units),
+                 lambda path: plot_modes(result, path), units)
 
 
 def _run_backbones(args: argparse.Namespace, model: Any, deadline: Any) -> int:
@@ -97,7 +108,7 @@ def _run_backbones(args: argparse.Namespace, model: Any, deadline: Any) -> int:
         raise AnalysisError("--count applies to the linear modes, not to --nonlinear")
     result = backbone(model, args.amplitude, harmonics=args.harmonics, points=args.points,
                       deadline=deadline)
-    return _emit(args, result)
+    return _emit(args, result, result.summary, lambda path: plot_backbones(result, path))
 
 
 def run_sweep(args: argparse.Namespace) -> int:
@@ -114,10 +125,13 @@ def run_sweep(args: argparse.Namespace) -> int:
         names = [n.strip() for n in args.only.split(",") if n.strip()]
     deadline = cli.deadline(args)
     tol = {} if args.tol is None else {"tol": args.tol}
-    result = model.linearize(deadline=deadline).sweep(
-        args.param, values, method=args.method, names=names,
-        progress=True if args.progress else None, log=args.log, deadline=deadline, **tol)
-    return _emit(args, result, result_units(model), plot_units=True)
+    result = sweep(linear_system(model, deadline), args.param, values, method=args.method,
+                   names=names, progress=True if args.progress else None, log=args.log,
+                   deadline=deadline, **tol)
+    units = result_units(model)
+    return _emit(args, result, lambda: sweep_text(result),
+                 lambda path: plot_frequency_response(
+                     result, path, units=units.si if units is not None else None), units)
 
 
 def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
@@ -126,24 +140,22 @@ def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
         raise AnalysisError("--log, --only, --method and --tol apply to the linear sweep, not "
                             "to --nonlinear")
     deadline = cli.deadline(args)
-    result = model.nonlinear_sweep(args.param, args.start, args.stop,
-                                   harmonics=args.harmonics, points=args.points,
-                                   deadline=deadline)
-    return _emit(args, result)
+    result = nonlinear_sweep(linear_system(model, deadline), args.param, args.start,
+                             args.stop, harmonics=args.harmonics, points=args.points,
+                             deadline=deadline)
+    return _emit(args, result, lambda: nonlinear_text(result),
+                 lambda path: plot_nonlinear_response(result, path))
 
 
-def _emit(args: argparse.Namespace, result: Any, units: ResultUnits | None = None,
-          plot_units: bool = False, text: Callable[[], str] | None = None) -> int:
+def _emit(args: argparse.Namespace, result: Any, text: Callable[[], str],
+          plot: Callable[[str], Any], units: ResultUnits | None = None) -> int:
     """Plot, CSV (sweeps), JSON or text of a result, then its warnings.
 
-    ``units`` (a model with units) labels the plot's axes and adds the JSON's
-    ``"units"`` map (the numbers stay SI).
+    ``text`` and ``plot`` are the result's views; ``units`` (a model with units) adds
+    the JSON's ``"units"`` map (the numbers stay SI).
     """
     if args.plot:
-        if plot_units and units is not None:
-            result.plot(args.plot, units=units.si)
-        else:
-            result.plot(args.plot)
+        plot(args.plot)
     if getattr(args, "csv", None):
         try:
             result.to_csv(args.csv)
@@ -155,6 +167,6 @@ def _emit(args: argparse.Namespace, result: Any, units: ResultUnits | None = Non
             data["units"] = units.to_json()
         cli.emit_json(data)
     else:
-        sys.stdout.write(text() if text is not None else result.summary())
+        sys.stdout.write(text())
     cli.warn(result.warnings)
     return 0

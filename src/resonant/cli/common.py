@@ -6,7 +6,7 @@ import argparse
 import json
 import math
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from types import MappingProxyType
 from typing import Any
@@ -106,5 +106,63 @@ def _seconds(text: str) -> float:
     if not math.isfinite(value) or value < 0:
         raise argparse.ArgumentTypeError(f"expected a number of seconds >= 0, got '{text}'")
     return value
+
+
+# -- option values: each checked where it is parsed, so that its message names the option
+# (argparse prefixes "argument --points: ") and the exit status is 2 (invalid input)
+
+def integer(low: int, high: int) -> Callable[[str], int]:
+    """An argparse type: a whole number in [low, high].
+
+    Examples
+    --------
+    >>> integer(1, 200)("7")
+    7
+    >>> integer(1, 200)("0")
+    Traceback (most recent call last):
+    argparse.ArgumentTypeError: expected a whole number from 1 to 200, got '0'
+    """
+    def parse(text: str) -> int:
+        try:
+            value = int(text.strip(), 10)
+        except ValueError:
+            value = None
+        if value is None or not low <= value <= high:
+            raise argparse.ArgumentTypeError(
+                f"expected a whole number from {low} to {high}, got '{printable(text, 40)}'")
+        return value
+    return parse
+
+
+def number(low: float = -math.inf, high: float = math.inf, *, open_low: bool = False,
+           open_high: bool = False) -> Callable[[str], float]:
+    """An argparse type: a finite number in the interval from ``low`` to ``high``
+    (ends excluded where ``open_low``/``open_high``).
+
+    Examples
+    --------
+    >>> number(0, 1, open_low=True, open_high=True)("1e-6")
+    1e-06
+    >>> number(0, 1, open_low=True, open_high=True)("nan")
+    Traceback (most recent call last):
+    argparse.ArgumentTypeError: expected a number > 0 and < 1, got 'nan'
+    """
+    bounds = [f"{'>' if open_low else '>='} {low:g}"] if math.isfinite(low) else []
+    bounds += [f"{'<' if open_high else '<='} {high:g}"] if math.isfinite(high) else []
+    wanted = "a finite number" + (" " + " and ".join(bounds) if bounds else "")
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        inside = math.isfinite(value) and (value > low if open_low else value >= low) and \
+            (value < high if open_high else value <= high)
+        if not inside:
+            raise argparse.ArgumentTypeError(
+                f"expected {wanted.replace('a finite number ', 'a number ')}, "
+                f"got '{printable(text, 40)}'")
+        return value
+    return parse
 
 

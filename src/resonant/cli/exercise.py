@@ -11,8 +11,7 @@ from typing import Any
 import resonant.cli.common as common
 
 from ..errors import ModelError, Problem, printable
-from ..report.exercises import FORMATS, generate, write
-from ..report.grading import grade, grade_text
+from ..exercises import FORMATS, generate, grade, grade_text, write
 
 
 def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
@@ -23,9 +22,9 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
                     "from [variants] (reproducible from --seed), solved before it is written. "
                     "Writes DIR/i/statement.*, DIR/i/solution.*, DIR/key.json and, with "
                     "--format moodle, DIR/moodle.xml (one Cloze question per variant).")
-    parser.add_argument("--variants", type=int, required=True, metavar="N",
+    parser.add_argument("--variants", type=common.integer(1, 10**6), required=True, metavar="N",
                         help="the number of variants")
-    parser.add_argument("--seed", type=int, default=0, metavar="S",
+    parser.add_argument("--seed", type=common.integer(0, 2**63 - 1), default=0, metavar="S",
                         help="the seed of the random choice (default 0); the same model, seed "
                              "and N give the same files")
     parser.add_argument("-o", "--output", required=True, metavar="DIR",
@@ -42,7 +41,7 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
                     "missing, matrices entry by entry, and the score.")
     grader.add_argument("key", help="key.json written by `resonant exercise`")
     grader.add_argument("answers", help="the student's answers (JSON object)")
-    grader.add_argument("--variant", type=int, required=True, metavar="I",
+    grader.add_argument("--variant", type=common.integer(1, 10**6), required=True, metavar="I",
                         help="the student's variant (1 to N)")
     grader.add_argument("--json", action="store_true", help="print one JSON object")
     grader.set_defaults(run=run_grade)

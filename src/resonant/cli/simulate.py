@@ -15,8 +15,11 @@ from typing import Any
 
 import resonant.cli.common as common
 
-from ..analyses.simulate import DEFAULT_PERIODS, METHODS, START_MODES
+from ..analyses.simulate import DEFAULT_PERIODS, METHODS, START_MODES, simulate
 from ..errors import AnalysisError, ModelError, Problem
+from ..system import linear_system
+from ..views.display import simulation_text
+from ..views.plotting import plot_simulation
 from ..views.units_display import result_units
 
 PLOT_SUFFIXES = (".png", ".svg", ".pdf")
@@ -92,13 +95,13 @@ def run_simulate(args: argparse.Namespace) -> int:
     initial = parse_initial_items(args.initial)
     model = common.load_model(args)
     deadline = common.deadline(args)
-    sim = model.simulate(duration=args.duration, nonlinear=args.nonlinear,
-                         initial=initial or None, start=args.start,
-                         periods=args.periods or DEFAULT_PERIODS, method=args.method,
-                         deadline=deadline)
+    sim = simulate(linear_system(model, deadline), args.duration, args.nonlinear,
+                   initial=initial or None, start=args.start,
+                   periods=args.periods or DEFAULT_PERIODS, method=args.method,
+                   deadline=deadline)
     written = []
     units = result_units(model)
-    plot = partial(sim.plot, units=units.si) if units is not None else sim.plot
+    plot = partial(plot_simulation, sim, units=units.si if units is not None else None)
     for path, write in ((args.csv, sim.to_csv), (args.plot, plot)):
         if not path:
             continue
@@ -113,7 +116,7 @@ def run_simulate(args: argparse.Namespace) -> int:
             data["units"] = units.to_json()
         common.emit_json(data)
     else:
-        sys.stdout.write(sim.summary())
+        sys.stdout.write(simulation_text(sim))
         for path in written:
             print(f"wrote {path}")
     common.warn(sim.warnings)

@@ -8,6 +8,10 @@ from typing import Any
 
 import resonant.cli.common as common
 
+from ..analyses.stationary import stationary
+from ..errors import name_list
+from ..system import linear_system
+from ..views.display import solution_text
 from ..views.units_display import result_units
 
 
@@ -23,7 +27,7 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
 def run_solve(args: argparse.Namespace) -> int:
     deadline = common.deadline(args)
     model = common.load_model(args)
-    solution = model.linearize(deadline=deadline).stationary(deadline=deadline)
+    solution = stationary(linear_system(model, deadline), deadline)
     if args.json:
         data = solution.to_dict()
         units = result_units(model)
@@ -32,14 +36,18 @@ def run_solve(args: argparse.Namespace) -> int:
         common.emit_json(data)
         common.warn(solution.warnings)
     else:
-        sys.stdout.write(solution.summary())
+        sys.stdout.write(solution_text(solution))
     return 0
+
+
+#: coordinates named by `resonant check` before "... and N more"
+CHECK_LISTED = 12
 
 
 def run_check(args: argparse.Namespace) -> int:
     deadline = common.deadline(args)
     model = common.load_model(args)
-    model.linearize(deadline=deadline).numeric(deadline)
+    linear_system(model, deadline).numeric(deadline)
     print(f"{args.model}: valid model, {len(model.coordinates)} coordinate(s): "
-          f"{', '.join(model.coordinates)}")
+          f"{name_list(model.coordinates, limit=CHECK_LISTED)}")
     return 0

@@ -82,10 +82,30 @@ def _finite_harmonic_form(expr: sympy.Expr) -> bool:
 def decompose(expr: sympy.Expr, _depth: int = 0) -> dict[sympy.Expr, tuple[sympy.Expr, sympy.Expr]]:
     """Split a function of t into ``{w: (S, C)}``; ``w = 0`` is the constant part.
 
+    Parameters
+    ----------
+    expr : sympy.Expr
+        A function of :data:`resonant.model.TIME`.
+    _depth : int
+        Internal recursion depth.
+
+    Returns
+    -------
+    dict
+        w -> (S, C) with expr = sum of S sin(w t) + C cos(w t).
+
     Raises
     ------
     NotHarmonic
         If a term is not a constant times sin/cos of an argument linear in t.
+
+    Examples
+    --------
+    >>> import sympy
+    >>> from resonant.model import TIME
+    >>> w = sympy.Symbol("w")
+    >>> decompose(3 + 2*sympy.sin(w*TIME))
+    {0: (0, 3), w: (2, 0)}
     """
     out: dict[sympy.Expr, list[sympy.Expr]] = {}
 
@@ -121,7 +141,17 @@ def decompose(expr: sympy.Expr, _depth: int = 0) -> dict[sympy.Expr, tuple[sympy
 class SignalHarmonics:
     """The decomposition of every signal derivative that enters the model.
 
-    ``parts[(signal, order)][w] = (S, C)``.
+    Parameters
+    ----------
+    parts : mapping
+        ``parts[(signal, order)][w] = (S, C)``.
+
+    Examples
+    --------
+    >>> import sympy
+    >>> w = sympy.Symbol("w")
+    >>> SignalHarmonics({("r", 0): {w: (sympy.Integer(1), sympy.Integer(0))}}).frequencies
+    (w,)
     """
 
     parts: Mapping[Var, Mapping[sympy.Expr, tuple[sympy.Expr, sympy.Expr]]]
@@ -149,7 +179,25 @@ class SignalHarmonics:
 
 
 def decompose_signals(functions: Mapping[Var, sympy.Expr]) -> SignalHarmonics | None:
-    """Decompose each signal derivative; None when one of them is not harmonic."""
+    """Decompose each signal derivative; None when one of them is not harmonic.
+
+    Parameters
+    ----------
+    functions : mapping
+        ``(signal, order)`` -> its function of t.
+
+    Returns
+    -------
+    SignalHarmonics or None
+        The decompositions, or None if one is not a sum of harmonics.
+
+    Examples
+    --------
+    >>> import sympy
+    >>> from resonant.model import TIME
+    >>> decompose_signals({("r", 0): sympy.exp(-TIME)}) is None
+    True
+    """
     parts = {}
     try:
         for var, expr in functions.items():

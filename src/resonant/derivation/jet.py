@@ -183,7 +183,23 @@ class NotDifferentiable(ValueError):
 
 
 class Jet:
-    """A polynomial of degree <= 2 in small quantities, truncated on multiplication."""
+    """A polynomial of degree <= 2 in small quantities, truncated on multiplication.
+
+    Parameters
+    ----------
+    const : coefficient
+        The value at the reference state.
+    lin : mapping, optional
+        small quantity -> first-order coefficient.
+    quad : mapping, optional
+        (quantity, quantity) -> second-order coefficient.
+
+    Examples
+    --------
+    >>> x = Jet(0, {("x", 0): 1})
+    >>> (x * x).quad, (x * x * x).quad
+    ({(('x', 0), ('x', 0)): 1}, {})
+    """
 
     __slots__ = ("const", "lin", "quad")
 

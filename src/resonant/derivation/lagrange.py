@@ -10,7 +10,7 @@ exercise, Eqs. (5)-(6) and (22)-(25).
 
 Examples
 --------
->>> from resonant.model import loads
+>>> from resonant.api import loads
 >>> eom = loads('''
 ... [parameters]
 ... m = 1
@@ -50,16 +50,31 @@ from ..expressions.functions import MATH
 from ..model import TIME, Model, symbol
 from ..model.loader import definition_chain
 from .jet import FLOAT, SYMPY, Backend, Jet, NotDifferentiable, Var, backend
-from .nonlinear import find_equilibrium
+from .nonlinear import derivative_symbol, find_equilibrium
 from .residual import Sized, is_zero
+
+#: the symbol of a signal's derivative, e.g. ``r'`` (the same as a coordinate's)
+signal_symbol = derivative_symbol
+
 
 
 @dataclass(frozen=True)
 class LinearMap:
     """A linearized quantity: value + sum over small quantities of coefficient * quantity.
 
-    ``terms`` maps ``(name, order)`` (coordinate or signal and derivative order)
-    to its symbolic coefficient.
+    Parameters
+    ----------
+    value : sympy.Expr
+        The value at the reference state.
+    terms : mapping
+        ``(name, order)`` (coordinate or signal and derivative order) -> its
+        symbolic coefficient.
+
+    Examples
+    --------
+    >>> import sympy
+    >>> LinearMap(sympy.Integer(0), {("x", 0): sympy.Symbol("k")}).terms[("x", 0)]
+    k
     """
 
     value: sympy.Expr
@@ -82,6 +97,18 @@ class Linearization:
         zero (zero at an equilibrium).
     outputs : mapping
         Each output as a :class:`LinearMap`.
+    model : Model
+        The model derived.
+    coordinates : tuple of str
+        The generalized coordinates, in order.
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> lin = linearize(loads('[parameters]\\nk = 4\\n[coordinates]\\nx = ""\\n'
+    ...                       '[energy]\\nT = "x\\'^2/2"\\nU = "k*x^2/2"'))
+    >>> lin.M, lin.K
+    (Matrix([[1]]), Matrix([[k]]))
     """
 
     model: Model
@@ -122,11 +149,6 @@ class NumericLinearization:
     excitation: Mapping[Var, np.ndarray]
     outputs: Mapping[str, tuple[float, Mapping[Var, float]]]
     parameters: frozenset[str]
-
-
-def signal_symbol(name: str, order: int) -> sympy.Symbol:
-    """The symbol used for the order-th derivative of a signal, e.g. ``r'``."""
-    return symbol(name + "'" * order)
 
 
 def _strings(matrix: sympy.MatrixBase) -> list[list[str]]:
@@ -470,6 +492,7 @@ def linearize(model: Model, cas: str | None = None, deadline: Deadline = NO_DEAD
     Returns
     -------
     Linearization
+        M, C, K, the excitation and the outputs at the reference state.
 
     Raises
     ------
@@ -479,6 +502,14 @@ def linearize(model: Model, cas: str | None = None, deadline: Deadline = NO_DEAD
         (the message gives the residual per coordinate and, where one is found
         nearby, the equilibrium to put in ``[equilibrium]``), the derivation
         overflows, nests too deeply or exceeds the deadline.
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> lin = linearize(loads('[parameters]\\nm = 2\\nk = 8\\n[coordinates]\\nx = ""\\n'
+    ...                       '[energy]\\nT = "m*x\\'^2/2"\\nU = "k*x^2/2"'))
+    >>> lin.coordinates, lin.K
+    (('x',), Matrix([[k]]))
     """
     return linearize_raw(model, cas, deadline).linearization()
 

@@ -21,7 +21,25 @@ from ..model import Model, symbol
 
 
 def derivative_symbol(name: str, order: int) -> sympy.Symbol:
-    """The symbol of the order-th time derivative of a coordinate or signal."""
+    """The symbol of the order-th time derivative of a coordinate or signal.
+
+    Parameters
+    ----------
+    name : str
+        The coordinate or signal.
+    order : int
+        The order of the derivative (0: the quantity itself).
+
+    Returns
+    -------
+    sympy.Symbol
+        ``x``, ``x'``, ``x''`` ...
+
+    Examples
+    --------
+    >>> derivative_symbol("x", 2)
+    x''
+    """
     return symbol(name + "'" * order)
 
 
@@ -85,13 +103,33 @@ class NonlinearEquations:
     """E_k = d/dt dT/dq'_k - dT/dq_k + dD/dq'_k + dU/dq_k - Q_k = 0 in full.
 
     ``mass`` is the matrix of the accelerations and ``rest`` the remainder, so
-    that the equations read ``mass * q'' + rest = 0``.
+    that the equations read ``mass * q'' + rest = 0``; ``dissipation`` is the
+    part ``dD/dq'_k`` of ``rest`` (zero for a model without D), so that the
+    undamped equations are ``mass * q'' + rest - dissipation = 0``.
+
+    Parameters
+    ----------
+    model : Model
+        The model the equations are of.
+    mass : sympy.Matrix
+        The matrix of the accelerations.
+    rest : sympy.Matrix
+        Everything else.
+    ops : SympyOps
+        The fold that built them (its registry of derivative symbols).
+    dissipation : sympy.Matrix, optional
+        The part dD/dq' of ``rest``.
+
+    Examples
+    --------
+    See :func:`nonlinear_equations`.
     """
 
     model: Model
     mass: sympy.Matrix
     rest: sympy.Matrix
     ops: SympyOps
+    dissipation: sympy.Matrix | None = None
 
     @property
     def q(self) -> list[sympy.Symbol]:
@@ -114,6 +152,16 @@ class NonlinearEquations:
 
 def nonlinear_equations(model: Model) -> NonlinearEquations:
     """Form the full Lagrange equations of an energy model.
+
+    Parameters
+    ----------
+    model : Model
+        A model given by its energies.
+
+    Returns
+    -------
+    NonlinearEquations
+        ``mass * q'' + rest = 0`` in full.
 
     Examples
     --------
@@ -153,13 +201,14 @@ def nonlinear_equations(model: Model) -> NonlinearEquations:
         for k in range(len(coords)):
             forces[k] += sum((f * sympy.diff(p, q[k]) for f, p in zip(vector, point)), zero)
     equations = []
+    dissipation = [sympy.diff(D, qd[k]) for k in range(len(coords))]
     for k in range(len(coords)):
         equations.append(ops.dt(sympy.diff(T, qd[k])) - sympy.diff(T, q[k])
-                         + sympy.diff(D, qd[k]) + sympy.diff(U, q[k]) - forces[k])
+                         + dissipation[k] + sympy.diff(U, q[k]) - forces[k])
     E = sympy.Matrix(equations)
     mass = E.jacobian(qdd)
     rest = E.subs({a: 0 for a in qdd})
-    return NonlinearEquations(model, mass, rest, ops)
+    return NonlinearEquations(model, mass, rest, ops, sympy.Matrix(dissipation))
 
 
 def linearized_matrices(eq: NonlinearEquations) -> tuple[sympy.Matrix, sympy.Matrix,
@@ -206,7 +255,26 @@ def linearized_matrices(eq: NonlinearEquations) -> tuple[sympy.Matrix, sympy.Mat
 
 
 def find_equilibrium(model: Model) -> dict[str, float] | None:
-    """An equilibrium near the reference state with all signals zero, or None."""
+    """An equilibrium near the reference state with all signals zero, or None.
+
+    Parameters
+    ----------
+    model : Model
+        A model given by its energies.
+
+    Returns
+    -------
+    dict or None
+        coordinate -> value of an equilibrium found by Newton's method from the
+        reference state, or None where none is found.
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> find_equilibrium(loads('[parameters]\\nk = 4\\n[coordinates]\\nx = ""\\n'
+    ...     '[equilibrium]\\nx = 0.1\\n[energy]\\nT = "x\\'^2/2"\\nU = "k*(x - 1)^2/2"'))
+    {'x': 1.0}
+    """
     import scipy.optimize
 
     eq = nonlinear_equations(model)

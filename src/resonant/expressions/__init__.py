@@ -4,6 +4,8 @@ numeric evaluation.  Imports only :mod:`resonant.errors`."""
 from .functions import FUNCTIONS, Function
 from .numeric import FloatOps, compilable, numeric_value
 from .parser import (
+                     MAX_NUMBER,
+                     MIN_NUMBER,
                      BinOp,
                      Call,
                      Expression,
@@ -17,4 +19,5 @@ from .parser import (
 
 __all__ = ["FUNCTIONS", "Function", "FloatOps", "compilable", "numeric_value",
            "BinOp", "Call", "Expression",
-           "ExpressionError", "Name", "Neg", "Num", "parse", "validate_name"]
+           "ExpressionError", "Name", "Neg", "Num", "parse", "validate_name",
+           "MAX_NUMBER", "MIN_NUMBER"]

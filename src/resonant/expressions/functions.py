@@ -26,7 +26,24 @@ import sympy
 
 @dataclass(frozen=True)
 class Function:
-    """One function of the model language and its implementations."""
+    """One function of the model language and its implementations.
+
+    Parameters
+    ----------
+    name : str
+        Its name in the model language.
+    arity : int
+        How many arguments it takes.
+    math, numpy, sympy : callable
+        Its implementations for floats, arrays and symbols.
+    latex : str
+        How it is written in LaTeX.
+
+    Examples
+    --------
+    >>> FUNCTIONS["atan2"].arity
+    2
+    """
 
     name: str
     arity: int

@@ -30,6 +30,13 @@ class FloatOps:
     ----------
     values : mapping
         The value of every name the expression uses.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from resonant.expressions.parser import parse
+    >>> parse("k/m").fold(FloatOps({"k": np.array([4.0, 9.0]), "m": 1.0}))
+    array([4., 9.])
     """
 
     def __init__(self, values: Mapping[str, Any]) -> None:
@@ -82,6 +89,12 @@ def numeric_value(expression: Expression, values: Mapping[str, Any]) -> Any:
     -------
     float or ndarray
         NaN or infinity where the arithmetic fails (no exception).
+
+    Examples
+    --------
+    >>> from resonant.expressions.parser import parse
+    >>> float(numeric_value(parse("sqrt(k/m)"), {"k": 400, "m": 1}))
+    20.0
     """
     with np.errstate(all="ignore"):
         return expression.fold(FloatOps(values))
@@ -103,6 +116,16 @@ def compilable(expression: Any) -> Any:
     by the derivation) reaches numpy as an object and fails inside the
     ufuncs.  As a float it is exact to 16 digits, or infinite beyond 1e308,
     which the callers report as "not finite".
+
+    Parameters
+    ----------
+    expression : sympy.Expr
+        Any sympy expression.
+
+    Returns
+    -------
+    sympy.Expr
+        The same with integers and rationals beyond 64 bits as floats.
 
     Examples
     --------

@@ -36,8 +36,11 @@ MAX_DEPTH = 100
 MAX_NODES = 20_000
 MAX_EXPONENT = 1000
 MAX_NAME_LENGTH = 64
-_MAX_NUMBER = 1e300
+#: the largest magnitude of a number in a model, and the smallest nonzero one
+MAX_NUMBER = 1e300
+MIN_NUMBER = 1e-300
 _MAX_BITS = 1100  # ~330 decimal digits: the largest exact number we let sympy build
+_FLOAT_DIGITS = 30  # the precision an exact number continues with beyond _MAX_BITS
 _TIME_HINT = ("time 't' may only appear in [signals]; "
               "declare a signal for anything that moves with time")
 
@@ -55,9 +58,19 @@ _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*", re.ASCII)
 class ExpressionError(ModelError):
     """An expression in a model file is invalid.
 
-    Attributes ``text``, ``position`` (0-based offset, or None) and ``reason``
-    describe the problem; ``str(err)`` shows the location, the reason and,
-    when the position is known, the expression with a caret under the culprit.
+    ``str(err)`` shows the location, the reason and, when the position is known, the
+    expression with a caret under the culprit.
+
+    Parameters
+    ----------
+    reason : str
+        What is wrong.
+    text : str
+        The expression.
+    position : int or None
+        0-based offset of the culprit in ``text``.
+    file, section, key : str
+        Where the expression is.
 
     Examples
     --------
@@ -90,14 +103,40 @@ def _caret(text: str, pos: int) -> str:
 
 @dataclass(frozen=True)
 class Num:
-    """A numeric literal, kept as its text (e.g. ``"0.5"``, ``"1e-3"``)."""
+    """A numeric literal, kept as its text (e.g. ``"0.5"``, ``"1e-3"``).
+
+    Parameters
+    ----------
+    value : str
+        The literal as written.
+
+    Examples
+    --------
+    >>> parse("1e-3").root
+    Num(value='1e-3')
+    """
 
     value: str
 
 
 @dataclass(frozen=True)
 class Name:
-    """A name with ``primes`` time derivatives; ``position`` is its offset in the text."""
+    """A name with ``primes`` time derivatives; ``position`` is its offset in the text.
+
+    Parameters
+    ----------
+    name : str
+        The name.
+    primes : int
+        How many time derivatives (``x''``: 2).
+    position : int
+        Its offset in the expression's text.
+
+    Examples
+    --------
+    >>> parse("2*x''").root.right
+    Name(name='x', primes=2, position=2)
+    """
 
     name: str
     primes: int = 0
@@ -106,7 +145,20 @@ class Name:
 
 @dataclass(frozen=True)
 class Call:
-    """A call of one of :data:`FUNCTIONS`."""
+    """A call of one of :data:`FUNCTIONS`.
+
+    Parameters
+    ----------
+    func : str
+        The function's name.
+    args : tuple of Node
+        Its arguments.
+
+    Examples
+    --------
+    >>> parse("sin(x)").root.func
+    'sin'
+    """
 
     func: str
     args: tuple[Node, ...]
@@ -114,7 +166,20 @@ class Call:
 
 @dataclass(frozen=True)
 class BinOp:
-    """A binary operation; ``op`` is one of ``+ - * / ^``."""
+    """A binary operation; ``op`` is one of ``+ - * / ^``.
+
+    Parameters
+    ----------
+    op : str
+        The operator.
+    left, right : Node
+        The operands.
+
+    Examples
+    --------
+    >>> parse("a^2").root.op
+    '^'
+    """
 
     op: str
     left: Node
@@ -123,7 +188,18 @@ class BinOp:
 
 @dataclass(frozen=True)
 class Neg:
-    """Unary minus."""
+    """Unary minus.
+
+    Parameters
+    ----------
+    operand : Node
+        What is negated.
+
+    Examples
+    --------
+    >>> parse("-a").root
+    Neg(operand=Name(name='a', primes=0, position=1))
+    """
 
     operand: Node
 
@@ -144,8 +220,16 @@ def _children(node: Node) -> tuple[Node, ...]:
 class Expression:
     """A parsed expression: its source ``text`` and syntax tree ``root``.
 
-    Equality and hashing use the text only.  ``origin`` is the
-    ``(file, section, key)`` it came from, used in error messages.
+    Equality and hashing use the text only.
+
+    Parameters
+    ----------
+    text : str
+        The source text.
+    root : Node
+        The syntax tree.
+    origin : tuple of str
+        The ``(file, section, key)`` it came from, used in error messages.
 
     Examples
     --------
@@ -243,7 +327,7 @@ def _number_problem(text: str) -> str | None:
     digits, scale = _decimal(text)
     if len(digits) > 300:
         return "number has too many digits (at most 300)"
-    if float(text) > _MAX_NUMBER or len(digits) + scale > 301:
+    if float(text) > MAX_NUMBER or len(digits) + scale > 301:
         return "number too large (at most 1e300)"
     if digits and len(digits) + scale < -299:
         return "number too small (at least 1e-300 unless zero)"
@@ -488,6 +572,16 @@ def parse(text: str | int | float, *, allowed: Collection[str] | None = None,
 def validate_name(name: str) -> str | None:
     """Why ``name`` cannot be declared by a model, or None if it can.
 
+    Parameters
+    ----------
+    name : str
+        A name a model declares.
+
+    Returns
+    -------
+    str or None
+        The reason, or None for a valid name.
+
     Examples
     --------
     >>> validate_name("x1") is None
@@ -537,15 +631,27 @@ class _SympyOps:
         return ExpressionError(reason, self.expression.text, None, *self.expression.origin)
 
     def check(self, e: sympy.Expr) -> sympy.Expr:
-        """Refuse results holding a huge exact number or a merged huge exponent."""
+        """Refuse results holding a huge number or a merged huge exponent; an exact
+        rational whose digits outgrow the limit while its value does not (a chain of
+        parameters like 0.01*1.01 + 0.0003 ...) continues as a float of 30 digits."""
+        inexact: dict[sympy.Expr, sympy.Expr] = {}
         for part in (e, *e.args) if e.is_Add or e.is_Mul else (e,):
             if part.is_Mul:
                 part = part.args[0]
             if part.is_Rational and max(abs(part.p).bit_length(), part.q.bit_length()) > _MAX_BITS:
-                raise self.fail("number too large")
+                inexact[part] = self.rounded(part)
             if part.is_Pow and _huge(part.exp, MAX_EXPONENT):
                 raise self.fail(f"exponent too large (at most {MAX_EXPONENT} in magnitude)")
-        return e
+        return e.xreplace(inexact) if inexact else e
+
+    def rounded(self, value: sympy.Rational) -> sympy.Expr:
+        """A rational of too many digits as a 30-digit float, if its value is not huge."""
+        magnitude = abs(value.p).bit_length() - value.q.bit_length()
+        if magnitude > _MAX_BITS:
+            raise self.fail("number too large")
+        if magnitude < -_MAX_BITS:
+            raise self.fail("number too small (a value below 1e-300 is 0 in floating point)")
+        return sympy.Float(value, _FLOAT_DIGITS)
 
     def done(self, x: sympy.Expr | _Pending) -> sympy.Expr:
         if isinstance(x, _Pending):
@@ -602,7 +708,12 @@ class _SympyOps:
             raise self.fail(f"exponent too large (at most {MAX_EXPONENT} in magnitude)")
         if a.is_Rational and b.is_Rational and a not in (0, 1, -1):
             if abs(b) * max(math.log2(abs(a.p)), math.log2(a.q)) > _MAX_BITS:
-                raise self.fail("number too large")
+                # too many digits to keep exact: huge in value, or else a float
+                if abs(b) * abs(math.log2(abs(a.p)) - math.log2(a.q)) > _MAX_BITS:
+                    huge = (math.log2(abs(a.p)) > math.log2(a.q)) == (b > 0)
+                    raise self.fail("number too large" if huge else "number too small "
+                                    "(a value below 1e-300 is 0 in floating point)")
+                return self.check(sympy.Pow(sympy.Float(a, _FLOAT_DIGITS), b))
         return self.check(sympy.Pow(a, b))
 
     def call(self, func: str, args: list[Any]) -> sympy.Expr:

@@ -1,7 +1,7 @@
 """Layer 2, the model: its types, the loader (TOML schema), matrix files and limits.
 
-Imports only from :mod:`resonant.errors`, :mod:`resonant.deadline`,
-:mod:`resonant.hooks` and :mod:`resonant.expressions`.
+Imports only from :mod:`resonant.errors`, :mod:`resonant.deadline` and
+:mod:`resonant.expressions`.
 """
 
 from .loader import load, loads

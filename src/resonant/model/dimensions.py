@@ -33,6 +33,7 @@ from typing import Any
 from ..errors import Problem, name_list
 from ..expressions import BinOp, Call, Expression, Name, Neg, Num
 from ..expressions.parser import Node
+from .dimension_inference import infer_dimensions
 from .units import (
     DIMENSIONLESS,
     ENERGY,
@@ -321,13 +322,15 @@ class Checker:
 _MATRIX_SCALE = {"M": ENERGY * TIME ** 2, "C": ENERGY * TIME, "K": ENERGY}
 
 
-def _check_matrices(checker: Checker, matrices: Any, q: Sequence[Dimension | None],
-                    coordinates: Sequence[str]) -> None:
+def _matrix_uses(matrices: Any, q: Sequence[Dimension | None], coordinates: Sequence[str]
+                 ) -> list[tuple[str, str, Expression, Dimension, str]]:
     """The inline entries of ``[matrices]`` and the harmonics' loads that are expressions of
-    parameters with units, against the coordinates' units: (M q'')_i, (C q')_i, (K q)_i and
-    F_i are generalized forces, so M_ij q_i q_j has the unit of J s^2, C_ij q_i q_j of J s,
-    K_ij q_i q_j of J and F_i q_i of J.  Plain numbers are SI of unknown dimension (as bare
-    parameter values) and entries read from files are numbers: neither is judged."""
+    parameters, with the dimension each must have: ``(section, key, expression, dimension,
+    what)``.  (M q'')_i, (C q')_i, (K q)_i and F_i are generalized forces, so M_ij q_i q_j
+    has the unit of J s^2, C_ij q_i q_j of J s, K_ij q_i q_j of J and F_i q_i of J.  Plain
+    numbers are SI of unknown dimension (as bare parameter values) and entries read from
+    files are numbers: neither is judged."""
+    uses = []
     for key, scale in _MATRIX_SCALE.items():
         rows = getattr(matrices, key, None)
         if not isinstance(rows, list):
@@ -337,16 +340,24 @@ def _check_matrices(checker: Checker, matrices: Any, q: Sequence[Dimension | Non
                 qi, qj = q[i], q[j]
                 if qi is None or qj is None or not entry.names():
                     continue
-                checker.expect(entry, "matrices", f"{key}[{i + 1}][{j + 1}]", scale / (qi * qj),
-                               what=f"the {key} entry of ({coordinates[i]}, {coordinates[j]})")
+                uses.append(("matrices", f"{key}[{i + 1}][{j + 1}]", entry, scale / (qi * qj),
+                             f"the {key} entry of ({coordinates[i]}, {coordinates[j]})"))
     for number, harmonic in enumerate(getattr(matrices, "harmonics", ()), start=1):
         for key in ("F_S", "F_C"):
             for j, entry in enumerate(getattr(harmonic, key)[:len(q)]):
                 qj = q[j]
                 if qj is None or not entry.names():
                     continue
-                checker.expect(entry, f"harmonic {number}", f"{key}[{j + 1}]", ENERGY / qj,
-                               what=f"the generalized force on {coordinates[j]}")
+                uses.append((f"harmonic {number}", f"{key}[{j + 1}]", entry, ENERGY / qj,
+                             f"the generalized force on {coordinates[j]}"))
+    return uses
+
+
+def _check_matrices(checker: Checker, matrices: Any, q: Sequence[Dimension | None],
+                    coordinates: Sequence[str]) -> None:
+    """The inline matrix entries and harmonic loads against the coordinates' units."""
+    for section, key, entry, wanted, what in _matrix_uses(matrices, q, coordinates):
+        checker.expect(entry, section, key, wanted, what=what)
 
 
 def check_units(source: str, parameters: Mapping[str, Expression],
@@ -363,27 +374,10 @@ def check_units(source: str, parameters: Mapping[str, Expression],
     what could not be checked, and on values in Hz used as angular frequencies) and the
     problems found.
     """
-    dims: dict[str, Dimension | None] = {}
-    checker = Checker(dims, source)
-    for name, expression in parameters.items():
-        if name in given:
-            written, unit = given[name]
-            checker._unknown = set()
-            try:
-                value = checker.value(written.root)
-            except DimensionMismatch as exc:
-                checker.problems.append(Problem(str(exc), source, "parameters", name))
-                value = _Value(None)
-            if value.dim is None and not value.any and written.names():
-                checker.roots[name] = set(checker._unknown)
-                checker.dimensions[name] = None
-            else:  # a number (or an expression of numbers) with its unit
-                own = value.dim if value.dim is not None else DIMENSIONLESS
-                checker.dimensions[name] = own * unit.dimension
-        elif expression.names():
-            checker.infer(name, expression, "parameters")
-        else:
-            checker.dimensions[name] = None  # a bare number: SI, dimension unknown
+    inferred = _inferred(source, parameters, given, coordinate_units, equilibrium, signals,
+                         definitions, energy, forces, matrices, coordinates)
+    checker = Checker({}, source)
+    _parameter_dimensions(checker, parameters, given, inferred)
     for name, unit in coordinate_units.items():
         checker.dimensions[name] = unit.dimension
     for name, expression in equilibrium.items():
@@ -396,6 +390,98 @@ def check_units(source: str, parameters: Mapping[str, Expression],
         checker.infer(name, expression, "definitions")
     for key, expression in energy.items():
         checker.expect(expression, "energy", key, POWER if key == "D" else ENERGY)
+    _check_forces(checker, forces)
+    if matrices is not None:
+        _check_matrices(checker, matrices, [checker.dimensions.get(q) if q in coordinate_units
+                                            else None for q in coordinates], coordinates)
+    _check_outputs(checker, outputs, output_units)
+    cyclic = {name for name, (_, unit) in given.items() if unit.cyclic}
+    uses = [(f"[signals] {n}", e) for n, e in signals.items()] + \
+        [(f"[definitions] {n}", e) for n, e in definitions.items()] + \
+        [(f"[energy] {k}", e) for k, e in energy.items()] + \
+        [(f"[{f.kind} '{f.name}']", e) for f in forces for e in (*f.vector,
+                                                              *f.generalized.values())]
+    notes = [*cyclic_uses(uses, cyclic), *_harmonic_notes(checker, matrices, cyclic)]
+    found = {name: dim for name in parameters if (dim := inferred.get(name)) is not None}
+    if found:
+        notes.append("units: inferred from their uses: " + ", ".join(
+            f"{name} in {dim.text() if not dim.dimensionless else '1 (dimensionless)'}"
+            for name, dim in found.items()))
+    contradicted = [name for name in parameters if name in inferred and inferred[name] is None]
+    if contradicted:
+        notes.append(f"units: the uses of {', '.join(contradicted)} contradict each other (no "
+                     "one dimension fits them all): check the terms that hold them")
+    note = checker.note()
+    if note:
+        notes.insert(0, note)
+    units = ModelUnits(**frozen(given=given, dimensions=checker.dimensions,
+                                coordinates=coordinate_units, outputs=output_units,
+                                display=display), notes=tuple(notes))
+    return units, checker.problems
+
+
+def _parameter_dimensions(checker: Checker, parameters: Mapping[str, Expression],
+                          given: Mapping[str, tuple[Expression, Unit]],
+                          inferred: Mapping[str, Dimension | None]) -> None:
+    """Each parameter's dimension: from its unit, from the parameters it is made of, from
+    its uses (a bare number, :mod:`resonant.model.dimension_inference`), or unknown."""
+    for name, expression in parameters.items():
+        if name in given:
+            written, unit = given[name]
+            checker._unknown = set()
+            try:
+                value = checker.value(written.root)
+            except DimensionMismatch as exc:
+                checker.problems.append(Problem(str(exc), checker.source, "parameters", name))
+                value = _Value(None)
+            if value.dim is None and not value.any and written.names():
+                checker.roots[name] = set(checker._unknown)
+                checker.dimensions[name] = None
+            else:  # a number (or an expression of numbers) with its unit
+                own = value.dim if value.dim is not None else DIMENSIONLESS
+                checker.dimensions[name] = own * unit.dimension
+        elif expression.names():
+            checker.infer(name, expression, "parameters")
+        else:  # a bare number: SI, of the dimension its uses imply (or unknown)
+            checker.dimensions[name] = inferred.get(name)
+
+
+def _inferred(source: str, parameters: Mapping[str, Expression],
+              given: Mapping[str, tuple[Expression, Unit]],
+              coordinate_units: Mapping[str, Unit], equilibrium: Mapping[str, Expression],
+              signals: Mapping[str, Expression], definitions: Mapping[str, Expression],
+              energy: Mapping[str, Expression], forces: Iterable[Any], matrices: Any = None,
+              coordinates: Sequence[str] = ()) -> dict[str, Dimension | None]:
+    """The dimensions of the bare-number parameters that the model's physics determines
+    (the inline matrices' entries, harmonic loads and frequencies are uses too)."""
+    scratch = Checker({}, source)
+    _parameter_dimensions(scratch, parameters, given, {})
+    bare = [n for n, e in parameters.items() if n not in given and not e.names()]
+    defined = [("parameters", n, e) for n, e in parameters.items()
+               if n not in given and e.names()]
+    defined += [("signals", n, e) for n, e in signals.items()]
+    defined += [("definitions", n, e) for n, e in definitions.items()]
+    known = {n: d for n, d in scratch.dimensions.items() if n in given}
+    known.update({n: u.dimension for n, u in coordinate_units.items()})
+    constraints = [(e, POWER if key == "D" else ENERGY) for key, e in energy.items()]
+    constraints += [(e, coordinate_units[n].dimension) for n, e in equilibrium.items()
+                    if n in coordinate_units]
+    for force in forces:
+        pairs = [(e, Expression(q, Name(q), ("", "", ""))) for q, e in force.generalized.items()]
+        pairs += list(zip(force.vector, force.point))
+        constraints += [(Expression("", BinOp("*", f.root, d.root), ("", "", "")), ENERGY)
+                        for f, d in pairs]
+    if matrices is not None:
+        q = [coordinate_units[c].dimension if c in coordinate_units else None
+             for c in coordinates]
+        constraints += [(e, wanted) for _, _, e, wanted, _ in _matrix_uses(matrices, q,
+                                                                           coordinates)]
+        constraints += [(h.omega, FREQUENCY) for h in getattr(matrices, "harmonics", ())]
+    return infer_dimensions(known, bare, defined, constraints)
+
+
+def _check_forces(checker: Checker, forces: Iterable[Any]) -> None:
+    """Each force's virtual work has the dimension of an energy."""
     for force in forces:
         section = f"{force.kind} '{force.name}'"
         for coord, expression in force.generalized.items():
@@ -409,41 +495,32 @@ def check_units(source: str, parameters: Mapping[str, Expression],
             else:
                 checker.work(component, point, section, f"vector[{j}]",
                              f"its point's position point[{j}] =", section)
-    if matrices is not None:
-        _check_matrices(checker, matrices, [checker.dimensions.get(q) if q in coordinate_units
-                                            else None for q in coordinates], coordinates)
+
+
+def _check_outputs(checker: Checker, outputs: Mapping[str, Expression],
+                   output_units: Mapping[str, Unit]) -> None:
+    """Each output's dimension, against the unit it is to be shown in."""
     for name, expression in outputs.items():
         dim = checker.infer(name, expression, "outputs")
         shown = output_units.get(name)
         if shown is not None and dim is not None and dim != shown.dimension:
             checker.problems.append(Problem(
                 f"{node_text(expression.root)} is {dim.text()} but its unit "
-                f"{shown.text} is {shown.dimension.text()}", source, "outputs", name))
-    cyclic = {name for name, (_, unit) in given.items() if unit.cyclic}
-    harmonic_omegas = []
-    if matrices is not None:
-        for i, harmonic in enumerate(getattr(matrices, "harmonics", ()), start=1):
-            checker.expect(harmonic.omega, f"harmonic {i}", "omega", FREQUENCY)
-            if {n for n, _ in harmonic.omega.names()} & cyclic and \
-                    "pi" not in harmonic.omega.text:
-                harmonic_omegas.append(
-                    f"[[harmonic]] {i}: omega = {harmonic.omega.text} is given in Hz, a "
-                    "cyclic frequency, but omega is an angular frequency: resonant keeps a "
-                    "value in Hz as its number (1/s); write 2*pi*f or give it in rad/s "
-                    "(docs/units.md)")
-    uses = [(f"[signals] {n}", e) for n, e in signals.items()] + \
-        [(f"[definitions] {n}", e) for n, e in definitions.items()] + \
-        [(f"[energy] {k}", e) for k, e in energy.items()] + \
-        [(f"[{f.kind} '{f.name}']", e) for f in forces for e in (*f.vector,
-                                                              *f.generalized.values())]
-    notes = [*cyclic_uses(uses, cyclic), *harmonic_omegas]
-    note = checker.note()
-    if note:
-        notes.insert(0, note)
-    units = ModelUnits(**frozen(given=given, dimensions=checker.dimensions,
-                                coordinates=coordinate_units, outputs=output_units,
-                                display=display), notes=tuple(notes))
-    return units, checker.problems
+                f"{shown.text} is {shown.dimension.text()}", checker.source, "outputs", name))
+
+
+def _harmonic_notes(checker: Checker, matrices: Any, cyclic: set[str]) -> list[str]:
+    """Each harmonic's omega is a frequency; a note where it is a value in Hz."""
+    notes = []
+    for i, harmonic in enumerate(getattr(matrices, "harmonics", ()), start=1):
+        checker.expect(harmonic.omega, f"harmonic {i}", "omega", FREQUENCY)
+        if {n for n, _ in harmonic.omega.names()} & cyclic and "pi" not in harmonic.omega.text:
+            notes.append(
+                f"[[harmonic]] {i}: omega = {harmonic.omega.text} is given in Hz, a "
+                "cyclic frequency, but omega is an angular frequency: resonant keeps a "
+                "value in Hz as its number (1/s); write 2*pi*f or give it in rad/s "
+                "(docs/units.md)")
+    return notes
 
 
 def cyclic_uses(expressions: Iterable[tuple[str, Expression]], cyclic: set[str]) -> list[str]:

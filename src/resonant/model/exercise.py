@@ -5,7 +5,7 @@ values), the answers that are asked and checked, and the relative tolerance;
 ``[variants]`` says which values each parameter may take (a list, or a range
 ``{ from, to, step }``).  Both are validated here (file, section, key of every
 problem) and stored on the :class:`~resonant.model.types.Model`; generating the
-variants is the report layer's work (:mod:`resonant.report.exercises`).
+variants is the exercises layer's work (:mod:`resonant.exercises`).
 
 Examples
 --------
@@ -25,7 +25,6 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from typing import Any
 
-from .. import hooks
 from ..errors import Problem
 from ..expressions import ExpressionError, numeric_value, parse
 
@@ -193,7 +192,6 @@ def _values(raw: Any, where: tuple[str, str, str], problems: list[Problem]
     return values, texts
 
 
-@hooks.provides("parse_exercise")
 def parse_exercise(exercise: Any, variants: Any, parameters: Sequence[str],
                    coordinates: Sequence[str], outputs: Sequence[str], source: str,
                    problems: list[Problem]) -> Exercise | None:

@@ -10,7 +10,7 @@ TOP_LEVEL = ("title", "description", "parameters", "coordinates", "equilibrium",
              "definitions", "energy", "force", "outputs", "matrices", "harmonic", "exercise",
              "variants", "gravity", "point", "body", "spring", "damper", "torque", "display",
              "nonlinear")
-#: the part sections (../shared/spec/components.md; resonant.model.parts)
+#: the part sections (docs/parts.md; resonant.model.parts)
 PART_SECTIONS = ("point", "body", "spring", "damper", "torque")
 #: most entries of each part section ([[body]], [[spring]], ...)
 MAX_PARTS = 1000
@@ -55,7 +55,7 @@ __all__ = ["TOP_LEVEL", "PART_SECTIONS", "MAX_PARTS", "ENERGY_KEYS", "MAX_FILE_B
            "MAX_ARCHIVE_MEMBERS", "MAX_MATRIX_FILE_BYTES"]
 
 # -- counts of a model's entries, checked right after the TOML is parsed, before any
-# expression is parsed or evaluated (issue 10: 100000 parameters took 75 s).  Read at
+# expression is parsed or evaluated (100000 parameters once took 75 s).  Read at
 # call time, like the limits above.
 
 #: most [parameters] (each is parsed and evaluated exactly, in order)

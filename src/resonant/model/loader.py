@@ -25,20 +25,19 @@ Examples
 from __future__ import annotations
 
 import difflib
-from dataclasses import replace
 import os
 import tomllib
 from collections.abc import Collection, Iterable, Mapping, Sequence
+from dataclasses import replace
 from fractions import Fraction
 from pathlib import Path
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import sympy
 
 import resonant.model.limits as limits
 
-from .. import hooks
 from ..errors import ModelError, Problem
 from ..expressions import (
     BinOp,
@@ -51,8 +50,9 @@ from ..expressions import (
     validate_name,
 )
 from .dimensions import check_units
+from .exercise import parse_exercise
 from .files import FileRefused, open_regular_file, read_bounded
-from .nonlinear_elements import read_nonlinear_elements
+from .inline_matrices import extract_numeric_matrices
 from .limits import (
     ENERGY_KEYS,
     MAX_COORDINATES,
@@ -61,6 +61,10 @@ from .limits import (
     MAX_INLINED_NODES,
     TOP_LEVEL,
 )
+from .matrix_files import read_matrix_spec
+from .nonlinear_elements import read_nonlinear_elements
+from .part_energies import Mechanism, derive_energies, point_expressions
+from .parts import DerivedEnergies, read_parts
 from .types import (
     Force,
     MatrixSpec,
@@ -81,10 +85,6 @@ from .units import (
     split_value,
 )
 
-if TYPE_CHECKING:
-    from .part_energies import Mechanism
-    from .parts import DerivedEnergies
-
 # -- loading -------------------------------------------------------------------------------
 
 def load(path: str | Path, overrides: Mapping[str, float | str] | None = None,
@@ -102,10 +102,20 @@ def load(path: str | Path, overrides: Mapping[str, float | str] | None = None,
         Directories, besides the model file's folder, that ``[matrices]`` files
         may be read from (``--allow-path DIR``).  See docs/security.md.
 
+    Returns
+    -------
+    Model
+        The validated model.
+
     Raises
     ------
     ModelError
         With every problem found: file, section, key and what is wrong.
+
+    Examples
+    --------
+    >>> load("examples/two_dof_free.toml", {"k": "3000 N/m"}).parameter_values["k3"]
+    3000.0
     """
     path = Path(path)
     name = str(path)
@@ -131,20 +141,52 @@ def loads(text: str, source: str = "<string>", base_dir: str | Path | None = Non
           allow_paths: Sequence[str | os.PathLike[str]] = ()) -> Model:
     """Parse and validate a model given as TOML text. See :func:`load`.
 
-    ``[matrices]`` file paths are relative to ``base_dir``; without it a model
-    that names a matrix file is refused (there is no folder to confine it to).
+    Parameters
+    ----------
+    text : str
+        The TOML model.
+    source : str
+        The name used in messages (a file name).
+    base_dir : str or Path, optional
+        The folder ``[matrices]`` file paths are relative to; without it a model
+        that names a matrix file is refused (there is no folder to confine it to).
+    overrides : mapping, optional
+        Parameter values that replace those of the text.
+    allow_paths : sequence of paths, optional
+        Further folders from which matrix files may be read.
+
+    Returns
+    -------
+    Model
+        The validated model.
+
+    Raises
+    ------
+    ModelError
+        With every problem found: source, section, key and what is wrong.
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> model = loads('[parameters]\\nm = 1\\nk = 400\\nc = 4\\n[coordinates]\\nx = ""\\n'
+    ...               '[energy]\\nT = "m*x\\'^2/2"\\nU = "k*x^2/2"\\nD = "c*x\\'^2/2"')
+    >>> model.coordinates, model.parameter_values["k"]
+    (('x',), 400.0)
     """
     if not isinstance(text, str):
         raise ModelError(Problem(f"the model text must be a str, not {type(text).__name__}",
                                  source))
+    text, inline_arrays = extract_numeric_matrices(text)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(Problem(f"invalid TOML: {exc}", source)) from None
     except RecursionError:
         raise ModelError(Problem("invalid TOML: nested too deeply", source)) from None
-    return _Builder(data, source, Path(base_dir) if base_dir is not None else None,
-                    overrides or {}, tuple(allow_paths)).build()
+    builder = _Builder(data, source, Path(base_dir) if base_dir is not None else None,
+                       overrides or {}, tuple(allow_paths))
+    builder.inline_arrays = inline_arrays
+    return builder.build()
 
 
 class _Builder:
@@ -159,6 +201,7 @@ class _Builder:
         self.allow_paths = allow_paths
         self.overrides = overrides
         self.problems: list[Problem] = []
+        self.inline_arrays: dict[str, Any] = {}  # placeholder -> large number-only matrix
         self.declared: dict[str, str] = {}  # name -> section
         self.force_points: dict[str, str] = {}  # [[force]] name -> the named point (parts)
         # physical units (resonant.model.units): what the file gives, checked in build()
@@ -246,30 +289,15 @@ class _Builder:
 
     def build(self) -> Model:
         self.counts()
-        misplaced: set[str] = set()  # names declared in a misspelled section
-        for key in self.data:
-            if key not in TOP_LEVEL:
-                close = difflib.get_close_matches(key, TOP_LEVEL, n=1)
-                hint = f"did you mean '{close[0]}'?" if close else \
-                    f"known sections: {', '.join(TOP_LEVEL)}"
-                self.problem(f"unknown section or key '{key}'; {hint}", key)
-                if isinstance(self.data[key], dict):
-                    misplaced |= {str(name) for name in self.data[key]}
-        title = self.data.get("title", "")
-        if not isinstance(title, str):
-            self.problem("title must be a string", "title")
-            title = ""
+        misplaced = self.unknown_sections()
+        title = self.title()
         parameters = self.parameters()
         # every declared parameter, also those whose value is invalid, so that one bad
         # value is reported once and not again as an unknown name wherever it is used
         param_names = [n for n, sec in self.declared.items() if sec == "parameters"]
         matrices = self.data.get("matrices") is not None
         coordinates, descriptions = self.coordinates(required=not matrices)
-        equilibrium = self.simple_table("equilibrium", param_names, keys=coordinates)
-        for name, expression in equilibrium.items():
-            if primed_names(expression):
-                self.problem(constant_prime_message(primed_names(expression)), "equilibrium",
-                             name)
+        equilibrium = self.equilibrium(param_names, coordinates)
         signals = self.named_table("signals", [*param_names, "t"])
         state_names = [*param_names, *coordinates, *signals]
         definitions = self.definitions(state_names)
@@ -277,56 +305,28 @@ class _Builder:
         # once, not again as an unknown name wherever it is used
         allowed = [*state_names, *(n for n, sec in self.declared.items()
                                    if sec == "definitions")]
-        # the optional sections' modules are imported only when a model uses them
-        # (hooks.PROVIDERS), so that a plain energy model starts fast
-        parts = hooks.call("read_parts", self.data, param_names, allowed, self.source,
-                           self.problems) \
-            if any(section in self.data for section in limits.PART_SECTIONS) else None
+        has_parts = any(section in self.data for section in limits.PART_SECTIONS)
+        parts = read_parts(self.data, param_names, allowed, self.source, self.problems) \
+            if has_parts else None
         mechanism = self.mechanism(parts, param_names, coordinates, signals, definitions,
                                    equilibrium)
-        energy = self.energy(allowed, required=not matrices and not parts)
+        # a model with parts needs no [energy], also when its parts are invalid
+        energy = self.energy(allowed, required=not matrices and not has_parts)
         forces = self.forces(allowed, coordinates, mechanism)
         outputs = self.outputs(allowed)
         display = self.display()
-        if outputs:
-            for name in outputs:
-                if validate_name(name):
-                    self.problem(f"'{name}' cannot be used as a name: {validate_name(name)}",
-                                 "outputs", name)
         matrix_spec = self.matrices(param_names, coordinates) if matrices else None
-        if "nonlinear" in self.data and not matrices:
-            self.problem("[[nonlinear]] elements belong to a [matrices] model; a model given "
-                         "by its energies writes its nonlinear terms into [energy]", "nonlinear")
-        if matrices and (energy or forces):
-            self.problem("a model gives either [energy] (and [[force]]) or [matrices], not both",
-                         "matrices")
-        elif matrices and parts:
-            self.problem("a model gives either parts ([[body]], [[spring]], ...) or [matrices], "
-                         "not both", "matrices")
+        self.check_one_kind(matrices, bool(energy or forces), parts is not None)
         names = coordinates or ([f"q{i + 1}" for i in range(_matrix_size(matrix_spec.M))]
                                 if matrix_spec is not None else [])
-        exercise = hooks.call("parse_exercise", self.data.get("exercise"),
-                              self.data.get("variants"), param_names, names, list(outputs),
-                              self.source, self.problems) \
+        exercise = parse_exercise(self.data.get("exercise"), self.data.get("variants"),
+                                  param_names, names, list(outputs), self.source,
+                                  self.problems) \
             if "exercise" in self.data or "variants" in self.data else None
-        exact: dict[str, sympy.Expr] = {}
-        floats: dict[str, float] = {}
-        if not self.problems:
-            try:
-                exact, floats = evaluate_parameters(parameters, self.source)
-            except ModelError as exc:
-                self.problems.extend(exc.problems)
+        exact, floats = self.values(parameters)
         derived: DerivedEnergies | None = None
         if mechanism is not None and not self.problems:
-            try:
-                derived, energy, torques = hooks.call("derive_energies", mechanism, energy,
-                                                      exact, allowed, self.force_points)
-                forces = [*forces, *torques]
-            except ModelError as exc:
-                self.problems.extend(exc.problems)
-            if derived is not None and "T" not in energy and not matrices:
-                self.problem("there is no kinetic energy: no body has a mass and [energy] "
-                             "gives no T", "body")
+            derived, energy, forces = self.derived(mechanism, energy, forces, exact, allowed)
         units = None
         if self.unit_given or self.coordinate_units or self.output_units:
             units, unit_problems = check_units(
@@ -336,11 +336,7 @@ class _Builder:
             self.problems.extend(unit_problems)
         elif display:  # no units in the model: [display] still chooses phases and frequencies
             units = ModelUnits(display=MappingProxyType(display))
-        if self.problems:
-            # a misspelled section explains the unknown names it declares: say it once
-            cascade = {f"unknown name '{name}'" for name in misplaced}
-            raise ModelError([p for p in self.problems
-                              if not any(p.message.startswith(c) for c in cascade)])
+        self.raise_problems(misplaced)
         if matrix_spec is not None and not coordinates:
             n = _matrix_size(matrix_spec.M)
             coordinates = [f"q{i + 1}" for i in range(n)]
@@ -354,13 +350,92 @@ class _Builder:
             forces=tuple(forces), outputs=MappingProxyType(outputs), matrices=matrix_spec,
             exercise=exercise, parts=derived, units=units)
 
+    def unknown_sections(self) -> set[str]:
+        """A problem for each unknown top-level key; the names a misspelled section declares
+        (their "unknown name" problems are then left out)."""
+        misplaced: set[str] = set()
+        for key in self.data:
+            if key not in TOP_LEVEL:
+                close = difflib.get_close_matches(key, TOP_LEVEL, n=1)
+                hint = f"did you mean '{close[0]}'?" if close else \
+                    f"known sections: {', '.join(TOP_LEVEL)}"
+                self.problem(f"unknown section or key '{key}'; {hint}", key)
+                if isinstance(self.data[key], dict):
+                    misplaced |= {str(name) for name in self.data[key]}
+        return misplaced
+
+    def title(self) -> str:
+        title = self.data.get("title", "")
+        if not isinstance(title, str):
+            self.problem("title must be a string", "title")
+            return ""
+        return title
+
+    def equilibrium(self, param_names: list[str], coordinates: list[str]
+                    ) -> dict[str, Expression]:
+        equilibrium = self.simple_table("equilibrium", param_names, keys=coordinates)
+        for name, expression in equilibrium.items():
+            if primed_names(expression):
+                self.problem(constant_prime_message(primed_names(expression)), "equilibrium",
+                             name)
+        return equilibrium
+
+    def check_one_kind(self, matrices: bool, energies: bool, parts: bool) -> None:
+        """A model is given by its energies (and parts) or by matrices, not both; only a
+        matrix model has ``[[nonlinear]]`` elements."""
+        if "nonlinear" in self.data and not matrices:
+            self.problem("[[nonlinear]] elements belong to a [matrices] model; a model given "
+                         "by its energies writes its nonlinear terms into [energy]", "nonlinear")
+        if matrices and energies:
+            self.problem("a model gives either [energy] (and [[force]]) or [matrices], not both",
+                         "matrices")
+        elif matrices and parts:
+            self.problem("a model gives either parts ([[body]], [[spring]], ...) or [matrices], "
+                         "not both", "matrices")
+
+    def values(self, parameters: dict[str, Expression]
+               ) -> tuple[dict[str, sympy.Expr], dict[str, float]]:
+        """The parameters' exact and float values, once the file has no other problem."""
+        if not self.problems:
+            try:
+                return evaluate_parameters(parameters, self.source)
+            except ModelError as exc:
+                self.problems.extend(exc.problems)
+        return {}, {}
+
+    def derived(self, mechanism: Mechanism, energy: dict[str, Expression],
+                forces: list[Force], exact: Mapping[str, sympy.Expr], allowed: list[str]
+                ) -> tuple[DerivedEnergies | None, dict[str, Expression], list[Force]]:
+        """The energies (and the torques' forces) of the parts."""
+        try:
+            derived, energy, torques = derive_energies(mechanism, energy, exact, allowed,
+                                                       self.force_points)
+        except ModelError as exc:
+            self.problems.extend(exc.problems)
+            return None, energy, forces
+        if "T" not in energy:
+            self.problem("there is no kinetic energy: no body has a mass and [energy] "
+                         "gives no T", "body")
+        return derived, energy, [*forces, *torques]
+
+    def raise_problems(self, misplaced: set[str]) -> None:
+        if self.problems:
+            # a misspelled section explains the unknown names it declares: say it once
+            cascade = {f"unknown name '{name}'" for name in misplaced}
+            raise ModelError([p for p in self.problems
+                              if not any(p.message.startswith(c) for c in cascade)])
+
     def parameters(self) -> dict[str, Expression]:
         table = self.table("parameters")
         params: dict[str, Expression] = {}
+        # the names before this one, also those whose value is invalid: one bad value is
+        # reported once, not again as an unknown name in every parameter that uses it
+        earlier: list[str] = []
         for name, value in table.items():
             if not self.declare(name, "parameters"):
                 continue
-            expression = self.valued(value, "parameters", name, list(params))
+            expression = self.valued(value, "parameters", name, list(earlier))
+            earlier.append(name)
             if expression is not None:
                 params[name] = expression
         for name, value in self.overrides.items():
@@ -461,6 +536,9 @@ class _Builder:
             if expression is None:
                 continue
             out[name] = expression
+            if validate_name(name):
+                self.problem(f"'{name}' cannot be used as a name: {validate_name(name)}",
+                             "outputs", name)
             if unit is not None:
                 try:
                     self.output_units[name] = parse_unit(unit)
@@ -563,8 +641,8 @@ class _Builder:
         if not parts:
             return None
         try:
-            return hooks.call("mechanism", parts, params, coordinates, signals, definitions,
-                              equilibrium, self.source)
+            return Mechanism(parts, params, coordinates, signals, definitions, equilibrium,
+                             self.source)
         except ExpressionError as exc:
             self.problems.extend(exc.problems)
             return None
@@ -614,8 +692,8 @@ class _Builder:
             vector, point = entry.get("vector"), entry.get("point")
             if isinstance(point, str) and mechanism is not None and \
                     point in mechanism.parts.point_names():
-                resolved = hooks.call("point_expressions", mechanism, point, allowed,
-                                      self.source, section, self.problems)
+                resolved = point_expressions(mechanism, point, allowed, self.source,
+                                             section, self.problems)
                 if resolved is None:
                     continue
                 self.force_points[name] = point
@@ -650,9 +728,9 @@ class _Builder:
         section = self.data.get("matrices")
         harmonics = self.data.get("harmonic", [])
         try:
-            spec: MatrixSpec = hooks.call("read_matrix_spec", section, harmonics, params,
-                                          coordinates, self.source, self.base_dir,
-                                          self.allow_paths)
+            spec: MatrixSpec = read_matrix_spec(section, harmonics, params, coordinates,
+                                                self.source, self.base_dir, self.allow_paths,
+                                                self.inline_arrays)
             if "nonlinear" in self.data:
                 names = coordinates or [f"q{i + 1}" for i in range(_matrix_size(spec.M))]
                 spec = replace(spec, nonlinear=read_nonlinear_elements(

@@ -31,7 +31,7 @@ import re
 import struct
 import warnings
 import zipfile
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import IO, Any
 
@@ -39,9 +39,9 @@ import numpy as np
 
 import resonant.model.limits as limits
 
-from .. import hooks
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
+from . import inline_matrices
 from .files import FileRefused, open_regular_file, read_bounded
 from .types import Harmonic, MatrixSpec
 
@@ -358,12 +358,15 @@ def _mtx_size_line(text: bytes) -> tuple[list[bytes], int]:
 
 def _mtx_numbers(data: bytes, rows: int, columns: int) -> np.ndarray:
     """The data lines as a ``rows x columns`` float array (numpy's C reader: scipy's C++
-    Matrix Market reader crashed the process on hostile files, fuzz campaigns of stop 17)."""
+    Matrix Market reader crashed the process on hostile files: docs/fuzzing.md)."""
     if rows == 0:
         if data.strip(b" \t\r\n") and any(line.strip() and not line.startswith(b"%")
                                            for line in data.split(b"\n")):
             raise FileRefused(f"{_MTX_INVALID}: it holds more entries than its size line says")
         return np.empty((0, columns))
+    fast = _mtx_numbers_with_pandas(data, rows, columns)
+    if fast is not None:
+        return fast
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
@@ -381,14 +384,34 @@ def _mtx_numbers(data: bytes, rows: int, columns: int) -> np.ndarray:
     return values
 
 
-def _read_mtx(handle: IO[bytes], size: int) -> Any:
-    """A Matrix Market file (real or integer; general, symmetric or skew-symmetric; coordinate
-    or array), read by resonant itself: banner and size line first, checked against the
-    limits before the data are parsed."""
-    import scipy.sparse
+def _mtx_numbers_with_pandas(data: bytes, rows: int, columns: int) -> np.ndarray | None:
+    """The data lines by pandas' C reader (6x numpy's, the same correctly rounded
+    doubles), when pandas is installed and the lines are exactly ``rows`` lines of
+    ``columns`` numbers; None otherwise, and numpy's reader then reads them or names what
+    is wrong."""
+    try:
+        import pandas
+    except ImportError:
+        return None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            # single spaces, no comment lines: what writers write; anything else
+            # (tabs, runs of blanks, comments between data lines) takes numpy's way
+            frame = pandas.read_csv(io.BytesIO(data), sep=" ", header=None,
+                                    dtype=np.float64, engine="c", na_filter=False,
+                                    names=range(columns), index_col=False,
+                                    encoding="latin-1")
+    except (ValueError, TypeError, UnicodeError, IndexError, OverflowError,
+            pandas.errors.ParserError):
+        return None
+    values = frame.to_numpy(dtype=np.float64)
+    return values if values.shape == (rows, columns) else None
 
-    text = handle.read(size + 1)
-    banner = _MTX_BANNER.fullmatch(text.split(b"\n", 1)[0])
+
+def _mtx_banner(first_line: bytes) -> tuple[str, str, str]:
+    """Layout, field and symmetry of a Matrix Market banner, each one resonant reads."""
+    banner = _MTX_BANNER.fullmatch(first_line)
     if banner is None:
         raise FileRefused(f"{_MTX_INVALID} (it must start with '%%MatrixMarket matrix' and a "
                           "size line)")
@@ -401,8 +424,13 @@ def _read_mtx(handle: IO[bytes], size: int) -> Any:
     if symmetry not in MTX_SYMMETRIES:
         raise FileRefused(f"{_MTX_INVALID}: the symmetry must be one of "
                           f"{', '.join(MTX_SYMMETRIES)}")
-    fields, offset = _mtx_size_line(text)
-    coordinate = layout == "coordinate"
+    return layout, field, symmetry
+
+
+def _mtx_entries(fields: list[bytes], coordinate: bool, symmetry: str, size: int
+                 ) -> tuple[int, int]:
+    """The matrix size and the number of data lines from the size line, within the limits
+    and what the file's bytes can hold."""
     try:
         numbers = [int(f) for f in fields]
     except ValueError:
@@ -431,18 +459,25 @@ def _read_mtx(handle: IO[bytes], size: int) -> Any:
     if least > size:
         raise FileRefused(f"its size line claims more entries than the file's {size} bytes "
                           "can hold")
-    values = _mtx_numbers(text[offset:], entries, 3 if coordinate else 1)
-    if not np.all(np.isfinite(values)):
-        raise FileRefused("the matrix holds non-finite entries (inf or nan)")
-    if not coordinate:
-        if symmetry == "general":
-            return np.array(values[:, 0].reshape(n, n, order="F"))
-        # the lower triangle column by column: (i, j), i >= j, ordered by j then i
-        cols, rows = np.triu_indices(n, 0 if symmetry == "symmetric" else 1)
-        dense = np.zeros((n, n))
-        dense[rows, cols] = values[:, 0]
-        dense[cols, rows] = values[:, 0] if symmetry == "symmetric" else -values[:, 0]
-        return dense
+    return n, entries
+
+
+def _mtx_dense(values: np.ndarray, n: int, symmetry: str) -> np.ndarray:
+    """An array file's column-major values (the lower triangle for a symmetric one)."""
+    if symmetry == "general":
+        return np.array(values[:, 0].reshape(n, n, order="F"))
+    # the lower triangle column by column: (i, j), i >= j, ordered by j then i
+    cols, rows = np.triu_indices(n, 0 if symmetry == "symmetric" else 1)
+    dense = np.zeros((n, n))
+    dense[rows, cols] = values[:, 0]
+    dense[cols, rows] = values[:, 0] if symmetry == "symmetric" else -values[:, 0]
+    return dense
+
+
+def _mtx_sparse(values: np.ndarray, n: int, symmetry: str) -> Any:
+    """A coordinate file's (i, j, value) lines as a CSR matrix, indices checked."""
+    import scipy.sparse
+
     index = values[:, :2]
     if np.any(index != np.floor(index)):
         raise FileRefused(f"{_MTX_INVALID}: an entry's row and column must be integers")
@@ -467,34 +502,39 @@ def _read_mtx(handle: IO[bytes], size: int) -> Any:
     return out
 
 
-@hooks.provides("read_matrix_spec")
+def _read_mtx(handle: IO[bytes], size: int) -> Any:
+    """A Matrix Market file (real or integer; general, symmetric or skew-symmetric; coordinate
+    or array), read by resonant itself: banner and size line first, checked against the
+    limits before the data are parsed."""
+    text = handle.read(size + 1)
+    layout, _, symmetry = _mtx_banner(text.split(b"\n", 1)[0])
+    fields, offset = _mtx_size_line(text)
+    coordinate = layout == "coordinate"
+    n, entries = _mtx_entries(fields, coordinate, symmetry, size)
+    values = _mtx_numbers(text[offset:], entries, 3 if coordinate else 1)
+    if not np.all(np.isfinite(values)):
+        raise FileRefused("the matrix holds non-finite entries (inf or nan)")
+    return _mtx_sparse(values, n, symmetry) if coordinate else _mtx_dense(values, n, symmetry)
+
+
 def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
                      coordinates: Sequence[str], source: str, base_dir: Path | None,
-                     allow_paths: Sequence[str | os.PathLike[str]] = ()) -> MatrixSpec:
+                     allow_paths: Sequence[str | os.PathLike[str]] = (),
+                     inline_arrays: Mapping[str, np.ndarray] | None = None) -> MatrixSpec:
     """Validate ``[matrices]`` and ``[[harmonic]]``; every problem in one ModelError.
 
     ``base_dir`` is the model file's folder (None for a model given as text:
     file references are then refused); ``allow_paths`` are further directories
-    matrix files may be read from.
+    matrix files may be read from; ``inline_arrays`` the large number-only inline
+    matrices already read (:func:`resonant.model.inline_matrices.extract_numeric_matrices`),
+    by the placeholder that stands for them in ``section``.
     """
-
+    inline_arrays = inline_arrays or {}
     problems: list[Problem] = []
     if not isinstance(section, dict):
         raise ModelError(Problem("[matrices] must be a table with M, K and optionally C",
                                  source, "matrices"))
-    if "harmonic" in section:
-        inner = section["harmonic"]
-        if not isinstance(inner, list) or not all(isinstance(h, dict) for h in inner):
-            problems.append(Problem(
-                "harmonic inside [matrices] must be an array of tables (harmonic = [{ omega "
-                "= ..., F_S = [...] }] or [[matrices.harmonic]]); or use top-level "
-                "[[harmonic]] tables", source, "matrices", "harmonic"))
-        elif harmonics and inner:
-            problems.append(Problem("give the harmonics either as top-level [[harmonic]] "
-                                    "tables or inside [matrices], not both", source,
-                                    "matrices", "harmonic"))
-        else:
-            harmonics = inner
+    harmonics = _harmonics_given(section, harmonics, source, problems)
     matrices: dict[str, Any] = {}
     for key, value in section.items():
         if key == "harmonic":
@@ -503,31 +543,70 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
             problems.append(Problem(f"unknown key '{key}'; [matrices] takes M, K and C",
                                     source, "matrices", key))
             continue
-        if isinstance(value, str) and value.lower().endswith(FILE_SUFFIXES):
-            try:
-                matrices[key] = read_matrix_file(value, key, base_dir, allow_paths)
-            except FileRefused as exc:
-                problems.append(Problem(f"cannot read '{value}': {exc}", source, "matrices", key))
-        elif isinstance(value, list) and value and all(isinstance(r, list) for r in value):
-            n = len(value)
-            if any(len(row) != n for row in value):
-                problems.append(Problem(f"{key} must be square: {n} rows of {n} entries",
-                                        source, "matrices", key))
-                continue
-            rows = []
-            for i, row in enumerate(value):
-                parsed = []
-                for j, entry in enumerate(row):
-                    try:
-                        parsed.append(_entry(entry, params, source, f"{key}[{i + 1}][{j + 1}]"))
-                    except ModelError as exc:
-                        problems.extend(exc.problems)
-                rows.append(parsed)
-            matrices[key] = rows
-        else:
-            problems.append(Problem(
-                f"{key} must be an array of rows ([[1, 0], [0, 1]]) or a path to a "
-                f"{'/'.join(FILE_SUFFIXES)} file", source, "matrices", key))
+        matrix = _matrix(key, value, params, source, base_dir, allow_paths, inline_arrays,
+                         problems)
+        if matrix is not None:
+            matrices[key] = matrix
+    n = _check_sizes(section, matrices, coordinates, source, problems)
+    parsed = [_harmonic(entry, f"harmonic {i}", n, params, source, problems)
+              for i, entry in enumerate(harmonics if isinstance(harmonics, list)
+                                        else [harmonics], start=1)]
+    if problems:
+        raise ModelError(problems)
+    return MatrixSpec(M=matrices["M"], K=matrices["K"], C=matrices.get("C"),
+                      harmonics=tuple(h for h in parsed if h is not None))
+
+
+def _harmonics_given(section: dict, harmonics: Any, source: str, problems: list[Problem]
+                     ) -> Any:
+    """The harmonics: top-level ``[[harmonic]]`` or ``harmonic = [...]`` in [matrices]."""
+    if "harmonic" not in section:
+        return harmonics
+    inner = section["harmonic"]
+    if not isinstance(inner, list) or not all(isinstance(h, dict) for h in inner):
+        problems.append(Problem(
+            "harmonic inside [matrices] must be an array of tables (harmonic = [{ omega "
+            "= ..., F_S = [...] }] or [[matrices.harmonic]]); or use top-level "
+            "[[harmonic]] tables", source, "matrices", "harmonic"))
+        return harmonics
+    if harmonics and inner:
+        problems.append(Problem("give the harmonics either as top-level [[harmonic]] "
+                                "tables or inside [matrices], not both", source,
+                                "matrices", "harmonic"))
+        return harmonics
+    return inner
+
+
+def _matrix(key: str, value: Any, params: Sequence[str], source: str, base_dir: Path | None,
+            allow_paths: Sequence[str | os.PathLike[str]],
+            inline_arrays: Mapping[str, np.ndarray], problems: list[Problem]) -> Any:
+    """One of M, C, K: read from its file, inline numbers or expressions (None: a problem)."""
+    if isinstance(value, str) and value in inline_arrays:
+        return inline_arrays[value]
+    if isinstance(value, str) and value.lower().endswith(FILE_SUFFIXES):
+        try:
+            return read_matrix_file(value, key, base_dir, allow_paths)
+        except FileRefused as exc:
+            problems.append(Problem(f"cannot read '{value}': {exc}", source, "matrices", key))
+            return None
+    if isinstance(value, list) and value and all(isinstance(r, list) for r in value):
+        n = len(value)
+        if any(len(row) != n for row in value):
+            problems.append(Problem(f"{key} must be square: {n} rows of {n} entries",
+                                    source, "matrices", key))
+            return None
+        numbers = _plain_numbers(value) if n > inline_matrices.INLINE_EXPRESSION_SIZE else None
+        return numbers if numbers is not None else \
+            _inline_entries(value, key, params, source, problems)
+    problems.append(Problem(
+        f"{key} must be an array of rows ([[1, 0], [0, 1]]) or a path to a "
+        f"{'/'.join(FILE_SUFFIXES)} file", source, "matrices", key))
+    return None
+
+
+def _check_sizes(section: dict, matrices: Mapping[str, Any], coordinates: Sequence[str],
+                 source: str, problems: list[Problem]) -> int:
+    """M and K given, all of one size, one coordinate per row; the size."""
     for key in ("M", "K"):
         if key not in section:
             problems.append(Problem(f"{key} is missing", source, "matrices", key))
@@ -539,35 +618,65 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
     if coordinates and n and len(coordinates) != n:
         problems.append(Problem(f"{len(coordinates)} coordinates for {n}x{n} matrices",
                                 source, "coordinates"))
-    parsed_harmonics = []
-    if not isinstance(harmonics, list):
-        harmonics = [harmonics]
-    for i, entry in enumerate(harmonics, start=1):
-        where = f"harmonic {i}"
-        if not isinstance(entry, dict) or "omega" not in entry:
-            problems.append(Problem("a harmonic needs omega and F_S and/or F_C", source, where))
-            continue
-        unknown = set(entry) - {"omega", "F_S", "F_C"}
-        if unknown:
-            problems.append(Problem(f"unknown keys {sorted(unknown)}; a harmonic has omega, "
-                                    "F_S, F_C", source, where))
-        try:
-            omega = _entry(entry["omega"], params, source, "omega", where)
-            vectors = []
-            for key in ("F_S", "F_C"):
-                vec = entry.get(key, [0] * n)
-                if not isinstance(vec, list) or (n and len(vec) != n):
-                    raise ModelError(Problem(f"{key} must be a list of {n} entries", source,
-                                             where, key))
-                vectors.append(tuple(_entry(v, params, source, f"{key}[{j + 1}]", where)
-                                     for j, v in enumerate(vec)))
-            parsed_harmonics.append(Harmonic(omega, vectors[0], vectors[1]))
-        except ModelError as exc:
-            problems.extend(exc.problems)
-    if problems:
-        raise ModelError(problems)
-    return MatrixSpec(M=matrices["M"], K=matrices["K"], C=matrices.get("C"),
-                      harmonics=tuple(parsed_harmonics))
+    return n
+
+
+def _harmonic(entry: Any, where: str, n: int, params: Sequence[str], source: str,
+              problems: list[Problem]) -> Harmonic | None:
+    """One ``[[harmonic]]``: omega and the load vectors F_S, F_C of n entries."""
+    if not isinstance(entry, dict) or "omega" not in entry:
+        problems.append(Problem("a harmonic needs omega and F_S and/or F_C", source, where))
+        return None
+    unknown = set(entry) - {"omega", "F_S", "F_C"}
+    if unknown:
+        problems.append(Problem(f"unknown keys {sorted(unknown)}; a harmonic has omega, "
+                                "F_S, F_C", source, where))
+    try:
+        omega = _entry(entry["omega"], params, source, "omega", where)
+        vectors = []
+        for key in ("F_S", "F_C"):
+            vec = entry.get(key, [0] * n)
+            if not isinstance(vec, list) or (n and len(vec) != n):
+                raise ModelError(Problem(f"{key} must be a list of {n} entries", source,
+                                         where, key))
+            vectors.append(tuple(_entry(v, params, source, f"{key}[{j + 1}]", where)
+                                 for j, v in enumerate(vec)))
+        return Harmonic(omega, vectors[0], vectors[1])
+    except ModelError as exc:
+        problems.extend(exc.problems)
+        return None
+
+
+def _plain_numbers(rows: list[list[Any]]) -> np.ndarray | None:
+    """A large inline matrix of number literals as one float array, without the expression
+    parser (8 bytes an entry instead of a syntax tree); None if an entry is anything else
+    (an expression, a bool, a number beyond the limits), which then takes the parser's
+    way and gets its message."""
+    if not all(type(v) is int or type(v) is float for row in rows for v in row):
+        return None
+    try:
+        array = np.array(rows, dtype=float)
+    except OverflowError:
+        return None
+    if not inline_matrices.within_limits(array):
+        return None
+    array.flags.writeable = False
+    return array
+
+
+def _inline_entries(value: list[list[Any]], key: str, params: Sequence[str], source: str,
+                    problems: list[Problem]) -> list[list[Expression]]:
+    """Every entry of an inline matrix parsed as an expression of the parameters."""
+    rows = []
+    for i, row in enumerate(value):
+        parsed = []
+        for j, entry in enumerate(row):
+            try:
+                parsed.append(_entry(entry, params, source, f"{key}[{i + 1}][{j + 1}]"))
+            except ModelError as exc:
+                problems.extend(exc.problems)
+        rows.append(parsed)
+    return rows
 
 
 def _entry(value: Any, params: Sequence[str], source: str, key: str,

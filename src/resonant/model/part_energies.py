@@ -1,4 +1,4 @@
-"""Parts -> energies: the "Meaning" of ../shared/spec/components.md.
+"""Parts -> energies: what the part sections mean (docs/parts.md, "Meaning").
 
 The positions of the body origins (pin chains resolved), of the centres of
 gravity and of the named points are built as sympy expressions in the model's
@@ -48,7 +48,6 @@ import sympy
 from sympy.core.function import AppliedUndef
 from sympy.printing.str import StrPrinter
 
-from .. import hooks
 from ..errors import ModelError, Problem
 from ..expressions import BinOp, Expression, ExpressionError, parse
 from .parts import Body, Contribution, DerivedEnergies, Link, Parts
@@ -82,7 +81,6 @@ def to_text(expr: sympy.Expr) -> str:
     return str(_Printer({"order": "none"}).doprint(expr)).replace("**", "^")
 
 
-@hooks.provides("mechanism")
 class Mechanism:
     """The geometry of the parts in sympy: positions, centres, angles, elongations."""
 
@@ -246,7 +244,6 @@ def _value(expr: sympy.Expr, values: Mapping[str, sympy.Expr]) -> float | None:
     return number.real if math.isfinite(number.real) else None
 
 
-@hooks.provides("derive_energies")
 def derive_energies(mechanism: Mechanism, written: Mapping[str, Expression],
                     exact_values: Mapping[str, sympy.Expr], allowed: Collection[str],
                     force_points: Mapping[str, str] | None = None
@@ -262,15 +259,45 @@ def derive_energies(mechanism: Mechanism, written: Mapping[str, Expression],
     """
     parts, source = mechanism.parts, mechanism.source
     problems: list[Problem] = []
-    contributions: list[Contribution] = []
+    contributions = [*_body_energies(mechanism, exact_values, problems),
+                     *_link_energies(mechanism, exact_values, problems)]
+    forces = [Force(f"torque {torque.name}" if torque.name.isdigit() else torque.name,
+                    vector=(torque.moment,),
+                    point=(_parse(to_text(mechanism.angle(mechanism.bodies[torque.body])),
+                                  allowed, source, _section("torque", torque.name, i),
+                                  "body", problems),), kind="torque")
+              for i, torque in enumerate(parts.torques, start=1)]
+    if problems:
+        raise ModelError(problems)
     texts: dict[str, list[str]] = {"T": [], "U": [], "D": []}
+    for contribution in contributions:
+        texts[contribution.energy].append(contribution.text)
+    derived = {key: " + ".join(f"({text})" for text in items) if len(items) > 1 else items[0]
+               for key, items in texts.items() if items}
+    totals = _totals(written, texts, allowed, source, problems)
+    if problems:
+        raise ModelError(problems)
+    positions = {name: tuple(to_text(c) for c in mechanism.point(name))
+                 for name in parts.point_names()}
+    centres = {b.name: tuple(to_text(c) for c in mechanism.centre(b)) for b in parts.bodies}
+    angles = {b.name: to_text(mechanism.angle(b)) for b in parts.bodies}
+    result = DerivedEnergies(
+        parts=parts, contributions=tuple(contributions),
+        derived=MappingProxyType(derived), written=MappingProxyType(dict(written)),
+        positions=MappingProxyType(positions),  # type: ignore[arg-type]
+        centres=MappingProxyType(centres),  # type: ignore[arg-type]
+        angles=MappingProxyType(angles),
+        force_points=MappingProxyType(dict(force_points or {})))
+    return result, totals, [f for f in forces if f.point[0] is not None]
 
-    def add(kind: str, name: str, energy: str, text: str) -> None:
-        if text:
-            contributions.append(Contribution(kind, name, energy, text))
-            texts[energy].append(text)
 
+def _body_energies(mechanism: Mechanism, exact_values: Mapping[str, sympy.Expr],
+                   problems: list[Problem]) -> list[Contribution]:
+    """Each body's kinetic energy (translation and rotation) and potential energy in
+    gravity; a negative mass or inertia is a problem naming the body and the key."""
+    parts, source = mechanism.parts, mechanism.source
     gravity = mechanism.expr(parts.gravity) if parts.gravity is not None else None
+    out: list[Contribution] = []
     for index, body in enumerate(parts.bodies, start=1):
         section = _section("body", body.name, index)
         for key, expression in (("mass", body.mass), ("inertia", body.inertia)):
@@ -286,10 +313,23 @@ def derive_energies(mechanism: Mechanism, written: Mapping[str, Expression],
         if body.inertia is not None:
             kinetic.append(_half_squares(mechanism.expr(body.inertia),
                                          [sympy.diff(mechanism.angle(body), _T)]))
-        add("body", body.name, "T", " + ".join(k for k in kinetic if k))
+        text = " + ".join(k for k in kinetic if k)
+        if text:
+            out.append(Contribution("body", body.name, "T", text))
         if gravity is not None:
-            add("body", body.name, "U", _product(mass * gravity, ys))
+            text = _product(mass * gravity, ys)
+            if text:
+                out.append(Contribution("body", body.name, "U", text))
+    return out
 
+
+def _link_energies(mechanism: Mechanism, exact_values: Mapping[str, sympy.Expr],
+                   problems: list[Problem]) -> list[Contribution]:
+    """Each spring's potential energy and each damper's dissipation function, from the
+    elongation; a link of zero length whose elongation comes from the geometry is a
+    problem (not differentiable there)."""
+    parts, source = mechanism.parts, mechanism.source
+    out: list[Contribution] = []
     for kind, links, energy in (("spring", parts.springs, "U"), ("damper", parts.dampers, "D")):
         for index, link in enumerate(links, start=1):
             section = _section(kind, link.name, index)
@@ -305,25 +345,24 @@ def derive_energies(mechanism: Mechanism, written: Mapping[str, Expression],
                     continue
             stretch = mechanism.elongation(link)
             rate = stretch if energy == "U" else sympy.diff(stretch, _T)
-            add(kind, link.name, energy,
-                _half_squares(mechanism.expr(link.coefficient), [rate]))
+            text = _half_squares(mechanism.expr(link.coefficient), [rate])
+            if text:
+                out.append(Contribution(kind, link.name, energy, text))
+    return out
 
-    forces = [Force(f"torque {torque.name}" if torque.name.isdigit() else torque.name,
-                    vector=(torque.moment,),
-                    point=(_parse(to_text(mechanism.angle(mechanism.bodies[torque.body])),
-                                  allowed, source, _section("torque", torque.name, i),
-                                  "body", problems),), kind="torque")
-              for i, torque in enumerate(parts.torques, start=1)]
-    if problems:
-        raise ModelError(problems)
-    derived = {key: " + ".join(f"({text})" for text in items) if len(items) > 1 else items[0]
-               for key, items in texts.items() if items}
+
+def _totals(written: Mapping[str, Expression], texts: Mapping[str, list[str]],
+            allowed: Collection[str], source: str, problems: list[Problem]
+            ) -> dict[str, Expression]:
+    """The energies as written plus the parts' contributions, one expression each.
+
+    Each part is parsed on its own (each within the parser's limits) and the sum is
+    built from their trees, so a mechanism of many parts is not one huge text.
+    """
     totals: dict[str, Expression] = dict(written)
     for key, items in texts.items():
         if not items:
             continue
-        # each part is parsed on its own (each within the parser's limits) and the sum is
-        # built from their trees, so a mechanism of many parts is not one huge text
         pieces = ([written[key]] if key in written else []) + \
             [_parse(text, allowed, source, "energy", key, problems) for text in items]
         if any(piece is None for piece in pieces):
@@ -333,21 +372,7 @@ def derive_energies(mechanism: Mechanism, written: Mapping[str, Expression],
             root = BinOp("+", root, piece.root)
         totals[key] = Expression(" + ".join(f"({piece.text})" for piece in pieces), root,
                                  (source, "energy", key))
-    if problems:
-        raise ModelError(problems)
-
-    positions = {name: tuple(to_text(c) for c in mechanism.point(name))
-                 for name in parts.point_names()}
-    centres = {b.name: tuple(to_text(c) for c in mechanism.centre(b)) for b in parts.bodies}
-    angles = {b.name: to_text(mechanism.angle(b)) for b in parts.bodies}
-    result = DerivedEnergies(
-        parts=parts, contributions=tuple(contributions),
-        derived=MappingProxyType(derived), written=MappingProxyType(dict(written)),
-        positions=MappingProxyType(positions),  # type: ignore[arg-type]
-        centres=MappingProxyType(centres),  # type: ignore[arg-type]
-        angles=MappingProxyType(angles),
-        force_points=MappingProxyType(dict(force_points or {})))
-    return result, totals, [f for f in forces if f.point[0] is not None]
+    return totals
 
 
 def _parse(text: str, allowed: Collection[str], source: str, section: str, key: str,
@@ -361,7 +386,6 @@ def _parse(text: str, allowed: Collection[str], source: str, section: str, key: 
         return None
 
 
-@hooks.provides("point_expressions")
 def point_expressions(mechanism: Mechanism, name: str, allowed: Collection[str],
                       source: str, section: str, problems: list[Problem]
                       ) -> tuple[Expression, Expression] | None:

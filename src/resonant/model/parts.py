@@ -1,4 +1,4 @@
-"""A planar mechanism described by its parts (../shared/spec/components.md).
+"""A planar mechanism described by its parts (the contract: docs/parts.md).
 
 ``gravity``, ``[[point]]``, ``[[body]]``, ``[[spring]]``, ``[[damper]]`` and
 ``[[torque]]`` are read here into frozen types; :mod:`resonant.model.part_energies`
@@ -19,12 +19,11 @@ from __future__ import annotations
 
 import difflib
 import math
-from collections.abc import Collection, Mapping
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
-from .. import hooks
 from ..errors import Problem
 from ..expressions import Expression, ExpressionError, parse, validate_name
 
@@ -58,7 +57,7 @@ class Body:
     angle: Expression | None = None
     centre: Vector | None = None
     points: Mapping[str, Vector] = field(default_factory=dict)
-    #: drawing hints (an extension of the spec, used by ``resonant draw`` only):
+    #: drawing hints (an extension, docs/parts.md; used by ``resonant draw`` only):
     #: ``shape`` one of :data:`SHAPES`, ``size`` one or two constants (width [, height]
     #: of a block; radius of a disc or point mass; width of a bar)
     shape: str | None = None
@@ -248,7 +247,6 @@ class _Reader:
         return out
 
 
-@hooks.provides("check_part_values")
 def check_values(parts: Parts, exact_values: Mapping[str, Any], source: str) -> list[Problem]:
     """Masses and inertias that are negative at these parameter values (as problems naming
     the body and the key); used again when parameters are replaced
@@ -302,47 +300,43 @@ def _hints(reader: _Reader, entry: Mapping[str, Any], section: str
     return shape, tuple(e for e in size if e is not None) if None not in size else ()
 
 
-@hooks.provides("read_parts")
-def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collection[str],
-               source: str, problems: list[Problem]) -> Parts:
-    """Read and validate the parts of a model file's TOML data.
+class _Names:
+    """The names of points and bodies declared so far, each unique and new to the model."""
 
-    ``params`` are the names a constant (mass, inertia, gravity) may use, ``allowed``
-    those of any other expression (as for ``[energy]``).  Problems are appended to
-    ``problems``; the parts that could be read are returned.
-    """
-    reader = _Reader(params, allowed, source, problems)
-    gravity = None
-    if "gravity" in data:
-        gravity = reader.expression(data["gravity"], "gravity", "", constant=True)
-    names: dict[str, str] = {}  # point or body name -> section
-    model_names = {*params, *allowed}  # parameters, coordinates, signals, definitions
+    def __init__(self, reader: _Reader, model_names: Collection[str]) -> None:
+        self.reader, self.model_names = reader, set(model_names)
+        self.sections: dict[str, str] = {}  # point or body name -> section
 
-    def declare(name: str, section: str) -> bool:
-        if section.split()[1:] == [name]:  # no name = "..." given: the section is "body 2"
-            reader.problem("a point or body needs a name (name = \"...\"): other parts "
-                           "refer to it by name", section, "name")
+    def declare(self, name: str, section: str) -> bool:
+        """Record ``name`` for ``section``; a problem (and False) if it cannot be one."""
+        problem = self._refusal(name, section)
+        if problem:
+            self.reader.problem(problem, section, "name")
             return False
-        reason = validate_name(name)
-        if reason:
-            reader.problem(f"'{name}' cannot be used as a name: {reason}", section, "name")
-            return False
-        if name in model_names:
-            reader.problem(f"'{name}' is already a name of the model (a parameter, "
-                           "coordinate, signal or definition); a point or body needs a name "
-                           "of its own", section, "name")
-            return False
-        if name in names:
-            reader.problem(f"'{name}' is already the name of [[{names[name].split()[0]}]] "
-                           f"{names[name].split(' ', 1)[1]}; points and bodies need unique "
-                           "names", section, "name")
-            return False
-        names[name] = section
+        self.sections[name] = section
         return True
 
+    def _refusal(self, name: str, section: str) -> str | None:
+        if section.split()[1:] == [name]:  # no name = "..." given: the section is "body 2"
+            return ("a point or body needs a name (name = \"...\"): other parts refer to it "
+                    "by name")
+        reason = validate_name(name)
+        if reason:
+            return f"'{name}' cannot be used as a name: {reason}"
+        if name in self.model_names:
+            return (f"'{name}' is already a name of the model (a parameter, coordinate, "
+                    "signal or definition); a point or body needs a name of its own")
+        if name in self.sections:
+            kind, label = self.sections[name].split(" ", 1)
+            return (f"'{name}' is already the name of [[{kind}]] {label}; points and bodies "
+                    "need unique names")
+        return None
+
+
+def _read_points(reader: _Reader, names: _Names, data: Mapping[str, Any]) -> list[FixedPoint]:
     points = []
     for section, entry in reader.entries(data, "point"):
-        if not declare(entry["name"], section):
+        if not names.declare(entry["name"], section):
             continue
         if "position" not in entry:
             reader.problem("a point needs a position = [x, y]", section, "position")
@@ -350,85 +344,106 @@ def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collec
         position = reader.vector(entry["position"], section, "position")
         if position is not None:
             points.append(FixedPoint(entry["name"], position))
+    return points
 
-    bodies = []
-    for section, entry in reader.entries(data, "body"):
-        ok = declare(entry["name"], section)
-        if "mass" not in entry:
-            reader.problem("a body needs a mass (0 for a massless link)", section, "mass")
-        mass = reader.expression(entry.get("mass", 0), section, "mass", constant=True)
-        inertia = reader.expression(entry["inertia"], section, "inertia", constant=True) \
-            if "inertia" in entry else None
-        has_position, has_pin = "position" in entry, "pin" in entry
-        if has_position == has_pin:
-            reader.problem("a body has exactly one of position (a body that translates) and "
-                           "pin (a body turning about a point of another)" if has_pin else
-                           "a body needs position = [x, y] or pin = \"point\"", section,
-                           "pin" if has_pin else "position")
-            ok = False
-        position = reader.vector(entry["position"], section, "position") \
-            if has_position else None
-        pin = entry.get("pin")
-        if has_pin and not isinstance(pin, str):
-            reader.problem("pin must name a point: \"body\", \"body.P\" or a [[point]]",
-                           section, "pin")
-            ok = False
-        angle = reader.expression(entry["angle"], section, "angle", position=True) \
-            if "angle" in entry else None
-        centre = reader.vector(entry["centre"], section, "centre") \
-            if "centre" in entry else None
-        body_points: dict[str, Vector] = {}
-        raw_points = entry.get("points", {})
-        if not isinstance(raw_points, dict):
-            reader.problem("points must be a table { P = [\"x\", \"y\"] } in the body's frame",
-                           section, "points")
-            raw_points = {}
-        for pname, value in raw_points.items():
-            reason = validate_name(pname)
-            if reason:
-                reader.problem(f"'{pname}' cannot be used as a point name: {reason}", section,
-                               f"points.{pname}")
-                continue
-            vector = reader.vector(value, section, f"points.{pname}")
-            if vector is not None:
-                body_points[pname] = vector
-        shape, size = _hints(reader, entry, section)
-        if ok and mass is not None and (position is not None or has_pin) \
-                and ("angle" not in entry or angle is not None) \
-                and ("centre" not in entry or centre is not None) \
-                and ("inertia" not in entry or inertia is not None):
-            bodies.append(Body(entry["name"], mass, inertia, position,
-                               pin if has_pin else None, angle, centre,
-                               MappingProxyType(body_points), shape, size))
 
-    known = {p.name for p in points} | {b.name for b in bodies}
-    known_points = set(Parts(points=tuple(points), bodies=tuple(bodies)).point_names())
+def _body_points(reader: _Reader, entry: Mapping[str, Any], section: str
+                 ) -> dict[str, Vector]:
+    """A body's own points ``{ P = ["x", "y"] }`` in its frame."""
+    raw_points = entry.get("points", {})
+    if not isinstance(raw_points, dict):
+        reader.problem("points must be a table { P = [\"x\", \"y\"] } in the body's frame",
+                       section, "points")
+        return {}
+    body_points: dict[str, Vector] = {}
+    for pname, value in raw_points.items():
+        reason = validate_name(pname)
+        if reason:
+            reader.problem(f"'{pname}' cannot be used as a point name: {reason}", section,
+                           f"points.{pname}")
+            continue
+        vector = reader.vector(value, section, f"points.{pname}")
+        if vector is not None:
+            body_points[pname] = vector
+    return body_points
 
-    def check_point(name: Any, section: str, key: str) -> bool:
+
+def _placement_ok(reader: _Reader, entry: Mapping[str, Any], section: str) -> bool:
+    """Exactly one of ``position`` and ``pin``, a pin naming a point by a string."""
+    has_position, has_pin = "position" in entry, "pin" in entry
+    if has_position == has_pin:
+        reader.problem("a body has exactly one of position (a body that translates) and "
+                       "pin (a body turning about a point of another)" if has_pin else
+                       "a body needs position = [x, y] or pin = \"point\"", section,
+                       "pin" if has_pin else "position")
+        return False
+    if has_pin and not isinstance(entry["pin"], str):
+        reader.problem("pin must name a point: \"body\", \"body.P\" or a [[point]]",
+                       section, "pin")
+        return False
+    return True
+
+
+def _read_body(reader: _Reader, names: _Names, section: str, entry: Mapping[str, Any]
+               ) -> Body | None:
+    """One ``[[body]]``, or None (its problems recorded) if it cannot be one."""
+    ok = names.declare(entry["name"], section)
+    if "mass" not in entry:
+        reader.problem("a body needs a mass (0 for a massless link)", section, "mass")
+    mass = reader.expression(entry.get("mass", 0), section, "mass", constant=True)
+    inertia = reader.expression(entry["inertia"], section, "inertia", constant=True) \
+        if "inertia" in entry else None
+    placed = _placement_ok(reader, entry, section)
+    position = reader.vector(entry["position"], section, "position") \
+        if "position" in entry else None
+    angle = reader.expression(entry["angle"], section, "angle", position=True) \
+        if "angle" in entry else None
+    centre = reader.vector(entry["centre"], section, "centre") if "centre" in entry else None
+    body_points = _body_points(reader, entry, section)
+    shape, size = _hints(reader, entry, section)
+    complete = ok and placed \
+        and (position is not None or "pin" in entry) \
+        and ("inertia" not in entry or inertia is not None) \
+        and ("angle" not in entry or angle is not None) \
+        and ("centre" not in entry or centre is not None)
+    if not complete or mass is None:
+        return None
+    return Body(entry["name"], mass, inertia, position, entry.get("pin"), angle, centre,
+                MappingProxyType(body_points), shape, size)
+
+
+class _PointCheck:
+    """Whether a name is a point of the mechanism, with a hint if it is not."""
+
+    def __init__(self, reader: _Reader, points: Sequence[FixedPoint], bodies: Sequence[Body]
+                 ) -> None:
+        self.reader = reader
+        self.fixed = {p.name for p in points}
+        self.bodies = {b.name: b for b in bodies}
+        self.known = set(Parts(points=tuple(points), bodies=tuple(bodies)).point_names())
+
+    def __call__(self, name: Any, section: str, key: str) -> bool:
         if not isinstance(name, str):
-            reader.problem(f"{key} must name a point (a string)", section, key)
+            self.reader.problem(f"{key} must name a point (a string)", section, key)
             return False
-        if name in known_points:
+        if name in self.known:
             return True
-        close = difflib.get_close_matches(name, sorted(known_points), n=1)
-        hint = f"; did you mean '{close[0]}'?" if close else \
-            f"; known points: {', '.join(sorted(known_points)) or 'none'}"
-        owner = name.split(".", 1)[0]
-        if "." in name and owner in known and owner not in {p.name for p in points}:
-            hint = f"; body '{owner}' has no point '{name.split('.', 1)[1]}'" + \
-                (f" (its points: {', '.join(sorted(b.points))})" if (b := next(
-                    x for x in bodies if x.name == owner)).points else "")
-        reader.problem(f"unknown point '{name}'{hint}", section, key)
+        self.reader.problem(f"unknown point '{name}'{self._hint(name)}", section, key)
         return False
 
-    # pins: known points, no cycles
-    good = []
-    for body in bodies:
-        section = names.get(body.name, f'body "{body.name}"')
-        if body.pin is not None and not check_point(body.pin, section, "pin"):
-            continue
-        good.append(body)
-    bodies = good
+    def _hint(self, name: str) -> str:
+        owner, _, point = name.partition(".")
+        if point and owner in self.bodies and owner not in self.fixed:
+            own = self.bodies[owner].points
+            return f"; body '{owner}' has no point '{point}'" + \
+                (f" (its points: {', '.join(sorted(own))})" if own else "")
+        close = difflib.get_close_matches(name, sorted(self.known), n=1)
+        return f"; did you mean '{close[0]}'?" if close else \
+            f"; known points: {', '.join(sorted(self.known)) or 'none'}"
+
+
+def _pin_cycles(reader: _Reader, names: _Names, bodies: Sequence[Body]) -> set[str]:
+    """The bodies pinned to each other in a cycle (one problem per cycle)."""
     by_name = {b.name: b for b in bodies}
     in_cycle: set[str] = set()
     for body in bodies:
@@ -442,55 +457,62 @@ def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collec
                 if not in_cycle.intersection(cycle):
                     reader.problem("bodies are pinned to each other in a cycle: "
                                    + " -> ".join(cycle) + "; one of them needs a position",
-                                   names.get(body.name, body.name), "pin")
+                                   names.sections.get(body.name, body.name), "pin")
                 in_cycle.update(cycle)
                 break
             chain.append(owner)
             link = by_name[owner]
-    bodies = [b for b in bodies if b.name not in in_cycle]
+    return in_cycle
 
-    links: dict[str, list[Link]] = {"spring": [], "damper": []}
-    for kind, coefficient_key in (("spring", "stiffness"), ("damper", "damping")):
-        for section, entry in reader.entries(data, kind):
-            between = entry.get("between")
-            if not isinstance(between, list) or len(between) != 2:
-                reader.problem("between must name two points: between = [\"A\", \"B\"]",
-                               section, "between")
-                between = None
-            elif not all([check_point(between[0], section, "between[0]"),
-                          check_point(between[1], section, "between[1]")]):
-                between = None
-            if coefficient_key not in entry:
-                reader.problem(f"a {kind} needs its {coefficient_key}", section,
-                               coefficient_key)
-            coefficient = reader.expression(entry.get(coefficient_key, 0), section,
-                                            coefficient_key)
-            given = [key for key in ELONGATION_KEYS if key in entry]
-            if len(given) > 1:
-                reader.problem(f"give at most one of length, along and elongation, not "
-                               f"{' and '.join(given)}", section, given[1])
-                continue
-            mode = given[0] if given else "free"
-            length = along = elongation = None
-            if mode == "length":
-                length = reader.expression(entry["length"], section, "length")
-            elif mode == "along":
-                along = reader.vector(entry["along"], section, "along", position=False)
-            elif mode == "elongation":
-                elongation = reader.expression(entry["elongation"], section, "elongation",
-                                               position=True)
-            if between is None or coefficient is None or \
-                    (mode != "free" and length is None and along is None and elongation is None):
-                continue
-            links[kind].append(Link(kind, entry["name"], (between[0], between[1]),
-                                    coefficient, mode, length, along, elongation))
 
+def _between(entry: Mapping[str, Any], section: str, reader: _Reader,
+             is_point: _PointCheck) -> tuple[str, str] | None:
+    between = entry.get("between")
+    if not isinstance(between, list) or len(between) != 2:
+        reader.problem("between must name two points: between = [\"A\", \"B\"]",
+                       section, "between")
+        return None
+    if not all([is_point(between[0], section, "between[0]"),
+                is_point(between[1], section, "between[1]")]):
+        return None
+    return between[0], between[1]
+
+
+def _read_link(reader: _Reader, is_point: _PointCheck, kind: str, coefficient_key: str,
+               section: str, entry: Mapping[str, Any]) -> Link | None:
+    """One ``[[spring]]`` or ``[[damper]]``, or None if it cannot be one."""
+    between = _between(entry, section, reader, is_point)
+    if coefficient_key not in entry:
+        reader.problem(f"a {kind} needs its {coefficient_key}", section, coefficient_key)
+    coefficient = reader.expression(entry.get(coefficient_key, 0), section, coefficient_key)
+    given = [key for key in ELONGATION_KEYS if key in entry]
+    if len(given) > 1:
+        reader.problem(f"give at most one of length, along and elongation, not "
+                       f"{' and '.join(given)}", section, given[1])
+        return None
+    mode = given[0] if given else "free"
+    length = along = elongation = None
+    if mode == "length":
+        length = reader.expression(entry["length"], section, "length")
+    elif mode == "along":
+        along = reader.vector(entry["along"], section, "along", position=False)
+    elif mode == "elongation":
+        elongation = reader.expression(entry["elongation"], section, "elongation",
+                                       position=True)
+    if between is None or coefficient is None or \
+            (mode != "free" and length is None and along is None and elongation is None):
+        return None
+    return Link(kind, entry["name"], between, coefficient, mode, length, along, elongation)
+
+
+def _read_torques(reader: _Reader, data: Mapping[str, Any], known: Collection[str]
+                  ) -> list[Torque]:
     torques = []
     for section, entry in reader.entries(data, "torque"):
         body_name = entry.get("body")
         if not isinstance(body_name, str) or body_name not in known:
             reader.problem(f"unknown body {body_name!r}; a torque acts on a [[body]] "
-                           f"({', '.join(sorted(b.name for b in bodies)) or 'none declared'})",
+                           f"({', '.join(sorted(known)) or 'none declared'})",
                            section, "body")
             continue
         if "moment" not in entry:
@@ -499,9 +521,36 @@ def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collec
         moment = reader.expression(entry["moment"], section, "moment")
         if moment is not None:
             torques.append(Torque(entry["name"], body_name, moment))
+    return torques
 
-    return Parts(gravity, tuple(points), tuple(bodies), tuple(links["spring"]),
-                 tuple(links["damper"]), tuple(torques))
+
+def read_parts(data: Mapping[str, Any], params: Collection[str], allowed: Collection[str],
+               source: str, problems: list[Problem]) -> Parts:
+    """Read and validate the parts of a model file's TOML data.
+
+    ``params`` are the names a constant (mass, inertia, gravity) may use, ``allowed``
+    those of any other expression (as for ``[energy]``).  Problems are appended to
+    ``problems``; the parts that could be read are returned.
+    """
+    reader = _Reader(params, allowed, source, problems)
+    gravity = reader.expression(data["gravity"], "gravity", "", constant=True) \
+        if "gravity" in data else None
+    names = _Names(reader, {*params, *allowed})
+    points = _read_points(reader, names, data)
+    read = [(section, _read_body(reader, names, section, entry))
+            for section, entry in reader.entries(data, "body")]
+    bodies = [body for _, body in read if body is not None]
+    is_point = _PointCheck(reader, points, bodies)
+    bodies = [b for b in bodies if b.pin is None
+              or is_point(b.pin, names.sections.get(b.name, f'body "{b.name}"'), "pin")]
+    in_cycle = _pin_cycles(reader, names, bodies)
+    bodies = [b for b in bodies if b.name not in in_cycle]
+    links = {kind: tuple(link for section, entry in reader.entries(data, kind)
+                         if (link := _read_link(reader, is_point, kind, key, section, entry)))
+             for kind, key in (("spring", "stiffness"), ("damper", "damping"))}
+    torques = _read_torques(reader, data, is_point.bodies)
+    return Parts(gravity, tuple(points), tuple(bodies), links["spring"], links["damper"],
+                 tuple(torques))
 
 
 __all__ = ["PART_SECTIONS", "ELONGATION_KEYS", "SHAPES", "FixedPoint", "Body", "Link", "Torque",

@@ -23,10 +23,9 @@ from typing import TYPE_CHECKING, Any
 
 import sympy
 
-from .. import hooks
-from ..deadline import Deadline
-from ..errors import ModelError, Problem
+from ..errors import ModelError, Problem, name_list
 from ..expressions import Expression, ExpressionError
+from .parts import check_values as check_part_values
 from .units import ModelUnits, parse_with_unit
 
 if TYPE_CHECKING:
@@ -38,6 +37,16 @@ TIME = sympy.Symbol("t")
 
 def symbol(name: str) -> sympy.Symbol:
     """The sympy symbol of a model name (parameters, signals, coordinates).
+
+    Parameters
+    ----------
+    name : str
+        A name of the model.
+
+    Returns
+    -------
+    sympy.Symbol
+        The symbol every stage uses for it.
 
     Examples
     --------
@@ -53,6 +62,25 @@ class Force:
 
     ``kind`` is ``"torque"`` for a ``[[torque]]`` part (a moment acting on a body's angle,
     given as a one-component vector at the angle): messages name it as such.
+
+    Parameters
+    ----------
+    name : str
+        The entry's name (or its number), used in messages.
+    vector : tuple of Expression
+        The force's components (empty for generalized forces).
+    point : tuple of Expression
+        The position of the point it acts on.
+    generalized : mapping
+        coordinate -> generalized force, when given that way.
+    kind : str
+        ``"force"`` or ``"torque"``.
+
+    Examples
+    --------
+    >>> from resonant.expressions import parse
+    >>> Force("push", generalized={"x": parse("F0")}).kind
+    'force'
     """
 
     name: str
@@ -64,7 +92,21 @@ class Force:
 
 @dataclass(frozen=True)
 class Harmonic:
-    """One harmonic excitation of a matrix model: Q = F_S sin(omega t) + F_C cos(omega t)."""
+    """One harmonic excitation of a matrix model: Q = F_S sin(omega t) + F_C cos(omega t).
+
+    Parameters
+    ----------
+    omega : Expression
+        The circular frequency (rad/s).
+    F_S, F_C : tuple of Expression
+        The sine and cosine amplitudes, one per coordinate.
+
+    Examples
+    --------
+    >>> from resonant.expressions import parse
+    >>> Harmonic(parse("w"), (parse("1"),), (parse("0"),)).omega.text
+    'w'
+    """
 
     omega: Expression
     F_S: tuple[Expression, ...]
@@ -73,7 +115,24 @@ class Harmonic:
 
 @dataclass(frozen=True)
 class MatrixSpec:
-    """The ``[matrices]`` section: M, K, optional C, given directly."""
+    """The ``[matrices]`` section: M, K, optional C, given directly.
+
+    Parameters
+    ----------
+    M, K : array_like or sparse matrix
+        Mass and stiffness (numbers, or expressions for inline matrices).
+    C : array_like or sparse matrix, optional
+        Damping (None: undamped).
+    harmonics : tuple of Harmonic
+        The ``[[harmonic]]`` loads.
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> m = loads('[matrices]\\nM = [[1]]\\nK = [[4]]\\n')
+    >>> m.matrices.C is None, len(m.matrices.harmonics)
+    (True, 0)
+    """
 
     M: Any
     K: Any
@@ -87,8 +146,54 @@ class MatrixSpec:
 class Model:
     """A validated model: names, parsed expressions and parameter values.
 
-    Build it with :func:`load` or :func:`loads`; derive the linearized
-    equation of motion with :meth:`linearize`.
+    Build it with :func:`load` or :func:`loads`.  This is the data; the object
+    :func:`resonant.load` returns (:class:`resonant.api.Model`) adds the analyses
+    as methods.
+
+    Attributes
+    ----------
+    title : str
+        The model's title (``title = "..."``), may be empty.
+    source : str
+        The file it was read from (``"<string>"`` for text).
+    parameters : mapping
+        name -> parsed :class:`~resonant.expressions.Expression`, in file order.
+    parameter_values : mapping
+        name -> float (SI): every parameter evaluated.
+    exact_values : mapping
+        name -> exact sympy value (rationals where the text is exact).
+    coordinates : tuple of str
+        The generalized coordinates, in order.
+    descriptions : mapping
+        coordinate -> the description given in ``[coordinates]``.
+    equilibrium : mapping
+        coordinate -> the reference state (``[equilibrium]``; 0 if not given).
+    signals : mapping
+        name -> prescribed function of t (``[signals]``).
+    definitions : mapping
+        name -> expression (``[definitions]``), usable in energies and outputs.
+    energy : mapping
+        ``"T"``, ``"U"``, ``"D"`` -> expression (the totals for a model with parts).
+    forces : tuple of Force
+        The ``[[force]]`` entries (and the parts' forces and torques).
+    outputs : mapping
+        name -> expression of a quantity to report (``[outputs]``).
+    matrices : MatrixSpec or None
+        The ``[matrices]`` section (None for a model given by energies or parts).
+    exercise : Exercise or None
+        The teacher's ``[exercise]`` and ``[variants]``.
+    parts : DerivedEnergies or None
+        The mechanism's parts and the energies derived from them.
+    units : ModelUnits or None
+        Physical units (None for a model without units: every number SI).
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> m = loads('[parameters]\\nm = 3\\nk = "2*m"\\n[coordinates]\\nx = ""\\n'
+    ...           '[energy]\\nT = "m*x\\'^2/2"\\nU = "k*x^2/2"')
+    >>> m.coordinates, m.parameter_values["k"]
+    (('x',), 6.0)
     """
 
     title: str
@@ -149,74 +254,12 @@ class Model:
             raise ModelError(problems)
         exact, floats = evaluate_parameters(params, self.source)
         if self.parts is not None:  # a mass or inertia of a part may have turned negative
-            negative = hooks.call("check_part_values", self.parts.parts, exact, self.source)
+            negative = check_part_values(self.parts.parts, exact, self.source)
             if negative:
                 raise ModelError(negative)
         return replace(self, parameters=MappingProxyType(params),
                         exact_values=MappingProxyType(exact),
                         parameter_values=MappingProxyType(floats))
-
-    def linearize(self, timeout: float | None = None, deadline: Deadline | None = None
-                  ) -> Any:
-        """The linearized equation of motion M q'' + C q' + K q = Q(t).
-
-        One-line delegate to :func:`resonant.system.linear_system`.
-
-        Parameters
-        ----------
-        timeout : float, optional
-            Time limit of the derivation in seconds (used when no ``deadline`` is given).
-        deadline : Deadline, optional
-            The cooperative deadline of the whole run.
-
-        Returns
-        -------
-        LinearSystem
-            :class:`~resonant.system.LinearEOM` for a model given by its energies,
-            :class:`~resonant.system.MatrixEOM` for ``[matrices]``.
-
-        Raises
-        ------
-        ModelError
-            If the derivation fails, exceeds the time limit, overflows or nests
-            too deeply; the message names the expression being worked on.
-        """
-        return hooks.call("linear_system", self, deadline or Deadline(timeout, self.source))
-
-    def simulate(self, duration: float | None = None, nonlinear: bool = False,
-                 **options: Any) -> Any:
-        """Time integration, linear or full nonlinear.
-
-        One-line delegate to :func:`resonant.analyses.simulate.simulate`.
-
-        Parameters
-        ----------
-        duration : float, optional
-            End time in s (default: chosen from the system's time scales).
-        nonlinear : bool
-            Integrate the full Lagrange equations instead of the linearized ones.
-        **options
-            Passed on to :func:`~resonant.analyses.simulate.simulate`.
-
-        Returns
-        -------
-        Simulation
-        """
-        return hooks.call("simulate", self.linearize(deadline=options.get("deadline")),
-                          duration, nonlinear, **options)
-
-    def nonlinear_sweep(self, param: str, start: float, stop: float, **options: Any) -> Any:
-        """Periodic steady state of the full equations against a parameter (harmonic
-        balance, continuation, stability): delegate to
-        :func:`resonant.analyses.harmonic_balance.nonlinear_sweep`."""
-        return hooks.call("nonlinear_sweep", self.linearize(deadline=options.get("deadline")),
-                          param, start, stop, **options)
-
-    def _repr_latex_(self) -> str:
-        return str(hooks.call("model_latex", self))
-
-    def _repr_html_(self) -> str:
-        return str(hooks.call("model_html", self))
 
 
 def unknown_parameter(name: str, source: str, params: Iterable[str]) -> Problem:
@@ -245,6 +288,8 @@ def evaluate_parameters(params: Mapping[str, Expression], source: str
     exact: dict[str, sympy.Expr] = {}
     floats: dict[str, float] = {}
     problems: list[Problem] = []
+    root_of: dict[str, str] = {}  # failed parameter -> the invalid one it comes from
+    dependents: dict[str, list[str]] = {}
 
     def resolve(n: str, p: int) -> sympy.Expr:
         return exact[n] if p == 0 else sympy.Integer(0)
@@ -260,8 +305,9 @@ def evaluate_parameters(params: Mapping[str, Expression], source: str
             problems.extend(exc.problems)
             continue
         except KeyError as exc:  # refers to a parameter that failed itself
-            problems.append(Problem(f"depends on the invalid parameter {exc}", source,
-                                    "parameters", name))
+            root = root_of.get(exc.args[0], exc.args[0])
+            root_of[name] = root
+            dependents.setdefault(root, []).append(name)
             continue
         try:
             number = complex(value.evalf(30))
@@ -282,9 +328,34 @@ def evaluate_parameters(params: Mapping[str, Expression], source: str
             continue
         exact[name] = value
         floats[name] = float(number.real)
-    if problems:
-        raise ModelError(problems)
+    if problems or dependents:
+        raise ModelError(_with_dependents(problems, dependents, source))
     return exact, floats
+
+
+def _with_dependents(problems: list[Problem], dependents: Mapping[str, list[str]],
+                     source: str) -> list[Problem]:
+    """One line per invalid parameter, followed by the parameters that depend on it."""
+    last = {p.key: i for i, p in enumerate(problems) if p.section == "parameters"}
+    out: list[Problem] = []
+    for i, problem in enumerate(problems):
+        out.append(problem)
+        if last.get(problem.key) == i and problem.key in dependents:
+            out.append(_dependents_line(dependents[problem.key], source, problem.key))
+    for root, names in dependents.items():
+        if root not in last:  # its own problem was reported elsewhere
+            out.append(Problem(f"depends on the invalid parameter '{root}'", source,
+                               "parameters", names[0]))
+            if names[1:]:
+                out.append(_dependents_line(names[1:], source, names[0]))
+    return out
+
+
+def _dependents_line(names: Sequence[str], source: str, key: str) -> Problem:
+    many = len(names) > 1
+    return Problem(f"and {len(names)} parameter{'s' if many else ''} that "
+                   f"depend{'' if many else 's'} on it: {name_list(names)}", source,
+                   "parameters", key)
 
 
 

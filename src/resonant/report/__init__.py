@@ -20,10 +20,12 @@ True
 from __future__ import annotations
 
 from pathlib import Path
+from typing import cast
 
+from ..analyses.stationary import stationary
 from ..errors import ModelError, Problem
 from ..model import Model
-from ..system import LinearEOM
+from ..system import LinearEOM, linear_system
 from .blocks import Report
 from .derivation import derive
 from .html import render_html
@@ -41,6 +43,20 @@ FORMATS = {".html": "html", ".htm": "html", ".md": "md", ".markdown": "md", ".te
 def build_report(model: Model, plots: bool = True, nonlinear: bool = False) -> Report:
     """The worked solution of ``model`` as a list of blocks.
 
+    Parameters
+    ----------
+    model : Model
+        A validated model.
+    plots : bool
+        Whether to include the figures.
+    nonlinear : bool
+        Add the section beyond small oscillations (see below).
+
+    Returns
+    -------
+    Report
+        The blocks of the worked solution, in the reference exercise's order.
+
     ``nonlinear=True`` adds the section "Beyond small oscillations" (the periodic steady
     state of the full equations by harmonic balance, :mod:`resonant.report.nonlinear`)
     for a forced model, before the warnings.
@@ -49,14 +65,21 @@ def build_report(model: Model, plots: bool = True, nonlinear: bool = False) -> R
     ------
     ModelError, AnalysisError
         As ``resonant solve`` does (invalid model; resonance, singular M).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> build_report(resonant.load("examples/two_dof_free.toml"), plots=False).headings()[0]
+    'Data'
     """
-    eom = model.linearize()
-    solution = eom.stationary()
+    eom = linear_system(model)
+    solution = stationary(eom)
     # the source-by-source derivation (a second, independent one, checked against the
     # solver's) is shown element by element only for small models: above MAX_DERIVED
     # coordinates it would cost what a full symbolic Lagrange derivation costs
     derivation = derive(eom) if isinstance(eom, LinearEOM) and eom.n <= MAX_DERIVED else None
-    ctx = Context(model, eom, solution, derivation, plots=plots)
+    # the steps read a MatrixEOM through what it shares with a LinearEOM (M, C, K, Q)
+    ctx = Context(model, cast(LinearEOM, eom), solution, derivation, plots=plots)
     steps = step_order(ctx)
     if nonlinear and ctx.eom.excitation:
         steps.insert(len(steps) - 1, beyond_small_oscillations)  # before the warnings
@@ -69,8 +92,29 @@ def build_report(model: Model, plots: bool = True, nonlinear: bool = False) -> R
 def render(report: Report, fmt: str, figure_path: Path | None = None) -> str:
     """The report as text: ``fmt`` is ``"html"``, ``"md"`` or ``"tex"``.
 
+    Parameters
+    ----------
+    report : Report
+        What :func:`build_report` returns.
+    fmt : str
+        ``"html"``, ``"md"`` or ``"tex"``.
+    figure_path : Path, optional
+        The output file, next to which figures are written (Markdown, LaTeX).
+
+    Returns
+    -------
+    str
+        The document.
+
     Markdown and LaTeX figures are written next to ``figure_path`` (the
     output file) as ``<stem>-figN.svg`` / ``.pdf``; without it they are left out.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> report = build_report(resonant.load("examples/two_dof_free.toml"), plots=False)
+    >>> render(report, "md").startswith("# ")
+    True
     """
     if fmt == "html":
         return render_html(report)
@@ -82,7 +126,28 @@ def render(report: Report, fmt: str, figure_path: Path | None = None) -> str:
 
 
 def report_format(path: str | Path) -> str:
-    """The format of an output file from its ending; ModelError for an unknown one."""
+    """The format of an output file from its ending.
+
+    Parameters
+    ----------
+    path : str or Path
+        The output file.
+
+    Returns
+    -------
+    str
+        ``"html"``, ``"md"`` or ``"tex"``.
+
+    Raises
+    ------
+    ModelError
+        For an ending that is none of these.
+
+    Examples
+    --------
+    >>> report_format("solution.markdown")
+    'md'
+    """
     suffix = Path(path).suffix.lower()
     if suffix not in FORMATS:
         raise ModelError(Problem(f"cannot tell the report format from '{path}': use a file "
@@ -91,7 +156,29 @@ def report_format(path: str | Path) -> str:
 
 
 def write_report(model: Model, path: str | Path, plots: bool = True) -> Path:
-    """Write the worked solution of ``model`` to ``path`` (.html, .md or .tex)."""
+    """Write the worked solution of ``model`` to ``path`` (.html, .md or .tex).
+
+    Parameters
+    ----------
+    model : Model
+        A validated model.
+    path : str or Path
+        The output file; its ending gives the format.
+    plots : bool
+        Whether to include the figures.
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile, resonant
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "solution.md"
+    >>> write_report(resonant.load("examples/two_dof_free.toml"), out, plots=False).name
+    'solution.md'
+    """
     path = Path(path)
     fmt = report_format(path)
     text = render(build_report(model, plots=plots), fmt, path)

@@ -84,7 +84,20 @@ def cell(*parts: Part) -> tuple[Part, ...]:
 
 @dataclass(frozen=True)
 class Report:
-    """A worked solution: a title and its blocks, in reading order."""
+    """A worked solution: a title and its blocks, in reading order.
+
+    Parameters
+    ----------
+    title : str
+        The report's title.
+    blocks : tuple of Block
+        Headings, paragraphs, equations, tables, figures and notes.
+
+    Examples
+    --------
+    >>> Report("Solution", (Heading("Data"),)).headings()
+    ['Data']
+    """
 
     title: str
     blocks: tuple[Block, ...]

@@ -10,7 +10,7 @@ the solver also uses.
 
 Examples
 --------
->>> from resonant.model import loads
+>>> from resonant.api import loads
 >>> model = loads('''
 ... [parameters]
 ... m = 1

@@ -20,6 +20,7 @@ import numpy as np
 from ..analyses.harmonic_balance import NonlinearResponse, nonlinear_sweep
 from ..analyses.periodic import PeriodicSolution, periodic_solution
 from ..errors import AnalysisError
+from ..system import NonlinearSystem, nonlinear_system
 from ..views.nonlinear_plots import plot_nonlinear_response
 from ..views.notation import number_text
 from .blocks import Block, Heading, Math, Note, Table, cell, paragraph
@@ -60,6 +61,35 @@ def _difference(a: float, linear: float) -> str:
     return f"{100 * (a / linear - 1):+.3g} %" if linear > 0 else "-"
 
 
+def _operating_point(periodic: PeriodicSolution) -> list[Block]:
+    """The periodic solution at the operating point against the linear amplitudes."""
+    blocks: list[Block] = []
+    rows = []
+    for name in periodic.coordinates:
+        lin = periodic.linear_amplitudes.get(name, float("nan"))
+        a = periodic.amplitudes[name]
+        rows.append((cell(Math(f"{_label(name)[1:-1]}")), cell(number_text(lin)),
+                     cell(number_text(a)), cell(_difference(a, lin))))
+    blocks.append(paragraph(
+        "At the operating point the periodic solution of the full equations "
+        f"(H = {periodic.harmonics}, period {number_text(periodic.period)} s, residual "
+        f"{periodic.residual:.2g}) is {'stable' if periodic.stable else 'unstable'}"
+        + (" (undamped: the multipliers lie on the unit circle)"
+           if periodic.stable and np.allclose(np.abs(periodic.multipliers), 1, atol=1e-6)
+           else "")
+        + ". Its peak amplitudes against the linear ones:"))
+    blocks.append(Table((cell("coordinate"), cell("linear"), cell("full equations"),
+                         cell("difference")), tuple(rows)))
+    worst = max(periodic.relative_difference.items(), key=lambda kv: abs(kv[1]),
+                default=None)
+    if worst is not None:
+        blocks.append(paragraph(
+            f"The largest difference is {100 * worst[1]:+.3g} % ({worst[0]}): "
+            + ("small oscillations hold to within 1 %." if abs(worst[1]) < 0.01 else
+               "the small-oscillation answer is off by that much.")))
+    return blocks
+
+
 def beyond_small_oscillations(ctx: Context) -> list[Block]:
     """The step: the nonlinear curve, the operating point on it, the difference to linear."""
     blocks: list[Block] = [Heading("Beyond small oscillations")]
@@ -76,8 +106,9 @@ def beyond_small_oscillations(ctx: Context) -> list[Block]:
                             r"t"), ", whose coefficients make the equations' harmonics vanish "
         "(Newton's method, the nonlinear terms sampled over one period). Its stability comes "
         "from the Floquet multipliers (Hill's method)."))
+    system: NonlinearSystem = nonlinear_system(ctx.eom)  # compiled once for both analyses
     try:
-        periodic: PeriodicSolution | None = periodic_solution(ctx.eom)
+        periodic: PeriodicSolution | None = periodic_solution(system)
     except AnalysisError as exc:
         periodic = None
         blocks.append(Note((f"No periodic solution of the full equations was found near the "
@@ -88,7 +119,7 @@ def beyond_small_oscillations(ctx: Context) -> list[Block]:
     if parameter is not None:
         w0 = moving[0]
         try:
-            curve = nonlinear_sweep(ctx.eom, parameter, LOW * w0, HIGH * w0, points=POINTS)
+            curve = nonlinear_sweep(system, parameter, LOW * w0, HIGH * w0, points=POINTS)
         except AnalysisError as exc:
             blocks.append(Note((f"The nonlinear frequency-response curve could not be "
                                 f"followed: {exc}",)))
@@ -98,45 +129,25 @@ def beyond_small_oscillations(ctx: Context) -> list[Block]:
             NonlinearCurve(curve, moving[0], amplitudes),
             f"Peak amplitudes of the periodic steady state of the full equations against "
             f"the excitation frequency {parameter} (harmonic balance, H = {curve.harmonics}; "
-            "solid: stable, dashed: unstable, open markers: special points), the linear "
-            "response dotted, the operating point starred."))
+            "solid: stable, dashed: unstable, open markers: special points, the peaks open "
+            "stars), the linear response dotted, the operating point a filled star."))
     if curve is not None:
         if curve.special_points:
             items = "; ".join(
-                f"{p.kind} at {parameter} = {number_text(p.value)}" for p in curve.special_points)
+                (f"the peak of {p.quantity}" if p.kind == "peak" else p.kind)
+                + f" at {parameter} = {number_text(p.value)}" for p in curve.special_points)
             blocks.append(paragraph(f"Special points between {parameter} = "
                                     f"{number_text(curve.start)} and "
                                     f"{number_text(curve.stop)}: {items}."))
         else:
             blocks.append(paragraph(
                 f"Between {parameter} = {number_text(curve.start)} and "
-                f"{number_text(curve.stop)} the curve has no fold and no change of stability"
+                f"{number_text(curve.stop)} the curve has no fold, no change of stability and "
+                "no peak"
                 + (" (every point stable)." if curve.stable.all() else ".")))
         blocks.extend(Note((w,)) for w in curve.warnings)
     if periodic is not None:
-        rows = []
-        for name in periodic.coordinates:
-            lin = periodic.linear_amplitudes.get(name, float("nan"))
-            a = periodic.amplitudes[name]
-            rows.append((cell(Math(f"{_label(name)[1:-1]}")), cell(number_text(lin)),
-                         cell(number_text(a)), cell(_difference(a, lin))))
-        blocks.append(paragraph(
-            "At the operating point the periodic solution of the full equations "
-            f"(H = {periodic.harmonics}, period {number_text(periodic.period)} s, residual "
-            f"{periodic.residual:.2g}) is {'stable' if periodic.stable else 'unstable'}"
-            + (" (undamped: the multipliers lie on the unit circle)"
-               if periodic.stable and np.allclose(np.abs(periodic.multipliers), 1, atol=1e-6)
-               else "")
-            + ". Its peak amplitudes against the linear ones:"))
-        blocks.append(Table((cell("coordinate"), cell("linear"), cell("full equations"),
-                             cell("difference")), tuple(rows)))
-        worst = max(periodic.relative_difference.items(), key=lambda kv: abs(kv[1]),
-                    default=None)
-        if worst is not None:
-            blocks.append(paragraph(
-                f"The largest difference is {100 * worst[1]:+.3g} % ({worst[0]}): "
-                + ("small oscillations hold to within 1 %." if abs(worst[1]) < 0.01 else
-                   "the small-oscillation answer is off by that much.")))
+        blocks.extend(_operating_point(periodic))
     return blocks
 
 

@@ -1,6 +1,6 @@
 """The report of a mechanism described by its parts: its figure and its energies, part by part.
 
-For a model with parts (issue 12) the worked solution starts, as the reference
+For a model with parts the worked solution starts, as the reference
 exercise does, from the figure of the system ("Fig. 1": :mod:`resonant.views.drawing`)
 and derives the energies the way its Eqs. (8)-(14) do: T as the sum over the
 bodies, the velocity of each centre of gravity (``v_S = v_B + omega x r_BS`` for
@@ -284,7 +284,7 @@ def _link_intro(link: Link, index: int, what: str, coefficient: str) -> list[Any
 
 def _elongation(ctx: Context, parts: _Parts, link: Link, symbol: str, intro: list[Any]
                 ) -> list[Block]:
-    """Δl of a spring or damper, from its points as the spec defines it."""
+    """Δl of a spring or damper, from its points as docs/parts.md defines it."""
     mech = parts.mechanism
     stretch = mech.elongation(link)
     (xa, ya), (xb, yb) = mech.point(link.between[0]), mech.point(link.between[1])

@@ -1,4 +1,6 @@
-"""Layer 4, the system: the one linear-system type every analysis takes.
+"""Layer 4, the system: the one linear-system type every analysis takes, and the
+nonlinear-system type (:class:`NonlinearSystem`: the full equations of motion, compiled
+once, :func:`nonlinear_system`) the analyses beyond small oscillations take.
 
 :func:`linear_system` turns a model into its :class:`LinearSystem`: a
 :class:`LinearEOM` (derived from energies by :mod:`resonant.derivation`) or a
@@ -8,7 +10,6 @@ parameter point) or :class:`Batch` (many).
 
 from __future__ import annotations
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..model import Model
 from .base import (
@@ -20,10 +21,10 @@ from .base import (
 )
 from .batch import Batch, BatchHarmonic
 from .matrix import MatrixEOM
+from .nonlinear import EnergySystem, NonlinearSystem, nonlinear_system
 from .symbolic import LinearEOM
 
 
-@hooks.provides("linear_system")
 def linear_system(model: Model, deadline: Deadline = NO_DEADLINE) -> LinearSystem:
     """The linear system of a model: derived from its energies, or its given matrices.
 
@@ -41,6 +42,12 @@ def linear_system(model: Model, deadline: Deadline = NO_DEADLINE) -> LinearSyste
     ------
     ModelError
         If the derivation fails (see :func:`resonant.derivation.linearize`).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> type(linear_system(resonant.load("examples/two_dof_free.toml"))).__name__
+    'LinearEOM'
     """
     if model.matrices is not None:
         return MatrixEOM(model, model.coordinates)
@@ -48,4 +55,5 @@ def linear_system(model: Model, deadline: Deadline = NO_DEADLINE) -> LinearSyste
 
 
 __all__ = ["LinearSystem", "LinearEOM", "MatrixEOM", "NumericEOM", "NumericHarmonic",
-           "NumericOutput", "Batch", "BatchHarmonic", "linear_system", "parameter_values"]
+           "NumericOutput", "Batch", "BatchHarmonic", "linear_system", "parameter_values",
+           "NonlinearSystem", "EnergySystem", "nonlinear_system"]

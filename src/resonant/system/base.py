@@ -26,7 +26,6 @@ from typing import Any
 
 import numpy as np
 
-from .. import hooks
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
@@ -43,6 +42,13 @@ class LinearSystem(ABC):
         The generalized coordinates, in order.
     model : Model or None
         The model it comes from (None for a bare :class:`NumericEOM`).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> eom = resonant.load("examples/cart_pendulum.toml").linearize()
+    >>> isinstance(eom, LinearSystem), eom.coordinates
+    (True, ('x1', 'x2'))
     """
 
     coordinates: tuple[str, ...]
@@ -128,58 +134,6 @@ class LinearSystem(ABC):
             raise ModelError("this system has no model: its parameters cannot change")
         return self.model
 
-    # -- conveniences: one-line delegates to the analyses ------------------------------------
-    def stationary(self, deadline: Deadline = NO_DEADLINE, **overrides: float | str) -> Any:
-        """The stationary solution for harmonic excitation
-        (:func:`resonant.analyses.stationary.stationary`).
-
-        Parameters
-        ----------
-        deadline : Deadline, optional
-        **overrides
-            Parameter values replacing the model's.
-
-        Returns
-        -------
-        StationarySolution
-        """
-        return hooks.call("stationary", self, deadline, **overrides)
-
-    def modes(self, count: int | None = None, **options: Any) -> Any:
-        """Natural frequencies, mode shapes, damping ratios
-        (:func:`resonant.analyses.modes.modes`).
-
-        Parameters
-        ----------
-        count : int, optional
-            Only the ``count`` lowest modes.
-        **options
-            Passed on.
-
-        Returns
-        -------
-        ModalAnalysis
-        """
-        return hooks.call("modes", self, count=count, **options)
-
-    def sweep(self, param: str, values: Any, **options: Any) -> Any:
-        """Amplitudes and phases against a parameter (:func:`resonant.analyses.sweep.sweep`).
-
-        Parameters
-        ----------
-        param : str
-            The parameter to vary.
-        values : array_like
-            Its values.
-        **options
-            Passed on.
-
-        Returns
-        -------
-        FrequencyResponse
-        """
-        return hooks.call("sweep", self, param, values, **options)
-
     def to_dict(self) -> dict[str, Any]:
         """The JSON form of the equation of motion (coordinates, M, C, K, Q as text).
 
@@ -198,9 +152,6 @@ class LinearSystem(ABC):
         dict or None
         """
         return None
-
-    def _repr_latex_(self) -> str:
-        return str(hooks.call("eom_latex", self))
 
 
 def parameter_values(model: Model, param: str, values: np.ndarray,
@@ -229,6 +180,13 @@ def parameter_values(model: Model, param: str, values: np.ndarray,
     ------
     ModelError
         For an unknown parameter, or a dependent parameter that is not finite.
+
+    Examples
+    --------
+    >>> import numpy as np, resonant
+    >>> model = resonant.load("examples/two_dof_free.toml")
+    >>> parameter_values(model, "k", np.array([1.0, 2.0]))["k2"].tolist()
+    [1.0, 2.0]
     """
     if param not in model.parameters:
         import difflib
@@ -266,6 +224,22 @@ class NumericHarmonic:
     ``signals`` holds the (S, C) pair of every signal derivative at this
     frequency (needed for outputs that depend on signals). ``omega = 0`` is a
     static load (F_C only).
+
+    Parameters
+    ----------
+    omega : float
+        The circular frequency (rad/s).
+    F_S, F_C : ndarray
+        Sine and cosine amplitudes of the generalized forces, shape (n,).
+    signals : mapping
+        ``(signal, order)`` -> (S, C) at this frequency.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> eom = resonant.load("examples/cart_pendulum.toml").linearize()
+    >>> eom.numeric().harmonics[-1].omega
+    20.0
     """
 
     omega: float
@@ -280,7 +254,20 @@ class NumericHarmonic:
 
 @dataclass(frozen=True)
 class NumericOutput:
-    """A linearized output y = value + sum coefficient * (coordinate or signal derivative)."""
+    """A linearized output y = value + sum coefficient * (coordinate or signal derivative).
+
+    Parameters
+    ----------
+    value : float
+        The output at the reference state.
+    terms : mapping
+        ``(name, order)`` -> coefficient.
+
+    Examples
+    --------
+    >>> NumericOutput(0.0, {("x2", 0): 2.0}).terms[("x2", 0)]
+    2.0
+    """
 
     value: float
     terms: Mapping[Var, float]
@@ -292,6 +279,12 @@ class NumericEOM(LinearSystem):
 
     Attributes
     ----------
+    coordinates : tuple of str
+        The generalized coordinates, in order.
+    M, C, K : ndarray or sparse matrix
+        Mass, damping and stiffness, (n, n).
+    title_, source_ : str
+        The model's title and file (``title`` and ``source`` read them).
     harmonics : tuple of NumericHarmonic
         The excitation, grouped by frequency (ascending).
     harmonic : bool
@@ -302,6 +295,14 @@ class NumericEOM(LinearSystem):
         The parameter values these numbers are for.
     system : LinearSystem or None
         The system these numbers were evaluated from.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> eom = resonant.load("examples/cart_pendulum.toml").linearize()
+    >>> num = eom.numeric()
+    >>> num.M.tolist(), num.K.tolist()
+    ([[3.0, 0.5], [0.5, 0.3333333333333333]], [[100.0, 0.0], [0.0, 9.81]])
     """
 
     coordinates: tuple[str, ...]
@@ -381,9 +382,6 @@ class NumericEOM(LinearSystem):
 
     def symbolic_dict(self) -> dict[str, Any] | None:
         return self.system.symbolic_dict() if self.system is not None else None
-
-    def _repr_latex_(self) -> str:
-        return str(hooks.call("numeric_eom_latex", self))
 
 
 def _dense(a: Any) -> np.ndarray:

@@ -67,7 +67,24 @@ def group_frequencies(omegas: Sequence[float]) -> list[list[int]]:
 
 @dataclass
 class BatchHarmonic:
-    """One excitation frequency of a batch: omega (N,), F_S and F_C (N, n) or (n,)."""
+    """One excitation frequency of a batch: omega (N,), F_S and F_C (N, n) or (n,).
+
+    Parameters
+    ----------
+    omega : ndarray
+        The frequency at each of the N points.
+    F_S, F_C : ndarray
+        Sine and cosine amplitudes, (N, n), or (n,) when they do not change.
+    signals : dict
+        ``(signal, order)`` -> (S, C) arrays at this frequency.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> eom = resonant.load("examples/cart_pendulum.toml").linearize()
+    >>> eom.batch("omega", [10.0, 20.0]).harmonics[-1].omega.tolist()
+    [10.0, 20.0]
+    """
 
     omega: np.ndarray
     F_S: np.ndarray
@@ -80,8 +97,30 @@ class BatchHarmonic:
 class Batch:
     """The system at N parameter points.
 
-    M, C, K are (n, n) (dense or sparse) when they do not change, else (N, n, n).
-    ``outputs`` maps a name to ``(value (N,), {variable: coefficient (N,)})``.
+    Parameters
+    ----------
+    coordinates : tuple of str
+        The generalized coordinates.
+    M, C, K : ndarray or sparse matrix
+        (n, n) (dense or sparse) when they do not change, else (N, n, n).
+    harmonics : list of BatchHarmonic
+        The excitation frequencies.
+    outputs : dict
+        name -> ``(value (N,), {variable: coefficient (N,)})``.
+    title : str
+        The model's title.
+    harmonic : bool
+        False when some signal is not a sum of harmonics.
+    count : int
+        N, the number of parameter points.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> eom = resonant.load("examples/cart_pendulum.toml").linearize()
+    >>> batch = eom.batch("k", [100.0, 200.0])
+    >>> batch.count, batch.K.shape
+    (2, (2, 2, 2))
     """
 
     coordinates: tuple[str, ...]

@@ -34,6 +34,21 @@ class MatrixEOM(LinearSystem):
     Each harmonic j acts as two signals ``sin(omega_j t)`` and ``cos(omega_j t)``
     whose columns are F_S and F_C (:attr:`excitation`), so reports and
     outputs treat both kinds of model alike.
+
+    Parameters
+    ----------
+    model : Model
+        A model with ``[matrices]``.
+    coordinates : tuple of str
+        Its coordinates (``q1`` ... unless named).
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> from resonant.system import linear_system
+    >>> eom = linear_system(loads("[matrices]\\nM = [[2]]\\nK = [[8]]\\n"))
+    >>> type(eom).__name__, eom.numeric().K.tolist()
+    ('MatrixEOM', [[8.0]])
     """
 
     model: Model

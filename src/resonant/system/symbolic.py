@@ -2,7 +2,7 @@
 
 Examples
 --------
->>> from resonant.model import loads
+>>> from resonant.api import loads
 >>> eom = loads('''
 ... [parameters]
 ... m = 1
@@ -80,6 +80,18 @@ class LinearEOM(LinearSystem):
         zero (zero at an equilibrium).
     outputs : mapping
         Each output as a :class:`~resonant.derivation.LinearMap`.
+    model : Model
+        The model derived.
+    coordinates : tuple of str
+        The generalized coordinates, in order.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> from resonant.system import linear_system
+    >>> eom = linear_system(resonant.load("examples/cart_pendulum.toml"))
+    >>> eom.K.tolist()
+    [[k, 0], [0, g*m2/(2*l)]]
     """
 
     model: Model

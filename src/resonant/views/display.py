@@ -2,12 +2,12 @@
 
 The LaTeX views use the notation of the worked-solution report
 (:mod:`resonant.report.notation`): ``x1'`` is shown as a dotted symbol,
-``eps`` as varepsilon, matrices as ``bmatrix``.  They back the Jupyter hooks
+``eps`` as varepsilon, matrices as ``bmatrix``.  They back the Jupyter reprs
 ``_repr_latex_`` / ``_repr_html_`` of Model, LinearEOM and StationarySolution.
 
 Examples
 --------
->>> from resonant.model import loads
+>>> from resonant.api import loads
 >>> model = loads('''
 ... [parameters]
 ... m = 2
@@ -32,11 +32,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import sympy
 
-from .. import hooks
 from ..derivation import derivative_symbol
 from ..errors import printable
 from ..model import Model, symbol
-from ..system import LinearEOM, MatrixEOM, NumericEOM
+from ..system import LinearEOM, MatrixEOM, NumericEOM, linear_system
+from .mathml import latex_to_mathml
 from .notation import (
     Namer,
     column_latex,
@@ -145,7 +145,6 @@ def _matrices_in_full(e: NumericEOM, units: ResultUnits | None) -> list[str]:
     return out
 
 
-@hooks.provides("solution_text")
 def solution_text(sol: StationarySolution) -> str:
     """The human-readable report of ``resonant solve``."""
     e = sol.eom
@@ -223,7 +222,6 @@ def _namer(model: Model) -> tuple[Namer, dict]:
     return namer, namer.symbol_names(symbols)
 
 
-@hooks.provides("eom_latex")
 def eom_latex(eom: LinearEOM | MatrixEOM) -> str:
     """The equation of motion as one LaTeX display (Jupyter ``_repr_latex_``)."""
     namer, names = _namer(eom.model)
@@ -236,7 +234,6 @@ def eom_latex(eom: LinearEOM | MatrixEOM) -> str:
     return rf"$\displaystyle {lhs} = {sympy_latex(eom.Q, names)}$"
 
 
-@hooks.provides("numeric_eom_latex")
 def numeric_eom_latex(eom: NumericEOM) -> str:
     """M q'' + C q' + K q = Q with numbers (Jupyter ``_repr_latex_`` of a NumericEOM)."""
     if eom.n > 12:
@@ -256,7 +253,6 @@ def numeric_eom_latex(eom: NumericEOM) -> str:
     return rf"$\displaystyle {' + '.join(parts) or '0'} = {rhs}$"
 
 
-@hooks.provides("model_latex")
 def model_latex(model: Model) -> str:
     """The coordinates, energies (as given) or matrices of a model (``_repr_latex_``)."""
     namer, _ = _namer(model)
@@ -270,18 +266,16 @@ def model_latex(model: Model) -> str:
     for name, expression in model.signals.items():
         lines.append(f"{namer(name)} &= {expression_latex(expression, namer)}")
     if model.matrices is not None:
-        eom = model.linearize()
+        eom = linear_system(model)
         for label in ("M", "C", "K"):
             lines.append(rf"\mathbf{{{label}}} &= {sympy_latex(getattr(eom, label), {})}")
     return r"$\displaystyle \begin{aligned} " + r" \\ ".join(lines) + r" \end{aligned}$"
 
 
 def _mathml(latex: str) -> str:
-    # MathML (xml.etree, ziamath) is imported only when HTML is asked for
-    return str(hooks.call("latex_to_mathml", latex, True))
+    return latex_to_mathml(latex, True)
 
 
-@hooks.provides("model_html")
 def model_html(model: Model) -> str:
     """The model as HTML with MathML (``_repr_html_``)."""
     body = model_latex(model).removeprefix(r"$\displaystyle ").removesuffix("$")
@@ -289,7 +283,6 @@ def model_html(model: Model) -> str:
     return f"<p><b>{title}</b></p>{_mathml(body)}"
 
 
-@hooks.provides("stationary_latex")
 def stationary_latex(sol: StationarySolution) -> str:
     """q_p(t) = sum of L cos(w t) + N sin(w t) with numbers (``_repr_latex_``)."""
     terms = []
@@ -303,7 +296,6 @@ def stationary_latex(sol: StationarySolution) -> str:
     return rf"$\displaystyle \mathbf{{q}}_{{p}}(t) = {rhs}$"
 
 
-@hooks.provides("stationary_html")
 def stationary_html(sol: StationarySolution) -> str:
     """A compact HTML table of amplitudes and phases (Jupyter ``_repr_html_``)."""
     rows = "".join(
@@ -319,7 +311,6 @@ def stationary_html(sol: StationarySolution) -> str:
             f"</table>{warn}")
 
 
-@hooks.provides("modes_text")
 def modes_text(result: Any, units: ResultUnits | None = None) -> str:
     """The human-readable table of ``resonant modes``; the second frequency column is in
     the display unit of frequencies (``units.frequency``, Hz by default)."""
@@ -363,7 +354,6 @@ def modes_text(result: Any, units: ResultUnits | None = None) -> str:
     return "\n".join(out) + "\n"
 
 
-@hooks.provides("sweep_text")
 def sweep_text(result: Any) -> str:
     """The human-readable summary of ``resonant sweep``."""
     unit = f" {result.unit}" if result.unit else ""
@@ -395,7 +385,6 @@ def sweep_text(result: Any) -> str:
     return "\n".join(out) + "\n"
 
 
-@hooks.provides("simulation_text")
 def simulation_text(sim: Simulation) -> str:
     """A short plain-text report of a :class:`~resonant.analyses.simulate.Simulation`."""
     kind = "nonlinear" if sim.nonlinear else "linear"

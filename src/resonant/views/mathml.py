@@ -23,8 +23,6 @@ from dataclasses import dataclass
 from typing import Any
 from xml.etree import ElementTree
 
-from .. import hooks
-
 _FENCE = re.compile(r'<mo( stretchy="true" fence="true" form="(?:prefix|postfix)")>')
 
 _PAREN = re.compile(r'<mo stretchy="false">(&#x00028;|&#x00029;)</mo>')
@@ -47,7 +45,6 @@ def simple_parentheses(latex: str) -> str:
         latex = replaced
 
 
-@hooks.provides("latex_to_mathml")
 def latex_to_mathml(latex: str, display: bool) -> str:
     """MathML of a LaTeX formula (the LaTeX itself, as code, if it cannot be converted).
 

@@ -2,8 +2,9 @@
 
 The plot draws the peak amplitude of each coordinate against the parameter:
 stable parts solid, unstable parts dashed, special points marked (fold: circle,
-period-doubling: square, Neimark-Sacker: diamond, branch: triangle), and the
-linear frequency response thin and grey beside it.
+period-doubling: square, Neimark-Sacker: diamond, branch: triangle, the peak of a
+curve: a star on that curve), and the linear frequency response dotted beside it.
+The curves are the coordinates' and the outputs' (``[outputs]``).
 """
 
 from __future__ import annotations
@@ -13,17 +14,16 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .. import hooks
 from .plotting import MAX_CURVES, _figure_of, _new_figure, _save
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..analyses.backbone import Backbones
     from ..analyses.harmonic_balance import NonlinearResponse
 
-MARKERS = {"fold": "o", "period-doubling": "s", "neimark-sacker": "D", "branch": "^"}
+MARKERS = {"fold": "o", "period-doubling": "s", "neimark-sacker": "D", "branch": "^",
+           "peak": "*"}
 
 
-@hooks.provides("plot_nonlinear_response")
 def plot_nonlinear_response(response: NonlinearResponse, path: Any = None,
                             names: Sequence[str] | None = None, ax: Any = None,
                             linear: bool = True) -> Any:
@@ -55,9 +55,10 @@ def plot_nonlinear_response(response: NonlinearResponse, path: Any = None,
                 first = False
                 start = i
         for point in response.special_points:
-            if name in point.amplitudes:
+            if name in point.amplitudes and point.quantity in (None, name):
+                big = point.kind == "peak"
                 ax.plot([point.value], [point.amplitudes[name]], MARKERS.get(point.kind, "x"),
-                        color="k", mfc="none", ms=7)
+                        color="k", mfc="none", ms=10 if big else 7)
     kinds = sorted({p.kind for p in response.special_points})
     for kind in kinds:
         ax.plot([], [], MARKERS.get(kind, "x"), color="k", mfc="none", label=kind)
@@ -75,7 +76,6 @@ def plot_nonlinear_response(response: NonlinearResponse, path: Any = None,
     return fig
 
 
-@hooks.provides("nonlinear_text")
 def nonlinear_text(response: NonlinearResponse) -> str:
     """Special points and the peak of the stable branch, as plain text."""
     lines = [f"{response.title or 'model'}: nonlinear steady state (harmonic balance, "
@@ -87,10 +87,13 @@ def nonlinear_text(response: NonlinearResponse) -> str:
     if response.special_points:
         lines.append("  special points:")
         for p in response.special_points:
-            amps = ", ".join(f"{k} = {v:.6g}" for k, v in p.amplitudes.items())
-            lines.append(f"    {p.kind:16s} {response.parameter} = {p.value:.6g}   {amps}")
+            amps = ", ".join(f"{k} = {v:.10g}" for k, v in p.amplitudes.items())
+            kind = f"peak of {p.quantity}" if p.kind == "peak" else p.kind
+            if p.stable is False:
+                kind += " (unstable)"
+            lines.append(f"    {kind:16s} {response.parameter} = {p.value:.10g}   {amps}")
     else:
-        lines.append("  no special points (no fold, no change of stability)")
+        lines.append("  no special points (no fold, no change of stability, no peak)")
     top = response.peak()
     if top is not None:
         value, peak_amps = top
@@ -106,7 +109,6 @@ def nonlinear_text(response: NonlinearResponse) -> str:
     return "\n".join(lines) + "\n"
 
 
-@hooks.provides("plot_backbones")
 def plot_backbones(backbones: Backbones, path: Any = None, ax: Any = None) -> Any:
     """Backbone curves: the free-vibration frequency (x) against the amplitude of each mode's
     reference coordinate (y), the linear natural frequencies dotted; returns the Figure."""

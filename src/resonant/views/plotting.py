@@ -21,7 +21,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .. import hooks
 from ..errors import AnalysisError, printable
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -81,7 +80,6 @@ def _save(fig: Any, path: Any, **options: Any) -> None:
         raise AnalysisError(f"cannot write the plot '{path}': {exc.strerror or exc}") from None
 
 
-@hooks.provides("plot_frequency_response")
 def plot_frequency_response(response: FrequencyResponse, path: Any = None,
                             names: Sequence[str] | None = None, ax: Any = None,
                             units: Mapping[str, str] | None = None) -> Any:
@@ -122,9 +120,35 @@ def plot_frequency_response(response: FrequencyResponse, path: Any = None,
         For an unknown name or an unsupported file suffix.
     """
     import matplotlib
-    from matplotlib.lines import Line2D
 
     _check_path(path)
+    names = _curve_names(response, names)
+    fig, ax_amp, ax_phase = _response_axes(ax)
+    panels = [a for a in (ax_amp, ax_phase) if a is not None]
+    colors = matplotlib.rcParams["axes.prop_cycle"].by_key().get("color", ["C0"])
+    amplitude_units = {units.get(n, "") for n in names} if units else set()
+    per_curve = units if len(amplitude_units) > 1 else None
+    floor, top = _amplitude_floor(response, names)
+    labelled: list[float] = []
+    any_positive = False
+    for k, name in enumerate(names):
+        color = colors[k % len(colors)]
+        any_positive |= _draw_curve(response, name, color, floor, ax_amp, ax_phase, per_curve)
+        _mark_peaks(response, name, color, floor, ax_amp, labelled)
+    _mark_natural(response, panels, ax_amp)
+    if any_positive:
+        ax_amp.set_yscale("log")
+        if floor > 0 and top > 0:  # clipped to the sampled data
+            ax_amp.set_ylim(floor / 1.5, top * 1.5)
+    _label_response_axes(response, panels, ax_amp, ax_phase, amplitude_units)
+    if ax is None:
+        fig.tight_layout()
+    _save(fig, path, dpi=150, bbox_inches="tight")
+    return fig
+
+
+def _curve_names(response: FrequencyResponse, names: Sequence[str] | None) -> list[str]:
+    """The names to draw: the given ones (checked), else all, at most MAX_CURVES."""
     if names is None:
         names = list(response.names)
         if len(names) > MAX_CURVES:
@@ -134,86 +158,96 @@ def plot_frequency_response(response: FrequencyResponse, path: Any = None,
     unknown = [n for n in names if n not in response.amplitudes]
     if unknown:
         raise AnalysisError(f"nothing to plot named {', '.join(unknown)}")
-    x = response.values
-    own = ax is None
-    if own:
+    return list(names)
+
+
+def _response_axes(ax: Any) -> tuple[Any, Any, Any]:
+    """(figure, amplitude axes, phase axes or None): new, or the caller's ``ax=``."""
+    if ax is None:
         fig = _new_figure(figsize=(8, 6.5))
         ax_amp, ax_phase = fig.subplots(2, 1, sharex=True,
                                         gridspec_kw={"height_ratios": [2.2, 1]})
-    else:
-        if isinstance(ax, (tuple, list)) or (isinstance(ax, np.ndarray) and ax.ndim == 1):
-            if len(ax) != 2:
-                raise AnalysisError("ax= takes a pair of Axes (amplitude, phase) or one Axes "
-                                    "(amplitude only)")
-            ax_amp, ax_phase = ax
-        else:
-            ax_amp, ax_phase = ax, None
-        fig = _figure_of(ax_amp)
-    panels = [a for a in (ax_amp, ax_phase) if a is not None]
-    unit = f" [{response.unit}]" if response.unit else ""
-    label_x = ("excitation frequency " if response.frequency_sweep else "") + \
-        f"{printable(response.parameter, limit=40)}{unit}"
-    colors = matplotlib.rcParams["axes.prop_cycle"].by_key().get("color", ["C0"])
-    peaks_by_name: dict[str, list] = {}
-    for p in response.peaks:
-        peaks_by_name.setdefault(p.name, []).append(p)
-    dips_by_name: dict[str, list] = {}
-    for p in response.antiresonances:
-        dips_by_name.setdefault(p.name, []).append(p)
-    any_positive = False
-    labelled: list[float] = []
-    amplitude_units = {units.get(n, "") for n in names} if units else set()
-    mixed = len(amplitude_units) > 1
-    # the plotted floor: true zeros (antiresonances of undamped systems, 1e-19 and less)
-    # are drawn there instead of stretching the log axis over many decades
+        return fig, ax_amp, ax_phase
+    if isinstance(ax, (tuple, list)) or (isinstance(ax, np.ndarray) and ax.ndim == 1):
+        if len(ax) != 2:
+            raise AnalysisError("ax= takes a pair of Axes (amplitude, phase) or one Axes "
+                                "(amplitude only)")
+        return _figure_of(ax[0]), ax[0], ax[1]
+    return _figure_of(ax), ax, None
+
+
+def _amplitude_floor(response: FrequencyResponse, names: Sequence[str]) -> tuple[float, float]:
+    """(floor, top) of the plotted amplitudes.
+
+    True zeros (antiresonances of undamped systems, 1e-19 and less) are drawn at the
+    floor instead of stretching the log axis over many decades.
+    """
     sampled = np.array([response.amplitudes[name] for name in names], dtype=float)
     top = float(np.nanmax(sampled, initial=0.0)) if np.isfinite(sampled).any() else 0.0
     meaningful = sampled[np.isfinite(sampled) & (sampled > FLOOR * top)]
     floor = float(meaningful.min()) if meaningful.size else 0.0
-    for k, name in enumerate(names):
-        color = colors[k % len(colors)]
-        amplitude = np.array(response.amplitudes[name], dtype=float)
-        shown = np.where(amplitude > 0, np.maximum(amplitude, floor), np.nan)  # log: no zeros
-        any_positive = any_positive or bool(np.any(np.isfinite(shown)))
-        kind = "" if name in response.coordinates else " (output)"
-        if mixed and units and units.get(name):
-            kind += f" [{units[name]}]"
-        ax_amp.plot(x, shown, color=color, lw=1.5, label=f"{name}{kind}")
-        phase = np.degrees(np.array(response.phases[name], dtype=float))
-        # break the curve where the phase wraps from -180 to +180 degrees
-        wraps = np.nonzero(np.abs(np.diff(phase)) > 180)[0] + 1
-        if ax_phase is not None:
-            ax_phase.plot(np.insert(x, wraps, np.nan), np.insert(phase, wraps, np.nan),
-                          color=color, lw=1.2)
-        for p in peaks_by_name.get(name, [])[:20]:
-            ax_amp.plot([p.value], [p.amplitude], "v", color=color, ms=7, mec="black", mew=0.6)
-            # one label per resonance: curves peaking at nearly the same value share it
-            if all(abs(p.value - v) > 0.06 * abs(v) for v in labelled):
-                labelled.append(p.value)
-                ax_amp.annotate(f"{p.value:.4g}", (p.value, p.amplitude),
-                                textcoords="offset points", xytext=(0, 7), ha="center",
-                                fontsize=8, color=color)
-        for p in dips_by_name.get(name, [])[:20]:
-            # a true zero: marked at the curve's plotted floor
-            ax_amp.plot([p.value], [max(p.amplitude, floor)], "o", mfc="white", color=color,
-                        ms=6)
+    return floor, top
+
+
+def _draw_curve(response: FrequencyResponse, name: str, color: str, floor: float,
+                ax_amp: Any, ax_phase: Any, units: Mapping[str, str] | None) -> bool:
+    """One name's amplitude (and phase) curve; True if it has a positive amplitude."""
+    x = response.values
+    amplitude = np.array(response.amplitudes[name], dtype=float)
+    shown = np.where(amplitude > 0, np.maximum(amplitude, floor), np.nan)  # log: no zeros
+    kind = "" if name in response.coordinates else " (output)"
+    if units and units.get(name):
+        kind += f" [{units[name]}]"
+    ax_amp.plot(x, shown, color=color, lw=1.5, label=f"{name}{kind}")
+    phase = np.degrees(np.array(response.phases[name], dtype=float))
+    # break the curve where the phase wraps from -180 to +180 degrees
+    wraps = np.nonzero(np.abs(np.diff(phase)) > 180)[0] + 1
+    if ax_phase is not None:
+        ax_phase.plot(np.insert(x, wraps, np.nan), np.insert(phase, wraps, np.nan),
+                      color=color, lw=1.2)
+    return bool(np.any(np.isfinite(shown)))
+
+
+def _mark_peaks(response: FrequencyResponse, name: str, color: str, floor: float,
+                ax_amp: Any, labelled: list[float]) -> None:
+    """Triangles on the resonance peaks (labelled once per resonance), circles on the
+    antiresonances (at the plotted floor for a true zero)."""
+    for p in [p for p in response.peaks if p.name == name][:20]:
+        ax_amp.plot([p.value], [p.amplitude], "v", color=color, ms=7, mec="black", mew=0.6)
+        # one label per resonance: curves peaking at nearly the same value share it
+        if all(abs(p.value - v) > 0.06 * abs(v) for v in labelled):
+            labelled.append(p.value)
+            ax_amp.annotate(f"{p.value:.4g}", (p.value, p.amplitude),
+                            textcoords="offset points", xytext=(0, 7), ha="center",
+                            fontsize=8, color=color)
+    for p in [p for p in response.antiresonances if p.name == name][:20]:
+        ax_amp.plot([p.value], [max(p.amplitude, floor)], "o", mfc="white", color=color, ms=6)
+
+
+def _mark_natural(response: FrequencyResponse, panels: Sequence[Any], ax_amp: Any) -> None:
+    """Dashed vertical lines at the natural frequencies inside the range."""
     natural = response.natural_values
-    if natural is not None:
-        lo, hi = float(np.min(x)), float(np.max(x))
-        inside = [w for w in natural if lo <= w <= hi][:MAX_LINES]
-        what = "natural frequency" if response.frequency_sweep else \
-            "excitation at a natural frequency"
-        for j, w in enumerate(inside):
-            for panel in panels:
-                panel.axvline(w, color="0.45", lw=0.9, ls="--",
-                              label=what if (j == 0 and panel is ax_amp) else None)
-    if any_positive:
-        ax_amp.set_yscale("log")
-        if floor > 0 and top > 0:  # clipped to the sampled data
-            ax_amp.set_ylim(floor / 1.5, top * 1.5)
+    if natural is None:
+        return
+    x = response.values
+    lo, hi = float(np.min(x)), float(np.max(x))
+    inside = [w for w in natural if lo <= w <= hi][:MAX_LINES]
+    what = "natural frequency" if response.frequency_sweep else \
+        "excitation at a natural frequency"
+    for j, w in enumerate(inside):
+        for panel in panels:
+            panel.axvline(w, color="0.45", lw=0.9, ls="--",
+                          label=what if (j == 0 and panel is ax_amp) else None)
+
+
+def _label_response_axes(response: FrequencyResponse, panels: Sequence[Any], ax_amp: Any,
+                         ax_phase: Any, amplitude_units: set[str]) -> None:
+    """Axis labels, grids, the legend (with the marker kinds) and the title."""
+    from matplotlib.lines import Line2D
+
+    one_unit = next(iter(amplitude_units)) if len(amplitude_units) == 1 else ""
     ax_amp.set_ylabel("amplitude (peak of the stationary response)" + (
-        f" [{next(iter(amplitude_units))}]" if len(amplitude_units) == 1 and
-        next(iter(amplitude_units)) not in ("", "1") else ""))
+        f" [{one_unit}]" if one_unit not in ("", "1") else ""))
     ax_amp.grid(True, which="both", alpha=0.3)
     marker_handles = [Line2D([], [], ls="", marker="v", color="0.3", mec="black",
                              label="resonance peak")] if response.peaks else []
@@ -228,20 +262,17 @@ def plot_frequency_response(response: FrequencyResponse, path: Any = None,
         ax_phase.set_yticks([-180, -90, 0, 90, 180])
         ax_phase.set_ylim(-190, 190)
         ax_phase.grid(True, alpha=0.3)
-    panels[-1].set_xlabel(label_x)
+    unit = f" [{response.unit}]" if response.unit else ""
+    panels[-1].set_xlabel(("excitation frequency " if response.frequency_sweep else "")
+                          + f"{printable(response.parameter, limit=40)}{unit}")
     if response.log:
         for panel in panels:
             panel.set_xscale("log")
     title = printable(response.title or "frequency response", limit=80)
     ax_amp.set_title(f"{title}\nx = X sin({'omega' if response.frequency_sweep else 'w'} t "
                      "+ delta)", fontsize=10)
-    if own:
-        fig.tight_layout()
-    _save(fig, path, dpi=150, bbox_inches="tight")
-    return fig
 
 
-@hooks.provides("plot_modes")
 def plot_modes(analysis: ModalAnalysis, path: Any = None, count: int | None = 6,
                ax: Any = None) -> Any:
     """The mode shapes (largest component +1): bars for few coordinates, lines for many.
@@ -323,7 +354,6 @@ def _draw_mode(ax: Any, analysis: ModalAnalysis, j: int) -> None:
     ax.grid(True, axis="y", alpha=0.3)
 
 
-@hooks.provides("plot_simulation")
 def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None,
                     units: Mapping[str, str] | None = None) -> Any:
     """Deviations vs time, one panel per coordinate/output, the linear prediction dashed.

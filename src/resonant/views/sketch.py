@@ -66,6 +66,9 @@ Point = tuple[float, float]
 MAX_LABEL = 40
 #: the smallest drawn size of a part, as a fraction of the figure's scale
 MIN_SIZE = 0.04
+#: the largest coordinate of a point that is drawn: beyond it the figure's arithmetic
+#: (distances, squares of lengths) overflows double precision
+DRAWABLE = 1e100
 #: the drawn length of an ``along`` spring or damper, at least, as a fraction of the scale
 MIN_LINK = 0.8
 
@@ -352,8 +355,27 @@ class _Layout:
                        for b in self.parts.bodies}
         self.inertias = {b.name: max(0.0, self.geo.value(self.geo.expr(b.inertia)))
                          if b.inertia is not None else 0.0 for b in self.parts.bodies}
+        self._check_drawable()
         self.scale = self._scale()
         self.shift: dict[str, Point] = {}
+
+    def _check_drawable(self) -> None:
+        """Refuse positions too large to draw, naming the part (not an overflow later)."""
+        problems = []
+        for name, (x, y) in {**self.actual, **self.centres}.items():
+            if all(math.isfinite(v) and abs(v) <= DRAWABLE for v in (x, y)):
+                continue
+            owner = self.owner(name)
+            kind = "point" if owner in self.fixed else "body"
+            problems.append(Problem(
+                f"{name} is at ({x:.3g}, {y:.3g}) at the reference state: too far out to "
+                f"draw (each coordinate of a point is drawn up to {DRAWABLE:.0e}); check "
+                "the position's units and values", self.model.source,
+                f'{kind} "{printable(owner, limit=60)}"', "position"))
+            if len(problems) >= 5:
+                break
+        if problems:
+            raise ModelError(problems)
 
     # -- sizes -------------------------------------------------------------------------
     def _scale(self) -> float:
@@ -772,108 +794,127 @@ def _forces(layout: _Layout, bodies: Mapping[str, BodyShape]) -> list[Arrow | Ar
     return out
 
 
+def _angle_arc(layout: _Layout, bodies: Mapping[str, BodyShape],
+               obstacles: list[tuple[Point, Point]], q: str, label: Label
+               ) -> tuple[Arc, str] | None:
+    """A curved arrow about a pin (or centre) if ``q`` is, one to one, a body's angle."""
+    symbol = sympy.Symbol(q)
+    for body in layout.parts.bodies:
+        if symbol not in layout.angle_exprs[body.name].free_symbols:
+            continue
+        rate = layout.geo.derivative(layout.angle_exprs[body.name], q)
+        if abs(abs(rate) - 1) >= 1e-9:
+            continue
+        shape = bodies[body.name]
+        if shape.shape == "bar":
+            centre = shape.start
+            radius = 0.35 * _norm(_sub(shape.end, shape.start))
+            heading = math.atan2(shape.end[1] - shape.start[1], shape.end[0] - shape.start[0])
+        else:
+            centre = shape.centre
+            radius = 1.35 * shape.radius if shape.radius else 0.12 * layout.scale
+
+            def room(h: float, c: Point = centre, r: float = radius) -> float:
+                a = (c[0] + r * math.cos(h), c[1] + r * math.sin(h))
+                b = (c[0] + r * math.cos(h + 0.8), c[1] + r * math.sin(h + 0.8))
+                return _clearance(a, b, obstacles)
+
+            heading = max((-math.pi / 2, math.pi / 2, -math.pi / 4, math.pi * 3 / 4), key=room)
+        return Arc("coordinate", centre, radius, heading + 0.12 * rate, heading + 0.9 * rate,
+                   label), body.name
+    return None
+
+
+_Move = tuple[str, sympy.Expr, sympy.Expr, Point]  # point, its x and y, d(x, y)/dq
+
+
+def _moves(layout: _Layout, q: str) -> list[_Move]:
+    """The points (positioned bodies, named points, centres) that ``q`` moves."""
+    symbol = sympy.Symbol(q)
+    positioned = [b.name for b in layout.parts.bodies if b.position is not None]
+    named = [n for n in layout.exprs if "." in n]
+    candidates = [(n, layout.exprs[n]) for n in positioned + named] + \
+        [(f"{n} (centre)", layout.centre_exprs[n]) for n in layout.centre_exprs]
+    moved = []
+    for name, (x, y) in candidates:
+        if symbol not in x.free_symbols and symbol not in y.free_symbols:
+            continue
+        g = (layout.geo.derivative(x, q), layout.geo.derivative(y, q))
+        if _norm(g) > 1e-12:
+            moved.append((name, x, y, g))
+    return moved
+
+
+def _turning_arc(layout: _Layout, moved: Sequence[_Move], q: str, label: Label
+                 ) -> tuple[Arc, str] | None:
+    """A curved arrow about the centre ``q`` turns a point about (|d²P/dq²| = |dP/dq|,
+    perpendicular), if there is one."""
+    geo = layout.geo
+    for name, x, y, g in moved:
+        h = (geo.derivative(x, q, 2), geo.derivative(y, q, 2))
+        if abs(_norm(h) - _norm(g)) < 1e-9 * _norm(g) and \
+                abs(g[0] * h[0] + g[1] * h[1]) < 1e-9 * _norm(g) ** 2:
+            centre = _add(_point_at(layout, name), h)
+            heading = math.atan2(-h[1], -h[0])
+            sign = 1.0 if h[1] * g[0] - h[0] * g[1] > 0 else -1.0  # (P - O) x g
+            return Arc("coordinate", centre, 0.3 * _norm(h), heading + 0.12 * sign,
+                       heading + 0.9 * sign, label), name
+    return None
+
+
+def _reach(carrier: BodyShape | None, normal: Point) -> float:
+    """How far a body's outline reaches from its centre along ``normal``."""
+    if carrier is not None and carrier.shape == "block":
+        c, s = math.cos(carrier.angle), math.sin(carrier.angle)
+        return abs(normal[0] * c + normal[1] * s) * carrier.width / 2 + \
+            abs(-normal[0] * s + normal[1] * c) * carrier.height / 2
+    return carrier.radius if carrier is not None else 0.0
+
+
+def _straight_arrow(layout: _Layout, bodies: Mapping[str, BodyShape],
+                    obstacles: list[tuple[Point, Point]], name: str, g: Point, label: Label
+                    ) -> Arrow:
+    """A straight arrow along ``g`` beside point ``name``, on the side where it crosses
+    nothing (a spring on top of a block, a force)."""
+    u = layout.scale
+    direction = _unit(g)
+    point = _point_at(layout, name)
+    carrier = bodies.get(name.removesuffix(" (centre)")) if "." not in name else None
+    normal = _perp(direction)
+    reach = _reach(carrier, normal)
+    vector = (0.22 * u * direction[0], 0.22 * u * direction[1])
+    sides = [_add(point, normal, side * (reach + 0.08 * u)) for side in (1.0, -1.0)]
+    start = max(sides, key=lambda p: _clearance(p, _add(p, vector), obstacles))
+    obstacles.append((start, _add(start, vector)))
+    return Arrow("coordinate", start, vector, label)
+
+
 def _coordinates(layout: _Layout, bodies: Mapping[str, BodyShape],
                  obstacles: list[tuple[Point, Point]]) -> tuple[list[Arrow | Arc], list[str]]:
     """An arrow for each generalized coordinate where it moves the figure most plainly:
     a curved arrow about a pin if it is a body's angle, a straight arrow at a point it
     moves one to one, else about the centre it turns a point about, else at the point it
     moves most."""
-    u = layout.scale
-    geo = layout.geo
     out: list[Arrow | Arc] = []
     undrawn = []
-    positioned = [b.name for b in layout.parts.bodies if b.position is not None]
-    named = [n for n in layout.exprs if "." in n]
-    candidates = [(n, layout.exprs[n]) for n in positioned + named] + \
-        [(f"{n} (centre)", layout.centre_exprs[n]) for n in layout.centre_exprs]
     used: set[str] = set()
     for q in layout.model.coordinates:
         label = name_label(q)
-        symbol = sympy.Symbol(q)
-        arc = None
-        for body in layout.parts.bodies:
-            if symbol not in layout.angle_exprs[body.name].free_symbols:
-                continue
-            rate = geo.derivative(layout.angle_exprs[body.name], q)
-            if abs(abs(rate) - 1) < 1e-9:
-                shape = bodies[body.name]
-                if shape.shape == "bar":
-                    centre = shape.start
-                    reach = _norm(_sub(shape.end, shape.start))
-                    radius = 0.35 * reach
-                    heading = math.atan2(shape.end[1] - shape.start[1],
-                                         shape.end[0] - shape.start[0])
-                else:
-                    centre = shape.centre
-                    radius = 1.35 * shape.radius if shape.radius else 0.12 * u
-
-                    def room(h: float, c: Point = centre, r: float = radius) -> float:
-                        a = (c[0] + r * math.cos(h), c[1] + r * math.sin(h))
-                        b = (c[0] + r * math.cos(h + 0.8), c[1] + r * math.sin(h + 0.8))
-                        return _clearance(a, b, obstacles)
-
-                    heading = max((-math.pi / 2, math.pi / 2, -math.pi / 4, math.pi * 3 / 4),
-                                  key=room)
-                first, last = heading + 0.12 * rate, heading + 0.9 * rate
-                arc = Arc("coordinate", centre, radius, first, last, label)
-                used.add(body.name)
-                break
+        moved = _moves(layout, q)
+        unit_moves = [m for m in moved if abs(_norm(m[3]) - 1) < 1e-9]
+        arc = _angle_arc(layout, bodies, obstacles, q, label) or \
+            (None if unit_moves else _turning_arc(layout, moved, q, label))
         if arc is not None:
-            out.append(arc)
+            out.append(arc[0])
+            used.add(arc[1])
             continue
-        moved = []
-        for name, (x, y) in candidates:
-            if symbol not in x.free_symbols and symbol not in y.free_symbols:
-                continue
-            g = (geo.derivative(x, q), geo.derivative(y, q))
-            if _norm(g) > 1e-12:
-                moved.append((name, x, y, g))
         if not moved:
             undrawn.append(q)
             continue
-        unit_moves = [m for m in moved if abs(_norm(m[3]) - 1) < 1e-9]
-        if unit_moves:
-            choice = next((m for m in unit_moves if m[0] not in used), unit_moves[0])
-        else:
-            turning = None
-            for name, x, y, g in moved:
-                h = (geo.derivative(x, q, 2), geo.derivative(y, q, 2))
-                if abs(_norm(h) - _norm(g)) < 1e-9 * _norm(g) and \
-                        abs(g[0] * h[0] + g[1] * h[1]) < 1e-9 * _norm(g) ** 2:
-                    turning = (name, g, h)
-                    break
-            if turning is not None:
-                name, g, h = turning
-                point = _point_at(layout, name)
-                centre = _add(point, h)
-                heading = math.atan2(-h[1], -h[0])
-                radius = 0.3 * _norm(h)
-                sign = 1.0 if h[1] * g[0] - h[0] * g[1] > 0 else -1.0  # (P - O) x g
-                out.append(Arc("coordinate", centre, radius, heading + 0.12 * sign,
-                               heading + 0.9 * sign, label))
-                used.add(name)
-                continue
-            choice = max(moved, key=lambda m: _norm(m[3]))
-        name, _, _, g = choice
-        used.add(name)
-        direction = _unit(g)
-        point = _point_at(layout, name)
-        carrier = bodies.get(name.removesuffix(" (centre)")) if "." not in name else None
-        normal = _perp(direction)
-        if carrier is not None and carrier.shape == "block":
-            c, s = math.cos(carrier.angle), math.sin(carrier.angle)
-            reach = abs(normal[0] * c + normal[1] * s) * carrier.width / 2 + \
-                abs(-normal[0] * s + normal[1] * c) * carrier.height / 2
-        elif carrier is not None:
-            reach = carrier.radius
-        else:
-            reach = 0.0
-        vector = (0.22 * u * direction[0], 0.22 * u * direction[1])
-        # on the side where it crosses nothing (a spring on top of a block, a force)
-        sides = [_add(point, normal, side * (reach + 0.08 * u)) for side in (1.0, -1.0)]
-        start = max(sides, key=lambda p: _clearance(p, _add(p, vector), obstacles))
-        out.append(Arrow("coordinate", start, vector, label))
-        obstacles.append((start, _add(start, vector)))
+        choice = next((m for m in unit_moves if m[0] not in used), unit_moves[0]) \
+            if unit_moves else max(moved, key=lambda m: _norm(m[3]))
+        used.add(choice[0])
+        out.append(_straight_arrow(layout, bodies, obstacles, choice[0], choice[3], label))
     return out, undrawn
 
 

@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ModelError, Problem, printable
+from .key import KEY_FORMAT
 
 #: largest key.json read
 MAX_KEY_BYTES = 200_000_000
@@ -28,7 +29,6 @@ MAX_KEY_BYTES = 200_000_000
 MAX_ANSWERS_BYTES = 2_000_000
 #: most entries of one answer (a matrix of the largest size an exercise has)
 MAX_ENTRIES = 1_000_000
-KEY_FORMAT = "resonant-exercise-key"
 
 
 def read_json(path: str | Path, limit: int, what: str) -> Any:
@@ -84,7 +84,32 @@ def _index(shape: tuple[int, ...], k: int) -> str:
 
 def grade_data(key: Any, variant: int, answers: Any, key_source: str = "key.json",
                answers_source: str = "answers") -> dict[str, Any]:
-    """Compare ``answers`` (name -> number / list / nested list) with the key's variant."""
+    """Compare ``answers`` (name -> number / list / nested list) with the key's variant.
+
+    Parameters
+    ----------
+    key : object
+        The key's JSON data.
+    variant : int
+        The variant to grade against.
+    answers : object
+        The answers' JSON data.
+    key_source, answers_source : str
+        The names used in messages.
+
+    Returns
+    -------
+    dict
+        ``score`` (percent) and ``answers``: per key its status (``right``,
+        ``wrong``, ``missing``), the expected and the given value.
+
+    Examples
+    --------
+    >>> key = {"format": "resonant-exercise-key", "tolerance": 0.01, "variants": [
+    ...     {"variant": 1, "answers": {"K": {"value": [[1.0, 0.0], [0.0, 2.0]]}}}]}
+    >>> grade_data(key, 1, {"K": [[1.0, 0.0], [0.0, 2.1]]})["answers"][0]["status"]
+    'wrong'
+    """
     if not isinstance(key, dict) or key.get("format") != KEY_FORMAT \
             or not isinstance(key.get("variants"), list):
         raise ModelError(Problem("not an exercise key written by `resonant exercise` "
@@ -157,14 +182,63 @@ def grade_data(key: Any, variant: int, answers: Any, key_source: str = "key.json
 
 
 def grade(key_path: str | Path, variant: int, answers_path: str | Path) -> dict[str, Any]:
-    """Grade the answers file against variant ``variant`` of the key file."""
+    """Grade the answers file against variant ``variant`` of the key file.
+
+    Parameters
+    ----------
+    key_path : str or Path
+        The ``key.json`` written by :func:`resonant.exercises.write`.
+    variant : int
+        The student's variant number.
+    answers_path : str or Path
+        The student's answers: a JSON object name -> number, list or nested list.
+
+    Returns
+    -------
+    dict
+        As :func:`grade_data`.
+
+    Raises
+    ------
+    ModelError
+        For a file that cannot be read or is not of the expected form.
+
+    Examples
+    --------
+    >>> import json, tempfile, pathlib
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> key = {"format": "resonant-exercise-key", "tolerance": 0.01, "variants": [
+    ...     {"variant": 1, "answers": {"amplitude:x": {"value": 0.5, "tolerance": 0.01}}}]}
+    >>> _ = (folder / "key.json").write_text(json.dumps(key))
+    >>> _ = (folder / "a.json").write_text('{"amplitude:x": 0.499}')
+    >>> grade(folder / "key.json", 1, folder / "a.json")["score"]
+    100.0
+    """
     key = read_json(key_path, MAX_KEY_BYTES, "key")
     answers = read_json(answers_path, MAX_ANSWERS_BYTES, "answers file")
     return grade_data(key, variant, answers, str(key_path), str(answers_path))
 
 
 def grade_text(result: dict[str, Any]) -> str:
-    """The grading result for the terminal."""
+    """The grading result for the terminal.
+
+    Parameters
+    ----------
+    result : dict
+        What :func:`grade_data` returns.
+
+    Returns
+    -------
+    str
+        One line per answer and the score.
+
+    Examples
+    --------
+    >>> key = {"format": "resonant-exercise-key", "tolerance": 0.01, "variants": [
+    ...     {"variant": 1, "answers": {"amplitude:x": {"value": 0.5, "tolerance": 0.01}}}]}
+    >>> print(grade_text(grade_data(key, 1, {"amplitude:x": 0.6})).splitlines()[0])
+    variant 1: score 0 % (0 right, 1 wrong, 0 missing of 1)
+    """
     lines = [f"variant {result['variant']}: score {result['score']:g} % "
              f"({result['right']} right, {result['wrong']} wrong, {result['missing']} missing "
              f"of {result['total']})"]

@@ -1,0 +1,191 @@
+"""Pseudo-arclength continuation of the harmonic-balance equations in one parameter.
+
+The unknowns are scaled, ``v = (x / s_x, p / s_p)``; from a converged point the
+predictor steps along the tangent, Newton's method corrects on the plane normal
+to it (the analytical dR/dx beside a chord column dR/dp), and the step size follows
+the Newton iteration count and the relative change of the amplitude and of the
+parameter.  Folds are passed.  :func:`refine` locates the zero of a function of
+the branch between two of its points (a fold, a change of stability, a peak).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..deadline import Deadline
+from .hb_solver import NEWTON_MAX, NEWTON_TOL, HarmonicBalance
+
+#: largest relative change of the coefficient vector per continuation step
+MAX_RELATIVE_CHANGE = 0.08
+
+
+@dataclass
+class Branch:
+    x: list[np.ndarray]
+    p: list[float]
+    tp: list[float]
+    warnings: list[str]
+    tangents: list[np.ndarray]
+    sx: float
+    sp: float
+
+    def append(self, x: np.ndarray, p: float, t: np.ndarray) -> None:
+        self.x.append(x)
+        self.p.append(p)
+        self.tp.append(float(t[-1]))
+        self.tangents.append(t)
+
+
+def tangent(J: np.ndarray, Rp: np.ndarray, sx: float, sp: float,
+            previous: np.ndarray) -> np.ndarray:
+    A = np.vstack([np.hstack([J * sx, (Rp * sp)[:, None]]), previous[None, :]])
+    b = np.zeros(A.shape[0])
+    b[-1] = 1.0
+    t = np.linalg.solve(A, b)
+    t /= np.linalg.norm(t)
+    return t if t @ previous >= 0 else -t
+
+
+def correct(hb: HarmonicBalance, pred: np.ndarray, t: np.ndarray, sx: float, sp: float
+            ) -> tuple[np.ndarray, bool, int]:
+    """Newton on R(x, p) = 0 and t . (v - pred) = 0 from the predictor (scaled variables)."""
+    v = pred.copy()
+    # dR/dp (a central difference, two residuals) once at the predictor: a chord column
+    # beside the exact dR/dx; the corrected point solves R = 0 all the same
+    Rp = hb.dp(pred[:-1] * sx, pred[-1] * sp)
+    for iterations in range(1, NEWTON_MAX + 1):
+        xv, pv = v[:-1] * sx, v[-1] * sp
+        R, J, _ = hb.jacobian(xv, pv)
+        A = np.vstack([np.hstack([J * sx, (Rp * sp)[:, None]]), t[None, :]])
+        rhs = -np.concatenate([R, [t @ (v - pred)]])
+        try:
+            dv = np.linalg.solve(A, rhs)
+        except np.linalg.LinAlgError:
+            return v, False, iterations
+        v = v + dv
+        if not np.all(np.isfinite(v)):
+            return v, False, iterations
+        if np.linalg.norm(dv) <= NEWTON_TOL * max(float(np.linalg.norm(v)), 1.0):
+            return v, True, iterations
+    return v, False, NEWTON_MAX
+
+
+def follow(hb: HarmonicBalance, x0: np.ndarray, start: float, stop: float, points: int,
+           deadline: Deadline) -> Branch:
+    """Continue the solution x0 at ``start`` to ``stop`` by pseudo-arclength.
+
+    Parameters
+    ----------
+    hb : HarmonicBalance
+    x0 : numpy.ndarray
+        A converged solution at ``start``.
+    start, stop : float
+        The range of the continuation parameter.
+    points : int
+        About this many steps across the range in the parameter direction.
+    deadline : Deadline
+
+    Returns
+    -------
+    Branch
+        The points, their tangents and the warnings (stopped early, turned back).
+    """
+    sp = abs(stop - start)
+    direction = 1.0 if stop > start else -1.0
+    sx = max(float(np.linalg.norm(x0)), 1e-12)
+    size = x0.size
+    previous = np.zeros(size + 1)
+    previous[-1] = direction
+    x, p = x0, start
+    R, J, _ = hb.jacobian(x, p)
+    t = tangent(J, hb.dp(x, p), sx, sp, previous)
+    ds_max = 1.0 / max(points - 1, 2)
+    ds_min = 1e-7
+    ds = ds_max
+    branch = Branch([x], [p], [float(t[-1])], [], [t], sx, sp)
+    steps = 0
+    max_steps = 50 * points
+    while steps < max_steps:
+        steps += 1
+        deadline.check(f"while following the branch ({hb.param} = {p:.6g})",
+                       analysis=True)
+        u = np.concatenate([x / sx, [p / sp]])
+        v, ok, iterations = correct(hb, u + ds * t, t, sx, sp)
+        x_new, p_new = v[:-1] * sx, v[-1] * sp
+        change = float(np.linalg.norm(x_new - x)) / max(float(np.linalg.norm(x)), 1e-3 * sx)
+        dp_rel = abs(p_new - p) / sp
+        if not ok or change > 2 * MAX_RELATIVE_CHANGE or dp_rel > 2 * ds_max:
+            ds /= 2
+            if ds < ds_min:
+                branch.warnings.append(f"the continuation stopped at {hb.param} "
+                                       f"= {p:.6g}: no converged step (step size below "
+                                       f"{ds_min:g})")
+                break
+            continue
+        R, J, _ = hb.jacobian(x_new, p_new)
+        t_new = tangent(J, hb.dp(x_new, p_new), sx, sp, t)
+        if t_new @ t < 0.8 and ds > 1e-4:  # turned too sharply: maybe a jump between branches
+            ds /= 2
+            continue
+        x, p, t = x_new, p_new, t_new
+        if (p - stop) * direction > 0:  # passed the end: finish exactly at stop
+            xs, pp = branch.x[-1], branch.p[-1]
+            guess = xs + (x - xs) * (stop - pp) / (p - pp) if p != pp else x
+            xe, converged = hb.newton(guess, stop, sx)
+            if converged:
+                branch.append(xe, stop, t)
+            break
+        if (p - start) * direction < -0.05 * sp:
+            branch.warnings.append(f"the branch turned back out of the range at "
+                                   f"{hb.param} = {p:.6g} (an isola or a "
+                                   "closed curve); stopped there")
+            branch.append(x, p, t)
+            break
+        branch.append(x, p, t)
+        factor = 1.5 if iterations <= 3 else (1.0 if iterations <= 5 else 0.6)
+        factor = min(factor, MAX_RELATIVE_CHANGE / max(change, 1e-12),
+                     ds_max / max(dp_rel, 1e-12))
+        ds = float(np.clip(ds * max(factor, 0.3), ds_min, ds_max * 20))
+    else:
+        branch.warnings.append(f"the continuation stopped after {max_steps} steps before "
+                               f"reaching {stop:g}")
+    return branch
+
+
+def refine(hb: HarmonicBalance, branch: Branch, i: int,
+           g: Callable[[np.ndarray, float, np.ndarray], float], g0: float, g1: float
+           ) -> tuple[np.ndarray, float] | None:
+    """The point between branch points i and i+1 where g(x, p, tangent) = 0 (regula falsi
+    with the Illinois modification on the arc-length coordinate)."""
+    sx, sp = branch.sx, branch.sp
+    t = branch.tangents[i]
+    ui = np.concatenate([branch.x[i] / sx, [branch.p[i] / sp]])
+    uj = np.concatenate([branch.x[i + 1] / sx, [branch.p[i + 1] / sp]])
+    a, b = 0.0, float(t @ (uj - ui))
+    fa, fb = g0, g1
+    if not (fa * fb < 0 and b > 0):
+        return None
+    best: tuple[np.ndarray, float] | None = None
+    for _ in range(40):
+        sigma = (a * fb - b * fa) / (fb - fa)
+        v, ok, _ = correct(hb, ui + sigma * t, t, sx, sp)
+        if not ok:
+            return best
+        x, p = v[:-1] * sx, float(v[-1] * sp)
+        R, J, _ = hb.jacobian(x, p)
+        f = g(x, p, tangent(J, hb.dp(x, p), sx, sp, t))
+        best = (x, p)
+        if f * fb < 0:
+            a, fa = b, fb
+        else:
+            fa /= 2
+        b, fb = sigma, f
+        if abs(b - a) < 1e-13 * max(1.0, abs(b)) or f == 0:
+            break
+    return best
+
+
+__all__ = ["Branch", "tangent", "correct", "follow", "refine", "MAX_RELATIVE_CHANGE"]

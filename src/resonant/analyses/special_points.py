@@ -1,0 +1,200 @@
+"""The special points of a continued branch: folds, changes of stability, peaks.
+
+Each is bracketed between two branch points and located by regula falsi on the arc
+(:func:`resonant.analyses.continuation.refine`), every trial point corrected onto
+the branch by Newton's method:
+
+* ``fold``: the parameter component of the tangent changes sign;
+* a change of the count of Floquet multipliers outside the unit circle, its kind
+  read from the crossing multiplier: real positive -> ``branch`` (the tangent does
+  not turn), real negative -> ``period-doubling``, complex pair -> ``neimark-sacker``;
+* ``peak``: a largest amplitude of a coordinate or output along the branch, where
+  d(amplitude)/d(arc) changes sign from + to - (a fold of the amplitude along the
+  arc; the derivative a central difference along the tangent).  It carries the
+  quantity it is the peak of and its stability.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from .continuation import Branch, refine
+from .hb_solver import HarmonicBalance
+
+#: a multiplier with |mu| > 1 + this is unstable
+STABILITY_TOL = 1e-6
+SPECIAL_KINDS = ("fold", "period-doubling", "neimark-sacker", "branch", "peak")
+#: step along the tangent (scaled variables) of the derivative of an amplitude
+ARC_STEP = 1e-5
+#: a local maximum of a sampled amplitude counts when it stands out by this (relative)
+PEAK_MARGIN = 1e-10
+
+
+@dataclass(frozen=True)
+class SpecialPoint:
+    """A point where the stability or the direction of the branch changes, or a peak.
+
+    ``quantity`` (peaks) names the coordinate or output whose amplitude is largest
+    there; ``stable`` (peaks) is the stability of the periodic solution there.
+    """
+
+    kind: str
+    value: float
+    amplitudes: Mapping[str, float]
+    index: int
+    quantity: str | None = None
+    stable: bool | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        data: dict[str, Any] = {"kind": self.kind, "value": self.value,
+                                "amplitudes": dict(self.amplitudes)}
+        if self.quantity is not None:
+            data["quantity"] = self.quantity
+        if self.stable is not None:
+            data["stable"] = self.stable
+        return data
+
+
+def classify(lam: np.ndarray, W: float) -> tuple[int, int, int]:
+    """Counts of unstable exponents: (real positive mu, real negative mu, complex)."""
+    T = 2 * np.pi / W
+    unstable = lam[lam.real * T > math.log1p(STABILITY_TOL)]
+    phase = np.abs(unstable.imag) / W
+    pos = int(np.sum(phase < 0.02))
+    neg = int(np.sum(phase > 0.48))
+    return pos, neg, unstable.size - pos - neg
+
+
+class Locator:
+    """Finds and refines the special points of one branch."""
+
+    def __init__(self, hb: HarmonicBalance, branch: Branch, lam: np.ndarray,
+                 Ws: np.ndarray) -> None:
+        self.hb, self.branch, self.lam, self.Ws = hb, branch, lam, Ws
+        self.names = hb.names()
+
+    def point(self, i: int, kind: str, found: tuple[np.ndarray, float] | None,
+              quantity: str | None = None) -> SpecialPoint:
+        branch = self.branch
+        if found is None:  # not refined: halfway
+            found = (0.5 * (branch.x[i] + branch.x[i + 1]), 0.5 * (branch.p[i] + branch.p[i + 1]))
+        x, p = found
+        a = self.hb.amplitudes(x, p)
+        stable = None
+        if kind == "peak":
+            R, J, blocks = self.hb.jacobian(x, p)
+            mult = np.exp(self.hb.exponents(J, blocks) * 2 * np.pi / blocks[3])
+            stable = bool(np.all(np.abs(mult) <= 1 + STABILITY_TOL))
+        return SpecialPoint(kind, float(p), MappingProxyType(
+            {nm: float(a[j]) for j, nm in enumerate(self.names)}), i, quantity, stable)
+
+    def folds(self) -> tuple[list[SpecialPoint], set[int]]:
+        tp = np.array(self.branch.tp)
+        found, near = [], set()
+        for i in range(tp.size - 1):
+            if tp[i] * tp[i + 1] < 0:
+                at = refine(self.hb, self.branch, i, lambda x, p, t: float(t[-1]),
+                            float(tp[i]), float(tp[i + 1]))
+                found.append(self.point(i, "fold", at))
+                near.update({i - 1, i, i + 1})
+        return found, near
+
+    def growth(self, k: int) -> Callable[[np.ndarray, float, np.ndarray], float]:
+        """The k-th largest log|mu| (zero where the k-th multiplier crosses the circle)."""
+        def g(x: np.ndarray, p: float, t: np.ndarray) -> float:
+            _, J, blocks = self.hb.jacobian(x, p)
+            rates = np.sort(self.hb.exponents(J, blocks).real)[::-1] * 2 * np.pi / blocks[3]
+            return float(rates[k])
+        return g
+
+    def rate(self, i: int, k: int) -> float:
+        return float(np.sort(self.lam[i].real)[::-1][k] * 2 * np.pi / self.Ws[i])
+
+    def stability_changes(self, folds: set[int]) -> list[SpecialPoint]:
+        counts = [classify(self.lam[i], self.Ws[i]) for i in range(self.Ws.size)]
+        found = []
+        for i in range(len(counts) - 1):
+            a, b = counts[i], counts[i + 1]
+            changes = [kind for j, kind in
+                       ((1, "period-doubling"), (2, "neimark-sacker"), (0, "branch"))
+                       if a[j] != b[j] and not (j == 0 and i in folds)]
+            for kind in changes:
+                k = sum(a) if sum(b) > sum(a) else sum(b)  # the multiplier that crosses
+                at = None
+                if k < self.lam.shape[1]:
+                    at = refine(self.hb, self.branch, i, self.growth(k), self.rate(i, k),
+                                self.rate(i + 1, k))
+                found.append(self.point(i, kind, at))
+        return found
+
+    def slope(self, j: int) -> Callable[[np.ndarray, float, np.ndarray], float]:
+        """d(amplitude of quantity j)/d(arc) by a central difference along the tangent."""
+        sx, sp = self.branch.sx, self.branch.sp
+
+        def g(x: np.ndarray, p: float, t: np.ndarray) -> float:
+            h = ARC_STEP
+            up = self.hb.amplitudes(x + h * sx * t[:-1], p + h * sp * t[-1])[j]
+            down = self.hb.amplitudes(x - h * sx * t[:-1], p - h * sp * t[-1])[j]
+            return float((up - down) / (2 * h))
+        return g
+
+    def peaks(self, amplitudes: np.ndarray) -> list[SpecialPoint]:
+        """Interior maxima of each quantity's amplitude (points, quantities) along the arc."""
+        found = []
+        for j, name in enumerate(self.names):
+            a = amplitudes[:, j]
+            top = float(np.max(a, initial=0.0))
+            for i in range(1, a.size - 1):
+                if not (a[i] > a[i - 1] and a[i] >= a[i + 1]
+                        and a[i] - max(a[i - 1], a[i + 1]) > PEAK_MARGIN * a[i]
+                        and a[i] > 1e-9 * top):
+                    continue
+                g = self.slope(j)
+                here = g(self.branch.x[i], self.branch.p[i], self.branch.tangents[i])
+                k = i if here > 0 else i - 1  # the bracket [k, k+1] where the slope turns
+                left = here if k == i else g(self.branch.x[k], self.branch.p[k],
+                                             self.branch.tangents[k])
+                right = here if k == i - 1 else g(self.branch.x[k + 1], self.branch.p[k + 1],
+                                                  self.branch.tangents[k + 1])
+                at = refine(self.hb, self.branch, k, g, left, right)
+                if at is None:  # no sign change of the slope: the sampled maximum
+                    at = (self.branch.x[i], self.branch.p[i])
+                found.append(self.point(k, "peak", at, name))
+        return found
+
+
+def special_points(hb: HarmonicBalance, branch: Branch, lam: np.ndarray, Ws: np.ndarray,
+                   amplitudes: np.ndarray) -> tuple[SpecialPoint, ...]:
+    """Folds, changes of stability and peaks of a branch, in the order of the arc.
+
+    Parameters
+    ----------
+    hb : HarmonicBalance
+        The equations the branch solves.
+    branch : Branch
+        The continued points with their tangents.
+    lam : numpy.ndarray
+        (points, 2n) Floquet exponents of every point.
+    Ws : numpy.ndarray
+        (points,) base frequencies.
+    amplitudes : numpy.ndarray
+        (points, quantities) amplitudes of the coordinates and outputs (``hb.names()``).
+
+    Returns
+    -------
+    tuple of SpecialPoint
+    """
+    locator = Locator(hb, branch, lam, Ws)
+    folds, near = locator.folds()
+    found = folds + locator.stability_changes(near) + locator.peaks(amplitudes)
+    found.sort(key=lambda sp: sp.index)
+    return tuple(found)
+
+
+__all__ = ["SpecialPoint", "SPECIAL_KINDS", "STABILITY_TOL", "classify", "special_points"]
