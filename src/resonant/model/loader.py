@@ -50,6 +50,7 @@ from ..expressions import (
 )
 from .dimensions import check_units
 from .exercise import parse_exercise
+from .explore import parse_explore
 from .files import FileRefused, open_regular_file, read_bounded
 from .inline_matrices import extract_numeric_matrices
 from .limits import (
@@ -334,6 +335,9 @@ class _Builder:
             self.problems.extend(unit_problems)
         elif display:  # no units in the model: [display] still chooses phases and frequencies
             units = ModelUnits(display=MappingProxyType(display))
+        explore = parse_explore(self.data["explore"], param_names, names, list(outputs),
+                                self.source, self.problems, units) \
+            if "explore" in self.data else None
         self.raise_problems(misplaced)
         if matrix_spec is not None and not coordinates:
             n = _matrix_size(matrix_spec.M)
@@ -346,7 +350,7 @@ class _Builder:
             equilibrium=MappingProxyType(equilibrium), signals=MappingProxyType(signals),
             definitions=MappingProxyType(definitions), energy=MappingProxyType(energy),
             forces=tuple(forces), outputs=MappingProxyType(outputs), matrices=matrix_spec,
-            exercise=exercise, parts=derived, units=units)
+            exercise=exercise, parts=derived, units=units, explore=explore)
 
     def unknown_sections(self) -> set[str]:
         """A problem for each unknown top-level key; the names a misspelled section declares

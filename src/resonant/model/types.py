@@ -30,6 +30,7 @@ from .units import ModelUnits, parse_with_unit
 
 if TYPE_CHECKING:
     from .exercise import Exercise
+    from .explore import ExploreSpec
     from .parts import DerivedEnergies
 
 TIME = sympy.Symbol("t")
@@ -184,6 +185,8 @@ class Model:
         The mechanism's parts and the energies derived from them.
     units : ModelUnits or None
         Physical units (None for a model without units: every number SI).
+    explore : ExploreSpec or None
+        The ``[explore]`` section: the ranges of the explore page's sliders.
 
     Examples
     --------
@@ -216,6 +219,9 @@ class Model:
     #: physical units (resonant.model.units): what was given, the dimensions, the
     #: display units; None for a model without units (every number SI, nothing checked)
     units: ModelUnits | None = None
+    #: the ``[explore]`` section (resonant.model.explore): slider ranges, the names the
+    #: frequency response shows, the excitation frequency's parameter; None without it
+    explore: ExploreSpec | None = None
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""
