@@ -969,6 +969,9 @@ class SketchMotion:
         Body and point names, in order.
     positions : tuple of tuple
         Per owner ``(x, y, angle)`` as sympy expressions (angle 0 for a point).
+    shifts : tuple of tuple
+        Per owner the drawing's shift of it (an ``along`` spring drawn longer moves a
+        group of parts): the owner is drawn at its position plus its shift.
     bodies, supports, pins, forces : tuple of int
         The owner (index into ``owners``, -1 for none) of each item of the sketch's
         lists of the same name.
@@ -989,6 +992,7 @@ class SketchMotion:
     sketch: Sketch
     owners: tuple[str, ...]
     positions: tuple[tuple[sympy.Expr, sympy.Expr, sympy.Expr], ...]
+    shifts: tuple[Point, ...]
     bodies: tuple[int, ...]
     links: tuple[tuple[int, int], ...]
     supports: tuple[int, ...]
@@ -1037,8 +1041,9 @@ def sketch_motion(model: Model) -> SketchMotion:
                   for group in _link_groups(parts) for link in group
                   if _unit(_sub(layout.at(link.between[1]), layout.at(link.between[0])))
                   != (0.0, 0.0))
+    shifts = tuple(layout.shift.get(layout.root(name), (0.0, 0.0)) for name in owners)
     return SketchMotion(
-        data, owners, positions, tuple(index[b.name] for b in data.bodies), links,
+        data, owners, positions, shifts, tuple(index[b.name] for b in data.bodies), links,
         tuple(index.get(s.name, -1) if s.name else -1 for s in data.supports),
         tuple(of(b.pin) for b in parts.bodies if b.pin is not None),
         tuple(index.get(o, -1) if o else -1 for o in force_owners),
