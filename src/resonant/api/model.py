@@ -32,6 +32,7 @@ from ..analyses import simulate as simulate_analysis
 from ..deadline import Deadline
 from ..report import write_report
 from ..views import display, drawing
+from ..views import explore as explore_view
 from .results import Backbones, NonlinearResponse, Simulation, fields_of_base, promote
 from .systems import SystemMethods, linear_system
 
@@ -162,6 +163,28 @@ class Model(model_layer.Model):
         matplotlib.figure.Figure
         """
         return drawing.draw_mechanism(self, path, ax)
+
+    def explore(self, path: str | Path | None = None, timeout: float | None = None
+                ) -> explore_view.ExplorePage:
+        """The interactive page of the model (:func:`resonant.views.explore.explore_page`);
+        shown inline in Jupyter.
+
+        Parameters
+        ----------
+        path : str or Path, optional
+            Also write the page there (``.html``).
+        timeout : float, optional
+            Seconds for the derivation (default: no limit).
+
+        Returns
+        -------
+        ExplorePage
+            With ``html``, ``save(path)`` and ``_repr_html_`` (an iframe).
+        """
+        page = explore_view.explore_page(self, deadline=Deadline(timeout, self.source))
+        if path is not None:
+            page.save(path)
+        return page
 
     def report(self, path: str | Path, plots: bool = True) -> Path:
         """Write the worked solution (:func:`resonant.report.write_report`).

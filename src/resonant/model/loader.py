@@ -350,7 +350,7 @@ class _Builder:
             equilibrium=MappingProxyType(equilibrium), signals=MappingProxyType(signals),
             definitions=MappingProxyType(definitions), energy=MappingProxyType(energy),
             forces=tuple(forces), outputs=MappingProxyType(outputs), matrices=matrix_spec,
-            exercise=exercise, parts=derived, units=units, explore=explore)
+            exercise=exercise, parts=derived, units=units, explore_spec=explore)
 
     def unknown_sections(self) -> set[str]:
         """A problem for each unknown top-level key; the names a misspelled section declares

@@ -185,7 +185,7 @@ class Model:
         The mechanism's parts and the energies derived from them.
     units : ModelUnits or None
         Physical units (None for a model without units: every number SI).
-    explore : ExploreSpec or None
+    explore_spec : ExploreSpec or None
         The ``[explore]`` section: the ranges of the explore page's sliders.
 
     Examples
@@ -221,7 +221,7 @@ class Model:
     units: ModelUnits | None = None
     #: the ``[explore]`` section (resonant.model.explore): slider ranges, the names the
     #: frequency response shows, the excitation frequency's parameter; None without it
-    explore: ExploreSpec | None = None
+    explore_spec: ExploreSpec | None = None
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""

@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import html
 import json
-import math
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -172,8 +171,8 @@ def frequency_parameter(model: Model, system: LinearSystem) -> str | None:
     >>> frequency_parameter(model, resonant.system.linear_system(model))
     'omega'
     """
-    if model.explore is not None and model.explore.frequency is not None:
-        return model.explore.frequency
+    if model.explore_spec is not None and model.explore_spec.frequency is not None:
+        return model.explore_spec.frequency
     harmonics = getattr(system, "harmonics", None)
     if harmonics is None:
         return None
@@ -204,7 +203,7 @@ def _frequency_range(system: LinearSystem, value: float, deadline: Deadline
 
 
 def _range_of(model: Model, name: str, value: float) -> tuple[float, float, bool]:
-    spec = model.explore.ranges.get(name) if model.explore is not None else None
+    spec = model.explore_spec.ranges.get(name) if model.explore_spec is not None else None
     if spec is not None:
         return spec.start, spec.stop, spec.log
     variants = {v.name: v.values for v in model.exercise.variants} \
@@ -250,7 +249,8 @@ def controls(model: Model, system: LinearSystem, frequency: str | None,
     for name, expression in model.parameters.items():
         value = float(model.parameter_values[name])
         start, stop, log = _range_of(model, name, value)
-        if name == frequency and (model.explore is None or name not in model.explore.ranges):
+        spec = model.explore_spec
+        if name == frequency and (spec is None or name not in spec.ranges):
             start, stop, log = _frequency_range(system, value, deadline)
         unit = given[name][1] if name in given else None
         out.append({"name": name, "value": value, "from": start, "to": stop, "log": log,
@@ -281,8 +281,8 @@ def shown_names(model: Model, system: LinearSystem) -> list[str]:
     >>> shown_names(model, resonant.system.linear_system(model))
     ['x1', 'x2', 'phi']
     """
-    if model.explore is not None and model.explore.show:
-        return list(model.explore.show)
+    if model.explore_spec is not None and model.explore_spec.show:
+        return list(model.explore_spec.show)
     return [*system.coordinates, *model.outputs][:DEFAULT_SHOWN]
 
 

@@ -525,7 +525,7 @@
     const r = S.result;
     const names = [...S.shown].filter(s => r && r.pairs[s]);
     if (!r || !names.length) { ctx.fillStyle = "#5b5b60"; ctx.fillText("No stationary response.", 12, 24); return; }
-    const T = periodOf(r), left = 70, right = 10, rows = names.length;
+    const T = periodOf(r), left = 96, right = 10, rows = names.length;
     const rowH = (h - 22) / rows;
     names.forEach((s, k) => {
       const amp = Math.max(r.amplitudes[s] || 0, 1e-300), f = UNIT[s] ? UNIT[s].factor : 1;
@@ -765,7 +765,9 @@
       const corners = [[-hw, -hh], [hw, -hh], [hw, hh], [-hw, hh]].map(([x, y]) => [c[0] + cs * x - sn * y, c[1] + sn * x + cs * y]);
       ctx.fillStyle = FILL; ctx.strokeStyle = INK; ctx.lineWidth = 1.3;
       path(ctx, V, corners, true); ctx.fill(); ctx.stroke();
-      label(ctx, V, b.label, c, "center", INK, 12);
+      // not on what sits at its middle (a pin): under its top edge
+      const pinned = DR.pins.some(p => Math.hypot(p[0] - b.centre[0], p[1] - b.centre[1]) < 0.25 * b.height);
+      label(ctx, V, b.label, pinned ? [c[0] - sn * (hh - 0.05 * u), c[1] + cs * (hh - 0.05 * u)] : c, "center", INK, 12);
     } else if (b.shape === "disc" || b.shape === "point") {
       let c = apply(T, owner, b.centre);
       if (b.path && b.path_centre) {
@@ -789,9 +791,21 @@
       ctx.fillStyle = "#bdb8ae"; ctx.strokeStyle = INK; ctx.lineWidth = 1;
       path(ctx, V, [along(a, e, 0, hw), along(a, e, 1, hw), along(a, e, 1, -hw), along(a, e, 0, -hw)], true); ctx.fill(); ctx.stroke();
       if (b.bob) circle(ctx, V, apply(T, owner, b.centre), b.bob, "#4a4a4a", INK, 0.8);
-      if (b.gravity_centre) circle(ctx, V, apply(T, owner, b.gravity_centre), Math.max(0.022 * u, 0.7 * hw), "#fff", INK, 0.8);
+      if (b.gravity_centre) centreMark(ctx, V, apply(T, owner, b.gravity_centre), Math.max(0.022 * u, 0.7 * hw), da);
       const at = b.bob ? (([x, y]) => [x - b.bob - 0.03 * u, y + b.bob])(apply(T, owner, b.centre)) : along(a, e, 0.3, -(0.05 * u + hw));
       label(ctx, V, b.label, at, e[1] < a[1] ? "right" : "left", INK, 12);
+    }
+  }
+
+  // the centre of gravity: a circle with two black quarters
+  function centreMark(ctx, V, c, radius, turn) {
+    circle(ctx, V, c, radius, "#fff", INK, 0.8);
+    const X = V.X(c[0]), Y = V.Y(c[1]), r = Math.max(radius * V.k, 1);
+    ctx.fillStyle = INK;
+    for (const start of [0, Math.PI]) {
+      ctx.beginPath(); ctx.moveTo(X, Y);
+      ctx.arc(X, Y, r, -(start + turn) - Math.PI / 2, -(start + turn), false);
+      ctx.closePath(); ctx.fill();
     }
   }
 
@@ -984,6 +998,10 @@
   buildShown();
   $("play").addEventListener("click", () => (S.playing ? window.resonant.pause() : window.resonant.play()));
   $("scale").addEventListener("input", drawMotion);
+  if (!DR) {  // bars: the scale of a drawing does not apply; as tall as the coordinates need
+    $("scale").closest(".toolbar").querySelectorAll("label, input, .hint").forEach(e => { e.hidden = true; });
+    $("mechanism").style.height = `${Math.min(420, Math.max(90, 34 * n + 24))}px`;
+  }
   window.addEventListener("resize", () => render());
   recompute();
   syncControls();
