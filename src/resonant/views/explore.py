@@ -358,10 +358,11 @@ def precomputed(system: LinearSystem, frequency: str | None, frequency_control: 
                                                          if n in system.coordinates],
                        deadline=deadline)
         index = {q: i for i, q in enumerate(result.quantities)}
-        curve = {"values": values.tolist(), "omegas": result.harmonic_omegas.tolist(),
+        # response: (harmonics, values, quantities) complex L - iN; omegas (harmonics, values)
+        curve = {"values": values.tolist(), "omegas": result.harmonic_omegas.T.tolist(),
                  "names": {name: {"amplitudes": _finite(result.amplitudes[name]),
-                                  "L": _finite(result.response[:, index[name], :].real),
-                                  "N": _finite(-result.response[:, index[name], :].imag)}
+                                  "L": _finite(result.response[:, :, index[name]].real.T),
+                                  "N": _finite(-result.response[:, :, index[name]].imag.T)}
                            for name in names if name in index}}
     return {"solution": solution, "curve": curve, "modes": {
         "natural_frequencies": found.natural_frequencies.tolist(),

@@ -256,6 +256,7 @@
     } catch (e) {
       S.result = null;
       $("status").textContent = String(e.message || e);
+      if (!(e instanceof Error) || e.constructor !== Error) console.error(e);  // a bug, not the model
     }
     render();
     S.timing = performance.now() - t0;
@@ -343,18 +344,23 @@
     const t = $("response-table");
     t.replaceChildren();
     const head = el("tr");
-    ["", "amplitude", "unit", "phase δ (rad)", "δ (°)"].forEach(h => head.append(el("th", { scope: "col" }, h)));
+    ["", "amplitude", "phase δ (rad)", "δ (°)"].forEach(h => head.append(el("th", { scope: "col" }, h)));
     t.append(el("caption", { class: "hint" }, excitationText(r)), head);
     for (const x of NAMES) {
+      if (r.amplitudes[x.name] === undefined && !LIVE) continue;  // not precomputed
       const tr = el("tr", { "data-name": x.name });
       tr.append(el("th", { scope: "row" }, x.name));
       const amp = r.amplitudes[x.name];
       const td = el("td");
-      if (amp !== undefined) { const e = number(amp / x.factor, 6, `amplitudes.${x.name}`); e.setAttribute("data-si", String(amp)); td.append(e); } else td.textContent = "–";
+      if (amp !== undefined) {
+        const e = number(amp / x.factor, 6, `amplitudes.${x.name}`);
+        e.setAttribute("data-si", String(amp));
+        td.append(e, el("span", { class: "unit" }, x.unit ? ` ${x.unit}` : ""));
+      } else td.textContent = "–";
       const ph = r.phases[x.name];
       const tdp = el("td"), tdd = el("td");
       if (ph !== undefined) { tdp.append(number(ph, 6, `phases.${x.name}`)); tdd.textContent = fmt(ph * 180 / Math.PI, 4); } else { tdp.textContent = "–"; tdd.textContent = "–"; }
-      tr.append(td, el("td", {}, x.unit), tdp, tdd);
+      tr.append(td, tdp, tdd);
       t.append(tr);
     }
   }
@@ -630,18 +636,23 @@
     drawHistory();
   }
 
+  // the coordinates drawn as bars: all of a small model, else those of the curves
+  const BARS = (n <= 12 ? COORDS : COORDS.filter(c => D.show.includes(c.name)).concat(COORDS).slice(0, 12))
+    .filter((c, k, all) => all.indexOf(c) === k);
+
   function drawBars(ctx, w, h, q) {
-    const r = S.result, left = 80, right = 20, rowH = Math.min(34, (h - 20) / Math.max(n, 1));
+    const r = S.result, left = 80, right = 20, rowH = Math.min(34, (h - 20) / Math.max(BARS.length, 1));
     const groups = {};
-    COORDS.forEach((c, i) => {
+    const index = c => COORDS.indexOf(c);
+    BARS.forEach(c => {
       const size = S.mode >= 0 ? 1 : Math.max(r.amplitudes[c.name] || 0, 0);
       groups[c.unit] = Math.max(groups[c.unit] || 0, size);
     });
     const mid = left + (w - left - right) / 2, half = (w - left - right) / 2 - 4;
-    COORDS.forEach((c, i) => {
-      const y = 10 + rowH * i;
+    BARS.forEach((c, k) => {
+      const y = 10 + rowH * k;
       const big = groups[c.unit] || 1;
-      const v = big > 0 ? q[i] / big : 0;
+      const v = big > 0 ? q[index(c)] / big : 0;
       ctx.fillStyle = "#f1efea"; ctx.fillRect(left, y + 4, w - left - right, rowH - 8);
       ctx.fillStyle = colourOf(c.name);
       const len = Math.max(-1, Math.min(1, v)) * half;
@@ -650,7 +661,7 @@
       ctx.fillText(`${c.name}${c.unit ? " (" + c.unit + ")" : ""}`, left - 6, y + rowH / 2 + 4);
     });
     ctx.strokeStyle = "#1d1d1f";
-    ctx.beginPath(); ctx.moveTo(mid, 6); ctx.lineTo(mid, 10 + rowH * n); ctx.stroke();
+    ctx.beginPath(); ctx.moveTo(mid, 6); ctx.lineTo(mid, 10 + rowH * BARS.length); ctx.stroke();
   }
 
   // -- the mechanism (as resonant draw draws it) ------------------------------------------
@@ -994,13 +1005,14 @@
   badge.textContent = LIVE ? "computed live from the model's equations" : "precomputed";
   if (!LIVE) badge.classList.add("pre");
   if (D.note) { $("note").textContent = D.note; $("note").hidden = false; }
+  if (!LIVE) $("numbers-heading").nextElementSibling.before(el("p", { class: "hint" }, "Precomputed by resonant at the file's parameter values; the frequency slider moves along the computed curve."));
   buildControls();
   buildShown();
   $("play").addEventListener("click", () => (S.playing ? window.resonant.pause() : window.resonant.play()));
   $("scale").addEventListener("input", drawMotion);
   if (!DR) {  // bars: the scale of a drawing does not apply; as tall as the coordinates need
     $("scale").closest(".toolbar").querySelectorAll("label, input, .hint").forEach(e => { e.hidden = true; });
-    $("mechanism").style.height = `${Math.min(420, Math.max(90, 34 * n + 24))}px`;
+    $("mechanism").style.height = `${Math.min(420, Math.max(90, 34 * BARS.length + 24))}px`;
   }
   window.addEventListener("resize", () => render());
   recompute();
