@@ -27,12 +27,14 @@ import io
 import json
 import math
 import sys
+import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
+import sympy
 
 from conftest import EXAMPLES, run_cli, run_json
 
@@ -398,13 +400,78 @@ def test_a_large_model_gets_a_precomputed_page(browser: Any, tmp_path: Path) -> 
         assert page.page.locator('input[type=range][data-name="F0"]').is_disabled()
 
 
+# -- the printer: two routes to one number ---------------------------------------------------
+
+SYMBOLS = sympy.symbols("a b c")
+VALUES = {SYMBOLS[0]: 0.7, SYMBOLS[1]: 1.9, SYMBOLS[2]: 3.25}
+
+
+def _expressions() -> Any:
+    """Expressions of the model language over a, b, c (all positive where it matters)."""
+    from hypothesis import strategies as st
+
+    leaves = st.sampled_from([*SYMBOLS, sympy.Integer(3), sympy.Rational(2, 7),
+                              sympy.Float(0.125), sympy.pi])
+
+    def grow(children: Any) -> Any:
+        pair = st.tuples(children, children)
+        return st.one_of(
+            pair.map(lambda t: t[0] + t[1]), pair.map(lambda t: t[0] * t[1]),
+            pair.map(lambda t: t[0] / (t[1] ** 2 + 1)),
+            st.tuples(children, st.integers(-3, 4)).map(lambda t: (t[0] ** 2 + 1) ** t[1]),
+            children.map(lambda e: sympy.sqrt(e ** 2 + 2)), children.map(sympy.sin),
+            children.map(sympy.cos), children.map(lambda e: sympy.exp(sympy.sin(e))),
+            children.map(lambda e: sympy.log(e ** 2 + 1)), children.map(sympy.atan),
+            pair.map(lambda t: sympy.atan2(t[0], t[1] ** 2 + 1)),
+            children.map(lambda e: sympy.tanh(e) + sympy.asin(sympy.sin(e) / 2)))
+
+    return st.recursive(leaves, grow, max_leaves=12)
+
+
+@pytest.fixture(scope="module")
+def blank(browser: Any) -> Iterator[Any]:
+    context = browser.new_context()
+    try:
+        page = context.new_page()
+        page.set_content("<!DOCTYPE html><title>printer</title>")
+        yield page
+    finally:
+        context.close()
+
+
+def test_printed_javascript_gives_the_exact_value(blank: Any) -> None:
+    """resonant's printer (and sympy's cse) against sympy's exact evaluation at 30 digits,
+    for random expressions of the model language: relative 1e-12."""
+    from hypothesis import HealthCheck, given, settings
+
+    from resonant.views.js_printer import js_function
+
+    names = {s: f"p[{i}]" for i, s in enumerate(SYMBOLS)}
+    values = [VALUES[s] for s in SYMBOLS]
+
+    @settings(max_examples=150, deadline=None,
+              suppress_health_check=[HealthCheck.function_scoped_fixture])
+    @given(st_exprs=_expressions())
+    def check(st_exprs: Any) -> None:
+        exact = complex(sympy.N(st_exprs.xreplace(VALUES), 30))
+        if abs(exact.imag) > 1e-20 or not math.isfinite(exact.real):
+            return
+        source = js_function("f", [st_exprs, st_exprs * 2], names)
+        got = blank.evaluate(f"(() => {{ {source}; return f({json.dumps(values)}); }})()")
+        for value, factor in zip(got, (1, 2)):
+            assert value == pytest.approx(factor * exact.real, rel=1e-12, abs=1e-12), \
+                (str(st_exprs), source)
+
+    check()
+
+
 # -- the screenshots of docs/explore.md -------------------------------------------------------
 
 def write_screenshots() -> None:
     """docs/explore-1280.png and docs/explore-375.png: the reference exercise's page."""
     api = _playwright()
     with contextlib.ExitStack() as stack:
-        folder = Path(stack.enter_context(__import__("tempfile").TemporaryDirectory()))
+        folder = Path(stack.enter_context(tempfile.TemporaryDirectory()))
         target = folder / "cart_pendulum.html"
         assert run_cli(["explore", PARTS, "-o", target])[0] == 0
         p = stack.enter_context(api.sync_playwright())
