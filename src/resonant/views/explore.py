@@ -22,7 +22,7 @@ Examples
 --------
 >>> import resonant
 >>> page = explore_page(resonant.load("examples/cart_pendulum.toml"))
->>> page.live, page.html.startswith("<!DOCTYPE html>"), "resonantSystem" in page.html
+>>> page.live, page.html.startswith("<!DOCTYPE html>"), "resonantMatrices" in page.html
 (True, True, True)
 """
 
@@ -51,7 +51,7 @@ from .sketch import SketchMotion, sketch_motion
 from .units_display import result_units
 
 #: the most coordinates for which the page computes everything itself
-LIVE_LIMIT = 50
+LIVE_LIMIT = 40
 #: points of the frequency response curve
 CURVE_POINTS = 400
 #: at most this many names in the frequency response by default

@@ -7,11 +7,11 @@ them with resonant's own printer (:mod:`resonant.views.js_printer`):
 * ``resonantParameters(v, o)`` -- every parameter from the controls' values ``v``;
   a parameter the file defines from others follows its formula unless ``o[i]``
   says it was set (like ``--set``);
-* ``resonantSystem(p)`` -- one flat array: M, C, K (row-major), then per excitation
-  frequency its value, F_S, F_C and the (S, C) pair of every signal derivative the
-  outputs use, then per output its value and coefficients (the order of
-  :attr:`ExportedSystem.layout`, the same quantities as the system layer's
-  evaluation);
+* ``resonantMatrices(p)`` -- M, C, K (row-major) in one flat array, and
+  ``resonantLoads(p)`` -- per excitation frequency its value, F_S, F_C and the (S, C)
+  pair of every signal derivative the outputs use, then per output its value and
+  coefficients (the order of :attr:`ExportedSystem.layout`; the same quantities as the
+  system layer's evaluation);
 * ``resonantMotion(p, q, s)`` and ``resonantSignals(p)`` -- for a model with parts,
   the position and angle of every body and point of the drawing, and the harmonic
   parts of the signals that move the drawing.
@@ -24,7 +24,7 @@ Examples
 >>> exported = export_system(linear_system(model))
 >>> exported.layout["n"], exported.layout["parameters"][:3]
 (2, ['m1', 'm2', 'l'])
->>> "function resonantSystem(p)" in exported.program
+>>> "function resonantMatrices(p)" in exported.program
 True
 """
 
@@ -53,7 +53,8 @@ class ExportedSystem:
     Parameters
     ----------
     program : str
-        The functions ``resonantParameters``, ``resonantSystem`` (and, with a drawing,
+        The functions ``resonantParameters``, ``resonantMatrices``, ``resonantLoads``
+        (and, with a drawing,
         ``resonantMotion`` and ``resonantSignals``), as JavaScript source.
     layout : dict
         JSON-ready: ``parameters`` (names in order), ``derived`` (the indices of the
@@ -61,7 +62,8 @@ class ExportedSystem:
         excitation frequencies), ``variables`` (the signal derivatives whose (S, C)
         pairs follow each frequency), ``outputs`` (per output its ``name`` and ``terms``
         ``[name, order, coordinate index or -1, variable index or -1]``) and
-        ``harmonic`` (False when a signal is not a sum of harmonics).
+        ``harmonic`` (False when a signal is not a sum of harmonics), ``matrix_parameters``
+        (:func:`matrix_parameters`).
 
     Examples
     --------
@@ -163,7 +165,7 @@ def _frequency_block(system: Any, harmonics: Any, w: sympy.Expr, variables: Sequ
 
 
 def system_expressions(system: LinearSystem) -> tuple[list[sympy.Expr], dict[str, Any]]:
-    """Every quantity of ``resonantSystem`` as sympy, and its layout.
+    """Every quantity of ``resonantMatrices`` and ``resonantLoads`` as sympy, and the layout.
 
     Parameters
     ----------
@@ -205,8 +207,47 @@ def system_expressions(system: LinearSystem) -> tuple[list[sympy.Expr], dict[str
     layout = {"parameters": list(model.parameters), "derived": derived_parameters(model),
               "n": system.n, "frequencies": len(frequencies),
               "variables": [list(v) for v in variables], "outputs": outputs,
-              "harmonic": harmonics is not None}
+              "harmonic": harmonics is not None,
+              "matrix_parameters": matrix_parameters(model, exprs[:3 * system.n ** 2])}
     return exprs, layout
+
+
+def matrix_parameters(model: Model, entries: Sequence[sympy.Expr]) -> list[int]:
+    """The indices of the parameters M, C, K depend on, directly or through the formulas
+    of other parameters (the page keeps M, C, K along a sweep of any other parameter).
+
+    Parameters
+    ----------
+    model : Model
+    entries : sequence of sympy.Expr
+        The entries of M, C and K.
+
+    Returns
+    -------
+    list of int
+
+    Examples
+    --------
+    >>> import resonant
+    >>> from resonant.system import linear_system
+    >>> model = resonant.load("examples/tuned_mass_damper.toml")
+    >>> exprs, _ = system_expressions(linear_system(model))
+    >>> [list(model.parameters)[i] for i in matrix_parameters(model, exprs[:12])]
+    ['m1', 'k1', 'mu', 'm2', 'omega1', 'f_opt', 'zeta_opt', 'k2', 'c2']
+    """
+    names = list(model.parameters)
+    used: set[str] = set()
+    for entry in entries:
+        used |= {str(s) for s in sympy.sympify(entry).free_symbols}
+    pending = [n for n in used if n in model.parameters]
+    found: set[str] = set()
+    while pending:
+        name = pending.pop()
+        if name in found:
+            continue
+        found.add(name)
+        pending += [n for n, _ in model.parameters[name].names() if n in model.parameters]
+    return [i for i, name in enumerate(names) if name in found]
 
 
 def motion_functions(model: Model, motion: SketchMotion) -> tuple[str, int]:
@@ -285,7 +326,9 @@ def export_system(system: LinearSystem, motion: SketchMotion | None = None
     assert model is not None
     exprs, layout = system_expressions(system)
     names = _names(model)
-    program = [parameters_function(model), js_function("resonantSystem", exprs, names)]
+    size = 3 * system.n ** 2
+    program = [parameters_function(model), js_function("resonantMatrices", exprs[:size], names),
+               js_function("resonantLoads", exprs[size:], names)]
     if motion is not None:
         source, count = motion_functions(model, motion)
         program.append(source)
@@ -321,4 +364,5 @@ def equilibrium_values(model: Model) -> list[float]:
 
 
 __all__ = ["ExportedSystem", "export_system", "system_expressions", "parameters_function",
-           "motion_functions", "derived_parameters", "equilibrium_values", "js_number"]
+           "motion_functions", "derived_parameters", "equilibrium_values", "matrix_parameters",
+           "js_number"]

@@ -1,5 +1,5 @@
 // resonant explore: the page.  Reads the model's data (JSON) and, for a live page, the
-// functions printed from its equations (resonantParameters, resonantSystem, resonantMotion,
+// functions printed from its equations (resonantParameters, resonantMatrices, resonantLoads, resonantMotion,
 // resonantSignals); computes with ResonantNumerics; every text of the model is shown as text.
 "use strict";
 (() => {
@@ -56,12 +56,24 @@
 
   function isClose(a, b) { return Math.abs(a - b) <= 1e-12 * Math.max(Math.abs(a), Math.abs(b)); }
 
-  // M, C, K, the harmonics (grouped by frequency, ascending) and the outputs at p
-  function systemAt(p) {
-    const f = resonantSystem(p);
+  // M, C, K at p (checked finite)
+  function matricesAt(p) {
+    const f = resonantMatrices(p);
+    const M = Float64Array.from(f.slice(0, n * n)), C = Float64Array.from(f.slice(n * n, 2 * n * n));
+    const K = Float64Array.from(f.slice(2 * n * n));
+    for (const a of [M, C, K]) {
+      if (!a.every(Number.isFinite)) throw new Error("M, C or K is not finite for these parameter values");
+    }
+    return { M, C, K };
+  }
+
+  // M, C, K (given, or computed), the harmonics (grouped by frequency, ascending) and the
+  // outputs at p
+  function systemAt(p, matrices) {
+    const { M, C, K } = matrices || matricesAt(p);
+    const f = resonantLoads(p);
     let k = 0;
     const take = m => { const a = Float64Array.from(f.slice(k, k + m)); k += m; return a; };
-    const M = take(n * n), C = take(n * n), K = take(n * n);
     const V = LAYOUT.variables.length;
     const raw = [];
     for (let j = 0; j < LAYOUT.frequencies; j++) {
@@ -81,9 +93,6 @@
       } else groups.push(h);
     }
     groups.sort((a, b) => a.omega - b.omega);
-    for (const a of [M, C, K]) {
-      if (!a.every(Number.isFinite)) throw new Error("M, C or K is not finite for these parameter values");
-    }
     return { M, C, K, harmonics: groups, outputs };
   }
 
@@ -185,13 +194,18 @@
     const values = [], curves = Object.fromEntries([...shown].map(s => [s, []]));
     const vv = Float64Array.from(v), oo = Uint8Array.from(o);
     oo[FREQ] = 1;
+    // M, C, K stay as they are along the curve unless they depend on its parameter
+    let fixed = null;
+    if (!LAYOUT.matrix_parameters.includes(FREQ)) {
+      try { fixed = matricesAt(parameters(vv, oo)); } catch (e) { fixed = null; }
+    }
     for (let j = 0; j < CURVE_POINTS; j++) {
       const x = c.from + (c.to - c.from) * j / (CURVE_POINTS - 1);
       values.push(x);
       vv[FREQ] = x;
       let amps = null;
       try {
-        const sys = systemAt(parameters(vv, oo));
+        const sys = systemAt(parameters(vv, oo), fixed);
         const { responses, pairs } = respond(sys, shown);
         if (!responses.some(r => r.singular)) amps = amplitudesOf(responses.map(r => r.omega), pairs, true).amplitudes;
       } catch (e) { amps = null; }
