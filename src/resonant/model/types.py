@@ -26,6 +26,7 @@ import sympy
 from ..errors import ModelError, Problem, name_list
 from ..expressions import Expression, ExpressionError
 from .parts import check_values as check_part_values
+from .study import StudySpec
 from .units import ModelUnits, parse_with_unit
 
 if TYPE_CHECKING:
@@ -184,6 +185,8 @@ class Model:
         The mechanism's parts and the energies derived from them.
     units : ModelUnits or None
         Physical units (None for a model without units: every number SI).
+    study : StudySpec or None
+        The ``[study]`` section.
 
     Examples
     --------
@@ -216,6 +219,8 @@ class Model:
     #: physical units (resonant.model.units): what was given, the dimensions, the
     #: display units; None for a model without units (every number SI, nothing checked)
     units: ModelUnits | None = None
+    #: the ``[study]`` section (resonant.model.study); None without one
+    study: StudySpec | None = None
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""
