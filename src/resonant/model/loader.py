@@ -346,7 +346,7 @@ class _Builder:
             equilibrium=MappingProxyType(equilibrium), signals=MappingProxyType(signals),
             definitions=MappingProxyType(definitions), energy=MappingProxyType(energy),
             forces=tuple(forces), outputs=MappingProxyType(outputs), matrices=matrix_spec,
-            exercise=exercise, parts=derived, units=units, study=study)
+            exercise=exercise, parts=derived, units=units, study_section=study)
 
     def exercise(self, param_names: list[str], names: list[str], outputs: list[str]
                  ) -> Exercise | None:

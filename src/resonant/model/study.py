@@ -550,7 +550,7 @@ def study_spec(vary: Mapping[str, Any], quantities: Sequence[Any], *, design: An
     ...            outputs=[])
     Traceback (most recent call last):
     ...
-    resonant.errors.ModelError: [study] k: uniform(a, b) needs a < b, got uniform(2, 1)
+    resonant.errors.ModelError: <model>: [study] k: uniform(a, b) needs a < b, got uniform(2, 1)
     """
     reader = _Reader(source, section, units)
     spec = _read(reader, vary, quantities, design, samples, seed, band, parameters,

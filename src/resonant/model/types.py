@@ -185,7 +185,7 @@ class Model:
         The mechanism's parts and the energies derived from them.
     units : ModelUnits or None
         Physical units (None for a model without units: every number SI).
-    study : StudySpec or None
+    study_section : StudySpec or None
         The ``[study]`` section.
 
     Examples
@@ -220,7 +220,7 @@ class Model:
     #: display units; None for a model without units (every number SI, nothing checked)
     units: ModelUnits | None = None
     #: the ``[study]`` section (resonant.model.study); None without one
-    study: StudySpec | None = None
+    study_section: StudySpec | None = None
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""

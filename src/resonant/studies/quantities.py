@@ -18,10 +18,10 @@ Examples
 >>> import numpy as np, resonant
 >>> from resonant.model.study import study_spec
 >>> model = resonant.load("examples/cart_pendulum.toml")
->>> spec = study_spec({"k": [2000.0]}, ["amplitude:x2"], parameters=model.parameters,
+>>> spec = study_spec({"k": [100.0]}, ["amplitude:x2"], parameters=model.parameters,
 ...                   coordinates=model.coordinates, outputs=model.outputs)
->>> rows = evaluate_samples(model.linearize(), spec, {"k": np.array([2000.0])})
->>> round(float(rows["amplitude:x2"][0]), 6), rows["status"][0]
+>>> rows = evaluate_samples(model.linearize(), spec, {"k": np.array([100.0])})
+>>> round(float(rows["amplitude:x2"][0]), 6), str(rows["status"][0])
 (0.045141, 'ok')
 """
 

@@ -99,7 +99,7 @@ def sobol_indices(frame: Any, spec: StudySpec, seed: int = 0) -> dict[str, dict[
 class StudyResult:
     """A study's samples and quantities, and what they say.
 
-    Parameters
+    Attributes
     ----------
     table : pandas.DataFrame
         One row per sample: ``sample``, the varied parameters, the quantities,

@@ -12,7 +12,7 @@ Examples
 --------
 >>> import resonant
 >>> model = resonant.load("examples/cart_pendulum.toml")
->>> job = StudyJob.of(model, request(model, {"k": "uniform(1800, 2200)"},
+>>> job = StudyJob.of(model, request(model, {"k": "uniform(90, 110)"},
 ...                                 ["natural_frequency:1"], samples=8))
 >>> rows = evaluate_chunk(job, 0, 8)
 >>> sorted(rows)[:3], len(rows["sample"])
@@ -140,7 +140,7 @@ def request(model: Model, vary: Mapping[str, Any] | None = None,
     if unknown:
         raise ModelError(f"unknown study option '{unknown[0]}'; the options are "
                          + ", ".join(STUDY_KEYS[2:]))
-    base = model.study.to_request() if model.study is not None else {}
+    base = model.study_section.to_request() if model.study_section is not None else {}
     given = {k: v for k, v in {"vary": vary, "quantities": quantities, **options}.items()
              if v is not None}
     merged = {**base, **given}
