@@ -92,7 +92,8 @@ def run_study(args: argparse.Namespace) -> int:
     engine = engine_for(args.workers, args.scheduler)
     try:
         result = collect(job, engine, args.output, resume=args.resume,
-                         progress=args.progress or None, deadline=cli.deadline(args))
+                         progress=args.progress or None, deadline=cli.deadline(args),
+                         reasons=False)
     except (KeyboardInterrupt, DeadlineExceeded):
         sys.stderr.write(f"the study stopped: {printable(args.output)} holds the samples "
                          "done so far; run the same command with --resume to complete it\n")

@@ -34,7 +34,6 @@ from types import MappingProxyType
 from typing import Any
 
 import numpy as np
-from scipy.special import ndtri
 
 from ..errors import ModelError, Problem
 from ..expressions import ExpressionError, numeric_value
@@ -93,6 +92,8 @@ class Distribution:
         -------
         ndarray
         """
+        from scipy.special import ndtri  # only a study needs it: keep start-up light
+
         a = self.arguments
         if self.kind == "uniform":
             return a[0] + u * (a[1] - a[0])

@@ -157,7 +157,7 @@ class ResultWriter:
             meta = dict(table.schema.metadata or {})
             meta[METADATA_KEY] = json.dumps(self.description, sort_keys=True).encode()
             self._schema = table.schema.with_metadata(meta)
-            self._writer = pq.ParquetWriter(self.part, self._schema, compression="zstd")
+            self._writer = pq.ParquetWriter(self.part, self._schema)
         self._writer.write_table(table.cast(self._schema))
         self.rows += table.num_rows
 
@@ -172,7 +172,8 @@ class ResultWriter:
         if self.parquet:
             import pyarrow as pa
 
-            self._write_table(pa.table(columns))
+            self._write_table(pa.table({k: pa.array(v).dictionary_encode() if v.dtype.kind
+                                        in "OU" else v for k, v in columns.items()}))
             return
         import pandas as pd
 
@@ -195,4 +196,34 @@ class ResultWriter:
         os.replace(self.part, self.path)
 
 
-__all__ = ["ResultWriter", "check_output", "completed_rows", "read_description"]
+def read_columns(path: str | os.PathLike[str], columns: list[str]) -> dict[str, np.ndarray]:
+    """Some columns of a result file as arrays (strings as an array of str).
+
+    Parameters
+    ----------
+    path : str or path
+    columns : list of str
+
+    Returns
+    -------
+    dict
+    """
+    p = Path(path)
+    if p.suffix.lower() == ".parquet":
+        import pyarrow.parquet as pq
+
+        table = pq.read_table(p, columns=columns)
+        return {c: np.asarray(table.column(c).to_numpy()) if not str(
+            table.column(c).type).startswith(("dictionary", "string"))
+            else np.asarray(table.column(c).cast("string").to_numpy(zero_copy_only=False),
+                            dtype=str) for c in columns}
+    import pandas as pd
+
+    frame = pd.read_csv(p, usecols=columns, keep_default_na=False,
+                        na_values={c: ["", "NaN", "nan"] for c in columns
+                                   if c not in ("status", "reason")})
+    return {c: frame[c].to_numpy() for c in columns}
+
+
+__all__ = ["ResultWriter", "check_output", "completed_rows", "read_columns",
+           "read_description"]

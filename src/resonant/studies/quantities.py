@@ -39,7 +39,7 @@ from ..errors import ResonantError
 from ..expressions import numeric_value
 from ..model import Model
 from ..model.study import StudySpec
-from ..system import LinearSystem
+from ..system import Batch, LinearSystem
 from ..system.base import numeric_point
 from ..system.stability import undamped_eigen
 from .designs import REFINE_POINTS, REFINE_ROUNDS
@@ -115,9 +115,15 @@ def sample_parameters(model: Model, varied: Mapping[str, np.ndarray], count: int
     return out, bad, reasons
 
 
-def _dense_stack(a: Any, count: int) -> np.ndarray:
+def _stack(a: Any) -> np.ndarray:
+    """A matrix as a stack: (N, n, n), or (1, n, n) when it is the same for every sample
+    (so that what depends on it alone is computed once)."""
     a = a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
-    return np.broadcast_to(a, (count, *a.shape[-2:])) if a.ndim == 2 else a
+    return a[None] if a.ndim == 2 else a
+
+
+def _symmetric(a: np.ndarray) -> bool:
+    return bool(np.allclose(a, a.swapaxes(1, 2), rtol=1e-12, atol=0.0))
 
 
 def singular_mass(M: np.ndarray) -> np.ndarray:
@@ -129,24 +135,53 @@ def singular_mass(M: np.ndarray) -> np.ndarray:
     return ~(s[:, -1] > 1e-13 * s[:, 0]) | ~np.isfinite(s).all(axis=1)
 
 
+def _cholesky_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
+    """omega^2 by Cholesky of M (None when M is not symmetric positive definite)."""
+    if not (_symmetric(M) and _symmetric(K)):
+        return None
+    try:
+        L = np.linalg.cholesky(M)
+    except np.linalg.LinAlgError:
+        return None
+    Linv = np.linalg.inv(L)
+    A = Linv @ K @ Linv.swapaxes(1, 2)
+    return np.linalg.eigvalsh((A + A.swapaxes(1, 2)) / 2)
+
+
 def undamped_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray:
     """omega^2 of K x = omega^2 M x for every sample, ascending, shape (N, n)."""
-    symmetric = np.allclose(M, M.swapaxes(1, 2)) and np.allclose(K, K.swapaxes(1, 2))
-    if symmetric:
-        try:
-            L = np.linalg.cholesky(M)
-            Linv = np.linalg.inv(L)
-            A = Linv @ K @ Linv.swapaxes(1, 2)
-            return np.linalg.eigvalsh((A + A.swapaxes(1, 2)) / 2)
-        except np.linalg.LinAlgError:
-            pass  # some M not positive definite: the general route, sample by sample
+    lam = _cholesky_lambdas(M, K)
+    return lam if lam is not None else _general_lambdas(M, K)
+
+
+def _general_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray:
+    count = max(M.shape[0], K.shape[0])
+    M, K = (np.broadcast_to(a, (count, *a.shape[1:])) for a in (M, K))
     out = np.full(M.shape[:2], np.nan)
-    for i in range(M.shape[0]):
+    for i in range(count):  # some M not positive definite: the general route, one by one
         try:
             out[i] = undamped_eigen(M[i], K[i])[0]
         except (ResonantError, np.linalg.LinAlgError, ValueError):
             pass
     return out
+
+
+def unstable_by_inertia(C: np.ndarray, K: np.ndarray, lam: np.ndarray) -> np.ndarray | None:
+    """Instability without the state eigenvalues, where a theorem decides it: for
+    symmetric M > 0, C >= 0 and symmetric K the equilibrium is unstable exactly when K
+    has a negative eigenvalue (Kelvin-Tait-Chetaev; damping neither makes a potential
+    minimum unstable nor stabilizes a maximum).  The tolerance is that of ``classify``
+    on the undamped roots s = sqrt(-lambda) (``lam``, by Cholesky of M).  None where the
+    theorem does not apply."""
+    if not (_symmetric(C) and _symmetric(K)):
+        return None
+    if C.any():
+        c = np.linalg.eigvalsh(C)
+        if (c[:, 0] < -1e-12 * np.maximum(np.abs(c).max(axis=1), 1e-300)).any():
+            return None
+    size = np.sqrt(np.abs(lam).max(axis=1, initial=0.0))
+    with np.errstate(invalid="ignore"):
+        return np.sqrt(np.maximum(-lam[:, 0], 0.0)) > 1e-9 * np.maximum(1.0, size)
 
 
 def natural_frequency(lam: np.ndarray, index: int) -> np.ndarray:
@@ -201,22 +236,32 @@ def damping_ratio(eigenvalues: np.ndarray, index: int) -> np.ndarray:
 def _fill_modal(rows: Rows, spec: StudySpec, M: np.ndarray, C: np.ndarray, K: np.ndarray,
                 wants_stability: bool) -> None:
     kinds = {q.kind for q in spec.quantities}
-    if kinds & {"natural_frequency"}:
-        lam = undamped_lambdas(M, K)
-        for q in spec.quantities:
-            if q.kind == "natural_frequency":
-                rows.columns[q.text] = natural_frequency(lam, q.index)
-    if kinds & {"damping_ratio", "stable"} or wants_stability:
-        eigenvalues = state_eigenvalues(M, C, K)
-        bad = unstable(eigenvalues)
-        if "stable" in rows.columns:
-            rows.columns["stable"] = ~bad & np.isfinite(eigenvalues).all(axis=1)
+    full = (rows.count,)
+    stability = wants_stability or "stable" in kinds
+    lam = by_cholesky = None
+    if "natural_frequency" in kinds or stability:
+        by_cholesky = _cholesky_lambdas(M, K)
+        lam = by_cholesky if by_cholesky is not None else _general_lambdas(M, K)
+    for q in spec.quantities:
+        if q.kind == "natural_frequency" and lam is not None:
+            rows.columns[q.text] = np.broadcast_to(natural_frequency(lam, q.index), full)
+    bad = unstable_by_inertia(C, K, by_cholesky) if stability and by_cholesky is not None \
+        else None
+    if "damping_ratio" in kinds or (stability and bad is None):
+        eigenvalues = state_eigenvalues(*np.broadcast_arrays(M, C, K))
+        if bad is None:
+            bad = unstable(eigenvalues) | ~np.isfinite(eigenvalues).all(axis=1)
         for q in spec.quantities:
             if q.kind == "damping_ratio":
-                rows.columns[q.text] = damping_ratio(eigenvalues, q.index)
-        if wants_stability:
-            rows.fail(bad, "unstable", "the equilibrium is unstable: there is no stationary "
-                      "response", "stability")
+                rows.columns[q.text] = np.broadcast_to(damping_ratio(eigenvalues, q.index), full)
+    if bad is None:
+        return
+    bad = np.broadcast_to(bad, full)
+    if "stable" in rows.columns:
+        rows.columns["stable"] = ~bad
+    if wants_stability:
+        rows.fail(bad, "unstable", "the equilibrium is unstable: there is no stationary "
+                  "response", "stability")
 
 
 def _fill_modal_large(rows: Rows, spec: StudySpec, system: LinearSystem,
@@ -240,15 +285,18 @@ def _fill_modal_large(rows: Rows, spec: StudySpec, system: LinearSystem,
 
 
 def responses(system: LinearSystem, values: Mapping[str, Any], count: int,
-              names: Sequence[str]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+              names: Sequence[str], batch: Batch | None = None
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Amplitude and phase (count, len(names)) of coordinates and outputs at every point,
-    and the points where the harmonic system is singular (an undamped resonance)."""
-    batch = system.evaluate(values, count)
+    and the points where the harmonic system is singular (an undamped resonance);
+    ``batch`` is the system at ``values`` if it was evaluated already."""
+    batch = batch if batch is not None else system.evaluate(values, count)
     coordinates = [q for q in names if q in batch.coordinates]
     keep_names = kept_coordinates(batch, coordinates)
     keep = np.array([batch.coordinates.index(q) for q in keep_names], dtype=int)
     method = "dense" if len(batch.coordinates) <= SMALL else "auto"
-    results = [solve_harmonic(batch, h, method, keep=keep) for h in batch.harmonics]
+    results = [solve_harmonic(batch, h, method, keep=keep, exact_condition=False)
+               for h in batch.harmonics]
     if not results:
         zeros = np.zeros((count, len(names)))
         return zeros, np.full((count, len(names)), np.nan), np.zeros(count, dtype=bool)
@@ -263,12 +311,12 @@ def responses(system: LinearSystem, values: Mapping[str, Any], count: int,
 
 
 def _fill_responses(rows: Rows, spec: StudySpec, system: LinearSystem,
-                    values: Mapping[str, Any]) -> None:
+                    values: Mapping[str, Any], batch: Batch) -> None:
     wanted = [q for q in spec.quantities if q.kind in ("amplitude", "phase")]
     if not wanted:
         return
     names = list(dict.fromkeys(q.target for q in wanted))
-    amplitude, phase, singular = responses(system, values, rows.count, names)
+    amplitude, phase, singular = responses(system, values, rows.count, names, batch)
     rows.fail(singular, "resonance", "an undamped resonance at the excitation: the "
               "amplitude is unbounded", "excitation")
     ok = rows.valid("stability", "excitation")
@@ -389,16 +437,18 @@ def _fill(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
     n = len(batch.coordinates)
     responding = any(q.kind in ("amplitude", "phase", "peak") for q in spec.quantities)
     if n <= SMALL and not hasattr(batch.M, "tocsr"):
-        M, C, K = (_dense_stack(a, rows.count) for a in (batch.M, batch.C, batch.K))
-        rows.fail(singular_mass(M), "singular mass", "the mass matrix M is singular")
+        M, C, K = (_stack(a) for a in (batch.M, batch.C, batch.K))
+        rows.fail(np.broadcast_to(singular_mass(M), (rows.count,)), "singular mass",
+                  "the mass matrix M is singular")
         _fill_modal(rows, spec, M, C, K, wants_stability=responding)
         if spec.band is not None and any(q.kind == "peak" for q in spec.quantities):
-            rows.fail(undamped_resonance_in_band(undamped_lambdas(M, K), C, spec.band),
+            rows.fail(np.broadcast_to(undamped_resonance_in_band(undamped_lambdas(M, K), C,
+                                                                 spec.band), (rows.count,)),
                       "resonance", "no damping and a natural frequency in the band: the "
                       "peak is unbounded", "band")
     else:
         _fill_modal_large(rows, spec, system, values)
-    _fill_responses(rows, spec, system, values)
+    _fill_responses(rows, spec, system, values, batch)
     _fill_peaks(rows, spec, system, model, values)
 
 

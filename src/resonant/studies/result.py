@@ -136,7 +136,7 @@ class StudyResult:
         -------
         pandas.Series
         """
-        return self.table["status"].value_counts()
+        return self.table["status"].value_counts(sort=True).loc[lambda c: c > 0]
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON form: the study, the summary, the Sobol indices and the rows' count

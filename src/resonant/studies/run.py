@@ -324,7 +324,8 @@ def run_study(job: StudyJob, output: str | os.PathLike[str], engine: Engine = AU
 
 def collect(job: StudyJob, engine: Engine = AUTO,
             output: str | os.PathLike[str] | None = None, *, resume: bool = False,
-            progress: bool | None = None, deadline: Deadline = NO_DEADLINE) -> StudyResult:
+            progress: bool | None = None, deadline: Deadline = NO_DEADLINE,
+            reasons: bool = True) -> StudyResult:
     """Run a study and return its result (the rows also written to ``output`` if given).
 
     Parameters
@@ -337,6 +338,9 @@ def collect(job: StudyJob, engine: Engine = AUTO,
         Continue an interrupted run of ``output``.
     progress : bool, optional
     deadline : Deadline, optional
+    reasons : bool
+        Read the ``reason`` and ``sample`` columns back from ``output`` too (False
+        keeps the memory of a huge study to its numbers and status).
 
     Returns
     -------
@@ -348,7 +352,8 @@ def collect(job: StudyJob, engine: Engine = AUTO,
     if output is not None:
         summary = run_study(job, output, engine, resume=resume, progress=progress,
                             deadline=deadline)
-        table = read_table(summary.path)
+        table = read_table(summary.path, None if reasons else
+                           ["sample", *job.spec.vary, *job.spec.columns, "status"])
         where, found = summary.where, summary.description
     else:
         size = chunk_size(job.spec, system_of(job).n)
@@ -367,12 +372,14 @@ def collect(job: StudyJob, engine: Engine = AUTO,
     return StudyResult(table, job.spec, found, sensitivity, where)
 
 
-def read_table(path: str | os.PathLike[str]) -> Any:
-    """The rows of a result file as a DataFrame.
+def read_table(path: str | os.PathLike[str], columns: list[str] | None = None) -> Any:
+    """The rows of a result file as a DataFrame (status and reason as categories).
 
     Parameters
     ----------
     path : str or path
+    columns : list of str, optional
+        Only these columns.
 
     Returns
     -------
@@ -382,9 +389,14 @@ def read_table(path: str | os.PathLike[str]) -> Any:
 
     p = Path(path)
     if p.suffix.lower() == ".parquet":
-        return pd.read_parquet(p)
-    return pd.read_csv(p, keep_default_na=False, na_values=["", "NaN", "nan"],
-                       dtype={"status": str, "reason": str}).fillna({"reason": ""})
+        return pd.read_parquet(p, columns=columns)
+    frame = pd.read_csv(p, usecols=columns, keep_default_na=False,
+                        na_values=["", "NaN", "nan"],
+                        dtype={"status": "category", "reason": "category"})
+    if "reason" in frame:
+        frame["reason"] = frame["reason"].cat.add_categories([""]).fillna("") \
+            if "" not in frame["reason"].cat.categories else frame["reason"].fillna("")
+    return frame
 
 
 __all__ = ["collect", "read_table", "RunSummary", "StudyJob", "evaluate_chunk", "request",
