@@ -368,3 +368,17 @@ def test_same_seed_same_bytes_in_process_and_on_two_local_workers(tmp_path):
     summary = run_study(job, there, engine_for(2))
     assert summary.where == "2 local workers"
     assert here.read_bytes() == there.read_bytes()
+
+
+def test_exercise_variants_on_two_workers_equal_those_of_one_process(tmp_path):
+    model = str(EXAMPLES / "teaching" / "cart_pendulum.toml")
+    here, there = tmp_path / "here", tmp_path / "there"
+    for folder, extra in ((here, []), (there, ["--workers", "2"])):
+        result = run_cli("exercise", model, "--variants", "6", "--seed", "3", "-o", str(folder),
+                         "--format", "html,json,moodle", "--no-plots", *extra)
+        assert result.returncode == 0, result.stderr
+        assert "warning" not in result.stderr
+    files = sorted(p.relative_to(here) for p in here.rglob("*") if p.is_file())
+    assert len(files) == 6 * 3 + 2
+    for name in files:
+        assert (here / name).read_bytes() == (there / name).read_bytes(), name

@@ -17,11 +17,12 @@ from .run import (
     StudyJob,
     collect,
     evaluate_chunk,
+    model_text,
     read_table,
     request,
     run_study,
 )
 
 __all__ = ["Engine", "RunSummary", "StudyJob", "StudyResult", "collect", "engine_for",
-           "evaluate_chunk", "ordered_map", "read_table", "request", "run_study",
+           "evaluate_chunk", "model_text", "ordered_map", "read_table", "request", "run_study",
            "sobol_indices", "summary_table"]

@@ -26,6 +26,7 @@ import collections
 import contextlib
 import os
 import time
+import warnings
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from typing import Any
@@ -97,10 +98,13 @@ def _client(engine: Engine) -> Iterator[Any]:
             yield client
         return
     workers = engine.workers or os.cpu_count() or 1
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                      host="127.0.0.1", dashboard_address=None,
-                      silence_logs=50) as cluster, Client(cluster) as client:
-        yield client
+    with warnings.catch_warnings():  # Dask's notes on ports and sockets are not the user's
+        warnings.simplefilter("ignore", ResourceWarning)
+        warnings.filterwarnings("ignore", category=UserWarning, module="distributed")
+        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                          host="127.0.0.1", dashboard_address=None,
+                          silence_logs=50) as cluster, Client(cluster) as client:
+            yield client
 
 
 def _on_dask(function: Callable[..., Any], tasks: Iterator[tuple], engine: Engine

@@ -52,6 +52,31 @@ AUTO = Engine()
 _SYSTEMS: dict[str, LinearSystem] = {}
 
 
+def model_text(model: Model) -> tuple[str, str]:
+    """The text of a model's file and its directory (what travels to the workers).
+
+    Parameters
+    ----------
+    model : Model
+
+    Returns
+    -------
+    tuple of str
+
+    Raises
+    ------
+    ModelError
+        For a model that was not loaded from a file.
+    """
+    path = Path(model.source)
+    if not path.is_file():
+        raise ModelError("workers need the model's text: this model was not loaded from a "
+                         "file (give text=)")
+    with open_regular_file(path, follow_symlinks=True, max_bytes=MAX_FILE_BYTES) as handle:
+        text = read_bounded(handle, MAX_FILE_BYTES).decode("utf-8")
+    return text, str(path.resolve().parent)
+
+
 @dataclass(frozen=True)
 class StudyJob:
     """What every task of a study needs: the model as text, and the request.
@@ -93,14 +118,7 @@ class StudyJob:
         StudyJob
         """
         if text is None:
-            path = Path(model.source)
-            if not path.is_file():
-                raise ModelError("a study needs the model's text: this model was not loaded "
-                                 "from a file (give text=)")
-            with open_regular_file(path, follow_symlinks=True,
-                                   max_bytes=MAX_FILE_BYTES) as handle:
-                text = read_bounded(handle, MAX_FILE_BYTES).decode("utf-8")
-            base_dir = str(path.resolve().parent)
+            text, base_dir = model_text(model)
         else:
             base_dir = os.getcwd()
         pairs = tuple(sorted((str(k), str(v)) for k, v in (overrides or {}).items()))
@@ -399,5 +417,5 @@ def read_table(path: str | os.PathLike[str], columns: list[str] | None = None) -
     return frame
 
 
-__all__ = ["collect", "read_table", "RunSummary", "StudyJob", "evaluate_chunk", "request",
+__all__ = ["collect", "model_text", "read_table", "RunSummary", "StudyJob", "evaluate_chunk", "request",
            "run_study", "system_of"]
