@@ -19,7 +19,7 @@ from resonant.analyses.modes import modes
 from resonant.analyses.stationary import stationary
 from resonant.errors import ModelError
 from resonant.model.study import study_spec
-from resonant.studies import StudyJob, collect, engine_for, read_table, request, run_study
+from resonant.studies import StudyJob, engine_for, read_table, request, run_study
 from resonant.studies.designs import chunk_values
 from resonant.studies.files import read_description
 from resonant.studies.quantities import evaluate_samples

@@ -31,8 +31,8 @@ from ..analyses import harmonic_balance
 from ..analyses import simulate as simulate_analysis
 from ..deadline import Deadline
 from ..report import write_report
-from ..views import display, drawing
 from ..studies import StudyJob, collect, engine_for, request
+from ..views import display, drawing
 from .results import Backbones, NonlinearResponse, Simulation, Study, fields_of_base, promote
 from .systems import SystemMethods, linear_system
 

@@ -142,6 +142,11 @@ def ordered_map(function: Callable[..., Any], tasks: Iterable[tuple], engine: En
     ------
     Any
         The results, in the order of ``tasks``.
+
+    Examples
+    --------
+    >>> list(ordered_map(divmod, [(7, 2), (9, 4)], Engine(mode="process")))
+    [(3, 1), (2, 1)]
     """
     tasks = iter(tasks)
     say = on_start or (lambda where: None)

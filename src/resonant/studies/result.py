@@ -39,6 +39,12 @@ def summary_table(frame: Any, columns: Sequence[str]) -> Any:
     -------
     pandas.DataFrame
         One row per column; NaN values (failed samples) are left out.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> summary_table(pd.DataFrame({"f": [1.0, 2.0, float("nan")]}), ["f"])["count"].tolist()
+    [2]
     """
     import pandas as pd
 
@@ -72,6 +78,19 @@ def sobol_indices(frame: Any, spec: StudySpec, seed: int = 0) -> dict[str, dict[
     -------
     dict
         quantity column -> {"parameters", "S1", "S1_conf", "ST", "ST_conf", "note"}.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> from resonant.model.study import study_spec
+    >>> from resonant.studies.designs import chunk_values
+    >>> spec = study_spec({"a": "uniform(0, 1)", "b": "uniform(0, 1)"}, ["stable"],
+    ...                   design="sobol", samples=256, parameters=["a", "b", "stable_"],
+    ...                   coordinates=["x"], outputs=[])
+    >>> v = chunk_values(spec, 0, spec.size)
+    >>> frame = pd.DataFrame({"sample": range(spec.size), "stable": 3 * v["a"]})
+    >>> [round(s, 3) for s in sobol_indices(frame, spec)["stable"]["ST"]]
+    [1.0, 0.0]
     """
     from SALib.analyze import sobol
 
@@ -112,6 +131,18 @@ class StudyResult:
         Sobol indices per quantity (``sobol`` designs; :func:`sobol_indices`).
     where : str
         Where the chunks ran.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> from resonant.model.study import study_spec
+    >>> spec = study_spec({"k": [1, 2]}, ["stable"], parameters=["k"], coordinates=["x"],
+    ...                   outputs=[])
+    >>> result = StudyResult(pd.DataFrame({"sample": [0, 1], "k": [1.0, 2.0],
+    ...                                    "stable": [True, True], "status": ["ok", "ok"],
+    ...                                    "reason": ["", ""]}), spec)
+    >>> result.to_dict()["status"]
+    {'ok': 2}
     """
 
     table: Any

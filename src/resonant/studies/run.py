@@ -67,6 +67,13 @@ def model_text(model: Model) -> tuple[str, str]:
     ------
     ModelError
         For a model that was not loaded from a file.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> text, folder = model_text(resonant.load("examples/cart_pendulum.toml"))
+    >>> "[energy]" in text
+    True
     """
     path = Path(model.source)
     if not path.is_file():
@@ -92,6 +99,14 @@ class StudyJob:
     overrides : tuple of (str, str)
         Parameter values replacing the file's (``--set``).
     spec : StudySpec
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> job = StudyJob.of(model, request(model, {"k": [90, 110]}, ["stable"]))
+    >>> job.spec.vary["k"].arguments, len(job.key)
+    ((90.0, 110.0), 64)
     """
 
     text: str
@@ -153,6 +168,13 @@ def request(model: Model, vary: Mapping[str, Any] | None = None,
     ------
     ModelError
         For an invalid request, or none at all (no arguments and no ``[study]``).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/absorber_tolerances.toml")
+    >>> request(model, samples=10).design, request(model, samples=10).samples
+    ('random', 10)
     """
     unknown = sorted(set(options) - set(STUDY_KEYS))
     if unknown:
@@ -205,6 +227,14 @@ def evaluate_chunk(job: StudyJob, k: int, size: int) -> dict[str, np.ndarray]:
     -------
     dict
         column -> array.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> job = StudyJob.of(model, request(model, {"k": [90, 110]}, ["stable"], design="grid"))
+    >>> evaluate_chunk(job, 1, 1)["k"].tolist()
+    [110.0]
     """
     varied = chunk_values(job.spec, k, size)
     count = len(next(iter(varied.values())))
@@ -282,6 +312,14 @@ class RunSummary:
         Where the chunks ran.
     seconds : float
     description : dict
+
+    Examples
+    --------
+    >>> import resonant, tempfile, os
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> job = StudyJob.of(model, request(model, {"k": [90, 110]}, ["stable"], design="grid"))
+    >>> run_study(job, os.path.join(tempfile.mkdtemp(), "r.csv"), Engine("process")).rows
+    2
     """
 
     path: Path
@@ -316,6 +354,15 @@ def run_study(job: StudyJob, output: str | os.PathLike[str], engine: Engine = AU
     Returns
     -------
     RunSummary
+
+    Examples
+    --------
+    >>> import resonant, tempfile, os
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> job = StudyJob.of(model, request(model, {"k": "uniform(90, 110)"}, ["stable"],
+    ...                                  samples=5))
+    >>> run_study(job, os.path.join(tempfile.mkdtemp(), "r.parquet"), Engine("process")).rows
+    5
     """
     path = check_output(output)
     size = chunk_size(job.spec, system_of(job).n)
@@ -363,6 +410,14 @@ def collect(job: StudyJob, engine: Engine = AUTO,
     Returns
     -------
     StudyResult
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> job = StudyJob.of(model, request(model, {"k": [90, 110]}, ["stable"], design="grid"))
+    >>> collect(job, Engine("process")).table["stable"].tolist()
+    [True, True]
     """
     import pandas as pd
 
@@ -402,6 +457,15 @@ def read_table(path: str | os.PathLike[str], columns: list[str] | None = None) -
     Returns
     -------
     pandas.DataFrame
+
+    Examples
+    --------
+    >>> import resonant, tempfile, os
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> job = StudyJob.of(model, request(model, {"k": [90, 110]}, ["stable"], design="grid"))
+    >>> path = os.path.join(tempfile.mkdtemp(), "r.parquet")
+    >>> list(read_table(run_study(job, path, Engine("process")).path).columns)
+    ['sample', 'k', 'stable', 'status', 'reason']
     """
     import pandas as pd
 
@@ -417,5 +481,5 @@ def read_table(path: str | os.PathLike[str], columns: list[str] | None = None) -
     return frame
 
 
-__all__ = ["collect", "model_text", "read_table", "RunSummary", "StudyJob", "evaluate_chunk", "request",
-           "run_study", "system_of"]
+__all__ = ["collect", "model_text", "read_table", "RunSummary", "StudyJob", "evaluate_chunk",
+           "request", "run_study", "system_of"]
