@@ -93,7 +93,7 @@ def run_study(args: argparse.Namespace) -> int:
     try:
         result = collect(job, engine, args.output, resume=args.resume,
                          progress=args.progress or None, deadline=cli.deadline(args),
-                         reasons=False)
+                         columns=[*(spec.vary if args.plot else ()), *spec.columns, "status"])
     except (KeyboardInterrupt, DeadlineExceeded):
         sys.stderr.write(f"the study stopped: {printable(args.output)} holds the samples "
                          "done so far; run the same command with --resume to complete it\n")

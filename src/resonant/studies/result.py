@@ -50,11 +50,12 @@ def summary_table(frame: Any, columns: Sequence[str]) -> Any:
 
     rows = []
     for name in columns:
-        values = np.asarray(frame[name], dtype=float)
-        values = values[np.isfinite(values)]
+        values = np.array(frame[name], dtype=float)  # a copy: the quantiles sort it in place
+        if not np.isfinite(values).all():
+            values = values[np.isfinite(values)]
         stats: dict[str, Any] = {"quantity": name, "count": int(values.size)}
         if values.size:
-            q = np.quantile(values, QUANTILES)
+            q = np.quantile(values, QUANTILES, overwrite_input=True)
             stats.update(mean=float(values.mean()), std=float(values.std(ddof=1))
                          if values.size > 1 else math.nan, min=float(values.min()),
                          **{f"q{int(p * 100):02d}": float(v) for p, v in zip(QUANTILES, q)},
@@ -95,7 +96,7 @@ def sobol_indices(frame: Any, spec: StudySpec, seed: int = 0) -> dict[str, dict[
     from SALib.analyze import sobol
 
     problem = sobol_problem(len(spec.vary))
-    ordered = frame.sort_values("sample")
+    ordered = frame.sort_values("sample") if "sample" in frame else frame  # files: in order
     out: dict[str, dict[str, Any]] = {}
     for name in spec.columns:
         y = np.asarray(ordered[name], dtype=float)

@@ -390,7 +390,7 @@ def run_study(job: StudyJob, output: str | os.PathLike[str], engine: Engine = AU
 def collect(job: StudyJob, engine: Engine = AUTO,
             output: str | os.PathLike[str] | None = None, *, resume: bool = False,
             progress: bool | None = None, deadline: Deadline = NO_DEADLINE,
-            reasons: bool = True) -> StudyResult:
+            columns: list[str] | None = None) -> StudyResult:
     """Run a study and return its result (the rows also written to ``output`` if given).
 
     Parameters
@@ -403,9 +403,9 @@ def collect(job: StudyJob, engine: Engine = AUTO,
         Continue an interrupted run of ``output``.
     progress : bool, optional
     deadline : Deadline, optional
-    reasons : bool
-        Read the ``reason`` and ``sample`` columns back from ``output`` too (False
-        keeps the memory of a huge study to its numbers and status).
+    columns : list of str, optional
+        The columns to read back from ``output`` (default all; fewer keep the memory
+        of a huge study small).
 
     Returns
     -------
@@ -425,8 +425,7 @@ def collect(job: StudyJob, engine: Engine = AUTO,
     if output is not None:
         summary = run_study(job, output, engine, resume=resume, progress=progress,
                             deadline=deadline)
-        table = read_table(summary.path, None if reasons else
-                           ["sample", *job.spec.vary, *job.spec.columns, "status"])
+        table = read_table(summary.path, columns)
         where, found = summary.where, summary.description
     else:
         size = chunk_size(job.spec, system_of(job).n)
