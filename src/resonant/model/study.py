@@ -45,7 +45,7 @@ DESIGNS = ("grid", "random", "lhs", "sobol")
 DISTRIBUTIONS = ("uniform", "normal", "lognormal")
 #: the quantities a study records: kind -> what follows the colon
 QUANTITY_KINDS = {"natural_frequency": "index", "damping_ratio": "index", "amplitude": "name",
-                  "phase": "name", "peak": "name", "stable": "", "nonlinear_amplitude": "name"}
+                  "phase": "name", "peak": "name", "stable": ""}
 #: most samples of one study (a grid's product included): 10^9 rows is ~10 GB per column
 MAX_SAMPLES = 1_000_000_000
 MAX_VARIED = 100
@@ -142,7 +142,7 @@ class Quantity:
     kind : str
         A key of :data:`QUANTITY_KINDS`.
     target : str
-        The coordinate or output (amplitude, phase, peak, nonlinear_amplitude).
+        The coordinate or output (amplitude, phase, peak).
     index : int
         The mode, counted from 1, lowest first (natural_frequency, damping_ratio).
     text : str
