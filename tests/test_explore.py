@@ -75,7 +75,7 @@ m = { from = 1, to = 3 }
 show = ["v", "x"]
 frequency = "omega"
 """)
-    spec = model.explore_spec
+    spec = model.explore_section
     assert spec is not None
     assert (spec.ranges["k"].start, spec.ranges["k"].stop, spec.ranges["k"].log) == \
         (200.0, 2000.0, True)

@@ -171,8 +171,8 @@ def frequency_parameter(model: Model, system: LinearSystem) -> str | None:
     >>> frequency_parameter(model, resonant.system.linear_system(model))
     'omega'
     """
-    if model.explore_spec is not None and model.explore_spec.frequency is not None:
-        return model.explore_spec.frequency
+    if model.explore_section is not None and model.explore_section.frequency is not None:
+        return model.explore_section.frequency
     harmonics = getattr(system, "harmonics", None)
     if harmonics is None:
         return None
@@ -203,7 +203,7 @@ def _frequency_range(system: LinearSystem, value: float, deadline: Deadline
 
 
 def _range_of(model: Model, name: str, value: float) -> tuple[float, float, bool]:
-    spec = model.explore_spec.ranges.get(name) if model.explore_spec is not None else None
+    spec = model.explore_section.ranges.get(name) if model.explore_section is not None else None
     if spec is not None:
         return spec.start, spec.stop, spec.log
     variants = {v.name: v.values for v in model.exercise.variants} \
@@ -249,7 +249,7 @@ def controls(model: Model, system: LinearSystem, frequency: str | None,
     for name, expression in model.parameters.items():
         value = float(model.parameter_values[name])
         start, stop, log = _range_of(model, name, value)
-        spec = model.explore_spec
+        spec = model.explore_section
         if name == frequency and (spec is None or name not in spec.ranges):
             start, stop, log = _frequency_range(system, value, deadline)
         unit = given[name][1] if name in given else None
@@ -281,8 +281,8 @@ def shown_names(model: Model, system: LinearSystem) -> list[str]:
     >>> shown_names(model, resonant.system.linear_system(model))
     ['x1', 'x2', 'phi']
     """
-    if model.explore_spec is not None and model.explore_spec.show:
-        return list(model.explore_spec.show)
+    if model.explore_section is not None and model.explore_section.show:
+        return list(model.explore_section.show)
     return [*system.coordinates, *model.outputs][:DEFAULT_SHOWN]
 
 
