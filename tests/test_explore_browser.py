@@ -488,4 +488,5 @@ def write_screenshots() -> None:
 
 
 if __name__ == "__main__":
+    sys.path.insert(0, str(Path(__file__).parents[1] / "src"))  # this checkout's resonant
     write_screenshots()

@@ -502,7 +502,7 @@
       ctx.beginPath();
       let pen = false;
       ys.forEach((y, j) => {
-        if (!Number.isFinite(y) || y <= 0) { pen = false; return; }
+        if (!Number.isFinite(y) || y / f < lo) { pen = false; return; }  // off the axis
         const px = X(xs[j]), py = Y(y / f);
         if (pen) ctx.lineTo(px, py); else ctx.moveTo(px, py);
         pen = true;
@@ -923,7 +923,7 @@
     let text;
     if (!r) text = "";
     else if (S.mode >= 0) text = `Mode ${S.mode + 1} (ω = ${fmt(r.omegas[S.mode], 5)} rad/s, f = ${fmt(r.omegas[S.mode] / (2 * Math.PI), 5)} Hz), largest component +1: ` + COORDS.map((c, i) => `${c.name} ${fmt((r.modes[S.mode] || [])[i], 4)}`).join(", ") + ".";
-    else text = `The stationary response, one period in 2 s.` + (DR ? " Displacements are magnified; the drawing keeps the file's dimensions." : " Each bar is a coordinate, scaled by the largest amplitude of its unit.");
+    else text = `The stationary response, one period in 2 s.` + (DR ? ` Displacements drawn ×${fmt(S.scale * Math.pow(10, Number($("scale").value) / 50), 3)}; the parts keep the file's dimensions.` : " Each bar is a coordinate, scaled by the largest amplitude of its unit.");
     $("motion-caption").textContent = text;
   }
 
@@ -1023,7 +1023,7 @@
   buildControls();
   buildShown();
   $("play").addEventListener("click", () => (S.playing ? window.resonant.pause() : window.resonant.play()));
-  $("scale").addEventListener("input", drawMotion);
+  $("scale").addEventListener("input", () => { captionMotion(); drawMotion(); });
   if (!DR) {  // bars: the scale of a drawing does not apply; as tall as the coordinates need
     $("scale").closest(".toolbar").querySelectorAll("label, input, .hint").forEach(e => { e.hidden = true; });
     $("mechanism").style.height = `${Math.min(420, Math.max(90, 34 * BARS.length + 24))}px`;
