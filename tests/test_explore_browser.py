@@ -255,6 +255,99 @@ def test_a_parameter_defined_from_others_follows_until_it_is_set(browser: Any,
         assert "nope" in error
 
 
+#: beyond the examples: two excitation frequencies and a static load (the peak is sampled
+#: over the common period), outputs of a velocity and of a signal; a gyroscopic shaft
+#: (non-symmetric matrices: the general eigensolvers)
+EDGE_MODELS = {
+    "two-frequencies": """
+[parameters]
+m = 1
+k = 100
+c = 0.3
+F0 = 2
+F1 = 0.7
+P = 0.5
+omega = 3
+[coordinates]
+x = "x"
+y = "y"
+[signals]
+F = "F0*sin(omega*t) + F1*cos(2*omega*t + 0.3) + P"
+r = "0.01*sin(3*omega*t)"
+[energy]
+T = "m*x'^2/2 + m*y'^2/2"
+U = "k*x^2/2 + k*(y - x)^2/2 + k*(y - r)^2/2"
+D = "c*x'^2/2"
+[[force]]
+name = "F"
+vector = ["F"]
+point = ["x"]
+[outputs]
+rel = "y - r"
+vel = "x'"
+""",
+    "gyroscopic": """
+[parameters]
+m = 1
+k = 100
+kb = 120
+Om = 3
+F0 = 1
+omega = 7
+c = 0.2
+[coordinates]
+x = "x"
+y = "y"
+[signals]
+F = "F0*cos(omega*t)"
+[energy]
+T = "m*((x' - Om*y)^2 + (y' + Om*x)^2)/2"
+U = "k*x^2/2 + kb*y^2/2"
+D = "c*(x'^2 + y'^2)/2"
+[[force]]
+name = "F"
+vector = ["F", "0"]
+point = ["x", "y"]
+""",
+}
+
+
+@pytest.mark.parametrize("model", sorted(EXAMPLES.rglob("*.toml")),
+                         ids=lambda p: str(p.relative_to(EXAMPLES)))
+def test_every_bundled_example_agrees_with_resonant_solve(browser: Any, tmp_path: Path,
+                                                          model: Path) -> None:
+    target = tmp_path / "page.html"
+    status, _, err = run_cli(["explore", model, "-o", target])
+    assert status == 0, err
+    with opened(browser, target) as page:
+        compare(page.state(), run_json("solve", model))
+
+
+@pytest.mark.parametrize("name", sorted(EDGE_MODELS))
+def test_several_frequencies_and_gyroscopic_terms(browser: Any, tmp_path: Path, name: str
+                                                  ) -> None:
+    model = tmp_path / f"{name}.toml"
+    model.write_text(EDGE_MODELS[name], encoding="utf-8")
+    target = tmp_path / "page.html"
+    assert run_cli(["explore", model, "-o", target])[0] == 0
+    with opened(browser, target) as page:
+        compare(page.state(), run_json("solve", model))
+        compare(json.loads(page.page.evaluate("JSON.stringify(resonant.set({omega: 4.5}))")),
+                _solve(model, {"omega": 4.5}))
+
+
+def test_an_undamped_resonance_is_said_on_the_page(browser: Any, pages: dict[Path, Path]
+                                                   ) -> None:
+    with opened(browser, pages[REFERENCE]) as page:
+        frequency = page.state()["natural_frequencies"][0]
+        state = json.loads(page.page.evaluate(
+            f"JSON.stringify(resonant.set({{omega: {frequency!r}}}))"))
+        assert state["error"].startswith("resonance:")
+        assert page.page.locator("#status").inner_text().startswith("resonance:")
+        status, _, err = run_cli(["solve", REFERENCE, "--set", f"omega={frequency!r}"])
+        assert status == 3 and "resonance" in err
+
+
 # -- motion and modes ---------------------------------------------------------------------------
 
 def _pixels(opened_page: Opened, selector: str) -> np.ndarray:
