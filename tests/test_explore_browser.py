@@ -558,6 +558,22 @@ def test_printed_javascript_gives_the_exact_value(blank: Any) -> None:
     check()
 
 
+# -- the benchmark keeps working ---------------------------------------------------------------
+
+def test_the_benchmark_runs_and_the_page_is_small(browser: Any) -> None:
+    """benchmarks/bench_explore.py at a tiny size (not a timed test: the times are the
+    benchmark's; the page's size is deterministic)."""
+    sys.path.insert(0, str(Path(__file__).parents[1] / "benchmarks"))
+    try:
+        import bench_explore
+    finally:
+        sys.path.pop(0)
+    row = bench_explore.measure(REFERENCE, "k", 2, browser)
+    assert row["live"] and row["moves"] == 4 and row["median_ms"] > 0
+    assert row["bytes"] <= bench_explore.PAGE_LIMIT
+    assert "x20" in bench_explore.chain_model(20)
+
+
 # -- the screenshots of docs/explore.md -------------------------------------------------------
 
 def write_screenshots() -> None:
@@ -576,8 +592,19 @@ def write_screenshots() -> None:
             page.wait_for_function("window.resonant !== undefined")
             page.evaluate("resonant.pause(); resonant.set({k: 120, omega: 6}); "
                           "resonant.setPhase(0.2)")
-            page.screenshot(path=str(DOCS / f"explore-{width}.png"))
+            target_png = DOCS / f"explore-{width}.png"
+            page.screenshot(path=str(target_png))
             page.close()
+            _small_png(target_png)
+
+
+def _small_png(path: Path) -> None:
+    """The screenshot with a palette of 128 colours (a third of the bytes, same look)."""
+    from PIL import Image
+
+    with Image.open(path) as image:
+        small = image.convert("RGB").quantize(colors=128, method=Image.Quantize.MEDIANCUT)
+    small.save(path, optimize=True)
 
 
 if __name__ == "__main__":
