@@ -373,7 +373,7 @@ class _Store:
 def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                    progress: _Progress | None = None, warnings: list[str] | None = None,
                    keep: np.ndarray | None = None, deadline: Deadline = NO_DEADLINE,
-                   tol: float = DEFAULT_TOL) -> KernelResult:
+                   tol: float = DEFAULT_TOL, exact_condition: bool = True) -> KernelResult:
     """Complex responses z = L - i N of one harmonic at every point of a batch.
 
     Parameters
@@ -394,6 +394,10 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
         Checked between points.
     tol : float
         Relative tolerance of the reduced model (``reduced``, ``auto``).
+    exact_condition : bool
+        Compute exact condition numbers where they are cheap (small dense systems);
+        False keeps the lower bound ||A|| ||z|| / ||F|| (a study, where only the
+        singular points matter).
 
     Returns
     -------
@@ -440,8 +444,8 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     elif method == "direct":
         method = choose_direct(batch)
     store = _Store(N, keep)
-    exact = method == "dense" and (n <= EXACT_CONDITION or (N == 1 and
-                                                            n <= EXACT_CONDITION_SINGLE))
+    exact = exact_condition and method == "dense" and (
+        n <= EXACT_CONDITION or (N == 1 and n <= EXACT_CONDITION_SINGLE))
     condition = np.ones(N)
     if method == "dense":
         singular = _solve_dense(batch, w, rhs, progress, store, deadline,

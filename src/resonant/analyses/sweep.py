@@ -237,7 +237,7 @@ class FrequencyResponse:
         N, m = len(self.values), len(self.quantities)
         if self.response.shape[0] == 0:
             return frozen_array(np.zeros((N, m))), frozen_array(np.full((N, m), np.nan))
-        amplitude, phase = _amplitude_phase(self.harmonic_omegas, self.response)
+        amplitude, phase = amplitude_and_phase(self.harmonic_omegas, self.response)
         skipped = np.isin(self.values, np.asarray(self.skipped, dtype=float))
         amplitude[skipped] = np.nan
         phase[skipped] = np.nan
@@ -356,7 +356,7 @@ class FrequencyResponse:
 
 # -- amplitudes, phases, extrema ------------------------------------------------------------
 
-def _kept_names(batch: Batch, names: Sequence[str]) -> list[str]:
+def kept_coordinates(batch: Batch, names: Sequence[str]) -> list[str]:
     """The coordinates whose responses are kept: those reported and those outputs use."""
     wanted = set(names)
     for _, terms in batch.outputs.values():
@@ -364,10 +364,10 @@ def _kept_names(batch: Batch, names: Sequence[str]) -> list[str]:
     return [q for q in batch.coordinates if q in wanted]
 
 
-def _responses(batch: Batch, responses: list[np.ndarray], names: Sequence[str]
+def harmonic_responses(batch: Batch, responses: list[np.ndarray], names: Sequence[str]
                ) -> tuple[list[str], np.ndarray]:
     """The selected coordinates and every output: names and Z, shape (H, N, m)."""
-    index = {q: k for k, q in enumerate(_kept_names(batch, names))}
+    index = {q: k for k, q in enumerate(kept_coordinates(batch, names))}
     columns = [index[q] for q in names]
     out_names = list(names) + list(batch.outputs)
     if not batch.outputs and len(responses) == 1 and columns == list(range(len(index))):
@@ -388,7 +388,7 @@ def _responses(batch: Batch, responses: list[np.ndarray], names: Sequence[str]
     return out_names, Z
 
 
-def _amplitude_phase(omegas: np.ndarray, Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def amplitude_and_phase(omegas: np.ndarray, Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Amplitude and phase, shape (N, m), with the semantics of :func:`stationary.peak`.
 
     ``omegas`` (H, N) are the harmonics' frequencies, ``Z`` (H, N, m) the responses.
@@ -587,7 +587,7 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
         progress = sys.stderr.isatty() and len(values) * n * max(n, 1) > 5e7
     bar = _Progress(len(values) * max(len(batch.harmonics), 1), bool(progress))
     position = {q: i for i, q in enumerate(batch.coordinates)}
-    keep = np.array([position[q] for q in _kept_names(batch, names)], dtype=int)
+    keep = np.array([position[q] for q in kept_coordinates(batch, names)], dtype=int)
     results = [solve_harmonic(batch, h, method, progress=bar, warnings=warnings, keep=keep,
                               deadline=deadline, tol=tol) for h in batch.harmonics]
     skipped_mask = np.zeros(len(values), dtype=bool)
@@ -596,7 +596,7 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
     if not batch.harmonics:
         warnings.append("the model has no harmonic excitation: every amplitude is zero")
     if batch.harmonics:
-        all_names, Z = _responses(batch, [r.Z for r in results], names)
+        all_names, Z = harmonic_responses(batch, [r.Z for r in results], names)
     else:
         all_names = list(names) + list(batch.outputs)
         Z = np.zeros((0, len(values), len(all_names)), dtype=complex)
@@ -662,7 +662,7 @@ def _check_request(batch: Batch, names: Sequence[str], values: np.ndarray, metho
         raise AnalysisError(f"unknown coordinate(s) {', '.join(unknown)}; the coordinates are "
                             f"{', '.join(batch.coordinates[:20])}"
                             f"{' ...' if n > 20 else ''}")
-    quantities = len(_kept_names(batch, names)) + len(batch.outputs)
+    quantities = len(kept_coordinates(batch, names)) + len(batch.outputs)
     results = len(values) * max(quantities, 1) * max(len(batch.harmonics), 1)
     if results > MAX_SWEEP_RESULTS:
         raise AnalysisError(

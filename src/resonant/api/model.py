@@ -31,8 +31,10 @@ from ..analyses import harmonic_balance
 from ..analyses import simulate as simulate_analysis
 from ..deadline import Deadline
 from ..report import write_report
+from ..studies import StudyJob, collect, engine_for, request
 from ..views import display, drawing
-from .results import Backbones, NonlinearResponse, Simulation, fields_of_base, promote
+from ..views import explore as explore_view
+from .results import Backbones, NonlinearResponse, Simulation, Study, fields_of_base, promote
 from .systems import SystemMethods, linear_system
 
 __all__ = ["Model", "load", "loads", "simulate", "with_methods"]
@@ -147,6 +149,45 @@ class Model(model_layer.Model):
         """
         return promote(Backbones, backbone_analysis.backbone(self, amplitude, **options))
 
+    def study(self, vary: Mapping[str, Any] | None = None,
+              quantities: Sequence[str] | None = None, *, output: str | Path | None = None,
+              workers: int | None = None, scheduler: str | None = None, client: Any = None,
+              resume: bool = False, progress: bool | None = None, **options: Any) -> Study:
+        """A parameter study (docs/studies.md): the arguments given, the rest from the
+        model's ``[study]`` section.
+
+        Parameters
+        ----------
+        vary : mapping, optional
+            parameter -> ``"uniform(a, b)"``, ``"normal(mean, sd)"``,
+            ``"lognormal(mean, sd)"``, a list or ``{"from":, "to":, "step":}``.
+        quantities : sequence of str, optional
+            ``natural_frequency:I``, ``damping_ratio:I``, ``amplitude:NAME``,
+            ``phase:NAME``, ``peak:NAME``, ``stable``.
+        output : str or Path, optional
+            Also write the rows there (.parquet or .csv).
+        workers : int, optional
+            Local worker processes (0: this process; default: chosen by the work).
+        scheduler : str, optional
+            A Dask scheduler's address.
+        client : distributed.Client, optional
+            A Dask client of yours.
+        resume : bool
+            Continue an interrupted study of ``output``.
+        progress : bool, optional
+            A progress bar on standard error.
+        **options
+            ``design``, ``samples``, ``seed``, ``band``.
+
+        Returns
+        -------
+        Study
+        """
+        spec = request(self, vary, quantities, **options)
+        return promote(Study, collect(StudyJob.of(self, spec), engine_for(workers, scheduler,
+                                                                          client),
+                                      output, resume=resume, progress=progress))
+
     def draw(self, path: str | Path | None = None, ax: Any = None) -> Any:
         """The mechanism drawn from its parts (:func:`resonant.views.drawing.draw_mechanism`).
 
@@ -162,6 +203,28 @@ class Model(model_layer.Model):
         matplotlib.figure.Figure
         """
         return drawing.draw_mechanism(self, path, ax)
+
+    def explore(self, path: str | Path | None = None, timeout: float | None = None
+                ) -> explore_view.ExplorePage:
+        """The interactive page of the model (:func:`resonant.views.explore.explore_page`);
+        shown inline in Jupyter.
+
+        Parameters
+        ----------
+        path : str or Path, optional
+            Also write the page there (``.html``).
+        timeout : float, optional
+            Seconds for the derivation (default: no limit).
+
+        Returns
+        -------
+        ExplorePage
+            With ``html``, ``save(path)`` and ``_repr_html_`` (an iframe).
+        """
+        page = explore_view.explore_page(self, deadline=Deadline(timeout, self.source))
+        if path is not None:
+            page.save(path)
+        return page
 
     def report(self, path: str | Path, plots: bool = True) -> Path:
         """Write the worked solution (:func:`resonant.report.write_report`).

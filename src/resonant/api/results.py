@@ -24,10 +24,11 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from ..analyses import backbone, harmonic_balance, modes, simulate, stationary, sweep
-from ..views import display, nonlinear_plots, plotting
+from ..studies import result as study_result
+from ..views import display, nonlinear_plots, plotting, study_plots
 
 __all__ = ["Backbones", "FrequencyResponse", "ModalAnalysis", "NonlinearResponse",
-           "Simulation", "StationarySolution", "promote"]
+           "Simulation", "StationarySolution", "Study", "promote"]
 
 T = TypeVar("T")
 
@@ -307,3 +308,35 @@ class Backbones(backbone.Backbones):
         matplotlib.figure.Figure
         """
         return nonlinear_plots.plot_backbones(self, path, **options)
+
+
+@fields_of_base
+class Study(study_result.StudyResult):
+    """A :class:`resonant.studies.StudyResult` with its pictures.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> study = model.study({"k": "uniform(90, 110)"}, ["natural_frequency:1"],
+    ...                     samples=200, seed=1, workers=0)
+    >>> round(float(study.summary().loc["natural_frequency:1", "mean"]), 2)
+    4.56
+    """
+
+    def plot(self, directory: str | Path) -> list[Path]:
+        """Write the study's pictures into ``directory``
+        (:func:`resonant.views.study_plots.plot_study`).
+
+        Parameters
+        ----------
+        directory : str or Path
+
+        Returns
+        -------
+        list of Path
+            The files written.
+        """
+        return study_plots.plot_study(self.table, list(self.spec.vary),
+                                      list(self.spec.columns), directory, self.sensitivity,
+                                      grid=self.spec.design == "grid")

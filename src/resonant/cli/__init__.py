@@ -32,6 +32,8 @@ COMMANDS: dict[str, str] = {
     "draw": "draw a mechanism given by its parts (.svg, .png, .pdf)",
     "exercise": "exercise variants with solutions and answer key",
     "grade": "check a student's answers against the key",
+    "study": "parameter study: Monte Carlo, grids, Sobol indices, on Dask",
+    "explore": "write an interactive page of the model (.html)",
 }
 
 Register = Callable[[Any, argparse.ArgumentParser], None]
@@ -73,6 +75,12 @@ def command_registrar(command: str) -> Register:
         case "exercise" | "grade":
             from . import exercise
             return exercise.register
+        case "study":
+            from . import study
+            return study.register
+        case "explore":
+            from . import explore
+            return explore.register
     raise KeyError(command)
 
 

@@ -12,6 +12,8 @@ import resonant.cli.common as common
 
 from ..errors import ModelError, Problem, printable
 from ..exercises import FORMATS, generate, grade, grade_text, write
+from ..exercises.writing import ExerciseJob
+from ..studies import engine_for, model_text
 
 
 def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
@@ -33,6 +35,11 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
                         help=f"comma-separated: {','.join(FORMATS)} (default html)")
     parser.add_argument("--no-plots", action="store_true",
                         help="leave the plots out of the worked solutions (much faster)")
+    parser.add_argument("--workers", type=common.integer(0, 1024), metavar="N",
+                        help="render the variants on N local worker processes (Dask; "
+                             "default: this process)")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="render them on a running Dask cluster, tcp://HOST:PORT")
     parser.set_defaults(run=run_exercise)
     grader = subparsers.add_parser(
         "grade", help="check a student's answers against a variant of an exercise key",
@@ -77,7 +84,8 @@ def run_exercise(args: argparse.Namespace) -> int:
         values = ", ".join(f"{k} = {v:g}" for k, v in r.values.items())
         print(f"replaced the value set {values}: {r.reason}", file=sys.stderr)
     try:
-        write(batch, folder, formats, plots=not args.no_plots)
+        write(batch, folder, formats, plots=not args.no_plots, **_engine(args, model, formats,
+                                                                          folder))
     except OSError as exc:
         raise ModelError(Problem(f"cannot write the exercise: {exc.strerror or 'I/O error'}",
                                  str(folder))) from None
@@ -85,6 +93,18 @@ def run_exercise(args: argparse.Namespace) -> int:
           f"in {time.perf_counter() - start:.1f} s; {len(batch.replaced)} value set(s) "
           "replaced", file=sys.stderr)
     return 0
+
+
+def _engine(args: argparse.Namespace, model: Any, formats: list[str], folder: Path
+            ) -> dict[str, Any]:
+    """The engine and job of ``--workers``/``--scheduler`` (none: this process)."""
+    if not args.workers and args.scheduler is None:
+        return {}
+    text, base_dir = model_text(model)
+    overrides = tuple(sorted(common.parse_settings(getattr(args, "set", None)).items()))
+    job = ExerciseJob(text, model.source, base_dir, overrides, args.variants, args.seed,
+                      tuple(formats), not args.no_plots, str(folder.resolve()))
+    return {"engine": engine_for(args.workers, args.scheduler), "job": job}
 
 
 def run_grade(args: argparse.Namespace) -> int:

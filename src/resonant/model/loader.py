@@ -50,7 +50,8 @@ from ..expressions import (
     validate_name,
 )
 from .dimensions import check_units
-from .exercise import parse_exercise
+from .exercise import Exercise, parse_exercise
+from .explore import parse_explore
 from .files import FileRefused, open_regular_file, read_bounded
 from .inline_matrices import extract_numeric_matrices
 from .limits import (
@@ -65,6 +66,7 @@ from .matrix_files import read_matrix_spec
 from .nonlinear_elements import read_nonlinear_elements
 from .part_energies import Mechanism, derive_energies, point_expressions
 from .parts import DerivedEnergies, read_parts
+from .study import parse_study
 from .types import (
     Force,
     MatrixSpec,
@@ -319,10 +321,7 @@ class _Builder:
         self.check_one_kind(matrices, bool(energy or forces), parts is not None)
         names = coordinates or ([f"q{i + 1}" for i in range(_matrix_size(matrix_spec.M))]
                                 if matrix_spec is not None else [])
-        exercise = parse_exercise(self.data.get("exercise"), self.data.get("variants"),
-                                  param_names, names, list(outputs), self.source,
-                                  self.problems) \
-            if "exercise" in self.data or "variants" in self.data else None
+        exercise = self.exercise(param_names, names, list(outputs))
         exact, floats = self.values(parameters)
         derived: DerivedEnergies | None = None
         if mechanism is not None and not self.problems:
@@ -336,6 +335,11 @@ class _Builder:
             self.problems.extend(unit_problems)
         elif display:  # no units in the model: [display] still chooses phases and frequencies
             units = ModelUnits(display=MappingProxyType(display))
+        study = parse_study(self.data["study"], param_names, names, list(outputs), units,
+                            self.source, self.problems) if "study" in self.data else None
+        explore = parse_explore(self.data["explore"], param_names, names, list(outputs),
+                                self.source, self.problems, units) \
+            if "explore" in self.data else None
         self.raise_problems(misplaced)
         if matrix_spec is not None and not coordinates:
             n = _matrix_size(matrix_spec.M)
@@ -348,7 +352,15 @@ class _Builder:
             equilibrium=MappingProxyType(equilibrium), signals=MappingProxyType(signals),
             definitions=MappingProxyType(definitions), energy=MappingProxyType(energy),
             forces=tuple(forces), outputs=MappingProxyType(outputs), matrices=matrix_spec,
-            exercise=exercise, parts=derived, units=units)
+            exercise=exercise, parts=derived, units=units, study_section=study,
+            explore_section=explore)
+
+    def exercise(self, param_names: list[str], names: list[str], outputs: list[str]
+                 ) -> Exercise | None:
+        if "exercise" not in self.data and "variants" not in self.data:
+            return None
+        return parse_exercise(self.data.get("exercise"), self.data.get("variants"),
+                              param_names, names, outputs, self.source, self.problems)
 
     def unknown_sections(self) -> set[str]:
         """A problem for each unknown top-level key; the names a misspelled section declares

@@ -26,10 +26,12 @@ import sympy
 from ..errors import ModelError, Problem, name_list
 from ..expressions import Expression, ExpressionError
 from .parts import check_values as check_part_values
+from .study import StudySpec
 from .units import ModelUnits, parse_with_unit
 
 if TYPE_CHECKING:
     from .exercise import Exercise
+    from .explore import ExploreSpec
     from .parts import DerivedEnergies
 
 TIME = sympy.Symbol("t")
@@ -186,6 +188,10 @@ class Model:
         The mechanism's parts and the energies derived from them.
     units : ModelUnits or None
         Physical units (None for a model without units: every number SI).
+    study_section : StudySpec or None
+        The ``[study]`` section.
+    explore_section : ExploreSpec or None
+        The ``[explore]`` section: the ranges of the explore page's sliders.
 
     Examples
     --------
@@ -218,6 +224,11 @@ class Model:
     #: physical units (resonant.model.units): what was given, the dimensions, the
     #: display units; None for a model without units (every number SI, nothing checked)
     units: ModelUnits | None = None
+    #: the ``[study]`` section (resonant.model.study); None without one
+    study_section: StudySpec | None = None
+    #: the ``[explore]`` section (resonant.model.explore): slider ranges, the names the
+    #: frequency response shows, the excitation frequency's parameter; None without it
+    explore_section: ExploreSpec | None = None
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""

@@ -620,6 +620,11 @@ def sketch(model: Model) -> Sketch:
         If the model has no parts, or a position has no finite value at the
         reference state.
     """
+    return _sketch(model)[0]
+
+
+def _sketch(model: Model) -> tuple[Sketch, _Layout, list[str]]:
+    """The sketch, its layout and the owner (body or point) of each force, in order."""
     derived = model.parts
     if derived is None or not derived.parts.bodies and not derived.parts.points:
         raise ModelError(Problem("the model has no parts to draw ([[body]], [[point]], "
@@ -633,10 +638,7 @@ def sketch(model: Model) -> Sketch:
 
     # springs and dampers: side by side when they join the same two points
     links: list[LinkShape] = []
-    groups: dict[frozenset[str], list[Link]] = {}
-    for link in (*derived.parts.springs, *derived.parts.dampers):
-        groups.setdefault(frozenset(link.between), []).append(link)
-    for group in groups.values():
+    for group in _link_groups(derived.parts):
         for i, link in enumerate(group):
             a, b = layout.at(link.between[0]), layout.at(link.between[1])
             along = _unit(_sub(b, a))
@@ -657,13 +659,14 @@ def sketch(model: Model) -> Sketch:
     supports += _rolling_grounds(layout, bodies)
     pins = tuple(layout.at(b.pin) for b in derived.parts.bodies if b.pin is not None)
     points = {name: layout.at(name) for name in derived.positions if "." in name}
-    forces = _forces(layout, by_name)
+    force_owners: list[str] = []
+    forces = _forces(layout, by_name, force_owners)
     obstacles = [(link.start, link.end) for link in links] + \
         [(b.start, b.end) for b in bodies if b.shape == "bar"] + \
         [(f.start, _add(f.start, f.vector)) for f in forces if isinstance(f, Arrow)]
     coordinates, undrawn = _coordinates(layout, by_name, obstacles)
     return Sketch(model.title, u, bodies, tuple(links), tuple(supports), pins, points,
-                  tuple(forces), tuple(coordinates), tuple(undrawn))
+                  tuple(forces), tuple(coordinates), tuple(undrawn)), layout, force_owners
 
 
 def _supports(layout: _Layout, bodies: Sequence[BodyShape], links: Sequence[LinkShape]
@@ -749,7 +752,10 @@ def _direction(layout: _Layout, exprs: Sequence[sympy.Expr]) -> list[float]:
     return out
 
 
-def _forces(layout: _Layout, bodies: Mapping[str, BodyShape]) -> list[Arrow | Arc]:
+def _forces(layout: _Layout, bodies: Mapping[str, BodyShape], owners: list[str]
+            ) -> list[Arrow | Arc]:
+    """The forces' arrows and the torques' arcs; ``owners`` gets the body or point each
+    is drawn on ("" where none)."""
     u = layout.scale
     out: list[Arrow | Arc] = []
     torque_names = {t.name for t in layout.parts.torques} | \
@@ -773,6 +779,8 @@ def _forces(layout: _Layout, bodies: Mapping[str, BodyShape]) -> list[Arrow | Ar
             at = _clip(_add(at, direction, 10 * u), at, shape)
         out.append(Arrow("force", at, (0.3 * u * direction[0], 0.3 * u * direction[1]),
                          label))
+        owners.append(layout.owner(layout.derived.force_points[force.name])
+                      if force.name in layout.derived.force_points else "")
     for torque in layout.parts.torques:
         shape = bodies.get(torque.body)
         if shape is not None and shape.shape == "bar":
@@ -791,6 +799,7 @@ def _forces(layout: _Layout, bodies: Mapping[str, BodyShape]) -> list[Arrow | Ar
         if not label.math and not torque.name.isdigit():
             label = plain(torque.name)
         out.append(Arc("torque", centre, radius, start, stop, label))
+        owners.append(torque.body)
     return out
 
 
@@ -942,5 +951,113 @@ def _point_at(layout: _Layout, candidate: str) -> Point:
     return layout.at(candidate)
 
 
-__all__ = ["Sketch", "BodyShape", "LinkShape", "Support", "Arrow", "Arc", "Label", "sketch",
-           "plain", "name_label", "expression_label", "MIN_SIZE", "MIN_LINK"]
+@dataclass(frozen=True)
+class SketchMotion:
+    """How the drawing of a mechanism moves: what carries each drawn item, and where.
+
+    Every moving item of a :class:`Sketch` is carried by an *owner*, a body (moving
+    rigidly: its origin and angle) or a fixed point (moving with its signals, a support).
+    The owners' positions are sympy expressions of the parameters, coordinates and
+    signals (definitions inlined); an item is drawn at its place in the sketch moved as
+    its owner moves from its reference position.
+
+    Parameters
+    ----------
+    sketch : Sketch
+        The figure at the reference state.
+    owners : tuple of str
+        Body and point names, in order.
+    positions : tuple of tuple
+        Per owner ``(x, y, angle)`` as sympy expressions (angle 0 for a point).
+    shifts : tuple of tuple
+        Per owner the drawing's shift of it (an ``along`` spring drawn longer moves a
+        group of parts): the owner is drawn at its position plus its shift.
+    bodies, supports, pins, forces : tuple of int
+        The owner (index into ``owners``, -1 for none) of each item of the sketch's
+        lists of the same name.
+    links : tuple of tuple of int
+        The owners of the two ends of each spring or damper.
+    points : mapping
+        Named point -> its owner.
+
+    Examples
+    --------
+    >>> import pathlib, resonant
+    >>> path = pathlib.Path(resonant.__file__).parents[2] / "examples/parts/pendulum.toml"
+    >>> motion = sketch_motion(resonant.load(path))
+    >>> motion.owners, motion.positions[1][2]
+    (('pivot', 'bob'), theta)
+    """
+
+    sketch: Sketch
+    owners: tuple[str, ...]
+    positions: tuple[tuple[sympy.Expr, sympy.Expr, sympy.Expr], ...]
+    shifts: tuple[Point, ...]
+    bodies: tuple[int, ...]
+    links: tuple[tuple[int, int], ...]
+    supports: tuple[int, ...]
+    pins: tuple[int, ...]
+    forces: tuple[int, ...]
+    points: Mapping[str, int]
+
+
+def sketch_motion(model: Model) -> SketchMotion:
+    """The sketch of a model's parts with what moves each item and how.
+
+    Parameters
+    ----------
+    model : Model
+        A model with parts.
+
+    Returns
+    -------
+    SketchMotion
+
+    Raises
+    ------
+    ModelError
+        As :func:`sketch`.
+
+    Examples
+    --------
+    >>> import pathlib, resonant
+    >>> path = pathlib.Path(resonant.__file__).parents[2] / "examples/parts/cart_pendulum.toml"
+    >>> motion = sketch_motion(resonant.load(path))
+    >>> motion.owners, motion.links
+    (('support', 'cart', 'rod'), ((0, 1),))
+    """
+    data, layout, force_owners = _sketch(model)
+    parts = layout.parts
+    owners = (*(p.name for p in parts.points), *(b.name for b in parts.bodies))
+    index = {name: i for i, name in enumerate(owners)}
+    zero = sympy.Integer(0)
+    positions = tuple((*layout.exprs[name], layout.angle_exprs.get(name, zero))
+                      for name in owners)
+
+    def of(point: str | None) -> int:
+        return index.get(layout.owner(point), -1) if point else -1
+
+    links = tuple((of(link.between[0]), of(link.between[1]))
+                  for group in _link_groups(parts) for link in group
+                  if _unit(_sub(layout.at(link.between[1]), layout.at(link.between[0])))
+                  != (0.0, 0.0))
+    shifts = tuple(layout.shift.get(layout.root(name), (0.0, 0.0)) for name in owners)
+    return SketchMotion(
+        data, owners, positions, shifts, tuple(index[b.name] for b in data.bodies), links,
+        tuple(index.get(s.name, -1) if s.name else -1 for s in data.supports),
+        tuple(of(b.pin) for b in parts.bodies if b.pin is not None),
+        tuple(index.get(o, -1) if o else -1 for o in force_owners),
+        {name: of(name) for name in data.points})
+
+
+def _link_groups(parts: Any) -> list[list[Link]]:
+    """Springs and dampers grouped by the two points they join (the sketch's order)."""
+    groups: dict[frozenset[str], list[Link]] = {}
+    for link in (*parts.springs, *parts.dampers):
+        groups.setdefault(frozenset(link.between), []).append(link)
+    return list(groups.values())
+
+
+__all__ = ["Sketch", "SketchMotion", "sketch_motion", "BodyShape", "LinkShape", "Support",
+           "Arrow", "Arc", "Label", "sketch", "plain", "name_label",
+           "expression_label", "MIN_SIZE", "MIN_LINK"]

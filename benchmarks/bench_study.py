@@ -1,0 +1,118 @@
+"""Parameter studies: resonant study against hand-written numpy, worker speed-up, memory.
+
+Usage::
+
+    python benchmarks/bench_study.py [--samples 1000000] [--big-n 10000] [--memory 10000000]
+
+1. The reference exercise (examples/cart_pendulum.toml), the stationary amplitude of x2
+   for ``--samples`` values of k ~ uniform(80, 120) N/m, each as a whole process that
+   writes its results to Parquet: ``resonant study`` (derivation, sample generation, the
+   batched kernel with its stability and condition checks, the file) against a
+   hand-written vectorized numpy script doing the same 2x2 complex solves with M, K and
+   the load typed in from the exercise.  Best of 3, alternating.
+2. Speed-up from 1 to 2 local workers on a fixed-free chain of ``--big-n`` masses (a
+   ``[matrices]`` model, examples/make_chain.py): 100 samples of F0 and the peak of the
+   free end over a band of 200 frequencies.
+3. Peak memory (max RSS of the process and its workers' largest) of ``resonant study`` at
+   ``--memory`` samples, streaming to Parquet.
+
+Prints a markdown table for docs/performance.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from common import ROOT, environment
+
+NUMPY_SCRIPT = r'''
+import sys, numpy as np, pyarrow as pa, pyarrow.parquet as pq
+n = int(sys.argv[1]); out = sys.argv[2]
+m1, m2, l, g, F0, eps, r0, w = 2.0, 1.0, 0.5, 9.81, 5.0, np.pi / 3, 0.01, 20.0
+k = 80.0 + 40.0 * np.random.default_rng(1).random(n)
+M = np.array([[m1 + m2, m2 / 2], [m2 / 2, m2 / 3]])
+A = np.zeros((n, 2, 2), dtype=complex)
+A[:, 0, 0] = k
+A[:, 1, 1] = g * m2 / (2 * l)
+A -= w**2 * M
+F_C = np.stack([F0 * np.sin(eps) + k * r0, np.full(n, F0 * np.sin(eps))], axis=1)
+F_S = np.full((n, 2), F0 * np.cos(eps))
+z = np.linalg.solve(A, (F_C - 1j * F_S)[..., None])[..., 0]
+pq.write_table(pa.table({"k": k, "amplitude:x2": np.abs(z[:, 1])}), out)
+'''
+
+
+def timed(args: list[str]) -> tuple[float, int]:
+    """Wall time and the largest max-RSS (kB) of a child process (and its children)."""
+    start = time.perf_counter()
+    result = subprocess.run(args, capture_output=True, text=True, env=environment(),
+                            timeout=3600)
+    elapsed = time.perf_counter() - start
+    if result.returncode != 0:
+        raise RuntimeError(result.stderr)
+    return elapsed, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+
+
+def study(model: Path, out: Path, *options: str) -> list[str]:
+    return [sys.executable, "-m", "resonant", "study", str(model), "-o", str(out), *options]
+
+
+def against_numpy(samples: int, tmp: Path) -> tuple[float, float]:
+    script = tmp / "by_hand.py"
+    script.write_text(NUMPY_SCRIPT)
+    ours, theirs = [], []
+    for _ in range(3):
+        ours.append(timed(study(ROOT / "examples" / "cart_pendulum.toml", tmp / "r.parquet",
+                                "--vary", "k=uniform(80 N/m, 120 N/m)", "--quantity",
+                                "amplitude:x2", "--samples", str(samples)))[0])
+        theirs.append(timed([sys.executable, str(script), str(samples),
+                             str(tmp / "n.parquet")])[0])
+    return min(ours), min(theirs)
+
+
+def speed_up(n: int, tmp: Path) -> tuple[float, float]:
+    sys.path.insert(0, str(ROOT / "examples"))
+    from make_chain import write_chain
+
+    model = write_chain(tmp / "chain", n)
+    options = ["--vary", "F0=uniform(0.5, 1.5)", "--quantity", "peak:q%d" % n, "--band",
+               "omega=1:60:200", "--samples", "100"]
+    one = timed(study(model, tmp / "one.parquet", *options, "--workers", "1"))[0]
+    two = timed(study(model, tmp / "two.parquet", *options, "--workers", "2"))[0]
+    return one, two
+
+
+def memory(samples: int, tmp: Path) -> tuple[float, int]:
+    return timed(study(ROOT / "examples" / "cart_pendulum.toml", tmp / "big.parquet",
+                       "--vary", "k=uniform(80 N/m, 120 N/m)", "--quantity", "amplitude:x2",
+                       "--samples", str(samples), "--workers", "0"))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--samples", type=int, default=1_000_000)
+    parser.add_argument("--big-n", type=int, default=10_000)
+    parser.add_argument("--memory", type=int, default=10_000_000)
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as name:
+        tmp = Path(name)
+        ours, theirs = against_numpy(args.samples, tmp)
+        print("| case | resonant | reference | ratio |\n|---|---|---|---|")
+        print(f"| amplitude of x2, {args.samples:,} samples, whole process to Parquet | "
+              f"{ours:.2f} s | numpy by hand {theirs:.2f} s | {ours / theirs:.2f}x |")
+        one, two = speed_up(args.big_n, tmp)
+        print(f"| chain of {args.big_n:,} DOF, 100 samples x 200 frequencies (peak) | "
+              f"2 workers {two:.1f} s | 1 worker {one:.1f} s | speed-up {one / two:.2f}x |")
+        seconds, rss = memory(args.memory, tmp)
+        print(f"| {args.memory:,} samples streamed to Parquet | {seconds:.1f} s | peak "
+              f"memory {rss / 1024:.0f} MB | |")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,121 @@
+"""``resonant study``: a parameter study of a model (docs/studies.md).
+
+``study MODEL --vary NAME=SPEC ... [--design grid|random|lhs|sobol] [--samples N]
+[--seed S] --quantity Q ... [--band P=FROM:TO[:POINTS]] -o FILE.parquet|.csv
+[--plot DIR] [--workers N | --scheduler ADDRESS] [--resume] [--progress] [--json]``;
+without ``--vary`` and ``--quantity`` the model's ``[study]`` section is used
+(options given on the command line replace its entries).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+import resonant.cli.common as cli
+
+from ..deadline import DeadlineExceeded
+from ..errors import ModelError, Problem, printable
+from ..model.study import DESIGNS, MAX_SAMPLES, MAX_SEED
+from ..studies import StudyJob, collect, engine_for, request
+from ..views.study_plots import plot_study
+
+
+def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+    study = subparsers.add_parser(
+        "study", parents=[parent], help="a parameter study: Monte Carlo, grids, Sobol "
+        "indices, on local workers or a Dask cluster")
+    study.add_argument("--vary", action="append", metavar="NAME=SPEC",
+                       help="a parameter and how it varies: uniform(a, b), normal(mean, sd), "
+                       "lognormal(mean, sd), [v1, v2, ...] or {from=..., to=..., step=...}")
+    study.add_argument("--quantity", action="append", metavar="Q",
+                       help="natural_frequency:I, damping_ratio:I, amplitude:NAME, "
+                       "phase:NAME, peak:NAME, stable")
+    study.add_argument("--design", choices=DESIGNS)
+    study.add_argument("--samples", type=cli.integer(1, MAX_SAMPLES), metavar="N")
+    study.add_argument("--seed", type=cli.integer(0, MAX_SEED), metavar="S")
+    study.add_argument("--band", metavar="P=FROM:TO[:POINTS]",
+                       help="the band of peak: quantities, e.g. omega=1:30:400")
+    study.add_argument("-o", "--output", required=True, metavar="FILE",
+                       help="the rows, .parquet or .csv")
+    study.add_argument("--plot", metavar="DIR", help="write the pictures into DIR")
+    where = study.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=cli.integer(0, 1024), metavar="N",
+                       help="local worker processes (0: this process; default: chosen)")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="a running Dask scheduler, tcp://HOST:PORT")
+    study.add_argument("--resume", action="store_true",
+                       help="continue an interrupted study of the same file")
+    study.add_argument("--progress", action="store_true", help="a progress bar")
+    study.add_argument("--json", action="store_true", help="print one JSON object")
+    study.set_defaults(run=run_study, timeout=None)
+
+
+def _pairs(items: list[str] | None, option: str) -> dict[str, str] | None:
+    if not items:
+        return None
+    out: dict[str, str] = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        if not sep or not name.strip() or not value.strip():
+            raise ModelError(Problem(f"{option} expects NAME=SPEC, got '{item}'", option))
+        out[name.strip()] = value.strip()
+    return out
+
+
+def _band(text: str | None) -> dict[str, Any] | None:
+    if text is None:
+        return None
+    name, sep, rest = text.partition("=")
+    parts = rest.split(":")
+    if not sep or len(parts) not in (2, 3) or not all(p.strip() for p in parts):
+        raise ModelError(Problem(f"--band expects P=FROM:TO or P=FROM:TO:POINTS, got "
+                                 f"'{text}'", "--band"))
+    band: dict[str, Any] = {"parameter": name.strip(), "from": parts[0].strip(),
+                            "to": parts[1].strip()}
+    if len(parts) == 3:
+        if not parts[2].strip().isdigit():
+            raise ModelError(Problem(f"--band: POINTS must be a whole number, got "
+                                     f"'{parts[2]}'", "--band"))
+        band["points"] = int(parts[2])
+    return band
+
+
+def run_study(args: argparse.Namespace) -> int:
+    model = cli.load_model(args)
+    options = {"design": args.design, "samples": args.samples, "seed": args.seed,
+               "band": _band(args.band)}
+    spec = request(model, _pairs(args.vary, "--vary"), args.quantity,
+                   **{k: v for k, v in options.items() if v is not None})
+    job = StudyJob.of(model, spec, overrides=cli.parse_settings(getattr(args, "set", None)))
+    engine = engine_for(args.workers, args.scheduler)
+    try:
+        result = collect(job, engine, args.output, resume=args.resume,
+                         progress=args.progress or None, deadline=cli.deadline(args),
+                         columns=[*(spec.vary if args.plot else ()), *spec.columns, "status"])
+    except (KeyboardInterrupt, DeadlineExceeded):
+        sys.stderr.write(f"the study stopped: {printable(args.output)} holds the samples "
+                         "done so far; run the same command with --resume to complete it\n")
+        raise
+    if args.plot:
+        plot_study(result.table, list(spec.vary), list(spec.columns), args.plot,
+                   result.sensitivity, grid=spec.design == "grid")
+    if args.json:
+        cli.emit_json(result.to_dict())
+    else:
+        sys.stdout.write(_text(result, args.output))
+    return 0
+
+
+def _text(result: Any, output: str) -> str:
+    lines = [f"{len(result.table)} samples ({result.spec.design}) of "
+             f"{', '.join(result.spec.vary)} in {printable(output)}, run in {result.where}"]
+    lines.append("status: " + ", ".join(f"{k} {v}" for k, v in result.failures().items()))
+    lines.append(result.summary().to_string(float_format=lambda v: f"{v:.6g}"))
+    for name, entry in (result.sensitivity or {}).items():
+        lines.append(f"Sobol indices of {name}: " + (entry["note"] or ", ".join(
+            f"{p} S1 {s1:.3f} ± {c1:.3f}, ST {st:.3f} ± {ct:.3f}" for p, s1, c1, st, ct in zip(
+                entry["parameters"], entry["S1"], entry["S1_conf"], entry["ST"],
+                entry["ST_conf"]))))
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,222 @@
+"""Running tasks in order on Dask: in this process, on local workers, or on a cluster.
+
+resonant does not schedule work itself: :func:`ordered_map` hands tasks to a
+``dask.distributed`` client (a :class:`~distributed.LocalCluster` of worker
+processes on this machine, or an existing cluster by its scheduler's address)
+and hands their results back in the order of the tasks, keeping a bounded
+window of tasks in flight so that memory stays bounded however many tasks
+there are.  Dask re-runs the tasks of a worker that dies on the others; a task
+is a pure function of its arguments, so a re-run gives the same bytes.
+
+``mode="process"`` runs the tasks one after the other in this process (no
+Dask at all); ``mode="auto"`` does so for the first task, and starts local
+workers only when the time it took, times the tasks left, exceeds
+:data:`START_UP_SECONDS` -- the cost of starting worker processes, which a
+small study would not earn back.
+
+Examples
+--------
+>>> list(ordered_map(pow, [(2, 3), (3, 2)], Engine(mode="process")))
+[8, 9]
+"""
+
+from __future__ import annotations
+
+import collections
+import contextlib
+import os
+import time
+import warnings
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
+from typing import Any
+
+from ..errors import ModelError
+
+#: below this many seconds of estimated work, local workers are not started
+START_UP_SECONDS = 4.0
+MODES = ("auto", "process", "local", "cluster")
+
+
+@dataclass(frozen=True)
+class Engine:
+    """Where tasks run.
+
+    Parameters
+    ----------
+    mode : {"auto", "process", "local", "cluster"}
+        ``process``: here, one after the other; ``local``: ``workers`` worker
+        processes on this machine; ``cluster``: the cluster of ``scheduler`` or
+        ``client``; ``auto``: here, or local workers when the work pays for them.
+    workers : int or None
+        Local worker processes (default: one per core).
+    scheduler : str or None
+        A Dask scheduler's address, ``tcp://HOST:PORT``.
+    client : distributed.Client or None
+        A client of the caller's (not closed here).
+
+    Examples
+    --------
+    >>> Engine(mode="local", workers=2).workers
+    2
+    """
+
+    mode: str = "auto"
+    workers: int | None = None
+    scheduler: str | None = None
+    client: Any = None
+
+    def __post_init__(self) -> None:
+        if self.mode not in MODES:
+            raise ModelError(f"unknown engine mode '{self.mode}'; the modes are "
+                             + ", ".join(MODES))
+        if self.workers is not None and not 1 <= self.workers <= 1024:
+            raise ModelError(f"workers must be from 1 to 1024, got {self.workers}")
+        if self.mode == "cluster" and not (self.scheduler or self.client):
+            raise ModelError("a cluster needs a scheduler address or a client")
+        if self.scheduler is not None and not self.scheduler.startswith(("tcp://", "tls://",
+                                                                           "inproc://")):
+            raise ModelError(f"a scheduler address is tcp://HOST:PORT, got "
+                             f"'{self.scheduler}'")
+
+
+@contextlib.contextmanager
+def _client(engine: Engine) -> Iterator[Any]:
+    """A Dask client for the engine; what it starts, it stops."""
+    from dask.distributed import Client, LocalCluster
+
+    if engine.client is not None:
+        yield engine.client
+        return
+    if engine.scheduler is not None:
+        try:
+            client = Client(engine.scheduler, timeout="20s")
+        except (OSError, TimeoutError) as exc:
+            raise ModelError(f"cannot reach the Dask scheduler at {engine.scheduler}: "
+                             f"{exc}") from None
+        with client:
+            yield client
+        return
+    workers = engine.workers or os.cpu_count() or 1
+    with warnings.catch_warnings():  # Dask's notes on ports and sockets are not the user's
+        warnings.simplefilter("ignore", ResourceWarning)
+        warnings.filterwarnings("ignore", category=UserWarning, module="distributed")
+        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                          host="127.0.0.1", dashboard_address=None,
+                          silence_logs=50) as cluster, Client(cluster) as client:
+            yield client
+
+
+def _on_dask(function: Callable[..., Any], tasks: Iterator[tuple], engine: Engine
+             ) -> Iterator[Any]:
+    with _client(engine) as client:
+        threads = sum(client.nthreads().values()) or 1
+        window: collections.deque = collections.deque()
+        try:
+            for args in tasks:
+                window.append(client.submit(function, *args, pure=False))
+                if len(window) >= 2 * threads + 2:
+                    yield window.popleft().result()
+            while window:
+                yield window.popleft().result()
+        finally:
+            for future in window:
+                future.cancel()
+
+
+def ordered_map(function: Callable[..., Any], tasks: Iterable[tuple], engine: Engine,
+                on_start: Callable[[str], None] | None = None) -> Iterator[Any]:
+    """``function(*args)`` for every ``args`` of ``tasks``, in order.
+
+    Parameters
+    ----------
+    function : callable
+        A module-level function (it travels to the workers by name).
+    tasks : iterable of tuple
+        The arguments of each call.
+    engine : Engine
+    on_start : callable, optional
+        Told where the tasks run ("this process", "4 local workers", the address).
+
+    Yields
+    ------
+    Any
+        The results, in the order of ``tasks``.
+
+    Examples
+    --------
+    >>> list(ordered_map(divmod, [(7, 2), (9, 4)], Engine(mode="process")))
+    [(3, 1), (2, 1)]
+    """
+    tasks = iter(tasks)
+    say = on_start or (lambda where: None)
+    if engine.mode == "process":
+        say("this process")
+        yield from (function(*args) for args in tasks)
+        return
+    if engine.mode == "auto":
+        first = next(tasks, None)
+        if first is None:
+            return
+        start = time.perf_counter()
+        yield function(*first)
+        elapsed = time.perf_counter() - start
+        rest = list(_peek(tasks, int(START_UP_SECONDS / max(elapsed, 1e-6)) + 2))
+        if len(rest) * elapsed < START_UP_SECONDS or (os.cpu_count() or 1) < 2:
+            say("this process")
+            yield from (function(*args) for args in rest)
+            yield from (function(*args) for args in tasks)
+            return
+        tasks = _chain(rest, tasks)
+    say(engine.scheduler or ("a client's cluster" if engine.client is not None else
+                             f"{engine.workers or os.cpu_count()} local workers"))
+    yield from _on_dask(function, tasks, engine)
+
+
+def _peek(tasks: Iterator[tuple], count: int) -> Iterator[tuple]:
+    for _ in range(count):
+        item = next(tasks, None)
+        if item is None:
+            return
+        yield item
+
+
+def _chain(first: list[tuple], rest: Iterator[tuple]) -> Iterator[tuple]:
+    yield from first
+    yield from rest
+
+
+
+
+
+def engine_for(workers: int | None = None, scheduler: str | None = None,
+               client: Any = None) -> Engine:
+    """The engine for the usual arguments: ``workers=0`` this process, ``workers=N`` N
+    local workers, a ``scheduler`` address or a ``client`` their cluster, none of them
+    ``auto``.
+
+    Parameters
+    ----------
+    workers : int, optional
+    scheduler : str, optional
+    client : distributed.Client, optional
+
+    Returns
+    -------
+    Engine
+
+    Examples
+    --------
+    >>> engine_for(0).mode, engine_for(2).mode, engine_for().mode
+    ('process', 'local', 'auto')
+    """
+    if (scheduler is not None or client is not None) and workers is not None:
+        raise ModelError("give either a number of local workers or a cluster, not both")
+    if scheduler is not None or client is not None:
+        return Engine(mode="cluster", scheduler=scheduler, client=client)
+    if workers == 0:
+        return Engine(mode="process")
+    if workers is not None:
+        return Engine(mode="local", workers=workers)
+    return Engine()
+__all__ = ["Engine", "engine_for", "ordered_map", "START_UP_SECONDS"]

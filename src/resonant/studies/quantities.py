@@ -1,0 +1,496 @@
+"""The quantities of a study, evaluated for a whole chunk of samples at once.
+
+A chunk's parameter values go through the system's compiled evaluation
+(:meth:`LinearSystem.evaluate`) once, and every quantity is computed for all
+samples together: batched eigenvalues (small models), the harmonic kernel
+:func:`~resonant.analyses.kernel.solve_harmonic` over all samples (and all
+frequencies of a peak's band), never a Python loop per sample.  Models above
+:data:`SMALL` coordinates come in chunks of one sample; their modes are those
+of :func:`~resonant.analyses.modes.modes` and their responses use the reduced
+model of the kernel where it pays.
+
+A sample where the analysis is impossible is not an error of the study: its
+row gets a status (``singular mass``, ``unstable``, ``resonance``, ``failed``)
+and a reason, and the quantities that do not exist there are NaN.
+
+Examples
+--------
+>>> import numpy as np, resonant
+>>> from resonant.model.study import study_spec
+>>> model = resonant.load("examples/cart_pendulum.toml")
+>>> spec = study_spec({"k": [100.0]}, ["amplitude:x2"], parameters=model.parameters,
+...                   coordinates=model.coordinates, outputs=model.outputs)
+>>> rows = evaluate_samples(model.linearize(), spec, {"k": np.array([100.0])})
+>>> round(float(rows["amplitude:x2"][0]), 6), str(rows["status"][0])
+(0.045141, 'ok')
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from ..analyses.kernel import solve_harmonic
+from ..analyses.modes import modes
+from ..analyses.sweep import amplitude_and_phase, harmonic_responses, kept_coordinates
+from ..errors import ResonantError
+from ..expressions import numeric_value
+from ..model import Model
+from ..model.study import StudySpec
+from ..system import Batch, LinearSystem
+from ..system.base import numeric_point
+from ..system.stability import undamped_eigen
+from .designs import REFINE_POINTS, REFINE_ROUNDS
+
+#: models up to this many coordinates are evaluated as stacks of dense matrices
+SMALL = 64
+OK = "ok"
+
+
+class Rows:
+    """The columns of one chunk being filled: values, status and reason per sample."""
+
+    def __init__(self, count: int, spec: StudySpec) -> None:
+        self.count = count
+        self.columns: dict[str, np.ndarray] = {
+            c: np.full(count, np.nan) for c in spec.columns}
+        if "stable" in self.columns:
+            self.columns["stable"] = np.zeros(count, dtype=bool)
+        self.status = np.full(count, OK, dtype=object)
+        self.reason = np.full(count, "", dtype=object)
+        #: what failed where: "all" (every quantity), "stability" (responses),
+        #: "excitation" (amplitude, phase), "band" (peaks)
+        self.failed = {k: np.zeros(count, dtype=bool)
+                       for k in ("all", "stability", "excitation", "band")}
+
+    def fail(self, mask: np.ndarray, status: str, reason: str, scope: str = "all") -> None:
+        """Mark the samples of ``mask``; the first failure of a sample gives its status."""
+        fresh = mask & (self.status == OK)
+        self.status[fresh] = status
+        self.reason[fresh] = reason
+        self.failed[scope] |= mask
+
+    def valid(self, *scopes: str) -> np.ndarray:
+        """The samples where nothing of ``scopes`` (nor of "all") failed."""
+        bad = self.failed["all"].copy()
+        for scope in scopes:
+            bad |= self.failed[scope]
+        return ~bad
+
+    def table(self) -> dict[str, np.ndarray]:
+        out = dict(self.columns)
+        out["status"] = self.status.astype(str)
+        out["reason"] = self.reason.astype(str)
+        return out
+
+
+def sample_parameters(model: Model, varied: Mapping[str, np.ndarray], count: int
+                      ) -> tuple[dict[str, Any], np.ndarray, list[str]]:
+    """Every parameter's values with ``varied`` set; parameters defined from them follow.
+
+    Returns the values, the mask of samples where a dependent parameter is not
+    finite, and a reason for each such sample.
+    """
+    out: dict[str, Any] = {}
+    bad = np.zeros(count, dtype=bool)
+    reasons = [""] * count
+    for name, expression in model.parameters.items():
+        if name in varied:
+            out[name] = np.asarray(varied[name], dtype=float)
+        elif any(n in varied or isinstance(out.get(n), np.ndarray)
+                 for n, _ in expression.names()):
+            with np.errstate(all="ignore"):
+                value = np.broadcast_to(np.asarray(numeric_value(expression, out), dtype=float),
+                                        (count,)).copy()
+            wrong = ~np.isfinite(value) & ~bad
+            for i in np.flatnonzero(wrong):
+                reasons[i] = f"{name} = {expression.text} is not finite"
+            bad |= wrong
+            value[wrong] = model.parameter_values[name]
+            out[name] = value
+        else:
+            out[name] = model.parameter_values[name]
+    return out, bad, reasons
+
+
+def _stack(a: Any) -> np.ndarray:
+    """A matrix as a stack: (N, n, n), or (1, n, n) when it is the same for every sample
+    (so that what depends on it alone is computed once)."""
+    a = a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
+    return a[None] if a.ndim == 2 else a
+
+
+def _symmetric(a: np.ndarray) -> bool:
+    return bool(np.allclose(a, a.swapaxes(1, 2), rtol=1e-12, atol=0.0))
+
+
+def singular_mass(M: np.ndarray) -> np.ndarray:
+    """Samples whose mass matrix is singular (the test of ``check_mass_matrix``)."""
+    if M.shape[-1] == 0:
+        return np.zeros(M.shape[0], dtype=bool)
+    with np.errstate(all="ignore"):
+        s = np.linalg.svd(M, compute_uv=False)
+    return ~(s[:, -1] > 1e-13 * s[:, 0]) | ~np.isfinite(s).all(axis=1)
+
+
+def _cholesky_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
+    """omega^2 by Cholesky of M (None when M is not symmetric positive definite)."""
+    if not (_symmetric(M) and _symmetric(K)):
+        return None
+    try:
+        L = np.linalg.cholesky(M)
+    except np.linalg.LinAlgError:
+        return None
+    Linv = np.linalg.inv(L)
+    A = Linv @ K @ Linv.swapaxes(1, 2)
+    return np.linalg.eigvalsh((A + A.swapaxes(1, 2)) / 2)
+
+
+def undamped_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray:
+    """omega^2 of K x = omega^2 M x for every sample, ascending, shape (N, n)."""
+    lam = _cholesky_lambdas(M, K)
+    return lam if lam is not None else _general_lambdas(M, K)
+
+
+def _general_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray:
+    count = max(M.shape[0], K.shape[0])
+    M, K = (np.broadcast_to(a, (count, *a.shape[1:])) for a in (M, K))
+    out = np.full(M.shape[:2], np.nan)
+    for i in range(count):  # some M not positive definite: the general route, one by one
+        try:
+            out[i] = undamped_eigen(M[i], K[i])[0]
+        except (ResonantError, np.linalg.LinAlgError, ValueError):
+            pass
+    return out
+
+
+def unstable_by_inertia(C: np.ndarray, K: np.ndarray, lam: np.ndarray) -> np.ndarray | None:
+    """Instability without the state eigenvalues, where a theorem decides it: for
+    symmetric M > 0, C >= 0 and symmetric K the equilibrium is unstable exactly when K
+    has a negative eigenvalue (Kelvin-Tait-Chetaev; damping neither makes a potential
+    minimum unstable nor stabilizes a maximum).  The tolerance is that of ``classify``
+    on the undamped roots s = sqrt(-lambda) (``lam``, by Cholesky of M).  None where the
+    theorem does not apply."""
+    if not (_symmetric(C) and _symmetric(K)):
+        return None
+    if C.any():
+        c = np.linalg.eigvalsh(C)
+        if (c[:, 0] < -1e-12 * np.maximum(np.abs(c).max(axis=1), 1e-300)).any():
+            return None
+    size = np.sqrt(np.abs(lam).max(axis=1, initial=0.0))
+    with np.errstate(invalid="ignore"):
+        return np.sqrt(np.maximum(-lam[:, 0], 0.0)) > 1e-9 * np.maximum(1.0, size)
+
+
+def natural_frequency(lam: np.ndarray, index: int) -> np.ndarray:
+    """The ``index``-th (from 1) of the frequencies sqrt(lambda >= 0), as ``solve`` lists
+    them (round-off zeros count as 0); NaN where there is no such mode."""
+    scale = np.maximum(np.nanmax(np.abs(lam), axis=1, initial=0.0), 1e-300)[:, None]
+    lam = np.where(np.abs(lam) < 1e-12 * scale, 0.0, lam)
+    position = (lam < 0).sum(axis=1) + index - 1
+    inside = position < lam.shape[1]
+    picked = np.take_along_axis(lam, np.minimum(position, lam.shape[1] - 1)[:, None], 1)[:, 0]
+    return np.where(inside & np.isfinite(picked), np.sqrt(np.abs(picked)), np.nan)
+
+
+def state_eigenvalues(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> np.ndarray:
+    """Eigenvalues of the state matrix [[0, I], [-M^-1 K, -M^-1 C]] per sample, (N, 2n)."""
+    N, n = M.shape[:2]
+    with np.errstate(all="ignore"):
+        minv = np.linalg.solve(M, np.concatenate([K, C], axis=2))
+    A = np.zeros((N, 2 * n, 2 * n))
+    A[:, :n, n:] = np.eye(n)
+    A[:, n:, :] = -minv
+    finite = np.isfinite(A).all(axis=(1, 2))
+    A[~finite] = 0.0
+    eigenvalues = np.linalg.eigvals(A)
+    eigenvalues[~finite] = np.nan
+    return eigenvalues
+
+
+def unstable(eigenvalues: np.ndarray) -> np.ndarray:
+    """The test of :func:`resonant.system.stability.classify`, per sample."""
+    scale = np.maximum(1.0, np.abs(eigenvalues).max(axis=1, initial=0.0))
+    return (eigenvalues.real > 1e-9 * scale[:, None]).any(axis=1)
+
+
+def damping_ratio(eigenvalues: np.ndarray, index: int) -> np.ndarray:
+    """-Re s/|s| of the ``index``-th (from 1) eigenvalue with Im s >= 0 in order of |s|,
+    as :func:`resonant.analyses.modes.modes` reports them; NaN where there is none."""
+    size = np.abs(eigenvalues)
+    upper = eigenvalues.imag >= -1e-12 * np.maximum(1.0, size)
+    key = np.where(upper, size, np.inf)
+    order = np.argsort(key, axis=1, kind="stable")
+    if index > eigenvalues.shape[1]:
+        return np.full(eigenvalues.shape[0], np.nan)
+    chosen = np.take_along_axis(eigenvalues, order[:, index - 1:index], 1)[:, 0]
+    valid = np.take_along_axis(upper, order[:, index - 1:index], 1)[:, 0]
+    magnitude = np.abs(chosen)
+    with np.errstate(all="ignore"):
+        zeta = np.where(magnitude > 0, -chosen.real / np.where(magnitude > 0, magnitude, 1), 0.0)
+    return np.where(valid & np.isfinite(chosen), zeta, np.nan)
+
+
+def _fill_modal(rows: Rows, spec: StudySpec, M: np.ndarray, C: np.ndarray, K: np.ndarray,
+                wants_stability: bool) -> None:
+    kinds = {q.kind for q in spec.quantities}
+    full = (rows.count,)
+    stability = wants_stability or "stable" in kinds
+    lam = by_cholesky = None
+    if "natural_frequency" in kinds or stability:
+        by_cholesky = _cholesky_lambdas(M, K)
+        lam = by_cholesky if by_cholesky is not None else _general_lambdas(M, K)
+    for q in spec.quantities:
+        if q.kind == "natural_frequency" and lam is not None:
+            rows.columns[q.text] = np.broadcast_to(natural_frequency(lam, q.index), full)
+    bad = unstable_by_inertia(C, K, by_cholesky) if stability and by_cholesky is not None \
+        else None
+    if "damping_ratio" in kinds or (stability and bad is None):
+        eigenvalues = state_eigenvalues(*np.broadcast_arrays(M, C, K))
+        if bad is None:
+            bad = unstable(eigenvalues) | ~np.isfinite(eigenvalues).all(axis=1)
+        for q in spec.quantities:
+            if q.kind == "damping_ratio":
+                rows.columns[q.text] = np.broadcast_to(damping_ratio(eigenvalues, q.index), full)
+    if bad is None:
+        return
+    bad = np.broadcast_to(bad, full)
+    if "stable" in rows.columns:
+        rows.columns["stable"] = ~bad
+    if wants_stability:
+        rows.fail(bad, "unstable", "the equilibrium is unstable: there is no stationary "
+                  "response", "stability")
+
+
+def _fill_modal_large(rows: Rows, spec: StudySpec, system: LinearSystem,
+                      values: Mapping[str, Any]) -> None:
+    """Modes of a large model, one sample (its chunks have one sample)."""
+    wanted = [q for q in spec.quantities if q.kind in ("natural_frequency", "damping_ratio",
+                                                      "stable")]
+    if not wanted:
+        return
+    count = max([q.index for q in wanted] + [1])
+    for i in range(rows.count):
+        one = {k: (v[i] if isinstance(v, np.ndarray) else v) for k, v in values.items()}
+        analysis = modes(numeric_point(system.evaluate(one, 1), 0, system, one), count=count)
+        for q in wanted:
+            if q.kind == "stable":
+                rows.columns["stable"][i] = analysis.stability != "unstable"
+                continue
+            source = analysis.natural_frequencies if q.kind == "natural_frequency" \
+                else analysis.damping_ratios
+            rows.columns[q.text][i] = source[q.index - 1] if q.index <= len(source) else np.nan
+
+
+def responses(system: LinearSystem, values: Mapping[str, Any], count: int,
+              names: Sequence[str], batch: Batch | None = None
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Amplitude and phase (count, len(names)) of coordinates and outputs at every point,
+    and the points where the harmonic system is singular (an undamped resonance);
+    ``batch`` is the system at ``values`` if it was evaluated already."""
+    batch = batch if batch is not None else system.evaluate(values, count)
+    coordinates = [q for q in names if q in batch.coordinates]
+    keep_names = kept_coordinates(batch, coordinates)
+    keep = np.array([batch.coordinates.index(q) for q in keep_names], dtype=int)
+    method = "dense" if len(batch.coordinates) <= SMALL else "auto"
+    results = [solve_harmonic(batch, h, method, keep=keep, exact_condition=False)
+               for h in batch.harmonics]
+    if not results:
+        zeros = np.zeros((count, len(names)))
+        return zeros, np.full((count, len(names)), np.nan), np.zeros(count, dtype=bool)
+    all_names, Z = harmonic_responses(batch, [r.Z for r in results], coordinates)
+    omegas = np.array([np.broadcast_to(h.omega, (count,)) for h in batch.harmonics])
+    amplitude, phase = amplitude_and_phase(omegas, Z)
+    columns = [all_names.index(q) for q in names]
+    singular = np.zeros(count, dtype=bool)
+    for r in results:
+        singular |= r.singular
+    return amplitude[:, columns], phase[:, columns], singular
+
+
+def _fill_responses(rows: Rows, spec: StudySpec, system: LinearSystem,
+                    values: Mapping[str, Any], batch: Batch) -> None:
+    wanted = [q for q in spec.quantities if q.kind in ("amplitude", "phase")]
+    if not wanted:
+        return
+    names = list(dict.fromkeys(q.target for q in wanted))
+    amplitude, phase, singular = responses(system, values, rows.count, names, batch)
+    rows.fail(singular, "resonance", "an undamped resonance at the excitation: the "
+              "amplitude is unbounded", "excitation")
+    ok = rows.valid("stability", "excitation")
+    for q in wanted:
+        column = (amplitude if q.kind == "amplitude" else phase)[:, names.index(q.target)]
+        rows.columns[q.text] = np.where(ok, column, np.nan)
+
+
+def _band_values(values: Mapping[str, Any], model: Model, param: str, grid: np.ndarray
+                 ) -> tuple[dict[str, Any], int]:
+    """Every sample's values repeated for the points of its own ``grid`` row (N, F)."""
+    N, F = grid.shape
+    varied = {k: np.repeat(v, F) for k, v in values.items() if isinstance(v, np.ndarray)
+              and k != param}
+    varied[param] = grid.ravel()
+    out, _, _ = sample_parameters(model, varied, N * F)
+    return out, N * F
+
+
+def _best(rows: np.ndarray, points: np.ndarray, best: np.ndarray, where: np.ndarray
+          ) -> None:
+    """Keep, per sample, the largest finite amplitude of ``rows`` (N, F) and its point."""
+    count = rows.shape[0]
+    a = np.where(np.isfinite(rows), rows, -np.inf)
+    k = a.argmax(axis=1)
+    top = a[np.arange(count), k]
+    better = top > best
+    best[better] = top[better]
+    where[better] = points[np.arange(count), k][better]
+
+
+def _amplitude_on(system: LinearSystem, model: Model, values: Mapping[str, Any], param: str,
+                  points: np.ndarray, names: Sequence[str]) -> np.ndarray:
+    """Amplitudes (N, F, names) with ``param`` at each sample's own points (N, F)."""
+    band_values, size = _band_values(values, model, param, points)
+    amplitude, _, _ = responses(system, band_values, size, names)
+    return amplitude.reshape(*points.shape, len(names))
+
+
+def _peak_search(system: LinearSystem, model: Model, values: Mapping[str, Any],
+                 spec: StudySpec, names: Sequence[str], count: int
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """The largest amplitude of each name over the band and where it is, per sample:
+    a grid of the band, rounds of finer grids around the best point, then the vertex
+    of the parabola through the best point and its neighbours."""
+    band = spec.band
+    assert band is not None
+    grid = np.broadcast_to(np.linspace(band.start, band.stop, band.points), (count, band.points))
+    amplitude = _amplitude_on(system, model, values, band.parameter, grid, names)
+    best = np.full((count, len(names)), -np.inf)
+    where = np.full((count, len(names)), np.nan)
+    for j in range(len(names)):
+        _best(amplitude[:, :, j], grid, best[:, j], where[:, j])
+        step = np.full(count, (band.stop - band.start) / (band.points - 1))
+        for _ in range(REFINE_ROUNDS):
+            points = _refined(where[:, j], step, band)
+            a = _amplitude_on(system, model, values, band.parameter, points, names[j:j + 1])
+            _best(a[:, :, 0], points, best[:, j], where[:, j])
+            step = 2 * step / (REFINE_POINTS - 1)
+        points = _vertex(where[:, j], step, band, a[:, :, 0], points)
+        a = _amplitude_on(system, model, values, band.parameter, points, names[j:j + 1])
+        _best(a[:, :, 0], points, best[:, j], where[:, j])
+    return best, where
+
+
+def _vertex(center: np.ndarray, step: np.ndarray, band: Any, last: np.ndarray,
+            points: np.ndarray) -> np.ndarray:
+    """The vertex of the parabola through the best of the last round and its neighbours."""
+    a = np.where(np.isfinite(last), last, -np.inf)
+    k = np.clip(a.argmax(axis=1), 1, points.shape[1] - 2)
+    rows = np.arange(points.shape[0])
+    x = np.stack([points[rows, k - 1], points[rows, k], points[rows, k + 1]], axis=1)
+    y = np.stack([last[rows, k - 1], last[rows, k], last[rows, k + 1]], axis=1)
+    with np.errstate(all="ignore"):
+        h = x[:, 1] - x[:, 0]
+        curvature = y[:, 0] - 2 * y[:, 1] + y[:, 2]
+        shift = np.where(curvature < 0, h * (y[:, 0] - y[:, 2]) / (2 * curvature), 0.0)
+    vertex = np.where(np.isfinite(shift) & (np.abs(shift) <= np.abs(h)), x[:, 1] + shift,
+                      center)
+    return np.clip(vertex, band.start, band.stop)[:, None]
+
+
+def _refined(center: np.ndarray, step: np.ndarray, band: Any) -> np.ndarray:
+    """REFINE_POINTS points from one grid step below ``center`` to one above, in the band."""
+    offsets = np.linspace(-1.0, 1.0, REFINE_POINTS)
+    points = center[:, None] + step[:, None] * offsets
+    return np.clip(np.nan_to_num(points, nan=band.start), band.start, band.stop)
+
+
+def undamped_resonance_in_band(lam: np.ndarray, C: np.ndarray, band: Any) -> np.ndarray:
+    """Samples without damping that have a natural frequency in the band: their peak is
+    unbounded (a mode the load does not excite is counted too)."""
+    undamped = ~np.any(C != 0, axis=(1, 2))
+    with np.errstate(invalid="ignore"):
+        w = np.sqrt(np.where(lam >= 0, lam, np.nan))
+    inside = ((w >= band.start) & (w <= band.stop)).any(axis=1)
+    return undamped & inside
+
+
+def _fill_peaks(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
+                values: Mapping[str, Any]) -> None:
+    wanted = [q for q in spec.quantities if q.kind == "peak"]
+    if not wanted:
+        return
+    names = list(dict.fromkeys(q.target for q in wanted))
+    best, where = _peak_search(system, model, values, spec, names, rows.count)
+    for q in wanted:
+        j = names.index(q.target)
+        ok = rows.valid("stability", "band")
+        rows.columns[q.text] = np.where(ok & np.isfinite(best[:, j]), best[:, j], np.nan)
+        rows.columns[f"peak_frequency:{q.target}"] = np.where(ok, where[:, j], np.nan)
+
+
+def _fill(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
+          values: Mapping[str, Any]) -> None:
+    """Every quantity of a chunk whose parameters evaluate."""
+    batch = system.evaluate(values, rows.count)
+    n = len(batch.coordinates)
+    responding = any(q.kind in ("amplitude", "phase", "peak") for q in spec.quantities)
+    if n <= SMALL and not hasattr(batch.M, "tocsr"):
+        M, C, K = (_stack(a) for a in (batch.M, batch.C, batch.K))
+        rows.fail(np.broadcast_to(singular_mass(M), (rows.count,)), "singular mass",
+                  "the mass matrix M is singular")
+        _fill_modal(rows, spec, M, C, K, wants_stability=responding)
+        if spec.band is not None and any(q.kind == "peak" for q in spec.quantities):
+            rows.fail(np.broadcast_to(undamped_resonance_in_band(undamped_lambdas(M, K), C,
+                                                                 spec.band), (rows.count,)),
+                      "resonance", "no damping and a natural frequency in the band: the "
+                      "peak is unbounded", "band")
+    else:
+        _fill_modal_large(rows, spec, system, values)
+    _fill_responses(rows, spec, system, values, batch)
+    _fill_peaks(rows, spec, system, model, values)
+
+
+def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.ndarray]
+                     ) -> dict[str, np.ndarray]:
+    """The quantities of ``spec`` at the samples ``varied`` (parameter -> values).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model's linear system (carrying its model).
+    spec : StudySpec
+    varied : mapping
+        parameter -> values, all of one length N.
+
+    Returns
+    -------
+    dict
+        column -> array (N,): the quantities' columns, ``status`` and ``reason``.
+    """
+    model = system._model()
+    count = len(next(iter(varied.values())))
+    rows = Rows(count, spec)
+    values, bad, reasons = sample_parameters(model, varied, count)
+    for i in np.flatnonzero(bad):
+        rows.fail(np.arange(count) == i, "failed", reasons[i])
+    try:
+        _fill(rows, spec, system, model, values)
+    except (ResonantError, np.linalg.LinAlgError, FloatingPointError, OverflowError) as exc:
+        if count == 1:
+            rows.fail(np.ones(1, dtype=bool), "failed", str(exc).splitlines()[0])
+            return rows.table()
+        return _one_by_one(system, spec, varied, count)
+    return rows.table()
+
+
+def _one_by_one(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.ndarray],
+                count: int) -> dict[str, np.ndarray]:
+    """A chunk that failed as a whole, sample by sample: the failing ones get the reason."""
+    parts = [evaluate_samples(system, spec, {k: v[i:i + 1] for k, v in varied.items()})
+             for i in range(count)]
+    return {c: np.concatenate([p[c] for p in parts]) for c in parts[0]}
+
+
+__all__ = ["evaluate_samples", "SMALL"]

@@ -1,0 +1,195 @@
+"""The result of a study: its table, summary statistics and Sobol indices.
+
+Examples
+--------
+>>> import pandas as pd
+>>> frame = pd.DataFrame({"sample": [0, 1, 2], "k": [1.0, 2.0, 3.0],
+...                       "stable": [True, True, False], "status": ["ok"] * 3,
+...                       "reason": [""] * 3})
+>>> summary_table(frame, ["stable"])["mean"].tolist()
+[0.6666666666666666]
+"""
+
+from __future__ import annotations
+
+import html
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..model.study import StudySpec
+from .designs import sobol_problem
+
+#: the quantiles of a summary
+QUANTILES = (0.05, 0.5, 0.95)
+
+
+def summary_table(frame: Any, columns: Sequence[str]) -> Any:
+    """Count, mean, standard deviation, extremes and quantiles of each column.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+    columns : sequence of str
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per column; NaN values (failed samples) are left out.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> summary_table(pd.DataFrame({"f": [1.0, 2.0, float("nan")]}), ["f"])["count"].tolist()
+    [2]
+    """
+    import pandas as pd
+
+    rows = []
+    for name in columns:
+        values = np.array(frame[name], dtype=float)  # a copy: the quantiles sort it in place
+        if not np.isfinite(values).all():
+            values = values[np.isfinite(values)]
+        stats: dict[str, Any] = {"quantity": name, "count": int(values.size)}
+        if values.size:
+            q = np.quantile(values, QUANTILES, overwrite_input=True)
+            stats.update(mean=float(values.mean()), std=float(values.std(ddof=1))
+                         if values.size > 1 else math.nan, min=float(values.min()),
+                         **{f"q{int(p * 100):02d}": float(v) for p, v in zip(QUANTILES, q)},
+                         max=float(values.max()))
+        rows.append(stats)
+    return pd.DataFrame(rows).set_index("quantity")
+
+
+def sobol_indices(frame: Any, spec: StudySpec, seed: int = 0) -> dict[str, dict[str, Any]]:
+    """First-order and total Sobol indices of every quantity, with 95 % confidence
+    intervals, by SALib from the rows of a ``sobol`` design (in sample order).
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+    spec : StudySpec
+    seed : int
+        The seed of SALib's bootstrap of the confidence intervals.
+
+    Returns
+    -------
+    dict
+        quantity column -> {"parameters", "S1", "S1_conf", "ST", "ST_conf", "note"}.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> from resonant.model.study import study_spec
+    >>> from resonant.studies.designs import chunk_values
+    >>> spec = study_spec({"a": "uniform(0, 1)", "b": "uniform(0, 1)"}, ["stable"],
+    ...                   design="sobol", samples=256, parameters=["a", "b", "stable_"],
+    ...                   coordinates=["x"], outputs=[])
+    >>> v = chunk_values(spec, 0, spec.size)
+    >>> frame = pd.DataFrame({"sample": range(spec.size), "stable": 3 * v["a"]})
+    >>> [round(s, 3) for s in sobol_indices(frame, spec)["stable"]["ST"]]
+    [1.0, 0.0]
+    """
+    from SALib.analyze import sobol
+
+    problem = sobol_problem(len(spec.vary))
+    ordered = frame.sort_values("sample") if "sample" in frame else frame  # files: in order
+    out: dict[str, dict[str, Any]] = {}
+    for name in spec.columns:
+        y = np.asarray(ordered[name], dtype=float)
+        entry: dict[str, Any] = {"parameters": list(spec.vary)}
+        if y.size != spec.size or not np.isfinite(y).all() or np.ptp(y) == 0:
+            why = "constant" if y.size and np.isfinite(y).all() else \
+                "incomplete (failed samples or a partial file)"
+            nan = [math.nan] * len(spec.vary)
+            entry.update(S1=nan, S1_conf=nan, ST=nan, ST_conf=nan,
+                         note=f"no indices: the quantity is {why}")
+        else:
+            result = sobol.analyze(problem, y, calc_second_order=False, seed=seed)
+            entry.update({k: [float(v) for v in result[k]]
+                          for k in ("S1", "S1_conf", "ST", "ST_conf")}, note="")
+        out[name] = entry
+    return out
+
+
+@dataclass(frozen=True)
+class StudyResult:
+    """A study's samples and quantities, and what they say.
+
+    Attributes
+    ----------
+    table : pandas.DataFrame
+        One row per sample: ``sample``, the varied parameters, the quantities,
+        ``status`` and ``reason``.
+    spec : StudySpec
+        The study.
+    description : dict
+        The model, the request, the chunk size (as stored in a result file).
+    sensitivity : dict or None
+        Sobol indices per quantity (``sobol`` designs; :func:`sobol_indices`).
+    where : str
+        Where the chunks ran.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> from resonant.model.study import study_spec
+    >>> spec = study_spec({"k": [1, 2]}, ["stable"], parameters=["k"], coordinates=["x"],
+    ...                   outputs=[])
+    >>> result = StudyResult(pd.DataFrame({"sample": [0, 1], "k": [1.0, 2.0],
+    ...                                    "stable": [True, True], "status": ["ok", "ok"],
+    ...                                    "reason": ["", ""]}), spec)
+    >>> result.to_dict()["status"]
+    {'ok': 2}
+    """
+
+    table: Any
+    spec: StudySpec
+    description: dict[str, Any] = field(default_factory=dict)
+    sensitivity: dict[str, dict[str, Any]] | None = None
+    where: str = ""
+
+    def summary(self) -> Any:
+        """Statistics of every quantity over the samples where it exists.
+
+        Returns
+        -------
+        pandas.DataFrame
+        """
+        return summary_table(self.table, self.spec.columns)
+
+    def failures(self) -> Any:
+        """The number of samples by status.
+
+        Returns
+        -------
+        pandas.Series
+        """
+        return self.table["status"].value_counts(sort=True).loc[lambda c: c > 0]
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form: the study, the summary, the Sobol indices and the rows' count
+        by status (the rows themselves are in the table).
+
+        Returns
+        -------
+        dict
+        """
+        summary = self.summary()
+        return {"study": self.spec.to_dict(), "rows": int(len(self.table)),
+                "status": {str(k): int(v) for k, v in self.failures().items()},
+                "summary": {name: {k: (None if isinstance(v, float) and not math.isfinite(v)
+                                       else v) for k, v in row.items()}
+                            for name, row in summary.to_dict(orient="index").items()},
+                "sensitivity": self.sensitivity, "where": self.where}
+
+    def _repr_html_(self) -> str:
+        head = (f"<p>Study of {len(self.table)} samples ({html.escape(self.spec.design)}), "
+                f"varying {html.escape(', '.join(self.spec.vary))}</p>")
+        return head + self.summary().to_html(float_format=lambda v: f"{v:.6g}")
+
+
+__all__ = ["StudyResult", "sobol_indices", "summary_table"]

@@ -1,0 +1,484 @@
+"""Running a study: samples chunk by chunk on an engine, rows streamed to a file.
+
+:func:`run_study` cuts the study into chunks (:mod:`.designs`), has the
+engine (:mod:`.engine`) evaluate them (:func:`evaluate_chunk`, the batched
+quantities of :mod:`.quantities`) and writes the rows in chunk order
+(:mod:`.files`).  A task carries the model's *text* (with its source, the
+directory its matrix files are read from, and the overrides), never derived
+objects: each worker process derives the model once and keeps it for every
+chunk it is given.
+
+Examples
+--------
+>>> import resonant
+>>> model = resonant.load("examples/cart_pendulum.toml")
+>>> job = StudyJob.of(model, request(model, {"k": "uniform(90, 110)"},
+...                                 ["natural_frequency:1"], samples=8))
+>>> rows = evaluate_chunk(job, 0, 8)
+>>> sorted(rows)[:3], len(rows["sample"])
+(['k', 'natural_frequency:1', 'reason'], 8)
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+import sys
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import ModelError
+from ..model import Model, loads
+from ..model.files import open_regular_file, read_bounded
+from ..model.limits import MAX_FILE_BYTES
+from ..model.study import STUDY_KEYS, StudySpec, study_spec
+from ..system import LinearSystem, linear_system
+from .designs import chunk_size, chunk_values, chunks
+from .engine import Engine, ordered_map
+from .files import ResultWriter, check_output, completed_rows, read_description
+from .quantities import evaluate_samples
+from .result import StudyResult, sobol_indices
+
+#: the default engine: this process, or local workers when the work pays for them
+AUTO = Engine()
+#: derived systems of this process, by job key: a worker derives each model once
+_SYSTEMS: dict[str, LinearSystem] = {}
+
+
+def model_text(model: Model) -> tuple[str, str]:
+    """The text of a model's file and its directory (what travels to the workers).
+
+    Parameters
+    ----------
+    model : Model
+
+    Returns
+    -------
+    tuple of str
+
+    Raises
+    ------
+    ModelError
+        For a model that was not loaded from a file.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> text, folder = model_text(resonant.load("examples/cart_pendulum.toml"))
+    >>> "[energy]" in text
+    True
+    """
+    path = Path(model.source)
+    if not path.is_file():
+        raise ModelError("workers need the model's text: this model was not loaded from a "
+                         "file (give text=)")
+    with open_regular_file(path, follow_symlinks=True, max_bytes=MAX_FILE_BYTES) as handle:
+        text = read_bounded(handle, MAX_FILE_BYTES).decode("utf-8")
+    return text, str(path.resolve().parent)
+
+
+@dataclass(frozen=True)
+class StudyJob:
+    """What every task of a study needs: the model as text, and the request.
+
+    Parameters
+    ----------
+    text : str
+        The model file's text.
+    source : str
+        Its name (for messages; relative matrix files are found from ``base_dir``).
+    base_dir : str
+        The directory of the model file.
+    overrides : tuple of (str, str)
+        Parameter values replacing the file's (``--set``).
+    spec : StudySpec
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> job = StudyJob.of(model, request(model, {"k": [90, 110]}, ["stable"]))
+    >>> job.spec.vary["k"].arguments, len(job.key)
+    ((90.0, 110.0), 64)
+    """
+
+    text: str
+    source: str
+    base_dir: str
+    overrides: tuple[tuple[str, str], ...]
+    spec: StudySpec
+
+    @classmethod
+    def of(cls, model: Model, spec: StudySpec, text: str | None = None,
+           overrides: Mapping[str, Any] | None = None) -> StudyJob:
+        """The job of a loaded model (its file is read again for the text).
+
+        Parameters
+        ----------
+        model : Model
+        spec : StudySpec
+        text : str, optional
+            The model's text, for a model that was not loaded from a file.
+        overrides : mapping, optional
+
+        Returns
+        -------
+        StudyJob
+        """
+        if text is None:
+            text, base_dir = model_text(model)
+        else:
+            base_dir = os.getcwd()
+        pairs = tuple(sorted((str(k), str(v)) for k, v in (overrides or {}).items()))
+        return cls(text, model.source, base_dir, pairs, spec)
+
+    @property
+    def key(self) -> str:
+        """A digest of the model's text, source and overrides."""
+        digest = hashlib.sha256(self.text.encode())
+        digest.update(repr((self.source, self.base_dir, self.overrides)).encode())
+        return digest.hexdigest()
+
+
+def request(model: Model, vary: Mapping[str, Any] | None = None,
+            quantities: Any = None, **options: Any) -> StudySpec:
+    """A study of ``model``: the arguments given, the rest from its ``[study]`` section.
+
+    Parameters
+    ----------
+    model : Model
+    vary : mapping, optional
+        parameter -> specification (see :mod:`resonant.model.study`).
+    quantities : sequence of str, optional
+    **options
+        ``design``, ``samples``, ``seed``, ``band`` (a mapping).
+
+    Returns
+    -------
+    StudySpec
+
+    Raises
+    ------
+    ModelError
+        For an invalid request, or none at all (no arguments and no ``[study]``).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/absorber_tolerances.toml")
+    >>> request(model, samples=10).design, request(model, samples=10).samples
+    ('random', 10)
+    """
+    unknown = sorted(set(options) - set(STUDY_KEYS))
+    if unknown:
+        raise ModelError(f"unknown study option '{unknown[0]}'; the options are "
+                         + ", ".join(STUDY_KEYS[2:]))
+    base = model.study_section.to_request() if model.study_section is not None else {}
+    given = {k: v for k, v in {"vary": vary, "quantities": quantities, **options}.items()
+             if v is not None}
+    merged = {**base, **given}
+    if "vary" not in merged or "quantities" not in merged:
+        raise ModelError("a study needs the parameters to vary and the quantities (or a "
+                         "[study] section in the model)")
+    return study_spec(merged.pop("vary"), merged.pop("quantities"), **merged,
+                      parameters=model.parameters, coordinates=model.coordinates,
+                      outputs=model.outputs, units=model.units, source=model.source,
+                      section="study")
+
+
+def system_of(job: StudyJob) -> LinearSystem:
+    """The job's linear system, derived once per process.
+
+    Parameters
+    ----------
+    job : StudyJob
+
+    Returns
+    -------
+    LinearSystem
+    """
+    system = _SYSTEMS.get(job.key)
+    if system is None:
+        model = loads(job.text, source=job.source, base_dir=job.base_dir,
+                      overrides=dict(job.overrides))
+        system = _SYSTEMS[job.key] = linear_system(model)
+    return system
+
+
+def evaluate_chunk(job: StudyJob, k: int, size: int) -> dict[str, np.ndarray]:
+    """The rows of chunk ``k``: sample number, varied parameters, quantities, status.
+
+    Parameters
+    ----------
+    job : StudyJob
+    k : int
+        The chunk.
+    size : int
+        Samples per chunk.
+
+    Returns
+    -------
+    dict
+        column -> array.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> job = StudyJob.of(model, request(model, {"k": [90, 110]}, ["stable"], design="grid"))
+    >>> evaluate_chunk(job, 1, 1)["k"].tolist()
+    [110.0]
+    """
+    varied = chunk_values(job.spec, k, size)
+    count = len(next(iter(varied.values())))
+    rows: dict[str, np.ndarray] = {"sample": np.arange(k * size, k * size + count,
+                                                       dtype=np.int64)}
+    rows.update(varied)
+    rows.update(evaluate_samples(system_of(job), job.spec, varied))
+    return rows
+
+
+class _Bar:
+    """A one-line progress bar on standard error."""
+
+    def __init__(self, total: int, enabled: bool) -> None:
+        self.total, self.enabled, self.done = total, enabled, 0
+        self.start = time.perf_counter()
+
+    def advance(self, rows: int) -> None:
+        self.done += rows
+        if not self.enabled:
+            return
+        elapsed = time.perf_counter() - self.start
+        left = elapsed * (self.total - self.done) / max(self.done, 1)
+        filled = int(30 * self.done / max(self.total, 1))
+        sys.stderr.write(f"\rstudy [{'#' * filled}{'.' * (30 - filled)}] "
+                         f"{self.done}/{self.total} samples, {left:.0f} s left ")
+        if self.done >= self.total:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+
+def description(job: StudyJob, size: int) -> dict[str, Any]:
+    """What a result file records of its study (checked on resume).
+
+    Parameters
+    ----------
+    job : StudyJob
+    size : int
+        Samples per chunk.
+
+    Returns
+    -------
+    dict
+    """
+    return {"model": job.source, "model_sha256": hashlib.sha256(job.text.encode()).hexdigest(),
+            "overrides": dict(job.overrides), "study": job.spec.to_dict(), "chunk_size": size,
+            "rows": job.spec.size}
+
+
+def _resume_rows(path: Path, expected: dict[str, Any], size: int) -> int:
+    """Rows of complete chunks of an earlier run of the same study at ``path``."""
+    if not path.is_file():
+        return 0
+    found = read_description(path)
+    if found != expected:
+        raise ModelError(f"'{path}' holds a different study (model, request or seed); "
+                         "write to a new file or remove it to start afresh")
+    rows = completed_rows(path)
+    return rows if rows == expected["rows"] else (rows // size) * size
+
+
+@dataclass(frozen=True)
+class RunSummary:
+    """What :func:`run_study` did.
+
+    Parameters
+    ----------
+    path : Path
+        The result file.
+    rows : int
+        Rows in it.
+    resumed_rows : int
+        Rows kept from an earlier run.
+    where : str
+        Where the chunks ran.
+    seconds : float
+    description : dict
+
+    Examples
+    --------
+    >>> import resonant, tempfile, os
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> job = StudyJob.of(model, request(model, {"k": [90, 110]}, ["stable"], design="grid"))
+    >>> run_study(job, os.path.join(tempfile.mkdtemp(), "r.csv"), Engine("process")).rows
+    2
+    """
+
+    path: Path
+    rows: int
+    resumed_rows: int
+    where: str
+    seconds: float
+    description: dict[str, Any]
+
+
+def run_study(job: StudyJob, output: str | os.PathLike[str], engine: Engine = AUTO, *,
+              resume: bool = False, progress: bool | None = None,
+              deadline: Deadline = NO_DEADLINE,
+              on_chunk: Callable[[dict[str, np.ndarray]], None] | None = None) -> RunSummary:
+    """Run a study and stream its rows to ``output`` (.parquet or .csv).
+
+    Parameters
+    ----------
+    job : StudyJob
+    output : str or path
+    engine : Engine
+        Where the chunks run.
+    resume : bool
+        Keep the complete chunks of an interrupted earlier run and continue.
+    progress : bool, optional
+        A progress bar on standard error (default: when it is a terminal).
+    deadline : Deadline, optional
+        Checked between chunks; when it passes, the file keeps the rows so far.
+    on_chunk : callable, optional
+        Also given every chunk's rows, in order.
+
+    Returns
+    -------
+    RunSummary
+
+    Examples
+    --------
+    >>> import resonant, tempfile, os
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> job = StudyJob.of(model, request(model, {"k": "uniform(90, 110)"}, ["stable"],
+    ...                                  samples=5))
+    >>> run_study(job, os.path.join(tempfile.mkdtemp(), "r.parquet"), Engine("process")).rows
+    5
+    """
+    path = check_output(output)
+    size = chunk_size(job.spec, system_of(job).n)
+    expected = description(job, size)
+    kept = _resume_rows(path, expected, size) if resume else 0
+    bar = _Bar(job.spec.size, sys.stderr.isatty() if progress is None else progress)
+    bar.advance(kept)
+    where = ["this process"]
+    writer = ResultWriter(path, expected, kept)
+    start = time.perf_counter()
+    try:
+        tasks = ((job, k, size) for k, _, _ in chunks(job.spec, size, math.ceil(kept / size)))
+        for rows in ordered_map(evaluate_chunk, tasks, engine,
+                                on_start=lambda w: where.__setitem__(0, w)):
+            writer.write(rows)
+            bar.advance(len(rows["sample"]))
+            if on_chunk is not None:
+                on_chunk(rows)
+            deadline.check("while running the study", analysis=True)
+    finally:
+        writer.close()
+    return RunSummary(path, writer.rows, kept, where[0], time.perf_counter() - start, expected)
+
+
+def collect(job: StudyJob, engine: Engine = AUTO,
+            output: str | os.PathLike[str] | None = None, *, resume: bool = False,
+            progress: bool | None = None, deadline: Deadline = NO_DEADLINE,
+            columns: list[str] | None = None) -> StudyResult:
+    """Run a study and return its result (the rows also written to ``output`` if given).
+
+    Parameters
+    ----------
+    job : StudyJob
+    engine : Engine
+    output : str or path, optional
+        A .parquet or .csv file.
+    resume : bool
+        Continue an interrupted run of ``output``.
+    progress : bool, optional
+    deadline : Deadline, optional
+    columns : list of str, optional
+        The columns to read back from ``output`` (default all; fewer keep the memory
+        of a huge study small).
+
+    Returns
+    -------
+    StudyResult
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> job = StudyJob.of(model, request(model, {"k": [90, 110]}, ["stable"], design="grid"))
+    >>> collect(job, Engine("process")).table["stable"].tolist()
+    [True, True]
+    """
+    import pandas as pd
+
+    parts: list[dict[str, np.ndarray]] = []
+    if output is not None:
+        summary = run_study(job, output, engine, resume=resume, progress=progress,
+                            deadline=deadline)
+        table = read_table(summary.path, columns)
+        where, found = summary.where, summary.description
+    else:
+        size = chunk_size(job.spec, system_of(job).n)
+        found = description(job, size)
+        places = ["this process"]
+        bar = _Bar(job.spec.size, sys.stderr.isatty() if progress is None else progress)
+        for rows in ordered_map(evaluate_chunk, ((job, k, size) for k, _, _ in
+                                                 chunks(job.spec, size)), engine,
+                                on_start=lambda w: places.__setitem__(0, w)):
+            parts.append(rows)
+            bar.advance(len(rows["sample"]))
+            deadline.check("while running the study", analysis=True)
+        table = pd.concat([pd.DataFrame(p) for p in parts], ignore_index=True)
+        where = places[0]
+    sensitivity = sobol_indices(table, job.spec) if job.spec.design == "sobol" else None
+    return StudyResult(table, job.spec, found, sensitivity, where)
+
+
+def read_table(path: str | os.PathLike[str], columns: list[str] | None = None) -> Any:
+    """The rows of a result file as a DataFrame (status and reason as categories).
+
+    Parameters
+    ----------
+    path : str or path
+    columns : list of str, optional
+        Only these columns.
+
+    Returns
+    -------
+    pandas.DataFrame
+
+    Examples
+    --------
+    >>> import resonant, tempfile, os
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> job = StudyJob.of(model, request(model, {"k": [90, 110]}, ["stable"], design="grid"))
+    >>> path = os.path.join(tempfile.mkdtemp(), "r.parquet")
+    >>> list(read_table(run_study(job, path, Engine("process")).path).columns)
+    ['sample', 'k', 'stable', 'status', 'reason']
+    """
+    import pandas as pd
+
+    p = Path(path)
+    if p.suffix.lower() == ".parquet":
+        return pd.read_parquet(p, columns=columns)
+    frame = pd.read_csv(p, usecols=columns, keep_default_na=False,
+                        na_values=["", "NaN", "nan"],
+                        dtype={"status": "category", "reason": "category"})
+    if "reason" in frame:
+        frame["reason"] = frame["reason"].cat.add_categories([""]).fillna("") \
+            if "" not in frame["reason"].cat.categories else frame["reason"].fillna("")
+    return frame
+
+
+__all__ = ["collect", "model_text", "read_table", "RunSummary", "StudyJob", "evaluate_chunk",
+           "request", "run_study", "system_of"]

@@ -1,0 +1,537 @@
+"""The explore page: one self-contained HTML file in which a model can be played with.
+
+:func:`explore_page` writes, for any model, a page with a slider and a number field
+for every parameter, the numbers of the linear system (M, C, K, natural frequencies,
+damping ratios, stability, amplitudes and phases), the frequency response, the time
+history over one period and the mechanism drawn from its parts moving with the
+response or in a mode shape (a model without parts: a bar per coordinate).
+
+How it computes (docs/explore.md): the model's symbolic M, C, K, loads, outputs and
+drawing are printed as JavaScript by resonant's own printer
+(:mod:`resonant.views.explore_export`), and the page solves the complex stationary
+system and the eigenproblems with its own small solvers
+(``explore_assets/numerics.js``).  A model too large for that (more than
+:data:`LIVE_LIMIT` coordinates), or one whose expressions the printer cannot write,
+gets curves, modes and numbers computed here instead, and the page says so.
+
+The page loads nothing: its style, scripts and data are inline, a Content Security
+Policy forbids any request and any ``eval``, and every string of the model reaches
+the page as JSON data shown as text.
+
+Examples
+--------
+>>> import resonant
+>>> page = explore_page(resonant.load("examples/cart_pendulum.toml"))
+>>> page.live, page.html.startswith("<!DOCTYPE html>"), "resonantMatrices" in page.html
+(True, True, True)
+"""
+
+from __future__ import annotations
+
+import html
+import json
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..analyses.modes import modes
+from ..analyses.stationary import stationary
+from ..analyses.sweep import sweep
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import AnalysisError, ModelError, Problem
+from ..model import Model
+from ..system import LinearSystem, linear_system
+from ..system.stability import natural_frequencies
+from .explore_export import ExportedSystem, equilibrium_values, export_system
+from .js_printer import NotPrintable
+from .sketch import SketchMotion, sketch_motion
+from .units_display import result_units
+
+#: the most coordinates for which the page computes everything itself
+LIVE_LIMIT = 40
+#: points of the frequency response curve
+CURVE_POINTS = 400
+#: at most this many names in the frequency response by default
+DEFAULT_SHOWN = 6
+#: modes a precomputed page shows
+PRECOMPUTED_MODES = 12
+#: the largest matrices a precomputed page prints
+PRECOMPUTED_MATRICES = 12
+#: names preferred as the excitation frequency, in order
+FREQUENCY_NAMES = ("omega", "Omega", "w", "W", "omega_e", "Omega_e")
+
+
+@dataclass(frozen=True)
+class ExplorePage:
+    """The explore page of a model: one self-contained HTML document.
+
+    Parameters
+    ----------
+    html : str
+        The whole document.
+    title : str
+        The model's title.
+    live : bool
+        True when the page computes from the model's equations (False: precomputed).
+
+    Examples
+    --------
+    >>> page = ExplorePage("<!DOCTYPE html><title>x</title>", "x", True)
+    >>> page._repr_html_().startswith("<iframe")
+    True
+    """
+
+    html: str
+    title: str
+    live: bool
+
+    def save(self, path: str | Path) -> Path:
+        """Write the page to ``path`` (UTF-8).
+
+        Parameters
+        ----------
+        path : str or Path
+            The file to write.
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        Raises
+        ------
+        ModelError
+            If the file cannot be written.
+        """
+        target = Path(path)
+        try:
+            target.write_text(self.html, encoding="utf-8")
+        except OSError as exc:
+            raise ModelError(Problem(f"cannot write the page: {exc.strerror or exc}",
+                                     str(path))) from None
+        return target
+
+    def _repr_html_(self) -> str:
+        """The page in an iframe (``srcdoc``), where its scripts run in Jupyter."""
+        return (f'<iframe title="{html.escape(self.title or "resonant explore")}" '
+                f'srcdoc="{html.escape(self.html, quote=True)}" sandbox="allow-scripts" '
+                'style="width: 100%; height: 920px; border: 1px solid #ccc;"></iframe>')
+
+
+# -- choices ---------------------------------------------------------------------------------
+
+def default_range(value: float) -> tuple[float, float, bool]:
+    """The slider range of a parameter without one: a log range around a positive value.
+
+    Parameters
+    ----------
+    value : float
+        The parameter's value (SI).
+
+    Returns
+    -------
+    tuple
+        (from, to, logarithmic).
+
+    Examples
+    --------
+    >>> default_range(100.0), default_range(0.0), default_range(-2.0)
+    ((25.0, 400.0, True), (-1.0, 1.0, False), (-8.0, 0.0, False))
+    """
+    if value > 0:
+        return value / 4, value * 4, True
+    if value < 0:
+        return 4 * value, 0.0, False
+    return -1.0, 1.0, False
+
+
+def frequency_parameter(model: Model, system: LinearSystem) -> str | None:
+    """The parameter that sets the excitation frequency (swept by the frequency response).
+
+    ``[explore] frequency`` if given; else the parameter in the symbolic excitation
+    frequencies (``omega`` preferred when there are several); None when the frequency
+    is no parameter (or there is no excitation).
+
+    Parameters
+    ----------
+    model : Model
+    system : LinearSystem
+
+    Returns
+    -------
+    str or None
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> frequency_parameter(model, resonant.system.linear_system(model))
+    'omega'
+    """
+    if model.explore_section is not None and model.explore_section.frequency is not None:
+        return model.explore_section.frequency
+    harmonics = getattr(system, "harmonics", None)
+    if harmonics is None:
+        return None
+    found: list[str] = []
+    for w in harmonics.frequencies:
+        found += [s.name for s in w.free_symbols if s.name in model.parameters]
+    candidates = [p for p in model.parameters if p in found]
+    if not candidates:
+        return None
+    preferred = [p for p in FREQUENCY_NAMES if p in candidates]
+    return preferred[0] if preferred else candidates[0]
+
+
+def _frequency_range(system: LinearSystem, value: float, deadline: Deadline
+                     ) -> tuple[float, float, bool]:
+    """0 to 1.5 times the highest natural frequency (at least twice the value)."""
+    top = 0.0
+    try:
+        numeric = system.numeric(deadline)
+        if numeric.n <= LIVE_LIMIT:
+            omegas = natural_frequencies(np.asarray(numeric.dense().M),
+                                         np.asarray(numeric.dense().K))
+            top = float(omegas.max()) if omegas.size else 0.0
+    except (AnalysisError, ModelError, np.linalg.LinAlgError, ValueError):
+        top = 0.0
+    stop = max(1.5 * top, 2 * abs(value), 1e-9)
+    return 0.0, float(f"{stop:.3g}"), False
+
+
+def _range_of(model: Model, name: str, value: float) -> tuple[float, float, bool]:
+    spec = model.explore_section.ranges.get(name) if model.explore_section is not None else None
+    if spec is not None:
+        return spec.start, spec.stop, spec.log
+    variants = {v.name: v.values for v in model.exercise.variants} \
+        if model.exercise is not None else {}
+    values = variants.get(name)
+    if values and min(values) < max(values):
+        low, high = min(values), max(values)
+        return low, high, low > 0 and high / low >= 20
+    return default_range(value)
+
+
+def controls(model: Model, system: LinearSystem, frequency: str | None,
+             deadline: Deadline = NO_DEADLINE) -> list[dict[str, Any]]:
+    """A slider's data for every parameter: value, unit, range, formula.
+
+    Ranges come from ``[explore]``, else from ``[variants]``, else
+    :func:`default_range` (the excitation frequency: 0 to beyond the highest natural
+    frequency).
+
+    Parameters
+    ----------
+    model : Model
+    system : LinearSystem
+    frequency : str or None
+        The excitation frequency's parameter.
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    list of dict
+        JSON-ready, one per parameter in the model's order.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> k = controls(model, resonant.system.linear_system(model), "omega")[3]
+    >>> k["name"], k["value"], k["unit"], k["from"], k["to"]
+    ('k', 100.0, 'N/m', 25.0, 400.0)
+    """
+    given = model.units.given if model.units is not None else {}
+    out = []
+    for name, expression in model.parameters.items():
+        value = float(model.parameter_values[name])
+        start, stop, log = _range_of(model, name, value)
+        spec = model.explore_section
+        if name == frequency and (spec is None or name not in spec.ranges):
+            start, stop, log = _frequency_range(system, value, deadline)
+        unit = given[name][1] if name in given else None
+        out.append({"name": name, "value": value, "from": start, "to": stop, "log": log,
+                    "unit": unit.text if unit is not None else "",
+                    "factor": unit.to_si() if unit is not None else 1.0,
+                    "formula": expression.text if expression.names() else "",
+                    "frequency": name == frequency})
+    return out
+
+
+def shown_names(model: Model, system: LinearSystem) -> list[str]:
+    """The names the frequency response shows: ``[explore] show``, else the outputs and
+    coordinates (at most :data:`DEFAULT_SHOWN`).
+
+    Parameters
+    ----------
+    model : Model
+    system : LinearSystem
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> shown_names(model, resonant.system.linear_system(model))
+    ['x1', 'x2', 'phi']
+    """
+    if model.explore_section is not None and model.explore_section.show:
+        return list(model.explore_section.show)
+    return [*system.coordinates, *model.outputs][:DEFAULT_SHOWN]
+
+
+def _name_units(model: Model, names: list[str]) -> list[dict[str, Any]]:
+    units = result_units(model)
+    out = []
+    for name in names:
+        shown = units.unit(name) if units is not None else None
+        out.append({"name": name, "description": model.descriptions.get(name, ""),
+                    "unit": shown.text if shown is not None else "",
+                    "factor": shown.factor if shown is not None else 1.0})
+    return out
+
+
+def _drawing(motion: SketchMotion) -> dict[str, Any]:
+    """The sketch as JSON with what carries each item."""
+    data = motion.sketch.to_dict()
+    data["bounds"] = list(motion.sketch.bounds())
+    data["points"] = [[name, *at, motion.points.get(name, -1)]
+                      for name, at in motion.sketch.points.items()]
+    data["owners"] = list(motion.owners)
+    data["shifts"] = [list(s) for s in motion.shifts]
+    data["carriers"] = {"bodies": list(motion.bodies), "links": [list(p) for p in motion.links],
+                        "supports": list(motion.supports), "pins": list(motion.pins),
+                        "forces": list(motion.forces)}
+    return data
+
+
+# -- the precomputed page -------------------------------------------------------------------
+
+def precomputed(system: LinearSystem, frequency: str | None, frequency_control: dict[str, Any]
+                | None, names: list[str], deadline: Deadline = NO_DEADLINE) -> dict[str, Any]:
+    """Curves, modes and numbers at the file's parameter values, for a page that cannot
+    compute them itself.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    frequency : str or None
+        The excitation frequency's parameter (the curves' abscissa).
+    frequency_control : dict or None
+        Its slider (the curves' range).
+    names : list of str
+        The names of the curves.
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    dict
+        JSON-ready: ``solution`` (as ``resonant solve --json``, without the matrices of a
+        large model), ``modes`` and ``curve`` (``values``, per name ``amplitudes`` and
+        the complex amplitudes ``L``, ``N`` per frequency).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/absorber.toml")
+    >>> system = resonant.system.linear_system(model)
+    >>> data = precomputed(system, None, None, ["x1"])
+    >>> sorted(data), data["curve"] is None
+    (['curve', 'modes', 'solution'], True)
+    """
+    solution = stationary(system, deadline).to_dict()
+    if system.n > PRECOMPUTED_MATRICES:
+        for key in ("M", "C", "K", "symbolic", "eigenvalues"):
+            solution.pop(key, None)
+    found = modes(system, count=min(PRECOMPUTED_MODES, system.n), deadline=deadline)
+    curve = None
+    if frequency is not None and frequency_control is not None:
+        start, stop = frequency_control["from"], frequency_control["to"]
+        values = np.linspace(start, stop, CURVE_POINTS)
+        result = sweep(system, frequency, values, names=[n for n in names
+                                                         if n in system.coordinates],
+                       deadline=deadline)
+        index = {q: i for i, q in enumerate(result.quantities)}
+        # response: (harmonics, values, quantities) complex L - iN; omegas (harmonics, values)
+        curve = {"values": values.tolist(), "omegas": result.harmonic_omegas.T.tolist(),
+                 "names": {name: {"amplitudes": _finite(result.amplitudes[name]),
+                                  "L": _finite(result.response[:, :, index[name]].real.T),
+                                  "N": _finite(-result.response[:, :, index[name]].imag.T)}
+                           for name in names if name in index}}
+    return {"solution": solution, "curve": curve, "modes": {
+        "natural_frequencies": found.natural_frequencies.tolist(),
+        "mode_shapes": found.mode_shapes.T.tolist(),
+        "damping_ratios": found.damping_ratios.tolist(), "stability": found.stability}}
+
+
+def _finite(array: np.ndarray) -> list[Any]:
+    """An array as JSON lists, NaN (a skipped point) as null."""
+    return json.loads(json.dumps(np.where(np.isfinite(array), array, np.nan).tolist())
+                      .replace("NaN", "null"))
+
+
+# -- the page -------------------------------------------------------------------------------
+
+def script_json(data: Any) -> str:
+    """JSON safe inside ``<script type="application/json">``: ``<``, ``>``, ``&`` and the
+    line separators escaped, so no text of a model can close the element.
+
+    Parameters
+    ----------
+    data : object
+        JSON-ready data.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> script_json({"title": "</script><b>"})
+    '{"title": "\\\\u003c/script\\\\u003e\\\\u003cb\\\\u003e"}'
+    """
+    text = json.dumps(data, ensure_ascii=False, allow_nan=False)
+    for char, escape in (("<", "\\u003c"), (">", "\\u003e"), ("&", "\\u0026"),
+                         ("\u2028", "\\u2028"), ("\u2029", "\\u2029")):
+        text = text.replace(char, escape)
+    return text
+
+
+def _asset(name: str) -> str:
+    return resources.files("resonant.views").joinpath("explore_assets", name) \
+        .read_text(encoding="utf-8")
+
+
+def page_html(data: dict[str, Any], program: str) -> str:
+    """Fill the page's template with the model's data and program.
+
+    Parameters
+    ----------
+    data : dict
+        The page's data (JSON-ready).
+    program : str
+        The JavaScript functions printed from the model (may be empty).
+
+    Returns
+    -------
+    str
+        The HTML document.
+
+    Examples
+    --------
+    >>> page_html({"title": "A & B"}, "").count("A &amp; B")
+    1
+    """
+    pieces = {"@TITLE@": html.escape(data.get("title") or "resonant explore"),
+              "@STYLE@": _asset("page.css"), "@DATA@": script_json(data),
+              "@PROGRAM@": program.replace("</", "<\\/"),
+              "@NUMERICS@": _asset("numerics.js"), "@UI@": _asset("page.js")}
+    text = _asset("page.html")
+    for marker, value in pieces.items():
+        text = text.replace(marker, value)
+    return text
+
+
+def _exported(system: LinearSystem, motion: SketchMotion | None
+              ) -> tuple[ExportedSystem | None, str]:
+    """The live program, or None and why the page is precomputed."""
+    if system.n > LIVE_LIMIT:
+        return None, (f"This model has {system.n} coordinates; above {LIVE_LIMIT} the page "
+                      "shows curves, modes and numbers precomputed by resonant at the file's "
+                      "parameter values.")
+    try:
+        return export_system(system, motion), ""
+    except NotPrintable as exc:
+        return None, (f"The page cannot compute this model itself ({exc}); it shows curves, "
+                      "modes and numbers precomputed by resonant at the file's parameter "
+                      "values.")
+
+
+def explore_data(model: Model, system: LinearSystem | None = None,
+                 deadline: Deadline = NO_DEADLINE) -> tuple[dict[str, Any], str]:
+    """Everything the explore page of a model holds: its data and its program.
+
+    Parameters
+    ----------
+    model : Model
+    system : LinearSystem, optional
+        The model's linear system (derived if not given).
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    tuple
+        (data, JavaScript program); the program is empty for a precomputed page.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> data, program = explore_data(resonant.load("examples/parts/pendulum.toml"))
+    >>> data["live"], data["drawing"]["owners"], data["frequency"]
+    (True, ['pivot', 'bob'], 'omega')
+    """
+    system = system if system is not None else linear_system(model, deadline)
+    motion = sketch_motion(model) if model.parts is not None and (
+        model.parts.parts.bodies or model.parts.parts.points) else None
+    exported, note = _exported(system, motion)
+    frequency = frequency_parameter(model, system)
+    sliders = controls(model, system, frequency, deadline)
+    names = [*system.coordinates, *model.outputs]
+    shown = [n for n in shown_names(model, system) if n in names]
+    data: dict[str, Any] = {
+        "title": model.title, "file": Path(model.source).name, "live": exported is not None,
+        "note": note, "coordinates": _name_units(model, list(system.coordinates)),
+        "outputs": _name_units(model, list(model.outputs)), "parameters": sliders,
+        "frequency": frequency, "show": shown, "equilibrium": equilibrium_values(model)
+        if model.matrices is None else [0.0] * system.n,
+        "layout": exported.layout if exported is not None else None,
+        "drawing": _drawing(motion) if motion is not None and exported is not None else None,
+        "precomputed": None}
+    if exported is None:
+        control = next((c for c in sliders if c["frequency"]), None)
+        data["precomputed"] = precomputed(system, frequency, control, shown, deadline)
+    return data, exported.program if exported is not None else ""
+
+
+def explore_page(model: Model, system: LinearSystem | None = None,
+                 deadline: Deadline = NO_DEADLINE) -> ExplorePage:
+    """The explore page of a model (``resonant explore``, ``model.explore()``).
+
+    Parameters
+    ----------
+    model : Model
+    system : LinearSystem, optional
+        The model's linear system (derived if not given).
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    ExplorePage
+
+    Raises
+    ------
+    ModelError
+        If the model cannot be derived.
+    AnalysisError
+        If a precomputed page's analyses are impossible.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> page = explore_page(resonant.load("examples/absorber.toml"))
+    >>> page.live, len(page.html) < 1_500_000
+    (True, True)
+    """
+    data, program = explore_data(model, system, deadline)
+    return ExplorePage(page_html(data, program), model.title, bool(data["live"]))
+
+
+__all__ = ["ExplorePage", "explore_page", "explore_data", "controls", "default_range",
+           "frequency_parameter", "shown_names", "precomputed", "page_html", "script_json",
+           "LIVE_LIMIT", "CURVE_POINTS"]

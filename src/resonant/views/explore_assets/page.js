@@ -1,0 +1,1035 @@
+// resonant explore: the page.  Reads the model's data (JSON) and, for a live page, the
+// functions printed from its equations (resonantParameters, resonantMatrices, resonantLoads, resonantMotion,
+// resonantSignals); computes with ResonantNumerics; every text of the model is shown as text.
+"use strict";
+(() => {
+  const NUM = ResonantNumerics;
+  const D = JSON.parse(document.getElementById("resonant-data").textContent);
+  const LIVE = D.live;
+  const LAYOUT = D.layout;
+  const COORDS = D.coordinates, OUTPUTS = D.outputs;
+  const n = COORDS.length;
+  const NAMES = [...COORDS, ...OUTPUTS];
+  const UNIT = Object.fromEntries(NAMES.map(x => [x.name, x]));
+  const PARAMS = D.parameters;
+  const FREQ = PARAMS.findIndex(c => c.frequency);
+  const CURVE_POINTS = 400;
+  const COLOURS = ["#1f4e9c", "#c0392b", "#2e8b57", "#8e44ad", "#d35400", "#16a085", "#7f6000", "#555"];
+
+  const $ = id => document.getElementById(id);
+  function el(tag, attrs, text) {
+    const e = document.createElement(tag);
+    for (const [k, v] of Object.entries(attrs || {})) {
+      if (v !== undefined && v !== null) e.setAttribute(k, v);
+    }
+    if (text !== undefined) e.textContent = text;
+    return e;
+  }
+  function fmt(x, digits) {
+    if (x === null || x === undefined || Number.isNaN(x)) return "–";
+    if (!Number.isFinite(x)) return x > 0 ? "∞" : "−∞";
+    if (x === 0) return "0";
+    const a = Math.abs(x);
+    const d = digits || 6;
+    let s = (a >= 1e-4 && a < 1e7) ? Number(x.toPrecision(d)).toString() : x.toExponential(d - 1);
+    return s.replace("-", "−");
+  }
+  // a number shown as text: its full value in data-value and the tooltip
+  function number(x, digits, key) {
+    const e = el("span", { "data-value": String(x), title: String(x) }, fmt(x, digits));
+    if (key) e.setAttribute("data-key", key);
+    return e;
+  }
+
+  // LaTeX of a name (x_{1}, \varphi, \mathrm{stroke}) as [base, subscript] in Unicode
+  const GREEK = { alpha: "α", beta: "β", gamma: "γ", delta: "δ", epsilon: "ε", varepsilon: "ε", zeta: "ζ", eta: "η", theta: "θ", vartheta: "ϑ", iota: "ι", kappa: "κ", lambda: "λ", mu: "μ", nu: "ν", xi: "ξ", pi: "π", rho: "ρ", sigma: "σ", tau: "τ", upsilon: "υ", phi: "ϕ", varphi: "φ", chi: "χ", psi: "ψ", omega: "ω", Gamma: "Γ", Delta: "Δ", Theta: "Θ", Lambda: "Λ", Xi: "Ξ", Pi: "Π", Sigma: "Σ", Phi: "Φ", Psi: "Ψ", Omega: "Ω" };
+  function latexText(text) {
+    let t = text.replace(/\\mathrm\{([^{}]*)\}/g, "$1").replace(/\\([A-Za-z]+)/g, (m, g) => GREEK[g] || g);
+    const m = t.match(/^(.*?)_\{([^{}]*)\}(.*)$/);
+    return m ? [m[1], m[2], m[3]] : [t, "", ""];
+  }
+
+  // -- the model's numbers ------------------------------------------------------------------
+  function parameters(v, o) {
+    return LIVE ? resonantParameters(v, o) : Float64Array.from(v);
+  }
+
+  function isClose(a, b) { return Math.abs(a - b) <= 1e-12 * Math.max(Math.abs(a), Math.abs(b)); }
+
+  // M, C, K at p (checked finite)
+  function matricesAt(p) {
+    const f = resonantMatrices(p);
+    const M = Float64Array.from(f.slice(0, n * n)), C = Float64Array.from(f.slice(n * n, 2 * n * n));
+    const K = Float64Array.from(f.slice(2 * n * n));
+    for (const a of [M, C, K]) {
+      if (!a.every(Number.isFinite)) throw new Error("M, C or K is not finite for these parameter values");
+    }
+    return { M, C, K };
+  }
+
+  // M, C, K (given, or computed), the harmonics (grouped by frequency, ascending) and the
+  // outputs at p
+  function systemAt(p, matrices) {
+    const { M, C, K } = matrices || matricesAt(p);
+    const f = resonantLoads(p);
+    let k = 0;
+    const take = m => { const a = Float64Array.from(f.slice(k, k + m)); k += m; return a; };
+    const V = LAYOUT.variables.length;
+    const raw = [];
+    for (let j = 0; j < LAYOUT.frequencies; j++) {
+      const w = f[k++], FS = take(n), FC = take(n), sig = take(2 * V);
+      const sign = w < 0 ? -1 : 1, still = w === 0;
+      for (let i = 0; i < n; i++) FS[i] = still ? 0 : sign * FS[i];
+      for (let v = 0; v < V; v++) sig[2 * v] = still ? 0 : sign * sig[2 * v];
+      raw.push({ omega: Math.abs(w), FS, FC, sig });
+    }
+    const outputs = LAYOUT.outputs.map(o => ({ value: f[k++], coefs: o.terms.map(() => f[k++]) }));
+    const groups = [];
+    for (const h of raw) {
+      const g = groups.find(x => isClose(x.omega, h.omega));
+      if (g) {
+        for (let i = 0; i < n; i++) { g.FS[i] += h.FS[i]; g.FC[i] += h.FC[i]; }
+        for (let v = 0; v < 2 * V; v++) g.sig[v] += h.sig[v];
+      } else groups.push(h);
+    }
+    groups.sort((a, b) => a.omega - b.omega);
+    return { M, C, K, harmonics: groups, outputs };
+  }
+
+  // the stationary response (L, N) of every harmonic, and the pairs of every name
+  function respond(sys, names) {
+    const pairs = {};
+    const responses = sys.harmonics.map(h => {
+      const w = h.omega;
+      const ar = new Float64Array(n * n), ai = new Float64Array(n * n);
+      for (let i = 0; i < n * n; i++) { ar[i] = sys.K[i] - w * w * sys.M[i]; ai[i] = w * sys.C[i]; }
+      const z = NUM.complexSolve(n, ar, ai, h.FC, h.FS.map(x => -x));
+      return { omega: w, L: z.re, N: z.im.map(x => -x), singular: z.singular };
+    });
+    COORDS.forEach((c, i) => { if (!names || names.has(c.name)) pairs[c.name] = responses.map(r => [r.L[i], r.N[i]]); });
+    LAYOUT.outputs.forEach((o, j) => {
+      if (names && !names.has(o.name)) return;
+      pairs[o.name] = responses.map((r, hi) => {
+        let L = 0, N = 0;
+        const w = r.omega, h = sys.harmonics[hi];
+        o.terms.forEach(([, order, qi, vi], t) => {
+          let lt, nt;
+          if (qi >= 0) {
+            lt = r.L[qi]; nt = r.N[qi];
+            for (let d = 0; d < order; d++) [lt, nt] = [w * nt, -w * lt];
+          } else if (vi >= 0) {
+            lt = h.sig[2 * vi + 1]; nt = h.sig[2 * vi];
+          } else { lt = 0; nt = 0; }
+          L += sys.outputs[j].coefs[t] * lt; N += sys.outputs[j].coefs[t] * nt;
+        });
+        return [L, N];
+      });
+    });
+    return { responses, pairs };
+  }
+
+  function amplitudesOf(omegas, pairs, fast) {
+    const amplitudes = {}, phases = {};
+    const moving = omegas.map((w, i) => (w > 0 ? i : -1)).filter(i => i >= 0);
+    for (const [name, p] of Object.entries(pairs)) {
+      amplitudes[name] = NUM.peak(omegas, p, fast);
+      if (moving.length === 1) {
+        const [L, N] = p[moving[0]];
+        if (Math.hypot(L, N) > 0) phases[name] = NUM.phaseAngle(L, N);
+      }
+    }
+    return { amplitudes, phases };
+  }
+
+  function warningsOf(lam, stability, omegas, harmonics) {
+    const out = [];
+    let scale = 1;
+    for (const v of lam) scale = Math.max(scale, Math.abs(v));
+    if (lam.some(v => v < -1e-12 * scale)) out.push("K is not positive definite about this reference state: a statically unstable (buckling, inverted) mode exists");
+    if (stability === "unstable") out.push("the equilibrium is unstable: free vibrations grow, so the stationary solution is never reached in practice");
+    for (const h of harmonics) {
+      omegas.forEach((wn, i) => {
+        if (h.omega > 0 && wn > 0 && Math.abs(h.omega - wn) <= 0.02 * wn) {
+          out.push(`near resonance: the excitation frequency ${fmt(h.omega)} rad/s is within ${fmt(100 * Math.abs(h.omega - wn) / wn, 2)}% of natural frequency ${i + 1} (${fmt(wn)} rad/s); the amplitudes are sensitive to the data`);
+        }
+      });
+    }
+    return out;
+  }
+
+  // everything the page shows, computed at the parameters p
+  function solveLive(p) {
+    const sys = systemAt(p);
+    if (NUM.realSolve(n, sys.M, new Float64Array(n), 1) === null) throw new Error("the mass matrix M is singular: every coordinate needs mass or inertia");
+    const eig = NUM.undampedEigen(n, sys.M, sys.K);
+    const omegas = NUM.frequenciesFromEigenvalues(eig.values);
+    const modes = [];
+    eig.values.forEach((lam, c) => { if (lam >= -1e-12 * Math.max(...eig.values.map(Math.abs), 1e-300)) modes.push(NUM.unitShape(n, eig.vectors, c)); });
+    const state = NUM.stateEigenvalues(n, sys.M, sys.C, sys.K);
+    const stability = NUM.classify(state);
+    const damping = NUM.dampingRatios(state);
+    const result = { p, M: sys.M, C: sys.C, K: sys.K, omegas, modes: modes.slice(0, omegas.length), eig: state, stability, damping, sys,
+      harmonics: [], pairs: {}, amplitudes: {}, phases: {}, available: LAYOUT.harmonic, warnings: warningsOf(eig.values, stability, omegas, sys.harmonics), error: null };
+    if (!LAYOUT.harmonic) {
+      result.warnings.push("the stationary solution needs signals that are sums of harmonics; the equation of motion is derived, use `resonant simulate` for other signals");
+      return result;
+    }
+    const { responses, pairs } = respond(sys, null);
+    const bad = responses.find(r => r.singular);
+    if (bad) {
+      result.error = bad.omega === 0 ? "a static load acts on a system with a zero-stiffness (rigid-body) mode: the static deflection is unbounded"
+        : `resonance: the excitation frequency ${fmt(bad.omega)} rad/s and the system has no damping in that mode, so the stationary amplitude is unbounded`;
+      return result;
+    }
+    result.harmonics = responses.map((r, i) => ({ omega: r.omega, F_S: Array.from(sys.harmonics[i].FS), F_C: Array.from(sys.harmonics[i].FC), L: Array.from(r.L), N: Array.from(r.N) }));
+    result.pairs = pairs;
+    Object.assign(result, amplitudesOf(responses.map(r => r.omega), pairs, false));
+    return result;
+  }
+
+  // the frequency response of the shown names over the frequency parameter's range
+  function curveLive(v, o, shown) {
+    if (FREQ < 0 || !LAYOUT.harmonic) return null;
+    const c = PARAMS[FREQ];
+    const values = [], curves = Object.fromEntries([...shown].map(s => [s, []]));
+    const vv = Float64Array.from(v), oo = Uint8Array.from(o);
+    oo[FREQ] = 1;
+    // M, C, K stay as they are along the curve unless they depend on its parameter
+    let fixed = null;
+    if (!LAYOUT.matrix_parameters.includes(FREQ)) {
+      try { fixed = matricesAt(parameters(vv, oo)); } catch (e) { fixed = null; }
+    }
+    for (let j = 0; j < CURVE_POINTS; j++) {
+      const x = c.from + (c.to - c.from) * j / (CURVE_POINTS - 1);
+      values.push(x);
+      vv[FREQ] = x;
+      let amps = null;
+      try {
+        const sys = systemAt(parameters(vv, oo), fixed);
+        const { responses, pairs } = respond(sys, shown);
+        if (!responses.some(r => r.singular)) amps = amplitudesOf(responses.map(r => r.omega), pairs, true).amplitudes;
+      } catch (e) { amps = null; }
+      for (const s of shown) curves[s].push(amps && Number.isFinite(amps[s]) ? amps[s] : NaN);
+    }
+    return { values, curves };
+  }
+
+  // -- a precomputed page -------------------------------------------------------------------
+  const PRE = D.precomputed;
+  function gridIndex(x) {
+    const values = PRE.curve ? PRE.curve.values : [];
+    let best = 0;
+    values.forEach((v, j) => { if (Math.abs(v - x) < Math.abs(values[best] - x)) best = j; });
+    return best;
+  }
+  function solvePrecomputed(v) {
+    const s = PRE.solution, m = PRE.modes;
+    const result = { p: Float64Array.from(v), M: s.M ? Float64Array.from(s.M.flat()) : null, C: s.C ? Float64Array.from(s.C.flat()) : null,
+      K: s.K ? Float64Array.from(s.K.flat()) : null, omegas: m.natural_frequencies, modes: m.mode_shapes, stability: m.stability,
+      damping: { ratios: m.damping_ratios, damped: [] }, eig: null, harmonics: s.harmonics, pairs: {}, amplitudes: { ...s.amplitudes },
+      phases: { ...s.phases }, available: s.stationary_available, warnings: [...s.warnings], error: null };
+    if (PRE.curve && FREQ >= 0) {
+      const j = gridIndex(v[FREQ]);
+      result.p[FREQ] = PRE.curve.values[j];
+      result.amplitudes = {}; result.phases = {};
+      const omegas = PRE.curve.omegas[j];
+      for (const [name, c] of Object.entries(PRE.curve.names)) {
+        result.pairs[name] = omegas.map((_, h) => [c.L[j][h], c.N[j][h]]);
+        result.amplitudes[name] = c.amplitudes[j];
+      }
+      Object.assign(result.phases, amplitudesOf(omegas, result.pairs, false).phases);
+      result.harmonics = omegas.map(w => ({ omega: w }));
+    }
+    return result;
+  }
+  function curvePrecomputed() {
+    if (!PRE.curve) return null;
+    return { values: PRE.curve.values, curves: Object.fromEntries(Object.entries(PRE.curve.names).map(([k, c]) => [k, c.amplitudes.map(a => (a === null ? NaN : a))])) };
+  }
+
+  // -- state ---------------------------------------------------------------------------------
+  const S = {
+    v: Float64Array.from(PARAMS.map(c => c.value)),
+    o: new Uint8Array(PARAMS.length),
+    shown: new Set(D.show),
+    result: null, curve: null, mode: -1, playing: true, phase: 0, scale: 1, last: 0, timing: 0,
+  };
+  const P0 = Float64Array.from(PARAMS.map(c => c.value));
+
+  function recompute() {
+    const t0 = performance.now();
+    try {
+      if (LIVE) {
+        S.result = solveLive(parameters(S.v, S.o));
+        S.curve = curveLive(S.v, S.o, S.shown);
+      } else {
+        S.result = solvePrecomputed(S.v);
+        S.curve = curvePrecomputed();
+      }
+      $("status").textContent = S.result.error || "";
+    } catch (e) {
+      S.result = null;
+      $("status").textContent = String(e.message || e);
+      if (!(e instanceof Error) || e.constructor !== Error) console.error(e);  // a bug, not the model
+    }
+    render();
+    S.timing = performance.now() - t0;
+  }
+
+  // -- controls ------------------------------------------------------------------------------
+  const controlsOf = [];
+  function toSlider(c, x) {
+    const t = c.log ? Math.log(x / c.from) / Math.log(c.to / c.from) : (x - c.from) / (c.to - c.from);
+    return Math.round(1000 * Math.min(1, Math.max(0, t)));
+  }
+  function fromSlider(c, pos) {
+    const t = pos / 1000;
+    const x = c.log ? c.from * Math.pow(c.to / c.from, t) : c.from + (c.to - c.from) * t;
+    return x === 0 ? 0 : Number(x.toPrecision(4));
+  }
+  function shownValue(i) {
+    const p = S.result ? S.result.p : S.v;
+    return p[i];
+  }
+
+  function buildControls() {
+    const box = $("sliders");
+    const order = PARAMS.map((_, i) => i);
+    if (FREQ >= 0) { order.splice(FREQ, 1); order.unshift(FREQ); }
+    for (const i of order) {
+      const c = PARAMS[i];
+      const row = el("div", { class: "param" + (c.frequency ? " freq" : "") });
+      const id = `param-${i}`;
+      const label = el("label", { for: id });
+      const left = el("span");
+      if (c.frequency) left.append(el("span", {}, "excitation frequency "));
+      left.append(el("span", { class: "name" }, c.name));
+      label.append(left, el("span", { class: "unit" }, c.unit || "(SI)"));
+      const range = el("input", { type: "range", id, min: "0", max: "1000", step: "1", "data-name": c.name });
+      const field = el("input", { type: "number", step: "any", "aria-label": `${c.name} in ${c.unit || "SI units"}`, "data-name": c.name });
+      const line = el("div", { class: "row" });
+      line.append(range, field);
+      row.append(label, line);
+      let follow = null;
+      if (c.formula) {
+        const f = el("div", { class: "formula" });
+        f.append(el("span", {}, `= ${c.formula}`));
+        follow = el("button", { type: "button", "aria-pressed": "true" }, "follows formula");
+        follow.addEventListener("click", () => { S.o[i] = S.o[i] ? 0 : 1; S.v[i] = shownValue(i); recompute(); });
+        f.append(follow);
+        row.append(f);
+      }
+      if (!LIVE && !c.frequency) { range.disabled = true; field.disabled = true; }
+      range.addEventListener("input", () => setValue(i, fromSlider(c, Number(range.value)), false));
+      field.addEventListener("change", () => {
+        const x = Number(field.value);
+        if (field.value.trim() !== "" && Number.isFinite(x)) setValue(i, x * c.factor, true);
+        else syncControls();
+      });
+      box.append(row);
+      controlsOf[i] = { range, field, follow };
+    }
+  }
+
+  function setValue(i, x, fromField) {
+    S.v[i] = x;
+    if (PARAMS[i].formula) S.o[i] = 1;
+    recompute();
+    if (!fromField) syncControls(i);
+  }
+
+  function syncControls(except) {
+    PARAMS.forEach((c, i) => {
+      const ctl = controlsOf[i];
+      if (!ctl) return;
+      const x = shownValue(i);
+      if (i !== except) ctl.range.value = String(toSlider(c, x));
+      ctl.range.setAttribute("aria-valuetext", `${fmt(x / c.factor)} ${c.unit}`.trim());
+      if (document.activeElement !== ctl.field) ctl.field.value = String(Number((x / c.factor).toPrecision(10)));
+      if (ctl.follow) {
+        ctl.follow.setAttribute("aria-pressed", S.o[i] ? "false" : "true");
+        ctl.follow.textContent = S.o[i] ? "set (click to follow the formula)" : "follows formula";
+      }
+    });
+  }
+
+  // -- numbers -------------------------------------------------------------------------------
+  function responseTable(r) {
+    const t = $("response-table");
+    t.replaceChildren();
+    const head = el("tr");
+    ["", "amplitude", "phase δ (rad)", "δ (°)"].forEach(h => head.append(el("th", { scope: "col" }, h)));
+    t.append(el("caption", { class: "hint" }, excitationText(r)), head);
+    for (const x of NAMES) {
+      if (r.amplitudes[x.name] === undefined && !LIVE) continue;  // not precomputed
+      const tr = el("tr", { "data-name": x.name });
+      tr.append(el("th", { scope: "row" }, x.name));
+      const amp = r.amplitudes[x.name];
+      const td = el("td");
+      if (amp !== undefined) {
+        const e = number(amp / x.factor, 6, `amplitudes.${x.name}`);
+        e.setAttribute("data-si", String(amp));
+        td.append(e, el("span", { class: "unit" }, x.unit ? ` ${x.unit}` : ""));
+      } else td.textContent = "–";
+      const ph = r.phases[x.name];
+      const tdp = el("td"), tdd = el("td");
+      if (ph !== undefined) { tdp.append(number(ph, 6, `phases.${x.name}`)); tdd.textContent = fmt(ph * 180 / Math.PI, 4); } else { tdp.textContent = "–"; tdd.textContent = "–"; }
+      tr.append(td, tdp, tdd);
+      t.append(tr);
+    }
+  }
+
+  function excitationText(r) {
+    if (!r.available) return "no stationary solution (a signal is not a sum of harmonics)";
+    const ws = r.harmonics.map(h => h.omega);
+    if (!ws.length) return "free vibration: no excitation";
+    return "excitation at ω = " + ws.map(w => `${fmt(w)} rad/s`).join(", ");
+  }
+
+  function frequencyTable(r) {
+    const t = $("frequency-table");
+    t.replaceChildren();
+    const head = el("tr");
+    ["mode", "ω (rad/s)", "f (Hz)", "damping ratio ζ"].forEach(h => head.append(el("th", { scope: "col" }, h)));
+    t.append(head);
+    r.omegas.forEach((w, j) => {
+      const tr = el("tr");
+      tr.append(el("td", {}, String(j + 1)));
+      const a = el("td"); a.append(number(w, 7, `natural_frequencies.${j}`));
+      const b = el("td"); b.append(number(w / (2 * Math.PI), 6));
+      const z = el("td");
+      const zeta = r.damping.ratios[j];
+      if (zeta !== undefined) z.append(number(zeta, 4, `damping_ratios.${j}`)); else z.textContent = "–";
+      tr.append(a, b, z);
+      t.append(tr);
+    });
+  }
+
+  function matrixTable(label, a) {
+    const t = el("table", { class: "matrix", "data-matrix": label });
+    t.append(el("caption", {}, label));
+    for (let i = 0; i < n; i++) {
+      const tr = el("tr");
+      for (let j = 0; j < n; j++) { const td = el("td"); td.append(number(a[i * n + j], 5, `${label}.${i}.${j}`)); tr.append(td); }
+      t.append(tr);
+    }
+    const wrap = el("div", { class: "scroll" });
+    wrap.append(t);
+    return wrap;
+  }
+
+  function renderNumbers(r) {
+    responseTable(r);
+    frequencyTable(r);
+    const st = $("stability");
+    st.textContent = r.stability;
+    const box = $("matrices");
+    box.replaceChildren();
+    if (r.M) {
+      box.append(matrixTable("M", r.M), matrixTable("C", r.C), matrixTable("K", r.K));
+    } else box.append(el("p", { class: "hint" }, `M, C, K are ${n} × ${n}: not shown.`));
+    const w = $("warnings");
+    w.replaceChildren(...r.warnings.map(x => el("p", {}, x)));
+  }
+
+  // -- plots ---------------------------------------------------------------------------------
+  function canvasContext(canvas) {
+    const ratio = window.devicePixelRatio || 1;
+    const w = canvas.clientWidth || 600, h = canvas.clientHeight || 260;
+    if (canvas.width !== Math.round(w * ratio) || canvas.height !== Math.round(h * ratio)) {
+      canvas.width = Math.round(w * ratio); canvas.height = Math.round(h * ratio);
+    }
+    const ctx = canvas.getContext("2d");
+    ctx.setTransform(ratio, 0, 0, ratio, 0, 0);
+    ctx.clearRect(0, 0, w, h);
+    ctx.font = "12px system-ui, sans-serif";
+    return { ctx, w, h };
+  }
+
+  function niceTicks(a, b, count) {
+    const span = b - a, raw = span / count;
+    const step = Math.pow(10, Math.floor(Math.log10(raw)));
+    const mult = [1, 2, 5, 10].find(m => m * step >= raw) * step;
+    const out = [];
+    for (let x = Math.ceil(a / mult) * mult; x <= b + 1e-9 * span; x += mult) out.push(x);
+    return out;
+  }
+
+  function drawResponse() {
+    const { ctx, w, h } = canvasContext($("response"));
+    const r = S.result, curve = S.curve;
+    if (!curve || !r) {
+      ctx.fillStyle = "#5b5b60";
+      ctx.fillText(FREQ < 0 ? "The excitation frequency is not a parameter of this model: no curve." : "No curve.", 12, 24);
+      $("response-caption").textContent = "";
+      return;
+    }
+    const c = PARAMS[FREQ];
+    const left = 58, right = 12, top = 10, bottom = 34;
+    const xs = curve.values;
+    let hi = 0;
+    for (const s of S.shown) for (const y of curve.curves[s] || []) if (Number.isFinite(y) && y > hi) hi = y / (UNIT[s] ? UNIT[s].factor : 1);
+    if (!(hi > 0)) hi = 1;
+    const lo = hi * 1e-5;
+    const X = x => left + (w - left - right) * (x - xs[0]) / (xs[xs.length - 1] - xs[0]);
+    const Y = y => top + (h - top - bottom) * (1 - (Math.log10(Math.max(y, lo)) - Math.log10(lo)) / (Math.log10(hi) - Math.log10(lo) + 1e-300));
+    ctx.strokeStyle = "#e4e1da"; ctx.fillStyle = "#5b5b60"; ctx.lineWidth = 1;
+    for (let e = Math.ceil(Math.log10(lo)); e <= Math.floor(Math.log10(hi)); e++) {
+      const y = Y(Math.pow(10, e));
+      ctx.beginPath(); ctx.moveTo(left, y); ctx.lineTo(w - right, y); ctx.stroke();
+      ctx.textAlign = "right"; ctx.fillText(`1e${e}`, left - 4, y + 4);
+    }
+    ctx.textAlign = "center";
+    for (const x of niceTicks(xs[0] / c.factor, xs[xs.length - 1] / c.factor, 6)) {
+      const px = X(x * c.factor);
+      ctx.beginPath(); ctx.moveTo(px, top); ctx.lineTo(px, h - bottom); ctx.stroke();
+      ctx.fillText(fmt(x, 4), px, h - bottom + 14);
+    }
+    ctx.fillText(`${c.name} (${c.unit || "SI"})`, left + (w - left - right) / 2, h - 4);
+    ctx.setLineDash([4, 3]); ctx.strokeStyle = "#8a8a8a";
+    r.omegas.forEach((wn, j) => {
+      if (wn < xs[0] || wn > xs[xs.length - 1]) return;
+      const px = X(wn);
+      ctx.beginPath(); ctx.moveTo(px, top); ctx.lineTo(px, h - bottom); ctx.stroke();
+      ctx.fillText(`ω${j + 1}`, px, top + 10);
+    });
+    ctx.setLineDash([]);
+    [...S.shown].forEach(s => {
+      const ys = curve.curves[s];
+      if (!ys) return;
+      const f = UNIT[s] ? UNIT[s].factor : 1;
+      ctx.strokeStyle = colourOf(s); ctx.lineWidth = 1.6;
+      ctx.beginPath();
+      let pen = false;
+      ys.forEach((y, j) => {
+        if (!Number.isFinite(y) || y / f < lo) { pen = false; return; }  // off the axis
+        const px = X(xs[j]), py = Y(y / f);
+        if (pen) ctx.lineTo(px, py); else ctx.moveTo(px, py);
+        pen = true;
+      });
+      ctx.stroke();
+    });
+    const now = r.p[FREQ];
+    ctx.strokeStyle = "#f0a500"; ctx.lineWidth = 2;
+    ctx.beginPath(); ctx.moveTo(X(now), top); ctx.lineTo(X(now), h - bottom); ctx.stroke();
+    for (const s of S.shown) {
+      const a = r.amplitudes[s];
+      if (a === undefined || !(a > 0)) continue;
+      ctx.fillStyle = colourOf(s);
+      ctx.beginPath(); ctx.arc(X(now), Y(a / (UNIT[s] ? UNIT[s].factor : 1)), 3.5, 0, 2 * Math.PI); ctx.fill();
+    }
+    $("response-caption").textContent = `Peak amplitude (log scale, each in its unit) against ${c.name}; the orange line is the current value, dashed lines the natural frequencies ω1, ω2, … (rad/s)` + (FREQ >= 0 && c.unit && c.unit !== "rad/s" ? ` drawn where ${c.name} equals them` : "") + ".";
+  }
+
+  function colourOf(name) {
+    const i = NAMES.findIndex(x => x.name === name);
+    return COLOURS[i % COLOURS.length];
+  }
+
+  function periodOf(r) {
+    const ws = r.harmonics.map(h => h.omega).filter(w => w > 0);
+    if (!ws.length) return 1;
+    return NUM.commonPeriod(ws) || 2 * Math.PI / Math.min(...ws);
+  }
+
+  function valueAt(r, name, t) {
+    const p = r.pairs[name];
+    if (!p) return 0;
+    let y = 0;
+    r.harmonics.forEach((h, i) => { y += p[i][0] * Math.cos(h.omega * t) + p[i][1] * Math.sin(h.omega * t); });
+    return y;
+  }
+
+  function drawHistory() {
+    const { ctx, w, h } = canvasContext($("history"));
+    const r = S.result;
+    const names = [...S.shown].filter(s => r && r.pairs[s]);
+    if (!r || !names.length) { ctx.fillStyle = "#5b5b60"; ctx.fillText("No stationary response.", 12, 24); return; }
+    const T = periodOf(r), left = 96, right = 10, rows = names.length;
+    const rowH = (h - 22) / rows;
+    names.forEach((s, k) => {
+      const amp = Math.max(r.amplitudes[s] || 0, 1e-300), f = UNIT[s] ? UNIT[s].factor : 1;
+      const mid = 4 + rowH * (k + 0.5);
+      ctx.strokeStyle = "#e4e1da"; ctx.lineWidth = 1;
+      ctx.beginPath(); ctx.moveTo(left, mid); ctx.lineTo(w - right, mid); ctx.stroke();
+      ctx.fillStyle = colourOf(s); ctx.textAlign = "right";
+      ctx.fillText(s, left - 6, mid - 2);
+      ctx.fillStyle = "#5b5b60";
+      ctx.fillText(`±${fmt(amp / f, 3)} ${UNIT[s] ? UNIT[s].unit : ""}`, left - 6, mid + 12);
+      ctx.strokeStyle = colourOf(s); ctx.lineWidth = 1.5;
+      ctx.beginPath();
+      for (let j = 0; j <= 200; j++) {
+        const t = T * j / 200, y = valueAt(r, s, t) / amp;
+        const px = left + (w - left - right) * j / 200, py = mid - y * rowH * 0.42;
+        if (j) ctx.lineTo(px, py); else ctx.moveTo(px, py);
+      }
+      ctx.stroke();
+    });
+    const px = left + (w - left - right) * S.phase;
+    ctx.strokeStyle = "#f0a500"; ctx.lineWidth = 1.5;
+    ctx.beginPath(); ctx.moveTo(px, 2); ctx.lineTo(px, h - 20); ctx.stroke();
+    ctx.fillStyle = "#5b5b60"; ctx.textAlign = "center";
+    ctx.fillText(`t from 0 to T = ${fmt(T, 4)} s (one period); each curve scaled to its amplitude`, left + (w - left - right) / 2, h - 5);
+  }
+
+  // -- motion --------------------------------------------------------------------------------
+  const DR = D.drawing;
+  const SIGNALS = LAYOUT && LAYOUT.signals ? LAYOUT.signals.length : 0;
+  const REF = DR ? resonantMotion(P0, D.equilibrium, new Array(SIGNALS).fill(0)) : null;
+
+  // q(t) and s(t) of what is shown (response or mode), at phase x of one cycle
+  function displacement(x) {
+    const r = S.result;
+    const q = new Array(n).fill(0), s = new Array(SIGNALS).fill(0);
+    if (!r) return { q, s };
+    if (S.mode >= 0) {
+      const shape = r.modes[S.mode] || [];
+      const a = Math.sin(2 * Math.PI * x);
+      for (let i = 0; i < n; i++) q[i] = a * (shape[i] || 0);
+      return { q, s };
+    }
+    const t = periodOf(r) * x;
+    COORDS.forEach((c, i) => { q[i] = valueAt(r, c.name, t); });
+    if (DR && LIVE && SIGNALS) {
+      const f = resonantSignals(r.p);
+      for (let j = 0, k = 0; j < LAYOUT.signal_frequencies; j++) {
+        const w = f[k++];
+        for (let i = 0; i < SIGNALS; i++, k += 2) s[i] += f[k] * Math.sin(w * t) + f[k + 1] * Math.cos(w * t);
+      }
+    }
+    return { q, s };
+  }
+
+  function transforms(q, s, scale) {
+    const qa = q.map((v, i) => D.equilibrium[i] + scale * v), sa = s.map(v => scale * v);
+    const g = resonantMotion(P0, qa, sa);
+    return DR.owners.map((_, i) => ({
+      dx: g[3 * i] - REF[3 * i], dy: g[3 * i + 1] - REF[3 * i + 1], da: g[3 * i + 2] - REF[3 * i + 2],
+      px: REF[3 * i] + DR.shifts[i][0], py: REF[3 * i + 1] + DR.shifts[i][1],
+    }));
+  }
+
+  function apply(T, owner, p) {
+    const t = owner >= 0 ? T[owner] : null;
+    if (!t || !Number.isFinite(t.dx + t.dy + t.da)) return p;
+    const c = Math.cos(t.da), sn = Math.sin(t.da), rx = p[0] - t.px, ry = p[1] - t.py;
+    return [t.px + t.dx + c * rx - sn * ry, t.py + t.dy + sn * rx + c * ry];
+  }
+
+  // the largest drawn displacement per unit of motion (to choose the automatic scale)
+  function motionSize() {
+    let big = 0;
+    const eps = 1e-6;
+    for (let k = 0; k < 8; k++) {
+      const { q, s } = displacement(k / 8 + 1 / 16);
+      if (DR) {
+        const T = transforms(q, s, eps);
+        for (const t of T) big = Math.max(big, (Math.hypot(t.dx, t.dy) + Math.abs(t.da) * DR.scale) / eps);
+      } else for (const v of q) big = Math.max(big, Math.abs(v));
+    }
+    return big;
+  }
+
+  function autoScale() {
+    const size = motionSize();
+    const target = DR ? 0.12 * DR.scale : 1;
+    return size > 0 && Number.isFinite(size) ? target / size : 1;
+  }
+
+  function drawMotion() {
+    const canvas = $("mechanism");
+    const { ctx, w, h } = canvasContext(canvas);
+    const r = S.result;
+    if (!r) return;
+    const mult = Math.pow(10, Number($("scale").value) / 50);
+    const scale = S.scale * mult;
+    $("scale-out").textContent = fmt(scale, 3);
+    const { q, s } = displacement(S.phase);
+    if (DR && LIVE) drawMechanism(ctx, w, h, transforms(q, s, scale));
+    else drawBars(ctx, w, h, q);
+    drawHistory();
+  }
+
+  // the coordinates drawn as bars: all of a small model, else those of the curves
+  const BARS = (n <= 12 ? COORDS : COORDS.filter(c => D.show.includes(c.name)).concat(COORDS).slice(0, 12))
+    .filter((c, k, all) => all.indexOf(c) === k);
+
+  function drawBars(ctx, w, h, q) {
+    const r = S.result, left = 80, right = 20, rowH = Math.min(34, (h - 20) / Math.max(BARS.length, 1));
+    const groups = {};
+    const index = c => COORDS.indexOf(c);
+    BARS.forEach(c => {
+      const size = S.mode >= 0 ? 1 : Math.max(r.amplitudes[c.name] || 0, 0);
+      groups[c.unit] = Math.max(groups[c.unit] || 0, size);
+    });
+    const mid = left + (w - left - right) / 2, half = (w - left - right) / 2 - 4;
+    BARS.forEach((c, k) => {
+      const y = 10 + rowH * k;
+      const big = groups[c.unit] || 1;
+      const v = big > 0 ? q[index(c)] / big : 0;
+      ctx.fillStyle = "#f1efea"; ctx.fillRect(left, y + 4, w - left - right, rowH - 8);
+      ctx.fillStyle = colourOf(c.name);
+      const len = Math.max(-1, Math.min(1, v)) * half;
+      ctx.fillRect(Math.min(mid, mid + len), y + 6, Math.abs(len), rowH - 12);
+      ctx.fillStyle = "#1d1d1f"; ctx.textAlign = "right";
+      ctx.fillText(`${c.name}${c.unit ? " (" + c.unit + ")" : ""}`, left - 6, y + rowH / 2 + 4);
+    });
+    ctx.strokeStyle = "#1d1d1f";
+    ctx.beginPath(); ctx.moveTo(mid, 6); ctx.lineTo(mid, 10 + rowH * BARS.length); ctx.stroke();
+  }
+
+  // -- the mechanism (as resonant draw draws it) ------------------------------------------
+  const INK = "#1d1d1f", FILL = "#d9d6cf", FORCE = "#a8322d", COORD = "#1f4e9c";
+  function view(w, h) {
+    const [x0, x1, y0, y1] = DR.bounds, u = DR.scale, m = 0.12 * u;
+    const ax = x0 - 2 * m, bx = x1 + 2 * m, ay = y0 - m, by = y1 + m;
+    const k = Math.min(w / (bx - ax), h / (by - ay));
+    const ox = (w - k * (bx - ax)) / 2, oy = (h - k * (by - ay)) / 2;
+    return { k, X: x => ox + k * (x - ax), Y: y => h - oy - k * (y - ay) };
+  }
+
+  function along(a, b, t, side) {
+    const dx = b[0] - a[0], dy = b[1] - a[1], len = Math.hypot(dx, dy) || 1;
+    return [a[0] + t * dx - (side || 0) * dy / len, a[1] + t * dy + (side || 0) * dx / len];
+  }
+
+  function path(ctx, V, pts, close) {
+    ctx.beginPath();
+    pts.forEach((p, i) => (i ? ctx.lineTo(V.X(p[0]), V.Y(p[1])) : ctx.moveTo(V.X(p[0]), V.Y(p[1]))));
+    if (close) ctx.closePath();
+  }
+
+  function label(ctx, V, lab, p, align, colour, size) {
+    if (!lab || !lab.text) return;
+    const [base, sub, rest] = lab.math ? latexText(lab.text) : [lab.text, "", ""];
+    const fs = size || (lab.math ? 14 : 12);
+    ctx.fillStyle = colour || INK;
+    ctx.textBaseline = "middle";
+    const font = (lab.math ? "italic " : "") + `${fs}px Georgia, serif`;
+    ctx.font = font;
+    const bw = ctx.measureText(base).width;
+    ctx.font = `${Math.round(fs * 0.72)}px Georgia, serif`;
+    const sw = ctx.measureText(sub).width;
+    ctx.font = font;
+    const rw = ctx.measureText(rest).width, total = bw + sw + rw;
+    let x = V.X(p[0]);
+    if (align === "center") x -= total / 2; else if (align === "right") x -= total;
+    const y = V.Y(p[1]);
+    ctx.textAlign = "left";
+    ctx.fillText(base, x, y);
+    if (sub) { ctx.font = `${Math.round(fs * 0.72)}px Georgia, serif`; ctx.fillText(sub, x + bw, y + fs * 0.3); ctx.font = font; }
+    if (rest) ctx.fillText(rest, x + bw + sw, y);
+    ctx.textBaseline = "alphabetic";
+  }
+
+  function arrowHead(ctx, V, tip, dir, size, colour) {
+    const d = Math.hypot(dir[0], dir[1]) || 1, ux = dir[0] / d, uy = dir[1] / d;
+    const X = V.X(tip[0]), Y = V.Y(tip[1]);
+    ctx.fillStyle = colour;
+    ctx.beginPath();
+    ctx.moveTo(X, Y);
+    ctx.lineTo(X - size * ux + 0.45 * size * uy, Y + size * uy + 0.45 * size * ux);
+    ctx.lineTo(X - size * ux - 0.45 * size * uy, Y + size * uy - 0.45 * size * ux);
+    ctx.closePath(); ctx.fill();
+  }
+
+  function drawLink(ctx, V, link, a, b, u) {
+    ctx.strokeStyle = INK; ctx.lineWidth = 1.1;
+    if (link.kind === "damper") {
+      const wd = 0.05 * u;
+      for (const seg of [[a, along(a, b, 0.35)], [along(a, b, 0.35, -wd), along(a, b, 0.35, wd)], [along(a, b, 0.35, -wd), along(a, b, 0.65, -wd)],
+        [along(a, b, 0.35, wd), along(a, b, 0.65, wd)], [along(a, b, 0.55, -0.75 * wd), along(a, b, 0.55, 0.75 * wd)], [along(a, b, 0.55), b]]) {
+        path(ctx, V, seg); ctx.stroke();
+      }
+      return;
+    }
+    const len = Math.hypot(b[0] - a[0], b[1] - a[1]);
+    const lead = len ? Math.min(0.2, 0.06 * u / len) : 0.2, amp = 0.045 * u;
+    const pts = [a, along(a, b, lead)];
+    for (let i = 0; i < 8; i++) pts.push(along(a, b, lead + (1 - 2 * lead) * (i + 0.5) / 8, amp * (i % 2 ? -1 : 1)));
+    pts.push(along(a, b, 1 - lead), b);
+    path(ctx, V, pts); ctx.stroke();
+  }
+
+  function drawSupport(ctx, V, sup, at, u) {
+    const nrm = sup.normal, t = [-nrm[1], nrm[0]], half = sup.width / 2, depth = 0.06 * u;
+    const a = [at[0] - half * t[0], at[1] - half * t[1]], b = [at[0] + half * t[0], at[1] + half * t[1]];
+    if (sup.post) { ctx.strokeStyle = INK; ctx.lineWidth = 2.2; path(ctx, V, [sup.post, at]); ctx.stroke(); }
+    ctx.fillStyle = "#ece9e3";
+    path(ctx, V, [a, b, [b[0] - depth * nrm[0], b[1] - depth * nrm[1]], [a[0] - depth * nrm[0], a[1] - depth * nrm[1]]], true); ctx.fill();
+    ctx.strokeStyle = INK; ctx.lineWidth = 1.4; path(ctx, V, [a, b]); ctx.stroke();
+    const slant = 0.6 * depth, count = Math.max(4, Math.floor((sup.width - slant) / (0.045 * u)));
+    ctx.lineWidth = 0.7;
+    for (let i = 0; i <= count; i++) {
+      const s = -half + slant + (sup.width - slant) * i / count;
+      const p0 = [at[0] + s * t[0], at[1] + s * t[1]];
+      path(ctx, V, [p0, [p0[0] - depth * nrm[0] - 0.6 * depth * t[0], p0[1] - depth * nrm[1] - 0.6 * depth * t[1]]]); ctx.stroke();
+    }
+    if (sup.signals && sup.signals.length) {
+      const mo = sup.motion || t, c = [at[0] - 2.4 * depth * nrm[0], at[1] - 2.4 * depth * nrm[1]], ha = 0.09 * u;
+      const s0 = [c[0] - ha * mo[0], c[1] - ha * mo[1]], e0 = [c[0] + ha * mo[0], c[1] + ha * mo[1]];
+      ctx.strokeStyle = FORCE; ctx.lineWidth = 1; path(ctx, V, [s0, e0]); ctx.stroke();
+      arrowHead(ctx, V, e0, mo, 7, FORCE); arrowHead(ctx, V, s0, [-mo[0], -mo[1]], 7, FORCE);
+      let side = [-mo[1], mo[0]];
+      if (side[1] < 0 || (side[1] === 0 && side[0] > 0)) side = [-side[0], -side[1]];
+      label(ctx, V, sup.label, [c[0] + 0.07 * u * side[0], c[1] + 0.07 * u * side[1]], "center", FORCE);
+    }
+  }
+
+  function circle(ctx, V, c, radius, fill, stroke, lw) {
+    ctx.beginPath(); ctx.arc(V.X(c[0]), V.Y(c[1]), Math.max(radius * V.k, 1), 0, 2 * Math.PI);
+    if (fill) { ctx.fillStyle = fill; ctx.fill(); }
+    if (stroke) { ctx.strokeStyle = stroke; ctx.lineWidth = lw || 1; ctx.stroke(); }
+  }
+
+  function drawBody(ctx, V, b, T, owner, u) {
+    const t = owner >= 0 ? T[owner] : null, da = t && Number.isFinite(t.da) ? t.da : 0;
+    if (b.shape === "block") {
+      const c = apply(T, owner, b.centre), ang = b.angle + da;
+      const cs = Math.cos(ang), sn = Math.sin(ang), hw = b.width / 2, hh = b.height / 2;
+      const corners = [[-hw, -hh], [hw, -hh], [hw, hh], [-hw, hh]].map(([x, y]) => [c[0] + cs * x - sn * y, c[1] + sn * x + cs * y]);
+      ctx.fillStyle = FILL; ctx.strokeStyle = INK; ctx.lineWidth = 1.3;
+      path(ctx, V, corners, true); ctx.fill(); ctx.stroke();
+      // not on what sits at its middle (a pin): under its top edge
+      const pinned = DR.pins.some(p => Math.hypot(p[0] - b.centre[0], p[1] - b.centre[1]) < 0.25 * b.height);
+      label(ctx, V, b.label, pinned ? [c[0] - sn * (hh - 0.05 * u), c[1] + cs * (hh - 0.05 * u)] : c, "center", INK, 12);
+    } else if (b.shape === "disc" || b.shape === "point") {
+      let c = apply(T, owner, b.centre);
+      if (b.path && b.path_centre) {
+        const pc = apply(T, owner, b.path_centre);
+        circle(ctx, V, pc, b.path, null, INK, 0.8);
+        const off = unbalanceDirection(b, owner);
+        c = [pc[0] + b.path * off[0], pc[1] + b.path * off[1]];
+        ctx.strokeStyle = INK; ctx.lineWidth = 1; path(ctx, V, [pc, c]); ctx.stroke();
+        circle(ctx, V, pc, 0.012 * u, INK);
+      }
+      circle(ctx, V, c, b.radius, b.shape === "disc" ? FILL : "#4a4a4a", INK, b.shape === "disc" ? 1.3 : 0.8);
+      if (b.shape === "disc") {
+        const ang = b.angle + da;
+        ctx.strokeStyle = INK; ctx.lineWidth = 0.9;
+        path(ctx, V, [c, [c[0] + b.radius * Math.cos(ang), c[1] + b.radius * Math.sin(ang)]]); ctx.stroke();
+        circle(ctx, V, c, 0.012 * u, INK);
+      }
+      label(ctx, V, b.label, [c[0] + b.radius + 0.03 * u, c[1] + b.radius], "left", INK, 12);
+    } else if (b.shape === "bar") {
+      const a = apply(T, owner, b.start), e = apply(T, owner, b.end), hw = b.width / 2;
+      ctx.fillStyle = "#bdb8ae"; ctx.strokeStyle = INK; ctx.lineWidth = 1;
+      path(ctx, V, [along(a, e, 0, hw), along(a, e, 1, hw), along(a, e, 1, -hw), along(a, e, 0, -hw)], true); ctx.fill(); ctx.stroke();
+      if (b.bob) circle(ctx, V, apply(T, owner, b.centre), b.bob, "#4a4a4a", INK, 0.8);
+      if (b.gravity_centre) centreMark(ctx, V, apply(T, owner, b.gravity_centre), Math.max(0.022 * u, 0.7 * hw), da);
+      const at = b.bob ? (([x, y]) => [x - b.bob - 0.03 * u, y + b.bob])(apply(T, owner, b.centre)) : along(a, e, 0.3, -(0.05 * u + hw));
+      label(ctx, V, b.label, at, e[1] < a[1] ? "right" : "left", INK, 12);
+    }
+  }
+
+  // the centre of gravity: a circle with two black quarters
+  function centreMark(ctx, V, c, radius, turn) {
+    circle(ctx, V, c, radius, "#fff", INK, 0.8);
+    const X = V.X(c[0]), Y = V.Y(c[1]), r = Math.max(radius * V.k, 1);
+    ctx.fillStyle = INK;
+    for (const start of [0, Math.PI]) {
+      ctx.beginPath(); ctx.moveTo(X, Y);
+      ctx.arc(X, Y, r, -(start + turn) - Math.PI / 2, -(start + turn), false);
+      ctx.closePath(); ctx.fill();
+    }
+  }
+
+  // the direction of an unbalance from its circle's centre (its signals turn it)
+  function unbalanceDirection(b, owner) {
+    const ref = [b.centre[0] - b.path_centre[0], b.centre[1] - b.path_centre[1]];
+    if (S.mode >= 0 || !SIGNALS) return norm(ref);
+    const { s } = displacement(S.phase);
+    const g = resonantMotion(P0, D.equilibrium, s.map(v => v * 1e-6));
+    const d = [g[3 * owner] - REF[3 * owner], g[3 * owner + 1] - REF[3 * owner + 1]];
+    return Math.hypot(d[0], d[1]) > 0 ? norm(d) : norm(ref);
+  }
+  function norm(v) { const d = Math.hypot(v[0], v[1]) || 1; return [v[0] / d, v[1] / d]; }
+
+  function drawArrowItem(ctx, V, item, T, owner, u) {
+    const colour = item.kind === "force" || item.kind === "torque" ? FORCE : COORD;
+    const t = owner >= 0 ? T[owner] : null, da = t && Number.isFinite(t.da) ? t.da : 0;
+    if (item.type === "Arrow") {
+      const s = apply(T, owner, item.start), cs = Math.cos(da), sn = Math.sin(da);
+      const v = [cs * item.vector[0] - sn * item.vector[1], sn * item.vector[0] + cs * item.vector[1]];
+      const e = [s[0] + v[0], s[1] + v[1]];
+      ctx.strokeStyle = colour; ctx.lineWidth = 1.4; path(ctx, V, [s, e]); ctx.stroke();
+      arrowHead(ctx, V, e, v, 9, colour);
+      const d = norm(v);
+      if (item.kind === "coordinate") {
+        const tick = 0.035 * u;
+        path(ctx, V, [[s[0] - tick * d[1], s[1] + tick * d[0]], [s[0] + tick * d[1], s[1] - tick * d[0]]]); ctx.stroke();
+      }
+      label(ctx, V, item.label, [e[0] + 0.06 * u * d[0], e[1] + 0.06 * u * d[1]], d[0] > 0.3 ? "left" : d[0] < -0.3 ? "right" : "center", colour);
+    } else {
+      const c = apply(T, owner, item.centre), steps = 24, pts = [];
+      for (let i = 0; i <= steps; i++) {
+        const a = item.start + (item.stop - item.start) * i / steps + da;
+        pts.push([c[0] + item.radius * Math.cos(a), c[1] + item.radius * Math.sin(a)]);
+      }
+      ctx.strokeStyle = colour; ctx.lineWidth = 1.3; path(ctx, V, pts); ctx.stroke();
+      const last = pts[steps], prev = pts[steps - 1];
+      arrowHead(ctx, V, last, [last[0] - prev[0], last[1] - prev[1]], 8, colour);
+      const mid = (item.start + item.stop) / 2 + da;
+      label(ctx, V, item.label, [c[0] + (item.radius + 0.06 * u) * Math.cos(mid), c[1] + (item.radius + 0.06 * u) * Math.sin(mid)], "center", colour);
+    }
+  }
+
+  function drawMechanism(ctx, w, h, T) {
+    const V = view(w, h), u = DR.scale, carry = DR.carriers;
+    DR.supports.forEach((sup, i) => drawSupport(ctx, V, sup, apply(T, carry.supports[i], sup.position), u));
+    DR.links.forEach((link, i) => {
+      const [oa, ob] = carry.links[i] || [-1, -1];
+      const a = apply(T, oa, link.start), b = apply(T, ob, link.end);
+      drawLink(ctx, V, link, a, b, u);
+      const shift = [(a[0] - link.start[0] + b[0] - link.end[0]) / 2, (a[1] - link.start[1] + b[1] - link.end[1]) / 2];
+      label(ctx, V, link.label, [link.label_at[0] + shift[0], link.label_at[1] + shift[1]], "center", INK, 13);
+    });
+    DR.bodies.forEach((b, i) => drawBody(ctx, V, b, T, carry.bodies[i], u));
+    DR.pins.forEach((pin, i) => circle(ctx, V, apply(T, carry.pins[i], pin), 0.022 * u, "#fff", INK, 1.1));
+    for (const [name, x, y, owner] of DR.points) {
+      if (DR.pins.some(p => Math.hypot(p[0] - x, p[1] - y) < 1e-9)) continue;
+      const at = apply(T, owner, [x, y]);
+      circle(ctx, V, at, 0.012 * u, INK);
+      label(ctx, V, { text: name.split(".").slice(1).join("."), math: false }, [at[0] - 0.04 * u, at[1] - 0.03 * u], "right", INK, 11);
+    }
+    DR.forces.forEach((f, i) => drawArrowItem(ctx, V, f, T, carry.forces[i], u));
+    DR.coordinates.forEach(c => drawArrowItem(ctx, V, c, T, -1, u));
+  }
+
+  // -- what moves: the response or a mode ---------------------------------------------------
+  function buildModes() {
+    const box = $("modes");
+    box.replaceChildren();
+    const r = S.result;
+    const add = (j, text) => {
+      const b = el("button", { type: "button", "data-mode": String(j), "aria-pressed": String(S.mode === j) }, text);
+      b.addEventListener("click", () => showMode(j));
+      box.append(b);
+    };
+    add(-1, "Stationary response");
+    if (r) r.modes.slice(0, 12).forEach((_, j) => add(j, `Mode ${j + 1}: ${fmt(r.omegas[j], 4)} rad/s`));
+  }
+
+  function showMode(j) {
+    S.mode = j;
+    S.scale = autoScale();
+    buildModes();
+    captionMotion();
+    drawMotion();
+  }
+
+  function captionMotion() {
+    const r = S.result;
+    let text;
+    if (!r) text = "";
+    else if (S.mode >= 0) text = `Mode ${S.mode + 1} (ω = ${fmt(r.omegas[S.mode], 5)} rad/s, f = ${fmt(r.omegas[S.mode] / (2 * Math.PI), 5)} Hz), largest component +1: ` + COORDS.map((c, i) => `${c.name} ${fmt((r.modes[S.mode] || [])[i], 4)}`).join(", ") + ".";
+    else text = `The stationary response, one period in 2 s.` + (DR ? ` Displacements drawn ×${fmt(S.scale * Math.pow(10, Number($("scale").value) / 50), 3)}; the parts keep the file's dimensions.` : " Each bar is a coordinate, scaled by the largest amplitude of its unit.");
+    $("motion-caption").textContent = text;
+  }
+
+  function buildShown() {
+    const box = $("shown");
+    for (const x of NAMES) {
+      if (!LIVE && !(PRE.curve && PRE.curve.names[x.name])) continue;
+      const id = `show-${x.name}`;
+      const lab = el("label", { for: id });
+      const box1 = el("input", { type: "checkbox", id });
+      box1.checked = S.shown.has(x.name);
+      box1.addEventListener("change", () => { if (box1.checked) S.shown.add(x.name); else S.shown.delete(x.name); recompute(); });
+      const sw = el("span", { class: "swatch" });
+      sw.style.background = colourOf(x.name);
+      lab.append(box1, sw, el("span", {}, x.name));
+      box.append(lab);
+    }
+  }
+
+  function render() {
+    const r = S.result;
+    if (r) renderNumbers(r);
+    drawResponse();
+    if (r && S.mode >= r.modes.length) S.mode = -1;
+    const before = $("modes").childElementCount;
+    if (!r || before !== (r.modes.slice(0, 12).length + 1)) buildModes();
+    else $("modes").querySelectorAll("button").forEach((b, j) => { if (j > 0) b.textContent = `Mode ${j}: ${fmt(r.omegas[j - 1], 4)} rad/s`; });
+    S.scale = autoScale();
+    captionMotion();
+    drawMotion();
+  }
+
+  function frame(now) {
+    if (S.playing) {
+      const dt = S.last ? (now - S.last) / 1000 : 0;
+      S.phase = (S.phase + dt / 2) % 1;
+      drawMotion();
+    }
+    S.last = now;
+    requestAnimationFrame(frame);
+  }
+
+  // -- the script interface ------------------------------------------------------------------
+  function jsonMatrix(a) {
+    if (!a) return null;
+    const out = [];
+    for (let i = 0; i < n; i++) out.push(Array.from(a.slice(i * n, (i + 1) * n)));
+    return out;
+  }
+
+  function state() {
+    const r = S.result;
+    const out = { title: D.title, coordinates: COORDS.map(c => c.name), parameters: Object.fromEntries(PARAMS.map((c, i) => [c.name, r ? r.p[i] : S.v[i]])),
+      live: LIVE, error: r ? r.error : $("status").textContent, timing_ms: S.timing };
+    if (!r) return out;
+    Object.assign(out, { M: jsonMatrix(r.M), C: jsonMatrix(r.C), K: jsonMatrix(r.K), natural_frequencies: Array.from(r.omegas),
+      harmonics: r.harmonics, amplitudes: r.amplitudes, phases: r.phases, stability: r.stability,
+      eigenvalues: r.eig ? Array.from(r.eig.re).map((x, i) => [x, r.eig.im[i]]) : undefined,
+      damping_ratios: r.damping.ratios, mode_shapes: r.modes, stationary_available: r.available, warnings: r.warnings,
+      excitation: FREQ >= 0 ? { parameter: PARAMS[FREQ].name, value: r.p[FREQ] } : null,
+      view: { mode: S.mode, phase: S.phase, playing: S.playing, scale: S.scale * Math.pow(10, Number($("scale").value) / 50) } });
+    return JSON.parse(JSON.stringify(out));
+  }
+
+  function set(values) {
+    const unknown = [];
+    for (const [name, x] of Object.entries(values || {})) {
+      const i = PARAMS.findIndex(c => c.name === name);
+      if (i < 0 || typeof x !== "number" || !Number.isFinite(x) || (!LIVE && i !== FREQ)) { unknown.push(name); continue; }
+      S.v[i] = x;
+      if (PARAMS[i].formula) S.o[i] = 1;
+    }
+    recompute();
+    syncControls();
+    if (unknown.length) throw new Error(`not a parameter, not a finite number${LIVE ? "" : " or fixed on this precomputed page"}: ${unknown.join(", ")}`);
+    return state();
+  }
+
+  window.resonant = Object.freeze({
+    set, state,
+    reset() { S.v = Float64Array.from(P0); S.o.fill(0); recompute(); syncControls(); return state(); },
+    play() { S.playing = true; $("play").setAttribute("aria-pressed", "true"); $("play").textContent = "Pause"; },
+    pause() { S.playing = false; $("play").setAttribute("aria-pressed", "false"); $("play").textContent = "Play"; },
+    setPhase(x) { S.phase = ((Number(x) % 1) + 1) % 1; drawMotion(); return S.phase; },
+    showMode(j) { showMode(Number(j)); return S.mode; },
+    timeUpdate() { const t0 = performance.now(); recompute(); return performance.now() - t0; },
+  });
+
+  // -- start ---------------------------------------------------------------------------------
+  $("title").textContent = D.title || D.file;
+  $("file").textContent = D.file;
+  const badge = $("badge");
+  badge.textContent = LIVE ? "computed live from the model's equations" : "precomputed";
+  if (!LIVE) badge.classList.add("pre");
+  if (D.note) { $("note").textContent = D.note; $("note").hidden = false; }
+  if (!LIVE) $("numbers-heading").nextElementSibling.before(el("p", { class: "hint" }, "Precomputed by resonant at the file's parameter values; the frequency slider moves along the computed curve."));
+  buildControls();
+  buildShown();
+  $("play").addEventListener("click", () => (S.playing ? window.resonant.pause() : window.resonant.play()));
+  $("scale").addEventListener("input", () => { captionMotion(); drawMotion(); });
+  if (!DR) {  // bars: the scale of a drawing does not apply; as tall as the coordinates need
+    $("scale").closest(".toolbar").querySelectorAll("label, input, .hint").forEach(e => { e.hidden = true; });
+    $("mechanism").style.height = `${Math.min(420, Math.max(90, 34 * BARS.length + 24))}px`;
+  }
+  window.addEventListener("resize", () => render());
+  recompute();
+  syncControls();
+  requestAnimationFrame(frame);
+})();
