@@ -60,7 +60,13 @@ from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
 from ..system import Batch, BatchHarmonic
 from ..system.stability import check_mass_matrix
-from .reduced import DEFAULT_TOL, backward_stable, reduced_response, sparse_lu_options
+from .reduced import (
+    DEFAULT_TOL,
+    backward_stable,
+    probe_frequency,
+    reduced_response,
+    sparse_lu_options,
+)
 
 METHODS = ("auto", "direct", "dense", "banded", "sparse", "modal", "reduced")
 #: a point whose condition number exceeds this is an exact resonance
@@ -193,7 +199,7 @@ def _is_proportional(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> bool:
     return bool(np.linalg.norm(lhs - rhs) <= 1e-9 * scale)
 
 
-def direct_costs(batch: Any) -> dict[str, float]:
+def direct_costs(batch: Any, omega: np.ndarray | None = None) -> dict[str, float]:
     """Estimated seconds per frequency of the exact direct methods for fixed M, C, K.
 
     ``dense``: (32/3) n^3 real FLOPs of a complex LU at :data:`DENSE_RATE`;
@@ -201,16 +207,20 @@ def direct_costs(batch: Any) -> dict[str, float]:
     :data:`BANDED_RATE` (less for narrow bands) plus the band storage;
     ``sparse`` (sparse matrices only): from one *measured* SuperLU factorization
     (fill-reducing ordering, :func:`resonant.analyses.reduced.sparse_lu_options`)
-    of A at a representative frequency: the FLOPs sum_k 8 |L_k| |U_k| counted
-    from the structure of its factors at :data:`SPARSE_RATE`, plus the solve
-    and the assembly; its fill nnz(L + U) is returned as ``"sparse_fill"``.
-    (Not its wall time: on a shared machine that varies tenfold.)  The probe is
-    skipped when the band is so narrow that no sparse LU can beat it.
+    of A(s) at a frequency s inside the band
+    (:func:`resonant.analyses.reduced.probe_frequency`, the middle of the band):
+    the FLOPs sum_k 8 |L_k| |U_k| counted from the structure of its factors at
+    :data:`SPARSE_RATE`, plus the solve and the assembly; its fill nnz(L + U) is
+    returned as ``"sparse_fill"``.  (Not its wall time: on a shared machine that
+    varies tenfold.)  The probe is skipped when the band is so narrow that no
+    sparse LU can beat it, and when no frequency is known.
 
     Parameters
     ----------
     batch : Batch
         With ``constant`` matrices.
+    omega : ndarray, optional
+        The frequencies to be solved (default: those of the batch's harmonics).
 
     Returns
     -------
@@ -230,34 +240,53 @@ def direct_costs(batch: Any) -> dict[str, float]:
     >>> min(costs, key=costs.get)     # a chain: the band wins
     'banded'
     """
+    return _measured_costs(batch, omega)[0]
+
+
+def _band_costs(batch: Any) -> dict[str, float]:
+    """The modelled costs of the dense and banded LU per frequency (seconds)."""
     n = len(batch.coordinates)
     lower, upper = _bandwidths(batch.M, batch.C, batch.K)
     band_rate = BANDED_RATE * min(1.0, 0.1 + (lower + upper) / 200)
-    costs = {
+    return {
         "dense": 32.0 / 3.0 * n ** 3 / DENSE_RATE + 16.0 * n * n * 4 / DENSE_RATE
         + CALL_OVERHEAD,
         "banded": 8.0 * n * max(lower, 1) * (lower + upper + 1) / band_rate
         + 2e-9 * n * (2 * lower + upper + 1) * 3 + CALL_OVERHEAD,
     }
+
+
+def _batch_frequencies(batch: Any, omega: np.ndarray | None) -> np.ndarray:
+    if omega is not None:
+        return np.abs(np.asarray(omega, dtype=float)).ravel()
+    parts = [np.abs(np.asarray(h.omega, dtype=float)).ravel() for h in batch.harmonics]
+    out = np.concatenate(parts) if parts else np.zeros(0)
+    return out[np.isfinite(out)]
+
+
+def _measured_costs(batch: Any, omega: np.ndarray | None
+                    ) -> tuple[dict[str, float], tuple[float, Any] | None]:
+    """:func:`direct_costs` and the probe's factorization (s, SuperLU), kept for reuse
+    (None when no sparse factorization was made)."""
+    costs = _band_costs(batch)
     if not any(hasattr(a, "tocsr") for a in (batch.M, batch.C, batch.K)):
-        return costs
+        return costs, None
     import scipy.sparse as sp
     from scipy.sparse.linalg import splu
 
+    n = len(batch.coordinates)
     M, C, K = (sp.csc_matrix(a) for a in (batch.M, batch.C, batch.K))
     pattern = (abs(K) + abs(M) + abs(C)).tocsc()
     # no sparse LU can do with less than its nonzeros and a call into SuperLU
     floor = 3e-8 * pattern.nnz + 1e-4
-    if costs["banded"] <= floor:
-        return costs
-    options = sparse_lu_options(pattern)
-    diag_k, diag_m = np.abs(K.diagonal()), np.abs(M.diagonal())
-    s = float(np.sqrt(diag_k.mean() / diag_m.mean())) if diag_m.mean() > 0 else 1.0
-    s = s if np.isfinite(s) and s > 0 else 1.0
+    w = _batch_frequencies(batch, omega)
+    if costs["banded"] <= floor or w.size == 0:
+        return costs, None
+    s = probe_frequency(w)
     try:
-        lu = splu((K - (s * s) * M + (1j * s) * C).tocsc(), **options)
+        lu = splu((K - (s * s) * M + (1j * s) * C).tocsc(), **sparse_lu_options(pattern))
     except RuntimeError:  # exactly singular there: the fill is not known
-        return costs
+        return costs, None
     # the factorization's work from its structure: column k of L times row k of U
     lower_counts = np.diff(lu.L.indptr) - 1
     upper_counts = np.bincount(lu.U.indices, minlength=n) - 1
@@ -265,22 +294,25 @@ def direct_costs(batch: Any) -> dict[str, float]:
     fill = float(lu.L.nnz + lu.U.nnz)
     costs["sparse"] = flops / SPARSE_RATE + 2e-8 * fill + 5e-8 * pattern.nnz + 1e-4
     costs["sparse_fill"] = fill
-    return costs
+    return costs, (s, lu)
 
 
-def choose_direct(batch: Any) -> str:
+def choose_direct(batch: Any, omega: np.ndarray | None = None) -> str:
     """The cheapest exact direct method (``dense``, ``banded`` or ``sparse``) by
-    :func:`direct_costs`; ``dense`` for matrices that change with the parameter."""
+    :func:`direct_costs` (its probe at ``omega``'s band, default the batch's
+    frequencies); ``dense`` for matrices that change with the parameter."""
     if not batch.constant:
         return "dense"
     if len(batch.coordinates) <= 40:
         return "dense"
-    costs = direct_costs(batch)
+    costs = direct_costs(batch, omega)
     costs.pop("sparse_fill", None)
     return min(costs, key=lambda k: costs[k])
 
 
-def choose_method(batch_or_matrices: Any, n_points: int = 1) -> str:
+def choose_method(batch_or_matrices: Any, n_points: int = 1,
+                  costs: dict[str, float] | None = None,
+                  omega: np.ndarray | None = None) -> str:
     """The exact method ``method="auto"`` uses for a sweep (when no reduced model is tried
     or it misses the tolerance).
 
@@ -291,7 +323,9 @@ def choose_method(batch_or_matrices: Any, n_points: int = 1) -> str:
     measured sparse LU, not the band alone); ``banded`` for dense arrays whose
     total bandwidth is at most n/10; ``modal`` for dense symmetric,
     proportionally damped systems with n <= 3000 (one eigendecomposition, then
-    n^2 per point); ``dense`` otherwise.
+    n^2 per point); ``dense`` otherwise.  ``costs``: :func:`direct_costs` when
+    already measured (no second probe); ``omega``: the frequencies to be solved
+    (where :func:`direct_costs` probes; default the batch's).
     """
     b = batch_or_matrices
     if not b.constant:
@@ -304,7 +338,7 @@ def choose_method(batch_or_matrices: Any, n_points: int = 1) -> str:
     if sparse:
         nnz = sum(a.nnz if hasattr(a, "nnz") else np.count_nonzero(a) for a in (b.M, b.C, b.K))
         if lower + upper + 1 <= max(3, n // 10) or nnz < 0.05 * n * n or n > 3000:
-            costs = direct_costs(b)
+            costs = direct_costs(b, omega) if costs is None else costs
             return "sparse" if costs.get("sparse", np.inf) < costs["banded"] else "banded"
     elif lower + upper + 1 <= max(3, n // 10):
         return "banded"
@@ -428,11 +462,11 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                             f"the tolerance {tol:.2g}; use method 'direct' for an exact solve")
         return result
     if method == "auto":
-        budget = _reduced_budget(batch, w, rhs)
+        budget, costs, probe = _reduced_plan(batch, w, rhs)
         if budget is not None:
             try:
-                attempt: KernelResult | None = _solve_reduced(batch, w, rhs, keep, tol,
-                                                              deadline, budget)
+                attempt: KernelResult | None = _solve_reduced(
+                    batch, w, rhs, keep, tol, deadline, budget, probe)
             except DeadlineExceeded:
                 raise
             except AnalysisError:  # no basis (A singular wherever tried): solve directly
@@ -440,9 +474,10 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
             if attempt is not None and attempt.error is not None and attempt.error <= tol:
                 progress.advance(N)
                 return attempt
-        method = choose_method(batch, N)
+        del probe  # its memory, before the direct solves
+        method = choose_method(batch, N, costs=costs, omega=w)
     elif method == "direct":
-        method = choose_direct(batch)
+        method = choose_direct(batch, w)
     store = _Store(N, keep)
     exact = exact_condition and method == "dense" and (
         n <= EXACT_CONDITION or (N == 1 and n <= EXACT_CONDITION_SINGLE))
@@ -471,31 +506,36 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact, method)
 
 
-def _reduced_budget(batch: Batch, w: np.ndarray, rhs: np.ndarray) -> float | None:
-    """Seconds a reduced model may take in ``auto``, or None when it is not worth trying:
-    fixed sparse (or very large) matrices and load, many distinct frequencies, and
-    direct solves estimated at more than :data:`REDUCED_WORTH` seconds."""
+def _reduced_plan(batch: Batch, w: np.ndarray, rhs: np.ndarray
+                  ) -> tuple[float | None, dict[str, float] | None, tuple[float, Any] | None]:
+    """(budget, costs, probe) of ``auto``: the seconds a reduced model may take (None when
+    it is not worth trying: it needs fixed sparse (or very large) matrices and load, many
+    distinct frequencies, and direct solves estimated at more than :data:`REDUCED_WORTH`
+    seconds), the direct costs when measured, and the probe's factorization (s, LU) that
+    the reduced model reuses as an expansion point."""
     n = len(batch.coordinates)
     if not batch.constant or rhs.ndim == 2 or n < REDUCED_MIN_SIZE:
-        return None
+        return None, None, None
     if not (any(hasattr(a, "tocsr") for a in (batch.M, batch.C, batch.K)) or n > 3000):
-        return None
+        return None, None, None
     if len(np.unique(w)) < REDUCED_MIN_POINTS:
-        return None
-    costs = direct_costs(batch)
-    costs.pop("sparse_fill", None)
-    direct = min(costs.values()) * len(w)
+        return None, None, None
+    costs, probe = _measured_costs(batch, w)
+    direct = min(v for k, v in costs.items() if k != "sparse_fill") * len(w)
     if direct < REDUCED_WORTH:
-        return None
-    return max(REDUCED_MIN_BUDGET, REDUCED_BUDGET * direct)
+        return None, costs, None
+    return max(REDUCED_MIN_BUDGET, REDUCED_BUDGET * direct), costs, probe
 
 
 def _solve_reduced(batch: Batch, w: np.ndarray, rhs: np.ndarray, keep: np.ndarray,
-                   tol: float, deadline: Deadline, budget: float | None) -> KernelResult:
+                   tol: float, deadline: Deadline, budget: float | None,
+                   probe: tuple[float, Any] | None = None) -> KernelResult:
     """The reduced model (:func:`resonant.analyses.reduced.reduced_response`) as a
-    KernelResult; condition numbers are the lower bound ||A|| ||z||_2 / ||b||."""
+    KernelResult; condition numbers are the lower bound ||A|| ||z||_2 / ||b||.
+    ``probe``: a factorization (s, LU) of A(s) made before, reused."""
     red = reduced_response(batch.M, batch.C, batch.K, rhs, w, tol=tol, keep=keep,
-                           deadline=deadline, budget=budget)
+                           deadline=deadline, budget=budget,
+                           factorizations=dict([probe]) if probe is not None else None)
     norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
     a_norm = norms[0] + w**2 * norms[1] + w * norms[2]
     b_norm = float(np.abs(rhs).max())
