@@ -474,7 +474,7 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
             if attempt is not None and attempt.error is not None and attempt.error <= tol:
                 progress.advance(N)
                 return attempt
-        del probe  # its memory, before the direct solves
+        probe.clear()  # its memory, before the direct solves
         method = choose_method(batch, N, costs=costs, omega=w)
     elif method == "direct":
         method = choose_direct(batch, w)
@@ -507,35 +507,35 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
 
 
 def _reduced_plan(batch: Batch, w: np.ndarray, rhs: np.ndarray
-                  ) -> tuple[float | None, dict[str, float] | None, tuple[float, Any] | None]:
+                  ) -> tuple[float | None, dict[str, float] | None, dict[float, Any]]:
     """(budget, costs, probe) of ``auto``: the seconds a reduced model may take (None when
     it is not worth trying: it needs fixed sparse (or very large) matrices and load, many
     distinct frequencies, and direct solves estimated at more than :data:`REDUCED_WORTH`
-    seconds), the direct costs when measured, and the probe's factorization (s, LU) that
-    the reduced model reuses as an expansion point."""
+    seconds), the direct costs when measured, and the probe's factorization {s: LU} that
+    the reduced model takes as an expansion point."""
     n = len(batch.coordinates)
     if not batch.constant or rhs.ndim == 2 or n < REDUCED_MIN_SIZE:
-        return None, None, None
+        return None, None, {}
     if not (any(hasattr(a, "tocsr") for a in (batch.M, batch.C, batch.K)) or n > 3000):
-        return None, None, None
+        return None, None, {}
     if len(np.unique(w)) < REDUCED_MIN_POINTS:
-        return None, None, None
+        return None, None, {}
     costs, probe = _measured_costs(batch, w)
     direct = min(v for k, v in costs.items() if k != "sparse_fill") * len(w)
-    if direct < REDUCED_WORTH:
-        return None, costs, None
-    return max(REDUCED_MIN_BUDGET, REDUCED_BUDGET * direct), costs, probe
+    if direct < REDUCED_WORTH or probe is None:
+        return (None if direct < REDUCED_WORTH else
+                max(REDUCED_MIN_BUDGET, REDUCED_BUDGET * direct)), costs, {}
+    return max(REDUCED_MIN_BUDGET, REDUCED_BUDGET * direct), costs, dict([probe])
 
 
 def _solve_reduced(batch: Batch, w: np.ndarray, rhs: np.ndarray, keep: np.ndarray,
                    tol: float, deadline: Deadline, budget: float | None,
-                   probe: tuple[float, Any] | None = None) -> KernelResult:
+                   probe: dict[float, Any] | None = None) -> KernelResult:
     """The reduced model (:func:`resonant.analyses.reduced.reduced_response`) as a
     KernelResult; condition numbers are the lower bound ||A|| ||z||_2 / ||b||.
-    ``probe``: a factorization (s, LU) of A(s) made before, reused."""
+    ``probe``: factorizations {s: LU} of A(s) made before, taken (emptied) by it."""
     red = reduced_response(batch.M, batch.C, batch.K, rhs, w, tol=tol, keep=keep,
-                           deadline=deadline, budget=budget,
-                           factorizations=dict([probe]) if probe is not None else None)
+                           deadline=deadline, budget=budget, factorizations=probe)
     norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
     a_norm = norms[0] + w**2 * norms[1] + w * norms[2]
     b_norm = float(np.abs(rhs).max())

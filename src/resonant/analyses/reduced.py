@@ -89,7 +89,7 @@ MAX_POINTS = 40
 #: most basis vectors
 MAX_BASIS = 800
 #: memory for the basis and the residual's QR factorization (bytes)
-MEMORY_BYTES = 768 * 2**20
+MEMORY_BYTES = 1536 * 2**20
 #: the estimate is this many times the relative residual scaled by the worst ratio
 #: of true error to residual seen at the validation solves
 SAFETY = 4.0
@@ -276,6 +276,57 @@ def _krylov(ops: _Operators, lu: Any, b: np.ndarray, s: float, q: int,
     return U[:n]
 
 
+def _cholesky_qr(X: np.ndarray, shift: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """X = Q R by one Cholesky QR step (Q = X R^-1 with R = chol(Xᵀ X + shift I)): a Gram
+    matrix and a triangular solve, both BLAS-3 (ten times faster than Householder QR
+    of a tall matrix here)."""
+    import scipy.linalg
+
+    G = X.T @ X
+    G[np.diag_indices_from(G)] += shift
+    R = scipy.linalg.cholesky(G, lower=False, check_finite=False)
+    Q = scipy.linalg.solve_triangular(R, X.T, trans="T", lower=False,
+                                      check_finite=False).T
+    return Q, R
+
+
+def _svd_tall(X: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The thin SVD X = U S Wt of a tall matrix (n >> k), through its QR factorization
+    by shifted Cholesky QR3 (Fukaya et al., SIAM J. Sci. Comput. 42 (2020) A477: a
+    shifted step makes any X, even rank deficient, well conditioned, two plain steps
+    make Q orthonormal to rounding; X = Q R to rounding of ||X||) and the SVD of R."""
+    n, k = X.shape
+    norm2 = float(np.einsum("ij,ij->", X, X))
+    if 4 * k > n or not norm2 > 0 or not np.isfinite(norm2):  # not tall: LAPACK is cheap
+        U, S, Wt = np.linalg.svd(X, full_matrices=False)
+        return U, S, Wt
+    shift = 11.0 * (n * k + k * (k + 1)) * np.finfo(float).eps * norm2
+    try:
+        Q, R = _cholesky_qr(X, shift)
+        for _ in range(2):
+            Q, T = _cholesky_qr(Q)
+            R = T @ R
+    except np.linalg.LinAlgError:  # (not seen: the shift makes X well conditioned)
+        U, S, Wt = np.linalg.svd(X, full_matrices=False)
+        return U, S, Wt
+    Ur, S, Wt = np.linalg.svd(R)
+    return Q @ Ur, S, Wt
+
+
+def _orthonormalize(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Q = Qo T with Qo orthonormal, for Q whose columns are nearly orthonormal already
+    (Cholesky QR twice; Householder QR when Q is not tall or not well conditioned)."""
+    if 4 * Q.shape[1] <= Q.shape[0]:
+        try:
+            Q1, T1 = _cholesky_qr(Q)
+            Q2, T2 = _cholesky_qr(Q1)
+            return Q2, T2 @ T1
+        except np.linalg.LinAlgError:
+            pass
+    Qo, T = np.linalg.qr(Q)
+    return Qo, T
+
+
 def _extend(V: np.ndarray, X: np.ndarray, drop: float) -> np.ndarray:
     """V with the new directions of X (complex columns split into real and imaginary
     parts), orthonormal; directions below ``drop`` (relative) are left out."""
@@ -287,33 +338,58 @@ def _extend(V: np.ndarray, X: np.ndarray, drop: float) -> np.ndarray:
     for _ in range(2):
         if V.shape[1]:
             X -= V @ (V.T @ X)
-    U, S, _ = np.linalg.svd(X, full_matrices=False)
+    U, S, _ = _svd_tall(X)
     Q = U[:, S > drop]
     if Q.shape[1] == 0:
         return V
     if V.shape[1]:
         Q -= V @ (V.T @ Q)
-        Q, _ = np.linalg.qr(Q)
+        Q, _ = _orthonormalize(Q)
     return np.hstack([V, Q])
 
 
 # -- the reduced system -----------------------------------------------------------------------
 
-class _Reduced:
-    """Vᵀ M V, Vᵀ C V, Vᵀ K V and Vᵀ b, solved at any frequencies."""
+class _Projection:
+    """Vᵀ K V, Vᵀ M V and Vᵀ C V kept up to date as the basis V grows: each update
+    multiplies only the new columns (K V of the whole basis is never stored)."""
 
-    def __init__(self, ops: _Operators, V: np.ndarray, b: np.ndarray) -> None:
-        self.V = V
-        self.KV, self.MV = np.asarray(ops.K @ V), np.asarray(ops.M @ V)
-        self.CV = np.asarray(ops.C @ V) if ops.damped else None
-        self.Kr, self.Mr = V.T @ self.KV, V.T @ self.MV
-        self.Cr = V.T @ self.CV if self.CV is not None else np.zeros_like(self.Kr)
-        self.br = V.T @ b
-        self.b = b
+    def __init__(self, ops: _Operators) -> None:
+        self.ops = ops
+        self.size = 0
+        self.reduced = [np.zeros((0, 0)) for _ in range(3)]   # K, M, C
+
+    def update(self, V: np.ndarray) -> list[np.ndarray]:
+        """Extend to the columns of V beyond those seen; the products K V_new, M V_new
+        (and C V_new when damped) of the new columns, for the residual."""
+        r0, r = self.size, V.shape[1]
+        new, old = V[:, r0:], V[:, :r0]
+        products = []
+        for i, A in enumerate((self.ops.K, self.ops.M, self.ops.C)):
+            grown = np.zeros((r, r))
+            grown[:r0, :r0] = self.reduced[i]
+            if i < 2 or self.ops.damped:
+                AN = np.asarray(A @ new)
+                grown[:, r0:] = V.T @ AN
+                # Vnᵀ A V0 = (Aᵀ Vn)ᵀ V0: no product with the old columns
+                grown[r0:, :r0] = np.asarray(A.T @ new).T @ old
+                products.append(AN)
+            self.reduced[i] = grown
+        self.size = r
+        return products
+
+
+class _Reduced:
+    """The reduced matrices Kr, Mr, Cr and load br, solved at any frequencies."""
+
+    def __init__(self, Kr: np.ndarray, Mr: np.ndarray, Cr: np.ndarray, br: np.ndarray
+                 ) -> None:
+        self.Kr, self.Mr, self.Cr, self.br = Kr, Mr, Cr, br
+        self.r = Kr.shape[0]
         self._modal = self._diagonalize()
 
     def _diagonalize(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
-        r = self.V.shape[1]
+        r = self.r
         try:
             minv = np.linalg.solve(self.Mr, np.hstack([self.Kr, self.Cr,
                                                         self.br.real[:, None],
@@ -334,7 +410,7 @@ class _Reduced:
 
     def solve(self, w: np.ndarray) -> np.ndarray:
         """y(w), shape (len(w), r); inf/NaN rows where the reduced system is singular."""
-        r = self.V.shape[1]
+        r = self.r
         out = np.empty((len(w), r), dtype=complex)
         per_point = 4 * r if self._modal is not None else r * r  # complex numbers
         chunk = max(1, _CHUNK_BYTES // (16 * max(per_point, 1)))
@@ -368,9 +444,12 @@ class _Residual:
     damping C = alpha M + beta K needs no C V columns.
     """
 
-    def __init__(self, ops: _Operators, b: np.ndarray) -> None:
+    def __init__(self, ops: _Operators, b: np.ndarray, capacity: int = 64) -> None:
         self.ops = ops
-        self.Q = np.zeros((ops.n, 0))
+        # Q's columns live in a column-major buffer: pages of columns not yet written are
+        # never touched (no resident memory), and adding columns copies nothing
+        self._buffer = np.empty((ops.n, max(capacity, 2)), order="F")
+        self.Q = self._buffer[:, :0]
         self.R = np.zeros((0, 0))   # (directions, columns of P): upper trapezoidal
         self.column: list[int] = []   # basis column of each column of P (-1: the load)
         self.kind: list[int] = []     # 0: K, 1: M, 2: C; for the load 0: Re b, 1: Im b
@@ -388,7 +467,7 @@ class _Residual:
                 R12 += h
         # What is left spans at most n - m new directions; rounding noise of columns that
         # were (nearly) in the span of Q is dropped (below 1e-14 of the block).
-        U, S, Wt = np.linalg.svd(X, full_matrices=False)
+        U, S, Wt = _svd_tall(X)
         rank = min(int(np.count_nonzero(S > 1e-14 * max(scale, 1e-300))), self.Q.shape[0] - m)
         Qn, R22 = U[:, :rank], S[:rank, None] * Wt[:rank]
         # orthogonalize Qn again and book the part taken out into R12 (X = Q R12 + Qn R22
@@ -397,25 +476,31 @@ class _Residual:
             h = self.Q.T @ Qn
             Qn = Qn - self.Q @ h
             R12 += h @ R22
-            Qn, T = np.linalg.qr(Qn)
+            Qn, T = _orthonormalize(Qn)
             R22 = T @ R22
         R = np.zeros((m + rank, self.R.shape[1] + X.shape[1]))
         R[:m, :self.R.shape[1]], R[:m, self.R.shape[1]:] = self.R, R12
         R[m:, self.R.shape[1]:] = R22
-        self.Q, self.R = np.hstack([self.Q, Qn]), R
+        if m + rank > self._buffer.shape[1]:
+            grown = np.empty((self._buffer.shape[0], max(m + rank, 2 * self._buffer.shape[1])),
+                             order="F")
+            grown[:, :m] = self.Q
+            self._buffer = grown
+        self._buffer[:, m:m + rank] = Qn
+        self.Q, self.R = self._buffer[:, :m + rank], R
         self.column += column
         self.kind += kind
 
-    def extend(self, red: _Reduced) -> None:
-        """Add the columns of the basis vectors not yet included."""
-        r = red.V.shape[1]
+    def extend(self, products: list[np.ndarray], r: int) -> None:
+        """Add the columns of the new basis vectors (``products``: K V_new, M V_new and
+        C V_new when damped; r: the basis size now)."""
         if r == self.size:
             return
         new = range(self.size, r)
-        blocks = [red.KV[:, self.size:], red.MV[:, self.size:]]
+        blocks = products[:2]
         kinds = [0, 1]
-        if red.CV is not None and self.ops.rayleigh is None:  # (Rayleigh: C V is in there)
-            blocks.append(red.CV[:, self.size:])
+        if len(products) > 2 and self.ops.rayleigh is None:  # (Rayleigh: C V is in there)
+            blocks.append(products[2])
             kinds.append(2)
         self._add(np.hstack(blocks), [j for _ in kinds for j in new],
                   [k for k in kinds for _ in new])
@@ -542,7 +627,9 @@ def reduced_response(M: Any, C: Any, K: Any, b: np.ndarray, w: np.ndarray, *,
         SuperLU factorizations of A(s) made before, by frequency s (the options of
         :func:`sparse_lu_options`): used instead of a new factorization where an
         expansion or validation point falls on s (``auto`` passes its cost probe,
-        made at :func:`probe_frequency`, one of the first expansion points).
+        made at :func:`probe_frequency`, one of the first expansion points).  An
+        entry used is removed from the dict, so that its memory is freed with the
+        point's moments.
 
     Returns
     -------
@@ -567,7 +654,7 @@ def reduced_response(M: Any, C: Any, K: Any, b: np.ndarray, w: np.ndarray, *,
     w = np.abs(np.asarray(w, dtype=float))
     b = np.asarray(b, dtype=complex).ravel()
     ops = _Operators(M, C, K)
-    ops.given = dict(factorizations or {})
+    ops.given = factorizations if factorizations is not None else {}
     keep = np.arange(ops.n) if keep is None else np.asarray(keep, dtype=int)
     if float(np.linalg.norm(b)) == 0:
         zeros = np.zeros(w.shape[0])
@@ -624,8 +711,9 @@ class _Enrichment:
         self.drop = min(1e-8, 1e-3 * tol)
         self.norms = [float(np.linalg.norm(a.data)) if a.nnz else 0.0
                       for a in (ops.K, ops.M, ops.C)]
-        # bytes per basis column: V, KV, MV, CV and the QR copy
-        self.max_basis = int(min(MAX_BASIS, MEMORY_BYTES // (8 * ops.n * 9)))
+        # bytes per basis column: V and the residual's Q (K V, M V, C V directions), with
+        # room for the temporaries of the newest point's columns
+        self.max_basis = int(min(MAX_BASIS, MEMORY_BYTES // (8 * ops.n * 5)))
         self.width = float(w.max() - w.min())
         # a basis given (other loads') is enriched further
         self.V = np.zeros((ops.n, 0)) if V is None else V
@@ -635,7 +723,8 @@ class _Enrichment:
         self.history: list[float] = []
         self.pending: list[tuple[float, Any]] = [
             (s, None) for s in _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))]
-        self.residual = _Residual(ops, b)
+        self.residual = _Residual(ops, b, 2 + 3 * self.max_basis)
+        self.projection = _Projection(ops)
         self.reason = ""
         N = w.shape[0]
         self.Y = np.zeros((N, 0), dtype=complex)
@@ -670,7 +759,9 @@ class _Enrichment:
         """Solve the reduced model at every frequency, estimate the errors; the index of
         the frequency to validate next (None: nothing left to validate)."""
         w = self.w
-        red = _Reduced(self.ops, self.V, self.b)
+        products = self.projection.update(self.V)
+        Kr, Mr, Cr = self.projection.reduced
+        red = _Reduced(Kr, Mr, Cr, self.V.T @ self.b)
         self.Y = red.solve(w)
         # an undamped resonance (condition number beyond SINGULAR_CONDITION, as in the
         # kernel) has no response to estimate: such points are singular, not errors
@@ -678,7 +769,8 @@ class _Enrichment:
             condition = self.a_norm(w) * np.linalg.norm(self.Y, axis=1) / self.b_norm
         self.finite = np.all(np.isfinite(self.Y), axis=1) & (condition <= SINGULAR_CONDITION)
         self.rho = np.full(w.shape[0], np.inf)
-        self.residual.extend(red)
+        self.residual.extend(products, self.V.shape[1])
+        del products
         if self.finite.any():
             self.rho[self.finite] = self.residual.norms(w[self.finite],
                                                         self.Y[self.finite]) / self.b_norm
@@ -743,8 +835,8 @@ def _factor_near(ops: _Operators, s: float, width: float) -> tuple[Any, float]:
     """The LU of A(s), or of A at a nearby frequency when A(s) is exactly singular."""
     for shift in (0.0, 1e-3, -1e-3, 1e-2):
         t = s + shift * max(width, abs(s), 1e-12)
-        if t in ops.given:
-            return ops.given[t], t
+        if t in ops.given:  # taken: its memory goes with the point's moments
+            return ops.given.pop(t), t
         if ops.cache is not None and t in ops.cache:
             return ops.cache[t], t
         try:
