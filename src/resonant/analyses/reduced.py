@@ -529,19 +529,24 @@ class _Residual:
 # -- the public function ----------------------------------------------------------------------
 
 def _initial_points(w: np.ndarray, count: int) -> list[float]:
+    """``count`` points spread over the band, each moved to the nearest frequency of w
+    (where the reduced response is then exact, and a direct sweep can reuse the
+    factorization of ``auto``'s cost probe)."""
     lo, hi = float(w.min()), float(w.max())
     if hi <= lo:
         return [lo]
-    return [lo + (hi - lo) * (j + 0.5) / count for j in range(count)]
+    grid = np.unique(w)
+    targets = [lo + (hi - lo) * (j + 0.5) / count for j in range(count)]
+    return list(dict.fromkeys(float(grid[np.argmin(np.abs(grid - t))]) for t in targets))
 
 
 def probe_frequency(w: np.ndarray) -> float:
     """The frequency (rad/s) where ``method="auto"`` measures a sparse factorization.
 
-    It is inside the band (the middle of the band, one of the reduced model's first
-    expansion points), so the measured factorization is one the reduced model
-    uses as it is (pass it in ``factorizations``) and one like those a direct
-    sweep makes.  (A shift outside the band, say s^2 = mean(diag K) / mean(diag M),
+    It is the frequency of w nearest the middle of the band, one of the reduced
+    model's first expansion points, so the measured factorization is one the
+    reduced model uses as it is (pass it in ``factorizations``) and one a sparse
+    direct sweep uses as it is.  (A shift outside the band, say s^2 = mean(diag K) / mean(diag M),
     can cancel the diagonal of K - s^2 M: on a uniform grid with unit masses it
     did, and the threshold pivoting that then leaves the diagonal multiplied the
     factorization's fill by 60 and its time by 400.)
@@ -557,8 +562,8 @@ def probe_frequency(w: np.ndarray) -> float:
 
     Examples
     --------
-    >>> probe_frequency(np.array([3.0, 1.0, 2.0, 5.0]))
-    3.0
+    >>> probe_frequency(np.array([3.5, 1.0, 2.0, 5.0]))
+    3.5
     """
     w = np.abs(np.asarray(w, dtype=float)).ravel()
     points = _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))
