@@ -27,7 +27,11 @@ their estimated costs (:func:`direct_costs`: the band's work n kl (kl + ku)
 against the measured factorization of a sparse LU with a fill-reducing
 ordering); ``"auto"`` tries ``"reduced"`` where the direct sweep would be long
 and keeps it only when its estimated error is below ``tol``, and otherwise
-uses :func:`choose_method`.
+uses :func:`choose_method`.  The measured factorization is made at a frequency
+of the sweep inside its band (:func:`resonant.analyses.reduced.probe_frequency`)
+and reused, by the reduced model as its first expansion point or by the sparse
+sweep at that frequency: choosing costs no factorization beyond those the chosen
+method makes (docs/sweeps.md).
 
 Every point gets a condition number (exact, or the lower bound
 ``||A|| ||z|| / ||F||``); above :data:`SINGULAR_CONDITION` the point is an

@@ -170,7 +170,9 @@ class FrequencyResponse:
         ``reduced``; several joined by ", " when the harmonics differ).
     estimated_error : float or None
         The estimated largest relative error of a reduced model (normwise, per
-        value); None for the exact methods.
+        value): an estimate, not a bound, seen at least as large as the true
+        largest error in every model tried (docs/sweeps.md); None for the exact
+        methods.
     tolerance : float or None
         The tolerance asked of a reduced model (None for the exact methods).
     frequency_sweep : bool
