@@ -154,7 +154,7 @@ def test_tolerance_met_at_every_frequency(kind, damping, tol):
     assert row["true_max"] <= max(row["estimated_error"], row["rounding"].max())
 
 
-@settings(max_examples=16, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.sampled_from(families.KINDS), st.sampled_from(families.DAMPINGS),
        st.sampled_from(families.TOLERANCES), st.integers(0, 2**20))
 def test_estimate_against_the_true_error(kind, damping, tol, seed):
