@@ -82,8 +82,11 @@ from ..model import Model
 from ..system import LinearSystem
 from ..system.base import parameter_values
 from ..system.nonlinear_elements import ElementForces
-from .harmonic_balance import NonlinearResponse, SpecialPoint
+from .continuation import follow
+from .harmonic_balance import NonlinearResponse
+from .peaks import series_peaks
 from .reduced import DEFAULT_TOL, reduced_model
+from .special_points import STABILITY_TOL, classify, special_points
 from .sweep import sweep
 
 #: models up to this many coordinates use the full matrices (no reduced model)
@@ -96,8 +99,6 @@ MAX_DYNAMIC = 40
 DEFAULT_HARMONICS = 5
 NEWTON_TOL = 1e-10
 NEWTON_MAX = 15
-STABILITY_TOL = 1e-6
-MAX_RELATIVE_CHANGE = 0.08
 #: frequencies per unit of the band where the reduced model's error is checked
 BAND_POINTS = 400
 
@@ -252,13 +253,18 @@ class CondensedBalance:
     """
 
     def __init__(self, linear: LinearPart, forces: Any, loads: list[tuple[int, int]],
-                 base: Any, H: int, N: int) -> None:
+                 base: Any, H: int, N: int, param: str, names: tuple[str, ...]) -> None:
         self.linear, self.forces, self.loads, self.base = linear, forces, loads, base
         self.m = linear.m
         self.basis = _Basis(H, N)
         self.H = H
         self.size = self.m * self.basis.size
+        self.param = param
+        self._names = names
+        self._rows = np.arange(len(names))
         self._cache: dict[float, np.ndarray] = {}
+        #: (sign of det J, parity of the real unstable exponents) at the branch's start
+        self.reference: tuple[float, int] | None = None
 
     def transfers(self, W: float, rows: np.ndarray | None = None) -> np.ndarray:
         """(H+1, rows, m + p) transfers at kW (default rows: the nonlinear coordinates)."""
@@ -313,6 +319,13 @@ class CondensedBalance:
         J = b.real(dr).transpose(0, 2, 1).reshape(self.size, self.size) + np.eye(self.size)
         return R, J
 
+    def jacobian(self, x: np.ndarray, p: float
+                 ) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, float, float]]:
+        """R, dR/dx and the point (x, p, W) for :meth:`exponents`."""
+        R, J = self.evaluate(x, p)
+        assert J is not None
+        return R, J, (x, p, self.base(p))
+
     def dp(self, x: np.ndarray, p: float) -> np.ndarray:
         h = 1e-6 * max(1.0, abs(p))
         return (self.evaluate(x, p + h, False)[0] - self.evaluate(x, p - h, False)[0]) / (2 * h)
@@ -332,9 +345,30 @@ class CondensedBalance:
                 return x, True
         return x, False
 
-    def exponents(self, x: np.ndarray, p: float) -> np.ndarray:
-        """Floquet exponents by Hill's method on the kept modes (see the module docstring)."""
+    def names(self) -> tuple[str, ...]:
+        """The nonlinear coordinates, then the observed ones."""
+        return self._names
+
+    def coefficients(self, x: np.ndarray, p: float) -> np.ndarray:
+        """(rows, 2H+1) real coefficients of every kept row (nonlinear and observed)."""
+        b, m = self.basis, self.m
         W = self.base(p)
+        T = self.transfers(W, self._rows)
+        U, Ud = self.samples(x, W)
+        F, _ = self.forces(p).evaluate(U, Ud)
+        G = b.complex(F @ b.P.T)
+        z = self.linear_response(T, slice(None)) - np.einsum("kij,jk->ik", T[:, :, :m], G)
+        return b.real(z)
+
+    def amplitudes(self, x: np.ndarray, p: float) -> np.ndarray:
+        """Peak |q| over one period of every kept row, located to rounding."""
+        return np.asarray(series_peaks(self.coefficients(x, p)))
+
+    def exponents(self, J: np.ndarray, blocks: tuple[np.ndarray, float, float]
+                  ) -> np.ndarray:
+        """Floquet exponents by Hill's method on the kept modes (see the module docstring);
+        ``blocks`` is the point (x, p, W) of :meth:`jacobian`."""
+        x, p, W = blocks
         lin, m, b = self.linear, self.m, self.basis
         U, Ud = self.samples(x, W)
         G0, G1 = self.forces(p).stiffness(U, Ud)                  # (m, m, N)
@@ -351,177 +385,65 @@ class CondensedBalance:
         s = mu_s.size
         if s == 0:
             return np.zeros(0, dtype=complex)
-        eye = np.eye(m)
-        A = np.empty((b.N, s, s), dtype=complex)
-        for j in range(b.N):
-            g0, g1 = G0[:, :, j], G1[:, :, j]
-            Tj = np.linalg.solve(eye - Rres @ g0, Cq + Rres @ g1 @ Cv)
-            A[j] = np.diag(mu_s) - Bs @ (g0 @ Tj + g1 @ Cv)
-        return _hill(A, W, self.H, s)
+        # per sample: the nonlinear coordinates' perturbation T eta (fast modes quasi-static)
+        # and the force it feeds back, P eta; A(t) = diag(mu) - Bs P(t)
+        E = np.eye(m) - np.einsum("ij,jkn->nik", Rres, G0)
+        rhs = Cq[None] + np.einsum("ij,jkn,kl->nil", Rres, G1, Cv)
+        T = np.linalg.solve(E, rhs)                               # (N, m, s)
+        P = np.einsum("ijn,njk->nik", G0, T) + np.einsum("ijn,jk->nik", G1, Cv)
+        H = self.H
+        spectrum = np.fft.fft(P, axis=0) / b.N                    # index k: e^{i k W t}
+        offsets = np.arange(-2 * H, 2 * H + 1)
+        coef = -np.einsum("ij,djk->dik", Bs, spectrum[offsets % b.N])
+        coef[2 * H] += np.diag(mu_s)
+        if b.N <= 4 * H:  # too few samples to resolve the offsets: alias-free part only
+            coef[np.abs(offsets) >= b.N // 2] = 0.0
+        lam = _hill(coef, W, H, s)
+        sign = float(np.linalg.slogdet(J)[0])
+        if self.reference is None:
+            self.reference = (sign, _real_unstable(lam, W) % 2)
+            return lam
+        odd = (sign != self.reference[0]) != bool(self.reference[1])
+        return _match_parity(lam, W, odd)
 
 
-def _hill(A: np.ndarray, W: float, H: int, s: int) -> np.ndarray:
-    """The s exponents of the periodic system eta' = A(t) eta (samples (N, s, s)) in the
-    fundamental strip, by Hill's method with harmonics -H ... H."""
-    N = A.shape[0]
-    coef = np.fft.fft(A, axis=0) / N                 # coef[k] multiplies e^{i k W t}
+def _hill(coef: np.ndarray, W: float, H: int, s: int) -> np.ndarray:
+    """The s exponents of the periodic system eta' = A(t) eta in the fundamental strip, by
+    Hill's method with harmonics -H ... H; ``coef[d + 2H]`` (s, s) multiplies
+    e^{i d W t}, d = -2H ... 2H."""
     size = s * (2 * H + 1)
     hill = np.zeros((size, size), dtype=complex)
     for a, k in enumerate(range(-H, H + 1)):
-        for c, l in enumerate(range(-H, H + 1)):
-            block = coef[(k - l) % N] if abs(k - l) < N // 2 else 0.0
-            hill[a * s:(a + 1) * s, c * s:(c + 1) * s] = block
+        for c, j in enumerate(range(-H, H + 1)):
+            hill[a * s:(a + 1) * s, c * s:(c + 1) * s] = coef[k - j + 2 * H]
         hill[a * s:(a + 1) * s, a * s:(a + 1) * s] -= 1j * k * W * np.eye(s)
     lam = np.linalg.eigvals(hill)
     order = np.argsort(np.abs(lam.imag), kind="stable")
     return lam[order[:s]]
 
 
-# -- continuation -------------------------------------------------------------------------
-
-@dataclass
-class _Branch:
-    x: list[np.ndarray]
-    p: list[float]
-    tangents: list[np.ndarray]
-    warnings: list[str]
-    sx: float
-    sp: float
+def _real_unstable(lam: np.ndarray, W: float) -> int:
+    """The count of unstable exponents with no oscillating part (multipliers > 1)."""
+    return classify(lam, W)[0]
 
 
-def _tangent(J: np.ndarray, Rp: np.ndarray, sx: float, sp: float, previous: np.ndarray
-             ) -> np.ndarray:
-    A = np.vstack([np.hstack([J * sx, (Rp * sp)[:, None]]), previous[None, :]])
-    rhs = np.zeros(A.shape[0])
-    rhs[-1] = 1.0
-    t = np.linalg.solve(A, rhs)
-    t /= np.linalg.norm(t)
-    return t if t @ previous >= 0 else -t
-
-
-def _correct(hb: CondensedBalance, pred: np.ndarray, t: np.ndarray, sx: float, sp: float
-             ) -> tuple[np.ndarray, bool, int]:
-    """Newton on R(x, p) = 0 and t . (v - pred) = 0 (scaled variables)."""
-    v = pred.copy()
-    Rp = hb.dp(pred[:-1] * sx, pred[-1] * sp)
-    for iterations in range(1, NEWTON_MAX + 1):
-        R, J = hb.evaluate(v[:-1] * sx, v[-1] * sp)
-        assert J is not None
-        A = np.vstack([np.hstack([J * sx, (Rp * sp)[:, None]]), t[None, :]])
-        try:
-            dv = np.linalg.solve(A, -np.concatenate([R, [t @ (v - pred)]]))
-        except np.linalg.LinAlgError:
-            return v, False, iterations
-        v = v + dv
-        if not np.all(np.isfinite(v)):
-            return v, False, iterations
-        if np.linalg.norm(dv) <= NEWTON_TOL * max(float(np.linalg.norm(v)), 1.0):
-            return v, True, iterations
-    return v, False, NEWTON_MAX
-
-
-def _step(hb: CondensedBalance, branch: _Branch, ds: float, name: str
-          ) -> tuple[np.ndarray, float, np.ndarray, int, float] | None:
-    """One predictor-corrector step from the last point (None: no acceptable step)."""
-    sx, sp = branch.sx, branch.sp
-    x, p, t = branch.x[-1], branch.p[-1], branch.tangents[-1]
-    u = np.concatenate([x / sx, [p / sp]])
-    v, ok, iterations = _correct(hb, u + ds * t, t, sx, sp)
-    x_new, p_new = v[:-1] * sx, float(v[-1] * sp)
-    change = float(np.linalg.norm(x_new - x)) / max(float(np.linalg.norm(x)), 1e-3 * sx)
-    if not ok or change > 2 * MAX_RELATIVE_CHANGE:
-        return None
-    _, J = hb.evaluate(x_new, p_new)
-    assert J is not None
-    t_new = _tangent(J, hb.dp(x_new, p_new), sx, sp, t)
-    if t_new @ t < 0.8 and ds > 1e-4:  # turned too sharply: maybe a jump between branches
-        return None
-    return x_new, p_new, t_new, iterations, change
-
-
-def _continue(hb: CondensedBalance, x0: np.ndarray, start: float, stop: float, points: int,
-              name: str, deadline: Deadline) -> _Branch:
-    sp = abs(stop - start)
-    direction = 1.0 if stop > start else -1.0
-    sx = max(float(np.linalg.norm(x0)), 1e-12)
-    previous = np.zeros(x0.size + 1)
-    previous[-1] = direction
-    _, J = hb.evaluate(x0, start)
-    assert J is not None
-    t = _tangent(J, hb.dp(x0, start), sx, sp, previous)
-    branch = _Branch([x0], [start], [t], [], sx, sp)
-    ds_max, ds_min = 1.0 / max(points - 1, 2), 1e-7
-    ds = ds_max
-    for _ in range(50 * points):
-        p = branch.p[-1]
-        deadline.check(f"while following the branch ({name} = {p:.6g})", analysis=True)
-        found = _step(hb, branch, ds, name)
-        if found is None:
-            ds /= 2
-            if ds < ds_min:
-                branch.warnings.append(f"the continuation stopped at {name} = {p:.6g}: no "
-                                       f"converged step (step size below {ds_min:g})")
-                break
-            continue
-        x, p_new, t, iterations, change = found
-        if (p_new - stop) * direction > 0:  # passed the end: finish exactly at stop
-            xs, ps = branch.x[-1], branch.p[-1]
-            guess = xs + (x - xs) * (stop - ps) / (p_new - ps) if p_new != ps else x
-            xe, converged = hb.newton(guess, stop, sx)
-            if converged:
-                branch.x.append(xe)
-                branch.p.append(stop)
-                branch.tangents.append(t)
-            return branch
-        if (p_new - start) * direction < -0.05 * sp:
-            branch.warnings.append(f"the branch turned back out of the range at {name} = "
-                                   f"{p_new:.6g}; stopped there")
-            break
-        branch.x.append(x)
-        branch.p.append(p_new)
-        branch.tangents.append(t)
-        dp_rel = abs(p_new - p) / sp
-        factor = 1.5 if iterations <= 3 else (1.0 if iterations <= 5 else 0.6)
-        factor = min(factor, MAX_RELATIVE_CHANGE / max(change, 1e-12),
-                     ds_max / max(dp_rel, 1e-12))
-        ds = float(np.clip(ds * max(factor, 0.3), ds_min, 20 * ds_max))
-    else:
-        branch.warnings.append(f"the continuation stopped after {50 * points} steps before "
-                               f"reaching {stop:g}")
-    return branch
-
-
-def _refine_fold(hb: CondensedBalance, branch: _Branch, i: int
-                 ) -> tuple[np.ndarray, float] | None:
-    """The fold between points i and i+1: the tangent's parameter component is zero
-    (regula falsi, Illinois, on the arclength from point i)."""
-    sx, sp = branch.sx, branch.sp
-    t = branch.tangents[i]
-    ui = np.concatenate([branch.x[i] / sx, [branch.p[i] / sp]])
-    uj = np.concatenate([branch.x[i + 1] / sx, [branch.p[i + 1] / sp]])
-    a, b = 0.0, float(t @ (uj - ui))
-    fa, fb = float(branch.tangents[i][-1]), float(branch.tangents[i + 1][-1])
-    if not (fa * fb < 0 and b > 0):
-        return None
-    best = None
-    for _ in range(40):
-        sigma = (a * fb - b * fa) / (fb - fa)
-        v, ok, _ = _correct(hb, ui + sigma * t, t, sx, sp)
-        if not ok:
-            return best
-        x, p = v[:-1] * sx, float(v[-1] * sp)
-        _, J = hb.evaluate(x, p)
-        assert J is not None
-        f = float(_tangent(J, hb.dp(x, p), sx, sp, t)[-1])
-        best = (x, p)
-        if f * fb < 0:
-            a, fa = b, fb
-        else:
-            fa /= 2
-        b, fb = sigma, f
-        if abs(b - a) < 1e-13 * max(1.0, abs(b)) or f == 0:
-            break
-    return best
+def _match_parity(lam: np.ndarray, W: float, odd: bool) -> np.ndarray:
+    """The exponents with the count of real unstable ones made odd or even as the sign of
+    det J says (exact for the condensed balance: det J_full = det D det J with det D of
+    one sign along a branch, and a real exponent crossing zero flips it): the real
+    exponent nearest zero, which the modal truncation puts on the wrong side near a fold
+    or a branch point, changes side."""
+    if (_real_unstable(lam, W) % 2 == 1) == odd:
+        return lam
+    real = np.nonzero(np.abs(lam.imag) < 0.02 * W)[0]
+    if real.size == 0:
+        return lam
+    j = real[np.argmin(np.abs(lam[real].real))]
+    floor = 2 * math.log1p(STABILITY_TOL) * W / (2 * np.pi)
+    out = lam.copy()
+    out[j] = (floor if lam[j].real <= 0 else -floor) + 1j * lam[j].imag \
+        if abs(lam[j].real) < floor else -lam[j].real + 1j * lam[j].imag
+    return out
 
 
 # -- the model ----------------------------------------------------------------------------
@@ -606,74 +528,6 @@ def _start_point(hb: CondensedBalance, start: float) -> np.ndarray:
     return x0
 
 
-def _recover(hb: CondensedBalance, branch: _Branch, rows: np.ndarray) -> np.ndarray:
-    """(points, rows, 2H+1) coefficients of the kept rows (nonlinear and observed)."""
-    b, m = hb.basis, hb.m
-    out = np.empty((len(branch.x), len(rows), b.size))
-    for i, (x, p) in enumerate(zip(branch.x, branch.p)):
-        W = hb.base(p)
-        T = hb.transfers(W, rows)
-        U, Ud = hb.samples(x, W)
-        F, _ = hb.forces(p).evaluate(U, Ud)
-        G = b.complex(F @ b.P.T)
-        z = hb.linear_response(T, slice(None)) - np.einsum("kij,jk->ik", T[:, :, :m], G)
-        out[i] = b.real(z)
-    return out
-
-
-def _amplitudes(coeffs: np.ndarray, H: int) -> np.ndarray:
-    """(points, rows) peak |deviation| over one period (fine sampling)."""
-    fine = max(256, 16 * (2 * H + 1))
-    phi = _Basis(H, fine).phi.T
-    flat = coeffs.reshape(-1, coeffs.shape[-1])
-    out = np.empty(flat.shape[0])
-    chunk = max(1, 2**22 // fine)
-    for start in range(0, flat.shape[0], chunk):
-        out[start:start + chunk] = np.abs(flat[start:start + chunk] @ phi).max(axis=-1)
-    return out.reshape(coeffs.shape[:-1])
-
-
-def _classify(lam: np.ndarray, W: float) -> tuple[int, int, int]:
-    """Counts of unstable exponents: (real positive mu, real negative mu, complex)."""
-    T = 2 * np.pi / W
-    unstable = lam[lam.real * T > math.log1p(STABILITY_TOL)]
-    phase = np.abs(unstable.imag) / W
-    pos = int(np.sum(phase < 0.02))
-    neg = int(np.sum(phase > 0.48))
-    return pos, neg, unstable.size - pos - neg
-
-
-def _special_points(hb: CondensedBalance, branch: _Branch, lam: list[np.ndarray],
-                    Ws: np.ndarray, names: tuple[str, ...], rows: np.ndarray
-                    ) -> list[SpecialPoint]:
-    special: list[SpecialPoint] = []
-    folds: set[int] = set()
-
-    def point(i: int, kind: str, found: tuple[np.ndarray, float] | None) -> SpecialPoint:
-        if found is None:
-            found = (0.5 * (branch.x[i] + branch.x[i + 1]),
-                     0.5 * (branch.p[i] + branch.p[i + 1]))
-        x, p = found
-        single = _Branch([x], [p], [], [], branch.sx, branch.sp)
-        a = _amplitudes(_recover(hb, single, rows), hb.H)[0]
-        return SpecialPoint(kind, float(p), MappingProxyType(
-            {nm: float(a[j]) for j, nm in enumerate(names)}), i)
-
-    tp = [float(t[-1]) for t in branch.tangents]
-    for i in range(len(tp) - 1):
-        if tp[i] * tp[i + 1] < 0:
-            special.append(point(i, "fold", _refine_fold(hb, branch, i)))
-            folds.update({i - 1, i, i + 1})
-    counts = [_classify(lam[i], Ws[i]) for i in range(len(lam))]
-    for i in range(len(counts) - 1):
-        a, b = counts[i], counts[i + 1]
-        for j, kind in ((1, "period-doubling"), (2, "neimark-sacker"), (0, "branch")):
-            if a[j] != b[j] and not (j == 0 and i in folds):
-                special.append(point(i, kind, None))
-    special.sort(key=lambda s: s.index)
-    return special
-
-
 def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float, *,
                     harmonics: int = DEFAULT_HARMONICS, points: int = 101,
                     observe: Sequence[str] | None = None, samples: int | None = None,
@@ -742,24 +596,25 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     lin = linear_part(setup.M, setup.C, setup.K, setup.loads, nl, observed, band,
                       exact=exact, tol=tol, deadline=deadline)
     N = samples or max(64, 8 * (2 * harmonics + 1))
-    hb = CondensedBalance(lin, setup.forces, setup.orders, setup.base, harmonics, N)
-    x0 = _start_point(hb, start)
-    branch = _continue(hb, x0, start, stop, points, param, deadline)
-    rows = np.arange(len(nl) + len(observed))
     names = tuple(coords[i] for i in nl + observed)
-    coeffs = _recover(hb, branch, rows)
+    hb = CondensedBalance(lin, setup.forces, setup.orders, setup.base, harmonics, N, param,
+                          names)
+    x0 = _start_point(hb, start)
+    branch = follow(hb, x0, start, stop, points, deadline)
+    coeffs = np.array([hb.coefficients(x, p) for x, p in zip(branch.x, branch.p)])
     lam, residual = [], 0.0
     for x, p in zip(branch.x, branch.p):
         deadline.check("during the stability analysis", analysis=True)
-        residual = max(residual, float(np.abs(hb.evaluate(x, p, False)[0]).max()))
-        lam.append(hb.exponents(x, p))
+        R, J, blocks = hb.jacobian(x, p)
+        residual = max(residual, float(np.abs(R).max()))
+        lam.append(hb.exponents(J, blocks))
     Ws = np.array([hb.base(p) for p in branch.p])
     width = max((v.size for v in lam), default=0)
     lam_arr = np.array([np.pad(v, (0, width - v.size)) for v in lam])
     mult = np.exp(lam_arr * (2 * np.pi / Ws)[:, None])
     stable = np.all(np.abs(mult) <= 1 + STABILITY_TOL, axis=1)
-    amps = _amplitudes(coeffs, harmonics)
-    special = _special_points(hb, branch, lam, Ws, names, rows)
+    amps = np.asarray(series_peaks(coeffs))
+    special = special_points(hb, branch, lam_arr, Ws, amps)
     warnings = list(branch.warnings)
     if lin.error > 0:
         warnings.append(f"linear part: reduced model of {lin.size} vectors, estimated error "
