@@ -96,7 +96,7 @@ DYNAMIC_FACTOR = 3.0
 #: most modes kept dynamic in the stability analysis
 MAX_DYNAMIC = 40
 #: default harmonics
-DEFAULT_HARMONICS = 5
+DEFAULT_HARMONICS = 7
 NEWTON_TOL = 1e-10
 NEWTON_MAX = 15
 #: frequencies per unit of the band where the reduced model's error is checked
@@ -250,10 +250,17 @@ class CondensedBalance:
         p -> base frequency W.
     H, N : int
         Harmonics and samples per period.
+    param : str
+        The continuation parameter.
+    names : tuple of str
+        The kept rows' coordinates (nonlinear first, then observed).
+    top : float
+        The highest base frequency of the range (which modes stay dynamic).
     """
 
     def __init__(self, linear: LinearPart, forces: Any, loads: list[tuple[int, int]],
-                 base: Any, H: int, N: int, param: str, names: tuple[str, ...]) -> None:
+                 base: Any, H: int, N: int, param: str, names: tuple[str, ...],
+                 top: float) -> None:
         self.linear, self.forces, self.loads, self.base = linear, forces, loads, base
         self.m = linear.m
         self.basis = _Basis(H, N)
@@ -261,6 +268,7 @@ class CondensedBalance:
         self.size = self.m * self.basis.size
         self.param = param
         self._names = names
+        self.dynamic = _dynamic_modes(linear.mu, top)
         self._rows = np.arange(len(names))
         self._cache: dict[float, np.ndarray] = {}
         #: (sign of det J, parity of the real unstable exponents) at the branch's start
@@ -372,11 +380,7 @@ class CondensedBalance:
         lin, m, b = self.linear, self.m, self.basis
         U, Ud = self.samples(x, W)
         G0, G1 = self.forces(p).stiffness(U, Ud)                  # (m, m, N)
-        keep = np.abs(lin.mu.imag) <= DYNAMIC_FACTOR * W
-        if keep.sum() > MAX_DYNAMIC:
-            order = np.argsort(np.abs(lin.mu.imag))
-            keep = np.zeros_like(keep)
-            keep[order[:MAX_DYNAMIC]] = True
+        keep = self.dynamic
         mu_s = lin.mu[keep]
         Cq, Cv = lin.Lq[:m, keep], lin.Lv[:m, keep]
         Bs = lin.Rin[keep, :m]
@@ -422,6 +426,20 @@ def _hill(coef: np.ndarray, W: float, H: int, s: int) -> np.ndarray:
     return lam[order[:s]]
 
 
+def _dynamic_modes(mu: np.ndarray, top: float) -> np.ndarray:
+    """Which first-order modes the stability analysis keeps dynamic (the same at every
+    point of a branch): all of them for a small linear part, else those up to
+    :data:`DYNAMIC_FACTOR` times the highest base frequency ``top`` (at most
+    :data:`MAX_DYNAMIC`, the slowest)."""
+    if mu.size <= MAX_DYNAMIC:
+        return np.ones(mu.size, dtype=bool)
+    keep = np.abs(mu.imag) <= DYNAMIC_FACTOR * top
+    if keep.sum() > MAX_DYNAMIC:
+        keep = np.zeros(mu.size, dtype=bool)
+        keep[np.argsort(np.abs(mu.imag), kind="stable")[:MAX_DYNAMIC]] = True
+    return keep
+
+
 def _real_unstable(lam: np.ndarray, W: float) -> int:
     """The count of unstable exponents with no oscillating part (multipliers > 1)."""
     return classify(lam, W)[0]
@@ -436,9 +454,12 @@ def _match_parity(lam: np.ndarray, W: float, odd: bool) -> np.ndarray:
     if (_real_unstable(lam, W) % 2 == 1) == odd:
         return lam
     real = np.nonzero(np.abs(lam.imag) < 0.02 * W)[0]
-    if real.size == 0:
-        return lam
-    j = real[np.argmin(np.abs(lam[real].real))]
+    if real.size == 0:  # the pair that turns real at the fold is still complex here
+        j = int(np.argmin(np.abs(lam.imag)))
+        lam = lam.copy()
+        lam[j] = lam[j].real
+    else:
+        j = real[np.argmin(np.abs(lam[real].real))]
     floor = 2 * math.log1p(STABILITY_TOL) * W / (2 * np.pi)
     out = lam.copy()
     out[j] = (floor if lam[j].real <= 0 else -floor) + 1j * lam[j].imag \
@@ -528,8 +549,21 @@ def _start_point(hb: CondensedBalance, start: float) -> np.ndarray:
     return x0
 
 
+def has_nonlinear_elements(model: Model) -> bool:
+    """Whether ``model`` is a ``[matrices]`` model with ``[[nonlinear]]`` elements (whose
+    periodic response :func:`condensed_sweep` computes).
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> has_nonlinear_elements(loads('[matrices]\\nM = [[1]]\\nK = [[1]]\\n'))
+    False
+    """
+    return model.matrices is not None and bool(model.matrices.nonlinear)
+
+
 def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float, *,
-                    harmonics: int = DEFAULT_HARMONICS, points: int = 101,
+                    harmonics: int | None = None, points: int = 101,
                     observe: Sequence[str] | None = None, samples: int | None = None,
                     exact: bool | None = None, tol: float = DEFAULT_TOL,
                     linear: bool = True, deadline: Deadline = NO_DEADLINE
@@ -545,8 +579,8 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
         the load vectors must not depend on it.
     start, stop : float
         The range; the continuation starts from the linear response at ``start``.
-    harmonics : int
-        H.
+    harmonics : int, optional
+        H (default :data:`DEFAULT_HARMONICS`).
     points : int
         About this many steps across the range (more near folds).
     observe : sequence of str, optional
@@ -575,6 +609,7 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
         ``param``, incommensurate excitations, or no convergence at the start.
     """
     model = system._model()
+    harmonics = DEFAULT_HARMONICS if harmonics is None else harmonics
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
         raise AnalysisError("the range must be two different finite numbers")
     if not 1 <= harmonics <= 100:
@@ -598,7 +633,7 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     N = samples or max(64, 8 * (2 * harmonics + 1))
     names = tuple(coords[i] for i in nl + observed)
     hb = CondensedBalance(lin, setup.forces, setup.orders, setup.base, harmonics, N, param,
-                          names)
+                          names, Wmax)
     x0 = _start_point(hb, start)
     branch = follow(hb, x0, start, stop, points, deadline)
     coeffs = np.array([hb.coefficients(x, p) for x, p in zip(branch.x, branch.p)])
@@ -647,5 +682,5 @@ def _truncation(coeffs: np.ndarray) -> float:
     return float(ratio.max(initial=0.0))
 
 
-__all__ = ["condensed_sweep", "CondensedBalance", "LinearPart", "linear_part",
+__all__ = ["condensed_sweep", "has_nonlinear_elements", "CondensedBalance", "LinearPart", "linear_part",
            "EXACT_SIZE"]

@@ -27,6 +27,7 @@ from typing import Any
 
 from .. import model as model_layer
 from ..analyses import backbone as backbone_analysis
+from ..analyses import condensed
 from ..analyses import harmonic_balance
 from ..analyses import simulate as simulate_analysis
 from ..deadline import Deadline
@@ -122,13 +123,19 @@ class Model(model_layer.Model):
         start, stop : float
             The range.
         **options
-            ``harmonics``, ``points``, ``linear``, ``deadline``.
+            ``harmonics``, ``points``, ``linear``, ``deadline``; for a ``[matrices]``
+            model with ``[[nonlinear]]`` elements, whose balance is condensed onto their
+            coordinates (:func:`resonant.analyses.condensed.condensed_sweep`), also
+            ``observe``, ``tol``, ``exact``, ``samples``.
 
         Returns
         -------
         NonlinearResponse
         """
         system = self.linearize(deadline=options.get("deadline"))
+        if condensed.has_nonlinear_elements(system._model()):
+            return promote(NonlinearResponse,
+                           condensed.condensed_sweep(system, param, start, stop, **options))
         return promote(NonlinearResponse,
                        harmonic_balance.nonlinear_sweep(system, param, start, stop, **options))
 
