@@ -682,5 +682,5 @@ def _truncation(coeffs: np.ndarray) -> float:
     return float(ratio.max(initial=0.0))
 
 
-__all__ = ["condensed_sweep", "has_nonlinear_elements", "CondensedBalance", "LinearPart", "linear_part",
-           "EXACT_SIZE"]
+__all__ = ["condensed_sweep", "has_nonlinear_elements", "CondensedBalance", "LinearPart",
+           "linear_part", "EXACT_SIZE"]

@@ -27,8 +27,7 @@ from typing import Any
 
 from .. import model as model_layer
 from ..analyses import backbone as backbone_analysis
-from ..analyses import condensed
-from ..analyses import harmonic_balance
+from ..analyses import condensed, harmonic_balance
 from ..analyses import simulate as simulate_analysis
 from ..deadline import Deadline
 from ..report import write_report
