@@ -89,12 +89,17 @@ from .reduced import DEFAULT_TOL, reduced_model
 from .special_points import STABILITY_TOL, classify, special_points
 from .sweep import sweep
 
+#: most modes in the basis of the linear part; frequencies where it is checked exactly
+MAX_MODES = 400
+CHECKS = 7
 #: models up to this many coordinates use the full matrices (no reduced model)
 EXACT_SIZE = 400
 #: modes with |Im mu| up to this multiple of W stay dynamic in the stability analysis
 DYNAMIC_FACTOR = 3.0
 #: most modes kept dynamic in the stability analysis
 MAX_DYNAMIC = 40
+#: least samples per period for elements with kinks (gap, friction)
+NONSMOOTH_SAMPLES = 2048
 #: default harmonics
 DEFAULT_HARMONICS = 7
 NEWTON_TOL = 1e-10
@@ -150,6 +155,109 @@ def _first_order(Mr: np.ndarray, Cr: np.ndarray, Kr: np.ndarray
     return mu, X, np.linalg.inv(X)
 
 
+def _scaling(M: Any, K: Any) -> np.ndarray:
+    """D = diag(K)^(-1/2) where the stiffness diagonal is positive (else diag(M)^(-1/2),
+    else 1): a symmetric scaling that gives every coordinate unit diagonal stiffness."""
+    k = np.asarray(K.diagonal() if hasattr(K, "diagonal") else np.diag(K), dtype=float)
+    m = np.asarray(M.diagonal() if hasattr(M, "diagonal") else np.diag(M), dtype=float)
+    d = np.where(k > 0, k, np.where(m > 0, m, 1.0))
+    return np.asarray(1.0 / np.sqrt(d))
+
+
+def _sparse_diagonal(d: np.ndarray) -> Any:
+    import scipy.sparse as sp
+
+    return sp.diags(d, format="csr")
+
+
+def _symmetric(a: Any) -> bool:
+    diff = a - a.T
+    size = abs(diff).max() if hasattr(diff, "toarray") else np.abs(diff).max(initial=0.0)
+    scale = abs(a).max() if hasattr(a, "toarray") else np.abs(a).max(initial=0.0)
+    return bool(size <= 1e-12 * scale)
+
+
+def _factor_stiffness(K: Any, M: Any, top: float) -> Any:
+    """A sparse LU of K, or of K + (1e-3 top)^2 M where K is singular (a free body)."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as sla
+
+    try:
+        return sla.splu(sp.csc_matrix(K))
+    except RuntimeError:
+        return sla.splu(sp.csc_matrix(K + (1e-3 * top) ** 2 * M))
+
+
+def _modes_below(K: Any, M: Any, lu: Any, cut: float) -> np.ndarray:
+    """The M-orthonormal modes with omega <= cut (shift-invert Lanczos about 0)."""
+    import scipy.sparse.linalg as sla
+
+    n = K.shape[0]
+    op = sla.LinearOperator(K.shape, matvec=lu.solve, dtype=float)
+    k = min(n - 2, 16)
+    while True:
+        vals, phi = sla.eigsh(K, k=k, M=M, sigma=0.0, OPinv=op)
+        if vals.max() > cut * cut or k >= min(n - 2, MAX_MODES):
+            return np.asarray(phi[:, vals <= cut * cut])
+        k = min(2 * k, n - 2, MAX_MODES)
+
+
+def _ritz_basis(M: Any, K: Any, B: np.ndarray, cut: float, levels: int, lu: Any
+                ) -> np.ndarray:
+    """The modes below ``cut`` and ``levels`` load-dependent Ritz blocks
+    (K^-1 B, K^-1 M K^-1 B, ...: the static and quasi-static response of the modes
+    above), orthonormalized."""
+    phi = _modes_below(K, M, lu, cut) if M.shape[0] > 2 else np.zeros((M.shape[0], 0))
+    loads = np.hstack([B.real, B.imag])
+    X = lu.solve(loads[:, np.abs(loads).max(axis=0) > 0])
+    blocks = [phi]
+    for _ in range(levels):
+        X = X - phi @ (phi.T @ (M @ X))
+        blocks.append(X)
+        X = lu.solve(M @ X)
+    Q, R = np.linalg.qr(np.hstack(blocks))
+    d = np.abs(np.diag(R))
+    return np.asarray(Q[:, d > 1e-12 * d.max()])
+
+
+def _modal_basis(M: Any, C: Any, K: Any, B: np.ndarray, top: float, rows: list[int],
+                 tol: float, deadline: Deadline) -> tuple[np.ndarray, float] | None:
+    """A basis of modes and load-dependent Ritz vectors whose transfer to ``rows`` meets
+    ``tol`` at check frequencies over the band (exact sparse solves there); the largest
+    error seen, or None when no basis of at most :data:`MAX_MODES` modes meets it."""
+    D = _scaling(M, K)  # deflections and slopes of a beam differ in scale by far
+    Ds = _sparse_diagonal(D)
+    M, K, B = Ds @ M @ Ds, Ds @ K @ Ds, D[:, None] * B
+    C = None if C is None else Ds @ C @ Ds
+    lu = _factor_stiffness(K, M, top)
+    checks = np.linspace(0.0, top, CHECKS)
+    exact = [_exact_transfer(M, C, K, B, w, rows) for w in checks]
+    scale = max(float(np.abs(t).max()) for t in exact)
+    previous = np.inf
+    for cut, levels in ((4 * top, 2), (8 * top, 3), (16 * top, 4)):
+        deadline.check("while building the reduced model of the linear part", analysis=True)
+        V = _ritz_basis(M, K, B, cut, levels, lu)
+        Mr, Kr, Br = V.T @ (M @ V), V.T @ (K @ V), V.T @ B
+        Cr = V.T @ (C @ V) if C is not None else np.zeros_like(Mr)
+        error = max(float(np.abs(V[rows] @ np.linalg.solve(Kr - w * w * Mr + 1j * w * Cr, Br)
+                                 - t).max()) for w, t in zip(checks, exact)) / scale
+        # met, or a larger basis no longer helps: the rounding floor of the exact solves
+        # of an ill-conditioned K (then accepted up to 100 tol, said in the warning)
+        if error <= tol or (error >= 0.5 * previous and error <= 100 * tol):
+            return D[:, None] * V, error
+        previous = error
+    return None
+
+
+def _exact_transfer(M: Any, C: Any, K: Any, B: np.ndarray, w: float, rows: list[int]
+                    ) -> np.ndarray:
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as sla
+
+    A = sp.csc_matrix(K - w * w * M + (1j * w * C if C is not None else 0 * M))
+    return np.asarray(sla.splu(A).solve(B))[rows]
+
+
 def linear_part(M: Any, C: Any, K: Any, loads: np.ndarray, nonlinear: Sequence[int],
                 observed: Sequence[int], band: np.ndarray, *, exact: bool | None = None,
                 tol: float = DEFAULT_TOL, deadline: Deadline = NO_DEADLINE) -> LinearPart:
@@ -190,12 +298,17 @@ def linear_part(M: Any, C: Any, K: Any, loads: np.ndarray, nonlinear: Sequence[i
         Br = B
         error = 0.0
     else:
-        rom = reduced_model(M, C, K, B, band, tol=tol, deadline=deadline)
-        if not rom.converged:
-            raise AnalysisError(f"the reduced model of the linear part did not reach the "
-                                f"tolerance {tol:.2g}: {rom.reason}")
-        V, Mr, Cr, Kr, Br = rom.V, rom.Mr, rom.Cr, rom.Kr, rom.Br
-        error = float(np.max(rom.estimated_error, initial=0.0))
+        basis = _modal_basis(M, C, K, B, float(band.max()), rows, tol, deadline) \
+            if _symmetric(M) and _symmetric(K) else None
+        if basis is None:
+            rom = reduced_model(M, C, K, B, band, tol=tol, deadline=deadline)
+            if not rom.converged:
+                raise AnalysisError(f"the reduced model of the linear part did not reach the "
+                                    f"tolerance {tol:.2g}: {rom.reason}")
+            basis = (rom.V, float(np.max(rom.estimated_error, initial=0.0)))
+        V, error = basis
+        Mr, Cr, Kr = (V.T @ (a @ V) for a in (M, C if C is not None else 0 * M, K))
+        Br = V.T @ B
     r = Mr.shape[0]
     mu, X, Xinv = _first_order(Mr, Cr, Kr)
     Vrows = np.eye(n)[rows] if V is None else V[rows]
@@ -549,6 +662,26 @@ def _start_point(hb: CondensedBalance, start: float) -> np.ndarray:
     return x0
 
 
+def default_samples(model: Model, harmonics: int) -> int:
+    """Samples per period of the alternating frequency-time scheme: 8 per harmonic
+    coefficient (at least 64) for smooth forces; for a gap or a friction element, whose
+    force has kinks between samples and whose harmonics converge only as 1/N^2, at
+    least :data:`NONSMOOTH_SAMPLES` (fewer leave steps in the residual that the
+    continuation takes for folds).
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> default_samples(loads('[matrices]\\nM = [[1]]\\nK = [[1]]\\n'), 7)
+    120
+    """
+    smooth = max(64, 8 * (2 * harmonics + 1))
+    elements = model.matrices.nonlinear if model.matrices is not None else ()
+    if any(e.kind in ("gap", "friction") for e in elements):
+        return max(NONSMOOTH_SAMPLES, 2 * smooth)
+    return smooth
+
+
 def has_nonlinear_elements(model: Model) -> bool:
     """Whether ``model`` is a ``[matrices]`` model with ``[[nonlinear]]`` elements (whose
     periodic response :func:`condensed_sweep` computes).
@@ -587,7 +720,7 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
         Further coordinates whose amplitudes are recovered (the nonlinear ones always are).
     samples : int, optional
         Time samples per period of the alternating frequency-time scheme (default
-        max(64, 8 (2H+1))).
+        :func:`default_samples`).
     exact : bool, optional
         Use the full matrices instead of a reduced model (default: for n <= 400).
     tol : float
@@ -630,7 +763,7 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     band = np.linspace(0.0, harmonics * Wmax * 1.05, BAND_POINTS)
     lin = linear_part(setup.M, setup.C, setup.K, setup.loads, nl, observed, band,
                       exact=exact, tol=tol, deadline=deadline)
-    N = samples or max(64, 8 * (2 * harmonics + 1))
+    N = samples or default_samples(model, harmonics)
     names = tuple(coords[i] for i in nl + observed)
     hb = CondensedBalance(lin, setup.forces, setup.orders, setup.base, harmonics, N, param,
                           names, Wmax)
@@ -652,8 +785,9 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     special = special_points(hb, branch, lam_arr, Ws, amps)
     warnings = list(branch.warnings)
     if lin.error > 0:
-        warnings.append(f"linear part: reduced model of {lin.size} vectors, estimated error "
-                        f"{lin.error:.2g} (an estimate, not a bound)")
+        warnings.append(f"linear part: reduced model of {lin.size} vectors, largest error "
+                        f"{lin.error:.2g} of its transfer functions where checked against "
+                        "exact solves (an estimate, not a bound)")
     linear_response = None
     if linear:
         try:
@@ -682,5 +816,5 @@ def _truncation(coeffs: np.ndarray) -> float:
     return float(ratio.max(initial=0.0))
 
 
-__all__ = ["condensed_sweep", "has_nonlinear_elements", "CondensedBalance", "LinearPart",
-           "linear_part", "EXACT_SIZE"]
+__all__ = ["condensed_sweep", "default_samples", "has_nonlinear_elements",
+           "CondensedBalance", "LinearPart", "linear_part", "EXACT_SIZE"]

@@ -121,6 +121,9 @@ class ElementForces:
         if key in ("stiffness", "slip_force") and value < 0:
             raise AnalysisError(f"[nonlinear '{e.name}'] {key} must not be negative, not "
                                 f"{value:g}")
+        if e.kind == "friction" and key == "stiffness" and value == 0:
+            raise AnalysisError(f"[nonlinear '{e.name}'] the stiffness of a friction element "
+                                "must be positive (it carries the force until it slips)")
         return value
 
     def _relative(self, loc: tuple[int, ...], X: np.ndarray) -> np.ndarray:
