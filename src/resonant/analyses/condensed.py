@@ -84,6 +84,7 @@ from ..system.base import parameter_values
 from ..system.nonlinear_elements import ElementForces
 from .continuation import follow
 from .harmonic_balance import NonlinearResponse
+from .hb_solver import newton_at
 from .peaks import series_peaks
 from .reduced import DEFAULT_TOL, reduced_model
 from .special_points import STABILITY_TOL, classify, special_points
@@ -103,7 +104,6 @@ NONSMOOTH_SAMPLES = 2048
 #: default harmonics
 DEFAULT_HARMONICS = 7
 NEWTON_TOL = 1e-10
-NEWTON_MAX = 15
 #: frequencies per unit of the band where the reduced model's error is checked
 BAND_POINTS = 400
 
@@ -452,19 +452,8 @@ class CondensedBalance:
         return (self.evaluate(x, p + h, False)[0] - self.evaluate(x, p - h, False)[0]) / (2 * h)
 
     def newton(self, x: np.ndarray, p: float, scale: float) -> tuple[np.ndarray, bool]:
-        for _ in range(NEWTON_MAX):
-            R, J = self.evaluate(x, p)
-            assert J is not None
-            try:
-                dx = np.linalg.solve(J, -R)
-            except np.linalg.LinAlgError:
-                return x, False
-            x = x + dx
-            if not np.all(np.isfinite(x)):
-                return x, False
-            if np.linalg.norm(dx) <= NEWTON_TOL * max(float(np.linalg.norm(x)), scale):
-                return x, True
-        return x, False
+        """Newton's method at fixed p (:func:`~resonant.analyses.hb_solver.newton_at`)."""
+        return newton_at(self.jacobian, x, p, scale, NEWTON_TOL)
 
     def names(self) -> tuple[str, ...]:
         """The nonlinear coordinates, then the observed ones."""
