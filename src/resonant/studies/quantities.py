@@ -39,10 +39,11 @@ from ..errors import ResonantError
 from ..expressions import numeric_value
 from ..model import Model
 from ..model.study import StudySpec
-from ..system import Batch, LinearSystem
+from ..system import Batch, LinearSystem, NonlinearSystem, nonlinear_system
 from ..system.base import numeric_point
 from ..system.stability import undamped_eigen
 from .designs import REFINE_POINTS, REFINE_ROUNDS
+from .nonlinear import nonlinear_amplitudes
 
 #: models up to this many coordinates are evaluated as stacks of dense matrices
 SMALL = 64
@@ -61,9 +62,10 @@ class Rows:
         self.status = np.full(count, OK, dtype=object)
         self.reason = np.full(count, "", dtype=object)
         #: what failed where: "all" (every quantity), "stability" (responses),
-        #: "excitation" (amplitude, phase), "band" (peaks)
+        #: "excitation" (amplitude, phase), "band" (peaks), "nonlinear" (the nonlinear
+        #: steady state)
         self.failed = {k: np.zeros(count, dtype=bool)
-                       for k in ("all", "stability", "excitation", "band")}
+                       for k in ("all", "stability", "excitation", "band", "nonlinear")}
 
     def fail(self, mask: np.ndarray, status: str, reason: str, scope: str = "all") -> None:
         """Mark the samples of ``mask``; the first failure of a sample gives its status."""
@@ -430,8 +432,25 @@ def _fill_peaks(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
         rows.columns[f"peak_frequency:{q.target}"] = np.where(ok, where[:, j], np.nan)
 
 
+def _fill_nonlinear(rows: Rows, spec: StudySpec, nonlinear: NonlinearSystem | None,
+                    values: Mapping[str, Any]) -> None:
+    """The nonlinear steady states, sample by sample (the samples that failed before are
+    skipped)."""
+    found = nonlinear_amplitudes(nonlinear, spec, values, rows.count,
+                                 skip=~rows.valid()) if nonlinear is not None else None
+    if found is None:
+        return
+    for i, status in enumerate(found.status):
+        if status != OK:
+            rows.fail(np.arange(rows.count) == i, status, found.reason[i], "nonlinear")
+    for q in spec.quantities:
+        if q.kind == "nonlinear_amplitude":
+            column = found.amplitudes[:, found.names.index(q.target)]
+            rows.columns[q.text] = np.where(rows.valid("nonlinear"), column, np.nan)
+
+
 def _fill(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
-          values: Mapping[str, Any]) -> None:
+          values: Mapping[str, Any], nonlinear: NonlinearSystem | None = None) -> None:
     """Every quantity of a chunk whose parameters evaluate."""
     batch = system.evaluate(values, rows.count)
     n = len(batch.coordinates)
@@ -450,10 +469,11 @@ def _fill(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
         _fill_modal_large(rows, spec, system, values)
     _fill_responses(rows, spec, system, values, batch)
     _fill_peaks(rows, spec, system, model, values)
+    _fill_nonlinear(rows, spec, nonlinear, values)
 
 
-def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.ndarray]
-                     ) -> dict[str, np.ndarray]:
+def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.ndarray],
+                     nonlinear: NonlinearSystem | None = None) -> dict[str, np.ndarray]:
     """The quantities of ``spec`` at the samples ``varied`` (parameter -> values).
 
     Parameters
@@ -463,6 +483,9 @@ def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str,
     spec : StudySpec
     varied : mapping
         parameter -> values, all of one length N.
+    nonlinear : NonlinearSystem, optional
+        The model's full equations, for ``nonlinear_amplitude:`` quantities (derived
+        from ``system`` when not given).
 
     Returns
     -------
@@ -470,26 +493,28 @@ def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str,
         column -> array (N,): the quantities' columns, ``status`` and ``reason``.
     """
     model = system._model()
+    if nonlinear is None and any(q.kind == "nonlinear_amplitude" for q in spec.quantities):
+        nonlinear = nonlinear_system(system)
     count = len(next(iter(varied.values())))
     rows = Rows(count, spec)
     values, bad, reasons = sample_parameters(model, varied, count)
     for i in np.flatnonzero(bad):
         rows.fail(np.arange(count) == i, "failed", reasons[i])
     try:
-        _fill(rows, spec, system, model, values)
+        _fill(rows, spec, system, model, values, nonlinear)
     except (ResonantError, np.linalg.LinAlgError, FloatingPointError, OverflowError) as exc:
         if count == 1:
             rows.fail(np.ones(1, dtype=bool), "failed", str(exc).splitlines()[0])
             return rows.table()
-        return _one_by_one(system, spec, varied, count)
+        return _one_by_one(system, spec, varied, count, nonlinear)
     return rows.table()
 
 
 def _one_by_one(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.ndarray],
-                count: int) -> dict[str, np.ndarray]:
+                count: int, nonlinear: NonlinearSystem | None) -> dict[str, np.ndarray]:
     """A chunk that failed as a whole, sample by sample: the failing ones get the reason."""
-    parts = [evaluate_samples(system, spec, {k: v[i:i + 1] for k, v in varied.items()})
-             for i in range(count)]
+    parts = [evaluate_samples(system, spec, {k: v[i:i + 1] for k, v in varied.items()},
+                              nonlinear) for i in range(count)]
     return {c: np.concatenate([p[c] for p in parts]) for c in parts[0]}
 
 
