@@ -44,6 +44,7 @@ from ..system.base import numeric_point
 from ..system.stability import undamped_eigen
 from .designs import REFINE_POINTS, REFINE_ROUNDS
 from .nonlinear import nonlinear_amplitudes
+from .reduced_band import ReducedBand, reduced_band
 
 #: models up to this many coordinates are evaluated as stacks of dense matrices
 SMALL = 64
@@ -363,11 +364,20 @@ def _peak_search(system: LinearSystem, model: Model, values: Mapping[str, Any],
                  ) -> tuple[np.ndarray, np.ndarray]:
     """The largest amplitude of each name over the band and where it is, per sample:
     a grid of the band, rounds of finer grids around the best point, then the vertex
-    of the parabola through the best point and its neighbours."""
+    of the parabola through the best point and its neighbours.  A large model whose
+    direct solves are expensive searches one reduced model of the sample
+    (:mod:`.reduced_band`) and solves the found peak exactly."""
     band = spec.band
     assert band is not None
     grid = np.broadcast_to(np.linspace(band.start, band.stop, band.points), (count, band.points))
-    amplitude = _amplitude_on(system, model, values, band.parameter, grid, names)
+    shared = _shared_band(system, model, values, band, grid, names)
+
+    def on(points: np.ndarray, which: Sequence[str]) -> np.ndarray:
+        if shared is not None:
+            return shared.amplitudes(points)[..., [names.index(q) for q in which]]
+        return _amplitude_on(system, model, values, band.parameter, points, which)
+
+    amplitude = on(grid, names)
     best = np.full((count, len(names)), -np.inf)
     where = np.full((count, len(names)), np.nan)
     for j in range(len(names)):
@@ -375,13 +385,25 @@ def _peak_search(system: LinearSystem, model: Model, values: Mapping[str, Any],
         step = np.full(count, (band.stop - band.start) / (band.points - 1))
         for _ in range(REFINE_ROUNDS):
             points = _refined(where[:, j], step, band)
-            a = _amplitude_on(system, model, values, band.parameter, points, names[j:j + 1])
+            a = on(points, names[j:j + 1])
             _best(a[:, :, 0], points, best[:, j], where[:, j])
             step = 2 * step / (REFINE_POINTS - 1)
         points = _vertex(where[:, j], step, band, a[:, :, 0], points)
-        a = _amplitude_on(system, model, values, band.parameter, points, names[j:j + 1])
+        a = on(points, names[j:j + 1])
         _best(a[:, :, 0], points, best[:, j], where[:, j])
+        if shared is not None:  # the peak found on the reduced model, solved exactly
+            best[:, j] = _amplitude_on(system, model, values, band.parameter,
+                                       where[:, j:j + 1], names[j:j + 1])[:, 0, 0]
     return best, where
+
+
+def _shared_band(system: LinearSystem, model: Model, values: Mapping[str, Any], band: Any,
+                 grid: np.ndarray, names: Sequence[str]) -> ReducedBand | None:
+    """One sample of a large model: its reduced model over the band, where it pays."""
+    if grid.shape[0] != 1 or system.n <= SMALL:
+        return None
+    band_values, size = _band_values(values, model, band.parameter, grid)
+    return reduced_band(system.evaluate(band_values, size), grid[0], names)
 
 
 def _vertex(center: np.ndarray, step: np.ndarray, band: Any, last: np.ndarray,
