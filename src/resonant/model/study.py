@@ -97,18 +97,18 @@ class Distribution:
         -------
         ndarray
         """
-        from scipy.special import ndtri  # only a study needs it: keep start-up light
-
         a = self.arguments
         if self.kind == "uniform":
             return a[0] + u * (a[1] - a[0])
+        if self.kind == "values":
+            values = np.asarray(a)
+            return values[np.minimum((u * len(values)).astype(np.int64), len(values) - 1)]
+        from scipy.special import ndtri  # only normal distributions need it (start-up)
+
         if self.kind == "normal":
             return a[0] + a[1] * ndtri(u)
-        if self.kind == "lognormal":
-            sigma2 = math.log1p((a[1] / a[0]) ** 2)
-            return np.exp(math.log(a[0]) - sigma2 / 2 + math.sqrt(sigma2) * ndtri(u))
-        values = np.asarray(a)
-        return values[np.minimum((u * len(values)).astype(np.int64), len(values) - 1)]
+        sigma2 = math.log1p((a[1] / a[0]) ** 2)  # lognormal
+        return np.exp(math.log(a[0]) - sigma2 / 2 + math.sqrt(sigma2) * ndtri(u))
 
     def grid(self, points: int) -> np.ndarray:
         """The values of a grid axis: the listed values, or ``points`` evenly spaced

@@ -100,19 +100,20 @@ def sample_parameters(model: Model, varied: Mapping[str, np.ndarray], count: int
     bad = np.zeros(count, dtype=bool)
     reasons = [""] * count
     for name, expression in model.parameters.items():
-        if name in varied:
-            out[name] = np.asarray(varied[name], dtype=float)
+        if name in varied:  # a value shared by every point stays a number
+            given = np.asarray(varied[name], dtype=float)
+            out[name] = given if given.ndim else float(given)
         elif any(n in varied or isinstance(out.get(n), np.ndarray)
                  for n, _ in expression.names()):
             with np.errstate(all="ignore"):
-                value = np.broadcast_to(np.asarray(numeric_value(expression, out), dtype=float),
-                                        (count,)).copy()
+                raw = np.asarray(numeric_value(expression, out), dtype=float)
+            value = np.broadcast_to(raw, (count,)).copy()
             wrong = ~np.isfinite(value) & ~bad
             for i in np.flatnonzero(wrong):
                 reasons[i] = f"{name} = {expression.text} is not finite"
             bad |= wrong
             value[wrong] = model.parameter_values[name]
-            out[name] = value
+            out[name] = value if raw.ndim else float(value[0])
         else:
             out[name] = model.parameter_values[name]
     return out, bad, reasons
@@ -330,10 +331,12 @@ def _fill_responses(rows: Rows, spec: StudySpec, system: LinearSystem,
 
 def _band_values(values: Mapping[str, Any], model: Model, param: str, grid: np.ndarray
                  ) -> tuple[dict[str, Any], int]:
-    """Every sample's values repeated for the points of its own ``grid`` row (N, F)."""
+    """Every sample's values repeated for the points of its own ``grid`` row (N, F); one
+    sample's values stay numbers (its matrices and loads are then computed once, not F
+    times)."""
     N, F = grid.shape
-    varied = {k: np.repeat(v, F) for k, v in values.items() if isinstance(v, np.ndarray)
-              and k != param}
+    varied = {k: float(v[0]) if N == 1 else np.repeat(v, F) for k, v in values.items()
+              if isinstance(v, np.ndarray) and k != param}
     varied[param] = grid.ravel()
     out, _, _ = sample_parameters(model, varied, N * F)
     return out, N * F
