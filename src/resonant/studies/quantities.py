@@ -89,9 +89,10 @@ class Rows:
         return out
 
 
-def sample_parameters(model: Model, varied: Mapping[str, np.ndarray], count: int
+def sample_parameters(model: Model, varied: Mapping[str, np.ndarray | float], count: int
                       ) -> tuple[dict[str, Any], np.ndarray, list[str]]:
-    """Every parameter's values with ``varied`` set; parameters defined from them follow.
+    """Every parameter's values with ``varied`` set (arrays of ``count``, or numbers shared
+    by all); parameters defined from them follow.
 
     Returns the values, the mask of samples where a dependent parameter is not
     finite, and a reason for each such sample.
