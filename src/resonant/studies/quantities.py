@@ -61,6 +61,7 @@ class Rows:
         if "stable" in self.columns:
             self.columns["stable"] = np.zeros(count, dtype=bool)
         self.status = np.full(count, OK, dtype=object)
+        self.marked = False  # whether any sample failed
         self.reason = np.full(count, "", dtype=object)
         #: what failed where: "all" (every quantity), "stability" (responses),
         #: "excitation" (amplitude, phase), "band" (peaks), "nonlinear" (the nonlinear
@@ -70,6 +71,9 @@ class Rows:
 
     def fail(self, mask: np.ndarray, status: str, reason: str, scope: str = "all") -> None:
         """Mark the samples of ``mask``; the first failure of a sample gives its status."""
+        if not mask.any():
+            return
+        self.marked = True
         fresh = mask & (self.status == OK)
         self.status[fresh] = status
         self.reason[fresh] = reason
@@ -84,6 +88,9 @@ class Rows:
 
     def table(self) -> dict[str, np.ndarray]:
         out = dict(self.columns)
+        if not self.marked:  # every sample ok (the usual chunk): no conversion per sample
+            out["status"], out["reason"] = np.full(self.count, OK), np.full(self.count, "")
+            return out
         out["status"] = self.status.astype(str)
         out["reason"] = self.reason.astype(str)
         return out
