@@ -232,3 +232,23 @@ def test_a_matrix_model_has_no_nonlinear_steady_state(tmp_path, cli):
                           "k=[2e5, 3e5]", "--quantity", "nonlinear_amplitude:x1", "--band",
                           "omega=1:20", "--workers", "0"])
     assert status == 3 and "energies" in err, err
+
+
+def test_outputs_of_the_full_equations_and_one_that_has_none(tmp_path):
+    """An output is reported as sweep --nonlinear reports it; one with a third derivative
+    has no full form: its samples fail with that reason (no traceback)."""
+    path = tmp_path / "d.toml"
+    path.write_text(DUFFING.read_text() + "\n[outputs]\nv = \"x'\"\nj = \"x'''\"\n")
+    model = resonant.load(path)
+    band = {"parameter": "omega", "from": 0.5, "to": 2.0}
+    good = request(model, {"omega": [1.3]}, ["nonlinear_amplitude:v"], design="grid",
+                   band=band, harmonics=5)
+    table = collect(StudyJob.of(model, good), engine_for(0)).table
+    data = run_json("sweep", path, "--param", "omega", "--from", "0.5", "--to", "1.3",
+                    "--nonlinear", "--harmonics", "5")
+    assert table["nonlinear_amplitude:v"][0] == pytest.approx(
+        data["branch"][-1]["amplitudes"]["v"], rel=1e-9)
+    bad = request(model, {"omega": [1.3]}, ["nonlinear_amplitude:j"], design="grid",
+                  band=band, harmonics=5)
+    table = collect(StudyJob.of(model, bad), engine_for(0)).table
+    assert table["status"][0] == "failed" and "'j'" in table["reason"][0]
