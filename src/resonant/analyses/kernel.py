@@ -428,7 +428,7 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                             f"the tolerance {tol:.2g}; use method 'direct' for an exact solve")
         return result
     if method == "auto":
-        budget = _reduced_budget(batch, w, rhs)
+        budget = reduced_budget(batch, w, rhs)
         if budget is not None:
             try:
                 attempt: KernelResult | None = _solve_reduced(batch, w, rhs, keep, tol,
@@ -471,10 +471,23 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact, method)
 
 
-def _reduced_budget(batch: Batch, w: np.ndarray, rhs: np.ndarray) -> float | None:
+def reduced_budget(batch: Batch, w: np.ndarray, rhs: np.ndarray) -> float | None:
     """Seconds a reduced model may take in ``auto``, or None when it is not worth trying:
     fixed sparse (or very large) matrices and load, many distinct frequencies, and
-    direct solves estimated at more than :data:`REDUCED_WORTH` seconds."""
+    direct solves estimated at more than :data:`REDUCED_WORTH` seconds.
+
+    Parameters
+    ----------
+    batch : Batch
+    w : ndarray
+        The frequencies to solve at.
+    rhs : ndarray
+        The load F_C - i F_S, (n,) or (N, n).
+
+    Returns
+    -------
+    float or None
+    """
     n = len(batch.coordinates)
     if not batch.constant or rhs.ndim == 2 or n < REDUCED_MIN_SIZE:
         return None
@@ -747,5 +760,6 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
 
 
 __all__ = ["solve_harmonic", "KernelResult", "choose_method", "choose_direct", "direct_costs",
+           "reduced_budget",
            "check_batch_mass", "equilibration", "METHODS", "SINGULAR_CONDITION",
            "LOSS_CONDITION", "DEFAULT_TOL"]

@@ -169,7 +169,7 @@ class Model(model_layer.Model):
             ``"lognormal(mean, sd)"``, a list or ``{"from":, "to":, "step":}``.
         quantities : sequence of str, optional
             ``natural_frequency:I``, ``damping_ratio:I``, ``amplitude:NAME``,
-            ``phase:NAME``, ``peak:NAME``, ``stable``.
+            ``phase:NAME``, ``peak:NAME``, ``stable``, ``nonlinear_amplitude:NAME``.
         output : str or Path, optional
             Also write the rows there (.parquet or .csv).
         workers : int, optional
@@ -183,7 +183,7 @@ class Model(model_layer.Model):
         progress : bool, optional
             A progress bar on standard error.
         **options
-            ``design``, ``samples``, ``seed``, ``band``.
+            ``design``, ``samples``, ``seed``, ``band``, ``harmonics``.
 
         Returns
         -------
