@@ -15,6 +15,12 @@ Usage::
    free end over a band of 200 frequencies.
 3. Peak memory (max RSS of the process and its workers' largest) of ``resonant study`` at
    ``--memory`` samples, streaming to Parquet.
+4. ``--nonlinear N``: the nonlinear steady state (``nonlinear_amplitude:x`` of
+   examples/duffing.toml, omega and k3 random, swept up from 0.5) for N samples, in this
+   process and on 2 local workers.
+5. ``--grid NX``: the peak of one sample of an NX x NX mass-spring grid (a sparse model
+   whose direct solves are expensive) on one reduced model of the band against the direct
+   solves of every refinement round (in this process, seconds per sample).
 
 Prints a markdown table for docs/performance.md.
 """
@@ -29,6 +35,7 @@ import tempfile
 import time
 from pathlib import Path
 
+import numpy as np
 from common import ROOT, environment
 
 NUMPY_SCRIPT = r'''
@@ -94,24 +101,88 @@ def memory(samples: int, tmp: Path) -> tuple[float, int]:
                        "--samples", str(samples), "--workers", "0"))
 
 
+def nonlinear(samples: int, tmp: Path) -> tuple[float, float]:
+    options = ["--vary", "omega=uniform(0.8, 2)", "--vary", "k3=uniform(0.3, 0.7)",
+               "--quantity", "nonlinear_amplitude:x", "--band", "omega=0.5:2.5",
+               "--samples", str(samples)]
+    model = ROOT / "examples" / "duffing.toml"
+    here = timed(study(model, tmp / "nl0.parquet", *options, "--workers", "0"))[0]
+    there = timed(study(model, tmp / "nl2.parquet", *options, "--workers", "2"))[0]
+    return here, there
+
+
+def grid_peak(nx: int, tmp: Path) -> dict[str, float]:
+    """Seconds per sample of the peak search: on one reduced model of the band (now), the
+    kernel called anew for the band and each refinement round (before: a reduced model for
+    the band's grid, direct solves for the rounds), and direct solves only."""
+    from bench_reduced import grid_matrices, write_model
+
+    sys.path.insert(0, str(ROOT / "src"))  # this checkout's resonant, in this process
+    import resonant
+    from resonant.analyses import kernel
+    from resonant.studies import StudyJob, quantities, request
+    from resonant.studies.run import evaluate_chunk, system_of
+
+    M, C, K, f = grid_matrices(nx)
+    path = write_model(tmp, M, C, K, f)  # the matrix files; the model with a force F0:
+    force = ", ".join('"F0"' if v else "0" for v in f)
+    path.write_text('[parameters]\nw = 1\nF0 = 1\n[matrices]\nM = "M.mtx"\nC = "C.mtx"\n'
+                    f'K = "K.mtx"\n[[harmonic]]\nomega = "w"\nF_C = [{force}]\n')
+    model = resonant.load(path)
+    q = model.coordinates[int(np.argmax(f))]
+    spec = request(model, {"F0": "uniform(0.5, 1.5)"}, [f"peak:{q}"], samples=3,
+                   band={"parameter": "w", "from": 5, "to": 40, "points": 200})
+    job = StudyJob.of(model, spec)
+    system_of(job)
+    shared, worth = quantities.reduced_band, kernel.REDUCED_WORTH
+    times = {}
+    for case in ("shared", "per round", "direct"):
+        quantities.reduced_band = shared if case == "shared" else (lambda *a, **k: None)
+        kernel.REDUCED_WORTH = float("inf") if case == "direct" else worth
+        start = time.perf_counter()
+        for k in range(3):
+            evaluate_chunk(job, k, 1)
+        times[case] = (time.perf_counter() - start) / 3
+    quantities.reduced_band, kernel.REDUCED_WORTH = shared, worth
+    return times
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--samples", type=int, default=1_000_000)
     parser.add_argument("--big-n", type=int, default=10_000)
     parser.add_argument("--memory", type=int, default=10_000_000)
+    parser.add_argument("--nonlinear", type=int, default=40)
+    parser.add_argument("--grid", type=int, default=50)
+    parser.add_argument("--only", choices=("numpy", "speed-up", "memory", "nonlinear", "grid"))
     args = parser.parse_args()
+    wanted = (lambda case: args.only in (None, case))
+    print(subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip())
     with tempfile.TemporaryDirectory() as name:
         tmp = Path(name)
-        ours, theirs = against_numpy(args.samples, tmp)
         print("| case | resonant | reference | ratio |\n|---|---|---|---|")
-        print(f"| amplitude of x2, {args.samples:,} samples, whole process to Parquet | "
-              f"{ours:.2f} s | numpy by hand {theirs:.2f} s | {ours / theirs:.2f}x |")
-        one, two = speed_up(args.big_n, tmp)
-        print(f"| chain of {args.big_n:,} DOF, 100 samples x 200 frequencies (peak) | "
-              f"2 workers {two:.1f} s | 1 worker {one:.1f} s | speed-up {one / two:.2f}x |")
-        seconds, rss = memory(args.memory, tmp)
-        print(f"| {args.memory:,} samples streamed to Parquet | {seconds:.1f} s | peak "
-              f"memory {rss / 1024:.0f} MB | |")
+        if wanted("numpy"):
+            ours, theirs = against_numpy(args.samples, tmp)
+            print(f"| amplitude of x2, {args.samples:,} samples, whole process to Parquet | "
+                  f"{ours:.2f} s | numpy by hand {theirs:.2f} s | {ours / theirs:.2f}x |")
+        if wanted("speed-up"):
+            one, two = speed_up(args.big_n, tmp)
+            print(f"| chain of {args.big_n:,} DOF, 100 samples x 200 frequencies (peak) | "
+                  f"2 workers {two:.1f} s | 1 worker {one:.1f} s | speed-up {one / two:.2f}x |")
+        if wanted("memory"):
+            seconds, rss = memory(args.memory, tmp)
+            print(f"| {args.memory:,} samples streamed to Parquet | {seconds:.1f} s | peak "
+                  f"memory {rss / 1024:.0f} MB | |")
+        if wanted("nonlinear"):
+            here, there = nonlinear(args.nonlinear, tmp)
+            print(f"| nonlinear steady state, {args.nonlinear} samples (Duffing) | 2 workers "
+                  f"{there:.1f} s | this process {here:.1f} s | speed-up {here / there:.2f}x |")
+        if wanted("grid"):
+            t = grid_peak(args.grid, tmp)
+            print(f"| peak of one sample, {args.grid}x{args.grid} grid, 200 frequencies | "
+                  f"one reduced model {t['shared']:.2f} s | kernel per round "
+                  f"{t['per round']:.2f} s, direct only {t['direct']:.2f} s | "
+                  f"{t['per round'] / t['shared']:.1f}x, {t['direct'] / t['shared']:.1f}x |")
 
 
 if __name__ == "__main__":

@@ -174,3 +174,255 @@ def test_condensed_equals_full_harmonic_balance_on_a_200_dof_chain():
         near = _complex(r.coefficients[fold.index][order], H)
         Z = _full_newton(M, C, K, F, fold.value, near, H, n - 1, 2.0)
         assert relative_sigma(Z, fold.value) < 1e-5 * regular
+
+
+DUFFING_MATRICES = '''
+[parameters]
+w = 0.5
+[matrices]
+M = [[1, 0], [0, 1]]
+K = [[2, -1], [-1, 1]]
+C = [[0.04, 0], [0, 0.04]]
+[[harmonic]]
+omega = "w"
+F_C = [0, 0.1]
+[[nonlinear]]
+name = "hardening"
+coordinates = ["q2", "q1"]
+force = "2*(q2 - q1)^3"
+'''
+
+DUFFING_ENERGY = '''
+[parameters]
+w = 0.5
+[coordinates]
+q1 = ""
+q2 = ""
+[signals]
+F = "0.1*cos(w*t)"
+[energy]
+T = "q1'^2/2 + q2'^2/2"
+U = "q1^2/2 + (q2 - q1)^2/2 + 2*(q2 - q1)^4/4"
+D = "0.04*q1'^2/2 + 0.04*q2'^2/2"
+[[force]]
+generalized = { q2 = "F" }
+'''
+
+
+def test_folds_and_peaks_equal_the_harmonic_balance_of_the_energy_model():
+    """The same 2-DOF system with a cubic spring between the masses, once as [matrices]
+    with a [[nonlinear]] force between two coordinates, once by its energies: the folds
+    and the peaks of the condensed balance equal those of resonant's full harmonic
+    balance (1e-8 relative, amplitudes too), and so do the amplitudes at the branch's end."""
+    H = 5
+    condensed = condensed_sweep(loads(DUFFING_MATRICES).linearize(), "w", 0.4, 2.2,
+                                harmonics=H, points=60, observe=["q1"], linear=False)
+    full = nonlinear_sweep(loads(DUFFING_ENERGY).linearize(), "w", 0.4, 2.2, harmonics=H,
+                           points=60, linear=False)
+    for kind in ("fold", "peak"):
+        mine = sorted((s for s in condensed.special_points if s.kind == kind),
+                      key=lambda s: s.value)
+        theirs = sorted((s for s in full.special_points if s.kind == kind),
+                        key=lambda s: s.value)
+        assert len(mine) == len(theirs) >= 2
+        for a, b in zip(mine, theirs):
+            assert a.value == pytest.approx(b.value, rel=1e-8)
+            assert a.quantity == b.quantity
+            for name in ("q1", "q2"):
+                assert a.amplitudes[name] == pytest.approx(b.amplitudes[name], rel=1e-8)
+    for name in ("q1", "q2"):
+        assert condensed.amplitudes[name][-1] == pytest.approx(full.amplitudes[name][-1],
+                                                               rel=1e-8)
+    assert np.array_equal(condensed.stable[[0, -1]], [True, True])
+
+
+def test_a_gap_that_never_closes_gives_the_linear_response():
+    """A gap far beyond the motion: the branch is the linear sweep's curve (1e-9)."""
+    model, *_ = chain(30, element='kind = "gap"\ngap = 10\nstiffness = 1e4')
+    r = condensed_sweep(model.linearize(), "w", 0.5, 3.0, harmonics=3, points=30)
+    assert {s.kind for s in r.special_points} == {"peak"} and r.stable.all()
+    linear = sweep(model.linearize(), "w", r.values, names=["q30"])
+    np.testing.assert_allclose(r.amplitudes["q30"], linear.amplitudes["q30"], rtol=1e-9)
+
+
+def _caughey(a: float, kt: float, fs: float) -> complex:
+    """The single-harmonic describing function of the Jenkins element (Caughey 1960):
+    equivalent stiffness and (as imaginary part) the dissipation, G = (k_eq + i h) z."""
+    xy = fs / kt
+    if a <= xy:
+        return complex(kt)
+    beta = np.arccos(1 - 2 * xy / a)
+    k_eq = kt / np.pi * (beta - np.sin(2 * beta) / 2)
+    h = 4 * fs * (a - xy) / (np.pi * a * a)
+    return complex(k_eq, h)
+
+
+def test_jenkins_element_with_one_harmonic_equals_caughey():
+    """A mass on a spring and a Jenkins element (kt, slip force fs), H = 1: at every
+    branch point the amplitude solves |k - w^2 m + i w c + N(a)| a = F with Caughey's
+    equivalent stiffness and damping of the bilinear loop, to 1e-8 relative (the
+    alternating frequency-time march with 2^17 samples: its error falls as 1/N^2, 6e-9
+    at 2^16, from the kink where the element starts to slip)."""
+    kt, fs, force = 2.0, 0.3, 1.0
+    model = loads(f'''
+[parameters]
+w = 0.3
+[matrices]
+M = [[1]]
+K = [[1]]
+C = [[0.02]]
+[[harmonic]]
+omega = "w"
+F_C = [{force}]
+[[nonlinear]]
+name = "joint"
+coordinates = ["q1"]
+kind = "friction"
+stiffness = {kt}
+slip_force = {fs}
+''')
+    for start in (0.5, 1.1, 1.6):  # below, at and above the resonance: stick-slip each
+        r = condensed_sweep(model.linearize(), "w", start, start + 0.02, harmonics=1,
+                            points=3, samples=2**17, linear=False)
+        assert len(r.values) >= 3
+        for w, c in zip(r.values, r.coefficients[:, 0]):
+            a = float(np.hypot(c[1], c[2]))
+
+            def gap(a: float, w: float = float(w)) -> float:
+                return abs(1 - w * w + 1j * w * 0.02 + _caughey(a, kt, fs)) * a - force
+
+            expected = brentq(gap, 1e-6, 100.0, xtol=1e-15)
+            assert expected > 2 * fs / kt  # the element slips
+            assert a == pytest.approx(expected, rel=1e-8)
+            assert abs(c[0]) < 1e-10
+
+
+def _simulate(M, C, K, F, w, tip, k3, q0, v0, periods):
+    """The full equations M q'' + C q' + K q + k3 q_tip^3 e_tip = F cos(w t) (DOP853)."""
+    Minv = np.linalg.inv(M)
+    n = M.shape[0]
+
+    def rhs(t, s):
+        q, v = s[:n], s[n:]
+        f = F * np.cos(w * t) - C @ v - K @ q
+        f[tip] -= k3 * q[tip] ** 3
+        return np.concatenate([v, Minv @ f])
+
+    T = 2 * np.pi / w
+    sol = solve_ivp(rhs, (0, periods * T), np.concatenate([q0, v0]), method="DOP853",
+                    rtol=1e-10, atol=1e-12, t_eval=[periods * T])
+    return sol.y[:n, -1]
+
+
+def test_stability_agrees_with_time_simulation():
+    """A 10-DOF chain with a cubic spring at its tip, H = 9 (the highest harmonic carries
+    < 1e-4 of the amplitude): stable points on the upper and the lower branch are
+    reproduced by simulations of the full equations started on them (1e-4 relative after
+    200 periods); unstable points of the middle branch are left (the state moves away by
+    more than 1e-2); stability changes exactly at the folds."""
+    n, H, k3 = 10, 9, 2.0
+    model, M, C, K = chain(n, k3=k3)
+    r = condensed_sweep(model.linearize(), "w", 1.0, 2.4, harmonics=H, points=60,
+                        observe=[f"q{i}" for i in range(1, n)], linear=False)
+    folds = sorted(s.index for s in r.special_points if s.kind == "fold")
+    assert len(folds) == 2 and r.truncation < 1e-4
+    assert r.stable[:folds[0] + 1].all() and r.stable[folds[1] + 1:].all()
+    assert not r.stable[folds[0] + 1:folds[1] + 1].any()
+    order = [r.coordinates.index(f"q{i}") for i in range(1, n + 1)]
+    F = np.zeros(n)
+    F[-1] = 0.01
+    k = np.arange(1, H + 1)
+    middle = (folds[0] + folds[1]) // 2
+    for i in (folds[0] - 3, folds[0] - 20, folds[1] + 15, middle, (middle + folds[1]) // 2):
+        c = r.coefficients[i][order]
+        w = float(r.values[i])
+        q0 = c[:, 0] + c[:, 1::2].sum(axis=1)
+        v0 = w * (c[:, 2::2] @ k)
+        end = _simulate(M, C, K, F, w, n - 1, k3, q0, v0, 200)
+        deviation = np.abs(end - q0).max() / np.abs(q0).max()
+        assert (deviation < 1e-4) if r.stable[i] else (deviation > 1e-2), (i, deviation)
+
+
+def test_reduced_linear_part_equals_the_full_matrices():
+    """The linear part from a reduced model (tol 1e-9) gives the branch of the full
+    matrices to 1e-7 relative."""
+    model, *_ = chain(120)
+    kwargs = dict(harmonics=3, points=30, linear=False)
+    exact = condensed_sweep(model.linearize(), "w", 1.0, 2.4, exact=True, **kwargs)
+    reduced = condensed_sweep(model.linearize(), "w", 1.0, 2.4, exact=False, tol=1e-9,
+                              **kwargs)
+    assert len(exact.values) == len(reduced.values)
+    np.testing.assert_allclose(reduced.values, exact.values, rtol=1e-7)
+    np.testing.assert_allclose(reduced.amplitudes["q120"], exact.amplitudes["q120"],
+                               rtol=1e-7)
+    assert any("linear part: reduced model" in w and "estimate" in w
+               for w in reduced.warnings)
+
+
+@pytest.mark.parametrize("entry, message", [
+    ('coordinates = ["q9"]\nforce = "q9^3"', "unknown coordinate"),
+    ('coordinates = ["q1"]\nkind = "gap"\ngap = 0.1', "stiffness is missing"),
+    ('coordinates = ["q1"]\nkind = "spring"', "unknown kind"),
+    ('coordinates = ["q1"]\nforce = "q2^3"', "unknown name 'q2'"),
+    ('coordinates = ["q1"]\nkind = "friction"\nstiffness = 1\nslip_force = 1\nforce = "1"',
+     "unknown key 'force'"),
+    ('coordinates = ["q1", "q1"]\nforce = "q1"', "must differ"),
+    ('coordinates = "q1"\nforce = "q1\'\'"', "first rates"),
+])
+def test_bad_nonlinear_entries_are_named(entry, message):
+    text = f'''
+[matrices]
+M = [[1]]
+K = [[1]]
+[[nonlinear]]
+name = "el"
+{entry}
+'''
+    with pytest.raises(ModelError) as info:
+        loads(text, source="model.toml")
+    assert message in str(info.value)
+    assert "model.toml: [nonlinear" in str(info.value)
+
+
+def test_nonlinear_entries_need_a_matrix_model():
+    with pytest.raises(ModelError, match="belong to a \\[matrices\\] model"):
+        loads('''
+[coordinates]
+x = ""
+[energy]
+T = "x'^2/2"
+U = "x^2/2"
+[[nonlinear]]
+coordinates = ["x"]
+force = "x^3"
+''')
+
+
+def test_beam_example_reduced_equals_exact(tmp_path):
+    """examples/make_beam.py: the cantilever's first natural frequency approaches the
+    Euler-Bernoulli value 1.8751^2 sqrt(EI / (rho A L^4)) (Rao, Sect. 8.5; 1e-4 with 20
+    elements), and its branch with a cubic spring at the tip from the linear part's modal
+    and Ritz basis equals the one from the full matrices (1e-6), folds included."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "examples"))
+    import make_beam
+
+    from resonant.api import load
+
+    path = make_beam.write_beam(tmp_path, 20, "cubic")
+    model = load(path)
+    EI = make_beam.YOUNG * make_beam.WIDTH * make_beam.THICKNESS ** 3 / 12
+    rho_A = make_beam.DENSITY * make_beam.WIDTH * make_beam.THICKNESS
+    expected = 1.875104068711961 ** 2 * np.sqrt(EI / (rho_A * make_beam.LENGTH ** 4))
+    first = float(np.sqrt(model.linearize().modes().omega_squared[0]))
+    assert first == pytest.approx(expected, rel=1e-4) and first >= expected
+    kwargs = dict(harmonics=3, points=30, linear=False)
+    exact = condensed_sweep(model.linearize(), "omega", 20.0, 40.0, exact=True, **kwargs)
+    reduced = condensed_sweep(model.linearize(), "omega", 20.0, 40.0, exact=False, **kwargs)
+    folds = [[s.value for s in r.special_points if s.kind == "fold"] for r in (exact, reduced)]
+    assert len(folds[0]) == 2
+    np.testing.assert_allclose(folds[1], folds[0], rtol=1e-6)
+    tip = exact.coordinates[0]
+    assert max(reduced.amplitudes[tip]) == pytest.approx(max(exact.amplitudes[tip]), rel=1e-6)

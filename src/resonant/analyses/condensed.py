@@ -82,22 +82,28 @@ from ..model import Model
 from ..system import LinearSystem
 from ..system.base import parameter_values
 from ..system.nonlinear_elements import ElementForces
-from .harmonic_balance import NonlinearResponse, SpecialPoint
+from .continuation import follow
+from .harmonic_balance import NonlinearResponse
+from .hb_solver import newton_at
+from .peaks import series_peaks
 from .reduced import DEFAULT_TOL, reduced_model
+from .special_points import STABILITY_TOL, classify, special_points
 from .sweep import sweep
 
+#: most modes in the basis of the linear part; frequencies where it is checked exactly
+MAX_MODES = 400
+CHECKS = 7
 #: models up to this many coordinates use the full matrices (no reduced model)
 EXACT_SIZE = 400
 #: modes with |Im mu| up to this multiple of W stay dynamic in the stability analysis
 DYNAMIC_FACTOR = 3.0
 #: most modes kept dynamic in the stability analysis
 MAX_DYNAMIC = 40
+#: least samples per period for elements with kinks (gap, friction)
+NONSMOOTH_SAMPLES = 2048
 #: default harmonics
-DEFAULT_HARMONICS = 5
+DEFAULT_HARMONICS = 7
 NEWTON_TOL = 1e-10
-NEWTON_MAX = 15
-STABILITY_TOL = 1e-6
-MAX_RELATIVE_CHANGE = 0.08
 #: frequencies per unit of the band where the reduced model's error is checked
 BAND_POINTS = 400
 
@@ -149,6 +155,109 @@ def _first_order(Mr: np.ndarray, Cr: np.ndarray, Kr: np.ndarray
     return mu, X, np.linalg.inv(X)
 
 
+def _scaling(M: Any, K: Any) -> np.ndarray:
+    """D = diag(K)^(-1/2) where the stiffness diagonal is positive (else diag(M)^(-1/2),
+    else 1): a symmetric scaling that gives every coordinate unit diagonal stiffness."""
+    k = np.asarray(K.diagonal() if hasattr(K, "diagonal") else np.diag(K), dtype=float)
+    m = np.asarray(M.diagonal() if hasattr(M, "diagonal") else np.diag(M), dtype=float)
+    d = np.where(k > 0, k, np.where(m > 0, m, 1.0))
+    return np.asarray(1.0 / np.sqrt(d))
+
+
+def _sparse_diagonal(d: np.ndarray) -> Any:
+    import scipy.sparse as sp
+
+    return sp.diags(d, format="csr")
+
+
+def _symmetric(a: Any) -> bool:
+    diff = a - a.T
+    size = abs(diff).max() if hasattr(diff, "toarray") else np.abs(diff).max(initial=0.0)
+    scale = abs(a).max() if hasattr(a, "toarray") else np.abs(a).max(initial=0.0)
+    return bool(size <= 1e-12 * scale)
+
+
+def _factor_stiffness(K: Any, M: Any, top: float) -> Any:
+    """A sparse LU of K, or of K + (1e-3 top)^2 M where K is singular (a free body)."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as sla
+
+    try:
+        return sla.splu(sp.csc_matrix(K))
+    except RuntimeError:
+        return sla.splu(sp.csc_matrix(K + (1e-3 * top) ** 2 * M))
+
+
+def _modes_below(K: Any, M: Any, lu: Any, cut: float) -> np.ndarray:
+    """The M-orthonormal modes with omega <= cut (shift-invert Lanczos about 0)."""
+    import scipy.sparse.linalg as sla
+
+    n = K.shape[0]
+    op = sla.LinearOperator(K.shape, matvec=lu.solve, dtype=float)
+    k = min(n - 2, 16)
+    while True:
+        vals, phi = sla.eigsh(K, k=k, M=M, sigma=0.0, OPinv=op)
+        if vals.max() > cut * cut or k >= min(n - 2, MAX_MODES):
+            return np.asarray(phi[:, vals <= cut * cut])
+        k = min(2 * k, n - 2, MAX_MODES)
+
+
+def _ritz_basis(M: Any, K: Any, B: np.ndarray, cut: float, levels: int, lu: Any
+                ) -> np.ndarray:
+    """The modes below ``cut`` and ``levels`` load-dependent Ritz blocks
+    (K^-1 B, K^-1 M K^-1 B, ...: the static and quasi-static response of the modes
+    above), orthonormalized."""
+    phi = _modes_below(K, M, lu, cut) if M.shape[0] > 2 else np.zeros((M.shape[0], 0))
+    loads = np.hstack([B.real, B.imag])
+    X = lu.solve(loads[:, np.abs(loads).max(axis=0) > 0])
+    blocks = [phi]
+    for _ in range(levels):
+        X = X - phi @ (phi.T @ (M @ X))
+        blocks.append(X)
+        X = lu.solve(M @ X)
+    Q, R = np.linalg.qr(np.hstack(blocks))
+    d = np.abs(np.diag(R))
+    return np.asarray(Q[:, d > 1e-12 * d.max()])
+
+
+def _modal_basis(M: Any, C: Any, K: Any, B: np.ndarray, top: float, rows: list[int],
+                 tol: float, deadline: Deadline) -> tuple[np.ndarray, float] | None:
+    """A basis of modes and load-dependent Ritz vectors whose transfer to ``rows`` meets
+    ``tol`` at check frequencies over the band (exact sparse solves there); the largest
+    error seen, or None when no basis of at most :data:`MAX_MODES` modes meets it."""
+    D = _scaling(M, K)  # deflections and slopes of a beam differ in scale by far
+    Ds = _sparse_diagonal(D)
+    M, K, B = Ds @ M @ Ds, Ds @ K @ Ds, D[:, None] * B
+    C = None if C is None else Ds @ C @ Ds
+    lu = _factor_stiffness(K, M, top)
+    checks = np.linspace(0.0, top, CHECKS)
+    exact = [_exact_transfer(M, C, K, B, w, rows) for w in checks]
+    scale = max(float(np.abs(t).max()) for t in exact)
+    previous = np.inf
+    for cut, levels in ((4 * top, 2), (8 * top, 3), (16 * top, 4)):
+        deadline.check("while building the reduced model of the linear part", analysis=True)
+        V = _ritz_basis(M, K, B, cut, levels, lu)
+        Mr, Kr, Br = V.T @ (M @ V), V.T @ (K @ V), V.T @ B
+        Cr = V.T @ (C @ V) if C is not None else np.zeros_like(Mr)
+        error = max(float(np.abs(V[rows] @ np.linalg.solve(Kr - w * w * Mr + 1j * w * Cr, Br)
+                                 - t).max()) for w, t in zip(checks, exact)) / scale
+        # met, or a larger basis no longer helps: the rounding floor of the exact solves
+        # of an ill-conditioned K (then accepted up to 100 tol, said in the warning)
+        if error <= tol or (error >= 0.5 * previous and error <= 100 * tol):
+            return D[:, None] * V, error
+        previous = error
+    return None
+
+
+def _exact_transfer(M: Any, C: Any, K: Any, B: np.ndarray, w: float, rows: list[int]
+                    ) -> np.ndarray:
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as sla
+
+    A = sp.csc_matrix(K - w * w * M + (1j * w * C if C is not None else 0 * M))
+    return np.asarray(sla.splu(A).solve(B))[rows]
+
+
 def linear_part(M: Any, C: Any, K: Any, loads: np.ndarray, nonlinear: Sequence[int],
                 observed: Sequence[int], band: np.ndarray, *, exact: bool | None = None,
                 tol: float = DEFAULT_TOL, deadline: Deadline = NO_DEADLINE) -> LinearPart:
@@ -189,12 +298,17 @@ def linear_part(M: Any, C: Any, K: Any, loads: np.ndarray, nonlinear: Sequence[i
         Br = B
         error = 0.0
     else:
-        rom = reduced_model(M, C, K, B, band, tol=tol, deadline=deadline)
-        if not rom.converged:
-            raise AnalysisError(f"the reduced model of the linear part did not reach the "
-                                f"tolerance {tol:.2g}: {rom.reason}")
-        V, Mr, Cr, Kr, Br = rom.V, rom.Mr, rom.Cr, rom.Kr, rom.Br
-        error = float(np.max(rom.estimated_error, initial=0.0))
+        basis = _modal_basis(M, C, K, B, float(band.max()), rows, tol, deadline) \
+            if _symmetric(M) and _symmetric(K) else None
+        if basis is None:
+            rom = reduced_model(M, C, K, B, band, tol=tol, deadline=deadline)
+            if not rom.converged:
+                raise AnalysisError(f"the reduced model of the linear part did not reach the "
+                                    f"tolerance {tol:.2g}: {rom.reason}")
+            basis = (rom.V, float(np.max(rom.estimated_error, initial=0.0)))
+        V, error = basis
+        Mr, Cr, Kr = (V.T @ (a @ V) for a in (M, C if C is not None else 0 * M, K))
+        Br = V.T @ B
     r = Mr.shape[0]
     mu, X, Xinv = _first_order(Mr, Cr, Kr)
     Vrows = np.eye(n)[rows] if V is None else V[rows]
@@ -249,16 +363,29 @@ class CondensedBalance:
         p -> base frequency W.
     H, N : int
         Harmonics and samples per period.
+    param : str
+        The continuation parameter.
+    names : tuple of str
+        The kept rows' coordinates (nonlinear first, then observed).
+    top : float
+        The highest base frequency of the range (which modes stay dynamic).
     """
 
     def __init__(self, linear: LinearPart, forces: Any, loads: list[tuple[int, int]],
-                 base: Any, H: int, N: int) -> None:
+                 base: Any, H: int, N: int, param: str, names: tuple[str, ...],
+                 top: float) -> None:
         self.linear, self.forces, self.loads, self.base = linear, forces, loads, base
         self.m = linear.m
         self.basis = _Basis(H, N)
         self.H = H
         self.size = self.m * self.basis.size
+        self.param = param
+        self._names = names
+        self.dynamic = _dynamic_modes(linear.mu, top)
+        self._rows = np.arange(len(names))
         self._cache: dict[float, np.ndarray] = {}
+        #: (sign of det J, parity of the real unstable exponents) at the branch's start
+        self.reference: tuple[float, int] | None = None
 
     def transfers(self, W: float, rows: np.ndarray | None = None) -> np.ndarray:
         """(H+1, rows, m + p) transfers at kW (default rows: the nonlinear coordinates)."""
@@ -313,36 +440,49 @@ class CondensedBalance:
         J = b.real(dr).transpose(0, 2, 1).reshape(self.size, self.size) + np.eye(self.size)
         return R, J
 
+    def jacobian(self, x: np.ndarray, p: float
+                 ) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, float, float]]:
+        """R, dR/dx and the point (x, p, W) for :meth:`exponents`."""
+        R, J = self.evaluate(x, p)
+        assert J is not None
+        return R, J, (x, p, self.base(p))
+
     def dp(self, x: np.ndarray, p: float) -> np.ndarray:
         h = 1e-6 * max(1.0, abs(p))
         return (self.evaluate(x, p + h, False)[0] - self.evaluate(x, p - h, False)[0]) / (2 * h)
 
     def newton(self, x: np.ndarray, p: float, scale: float) -> tuple[np.ndarray, bool]:
-        for _ in range(NEWTON_MAX):
-            R, J = self.evaluate(x, p)
-            assert J is not None
-            try:
-                dx = np.linalg.solve(J, -R)
-            except np.linalg.LinAlgError:
-                return x, False
-            x = x + dx
-            if not np.all(np.isfinite(x)):
-                return x, False
-            if np.linalg.norm(dx) <= NEWTON_TOL * max(float(np.linalg.norm(x)), scale):
-                return x, True
-        return x, False
+        """Newton's method at fixed p (:func:`~resonant.analyses.hb_solver.newton_at`)."""
+        return newton_at(self.jacobian, x, p, scale, NEWTON_TOL)
 
-    def exponents(self, x: np.ndarray, p: float) -> np.ndarray:
-        """Floquet exponents by Hill's method on the kept modes (see the module docstring)."""
+    def names(self) -> tuple[str, ...]:
+        """The nonlinear coordinates, then the observed ones."""
+        return self._names
+
+    def coefficients(self, x: np.ndarray, p: float) -> np.ndarray:
+        """(rows, 2H+1) real coefficients of every kept row (nonlinear and observed)."""
+        b, m = self.basis, self.m
         W = self.base(p)
+        T = self.transfers(W, self._rows)
+        U, Ud = self.samples(x, W)
+        F, _ = self.forces(p).evaluate(U, Ud)
+        G = b.complex(F @ b.P.T)
+        z = self.linear_response(T, slice(None)) - np.einsum("kij,jk->ik", T[:, :, :m], G)
+        return b.real(z)
+
+    def amplitudes(self, x: np.ndarray, p: float) -> np.ndarray:
+        """Peak |q| over one period of every kept row, located to rounding."""
+        return np.asarray(series_peaks(self.coefficients(x, p)))
+
+    def exponents(self, J: np.ndarray, blocks: tuple[np.ndarray, float, float]
+                  ) -> np.ndarray:
+        """Floquet exponents by Hill's method on the kept modes (see the module docstring);
+        ``blocks`` is the point (x, p, W) of :meth:`jacobian`."""
+        x, p, W = blocks
         lin, m, b = self.linear, self.m, self.basis
         U, Ud = self.samples(x, W)
         G0, G1 = self.forces(p).stiffness(U, Ud)                  # (m, m, N)
-        keep = np.abs(lin.mu.imag) <= DYNAMIC_FACTOR * W
-        if keep.sum() > MAX_DYNAMIC:
-            order = np.argsort(np.abs(lin.mu.imag))
-            keep = np.zeros_like(keep)
-            keep[order[:MAX_DYNAMIC]] = True
+        keep = self.dynamic
         mu_s = lin.mu[keep]
         Cq, Cv = lin.Lq[:m, keep], lin.Lv[:m, keep]
         Bs = lin.Rin[keep, :m]
@@ -351,177 +491,82 @@ class CondensedBalance:
         s = mu_s.size
         if s == 0:
             return np.zeros(0, dtype=complex)
-        eye = np.eye(m)
-        A = np.empty((b.N, s, s), dtype=complex)
-        for j in range(b.N):
-            g0, g1 = G0[:, :, j], G1[:, :, j]
-            Tj = np.linalg.solve(eye - Rres @ g0, Cq + Rres @ g1 @ Cv)
-            A[j] = np.diag(mu_s) - Bs @ (g0 @ Tj + g1 @ Cv)
-        return _hill(A, W, self.H, s)
+        # per sample: the nonlinear coordinates' perturbation T eta (fast modes quasi-static)
+        # and the force it feeds back, P eta; A(t) = diag(mu) - Bs P(t)
+        E = np.eye(m) - np.einsum("ij,jkn->nik", Rres, G0)
+        rhs = Cq[None] + np.einsum("ij,jkn,kl->nil", Rres, G1, Cv)
+        T = np.linalg.solve(E, rhs)                               # (N, m, s)
+        P = np.einsum("ijn,njk->nik", G0, T) + np.einsum("ijn,jk->nik", G1, Cv)
+        H = self.H
+        spectrum = np.fft.fft(P, axis=0) / b.N                    # index k: e^{i k W t}
+        offsets = np.arange(-2 * H, 2 * H + 1)
+        coef = -np.einsum("ij,djk->dik", Bs, spectrum[offsets % b.N])
+        coef[2 * H] += np.diag(mu_s)
+        if b.N <= 4 * H:  # too few samples to resolve the offsets: alias-free part only
+            coef[np.abs(offsets) >= b.N // 2] = 0.0
+        lam = _hill(coef, W, H, s)
+        sign = float(np.linalg.slogdet(J)[0])
+        if self.reference is None:
+            self.reference = (sign, _real_unstable(lam, W) % 2)
+            return lam
+        odd = (sign != self.reference[0]) != bool(self.reference[1])
+        return _match_parity(lam, W, odd)
 
 
-def _hill(A: np.ndarray, W: float, H: int, s: int) -> np.ndarray:
-    """The s exponents of the periodic system eta' = A(t) eta (samples (N, s, s)) in the
-    fundamental strip, by Hill's method with harmonics -H ... H."""
-    N = A.shape[0]
-    coef = np.fft.fft(A, axis=0) / N                 # coef[k] multiplies e^{i k W t}
+def _hill(coef: np.ndarray, W: float, H: int, s: int) -> np.ndarray:
+    """The s exponents of the periodic system eta' = A(t) eta in the fundamental strip, by
+    Hill's method with harmonics -H ... H; ``coef[d + 2H]`` (s, s) multiplies
+    e^{i d W t}, d = -2H ... 2H."""
     size = s * (2 * H + 1)
     hill = np.zeros((size, size), dtype=complex)
     for a, k in enumerate(range(-H, H + 1)):
-        for c, l in enumerate(range(-H, H + 1)):
-            block = coef[(k - l) % N] if abs(k - l) < N // 2 else 0.0
-            hill[a * s:(a + 1) * s, c * s:(c + 1) * s] = block
+        for c, j in enumerate(range(-H, H + 1)):
+            hill[a * s:(a + 1) * s, c * s:(c + 1) * s] = coef[k - j + 2 * H]
         hill[a * s:(a + 1) * s, a * s:(a + 1) * s] -= 1j * k * W * np.eye(s)
     lam = np.linalg.eigvals(hill)
     order = np.argsort(np.abs(lam.imag), kind="stable")
     return lam[order[:s]]
 
 
-# -- continuation -------------------------------------------------------------------------
-
-@dataclass
-class _Branch:
-    x: list[np.ndarray]
-    p: list[float]
-    tangents: list[np.ndarray]
-    warnings: list[str]
-    sx: float
-    sp: float
-
-
-def _tangent(J: np.ndarray, Rp: np.ndarray, sx: float, sp: float, previous: np.ndarray
-             ) -> np.ndarray:
-    A = np.vstack([np.hstack([J * sx, (Rp * sp)[:, None]]), previous[None, :]])
-    rhs = np.zeros(A.shape[0])
-    rhs[-1] = 1.0
-    t = np.linalg.solve(A, rhs)
-    t /= np.linalg.norm(t)
-    return t if t @ previous >= 0 else -t
+def _dynamic_modes(mu: np.ndarray, top: float) -> np.ndarray:
+    """Which first-order modes the stability analysis keeps dynamic (the same at every
+    point of a branch): all of them for a small linear part, else those up to
+    :data:`DYNAMIC_FACTOR` times the highest base frequency ``top`` (at most
+    :data:`MAX_DYNAMIC`, the slowest)."""
+    if mu.size <= MAX_DYNAMIC:
+        return np.ones(mu.size, dtype=bool)
+    keep = np.abs(mu.imag) <= DYNAMIC_FACTOR * top
+    if keep.sum() > MAX_DYNAMIC:
+        keep = np.zeros(mu.size, dtype=bool)
+        keep[np.argsort(np.abs(mu.imag), kind="stable")[:MAX_DYNAMIC]] = True
+    return keep
 
 
-def _correct(hb: CondensedBalance, pred: np.ndarray, t: np.ndarray, sx: float, sp: float
-             ) -> tuple[np.ndarray, bool, int]:
-    """Newton on R(x, p) = 0 and t . (v - pred) = 0 (scaled variables)."""
-    v = pred.copy()
-    Rp = hb.dp(pred[:-1] * sx, pred[-1] * sp)
-    for iterations in range(1, NEWTON_MAX + 1):
-        R, J = hb.evaluate(v[:-1] * sx, v[-1] * sp)
-        assert J is not None
-        A = np.vstack([np.hstack([J * sx, (Rp * sp)[:, None]]), t[None, :]])
-        try:
-            dv = np.linalg.solve(A, -np.concatenate([R, [t @ (v - pred)]]))
-        except np.linalg.LinAlgError:
-            return v, False, iterations
-        v = v + dv
-        if not np.all(np.isfinite(v)):
-            return v, False, iterations
-        if np.linalg.norm(dv) <= NEWTON_TOL * max(float(np.linalg.norm(v)), 1.0):
-            return v, True, iterations
-    return v, False, NEWTON_MAX
+def _real_unstable(lam: np.ndarray, W: float) -> int:
+    """The count of unstable exponents with no oscillating part (multipliers > 1)."""
+    return classify(lam, W)[0]
 
 
-def _step(hb: CondensedBalance, branch: _Branch, ds: float, name: str
-          ) -> tuple[np.ndarray, float, np.ndarray, int, float] | None:
-    """One predictor-corrector step from the last point (None: no acceptable step)."""
-    sx, sp = branch.sx, branch.sp
-    x, p, t = branch.x[-1], branch.p[-1], branch.tangents[-1]
-    u = np.concatenate([x / sx, [p / sp]])
-    v, ok, iterations = _correct(hb, u + ds * t, t, sx, sp)
-    x_new, p_new = v[:-1] * sx, float(v[-1] * sp)
-    change = float(np.linalg.norm(x_new - x)) / max(float(np.linalg.norm(x)), 1e-3 * sx)
-    if not ok or change > 2 * MAX_RELATIVE_CHANGE:
-        return None
-    _, J = hb.evaluate(x_new, p_new)
-    assert J is not None
-    t_new = _tangent(J, hb.dp(x_new, p_new), sx, sp, t)
-    if t_new @ t < 0.8 and ds > 1e-4:  # turned too sharply: maybe a jump between branches
-        return None
-    return x_new, p_new, t_new, iterations, change
-
-
-def _continue(hb: CondensedBalance, x0: np.ndarray, start: float, stop: float, points: int,
-              name: str, deadline: Deadline) -> _Branch:
-    sp = abs(stop - start)
-    direction = 1.0 if stop > start else -1.0
-    sx = max(float(np.linalg.norm(x0)), 1e-12)
-    previous = np.zeros(x0.size + 1)
-    previous[-1] = direction
-    _, J = hb.evaluate(x0, start)
-    assert J is not None
-    t = _tangent(J, hb.dp(x0, start), sx, sp, previous)
-    branch = _Branch([x0], [start], [t], [], sx, sp)
-    ds_max, ds_min = 1.0 / max(points - 1, 2), 1e-7
-    ds = ds_max
-    for _ in range(50 * points):
-        p = branch.p[-1]
-        deadline.check(f"while following the branch ({name} = {p:.6g})", analysis=True)
-        found = _step(hb, branch, ds, name)
-        if found is None:
-            ds /= 2
-            if ds < ds_min:
-                branch.warnings.append(f"the continuation stopped at {name} = {p:.6g}: no "
-                                       f"converged step (step size below {ds_min:g})")
-                break
-            continue
-        x, p_new, t, iterations, change = found
-        if (p_new - stop) * direction > 0:  # passed the end: finish exactly at stop
-            xs, ps = branch.x[-1], branch.p[-1]
-            guess = xs + (x - xs) * (stop - ps) / (p_new - ps) if p_new != ps else x
-            xe, converged = hb.newton(guess, stop, sx)
-            if converged:
-                branch.x.append(xe)
-                branch.p.append(stop)
-                branch.tangents.append(t)
-            return branch
-        if (p_new - start) * direction < -0.05 * sp:
-            branch.warnings.append(f"the branch turned back out of the range at {name} = "
-                                   f"{p_new:.6g}; stopped there")
-            break
-        branch.x.append(x)
-        branch.p.append(p_new)
-        branch.tangents.append(t)
-        dp_rel = abs(p_new - p) / sp
-        factor = 1.5 if iterations <= 3 else (1.0 if iterations <= 5 else 0.6)
-        factor = min(factor, MAX_RELATIVE_CHANGE / max(change, 1e-12),
-                     ds_max / max(dp_rel, 1e-12))
-        ds = float(np.clip(ds * max(factor, 0.3), ds_min, 20 * ds_max))
+def _match_parity(lam: np.ndarray, W: float, odd: bool) -> np.ndarray:
+    """The exponents with the count of real unstable ones made odd or even as the sign of
+    det J says (exact for the condensed balance: det J_full = det D det J with det D of
+    one sign along a branch, and a real exponent crossing zero flips it): the real
+    exponent nearest zero, which the modal truncation puts on the wrong side near a fold
+    or a branch point, changes side."""
+    if (_real_unstable(lam, W) % 2 == 1) == odd:
+        return lam
+    real = np.nonzero(np.abs(lam.imag) < 0.02 * W)[0]
+    if real.size == 0:  # the pair that turns real at the fold is still complex here
+        j = int(np.argmin(np.abs(lam.imag)))
+        lam = lam.copy()
+        lam[j] = lam[j].real
     else:
-        branch.warnings.append(f"the continuation stopped after {50 * points} steps before "
-                               f"reaching {stop:g}")
-    return branch
-
-
-def _refine_fold(hb: CondensedBalance, branch: _Branch, i: int
-                 ) -> tuple[np.ndarray, float] | None:
-    """The fold between points i and i+1: the tangent's parameter component is zero
-    (regula falsi, Illinois, on the arclength from point i)."""
-    sx, sp = branch.sx, branch.sp
-    t = branch.tangents[i]
-    ui = np.concatenate([branch.x[i] / sx, [branch.p[i] / sp]])
-    uj = np.concatenate([branch.x[i + 1] / sx, [branch.p[i + 1] / sp]])
-    a, b = 0.0, float(t @ (uj - ui))
-    fa, fb = float(branch.tangents[i][-1]), float(branch.tangents[i + 1][-1])
-    if not (fa * fb < 0 and b > 0):
-        return None
-    best = None
-    for _ in range(40):
-        sigma = (a * fb - b * fa) / (fb - fa)
-        v, ok, _ = _correct(hb, ui + sigma * t, t, sx, sp)
-        if not ok:
-            return best
-        x, p = v[:-1] * sx, float(v[-1] * sp)
-        _, J = hb.evaluate(x, p)
-        assert J is not None
-        f = float(_tangent(J, hb.dp(x, p), sx, sp, t)[-1])
-        best = (x, p)
-        if f * fb < 0:
-            a, fa = b, fb
-        else:
-            fa /= 2
-        b, fb = sigma, f
-        if abs(b - a) < 1e-13 * max(1.0, abs(b)) or f == 0:
-            break
-    return best
+        j = real[np.argmin(np.abs(lam[real].real))]
+    floor = 2 * math.log1p(STABILITY_TOL) * W / (2 * np.pi)
+    out = lam.copy()
+    out[j] = (floor if lam[j].real <= 0 else -floor) + 1j * lam[j].imag \
+        if abs(lam[j].real) < floor else -lam[j].real + 1j * lam[j].imag
+    return out
 
 
 # -- the model ----------------------------------------------------------------------------
@@ -606,76 +651,41 @@ def _start_point(hb: CondensedBalance, start: float) -> np.ndarray:
     return x0
 
 
-def _recover(hb: CondensedBalance, branch: _Branch, rows: np.ndarray) -> np.ndarray:
-    """(points, rows, 2H+1) coefficients of the kept rows (nonlinear and observed)."""
-    b, m = hb.basis, hb.m
-    out = np.empty((len(branch.x), len(rows), b.size))
-    for i, (x, p) in enumerate(zip(branch.x, branch.p)):
-        W = hb.base(p)
-        T = hb.transfers(W, rows)
-        U, Ud = hb.samples(x, W)
-        F, _ = hb.forces(p).evaluate(U, Ud)
-        G = b.complex(F @ b.P.T)
-        z = hb.linear_response(T, slice(None)) - np.einsum("kij,jk->ik", T[:, :, :m], G)
-        out[i] = b.real(z)
-    return out
+def default_samples(model: Model, harmonics: int) -> int:
+    """Samples per period of the alternating frequency-time scheme: 8 per harmonic
+    coefficient (at least 64) for smooth forces; for a gap or a friction element, whose
+    force has kinks between samples and whose harmonics converge only as 1/N^2, at
+    least :data:`NONSMOOTH_SAMPLES` (fewer leave steps in the residual that the
+    continuation takes for folds).
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> default_samples(loads('[matrices]\\nM = [[1]]\\nK = [[1]]\\n'), 7)
+    120
+    """
+    smooth = max(64, 8 * (2 * harmonics + 1))
+    elements = model.matrices.nonlinear if model.matrices is not None else ()
+    if any(e.kind in ("gap", "friction") for e in elements):
+        return max(NONSMOOTH_SAMPLES, 2 * smooth)
+    return smooth
 
 
-def _amplitudes(coeffs: np.ndarray, H: int) -> np.ndarray:
-    """(points, rows) peak |deviation| over one period (fine sampling)."""
-    fine = max(256, 16 * (2 * H + 1))
-    phi = _Basis(H, fine).phi.T
-    flat = coeffs.reshape(-1, coeffs.shape[-1])
-    out = np.empty(flat.shape[0])
-    chunk = max(1, 2**22 // fine)
-    for start in range(0, flat.shape[0], chunk):
-        out[start:start + chunk] = np.abs(flat[start:start + chunk] @ phi).max(axis=-1)
-    return out.reshape(coeffs.shape[:-1])
+def has_nonlinear_elements(model: Model) -> bool:
+    """Whether ``model`` is a ``[matrices]`` model with ``[[nonlinear]]`` elements (whose
+    periodic response :func:`condensed_sweep` computes).
 
-
-def _classify(lam: np.ndarray, W: float) -> tuple[int, int, int]:
-    """Counts of unstable exponents: (real positive mu, real negative mu, complex)."""
-    T = 2 * np.pi / W
-    unstable = lam[lam.real * T > math.log1p(STABILITY_TOL)]
-    phase = np.abs(unstable.imag) / W
-    pos = int(np.sum(phase < 0.02))
-    neg = int(np.sum(phase > 0.48))
-    return pos, neg, unstable.size - pos - neg
-
-
-def _special_points(hb: CondensedBalance, branch: _Branch, lam: list[np.ndarray],
-                    Ws: np.ndarray, names: tuple[str, ...], rows: np.ndarray
-                    ) -> list[SpecialPoint]:
-    special: list[SpecialPoint] = []
-    folds: set[int] = set()
-
-    def point(i: int, kind: str, found: tuple[np.ndarray, float] | None) -> SpecialPoint:
-        if found is None:
-            found = (0.5 * (branch.x[i] + branch.x[i + 1]),
-                     0.5 * (branch.p[i] + branch.p[i + 1]))
-        x, p = found
-        single = _Branch([x], [p], [], [], branch.sx, branch.sp)
-        a = _amplitudes(_recover(hb, single, rows), hb.H)[0]
-        return SpecialPoint(kind, float(p), MappingProxyType(
-            {nm: float(a[j]) for j, nm in enumerate(names)}), i)
-
-    tp = [float(t[-1]) for t in branch.tangents]
-    for i in range(len(tp) - 1):
-        if tp[i] * tp[i + 1] < 0:
-            special.append(point(i, "fold", _refine_fold(hb, branch, i)))
-            folds.update({i - 1, i, i + 1})
-    counts = [_classify(lam[i], Ws[i]) for i in range(len(lam))]
-    for i in range(len(counts) - 1):
-        a, b = counts[i], counts[i + 1]
-        for j, kind in ((1, "period-doubling"), (2, "neimark-sacker"), (0, "branch")):
-            if a[j] != b[j] and not (j == 0 and i in folds):
-                special.append(point(i, kind, None))
-    special.sort(key=lambda s: s.index)
-    return special
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> has_nonlinear_elements(loads('[matrices]\\nM = [[1]]\\nK = [[1]]\\n'))
+    False
+    """
+    return model.matrices is not None and bool(model.matrices.nonlinear)
 
 
 def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float, *,
-                    harmonics: int = DEFAULT_HARMONICS, points: int = 101,
+                    harmonics: int | None = None, points: int = 101,
                     observe: Sequence[str] | None = None, samples: int | None = None,
                     exact: bool | None = None, tol: float = DEFAULT_TOL,
                     linear: bool = True, deadline: Deadline = NO_DEADLINE
@@ -691,15 +701,15 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
         the load vectors must not depend on it.
     start, stop : float
         The range; the continuation starts from the linear response at ``start``.
-    harmonics : int
-        H.
+    harmonics : int, optional
+        H (default :data:`DEFAULT_HARMONICS`).
     points : int
         About this many steps across the range (more near folds).
     observe : sequence of str, optional
         Further coordinates whose amplitudes are recovered (the nonlinear ones always are).
     samples : int, optional
         Time samples per period of the alternating frequency-time scheme (default
-        max(64, 8 (2H+1))).
+        :func:`default_samples`).
     exact : bool, optional
         Use the full matrices instead of a reduced model (default: for n <= 400).
     tol : float
@@ -721,6 +731,7 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
         ``param``, incommensurate excitations, or no convergence at the start.
     """
     model = system._model()
+    harmonics = DEFAULT_HARMONICS if harmonics is None else harmonics
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
         raise AnalysisError("the range must be two different finite numbers")
     if not 1 <= harmonics <= 100:
@@ -741,29 +752,31 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     band = np.linspace(0.0, harmonics * Wmax * 1.05, BAND_POINTS)
     lin = linear_part(setup.M, setup.C, setup.K, setup.loads, nl, observed, band,
                       exact=exact, tol=tol, deadline=deadline)
-    N = samples or max(64, 8 * (2 * harmonics + 1))
-    hb = CondensedBalance(lin, setup.forces, setup.orders, setup.base, harmonics, N)
-    x0 = _start_point(hb, start)
-    branch = _continue(hb, x0, start, stop, points, param, deadline)
-    rows = np.arange(len(nl) + len(observed))
+    N = samples or default_samples(model, harmonics)
     names = tuple(coords[i] for i in nl + observed)
-    coeffs = _recover(hb, branch, rows)
+    hb = CondensedBalance(lin, setup.forces, setup.orders, setup.base, harmonics, N, param,
+                          names, Wmax)
+    x0 = _start_point(hb, start)
+    branch = follow(hb, x0, start, stop, points, deadline)
+    coeffs = np.array([hb.coefficients(x, p) for x, p in zip(branch.x, branch.p)])
     lam, residual = [], 0.0
     for x, p in zip(branch.x, branch.p):
         deadline.check("during the stability analysis", analysis=True)
-        residual = max(residual, float(np.abs(hb.evaluate(x, p, False)[0]).max()))
-        lam.append(hb.exponents(x, p))
+        R, J, blocks = hb.jacobian(x, p)
+        residual = max(residual, float(np.abs(R).max()))
+        lam.append(hb.exponents(J, blocks))
     Ws = np.array([hb.base(p) for p in branch.p])
     width = max((v.size for v in lam), default=0)
     lam_arr = np.array([np.pad(v, (0, width - v.size)) for v in lam])
     mult = np.exp(lam_arr * (2 * np.pi / Ws)[:, None])
     stable = np.all(np.abs(mult) <= 1 + STABILITY_TOL, axis=1)
-    amps = _amplitudes(coeffs, harmonics)
-    special = _special_points(hb, branch, lam, Ws, names, rows)
+    amps = np.asarray(series_peaks(coeffs))
+    special = special_points(hb, branch, lam_arr, Ws, amps)
     warnings = list(branch.warnings)
     if lin.error > 0:
-        warnings.append(f"linear part: reduced model of {lin.size} vectors, estimated error "
-                        f"{lin.error:.2g} (an estimate, not a bound)")
+        warnings.append(f"linear part: reduced model of {lin.size} vectors, largest error "
+                        f"{lin.error:.2g} of its transfer functions where checked against "
+                        "exact solves (an estimate, not a bound)")
     linear_response = None
     if linear:
         try:
@@ -792,5 +805,5 @@ def _truncation(coeffs: np.ndarray) -> float:
     return float(ratio.max(initial=0.0))
 
 
-__all__ = ["condensed_sweep", "CondensedBalance", "LinearPart", "linear_part",
-           "EXACT_SIZE"]
+__all__ = ["condensed_sweep", "default_samples", "has_nonlinear_elements",
+           "CondensedBalance", "LinearPart", "linear_part", "EXACT_SIZE"]

@@ -12,11 +12,33 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any, Protocol
 
 import numpy as np
 
 from ..deadline import Deadline
-from .hb_solver import NEWTON_MAX, NEWTON_TOL, HarmonicBalance
+from .hb_solver import NEWTON_MAX, NEWTON_TOL
+
+
+class Balance(Protocol):
+    """Harmonic-balance equations R(x, p) = 0 as the continuation uses them: the full ones
+    (:class:`~resonant.analyses.hb_solver.HarmonicBalance`) or those condensed onto the
+    nonlinear coordinates (:class:`~resonant.analyses.condensed.CondensedBalance`)."""
+
+    #: the name of the continuation parameter
+    param: str
+
+    def jacobian(self, x: np.ndarray, p: float) -> tuple[np.ndarray, np.ndarray, Any]:
+        """R, dR/dx and what the stability analysis needs of the point (its last item W)."""
+        ...
+
+    def dp(self, x: np.ndarray, p: float) -> np.ndarray:
+        """dR/dp."""
+        ...
+
+    def newton(self, x: np.ndarray, p: float, scale: float) -> tuple[np.ndarray, bool]:
+        """Newton's method at fixed p: the solution and whether it converged."""
+        ...
 
 #: largest relative change of the coefficient vector per continuation step
 MAX_RELATIVE_CHANGE = 0.08
@@ -49,7 +71,7 @@ def tangent(J: np.ndarray, Rp: np.ndarray, sx: float, sp: float,
     return t if t @ previous >= 0 else -t
 
 
-def correct(hb: HarmonicBalance, pred: np.ndarray, t: np.ndarray, sx: float, sp: float
+def correct(hb: Balance, pred: np.ndarray, t: np.ndarray, sx: float, sp: float
             ) -> tuple[np.ndarray, bool, int]:
     """Newton on R(x, p) = 0 and t . (v - pred) = 0 from the predictor (scaled variables)."""
     v = pred.copy()
@@ -73,13 +95,13 @@ def correct(hb: HarmonicBalance, pred: np.ndarray, t: np.ndarray, sx: float, sp:
     return v, False, NEWTON_MAX
 
 
-def follow(hb: HarmonicBalance, x0: np.ndarray, start: float, stop: float, points: int,
+def follow(hb: Balance, x0: np.ndarray, start: float, stop: float, points: int,
            deadline: Deadline) -> Branch:
     """Continue the solution x0 at ``start`` to ``stop`` by pseudo-arclength.
 
     Parameters
     ----------
-    hb : HarmonicBalance
+    hb : Balance
     x0 : numpy.ndarray
         A converged solution at ``start``.
     start, stop : float
@@ -155,7 +177,7 @@ def follow(hb: HarmonicBalance, x0: np.ndarray, start: float, stop: float, point
     return branch
 
 
-def refine(hb: HarmonicBalance, branch: Branch, i: int,
+def refine(hb: Balance, branch: Branch, i: int,
            g: Callable[[np.ndarray, float, np.ndarray], float], g0: float, g1: float
            ) -> tuple[np.ndarray, float] | None:
     """The point between branch points i and i+1 where g(x, p, tangent) = 0 (regula falsi
@@ -188,4 +210,4 @@ def refine(hb: HarmonicBalance, branch: Branch, i: int,
     return best
 
 
-__all__ = ["Branch", "tangent", "correct", "follow", "refine", "MAX_RELATIVE_CHANGE"]
+__all__ = ["Balance", "Branch", "tangent", "correct", "follow", "refine", "MAX_RELATIVE_CHANGE"]

@@ -44,7 +44,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -161,18 +161,7 @@ class HarmonicBalance:
 
     def newton(self, x: np.ndarray, p: float, scale: float) -> tuple[np.ndarray, bool]:
         """Newton's method on R(x, p) = 0 at fixed p (converged: the step below 1e-11)."""
-        for _ in range(NEWTON_MAX):
-            R, J, _ = self.jacobian(x, p)
-            try:
-                dx = np.linalg.solve(J, -R)
-            except np.linalg.LinAlgError:
-                return x, False
-            x = x + dx
-            if not np.all(np.isfinite(x)):
-                return x, False
-            if np.linalg.norm(dx) <= NEWTON_TOL * max(float(np.linalg.norm(x)), scale):
-                return x, True
-        return x, False
+        return newton_at(self.jacobian, x, p, scale)
 
     def quantities(self, x: np.ndarray, p: float, tau: np.ndarray, outputs: bool = True
                    ) -> np.ndarray:
@@ -227,6 +216,24 @@ class HarmonicBalance:
         return np.hstack([coords, np.array(rows)])
 
 
+def newton_at(jacobian: Callable[[np.ndarray, float], tuple[Any, ...]], x: np.ndarray,
+              p: float, scale: float, tol: float = NEWTON_TOL) -> tuple[np.ndarray, bool]:
+    """Newton's method on R(x, p) = 0 at fixed p, ``jacobian(x, p)`` giving (R, dR/dx, ...):
+    the last iterate and whether a step fell below ``tol`` times max(|x|, scale)."""
+    for _ in range(NEWTON_MAX):
+        R, J = jacobian(x, p)[:2]
+        try:
+            dx = np.linalg.solve(J, -R)
+        except np.linalg.LinAlgError:
+            return x, False
+        x = x + dx
+        if not np.all(np.isfinite(x)):
+            return x, False
+        if np.linalg.norm(dx) <= tol * max(float(np.linalg.norm(x)), scale):
+            return x, True
+    return x, False
+
+
 def basis(tau: np.ndarray, H: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The Fourier basis [1, cos tau, sin tau, ..., sin H tau] and its two derivatives."""
     m = 2 * H + 1
@@ -275,5 +282,5 @@ def start_coefficients(solution: Any, n: int, H: int, W: float) -> np.ndarray:
     return X
 
 
-__all__ = ["HarmonicBalance", "NEWTON_TOL", "NEWTON_MAX", "basis", "truncation", "resize",
-           "start_coefficients"]
+__all__ = ["HarmonicBalance", "NEWTON_TOL", "NEWTON_MAX", "newton_at", "basis", "truncation",
+           "resize", "start_coefficients"]

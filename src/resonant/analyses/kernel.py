@@ -508,6 +508,27 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact, method)
 
 
+def reduced_budget(batch: Batch, w: np.ndarray, rhs: np.ndarray) -> float | None:
+    """Seconds a reduced model may take in ``auto``, or None when it is not worth trying:
+    fixed sparse (or very large) matrices and load, many distinct frequencies, and
+    direct solves estimated at more than :data:`REDUCED_WORTH` seconds.
+
+    Parameters
+    ----------
+    batch : Batch
+    w : ndarray
+        The frequencies to solve at.
+    rhs : ndarray
+        The load F_C - i F_S, (n,) or (N, n).
+
+    Returns
+    -------
+    float or None
+    """
+    costs, _ = _costs_and_probe(batch, w)
+    return _reduced_budget(batch, w, rhs, costs)
+
+
 def _costs_and_probe(batch: Batch, w: np.ndarray
                      ) -> tuple[dict[str, float] | None, dict[float, Any]]:
     """:func:`direct_costs` and the probe's factorization {s: LU} where ``auto`` or
@@ -819,5 +840,6 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
 
 
 __all__ = ["solve_harmonic", "KernelResult", "choose_method", "choose_direct", "direct_costs",
+           "reduced_budget",
            "check_batch_mass", "equilibration", "METHODS", "SINGULAR_CONDITION",
            "LOSS_CONDITION", "DEFAULT_TOL"]

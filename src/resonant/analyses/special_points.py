@@ -20,12 +20,11 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 
-from .continuation import Branch, refine
-from .hb_solver import HarmonicBalance
+from .continuation import Balance, Branch, refine
 
 #: a multiplier with |mu| > 1 + this is unstable
 STABILITY_TOL = 1e-6
@@ -34,6 +33,22 @@ SPECIAL_KINDS = ("fold", "period-doubling", "neimark-sacker", "branch", "peak")
 ARC_STEP = 1e-5
 #: a local maximum of a sampled amplitude counts when it stands out by this (relative)
 PEAK_MARGIN = 1e-10
+
+
+class BranchEquations(Balance, Protocol):
+    """The equations of a branch as its special points need them."""
+
+    def exponents(self, J: np.ndarray, blocks: Any) -> np.ndarray:
+        """The Floquet exponents of a point (``blocks`` from :meth:`jacobian`)."""
+        ...
+
+    def amplitudes(self, x: np.ndarray, p: float) -> np.ndarray:
+        """The amplitude of every quantity of :meth:`names` at a point."""
+        ...
+
+    def names(self) -> tuple[str, ...]:
+        """The quantities whose amplitudes are reported (and whose peaks are located)."""
+        ...
 
 
 @dataclass(frozen=True)
@@ -74,7 +89,7 @@ def classify(lam: np.ndarray, W: float) -> tuple[int, int, int]:
 class Locator:
     """Finds and refines the special points of one branch."""
 
-    def __init__(self, hb: HarmonicBalance, branch: Branch, lam: np.ndarray,
+    def __init__(self, hb: BranchEquations, branch: Branch, lam: np.ndarray,
                  Ws: np.ndarray) -> None:
         self.hb, self.branch, self.lam, self.Ws = hb, branch, lam, Ws
         self.names = hb.names()
@@ -89,7 +104,7 @@ class Locator:
         stable = None
         if kind == "peak":
             R, J, blocks = self.hb.jacobian(x, p)
-            mult = np.exp(self.hb.exponents(J, blocks) * 2 * np.pi / blocks[3])
+            mult = np.exp(self.hb.exponents(J, blocks) * 2 * np.pi / blocks[-1])
             stable = bool(np.all(np.abs(mult) <= 1 + STABILITY_TOL))
         return SpecialPoint(kind, float(p), MappingProxyType(
             {nm: float(a[j]) for j, nm in enumerate(self.names)}), i, quantity, stable)
@@ -109,7 +124,7 @@ class Locator:
         """The k-th largest log|mu| (zero where the k-th multiplier crosses the circle)."""
         def g(x: np.ndarray, p: float, t: np.ndarray) -> float:
             _, J, blocks = self.hb.jacobian(x, p)
-            rates = np.sort(self.hb.exponents(J, blocks).real)[::-1] * 2 * np.pi / blocks[3]
+            rates = np.sort(self.hb.exponents(J, blocks).real)[::-1] * 2 * np.pi / blocks[-1]
             return float(rates[k])
         return g
 
@@ -169,13 +184,13 @@ class Locator:
         return found
 
 
-def special_points(hb: HarmonicBalance, branch: Branch, lam: np.ndarray, Ws: np.ndarray,
+def special_points(hb: BranchEquations, branch: Branch, lam: np.ndarray, Ws: np.ndarray,
                    amplitudes: np.ndarray) -> tuple[SpecialPoint, ...]:
     """Folds, changes of stability and peaks of a branch, in the order of the arc.
 
     Parameters
     ----------
-    hb : HarmonicBalance
+    hb : BranchEquations
         The equations the branch solves.
     branch : Branch
         The continued points with their tangents.

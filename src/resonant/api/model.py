@@ -27,7 +27,7 @@ from typing import Any
 
 from .. import model as model_layer
 from ..analyses import backbone as backbone_analysis
-from ..analyses import harmonic_balance
+from ..analyses import condensed, harmonic_balance
 from ..analyses import simulate as simulate_analysis
 from ..deadline import Deadline
 from ..report import write_report
@@ -122,13 +122,19 @@ class Model(model_layer.Model):
         start, stop : float
             The range.
         **options
-            ``harmonics``, ``points``, ``linear``, ``deadline``.
+            ``harmonics``, ``points``, ``linear``, ``deadline``; for a ``[matrices]``
+            model with ``[[nonlinear]]`` elements, whose balance is condensed onto their
+            coordinates (:func:`resonant.analyses.condensed.condensed_sweep`), also
+            ``observe``, ``tol``, ``exact``, ``samples``.
 
         Returns
         -------
         NonlinearResponse
         """
         system = self.linearize(deadline=options.get("deadline"))
+        if condensed.has_nonlinear_elements(system._model()):
+            return promote(NonlinearResponse,
+                           condensed.condensed_sweep(system, param, start, stop, **options))
         return promote(NonlinearResponse,
                        harmonic_balance.nonlinear_sweep(system, param, start, stop, **options))
 
@@ -163,7 +169,7 @@ class Model(model_layer.Model):
             ``"lognormal(mean, sd)"``, a list or ``{"from":, "to":, "step":}``.
         quantities : sequence of str, optional
             ``natural_frequency:I``, ``damping_ratio:I``, ``amplitude:NAME``,
-            ``phase:NAME``, ``peak:NAME``, ``stable``.
+            ``phase:NAME``, ``peak:NAME``, ``stable``, ``nonlinear_amplitude:NAME``.
         output : str or Path, optional
             Also write the rows there (.parquet or .csv).
         workers : int, optional
@@ -177,7 +183,7 @@ class Model(model_layer.Model):
         progress : bool, optional
             A progress bar on standard error.
         **options
-            ``design``, ``samples``, ``seed``, ``band``.
+            ``design``, ``samples``, ``seed``, ``band``, ``harmonics``.
 
         Returns
         -------

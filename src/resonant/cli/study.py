@@ -1,7 +1,7 @@
 """``resonant study``: a parameter study of a model (docs/studies.md).
 
 ``study MODEL --vary NAME=SPEC ... [--design grid|random|lhs|sobol] [--samples N]
-[--seed S] --quantity Q ... [--band P=FROM:TO[:POINTS]] -o FILE.parquet|.csv
+[--seed S] --quantity Q ... [--band P=FROM:TO[:POINTS]] [--harmonics H] -o FILE.parquet|.csv
 [--plot DIR] [--workers N | --scheduler ADDRESS] [--resume] [--progress] [--json]``;
 without ``--vary`` and ``--quantity`` the model's ``[study]`` section is used
 (options given on the command line replace its entries).
@@ -17,7 +17,7 @@ import resonant.cli.common as cli
 
 from ..deadline import DeadlineExceeded
 from ..errors import ModelError, Problem, printable
-from ..model.study import DESIGNS, MAX_SAMPLES, MAX_SEED
+from ..model.study import DESIGNS, MAX_HARMONICS, MAX_SAMPLES, MAX_SEED
 from ..studies import StudyJob, collect, engine_for, request
 from ..views.study_plots import plot_study
 
@@ -31,12 +31,16 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
                        "lognormal(mean, sd), [v1, v2, ...] or {from=..., to=..., step=...}")
     study.add_argument("--quantity", action="append", metavar="Q",
                        help="natural_frequency:I, damping_ratio:I, amplitude:NAME, "
-                       "phase:NAME, peak:NAME, stable")
+                       "phase:NAME, peak:NAME, stable, nonlinear_amplitude:NAME")
     study.add_argument("--design", choices=DESIGNS)
     study.add_argument("--samples", type=cli.integer(1, MAX_SAMPLES), metavar="N")
     study.add_argument("--seed", type=cli.integer(0, MAX_SEED), metavar="S")
     study.add_argument("--band", metavar="P=FROM:TO[:POINTS]",
-                       help="the band of peak: quantities, e.g. omega=1:30:400")
+                       help="the band of peak: quantities, e.g. omega=1:30:400 (and where "
+                       "nonlinear_amplitude: is swept up from)")
+    study.add_argument("--harmonics", type=cli.integer(1, MAX_HARMONICS), metavar="H",
+                       help="harmonics of nonlinear_amplitude: (default: chosen, as sweep "
+                       "--nonlinear)")
     study.add_argument("-o", "--output", required=True, metavar="FILE",
                        help="the rows, .parquet or .csv")
     study.add_argument("--plot", metavar="DIR", help="write the pictures into DIR")
@@ -85,7 +89,7 @@ def _band(text: str | None) -> dict[str, Any] | None:
 def run_study(args: argparse.Namespace) -> int:
     model = cli.load_model(args)
     options = {"design": args.design, "samples": args.samples, "seed": args.seed,
-               "band": _band(args.band)}
+               "band": _band(args.band), "harmonics": args.harmonics}
     spec = request(model, _pairs(args.vary, "--vary"), args.quantity,
                    **{k: v for k, v in options.items() if v is not None})
     job = StudyJob.of(model, spec, overrides=cli.parse_settings(getattr(args, "set", None)))

@@ -161,7 +161,9 @@ def backend(name: str) -> Backend:
     if name not in _BACKENDS:
         import symengine
 
-        constructors = {n: getattr(symengine, n) for n in SYMPY_CONSTRUCTORS}
+        # symengine spells |x| as sympy does (Abs); the other names are the model's own
+        constructors = {n: getattr(symengine, "Abs" if n == "abs" else n)
+                        for n in SYMPY_CONSTRUCTORS}
         _BACKENDS[name] = Backend("symengine", symengine, constructors, symengine.Basic)
     return _BACKENDS[name]
 

@@ -10,7 +10,7 @@ Examples
 >>> FUNCTIONS["atan2"].arity, FUNCTIONS["asin"].latex
 (2, '\\\\arcsin')
 >>> sorted(ARITY)[:3]
-['acos', 'asin', 'atan']
+['abs', 'acos', 'asin']
 """
 
 from __future__ import annotations

@@ -634,13 +634,22 @@ def _harmonic(entry: Any, where: str, n: int, params: Sequence[str], source: str
     try:
         omega = _entry(entry["omega"], params, source, "omega", where)
         vectors = []
+        numbers: dict[tuple[type, Any], Expression] = {}  # each number literal parsed once
         for key in ("F_S", "F_C"):
             vec = entry.get(key, [0] * n)
             if not isinstance(vec, list) or (n and len(vec) != n):
                 raise ModelError(Problem(f"{key} must be a list of {n} entries", source,
                                          where, key))
-            vectors.append(tuple(_entry(v, params, source, f"{key}[{j + 1}]", where)
-                                 for j, v in enumerate(vec)))
+            parsed = []
+            for j, v in enumerate(vec):
+                literal = (type(v), v) if type(v) in (int, float) else None
+                found = numbers.get(literal) if literal is not None else None
+                if found is None:
+                    found = _entry(v, params, source, f"{key}[{j + 1}]", where)
+                    if literal is not None:
+                        numbers[literal] = found
+                parsed.append(found)
+            vectors.append(tuple(parsed))
         return Harmonic(omega, vectors[0], vectors[1])
     except ModelError as exc:
         problems.extend(exc.problems)

@@ -28,7 +28,7 @@ import math
 import re
 import tomllib
 from collections.abc import Collection, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from decimal import Decimal, InvalidOperation
 from types import MappingProxyType
 from typing import Any
@@ -45,7 +45,12 @@ DESIGNS = ("grid", "random", "lhs", "sobol")
 DISTRIBUTIONS = ("uniform", "normal", "lognormal")
 #: the quantities a study records: kind -> what follows the colon
 QUANTITY_KINDS = {"natural_frequency": "index", "damping_ratio": "index", "amplitude": "name",
-                  "phase": "name", "peak": "name", "stable": ""}
+                  "phase": "name", "peak": "name", "stable": "", "nonlinear_amplitude": "name"}
+#: the quantities that need a band: peaks (searched over it) and the nonlinear steady state
+#: (swept up from its start)
+BAND_KINDS = ("peak", "nonlinear_amplitude")
+#: the most harmonics of the nonlinear steady state (harmonic balance's own limit)
+MAX_HARMONICS = 40
 #: most samples of one study (a grid's product included): 10^9 rows is ~10 GB per column
 MAX_SAMPLES = 1_000_000_000
 MAX_VARIED = 100
@@ -92,18 +97,18 @@ class Distribution:
         -------
         ndarray
         """
-        from scipy.special import ndtri  # only a study needs it: keep start-up light
-
         a = self.arguments
         if self.kind == "uniform":
             return a[0] + u * (a[1] - a[0])
+        if self.kind == "values":
+            values = np.asarray(a)
+            return values[np.minimum((u * len(values)).astype(np.int64), len(values) - 1)]
+        from scipy.special import ndtri  # only normal distributions need it (start-up)
+
         if self.kind == "normal":
             return a[0] + a[1] * ndtri(u)
-        if self.kind == "lognormal":
-            sigma2 = math.log1p((a[1] / a[0]) ** 2)
-            return np.exp(math.log(a[0]) - sigma2 / 2 + math.sqrt(sigma2) * ndtri(u))
-        values = np.asarray(a)
-        return values[np.minimum((u * len(values)).astype(np.int64), len(values) - 1)]
+        sigma2 = math.log1p((a[1] / a[0]) ** 2)  # lognormal
+        return np.exp(math.log(a[0]) - sigma2 / 2 + math.sqrt(sigma2) * ndtri(u))
 
     def grid(self, points: int) -> np.ndarray:
         """The values of a grid axis: the listed values, or ``points`` evenly spaced
@@ -219,7 +224,10 @@ class StudySpec:
         axis of a uniform distribution on a ``grid``.
     seed : int
     band : Band or None
-        For ``peak:`` quantities.
+        For ``peak:`` quantities (searched over it) and ``nonlinear_amplitude:``
+        (swept up from its start).
+    harmonics : int or None
+        The harmonics of ``nonlinear_amplitude:`` (None: chosen, as ``sweep --nonlinear``).
 
     Examples
     --------
@@ -235,6 +243,7 @@ class StudySpec:
     samples: int = 1000
     seed: int = 0
     band: Band | None = None
+    harmonics: int | None = None
     columns: tuple[str, ...] = field(init=False)
 
     def __post_init__(self) -> None:
@@ -250,7 +259,7 @@ class StudySpec:
     def __reduce__(self) -> tuple[Any, tuple]:
         # a mapping proxy does not pickle: rebuild from the fields (workers get the spec)
         return (StudySpec, (dict(self.vary), self.quantities, self.design, self.samples,
-                            self.seed, self.band))
+                            self.seed, self.band, self.harmonics))
 
     @property
     def size(self) -> int:
@@ -273,7 +282,10 @@ class StudySpec:
                          for k, d in self.vary.items()},
                 "quantities": [q.text for q in self.quantities], "design": self.design,
                 "samples": self.samples, "seed": self.seed,
-                "band": self.band.to_dict() if self.band else None}
+                "band": self.band.to_dict() if self.band else None, **self._harmonics()}
+
+    def _harmonics(self) -> dict[str, int]:
+        return {} if self.harmonics is None else {"harmonics": self.harmonics}
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON form (what a result file records as its study).
@@ -285,7 +297,7 @@ class StudySpec:
         return {"vary": {k: d.to_dict() for k, d in self.vary.items()},
                 "quantities": [q.text for q in self.quantities], "design": self.design,
                 "samples": self.samples, "seed": self.seed,
-                "band": self.band.to_dict() if self.band else None}
+                "band": self.band.to_dict() if self.band else None, **self._harmonics()}
 
 
 # -- reading ----------------------------------------------------------------------------------
@@ -515,7 +527,7 @@ def _design(reader: _Reader, design: Any, samples: Any, seed: Any
 
 
 def study_spec(vary: Mapping[str, Any], quantities: Sequence[Any], *, design: Any = "random",
-               samples: Any = 1000, seed: Any = 0, band: Any = None,
+               samples: Any = 1000, seed: Any = 0, band: Any = None, harmonics: Any = None,
                parameters: Collection[str], coordinates: Collection[str],
                outputs: Collection[str], units: ModelUnits | None = None,
                source: str = "", section: str = "study") -> StudySpec:
@@ -526,8 +538,9 @@ def study_spec(vary: Mapping[str, Any], quantities: Sequence[Any], *, design: An
     vary : mapping
         parameter -> specification (see the module docstring).
     quantities : sequence of str
-        As ``natural_frequency:1``, ``amplitude:x2``, ``peak:x2``, ``stable``.
-    design, samples, seed, band
+        As ``natural_frequency:1``, ``amplitude:x2``, ``peak:x2``, ``stable``,
+        ``nonlinear_amplitude:x2``.
+    design, samples, seed, band, harmonics
         See :class:`StudySpec`; ``band`` a mapping as in :func:`parse_band`.
     parameters, coordinates, outputs : collection of str
         The model's names.
@@ -556,6 +569,10 @@ def study_spec(vary: Mapping[str, Any], quantities: Sequence[Any], *, design: An
     reader = _Reader(source, section, units)
     spec = _read(reader, vary, quantities, design, samples, seed, band, parameters,
                  [*coordinates, *outputs], outputs)
+    if harmonics is not None:
+        count = _integer(reader, harmonics, "harmonics", 1, MAX_HARMONICS)
+        if spec is not None and count is not None:
+            spec = replace(spec, harmonics=count)
     if reader.problems or spec is None:
         raise ModelError(reader.problems or [Problem("invalid study", source, section)])
     return spec
@@ -590,11 +607,11 @@ def _read(reader: _Reader, vary: Any, quantities: Any, design: Any, samples: Any
         if q is not None and q.index > modes > 0:
             reader.problem(f"'{q.text}': the model has {modes} modes", "quantities")
     chosen = _design(reader, design, samples, seed)
-    needs_band = any(q is not None and q.kind == "peak" for q in read)
+    needs_band = [q.kind for q in read if q is not None and q.kind in BAND_KINDS]
     band_spec = parse_band(band, parameters, reader) if band is not None else None
     if needs_band and band is None:
-        reader.problem("peak: quantities need a band = { parameter = \"omega\", from = ..., "
-                       "to = ... }", "band")
+        reader.problem(f"{needs_band[0]}: quantities need a band = {{ parameter = \"omega\", "
+                       "from = ..., to = ... }", "band")
     if reader.problems or chosen is None:
         return None
     unique = list(dict.fromkeys(q for q in read if q is not None))
@@ -615,7 +632,7 @@ def _checked_size(reader: _Reader, spec: StudySpec) -> StudySpec | None:
     return spec
 
 
-STUDY_KEYS = ("vary", "quantities", "design", "samples", "seed", "band")
+STUDY_KEYS = ("vary", "quantities", "design", "samples", "seed", "band", "harmonics")
 
 
 def parse_study(raw: Any, parameters: Collection[str], coordinates: Collection[str],
@@ -649,12 +666,13 @@ def parse_study(raw: Any, parameters: Collection[str], coordinates: Collection[s
     try:
         return study_spec(raw.get("vary", {}), raw.get("quantities", []),
                           design=raw.get("design", "random"), samples=raw.get("samples", 1000),
-                          seed=raw.get("seed", 0), band=raw.get("band"), parameters=parameters,
+                          seed=raw.get("seed", 0), band=raw.get("band"),
+                          harmonics=raw.get("harmonics"), parameters=parameters,
                           coordinates=coordinates, outputs=outputs, units=units, source=source)
     except ModelError as exc:
         problems.extend(exc.problems)
         return None
 
 
-__all__ = ["Band", "DESIGNS", "DISTRIBUTIONS", "Distribution", "QUANTITY_KINDS", "Quantity",
-           "StudySpec", "parse_study", "study_spec"]
+__all__ = ["Band", "BAND_KINDS", "DESIGNS", "DISTRIBUTIONS", "Distribution", "QUANTITY_KINDS",
+           "Quantity", "StudySpec", "parse_study", "study_spec"]

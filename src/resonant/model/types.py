@@ -127,6 +127,8 @@ class MatrixSpec:
         Damping (None: undamped).
     harmonics : tuple of Harmonic
         The ``[[harmonic]]`` loads.
+    nonlinear : tuple of NonlinearElement
+        The ``[[nonlinear]]`` elements (:mod:`resonant.model.nonlinear_elements`).
 
     Examples
     --------
@@ -140,7 +142,6 @@ class MatrixSpec:
     K: Any
     C: Any = None
     harmonics: tuple[Harmonic, ...] = ()
-    #: the ``[[nonlinear]]`` elements (resonant.model.nonlinear_elements.NonlinearElement)
     nonlinear: tuple[Any, ...] = ()
 
 

@@ -2,7 +2,8 @@
 
 A study evaluates quantities of a model at many samples of its parameters
 (docs/studies.md): :mod:`.designs` draws the samples chunk by chunk,
-:mod:`.quantities` evaluates a chunk with the batched kernel, :mod:`.engine`
+:mod:`.quantities` evaluates a chunk with the batched kernel (:mod:`.nonlinear`
+the nonlinear steady state, sample by sample), :mod:`.engine`
 runs chunks on Dask (in this process, local workers or a cluster),
 :mod:`.files` streams the rows to Parquet or CSV, :mod:`.run` ties them
 together, :mod:`.result` summarizes (SALib for Sobol indices).

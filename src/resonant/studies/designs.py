@@ -36,6 +36,9 @@ MAX_CHUNK = 65_536
 #: points of each peak refinement round and the number of rounds (see quantities)
 REFINE_POINTS = 9
 REFINE_ROUNDS = 6
+#: samples per chunk of a study with a nonlinear steady state (harmonic balance per
+#: sample, about 0.05 to 2 s each): small chunks spread over the workers
+NONLINEAR_CHUNK = 4
 #: the largest base sample of a Sobol design (its sample is drawn at once)
 MAX_SOBOL_BASE = 2**22
 
@@ -60,6 +63,8 @@ def chunk_size(spec: StudySpec, n: int) -> int:
     -------
     int
     """
+    if any(q.kind == "nonlinear_amplitude" for q in spec.quantities):
+        return NONLINEAR_CHUNK
     work = max(n, 1) ** 2 * points_per_sample(spec)
     return int(min(MAX_CHUNK, max(1, CHUNK_WORK // work)))
 

@@ -39,10 +39,12 @@ from ..errors import ResonantError
 from ..expressions import numeric_value
 from ..model import Model
 from ..model.study import StudySpec
-from ..system import Batch, LinearSystem
+from ..system import Batch, LinearSystem, NonlinearSystem, nonlinear_system
 from ..system.base import numeric_point
 from ..system.stability import undamped_eigen
 from .designs import REFINE_POINTS, REFINE_ROUNDS
+from .nonlinear import nonlinear_amplitudes
+from .reduced_band import ReducedBand, reduced_band
 
 #: models up to this many coordinates are evaluated as stacks of dense matrices
 SMALL = 64
@@ -59,14 +61,19 @@ class Rows:
         if "stable" in self.columns:
             self.columns["stable"] = np.zeros(count, dtype=bool)
         self.status = np.full(count, OK, dtype=object)
+        self.marked = False  # whether any sample failed
         self.reason = np.full(count, "", dtype=object)
         #: what failed where: "all" (every quantity), "stability" (responses),
-        #: "excitation" (amplitude, phase), "band" (peaks)
+        #: "excitation" (amplitude, phase), "band" (peaks), "nonlinear" (the nonlinear
+        #: steady state)
         self.failed = {k: np.zeros(count, dtype=bool)
-                       for k in ("all", "stability", "excitation", "band")}
+                       for k in ("all", "stability", "excitation", "band", "nonlinear")}
 
     def fail(self, mask: np.ndarray, status: str, reason: str, scope: str = "all") -> None:
         """Mark the samples of ``mask``; the first failure of a sample gives its status."""
+        if not mask.any():
+            return
+        self.marked = True
         fresh = mask & (self.status == OK)
         self.status[fresh] = status
         self.reason[fresh] = reason
@@ -81,14 +88,18 @@ class Rows:
 
     def table(self) -> dict[str, np.ndarray]:
         out = dict(self.columns)
+        if not self.marked:  # every sample ok (the usual chunk): no conversion per sample
+            out["status"], out["reason"] = np.full(self.count, OK), np.full(self.count, "")
+            return out
         out["status"] = self.status.astype(str)
         out["reason"] = self.reason.astype(str)
         return out
 
 
-def sample_parameters(model: Model, varied: Mapping[str, np.ndarray], count: int
+def sample_parameters(model: Model, varied: Mapping[str, np.ndarray | float], count: int
                       ) -> tuple[dict[str, Any], np.ndarray, list[str]]:
-    """Every parameter's values with ``varied`` set; parameters defined from them follow.
+    """Every parameter's values with ``varied`` set (arrays of ``count``, or numbers shared
+    by all); parameters defined from them follow.
 
     Returns the values, the mask of samples where a dependent parameter is not
     finite, and a reason for each such sample.
@@ -97,19 +108,20 @@ def sample_parameters(model: Model, varied: Mapping[str, np.ndarray], count: int
     bad = np.zeros(count, dtype=bool)
     reasons = [""] * count
     for name, expression in model.parameters.items():
-        if name in varied:
-            out[name] = np.asarray(varied[name], dtype=float)
+        if name in varied:  # a value shared by every point stays a number
+            given = np.asarray(varied[name], dtype=float)
+            out[name] = given if given.ndim else float(given)
         elif any(n in varied or isinstance(out.get(n), np.ndarray)
                  for n, _ in expression.names()):
             with np.errstate(all="ignore"):
-                value = np.broadcast_to(np.asarray(numeric_value(expression, out), dtype=float),
-                                        (count,)).copy()
+                raw = np.asarray(numeric_value(expression, out), dtype=float)
+            value = np.broadcast_to(raw, (count,)).copy()
             wrong = ~np.isfinite(value) & ~bad
             for i in np.flatnonzero(wrong):
                 reasons[i] = f"{name} = {expression.text} is not finite"
             bad |= wrong
             value[wrong] = model.parameter_values[name]
-            out[name] = value
+            out[name] = value if raw.ndim else float(value[0])
         else:
             out[name] = model.parameter_values[name]
     return out, bad, reasons
@@ -327,10 +339,12 @@ def _fill_responses(rows: Rows, spec: StudySpec, system: LinearSystem,
 
 def _band_values(values: Mapping[str, Any], model: Model, param: str, grid: np.ndarray
                  ) -> tuple[dict[str, Any], int]:
-    """Every sample's values repeated for the points of its own ``grid`` row (N, F)."""
+    """Every sample's values repeated for the points of its own ``grid`` row (N, F); one
+    sample's values stay numbers (its matrices and loads are then computed once, not F
+    times)."""
     N, F = grid.shape
-    varied = {k: np.repeat(v, F) for k, v in values.items() if isinstance(v, np.ndarray)
-              and k != param}
+    varied = {k: float(v[0]) if N == 1 else np.repeat(v, F) for k, v in values.items()
+              if isinstance(v, np.ndarray) and k != param}
     varied[param] = grid.ravel()
     out, _, _ = sample_parameters(model, varied, N * F)
     return out, N * F
@@ -361,11 +375,20 @@ def _peak_search(system: LinearSystem, model: Model, values: Mapping[str, Any],
                  ) -> tuple[np.ndarray, np.ndarray]:
     """The largest amplitude of each name over the band and where it is, per sample:
     a grid of the band, rounds of finer grids around the best point, then the vertex
-    of the parabola through the best point and its neighbours."""
+    of the parabola through the best point and its neighbours.  A large model whose
+    direct solves are expensive searches one reduced model of the sample
+    (:mod:`.reduced_band`) and solves the found peak exactly."""
     band = spec.band
     assert band is not None
     grid = np.broadcast_to(np.linspace(band.start, band.stop, band.points), (count, band.points))
-    amplitude = _amplitude_on(system, model, values, band.parameter, grid, names)
+    shared = _shared_band(system, model, values, band, grid, names)
+
+    def on(points: np.ndarray, which: Sequence[str]) -> np.ndarray:
+        if shared is not None:
+            return shared.amplitudes(points)[..., [names.index(q) for q in which]]
+        return _amplitude_on(system, model, values, band.parameter, points, which)
+
+    amplitude = on(grid, names)
     best = np.full((count, len(names)), -np.inf)
     where = np.full((count, len(names)), np.nan)
     for j in range(len(names)):
@@ -373,13 +396,25 @@ def _peak_search(system: LinearSystem, model: Model, values: Mapping[str, Any],
         step = np.full(count, (band.stop - band.start) / (band.points - 1))
         for _ in range(REFINE_ROUNDS):
             points = _refined(where[:, j], step, band)
-            a = _amplitude_on(system, model, values, band.parameter, points, names[j:j + 1])
+            a = on(points, names[j:j + 1])
             _best(a[:, :, 0], points, best[:, j], where[:, j])
             step = 2 * step / (REFINE_POINTS - 1)
         points = _vertex(where[:, j], step, band, a[:, :, 0], points)
-        a = _amplitude_on(system, model, values, band.parameter, points, names[j:j + 1])
+        a = on(points, names[j:j + 1])
         _best(a[:, :, 0], points, best[:, j], where[:, j])
+        if shared is not None:  # the peak found on the reduced model, solved exactly
+            best[:, j] = _amplitude_on(system, model, values, band.parameter,
+                                       where[:, j:j + 1], names[j:j + 1])[:, 0, 0]
     return best, where
+
+
+def _shared_band(system: LinearSystem, model: Model, values: Mapping[str, Any], band: Any,
+                 grid: np.ndarray, names: Sequence[str]) -> ReducedBand | None:
+    """One sample of a large model: its reduced model over the band, where it pays."""
+    if grid.shape[0] != 1 or system.n <= SMALL:
+        return None
+    band_values, size = _band_values(values, model, band.parameter, grid)
+    return reduced_band(system.evaluate(band_values, size), grid[0], names)
 
 
 def _vertex(center: np.ndarray, step: np.ndarray, band: Any, last: np.ndarray,
@@ -430,8 +465,25 @@ def _fill_peaks(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
         rows.columns[f"peak_frequency:{q.target}"] = np.where(ok, where[:, j], np.nan)
 
 
+def _fill_nonlinear(rows: Rows, spec: StudySpec, nonlinear: NonlinearSystem | None,
+                    values: Mapping[str, Any]) -> None:
+    """The nonlinear steady states, sample by sample (the samples that failed before are
+    skipped)."""
+    found = nonlinear_amplitudes(nonlinear, spec, values, rows.count,
+                                 skip=~rows.valid()) if nonlinear is not None else None
+    if found is None:
+        return
+    for i, status in enumerate(found.status):
+        if status != OK:
+            rows.fail(np.arange(rows.count) == i, status, found.reason[i], "nonlinear")
+    for q in spec.quantities:
+        if q.kind == "nonlinear_amplitude":
+            column = found.amplitudes[:, found.names.index(q.target)]
+            rows.columns[q.text] = np.where(rows.valid("nonlinear"), column, np.nan)
+
+
 def _fill(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
-          values: Mapping[str, Any]) -> None:
+          values: Mapping[str, Any], nonlinear: NonlinearSystem | None = None) -> None:
     """Every quantity of a chunk whose parameters evaluate."""
     batch = system.evaluate(values, rows.count)
     n = len(batch.coordinates)
@@ -450,10 +502,11 @@ def _fill(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
         _fill_modal_large(rows, spec, system, values)
     _fill_responses(rows, spec, system, values, batch)
     _fill_peaks(rows, spec, system, model, values)
+    _fill_nonlinear(rows, spec, nonlinear, values)
 
 
-def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.ndarray]
-                     ) -> dict[str, np.ndarray]:
+def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.ndarray],
+                     nonlinear: NonlinearSystem | None = None) -> dict[str, np.ndarray]:
     """The quantities of ``spec`` at the samples ``varied`` (parameter -> values).
 
     Parameters
@@ -463,6 +516,9 @@ def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str,
     spec : StudySpec
     varied : mapping
         parameter -> values, all of one length N.
+    nonlinear : NonlinearSystem, optional
+        The model's full equations, for ``nonlinear_amplitude:`` quantities (derived
+        from ``system`` when not given).
 
     Returns
     -------
@@ -470,26 +526,28 @@ def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str,
         column -> array (N,): the quantities' columns, ``status`` and ``reason``.
     """
     model = system._model()
+    if nonlinear is None and any(q.kind == "nonlinear_amplitude" for q in spec.quantities):
+        nonlinear = nonlinear_system(system)
     count = len(next(iter(varied.values())))
     rows = Rows(count, spec)
     values, bad, reasons = sample_parameters(model, varied, count)
     for i in np.flatnonzero(bad):
         rows.fail(np.arange(count) == i, "failed", reasons[i])
     try:
-        _fill(rows, spec, system, model, values)
+        _fill(rows, spec, system, model, values, nonlinear)
     except (ResonantError, np.linalg.LinAlgError, FloatingPointError, OverflowError) as exc:
         if count == 1:
             rows.fail(np.ones(1, dtype=bool), "failed", str(exc).splitlines()[0])
             return rows.table()
-        return _one_by_one(system, spec, varied, count)
+        return _one_by_one(system, spec, varied, count, nonlinear)
     return rows.table()
 
 
 def _one_by_one(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.ndarray],
-                count: int) -> dict[str, np.ndarray]:
+                count: int, nonlinear: NonlinearSystem | None) -> dict[str, np.ndarray]:
     """A chunk that failed as a whole, sample by sample: the failing ones get the reason."""
-    parts = [evaluate_samples(system, spec, {k: v[i:i + 1] for k, v in varied.items()})
-             for i in range(count)]
+    parts = [evaluate_samples(system, spec, {k: v[i:i + 1] for k, v in varied.items()},
+                              nonlinear) for i in range(count)]
     return {c: np.concatenate([p[c] for p in parts]) for c in parts[0]}
 
 

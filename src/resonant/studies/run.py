@@ -39,7 +39,7 @@ from ..model import Model, loads
 from ..model.files import open_regular_file, read_bounded
 from ..model.limits import MAX_FILE_BYTES
 from ..model.study import STUDY_KEYS, StudySpec, study_spec
-from ..system import LinearSystem, linear_system
+from ..system import LinearSystem, NonlinearSystem, linear_system, nonlinear_system
 from .designs import chunk_size, chunk_values, chunks
 from .engine import Engine, ordered_map
 from .files import ResultWriter, check_output, completed_rows, read_description
@@ -50,6 +50,7 @@ from .result import StudyResult, sobol_indices
 AUTO = Engine()
 #: derived systems of this process, by job key: a worker derives each model once
 _SYSTEMS: dict[str, LinearSystem] = {}
+_NONLINEAR: dict[str, NonlinearSystem] = {}
 
 
 def model_text(model: Model) -> tuple[str, str]:
@@ -158,7 +159,7 @@ def request(model: Model, vary: Mapping[str, Any] | None = None,
         parameter -> specification (see :mod:`resonant.model.study`).
     quantities : sequence of str, optional
     **options
-        ``design``, ``samples``, ``seed``, ``band`` (a mapping).
+        ``design``, ``samples``, ``seed``, ``band`` (a mapping), ``harmonics``.
 
     Returns
     -------
@@ -212,6 +213,31 @@ def system_of(job: StudyJob) -> LinearSystem:
     return system
 
 
+def nonlinear_of(job: StudyJob) -> NonlinearSystem | None:
+    """The job's full equations of motion, compiled once per process (None when no
+    quantity needs them).
+
+    Parameters
+    ----------
+    job : StudyJob
+
+    Returns
+    -------
+    NonlinearSystem or None
+
+    Raises
+    ------
+    AnalysisError
+        For a model that has no full equations (a ``[matrices]`` model).
+    """
+    if not any(q.kind == "nonlinear_amplitude" for q in job.spec.quantities):
+        return None
+    system = _NONLINEAR.get(job.key)
+    if system is None:
+        system = _NONLINEAR[job.key] = nonlinear_system(system_of(job))
+    return system
+
+
 def evaluate_chunk(job: StudyJob, k: int, size: int) -> dict[str, np.ndarray]:
     """The rows of chunk ``k``: sample number, varied parameters, quantities, status.
 
@@ -241,7 +267,7 @@ def evaluate_chunk(job: StudyJob, k: int, size: int) -> dict[str, np.ndarray]:
     rows: dict[str, np.ndarray] = {"sample": np.arange(k * size, k * size + count,
                                                        dtype=np.int64)}
     rows.update(varied)
-    rows.update(evaluate_samples(system_of(job), job.spec, varied))
+    rows.update(evaluate_samples(system_of(job), job.spec, varied, nonlinear_of(job)))
     return rows
 
 
@@ -366,6 +392,7 @@ def run_study(job: StudyJob, output: str | os.PathLike[str], engine: Engine = AU
     """
     path = check_output(output)
     size = chunk_size(job.spec, system_of(job).n)
+    nonlinear_of(job)  # a model without full equations fails here, before any file
     expected = description(job, size)
     kept = _resume_rows(path, expected, size) if resume else 0
     bar = _Bar(job.spec.size, sys.stderr.isatty() if progress is None else progress)
@@ -429,6 +456,7 @@ def collect(job: StudyJob, engine: Engine = AUTO,
         where, found = summary.where, summary.description
     else:
         size = chunk_size(job.spec, system_of(job).n)
+        nonlinear_of(job)
         found = description(job, size)
         places = ["this process"]
         bar = _Bar(job.spec.size, sys.stderr.isatty() if progress is None else progress)
@@ -481,4 +509,4 @@ def read_table(path: str | os.PathLike[str], columns: list[str] | None = None) -
 
 
 __all__ = ["collect", "model_text", "read_table", "RunSummary", "StudyJob", "evaluate_chunk",
-           "request", "run_study", "system_of"]
+           "request", "run_study", "system_of", "nonlinear_of"]

@@ -22,6 +22,7 @@ from .base import (
 from .batch import Batch, BatchHarmonic
 from .matrix import MatrixEOM
 from .nonlinear import EnergySystem, NonlinearSystem, nonlinear_system
+from .nonlinear_at import NonlinearAt, nonlinear_at
 from .symbolic import LinearEOM
 
 
@@ -56,4 +57,4 @@ def linear_system(model: Model, deadline: Deadline = NO_DEADLINE) -> LinearSyste
 
 __all__ = ["LinearSystem", "LinearEOM", "MatrixEOM", "NumericEOM", "NumericHarmonic",
            "NumericOutput", "Batch", "BatchHarmonic", "linear_system", "parameter_values",
-           "NonlinearSystem", "EnergySystem", "nonlinear_system"]
+           "NonlinearSystem", "EnergySystem", "nonlinear_system", "NonlinearAt", "nonlinear_at"]

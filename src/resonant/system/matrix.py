@@ -138,13 +138,12 @@ class MatrixEOM(LinearSystem):
             self._check_finite(omega, "omega", where)
             omega = np.broadcast_to(omega, (count,)).astype(float)
             vectors = []
-            for label, vector in (("F_S", h.F_S), ("F_C", h.F_C)):
-                # plain numbers (the bulk of a large model's load vectors) skip the fold
-                entries = [float(e.root.value) if type(e.root) is Num
-                           else numeric_value(e, values) for e in vector]
+            for label, (base, expressions) in zip(("F_S", "F_C"), self._loads[j - 1]):
+                # the plain numbers (the bulk of a large model's load vectors) are read once
+                entries = [numeric_value(e, values) for _, e in expressions]
                 shape = np.broadcast_shapes(*(np.shape(v) for v in entries)) if entries else ()
-                vec = np.empty((*shape, len(entries)))
-                for i, v in enumerate(entries):
+                vec = np.broadcast_to(base, (*shape, base.size)).copy()
+                for (i, _), v in zip(expressions, entries):
                     vec[..., i] = v
                 self._check_finite(vec, label, where)
                 vectors.append(vec)
@@ -162,6 +161,23 @@ class MatrixEOM(LinearSystem):
                 signals[(f"harmonic{j}_c", 0)] = (np.zeros(count), np.ones(count))
             harmonics.append(BatchHarmonic(np.abs(omega), f_s, f_c, signals))
         return Batch(self.coordinates, M, C, K, harmonics, {}, self.title, True, count)
+
+    @cached_property
+    def _loads(self) -> list[tuple[tuple[np.ndarray, list[tuple[int, Any]]], ...]]:
+        """Per harmonic, F_S and F_C as (the numbers, 0 where an expression is, and the
+        expressions by index)."""
+        spec = self.model.matrices
+        assert spec is not None
+        out = []
+        for h in spec.harmonics:
+            parts = []
+            for vector in (h.F_S, h.F_C):
+                base = np.array([float(e.root.value) if type(e.root) is Num else 0.0
+                                 for e in vector])
+                parts.append((base, [(i, e) for i, e in enumerate(vector)
+                                     if type(e.root) is not Num]))
+            out.append(tuple(parts))
+        return out
 
     def _matrix_values(self, key: str, values: Mapping[str, Any]) -> Any:
         """File matrices as read (dense or CSR); inline ones as (n, n) or (N, n, n)."""

@@ -121,6 +121,9 @@ class ElementForces:
         if key in ("stiffness", "slip_force") and value < 0:
             raise AnalysisError(f"[nonlinear '{e.name}'] {key} must not be negative, not "
                                 f"{value:g}")
+        if e.kind == "friction" and key == "stiffness" and value == 0:
+            raise AnalysisError(f"[nonlinear '{e.name}'] the stiffness of a friction element "
+                                "must be positive (it carries the force until it slips)")
         return value
 
     def _relative(self, loc: tuple[int, ...], X: np.ndarray) -> np.ndarray:
@@ -150,9 +153,8 @@ class ElementForces:
         dF = None if dU is None else np.zeros(dU.shape)
         pvals = [self.values[k] for k in self.params]
         for e, loc, fn in zip(self.elements, self.local, self._compiled):
-            u, ud = self._relative(loc, U), self._relative(loc, Ud)
+            u = self._relative(loc, U)
             du = None if dU is None else self._relative(loc, dU)
-            dud = None if dUd is None else self._relative(loc, dUd)
             if e.kind == "force":
                 assert fn is not None
                 parts = fn(U[list(loc)], Ud[list(loc)], pvals)
@@ -180,29 +182,19 @@ class ElementForces:
 
     def _friction(self, e: NonlinearElement, u: np.ndarray, du: np.ndarray | None
                   ) -> tuple[np.ndarray, Any]:
+        """The Jenkins element's force over one period of the periodic motion u (N,) and
+        its derivative along the directions du (N, c): f = kt (u - z) with the slider z
+        marched through two periods (:func:`_slider`)."""
         kt, fs = self._constant(e, "stiffness"), self._constant(e, "slip_force")
         N = u.size
-        c = 0 if du is None else du.shape[1]
-        f = np.empty(N)
-        g = np.zeros((N, c))
-        mean_du = du.mean(axis=0) if du is not None else None
-        trial = kt * (u[0] - u.mean())
-        prev = float(np.clip(trial, -fs, fs))
-        dprev = kt * (du[0] - mean_du) if du is not None and abs(trial) <= fs else np.zeros(c)
-        for step in range(1, 2 * N + 1):
-            j = step % N
-            trial = prev + kt * (u[j] - u[j - 1])
-            if abs(trial) <= fs:
-                prev = trial
-                if du is not None:
-                    dprev = dprev + kt * (du[j] - du[j - 1])
-            else:
-                prev = fs if trial > 0 else -fs
-                dprev = np.zeros(c)
-            if step > N:
-                f[j] = prev
-                g[j] = dprev
-        return f, g
+        f0 = float(np.clip(kt * (u[0] - u.mean()), -fs, fs))
+        z, source = _slider(np.concatenate([u, u]), fs / kt, u[0] - f0 / kt)
+        z, source = z[N:], source[N:]
+        if du is None:
+            return kt * (u - z), None
+        if np.all(source < 0):  # sticks throughout: the slider at the mean of the motion
+            return kt * (u - z), kt * (du - du.mean(axis=0))
+        return kt * (u - z), kt * (du - du[source % N])
 
     def stiffness(self, U: np.ndarray, Ud: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The instantaneous tangent stiffness and damping, shape (m, m, N) each.
@@ -237,6 +229,35 @@ class ElementForces:
                 for b in range(k):
                     G0[loc[a], loc[b]] += sign[a] * sign[b] * t
         return G0, G1
+
+
+def _slider(u: np.ndarray, r: float, z0: float) -> tuple[np.ndarray, np.ndarray]:
+    """The slider of a Jenkins element, z_j = clip(z_(j-1), u_j - r, u_j + r) from z0.
+
+    Each step is a clamp to an interval, and clamps compose into clamps, so all
+    prefixes come from log2(N) vectorized doublings (a Hillis-Steele scan) instead of
+    a loop over the samples; z takes its values from u -+ r or z0 exactly.  ``source``
+    is the index of the sample where the slider last slipped (-1 before the first).
+
+    Examples
+    --------
+    >>> z, source = _slider(np.array([0.0, 2.0, 1.5, -1.0]), 1.0, 0.0)
+    >>> z.tolist(), source.tolist()
+    ([0.0, 1.0, 1.0, 0.0], [-1, 1, 1, 3])
+    """
+    lo, hi = u - r, u + r
+    shift = 1
+    while shift < u.size:
+        new_lo, new_hi = lo.copy(), hi.copy()
+        new_lo[shift:] = np.clip(lo[:-shift], lo[shift:], hi[shift:])
+        new_hi[shift:] = np.clip(hi[:-shift], lo[shift:], hi[shift:])
+        lo, hi = new_lo, new_hi
+        shift *= 2
+    z = np.clip(z0, lo, hi)
+    previous = np.concatenate([[z0], z[:-1]])
+    slipped = (z != previous) | (z == u - r) | (z == u + r)
+    source = np.maximum.accumulate(np.where(slipped, np.arange(u.size), -1))
+    return z, source
 
 
 __all__ = ["ElementForces"]

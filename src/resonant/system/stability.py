@@ -16,7 +16,6 @@ import math
 from typing import Any
 
 import numpy as np
-import scipy.linalg
 
 from ..errors import AnalysisError
 
@@ -79,6 +78,8 @@ def _require_finite(what: str, *arrays: np.ndarray) -> None:
 
 def undamped_eigen(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Eigenvalues lambda = omega^2 (ascending) and mode shapes (columns) of K x = lambda M x."""
+    import scipy.linalg  # not at import: a study of a small model needs no scipy
+
     _require_finite("M or K", M, K)
     if is_symmetric(M) and is_symmetric(K):
         try:
