@@ -81,11 +81,12 @@ from ..expressions import numeric_value
 from ..model import Model
 from ..system import LinearSystem
 from ..system.base import parameter_values
+from ..system.matrix_outputs import OutputSeries
 from ..system.nonlinear_elements import ElementForces
 from .continuation import follow
 from .harmonic_balance import NonlinearResponse
-from .hb_solver import newton_at
-from .peaks import series_peaks
+from .hb_solver import basis, newton_at
+from .peaks import periodic_peak, series_peaks
 from .reduced import DEFAULT_TOL, reduced_model
 from .special_points import STABILITY_TOL, classify, special_points
 from .sweep import sweep
@@ -369,11 +370,14 @@ class CondensedBalance:
         The kept rows' coordinates (nonlinear first, then observed).
     top : float
         The highest base frequency of the range (which modes stay dynamic).
+    outputs : BranchOutputs, optional
+        The model's outputs, evaluated in full from the kept rows.
     """
 
     def __init__(self, linear: LinearPart, forces: Any, loads: list[tuple[int, int]],
                  base: Any, H: int, N: int, param: str, names: tuple[str, ...],
-                 top: float) -> None:
+                 top: float, outputs: BranchOutputs | None = None) -> None:
+        self.outputs = outputs
         self.linear, self.forces, self.loads, self.base = linear, forces, loads, base
         self.m = linear.m
         self.basis = _Basis(H, N)
@@ -456,8 +460,8 @@ class CondensedBalance:
         return newton_at(self.jacobian, x, p, scale, NEWTON_TOL)
 
     def names(self) -> tuple[str, ...]:
-        """The nonlinear coordinates, then the observed ones."""
-        return self._names
+        """The nonlinear coordinates, then the observed ones, then the outputs."""
+        return self._names + (self.outputs.series.names if self.outputs else ())
 
     def coefficients(self, x: np.ndarray, p: float) -> np.ndarray:
         """(rows, 2H+1) real coefficients of every kept row (nonlinear and observed)."""
@@ -471,8 +475,13 @@ class CondensedBalance:
         return b.real(z)
 
     def amplitudes(self, x: np.ndarray, p: float) -> np.ndarray:
-        """Peak |q| over one period of every kept row, located to rounding."""
-        return np.asarray(series_peaks(self.coefficients(x, p)))
+        """Peak |q| over one period of every kept row, then peak |deviation| of every
+        output, located to rounding."""
+        coef = self.coefficients(x, p)
+        peaks = np.asarray(series_peaks(coef))
+        if not self.outputs:
+            return peaks
+        return np.concatenate([peaks, self.outputs.peaks(coef, self.base(p), p)])
 
     def exponents(self, J: np.ndarray, blocks: tuple[np.ndarray, float, float]
                   ) -> np.ndarray:
@@ -571,6 +580,51 @@ def _match_parity(lam: np.ndarray, W: float, odd: bool) -> np.ndarray:
 
 # -- the model ----------------------------------------------------------------------------
 
+class BranchOutputs:
+    """The outputs of a ``[matrices]`` model along a branch of the condensed balance.
+
+    Parameters
+    ----------
+    series : OutputSeries
+        The outputs, compiled.
+    rows : ndarray of int
+        For each coordinate of ``series.coordinates``, its row among the kept ones.
+    values : callable
+        p -> the parameter values at the continuation parameter p.
+    H : int
+        Harmonics.
+    """
+
+    def __init__(self, series: OutputSeries, rows: np.ndarray, values: Any, H: int) -> None:
+        self.series, self.rows, self.values, self.H = series, rows, values, H
+
+    def deviations(self, coef: np.ndarray, W: float, p: float, tau: np.ndarray
+                   ) -> np.ndarray:
+        """(outputs, k): each output minus its value at rest, at the phases tau, from the
+        kept rows' coefficients (rows, 2H+1)."""
+        phi, dphi, d2phi = basis(tau, self.H)
+        c = coef[self.rows]
+        samples = np.stack([c @ phi.T, W * (c @ dphi.T), W * W * (c @ d2phi.T)])
+        values = self.values(p)
+        rest = self.series(np.zeros((3, len(self.rows), 1)), values)
+        return self.series(samples, values) - rest
+
+    def peaks(self, coef: np.ndarray, W: float, p: float) -> np.ndarray:
+        """Peak |deviation| over one period of every output."""
+        return periodic_peak(lambda tau: self.deviations(coef, W, p, tau),
+                             len(self.series.names))
+
+    def coefficients(self, coef: np.ndarray, W: float, p: float, N: int) -> np.ndarray:
+        """(outputs, 2H+1): the first H harmonics of every output's deviation."""
+        tau = 2 * np.pi * np.arange(N) / N
+        F = np.fft.rfft(self.deviations(coef, W, p, tau), axis=1)
+        out = np.empty((F.shape[0], 2 * self.H + 1))
+        out[:, 0] = F[:, 0].real / N
+        out[:, 1::2] = 2.0 / N * F[:, 1:self.H + 1].real
+        out[:, 2::2] = -2.0 / N * F[:, 1:self.H + 1].imag
+        return out
+
+
 @dataclass(frozen=True)
 class _Setup:
     M: Any
@@ -580,6 +634,7 @@ class _Setup:
     orders: list[tuple[int, int]]
     base: Any
     forces: Any
+    values: Any
 
 
 def _setup(system: LinearSystem, model: Model, param: str, start: float, stop: float
@@ -635,7 +690,8 @@ def _setup(system: LinearSystem, model: Model, param: str, start: float, stop: f
             cache[p] = elements.with_parameters(values(p))
         return cache[p]
 
-    return _Setup(batch.M, batch.C, batch.K, np.array(columns).T, orders, base, forces)
+    return _Setup(batch.M, batch.C, batch.K, np.array(columns).T, orders, base, forces,
+                  values)
 
 
 def _start_point(hb: CondensedBalance, start: float) -> np.ndarray:
@@ -746,7 +802,9 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
         raise AnalysisError(f"unknown coordinate(s) {', '.join(unknown)}")
     elements = setup.forces(start)
     nl = list(elements.dofs)
-    observed = [position[q] for q in (observe or ()) if position[q] not in nl]
+    series = OutputSeries(model.outputs, coords, model.source) if model.outputs else None
+    wanted = [*(observe or ()), *(series.coordinates if series else ())]
+    observed = list(dict.fromkeys(position[q] for q in wanted if position[q] not in nl))
     grid = np.linspace(min(start, stop), max(start, stop), 64)
     Wmax = max(setup.base(float(p)) for p in grid)
     band = np.linspace(0.0, harmonics * Wmax * 1.05, BAND_POINTS)
@@ -754,8 +812,11 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
                       exact=exact, tol=tol, deadline=deadline)
     N = samples or default_samples(model, harmonics)
     names = tuple(coords[i] for i in nl + observed)
+    kept = {q: j for j, q in enumerate(names)}
+    outputs = BranchOutputs(series, np.array([kept[q] for q in series.coordinates], dtype=int),
+                            setup.values, harmonics) if series else None
     hb = CondensedBalance(lin, setup.forces, setup.orders, setup.base, harmonics, N, param,
-                          names, Wmax)
+                          names, Wmax, outputs)
     x0 = _start_point(hb, start)
     branch = follow(hb, x0, start, stop, points, deadline)
     coeffs = np.array([hb.coefficients(x, p) for x, p in zip(branch.x, branch.p)])
@@ -771,6 +832,12 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     mult = np.exp(lam_arr * (2 * np.pi / Ws)[:, None])
     stable = np.all(np.abs(mult) <= 1 + STABILITY_TOL, axis=1)
     amps = np.asarray(series_peaks(coeffs))
+    out_coeffs = None
+    if outputs:
+        out_coeffs = np.array([outputs.coefficients(c, W, p, N)
+                               for c, W, p in zip(coeffs, Ws, branch.p)])
+        amps = np.hstack([amps, np.array([outputs.peaks(c, W, p)
+                                          for c, W, p in zip(coeffs, Ws, branch.p)])])
     special = special_points(hb, branch, lam_arr, Ws, amps)
     warnings = list(branch.warnings)
     if lin.error > 0:
@@ -782,16 +849,17 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
         try:
             linear_response = sweep(system, param, np.linspace(min(start, stop),
                                                                max(start, stop), 201),
-                                    names=list(names), deadline=deadline)
+                                    names=list(hb.names()), deadline=deadline)
         except AnalysisError as exc:
             warnings.append(f"no linear sweep to compare with: {exc}")
     return NonlinearResponse(
         title=model.title, parameter=param, coordinates=names, values=np.array(branch.p),
-        amplitudes=MappingProxyType({nm: amps[:, j] for j, nm in enumerate(names)}),
+        amplitudes=MappingProxyType({nm: amps[:, j] for j, nm in enumerate(hb.names())}),
         coefficients=coeffs, base_frequencies=Ws, stable=stable, multipliers=mult,
         special_points=tuple(special), harmonics=harmonics, residual=residual,
         truncation=float(_truncation(coeffs)), start=float(start), stop=float(stop),
-        linear=linear_response, warnings=tuple(warnings))
+        linear=linear_response, warnings=tuple(warnings),
+        outputs=series.names if series else (), output_coefficients=out_coeffs)
 
 
 def _truncation(coeffs: np.ndarray) -> float:

@@ -315,12 +315,14 @@ class _Builder:
         # a model with parts needs no [energy], also when its parts are invalid
         energy = self.energy(allowed, required=not matrices and not has_parts)
         forces = self.forces(allowed, coordinates, mechanism)
-        outputs = self.outputs(allowed)
         display = self.display()
         matrix_spec = self.matrices(param_names, coordinates) if matrices else None
         self.check_one_kind(matrices, bool(energy or forces), parts is not None)
         names = coordinates or ([f"q{i + 1}" for i in range(_matrix_size(matrix_spec.M))]
                                 if matrix_spec is not None else [])
+        # a matrix model's outputs are functions of its coordinates (also the default
+        # names q1 ... qn) and parameters
+        outputs = self.outputs([*param_names, *names] if matrices else allowed)
         exercise = self.exercise(param_names, names, list(outputs))
         exact, floats = self.values(parameters)
         derived: DerivedEnergies | None = None
@@ -539,7 +541,7 @@ class _Builder:
                 out[name] = expression
         return out
 
-    def outputs(self, allowed: list[str]) -> dict[str, Expression]:
+    def outputs(self, allowed: Collection[str]) -> dict[str, Expression]:
         """``[outputs]``: name = "expression", optionally with the unit to show it in."""
         out: dict[str, Expression] = {}
         for name, value in self.table("outputs").items():

@@ -7,21 +7,22 @@ symbolic form (sympy matrices) is built only when asked for (reports, JSON).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from functools import cached_property
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 import sympy
 
 from ..deadline import NO_DEADLINE, Deadline
-from ..derivation import SignalHarmonics, decompose_signals
+from ..derivation import LinearMap, SignalHarmonics, decompose_signals
 from ..errors import ModelError, Problem
-from ..expressions import Num, numeric_value
+from ..expressions import Expression, Num, numeric_value
 from ..model import TIME, Model, symbol
 from .base import LinearSystem
-from .batch import Batch, BatchHarmonic
+from .batch import Batch, BatchHarmonic, compile_expressions
 from .symbolic import matrix_strings
 
 Var = tuple[str, int]
@@ -108,9 +109,46 @@ class MatrixEOM(LinearSystem):
         """The harmonic decomposition of the internal signals."""
         return decompose_signals(self.signal_functions)
 
-    @property
-    def outputs(self) -> Mapping[str, Any]:
-        return {}
+    @cached_property
+    def outputs(self) -> Mapping[str, LinearMap]:
+        """The ``[outputs]`` linearized at q = 0: value and the coefficients of the
+        coordinates and their rates, in the parameters' symbols."""
+        return MappingProxyType({name: _linear_output(expression, self.coordinates,
+                                                      self.source, name)
+                                 for name, expression in self.model.outputs.items()})
+
+    @cached_property
+    def _compiled_outputs(self) -> tuple[tuple[tuple[str, tuple[Var, ...]], ...],
+                                         tuple[str, ...], Callable[..., np.ndarray]]:
+        """(name, variables) per output, the parameters used, and the values and
+        coefficients of all outputs as one compiled function of those parameters."""
+        layout, expressions = [], []
+        for name, out in self.outputs.items():
+            layout.append((name, tuple(out.terms)))
+            expressions += [out.value, *out.terms.values()]
+        params = tuple(sorted({str(s) for e in expressions for s in e.free_symbols}))
+        return tuple(layout), params, compile_expressions(expressions,
+                                                          [symbol(p) for p in params])
+
+    def _output_values(self, values: Mapping[str, Any], count: int
+                       ) -> dict[str, tuple[np.ndarray, dict[Var, np.ndarray]]]:
+        """The batch's outputs: name -> (value (count,), {variable: coefficient (count,)})."""
+        layout, params, compiled = self._compiled_outputs
+        if not layout:
+            return {}
+        raw = compiled(*(np.asarray(values[p], dtype=float) for p in params))
+        raw = np.broadcast_to(raw.reshape(len(raw), -1), (len(raw), count))
+        out, row = {}, 0
+        for name, variables in layout:
+            block = raw[row:row + 1 + len(variables)]
+            if not (np.all(np.isfinite(block)) and np.all(block.imag == 0)):
+                raise ModelError(Problem("the output is not finite (or not real) for the "
+                                         "given parameter values", self.source, "outputs",
+                                         name))
+            out[name] = (block[0].real.copy(),
+                         {v: block[1 + k].real.copy() for k, v in enumerate(variables)})
+            row += 1 + len(variables)
+        return out
 
     @cached_property
     def Q(self) -> sympy.ImmutableMatrix:
@@ -160,7 +198,8 @@ class MatrixEOM(LinearSystem):
             if np.any(f_c):
                 signals[(f"harmonic{j}_c", 0)] = (np.zeros(count), np.ones(count))
             harmonics.append(BatchHarmonic(np.abs(omega), f_s, f_c, signals))
-        return Batch(self.coordinates, M, C, K, harmonics, {}, self.title, True, count)
+        return Batch(self.coordinates, M, C, K, harmonics, self._output_values(values, count),
+                     self.title, True, count)
 
     @cached_property
     def _loads(self) -> list[tuple[tuple[np.ndarray, list[tuple[int, Any]]], ...]]:
@@ -213,6 +252,31 @@ class MatrixEOM(LinearSystem):
                 "M": matrix_strings(self.M), "C": matrix_strings(self.C),
                 "K": matrix_strings(self.K),
                 "Q": [str(e) for e in self.Q]}
+
+
+def _linear_output(expression: Expression, coordinates: tuple[str, ...], source: str,
+                   name: str) -> LinearMap:
+    """An output's value and first-order coefficients at q = q' = q'' = 0."""
+    small: dict[Var, sympy.Symbol] = {}
+    known = set(coordinates)
+
+    def resolve(label: str, primes: int) -> sympy.Expr:
+        if label not in known:
+            return symbol(label) if primes == 0 else sympy.Integer(0)
+        var = (label, primes)
+        small.setdefault(var, sympy.Dummy(f"{label}_{primes}"))
+        return small[var]
+
+    full = expression.to_sympy(resolve)
+    zero = {s: 0 for s in small.values()}
+    value = full.subs(zero)
+    terms = {var: sympy.diff(full, s).subs(zero) for var, s in small.items()}
+    terms = {var: c for var, c in terms.items() if c != 0}
+    if any(e.has(sympy.zoo, sympy.nan, sympy.oo) for e in (value, *terms.values())):
+        raise ModelError(Problem("the output has no first-order expansion at q = 0 (e.g. "
+                                 "abs(q1) or sqrt(q1)); write it in a form that is smooth "
+                                 "at rest", source, "outputs", name))
+    return LinearMap(value, MappingProxyType(terms))
 
 
 def _to_sympy(matrix: Any, n: int) -> sympy.ImmutableMatrix:
