@@ -175,3 +175,40 @@ def test_a_third_rate_is_linear_but_not_on_a_branch():
     with pytest.raises(ModelError, match="up to the second rate") as info:
         condensed_sweep(eom, "w", 0.4, 0.6, harmonics=3, points=10, linear=False)
     assert "[outputs] jerk" in str(info.value)
+
+
+STRONG = '''
+[parameters]
+omega = 0.3
+[matrices]
+M = [[1, 0], [0, 1]]
+K = [[2, -1], [-1, 1]]
+C = [[0.05, 0], [0, 0.05]]
+[[harmonic]]
+omega = "omega"
+F_C = [0, 1]
+[[nonlinear]]
+name = "cubic"
+coordinates = ["q2"]
+force = "0.1*q2^3"
+[outputs]
+stretch = "q2 - q1"
+'''
+
+
+def test_a_start_far_from_the_linear_response_is_reached_by_raising_the_loads():
+    """At omega = 0.3 the cubic spring (q2 ~ 1.9, strong third harmonic) moves the response
+    too far from the linear one for Newton's method: the start point is found with the
+    loads raised step by step, and equals the point the branch reaches when it is followed
+    there from omega = 0.05 (two routes; 1e-12 relative).  The linear sweep compared with
+    the branch reports the outputs too (no warning)."""
+    system = loads(STRONG).linearize()
+    direct = condensed_sweep(system, "omega", 0.3, 0.31, points=5)
+    followed = condensed_sweep(system, "omega", 0.05, 0.3, points=40, linear=False)
+    assert followed.values[-1] == pytest.approx(0.3, abs=1e-14)
+    for name in ("q1", "q2", "stretch"):
+        assert direct.amplitudes[name][0] == pytest.approx(followed.amplitudes[name][-1],
+                                                           rel=1e-12)
+    assert direct.amplitudes["q2"][0] > 1.5
+    assert not direct.warnings
+    assert direct.linear is not None and "stretch" in direct.linear.amplitudes

@@ -89,7 +89,7 @@ from .hb_solver import basis, newton_at
 from .peaks import periodic_peak, series_peaks
 from .reduced import DEFAULT_TOL, reduced_model
 from .special_points import STABILITY_TOL, classify, special_points
-from .sweep import sweep
+from .sweep import FrequencyResponse, sweep
 
 #: most modes in the basis of the linear part; frequencies where it is checked exactly
 MAX_MODES = 400
@@ -378,6 +378,8 @@ class CondensedBalance:
                  base: Any, H: int, N: int, param: str, names: tuple[str, ...],
                  top: float, outputs: BranchOutputs | None = None) -> None:
         self.outputs = outputs
+        #: factor of the external loads (below 1 only while the start point is found)
+        self.load_scale = 1.0
         self.linear, self.forces, self.loads, self.base = linear, forces, loads, base
         self.m = linear.m
         self.basis = _Basis(H, N)
@@ -421,7 +423,7 @@ class CondensedBalance:
         for k, column in self.loads:
             if k <= self.H:
                 out[:, k] += T[k][rows, self.m + column]
-        return out
+        return self.load_scale * out if self.load_scale != 1.0 else out
 
     def evaluate(self, x: np.ndarray, p: float, jacobian: bool = True
                  ) -> tuple[np.ndarray, np.ndarray | None]:
@@ -458,6 +460,10 @@ class CondensedBalance:
     def newton(self, x: np.ndarray, p: float, scale: float) -> tuple[np.ndarray, bool]:
         """Newton's method at fixed p (:func:`~resonant.analyses.hb_solver.newton_at`)."""
         return newton_at(self.jacobian, x, p, scale, NEWTON_TOL)
+
+    def kept_coordinates(self) -> tuple[str, ...]:
+        """The nonlinear coordinates, then the observed ones."""
+        return self._names
 
     def names(self) -> tuple[str, ...]:
         """The nonlinear coordinates, then the observed ones, then the outputs."""
@@ -695,16 +701,54 @@ def _setup(system: LinearSystem, model: Model, param: str, start: float, stop: f
 
 
 def _start_point(hb: CondensedBalance, start: float) -> np.ndarray:
-    """The linear response at the start (the elements' forces left out), refined."""
+    """The linear response at the start (the elements' forces left out), refined; where
+    the elements change it too much for Newton, the loads are raised step by step from
+    a small fraction (where the linear response is the answer) to their full size."""
     W = hb.base(start)
     T = hb.transfers(W)
-    x = hb.basis.real(hb.linear_response(T, slice(0, hb.m))).ravel()
-    x0, ok = hb.newton(x, start, max(float(np.abs(x).max()), 1e-300))
-    if not ok:
-        raise AnalysisError(f"harmonic balance did not converge at the start value {start:g} "
-                            "from the linear response; start the range where the response "
-                            "is small")
-    return x0
+    linear = hb.basis.real(hb.linear_response(T, slice(0, hb.m))).ravel()
+    scale = max(float(np.abs(linear).max()), 1e-300)
+    x0, ok = hb.newton(linear, start, scale)
+    if ok:
+        return x0
+    try:
+        return _load_steps(hb, start, linear, scale)
+    finally:
+        hb.load_scale = 1.0
+
+
+def _load_steps(hb: CondensedBalance, start: float, linear: np.ndarray, scale: float
+                ) -> np.ndarray:
+    """Newton at the loads times s for s rising from 1/64 to 1 (steps halved where Newton
+    fails, the last solution scaled up as the predictor)."""
+    done, x, step = 0.0, np.zeros_like(linear), 1.0 / 64
+    while done < 1.0:
+        trial = min(1.0, done + step)
+        hb.load_scale = trial
+        guess = linear * trial if done == 0.0 else x * (trial / done)
+        found, ok = hb.newton(guess, start, scale * trial)
+        if ok:
+            done, x, step = trial, found, step * 2
+        elif step > 1e-3:
+            step /= 4
+        else:
+            raise AnalysisError(
+                f"harmonic balance did not converge at the start value {start:g}, neither "
+                f"from the linear response nor with the loads raised step by step (stuck at "
+                f"{done:.3g} of them); start the range where the response is small")
+    return x
+
+
+def _linear_sweep(system: LinearSystem, hb: CondensedBalance, param: str,
+                  band: tuple[float, float], warnings: list[str], deadline: Deadline
+                  ) -> FrequencyResponse | None:
+    """The linear response over the band, of the kept coordinates (and every output)."""
+    try:
+        return sweep(system, param, np.linspace(min(band), max(band), 201),
+                     names=list(hb.kept_coordinates()), deadline=deadline)
+    except AnalysisError as exc:
+        warnings.append(f"no linear sweep to compare with: {exc}")
+        return None
 
 
 def default_samples(model: Model, harmonics: int) -> int:
@@ -844,14 +888,8 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
         warnings.append(f"linear part: reduced model of {lin.size} vectors, largest error "
                         f"{lin.error:.2g} of its transfer functions where checked against "
                         "exact solves (an estimate, not a bound)")
-    linear_response = None
-    if linear:
-        try:
-            linear_response = sweep(system, param, np.linspace(min(start, stop),
-                                                               max(start, stop), 201),
-                                    names=list(hb.names()), deadline=deadline)
-        except AnalysisError as exc:
-            warnings.append(f"no linear sweep to compare with: {exc}")
+    linear_response = _linear_sweep(system, hb, param, (start, stop), warnings,
+                                    deadline) if linear else None
     return NonlinearResponse(
         title=model.title, parameter=param, coordinates=names, values=np.array(branch.p),
         amplitudes=MappingProxyType({nm: amps[:, j] for j, nm in enumerate(hb.names())}),

@@ -9,10 +9,11 @@ there are.  Dask re-runs the tasks of a worker that dies on the others; a task
 is a pure function of its arguments, so a re-run gives the same bytes.
 
 ``mode="process"`` runs the tasks one after the other in this process (no
-Dask at all); ``mode="auto"`` does so for the first task, and starts local
-workers only when the time it took, times the tasks left, exceeds
-:data:`START_UP_SECONDS` -- the cost of starting worker processes, which a
-small study would not earn back.
+Dask at all); ``mode="auto"`` does so for the first two tasks (the first pays
+for compiling the model), and starts local workers only when the time they
+would save on the tasks left -- the second task's time times the tasks left,
+times 1 - 1/workers -- exceeds :data:`START_UP_SECONDS`, the cost of starting
+worker processes, which a small study would not earn back.
 
 Examples
 --------
@@ -164,14 +165,20 @@ def ordered_map(function: Callable[..., Any], tasks: Iterable[tuple], engine: En
         yield from (function(*args) for args in tasks)
         return
     if engine.mode == "auto":
-        first = next(tasks, None)
-        if first is None:
-            return
-        start = time.perf_counter()
-        yield function(*first)
-        elapsed = time.perf_counter() - start
-        rest = list(_peek(tasks, int(START_UP_SECONDS / max(elapsed, 1e-6)) + 2))
-        if len(rest) * elapsed < START_UP_SECONDS or (os.cpu_count() or 1) < 2:
+        # the first task pays for one-time work (compiling the model): the second one's
+        # time is the estimate, and workers start only when they save more than they cost
+        workers = engine.workers or os.cpu_count() or 1
+        elapsed = 0.0
+        for _ in range(2):
+            args = next(tasks, None)
+            if args is None:
+                return
+            start = time.perf_counter()
+            yield function(*args)
+            elapsed = time.perf_counter() - start
+        saving = elapsed * (1.0 - 1.0 / workers)
+        rest = list(_peek(tasks, int(START_UP_SECONDS / max(saving, 1e-6)) + 2))
+        if len(rest) * saving < START_UP_SECONDS or workers < 2:
             say("this process")
             yield from (function(*args) for args in rest)
             yield from (function(*args) for args in tasks)

