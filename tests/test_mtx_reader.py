@@ -169,6 +169,7 @@ def test_arrow_and_numpy_read_bitwise_the_same(data, n, symmetry, coordinate, fi
     slow = _slow(text)
     assert sp.issparse(fast) == sp.issparse(slow)
     for ours, theirs in zip(_bits(fast), _bits(slow), strict=True):
+        assert ours.dtype == theirs.dtype
         np.testing.assert_array_equal(ours, theirs)
     if lines:
         assert _fast_used(text)  # the property is about both ways, not numpy twice

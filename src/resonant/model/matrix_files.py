@@ -409,7 +409,8 @@ def _mtx_with_arrow(text: bytes, offset: int, n: int, entries: int, coordinate: 
             text.count(b"\r", offset) != text.count(b"\r\n", offset):
         return None
     names = ["i", "j", "v"] if coordinate else ["v"]
-    types = {"i": pyarrow.int64(), "j": pyarrow.int64(), "v": pyarrow.float64()}
+    index = pyarrow.int32() if _mtx_index_type(n) is np.int32 else pyarrow.int64()
+    types = {"i": index, "j": index, "v": pyarrow.float64()}
     try:
         table = arrow_csv.read_csv(
             pyarrow.BufferReader(pyarrow.py_buffer(text)[offset:]),
@@ -433,12 +434,10 @@ def _mtx_with_arrow(text: bytes, offset: int, n: int, entries: int, coordinate: 
         return None
     if not coordinate:
         return _mtx_dense(values, n, symmetry)
-    rows_, cols_ = (np.asarray(table.column(name).to_numpy(), dtype=np.int64)
-                    for name in ("i", "j"))
+    rows_, cols_ = (_mtx_arrow_indices(table.column(name), n) for name in ("i", "j"))
     del table
-    if min(rows_.min(), cols_.min()) < 1 or max(rows_.max(), cols_.max()) > n:
+    if rows_ is None or cols_ is None:
         return None
-    rows_, cols_ = rows_ - 1, cols_ - 1
     if symmetry == "skew-symmetric" and np.any(rows_ == cols_):
         return None
     return _mtx_csr(rows_, cols_, values, n, symmetry)
@@ -497,6 +496,25 @@ def _mtx_entries(fields: list[bytes], coordinate: bool, symmetry: str, size: int
     return n, entries
 
 
+def _mtx_arrow_indices(column: Any, n: int) -> np.ndarray | None:
+    """A column of 1-based indices (a chunked pyarrow integer array) as 0-based indices of
+    scipy's index type, in one pass over the chunks; None if one lies outside 1..n."""
+    out = np.empty(len(column), dtype=_mtx_index_type(n))
+    at = 0
+    for chunk in column.chunks:
+        part = chunk.to_numpy()
+        if part.size and (part.min() < 1 or part.max() > n):
+            return None
+        np.subtract(part, 1, out=out[at:at + part.size], casting="unsafe")
+        at += part.size
+    return out
+
+
+def _mtx_index_type(n: int) -> type[np.signedinteger]:
+    """The index type scipy gives an n x n CSR matrix (converting to it once, not twice)."""
+    return np.int32 if n <= np.iinfo(np.int32).max else np.int64
+
+
 def _mtx_dense(values: np.ndarray, n: int, symmetry: str) -> np.ndarray:
     """An array file's column-major values (the lower triangle for a symmetric one)."""
     values = values.reshape(-1)
@@ -520,7 +538,7 @@ def _mtx_sparse(values: np.ndarray, n: int, symmetry: str) -> Any:
         i, j = (int(v) for v in index[outside[0]])
         raise FileRefused(f"{_MTX_INVALID}: an entry at ({i}, {j}) lies outside the {n}x{n} "
                           "matrix")
-    rows_, cols_ = index[:, 0].astype(np.int64) - 1, index[:, 1].astype(np.int64) - 1
+    rows_, cols_ = (index[:, k].astype(_mtx_index_type(n)) - 1 for k in (0, 1))
     if symmetry == "skew-symmetric" and np.any(rows_ == cols_):
         raise FileRefused(f"{_MTX_INVALID}: a skew-symmetric matrix stores no diagonal "
                           "entries")
