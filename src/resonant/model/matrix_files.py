@@ -548,15 +548,16 @@ def _mtx_sparse(values: np.ndarray, n: int, symmetry: str) -> Any:
 def _mtx_csr(rows_: np.ndarray, cols_: np.ndarray, data: np.ndarray, n: int, symmetry: str
              ) -> Any:
     """The CSR matrix of checked 0-based entries, the other triangle of a symmetric or
-    skew-symmetric file added (duplicates summed, in the file's order)."""
+    skew-symmetric file added, duplicates summed."""
     import scipy.sparse
 
     if symmetry != "general":
-        off = rows_ != cols_
-        sign = 1.0 if symmetry == "symmetric" else -1.0
-        rows_, cols_, data = (np.concatenate([rows_, cols_[off]]),
-                              np.concatenate([cols_, rows_[off]]),
-                              np.concatenate([data, sign * data[off]]))
+        # every stored entry mirrored; a diagonal entry's mirror is -0.0, which added to
+        # any number gives that number bit for bit (cheaper than leaving it out)
+        mirrored = np.negative(data) if symmetry == "skew-symmetric" else data.copy()
+        np.copyto(mirrored, -0.0, where=rows_ == cols_)
+        rows_, cols_, data = (np.concatenate([rows_, cols_]), np.concatenate([cols_, rows_]),
+                              np.concatenate([data, mirrored]))
     out = scipy.sparse.coo_matrix((data, (rows_, cols_)), shape=(n, n)).tocsr()
     out.sum_duplicates()
     return out
