@@ -207,6 +207,7 @@ def _body(lines: list[bytes], entries: int | None = None, n: int = 3,
     (_body([*_GOOD[:2], b"2 2 \x00"]), "other than numbers"),
     (_body([b"1 1 1", b"2 2 1"], head=_HEAD.replace(b"general", b"skew-symmetric")),
      "stores no diagonal"),
+    (_HEAD + b"3 3 1", "holds 1 numbers; expected 3"),  # the size line ends the file
 ], ids=lambda value: value[-40:].decode("latin-1") if isinstance(value, bytes) else None)
 def test_refused_through_the_fast_way(text, words):
     """A malformed body is first offered to pyarrow's reader; the file is refused with
