@@ -8,7 +8,10 @@ exact agreement (the numbers are written with 17 significant digits and read bac
 from __future__ import annotations
 
 import io
+import os
+import subprocess
 import sys
+from pathlib import Path
 from unittest import mock
 
 import numpy as np
@@ -271,3 +274,30 @@ def test_any_body_same_outcome_both_ways(body, n, entries, coordinate, symmetry)
     else:
         for ours, theirs in zip(*outcomes, strict=True):
             np.testing.assert_array_equal(ours, theirs)
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads /proc (Linux)")
+def test_the_fast_way_fits_under_an_address_space_limit():
+    """pyarrow's default allocator (mimalloc) reserves 1 GiB of address space at its first
+    use; the fast way allocates with malloc, so a process that read a file and then runs
+    under RLIMIT_AS (the fuzzer's forked children, sandboxes) can still allocate."""
+    code = """if True:
+        import resource
+        import pyarrow.csv
+        from resonant.model import matrix_files
+        def address_space():
+            status = open("/proc/self/status").read()
+            return int(status.split("VmSize:")[1].split()[0]) * 1024
+        before = address_space()
+        text = b"%%MatrixMarket matrix coordinate real general\\n2 2 1\\n1 1 1\\n"
+        offset = text.index(b"1 1 1")
+        assert matrix_files._mtx_with_arrow(text, offset, 2, 1, True, "general") is not None
+        limit = before + 2**30
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+        block = bytearray(600 * 2**20)
+        print("read and allocated")
+    """
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          env={**os.environ, "PYTHONPATH": str(Path(matrix_files.__file__)
+                                                               .parents[2])}, timeout=120)
+    assert done.stdout.strip() == "read and allocated", done.stderr[-2000:]

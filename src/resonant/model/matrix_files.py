@@ -424,7 +424,10 @@ def _mtx_with_arrow(text: bytes, offset: int, n: int, entries: int, coordinate: 
                                                  ignore_empty_lines=True),
             convert_options=arrow_csv.ConvertOptions(
                 column_types={name: types[name] for name in names}, null_values=[],
-                strings_can_be_null=False, quoted_strings_can_be_null=False))
+                strings_can_be_null=False, quoted_strings_can_be_null=False),
+            # malloc, not pyarrow's default mimalloc, which reserves 1 GiB of address
+            # space at its first use: a process under RLIMIT_AS would then fail
+            memory_pool=pyarrow.system_memory_pool())
     except (pyarrow.ArrowException, ValueError, TypeError, OverflowError, MemoryError):
         return None
     if table.num_rows != entries or any(column.null_count for column in table.columns):
