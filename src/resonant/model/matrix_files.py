@@ -357,16 +357,14 @@ def _mtx_size_line(text: bytes) -> tuple[list[bytes], int]:
 
 
 def _mtx_numbers(data: bytes, rows: int, columns: int) -> np.ndarray:
-    """The data lines as a ``rows x columns`` float array (numpy's C reader: scipy's C++
-    Matrix Market reader crashed the process on hostile files: docs/fuzzing.md)."""
+    """The data lines as a ``rows x columns`` float array, or the message of what is wrong
+    (numpy's C reader, correctly rounded; scipy's C++ Matrix Market reader crashed the
+    process on hostile files: docs/fuzzing.md)."""
     if rows == 0:
         if data.strip(b" \t\r\n") and any(line.strip() and not line.startswith(b"%")
                                            for line in data.split(b"\n")):
             raise FileRefused(f"{_MTX_INVALID}: it holds more entries than its size line says")
         return np.empty((0, columns))
-    fast = _mtx_numbers_with_pandas(data, rows, columns)
-    if fast is not None:
-        return fast
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
@@ -384,29 +382,68 @@ def _mtx_numbers(data: bytes, rows: int, columns: int) -> np.ndarray:
     return values
 
 
-def _mtx_numbers_with_pandas(data: bytes, rows: int, columns: int) -> np.ndarray | None:
-    """The data lines by pandas' C reader (6x numpy's, the same correctly rounded
-    doubles), when pandas is installed and the lines are exactly ``rows`` lines of
-    ``columns`` numbers; None otherwise, and numpy's reader then reads them or names what
-    is wrong."""
+#: bytes of the data lines pyarrow's CSV reader parses per task (a line longer than this
+#: fails the fast way and takes numpy's)
+_MTX_ARROW_BLOCK = 4 * 2**20
+
+
+def _mtx_with_arrow(text: bytes, offset: int, n: int, entries: int, coordinate: bool,
+                    symmetry: str) -> Any | None:
+    """The matrix from the data lines ``text[offset:]`` by pyarrow's CSV reader
+    (multithreaded C++, correctly rounded doubles), when pyarrow is installed and the
+    lines are plain and valid: exactly ``entries`` lines of numbers separated by single
+    spaces, finite values, indices in 1..n.  None otherwise, and numpy's reader then
+    reads them or names what is wrong, so every message comes from one place."""
     try:
-        import pandas
+        import pyarrow
+        import pyarrow.csv as arrow_csv
     except ImportError:
         return None
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            # single spaces, no comment lines: what writers write; anything else
-            # (tabs, runs of blanks, comments between data lines) takes numpy's way
-            frame = pandas.read_csv(io.BytesIO(data), sep=" ", header=None,
-                                    dtype=np.float64, engine="c", na_filter=False,
-                                    names=range(columns), index_col=False,
-                                    encoding="latin-1")
-    except (ValueError, TypeError, UnicodeError, IndexError, OverflowError,
-            pandas.errors.ParserError):
+    if entries == 0:
         return None
-    values = frame.to_numpy(dtype=np.float64)
-    return values if values.shape == (rows, columns) else None
+    # what pyarrow reads and numpy does not: hexadecimal integers (0x10), a carriage
+    # return alone ending a line
+    if coordinate and (text.find(b"x", offset) >= 0 or text.find(b"X", offset) >= 0):
+        return None
+    if text.find(b"\r", offset) >= 0 and \
+            text.count(b"\r", offset) != text.count(b"\r\n", offset):
+        return None
+    names = ["i", "j", "v"] if coordinate else ["v"]
+    index = pyarrow.int32() if _mtx_index_type(n) is np.int32 else pyarrow.int64()
+    types = {"i": index, "j": index, "v": pyarrow.float64()}
+    try:
+        table = arrow_csv.read_csv(
+            pyarrow.BufferReader(pyarrow.py_buffer(text)[offset:]),
+            read_options=arrow_csv.ReadOptions(column_names=names,
+                                               block_size=_MTX_ARROW_BLOCK),
+            # single spaces, no quotes, no comment lines: what writers write; anything
+            # else (runs of blanks, comments between data lines) fails here
+            parse_options=arrow_csv.ParseOptions(delimiter=" ", quote_char=False,
+                                                 escape_char=False,
+                                                 newlines_in_values=False,
+                                                 ignore_empty_lines=True),
+            convert_options=arrow_csv.ConvertOptions(
+                column_types={name: types[name] for name in names}, null_values=[],
+                strings_can_be_null=False, quoted_strings_can_be_null=False),
+            # malloc, not pyarrow's default mimalloc, which reserves 1 GiB of address
+            # space at its first use: a process under RLIMIT_AS would then fail
+            memory_pool=pyarrow.system_memory_pool())
+    except (pyarrow.ArrowException, ValueError, TypeError, OverflowError, MemoryError):
+        return None
+    if table.num_rows != entries or any(column.null_count for column in table.columns):
+        return None
+    values = np.asarray(table.column("v").to_numpy(), dtype=np.float64)
+    if not np.all(np.isfinite(values)):  # also "nan(...)", which numpy does not read
+        return None
+    if not coordinate:
+        return _mtx_dense(values, n, symmetry)
+    rows_, cols_ = (_mtx_arrow_indices(table.column(name), n) for name in ("i", "j"))
+    del table
+    if rows_ is None or cols_ is None:
+        return None
+    if symmetry == "skew-symmetric" and np.any(rows_ == cols_):
+        return None
+    return _mtx_csr(rows_, cols_, values, n, symmetry)
 
 
 def _mtx_banner(first_line: bytes) -> tuple[str, str, str]:
@@ -462,22 +499,40 @@ def _mtx_entries(fields: list[bytes], coordinate: bool, symmetry: str, size: int
     return n, entries
 
 
+def _mtx_arrow_indices(column: Any, n: int) -> np.ndarray | None:
+    """A column of 1-based indices (a chunked pyarrow integer array) as 0-based indices of
+    scipy's index type, in one pass over the chunks; None if one lies outside 1..n."""
+    out = np.empty(len(column), dtype=_mtx_index_type(n))
+    at = 0
+    for chunk in column.chunks:
+        part = chunk.to_numpy()
+        if part.size and (part.min() < 1 or part.max() > n):
+            return None
+        np.subtract(part, 1, out=out[at:at + part.size], casting="unsafe")
+        at += part.size
+    return out
+
+
+def _mtx_index_type(n: int) -> type[np.signedinteger]:
+    """The index type scipy gives an n x n CSR matrix (converting to it once, not twice)."""
+    return np.int32 if n <= np.iinfo(np.int32).max else np.int64
+
+
 def _mtx_dense(values: np.ndarray, n: int, symmetry: str) -> np.ndarray:
     """An array file's column-major values (the lower triangle for a symmetric one)."""
+    values = values.reshape(-1)
     if symmetry == "general":
-        return np.array(values[:, 0].reshape(n, n, order="F"))
+        return np.array(values.reshape(n, n, order="F"))
     # the lower triangle column by column: (i, j), i >= j, ordered by j then i
     cols, rows = np.triu_indices(n, 0 if symmetry == "symmetric" else 1)
     dense = np.zeros((n, n))
-    dense[rows, cols] = values[:, 0]
-    dense[cols, rows] = values[:, 0] if symmetry == "symmetric" else -values[:, 0]
+    dense[rows, cols] = values
+    dense[cols, rows] = values if symmetry == "symmetric" else -values
     return dense
 
 
 def _mtx_sparse(values: np.ndarray, n: int, symmetry: str) -> Any:
     """A coordinate file's (i, j, value) lines as a CSR matrix, indices checked."""
-    import scipy.sparse
-
     index = values[:, :2]
     if np.any(index != np.floor(index)):
         raise FileRefused(f"{_MTX_INVALID}: an entry's row and column must be integers")
@@ -486,17 +541,26 @@ def _mtx_sparse(values: np.ndarray, n: int, symmetry: str) -> Any:
         i, j = (int(v) for v in index[outside[0]])
         raise FileRefused(f"{_MTX_INVALID}: an entry at ({i}, {j}) lies outside the {n}x{n} "
                           "matrix")
-    rows_, cols_, data = index[:, 0].astype(np.int64) - 1, index[:, 1].astype(np.int64) - 1, \
-        values[:, 2]
+    rows_, cols_ = (index[:, k].astype(_mtx_index_type(n)) - 1 for k in (0, 1))
+    if symmetry == "skew-symmetric" and np.any(rows_ == cols_):
+        raise FileRefused(f"{_MTX_INVALID}: a skew-symmetric matrix stores no diagonal "
+                          "entries")
+    return _mtx_csr(rows_, cols_, np.ascontiguousarray(values[:, 2]), n, symmetry)
+
+
+def _mtx_csr(rows_: np.ndarray, cols_: np.ndarray, data: np.ndarray, n: int, symmetry: str
+             ) -> Any:
+    """The CSR matrix of checked 0-based entries, the other triangle of a symmetric or
+    skew-symmetric file added, duplicates summed."""
+    import scipy.sparse
+
     if symmetry != "general":
-        if symmetry == "skew-symmetric" and np.any(rows_ == cols_):
-            raise FileRefused(f"{_MTX_INVALID}: a skew-symmetric matrix stores no diagonal "
-                              "entries")
-        off = rows_ != cols_
-        sign = 1.0 if symmetry == "symmetric" else -1.0
-        rows_, cols_, data = (np.concatenate([rows_, cols_[off]]),
-                              np.concatenate([cols_, rows_[off]]),
-                              np.concatenate([data, sign * data[off]]))
+        # every stored entry mirrored; a diagonal entry's mirror is -0.0, which added to
+        # any number gives that number bit for bit (cheaper than leaving it out)
+        mirrored = np.negative(data) if symmetry == "skew-symmetric" else data.copy()
+        np.copyto(mirrored, -0.0, where=rows_ == cols_)
+        rows_, cols_, data = (np.concatenate([rows_, cols_]), np.concatenate([cols_, rows_]),
+                              np.concatenate([data, mirrored]))
     out = scipy.sparse.coo_matrix((data, (rows_, cols_)), shape=(n, n)).tocsr()
     out.sum_duplicates()
     return out
@@ -507,10 +571,14 @@ def _read_mtx(handle: IO[bytes], size: int) -> Any:
     or array), read by resonant itself: banner and size line first, checked against the
     limits before the data are parsed."""
     text = handle.read(size + 1)
-    layout, _, symmetry = _mtx_banner(text.split(b"\n", 1)[0])
+    end = text.find(b"\n")
+    layout, _, symmetry = _mtx_banner(text if end < 0 else text[:end])
     fields, offset = _mtx_size_line(text)
     coordinate = layout == "coordinate"
     n, entries = _mtx_entries(fields, coordinate, symmetry, size)
+    fast = _mtx_with_arrow(text, offset, n, entries, coordinate, symmetry)
+    if fast is not None:
+        return fast
     values = _mtx_numbers(text[offset:], entries, 3 if coordinate else 1)
     if not np.all(np.isfinite(values)):
         raise FileRefused("the matrix holds non-finite entries (inf or nan)")
