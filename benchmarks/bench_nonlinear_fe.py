@@ -249,8 +249,9 @@ def compare(n: int, directory: Path, timeout: float, nldofs: bool) -> dict:
     for name in ("pyHarm", "pyHarm NLdofs"):
         theirs = row.get(name, {})
         if "peak" in theirs and "peak" in ours:
-            theirs["ratio_curve"] = theirs["curve_s"] / ours["curve_s"]
-            theirs["ratio_process"] = theirs["process_s"] / ours["process_s"]
+            # resonant's time / this side's (< 1: resonant faster)
+            theirs["ratio_curve"] = ours["curve_s"] / theirs["curve_s"]
+            theirs["ratio_process"] = ours["process_s"] / theirs["process_s"]
             theirs["peak_rel_diff"] = abs(theirs["peak"] / ours["peak"] - 1)
             theirs["fold_diffs"] = ([abs(a - b) for a, b in zip(ours["folds"], theirs["folds"])]
                                     if len(ours["folds"]) == len(theirs["folds"]) else None)
@@ -270,8 +271,8 @@ def _side_text(side: dict) -> str:
             + ", ".join(f"{f:.5f}" for f in side["folds"]) + f", tip peak {side['peak']:.6f}")
     if "ratio_curve" in side:
         diffs = side["fold_diffs"]
-        text += (f"; / resonant: curve {side['ratio_curve']:.1f}x, process "
-                 f"{side['ratio_process']:.1f}x; peak differs by {side['peak_rel_diff']:.1e}"
+        text += (f"; resonant / this: curve {side['ratio_curve']:.3g}x, process "
+                 f"{side['ratio_process']:.3g}x; peak differs by {side['peak_rel_diff']:.1e}"
                  + (f", folds by {max(diffs):.1e}" if diffs else ", folds differ in number")
                  + f" -> agree: {side['agree']}")
     return text
