@@ -1,25 +1,44 @@
 """Nonlinear frequency response of large matrix models with local nonlinear elements.
 
     python benchmarks/bench_nonlinear_fe.py [--sizes 1000,3000,10000] [--points 100]
+    python benchmarks/bench_nonlinear_fe.py --pyharm-sizes 10,20,50 [--pyharm-nldofs]
 
 A fixed-free chain of n masses 1/n on springs n (a discretized rod: its first natural
 frequency pi/2 whatever n, Rayleigh damping C = 0.02 M + 0.002 K) with a cubic spring
 at its free end and a stop (gap) at its middle: m = 2 nonlinear coordinates.  For each
 n, ``condensed_sweep`` follows the periodic response over omega = 1.0 ... 2.4 (across
-the first resonance, through its folds) with H = 7 and the stability of every point, in this process after the model is loaded; reported: the
-whole time, the share of the reduced model of the linear part (its build, including the
-factorizations), the branch points and the time per point.  The goal: a 10,000-DOF
+the first resonance, through its folds) with H = 7 and the stability of every point, in
+this process after the model is loaded; reported: the whole time, the share of the
+reduced model of the linear part (its build, including the factorizations), the branch
+points and the time per point.  The goal: a 10,000-DOF
 model's 200-point branch with stability in <= 10 s, and the time beyond the reduced
 model's build flat in n at fixed m.
 
-pyHarm (``pip install pyHarm-os``) forms the full n(2H+1) system; it is compared in
-benchmarks/bench_nonlinear.py on small models, where it can run.
+With ``--pyharm-sizes 10,20,50`` the same rods are also run in pyHarm (``pip install
+pyHarm-os``; not a dependency of resonant, skipped when it is missing), which forms
+and solves the full n(2H+1) system: ``Maestro`` with a ``Base`` system (H = 7, 2048
+time samples like resonant's for a gap), the rod's dense M, C, K as one substructure
+(one dof per node), connectors ``CosinusForcing`` (0.01 at the tip), ``CubicSpring``
+(k = 2 at the tip) and ``PenaltyUnilateralGap`` (g = 0.2, k = 0.5 at the middle: force
+k (q - g) for q >= g, else 0 -- resonant's ``kind = "gap"``); study ``frf`` from 1.0 to
+2.4, tangent predictor, arc-length corrector, ``acceptance`` step sizer (ds0 = 0.01,
+ds_max = 0.02), solver ``scipyroot``; with ``--pyharm-nldofs`` also with its
+``NLdofs`` reductor (Newton on the nonlinear dofs only, the linear ones solved for
+at every evaluation).  Each side runs in a fresh process (``--timeout`` seconds at
+most), one BLAS thread each (the machine has 2 cores and is shared: multithreaded
+BLAS there slows small dense factorizations a hundredfold); timed: the curve's
+computation (pyHarm's ``Maestro.operate()``, resonant's ``condensed_sweep`` call
+with the stability of every point) and the whole child process.  Checked: the tip's
+largest amplitude (relative 1e-3) and the folds' frequencies (1e-3), pyHarm's
+refined by a parabola through its three points around each extremum.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
+import subprocess
 import sys
 import tempfile
 import time
@@ -87,15 +106,213 @@ def measure(n: int, points: int, directory: Path) -> dict:
             "warnings": list(result.warnings)}
 
 
+HARMONICS = 7
+SAMPLES = 2048  # resonant's default for an element with kinks (a gap)
+START, STOP = 1.0, 2.4
+
+RESONANT_CHILD = """
+import json, sys, time
+import numpy as np
+import resonant
+from resonant.analyses import condensed
+path, n = sys.argv[1], int(sys.argv[2])
+model = resonant.load(path)
+system = model.linearize()
+t1 = time.perf_counter()
+r = condensed.condensed_sweep(system, "omega", @START@, @STOP@, harmonics=@H@,
+                              points=100, samples=@SAMPLES@, linear=False)
+t2 = time.perf_counter()
+tip = f"q{n}"
+peaks = [p.amplitudes[tip] for p in r.special_points if p.kind == "peak"]
+print(json.dumps({"curve_s": t2 - t1, "points": int(r.values.size),
+                  "folds": sorted(p.value for p in r.special_points if p.kind == "fold"),
+                  "peak": float(max([float(np.max(r.amplitudes[tip]))] + peaks)),
+                  "unstable": int((~r.stable).sum())}))
+"""
+
+PYHARM_CHILD = """
+import json, logging, sys, time
+import numpy as np
+import scipy.sparse as sp
+import pyHarm
+logging.disable(logging.CRITICAL)
+folder, n, reductor = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+H = @H@
+lin = {name: sp.load_npz(f"{folder}/{name}.npz").toarray() for name in ("M", "C", "K")}
+lin["G"] = np.zeros((n, n))
+INP = {
+    "analysis": {"FRF": {"study": "frf", "puls_inf": @START@, "puls_sup": @STOP@,
+                         "ds0": 1e-2, "ds_min": 1e-8, "ds_max": 2e-2, "sign_ds": 1,
+                         "verbose": False, "stepsizer": "acceptance",
+                         "predictor": "tangent", "corrector": "arc_length",
+                         "stopper": "bounds", "solver": "scipyroot",
+                         "reductors": [{"type": reductor}]}},
+    "system": {"type": "Base", "nh": H, "nti": @SAMPLES@},
+    "substructures": {"rod": {"matrix": lin, "ndofs": 1}},
+    "connectors": {
+        "load": {"type": "CosinusForcing", "connect": {"rod": [n - 1]}, "dirs": [0],
+                 "amp": 0.01},
+        "spring": {"type": "CubicSpring", "connect": {"rod": [n - 1]}, "dirs": [0],
+                   "k": 2.0},
+        "stop": {"type": "PenaltyUnilateralGap", "connect": {"rod": [n // 2 - 1]},
+                 "dirs": [0], "g": 0.2, "k": 0.5},
+    },
+}
+maestro = pyHarm.Maestro(INP)
+t1 = time.perf_counter()
+maestro.operate()
+t2 = time.perf_counter()
+study = maestro.nls["FRF"]
+sols = [s for s in study.SolList if s.flag_accepted]
+om = np.array([s.x[-1] for s in sols])
+X = np.array([s.x[:-1] for s in sols])
+dofs = study.system.expl_dofs
+# the tip's coefficients in pyHarm's order [a0, a1, b1, ..., aH, bH]
+rows = dofs[dofs["node_num"] == n - 1].sort_values(["harm", "cs"]).index.to_numpy()
+tau = np.linspace(0, 2 * np.pi, 4096, endpoint=False)
+basis = [np.ones_like(tau)]
+for k in range(1, H + 1):
+    basis += [np.cos(k * tau), np.sin(k * tau)]
+amp = np.abs(X[:, rows] @ np.array(basis)).max(axis=1)
+print(json.dumps({"curve_s": t2 - t1, "points": len(sols), "om": om.tolist(),
+                  "amp": amp.tolist()}))
+"""
+
+
+def _fill(code: str) -> str:
+    """The children's constants, written into their code."""
+    for key, value in (("@START@", START), ("@STOP@", STOP), ("@H@", HARMONICS),
+                       ("@SAMPLES@", SAMPLES)):
+        code = code.replace(key, repr(value))
+    return code
+
+
+def _vertex(y: list[float], i: int) -> float:
+    """The extremum of the parabola through points i-1, i, i+1 (equally weighted)."""
+    a, b, c = y[i - 1], y[i], y[i + 1]
+    den = a - 2 * b + c
+    if den == 0:
+        return b
+    t = 0.5 * (a - c) / den
+    return b - 0.25 * (a - c) * t
+
+
+def pyharm_extrema(om: list[float], amp: list[float]) -> tuple[list[float], float]:
+    """pyHarm's folds (turns of omega) and the tip's largest amplitude, refined."""
+    folds = [_vertex(om, i) for i in range(1, len(om) - 1)
+             if (om[i] - om[i - 1]) * (om[i + 1] - om[i]) < 0]
+    k = max(range(len(amp)), key=amp.__getitem__)
+    peak = _vertex(amp, k) if 0 < k < len(amp) - 1 else amp[k]
+    return sorted(folds), peak
+
+
+def _child_env() -> dict[str, str]:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(
+        [str(HERE.parent / "src")] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
+    for name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        env[name] = "1"
+    return env
+
+
+def _child(code: str, args: list[str], timeout: float) -> dict:
+    """One side in a fresh process: its JSON, the whole process's time, or a timeout."""
+    start = time.perf_counter()
+    try:
+        proc = subprocess.run([sys.executable, "-c", code, *args], capture_output=True,
+                              text=True, env=_child_env(), timeout=timeout,
+                              cwd=tempfile.gettempdir())
+    except subprocess.TimeoutExpired:
+        return {"timeout": timeout}
+    wall = time.perf_counter() - start
+    if proc.returncode != 0:
+        return {"error": proc.stderr[-1500:]}
+    return {**json.loads(proc.stdout.strip().splitlines()[-1]), "process_s": wall}
+
+
+def pyharm_available() -> bool:
+    """Whether pyHarm imports in a child process."""
+    return subprocess.run([sys.executable, "-c", "import pyHarm"], capture_output=True,
+                          env=_child_env()).returncode == 0
+
+
+def compare(n: int, directory: Path, timeout: float, nldofs: bool) -> dict:
+    """The same rod in resonant and in pyHarm, each in a fresh process."""
+    path = write_rod(directory / f"n{n}", n)
+    row: dict = {"n": n, "resonant": _child(_fill(RESONANT_CHILD), [str(path), str(n)], timeout)}
+    for reductor in ("noreductor",) + (("NLdofs",) if nldofs else ()):
+        side = _child(_fill(PYHARM_CHILD), [str(path.parent), str(n), reductor], timeout)
+        if "om" in side:
+            side["folds"], side["peak"] = pyharm_extrema(side.pop("om"), side.pop("amp"))
+        row["pyHarm" if reductor == "noreductor" else "pyHarm NLdofs"] = side
+    ours = row["resonant"]
+    for name in ("pyHarm", "pyHarm NLdofs"):
+        theirs = row.get(name, {})
+        if "peak" in theirs and "peak" in ours:
+            # resonant's time / this side's (< 1: resonant faster)
+            theirs["ratio_curve"] = ours["curve_s"] / theirs["curve_s"]
+            theirs["ratio_process"] = ours["process_s"] / theirs["process_s"]
+            theirs["peak_rel_diff"] = abs(theirs["peak"] / ours["peak"] - 1)
+            theirs["fold_diffs"] = ([abs(a - b) for a, b in zip(ours["folds"], theirs["folds"])]
+                                    if len(ours["folds"]) == len(theirs["folds"]) else None)
+            theirs["agree"] = bool(theirs["peak_rel_diff"] < 1e-3
+                                   and theirs["fold_diffs"] is not None
+                                   and max(theirs["fold_diffs"], default=0) < 1e-3)
+    return row
+
+
+def _side_text(side: dict) -> str:
+    if "timeout" in side:
+        return f"did not finish in {side['timeout']:.0f} s"
+    if "error" in side:
+        return "failed: " + side["error"].strip().splitlines()[-1]
+    text = (f"curve {side['curve_s']:.2f} s, process {side['process_s']:.2f} s, "
+            f"{side['points']} points, folds "
+            + ", ".join(f"{f:.5f}" for f in side["folds"]) + f", tip peak {side['peak']:.6f}")
+    if "ratio_curve" in side:
+        diffs = side["fold_diffs"]
+        text += (f"; resonant / this: curve {side['ratio_curve']:.3g}x, process "
+                 f"{side['ratio_process']:.3g}x; peak differs by {side['peak_rel_diff']:.1e}"
+                 + (f", folds by {max(diffs):.1e}" if diffs else ", folds differ in number")
+                 + f" -> agree: {side['agree']}")
+    return text
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sizes", default="1000,3000,10000",
-                        help="comma-separated numbers of coordinates (even)")
+    parser.add_argument("--sizes", default=None,
+                        help="comma-separated numbers of coordinates (even; default "
+                             "1000,3000,10000, none with --pyharm-sizes alone)")
     parser.add_argument("--points", type=int, default=100,
                         help="about this many continuation steps across the range")
     parser.add_argument("--json", action="store_true", help="print JSON")
+    parser.add_argument("--pyharm-sizes", default="",
+                        help="comma-separated sizes (even) to run in both pyHarm and resonant")
+    parser.add_argument("--pyharm-nldofs", action="store_true",
+                        help="also run pyHarm with its NLdofs reductor")
+    parser.add_argument("--timeout", type=float, default=900.0,
+                        help="seconds allowed to each side of the comparison")
     args = parser.parse_args(argv)
-    sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
+    pyharm_sizes = [int(s) for s in args.pyharm_sizes.split(",") if s.strip()]
+    if pyharm_sizes:
+        if not pyharm_available():
+            print("pyHarm is not installed (pip install pyHarm-os): no comparison")
+        else:
+            with tempfile.TemporaryDirectory() as tmp:
+                rows = []
+                for n in pyharm_sizes:
+                    rows.append(compare(n, Path(tmp), args.timeout, args.pyharm_nldofs))
+                    if not args.json:
+                        print(f"n = {n}, H = {HARMONICS}, omega {START} .. {STOP}:")
+                        for name in ("resonant", "pyHarm", "pyHarm NLdofs"):
+                            if name in rows[-1]:
+                                print(f"  {name:14s} {_side_text(rows[-1][name])}",
+                                      flush=True)
+            if args.json:
+                print(json.dumps(rows, indent=1))
+        if args.sizes is None:
+            return 0
+    sizes = [int(s) for s in (args.sizes or "1000,3000,10000").split(",") if s.strip()]
     with tempfile.TemporaryDirectory() as tmp:
         rows = [measure(n, args.points, Path(tmp)) for n in sizes]
     if args.json:
