@@ -32,7 +32,8 @@ parameter component of the tangent changes sign, refined by regula falsi.
 
 **Stability** by Hill's method on the linearization about each point in the
 modal coordinates of the (reduced) linear part: the modes with |Im mu| up to
-:data:`DYNAMIC_FACTOR` W are kept dynamic, the others enter as their static
+:data:`DYNAMIC_FACTOR` W are kept dynamic (all of them where Hill's matrix has
+at most :data:`SMALL_HILL` rows), the others enter as their static
 flexibility at the nonlinear coordinates (a residual flexibility), so the
 eigenvalue problem has 2s(2H+1) rows for s kept modes, not 2n(2H+1).  This is
 an approximation where modes above the cutoff respond dynamically to the
@@ -100,6 +101,9 @@ EXACT_SIZE = 400
 DYNAMIC_FACTOR = 3.0
 #: most modes kept dynamic in the stability analysis
 MAX_DYNAMIC = 40
+#: Hill matrices up to this many rows keep every mode dynamic (one eigenvalue problem
+#: per branch point: 200 complex rows cost ~10 ms, 600 rows ~30 times as much)
+SMALL_HILL = 200
 #: least samples per period for elements with kinks (gap, friction)
 NONSMOOTH_SAMPLES = 2048
 #: default harmonics
@@ -387,7 +391,7 @@ class CondensedBalance:
         self.size = self.m * self.basis.size
         self.param = param
         self._names = names
-        self.dynamic = _dynamic_modes(linear.mu, top)
+        self.dynamic = _dynamic_modes(linear.mu, top, H)
         self._rows = np.arange(len(names))
         self._cache: dict[float, np.ndarray] = {}
         #: (sign of det J, parity of the real unstable exponents) at the branch's start
@@ -543,12 +547,12 @@ def _hill(coef: np.ndarray, W: float, H: int, s: int) -> np.ndarray:
     return lam[order[:s]]
 
 
-def _dynamic_modes(mu: np.ndarray, top: float) -> np.ndarray:
+def _dynamic_modes(mu: np.ndarray, top: float, H: int) -> np.ndarray:
     """Which first-order modes the stability analysis keeps dynamic (the same at every
-    point of a branch): all of them for a small linear part, else those up to
-    :data:`DYNAMIC_FACTOR` times the highest base frequency ``top`` (at most
-    :data:`MAX_DYNAMIC`, the slowest)."""
-    if mu.size <= MAX_DYNAMIC:
+    point of a branch): all of them where Hill's matrix stays small (at most
+    :data:`SMALL_HILL` rows with H harmonics), else those up to :data:`DYNAMIC_FACTOR`
+    times the highest base frequency ``top`` (at most :data:`MAX_DYNAMIC`, the slowest)."""
+    if mu.size * (2 * H + 1) <= SMALL_HILL:
         return np.ones(mu.size, dtype=bool)
     keep = np.abs(mu.imag) <= DYNAMIC_FACTOR * top
     if keep.sum() > MAX_DYNAMIC:
