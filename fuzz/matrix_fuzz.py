@@ -450,6 +450,20 @@ def _limit(memory: int) -> None:
     resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
 
 
+def _address_space() -> int:
+    """This process's virtual size in bytes (0 where /proc is not there).  A forked child
+    inherits its parent's mappings -- libraries, thread stacks, allocator arenas, which
+    grow with every test run before it -- so its limit is what it may add to them."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as status:
+            for line in status:
+                if line.startswith("VmSize:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return 0
+
+
 def run_case(args: list[str], budget: float, memory: int = MEMORY_LIMIT, cwd: Path | None = None
              ) -> tuple[int | str, str, str, float, int]:
     """``python -m resonant ARGS`` in a subprocess: (status, stdout, stderr, seconds, peak RSS).
@@ -501,7 +515,7 @@ def run_forked(args: list[str], budget: float, memory: int = MEMORY_LIMIT,
     """Like :func:`run_case`, but the child is forked from this (already imported) process.
 
     Much faster than a fresh interpreter per input (no imports), and as isolated: the
-    child sets ``RLIMIT_AS``, runs ``resonant.cli.main`` with stdout/stderr sent to files,
+    child sets ``RLIMIT_AS`` (``memory`` beyond what it inherited), runs ``resonant.cli.main`` with stdout/stderr sent to files,
     and leaves with ``os._exit``; a signal, a hang or the peak RSS is seen by ``wait4``.
     """
     import tempfile
@@ -517,7 +531,7 @@ def run_forked(args: list[str], budget: float, memory: int = MEMORY_LIMIT,
                 os.setsid()
                 import faulthandler
                 faulthandler.disable()  # pytest's handler writes to the terminal, not fd 2
-                _limit(memory)
+                _limit(memory + _address_space())
                 if cwd is not None:
                     os.chdir(cwd)
                 null = os.open(os.devnull, os.O_RDONLY)
