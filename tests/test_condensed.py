@@ -364,6 +364,34 @@ def test_fast_modes_static_in_the_stability_give_the_same_verdicts(monkeypatch):
     np.testing.assert_allclose(log_cut / period, log_every / period, atol=5e-3 * 2.4)
 
 
+def test_tangent_jacobian_equals_the_derivative_pushed_through_the_elements(monkeypatch):
+    """Two routes to the Jacobian of the element forces' harmonics: from the tangent
+    stiffness and damping (used for elements without memory) and from the motion's
+    derivative along every unknown pushed through the elements sample by sample (used
+    for friction), at every Newton step of a branch with a cubic spring and a rate-
+    dependent damper at the tip and a gap between two inner masses: equal to 1e-12."""
+    element = ('force = "k3*q{n}^3 + 0.05*q{n}\'*abs(q{n}\')"\n[[nonlinear]]\n'
+               'name = "stop"\ncoordinates = ["q4", "q3"]\nkind = "gap"\ngap = 0.002\n'
+               'stiffness = 5')
+    model, *_ = chain(6, element=element)
+    tangent = condensed.CondensedBalance.force_derivatives_by_tangent
+    seen, closed = [], []
+
+    def both(self, forces, U, Ud, W):
+        fast = tangent(self, forces, U, Ud, W)
+        slow = self.force_derivatives_by_directions(forces, U, Ud, W)
+        seen.append(np.abs(fast - slow).max() / max(np.abs(slow).max(), 1e-300))
+        closed.append(bool((forces.stiffness(U, Ud)[0] >= 5).any()))  # the gap's kc
+        return fast
+
+    monkeypatch.setattr(condensed.CondensedBalance, "force_derivatives_by_tangent", both)
+    r = condensed_sweep(model.linearize(), "w", 1.0, 2.4, harmonics=5, points=20,
+                        samples=256, linear=False)
+    assert len(seen) > 50 and max(seen) < 1e-12
+    assert any(closed) and not all(closed)  # the gap opens and closes along the branch
+    assert len(r.values) > 20
+
+
 def test_reduced_linear_part_equals_the_full_matrices():
     """The linear part from a reduced model (tol 1e-9) gives the branch of the full
     matrices to 1e-7 relative."""
