@@ -45,6 +45,7 @@ def simple_parentheses(latex: str) -> str:
         latex = replaced
 
 
+@functools.lru_cache(maxsize=4096)  # a report asks for the same formula several times
 def latex_to_mathml(latex: str, display: bool) -> str:
     """MathML of a LaTeX formula (the LaTeX itself, as code, if it cannot be converted).
 
