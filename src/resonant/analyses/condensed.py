@@ -436,7 +436,12 @@ class CondensedBalance:
         U, Ud = self.samples(x, W)
         b, m = self.basis, self.m
         forces = self.forces(p)
-        F, _ = forces.evaluate(U, Ud)
+        if not jacobian:
+            F, _ = forces.evaluate(U, Ud)
+        elif forces.hysteretic:
+            F, dF_coefficients = self.force_derivatives_by_directions(forces, U, Ud, W)
+        else:
+            F, dF_coefficients = self.force_derivatives_by_tangent(forces, U, Ud, W)
         G = b.complex(F @ b.P.T)                                  # (m, H+1)
         Uc = b.complex(x.reshape(m, b.size))
         Hnl = T[:, :m, :m]                                        # (H+1, m, m)
@@ -444,36 +449,34 @@ class CondensedBalance:
         R = b.real(r).ravel()
         if not jacobian:
             return R, None
-        if forces.hysteretic:
-            dF_coefficients = self.force_derivatives_by_directions(forces, U, Ud, W)
-        else:
-            dF_coefficients = self.force_derivatives_by_tangent(forces, U, Ud, W)
         dG = b.complex(dF_coefficients)                           # (m, c, H+1)
         dr = np.einsum("kij,jck->ick", Hnl, dG)                   # (m, c, H+1)
         J = b.real(dr).transpose(0, 2, 1).reshape(self.size, self.size) + np.eye(self.size)
         return R, J
 
     def force_derivatives_by_directions(self, forces: ElementForces, U: np.ndarray,
-                                        Ud: np.ndarray, W: float) -> np.ndarray:
-        """(m, c, 2H+1) real coefficients of the forces' derivatives along each of the c
-        unknowns, the motion's derivative pushed through the elements sample by sample
-        (what a hysteretic element needs: its force depends on the path)."""
+                                        Ud: np.ndarray, W: float
+                                        ) -> tuple[np.ndarray, np.ndarray]:
+        """The forces (m, N) and the (m, c, 2H+1) real coefficients of their derivatives
+        along each of the c unknowns, the motion's derivative pushed through the elements
+        sample by sample (what a hysteretic element needs: its force depends on the path)."""
         dU, dUd = self._directions(W)
-        _, dF = forces.evaluate(U, Ud, dU, dUd)
+        F, dF = forces.evaluate(U, Ud, dU, dUd)
         assert dF is not None
-        return np.einsum("inc,jn->icj", dF, self.basis.P)
+        return F, np.einsum("inc,jn->icj", dF, self.basis.P)
 
     def force_derivatives_by_tangent(self, forces: ElementForces, U: np.ndarray,
-                                     Ud: np.ndarray, W: float) -> np.ndarray:
+                                     Ud: np.ndarray, W: float
+                                     ) -> tuple[np.ndarray, np.ndarray]:
         """The same from the instantaneous tangent stiffness G0 and damping G1 (m, m, N)
         of elements whose force depends on the present state only: block (i, j) is
         P diag(G0_ij) phi + W P diag(G1_ij) dphi, without a sample array per unknown."""
         b, m = self.basis, self.m
-        G0, G1 = forces.stiffness(U, Ud)
+        F, G0, G1 = forces.forces_and_tangent(U, Ud)
         blocks = (G0[:, :, None, :] * b.P) @ b.phi                # (m, m, 2H+1, 2H+1)
         if G1.any():
             blocks += W * ((G1[:, :, None, :] * b.P) @ b.dphi)
-        return blocks.transpose(0, 1, 3, 2).reshape(m, m * b.size, b.size)
+        return F, blocks.transpose(0, 1, 3, 2).reshape(m, m * b.size, b.size)
 
     def jacobian(self, x: np.ndarray, p: float
                  ) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, float, float]]:

@@ -202,8 +202,15 @@ class ElementForces:
         For the friction element: kt while it sticks, zero while it slips (the
         linearization of the march about the periodic motion).
         """
+        _, G0, G1 = self.forces_and_tangent(U, Ud)
+        return G0, G1
+
+    def forces_and_tangent(self, U: np.ndarray, Ud: np.ndarray
+                           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The forces (m, N) and the tangent stiffness and damping (m, m, N) in one pass
+        over the elements (a force's expression gives its value and derivatives at once)."""
         m, N = U.shape
-        G0, G1 = np.zeros((m, m, N)), np.zeros((m, m, N))
+        F, G0, G1 = np.zeros((m, N)), np.zeros((m, m, N)), np.zeros((m, m, N))
         pvals = [self.values[k] for k in self.params]
         for e, loc, fn in zip(self.elements, self.local, self._compiled):
             k = len(loc)
@@ -212,6 +219,7 @@ class ElementForces:
                 assert fn is not None
                 parts = fn(U[list(loc)], Ud[list(loc)], pvals)
                 for a in range(k):
+                    F[loc[a]] += sign[a] * parts[0]
                     for b in range(k):
                         G0[loc[a], loc[b]] += sign[a] * parts[1 + b]
                         G1[loc[a], loc[b]] += sign[a] * parts[1 + k + b]
@@ -219,16 +227,19 @@ class ElementForces:
             u = self._relative(loc, U)
             if e.kind == "gap":
                 gap, kc = self._constant(e, "gap"), self._constant(e, "stiffness")
-                t = np.where(u > gap, kc, 0.0)
+                closed = u > gap
+                f = np.where(closed, kc * (u - gap), 0.0)
+                t = np.where(closed, kc, 0.0)
             else:
                 f, _ = self._friction(e, u, None)
                 fs = self._constant(e, "slip_force")
                 kt = self._constant(e, "stiffness")
                 t = np.where(np.abs(f) < fs * (1 - 1e-12), kt, 0.0)
             for a in range(k):
+                F[loc[a]] += sign[a] * f
                 for b in range(k):
                     G0[loc[a], loc[b]] += sign[a] * sign[b] * t
-        return G0, G1
+        return F, G0, G1
 
 
 def _slider(u: np.ndarray, r: float, z0: float) -> tuple[np.ndarray, np.ndarray]:
