@@ -106,7 +106,8 @@ def test_auto_probes_inside_the_band_and_reuses_the_probe(monkeypatch):
     assert result.method == "reduced" and result.error <= 1e-6
     red = seen[-1]
     frequencies = [s for s, _, _ in recorder.made]
-    assert all(w.min() <= s <= w.max() for s in frequencies)
+    edge = 1e-15 * w.max()  # s is recovered from the matrix (s alpha / alpha): to rounding
+    assert all(w.min() - edge <= s <= w.max() + edge for s in frequencies)
     # at most a few pivots off the diagonal (late in the elimination, inside the band),
     # not the hundreds of the diagonal that cancels
     assert all(pivots <= K.shape[0] // 100 for _, pivots, _ in recorder.made)
