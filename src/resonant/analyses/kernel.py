@@ -668,17 +668,14 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
             row, col = equilibration(A)
             A = row[..., :, None] * A * col[..., None, :]
             b = row * b
-        try:
-            with np.errstate(all="ignore"):
-                X = np.linalg.solve(A, b[..., None])[..., 0]
-        except np.linalg.LinAlgError:  # an exactly singular point: solve point by point
-            X = np.empty((A.shape[0], n), dtype=complex)
-            for i in range(A.shape[0]):
-                try:
-                    X[i] = np.linalg.solve(A[i], b[i])
-                except np.linalg.LinAlgError:
-                    X[i] = np.nan
-                    singular[start + i] = True
+        if condition is None and n <= 2:
+            # the closed form (no condition number wanted); LAPACK where it is not trusted
+            X, hard = closed_form_solve(A, b)
+            if hard.any():
+                where = np.flatnonzero(hard)
+                X[where] = _lapack_solve(A[where], b[where], singular, start + where)
+        else:
+            X = _lapack_solve(A, b, singular, start + np.arange(A.shape[0]))
         if col is not None:
             X = col * X
         X[~finite] = np.nan
@@ -691,6 +688,106 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
                     condition[sl] = np.inf
         progress.advance(A.shape[0])
     return singular
+
+
+def _lapack_solve(A: np.ndarray, b: np.ndarray, singular: np.ndarray, points: np.ndarray
+                  ) -> np.ndarray:
+    """Batched LAPACK solves of A x = b; an exactly singular point gets NaN and is marked
+    in ``singular`` (at its index of ``points``)."""
+    try:
+        with np.errstate(all="ignore"):
+            return np.linalg.solve(A, b[..., None])[..., 0]
+    except np.linalg.LinAlgError:  # an exactly singular point: solve point by point
+        X = np.empty(b.shape, dtype=complex)
+        for i in range(A.shape[0]):
+            try:
+                X[i] = np.linalg.solve(A[i], b[i])
+            except np.linalg.LinAlgError:
+                X[i] = np.nan
+                singular[points[i]] = True
+        return X
+
+
+#: the closed form of a 2 x 2 solve is trusted where |det A| is at least this fraction of
+#: |a11 a22| + |a12 a21| (the determinant's own rounding error relative to it is then below
+#: 1e-10); other points go to LAPACK
+CLOSED_FORM_DETERMINANT = 1e-6
+
+
+def closed_form_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Stacked 1 x 1 or 2 x 2 complex systems A x = b in closed form.
+
+    Cramer's rule is forward stable for n = 2 (Higham, *Accuracy and Stability of
+    Numerical Algorithms*, 2nd ed., sec. 1.10.1): its error is of the order of
+    cond(A) u, as for LU with partial pivoting.  A and b are scaled by powers of two
+    to entries of order 1 first (exact), so that the products neither overflow nor
+    underflow.  Points that are not trusted -- a determinant small against the
+    products it comes from (:data:`CLOSED_FORM_DETERMINANT`), or a matrix or load that
+    is not finite -- are returned in a mask for a LAPACK solve.
+
+    Parameters
+    ----------
+    A : ndarray
+        (N, n, n) complex, n = 1 or 2.
+    b : ndarray
+        (N, n).
+
+    Returns
+    -------
+    x : ndarray
+        (N, n) complex; not meaningful where ``hard``.
+    hard : ndarray
+        (N,) bool: the points to solve otherwise.
+
+    Examples
+    --------
+    >>> A = np.array([[[2.0, 1.0], [1.0, 3.0]], [[1.0, 1.0], [1.0, 1.0]]], dtype=complex)
+    >>> x, hard = closed_form_solve(A, np.array([[3.0, 5.0], [1.0, 2.0]]))
+    >>> x[0].real.round(12).tolist(), hard.tolist()
+    ([0.8, 1.4], [False, True])
+    """
+    n = A.shape[-1]
+    with np.errstate(all="ignore"):
+        if n == 1:
+            a = A[:, 0, 0]
+            x = (b[:, 0] / a)[:, None]
+            return x, ~(np.isfinite(a) & (a != 0) & np.isfinite(x[:, 0]))
+        # scale factors 2^-e with e the binary exponent of the largest entry, kept
+        # normal (a subnormal matrix is scaled only up to 2^1021)
+        N = A.shape[0]
+        A = np.ascontiguousarray(A, dtype=complex).reshape(N, 4).view(float)
+        b = np.ascontiguousarray(b, dtype=complex).view(float)
+        e_a = np.clip(np.frexp(_largest(A))[1], -1021, 1021)
+        e_b = np.clip(np.frexp(_largest(b))[1], -1021, 1021)
+        A = (A * np.ldexp(1.0, -e_a)[:, None]).view(complex)
+        b = (b * np.ldexp(1.0, -e_b)[:, None]).view(complex)
+        a11, a12, a21, a22, b1, b2 = A[:, 0], A[:, 1], A[:, 2], A[:, 3], b[:, 0], b[:, 1]
+        d1, d2 = a11 * a22, a12 * a21
+        det = d1 - d2
+        x = np.empty((N, 2), dtype=complex)
+        x[:, 0] = (a22 * b1 - a12 * b2) / det
+        x[:, 1] = (a11 * b2 - a21 * b1) / det
+        # back to the units of A and b: x = x' 2^(e_b - e_a), exactly (as long as the
+        # factor is a normal number; ldexp otherwise)
+        shift = e_b - e_a
+        flat = x.view(float)
+        if np.abs(shift).max(initial=0) <= 1000:
+            flat *= np.ldexp(1.0, shift)[:, None]
+        else:
+            flat[:] = np.ldexp(flat, shift[:, None])
+        trusted = np.abs(det) >= CLOSED_FORM_DETERMINANT * (np.abs(d1) + np.abs(d2))
+        hard = ~(trusted & (det != 0) & np.isfinite(det) & np.isfinite(x[:, 0])
+                 & np.isfinite(x[:, 1]))
+    return x, hard
+
+
+def _largest(f: np.ndarray) -> np.ndarray:
+    """The largest |entry| of each row of a float (N, m) array (NaN where one is NaN)."""
+    f = np.abs(f)
+    out = f[:, 0].copy()
+    for j in range(1, f.shape[1]):
+        np.maximum(out, f[:, j], out=out)
+    return out
 
 
 def _band_storage(a: Any, lower: int, upper: int, rows: int, offset: int) -> np.ndarray:
