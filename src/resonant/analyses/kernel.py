@@ -404,7 +404,8 @@ class _Store:
             return
         self.values[index] = x[..., self.keep]
         with np.errstate(invalid="ignore"):
-            self.largest[index] = np.abs(x).max(axis=-1)
+            self.largest[index] = _largest(np.abs(x)) if x.ndim == 2 and x.shape[1] \
+                else np.abs(x).max(axis=-1)
 
     def __getitem__(self, index: Any) -> np.ndarray:
         return self.values[index]
@@ -494,14 +495,14 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     else:
         singular = _solve_modal(batch, w, rhs, progress, warnings, store, deadline)
     Z = store.values
+    b_norm = (_largest(np.abs(rhs)) if rhs.ndim == 2 and rhs.shape[1]
+              else np.abs(rhs).max(axis=-1)) * np.ones(N)
     if not exact:
         # a lower bound of the condition number: ||A|| ||Z|| / ||rhs|| (exact resonance: huge)
         norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
         a_norm = norms[0] + w**2 * norms[1] + w * norms[2]
-        b_norm = np.abs(rhs).max(axis=-1) * np.ones(N)
         with np.errstate(all="ignore"):
             condition = a_norm * store.largest / np.where(b_norm > 0, b_norm, np.inf)
-    b_norm = np.abs(rhs).max(axis=-1) * np.ones(N)
     singular |= ~np.isfinite(store.largest) | ~(condition <= SINGULAR_CONDITION)
     singular &= b_norm > 0
     Z[singular] = np.nan
@@ -638,6 +639,9 @@ def equilibration(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _norm_inf(a: Any) -> Any:
     if hasattr(a, "tocsr"):
         return float(abs(a).sum(axis=1).max()) if a.nnz else 0.0
+    if a.ndim == 3 and a.shape[-1] == 2:  # a stack of 2 x 2: without short reductions
+        row = np.abs(a[:, :, 0]) + np.abs(a[:, :, 1])
+        return np.maximum(row[:, 0], row[:, 1])
     return np.abs(a).sum(axis=-1).max(axis=-1)
 
 
@@ -647,13 +651,16 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
     M, C, K = (a.toarray() if hasattr(a, "toarray") else a for a in (batch.M, batch.C, batch.K))
     chunk = max(1, int(CHUNK_BYTES // (16 * n * n)))
     singular = np.zeros(N, dtype=bool)
+    # no damping: A = K - w^2 M real, made complex by the solve (not where the exact
+    # condition numbers are wanted: a real SVD would round differently)
+    undamped = condition is None and C.ndim == 2 and not C.any()
     for start in range(0, N, chunk):
         sl = slice(start, min(N, start + chunk))
         ww = w[sl, None, None]
         pick = (lambda a, sl=sl: a[sl] if a.ndim == 3 else a)  # noqa: E731
         deadline.check("while solving the harmonic systems", analysis=True)
         with np.errstate(all="ignore"):  # an overflow gives inf, caught as not finite
-            A = pick(K) - ww**2 * pick(M) + 1j * ww * pick(C)
+            A = pick(K) - ww**2 * pick(M) + (0.0 if undamped else 1j * ww * pick(C))
         b = np.broadcast_to(rhs[sl] if rhs.ndim == 2 else rhs, (A.shape[0], n))
         # an overflow (inf) gives NaN in the solution: marked singular by the caller
         finite = np.ones(A.shape[0], dtype=bool)
@@ -782,7 +789,8 @@ def closed_form_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 
 def _largest(f: np.ndarray) -> np.ndarray:
-    """The largest |entry| of each row of a float (N, m) array (NaN where one is NaN)."""
+    """The largest |entry| of each row of a float (N, m) array (NaN where one is NaN), as
+    ``np.abs(f).max(axis=1)`` without a reduction over the short axis."""
     f = np.abs(f)
     out = f[:, 0].copy()
     for j in range(1, f.shape[1]):
