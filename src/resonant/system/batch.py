@@ -159,6 +159,13 @@ class Batch:
 
 # -- compiled symbolic expressions -----------------------------------------------------------
 
+#: lambdify's modules for numpy code: the module itself, not ``"numpy"``, whose namespace is
+#: made by ``from numpy import *`` -- in numpy 2 that loads numpy.f2py, numpy.testing
+#: (unittest, email, ...) and more, 0.1 to 0.15 s of a short process.  The printer is the
+#: same (NumPyPrinter); names of numpy.linalg it prints are imported by lambdify itself.
+NUMPY_MODULES = [np]
+
+
 class CompiledExpressions:
     """Expressions compiled into one function (see :func:`compile_expressions`).
 
@@ -218,7 +225,7 @@ def compile_expressions(expressions: Sequence[sympy.Expr], symbols: Sequence[sym
     for i in infinite:
         expressions[i] = sympy.Integer(0)
     expressions = [compilable(e) for e in expressions]
-    fn = sympy.lambdify(list(symbols), expressions, modules="numpy", cse=True)
+    fn = sympy.lambdify(list(symbols), expressions, modules=NUMPY_MODULES, cse=True)
 
     def evaluated(args: Sequence[Any]) -> tuple[tuple[int, ...], list[Any]]:
         # np.broadcast takes at most 64 arguments; the shapes alone have no limit
