@@ -660,7 +660,9 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
         pick = (lambda a, sl=sl: a[sl] if a.ndim == 3 else a)  # noqa: E731
         deadline.check("while solving the harmonic systems", analysis=True)
         with np.errstate(all="ignore"):  # an overflow gives inf, caught as not finite
-            A = pick(K) - ww**2 * pick(M) + (0.0 if undamped else 1j * ww * pick(C))
+            A = pick(K) - ww**2 * pick(M)
+            if not undamped:
+                A = A + 1j * ww * pick(C)
         b = np.broadcast_to(rhs[sl] if rhs.ndim == 2 else rhs, (A.shape[0], n))
         # an overflow (inf) gives NaN in the solution: marked singular by the caller
         finite = np.ones(A.shape[0], dtype=bool)
@@ -719,15 +721,19 @@ def _lapack_solve(A: np.ndarray, b: np.ndarray, singular: np.ndarray, points: np
 #: |a11 a22| + |a12 a21| (the determinant's own rounding error relative to it is then below
 #: 1e-10); other points go to LAPACK
 CLOSED_FORM_DETERMINANT = 1e-6
+#: largest entries of A and b in this range at every point: the closed form needs no scaling
+SAFE_RANGE = (2.0**-400, 2.0**400)
 
 
 def closed_form_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Stacked 1 x 1 or 2 x 2 complex systems A x = b in closed form.
+    """Stacked 1 x 1 or 2 x 2 systems A x = b (A real or complex, b complex) in closed
+    form.
 
     Cramer's rule is forward stable for n = 2 (Higham, *Accuracy and Stability of
     Numerical Algorithms*, 2nd ed., sec. 1.10.1): its error is of the order of
-    cond(A) u, as for LU with partial pivoting.  A and b are scaled by powers of two
-    to entries of order 1 first (exact), so that the products neither overflow nor
+    cond(A) u, as for LU with partial pivoting.  Where the entries of A or b are
+    beyond 2^+-400 (:data:`SAFE_RANGE`), each point's A and b are scaled by powers of
+    two to entries of order 1 first (exact), so that the products neither overflow nor
     underflow.  Points that are not trusted -- a determinant small against the
     products it comes from (:data:`CLOSED_FORM_DETERMINANT`), or a matrix or load that
     is not finite -- are returned in a mask for a LAPACK solve.
@@ -735,7 +741,7 @@ def closed_form_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndar
     Parameters
     ----------
     A : ndarray
-        (N, n, n) complex, n = 1 or 2.
+        (N, n, n) real or complex, n = 1 or 2.
     b : ndarray
         (N, n).
 
@@ -762,26 +768,40 @@ def closed_form_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndar
         # scale factors 2^-e with e the binary exponent of the largest entry, kept
         # normal (a subnormal matrix is scaled only up to 2^1021)
         N = A.shape[0]
-        A = np.ascontiguousarray(A, dtype=complex).reshape(N, 4).view(float)
-        b = np.ascontiguousarray(b, dtype=complex).view(float)
-        e_a = np.clip(np.frexp(_largest(A))[1], -1021, 1021)
-        e_b = np.clip(np.frexp(_largest(b))[1], -1021, 1021)
-        A = (A * np.ldexp(1.0, -e_a)[:, None]).view(complex)
-        b = (b * np.ldexp(1.0, -e_b)[:, None]).view(complex)
-        a11, a12, a21, a22, b1, b2 = A[:, 0], A[:, 1], A[:, 2], A[:, 3], b[:, 0], b[:, 1]
+        real = not np.iscomplexobj(A)
+        A = np.ascontiguousarray(A, dtype=float if real else complex).reshape(N, 4)
+        b = np.ascontiguousarray(b, dtype=complex).view(float)  # (N, 4): re, im of b1, b2
+        size_a, size_b = _largest(A if real else A.view(float)), _largest(b)
+        # entries within 2^+-400 of 1 everywhere (the usual case): the products can
+        # neither overflow nor underflow against them, and no scaling is needed
+        scaled = not all((s.min(initial=1.0) >= SAFE_RANGE[0]) and
+                         (s.max(initial=1.0) <= SAFE_RANGE[1]) for s in (size_a, size_b))
+        if scaled:
+            e_a = np.clip(np.frexp(size_a)[1], -1021, 1021)
+            e_b = np.clip(np.frexp(size_b)[1], -1021, 1021)
+            A = A * np.ldexp(1.0, -e_a)[:, None]
+            b = b * np.ldexp(1.0, -e_b)[:, None]
+        a11, a12, a21, a22 = A[:, 0], A[:, 1], A[:, 2], A[:, 3]
         d1, d2 = a11 * a22, a12 * a21
         det = d1 - d2
         x = np.empty((N, 2), dtype=complex)
-        x[:, 0] = (a22 * b1 - a12 * b2) / det
-        x[:, 1] = (a11 * b2 - a21 * b1) / det
+        flat = x.view(float)
+        if real:  # a damping-free system: real arithmetic on the re, im parts of b
+            b1, b2, det2 = b[:, 0:2], b[:, 2:4], det[:, None]
+            flat[:, 0:2] = (a22[:, None] * b1 - a12[:, None] * b2) / det2
+            flat[:, 2:4] = (a11[:, None] * b2 - a21[:, None] * b1) / det2
+        else:
+            b1, b2 = b.view(complex)[:, 0], b.view(complex)[:, 1]
+            x[:, 0] = (a22 * b1 - a12 * b2) / det
+            x[:, 1] = (a11 * b2 - a21 * b1) / det
         # back to the units of A and b: x = x' 2^(e_b - e_a), exactly (as long as the
         # factor is a normal number; ldexp otherwise)
-        shift = e_b - e_a
-        flat = x.view(float)
-        if np.abs(shift).max(initial=0) <= 1000:
-            flat *= np.ldexp(1.0, shift)[:, None]
-        else:
-            flat[:] = np.ldexp(flat, shift[:, None])
+        if scaled:
+            shift = e_b - e_a
+            if np.abs(shift).max(initial=0) <= 1000:
+                flat *= np.ldexp(1.0, shift)[:, None]
+            else:
+                flat[:] = np.ldexp(flat, shift[:, None])
         trusted = np.abs(det) >= CLOSED_FORM_DETERMINANT * (np.abs(d1) + np.abs(d2))
         hard = ~(trusted & (det != 0) & np.isfinite(det) & np.isfinite(x[:, 0])
                  & np.isfinite(x[:, 1]))
