@@ -404,7 +404,8 @@ class _Store:
             return
         self.values[index] = x[..., self.keep]
         with np.errstate(invalid="ignore"):
-            self.largest[index] = np.abs(x).max(axis=-1)
+            self.largest[index] = _largest(np.abs(x)) if x.ndim == 2 and x.shape[1] \
+                else np.abs(x).max(axis=-1)
 
     def __getitem__(self, index: Any) -> np.ndarray:
         return self.values[index]
@@ -494,14 +495,14 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     else:
         singular = _solve_modal(batch, w, rhs, progress, warnings, store, deadline)
     Z = store.values
+    b_norm = (_largest(np.abs(rhs)) if rhs.ndim == 2 and rhs.shape[1]
+              else np.abs(rhs).max(axis=-1)) * np.ones(N)
     if not exact:
         # a lower bound of the condition number: ||A|| ||Z|| / ||rhs|| (exact resonance: huge)
         norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
         a_norm = norms[0] + w**2 * norms[1] + w * norms[2]
-        b_norm = np.abs(rhs).max(axis=-1) * np.ones(N)
         with np.errstate(all="ignore"):
             condition = a_norm * store.largest / np.where(b_norm > 0, b_norm, np.inf)
-    b_norm = np.abs(rhs).max(axis=-1) * np.ones(N)
     singular |= ~np.isfinite(store.largest) | ~(condition <= SINGULAR_CONDITION)
     singular &= b_norm > 0
     Z[singular] = np.nan
@@ -638,6 +639,9 @@ def equilibration(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _norm_inf(a: Any) -> Any:
     if hasattr(a, "tocsr"):
         return float(abs(a).sum(axis=1).max()) if a.nnz else 0.0
+    if a.ndim == 3 and a.shape[-1] == 2:  # a stack of 2 x 2: without short reductions
+        row = np.abs(a[:, :, 0]) + np.abs(a[:, :, 1])
+        return np.maximum(row[:, 0], row[:, 1])
     return np.abs(a).sum(axis=-1).max(axis=-1)
 
 
@@ -647,13 +651,18 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
     M, C, K = (a.toarray() if hasattr(a, "toarray") else a for a in (batch.M, batch.C, batch.K))
     chunk = max(1, int(CHUNK_BYTES // (16 * n * n)))
     singular = np.zeros(N, dtype=bool)
+    # no damping: A = K - w^2 M real, made complex by the solve (not where the exact
+    # condition numbers are wanted: a real SVD would round differently)
+    undamped = condition is None and C.ndim == 2 and not C.any()
     for start in range(0, N, chunk):
         sl = slice(start, min(N, start + chunk))
         ww = w[sl, None, None]
         pick = (lambda a, sl=sl: a[sl] if a.ndim == 3 else a)  # noqa: E731
         deadline.check("while solving the harmonic systems", analysis=True)
         with np.errstate(all="ignore"):  # an overflow gives inf, caught as not finite
-            A = pick(K) - ww**2 * pick(M) + 1j * ww * pick(C)
+            A = pick(K) - ww**2 * pick(M)
+            if not undamped:
+                A = A + 1j * ww * pick(C)
         b = np.broadcast_to(rhs[sl] if rhs.ndim == 2 else rhs, (A.shape[0], n))
         # an overflow (inf) gives NaN in the solution: marked singular by the caller
         finite = np.ones(A.shape[0], dtype=bool)
@@ -668,17 +677,14 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
             row, col = equilibration(A)
             A = row[..., :, None] * A * col[..., None, :]
             b = row * b
-        try:
-            with np.errstate(all="ignore"):
-                X = np.linalg.solve(A, b[..., None])[..., 0]
-        except np.linalg.LinAlgError:  # an exactly singular point: solve point by point
-            X = np.empty((A.shape[0], n), dtype=complex)
-            for i in range(A.shape[0]):
-                try:
-                    X[i] = np.linalg.solve(A[i], b[i])
-                except np.linalg.LinAlgError:
-                    X[i] = np.nan
-                    singular[start + i] = True
+        if condition is None and n <= 2:
+            # the closed form (no condition number wanted); LAPACK where it is not trusted
+            X, hard = closed_form_solve(A, b)
+            if hard.any():
+                where = np.flatnonzero(hard)
+                X[where] = _lapack_solve(A[where], b[where], singular, start + where)
+        else:
+            X = _lapack_solve(A, b, singular, start + np.arange(A.shape[0]))
         if col is not None:
             X = col * X
         X[~finite] = np.nan
@@ -691,6 +697,125 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
                     condition[sl] = np.inf
         progress.advance(A.shape[0])
     return singular
+
+
+def _lapack_solve(A: np.ndarray, b: np.ndarray, singular: np.ndarray, points: np.ndarray
+                  ) -> np.ndarray:
+    """Batched LAPACK solves of A x = b; an exactly singular point gets NaN and is marked
+    in ``singular`` (at its index of ``points``)."""
+    try:
+        with np.errstate(all="ignore"):
+            return np.linalg.solve(A, b[..., None])[..., 0]
+    except np.linalg.LinAlgError:  # an exactly singular point: solve point by point
+        X = np.empty(b.shape, dtype=complex)
+        for i in range(A.shape[0]):
+            try:
+                X[i] = np.linalg.solve(A[i], b[i])
+            except np.linalg.LinAlgError:
+                X[i] = np.nan
+                singular[points[i]] = True
+        return X
+
+
+#: the closed form of a 2 x 2 solve is trusted where |det A| is at least this fraction of
+#: |a11 a22| + |a12 a21| (the determinant's own rounding error relative to it is then below
+#: 1e-10); other points go to LAPACK
+CLOSED_FORM_DETERMINANT = 1e-6
+#: largest entries of A and b in this range at every point: the closed form needs no scaling
+SAFE_RANGE = (2.0**-400, 2.0**400)
+
+
+def closed_form_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Stacked 1 x 1 or 2 x 2 systems A x = b (A real or complex, b complex) in closed
+    form.
+
+    Cramer's rule is forward stable for n = 2 (Higham, *Accuracy and Stability of
+    Numerical Algorithms*, 2nd ed., sec. 1.10.1): its error is of the order of
+    cond(A) u, as for LU with partial pivoting.  Where the entries of A or b are
+    beyond 2^+-400 (:data:`SAFE_RANGE`), each point's A and b are scaled by powers of
+    two to entries of order 1 first (exact), so that the products neither overflow nor
+    underflow.  Points that are not trusted -- a determinant small against the
+    products it comes from (:data:`CLOSED_FORM_DETERMINANT`), or a matrix or load that
+    is not finite -- are returned in a mask for a LAPACK solve.
+
+    Parameters
+    ----------
+    A : ndarray
+        (N, n, n) real or complex, n = 1 or 2.
+    b : ndarray
+        (N, n).
+
+    Returns
+    -------
+    x : ndarray
+        (N, n) complex; not meaningful where ``hard``.
+    hard : ndarray
+        (N,) bool: the points to solve otherwise.
+
+    Examples
+    --------
+    >>> A = np.array([[[2.0, 1.0], [1.0, 3.0]], [[1.0, 1.0], [1.0, 1.0]]], dtype=complex)
+    >>> x, hard = closed_form_solve(A, np.array([[3.0, 5.0], [1.0, 2.0]]))
+    >>> x[0].real.round(12).tolist(), hard.tolist()
+    ([0.8, 1.4], [False, True])
+    """
+    n = A.shape[-1]
+    with np.errstate(all="ignore"):
+        if n == 1:
+            a = A[:, 0, 0]
+            x = (b[:, 0] / a)[:, None]
+            return x, ~(np.isfinite(a) & (a != 0) & np.isfinite(x[:, 0]))
+        # scale factors 2^-e with e the binary exponent of the largest entry, kept
+        # normal (a subnormal matrix is scaled only up to 2^1021)
+        N = A.shape[0]
+        real = not np.iscomplexobj(A)
+        A = np.ascontiguousarray(A, dtype=float if real else complex).reshape(N, 4)
+        b = np.ascontiguousarray(b, dtype=complex).view(float)  # (N, 4): re, im of b1, b2
+        size_a, size_b = _largest(A if real else A.view(float)), _largest(b)
+        # entries within 2^+-400 of 1 everywhere (the usual case): the products can
+        # neither overflow nor underflow against them, and no scaling is needed
+        scaled = not all((s.min(initial=1.0) >= SAFE_RANGE[0]) and
+                         (s.max(initial=1.0) <= SAFE_RANGE[1]) for s in (size_a, size_b))
+        if scaled:
+            e_a = np.clip(np.frexp(size_a)[1], -1021, 1021)
+            e_b = np.clip(np.frexp(size_b)[1], -1021, 1021)
+            A = A * np.ldexp(1.0, -e_a)[:, None]
+            b = b * np.ldexp(1.0, -e_b)[:, None]
+        a11, a12, a21, a22 = A[:, 0], A[:, 1], A[:, 2], A[:, 3]
+        d1, d2 = a11 * a22, a12 * a21
+        det = d1 - d2
+        x = np.empty((N, 2), dtype=complex)
+        flat = x.view(float)
+        if real:  # a damping-free system: real arithmetic on the re, im parts of b
+            b1, b2, det2 = b[:, 0:2], b[:, 2:4], det[:, None]
+            flat[:, 0:2] = (a22[:, None] * b1 - a12[:, None] * b2) / det2
+            flat[:, 2:4] = (a11[:, None] * b2 - a21[:, None] * b1) / det2
+        else:
+            b1, b2 = b.view(complex)[:, 0], b.view(complex)[:, 1]
+            x[:, 0] = (a22 * b1 - a12 * b2) / det
+            x[:, 1] = (a11 * b2 - a21 * b1) / det
+        # back to the units of A and b: x = x' 2^(e_b - e_a), exactly (as long as the
+        # factor is a normal number; ldexp otherwise)
+        if scaled:
+            shift = e_b - e_a
+            if np.abs(shift).max(initial=0) <= 1000:
+                flat *= np.ldexp(1.0, shift)[:, None]
+            else:
+                flat[:] = np.ldexp(flat, shift[:, None])
+        trusted = np.abs(det) >= CLOSED_FORM_DETERMINANT * (np.abs(d1) + np.abs(d2))
+        hard = ~(trusted & (det != 0) & np.isfinite(det) & np.isfinite(x[:, 0])
+                 & np.isfinite(x[:, 1]))
+    return x, hard
+
+
+def _largest(f: np.ndarray) -> np.ndarray:
+    """The largest |entry| of each row of a float (N, m) array (NaN where one is NaN), as
+    ``np.abs(f).max(axis=1)`` without a reduction over the short axis."""
+    f = np.abs(f)
+    out = f[:, 0].copy()
+    for j in range(1, f.shape[1]):
+        np.maximum(out, f[:, j], out=out)
+    return out
 
 
 def _band_storage(a: Any, lower: int, upper: int, rows: int, offset: int) -> np.ndarray:

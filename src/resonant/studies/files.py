@@ -157,7 +157,12 @@ class ResultWriter:
             meta = dict(table.schema.metadata or {})
             meta[METADATA_KEY] = json.dumps(self.description, sort_keys=True).encode()
             self._schema = table.schema.with_metadata(meta)
-            self._writer = pq.ParquetWriter(self.part, self._schema)
+            # dictionary pages for the text columns (status, reason) only: numbers are
+            # nearly all distinct, and a dictionary of them costs time and space
+            text = [f.name for f in self._schema
+                    if str(f.type).startswith(("dictionary", "string"))]
+            self._writer = pq.ParquetWriter(self.part, self._schema,
+                                            use_dictionary=text or False)
         self._writer.write_table(table.cast(self._schema))
         self.rows += table.num_rows
 
@@ -172,8 +177,8 @@ class ResultWriter:
         if self.parquet:
             import pyarrow as pa
 
-            self._write_table(pa.table({k: pa.array(v).dictionary_encode() if v.dtype.kind
-                                        in "OU" else v for k, v in columns.items()}))
+            self._write_table(pa.table({k: _text_column(v) if v.dtype.kind in "OU" else v
+                                        for k, v in columns.items()}))
             return
         import pandas as pd
 
@@ -194,6 +199,17 @@ class ResultWriter:
             _sidecar(self.path).write_text(json.dumps(self.description, sort_keys=True),
                                            encoding="utf-8")
         os.replace(self.part, self.path)
+
+
+def _text_column(values: np.ndarray) -> Any:
+    """A column of strings, dictionary-encoded; one repeated value (a chunk whose samples
+    are all ok) without a conversion per row."""
+    import pyarrow as pa
+
+    if len(values) and (values == values[0]).all():
+        return pa.DictionaryArray.from_arrays(pa.array(np.zeros(len(values), np.int32)),
+                                              pa.array([str(values[0])]))
+    return pa.array(values).dictionary_encode()
 
 
 def read_columns(path: str | os.PathLike[str], columns: list[str]) -> dict[str, np.ndarray]:

@@ -28,6 +28,7 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -60,9 +61,10 @@ class Rows:
             c: np.full(count, np.nan) for c in spec.columns}
         if "stable" in self.columns:
             self.columns["stable"] = np.zeros(count, dtype=bool)
-        self.status = np.full(count, OK, dtype=object)
+        # status and reason per sample, made at the first failure (most chunks have none)
+        self.status: np.ndarray = np.empty(0, dtype=object)
+        self.reason: np.ndarray = np.empty(0, dtype=object)
         self.marked = False  # whether any sample failed
-        self.reason = np.full(count, "", dtype=object)
         #: what failed where: "all" (every quantity), "stability" (responses),
         #: "excitation" (amplitude, phase), "band" (peaks), "nonlinear" (the nonlinear
         #: steady state)
@@ -73,6 +75,9 @@ class Rows:
         """Mark the samples of ``mask``; the first failure of a sample gives its status."""
         if not mask.any():
             return
+        if not self.marked:
+            self.status = np.full(self.count, OK, dtype=object)
+            self.reason = np.full(self.count, "", dtype=object)
         self.marked = True
         fresh = mask & (self.status == OK)
         self.status[fresh] = status
@@ -135,7 +140,20 @@ def _stack(a: Any) -> np.ndarray:
 
 
 def _symmetric(a: np.ndarray) -> bool:
-    return bool(np.allclose(a, a.swapaxes(1, 2), rtol=1e-12, atol=0.0))
+    """``np.allclose(a, a.swapaxes(1, 2), rtol=1e-12, atol=0)`` on the entries that can
+    differ: each pair across the diagonal, both ways (a NaN on the diagonal fails)."""
+    n = a.shape[-1]
+    if np.isnan(np.diagonal(a, axis1=1, axis2=2)).any():
+        return False
+    i, j = np.triu_indices(n, 1)
+    upper, lower = a[:, i, j], a[:, j, i]
+    return bool(_close(upper, lower).all() and _close(lower, upper).all())
+
+
+def _close(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``np.isclose(x, y, rtol=1e-12, atol=0)``, its formula without its overhead."""
+    with np.errstate(invalid="ignore"):
+        return ((np.abs(x - y) <= 1e-12 * np.abs(y)) & np.isfinite(y)) | (x == y)
 
 
 def singular_mass(M: np.ndarray) -> np.ndarray:
@@ -152,7 +170,7 @@ def _cholesky_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
     if not (_symmetric(M) and _symmetric(K)):
         return None
     if M.shape[-1] == 2:
-        return _pencil_roots_2x2(*np.broadcast_arrays(M, K))
+        return _pencil_roots_2x2(M, K)
     try:
         L = np.linalg.cholesky(M)
     except np.linalg.LinAlgError:
@@ -166,11 +184,11 @@ def _pencil_roots_2x2(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
     """omega^2 of a symmetric 2 x 2 pencil in closed form, ascending (None when some M is
     not positive definite): the roots of det(K - lambda M) = 0, the smaller one as
     det K / (det M * larger), which keeps it as accurate as a batched eigvalsh (and
-    ten times faster)."""
+    ten times faster).  M and K are stacks (N, 2, 2) or (1, 2, 2) (the same for every
+    sample: what depends on it alone is computed once)."""
     with np.errstate(all="ignore"):
         # scaled to entries of order 1, so that squares neither overflow nor underflow
-        m_scale = np.abs(M).max(axis=(1, 2))
-        k_scale = np.abs(K).max(axis=(1, 2))
+        m_scale, k_scale = _largest_entry(M), _largest_entry(K)
         k_scale = np.where((k_scale > 0) & np.isfinite(k_scale), k_scale, 1.0)
         M = M / m_scale[:, None, None]
         K = K / k_scale[:, None, None]
@@ -186,6 +204,16 @@ def _pencil_roots_2x2(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
         small = np.where(q != 0.0, det_k / np.where(q != 0.0, q, 1.0), 0.0)
         ratio = (k_scale / m_scale)[:, None]
         return ratio * np.stack([np.minimum(big, small), np.maximum(big, small)], axis=1)
+
+
+def _largest_entry(a: np.ndarray) -> np.ndarray:
+    """max |a_ij| of each matrix of a stack (N, n, n), as ``np.abs(a).max(axis=(1, 2))``
+    (NaN where an entry is NaN) without a reduction over the short axes."""
+    flat = np.abs(a.reshape(a.shape[0], -1))
+    out = flat[:, 0].copy()
+    for j in range(1, flat.shape[1]):
+        np.maximum(out, flat[:, j], out=out)
+    return out
 
 
 def undamped_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray:
@@ -206,20 +234,22 @@ def _general_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray:
     return out
 
 
-def unstable_by_inertia(C: np.ndarray, K: np.ndarray, lam: np.ndarray) -> np.ndarray | None:
+def unstable_by_inertia(C: np.ndarray, K: np.ndarray, lam: np.ndarray, *,
+                        symmetric_k: bool = False) -> np.ndarray | None:
     """Instability without the state eigenvalues, where a theorem decides it: for
     symmetric M > 0, C >= 0 and symmetric K the equilibrium is unstable exactly when K
     has a negative eigenvalue (Kelvin-Tait-Chetaev; damping neither makes a potential
     minimum unstable nor stabilizes a maximum).  The tolerance is that of ``classify``
     on the undamped roots s = sqrt(-lambda) (``lam``, by Cholesky of M).  None where the
-    theorem does not apply."""
-    if not (_symmetric(C) and _symmetric(K)):
+    theorem does not apply.  ``symmetric_k``: K is known to be symmetric (``lam`` came
+    from :func:`_cholesky_lambdas`, which checked it)."""
+    if not (_symmetric(C) and (symmetric_k or _symmetric(K))):
         return None
     if C.any():
         c = np.linalg.eigvalsh(C)
         if (c[:, 0] < -1e-12 * np.maximum(np.abs(c).max(axis=1), 1e-300)).any():
             return None
-    size = np.sqrt(np.abs(lam).max(axis=1, initial=0.0))
+    size = np.sqrt(_largest_entry(lam[:, None, :]) if lam.shape[1] else np.zeros(len(lam)))
     with np.errstate(invalid="ignore"):
         return np.sqrt(np.maximum(-lam[:, 0], 0.0)) > 1e-9 * np.maximum(1.0, size)
 
@@ -285,8 +315,8 @@ def _fill_modal(rows: Rows, spec: StudySpec, M: np.ndarray, C: np.ndarray, K: np
     for q in spec.quantities:
         if q.kind == "natural_frequency" and lam is not None:
             rows.columns[q.text] = np.broadcast_to(natural_frequency(lam, q.index), full)
-    bad = unstable_by_inertia(C, K, by_cholesky) if stability and by_cholesky is not None \
-        else None
+    bad = unstable_by_inertia(C, K, by_cholesky, symmetric_k=True) \
+        if stability and by_cholesky is not None else None
     if "damping_ratio" in kinds or (stability and bad is None):
         eigenvalues = state_eigenvalues(*np.broadcast_arrays(M, C, K))
         if bad is None:
@@ -331,6 +361,8 @@ def responses(system: LinearSystem, values: Mapping[str, Any], count: int,
     and the points where the harmonic system is singular (an undamped resonance);
     ``batch`` is the system at ``values`` if it was evaluated already."""
     batch = batch if batch is not None else system.evaluate(values, count)
+    if any(name not in names for name in batch.outputs):  # only the outputs asked for
+        batch = replace(batch, outputs={k: v for k, v in batch.outputs.items() if k in names})
     coordinates = [q for q in names if q in batch.coordinates]
     keep_names = kept_coordinates(batch, coordinates)
     keep = np.array([batch.coordinates.index(q) for q in keep_names], dtype=int)

@@ -159,8 +159,40 @@ class Batch:
 
 # -- compiled symbolic expressions -----------------------------------------------------------
 
+#: lambdify's modules for numpy code: the module itself, not ``"numpy"``, whose namespace is
+#: made by ``from numpy import *`` -- in numpy 2 that loads numpy.f2py, numpy.testing
+#: (unittest, email, ...) and more, 0.1 to 0.15 s of a short process.  The printer is the
+#: same (NumPyPrinter); names of numpy.linalg it prints are imported by lambdify itself.
+NUMPY_MODULES = [np]
+
+
+class CompiledExpressions:
+    """Expressions compiled into one function (see :func:`compile_expressions`).
+
+    ``compiled(*values)`` gives every expression's values as a complex array
+    (expressions, *shape); ``compiled.rows(*values)`` gives them as they came: real
+    (float) when every value is real, and which rows vary with the values (the others
+    are constants broadcast along the shape), so that a caller checks a constant once.
+    """
+
+    def __init__(self, call: Callable[..., np.ndarray],
+                 rows: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None) -> None:
+        self._call, self._rows = call, rows
+
+    def __call__(self, *args: Any) -> np.ndarray:
+        return self._call(*args)
+
+    def rows(self, *args: Any) -> tuple[np.ndarray, np.ndarray]:
+        """The values (float or complex, (expressions, *shape)) and the mask of the rows
+        that vary (every row when not known)."""
+        if self._rows is not None:
+            return self._rows(*args)
+        values = self._call(*args)
+        return values, np.ones(len(values), dtype=bool)
+
+
 def compile_expressions(expressions: Sequence[sympy.Expr], symbols: Sequence[sympy.Symbol]
-                        ) -> Callable[..., np.ndarray]:
+                        ) -> CompiledExpressions:
     """One compiled function returning all expressions as a complex array.
 
     Parameters
@@ -171,19 +203,21 @@ def compile_expressions(expressions: Sequence[sympy.Expr], symbols: Sequence[sym
 
     Returns
     -------
-    callable
+    CompiledExpressions
         ``f(*values)``: values are numbers or arrays of one shape; the result has
         shape ``(len(expressions), *shape)``; NaN where an entry is not finite.
+        ``f.rows(*values)``: the same values, real where they all are, and the mask
+        of the rows that vary.
     """
     if not expressions:
-        return lambda *args: np.zeros(0)
+        return CompiledExpressions(lambda *args: np.zeros(0))
     expressions = list(expressions)
     if len(expressions) >= SYMENGINE_MIN_EXPRESSIONS:
         # symengine evaluates in doubles: infinities give NaN/inf, exact integers of any
         # size become floats, so no pass over the (large) expressions is needed first
         compiled = _symengine_compiled(expressions, symbols)
         if compiled is not None:
-            return compiled
+            return CompiledExpressions(compiled)
     # zoo, nan, oo cannot be compiled (lambdify fails on them): they evaluate to NaN,
     # which the callers turn into an error naming the entry
     infinite = [i for i, e in enumerate(expressions)
@@ -191,9 +225,9 @@ def compile_expressions(expressions: Sequence[sympy.Expr], symbols: Sequence[sym
     for i in infinite:
         expressions[i] = sympy.Integer(0)
     expressions = [compilable(e) for e in expressions]
-    fn = sympy.lambdify(list(symbols), expressions, modules="numpy", cse=True)
+    fn = sympy.lambdify(list(symbols), expressions, modules=NUMPY_MODULES, cse=True)
 
-    def call(*args: Any) -> np.ndarray:
+    def evaluated(args: Sequence[Any]) -> tuple[tuple[int, ...], list[Any]]:
         # np.broadcast takes at most 64 arguments; the shapes alone have no limit
         shape = np.broadcast_shapes(*(np.shape(a) for a in args)) if args else ()
         try:
@@ -201,11 +235,27 @@ def compile_expressions(expressions: Sequence[sympy.Expr], symbols: Sequence[sym
                 values = fn(*args)
         except ArithmeticError:  # Python floats raise on overflow and division by zero
             values = _one_by_one(expressions, symbols, args)
+        return shape, values
+
+    def call(*args: Any) -> np.ndarray:
+        shape, values = evaluated(args)
         out = np.array([np.broadcast_to(v, shape) for v in values], dtype=complex)
         if infinite:
             out[infinite] = np.nan
         return out
-    return call
+
+    def rows(*args: Any) -> tuple[np.ndarray, np.ndarray]:
+        shape, values = evaluated(args)
+        varying = np.array([np.ndim(v) > 0 for v in values], dtype=bool)
+        real = not any(np.iscomplexobj(v) for v in values)
+        out = np.empty((len(values), *shape), dtype=float if real else complex)
+        for i, v in enumerate(values):
+            out[i] = v
+        if infinite:
+            out[infinite] = np.nan
+            varying[infinite] = False
+        return out, varying
+    return CompiledExpressions(call, rows)
 
 
 #: from this many expressions on, they are compiled by symengine: sympy's lambdify with
@@ -302,6 +352,7 @@ def not_finite_problem(label: str, i: int, j: int, entry: str, source: str,
         f"{where} (a zero mass or length?)", source, "parameters"))
 
 
-__all__ = ["Batch", "BatchHarmonic", "compile_expressions", "SYMENGINE_MIN_EXPRESSIONS",
+__all__ = ["Batch", "BatchHarmonic", "CompiledExpressions", "compile_expressions",
+           "SYMENGINE_MIN_EXPRESSIONS",
            "FlatReader", "check_finite", "group_frequencies", "frozen_array", "SAME_FREQUENCY",
            "not_finite_problem"]

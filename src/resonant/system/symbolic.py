@@ -56,6 +56,7 @@ from .batch import (
     SYMENGINE_MIN_EXPRESSIONS,
     Batch,
     BatchHarmonic,
+    CompiledExpressions,
     FlatReader,
     compile_expressions,
     not_finite_problem,
@@ -192,12 +193,13 @@ class LinearEOM(LinearSystem):
             deadline.check("while compiling the equation of motion")
         layout = self._layout
         names = list(self.model.parameters)
-        flat = layout.compiled(*(values[name] for name in names))
+        flat, varying = layout.compiled.rows(*(values[name] for name in names))
         flat = np.broadcast_to(flat.reshape(len(layout.expressions), -1),
                                (len(layout.expressions), count))
-        bad = ~np.isfinite(flat) | (np.abs(flat.imag) > 1e-9 * (1 + np.abs(flat.real)))
-        if bad.any():
-            self._raise_not_finite(layout, bad, values, count)
+        # the rows that vary are checked everywhere, the constant ones once
+        if _not_finite_or_real(flat[varying]).any() or \
+                _not_finite_or_real(flat[~varying, :1]).any():
+            self._raise_not_finite(layout, _not_finite_or_real(flat), values, count)
         return layout.read(flat.real, self, count)
 
     def _raise_not_finite(self, layout: _Layout, bad: np.ndarray, values: Mapping[str, Any],
@@ -479,7 +481,7 @@ class _NumericSignals:
                 frequencies.append(variables)
         symbols = [symbol(name) for name in model.parameters]
         layout = _Layout((), tuple(frequencies), outputs, harmonics is not None,
-                         lambda *args: np.zeros(0))
+                         compile_expressions([], symbols))
         out = cls(tuple(exprs), layout, compile_expressions(exprs, symbols))
         cache[key] = out
         return out
@@ -519,7 +521,7 @@ class _Layout:
     frequencies: tuple[tuple[Var, ...], ...]
     outputs: tuple[tuple[str, tuple[Var, ...]], ...]
     harmonic: bool
-    compiled: Callable[..., np.ndarray]
+    compiled: CompiledExpressions
 
     @classmethod
     def of(cls, eom: LinearEOM) -> _Layout:
@@ -575,6 +577,13 @@ class _Layout:
             outputs[name] = (value, dict(zip(variables, coefs)))
         return Batch(eom.coordinates, M, C, K, harmonics, outputs, eom.title, self.harmonic,
                      count)
+
+
+def _not_finite_or_real(values: np.ndarray) -> np.ndarray:
+    """Entries that are not finite, or complex with an imaginary part beyond rounding."""
+    if not np.iscomplexobj(values):
+        return ~np.isfinite(values)
+    return ~np.isfinite(values) | (np.abs(values.imag) > 1e-9 * (1 + np.abs(values.real)))
 
 
 def _squeeze(vectors: np.ndarray) -> np.ndarray:
