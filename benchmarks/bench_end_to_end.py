@@ -30,22 +30,9 @@ FLOOR = [sys.executable, "-c", "import sympy, numpy, scipy.linalg"]
 SOLVE = [sys.executable, "-m", "resonant", "solve", str(MODEL)]
 
 
-def _installed_environment() -> dict[str, str]:
-    """The child environment with bytecode caching on, as after ``pip install``.
-
-    pip compiles an installed package's modules; a source checkout with
-    PYTHONDONTWRITEBYTECODE set would instead recompile every module of resonant
-    on every start (about 40 ms here), which no user pays.  The warm-up run
-    writes the caches (``__pycache__`` is ignored by git).
-    """
-    env = environment()
-    env.pop("PYTHONDONTWRITEBYTECODE", None)
-    return env
-
-
 def _wall(cmd: list[str]) -> float:
     start = time.perf_counter()
-    proc = subprocess.run(cmd, capture_output=True, text=True, env=_installed_environment(),
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=environment(),
                           cwd=ROOT)
     elapsed = time.perf_counter() - start
     if proc.returncode != 0:
@@ -82,7 +69,7 @@ def parse_importtime(stderr: str, top: int = 12) -> list[dict[str, Any]]:
 
 def import_profile() -> list[dict[str, Any]]:
     proc = subprocess.run([sys.executable, "-X", "importtime", *SOLVE[1:]], capture_output=True,
-                          text=True, env=_installed_environment(), cwd=ROOT)
+                          text=True, env=environment(), cwd=ROOT)
     return parse_importtime(proc.stderr, top=40)
 
 
@@ -103,7 +90,7 @@ def run_profile(top: int = 12) -> list[dict[str, Any]]:
             "rows.sort(key=lambda r: -r['cumtime'])\n"
             "print(json.dumps(rows[:80]))\n")
     proc = subprocess.run([sys.executable, "-c", code, str(MODEL)], capture_output=True,
-                          text=True, env=_installed_environment(), cwd=ROOT)
+                          text=True, env=environment(), cwd=ROOT)
     if proc.returncode != 0:
         raise RuntimeError(proc.stderr[-2000:])
     import json
