@@ -306,11 +306,13 @@ def _frame(chart: Chart, legend_rows: int, ylabels: list[str]) -> _Frame:
     widest = max((text_width(s, TICK_FONT) for s in ylabels), default=10.0)
     left = min(0.35 * WIDTH, 30.0 + widest)
     top = 8.0 + 15.0 * legend_rows
-    xlim = tuple(float(v) for v in chart.xlim)
-    if not (all(map(math.isfinite, xlim)) and xlim[1] > xlim[0]):
-        xlim = (0.0, 1.0)
-    return _Frame(left, 0.98 * WIDTH, top, 0.86 * HEIGHT, (xlim[0], xlim[1]),
-                  y_limits(chart), chart.ylog)
+    low, high = float(chart.xlim[0]), float(chart.xlim[1])
+    if not (math.isfinite(low) and math.isfinite(high) and high > low):
+        low, high = 0.0, 1.0
+    xlabels = tick_labels([t for t in nice_ticks(low, high) if low <= t <= high])[0]
+    right = WIDTH - max(0.02 * WIDTH, 4.0 + text_width(xlabels[-1] if xlabels else "", TICK_FONT)
+                        / 2)
+    return _Frame(left, right, top, 0.86 * HEIGHT, (low, high), y_limits(chart), chart.ylog)
 
 
 def _legend_rows(curves: tuple[Curve, ...], room: float) -> list[list[tuple[Curve, float]]]:
@@ -361,6 +363,9 @@ def _axes(frame: _Frame) -> tuple[list[str], list[str]]:
             over.append(_text(frame.left - 6.0, y + 3.5, label, TICK_FONT, "end"))
         over.append(f'<line x1="{frame.left - length:.2f}" y1="{y:.2f}" x2="{frame.left:.2f}" '
                     f'y2="{y:.2f}" stroke="#000" stroke-width="{0.6 if minor else 0.8}"/>')
+    if _y_power(frame):
+        over.append(_text(frame.left, frame.top - 5.0, f"$\\times 10^{{{_y_power(frame)}}}$",
+                          TICK_FONT, "start"))
     return under, over
 
 
@@ -371,11 +376,16 @@ def _y_ticks(frame: _Frame) -> list[tuple[float, str, bool]]:
         return ([(float(frame.y(10.0 ** k)), f"$10^{{{k}}}$", False) for k in majors]
                 + [(float(frame.y(m)), "", True) for m in minors])
     ticks = [t for t in nice_ticks(*frame.ylim, most=7) if frame.ylim[0] <= t <= frame.ylim[1]]
-    labels, power = tick_labels(ticks)
-    out = [(float(frame.y(t)), label, False) for t, label in zip(ticks, labels)]
-    if power:
-        out.append((frame.top - 12.0, f"$\\times 10^{{{power}}}$", False))
-    return out
+    labels, _ = tick_labels(ticks)
+    return [(float(frame.y(t)), label, False) for t, label in zip(ticks, labels)]
+
+
+def _y_power(frame: _Frame) -> int:
+    """The power of ten the linear y tick labels are given in (0: none)."""
+    if frame.ylog:
+        return 0
+    return tick_labels([t for t in nice_ticks(*frame.ylim, most=7)
+                        if frame.ylim[0] <= t <= frame.ylim[1]])[1]
 
 
 def _y_label_texts(chart: Chart) -> list[str]:
