@@ -93,6 +93,7 @@ def test_any_values_give_a_wellformed_bounded_svg(values, ylog, label):
     svg = chart_svg(chart, 'id"><script>')
     root = ElementTree.fromstring(svg)  # well-formed: every string escaped
     assert root.tag == f"{SVG}svg" and "<script" not in svg
+    assert root.find(f"{SVG}title").text  # an accessible name (role="img")
     numbers = [float(v) for v in re.findall(r' (?:x|y|x1|x2|y1|y2|cx|cy)="([-0-9.e]+)"', svg)]
     for path in root.iter(f"{SVG}path"):
         numbers += [float(v) for v in re.findall(r"-?[0-9.]+", path.get("d"))]
@@ -142,6 +143,9 @@ def test_report_figures_are_written_without_matplotlib(reference, monkeypatch):
         assert root.get("viewBox") == f"0 0 {WIDTH:g} {HEIGHT:g}"
         assert f"resonant-figure-{number}-plot" in svg
     svg = plots.to_svg(frf, 1)
+    title = ElementTree.fromstring(svg).find(f"{SVG}title").text
+    assert title == ("amplitude X (logarithmic) against excitation frequency \u03c9 [rad/s]: "
+                     "x1 [m], x2 [m], \u03c6 [rad]")
     # three curves (x1, x2 and the output phi), their operating points, the natural
     # frequencies and the excitation frequency
     assert svg.count("<path") == 3 and svg.count("<circle") == 3

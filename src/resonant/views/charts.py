@@ -453,7 +453,27 @@ def chart_svg(chart: Chart, ident: str) -> str:
     body += _legend(rows, frame)
     return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH:g}pt" height="{HEIGHT:g}pt"'
             f' viewBox="0 0 {WIDTH:g} {HEIGHT:g}" version="1.1" role="img"'
-            f' font-family="{FONT}">' + "".join(body) + "</svg>")
+            f' font-family="{FONT}"><title>{html.escape(describe(chart))}</title>'
+            + "".join(body) + "</svg>")
+
+
+def plain_text(label: str) -> str:
+    """A label as plain text (its math set as characters: ``$x_{2}$`` -> ``x2``)."""
+    return _NOT_XML.sub(" ", "".join(text for text, _, _ in text_runs(label)))
+
+
+def describe(chart: Chart) -> str:
+    """A one-line description of the chart for readers that cannot see it.
+
+    Examples
+    --------
+    >>> describe(Chart((Curve(np.zeros(2), np.zeros(2), "$x_{1}$"),), "time $t$ [s]",
+    ...                "response", (0.0, 1.0)))
+    'response against time t [s]: x1'
+    """
+    scale = " (logarithmic)" if chart.ylog else ""
+    return (f"{plain_text(chart.ylabel)}{scale} against {plain_text(chart.xlabel)}: "
+            + ", ".join(plain_text(c.label) for c in chart.curves))
 
 
 def _legend(rows: list[list[tuple[Curve, float]]], frame: _Frame) -> list[str]:
@@ -505,6 +525,7 @@ def draw_chart(chart: Chart, figure: Any) -> Any:
     return ax
 
 
-__all__ = ["Chart", "Curve", "Marker", "Rule", "chart_svg", "draw_chart", "nice_ticks",
+__all__ = ["Chart", "Curve", "Marker", "Rule", "chart_svg", "describe", "draw_chart",
+           "plain_text", "nice_ticks",
            "log_ticks", "tick_labels", "text_runs", "text_width", "y_limits", "WIDTH",
            "HEIGHT", "COLORS"]
