@@ -404,8 +404,7 @@ class _Store:
             return
         self.values[index] = x[..., self.keep]
         with np.errstate(invalid="ignore"):
-            self.largest[index] = _largest(np.abs(x)) if x.ndim == 2 and x.shape[1] \
-                else np.abs(x).max(axis=-1)
+            self.largest[index] = largest_abs(x)
 
     def __getitem__(self, index: Any) -> np.ndarray:
         return self.values[index]
@@ -495,8 +494,7 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     else:
         singular = _solve_modal(batch, w, rhs, progress, warnings, store, deadline)
     Z = store.values
-    b_norm = (_largest(np.abs(rhs)) if rhs.ndim == 2 and rhs.shape[1]
-              else np.abs(rhs).max(axis=-1)) * np.ones(N)
+    b_norm = largest_abs(rhs) * np.ones(N)
     if not exact:
         # a lower bound of the condition number: ||A|| ||Z|| / ||rhs|| (exact resonance: huge)
         norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
@@ -771,7 +769,7 @@ def closed_form_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndar
         real = not np.iscomplexobj(A)
         A = np.ascontiguousarray(A, dtype=float if real else complex).reshape(N, 4)
         b = np.ascontiguousarray(b, dtype=complex).view(float)  # (N, 4): re, im of b1, b2
-        size_a, size_b = _largest(A if real else A.view(float)), _largest(b)
+        size_a, size_b = largest_abs(A if real else A.view(float)), largest_abs(b)
         # entries within 2^+-400 of 1 everywhere (the usual case): the products can
         # neither overflow nor underflow against them, and no scaling is needed
         scaled = not all((s.min(initial=1.0) >= SAFE_RANGE[0]) and
@@ -808,13 +806,25 @@ def closed_form_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndar
     return x, hard
 
 
-def _largest(f: np.ndarray) -> np.ndarray:
-    """The largest |entry| of each row of a float (N, m) array (NaN where one is NaN), as
-    ``np.abs(f).max(axis=1)`` without a reduction over the short axis."""
-    f = np.abs(f)
-    out = f[:, 0].copy()
-    for j in range(1, f.shape[1]):
-        np.maximum(out, f[:, j], out=out)
+#: up to this many columns, :func:`largest_abs` loops over them (wider: one reduction)
+NARROW = 8
+
+
+def largest_abs(a: np.ndarray) -> np.ndarray:
+    """``np.abs(a).max(axis=-1)`` (NaN where an entry is NaN); for a stack of short rows
+    (N, m <= :data:`NARROW`) by a loop over the columns, several times faster than a
+    reduction over the short axis.
+
+    Examples
+    --------
+    >>> largest_abs(np.array([[1.0, -3.0], [2.0, 0.5j]])).tolist()
+    [3.0, 2.0]
+    """
+    if a.ndim != 2 or not 0 < a.shape[1] <= NARROW:
+        return np.abs(a).max(axis=-1)
+    out = np.abs(a[:, 0])
+    for j in range(1, a.shape[1]):
+        np.maximum(out, np.abs(a[:, j]), out=out)
     return out
 
 
@@ -965,6 +975,6 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
 
 
 __all__ = ["solve_harmonic", "KernelResult", "choose_method", "choose_direct", "direct_costs",
-           "reduced_budget",
+           "reduced_budget", "largest_abs", "closed_form_solve",
            "check_batch_mass", "equilibration", "METHODS", "SINGULAR_CONDITION",
            "LOSS_CONDITION", "DEFAULT_TOL"]

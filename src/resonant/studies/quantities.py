@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from ..analyses.kernel import solve_harmonic
+from ..analyses.kernel import largest_abs, solve_harmonic
 from ..analyses.modes import modes
 from ..analyses.sweep import amplitude_and_phase, harmonic_responses, kept_coordinates
 from ..errors import ResonantError
@@ -207,13 +207,8 @@ def _pencil_roots_2x2(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
 
 
 def _largest_entry(a: np.ndarray) -> np.ndarray:
-    """max |a_ij| of each matrix of a stack (N, n, n), as ``np.abs(a).max(axis=(1, 2))``
-    (NaN where an entry is NaN) without a reduction over the short axes."""
-    flat = np.abs(a.reshape(a.shape[0], -1))
-    out = flat[:, 0].copy()
-    for j in range(1, flat.shape[1]):
-        np.maximum(out, flat[:, j], out=out)
-    return out
+    """max |a_ij| of each matrix of a stack (N, n, n) (NaN where an entry is NaN)."""
+    return largest_abs(a.reshape(a.shape[0], -1))
 
 
 def undamped_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray:
@@ -249,7 +244,7 @@ def unstable_by_inertia(C: np.ndarray, K: np.ndarray, lam: np.ndarray, *,
         c = np.linalg.eigvalsh(C)
         if (c[:, 0] < -1e-12 * np.maximum(np.abs(c).max(axis=1), 1e-300)).any():
             return None
-    size = np.sqrt(_largest_entry(lam[:, None, :]) if lam.shape[1] else np.zeros(len(lam)))
+    size = np.sqrt(largest_abs(lam) if lam.shape[1] else np.zeros(len(lam)))
     with np.errstate(invalid="ignore"):
         return np.sqrt(np.maximum(-lam[:, 0], 0.0)) > 1e-9 * np.maximum(1.0, size)
 

@@ -363,9 +363,10 @@ def _axes(frame: _Frame) -> tuple[list[str], list[str]]:
             over.append(_text(frame.left - 6.0, y + 3.5, label, TICK_FONT, "end"))
         over.append(f'<line x1="{frame.left - length:.2f}" y1="{y:.2f}" x2="{frame.left:.2f}" '
                     f'y2="{y:.2f}" stroke="#000" stroke-width="{0.6 if minor else 0.8}"/>')
-    if _y_power(frame):
-        over.append(_text(frame.left, frame.top - 5.0, f"$\\times 10^{{{_y_power(frame)}}}$",
-                          TICK_FONT, "start"))
+    power = _y_power(frame)
+    if power:
+        over.append(_text(frame.left, frame.top - 5.0, f"$\\times 10^{{{power}}}$", TICK_FONT,
+                          "start"))
     return under, over
 
 
