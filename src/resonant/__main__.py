@@ -1,7 +1,5 @@
 """``python -m resonant`` runs the command line."""
 
-import sys
+from resonant.cli import program
 
-from resonant.cli import main
-
-sys.exit(main())
+program()

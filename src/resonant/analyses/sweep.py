@@ -400,7 +400,7 @@ def amplitude_and_phase(omegas: np.ndarray, Z: np.ndarray) -> tuple[np.ndarray, 
     if H == 1:
         L, Nn = Z[0].real, -Z[0].imag
         static = (omegas[0] == 0)[:, None]
-        amplitude = np.where(static, np.abs(L), np.hypot(L, Nn))
+        amplitude = amplitudes(omegas, Z)
         with np.errstate(invalid="ignore"):
             phase = np.where(~static & (amplitude > 0), np.arctan2(L, Nn) + 0.0, np.nan)
             phase = np.where(phase <= -np.pi, np.pi, phase)  # (-pi, pi], as phase_angle
@@ -423,6 +423,25 @@ def amplitude_and_phase(omegas: np.ndarray, Z: np.ndarray) -> tuple[np.ndarray, 
     amplitude[bad] = np.nan
     phase[bad] = np.nan
     return amplitude, phase
+
+
+def amplitudes(omegas: np.ndarray, Z: np.ndarray) -> np.ndarray:
+    """The amplitudes of :func:`amplitude_and_phase` alone, shape (N, m).
+
+    Examples
+    --------
+    >>> amplitudes(np.array([[0.0, 2.0]]), np.array([[[-3.0 + 0j], [3.0 - 4.0j]]])).tolist()
+    [[3.0], [5.0]]
+    """
+    if Z.shape[0] != 1:
+        return amplitude_and_phase(omegas, Z)[0]
+    L, Nn = Z[0].real, Z[0].imag
+    static = omegas[0] == 0
+    amplitude = np.hypot(L, Nn) if not static.any() else \
+        np.where(static[:, None], np.abs(L), np.hypot(L, Nn))
+    # NaN wherever a component is not finite (hypot(inf, nan) is inf)
+    amplitude[~(np.isfinite(L) & np.isfinite(Nn))] = np.nan
+    return amplitude
 
 
 def _vertices(u: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

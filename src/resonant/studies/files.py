@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import json
 import os
+from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -126,6 +127,10 @@ class ResultWriter:
         self.parquet = self.path.suffix.lower() == ".parquet"
         self._writer: Any = None
         self.rows = 0
+        # one chunk is written on a thread while the next is computed (pyarrow and the
+        # file system release the GIL); at most one write is pending
+        self._thread = ThreadPoolExecutor(max_workers=1, thread_name_prefix="resonant-writer")
+        self._pending: Future[None] | None = None
         if self.part.exists():
             self.part.unlink()
         if keep_rows:
@@ -174,6 +179,16 @@ class ResultWriter:
         columns : dict
             column -> array, all of one length.
         """
+        self._wait()
+        self._pending = self._thread.submit(self._append, columns)
+
+    def _wait(self) -> None:
+        """Finish the pending write (raising what it raised)."""
+        pending, self._pending = self._pending, None
+        if pending is not None:
+            pending.result()
+
+    def _append(self, columns: dict[str, np.ndarray]) -> None:
         if self.parquet:
             import pyarrow as pa
 
@@ -190,6 +205,13 @@ class ResultWriter:
 
     def close(self) -> None:
         """Finish the file (also after an interruption: it then holds the rows so far)."""
+        try:
+            self._wait()
+        finally:
+            self._thread.shutdown(wait=True)
+            self._finish()
+
+    def _finish(self) -> None:
         if self.parquet and self._writer is not None:
             self._writer.close()
             self._writer = None

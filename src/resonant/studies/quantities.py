@@ -35,7 +35,7 @@ import numpy as np
 
 from ..analyses.kernel import largest_abs, solve_harmonic
 from ..analyses.modes import modes
-from ..analyses.sweep import amplitude_and_phase, harmonic_responses, kept_coordinates
+from ..analyses.sweep import amplitude_and_phase, amplitudes, harmonic_responses, kept_coordinates
 from ..errors import ResonantError
 from ..expressions import numeric_value
 from ..model import Model
@@ -190,10 +190,9 @@ def _pencil_roots_2x2(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
         # scaled to entries of order 1, so that squares neither overflow nor underflow
         m_scale, k_scale = _largest_entry(M), _largest_entry(K)
         k_scale = np.where((k_scale > 0) & np.isfinite(k_scale), k_scale, 1.0)
-        M = M / m_scale[:, None, None]
-        K = K / k_scale[:, None, None]
-        m11, m12, m22 = M[:, 0, 0], M[:, 0, 1], M[:, 1, 1]
-        k11, k12, k22 = K[:, 0, 0], K[:, 0, 1], K[:, 1, 1]
+        # entry by entry: dividing the stacks by broadcasting is several times slower
+        m11, m12, m22 = (M[:, i, j] / m_scale for i, j in ((0, 0), (0, 1), (1, 1)))
+        k11, k12, k22 = (K[:, i, j] / k_scale for i, j in ((0, 0), (0, 1), (1, 1)))
         det_m = m11 * m22 - m12 * m12
         if not ((m11 > 0) & (det_m > 1e-14 * m11 * m22)).all():
             return None
@@ -202,8 +201,11 @@ def _pencil_roots_2x2(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
         q = 0.5 * (b + np.copysign(np.sqrt(np.maximum(b * b - 4.0 * det_m * det_k, 0.0)), b))
         big = q / det_m
         small = np.where(q != 0.0, det_k / np.where(q != 0.0, q, 1.0), 0.0)
-        ratio = (k_scale / m_scale)[:, None]
-        return ratio * np.stack([np.minimum(big, small), np.maximum(big, small)], axis=1)
+        ratio = k_scale / m_scale
+        roots = np.empty((len(big), 2))
+        np.multiply(ratio, np.minimum(big, small), out=roots[:, 0])
+        np.multiply(ratio, np.maximum(big, small), out=roots[:, 1])
+        return roots
 
 
 def _largest_entry(a: np.ndarray) -> np.ndarray:
@@ -350,11 +352,12 @@ def _fill_modal_large(rows: Rows, spec: StudySpec, system: LinearSystem,
 
 
 def responses(system: LinearSystem, values: Mapping[str, Any], count: int,
-              names: Sequence[str], batch: Batch | None = None
+              names: Sequence[str], batch: Batch | None = None, *, phase: bool = True
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Amplitude and phase (count, len(names)) of coordinates and outputs at every point,
     and the points where the harmonic system is singular (an undamped resonance);
-    ``batch`` is the system at ``values`` if it was evaluated already."""
+    ``batch`` is the system at ``values`` if it was evaluated already; without
+    ``phase``, the phases are NaN (not computed)."""
     batch = batch if batch is not None else system.evaluate(values, count)
     if any(name not in names for name in batch.outputs):  # only the outputs asked for
         batch = replace(batch, outputs={k: v for k, v in batch.outputs.items() if k in names})
@@ -369,12 +372,16 @@ def responses(system: LinearSystem, values: Mapping[str, Any], count: int,
         return zeros, np.full((count, len(names)), np.nan), np.zeros(count, dtype=bool)
     all_names, Z = harmonic_responses(batch, [r.Z for r in results], coordinates)
     omegas = np.array([np.broadcast_to(h.omega, (count,)) for h in batch.harmonics])
-    amplitude, phase = amplitude_and_phase(omegas, Z)
     columns = [all_names.index(q) for q in names]
+    if phase:
+        amplitude, phases = amplitude_and_phase(omegas, Z)
+        phases = phases[:, columns]
+    else:
+        amplitude, phases = amplitudes(omegas, Z), np.full((count, len(names)), np.nan)
     singular = np.zeros(count, dtype=bool)
     for r in results:
         singular |= r.singular
-    return amplitude[:, columns], phase[:, columns], singular
+    return amplitude[:, columns], phases, singular
 
 
 def _fill_responses(rows: Rows, spec: StudySpec, system: LinearSystem,
@@ -383,7 +390,8 @@ def _fill_responses(rows: Rows, spec: StudySpec, system: LinearSystem,
     if not wanted:
         return
     names = list(dict.fromkeys(q.target for q in wanted))
-    amplitude, phase, singular = responses(system, values, rows.count, names, batch)
+    amplitude, phase, singular = responses(system, values, rows.count, names, batch,
+                                           phase=any(q.kind == "phase" for q in wanted))
     rows.fail(singular, "resonance", "an undamped resonance at the excitation: the "
               "amplitude is unbounded", "excitation")
     ok = rows.valid("stability", "excitation")
@@ -421,7 +429,7 @@ def _amplitude_on(system: LinearSystem, model: Model, values: Mapping[str, Any],
                   points: np.ndarray, names: Sequence[str]) -> np.ndarray:
     """Amplitudes (N, F, names) with ``param`` at each sample's own points (N, F)."""
     band_values, size = _band_values(values, model, param, points)
-    amplitude, _, _ = responses(system, band_values, size, names)
+    amplitude, _, _ = responses(system, band_values, size, names, phase=False)
     return amplitude.reshape(*points.shape, len(names))
 
 
