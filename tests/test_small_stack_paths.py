@@ -26,9 +26,9 @@ anything = st.floats(allow_nan=True, allow_infinity=True, width=64)
 
 @st.composite
 def pencils(draw: st.DrawFn) -> tuple[np.ndarray, ...]:
-    """K, M, C of one or two coordinates, each a stack (N, n, n) or one matrix (n, n),
-    and the frequencies w (N,)."""
-    n, N = draw(st.integers(1, 2)), draw(st.integers(1, 6))
+    """K, M, C of one to three coordinates (three: the broadcast route), each a stack
+    (N, n, n) or one matrix (n, n), and the frequencies w (N,)."""
+    n, N = draw(st.integers(1, 3)), draw(st.integers(1, 6))
 
     def matrix() -> np.ndarray:
         shape = (N, n, n) if draw(st.booleans()) else (n, n)

@@ -654,14 +654,10 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
     undamped = condition is None and C.ndim == 2 and not C.any()
     for start in range(0, N, chunk):
         sl = slice(start, min(N, start + chunk))
-        ww = w[sl, None, None]
         pick = (lambda a, sl=sl: a[sl] if a.ndim == 3 else a)  # noqa: E731
         deadline.check("while solving the harmonic systems", analysis=True)
         with np.errstate(all="ignore"):  # an overflow gives inf, caught as not finite
-            A = _dynamic_matrix(pick(K), pick(M), pick(C), w[sl], undamped) if n <= 2 \
-                else pick(K) - ww**2 * pick(M)
-            if not undamped and n > 2:
-                A = A + 1j * ww * pick(C)
+            A = _dynamic_matrix(pick(K), pick(M), pick(C), w[sl], undamped)
         b = np.broadcast_to(rhs[sl] if rhs.ndim == 2 else rhs, (A.shape[0], n))
         # an overflow (inf) gives NaN in the solution: marked singular by the caller
         finite = np.ones(A.shape[0], dtype=bool)
@@ -700,10 +696,14 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
 
 def _dynamic_matrix(K: np.ndarray, M: np.ndarray, C: np.ndarray, w: np.ndarray,
                     undamped: bool) -> np.ndarray:
-    """K - w^2 M + i w C for matrices of one or two coordinates, (N, n, n), entry by
-    entry (the same numbers as by broadcasting, several times faster on a stack of small
-    matrices); real when ``undamped``."""
+    """K - w^2 M + i w C at the frequencies w, (N, n, n); real when ``undamped``.  For one
+    or two coordinates entry by entry: the same numbers as by broadcasting, several times
+    faster on a stack of small matrices."""
     N, n = len(w), K.shape[-1]
+    if n > 2:
+        ww = w[:, None, None]
+        A = K - ww**2 * M
+        return A if undamped else A + 1j * ww * C
     A = np.empty((N, n, n), dtype=float if undamped else complex)
     w2 = w**2
     for i in range(n):
