@@ -301,3 +301,44 @@ def test_the_fast_way_fits_under_an_address_space_limit():
                           env={**os.environ, "PYTHONPATH": str(Path(matrix_files.__file__)
                                                                .parents[2])}, timeout=120)
     assert done.stdout.strip() == "read and allocated", done.stderr[-2000:]
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(2, 60),
+       block=st.integers(64, 4096))
+def test_many_arrow_blocks_read_as_one(seed, n, block):
+    """A file that pyarrow reads in many blocks (many chunks per column) gives bitwise the
+    matrix numpy's reader gives: the chunks are joined in order, none lost or repeated."""
+    rng = np.random.default_rng(seed)
+    text = _written(sp.random(n, n, density=0.3, random_state=rng, format="coo"))
+    with mock.patch.object(matrix_files, "_MTX_ARROW_BLOCK", block):
+        assert _fast_used(text)
+        fast = _read(text)
+    slow = _slow(text)
+    for ours, theirs in zip(_bits(fast), _bits(slow), strict=True):
+        np.testing.assert_array_equal(ours, theirs)
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.int32, np.int64])
+def test_arrow_numbers_of_a_slice(dtype):
+    """A pyarrow array that starts inside its buffer (a slice) is read from its offset."""
+    pyarrow = pytest.importorskip("pyarrow")
+    whole = pyarrow.array(np.arange(10, dtype=dtype))
+    np.testing.assert_array_equal(matrix_files._arrow_numbers(whole.slice(3, 4), dtype),
+                                  np.arange(3, 7, dtype=dtype))
+
+
+def test_reading_a_matrix_file_does_not_import_pandas(tmp_path):
+    """pyarrow's to_numpy imports pandas (half a second); a process that only reads a
+    matrix model, such as a study's worker, does not pay for it."""
+    pytest.importorskip("pyarrow")
+    path = tmp_path / "K.mtx"
+    scipy.io.mmwrite(path, sp.eye(50, format="coo") * 2.0)
+    code = ("import sys\nfrom pathlib import Path\n"
+            "from resonant.model import matrix_files\n"
+            f"m = matrix_files.read_matrix_file('K.mtx', 'K', Path({str(tmp_path)!r}), ())\n"
+            "assert m.shape == (50, 50)\nprint('pandas' in sys.modules)\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          env={**os.environ, "PYTHONPATH": str(Path(matrix_files.__file__)
+                                                               .parents[2])}, timeout=120)
+    assert done.stdout.strip() == "False", done.stderr[-2000:]

@@ -432,7 +432,8 @@ def _mtx_with_arrow(text: bytes, offset: int, n: int, entries: int, coordinate: 
         return None
     if table.num_rows != entries or any(column.null_count for column in table.columns):
         return None
-    values = np.asarray(table.column("v").to_numpy(), dtype=np.float64)
+    values = np.concatenate([_arrow_numbers(chunk, np.float64)
+                             for chunk in table.column("v").chunks])
     if not np.all(np.isfinite(values)):  # also "nan(...)", which numpy does not read
         return None
     if not coordinate:
@@ -502,15 +503,25 @@ def _mtx_entries(fields: list[bytes], coordinate: bool, symmetry: str, size: int
 def _mtx_arrow_indices(column: Any, n: int) -> np.ndarray | None:
     """A column of 1-based indices (a chunked pyarrow integer array) as 0-based indices of
     scipy's index type, in one pass over the chunks; None if one lies outside 1..n."""
-    out = np.empty(len(column), dtype=_mtx_index_type(n))
+    index = _mtx_index_type(n)
+    out = np.empty(len(column), dtype=index)
     at = 0
     for chunk in column.chunks:
-        part = chunk.to_numpy()
+        part = _arrow_numbers(chunk, index)
         if part.size and (part.min() < 1 or part.max() > n):
             return None
         np.subtract(part, 1, out=out[at:at + part.size], casting="unsafe")
         at += part.size
     return out
+
+
+def _arrow_numbers(chunk: Any, dtype: type[np.number]) -> np.ndarray:
+    """A pyarrow array of ``dtype`` numbers without nulls as a read-only view of its data
+    buffer: pyarrow's own ``to_numpy`` imports pandas, half a second in every process
+    that reads a matrix file, and most of them never use pandas."""
+    itemsize = np.dtype(dtype).itemsize
+    return np.frombuffer(chunk.buffers()[1], dtype=dtype, count=len(chunk),
+                         offset=chunk.offset * itemsize)
 
 
 def _mtx_index_type(n: int) -> type[np.signedinteger]:
