@@ -130,7 +130,9 @@ def _client(engine: Engine, function: Callable[..., Any]) -> Iterator[Any]:
                 LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                              host="127.0.0.1", dashboard_address=None,
                              silence_logs=50) as cluster, Client(cluster) as client:
-            client.run(_set_up_worker, pickle.dumps(function))
+            # a worker the setup misses (gone, or its import fails) imports the code with
+            # its first task, as a worker Dask restarts after a fault does
+            client.run(_set_up_worker, pickle.dumps(function), on_error="ignore")
             yield client
             client.run(gc.freeze, on_error="ignore")  # the workers' exits walk nothing
 
