@@ -90,7 +90,7 @@ def speed_up(n: int, tmp: Path) -> tuple[float, float, float]:
     from make_chain import write_chain
 
     model = write_chain(tmp / "chain", n)
-    options = ["--vary", "F0=uniform(0.5, 1.5)", "--quantity", "peak:q%d" % n, "--band",
+    options = ["--vary", "F0=uniform(0.5, 1.5)", "--quantity", f"peak:q{n}", "--band",
                "omega=1:60:200", "--samples", "100"]
     one, two = [], []
     for k in range(3):  # pairs run back to back, in alternating order
@@ -166,7 +166,10 @@ def main() -> None:
     parser.add_argument("--grid", type=int, default=50)
     parser.add_argument("--only", choices=("numpy", "speed-up", "memory", "nonlinear", "grid"))
     args = parser.parse_args()
-    wanted = (lambda case: args.only in (None, case))
+
+    def wanted(case: str) -> bool:
+        return args.only in (None, case)
+
     print(subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip())
     with tempfile.TemporaryDirectory() as name:
         tmp = Path(name)
