@@ -35,7 +35,7 @@ def test_the_guide_and_the_reference_are_built(site: Path) -> None:
                  "architecture", "api"):
         assert (site / f"{page}.html").is_file(), page
     api = (site / "api.html").read_text(encoding="utf-8")
-    assert "resonant.api.model.Model" in api and "Parameters" in api
+    assert "resonant.model.types.Model" in api and "Parameters" in api
 
 
 def test_every_example_has_a_gallery_page_with_its_figures(site: Path) -> None:

@@ -61,7 +61,7 @@ def undocumented_fields(obj: type) -> list[str]:
 
 
 def test_the_public_api_is_found() -> None:
-    assert "resonant.api.model.Model" in PUBLIC and "resonant.api.model.loads" in PUBLIC
+    assert "resonant.model.types.Model" in PUBLIC and "resonant.model.loader.loads" in PUBLIC
     assert len(PUBLIC) > 80
 
 

@@ -30,13 +30,13 @@ __version__ = "0.1.0"
 API_NAMES = ("load", "loads", "Model", "linear_system", "stationary", "modes", "sweep",
              "simulate", "StationarySolution", "ModalAnalysis", "FrequencyResponse",
              "Simulation", "NonlinearResponse", "Backbones", "LinearSystem", "LinearEOM",
-             "MatrixEOM", "NumericEOM")
+             "MatrixEOM", "NumericEOM", "StudyResult")
 
 __all__ = ["AnalysisError", "Backbones", "Deadline", "FrequencyResponse", "LinearEOM",
            "LinearSystem", "MatrixEOM", "ModalAnalysis", "Model", "ModelError",
            "NonlinearResponse", "NumericEOM", "Problem", "ResonantError", "Simulation",
-           "StationarySolution", "__version__", "linear_system", "load", "loads", "modes",
-           "simulate", "stationary", "sweep"]
+           "StationarySolution", "StudyResult", "__version__", "linear_system", "load",
+           "loads", "modes", "simulate", "stationary", "sweep"]
 
 
 def __getattr__(name: str) -> Any:

@@ -11,6 +11,7 @@ from .api import NonlinearResponse as NonlinearResponse
 from .api import NumericEOM as NumericEOM
 from .api import Simulation as Simulation
 from .api import StationarySolution as StationarySolution
+from .api import StudyResult as StudyResult
 from .api import linear_system as linear_system
 from .api import load as load
 from .api import loads as loads

@@ -41,10 +41,11 @@ True
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -55,6 +56,10 @@ from ..system import LinearSystem, NonlinearSystem, nonlinear_system
 from ..system.stability import undamped_eigen
 from .hb_solver import NEWTON_MAX, NEWTON_TOL, HarmonicBalance
 from .stationary import freeze_fields
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 DEFAULT_HARMONICS = 5
 DEFAULT_POINTS = 41
@@ -139,6 +144,32 @@ class Backbones:
                              f"omega = {c.frequencies[i]:.6g} rad/s "
                              f"({100 * (c.frequencies[i] / c.linear_frequency - 1):+.3g}%)")
         return "\n".join(lines) + "\n"
+
+    def plot(self, path: str | os.PathLike[str] | None = None, ax: Axes | None = None
+             ) -> Figure:
+        """Frequency against amplitude, one curve per mode
+        (:func:`resonant.views.nonlinear_plots.plot_backbones`).
+
+        Parameters
+        ----------
+        path : str or Path, optional
+            Save the figure there (format from the suffix).
+        ax : matplotlib.axes.Axes, optional
+            Draw into the caller's axes.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+
+        Examples
+        --------
+        >>> import resonant
+        >>> b = resonant.load("examples/duffing.toml").backbone(harmonics=1, points=10)
+        >>> len(b.plot().axes)
+        1
+        """
+        from ..views import nonlinear_plots
+        return nonlinear_plots.plot_backbones(self, path, ax)
 
 
 class _Free:
@@ -278,7 +309,7 @@ def _curve(hb: HarmonicBalance, M: np.ndarray, mode: int, w0: float, shape: np.n
 
 
 def backbone(system: NonlinearSystem | LinearSystem | Model, amplitude: float | None = None, *,
-             harmonics: int | None = None, points: int = DEFAULT_POINTS,
+             harmonics: int | None = None, points: int | None = None,
              modes: list[int] | None = None, deadline: Deadline = NO_DEADLINE) -> Backbones:
     """Backbone curves of the modes: frequency of free vibration against amplitude.
 
@@ -293,8 +324,8 @@ def backbone(system: NonlinearSystem | LinearSystem | Model, amplitude: float | 
         changed by 20 % (at most 2^30 times).
     harmonics : int, optional
         H (default 5).
-    points : int
-        Amplitudes from A/points to A, evenly spaced.
+    points : int, optional
+        Amplitudes from A/points to A, evenly spaced (default 41).
     modes : list of int, optional
         1-based mode numbers (default all modes with a positive natural frequency).
     deadline : Deadline, optional
@@ -304,6 +335,7 @@ def backbone(system: NonlinearSystem | LinearSystem | Model, amplitude: float | 
     Backbones
     """
     system = nonlinear_system(system, deadline)
+    points = DEFAULT_POINTS if points is None else points
     _check(system, amplitude, harmonics, points)
     num = system.linear.numeric(deadline).dense()
     lam, shapes = undamped_eigen(num.M, num.K)

@@ -85,8 +85,8 @@ from ..system.base import parameter_values
 from ..system.matrix_outputs import OutputSeries
 from ..system.nonlinear_elements import ElementForces
 from .continuation import follow
-from .harmonic_balance import NonlinearResponse
 from .hb_solver import basis, newton_at
+from .nonlinear_response import NonlinearResponse
 from .peaks import periodic_peak, series_peaks
 from .reduced import DEFAULT_TOL, reduced_model
 from .special_points import STABILITY_TOL, classify, special_points

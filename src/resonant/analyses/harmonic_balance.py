@@ -62,25 +62,24 @@ Examples
 
 from __future__ import annotations
 
-import csv
 import math
-from collections.abc import Mapping
-from dataclasses import dataclass
-from pathlib import Path
+from collections.abc import Sequence
 from types import MappingProxyType
-from typing import Any
 
 import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model import Model
-from ..system import LinearSystem, NonlinearSystem, nonlinear_system
+from ..system import LinearSystem, NonlinearSystem, linear_system, nonlinear_system
+from .condensed import condensed_sweep, has_nonlinear_elements
 from .continuation import Branch
 from .continuation import follow as _continue
 from .hb_solver import HarmonicBalance, resize, start_coefficients, truncation
+from .nonlinear_response import NonlinearResponse
+from .reduced import DEFAULT_TOL
 from .special_points import SPECIAL_KINDS, STABILITY_TOL, SpecialPoint, special_points
-from .stationary import freeze_fields, stationary
+from .stationary import stationary
 from .sweep import FrequencyResponse, sweep
 
 #: default number of harmonics (the start of the automatic choice)
@@ -90,132 +89,6 @@ TRUNCATION_TOL = 1e-6
 MAX_HARMONICS = 40
 #: a branch point whose residual exceeds this many times the branch's median is polished
 POLISH_FACTOR = 100.0
-
-
-@dataclass(frozen=True)
-class NonlinearResponse:
-    """The periodic steady state of the full equations, followed along a parameter.
-
-    Attributes
-    ----------
-    parameter : str
-        The continuation parameter.
-    values : numpy.ndarray
-        Its value at every branch point, in the order of the continuation.
-    amplitudes : mapping
-        ``coordinate or output -> peak |deviation from the reference state|`` over one
-        period, at every branch point.
-    coefficients : numpy.ndarray
-        (points, n, 2H+1): per coordinate ``[a_0, a_1, b_1, ..., a_H, b_H]``.
-    outputs : tuple of str
-        The model's outputs (``[outputs]``), evaluated in full on every point.
-    output_coefficients : numpy.ndarray or None
-        (points, outputs, 2H+1): the first H harmonics of every output's deviation (None
-        without outputs).
-    base_frequencies : numpy.ndarray
-        The base frequency W (rad/s) at every point.
-    stable : numpy.ndarray
-        bool per point.
-    multipliers : numpy.ndarray
-        (points, 2n) Floquet multipliers (Hill's method).
-    special_points : tuple of SpecialPoint
-        Folds, changes of stability and the peaks of every coordinate and output, in the
-        order of the branch.
-    harmonics : int
-        H.
-    residual : float
-        The largest harmonic-balance residual (max ``|R|``) of the branch.
-    truncation : float
-        The largest relative amplitude of the highest harmonic pair (H, H-1).
-    linear : FrequencyResponse or None
-        The linear sweep over the same range, for comparison.
-    title, coordinates
-        The model's title and its coordinates.
-    start, stop : float
-        The range of the parameter asked for.
-    warnings : tuple of str
-        What the user should know (truncation, a branch that left the range).
-
-    Examples
-    --------
-    See :func:`nonlinear_sweep` and the module's example.
-    """
-
-    title: str
-    parameter: str
-    coordinates: tuple[str, ...]
-    values: np.ndarray
-    amplitudes: Mapping[str, np.ndarray]
-    coefficients: np.ndarray
-    base_frequencies: np.ndarray
-    stable: np.ndarray
-    multipliers: np.ndarray
-    special_points: tuple[SpecialPoint, ...]
-    harmonics: int
-    residual: float
-    truncation: float
-    start: float
-    stop: float
-    linear: FrequencyResponse | None = None
-    warnings: tuple[str, ...] = ()
-    outputs: tuple[str, ...] = ()
-    output_coefficients: np.ndarray | None = None
-
-    def __post_init__(self) -> None:
-        freeze_fields(self)
-
-    def harmonic_lists(self, i: int) -> dict[str, list[list[float]]]:
-        """``name -> [[a_0], [a_1, b_1], ...]`` of branch point i (coordinates, outputs)."""
-        rows = list(zip(self.coordinates, self.coefficients[i]))
-        if self.output_coefficients is not None:
-            rows += list(zip(self.outputs, self.output_coefficients[i]))
-        return {name: [[float(c[0])]] + [[float(c[2 * k - 1]), float(c[2 * k])]
-                                         for k in range(1, self.harmonics + 1)]
-                for name, c in rows}
-
-    def peak(self) -> tuple[float, dict[str, float]] | None:
-        """(value, amplitudes) of the largest stable amplitude of the first coordinate: its
-        located ``peak`` point, or the largest stable branch point when that is larger
-        (None when no point is stable)."""
-        if not self.stable.any():
-            return None
-        first = self.coordinates[0]
-        a = self.amplitudes[first]
-        i = int(np.argmax(np.where(self.stable, a, -np.inf)))
-        best = (float(self.values[i]), {k: float(v[i]) for k, v in self.amplitudes.items()})
-        for p in self.special_points:
-            if p.kind == "peak" and p.quantity == first and p.stable and \
-                    p.amplitudes[first] >= best[1][first]:
-                best = (p.value, dict(p.amplitudes))
-        return best
-
-    def to_dict(self) -> dict[str, Any]:
-        """The linear sweep's keys (when there is one) and ``branch``, ``special_points``,
-        ``harmonics``, ``residual``, ``truncation``."""
-        data: dict[str, Any] = self.linear.to_dict() if self.linear is not None else {
-            "title": self.title, "parameter": self.parameter}
-        data["warnings"] = list(data.get("warnings", [])) + list(self.warnings)
-        data["branch"] = [
-            {"value": float(self.values[i]),
-             "amplitudes": {k: float(v[i]) for k, v in self.amplitudes.items()},
-             "stable": bool(self.stable[i]),
-             "harmonics": self.harmonic_lists(i)}
-            for i in range(self.values.size)]
-        data["special_points"] = [p.to_dict() for p in self.special_points]
-        data["harmonics"] = self.harmonics
-        data["residual"] = self.residual
-        data["truncation"] = self.truncation
-        return data
-
-    def to_csv(self, path: str | Path) -> None:
-        """One row per branch point: value, stable, the amplitudes."""
-        names = list(self.amplitudes)
-        with open(path, "w", newline="") as handle:
-            writer = csv.writer(handle)
-            writer.writerow([self.parameter, "stable", *names])
-            for i in range(self.values.size):
-                writer.writerow([repr(float(self.values[i])), int(self.stable[i]),
-                                 *(repr(float(self.amplitudes[n][i])) for n in names)])
 
 
 def _check(system: NonlinearSystem, param: str, start: float, stop: float,
@@ -329,8 +202,76 @@ def _linear_sweep(system: NonlinearSystem, param: str, start: float, stop: float
 
 def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, start: float,
                     stop: float, *, harmonics: int | None = None, points: int = 101,
-                    linear: bool = True, deadline: Deadline = NO_DEADLINE
+                    linear: bool = True, observe: Sequence[str] | None = None,
+                    samples: int | None = None, exact: bool | None = None,
+                    tol: float | None = None, deadline: Deadline = NO_DEADLINE
                     ) -> NonlinearResponse:
+    """The periodic steady state from ``start`` to ``stop``: harmonic balance, continuation,
+    stability, balanced the way the system calls for.
+
+    A model given by its energies is balanced in full (:func:`full_sweep`); a
+    ``[matrices]`` model with ``[[nonlinear]]`` elements condensed onto the elements'
+    coordinates (:func:`resonant.analyses.condensed.condensed_sweep`).  Callers make no
+    choice.
+
+    Parameters
+    ----------
+    system : NonlinearSystem, LinearSystem or Model
+        The system, or the model it comes from.
+    param : str
+        Any parameter; when it sets an excitation frequency the base frequency follows.
+    start, stop : float
+        The range.
+    harmonics : int, optional
+        H; default: chosen from the truncation of the highest harmonics.
+    points : int
+        About this many steps across the range.
+    linear : bool
+        Also compute the linear sweep over the range.
+    observe, samples, exact, tol : optional
+        The condensed balance's options (:func:`resonant.analyses.condensed.condensed_sweep`);
+        an error for a model given by its energies.
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    NonlinearResponse
+
+    Raises
+    ------
+    AnalysisError
+        As the balance chosen raises; for a condensed option given to a model given by
+        its energies.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> r = nonlinear_sweep(resonant.load("examples/duffing.toml"), "omega", 0.8, 1.2,
+    ...                     harmonics=1, points=20)
+    >>> r.harmonics, bool(r.values.size > 10)
+    (1, True)
+    """
+    model = system if isinstance(system, Model) else system.model
+    if model is not None and has_nonlinear_elements(model):
+        linear_system_ = system.linear if isinstance(system, NonlinearSystem) else \
+            system if isinstance(system, LinearSystem) else linear_system(model, deadline)
+        return condensed_sweep(linear_system_, param, start, stop, harmonics=harmonics,
+                               points=points, observe=observe, samples=samples, exact=exact,
+                               tol=DEFAULT_TOL if tol is None else tol, linear=linear,
+                               deadline=deadline)
+    given = [name for name, value in (("observe", observe), ("samples", samples),
+                                      ("exact", exact), ("tol", tol)) if value is not None]
+    if given:
+        raise AnalysisError(f"{', '.join(given)} apply to the balance condensed onto the "
+                            "[[nonlinear]] elements of a [matrices] model, not to a model "
+                            "given by its energies")
+    return full_sweep(system, param, start, stop, harmonics=harmonics, points=points,
+                      linear=linear, deadline=deadline)
+
+
+def full_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, start: float,
+               stop: float, *, harmonics: int | None = None, points: int = 101,
+               linear: bool = True, deadline: Deadline = NO_DEADLINE) -> NonlinearResponse:
     """Follow the periodic steady state of the full equations from ``start`` to ``stop``.
 
     Parameters
@@ -391,5 +332,5 @@ def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, 
         if system.outputs else None)
 
 
-__all__ = ["NonlinearResponse", "SpecialPoint", "nonlinear_sweep", "SPECIAL_KINDS",
+__all__ = ["NonlinearResponse", "SpecialPoint", "full_sweep", "nonlinear_sweep", "SPECIAL_KINDS",
            "DEFAULT_HARMONICS", "MAX_HARMONICS", "TRUNCATION_TOL", "STABILITY_TOL"]

@@ -34,9 +34,10 @@ from __future__ import annotations
 
 import html
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -56,6 +57,12 @@ from ..system.stability import (
     undamped_eigen,
 )
 from .stationary import freeze_fields
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from ..views.units_display import ResultUnits
 
 #: matrices up to this size are analysed densely when no ``count`` is given
 DENSE_MODES = 1500
@@ -185,6 +192,55 @@ class ModalAnalysis:
         freqs = r",\ ".join(f"{w:.6g}" for w in self.natural_frequencies[:12])
         return rf"$\omega_j = {freqs}\ \mathrm{{rad/s}}$"
 
+    def plot(self, path: str | os.PathLike[str] | None = None, count: int | None = None,
+             ax: Axes | None = None) -> Figure:
+        """The mode shapes (:func:`resonant.views.plotting.plot_modes`).
+
+        Parameters
+        ----------
+        path : str or Path, optional
+            Save the figure there (format from the suffix).
+        count : int, optional
+            How many modes to draw (default: all).
+        ax : matplotlib.axes.Axes, optional
+            Draw into the caller's axes.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+
+        Examples
+        --------
+        >>> import resonant
+        >>> fig = resonant.load("examples/two_dof_free.toml").linearize().modes().plot()
+        >>> len(fig.axes) >= 1
+        True
+        """
+        from ..views import plotting
+        return plotting.plot_modes(self, path=path, count=count, ax=ax)
+
+    def summary(self, units: ResultUnits | None = None) -> str:
+        """The text ``resonant modes`` prints (:func:`resonant.views.display.modes_text`).
+
+        Parameters
+        ----------
+        units : ResultUnits, optional
+            The display units (:mod:`resonant.views.units_display`); Hz by default.
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import resonant
+        >>> m = resonant.load("examples/two_dof_free.toml").linearize().modes()
+        >>> "mode" in m.summary().lower()
+        True
+        """
+        from ..views import display
+        return display.modes_text(self, units)
+
 
 # -- the numeric system ---------------------------------------------------------------------
 
@@ -262,6 +318,8 @@ def modes(system: LinearSystem, count: int | None = None,
         Report only the ``count`` lowest modes.  For sparse matrices with
         ``count < n - 1`` (and for any model larger than 1500 coordinates)
         they are computed by shift-invert Lanczos; the default then is 10.
+    deadline : Deadline, optional
+        The run's time limit.
 
     Returns
     -------
@@ -271,6 +329,13 @@ def modes(system: LinearSystem, count: int | None = None,
     ------
     AnalysisError
         For a singular mass matrix or a non-positive ``count``.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> modes(resonant.load("examples/two_dof_free.toml").linearize()).natural_frequencies.round(
+    ...     3).tolist()
+    [20.0, 34.641]
     """
     if count is not None and count < 1:
         raise AnalysisError(f"count must be at least 1, not {count}")

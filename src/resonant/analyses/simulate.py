@@ -44,12 +44,13 @@ from __future__ import annotations
 import csv
 import html
 import math
+import os
 import sys
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any, cast
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 import sympy
@@ -71,6 +72,9 @@ from .peaks import sampled_peak
 from .periodic import PeriodicSolution, periodic_solution
 from .stationary import StationarySolution, freeze_fields, stationary
 from .time_integration import STIFF_RATIO, LinearDynamics, NonlinearDynamics, integrate
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 #: measurement window: this many periods of the lowest excitation frequency
 DEFAULT_PERIODS = 5.0
@@ -209,6 +213,44 @@ class Simulation:
                 f"amplitudes over t = {self.window[0]:.6g} … {self.window[1]:.6g} s</p>"
                 "<table><tr><th>quantity</th><th>steady amplitude</th><th>linear "
                 f"stationary</th><th>difference</th></tr>{rows}</table>{warn}")
+
+    def plot(self, path: str | os.PathLike[str] | None = None, axes: Any = None,
+             units: Mapping[str, str] | None = None) -> Figure:
+        """The time histories (:func:`resonant.views.plotting.plot_simulation`).
+
+        Parameters
+        ----------
+        path : str or Path, optional
+            Save the figure there (format from the suffix).
+        axes : sequence of matplotlib.axes.Axes, optional
+            Draw into the caller's axes (one per coordinate).
+        units : mapping, optional
+            coordinate -> unit text for the axis labels.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from ..views import plotting
+        return plotting.plot_simulation(self, path=path, axes=axes, units=units)
+
+    def summary(self) -> str:
+        """The text ``resonant simulate`` prints
+        (:func:`resonant.views.display.simulation_text`).
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import resonant
+        >>> sim = resonant.load("examples/two_dof_free.toml").simulate(0.05, initial={"x1": 0.01})
+        >>> sim.start, "x1" in sim.summary()
+        ('given', True)
+        """
+        from ..views import display
+        return display.simulation_text(self)
 
 
 def _fmt(value: float | None, percent: bool = False) -> str:
@@ -568,7 +610,7 @@ def _compare(solution: StationarySolution | None, t: np.ndarray, states: Mapping
 
 def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = None,
              nonlinear: bool | None = None, initial: Mapping[str, float | str] | None = None,
-             *, start: str = "auto", periods: float = DEFAULT_PERIODS,
+             *, start: str = "auto", periods: float | None = None,
              method: str | None = None, rtol: float = 1e-9, progress: bool | None = None,
              deadline: Deadline = NO_DEADLINE) -> Simulation:
     """Integrate the model's equations of motion in time.
@@ -604,7 +646,7 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
         nonlinear run when harmonic balance converges (else a warning says
         there is no steady state to measure) and ``"stationary"`` otherwise;
         ``"rest"`` for an asymptotically stable model.
-    periods : float
+    periods : float, optional
         Length of the measurement window, in periods of the lowest excitation
         frequency (of the lowest natural frequency without excitation).
     method : str, optional
@@ -633,7 +675,15 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
         If the integration breaks down (the response blows up, the pendulum
         leaves the range where the model is defined): the message gives the
         time.  For ``nonlinear=True`` on a ``[matrices]`` model.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> eom = resonant.load("examples/two_dof_free.toml").linearize()
+    >>> simulate(eom, 0.05, initial={"x2": 0.01}).initial["x2"]
+    0.01
     """
+    periods = DEFAULT_PERIODS if periods is None else periods
     _check_options(start, method, duration, periods)
     linear_system, full = _systems(system, nonlinear, deadline)
     model = linear_system._model()

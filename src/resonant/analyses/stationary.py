@@ -190,6 +190,32 @@ class StationarySolution:
         })
         return data
 
+    def summary(self) -> str:
+        """The text ``resonant solve`` prints (:func:`resonant.views.display.solution_text`).
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import resonant
+        >>> sol = resonant.load("examples/cart_pendulum.toml").linearize().stationary()
+        >>> print(sol.summary().splitlines()[0].split("  (")[0])
+        Cart with pendulum under force and support excitation
+        """
+        from ..views import display
+        return display.solution_text(self)
+
+    def _repr_html_(self) -> str:
+        from ..views import display
+        return display.stationary_html(self)
+
+    def _repr_latex_(self) -> str:
+        from ..views import display
+        return display.stationary_latex(self)
+
+
 def _output_pairs(eom: NumericEOM, responses: tuple[HarmonicResponse, ...]
                   ) -> dict[str, tuple[tuple[float, float], ...]]:
     index = {q: i for i, q in enumerate(eom.coordinates)}
@@ -345,6 +371,13 @@ def stationary(system: LinearSystem, deadline: Deadline = NO_DEADLINE,
     AnalysisError
         For a singular mass matrix, or an undamped system excited exactly at a
         natural frequency (exit status 3).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> eom = resonant.load("examples/cart_pendulum.toml").linearize()
+    >>> round(stationary(eom).amplitudes["x2"], 5), stationary(eom, k=120).eom.parameters["k"]
+    (0.04514, 120.0)
     """
     eom = system.numeric(deadline, **overrides)
     large = eom.n > LARGE

@@ -72,12 +72,13 @@ from __future__ import annotations
 
 import csv
 import math
+import os
 import sys
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 from types import MappingProxyType
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -96,6 +97,10 @@ from .kernel import (
     solve_harmonic,
 )
 from .stationary import freeze_fields, peak, phase_angle
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 #: above this many coordinates only the loaded ones are reported unless names are given
 MAX_DEFAULT_NAMES = 2000
@@ -355,6 +360,47 @@ class FrequencyResponse:
                 f"<th>peak at {html.escape(self.parameter)}</th><th>amplitude</th></tr>"
                 f"{rows}</table>")
 
+    def plot(self, path: str | os.PathLike[str] | None = None,
+             names: Sequence[str] | None = None, ax: Axes | None = None,
+             units: Mapping[str, str] | None = None) -> Figure:
+        """Amplitude and phase against the swept parameter
+        (:func:`resonant.views.plotting.plot_frequency_response`).
+
+        Parameters
+        ----------
+        path : str or Path, optional
+            Save the figure there (format from the suffix).
+        names : sequence of str, optional
+            The quantities to draw.
+        ax : matplotlib.axes.Axes, optional
+            Draw the amplitudes into the caller's axes.
+        units : mapping, optional
+            quantity -> unit text for the axis labels.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+
+        Examples
+        --------
+        >>> import resonant
+        >>> r = resonant.load("examples/cart_pendulum.toml").linearize().sweep("omega", [5, 10])
+        >>> len(r.plot().axes) >= 2
+        True
+        """
+        from ..views import plotting
+        return plotting.plot_frequency_response(self, path=path, names=names, ax=ax, units=units)
+
+    def summary(self) -> str:
+        """The text ``resonant sweep`` prints (:func:`resonant.views.display.sweep_text`).
+
+        Returns
+        -------
+        str
+        """
+        from ..views import display
+        return display.sweep_text(self)
+
 
 # -- amplitudes, phases, extrema ------------------------------------------------------------
 
@@ -554,7 +600,7 @@ def swept_values(values: Sequence[float] | np.ndarray) -> np.ndarray:
 def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray, *,
           method: str = "auto", names: Sequence[str] | None = None,
           progress: bool | None = None, log: bool | None = None,
-          deadline: Deadline = NO_DEADLINE, tol: float = DEFAULT_TOL) -> FrequencyResponse:
+          deadline: Deadline = NO_DEADLINE, tol: float | None = None) -> FrequencyResponse:
     """Stationary amplitude and phase of every coordinate and output against a parameter.
 
     Parameters
@@ -580,8 +626,9 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
         and plots); detected from the values when omitted.
     deadline : Deadline, optional
         Checked between the points.
-    tol : float
-        Relative tolerance of a reduced model (default 1e-6).
+    tol : float, optional
+        Relative tolerance of a reduced model (default
+        :data:`resonant.analyses.reduced.DEFAULT_TOL`, 1e-6).
 
     Returns
     -------
@@ -594,7 +641,15 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
     AnalysisError
         For a method that does not fit the system (``modal`` with
         non-proportional damping, ``banded`` with matrices that change).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> eom = resonant.load("examples/cart_pendulum.toml").linearize()
+    >>> sweep(eom, "omega", [10.0, 20.0]).values.tolist()
+    [10.0, 20.0]
     """
+    tol = DEFAULT_TOL if tol is None else tol
     _check_options(method, tol)
     values = swept_values(values)
     check_points(values.size)

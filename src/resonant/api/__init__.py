@@ -1,13 +1,8 @@
-"""The top of the library: what ``import resonant`` offers, with every analysis as a method.
+"""What ``import resonant`` offers, in one place: the names a user starts from.
 
-The layers below keep data and computation apart: the model layer's
-:class:`resonant.model.Model` holds the validated model, the analyses take a
-:class:`~resonant.system.LinearSystem` and return plain results, the views draw
-them.  Here they meet: :func:`load` returns a :class:`Model` whose
-``linearize()`` gives a system with ``stationary()``, ``modes()``, ``sweep()``,
-whose results have ``summary()``, ``plot()`` and Jupyter reprs.  Every such
-method is a one-line call of the function that does the work, written where
-both are visible.
+Every class here is the one class of its concept, defined in its layer, with its
+analyses and views as methods (``Model.linearize()``, ``LinearSystem.stationary()``,
+``FrequencyResponse.plot()``, ...): this module only gathers the names.
 
 Examples
 --------
@@ -15,26 +10,23 @@ Examples
 >>> model = api.load("examples/tuned_mass_damper.toml")
 >>> len(model.linearize().modes().natural_frequencies)
 2
+>>> api.Model is __import__("resonant.model", fromlist=["Model"]).Model
+True
 """
 
 from __future__ import annotations
 
-from ..system import LinearEOM, LinearSystem, MatrixEOM, NumericEOM
-from .model import Model, load, loads, simulate, with_methods
-from .results import (
-    Backbones,
-    FrequencyResponse,
-    ModalAnalysis,
-    NonlinearResponse,
-    Simulation,
-    StationarySolution,
-    promote,
-)
-from .systems import SystemMethods, linear_system, modes, stationary, sweep
-from .systems import with_methods as system_with_methods
+from ..analyses.backbone import Backbones
+from ..analyses.modes import ModalAnalysis, modes
+from ..analyses.nonlinear_response import NonlinearResponse
+from ..analyses.simulate import Simulation, simulate
+from ..analyses.stationary import StationarySolution, stationary
+from ..analyses.sweep import FrequencyResponse, sweep
+from ..model import Model, load, loads
+from ..studies.result import StudyResult
+from ..system import LinearEOM, LinearSystem, MatrixEOM, NumericEOM, linear_system
 
 __all__ = ["Backbones", "FrequencyResponse", "LinearEOM", "LinearSystem", "MatrixEOM",
-           "ModalAnalysis", "Model", "NumericEOM", "NonlinearResponse",
-           "Simulation", "StationarySolution", "SystemMethods", "linear_system", "load",
-           "loads", "modes", "promote", "simulate", "stationary", "sweep",
-           "system_with_methods", "with_methods"]
+           "ModalAnalysis", "Model", "NonlinearResponse", "NumericEOM", "Simulation",
+           "StationarySolution", "StudyResult", "linear_system", "load", "loads", "modes",
+           "simulate", "stationary", "sweep"]

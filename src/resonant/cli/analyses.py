@@ -19,7 +19,6 @@ from typing import Any
 import resonant.cli.common as cli
 
 from ..analyses.backbone import backbone
-from ..analyses.condensed import condensed_sweep, has_nonlinear_elements
 from ..analyses.harmonic_balance import nonlinear_sweep
 from ..analyses.modes import modes
 from ..analyses.sweep import MAX_SWEEP_POINTS, linspace, sweep
@@ -136,27 +135,16 @@ def run_sweep(args: argparse.Namespace) -> int:
 
 
 def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
-    """``sweep --nonlinear``: :func:`resonant.analyses.harmonic_balance.nonlinear_sweep`, or
-    for a ``[matrices]`` model with ``[[nonlinear]]`` elements the balance condensed onto
-    their coordinates (:func:`resonant.analyses.condensed.condensed_sweep`)."""
+    """``sweep --nonlinear``: :func:`resonant.analyses.harmonic_balance.nonlinear_sweep`, which
+    balances the way the model calls for (in full, or condensed onto ``[[nonlinear]]``
+    elements)."""
+    if args.log or args.method != "auto":
+        raise AnalysisError("--log and --method apply to the linear sweep, not to --nonlinear")
     deadline = cli.deadline(args)
-    system = linear_system(model, deadline)
-    if has_nonlinear_elements(model):
-        if args.log or args.method != "auto":
-            raise AnalysisError("--log and --method apply to the linear sweep, not to "
-                                "--nonlinear")
-        observe = [n.strip() for n in args.only.split(",") if n.strip()] if args.only else None
-        tol = {} if args.tol is None else {"tol": args.tol}
-        result = condensed_sweep(system, args.param, args.start, args.stop,
-                                 harmonics=args.harmonics, points=args.points,
-                                 observe=observe, deadline=deadline, **tol)
-    else:
-        if args.log or args.only or args.method != "auto" or args.tol is not None:
-            raise AnalysisError("--log, --only, --method and --tol apply to the linear sweep, "
-                                "not to --nonlinear (of a model given by its energies)")
-        result = nonlinear_sweep(system, args.param, args.start, args.stop,
-                                 harmonics=args.harmonics, points=args.points,
-                                 deadline=deadline)
+    observe = [n.strip() for n in args.only.split(",") if n.strip()] if args.only else None
+    result = nonlinear_sweep(linear_system(model, deadline), args.param, args.start, args.stop,
+                             harmonics=args.harmonics, points=args.points, observe=observe,
+                             tol=args.tol, deadline=deadline)
     return _emit(args, result, lambda: nonlinear_text(result),
                  lambda path: plot_nonlinear_response(result, path))
 

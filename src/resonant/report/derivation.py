@@ -49,7 +49,7 @@ ENERGIES = ("T", "D", "U")
 
 
 @dataclass(frozen=True)
-class LinearPart:
+class SourceTerms:
     """One source's first-order terms on the left of Lagrange's equations.
 
     The source contributes ``M q'' + C q' + K q - Q`` where
@@ -83,7 +83,7 @@ class ForceTerms:
     power: sympy.Expr | None
     generalized: tuple[sympy.Expr, ...]
     #: contribution to the left side (the negated generalized force, linearized)
-    part: LinearPart
+    part: SourceTerms
     given: bool = False
 
 
@@ -98,7 +98,7 @@ class Derivation:
     first: dict[str, list[sympy.Expr]]
     second: dict[str, dict[tuple[int, int], tuple[sympy.Expr, sympy.Expr]]]
     lagrange: dict[str, list[sympy.Expr]]
-    parts: dict[str, LinearPart]
+    parts: dict[str, SourceTerms]
     forces: tuple[ForceTerms, ...]
     reference: dict[sympy.Symbol, sympy.Expr]
     symbols: set[sympy.Symbol] = field(default_factory=set)
@@ -212,7 +212,7 @@ def _force_terms(model: Model, ops: _SympyOps, force, q) -> _RawForce:
 
 def _linear_part(expressions: list[sympy.Expr], ops: _SympyOps,
                  reference: dict[sympy.Symbol, sympy.Expr], coords: tuple[str, ...],
-                 sign: int) -> LinearPart:
+                 sign: int) -> SourceTerms:
     """First-order Taylor coefficients of ``sign * expressions`` at the reference state."""
     n = len(coords)
     index = {c: i for i, c in enumerate(coords)}
@@ -230,7 +230,7 @@ def _linear_part(expressions: list[sympy.Expr], ops: _SympyOps,
                 mats[min(order, 2)][k, index[name]] += coef
             else:
                 columns.setdefault((name, order), sympy.zeros(n, 1))[k] -= coef
-    return LinearPart(_clean(mats[2]), _clean(mats[1]), _clean(mats[0]),
+    return SourceTerms(_clean(mats[2]), _clean(mats[1]), _clean(mats[0]),
                       {v: _clean(c) for v, c in sorted(columns.items())
                        if any(e != 0 for e in c)})
 
@@ -287,4 +287,4 @@ def _check(d: Derivation, eom: LinearEOM) -> None:
                            "of motion: " + "; ".join(problems[:5]))
 
 
-__all__ = ["Derivation", "LinearPart", "ForceTerms", "derive"]
+__all__ = ["Derivation", "SourceTerms", "ForceTerms", "derive"]

@@ -17,7 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from ..analyses.harmonic_balance import NonlinearResponse, nonlinear_sweep
+from ..analyses.harmonic_balance import nonlinear_sweep
+from ..analyses.nonlinear_response import NonlinearResponse
 from ..analyses.periodic import PeriodicSolution, periodic_solution
 from ..errors import AnalysisError
 from ..system import NonlinearSystem, nonlinear_system

@@ -48,7 +48,7 @@ MARGINS = {"right": 0.98, "bottom": 0.14, "top": 0.97}
 
 
 @dataclass(frozen=True)
-class FrequencyResponse:
+class ResponseCurves:
     """Amplitude of each coordinate against the excitation frequency."""
 
     omega: np.ndarray
@@ -92,7 +92,7 @@ class DrawnPlot(Protocol):
     def to_dict(self) -> dict: ...  # pragma: no cover
 
 
-PlotData = FrequencyResponse | TimeHistory | DrawnPlot
+PlotData = ResponseCurves | TimeHistory | DrawnPlot
 
 
 # -- data ----------------------------------------------------------------------------------
@@ -107,7 +107,7 @@ def _dependents(model, name: str) -> set[str]:
 
 
 def frequency_response(eom: LinearEOM, solution: StationarySolution,
-                       points: int = 500) -> FrequencyResponse | None:
+                       points: int = 500) -> ResponseCurves | None:
     """Amplitudes of the coordinates for excitation frequencies from 0 to ~1.6x the highest
     natural frequency (or the excitation); None unless there is one excitation frequency."""
     moving = [h for h in solution.harmonics if h.omega > 0]
@@ -145,7 +145,7 @@ def frequency_response(eom: LinearEOM, solution: StationarySolution,
     amplitudes = {c: np.abs(X[:, i]) for i, c in enumerate(names)}
     at = int(np.argmin(np.abs(grid - w0)))
     units = result_units(eom.model)
-    return FrequencyResponse(grid, amplitudes, w0,
+    return ResponseCurves(grid, amplitudes, w0,
                              {c: float(a[at]) for c, a in amplitudes.items()},
                              solution.natural_frequencies, parameter,
                              units.si if units is not None else {})
@@ -192,20 +192,20 @@ def _label(name: str, units: Mapping[str, str] | None = None) -> str:
     return "$" + name_latex(name) + "$" + (f" [{unit}]" if unit and unit != "1" else "")
 
 
-def _unit_suffix(plot: FrequencyResponse | TimeHistory) -> tuple[str, Mapping[str, str]]:
+def _unit_suffix(plot: ResponseCurves | TimeHistory) -> tuple[str, Mapping[str, str]]:
     """`` [m]`` for the y axis when every curve has that unit, else per-curve units."""
     shown = {plot.units.get(n, "") for n in (plot.amplitudes if isinstance(
-        plot, FrequencyResponse) else plot.values)}
+        plot, ResponseCurves) else plot.values)}
     if len(shown) == 1:
         unit = next(iter(shown))
         return (f" [{unit}]" if unit and unit != "1" else ""), {}
     return "", plot.units
 
 
-def chart_of(plot: FrequencyResponse | TimeHistory) -> Chart:
+def chart_of(plot: ResponseCurves | TimeHistory) -> Chart:
     """What the figure of a frequency response or a time history shows."""
     suffix, per_curve = _unit_suffix(plot)
-    if isinstance(plot, FrequencyResponse):
+    if isinstance(plot, ResponseCurves):
         curves = tuple(Curve(plot.omega, amp, _label(name, per_curve), COLORS[i % len(COLORS)])
                        for i, (name, amp) in enumerate(plot.amplitudes.items()))
         markers = tuple(Marker(plot.operating, value, c.color or "#000")
@@ -225,7 +225,7 @@ def chart_of(plot: FrequencyResponse | TimeHistory) -> Chart:
 
 def draw(plot: PlotData, figure) -> None:
     """Draw ``plot`` on a matplotlib figure."""
-    if not isinstance(plot, FrequencyResponse | TimeHistory):
+    if not isinstance(plot, ResponseCurves | TimeHistory):
         plot.draw(figure)
         return
     ax = draw_chart(chart_of(plot), figure)
@@ -254,7 +254,7 @@ def to_svg(plot: PlotData, number: int) -> str:
     """The plot as an ``<svg>`` element for inline HTML (no XML prolog): frequency
     responses and time histories written directly (:func:`resonant.views.charts.chart_svg`,
     about a millisecond each), other plots by matplotlib."""
-    if isinstance(plot, FrequencyResponse | TimeHistory):
+    if isinstance(plot, ResponseCurves | TimeHistory):
         return chart_svg(chart_of(plot), f"resonant-figure-{number}")
     import matplotlib
 
@@ -277,5 +277,5 @@ def save(plot: PlotData, path, number: int) -> None:
         _figure(plot).savefig(path, metadata=metadata)
 
 
-__all__ = ["FrequencyResponse", "TimeHistory", "DrawnPlot", "PlotData", "frequency_response",
+__all__ = ["ResponseCurves", "TimeHistory", "DrawnPlot", "PlotData", "frequency_response",
            "time_history", "chart_of", "draw", "to_svg", "save"]

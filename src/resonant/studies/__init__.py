@@ -22,8 +22,9 @@ from .run import (
     read_table,
     request,
     run_study,
+    study_of,
 )
 
 __all__ = ["Engine", "RunSummary", "StudyJob", "StudyResult", "collect", "engine_for",
            "evaluate_chunk", "model_text", "ordered_map", "read_table", "request", "run_study",
-           "sobol_indices", "summary_table"]
+           "sobol_indices", "study_of", "summary_table"]

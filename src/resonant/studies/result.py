@@ -16,6 +16,7 @@ import html
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -190,6 +191,24 @@ class StudyResult:
         head = (f"<p>Study of {len(self.table)} samples ({html.escape(self.spec.design)}), "
                 f"varying {html.escape(', '.join(self.spec.vary))}</p>")
         return head + self.summary().to_html(float_format=lambda v: f"{v:.6g}")
+
+    def plot(self, directory: str | Path) -> list[Path]:
+        """Write the study's pictures into ``directory``
+        (:func:`resonant.views.study_plots.plot_study`).
+
+        Parameters
+        ----------
+        directory : str or Path
+
+        Returns
+        -------
+        list of Path
+            The files written.
+        """
+        from ..views import study_plots
+        return study_plots.plot_study(self.table, list(self.spec.vary), list(self.spec.columns),
+                                      directory, self.sensitivity,
+                                      grid=self.spec.design == "grid")
 
 
 __all__ = ["StudyResult", "sobol_indices", "summary_table"]

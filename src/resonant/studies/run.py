@@ -26,7 +26,7 @@ import math
 import os
 import sys
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -41,7 +41,7 @@ from ..model.limits import MAX_FILE_BYTES
 from ..model.study import STUDY_KEYS, StudySpec, study_spec
 from ..system import LinearSystem, NonlinearSystem, linear_system, nonlinear_system
 from .designs import chunk_size, chunk_values, chunks
-from .engine import Engine, ordered_map
+from .engine import Engine, engine_for, ordered_map
 from .files import ResultWriter, check_output, completed_rows, read_description
 from .quantities import evaluate_samples
 from .result import StudyResult, sobol_indices
@@ -510,3 +510,61 @@ def read_table(path: str | os.PathLike[str], columns: list[str] | None = None) -
 
 __all__ = ["collect", "model_text", "read_table", "RunSummary", "StudyJob", "evaluate_chunk",
            "request", "run_study", "system_of", "nonlinear_of"]
+
+
+def study_of(model: Model, vary: Mapping[str, Any] | None = None,
+             quantities: Sequence[str] | None = None, *,
+             output: str | os.PathLike[str] | None = None, workers: int | None = None,
+             scheduler: str | None = None, client: Any = None, resume: bool = False,
+             progress: bool | None = None, design: str | None = None,
+             samples: int | None = None, seed: int | None = None,
+             band: Mapping[str, Any] | None = None, harmonics: int | None = None
+             ) -> StudyResult:
+    """A parameter study of ``model`` (docs/studies.md): the arguments given, the rest from
+    its ``[study]`` section (:func:`request`), run on the engine the arguments choose
+    (:func:`resonant.studies.engine.engine_for`) and collected (:func:`collect`).
+
+    Parameters
+    ----------
+    model : Model
+    vary : mapping, optional
+        parameter -> ``"uniform(a, b)"``, ``"normal(mean, sd)"``, ``"lognormal(mean, sd)"``,
+        a list or ``{"from":, "to":, "step":}``.
+    quantities : sequence of str, optional
+        ``natural_frequency:I``, ``damping_ratio:I``, ``amplitude:NAME``, ``phase:NAME``,
+        ``peak:NAME``, ``stable``, ``nonlinear_amplitude:NAME``, ...
+    output : str or Path, optional
+        Also write the rows there (.parquet or .csv).
+    workers : int, optional
+        Local worker processes (0: this process; default: chosen by the work).
+    scheduler : str, optional
+        A Dask scheduler's address.
+    client : distributed.Client, optional
+        A Dask client of yours.
+    resume : bool
+        Continue an interrupted study of ``output``.
+    progress : bool, optional
+        A progress bar on standard error.
+    design, samples, seed, band, harmonics
+        The study's options (docs/studies.md); None: the ``[study]`` section's or the
+        default.
+
+    Returns
+    -------
+    StudyResult
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/cart_pendulum.toml")
+    >>> result = study_of(model, {"k": "uniform(90, 110)"}, ["natural_frequency:1"],
+    ...                   samples=200, seed=1, workers=0)
+    >>> round(float(result.summary().loc["natural_frequency:1", "mean"]), 2)
+    4.56
+    """
+    options = {"design": design, "samples": samples, "seed": seed, "band": band,
+               "harmonics": harmonics}
+    spec = request(model, vary, quantities,
+                   **{k: v for k, v in options.items() if v is not None})
+    return collect(StudyJob.of(model, spec), engine_for(workers, scheduler, client), output,
+                   resume=resume, progress=progress)

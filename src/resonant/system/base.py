@@ -19,10 +19,10 @@ kind of system they hold.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -31,6 +31,11 @@ from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
 from ..model import Model
 from .batch import Batch, BatchHarmonic, Var, frozen_array, group_frequencies
+
+if TYPE_CHECKING:
+    from ..analyses.modes import ModalAnalysis
+    from ..analyses.stationary import StationarySolution
+    from ..analyses.sweep import FrequencyResponse
 
 
 class LinearSystem(ABC):
@@ -152,6 +157,100 @@ class LinearSystem(ABC):
         dict or None
         """
         return None
+
+    def stationary(self, deadline: Deadline = NO_DEADLINE, **overrides: float | str
+                   ) -> StationarySolution:
+        """The stationary solution for harmonic excitation
+        (:func:`resonant.analyses.stationary.stationary`).
+
+        Parameters
+        ----------
+        deadline : Deadline, optional
+            The run's time limit.
+        **overrides
+            Parameter values replacing the model's (numbers or expression text).
+
+        Returns
+        -------
+        StationarySolution
+
+        Examples
+        --------
+        >>> import resonant
+        >>> eom = resonant.load("examples/cart_pendulum.toml").linearize()
+        >>> round(eom.stationary().amplitudes["x2"], 5), round(eom.stationary(k=120).amplitudes[
+        ...     "x2"], 5) != 0.04514
+        (0.04514, True)
+        """
+        from ..analyses import stationary
+        return stationary.stationary(self, deadline, **overrides)
+
+    def modes(self, count: int | None = None, deadline: Deadline = NO_DEADLINE
+              ) -> ModalAnalysis:
+        """Natural frequencies, mode shapes, damping ratios
+        (:func:`resonant.analyses.modes.modes`).
+
+        Parameters
+        ----------
+        count : int, optional
+            Only the ``count`` lowest modes.
+        deadline : Deadline, optional
+            The run's time limit.
+
+        Returns
+        -------
+        ModalAnalysis
+
+        Examples
+        --------
+        >>> import resonant
+        >>> eom = resonant.load("examples/two_dof_free.toml").linearize()
+        >>> eom.modes().natural_frequencies.round(3).tolist()
+        [20.0, 34.641]
+        """
+        from ..analyses import modes
+        return modes.modes(self, count, deadline)
+
+    def sweep(self, param: str, values: Sequence[float] | np.ndarray, *, method: str = "auto",
+              names: Sequence[str] | None = None, progress: bool | None = None,
+              log: bool | None = None, deadline: Deadline = NO_DEADLINE,
+              tol: float | None = None) -> FrequencyResponse:
+        """Amplitudes and phases against a parameter (:func:`resonant.analyses.sweep.sweep`,
+        where the options are described).
+
+        Parameters
+        ----------
+        param : str
+            The parameter to vary.
+        values : array_like
+            Its values.
+        method : {"auto", "direct", "dense", "banded", "sparse", "modal", "reduced"}
+            How to solve.
+        names : sequence of str, optional
+            The coordinates to report (default all).
+        progress : bool, optional
+            A progress bar on standard error.
+        log : bool, optional
+            Whether the values are logarithmically spaced.
+        deadline : Deadline, optional
+            The run's time limit.
+        tol : float, optional
+            Relative tolerance of a reduced model.
+
+        Returns
+        -------
+        FrequencyResponse
+
+        Examples
+        --------
+        >>> import resonant
+        >>> eom = resonant.load("examples/cart_pendulum.toml").linearize()
+        >>> eom.sweep("omega", [10.0, 20.0]).values.tolist()
+        [10.0, 20.0]
+        """
+        from ..analyses import sweep
+        return sweep.sweep(self, param, values, method=method, names=names, progress=progress,
+                           log=log, deadline=deadline, tol=tol)
 
 
 def parameter_values(model: Model, param: str, values: np.ndarray,
@@ -382,6 +481,10 @@ class NumericEOM(LinearSystem):
 
     def symbolic_dict(self) -> dict[str, Any] | None:
         return self.system.symbolic_dict() if self.system is not None else None
+
+    def _repr_latex_(self) -> str:
+        from ..views import display
+        return display.numeric_eom_latex(self)
 
 
 def _dense(a: Any) -> np.ndarray:

@@ -253,6 +253,10 @@ class MatrixEOM(LinearSystem):
                 "K": matrix_strings(self.K),
                 "Q": [str(e) for e in self.Q]}
 
+    def _repr_latex_(self) -> str:
+        from ..views import display
+        return display.eom_latex(self)
+
 
 def _linear_output(expression: Expression, coordinates: tuple[str, ...], source: str,
                    name: str) -> LinearMap:

@@ -229,6 +229,10 @@ class LinearEOM(LinearSystem):
             "Q": [str(e) for e in self.Q],
         }
 
+    def _repr_latex_(self) -> str:
+        from ..views import display
+        return display.eom_latex(self)
+
 
 #: from this many coordinates on, a model's numbers come from the numeric derivation
 #: (:meth:`LinearEOM.of_model`); its symbolic matrices are derived when asked for

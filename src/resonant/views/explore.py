@@ -88,6 +88,21 @@ class ExplorePage:
     title: str
     live: bool
 
+    def saved(self, path: str | Path | None) -> ExplorePage:
+        """The page itself, written to ``path`` first where one is given.
+
+        Parameters
+        ----------
+        path : str or Path, optional
+
+        Returns
+        -------
+        ExplorePage
+        """
+        if path is not None:
+            self.save(path)
+        return self
+
     def save(self, path: str | Path) -> Path:
         """Write the page to ``path`` (UTF-8).
 

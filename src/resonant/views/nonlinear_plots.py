@@ -18,7 +18,7 @@ from .plotting import MAX_CURVES, _figure_of, _new_figure, _save
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..analyses.backbone import Backbones
-    from ..analyses.harmonic_balance import NonlinearResponse
+    from ..analyses.nonlinear_response import NonlinearResponse
 
 MARKERS = {"fold": "o", "period-doubling": "s", "neimark-sacker": "D", "branch": "^",
            "peak": "*"}

@@ -19,7 +19,7 @@ from ...views.notation import (
     sympy_latex,
 )
 from ..blocks import Equation, Figure, Math
-from ..derivation import Derivation, LinearPart
+from ..derivation import Derivation, SourceTerms
 
 #: above this many coordinates, element-by-element listings and symbolic 2n x 2n
 #: systems are left out (they would fill pages without helping anyone)
@@ -131,7 +131,7 @@ def _q_with_functions(ctx: Context, part_q: dict) -> sympy.Matrix:
     return total
 
 
-def _linear_vector(ctx: Context, part: LinearPart, with_mass: bool = True) -> sympy.Matrix:
+def _linear_vector(ctx: Context, part: SourceTerms, with_mass: bool = True) -> sympy.Matrix:
     """M q'' + C q' + K q - Q with symbols, as a column (the linearized terms)."""
     coords = ctx.eom.coordinates
     vec = sympy.zeros(ctx.n, 1)
@@ -142,7 +142,7 @@ def _linear_vector(ctx: Context, part: LinearPart, with_mass: bool = True) -> sy
     return sympy.Matrix(vec - part.Q_vector(ctx.n))
 
 
-def _matrix_terms(part: LinearPart, labels: dict[str, str], q_label: str) -> str:
+def _matrix_terms(part: SourceTerms, labels: dict[str, str], q_label: str) -> str:
     """``\\mathbf{K}\\mathbf{q} - \\mathbf{Q}^{r}(t)``: the matrix form of a linear part."""
     terms = []
     for key, dots in (("M", r"\ddot{\mathbf{q}}"), ("C", r"\dot{\mathbf{q}}"),
@@ -158,7 +158,7 @@ def _matrix_terms(part: LinearPart, labels: dict[str, str], q_label: str) -> str
 def _source_labels(ctx: Context) -> dict[str, str]:
     """Superscripts of the parts of Q: the signal names, or the source when shared."""
     d = ctx.derivation
-    sources: dict[str, LinearPart] = {}
+    sources: dict[str, SourceTerms] = {}
     if d is not None:
         for key in ("T", "D", "U"):
             if d.parts[key].Q:

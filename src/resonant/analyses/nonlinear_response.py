@@ -1,0 +1,205 @@
+"""The result of a nonlinear frequency response: the periodic steady state along a branch.
+
+:class:`NonlinearResponse` is what :func:`resonant.analyses.harmonic_balance.nonlinear_sweep`
+returns, whether the balance is of the full equations of a model given by its energies or
+condensed onto the coordinates of a ``[matrices]`` model's ``[[nonlinear]]`` elements
+(:mod:`resonant.analyses.condensed`).
+
+Examples
+--------
+>>> import resonant
+>>> r = resonant.load("examples/duffing.toml").nonlinear_sweep(
+...     "omega", 0.8, 1.2, harmonics=1, points=20)
+>>> type(r).__name__, r.parameter
+('NonlinearResponse', 'omega')
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .special_points import SpecialPoint
+from .stationary import freeze_fields
+from .sweep import FrequencyResponse
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = ["NonlinearResponse"]
+
+
+@dataclass(frozen=True)
+class NonlinearResponse:
+    """The periodic steady state of the full equations, followed along a parameter.
+
+    Attributes
+    ----------
+    parameter : str
+        The continuation parameter.
+    values : numpy.ndarray
+        Its value at every branch point, in the order of the continuation.
+    amplitudes : mapping
+        ``coordinate or output -> peak |deviation from the reference state|`` over one
+        period, at every branch point.
+    coefficients : numpy.ndarray
+        (points, n, 2H+1): per coordinate ``[a_0, a_1, b_1, ..., a_H, b_H]``.
+    outputs : tuple of str
+        The model's outputs (``[outputs]``), evaluated in full on every point.
+    output_coefficients : numpy.ndarray or None
+        (points, outputs, 2H+1): the first H harmonics of every output's deviation (None
+        without outputs).
+    base_frequencies : numpy.ndarray
+        The base frequency W (rad/s) at every point.
+    stable : numpy.ndarray
+        bool per point.
+    multipliers : numpy.ndarray
+        (points, 2n) Floquet multipliers (Hill's method).
+    special_points : tuple of SpecialPoint
+        Folds, changes of stability and the peaks of every coordinate and output, in the
+        order of the branch.
+    harmonics : int
+        H.
+    residual : float
+        The largest harmonic-balance residual (max ``|R|``) of the branch.
+    truncation : float
+        The largest relative amplitude of the highest harmonic pair (H, H-1).
+    linear : FrequencyResponse or None
+        The linear sweep over the same range, for comparison.
+    title, coordinates
+        The model's title and its coordinates.
+    start, stop : float
+        The range of the parameter asked for.
+    warnings : tuple of str
+        What the user should know (truncation, a branch that left the range).
+
+    Examples
+    --------
+    See :func:`resonant.analyses.harmonic_balance.nonlinear_sweep` and the module's example.
+    """
+
+    title: str
+    parameter: str
+    coordinates: tuple[str, ...]
+    values: np.ndarray
+    amplitudes: Mapping[str, np.ndarray]
+    coefficients: np.ndarray
+    base_frequencies: np.ndarray
+    stable: np.ndarray
+    multipliers: np.ndarray
+    special_points: tuple[SpecialPoint, ...]
+    harmonics: int
+    residual: float
+    truncation: float
+    start: float
+    stop: float
+    linear: FrequencyResponse | None = None
+    warnings: tuple[str, ...] = ()
+    outputs: tuple[str, ...] = ()
+    output_coefficients: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
+    def harmonic_lists(self, i: int) -> dict[str, list[list[float]]]:
+        """``name -> [[a_0], [a_1, b_1], ...]`` of branch point i (coordinates, outputs)."""
+        rows = list(zip(self.coordinates, self.coefficients[i]))
+        if self.output_coefficients is not None:
+            rows += list(zip(self.outputs, self.output_coefficients[i]))
+        return {name: [[float(c[0])]] + [[float(c[2 * k - 1]), float(c[2 * k])]
+                                         for k in range(1, self.harmonics + 1)]
+                for name, c in rows}
+
+    def peak(self) -> tuple[float, dict[str, float]] | None:
+        """(value, amplitudes) of the largest stable amplitude of the first coordinate: its
+        located ``peak`` point, or the largest stable branch point when that is larger
+        (None when no point is stable)."""
+        if not self.stable.any():
+            return None
+        first = self.coordinates[0]
+        a = self.amplitudes[first]
+        i = int(np.argmax(np.where(self.stable, a, -np.inf)))
+        best = (float(self.values[i]), {k: float(v[i]) for k, v in self.amplitudes.items()})
+        for p in self.special_points:
+            if p.kind == "peak" and p.quantity == first and p.stable and \
+                    p.amplitudes[first] >= best[1][first]:
+                best = (p.value, dict(p.amplitudes))
+        return best
+
+    def to_dict(self) -> dict[str, Any]:
+        """The linear sweep's keys (when there is one) and ``branch``, ``special_points``,
+        ``harmonics``, ``residual``, ``truncation``."""
+        data: dict[str, Any] = self.linear.to_dict() if self.linear is not None else {
+            "title": self.title, "parameter": self.parameter}
+        data["warnings"] = list(data.get("warnings", [])) + list(self.warnings)
+        data["branch"] = [
+            {"value": float(self.values[i]),
+             "amplitudes": {k: float(v[i]) for k, v in self.amplitudes.items()},
+             "stable": bool(self.stable[i]),
+             "harmonics": self.harmonic_lists(i)}
+            for i in range(self.values.size)]
+        data["special_points"] = [p.to_dict() for p in self.special_points]
+        data["harmonics"] = self.harmonics
+        data["residual"] = self.residual
+        data["truncation"] = self.truncation
+        return data
+
+    def to_csv(self, path: str | Path) -> None:
+        """One row per branch point: value, stable, the amplitudes."""
+        names = list(self.amplitudes)
+        with open(path, "w", newline="") as handle:
+            writer = csv.writer(handle)
+            writer.writerow([self.parameter, "stable", *names])
+            for i in range(self.values.size):
+                writer.writerow([repr(float(self.values[i])), int(self.stable[i]),
+                                 *(repr(float(self.amplitudes[n][i])) for n in names)])
+
+    def plot(self, path: str | os.PathLike[str] | None = None,
+             names: Sequence[str] | None = None, ax: Axes | None = None,
+             linear: bool = True) -> Figure:
+        """Amplitude against the parameter: stable solid, unstable dashed, special points
+        (:func:`resonant.views.nonlinear_plots.plot_nonlinear_response`).
+
+        Parameters
+        ----------
+        path : str or Path, optional
+            Save the figure there (format from the suffix).
+        names : sequence of str, optional
+            The quantities to draw.
+        ax : matplotlib.axes.Axes, optional
+            Draw into the caller's axes.
+        linear : bool
+            Also draw the linear response.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from ..views import nonlinear_plots
+        return nonlinear_plots.plot_nonlinear_response(self, path, names, ax, linear)
+
+    def summary(self) -> str:
+        """The text ``resonant sweep --nonlinear`` prints
+        (:func:`resonant.views.nonlinear_plots.nonlinear_text`).
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> import resonant
+        >>> r = resonant.load("examples/duffing.toml").nonlinear_sweep(
+        ...     "omega", 0.8, 1.2, harmonics=1, points=20)
+        >>> r.parameter, r.harmonics
+        ('omega', 1)
+        """
+        from ..views import nonlinear_plots
+        return nonlinear_plots.nonlinear_text(self)
