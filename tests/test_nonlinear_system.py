@@ -80,7 +80,8 @@ def test_matrices_model_has_no_nonlinear_system() -> None:
     model = loads("[matrices]\nM = [[1]]\nC = [[0.1]]\nK = [[4]]\n"
                   "[[harmonic]]\nomega = 1\nF_S = [0]\nF_C = [1]\n")
     for source in (model, linear_system(model)):
-        with pytest.raises(AnalysisError, match=r"\[matrices\] model has no nonlinear"):
+        with pytest.raises(AnalysisError, match=r"\[matrices\] model without \[\[nonlinear\]\] "
+                                                r"elements has no nonlinear"):
             nonlinear_system(source)
 
 

@@ -420,9 +420,6 @@ def _systems(system: LinearSystem | NonlinearSystem, nonlinear: bool | None,
         return system.linear, system if nonlinear is None or nonlinear else None
     if not nonlinear:
         return system, None
-    if system._model().matrices is not None:
-        raise AnalysisError("a [matrices] model has no nonlinear equations: --nonlinear needs "
-                            "a model given by its energies")
     return system, nonlinear_system(system, deadline)
 
 
@@ -620,7 +617,7 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
     system : LinearSystem or NonlinearSystem
         The linear system of a model, or the full equations
         (:func:`resonant.system.nonlinear_system`: a model given by its
-        energies, not ``[matrices]``).
+        energies, or ``[matrices]`` with ``[[nonlinear]]`` elements).
     duration : float, optional
         End time in s.  Default: for an asymptotically stable system, long
         enough for the slowest transient to decay by ``exp(-12)``; otherwise
@@ -674,7 +671,8 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
     AnalysisError
         If the integration breaks down (the response blows up, the pendulum
         leaves the range where the model is defined): the message gives the
-        time.  For ``nonlinear=True`` on a ``[matrices]`` model.
+        time.  For ``nonlinear=True`` on a ``[matrices]`` model without ``[[nonlinear]]``
+        elements.
 
     Examples
     --------

@@ -96,8 +96,10 @@ def beyond_small_oscillations(ctx: Context) -> list[Block]:
     blocks: list[Block] = [Heading("Beyond small oscillations")]
     model = ctx.model
     if model.matrices is not None:
-        blocks.append(Note(("A [matrices] model has no nonlinear equations: the steady state "
-                            "of the full equations cannot be computed.",)))
+        blocks.append(Note(("A [matrices] model's equations are its given matrices: where it "
+                            "has no [[nonlinear]] elements they are linear and the results "
+                            "above are exact; the steady state with its elements is the "
+                            "nonlinear frequency response's (docs/nonlinear.md).",)))
         return blocks
     blocks.append(paragraph(
         "The results above hold for small oscillations. Without linearizing, Lagrange's "

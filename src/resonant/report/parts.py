@@ -41,7 +41,7 @@ from ..views.sketch import Sketch, sketch
 from .blocks import Block, Equation, Figure, Heading, Math, paragraph
 
 
-class StepContext(Protocol):
+class PartsContext(Protocol):
     """What these steps use of :class:`resonant.report.steps.Context` (which inserts them:
     a protocol, so that this module does not import ``steps``)."""
 
@@ -82,7 +82,7 @@ class MechanismFigure:
 class _Parts:
     """The mechanism's geometry (functions of time) in the report's symbols."""
 
-    def __init__(self, ctx: StepContext) -> None:
+    def __init__(self, ctx: PartsContext) -> None:
         model: Model = ctx.model
         assert model.parts is not None
         self.ctx = ctx
@@ -129,7 +129,7 @@ def _simplify(expr: sympy.Expr) -> sympy.Expr:
         return expanded
 
 
-def _contribution(ctx: StepContext, item: Contribution) -> str:
+def _contribution(ctx: PartsContext, item: Contribution) -> str:
     """A part's T, U or D as LaTeX, in the order it was derived."""
     try:
         return expression_latex(parse(item.text), ctx.namer)
@@ -146,7 +146,7 @@ def _pin_label(pin: str) -> str:
     return name_latex(pin.rsplit(".", 1)[-1])
 
 
-def _contributions(ctx: StepContext, kind: str, energy: str) -> dict[str, Contribution]:
+def _contributions(ctx: PartsContext, kind: str, energy: str) -> dict[str, Contribution]:
     assert ctx.model.parts is not None
     return {c.name: c for c in ctx.model.parts.contributions
             if c.kind == kind and c.energy == energy}
@@ -154,7 +154,7 @@ def _contributions(ctx: StepContext, kind: str, energy: str) -> dict[str, Contri
 
 # -- the steps -----------------------------------------------------------------------------------
 
-def figure(ctx: StepContext) -> list[Block]:
+def figure(ctx: PartsContext) -> list[Block]:
     """"In Fig. 1 the system is shown": the figure drawn from the parts."""
     if ctx.model.parts is None:  # part of the statement: also with --no-plots
         return []
@@ -172,7 +172,7 @@ def figure(ctx: StepContext) -> list[Block]:
     return blocks
 
 
-def kinetic(ctx: StepContext) -> list[Block]:
+def kinetic(ctx: PartsContext) -> list[Block]:
     """T as the sum over the bodies; each centre of gravity's velocity; the angular
     velocities (the reference exercise's Eqs. (8)-(14))."""
     if ctx.model.parts is None:
@@ -198,7 +198,7 @@ def kinetic(ctx: StepContext) -> list[Block]:
     return blocks
 
 
-def _body(ctx: StepContext, parts: _Parts, body: Body, term: Contribution) -> list[Block]:
+def _body(ctx: PartsContext, parts: _Parts, body: Body, term: Contribution) -> list[Block]:
     mech = parts.mechanism
     name = _label(body.name)
     blocks: list[Block] = []
@@ -282,7 +282,7 @@ def _link_intro(link: Link, index: int, what: str, coefficient: str) -> list[Any
             Math(coefficient), ")"]
 
 
-def _elongation(ctx: StepContext, parts: _Parts, link: Link, symbol: str, intro: list[Any]
+def _elongation(ctx: PartsContext, parts: _Parts, link: Link, symbol: str, intro: list[Any]
                 ) -> list[Block]:
     """Δl of a spring or damper, from its points as docs/parts.md defines it."""
     mech = parts.mechanism
@@ -309,7 +309,7 @@ def _elongation(ctx: StepContext, parts: _Parts, link: Link, symbol: str, intro:
     return [paragraph(*intro, *how, ":"), ctx.equation(text + ",")]
 
 
-def potential(ctx: StepContext) -> list[Block]:
+def potential(ctx: PartsContext) -> list[Block]:
     """U as the sum of the springs' potentials and the gravity potential of the bodies."""
     if ctx.model.parts is None:
         return []
@@ -357,7 +357,7 @@ def potential(ctx: StepContext) -> list[Block]:
     return blocks
 
 
-def dissipation(ctx: StepContext) -> list[Block]:
+def dissipation(ctx: PartsContext) -> list[Block]:
     """D as the sum over the dampers, each with its rate of elongation."""
     if ctx.model.parts is None:
         return []
@@ -388,7 +388,7 @@ def dissipation(ctx: StepContext) -> list[Block]:
     return blocks
 
 
-StepContext = TypeVar("StepContext", bound=StepContext)
+StepContext = TypeVar("StepContext", bound=PartsContext)
 
 
 def after_heading(step: Callable[[StepContext], list[Block]],

@@ -45,6 +45,7 @@ there, once per system.
 Examples
 --------
 >>> from resonant.model import loads
+>>> from resonant.system import nonlinear_system
 >>> system = nonlinear_system(loads('''
 ... [parameters]
 ... k3 = 0.5
@@ -73,15 +74,12 @@ from typing import Any
 import numpy as np
 import sympy
 
-from ..deadline import NO_DEADLINE, Deadline
 from ..derivation import nonlinear_equations
 from ..derivation.harmonics import NotHarmonic, decompose
 from ..errors import AnalysisError
 from ..expressions import compilable
 from ..model import TIME, Model, symbol
 from .base import LinearSystem, parameter_values
-from .matrix import MatrixEOM
-from .symbolic import LinearEOM
 
 #: the dissipation factor symbol of the compiled equations (1: damped, 0: undamped)
 _DAMPING = sympy.Symbol("_resonant_damping")
@@ -95,6 +93,7 @@ class NonlinearSystem(ABC):
     Examples
     --------
     >>> import resonant
+    >>> from resonant.system import nonlinear_system
     >>> system = nonlinear_system(resonant.load("examples/duffing.toml"))
     >>> isinstance(system, NonlinearSystem), system.linear.coordinates
     (True, ('x',))
@@ -365,6 +364,7 @@ class EnergySystem(NonlinearSystem):
     Examples
     --------
     >>> import resonant
+    >>> from resonant.system import nonlinear_system
     >>> system = nonlinear_system(resonant.load("examples/duffing.toml"))
     >>> type(system).__name__, system.coordinates
     ('EnergySystem', ('x',))
@@ -477,55 +477,5 @@ class EnergySystem(NonlinearSystem):
         return self._base(pvals)
 
 
-def nonlinear_system(source: Model | LinearSystem | NonlinearSystem,
-                     deadline: Deadline = NO_DEADLINE) -> NonlinearSystem:
-    """The nonlinear system of a model (or of its linear system): derived and compiled once.
-
-    Parameters
-    ----------
-    source : Model, LinearSystem or NonlinearSystem
-        A model given by its energies, or its linear system (``model.linearize()``); a
-        NonlinearSystem is returned as it is.
-    deadline : Deadline, optional
-        Checked by the linear derivation and before the compilation.
-
-    Returns
-    -------
-    NonlinearSystem
-
-    Raises
-    ------
-    AnalysisError
-        For a ``[matrices]`` model (it has no nonlinear equations) or a linear system
-        without a model.
-
-    Examples
-    --------
-    >>> from resonant.model import loads
-    >>> model = loads('[parameters]\\nk = 4\\n[coordinates]\\nx = ""\\n'
-    ...               '[energy]\\nT = "x\\'^2/2"\\nU = "k*x^2/2"')
-    >>> system = nonlinear_system(model)
-    >>> system.coordinates, system.linear.numeric().K.tolist()
-    (('x',), [[4.0]])
-    """
-    if isinstance(source, NonlinearSystem):
-        return source
-    if isinstance(source, Model):
-        model = source
-        linear: LinearSystem | None = None
-    else:
-        if source.model is None:
-            raise AnalysisError("this system has no model: the full equations of motion "
-                                "need a model given by its energies")
-        model, linear = source._model(), source
-    if model.matrices is not None or isinstance(linear, MatrixEOM):
-        raise AnalysisError("a [matrices] model has no nonlinear equations: the full "
-                            "equations of motion need a model given by its energies")
-    if linear is None:
-        linear = LinearEOM.of_model(model, deadline)
-    deadline.check("before compiling the full equations of motion", analysis=True)
-    return EnergySystem(model, linear)
-
-
-__all__ = ["NonlinearSystem", "EnergySystem", "nonlinear_system", "reference_values",
+__all__ = ["NonlinearSystem", "EnergySystem", "reference_values",
            "signal_function"]

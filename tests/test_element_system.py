@@ -1,0 +1,130 @@
+"""A ``[matrices]`` model with ``[[nonlinear]]`` elements is a NonlinearSystem.
+
+Two routes to one answer: the same 2-DOF system with a cubic spring between the masses,
+once as ``[matrices]`` with a ``[[nonlinear]]`` force, once by its energies (Lagrange's
+equations derived by resonant): their full equations agree at random states, and so do
+the time integration, the backbone curves and the harmonic balance; on the matrix model
+the full balance agrees with the balance condensed onto the element's coordinates.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from resonant.analyses.backbone import backbone
+from resonant.analyses.condensed import condensed_sweep
+from resonant.analyses.harmonic_balance import full_sweep
+from resonant.analyses.simulate import simulate
+from resonant.errors import AnalysisError
+from resonant.model import loads
+from resonant.system import ElementSystem, EnergySystem, nonlinear_system
+
+MATRICES = '''
+[parameters]
+w = 0.5
+[matrices]
+M = [[1, 0], [0, 1]]
+K = [[2, -1], [-1, 1]]
+C = [[0.04, 0], [0, 0.04]]
+[[harmonic]]
+omega = "w"
+F_C = [0, 0.1]
+[[nonlinear]]
+name = "hardening"
+coordinates = ["q2", "q1"]
+force = "2*(q2 - q1)^3"
+'''
+
+ENERGY = '''
+[parameters]
+w = 0.5
+[coordinates]
+q1 = ""
+q2 = ""
+[signals]
+F = "0.1*cos(w*t)"
+[energy]
+T = "q1'^2/2 + q2'^2/2"
+U = "q1^2/2 + (q2 - q1)^2/2 + 2*(q2 - q1)^4/4"
+D = "0.04*q1'^2/2 + 0.04*q2'^2/2"
+[[force]]
+generalized = { q2 = "F" }
+'''
+
+
+@pytest.fixture(scope="module")
+def systems() -> tuple[ElementSystem, EnergySystem]:
+    matrix, energy = nonlinear_system(loads(MATRICES)), nonlinear_system(loads(ENERGY))
+    assert isinstance(matrix, ElementSystem) and isinstance(energy, EnergySystem)
+    return matrix, energy
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.floats(-2, 2), min_size=6, max_size=6), st.floats(0, 20),
+       st.sampled_from([0.0, 1.0]))
+def test_equations_equal_those_of_the_energy_model(systems, state, t, damping):
+    """E and its three derivatives at a random state, time and dissipation factor (1e-12)."""
+    matrix, energy = systems
+    q, qd, qdd = (np.array(state[i:i + 2])[:, None] for i in (0, 2, 4))
+    pvals = matrix.parameter_values
+    mine = matrix.equations(q, qd, qdd, matrix.forcing(np.array([t]), pvals), pvals, damping)
+    theirs = energy.equations(q, qd, qdd, energy.forcing(np.array([t]), pvals), pvals,
+                              damping)
+    for a, b in zip(mine, theirs):
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12)
+
+
+def test_simulation_equals_that_of_the_energy_model():
+    """The nonlinear time integration of both models: the same steady amplitudes (1e-6)."""
+    options = dict(duration=60.0, nonlinear=True, start="rest")
+    mine = simulate(loads(MATRICES).linearize(), **options)
+    theirs = simulate(loads(ENERGY).linearize(), **options)
+    for name in ("q1", "q2"):
+        assert mine.steady_amplitudes[name] == pytest.approx(theirs.steady_amplitudes[name],
+                                                             rel=1e-6)
+
+
+def test_backbones_equal_those_of_the_energy_model():
+    """The free-vibration backbone curves of both models (1e-8)."""
+    mine = backbone(loads(MATRICES), 0.5, harmonics=3, points=8)
+    theirs = backbone(loads(ENERGY), 0.5, harmonics=3, points=8)
+    assert len(mine.curves) == len(theirs.curves) == 2
+    for a, b in zip(mine.curves, theirs.curves):
+        np.testing.assert_allclose(a.frequencies, b.frequencies, rtol=1e-8)
+
+
+def test_full_balance_equals_the_condensed_one():
+    """Harmonic balance of the matrix model's full equations against the balance
+    condensed onto the element's coordinates: the same folds (1e-8 relative)."""
+    model = loads(MATRICES)
+    full = full_sweep(model.linearize(), "w", 0.4, 2.2, harmonics=5, points=60, linear=False)
+    condensed = condensed_sweep(model.linearize(), "w", 0.4, 2.2, harmonics=5, points=60,
+                                observe=["q1"], linear=False)
+    folds = [sorted(s.value for s in r.special_points if s.kind == "fold")
+             for r in (full, condensed)]
+    assert len(folds[0]) == len(folds[1]) >= 2
+    np.testing.assert_allclose(folds[0], folds[1], rtol=1e-8)
+
+
+def test_friction_element_is_refused_with_its_name():
+    text = MATRICES.replace('force = "2*(q2 - q1)^3"',
+                            'kind = "friction"\nstiffness = 10\nslip_force = 0.1')
+    with pytest.raises(AnalysisError, match="nonlinear 'hardening'.*history"):
+        nonlinear_system(loads(text))
+
+
+def test_a_large_model_is_sent_to_the_condensed_balance():
+    n = 401
+    text = (f"[matrices]\nM = {np.eye(n).tolist()}\nK = {(2 * np.eye(n)).tolist()}\n"
+            "[[nonlinear]]\ncoordinates = [\"q1\"]\nforce = \"q1^3\"\n")
+    with pytest.raises(AnalysisError, match="up to 400 coordinates.*condensed"):
+        nonlinear_system(loads(text))
+
+
+def test_a_matrix_model_without_elements_has_no_nonlinear_equations():
+    text = MATRICES.split("[[nonlinear]]")[0]
+    with pytest.raises(AnalysisError, match="without \\[\\[nonlinear\\]\\] elements"):
+        nonlinear_system(loads(text))
