@@ -128,3 +128,21 @@ def test_a_matrix_model_without_elements_has_no_nonlinear_equations():
     text = MATRICES.split("[[nonlinear]]")[0]
     with pytest.raises(AnalysisError, match="without \\[\\[nonlinear\\]\\] elements"):
         nonlinear_system(loads(text))
+
+
+def test_study_nonlinear_amplitude_equals_that_of_the_energy_model():
+    """``nonlinear_amplitude:`` in a study (the slow sweep at each sample's values) of both
+    models: the same numbers (1e-9)."""
+    from resonant.studies import StudyJob, collect, engine_for, request
+
+    tables = []
+    for text in (MATRICES, ENERGY):
+        text = text.replace("w = 0.5", "w = 0.5\nk3 = 2").replace("2*(q2 - q1)",
+                                                                   "k3*(q2 - q1)")
+        model = loads(text)
+        spec = request(model, {"k3": [1.0, 2.0]}, ["nonlinear_amplitude:q1"], design="grid",
+                       band={"parameter": "w", "from": 0.4, "to": 2.2})
+        tables.append(collect(StudyJob.of(model, spec, text=text), engine_for(0)).table)
+    assert list(tables[0]["status"]) == ["ok", "ok"]
+    np.testing.assert_allclose(tables[0]["nonlinear_amplitude:q1"],
+                               tables[1]["nonlinear_amplitude:q1"], rtol=1e-9)

@@ -48,7 +48,7 @@ import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
-from .base import LinearSystem, NumericEOM
+from .base import LinearSystem, NumericEOM, numeric_point
 from .matrix_outputs import MAX_RATE, OutputSeries
 from .nonlinear import NonlinearSystem
 from .nonlinear_elements import ElementForces
@@ -111,8 +111,10 @@ class ElementSystem(NonlinearSystem):
         """The matrices and the load at the parameter values (dense; cached)."""
         key = tuple(float(v) for v in pvals)
         num = self._cache.pop(key, None)
-        if num is None:
-            num = self.linear.numeric(deadline, **dict(zip(self.parameters, key))).dense()
+        if num is None:  # the values as they are (no parsing): every parameter is given
+            values = dict(zip(self.parameters, key))
+            num = numeric_point(self.linear.evaluate(values, 1, deadline), 0, self.linear,
+                                values).dense()
         self._cache[key] = num  # the most recent last; a sweep keeps the last few only
         while len(self._cache) > CACHED_POINTS:
             del self._cache[next(iter(self._cache))]
