@@ -88,10 +88,9 @@ def _band(text: str | None) -> dict[str, Any] | None:
 
 def run_study(args: argparse.Namespace) -> int:
     model = cli.load_model(args)
-    options = {"design": args.design, "samples": args.samples, "seed": args.seed,
-               "band": _band(args.band), "harmonics": args.harmonics}
-    spec = request(model, _pairs(args.vary, "--vary"), args.quantity,
-                   **{k: v for k, v in options.items() if v is not None})
+    spec = request(model, _pairs(args.vary, "--vary"), args.quantity, design=args.design,
+                   samples=args.samples, seed=args.seed, band=_band(args.band),
+                   harmonics=args.harmonics)
     job = StudyJob.of(model, spec, overrides=cli.parse_settings(getattr(args, "set", None)))
     engine = engine_for(args.workers, args.scheduler)
     try:

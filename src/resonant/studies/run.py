@@ -38,7 +38,7 @@ from ..errors import ModelError
 from ..model import Model, loads
 from ..model.files import open_regular_file, read_bounded
 from ..model.limits import MAX_FILE_BYTES
-from ..model.study import STUDY_KEYS, StudySpec, study_spec
+from ..model.study import StudySpec, study_spec
 from ..system import LinearSystem, NonlinearSystem, linear_system, nonlinear_system
 from .designs import chunk_size, chunk_values, chunks
 from .engine import Engine, engine_for, ordered_map
@@ -149,7 +149,9 @@ class StudyJob:
 
 
 def request(model: Model, vary: Mapping[str, Any] | None = None,
-            quantities: Any = None, **options: Any) -> StudySpec:
+            quantities: Sequence[str] | None = None, *, design: str | None = None,
+            samples: int | None = None, seed: int | None = None,
+            band: Mapping[str, Any] | None = None, harmonics: int | None = None) -> StudySpec:
     """A study of ``model``: the arguments given, the rest from its ``[study]`` section.
 
     Parameters
@@ -158,8 +160,9 @@ def request(model: Model, vary: Mapping[str, Any] | None = None,
     vary : mapping, optional
         parameter -> specification (see :mod:`resonant.model.study`).
     quantities : sequence of str, optional
-    **options
-        ``design``, ``samples``, ``seed``, ``band`` (a mapping), ``harmonics``.
+    design, samples, seed, band, harmonics : optional
+        The study's options (docs/studies.md; ``band`` a mapping with ``parameter``,
+        ``from``, ``to``); None: the ``[study]`` section's, or the default.
 
     Returns
     -------
@@ -177,13 +180,10 @@ def request(model: Model, vary: Mapping[str, Any] | None = None,
     >>> request(model, samples=10).design, request(model, samples=10).samples
     ('random', 10)
     """
-    unknown = sorted(set(options) - set(STUDY_KEYS))
-    if unknown:
-        raise ModelError(f"unknown study option '{unknown[0]}'; the options are "
-                         + ", ".join(STUDY_KEYS[2:]))
     base = model.study_section.to_request() if model.study_section is not None else {}
-    given = {k: v for k, v in {"vary": vary, "quantities": quantities, **options}.items()
-             if v is not None}
+    given = {k: v for k, v in {"vary": vary, "quantities": quantities, "design": design,
+                               "samples": samples, "seed": seed, "band": band,
+                               "harmonics": harmonics}.items() if v is not None}
     merged = {**base, **given}
     if "vary" not in merged or "quantities" not in merged:
         raise ModelError("a study needs the parameters to vary and the quantities (or a "
@@ -562,9 +562,7 @@ def study_of(model: Model, vary: Mapping[str, Any] | None = None,
     >>> round(float(result.summary().loc["natural_frequency:1", "mean"]), 2)
     4.56
     """
-    options = {"design": design, "samples": samples, "seed": seed, "band": band,
-               "harmonics": harmonics}
-    spec = request(model, vary, quantities,
-                   **{k: v for k, v in options.items() if v is not None})
+    spec = request(model, vary, quantities, design=design, samples=samples, seed=seed,
+                   band=band, harmonics=harmonics)
     return collect(StudyJob.of(model, spec), engine_for(workers, scheduler, client), output,
                    resume=resume, progress=progress)
