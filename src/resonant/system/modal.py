@@ -97,7 +97,7 @@ def singular_mass(M: np.ndarray) -> np.ndarray:
     return ~(s[:, -1] > 1e-13 * s[:, 0]) | ~np.isfinite(s).all(axis=1)
 
 
-def _require_finite(what: str, *arrays: np.ndarray) -> None:
+def require_finite(what: str, *arrays: np.ndarray) -> None:
     """AnalysisError (exit 3) instead of a LinAlgError or NaN results further on."""
     if not all(np.all(np.isfinite(a)) for a in arrays):
         raise AnalysisError(
@@ -122,19 +122,49 @@ def undamped_eigen(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray
     """
     import scipy.linalg  # not at import: a study of a small model needs no scipy
 
-    _require_finite("M or K", M, K)
+    require_finite("M or K", M, K)
     if _symmetric(M) and _symmetric(K):
         try:
             lam, vec = scipy.linalg.eigh(K, M)
-            _require_finite("an eigenvalue K x = lambda M x", lam)
+            require_finite("an eigenvalue K x = lambda M x", lam)
             return lam, vec
         except np.linalg.LinAlgError:
             pass  # M not positive definite: fall back to the general problem
     with np.errstate(all="ignore"):
         lam, vec = scipy.linalg.eig(K, M)
-    _require_finite("an eigenvalue K x = lambda M x", lam)
+    require_finite("an eigenvalue K x = lambda M x", lam)
     order = np.argsort(lam.real)
     return lam[order].real, vec[:, order].real
+
+
+def undamped_eigenvalues(M: Any, K: Any) -> np.ndarray:
+    """omega^2 of K x = omega^2 M x, ascending, without eigenvectors.
+
+    A diagonal M and a banded symmetric K use LAPACK's banded symmetric
+    eigensolver on M^-1/2 K M^-1/2 (cost n b^2); anything else the dense one.
+    """
+    import scipy.linalg
+
+    Md, Kd = (a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
+              for a in (M, K))
+    diag = np.diag(Md)
+    lower = 0
+    rows, cols = np.nonzero(Kd)
+    if rows.size:
+        lower = int(np.abs(rows - cols).max())
+    symmetric = np.allclose(Kd, Kd.T, rtol=1e-12, atol=1e-12 * np.abs(Kd).max(initial=0))
+    if symmetric and np.all(diag > 0) and np.count_nonzero(Md - np.diag(diag)) == 0 and \
+            lower + 1 <= max(8, Kd.shape[0] // 20):
+        scale = 1 / np.sqrt(diag)
+        S = Kd * scale[:, None] * scale[None, :]
+        band = np.zeros((lower + 1, S.shape[0]))
+        for d in range(lower + 1):  # lower band storage: band[d, j] = S[j + d, j]
+            band[d, :S.shape[0] - d] = np.diagonal(S, -d)
+        return scipy.linalg.eig_banded(band, lower=True, eigvals_only=True)
+    try:
+        return scipy.linalg.eigh(Kd, Md, eigvals_only=True)
+    except (np.linalg.LinAlgError, ValueError):
+        return np.sort(scipy.linalg.eigvals(Kd, Md).real)
 
 
 def cholesky_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
@@ -582,5 +612,6 @@ __all__ = ["ZERO_EIGENVALUE", "STABILITY_TOLERANCE", "undamped_eigen", "undamped
            "cholesky_lambdas", "general_lambdas", "pencil_roots_2x2", "clean_zeros",
            "frequencies_from_eigenvalues", "natural_frequency", "state_eigenvalues", "order",
            "unstable", "marginal", "damping_ratios", "damping_ratio", "unstable_by_inertia",
-           "singular_mass", "symmetric_stack", "largest_abs", "largest_entry",
+           "singular_mass", "symmetric_stack", "undamped_eigenvalues", "require_finite",
+           "largest_abs", "largest_entry",
            "accurate_product", "eigenvalue_bounds", "frequency_bounds", "lowest_modes"]
