@@ -13,9 +13,14 @@ zeta_j = c_j / (2 omega_j) and s = (-c_j +- sqrt(c_j^2 - 4 omega_j^2)) / 2;
 these are reported per mode, together with a and b when C = a M + b K.
 
 Large sparse matrix models: with ``count`` the lowest modes come from
-shift-invert Lanczos (``scipy.sparse.linalg.eigsh`` with a small negative
-shift, so rigid-body modes are found too) and nothing dense of size n x n is
-formed.
+shift-invert Lanczos, refined with compensated residuals
+(:func:`~resonant.system.modal.lowest_modes`: the shift at 0, or just below it when
+rigid-body modes make K singular), and nothing dense of size n x n is formed.  Every
+natural frequency comes with a bound on its error from its residual
+(``frequency_errors``), and a warning where the conditioning of M and K limits it.
+
+The numbers come from the modal kernel :mod:`resonant.system.modal`, which the
+stability checks and the study quantities share: ``modes`` is that kernel at one point.
 
 Examples
 --------

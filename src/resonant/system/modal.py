@@ -11,7 +11,9 @@ stability tolerance:
 - the complex eigenvalues s of the state matrix are ordered by |s| (compared to 12
   significant digits of the largest |s|), then by Im s;
 - a point is unstable when some Re s exceeds :data:`STABILITY_TOLERANCE` times
-  max(1, max |s|).
+  max(1, max |s|), except an s with |s| below :data:`ZERO_STATE` times that: the round-off
+  of a multiple zero eigenvalue (a rigid-body mode makes a Jordan block at 0, computed
+  only to about sqrt(eps) of the matrix's size), which counts as 0.
 
 Large sparse models have their lowest modes from :func:`lowest_modes` (shift-invert
 Lanczos, refined with residuals computed in twice the working precision) and every mode
@@ -39,6 +41,8 @@ from ..errors import AnalysisError, ResonantError
 ZERO_EIGENVALUE = 1e-12
 #: Re s > STABILITY_TOLERANCE * max(1, max |s|) is an unstable eigenvalue
 STABILITY_TOLERANCE = 1e-9
+#: |s| <= ZERO_STATE * max(1, max |s|) is a zero state eigenvalue (about sqrt(eps))
+ZERO_STATE = 1.5e-8
 #: Im s >= -UPPER_TOLERANCE * max(1, |s|) counts as an eigenvalue of the upper half plane
 UPPER_TOLERANCE = 1e-12
 #: a relative error bound above this is reported as limited by the conditioning
@@ -299,10 +303,19 @@ def order(eigenvalues: np.ndarray) -> np.ndarray:
 
 
 def unstable(eigenvalues: np.ndarray) -> np.ndarray:
-    """Whether each point (last axis) has an eigenvalue with Re s above the tolerance."""
+    """Whether each point (last axis) has an eigenvalue with Re s above the tolerance (and
+    |s| above the zero threshold :data:`ZERO_STATE`).
+
+    Examples
+    --------
+    >>> unstable(np.array([[-1.0 + 0j, 1e-8 + 0j], [-1.0 + 0j, 1e-3 + 0j]])).tolist()
+    [False, True]
+    """
     s = np.asarray(eigenvalues)
-    scale = np.maximum(1.0, np.abs(s).max(axis=-1, initial=0.0))
-    return np.asarray((s.real > STABILITY_TOLERANCE * scale[..., None]).any(axis=-1))
+    size = np.abs(s)
+    scale = np.maximum(1.0, size.max(axis=-1, initial=0.0))[..., None]
+    growing = (s.real > STABILITY_TOLERANCE * scale) & (size > ZERO_STATE * scale)
+    return np.asarray(growing.any(axis=-1))
 
 
 def marginal(eigenvalues: np.ndarray) -> np.ndarray:
@@ -312,9 +325,25 @@ def marginal(eigenvalues: np.ndarray) -> np.ndarray:
     return np.asarray(~(s.real < -STABILITY_TOLERANCE * scale[..., None]).all(axis=-1))
 
 
+def clean_state_zeros(eigenvalues: np.ndarray) -> np.ndarray:
+    """The state eigenvalues of each point (last axis) with those below the zero threshold
+    :data:`ZERO_STATE` set to 0 (a rigid-body mode's round-off).
+
+    Examples
+    --------
+    >>> clean_state_zeros(np.array([1e-9 - 2e-9j, -1 + 3j])).tolist()
+    [0j, (-1+3j)]
+    """
+    s = np.asarray(eigenvalues)
+    with np.errstate(invalid="ignore"):
+        scale = np.maximum(np.nanmax(np.abs(s), axis=-1, initial=0.0), 1.0)[..., None]
+        return np.where(np.abs(s) <= ZERO_STATE * scale, 0.0, s)
+
+
 def upper_half(eigenvalues: np.ndarray) -> np.ndarray:
-    """The ordered eigenvalues of one point with Im s >= 0 (one of each conjugate pair)."""
-    s = order(eigenvalues)
+    """The ordered eigenvalues of one point with Im s >= 0 (one of each conjugate pair),
+    round-off zeros set to 0."""
+    s = order(clean_state_zeros(eigenvalues))
     return s[s.imag >= -UPPER_TOLERANCE * np.maximum(1.0, np.abs(s))]
 
 
@@ -342,7 +371,7 @@ def damping_ratio(eigenvalues: np.ndarray, index: int) -> np.ndarray:
     count = eigenvalues.shape[0]
     if index > eigenvalues.shape[1]:
         return np.full(count, np.nan)
-    s = order(eigenvalues)
+    s = order(clean_state_zeros(eigenvalues))
     upper = s.imag >= -UPPER_TOLERANCE * np.maximum(1.0, np.abs(s))
     position = np.argsort(~upper, axis=1, kind="stable")[:, index - 1]
     chosen = s[np.arange(count), position]
@@ -608,10 +637,11 @@ def lowest_modes(M: Any, K: Any, count: int) -> tuple[np.ndarray, np.ndarray, np
     return lam[:count], phi[:, :count], bounds[:count]
 
 
-__all__ = ["ZERO_EIGENVALUE", "STABILITY_TOLERANCE", "undamped_eigen", "undamped_lambdas",
-           "cholesky_lambdas", "general_lambdas", "pencil_roots_2x2", "clean_zeros",
-           "frequencies_from_eigenvalues", "natural_frequency", "state_eigenvalues", "order",
-           "unstable", "marginal", "damping_ratios", "damping_ratio", "unstable_by_inertia",
-           "singular_mass", "symmetric_stack", "undamped_eigenvalues", "require_finite",
-           "largest_abs", "largest_entry",
-           "accurate_product", "eigenvalue_bounds", "frequency_bounds", "lowest_modes"]
+__all__ = ["ZERO_EIGENVALUE", "ZERO_STATE", "STABILITY_TOLERANCE", "undamped_eigen",
+           "undamped_lambdas", "cholesky_lambdas", "general_lambdas", "pencil_roots_2x2",
+           "clean_zeros", "frequencies_from_eigenvalues", "natural_frequency",
+           "state_eigenvalues", "order", "unstable", "marginal", "clean_state_zeros",
+           "damping_ratios", "damping_ratio", "unstable_by_inertia", "singular_mass",
+           "symmetric_stack", "undamped_eigenvalues", "require_finite", "largest_abs",
+           "largest_entry", "accurate_product", "eigenvalue_bounds", "frequency_bounds",
+           "lowest_modes"]
