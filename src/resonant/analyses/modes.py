@@ -50,6 +50,7 @@ from ..errors import AnalysisError
 from ..system import LinearSystem
 from ..system.modal import (
     LIMITED_ACCURACY,
+    accurate_product,
     clean_zeros,
     damping_ratios,
     eigenvalue_bounds,
@@ -338,7 +339,8 @@ def _is_proportional(M: Any, C: Any, K: Any, mass_phi: np.ndarray, damped: bool,
         return bool(_commutes(M, C, K))
     if not (symmetric and lanczos):
         return False
-    modal_c = mass_phi.T @ (C @ mass_phi)
+    # compensated: C phi cancels for the smooth modes of a stiff structure (C = a M + b K)
+    modal_c = mass_phi.T @ accurate_product(C, mass_phi)
     off = modal_c - np.diag(np.diag(modal_c))
     return bool(np.abs(off).max(initial=0) <= PROPORTIONAL_TOLERANCE *
                 np.abs(np.diag(modal_c)).max(initial=1e-300))
@@ -351,7 +353,8 @@ def _damped_modes(M: Any, C: Any, K: Any, lam: np.ndarray, mass_phi: np.ndarray,
     from the undamped modes where the damping is modal, else from the state-space
     eigenproblem (dense, or by sparse shift-invert for a large model)."""
     if modal:
-        c_modal = np.einsum("ij,ij->j", mass_phi, C @ mass_phi) if damped else np.zeros(len(lam))
+        c_phi = (accurate_product(C, mass_phi) if lanczos else C @ mass_phi) if damped else None
+        c_modal = np.einsum("ij,ij->j", mass_phi, c_phi) if damped else np.zeros(len(lam))
         ok = lam > 0
         zeta = np.where(ok, c_modal / (2 * np.sqrt(np.where(ok, lam, 1.0))), 0.0)
         damped_freq = np.sqrt(np.maximum(lam - c_modal**2 / 4, 0.0))[lam >= 0]
