@@ -126,6 +126,17 @@ class ResonantError(Exception):
 
     Its subclasses carry the command line's exit status as ``exit_code``.
 
+    Attributes
+    ----------
+    exit_code : int
+        The exit status of the command line for this error (1 here: an error without a
+        more specific kind).
+
+    See Also
+    --------
+    ModelError : the model is invalid (exit status 2).
+    AnalysisError : the analysis is impossible (exit status 3).
+
     Examples
     --------
     >>> issubclass(ModelError, ResonantError), ResonantError.exit_code
@@ -144,6 +155,17 @@ class ModelError(ResonantError, ValueError):
     ----------
     problems : list of Problem, Problem or str
         The problems (a plain message becomes a problem without a location).
+
+    Attributes
+    ----------
+    problems : tuple of Problem
+        Every problem found, in the order found; ``str(error)`` lists them one a line.
+    exit_code : int
+        2.
+
+    See Also
+    --------
+    Problem : one problem with its file, section and key.
 
     Examples
     --------
@@ -166,6 +188,18 @@ class AnalysisError(ResonantError, ValueError):
 
     For example an undamped system excited exactly at a natural frequency, or a
     singular mass matrix.
+
+    The message (the exception's one argument) says what makes the analysis impossible
+    and, where possible, what to change.
+
+    Attributes
+    ----------
+    exit_code : int
+        3.
+
+    See Also
+    --------
+    ModelError : the model itself is invalid.
 
     Examples
     --------

@@ -63,6 +63,7 @@ import numpy as np
 from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
 from ..system import Batch, BatchHarmonic
+from ..system.modal import largest_abs
 from ..system.stability import check_mass_matrix
 from .reduced import (
     DEFAULT_TOL,
@@ -824,26 +825,6 @@ def closed_form_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndar
     return x, hard
 
 
-#: up to this many columns, :func:`largest_abs` loops over them (wider: one reduction)
-NARROW = 8
-
-
-def largest_abs(a: np.ndarray) -> np.ndarray:
-    """``np.abs(a).max(axis=-1)`` (NaN where an entry is NaN); for a stack of short rows
-    (N, m <= :data:`NARROW`) by a loop over the columns, several times faster than a
-    reduction over the short axis.
-
-    Examples
-    --------
-    >>> largest_abs(np.array([[1.0, -3.0], [2.0, 0.5j]])).tolist()
-    [3.0, 2.0]
-    """
-    if a.ndim != 2 or not 0 < a.shape[1] <= NARROW:
-        return np.abs(a).max(axis=-1)
-    out = np.abs(a[:, 0])
-    for j in range(1, a.shape[1]):
-        np.maximum(out, np.abs(a[:, j]), out=out)
-    return out
 
 
 def _band_storage(a: Any, lower: int, upper: int, rows: int, offset: int) -> np.ndarray:

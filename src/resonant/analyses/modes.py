@@ -13,9 +13,14 @@ zeta_j = c_j / (2 omega_j) and s = (-c_j +- sqrt(c_j^2 - 4 omega_j^2)) / 2;
 these are reported per mode, together with a and b when C = a M + b K.
 
 Large sparse matrix models: with ``count`` the lowest modes come from
-shift-invert Lanczos (``scipy.sparse.linalg.eigsh`` with a small negative
-shift, so rigid-body modes are found too) and nothing dense of size n x n is
-formed.
+shift-invert Lanczos, refined with compensated residuals
+(:func:`~resonant.system.modal.lowest_modes`: the shift at 0, or just below it when
+rigid-body modes make K singular), and nothing dense of size n x n is formed.  Every
+natural frequency comes with a bound on its error from its residual
+(``frequency_errors``), and a warning where the conditioning of M and K limits it.
+
+The numbers come from the modal kernel :mod:`resonant.system.modal`, which the
+stability checks and the study quantities share: ``modes`` is that kernel at one point.
 
 Examples
 --------
@@ -36,7 +41,7 @@ import html
 import math
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -44,6 +49,17 @@ import numpy as np
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..system import LinearSystem
+from ..system.modal import (
+    LIMITED_ACCURACY,
+    accurate_product,
+    clean_zeros,
+    damping_ratios,
+    eigenvalue_bounds,
+    frequency_bounds,
+    lowest_modes,
+    order,
+    undamped_eigen,
+)
 from ..system.stability import (
     ASYMPTOTIC,
     MARGINAL,
@@ -54,7 +70,6 @@ from ..system.stability import (
     mass_warning,
     rayleigh,
     state_eigenvalues,
-    undamped_eigen,
 )
 from .stationary import freeze_fields
 
@@ -97,6 +112,11 @@ class ModalAnalysis:
     stability : str
     method : str
         ``"dense"`` or ``"shift-invert Lanczos"``.
+    frequency_errors : ndarray
+        A bound on the error of each natural frequency in rad/s, from the residual of its
+        mode (:func:`~resonant.system.modal.eigenvalue_bounds`); NaN where the pencil is
+        not symmetric definite.  A warning says when it exceeds 1e-8 of the frequency
+        (the conditioning of M and K limits the accuracy).
     damped : bool
         Whether C is nonzero.
     warnings : tuple of str
@@ -127,6 +147,7 @@ class ModalAnalysis:
     method: str = "dense"
     warnings: tuple[str, ...] = ()
     title: str = ""
+    frequency_errors: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -154,6 +175,8 @@ class ModalAnalysis:
             "stability": self.stability,
             "method": self.method,
             "warnings": list(self.warnings),
+            "frequency_errors": [float(e) if math.isfinite(e) else None
+                                 for e in self.frequency_errors],
         }
 
     def limited(self, count: int | None) -> ModalAnalysis:
@@ -170,6 +193,7 @@ class ModalAnalysis:
                        natural_frequencies=self.natural_frequencies[:keep],
                        mode_shapes=self.mode_shapes[:, :keep],
                        mass_normalised_modes=self.mass_normalised_modes[:, :keep],
+                       frequency_errors=self.frequency_errors[:keep],
                        eigenvalues=eig,
                        damping_ratios=self.damping_ratios[:keep if per_mode else count],
                        damped_frequencies=self.damped_frequencies[:keep if per_mode else count])
@@ -291,20 +315,6 @@ def _modal_eigenvalues(lam: np.ndarray, c: np.ndarray) -> np.ndarray:
     return np.concatenate([(-c + root) / 2, (-c - root) / 2])
 
 
-def _order(eigenvalues: np.ndarray) -> np.ndarray:
-    return eigenvalues[np.lexsort((eigenvalues.imag, np.round(np.abs(eigenvalues), 12)))]
-
-
-def _ratios(eigenvalues: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Damping ratio -Re s/|s| and damped frequency Im s for each s with Im s >= 0."""
-    upper = eigenvalues[eigenvalues.imag >= -1e-12 * np.maximum(1.0, np.abs(eigenvalues))]
-    upper = upper[np.argsort(np.abs(upper), kind="stable")]
-    size = np.abs(upper)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        zeta = np.where(size > 0, -upper.real / np.where(size > 0, size, 1), 0.0)
-    return zeta, np.abs(upper.imag)
-
-
 # -- the analysis -------------------------------------------------------------------------
 
 def modes(system: LinearSystem, count: int | None = None,
@@ -353,15 +363,16 @@ def modes(system: LinearSystem, count: int | None = None,
             warnings.append(f"{n} coordinates: only the lowest {count} modes are computed "
                             "(use --count)")
         count = min(count, n - 1)
-        lam, phi = _lanczos(M, K, count)
+        lam, phi, bounds = _lanczos(M, K, count)
         method = "shift-invert Lanczos"
     else:
         M, C, K = _dense(M), _dense(C), _dense(K)
         check_mass_matrix(M, coordinates)
         lam, phi = undamped_eigen(M, K)
+        bounds = _dense_bounds(M, K, lam, phi)
         method = "dense"
-    scale = max(float(np.abs(lam).max(initial=0.0)), 1e-300)
-    lam = np.where(np.abs(lam) < 1e-12 * scale, 0.0, lam)
+    lam = clean_zeros(lam)
+    errors = _frequency_errors(lam, bounds, warnings)
     mass_phi, unit_phi = _normalise(phi, M)
     fit = rayleigh(M, C, K) if damped and symmetric else (0.0, 0.0) if not damped else None
     proportional = _is_proportional(M, C, K, mass_phi, damped, symmetric, lanczos, fit)
@@ -371,16 +382,16 @@ def modes(system: LinearSystem, count: int | None = None,
                         "as computed by a general eigensolver; see the complex eigenvalues")
     eigenvalues, damping_ratios, damped_freq, extra = _damped_modes(
         M, C, K, lam, mass_phi, damped, proportional and symmetric, lanczos)
-    stability = _modal_stability(_order(eigenvalues), lam, M, damped, lanczos, warnings)
+    stability = _modal_stability(order(eigenvalues), lam, M, damped, lanczos, warnings)
     keep = lam >= 0
     return ModalAnalysis(
         coordinates=coordinates, omega_squared=lam, natural_frequencies=np.sqrt(lam[keep]),
         mode_shapes=unit_phi[:, keep], mass_normalised_modes=mass_phi[:, keep],
-        eigenvalues=_order(eigenvalues),
+        eigenvalues=order(eigenvalues),
         damping_ratios=np.asarray(damping_ratios), damped_frequencies=np.asarray(damped_freq),
         proportional_damping=bool(proportional), rayleigh=fit, damped=damped,
         stability=stability, method=method + extra, warnings=tuple(warnings),
-        title=eom.title).limited(count if not lanczos else None)
+        title=eom.title, frequency_errors=errors).limited(count if not lanczos else None)
 
 
 def _is_proportional(M: Any, C: Any, K: Any, mass_phi: np.ndarray, damped: bool,
@@ -393,7 +404,8 @@ def _is_proportional(M: Any, C: Any, K: Any, mass_phi: np.ndarray, damped: bool,
         return bool(_commutes(M, C, K))
     if not (symmetric and lanczos):
         return False
-    modal_c = mass_phi.T @ (C @ mass_phi)
+    # compensated: C phi cancels for the smooth modes of a stiff structure (C = a M + b K)
+    modal_c = mass_phi.T @ accurate_product(C, mass_phi)
     off = modal_c - np.diag(np.diag(modal_c))
     return bool(np.abs(off).max(initial=0) <= PROPORTIONAL_TOLERANCE *
                 np.abs(np.diag(modal_c)).max(initial=1e-300))
@@ -406,16 +418,17 @@ def _damped_modes(M: Any, C: Any, K: Any, lam: np.ndarray, mass_phi: np.ndarray,
     from the undamped modes where the damping is modal, else from the state-space
     eigenproblem (dense, or by sparse shift-invert for a large model)."""
     if modal:
-        c_modal = np.einsum("ij,ij->j", mass_phi, C @ mass_phi) if damped else np.zeros(len(lam))
+        c_phi = (accurate_product(C, mass_phi) if lanczos else C @ mass_phi) if damped else None
+        c_modal = np.einsum("ij,ij->j", mass_phi, c_phi) if damped else np.zeros(len(lam))
         ok = lam > 0
         zeta = np.where(ok, c_modal / (2 * np.sqrt(np.where(ok, lam, 1.0))), 0.0)
         damped_freq = np.sqrt(np.maximum(lam - c_modal**2 / 4, 0.0))[lam >= 0]
         return _modal_eigenvalues(lam, c_modal), zeta[lam >= 0], damped_freq, ""
     if not lanczos:
         eigenvalues = state_eigenvalues(M, C, K)
-        return (eigenvalues, *_ratios(eigenvalues), "")
+        return (eigenvalues, *damping_ratios(eigenvalues), "")
     eigenvalues = complex_modes(M, C, K, len(lam))
-    return (eigenvalues, *_ratios(eigenvalues), " + shift-invert Arnoldi (complex modes)")
+    return (eigenvalues, *damping_ratios(eigenvalues), " + shift-invert Arnoldi (complex modes)")
 
 
 def _modal_stability(eigenvalues: np.ndarray, lam: np.ndarray, M: Any, damped: bool,
@@ -437,27 +450,47 @@ def _modal_stability(eigenvalues: np.ndarray, lam: np.ndarray, M: Any, damped: b
     return stability
 
 
-def _lanczos(M: Any, K: Any, count: int) -> tuple[np.ndarray, np.ndarray]:
-    """The ``count`` lowest eigenpairs of K phi = lambda M phi (sparse, symmetric)."""
-    import scipy.sparse as sp
-    from scipy.sparse.linalg import eigsh
-
+def _lanczos(M: Any, K: Any, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The ``count`` lowest eigenpairs of K phi = lambda M phi (sparse, symmetric) and the
+    error bounds of their eigenvalues."""
     if not (_symmetric(M) and _symmetric(K)):
         raise AnalysisError("the sparse eigensolver needs symmetric M and K; this model has "
                             "gyroscopic or circulatory terms")
-    M, K = sp.csc_matrix(M), sp.csc_matrix(K)
-    diag_m = np.abs(M.diagonal())
-    if np.any(diag_m == 0):
+    if np.any(M.diagonal() == 0):
         raise AnalysisError("the mass matrix M has a zero diagonal entry (a coordinate without "
                             "inertia): M is singular")
-    # a small negative shift: K itself may be singular (rigid-body modes)
-    shift = -1e-6 * float(np.mean(np.abs(K.diagonal())) / np.mean(diag_m) or 1.0)
+    return lowest_modes(M, K, count)
+
+
+def _dense_bounds(M: np.ndarray, K: np.ndarray, lam: np.ndarray, phi: np.ndarray
+                  ) -> np.ndarray:
+    """The error bounds of the eigenvalues of the dense route (NaN where the pencil is
+    not symmetric positive definite)."""
+    if not (_symmetric(M) and _symmetric(K)) or mass_warning(M) is not None:
+        return np.full(len(lam), np.nan)
     try:
-        lam, phi = eigsh(K, k=count, M=M, sigma=shift, which="LM")
-    except (RuntimeError, ValueError) as exc:
-        raise AnalysisError(f"the sparse eigensolver failed: {exc}") from None
-    order = np.argsort(lam)
-    return lam[order], phi[:, order]
+        return eigenvalue_bounds(M, K, lam, phi, accurate=False)
+    except (np.linalg.LinAlgError, ValueError):
+        return np.full(len(lam), np.nan)
+
+
+def _frequency_errors(lam: np.ndarray, bounds: np.ndarray, warnings: list[str]) -> np.ndarray:
+    """Bounds on the errors of the natural frequencies (the modes with lambda >= 0), and a
+    warning where the conditioning limits them."""
+    keep = lam >= 0
+    errors = frequency_bounds(lam[keep], bounds[keep])
+    omega = np.sqrt(lam[keep])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        relative = errors / np.where(omega > 0, omega, np.inf)
+    limited = np.nonzero(relative > LIMITED_ACCURACY)[0]
+    if limited.size:
+        j = int(limited[np.argmax(relative[limited])])
+        warnings.append(
+            f"the conditioning of M and K limits the accuracy of {limited.size} natural "
+            f"frequenc{'y' if limited.size == 1 else 'ies'}: mode {j + 1} "
+            f"({omega[j]:.10g} rad/s) is accurate to {errors[j]:.2g} rad/s (relative "
+            f"{relative[j]:.1g}), a bound from its residual")
+    return errors
 
 
 def complex_modes(M: Any, C: Any, K: Any, count: int) -> np.ndarray:

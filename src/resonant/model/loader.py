@@ -36,8 +36,6 @@ from typing import Any
 
 import sympy
 
-import resonant.model.limits as limits
-
 from ..errors import ModelError, Problem
 from ..expressions import (
     BinOp,
@@ -49,6 +47,7 @@ from ..expressions import (
     parse,
     validate_name,
 )
+from . import limits
 from .dimensions import check_units
 from .exercise import Exercise, parse_exercise
 from .explore import parse_explore

@@ -37,11 +37,9 @@ from typing import IO, Any
 
 import numpy as np
 
-import resonant.model.limits as limits
-
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
-from . import inline_matrices
+from . import inline_matrices, limits
 from .files import FileRefused, open_regular_file, read_bounded
 from .types import Harmonic, MatrixSpec
 

@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from ..analyses.kernel import largest_abs, solve_harmonic
+from ..analyses.kernel import solve_harmonic
 from ..analyses.modes import modes
 from ..analyses.sweep import amplitude_and_phase, amplitudes, harmonic_responses, kept_coordinates
 from ..errors import ResonantError
@@ -42,7 +42,17 @@ from ..model import Model
 from ..model.study import StudySpec
 from ..system import Batch, LinearSystem, NonlinearSystem, nonlinear_system
 from ..system.base import numeric_point
-from ..system.stability import undamped_eigen
+from ..system.modal import (
+    cholesky_lambdas,
+    damping_ratio,
+    general_lambdas,
+    natural_frequency,
+    singular_mass,
+    state_eigenvalues,
+    undamped_lambdas,
+    unstable,
+    unstable_by_inertia,
+)
 from .designs import REFINE_POINTS, REFINE_ROUNDS
 from .nonlinear import nonlinear_amplitudes
 from .reduced_band import ReducedBand, reduced_band
@@ -139,167 +149,6 @@ def _stack(a: Any) -> np.ndarray:
     return a[None] if a.ndim == 2 else a
 
 
-def _symmetric(a: np.ndarray) -> bool:
-    """``np.allclose(a, a.swapaxes(1, 2), rtol=1e-12, atol=0)`` on the entries that can
-    differ: each pair across the diagonal, both ways (a NaN on the diagonal fails)."""
-    n = a.shape[-1]
-    if np.isnan(np.diagonal(a, axis1=1, axis2=2)).any():
-        return False
-    i, j = np.triu_indices(n, 1)
-    upper, lower = a[:, i, j], a[:, j, i]
-    return bool(_close(upper, lower).all() and _close(lower, upper).all())
-
-
-def _close(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """``np.isclose(x, y, rtol=1e-12, atol=0)``, its formula without its overhead."""
-    with np.errstate(invalid="ignore"):
-        return ((np.abs(x - y) <= 1e-12 * np.abs(y)) & np.isfinite(y)) | (x == y)
-
-
-def singular_mass(M: np.ndarray) -> np.ndarray:
-    """Samples whose mass matrix is singular (the test of ``check_mass_matrix``)."""
-    if M.shape[-1] == 0:
-        return np.zeros(M.shape[0], dtype=bool)
-    with np.errstate(all="ignore"):
-        s = np.linalg.svd(M, compute_uv=False)
-    return ~(s[:, -1] > 1e-13 * s[:, 0]) | ~np.isfinite(s).all(axis=1)
-
-
-def _cholesky_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
-    """omega^2 by Cholesky of M (None when M is not symmetric positive definite)."""
-    if not (_symmetric(M) and _symmetric(K)):
-        return None
-    if M.shape[-1] == 2:
-        return _pencil_roots_2x2(M, K)
-    try:
-        L = np.linalg.cholesky(M)
-    except np.linalg.LinAlgError:
-        return None
-    Linv = np.linalg.inv(L)
-    A = Linv @ K @ Linv.swapaxes(1, 2)
-    return np.linalg.eigvalsh((A + A.swapaxes(1, 2)) / 2)
-
-
-def _pencil_roots_2x2(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
-    """omega^2 of a symmetric 2 x 2 pencil in closed form, ascending (None when some M is
-    not positive definite): the roots of det(K - lambda M) = 0, the smaller one as
-    det K / (det M * larger), which keeps it as accurate as a batched eigvalsh (and
-    ten times faster).  M and K are stacks (N, 2, 2) or (1, 2, 2) (the same for every
-    sample: what depends on it alone is computed once)."""
-    with np.errstate(all="ignore"):
-        # scaled to entries of order 1, so that squares neither overflow nor underflow
-        m_scale, k_scale = _largest_entry(M), _largest_entry(K)
-        k_scale = np.where((k_scale > 0) & np.isfinite(k_scale), k_scale, 1.0)
-        # entry by entry: dividing the stacks by broadcasting is several times slower
-        m11, m12, m22 = (M[:, i, j] / m_scale for i, j in ((0, 0), (0, 1), (1, 1)))
-        k11, k12, k22 = (K[:, i, j] / k_scale for i, j in ((0, 0), (0, 1), (1, 1)))
-        det_m = m11 * m22 - m12 * m12
-        if not ((m11 > 0) & (det_m > 1e-14 * m11 * m22)).all():
-            return None
-        b = k11 * m22 + k22 * m11 - 2.0 * k12 * m12
-        det_k = k11 * k22 - k12 * k12
-        q = 0.5 * (b + np.copysign(np.sqrt(np.maximum(b * b - 4.0 * det_m * det_k, 0.0)), b))
-        big = q / det_m
-        small = np.where(q != 0.0, det_k / np.where(q != 0.0, q, 1.0), 0.0)
-        ratio = k_scale / m_scale
-        roots = np.empty((len(big), 2))
-        np.multiply(ratio, np.minimum(big, small), out=roots[:, 0])
-        np.multiply(ratio, np.maximum(big, small), out=roots[:, 1])
-        return roots
-
-
-def _largest_entry(a: np.ndarray) -> np.ndarray:
-    """max |a_ij| of each matrix of a stack (N, n, n) (NaN where an entry is NaN)."""
-    return largest_abs(a.reshape(a.shape[0], -1))
-
-
-def undamped_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray:
-    """omega^2 of K x = omega^2 M x for every sample, ascending, shape (N, n)."""
-    lam = _cholesky_lambdas(M, K)
-    return lam if lam is not None else _general_lambdas(M, K)
-
-
-def _general_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray:
-    count = max(M.shape[0], K.shape[0])
-    M, K = (np.broadcast_to(a, (count, *a.shape[1:])) for a in (M, K))
-    out = np.full(M.shape[:2], np.nan)
-    for i in range(count):  # some M not positive definite: the general route, one by one
-        try:
-            out[i] = undamped_eigen(M[i], K[i])[0]
-        except (ResonantError, np.linalg.LinAlgError, ValueError):
-            pass
-    return out
-
-
-def unstable_by_inertia(C: np.ndarray, K: np.ndarray, lam: np.ndarray, *,
-                        symmetric_k: bool = False) -> np.ndarray | None:
-    """Instability without the state eigenvalues, where a theorem decides it: for
-    symmetric M > 0, C >= 0 and symmetric K the equilibrium is unstable exactly when K
-    has a negative eigenvalue (Kelvin-Tait-Chetaev; damping neither makes a potential
-    minimum unstable nor stabilizes a maximum).  The tolerance is that of ``classify``
-    on the undamped roots s = sqrt(-lambda) (``lam``, by Cholesky of M).  None where the
-    theorem does not apply.  ``symmetric_k``: K is known to be symmetric (``lam`` came
-    from :func:`_cholesky_lambdas`, which checked it)."""
-    if not (_symmetric(C) and (symmetric_k or _symmetric(K))):
-        return None
-    if C.any():
-        c = np.linalg.eigvalsh(C)
-        if (c[:, 0] < -1e-12 * np.maximum(np.abs(c).max(axis=1), 1e-300)).any():
-            return None
-    size = np.sqrt(largest_abs(lam) if lam.shape[1] else np.zeros(len(lam)))
-    with np.errstate(invalid="ignore"):
-        return np.sqrt(np.maximum(-lam[:, 0], 0.0)) > 1e-9 * np.maximum(1.0, size)
-
-
-def natural_frequency(lam: np.ndarray, index: int) -> np.ndarray:
-    """The ``index``-th (from 1) of the frequencies sqrt(lambda >= 0), as ``solve`` lists
-    them (round-off zeros count as 0); NaN where there is no such mode."""
-    scale = np.maximum(np.nanmax(np.abs(lam), axis=1, initial=0.0), 1e-300)[:, None]
-    lam = np.where(np.abs(lam) < 1e-12 * scale, 0.0, lam)
-    position = (lam < 0).sum(axis=1) + index - 1
-    inside = position < lam.shape[1]
-    picked = np.take_along_axis(lam, np.minimum(position, lam.shape[1] - 1)[:, None], 1)[:, 0]
-    return np.where(inside & np.isfinite(picked), np.sqrt(np.abs(picked)), np.nan)
-
-
-def state_eigenvalues(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> np.ndarray:
-    """Eigenvalues of the state matrix [[0, I], [-M^-1 K, -M^-1 C]] per sample, (N, 2n)."""
-    N, n = M.shape[:2]
-    with np.errstate(all="ignore"):
-        minv = np.linalg.solve(M, np.concatenate([K, C], axis=2))
-    A = np.zeros((N, 2 * n, 2 * n))
-    A[:, :n, n:] = np.eye(n)
-    A[:, n:, :] = -minv
-    finite = np.isfinite(A).all(axis=(1, 2))
-    A[~finite] = 0.0
-    eigenvalues = np.linalg.eigvals(A)
-    eigenvalues[~finite] = np.nan
-    return eigenvalues
-
-
-def unstable(eigenvalues: np.ndarray) -> np.ndarray:
-    """The test of :func:`resonant.system.stability.classify`, per sample."""
-    scale = np.maximum(1.0, np.abs(eigenvalues).max(axis=1, initial=0.0))
-    return (eigenvalues.real > 1e-9 * scale[:, None]).any(axis=1)
-
-
-def damping_ratio(eigenvalues: np.ndarray, index: int) -> np.ndarray:
-    """-Re s/|s| of the ``index``-th (from 1) eigenvalue with Im s >= 0 in order of |s|,
-    as :func:`resonant.analyses.modes.modes` reports them; NaN where there is none."""
-    size = np.abs(eigenvalues)
-    upper = eigenvalues.imag >= -1e-12 * np.maximum(1.0, size)
-    key = np.where(upper, size, np.inf)
-    order = np.argsort(key, axis=1, kind="stable")
-    if index > eigenvalues.shape[1]:
-        return np.full(eigenvalues.shape[0], np.nan)
-    chosen = np.take_along_axis(eigenvalues, order[:, index - 1:index], 1)[:, 0]
-    valid = np.take_along_axis(upper, order[:, index - 1:index], 1)[:, 0]
-    magnitude = np.abs(chosen)
-    with np.errstate(all="ignore"):
-        zeta = np.where(magnitude > 0, -chosen.real / np.where(magnitude > 0, magnitude, 1), 0.0)
-    return np.where(valid & np.isfinite(chosen), zeta, np.nan)
-
-
 def _fill_modal(rows: Rows, spec: StudySpec, M: np.ndarray, C: np.ndarray, K: np.ndarray,
                 wants_stability: bool) -> None:
     kinds = {q.kind for q in spec.quantities}
@@ -307,8 +156,8 @@ def _fill_modal(rows: Rows, spec: StudySpec, M: np.ndarray, C: np.ndarray, K: np
     stability = wants_stability or "stable" in kinds
     lam = by_cholesky = None
     if "natural_frequency" in kinds or stability:
-        by_cholesky = _cholesky_lambdas(M, K)
-        lam = by_cholesky if by_cholesky is not None else _general_lambdas(M, K)
+        by_cholesky = cholesky_lambdas(M, K)
+        lam = by_cholesky if by_cholesky is not None else general_lambdas(M, K)
     for q in spec.quantities:
         if q.kind == "natural_frequency" and lam is not None:
             rows.columns[q.text] = np.broadcast_to(natural_frequency(lam, q.index), full)

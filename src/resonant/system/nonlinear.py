@@ -90,6 +90,30 @@ class NonlinearSystem(ABC):
 
     Subclasses set the attributes in ``__init__`` and implement the abstract methods.
 
+    Attributes
+    ----------
+    model : Model
+        The model the equations come from.
+    coordinates : tuple of str
+        The generalized coordinates q, in the order of the vector q.
+    outputs : tuple of str
+        The model's outputs that can be evaluated along a motion.
+    parameters : tuple of str
+        The parameter names, in the order of the ``pvals`` arrays the methods take.
+    parameter_values : numpy.ndarray
+        The model's own values of :attr:`parameters`.
+    linear : LinearSystem
+        The linearization about the reference state (small oscillations).
+    forcing_size : int
+        The number of forcing terms (rows of :meth:`forcing`).
+    unsupported_outputs : tuple of str
+        Outputs that cannot be evaluated (a coordinate's derivative of order above 2).
+
+    See Also
+    --------
+    nonlinear_system : the system of a model.
+    LinearSystem : the small-oscillation equations.
+
     Examples
     --------
     >>> import resonant

@@ -18,6 +18,13 @@ from typing import Any
 import numpy as np
 
 from ..errors import AnalysisError
+from . import modal
+from .modal import (
+    frequencies_from_eigenvalues,
+    require_finite,
+    undamped_eigen,
+    undamped_eigenvalues,
+)
 
 #: relative tolerance of the proportional-damping and Rayleigh tests
 PROPORTIONAL_TOLERANCE = 1e-9
@@ -67,41 +74,6 @@ def mass_warning(M: np.ndarray) -> str | None:
             "frequencies and the results are not physical (check the signs in T or M)")
 
 
-def _require_finite(what: str, *arrays: np.ndarray) -> None:
-    """AnalysisError (exit 3) instead of a LinAlgError or NaN results further on."""
-    if not all(np.all(np.isfinite(a)) for a in arrays):
-        raise AnalysisError(
-            f"{what} is not finite: the parameter values span too many orders of magnitude "
-            "(an overflow to infinity); use units in which the masses and stiffnesses are "
-            "nearer to 1")
-
-
-def undamped_eigen(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Eigenvalues lambda = omega^2 (ascending) and mode shapes (columns) of K x = lambda M x."""
-    import scipy.linalg  # not at import: a study of a small model needs no scipy
-
-    _require_finite("M or K", M, K)
-    if is_symmetric(M) and is_symmetric(K):
-        try:
-            lam, vec = scipy.linalg.eigh(K, M)
-            _require_finite("an eigenvalue K x = lambda M x", lam)
-            return lam, vec
-        except np.linalg.LinAlgError:
-            pass  # M not positive definite: fall back to the general problem
-    with np.errstate(all="ignore"):
-        lam, vec = scipy.linalg.eig(K, M)
-    _require_finite("an eigenvalue K x = lambda M x", lam)
-    order = np.argsort(lam.real)
-    return lam[order].real, vec[:, order].real
-
-
-def frequencies_from_eigenvalues(lam: np.ndarray) -> np.ndarray:
-    """sqrt of the eigenvalues lambda = omega^2 that are >= 0 (round-off zeros count as 0)."""
-    scale = max(float(np.abs(lam).max(initial=0.0)), 1e-300)
-    lam = np.where(np.abs(lam) < 1e-12 * scale, 0.0, lam)
-    return np.sqrt(lam[lam >= 0])
-
-
 def natural_frequencies(M: np.ndarray, K: np.ndarray) -> np.ndarray:
     """Undamped natural angular frequencies in rad/s, ascending (stable modes only)."""
     return frequencies_from_eigenvalues(undamped_eigen(M, K)[0])
@@ -112,59 +84,27 @@ def state_matrix(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> np.ndarray:
     n = M.shape[0]
     minv_k = np.linalg.solve(M, K)
     minv_c = np.linalg.solve(M, C)
-    _require_finite("the state matrix (M^-1 K, M^-1 C)", minv_k, minv_c)
+    require_finite("the state matrix (M^-1 K, M^-1 C)", minv_k, minv_c)
     return np.block([[np.zeros((n, n)), np.eye(n)], [-minv_k, -minv_c]])
 
 
 def state_eigenvalues(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> np.ndarray:
-    return np.linalg.eigvals(state_matrix(M, C, K))
+    """The eigenvalues of the state matrix at one point (the modal kernel's
+    :func:`~resonant.system.modal.state_eigenvalues`); AnalysisError if it is not finite."""
+    state_matrix(M, C, K)  # names what is not finite
+    return modal.state_eigenvalues(*(np.asarray(a, dtype=float)[None] for a in (M, C, K)))[0]
 
 
 def classify(eigenvalues: np.ndarray) -> str:
-    """Stability of x' = A x from the eigenvalues of A.
+    """Stability of x' = A x from the eigenvalues of A (the modal kernel's tolerance).
 
     Zero eigenvalues (rigid-body modes) count as marginal.
     """
     if eigenvalues.size == 0:
         return ASYMPTOTIC
-    scale = max(1.0, float(np.abs(eigenvalues).max()))
-    tol = 1e-9 * scale
-    re = eigenvalues.real
-    if np.any(re > tol):
+    if modal.unstable(eigenvalues):
         return UNSTABLE
-    if np.all(re < -tol):
-        return ASYMPTOTIC
-    return MARGINAL
-
-
-def undamped_eigenvalues(M: Any, K: Any) -> np.ndarray:
-    """omega^2 of K x = omega^2 M x, ascending, without eigenvectors.
-
-    A diagonal M and a banded symmetric K use LAPACK's banded symmetric
-    eigensolver on M^-1/2 K M^-1/2 (cost n b^2); anything else the dense one.
-    """
-    import scipy.linalg
-
-    Md, Kd = (a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
-              for a in (M, K))
-    diag = np.diag(Md)
-    lower = 0
-    rows, cols = np.nonzero(Kd)
-    if rows.size:
-        lower = int(np.abs(rows - cols).max())
-    symmetric = np.allclose(Kd, Kd.T, rtol=1e-12, atol=1e-12 * np.abs(Kd).max(initial=0))
-    if symmetric and np.all(diag > 0) and np.count_nonzero(Md - np.diag(diag)) == 0 and \
-            lower + 1 <= max(8, Kd.shape[0] // 20):
-        scale = 1 / np.sqrt(diag)
-        S = Kd * scale[:, None] * scale[None, :]
-        band = np.zeros((lower + 1, S.shape[0]))
-        for d in range(lower + 1):  # lower band storage: band[d, j] = S[j + d, j]
-            band[d, :S.shape[0] - d] = np.diagonal(S, -d)
-        return scipy.linalg.eig_banded(band, lower=True, eigvals_only=True)
-    try:
-        return scipy.linalg.eigh(Kd, Md, eigvals_only=True)
-    except (np.linalg.LinAlgError, ValueError):
-        return np.sort(scipy.linalg.eigvals(Kd, Md).real)
+    return MARGINAL if modal.marginal(eigenvalues) else ASYMPTOTIC
 
 
 def rayleigh(M: Any, C: Any, K: Any) -> tuple[float, float] | None:

@@ -30,14 +30,11 @@ from collections.abc import Mapping, Sequence
 
 import sympy
 
-#: sympy functions of the model language -> their JavaScript ``Math`` function
-FUNCTIONS_JS: dict[type, str] = {
-    sympy.sin: "Math.sin", sympy.cos: "Math.cos", sympy.tan: "Math.tan",
-    sympy.asin: "Math.asin", sympy.acos: "Math.acos", sympy.atan: "Math.atan",
-    sympy.atan2: "Math.atan2", sympy.sinh: "Math.sinh", sympy.cosh: "Math.cosh",
-    sympy.tanh: "Math.tanh", sympy.exp: "Math.exp", sympy.log: "Math.log",
-    sympy.Abs: "Math.abs",
-}
+from ..expressions.functions import JAVASCRIPT
+
+#: sympy functions of the model language -> their JavaScript ``Math`` function (the
+#: model language's one table, :data:`resonant.expressions.functions.FUNCTIONS`)
+FUNCTIONS_JS: dict[type, str] = dict(JAVASCRIPT)
 #: the integers that JavaScript's doubles hold exactly
 EXACT_INTEGER = 2 ** 53
 

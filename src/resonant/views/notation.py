@@ -28,6 +28,7 @@ import numpy as np
 import sympy
 
 from ..expressions import Expression
+from ..expressions.functions import FUNCTIONS
 
 GREEK = ("alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "iota",
          "kappa", "lambda", "mu", "nu", "xi", "pi", "rho", "sigma", "tau", "upsilon", "phi",
@@ -108,9 +109,6 @@ class Namer:
 # -- parsed expressions --------------------------------------------------------------------
 
 _ADD, _MUL, _NEG, _POW, _ATOM = 1, 2, 3, 4, 5
-_FUNCTIONS = {"sin": r"\sin", "cos": r"\cos", "tan": r"\tan", "asin": r"\arcsin",
-              "acos": r"\arccos", "atan": r"\arctan", "sinh": r"\sinh", "cosh": r"\cosh",
-              "tanh": r"\tanh", "exp": r"\exp", "log": r"\ln"}
 
 
 def _paren(text: str) -> str:
@@ -168,12 +166,8 @@ class _LatexOps:
         return f"-{inner}", _NEG, False
 
     def call(self, func: str, args: list[tuple]) -> tuple[str, int, bool]:
-        if func == "sqrt":
-            return rf"\sqrt{{{args[0][0]}}}", _ATOM, False
-        if func == "atan2":
-            return (r"\mathrm{atan2}" + _paren(f"{args[0][0]}, {args[1][0]}"),
-                    _ATOM, False)
-        return _FUNCTIONS[func] + _paren(args[0][0]), _ATOM, False
+        # the form of the model language's one table of functions
+        return FUNCTIONS[func].write_latex(*(a[0] for a in args)), _ATOM, False
 
 
 def expression_latex(expression: Expression, namer: Callable[[str, int], str]) -> str:

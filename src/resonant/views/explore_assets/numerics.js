@@ -479,20 +479,27 @@ const ResonantNumerics = (() => {
     const tol = 1e-9 * scale;
     let all = true;
     for (let i = 0; i < count; i++) {
-      if (eig.re[i] > tol) return "unstable";
+      // a multiple zero (rigid-body mode) is known to sqrt(eps) only: it counts as 0
+      const zero = Math.hypot(eig.re[i], eig.im[i]) <= 1.5e-8 * scale;
+      if (eig.re[i] > tol && !zero) return "unstable";
       if (!(eig.re[i] < -tol)) all = false;
     }
     return all ? "asymptotically stable" : "marginally stable";
   }
 
-  // Damping ratio -Re s/|s| and damped frequency Im s of every s with Im s >= 0, by |s|.
+  // Damping ratio -Re s/|s| and damped frequency Im s of every s with Im s >= 0, in the
+  // modal kernel's order (resonant.system.modal.order): by |s| to 12 significant digits of
+  // the largest |s|, then by Im s.
   function dampingRatios(eig) {
     const upper = [];
+    let scale = 1;
+    for (let i = 0; i < eig.re.length; i++) scale = Math.max(scale, Math.hypot(eig.re[i], eig.im[i]));
     for (let i = 0; i < eig.re.length; i++) {
-      const size = Math.hypot(eig.re[i], eig.im[i]);
-      if (eig.im[i] >= -1e-12 * Math.max(1, size)) upper.push([eig.re[i], eig.im[i], size]);
+      let re = eig.re[i], im = eig.im[i], size = Math.hypot(re, im);
+      if (size <= 1.5e-8 * scale) { re = 0; im = 0; size = 0; }  // a rigid-body mode's round-off
+      if (im >= -1e-12 * Math.max(1, size)) upper.push([re, im, size, Math.round(size / scale * 1e12)]);
     }
-    upper.sort((x, y) => x[2] - y[2]);
+    upper.sort((x, y) => x[3] - y[3] || x[1] - y[1]);
     return {
       ratios: upper.map(([re, , size]) => (size > 0 ? -re / size : 0)),
       damped: upper.map(([, im]) => Math.abs(im)),

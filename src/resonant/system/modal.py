@@ -1,0 +1,647 @@
+"""The modal kernel: eigenvalues of M q'' + C q' + K q = 0 for one or many parameter points.
+
+Every modal computation of the package comes through here: ``modes`` (one point), the
+stability checks of the analyses and the study quantities (stacks of samples,
+``(N, n, n)``), so that they share one ordering rule, one zero threshold and one
+stability tolerance:
+
+- the undamped eigenvalues lambda = omega^2 of K x = lambda M x are ascending; a
+  |lambda| below :data:`ZERO_EIGENVALUE` times the largest |lambda| of its point is a
+  round-off zero (a rigid-body mode) and counts as 0;
+- the complex eigenvalues s of the state matrix are ordered by |s| (compared to 12
+  significant digits of the largest |s|), then by Im s;
+- a point is unstable when some Re s exceeds :data:`STABILITY_TOLERANCE` times
+  max(1, max |s|), except an s with |s| below :data:`ZERO_STATE` times that: the round-off
+  of a multiple zero eigenvalue (a rigid-body mode makes a Jordan block at 0, computed
+  only to about sqrt(eps) of the matrix's size), which counts as 0.
+
+Large sparse models have their lowest modes from :func:`lowest_modes` (shift-invert
+Lanczos, refined with residuals computed in twice the working precision) and every mode
+an error bound from its residual (:func:`eigenvalue_bounds`).
+
+Examples
+--------
+>>> M = np.eye(2)[None]
+>>> K = np.array([[[2.0, -1.0], [-1.0, 2.0]]])
+>>> undamped_lambdas(M, K).round(12).tolist()
+[[1.0, 3.0]]
+>>> unstable(state_eigenvalues(M, np.zeros((1, 2, 2)), K)).tolist()
+[False]
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..errors import AnalysisError, ResonantError
+
+#: |lambda| < ZERO_EIGENVALUE * max |lambda| of the point is a round-off zero
+ZERO_EIGENVALUE = 1e-12
+#: Re s > STABILITY_TOLERANCE * max(1, max |s|) is an unstable eigenvalue
+STABILITY_TOLERANCE = 1e-9
+#: |s| <= ZERO_STATE * max(1, max |s|) is a zero state eigenvalue (about sqrt(eps))
+ZERO_STATE = 1.5e-8
+#: Im s >= -UPPER_TOLERANCE * max(1, |s|) counts as an eigenvalue of the upper half plane
+UPPER_TOLERANCE = 1e-12
+#: a relative error bound above this is reported as limited by the conditioning
+LIMITED_ACCURACY = 1e-8
+
+
+# -- stacks of small dense matrices ---------------------------------------------------------
+
+def largest_abs(a: np.ndarray) -> np.ndarray:
+    """``np.abs(a).max(axis=-1)`` (NaN where an entry is NaN); for a stack of short rows
+    (N, m <= 8) by a loop over the columns, several times faster than a reduction over
+    the short axis.
+
+    Examples
+    --------
+    >>> largest_abs(np.array([[1.0, -3.0], [2.0, 0.5j]])).tolist()
+    [3.0, 2.0]
+    """
+    if a.ndim != 2 or not 0 < a.shape[1] <= 8:
+        return np.abs(a).max(axis=-1)
+    out = np.abs(a[:, 0])
+    for j in range(1, a.shape[1]):
+        np.maximum(out, np.abs(a[:, j]), out=out)
+    return out
+
+
+def largest_entry(a: np.ndarray) -> np.ndarray:
+    """max |a_ij| of each matrix of a stack (N, n, n) (NaN where an entry is NaN)."""
+    return largest_abs(a.reshape(a.shape[0], -1))
+
+
+def close(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``np.isclose(x, y, rtol=1e-12, atol=0)``, its formula without its overhead."""
+    with np.errstate(invalid="ignore"):
+        return ((np.abs(x - y) <= 1e-12 * np.abs(y)) & np.isfinite(y)) | (x == y)
+
+
+def symmetric_stack(a: np.ndarray) -> bool:
+    """``np.allclose(a, a.swapaxes(1, 2), rtol=1e-12, atol=0)`` on the entries that can
+    differ: each pair across the diagonal, both ways (a NaN on the diagonal fails)."""
+    n = a.shape[-1]
+    if np.isnan(np.diagonal(a, axis1=1, axis2=2)).any():
+        return False
+    i, j = np.triu_indices(n, 1)
+    upper, lower = a[:, i, j], a[:, j, i]
+    return bool(close(upper, lower).all() and close(lower, upper).all())
+
+
+def singular_mass(M: np.ndarray) -> np.ndarray:
+    """Samples of a stack whose mass matrix is singular (smallest singular value below
+    1e-13 of the largest), as ``check_mass_matrix`` judges one point."""
+    if M.shape[-1] == 0:
+        return np.zeros(M.shape[0], dtype=bool)
+    with np.errstate(all="ignore"):
+        s = np.linalg.svd(M, compute_uv=False)
+    return ~(s[:, -1] > 1e-13 * s[:, 0]) | ~np.isfinite(s).all(axis=1)
+
+
+def require_finite(what: str, *arrays: np.ndarray) -> None:
+    """AnalysisError (exit 3) instead of a LinAlgError or NaN results further on."""
+    if not all(np.all(np.isfinite(a)) for a in arrays):
+        raise AnalysisError(
+            f"{what} is not finite: the parameter values span too many orders of magnitude "
+            "(an overflow to infinity); use units in which the masses and stiffnesses are "
+            "nearer to 1")
+
+
+def _symmetric(a: np.ndarray, rtol: float = 1e-12) -> bool:
+    return bool(np.allclose(a, a.T, rtol=rtol, atol=rtol * (np.abs(a).max() if a.size else 0)))
+
+
+def undamped_eigen(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenvalues lambda = omega^2 (ascending) and mode shapes (columns) of K x = lambda M x
+    at one point (symmetric-definite LAPACK solver, else the general one).
+
+    Examples
+    --------
+    >>> lam, vec = undamped_eigen(np.eye(2), np.diag([4.0, 1.0]))
+    >>> lam.tolist(), np.abs(vec).tolist()
+    ([1.0, 4.0], [[0.0, 1.0], [1.0, 0.0]])
+    """
+    import scipy.linalg  # not at import: a study of a small model needs no scipy
+
+    require_finite("M or K", M, K)
+    if _symmetric(M) and _symmetric(K):
+        try:
+            lam, vec = scipy.linalg.eigh(K, M)
+            require_finite("an eigenvalue K x = lambda M x", lam)
+            return lam, vec
+        except np.linalg.LinAlgError:
+            pass  # M not positive definite: fall back to the general problem
+    with np.errstate(all="ignore"):
+        lam, vec = scipy.linalg.eig(K, M)
+    require_finite("an eigenvalue K x = lambda M x", lam)
+    order = np.argsort(lam.real)
+    return lam[order].real, vec[:, order].real
+
+
+def undamped_eigenvalues(M: Any, K: Any) -> np.ndarray:
+    """omega^2 of K x = omega^2 M x, ascending, without eigenvectors.
+
+    A diagonal M and a banded symmetric K use LAPACK's banded symmetric
+    eigensolver on M^-1/2 K M^-1/2 (cost n b^2); anything else the dense one.
+    """
+    import scipy.linalg
+
+    Md, Kd = (a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
+              for a in (M, K))
+    diag = np.diag(Md)
+    lower = 0
+    rows, cols = np.nonzero(Kd)
+    if rows.size:
+        lower = int(np.abs(rows - cols).max())
+    symmetric = np.allclose(Kd, Kd.T, rtol=1e-12, atol=1e-12 * np.abs(Kd).max(initial=0))
+    if symmetric and np.all(diag > 0) and np.count_nonzero(Md - np.diag(diag)) == 0 and \
+            lower + 1 <= max(8, Kd.shape[0] // 20):
+        scale = 1 / np.sqrt(diag)
+        S = Kd * scale[:, None] * scale[None, :]
+        band = np.zeros((lower + 1, S.shape[0]))
+        for d in range(lower + 1):  # lower band storage: band[d, j] = S[j + d, j]
+            band[d, :S.shape[0] - d] = np.diagonal(S, -d)
+        return scipy.linalg.eig_banded(band, lower=True, eigvals_only=True)
+    try:
+        return scipy.linalg.eigh(Kd, Md, eigvals_only=True)
+    except (np.linalg.LinAlgError, ValueError):
+        return np.sort(scipy.linalg.eigvals(Kd, Md).real)
+
+
+def cholesky_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
+    """omega^2 of a stack by Cholesky of M, ascending (None when some M is not symmetric
+    positive definite or some K not symmetric)."""
+    if not (symmetric_stack(M) and symmetric_stack(K)):
+        return None
+    if M.shape[-1] == 2:
+        return pencil_roots_2x2(M, K)
+    try:
+        L = np.linalg.cholesky(M)
+    except np.linalg.LinAlgError:
+        return None
+    Linv = np.linalg.inv(L)
+    A = Linv @ K @ Linv.swapaxes(1, 2)
+    return np.linalg.eigvalsh((A + A.swapaxes(1, 2)) / 2)
+
+
+def pencil_roots_2x2(M: np.ndarray, K: np.ndarray) -> np.ndarray | None:
+    """omega^2 of a symmetric 2 x 2 pencil in closed form, ascending (None when some M is
+    not positive definite): the roots of det(K - lambda M) = 0, the smaller one as
+    det K / (det M * larger), which keeps it as accurate as a batched eigvalsh (and
+    ten times faster).  M and K are stacks (N, 2, 2) or (1, 2, 2) (the same for every
+    sample: what depends on it alone is computed once)."""
+    with np.errstate(all="ignore"):
+        # scaled to entries of order 1, so that squares neither overflow nor underflow
+        m_scale, k_scale = largest_entry(M), largest_entry(K)
+        k_scale = np.where((k_scale > 0) & np.isfinite(k_scale), k_scale, 1.0)
+        # entry by entry: dividing the stacks by broadcasting is several times slower
+        m11, m12, m22 = (M[:, i, j] / m_scale for i, j in ((0, 0), (0, 1), (1, 1)))
+        k11, k12, k22 = (K[:, i, j] / k_scale for i, j in ((0, 0), (0, 1), (1, 1)))
+        det_m = m11 * m22 - m12 * m12
+        if not ((m11 > 0) & (det_m > 1e-14 * m11 * m22)).all():
+            return None
+        b = k11 * m22 + k22 * m11 - 2.0 * k12 * m12
+        det_k = k11 * k22 - k12 * k12
+        q = 0.5 * (b + np.copysign(np.sqrt(np.maximum(b * b - 4.0 * det_m * det_k, 0.0)), b))
+        big = q / det_m
+        small = np.where(q != 0.0, det_k / np.where(q != 0.0, q, 1.0), 0.0)
+        ratio = k_scale / m_scale
+        roots = np.empty((len(big), 2))
+        np.multiply(ratio, np.minimum(big, small), out=roots[:, 0])
+        np.multiply(ratio, np.maximum(big, small), out=roots[:, 1])
+        return roots
+
+
+def general_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray:
+    """omega^2 of a stack one point at a time by :func:`undamped_eigen` (NaN where it
+    fails): the route where some M is not positive definite."""
+    count = max(M.shape[0], K.shape[0])
+    M, K = (np.broadcast_to(a, (count, *a.shape[1:])) for a in (M, K))
+    out = np.full(M.shape[:2], np.nan)
+    for i in range(count):
+        try:
+            out[i] = undamped_eigen(M[i], K[i])[0]
+        except (ResonantError, np.linalg.LinAlgError, ValueError):
+            pass
+    return out
+
+
+def undamped_lambdas(M: np.ndarray, K: np.ndarray) -> np.ndarray:
+    """omega^2 of K x = omega^2 M x for every sample of a stack, ascending, shape (N, n)."""
+    lam = cholesky_lambdas(M, K)
+    return lam if lam is not None else general_lambdas(M, K)
+
+
+def clean_zeros(lam: np.ndarray) -> np.ndarray:
+    """lambda with the round-off zeros (:data:`ZERO_EIGENVALUE`) set to 0, per point
+    (the last axis).
+
+    Examples
+    --------
+    >>> clean_zeros(np.array([1e-14, 4.0])).tolist()
+    [0.0, 4.0]
+    """
+    lam = np.asarray(lam, dtype=float)
+    with np.errstate(invalid="ignore"):
+        scale = np.maximum(np.nanmax(np.abs(lam), axis=-1, initial=0.0), 1e-300)
+        return np.where(np.abs(lam) < ZERO_EIGENVALUE * scale[..., None], 0.0, lam)
+
+
+def frequencies_from_eigenvalues(lam: np.ndarray) -> np.ndarray:
+    """sqrt of the eigenvalues lambda = omega^2 of one point that are >= 0 (round-off zeros
+    count as 0)."""
+    lam = clean_zeros(lam)
+    return np.sqrt(lam[lam >= 0])
+
+
+def natural_frequency(lam: np.ndarray, index: int) -> np.ndarray:
+    """The ``index``-th (from 1) of the frequencies sqrt(lambda >= 0) of each sample (N, n),
+    as ``modes`` lists them; NaN where there is no such mode."""
+    lam = clean_zeros(lam)
+    position = (lam < 0).sum(axis=1) + index - 1
+    inside = position < lam.shape[1]
+    picked = np.take_along_axis(lam, np.minimum(position, lam.shape[1] - 1)[:, None], 1)[:, 0]
+    return np.where(inside & np.isfinite(picked), np.sqrt(np.abs(picked)), np.nan)
+
+
+# -- the state eigenvalues ------------------------------------------------------------------
+
+def state_eigenvalues(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> np.ndarray:
+    """Eigenvalues of the state matrix [[0, I], [-M^-1 K, -M^-1 C]] per sample (N, 2n)
+    (NaN for a sample whose state matrix is not finite)."""
+    N, n = M.shape[:2]
+    with np.errstate(all="ignore"):
+        minv = np.linalg.solve(M, np.concatenate([K, C], axis=2))
+    A = np.zeros((N, 2 * n, 2 * n))
+    A[:, :n, n:] = np.eye(n)
+    A[:, n:, :] = -minv
+    finite = np.isfinite(A).all(axis=(1, 2))
+    A[~finite] = 0.0
+    eigenvalues = np.linalg.eigvals(A)
+    eigenvalues[~finite] = np.nan
+    return eigenvalues
+
+
+def order(eigenvalues: np.ndarray) -> np.ndarray:
+    """Complex eigenvalues of each point (last axis) by |s|, then Im s (|s| compared to 12
+    significant digits of the point's largest |s|).
+
+    Examples
+    --------
+    >>> order(np.array([2j, -2j, 1 + 0j])).imag.tolist()
+    [0.0, -2.0, 2.0]
+    """
+    s = np.asarray(eigenvalues)
+    size = np.abs(s)
+    scale = np.maximum(np.nanmax(size, axis=-1, initial=0.0), 1.0)[..., None]
+    key = np.round(size / scale, 12)
+    index = np.lexsort((s.imag, key), axis=-1)
+    return np.take_along_axis(s, index, -1)
+
+
+def unstable(eigenvalues: np.ndarray) -> np.ndarray:
+    """Whether each point (last axis) has an eigenvalue with Re s above the tolerance (and
+    |s| above the zero threshold :data:`ZERO_STATE`).
+
+    Examples
+    --------
+    >>> unstable(np.array([[-1.0 + 0j, 1e-8 + 0j], [-1.0 + 0j, 1e-3 + 0j]])).tolist()
+    [False, True]
+    """
+    s = np.asarray(eigenvalues)
+    size = np.abs(s)
+    scale = np.maximum(1.0, size.max(axis=-1, initial=0.0))[..., None]
+    growing = (s.real > STABILITY_TOLERANCE * scale) & (size > ZERO_STATE * scale)
+    return np.asarray(growing.any(axis=-1))
+
+
+def marginal(eigenvalues: np.ndarray) -> np.ndarray:
+    """Whether some Re s of each point (last axis) is not below minus the tolerance."""
+    s = np.asarray(eigenvalues)
+    scale = np.maximum(1.0, np.abs(s).max(axis=-1, initial=0.0))
+    return np.asarray(~(s.real < -STABILITY_TOLERANCE * scale[..., None]).all(axis=-1))
+
+
+def clean_state_zeros(eigenvalues: np.ndarray) -> np.ndarray:
+    """The state eigenvalues of each point (last axis) with those below the zero threshold
+    :data:`ZERO_STATE` set to 0 (a rigid-body mode's round-off).
+
+    Examples
+    --------
+    >>> clean_state_zeros(np.array([1e-9 - 2e-9j, -1 + 3j])).tolist()
+    [0j, (-1+3j)]
+    """
+    s = np.asarray(eigenvalues)
+    with np.errstate(invalid="ignore"):
+        scale = np.maximum(np.nanmax(np.abs(s), axis=-1, initial=0.0), 1.0)[..., None]
+        return np.where(np.abs(s) <= ZERO_STATE * scale, 0.0, s)
+
+
+def upper_half(eigenvalues: np.ndarray) -> np.ndarray:
+    """The ordered eigenvalues of one point with Im s >= 0 (one of each conjugate pair),
+    round-off zeros set to 0."""
+    s = order(clean_state_zeros(eigenvalues))
+    return s[s.imag >= -UPPER_TOLERANCE * np.maximum(1.0, np.abs(s))]
+
+
+def damping_ratios(eigenvalues: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Damping ratio -Re s/|s| and damped frequency |Im s| of each eigenvalue of one point
+    with Im s >= 0, in the order of :func:`order`.
+
+    Examples
+    --------
+    >>> zeta, wd = damping_ratios(np.array([-1 + 2j, -1 - 2j]))
+    >>> zeta.round(6).tolist(), wd.tolist()
+    ([0.447214], [2.0])
+    """
+    upper = upper_half(eigenvalues)
+    size = np.abs(upper)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        zeta = np.where(size > 0, -upper.real / np.where(size > 0, size, 1), 0.0)
+    return zeta, np.abs(upper.imag)
+
+
+def damping_ratio(eigenvalues: np.ndarray, index: int) -> np.ndarray:
+    """-Re s/|s| of the ``index``-th (from 1) eigenvalue with Im s >= 0 of each sample
+    (N, 2n), in the order of :func:`order`, as :func:`damping_ratios` gives them; NaN
+    where there is none."""
+    count = eigenvalues.shape[0]
+    if index > eigenvalues.shape[1]:
+        return np.full(count, np.nan)
+    s = order(clean_state_zeros(eigenvalues))
+    upper = s.imag >= -UPPER_TOLERANCE * np.maximum(1.0, np.abs(s))
+    position = np.argsort(~upper, axis=1, kind="stable")[:, index - 1]
+    chosen = s[np.arange(count), position]
+    valid = upper[np.arange(count), position]
+    magnitude = np.abs(chosen)
+    with np.errstate(all="ignore"):
+        zeta = np.where(magnitude > 0, -chosen.real / np.where(magnitude > 0, magnitude, 1), 0.0)
+    return np.where(valid & np.isfinite(chosen), zeta, np.nan)
+
+
+def unstable_by_inertia(C: np.ndarray, K: np.ndarray, lam: np.ndarray, *,
+                        symmetric_k: bool = False) -> np.ndarray | None:
+    """Instability without the state eigenvalues, where a theorem decides it: for
+    symmetric M > 0, C >= 0 and symmetric K the equilibrium is unstable exactly when K
+    has a negative eigenvalue (Kelvin-Tait-Chetaev; damping neither makes a potential
+    minimum unstable nor stabilizes a maximum).  The tolerance is that of
+    :func:`unstable` on the undamped roots s = sqrt(-lambda) (``lam``, by Cholesky of M).
+    None where the theorem does not apply.  ``symmetric_k``: K is known to be symmetric
+    (``lam`` came from :func:`cholesky_lambdas`, which checked it)."""
+    if not (symmetric_stack(C) and (symmetric_k or symmetric_stack(K))):
+        return None
+    if C.any():
+        c = np.linalg.eigvalsh(C)
+        if (c[:, 0] < -1e-12 * np.maximum(np.abs(c).max(axis=1), 1e-300)).any():
+            return None
+    size = np.sqrt(largest_abs(lam) if lam.shape[1] else np.zeros(len(lam)))
+    with np.errstate(invalid="ignore"):
+        return np.sqrt(np.maximum(-lam[:, 0], 0.0)) > \
+            STABILITY_TOLERANCE * np.maximum(1.0, size)
+
+
+# -- large sparse models: the lowest modes and their error bounds ---------------------------
+
+_SPLITTER = 134217729.0  # 2**27 + 1: Veltkamp's split of a double into two halves
+
+
+def _two_sum(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """s + e == a + b exactly, s = fl(a + b) (Knuth)."""
+    s = a + b
+    v = s - a
+    return s, (a - (s - v)) + (b - v)
+
+
+def _split(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    c = _SPLITTER * a
+    hi = c - (c - a)
+    return hi, a - hi
+
+
+def _two_product(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """p + e == a b exactly, p = fl(a b) (Dekker)."""
+    p = a * b
+    a_hi, a_lo = _split(a)
+    b_hi, b_lo = _split(b)
+    return p, a_lo * b_lo - (((p - a_hi * b_hi) - a_lo * b_hi) - a_hi * b_lo)
+
+
+def accurate_product(A: Any, X: np.ndarray) -> np.ndarray:
+    """A @ X as if computed in twice the working precision, then rounded (the compensated
+    dot product of Ogita, Rump and Oishi, SIAM J. Sci. Comput. 26, 2005): accurate to a
+    few units in the last place of the result even where the sum cancels, as K x does
+    for a smooth mode of a stiff structure.
+
+    Examples
+    --------
+    >>> A = np.array([[1e16, 1.0, -1e16]])
+    >>> float(accurate_product(A, np.ones((3, 1)))[0, 0]), float((A @ np.ones(3))[0])
+    (1.0, 0.0)
+    """
+    import scipy.sparse as sp
+
+    A = sp.csr_matrix(A)
+    A.sum_duplicates()
+    X = np.asarray(X, dtype=float)
+    vector = X.ndim == 1
+    X = X.reshape(X.shape[0], -1)
+    n = A.shape[0]
+    lengths = np.diff(A.indptr)
+    rows = np.argsort(-lengths, kind="stable")          # longest rows first
+    longest = lengths[rows]
+    start = A.indptr[rows]
+    s = np.zeros((n, X.shape[1]))
+    c = np.zeros_like(s)
+    for j in range(int(longest[0]) if n else 0):
+        live = int(np.searchsorted(-longest, -j, side="left"))  # the rows longer than j
+        at = start[:live] + j
+        p, e = _two_product(A.data[at][:, None], X[A.indices[at]])
+        s[:live], t = _two_sum(s[:live], p)
+        c[:live] += t + e
+    out = np.empty_like(s)
+    out[rows] = s + c
+    return out[:, 0] if vector else out
+
+
+def eigenvalue_bounds(M: Any, K: Any, lam: np.ndarray, phi: np.ndarray,
+                      accurate: bool = True, complete: bool = True) -> np.ndarray:
+    """Bounds on |lambda_j - lambda| for an exact eigenvalue lambda of K x = lambda M x
+    near each computed pair (lambda_j, phi_j) of a symmetric pencil with M > 0, the
+    pairs ascending.
+
+    With x = phi_j / ||phi_j||_M, its Rayleigh quotient rho_j = x^T K x and
+    r = K x - rho_j M x, some eigenvalue lies within e_j = ||r||_{M^-1} =
+    sqrt(r^T M^-1 r) of rho_j (the residual bound of the
+    symmetric-definite pencil in the M inner product; Parlett, The Symmetric Eigenvalue
+    Problem, 1998, Thm 4.5.1).  Where the other eigenvalues are at least d_j > e_j away
+    (d_j from the neighbours and their bounds), the bound is e_j^2 / d_j (Kato-Temple,
+    ibid. Thm 10.6.1): the eigenvalue of a Rayleigh-Ritz pair is accurate to the square
+    of its residual.  Both add |lambda_j - rho_j|.  Without ``complete`` the pairs are
+    the lowest ones only, so the last has no known neighbour above and keeps e_j.  The
+    residual is computed by
+    :func:`accurate_product` (or, without ``accurate``, in working precision, and e_j
+    then adds the rounding error of that product, (w + 2) eps (|K| |x| + |lambda_j| |M|
+    |x|) for w entries a row).
+
+    Examples
+    --------
+    >>> M, K = np.eye(2), np.diag([1.0, 4.0])
+    >>> eigenvalue_bounds(M, K, np.array([1.0, 4.0 + 1e-6]), np.eye(2)).round(12).tolist()
+    [0.0, 1e-06]
+    >>> phi = np.array([[1.0, -1e-4], [1e-4, 1.0]])
+    >>> eigenvalue_bounds(M, K, np.array([1.0, 4.0]), phi).round(10).tolist()
+    [6e-08, 6e-08]
+    """
+    import scipy.linalg
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import splu
+
+    phi = np.asarray(phi, dtype=float)
+    lam = np.asarray(lam, dtype=float)
+    if phi.size == 0:
+        return np.zeros(0)
+    sparse = sp.issparse(M) or sp.issparse(K)
+    if accurate:
+        KX, MX = accurate_product(K, phi), accurate_product(M, phi)
+        rounding: Any = 0.0
+    else:
+        KX, MX = K @ phi, M @ phi
+        absK, absM = (abs(a) if sparse else np.abs(a) for a in (K, M))
+        width = int(np.max(np.diff(sp.csr_matrix(K).indptr), initial=1)) \
+            if sparse else K.shape[0]
+        gamma = (width + 2) * np.finfo(float).eps
+        rounding = gamma * (absK @ np.abs(phi) + absM @ np.abs(phi) * np.abs(lam))
+    mass = np.abs(np.einsum("ij,ij->j", phi, MX))
+    with np.errstate(all="ignore"):
+        rho = np.einsum("ij,ij->j", phi, KX) / mass      # the Rayleigh quotients
+        moved = np.abs(lam - rho)
+        if np.ndim(rounding):
+            moved = moved + np.einsum("ij,ij->j", np.abs(phi), rounding) / mass
+        R = KX - MX * rho
+        if sparse:
+            solve = splu(sp.csc_matrix(M)).solve
+        else:
+            factor = scipy.linalg.cho_factor(np.asarray(M, dtype=float))
+
+            def solve(b: np.ndarray) -> np.ndarray:
+                return np.asarray(scipy.linalg.cho_solve(factor, b))
+        e = np.sqrt(np.abs(np.einsum("ij,ij->j", R, solve(R))) / mass)
+        if np.ndim(rounding):
+            e = e + np.sqrt(np.abs(np.einsum("ij,ij->j", rounding, solve(rounding))) / mass)
+        e = np.where(np.isfinite(e), e, np.inf)
+        # the distance to the other eigenvalues: each lies within e_i of its lambda_i
+        below = np.concatenate([[np.inf], lam[1:] - lam[:-1] - e[:-1] - moved[:-1]])
+        above = np.concatenate([lam[1:] - lam[:-1] - e[1:] - moved[1:],
+                                [np.inf if complete else 0.0]])
+        gap = np.minimum(below, above)
+        quadratic = np.where(gap > e, e * e / np.where(gap > 0, gap, 1.0), np.inf)
+    bound = np.minimum(e, quadratic) + moved
+    # the computed eigenvalue is a double: never claim more than its last bits
+    bound = np.where(np.isfinite(bound), bound, np.inf)
+    return bound + 2 * np.finfo(float).eps * np.abs(lam)
+
+
+def frequency_bounds(lam: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """Bounds on the error of omega = sqrt(lambda) from bounds on the error of lambda.
+
+    Examples
+    --------
+    >>> frequency_bounds(np.array([100.0]), np.array([2e-6])).round(12).tolist()
+    [1e-07]
+    """
+    lam = np.maximum(np.asarray(lam, dtype=float), 0.0)
+    root = np.sqrt(lam)
+    return np.maximum(np.sqrt(lam + bounds) - root, root - np.sqrt(np.maximum(lam - bounds, 0)))
+
+
+def _factor(M: Any, K: Any, shift: float) -> Any:
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import splu
+
+    return splu(sp.csc_matrix(K - shift * M))
+
+
+def lowest_modes(M: Any, K: Any, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The ``count`` lowest eigenpairs of K phi = lambda M phi (sparse, symmetric, M > 0),
+    ascending, deterministic and accurate to the rounding of the given matrices, with a
+    bound on the error of each eigenvalue (:func:`eigenvalue_bounds`).
+
+    Shift-invert Lanczos (:func:`scipy.sparse.linalg.eigsh`, a fixed start vector) with
+    the shift at 0 (or, when K is singular, just below 0) finds them with a few guard
+    modes; subspace iteration with Rayleigh-Ritz then refines them, the residuals
+    K X - M X Lambda computed by :func:`accurate_product`, so that the cancellation in
+    K x of a smooth mode of a stiff structure does not limit them (iterative refinement
+    of eigenpairs, Dongarra, Moler and Wilkinson, SIAM J. Numer. Anal. 20, 1983).
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> n = 50
+    >>> K = sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1])
+    >>> lam, phi, bounds = lowest_modes(sp.identity(n), K, 2)
+    >>> exact = 4 * np.sin(np.arange(1, 3) * np.pi / (2 * n + 2)) ** 2
+    >>> bool(np.allclose(lam, exact, rtol=1e-14, atol=0)), bool(np.all(bounds < 1e-14))
+    (True, True)
+    """
+    import scipy.linalg
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import LinearOperator, eigsh
+
+    n = M.shape[0]
+    M, K = sp.csc_matrix(M), sp.csc_matrix(K)
+    shift = 0.0
+    try:
+        lu = _factor(M, K, shift)
+        singular = not np.all(np.isfinite(lu.U.diagonal())) or \
+            np.min(np.abs(lu.U.diagonal())) <= 1e-14 * np.max(np.abs(lu.U.diagonal()))
+    except RuntimeError:
+        singular = True
+    if singular:  # rigid-body modes: a shift below 0, small against the stiffness
+        shift = -1e-6 * float(np.mean(np.abs(K.diagonal())) / np.mean(np.abs(M.diagonal()))
+                              or 1.0)
+        lu = _factor(M, K, shift)
+    wanted = min(n - 1, count + min(max(count, 2), 8))
+    start = np.random.default_rng(0).standard_normal(n)  # the same every run
+    op = LinearOperator((n, n), matvec=lu.solve, dtype=float)
+    try:
+        lam, phi = eigsh(K, k=wanted, M=M, sigma=shift, which="LM", OPinv=op, v0=start)
+    except (RuntimeError, ValueError) as exc:
+        raise AnalysisError(f"the sparse eigensolver failed: {exc}") from None
+    lam, phi = lam[np.argsort(lam)], phi[:, np.argsort(lam)]
+    positive = lam[clean_zeros(lam) > 0]
+    if singular and positive.size:
+        # a shift near the flexible modes: the refinement then converges fast
+        try:
+            lu = _factor(M, K, -1e-3 * float(positive[0]))
+        except RuntimeError:
+            pass
+    for _ in range(4):
+        R = accurate_product(K, phi) - accurate_product(M, phi) * lam
+        phi = phi - lu.solve(R)
+        KX, MX = accurate_product(K, phi), accurate_product(M, phi)
+        gk, gm = phi.T @ KX, phi.T @ MX
+        try:
+            new, Y = scipy.linalg.eigh((gk + gk.T) / 2, (gm + gm.T) / 2)
+        except (np.linalg.LinAlgError, ValueError):
+            break
+        phi = phi @ Y
+        done = np.all(np.abs(new[:count] - lam[:count]) <=
+                      4 * np.finfo(float).eps * np.abs(new[:count]))
+        lam = new
+        if done:
+            break
+    bounds = eigenvalue_bounds(M, K, lam, phi, complete=False)
+    return lam[:count], phi[:, :count], bounds[:count]
+
+
+__all__ = ["ZERO_EIGENVALUE", "ZERO_STATE", "STABILITY_TOLERANCE", "undamped_eigen",
+           "undamped_lambdas", "cholesky_lambdas", "general_lambdas", "pencil_roots_2x2",
+           "clean_zeros", "frequencies_from_eigenvalues", "natural_frequency",
+           "state_eigenvalues", "order", "unstable", "marginal", "clean_state_zeros",
+           "damping_ratios", "damping_ratio", "unstable_by_inertia", "singular_mass",
+           "symmetric_stack", "undamped_eigenvalues", "require_finite", "largest_abs",
+           "largest_entry", "accurate_product", "eigenvalue_bounds", "frequency_bounds",
+           "lowest_modes"]
