@@ -141,7 +141,7 @@ class HarmonicBalance:
 
     def dp(self, x: np.ndarray, p: float) -> np.ndarray:
         h = 1e-6 * max(1.0, abs(p))
-        return (self.residual(x, p + h) - self.residual(x, p - h)) / (2 * h)
+        return np.asarray((self.residual(x, p + h) - self.residual(x, p - h)) / (2 * h))
 
     def exponents(self, J: np.ndarray, blocks: Any) -> np.ndarray:
         """The 2n Floquet exponents of Hill's method (smallest |Im| of the QEP's)."""
@@ -157,7 +157,7 @@ class HarmonicBalance:
         lam = scipy.linalg.eig(A, B, right=False)
         lam = lam[np.isfinite(lam)]
         order = np.argsort(np.abs(lam.imag), kind="stable")
-        return lam[order[:2 * self.n]]
+        return np.asarray(lam[order[:2 * self.n]])
 
     def newton(self, x: np.ndarray, p: float, scale: float) -> tuple[np.ndarray, bool]:
         """Newton's method on R(x, p) = 0 at fixed p (converged: the step below 1e-11)."""
@@ -168,7 +168,7 @@ class HarmonicBalance:
         """Deviations of the coordinates, then the outputs, at the times tau: (n + o, k)."""
         X = x.reshape(self.n, self.m)
         phi, dphi, d2phi = self._grid_basis if tau is self._grid else basis(tau, self.H)
-        dev = X @ phi.T
+        dev: np.ndarray = X @ phi.T
         if not (outputs and self.system.outputs):
             return dev
         pv = self.pvals(p)
@@ -196,7 +196,7 @@ class HarmonicBalance:
     def amplitudes(self, x: np.ndarray, p: float, outputs: bool = True) -> np.ndarray:
         """Peak |deviation| over one period of every coordinate and (``outputs``) output,
         located to rounding."""
-        return self.amplitudes_of([x], [p], outputs)[0]
+        return np.asarray(self.amplitudes_of([x], [p], outputs)[0])
 
     def amplitudes_of(self, xs: Sequence[np.ndarray], ps: Sequence[float],
                       outputs: bool = True) -> np.ndarray:

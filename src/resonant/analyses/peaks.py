@@ -88,7 +88,7 @@ def periodic_peak(evaluate: Callable[[np.ndarray], np.ndarray], count: int,
         top = np.maximum(top, np.maximum(mid, np.maximum(left, right)))
         h /= SHRINK
     final = np.abs(evaluate(best))[np.arange(count), np.arange(count)]
-    return np.maximum(top, final)
+    return np.asarray(np.maximum(top, final))
 
 
 def series_peaks(coefficients: np.ndarray, grid: int = GRID,

@@ -299,7 +299,8 @@ class _Scales:
 
     @property
     def spread(self) -> float:
-        return self.highest / max(min([*self.excitation, *self.natural, self.highest]), 1e-300)
+        return float(self.highest / max(min([*self.excitation, *self.natural, self.highest]),
+                                        1e-300))
 
 
 def _periodic_start(system: NonlinearSystem | None, start: str, given: bool,

@@ -306,7 +306,8 @@ class FrequencyResponse:
         (natural frequency / ``frequency_scale``), or None."""
         if self.frequency_scale is None or self.natural_frequencies is None:
             return None
-        return frozen_array(self.natural_frequencies / self.frequency_scale)
+        values: np.ndarray = frozen_array(self.natural_frequencies / self.frequency_scale)
+        return values
 
     def to_dict(self) -> dict[str, Any]:
         def clean(a: np.ndarray) -> list[float | None]:
@@ -483,7 +484,7 @@ def amplitudes(omegas: np.ndarray, Z: np.ndarray) -> np.ndarray:
         return amplitude_and_phase(omegas, Z)[0]
     L, Nn = Z[0].real, Z[0].imag
     static = omegas[0] == 0
-    amplitude = np.hypot(L, Nn) if not static.any() else \
+    amplitude: np.ndarray = np.hypot(L, Nn) if not static.any() else \
         np.where(static[:, None], np.abs(L), np.hypot(L, Nn))
     # NaN wherever a component is not finite (hypot(inf, nan) is inf)
     amplitude[~(np.isfinite(L) & np.isfinite(Nn))] = np.nan
@@ -774,7 +775,7 @@ def _without_overflow(skipped: np.ndarray, omegas: np.ndarray, values: np.ndarra
     if overflow.all():
         raise AnalysisError(message)
     warnings.append(message + "; these points are skipped (NaN, null in JSON)")
-    return skipped & ~overflow
+    return np.asarray(skipped & ~overflow)
 
 
 def _skipped_warning(param: str, skipped: Sequence[float]) -> str:

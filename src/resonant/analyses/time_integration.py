@@ -61,7 +61,9 @@ class Breakdown(Exception):
 
 def _lambdify(exprs: Sequence[sympy.Expr], args: Sequence[sympy.Symbol]
               ) -> Callable[..., list[Any]]:
-    return sympy.lambdify(list(args), [compilable(e) for e in exprs], modules="numpy", cse=True)
+    function: Callable[..., list[Any]] = sympy.lambdify(
+        list(args), [compilable(e) for e in exprs], modules="numpy", cse=True)
+    return function
 
 
 def _stack(values: Sequence[Any], shape: tuple[int, ...]) -> np.ndarray:
@@ -115,7 +117,7 @@ class LinearDynamics:
         return _stack(self._q(t, *self.pvals), shape)
 
     def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
-        dy = self.A @ y
+        dy: np.ndarray = self.A @ y
         if self._q is not None:
             dy[self.n:] += self.Minv @ self.forcing(t)
         return dy
@@ -236,7 +238,7 @@ class Counter:
             raise Budget(t)
         try:
             with np.errstate(all="ignore"):
-                dy = self.dynamics.rhs(t, y)
+                dy: np.ndarray = self.dynamics.rhs(t, y)
             if not math.isfinite(dy.sum()):  # one cheap test catches NaN and infinity
                 raise Breakdown(t, "the response is not finite")
         except ArithmeticError as exc:  # Python floats: 1/t at t = 0, overflow

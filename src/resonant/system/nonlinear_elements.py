@@ -127,7 +127,7 @@ class ElementForces:
         return value
 
     def _relative(self, loc: tuple[int, ...], X: np.ndarray) -> np.ndarray:
-        return X[loc[0]] - X[loc[1]] if len(loc) == 2 else X[loc[0]]
+        return np.asarray(X[loc[0]] - X[loc[1]] if len(loc) == 2 else X[loc[0]])
 
     def evaluate(self, U: np.ndarray, Ud: np.ndarray, dU: np.ndarray | None = None,
                  dUd: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray | None]:

@@ -357,7 +357,8 @@ class DeferredEOM(LinearEOM):
             if deadline is None or deadline.seconds is None:
                 deadline = Deadline(self._deadline.seconds, self._deadline.source)
             self.__dict__["_raw"] = linearize_raw(self.model, deadline=deadline)
-        return self.__dict__["_raw"]
+        raw: RawLinearization = self.__dict__["_raw"]
+        return raw
 
     def _compiled_numbers(self, values: Mapping[str, Any], count: int, deadline: Deadline
                           ) -> _Numbers | None:
@@ -467,7 +468,8 @@ class _NumericSignals:
         for _, terms in numbers.outputs.values():
             needed |= {v for v in terms if v[0] in model.signals}
         outputs = tuple((name, tuple(terms)) for name, (_, terms) in numbers.outputs.items())
-        cache: dict[tuple, _NumericSignals] = eom.__dict__.setdefault("_signal_layouts", {})
+        cache: dict[tuple[Any, ...], _NumericSignals] = eom.__dict__.setdefault(
+            "_signal_layouts", {})
         key = (frozenset(needed), outputs)
         if key in cache:
             return cache[key]
@@ -586,8 +588,9 @@ class _Layout:
 def _not_finite_or_real(values: np.ndarray) -> np.ndarray:
     """Entries that are not finite, or complex with an imaginary part beyond rounding."""
     if not np.iscomplexobj(values):
-        return ~np.isfinite(values)
-    return ~np.isfinite(values) | (np.abs(values.imag) > 1e-9 * (1 + np.abs(values.real)))
+        return np.asarray(~np.isfinite(values))
+    return np.asarray(~np.isfinite(values)
+                      | (np.abs(values.imag) > 1e-9 * (1 + np.abs(values.real))))
 
 
 def _squeeze(vectors: np.ndarray) -> np.ndarray:
