@@ -92,7 +92,19 @@ class BackboneCurve:
                 "linear_frequency": self.linear_frequency,
                 "amplitude": self.amplitude.tolist(), "frequencies": self.frequencies.tolist(),
                 "amplitudes": {k: v.tolist() for k, v in self.amplitudes.items()},
-                "fictitious_damping": self.damping}
+                "fictitious_damping": self.damping, "coefficients": self.coefficients.tolist()}
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> BackboneCurve:
+        """The curve back from its :meth:`to_dict`."""
+        return cls(mode=int(data["mode"]), reference=str(data["reference"]),
+                   linear_frequency=float(data["linear_frequency"]),
+                   amplitude=np.array(data["amplitude"], dtype=float),
+                   frequencies=np.array(data["frequencies"], dtype=float),
+                   amplitudes=MappingProxyType({k: np.array(v, dtype=float)
+                                                for k, v in data["amplitudes"].items()}),
+                   coefficients=np.array(data["coefficients"], dtype=float),
+                   damping=float(data["fictitious_damping"]))
 
 
 @dataclass(frozen=True)
@@ -129,6 +141,32 @@ class Backbones:
                 "harmonics": self.harmonics, "residual": self.residual,
                 "backbones": [c.to_dict() for c in self.curves],
                 "warnings": list(self.warnings)}
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> Backbones:
+        """The curves back from their :meth:`to_dict` (the JSON of ``resonant modes
+        --nonlinear``).
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        Backbones
+
+        Examples
+        --------
+        >>> import json, resonant
+        >>> b = resonant.load("examples/duffing.toml").backbone(harmonics=1, points=6)
+        >>> Backbones.from_dict(json.loads(json.dumps(b.to_dict()))).to_dict() == b.to_dict()
+        True
+        """
+        return cls(title=str(data["title"]), coordinates=tuple(data["coordinates"]),
+                   harmonics=int(data["harmonics"]), residual=float(data["residual"]),
+                   curves=tuple(BackboneCurve.from_dict(c) for c in data["backbones"]),
+                   warnings=tuple(data.get("warnings", ())))
 
     def summary(self) -> str:
         lines = [f"{self.title or 'model'}: backbone curves (free vibration of the full "

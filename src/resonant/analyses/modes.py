@@ -40,7 +40,7 @@ from __future__ import annotations
 import html
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
@@ -178,6 +178,46 @@ class ModalAnalysis:
             "frequency_errors": [float(e) if math.isfinite(e) else None
                                  for e in self.frequency_errors],
         }
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> ModalAnalysis:
+        """The analysis back from its :meth:`to_dict` (the JSON of ``resonant modes``).
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        ModalAnalysis
+
+        Examples
+        --------
+        >>> import json, resonant
+        >>> m = resonant.load("examples/two_dof_free.toml").linearize().modes()
+        >>> back = ModalAnalysis.from_dict(json.loads(json.dumps(m.to_dict())))
+        >>> back.to_dict() == m.to_dict()
+        True
+        """
+        rayleigh = data.get("rayleigh")
+        errors = data.get("frequency_errors", [])
+        return cls(
+            coordinates=tuple(data["coordinates"]),
+            omega_squared=np.array(data["omega_squared"], dtype=float),
+            natural_frequencies=np.array(data["natural_frequencies"], dtype=float),
+            mode_shapes=np.array(data["mode_shapes"], dtype=float).T,
+            mass_normalised_modes=np.array(data["mass_normalised_modes"], dtype=float).T,
+            eigenvalues=np.array([complex(re, im) for re, im in data["eigenvalues"]]),
+            damping_ratios=np.array(data["damping_ratios"], dtype=float),
+            damped_frequencies=np.array(data["damped_frequencies"], dtype=float),
+            proportional_damping=bool(data["proportional_damping"]),
+            rayleigh=None if rayleigh is None else (rayleigh["a"], rayleigh["b"]),
+            damped=bool(data["damped"]), stability=str(data["stability"]),
+            method=str(data.get("method", "dense")), warnings=tuple(data.get("warnings", ())),
+            title=str(data.get("title", "")),
+            frequency_errors=np.array([math.nan if e is None else e for e in errors],
+                                      dtype=float))
 
     def limited(self, count: int | None) -> ModalAnalysis:
         """The analysis restricted to the lowest ``count`` modes (dense path with --count)."""

@@ -151,6 +151,26 @@ class NonlinearResponse:
         data["truncation"] = self.truncation
         return data
 
+    def to_frame(self) -> Any:
+        """The branch as a table: the parameter, stability and every amplitude (pandas, the
+        ``study`` extra).
+
+        Returns
+        -------
+        pandas.DataFrame
+
+        Examples
+        --------
+        >>> import resonant
+        >>> r = resonant.load("examples/duffing.toml").nonlinear_sweep(
+        ...     "omega", 0.8, 1.2, harmonics=1, points=20)
+        >>> list(r.to_frame().columns)
+        ['omega', 'stable', 'amplitude:x']
+        """
+        import pandas as pd
+        return pd.DataFrame({self.parameter: self.values, "stable": self.stable,
+                             **{f"amplitude:{k}": v for k, v in self.amplitudes.items()}})
+
     def to_csv(self, path: str | Path) -> None:
         """One row per branch point: value, stable, the amplitudes."""
         names = list(self.amplitudes)

@@ -191,6 +191,24 @@ class Simulation:
             "warnings": list(self.warnings),
         }
 
+    def to_frame(self) -> Any:
+        """The time history as a table: ``t`` and every coordinate and output (pandas, the
+        ``study`` extra).
+
+        Returns
+        -------
+        pandas.DataFrame
+
+        Examples
+        --------
+        >>> import resonant
+        >>> sim = resonant.load("examples/two_dof_free.toml").simulate(0.05, initial={"x1": 0.01})
+        >>> list(sim.to_frame().columns)
+        ['t', 'x1', 'x2']
+        """
+        import pandas as pd
+        return pd.DataFrame({"t": self.t, **{k: v for k, v in self.states.items()}})
+
     def to_csv(self, path: str | Path) -> None:
         """Write ``t`` and every deviation (and the linear prediction) as CSV."""
         columns = [("t", self.t)] + list(self.states.items()) + [

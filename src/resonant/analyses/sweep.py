@@ -334,6 +334,26 @@ class FrequencyResponse:
             data["natural_values"] = self.natural_values.tolist()
         return data
 
+    def to_frame(self) -> Any:
+        """The table of the sweep: one row per value, the amplitude and the phase (rad) of
+        every quantity (pandas, the ``study`` extra).
+
+        Returns
+        -------
+        pandas.DataFrame
+
+        Examples
+        --------
+        >>> import resonant
+        >>> r = resonant.load("examples/cart_pendulum.toml").linearize().sweep("omega", [5, 10])
+        >>> list(r.to_frame().columns)[:3]
+        ['omega', 'amplitude:x1', 'amplitude:x2']
+        """
+        import pandas as pd
+        return pd.DataFrame({self.parameter: self.values,
+                             **{f"amplitude:{k}": v for k, v in self.amplitudes.items()},
+                             **{f"phase:{k}": v for k, v in self.phases.items()}})
+
     def to_csv(self, path: Any) -> None:
         """Write one row per value: the parameter, then amplitude and phase of each name."""
         with open(path, "w", newline="", encoding="utf-8") as handle:
