@@ -19,7 +19,7 @@ from ..deadline import DeadlineExceeded
 from ..errors import ModelError, Problem, printable
 from ..model.study import DESIGNS, MAX_HARMONICS, MAX_SAMPLES, MAX_SEED
 from ..studies import StudyJob, collect, engine_for, request
-from ..views.study_plots import plot_study
+from ..views.study_plots import plot_study, study_units
 
 
 def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
@@ -104,7 +104,9 @@ def run_study(args: argparse.Namespace) -> int:
         raise
     if args.plot:
         plot_study(result.table, list(spec.vary), list(spec.columns), args.plot,
-                   result.sensitivity, grid=spec.design == "grid")
+                   result.sensitivity, grid=spec.design == "grid",
+                   units=study_units(model, spec),
+                   nominal={name: float(model.parameter_values[name]) for name in spec.vary})
     if args.json:
         cli.emit_json(result.to_dict())
     else:
