@@ -906,6 +906,17 @@
     }
     const len = Math.hypot(b[0] - a[0], b[1] - a[1]);
     const lead = len ? Math.min(0.2, 0.06 * u / len) : 0.2, amp = 0.045 * u;
+    if (link.torsion) {  // a torsion spring: the shaft and a coil about it (as resonant draw)
+      ctx.save(); ctx.lineWidth = 0.7; ctx.setLineDash([6, 2, 1, 2]); path(ctx, V, [a, b]); ctx.stroke(); ctx.restore();
+      const turns = 6, steps = 24, radius = 0.05 * u, pitch = (1 - 2 * lead) / turns, back = 0.4 * pitch, coil = [a];
+      for (let k = 0; k <= turns * steps; k++) {
+        const th = 2 * Math.PI * k / steps;
+        coil.push(along(a, b, Math.max(0, lead + pitch * k / steps + back * (Math.cos(th) - 1)), radius * Math.sin(th)));
+      }
+      coil.push(along(a, b, 1 - lead), b);
+      path(ctx, V, coil); ctx.stroke();
+      return;
+    }
     const pts = [a, along(a, b, lead)];
     for (let i = 0; i < 8; i++) pts.push(along(a, b, lead + (1 - 2 * lead) * (i + 0.5) / 8, amp * (i % 2 ? -1 : 1)));
     pts.push(along(a, b, 1 - lead), b);
