@@ -34,8 +34,8 @@ exclude_patterns = ["_build", "_ext", "_static", "_templates"]
 templates_path = ["_templates"]
 myst_heading_anchors = 3
 myst_enable_extensions = ["dollarmath", "amsmath"]
-# formulas as MathML written at build time (_ext/offline_math.py): no MathJax, no network
-html_math_renderer = "offline_mathml"
+# formulas drawn as SVG at build time (_ext/offline_math.py): no MathJax, no network
+html_math_renderer = "offline_svg"
 # one page per public object (api.rst), with its source ([source], sphinx.ext.viewcode)
 autosummary_generate = True
 autodoc_default_options = {"members": True, "undoc-members": False}
@@ -53,6 +53,6 @@ html_css_files = ["resonant.css"]
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
-    "header_links_before_dropdown": 6,
+    "header_links_before_dropdown": 3,
     "secondary_sidebar_items": ["page-toc", "sourcelink"],
 }

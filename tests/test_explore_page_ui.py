@@ -30,6 +30,7 @@ import pytest
 from conftest import run_cli, run_json
 from test_explore_browser import PARTS, REFERENCE, SIX, browser, opened  # noqa: F401
 
+
 @pytest.fixture(scope="module")
 def written(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     folder = tmp_path_factory.mktemp("pages")
@@ -63,7 +64,8 @@ def test_no_horizontal_overflow(browser: Any, written: dict[str, Path], width: i
         # no caption or table cut: everything outside a scroll box lies within the screen
         cut = page.page.evaluate("""(w) => [...document.querySelectorAll('p, h1, h2, h3, label')]
             .filter(e => !e.closest('.scroll') && e.getClientRects().length)
-            .filter(e => { const r = e.getBoundingClientRect(); return r.left < -0.5 || r.right > w + 0.5; })
+            .filter(e => { const r = e.getBoundingClientRect();
+                           return r.left < -0.5 || r.right > w + 0.5; })
             .map(e => e.textContent.slice(0, 40))""", width)
         assert cut == []
 

@@ -418,14 +418,16 @@ def _label_obstacles(ax: Any, renderer: Any) -> list[Any]:
 
     out = []
     for line in ax.lines:
-        xy = np.column_stack([line.get_xdata(), line.get_ydata()]).astype(float)
+        xy = np.column_stack([np.asarray(line.get_xdata(), dtype=float),
+                              np.asarray(line.get_ydata(), dtype=float)])
         if len(xy) >= 2:
             out.append(ax.transData.transform(xy))
     for patch in ax.patches:
         if isinstance(patch, FancyArrowPatch):
             for poly in patch.get_path().to_polygons(closed_only=False):
-                if len(poly) >= 2:
-                    out.append(ax.transData.transform(poly))
+                vertices = np.asarray(poly, dtype=float)
+                if vertices.shape[0] >= 2:
+                    out.append(ax.transData.transform(vertices))
     return out
 
 

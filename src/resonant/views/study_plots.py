@@ -450,7 +450,8 @@ def plot_study(frame: Any, parameters: Sequence[str], quantities: Sequence[str],
         if sensitivity and quantity in sensitivity:
             save(plot_sobol(sensitivity[quantity], quantity, units=units), "sobol", quantity)
         if grid and len(parameters) == 2:
-            save(plot_contour(frame, quantity, *parameters, units=units, nominal=nominal),
+            first, second = parameters
+            save(plot_contour(frame, quantity, first, second, units=units, nominal=nominal),
                  "contour", quantity)
     return written
 
