@@ -97,3 +97,28 @@ def test_every_example_has_a_gallery_page_with_its_figures(site: Path) -> None:
     images = list((site / "_images").glob("*.png"))
     assert any(p.name.endswith("_drawing.png") for p in images)
     assert all(p.stat().st_size > 5_000 for p in images if p.name.startswith("duffing"))
+
+
+@pytest.mark.parametrize("width", [375, 1280])
+def test_the_site_fits_a_phone_and_a_laptop(site: Path, width: int) -> None:
+    """Chromium (Debian's, via Playwright) opens pages of the built site: none is wider
+    than the screen (a wide formula or table scrolls in its own box)."""
+    chromium = Path("/usr/bin/chromium")
+    if not chromium.exists():
+        pytest.skip("Debian's chromium (/usr/bin/chromium) is not installed")
+    api = pytest.importorskip("playwright.sync_api")
+    pages = ["index", "model-format", "sweeps", "studies", "explore", "gallery/index",
+             "generated/resonant.LinearSystem", "api"]
+    with api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=str(chromium), args=[
+            "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking"])
+        try:
+            for name in pages:
+                page = browser.new_page(viewport={"width": width, "height": 900})
+                page.goto((site / f"{name}.html").as_uri())
+                overflow = page.evaluate("document.documentElement.scrollWidth"
+                                         " - document.documentElement.clientWidth")
+                page.close()
+                assert overflow <= 0, f"{name} is {overflow} px wider than {width} px"
+        finally:
+            browser.close()

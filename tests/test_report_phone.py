@@ -94,6 +94,31 @@ def test_the_report_fits_the_screen(browser: Any, reports: dict[str, Path], widt
             assert lowest_top < highest_bottom, f"formula {k + 1} is broken: {pieces}"
 
 
+FIGURE_TEXTS = """() => [...document.querySelectorAll('figure svg')].map(svg =>
+  [...svg.querySelectorAll('text')].filter(t => t.textContent.trim()).map(t => {
+    const r = t.getBoundingClientRect();
+    return [t.textContent, r.left, r.top, r.right, r.bottom];
+  }))"""
+
+
+@pytest.mark.parametrize("width", [375, 1280])
+def test_no_two_texts_of_a_figure_overlap(browser: Any, reports: dict[str, Path],
+                                          width: int) -> None:
+    page = browser.new_page(viewport={"width": width, "height": 900})
+    try:
+        page.goto(reports["cart_pendulum"].resolve().as_uri())
+        figures = page.evaluate(FIGURE_TEXTS)
+    finally:
+        page.close()
+    assert len(figures) == 2
+    for texts in figures:
+        for i, (a, *box) in enumerate(texts):
+            for b, *other in texts[i + 1:]:
+                apart = box[2] <= other[0] + 0.5 or other[2] <= box[0] + 0.5 or \
+                    box[3] <= other[1] + 0.5 or other[3] <= box[1] + 0.5
+                assert apart, f"{a!r} overlaps {b!r} at {width} px"
+
+
 def test_the_report_reads_like_a_textbook(reports: dict[str, Path]) -> None:
     text = reports["cart_pendulum"].read_text(encoding="utf-8")
     assert "“cart_pendulum.toml”" in text
