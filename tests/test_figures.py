@@ -193,3 +193,23 @@ def test_the_study_command_labels_its_pictures(tmp_path) -> None:
     assert status == 0, err
     names = sorted(p.name for p in (tmp_path / "plots").iterdir())
     assert "contour-peak_frequency_x1.png" in names
+
+
+def test_the_study_table_and_json_carry_each_quantitys_unit(tmp_path) -> None:
+    import json
+
+    model = EXAMPLES / "absorber_tolerances.toml"
+    status, out, err = run_cli(["study", model, "--samples", "20", "--workers", "0",
+                                "-o", tmp_path / "s.parquet"])
+    assert status == 0, err
+    rows = {line.split()[0]: line.split()[1] for line in out.splitlines()[3:]
+            if ":" in line.split()[0]}
+    assert rows["peak:x1"] == "m" and rows["peak_frequency:x1"] == "rad/s"
+    assert rows["natural_frequency:2"] == "rad/s"
+    status, out, err = run_cli(["study", model, "--samples", "20", "--workers", "0",
+                                "-o", tmp_path / "t.parquet", "--json"])
+    assert status == 0, err
+    units = json.loads(out)["units"]
+    assert units == {"k2": "N/m", "c2": "N*s/m", "peak:x1": "m", "peak_frequency:x1": "rad/s",
+                     "natural_frequency:1": "rad/s", "natural_frequency:2": "rad/s",
+                     "amplitude:x1": "m"}
