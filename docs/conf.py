@@ -23,20 +23,36 @@ copyright = "2026, the resonant developers"
 extensions = [
     "myst_parser",
     "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.viewcode",
     "numpydoc",
     "gallery",
+    "offline_math",
 ]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
-exclude_patterns = ["_build", "_ext"]
+exclude_patterns = ["_build", "_ext", "_static", "_templates"]
+templates_path = ["_templates"]
 myst_heading_anchors = 3
+myst_enable_extensions = ["dollarmath", "amsmath"]
+# formulas drawn as SVG at build time (_ext/offline_math.py): no MathJax, no network
+html_math_renderer = "offline_svg"
+# one page per public object (api.rst), with its source ([source], sphinx.ext.viewcode)
+autosummary_generate = True
+autodoc_default_options = {"members": True, "undoc-members": False}
 # the guide links to files of the repository (benchmarks, examples); they are not pages
 myst_url_schemes = ["http", "https", "mailto"]
 numpydoc_show_class_members = False
 numpydoc_validation_checks: set[str] = set()  # validated by tests/test_docstrings.py
 autodoc_member_order = "bysource"
 autodoc_typehints = "none"
-html_theme = "alabaster"
+# the theme of numpy's and scipy's sites; its assets are bundled (nothing from a CDN)
+html_theme = "pydata_sphinx_theme"
 html_title = "resonant"
-html_static_path: list[str] = []
-html_theme_options = {"description": "Vibrations of discrete mechanical systems",
-                      "fixed_sidebar": True, "page_width": "1100px"}
+html_static_path = ["_static"]
+html_css_files = ["resonant.css"]
+html_theme_options = {
+    "navigation_with_keys": False,
+    "show_toc_level": 2,
+    "header_links_before_dropdown": 3,
+    "secondary_sidebar_items": ["page-toc", "sourcelink"],
+}

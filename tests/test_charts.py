@@ -144,7 +144,8 @@ def test_report_figures_are_written_without_matplotlib(reference, monkeypatch):
         assert f"resonant-figure-{number}-plot" in svg
     svg = plots.to_svg(frf, 1)
     title = ElementTree.fromstring(svg).find(f"{SVG}title").text
-    assert title == ("amplitude X (logarithmic) against excitation frequency \u03c9 [rad/s]: "
+    assert title == ("amplitude X [m, rad] (logarithmic) against excitation frequency "
+                     "\u03c9 [rad/s]: "
                      "x1 [m], x2 [m], \u03c6 [rad]")
     # three curves (x1, x2 and the output phi), their operating points, the natural
     # frequencies and the excitation frequency

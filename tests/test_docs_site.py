@@ -35,7 +35,56 @@ def test_the_guide_and_the_reference_are_built(site: Path) -> None:
                  "architecture", "api"):
         assert (site / f"{page}.html").is_file(), page
     api = (site / "api.html").read_text(encoding="utf-8")
-    assert "resonant.model.types.Model" in api and "Parameters" in api
+    assert "resonant.Model" in api and "generated/resonant.load.html" in api
+
+
+def test_one_api_page_per_public_object_with_its_source(site: Path) -> None:
+    pages = {p.stem for p in (site / "generated").glob("*.html")}
+    for name in ("load", "Model", "LinearSystem", "StationarySolution", "ModelError",
+                 "exercises.generate"):
+        assert f"resonant.{name}" in pages, name
+    system = (site / "generated" / "resonant.LinearSystem.html").read_text(encoding="utf-8")
+    assert "viewcode-link" in system and 'id="resonant.LinearSystem.numeric"' in system
+    for page in (site / "generated").glob("*.html"):
+        text = page.read_text(encoding="utf-8")
+        for helper in ("with_methods", "promote", "fields_of_base"):
+            assert f'id="resonant.{helper}' not in text and f".{helper}(" not in text, page
+
+
+def test_the_site_loads_nothing_and_draws_its_mathematics(site: Path) -> None:
+    import re
+
+    for page in site.rglob("*.html"):
+        text = page.read_text(encoding="utf-8")
+        external = re.findall(r'<(?:script|link|img)[^>]*(?:src|href)="(?:https?:)?//[^"]*"',
+                              text)
+        assert not external, (page.name, external[:3])
+        assert not re.search(r"<script[^>]*mathjax|MathJax\.js|tex-mml", text, re.I), page.name
+    sweeps = (site / "sweeps.html").read_text(encoding="utf-8")
+    assert "<math" in sweeps and "$" not in re.sub(r"<[^>]+>", "", sweeps.split("<math")[0])[-200:]
+    assert "pydata" in (site / "index.html").read_text(encoding="utf-8")
+
+
+def test_the_guide_shows_its_figures(site: Path) -> None:
+    for page, image in (("studies", "study-grid-cells.png"), ("sweeps", "sweep-cart-pendulum.png"),
+                        ("nonlinear", "nonlinear-duffing.png"), ("explore", "explore-375.png"),
+                        ("parts", "parts-torsional-chain.png"),
+                        ("reference-exercise", "report-375.png")):
+        assert image in (site / f"{page}.html").read_text(encoding="utf-8"), page
+        assert (site / "_images" / image).is_file(), image
+
+
+def test_the_gallery_index_has_thumbnails_and_distinct_titles(site: Path) -> None:
+    import re
+
+    index = (site / "gallery" / "index.html").read_text(encoding="utf-8")
+    cards = re.findall(r'class="[^"]*gallery-card', index)
+    thumbnails = re.findall(r'<img[^>]+src="[^"]*\.png"', index)
+    assert len(cards) == len(thumbnails) >= 20
+    titles = [re.sub(r"<[^>]+>", "", t).strip()
+              for t in re.findall(r"<title>(.*?)</title>", "".join(
+                  p.read_text(encoding="utf-8") for p in (site / "gallery").glob("*.html")))]
+    assert len(titles) == len(set(titles))
 
 
 def test_every_example_has_a_gallery_page_with_its_figures(site: Path) -> None:
@@ -48,3 +97,28 @@ def test_every_example_has_a_gallery_page_with_its_figures(site: Path) -> None:
     images = list((site / "_images").glob("*.png"))
     assert any(p.name.endswith("_drawing.png") for p in images)
     assert all(p.stat().st_size > 5_000 for p in images if p.name.startswith("duffing"))
+
+
+@pytest.mark.parametrize("width", [375, 1280])
+def test_the_site_fits_a_phone_and_a_laptop(site: Path, width: int) -> None:
+    """Chromium (Debian's, via Playwright) opens pages of the built site: none is wider
+    than the screen (a wide formula or table scrolls in its own box)."""
+    chromium = Path("/usr/bin/chromium")
+    if not chromium.exists():
+        pytest.skip("Debian's chromium (/usr/bin/chromium) is not installed")
+    api = pytest.importorskip("playwright.sync_api")
+    pages = ["index", "model-format", "sweeps", "studies", "explore", "gallery/index",
+             "generated/resonant.LinearSystem", "api"]
+    with api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=str(chromium), args=[
+            "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking"])
+        try:
+            for name in pages:
+                page = browser.new_page(viewport={"width": width, "height": 900})
+                page.goto((site / f"{name}.html").as_uri())
+                overflow = page.evaluate("document.documentElement.scrollWidth"
+                                         " - document.documentElement.clientWidth")
+                page.close()
+                assert overflow <= 0, f"{name} is {overflow} px wider than {width} px"
+        finally:
+            browser.close()

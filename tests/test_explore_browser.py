@@ -223,7 +223,7 @@ def test_the_page_shows_what_resonant_solve_computes(browser: Any, pages: dict[P
 def test_the_number_field_and_the_keyboard_move_the_parameters(browser: Any,
                                                                 pages: dict[Path, Path]) -> None:
     with opened(browser, pages[REFERENCE]) as page:
-        field = page.page.locator('input[type=number][data-name="k"]')
+        field = page.page.locator('input.value[data-name="k"]')
         field.fill("120")
         field.press("Tab")
         compare(page.state(), _solve(REFERENCE, {"k": 120.0}))
@@ -234,7 +234,7 @@ def test_the_number_field_and_the_keyboard_move_the_parameters(browser: Any,
             slider.press("ArrowRight")
         omega = page.state()["parameters"]["omega"]
         assert omega > before
-        assert page.page.locator('input[type=number][data-name="omega"]').input_value() \
+        assert page.page.locator('input.value[data-name="omega"]').input_value() \
             == repr(omega).removesuffix(".0")
         compare(page.state(), _solve(REFERENCE, {"k": 120.0, "omega": omega}))
 

@@ -192,7 +192,7 @@ def test_result_is_frozen_and_serializes(h1: NonlinearResponse, tmp_path) -> Non
     assert (tmp_path / "branch.csv").read_text().splitlines()[0] == "omega,stable,x"
     fig = h1.plot(tmp_path / "curve.png")
     assert (tmp_path / "curve.png").stat().st_size > 1000
-    assert fig.axes[0].get_xlabel() == "omega"
+    assert fig.axes[0].get_xlabel() == r"excitation frequency $\omega$ [rad/s]"
 
 
 def test_cli(tmp_path) -> None:  # type: ignore[no-untyped-def]

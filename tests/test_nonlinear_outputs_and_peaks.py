@@ -119,7 +119,7 @@ def test_outputs_on_every_branch_point_and_special_point(cart: NonlinearResponse
                            np.concatenate(p["harmonics"]["x2"]) / l, rtol=1e-9, atol=1e-14)
     assert all("phi" in p["amplitudes"] for p in data["special_points"])
     lines = {line.get_label() for line in plot_nonlinear_response(cart).axes[0].lines}
-    assert "phi (harmonic balance, H = 3)" in lines
+    assert r"$\varphi$ (harmonic balance, H = 3)" in lines
 
 
 def test_outputs_at_small_forcing_are_the_linear_ones() -> None:

@@ -83,7 +83,7 @@ def test_speed_sweep_is_not_labelled_as_a_frequency():
     # the resonance peak of the body lies near the speed where omega = wn
     assert any(abs(p.value - 6.37) < 0.6 for p in result.peaks if p.name == "z")
     fig = result.plot()
-    assert fig.axes[-1].get_xlabel() == "v"
+    assert fig.axes[-1].get_xlabel() == "$v$"
 
 
 def test_frequency_in_hz_is_labelled_hz():

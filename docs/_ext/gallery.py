@@ -81,9 +81,19 @@ def _figures(model: Any, path: Path, out: Path) -> list[tuple[str, str]]:
     return figures
 
 
+def _title(path: Path, model: Any) -> str:
+    """The example's title, with its folder where the folder's model shares it (the
+    teaching copy of the reference exercise)."""
+    title = model.title or path.stem
+    folder = path.parent.name
+    if folder != "examples" and f"({folder})" not in title:
+        title += f" ({folder})"
+    return title
+
+
 def _page(path: Path, model: Any, figures: list[tuple[str, str]]) -> str:
     relative = path.relative_to(ROOT).as_posix()
-    title = model.title or path.stem
+    title = _title(path, model)
     lines = [f"# {title}", "", f"`{relative}`", "", "```console",
              f"$ resonant solve {relative}", "```", ""]
     for caption, image in figures:
@@ -100,6 +110,7 @@ def build_gallery(app: Any) -> None:
     shutil.rmtree(out, ignore_errors=True)
     out.mkdir()
     entries = []
+    cards = []
     for path in example_files():
         model = resonant.load(path)
         name = path.stem if path.parent.name == "examples" else \
@@ -107,9 +118,17 @@ def build_gallery(app: Any) -> None:
         figures = _figures(model, path, out)
         (out / f"{name}.md").write_text(_page(path, model, figures), encoding="utf-8")
         entries.append(name)
+        # the card: the first figure (the mechanism where there are parts) as thumbnail
+        thumbnail = figures[-1][1] if model.parts is None and len(figures) > 1 else \
+            figures[0][1]
+        cards += ["````{container} gallery-card", f"```{{image}} {thumbnail}",
+                  f":alt: {_title(path, model)}", f":target: {name}.html", "```", "",
+                  f"[{_title(path, model)}]({name}.md)", "````", ""]
     index = ["# Gallery of the bundled examples", "",
-             "Every figure on these pages is computed by resonant when the site is built.",
-             "", "```{toctree}", ":maxdepth: 1", "", *entries, "```", ""]
+             "Every figure on these pages is computed by resonant when the site is built; "
+             "`resonant example NAME` writes the model file of one of them.", "",
+             "`````{container} gallery-grid", "", *cards, "`````", "",
+             "```{toctree}", ":hidden:", ":maxdepth: 1", "", *entries, "```", ""]
     (out / "index.md").write_text("\n".join(index), encoding="utf-8")
 
 

@@ -45,6 +45,7 @@ COMMANDS: dict[str, str] = {
     "grade": "check a student's answers against the key",
     "study": "parameter study: Monte Carlo, grids, Sobol indices, on Dask",
     "explore": "write an interactive page of the model (.html)",
+    "example": "list the bundled example models, or write one to a file",
 }
 
 Register = Callable[[Any, argparse.ArgumentParser], None]
@@ -92,6 +93,9 @@ def command_registrar(command: str) -> Register:
         case "explore":
             from . import explore
             return explore.register
+        case "example":
+            from . import example
+            return example.register
     raise KeyError(command)
 
 

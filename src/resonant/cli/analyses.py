@@ -145,8 +145,10 @@ def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
     result = nonlinear_sweep(linear_system(model, deadline), args.param, args.start, args.stop,
                              harmonics=args.harmonics, points=args.points, observe=observe,
                              tol=args.tol, deadline=deadline)
+    units = result_units(model)
     return _emit(args, result, lambda: nonlinear_text(result),
-                 lambda path: plot_nonlinear_response(result, path))
+                 lambda path: plot_nonlinear_response(
+                     result, path, units=units.si if units is not None else None))
 
 
 def _emit(args: argparse.Namespace, result: Any, text: Callable[[], str],

@@ -19,7 +19,7 @@ from ..deadline import DeadlineExceeded
 from ..errors import ModelError, Problem, printable
 from ..model.study import DESIGNS, MAX_HARMONICS, MAX_SAMPLES, MAX_SEED
 from ..studies import StudyJob, collect, engine_for, request
-from ..views.study_plots import plot_study
+from ..views.study_plots import plot_study, study_units
 
 
 def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
@@ -101,21 +101,27 @@ def run_study(args: argparse.Namespace) -> int:
         sys.stderr.write(f"the study stopped: {printable(args.output)} holds the samples "
                          "done so far; run the same command with --resume to complete it\n")
         raise
+    units = study_units(model, spec)
     if args.plot:
         plot_study(result.table, list(spec.vary), list(spec.columns), args.plot,
-                   result.sensitivity, grid=spec.design == "grid")
+                   result.sensitivity, grid=spec.design == "grid", units=units,
+                   nominal={name: float(model.parameter_values[name]) for name in spec.vary})
     if args.json:
-        cli.emit_json(result.to_dict())
+        # the SI unit of every varied parameter and quantity ("" for a pure number)
+        cli.emit_json({**result.to_dict(), "units": units})
     else:
-        sys.stdout.write(_text(result, args.output))
+        sys.stdout.write(_text(result, args.output, units))
     return 0
 
 
-def _text(result: Any, output: str) -> str:
+def _text(result: Any, output: str, units: dict[str, str] | None = None) -> str:
     lines = [f"{len(result.table)} samples ({result.spec.design}) of "
              f"{', '.join(result.spec.vary)} in {printable(output)}, run in {result.where}"]
     lines.append("status: " + ", ".join(f"{k} {v}" for k, v in result.failures().items()))
-    lines.append(result.summary().to_string(float_format=lambda v: f"{v:.6g}"))
+    table = result.summary()
+    if units:  # each quantity's own unit (a peak's frequency: the band parameter's)
+        table.insert(0, "unit", [units.get(str(name), "") for name in table.index])
+    lines.append(table.to_string(float_format=lambda v: f"{v:.6g}"))
     for name, entry in (result.sensitivity or {}).items():
         lines.append(f"Sobol indices of {name}: " + (entry["note"] or ", ".join(
             f"{p} S1 {s1:.3f} ± {c1:.3f}, ST {st:.3f} ± {ct:.3f}" for p, s1, c1, st, ct in zip(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 from .variants import ExerciseSet
@@ -36,7 +37,8 @@ def key_data(batch: ExerciseSet) -> dict[str, Any]:
     ex = batch.exercise
     return {
         "format": KEY_FORMAT, "version": 1,
-        "model": batch.model.source, "title": batch.model.title,
+        "model": Path(batch.model.source).name if batch.model.source else None,
+        "title": batch.model.title,
         "seed": batch.seed, "tolerance": ex.tolerance, "tolerance_kind": "relative",
         "answers": list(ex.answers),
         "variants": [{

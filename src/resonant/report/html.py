@@ -7,7 +7,10 @@ brackets need an OpenType math font, which a plain system lacks); each glyph is
 defined once per page.  A visually hidden MathML copy (``latex2mathml``) is kept
 for screen readers, and a formula ziamath cannot draw is shown as MathML.  Wide
 display formulas are broken between their top-level pieces, and a piece wider
-than the page is scaled down, so nothing is cut on screen or in print.
+than the page is scaled down, so nothing is cut on screen or in print.  On a phone
+(a screen narrower than 40 em) a display formula is kept on one line and scrolls
+sideways inside its own box, as in a textbook, rather than breaking at every operator;
+the page itself never scrolls sideways.
 """
 
 from __future__ import annotations
@@ -73,6 +76,19 @@ figcaption { font-size: .92rem; color: #333; margin-top: .3rem; text-align: left
   margin: .6rem 0; }
 .source { color: #555; font-size: .95rem; }
 code { font-family: "DejaVu Sans Mono", monospace; font-size: .9em; }
+@media screen and (max-width: 40rem) {
+  main { margin: 0; padding: 1.2rem 1rem 2rem; border-radius: 0; box-shadow: none; }
+  p { text-align: left; }
+  .equation { gap: .4rem; }
+  .equation .number { min-width: 0; }
+  .equation .body { overflow-x: auto; overflow-y: hidden; white-space: nowrap; position: relative;
+    text-align: left; padding-bottom: .4rem; }
+  .equation .body .mp { max-width: none; }
+  .equation .body wbr { display: none; }
+  .equation .body svg.m { max-width: none; }
+  table { min-width: 0; font-size: .95rem; }
+  th, td { padding: .25rem .5rem; }
+}
 @media print {
   body { background: #fff; font-size: 11pt; }
   main { box-shadow: none; margin: 0; padding: 0; max-width: none; }

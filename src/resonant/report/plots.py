@@ -193,13 +193,18 @@ def _label(name: str, units: Mapping[str, str] | None = None) -> str:
 
 
 def _unit_suffix(plot: ResponseCurves | TimeHistory) -> tuple[str, Mapping[str, str]]:
-    """`` [m]`` for the y axis when every curve has that unit, else per-curve units."""
+    """`` [m]`` for the y axis when every curve has that unit, else `` [m, rad]`` and
+    per-curve units in the legend."""
     shown = {plot.units.get(n, "") for n in (plot.amplitudes if isinstance(
         plot, ResponseCurves) else plot.values)}
     if len(shown) == 1:
         unit = next(iter(shown))
         return (f" [{unit}]" if unit and unit != "1" else ""), {}
-    return "", plot.units
+    # several units: all of them on the axis (in the order of the curves), each in the legend
+    named = [u if u and u != "1" else "1" for u in dict.fromkeys(
+        plot.units.get(n, "") for n in (plot.amplitudes if isinstance(
+            plot, ResponseCurves) else plot.values))]
+    return f" [{', '.join(named)}]", plot.units
 
 
 def chart_of(plot: ResponseCurves | TimeHistory) -> Chart:

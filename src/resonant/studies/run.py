@@ -305,7 +305,8 @@ def description(job: StudyJob, size: int) -> dict[str, Any]:
     -------
     dict
     """
-    return {"model": job.source, "model_sha256": hashlib.sha256(job.text.encode()).hexdigest(),
+    return {"model": Path(job.source).name,
+            "model_sha256": hashlib.sha256(job.text.encode()).hexdigest(),
             "overrides": dict(job.overrides), "study": job.spec.to_dict(), "chunk_size": size,
             "rows": job.spec.size}
 

@@ -27,6 +27,7 @@ $\\displaystyle \\begin{bmatrix} m \\end{bmatrix}\\begin{bmatrix} \\ddot{x}_{1} 
 from __future__ import annotations
 
 import html
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -150,7 +151,7 @@ def solution_text(sol: StationarySolution) -> str:
     e = sol.eom
     out: list[str] = []
     title = printable(e.title or "model")
-    out.append(f"{title}" + (f"  ({printable(e.source)})" if e.source else ""))
+    out.append(f"{title}" + (f"  ({printable(Path(e.source).name)})" if e.source else ""))
     out.append("=" * min(78, len(out[0])))
     units = result_units(e.model)
     out.append(f"generalized coordinates q = [{', '.join(e.coordinates)}]"
@@ -279,7 +280,7 @@ def _mathml(latex: str) -> str:
 def model_html(model: Model) -> str:
     """The model as HTML with MathML (``_repr_html_``)."""
     body = model_latex(model).removeprefix(r"$\displaystyle ").removesuffix("$")
-    title = html.escape(model.title or model.source or "model")
+    title = html.escape(model.title or Path(model.source or "model").name)
     return f"<p><b>{title}</b></p>{_mathml(body)}"
 
 

@@ -86,7 +86,43 @@ def _zigzag(link: LinkShape, u: float) -> list[Point]:
     return points
 
 
+def coil(link: LinkShape, u: float, turns: int = 6, steps: int = 24) -> list[Point]:
+    """A torsion spring seen from the side: a coil wound about the shaft from ``start`` to
+    ``end`` (a prolate cycloid: loops of radius 0.05 u, each advancing along the shaft).
+
+    Examples
+    --------
+    >>> from resonant.views.sketch import Label
+    >>> link = LinkShape("spring", "s", (0.0, 0.0), (1.0, 0.0), Label(""), torsion=True)
+    >>> points = coil(link, 1.0)
+    >>> points[0], points[-1]
+    ((0.0, 0.0), (1.0, 0.0))
+    >>> max(abs(y) for _, y in points) <= 0.05 + 1e-12
+    True
+    """
+    a, b = link.start, link.end
+    length = math.hypot(b[0] - a[0], b[1] - a[1])
+    lead = min(0.2, 0.06 * u / length) if length else 0.2
+    radius = 0.05 * u
+    pitch = (1 - 2 * lead) / turns
+    # each turn runs back by more than it advances at its top: a loop, as a coil looks
+    back = 0.4 * pitch
+    points = [a]
+    for k in range(turns * steps + 1):
+        theta = 2 * math.pi * k / steps
+        t = lead + pitch * k / steps + back * (math.cos(theta) - 1)
+        points.append(_along(a, b, max(0.0, t), radius * math.sin(theta)))
+    points += [_along(a, b, 1 - lead), b]
+    return points
+
+
 def _draw_spring(ax: Any, link: LinkShape, u: float) -> None:
+    if link.torsion:  # the shaft, and the coil about it
+        ax.plot([link.start[0], link.end[0]], [link.start[1], link.end[1]], color=INK,
+                linewidth=0.7, zorder=2, dashes=(6, 2, 1, 2))
+        xs, ys = zip(*coil(link, u))
+        ax.plot(xs, ys, color=INK, linewidth=1.1, zorder=2)
+        return
     xs, ys = zip(*_zigzag(link, u))
     ax.plot(xs, ys, color=INK, linewidth=1.1, zorder=2, solid_joinstyle="miter")
 
@@ -367,7 +403,97 @@ def draw_sketch(data: Sketch, ax: Any = None) -> Any:
     ax.set_ylim(ymin - margin, ymax + margin)
     ax.set_aspect("equal", adjustable="box")
     ax.set_axis_off()
+    separate_labels(ax)
     return fig
+
+
+#: the room kept around a label (display points)
+LABEL_PAD = 2.0
+
+
+def _label_obstacles(ax: Any, renderer: Any) -> list[Any]:
+    """The drawn lines and arrows of ``ax`` as display-space vertex arrays."""
+    import numpy as np
+    from matplotlib.patches import FancyArrowPatch
+
+    out = []
+    for line in ax.lines:
+        xy = np.column_stack([np.asarray(line.get_xdata(), dtype=float),
+                              np.asarray(line.get_ydata(), dtype=float)])
+        if len(xy) >= 2:
+            out.append(ax.transData.transform(xy))
+    for patch in ax.patches:
+        if isinstance(patch, FancyArrowPatch):
+            for poly in patch.get_path().to_polygons(closed_only=False):
+                vertices = np.asarray(poly, dtype=float)
+                if vertices.shape[0] >= 2:
+                    out.append(ax.transData.transform(vertices))
+    return out
+
+
+def _crosses(box: Any, polyline: Any) -> bool:
+    """Whether a display-space polyline enters ``box`` (sampled finely enough for text)."""
+    import numpy as np
+
+    a, b = polyline[:-1], polyline[1:]
+    steps = np.maximum(1, np.ceil(np.hypot(*(b - a).T) / 2.0)).astype(int)
+    for start, end, n in zip(a, b, steps):
+        t = np.linspace(0.0, 1.0, n + 1)[:, None]
+        points = start + t * (end - start)
+        inside = (points[:, 0] > box.x0) & (points[:, 0] < box.x1) & \
+            (points[:, 1] > box.y0) & (points[:, 1] < box.y1)
+        if inside.any():
+            return True
+    return False
+
+
+def separate_labels(ax: Any) -> int:
+    """Move each label that overlaps an earlier one, a line or an arrow to the nearest free
+    place around it (rings of 8 directions, up to 36 points away); returns how many moved.
+
+    The labels are taken in the order they were drawn (links, bodies, points, then forces
+    and coordinates), so the later, smaller ones give way.
+    """
+    from matplotlib.backend_bases import FigureCanvasBase
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    fig = _figure_of(ax)
+    if type(fig.canvas) is FigureCanvasBase:
+        FigureCanvasAgg(fig)
+    renderer = fig.canvas.get_renderer()
+    obstacles = _label_obstacles(ax, renderer)
+    placed: list[Any] = []
+    moved = 0
+    scale = fig.dpi / 72.0
+    pad = LABEL_PAD * scale
+
+    def free(box: Any) -> bool:
+        grown = box.expanded(1.0, 1.0).padded(pad)
+        return not any(grown.overlaps(p) for p in placed) and \
+            not any(_crosses(grown, o) for o in obstacles)
+
+    for text in [t for t in ax.texts if t.get_text()]:
+        box = text.get_window_extent(renderer)
+        if not free(box):
+            origin = ax.transData.transform(text.get_position())
+            best = None
+            for radius in (4, 8, 12, 18, 26, 36):
+                for k in range(8):
+                    angle = math.pi / 2 - k * math.pi / 4
+                    shift = (radius * scale * math.cos(angle), radius * scale * math.sin(angle))
+                    if free(box.translated(*shift)):
+                        best = shift
+                        break
+                if best is not None:
+                    break
+            if best is not None:
+                at = ax.transData.inverted().transform((origin[0] + best[0],
+                                                        origin[1] + best[1]))
+                text.set_position((float(at[0]), float(at[1])))
+                box = text.get_window_extent(renderer)
+                moved += 1
+        placed.append(box)
+    return moved
 
 
 def draw_mechanism(model: Model | Sketch, path: str | Path | None = None, ax: Any = None

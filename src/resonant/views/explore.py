@@ -47,6 +47,7 @@ from ..system import LinearSystem, linear_system
 from ..system.stability import natural_frequencies
 from .explore_export import ExportedSystem, equilibrium_values, export_system
 from .js_printer import NotPrintable
+from .notation import name_latex
 from .sketch import SketchMotion, sketch_motion
 from .units_display import result_units
 
@@ -268,7 +269,8 @@ def controls(model: Model, system: LinearSystem, frequency: str | None,
         if name == frequency and (spec is None or name not in spec.ranges):
             start, stop, log = _frequency_range(system, value, deadline)
         unit = given[name][1] if name in given else None
-        out.append({"name": name, "value": value, "from": start, "to": stop, "log": log,
+        out.append({"name": name, "symbol": name_latex(name), "value": value,
+                    "from": start, "to": stop, "log": log,
                     "unit": unit.text if unit is not None else "",
                     "factor": unit.to_si() if unit is not None else 1.0,
                     "formula": expression.text if expression.names() else "",
@@ -301,13 +303,24 @@ def shown_names(model: Model, system: LinearSystem) -> list[str]:
     return [*system.coordinates, *model.outputs][:DEFAULT_SHOWN]
 
 
+def _unit_text(units: Any, name: str) -> str:
+    """The unit a name is shown in: its display unit, else its SI unit (an angle: rad);
+    "" for a pure number."""
+    shown = units.unit(name) if units is not None else None
+    if shown is None:
+        return ""
+    text = shown.text or (units.si.get(name, "") if shown.factor == 1 else "")
+    return "" if text == "1" else str(text)
+
+
 def _name_units(model: Model, names: list[str]) -> list[dict[str, Any]]:
     units = result_units(model)
     out = []
     for name in names:
         shown = units.unit(name) if units is not None else None
-        out.append({"name": name, "description": model.descriptions.get(name, ""),
-                    "unit": shown.text if shown is not None else "",
+        out.append({"name": name, "symbol": name_latex(name),
+                    "description": model.descriptions.get(name, ""),
+                    "unit": _unit_text(units, name),
                     "factor": shown.factor if shown is not None else 1.0})
     return out
 
@@ -501,6 +514,7 @@ def explore_data(model: Model, system: LinearSystem | None = None,
     shown = [n for n in shown_names(model, system) if n in names]
     data: dict[str, Any] = {
         "title": model.title, "file": Path(model.source).name, "live": exported is not None,
+        "has_units": model.units is not None,
         "note": note, "coordinates": _name_units(model, list(system.coordinates)),
         "outputs": _name_units(model, list(model.outputs)), "parameters": sliders,
         "frequency": frequency, "show": shown, "equilibrium": equilibrium_values(model)

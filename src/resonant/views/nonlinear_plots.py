@@ -9,12 +9,12 @@ The curves are the coordinates' and the outputs' (``[outputs]``).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .plotting import MAX_CURVES, _figure_of, _new_figure, _save
+from .plotting import MAX_CURVES, _figure_of, _new_figure, _save, math_name, unit_math
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..analyses.backbone import Backbones
@@ -26,8 +26,10 @@ MARKERS = {"fold": "o", "period-doubling": "s", "neimark-sacker": "D", "branch":
 
 def plot_nonlinear_response(response: NonlinearResponse, path: Any = None,
                             names: Sequence[str] | None = None, ax: Any = None,
-                            linear: bool = True) -> Any:
-    """Amplitude against the parameter; returns the Figure (and writes it to ``path``)."""
+                            linear: bool = True, units: Mapping[str, str] | None = None) -> Any:
+    """Amplitude against the parameter; returns the Figure (and writes it to ``path``).
+
+    ``units`` (name -> SI unit, ``ResultUnits.si``) labels the curves and the axis."""
     if ax is None:
         fig = _new_figure(figsize=(7.5, 4.8), layout="constrained")
         ax = fig.add_subplot()
@@ -39,9 +41,11 @@ def plot_nonlinear_response(response: NonlinearResponse, path: Any = None,
     stable = np.asarray(response.stable)
     for name, color in zip(chosen, colors):
         a = np.asarray(response.amplitudes[name])
+        unit = (units or {}).get(name, "")
+        shown = math_name(name) + (f" [{unit_math(unit)}]" if unit not in ("", "1") else "")
         if linear and response.linear is not None and name in response.linear.amplitudes:
             ax.plot(response.linear.values, response.linear.amplitudes[name], color=color,
-                    lw=1.1, alpha=0.6, ls=":", label=f"{name} (linear)")
+                    lw=1.1, alpha=0.6, ls=":", label=f"{shown} (linear)")
         # draw segments of constant stability, joined at the switching points
         start = 0
         first = True
@@ -50,7 +54,7 @@ def plot_nonlinear_response(response: NonlinearResponse, path: Any = None,
                 stop = min(i + 1, v.size)
                 ax.plot(v[start:stop], a[start:stop], color=color,
                         ls="-" if stable[start] else "--", lw=1.6,
-                        label=(f"{name} (harmonic balance, H = {response.harmonics})"
+                        label=(f"{shown} (harmonic balance, H = {response.harmonics})"
                                if first else None))
                 first = False
                 start = i
@@ -63,8 +67,13 @@ def plot_nonlinear_response(response: NonlinearResponse, path: Any = None,
     for kind in kinds:
         ax.plot([], [], MARKERS.get(kind, "x"), color="k", mfc="none", label=kind)
     ax.plot([], [], color="0.3", ls="--", label="unstable")
-    ax.set_xlabel(response.parameter)
-    ax.set_ylabel("peak amplitude (deviation)")
+    base = np.asarray(response.base_frequencies, dtype=float)
+    frequency = base.shape == v.shape and bool(np.allclose(base, v))  # the parameter is ω
+    ax.set_xlabel(("excitation frequency " if frequency else "") + math_name(response.parameter)
+                  + (" [rad/s]" if frequency else ""))
+    shown_units = sorted({(units or {}).get(n, "") for n in chosen} - {"", "1"})
+    ax.set_ylabel("peak amplitude $X$ (deviation)"
+                  + (f" [{', '.join(unit_math(u) for u in shown_units)}]" if shown_units else ""))
     ax.set_title(response.title or "nonlinear steady state", fontsize=10)
     top = max((float(np.nanmax(response.amplitudes[n])) for n in chosen), default=1.0)
     if top > 0:
@@ -122,10 +131,10 @@ def plot_backbones(backbones: Backbones, path: Any = None, ax: Any = None) -> An
         amp = np.concatenate([[0.0], np.asarray(curve.amplitudes[curve.reference])])
         freq = np.concatenate([[curve.linear_frequency], np.asarray(curve.frequencies)])
         ax.plot(freq, amp, color=color, lw=1.6,
-                label=f"mode {curve.mode} (amplitude of {curve.reference})")
+                label=f"mode {curve.mode} (amplitude of {math_name(curve.reference)})")
         ax.axvline(curve.linear_frequency, color=color, ls=":", lw=1.0)
-    ax.set_xlabel("frequency of free vibration [rad/s]")
-    ax.set_ylabel("peak amplitude (deviation)")
+    ax.set_xlabel(r"frequency of free vibration $\omega$ [rad/s]")
+    ax.set_ylabel("peak amplitude $X$ (deviation)")
     ax.set_title((backbones.title or "backbone curves")
                  + f" (harmonic balance, H = {backbones.harmonics})", fontsize=10)
     ax.set_ylim(bottom=0)

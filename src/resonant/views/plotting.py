@@ -22,6 +22,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import AnalysisError, printable
+from .notation import name_latex
+from .units_display import unit_latex
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..analyses.modes import ModalAnalysis
@@ -34,6 +36,39 @@ MAX_CURVES = 8
 FLOOR = 1e-9
 #: at most this many natural frequencies are drawn as vertical lines
 MAX_LINES = 30
+
+
+def math_name(name: str) -> str:
+    """A model name typeset for matplotlib (``x1`` -> ``$x_{1}$``, ``phi`` -> ``$\\varphi$``),
+    or the name as plain text where mathtext cannot set it.
+
+    Examples
+    --------
+    >>> print(math_name("x1"), math_name("omega"), math_name("F0"))
+    $x_{1}$ $\\omega$ $F_{0}$
+    """
+    from matplotlib.mathtext import MathTextParser
+
+    text = f"${name_latex(name)}$"
+    try:
+        MathTextParser("path").parse(text)
+    except ValueError:
+        return printable(name, limit=40).replace("$", r"\$")
+    return text
+
+
+def unit_math(unit: str) -> str:
+    """A unit for a matplotlib label: ``N*s/m`` and ``m/s^2`` typeset (a product's dot,
+    a power's superscript), a plain one (``m``, ``rad/s``) as it is.
+
+    Examples
+    --------
+    >>> print(unit_math("m"), unit_math("N*s/m"))
+    m $\\mathrm{N\\,s/m}$
+    """
+    if not any(c in unit for c in "*^"):
+        return unit.replace("$", r"\$")
+    return "$" + unit_latex(unit).removeprefix("\\ ") + "$"
 
 
 def _new_figure(**options: Any) -> Any:
@@ -138,9 +173,9 @@ def plot_frequency_response(response: FrequencyResponse, path: Any = None,
     _mark_natural(response, panels, ax_amp)
     if any_positive:
         ax_amp.set_yscale("log")
-        if floor > 0 and top > 0:  # clipped to the sampled data
-            ax_amp.set_ylim(floor / 1.5, top * 1.5)
-    _label_response_axes(response, panels, ax_amp, ax_phase, amplitude_units)
+        if floor > 0 and top > 0:  # clipped to the sampled data, room above for the labels
+            ax_amp.set_ylim(floor / 1.5, top * (top / floor) ** 0.12 * 1.5)
+    _label_response_axes(response, panels, ax_amp, ax_phase, amplitude_units, own=ax is None)
     if ax is None:
         fig.tight_layout()
     _save(fig, path, dpi=150, bbox_inches="tight")
@@ -164,7 +199,7 @@ def _curve_names(response: FrequencyResponse, names: Sequence[str] | None) -> li
 def _response_axes(ax: Any) -> tuple[Any, Any, Any]:
     """(figure, amplitude axes, phase axes or None): new, or the caller's ``ax=``."""
     if ax is None:
-        fig = _new_figure(figsize=(8, 6.5))
+        fig = _new_figure(figsize=(9.5, 6.5))
         ax_amp, ax_phase = fig.subplots(2, 1, sharex=True,
                                         gridspec_kw={"height_ratios": [2.2, 1]})
         return fig, ax_amp, ax_phase
@@ -196,16 +231,38 @@ def _draw_curve(response: FrequencyResponse, name: str, color: str, floor: float
     amplitude = np.array(response.amplitudes[name], dtype=float)
     shown = np.where(amplitude > 0, np.maximum(amplitude, floor), np.nan)  # log: no zeros
     kind = "" if name in response.coordinates else " (output)"
-    if units and units.get(name):
-        kind += f" [{units[name]}]"
-    ax_amp.plot(x, shown, color=color, lw=1.5, label=f"{name}{kind}")
-    phase = np.degrees(np.array(response.phases[name], dtype=float))
-    # break the curve where the phase wraps from -180 to +180 degrees
-    wraps = np.nonzero(np.abs(np.diff(phase)) > 180)[0] + 1
+    if units and units.get(name) not in (None, "", "1"):
+        kind += f" [{unit_math(units[name])}]"
+    ax_amp.plot(x, shown, color=color, lw=1.5, label=f"{math_name(name)}{kind}")
     if ax_phase is not None:
-        ax_phase.plot(np.insert(x, wraps, np.nan), np.insert(phase, wraps, np.nan),
-                      color=color, lw=1.2)
+        ax_phase.plot(x, unwrapped_degrees(response.phases[name]), color=color, lw=1.2)
     return bool(np.any(np.isfinite(shown)))
+
+
+def unwrapped_degrees(phase: Any) -> np.ndarray:
+    """A phase curve in degrees made continuous: jumps of a full turn removed (each run
+    between gaps on its own), so that a phase passing -180 degrees goes on to -270
+    instead of jumping to +90; a jump of half a turn (the sign change at an undamped
+    resonance) is taken as a growing lag.
+
+    Examples
+    --------
+    >>> unwrapped_degrees(np.radians([170.0, 179.0, -178.0, -170.0])).round(6).tolist()
+    [170.0, 179.0, 182.0, 190.0]
+    """
+    radians = np.array(phase, dtype=float)
+    out = np.full(radians.shape, np.nan)
+    finite = np.isfinite(radians)
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], finite.astype(int), [0]))))
+    for start, stop in zip(edges[::2], edges[1::2]):
+        run = radians[start:stop]
+        step = np.diff(run)
+        wrapped = np.mod(step + math.pi, 2 * math.pi) - math.pi
+        # a jump of half a turn (an undamped resonance or antiresonance: the sign flips) is
+        # taken as a growing lag, as textbooks draw it, whatever side rounding puts it on
+        wrapped[np.abs(np.abs(wrapped) - math.pi) < 0.05] = -math.pi
+        out[start:stop] = np.degrees(run + np.concatenate(([0.0], np.cumsum(wrapped - step))))
+    return out
 
 
 def _mark_peaks(response: FrequencyResponse, name: str, color: str, floor: float,
@@ -217,9 +274,13 @@ def _mark_peaks(response: FrequencyResponse, name: str, color: str, floor: float
         # one label per resonance: curves peaking at nearly the same value share it
         if all(abs(p.value - v) > 0.06 * abs(v) for v in labelled):
             labelled.append(p.value)
-            ax_amp.annotate(f"{p.value:.4g}", (p.value, p.amplitude),
-                            textcoords="offset points", xytext=(0, 7), ha="center",
-                            fontsize=8, color=color)
+            # above the curves (in the headroom the axis leaves over the highest peak),
+            # on a white ground: no curve crosses it
+            ax_amp.annotate(f"{p.value:.4g}", (p.value, 1.0), xycoords=("data", "axes fraction"),
+                            textcoords="offset points", xytext=(0, -3), ha="center", va="top",
+                            fontsize=8, color=color, zorder=5,
+                            bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none",
+                                  "alpha": 0.9})
     for p in [p for p in response.antiresonances if p.name == name][:20]:
         ax_amp.plot([p.value], [max(p.amplitude, floor)], "o", mfc="white", color=color, ms=6)
 
@@ -241,13 +302,13 @@ def _mark_natural(response: FrequencyResponse, panels: Sequence[Any], ax_amp: An
 
 
 def _label_response_axes(response: FrequencyResponse, panels: Sequence[Any], ax_amp: Any,
-                         ax_phase: Any, amplitude_units: set[str]) -> None:
+                         ax_phase: Any, amplitude_units: set[str], own: bool = False) -> None:
     """Axis labels, grids, the legend (with the marker kinds) and the title."""
     from matplotlib.lines import Line2D
 
-    one_unit = next(iter(amplitude_units)) if len(amplitude_units) == 1 else ""
-    ax_amp.set_ylabel("amplitude (peak of the stationary response)" + (
-        f" [{one_unit}]" if one_unit not in ("", "1") else ""))
+    shown_units = [unit_math(u) if u not in ("", "1") else "1" for u in sorted(amplitude_units)]
+    ax_amp.set_ylabel("amplitude $X$" + (f" [{', '.join(shown_units)}]"
+                                         if shown_units and shown_units != ["1"] else ""))
     ax_amp.grid(True, which="both", alpha=0.3)
     marker_handles = [Line2D([], [], ls="", marker="v", color="0.3", mec="black",
                              label="resonance peak")] if response.peaks else []
@@ -255,22 +316,29 @@ def _label_response_axes(response: FrequencyResponse, panels: Sequence[Any], ax_
         marker_handles.append(Line2D([], [], ls="", marker="o", mfc="white", color="0.3",
                                      label="antiresonance (zero)"))
     handles, labels = ax_amp.get_legend_handles_labels()
+    # beside the plot (own figure): it never hides a curve or a peak's label
+    beside = {"loc": "upper left", "bbox_to_anchor": (1.01, 1.0), "borderaxespad": 0.0} \
+        if own else {"loc": "best"}
     ax_amp.legend(handles + marker_handles, labels + [h.get_label() for h in marker_handles],
-                  fontsize=8, loc="best", ncol=2)
+                  fontsize=8, ncol=1, **beside)
     if ax_phase is not None:
-        ax_phase.set_ylabel("phase delta [deg]")
-        ax_phase.set_yticks([-180, -90, 0, 90, 180])
-        ax_phase.set_ylim(-190, 190)
+        ax_phase.set_ylabel(r"phase $\delta$ [°]")
+        low, high = ax_phase.get_ylim()
+        first, last = 90 * math.floor(low / 90), 90 * math.ceil(high / 90)
+        if last - first < 180:
+            first, last = first - 90, last + 90
+        step = 90 * max(1, math.ceil((last - first) / 90 / 8))
+        ax_phase.set_yticks(np.arange(first, last + 1, step))
+        ax_phase.set_ylim(first - 10, last + 10)
         ax_phase.grid(True, alpha=0.3)
     unit = f" [{response.unit}]" if response.unit else ""
     panels[-1].set_xlabel(("excitation frequency " if response.frequency_sweep else "")
-                          + f"{printable(response.parameter, limit=40)}{unit}")
+                          + f"{math_name(response.parameter)}{unit}")
     if response.log:
         for panel in panels:
             panel.set_xscale("log")
     title = printable(response.title or "frequency response", limit=80)
-    ax_amp.set_title(f"{title}\nx = X sin({'omega' if response.frequency_sweep else 'w'} t "
-                     "+ delta)", fontsize=10)
+    ax_amp.set_title(f"{title}\n" + r"$x = X \sin(\omega t + \delta)$", fontsize=10)
 
 
 def plot_modes(analysis: ModalAnalysis, path: Any = None, count: int | None = 6,
@@ -310,7 +378,7 @@ def plot_modes(analysis: ModalAnalysis, path: Any = None, count: int | None = 6,
     if ax is None:
         columns = 2 if count > 1 else 1
         rows = math.ceil(count / columns)
-        fig = _new_figure(figsize=(4.2 * columns, 2.4 * rows))
+        fig = _new_figure(figsize=(4.9 * columns, 2.5 * rows))
         panels = list(fig.subplots(rows, columns, squeeze=False).ravel())
         for extra in panels[count:]:
             extra.set_visible(False)
@@ -339,18 +407,20 @@ def _draw_mode(ax: Any, analysis: ModalAnalysis, j: int) -> None:
     if n <= 24:
         ax.bar(positions, shape, color=np.where(shape >= 0, "C0", "C3"), width=0.6)
         ax.set_xticks(positions)
-        ax.set_xticklabels(analysis.coordinates, fontsize=8,
+        ax.set_xticklabels([math_name(c) for c in analysis.coordinates], fontsize=10,
                            rotation=0 if n <= 8 else 90)
     else:
         ax.plot(positions, shape, color="C0", lw=1.2)
-        ax.set_xlabel("coordinate number", fontsize=8)
+        ax.set_xlabel("coordinate number", fontsize=10)
     ax.axhline(0, color="black", lw=0.6)
     ax.set_ylim(-1.15, 1.15)
     w = analysis.natural_frequencies[j]
-    text = f"mode {j + 1}: omega = {w:.5g} rad/s ({w / (2 * math.pi):.4g} Hz)"
+    text = (f"mode {j + 1}: $\\omega_{{{j + 1}}}$ = {w:.5g} rad/s "
+            f"($f_{{{j + 1}}}$ = {w / (2 * math.pi):.4g} Hz)")
     if analysis.proportional_damping and analysis.damped and j < len(analysis.damping_ratios):
-        text += f", zeta = {analysis.damping_ratios[j]:.3g}"
-    ax.set_title(text, fontsize=9)
+        text += f", $\\zeta_{{{j + 1}}}$ = {analysis.damping_ratios[j]:.3g}"
+    ax.set_title(text, fontsize=10)
+    ax.tick_params(axis="y", labelsize=10)
     ax.grid(True, axis="y", alpha=0.3)
 
 
@@ -407,13 +477,13 @@ def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None,
             text += f", linear {sim.linear_amplitudes[name]:.4g}"
         if name in sim.relative_difference:
             text += f" ({100 * sim.relative_difference[name]:+.3g}%)"
-        ax.set_title(f"{name}: {text}", fontsize=9, loc="left")
+        ax.set_title(f"{math_name(name)}: {text}", fontsize=9, loc="left")
         kindof = "coordinate" if name in sim.coordinates else "output"
         unit = (units or {}).get(name, "")
         unit = f" [{unit}]" if unit not in ("", "1") else ""
-        ax.set_ylabel(f"{name}{unit} ({kindof}, deviation)", fontsize=9)
+        ax.set_ylabel(f"{math_name(name)}{unit} ({kindof}, deviation)", fontsize=9)
         ax.grid(True, lw=0.4, alpha=0.6)
-    panels[min(len(panels), len(names)) - 1].set_xlabel("t (s)")
+    panels[min(len(panels), len(names)) - 1].set_xlabel("time $t$ [s]")
     if own:
         handles, labels = panels[0].get_legend_handles_labels()
         fig.legend(handles, labels, loc="outside lower center", fontsize=9, ncols=3,
@@ -428,5 +498,5 @@ def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None,
     return fig
 
 
-__all__ = ["plot_frequency_response", "plot_modes", "plot_simulation", "MAX_CURVES",
-           "MAX_LINES"]
+__all__ = ["plot_frequency_response", "plot_modes", "plot_simulation", "math_name",
+           "unit_math", "unwrapped_degrees", "MAX_CURVES", "MAX_LINES"]

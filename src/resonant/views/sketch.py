@@ -113,7 +113,11 @@ class BodyShape:
 
 @dataclass(frozen=True)
 class LinkShape:
-    """A spring (zig-zag) or damper (dash-pot) from ``start`` to ``end`` (visible part)."""
+    """A spring (zig-zag) or damper (dash-pot) from ``start`` to ``end`` (visible part).
+
+    A ``torsion`` spring (its elongation a turn of bodies, not a change of distance) is
+    drawn as a coil about the shaft from ``start`` to ``end``.
+    """
 
     kind: str
     name: str
@@ -122,6 +126,7 @@ class LinkShape:
     label: Label
     #: where the label goes (beside the middle, outward for springs side by side)
     label_at: Point = (0.0, 0.0)
+    torsion: bool = False
 
 
 @dataclass(frozen=True)
@@ -390,11 +395,16 @@ class _Layout:
                      for a, b in [link.between]]
             spans = [d for d in spans if d > 1e-6 * extent]
             return min(extent, 1.5 * min(spans)) if spans else extent
-        sizes = [self.geo.value(self.geo.expr(e)) for b in self.parts.bodies for e in b.size]
+        sizes = [self.size(e) for b in self.parts.bodies for e in b.size]
         sizes += [math.sqrt(2 * self.inertias[b]) / math.sqrt(self.masses[b])
                   for b in self.bodies if self.masses[b] > 0 and self.inertias[b] > 0]
         sizes = [abs(s) * 4 for s in sizes if math.isfinite(s) and s > 0]
         return max(sizes) if sizes else 1.0
+
+    def size(self, text: Any) -> float:
+        """A size of the model, bounded: at most :data:`DRAWABLE` (the square of a radius of
+        1e300 is out of the range of a float; the figure is scaled to the bounded size)."""
+        return min(abs(self.geo.value(self.geo.expr(text))), DRAWABLE)
 
     def factor(self, body: str) -> float:
         """Relative size of a body from its mass (cube root), between 0.55 and 1."""
@@ -452,7 +462,7 @@ class _Layout:
         origin = self.at(name)
         centre = _add(self.centres[name], self.shift.get(self.root(name), (0.0, 0.0)))
         angle = self.angles[name]
-        sizes = [abs(self.geo.value(self.geo.expr(e))) for e in body.size]
+        sizes = [self.size(e) for e in body.size]
         shape = body.shape or self.guess_shape(body)
         f = self.factor(name)
         label = plain(name)
@@ -653,7 +663,7 @@ def _sketch(model: Model) -> tuple[Sketch, _Layout, list[str]]:
             label_at = _add(middle, _perp(along), side * 0.11 * u)
             links.append(LinkShape(link.kind, link.name, start, end,
                                    expression_label(link.coefficient, layout.signals),
-                                   label_at))
+                                   label_at, torsional(derived.parts, link)))
 
     supports = _supports(layout, bodies, links)
     supports += _rolling_grounds(layout, bodies)
@@ -1048,6 +1058,33 @@ def sketch_motion(model: Model) -> SketchMotion:
         tuple(of(b.pin) for b in parts.bodies if b.pin is not None),
         tuple(index.get(o, -1) if o else -1 for o in force_owners),
         {name: of(name) for name in data.points})
+
+
+def torsional(parts: Any, link: Link) -> bool:
+    """Whether a spring or damper twists rather than stretches: its elongation is made of
+    coordinates that turn bodies (their ``angle``) and move none (no ``position``).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> parts = resonant.load("examples/parts/torsional_chain.toml").parts.parts
+    >>> [torsional(parts, s) for s in parts.springs]
+    [True, True]
+    >>> parts = resonant.load("examples/parts/cart_pendulum.toml").parts.parts
+    >>> [torsional(parts, s) for s in parts.springs]
+    [False]
+    """
+    if link.mode != "elongation" or link.elongation is None:
+        return False
+    names = set(link.elongation.names())
+    turning: set[str] = set()
+    moving: set[str] = set()
+    for body in parts.bodies:
+        if body.angle is not None:
+            turning |= set(body.angle.names())
+        for entry in (*(body.position or ()), *(body.centre or ())):
+            moving |= set(entry.names()) if hasattr(entry, "names") else set()
+    return bool(names) and names <= turning and not names & moving
 
 
 def _link_groups(parts: Any) -> list[list[Link]]:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from ...views.charts import plain_text
+from ...views.notation import name_latex
 from ..blocks import Block, Heading, Note
 from ..plots import frequency_response, time_history
 from .context import Context
@@ -20,7 +22,8 @@ def plots(ctx: Context) -> list[Block]:
         return []
     blocks: list[Block] = [Heading("Frequency response and time history")]
     if frf is not None:
-        how = (f"the excitation frequency {frf.parameter} is swept and the excitation "
+        parameter = plain_text(f"${name_latex(frf.parameter)}$") if frf.parameter else ""
+        how = (f"the excitation frequency {parameter} is swept and the excitation "
                "amplitudes follow it" if frf.parameter else
                "the excitation amplitudes are held at their operating values")
         what = "coordinates and outputs" if len(frf.amplitudes) > ctx.n else "coordinates"

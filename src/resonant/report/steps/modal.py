@@ -37,6 +37,57 @@ def _small_determinant(matrix: sympy.Matrix) -> sympy.Expr | None:
     return det
 
 
+def _polynomial_latex(poly: sympy.Expr, w: sympy.Symbol,
+                      names: dict[sympy.Symbol, str]) -> str:
+    """A polynomial in ``w`` term by term in descending powers, coefficients grouped."""
+    terms = sorted(sympy.Poly(poly, w).terms(), key=lambda term: -term[0][0])
+    out = ""
+    for (power,), coefficient in terms:
+        sign = "-" if coefficient.could_extract_minus_sign() else "+"
+        magnitude = -coefficient if sign == "-" else coefficient
+        text = sympy_latex(magnitude, names) if magnitude != 1 or power == 0 else ""
+        if isinstance(magnitude, sympy.Add) and power:
+            text = rf"\left({text}\right)"
+        if power:
+            text += " " + sympy_latex(w**power, names)
+        out += (f"{sign} " if out or sign == "-" else "") + text.strip() + " "
+    return out.strip()
+
+
+def descending_latex(expr: sympy.Expr, w: sympy.Symbol, names: dict[sympy.Symbol, str]
+                     ) -> str:
+    """A characteristic polynomial (or a product of them) in descending powers of ``w``,
+    as textbooks write it: ``m_1 m_2 \\omega^4 - (...) \\omega^2 + k_1 k_2``.
+
+    Examples
+    --------
+    >>> m, k, w = sympy.symbols("m k omega")
+    >>> print(descending_latex(k**2 - 3*k*m*w**2 + m**2*w**4, w, {}))
+    m^{2} \\omega^{4} - 3 k m \\omega^{2} + k^{2}
+    >>> print(descending_latex(-w**2*(k - m*w**2), w, {}))
+    - \\omega^{2} \\left(- m \\omega^{2} + k\\right)
+    """
+    if not expr.has(w) or not expr.is_polynomial(w):
+        return sympy_latex(expr, names)
+    if isinstance(expr, sympy.Mul):
+        sign, parts = "", []
+        for factor in expr.args:
+            if factor == -1:
+                sign = "- "
+            elif isinstance(factor, sympy.Add) and factor.has(w):
+                parts.append(rf"\left({_polynomial_latex(factor, w, names)}\right)")
+            elif isinstance(factor, sympy.Pow) and isinstance(factor.base, sympy.Add) \
+                    and factor.base.has(w):
+                parts.append(rf"\left({_polynomial_latex(factor.base, w, names)}\right)"
+                             f"^{{{sympy_latex(factor.exp, names)}}}")
+            else:
+                parts.append(sympy_latex(factor, names))
+        # constants first, then powers of w, then the polynomial factors
+        parts.sort(key=lambda s: (r"\left(" in s, names.get(w, r"\omega") in s))
+        return sign + " ".join(parts)
+    return _polynomial_latex(expr, w, names)
+
+
 def _characteristic(ctx: Context) -> list[Block]:
     eom = ctx.eom
     blocks: list[Block] = []
@@ -54,7 +105,7 @@ def _characteristic(ctx: Context) -> list[Block]:
         blocks.append(paragraph("The undamped natural frequencies are the roots of the "
                                 "characteristic equation"))
         blocks.append(ctx.equation(r"\det\left(\mathbf{K} - \omega_{n}^{2}\mathbf{M}\right) = "
-                                   + sympy_latex(det, names) + " = 0,", label="char"))
+                                   + descending_latex(det, w, names) + " = 0,", label="char"))
     else:
         blocks.append(paragraph("The undamped natural frequencies follow from ",
                                 _m(r"\det\left(\mathbf{K} - \omega_{n}^{2}\mathbf{M}\right) = 0"),

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from ...views.notation import (
     expression_latex,
     number_latex,
@@ -16,7 +18,7 @@ from .energies import _energy_name
 def title(ctx: Context) -> list[Block]:
     blocks: list[Block] = []
     if ctx.model.source:
-        blocks.append(paragraph("Worked solution of the model ", f"“{ctx.model.source}”",
+        blocks.append(paragraph("Worked solution of the model ", f"“{Path(ctx.model.source).name}”",
                                 ", derived by resonant in the order and notation of a "
                                 "textbook exercise: the linearized equation of motion, "
                                 "the stationary solution and the maximal excursions."))

@@ -14,7 +14,10 @@
   const PARAMS = D.parameters;
   const FREQ = PARAMS.findIndex(c => c.frequency);
   const CURVE_POINTS = 400;
-  const COLOURS = ["#1f4e9c", "#c0392b", "#2e8b57", "#8e44ad", "#d35400", "#16a085", "#7f6000", "#555"];
+  // twelve distinguishable colours (Okabe and Ito's eight first); past them, dashes
+  const COLOURS = ["#0072b2", "#d55e00", "#009e73", "#cc79a7", "#e69f00", "#56b4e9", "#1d1d1f", "#8c564b",
+    "#7a3fb0", "#9e9a00", "#b2182b", "#6b7f9e"];
+  const DASHES = [[], [6, 3], [2, 2], [8, 2, 2, 2]];
 
   const $ = id => document.getElementById(id);
   function el(tag, attrs, text) {
@@ -48,6 +51,30 @@
     const m = t.match(/^(.*?)_\{([^{}]*)\}(.*)$/);
     return m ? [m[1], m[2], m[3]] : [t, "", ""];
   }
+
+  const SUB = { 0: "₀", 1: "₁", 2: "₂", 3: "₃", 4: "₄", 5: "₅", 6: "₆", 7: "₇", 8: "₈", 9: "₉", a: "ₐ", e: "ₑ", o: "ₒ", x: "ₓ", h: "ₕ", k: "ₖ", l: "ₗ", m: "ₘ", n: "ₙ", p: "ₚ", s: "ₛ", t: "ₜ", i: "ᵢ", j: "ⱼ", r: "ᵣ", u: "ᵤ", v: "ᵥ" };
+  const SUP = { 0: "⁰", 1: "¹", 2: "²", 3: "³", 4: "⁴", 5: "⁵", 6: "⁶", 7: "⁷", 8: "⁸", 9: "⁹", "-": "⁻" };
+  // a name as one line of text (canvas): ω, x₁, F₀ (a subscript without Unicode form: x_ab)
+  function symbolText(x) {
+    const [base, sub, rest] = latexText((x && x.symbol) || (x && x.name) || "");
+    if (!sub) return base + rest;
+    const all = [...sub].every(ch => SUB[ch]);
+    return base + (all ? [...sub].map(ch => SUB[ch]).join("") : `_${sub}`) + rest;
+  }
+  // a name as HTML: italic base, subscript
+  function symbolNode(x) {
+    const [base, sub, rest] = latexText((x && x.symbol) || (x && x.name) || "");
+    const e = el("span", { class: "sym" });
+    e.append(el("i", {}, base));
+    if (sub) e.append(el("sub", {}, sub));
+    if (rest) e.append(document.createTextNode(rest));
+    return e;
+  }
+  // a unit as printed: m/s², N·s/m, kg·m²
+  function unitText(u) {
+    return (u || "").replace(/\^\(?(-?\d+)\)?/g, (m, d) => [...d].map(ch => SUP[ch]).join("")).replace(/\*/g, "·");
+  }
+  function powerText(e) { return "10" + [...String(e)].map(ch => SUP[ch] || ch).join(""); }
 
   // -- the model's numbers ------------------------------------------------------------------
   function parameters(v, o) {
@@ -141,11 +168,33 @@
     return { amplitudes, phases };
   }
 
-  function warningsOf(lam, stability, omegas, harmonics) {
+  // a number as Python's {:.4g}
+  function g4(x) {
+    const a = Math.abs(x);
+    if (x !== 0 && (a < 1e-4 || a >= 1e4)) return x.toExponential(3).replace(/\.?0+e/, "e").replace(/e([+-])(\d)$/, "e$10$2");
+    return String(Number(x.toPrecision(4)));
+  }
+
+  // the mass matrix's diagnosis, in the words of resonant solve
+  function massWarning(M) {
+    if (!n || !NUM.isSymmetric(n, M)) return null;
+    const ev = Array.from(NUM.jacobi(n, M).values).sort((a, b) => a - b);
+    if (ev[0] >= 0) return null;
+    const kind = ev[n - 1] < 0 ? "negative definite" : "indefinite (not positive definite)";
+    return `the mass matrix M is ${kind} (eigenvalues from ${g4(ev[0])} to ${g4(ev[n - 1])}): a negative mass or inertia, so the kinetic energy is not positive; the natural frequencies and the results are not physical (check the signs in T or M)`;
+  }
+
+  // the warnings of resonant solve, in its order and words
+  function warningsOf(lam, stability, omegas, harmonics, M) {
     const out = [];
+    const mass = massWarning(M);
+    if (mass) out.push(mass);
     let scale = 1;
     for (const v of lam) scale = Math.max(scale, Math.abs(v));
-    if (lam.some(v => v < -1e-12 * scale)) out.push("K is not positive definite about this reference state: a statically unstable (buckling, inverted) mode exists");
+    if (lam.some(v => v < -1e-12 * scale)) {
+      out.push(mass ? "omega^2 < 0 for some mode because M is not positive definite (see above), not necessarily because of K"
+        : "K is not positive definite about this reference state: a statically unstable (buckling, inverted) mode exists");
+    }
     if (stability === "unstable") out.push("the equilibrium is unstable: free vibrations grow, so the stationary solution is never reached in practice");
     for (const h of harmonics) {
       omegas.forEach((wn, i) => {
@@ -169,7 +218,7 @@
     const stability = NUM.classify(state);
     const damping = NUM.dampingRatios(state);
     const result = { p, M: sys.M, C: sys.C, K: sys.K, omegas, modes: modes.slice(0, omegas.length), eig: state, stability, damping, sys,
-      harmonics: [], pairs: {}, amplitudes: {}, phases: {}, available: LAYOUT.harmonic, warnings: warningsOf(eig.values, stability, omegas, sys.harmonics), error: null };
+      harmonics: [], pairs: {}, amplitudes: {}, phases: {}, available: LAYOUT.harmonic, warnings: warningsOf(eig.values, stability, omegas, sys.harmonics, sys.M), error: null };
     if (!LAYOUT.harmonic) {
       result.warnings.push("the stationary solution needs signals that are sums of harmonics; the equation of motion is derived, use `resonant simulate` for other signals");
       return result;
@@ -252,7 +301,7 @@
     v: Float64Array.from(PARAMS.map(c => c.value)),
     o: new Uint8Array(PARAMS.length),
     shown: new Set(D.show),
-    result: null, curve: null, mode: -1, playing: true, phase: 0, scale: 1, last: 0, timing: 0,
+    result: null, curve: null, plotted: null, mode: -1, playing: true, phase: 0, scale: 1, last: 0, timing: 0,
   };
   const P0 = Float64Array.from(PARAMS.map(c => c.value));
 
@@ -303,13 +352,20 @@
       const label = el("label", { for: id });
       const left = el("span");
       if (c.frequency) left.append(el("span", {}, "excitation frequency "));
-      left.append(el("span", { class: "name" }, c.name));
-      label.append(left, el("span", { class: "unit" }, c.unit || "(SI)"));
+      const name = symbolNode(c);
+      name.classList.add("name");
+      name.setAttribute("title", c.name);
+      left.append(name);
+      label.append(left, el("span", { class: "unit" }, unitText(c.unit) || "(SI)"));
       const range = el("input", { type: "range", id, min: "0", max: "1000", step: "1", "data-name": c.name });
-      const field = el("input", { type: "number", step: "any", "aria-label": `${c.name} in ${c.unit || "SI units"}`, "data-name": c.name });
+      // a text field (not type=number, which empties itself on "abc"): what was typed stays
+      // visible with its message until it is corrected
+      const field = el("input", { type: "text", inputmode: "decimal", class: "value", autocomplete: "off", spellcheck: "false",
+        "aria-label": `${c.name} in ${c.unit || "SI units"}`, "data-name": c.name, "aria-describedby": `${id}-error` });
       const line = el("div", { class: "row" });
       line.append(range, field);
-      row.append(label, line);
+      const error = el("p", { class: "field-error", id: `${id}-error`, "data-name": c.name, "aria-live": "polite" });
+      row.append(label, line, error);
       let follow = null;
       if (c.formula) {
         const f = el("div", { class: "formula" });
@@ -320,22 +376,64 @@
         row.append(f);
       }
       if (!LIVE && !c.frequency) { range.disabled = true; field.disabled = true; }
-      range.addEventListener("input", () => setValue(i, fromSlider(c, Number(range.value)), false));
+      range.addEventListener("input", () => { fieldError(i, ""); setValue(i, fromSlider(c, Number(range.value)), false); });
+      // typing: every valid number moves the slider and the results at once
+      field.addEventListener("input", () => {
+        const x = parseNumber(field.value);
+        if (x === null) { fieldError(i, complaint(i, field.value, false)); return; }
+        fieldError(i, "");
+        setValue(i, x * c.factor, true);
+      });
+      // leaving the field (Enter, Tab): an invalid entry goes back to the last valid value,
+      // and the message says so
       field.addEventListener("change", () => {
-        const x = Number(field.value);
-        if (field.value.trim() !== "" && Number.isFinite(x)) setValue(i, x * c.factor, true);
-        else syncControls();
+        const x = parseNumber(field.value);
+        if (x === null) {
+          fieldError(i, complaint(i, field.value, true));
+          field.value = fieldText(i);
+        }
+      });
+      // the arrow keys in the field step like the slider
+      field.addEventListener("keydown", e => {
+        if (e.key !== "ArrowUp" && e.key !== "ArrowDown") return;
+        e.preventDefault();
+        const step = (e.key === "ArrowUp" ? 1 : -1) * (e.shiftKey ? 50 : 10);
+        const pos = Math.max(0, Math.min(1000, toSlider(c, shownValue(i)) + step));
+        fieldError(i, "");
+        setValue(i, fromSlider(c, pos), true);
+        field.value = fieldText(i);
       });
       box.append(row);
-      controlsOf[i] = { range, field, follow };
+      controlsOf[i] = { range, field, follow, error };
     }
   }
 
+  // a number as typed (1.5, -2e3, "−4"), else null: no hexadecimal, no empty text, no NaN
+  function parseNumber(text) {
+    const s = String(text).trim().replace(/\u2212/g, "-");
+    if (!/^[+-]?(\d+\.?\d*|\.\d+)(e[+-]?\d+)?$/i.test(s)) return null;
+    const x = Number(s);
+    return Number.isFinite(x) ? x : null;
+  }
+  function fieldText(i) { return String(Number((shownValue(i) / PARAMS[i].factor).toPrecision(10))); }
+  function complaint(i, text, restored) {
+    const c = PARAMS[i], what = String(text).trim() === "" ? "an empty field is not a number" : `“${String(text).trim().slice(0, 40)}” is not a number`;
+    return `${what}; ${c.name} ${restored ? "is back at" : "stays"} ${fieldText(i)}${c.unit ? " " + unitText(c.unit) : ""}`;
+  }
+  function fieldError(i, text) {
+    const ctl = controlsOf[i];
+    if (!ctl) return;
+    ctl.error.textContent = text;
+    if (text) ctl.field.setAttribute("aria-invalid", "true"); else ctl.field.removeAttribute("aria-invalid");
+  }
+
+  // a new value of parameter i: the results, then every control (the slider and its spoken
+  // value follow a typed number; the field follows the slider)
   function setValue(i, x, fromField) {
     S.v[i] = x;
     if (PARAMS[i].formula) S.o[i] = 1;
     recompute();
-    if (!fromField) syncControls(i);
+    syncControls(fromField ? -1 : i);
   }
 
   function syncControls(except) {
@@ -343,9 +441,10 @@
       const ctl = controlsOf[i];
       if (!ctl) return;
       const x = shownValue(i);
+      // the slider's own position stays where the hand put it; its value is rounded to 4 digits
       if (i !== except) ctl.range.value = String(toSlider(c, x));
-      ctl.range.setAttribute("aria-valuetext", `${fmt(x / c.factor)} ${c.unit}`.trim());
-      if (document.activeElement !== ctl.field) ctl.field.value = String(Number((x / c.factor).toPrecision(10)));
+      ctl.range.setAttribute("aria-valuetext", `${fmt(x / c.factor)} ${unitText(c.unit)}`.trim());
+      if (document.activeElement !== ctl.field) ctl.field.value = fieldText(i);
       if (ctl.follow) {
         ctl.follow.setAttribute("aria-pressed", S.o[i] ? "false" : "true");
         ctl.follow.textContent = S.o[i] ? "set (click to follow the formula)" : "follows formula";
@@ -359,19 +458,22 @@
     t.replaceChildren();
     const head = el("tr");
     ["", "amplitude", "phase δ (rad)", "δ (°)"].forEach(h => head.append(el("th", { scope: "col" }, h)));
-    t.append(el("caption", { class: "hint" }, excitationText(r)), head);
+    const unstable = r.stability === "unstable";
+    t.append(el("caption", { class: "hint" }, unstable ? "no stationary amplitudes: the equilibrium is unstable, free vibrations grow and the stationary solution is never reached" : excitationText(r)), head);
     for (const x of NAMES) {
       if (r.amplitudes[x.name] === undefined && !LIVE) continue;  // not precomputed
       const tr = el("tr", { "data-name": x.name });
-      tr.append(el("th", { scope: "row" }, x.name));
-      const amp = r.amplitudes[x.name];
+      const th = el("th", { scope: "row" });
+      th.append(symbolNode(x));
+      tr.append(th);
+      const amp = unstable ? undefined : r.amplitudes[x.name];
       const td = el("td");
       if (amp !== undefined) {
         const e = number(amp / x.factor, 6, `amplitudes.${x.name}`);
         e.setAttribute("data-si", String(amp));
-        td.append(e, el("span", { class: "unit" }, x.unit ? ` ${x.unit}` : ""));
+        td.append(e, el("span", { class: "unit" }, x.unit ? ` ${unitText(x.unit)}` : ""));
       } else td.textContent = "–";
-      const ph = r.phases[x.name];
+      const ph = unstable ? undefined : r.phases[x.name];
       const tdp = el("td"), tdd = el("td");
       if (ph !== undefined) { tdp.append(number(ph, 6, `phases.${x.name}`)); tdd.textContent = fmt(ph * 180 / Math.PI, 4); } else { tdp.textContent = "–"; tdd.textContent = "–"; }
       tr.append(td, tdp, tdd);
@@ -432,6 +534,12 @@
     w.replaceChildren(...r.warnings.map(x => el("p", {}, x)));
   }
 
+  // the diagnosis next to the controls: the error (resonance, singular M) and every warning
+  function renderDiagnosis(r) {
+    const list = $("control-warnings");
+    list.replaceChildren(...(r ? r.warnings : []).map(x => el("li", {}, x)));
+  }
+
   // -- plots ---------------------------------------------------------------------------------
   function canvasContext(canvas) {
     const ratio = window.devicePixelRatio || 1;
@@ -455,6 +563,20 @@
     return out;
   }
 
+  // the y range of a log axis that fits the values shown: from the smallest to the largest,
+  // at most 8 decades (an antiresonance's near-zero would swamp the rest), with room above
+  // the highest peak
+  function logRange(values) {
+    let lo = Infinity, hi = 0;
+    for (const y of values) if (Number.isFinite(y) && y > 0) { lo = Math.min(lo, y); hi = Math.max(hi, y); }
+    if (!(hi > 0)) return [-1, 1];
+    lo = Math.max(lo, hi * 1e-8);
+    let a = Math.log10(lo), b = Math.log10(hi);
+    if (b - a < 1) { const m = (a + b) / 2; a = m - 0.5; b = m + 0.5; }
+    const span = b - a;
+    return [a - 0.04 * span, b + 0.08 * span];
+  }
+
   function drawResponse() {
     const { ctx, w, h } = canvasContext($("response"));
     const r = S.result, curve = S.curve;
@@ -465,60 +587,100 @@
       return;
     }
     const c = PARAMS[FREQ];
-    const left = 58, right = 12, top = 10, bottom = 34;
+    const names = [...S.shown].filter(s => curve.curves[s]);
+    const factor = s => (UNIT[s] ? UNIT[s].factor : 1);
+    const left = 62, right = 12, top = 30, bottom = 36;
     const xs = curve.values;
-    let hi = 0;
-    for (const s of S.shown) for (const y of curve.curves[s] || []) if (Number.isFinite(y) && y > hi) hi = y / (UNIT[s] ? UNIT[s].factor : 1);
-    if (!(hi > 0)) hi = 1;
-    const lo = hi * 1e-5;
+    const shownValues = [];
+    for (const s of names) for (const y of curve.curves[s]) shownValues.push(y / factor(s));
+    for (const s of names) if (r.amplitudes[s] > 0) shownValues.push(r.amplitudes[s] / factor(s));
+    const [la, lb] = logRange(shownValues);
+    S.plotted = { log_range: [la, lb], names, beyond: false };
     const X = x => left + (w - left - right) * (x - xs[0]) / (xs[xs.length - 1] - xs[0]);
-    const Y = y => top + (h - top - bottom) * (1 - (Math.log10(Math.max(y, lo)) - Math.log10(lo)) / (Math.log10(hi) - Math.log10(lo) + 1e-300));
+    const Y = y => top + (h - top - bottom) * (1 - (Math.log10(y) - la) / (lb - la));
+    const inside = y => Number.isFinite(y) && y > 0 && Math.log10(y) >= la;
     ctx.strokeStyle = "#e4e1da"; ctx.fillStyle = "#5b5b60"; ctx.lineWidth = 1;
-    for (let e = Math.ceil(Math.log10(lo)); e <= Math.floor(Math.log10(hi)); e++) {
+    const decades = Math.floor(lb) - Math.ceil(la) + 1, every = Math.max(1, Math.ceil(decades / 6));
+    for (let e = Math.ceil(la); e <= Math.floor(lb); e++) {
       const y = Y(Math.pow(10, e));
       ctx.beginPath(); ctx.moveTo(left, y); ctx.lineTo(w - right, y); ctx.stroke();
-      ctx.textAlign = "right"; ctx.fillText(`1e${e}`, left - 4, y + 4);
+      if ((e - Math.ceil(la)) % every === 0) { ctx.textAlign = "right"; ctx.fillText(powerText(e), left - 4, y + 4); }
     }
     ctx.textAlign = "center";
-    for (const x of niceTicks(xs[0] / c.factor, xs[xs.length - 1] / c.factor, 6)) {
+    const ticks = niceTicks(xs[0] / c.factor, xs[xs.length - 1] / c.factor, Math.max(3, Math.min(6, Math.floor((w - left - right) / 60))));
+    for (const x of ticks) {
       const px = X(x * c.factor);
       ctx.beginPath(); ctx.moveTo(px, top); ctx.lineTo(px, h - bottom); ctx.stroke();
       ctx.fillText(fmt(x, 4), px, h - bottom + 14);
     }
-    ctx.fillText(`${c.name} (${c.unit || "SI"})`, left + (w - left - right) / 2, h - 4);
-    ctx.setLineDash([4, 3]); ctx.strokeStyle = "#8a8a8a";
+    // the axes' titles: the quantity, its symbol and its unit
+    ctx.fillStyle = "#1d1d1f";
+    ctx.fillText(`${c.frequency ? "excitation frequency " : ""}${symbolText(c)} (${unitText(c.unit) || "SI"})`, left + (w - left - right) / 2, h - 4);
+    const units = [...new Set(names.map(s => unitText(UNIT[s] ? UNIT[s].unit : "") || (D.has_units ? "1" : "SI")))];
+    ctx.save();
+    ctx.translate(13, top + (h - top - bottom) / 2); ctx.rotate(-Math.PI / 2);
+    ctx.fillText(`amplitude (${units.join(", ")})`, 0, 0);
+    ctx.restore();
+    // natural frequencies: dashed lines, their labels above the plot (staggered when close)
+    ctx.setLineDash([4, 3]); ctx.strokeStyle = "#8a8a8a"; ctx.fillStyle = "#5b5b60";
+    let lastLabel = -Infinity, row = 0;
     r.omegas.forEach((wn, j) => {
       if (wn < xs[0] || wn > xs[xs.length - 1]) return;
       const px = X(wn);
       ctx.beginPath(); ctx.moveTo(px, top); ctx.lineTo(px, h - bottom); ctx.stroke();
-      ctx.fillText(`ω${j + 1}`, px, top + 10);
+      const text = `ω${[...String(j + 1)].map(ch => SUB[ch]).join("")}`;
+      row = px - lastLabel < ctx.measureText(text).width + 6 ? 1 - row : 0;
+      if (row === 1 && px - lastLabel < 8) return;  // two labels on one line: the first says it
+      ctx.fillText(text, px, top - 5 - 12 * row);
+      lastLabel = px;
     });
     ctx.setLineDash([]);
-    [...S.shown].forEach(s => {
+    names.forEach((s, k) => {
       const ys = curve.curves[s];
-      if (!ys) return;
-      const f = UNIT[s] ? UNIT[s].factor : 1;
+      const f = factor(s);
       ctx.strokeStyle = colourOf(s); ctx.lineWidth = 1.6;
+      ctx.setLineDash(dashOf(s));
       ctx.beginPath();
       let pen = false;
       ys.forEach((y, j) => {
-        if (!Number.isFinite(y) || y / f < lo) { pen = false; return; }  // off the axis
-        const px = X(xs[j]), py = Y(y / f);
+        if (!inside(y / f)) { pen = false; return; }  // below the axis
+        const px = X(xs[j]), py = Math.max(top, Y(y / f));
         if (pen) ctx.lineTo(px, py); else ctx.moveTo(px, py);
         pen = true;
       });
       ctx.stroke();
     });
-    const now = r.p[FREQ];
-    ctx.strokeStyle = "#f0a500"; ctx.lineWidth = 2;
-    ctx.beginPath(); ctx.moveTo(X(now), top); ctx.lineTo(X(now), h - bottom); ctx.stroke();
-    for (const s of S.shown) {
-      const a = r.amplitudes[s];
-      if (a === undefined || !(a > 0)) continue;
-      ctx.fillStyle = colourOf(s);
-      ctx.beginPath(); ctx.arc(X(now), Y(a / (UNIT[s] ? UNIT[s].factor : 1)), 3.5, 0, 2 * Math.PI); ctx.fill();
+    ctx.setLineDash([]);
+    const now = r.p[FREQ], first = xs[0], last = xs[xs.length - 1];
+    const beyond = !(now >= Math.min(first, last) && now <= Math.max(first, last));
+    ctx.strokeStyle = "#f0a500"; ctx.fillStyle = "#f0a500"; ctx.lineWidth = 2;
+    if (!beyond) {
+      ctx.beginPath(); ctx.moveTo(X(now), top); ctx.lineTo(X(now), h - bottom); ctx.stroke();
+      for (const s of names) {
+        const a = r.amplitudes[s];
+        if (a === undefined || !inside(a / factor(s))) continue;
+        ctx.fillStyle = colourOf(s);
+        ctx.beginPath(); ctx.arc(X(now), Y(a / factor(s)), 3.5, 0, 2 * Math.PI); ctx.fill();
+      }
+    } else {
+      // off the axis: an arrow at the edge it lies beyond, and the value
+      const atRight = !(now < first), px = atRight ? w - right - 2 : left + 2, ym = top + (h - top - bottom) / 2, d = atRight ? 1 : -1;
+      ctx.beginPath(); ctx.moveTo(px, ym); ctx.lineTo(px - d * 10, ym - 7); ctx.lineTo(px - d * 10, ym + 7); ctx.closePath(); ctx.fill();
+      const note = `${atRight ? "" : "← "}${symbolText(c)} = ${fmt(now / c.factor, 4)} ${unitText(c.unit)}${atRight ? " →" : ""}`;
+      const wide = ctx.measureText(note).width, x0 = atRight ? px - 14 - wide : px + 14;
+      ctx.fillStyle = "rgba(255,255,255,.92)"; ctx.fillRect(x0 - 4, ym - 11, wide + 8, 18);
+      ctx.strokeStyle = "#f0a500"; ctx.lineWidth = 1; ctx.strokeRect(x0 - 4, ym - 11, wide + 8, 18);
+      ctx.fillStyle = "#8a4b12"; ctx.textAlign = "left";
+      ctx.fillText(note, x0, ym + 3);
     }
-    $("response-caption").textContent = `Peak amplitude (log scale, each in its unit) against ${c.name}; the orange line is the current value, dashed lines the natural frequencies ω1, ω2, … (rad/s)` + (FREQ >= 0 && c.unit && c.unit !== "rad/s" ? ` drawn where ${c.name} equals them` : "") + ".";
+    S.plotted.beyond = beyond;
+    const range = `${fmt(first / c.factor, 4)} to ${fmt(last / c.factor, 4)}${c.unit ? " " + unitText(c.unit) : ""}`;
+    $("response-caption").textContent = `Peak amplitude (log scale, each in its unit) against ${symbolText(c)} from ${range}; the orange line is the current value, dashed lines the natural frequencies ω₁, ω₂, … (rad/s)` + (FREQ >= 0 && c.unit && c.unit !== "rad/s" ? ` drawn where ${symbolText(c)} equals them` : "") + "." + (beyond ? ` The current value, ${fmt(now / c.factor, 6)}${c.unit ? " " + unitText(c.unit) : ""}, lies outside this range (the arrow).` : "");
+  }
+
+  function dashOf(name) {
+    const i = NAMES.findIndex(x => x.name === name);
+    return DASHES[Math.floor(Math.max(i, 0) / COLOURS.length) % DASHES.length];
   }
 
   function colourOf(name) {
@@ -546,16 +708,16 @@
     const names = [...S.shown].filter(s => r && r.pairs[s]);
     if (!r || !names.length) { ctx.fillStyle = "#5b5b60"; ctx.fillText("No stationary response.", 12, 24); return; }
     const T = periodOf(r), left = 96, right = 10, rows = names.length;
-    const rowH = (h - 22) / rows;
+    const rowH = (h - 8) / rows;
     names.forEach((s, k) => {
       const amp = Math.max(r.amplitudes[s] || 0, 1e-300), f = UNIT[s] ? UNIT[s].factor : 1;
       const mid = 4 + rowH * (k + 0.5);
       ctx.strokeStyle = "#e4e1da"; ctx.lineWidth = 1;
       ctx.beginPath(); ctx.moveTo(left, mid); ctx.lineTo(w - right, mid); ctx.stroke();
       ctx.fillStyle = colourOf(s); ctx.textAlign = "right";
-      ctx.fillText(s, left - 6, mid - 2);
+      ctx.fillText(symbolText(UNIT[s] || { name: s }), left - 6, mid - 2);
       ctx.fillStyle = "#5b5b60";
-      ctx.fillText(`±${fmt(amp / f, 3)} ${UNIT[s] ? UNIT[s].unit : ""}`, left - 6, mid + 12);
+      ctx.fillText(`±${fmt(amp / f, 3)} ${UNIT[s] ? unitText(UNIT[s].unit) : ""}`, left - 6, mid + 12);
       ctx.strokeStyle = colourOf(s); ctx.lineWidth = 1.5;
       ctx.beginPath();
       for (let j = 0; j <= 200; j++) {
@@ -567,9 +729,8 @@
     });
     const px = left + (w - left - right) * S.phase;
     ctx.strokeStyle = "#f0a500"; ctx.lineWidth = 1.5;
-    ctx.beginPath(); ctx.moveTo(px, 2); ctx.lineTo(px, h - 20); ctx.stroke();
-    ctx.fillStyle = "#5b5b60"; ctx.textAlign = "center";
-    ctx.fillText(`t from 0 to T = ${fmt(T, 4)} s (one period); each curve scaled to its amplitude`, left + (w - left - right) / 2, h - 5);
+    ctx.beginPath(); ctx.moveTo(px, 2); ctx.lineTo(px, h - 4); ctx.stroke();
+    $("history-caption").textContent = `t from 0 to T = ${fmt(T, 4)} s (one period); each curve scaled to its amplitude.`;
   }
 
   // -- motion --------------------------------------------------------------------------------
@@ -672,7 +833,7 @@
       const len = Math.max(-1, Math.min(1, v)) * half;
       ctx.fillRect(Math.min(mid, mid + len), y + 6, Math.abs(len), rowH - 12);
       ctx.fillStyle = "#1d1d1f"; ctx.textAlign = "right";
-      ctx.fillText(`${c.name}${c.unit ? " (" + c.unit + ")" : ""}`, left - 6, y + rowH / 2 + 4);
+      ctx.fillText(`${symbolText(c)}${c.unit ? " (" + unitText(c.unit) + ")" : ""}`, left - 6, y + rowH / 2 + 4);
     });
     ctx.strokeStyle = "#1d1d1f";
     ctx.beginPath(); ctx.moveTo(mid, 6); ctx.lineTo(mid, 10 + rowH * BARS.length); ctx.stroke();
@@ -745,6 +906,17 @@
     }
     const len = Math.hypot(b[0] - a[0], b[1] - a[1]);
     const lead = len ? Math.min(0.2, 0.06 * u / len) : 0.2, amp = 0.045 * u;
+    if (link.torsion) {  // a torsion spring: the shaft and a coil about it (as resonant draw)
+      ctx.save(); ctx.lineWidth = 0.7; ctx.setLineDash([6, 2, 1, 2]); path(ctx, V, [a, b]); ctx.stroke(); ctx.restore();
+      const turns = 6, steps = 24, radius = 0.05 * u, pitch = (1 - 2 * lead) / turns, back = 0.4 * pitch, coil = [a];
+      for (let k = 0; k <= turns * steps; k++) {
+        const th = 2 * Math.PI * k / steps;
+        coil.push(along(a, b, Math.max(0, lead + pitch * k / steps + back * (Math.cos(th) - 1)), radius * Math.sin(th)));
+      }
+      coil.push(along(a, b, 1 - lead), b);
+      path(ctx, V, coil); ctx.stroke();
+      return;
+    }
     const pts = [a, along(a, b, lead)];
     for (let i = 0; i < 8; i++) pts.push(along(a, b, lead + (1 - 2 * lead) * (i + 0.5) / 8, amp * (i % 2 ? -1 : 1)));
     pts.push(along(a, b, 1 - lead), b);
@@ -938,7 +1110,8 @@
       box1.addEventListener("change", () => { if (box1.checked) S.shown.add(x.name); else S.shown.delete(x.name); recompute(); });
       const sw = el("span", { class: "swatch" });
       sw.style.background = colourOf(x.name);
-      lab.append(box1, sw, el("span", {}, x.name));
+      if (dashOf(x.name).length) sw.style.background = `repeating-linear-gradient(90deg, ${colourOf(x.name)} 0 4px, transparent 4px 6px)`;
+      lab.append(box1, sw, symbolNode(x));
       box.append(lab);
     }
   }
@@ -946,6 +1119,7 @@
   function render() {
     const r = S.result;
     if (r) renderNumbers(r);
+    renderDiagnosis(r);
     drawResponse();
     if (r && S.mode >= r.modes.length) S.mode = -1;
     const before = $("modes").childElementCount;
@@ -1010,6 +1184,13 @@
     setPhase(x) { S.phase = ((Number(x) % 1) + 1) % 1; drawMotion(); return S.phase; },
     showMode(j) { showMode(Number(j)); return S.mode; },
     timeUpdate() { const t0 = performance.now(); recompute(); return performance.now() - t0; },
+    // what the response plot shows: its y range (log10, in the units shown), the curves (SI)
+    // and whether the current value lies beyond the plotted range
+    response() {
+      if (!S.curve || !S.plotted) return null;
+      return JSON.parse(JSON.stringify({ ...S.plotted, values: S.curve.values,
+        curves: Object.fromEntries(S.plotted.names.map(s => [s, S.curve.curves[s].map((y, j) => (Number.isFinite(y) ? y / (UNIT[s] ? UNIT[s].factor : 1) : null))])) }));
+    },
   });
 
   // -- start ---------------------------------------------------------------------------------
@@ -1026,7 +1207,8 @@
   $("scale").addEventListener("input", () => { captionMotion(); drawMotion(); });
   if (!DR) {  // bars: the scale of a drawing does not apply; as tall as the coordinates need
     $("scale").closest(".toolbar").querySelectorAll("label, input, .hint").forEach(e => { e.hidden = true; });
-    $("mechanism").style.height = `${Math.min(420, Math.max(90, 34 * BARS.length + 24))}px`;
+    const tallest = window.matchMedia("(max-width: 899px)").matches ? 220 : 420;  // a phone: it stays in view
+    $("mechanism").style.height = `${Math.min(tallest, Math.max(90, 34 * BARS.length + 24))}px`;
   }
   window.addEventListener("resize", () => render());
   recompute();

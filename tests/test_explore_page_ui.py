@@ -1,0 +1,217 @@
+"""The explore page as a user handles it, at 375 px (a phone) and 1280 px (a desktop).
+
+Headless Chromium (Debian's ``/usr/bin/chromium``, driven by Playwright) opens pages
+written by ``resonant explore``; nothing but the page itself may load (as in
+``test_explore_browser.py``, whose helpers are reused).  Checked:
+
+* no horizontal overflow (``scrollWidth <= clientWidth``) at either width,
+* a field and its slider always agree: a typed number moves the slider and its spoken
+  value (``aria-valuetext``), the arrow keys in the field or on the slider move both, and
+  ``resonant.set`` from a script moves both,
+* "abc" or an empty field is said next to the field, the last valid value is kept (and
+  put back in the field when it is left), the results do not change,
+* the diagnosis next to the controls is the one of ``resonant solve --json`` word for word
+  (an indefinite mass matrix, a K that is not positive definite, an unstable equilibrium),
+  and an unstable system lists no amplitudes,
+* the response plot's y range holds every point of the curves shown (above the 8 decades
+  below the highest peak it shows at most), a frequency beyond the plotted range is said,
+  and the curves have distinct colours,
+* at 375 px the mechanism stays in view while a slider far down is used.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from conftest import run_cli, run_json
+from test_explore_browser import PARTS, REFERENCE, SIX, browser, opened  # noqa: F401
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    folder = tmp_path_factory.mktemp("pages")
+    out = {}
+    for model in (REFERENCE, PARTS, SIX):
+        target = folder / f"{model.parent.name}-{model.stem}.html"
+        status, _, err = run_cli(["explore", model, "-o", target])
+        assert status == 0, err
+        out[model.stem if model != PARTS else "parts"] = target
+    return out
+
+
+def _control(page: Any, name: str) -> dict[str, Any]:
+    return page.evaluate(f"""() => {{
+        const r = document.querySelector('input[type=range][data-name="{name}"]');
+        const f = document.querySelector('input.value[data-name="{name}"]');
+        const e = document.querySelector('.field-error[data-name="{name}"]');
+        return {{slider: Number(r.value), spoken: r.getAttribute('aria-valuetext'),
+                 field: f.value, error: e.textContent, invalid: f.getAttribute('aria-invalid')}};
+    }}""")
+
+
+@pytest.mark.parametrize("width", [375, 1280])
+@pytest.mark.parametrize("name", ["cart_pendulum", "parts", "shear_building6"])
+def test_no_horizontal_overflow(browser: Any, written: dict[str, Path], width: int,  # noqa: F811
+                                name: str) -> None:
+    with opened(browser, written[name], width=width, height=800) as page:
+        overflow = page.page.evaluate(
+            "document.documentElement.scrollWidth - document.documentElement.clientWidth")
+        assert overflow <= 0, f"the page is {overflow} px wider than the screen"
+        # no caption or table cut: everything outside a scroll box lies within the screen
+        cut = page.page.evaluate("""(w) => [...document.querySelectorAll('p, h1, h2, h3, label')]
+            .filter(e => !e.closest('.scroll') && e.getClientRects().length)
+            .filter(e => { const r = e.getBoundingClientRect();
+                           return r.left < -0.5 || r.right > w + 0.5; })
+            .map(e => e.textContent.slice(0, 40))""", width)
+        assert cut == []
+
+
+@pytest.mark.parametrize("width", [375, 1280])
+def test_field_slider_and_script_stay_in_sync(browser: Any, written: dict[str, Path],  # noqa: F811
+                                              width: int) -> None:
+    with opened(browser, written["cart_pendulum"], width=width) as page:
+        p = page.page
+        before = _control(p, "k")
+        field = p.locator('input.value[data-name="k"]')
+        field.fill("250")
+        typed = _control(p, "k")
+        assert page.state()["parameters"]["k"] == 250.0
+        assert typed["slider"] > before["slider"], "the slider did not follow the typed value"
+        assert typed["spoken"] == "250 N/m"
+        field.press("Tab")
+        assert _control(p, "k")["field"] == "250"
+        # the arrow keys in the field step like the slider, and both follow
+        field.focus()
+        field.press("ArrowDown")
+        stepped = _control(p, "k")
+        k = page.state()["parameters"]["k"]
+        assert k < 250.0 and stepped["slider"] == typed["slider"] - 10
+        assert float(stepped["field"]) == pytest.approx(k, rel=1e-9)
+        # the slider's keys move the field
+        slider = p.locator('input[type=range][data-name="k"]')
+        slider.focus()
+        slider.press("ArrowRight")
+        moved = _control(p, "k")
+        k2 = page.state()["parameters"]["k"]
+        assert k2 > k and float(moved["field"]) == pytest.approx(k2, rel=1e-9)
+        assert moved["spoken"].endswith(" N/m")
+        # a script moves both
+        p.evaluate("resonant.set({k: 42})")
+        scripted = _control(p, "k")
+        assert scripted["field"] == "42" and scripted["spoken"] == "42 N/m"
+        assert scripted["slider"] < moved["slider"]
+
+
+@pytest.mark.parametrize("text, said", [("abc", "“abc” is not a number"),
+                                        ("", "an empty field is not a number"),
+                                        ("0x10", "“0x10” is not a number")])
+def test_invalid_input_is_said_next_to_the_field(browser: Any,  # noqa: F811
+                                                  written: dict[str, Path], text: str,
+                                                  said: str) -> None:
+    with opened(browser, written["cart_pendulum"], width=375) as page:
+        p = page.page
+        start = page.state()
+        field = p.locator('input.value[data-name="k"]')
+        field.fill(text)
+        control = _control(p, "k")
+        assert control["error"] == f"{said}; k stays 100 N/m"
+        assert control["invalid"] == "true"
+        assert page.state()["amplitudes"] == start["amplitudes"]
+        # the message sits next to its field, on the screen
+        box = p.locator('.field-error[data-name="k"]').bounding_box()
+        field_box = field.bounding_box()
+        assert box is not None and field_box is not None
+        assert 0 <= box["y"] - (field_box["y"] + field_box["height"]) < 30
+        field.press("Tab")
+        control = _control(p, "k")
+        assert control["field"] == "100", "the last valid value is not shown again"
+        assert control["error"] == f"{said}; k is back at 100 N/m"
+        # a valid number clears it
+        field.fill("110")
+        assert _control(p, "k")["error"] == "" and _control(p, "k")["invalid"] is None
+
+
+@pytest.mark.parametrize("settings", [{"m1": -5.0}, {"k": -500.0}])
+def test_the_diagnosis_is_that_of_solve_next_to_the_controls(browser: Any,  # noqa: F811
+                                                             written: dict[str, Path],
+                                                             settings: dict[str, float]
+                                                             ) -> None:
+    extra = [a for name, value in settings.items() for a in ("--set", f"{name}={value!r}")]
+    cli = run_json("solve", REFERENCE, *extra)
+    assert cli["stability"] == "unstable"
+    with opened(browser, written["cart_pendulum"]) as page:
+        p = page.page
+        p.evaluate(f"resonant.set({settings!r})".replace("'", '"'))
+        shown = p.locator("#control-warnings li").all_inner_texts()
+        assert shown == cli["warnings"]
+        assert page.state()["warnings"] == cli["warnings"]
+        # next to the controls: inside their box, above the first slider
+        box = p.locator("#diagnosis").bounding_box()
+        controls = p.locator(".controls").bounding_box()
+        first = p.locator("#sliders").bounding_box()
+        assert box and controls and first
+        assert controls["y"] <= box["y"] and box["y"] + box["height"] <= first["y"] + 1
+        # no amplitudes listed for an unstable system
+        cells = p.locator('#response-table [data-key^="amplitudes."]').count()
+        assert cells == 0
+        assert "unstable" in p.locator("#response-table caption").inner_text()
+
+
+def test_the_response_plot_fits_its_curves(browser: Any, written: dict[str, Path]  # noqa: F811
+                                           ) -> None:
+    with opened(browser, written["cart_pendulum"]) as page:
+        p = page.page
+        for settings in ({}, {"omega": 30.0}, {"k": 400.0}):
+            p.evaluate(f"resonant.set({settings!r})".replace("'", '"'))
+            plot = p.evaluate("resonant.response()")
+            low, high = plot["log_range"]
+            values = [y for ys in plot["curves"].values() for y in ys if y and y > 0]
+            top = math.log10(max(values))
+            assert top <= high, "the highest peak is above the plot"
+            assert high - top < 0.15 * (high - low), "more than the headroom above the peak"
+            inside = [y for y in values if math.log10(y) >= low]
+            # every point within 8 decades of the peak is drawn; the range holds no empty
+            # decades below the lowest point
+            assert all(math.log10(y) >= low for y in values if math.log10(y) >= top - 8)
+            assert low >= math.log10(min(values)) - 0.1 * (high - low) or top - low > 8
+            assert inside and not plot["beyond"]
+        p.evaluate("resonant.set({omega: 1e9})")
+        assert p.evaluate("resonant.response()")["beyond"] is True
+        assert "outside this range" in p.locator("#response-caption").inner_text()
+        p.evaluate("resonant.set({omega: -5})")
+        assert p.evaluate("resonant.response()")["beyond"] is True
+        p.evaluate("resonant.set({omega: 20})")
+        assert p.evaluate("resonant.response()")["beyond"] is False
+
+
+def test_curves_have_distinct_colours_and_names_are_typeset(browser: Any,  # noqa: F811
+                                                            written: dict[str, Path]) -> None:
+    with opened(browser, written["shear_building6"]) as page:
+        swatches = page.page.evaluate(
+            "[...document.querySelectorAll('#shown .swatch')].map(s => s.style.background)")
+        assert len(swatches) >= 9 and len(set(swatches)) == len(swatches)
+    with opened(browser, written["cart_pendulum"]) as page:
+        caption = page.page.locator("#response-caption").inner_text()
+        assert "omega" not in caption and "ω" in caption
+        units = page.page.locator("#sliders .unit").all_inner_texts()
+        assert "m/s²" in units and not any("^" in u or "*" in u for u in units)
+
+
+def test_the_mechanism_stays_in_view_on_a_phone(browser: Any,  # noqa: F811
+                                                written: dict[str, Path]) -> None:
+    with opened(browser, written["parts"], width=375, height=740) as page:
+        p = page.page
+        last = p.locator('input[type=range][data-name="r0"]')
+        last.scroll_into_view_if_needed()
+        last.focus()
+        last.press("ArrowRight")
+        slider = last.bounding_box()
+        mechanism = p.locator("#mechanism").bounding_box()
+        assert slider and mechanism
+        assert mechanism["y"] >= -0.5 and mechanism["y"] + mechanism["height"] <= 740
+        assert slider["y"] >= mechanism["y"] + mechanism["height"], "the mechanism covers it"
+        assert slider["y"] + slider["height"] <= 740

@@ -1,0 +1,137 @@
+"""The HTML report on a phone (375 px) and a desktop (1280 px) in a real browser.
+
+Headless Chromium (Debian's ``/usr/bin/chromium``, driven by Playwright) opens the
+reports of the reference exercise and of the damped chain; at each width:
+
+* the page never scrolls sideways (``scrollWidth <= clientWidth``): a display formula
+  wider than a phone keeps its line and scrolls inside its own box,
+* no two display formulas (nor a formula and the next paragraph) overlap,
+* on a phone no formula is broken at its operators: each stays one line tall,
+* the first paragraph names the model by its file name, the characteristic equation is
+  in descending powers of omega_n, the figure caption writes ω, and the amplitude axis
+  carries its units.
+
+Skipped, with the reason, when Chromium or Playwright is missing.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from conftest import EXAMPLES, run_cli
+
+CHROMIUM = Path("/usr/bin/chromium")
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking"]
+MODELS = [EXAMPLES / "cart_pendulum.toml", EXAMPLES / "chain3_damped.toml"]
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Any]:
+    if not CHROMIUM.exists():
+        pytest.skip("Debian's chromium (/usr/bin/chromium) is not installed")
+    api = pytest.importorskip("playwright.sync_api")
+    with api.sync_playwright() as p:
+        chromium = p.chromium.launch(executable_path=str(CHROMIUM), args=ARGS)
+        try:
+            yield chromium
+        finally:
+            chromium.close()
+
+
+@pytest.fixture(scope="module")
+def reports(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    folder = tmp_path_factory.mktemp("reports")
+    out = {}
+    for model in MODELS:
+        target = folder / f"{model.stem}.html"
+        status, _, err = run_cli(["report", model.resolve(), "-o", target])
+        assert status == 0, err
+        out[model.stem] = target
+    return out
+
+
+LAYOUT = """() => {
+  const doc = document.documentElement;
+  const boxes = [...document.querySelectorAll('main > *')].map(e => {
+    const r = e.getBoundingClientRect();
+    return {tag: e.tagName, cls: e.className, top: r.top + scrollY, bottom: r.bottom + scrollY};
+  });
+  const equations = [...document.querySelectorAll('.equation .body')].map(b => {
+    return [...b.querySelectorAll('svg.m')].map(s => {
+      const r = s.getBoundingClientRect();
+      return [r.top, r.bottom];
+    });
+  });
+  return {scroll: doc.scrollWidth, client: doc.clientWidth, boxes, equations};
+}"""
+
+
+@pytest.mark.parametrize("width", [375, 1280])
+@pytest.mark.parametrize("name", [m.stem for m in MODELS])
+def test_the_report_fits_the_screen(browser: Any, reports: dict[str, Path], width: int,
+                                    name: str) -> None:
+    page = browser.new_page(viewport={"width": width, "height": 900})
+    try:
+        page.goto(reports[name].resolve().as_uri())
+        layout = page.evaluate(LAYOUT)
+    finally:
+        page.close()
+    assert layout["scroll"] <= layout["client"], \
+        f"the page is {layout['scroll'] - layout['client']} px wider than the screen"
+    boxes = layout["boxes"]
+    for upper, lower in zip(boxes, boxes[1:]):
+        assert upper["bottom"] <= lower["top"] + 1, f"{upper} overlaps {lower}"
+    if width == 375:
+        for k, pieces in enumerate(layout["equations"]):
+            # one line: the pieces of a formula sit side by side, none below another
+            lowest_top = max(top for top, _ in pieces)
+            highest_bottom = min(bottom for _, bottom in pieces)
+            assert lowest_top < highest_bottom, f"formula {k + 1} is broken: {pieces}"
+
+
+FIGURE_TEXTS = """() => [...document.querySelectorAll('figure svg')].map(svg =>
+  [...svg.querySelectorAll('text')].filter(t => t.textContent.trim()).map(t => {
+    const r = t.getBoundingClientRect();
+    return [t.textContent, r.left, r.top, r.right, r.bottom];
+  }))"""
+
+
+@pytest.mark.parametrize("width", [375, 1280])
+def test_no_two_texts_of_a_figure_overlap(browser: Any, reports: dict[str, Path],
+                                          width: int) -> None:
+    page = browser.new_page(viewport={"width": width, "height": 900})
+    try:
+        page.goto(reports["cart_pendulum"].resolve().as_uri())
+        figures = page.evaluate(FIGURE_TEXTS)
+    finally:
+        page.close()
+    assert len(figures) == 2
+    for texts in figures:
+        for i, (a, *box) in enumerate(texts):
+            for b, *other in texts[i + 1:]:
+                apart = box[2] <= other[0] + 0.5 or other[2] <= box[0] + 0.5 or \
+                    box[3] <= other[1] + 0.5 or other[3] <= box[1] + 0.5
+                assert apart, f"{a!r} overlaps {b!r} at {width} px"
+
+
+def test_the_report_reads_like_a_textbook(reports: dict[str, Path]) -> None:
+    text = reports["cart_pendulum"].read_text(encoding="utf-8")
+    assert "“cart_pendulum.toml”" in text
+    assert str(EXAMPLES.resolve()) not in text
+    caption = re.search(r"Figure 1: ([^<]*)", text)
+    assert caption and "omega" not in caption.group(1) and "ω" in caption.group(1)
+    assert "amplitude X [m, rad]" in text
+    # the characteristic polynomial: omega_n^4 before omega_n^2 before the constant
+    latex = run_cli(["report", EXAMPLES / "cart_pendulum.toml", "-o",
+                     reports["cart_pendulum"].with_suffix(".tex")])
+    assert latex[0] == 0
+    tex = reports["cart_pendulum"].with_suffix(".tex").read_text(encoding="utf-8")
+    line = next(ln for ln in tex.splitlines() if r"\det\left(\mathbf{K}" in ln
+                and "= 0" in ln)
+    fourth, second = line.find(r"\omega_{n}^{4}"), line.find(r"\omega_{n}^{2}", 30)
+    assert 0 < fourth < second, line
