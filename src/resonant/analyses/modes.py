@@ -458,8 +458,10 @@ def _damped_modes(M: Any, C: Any, K: Any, lam: np.ndarray, mass_phi: np.ndarray,
     from the undamped modes where the damping is modal, else from the state-space
     eigenproblem (dense, or by sparse shift-invert for a large model)."""
     if modal:
-        c_phi = (accurate_product(C, mass_phi) if lanczos else C @ mass_phi) if damped else None
-        c_modal = np.einsum("ij,ij->j", mass_phi, c_phi) if damped else np.zeros(len(lam))
+        c_modal = np.zeros(len(lam))
+        if damped:
+            c_phi = accurate_product(C, mass_phi) if lanczos else np.asarray(C @ mass_phi)
+            c_modal = np.einsum("ij,ij->j", mass_phi, c_phi)
         ok = lam > 0
         zeta = np.where(ok, c_modal / (2 * np.sqrt(np.where(ok, lam, 1.0))), 0.0)
         damped_freq = np.sqrt(np.maximum(lam - c_modal**2 / 4, 0.0))[lam >= 0]

@@ -371,12 +371,16 @@ def damping_ratio(eigenvalues: np.ndarray, index: int) -> np.ndarray:
     count = eigenvalues.shape[0]
     if index > eigenvalues.shape[1]:
         return np.full(count, np.nan)
-    s = order(clean_state_zeros(eigenvalues))
-    upper = s.imag >= -UPPER_TOLERANCE * np.maximum(1.0, np.abs(s))
-    position = np.argsort(~upper, axis=1, kind="stable")[:, index - 1]
-    chosen = s[np.arange(count), position]
-    valid = upper[np.arange(count), position]
-    magnitude = np.abs(chosen)
+    s = clean_state_zeros(eigenvalues)
+    size = np.abs(s)
+    with np.errstate(invalid="ignore"):
+        scale = np.maximum(np.nanmax(size, axis=-1, initial=0.0), 1.0)[:, None]
+        upper = s.imag >= -UPPER_TOLERANCE * np.maximum(1.0, size)
+    # the order of :func:`order`, the lower half plane last
+    key = np.where(upper, np.round(size / scale, 12), np.inf)
+    position = np.lexsort((s.imag, key), axis=-1)[:, index - 1]
+    rows = np.arange(count)
+    chosen, valid, magnitude = s[rows, position], upper[rows, position], size[rows, position]
     with np.errstate(all="ignore"):
         zeta = np.where(magnitude > 0, -chosen.real / np.where(magnitude > 0, magnitude, 1), 0.0)
     return np.where(valid & np.isfinite(chosen), zeta, np.nan)
@@ -509,11 +513,11 @@ def eigenvalue_bounds(M: Any, K: Any, lam: np.ndarray, phi: np.ndarray,
         rounding: Any = 0.0
     else:
         KX, MX = K @ phi, M @ phi
-        absK, absM = (abs(a) if sparse else np.abs(a) for a in (K, M))
-        width = int(np.max(np.diff(sp.csr_matrix(K).indptr), initial=1)) \
-            if sparse else K.shape[0]
+        # |K| and |M| with their nonzeros only: a banded matrix costs its band
+        absK, absM = (abs(sp.csr_matrix(a)) for a in (K, M))
+        width = max(int(np.max(np.diff(a.indptr), initial=1)) for a in (absK, absM))
         gamma = (width + 2) * np.finfo(float).eps
-        rounding = gamma * (absK @ np.abs(phi) + absM @ np.abs(phi) * np.abs(lam))
+        rounding = gamma * (absK @ np.abs(phi) + (absM @ np.abs(phi)) * np.abs(lam))
     mass = np.abs(np.einsum("ij,ij->j", phi, MX))
     with np.errstate(all="ignore"):
         rho = np.einsum("ij,ij->j", phi, KX) / mass      # the Rayleigh quotients
@@ -521,7 +525,11 @@ def eigenvalue_bounds(M: Any, K: Any, lam: np.ndarray, phi: np.ndarray,
         if np.ndim(rounding):
             moved = moved + np.einsum("ij,ij->j", np.abs(phi), rounding) / mass
         R = KX - MX * rho
-        if sparse:
+        diagonal = sp.csr_matrix(M).diagonal()
+        if sp.csr_matrix(M).nnz == np.count_nonzero(diagonal):   # a lumped mass matrix
+            def solve(b: np.ndarray) -> np.ndarray:
+                return b / diagonal[:, None]
+        elif sparse:
             solve = splu(sp.csc_matrix(M)).solve
         else:
             factor = scipy.linalg.cho_factor(np.asarray(M, dtype=float))
