@@ -316,3 +316,36 @@ def test_to_dict_and_read_only() -> None:
     assert data["convention"] == "one-sided spectral densities per Hz"
     with pytest.raises(ValueError):
         result.frequency[0] = 1.0
+
+
+def test_cli_text_json_and_plot(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    status, out, err = run_cli(["random", GEVS])
+    assert status == 0, err
+    assert "table  m/s^2" in out and "14.14 g RMS" in out
+    assert "Miles RMS" in out
+    status, out, err = run_cli(["random", GEVS, "--json", "--only", "a,z"])
+    assert status == 0, err
+    data = json.loads(out)
+    assert set(data["responses"]) == {"z", "a"}
+    assert data["inputs"]["y"] == {"unit": "m/s^2", "derivative": 2}
+    assert data["responses"]["a"]["miles_rms"] / STANDARD_GRAVITY == pytest.approx(22.42,
+                                                                                 abs=0.01)
+    assert str(tmp_path) not in out
+    plot = tmp_path / "psd.png"
+    status, _, err = run_cli(["random", GEVS, "--plot", plot])
+    assert status == 0, err
+    assert plot.stat().st_size > 10_000
+
+
+def test_cli_errors(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    status, _, err = run_cli(["random", EXAMPLES / "base_excitation.toml"])
+    assert status == 2 and "no [random] section" in err
+    status, _, err = run_cli(["random", GEVS, "--only", "nothing"])
+    assert status == 2 and "unknown coordinate or output 'nothing'" in err
+    status, _, err = run_cli(["random", GEVS, "--plot", tmp_path / "p.txt"])
+    assert status == 3 and ".png, .svg or .pdf" in err
+    undamped = tmp_path / "undamped.toml"
+    undamped.write_text(GEVS.read_text().replace('c = "125.6637 N*s/m"', 'c = "0 N*s/m"'))
+    status, _, err = run_cli(["random", undamped])
+    assert status == 3 and "undamped resonance" in err
+    assert "Traceback" not in err

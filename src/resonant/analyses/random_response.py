@@ -23,10 +23,11 @@ and its error estimated by Richardson's (fine - coarse)/3 of the composite trape
 are halved until the estimated error of every mean square is below the tolerance.
 
 For a single-DOF model driven by one input, ``miles`` holds the estimate of Miles' equation
-RMS^2 = (pi/2) f_n Q G_u(f_n) g^2 beside the exact value, for every resonant response, with
-g the gain below resonance (|H| extrapolated to f = 0 where it is flat below f_n/100, else
-|H(f_n)|/Q): for the absolute acceleration under a base acceleration g = 1 and this is
-Miles' equation (Miles 1954).
+RMS^2 = (pi/2) f_n Q G_u(f_n) g^2 beside the exact value, for every response that has a
+static gain g (|H| flat below f_n/100, extrapolated to f = 0) and resonates
+(|H(f_n)| > g Q/2): for the absolute acceleration under a base acceleration g = 1 and this
+is Miles' equation (Miles 1954).  Responses without a static gain (an absolute
+displacement under a base acceleration, a velocity) have no entry.
 
 Examples
 --------
@@ -68,6 +69,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
 from ..model.random_spec import RandomInput, RandomSpec
+from ..model.units import Dimension
 from ..system import Batch, BatchHarmonic, LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
 from .kernel import solve_harmonic
@@ -110,6 +112,10 @@ class RandomResponse:
         name -> estimated relative error of the mean square's quadrature.
     units : mapping
         name -> SI unit of the response ("" where the model has no units).
+    input_units : mapping
+        input -> SI unit of the quantity whose density it is ("" where unknown).
+    input_derivatives : mapping
+        input -> the order of the signal's derivative whose density it is.
     band : tuple of float
         The band (Hz).
     miles : mapping or None
@@ -134,6 +140,8 @@ class RandomResponse:
     error: Mapping[str, float]
     units: Mapping[str, str]
     band: tuple[float, float]
+    input_units: Mapping[str, str] = field(default_factory=dict)
+    input_derivatives: Mapping[str, int] = field(default_factory=dict)
     miles: Mapping[str, float] | None = None
     natural_frequency: float | None = None
     quality: float | None = None
@@ -162,7 +170,9 @@ class RandomResponse:
             "title": self.title,
             "convention": "one-sided spectral densities per Hz",
             "band_hz": list(self.band),
-            "inputs": list(self.inputs),
+            "inputs": {name: {"unit": self.input_units.get(name, ""),
+                              "derivative": self.input_derivatives.get(name, 0)}
+                       for name in self.inputs},
             "responses": {name: {
                 "unit": self.units.get(name, ""),
                 "rms": self.rms[name], "three_sigma": 3 * self.rms[name],
@@ -427,6 +437,24 @@ def _refine(quad: _Quadrature, tolerance: float, deadline: Deadline
     return total, error.sum(axis=0) / np.where(total > 0, total, np.inf), False
 
 
+def _input_units(system: LinearSystem, spec: RandomSpec) -> dict[str, str]:
+    model = system.model
+    units = model.units if model is not None else None
+    out = {}
+    for u in spec.inputs:
+        dim: Dimension | None = None
+        if u.base:
+            dim = Dimension.of(m=1, s=-2)
+        elif units is not None and u.load == ():
+            found = units.dimensions.get(u.name)
+            if found is not None and u.name in system.coordinates:
+                dim = Dimension.of(kg=1, m=2, s=-2) / found
+            elif found is not None:
+                dim = found / Dimension.of(s=u.derivative)
+        out[u.name] = "" if dim is None else (dim.text() or "1")
+    return out
+
+
 def _units(system: LinearSystem, names: Sequence[str]) -> dict[str, str]:
     model = system.model
     if model is None or model.units is None:
@@ -521,6 +549,12 @@ def random_response(system: LinearSystem, spec: RandomSpec | None = None,
         nup = np.sqrt(m4 / m2)
     miles, fn, quality = _miles(num, spec, transfer, outputs, responses)
     G = _input_matrix(spec, f, transfer.values)
+    if names is not None:   # the coordinates solved only for an output are not reported
+        shown = [r for r, name in enumerate(responses) if name in names]
+        responses = [responses[r] for r in shown]
+        S, m0, error, nu0, nup = S[:, shown], m0[shown], error[shown], nu0[shown], nup[shown]
+        if miles is not None:
+            miles = {k: v for k, v in miles.items() if k in responses}
     return RandomResponse(
         title=num.title, names=tuple(responses), inputs=tuple(u.name for u in spec.inputs),
         frequency=f, psd={name: S[:, r].copy() for r, name in enumerate(responses)},
@@ -530,7 +564,9 @@ def random_response(system: LinearSystem, spec: RandomSpec | None = None,
         peak_rate={name: float(nup[r]) for r, name in enumerate(responses)},
         error={name: float(error[r]) if np.isfinite(error[r]) else 0.0
                for r, name in enumerate(responses)},
-        units=_units(system, responses), band=spec.band, miles=miles,
+        units=_units(system, responses), band=spec.band,
+        input_units=_input_units(system, spec),
+        input_derivatives={u.name: u.derivative for u in spec.inputs}, miles=miles,
         natural_frequency=fn, quality=quality, method=transfer.used_method,
         warnings=tuple(warnings))
 
@@ -557,10 +593,9 @@ def _miles(num: NumericEOM, spec: RandomSpec, transfer: _Transfer, outputs: Sequ
     out = {}
     for r, name in enumerate(responses):
         flat = H[1, r] > 0 and abs(H[0, r] / H[1, r] - 1) < 1e-3
-        if flat and H[2, r] < 0.5 * quality * H[1, r]:
-            continue    # not a resonant response (the input itself, a mass-line quantity)
-        gain = math.sqrt(max(4 * H[1, r] ** 2 - H[0, r] ** 2, 0.0) / 3) if flat \
-            else H[2, r] / quality
+        if not flat or H[2, r] < 0.5 * quality * H[1, r]:
+            continue    # no static gain, or not resonant (the input itself)
+        gain = math.sqrt(max(4 * H[1, r] ** 2 - H[0, r] ** 2, 0.0) / 3)
         out[name] = math.sqrt(math.pi / 2 * fn * quality * level) * float(gain)
     return out, fn, quality
 

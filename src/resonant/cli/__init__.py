@@ -45,6 +45,7 @@ COMMANDS: dict[str, str] = {
     "grade": "check a student's answers against the key",
     "study": "parameter study: Monte Carlo, grids, Sobol indices, on Dask",
     "explore": "write an interactive page of the model (.html)",
+    "random": "response spectral densities, RMS and Rice's rates under random inputs",
 }
 
 Register = Callable[[Any, argparse.ArgumentParser], None]
@@ -92,6 +93,9 @@ def command_registrar(command: str) -> Register:
         case "explore":
             from . import explore
             return explore.register
+        case "random":
+            from . import random
+            return random.register
     raise KeyError(command)
 
 
