@@ -32,8 +32,8 @@ from .units import ModelUnits, parse_with_unit
 if TYPE_CHECKING:
     from .exercise import Exercise
     from .explore import ExploreSpec
-    from .random_spec import RandomSpec
     from .parts import DerivedEnergies
+    from .random_spec import RandomSpec
 
 TIME = sympy.Symbol("t")
 
