@@ -199,20 +199,36 @@ class _Load:
     power: int
 
 
-class _Transfer:
-    """H(f) of every response to every input, through the kernel."""
+class Transfer:
+    """H(f) of every response (kept coordinates, then outputs) to every input, through the
+    kernel (also the periodic loads' superposition, :mod:`.periodic_load`).
 
-    def __init__(self, system: LinearSystem, num: NumericEOM, spec: RandomSpec,
+    Parameters
+    ----------
+    system : LinearSystem
+    num : NumericEOM
+        Its numbers at the parameter point.
+    inputs : sequence of RandomInput
+        The inputs: a signal (and the order of the derivative the input is), a coordinate,
+        or a ``load``/``base`` vector; their densities are not used here.
+    keep : ndarray of int
+        The coordinates to solve for.
+    method : str
+        The kernel's method.
+    deadline : Deadline
+    """
+
+    def __init__(self, system: LinearSystem, num: NumericEOM, inputs: Sequence[RandomInput],
                  keep: np.ndarray, method: str, deadline: Deadline) -> None:
-        self.num, self.spec, self.keep, self.method = num, spec, keep, method
+        self.num, self.inputs, self.keep, self.method = num, tuple(inputs), keep, method
         self.deadline = deadline
         self.warnings: list[str] = []
         values = dict(num.parameters) or dict(system.model.parameter_values
                                               if system.model is not None else {})
         self.values = values
         columns = excitation_columns(system, values, deadline)
-        self.loads = [self._loads(u, columns) for u in spec.inputs]
-        for u, loads in zip(spec.inputs, self.loads):
+        self.loads = [self._loads(u, columns) for u in self.inputs]
+        for u, loads in zip(self.inputs, self.loads):
             if not loads and not self._in_outputs(u.name):
                 self.warnings.append(f"the input {u.name} does not act on the model (no "
                                      "generalized force and no output depends on it)")
@@ -267,8 +283,8 @@ class _Transfer:
             if result.singular.any():
                 where = float(f[int(np.argmax(result.singular))])
                 raise AnalysisError(f"the system is singular at {where:.6g} Hz (an undamped "
-                                    "resonance in the band): the response spectral density "
-                                    "is not integrable; add damping")
+                                    "resonance): the response there is unbounded; add "
+                                    "damping")
             self.used_method = result.method
             Z.append(result.Z)
         iw = 1j * w
@@ -285,7 +301,7 @@ class _Transfer:
                         i = position[num.coordinates.index(var)]
                         H[:, row, :] += coefficient * iw[:, None] ** order * H[:, i, :]
                     else:
-                        for j, u in enumerate(self.spec.inputs):
+                        for j, u in enumerate(self.inputs):
                             if u.name == var:
                                 H[:, row, j] += coefficient * iw ** (order - u.derivative)
         return H
@@ -466,8 +482,27 @@ def _units(system: LinearSystem, names: Sequence[str]) -> dict[str, str]:
     return out
 
 
-def _keep(num: NumericEOM, names: Sequence[str] | None) -> tuple[np.ndarray, list[str]]:
-    """The coordinates to solve for and the outputs to report."""
+def responses_to_solve(num: NumericEOM, names: Sequence[str] | None
+                       ) -> tuple[np.ndarray, list[str]]:
+    """The coordinates to solve for (those named, and those the named outputs use) and the
+    outputs to report.
+
+    Parameters
+    ----------
+    num : NumericEOM
+    names : sequence of str or None
+        Coordinates and outputs (None: all).
+
+    Returns
+    -------
+    keep : ndarray of int
+    outputs : list of str
+
+    Raises
+    ------
+    ModelError
+        For an unknown name.
+    """
     outputs = [o for o in num.outputs if names is None or o in names]
     if names is not None:
         unknown = [x for x in names if x not in num.coordinates and x not in num.outputs]
@@ -521,8 +556,8 @@ def random_response(system: LinearSystem, spec: RandomSpec | None = None,
                                      "spectral densities of its random inputs "
                                      "(docs/random.md)", system.source, "random"))
     num = system.numeric(deadline)
-    keep, outputs = _keep(num, names)
-    transfer = _Transfer(system, num, spec, keep, method, deadline)
+    keep, outputs = responses_to_solve(num, names)
+    transfer = Transfer(system, num, spec.inputs, keep, method, deadline)
     if spec.band[0] == 0 and any(load.power < 0 for loads in transfer.loads for load in loads):
         raise ModelError(Problem("the band starts at 0 Hz, where a density of a derivative "
                                  "(a velocity or acceleration) gives an infinite displacement; "
@@ -571,7 +606,7 @@ def random_response(system: LinearSystem, spec: RandomSpec | None = None,
         warnings=tuple(warnings))
 
 
-def _miles(num: NumericEOM, spec: RandomSpec, transfer: _Transfer, outputs: Sequence[str],
+def _miles(num: NumericEOM, spec: RandomSpec, transfer: Transfer, outputs: Sequence[str],
            responses: Sequence[str]) -> tuple[dict[str, float] | None, float | None,
                                               float | None]:
     """Miles' estimate of every response of a single-DOF model under one input."""
@@ -600,4 +635,4 @@ def _miles(num: NumericEOM, spec: RandomSpec, transfer: _Transfer, outputs: Sequ
     return out, fn, quality
 
 
-__all__ = ["RandomResponse", "random_response"]
+__all__ = ["RandomResponse", "random_response", "Transfer", "responses_to_solve"]
