@@ -187,3 +187,50 @@ def test_against_pyyeti() -> None:
                                 time="residual", parallel="no")
         close = f <= 1000
         assert np.abs(mine.residual[close] / theirs[close] - 1).max() < 5e-3
+
+
+def test_cli_pulse_csv_plot_json(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    import json
+
+    from conftest import run_cli
+
+    status, out, err = run_cli(["srs", "--pulse", "half-sine", "--amplitude", "100",
+                                "--duration", "0.011", "--json", "--points", "5"])
+    assert status == 0, err
+    data = json.loads(out)
+    assert data["Q"] == 10 and len(data["maximax"]) == 5
+    t, a = pulse("half-sine", 100.0, 0.011, 0.011 / 2000)
+    csv = tmp_path / "shock.csv"
+    csv.write_text("time,acceleration\n" + "".join(f"{x!r},{y!r}\n" for x, y in zip(t, a)))
+    status, out2, err = run_cli(["srs", "--csv", csv, "--json", "--points", "5",
+                                 "--plot", tmp_path / "srs.png"])
+    assert status == 0, err
+    assert json.loads(out2)["maximax"] == pytest.approx(data["maximax"], rel=1e-6)
+    assert (tmp_path / "srs.png").stat().st_size > 10_000
+    status, out3, _ = run_cli(["srs", "--pulse", "step", "--duration", "0.5", "--damping", "0"])
+    assert status == 0 and "zeta = 0 (Q = inf)" in out3
+
+
+@pytest.mark.parametrize("text, message", [
+    ("t,a\n0,0\n0.001,1\n0.003,0\n", "constant step"),
+    ("t,a\n0,0\n0.001,x\n", "line 3: expected two numbers"),
+    ("0,0\n", "at least two samples"),
+])
+def test_cli_csv_errors(tmp_path, text: str, message: str) -> None:  # type: ignore
+    from conftest import run_cli
+
+    csv = tmp_path / "h.csv"
+    csv.write_text(text)
+    status, _, err = run_cli(["srs", "--csv", csv])
+    assert status == 2 and message in err and str(tmp_path) not in err
+
+
+def test_cli_option_errors() -> None:
+    from conftest import run_cli
+
+    status, _, err = run_cli(["srs"])
+    assert status == 2 and "--pulse" in err
+    status, _, err = run_cli(["srs", "--pulse", "half-sine"])
+    assert status == 2 and "--duration" in err
+    status, _, err = run_cli(["srs", "--pulse", "half-sine", "--duration", "1", "--Q", "0.2"])
+    assert status == 2
