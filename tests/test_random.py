@@ -349,3 +349,49 @@ def test_cli_errors(tmp_path) -> None:  # type: ignore[no-untyped-def]
     status, _, err = run_cli(["random", undamped])
     assert status == 3 and "undamped resonance" in err
     assert "Traceback" not in err
+
+
+COHERENT = """
+[parameters]
+m = 1
+k = 400
+c = 2
+[coordinates]
+x = ""
+[matrices]
+M = [["m"]]
+K = [["k"]]
+C = [["c"]]
+[random]
+band = [0.5, 50]
+tolerance = 1e-8
+[random.psd.x]
+values = 2.0
+[random.psd.push]
+load = ["2"]
+values = "0.5*(1 + f/50)"
+[[random.coherence]]
+inputs = ["x", "push"]
+value = "{gamma2}"
+phase = "{phase}"
+"""
+
+
+@pytest.mark.parametrize("gamma2, phase", [(1.0, 0.0), (1.0, 2.0), (0.3, 1.0), (0.0, 0.0)])
+def test_coherence_and_phase(gamma2: float, phase: float) -> None:
+    """Two inputs on one coordinate (a force on x and a load vector 2 x push):
+    G_x = |H|^2 (G1 + 4 G2 + 2 * 2 sqrt(gamma^2 G1 G2) cos(phase))."""
+    result = random_response(linear_system(loads(COHERENT.format(gamma2=gamma2,
+                                                                 phase=phase))))
+    f = result.frequency
+    w = 2 * np.pi * f
+    H2 = 1 / np.abs(400 - w**2 + 2j * w) ** 2
+    G1, G2 = 2.0, 0.5 * (1 + f / 50)
+    expected = H2 * (G1 + 4 * G2 + 4 * np.sqrt(gamma2 * G1 * G2) * np.cos(phase))
+    assert np.allclose(result.psd["x"], expected, rtol=1e-12, atol=0)
+    assert result.input_psd["push"] == pytest.approx(G2, rel=1e-12)
+
+
+def test_coherence_out_of_range() -> None:
+    with pytest.raises(ModelError, match="must lie in \\[0, 1\\]"):
+        random_response(linear_system(loads(COHERENT.format(gamma2="2", phase=0))))
