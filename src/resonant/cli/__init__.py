@@ -46,6 +46,8 @@ COMMANDS: dict[str, str] = {
     "study": "parameter study: Monte Carlo, grids, Sobol indices, on Dask",
     "explore": "write an interactive page of the model (.html)",
     "example": "list the bundled example models, or write one to a file",
+    "random": "response spectral densities, RMS and Rice's rates under random inputs",
+    "srs": "shock response spectrum of a pulse or a CSV history",
 }
 
 Register = Callable[[Any, argparse.ArgumentParser], None]
@@ -96,6 +98,12 @@ def command_registrar(command: str) -> Register:
         case "example":
             from . import example
             return example.register
+        case "random":
+            from . import random
+            return random.register
+        case "srs":
+            from . import srs
+            return srs.register
     raise KeyError(command)
 
 

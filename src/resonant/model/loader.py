@@ -65,6 +65,7 @@ from .matrix_files import read_matrix_spec
 from .nonlinear_elements import read_nonlinear_elements
 from .part_energies import Mechanism, derive_energies, point_expressions
 from .parts import DerivedEnergies, read_parts
+from .random_spec import parse_random
 from .study import parse_study
 from .types import (
     Force,
@@ -341,6 +342,9 @@ class _Builder:
         explore = parse_explore(self.data["explore"], param_names, names, list(outputs),
                                 self.source, self.problems, units) \
             if "explore" in self.data else None
+        random = parse_random(self.data["random"], param_names, list(signals), names,
+                              self.source, self.problems, units) \
+            if "random" in self.data else None
         self.raise_problems(misplaced)
         if matrix_spec is not None and not coordinates:
             n = _matrix_size(matrix_spec.M)
@@ -354,7 +358,7 @@ class _Builder:
             definitions=MappingProxyType(definitions), energy=MappingProxyType(energy),
             forces=tuple(forces), outputs=MappingProxyType(outputs), matrices=matrix_spec,
             exercise=exercise, parts=derived, units=units, study_section=study,
-            explore_section=explore)
+            explore_section=explore, random_section=random)
 
     def exercise(self, param_names: list[str], names: list[str], outputs: list[str]
                  ) -> Exercise | None:

@@ -45,6 +45,7 @@ if TYPE_CHECKING:
     from .exercise import Exercise
     from .explore import ExploreSpec
     from .parts import DerivedEnergies
+    from .random_spec import RandomSpec
 
 TIME = sympy.Symbol("t")
 
@@ -206,6 +207,8 @@ class Model:
         The ``[study]`` section.
     explore_section : ExploreSpec or None
         The ``[explore]`` section: the ranges of the explore page's sliders.
+    random_section : RandomSpec or None
+        The ``[random]`` section: the spectral densities of random inputs.
 
     Examples
     --------
@@ -243,6 +246,8 @@ class Model:
     #: the ``[explore]`` section (resonant.model.explore): slider ranges, the names the
     #: frequency response shows, the excitation frequency's parameter; None without it
     explore_section: ExploreSpec | None = None
+    #: the ``[random]`` section (resonant.model.random_spec); None without one
+    random_section: RandomSpec | None = None
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""

@@ -1,0 +1,327 @@
+"""The stationary response to a periodic, non-harmonic load: Fourier series, superposition.
+
+A periodic signal s(t) = s(t + T) is expanded in its Fourier series
+
+    s(t) = a0 + sum_{n=1..H} a_n cos(n W t) + b_n sin(n W t),   W = 2 pi / T,
+
+with H the fewest harmonics whose remainder has a relative RMS (Parseval) below the
+tolerance.  The stationary response of the linear system is the sum of the responses to
+the harmonics -- exact for the linear system, up to the truncation -- each from the one
+harmonic kernel (:func:`resonant.analyses.kernel.solve_harmonic`, through
+:class:`~resonant.analyses.random_response.Transfer`), the constant a0 from K q0 = load.
+
+The shapes with closed-form coefficients (period T, amplitude A):
+
+``"square"``
+    A for 0 < t < T/2, -A for T/2 < t < T: b_n = 4 A / (n pi) for odd n.
+``"sawtooth"``
+    A (2 t / T - 1) on 0 <= t < T (rising, then dropping back): b_n = -2 A / (n pi).
+``"triangle"``
+    A at t = 0 down to -A at T/2 and back (even): a_n = 8 A / (n pi)^2 for odd n.
+``"rectified-sine"``
+    |A sin(pi t / T)| (a full-wave rectified sine of period T): a0 = 2 A / pi,
+    a_n = -4 A / (pi (4 n^2 - 1)).
+
+Any other shape is an expression of ``t`` over one period, sampled and transformed (FFT)
+with enough samples that the coefficients have settled (docs/random.md).
+
+Examples
+--------
+>>> series = fourier_series("square", 1.0, 2.0, tolerance=0.1)
+>>> series.b[:3].round(6).tolist()         # 4/pi, 0, 4/(3 pi)
+[1.27324, 0.0, 0.424413]
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import AnalysisError
+from ..model.random_spec import RandomInput
+from ..system import LinearSystem
+from .random_response import Transfer, responses_to_solve
+from .stationary import freeze_fields
+
+SHAPES = ("square", "sawtooth", "triangle", "rectified-sine")
+#: most harmonics of a series
+MAX_HARMONICS = 200_000
+#: samples per period of the response, per harmonic (for the largest excursion)
+SAMPLES_PER_HARMONIC = 16
+
+
+@dataclass(frozen=True)
+class FourierSeries:
+    """s(t) = a0 + sum a_n cos(n W t) + b_n sin(n W t), n = 1..H, W = 2 pi / period.
+
+    Attributes
+    ----------
+    period : float
+        T (s).
+    a0 : float
+        The mean.
+    a, b : ndarray
+        The cosine and sine coefficients of harmonics 1..H.
+    remainder : float
+        The relative RMS of what the truncation leaves out (Parseval).
+    shape : str
+        The shape's name, or the expression.
+    """
+
+    period: float
+    a0: float
+    a: np.ndarray
+    b: np.ndarray
+    remainder: float
+    shape: str
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
+    @property
+    def harmonics(self) -> int:
+        """H, the number of harmonics."""
+        return len(self.a)
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        """The truncated series at the times ``t``."""
+        t = np.asarray(t, dtype=float)
+        n = np.arange(1, self.harmonics + 1)
+        phase = 2 * np.pi / self.period * np.multiply.outer(t, n)
+        return self.a0 + np.cos(phase) @ self.a + np.sin(phase) @ self.b
+
+
+def _closed_form(shape: str, A: float, n: np.ndarray) -> tuple[float, np.ndarray, np.ndarray,
+                                                                 float]:
+    """(a0, a_n, b_n, mean square) of a shape."""
+    odd = n % 2 == 1
+    zero = np.zeros(len(n))
+    if shape == "square":
+        return 0.0, zero, np.where(odd, 4 * A / (n * np.pi), 0.0), A * A
+    if shape == "sawtooth":
+        return 0.0, zero, -2 * A / (n * np.pi), A * A / 3
+    if shape == "triangle":
+        return 0.0, np.where(odd, 8 * A / (n * np.pi) ** 2, 0.0), zero, A * A / 3
+    return 2 * A / np.pi, -4 * A / (np.pi * (4 * n**2 - 1)), zero, A * A / 2
+
+
+def _remainders(a0: float, a: np.ndarray, b: np.ndarray, mean_square: float) -> np.ndarray:
+    """Relative RMS of the remainder after 1, 2, ... harmonics (Parseval)."""
+    kept = a0 * a0 + np.cumsum((a * a + b * b) / 2)
+    return np.sqrt(np.maximum(mean_square - kept, 0.0) / mean_square) if mean_square > 0 \
+        else np.zeros(len(a))
+
+
+def fourier_series(shape: str, amplitude: float, period: float, *, tolerance: float = 1e-2,
+                   function: Callable[[np.ndarray], np.ndarray] | None = None,
+                   max_harmonics: int = MAX_HARMONICS) -> FourierSeries:
+    """The Fourier series of a periodic signal, truncated where its remainder's relative
+    RMS falls below ``tolerance``.
+
+    Parameters
+    ----------
+    shape : str
+        One of :data:`SHAPES`, or a name for ``function``.
+    amplitude : float
+        A (ignored for ``function``).
+    period : float
+        T (s).
+    tolerance : float
+        The largest relative RMS of the remainder.
+    function : callable, optional
+        s(t) on one period (vectorized); sampled and transformed by FFT, with the number
+        of samples doubled until the kept coefficients change by less than
+        ``tolerance / 10`` of the RMS and the remainder is within the tolerance.
+    max_harmonics : int
+        The largest H.
+
+    Returns
+    -------
+    FourierSeries
+
+    Raises
+    ------
+    AnalysisError
+        For an unknown shape, a period or tolerance out of range, a signal that is not
+        finite, or a series that needs more than ``max_harmonics`` harmonics.
+    """
+    if not (math.isfinite(period) and period > 0):
+        raise AnalysisError(f"the period {period:g} s must be positive")
+    if not 0 < tolerance < 1:
+        raise AnalysisError(f"the tolerance {tolerance:g} must lie in (0, 1)")
+    if function is None:
+        if shape not in SHAPES:
+            raise AnalysisError(f"unknown periodic shape '{shape}'; the shapes are "
+                                f"{', '.join(SHAPES)} (or give the signal as a function)")
+        n = np.arange(1, max_harmonics + 1)
+        a0, a, b, mean_square = _closed_form(shape, float(amplitude), n)
+    else:
+        a0, a, b, mean_square = _sampled(function, period, tolerance, max_harmonics)
+    remainder = _remainders(a0, a, b, mean_square)
+    within = np.flatnonzero(remainder <= tolerance)
+    if not len(within):
+        raise AnalysisError(f"the series of '{shape}' needs more than {max_harmonics} "
+                            f"harmonics for the tolerance {tolerance:g}")
+    H = max(int(within[0]) + 1, 1)
+    return FourierSeries(float(period), float(a0), a[:H].copy(), b[:H].copy(),
+                         float(remainder[H - 1]), shape)
+
+
+def _sampled(function: Callable[[np.ndarray], np.ndarray], period: float, tolerance: float,
+             max_harmonics: int) -> tuple[float, np.ndarray, np.ndarray, float]:
+    """Coefficients by FFT, the sampling doubled until they settle."""
+    previous = None
+    samples = 1024
+    while True:
+        t = np.arange(samples) * period / samples
+        values = np.broadcast_to(np.asarray(function(t), dtype=float), t.shape)
+        if not np.isfinite(values).all():
+            raise AnalysisError("the periodic signal is not finite over its period")
+        spectrum = np.fft.rfft(values) / samples
+        a0 = float(spectrum[0].real)
+        a = 2 * spectrum[1:samples // 4].real
+        b = -2 * spectrum[1:samples // 4].imag
+        mean_square = float(np.mean(values**2))
+        scale = math.sqrt(mean_square) or 1.0
+        if previous is not None:
+            k = len(previous[0])
+            change = max(np.abs(a[:k] - previous[0]).max(), np.abs(b[:k] - previous[1]).max())
+            reached = _remainders(a0, a, b, mean_square)[-1] <= tolerance
+            if (change <= tolerance / 10 * scale and reached) or samples >= 4 * max_harmonics:
+                return a0, a, b, mean_square
+        previous = (a, b)
+        samples *= 2
+
+
+@dataclass(frozen=True)
+class PeriodicResponse:
+    """The stationary response to a periodic load, harmonic by harmonic and summed.
+
+    Attributes
+    ----------
+    series : FourierSeries
+        The load's series.
+    names : tuple of str
+        The responses (kept coordinates, then outputs).
+    mean : mapping
+        name -> the constant part (response to a0).
+    harmonics : mapping
+        name -> complex amplitudes z_n of harmonics 1..H: response =
+        mean + Re(sum z_n e^(i n W t)).
+    time : ndarray
+        One period, sampled.
+    history : mapping
+        name -> the summed response at ``time``.
+    largest : mapping
+        name -> the largest |response| over the period (on the samples).
+    """
+
+    series: FourierSeries
+    names: tuple[str, ...]
+    mean: dict[str, float]
+    harmonics: dict[str, np.ndarray]
+    time: np.ndarray
+    history: dict[str, np.ndarray]
+    largest: dict[str, float]
+    warnings: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form (the first 50 harmonics' amplitudes and phases).
+
+        Returns
+        -------
+        dict
+        """
+        shown = min(50, self.series.harmonics)
+        return {"period_s": self.series.period, "harmonics": self.series.harmonics,
+                "remainder": self.series.remainder, "shape": self.series.shape,
+                "responses": {name: {
+                    "mean": self.mean[name], "largest": self.largest[name],
+                    "amplitudes": np.abs(self.harmonics[name][:shown]).tolist(),
+                    "phases": np.angle(self.harmonics[name][:shown]).tolist()}
+                    for name in self.names},
+                "warnings": list(self.warnings)}
+
+
+def periodic_response(system: LinearSystem, signal: str, series: FourierSeries, *,
+                      derivative: int = 0, names: Sequence[str] | None = None,
+                      method: str = "auto", deadline: Deadline = NO_DEADLINE
+                      ) -> PeriodicResponse:
+    """The stationary response when a signal of the model (or a force on a coordinate)
+    follows a periodic series.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    signal : str
+        A signal of the model, or a coordinate (a generalized force on it).
+    series : FourierSeries
+        The signal's (or its derivative's) series.
+    derivative : int
+        The series is of this derivative of the signal (2: an acceleration).
+    names : sequence of str, optional
+        The coordinates and outputs to report (default all).
+    method : str
+        The kernel's method.
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    PeriodicResponse
+
+    Raises
+    ------
+    AnalysisError
+        For a mean load on a system without static stiffness, or a singular harmonic.
+    """
+    num = system.numeric(deadline)
+    keep, outputs = responses_to_solve(num, names)
+    load = RandomInput(signal, derivative, None, None)
+    transfer = Transfer(system, num, [load], keep, method, deadline)
+    n = np.arange(1, series.harmonics + 1)
+    frequencies = n / series.period
+    H = transfer(frequencies, outputs)[:, :, 0]                   # (H, responses)
+    c = series.a - 1j * series.b                                  # s = Re(c e^(i n W t))
+    Z = H * c[:, None]
+    responses = [num.coordinates[i] for i in keep] + outputs
+    mean = _mean(transfer, outputs, series.a0, derivative, len(responses))
+    count = max(SAMPLES_PER_HARMONIC * series.harmonics, 4096)
+    spectrum = np.zeros((count // 2 + 1, len(responses)), dtype=complex)
+    spectrum[1:series.harmonics + 1] = Z * count / 2
+    samples = np.fft.irfft(spectrum, n=count, axis=0) + mean[None, :]
+    time = np.arange(count) * series.period / count
+    return PeriodicResponse(
+        series, tuple(responses), {r: float(mean[i]) for i, r in enumerate(responses)},
+        {r: Z[:, i].copy() for i, r in enumerate(responses)}, time,
+        {r: samples[:, i].copy() for i, r in enumerate(responses)},
+        {r: float(np.abs(samples[:, i]).max()) for i, r in enumerate(responses)},
+        tuple(transfer.warnings))
+
+
+def _mean(transfer: Transfer, outputs: Sequence[str], a0: float, derivative: int,
+          count: int) -> np.ndarray:
+    """The response to the constant a0 (a static load; zero for a derivative's mean)."""
+    if a0 == 0:
+        return np.zeros(count)
+    if derivative > 0:
+        raise AnalysisError("the series of a derivative (a velocity or an acceleration) has "
+                            "a nonzero mean: the displacement would grow without bound")
+    try:
+        H0 = transfer(np.array([0.0]), outputs)[0, :, 0]
+    except AnalysisError:
+        raise AnalysisError("the periodic load has a mean, but the system has no static "
+                            "stiffness (a rigid-body mode): there is no stationary "
+                            "response") from None
+    return (H0 * a0).real
+
+
+__all__ = ["SHAPES", "FourierSeries", "fourier_series", "PeriodicResponse",
+           "periodic_response"]

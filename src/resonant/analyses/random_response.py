@@ -1,0 +1,638 @@
+"""The stationary response to random excitation given by spectral densities.
+
+For inputs u_j with the one-sided cross-spectral density matrix G_u(f) (per Hz), every
+coordinate and output y has the one-sided density (Newland, *An Introduction to Random
+Vibrations*, Ch. 7; Bendat & Piersol, *Random Data*, Ch. 6)::
+
+    G_y(f) = sum_jl H_yj(f) G_u,jl(f) conj(H_yl(f))
+
+where H_yj is the complex frequency response of y to u_j.  H comes from the one harmonic
+kernel (:func:`resonant.analyses.kernel.solve_harmonic`): one solve of
+(K - w^2 M + i w C) z = E per load column E of the inputs, at every frequency of the
+grid, w = 2 pi f; a signal's derivative of order k seen by an input given as the density
+of its derivative of order m contributes (i w)^(k - m).
+
+From G_y: the mean square m0 = integral of G_y df (the RMS about the reference state; no
+mean value is included), the spectral moments m_k = integral of f^k G_y df, Rice's rates of
+zero up-crossings sqrt(m2/m0) and of peaks sqrt(m4/m2) (Hz), and 3-sigma = 3 RMS.
+
+The frequency grid starts from ``lines`` logarithmically spaced frequencies of the band,
+the table breakpoints and the damped natural frequencies (with points at their half-power
+width), and is refined pair by pair: each pair of intervals is integrated by Simpson's rule
+and its error estimated by Richardson's (fine - coarse)/3 of the composite trapezoid; pairs
+are halved until the estimated error of every mean square is below the tolerance.
+
+For a single-DOF model driven by one input, ``miles`` holds the estimate of Miles' equation
+RMS^2 = (pi/2) f_n Q G_u(f_n) g^2 beside the exact value, for every response that has a
+static gain g (|H| flat below f_n/100, extrapolated to f = 0) and resonates
+(|H(f_n)| > g Q/2): for the absolute acceleration under a base acceleration g = 1 and this
+is Miles' equation (Miles 1954).  Responses without a static gain (an absolute
+displacement under a base acceleration, a velocity) have no entry.
+
+Examples
+--------
+>>> import resonant
+>>> from resonant.model import loads
+>>> model = loads('''
+... [parameters]
+... m = 1
+... k = 400
+... c = 0.4
+... [coordinates]
+... x = ""
+... [signals]
+... F = "0"
+... [energy]
+... T = "m*x'^2/2"
+... U = "k*x^2/2 - F*x"
+... D = "c*x'^2/2"
+... [random]
+... band = [0, 1000]
+... [random.psd.F]
+... values = 1e-2
+... ''')
+>>> result = random_response(resonant.system.linear_system(model))
+>>> round(result.rms["x"] ** 2 / (1e-2 / (4 * 400 * 0.4)), 4)   # G0 / (4 k c)
+1.0
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import AnalysisError, ModelError, Problem
+from ..expressions import numeric_value
+from ..model.random_spec import RandomInput, RandomSpec
+from ..model.units import Dimension
+from ..system import Batch, BatchHarmonic, LinearSystem, NumericEOM
+from ..system.excitation import excitation_columns
+from .kernel import solve_harmonic
+from .stationary import freeze_fields
+
+#: most frequency points of the refined grid
+MAX_POINTS = 400_000
+#: most refinement rounds
+MAX_ROUNDS = 60
+#: damped natural frequencies are located for systems up to this many coordinates
+MODES_LIMIT = 400
+
+
+@dataclass(frozen=True)
+class RandomResponse:
+    """The response spectral densities, RMS values and Rice's rates of every coordinate
+    and output.
+
+    Attributes
+    ----------
+    title : str
+        The model's title.
+    names : tuple of str
+        The responses: the coordinates, then the outputs.
+    inputs : tuple of str
+        The random inputs.
+    frequency : ndarray
+        The frequency grid (Hz), shape (N,).
+    psd : mapping
+        name -> one-sided spectral density per Hz (SI unit squared per Hz), shape (N,).
+    input_psd : mapping
+        input -> its one-sided density per Hz (SI) on the grid.
+    rms : mapping
+        name -> RMS value (SI) about the reference state.
+    zero_crossing_rate : mapping
+        name -> expected rate of zero up-crossings sqrt(m2/m0) (Hz; NaN for RMS 0).
+    peak_rate : mapping
+        name -> expected rate of peaks sqrt(m4/m2) (Hz; NaN where m2 = 0).
+    error : mapping
+        name -> estimated relative error of the mean square's quadrature.
+    units : mapping
+        name -> SI unit of the response ("" where the model has no units).
+    input_units : mapping
+        input -> SI unit of the quantity whose density it is ("" where unknown).
+    input_derivatives : mapping
+        input -> the order of the signal's derivative whose density it is.
+    band : tuple of float
+        The band (Hz).
+    miles : mapping or None
+        name -> Miles' RMS estimate of each resonant response (single-DOF model, one
+        input), else None.
+    natural_frequency, quality : float or None
+        f_n (Hz) and Q = 1/(2 zeta) of a single-DOF model.
+    method : str
+        The kernel's method.
+    warnings : tuple of str
+    """
+
+    title: str
+    names: tuple[str, ...]
+    inputs: tuple[str, ...]
+    frequency: np.ndarray
+    psd: Mapping[str, np.ndarray]
+    input_psd: Mapping[str, np.ndarray]
+    rms: Mapping[str, float]
+    zero_crossing_rate: Mapping[str, float]
+    peak_rate: Mapping[str, float]
+    error: Mapping[str, float]
+    units: Mapping[str, str]
+    band: tuple[float, float]
+    input_units: Mapping[str, str] = field(default_factory=dict)
+    input_derivatives: Mapping[str, int] = field(default_factory=dict)
+    miles: Mapping[str, float] | None = None
+    natural_frequency: float | None = None
+    quality: float | None = None
+    method: str = ""
+    warnings: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
+    @property
+    def three_sigma(self) -> dict[str, float]:
+        """name -> 3 RMS (the level exceeded with probability 0.27 % for a Gaussian)."""
+        return {name: 3 * value for name, value in self.rms.items()}
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form (SI numbers; frequencies in Hz; densities one-sided per Hz).
+
+        Returns
+        -------
+        dict
+        """
+        def clean(value: float | None) -> float | None:
+            return None if value is None or not math.isfinite(value) else float(value)
+
+        return {
+            "title": self.title,
+            "convention": "one-sided spectral densities per Hz",
+            "band_hz": list(self.band),
+            "inputs": {name: {"unit": self.input_units.get(name, ""),
+                              "derivative": self.input_derivatives.get(name, 0)}
+                       for name in self.inputs},
+            "responses": {name: {
+                "unit": self.units.get(name, ""),
+                "rms": self.rms[name], "three_sigma": 3 * self.rms[name],
+                "zero_crossing_rate_hz": clean(self.zero_crossing_rate[name]),
+                "peak_rate_hz": clean(self.peak_rate[name]),
+                "relative_error": self.error[name],
+                "miles_rms": None if self.miles is None else clean(self.miles.get(name)),
+            } for name in self.names},
+            "natural_frequency_hz": self.natural_frequency,
+            "quality_factor": self.quality,
+            "frequency_hz": self.frequency.tolist(),
+            "psd": {name: self.psd[name].tolist() for name in self.names},
+            "input_psd": {name: self.input_psd[name].tolist() for name in self.inputs},
+            "method": self.method,
+            "warnings": list(self.warnings),
+        }
+
+
+@dataclass(frozen=True)
+class _Load:
+    """One load column of an input: the rhs and the power of (i w) it is multiplied by."""
+
+    column: np.ndarray
+    power: int
+
+
+class Transfer:
+    """H(f) of every response (kept coordinates, then outputs) to every input, through the
+    kernel (also the periodic loads' superposition, :mod:`.periodic_load`).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    num : NumericEOM
+        Its numbers at the parameter point.
+    inputs : sequence of RandomInput
+        The inputs: a signal (and the order of the derivative the input is), a coordinate,
+        or a ``load``/``base`` vector; their densities are not used here.
+    keep : ndarray of int
+        The coordinates to solve for.
+    method : str
+        The kernel's method.
+    deadline : Deadline
+    """
+
+    def __init__(self, system: LinearSystem, num: NumericEOM, inputs: Sequence[RandomInput],
+                 keep: np.ndarray, method: str, deadline: Deadline) -> None:
+        self.num, self.inputs, self.keep, self.method = num, tuple(inputs), keep, method
+        self.deadline = deadline
+        self.warnings: list[str] = []
+        values = dict(num.parameters) or dict(system.model.parameter_values
+                                              if system.model is not None else {})
+        self.values = values
+        columns = excitation_columns(system, values, deadline)
+        self.loads = [self._loads(u, columns) for u in self.inputs]
+        for u, loads in zip(self.inputs, self.loads):
+            if not loads and not self._in_outputs(u.name):
+                self.warnings.append(f"the input {u.name} does not act on the model (no "
+                                     "generalized force and no output depends on it)")
+        # distinct columns, one kernel solve each
+        self.columns: list[np.ndarray] = []
+        self.index: list[list[tuple[int, int]]] = []
+        for loads in self.loads:
+            entry = []
+            for load in loads:
+                same = [k for k, c in enumerate(self.columns)
+                        if c.shape == load.column.shape and np.array_equal(c, load.column)]
+                if not same:
+                    self.columns.append(load.column)
+                entry.append((same[0] if same else len(self.columns) - 1, load.power))
+            self.index.append(entry)
+        self.used_method = ""
+
+    def _in_outputs(self, name: str) -> bool:
+        return any(v[0] == name for out in self.num.outputs.values() for v in out.terms)
+
+    def _loads(self, u: RandomInput, columns: Mapping[Any, np.ndarray]) -> list[_Load]:
+        n = self.num.n
+        if u.load:
+            vector = np.array([float(numeric_value(e, self.values)) for e in u.load])
+            return [_Load(vector, 0)]
+        if u.base:
+            r = np.array([float(numeric_value(e, self.values)) for e in u.base])
+            return [_Load(-np.asarray(self.num.M @ r, dtype=float).ravel(), 0)]
+        found = [_Load(np.asarray(c, dtype=float), order - u.derivative)
+                 for (name, order), c in sorted(columns.items()) if name == u.name]
+        if found or u.name in (self.num.model.signals if self.num.model is not None else ()):
+            return found
+        if u.name in self.num.coordinates:
+            column = np.zeros(n)
+            column[self.num.coordinates.index(u.name)] = 1.0
+            return [_Load(column, 0)]
+        return found
+
+    def __call__(self, f: np.ndarray, outputs: Sequence[str]) -> np.ndarray:
+        """H (len(f), responses, inputs): the kept coordinates, then ``outputs``."""
+        w = 2 * np.pi * np.asarray(f, dtype=float)
+        num = self.num
+        n = num.n
+        Z = []
+        for column in self.columns:
+            batch = Batch(tuple(num.coordinates), num.M, num.C, num.K,
+                          [BatchHarmonic(w, np.zeros(n), column)], {}, num.title, True,
+                          len(w))
+            result = solve_harmonic(batch, batch.harmonics[0], self.method,
+                                    warnings=self.warnings, keep=self.keep,
+                                    deadline=self.deadline, exact_condition=False)
+            if result.singular.any():
+                where = float(f[int(np.argmax(result.singular))])
+                raise AnalysisError(f"the system is singular at {where:.6g} Hz (an undamped "
+                                    "resonance): the response there is unbounded; add "
+                                    "damping")
+            self.used_method = result.method
+            Z.append(result.Z)
+        iw = 1j * w
+        with np.errstate(divide="ignore", invalid="ignore"):
+            H = np.zeros((len(w), len(self.keep) + len(outputs), len(self.loads)), complex)
+            for j, entry in enumerate(self.index):
+                for k, power in entry:
+                    H[:, :len(self.keep), j] += iw[:, None] ** power * Z[k]
+            position = {int(c): i for i, c in enumerate(self.keep)}
+            for r, name in enumerate(outputs):
+                row = len(self.keep) + r
+                for (var, order), coefficient in num.outputs[name].terms.items():
+                    if var in num.coordinates:
+                        i = position[num.coordinates.index(var)]
+                        H[:, row, :] += coefficient * iw[:, None] ** order * H[:, i, :]
+                    else:
+                        for j, u in enumerate(self.inputs):
+                            if u.name == var:
+                                H[:, row, j] += coefficient * iw ** (order - u.derivative)
+        return H
+
+
+def _input_matrix(spec: RandomSpec, f: np.ndarray, values: Mapping[str, Any]) -> np.ndarray:
+    """G_u (len(f), J, J): the inputs' one-sided (cross) densities per Hz."""
+    J = len(spec.inputs)
+    G = np.zeros((len(f), J, J), dtype=complex)
+    diag = [u.density(f, values) for u in spec.inputs]
+    for j in range(J):
+        G[:, j, j] = diag[j]
+    names = [u.name for u in spec.inputs]
+    for c in spec.coherences:
+        a, b = names.index(c.first), names.index(c.second)
+        gamma2 = np.broadcast_to(np.asarray(numeric_value(c.value, {**values, "f": f}),
+                                            dtype=float), f.shape)
+        if not (np.all(gamma2 >= 0) and np.all(gamma2 <= 1)):
+            raise ModelError(Problem(f"the coherence of {c.first} and {c.second} must lie in "
+                                     "[0, 1] over the band", spec.source, "random.coherence"))
+        phase = float(numeric_value(c.phase, values))
+        cross = np.sqrt(gamma2 * diag[a] * diag[b]) * np.exp(1j * phase)
+        G[:, a, b] = cross
+        G[:, b, a] = np.conj(cross)
+    return G
+
+
+def _response_density(H: np.ndarray, G: np.ndarray) -> np.ndarray:
+    """G_y (len(f), responses) = diag(H G H^*)."""
+    return np.einsum("frj,fjl,frl->fr", H, G, H.conj()).real
+
+
+def _modal_points(num: NumericEOM, band: tuple[float, float]) -> list[float]:
+    """Damped natural frequencies in the band and their half-power points (Hz)."""
+    if num.n > MODES_LIMIT or num.sparse:
+        return []
+    n = num.n
+    M, C, K = (np.asarray(a, dtype=float) for a in (num.M, num.C, num.K))
+    try:
+        A = np.block([[np.zeros((n, n)), np.eye(n)],
+                      [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
+        s = np.linalg.eigvals(A)
+    except np.linalg.LinAlgError:
+        return []
+    out = []
+    for root in s[s.imag > 0]:
+        wn = abs(root)
+        zeta = -root.real / wn if wn > 0 else 0.0
+        fn = wn / (2 * np.pi)
+        for a in (-2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0):
+            out.append(fn * (1 + a * max(zeta, 1e-6)))
+    return [f for f in out if band[0] < f < band[1]]
+
+
+def _initial_grid(spec: RandomSpec, num: NumericEOM) -> np.ndarray:
+    low, high = spec.band
+    start = low if low > 0 else high * 1e-6
+    points = list(np.geomspace(start, high, spec.lines))
+    for u in spec.inputs:
+        if u.table is not None:
+            points += [f for f in u.table[:, 0] if low < f < high]
+    points += _modal_points(num, spec.band)
+    if low == 0:
+        points.append(0.0)
+    return np.unique(np.array(points))
+
+
+class _Quadrature:
+    """Pairs of intervals (a, m, b): Simpson's rule, Richardson's error estimate."""
+
+    def __init__(self, evaluate: Any, grid: np.ndarray) -> None:
+        self.evaluate = evaluate
+        a, b = grid[:-1], grid[1:]
+        m = _middle(a, b)
+        values = evaluate(np.concatenate([grid, m]))
+        self.f = np.concatenate([grid, m])
+        self.S = values
+        k = len(grid)
+        self.pairs = np.stack([np.arange(k - 1), k + np.arange(k - 1), np.arange(1, k)], 1)
+
+    def add(self, f: np.ndarray) -> np.ndarray:
+        start = len(self.f)
+        self.f = np.concatenate([self.f, f])
+        self.S = np.concatenate([self.S, self.evaluate(f)])
+        return start + np.arange(len(f))
+
+    def estimates(self) -> tuple[np.ndarray, np.ndarray]:
+        """(Simpson's integral of each pair (pairs, R), Richardson's error (pairs, R))."""
+        a, m, b = (self.pairs[:, i] for i in range(3))
+        fa, fm, fb = self.f[a], self.f[m], self.f[b]
+        Sa, Sm, Sb = self.S[a], self.S[m], self.S[b]
+        h1, h2 = (fm - fa)[:, None], (fb - fm)[:, None]
+        coarse = (Sa + Sb) / 2 * (h1 + h2)
+        fine = (Sa + Sm) / 2 * h1 + (Sm + Sb) / 2 * h2
+        return fine + (fine - coarse) / 3, np.abs(fine - coarse) / 3
+
+    def split(self, chosen: np.ndarray) -> None:
+        a, m, b = (self.pairs[chosen, i] for i in range(3))
+        new = self.add(np.concatenate([_middle(self.f[a], self.f[m]),
+                                       _middle(self.f[m], self.f[b])]))
+        k = len(a)
+        left = np.stack([a, new[:k], m], 1)
+        right = np.stack([m, new[k:], b], 1)
+        keep = np.ones(len(self.pairs), dtype=bool)
+        keep[chosen] = False
+        self.pairs = np.concatenate([self.pairs[keep], left, right])
+
+    def moments(self, powers: Sequence[int]) -> list[np.ndarray]:
+        """Simpson's integral of f^p S for each power (R,)."""
+        a, m, b = (self.pairs[:, i] for i in range(3))
+        h = (self.f[b] - self.f[a])[:, None]
+        out = []
+        for p in powers:
+            g = self.S * (self.f[:, None] ** p)
+            # Simpson on the (generally unequal) halves: use the trapezoid-Richardson form
+            h1 = (self.f[m] - self.f[a])[:, None]
+            h2 = (self.f[b] - self.f[m])[:, None]
+            coarse = (g[a] + g[b]) / 2 * h
+            fine = (g[a] + g[m]) / 2 * h1 + (g[m] + g[b]) / 2 * h2
+            out.append((fine + (fine - coarse) / 3).sum(axis=0))
+        return out
+
+
+def _middle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The geometric middle where both ends are positive (log grids), else the mean."""
+    with np.errstate(invalid="ignore"):
+        return np.where(a > 0, np.sqrt(np.abs(a * b)), (a + b) / 2)
+
+
+def _refine(quad: _Quadrature, tolerance: float, deadline: Deadline
+            ) -> tuple[np.ndarray, np.ndarray, bool]:
+    """Halve the pairs until every mean square's estimated error is below ``tolerance``."""
+    for _ in range(MAX_ROUNDS):
+        deadline.check("while refining the frequency grid of the random response")
+        value, error = quad.estimates()
+        total = value.sum(axis=0)
+        scale = np.where(total > 0, total, np.inf)
+        relative = error.sum(axis=0) / scale
+        if np.all(relative <= tolerance):
+            return total, relative, True
+        failing = relative > tolerance
+        share = (error[:, failing] / scale[failing]).max(axis=1)
+        chosen = np.flatnonzero(share > tolerance / (2 * len(quad.pairs)))
+        if len(quad.f) + 2 * len(chosen) > MAX_POINTS or not len(chosen):
+            return total, relative, False
+        quad.split(chosen)
+    value, error = quad.estimates()
+    total = value.sum(axis=0)
+    return total, error.sum(axis=0) / np.where(total > 0, total, np.inf), False
+
+
+def _input_units(system: LinearSystem, spec: RandomSpec) -> dict[str, str]:
+    model = system.model
+    units = model.units if model is not None else None
+    out = {}
+    for u in spec.inputs:
+        dim: Dimension | None = None
+        if u.base:
+            dim = Dimension.of(m=1, s=-2)
+        elif units is not None and u.load == ():
+            found = units.dimensions.get(u.name)
+            if found is not None and u.name in system.coordinates:
+                dim = Dimension.of(kg=1, m=2, s=-2) / found
+            elif found is not None:
+                dim = found / Dimension.of(s=u.derivative)
+        out[u.name] = "" if dim is None else (dim.text() or "1")
+    return out
+
+
+def _units(system: LinearSystem, names: Sequence[str]) -> dict[str, str]:
+    model = system.model
+    if model is None or model.units is None:
+        return {name: "" for name in names}
+    out = {}
+    for name in names:
+        dim = model.units.dimensions.get(name)
+        out[name] = "" if dim is None else (dim.text() or "1")
+    return out
+
+
+def responses_to_solve(num: NumericEOM, names: Sequence[str] | None
+                       ) -> tuple[np.ndarray, list[str]]:
+    """The coordinates to solve for (those named, and those the named outputs use) and the
+    outputs to report.
+
+    Parameters
+    ----------
+    num : NumericEOM
+    names : sequence of str or None
+        Coordinates and outputs (None: all).
+
+    Returns
+    -------
+    keep : ndarray of int
+    outputs : list of str
+
+    Raises
+    ------
+    ModelError
+        For an unknown name.
+    """
+    outputs = [o for o in num.outputs if names is None or o in names]
+    if names is not None:
+        unknown = [x for x in names if x not in num.coordinates and x not in num.outputs]
+        if unknown:
+            raise ModelError(f"unknown coordinate or output '{unknown[0]}'; known: "
+                             f"{', '.join([*num.coordinates, *num.outputs][:20])}")
+    wanted = set(names) if names is not None else set(num.coordinates)
+    for o in outputs:
+        wanted |= {v for v, _ in num.outputs[o].terms if v in num.coordinates}
+    keep = np.array([i for i, q in enumerate(num.coordinates) if q in wanted], dtype=int)
+    return keep, outputs
+
+
+def random_response(system: LinearSystem, spec: RandomSpec | None = None,
+                    deadline: Deadline = NO_DEADLINE, *, names: Sequence[str] | None = None,
+                    method: str = "auto", tolerance: float | None = None) -> RandomResponse:
+    """The response spectral densities, RMS values and Rice's rates under random inputs.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The system (at the model's parameter values).
+    spec : RandomSpec, optional
+        The inputs (default: the model's ``[random]`` section).
+    deadline : Deadline, optional
+        Checked between the kernel's points and the refinement rounds.
+    names : sequence of str, optional
+        The coordinates and outputs to report (default: all).
+    method : str
+        The kernel's method (:func:`resonant.analyses.kernel.solve_harmonic`).
+    tolerance : float, optional
+        Relative error of the mean squares' quadrature (default: the section's).
+
+    Returns
+    -------
+    RandomResponse
+
+    Raises
+    ------
+    ModelError
+        Without a ``[random]`` section, for an unknown name or a band that starts at 0 Hz
+        under the density of a derivative.
+    AnalysisError
+        For an undamped resonance in the band.
+    """
+    model = system.model
+    if spec is None:
+        spec = model.random_section if model is not None else None
+        if spec is None:
+            raise ModelError(Problem("the model has no [random] section: add one with the "
+                                     "spectral densities of its random inputs "
+                                     "(docs/random.md)", system.source, "random"))
+    num = system.numeric(deadline)
+    keep, outputs = responses_to_solve(num, names)
+    transfer = Transfer(system, num, spec.inputs, keep, method, deadline)
+    if spec.band[0] == 0 and any(load.power < 0 for loads in transfer.loads for load in loads):
+        raise ModelError(Problem("the band starts at 0 Hz, where a density of a derivative "
+                                 "(a velocity or acceleration) gives an infinite displacement; "
+                                 "start the band above 0", spec.source, "random", "band"))
+    responses = [num.coordinates[i] for i in keep] + outputs
+
+    def evaluate(f: np.ndarray) -> np.ndarray:
+        H = transfer(f, outputs)
+        return _response_density(H, _input_matrix(spec, f, transfer.values))
+
+    tol = spec.tolerance if tolerance is None else tolerance
+    quad = _Quadrature(evaluate, _initial_grid(spec, num))
+    m0, error, converged = _refine(quad, tol, deadline)
+    warnings = list(transfer.warnings)
+    if not converged:
+        warnings.append(f"the quadrature reached {len(quad.f)} frequencies with the estimated "
+                        f"relative error {np.nanmax(error):.2g} above the tolerance {tol:.2g}")
+    m2, m4 = quad.moments((2, 4))
+    order = np.argsort(quad.f)
+    f = quad.f[order]
+    S = quad.S[order]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        nu0 = np.sqrt(m2 / m0)
+        nup = np.sqrt(m4 / m2)
+    miles, fn, quality = _miles(num, spec, transfer, outputs, responses)
+    G = _input_matrix(spec, f, transfer.values)
+    if names is not None:   # the coordinates solved only for an output are not reported
+        shown = [r for r, name in enumerate(responses) if name in names]
+        responses = [responses[r] for r in shown]
+        S, m0, error, nu0, nup = S[:, shown], m0[shown], error[shown], nu0[shown], nup[shown]
+        if miles is not None:
+            miles = {k: v for k, v in miles.items() if k in responses}
+    return RandomResponse(
+        title=num.title, names=tuple(responses), inputs=tuple(u.name for u in spec.inputs),
+        frequency=f, psd={name: S[:, r].copy() for r, name in enumerate(responses)},
+        input_psd={u.name: G[:, j, j].real.copy() for j, u in enumerate(spec.inputs)},
+        rms={name: float(np.sqrt(max(m0[r], 0.0))) for r, name in enumerate(responses)},
+        zero_crossing_rate={name: float(nu0[r]) for r, name in enumerate(responses)},
+        peak_rate={name: float(nup[r]) for r, name in enumerate(responses)},
+        error={name: float(error[r]) if np.isfinite(error[r]) else 0.0
+               for r, name in enumerate(responses)},
+        units=_units(system, responses), band=spec.band,
+        input_units=_input_units(system, spec),
+        input_derivatives={u.name: u.derivative for u in spec.inputs}, miles=miles,
+        natural_frequency=fn, quality=quality, method=transfer.used_method,
+        warnings=tuple(warnings))
+
+
+def _miles(num: NumericEOM, spec: RandomSpec, transfer: Transfer, outputs: Sequence[str],
+           responses: Sequence[str]) -> tuple[dict[str, float] | None, float | None,
+                                              float | None]:
+    """Miles' estimate of every response of a single-DOF model under one input."""
+    if num.n != 1 or len(spec.inputs) != 1 or len(transfer.keep) != 1:
+        return None, None, None
+    m, c, k = (float(np.asarray(a.toarray() if hasattr(a, "toarray") else a).ravel()[0])
+               for a in (num.M, num.C, num.K))
+    if not (m > 0 and k > 0 and c > 0):
+        return None, None, None
+    fn = math.sqrt(k / m) / (2 * math.pi)
+    zeta = c / (2 * math.sqrt(k * m))
+    quality = 1 / (2 * zeta)
+    if not spec.band[0] < fn < spec.band[1] or zeta >= 0.5:
+        return None, fn, quality
+    level = float(spec.inputs[0].density(np.array([fn]), transfer.values)[0])
+    # the gain below resonance: |H|^2 = g^2 (1 + a r^2 + ...) at r = 1e-2 and 5e-3,
+    # extrapolated to r = 0 (Richardson); lower frequencies lose digits to cancellation
+    H = np.abs(transfer(np.array([fn * 1e-2, fn * 5e-3, fn]), outputs)[:, :, 0])
+    out = {}
+    for r, name in enumerate(responses):
+        flat = H[1, r] > 0 and abs(H[0, r] / H[1, r] - 1) < 1e-3
+        if not flat or H[2, r] < 0.5 * quality * H[1, r]:
+            continue    # no static gain, or not resonant (the input itself)
+        gain = math.sqrt(max(4 * H[1, r] ** 2 - H[0, r] ** 2, 0.0) / 3)
+        out[name] = math.sqrt(math.pi / 2 * fn * quality * level) * float(gain)
+    return out, fn, quality
+
+
+__all__ = ["RandomResponse", "random_response", "Transfer", "responses_to_solve"]

@@ -1,0 +1,221 @@
+"""The exact linear time response to a sampled transient (a shock, a measured history).
+
+One signal of the model -- a support motion, a force -- or a force on a coordinate
+follows a sampled history u(t) of its derivative of order m (m = 2: a base acceleration),
+linear between the samples.  The system M q'' + C q' + K q = sum_k E_k s^(k) is written in
+the state X = [q, q', s, s', ..., s^(m-1)] with s^(m) = u, and marched with its exact
+first-order-hold (ramp-invariant) discretization (the state-transition matrix and its
+integrals from one matrix exponential, Van Loan 1978):
+
+    X[j+1] = Phi X[j] + (F0 - F1) u[j] + F1 u[j+1],
+
+exact for the piecewise-linear input: not a numerical integrator.  The model starts at
+rest in its reference state.  For a single-DOF oscillator on a base this is the SRS
+filter of :mod:`.shock`; the output histories can be given to
+:func:`~resonant.analyses.shock.shock_response_spectrum` (the shock a mounted part sees).
+
+Examples
+--------
+>>> import resonant
+>>> from resonant.analyses.shock import pulse
+>>> system = resonant.load("examples/shaker_gevs.toml").linearize()
+>>> t, a = pulse("half-sine", 100.0, 0.011, 1e-5, total=0.05)
+>>> result = transient_response(system, "y", a, 1e-5, derivative=2)
+>>> round(result.largest["table"], 9)          # the output y'' is the input itself
+100.0
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import AnalysisError
+from ..system import LinearSystem
+from ..system.excitation import excitation_columns
+from .stationary import freeze_fields
+
+#: most state variables marched (dense matrices)
+MAX_STATES = 2000
+#: most samples
+MAX_SAMPLES = 5_000_000
+
+
+@dataclass(frozen=True)
+class TransientResponse:
+    """The response histories of every coordinate and output to a sampled input.
+
+    Attributes
+    ----------
+    time : ndarray
+        The sample times (s).
+    input : ndarray
+        The input at those times.
+    history : mapping
+        name -> the response at ``time`` (about the reference state).
+    largest : mapping
+        name -> the largest |response| on the samples.
+    names : tuple of str
+        The coordinates, then the outputs.
+    """
+
+    time: np.ndarray
+    input: np.ndarray
+    history: dict[str, np.ndarray]
+    largest: dict[str, float]
+    names: tuple[str, ...]
+    warnings: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form (the largest values; the histories are not written).
+
+        Returns
+        -------
+        dict
+        """
+        return {"duration_s": float(self.time[-1]), "samples": len(self.time),
+                "largest": dict(self.largest), "warnings": list(self.warnings)}
+
+
+def _state_space(system: LinearSystem, signal: str, derivative: int,
+                 deadline: Deadline) -> tuple[Any, ...]:
+    """A, B (state), and the rows giving q'' = Pq X + pu u, for X = [q, q', w]."""
+    num = system.numeric(deadline)
+    n, m = num.n, derivative
+    M, C, K = (np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
+               for a in (num.M, num.C, num.K))
+    columns = excitation_columns(system, dict(num.parameters), deadline)
+    loads = {order: c for (name, order), c in columns.items() if name == signal}
+    if not loads and signal in num.coordinates:
+        unit = np.zeros(n)
+        unit[num.coordinates.index(signal)] = 1.0
+        loads = {0: unit}
+    elif not loads and (num.model is None or signal not in num.model.signals):
+        known = list(num.model.signals) if num.model is not None else []
+        raise AnalysisError(f"'{signal}' is neither a signal nor a coordinate of the model "
+                            f"(signals: {', '.join(known) or 'none'})")
+    if any(order > m for order in loads):
+        raise AnalysisError(f"the model's load uses {signal}" + "'" * max(loads) + ", a "
+                            f"higher derivative than the history's ({m}); give the history "
+                            f"of {signal}" + "'" * max(loads))
+    size = 2 * n + m
+    if size > MAX_STATES:
+        raise AnalysisError(f"{size} states; the exact transient response is limited to "
+                            f"{MAX_STATES} (dense state-transition matrices)")
+    Minv = np.linalg.inv(M)
+    A = np.zeros((size, size))
+    B = np.zeros(size)
+    A[:n, n:2 * n] = np.eye(n)
+    A[n:2 * n, :n] = -Minv @ K
+    A[n:2 * n, n:2 * n] = -Minv @ C
+    for order, column in loads.items():
+        if order < m:
+            A[n:2 * n, 2 * n + order] += Minv @ column
+        else:
+            B[n:2 * n] += Minv @ column
+    for i in range(m):
+        if i + 1 < m:
+            A[2 * n + i, 2 * n + i + 1] = 1.0
+        else:
+            B[2 * n + i] = 1.0
+    return num, A, B
+
+
+def _discretize(A: np.ndarray, B: np.ndarray, step: float
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Phi, F0, F1 of the first-order hold, from one matrix exponential (Van Loan)."""
+    from scipy.linalg import expm
+
+    size = len(A)
+    big = np.zeros((size + 2, size + 2))
+    big[:size, :size] = A
+    big[:size, size] = B
+    big[size, size + 1] = 1.0 / step
+    E = expm(big * step)
+    return E[:size, :size], E[:size, size], E[:size, size + 1]
+
+
+def transient_response(system: LinearSystem, signal: str, values: Sequence[float] | np.ndarray,
+                       step: float, *, derivative: int = 0, names: Sequence[str] | None = None,
+                       deadline: Deadline = NO_DEADLINE) -> TransientResponse:
+    """The exact response from rest to a sampled history of a signal's derivative.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    signal : str
+        A signal of the model, or a coordinate (a generalized force on it).
+    values : array_like
+        The history of the signal's ``derivative``-th derivative at 0, step, 2 step, ...
+        (linear in between; a pulse from :func:`~resonant.analyses.shock.pulse`, a CSV
+        column).
+    step : float
+        The sampling step (s).
+    derivative : int
+        0 (the signal itself, a force), 1 or 2 (a support's acceleration).
+    names : sequence of str, optional
+        The coordinates and outputs to report (default all).
+    deadline : Deadline, optional
+        Checked every 10,000 steps.
+
+    Returns
+    -------
+    TransientResponse
+
+    Raises
+    ------
+    AnalysisError
+        For an unknown signal, a load in a higher derivative than the history's, too many
+        states or samples, or an invalid history.
+    """
+    u = np.asarray(values, dtype=float).ravel()
+    if len(u) < 2 or not np.isfinite(u).all() or len(u) > MAX_SAMPLES:
+        raise AnalysisError(f"the history needs 2 to {MAX_SAMPLES} finite samples")
+    if not (np.isfinite(step) and step > 0) or derivative not in (0, 1, 2):
+        raise AnalysisError("the step must be positive and the derivative 0, 1 or 2")
+    num, A, B = _state_space(system, signal, derivative, deadline)
+    n = num.n
+    Phi, F0, F1 = _discretize(A, B, step)
+    G0 = F0 - F1
+    X = np.zeros((len(u), len(A)))
+    state = np.zeros(len(A))
+    for j in range(len(u) - 1):
+        if j % 10_000 == 0:
+            deadline.check("while marching the transient response")
+        state = Phi @ state + G0 * u[j] + F1 * u[j + 1]
+        X[j + 1] = state
+    acceleration = X @ A[n:2 * n].T + np.outer(u, B[n:2 * n])
+    derivatives = {0: X[:, :n], 1: X[:, n:2 * n], 2: acceleration}
+    signal_values = {k: X[:, 2 * n + k] for k in range(derivative)}
+    signal_values[derivative] = u
+    history: dict[str, np.ndarray] = {}
+    for i, q in enumerate(num.coordinates):
+        if names is None or q in names:
+            history[q] = X[:, i].copy()
+    for name, output in num.outputs.items():
+        if names is not None and name not in names:
+            continue
+        y = np.zeros(len(u))
+        for (var, order), coefficient in output.terms.items():
+            if var in num.coordinates:
+                y += coefficient * derivatives[order][:, num.coordinates.index(var)]
+            elif var == signal and order in signal_values:
+                y += coefficient * signal_values[order]
+            elif var == signal:
+                raise AnalysisError(f"the output {name} uses {var}" + "'" * order + ", a "
+                                    "higher derivative than the history's")
+        history[name] = y
+    time = np.arange(len(u)) * step
+    return TransientResponse(time, u, history,
+                             {k: float(np.abs(v).max()) for k, v in history.items()},
+                             tuple(history))
+
+
+__all__ = ["TransientResponse", "transient_response"]

@@ -1,0 +1,47 @@
+"""``resonant random MODEL [--plot FILE] [--json] [--only NAMES]``: the response to the
+random inputs of the model's ``[random]`` section (docs/random.md)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+import resonant.cli.common as cli
+
+from ..analyses.random_response import random_response
+from ..system import linear_system
+from ..views.random_views import plot_random, random_text
+
+
+def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+    command = subparsers.add_parser(
+        "random", parents=[parent],
+        help="response spectral densities, RMS, 3-sigma and Rice's rates under the "
+             "[random] inputs")
+    command.add_argument("--plot", metavar="FILE",
+                         help="draw the spectral densities on log-log axes (.png, .svg, .pdf)")
+    command.add_argument("--json", action="store_true", help="print one JSON object")
+    command.add_argument("--only", metavar="NAMES",
+                         help="comma-separated coordinates and outputs to report (default all)")
+    command.add_argument("--tol", type=cli.number(0, 1, open_low=True, open_high=True),
+                         default=None, metavar="T",
+                         help="relative error of the mean squares (default: the section's "
+                              "tolerance, else 1e-4)")
+    command.set_defaults(run=run_random)
+
+
+def run_random(args: argparse.Namespace) -> int:
+    deadline = cli.deadline(args)
+    model = cli.load_model(args)
+    names = [n.strip() for n in args.only.split(",") if n.strip()] if args.only else None
+    result = random_response(linear_system(model, deadline), deadline=deadline, names=names,
+                             tolerance=args.tol)
+    if args.plot:
+        plot_random(result, args.plot)
+    if args.json:
+        cli.emit_json(result.to_dict())
+        cli.warn(result.warnings)
+    else:
+        sys.stdout.write(random_text(result))
+    return 0

@@ -1,0 +1,77 @@
+"""``resonant srs``: the shock response spectrum of a classical pulse or a CSV history.
+
+``resonant srs --pulse half-sine --amplitude 100 --duration 0.011 [--step DT]`` or
+``resonant srs --csv FILE``, with ``--from F1 --to F2 --points N`` (Hz, log spaced),
+``--Q Q`` or ``--damping ZETA``, ``--quantity``, ``--plot FILE``, ``--json``
+(docs/random.md, section Shock).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+import numpy as np
+
+import resonant.cli.common as cli
+
+from ..analyses.shock import PULSES, QUANTITIES, pulse, shock_response_spectrum
+from ..errors import ModelError, Problem
+from ..model.time_series import read_time_series
+from ..views.shock_views import plot_srs, srs_text
+
+
+def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+    srs = subparsers.add_parser("srs", help="shock response spectrum of a pulse or a CSV "
+                                "history (maximax, primary, residual)")
+    srs.add_argument("--pulse", choices=PULSES, help="a classical pulse")
+    srs.add_argument("--amplitude", type=cli.number(), default=1.0, metavar="A",
+                     help="the pulse's peak (its area for an impulse); default 1")
+    srs.add_argument("--duration", type=cli.number(0, open_low=True), metavar="TAU",
+                     help="the pulse's duration (s)")
+    srs.add_argument("--step", type=cli.number(0, open_low=True), metavar="DT",
+                     help="the pulse's sampling step (default: duration/2000)")
+    srs.add_argument("--csv", metavar="FILE", help="a history: time (s), value per line")
+    srs.add_argument("--from", dest="start", type=cli.number(0, open_low=True), default=10.0,
+                     metavar="F1", help="lowest natural frequency (Hz, default 10)")
+    srs.add_argument("--to", dest="stop", type=cli.number(0, open_low=True), default=10000.0,
+                     metavar="F2", help="highest natural frequency (Hz, default 10000)")
+    srs.add_argument("--points", type=cli.integer(1, 100_000), default=100, metavar="N",
+                     help="natural frequencies, log spaced (default 100)")
+    damping = srs.add_mutually_exclusive_group()
+    damping.add_argument("--Q", type=cli.number(0.5, open_low=True), default=None,
+                         help="Q = 1/(2 zeta) (default 10)")
+    damping.add_argument("--damping", type=cli.number(0, 1, open_high=True), default=None,
+                         metavar="ZETA", help="the damping ratio")
+    srs.add_argument("--quantity", choices=QUANTITIES, default=QUANTITIES[0],
+                     help="the response (default absolute acceleration)")
+    srs.add_argument("--plot", metavar="FILE", help="draw the SRS and the history")
+    srs.add_argument("--json", action="store_true", help="print one JSON object")
+    srs.set_defaults(run=run_srs)
+
+
+def run_srs(args: argparse.Namespace) -> int:
+    if (args.pulse is None) == (args.csv is None):
+        raise ModelError(Problem("give either --pulse (with --duration) or --csv FILE", "srs"))
+    if args.stop <= args.start:
+        raise ModelError(Problem("--to must be above --from", "srs"))
+    if args.csv is not None:
+        step, values = read_time_series(args.csv)
+    else:
+        if args.duration is None:
+            raise ModelError(Problem("--pulse needs --duration (s)", "srs"))
+        step = args.step or args.duration / 2000
+        _, values = pulse(args.pulse, args.amplitude, args.duration, step)
+    frequencies = np.geomspace(args.start, args.stop, args.points)
+    spectrum = shock_response_spectrum(values, step, frequencies, damping=args.damping,
+                                       Q=args.Q if args.Q is not None or args.damping
+                                       is not None else 10.0, quantity=args.quantity)
+    if args.plot:
+        plot_srs(spectrum, np.arange(len(values)) * step, values, args.plot)
+    if args.json:
+        cli.emit_json(spectrum.to_dict())
+    else:
+        sys.stdout.write(srs_text(spectrum))
+    cli.warn(spectrum.warnings)
+    return 0

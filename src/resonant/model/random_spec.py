@@ -1,0 +1,478 @@
+"""The ``[random]`` section: stationary random excitation given by spectral densities.
+
+Each input is a one-sided spectral density per Hz (the convention of test standards) of
+a signal of the model, of a force on a coordinate, or of a load or base acceleration
+given by a vector (``[matrices]`` models)::
+
+    [random]
+    band = [20, 2000]            # Hz; default: the range of the tables
+    tolerance = 1e-4             # relative error of the mean squares' quadrature
+
+    [random.psd.y]               # y: a signal of the model
+    derivative = 2               # the density is of y'' (0: of y itself, the default)
+    unit = "g^2/Hz"              # g in a density's unit is standard gravity
+    values = [[20, 0.026], [50, 0.16], [800, 0.16], [2000, 0.026]]   # Hz, value: log-log
+
+    [[random.coherence]]         # between two inputs (default: uncorrelated)
+    inputs = ["F1", "F2"]
+    value = 0.5                  # ordinary coherence gamma^2 in [0, 1], or an expression of f
+    phase = "30 deg"             # phase of the cross density S_12 (default 0)
+
+``values`` is a table of ``[frequency in Hz, density]`` rows (interpolated linearly in
+log f and log S, as standards give their spectra), a number (white), or an expression
+of ``f`` (Hz) and the parameters.  Every problem names the file, the section and the key.
+
+Examples
+--------
+>>> problems = []
+>>> spec = parse_random({"psd": {"F": {"values": 2.0, "unit": "N^2/Hz"}},
+...                      "band": [0, 100]}, ["k"], ["F"], ["x"], "f.toml", problems)
+>>> spec.inputs[0].name, spec.band, problems
+('F', (0.0, 100.0), [])
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+
+from ..errors import Problem
+from ..expressions import Expression, ExpressionError, numeric_value, parse
+from .units import Dimension, ModelUnits, UnitError, parse_unit, parse_with_unit
+
+SECTION = "random"
+#: the options of ``[random]`` besides its tables
+OPTIONS = ("band", "tolerance", "lines", "psd", "coherence")
+#: the keys of one input's table
+INPUT_KEYS = ("values", "unit", "derivative", "load", "base")
+#: the keys of one ``[[random.coherence]]`` entry
+COHERENCE_KEYS = ("inputs", "value", "phase")
+#: most inputs and most rows of one table
+MAX_INPUTS = 100
+MAX_ROWS = 100_000
+#: the finest relative quadrature tolerance accepted
+MIN_TOLERANCE = 1e-10
+#: standard gravity (m/s^2): ``g`` in a spectral density's unit
+STANDARD_GRAVITY = 9.80665
+_G = re.compile(r"(?<![A-Za-z0-9_µμ])g(?![A-Za-z0-9_])")
+#: the density's unit dimension is (quantity)^2 * s (per Hz or per rad/s)
+PER_FREQUENCY = Dimension.of(s=1)
+
+
+@dataclass(frozen=True)
+class RandomInput:
+    """One random input: the one-sided spectral density of a quantity, per Hz, in SI.
+
+    Parameters
+    ----------
+    name : str
+        A signal of the model, a coordinate (a generalized force on it), or a name of
+        the section's own (with ``load`` or ``base``).
+    derivative : int
+        The density is of the ``derivative``-th time derivative of the signal.
+    table : ndarray or None
+        ``(rows, 2)``: frequency (Hz) and density (SI per Hz), interpolated log-log.
+    expression : Expression or None
+        The density (in ``unit``) as an expression of ``f`` (Hz) and the parameters.
+    factor : float
+        SI factor of the expression's unit (per Hz).
+    load : tuple of Expression, optional
+        The generalized force per unit input (``load``), one entry per coordinate.
+    base : tuple of Expression, optional
+        The influence vector of a base acceleration (``base``): the load is ``-M base``.
+    unit : str
+        The unit as written ("" for SI per Hz).
+
+    Examples
+    --------
+    >>> RandomInput("F", 0, np.array([[1.0, 2.0], [10.0, 2.0]]), None).density(
+    ...     np.array([3.0]), {}).tolist()
+    [2.0]
+    """
+
+    name: str
+    derivative: int
+    table: np.ndarray | None
+    expression: Expression | None
+    factor: float = 1.0
+    load: tuple[Expression, ...] = ()
+    base: tuple[Expression, ...] = ()
+    unit: str = ""
+
+    def density(self, f: np.ndarray, parameters: Mapping[str, Any]) -> np.ndarray:
+        """The one-sided density per Hz (SI) at the frequencies ``f`` (Hz).
+
+        Parameters
+        ----------
+        f : ndarray
+            Frequencies in Hz, inside the table's range.
+        parameters : mapping
+            The parameter values (for an expression).
+
+        Returns
+        -------
+        ndarray
+        """
+        f = np.asarray(f, dtype=float)
+        if self.table is not None:
+            fi, si = self.table[:, 0], self.table[:, 1]
+            with np.errstate(divide="ignore"):
+                out = np.exp(np.interp(np.log(f), np.log(fi), np.log(si)))
+            return np.where((f >= fi[0]) & (f <= fi[-1]), out, 0.0)
+        assert self.expression is not None
+        value = numeric_value(self.expression, {**parameters, "f": f})
+        return np.broadcast_to(np.asarray(value, dtype=float) * self.factor, f.shape).copy()
+
+
+@dataclass(frozen=True)
+class Coherence:
+    """The correlation of two inputs: S_ab = sqrt(gamma^2 S_aa S_bb) exp(i phase).
+
+    Parameters
+    ----------
+    first, second : str
+        The two inputs.
+    value : Expression
+        The ordinary coherence gamma^2 in [0, 1], a number or an expression of ``f`` (Hz).
+    phase : Expression
+        The phase of S_ab in rad.
+
+    Examples
+    --------
+    >>> Coherence("a", "b", parse(1), parse(0)).first
+    'a'
+    """
+
+    first: str
+    second: str
+    value: Expression
+    phase: Expression
+
+
+@dataclass(frozen=True)
+class RandomSpec:
+    """The ``[random]`` section.
+
+    Parameters
+    ----------
+    inputs : tuple of RandomInput
+        The inputs, in the file's order.
+    coherences : tuple of Coherence
+        The correlated pairs.
+    band : tuple of float
+        The frequency band (Hz) of the response: (low, high).
+    tolerance : float
+        Relative error of the mean squares' quadrature.
+    lines : int
+        Frequency lines of the first grid (refined where the response needs it).
+
+    Examples
+    --------
+    >>> RandomSpec((), (), (1.0, 10.0)).tolerance
+    0.0001
+    """
+
+    inputs: tuple[RandomInput, ...]
+    coherences: tuple[Coherence, ...]
+    band: tuple[float, float]
+    tolerance: float = 1e-4
+    lines: int = 400
+    source: str = field(default="", compare=False)
+
+
+def _unit_factor(text: Any, where: tuple[str, str, str], problems: list[Problem]
+                 ) -> tuple[float, Dimension | None] | None:
+    """(SI factor per Hz, dimension of the density's quantity) of a density's unit."""
+    if not isinstance(text, str) or not text.strip():
+        problems.append(Problem("unit must be a unit text such as \"g^2/Hz\", "
+                                "\"(m/s^2)^2/Hz\" or \"N^2/Hz\"", *where))
+        return None
+    try:
+        unit = parse_unit(_G.sub("g0", text))
+    except UnitError as exc:
+        problems.append(Problem(f"{exc}", *where))
+        return None
+    if unit.cyclic:
+        factor = unit.to_si()
+    elif "rad" in text:
+        factor = unit.to_si() * 2 * math.pi     # S per Hz = 2 pi S per (rad/s)
+    else:
+        problems.append(Problem(f"the unit '{text}' is not a density per frequency: divide "
+                                "by Hz (e.g. \"g^2/Hz\") or by rad/s (\"N^2/(rad/s)\")",
+                                *where))
+        return None
+    squared = unit.dimension / PER_FREQUENCY
+    return factor, squared ** Fraction(1, 2)
+
+
+def _table(values: list, where: tuple[str, str, str], problems: list[Problem]
+           ) -> np.ndarray | None:
+    if len(values) > MAX_ROWS:
+        problems.append(Problem(f"{len(values)} rows; a table is limited to {MAX_ROWS}", *where))
+        return None
+    if len(values) < 2 or not all(isinstance(r, list) and len(r) == 2 for r in values):
+        problems.append(Problem("a table is a list of at least two [frequency in Hz, density] "
+                                "rows", *where))
+        return None
+    try:
+        table = np.array(values, dtype=float)
+    except (TypeError, ValueError):
+        problems.append(Problem("the rows of the table must hold numbers", *where))
+        return None
+    if not np.isfinite(table).all() or (table <= 0).any():
+        problems.append(Problem("the frequencies and densities of a table must be positive "
+                                "numbers (log-log interpolation)", *where))
+        return None
+    if (np.diff(table[:, 0]) <= 0).any():
+        problems.append(Problem("the frequencies of the table must increase", *where))
+        return None
+    return table
+
+
+def _vector(value: Any, allowed: list[str], n: int | None, where: tuple[str, str, str],
+            problems: list[Problem]) -> tuple[Expression, ...]:
+    if not isinstance(value, list) or (n is not None and len(value) != n):
+        problems.append(Problem(f"expected a list of {n if n is not None else 'the'} "
+                                "entries, one per coordinate", *where))
+        return ()
+    out = []
+    for entry in value:
+        try:
+            out.append(parse(entry, allowed=allowed, file=where[0], section=where[1],
+                             key=where[2]))
+        except ExpressionError as exc:
+            problems.extend(exc.problems)
+    return tuple(out)
+
+
+def _input(name: str, table: Any, params: list[str], signals: Sequence[str],
+           coordinates: Sequence[str], units: ModelUnits | None, source: str,
+           problems: list[Problem]) -> RandomInput | None:
+    section = f"{SECTION}.psd.{name}"
+    if not isinstance(table, dict):
+        problems.append(Problem("expected a table with 'values' and 'unit'", source,
+                                f"{SECTION}.psd", name))
+        return None
+    count = len(problems)
+    for key in table:
+        if key not in INPUT_KEYS:
+            close = difflib.get_close_matches(key, INPUT_KEYS, n=1)
+            hint = f"did you mean '{close[0]}'?" if close else f"known: {', '.join(INPUT_KEYS)}"
+            problems.append(Problem(f"unknown key '{key}'; {hint}", source, section, key))
+    load = _vector(table["load"], params, len(coordinates) or None, (source, section, "load"),
+                   problems) if "load" in table else ()
+    base = _vector(table["base"], params, len(coordinates) or None, (source, section, "base"),
+                   problems) if "base" in table else ()
+    if load and base:
+        problems.append(Problem("give either 'load' or 'base', not both", source, section))
+    if not load and not base and name not in signals and name not in coordinates:
+        close = difflib.get_close_matches(name, [*signals, *coordinates], n=1)
+        hint = f"did you mean '{close[0]}'?" if close else \
+            "give a signal or a coordinate of the model, or a 'load' or 'base' vector"
+        problems.append(Problem(f"'{name}' is neither a signal nor a coordinate; {hint}",
+                                source, f"{SECTION}.psd", name))
+    derivative = table.get("derivative", 2 if base else 0)
+    if isinstance(derivative, bool) or derivative not in (0, 1, 2):
+        problems.append(Problem("derivative must be 0, 1 or 2 (the density is of the "
+                                "signal, its rate or its acceleration)", source, section,
+                                "derivative"))
+        derivative = 0
+    if (base and derivative != 2) or (name in coordinates and not load and derivative != 0):
+        problems.append(Problem("derivative must be 2 for a base acceleration and 0 for a "
+                                "force on a coordinate", source, section, "derivative"))
+    factor, quantity = 1.0, None
+    if "unit" in table:
+        found = _unit_factor(table["unit"], (source, section, "unit"), problems)
+        if found is not None:
+            factor, quantity = found
+    _check_dimension(name, quantity, int(derivative), bool(base), units, coordinates,
+                     (source, section, "unit"), problems)
+    values = table.get("values")
+    array, expression = None, None
+    if values is None:
+        problems.append(Problem("missing 'values': a table [[Hz, density], ...], a number or "
+                                "an expression of f (Hz)", source, section))
+    elif isinstance(values, list):
+        array = _table(values, (source, section, "values"), problems)
+        if array is not None:
+            array[:, 1] *= factor
+    else:
+        try:
+            expression = parse(values, allowed=[*params, "f"], file=source, section=section,
+                               key="values")
+        except ExpressionError as exc:
+            problems.extend(exc.problems)
+    if len(problems) > count:
+        return None
+    return RandomInput(name, int(derivative), array, expression, factor, load, base,
+                       str(table.get("unit", "")))
+
+
+def _check_dimension(name: str, quantity: Dimension | None, derivative: int, base: bool,
+                     units: ModelUnits | None, coordinates: Sequence[str],
+                     where: tuple[str, str, str], problems: list[Problem]) -> None:
+    """The density's quantity against the signal's (or the force's) dimension, where known."""
+    if quantity is None or units is None:
+        return
+    expected: Dimension | None
+    if base:
+        expected = Dimension.of(m=1, s=-2)
+    elif name in coordinates:
+        coordinate = units.dimensions.get(name)
+        expected = None if coordinate is None else \
+            Dimension.of(kg=1, m=2, s=-2) / coordinate
+    else:
+        signal = units.dimensions.get(name)
+        expected = None if signal is None else signal / Dimension.of(s=derivative)
+    if expected is not None and expected != quantity:
+        what = ("the base acceleration" if base else f"{name}" + "'" * derivative)
+        problems.append(Problem(f"the unit is a density of {quantity.text() or '1'}, but "
+                                f"{what} is in {expected.text() or '1'}; give it in "
+                                f"({expected.text() or '1'})^2/Hz", *where))
+
+
+def _coherence(entry: Any, index: int, params: list[str], names: list[str], source: str,
+               problems: list[Problem]) -> Coherence | None:
+    section = f"{SECTION}.coherence"
+    key = f"#{index + 1}"
+    if not isinstance(entry, dict):
+        problems.append(Problem("expected a table with 'inputs' and 'value'", source, section,
+                                key))
+        return None
+    for k in entry:
+        if k not in COHERENCE_KEYS:
+            problems.append(Problem(f"unknown key '{k}'; known: {', '.join(COHERENCE_KEYS)}",
+                                    source, section, key))
+    pair = entry.get("inputs")
+    if not (isinstance(pair, list) and len(pair) == 2 and all(p in names for p in pair)
+            and pair[0] != pair[1]):
+        problems.append(Problem("inputs must name two different inputs of [random.psd] "
+                                f"(known: {', '.join(names) or 'none'})", source, section, key))
+        return None
+    try:
+        value = parse(entry.get("value", 1), allowed=[*params, "f"], file=source,
+                      section=section, key=key)
+        phase, _ = parse_with_unit(entry.get("phase", 0), params, source, section, key)
+    except ExpressionError as exc:
+        problems.extend(exc.problems)
+        return None
+    return Coherence(pair[0], pair[1], value, phase)
+
+
+def parse_random(data: Any, params: list[str], signals: Sequence[str],
+                 coordinates: Sequence[str], source: str, problems: list[Problem],
+                 units: ModelUnits | None = None) -> RandomSpec | None:
+    """The ``[random]`` section, its problems appended to ``problems``.
+
+    Parameters
+    ----------
+    data : Any
+        The section as read from TOML.
+    params : list of str
+        The parameters (allowed in expressions, with ``f``).
+    signals, coordinates : sequence of str
+        The model's signals and coordinates (the names an input may have).
+    source : str
+        The model file.
+    problems : list of Problem
+        Receives every problem found.
+    units : ModelUnits, optional
+        The model's units: a density's unit is checked against its signal's.
+
+    Returns
+    -------
+    RandomSpec or None
+        None when the section has problems.
+
+    Examples
+    --------
+    >>> problems = []
+    >>> parse_random({"psd": {"xx": {"values": 1}}}, [], [], ["x"], "m.toml", problems)
+    >>> print(problems[0])
+    m.toml: [random.psd] xx: 'xx' is neither a signal nor a coordinate; did you mean 'x'?
+    """
+    count = len(problems)
+    if not isinstance(data, dict):
+        problems.append(Problem("expected a table", source, SECTION))
+        return None
+    for key in data:
+        if key not in OPTIONS:
+            close = difflib.get_close_matches(key, OPTIONS, n=1)
+            hint = f"did you mean '{close[0]}'?" if close else f"known: {', '.join(OPTIONS)}"
+            problems.append(Problem(f"unknown key '{key}'; {hint}", source, SECTION, key))
+    tables = data.get("psd")
+    if not isinstance(tables, dict) or not tables:
+        problems.append(Problem("no input: add a table [random.psd.NAME] for each random "
+                                "signal (its spectral density)", source, SECTION, "psd"))
+        return None
+    if len(tables) > MAX_INPUTS:
+        problems.append(Problem(f"{len(tables)} inputs; at most {MAX_INPUTS}", source, SECTION,
+                                "psd"))
+        return None
+    inputs = [_input(str(name), table, params, signals, coordinates, units, source, problems)
+              for name, table in tables.items()]
+    entries = data.get("coherence", [])
+    if not isinstance(entries, list) or len(entries) > MAX_INPUTS ** 2:
+        problems.append(Problem("coherence must be a list of tables [[random.coherence]]",
+                                source, SECTION, "coherence"))
+        entries = []
+    coherences = [_coherence(e, i, params, [str(n) for n in tables], source, problems)
+                  for i, e in enumerate(entries)]
+    band = _band(data.get("band"), [i for i in inputs if i is not None], source, problems)
+    tolerance = data.get("tolerance", 1e-4)
+    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or \
+            not MIN_TOLERANCE <= tolerance < 1:
+        problems.append(Problem(f"tolerance must be a number in [{MIN_TOLERANCE:g}, 1)", source,
+                                SECTION, "tolerance"))
+    lines = data.get("lines", 400)
+    if isinstance(lines, bool) or not isinstance(lines, int) or not 8 <= lines <= 1_000_000:
+        problems.append(Problem("lines must be an integer from 8 to 1000000", source, SECTION,
+                                "lines"))
+    if len(problems) > count or band is None:
+        return None
+    return RandomSpec(tuple(i for i in inputs if i is not None),
+                      tuple(c for c in coherences if c is not None), band, float(tolerance),
+                      int(lines), source)
+
+
+def _band(value: Any, inputs: list[RandomInput], source: str, problems: list[Problem]
+          ) -> tuple[float, float] | None:
+    tables = [i for i in inputs if i.table is not None]
+    if value is None:
+        if not inputs:
+            return None
+        if not tables or len(tables) < len(inputs):
+            problems.append(Problem("band = [low, high] (Hz) is needed when an input is not "
+                                    "a table", source, SECTION, "band"))
+            return None
+        low = max(float(i.table[0, 0]) for i in tables)  # type: ignore[index]
+        high = min(float(i.table[-1, 0]) for i in tables)  # type: ignore[index]
+    elif (isinstance(value, list) and len(value) == 2
+          and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
+        low, high = float(value[0]), float(value[1])
+    else:
+        problems.append(Problem("band must be [low, high] in Hz", source, SECTION, "band"))
+        return None
+    if not (math.isfinite(high) and 0 <= low < high):
+        problems.append(Problem(f"band [{low:g}, {high:g}] Hz must have 0 <= low < high",
+                                source, SECTION, "band"))
+        return None
+    for i in tables:
+        assert i.table is not None
+        if low < i.table[0, 0] * (1 - 1e-12) or high > i.table[-1, 0] * (1 + 1e-12):
+            problems.append(Problem(
+                f"the band {low:g}-{high:g} Hz goes beyond the table of {i.name} "
+                f"({i.table[0, 0]:g}-{i.table[-1, 0]:g} Hz); narrow the band or extend the "
+                "table", source, SECTION, "band"))
+            return None
+    return low, high
+
+
+__all__ = ["RandomInput", "Coherence", "RandomSpec", "parse_random", "STANDARD_GRAVITY"]

@@ -1,0 +1,90 @@
+"""Reading a sampled history (a measured shock, a load record) from a CSV file.
+
+Two columns, time (s) and value, one sample a line; a first line that is not numbers is
+a header; ``#`` starts a comment.  The times must start anywhere, increase and be equally
+spaced (to 1e-6 of the step): the analyses take the signal as linear between samples at a
+constant step.  The file is untrusted: a regular file of at most :data:`MAX_BYTES`, every
+problem named with its line.
+
+Examples
+--------
+>>> import os, tempfile
+>>> with tempfile.TemporaryDirectory() as folder:
+...     path = os.path.join(folder, "shock.csv")
+...     _ = open(path, "w").write("t,a\\n0,0\\n0.001,5\\n0.002,0\\n")
+...     step, values = read_time_series(path)
+>>> step, values.tolist()
+(0.001, [0.0, 5.0, 0.0])
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from ..errors import ModelError, Problem, printable
+from .files import FileRefused, open_regular_file, read_bounded
+
+#: the largest CSV history read
+MAX_BYTES = 200 * 2**20
+#: relative spread of the steps accepted as one constant step
+STEP_TOLERANCE = 1e-6
+
+
+def read_time_series(path: str | os.PathLike[str]) -> tuple[float, np.ndarray]:
+    """The constant step and the values of a two-column CSV history.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        The file.
+
+    Returns
+    -------
+    step : float
+    values : ndarray
+
+    Raises
+    ------
+    ModelError
+        For an unreadable file, a line that is not two numbers, fewer than two samples,
+        or times that do not increase by a constant step.
+    """
+    name = os.path.basename(os.fspath(path))
+    try:
+        with open_regular_file(path, follow_symlinks=True, max_bytes=MAX_BYTES) as handle:
+            text = read_bounded(handle, MAX_BYTES).decode("utf-8", errors="replace")
+    except (OSError, FileRefused) as exc:
+        raise ModelError(Problem(f"cannot read the history: {exc}", name)) from None
+    times: list[float] = []
+    values: list[float] = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        parts = [p.strip() for p in line.replace(";", ",").split(",")]
+        try:
+            t, v = (float(p) for p in parts) if len(parts) == 2 else (math.nan, math.nan)
+        except ValueError:
+            if not times and number == 1:
+                continue  # a header
+            t = v = math.nan
+        if not (math.isfinite(t) and math.isfinite(v)):
+            raise ModelError(Problem(f"line {number}: expected two numbers, time and value, "
+                                     f"got '{printable(line, limit=60)}'", name))
+        times.append(t)
+        values.append(v)
+    if len(times) < 2:
+        raise ModelError(Problem("a history needs at least two samples", name))
+    steps = np.diff(np.array(times))
+    step = float(steps.mean())
+    if not step > 0 or np.abs(steps - step).max() > STEP_TOLERANCE * step:
+        worst = int(np.argmax(np.abs(steps - step))) + 2
+        raise ModelError(Problem(f"the times must increase by a constant step (sample "
+                                 f"{worst} breaks it); resample the history", name))
+    return step, np.array(values)
+
+
+__all__ = ["read_time_series", "MAX_BYTES"]

@@ -1,0 +1,71 @@
+"""The excitation columns in numbers: Q(t) = sum of column * d^order s / dt^order.
+
+A harmonic analysis needs only the forcing of each frequency (:class:`Batch`); a random or
+transient analysis needs the load of each signal derivative on its own, to apply its own
+spectrum or time history.  :func:`excitation_columns` gives them at one parameter point
+for every kind of system: from the numeric derivation where the system was derived
+numerically, else the symbolic columns compiled once.
+
+Examples
+--------
+>>> import resonant
+>>> system = resonant.load("examples/base_excitation.toml").linearize()
+>>> {v: c.tolist() for v, c in sorted(excitation_columns(system).items())}
+{('y', 0): [4000.0], ('y', 1): [40.0]}
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from ..deadline import NO_DEADLINE, Deadline
+from ..model import symbol
+from .base import LinearSystem, NumericEOM
+from .batch import Var, compile_expressions
+from .symbolic import DeferredEOM, LinearEOM
+
+
+def excitation_columns(system: LinearSystem, values: Mapping[str, float] | None = None,
+                       deadline: Deadline = NO_DEADLINE) -> dict[Var, np.ndarray]:
+    """The generalized-force column of every signal derivative, at one parameter point.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    values : mapping, optional
+        The parameter values (default: the model's, or those of a numeric system).
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    dict
+        ``(signal, order) -> ndarray (n,)``; empty for a system without signals (given
+        matrices, or a numeric system without its model).
+    """
+    if isinstance(system, NumericEOM):
+        if system.system is None:
+            return {}
+        return excitation_columns(system.system, values or dict(system.parameters), deadline)
+    if not isinstance(system, LinearEOM) or system.model is None:
+        return {}
+    values = dict(values if values is not None else system.model.parameter_values)
+    if isinstance(system, DeferredEOM):
+        found = system.point(values, deadline)
+        if found is not None:
+            return {var: np.asarray(c, dtype=float).ravel().copy()
+                    for var, c in found.excitation.items()}
+    columns = sorted(system.excitation)
+    if not columns:
+        return {}
+    n = system.n
+    expressions: list[Any] = [system.excitation[var][i] for var in columns for i in range(n)]
+    names = list(system.model.parameters)
+    compiled = compile_expressions(expressions, [symbol(name) for name in names])
+    flat = np.asarray(compiled(*(values[name] for name in names))).reshape(len(columns), n)
+    return {var: np.asarray(flat[k].real, dtype=float) for k, var in enumerate(columns)}
+
+
+__all__ = ["excitation_columns"]

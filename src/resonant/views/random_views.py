@@ -1,0 +1,155 @@
+"""Views of a random response: its text summary and its spectral densities on log-log axes.
+
+Examples
+--------
+>>> import resonant
+>>> from resonant.analyses.random_response import random_response
+>>> result = random_response(resonant.load("examples/shaker_gevs.toml").linearize())
+>>> print(random_text(result).splitlines()[0])
+Random response: Component on a shaker under the GEVS qualification spectrum
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from ..analyses.random_response import RandomResponse
+from ..errors import AnalysisError, printable
+from ..model.random_spec import STANDARD_GRAVITY
+from .plotting import _figure_of, _new_figure, _save
+
+#: at most this many curves per panel
+MAX_CURVES = 8
+#: at most this many response panels (one per unit)
+MAX_PANELS = 4
+
+
+def _number(value: float | None) -> str:
+    return "-" if value is None or not math.isfinite(value) else f"{value:.4g}"
+
+
+def random_text(result: RandomResponse) -> str:
+    """The RMS, 3-sigma, Rice's rates (and Miles' estimate) of every response, as text.
+
+    Parameters
+    ----------
+    result : RandomResponse
+
+    Returns
+    -------
+    str
+    """
+    lines = [f"Random response: {printable(result.title) or '(untitled)'}",
+             f"  band {result.band[0]:g}-{result.band[1]:g} Hz; one-sided spectral densities "
+             f"per Hz; {len(result.frequency)} frequencies; inputs: "
+             f"{', '.join(result.inputs)}"]
+    if result.natural_frequency is not None:
+        lines.append(f"  single DOF: f_n = {result.natural_frequency:.6g} Hz, "
+                     f"Q = {result.quality:.4g}")
+    header = ("name", "unit", "RMS", "3-sigma", "nu0+ [Hz]", "peaks [Hz]", "Miles RMS",
+              "rel. error")
+    rows = []
+    for name in result.names:
+        miles = None if result.miles is None else result.miles.get(name)
+        rows.append((printable(name, limit=40), result.units.get(name, "") or "SI",
+                     _number(result.rms[name]), _number(3 * result.rms[name]),
+                     _number(result.zero_crossing_rate[name]), _number(result.peak_rate[name]),
+                     _number(miles), f"{result.error[name]:.1e}"))
+    widths = [max(len(header[i]), *(len(r[i]) for r in rows)) for i in range(len(header))]
+    lines.append("  " + "  ".join(h.ljust(w) for h, w in zip(header, widths)))
+    lines += ["  " + "  ".join(c.ljust(w) for c, w in zip(row, widths)) for row in rows]
+    accelerations = [n for n in result.names if result.units.get(n) == "m/s^2"]
+    if accelerations:
+        lines.append("  in g (9.80665 m/s^2): " + ", ".join(
+            f"{printable(n, limit=40)} {result.rms[n] / STANDARD_GRAVITY:.4g} g RMS"
+            for n in accelerations))
+    lines.append("  RMS about the reference state; 3-sigma = 3 RMS; Rice's rates of zero "
+                 "up-crossings sqrt(m2/m0) and of peaks sqrt(m4/m2).")
+    lines += [f"warning: {w}" for w in result.warnings]
+    return "\n".join(lines) + "\n"
+
+
+def _density_unit(unit: str) -> str:
+    if not unit:
+        return "SI^2/Hz"
+    return f"({unit})^2/Hz" if any(c in unit for c in "*/^") else f"{unit}^2/Hz"
+
+
+def plot_random(result: RandomResponse, path: Any = None, names: Sequence[str] | None = None,
+                ax: Any = None) -> Any:
+    """The inputs' and the responses' spectral densities on log-log axes, with units.
+
+    The inputs are drawn in the first panel, the responses below, one panel per unit;
+    each curve is labelled with its RMS value.
+
+    Parameters
+    ----------
+    result : RandomResponse
+    path : str or Path, optional
+        Also write the figure there (``.png``, ``.svg`` or ``.pdf``).
+    names : sequence of str, optional
+        The responses to draw (default: all, at most :data:`MAX_CURVES` per panel).
+    ax : matplotlib.axes.Axes or sequence of Axes, optional
+        Draw into the caller's axes (one per panel: inputs, then each unit).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    AnalysisError
+        For an unknown name or an unsupported file suffix.
+    """
+    chosen = list(result.names if names is None else names)
+    unknown = [n for n in chosen if n not in result.names]
+    if unknown:
+        raise AnalysisError(f"no response named '{unknown[0]}'; the responses are "
+                            f"{', '.join(result.names)}")
+    groups: dict[str, list[str]] = {}
+    for name in chosen:
+        if np.any(result.psd[name] > 0):
+            groups.setdefault(result.units.get(name, ""), []).append(name)
+    panels = list(groups.items())[:MAX_PANELS]
+    count = 1 + len(panels)
+    if ax is None:
+        fig = _new_figure(figsize=(7.5, 2.6 * count + 0.6), layout="constrained")
+        axes = list(np.atleast_1d(fig.subplots(count, 1, sharex=True)))
+    else:
+        axes = list(np.atleast_1d(ax))
+        if len(axes) < count:
+            raise AnalysisError(f"the plot needs {count} axes (inputs and one per unit)")
+        fig = _figure_of(axes[0])
+    f = result.frequency
+    positive = f > 0
+    first = axes[0]
+    for name in result.inputs:
+        density = result.input_psd[name]
+        rms = math.sqrt(max(float(np.trapezoid(density, f)), 0.0))
+        unit = result.input_units.get(name, "")
+        label = name + "'" * result.input_derivatives.get(name, 0)
+        first.loglog(f[positive], density[positive],
+                     label=f"{label} (RMS {rms:.3g} {unit})".replace(" )", ")"))
+    units = {result.input_units.get(n, "") for n in result.inputs}
+    first.set_ylabel(f"input [{_density_unit(units.pop() if len(units) == 1 else '')}]")
+    first.set_title("input spectral densities (one-sided)", fontsize=10)
+    for axis, (unit, members) in zip(axes[1:], panels):
+        for name in members[:MAX_CURVES]:
+            axis.loglog(f[positive], result.psd[name][positive],
+                        label=f"{name} (RMS {result.rms[name]:.3g} {unit})".replace(" )", ")"))
+        axis.set_ylabel(f"response [{_density_unit(unit)}]")
+        if result.natural_frequency is not None:
+            axis.axvline(result.natural_frequency, color="0.6", lw=0.8, ls="--")
+    for axis in axes[:count]:
+        axis.grid(True, which="both", lw=0.3)
+        axis.legend(fontsize=8, loc="best")
+    axes[count - 1].set_xlabel("frequency [Hz]")
+    _save(fig, path, dpi=150)
+    return fig
+
+
+__all__ = ["random_text", "plot_random"]
