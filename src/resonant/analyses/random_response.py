@@ -59,9 +59,10 @@ Examples
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -74,6 +75,10 @@ from ..system import Batch, BatchHarmonic, LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
 from .kernel import solve_harmonic
 from .stationary import freeze_fields
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 #: most frequency points of the refined grid
 MAX_POINTS = 400_000
@@ -189,6 +194,37 @@ class RandomResponse:
             "method": self.method,
             "warnings": list(self.warnings),
         }
+
+    def summary(self) -> str:
+        """The text ``resonant random`` prints (:func:`resonant.views.random_views.random_text`).
+
+        Returns
+        -------
+        str
+        """
+        from ..views import random_views
+        return random_views.random_text(self)
+
+    def plot(self, path: str | os.PathLike[str] | None = None,
+             names: Sequence[str] | None = None, ax: Axes | None = None) -> Figure:
+        """The inputs' and the responses' spectral densities on log-log axes
+        (:func:`resonant.views.random_views.plot_random`).
+
+        Parameters
+        ----------
+        path : str or Path, optional
+            Save the figure there (format from the suffix).
+        names : sequence of str, optional
+            The responses to draw.
+        ax : matplotlib.axes.Axes, optional
+            Draw into the caller's axes.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from ..views import random_views
+        return random_views.plot_random(self, path, names, ax)
 
 
 @dataclass(frozen=True)

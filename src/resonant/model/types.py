@@ -38,6 +38,7 @@ if TYPE_CHECKING:
 
     from ..analyses.backbone import Backbones
     from ..analyses.nonlinear_response import NonlinearResponse
+    from ..analyses.random_response import RandomResponse
     from ..analyses.simulate import Simulation
     from ..studies.result import StudyResult
     from ..system import LinearSystem
@@ -533,6 +534,39 @@ class Model:
         """
         from .. import report
         return report.write_report(self, path, plots)
+
+    def random_response(self, *, names: Sequence[str] | None = None, method: str = "auto",
+                        tolerance: float | None = None, deadline: Deadline | None = None
+                        ) -> RandomResponse:
+        """The response to the ``[random]`` section's inputs: spectral densities, RMS values,
+        Rice's rates (:func:`resonant.analyses.random_response.random_response`).
+
+        Parameters
+        ----------
+        names : sequence of str, optional
+            The coordinates and outputs to report (default all).
+        method : str
+            The harmonic solve's method.
+        tolerance : float, optional
+            Relative accuracy of the RMS values.
+        deadline : Deadline, optional
+            The run's time limit.
+
+        Returns
+        -------
+        RandomResponse
+
+        Examples
+        --------
+        >>> import resonant
+        >>> result = resonant.load("examples/shaker_gevs.toml").random_response()
+        >>> all(v > 0 for v in result.rms.values())
+        True
+        """
+        from ..analyses import random_response
+        return random_response.random_response(
+            self.linearize(deadline=deadline), self.random_section, deadline or NO_DEADLINE,
+            names=names, method=method, tolerance=tolerance)
 
     def _repr_latex_(self) -> str:
         from ..views import display

@@ -34,8 +34,10 @@ from .batch import Batch, BatchHarmonic, Var, frozen_array, group_frequencies
 
 if TYPE_CHECKING:
     from ..analyses.modes import ModalAnalysis
+    from ..analyses.random_response import RandomResponse
     from ..analyses.stationary import StationarySolution
     from ..analyses.sweep import FrequencyResponse
+    from ..model.random_spec import RandomSpec
 
 
 class LinearSystem(ABC):
@@ -133,6 +135,41 @@ class LinearSystem(ABC):
         values = np.asarray(values, dtype=float)
         return self.evaluate(parameter_values(self._model(), param, values), len(values),
                              deadline)
+
+    def random_response(self, spec: RandomSpec | None = None, deadline: Deadline = NO_DEADLINE,
+                        *, names: Sequence[str] | None = None, method: str = "auto",
+                        tolerance: float | None = None) -> RandomResponse:
+        """The response spectral densities, RMS values and Rice's rates under random inputs
+        (:func:`resonant.analyses.random_response.random_response`; docs/random.md).
+
+        Parameters
+        ----------
+        spec : RandomSpec, optional
+            The random inputs (default: the model's ``[random]`` section).
+        deadline : Deadline, optional
+            The run's time limit.
+        names : sequence of str, optional
+            The coordinates and outputs to report (default all).
+        method : str
+            The harmonic solve's method (as for :meth:`sweep`).
+        tolerance : float, optional
+            Relative accuracy of the RMS values.
+
+        Returns
+        -------
+        RandomResponse
+
+        Examples
+        --------
+        >>> import resonant
+        >>> eom = resonant.load("examples/shaker_gevs.toml").linearize()
+        >>> result = eom.random_response()
+        >>> all(value > 0 for value in result.rms.values())
+        True
+        """
+        from ..analyses import random_response
+        return random_response.random_response(self, spec, deadline, names=names, method=method,
+                                               tolerance=tolerance)
 
     def _model(self) -> Model:
         if self.model is None:
