@@ -428,3 +428,22 @@ def test_large_chain_against_modal_superposition(tmp_path) -> None:  # type: ign
     reference = math.sqrt(np.trapezoid(np.abs(H) ** 2, f))
     assert result.rms[f"q{n}"] == pytest.approx(reference, rel=2e-4)
     assert result.error[f"q{n}"] < 1e-4
+
+
+def test_study_quantity_rms_equals_the_random_response_at_each_sample(tmp_path):
+    """``rms:NAME`` in a study: at every sample, the RMS value of ``random_response`` of the
+    model with that sample's values (exactly: the same computation)."""
+    import resonant
+    from resonant.studies import StudyJob, collect, engine_for, request
+
+    from pathlib import Path
+
+    path = Path(__file__).parents[1] / "examples" / "shaker_gevs.toml"
+    model = resonant.load(path)
+    spec = request(model, {"k": [1.0e6, 2.0e6]}, ["rms:x", "rms:a"], design="grid")
+    table = collect(StudyJob.of(model, spec), engine_for(0)).table
+    assert list(table["status"]) == ["ok", "ok"]
+    for i, k in enumerate((1.0e6, 2.0e6)):
+        direct = resonant.load(path, {"k": k}).random_response(names=["x", "a"])
+        assert table["rms:x"][i] == pytest.approx(direct.rms["x"], rel=1e-12)
+        assert table["rms:a"][i] == pytest.approx(direct.rms["a"], rel=1e-12)

@@ -45,7 +45,8 @@ DESIGNS = ("grid", "random", "lhs", "sobol")
 DISTRIBUTIONS = ("uniform", "normal", "lognormal")
 #: the quantities a study records: kind -> what follows the colon
 QUANTITY_KINDS = {"natural_frequency": "index", "damping_ratio": "index", "amplitude": "name",
-                  "phase": "name", "peak": "name", "stable": "", "nonlinear_amplitude": "name"}
+                  "phase": "name", "peak": "name", "stable": "", "nonlinear_amplitude": "name",
+                  "rms": "name"}
 #: the quantities that need a band: peaks (searched over it) and the nonlinear steady state
 #: (swept up from its start)
 BAND_KINDS = ("peak", "nonlinear_amplitude")

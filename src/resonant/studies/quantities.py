@@ -35,6 +35,7 @@ import numpy as np
 
 from ..analyses.kernel import solve_harmonic
 from ..analyses.modes import modes
+from ..analyses.random_response import random_response
 from ..analyses.sweep import amplitude_and_phase, amplitudes, harmonic_responses, kept_coordinates
 from ..errors import ResonantError
 from ..expressions import numeric_value
@@ -77,9 +78,9 @@ class Rows:
         self.marked = False  # whether any sample failed
         #: what failed where: "all" (every quantity), "stability" (responses),
         #: "excitation" (amplitude, phase), "band" (peaks), "nonlinear" (the nonlinear
-        #: steady state)
+        #: steady state), "random" (the response to the [random] inputs)
         self.failed = {k: np.zeros(count, dtype=bool)
-                       for k in ("all", "stability", "excitation", "band", "nonlinear")}
+                       for k in ("all", "stability", "excitation", "band", "nonlinear", "random")}
 
     def fail(self, mask: np.ndarray, status: str, reason: str, scope: str = "all") -> None:
         """Mark the samples of ``mask``; the first failure of a sample gives its status."""
@@ -394,6 +395,24 @@ def _fill_nonlinear(rows: Rows, spec: StudySpec, nonlinear: NonlinearSystem | No
             rows.columns[q.text] = np.where(rows.valid("nonlinear"), column, np.nan)
 
 
+def _fill_rms(rows: Rows, spec: StudySpec, system: LinearSystem, values: Mapping[str, Any],
+              batch: Batch) -> None:
+    """The RMS values under the model's ``[random]`` inputs (docs/random.md), sample by
+    sample (the samples whose stability failed before are skipped)."""
+    wanted = [q for q in spec.quantities if q.kind == "rms"]
+    if not wanted:
+        return
+    names = list(dict.fromkeys(q.target for q in wanted))
+    for i in np.flatnonzero(rows.valid("stability")):
+        try:
+            result = random_response(numeric_point(batch, int(i), system, values), names=names)
+        except ResonantError as exc:
+            rows.fail(np.arange(rows.count) == i, "failed", str(exc), "random")
+            continue
+        for q in wanted:
+            rows.columns[q.text][i] = result.rms[q.target]
+
+
 def _fill(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
           values: Mapping[str, Any], nonlinear: NonlinearSystem | None = None) -> None:
     """Every quantity of a chunk whose parameters evaluate."""
@@ -415,6 +434,7 @@ def _fill(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
     _fill_responses(rows, spec, system, values, batch)
     _fill_peaks(rows, spec, system, model, values)
     _fill_nonlinear(rows, spec, nonlinear, values)
+    _fill_rms(rows, spec, system, values, batch)
 
 
 def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.ndarray],

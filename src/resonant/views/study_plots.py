@@ -80,7 +80,7 @@ def study_units(model: Model, spec: StudySpec) -> dict[str, str]:
     for quantity in spec.quantities:
         for column in quantity.columns:
             kind, _, target = column.partition(":")
-            if kind in ("amplitude", "peak", "nonlinear_amplitude"):
+            if kind in ("amplitude", "peak", "nonlinear_amplitude", "rms"):
                 out[column] = si(target)
             elif kind == "phase":
                 out[column] = "rad"
