@@ -65,12 +65,15 @@ from ..errors import AnalysisError
 from ..system import Batch, BatchHarmonic
 from ..system.stability import check_mass_matrix
 from .reduced import (
+    DAMPED_FRACTION,
     DEFAULT_TOL,
     backward_stable,
+    damping_fraction,
     probe_frequency,
     reduced_response,
     sparse_lu_options,
 )
+from .threads import blas_threads
 
 METHODS = ("auto", "direct", "dense", "banded", "sparse", "modal", "reduced")
 #: a point whose condition number exceeds this is an exact resonance
@@ -391,10 +394,30 @@ class _Store:
     """The responses kept from the solves: only the columns ``keep`` (memory stays
     bounded for large models), plus the largest |component| of every full solution."""
 
-    def __init__(self, N: int, keep: np.ndarray) -> None:
+    def __init__(self, N: int, keep: np.ndarray, batch: Batch | None = None) -> None:
         self.keep = keep
         self.values = np.empty((N, len(keep)), dtype=complex)
         self.largest = np.zeros(N)
+        #: how much the damping acts on the response at each point
+        #: (:func:`resonant.analyses.reduced.damping_fraction`; 0 without damping)
+        self.damped = np.zeros(N)
+        self._damping: Any = None
+        if batch is not None:
+            C = batch.C
+            if hasattr(C, "nnz") and C.nnz or not hasattr(C, "nnz") and np.any(C):
+                self._damping = C
+
+    def _fraction(self, index: Any, x: np.ndarray) -> None:
+        C = self._damping
+        if C is None:
+            return
+        rows = np.atleast_1d(np.arange(len(self.damped))[index])
+        X = np.atleast_2d(x)
+        if hasattr(C, "nnz") or np.ndim(C) == 2:
+            self.damped[rows] = damping_fraction(C, X)
+            return
+        for k, row in enumerate(rows):  # C changes with the parameter
+            self.damped[row] = damping_fraction(C[row], X[k:k + 1])[0]
 
     def __setitem__(self, index: Any, x: Any) -> None:
         x = np.asarray(x, dtype=complex)
@@ -405,6 +428,7 @@ class _Store:
         self.values[index] = x[..., self.keep]
         with np.errstate(invalid="ignore"):
             self.largest[index] = largest_abs(x)
+        self._fraction(index, x)
 
     def __getitem__(self, index: Any) -> np.ndarray:
         return self.values[index]
@@ -442,7 +466,26 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     Returns
     -------
     KernelResult
+
+    Notes
+    -----
+    The dense linear algebra runs with the BLAS threads that pay off for its size
+    (:func:`resonant.analyses.threads.blas_threads`: one thread for small matrices and
+    never more than the idle cores).
     """
+    n = len(batch.coordinates)
+    # the largest dense call: an n x n LU (dense, modal) or the reduced basis' products
+    with blas_threads(8.0 * min(float(n) ** 3, float(n) * 1e4)):
+        return _solve_harmonic(batch, h, method, progress=progress, warnings=warnings,
+                               keep=keep, deadline=deadline, tol=tol,
+                               exact_condition=exact_condition)
+
+
+def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
+                    progress: _Progress | None = None, warnings: list[str] | None = None,
+                    keep: np.ndarray | None = None, deadline: Deadline = NO_DEADLINE,
+                    tol: float = DEFAULT_TOL, exact_condition: bool = True) -> KernelResult:
+    """:func:`solve_harmonic` within its BLAS thread limit."""
     w = h.omega
     N = w.shape[0]
     n = len(batch.coordinates)
@@ -480,7 +523,7 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                 progress.advance(N)
                 return attempt
             method = choose_method(batch, N, costs=costs, omega=w)
-    store = _Store(N, keep)
+    store = _Store(N, keep, batch)
     exact = exact_condition and method == "dense" and (
         n <= EXACT_CONDITION or (N == 1 and n <= EXACT_CONDITION_SINGLE))
     condition = np.ones(N)
@@ -501,7 +544,8 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
         a_norm = norms[0] + w**2 * norms[1] + w * norms[2]
         with np.errstate(all="ignore"):
             condition = a_norm * store.largest / np.where(b_norm > 0, b_norm, np.inf)
-    singular |= ~np.isfinite(store.largest) | ~(condition <= SINGULAR_CONDITION)
+    singular |= ~np.isfinite(store.largest) | (~(condition <= SINGULAR_CONDITION)
+                                                & (store.damped < DAMPED_FRACTION))
     singular &= b_norm > 0
     Z[singular] = np.nan
     return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact, method)
@@ -589,7 +633,8 @@ def _solve_reduced(batch: Batch, w: np.ndarray, rhs: np.ndarray, keep: np.ndarra
     b_norm = float(np.abs(rhs).max())
     with np.errstate(all="ignore"):
         condition = a_norm * red.norms / b_norm
-    singular = red.singular | ~(condition <= SINGULAR_CONDITION)
+    # the reduced model judged its undamped resonances (condition and damping fraction)
+    singular = red.singular | ~np.isfinite(condition)
     Z = np.array(red.Z)
     Z[singular] = np.nan
     return KernelResult(Z, singular, np.asarray(condition, dtype=float), False, "reduced",
