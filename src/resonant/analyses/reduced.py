@@ -206,6 +206,84 @@ def sparse_lu_options(pattern: Any) -> dict[str, Any]:
             "options": {"SymmetricMode": True}}
 
 
+def symmetric_scale(diagonal: np.ndarray) -> np.ndarray:
+    """Powers of two d_i near 1 / sqrt(|a_ii|): D A D has a diagonal of order 1, exactly
+    (a power of two changes no digit).  Zero or non-finite diagonals get 1.
+
+    Examples
+    --------
+    >>> symmetric_scale(np.array([4.0, 1e6, 0.0])).tolist()
+    [0.5, 0.0009765625, 1.0]
+    """
+    a = np.abs(np.asarray(diagonal, dtype=float))
+    good = (a > 0) & np.isfinite(a)
+    e = np.zeros(a.shape)
+    e[good] = np.round(-0.5 * np.log2(a[good]))
+    return np.exp2(np.clip(e, -500, 500))
+
+
+class ScaledLU:
+    """The SuperLU factorization of D A D (D = diag(d), powers of two), solving A x = b as
+    x = D (D A D)^-1 D b.
+
+    The symmetric-mode ordering of :func:`sparse_lu_options` keeps its diagonal pivots
+    only when the diagonal is not small against its column.  Coordinates of different
+    units (deflections in m beside slopes in rad: a Morley plate) make it so, the pivots
+    leave the diagonal and the fill explodes: on a 1,985-coordinate Kirchhoff plate 776
+    pivots left it, 1.3 million nonzeros and 15 s against 97,000 and 0.015 s after the
+    scaling (and 0.1 s for SuperLU's default COLAMD with partial pivoting).
+
+    Parameters
+    ----------
+    A : sparse matrix
+        (n, n).
+    d : ndarray
+        (n,) scale factors (:func:`symmetric_scale`).
+    **options
+        ``scipy.sparse.linalg.splu`` keywords.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> A = sp.csc_matrix(np.array([[4e6, 1e3], [1e3, 2.0]]))
+    >>> lu = ScaledLU(A, symmetric_scale(A.diagonal()), **sparse_lu_options(A))
+    >>> x = lu.solve(np.array([1.0, 1.0]))
+    >>> bool(np.allclose(A @ x, 1.0, rtol=1e-14))
+    True
+    """
+
+    def __init__(self, A: Any, d: np.ndarray, **options: Any) -> None:
+        import scipy.sparse as sp
+        from scipy.sparse.linalg import splu
+
+        self.d = np.asarray(d, dtype=float)
+        scaled = sp.csc_matrix(A, copy=True)
+        columns = np.repeat(np.arange(scaled.shape[1]), np.diff(scaled.indptr))
+        scaled.data *= self.d[scaled.indices] * self.d[columns]
+        self.lu = splu(scaled, **options)
+        self.shape = A.shape
+
+    @property
+    def L(self) -> Any:
+        return self.lu.L
+
+    @property
+    def U(self) -> Any:
+        return self.lu.U
+
+    @property
+    def perm_r(self) -> np.ndarray:
+        return self.lu.perm_r
+
+    @property
+    def perm_c(self) -> np.ndarray:
+        return self.lu.perm_c
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        d = self.d if np.ndim(b) == 1 else self.d[:, None]
+        return d * self.lu.solve(d * b)
+
+
 def backward_stable(A: Any, x: np.ndarray, b: np.ndarray, a_norm: float | None = None
                     ) -> bool:
     """Whether ||A x - b|| <= 1e-10 (||A|| ||x|| + ||b||) (infinity norms): the solve was
@@ -270,8 +348,9 @@ def damping_fraction(C: Any, X: np.ndarray, c_norm: float | None = None) -> np.n
     Examples
     --------
     >>> C = np.diag([0.1, 0.0])
-    >>> damping_fraction(C, np.array([[1.0, 0.0], [1e-3, 1e9], [0.0, 1.0]])).round(30).tolist()
-    [1.0, 1e-24, 0.0]
+    >>> f = damping_fraction(C, np.array([[1.0, 0.0], [1e-3, 1e9], [0.0, 1.0]]))
+    >>> [f"{v:.3g}" for v in f]
+    ['1', '1e-24', '0']
     """
     X = np.atleast_2d(np.asarray(X, dtype=complex))
     sparse = hasattr(C, "tocsr")
@@ -312,11 +391,15 @@ class _Operators:
         return (self.K - (s * s) * self.M + (1j * s) * self.C).tocsc()
 
     def factor(self, s: float, partial: bool = False) -> Any:
-        """The LU of A(s) (``partial``: with partial pivoting); RuntimeError when A(s) is
-        exactly singular."""
-        from scipy.sparse.linalg import splu
+        """The LU of A(s), symmetrically scaled (:class:`ScaledLU`; ``partial``: with
+        partial pivoting); RuntimeError when A(s) is exactly singular."""
+        return ScaledLU(self.matrix(s), self.scale(s),
+                        **({} if partial else self.lu_options))
 
-        return splu(self.matrix(s), **({} if partial else self.lu_options))
+    def scale(self, s: float) -> np.ndarray:
+        """:func:`symmetric_scale` of |K_ii| + s^2 |M_ii| + s |C_ii| (no cancellation)."""
+        return symmetric_scale(np.abs(self.K.diagonal()) + s * s * np.abs(self.M.diagonal())
+                               + abs(s) * np.abs(self.C.diagonal()))
 
 
 def _krylov(ops: _Operators, lu: Any, b: np.ndarray, s: float, q: int,
@@ -1124,4 +1207,5 @@ def reduced_model(M: Any, C: Any, K: Any, B: np.ndarray, w: np.ndarray, *,
 
 __all__ = ["reduced_response", "ReducedResponse", "reduced_model", "ReducedModel",
            "DEFAULT_TOL", "sparse_lu_options", "backward_stable", "probe_frequency",
-           "off_diagonal_pivots", "damping_fraction", "DAMPED_FRACTION"]
+           "off_diagonal_pivots", "damping_fraction", "DAMPED_FRACTION", "ScaledLU",
+           "symmetric_scale"]
