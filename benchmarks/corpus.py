@@ -49,9 +49,10 @@ Examples
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -185,7 +186,7 @@ def free_beam(n: int) -> Structure:
 def timoshenko_beam(n: int) -> Structure:
     """Deflection w and rotation theta, quadratic Lagrange elements each (shear locking
     is mild for this thickness at quadratic order)."""
-    from skfem import (Basis, BilinearForm, ElementComposite, ElementLineP2, MeshLine)
+    from skfem import Basis, BilinearForm, ElementComposite, ElementLineP2, MeshLine
     from skfem.helpers import grad
 
     elements = max(2, n // 4)
@@ -259,9 +260,8 @@ def plate(n: int) -> Structure:
 def solid(n: int) -> Structure:
     """A steel cantilever block 0.4 x 0.1 x 0.1 m of trilinear hexahedra, clamped at x = 0;
     dashpots (normal and tangential) on every node of the free face."""
-    from skfem import Basis, ElementHex1, ElementVector, MeshHex
+    from skfem import Basis, BilinearForm, ElementHex1, ElementVector, MeshHex
     from skfem.models.elasticity import lame_parameters, linear_elasticity
-    from skfem import BilinearForm
 
     # nodes (4 m + 1)(m + 1)^2, 3 dofs each
     m = 1

@@ -45,7 +45,7 @@ PROPORTIONAL = {"eb_beam", "timoshenko_beam", "plate", "chain", "grid", "beam_sp
                 "clustered", "free_beam"}
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def case(name: str):
     s = corpus.build(name, SIZES.get(name, 120))
     w = np.linspace(*s.band, POINTS)
