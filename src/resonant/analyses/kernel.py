@@ -64,6 +64,7 @@ from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
 from ..system import Batch, BatchHarmonic
 from ..system.stability import check_mass_matrix
+from . import reduced as reduced_module
 from .reduced import (
     DAMPED_FRACTION,
     DEFAULT_TOL,
@@ -644,12 +645,10 @@ def reduced_points(budget: float, costs: dict[str, float], n: int) -> int:
     >>> reduced_points(0.0, {"sparse": 0.01, "banded": 0.1}, 10_000)
     4
     """
-    from . import reduced
-
     factor = min(v for k, v in costs.items() if k != "sparse_fill")
     point = REDUCED_POINT_FACTORS * factor + REDUCED_POINT_DENSE * n
-    count = int(budget / point) if point > 0 else reduced.MAX_POINTS
-    return int(min(max(count, reduced.INITIAL_POINTS + 1), reduced.MAX_POINTS))
+    count = int(budget / point) if point > 0 else reduced_module.MAX_POINTS
+    return int(min(max(count, reduced_module.INITIAL_POINTS + 1), reduced_module.MAX_POINTS))
 
 
 def _solve_reduced(batch: Batch, w: np.ndarray, rhs: np.ndarray, keep: np.ndarray,

@@ -30,6 +30,7 @@ from __future__ import annotations
 import contextlib
 import os
 from collections.abc import Iterator
+from typing import Any
 
 #: below this many floating-point operations per BLAS/LAPACK call one thread is used
 PARALLEL_FLOPS = 2e8
@@ -75,10 +76,10 @@ def blas_threads(flops: float) -> Iterator[int]:
         yield count
 
 
-_CONTROLLER: list[object] = []
+_CONTROLLER: list[Any] = []
 
 
-def _controller() -> object | None:
+def _controller() -> Any:
     """One ``threadpoolctl.ThreadpoolController`` (finding the BLAS libraries takes
     milliseconds: done once), or None without threadpoolctl."""
     if not _CONTROLLER:
