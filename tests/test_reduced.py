@@ -221,7 +221,7 @@ def test_auto_solves_directly_when_the_tolerance_cannot_be_met(grid_cases, tmp_p
     top = np.sqrt(sla.eigsh(K, k=1, M=M, which="LM", return_eigenvectors=False)[0])
     w = np.linspace(1.0, 1.5 * top, 60)
     monkeypatch.setattr(kernel, "REDUCED_WORTH", 0.0)
-    monkeypatch.setattr(kernel, "REDUCED_MIN_BUDGET", 0.2)
+    monkeypatch.setattr(kernel, "REDUCED_MIN_BUDGET", 0.0)  # the fewest points (4)
     monkeypatch.setattr(kernel, "REDUCED_BUDGET", 0.0)
     auto = sweep(model, "w", w, names=["q1", "q300"])
     assert auto.method in ("banded", "sparse") and auto.estimated_error is None

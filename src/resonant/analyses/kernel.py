@@ -65,13 +65,19 @@ from ..errors import AnalysisError
 from ..system import Batch, BatchHarmonic
 from ..system.modal import largest_abs
 from ..system.stability import check_mass_matrix
+from . import reduced as reduced_module
 from .reduced import (
+    DAMPED_FRACTION,
     DEFAULT_TOL,
+    ScaledLU,
     backward_stable,
+    damping_fraction,
     probe_frequency,
     reduced_response,
     sparse_lu_options,
+    symmetric_scale,
 )
+from .threads import blas_threads
 
 METHODS = ("auto", "direct", "dense", "banded", "sparse", "modal", "reduced")
 #: a point whose condition number exceeds this is an exact resonance
@@ -93,9 +99,16 @@ REDUCED_WORTH = 1.0
 REDUCED_MIN_SIZE = 500
 REDUCED_MIN_POINTS = 20
 #: the reduced model may spend this fraction of the direct solves' estimated time before
-#: ``auto`` gives up on it (at least REDUCED_MIN_BUDGET seconds)
+#: ``auto`` gives up on it (at least REDUCED_MIN_BUDGET seconds); both are *modelled*
+#: seconds, turned into a number of expansion points by :func:`reduced_points`
 REDUCED_BUDGET = 0.3
 REDUCED_MIN_BUDGET = 1.0
+#: modelled cost of one expansion point of the reduced model: this many factorizations
+#: (its own, its moments' solves and the validation's) ...
+REDUCED_POINT_FACTORS = 2.0
+#: ... plus the dense work on the basis (orthogonalization, the residual's QR), seconds
+#: per coordinate (about 24 new columns against 100 at 5 GFLOP/s)
+REDUCED_POINT_DENSE = 4e-7
 #: cost model of the direct solves (seconds): dense LU and banded LAPACK rates (real
 #: FLOP/s of the complex factorizations) and the per-point overhead of a Python call
 DENSE_RATE = 2e10
@@ -277,7 +290,6 @@ def _measured_costs(batch: Any, omega: np.ndarray | None
     if not any(hasattr(a, "tocsr") for a in (batch.M, batch.C, batch.K)):
         return costs, None
     import scipy.sparse as sp
-    from scipy.sparse.linalg import splu
 
     n = len(batch.coordinates)
     M, C, K = (sp.csc_matrix(a) for a in (batch.M, batch.C, batch.K))
@@ -289,7 +301,8 @@ def _measured_costs(batch: Any, omega: np.ndarray | None
         return costs, None
     s = probe_frequency(w)
     try:
-        lu = splu((K - (s * s) * M + (1j * s) * C).tocsc(), **sparse_lu_options(pattern))
+        lu = ScaledLU((K - (s * s) * M + (1j * s) * C).tocsc(),
+                      _sparse_scale(K, M, C, s), **sparse_lu_options(pattern))
     except RuntimeError:  # exactly singular there: the fill is not known
         return costs, None
     # the factorization's work from its structure: column k of L times row k of U
@@ -392,10 +405,30 @@ class _Store:
     """The responses kept from the solves: only the columns ``keep`` (memory stays
     bounded for large models), plus the largest |component| of every full solution."""
 
-    def __init__(self, N: int, keep: np.ndarray) -> None:
+    def __init__(self, N: int, keep: np.ndarray, batch: Batch | None = None) -> None:
         self.keep = keep
         self.values = np.empty((N, len(keep)), dtype=complex)
         self.largest = np.zeros(N)
+        #: how much the damping acts on the response at each point
+        #: (:func:`resonant.analyses.reduced.damping_fraction`; 0 without damping)
+        self.damped = np.zeros(N)
+        self._damping: Any = None
+        if batch is not None:
+            C = batch.C
+            if hasattr(C, "nnz") and C.nnz or not hasattr(C, "nnz") and np.any(C):
+                self._damping = C
+
+    def _fraction(self, index: Any, x: np.ndarray) -> None:
+        C = self._damping
+        if C is None:
+            return
+        rows = np.atleast_1d(np.arange(len(self.damped))[index])
+        X = np.atleast_2d(x)
+        if hasattr(C, "nnz") or np.ndim(C) == 2:
+            self.damped[rows] = damping_fraction(C, X)
+            return
+        for k, row in enumerate(rows):  # C changes with the parameter
+            self.damped[row] = damping_fraction(C[row], X[k:k + 1])[0]
 
     def __setitem__(self, index: Any, x: Any) -> None:
         x = np.asarray(x, dtype=complex)
@@ -406,6 +439,7 @@ class _Store:
         self.values[index] = x[..., self.keep]
         with np.errstate(invalid="ignore"):
             self.largest[index] = largest_abs(x)
+        self._fraction(index, x)
 
     def __getitem__(self, index: Any) -> np.ndarray:
         return self.values[index]
@@ -443,7 +477,26 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     Returns
     -------
     KernelResult
+
+    Notes
+    -----
+    The dense linear algebra runs with the BLAS threads that pay off for its size
+    (:func:`resonant.analyses.threads.blas_threads`: one thread for small matrices and
+    never more than the idle cores).
     """
+    n = len(batch.coordinates)
+    # the largest dense call: an n x n LU (dense, modal) or the reduced basis' products
+    with blas_threads(8.0 * min(float(n) ** 3, float(n) * 1e4)):
+        return _solve_harmonic(batch, h, method, progress=progress, warnings=warnings,
+                               keep=keep, deadline=deadline, tol=tol,
+                               exact_condition=exact_condition)
+
+
+def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
+                    progress: _Progress | None = None, warnings: list[str] | None = None,
+                    keep: np.ndarray | None = None, deadline: Deadline = NO_DEADLINE,
+                    tol: float = DEFAULT_TOL, exact_condition: bool = True) -> KernelResult:
+    """:func:`solve_harmonic` within its BLAS thread limit."""
     w = h.omega
     N = w.shape[0]
     n = len(batch.coordinates)
@@ -481,7 +534,7 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                 progress.advance(N)
                 return attempt
             method = choose_method(batch, N, costs=costs, omega=w)
-    store = _Store(N, keep)
+    store = _Store(N, keep, batch)
     exact = exact_condition and method == "dense" and (
         n <= EXACT_CONDITION or (N == 1 and n <= EXACT_CONDITION_SINGLE))
     condition = np.ones(N)
@@ -502,7 +555,8 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
         a_norm = norms[0] + w**2 * norms[1] + w * norms[2]
         with np.errstate(all="ignore"):
             condition = a_norm * store.largest / np.where(b_norm > 0, b_norm, np.inf)
-    singular |= ~np.isfinite(store.largest) | ~(condition <= SINGULAR_CONDITION)
+    singular |= ~np.isfinite(store.largest) | (~(condition <= SINGULAR_CONDITION)
+                                                & (store.damped < DAMPED_FRACTION))
     singular &= b_norm > 0
     Z[singular] = np.nan
     return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact, method)
@@ -548,10 +602,11 @@ def _try_reduced(batch: Batch, w: np.ndarray, rhs: np.ndarray, keep: np.ndarray,
     """``auto``'s reduced model, when worth trying (:func:`_reduced_budget`), if it meets
     ``tol``; None otherwise.  It takes the probe's factorization as an expansion point."""
     budget = _reduced_budget(batch, w, rhs, costs)
-    if budget is None:
+    if budget is None or costs is None:
         return None
+    points = reduced_points(budget, costs, len(batch.coordinates))
     try:
-        attempt = _solve_reduced(batch, w, rhs, keep, tol, deadline, budget, probe)
+        attempt = _solve_reduced(batch, w, rhs, keep, tol, deadline, None, probe, points)
     except DeadlineExceeded:
         raise
     except AnalysisError:  # no basis (A singular wherever tried): solve directly
@@ -577,20 +632,43 @@ def _reduced_budget(batch: Batch, w: np.ndarray, rhs: np.ndarray,
     return max(REDUCED_MIN_BUDGET, REDUCED_BUDGET * direct)
 
 
+def reduced_points(budget: float, costs: dict[str, float], n: int) -> int:
+    """The expansion points ``auto``'s reduced model may use: the modelled seconds
+    ``budget`` over the modelled cost of one point (:data:`REDUCED_POINT_FACTORS`
+    factorizations by :func:`direct_costs`, plus the basis' dense work
+    :data:`REDUCED_POINT_DENSE` n), between ``INITIAL_POINTS + 1`` and ``MAX_POINTS``.
+    No wall-clock time enters: the choice is the same on a busy machine.
+
+    Examples
+    --------
+    >>> reduced_points(1.0, {"sparse": 0.01, "banded": 0.1}, 10_000)
+    40
+    >>> reduced_points(0.0, {"sparse": 0.01, "banded": 0.1}, 10_000)
+    4
+    """
+    factor = min(v for k, v in costs.items() if k != "sparse_fill")
+    point = REDUCED_POINT_FACTORS * factor + REDUCED_POINT_DENSE * n
+    count = int(budget / point) if point > 0 else reduced_module.MAX_POINTS
+    return int(min(max(count, reduced_module.INITIAL_POINTS + 1), reduced_module.MAX_POINTS))
+
+
 def _solve_reduced(batch: Batch, w: np.ndarray, rhs: np.ndarray, keep: np.ndarray,
                    tol: float, deadline: Deadline, budget: float | None,
-                   probe: dict[float, Any] | None = None) -> KernelResult:
+                   probe: dict[float, Any] | None = None,
+                   max_points: int | None = None) -> KernelResult:
     """The reduced model (:func:`resonant.analyses.reduced.reduced_response`) as a
     KernelResult; condition numbers are the lower bound ||A|| ||z||_2 / ||b||.
     ``probe``: factorizations {s: LU} of A(s) made before, taken (emptied) by it."""
     red = reduced_response(batch.M, batch.C, batch.K, rhs, w, tol=tol, keep=keep,
-                           deadline=deadline, budget=budget, factorizations=probe)
+                           deadline=deadline, budget=budget, factorizations=probe,
+                           max_points=max_points)
     norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
     a_norm = norms[0] + w**2 * norms[1] + w * norms[2]
     b_norm = float(np.abs(rhs).max())
     with np.errstate(all="ignore"):
         condition = a_norm * red.norms / b_norm
-    singular = red.singular | ~(condition <= SINGULAR_CONDITION)
+    # the reduced model judged its undamped resonances (condition and damping fraction)
+    singular = red.singular | ~np.isfinite(condition)
     Z = np.array(red.Z)
     Z[singular] = np.nan
     return KernelResult(Z, singular, np.asarray(condition, dtype=float), False, "reduced",
@@ -901,7 +979,8 @@ def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
         b = np.asarray(b, dtype=complex)
         try:
             lu = probe.pop(float(wi), None) if probe else None
-            x = (splu(A, **options) if lu is None else lu).solve(b)
+            x = (ScaledLU(A, _sparse_scale(K, M, C, wi), **options) if lu is None
+                 else lu).solve(b)
             if "options" in options and not backward_stable(
                     A, x, b, row_norms[0] + wi * wi * row_norms[1] + wi * row_norms[2]):
                 x = splu(A).solve(b)  # threshold pivoting grew too much: partial pivoting
@@ -912,6 +991,12 @@ def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
         progress.advance()
         deadline.check("while solving the harmonic systems", analysis=True)
     return singular
+
+
+def _sparse_scale(K: Any, M: Any, C: Any, s: float) -> np.ndarray:
+    """The symmetric scaling of A(s) for its sparse LU (:class:`ScaledLU`)."""
+    return symmetric_scale(np.abs(K.diagonal()) + s * s * np.abs(M.diagonal())
+                           + abs(s) * np.abs(C.diagonal()))
 
 
 def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
@@ -974,6 +1059,6 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
 
 
 __all__ = ["solve_harmonic", "KernelResult", "choose_method", "choose_direct", "direct_costs",
-           "reduced_budget", "largest_abs", "closed_form_solve",
+           "reduced_budget", "reduced_points", "largest_abs", "closed_form_solve",
            "check_batch_mass", "equilibration", "METHODS", "SINGULAR_CONDITION",
            "LOSS_CONDITION", "DEFAULT_TOL"]

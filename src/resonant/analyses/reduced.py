@@ -82,6 +82,7 @@ import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
+from .threads import blas_threads
 
 #: default relative tolerance of the reduced response (normwise, per frequency)
 DEFAULT_TOL = 1e-6
@@ -103,8 +104,18 @@ SAFETY = 4.0
 RECENT = 3
 #: enrichment stops when the largest residual has not halved over this many steps
 STALL = 4
-#: condition number (||A|| ||z|| / ||b||) beyond which a point is an exact resonance
+#: condition number (||A|| ||z|| / ||b||) beyond which a point may be an exact resonance
 SINGULAR_CONDITION = 1e13
+#: ... when the damping also acts on the response less than this (:func:`damping_fraction`):
+#: an ill-conditioned but damped structure (a fine beam mesh, stiffness condition 1e12)
+#: is not resonant
+DAMPED_FRACTION = 1e-12
+#: the enrichment stops when the validated error is within this factor of the rounding
+#: floor (eps times the condition number): a richer basis cannot do better
+FLOOR_REACHED = 10.0
+#: safety factor on the componentwise error estimate of an exact solve (two random probes
+#: of |A^-1|)
+FLOOR_SAFETY = 10.0
 #: bytes of complex responses computed at once
 _CHUNK_BYTES = 32 * 2**20
 
@@ -195,6 +206,84 @@ def sparse_lu_options(pattern: Any) -> dict[str, Any]:
             "options": {"SymmetricMode": True}}
 
 
+def symmetric_scale(diagonal: np.ndarray) -> np.ndarray:
+    """Powers of two d_i near 1 / sqrt(|a_ii|): D A D has a diagonal of order 1, exactly
+    (a power of two changes no digit).  Zero or non-finite diagonals get 1.
+
+    Examples
+    --------
+    >>> symmetric_scale(np.array([4.0, 1e6, 0.0])).tolist()
+    [0.5, 0.0009765625, 1.0]
+    """
+    a = np.abs(np.asarray(diagonal, dtype=float))
+    good = (a > 0) & np.isfinite(a)
+    e = np.zeros(a.shape)
+    e[good] = np.round(-0.5 * np.log2(a[good]))
+    return np.exp2(np.clip(e, -500, 500))
+
+
+class ScaledLU:
+    """The SuperLU factorization of D A D (D = diag(d), powers of two), solving A x = b as
+    x = D (D A D)^-1 D b.
+
+    The symmetric-mode ordering of :func:`sparse_lu_options` keeps its diagonal pivots
+    only when the diagonal is not small against its column.  Coordinates of different
+    units (deflections in m beside slopes in rad: a Morley plate) make it so, the pivots
+    leave the diagonal and the fill explodes: on a 1,985-coordinate Kirchhoff plate 776
+    pivots left it, 1.3 million nonzeros and 15 s against 97,000 and 0.015 s after the
+    scaling (and 0.1 s for SuperLU's default COLAMD with partial pivoting).
+
+    Parameters
+    ----------
+    A : sparse matrix
+        (n, n).
+    d : ndarray
+        (n,) scale factors (:func:`symmetric_scale`).
+    **options
+        ``scipy.sparse.linalg.splu`` keywords.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> A = sp.csc_matrix(np.array([[4e6, 1e3], [1e3, 2.0]]))
+    >>> lu = ScaledLU(A, symmetric_scale(A.diagonal()), **sparse_lu_options(A))
+    >>> x = lu.solve(np.array([1.0, 1.0]))
+    >>> bool(np.allclose(A @ x, 1.0, rtol=1e-14))
+    True
+    """
+
+    def __init__(self, A: Any, d: np.ndarray, **options: Any) -> None:
+        import scipy.sparse as sp
+        from scipy.sparse.linalg import splu
+
+        self.d = np.asarray(d, dtype=float)
+        scaled = sp.csc_matrix(A, copy=True)
+        columns = np.repeat(np.arange(scaled.shape[1]), np.diff(scaled.indptr))
+        scaled.data *= self.d[scaled.indices] * self.d[columns]
+        self.lu = splu(scaled, **options)
+        self.shape = A.shape
+
+    @property
+    def L(self) -> Any:
+        return self.lu.L
+
+    @property
+    def U(self) -> Any:
+        return self.lu.U
+
+    @property
+    def perm_r(self) -> np.ndarray:
+        return self.lu.perm_r
+
+    @property
+    def perm_c(self) -> np.ndarray:
+        return self.lu.perm_c
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        d = self.d if np.ndim(b) == 1 else self.d[:, None]
+        return d * self.lu.solve(d * b)
+
+
 def backward_stable(A: Any, x: np.ndarray, b: np.ndarray, a_norm: float | None = None
                     ) -> bool:
     """Whether ||A x - b|| <= 1e-10 (||A|| ||x|| + ||b||) (infinity norms): the solve was
@@ -231,6 +320,54 @@ def _rayleigh(M: Any, C: Any, K: Any) -> tuple[float, float] | None:
     return None
 
 
+def damping_fraction(C: Any, X: np.ndarray, c_norm: float | None = None) -> np.ndarray:
+    """How much the damping acts on each response: |x^H C x| / (||x||^2 ||C||), per row.
+
+    A response bounded by damping has a fraction of the order of the damping's share in
+    its dominant modes (1e-4 to 1 on the structures of benchmarks/corpus.py, fine
+    beam meshes and stiff springs included).  At an undamped resonance (a mode C does
+    not touch) x is huge along that mode and the fraction falls as 1/|x|^2: 1e-18 at
+    an exactly singular point of a damped chain beside an undamped oscillator.  So a
+    large condition number with a fraction below :data:`DAMPED_FRACTION` is a
+    resonance, with a larger fraction only an ill-conditioned structure.
+
+    Parameters
+    ----------
+    C : sparse matrix or ndarray
+        (n, n), real.
+    X : ndarray
+        (N, n) responses.
+    c_norm : float, optional
+        ||C|| (a bound of the 2-norm); default max(||C||_1, ||C||_inf).
+
+    Returns
+    -------
+    ndarray
+        (N,) fractions (0 without damping or where x is 0 or not finite).
+
+    Examples
+    --------
+    >>> C = np.diag([0.1, 0.0])
+    >>> f = damping_fraction(C, np.array([[1.0, 0.0], [1e-3, 1e9], [0.0, 1.0]]))
+    >>> [f"{v:.3g}" for v in f]
+    ['1', '1e-24', '0']
+    """
+    X = np.atleast_2d(np.asarray(X, dtype=complex))
+    sparse = hasattr(C, "tocsr")
+    if c_norm is None:
+        a = abs(C)
+        c_norm = float(max(a.sum(axis=0).max(), a.sum(axis=1).max())) if (
+            a.nnz if sparse else a.size) else 0.0
+    if not c_norm > 0:
+        return np.zeros(X.shape[0])
+    with np.errstate(all="ignore"):
+        CX = np.asarray(C @ X.T).T if sparse else X @ np.asarray(C).T
+        quadratic = np.abs(np.einsum("ij,ij->i", X.conj(), CX))
+        size = np.einsum("ij,ij->i", X.conj(), X).real
+        fraction = np.where(size > 0, quadratic / (size * c_norm), 0.0)
+    return np.where(np.isfinite(fraction), fraction, 0.0)
+
+
 class _Operators:
     """M, C, K as real CSR matrices, with the factorization of A(s) at any s."""
 
@@ -247,16 +384,22 @@ class _Operators:
         self.cache: dict[float, Any] | None = None
         #: factorizations made before (the cost probe of ``auto``), by frequency
         self.given: dict[float, Any] = {}
+        #: |K|, |M|, |C| (for the rounding error of exact solves), made when needed
+        self.abs: tuple[Any, Any, Any] | None = None
 
     def matrix(self, s: float) -> Any:
         return (self.K - (s * s) * self.M + (1j * s) * self.C).tocsc()
 
     def factor(self, s: float, partial: bool = False) -> Any:
-        """The LU of A(s) (``partial``: with partial pivoting); RuntimeError when A(s) is
-        exactly singular."""
-        from scipy.sparse.linalg import splu
+        """The LU of A(s), symmetrically scaled (:class:`ScaledLU`; ``partial``: with
+        partial pivoting); RuntimeError when A(s) is exactly singular."""
+        return ScaledLU(self.matrix(s), self.scale(s),
+                        **({} if partial else self.lu_options))
 
-        return splu(self.matrix(s), **({} if partial else self.lu_options))
+    def scale(self, s: float) -> np.ndarray:
+        """:func:`symmetric_scale` of |K_ii| + s^2 |M_ii| + s |C_ii| (no cancellation)."""
+        return symmetric_scale(np.abs(self.K.diagonal()) + s * s * np.abs(self.M.diagonal())
+                               + abs(s) * np.abs(self.C.diagonal()))
 
 
 def _krylov(ops: _Operators, lu: Any, b: np.ndarray, s: float, q: int,
@@ -676,8 +819,15 @@ def reduced_response(M: Any, C: Any, K: Any, b: np.ndarray, w: np.ndarray, *,
                                zeros, 0.0, True, (), 0, (), np.zeros(w.shape[0], dtype=bool),
                                seconds=time.monotonic() - start)
     model = _Enrichment(ops, b, w, tol, moments, deadline)
-    _grow(model, _Limits(MAX_POINTS if max_points is None else max_points, budget, start))
-    return model.result(keep, time.monotonic() - start)
+    with blas_threads(_largest_call(ops.n)):
+        _grow(model, _Limits(MAX_POINTS if max_points is None else max_points, budget, start))
+        return model.result(keep, time.monotonic() - start)
+
+
+def _largest_call(n: int) -> float:
+    """FLOPs of the largest dense call of the enrichment: a product of the n x r basis
+    with an r x r matrix, r of the order of 100."""
+    return 8.0 * n * 1e4
 
 
 def _grow(model: _Enrichment, stop: _Limits) -> None:
@@ -691,7 +841,7 @@ def _grow(model: _Enrichment, stop: _Limits) -> None:
         lu = model.validate(worst)
         if lu is None or model.done():
             return
-        model.reason = model.stalled() or stop.reached(model)
+        model.reason = model.at_floor() or model.stalled() or stop.reached(model)
         if model.reason:
             return
         model.pending = [(float(model.checks[-1][0]), lu)]
@@ -723,8 +873,9 @@ class _Enrichment:
         self.moments, self.deadline = moments, deadline
         self.b_norm = float(np.linalg.norm(b))
         self.drop = min(1e-8, 1e-3 * tol)
-        self.norms = [float(np.linalg.norm(a.data)) if a.nnz else 0.0
-                      for a in (ops.K, ops.M, ops.C)]
+        # bounds of the 2-norms: ||a||_2 <= sqrt(||a||_1 ||a||_inf)
+        self.norms = [float(max(abs(a).sum(axis=0).max(), abs(a).sum(axis=1).max()))
+                      if a.nnz else 0.0 for a in (ops.K, ops.M, ops.C)]
         # bytes per basis column: V and the residual's Q (K V, M V, C V directions), with
         # room for the temporaries of the newest point's columns
         self.max_basis = int(min(MAX_BASIS, MEMORY_BYTES // (8 * ops.n * 5)))
@@ -745,9 +896,11 @@ class _Enrichment:
         self.finite = np.zeros(N, dtype=bool)
         self.rho = np.full(N, np.inf)
         self.estimate = np.full(N, np.inf)
+        self.floor = np.zeros(N)
+        self.floor_ratios: list[float] = []
 
     def a_norm(self, w: np.ndarray) -> np.ndarray:
-        """A bound of the Frobenius norm of A(w)."""
+        """A bound of the 2-norm of A(w)."""
         return self.norms[0] + w**2 * self.norms[1] + w * self.norms[2]
 
     def enrich(self) -> None:
@@ -777,18 +930,30 @@ class _Enrichment:
         Kr, Mr, Cr = self.projection.reduced
         red = _Reduced(Kr, Mr, Cr, self.V.T @ self.b)
         self.Y = red.solve(w)
-        # an undamped resonance (condition number beyond SINGULAR_CONDITION, as in the
-        # kernel) has no response to estimate: such points are singular, not errors
+        # an undamped resonance (condition number beyond SINGULAR_CONDITION and a response
+        # the damping does not act on, as in the kernel) has no response to estimate: such
+        # points are singular, not errors.  (The condition number alone calls a damped
+        # but ill-conditioned structure resonant: a fine beam mesh, cond(K) ~ n^4.)
         with np.errstate(all="ignore"):
             condition = self.a_norm(w) * np.linalg.norm(self.Y, axis=1) / self.b_norm
-        self.finite = np.all(np.isfinite(self.Y), axis=1) & (condition <= SINGULAR_CONDITION)
+        finite = np.all(np.isfinite(self.Y), axis=1)
+        resonant = ~(condition <= SINGULAR_CONDITION) & finite
+        if resonant.any():
+            # z = V y with V real and orthonormal: z^H C z = y^H Cr y and ||z|| = ||y||
+            fraction = damping_fraction(Cr, self.Y[resonant], self.norms[2])
+            resonant[resonant] = fraction < DAMPED_FRACTION
+        self.finite = finite & ~resonant
+        # the rounding floor: no solution in doubles is known better than about eps times
+        # the condition number (the exact solves of the validation included)
+        self.floor = np.where(self.finite, np.finfo(float).eps * condition, 0.0) * \
+            self.floor_scale()
         self.rho = np.full(w.shape[0], np.inf)
         self.residual.extend(products, self.V.shape[1])
         del products
         if self.finite.any():
             self.rho[self.finite] = self.residual.norms(w[self.finite],
                                                         self.Y[self.finite]) / self.b_norm
-        self.estimate = SAFETY * self.gamma() * self.rho
+        self.estimate = np.maximum(SAFETY * self.gamma() * self.rho, self.floor)
         # validate where the residual is largest (the expansion points themselves are exact)
         candidates = np.where(self.finite & ~np.isin(w, self.expansion), self.rho, -np.inf)
         worst = int(np.argmax(candidates))
@@ -805,17 +970,64 @@ class _Enrichment:
         if lu is None:
             return None
         exact = lu.solve(self.b)
+        solver = lu
         if not backward_stable(self.ops.matrix(s), exact, self.b):  # pivots grew too much
-            exact = self.ops.factor(s, partial=True).solve(self.b)
+            solver = self.ops.factor(s, partial=True)
+            exact = solver.solve(self.b)
         approx = self.V @ self.Y[worst]
         true = float(np.linalg.norm(approx - exact)) / max(float(np.linalg.norm(exact)),
                                                             1e-300)
         self.checks.append((s, true))
         if self.rho[worst] > 0:
             self.ratios.append(true / self.rho[worst])
-        self.estimate = np.maximum(SAFETY * self.gamma() * self.rho, 0.0)
-        self.estimate[worst] = max(true, self.estimate[worst])
+        # the exact solve's own rounding error (componentwise, where it is known) calibrates
+        # the normwise floor eps * condition at every frequency
+        normwise = self.floor / self.floor_scale()   # eps * condition
+        if normwise[worst] > 0:
+            self.floor_ratios.append(
+                min(1.0, self.solve_error(solver, s, exact) / normwise[worst]))
+            self.floor = normwise * self.floor_scale()
+        self.estimate = np.maximum(SAFETY * self.gamma() * self.rho, self.floor)
+        self.estimate[worst] = max(true + self.floor[worst], self.estimate[worst])
         return lu
+
+    def floor_scale(self) -> float:
+        """The largest ratio of componentwise to normwise rounding floor seen at the
+        validations (1 before any)."""
+        return max(self.floor_ratios) if self.floor_ratios else 1.0
+
+    def solve_error(self, lu: Any, s: float, x: np.ndarray) -> float:
+        """An estimate of the relative error of the exact solve x = A(s)^-1 b from rounding:
+        ``FLOOR_SAFETY`` eps || |A^-1| (|A| |x| + |b|) || / ||x|| (Skeel's componentwise
+        bound, Higham, Accuracy and Stability of Numerical Algorithms, 2nd ed., Sect. 7.2),
+        its |A^-1| estimated by two solves with random signs.  A stiff local spring
+        makes the normwise condition number huge and this small; a fine beam mesh keeps
+        both large."""
+        ops = self.ops
+        if ops.abs is None:
+            ops.abs = tuple(abs(a) for a in (ops.K, ops.M, ops.C))
+        aK, aM, aC = ops.abs
+        ax = np.abs(x)
+        weight = aK @ ax + (s * s) * (aM @ ax) + abs(s) * (aC @ ax) + np.abs(self.b)
+        rng = np.random.default_rng(1)
+        worst = 0.0
+        for _ in range(2):
+            phase = np.exp(2j * np.pi * rng.random(ops.n))
+            worst = max(worst, float(np.linalg.norm(lu.solve(weight * phase))))
+        eps = np.finfo(float).eps
+        return FLOOR_SAFETY * eps * worst / max(float(np.linalg.norm(x)), 1e-300) + eps
+
+    def at_floor(self) -> str:
+        """Why enriching further cannot meet the tolerance: the last validation's error is
+        within the rounding floor of the model's conditioning there ("" otherwise)."""
+        if not self.checks or not self.finite.any():
+            return ""
+        top = float(np.max(self.floor))
+        if top <= self.tol or self.checks[-1][1] > FLOOR_REACHED * top:
+            return ""
+        return (f"the model's conditioning limits the accuracy of any solution in double "
+                f"precision to about {top:.2g} (condition number at least "
+                f"{top / np.finfo(float).eps:.2g}): ask for a larger tolerance")
 
     def done(self) -> bool:
         """The estimate and the last exact check both within the tolerance."""
@@ -973,7 +1185,8 @@ def reduced_model(M: Any, C: Any, K: Any, B: np.ndarray, w: np.ndarray, *,
             errors.append(0.0)
             continue
         model = _Enrichment(ops, B[:, j], w, tol, moments, deadline, V)
-        _grow(model, stop)
+        with blas_threads(_largest_call(ops.n)):
+            _grow(model, stop)
         V = model.V
         errors.append(float(np.nanmax(np.where(model.finite, model.estimate, np.nan)))
                       if model.finite.any() else float("inf"))
@@ -994,4 +1207,5 @@ def reduced_model(M: Any, C: Any, K: Any, B: np.ndarray, w: np.ndarray, *,
 
 __all__ = ["reduced_response", "ReducedResponse", "reduced_model", "ReducedModel",
            "DEFAULT_TOL", "sparse_lu_options", "backward_stable", "probe_frequency",
-           "off_diagonal_pivots"]
+           "off_diagonal_pivots", "damping_fraction", "DAMPED_FRACTION", "ScaledLU",
+           "symmetric_scale"]

@@ -52,6 +52,7 @@ from .kernel import (
     equilibration,
     solve_harmonic,
 )
+from .threads import blas_threads
 
 NEAR_RESONANCE = 0.02       # relative distance to a natural frequency that earns a warning
 #: above this many coordinates (or with sparse matrices) the eigenvalues come from the
@@ -391,7 +392,8 @@ def stationary(system: LinearSystem, deadline: Deadline = NO_DEADLINE,
     check_batch_mass(batch)
     warnings = _mass_warnings(eom)
     deadline.check("while computing the eigenvalues", analysis=True)
-    lam, eigenvalues = _eigenvalues(sparse_eom, eom, large)
+    with blas_threads(8.0 * float(eom.n) ** 3):  # no more threads than idle cores
+        lam, eigenvalues = _eigenvalues(sparse_eom, eom, large)
     omegas = frequencies_from_eigenvalues(lam)
     stability = classify(eigenvalues)
     warnings += system_warnings(lam, stability, mass_definite=not _negative_mass(eom))

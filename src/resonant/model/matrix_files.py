@@ -32,6 +32,7 @@ import struct
 import warnings
 import zipfile
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
 
@@ -39,6 +40,7 @@ import numpy as np
 
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
+from ..expressions.numeric import numeric_value
 from . import inline_matrices, limits
 from .files import FileRefused, open_regular_file, read_bounded
 from .types import Harmonic, MatrixSpec
@@ -75,6 +77,83 @@ def resolve_matrix_path(value: str, base_dir: Path | None,
     if not any(_inside(real, os.path.realpath(root)) for root in roots):
         raise FileRefused(OUTSIDE)
     return real
+
+
+#: file types of a load vector (``F_S``/``F_C``)
+VECTOR_SUFFIXES = (".npy", ".mtx")
+
+
+def read_vector_file(value: str, n: int, base_dir: Path | None,
+                     allow_paths: Sequence[str | os.PathLike[str]] = ()) -> np.ndarray:
+    """The load vector of n entries in file ``value`` (``.npy``: shape (n,) or (n, 1);
+    ``.mtx``: an n x 1 Matrix Market array or coordinate file).
+
+    Raises :class:`FileRefused` with a message safe to show for every problem.
+    """
+    suffix = os.path.splitext(value)[1].lower()
+    if suffix not in VECTOR_SUFFIXES:
+        raise FileRefused(f"unknown vector file type; use {', '.join(VECTOR_SUFFIXES)}")
+    path = resolve_matrix_path(value, base_dir, allow_paths)
+    with open_regular_file(path, follow_symlinks=False,
+                           max_bytes=limits.MAX_MATRIX_FILE_BYTES) as handle:
+        size = os.fstat(handle.fileno()).st_size
+        try:
+            if suffix == ".npy":
+                array = _read_npy(handle, "the vector", size,
+                                  max_entries=limits.MAX_MATRIX_DIMENSION)
+                if array.ndim == 2 and array.shape[1] == 1:
+                    array = array[:, 0]
+                if array.ndim != 1:
+                    raise FileRefused(f"the vector has shape {array.shape}; a load vector "
+                                      "has shape (n,) or (n, 1)")
+            else:
+                array = _read_mtx_vector(handle, size)
+            vector = _dense(array, "the vector")
+        except FileRefused:
+            raise
+        except MemoryError:
+            raise FileRefused("not enough memory to read it") from None
+        except Exception:  # noqa: BLE001 - never echo a library's message about the file
+            raise FileRefused(f"it is damaged or not a valid {suffix} file") from None
+    if vector.shape[0] != n:
+        raise FileRefused(f"it holds {vector.shape[0]} entries; the matrices have {n} "
+                          "coordinates")
+    return vector
+
+
+def _read_mtx_vector(handle: IO[bytes], size: int) -> np.ndarray:
+    """An n x 1 Matrix Market file (array or coordinate, general) as a vector."""
+    text = handle.read(size + 1)
+    end = text.find(b"\n")
+    layout, _, symmetry = _mtx_banner(text if end < 0 else text[:end])
+    if symmetry != "general":
+        raise FileRefused("a load vector must be a 'general' Matrix Market file")
+    fields, offset = _mtx_size_line(text)
+    coordinate = layout == "coordinate"
+    try:
+        numbers = [int(f) for f in fields]
+    except ValueError:
+        raise FileRefused(f"{_MTX_INVALID}: the size line holds something other than "
+                          "integers") from None
+    if len(numbers) != (3 if coordinate else 2) or numbers[1] != 1:
+        raise FileRefused("a load vector must be n x 1 (size line 'n 1' or 'n 1 entries')")
+    n = numbers[0]
+    if not 0 < n <= limits.MAX_MATRIX_DIMENSION:
+        raise FileRefused(f"the vector has {n} entries; at most "
+                          f"{limits.MAX_MATRIX_DIMENSION}")
+    if not coordinate:
+        return _mtx_numbers(text[offset:], n, 1)[:, 0]
+    entries = numbers[2]
+    if not 0 <= entries <= n:
+        raise FileRefused(f"{_MTX_INVALID}: {entries} entries for a vector of {n}")
+    values = _mtx_numbers(text[offset:], entries, 3)
+    rows, columns = values[:, 0], values[:, 1]
+    if np.any(rows != np.round(rows)) or np.any((rows < 1) | (rows > n)) or \
+            np.any(columns != 1):
+        raise FileRefused(f"{_MTX_INVALID}: an entry lies outside the {n} x 1 vector")
+    out = np.zeros(n)
+    np.add.at(out, rows.astype(np.int64) - 1, values[:, 2])
+    return out
 
 
 def _inside(path: str, root: str) -> bool:
@@ -613,6 +692,7 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
                                  source, "matrices"))
     harmonics = _harmonics_given(section, harmonics, source, problems)
     matrices: dict[str, Any] = {}
+    rayleigh = None
     for key, value in section.items():
         if key == "harmonic":
             continue
@@ -620,12 +700,23 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
             problems.append(Problem(f"unknown key '{key}'; [matrices] takes M, K and C",
                                     source, "matrices", key))
             continue
+        if key == "C" and isinstance(value, str) and value not in inline_arrays and \
+                not value.lower().endswith(FILE_SUFFIXES):
+            rayleigh = _rayleigh_coefficients(value, params, source, problems)
+            continue
         matrix = _matrix(key, value, params, source, base_dir, allow_paths, inline_arrays,
                          problems)
         if matrix is not None:
             matrices[key] = matrix
+    if rayleigh is not None and "M" in matrices and "K" in matrices:
+        damping = _rayleigh_matrix(rayleigh, matrices["M"], matrices["K"], params, source,
+                                   problems)
+        if damping is not None:
+            matrices["C"] = damping
     n = _check_sizes(section, matrices, coordinates, source, problems)
-    parsed = [_harmonic(entry, f"harmonic {i}", n, params, source, problems)
+    names = list(coordinates) if coordinates else [f"q{i + 1}" for i in range(n)]
+    loads = _LoadContext(names, base_dir, allow_paths)
+    parsed = [_harmonic(entry, f"harmonic {i}", n, params, source, problems, loads)
               for i, entry in enumerate(harmonics if isinstance(harmonics, list)
                                         else [harmonics], start=1)]
     if problems:
@@ -698,9 +789,136 @@ def _check_sizes(section: dict, matrices: Mapping[str, Any], coordinates: Sequen
     return n
 
 
+@dataclass(frozen=True)
+class _LoadContext:
+    """What a load vector given by name or file needs: the coordinate names, where files
+    may be read from."""
+
+    names: list[str]
+    base_dir: Path | None
+    allow_paths: Sequence[str | os.PathLike[str]]
+
+
+def _load_vector(vec: Any, key: str, n: int, where: str, source: str,
+                 loads: _LoadContext | None) -> list[Any]:
+    """The n entries of F_S or F_C given as a list, a file or named entries."""
+    if isinstance(vec, str) and loads is not None:
+        if loads.base_dir is None:
+            raise ModelError(Problem(
+                f"{key} = '{vec}': a load vector file needs a model read from a file "
+                "(its folder is where the file is looked for)", source, where, key))
+        try:
+            numbers = read_vector_file(vec, n, loads.base_dir, loads.allow_paths)
+        except FileRefused as exc:
+            raise ModelError(Problem(f"cannot read '{vec}': {exc}", source, where,
+                                     key)) from None
+        return [float(v) for v in numbers]
+    if isinstance(vec, dict) and loads is not None:
+        index = {name: i for i, name in enumerate(loads.names)}
+        out: list[Any] = [0] * n
+        for name, value in vec.items():
+            if name not in index:
+                shown = ", ".join(loads.names[:3]) + (", ..., " + loads.names[-1]
+                                                      if n > 3 else "")
+                raise ModelError(Problem(
+                    f"{key} names '{name}', which is not a coordinate (the coordinates are "
+                    f"{shown})", source, where, key))
+            out[index[name]] = value
+        return out
+    if not isinstance(vec, list) or (n and len(vec) != n):
+        raise ModelError(Problem(
+            f"{key} must be a list of {n} entries, a table of entries by coordinate "
+            f"({key} = {{ {loads.names[-1] if loads and loads.names else 'q1'} = \"F0\" }}) "
+            f"or a .npy/.mtx file", source, where, key))
+    return vec
+
+
+def _rayleigh_coefficients(text: str, params: Sequence[str], source: str,
+                           problems: list[Problem]) -> tuple[Expression, Expression] | None:
+    """(alpha, beta) of ``C = "alpha*M + beta*K"`` (None: a problem is recorded)."""
+    import sympy
+
+    hint = ('C as text must be Rayleigh damping "alpha*M + beta*K" (alpha, beta numbers '
+            "or expressions of the parameters), an array of rows or a matrix file")
+    try:
+        expression = parse(text, allowed=list(params) + ["M", "K"], file=source,
+                           section="matrices", key="C")
+    except ExpressionError as exc:
+        problems.extend(exc.problems)
+        return None
+    if any(primes for _, primes in expression.names()):
+        problems.append(Problem(hint, source, "matrices", "C"))
+        return None
+    if "M" in params or "K" in params:
+        problems.append(Problem("Rayleigh damping names the matrices M and K: rename the "
+                                "parameters called M or K", source, "matrices", "C"))
+        return None
+    symbols = {"M": sympy.Symbol("M"), "K": sympy.Symbol("K")}
+    expr = sympy.expand(expression.to_sympy(lambda name, primes: sympy.Symbol(name)))
+    alpha, beta = expr.coeff(symbols["M"], 1), expr.coeff(symbols["K"], 1)
+    rest = sympy.expand(expr - alpha * symbols["M"] - beta * symbols["K"])
+    if rest != 0 or any(c.has(symbols["M"]) or c.has(symbols["K"]) for c in (alpha, beta)):
+        problems.append(Problem(f"{hint}; '{text}' is not of that form", source,
+                                "matrices", "C"))
+        return None
+    # alpha is the expression at M = 1, K = 0, beta at M = 0, K = 1 (linear, checked above)
+    parts = []
+    for m, k in (("1", "0"), ("0", "1")):
+        coefficient = re.sub(r"\bK\b", f"({k})", re.sub(r"\bM\b", f"({m})", text))
+        try:
+            parts.append(parse(coefficient, allowed=params, file=source, section="matrices",
+                               key="C"))
+        except ExpressionError as exc:
+            problems.extend(exc.problems)
+            return None
+    return parts[0], parts[1]
+
+
+def _rayleigh_matrix(coefficients: tuple[Expression, Expression], M: Any, K: Any,
+                     params: Sequence[str], source: str, problems: list[Problem]) -> Any:
+    """C = alpha M + beta K: numbers for numeric M, K (file or plain numbers); entry
+    expressions for inline expression matrices."""
+    alpha, beta = coefficients
+    numeric = not isinstance(M, list) and not isinstance(K, list)
+    if numeric:
+        if alpha.names() or beta.names():
+            problems.append(Problem(
+                "Rayleigh damping of matrices read from files or given as numbers needs "
+                f"numbers for alpha and beta, not expressions of parameters ('{alpha.text}',"
+                f" '{beta.text}')", source, "matrices", "C"))
+            return None
+        a = float(numeric_value(alpha, {}))
+        b = float(numeric_value(beta, {}))
+        if not (np.isfinite(a) and np.isfinite(b)):
+            problems.append(Problem("the Rayleigh coefficients must be finite", source,
+                                    "matrices", "C"))
+            return None
+        C = a * M + b * K
+        return C.tocsr() if hasattr(C, "tocsr") else np.asarray(C, dtype=float)
+
+    def text(entry: Any) -> str:
+        return entry.text if isinstance(entry, Expression) else repr(float(entry))
+
+    def rows(matrix: Any) -> list[list[Any]]:
+        if isinstance(matrix, list):
+            return matrix
+        dense = matrix.toarray() if hasattr(matrix, "toarray") else np.asarray(matrix)
+        return [list(row) for row in dense]
+
+    out = []
+    for i, (mrow, krow) in enumerate(zip(rows(M), rows(K))):
+        out.append([parse(f"({alpha.text})*({text(m)}) + ({beta.text})*({text(k)})",
+                          allowed=params, file=source, section="matrices",
+                          key=f"C[{i + 1}][{j + 1}]")
+                    for j, (m, k) in enumerate(zip(mrow, krow))])
+    return out
+
+
 def _harmonic(entry: Any, where: str, n: int, params: Sequence[str], source: str,
-              problems: list[Problem]) -> Harmonic | None:
-    """One ``[[harmonic]]``: omega and the load vectors F_S, F_C of n entries."""
+              problems: list[Problem], loads: _LoadContext | None = None
+              ) -> Harmonic | None:
+    """One ``[[harmonic]]``: omega and the load vectors F_S, F_C of n entries (a list, a
+    file, or a table of entries by coordinate name)."""
     if not isinstance(entry, dict) or "omega" not in entry:
         problems.append(Problem("a harmonic needs omega and F_S and/or F_C", source, where))
         return None
@@ -713,10 +931,7 @@ def _harmonic(entry: Any, where: str, n: int, params: Sequence[str], source: str
         vectors = []
         numbers: dict[tuple[type, Any], Expression] = {}  # each number literal parsed once
         for key in ("F_S", "F_C"):
-            vec = entry.get(key, [0] * n)
-            if not isinstance(vec, list) or (n and len(vec) != n):
-                raise ModelError(Problem(f"{key} must be a list of {n} entries", source,
-                                         where, key))
+            vec = _load_vector(entry.get(key, [0] * n), key, n, where, source, loads)
             parsed = []
             for j, v in enumerate(vec):
                 literal = (type(v), v) if type(v) in (int, float) else None
@@ -777,5 +992,6 @@ def _entry(value: Any, params: Sequence[str], source: str, key: str,
 
 
 
-__all__ = ["read_matrix_spec", "read_matrix_file", "resolve_matrix_path", "open_regular_file",
+__all__ = ["read_matrix_spec", "read_matrix_file", "read_vector_file", "resolve_matrix_path",
+           "open_regular_file",
            "read_bounded", "FileRefused", "MATRIX_KEYS", "FILE_SUFFIXES"]
