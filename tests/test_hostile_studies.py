@@ -22,7 +22,6 @@ import numpy as np
 import pytest
 
 from conftest import run_cli
-
 from resonant.errors import ModelError
 from resonant.studies.engine import Engine, machine_workers, parse_scheduler
 from resonant.studies.result import bootstrap_seed

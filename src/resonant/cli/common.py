@@ -91,9 +91,9 @@ def writable_output(name: str, what: str) -> Path:
 
     Examples
     --------
-    >>> writable_output("/nope/r.html", "the page")
+    >>> writable_output("/nope/r.html", "the page")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
-    resonant.errors.ModelError: /nope/r.html: cannot write the page: the folder '/nope' does not exist
+    resonant.errors.ModelError: /nope/r.html: cannot write the page: the folder '/nope' ...
     """
     path = Path(name)
     folder = path.parent if str(path.parent) else Path(".")

@@ -30,10 +30,10 @@ import math
 import os
 import pickle
 import signal
+import threading
 import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator
-import threading
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -129,6 +129,22 @@ def parse_scheduler(address: str) -> str:
     return text
 
 
+def _available_memory() -> float:
+    """Bytes of memory available to new processes (MemAvailable of Linux; else the free
+    pages; else unbounded)."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as handle:
+            for line in handle:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (AttributeError, OSError, ValueError):
+        return math.inf
+
+
 def machine_workers() -> tuple[int, int, float]:
     """The most local workers this machine can run, its cores and its available memory
     (GiB): :data:`WORKERS_PER_CORE` per core, and :data:`WORKER_MEMORY` each.
@@ -143,12 +159,7 @@ def machine_workers() -> tuple[int, int, float]:
         cores = len(os.sched_getaffinity(0))
     except (AttributeError, OSError):
         cores = os.cpu_count() or 1
-    try:
-        import psutil
-
-        available = float(psutil.virtual_memory().available)
-    except (ImportError, OSError, AttributeError):
-        available = math.inf
+    available = _available_memory()
     most = WORKERS_PER_CORE * cores
     if math.isfinite(available):
         most = min(most, int(available // WORKER_MEMORY))

@@ -210,7 +210,8 @@ def check_rows(path: str | os.PathLike[str], columns: list[str], text: tuple[str
             try:
                 source = pq.ParquetFile(p)
                 names = list(source.schema_arrow.names)
-                groups, count = [], 0
+                groups: list[int] = []
+                count = 0
                 while count < rows and len(groups) < source.num_row_groups:
                     count += source.metadata.row_group(len(groups)).num_rows
                     groups.append(len(groups))

@@ -570,6 +570,7 @@ def explore_page(model: Model, system: LinearSystem | None = None,
     return ExplorePage(page_html(data, program), model.title, bool(data["live"]))
 
 
-__all__ = ["ExplorePage", "check_page_size", "explore_page", "explore_data", "controls", "default_range",
+__all__ = ["ExplorePage", "check_page_size", "explore_page", "explore_data", "controls",
+           "default_range",
            "frequency_parameter", "shown_names", "precomputed", "page_html", "script_json",
            "LIVE_LIMIT", "CURVE_POINTS"]
