@@ -394,8 +394,8 @@ def test_interrupt_leaves_a_resumable_file(model, tmp_path):
     out = tmp_path / "s.csv"
     env = dict(os.environ, PYTHONPATH=SRC)
     args = [sys.executable, "-m", "resonant", "study", str(model), "--vary",
-            "k=uniform(90, 110)", "--quantity", "peak:x", "--band", "omega=1:30:2000",
-            "--samples", "4000", "--workers", "0", "-o", str(out)]
+            "k=uniform(90, 110)", "--quantity", "peak:x", "--band", "omega=1:30:1000",
+            "--samples", "3000", "--workers", "0", "-o", str(out)]
     proc = subprocess.Popen(args, stderr=subprocess.PIPE, stdout=subprocess.PIPE, env=env,
                             text=True)
     deadline = time.monotonic() + 60

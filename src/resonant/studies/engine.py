@@ -254,11 +254,27 @@ def _local_cluster(cluster_type: Any, workers: int) -> Iterator[Any]:
         cluster = cluster_type(n_workers=workers, threads_per_worker=1, processes=True,
                                host="127.0.0.1", dashboard_address=None, silence_logs=50)
     except (RuntimeError, OSError, TimeoutError, MemoryError) as exc:
+        _abandon_clusters()
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise AnalysisError(f"{workers} local workers could not start ({printable(first)}); "
                             "ask for fewer workers or use a cluster (scheduler)") from None
+    except BaseException:  # an interrupt while they start
+        _abandon_clusters()
+        raise
     with cluster:
         yield cluster
+
+
+def _abandon_clusters() -> None:
+    """Close the local clusters whose start was cut short, here and now: Dask's own
+    closing of them when the program exits fails on a half-started one with a traceback.
+    Their worker processes are daemons and end with this process."""
+    from distributed.deploy.spec import SpecCluster
+
+    for cluster in list(SpecCluster._instances):
+        with contextlib.suppress(Exception):
+            cluster.close(timeout=5)
+        SpecCluster._instances.discard(cluster)
 
 
 @contextlib.contextmanager
