@@ -53,6 +53,7 @@ from ..errors import AnalysisError
 from ..model import Model
 from ..system import LinearSystem, NonlinearSystem, nonlinear_system
 from ..system.stability import undamped_eigen
+from .harmonic_balance import MAX_GIVEN_HARMONICS
 from .hb_solver import NEWTON_MAX, NEWTON_TOL, HarmonicBalance
 from .stationary import freeze_fields
 
@@ -218,8 +219,9 @@ def _follow(free: _Free, y0: np.ndarray, A0: float, targets: np.ndarray, deadlin
 
 def _check(system: NonlinearSystem, amplitude: float | None, harmonics: int | None,
            points: int) -> None:
-    if harmonics is not None and not 1 <= harmonics <= 200:
-        raise AnalysisError(f"harmonics must be between 1 and 200, not {harmonics}")
+    if harmonics is not None and not 1 <= harmonics <= MAX_GIVEN_HARMONICS:
+        raise AnalysisError(f"harmonics must be between 1 and {MAX_GIVEN_HARMONICS}, not "
+                            f"{harmonics}")
     if points < 2:
         raise AnalysisError("points must be at least 2")
     if amplitude is not None and not (math.isfinite(amplitude) and amplitude > 0):

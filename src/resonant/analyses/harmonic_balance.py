@@ -88,6 +88,9 @@ DEFAULT_HARMONICS = 7
 #: the automatic choice adds harmonics until the highest carry less than this
 TRUNCATION_TOL = 1e-6
 MAX_HARMONICS = 40
+#: the most harmonics an analysis takes when they are given (every nonlinear analysis and
+#: the --harmonics option share it)
+MAX_GIVEN_HARMONICS = 200
 #: a branch point whose residual exceeds this many times the branch's median is polished
 POLISH_FACTOR = 100.0
 
@@ -225,8 +228,9 @@ def _check(system: NonlinearSystem, param: str, start: float, stop: float,
                             f"{', '.join(system.parameters)})")
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
         raise AnalysisError("the range must be two different finite numbers")
-    if harmonics is not None and not 1 <= harmonics <= 200:
-        raise AnalysisError(f"harmonics must be between 1 and 200, not {harmonics}")
+    if harmonics is not None and not 1 <= harmonics <= MAX_GIVEN_HARMONICS:
+        raise AnalysisError(f"harmonics must be between 1 and {MAX_GIVEN_HARMONICS}, not "
+                            f"{harmonics}")
     if points < 3:
         raise AnalysisError("points must be at least 3")
 
@@ -392,4 +396,4 @@ def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, 
 
 
 __all__ = ["NonlinearResponse", "SpecialPoint", "nonlinear_sweep", "SPECIAL_KINDS",
-           "DEFAULT_HARMONICS", "MAX_HARMONICS", "TRUNCATION_TOL", "STABILITY_TOL"]
+           "DEFAULT_HARMONICS", "MAX_HARMONICS", "MAX_GIVEN_HARMONICS", "TRUNCATION_TOL", "STABILITY_TOL"]
