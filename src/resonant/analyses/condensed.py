@@ -915,7 +915,7 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
                                for c, W, p in zip(coeffs, Ws, branch.p)])
         amps = np.hstack([amps, np.array([outputs.peaks(c, W, p)
                                           for c, W, p in zip(coeffs, Ws, branch.p)])])
-    special = special_points(hb, branch, lam_arr, Ws, amps)
+    special = special_points(hb, branch, lam_arr, Ws, amps, deadline)
     warnings = list(branch.warnings)
     if lin.error > 0:
         warnings.append(f"linear part: reduced model of {lin.size} vectors, largest error "

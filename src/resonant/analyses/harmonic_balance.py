@@ -375,7 +375,7 @@ def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, 
     coeffs = np.array(branch.x).reshape(values.size, hb.n, hb.m)
     mult = np.exp(lam * (2 * np.pi / Ws)[:, None])
     stable = np.all(np.abs(mult) <= 1 + STABILITY_TOL, axis=1)
-    special = special_points(hb, branch, lam, Ws, amps)
+    special = special_points(hb, branch, lam, Ws, amps, deadline)
     warnings = list(branch.warnings)
     trunc = float(truncation(coeffs, hb.H).max()) if values.size else 0.0
     if hb.H > 1 and trunc > TRUNCATION_TOL:
@@ -396,4 +396,5 @@ def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, 
 
 
 __all__ = ["NonlinearResponse", "SpecialPoint", "nonlinear_sweep", "SPECIAL_KINDS",
-           "DEFAULT_HARMONICS", "MAX_HARMONICS", "MAX_GIVEN_HARMONICS", "TRUNCATION_TOL", "STABILITY_TOL"]
+           "DEFAULT_HARMONICS", "MAX_HARMONICS", "MAX_GIVEN_HARMONICS", "TRUNCATION_TOL",
+           "STABILITY_TOL"]
