@@ -388,29 +388,81 @@ def test_study_honours_allow_path(tmp_path):
 
 # -- 3. interrupts ---------------------------------------------------------------------------
 
-def test_interrupt_leaves_a_resumable_file(model, tmp_path):
-    """SIGINT to the program during a study in this process: one line, exit 130, the file
-    the line names exists and a resume completes it to the bytes of an uninterrupted run."""
+def test_interrupt_leaves_a_resumable_file(model, tmp_path, monkeypatch):
+    """An interrupt after the first chunk: one line, exit 130, the file the line names
+    exists, and a resume completes it to the bytes of an uninterrupted run."""
+    from resonant.studies import files
+
+    args = ["--vary", "k=uniform(90, 110)", "--quantity", "amplitude:x", "--samples",
+            "70000", "--workers", "0"]  # two chunks of at most 65,536 samples
+    whole = tmp_path / "whole.csv"
+    assert run_cli(["study", str(model), *args, "-o", str(whole)])[0] == 0
+    write = files.ResultWriter.write
+
+    def interrupted(self, columns):
+        write(self, columns)
+        raise KeyboardInterrupt
+
+    out = tmp_path / "s.csv"
+    monkeypatch.setattr(files.ResultWriter, "write", interrupted)
+    code, _, err = run_cli(["study", str(model), *args, "-o", str(out)])
+    assert code == 130, err
+    assert err == f"the study stopped: {out} holds the samples done so far; run the same " \
+                  "command with --resume to complete it\n"
+    assert 0 < len(out.read_text().splitlines()) - 1 < 70000
+    monkeypatch.setattr(files.ResultWriter, "write", write)
+    assert run_cli(["study", str(model), *args, "-o", str(out), "--resume"])[0] == 0
+    assert out.read_bytes() == whole.read_bytes()
+
+
+def test_sigint_to_the_program_is_one_line(model, tmp_path):
+    """A real SIGINT to the program while it studies: exit 130, one line, and the file it
+    names (if any) can be resumed."""
     out = tmp_path / "s.csv"
     env = dict(os.environ, PYTHONPATH=SRC)
     args = [sys.executable, "-m", "resonant", "study", str(model), "--vary",
-            "k=uniform(90, 110)", "--quantity", "peak:x", "--band", "omega=1:30:1000",
-            "--samples", "3000", "--workers", "0", "-o", str(out)]
+            "k=uniform(90, 110)", "--quantity", "peak:x", "--band", "omega=1:30:4000",
+            "--samples", "700", "--workers", "0", "-o", str(out)]  # two chunks
     proc = subprocess.Popen(args, stderr=subprocess.PIPE, stdout=subprocess.PIPE, env=env,
                             text=True)
     deadline = time.monotonic() + 60
     while not Path(str(out) + ".part").exists() and time.monotonic() < deadline:
-        time.sleep(0.05)
+        time.sleep(0.02)
     proc.send_signal(2)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err
-    lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith(f"the study stopped: {out} holds"), err
-    assert out.is_file()
-    done = subprocess.run([*args, "--resume"], capture_output=True, text=True, env=env,
-                          timeout=120)
-    assert done.returncode == 0, done.stderr
-    whole = subprocess.run([*args[:-1], str(tmp_path / "whole.csv")], capture_output=True,
-                           text=True, env=env, timeout=120)
-    assert whole.returncode == 0
-    assert out.read_bytes() == (tmp_path / "whole.csv").read_bytes()
+    assert len(err.strip().splitlines()) == 1 and err.startswith("the study stopped"), err
+    if out.exists():
+        assert f"{out} holds the samples done so far" in err
+        from resonant.studies import files
+
+        description = files.read_description(out)  # what --resume reads first: valid
+        rows = files.completed_rows(out)
+        assert description["rows"] == 700 and 0 < rows <= 700
+        files.check_rows(out, ["sample", "k", "peak:x", "peak_frequency:x", "status",
+                               "reason"], ("status", "reason"), rows)
+
+
+def test_resume_csv_cut_in_the_middle_of_a_row_recomputes_it(model, finished):
+    out = finished["csv"]
+    whole = out.read_bytes()
+    out.write_bytes(whole[:-7])  # the last row loses its end (and its newline)
+    code, _, err = study(model, out, "--resume")
+    assert code == 0, err
+    assert out.read_bytes() == whole
+
+
+# -- 7. the study fuzzer, a few cases of each generator -------------------------------------
+
+@pytest.mark.parametrize("kind", ["request", "study_section", "explore_section", "nonlinear",
+                                  "resume"])
+def test_study_fuzzer_cases(kind, tmp_path):
+    sys.path.insert(0, str(ROOT / "fuzz"))
+    import random
+
+    import study_fuzz
+
+    rng = random.Random(2026)
+    for _ in range(4):
+        case, status, bug, err, _ = study_fuzz.fuzz_case(rng, kind, tmp_path, 30.0, 5.0)
+        assert bug is None, f"{' '.join(case)}: {bug}\n{err}"

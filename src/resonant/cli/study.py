@@ -85,7 +85,7 @@ def _band(text: str | None) -> dict[str, Any] | None:
                             "to": parts[1].strip()}
     if len(parts) == 3:
         if not parts[2].strip().isdigit():
-            raise ModelError(Problem(f"--band: POINTS must be a whole number, got "
+            raise ModelError(Problem(f"POINTS must be a whole number, got "
                                      f"'{parts[2]}'", "--band"))
         band["points"] = int(parts[2])
     return band

@@ -174,8 +174,8 @@ def completed_rows(path: str | os.PathLike[str]) -> int:
         except (OSError, ValueError, pa.ArrowException):
             raise _damaged(p, "it is not a readable Parquet file (damaged or truncated)"
                            ) from None
-    with p.open("rb") as handle:
-        return max(0, sum(1 for _ in handle) - 1)
+    with p.open("rb") as handle:  # complete lines only: a cut last line is no row
+        return max(0, sum(1 for line in handle if line.endswith(b"\n")) - 1)
 
 
 def check_rows(path: str | os.PathLike[str], columns: list[str], text: tuple[str, ...],

@@ -188,15 +188,15 @@ def request(model: Model, vary: Mapping[str, Any] | None = None,
     """
     unknown = sorted(set(options) - set(STUDY_KEYS))
     if unknown:
-        raise ModelError(f"unknown study option '{unknown[0]}'; the options are "
-                         + ", ".join(STUDY_KEYS[2:]))
+        raise ModelError(Problem(f"unknown study option '{unknown[0]}'; the options are "
+                                 + ", ".join(STUDY_KEYS[2:]), model.source, "study"))
     base = model.study_section.to_request() if model.study_section is not None else {}
     given = {k: v for k, v in {"vary": vary, "quantities": quantities, **options}.items()
              if v is not None}
     merged = {**base, **given}
     if "vary" not in merged or "quantities" not in merged:
-        raise ModelError("a study needs the parameters to vary and the quantities (or a "
-                         "[study] section in the model)")
+        raise ModelError(Problem("a study needs the parameters to vary and the quantities "
+                                 "(or a [study] section in the model)", model.source))
     return study_spec(merged.pop("vary"), merged.pop("quantities"), **merged,
                       parameters=model.parameters, coordinates=model.coordinates,
                       outputs=model.outputs, units=model.units, source=model.source,
