@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import argparse
 import collections
+import copy
 import json
 import random
 import shutil
@@ -138,7 +139,7 @@ def request_case(rng: random.Random, folder: Path, timeout: float) -> list[str]:
 def _mutate_value(value: Any, rng: random.Random) -> Any:
     choice = rng.random()
     if choice < 0.3:
-        return rng.choice(run_fuzz.NASTY_VALUES)
+        return copy.deepcopy(rng.choice(run_fuzz.NASTY_VALUES))  # never a shared object
     if choice < 0.6 and isinstance(value, str):
         return rng.choice(["({})^999", "log({})", "sqrt(-({}))", "exp(exp({}))", "{} {}",
                            "{}*t"]).format(value, value) if rng.random() < 0.5 else \
@@ -297,7 +298,8 @@ def _damage_description(text: str, rng: random.Random) -> str:
     action = rng.random()
     if action < 0.5 and isinstance(data, dict) and data:
         key = rng.choice(list(data))
-        data[key] = rng.choice(run_fuzz.NASTY_VALUES[:4] + [None, [], {}, "x", -1, 10**30])
+        data[key] = copy.deepcopy(rng.choice(run_fuzz.NASTY_VALUES[:4]
+                                             + [None, [], {}, "x", -1, 10**30]))
     elif action < 0.7:
         return rng.choice(["", "null", "[]", "1", '"x"', "{" * 5000, text[: len(text) // 2]])
     else:

@@ -144,6 +144,16 @@ def test_resume_csv_with_an_edited_value(model, finished):
                           "'abc' in row 5, not a number")
 
 
+def test_resume_csv_with_a_huge_whole_number(model, finished):
+    """Found by fuzz/study_fuzz.py: 400 nines, which pandas reads as a Python int."""
+    out = finished["csv"]
+    lines = out.read_text().splitlines()
+    lines[3] = "9" * 400 + lines[3][1:]
+    out.write_text("\n".join(lines) + "\n")
+    code, _, err = study(model, out, "--resume")
+    assert code == 2 and "column 'sample' holds '999" in err, err
+
+
 def test_resume_csv_with_an_edited_header(model, finished):
     out = finished["csv"]
     lines = out.read_text().splitlines()

@@ -178,6 +178,15 @@ def completed_rows(path: str | os.PathLike[str]) -> int:
         return max(0, sum(1 for line in handle if line.endswith(b"\n")) - 1)
 
 
+def _number(value: Any) -> bool:
+    """A cell that reads as a floating-point number (NaN and blanks included)."""
+    try:
+        float(value)
+    except (TypeError, ValueError, OverflowError):
+        return False
+    return True
+
+
 def check_rows(path: str | os.PathLike[str], columns: list[str], text: tuple[str, ...],
                rows: int) -> None:
     """Check the first ``rows`` rows of a result file before a resume keeps them: the
@@ -244,9 +253,7 @@ def check_rows(path: str | os.PathLike[str], columns: list[str], text: tuple[str
             continue
         values = frame[column]
         if not (pd.api.types.is_numeric_dtype(values) or pd.api.types.is_bool_dtype(values)):
-            bad = next((i for i, v in enumerate(pd.to_numeric(values, errors="coerce"))
-                        if pd.isna(v) and str(values.iloc[i]).strip() not in ("", "nan", "NaN")),
-                       0)
+            bad = next((i for i, v in enumerate(values) if not _number(v)), 0)
             raise _damaged(p, f"column '{column}' holds '{str(values.iloc[bad])[:40]}' in row "
                            f"{bad + 1}, not a number")
     if not np.array_equal(frame["sample"].to_numpy(), np.arange(rows)):
