@@ -85,7 +85,7 @@ from ..system.base import parameter_values
 from ..system.matrix_outputs import OutputSeries
 from ..system.nonlinear_elements import ElementForces
 from .continuation import follow
-from .hb_solver import basis, newton_at
+from .hb_solver import MAX_GIVEN_HARMONICS, basis, newton_at
 from .nonlinear_response import NonlinearResponse
 from .peaks import periodic_peak, series_peaks
 from .reduced import DEFAULT_TOL, reduced_model
@@ -866,8 +866,9 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     harmonics = DEFAULT_HARMONICS if harmonics is None else harmonics
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
         raise AnalysisError("the range must be two different finite numbers")
-    if not 1 <= harmonics <= 100:
-        raise AnalysisError(f"harmonics must be between 1 and 100, not {harmonics}")
+    if not 1 <= harmonics <= MAX_GIVEN_HARMONICS:
+        raise AnalysisError(f"harmonics must be between 1 and {MAX_GIVEN_HARMONICS}, not "
+                            f"{harmonics}")
     if points < 3:
         raise AnalysisError("points must be at least 3")
     setup = _setup(system, model, param, start, stop)
@@ -914,7 +915,7 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
                                for c, W, p in zip(coeffs, Ws, branch.p)])
         amps = np.hstack([amps, np.array([outputs.peaks(c, W, p)
                                           for c, W, p in zip(coeffs, Ws, branch.p)])])
-    special = special_points(hb, branch, lam_arr, Ws, amps)
+    special = special_points(hb, branch, lam_arr, Ws, amps, deadline)
     warnings = list(branch.warnings)
     if lin.error > 0:
         warnings.append(f"linear part: reduced model of {lin.size} vectors, largest error "

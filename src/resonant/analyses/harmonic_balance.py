@@ -75,7 +75,7 @@ from ..system import LinearSystem, NonlinearSystem, linear_system, nonlinear_sys
 from .condensed import condensed_sweep, has_nonlinear_elements
 from .continuation import Branch
 from .continuation import follow as _continue
-from .hb_solver import HarmonicBalance, resize, start_coefficients, truncation
+from .hb_solver import MAX_GIVEN_HARMONICS, HarmonicBalance, resize, start_coefficients, truncation
 from .nonlinear_response import NonlinearResponse
 from .reduced import DEFAULT_TOL
 from .special_points import SPECIAL_KINDS, STABILITY_TOL, SpecialPoint, special_points
@@ -98,8 +98,9 @@ def _check(system: NonlinearSystem, param: str, start: float, stop: float,
                             f"{', '.join(system.parameters)})")
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
         raise AnalysisError("the range must be two different finite numbers")
-    if harmonics is not None and not 1 <= harmonics <= 200:
-        raise AnalysisError(f"harmonics must be between 1 and 200, not {harmonics}")
+    if harmonics is not None and not 1 <= harmonics <= MAX_GIVEN_HARMONICS:
+        raise AnalysisError(f"harmonics must be between 1 and {MAX_GIVEN_HARMONICS}, not "
+                            f"{harmonics}")
     if points < 3:
         raise AnalysisError("points must be at least 3")
 
@@ -312,7 +313,7 @@ def full_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, start
     coeffs = np.array(branch.x).reshape(values.size, hb.n, hb.m)
     mult = np.exp(lam * (2 * np.pi / Ws)[:, None])
     stable = np.all(np.abs(mult) <= 1 + STABILITY_TOL, axis=1)
-    special = special_points(hb, branch, lam, Ws, amps)
+    special = special_points(hb, branch, lam, Ws, amps, deadline)
     warnings = list(branch.warnings)
     trunc = float(truncation(coeffs, hb.H).max()) if values.size else 0.0
     if hb.H > 1 and trunc > TRUNCATION_TOL:
@@ -333,4 +334,5 @@ def full_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, start
 
 
 __all__ = ["NonlinearResponse", "SpecialPoint", "full_sweep", "nonlinear_sweep", "SPECIAL_KINDS",
-           "DEFAULT_HARMONICS", "MAX_HARMONICS", "TRUNCATION_TOL", "STABILITY_TOL"]
+           "DEFAULT_HARMONICS", "MAX_HARMONICS", "MAX_GIVEN_HARMONICS", "TRUNCATION_TOL",
+           "STABILITY_TOL"]

@@ -24,6 +24,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from ..deadline import NO_DEADLINE, Deadline
 from .continuation import Balance, Branch, refine
 
 #: a multiplier with |mu| > 1 + this is unstable
@@ -90,9 +91,14 @@ class Locator:
     """Finds and refines the special points of one branch."""
 
     def __init__(self, hb: BranchEquations, branch: Branch, lam: np.ndarray,
-                 Ws: np.ndarray) -> None:
+                 Ws: np.ndarray, deadline: Deadline = NO_DEADLINE) -> None:
         self.hb, self.branch, self.lam, self.Ws = hb, branch, lam, Ws
         self.names = hb.names()
+        self.deadline = deadline
+
+    def check(self) -> None:
+        """Stop when the run's time is up (a branch may have many special points)."""
+        self.deadline.check("while locating the special points", analysis=True)
 
     def point(self, i: int, kind: str, found: tuple[np.ndarray, float] | None,
               quantity: str | None = None) -> SpecialPoint:
@@ -114,6 +120,7 @@ class Locator:
         found, near = [], set()
         for i in range(tp.size - 1):
             if tp[i] * tp[i + 1] < 0:
+                self.check()
                 at = refine(self.hb, self.branch, i, lambda x, p, t: float(t[-1]),
                             float(tp[i]), float(tp[i + 1]))
                 found.append(self.point(i, "fold", at))
@@ -140,6 +147,7 @@ class Locator:
                        ((1, "period-doubling"), (2, "neimark-sacker"), (0, "branch"))
                        if a[j] != b[j] and not (j == 0 and i in folds)]
             for kind in changes:
+                self.check()
                 k = sum(a) if sum(b) > sum(a) else sum(b)  # the multiplier that crosses
                 at = None
                 if k < self.lam.shape[1]:
@@ -170,6 +178,7 @@ class Locator:
                         and a[i] - max(a[i - 1], a[i + 1]) > PEAK_MARGIN * a[i]
                         and a[i] > 1e-9 * top):
                     continue
+                self.check()
                 g = self.slope(j)
                 here = g(self.branch.x[i], self.branch.p[i], self.branch.tangents[i])
                 k = i if here > 0 else i - 1  # the bracket [k, k+1] where the slope turns
@@ -185,7 +194,8 @@ class Locator:
 
 
 def special_points(hb: BranchEquations, branch: Branch, lam: np.ndarray, Ws: np.ndarray,
-                   amplitudes: np.ndarray) -> tuple[SpecialPoint, ...]:
+                   amplitudes: np.ndarray, deadline: Deadline = NO_DEADLINE
+                   ) -> tuple[SpecialPoint, ...]:
     """Folds, changes of stability and peaks of a branch, in the order of the arc.
 
     Parameters
@@ -200,12 +210,14 @@ def special_points(hb: BranchEquations, branch: Branch, lam: np.ndarray, Ws: np.
         (points,) base frequencies.
     amplitudes : numpy.ndarray
         (points, quantities) amplitudes of the coordinates and outputs (``hb.names()``).
+    deadline : Deadline, optional
+        The run's time limit, checked before each refinement.
 
     Returns
     -------
     tuple of SpecialPoint
     """
-    locator = Locator(hb, branch, lam, Ws)
+    locator = Locator(hb, branch, lam, Ws, deadline)
     folds, near = locator.folds()
     found = folds + locator.stability_changes(near) + locator.peaks(amplitudes)
     found.sort(key=lambda sp: sp.index)

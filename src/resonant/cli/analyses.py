@@ -19,7 +19,7 @@ from typing import Any
 import resonant.cli.common as cli
 
 from ..analyses.backbone import backbone
-from ..analyses.harmonic_balance import nonlinear_sweep
+from ..analyses.harmonic_balance import MAX_GIVEN_HARMONICS, nonlinear_sweep
 from ..analyses.modes import modes
 from ..analyses.sweep import MAX_SWEEP_POINTS, linspace, sweep
 from ..errors import AnalysisError
@@ -30,7 +30,7 @@ from ..views.plotting import plot_frequency_response, plot_modes
 from ..views.units_display import ResultUnits, result_units
 
 #: the most harmonics a nonlinear analysis takes (the analyses' own limit)
-MAX_HARMONICS_OPTION = 200
+MAX_HARMONICS_OPTION = MAX_GIVEN_HARMONICS
 
 
 def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:

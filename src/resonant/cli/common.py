@@ -5,9 +5,11 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import replace
+from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
@@ -65,6 +67,47 @@ def load_model(args: argparse.Namespace) -> Model:
         model = replace(model, units=replace(own, display=MappingProxyType(
             {**own.display, **display})))
     return model
+
+
+def writable_output(name: str, what: str) -> Path:
+    """The output file ``name``, checked once before any work: its folder exists and is
+    writable, and it is not a folder itself.
+
+    Parameters
+    ----------
+    name : str
+        The path given with ``-o``.
+    what : str
+        What is written ("the report", "the page" ...), for the message.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    ModelError
+        Naming the file (exit status 2).
+
+    Examples
+    --------
+    >>> writable_output("/nope/r.html", "the page")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    resonant.errors.ModelError: /nope/r.html: cannot write the page: the folder '/nope' ...
+    """
+    path = Path(name)
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        problem = f"the folder '{folder}' does not exist"
+    elif not os.access(folder, os.W_OK | os.X_OK):
+        problem = f"the folder '{folder}' is not writable"
+    elif path.is_dir():
+        problem = "it is a folder"
+    elif path.exists() and not path.is_file():
+        problem = "it exists and is not a regular file"
+    else:
+        return path
+    raise ModelError(Problem(f"cannot write {what}: {problem}", name))
 
 
 def emit_json(data: Any) -> None:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 from typing import Any
 
 import resonant.cli.common as common
@@ -30,11 +29,7 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
 
 def run_draw(args: argparse.Namespace) -> int:
     drawing_format(args.output)  # check the ending before any work
-    path = Path(args.output)
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise ModelError(Problem(f"cannot write the drawing: the folder '{folder}' does not "
-                                 "exist", str(args.output)))
+    path = common.writable_output(args.output, "the drawing")  # before any work
     model = common.load_model(args)
     data = sketch(model)  # ModelError (exit 2) for a model without parts
     try:

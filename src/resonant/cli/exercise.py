@@ -76,6 +76,8 @@ def run_exercise(args: argparse.Namespace) -> int:
     folder = Path(args.output)
     if folder.exists() and not folder.is_dir():
         raise ModelError(Problem("-o must name a folder; this is a file", str(folder)))
+    if args.workers or args.scheduler is not None:  # the address and the count, before any work
+        engine_for(args.workers, args.scheduler)
     deadline = common.deadline(args)
     model = common.load_model(args)
     start = time.perf_counter()
@@ -104,7 +106,8 @@ def _engine(args: argparse.Namespace, model: Any, formats: list[str], folder: Pa
     overrides = tuple(sorted(common.parse_settings(getattr(args, "set", None)).items()))
     job = ExerciseJob(text, model.source, base_dir, overrides, args.variants, args.seed,
                       tuple(formats), not args.no_plots, str(folder.resolve()))
-    return {"engine": engine_for(args.workers, args.scheduler), "job": job}
+    return {"engine": engine_for(args.workers, args.scheduler, deadline=common.deadline(args)),
+            "job": job}
 
 
 def run_grade(args: argparse.Namespace) -> int:

@@ -37,10 +37,7 @@ def run_explore(args: argparse.Namespace) -> int:
     if path.suffix.lower() not in (".html", ".htm"):
         raise ModelError(Problem(f"cannot tell the format from '{args.output}': the explore "
                                  "page is HTML, use a file ending in .html", str(args.output)))
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise ModelError(Problem(f"cannot write the page: the folder '{folder}' does not "
-                                 "exist", str(args.output)))
+    path = common.writable_output(args.output, "the page")  # before any work
     model = common.load_model(args)
     page = explore_page(model, deadline=common.deadline(args))
     page.save(path)

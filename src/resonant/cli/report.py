@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 from typing import Any
 
 import resonant.cli.common as common
@@ -41,11 +40,7 @@ def _cannot_write(path: str, exc: OSError) -> ModelError:
 
 def run_report(args: argparse.Namespace) -> int:
     fmt = report_format(args.output)  # check the ending before any work
-    path = Path(args.output)
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():  # before any work, and before the figures beside it are written
-        raise ModelError(Problem(f"cannot write the report: the folder '{folder}' does not "
-                                 "exist", str(args.output)))
+    path = common.writable_output(args.output, "the report")  # before any work
     model = common.load_model(args)
     report = build_report(model, plots=not args.no_plots, nonlinear=args.nonlinear)
     try:

@@ -11,14 +11,16 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 from typing import Any
 
 import resonant.cli.common as cli
 
-from ..deadline import DeadlineExceeded
+from ..deadline import AnalysisTimeout, DeadlineExceeded
 from ..errors import ModelError, Problem, printable
 from ..model.study import DESIGNS, MAX_HARMONICS, MAX_SAMPLES, MAX_SEED
 from ..studies import StudyJob, collect, engine_for, request
+from ..studies.files import check_output
 from ..views.study_plots import plot_study, study_units
 
 
@@ -64,6 +66,9 @@ def _pairs(items: list[str] | None, option: str) -> dict[str, str] | None:
         name, sep, value = item.partition("=")
         if not sep or not name.strip() or not value.strip():
             raise ModelError(Problem(f"{option} expects NAME=SPEC, got '{item}'", option))
+        if name.strip() in out:
+            raise ModelError(Problem(f"{option} names '{printable(name.strip(), 64)}' twice; "
+                                     "give each parameter once", option))
         out[name.strip()] = value.strip()
     return out
 
@@ -80,26 +85,35 @@ def _band(text: str | None) -> dict[str, Any] | None:
                             "to": parts[1].strip()}
     if len(parts) == 3:
         if not parts[2].strip().isdigit():
-            raise ModelError(Problem(f"--band: POINTS must be a whole number, got "
+            raise ModelError(Problem(f"POINTS must be a whole number, got "
                                      f"'{parts[2]}'", "--band"))
         band["points"] = int(parts[2])
     return band
 
 
 def run_study(args: argparse.Namespace) -> int:
+    # the options that need no model first: the output, the engine (before any work)
+    check_output(args.output)
+    if args.plot and Path(args.plot).exists() and not Path(args.plot).is_dir():
+        raise ModelError(Problem("cannot write the pictures: it is not a folder", args.plot))
+    engine = engine_for(args.workers, args.scheduler, deadline=cli.deadline(args))
     model = cli.load_model(args)
     spec = request(model, _pairs(args.vary, "--vary"), args.quantity, design=args.design,
                    samples=args.samples, seed=args.seed, band=_band(args.band),
                    harmonics=args.harmonics)
-    job = StudyJob.of(model, spec, overrides=cli.parse_settings(getattr(args, "set", None)))
-    engine = engine_for(args.workers, args.scheduler)
+    job = StudyJob.of(model, spec, overrides=cli.parse_settings(getattr(args, "set", None)),
+                      allow_paths=args.allow_path)
     try:
         result = collect(job, engine, args.output, resume=args.resume,
                          progress=args.progress or None, deadline=cli.deadline(args),
                          columns=[*(spec.vary if args.plot else ()), *spec.columns, "status"])
-    except (KeyboardInterrupt, DeadlineExceeded):
-        sys.stderr.write(f"the study stopped: {printable(args.output)} holds the samples "
-                         "done so far; run the same command with --resume to complete it\n")
+    except (KeyboardInterrupt, DeadlineExceeded) as exc:
+        line = _stopped(args.output)
+        if isinstance(exc, KeyboardInterrupt):
+            sys.stderr.write(line + "\n")  # the one line of an interrupt
+            return 130
+        if isinstance(exc, AnalysisTimeout):
+            raise AnalysisTimeout(f"{exc}; {line}") from None
         raise
     units = study_units(model, spec)
     if args.plot:
@@ -114,6 +128,19 @@ def run_study(args: argparse.Namespace) -> int:
     return 0
 
 
+def _stopped(output: str) -> str:
+    """What an interrupted study leaves: the file it names exists, or there is none."""
+    if Path(output).is_file():
+        return (f"the study stopped: {printable(output)} holds the samples done so far; run "
+                "the same command with --resume to complete it")
+    return (f"the study stopped before its first samples were done; {printable(output)} was "
+            "not written")
+
+
+def _index(value: float | None) -> str:
+    return "none" if value is None else f"{value:.3f}"
+
+
 def _text(result: Any, output: str, units: dict[str, str] | None = None) -> str:
     lines = [f"{len(result.table)} samples ({result.spec.design}) of "
              f"{', '.join(result.spec.vary)} in {printable(output)}, run in {result.where}"]
@@ -123,8 +150,12 @@ def _text(result: Any, output: str, units: dict[str, str] | None = None) -> str:
         table.insert(0, "unit", [units.get(str(name), "") for name in table.index])
     lines.append(table.to_string(float_format=lambda v: f"{v:.6g}"))
     for name, entry in (result.sensitivity or {}).items():
-        lines.append(f"Sobol indices of {name}: " + (entry["note"] or ", ".join(
-            f"{p} S1 {s1:.3f} ± {c1:.3f}, ST {st:.3f} ± {ct:.3f}" for p, s1, c1, st, ct in zip(
-                entry["parameters"], entry["S1"], entry["S1_conf"], entry["ST"],
-                entry["ST_conf"]))))
+        indices = ", ".join(
+            f"{p} S1 {_index(s1)} ± {_index(c1)}, ST {_index(st)} ± {_index(ct)}"
+            for p, s1, c1, st, ct in zip(entry["parameters"], entry["S1"], entry["S1_conf"],
+                                         entry["ST"], entry["ST_conf"]))
+        if all(v is None for v in entry["S1"]):
+            indices = ""
+        lines.append(f"Sobol indices of {name}: " + "; ".join(
+            part for part in (indices, entry["note"]) if part))
     return "\n".join(lines) + "\n"

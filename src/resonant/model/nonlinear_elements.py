@@ -32,6 +32,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import sympy
+
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
 
@@ -76,6 +78,16 @@ class NonlinearElement:
     @property
     def section(self) -> str:
         return f"nonlinear '{self.name}'"
+
+
+def _finite(expression: Expression) -> bool:
+    """False for an expression that is infinite or undefined whatever its names' values
+    (``1/0*q2``, ``0/0``): its exact form holds an infinity or NaN."""
+    try:
+        exact = expression.to_sympy(lambda name, primes: sympy.Symbol(name + "'" * primes))
+    except ExpressionError:
+        return True  # too large to build exactly: later stages bound and report it
+    return not exact.has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo)
 
 
 def _entry(entry: Any, number: int, params: Sequence[str], coordinates: Sequence[str],
@@ -137,6 +149,12 @@ def _entry(entry: Any, number: int, params: Sequence[str], coordinates: Sequence
             parsed[key] = parse(value, allowed=scope, file=source, section=where, key=key)
         except ExpressionError as exc:
             problems.extend(exc.problems)
+            continue
+        if not _finite(parsed[key]):
+            problems.append(Problem("the expression is not finite (it divides by zero or "
+                                    "holds an infinity, as 1/0 does); write a finite one",
+                                    source, where, key))
+            del parsed[key]
             continue
         if key != "force":
             primed = [n for n, p in parsed[key].names() if p]

@@ -26,15 +26,19 @@ from __future__ import annotations
 import collections
 import contextlib
 import gc
+import math
 import os
 import pickle
+import signal
+import threading
 import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
-from ..errors import ModelError
+from ..deadline import NO_DEADLINE, AnalysisTimeout, Deadline
+from ..errors import AnalysisError, ModelError, Problem, printable
 
 #: below this many seconds of estimated work, local workers are not started
 START_UP_SECONDS = 4.0
@@ -57,6 +61,109 @@ LOCAL_CLUSTER_CONFIG = {"distributed.worker.profile.enabled": False,
                         "distributed.admin.system-monitor.interval": "2s",
                         "distributed.admin.system-monitor.disk": False}
 MODES = ("auto", "process", "local", "cluster")
+#: local workers per core at most (the tasks are numeric: more would only share the cores)
+WORKERS_PER_CORE = 4
+#: memory a local worker needs (its Python, numpy, scipy, sympy and the model), in bytes
+WORKER_MEMORY = 256 * 2**20
+#: seconds to connect to a scheduler when the command has no time limit
+CONNECT_SECONDS = 30.0
+#: schemes of a Dask scheduler address
+SCHEMES = ("tcp", "tls", "inproc")
+
+
+def _where(address: str) -> str:
+    return f"scheduler '{printable(address, limit=80)}'"
+
+
+def parse_scheduler(address: str) -> str:
+    """A Dask scheduler's address, checked: ``tcp://HOST:PORT`` (``tls://`` too; an IPv6
+    host in brackets, ``tcp://[::1]:8786``), or ``inproc://...``.
+
+    Parameters
+    ----------
+    address : str
+
+    Returns
+    -------
+    str
+        The address, stripped of surrounding blanks.
+
+    Raises
+    ------
+    ModelError
+        For anything else, naming the address.
+
+    Examples
+    --------
+    >>> parse_scheduler("tcp://[::1]:8786")
+    'tcp://[::1]:8786'
+    >>> parse_scheduler("tcp://[::1")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    resonant.errors.ModelError: scheduler 'tcp://[::1': the address has an unclosed '[' ...
+    """
+    text = address.strip()
+    scheme, sep, rest = text.partition("://")
+    problem = ""
+    if not sep or scheme not in SCHEMES:
+        problem = "the address is not tcp://HOST:PORT"
+    elif scheme == "inproc":
+        return text
+    elif any(c.isspace() or c in "/?#@" for c in rest):
+        problem = "the address is HOST:PORT after tcp:// (no path, blanks or user)"
+    elif rest.startswith("["):
+        host, close, after = rest[1:].partition("]")
+        if not close:
+            problem = "the address has an unclosed '[' (an IPv6 host is written " \
+                      "tcp://[::1]:8786)"
+        elif not host or not after.startswith(":"):
+            problem = "the address is tcp://[IPv6 HOST]:PORT"
+        port = after[1:]
+    else:
+        host, colon, port = rest.rpartition(":")
+        if not colon or not host or ":" in host:
+            problem = "the address is tcp://HOST:PORT (an IPv6 host in brackets)"
+    if not problem and not (port.isdigit() and 1 <= int(port) <= 65535):
+        problem = f"the port '{port}' is not a number from 1 to 65535"
+    if problem:
+        raise ModelError(Problem(problem, _where(address)))
+    return text
+
+
+def _available_memory() -> float:
+    """Bytes of memory available to new processes (MemAvailable of Linux; else the free
+    pages; else unbounded)."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as handle:
+            for line in handle:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (AttributeError, OSError, ValueError):
+        return math.inf
+
+
+def machine_workers() -> tuple[int, int, float]:
+    """The most local workers this machine can run, its cores and its available memory
+    (GiB): :data:`WORKERS_PER_CORE` per core, and :data:`WORKER_MEMORY` each.
+
+    Examples
+    --------
+    >>> most, cores, memory = machine_workers()
+    >>> 1 <= most <= WORKERS_PER_CORE * cores
+    True
+    """
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        cores = os.cpu_count() or 1
+    available = _available_memory()
+    most = WORKERS_PER_CORE * cores
+    if math.isfinite(available):
+        most = min(most, int(available // WORKER_MEMORY))
+    return max(1, most), cores, available / 2**30
 
 
 @dataclass(frozen=True)
@@ -75,6 +182,9 @@ class Engine:
         A Dask scheduler's address, ``tcp://HOST:PORT``.
     client : distributed.Client or None
         A client of the caller's (not closed here).
+    deadline : Deadline
+        The limit of the whole run: connecting to a scheduler and waiting for results
+        end with an error when it passes.
 
     Examples
     --------
@@ -86,6 +196,7 @@ class Engine:
     workers: int | None = None
     scheduler: str | None = None
     client: Any = None
+    deadline: Deadline = field(default=NO_DEADLINE, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -95,10 +206,16 @@ class Engine:
             raise ModelError(f"workers must be from 1 to 1024, got {self.workers}")
         if self.mode == "cluster" and not (self.scheduler or self.client):
             raise ModelError("a cluster needs a scheduler address or a client")
-        if self.scheduler is not None and not self.scheduler.startswith(("tcp://", "tls://",
-                                                                           "inproc://")):
-            raise ModelError(f"a scheduler address is tcp://HOST:PORT, got "
-                             f"'{self.scheduler}'")
+        if self.scheduler is not None:
+            parse_scheduler(self.scheduler)
+        if self.mode == "local" and self.workers is not None:
+            most, cores, memory = machine_workers()
+            if self.workers > most:
+                raise ModelError(Problem(
+                    f"{self.workers} local workers are more than this machine runs: it has "
+                    f"{cores} cores and {memory:.1f} GiB of memory available, enough for "
+                    f"{most} workers; ask for at most {most}, or use a cluster (scheduler)",
+                    "workers"))
 
 
 @contextlib.contextmanager
@@ -112,12 +229,7 @@ def _client(engine: Engine, function: Callable[..., Any]) -> Iterator[Any]:
         yield engine.client
         return
     if engine.scheduler is not None:
-        try:
-            client = Client(engine.scheduler, timeout="20s")
-        except (OSError, TimeoutError) as exc:
-            raise ModelError(f"cannot reach the Dask scheduler at {engine.scheduler}: "
-                             f"{exc}") from None
-        with client:
+        with _connect(engine) as client:
             yield client
         return
     workers = engine.workers or os.cpu_count() or 1
@@ -127,14 +239,76 @@ def _client(engine: Engine, function: Callable[..., Any]) -> Iterator[Any]:
         warnings.simplefilter("ignore", ResourceWarning)
         warnings.filterwarnings("ignore", category=UserWarning, module="distributed")
         with dask.config.set(config), \
-                LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                             host="127.0.0.1", dashboard_address=None,
-                             silence_logs=50) as cluster, Client(cluster) as client:
+                _local_cluster(LocalCluster, workers) as cluster, Client(cluster) as client:
             # a worker the setup misses (gone, or its import fails) imports the code with
             # its first task, as a worker Dask restarts after a fault does
             client.run(_set_up_worker, pickle.dumps(function), on_error="ignore")
             yield client
             client.run(gc.freeze, on_error="ignore")  # the workers' exits walk nothing
+
+
+@contextlib.contextmanager
+def _local_cluster(cluster_type: Any, workers: int) -> Iterator[Any]:
+    """Start local workers; a failure to start them is an error in one line."""
+    try:
+        cluster = cluster_type(n_workers=workers, threads_per_worker=1, processes=True,
+                               host="127.0.0.1", dashboard_address=None, silence_logs=50)
+    except (RuntimeError, OSError, TimeoutError, MemoryError) as exc:
+        _abandon_clusters()
+        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise AnalysisError(f"{workers} local workers could not start ({printable(first)}); "
+                            "ask for fewer workers or use a cluster (scheduler)") from None
+    except BaseException:  # an interrupt while they start
+        _abandon_clusters()
+        raise
+    with cluster:
+        yield cluster
+
+
+def _abandon_clusters() -> None:
+    """Close the local clusters whose start was cut short, here and now: Dask's own
+    closing of them when the program exits fails on a half-started one with a traceback.
+    Their worker processes are daemons and end with this process."""
+    from distributed.deploy.spec import SpecCluster
+
+    for cluster in list(SpecCluster._instances):
+        with contextlib.suppress(Exception):
+            cluster.close(timeout=5)
+        SpecCluster._instances.discard(cluster)
+
+
+@contextlib.contextmanager
+def _connect(engine: Engine) -> Iterator[Any]:
+    """A client of the scheduler at ``engine.scheduler``, connected within the run's time
+    limit (Dask's own connect timeout does not bound a peer that accepts the connection
+    and never answers: the connection is made on a thread, waited for up to the limit)."""
+    from dask.distributed import Client
+
+    address = str(engine.scheduler)
+    left = engine.deadline.remaining()
+    seconds = CONNECT_SECONDS if left is None else max(left, 0.1)
+    box: dict[str, Any] = {}
+
+    def connect() -> None:
+        try:
+            box["client"] = Client(address, timeout=0.9 * seconds, set_as_default=False)
+        except BaseException as exc:  # noqa: BLE001 - handed to the waiting thread
+            box["error"] = exc
+
+    thread = threading.Thread(target=connect, name="resonant-connect", daemon=True)
+    thread.start()
+    thread.join(seconds)
+    if thread.is_alive() or "client" not in box:
+        error = box.get("error")
+        limit = engine.deadline.seconds or CONNECT_SECONDS
+        why = (f"it did not answer within the time limit of {limit:g} s"
+               if thread.is_alive() or isinstance(error, (TimeoutError, OSError)) else
+               f"{printable(error) or type(error).__name__}")
+        raise ModelError(Problem(f"cannot reach the Dask scheduler: {why}; check that it "
+                                 "runs at this address (and allow more time with the "
+                                 "timeout)", _where(address)))
+    with box["client"] as client:
+        yield client
 
 
 def _set_up_worker(pickled_function: bytes) -> None:
@@ -144,6 +318,8 @@ def _set_up_worker(pickled_function: bytes) -> None:
     study, as the program does (:func:`resonant.cli.program`): the collector's full passes
     over them free nothing (3% of a sample of a 10,000-coordinate chain), and the last
     one, when the worker exits, held up closing the cluster by 0.4 s."""
+    with contextlib.suppress(ValueError):  # an interrupt is the main process's to handle: it
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # stops the workers, who say nothing
     paused = gc.isenabled()
     gc.disable()
     try:
@@ -163,12 +339,24 @@ def _on_dask(function: Callable[..., Any], tasks: Iterator[tuple], engine: Engin
             for args in tasks:
                 window.append(client.submit(function, *args, pure=False))
                 if len(window) >= 2 * threads + 2:
-                    yield window.popleft().result()
+                    yield _result(window.popleft(), engine.deadline)
             while window:
-                yield window.popleft().result()
+                yield _result(window.popleft(), engine.deadline)
         finally:
             for future in window:
                 future.cancel()
+
+
+def _result(future: Any, deadline: Deadline) -> Any:
+    """A task's result, waited for no longer than the deadline allows."""
+    try:
+        return future.result(timeout=deadline.remaining())
+    except TimeoutError:
+        if not deadline.expired:
+            raise
+        raise AnalysisTimeout(
+            f"the analysis exceeded the time limit of {deadline.seconds:g} s while waiting "
+            "for the workers; ask for less or allow more time (timeout, 0 for none)") from None
 
 
 def ordered_map(function: Callable[..., Any], tasks: Iterable[tuple], engine: Engine,
@@ -240,7 +428,7 @@ def _chain(first: list[tuple], rest: Iterator[tuple]) -> Iterator[tuple]:
 
 
 def engine_for(workers: int | None = None, scheduler: str | None = None,
-               client: Any = None) -> Engine:
+               client: Any = None, deadline: Deadline = NO_DEADLINE) -> Engine:
     """The engine for the usual arguments: ``workers=0`` this process, ``workers=N`` N
     local workers, a ``scheduler`` address or a ``client`` their cluster, none of them
     ``auto``.
@@ -250,6 +438,8 @@ def engine_for(workers: int | None = None, scheduler: str | None = None,
     workers : int, optional
     scheduler : str, optional
     client : distributed.Client, optional
+    deadline : Deadline, optional
+        The run's time limit (connecting and waiting for workers included).
 
     Returns
     -------
@@ -263,12 +453,13 @@ def engine_for(workers: int | None = None, scheduler: str | None = None,
     if (scheduler is not None or client is not None) and workers is not None:
         raise ModelError("give either a number of local workers or a cluster, not both")
     if scheduler is not None or client is not None:
-        return Engine(mode="cluster", scheduler=scheduler, client=client)
+        return Engine(mode="cluster", scheduler=scheduler, client=client, deadline=deadline)
     if workers == 0:
-        return Engine(mode="process")
+        return Engine(mode="process", deadline=deadline)
     if workers is not None:
-        return Engine(mode="local", workers=workers)
-    return Engine()
+        return Engine(mode="local", workers=workers, deadline=deadline)
+    return Engine(deadline=deadline)
 
 
-__all__ = ["Engine", "engine_for", "ordered_map", "START_UP_SECONDS"]
+__all__ = ["Engine", "engine_for", "machine_workers", "ordered_map", "parse_scheduler",
+           "START_UP_SECONDS"]

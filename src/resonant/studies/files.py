@@ -30,14 +30,15 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, Problem
 
 METADATA_KEY = b"resonant.study"
 FORMATS = (".parquet", ".csv")
 
 
 def check_output(path: str | os.PathLike[str]) -> Path:
-    """The output path, checked: a .parquet or .csv file in an existing directory.
+    """The output path, checked once before any work: a .parquet or .csv file that can be
+    written, whose temporary ``FILE.part`` and (CSV) ``FILE.study.json`` can be written too.
 
     Parameters
     ----------
@@ -46,14 +47,38 @@ def check_output(path: str | os.PathLike[str]) -> Path:
     Returns
     -------
     Path
+
+    Raises
+    ------
+    ModelError
+        Naming the file: a wrong ending, a missing or unwritable folder, or the file (or
+        one of its companions) being a folder or not a regular file.
+
+    Examples
+    --------
+    >>> check_output("/nope/r.csv")
+    Traceback (most recent call last):
+    resonant.errors.ModelError: /nope/r.csv: the folder '/nope' of the study's output does not exist
     """
     p = Path(path)
+    name = str(path)
     if p.suffix.lower() not in FORMATS:
-        raise ModelError(f"the study's output '{p}' must end in .parquet or .csv")
-    if not p.parent.is_dir():
-        raise ModelError(f"the directory of the study's output '{p}' does not exist")
-    if p.exists() and not p.is_file():
-        raise ModelError(f"the study's output '{p}' exists and is not a file")
+        raise ModelError(Problem("the study's output must end in .parquet or .csv", name))
+    folder = p.parent if str(p.parent) else Path(".")
+    if not folder.is_dir():
+        raise ModelError(Problem(f"the folder '{folder}' of the study's output does not "
+                                 "exist", name))
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise ModelError(Problem(f"cannot write the study's output: the folder '{folder}' "
+                                 "is not writable", name))
+    companions = [p, p.with_name(p.name + ".part")]
+    if p.suffix.lower() == ".csv":
+        companions.append(_sidecar(p))
+    for item in companions:
+        if (item.exists() or item.is_symlink()) and not item.is_file():
+            what = "a folder" if item.is_dir() else "not a regular file"
+            raise ModelError(Problem(f"cannot write the study's output: '{item.name}' is "
+                                     f"{what}; remove it or choose another name", name))
     return p
 
 
@@ -61,8 +86,15 @@ def _sidecar(path: Path) -> Path:
     return path.with_name(path.name + ".study.json")
 
 
+def _damaged(path: Path, what: str) -> ModelError:
+    return ModelError(Problem(f"cannot resume from this file: {what}; remove it (or write to "
+                              "a new file) to start the study afresh", str(path)))
+
+
 def read_description(path: str | os.PathLike[str]) -> dict[str, Any] | None:
-    """The study description stored with a result file (None if it has none).
+    """The study description stored with a result file (None if there is no file).
+
+    The file is untrusted input: what cannot be read is an error naming it.
 
     Parameters
     ----------
@@ -71,18 +103,52 @@ def read_description(path: str | os.PathLike[str]) -> dict[str, Any] | None:
     Returns
     -------
     dict or None
+
+    Raises
+    ------
+    ModelError
+        For a file that is damaged, truncated or has no study description.
     """
     p = Path(path)
-    try:
-        if p.suffix.lower() == ".parquet":
-            import pyarrow.parquet as pq
-
-            meta = pq.read_schema(p).metadata or {}
-            raw = meta.get(METADATA_KEY)
-            return None if raw is None else json.loads(raw)
-        return json.loads(_sidecar(p).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+    if not p.is_file():
         return None
+    if p.suffix.lower() == ".parquet":
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        try:
+            meta = pq.read_schema(p).metadata or {}
+        except (OSError, ValueError, pa.ArrowException):
+            raise _damaged(p, "it is not a readable Parquet file (damaged or truncated)"
+                           ) from None
+        raw = meta.get(METADATA_KEY)
+        if raw is None:
+            raise _damaged(p, "it was not written by a study (no study description)")
+    else:
+        side = _sidecar(p)
+        if not side.is_file():
+            raise _damaged(p, f"its study description '{side.name}' is missing")
+        try:
+            raw = read_bounded_text(side)
+        except (OSError, ValueError):
+            raise _damaged(p, f"its study description '{side.name}' cannot be read"
+                           ) from None
+    try:
+        found = json.loads(raw)
+    except (ValueError, RecursionError):
+        found = None
+    if not isinstance(found, dict):
+        raise _damaged(p, "its study description is damaged")
+    return found
+
+
+def read_bounded_text(path: Path, limit: int = 2**24) -> str:
+    """A small text file (a study description), refused above ``limit`` bytes."""
+    with path.open("rb") as handle:
+        data = handle.read(limit + 1)
+    if len(data) > limit:
+        raise ValueError("too large")
+    return data.decode("utf-8")
 
 
 def completed_rows(path: str | os.PathLike[str]) -> int:
@@ -100,11 +166,98 @@ def completed_rows(path: str | os.PathLike[str]) -> int:
     if not p.is_file():
         return 0
     if p.suffix.lower() == ".parquet":
+        import pyarrow as pa
         import pyarrow.parquet as pq
 
-        return int(pq.ParquetFile(p).metadata.num_rows)
-    with p.open("rb") as handle:
-        return max(0, sum(1 for _ in handle) - 1)
+        try:
+            return int(pq.ParquetFile(p).metadata.num_rows)
+        except (OSError, ValueError, pa.ArrowException):
+            raise _damaged(p, "it is not a readable Parquet file (damaged or truncated)"
+                           ) from None
+    with p.open("rb") as handle:  # complete lines only: a cut last line is no row
+        return max(0, sum(1 for line in handle if line.endswith(b"\n")) - 1)
+
+
+def _number(value: Any) -> bool:
+    """A cell that reads as a floating-point number (NaN and blanks included)."""
+    try:
+        float(value)
+    except (TypeError, ValueError, OverflowError):
+        return False
+    return True
+
+
+def check_rows(path: str | os.PathLike[str], columns: list[str], text: tuple[str, ...],
+               rows: int) -> None:
+    """Check the first ``rows`` rows of a result file before a resume keeps them: the
+    columns (names and order) are ``columns``, those not in ``text`` hold numbers, and the
+    samples are numbered 0, 1, ... in order.
+
+    Parameters
+    ----------
+    path : str or path
+    columns : list of str
+    text : tuple of str
+        The columns of text (status, reason).
+    rows : int
+
+    Raises
+    ------
+    ModelError
+        Naming the file and what is wrong in it.
+    """
+    p = Path(path)
+    if rows <= 0:
+        return
+    import pandas as pd
+
+    try:
+        if p.suffix.lower() == ".parquet":
+            import pyarrow as pa
+            import pyarrow.parquet as pq
+
+            try:
+                source = pq.ParquetFile(p)
+                names = list(source.schema_arrow.names)
+                groups: list[int] = []
+                count = 0
+                while count < rows and len(groups) < source.num_row_groups:
+                    count += source.metadata.row_group(len(groups)).num_rows
+                    groups.append(len(groups))
+                frame = source.read_row_groups(groups).to_pandas()
+            except (OSError, ValueError, pa.ArrowException):
+                raise _damaged(p, "its rows cannot be read (damaged or truncated)") from None
+        else:
+            with p.open("r", encoding="utf-8", newline="") as handle:
+                names = handle.readline().rstrip("\r\n").split(",")
+            if names != columns:
+                raise _damaged(p, f"its header is '{','.join(names)}', not the study's "
+                               f"'{','.join(columns)}'")
+            try:
+                frame = pd.read_csv(p, nrows=rows, keep_default_na=False,
+                                    na_values={c: ["", "NaN", "nan"] for c in columns
+                                               if c not in text},
+                                    dtype={c: str for c in text})
+            except (OSError, ValueError, UnicodeDecodeError) as exc:
+                raise _damaged(p, f"its rows cannot be read ({exc})") from None
+    except MemoryError:
+        raise _damaged(p, "its rows do not fit in memory") from None
+    if names != columns:
+        raise _damaged(p, f"its columns are {', '.join(names)}, not the study's "
+                       f"{', '.join(columns)}")
+    frame = frame.iloc[:rows]
+    if len(frame) < rows:
+        raise _damaged(p, f"it holds {len(frame)} readable rows, not {rows}")
+    for column in columns:
+        if column in text:
+            continue
+        values = frame[column]
+        if not (pd.api.types.is_numeric_dtype(values) or pd.api.types.is_bool_dtype(values)):
+            bad = next((i for i, v in enumerate(values) if not _number(v)), 0)
+            raise _damaged(p, f"column '{column}' holds '{str(values.iloc[bad])[:40]}' in row "
+                           f"{bad + 1}, not a number")
+    if not np.array_equal(frame["sample"].to_numpy(), np.arange(rows)):
+        raise _damaged(p, "its samples are not numbered 0, 1, 2, ... in order")
 
 
 class ResultWriter:
@@ -263,5 +416,5 @@ def read_columns(path: str | os.PathLike[str], columns: list[str]) -> dict[str, 
     return {c: frame[c].to_numpy() for c in columns}
 
 
-__all__ = ["ResultWriter", "check_output", "completed_rows", "read_columns",
+__all__ = ["ResultWriter", "check_output", "check_rows", "completed_rows", "read_columns",
            "read_description"]

@@ -65,16 +65,37 @@ def summary_table(frame: Any, columns: Sequence[str]) -> Any:
     return pd.DataFrame(rows).set_index("quantity")
 
 
-def sobol_indices(frame: Any, spec: StudySpec, seed: int = 0) -> dict[str, dict[str, Any]]:
+def bootstrap_seed(seed: int) -> int:
+    """The seed of SALib's bootstrap for a study's seed: never 0 (SALib takes a seed of 0
+    for none and draws from numpy's global generator, so the confidence intervals would
+    change from run to run).
+
+    Examples
+    --------
+    >>> bootstrap_seed(0), bootstrap_seed(2026)
+    (1, 2027)
+    """
+    return int(seed) % (2**32 - 1) + 1
+
+
+def sobol_indices(frame: Any, spec: StudySpec, seed: int | None = None
+                  ) -> dict[str, dict[str, Any]]:
     """First-order and total Sobol indices of every quantity, with 95 % confidence
     intervals, by SALib from the rows of a ``sobol`` design (in sample order).
+
+    Saltelli's sample is a block of ``len(vary) + 2`` rows per base sample; a block
+    where a quantity is missing (a failed sample, or a partial file) is left out of that
+    quantity's indices, and the note says from how many base samples they are.  A
+    quantity that is constant, or missing from nearly every block, has no indices
+    (None) and a note saying why.
 
     Parameters
     ----------
     frame : pandas.DataFrame
     spec : StudySpec
-    seed : int
-        The seed of SALib's bootstrap of the confidence intervals.
+    seed : int, optional
+        The seed of SALib's bootstrap of the confidence intervals (default: from the
+        study's seed, so that a run gives the same intervals every time).
 
     Returns
     -------
@@ -97,21 +118,33 @@ def sobol_indices(frame: Any, spec: StudySpec, seed: int = 0) -> dict[str, dict[
     from SALib.analyze import sobol
 
     problem = sobol_problem(len(spec.vary))
+    step = len(spec.vary) + 2
     ordered = frame.sort_values("sample") if "sample" in frame else frame  # files: in order
+    bootstrap = bootstrap_seed(spec.seed if seed is None else seed)
     out: dict[str, dict[str, Any]] = {}
     for name in spec.columns:
         y = np.asarray(ordered[name], dtype=float)
         entry: dict[str, Any] = {"parameters": list(spec.vary)}
-        if y.size != spec.size or not np.isfinite(y).all() or np.ptp(y) == 0:
-            why = "constant" if y.size and np.isfinite(y).all() else \
-                "incomplete (failed samples or a partial file)"
-            nan = [math.nan] * len(spec.vary)
-            entry.update(S1=nan, S1_conf=nan, ST=nan, ST_conf=nan,
-                         note=f"no indices: the quantity is {why}")
+        blocks = y[:(min(y.size, spec.size) // step) * step].reshape(-1, step)
+        complete = blocks[np.isfinite(blocks).all(axis=1)]
+        none = [None] * len(spec.vary)
+        if len(complete) < 2:
+            entry.update(S1=none, S1_conf=none, ST=none, ST_conf=none,
+                         note="no indices: the quantity is missing from nearly every "
+                              "sample (failed samples or a partial file)")
+        elif np.ptp(complete) == 0:
+            entry.update(S1=none, S1_conf=none, ST=none, ST_conf=none,
+                         note="no indices: the quantity is constant")
         else:
-            result = sobol.analyze(problem, y, calc_second_order=False, seed=seed)
-            entry.update({k: [float(v) for v in result[k]]
-                          for k in ("S1", "S1_conf", "ST", "ST_conf")}, note="")
+            with np.errstate(all="ignore"):
+                result = sobol.analyze(problem, complete.ravel(), calc_second_order=False,
+                                       seed=bootstrap)
+            entry.update({k: [float(v) if math.isfinite(v) else None for v in result[k]]
+                          for k in ("S1", "S1_conf", "ST", "ST_conf")})
+            left = spec.samples - len(complete)
+            entry["note"] = "" if left == 0 else (
+                f"from {len(complete)} of {spec.samples} base samples: the quantity is "
+                f"missing (failed samples or a partial file) in the others")
         out[name] = entry
     return out
 
@@ -211,4 +244,4 @@ class StudyResult:
                                       grid=self.spec.design == "grid")
 
 
-__all__ = ["StudyResult", "sobol_indices", "summary_table"]
+__all__ = ["StudyResult", "bootstrap_seed", "sobol_indices", "summary_table"]

@@ -34,15 +34,15 @@ from typing import Any
 import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import ModelError
+from ..errors import ModelError, Problem
 from ..model import Model, loads
 from ..model.files import open_regular_file, read_bounded
 from ..model.limits import MAX_FILE_BYTES
-from ..model.study import StudySpec, study_spec
+from ..model.study import RESERVED_COLUMNS, StudySpec, study_spec
 from ..system import LinearSystem, NonlinearSystem, linear_system, nonlinear_system
 from .designs import chunk_size, chunk_values, chunks
 from .engine import Engine, engine_for, ordered_map
-from .files import ResultWriter, check_output, completed_rows, read_description
+from .files import ResultWriter, check_output, check_rows, completed_rows, read_description
 from .quantities import evaluate_samples
 from .result import StudyResult, sobol_indices
 
@@ -100,6 +100,8 @@ class StudyJob:
     overrides : tuple of (str, str)
         Parameter values replacing the file's (``--set``).
     spec : StudySpec
+    allow_paths : tuple of str
+        Further folders matrix files may be read from (absolute).
 
     Examples
     --------
@@ -115,10 +117,12 @@ class StudyJob:
     base_dir: str
     overrides: tuple[tuple[str, str], ...]
     spec: StudySpec
+    allow_paths: tuple[str, ...] = ()
 
     @classmethod
     def of(cls, model: Model, spec: StudySpec, text: str | None = None,
-           overrides: Mapping[str, Any] | None = None) -> StudyJob:
+           overrides: Mapping[str, Any] | None = None,
+           allow_paths: Sequence[str | os.PathLike[str]] = ()) -> StudyJob:
         """The job of a loaded model (its file is read again for the text).
 
         Parameters
@@ -128,6 +132,8 @@ class StudyJob:
         text : str, optional
             The model's text, for a model that was not loaded from a file.
         overrides : mapping, optional
+        allow_paths : sequence of paths, optional
+            Further folders the model's matrix files may be read from.
 
         Returns
         -------
@@ -138,13 +144,16 @@ class StudyJob:
         else:
             base_dir = os.getcwd()
         pairs = tuple(sorted((str(k), str(v)) for k, v in (overrides or {}).items()))
-        return cls(text, model.source, base_dir, pairs, spec)
+        return cls(text, model.source, base_dir, pairs, spec,
+                   tuple(str(Path(p).resolve()) for p in allow_paths))
 
     @property
     def key(self) -> str:
         """A digest of the model's text, source and overrides."""
         digest = hashlib.sha256(self.text.encode())
         digest.update(repr((self.source, self.base_dir, self.overrides)).encode())
+        if self.allow_paths:
+            digest.update(repr(self.allow_paths).encode())
         return digest.hexdigest()
 
 
@@ -186,8 +195,8 @@ def request(model: Model, vary: Mapping[str, Any] | None = None,
                                "harmonics": harmonics}.items() if v is not None}
     merged = {**base, **given}
     if "vary" not in merged or "quantities" not in merged:
-        raise ModelError("a study needs the parameters to vary and the quantities (or a "
-                         "[study] section in the model)")
+        raise ModelError(Problem("a study needs the parameters to vary and the quantities "
+                                 "(or a [study] section in the model)", model.source))
     return study_spec(merged.pop("vary"), merged.pop("quantities"), **merged,
                       parameters=model.parameters, coordinates=model.coordinates,
                       outputs=model.outputs, units=model.units, source=model.source,
@@ -208,7 +217,7 @@ def system_of(job: StudyJob) -> LinearSystem:
     system = _SYSTEMS.get(job.key)
     if system is None:
         model = loads(job.text, source=job.source, base_dir=job.base_dir,
-                      overrides=dict(job.overrides))
+                      overrides=dict(job.overrides), allow_paths=job.allow_paths)
         system = _SYSTEMS[job.key] = linear_system(model)
     return system
 
@@ -311,16 +320,25 @@ def description(job: StudyJob, size: int) -> dict[str, Any]:
             "rows": job.spec.size}
 
 
-def _resume_rows(path: Path, expected: dict[str, Any], size: int) -> int:
-    """Rows of complete chunks of an earlier run of the same study at ``path``."""
+def _resume_rows(path: Path, expected: dict[str, Any], size: int, spec: StudySpec) -> int:
+    """Rows of complete chunks of an earlier run of the same study at ``path``, checked
+    (the file is read back as untrusted input)."""
     if not path.is_file():
         return 0
     found = read_description(path)
     if found != expected:
-        raise ModelError(f"'{path}' holds a different study (model, request or seed); "
-                         "write to a new file or remove it to start afresh")
+        raise ModelError(Problem("the file holds a different study (model, request or seed); "
+                                 "write to a new file or remove it to start afresh",
+                                 str(path)))
     rows = completed_rows(path)
-    return rows if rows == expected["rows"] else (rows // size) * size
+    if rows > expected["rows"]:
+        raise ModelError(Problem(f"cannot resume from this file: it holds {rows} rows, more "
+                                 f"than the study's {expected['rows']}; remove it to start "
+                                 "afresh", str(path)))
+    keep = rows if rows == expected["rows"] else (rows // size) * size
+    check_rows(path, ["sample", *spec.vary, *spec.columns, *RESERVED_COLUMNS[1:]],
+               RESERVED_COLUMNS[1:], keep)
+    return keep
 
 
 @dataclass(frozen=True)
@@ -395,7 +413,7 @@ def run_study(job: StudyJob, output: str | os.PathLike[str], engine: Engine = AU
     size = chunk_size(job.spec, system_of(job).n)
     nonlinear_of(job)  # a model without full equations fails here, before any file
     expected = description(job, size)
-    kept = _resume_rows(path, expected, size) if resume else 0
+    kept = _resume_rows(path, expected, size, job.spec) if resume else 0
     bar = _Bar(job.spec.size, sys.stderr.isatty() if progress is None else progress)
     bar.advance(kept)
     where = ["this process"]

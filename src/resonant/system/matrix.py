@@ -170,7 +170,8 @@ class MatrixEOM(LinearSystem):
         M, C, K = (self._matrix_values(key, values) for key in ("M", "C", "K"))
         harmonics = []
         for j, h in enumerate(spec.harmonics, start=1):
-            deadline.check("while evaluating the harmonic loads", f"harmonic {j}")
+            deadline.check("while evaluating the harmonic loads", f"harmonic {j}",
+                           analysis=True)
             where = f"harmonic {j}"
             omega = np.asarray(numeric_value(h.omega, values), dtype=float)
             self._check_finite(omega, "omega", where)

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import html
 import json
+import math
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -61,6 +62,14 @@ DEFAULT_SHOWN = 6
 PRECOMPUTED_MODES = 12
 #: the largest matrices a precomputed page prints
 PRECOMPUTED_MATRICES = 12
+#: the working memory a precomputed page of a model given by its energies may take, in
+#: bytes: its frequency response evaluates M, C and K (n * n complex numbers each) at
+#: every point of the curve, and holds about twice that at once
+PAGE_MEMORY = 2**30
+#: the most coordinates of a model given by its energies that the page shows (decided
+#: from the coordinates alone, before anything is derived): 167 for PAGE_MEMORY; a
+#: [matrices] model is evaluated once, sparse, and has no such bound
+MAX_ENERGY_COORDINATES = math.isqrt(PAGE_MEMORY // (2 * 3 * CURVE_POINTS * 16))
 #: names preferred as the excitation frequency, in order
 FREQUENCY_NAMES = ("omega", "Omega", "w", "W", "omega_e", "Omega_e")
 
@@ -481,6 +490,34 @@ def _exported(system: LinearSystem, motion: SketchMotion | None
                       "values.")
 
 
+def check_page_size(model: Model) -> None:
+    """Refuse, before any work, a model too large for the page (see
+    :data:`MAX_ENERGY_COORDINATES`).
+
+    Parameters
+    ----------
+    model : Model
+
+    Raises
+    ------
+    ModelError
+        Naming the model's coordinates, the bound and what to do instead.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> check_page_size(resonant.load("examples/absorber.toml"))  # 2 coordinates: fine
+    """
+    n = len(model.coordinates)
+    if model.matrices is None and n > MAX_ENERGY_COORDINATES:
+        raise ModelError(Problem(
+            f"{n} coordinates are more than the explore page shows of a model given by its "
+            f"energies (at most {MAX_ENERGY_COORDINATES}: its frequency response would need "
+            f"about {2 * 3 * n * n * CURVE_POINTS * 16 / 2**30:.0f} GiB of memory); give "
+            "the model by its matrices ([matrices]), or use modes and sweep on it",
+            model.source, "coordinates"))
+
+
 def explore_data(model: Model, system: LinearSystem | None = None,
                  deadline: Deadline = NO_DEADLINE) -> tuple[dict[str, Any], str]:
     """Everything the explore page of a model holds: its data and its program.
@@ -504,6 +541,7 @@ def explore_data(model: Model, system: LinearSystem | None = None,
     >>> data["live"], data["drawing"]["owners"], data["frequency"]
     (True, ['pivot', 'bob'], 'omega')
     """
+    check_page_size(model)
     system = system if system is not None else linear_system(model, deadline)
     motion = sketch_motion(model) if model.parts is not None and (
         model.parts.parts.bodies or model.parts.parts.points) else None
@@ -561,6 +599,7 @@ def explore_page(model: Model, system: LinearSystem | None = None,
     return ExplorePage(page_html(data, program), model.title, bool(data["live"]))
 
 
-__all__ = ["ExplorePage", "explore_page", "explore_data", "controls", "default_range",
+__all__ = ["ExplorePage", "check_page_size", "explore_page", "explore_data", "controls",
+           "default_range",
            "frequency_parameter", "shown_names", "precomputed", "page_html", "script_json",
            "LIVE_LIMIT", "CURVE_POINTS"]

@@ -15,6 +15,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -322,7 +323,8 @@ def plot_sobol(indices: Mapping[str, Any], quantity: str, ax: Any = None,
     x = np.arange(len(names))
     for offset, key, color, label in ((-0.18, "S1", "#4477aa", "first order"),
                                       (0.18, "ST", "#ee7733", "total")):
-        ax.bar(x + offset, indices[key], width=0.36, yerr=indices[f"{key}_conf"],
+        ax.bar(x + offset, _numbers(indices[key]), width=0.36,
+               yerr=_numbers(indices[f"{key}_conf"]),
                color=color, label=label, capsize=3)
     ax.set_xticks(x, [math_name(n) for n in names])
     ax.set_ylim(min(0.0, ax.get_ylim()[0]), max(1.05, ax.get_ylim()[1]))
@@ -333,6 +335,11 @@ def plot_sobol(indices: Mapping[str, Any], quantity: str, ax: Any = None,
                  fontsize="medium")
     ax.legend(frameon=False, fontsize="small")
     return fig
+
+
+def _numbers(values: Any) -> np.ndarray:
+    """Indices as numbers, NaN where there are none (None)."""
+    return np.array([math.nan if v is None else v for v in values], dtype=float)
 
 
 def plot_contour(frame: Any, quantity: str, x: str, y: str, ax: Any = None,
