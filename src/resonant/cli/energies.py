@@ -11,7 +11,8 @@ import resonant.cli.common as common
 from ..model import Model
 
 
-def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+             parent: argparse.ArgumentParser) -> None:
     energies = subparsers.add_parser(
         "energies", parents=[parent],
         help="the kinetic and potential energy and the dissipation function derived from "

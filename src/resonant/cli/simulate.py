@@ -11,7 +11,6 @@ import argparse
 import sys
 from functools import partial
 from pathlib import Path
-from typing import Any
 
 import resonant.cli.common as common
 
@@ -56,7 +55,8 @@ def _positive(text: str) -> float:
     return value
 
 
-def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+             parent: argparse.ArgumentParser) -> None:
     parser = subparsers.add_parser(
         "simulate", parents=[parent],
         help="time simulation (linearized or --nonlinear) compared with the stationary "

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
 
 import resonant.cli.common as common
 
@@ -15,7 +14,8 @@ from ..views.display import solution_text
 from ..views.units_display import result_units
 
 
-def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+             parent: argparse.ArgumentParser) -> None:
     solve = subparsers.add_parser("solve", parents=[parent], help="linearized EOM, natural "
                                   "frequencies and the stationary solution")
     solve.add_argument("--json", action="store_true", help="print one JSON object")

@@ -55,9 +55,9 @@ def _no_constant(text: str) -> Any:
     raise ValueError(f"{text} is not a number JSON allows")
 
 
-def _shape(value: Any, where: str, source: str, key: str) -> tuple[list[float], tuple[int, ...]]:
+def _shape(value: object, where: str, source: str, key: str) -> tuple[list[float], tuple[int, ...]]:
     """The entries (row-major) and shape of a number, a vector or a matrix."""
-    def number(x: Any) -> float:
+    def number(x: object) -> float:
         if isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x):
             raise ModelError(Problem(f"{where}: expected a finite number, got "
                                      f"{printable(repr(x), limit=40)}", source, "", key))
@@ -82,7 +82,7 @@ def _index(shape: tuple[int, ...], k: int) -> str:
     return f"[{k + 1}]" if shape else ""
 
 
-def grade_data(key: Any, variant: int, answers: Any, key_source: str = "key.json",
+def grade_data(key: object, variant: int, answers: object, key_source: str = "key.json",
                answers_source: str = "answers") -> dict[str, Any]:
     """Compare ``answers`` (name -> number / list / nested list) with the key's variant.
 

@@ -183,7 +183,7 @@ def write(batch: ExerciseSet, folder: str | Path, formats: Sequence[str] = ("htm
     return written
 
 
-def _json(data: Any) -> str:
+def _json(data: object) -> str:
     try:
         return json.dumps(data, indent=2, allow_nan=False) + "\n"
     except ValueError:

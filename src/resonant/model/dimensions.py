@@ -322,7 +322,7 @@ class Checker:
 _MATRIX_SCALE = {"M": ENERGY * TIME ** 2, "C": ENERGY * TIME, "K": ENERGY}
 
 
-def _matrix_uses(matrices: Any, q: Sequence[Dimension | None], coordinates: Sequence[str]
+def _matrix_uses(matrices: object, q: Sequence[Dimension | None], coordinates: Sequence[str]
                  ) -> list[tuple[str, str, Expression, Dimension, str]]:
     """The inline entries of ``[matrices]`` and the harmonics' loads that are expressions of
     parameters, with the dimension each must have: ``(section, key, expression, dimension,
@@ -353,7 +353,7 @@ def _matrix_uses(matrices: Any, q: Sequence[Dimension | None], coordinates: Sequ
     return uses
 
 
-def _check_matrices(checker: Checker, matrices: Any, q: Sequence[Dimension | None],
+def _check_matrices(checker: Checker, matrices: object, q: Sequence[Dimension | None],
                     coordinates: Sequence[str]) -> None:
     """The inline matrix entries and harmonic loads against the coordinates' units."""
     for section, key, entry, wanted, what in _matrix_uses(matrices, q, coordinates):
@@ -366,7 +366,7 @@ def check_units(source: str, parameters: Mapping[str, Expression],
                 display: Mapping[str, Unit], equilibrium: Mapping[str, Expression],
                 signals: Mapping[str, Expression], definitions: Mapping[str, Expression],
                 energy: Mapping[str, Expression], forces: Iterable[Any],
-                outputs: Mapping[str, Expression], matrices: Any = None,
+                outputs: Mapping[str, Expression], matrices: object = None,
                 coordinates: Sequence[str] = ()) -> tuple[ModelUnits, list[Problem]]:
     """Infer every name's dimension and check the model's expressions (the loader's step).
 
@@ -450,7 +450,7 @@ def _inferred(source: str, parameters: Mapping[str, Expression],
               given: Mapping[str, tuple[Expression, Unit]],
               coordinate_units: Mapping[str, Unit], equilibrium: Mapping[str, Expression],
               signals: Mapping[str, Expression], definitions: Mapping[str, Expression],
-              energy: Mapping[str, Expression], forces: Iterable[Any], matrices: Any = None,
+              energy: Mapping[str, Expression], forces: Iterable[Any], matrices: object = None,
               coordinates: Sequence[str] = ()) -> dict[str, Dimension | None]:
     """The dimensions of the bare-number parameters that the model's physics determines
     (the inline matrices' entries, harmonic loads and frequencies are uses too)."""
@@ -509,7 +509,7 @@ def _check_outputs(checker: Checker, outputs: Mapping[str, Expression],
                 f"{shown.text} is {shown.dimension.text()}", checker.source, "outputs", name))
 
 
-def _harmonic_notes(checker: Checker, matrices: Any, cyclic: set[str]) -> list[str]:
+def _harmonic_notes(checker: Checker, matrices: object, cyclic: set[str]) -> list[str]:
     """Each harmonic's omega is a frequency; a note where it is a value in Hz."""
     notes = []
     for i, harmonic in enumerate(getattr(matrices, "harmonics", ()), start=1):

@@ -149,7 +149,7 @@ def _decimal_text(d: Decimal) -> str:
     return text if "." not in text else text.rstrip("0").rstrip(".")
 
 
-def _values(raw: Any, where: tuple[str, str, str], problems: list[Problem]
+def _values(raw: object, where: tuple[str, str, str], problems: list[Problem]
             ) -> tuple[list[float], list[str]]:
     source, section, key = where
     if isinstance(raw, dict):
@@ -192,7 +192,7 @@ def _values(raw: Any, where: tuple[str, str, str], problems: list[Problem]
     return values, texts
 
 
-def parse_exercise(exercise: Any, variants: Any, parameters: Sequence[str],
+def parse_exercise(exercise: object, variants: object, parameters: Sequence[str],
                    coordinates: Sequence[str], outputs: Sequence[str], source: str,
                    problems: list[Problem]) -> Exercise | None:
     """Validate the two sections; append every problem to ``problems``.
@@ -255,7 +255,7 @@ def parse_exercise(exercise: Any, variants: Any, parameters: Sequence[str],
     return Exercise(statement, tuple(answers), float(tolerance), tuple(declared), units)
 
 
-def _answers(raw: Any, coordinates: Sequence[str], outputs: Sequence[str], source: str,
+def _answers(raw: object, coordinates: Sequence[str], outputs: Sequence[str], source: str,
              problems: list[Problem]) -> list[str]:
     if raw is None:
         problems.append(Problem("answers is missing: list what is asked, e.g. answers = "
@@ -301,7 +301,7 @@ def _answers(raw: Any, coordinates: Sequence[str], outputs: Sequence[str], sourc
     return out
 
 
-def _units(raw: Any, names: Sequence[str], source: str, problems: list[Problem]
+def _units(raw: object, names: Sequence[str], source: str, problems: list[Problem]
            ) -> Mapping[str, str] | None:
     if raw is None:
         return None
@@ -323,7 +323,7 @@ def _units(raw: Any, names: Sequence[str], source: str, problems: list[Problem]
     return out
 
 
-def _variants(raw: Any, parameters: Sequence[str], source: str, problems: list[Problem]
+def _variants(raw: object, parameters: Sequence[str], source: str, problems: list[Problem]
               ) -> list[VariantValues]:
     if raw is None:
         problems.append(Problem("[variants] is missing: say which values the parameters may "

@@ -98,7 +98,7 @@ def _unknown(name: str, known: Sequence[str], what: str) -> str:
     return f"'{name}' is not one of the model's {what}{hint}"
 
 
-def _bound(value: Any, part: str, where: tuple[str, str], units: ModelUnits | None,
+def _bound(value: object, part: str, where: tuple[str, str], units: ModelUnits | None,
            problems: list[Problem]) -> float | None:
     """One end of a range: a number (SI) or a string with a unit, converted to SI."""
     source, key = where
@@ -188,7 +188,7 @@ def _options(data: Mapping[str, Any], parameters: Sequence[str], names: Sequence
     return tuple(show), frequency
 
 
-def parse_explore(data: Any, parameters: Sequence[str], coordinates: Sequence[str],
+def parse_explore(data: object, parameters: Sequence[str], coordinates: Sequence[str],
                   outputs: Sequence[str], source: str, problems: list[Problem],
                   units: ModelUnits | None = None) -> ExploreSpec | None:
     """Validate ``[explore]``; append every problem to ``problems``.

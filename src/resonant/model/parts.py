@@ -185,7 +185,7 @@ class _Reader:
     def problem(self, message: str, section: str, key: str = "") -> None:
         self.problems.append(Problem(message, self.source, section, key))
 
-    def expression(self, value: Any, section: str, key: str, constant: bool = False,
+    def expression(self, value: object, section: str, key: str, constant: bool = False,
                    position: bool = False) -> Expression | None:
         if isinstance(value, bool) or not isinstance(value, (str, int, float)):
             self.problem(f"expected a number or an expression string, got "
@@ -210,7 +210,7 @@ class _Reader:
             return None
         return expression
 
-    def vector(self, value: Any, section: str, key: str, position: bool = True
+    def vector(self, value: object, section: str, key: str, position: bool = True
                ) -> Vector | None:
         if not isinstance(value, list) or len(value) != 2:
             self.problem(f"{key} must be a list of two expressions [x, y] (the plane)",
@@ -422,7 +422,7 @@ class _PointCheck:
         self.bodies = {b.name: b for b in bodies}
         self.known = set(Parts(points=tuple(points), bodies=tuple(bodies)).point_names())
 
-    def __call__(self, name: Any, section: str, key: str) -> bool:
+    def __call__(self, name: object, section: str, key: str) -> bool:
         if not isinstance(name, str):
             self.reader.problem(f"{key} must name a point (a string)", section, key)
             return False

@@ -313,7 +313,7 @@ class _Reader:
     def problem(self, message: str, key: str) -> None:
         self.problems.append(Problem(message, self.source, self.section, key))
 
-    def number(self, raw: Any, name: str, key: str) -> float | None:
+    def number(self, raw: object, name: str, key: str) -> float | None:
         """A number with an optional unit, in SI; the unit checked against ``name``'s."""
         if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
             self.problem(f"expected a number, got {type(raw).__name__}", key)
@@ -420,7 +420,7 @@ def _range(reader: _Reader, name: str, spec: Mapping[str, Any], text: str
     return Distribution("values", tuple(float(start + i * step) for i in range(count)), text)
 
 
-def parse_distribution(raw: Any, name: str, reader: _Reader) -> Distribution | None:
+def parse_distribution(raw: object, name: str, reader: _Reader) -> Distribution | None:
     """One parameter's specification (see the module docstring); None after a problem."""
     if isinstance(raw, str):
         text = raw.strip()
@@ -447,7 +447,7 @@ def parse_distribution(raw: Any, name: str, reader: _Reader) -> Distribution | N
     return None if value is None else Distribution("values", (value,), str(raw))
 
 
-def parse_quantity(text: Any, names: Collection[str], reader: _Reader) -> Quantity | None:
+def parse_quantity(text: object, names: Collection[str], reader: _Reader) -> Quantity | None:
     """``kind[:target]`` checked against the model's coordinates and outputs."""
     if not isinstance(text, str):
         reader.problem(f"a quantity is a text such as 'natural_frequency:1', got "
@@ -478,14 +478,14 @@ def parse_quantity(text: Any, names: Collection[str], reader: _Reader) -> Quanti
     return Quantity(kind, "", 0, kind)
 
 
-def _integer(reader: _Reader, raw: Any, key: str, low: int, high: int) -> int | None:
+def _integer(reader: _Reader, raw: object, key: str, low: int, high: int) -> int | None:
     if isinstance(raw, bool) or not isinstance(raw, int) or not low <= raw <= high:
         reader.problem(f"{key} must be a whole number from {low} to {high}, got {raw!r}", key)
         return None
     return raw
 
 
-def parse_band(raw: Any, parameters: Collection[str], reader: _Reader) -> Band | None:
+def parse_band(raw: object, parameters: Collection[str], reader: _Reader) -> Band | None:
     """``{parameter = "omega", from = 1, to = 30, points = 200}`` (points optional)."""
     if not isinstance(raw, dict):
         reader.problem("band is { parameter = \"omega\", from = ..., to = ..., points = ... }",
@@ -514,7 +514,7 @@ def parse_band(raw: Any, parameters: Collection[str], reader: _Reader) -> Band |
     return Band(str(param), start, stop, points)
 
 
-def _design(reader: _Reader, design: Any, samples: Any, seed: Any
+def _design(reader: _Reader, design: object, samples: object, seed: object
             ) -> tuple[str, int, int] | None:
     if design not in DESIGNS:
         reader.problem(f"unknown design {design!r}; the designs are {', '.join(DESIGNS)}",
@@ -527,8 +527,9 @@ def _design(reader: _Reader, design: Any, samples: Any, seed: Any
     return str(design), count, start
 
 
-def study_spec(vary: Mapping[str, Any], quantities: Sequence[Any], *, design: Any = "random",
-               samples: Any = 1000, seed: Any = 0, band: Any = None, harmonics: Any = None,
+def study_spec(vary: Mapping[str, Any], quantities: Sequence[Any], *, design: object = "random",
+               samples: object = 1000, seed: object = 0, band: object = None,
+               harmonics: object = None,
                parameters: Collection[str], coordinates: Collection[str],
                outputs: Collection[str], units: ModelUnits | None = None,
                source: str = "", section: str = "study") -> StudySpec:
@@ -579,8 +580,8 @@ def study_spec(vary: Mapping[str, Any], quantities: Sequence[Any], *, design: An
     return spec
 
 
-def _read(reader: _Reader, vary: Any, quantities: Any, design: Any, samples: Any, seed: Any,
-          band: Any, parameters: Collection[str], names: Collection[str],
+def _read(reader: _Reader, vary: object, quantities: object, design: object, samples: object,
+          seed: object, band: object, parameters: Collection[str], names: Collection[str],
           outputs: Collection[str]) -> StudySpec | None:
     if not isinstance(vary, Mapping) or not vary:
         reader.problem("a study varies at least one parameter (vary = { k = \"...\" })",
@@ -636,14 +637,14 @@ def _checked_size(reader: _Reader, spec: StudySpec) -> StudySpec | None:
 STUDY_KEYS = ("vary", "quantities", "design", "samples", "seed", "band", "harmonics")
 
 
-def parse_study(raw: Any, parameters: Collection[str], coordinates: Collection[str],
+def parse_study(raw: object, parameters: Collection[str], coordinates: Collection[str],
                 outputs: Collection[str], units: ModelUnits | None, source: str,
                 problems: list[Problem]) -> StudySpec | None:
     """The ``[study]`` section of a model file; problems appended, None after one.
 
     Parameters
     ----------
-    raw : Any
+    raw : object
         The section as read from TOML.
     parameters, coordinates, outputs : collection of str
         The model's names.

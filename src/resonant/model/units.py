@@ -480,7 +480,7 @@ def scaled(expression: Expression, unit: Unit, text: str) -> Expression:
     return Expression(text, BinOp("*", expression.root, factor), expression.origin)
 
 
-def parse_with_unit(value: Any, allowed: Collection[str] | None, file: str = "",
+def parse_with_unit(value: str | float, allowed: Collection[str] | None, file: str = "",
                     section: str = "", key: str = ""
                     ) -> tuple[Expression, tuple[Expression, Unit] | None]:
     """A parameter value with an optional unit: the SI expression, and what was given.
@@ -510,7 +510,7 @@ def parse_with_unit(value: Any, allowed: Collection[str] | None, file: str = "",
         hint = "" if _looks_like_unit(unit_text) else \
             " (a unit follows the value after a space; for a product write *)"
         raise ExpressionError(f"{exc}{hint}", "", None, file, section, key) from None
-    return scaled(expression, unit, value), (expression, unit)
+    return scaled(expression, unit, str(value)), (expression, unit)
 
 
 def _looks_like_unit(text: str) -> bool:
