@@ -43,10 +43,12 @@ def _stop(process: subprocess.Popen) -> None:
             process.wait(10)
 
 
-@pytest.fixture
-def cluster(tmp_path):
+@pytest.fixture(scope="module")
+def cluster(tmp_path_factory):
     """A scheduler and two single-threaded workers without nannies (a killed worker stays
-    dead); yields (address, {name: process})."""
+    dead); yields (address, {name: process}).  One cluster for the module: the test that
+    kills a worker comes last (a test that ran after it would still have one worker)."""
+    tmp_path = tmp_path_factory.mktemp("cluster")
     info = tmp_path / "scheduler.json"
     processes = [_dask("dask_scheduler", "--host", "127.0.0.1", "--port", "0",
                        "--no-dashboard", "--scheduler-file", str(info),

@@ -27,6 +27,7 @@ from resonant.analyses.harmonic_balance import nonlinear_sweep
 from resonant.analyses.slow_sweep import NotConverged, swept_state
 from resonant.errors import AnalysisError, ModelError
 from resonant.studies import StudyJob, collect, engine_for, read_table, request, run_study
+from resonant.studies.designs import NONLINEAR_CHUNK
 from resonant.system import nonlinear_at, nonlinear_system
 
 pytest.importorskip("pandas")
@@ -191,13 +192,14 @@ def test_a_motion_that_does_not_settle_is_not_periodic(monkeypatch, duffing):
 
 
 def test_same_bytes_in_process_and_on_two_local_workers(tmp_path):
-    job = _job(samples=12)
+    """Two chunks of NONLINEAR_CHUNK samples: one for each worker."""
+    job = _job(samples=2 * NONLINEAR_CHUNK)
     here, there = tmp_path / "here.parquet", tmp_path / "there.parquet"
     run_study(job, here, engine_for(0))
     summary = run_study(job, there, engine_for(2))
     assert summary.where == "2 local workers"
     assert here.read_bytes() == there.read_bytes()
-    assert len(read_table(here)) == 12
+    assert len(read_table(here)) == 2 * NONLINEAR_CHUNK
 
 
 @pytest.mark.parametrize("options, message", [

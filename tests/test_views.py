@@ -58,31 +58,34 @@ def results():
 
 
 def test_plots_leave_pyplot_and_backend_alone(results, tmp_path):
+    """Every kind of plot (both sweeps, modes, a simulation), drawn and written to each
+    format, leaves pyplot's figures and the backend alone.  One model's results: the
+    other two models take the same code path, and each plot costs about a second."""
     sweeps, modal, sims = results
     backend = matplotlib.get_backend()
     before = plt.get_fignums()
     calls = 0
     figures = []
-    for i, fr in enumerate(sweeps):                      # 6 sweeps x 2 = 12
+    for i, fr in enumerate(sweeps[:2]):                  # the omega and k2 sweeps x 2 = 4
         figures.append(fr.plot())
         figures.append(fr.plot(tmp_path / f"sweep{i}.png", names=fr.names[:1]))
         calls += 2
-    for i, m in enumerate(modal):                        # 3 x 2 = 6
+    for i, m in enumerate(modal[:1]):                    # 1 x 2 = 2
         figures.append(m.plot())
         figures.append(m.plot(tmp_path / f"modes{i}.svg", count=1))
         calls += 2
-    for i, s in enumerate(sims):                         # 3 x 2 = 6
+    for i, s in enumerate(sims[:1]):                     # 1 x 2 = 2
         figures.append(s.plot())
         figures.append(s.plot(tmp_path / f"sim{i}.pdf"))
         calls += 2
     figures.append(sweeps[0].plot(tmp_path / "again.svg"))  # 1
     calls += 1
-    assert calls == 25
+    assert calls == 9
     assert all(isinstance(f, Figure) for f in figures)
     assert plt.get_fignums() == before
     assert matplotlib.get_backend() == backend
     written = sorted(p.name for p in tmp_path.iterdir())
-    assert len(written) == 13 and all((tmp_path / n).stat().st_size > 0 for n in written)
+    assert len(written) == 5 and all((tmp_path / n).stat().st_size > 0 for n in written)
     assert (tmp_path / "sweep0.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
