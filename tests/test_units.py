@@ -528,11 +528,11 @@ def test_plot_axes_are_labelled_with_units(tmp_path):
     response = model.linearize().sweep("omega", np.linspace(1, 30, 7))
     figure = response.plot(units=units.si)
     labels = [text.get_text() for text in figure.axes[0].get_legend().get_texts()]
-    assert "x1 [m]" in labels and "phi (output) [rad]" in labels
+    assert "$x_{1}$ [m]" in labels and "$\\varphi$ (output) [rad]" in labels
     same = response.plot(names=["x1", "x2"], units=units.si)
     assert same.axes[0].get_ylabel().endswith("[m]")
     sim = model.simulate(duration=0.5)
-    assert sim.plot(units=units.si).axes[0].get_ylabel().startswith("x1 [m]")
+    assert sim.plot(units=units.si).axes[0].get_ylabel().startswith("$x_{1}$ [m]")
 
 
 def test_units_benchmark_versions_agree():
