@@ -21,38 +21,10 @@ from resonant.analyses.simulate import simulate
 from resonant.errors import AnalysisError
 from resonant.model import loads
 from resonant.system import ElementSystem, EnergySystem, nonlinear_system
+from test_condensed import DUFFING_ENERGY, DUFFING_MATRICES
 
-MATRICES = '''
-[parameters]
-w = 0.5
-[matrices]
-M = [[1, 0], [0, 1]]
-K = [[2, -1], [-1, 1]]
-C = [[0.04, 0], [0, 0.04]]
-[[harmonic]]
-omega = "w"
-F_C = [0, 0.1]
-[[nonlinear]]
-name = "hardening"
-coordinates = ["q2", "q1"]
-force = "2*(q2 - q1)^3"
-'''
-
-ENERGY = '''
-[parameters]
-w = 0.5
-[coordinates]
-q1 = ""
-q2 = ""
-[signals]
-F = "0.1*cos(w*t)"
-[energy]
-T = "q1'^2/2 + q2'^2/2"
-U = "q1^2/2 + (q2 - q1)^2/2 + 2*(q2 - q1)^4/4"
-D = "0.04*q1'^2/2 + 0.04*q2'^2/2"
-[[force]]
-generalized = { q2 = "F" }
-'''
+# the same 2-DOF system twice (tests/test_condensed.py)
+MATRICES, ENERGY = DUFFING_MATRICES, DUFFING_ENERGY
 
 
 @pytest.fixture(scope="module")
