@@ -309,3 +309,15 @@ def test_sympy_and_symengine_jets_agree(example):
         for var in set(a.outputs[name].terms) | set(b.outputs[name].terms):
             diff = a.outputs[name].terms.get(var, 0) - b.outputs[name].terms.get(var, 0)
             assert sympy.simplify(diff) == 0
+
+
+def test_a_constant_signal_with_a_damper_on_it_has_a_stationary_solution():
+    """A support at rest (a constant signal whose rate enters D): the rate is 0, not a
+    signal that is no sum of harmonics; the stationary solution exists: x follows the
+    support statically (x = y0)."""
+    model = loads('[parameters]\nk = 100\nc = 2\ny0 = 0.01\n[coordinates]\nx = ""\n'
+                  '[signals]\ny = "y0"\n[energy]\nT = "x\'^2/2"\nU = "k*(x - y)^2/2"\n'
+                  'D = "c*(x\' - y\')^2/2"')
+    solution = model.linearize().stationary()
+    assert solution.available and not solution.warnings
+    assert solution.amplitudes["x"] == pytest.approx(0.01, rel=1e-12)

@@ -192,12 +192,7 @@ def test_example_solves_with_contract_keys(name):
         assert np.asarray(res["symbolic"][key]).shape == (n, n), key
     assert len(res["symbolic"]["Q"]) == n
     names = list(data["coordinates"]) + list(data.get("outputs", {}))
-    if "random" in data and not res["stationary_available"]:
-        # a model whose excitation is random has its response from `resonant random`
-        # (docs/random.md); solve says why it gives no stationary amplitudes
-        assert res["warnings"] and res["amplitudes"] == {}
-    else:
-        assert set(names) <= set(res["amplitudes"])
+    assert set(names) <= set(res["amplitudes"])
     assert res["stability"] in ("asymptotically stable", "marginally stable", "unstable")
     assert isinstance(res["warnings"], list)
     wn = res["natural_frequencies"]

@@ -106,6 +106,8 @@ def decompose(expr: sympy.Expr, _depth: int = 0) -> dict[sympy.Expr, tuple[sympy
     >>> w = sympy.Symbol("w")
     >>> decompose(3 + 2*sympy.sin(w*TIME))
     {0: (0, 3), w: (2, 0)}
+    >>> decompose(sympy.diff(sympy.Symbol("y0"), TIME))
+    {}
     """
     out: dict[sympy.Expr, list[sympy.Expr]] = {}
 
@@ -115,6 +117,8 @@ def decompose(expr: sympy.Expr, _depth: int = 0) -> dict[sympy.Expr, tuple[sympy
         entry[1] += c
 
     for term in sympy.Add.make_args(sympy.expand(expr)):
+        if term == 0:  # the derivative of a constant signal: no harmonic at all
+            continue
         coeff, dependent = term.as_independent(TIME, as_Add=False)
         if dependent == 1:
             add(ZERO, ZERO, coeff)
