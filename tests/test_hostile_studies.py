@@ -432,7 +432,7 @@ def test_sigint_to_the_program_is_one_line(model, tmp_path):
     env = dict(os.environ, PYTHONPATH=SRC)
     args = [sys.executable, "-m", "resonant", "study", str(model), "--vary",
             "k=uniform(90, 110)", "--quantity", "peak:x", "--band", "omega=1:30:4000",
-            "--samples", "700", "--workers", "0", "-o", str(out)]  # two chunks
+            "--samples", "7000", "--workers", "0", "-o", str(out)]  # many chunks
     proc = subprocess.Popen(args, stderr=subprocess.PIPE, stdout=subprocess.PIPE, env=env,
                             text=True)
     deadline = time.monotonic() + 60
@@ -448,7 +448,7 @@ def test_sigint_to_the_program_is_one_line(model, tmp_path):
 
         description = files.read_description(out)  # what --resume reads first: valid
         rows = files.completed_rows(out)
-        assert description["rows"] == 700 and 0 < rows <= 700
+        assert description["rows"] == 7000 and 0 < rows < 7000
         files.check_rows(out, ["sample", "k", "peak:x", "peak_frequency:x", "status",
                                "reason"], ("status", "reason"), rows)
 

@@ -168,7 +168,11 @@ def test_few_samples_per_cycle_warns() -> None:
 
 
 def test_against_pyyeti() -> None:
-    srs_module = pytest.importorskip("pyyeti.srs")
+    options = np.get_printoptions()  # importing pyYeti sets numpy's legacy print mode
+    try:
+        srs_module = pytest.importorskip("pyyeti.srs")
+    finally:
+        np.set_printoptions(**options)
     step, tau = 1e-5, 0.011
     _, a = pulse("half-sine", 100.0, tau, step, total=0.05)
     f = np.geomspace(5, 5000, 100)
