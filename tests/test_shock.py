@@ -205,7 +205,7 @@ def test_cli_pulse_csv_plot_json(tmp_path) -> None:  # type: ignore[no-untyped-d
     assert data["Q"] == 10 and len(data["maximax"]) == 5
     t, a = pulse("half-sine", 100.0, 0.011, 0.011 / 2000)
     csv = tmp_path / "shock.csv"
-    csv.write_text("time,acceleration\n" + "".join(f"{x!r},{y!r}\n" for x, y in zip(t, a)))
+    csv.write_text("time,acceleration\n" + "".join(f"{float(x)!r},{float(y)!r}\n" for x, y in zip(t, a)))
     status, out2, err = run_cli(["srs", "--csv", csv, "--json", "--points", "5",
                                  "--plot", tmp_path / "srs.png"])
     assert status == 0, err
