@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import os
 import socket
+import signal
 import subprocess
 import sys
 import threading
@@ -433,8 +434,11 @@ def test_sigint_to_the_program_is_one_line(model, tmp_path):
     args = [sys.executable, "-m", "resonant", "study", str(model), "--vary",
             "k=uniform(90, 110)", "--quantity", "peak:x", "--band", "omega=1:30:4000",
             "--samples", "7000", "--workers", "0", "-o", str(out)]  # many chunks
+    # a runner started in the background ignores SIGINT, and its children inherit that:
+    # the program gets Ctrl-C's default, as from a terminal
     proc = subprocess.Popen(args, stderr=subprocess.PIPE, stdout=subprocess.PIPE, env=env,
-                            text=True)
+                            text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 60
     while not Path(str(out) + ".part").exists() and time.monotonic() < deadline:
         time.sleep(0.02)
