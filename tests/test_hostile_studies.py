@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import json
 import os
-import socket
 import signal
+import socket
 import subprocess
 import sys
 import threading
@@ -26,6 +26,7 @@ from conftest import run_cli
 from resonant.errors import ModelError
 from resonant.studies.engine import Engine, machine_workers, parse_scheduler
 from resonant.studies.result import bootstrap_seed
+from test_study import SDOF
 
 pytest.importorskip("pandas")
 pytest.importorskip("pyarrow")
@@ -34,25 +35,7 @@ pytest.importorskip("SALib")
 ROOT = Path(__file__).resolve().parents[1]
 SRC = str(ROOT / "src")
 
-SDOF = """
-title = "SDOF"
-[parameters]
-m = 1
-k = 100
-c = 0.5
-F0 = 1
-omega = 8
-[coordinates]
-x = ""
-[signals]
-F = "F0*sin(omega*t)"
-[energy]
-T = "m*x'^2/2"
-U = "k*x^2/2"
-D = "c*x'^2/2"
-[[force]]
-generalized = { x = "F" }
-"""
+# the single-DOF model of tests/test_study.py (SDOF), imported above
 
 MATRIX_NL = """
 [parameters]
