@@ -409,6 +409,76 @@ def test_interrupt_leaves_a_resumable_file(model, tmp_path, monkeypatch):
     assert out.read_bytes() == whole.read_bytes()
 
 
+@pytest.mark.parametrize("suffix", [".csv", ".parquet"])
+def test_interrupt_before_the_first_chunk_leaves_a_resumable_file(model, tmp_path,
+                                                                  monkeypatch, suffix):
+    """An interrupt before any chunk is written: the file the line names holds the study's
+    description and no rows, and a resume completes it to the bytes of an uninterrupted
+    run."""
+    from resonant.studies import files
+
+    args = ["--vary", "k=uniform(90, 110)", "--quantity", "amplitude:x", "--quantity",
+            "stable", "--samples", "50", "--workers", "0"]
+    whole = tmp_path / f"whole{suffix}"
+    assert run_cli(["study", str(model), *args, "-o", str(whole)])[0] == 0
+    write = files.ResultWriter.write
+
+    def interrupted(self, columns):
+        raise KeyboardInterrupt
+
+    out = tmp_path / f"s{suffix}"
+    monkeypatch.setattr(files.ResultWriter, "write", interrupted)
+    code, _, err = run_cli(["study", str(model), *args, "-o", str(out)])
+    assert code == 130, err
+    assert err == f"the study stopped: {out} holds the study's description and no samples " \
+                  "yet; run the same command with --resume to complete it\n"
+    assert files.completed_rows(out) == 0
+    assert files.read_description(out) == files.read_description(whole)
+    monkeypatch.setattr(files.ResultWriter, "write", write)
+    assert run_cli(["study", str(model), *args, "-o", str(out), "--resume"])[0] == 0
+    assert out.read_bytes() == whole.read_bytes()
+
+
+def test_starting_local_workers_is_bounded_by_the_time_limit():
+    """A cluster that takes longer to start than the limit: the run ends at the limit."""
+    from resonant.deadline import AnalysisTimeout, Deadline
+    from resonant.studies.engine import _local_cluster
+
+    started = threading.Event()
+
+    def slow(**_: object) -> None:
+        started.set()
+        time.sleep(5)
+
+    begin = time.monotonic()
+    with pytest.raises(AnalysisTimeout, match=r"exceeded the time limit of 0.5 s while "
+                                              r"starting 2 local workers"):
+        with _local_cluster(slow, 2, Deadline(0.5)):
+            pass
+    assert started.is_set() and time.monotonic() - begin < 2.0
+
+
+def test_timeout_while_workers_start_ends_the_study_within_it(model, tmp_path):
+    """The real program: a limit shorter than starting workers and running the study ends
+    it with exit 3 in one line, and leaves a file to resume."""
+    out = tmp_path / "s.parquet"
+    env = dict(os.environ, PYTHONPATH=SRC)
+    begin = time.monotonic()
+    proc = subprocess.run([sys.executable, "-m", "resonant", "study", str(model), "--vary",
+                           "k=uniform(90, 110)", "--quantity", "amplitude:x", "--samples",
+                           "20", "--workers", "2", "--timeout", "1", "-o", str(out)],
+                          capture_output=True, text=True, env=env, timeout=60)
+    assert proc.returncode == 3, proc.stderr
+    # the limit passes while the workers start or while they work, as the machine goes
+    assert ("while starting 2 local workers" in proc.stderr
+            or "while waiting for the workers" in proc.stderr), proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1, proc.stderr
+    assert time.monotonic() - begin < 15
+    from resonant.studies import files
+
+    assert files.completed_rows(out) == 0 and files.read_description(out)["rows"] == 20
+
+
 def test_sigint_to_the_program_is_one_line(model, tmp_path):
     """A real SIGINT to the program while it studies: exit 130, one line, and the file it
     names (if any) can be resumed."""
@@ -430,7 +500,7 @@ def test_sigint_to_the_program_is_one_line(model, tmp_path):
     assert proc.returncode == 130, err
     assert len(err.strip().splitlines()) == 1 and err.startswith("the study stopped"), err
     if out.exists():
-        assert f"{out} holds the samples done so far" in err
+        assert f"{out} holds the" in err
         from resonant.studies import files
 
         description = files.read_description(out)  # what --resume reads first: valid

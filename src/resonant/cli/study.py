@@ -20,7 +20,7 @@ from ..deadline import AnalysisTimeout, DeadlineExceeded
 from ..errors import ModelError, Problem, printable
 from ..model.study import DESIGNS, MAX_HARMONICS, MAX_SAMPLES, MAX_SEED
 from ..studies import StudyJob, collect, engine_for, request
-from ..studies.files import check_output
+from ..studies.files import check_output, completed_rows
 from ..views.study_plots import plot_study, study_units
 
 
@@ -129,12 +129,15 @@ def run_study(args: argparse.Namespace) -> int:
 
 
 def _stopped(output: str) -> str:
-    """What an interrupted study leaves: the file it names exists, or there is none."""
-    if Path(output).is_file():
-        return (f"the study stopped: {printable(output)} holds the samples done so far; run "
-                "the same command with --resume to complete it")
-    return (f"the study stopped before its first samples were done; {printable(output)} was "
-            "not written")
+    """What an interrupted study leaves: the file it names exists (with the study's
+    description and no rows when it stopped before its first samples), or there is none
+    (it stopped before the study began)."""
+    if not Path(output).is_file():
+        return (f"the study stopped before it began; {printable(output)} was not written")
+    done = ("holds the samples done so far" if completed_rows(output) else
+            "holds the study's description and no samples yet")
+    return (f"the study stopped: {printable(output)} {done}; run the same command with "
+            "--resume to complete it")
 
 
 def _index(value: float | None) -> str:

@@ -239,7 +239,8 @@ def _client(engine: Engine, function: Callable[..., Any]) -> Iterator[Any]:
         warnings.simplefilter("ignore", ResourceWarning)
         warnings.filterwarnings("ignore", category=UserWarning, module="distributed")
         with dask.config.set(config), \
-                _local_cluster(LocalCluster, workers) as cluster, Client(cluster) as client:
+                _local_cluster(LocalCluster, workers, engine.deadline) as cluster, \
+                Client(cluster) as client:
             # a worker the setup misses (gone, or its import fails) imports the code with
             # its first task, as a worker Dask restarts after a fault does
             client.run(_set_up_worker, pickle.dumps(function), on_error="ignore")
@@ -248,21 +249,56 @@ def _client(engine: Engine, function: Callable[..., Any]) -> Iterator[Any]:
 
 
 @contextlib.contextmanager
-def _local_cluster(cluster_type: Any, workers: int) -> Iterator[Any]:
-    """Start local workers; a failure to start them is an error in one line."""
+def _local_cluster(cluster_type: Any, workers: int, deadline: Deadline = NO_DEADLINE
+                   ) -> Iterator[Any]:
+    """Start local workers within the run's time limit; a failure to start them is an
+    error in one line."""
     try:
-        cluster = cluster_type(n_workers=workers, threads_per_worker=1, processes=True,
-                               host="127.0.0.1", dashboard_address=None, silence_logs=50)
+        cluster = _started(cluster_type, workers, deadline)
     except (RuntimeError, OSError, TimeoutError, MemoryError) as exc:
         _abandon_clusters()
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise AnalysisError(f"{workers} local workers could not start ({printable(first)}); "
                             "ask for fewer workers or use a cluster (scheduler)") from None
-    except BaseException:  # an interrupt while they start
+    except BaseException:  # an interrupt or the time limit while they start
         _abandon_clusters()
         raise
     with cluster:
         yield cluster
+
+
+def _started(cluster_type: Any, workers: int, deadline: Deadline) -> Any:
+    """The cluster, started on a thread and waited for no longer than the deadline allows
+    (Dask bounds each worker's start by its own timeouts, not by the run's limit).  A
+    cluster whose start is given up is closed as soon as it is up."""
+    box: dict[str, Any] = {}
+    given_up = threading.Event()
+
+    def start() -> None:
+        try:
+            box["cluster"] = cluster_type(
+                n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                dashboard_address=None, silence_logs=50)
+        except BaseException as exc:  # noqa: BLE001 - handed to the waiting thread
+            box["error"] = exc
+        if given_up.is_set():
+            _abandon_clusters()
+
+    thread = threading.Thread(target=start, name="resonant-workers", daemon=True)
+    thread.start()
+    try:
+        thread.join(deadline.remaining())
+    finally:
+        if thread.is_alive():
+            given_up.set()
+    if thread.is_alive():
+        raise AnalysisTimeout(
+            f"the analysis exceeded the time limit of {deadline.seconds:g} s while starting "
+            f"{workers} local workers; ask for fewer workers, or allow more time (timeout, "
+            "0 for none)")
+    if "error" in box:
+        raise box["error"]
+    return box["cluster"]
 
 
 def _abandon_clusters() -> None:

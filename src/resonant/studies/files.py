@@ -270,11 +270,15 @@ class ResultWriter:
         The study's description, stored with the rows.
     keep_rows : int
         Rows of an existing file to keep (``resume``); 0 starts afresh.
+    empty : dict, optional
+        The columns with no rows (names and types): written when a stopped study closes
+        the writer before any row was, so that it leaves a file to resume.
     """
 
     def __init__(self, path: str | os.PathLike[str], description: dict[str, Any],
-                 keep_rows: int = 0) -> None:
+                 keep_rows: int = 0, empty: dict[str, np.ndarray] | None = None) -> None:
         self.path = Path(path)
+        self.empty = empty
         self.part = self.path.with_name(self.path.name + ".part")
         self.description = description
         self.parquet = self.path.suffix.lower() == ".parquet"
@@ -356,15 +360,25 @@ class ResultWriter:
             frame.to_csv(handle, index=False, header=header)
         self.rows += len(frame)
 
-    def close(self) -> None:
-        """Finish the file (also after an interruption: it then holds the rows so far)."""
+    def close(self, stopped: bool = False) -> None:
+        """Finish the file (also after an interruption: it then holds the rows so far).
+
+        Parameters
+        ----------
+        stopped : bool
+            The study was stopped (an interrupt, the time limit): the file is written even
+            with no rows, for a resume.
+        """
         try:
             self._wait()
         finally:
             self._thread.shutdown(wait=True)
-            self._finish()
+            self._finish(stopped)
 
-    def _finish(self) -> None:
+    def _finish(self, stopped: bool) -> None:
+        if (stopped and self.empty is not None and self._writer is None
+                and not self.part.exists()):
+            self._append(self.empty)
         if self.parquet and self._writer is not None:
             self._writer.close()
             self._writer = None

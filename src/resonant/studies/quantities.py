@@ -475,6 +475,23 @@ def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str,
     return rows.table()
 
 
+def empty_rows(spec: StudySpec) -> dict[str, np.ndarray]:
+    """The columns of a chunk with no samples: their names, order and types.
+
+    Parameters
+    ----------
+    spec : StudySpec
+
+    Returns
+    -------
+    dict
+        column -> array of length 0: sample, the varied parameters, the quantities,
+        status and reason.
+    """
+    return {"sample": np.empty(0, dtype=np.int64), **{v: np.empty(0) for v in spec.vary},
+            **Rows(0, spec).table()}
+
+
 def _one_by_one(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.ndarray],
                 count: int, nonlinear: NonlinearSystem | None) -> dict[str, np.ndarray]:
     """A chunk that failed as a whole, sample by sample: the failing ones get the reason."""
@@ -483,4 +500,4 @@ def _one_by_one(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.n
     return {c: np.concatenate([p[c] for p in parts]) for c in parts[0]}
 
 
-__all__ = ["evaluate_samples", "SMALL"]
+__all__ = ["empty_rows", "evaluate_samples", "SMALL"]

@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from ..deadline import NO_DEADLINE, Deadline
+from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import ModelError, Problem
 from ..model import Model, loads
 from ..model.files import open_regular_file, read_bounded
@@ -43,7 +43,7 @@ from ..system import LinearSystem, NonlinearSystem, linear_system, nonlinear_sys
 from .designs import chunk_size, chunk_values, chunks
 from .engine import Engine, engine_for, ordered_map
 from .files import ResultWriter, check_output, check_rows, completed_rows, read_description
-from .quantities import evaluate_samples
+from .quantities import empty_rows, evaluate_samples
 from .result import StudyResult, sobol_indices
 
 #: the default engine: this process, or local workers when the work pays for them
@@ -417,8 +417,9 @@ def run_study(job: StudyJob, output: str | os.PathLike[str], engine: Engine = AU
     bar = _Bar(job.spec.size, sys.stderr.isatty() if progress is None else progress)
     bar.advance(kept)
     where = ["this process"]
-    writer = ResultWriter(path, expected, kept)
+    writer = ResultWriter(path, expected, kept, empty_rows(job.spec))
     start = time.perf_counter()
+    stopped = False  # by an interrupt or the time limit: the file is left for a resume
     try:
         tasks = ((job, k, size) for k, _, _ in chunks(job.spec, size, math.ceil(kept / size)))
         for rows in ordered_map(evaluate_chunk, tasks, engine,
@@ -428,8 +429,11 @@ def run_study(job: StudyJob, output: str | os.PathLike[str], engine: Engine = AU
             if on_chunk is not None:
                 on_chunk(rows)
             deadline.check("while running the study", analysis=True)
+    except (KeyboardInterrupt, DeadlineExceeded):
+        stopped = True
+        raise
     finally:
-        writer.close()
+        writer.close(stopped)
     return RunSummary(path, writer.rows, kept, where[0], time.perf_counter() - start, expected)
 
 
