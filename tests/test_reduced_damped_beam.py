@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 pytest.importorskip("skfem")
 
@@ -100,3 +102,16 @@ def test_damping_fraction_separates_resonance_from_conditioning():
     resonant = damping_fraction(C, np.array([[1.0, 2.0, 1e10]]))
     assert damped[0] == pytest.approx(1.0) and resonant[0] == pytest.approx(2.5e-20)
     assert damping_fraction(np.zeros((3, 3)), np.ones((1, 3)))[0] == 0.0
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 6), st.integers(1, 5), st.integers(0, 2**32 - 1))
+def test_damping_fraction_of_a_stack_is_each_points_own(n, count, seed):
+    """One damping matrix per point (a study varying c) gives each point the fraction of
+    its own matrix (to rounding)."""
+    rng = np.random.default_rng(seed)
+    C = rng.standard_normal((count, n, n))
+    C[0] = 0.0  # a point without damping
+    X = rng.standard_normal((count, n)) + 1j * rng.standard_normal((count, n))
+    each = [damping_fraction(C[k], X[k:k + 1])[0] for k in range(count)]
+    np.testing.assert_allclose(damping_fraction(C, X), each, rtol=1e-12, atol=0)

@@ -424,11 +424,9 @@ class _Store:
             return
         rows = np.atleast_1d(np.arange(len(self.damped))[index])
         X = np.atleast_2d(x)
-        if hasattr(C, "nnz") or np.ndim(C) == 2:
-            self.damped[rows] = damping_fraction(C, X)
-            return
-        for k, row in enumerate(rows):  # C changes with the parameter
-            self.damped[row] = damping_fraction(C[row], X[k:k + 1])[0]
+        # C is one matrix, or one for each point when it changes with the parameter
+        self.damped[rows] = damping_fraction(C if hasattr(C, "nnz") or np.ndim(C) == 2
+                                             else C[rows], X)
 
     def __setitem__(self, index: Any, x: Any) -> None:
         x = np.asarray(x, dtype=complex)

@@ -334,7 +334,7 @@ def damping_fraction(C: Any, X: np.ndarray, c_norm: float | None = None) -> np.n
     Parameters
     ----------
     C : sparse matrix or ndarray
-        (n, n), real.
+        (n, n), real; or (N, n, n), one for each response.
     X : ndarray
         (N, n) responses.
     c_norm : float, optional
@@ -353,6 +353,8 @@ def damping_fraction(C: Any, X: np.ndarray, c_norm: float | None = None) -> np.n
     ['1', '1e-24', '0']
     """
     X = np.atleast_2d(np.asarray(X, dtype=complex))
+    if np.ndim(C) == 3:
+        return _stacked_damping_fraction(np.asarray(C), X)
     sparse = hasattr(C, "tocsr")
     if c_norm is None:
         a = abs(C)
@@ -365,6 +367,17 @@ def damping_fraction(C: Any, X: np.ndarray, c_norm: float | None = None) -> np.n
         quadratic = np.abs(np.einsum("ij,ij->i", X.conj(), CX))
         size = np.einsum("ij,ij->i", X.conj(), X).real
         fraction = np.where(size > 0, quadratic / (size * c_norm), 0.0)
+    return np.where(np.isfinite(fraction), fraction, 0.0)
+
+
+def _stacked_damping_fraction(C: np.ndarray, X: np.ndarray) -> np.ndarray:
+    """:func:`damping_fraction` with one C per response (C of shape (N, n, n))."""
+    a = np.abs(C)
+    c_norm = np.maximum(a.sum(axis=1).max(axis=1), a.sum(axis=2).max(axis=1))
+    with np.errstate(all="ignore"):
+        quadratic = np.abs(np.einsum("ki,kij,kj->k", X.conj(), C, X))
+        size = np.einsum("ij,ij->i", X.conj(), X).real
+        fraction = np.where((size > 0) & (c_norm > 0), quadratic / (size * c_norm), 0.0)
     return np.where(np.isfinite(fraction), fraction, 0.0)
 
 
