@@ -501,11 +501,13 @@ class CondensedBalance:
         """The nonlinear coordinates, then the observed ones, then the outputs."""
         return self._names + (self.outputs.series.names if self.outputs else ())
 
-    def coefficients(self, x: np.ndarray, p: float) -> np.ndarray:
-        """(rows, 2H+1) real coefficients of every kept row (nonlinear and observed)."""
+    def coefficients(self, x: np.ndarray, p: float, rows: np.ndarray | None = None
+                     ) -> np.ndarray:
+        """(rows, 2H+1) real coefficients of the kept rows ``rows`` (default: every one,
+        nonlinear and observed)."""
         b, m = self.basis, self.m
         W = self.base(p)
-        T = self.transfers(W, self._rows)
+        T = self.transfers(W, self._rows if rows is None else rows)
         U, Ud = self.samples(x, W)
         F, _ = self.forces(p).evaluate(U, Ud)
         G = b.complex(F @ b.P.T)
@@ -520,6 +522,14 @@ class CondensedBalance:
         if not self.outputs:
             return peaks
         return np.concatenate([peaks, self.outputs.peaks(coef, self.base(p), p)])
+
+    def amplitude(self, x: np.ndarray, p: float, j: int) -> float:
+        """The amplitude of quantity ``j`` of :meth:`names` alone: a kept row's costs one
+        row of transfers (locating a peak of one of 200 observed coordinates needs no
+        other)."""
+        if j >= len(self._rows):
+            return float(self.amplitudes(x, p)[j])
+        return float(np.asarray(series_peaks(self.coefficients(x, p, self._rows[j:j + 1])))[0])
 
     def exponents(self, J: np.ndarray, blocks: tuple[np.ndarray, float, float]
                   ) -> np.ndarray:

@@ -202,6 +202,14 @@ class HarmonicBalance:
         located to rounding."""
         return np.asarray(self.amplitudes_of([x], [p], outputs)[0])
 
+    def amplitude(self, x: np.ndarray, p: float, j: int) -> float:
+        """The amplitude of quantity ``j`` of :meth:`names`: a coordinate's from its own
+        series, an output's with the others."""
+        if j < self.n:
+            series = np.reshape(np.asarray(x, dtype=float), (self.n, self.m))[j:j + 1]
+            return float(np.asarray(series_peaks(series[None]))[0, 0])
+        return float(self.amplitudes(x, p)[j])
+
     def amplitudes_of(self, xs: Sequence[np.ndarray], ps: Sequence[float],
                       outputs: bool = True) -> np.ndarray:
         """:meth:`amplitudes` of many points, (points, quantities): the coordinates' series

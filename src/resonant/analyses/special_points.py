@@ -47,6 +47,10 @@ class BranchEquations(Balance, Protocol):
         """The amplitude of every quantity of :meth:`names` at a point."""
         ...
 
+    def amplitude(self, x: np.ndarray, p: float, j: int) -> float:
+        """The amplitude of quantity ``j`` of :meth:`names` (``amplitudes(x, p)[j]``)."""
+        ...
+
     def names(self) -> tuple[str, ...]:
         """The quantities whose amplitudes are reported (and whose peaks are located)."""
         ...
@@ -162,8 +166,8 @@ class Locator:
 
         def g(x: np.ndarray, p: float, t: np.ndarray) -> float:
             h = ARC_STEP
-            up = self.hb.amplitudes(x + h * sx * t[:-1], p + h * sp * t[-1])[j]
-            down = self.hb.amplitudes(x - h * sx * t[:-1], p - h * sp * t[-1])[j]
+            up = self.hb.amplitude(x + h * sx * t[:-1], p + h * sp * t[-1], j)
+            down = self.hb.amplitude(x - h * sx * t[:-1], p - h * sp * t[-1], j)
             return float((up - down) / (2 * h))
         return g
 
