@@ -389,7 +389,7 @@ def backbone(system: NonlinearSystem | LinearSystem | Model, amplitude: float | 
             raise AnalysisError(f"mode {mode} has no positive natural frequency")
         curve, worst = _curve(hb, num.M, mode, math.sqrt(float(lam[mode - 1])),
                               shapes[:, mode - 1].real, amplitude, points, warnings, deadline)
-        residual = max(residual, worst)
+        residual = max(residual, worst if math.isfinite(worst) else math.inf)
         if curve is not None:
             curves.append(curve)
     return Backbones(title=system.title, coordinates=system.coordinates, harmonics=H,

@@ -911,7 +911,8 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     for x, p in zip(branch.x, branch.p):
         deadline.check("during the stability analysis", analysis=True)
         R, J, blocks = hb.jacobian(x, p)
-        residual = max(residual, float(np.abs(R).max()))
+        worst = float(np.abs(R).max())
+        residual = max(residual, worst if math.isfinite(worst) else math.inf)
         lam.append(hb.exponents(J, blocks))
     Ws = np.array([hb.base(p) for p in branch.p])
     width = max((v.size for v in lam), default=0)
