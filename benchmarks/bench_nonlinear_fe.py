@@ -74,12 +74,81 @@ def write_rod(directory: Path, n: int) -> Path:
     return path
 
 
-def measure(n: int, points: int, directory: Path) -> dict:
+def write_plate(directory: Path, n: int) -> tuple[Path, int]:
+    """The clamped Kirchhoff plate of ``benchmarks/corpus.py`` (Morley triangles, about n
+    coordinates) with a cubic spring and the harmonic force at one deflection: the model
+    file and the 0-based coordinate of spring and force.
+
+    Scaled so that the rod's range and children serve unchanged: frequencies in units of
+    w1 / (pi/2) (w1 the plate's first natural frequency: M' = s^2 M, C' = s C), stiffness
+    in units of K's entry at the spring, the force F0 such that the linear response's
+    peak there is 1, the cubic spring k3 = k_eff / 2 (k_eff the static stiffness there):
+    at the linear peak its force is half the linear one, a hardening of about 20 % in
+    frequency with two folds inside 1.0 ... 2.4."""
+    import numpy as np
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import spsolve
+
+    sys.path.insert(0, str(HERE))
+    import corpus
+
+    structure = corpus.plate(n)
+    at = int(np.flatnonzero(structure.b)[0])
+    w1 = float(corpus._lowest(structure.M, structure.K, 1, 0.0)[0])
+    s = w1 / (np.pi / 2)
+    k0 = float(structure.K[at, at])
+    M, C, K = ((scale * a / k0).tocsr() for scale, a in
+               ((s * s, structure.M), (s, structure.C), (1.0, structure.K)))
+    e = np.zeros(M.shape[0])
+    e[at] = 1.0
+    peak = abs(spsolve((K - (np.pi / 2) ** 2 * M + 1j * (np.pi / 2) * C).tocsc(),
+                       e.astype(complex))[at])
+    k_eff = 1.0 / float(spsolve(K.tocsc(), e)[at])
+    F0, k3 = float(1.0 / peak), float(0.5 * k_eff)
+    directory.mkdir(parents=True, exist_ok=True)
+    for name, matrix in (("M", M), ("C", C), ("K", K)):
+        sp.save_npz(directory / f"{name}.npz", matrix)
+    q = f"q{at + 1}"
+    path = directory / f"plate{M.shape[0]}.toml"
+    path.write_text(
+        f'title = "Clamped plate, {M.shape[0]} coordinates, cubic spring at {q}"\n'
+        "[parameters]\nomega = 1\n"
+        '[matrices]\nM = "M.npz"\nC = "C.npz"\nK = "K.npz"\n'
+        f'[[harmonic]]\nomega = "omega"\nF_C = {{ {q} = "{F0!r}" }}\n'
+        f'[[nonlinear]]\nname = "spring"\ncoordinates = ["{q}"]\nforce = "{k3!r}*{q}^3"\n',
+        encoding="utf-8")
+    (directory / "connectors.json").write_text(json.dumps({
+        "load": {"type": "CosinusForcing", "connect": {"rod": [at]}, "dirs": [0], "amp": F0},
+        "spring": {"type": "CubicSpring", "connect": {"rod": [at]}, "dirs": [0], "k": k3}}))
+    return path, at
+
+
+def write_model(structure: str, directory: Path, n: int) -> tuple[Path, int]:
+    """The rod or the plate: the model file and the 0-based coordinate observed (the
+    rod's tip; the plate's spring)."""
+    if structure == "plate":
+        return write_plate(directory, n)
+    path = write_rod(directory, n)
+    (directory / "connectors.json").write_text(json.dumps(ROD_CONNECTORS(n)))
+    return path, n - 1
+
+
+def ROD_CONNECTORS(n: int) -> dict:  # noqa: N802 - a table of the rod's size
+    """The rod's elements in pyHarm's words."""
+    return {"load": {"type": "CosinusForcing", "connect": {"rod": [n - 1]}, "dirs": [0],
+                     "amp": 0.01},
+            "spring": {"type": "CubicSpring", "connect": {"rod": [n - 1]}, "dirs": [0],
+                       "k": 2.0},
+            "stop": {"type": "PenaltyUnilateralGap", "connect": {"rod": [n // 2 - 1]},
+                     "dirs": [0], "g": 0.2, "k": 0.5}}
+
+
+def measure(n: int, points: int, directory: Path, structure: str = "rod") -> dict:
     """One size: load, follow the branch, time it."""
     import resonant
     from resonant.analyses import condensed
 
-    path = write_rod(directory / f"n{n}", n)
+    path, _ = write_model(structure, directory / f"n{n}", n)
     model = resonant.load(path)
     system = model.linearize()
     built: dict[str, float] = {}
@@ -98,7 +167,7 @@ def measure(n: int, points: int, directory: Path) -> dict:
         seconds = time.perf_counter() - start
     finally:
         condensed.linear_part = original
-    return {"n": n, "seconds": seconds, "reduced_model_seconds": built["seconds"],
+    return {"n": system.n, "seconds": seconds, "reduced_model_seconds": built["seconds"],
             "reduced_size": built["size"], "branch_points": len(result.values),
             "unstable_points": int((~result.stable).sum()),
             "folds": sum(s.kind == "fold" for s in result.special_points),
@@ -108,6 +177,9 @@ def measure(n: int, points: int, directory: Path) -> dict:
 
 HARMONICS = 7
 SAMPLES = 2048  # resonant's default for an element with kinks (a gap)
+#: time samples for the plate, whose one element (a cubic spring) is smooth: 8 per
+#: harmonic coefficient, resonant's default (docs/nonlinear.md)
+SMOOTH_SAMPLES = 120
 START, STOP = 1.0, 2.4
 
 RESONANT_CHILD = """
@@ -115,14 +187,14 @@ import json, sys, time
 import numpy as np
 import resonant
 from resonant.analyses import condensed
-path, n = sys.argv[1], int(sys.argv[2])
+path, n, at = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 model = resonant.load(path)
 system = model.linearize()
 t1 = time.perf_counter()
 r = condensed.condensed_sweep(system, "omega", @START@, @STOP@, harmonics=@H@,
                               points=100, samples=@SAMPLES@, linear=False)
 t2 = time.perf_counter()
-tip = f"q{n}"
+tip = f"q{at + 1}"
 peaks = [p.amplitudes[tip] for p in r.special_points if p.kind == "peak"]
 print(json.dumps({"curve_s": t2 - t1, "points": int(r.values.size),
                   "folds": sorted(p.value for p in r.special_points if p.kind == "fold"),
@@ -136,7 +208,7 @@ import numpy as np
 import scipy.sparse as sp
 import pyHarm
 logging.disable(logging.CRITICAL)
-folder, n, reductor = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+folder, n, reductor, at = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
 H = @H@
 lin = {name: sp.load_npz(f"{folder}/{name}.npz").toarray() for name in ("M", "C", "K")}
 lin["G"] = np.zeros((n, n))
@@ -149,14 +221,7 @@ INP = {
                          "reductors": [{"type": reductor}]}},
     "system": {"type": "Base", "nh": H, "nti": @SAMPLES@},
     "substructures": {"rod": {"matrix": lin, "ndofs": 1}},
-    "connectors": {
-        "load": {"type": "CosinusForcing", "connect": {"rod": [n - 1]}, "dirs": [0],
-                 "amp": 0.01},
-        "spring": {"type": "CubicSpring", "connect": {"rod": [n - 1]}, "dirs": [0],
-                   "k": 2.0},
-        "stop": {"type": "PenaltyUnilateralGap", "connect": {"rod": [n // 2 - 1]},
-                 "dirs": [0], "g": 0.2, "k": 0.5},
-    },
+    "connectors": json.load(open(f"{folder}/connectors.json")),
 }
 maestro = pyHarm.Maestro(INP)
 t1 = time.perf_counter()
@@ -168,7 +233,7 @@ om = np.array([s.x[-1] for s in sols])
 X = np.array([s.x[:-1] for s in sols])
 dofs = study.system.expl_dofs
 # the tip's coefficients in pyHarm's order [a0, a1, b1, ..., aH, bH]
-rows = dofs[dofs["node_num"] == n - 1].sort_values(["harm", "cs"]).index.to_numpy()
+rows = dofs[dofs["node_num"] == at].sort_values(["harm", "cs"]).index.to_numpy()
 tau = np.linspace(0, 2 * np.pi, 4096, endpoint=False)
 basis = [np.ones_like(tau)]
 for k in range(1, H + 1):
@@ -179,10 +244,10 @@ print(json.dumps({"curve_s": t2 - t1, "points": len(sols), "om": om.tolist(),
 """
 
 
-def _fill(code: str) -> str:
+def _fill(code: str, samples: int = SAMPLES) -> str:
     """The children's constants, written into their code."""
     for key, value in (("@START@", START), ("@STOP@", STOP), ("@H@", HARMONICS),
-                       ("@SAMPLES@", SAMPLES)):
+                       ("@SAMPLES@", samples)):
         code = code.replace(key, repr(value))
     return code
 
@@ -236,12 +301,17 @@ def pyharm_available() -> bool:
                           env=_child_env()).returncode == 0
 
 
-def compare(n: int, directory: Path, timeout: float, nldofs: bool) -> dict:
-    """The same rod in resonant and in pyHarm, each in a fresh process."""
-    path = write_rod(directory / f"n{n}", n)
-    row: dict = {"n": n, "resonant": _child(_fill(RESONANT_CHILD), [str(path), str(n)], timeout)}
+def compare(n: int, directory: Path, timeout: float, nldofs: bool, structure: str = "rod"
+            ) -> dict:
+    """The same rod (or plate) in resonant and in pyHarm, each in a fresh process."""
+    path, at = write_model(structure, directory / f"n{n}", n)
+    n = _coordinates(path)
+    samples = SMOOTH_SAMPLES if structure == "plate" else SAMPLES
+    row: dict = {"n": n, "structure": structure, "samples": samples, "resonant": _child(
+        _fill(RESONANT_CHILD, samples), [str(path), str(n), str(at)], timeout)}
     for reductor in ("noreductor",) + (("NLdofs",) if nldofs else ()):
-        side = _child(_fill(PYHARM_CHILD), [str(path.parent), str(n), reductor], timeout)
+        side = _child(_fill(PYHARM_CHILD, samples),
+                      [str(path.parent), str(n), reductor, str(at)], timeout)
         if "om" in side:
             side["folds"], side["peak"] = pyharm_extrema(side.pop("om"), side.pop("amp"))
         row["pyHarm" if reductor == "noreductor" else "pyHarm NLdofs"] = side
@@ -259,6 +329,13 @@ def compare(n: int, directory: Path, timeout: float, nldofs: bool) -> dict:
                                    and theirs["fold_diffs"] is not None
                                    and max(theirs["fold_diffs"], default=0) < 1e-3)
     return row
+
+
+def _coordinates(path: Path) -> int:
+    """The number of coordinates of a model written here (its M.npz)."""
+    import scipy.sparse as sp
+
+    return int(sp.load_npz(path.parent / "M.npz").shape[0])
 
 
 def _side_text(side: dict) -> str:
@@ -290,6 +367,9 @@ def main(argv: list[str] | None = None) -> int:
                         help="comma-separated sizes (even) to run in both pyHarm and resonant")
     parser.add_argument("--pyharm-nldofs", action="store_true",
                         help="also run pyHarm with its NLdofs reductor")
+    parser.add_argument("--structure", choices=("rod", "plate"), default="rod",
+                        help="the rod (a chain with a cubic spring and a stop) or the clamped "
+                             "Kirchhoff plate of benchmarks/corpus.py with a cubic spring")
     parser.add_argument("--timeout", type=float, default=900.0,
                         help="seconds allowed to each side of the comparison")
     args = parser.parse_args(argv)
@@ -301,9 +381,11 @@ def main(argv: list[str] | None = None) -> int:
             with tempfile.TemporaryDirectory() as tmp:
                 rows = []
                 for n in pyharm_sizes:
-                    rows.append(compare(n, Path(tmp), args.timeout, args.pyharm_nldofs))
+                    rows.append(compare(n, Path(tmp), args.timeout, args.pyharm_nldofs,
+                                        args.structure))
                     if not args.json:
-                        print(f"n = {n}, H = {HARMONICS}, omega {START} .. {STOP}:")
+                        print(f"{args.structure}, n = {rows[-1]['n']}, H = {HARMONICS}, "
+                              f"omega {START} .. {STOP}:")
                         for name in ("resonant", "pyHarm", "pyHarm NLdofs"):
                             if name in rows[-1]:
                                 print(f"  {name:14s} {_side_text(rows[-1][name])}",
@@ -314,7 +396,7 @@ def main(argv: list[str] | None = None) -> int:
             return 0
     sizes = [int(s) for s in (args.sizes or "1000,3000,10000").split(",") if s.strip()]
     with tempfile.TemporaryDirectory() as tmp:
-        rows = [measure(n, args.points, Path(tmp)) for n in sizes]
+        rows = [measure(n, args.points, Path(tmp), args.structure) for n in sizes]
     if args.json:
         print(json.dumps(rows, indent=1))
         return 0
