@@ -46,6 +46,7 @@ if TYPE_CHECKING:
     from .exercise import Exercise
     from .explore import ExploreSpec
     from .parts import DerivedEnergies
+    from .load_spec import FatigueSpec, ShockSpec
     from .random_spec import RandomSpec
 
 TIME = sympy.Symbol("t")
@@ -210,6 +211,10 @@ class Model:
         The ``[explore]`` section: the ranges of the explore page's sliders.
     random_section : RandomSpec or None
         The ``[random]`` section: the spectral densities of random inputs.
+    shock_section : ShockSpec or None
+        The ``[shock]`` section: a classical pulse on one input.
+    fatigue_section : FatigueSpec or None
+        The ``[fatigue]`` section: an S-N curve, a spectral method and the exposure.
 
     Examples
     --------
@@ -249,6 +254,10 @@ class Model:
     explore_section: ExploreSpec | None = None
     #: the ``[random]`` section (resonant.model.random_spec); None without one
     random_section: RandomSpec | None = None
+    #: the ``[shock]`` section (resonant.model.load_spec); None without one
+    shock_section: ShockSpec | None = None
+    #: the ``[fatigue]`` section (resonant.model.load_spec); None without one
+    fatigue_section: FatigueSpec | None = None
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""

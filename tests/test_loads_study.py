@@ -1,0 +1,170 @@
+"""The ``[shock]`` and ``[fatigue]`` sections and the study quantities ``srs:NAME@f`` and
+``damage:NAME`` (docs/studies.md, docs/random.md, docs/model-format.md)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import resonant
+from resonant.analyses.fatigue import SNCurve, spectral_fatigue
+from resonant.analyses.shock import pulse, shock_response_spectrum
+from resonant.analyses.transient import transient_response
+from resonant.errors import ModelError
+
+GEVS = (Path(__file__).parents[1] / "examples" / "shaker_gevs.toml").read_text()
+#: the bracket's stress: its force over a 1 cm^2 section (Pa)
+STRESS = 'table = "y\'\'"'
+SHOCK = """
+[shock]
+signal = "y"
+derivative = 2
+pulse = "half-sine"
+amplitude = 50
+unit = "g"
+duration = 0.011
+step = 1e-5
+total = 0.04
+Q = 10
+"""
+FATIGUE = """
+[fatigue]
+k = 4
+amplitude = 1e8        # 100 MPa
+cycles = 1e6
+method = "{method}"
+duration = 3600
+"""
+
+
+def _model(tmp_path: Path, method: str = "dirlik", extra: str = "") -> Path:
+    text = GEVS.replace(STRESS, STRESS + '\nsigma = "k*(x - y)/1e-4"') + SHOCK \
+        + FATIGUE.format(method=method) + extra
+    path = tmp_path / "shaker.toml"
+    path.write_text(text)
+    return path
+
+
+def _study(path: Path, quantities: list[str], ks: tuple[float, ...] = (1.0e6, 2.0e6)):
+    from resonant.studies import StudyJob, collect, engine_for, request
+    model = resonant.load(path)
+    spec = request(model, {"k": list(ks)}, quantities, design="grid")
+    return collect(StudyJob.of(model, spec), engine_for(0)).table
+
+
+def test_srs_of_the_input_itself_is_the_pulses_srs(tmp_path: Path) -> None:
+    """``srs:table@f``: the output ``table`` is y'', the half-sine itself, so the study's
+    value is the SRS of the pulse (Q = 10) at f, as resonant.analyses.shock computes it
+    (validated there against the analytic maximax spectrum); rel 1e-9 (same samples)."""
+    table = _study(_model(tmp_path), ["srs:table@100", "srs:table@1000"])
+    _, a = pulse("half-sine", 50 * 9.80665, 0.011, 1e-5, total=0.04)
+    direct = shock_response_spectrum(a, 1e-5, [100.0, 1000.0], Q=10).maximax
+    assert list(table["status"]) == ["ok", "ok"]
+    for i in range(2):
+        assert table["srs:table@100"][i] == pytest.approx(direct[0], rel=1e-9)
+        assert table["srs:table@1000"][i] == pytest.approx(direct[1], rel=1e-9)
+    # a 1000 Hz oscillator under an 11 ms half-sine sees about the pulse's peak
+    assert direct[1] == pytest.approx(50 * 9.80665, rel=0.1)
+
+
+def test_srs_of_an_output_equals_the_transient_then_the_srs(tmp_path: Path) -> None:
+    """``srs:a@f`` at each sample: the SRS of the component's acceleration history, the
+    exact transient response of the model with that sample's k (rel 1e-9)."""
+    path = _model(tmp_path)
+    table = _study(path, ["srs:a@300"])
+    _, u = pulse("half-sine", 50 * 9.80665, 0.011, 1e-5, total=0.04)
+    for i, k in enumerate((1.0e6, 2.0e6)):
+        system = resonant.load(path, {"k": k}).linearize()
+        history = transient_response(system, "y", u, 1e-5, derivative=2, names=["a"])
+        direct = shock_response_spectrum(history.history["a"], 1e-5, [300.0], Q=10)
+        assert table["srs:a@300"][i] == pytest.approx(direct.maximax[0], rel=1e-9)
+    assert table["srs:a@300"][0] != pytest.approx(table["srs:a@300"][1], rel=1e-3)
+
+
+@pytest.mark.parametrize("method", ["narrowband", "dirlik"])
+def test_damage_equals_the_spectral_fatigue_of_the_stress_response(tmp_path: Path,
+                                                                    method: str) -> None:
+    """``damage:sigma``: Miner's damage over the [fatigue] duration of the stress density of
+    random_response, by FLife through resonant.analyses.fatigue (rel 1e-12, the same
+    computation); the narrow-band value also against its closed form (Bendat 1964,
+    D = nu0 T (sqrt(2) sigma)^k Gamma(1 + k/2) / C) from the RMS and Rice's rate (1e-3:
+    the moments of the same density)."""
+    path = _model(tmp_path, method)
+    table = _study(path, ["damage:sigma", "rms:sigma"])
+    assert list(table["status"]) == ["ok", "ok"]
+    sn = SNCurve.from_point(1e8, 1e6, 4)
+    for i, k in enumerate((1.0e6, 2.0e6)):
+        result = resonant.load(path, {"k": k}).random_response(names=["sigma"])
+        direct = spectral_fatigue(result.frequency, result.psd["sigma"], sn, 3600.0,
+                                  methods=[method]).damage[method]
+        assert table["damage:sigma"][i] == pytest.approx(direct, rel=1e-12)
+        if method == "narrowband":
+            s = result.rms["sigma"]
+            closed = result.zero_crossing_rate["sigma"] * 3600 * (math.sqrt(2) * s) ** 4 \
+                * math.gamma(3.0) / sn.C
+            assert table["damage:sigma"][i] == pytest.approx(closed, rel=1e-3)
+    assert np.all(table["damage:sigma"] > 0)
+
+
+def test_units_of_the_new_columns(tmp_path: Path) -> None:
+    from resonant.studies import request
+    from resonant.views.study_plots import study_units
+    model = resonant.load(_model(tmp_path))
+    spec = request(model, {"k": [1e6]}, ["srs:a@100", "damage:sigma"], design="grid")
+    units = study_units(model, spec)
+    assert units["srs:a@100"] == "m/s^2" and units["damage:sigma"] == ""
+
+
+def test_quantity_text_is_checked() -> None:
+    from resonant.studies import request
+    model = resonant.load("examples/shaker_gevs.toml")
+    for bad, said in (("srs:a", "natural frequency in Hz after '@'"),
+                      ("srs:a@-3", "natural frequency in Hz after '@'"),
+                      ("srs:nope@100", "'nope' is not a coordinate or output"),
+                      ("damage:nope", "'nope' is not a coordinate or output")):
+        with pytest.raises(ModelError, match=said):
+            request(model, {"k": [1e6]}, [bad], design="grid")
+
+
+def test_a_sample_without_the_sections_fails_with_the_reason(tmp_path: Path) -> None:
+    path = tmp_path / "plain.toml"
+    path.write_text(GEVS)
+    table = _study(path, ["srs:a@100", "damage:a"], ks=(1e6,))
+    assert list(table["status"]) == ["failed"]
+    assert "[shock]" in table["reason"][0] or "[fatigue]" in table["reason"][0]
+    assert math.isnan(table["srs:a@100"][0]) and math.isnan(table["damage:a"][0])
+
+
+@pytest.mark.parametrize(("section", "key", "said"), [
+    ('[shock]\nsignal = "w"\npulse = "half-sine"\namplitude = 1\nduration = 0.01', "signal",
+     "neither a signal nor a coordinate"),
+    ('[shock]\nsignal = "y"\npulse = "square"\namplitude = 1\nduration = 0.01', "pulse",
+     "must be one of half-sine"),
+    ('[shock]\nsignal = "y"\npulse = "half-sine"\namplitude = 1\nduration = -1', "duration",
+     "positive finite number"),
+    ('[shock]\nsignal = "y"\npulse = "half-sine"\namplitude = 1\nduration = 0.01\n'
+     'step = 1e-9\ntotal = 100', "step", "at most"),
+    ('[shock]\nsignal = "y"\npulse = "half-sine"\namplitude = 1\nduration = 0.01\nQ = 0.2',
+     "Q", "above 0.5"),
+    ('[shock]\nsignal = "y"\npulse = "half-sine"\namplitude = 1\nduration = 0.01\n'
+     'unit = "zorg"', "unit", "zorg"),
+    ('[shock]\nsignal = "y"\npulse = "half-sine"\namplitude = 1\nduration = 0.01\nfoo = 1',
+     "foo", "unknown key"),
+    ('[fatigue]\nk = 4\nduration = 10', "C", "one of: C, C_range"),
+    ('[fatigue]\nk = 4\nC = 1e40\nC_range = 1e41\nduration = 10', "C_range", "one of"),
+    ('[fatigue]\nk = 4\nC = 1e40\nduration = 10\nmethod = "rainflow"', "method",
+     "narrowband, dirlik"),
+    ('[fatigue]\nk = "four"\nC = 1e40\nduration = 10', "k", "positive finite number"),
+])
+def test_bad_sections_name_file_section_and_key(tmp_path: Path, section: str, key: str,
+                                                said: str) -> None:
+    path = tmp_path / "bad.toml"
+    path.write_text(GEVS + "\n" + section + "\n")
+    with pytest.raises(ModelError) as info:
+        resonant.load(path)
+    text = str(info.value)
+    name = section.split("]")[0][1:]
+    assert f"bad.toml: [{name}] {key}:" in text and said in text
