@@ -168,3 +168,49 @@ def test_bad_sections_name_file_section_and_key(tmp_path: Path, section: str, ke
     text = str(info.value)
     name = section.split("]")[0][1:]
     assert f"bad.toml: [{name}] {key}:" in text and said in text
+
+
+def test_srs_command_on_a_model(tmp_path: Path) -> None:
+    """``resonant srs MODEL [--output NAME] --json``: the model's pulse, or an output's
+    history under it, with the section's Q; the same numbers as the study (rel 1e-9)."""
+    import json
+
+    from conftest import run_cli
+    path = _model(tmp_path)
+    code, out, err = run_cli(["srs", str(path), "--output", "a", "--from", "300", "--to",
+                              "301", "--points", "2", "--json"])
+    assert code == 0, err
+    maximax = json.loads(out)["maximax"][0]
+    assert maximax == pytest.approx(_study(path, ["srs:a@300"], ks=(1579136.704,))
+                                    ["srs:a@300"][0], rel=1e-9)
+    code, out, err = run_cli(["srs", str(path), "--from", "1000", "--to", "1001", "--json"])
+    assert code == 0, err
+    _, a = pulse("half-sine", 50 * 9.80665, 0.011, 1e-5, total=0.04)
+    assert json.loads(out)["maximax"][0] == pytest.approx(
+        shock_response_spectrum(a, 1e-5, [1000.0], Q=10).maximax[0], rel=1e-9)
+
+
+@pytest.mark.parametrize("args, said", [
+    (["--output", "nope"], "'nope' is not a coordinate or output"),
+    (["--pulse", "half-sine"], "give one of --pulse"),
+])
+def test_srs_command_errors(tmp_path: Path, args: list[str], said: str) -> None:
+    from conftest import run_cli
+    code, out, err = run_cli(["srs", str(_model(tmp_path)), *args])
+    assert code == 2 and said in err and "Traceback" not in err
+
+
+def test_srs_command_without_a_shock_section(tmp_path: Path) -> None:
+    from conftest import run_cli
+    path = tmp_path / "plain.toml"
+    path.write_text(GEVS)
+    code, out, err = run_cli(["srs", str(path)])
+    assert code == 2 and "[shock]" in err and "plain.toml" in err
+
+
+def test_solve_rejects_a_bad_section_with_exit_2(tmp_path: Path) -> None:
+    from conftest import run_cli
+    path = tmp_path / "bad.toml"
+    path.write_text(GEVS + '\n[fatigue]\nk = 4\nC = -1\nduration = 10\n')
+    code, out, err = run_cli(["solve", str(path)])
+    assert code == 2 and "[fatigue] C:" in err and "Traceback" not in err
