@@ -15,6 +15,18 @@ response spectrum's oscillators::
     total = 0.05             # s, the history computed (default 3 durations)
     Q = 10                   # the SRS oscillators' Q = 1/(2 zeta) (default 10)
 
+``[periodic]`` gives one periodic, non-harmonic load: a shape with closed-form Fourier
+coefficients, or an expression of ``t`` over one period::
+
+    [periodic]
+    signal = "F"             # a signal of the model, or a coordinate (a force on it)
+    derivative = 0           # the series is of F itself (2: of an acceleration)
+    shape = "square"         # square, sawtooth, triangle, rectified-sine; or
+    # expression = "F0*t/T"  # s(t) on 0 <= t < period, of t and the parameters
+    amplitude = 10           # the shape's A, in `unit` (default SI)
+    period = 0.5             # s
+    tolerance = 0.01         # the remainder's relative RMS (default 0.01)
+
 ``[fatigue]`` gives the S-N curve N S^k = C of a stress output (S its amplitude, SI), the
 spectral method and the exposure, for the study quantity ``damage:NAME`` under the
 ``[random]`` inputs (docs/random.md)::
@@ -47,15 +59,21 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..errors import Problem
+from ..expressions import Expression, ExpressionError, parse
 from .units import UnitError, parse_unit
 
 #: the pulses of ``[shock]`` (resonant.analyses.shock.pulse makes them)
 PULSES = ("half-sine", "haversine", "sawtooth", "rectangular", "step", "impulse")
+#: the periodic shapes of ``[periodic]`` with closed-form Fourier coefficients
+#: (resonant.analyses.periodic_load)
+SHAPES = ("square", "sawtooth", "triangle", "rectified-sine")
 #: the spectral fatigue methods of ``[fatigue]`` (resonant.analyses.fatigue)
 FATIGUE_METHODS = ("narrowband", "dirlik", "tovo-benasciutti")
 #: the keys of ``[shock]`` and ``[fatigue]``
 SHOCK_KEYS = ("signal", "derivative", "pulse", "amplitude", "unit", "duration", "step",
               "total", "Q")
+PERIODIC_KEYS = ("signal", "derivative", "shape", "expression", "amplitude", "unit", "period",
+                 "tolerance")
 FATIGUE_KEYS = ("k", "C", "C_range", "amplitude", "cycles", "method", "duration")
 #: most samples of the pulse's history (total / step)
 MAX_SHOCK_SAMPLES = 5_000_000
@@ -95,6 +113,43 @@ class ShockSpec:
     step: float
     total: float
     Q: float = 10.0
+    source: str = field(default="", compare=False)
+
+
+@dataclass(frozen=True)
+class PeriodicSpec:
+    """The ``[periodic]`` section: a periodic load on one input (SI).
+
+    Parameters
+    ----------
+    signal : str
+        A signal of the model, or a coordinate (a generalized force on it).
+    derivative : int
+        The series is of the signal's ``derivative``-th time derivative.
+    shape : str
+        One of :data:`SHAPES`, or ``"expression"``.
+    amplitude : float
+        The shape's amplitude A (SI); 1 with an expression.
+    period : float
+        T (s).
+    tolerance : float
+        The largest relative RMS of the series' remainder.
+    expression : Expression or None
+        s(t) over one period (SI), of ``t`` and the parameters.
+
+    Examples
+    --------
+    >>> PeriodicSpec("F", 0, "square", 1.0, 2.0).tolerance
+    0.01
+    """
+
+    signal: str
+    derivative: int
+    shape: str
+    amplitude: float
+    period: float
+    tolerance: float = 1e-2
+    expression: Expression | None = None
     source: str = field(default="", compare=False)
 
 
@@ -140,6 +195,128 @@ def _positive(data: dict[Any, Any], key: str, source: str, section: str,
     return float(raw)
 
 
+def _input(data: dict[Any, Any], signals: Sequence[str], coordinates: Sequence[str],
+           source: str, section: str, problems: list[Problem]) -> tuple[str, int, float]:
+    """(signal, derivative, unit factor) of a section giving one input."""
+    signal = data.get("signal")
+    names = list(signals) + list(coordinates)
+    if not isinstance(signal, str) or signal not in names:
+        close = difflib.get_close_matches(str(signal), names, n=1)
+        hint = f"did you mean '{close[0]}'?" if close else \
+            f"they are {', '.join(names[:20]) or 'none'}"
+        problems.append(Problem(f"{signal!r} is neither a signal nor a coordinate; {hint}"
+                                if signal is not None else
+                                f"missing: the signal or coordinate the load acts on; {hint}",
+                                source, section, "signal"))
+    derivative = data.get("derivative", 0)
+    if isinstance(derivative, bool) or derivative not in (0, 1, 2):
+        problems.append(Problem(f"must be 0, 1 or 2, got {derivative!r}", source, section,
+                                "derivative"))
+        derivative = 0
+    factor = 1.0
+    unit = data.get("unit")
+    if unit is not None:
+        if not isinstance(unit, str) or not unit.strip():
+            problems.append(Problem("must be a unit text such as \"g\" or \"m/s^2\"", source,
+                                    section, "unit"))
+        elif unit.strip() == "g":
+            factor = STANDARD_GRAVITY
+        else:
+            try:
+                factor = parse_unit(unit).to_si()
+            except UnitError as exc:
+                problems.append(Problem(str(exc), source, section, "unit"))
+    return str(signal), int(derivative), factor
+
+
+def parse_periodic(data: Any, params: Sequence[str], signals: Sequence[str],
+                   coordinates: Sequence[str], source: str, problems: list[Problem]
+                   ) -> PeriodicSpec | None:
+    """The ``[periodic]`` section, its problems appended to ``problems``.
+
+    Parameters
+    ----------
+    data : Any
+        The section as read from TOML.
+    params : sequence of str
+        The parameters (allowed in an expression, with ``t``).
+    signals, coordinates : sequence of str
+        The model's signals and coordinates.
+    source : str
+        The model file.
+    problems : list of Problem
+        Receives every problem found.
+
+    Returns
+    -------
+    PeriodicSpec or None
+        None when the section has problems.
+
+    Examples
+    --------
+    >>> problems = []
+    >>> parse_periodic({"signal": "F", "shape": "square", "amplitude": 2, "period": 0.5},
+    ...                [], ["F"], ["x"], "m.toml", problems).period
+    0.5
+    >>> parse_periodic({"signal": "F", "shape": "wave", "period": 0.5}, [], ["F"], ["x"],
+    ...                "m.toml", problems)
+    >>> print(problems[0])  # doctest: +ELLIPSIS
+    m.toml: [periodic] shape: must be one of square, sawtooth, triangle, rectified-sine...
+    """
+    section = "periodic"
+    count = len(problems)
+    if not isinstance(data, dict):
+        problems.append(Problem("expected a table", source, section))
+        return None
+    _unknown(data, PERIODIC_KEYS, source, section, problems)
+    signal, derivative, factor = _input(data, signals, coordinates, source, section, problems)
+    expression: Expression | None = None
+    if "expression" in data:
+        if "shape" in data:
+            problems.append(Problem("give either shape or expression, not both", source,
+                                    section, "expression"))
+        text = data["expression"]
+        if not isinstance(text, (str, int, float)) or isinstance(text, bool):
+            problems.append(Problem("an expression of t and the parameters is a text",
+                                    source, section, "expression"))
+        else:
+            try:
+                expression = parse(text, allowed=[*params, "t"], file=source,
+                                   section=section, key="expression")
+                if any(primes for _, primes in expression.names()):
+                    problems.append(Problem("no primes: an expression of t and the "
+                                            "parameters", source, section, "expression"))
+            except ExpressionError as exc:
+                problems.extend(exc.problems)
+        shape = "expression"
+        amplitude: float | None = 1.0
+    else:
+        shape = data.get("shape")
+        if shape not in SHAPES:
+            problems.append(Problem(f"must be one of {', '.join(SHAPES)} (or give an "
+                                    f"expression of t), got {shape!r}", source, section,
+                                    "shape"))
+        raw = data.get("amplitude")
+        amplitude = None
+        if isinstance(raw, bool) or not isinstance(raw, (int, float)) or \
+                not math.isfinite(raw) or raw == 0:
+            problems.append(Problem(f"must be a finite non-zero number, got {raw!r}",
+                                    source, section, "amplitude"))
+        else:
+            amplitude = float(raw) * factor
+    period = _positive(data, "period", source, section, problems)
+    tolerance = data.get("tolerance", 1e-2)
+    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or \
+            not 1e-8 <= tolerance < 1:
+        problems.append(Problem(f"must be a number in [1e-8, 1), got {tolerance!r}", source,
+                                section, "tolerance"))
+    if len(problems) > count:
+        return None
+    assert amplitude is not None and period is not None
+    return PeriodicSpec(signal, derivative, str(shape), amplitude, period, float(tolerance),
+                        expression, source)
+
+
 def parse_shock(data: Any, signals: Sequence[str], coordinates: Sequence[str], source: str,
                 problems: list[Problem]) -> ShockSpec | None:
     """The ``[shock]`` section, its problems appended to ``problems``.
@@ -174,20 +351,7 @@ def parse_shock(data: Any, signals: Sequence[str], coordinates: Sequence[str], s
         problems.append(Problem("expected a table", source, section))
         return None
     _unknown(data, SHOCK_KEYS, source, section, problems)
-    signal = data.get("signal")
-    names = list(signals) + list(coordinates)
-    if not isinstance(signal, str) or signal not in names:
-        close = difflib.get_close_matches(str(signal), names, n=1)
-        hint = f"did you mean '{close[0]}'?" if close else \
-            f"they are {', '.join(names[:20]) or 'none'}"
-        problems.append(Problem(f"{signal!r} is neither a signal nor a coordinate; {hint}"
-                                if signal is not None else
-                                f"missing: the signal or coordinate the pulse acts on; {hint}",
-                                source, section, "signal"))
-    derivative = data.get("derivative", 0)
-    if isinstance(derivative, bool) or derivative not in (0, 1, 2):
-        problems.append(Problem(f"must be 0, 1 or 2, got {derivative!r}", source, section,
-                                "derivative"))
+    signal, derivative, factor = _input(data, signals, coordinates, source, section, problems)
     kind = data.get("pulse")
     if kind not in PULSES:
         problems.append(Problem(f"must be one of {', '.join(PULSES)}, got {kind!r}", source,
@@ -198,19 +362,6 @@ def parse_shock(data: Any, signals: Sequence[str], coordinates: Sequence[str], s
         problems.append(Problem(f"must be a finite non-zero number, got {amplitude!r}",
                                 source, section, "amplitude"))
         amplitude = None
-    factor = 1.0
-    unit = data.get("unit")
-    if unit is not None:
-        if not isinstance(unit, str) or not unit.strip():
-            problems.append(Problem("must be a unit text such as \"g\" or \"m/s^2\"", source,
-                                    section, "unit"))
-        elif unit.strip() == "g":
-            factor = STANDARD_GRAVITY
-        else:
-            try:
-                factor = parse_unit(unit).to_si()
-            except UnitError as exc:
-                problems.append(Problem(str(exc), source, section, "unit"))
     duration = _positive(data, "duration", source, section, problems)
     step = _positive(data, "step", source, section, problems,
                      None if duration is None else duration / 2000)
@@ -304,5 +455,5 @@ def parse_fatigue(data: Any, source: str, problems: list[Problem]) -> FatigueSpe
     return FatigueSpec(k, C, str(method), duration, source)
 
 
-__all__ = ["FATIGUE_METHODS", "FatigueSpec", "PULSES", "ShockSpec", "parse_fatigue",
-           "parse_shock"]
+__all__ = ["FATIGUE_METHODS", "FatigueSpec", "PULSES", "PeriodicSpec", "SHAPES", "ShockSpec",
+           "parse_fatigue", "parse_periodic", "parse_shock"]

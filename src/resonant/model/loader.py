@@ -65,7 +65,7 @@ from .matrix_files import read_matrix_spec
 from .nonlinear_elements import read_nonlinear_elements
 from .part_energies import Mechanism, derive_energies, point_expressions
 from .parts import DerivedEnergies, read_parts
-from .load_spec import parse_fatigue, parse_shock
+from .load_spec import parse_fatigue, parse_periodic, parse_shock
 from .random_spec import parse_random
 from .study import parse_study
 from .types import (
@@ -348,6 +348,9 @@ class _Builder:
             if "random" in self.data else None
         shock = parse_shock(self.data["shock"], list(signals), names, self.source,
                             self.problems) if "shock" in self.data else None
+        periodic = parse_periodic(self.data["periodic"], param_names, list(signals), names,
+                                  self.source, self.problems) \
+            if "periodic" in self.data else None
         fatigue = parse_fatigue(self.data["fatigue"], self.source, self.problems) \
             if "fatigue" in self.data else None
         self.raise_problems(misplaced)
@@ -364,7 +367,8 @@ class _Builder:
             forces=tuple(forces), outputs=MappingProxyType(outputs), matrices=matrix_spec,
             exercise=exercise, parts=derived, units=units, study_section=study,
             explore_section=explore, random_section=random,
-            shock_section=shock, fatigue_section=fatigue)
+            shock_section=shock, fatigue_section=fatigue,
+            periodic_section=periodic)
 
     def exercise(self, param_names: list[str], names: list[str], outputs: list[str]
                  ) -> Exercise | None:

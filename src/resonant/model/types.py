@@ -46,7 +46,7 @@ if TYPE_CHECKING:
     from .exercise import Exercise
     from .explore import ExploreSpec
     from .parts import DerivedEnergies
-    from .load_spec import FatigueSpec, ShockSpec
+    from .load_spec import FatigueSpec, PeriodicSpec, ShockSpec
     from .random_spec import RandomSpec
 
 TIME = sympy.Symbol("t")
@@ -215,6 +215,8 @@ class Model:
         The ``[shock]`` section: a classical pulse on one input.
     fatigue_section : FatigueSpec or None
         The ``[fatigue]`` section: an S-N curve, a spectral method and the exposure.
+    periodic_section : PeriodicSpec or None
+        The ``[periodic]`` section: a periodic, non-harmonic load on one input.
 
     Examples
     --------
@@ -258,6 +260,8 @@ class Model:
     shock_section: ShockSpec | None = None
     #: the ``[fatigue]`` section (resonant.model.load_spec); None without one
     fatigue_section: FatigueSpec | None = None
+    #: the ``[periodic]`` section (resonant.model.load_spec); None without one
+    periodic_section: PeriodicSpec | None = None
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""
