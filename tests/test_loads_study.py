@@ -265,3 +265,31 @@ def test_bad_periodic_section(tmp_path: Path, body: str, key: str, said: str) ->
     with pytest.raises(ModelError) as info:
         resonant.load(path)
     assert "bad.toml: [periodic] " + key in str(info.value) and said in str(info.value)
+
+
+def test_report_shows_the_periodic_and_random_responses(tmp_path: Path) -> None:
+    """The worked solution of a model with [periodic] and [random]: the series, the
+    harmonics' table, the summed largest excursion (the numbers of periodic_load_response)
+    and the RMS table with Miles beside the exact value (those of random_response)."""
+    from resonant.analyses.periodic_load import periodic_load_response
+    from resonant.report import build_report, render
+    from resonant.report.blocks import Table
+
+    path = tmp_path / "loads.toml"
+    path.write_text(GEVS + PERIODIC.format(body='shape = "triangle"\namplitude = 0.5\n'
+                                           'unit = "mm"'))
+    model = resonant.load(path)
+    report = build_report(model, plots=False)
+    headings = report.headings()
+    assert "Periodic load: Fourier series and superposition" in headings
+    assert "Random load: spectral densities and RMS values" in headings
+    text = render(report, "md")
+    periodic = periodic_load_response(model.linearize())
+    random = model.random_response()
+    tables = [b for b in report.blocks if isinstance(b, Table)]
+    cells = [" ".join(p for p in c if isinstance(p, str)) for t in tables for r in t.rows
+             for c in r]
+    assert f"{periodic.largest['z']:.4g} m" in cells
+    assert f"{random.rms['a']:.4g} m/s^2" in cells
+    assert random.miles is not None and f"{random.miles['a']:.4g} m/s^2" in cells
+    assert "Miles" in text and "Parseval" in text

@@ -24,6 +24,7 @@ from .context import Context
 from .energies import coordinates, dissipation, kinetic, potential
 from .excitation import equation_of_motion, forces
 from .excursions import excursions
+from .loads import periodic_load, random_load
 from .given_matrices import given_matrices
 from .modal import natural_frequencies
 from .opening import data, method, title
@@ -53,6 +54,7 @@ def step_order(ctx: Context) -> list[Step]:
         steps.append(lambda c: natural_frequencies(c, with_modes=True))
     else:
         steps.extend([stationary, excursions, natural_frequencies, plots])
+    steps.extend([periodic_load, random_load])  # loads beyond a sine (docs/random.md)
     steps.append(warnings)
     return steps
 
