@@ -2,7 +2,8 @@
 
 ``resonant srs --pulse half-sine --amplitude 100 --duration 0.011 [--step DT]``,
 ``resonant srs --csv FILE`` or ``resonant srs MODEL [--output NAME]`` (the model's
-``[shock]`` pulse, or the history of one of its outputs under it), with ``--from F1 --to F2 --points N`` (Hz, log spaced),
+``[shock]`` pulse, or the history of one of its outputs under it), with
+``--from F1 --to F2 --points N`` (Hz, log spaced),
 ``--Q Q`` or ``--damping ZETA``, ``--quantity``, ``--plot FILE``, ``--json``
 (docs/random.md, section Shock).
 """

@@ -288,7 +288,7 @@ def parse_periodic(data: Any, params: Sequence[str], signals: Sequence[str],
                                             "parameters", source, section, "expression"))
             except ExpressionError as exc:
                 problems.extend(exc.problems)
-        shape = "expression"
+        shape: object = "expression"
         amplitude: float | None = 1.0
     else:
         shape = data.get("shape")

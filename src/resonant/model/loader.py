@@ -61,11 +61,11 @@ from .limits import (
     MAX_INLINED_NODES,
     TOP_LEVEL,
 )
+from .load_spec import parse_fatigue, parse_periodic, parse_shock
 from .matrix_files import read_matrix_spec
 from .nonlinear_elements import read_nonlinear_elements
 from .part_energies import Mechanism, derive_energies, point_expressions
 from .parts import DerivedEnergies, read_parts
-from .load_spec import parse_fatigue, parse_periodic, parse_shock
 from .random_spec import parse_random
 from .study import parse_study
 from .types import (

@@ -45,8 +45,8 @@ if TYPE_CHECKING:
     from ..views.explore import ExplorePage
     from .exercise import Exercise
     from .explore import ExploreSpec
-    from .parts import DerivedEnergies
     from .load_spec import FatigueSpec, PeriodicSpec, ShockSpec
+    from .parts import DerivedEnergies
     from .random_spec import RandomSpec
 
 TIME = sympy.Symbol("t")

@@ -33,9 +33,9 @@ from typing import Any
 
 import numpy as np
 
+from ..analyses.fatigue import SNCurve, spectral_fatigue
 from ..analyses.kernel import solve_harmonic
 from ..analyses.modes import modes
-from ..analyses.fatigue import SNCurve, spectral_fatigue
 from ..analyses.random_response import random_response
 from ..analyses.shock import shock_response_spectrum
 from ..analyses.sweep import amplitude_and_phase, amplitudes, harmonic_responses, kept_coordinates

@@ -24,8 +24,8 @@ from .context import Context
 from .energies import coordinates, dissipation, kinetic, potential
 from .excitation import equation_of_motion, forces
 from .excursions import excursions
-from .loads import periodic_load, random_load
 from .given_matrices import given_matrices
+from .loads import periodic_load, random_load
 from .modal import natural_frequencies
 from .opening import data, method, title
 from .stationary_solution import stationary

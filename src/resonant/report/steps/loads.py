@@ -165,12 +165,12 @@ def random_load(ctx: Context) -> list[Block]:
         blocks.append(paragraph(
             "with ", _m("g_{r}"), " the response's static gain (1 for the absolute "
             "acceleration under a base acceleration, Miles 1954). Beside the exact value:"))
-        rows = [(cell(_m(ctx.namer(name))), cell(_t(value, result.units.get(name, ""))),
+        miles_rows = [(cell(_m(ctx.namer(name))), cell(_t(value, result.units.get(name, ""))),
                  cell(_t(result.rms[name], result.units.get(name, ""))),
                  cell(f"{100 * (value / result.rms[name] - 1):+.2f} %"))
                 for name, value in result.miles.items() if result.rms.get(name)]
         blocks.append(Table((cell("response"), cell("Miles"), cell("exact"),
-                             cell("difference")), tuple(rows)))
+                             cell("difference")), tuple(miles_rows)))
     blocks.extend(Note((w,)) for w in result.warnings)
     return blocks
 
