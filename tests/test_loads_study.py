@@ -293,3 +293,21 @@ def test_report_shows_the_periodic_and_random_responses(tmp_path: Path) -> None:
     assert f"{random.rms['a']:.4g} m/s^2" in cells
     assert random.miles is not None and f"{random.miles['a']:.4g} m/s^2" in cells
     assert "Miles" in text and "Parseval" in text
+
+
+def test_solve_shows_the_periodic_response(tmp_path: Path) -> None:
+    """``resonant solve`` on a model with [periodic]: the text and the JSON carry the
+    periodic response, the same numbers as periodic_load_response (rel 1e-12)."""
+    import json
+
+    from conftest import run_cli
+    from resonant.analyses.periodic_load import periodic_load_response
+    path = Path(__file__).parents[1] / "examples" / "teaching" / "fourier_square.toml"
+    code, out, err = run_cli(["solve", str(path), "--json"])
+    assert code == 0, err
+    data = json.loads(out)["periodic"]
+    direct = periodic_load_response(resonant.load(path).linearize())
+    assert data["responses"]["x"]["largest"] == pytest.approx(direct.largest["x"], rel=1e-12)
+    assert data["harmonics"] == direct.series.harmonics
+    code, out, err = run_cli(["solve", str(path)])
+    assert code == 0 and "Periodic load: square, period 0.5 s" in out
