@@ -38,10 +38,11 @@ from typing import Any
 import numpy as np
 
 from ..errors import AnalysisError
+from ..model.load_spec import FATIGUE_METHODS
 from .stationary import freeze_fields
 
-#: the spectral methods and FLife's class for each
-METHODS = ("narrowband", "dirlik", "tovo-benasciutti")
+#: the spectral methods (FLife's Narrowband, Dirlik, TovoBenasciutti)
+METHODS = FATIGUE_METHODS
 
 
 @dataclass(frozen=True)

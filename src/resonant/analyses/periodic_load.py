@@ -42,13 +42,14 @@ from typing import Any
 import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import AnalysisError
+from ..errors import AnalysisError, ModelError, Problem
+from ..expressions import numeric_value
+from ..model.load_spec import SHAPES, PeriodicSpec
 from ..model.random_spec import RandomInput
 from ..system import LinearSystem
 from .random_response import Transfer, responses_to_solve
 from .stationary import freeze_fields
 
-SHAPES = ("square", "sawtooth", "triangle", "rectified-sine")
 #: most harmonics of a series
 MAX_HARMONICS = 200_000
 #: samples per period of the response, per harmonic (for the largest excursion)
@@ -323,5 +324,60 @@ def _mean(transfer: Transfer, outputs: Sequence[str], a0: float, derivative: int
     return (H0 * a0).real
 
 
+def periodic_load_response(system: LinearSystem, spec: PeriodicSpec | None = None, *,
+                           names: Sequence[str] | None = None, method: str = "auto",
+                           deadline: Deadline = NO_DEADLINE) -> PeriodicResponse:
+    """The stationary response to the model's ``[periodic]`` load: its series, then
+    :func:`periodic_response`.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    spec : PeriodicSpec, optional
+        The load (default: the model's ``[periodic]`` section).
+    names : sequence of str, optional
+    method : str
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    PeriodicResponse
+
+    Raises
+    ------
+    ModelError
+        Without a ``[periodic]`` section.
+    AnalysisError
+        As :func:`fourier_series` and :func:`periodic_response`.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> system = resonant.load("examples/shaker_gevs.toml").linearize()
+    >>> spec = PeriodicSpec("y", 0, "triangle", 1e-3, 0.01)    # the table: 1 mm, 100 Hz
+    >>> result = periodic_load_response(system, spec, names=["z"])
+    >>> result.series.harmonics, round(result.largest["z"] * 1e3, 3)
+    (11, 0.34)
+    """
+    if spec is None:
+        spec = system.model.periodic_section if system.model is not None else None
+        if spec is None:
+            raise ModelError(Problem("the model has no [periodic] section: add one with the "
+                                     "signal, its shape and period (docs/model-format.md)",
+                                     system.source, "periodic"))
+    function = None
+    if spec.expression is not None:
+        expression = spec.expression
+        values = dict(system.model.parameter_values) if system.model is not None else {}
+
+        def function(t: np.ndarray) -> np.ndarray:
+            value = numeric_value(expression, {**values, "t": t})
+            return np.broadcast_to(np.asarray(value, dtype=float), t.shape).copy()
+    series = fourier_series(spec.shape, spec.amplitude, spec.period, tolerance=spec.tolerance,
+                            function=function)
+    return periodic_response(system, spec.signal, series, derivative=spec.derivative,
+                             names=names, method=method, deadline=deadline)
+
+
 __all__ = ["SHAPES", "FourierSeries", "fourier_series", "PeriodicResponse",
-           "periodic_response"]
+           "periodic_load_response", "periodic_response"]

@@ -45,10 +45,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import AnalysisError
+from ..model.load_spec import PULSES
 from .stationary import freeze_fields
 
-#: the pulses :func:`pulse` makes
-PULSES = ("half-sine", "haversine", "sawtooth", "rectangular", "step", "impulse")
 #: the responses an SRS can be of
 QUANTITIES = ("absolute acceleration", "pseudo-velocity", "relative displacement")
 #: most samples of a signal

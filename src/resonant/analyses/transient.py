@@ -34,9 +34,11 @@ from typing import Any
 import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import AnalysisError
+from ..errors import AnalysisError, ModelError, Problem
+from ..model.load_spec import ShockSpec
 from ..system import LinearSystem
 from ..system.excitation import excitation_columns
+from .shock import pulse
 from .stationary import freeze_fields
 
 #: most state variables marched (dense matrices)
@@ -218,4 +220,50 @@ def transient_response(system: LinearSystem, signal: str, values: Sequence[float
                              tuple(history))
 
 
-__all__ = ["TransientResponse", "transient_response"]
+def shock_response(system: LinearSystem, spec: ShockSpec | None = None, *,
+                   names: Sequence[str] | None = None,
+                   deadline: Deadline = NO_DEADLINE) -> TransientResponse:
+    """The exact response to the model's ``[shock]`` pulse (docs/random.md, section Shock).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    spec : ShockSpec, optional
+        The pulse (default: the model's ``[shock]`` section).
+    names : sequence of str, optional
+        The coordinates and outputs to report (default all).
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    TransientResponse
+        Sampled every ``spec.step`` over ``spec.total``.
+
+    Raises
+    ------
+    ModelError
+        Without a ``[shock]`` section.
+    AnalysisError
+        As :func:`transient_response`.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> from resonant.model.load_spec import ShockSpec
+    >>> system = resonant.load("examples/shaker_gevs.toml").linearize()
+    >>> spec = ShockSpec("y", 2, "half-sine", 100.0, 0.011, 1e-5, 0.05)
+    >>> round(shock_response(system, spec, names=["table"]).largest["table"], 9)
+    100.0
+    """
+    if spec is None:
+        spec = system.model.shock_section if system.model is not None else None
+        if spec is None:
+            raise ModelError(Problem("the model has no [shock] section: add one with the "
+                                     "pulse, its signal, amplitude and duration "
+                                     "(docs/model-format.md)", system.source, "shock"))
+    _, values = pulse(spec.pulse, spec.amplitude, spec.duration, spec.step, total=spec.total)
+    return transient_response(system, spec.signal, values, spec.step,
+                              derivative=spec.derivative, names=names, deadline=deadline)
+
+
+__all__ = ["TransientResponse", "shock_response", "transient_response"]

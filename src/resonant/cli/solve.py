@@ -7,10 +7,12 @@ import sys
 
 import resonant.cli.common as common
 
+from ..analyses.periodic_load import periodic_load_response
 from ..analyses.stationary import stationary
 from ..errors import name_list
 from ..system import linear_system
 from ..views.display import solution_text
+from ..views.random_views import periodic_text
 from ..views.units_display import result_units
 
 
@@ -27,16 +29,24 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
 def run_solve(args: argparse.Namespace) -> int:
     deadline = common.deadline(args)
     model = common.load_model(args)
-    solution = stationary(linear_system(model, deadline), deadline)
+    system = linear_system(model, deadline)
+    solution = stationary(system, deadline)
+    # a [periodic] load: its stationary response by Fourier series (docs/random.md)
+    periodic = periodic_load_response(system, deadline=deadline) \
+        if model.periodic_section is not None else None
     if args.json:
         data = solution.to_dict()
         units = result_units(model)
         if units is not None:  # JSON stays SI; the units say which
             data["units"] = units.to_json()
+        if periodic is not None:
+            data["periodic"] = periodic.to_dict()
         common.emit_json(data)
         common.warn(solution.warnings)
     else:
         sys.stdout.write(solution_text(solution))
+        if periodic is not None:
+            sys.stdout.write(periodic_text(periodic))
     return 0
 
 

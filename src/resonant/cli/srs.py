@@ -1,7 +1,9 @@
 """``resonant srs``: the shock response spectrum of a classical pulse or a CSV history.
 
-``resonant srs --pulse half-sine --amplitude 100 --duration 0.011 [--step DT]`` or
-``resonant srs --csv FILE``, with ``--from F1 --to F2 --points N`` (Hz, log spaced),
+``resonant srs --pulse half-sine --amplitude 100 --duration 0.011 [--step DT]``,
+``resonant srs --csv FILE`` or ``resonant srs MODEL [--output NAME]`` (the model's
+``[shock]`` pulse, or the history of one of its outputs under it), with
+``--from F1 --to F2 --points N`` (Hz, log spaced),
 ``--Q Q`` or ``--damping ZETA``, ``--quantity``, ``--plot FILE``, ``--json``
 (docs/random.md, section Shock).
 """
@@ -17,7 +19,9 @@ import numpy as np
 import resonant.cli.common as cli
 
 from ..analyses.shock import PULSES, QUANTITIES, pulse, shock_response_spectrum
+from ..analyses.transient import shock_response
 from ..errors import ModelError, Problem
+from ..model import load
 from ..model.time_series import read_time_series
 from ..views.shock_views import plot_srs, srs_text
 
@@ -25,6 +29,11 @@ from ..views.shock_views import plot_srs, srs_text
 def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
     srs = subparsers.add_parser("srs", help="shock response spectrum of a pulse or a CSV "
                                 "history (maximax, primary, residual)")
+    srs.add_argument("model", nargs="?", default=None,
+                     help="a model file with a [shock] section (instead of --pulse/--csv)")
+    srs.add_argument("--output", metavar="NAME",
+                     help="with MODEL: the SRS of this coordinate's or output's history under "
+                          "the [shock] pulse (default: of the pulse itself)")
     srs.add_argument("--pulse", choices=PULSES, help="a classical pulse")
     srs.add_argument("--amplitude", type=cli.number(), default=1.0, metavar="A",
                      help="the pulse's peak (its area for an impulse); default 1")
@@ -51,12 +60,39 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
     srs.set_defaults(run=run_srs)
 
 
+def _from_model(args: argparse.Namespace) -> tuple[float, np.ndarray, float]:
+    """(step, history, Q) of the model's [shock] pulse or of an output under it."""
+    model = load(args.model)
+    spec = model.shock_section
+    if spec is None:
+        raise ModelError(Problem("the model has no [shock] section: add one with the pulse, "
+                                 "its signal, amplitude and duration (docs/model-format.md)",
+                                 model.source, "shock"))
+    if args.output is None:
+        _, values = pulse(spec.pulse, spec.amplitude, spec.duration, spec.step,
+                          total=spec.total)
+    else:
+        names = (*model.coordinates, *model.outputs)
+        if args.output not in names:
+            raise ModelError(Problem(f"'{args.output}' is not a coordinate or output; they are "
+                                     + ", ".join(names[:20]), "--output"))
+        values = shock_response(model.linearize(), names=[args.output]).history[args.output]
+    return spec.step, values, spec.Q
+
+
 def run_srs(args: argparse.Namespace) -> int:
-    if (args.pulse is None) == (args.csv is None):
-        raise ModelError(Problem("give either --pulse (with --duration) or --csv FILE", "srs"))
+    given = sum(x is not None for x in (args.pulse, args.csv, args.model))
+    if given != 1:
+        raise ModelError(Problem("give one of --pulse (with --duration), --csv FILE or a "
+                                 "model file with a [shock] section", "srs"))
+    if args.output is not None and args.model is None:
+        raise ModelError(Problem("--output needs a model file", "srs"))
     if args.stop <= args.start:
         raise ModelError(Problem("--to must be above --from", "srs"))
-    if args.csv is not None:
+    Q = 10.0
+    if args.model is not None:
+        step, values, Q = _from_model(args)
+    elif args.csv is not None:
         step, values = read_time_series(args.csv)
     else:
         if args.duration is None:
@@ -66,7 +102,7 @@ def run_srs(args: argparse.Namespace) -> int:
     frequencies = np.geomspace(args.start, args.stop, args.points)
     spectrum = shock_response_spectrum(values, step, frequencies, damping=args.damping,
                                        Q=args.Q if args.Q is not None or args.damping
-                                       is not None else 10.0, quantity=args.quantity)
+                                       is not None else Q, quantity=args.quantity)
     if args.plot:
         plot_srs(spectrum, np.arange(len(values)) * step, values, args.plot)
     if args.json:

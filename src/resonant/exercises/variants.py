@@ -21,6 +21,8 @@ from typing import Any
 
 import numpy as np
 
+from ..analyses.periodic_load import periodic_load_response
+from ..analyses.random_response import random_response
 from ..analyses.stationary import StationarySolution, stationary
 from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..derivation.residual import is_zero
@@ -278,6 +280,9 @@ def _answers(exercise: Exercise, solution: StationarySolution, model: Model
                                          "answers"))
             value = float(solution.amplitudes[name])
             unit = units.get(name)
+        elif kind in ("rms", "miles", "largest"):
+            value = _load_answer(kind, name, solution, model)
+            unit = units.get(name)
         else:  # phase
             if name not in solution.phases:
                 raise ModelError(Problem(f"the answer '{key}' is not defined (a phase needs "
@@ -285,10 +290,29 @@ def _answers(exercise: Exercise, solution: StationarySolution, model: Model
                                          model.source, "exercise", "answers"))
             value = float(solution.phases[name])
             unit = "rad"
-        label = _LABELS.get(key) or (f"amplitude of {name}" if kind == "amplitude"
-                                     else f"phase of {name}")
+        label = _LABELS.get(key) or {
+            "amplitude": f"amplitude of {name}", "phase": f"phase of {name}",
+            "rms": f"RMS value of {name} under the random load",
+            "miles": f"Miles' estimate of the RMS value of {name}",
+            "largest": f"largest excursion of {name} under the periodic load"}[kind]
         out[key] = Answer(key, label, value, unit)
     return out
+
+
+def _load_answer(kind: str, name: str, solution: StationarySolution, model: Model) -> float:
+    """``rms:NAME`` and ``miles:NAME`` (the [random] section), ``largest:NAME`` (the
+    [periodic] section) of one variant."""
+    if kind == "largest":
+        return float(periodic_load_response(solution.eom, names=[name]).largest[name])
+    result = random_response(solution.eom, names=[name])
+    if kind == "rms":
+        return float(result.rms[name])
+    if result.miles is None or name not in result.miles:
+        raise ModelError(Problem(f"the answer 'miles:{name}' is not defined: Miles' equation "
+                                 "needs one degree of freedom, one random input, a natural "
+                                 "frequency inside the band and a response with a static gain "
+                                 "that resonates", model.source, "exercise", "answers"))
+    return float(result.miles[name])
 
 
 def generate(model: Model, count: int, seed: int, deadline: Deadline = NO_DEADLINE

@@ -31,7 +31,7 @@ from ..expressions import ExpressionError, numeric_value, parse
 #: answers that name a whole matrix or vector of the solution
 PLAIN_ANSWERS = ("M", "C", "K", "L", "N", "F_S", "F_C", "natural_frequencies")
 #: answers of the form ``kind:name`` (name a coordinate or an output)
-NAMED_ANSWERS = ("amplitude", "phase")
+NAMED_ANSWERS = ("amplitude", "phase", "rms", "miles", "largest")
 #: most values one parameter may take (a list or a range)
 MAX_VALUES = 10_000
 #: most answers of one exercise
@@ -290,7 +290,8 @@ def _answers(raw: object, coordinates: Sequence[str], outputs: Sequence[str], so
         else:
             problems.append(Problem(
                 f"unknown answer '{item}'; answers are {', '.join(PLAIN_ANSWERS)}, "
-                "amplitude:NAME and phase:NAME (NAME a coordinate or output)", source,
+                "amplitude:NAME, phase:NAME, rms:NAME and miles:NAME (under [random]) and "
+                "largest:NAME (under [periodic]) (NAME a coordinate or output)", source,
                 "exercise", key))
             continue
         if item in out:

@@ -9,7 +9,8 @@ from __future__ import annotations
 TOP_LEVEL = ("title", "description", "parameters", "coordinates", "equilibrium", "signals",
              "definitions", "energy", "force", "outputs", "matrices", "harmonic", "exercise",
              "variants", "gravity", "point", "body", "spring", "damper", "torque", "display",
-             "study", "explore", "nonlinear", "random")
+             "study", "explore", "nonlinear", "random", "shock", "fatigue",
+             "periodic")
 #: the part sections (docs/parts.md; resonant.model.parts)
 PART_SECTIONS = ("point", "body", "spring", "damper", "torque")
 #: most entries of each part section ([[body]], [[spring]], ...)

@@ -61,6 +61,7 @@ from .limits import (
     MAX_INLINED_NODES,
     TOP_LEVEL,
 )
+from .load_spec import parse_fatigue, parse_periodic, parse_shock
 from .matrix_files import read_matrix_spec
 from .nonlinear_elements import read_nonlinear_elements
 from .part_energies import Mechanism, derive_energies, point_expressions
@@ -345,6 +346,13 @@ class _Builder:
         random = parse_random(self.data["random"], param_names, list(signals), names,
                               self.source, self.problems, units) \
             if "random" in self.data else None
+        shock = parse_shock(self.data["shock"], list(signals), names, self.source,
+                            self.problems) if "shock" in self.data else None
+        periodic = parse_periodic(self.data["periodic"], param_names, list(signals), names,
+                                  self.source, self.problems) \
+            if "periodic" in self.data else None
+        fatigue = parse_fatigue(self.data["fatigue"], self.source, self.problems) \
+            if "fatigue" in self.data else None
         self.raise_problems(misplaced)
         if matrix_spec is not None and not coordinates:
             n = _matrix_size(matrix_spec.M)
@@ -358,7 +366,9 @@ class _Builder:
             definitions=MappingProxyType(definitions), energy=MappingProxyType(energy),
             forces=tuple(forces), outputs=MappingProxyType(outputs), matrices=matrix_spec,
             exercise=exercise, parts=derived, units=units, study_section=study,
-            explore_section=explore, random_section=random)
+            explore_section=explore, random_section=random,
+            shock_section=shock, fatigue_section=fatigue,
+            periodic_section=periodic)
 
     def exercise(self, param_names: list[str], names: list[str], outputs: list[str]
                  ) -> Exercise | None:

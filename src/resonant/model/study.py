@@ -46,7 +46,7 @@ DISTRIBUTIONS = ("uniform", "normal", "lognormal")
 #: the quantities a study records: kind -> what follows the colon
 QUANTITY_KINDS = {"natural_frequency": "index", "damping_ratio": "index", "amplitude": "name",
                   "phase": "name", "peak": "name", "stable": "", "nonlinear_amplitude": "name",
-                  "rms": "name"}
+                  "rms": "name", "srs": "name@frequency", "damage": "name"}
 #: the quantities that need a band: peaks (searched over it) and the nonlinear steady state
 #: (swept up from its start)
 BAND_KINDS = ("peak", "nonlinear_amplitude")
@@ -153,6 +153,8 @@ class Quantity:
         The mode, counted from 1, lowest first (natural_frequency, damping_ratio).
     text : str
         As written.
+    frequency : float
+        The oscillator's natural frequency in Hz (``srs:NAME@f``).
 
     Examples
     --------
@@ -164,6 +166,7 @@ class Quantity:
     target: str
     index: int
     text: str
+    frequency: float = 0.0
 
     @property
     def columns(self) -> tuple[str, ...]:
@@ -472,6 +475,21 @@ def parse_quantity(text: object, names: Collection[str], reader: _Reader) -> Qua
                            + ", ".join(list(names)[:20]), "quantities")
             return None
         return Quantity(kind, target, 0, f"{kind}:{target}")
+    if what == "name@frequency":
+        name, _, at = (part.strip() for part in target.partition("@"))
+        try:
+            frequency = float(at)
+        except ValueError:
+            frequency = math.nan
+        if not (math.isfinite(frequency) and frequency > 0):
+            reader.problem(f"'{text}' needs a natural frequency in Hz after '@', as in "
+                           f"{kind}:{name or 'NAME'}@100", "quantities")
+            return None
+        if name not in names:
+            reader.problem(f"'{text}': '{name}' is not a coordinate or output; they are "
+                           + ", ".join(list(names)[:20]), "quantities")
+            return None
+        return Quantity(kind, name, 0, f"{kind}:{name}@{frequency:.12g}", frequency)
     if target:
         reader.problem(f"'{kind}' takes no ':'", "quantities")
         return None

@@ -45,6 +45,7 @@ if TYPE_CHECKING:
     from ..views.explore import ExplorePage
     from .exercise import Exercise
     from .explore import ExploreSpec
+    from .load_spec import FatigueSpec, PeriodicSpec, ShockSpec
     from .parts import DerivedEnergies
     from .random_spec import RandomSpec
 
@@ -210,6 +211,12 @@ class Model:
         The ``[explore]`` section: the ranges of the explore page's sliders.
     random_section : RandomSpec or None
         The ``[random]`` section: the spectral densities of random inputs.
+    shock_section : ShockSpec or None
+        The ``[shock]`` section: a classical pulse on one input.
+    fatigue_section : FatigueSpec or None
+        The ``[fatigue]`` section: an S-N curve, a spectral method and the exposure.
+    periodic_section : PeriodicSpec or None
+        The ``[periodic]`` section: a periodic, non-harmonic load on one input.
 
     Examples
     --------
@@ -249,6 +256,12 @@ class Model:
     explore_section: ExploreSpec | None = None
     #: the ``[random]`` section (resonant.model.random_spec); None without one
     random_section: RandomSpec | None = None
+    #: the ``[shock]`` section (resonant.model.load_spec); None without one
+    shock_section: ShockSpec | None = None
+    #: the ``[fatigue]`` section (resonant.model.load_spec); None without one
+    fatigue_section: FatigueSpec | None = None
+    #: the ``[periodic]`` section (resonant.model.load_spec); None without one
+    periodic_section: PeriodicSpec | None = None
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""

@@ -33,11 +33,14 @@ from typing import Any
 
 import numpy as np
 
+from ..analyses.fatigue import SNCurve, spectral_fatigue
 from ..analyses.kernel import solve_harmonic
 from ..analyses.modes import modes
 from ..analyses.random_response import random_response
+from ..analyses.shock import shock_response_spectrum
 from ..analyses.sweep import amplitude_and_phase, amplitudes, harmonic_responses, kept_coordinates
-from ..errors import ResonantError
+from ..analyses.transient import shock_response
+from ..errors import ModelError, Problem, ResonantError
 from ..expressions import numeric_value
 from ..model import Model
 from ..model.study import StudySpec
@@ -78,9 +81,11 @@ class Rows:
         self.marked = False  # whether any sample failed
         #: what failed where: "all" (every quantity), "stability" (responses),
         #: "excitation" (amplitude, phase), "band" (peaks), "nonlinear" (the nonlinear
-        #: steady state), "random" (the response to the [random] inputs)
+        #: steady state), "random" (the response to the [random] inputs: rms, damage),
+        #: "shock" (the response to the [shock] pulse: srs)
         self.failed = {k: np.zeros(count, dtype=bool)
-                       for k in ("all", "stability", "excitation", "band", "nonlinear", "random")}
+                       for k in ("all", "stability", "excitation", "band", "nonlinear", "random",
+                                 "shock")}
 
     def fail(self, mask: np.ndarray, status: str, reason: str, scope: str = "all") -> None:
         """Mark the samples of ``mask``; the first failure of a sample gives its status."""
@@ -399,18 +404,61 @@ def _fill_rms(rows: Rows, spec: StudySpec, system: LinearSystem, values: Mapping
               batch: Batch) -> None:
     """The RMS values under the model's ``[random]`` inputs (docs/random.md), sample by
     sample (the samples whose stability failed before are skipped)."""
-    wanted = [q for q in spec.quantities if q.kind == "rms"]
+    wanted = [q for q in spec.quantities if q.kind in ("rms", "damage")]
     if not wanted:
         return
     names = list(dict.fromkeys(q.target for q in wanted))
     for i in np.flatnonzero(rows.valid("stability")):
         try:
-            result = random_response(numeric_point(batch, int(i), system, values), names=names)
+            point = numeric_point(batch, int(i), system, values)
+            result = random_response(point, names=names)
+            for q in wanted:
+                rows.columns[q.text][i] = result.rms[q.target] if q.kind == "rms" else \
+                    _damage(point, result.frequency, result.psd[q.target])
         except ResonantError as exc:
             rows.fail(np.arange(rows.count) == i, "failed", str(exc), "random")
-            continue
-        for q in wanted:
-            rows.columns[q.text][i] = result.rms[q.target]
+            for q in wanted:
+                rows.columns[q.text][i] = np.nan
+
+
+def _damage(system: LinearSystem, frequency: np.ndarray, psd: np.ndarray) -> float:
+    """Miner's damage over the ``[fatigue]`` section's exposure of a stress density by the
+    section's spectral method (FLife, :func:`~resonant.analyses.fatigue.spectral_fatigue`)."""
+    spec = system.model.fatigue_section if system.model is not None else None
+    if spec is None:
+        raise ModelError(Problem("damage:NAME needs a [fatigue] section: the S-N curve (k and "
+                                 "C), the method and the duration (docs/model-format.md)",
+                                 system.source, "fatigue"))
+    result = spectral_fatigue(frequency, psd, SNCurve(spec.C, spec.k), spec.duration,
+                              methods=[spec.method])
+    assert result.damage is not None
+    return float(result.damage[spec.method])
+
+
+def _fill_srs(rows: Rows, spec: StudySpec, system: LinearSystem, values: Mapping[str, Any],
+              batch: Batch) -> None:
+    """The shock response spectra at the quantities' frequencies of the histories under the
+    model's ``[shock]`` pulse, sample by sample."""
+    wanted = [q for q in spec.quantities if q.kind == "srs"]
+    if not wanted:
+        return
+    names = list(dict.fromkeys(q.target for q in wanted))
+    for i in np.flatnonzero(rows.valid("stability")):
+        try:
+            point = numeric_point(batch, int(i), system, values)
+            response = shock_response(point, names=names)
+            shock = point.model.shock_section if point.model is not None else None
+            assert shock is not None  # shock_response raised otherwise
+            for name in names:
+                here = [q for q in wanted if q.target == name]
+                srs = shock_response_spectrum(response.history[name], shock.step,
+                                              [q.frequency for q in here], Q=shock.Q)
+                for q, value in zip(here, srs.maximax):
+                    rows.columns[q.text][i] = value
+        except ResonantError as exc:
+            rows.fail(np.arange(rows.count) == i, "failed", str(exc), "shock")
+            for q in wanted:
+                rows.columns[q.text][i] = np.nan
 
 
 def _fill(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
@@ -435,6 +483,7 @@ def _fill(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
     _fill_peaks(rows, spec, system, model, values)
     _fill_nonlinear(rows, spec, nonlinear, values)
     _fill_rms(rows, spec, system, values, batch)
+    _fill_srs(rows, spec, system, values, batch)
 
 
 def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.ndarray],

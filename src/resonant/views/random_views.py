@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from ..analyses.periodic_load import PeriodicResponse
 from ..analyses.random_response import RandomResponse
 from ..errors import AnalysisError, printable
 from ..model.random_spec import STANDARD_GRAVITY
@@ -69,6 +70,50 @@ def random_text(result: RandomResponse) -> str:
             for n in accelerations))
     lines.append("  RMS about the reference state; 3-sigma = 3 RMS; Rice's rates of zero "
                  "up-crossings sqrt(m2/m0) and of peaks sqrt(m4/m2).")
+    lines += [f"warning: {w}" for w in result.warnings]
+    return "\n".join(lines) + "\n"
+
+
+#: harmonics listed by :func:`periodic_text`
+SHOWN_HARMONICS = 5
+
+
+def periodic_text(result: PeriodicResponse) -> str:
+    """The periodic load's series and the response: per harmonic, the mean and the
+    largest excursion of the sum, as text.
+
+    Parameters
+    ----------
+    result : PeriodicResponse
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> import resonant
+    >>> from resonant.analyses.periodic_load import fourier_series, periodic_response
+    >>> system = resonant.load("examples/shaker_gevs.toml").linearize()
+    >>> result = periodic_response(system, "y", fourier_series("triangle", 1e-3, 0.01),
+    ...                            names=["z"])
+    >>> print(periodic_text(result).splitlines()[0])
+    Periodic load: triangle, period 0.01 s, 11 harmonics (remainder 0.0097 of the RMS)
+    """
+    series = result.series
+    lines = [f"Periodic load: {series.shape}, period {series.period:.6g} s, "
+             f"{series.harmonics} harmonics (remainder {series.remainder:.2g} of the RMS)"]
+    shown = min(SHOWN_HARMONICS, series.harmonics)
+    header = ("name", "mean", "largest", *(f"|z_{n + 1}|" for n in range(shown)))
+    rows = [(printable(name, limit=40), _number(result.mean[name]),
+             _number(result.largest[name]),
+             *(_number(abs(result.harmonics[name][n])) for n in range(shown)))
+            for name in result.names]
+    widths = [max(len(header[i]), *(len(r[i]) for r in rows)) for i in range(len(header))]
+    lines.append("  " + "  ".join(h.ljust(w) for h, w in zip(header, widths)))
+    lines += ["  " + "  ".join(c.ljust(w) for c, w in zip(row, widths)) for row in rows]
+    lines.append("  the sum of the harmonics' stationary responses (SI): mean, largest "
+                 "|excursion| over a period, amplitudes of the first harmonics")
     lines += [f"warning: {w}" for w in result.warnings]
     return "\n".join(lines) + "\n"
 

@@ -83,6 +83,10 @@ def study_units(model: Model, spec: StudySpec) -> dict[str, str]:
             kind, _, target = column.partition(":")
             if kind in ("amplitude", "peak", "nonlinear_amplitude", "rms"):
                 out[column] = si(target)
+            elif kind == "srs":  # the maximax of an oscillator on the output's history
+                out[column] = si(target.partition("@")[0])
+            elif kind == "damage":  # Miner's sum
+                out[column] = ""
             elif kind == "phase":
                 out[column] = "rad"
             elif kind == "natural_frequency":

@@ -1,0 +1,459 @@
+"""The ``[shock]`` and ``[fatigue]`` sections: a classical shock pulse and an S-N curve.
+
+``[shock]`` gives one transient input of the model, a classical pulse on a signal (a
+support motion or a force) or a force on a coordinate, and the damping of the shock
+response spectrum's oscillators::
+
+    [shock]
+    signal = "y"             # a signal of the model, or a coordinate (a force on it)
+    derivative = 2           # the pulse is of y'' (0: of y itself, the default)
+    pulse = "half-sine"      # half-sine, haversine, sawtooth, rectangular, step, impulse
+    amplitude = 100          # the peak (the area for an impulse), in `unit`
+    unit = "g"               # optional; g is standard gravity (default: SI)
+    duration = 0.011         # s
+    step = 1e-5              # s, the sampling step (default duration / 2000)
+    total = 0.05             # s, the history computed (default 3 durations)
+    Q = 10                   # the SRS oscillators' Q = 1/(2 zeta) (default 10)
+
+``[periodic]`` gives one periodic, non-harmonic load: a shape with closed-form Fourier
+coefficients, or an expression of ``t`` over one period::
+
+    [periodic]
+    signal = "F"             # a signal of the model, or a coordinate (a force on it)
+    derivative = 0           # the series is of F itself (2: of an acceleration)
+    shape = "square"         # square, sawtooth, triangle, rectified-sine; or
+    # expression = "F0*t/T"  # s(t) on 0 <= t < period, of t and the parameters
+    amplitude = 10           # the shape's A, in `unit` (default SI)
+    period = 0.5             # s
+    tolerance = 0.01         # the remainder's relative RMS (default 0.01)
+
+``[fatigue]`` gives the S-N curve N S^k = C of a stress output (S its amplitude, SI), the
+spectral method and the exposure, for the study quantity ``damage:NAME`` under the
+``[random]`` inputs (docs/random.md)::
+
+    [fatigue]
+    k = 4                    # the inverse slope
+    C = 1e40                 # N S_a^k = C, S_a in Pa; or C_range (stress ranges), or
+                             # amplitude = 1e8 with cycles = 1e6 (a point of the curve)
+    method = "dirlik"        # narrowband, dirlik or tovo-benasciutti (default dirlik)
+    duration = 3600          # s, the exposure
+
+Every problem names the file, the section and the key.
+
+Examples
+--------
+>>> problems = []
+>>> spec = parse_shock({"signal": "y", "derivative": 2, "pulse": "half-sine",
+...                     "amplitude": 100, "unit": "g", "duration": 0.011},
+...                    ["y"], ["x"], "f.toml", problems)
+>>> round(spec.amplitude, 5), spec.step, problems
+(980.665, 5.5e-06, [])
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..errors import Problem
+from ..expressions import Expression, ExpressionError, parse
+from .units import UnitError, parse_unit
+
+#: the pulses of ``[shock]`` (resonant.analyses.shock.pulse makes them)
+PULSES = ("half-sine", "haversine", "sawtooth", "rectangular", "step", "impulse")
+#: the periodic shapes of ``[periodic]`` with closed-form Fourier coefficients
+#: (resonant.analyses.periodic_load)
+SHAPES = ("square", "sawtooth", "triangle", "rectified-sine")
+#: the spectral fatigue methods of ``[fatigue]`` (resonant.analyses.fatigue)
+FATIGUE_METHODS = ("narrowband", "dirlik", "tovo-benasciutti")
+#: the keys of ``[shock]`` and ``[fatigue]``
+SHOCK_KEYS = ("signal", "derivative", "pulse", "amplitude", "unit", "duration", "step",
+              "total", "Q")
+PERIODIC_KEYS = ("signal", "derivative", "shape", "expression", "amplitude", "unit", "period",
+                 "tolerance")
+FATIGUE_KEYS = ("k", "C", "C_range", "amplitude", "cycles", "method", "duration")
+#: most samples of the pulse's history (total / step)
+MAX_SHOCK_SAMPLES = 5_000_000
+#: standard gravity (m/s^2): ``g`` as the unit of a pulse's amplitude
+STANDARD_GRAVITY = 9.80665
+
+
+@dataclass(frozen=True)
+class ShockSpec:
+    """The ``[shock]`` section: a classical pulse on one input, in SI.
+
+    Parameters
+    ----------
+    signal : str
+        A signal of the model, or a coordinate (a generalized force on it).
+    derivative : int
+        The pulse is of the signal's ``derivative``-th time derivative (0, 1 or 2).
+    pulse : str
+        One of :data:`PULSES`.
+    amplitude, duration, step, total : float
+        The peak (SI; the area for an impulse), the pulse's duration, the sampling step
+        and the length of the history computed (s).
+    Q : float
+        The shock response spectrum's Q = 1 / (2 zeta).
+
+    Examples
+    --------
+    >>> ShockSpec("y", 2, "half-sine", 1.0, 0.01, 1e-5, 0.03).Q
+    10.0
+    """
+
+    signal: str
+    derivative: int
+    pulse: str
+    amplitude: float
+    duration: float
+    step: float
+    total: float
+    Q: float = 10.0
+    source: str = field(default="", compare=False)
+
+
+@dataclass(frozen=True)
+class PeriodicSpec:
+    """The ``[periodic]`` section: a periodic load on one input (SI).
+
+    Parameters
+    ----------
+    signal : str
+        A signal of the model, or a coordinate (a generalized force on it).
+    derivative : int
+        The series is of the signal's ``derivative``-th time derivative.
+    shape : str
+        One of :data:`SHAPES`, or ``"expression"``.
+    amplitude : float
+        The shape's amplitude A (SI); 1 with an expression.
+    period : float
+        T (s).
+    tolerance : float
+        The largest relative RMS of the series' remainder.
+    expression : Expression or None
+        s(t) over one period (SI), of ``t`` and the parameters.
+
+    Examples
+    --------
+    >>> PeriodicSpec("F", 0, "square", 1.0, 2.0).tolerance
+    0.01
+    """
+
+    signal: str
+    derivative: int
+    shape: str
+    amplitude: float
+    period: float
+    tolerance: float = 1e-2
+    expression: Expression | None = None
+    source: str = field(default="", compare=False)
+
+
+@dataclass(frozen=True)
+class FatigueSpec:
+    """The ``[fatigue]`` section: an S-N curve N S_a^k = C (S_a the stress amplitude, SI),
+    a spectral method and the exposure.
+
+    Examples
+    --------
+    >>> FatigueSpec(4.0, 1e40, "dirlik", 3600.0).method
+    'dirlik'
+    """
+
+    k: float
+    C: float
+    method: str
+    duration: float
+    source: str = field(default="", compare=False)
+
+
+def _unknown(data: dict[Any, Any], known: Sequence[str], source: str, section: str,
+             problems: list[Problem]) -> None:
+    for key in data:
+        if key not in known:
+            close = difflib.get_close_matches(str(key), known, n=1)
+            hint = f"did you mean '{close[0]}'?" if close else f"known: {', '.join(known)}"
+            problems.append(Problem(f"unknown key '{key}'; {hint}", source, section, str(key)))
+
+
+def _positive(data: dict[Any, Any], key: str, source: str, section: str,
+              problems: list[Problem], default: float | None = None) -> float | None:
+    """A finite positive number (a missing key gives ``default``; None: required)."""
+    raw = data.get(key, default)
+    if raw is None:
+        problems.append(Problem("missing: a positive number is required", source, section, key))
+        return None
+    if isinstance(raw, bool) or not isinstance(raw, (int, float)) or \
+            not math.isfinite(raw) or raw <= 0:
+        problems.append(Problem(f"must be a positive finite number, got {raw!r}", source,
+                                section, key))
+        return None
+    return float(raw)
+
+
+def _input(data: dict[Any, Any], signals: Sequence[str], coordinates: Sequence[str],
+           source: str, section: str, problems: list[Problem]) -> tuple[str, int, float]:
+    """(signal, derivative, unit factor) of a section giving one input."""
+    signal = data.get("signal")
+    names = list(signals) + list(coordinates)
+    if not isinstance(signal, str) or signal not in names:
+        close = difflib.get_close_matches(str(signal), names, n=1)
+        hint = f"did you mean '{close[0]}'?" if close else \
+            f"they are {', '.join(names[:20]) or 'none'}"
+        problems.append(Problem(f"{signal!r} is neither a signal nor a coordinate; {hint}"
+                                if signal is not None else
+                                f"missing: the signal or coordinate the load acts on; {hint}",
+                                source, section, "signal"))
+    derivative = data.get("derivative", 0)
+    if isinstance(derivative, bool) or derivative not in (0, 1, 2):
+        problems.append(Problem(f"must be 0, 1 or 2, got {derivative!r}", source, section,
+                                "derivative"))
+        derivative = 0
+    factor = 1.0
+    unit = data.get("unit")
+    if unit is not None:
+        if not isinstance(unit, str) or not unit.strip():
+            problems.append(Problem("must be a unit text such as \"g\" or \"m/s^2\"", source,
+                                    section, "unit"))
+        elif unit.strip() == "g":
+            factor = STANDARD_GRAVITY
+        else:
+            try:
+                factor = parse_unit(unit).to_si()
+            except UnitError as exc:
+                problems.append(Problem(str(exc), source, section, "unit"))
+    return str(signal), int(derivative), factor
+
+
+def parse_periodic(data: Any, params: Sequence[str], signals: Sequence[str],
+                   coordinates: Sequence[str], source: str, problems: list[Problem]
+                   ) -> PeriodicSpec | None:
+    """The ``[periodic]`` section, its problems appended to ``problems``.
+
+    Parameters
+    ----------
+    data : Any
+        The section as read from TOML.
+    params : sequence of str
+        The parameters (allowed in an expression, with ``t``).
+    signals, coordinates : sequence of str
+        The model's signals and coordinates.
+    source : str
+        The model file.
+    problems : list of Problem
+        Receives every problem found.
+
+    Returns
+    -------
+    PeriodicSpec or None
+        None when the section has problems.
+
+    Examples
+    --------
+    >>> problems = []
+    >>> parse_periodic({"signal": "F", "shape": "square", "amplitude": 2, "period": 0.5},
+    ...                [], ["F"], ["x"], "m.toml", problems).period
+    0.5
+    >>> parse_periodic({"signal": "F", "shape": "wave", "period": 0.5}, [], ["F"], ["x"],
+    ...                "m.toml", problems)
+    >>> print(problems[0])  # doctest: +ELLIPSIS
+    m.toml: [periodic] shape: must be one of square, sawtooth, triangle, rectified-sine...
+    """
+    section = "periodic"
+    count = len(problems)
+    if not isinstance(data, dict):
+        problems.append(Problem("expected a table", source, section))
+        return None
+    _unknown(data, PERIODIC_KEYS, source, section, problems)
+    signal, derivative, factor = _input(data, signals, coordinates, source, section, problems)
+    expression: Expression | None = None
+    if "expression" in data:
+        if "shape" in data:
+            problems.append(Problem("give either shape or expression, not both", source,
+                                    section, "expression"))
+        text = data["expression"]
+        if not isinstance(text, (str, int, float)) or isinstance(text, bool):
+            problems.append(Problem("an expression of t and the parameters is a text",
+                                    source, section, "expression"))
+        else:
+            try:
+                expression = parse(text, allowed=[*params, "t"], file=source,
+                                   section=section, key="expression")
+                if any(primes for _, primes in expression.names()):
+                    problems.append(Problem("no primes: an expression of t and the "
+                                            "parameters", source, section, "expression"))
+            except ExpressionError as exc:
+                problems.extend(exc.problems)
+        shape: object = "expression"
+        amplitude: float | None = 1.0
+    else:
+        shape = data.get("shape")
+        if shape not in SHAPES:
+            problems.append(Problem(f"must be one of {', '.join(SHAPES)} (or give an "
+                                    f"expression of t), got {shape!r}", source, section,
+                                    "shape"))
+        raw = data.get("amplitude")
+        amplitude = None
+        if isinstance(raw, bool) or not isinstance(raw, (int, float)) or \
+                not math.isfinite(raw) or raw == 0:
+            problems.append(Problem(f"must be a finite non-zero number, got {raw!r}",
+                                    source, section, "amplitude"))
+        else:
+            amplitude = float(raw) * factor
+    period = _positive(data, "period", source, section, problems)
+    tolerance = data.get("tolerance", 1e-2)
+    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or \
+            not 1e-8 <= tolerance < 1:
+        problems.append(Problem(f"must be a number in [1e-8, 1), got {tolerance!r}", source,
+                                section, "tolerance"))
+    if len(problems) > count:
+        return None
+    assert amplitude is not None and period is not None
+    return PeriodicSpec(signal, derivative, str(shape), amplitude, period, float(tolerance),
+                        expression, source)
+
+
+def parse_shock(data: Any, signals: Sequence[str], coordinates: Sequence[str], source: str,
+                problems: list[Problem]) -> ShockSpec | None:
+    """The ``[shock]`` section, its problems appended to ``problems``.
+
+    Parameters
+    ----------
+    data : Any
+        The section as read from TOML.
+    signals, coordinates : sequence of str
+        The model's signals and coordinates (the names the input may have).
+    source : str
+        The model file.
+    problems : list of Problem
+        Receives every problem found.
+
+    Returns
+    -------
+    ShockSpec or None
+        None when the section has problems.
+
+    Examples
+    --------
+    >>> problems = []
+    >>> parse_shock({"signal": "yy", "pulse": "half-sine", "amplitude": 1, "duration": 0.01},
+    ...             ["y"], ["x"], "m.toml", problems)
+    >>> print(problems[0])
+    m.toml: [shock] signal: 'yy' is neither a signal nor a coordinate; did you mean 'y'?
+    """
+    section = "shock"
+    count = len(problems)
+    if not isinstance(data, dict):
+        problems.append(Problem("expected a table", source, section))
+        return None
+    _unknown(data, SHOCK_KEYS, source, section, problems)
+    signal, derivative, factor = _input(data, signals, coordinates, source, section, problems)
+    kind = data.get("pulse")
+    if kind not in PULSES:
+        problems.append(Problem(f"must be one of {', '.join(PULSES)}, got {kind!r}", source,
+                                section, "pulse"))
+    amplitude = data.get("amplitude")
+    if isinstance(amplitude, bool) or not isinstance(amplitude, (int, float)) or \
+            not math.isfinite(amplitude) or amplitude == 0:
+        problems.append(Problem(f"must be a finite non-zero number, got {amplitude!r}",
+                                source, section, "amplitude"))
+        amplitude = None
+    duration = _positive(data, "duration", source, section, problems)
+    step = _positive(data, "step", source, section, problems,
+                     None if duration is None else duration / 2000)
+    total = _positive(data, "total", source, section, problems,
+                      None if duration is None else 3 * duration)
+    Q = data.get("Q", 10.0)
+    if isinstance(Q, bool) or not isinstance(Q, (int, float)) or not math.isfinite(Q) \
+            or Q <= 0.5:
+        problems.append(Problem(f"must be a number above 0.5 (Q = 1/(2 zeta)), got {Q!r}",
+                                source, section, "Q"))
+    if duration is not None and total is not None and total < duration:
+        problems.append(Problem(f"the history ({total:g} s) must cover the pulse's duration "
+                                f"({duration:g} s)", source, section, "total"))
+    if step is not None and total is not None and total / step > MAX_SHOCK_SAMPLES:
+        problems.append(Problem(f"{total / step:.3g} samples (total / step); at most "
+                                f"{MAX_SHOCK_SAMPLES}: a larger step or a shorter total",
+                                source, section, "step"))
+    if step is not None and duration is not None and kind not in ("step", "impulse") \
+            and step > duration / 10:
+        problems.append(Problem(f"the step {step:g} s samples the pulse in fewer than 10 "
+                                f"steps; at most {duration / 10:g} s", source, section, "step"))
+    if len(problems) > count:
+        return None
+    assert amplitude is not None and duration is not None and step is not None \
+        and total is not None
+    return ShockSpec(str(signal), int(derivative), str(kind), float(amplitude) * factor,
+                     duration, step, total, float(Q), source)
+
+
+def parse_fatigue(data: Any, source: str, problems: list[Problem]) -> FatigueSpec | None:
+    """The ``[fatigue]`` section, its problems appended to ``problems``.
+
+    Parameters
+    ----------
+    data : Any
+        The section as read from TOML.
+    source : str
+        The model file.
+    problems : list of Problem
+        Receives every problem found.
+
+    Returns
+    -------
+    FatigueSpec or None
+        None when the section has problems.
+
+    Examples
+    --------
+    >>> problems = []
+    >>> parse_fatigue({"k": 4, "C": 1e40, "duration": 60}, "m.toml", problems).C
+    1e+40
+    >>> parse_fatigue({"k": 4, "duration": 60}, "m.toml", problems)
+    >>> print(problems[0])
+    m.toml: [fatigue] C: give the S-N curve as one of: C, C_range, or amplitude with cycles
+    """
+    section = "fatigue"
+    count = len(problems)
+    if not isinstance(data, dict):
+        problems.append(Problem("expected a table", source, section))
+        return None
+    _unknown(data, FATIGUE_KEYS, source, section, problems)
+    k = _positive(data, "k", source, section, problems)
+    given = [g for g in ("C", "C_range", "amplitude") if g in data]
+    C: float | None = None
+    if len(given) != 1 or ("amplitude" in data) != ("cycles" in data):
+        problems.append(Problem("give the S-N curve as one of: C, C_range, or amplitude with "
+                                "cycles", source, section, given[1] if len(given) > 1 else
+                                ("cycles" if "cycles" in data and not given else "C")))
+    else:
+        value = _positive(data, given[0], source, section, problems)
+        if value is not None and k is not None:
+            if given[0] == "C":
+                C = value
+            elif given[0] == "C_range":
+                C = value / 2.0 ** k
+            else:
+                cycles = _positive(data, "cycles", source, section, problems)
+                if cycles is not None:
+                    C = cycles * value ** k
+            if C is not None and not (math.isfinite(C) and C > 0):
+                problems.append(Problem(f"the curve's C = {C:g} is not a positive finite "
+                                        "number", source, section, given[0]))
+    method = data.get("method", "dirlik")
+    if method not in FATIGUE_METHODS:
+        problems.append(Problem(f"must be one of {', '.join(FATIGUE_METHODS)}, got {method!r}",
+                                source, section, "method"))
+    duration = _positive(data, "duration", source, section, problems)
+    if len(problems) > count:
+        return None
+    assert k is not None and C is not None and duration is not None
+    return FatigueSpec(k, C, str(method), duration, source)
+
+
+__all__ = ["FATIGUE_METHODS", "FatigueSpec", "PULSES", "PeriodicSpec", "SHAPES", "ShockSpec",
+           "parse_fatigue", "parse_periodic", "parse_shock"]

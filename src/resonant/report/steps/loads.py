@@ -1,0 +1,184 @@
+"""Loads beyond a sine: the periodic load of ``[periodic]`` (Fourier series, the response
+per harmonic, the sum, its largest excursion) and the random inputs of ``[random]``
+(spectral densities, RMS, Rice's rates, Miles beside the exact value), as a textbook
+shows them (docs/random.md)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...analyses.periodic_load import periodic_load_response
+from ...analyses.random_response import random_response
+from ...errors import ResonantError
+from ...views.notation import number_latex
+from ...views.units_display import result_units
+from ..blocks import Block, Heading, Note, Table, cell, paragraph
+from .context import Context, _m
+
+#: harmonics listed in the table of the periodic response
+SHOWN_HARMONICS = 8
+#: responses in the table of harmonics (the first coordinates; it fits a phone)
+SHOWN_RESPONSES = 2
+
+_SERIES = {
+    "square": r"b_{n} = \frac{4A}{n\pi}\ (n\ \text{odd}),\quad a_{0} = a_{n} = 0",
+    "sawtooth": r"b_{n} = -\frac{2A}{n\pi},\quad a_{0} = a_{n} = 0",
+    "triangle": r"a_{n} = \frac{8A}{(n\pi)^{2}}\ (n\ \text{odd}),\quad a_{0} = b_{n} = 0",
+    "rectified-sine": r"a_{0} = \frac{2A}{\pi},\quad a_{n} = -\frac{4A}{\pi(4n^{2} - 1)},"
+                      r"\quad b_{n} = 0",
+}
+_SHAPES = {"square": "a square wave", "sawtooth": "a sawtooth",
+           "triangle": "a triangle wave", "rectified-sine": "a full-wave rectified sine",
+           "expression": "the model's expression over one period"}
+
+
+def _n(value: float) -> str:
+    return number_latex(float(value), 4)
+
+
+def _t(value: float, unit: str = "") -> str:
+    """A number (and its unit) as plain text for a table cell: it wraps on a phone."""
+    text = f"{float(value):.4g}".replace("e-0", "e-").replace("e+0", "e").replace("e+", "e")
+    return f"{text} {unit}" if unit and unit != "1" else text
+
+
+def _signal(ctx: Context, name: str, derivative: int) -> str:
+    """The input as a function of time, as the report names it: y(t), its derivatives."""
+    text = ctx.namer(name, derivative)
+    return text if text.endswith("(t)") else text + "(t)"
+
+
+def periodic_load(ctx: Context) -> list[Block]:
+    """The stationary response to the ``[periodic]`` load, harmonic by harmonic."""
+    spec = ctx.model.periodic_section
+    if spec is None:
+        return []
+    blocks: list[Block] = [Heading("Periodic load: Fourier series and superposition")]
+    try:
+        result = periodic_load_response(ctx.eom)
+    except ResonantError as exc:
+        return blocks + [Note((f"The periodic response cannot be computed: {exc}",))]
+    series = result.series
+    s = _signal(ctx, spec.signal, spec.derivative)
+    blocks.append(paragraph(
+        "The load ", _m(s), f" is {_SHAPES.get(series.shape, series.shape)} of "
+        "period ", _m(rf"T = {_n(series.period)}\ \mathrm{{s}}"),
+        *((" and amplitude ", _m(f"A = {_n(spec.amplitude)}"))
+          if spec.expression is None else ()),
+        ". It is not harmonic, but it is the sum of its Fourier series,"))
+    blocks.append(ctx.equation(
+        s + r" = a_{0} + \sum_{n=1}^{H} \left(a_{n}\cos n\Omega t + b_{n}\sin n\Omega t"
+        rf"\right),\quad \Omega = \frac{{2\pi}}{{T}} = {_n(2 * np.pi / series.period)}"
+        r"\ \mathrm{rad/s},", label="fourier"))
+    if series.shape in _SERIES:
+        blocks.append(paragraph("with the coefficients of the shape"))
+        blocks.append(ctx.equation(_SERIES[series.shape] + "."))
+    else:
+        blocks.append(paragraph("its coefficients from samples of one period (FFT)."))
+    blocks.append(paragraph(
+        "The series is cut at ", _m(f"H = {series.harmonics}"), " harmonics, where the "
+        "remainder's RMS is ", _m(_n(100 * series.remainder) + r"\,\%"), " of the signal's "
+        "(Parseval). The system is linear, so each harmonic gives a stationary response "
+        "of its own, from the same equations as a single harmonic load, at the frequency ",
+        _m(r"n\Omega"), ", and the response is their sum,"))
+    blocks.append(ctx.equation(
+        r"q_{k}(t) = q_{k,0} + \sum_{n=1}^{H} \mathrm{Re}\left(z_{k,n}\, e^{i n\Omega t}"
+        r"\right),\quad z_{k,n} = H_{k}(n\Omega)\,(a_{n} - i\,b_{n}),", label="superposed"))
+    blocks.append(paragraph("with ", _m(r"q_{k,0}"), " the static response to ",
+                            _m("a_{0}"), ". The first harmonics:"))
+    names = list(result.names[:SHOWN_RESPONSES])
+    labels = [ctx.namer(name) for name in names]
+    header = (cell(_m("n")), cell(_m(r"n\Omega/2\pi"), " [Hz]"), cell(_m("a_{n}")),
+              cell(_m("b_{n}")), *(cell(_m(f"|z_{{{label}}}|")) for label in labels))
+    rows = []
+    for i in range(min(SHOWN_HARMONICS, series.harmonics)):
+        rows.append((cell(str(i + 1)), cell(_t((i + 1) / series.period)),
+                     cell(_t(series.a[i])), cell(_t(series.b[i])),
+                     *(cell(_t(abs(result.harmonics[name][i]))) for name in names)))
+    blocks.append(Table(header, tuple(rows)))
+    blocks.append(paragraph("The sum over one period gives the largest excursions:"))
+    units = result_units(ctx.model)
+    si = dict(units.si) if units is not None else {}
+    rows = [(cell(_m(ctx.namer(name))), cell(_t(result.mean[name], si.get(name, ""))),
+             cell(_t(result.largest[name], si.get(name, ""))))
+            for name in result.names]
+    blocks.append(Table((cell("response"), cell("mean ", _m("q_{k,0}")),
+                         cell(_m(r"\max_{t}|q_{k}(t)|"))), tuple(rows)))
+    blocks.extend(Note((w,)) for w in result.warnings)
+    return blocks
+
+
+def random_load(ctx: Context) -> list[Block]:
+    """The response to the ``[random]`` inputs: densities, RMS, rates, Miles."""
+    spec = ctx.model.random_section
+    if spec is None:
+        return []
+    blocks: list[Block] = [Heading("Random load: spectral densities and RMS values")]
+    try:
+        result = random_response(ctx.eom)
+    except ResonantError as exc:
+        return blocks + [Note((f"The random response cannot be computed: {exc}",))]
+    inputs = [_signal(ctx, name, result.input_derivatives.get(name, 0))
+              for name in result.inputs]
+    blocks.append(paragraph(
+        "The input" + ("s " if len(inputs) > 1 else " "), *_join([_m(u) for u in inputs]),
+        " are stationary random signals given by their one-sided spectral densities per "
+        "hertz over " if len(inputs) > 1 else " is a stationary random signal given by its "
+        "one-sided spectral density per hertz over ",
+        _m(rf"{_n(result.band[0])} \le f \le {_n(result.band[1])}\ \mathrm{{Hz}}"),
+        ". Each response's density is the input's density filtered by the squared "
+        "magnitude of the frequency response, and its mean square is the area under it:"))
+    if len(result.inputs) == 1:
+        blocks.append(ctx.equation(
+            r"S_{r}(f) = |H_{r}(f)|^{2}\, S_{u}(f),\qquad \sigma_{r}^{2} = "
+            r"\int S_{r}(f)\, \mathrm{d}f,", label="psd"))
+    else:
+        blocks.append(ctx.equation(
+            r"S_{r}(f) = \mathbf{H}_{r}(f)\, \mathbf{S}_{uu}(f)\, \mathbf{H}_{r}^{H}(f),"
+            r"\qquad \sigma_{r}^{2} = \int S_{r}(f)\, \mathrm{d}f,", label="psd"))
+    blocks.append(paragraph(
+        "A Gaussian response crosses zero upwards ", _m(r"\nu_{0}^{+} = \sqrt{m_{2}/m_{0}}"),
+        " times a second and peaks ", _m(r"\nu_{p} = \sqrt{m_{4}/m_{2}}"), " times a second "
+        "(Rice), ", _m(r"m_{j} = \int f^{j} S_{r}\, \mathrm{d}f"), ":"))
+    rows = []
+    for name in result.names:
+        unit = result.units.get(name, "")
+        rows.append((cell(_m(ctx.namer(name))), cell(_t(result.rms[name], unit)),
+                     cell(_t(3 * result.rms[name], unit)),
+                     cell(_t(result.zero_crossing_rate[name])),
+                     cell(_t(result.peak_rate[name]))))
+    blocks.append(Table((cell("response"), cell("RMS ", _m(r"\sigma")),
+                         cell(_m(r"3\sigma")), cell(_m(r"\nu_{0}^{+}"), " [1/s]"),
+                         cell(_m(r"\nu_{p}"), " [1/s]")), tuple(rows)))
+    blocks.append(paragraph(
+        "The integrals are adaptive quadratures whose estimated relative error is at most ",
+        _m(_n(max(result.error.values(), default=0.0))), "."))
+    if result.miles and result.natural_frequency is not None and result.quality is not None:
+        blocks.append(paragraph(
+            "For one degree of freedom with light damping, Miles' equation takes the input "
+            "density as flat near the natural frequency ",
+            _m(rf"f_{{n}} = {_n(result.natural_frequency)}\ \mathrm{{Hz}}"), ", with ",
+            _m(rf"Q = {_n(result.quality)}"), ":"))
+        blocks.append(ctx.equation(
+            r"\sigma_{r} \approx g_{r} \sqrt{\frac{\pi}{2}\, f_{n}\, Q\, S_{u}(f_{n})},",
+            label="miles"))
+        blocks.append(paragraph(
+            "with ", _m("g_{r}"), " the response's static gain (1 for the absolute "
+            "acceleration under a base acceleration, Miles 1954). Beside the exact value:"))
+        miles_rows = [(cell(_m(ctx.namer(name))), cell(_t(value, result.units.get(name, ""))),
+                 cell(_t(result.rms[name], result.units.get(name, ""))),
+                 cell(f"{100 * (value / result.rms[name] - 1):+.2f} %"))
+                for name, value in result.miles.items() if result.rms.get(name)]
+        blocks.append(Table((cell("response"), cell("Miles"), cell("exact"),
+                             cell("difference")), tuple(miles_rows)))
+    blocks.extend(Note((w,)) for w in result.warnings)
+    return blocks
+
+
+def _join(parts: list) -> list:
+    out: list = []
+    for i, part in enumerate(parts):
+        if i:
+            out.append(" and " if i == len(parts) - 1 else ", ")
+        out.append(part)
+    return out
