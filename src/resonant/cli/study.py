@@ -33,7 +33,8 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
                        "lognormal(mean, sd), [v1, v2, ...] or {from=..., to=..., step=...}")
     study.add_argument("--quantity", action="append", metavar="Q",
                        help="natural_frequency:I, damping_ratio:I, amplitude:NAME, "
-                       "phase:NAME, peak:NAME, stable, nonlinear_amplitude:NAME")
+                       "phase:NAME, peak:NAME, stable, nonlinear_amplitude:NAME, rms:NAME, "
+                       "srs:NAME@F, damage:NAME")
     study.add_argument("--design", choices=DESIGNS)
     study.add_argument("--samples", type=cli.integer(1, MAX_SAMPLES), metavar="N")
     study.add_argument("--seed", type=cli.integer(0, MAX_SEED), metavar="S")

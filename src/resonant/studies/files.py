@@ -23,6 +23,7 @@ Examples
 from __future__ import annotations
 
 import json
+import math
 import os
 from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
@@ -179,12 +180,13 @@ def completed_rows(path: str | os.PathLike[str]) -> int:
 
 
 def _number(value: Any) -> bool:
-    """A cell that reads as a floating-point number (NaN and blanks included)."""
+    """A cell that reads as a floating-point number (NaN, infinities and blanks
+    included; not digits beyond the range of floats, which read as infinite)."""
     try:
-        float(value)
+        x = float(value)
     except (TypeError, ValueError, OverflowError):
         return False
-    return True
+    return not math.isinf(x) or str(value).strip().lstrip("+-").lower() in ("inf", "infinity")
 
 
 def check_rows(path: str | os.PathLike[str], columns: list[str], text: tuple[str, ...],
