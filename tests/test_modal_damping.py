@@ -48,3 +48,20 @@ def test_bad_modal_damping_names_the_key(tmp_path, extra, message):
         modes_of(tmp_path, extra)
     text = str(info.value)
     assert message in text and "modal_damping" in text and "m.toml" in text
+
+
+def test_matrices_from_files(tmp_path):
+    """Sparse M, K read from .mtx files: the same ratios (a 20-mass chain)."""
+    import scipy.io
+    import scipy.sparse as sp
+
+    n = 20
+    K = sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1]).tocsr() * 1e3
+    scipy.io.mmwrite(tmp_path / "K.mtx", K)
+    scipy.io.mmwrite(tmp_path / "M.mtx", sp.identity(n, format="csr"))
+    path = tmp_path / "f.toml"
+    path.write_text('title = "chain"\n[matrices]\nM = "M.mtx"\nK = "K.mtx"\n'
+                    "modal_damping = [0.01, 0.02]\n", encoding="utf-8")
+    result = modes(load_model(str(path)).linearize())
+    ratios = np.asarray(result.damping_ratios)[np.argsort(result.natural_frequencies)]
+    assert np.allclose(ratios, [0.01] + [0.02] * (n - 1), rtol=0, atol=1e-10)
