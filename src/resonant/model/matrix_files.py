@@ -46,6 +46,11 @@ from .files import FileRefused, open_regular_file, read_bounded
 from .types import Harmonic, MatrixSpec
 
 MATRIX_KEYS = ("M", "K", "C")
+MODAL_KEY = "modal_damping"
+MODAL_DAMPING_MAX_DOF = 3000
+"""Largest model modal damping builds C for: C = M Phi diag(2 zeta omega) Phi^T M is dense
+(n^2 numbers) and needs the dense generalized eigenproblem; beyond this give C explicitly
+or as Rayleigh damping."""
 FILE_SUFFIXES = (".npy", ".npz", ".mtx")
 SPARSE_NPZ_KEYS = {"format", "shape", "data"}
 SPARSE_FORMATS = ("csr", "csc", "coo")
@@ -693,11 +698,16 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
     harmonics = _harmonics_given(section, harmonics, source, problems)
     matrices: dict[str, Any] = {}
     rayleigh = None
+    modal = None
     for key, value in section.items():
         if key == "harmonic":
             continue
+        if key == MODAL_KEY:
+            modal = _modal_ratios(value, source, problems)
+            continue
         if key not in MATRIX_KEYS:
-            problems.append(Problem(f"unknown key '{key}'; [matrices] takes M, K and C",
+            problems.append(Problem(f"unknown key '{key}'; [matrices] takes M, K, C and "
+                                    f"{MODAL_KEY}",
                                     source, "matrices", key))
             continue
         if key == "C" and isinstance(value, str) and value not in inline_arrays and \
@@ -711,6 +721,13 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
     if rayleigh is not None and "M" in matrices and "K" in matrices:
         damping = _rayleigh_matrix(rayleigh, matrices["M"], matrices["K"], params, source,
                                    problems)
+        if damping is not None:
+            matrices["C"] = damping
+    if modal is not None and ("C" in section):
+        problems.append(Problem(f"give either C or {MODAL_KEY}, not both", source,
+                                "matrices", MODAL_KEY))
+    elif modal is not None and "M" in matrices and "K" in matrices:
+        damping = _modal_matrix(modal, matrices["M"], matrices["K"], source, problems)
         if damping is not None:
             matrices["C"] = damping
     n = _check_sizes(section, matrices, coordinates, source, problems)
@@ -872,6 +889,76 @@ def _rayleigh_coefficients(text: str, params: Sequence[str], source: str,
             problems.extend(exc.problems)
             return None
     return parts[0], parts[1]
+
+
+def _modal_ratios(value: Any, source: str, problems: list[Problem]) -> np.ndarray | None:
+    """The damping ratios of ``modal_damping``: one number or a non-empty list of numbers,
+    each finite and in [0, 1) (None: a problem is recorded)."""
+    hint = (f"{MODAL_KEY} must be one damping ratio (modal_damping = 0.02) or a list of "
+            "ratios, one per mode from the lowest (modal_damping = [0.02, 0.03])")
+    items = value if isinstance(value, list) else [value]
+    if not items or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
+                            for x in items):
+        problems.append(Problem(hint, source, "matrices", MODAL_KEY))
+        return None
+    ratios = np.asarray(items, dtype=float)
+    if not np.all(np.isfinite(ratios)) or np.any(ratios < 0) or np.any(ratios >= 1):
+        problems.append(Problem(f"every ratio of {MODAL_KEY} must be a finite number in "
+                                f"[0, 1) (0.02 is 2 % of critical damping); got {items}",
+                                source, "matrices", MODAL_KEY))
+        return None
+    return ratios
+
+
+def _modal_matrix(ratios: np.ndarray, M: Any, K: Any, source: str,
+                  problems: list[Problem]) -> np.ndarray | None:
+    """C = M Phi diag(2 zeta_r omega_r) Phi^T M with mass-normalized modes Phi of (K, M);
+    modes beyond the list of ratios take its last ratio (None: a problem is recorded)."""
+    import scipy.linalg
+
+    def numbers(matrix: Any) -> np.ndarray | None:
+        if not isinstance(matrix, list):
+            return matrix.toarray() if hasattr(matrix, "toarray") else \
+                np.asarray(matrix, dtype=float)
+        entries = [e for row in matrix for e in row]
+        if any(isinstance(e, Expression) and e.names() for e in entries):
+            return None
+        return np.array([[float(numeric_value(e, {})) if isinstance(e, Expression)
+                          else float(e) for e in row] for row in matrix], dtype=float)
+
+    Md, Kd = numbers(M), numbers(K)
+    if Md is None or Kd is None:
+        problems.append(Problem(f"{MODAL_KEY} needs M and K as numbers (files or plain "
+                                "numbers), not expressions of parameters", source,
+                                "matrices", MODAL_KEY))
+        return None
+    n = Md.shape[0]
+    if Md.shape != Kd.shape:
+        return None                 # the size check reports it
+    if n > MODAL_DAMPING_MAX_DOF:
+        problems.append(Problem(
+            f"{MODAL_KEY} builds a dense C (n^2 numbers from the dense eigenproblem) and is "
+            f"limited to {MODAL_DAMPING_MAX_DOF} coordinates; this model has {n}: give C "
+            'explicitly (a file) or as Rayleigh damping C = "alpha*M + beta*K"',
+            source, "matrices", MODAL_KEY))
+        return None
+    if len(ratios) > n:
+        problems.append(Problem(f"{MODAL_KEY} lists {len(ratios)} ratios but the model has "
+                                f"only {n} modes", source, "matrices", MODAL_KEY))
+        return None
+    try:
+        lam, phi = scipy.linalg.eigh(Kd, Md)
+    except (np.linalg.LinAlgError, ValueError):
+        problems.append(Problem(f"{MODAL_KEY} needs a symmetric positive definite M and a "
+                                "symmetric K (the modes are those of K phi = omega^2 M phi)",
+                                source, "matrices", MODAL_KEY))
+        return None
+    zeta = np.full(n, ratios[-1])
+    zeta[:len(ratios)] = ratios
+    omega = np.sqrt(np.clip(lam, 0.0, None))
+    B = Md @ phi
+    C = (B * (2.0 * zeta * omega)) @ B.T
+    return np.asarray(0.5 * (C + C.T), dtype=float)
 
 
 def _rayleigh_matrix(coefficients: tuple[Expression, Expression], M: Any, K: Any,
