@@ -35,6 +35,7 @@ from typing import Any
 
 import numpy as np
 
+from ..arrays import Matrix
 from ..errors import AnalysisError, ResonantError
 
 #: |lambda| < ZERO_EIGENVALUE * max |lambda| of the point is a round-off zero
@@ -141,7 +142,7 @@ def undamped_eigen(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return lam[order].real, vec[:, order].real
 
 
-def undamped_eigenvalues(M: Any, K: Any) -> np.ndarray:
+def undamped_eigenvalues(M: Matrix, K: Matrix) -> np.ndarray:
     """omega^2 of K x = omega^2 M x, ascending, without eigenvectors.
 
     A diagonal M and a banded symmetric K use LAPACK's banded symmetric
@@ -433,7 +434,7 @@ def _two_product(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return p, a_lo * b_lo - (((p - a_hi * b_hi) - a_lo * b_hi) - a_hi * b_lo)
 
 
-def accurate_product(A: Any, X: np.ndarray) -> np.ndarray:
+def accurate_product(A: Matrix, X: np.ndarray) -> np.ndarray:
     """A @ X as if computed in twice the working precision, then rounded (the compensated
     dot product of Ogita, Rump and Oishi, SIAM J. Sci. Comput. 26, 2005): accurate to a
     few units in the last place of the result even where the sum cancels, as K x does
@@ -470,7 +471,7 @@ def accurate_product(A: Any, X: np.ndarray) -> np.ndarray:
     return out[:, 0] if vector else out
 
 
-def eigenvalue_bounds(M: Any, K: Any, lam: np.ndarray, phi: np.ndarray,
+def eigenvalue_bounds(M: Matrix, K: Matrix, lam: np.ndarray, phi: np.ndarray,
                       accurate: bool = True, complete: bool = True) -> np.ndarray:
     """Bounds on |lambda_j - lambda| for an exact eigenvalue lambda of K x = lambda M x
     near each computed pair (lambda_j, phi_j) of a symmetric pencil with M > 0, the
@@ -565,14 +566,14 @@ def frequency_bounds(lam: np.ndarray, bounds: np.ndarray) -> np.ndarray:
     return np.maximum(np.sqrt(lam + bounds) - root, root - np.sqrt(np.maximum(lam - bounds, 0)))
 
 
-def _factor(M: Any, K: Any, shift: float) -> Any:
+def _factor(M: Matrix, K: Matrix, shift: float) -> Any:
     import scipy.sparse as sp
     from scipy.sparse.linalg import splu
 
     return splu(sp.csc_matrix(K - shift * M))
 
 
-def lowest_modes(M: Any, K: Any, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def lowest_modes(M: Matrix, K: Matrix, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The ``count`` lowest eigenpairs of K phi = lambda M phi (sparse, symmetric, M > 0),
     ascending, deterministic and accurate to the rounding of the given matrices, with a
     bound on the error of each eigenvalue (:func:`eigenvalue_bounds`).
