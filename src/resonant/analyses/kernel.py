@@ -276,7 +276,8 @@ def _band_costs(batch: Any) -> dict[str, float]:
 
 def _batch_frequencies(batch: Any, omega: np.ndarray | None) -> np.ndarray:
     if omega is not None:
-        return np.abs(np.asarray(omega, dtype=float)).ravel()
+        result: np.ndarray = np.abs(np.asarray(omega, dtype=float)).ravel()
+        return result
     parts = [np.abs(np.asarray(h.omega, dtype=float)).ravel() for h in batch.harmonics]
     out = np.concatenate(parts) if parts else np.zeros(0)
     return out[np.isfinite(out)]
@@ -442,7 +443,8 @@ class _Store:
         self._fraction(index, x)
 
     def __getitem__(self, index: Any) -> np.ndarray:
-        return self.values[index]
+        result: np.ndarray = self.values[index]
+        return result
 
 
 def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
@@ -733,7 +735,9 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
     undamped = condition is None and C.ndim == 2 and not C.any()
     for start in range(0, N, chunk):
         sl = slice(start, min(N, start + chunk))
-        pick = (lambda a, sl=sl: a[sl] if a.ndim == 3 else a)  # noqa: E731
+
+        def pick(a: np.ndarray, sl: slice = sl) -> np.ndarray:
+            return a[sl] if a.ndim == 3 else a
         deadline.check("while solving the harmonic systems", analysis=True)
         with np.errstate(all="ignore"):  # an overflow gives inf, caught as not finite
             A = _dynamic_matrix(pick(K), pick(M), pick(C), w[sl], undamped)
@@ -782,7 +786,8 @@ def _dynamic_matrix(K: np.ndarray, M: np.ndarray, C: np.ndarray, w: np.ndarray,
     if n > 2:
         ww = w[:, None, None]
         A = K - ww**2 * M
-        return A if undamped else A + 1j * ww * C
+        result: np.ndarray = A if undamped else A + 1j * ww * C
+        return result
     A = np.empty((N, n, n), dtype=float if undamped else complex)
     w2 = w**2
     for i in range(n):
@@ -1025,7 +1030,8 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
     def modal(sl: Any) -> np.ndarray:
         ww = w[sl, None]
         with np.errstate(all="ignore"):
-            return (forces[sl] / (lam - ww**2 + 1j * ww * diag_c)) @ phi.T
+            result: np.ndarray = (forces[sl] / (lam - ww**2 + 1j * ww * diag_c)) @ phi.T
+            return result
 
     chunk = max(1, int(CHUNK_BYTES // (16 * n)))
     for start in range(0, N, chunk):

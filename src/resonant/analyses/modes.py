@@ -591,7 +591,8 @@ def complex_modes(M: Matrix, C: Matrix, K: Matrix, count: int) -> np.ndarray:
         raise AnalysisError(f"the sparse eigensolver for the complex modes failed: {exc}"
                             ) from None
     s = sigma + 1.0 / nu
-    return s[np.argsort(np.abs(s))]
+    result: np.ndarray = s[np.argsort(np.abs(s))]
+    return result
 
 
 def modal_damping_ratios(rayleigh: tuple[float, float], omegas: Sequence[float] | np.ndarray

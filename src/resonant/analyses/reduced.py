@@ -219,7 +219,8 @@ def symmetric_scale(diagonal: np.ndarray) -> np.ndarray:
     good = (a > 0) & np.isfinite(a)
     e = np.zeros(a.shape)
     e[good] = np.round(-0.5 * np.log2(a[good]))
-    return np.exp2(np.clip(e, -500, 500))
+    result: np.ndarray = np.exp2(np.clip(e, -500, 500))
+    return result
 
 
 class ScaledLU:
@@ -273,15 +274,18 @@ class ScaledLU:
 
     @property
     def perm_r(self) -> np.ndarray:
-        return self.lu.perm_r
+        result: np.ndarray = self.lu.perm_r
+        return result
 
     @property
     def perm_c(self) -> np.ndarray:
-        return self.lu.perm_c
+        result: np.ndarray = self.lu.perm_c
+        return result
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         d = self.d if np.ndim(b) == 1 else self.d[:, None]
-        return d * self.lu.solve(d * b)
+        result: np.ndarray = d * self.lu.solve(d * b)
+        return result
 
 
 def backward_stable(A: Any, x: np.ndarray, b: np.ndarray, a_norm: float | None = None
@@ -1131,7 +1135,8 @@ class ReducedModel:
         """
         A = self.Kr - w * w * self.Mr + 1j * w * self.Cr
         rhs = self.Br if loads is None else loads
-        return self.V[rows] @ np.linalg.solve(A, rhs)
+        result: np.ndarray = self.V[rows] @ np.linalg.solve(A, rhs)
+        return result
 
 
 def reduced_model(M: Any, C: Any, K: Any, B: np.ndarray, w: np.ndarray, *,

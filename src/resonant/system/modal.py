@@ -63,8 +63,9 @@ def largest_abs(a: np.ndarray) -> np.ndarray:
     [3.0, 2.0]
     """
     if a.ndim != 2 or not 0 < a.shape[1] <= 8:
-        return np.abs(a).max(axis=-1)
-    out = np.abs(a[:, 0])
+        result: np.ndarray = np.abs(a).max(axis=-1)
+        return result
+    out: np.ndarray = np.abs(a[:, 0])
     for j in range(1, a.shape[1]):
         np.maximum(out, np.abs(a[:, j]), out=out)
     return out
@@ -78,7 +79,8 @@ def largest_entry(a: np.ndarray) -> np.ndarray:
 def close(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """``np.isclose(x, y, rtol=1e-12, atol=0)``, its formula without its overhead."""
     with np.errstate(invalid="ignore"):
-        return ((np.abs(x - y) <= 1e-12 * np.abs(y)) & np.isfinite(y)) | (x == y)
+        result: np.ndarray = ((np.abs(x - y) <= 1e-12 * np.abs(y)) & np.isfinite(y)) | (x == y)
+        return result
 
 
 def symmetric_stack(a: np.ndarray) -> bool:
@@ -165,9 +167,11 @@ def undamped_eigenvalues(M: Matrix, K: Matrix) -> np.ndarray:
         band = np.zeros((lower + 1, S.shape[0]))
         for d in range(lower + 1):  # lower band storage: band[d, j] = S[j + d, j]
             band[d, :S.shape[0] - d] = np.diagonal(S, -d)
-        return scipy.linalg.eig_banded(band, lower=True, eigvals_only=True)
+        banded: np.ndarray = scipy.linalg.eig_banded(band, lower=True, eigvals_only=True)
+        return banded
     try:
-        return scipy.linalg.eigh(Kd, Md, eigvals_only=True)
+        result: np.ndarray = scipy.linalg.eigh(Kd, Md, eigvals_only=True)
+        return result
     except (np.linalg.LinAlgError, ValueError):
         return np.sort(scipy.linalg.eigvals(Kd, Md).real)
 
@@ -255,7 +259,8 @@ def frequencies_from_eigenvalues(lam: np.ndarray) -> np.ndarray:
     """sqrt of the eigenvalues lambda = omega^2 of one point that are >= 0 (round-off zeros
     count as 0)."""
     lam = clean_zeros(lam)
-    return np.sqrt(lam[lam >= 0])
+    result: np.ndarray = np.sqrt(lam[lam >= 0])
+    return result
 
 
 def natural_frequency(lam: np.ndarray, index: int) -> np.ndarray:
@@ -345,7 +350,8 @@ def upper_half(eigenvalues: np.ndarray) -> np.ndarray:
     """The ordered eigenvalues of one point with Im s >= 0 (one of each conjugate pair),
     round-off zeros set to 0."""
     s = order(clean_state_zeros(eigenvalues))
-    return s[s.imag >= -UPPER_TOLERANCE * np.maximum(1.0, np.abs(s))]
+    result: np.ndarray = s[s.imag >= -UPPER_TOLERANCE * np.maximum(1.0, np.abs(s))]
+    return result
 
 
 def damping_ratios(eigenvalues: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -404,8 +410,9 @@ def unstable_by_inertia(C: np.ndarray, K: np.ndarray, lam: np.ndarray, *,
             return None
     size = np.sqrt(largest_abs(lam) if lam.shape[1] else np.zeros(len(lam)))
     with np.errstate(invalid="ignore"):
-        return np.sqrt(np.maximum(-lam[:, 0], 0.0)) > \
+        unstable: np.ndarray = np.sqrt(np.maximum(-lam[:, 0], 0.0)) > \
             STABILITY_TOLERANCE * np.maximum(1.0, size)
+    return unstable
 
 
 # -- large sparse models: the lowest modes and their error bounds ---------------------------
@@ -529,7 +536,8 @@ def eigenvalue_bounds(M: Matrix, K: Matrix, lam: np.ndarray, phi: np.ndarray,
         diagonal = sp.csr_matrix(M).diagonal()
         if sp.csr_matrix(M).nnz == np.count_nonzero(diagonal):   # a lumped mass matrix
             def solve(b: np.ndarray) -> np.ndarray:
-                return b / diagonal[:, None]
+                result: np.ndarray = b / diagonal[:, None]
+                return result
         elif sparse:
             solve = splu(sp.csc_matrix(M)).solve
         else:
@@ -550,7 +558,8 @@ def eigenvalue_bounds(M: Matrix, K: Matrix, lam: np.ndarray, phi: np.ndarray,
     bound = np.minimum(e, quadratic) + moved
     # the computed eigenvalue is a double: never claim more than its last bits
     bound = np.where(np.isfinite(bound), bound, np.inf)
-    return bound + 2 * np.finfo(float).eps * np.abs(lam)
+    result: np.ndarray = bound + 2 * np.finfo(float).eps * np.abs(lam)
+    return result
 
 
 def frequency_bounds(lam: np.ndarray, bounds: np.ndarray) -> np.ndarray:
@@ -563,7 +572,9 @@ def frequency_bounds(lam: np.ndarray, bounds: np.ndarray) -> np.ndarray:
     """
     lam = np.maximum(np.asarray(lam, dtype=float), 0.0)
     root = np.sqrt(lam)
-    return np.maximum(np.sqrt(lam + bounds) - root, root - np.sqrt(np.maximum(lam - bounds, 0)))
+    result: np.ndarray = np.maximum(np.sqrt(lam + bounds) - root,
+                                    root - np.sqrt(np.maximum(lam - bounds, 0)))
+    return result
 
 
 def _factor(M: Matrix, K: Matrix, shift: float) -> Any:
