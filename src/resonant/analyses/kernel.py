@@ -60,6 +60,7 @@ from typing import Any
 
 import numpy as np
 
+from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
 from ..system import Batch, BatchHarmonic
@@ -192,7 +193,7 @@ def check_batch_mass(batch: Batch, values: np.ndarray | None = None, param: str 
 
 
 
-def _bandwidths(*matrices: Any) -> tuple[int, int]:
+def _bandwidths(*matrices: Matrix) -> tuple[int, int]:
     lower = upper = 0
     for a in matrices:
         if hasattr(a, "tocoo"):
@@ -370,7 +371,7 @@ def choose_method(batch_or_matrices: Any, n_points: int = 1,
     return "dense" if n <= 3000 else "sparse"
 
 
-def _dense(a: Any) -> np.ndarray:
+def _dense(a: Matrix) -> np.ndarray:
     return a.toarray() if hasattr(a, "toarray") else np.asarray(a)
 
 
@@ -910,7 +911,7 @@ def closed_form_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 
 
-def _band_storage(a: Any, lower: int, upper: int, rows: int, offset: int) -> np.ndarray:
+def _band_storage(a: Matrix, lower: int, upper: int, rows: int, offset: int) -> np.ndarray:
     """LAPACK band storage: ab[offset + upper + i - j, j] = a[i, j]."""
     n = a.shape[0]
     ab = np.zeros((rows, n))
@@ -998,7 +999,7 @@ def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     return singular
 
 
-def _sparse_scale(K: Any, M: Any, C: Any, s: float) -> np.ndarray:
+def _sparse_scale(K: Matrix, M: Matrix, C: Matrix, s: float) -> np.ndarray:
     """The symmetric scaling of A(s) for its sparse LU (:class:`ScaledLU`)."""
     return symmetric_scale(np.abs(K.diagonal()) + s * s * np.abs(M.diagonal())
                            + abs(s) * np.abs(C.diagonal()))

@@ -80,6 +80,7 @@ from typing import Any
 
 import numpy as np
 
+from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from .threads import blas_threads
@@ -312,7 +313,7 @@ def backward_stable(A: Any, x: np.ndarray, b: np.ndarray, a_norm: float | None =
     return not np.isfinite(r) or r <= 1e-10 * scale
 
 
-def _rayleigh(M: Any, C: Any, K: Any) -> tuple[float, float] | None:
+def _rayleigh(M: Matrix, C: Matrix, K: Matrix) -> tuple[float, float] | None:
     """(alpha, beta) when C = alpha M + beta K (to rounding), else None: tested on two
     random vectors (a C of another form fits them only by accident of measure zero)."""
     X = np.random.default_rng(0).standard_normal((M.shape[0], 2))
@@ -324,7 +325,7 @@ def _rayleigh(M: Any, C: Any, K: Any) -> tuple[float, float] | None:
     return None
 
 
-def damping_fraction(C: Any, X: np.ndarray, c_norm: float | None = None) -> np.ndarray:
+def damping_fraction(C: Matrix, X: np.ndarray, c_norm: float | None = None) -> np.ndarray:
     """How much the damping acts on each response: |x^H C x| / (||x||^2 ||C||), per row.
 
     A response bounded by damping has a fraction of the order of the damping's share in
@@ -375,7 +376,7 @@ def damping_fraction(C: Any, X: np.ndarray, c_norm: float | None = None) -> np.n
 class _Operators:
     """M, C, K as real CSR matrices, with the factorization of A(s) at any s."""
 
-    def __init__(self, M: Any, C: Any, K: Any) -> None:
+    def __init__(self, M: Matrix, C: Matrix, K: Matrix) -> None:
         import scipy.sparse as sp
 
         self.M, self.C, self.K = (sp.csr_matrix(a, dtype=float) for a in (M, C, K))
@@ -756,7 +757,7 @@ def off_diagonal_pivots(lu: Any) -> int:
     return int(np.count_nonzero(lu.perm_r != lu.perm_c))
 
 
-def reduced_response(M: Any, C: Any, K: Any, b: np.ndarray, w: np.ndarray, *,
+def reduced_response(M: Matrix, C: Matrix, K: Matrix, b: np.ndarray, w: np.ndarray, *,
                      tol: float = DEFAULT_TOL, keep: np.ndarray | None = None,
                      deadline: Deadline = NO_DEADLINE, budget: float | None = None,
                      max_points: int | None = None, moments: int = MOMENTS,
@@ -1139,7 +1140,7 @@ class ReducedModel:
         return result
 
 
-def reduced_model(M: Any, C: Any, K: Any, B: np.ndarray, w: np.ndarray, *,
+def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray, *,
                   tol: float = DEFAULT_TOL, deadline: Deadline = NO_DEADLINE,
                   budget: float | None = None, max_points: int | None = None,
                   moments: int = MOMENTS) -> ReducedModel:
