@@ -136,7 +136,8 @@ class LinearPart:
     def transfer(self, w: float, rows: slice | np.ndarray = slice(None)) -> np.ndarray:
         """(rows, m + p) transfer at w (default: every kept row)."""
         with np.errstate(all="ignore"):
-            return (self.Lq[rows] / (1j * w - self.mu)) @ self.Rin
+            result: np.ndarray = (self.Lq[rows] / (1j * w - self.mu)) @ self.Rin
+            return result
 
 
 def _first_order(Mr: np.ndarray, Cr: np.ndarray, Kr: np.ndarray
@@ -487,7 +488,9 @@ class CondensedBalance:
 
     def dp(self, x: np.ndarray, p: float) -> np.ndarray:
         h = 1e-6 * max(1.0, abs(p))
-        return (self.evaluate(x, p + h, False)[0] - self.evaluate(x, p - h, False)[0]) / (2 * h)
+        result: np.ndarray = (self.evaluate(x, p + h, False)[0]
+                              - self.evaluate(x, p - h, False)[0]) / (2 * h)
+        return result
 
     def newton(self, x: np.ndarray, p: float, scale: float) -> tuple[np.ndarray, bool]:
         """Newton's method at fixed p (:func:`~resonant.analyses.hb_solver.newton_at`)."""
@@ -592,7 +595,7 @@ def _dynamic_modes(mu: np.ndarray, top: float, H: int) -> np.ndarray:
     times the highest base frequency ``top`` (at most :data:`MAX_DYNAMIC`, the slowest)."""
     if mu.size * (2 * H + 1) <= SMALL_HILL:
         return np.ones(mu.size, dtype=bool)
-    keep = np.abs(mu.imag) <= DYNAMIC_FACTOR * top
+    keep: np.ndarray = np.abs(mu.imag) <= DYNAMIC_FACTOR * top
     if keep.sum() > MAX_DYNAMIC:
         keep = np.zeros(mu.size, dtype=bool)
         keep[np.argsort(np.abs(mu.imag), kind="stable")[:MAX_DYNAMIC]] = True
@@ -655,7 +658,8 @@ class BranchOutputs:
         samples = np.stack([c @ phi.T, W * (c @ dphi.T), W * W * (c @ d2phi.T)])
         values = self.values(p)
         rest = self.series(np.zeros((3, len(self.rows), 1)), values)
-        return self.series(samples, values) - rest
+        result: np.ndarray = self.series(samples, values) - rest
+        return result
 
     def peaks(self, coef: np.ndarray, W: float, p: float) -> np.ndarray:
         """Peak |deviation| over one period of every output."""
@@ -712,7 +716,9 @@ def _setup(system: LinearSystem, model: Model, param: str, start: float, stop: f
 
     def omegas(p: float) -> np.ndarray:
         v = values(p)
-        return np.abs(np.array([float(numeric_value(h.omega, v)) for h in spec.harmonics]))
+        result: np.ndarray = np.abs(np.array([float(numeric_value(h.omega, v))
+                                              for h in spec.harmonics]))
+        return result
 
     w0 = omegas(start)
     lowest = float(w0[w0 > 0].min()) if np.any(w0 > 0) else 0.0

@@ -60,6 +60,7 @@ from typing import Any
 
 import numpy as np
 
+from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
 from ..system import Batch, BatchHarmonic
@@ -192,7 +193,7 @@ def check_batch_mass(batch: Batch, values: np.ndarray | None = None, param: str 
 
 
 
-def _bandwidths(*matrices: Any) -> tuple[int, int]:
+def _bandwidths(*matrices: Matrix) -> tuple[int, int]:
     lower = upper = 0
     for a in matrices:
         if hasattr(a, "tocoo"):
@@ -276,7 +277,8 @@ def _band_costs(batch: Any) -> dict[str, float]:
 
 def _batch_frequencies(batch: Any, omega: np.ndarray | None) -> np.ndarray:
     if omega is not None:
-        return np.abs(np.asarray(omega, dtype=float)).ravel()
+        result: np.ndarray = np.abs(np.asarray(omega, dtype=float)).ravel()
+        return result
     parts = [np.abs(np.asarray(h.omega, dtype=float)).ravel() for h in batch.harmonics]
     out = np.concatenate(parts) if parts else np.zeros(0)
     return out[np.isfinite(out)]
@@ -369,7 +371,7 @@ def choose_method(batch_or_matrices: Any, n_points: int = 1,
     return "dense" if n <= 3000 else "sparse"
 
 
-def _dense(a: Any) -> np.ndarray:
+def _dense(a: Matrix) -> np.ndarray:
     return a.toarray() if hasattr(a, "toarray") else np.asarray(a)
 
 
@@ -440,7 +442,8 @@ class _Store:
         self._fraction(index, x)
 
     def __getitem__(self, index: Any) -> np.ndarray:
-        return self.values[index]
+        result: np.ndarray = self.values[index]
+        return result
 
 
 def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
@@ -731,7 +734,9 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
     undamped = condition is None and C.ndim == 2 and not C.any()
     for start in range(0, N, chunk):
         sl = slice(start, min(N, start + chunk))
-        pick = (lambda a, sl=sl: a[sl] if a.ndim == 3 else a)  # noqa: E731
+
+        def pick(a: np.ndarray, sl: slice = sl) -> np.ndarray:
+            return a[sl] if a.ndim == 3 else a
         deadline.check("while solving the harmonic systems", analysis=True)
         with np.errstate(all="ignore"):  # an overflow gives inf, caught as not finite
             A = _dynamic_matrix(pick(K), pick(M), pick(C), w[sl], undamped)
@@ -780,7 +785,8 @@ def _dynamic_matrix(K: np.ndarray, M: np.ndarray, C: np.ndarray, w: np.ndarray,
     if n > 2:
         ww = w[:, None, None]
         A = K - ww**2 * M
-        return A if undamped else A + 1j * ww * C
+        result: np.ndarray = A if undamped else A + 1j * ww * C
+        return result
     A = np.empty((N, n, n), dtype=float if undamped else complex)
     w2 = w**2
     for i in range(n):
@@ -903,7 +909,7 @@ def closed_form_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 
 
-def _band_storage(a: Any, lower: int, upper: int, rows: int, offset: int) -> np.ndarray:
+def _band_storage(a: Matrix, lower: int, upper: int, rows: int, offset: int) -> np.ndarray:
     """LAPACK band storage: ab[offset + upper + i - j, j] = a[i, j]."""
     n = a.shape[0]
     ab = np.zeros((rows, n))
@@ -991,7 +997,7 @@ def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     return singular
 
 
-def _sparse_scale(K: Any, M: Any, C: Any, s: float) -> np.ndarray:
+def _sparse_scale(K: Matrix, M: Matrix, C: Matrix, s: float) -> np.ndarray:
     """The symmetric scaling of A(s) for its sparse LU (:class:`ScaledLU`)."""
     return symmetric_scale(np.abs(K.diagonal()) + s * s * np.abs(M.diagonal())
                            + abs(s) * np.abs(C.diagonal()))
@@ -1023,7 +1029,8 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
     def modal(sl: Any) -> np.ndarray:
         ww = w[sl, None]
         with np.errstate(all="ignore"):
-            return (forces[sl] / (lam - ww**2 + 1j * ww * diag_c)) @ phi.T
+            result: np.ndarray = (forces[sl] / (lam - ww**2 + 1j * ww * diag_c)) @ phi.T
+            return result
 
     chunk = max(1, int(CHUNK_BYTES // (16 * n)))
     for start in range(0, N, chunk):

@@ -42,10 +42,11 @@ import math
 import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeGuard
 
 import numpy as np
 
+from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..system import LinearSystem
@@ -76,6 +77,7 @@ from .stationary import freeze_fields
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
+    from scipy.sparse import sparray, spmatrix
 
     from ..views.units_display import ResultUnits
 
@@ -308,18 +310,18 @@ class ModalAnalysis:
 
 # -- the numeric system ---------------------------------------------------------------------
 
-def _is_sparse(a: Any) -> bool:
+def _is_sparse(a: Matrix) -> TypeGuard[spmatrix | sparray]:
     return hasattr(a, "tocsr")
 
 
-def _dense(a: Any) -> np.ndarray:
+def _dense(a: Matrix) -> np.ndarray:
     return a.toarray() if _is_sparse(a) else np.asarray(a, dtype=float)
 
 
-def _symmetric(a: Any) -> bool:
+def _symmetric(a: Matrix) -> bool:
     if _is_sparse(a):
         diff = abs(a - a.T)
-        return diff.nnz == 0 or diff.max() <= 1e-12 * abs(a).max()
+        return bool(diff.nnz == 0 or diff.max() <= 1e-12 * abs(a).max())
     return bool(np.allclose(a, a.T, rtol=1e-12, atol=1e-12 * (np.abs(a).max() if a.size else 0)))
 
 
@@ -331,7 +333,7 @@ def _commutes(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> bool:
     return bool(np.linalg.norm(C @ minv_k - K @ minv_c) <= PROPORTIONAL_TOLERANCE * scale)
 
 
-def _normalise(phi: np.ndarray, M: Any) -> tuple[np.ndarray, np.ndarray]:
+def _normalise(phi: np.ndarray, M: Matrix) -> tuple[np.ndarray, np.ndarray]:
     """(mass-normalised, largest component +1) versions of the columns of phi."""
     phi = np.array(phi, dtype=float)
     mass = np.einsum("ij,ij->j", phi, M @ phi)
@@ -434,7 +436,7 @@ def modes(system: LinearSystem, count: int | None = None,
         title=eom.title, frequency_errors=errors).limited(count if not lanczos else None)
 
 
-def _is_proportional(M: Any, C: Any, K: Any, mass_phi: np.ndarray, damped: bool,
+def _is_proportional(M: Matrix, C: Matrix, K: Matrix, mass_phi: np.ndarray, damped: bool,
                      symmetric: bool, lanczos: bool, fit: tuple[float, float] | None) -> bool:
     """Whether C is diagonal in the undamped modes (Rayleigh fit, commuting matrices, or,
     for a large model, the modal damping matrix of the computed modes)."""
@@ -451,7 +453,7 @@ def _is_proportional(M: Any, C: Any, K: Any, mass_phi: np.ndarray, damped: bool,
                 np.abs(np.diag(modal_c)).max(initial=1e-300))
 
 
-def _damped_modes(M: Any, C: Any, K: Any, lam: np.ndarray, mass_phi: np.ndarray,
+def _damped_modes(M: Matrix, C: Matrix, K: Matrix, lam: np.ndarray, mass_phi: np.ndarray,
                   damped: bool, modal: bool, lanczos: bool
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
     """(eigenvalues, damping ratios, damped frequencies, what was added to the method):
@@ -473,7 +475,7 @@ def _damped_modes(M: Any, C: Any, K: Any, lam: np.ndarray, mass_phi: np.ndarray,
     return (eigenvalues, *damping_ratios(eigenvalues), " + shift-invert Arnoldi (complex modes)")
 
 
-def _modal_stability(eigenvalues: np.ndarray, lam: np.ndarray, M: Any, damped: bool,
+def _modal_stability(eigenvalues: np.ndarray, lam: np.ndarray, M: Matrix, damped: bool,
                      lanczos: bool, warnings: list[str]) -> str:
     """The stability verdict, with the warnings that qualify it."""
     stability = classify(eigenvalues)
@@ -492,7 +494,7 @@ def _modal_stability(eigenvalues: np.ndarray, lam: np.ndarray, M: Any, damped: b
     return stability
 
 
-def _lanczos(M: Any, K: Any, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _lanczos(M: Matrix, K: Matrix, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The ``count`` lowest eigenpairs of K phi = lambda M phi (sparse, symmetric) and the
     error bounds of their eigenvalues."""
     if not (_symmetric(M) and _symmetric(K)):
@@ -535,7 +537,7 @@ def _frequency_errors(lam: np.ndarray, bounds: np.ndarray, warnings: list[str]) 
     return errors
 
 
-def complex_modes(M: Any, C: Any, K: Any, count: int) -> np.ndarray:
+def complex_modes(M: Matrix, C: Matrix, K: Matrix, count: int) -> np.ndarray:
     """The ``2 count`` eigenvalues s of (s^2 M + s C + K) x = 0 nearest to 0, without dense
     2n x 2n matrices.
 
@@ -589,7 +591,8 @@ def complex_modes(M: Any, C: Any, K: Any, count: int) -> np.ndarray:
         raise AnalysisError(f"the sparse eigensolver for the complex modes failed: {exc}"
                             ) from None
     s = sigma + 1.0 / nu
-    return s[np.argsort(np.abs(s))]
+    result: np.ndarray = s[np.argsort(np.abs(s))]
+    return result
 
 
 def modal_damping_ratios(rayleigh: tuple[float, float], omegas: Sequence[float] | np.ndarray

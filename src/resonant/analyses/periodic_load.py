@@ -94,7 +94,8 @@ class FourierSeries:
         t = np.asarray(t, dtype=float)
         n = np.arange(1, self.harmonics + 1)
         phase = 2 * np.pi / self.period * np.multiply.outer(t, n)
-        return self.a0 + np.cos(phase) @ self.a + np.sin(phase) @ self.b
+        result: np.ndarray = self.a0 + np.cos(phase) @ self.a + np.sin(phase) @ self.b
+        return result
 
 
 def _closed_form(shape: str, A: float, n: np.ndarray) -> tuple[float, np.ndarray, np.ndarray,

@@ -367,7 +367,8 @@ def _input_matrix(spec: RandomSpec, f: np.ndarray, values: Mapping[str, Any]) ->
 
 def _response_density(H: np.ndarray, G: np.ndarray) -> np.ndarray:
     """G_y (len(f), responses) = diag(H G H^*)."""
-    return np.einsum("frj,fjl,frl->fr", H, G, H.conj()).real
+    result: np.ndarray = np.einsum("frj,fjl,frl->fr", H, G, H.conj()).real
+    return result
 
 
 def _modal_points(num: NumericEOM, band: tuple[float, float]) -> list[float]:
@@ -464,7 +465,8 @@ class _Quadrature:
 def _middle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The geometric middle where both ends are positive (log grids), else the mean."""
     with np.errstate(invalid="ignore"):
-        return np.where(a > 0, np.sqrt(np.abs(a * b)), (a + b) / 2)
+        result: np.ndarray = np.where(a > 0, np.sqrt(np.abs(a * b)), (a + b) / 2)
+        return result
 
 
 def _refine(quad: _Quadrature, tolerance: float, deadline: Deadline

@@ -80,6 +80,7 @@ from typing import Any
 
 import numpy as np
 
+from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from .threads import blas_threads
@@ -219,7 +220,8 @@ def symmetric_scale(diagonal: np.ndarray) -> np.ndarray:
     good = (a > 0) & np.isfinite(a)
     e = np.zeros(a.shape)
     e[good] = np.round(-0.5 * np.log2(a[good]))
-    return np.exp2(np.clip(e, -500, 500))
+    result: np.ndarray = np.exp2(np.clip(e, -500, 500))
+    return result
 
 
 class ScaledLU:
@@ -273,15 +275,18 @@ class ScaledLU:
 
     @property
     def perm_r(self) -> np.ndarray:
-        return self.lu.perm_r
+        result: np.ndarray = self.lu.perm_r
+        return result
 
     @property
     def perm_c(self) -> np.ndarray:
-        return self.lu.perm_c
+        result: np.ndarray = self.lu.perm_c
+        return result
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         d = self.d if np.ndim(b) == 1 else self.d[:, None]
-        return d * self.lu.solve(d * b)
+        result: np.ndarray = d * self.lu.solve(d * b)
+        return result
 
 
 def backward_stable(A: Any, x: np.ndarray, b: np.ndarray, a_norm: float | None = None
@@ -308,7 +313,7 @@ def backward_stable(A: Any, x: np.ndarray, b: np.ndarray, a_norm: float | None =
     return not np.isfinite(r) or r <= 1e-10 * scale
 
 
-def _rayleigh(M: Any, C: Any, K: Any) -> tuple[float, float] | None:
+def _rayleigh(M: Matrix, C: Matrix, K: Matrix) -> tuple[float, float] | None:
     """(alpha, beta) when C = alpha M + beta K (to rounding), else None: tested on two
     random vectors (a C of another form fits them only by accident of measure zero)."""
     X = np.random.default_rng(0).standard_normal((M.shape[0], 2))
@@ -320,7 +325,7 @@ def _rayleigh(M: Any, C: Any, K: Any) -> tuple[float, float] | None:
     return None
 
 
-def damping_fraction(C: Any, X: np.ndarray, c_norm: float | None = None) -> np.ndarray:
+def damping_fraction(C: Matrix, X: np.ndarray, c_norm: float | None = None) -> np.ndarray:
     """How much the damping acts on each response: |x^H C x| / (||x||^2 ||C||), per row.
 
     A response bounded by damping has a fraction of the order of the damping's share in
@@ -384,7 +389,7 @@ def _stacked_damping_fraction(C: np.ndarray, X: np.ndarray) -> np.ndarray:
 class _Operators:
     """M, C, K as real CSR matrices, with the factorization of A(s) at any s."""
 
-    def __init__(self, M: Any, C: Any, K: Any) -> None:
+    def __init__(self, M: Matrix, C: Matrix, K: Matrix) -> None:
         import scipy.sparse as sp
 
         self.M, self.C, self.K = (sp.csr_matrix(a, dtype=float) for a in (M, C, K))
@@ -765,7 +770,7 @@ def off_diagonal_pivots(lu: Any) -> int:
     return int(np.count_nonzero(lu.perm_r != lu.perm_c))
 
 
-def reduced_response(M: Any, C: Any, K: Any, b: np.ndarray, w: np.ndarray, *,
+def reduced_response(M: Matrix, C: Matrix, K: Matrix, b: np.ndarray, w: np.ndarray, *,
                      tol: float = DEFAULT_TOL, keep: np.ndarray | None = None,
                      deadline: Deadline = NO_DEADLINE, budget: float | None = None,
                      max_points: int | None = None, moments: int = MOMENTS,
@@ -1144,10 +1149,11 @@ class ReducedModel:
         """
         A = self.Kr - w * w * self.Mr + 1j * w * self.Cr
         rhs = self.Br if loads is None else loads
-        return self.V[rows] @ np.linalg.solve(A, rhs)
+        result: np.ndarray = self.V[rows] @ np.linalg.solve(A, rhs)
+        return result
 
 
-def reduced_model(M: Any, C: Any, K: Any, B: np.ndarray, w: np.ndarray, *,
+def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray, *,
                   tol: float = DEFAULT_TOL, deadline: Deadline = NO_DEADLINE,
                   budget: float | None = None, max_points: int | None = None,
                   moments: int = MOMENTS) -> ReducedModel:

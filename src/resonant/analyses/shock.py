@@ -176,7 +176,8 @@ def _oscillator(f: float, zeta: float) -> tuple[complex, complex]:
 def _lfilter(b: Any, a: Any, x: np.ndarray, zi: Any) -> np.ndarray:
     from scipy.signal import lfilter
 
-    return lfilter(b, a, x) if zi is None else lfilter(b, a, x, zi=zi)[0]
+    result: np.ndarray = lfilter(b, a, x) if zi is None else lfilter(b, a, x, zi=zi)[0]
+    return result
 
 
 def _output(q: np.ndarray, s: complex, w: float, zeta: float, quantity: str) -> np.ndarray:

@@ -292,7 +292,8 @@ def peak(omegas: list[float], pairs: tuple[tuple[float, float], ...]) -> float:
     Ns = np.array([N for _, _, N in moving])
 
     def value(tt: np.ndarray) -> np.ndarray:
-        return static + np.cos(np.outer(tt, ws)) @ Ls + np.sin(np.outer(tt, ws)) @ Ns
+        result: np.ndarray = static + np.cos(np.outer(tt, ws)) @ Ls + np.sin(np.outer(tt, ws)) @ Ns
+        return result
 
     y = np.abs(value(t))
     best = float(y.max())

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
@@ -442,9 +443,9 @@ class NumericEOM(LinearSystem):
     """
 
     coordinates: tuple[str, ...]
-    M: Any
-    C: Any
-    K: Any
+    M: Matrix
+    C: Matrix
+    K: Matrix
     harmonics: tuple[NumericHarmonic, ...] = ()
     harmonic: bool = True
     outputs: Mapping[str, NumericOutput] = field(default_factory=dict)
@@ -524,7 +525,7 @@ class NumericEOM(LinearSystem):
         return display.numeric_eom_latex(self)
 
 
-def _dense(a: Any) -> np.ndarray:
+def _dense(a: Matrix) -> np.ndarray:
     return a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
 
 

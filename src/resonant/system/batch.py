@@ -11,13 +11,20 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
+import numpy.typing as npt
 import sympy
 
+from ..arrays import Matrix
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import compilable
+
+if TYPE_CHECKING:
+    from .base import NumericEOM
+
+_T = TypeVar("_T")
 
 Var = tuple[str, int]
 
@@ -25,7 +32,7 @@ Var = tuple[str, int]
 SAME_FREQUENCY = 1e-12
 
 
-def frozen_array(a: Any) -> Any:
+def frozen_array(a: _T) -> _T:
     """A read-only view of an array (sparse matrices and non-arrays pass unchanged)."""
     if isinstance(a, np.ndarray):
         a = a.view()
@@ -124,9 +131,9 @@ class Batch:
     """
 
     coordinates: tuple[str, ...]
-    M: Any
-    C: Any
-    K: Any
+    M: Matrix
+    C: Matrix
+    K: Matrix
     harmonics: list[BatchHarmonic]
     outputs: dict[str, tuple[np.ndarray, dict[Var, np.ndarray]]]
     title: str = ""
@@ -139,7 +146,7 @@ class Batch:
         return all(hasattr(a, "tocsr") or np.ndim(a) == 2 for a in (self.M, self.C, self.K))
 
     @classmethod
-    def constant_system(cls, eom: Any, count: int) -> Batch:
+    def constant_system(cls, eom: NumericEOM, count: int) -> Batch:
         """A batch of ``count`` copies of a numeric system."""
         return cls(tuple(eom.coordinates), eom.M, eom.C, eom.K,
                    [BatchHarmonic(np.full(count, h.omega), h.F_S, h.F_C,
@@ -151,7 +158,7 @@ class Batch:
                     for name, out in eom.outputs.items()},
                    eom.title, eom.harmonic, count)
 
-    def matrix(self, key: str, i: int) -> Any:
+    def matrix(self, key: str, i: int) -> Matrix:
         """M, C or K at point ``i``."""
         a = getattr(self, key)
         return a if hasattr(a, "tocsr") or np.ndim(a) == 2 else a[i]
@@ -179,10 +186,10 @@ class CompiledExpressions:
                  rows: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None) -> None:
         self._call, self._rows = call, rows
 
-    def __call__(self, *args: Any) -> np.ndarray:
+    def __call__(self, *args: npt.ArrayLike) -> np.ndarray:
         return self._call(*args)
 
-    def rows(self, *args: Any) -> tuple[np.ndarray, np.ndarray]:
+    def rows(self, *args: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """The values (float or complex, (expressions, *shape)) and the mask of the rows
         that vary (every row when not known)."""
         if self._rows is not None:
@@ -227,7 +234,7 @@ def compile_expressions(expressions: Sequence[sympy.Expr], symbols: Sequence[sym
     expressions = [compilable(e) for e in expressions]
     fn = sympy.lambdify(list(symbols), expressions, modules=NUMPY_MODULES, cse=True)
 
-    def evaluated(args: Sequence[Any]) -> tuple[tuple[int, ...], list[Any]]:
+    def evaluated(args: Sequence[npt.ArrayLike]) -> tuple[tuple[int, ...], list[Any]]:
         # np.broadcast takes at most 64 arguments; the shapes alone have no limit
         shape = np.broadcast_shapes(*(np.shape(a) for a in args)) if args else ()
         try:
@@ -237,14 +244,14 @@ def compile_expressions(expressions: Sequence[sympy.Expr], symbols: Sequence[sym
             values = _one_by_one(expressions, symbols, args)
         return shape, values
 
-    def call(*args: Any) -> np.ndarray:
+    def call(*args: npt.ArrayLike) -> np.ndarray:
         shape, values = evaluated(args)
         out = np.array([np.broadcast_to(v, shape) for v in values], dtype=complex)
         if infinite:
             out[infinite] = np.nan
         return out
 
-    def rows(*args: Any) -> tuple[np.ndarray, np.ndarray]:
+    def rows(*args: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         shape, values = evaluated(args)
         varying = np.array([np.ndim(v) > 0 for v in values], dtype=bool)
         real = not any(np.iscomplexobj(v) for v in values)
@@ -281,7 +288,7 @@ def _symengine_compiled(expressions: Sequence[sympy.Expr], symbols: Sequence[sym
         return None
     count = len(unique)
 
-    def call(*args: Any) -> np.ndarray:
+    def call(*args: npt.ArrayLike) -> np.ndarray:
         shape = np.broadcast_shapes(*(np.shape(a) for a in args)) if args else ()
         if not args:
             return np.asarray(fn([]), dtype=complex).reshape(count, *shape)[where]
@@ -294,7 +301,7 @@ def _symengine_compiled(expressions: Sequence[sympy.Expr], symbols: Sequence[sym
 
 
 def _one_by_one(expressions: Sequence[sympy.Expr], symbols: Sequence[sympy.Symbol],
-                args: Sequence[Any]) -> list[Any]:
+                args: Sequence[npt.ArrayLike]) -> list[Any]:
     """Evaluate each expression alone, NaN where the arithmetic fails (the slow path)."""
     values: list[Any] = []
     for expression in expressions:

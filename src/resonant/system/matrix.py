@@ -7,15 +7,17 @@ symbolic form (sympy matrices) is built only when asked for (reports, JSON).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from types import MappingProxyType
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 import sympy
 
+from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..derivation import LinearMap, SignalHarmonics, decompose_signals
 from ..errors import ModelError, Problem
@@ -241,7 +243,7 @@ class MatrixEOM(LinearSystem):
         self._check_finite(out, key)
         return out
 
-    def _check_finite(self, array: Any, key: str, section: str = "matrices") -> None:
+    def _check_finite(self, array: npt.ArrayLike, key: str, section: str = "matrices") -> None:
         if not np.all(np.isfinite(array)):
             raise ModelError(Problem(f"{key} is not finite (or not real) for the given "
                                      "parameter values", self.source, section, key))
@@ -284,7 +286,8 @@ def _linear_output(expression: Expression, coordinates: tuple[str, ...], source:
     return LinearMap(value, MappingProxyType(terms))
 
 
-def _to_sympy(matrix: Any, n: int) -> sympy.ImmutableMatrix:
+def _to_sympy(matrix: Matrix | Sequence[Sequence[Expression]] | None, n: int
+              ) -> sympy.ImmutableMatrix:
     if matrix is None:
         return sympy.ImmutableSparseMatrix(n, n, {})
     if hasattr(matrix, "tocoo"):

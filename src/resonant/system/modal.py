@@ -35,6 +35,7 @@ from typing import Any
 
 import numpy as np
 
+from ..arrays import Matrix
 from ..errors import AnalysisError, ResonantError
 
 #: |lambda| < ZERO_EIGENVALUE * max |lambda| of the point is a round-off zero
@@ -62,8 +63,9 @@ def largest_abs(a: np.ndarray) -> np.ndarray:
     [3.0, 2.0]
     """
     if a.ndim != 2 or not 0 < a.shape[1] <= 8:
-        return np.abs(a).max(axis=-1)
-    out = np.abs(a[:, 0])
+        result: np.ndarray = np.abs(a).max(axis=-1)
+        return result
+    out: np.ndarray = np.abs(a[:, 0])
     for j in range(1, a.shape[1]):
         np.maximum(out, np.abs(a[:, j]), out=out)
     return out
@@ -77,7 +79,8 @@ def largest_entry(a: np.ndarray) -> np.ndarray:
 def close(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """``np.isclose(x, y, rtol=1e-12, atol=0)``, its formula without its overhead."""
     with np.errstate(invalid="ignore"):
-        return ((np.abs(x - y) <= 1e-12 * np.abs(y)) & np.isfinite(y)) | (x == y)
+        result: np.ndarray = ((np.abs(x - y) <= 1e-12 * np.abs(y)) & np.isfinite(y)) | (x == y)
+        return result
 
 
 def symmetric_stack(a: np.ndarray) -> bool:
@@ -141,7 +144,7 @@ def undamped_eigen(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return lam[order].real, vec[:, order].real
 
 
-def undamped_eigenvalues(M: Any, K: Any) -> np.ndarray:
+def undamped_eigenvalues(M: Matrix, K: Matrix) -> np.ndarray:
     """omega^2 of K x = omega^2 M x, ascending, without eigenvectors.
 
     A diagonal M and a banded symmetric K use LAPACK's banded symmetric
@@ -164,9 +167,11 @@ def undamped_eigenvalues(M: Any, K: Any) -> np.ndarray:
         band = np.zeros((lower + 1, S.shape[0]))
         for d in range(lower + 1):  # lower band storage: band[d, j] = S[j + d, j]
             band[d, :S.shape[0] - d] = np.diagonal(S, -d)
-        return scipy.linalg.eig_banded(band, lower=True, eigvals_only=True)
+        banded: np.ndarray = scipy.linalg.eig_banded(band, lower=True, eigvals_only=True)
+        return banded
     try:
-        return scipy.linalg.eigh(Kd, Md, eigvals_only=True)
+        result: np.ndarray = scipy.linalg.eigh(Kd, Md, eigvals_only=True)
+        return result
     except (np.linalg.LinAlgError, ValueError):
         return np.sort(scipy.linalg.eigvals(Kd, Md).real)
 
@@ -254,7 +259,8 @@ def frequencies_from_eigenvalues(lam: np.ndarray) -> np.ndarray:
     """sqrt of the eigenvalues lambda = omega^2 of one point that are >= 0 (round-off zeros
     count as 0)."""
     lam = clean_zeros(lam)
-    return np.sqrt(lam[lam >= 0])
+    result: np.ndarray = np.sqrt(lam[lam >= 0])
+    return result
 
 
 def natural_frequency(lam: np.ndarray, index: int) -> np.ndarray:
@@ -344,7 +350,8 @@ def upper_half(eigenvalues: np.ndarray) -> np.ndarray:
     """The ordered eigenvalues of one point with Im s >= 0 (one of each conjugate pair),
     round-off zeros set to 0."""
     s = order(clean_state_zeros(eigenvalues))
-    return s[s.imag >= -UPPER_TOLERANCE * np.maximum(1.0, np.abs(s))]
+    result: np.ndarray = s[s.imag >= -UPPER_TOLERANCE * np.maximum(1.0, np.abs(s))]
+    return result
 
 
 def damping_ratios(eigenvalues: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -403,8 +410,9 @@ def unstable_by_inertia(C: np.ndarray, K: np.ndarray, lam: np.ndarray, *,
             return None
     size = np.sqrt(largest_abs(lam) if lam.shape[1] else np.zeros(len(lam)))
     with np.errstate(invalid="ignore"):
-        return np.sqrt(np.maximum(-lam[:, 0], 0.0)) > \
+        unstable: np.ndarray = np.sqrt(np.maximum(-lam[:, 0], 0.0)) > \
             STABILITY_TOLERANCE * np.maximum(1.0, size)
+    return unstable
 
 
 # -- large sparse models: the lowest modes and their error bounds ---------------------------
@@ -433,7 +441,7 @@ def _two_product(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return p, a_lo * b_lo - (((p - a_hi * b_hi) - a_lo * b_hi) - a_hi * b_lo)
 
 
-def accurate_product(A: Any, X: np.ndarray) -> np.ndarray:
+def accurate_product(A: Matrix, X: np.ndarray) -> np.ndarray:
     """A @ X as if computed in twice the working precision, then rounded (the compensated
     dot product of Ogita, Rump and Oishi, SIAM J. Sci. Comput. 26, 2005): accurate to a
     few units in the last place of the result even where the sum cancels, as K x does
@@ -470,7 +478,7 @@ def accurate_product(A: Any, X: np.ndarray) -> np.ndarray:
     return out[:, 0] if vector else out
 
 
-def eigenvalue_bounds(M: Any, K: Any, lam: np.ndarray, phi: np.ndarray,
+def eigenvalue_bounds(M: Matrix, K: Matrix, lam: np.ndarray, phi: np.ndarray,
                       accurate: bool = True, complete: bool = True) -> np.ndarray:
     """Bounds on |lambda_j - lambda| for an exact eigenvalue lambda of K x = lambda M x
     near each computed pair (lambda_j, phi_j) of a symmetric pencil with M > 0, the
@@ -528,7 +536,8 @@ def eigenvalue_bounds(M: Any, K: Any, lam: np.ndarray, phi: np.ndarray,
         diagonal = sp.csr_matrix(M).diagonal()
         if sp.csr_matrix(M).nnz == np.count_nonzero(diagonal):   # a lumped mass matrix
             def solve(b: np.ndarray) -> np.ndarray:
-                return b / diagonal[:, None]
+                result: np.ndarray = b / diagonal[:, None]
+                return result
         elif sparse:
             solve = splu(sp.csc_matrix(M)).solve
         else:
@@ -549,7 +558,8 @@ def eigenvalue_bounds(M: Any, K: Any, lam: np.ndarray, phi: np.ndarray,
     bound = np.minimum(e, quadratic) + moved
     # the computed eigenvalue is a double: never claim more than its last bits
     bound = np.where(np.isfinite(bound), bound, np.inf)
-    return bound + 2 * np.finfo(float).eps * np.abs(lam)
+    result: np.ndarray = bound + 2 * np.finfo(float).eps * np.abs(lam)
+    return result
 
 
 def frequency_bounds(lam: np.ndarray, bounds: np.ndarray) -> np.ndarray:
@@ -562,17 +572,19 @@ def frequency_bounds(lam: np.ndarray, bounds: np.ndarray) -> np.ndarray:
     """
     lam = np.maximum(np.asarray(lam, dtype=float), 0.0)
     root = np.sqrt(lam)
-    return np.maximum(np.sqrt(lam + bounds) - root, root - np.sqrt(np.maximum(lam - bounds, 0)))
+    result: np.ndarray = np.maximum(np.sqrt(lam + bounds) - root,
+                                    root - np.sqrt(np.maximum(lam - bounds, 0)))
+    return result
 
 
-def _factor(M: Any, K: Any, shift: float) -> Any:
+def _factor(M: Matrix, K: Matrix, shift: float) -> Any:
     import scipy.sparse as sp
     from scipy.sparse.linalg import splu
 
     return splu(sp.csc_matrix(K - shift * M))
 
 
-def lowest_modes(M: Any, K: Any, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def lowest_modes(M: Matrix, K: Matrix, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The ``count`` lowest eigenpairs of K phi = lambda M phi (sparse, symmetric, M > 0),
     ascending, deterministic and accurate to the rounding of the given matrices, with a
     bound on the error of each eigenvalue (:func:`eigenvalue_bounds`).

@@ -74,7 +74,7 @@ from typing import Any
 import numpy as np
 import sympy
 
-from ..derivation import nonlinear_equations
+from ..derivation import NonlinearEquations, nonlinear_equations
 from ..derivation.harmonics import NotHarmonic, decompose
 from ..errors import AnalysisError
 from ..expressions import compilable
@@ -235,8 +235,8 @@ class NonlinearSystem(ABC):
             When the forcing is not periodic (not harmonic, incommensurate, absent).
         """
 
-    def dynamics(self, t: Any, q: np.ndarray, qd: np.ndarray, pvals: np.ndarray
-                 ) -> tuple[np.ndarray, np.ndarray]:
+    def dynamics(self, t: float | np.ndarray, q: np.ndarray, qd: np.ndarray,
+                 pvals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The forced equations at time(s) t as ``mass q'' + rest = 0`` (for time integration).
 
         The default takes both from :meth:`forcing` and :meth:`equations` (the mass matrix
@@ -433,7 +433,7 @@ class EnergySystem(NonlinearSystem):
         self._reference = reference_values(model)
         self._output_reference = self._outputs_at_rest()
 
-    def _fold_outputs(self, eq: Any) -> tuple[dict[str, sympy.Expr], list[str]]:
+    def _fold_outputs(self, eq: NonlinearEquations) -> tuple[dict[str, sympy.Expr], list[str]]:
         """The outputs in full; those with a coordinate derivative of order > 2 apart."""
         model = self.model
         coordinates = set(model.coordinates)
@@ -471,7 +471,7 @@ class EnergySystem(NonlinearSystem):
             return np.zeros((0, *np.shape(t)))
         return _stack_at(self._forcing(t, *pvals), np.shape(t))
 
-    def dynamics(self, t: Any, q: np.ndarray, qd: np.ndarray, pvals: np.ndarray
+    def dynamics(self, t: float | np.ndarray, q: np.ndarray, qd: np.ndarray, pvals: np.ndarray
                  ) -> tuple[np.ndarray, np.ndarray]:
         n, shape = self.n, np.shape(q)[1:]
         with np.errstate(all="ignore"):

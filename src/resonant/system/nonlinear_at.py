@@ -23,7 +23,6 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
 
 import numpy as np
 
@@ -77,7 +76,7 @@ class NonlinearAt(NonlinearSystem):
     def base_frequency(self, pvals: np.ndarray) -> float:
         return self.base.base_frequency(pvals)
 
-    def dynamics(self, t: Any, q: np.ndarray, qd: np.ndarray, pvals: np.ndarray
+    def dynamics(self, t: float | np.ndarray, q: np.ndarray, qd: np.ndarray, pvals: np.ndarray
                  ) -> tuple[np.ndarray, np.ndarray]:
         return self.base.dynamics(t, q, qd, pvals)
 

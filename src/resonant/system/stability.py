@@ -92,7 +92,9 @@ def state_eigenvalues(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> np.ndarray
     """The eigenvalues of the state matrix at one point (the modal kernel's
     :func:`~resonant.system.modal.state_eigenvalues`); AnalysisError if it is not finite."""
     state_matrix(M, C, K)  # names what is not finite
-    return modal.state_eigenvalues(*(np.asarray(a, dtype=float)[None] for a in (M, C, K)))[0]
+    result: np.ndarray = modal.state_eigenvalues(
+        *(np.asarray(a, dtype=float)[None] for a in (M, C, K)))[0]
+    return result
 
 
 def classify(eigenvalues: np.ndarray) -> str:

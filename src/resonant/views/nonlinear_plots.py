@@ -17,6 +17,8 @@ import numpy as np
 from .plotting import MAX_CURVES, _figure_of, _new_figure, _save, math_name, unit_math
 
 if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
     from ..analyses.backbone import Backbones
     from ..analyses.nonlinear_response import NonlinearResponse
 
@@ -26,7 +28,7 @@ MARKERS = {"fold": "o", "period-doubling": "s", "neimark-sacker": "D", "branch":
 
 def plot_nonlinear_response(response: NonlinearResponse, path: Any = None,
                             names: Sequence[str] | None = None, ax: Any = None,
-                            linear: bool = True, units: Mapping[str, str] | None = None) -> Any:
+                            linear: bool = True, units: Mapping[str, str] | None = None) -> Figure:
     """Amplitude against the parameter; returns the Figure (and writes it to ``path``).
 
     ``units`` (name -> SI unit, ``ResultUnits.si``) labels the curves and the axis."""
@@ -118,7 +120,7 @@ def nonlinear_text(response: NonlinearResponse) -> str:
     return "\n".join(lines) + "\n"
 
 
-def plot_backbones(backbones: Backbones, path: Any = None, ax: Any = None) -> Any:
+def plot_backbones(backbones: Backbones, path: Any = None, ax: Any = None) -> Figure:
     """Backbone curves: the free-vibration frequency (x) against the amplitude of each mode's
     reference coordinate (y), the linear natural frequencies dotted; returns the Figure."""
     if ax is None:

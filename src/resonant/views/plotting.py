@@ -26,6 +26,8 @@ from .notation import name_latex
 from .units_display import unit_latex
 
 if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
     from ..analyses.modes import ModalAnalysis
     from ..analyses.simulate import Simulation
     from ..analyses.sweep import FrequencyResponse
@@ -117,7 +119,7 @@ def _save(fig: Any, path: Any, **options: Any) -> None:
 
 def plot_frequency_response(response: FrequencyResponse, path: Any = None,
                             names: Sequence[str] | None = None, ax: Any = None,
-                            units: Mapping[str, str] | None = None) -> Any:
+                            units: Mapping[str, str] | None = None) -> Figure:
     """Amplitude (log axis) above phase, against the swept parameter.
 
     Resonance peaks are marked with triangles, antiresonances with circles;
@@ -342,7 +344,7 @@ def _label_response_axes(response: FrequencyResponse, panels: Sequence[Any], ax_
 
 
 def plot_modes(analysis: ModalAnalysis, path: Any = None, count: int | None = 6,
-               ax: Any = None) -> Any:
+               ax: Any = None) -> Figure:
     """The mode shapes (largest component +1): bars for few coordinates, lines for many.
 
     Parameters
@@ -425,7 +427,7 @@ def _draw_mode(ax: Any, analysis: ModalAnalysis, j: int) -> None:
 
 
 def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None,
-                    units: Mapping[str, str] | None = None) -> Any:
+                    units: Mapping[str, str] | None = None) -> Figure:
     """Deviations vs time, one panel per coordinate/output, the linear prediction dashed.
 
     Parameters

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -22,6 +22,9 @@ from ..analyses.random_response import RandomResponse
 from ..errors import AnalysisError, printable
 from ..model.random_spec import STANDARD_GRAVITY
 from .plotting import _figure_of, _new_figure, _save
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
 
 #: at most this many curves per panel
 MAX_CURVES = 8
@@ -125,7 +128,7 @@ def _density_unit(unit: str) -> str:
 
 
 def plot_random(result: RandomResponse, path: Any = None, names: Sequence[str] | None = None,
-                ax: Any = None) -> Any:
+                ax: Any = None) -> Figure:
     """The inputs' and the responses' spectral densities on log-log axes, with units.
 
     The inputs are drawn in the first panel, the responses below, one panel per unit;
