@@ -229,7 +229,7 @@ def _input(data: dict[Any, Any], signals: Sequence[str], coordinates: Sequence[s
     return str(signal), int(derivative), factor
 
 
-def parse_periodic(data: Any, params: Sequence[str], signals: Sequence[str],
+def parse_periodic(data: object, params: Sequence[str], signals: Sequence[str],
                    coordinates: Sequence[str], source: str, problems: list[Problem]
                    ) -> PeriodicSpec | None:
     """The ``[periodic]`` section, its problems appended to ``problems``.
@@ -317,7 +317,7 @@ def parse_periodic(data: Any, params: Sequence[str], signals: Sequence[str],
                         expression, source)
 
 
-def parse_shock(data: Any, signals: Sequence[str], coordinates: Sequence[str], source: str,
+def parse_shock(data: object, signals: Sequence[str], coordinates: Sequence[str], source: str,
                 problems: list[Problem]) -> ShockSpec | None:
     """The ``[shock]`` section, its problems appended to ``problems``.
 
@@ -391,7 +391,7 @@ def parse_shock(data: Any, signals: Sequence[str], coordinates: Sequence[str], s
                      duration, step, total, float(Q), source)
 
 
-def parse_fatigue(data: Any, source: str, problems: list[Problem]) -> FatigueSpec | None:
+def parse_fatigue(data: object, source: str, problems: list[Problem]) -> FatigueSpec | None:
     """The ``[fatigue]`` section, its problems appended to ``problems``.
 
     Parameters

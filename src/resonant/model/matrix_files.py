@@ -38,6 +38,7 @@ from typing import IO, Any
 
 import numpy as np
 
+from ..arrays import Matrix
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
 from ..expressions.numeric import numeric_value
@@ -891,7 +892,7 @@ def _rayleigh_coefficients(text: str, params: Sequence[str], source: str,
     return parts[0], parts[1]
 
 
-def _modal_ratios(value: Any, source: str, problems: list[Problem]) -> np.ndarray | None:
+def _modal_ratios(value: object, source: str, problems: list[Problem]) -> np.ndarray | None:
     """The damping ratios of ``modal_damping``: one number or a non-empty list of numbers,
     each finite and in [0, 1) (None: a problem is recorded)."""
     hint = (f"{MODAL_KEY} must be one damping ratio (modal_damping = 0.02) or a list of "
@@ -910,13 +911,13 @@ def _modal_ratios(value: Any, source: str, problems: list[Problem]) -> np.ndarra
     return ratios
 
 
-def _modal_matrix(ratios: np.ndarray, M: Any, K: Any, source: str,
+def _modal_matrix(ratios: np.ndarray, M: Matrix | list[Any], K: Matrix | list[Any], source: str,
                   problems: list[Problem]) -> np.ndarray | None:
     """C = M Phi diag(2 zeta_r omega_r) Phi^T M with mass-normalized modes Phi of (K, M);
     modes beyond the list of ratios take its last ratio (None: a problem is recorded)."""
     import scipy.linalg
 
-    def numbers(matrix: Any) -> np.ndarray | None:
+    def numbers(matrix: Matrix | list[Any]) -> np.ndarray | None:
         if not isinstance(matrix, list):
             return matrix.toarray() if hasattr(matrix, "toarray") else \
                 np.asarray(matrix, dtype=float)

@@ -267,7 +267,7 @@ def _local_cluster(cluster_type: Any, workers: int, deadline: Deadline = NO_DEAD
         yield cluster
 
 
-def _started(cluster_type: Any, workers: int, deadline: Deadline) -> Any:
+def _started(cluster_type: Callable[..., Any], workers: int, deadline: Deadline) -> Any:
     """The cluster, started on a thread and waited for no longer than the deadline allows
     (Dask bounds each worker's start by its own timeouts, not by the run's limit).  A
     cluster whose start is given up is closed as soon as it is up."""
