@@ -28,7 +28,11 @@ extensions = [
     "numpydoc",
     "gallery",
     "offline_math",
+    "public_names",
 ]
+#: every reference must resolve (docs/_ext/public_names.py maps the docstrings' module
+#: paths to the public pages)
+nitpicky = True
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 exclude_patterns = ["_build", "_ext", "_static", "_templates"]
 templates_path = ["_templates"]

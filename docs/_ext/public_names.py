@@ -1,0 +1,96 @@
+"""Resolve the docstrings' references to the objects' public pages (nitpicky builds).
+
+The code's docstrings name objects by where they live (``resonant.analyses.sweep.sweep``,
+or ``backbone`` inside its own module); the API reference documents the public names
+(``resonant.sweep``).  A reference Sphinx cannot find is resolved here:
+
+* to the public page of the same object (``resonant.NAME`` or
+  ``resonant.exercises.NAME``), found by identity, not by name;
+* to the online reference of the standard library, numpy and scipy (a link; nothing is
+  fetched while building);
+* else, for an object of resonant that has no page of its own (an internal helper: the
+  API reference has no private helpers), to its name set as code, not a link.
+
+A reference to something that does not exist stays a warning, so that a typo or a
+renamed function still fails the nitpicky build.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from docutils import nodes
+
+#: online references of the libraries the docstrings mention (no intersphinx: the build
+#: runs without network)
+EXTERNAL = {
+    "scipy": "https://docs.scipy.org/doc/scipy/reference/generated/{name}.html",
+    "numpy": "https://numpy.org/doc/stable/reference/generated/{name}.html",
+    "abc": "https://docs.python.org/3/library/abc.html#{name}",
+}
+
+
+def _find(target: str, module: str | None) -> Any:
+    """The object a dotted name denotes, relative to ``module`` first; None if none."""
+    candidates = ([f"{module}.{target}"] if module else []) + [target]
+    for dotted in candidates:
+        parts = dotted.split(".")
+        for cut in range(len(parts) - 1, 0, -1):
+            try:
+                obj: Any = importlib.import_module(".".join(parts[:cut]))
+            except ImportError:
+                continue
+            try:
+                for attribute in parts[cut:]:
+                    obj = getattr(obj, attribute)
+            except AttributeError:
+                break
+            return obj
+    return None
+
+
+def _public_name(obj: Any) -> str | None:
+    """``resonant.NAME`` or ``resonant.exercises.NAME`` of the same object."""
+    import resonant
+    import resonant.exercises
+
+    for package in (resonant, resonant.exercises):
+        for name in getattr(package, "__all__", ()):
+            if getattr(package, name, None) is obj:
+                return f"{package.__name__}.{name}"
+    return None
+
+
+def _resolve(app: Any, env: Any, node: Any, contnode: Any) -> Any:
+    if node.get("refdomain") != "py":
+        return None
+    target = node["reftarget"]
+    root = target.split(".")[0]
+    if root in EXTERNAL:
+        link = nodes.reference("", "", internal=False,
+                               refuri=EXTERNAL[root].format(name=target))
+        link += contnode
+        return link
+    obj = _find(target, node.get("py:module"))
+    if obj is None:  # a name of the module that defines the documented object
+        page = _find(str(node["refdoc"]).rsplit("/", 1)[-1], None)
+        home = getattr(page, "__module__", None)
+        obj = _find(target, home) if home else None
+    if obj is None or not getattr(obj, "__module__", "resonant").startswith("resonant"):
+        return None
+    public = _public_name(obj)
+    if public is not None:
+        domain = env.get_domain("py")
+        for role in ("obj", "func", "class", "data"):
+            found = domain.resolve_xref(env, node["refdoc"], app.builder, role, public,
+                                        node, contnode)
+            if found is not None:
+                return found
+    return contnode  # resonant's own helper without a page: its name, as code
+
+
+def setup(app: Any) -> dict[str, Any]:
+    """Register the resolver."""
+    app.connect("missing-reference", _resolve)
+    return {"parallel_read_safe": True, "version": "1"}
