@@ -29,6 +29,7 @@ extensions = [
     "gallery",
     "offline_math",
     "public_names",
+    "doc_paths",
 ]
 #: every reference must resolve (docs/_ext/public_names.py maps the docstrings' module
 #: paths to the public pages)

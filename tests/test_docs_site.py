@@ -44,6 +44,19 @@ def test_module_paths_in_docstrings_link_to_the_public_pages(site: Path) -> None
     assert public_names._find("sweep", "resonant.analyses.sweep") is not None
 
 
+def test_mentions_of_guide_files_are_links(site: Path) -> None:
+    """"docs/errors.md" in the guide's text and in docstrings links to the page."""
+    import re
+
+    page = (site / "explore.html").read_text(encoding="utf-8")
+    assert '<a class="reference internal" href="errors.html">docs/errors.md</a>' in page
+    for html in [*site.glob("*.html"), *site.glob("generated/*.html")]:
+        body = re.sub(r"<(nav|script)\b.*?</\1>", "", html.read_text(encoding="utf-8"),
+                      flags=re.S)
+        text = re.sub(r"<a\b[^>]*>.*?</a>|<[^>]+>", " ", body, flags=re.S)
+        assert not re.search(r"docs/[a-z-]+\.md", text), html.name
+
+
 def test_the_guide_and_the_reference_are_built(site: Path) -> None:
     for page in ("index", "model-format", "parts", "units", "nonlinear", "exercises",
                  "architecture", "api"):
