@@ -4,30 +4,23 @@ leaves no stale name in the contracts)."""
 
 from __future__ import annotations
 
-import importlib
 import re
+import sys
 from pathlib import Path
 
 import pytest
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
+sys.path.insert(0, str(DOCS / "_ext"))
+import public_names  # noqa: E402
+
 NAME = re.compile(r"`(resonant(?:\.[A-Za-z_][A-Za-z0-9_]*)+)`")
 
 
 def _exists(dotted: str) -> bool:
-    parts = dotted.split(".")
-    for cut in range(len(parts), 0, -1):
-        try:
-            obj: object = importlib.import_module(".".join(parts[:cut]))
-        except ImportError:
-            continue
-        try:
-            for attribute in parts[cut:]:
-                obj = getattr(obj, attribute)
-        except AttributeError:
-            return False
-        return True
-    return False
+    """Whether the name denotes a module of resonant or an attribute of one (the site's
+    resolver, docs/_ext/public_names.py, finds objects the same way)."""
+    return public_names._find(dotted, None) is not None
 
 
 MENTIONS = sorted({(page.name, name) for page in DOCS.glob("*.md")

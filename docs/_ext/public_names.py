@@ -36,7 +36,7 @@ def _find(target: str, module: str | None) -> Any:
     candidates = ([f"{module}.{target}"] if module else []) + [target]
     for dotted in candidates:
         parts = dotted.split(".")
-        for cut in range(len(parts) - 1, 0, -1):
+        for cut in range(len(parts), 0, -1):
             try:
                 obj: Any = importlib.import_module(".".join(parts[:cut]))
             except ImportError:
