@@ -400,12 +400,12 @@ def plot(results: dict[str, Any], path: Path) -> None:
     plt.close(fig)
 
 
-def write_report(results: dict[str, Any], out: Path, command: str,
-                 notes: bool = True) -> None:
-    """The markdown report; ``notes`` adds the hand-written analysis (benchmarks/notes.md),
-    which describes the full run."""
+def write_report(results: dict[str, Any], out: Path, command: str) -> None:
+    """The markdown report: into an existing report with :data:`HEAD_MARKER` only the
+    sections between the markers, else a whole report with its own table of targets."""
     meta = results["meta"]
-    lines = ["# Performance", "",
+    head = _hand_written_head(out)
+    lines = [head] if head else ["# Performance", "",
              "Benchmarks of resonant side by side with the alternatives; every number below is "
              "from one run of", "", f"    {command}", "",
              f"on {meta['machine']} ({meta['cpus']} cores, shared with other jobs: load average "
@@ -417,15 +417,14 @@ def write_report(results: dict[str, Any], out: Path, command: str,
              "interleaved or back to back), not the absolute times. How the benchmarks work: "
              "`benchmarks/README.md` in the repository.", "",
              "## Targets", ""] + target_rows(results)
-    if notes and (HERE / "notes.md").exists():
-        lines += ["", (HERE / "notes.md").read_text(encoding="utf-8").strip()]
-    lines += ["", f"![time against size]({out.with_suffix('.png').name})", ""]
+    if not head:
+        lines += ["", f"![time against size]({out.with_suffix('.png').name})", ""]
     if "derivation" in results:
-        lines += ["## 1. Derivation: N-link pendulum chain", ""] + \
+        lines += ["## Derivation: N-link pendulum chain", ""] + \
             _rerun_note(meta, "derivation") + \
             derivation_section(results["derivation"]) + [""]
     if "sweep" in results:
-        lines += ["## 2. Frequency sweep", ""] + _rerun_note(meta, "sweep") + [
+        lines += ["## Frequency sweep", ""] + _rerun_note(meta, "sweep") + [
                   "Fixed-free spring-mass chain (masses 1, springs 1e4, C = 0.1 M + 1e-4 K, "
                   "unit force at the free end), `nonprop` = the same plus a damper c = 10 between "
                   "DOF 1 and 2, `dense` = fully coupled random M and K with the same "
@@ -435,11 +434,11 @@ def write_report(results: dict[str, Any], out: Path, command: str,
                   "temporary directory, harmonic `omega = \"w\"`), model loading not timed.",
                   ""] + sweep_section(results["sweep"]) + [""]
     if "end_to_end" in results:
-        lines += ["## 3. End to end", ""] + _rerun_note(meta, "end_to_end") + \
+        lines += ["## End to end", ""] + _rerun_note(meta, "end_to_end") + \
             end_to_end_section(results["end_to_end"]) + [""]
     if "memory" in results:
         m = results["memory"]
-        lines += ["## 4. Memory", ""]
+        lines += ["## Memory", ""]
         if "peak_mb" in m:
             lines += [f"Peak resident set size of a fresh process that builds the n = {m['n']:,} "
                       f"chain, writes and loads its model file and sweeps {m['n_f']} frequencies "
@@ -474,6 +473,19 @@ def _rerun_note(meta: dict[str, Any], name: str) -> list[str]:
 #: sections of the report below this line come from other benchmark scripts (nonlinear,
 #: reduced-order, units, ...) with their own commands; a re-run keeps them as they are
 KEEP_MARKER = "<!-- sections below are written by other benchmark scripts and kept by run.py -->"
+#: the report above this line (its introduction and the table of every target, kept by hand
+#: from all the sections) is kept as it is; run.py writes what lies between the two markers
+HEAD_MARKER = "<!-- sections below, up to the next such line, are written by benchmarks/run.py -->"
+
+
+def _hand_written_head(out: Path) -> str:
+    """The part of an existing report up to and including :data:`HEAD_MARKER` ("" if none)."""
+    try:
+        old = out.read_text(encoding="utf-8")
+    except OSError:
+        return ""
+    at = old.find(HEAD_MARKER)
+    return old[:at + len(HEAD_MARKER)] + "\n" if at >= 0 else ""
 
 
 def _kept_sections(out: Path) -> str:
@@ -544,7 +556,7 @@ def main(argv: list[str] | None = None) -> int:
     raw.parent.mkdir(exist_ok=True)
     raw.write_text(json.dumps(results, indent=1, default=_jsonable), encoding="utf-8")
     plot(results, out.with_suffix(".png"))
-    write_report(results, out, command, notes=mode == "full")
+    write_report(results, out, command)
     log(f"wrote {out}, {out.with_suffix('.png')} and {raw} in {results['meta']['seconds']:.0f} s")
     return 0
 
@@ -559,7 +571,7 @@ def rerender(mode: str, out: Path | None) -> int:
                                  for side, points in derivation["results"].items()}
     out = out or ROOT / results["meta"]["out"]
     plot(results, out.with_suffix(".png"))
-    write_report(results, out, results["meta"]["command"], notes=mode == "full")
+    write_report(results, out, results["meta"]["command"])
     log(f"re-rendered {out} from {raw}")
     return 0
 

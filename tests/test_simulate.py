@@ -258,9 +258,19 @@ def test_cli_negative_duration_is_refused():
     assert code == 2 and "positive" in err
 
 
-def test_cli_choices_match_the_library():
-    import resonant.cli.simulate as cli_simulate
-    import resonant.analyses.simulate as simulate_module
+def test_cli_choices_are_the_options_record():
+    """The command line offers exactly the values the library's record accepts."""
+    import argparse
 
-    assert cli_simulate.START_MODES == simulate_module.START_MODES
-    assert cli_simulate.METHODS == simulate_module.METHODS
+    import resonant.cli.simulate as cli_simulate
+    from resonant.model.options import INTEGRATORS, START_MODES, SimulationOptions
+
+    parser = argparse.ArgumentParser()
+    cli_simulate.register(parser.add_subparsers(), argparse.ArgumentParser(add_help=False))
+    sub = parser._subparsers._group_actions[0].choices["simulate"]  # type: ignore[union-attr]
+    choices = {a.dest: a.choices for a in sub._actions if a.choices}
+    assert tuple(choices["start"]) == START_MODES and tuple(choices["method"]) == INTEGRATORS
+    for start in START_MODES:
+        SimulationOptions(start=start)
+    with pytest.raises(AnalysisError, match="start must be one of"):
+        SimulationOptions(start="middle")

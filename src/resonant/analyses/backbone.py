@@ -52,9 +52,10 @@ import numpy as np
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model import Model
+from ..model.options import check_harmonics
 from ..system import LinearSystem, NonlinearSystem, nonlinear_system
 from ..system.stability import undamped_eigen
-from .hb_solver import MAX_GIVEN_HARMONICS, NEWTON_MAX, NEWTON_TOL, HarmonicBalance
+from .hb_solver import NEWTON_MAX, NEWTON_TOL, HarmonicBalance
 from .stationary import freeze_fields
 
 if TYPE_CHECKING:
@@ -287,9 +288,7 @@ def _follow(free: _Free, y0: np.ndarray, A0: float, targets: np.ndarray, deadlin
 
 def _check(system: NonlinearSystem, amplitude: float | None, harmonics: int | None,
            points: int) -> None:
-    if harmonics is not None and not 1 <= harmonics <= MAX_GIVEN_HARMONICS:
-        raise AnalysisError(f"harmonics must be between 1 and {MAX_GIVEN_HARMONICS}, not "
-                            f"{harmonics}")
+    check_harmonics(harmonics)
     if points < 2:
         raise AnalysisError("points must be at least 2")
     if amplitude is not None and not (math.isfinite(amplitude) and amplitude > 0):

@@ -80,12 +80,13 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..expressions import numeric_value
 from ..model import Model
+from ..model.options import BalanceOptions
 from ..system import LinearSystem
 from ..system.base import parameter_values
 from ..system.matrix_outputs import OutputSeries
 from ..system.nonlinear_elements import ElementForces
 from .continuation import follow
-from .hb_solver import MAX_GIVEN_HARMONICS, basis, newton_at
+from .hb_solver import basis, newton_at
 from .nonlinear_response import NonlinearResponse
 from .peaks import periodic_peak, series_peaks
 from .reduced import DEFAULT_TOL, reduced_model
@@ -882,11 +883,7 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     harmonics = DEFAULT_HARMONICS if harmonics is None else harmonics
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
         raise AnalysisError("the range must be two different finite numbers")
-    if not 1 <= harmonics <= MAX_GIVEN_HARMONICS:
-        raise AnalysisError(f"harmonics must be between 1 and {MAX_GIVEN_HARMONICS}, not "
-                            f"{harmonics}")
-    if points < 3:
-        raise AnalysisError("points must be at least 3")
+    BalanceOptions(harmonics=harmonics, points=points, samples=samples, tol=tol)  # checks
     setup = _setup(system, model, param, start, stop)
     coords = model.coordinates or tuple(f"q{i + 1}" for i in range(setup.M.shape[0]))
     position = {q: i for i, q in enumerate(coords)}

@@ -71,11 +71,12 @@ import numpy as np
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model import Model
+from ..model.options import MAX_GIVEN_HARMONICS, BalanceOptions, chosen, names_tuple
 from ..system import LinearSystem, NonlinearSystem, linear_system, nonlinear_system
 from .condensed import condensed_sweep, has_nonlinear_elements
 from .continuation import Branch
 from .continuation import follow as _continue
-from .hb_solver import MAX_GIVEN_HARMONICS, HarmonicBalance, resize, start_coefficients, truncation
+from .hb_solver import HarmonicBalance, resize, start_coefficients, truncation
 from .nonlinear_response import NonlinearResponse
 from .reduced import DEFAULT_TOL
 from .special_points import SPECIAL_KINDS, STABILITY_TOL, SpecialPoint, special_points
@@ -98,11 +99,7 @@ def _check(system: NonlinearSystem, param: str, start: float, stop: float,
                             f"{', '.join(system.parameters)})")
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
         raise AnalysisError("the range must be two different finite numbers")
-    if harmonics is not None and not 1 <= harmonics <= MAX_GIVEN_HARMONICS:
-        raise AnalysisError(f"harmonics must be between 1 and {MAX_GIVEN_HARMONICS}, not "
-                            f"{harmonics}")
-    if points < 3:
-        raise AnalysisError("points must be at least 3")
+    BalanceOptions(harmonics=harmonics, points=points)  # checks both
 
 
 def _start(system: NonlinearSystem, hb: HarmonicBalance, start: float,
@@ -205,8 +202,8 @@ def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, 
                     stop: float, *, harmonics: int | None = None, points: int = 101,
                     linear: bool = True, observe: Sequence[str] | None = None,
                     samples: int | None = None, exact: bool | None = None,
-                    tol: float | None = None, deadline: Deadline = NO_DEADLINE
-                    ) -> NonlinearResponse:
+                    tol: float | None = None, deadline: Deadline = NO_DEADLINE,
+                    options: BalanceOptions | None = None) -> NonlinearResponse:
     """The periodic steady state from ``start`` to ``stop``: harmonic balance, continuation,
     stability, balanced the way the system calls for.
 
@@ -233,6 +230,9 @@ def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, 
         The condensed balance's options (:func:`resonant.analyses.condensed.condensed_sweep`);
         an error for a model given by its energies.
     deadline : Deadline, optional
+    options : BalanceOptions, optional
+        ``harmonics`` ... ``tol`` as one record (then not as keywords):
+        :class:`resonant.model.options.BalanceOptions`.
 
     Returns
     -------
@@ -252,22 +252,24 @@ def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, 
     >>> r.harmonics, bool(r.values.size > 10)
     (1, True)
     """
+    o = chosen(options, BalanceOptions(harmonics, points, linear, names_tuple(observe),
+                                       samples, exact, tol))
     model = system if isinstance(system, Model) else system.model
     if model is not None and has_nonlinear_elements(model):
         linear_system_ = system.linear if isinstance(system, NonlinearSystem) else \
             system if isinstance(system, LinearSystem) else linear_system(model, deadline)
-        return condensed_sweep(linear_system_, param, start, stop, harmonics=harmonics,
-                               points=points, observe=observe, samples=samples, exact=exact,
-                               tol=DEFAULT_TOL if tol is None else tol, linear=linear,
-                               deadline=deadline)
-    given = [name for name, value in (("observe", observe), ("samples", samples),
-                                      ("exact", exact), ("tol", tol)) if value is not None]
+        return condensed_sweep(linear_system_, param, start, stop, harmonics=o.harmonics,
+                               points=o.points, observe=o.observe, samples=o.samples,
+                               exact=o.exact, tol=DEFAULT_TOL if o.tol is None else o.tol,
+                               linear=o.linear, deadline=deadline)
+    given = [name for name, value in (("observe", o.observe), ("samples", o.samples),
+                                      ("exact", o.exact), ("tol", o.tol)) if value is not None]
     if given:
         raise AnalysisError(f"{', '.join(given)} apply to the balance condensed onto the "
                             "[[nonlinear]] elements of a [matrices] model, not to a model "
                             "given by its energies")
-    return full_sweep(system, param, start, stop, harmonics=harmonics, points=points,
-                      linear=linear, deadline=deadline)
+    return full_sweep(system, param, start, stop, harmonics=o.harmonics, points=o.points,
+                      linear=o.linear, deadline=deadline)
 
 
 def full_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, start: float,

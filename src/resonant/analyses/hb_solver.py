@@ -53,10 +53,6 @@ from ..errors import AnalysisError
 from ..system import NonlinearSystem
 from .peaks import GRID, periodic_peak, series_peaks
 
-#: the most harmonics an analysis takes when they are given (every nonlinear analysis and
-#: the harmonics option of the command line share it)
-MAX_GIVEN_HARMONICS = 200
-
 #: Newton: relative step size that ends the iteration, and its iteration limit
 NEWTON_TOL = 1e-11
 NEWTON_MAX = 12

@@ -63,6 +63,7 @@ import numpy as np
 from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
+from ..model.options import SWEEP_METHODS
 from ..system import Batch, BatchHarmonic
 from ..system.modal import largest_abs
 from ..system.stability import check_mass_matrix
@@ -80,7 +81,7 @@ from .reduced import (
 )
 from .threads import blas_threads
 
-METHODS = ("auto", "direct", "dense", "banded", "sparse", "modal", "reduced")
+METHODS = SWEEP_METHODS
 #: a point whose condition number exceeds this is an exact resonance
 SINGULAR_CONDITION = 1e13
 #: condition number that earns a "digits lost" warning

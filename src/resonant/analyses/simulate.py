@@ -59,6 +59,7 @@ from ..deadline import NO_DEADLINE, AnalysisTimeout, Deadline
 from ..errors import AnalysisError, ModelError, Problem, name_list
 from ..expressions import parse
 from ..model import Model
+from ..model.options import SimulationOptions, chosen
 from ..model.types import constant_prime_message, primed_names
 from ..system import LinearSystem, NonlinearSystem, NumericEOM, nonlinear_system
 from ..system.stability import (
@@ -96,8 +97,6 @@ SETTLED_DECAY = 7.0
 LARGE_DIFFERENCE = 0.05
 #: longest run, in periods of the highest frequency involved (excitation or natural)
 MAX_PERIODS = 1e6
-START_MODES = ("auto", "rest", "stationary", "periodic")
-METHODS = ("DOP853", "RK45", "LSODA", "Radau", "BDF")
 #: largest initial deviation or velocity: squares and the error norms stay finite
 MAX_INITIAL = 1e100
 
@@ -420,18 +419,6 @@ def parse_initial(model: Model, initial: Mapping[str, float | str] | None
 
 
 
-def _check_options(start: str, method: str | None, duration: float | None,
-                   periods: float) -> None:
-    if start not in START_MODES:
-        raise AnalysisError(f"start must be one of {', '.join(START_MODES)}, not '{start}'")
-    if method is not None and method not in METHODS:
-        raise AnalysisError(f"method must be one of {', '.join(METHODS)}, not '{method}'")
-    if duration is not None and not (math.isfinite(duration) and duration > 0):
-        raise AnalysisError(f"the duration must be a positive number of seconds, not {duration}")
-    if not (math.isfinite(periods) and periods > 0):
-        raise AnalysisError(f"periods must be positive, not {periods}")
-
-
 def _systems(system: LinearSystem | NonlinearSystem, nonlinear: bool | None,
              deadline: Deadline) -> tuple[LinearSystem, NonlinearSystem | None]:
     """The linear system and, for a nonlinear run, the nonlinear one."""
@@ -628,7 +615,8 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
              nonlinear: bool | None = None, initial: Mapping[str, float | str] | None = None,
              *, start: str = "auto", periods: float | None = None,
              method: str | None = None, rtol: float = 1e-9, progress: bool | None = None,
-             deadline: Deadline = NO_DEADLINE) -> Simulation:
+             deadline: Deadline = NO_DEADLINE, options: SimulationOptions | None = None
+             ) -> Simulation:
     """Integrate the model's equations of motion in time.
 
     Parameters
@@ -676,6 +664,9 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
         Show progress on stderr; default: only when stderr is a terminal.
     deadline : Deadline, optional
         Checked during the integration.
+    options : SimulationOptions, optional
+        Every option above but ``deadline`` as one record (then not as keywords):
+        :class:`resonant.model.options.SimulationOptions`.
 
     Returns
     -------
@@ -700,8 +691,12 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
     >>> simulate(eom, 0.05, initial={"x2": 0.01}).initial["x2"]
     0.01
     """
-    periods = DEFAULT_PERIODS if periods is None else periods
-    _check_options(start, method, duration, periods)
+    given = chosen(options, SimulationOptions(duration, nonlinear, initial, start, periods,
+                                              method, rtol, progress))
+    duration, nonlinear, initial, start = given.duration, given.nonlinear, given.initial, \
+        given.start
+    method, rtol, progress = given.method, given.rtol, given.progress
+    periods = DEFAULT_PERIODS if given.periods is None else given.periods
     linear_system, full = _systems(system, nonlinear, deadline)
     model = linear_system._model()
     warnings: list[str] = []

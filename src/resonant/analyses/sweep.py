@@ -84,6 +84,7 @@ import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
+from ..model.options import SweepOptions, chosen, names_tuple
 from ..system import Batch, LinearSystem
 from ..system.batch import frozen_array, group_frequencies
 from ..system.stability import natural_frequencies as _natural_frequencies
@@ -621,7 +622,8 @@ def swept_values(values: Sequence[float] | np.ndarray) -> np.ndarray:
 def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray, *,
           method: str = "auto", names: Sequence[str] | None = None,
           progress: bool | None = None, log: bool | None = None,
-          deadline: Deadline = NO_DEADLINE, tol: float | None = None) -> FrequencyResponse:
+          deadline: Deadline = NO_DEADLINE, tol: float | None = None,
+          options: SweepOptions | None = None) -> FrequencyResponse:
     """Stationary amplitude and phase of every coordinate and output against a parameter.
 
     Parameters
@@ -650,6 +652,9 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
     tol : float, optional
         Relative tolerance of a reduced model (default
         :data:`resonant.analyses.reduced.DEFAULT_TOL`, 1e-6).
+    options : SweepOptions, optional
+        ``method``, ``names``, ``tol``, ``log`` and ``progress`` as one record (then not
+        as keywords): :class:`resonant.model.options.SweepOptions`.
 
     Returns
     -------
@@ -670,8 +675,10 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
     >>> sweep(eom, "omega", [10.0, 20.0]).values.tolist()
     [10.0, 20.0]
     """
-    tol = DEFAULT_TOL if tol is None else tol
-    _check_options(method, tol)
+    chosen_options = chosen(options, SweepOptions(method, names_tuple(names), tol, log, progress))
+    method, names = chosen_options.method, chosen_options.names
+    progress, log = chosen_options.progress, chosen_options.log
+    tol = DEFAULT_TOL if chosen_options.tol is None else chosen_options.tol
     values = swept_values(values)
     check_points(values.size)
     batch = system.batch(param, values, deadline)
@@ -721,13 +728,6 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
         skipped=skipped, warnings=tuple(dict.fromkeys(warnings)),
         log=_is_log(values) if log is None else bool(log),
         title=batch.title, coordinates=tuple(batch.coordinates))
-
-
-def _check_options(method: str, tol: float) -> None:
-    if method not in METHODS:
-        raise AnalysisError(f"unknown method '{method}'; choose one of {', '.join(METHODS)}")
-    if not (isinstance(tol, (int, float)) and math.isfinite(tol) and 0 < tol < 1):
-        raise AnalysisError(f"the tolerance must be a number between 0 and 1, not {tol}")
 
 
 def _reported_names(batch: Batch, names: Sequence[str] | None) -> tuple[list[str], str]:

@@ -19,10 +19,11 @@ from typing import Any
 import resonant.cli.common as cli
 
 from ..analyses.backbone import backbone
-from ..analyses.harmonic_balance import MAX_GIVEN_HARMONICS, nonlinear_sweep
+from ..analyses.harmonic_balance import nonlinear_sweep
 from ..analyses.modes import modes
 from ..analyses.sweep import MAX_SWEEP_POINTS, linspace, sweep
 from ..errors import AnalysisError
+from ..model.options import MAX_GIVEN_HARMONICS, SWEEP_METHODS, BalanceOptions, SweepOptions
 from ..system import linear_system
 from ..views.display import modes_text, sweep_text
 from ..views.nonlinear_plots import nonlinear_text, plot_backbones, plot_nonlinear_response
@@ -63,8 +64,7 @@ def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
                        help="number of values (default 201)")
     sweep.add_argument("--log", action="store_true", help="logarithmic spacing")
     sweep.add_argument("--method", default="auto",
-                       choices=["auto", "direct", "dense", "banded", "sparse", "modal",
-                                "reduced"],
+                       choices=SWEEP_METHODS,
                        help="solution method (default auto: a reduced-order model for large "
                             "models when its estimated error is below --tol, else the "
                             "cheapest exact method; direct: the cheapest exact method)")
@@ -124,10 +124,11 @@ def run_sweep(args: argparse.Namespace) -> int:
     if args.only:
         names = [n.strip() for n in args.only.split(",") if n.strip()]
     deadline = cli.deadline(args)
-    tol = {} if args.tol is None else {"tol": args.tol}
-    result = sweep(linear_system(model, deadline), args.param, values, method=args.method,
-                   names=names, progress=True if args.progress else None, log=args.log,
-                   deadline=deadline, **tol)
+    options = SweepOptions(method=args.method, names=None if names is None else tuple(names),
+                           tol=args.tol, log=args.log,
+                           progress=True if args.progress else None)
+    result = sweep(linear_system(model, deadline), args.param, values, options=options,
+                   deadline=deadline)
     units = result_units(model)
     return _emit(args, result, lambda: sweep_text(result),
                  lambda path: plot_frequency_response(
@@ -142,9 +143,10 @@ def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
         raise AnalysisError("--log and --method apply to the linear sweep, not to --nonlinear")
     deadline = cli.deadline(args)
     observe = [n.strip() for n in args.only.split(",") if n.strip()] if args.only else None
+    options = BalanceOptions(harmonics=args.harmonics, points=args.points,
+                             observe=None if observe is None else tuple(observe), tol=args.tol)
     result = nonlinear_sweep(linear_system(model, deadline), args.param, args.start, args.stop,
-                             harmonics=args.harmonics, points=args.points, observe=observe,
-                             tol=args.tol, deadline=deadline)
+                             options=options, deadline=deadline)
     units = result_units(model)
     return _emit(args, result, lambda: nonlinear_text(result),
                  lambda path: plot_nonlinear_response(

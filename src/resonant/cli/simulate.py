@@ -14,8 +14,9 @@ from pathlib import Path
 
 import resonant.cli.common as common
 
-from ..analyses.simulate import DEFAULT_PERIODS, METHODS, START_MODES, simulate
+from ..analyses.simulate import DEFAULT_PERIODS, simulate
 from ..errors import AnalysisError, ModelError, Problem
+from ..model.options import INTEGRATORS, START_MODES, SimulationOptions
 from ..system import linear_system
 from ..views.display import simulation_text
 from ..views.plotting import plot_simulation
@@ -80,7 +81,7 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
     parser.add_argument("--periods", type=_positive, default=None, metavar="P",
                         help="measurement window in periods of the lowest excitation "
                              "frequency (default 5)")
-    parser.add_argument("--method", choices=METHODS, default=None,
+    parser.add_argument("--method", choices=INTEGRATORS, default=None,
                         help="integrator (default DOP853, LSODA for stiff systems)")
     parser.add_argument("--plot", metavar="FILE", help="write a plot (.png, .svg or .pdf)")
     parser.add_argument("--csv", metavar="FILE", help="write the time history as CSV")
@@ -95,10 +96,10 @@ def run_simulate(args: argparse.Namespace) -> int:
     initial = parse_initial_items(args.initial)
     model = common.load_model(args)
     deadline = common.deadline(args)
-    sim = simulate(linear_system(model, deadline), args.duration, args.nonlinear,
-                   initial=initial or None, start=args.start,
-                   periods=args.periods or DEFAULT_PERIODS, method=args.method,
-                   deadline=deadline)
+    options = SimulationOptions(duration=args.duration, nonlinear=args.nonlinear,
+                                initial=initial or None, start=args.start,
+                                periods=args.periods or DEFAULT_PERIODS, method=args.method)
+    sim = simulate(linear_system(model, deadline), options=options, deadline=deadline)
     written = []
     units = result_units(model)
     plot = partial(plot_simulation, sim, units=units.si if units is not None else None)
