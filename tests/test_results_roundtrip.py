@@ -12,13 +12,83 @@ import pytest
 import resonant
 from resonant.analyses.backbone import Backbones
 from resonant.analyses.modes import ModalAnalysis
+from resonant.analyses.sweep import FrequencyResponse
+from resonant.errors import AnalysisError
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
 MODELS = ["two_dof_free", "chain3_damped", "tuned_mass_damper", "cart_pendulum", "pendulum"]
 
 
+#: a model excited at two frequencies (omega and 3 omega): two harmonics per value
+TWO_HARMONICS = """
+[parameters]
+m = 1
+k = 100
+c = 0.5
+omega = 3
+[coordinates]
+x = "displacement"
+[signals]
+F = "sin(omega*t) + 0.3*cos(3*omega*t)"
+[energy]
+T = "m*x'^2/2"
+U = "k*x^2/2"
+D = "c*x'^2/2"
+[[force]]
+generalized = { x = "F" }
+[outputs]
+v = "x'"
+"""
+
+#: undamped: no stationary solution at omega = 10 (the natural frequency), a skipped point
+UNDAMPED = TWO_HARMONICS.replace("c = 0.5", "c = 0")
+
+
 def _through_json(data: dict) -> dict:
-    return json.loads(json.dumps(data))
+    # allow_nan=False: the saved result must be valid JSON (no NaN, no Infinity)
+    return json.loads(json.dumps(data, allow_nan=False))
+
+
+def _sweeps():
+    """(id, sweep) of several bundled examples, two harmonics and a sweep with skipped points."""
+    for name in ["cart_pendulum", "tuned_mass_damper", "chain3_damped", "duffing",
+                 "two_dof_cubic"]:
+        yield name, lambda name=name: resonant.load(EXAMPLES / f"{name}.toml").linearize().sweep(
+            "omega", np.linspace(0.5, 40, 80))
+    yield "absorber-k2", lambda: resonant.load(EXAMPLES / "absorber.toml").linearize().sweep(
+        "k2", np.linspace(50, 400, 36))
+    yield "log", lambda: resonant.load(EXAMPLES / "chain3_damped.toml").linearize().sweep(
+        "omega", np.geomspace(1, 100, 50))
+    yield "two-harmonics", lambda: resonant.loads(TWO_HARMONICS).linearize().sweep(
+        "omega", np.linspace(1, 12, 45))
+    yield "skipped", lambda: resonant.loads(UNDAMPED).linearize().sweep(
+        "omega", np.linspace(5, 15, 21))
+    yield "one-value", lambda: resonant.load(EXAMPLES / "cart_pendulum.toml").linearize().sweep(
+        "omega", [7.0])
+    yield "no-excitation", lambda: resonant.load(EXAMPLES / "two_dof_free.toml").linearize(
+        ).sweep("k", [1000.0, 2000.0])
+
+
+SWEEPS = dict(_sweeps())
+
+
+def _assert_same_sweep(back: FrequencyResponse, sweep: FrequencyResponse) -> None:
+    assert back.to_dict() == sweep.to_dict()
+    for name in ("values", "response", "harmonic_omegas"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(sweep, name))
+        assert getattr(back, name).dtype == getattr(sweep, name).dtype
+    for name in sweep.quantities:
+        np.testing.assert_array_equal(back.amplitudes[name], sweep.amplitudes[name])
+        np.testing.assert_array_equal(back.phases[name], sweep.phases[name])
+    for name in ("parameter", "quantities", "method", "frequency_sweep", "frequency_scale",
+                 "skipped", "warnings", "log", "title", "coordinates", "estimated_error",
+                 "tolerance", "peaks", "antiresonances", "unit"):
+        assert getattr(back, name) == getattr(sweep, name), name
+    if sweep.natural_frequencies is None:
+        assert back.natural_frequencies is None
+    else:
+        np.testing.assert_array_equal(back.natural_frequencies, sweep.natural_frequencies)
+    assert back.summary() == sweep.summary()
 
 
 @pytest.mark.parametrize("name", MODELS)
@@ -55,3 +125,41 @@ def test_tables_hold_the_results_numbers():
     table = branch.to_frame()
     assert table["stable"].tolist() == branch.stable.tolist()
     np.testing.assert_array_equal(table["amplitude:x"], branch.amplitudes["x"])
+
+
+@pytest.mark.parametrize("case", list(SWEEPS))
+def test_sweep_round_trip(case):
+    """Every field of a sweep survives JSON, the complex responses bit for bit."""
+    sweep = SWEEPS[case]()
+    back = FrequencyResponse.from_dict(_through_json(sweep.to_dict()))
+    _assert_same_sweep(back, sweep)
+    # and again: the saved form of the copy is the saved form of the original
+    assert FrequencyResponse.from_dict(_through_json(back.to_dict())).to_dict() == \
+        sweep.to_dict()
+
+
+def test_sweep_cases_cover_what_they_claim():
+    """The cases above hold what they are named for (else the round trip tests less)."""
+    assert SWEEPS["two-harmonics"]().response.shape[0] == 2
+    skipped = SWEEPS["skipped"]()
+    assert skipped.skipped == (10.0,)
+    assert np.isnan(skipped.response[0, 10]).all()  # the harmonic at omega
+    assert SWEEPS["log"]().log
+    assert SWEEPS["absorber-k2"]().frequency_scale is None
+    assert SWEEPS["no-excitation"]().response.shape == (0, 2, 2)
+
+
+def test_sweep_from_dict_names_what_is_missing():
+    data = _through_json(SWEEPS["cart_pendulum"]().to_dict())
+    for key in ("response", "quantities", "harmonic_omegas", "values", "log"):
+        broken = {k: v for k, v in data.items() if k != key}
+        with pytest.raises(AnalysisError, match=f"no key '{key}'"):
+            FrequencyResponse.from_dict(broken)
+    with pytest.raises(AnalysisError, match="no key 'imag' at 'response'"):
+        FrequencyResponse.from_dict({**data, "response": {"real": data["response"]["real"]}})
+    with pytest.raises(AnalysisError, match="'response.real' has shape"):
+        FrequencyResponse.from_dict({**data, "response": {"real": [[1.0]], "imag": [[0.0]]}})
+    with pytest.raises(AnalysisError, match="'values' is a string"):
+        FrequencyResponse.from_dict({**data, "values": "1, 2"})
+    with pytest.raises(AnalysisError, match="not a mapping"):
+        FrequencyResponse.from_dict([1, 2])  # type: ignore[arg-type]
