@@ -12,6 +12,8 @@ import pytest
 import resonant
 from resonant.analyses.backbone import Backbones
 from resonant.analyses.modes import ModalAnalysis
+from resonant.analyses.nonlinear_response import NonlinearResponse
+from resonant.analyses.special_points import SpecialPoint
 from resonant.analyses.sweep import FrequencyResponse
 from resonant.errors import AnalysisError
 
@@ -163,3 +165,91 @@ def test_sweep_from_dict_names_what_is_missing():
         FrequencyResponse.from_dict({**data, "values": "1, 2"})
     with pytest.raises(AnalysisError, match="not a mapping"):
         FrequencyResponse.from_dict([1, 2])  # type: ignore[arg-type]
+
+
+#: a [matrices] model with a nonlinear element and outputs: the condensed balance
+CONDENSED = """
+[parameters]
+w = 0.5
+k3 = 2
+c1 = 0.04
+[matrices]
+M = [[1, 0], [0, 1]]
+K = [[2, -1], [-1, 1]]
+C = [["c1", 0], [0, 0.04]]
+[[harmonic]]
+omega = "w"
+F_C = [0, 0.1]
+[outputs]
+spring = "k3*(q2 - q1)^3 + (q2 - q1)"
+accel = "q2''"
+[[nonlinear]]
+name = "hardening"
+coordinates = ["q2", "q1"]
+force = "k3*(q2 - q1)^3"
+"""
+
+BRANCHES = {
+    # folds and a change of stability (the jump of the Duffing oscillator)
+    "duffing": lambda: resonant.load(EXAMPLES / "duffing.toml").nonlinear_sweep(
+        "omega", 0.8, 1.6, harmonics=3, points=40),
+    "duffing-no-linear": lambda: resonant.load(EXAMPLES / "duffing.toml").nonlinear_sweep(
+        "omega", 0.8, 1.2, harmonics=1, points=15, linear=False),
+    "two_dof_cubic": lambda: resonant.load(EXAMPLES / "two_dof_cubic.toml").nonlinear_sweep(
+        "omega", 0.5, 2.0, harmonics=3, points=30),
+    "condensed-outputs": lambda: resonant.loads(CONDENSED).nonlinear_sweep(
+        "w", 0.5, 2.0, harmonics=3, points=25),
+}
+
+
+@pytest.mark.parametrize("case", list(BRANCHES))
+def test_nonlinear_round_trip(case):
+    """The branch, its multipliers, special points, output harmonics and linear sweep survive
+    JSON bit for bit."""
+    branch = BRANCHES[case]()
+    back = NonlinearResponse.from_dict(_through_json(branch.to_dict()))
+    assert back.to_dict() == branch.to_dict()
+    for name in ("values", "coefficients", "base_frequencies", "stable", "multipliers"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(branch, name))
+        assert getattr(back, name).dtype == getattr(branch, name).dtype, name
+    assert list(back.amplitudes) == list(branch.amplitudes)
+    for name, a in branch.amplitudes.items():
+        np.testing.assert_array_equal(back.amplitudes[name], a)
+    for name in ("title", "parameter", "coordinates", "outputs", "harmonics", "residual",
+                 "truncation", "start", "stop", "warnings", "special_points"):
+        assert getattr(back, name) == getattr(branch, name), name
+    if branch.output_coefficients is None:
+        assert back.output_coefficients is None
+    else:
+        np.testing.assert_array_equal(back.output_coefficients, branch.output_coefficients)
+    if branch.linear is None:
+        assert back.linear is None
+    else:
+        _assert_same_sweep(back.linear, branch.linear)
+    assert back.summary() == branch.summary()
+    assert back.peak() == branch.peak()
+
+
+def test_nonlinear_cases_cover_what_they_claim():
+    duffing = BRANCHES["duffing"]()
+    assert {"fold", "peak"} <= {p.kind for p in duffing.special_points}
+    assert not duffing.stable.all()
+    assert np.iscomplexobj(duffing.multipliers) and np.any(duffing.multipliers.imag != 0)
+    condensed = BRANCHES["condensed-outputs"]()
+    assert condensed.output_coefficients is not None and condensed.outputs
+    assert BRANCHES["duffing-no-linear"]().linear is None
+
+
+def test_nonlinear_from_dict_names_what_is_missing():
+    data = _through_json(BRANCHES["duffing-no-linear"]().to_dict())
+    with pytest.raises(AnalysisError, match="no key 'continuation'"):
+        NonlinearResponse.from_dict({k: v for k, v in data.items() if k != "continuation"})
+    rest = {k: v for k, v in data["continuation"].items() if k != "multipliers"}
+    with pytest.raises(AnalysisError, match="no key 'multipliers' at 'continuation'"):
+        NonlinearResponse.from_dict({**data, "continuation": rest})
+    branch = [dict(p) for p in data["branch"]]
+    branch[3] = {**branch[3], "harmonics": {"x": [[0.0], [1.0]]}}
+    with pytest.raises(AnalysisError, match=r"'branch\[3\].harmonics.x' has shape"):
+        NonlinearResponse.from_dict({**data, "branch": branch})
+    with pytest.raises(AnalysisError, match="SpecialPoint has no key 'amplitudes'"):
+        SpecialPoint.from_dict({"value": 1.0})

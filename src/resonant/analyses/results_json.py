@@ -179,7 +179,7 @@ class Saved:
 
         An empty list takes the shape asked for (JSON's ``[]`` cannot say it).
         """
-        return self._array(self.value(key, default), key, shape, ndim)
+        return self.array_of(self.value(key, default), key, shape, ndim)
 
     def optional_floats(self, key: str, **kwargs: Any) -> np.ndarray | None:
         """:meth:`floats`, or None when the key is missing or null."""
@@ -189,8 +189,8 @@ class Saved:
                 ndim: int | None = None) -> np.ndarray:
         """A complex array saved by :func:`complex_json`."""
         parts = self.mapping(key)
-        real = parts._array(parts.value("real"), "real", shape, ndim)
-        imag = parts._array(parts.value("imag"), "imag", real.shape, None)
+        real = parts.array_of(parts.value("real"), "real", shape, ndim)
+        imag = parts.array_of(parts.value("imag"), "imag", real.shape, None)
         out = np.empty(real.shape, dtype=complex)
         out.real = real
         out.imag = imag
@@ -211,13 +211,14 @@ class Saved:
                default: Any = _MISSING) -> dict[str, np.ndarray]:
         """A mapping name -> real array (each :meth:`floats`)."""
         inner = self.mapping(key, default)
-        return {str(k): inner._array(v, str(k), None, ndim) for k, v in inner.data.items()}
+        return {str(k): inner.array_of(v, str(k), None, ndim) for k, v in inner.data.items()}
 
     def _path(self, key: str) -> str:
         return f"{self.where}.{key}" if self.where else key
 
-    def _array(self, value: Any, key: str, shape: Sequence[int] | None,
-               ndim: int | None) -> np.ndarray:
+    def array_of(self, value: Any, key: str, shape: Sequence[int] | None = None,
+                 ndim: int | None = None) -> np.ndarray:
+        """``value`` (the value of ``key``) as a real array, checked as :meth:`floats`."""
         if not isinstance(value, (list, tuple, int, float)) or isinstance(value, bool):
             raise self.error(f"is {_type(value)}, not an array of numbers", key)
         try:
