@@ -13,6 +13,7 @@ import resonant
 from resonant.analyses.backbone import Backbones
 from resonant.analyses.modes import ModalAnalysis
 from resonant.analyses.nonlinear_response import NonlinearResponse
+from resonant.analyses.simulate import Simulation
 from resonant.analyses.special_points import SpecialPoint
 from resonant.analyses.sweep import FrequencyResponse
 from resonant.errors import AnalysisError
@@ -253,3 +254,49 @@ def test_nonlinear_from_dict_names_what_is_missing():
         NonlinearResponse.from_dict({**data, "branch": branch})
     with pytest.raises(AnalysisError, match="SpecialPoint has no key 'amplitudes'"):
         SpecialPoint.from_dict({"value": 1.0})
+
+
+SIMULATIONS = {
+    # linear, started on the stationary solution, with the linear prediction and outputs
+    "tuned_mass_damper": lambda: resonant.load(EXAMPLES / "tuned_mass_damper.toml").simulate(
+        0.5),
+    "cart_pendulum-nonlinear": lambda: resonant.load(EXAMPLES / "cart_pendulum.toml").simulate(
+        1.0, nonlinear=True),
+    "duffing-nonlinear": lambda: resonant.load(EXAMPLES / "duffing.toml").simulate(
+        20.0, nonlinear=True),
+    "two_dof_free-given": lambda: resonant.load(EXAMPLES / "two_dof_free.toml").simulate(
+        0.2, initial={"x1": 0.01}),
+    "chain3_damped": lambda: resonant.load(EXAMPLES / "chain3_damped.toml").simulate(0.3),
+}
+
+
+@pytest.mark.parametrize("case", list(SIMULATIONS))
+def test_simulation_round_trip(case):
+    """With its history, a simulation survives JSON bit for bit."""
+    sim = SIMULATIONS[case]()
+    back = Simulation.from_dict(_through_json(sim.to_dict(history=True)))
+    assert back.to_dict(history=True) == sim.to_dict(history=True)
+    assert back.to_dict() == sim.to_dict()
+    np.testing.assert_array_equal(back.t, sim.t)
+    for field in ("states", "linear_response"):
+        original = getattr(sim, field)
+        assert list(getattr(back, field)) == list(original)
+        for name, y in original.items():
+            np.testing.assert_array_equal(getattr(back, field)[name], y)
+    for field in ("title", "coordinates", "steady_amplitudes", "linear_amplitudes",
+                  "relative_difference", "window", "nonlinear", "start", "method", "initial",
+                  "warnings", "t_end", "names"):
+        assert getattr(back, field) == getattr(sim, field), field
+    assert back.summary() == sim.summary()
+
+
+def test_simulation_json_leaves_the_history_out_unless_asked():
+    sim = SIMULATIONS["two_dof_free-given"]()
+    assert "history" not in sim.to_dict()
+    assert len(sim.to_dict(history=True)["history"]["t"]) == sim.t.size
+    with pytest.raises(AnalysisError, match=r"no time history: save it with to_dict\(history"):
+        Simulation.from_dict(_through_json(sim.to_dict()))
+    data = _through_json(sim.to_dict(history=True))
+    data["history"]["states"]["x1"] = data["history"]["states"]["x1"][:-1]
+    with pytest.raises(AnalysisError, match="'history.states.x1' has shape"):
+        Simulation.from_dict(data)

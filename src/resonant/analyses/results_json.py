@@ -207,11 +207,16 @@ class Saved:
             raise self.error(f"is {_type(value)}, not a list", key)
         return [Saved(v, self.kind, f"{self._path(key)}[{i}]") for i, v in enumerate(value)]
 
-    def arrays(self, key: str, *, ndim: int | None = None,
+    def arrays(self, key: str, *, shape: Sequence[int] | None = None, ndim: int | None = None,
                default: Any = _MISSING) -> dict[str, np.ndarray]:
         """A mapping name -> real array (each :meth:`floats`)."""
         inner = self.mapping(key, default)
-        return {str(k): inner.array_of(v, str(k), None, ndim) for k, v in inner.data.items()}
+        return {str(k): inner.array_of(v, str(k), shape, ndim) for k, v in inner.data.items()}
+
+    def numbers_of(self, key: str, default: Any = _MISSING) -> dict[str, float]:
+        """A mapping name -> number (each :meth:`number`)."""
+        inner = self.mapping(key, default)
+        return {str(k): inner.number(k) for k in inner.data}
 
     def _path(self, key: str) -> str:
         return f"{self.where}.{key}" if self.where else key

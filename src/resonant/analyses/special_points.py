@@ -112,10 +112,8 @@ class SpecialPoint:
     @classmethod
     def _read(cls, saved: Saved) -> SpecialPoint:
         """The point from a reader (also the special points inside a saved branch)."""
-        amplitudes = saved.mapping("amplitudes")
         return cls(kind=saved.string("kind"), value=saved.number("value"),
-                   amplitudes=MappingProxyType({str(k): amplitudes.number(k)
-                                                for k in amplitudes.data}),
+                   amplitudes=MappingProxyType(saved.numbers_of("amplitudes")),
                    index=saved.integer("index"),
                    quantity=saved.string("quantity") if "quantity" in saved else None,
                    stable=saved.boolean("stable") if "stable" in saved else None)
