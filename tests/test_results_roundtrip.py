@@ -252,8 +252,8 @@ def test_nonlinear_from_dict_names_what_is_missing():
     branch[3] = {**branch[3], "harmonics": {"x": [[0.0], [1.0]]}}
     with pytest.raises(AnalysisError, match=r"'branch\[3\].harmonics.x' has shape"):
         NonlinearResponse.from_dict({**data, "branch": branch})
-    with pytest.raises(AnalysisError, match="SpecialPoint has no key 'amplitudes'"):
-        SpecialPoint.from_dict({"value": 1.0})
+    with pytest.raises(AnalysisError, match="SpecialPoint has no key 'kind'"):
+        SpecialPoint.from_dict({"value": 1.0, "amplitudes": {"x": 1.0}, "index": 2})
 
 
 SIMULATIONS = {
