@@ -13,6 +13,7 @@ import resonant
 from resonant.analyses.backbone import Backbones
 from resonant.analyses.modes import ModalAnalysis
 from resonant.analyses.nonlinear_response import NonlinearResponse
+from resonant.analyses.random_response import RandomResponse
 from resonant.analyses.simulate import Simulation
 from resonant.analyses.special_points import SpecialPoint
 from resonant.analyses.sweep import FrequencyResponse
@@ -300,3 +301,42 @@ def test_simulation_json_leaves_the_history_out_unless_asked():
     data["history"]["states"]["x1"] = data["history"]["states"]["x1"][:-1]
     with pytest.raises(AnalysisError, match="'history.states.x1' has shape"):
         Simulation.from_dict(data)
+
+
+RANDOM = {"shaker_gevs": EXAMPLES / "shaker_gevs.toml",
+          # a single-DOF model: Miles' estimate, natural frequency and quality factor
+          "miles_shaker": EXAMPLES / "teaching" / "miles_shaker.toml"}
+
+
+@pytest.mark.parametrize("case", list(RANDOM))
+def test_random_round_trip(case):
+    result = resonant.load(RANDOM[case]).random_response()
+    back = RandomResponse.from_dict(_through_json(result.to_dict()))
+    assert back.to_dict() == result.to_dict()
+    np.testing.assert_array_equal(back.frequency, result.frequency)
+    for field in ("psd", "input_psd"):
+        assert list(getattr(back, field)) == list(getattr(result, field))
+        for name, y in getattr(result, field).items():
+            np.testing.assert_array_equal(getattr(back, field)[name], y)
+    for field in ("title", "names", "inputs", "rms", "error", "band", "input_derivatives",
+                  "natural_frequency", "quality", "method", "warnings"):
+        assert getattr(back, field) == getattr(result, field), field
+    for field in ("zero_crossing_rate", "peak_rate"):  # NaN where undefined
+        np.testing.assert_array_equal(list(getattr(back, field).values()),
+                                      list(getattr(result, field).values()))
+    if result.miles is None:
+        assert back.miles is None
+    else:
+        np.testing.assert_array_equal(list(back.miles.values()), list(result.miles.values()))
+        assert list(back.miles) == list(result.miles)
+    assert back.summary() == result.summary()
+    if case == "miles_shaker":
+        assert result.miles and result.natural_frequency is not None
+
+
+def test_random_from_dict_names_what_is_missing():
+    data = _through_json(resonant.load(RANDOM["shaker_gevs"]).random_response().to_dict())
+    name = next(iter(data["responses"]))
+    del data["responses"][name]["rms"]
+    with pytest.raises(AnalysisError, match=f"no key 'rms' at 'responses.{name}'"):
+        RandomResponse.from_dict(data)
