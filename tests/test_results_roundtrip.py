@@ -13,11 +13,13 @@ import resonant
 from resonant.analyses.backbone import Backbones
 from resonant.analyses.modes import ModalAnalysis
 from resonant.analyses.nonlinear_response import NonlinearResponse
+from resonant.analyses.periodic_load import PeriodicResponse, periodic_load_response
 from resonant.analyses.random_response import RandomResponse
 from resonant.analyses.simulate import Simulation
 from resonant.analyses.special_points import SpecialPoint
 from resonant.analyses.sweep import FrequencyResponse
 from resonant.errors import AnalysisError
+from resonant.model.load_spec import PeriodicSpec
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
 MODELS = ["two_dof_free", "chain3_damped", "tuned_mass_damper", "cart_pendulum", "pendulum"]
@@ -340,3 +342,39 @@ def test_random_from_dict_names_what_is_missing():
     del data["responses"][name]["rms"]
     with pytest.raises(AnalysisError, match=f"no key 'rms' at 'responses.{name}'"):
         RandomResponse.from_dict(data)
+
+
+PERIODIC = {
+    "fourier_square": lambda: periodic_load_response(
+        resonant.load(EXAMPLES / "teaching" / "fourier_square.toml").linearize()),
+    # a base acceleration's series on a model with outputs (a derivative, no mean)
+    "shaker-sawtooth": lambda: periodic_load_response(
+        resonant.load(EXAMPLES / "shaker_gevs.toml").linearize(),
+        PeriodicSpec("y", 0, "sawtooth", 1e-3, 0.01, tolerance=0.05)),
+    # a mean (the rectified sine's a0 > 0): a static part in every response
+    "chain-rectified-sine": lambda: periodic_load_response(
+        resonant.load(EXAMPLES / "chain3_damped.toml").linearize(),
+        PeriodicSpec("x3", 0, "rectified-sine", 5.0, 0.3)),
+}
+
+
+@pytest.mark.parametrize("case", list(PERIODIC))
+def test_periodic_round_trip(case):
+    result = PERIODIC[case]()
+    back = PeriodicResponse.from_dict(_through_json(result.to_dict()))
+    assert back.to_dict() == result.to_dict()
+    assert back.series.harmonics == result.series.harmonics > 1
+    for field in ("a", "b"):
+        np.testing.assert_array_equal(getattr(back.series, field),
+                                      getattr(result.series, field))
+    for field in ("period", "a0", "remainder", "shape"):
+        assert getattr(back.series, field) == getattr(result.series, field)
+    np.testing.assert_array_equal(back.time, result.time)
+    assert back.names == result.names
+    for name in result.names:
+        np.testing.assert_array_equal(back.harmonics[name], result.harmonics[name])
+        np.testing.assert_array_equal(back.history[name], result.history[name])
+    assert back.mean == result.mean and back.largest == result.largest
+    assert back.warnings == result.warnings
+    if case == "chain-rectified-sine":
+        assert all(m != 0 for m in result.mean.values())
