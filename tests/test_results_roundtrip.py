@@ -11,10 +11,18 @@ import pytest
 
 import resonant
 from resonant.analyses.backbone import Backbones
+from resonant.analyses.fatigue import (
+    RainflowDamage,
+    SNCurve,
+    SpectralFatigue,
+    rainflow_damage,
+    spectral_fatigue,
+)
 from resonant.analyses.modes import ModalAnalysis
 from resonant.analyses.nonlinear_response import NonlinearResponse
 from resonant.analyses.periodic_load import PeriodicResponse, periodic_load_response
 from resonant.analyses.random_response import RandomResponse
+from resonant.analyses.shock import QUANTITIES, ShockSpectrum, pulse, shock_response_spectrum
 from resonant.analyses.simulate import Simulation
 from resonant.analyses.special_points import SpecialPoint
 from resonant.analyses.sweep import FrequencyResponse
@@ -378,3 +386,51 @@ def test_periodic_round_trip(case):
     assert back.warnings == result.warnings
     if case == "chain-rectified-sine":
         assert all(m != 0 for m in result.mean.values())
+
+
+@pytest.mark.parametrize("quantity", QUANTITIES)
+@pytest.mark.parametrize(("kind", "damping"), [("half-sine", 0.05), ("sawtooth", 0.0)])
+def test_shock_spectrum_round_trip(kind, damping, quantity):
+    _, a = pulse(kind, 100.0, 0.011, 1e-5)
+    srs = shock_response_spectrum(a, 1e-5, np.geomspace(1.0, 5000.0, 40), damping=damping,
+                                  quantity=quantity)
+    back = ShockSpectrum.from_dict(_through_json(srs.to_dict()))
+    assert back.to_dict() == srs.to_dict()
+    for field in ("frequency", "maximax", "primary", "residual"):
+        np.testing.assert_array_equal(getattr(back, field), getattr(srs, field))
+    for field in ("quantity", "damping", "duration", "warnings"):
+        assert getattr(back, field) == getattr(srs, field)
+
+
+@pytest.mark.parametrize("duration", [None, 3600.0])
+def test_spectral_fatigue_round_trip(duration):
+    pytest.importorskip("FLife")
+    f = np.linspace(10, 300, 300)
+    psd = 40.0 * np.exp(-(((f - 120) / 15) ** 2)) + 2.0  # a resonance over a floor (MPa^2/Hz)
+    result = spectral_fatigue(f, psd, SNCurve.from_range(2e12, 3.0), duration)
+    back = SpectralFatigue.from_dict(_through_json(result.to_dict()))
+    assert back == result  # a dataclass of numbers and maps: equal field by field
+    assert back.to_dict() == result.to_dict()
+
+
+def test_rainflow_round_trip():
+    pytest.importorskip("rainflow")
+    stress = np.random.default_rng(1).normal(0.0, 50.0, 2000).cumsum() % 400 - 200
+    result = rainflow_damage(stress, SNCurve(1e12, 3.0))
+    back = RainflowDamage.from_dict(_through_json(result.to_dict()))
+    assert back.to_dict() == result.to_dict()
+    np.testing.assert_array_equal(back.ranges, result.ranges)
+    np.testing.assert_array_equal(back.counts, result.counts)
+    assert (back.damage, back.sn, back.warnings) == (result.damage, result.sn, result.warnings)
+    assert len(result.ranges) > 100
+
+
+def test_fatigue_from_dict_names_what_is_missing():
+    with pytest.raises(AnalysisError, match="no key 'sn_curve'"):
+        RainflowDamage.from_dict({"ranges": [1.0], "counts": [0.5], "damage": 0.1})
+    with pytest.raises(AnalysisError, match="'sn_curve.C' is a string, not a number"):
+        RainflowDamage.from_dict({"ranges": [1.0], "counts": [0.5], "damage": 0.1,
+                                  "sn_curve": {"C": "big", "k": 3}})
+    with pytest.raises(AnalysisError, match="S-N curve needs C > 0"):
+        RainflowDamage.from_dict({"ranges": [1.0], "counts": [0.5], "damage": 0.1,
+                                  "sn_curve": {"C": -1.0, "k": 3}})
