@@ -124,6 +124,26 @@ def test_backbones_round_trip():
         np.testing.assert_array_equal(a.coefficients, b.coefficients)
 
 
+def test_modes_and_backbones_from_dict_name_what_is_missing():
+    data = _through_json(resonant.load(EXAMPLES / "two_dof_free.toml").linearize().modes(
+        ).to_dict())
+    with pytest.raises(AnalysisError, match="ModalAnalysis has no key 'mode_shapes'"):
+        ModalAnalysis.from_dict({k: v for k, v in data.items() if k != "mode_shapes"})
+    with pytest.raises(AnalysisError, match="'mode_shapes' has shape"):
+        ModalAnalysis.from_dict({**data, "mode_shapes": data["mode_shapes"][:1]})
+    with pytest.raises(AnalysisError, match="'eigenvalues' is not a list of"):
+        ModalAnalysis.from_dict({**data, "eigenvalues": [[1.0, 2.0, 3.0]]})
+    with pytest.raises(AnalysisError, match="'damped' is a number, not true or false"):
+        ModalAnalysis.from_dict({**data, "damped": 1})
+    with pytest.raises(AnalysisError, match="Backbones has no key 'fictitious_damping' at "
+                                            r"'backbones\[0\]'"):
+        Backbones.from_dict({"title": "", "coordinates": ["x"], "harmonics": 1, "residual": 0,
+                             "backbones": [{"mode": 1, "reference": "x",
+                                            "linear_frequency": 1.0, "amplitude": [0.1],
+                                            "frequencies": [1.0], "amplitudes": {"x": [0.1]},
+                                            "coefficients": [[[0.1, 0.0, 0.0]]]}]})
+
+
 def test_tables_hold_the_results_numbers():
     pytest.importorskip("pandas")
     model = resonant.load(EXAMPLES / "cart_pendulum.toml")
