@@ -26,8 +26,9 @@ from resonant.analyses.shock import QUANTITIES, ShockSpectrum, pulse, shock_resp
 from resonant.analyses.simulate import Simulation
 from resonant.analyses.special_points import SpecialPoint
 from resonant.analyses.sweep import FrequencyResponse
+from resonant.analyses.transient import TransientResponse, shock_response
 from resonant.errors import AnalysisError
-from resonant.model.load_spec import PeriodicSpec
+from resonant.model.load_spec import PeriodicSpec, ShockSpec
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
 MODELS = ["two_dof_free", "chain3_damped", "tuned_mass_damper", "cart_pendulum", "pendulum"]
@@ -454,3 +455,21 @@ def test_fatigue_from_dict_names_what_is_missing():
     with pytest.raises(AnalysisError, match="S-N curve needs C > 0"):
         RainflowDamage.from_dict({"ranges": [1.0], "counts": [0.5], "damage": 0.1,
                                   "sn_curve": {"C": -1.0, "k": 3}})
+
+
+@pytest.mark.parametrize("names", [None, ["table"]])
+def test_transient_round_trip(names):
+    system = resonant.load(EXAMPLES / "shaker_gevs.toml").linearize()
+    result = shock_response(system, ShockSpec("y", 2, "half-sine", 100.0, 0.011, 1e-4, 0.05),
+                            names=names)
+    back = TransientResponse.from_dict(_through_json(result.to_dict(history=True)))
+    assert back.to_dict(history=True) == result.to_dict(history=True)
+    np.testing.assert_array_equal(back.time, result.time)
+    np.testing.assert_array_equal(back.input, result.input)
+    assert back.names == result.names and list(back.history) == list(result.history)
+    for name in result.names:
+        np.testing.assert_array_equal(back.history[name], result.history[name])
+    assert (back.largest, back.warnings) == (result.largest, result.warnings)
+    assert "history" not in result.to_dict()
+    with pytest.raises(AnalysisError, match="no histories: save it with to_dict"):
+        TransientResponse.from_dict(_through_json(result.to_dict()))
