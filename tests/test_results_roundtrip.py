@@ -473,3 +473,81 @@ def test_transient_round_trip(names):
     assert "history" not in result.to_dict()
     with pytest.raises(AnalysisError, match="no histories: save it with to_dict"):
         TransientResponse.from_dict(_through_json(result.to_dict()))
+
+
+def _saved(name):
+    """(class, saved form) of one result of every class that comes back from JSON."""
+    model = resonant.load(EXAMPLES / "cart_pendulum.toml")
+    shaker = resonant.load(EXAMPLES / "shaker_gevs.toml").linearize()
+    _, a = pulse("half-sine", 100.0, 0.011, 1e-4)
+    results = {
+        "sweep": lambda: (FrequencyResponse, SWEEPS["two-harmonics"]().to_dict()),
+        "nonlinear": lambda: (NonlinearResponse, BRANCHES["duffing-no-linear"]().to_dict()),
+        "simulation": lambda: (Simulation, model.simulate(0.1, initial={"x1": 0.01}).to_dict(
+            history=True)),
+        "modes": lambda: (ModalAnalysis, model.linearize().modes().to_dict()),
+        "backbones": lambda: (Backbones, resonant.load(EXAMPLES / "duffing.toml").backbone(
+            harmonics=1, points=4).to_dict()),
+        "random": lambda: (RandomResponse, resonant.load(RANDOM["miles_shaker"]
+                                                          ).random_response().to_dict()),
+        "periodic": lambda: (PeriodicResponse, PERIODIC["fourier_square"]().to_dict()),
+        "shock": lambda: (ShockSpectrum, shock_response_spectrum(a, 1e-4, [10.0, 100.0]
+                                                                 ).to_dict()),
+        "transient": lambda: (TransientResponse, shock_response(
+            shaker, ShockSpec("y", 2, "half-sine", 100.0, 0.011, 1e-4, 0.02)).to_dict(
+                history=True)),
+        "rainflow": lambda: (RainflowDamage, rainflow_damage([0.0, 10.0, -5.0, 8.0, 0.0],
+                                                             SNCurve(1e9, 3.0)).to_dict()),
+    }
+    return results[name]()
+
+
+SAVED = ["sweep", "nonlinear", "simulation", "modes", "backbones", "random", "periodic",
+         "shock", "transient", "rainflow"]
+#: values of the wrong kind put in place of each key
+WRONG = [None, "text", 1.5, -1, True, [], [[1.0], [2.0, 3.0]], {}, {"real": [1.0]}]
+
+
+def _paths(data, path=()):
+    """The path of every mapping key in a saved result (inside nested mappings and the
+    mappings in the first two entries of lists)."""
+    if isinstance(data, dict):
+        for key, value in data.items():
+            yield path + (key,)
+            yield from _paths(value, path + (key,))
+    elif isinstance(data, list):
+        for i, value in enumerate(data[:2]):
+            yield from _paths(value, path + (i,))
+
+
+def _replaced(data, path, value):
+    """``data`` with the key at ``path`` removed (value ``_paths``) or set to ``value``: the
+    containers along the path copied, the rest shared (from_dict does not change its
+    input)."""
+    data = list(data) if isinstance(data, list) else dict(data)
+    if len(path) > 1:
+        data[path[0]] = _replaced(data[path[0]], path[1:], value)
+    elif value is _paths:
+        del data[path[0]]
+    else:
+        data[path[0]] = value
+    return data
+
+
+@pytest.mark.parametrize("name", SAVED)
+def test_malformed_saved_results_raise_analysis_errors(name):
+    """Every key removed, and every value replaced by one of the wrong kind: from_dict gives
+    the result back or raises an AnalysisError (a ValueError) -- never a KeyError, TypeError
+    or IndexError."""
+    cls, data = _saved(name)
+    data = _through_json(data)
+    cls.from_dict(data)
+    tried = refused = 0
+    for path in _paths(data):
+        for value in [_paths, *WRONG]:  # _paths: the key removed
+            tried += 1
+            try:
+                cls.from_dict(_replaced(data, path, value))
+            except AnalysisError:
+                refused += 1
+    assert refused > tried / 4, (tried, refused)

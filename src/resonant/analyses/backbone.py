@@ -175,7 +175,8 @@ class Backbones:
         """
         saved = Saved(data, "Backbones")
         return cls(title=saved.string("title"), coordinates=saved.strings("coordinates"),
-                   harmonics=saved.integer("harmonics"), residual=saved.number("residual"),
+                   harmonics=saved.integer("harmonics", minimum=1),
+                   residual=saved.number("residual"),
                    curves=tuple(BackboneCurve._read(c) for c in saved.records("backbones")),
                    warnings=saved.strings("warnings", ()))
 

@@ -198,7 +198,7 @@ class NonlinearResponse:
         """
         saved = Saved(data, "NonlinearResponse")
         rest = saved.mapping("continuation")
-        H = saved.integer("harmonics")
+        H = saved.integer("harmonics", minimum=1)
         coordinates, outputs = rest.strings("coordinates"), rest.strings("outputs")
         quantities = rest.strings("quantities")
         points = saved.records("branch")

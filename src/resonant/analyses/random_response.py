@@ -244,7 +244,7 @@ class RandomResponse:
             units={k: r.string("unit") for k, r in responses.items()},
             band=(float(band[0]), float(band[1])),
             input_units={k: i.string("unit") for k, i in inputs.items()},
-            input_derivatives={k: i.integer("derivative") for k, i in inputs.items()},
+            input_derivatives={k: i.integer("derivative", minimum=0) for k, i in inputs.items()},
             miles=miles, natural_frequency=saved.optional_number("natural_frequency_hz"),
             quality=saved.optional_number("quality_factor"), method=saved.string("method"),
             warnings=saved.strings("warnings", ()))

@@ -150,10 +150,12 @@ class Saved:
             raise self.error(f"is {_type(value)}, not true or false", key)
         return value
 
-    def integer(self, key: str, default: Any = _MISSING) -> int:
+    def integer(self, key: str, default: Any = _MISSING, *, minimum: int | None = None) -> int:
         value = self.value(key, default)
         if isinstance(value, bool) or not isinstance(value, int):
             raise self.error(f"is {_type(value)}, not an integer", key)
+        if minimum is not None and value < minimum:
+            raise self.error(f"is {value}, less than {minimum}", key)
         return value
 
     def number(self, key: str, default: Any = _MISSING) -> float:

@@ -114,7 +114,7 @@ class SpecialPoint:
         """The point from a reader (also the special points inside a saved branch)."""
         return cls(kind=saved.string("kind"), value=saved.number("value"),
                    amplitudes=MappingProxyType(saved.numbers_of("amplitudes")),
-                   index=saved.integer("index"),
+                   index=saved.integer("index", minimum=0),
                    quantity=saved.string("quantity") if "quantity" in saved else None,
                    stable=saved.boolean("stable") if "stable" in saved else None)
 
