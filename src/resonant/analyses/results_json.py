@@ -226,6 +226,8 @@ class Saved:
     def array_of(self, value: Any, key: str, shape: Sequence[int] | None = None,
                  ndim: int | None = None) -> np.ndarray:
         """``value`` (the value of ``key``) as a real array, checked as :meth:`floats`."""
+        if value is None and (ndim == 0 or (shape is not None and len(shape) == 0)):
+            return np.array(math.nan)  # a 0-d array that held NaN or an infinity
         if not isinstance(value, (list, tuple, int, float)) or isinstance(value, bool):
             raise self.error(f"is {_type(value)}, not an array of numbers", key)
         try:
