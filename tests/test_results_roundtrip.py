@@ -580,3 +580,29 @@ def test_arrays_survive_json_bit_for_bit():
         same(back.imag, z.imag)
 
     check()
+
+
+def test_load_tables_hold_the_results_numbers():
+    """The shock spectrum, the transient and periodic histories and the rainflow cycles as
+    tables: the same numbers, one row per sample."""
+    pytest.importorskip("pandas")
+    _, a = pulse("half-sine", 100.0, 0.011, 1e-4)
+    srs = shock_response_spectrum(a, 1e-4, np.geomspace(10, 1000, 7))
+    frame = srs.to_frame()
+    np.testing.assert_array_equal(frame["frequency_hz"], srs.frequency)
+    np.testing.assert_array_equal(frame["residual"], srs.residual)
+    transient = shock_response(resonant.load(EXAMPLES / "shaker_gevs.toml").linearize(),
+                               ShockSpec("y", 2, "half-sine", 100.0, 0.011, 1e-4, 0.02))
+    frame = transient.to_frame()
+    assert list(frame.columns) == ["time", "input", *transient.names]
+    for name in transient.names:
+        np.testing.assert_array_equal(frame[name], transient.history[name])
+    periodic = PERIODIC["shaker-sawtooth"]()
+    frame = periodic.to_frame()
+    assert len(frame) == periodic.time.size
+    for name in periodic.names:
+        np.testing.assert_array_equal(frame[name], periodic.history[name])
+    cycles = rainflow_damage(np.sin(np.linspace(0, 20, 400)) * 50, SNCurve(1e12, 3.0))
+    frame = cycles.to_frame()
+    np.testing.assert_array_equal(frame["range"], cycles.ranges)
+    np.testing.assert_array_equal(frame["count"], cycles.counts)

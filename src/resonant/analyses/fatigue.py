@@ -333,6 +333,23 @@ class RainflowDamage:
                    damage=saved.number("damage"), sn=_sn_curve(saved),
                    warnings=saved.strings("warnings", ()))
 
+    def to_frame(self) -> Any:
+        """The counted cycles as a table: their ``range`` and ``count`` (pandas, the
+        ``study`` extra).
+
+        Returns
+        -------
+        pandas.DataFrame
+
+        Examples
+        --------
+        >>> result = rainflow_damage([0.0, 100.0, -50.0, 80.0, -100.0, 0.0], SNCurve(1e12, 3.0))
+        >>> list(result.to_frame().columns)
+        ['range', 'count']
+        """
+        import pandas as pd
+        return pd.DataFrame({"range": self.ranges, "count": self.counts})
+
 
 def _sn_curve(saved: Saved) -> SNCurve:
     """The S-N curve of a saved fatigue result (``sn_curve``: C and k of amplitudes)."""

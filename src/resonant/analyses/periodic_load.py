@@ -304,6 +304,26 @@ class PeriodicResponse:
         mean = np.array([responses.mapping(name).number("mean") for name in names])
         return _summed(series, names, Z, mean, tuple(saved.strings("warnings", ())))
 
+    def to_frame(self) -> Any:
+        """One period of the summed response as a table: ``time`` (s) and every response
+        (pandas, the ``study`` extra).
+
+        Returns
+        -------
+        pandas.DataFrame
+
+        Examples
+        --------
+        >>> import resonant
+        >>> r = periodic_load_response(
+        ...     resonant.load("examples/teaching/fourier_square.toml").linearize())
+        >>> list(r.to_frame().columns)
+        ['time', 'x']
+        """
+        import pandas as pd
+        return pd.DataFrame({"time": self.time,
+                             **{name: self.history[name] for name in self.names}})
+
 
 def periodic_response(system: LinearSystem, signal: str, series: FourierSeries, *,
                       derivative: int = 0, names: Sequence[str] | None = None,

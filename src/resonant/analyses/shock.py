@@ -271,6 +271,24 @@ class ShockSpectrum:
                    quantity=saved.string("quantity"), damping=saved.number("damping_ratio"),
                    duration=saved.number("duration_s"), warnings=saved.strings("warnings", ()))
 
+    def to_frame(self) -> Any:
+        """The spectrum as a table: one row per natural frequency (Hz), the maximax, primary
+        and residual spectra (pandas, the ``study`` extra).
+
+        Returns
+        -------
+        pandas.DataFrame
+
+        Examples
+        --------
+        >>> t, a = pulse("half-sine", 1.0, 0.01, 1e-5)
+        >>> list(shock_response_spectrum(a, 1e-5, [10.0, 100.0]).to_frame().columns)
+        ['frequency_hz', 'maximax', 'primary', 'residual']
+        """
+        import pandas as pd
+        return pd.DataFrame({"frequency_hz": self.frequency, "maximax": self.maximax,
+                             "primary": self.primary, "residual": self.residual})
+
 
 def _weight(s: complex, w: float, zeta: float, quantity: str) -> complex:
     """p with response = 2 Re(p q) when the input is zero (the free vibration)."""

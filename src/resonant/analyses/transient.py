@@ -138,6 +138,28 @@ class TransientResponse:
                    history=responses, largest=saved.numbers_of("largest"),
                    names=tuple(responses), warnings=saved.strings("warnings", ()))
 
+    def to_frame(self) -> Any:
+        """The histories as a table: ``time`` (s), ``input`` and every response (pandas, the
+        ``study`` extra).
+
+        Returns
+        -------
+        pandas.DataFrame
+
+        Examples
+        --------
+        >>> import resonant
+        >>> from resonant.model.load_spec import ShockSpec
+        >>> system = resonant.load("examples/shaker_gevs.toml").linearize()
+        >>> r = shock_response(system, ShockSpec("y", 2, "half-sine", 100.0, 0.011, 1e-4, 0.02),
+        ...                    names=["table"])
+        >>> list(r.to_frame().columns)
+        ['time', 'input', 'table']
+        """
+        import pandas as pd
+        return pd.DataFrame({"time": self.time, "input": self.input,
+                             **{name: self.history[name] for name in self.names}})
+
 
 def _state_space(system: LinearSystem, signal: str, derivative: int,
                  deadline: Deadline) -> tuple[Any, ...]:
