@@ -20,10 +20,12 @@ from resonant.analyses.fatigue import (
 )
 from resonant.analyses.modes import ModalAnalysis
 from resonant.analyses.nonlinear_response import NonlinearResponse
+from resonant.analyses.periodic import PeriodicSolution, periodic_solution
 from resonant.analyses.periodic_load import PeriodicResponse, periodic_load_response
 from resonant.analyses.random_response import RandomResponse
 from resonant.analyses.shock import QUANTITIES, ShockSpectrum, pulse, shock_response_spectrum
 from resonant.analyses.simulate import Simulation
+from resonant.analyses.slow_sweep import SweptState, swept_state
 from resonant.analyses.special_points import SpecialPoint
 from resonant.analyses.sweep import FrequencyResponse
 from resonant.analyses.transient import TransientResponse, shock_response
@@ -498,12 +500,17 @@ def _saved(name):
                 history=True)),
         "rainflow": lambda: (RainflowDamage, rainflow_damage([0.0, 10.0, -5.0, 8.0, 0.0],
                                                              SNCurve(1e9, 3.0)).to_dict()),
+        "periodic-solution": lambda: (PeriodicSolution, periodic_solution(
+            resonant.load(EXAMPLES / "two_dof_cubic.toml"), 2).to_dict()),
+        "swept-state": lambda: (SweptState, swept_state(
+            resonant.load(EXAMPLES / "duffing.toml"), "omega", 0.5, 2.0,
+            harmonics=3).to_dict()),
     }
     return results[name]()
 
 
 SAVED = ["sweep", "nonlinear", "simulation", "modes", "backbones", "random", "periodic",
-         "shock", "transient", "rainflow"]
+         "shock", "transient", "rainflow", "periodic-solution", "swept-state"]
 #: values of the wrong kind put in place of each key
 WRONG = [None, "text", 1.5, -1, True, [], [[1.0], [2.0, 3.0]], {}, {"real": [1.0]}]
 
@@ -606,3 +613,31 @@ def test_load_tables_hold_the_results_numbers():
     frame = cycles.to_frame()
     np.testing.assert_array_equal(frame["range"], cycles.ranges)
     np.testing.assert_array_equal(frame["count"], cycles.counts)
+
+
+@pytest.mark.parametrize(("name", "harmonics"), [("duffing", 3), ("two_dof_cubic", 5),
+                                                 ("cart_pendulum", None)])
+def test_periodic_solution_round_trip(name, harmonics):
+    solution = periodic_solution(resonant.load(EXAMPLES / f"{name}.toml"), harmonics)
+    back = PeriodicSolution.from_dict(_through_json(solution.to_dict()))
+    assert back.to_dict() == solution.to_dict()
+    np.testing.assert_array_equal(back.coefficients, solution.coefficients)
+    np.testing.assert_array_equal(back.multipliers, solution.multipliers)
+    for field in ("title", "coordinates", "harmonics", "base_frequency", "initial",
+                  "amplitudes", "linear_amplitudes", "relative_difference", "stable",
+                  "residual", "truncation", "warnings"):
+        assert getattr(back, field) == getattr(solution, field), field
+    assert back.summary() == solution.summary()
+
+
+def test_swept_state_round_trip():
+    """The state a slow sweep reaches past the Duffing oscillator's jump (one jump)."""
+    state = swept_state(resonant.load(EXAMPLES / "duffing.toml"), "omega", 0.5, 2.0,
+                        harmonics=3)
+    assert state.jumps
+    back = SweptState.from_dict(_through_json(state.to_dict()))
+    assert back.to_dict() == state.to_dict()
+    np.testing.assert_array_equal(back.coefficients, state.coefficients)
+    for field in ("parameter", "start", "value", "amplitudes", "harmonics", "jumps",
+                  "residual", "truncation"):
+        assert getattr(back, field) == getattr(state, field), field
