@@ -32,6 +32,7 @@ from resonant.analyses.sweep import FrequencyResponse
 from resonant.analyses.transient import TransientResponse, shock_response
 from resonant.errors import AnalysisError
 from resonant.model.load_spec import PeriodicSpec, ShockSpec
+from resonant.system import NumericEOM, NumericHarmonic
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
 MODELS = ["two_dof_free", "chain3_damped", "tuned_mass_damper", "cart_pendulum", "pendulum"]
@@ -67,6 +68,18 @@ def _through_json(data: dict) -> dict:
     return json.loads(json.dumps(data, allow_nan=False))
 
 
+def _reduced_sweep():
+    """A reduced-order sweep of a damped chain of 8 masses (an estimated error, a tolerance)."""
+    n = 8
+    K = (np.diag(np.r_[2 * np.ones(n - 1), 1.0]) - np.diag(np.ones(n - 1), 1)
+         - np.diag(np.ones(n - 1), -1)) * 100
+    force = np.zeros(n)
+    force[-1] = 1.0
+    eom = NumericEOM(tuple(f"q{i + 1}" for i in range(n)), np.eye(n), 0.01 * K + 0.1 * np.eye(n),
+                     K, (NumericHarmonic(1.0, force, np.zeros(n)),))
+    return eom.sweep("omega", np.linspace(0.5, 30, 80), method="reduced")
+
+
 def _sweeps():
     """(id, sweep) of several bundled examples, two harmonics and a sweep with skipped points."""
     for name in ["cart_pendulum", "tuned_mass_damper", "chain3_damped", "duffing",
@@ -83,6 +96,7 @@ def _sweeps():
         "omega", np.linspace(5, 15, 21))
     yield "one-value", lambda: resonant.load(EXAMPLES / "cart_pendulum.toml").linearize().sweep(
         "omega", [7.0])
+    yield "reduced", lambda: _reduced_sweep()
     yield "no-excitation", lambda: resonant.load(EXAMPLES / "two_dof_free.toml").linearize(
         ).sweep("k", [1000.0, 2000.0])
 
@@ -186,6 +200,8 @@ def test_sweep_cases_cover_what_they_claim():
     assert SWEEPS["log"]().log
     assert SWEEPS["absorber-k2"]().frequency_scale is None
     assert SWEEPS["no-excitation"]().response.shape == (0, 2, 2)
+    reduced = SWEEPS["reduced"]()
+    assert reduced.method == "reduced" and reduced.estimated_error is not None
 
 
 def test_sweep_from_dict_names_what_is_missing():
