@@ -27,8 +27,8 @@ Examples
 array([ 1.+2.j, nan+0.j])
 >>> Saved({}, "Example").floats("values")
 Traceback (most recent call last):
-resonant.errors.AnalysisError: the saved Example has no key 'values' (it is not the to_dict() \
-of a Example)
+resonant.errors.AnalysisError: the saved Example has no key 'values' (Example.to_dict() writes \
+it)
 """
 
 from __future__ import annotations
@@ -129,7 +129,7 @@ class Saved:
         if default is _MISSING:
             where = f" at '{printable(self.where, limit=80)}'" if self.where else ""
             raise AnalysisError(f"the saved {self.kind} has no key '{printable(key, 80)}'"
-                                f"{where} (it is not the to_dict() of a {self.kind})")
+                                f"{where} ({self.kind}.to_dict() writes it)")
         return default
 
     def string(self, key: str, default: Any = _MISSING) -> str:

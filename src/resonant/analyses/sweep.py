@@ -376,8 +376,8 @@ class FrequencyResponse:
         (True, True)
         >>> FrequencyResponse.from_dict({"parameter": "omega"})
         Traceback (most recent call last):
-        resonant.errors.AnalysisError: the saved FrequencyResponse has no key 'values' (it is \
-not the to_dict() of a FrequencyResponse)
+        resonant.errors.AnalysisError: the saved FrequencyResponse has no key 'values' \
+(FrequencyResponse.to_dict() writes it)
         """
         saved = Saved(data, "FrequencyResponse")
         values = saved.floats("values", ndim=1)
