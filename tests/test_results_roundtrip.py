@@ -659,3 +659,59 @@ def test_swept_state_round_trip():
     for field in ("parameter", "start", "value", "amplitudes", "harmonics", "jumps",
                   "residual", "truncation"):
         assert getattr(back, field) == getattr(state, field), field
+
+
+#: two masses on springs, excited at omega and 3 omega: the property test below changes
+#: the parameters of the one derivation
+TWO_MASSES = """
+[parameters]
+m = 1
+k1 = 10
+k2 = 10
+c = 0
+a3 = 0.2
+omega = 1
+[coordinates]
+x1 = "displacement"
+x2 = "displacement"
+[signals]
+F = "sin(omega*t) + a3*cos(3*omega*t)"
+[energy]
+T = "m*x1'^2/2 + x2'^2/2"
+U = "k1*x1^2/2 + k2*(x2 - x1)^2/2"
+D = "c*(k1*x1'^2 + k2*(x2' - x1')^2)/2"
+[[force]]
+generalized = { x2 = "F" }
+[outputs]
+stretch = "x2 - x1"
+"""
+
+
+@cache
+def _two_masses():
+    return resonant.loads(TWO_MASSES).linearize()
+
+
+def test_any_two_mass_sweep_round_trips():
+    """Property: the sweep of any two-mass chain (damped or not, its 3 omega load zero or
+    not, swept exactly through the lowest natural frequency -- skipped when undamped -- or
+    not) comes back from JSON bit for bit."""
+    hypothesis = pytest.importorskip("hypothesis")
+    st = hypothesis.strategies
+    positive = st.floats(0.1, 100.0)
+
+    @hypothesis.settings(max_examples=40, deadline=None)
+    @hypothesis.given(m=positive, k1=positive, k2=positive,
+                      c=st.sampled_from([0.0, 1e-3, 0.1]), a3=st.sampled_from([0.0, 0.5]),
+                      through=st.booleans(), points=st.integers(1, 12))
+    def check(m, k1, k2, c, a3, through, points):
+        system = _two_masses().numeric(m=m, k1=k1, k2=k2, c=c, a3=a3)
+        values = np.linspace(0.1, 20.0, points)
+        if through:  # a value exactly at the lowest natural frequency (skipped when undamped)
+            M, K = np.asarray(system.M), np.asarray(system.K)
+            lowest = float(np.sqrt(np.linalg.eigvals(np.linalg.solve(M, K)).real.min()))
+            values = np.unique(np.r_[values, lowest])
+        sweep = system.sweep("omega", values)
+        _assert_same_sweep(FrequencyResponse.from_dict(_through_json(sweep.to_dict())), sweep)
+
+    check()
