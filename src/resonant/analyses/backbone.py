@@ -97,7 +97,30 @@ class BackboneCurve:
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> BackboneCurve:
-        """The curve back from its :meth:`to_dict` (see :meth:`Backbones.from_dict`)."""
+        """The curve back from its :meth:`to_dict` (see :meth:`Backbones.from_dict`).
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        BackboneCurve
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json, resonant
+        >>> curve = resonant.load("examples/duffing.toml").backbone(harmonics=1, points=4).curves[0]
+        >>> BackboneCurve.from_dict(json.loads(json.dumps(curve.to_dict()))).to_dict() == \\
+        ...     curve.to_dict()
+        True
+        """
         return cls._read(Saved(data, "BackboneCurve"))
 
     @classmethod
