@@ -133,24 +133,28 @@ class Saved:
         return default
 
     def string(self, key: str, default: Any = _MISSING) -> str:
+        """A string."""
         value = self.value(key, default)
         if not isinstance(value, str):
             raise self.error(f"is {_type(value)}, not a string", key)
         return value
 
     def strings(self, key: str, default: Any = _MISSING) -> tuple[str, ...]:
+        """A list of strings, as a tuple."""
         value = self.value(key, default)
         if not isinstance(value, (list, tuple)) or not all(isinstance(v, str) for v in value):
             raise self.error("is not a list of strings", key)
         return tuple(value)
 
     def boolean(self, key: str, default: Any = _MISSING) -> bool:
+        """true or false (not a number)."""
         value = self.value(key, default)
         if not isinstance(value, bool):
             raise self.error(f"is {_type(value)}, not true or false", key)
         return value
 
     def integer(self, key: str, default: Any = _MISSING, *, minimum: int | None = None) -> int:
+        """An integer (not a boolean), at least ``minimum`` when given."""
         value = self.value(key, default)
         if isinstance(value, bool) or not isinstance(value, int):
             raise self.error(f"is {_type(value)}, not an integer", key)
@@ -173,6 +177,7 @@ class Saved:
         return None if value is None else self.number(key)
 
     def numbers(self, key: str, default: Any = _MISSING) -> tuple[float, ...]:
+        """A list of numbers (``None`` read as NaN), as a tuple of floats."""
         return tuple(self.floats(key, default=default, ndim=1).tolist())
 
     def floats(self, key: str, default: Any = _MISSING, *, shape: Sequence[int] | None = None,
