@@ -56,6 +56,7 @@ from ..model.options import check_harmonics
 from ..system import LinearSystem, NonlinearSystem, nonlinear_system
 from ..system.stability import undamped_eigen
 from .hb_solver import NEWTON_MAX, NEWTON_TOL, HarmonicBalance
+from .results_json import Saved
 from .stationary import freeze_fields
 
 if TYPE_CHECKING:
@@ -97,15 +98,42 @@ class BackboneCurve:
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> BackboneCurve:
-        """The curve back from its :meth:`to_dict`."""
-        return cls(mode=int(data["mode"]), reference=str(data["reference"]),
-                   linear_frequency=float(data["linear_frequency"]),
-                   amplitude=np.array(data["amplitude"], dtype=float),
-                   frequencies=np.array(data["frequencies"], dtype=float),
-                   amplitudes=MappingProxyType({k: np.array(v, dtype=float)
-                                                for k, v in data["amplitudes"].items()}),
-                   coefficients=np.array(data["coefficients"], dtype=float),
-                   damping=float(data["fictitious_damping"]))
+        """The curve back from its :meth:`to_dict` (see :meth:`Backbones.from_dict`).
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        BackboneCurve
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json, resonant
+        >>> curve = resonant.load("examples/duffing.toml").backbone(harmonics=1, points=4).curves[0]
+        >>> BackboneCurve.from_dict(json.loads(json.dumps(curve.to_dict()))).to_dict() == \\
+        ...     curve.to_dict()
+        True
+        """
+        return cls._read(Saved(data, "BackboneCurve"))
+
+    @classmethod
+    def _read(cls, saved: Saved) -> BackboneCurve:
+        amplitude = saved.floats("amplitude", ndim=1)
+        return cls(mode=saved.integer("mode"), reference=saved.string("reference"),
+                   linear_frequency=saved.number("linear_frequency"), amplitude=amplitude,
+                   frequencies=saved.floats("frequencies", shape=amplitude.shape),
+                   amplitudes=MappingProxyType(saved.arrays("amplitudes",
+                                                            shape=amplitude.shape)),
+                   coefficients=saved.floats("coefficients", ndim=3),
+                   damping=saved.number("fictitious_damping"))
 
 
 @dataclass(frozen=True)
@@ -157,6 +185,11 @@ class Backbones:
         -------
         Backbones
 
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
         Examples
         --------
         >>> import json, resonant
@@ -164,10 +197,12 @@ class Backbones:
         >>> Backbones.from_dict(json.loads(json.dumps(b.to_dict()))).to_dict() == b.to_dict()
         True
         """
-        return cls(title=str(data["title"]), coordinates=tuple(data["coordinates"]),
-                   harmonics=int(data["harmonics"]), residual=float(data["residual"]),
-                   curves=tuple(BackboneCurve.from_dict(c) for c in data["backbones"]),
-                   warnings=tuple(data.get("warnings", ())))
+        saved = Saved(data, "Backbones")
+        return cls(title=saved.string("title"), coordinates=saved.strings("coordinates"),
+                   harmonics=saved.integer("harmonics", minimum=1),
+                   residual=saved.number("residual"),
+                   curves=tuple(BackboneCurve._read(c) for c in saved.records("backbones")),
+                   warnings=saved.strings("warnings", ()))
 
     def summary(self) -> str:
         lines = [f"{self.title or 'model'}: backbone curves (free vibration of the full "

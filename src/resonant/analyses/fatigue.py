@@ -31,7 +31,7 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -39,6 +39,7 @@ import numpy as np
 
 from ..errors import AnalysisError
 from ..model.load_spec import FATIGUE_METHODS
+from .results_json import Saved
 from .stationary import freeze_fields
 
 #: the spectral methods (FLife's Narrowband, Dirlik, TovoBenasciutti)
@@ -151,6 +152,44 @@ class SpectralFatigue:
                 "peak_rate_hz": self.peak_rate, "irregularity": self.irregularity,
                 "sn_curve": {"C": self.sn.C, "k": self.sn.k, "stress": "amplitude"}}
 
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> SpectralFatigue:
+        """The result back from its :meth:`to_dict`.
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        SpectralFatigue
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json
+        >>> f = np.linspace(90, 110, 201)
+        >>> result = spectral_fatigue(f, np.full(201, 50.0), SNCurve(1e20, 4.0), 3600.0)
+        >>> SpectralFatigue.from_dict(json.loads(json.dumps(result.to_dict()))) == result
+        True
+        """
+        saved = Saved(data, "SpectralFatigue")
+        damage = saved.value("damage")
+        duration = saved.value("duration_s")
+        return cls(damage_rate=saved.numbers_of("damage_rate_per_s"),
+                   life=saved.numbers_of("life_s"),
+                   damage=None if damage is None else saved.numbers_of("damage"),
+                   duration=None if duration is None else saved.number("duration_s"),
+                   rms=saved.number("rms"),
+                   zero_crossing_rate=saved.number("zero_crossing_rate_hz"),
+                   peak_rate=saved.number("peak_rate_hz"),
+                   irregularity=saved.number("irregularity"), sn=_sn_curve(saved))
+
 
 def _flife() -> Any:
     try:
@@ -259,7 +298,65 @@ class RainflowDamage:
         """
         return {"ranges": self.ranges.tolist(), "counts": self.counts.tolist(),
                 "damage": self.damage, "sn_curve": {"C": self.sn.C, "k": self.sn.k,
-                                                    "stress": "amplitude"}}
+                                                    "stress": "amplitude"},
+                "warnings": list(self.warnings)}
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> RainflowDamage:
+        """The result back from its :meth:`to_dict`.
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        RainflowDamage
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json
+        >>> result = rainflow_damage([0.0, 100.0, -50.0, 80.0, -100.0, 0.0], SNCurve(1e12, 3.0))
+        >>> back = RainflowDamage.from_dict(json.loads(json.dumps(result.to_dict())))
+        >>> back.damage == result.damage, (back.ranges == result.ranges).all()
+        (True, np.True_)
+        """
+        saved = Saved(data, "RainflowDamage")
+        ranges = saved.floats("ranges", ndim=1)
+        return cls(ranges=ranges, counts=saved.floats("counts", shape=ranges.shape),
+                   damage=saved.number("damage"), sn=_sn_curve(saved),
+                   warnings=saved.strings("warnings", ()))
+
+    def to_frame(self) -> Any:
+        """The counted cycles as a table: their ``range`` and ``count`` (pandas, the
+        ``study`` extra).
+
+        Returns
+        -------
+        pandas.DataFrame
+
+        Examples
+        --------
+        >>> result = rainflow_damage([0.0, 100.0, -50.0, 80.0, -100.0, 0.0], SNCurve(1e12, 3.0))
+        >>> list(result.to_frame().columns)
+        ['range', 'count']
+        """
+        import pandas as pd
+        return pd.DataFrame({"range": self.ranges, "count": self.counts})
+
+
+def _sn_curve(saved: Saved) -> SNCurve:
+    """The S-N curve of a saved fatigue result (``sn_curve``: C and k of amplitudes)."""
+    curve = saved.mapping("sn_curve")
+    if curve.string("stress", "amplitude") != "amplitude":
+        raise curve.error("is not of stress amplitudes", "stress")
+    return SNCurve(curve.number("C"), curve.number("k"))
 
 
 def rainflow_damage(stress: Sequence[float] | np.ndarray, sn: SNCurve) -> RainflowDamage:

@@ -72,6 +72,7 @@ from ..system.stability import (
     rayleigh,
     state_eigenvalues,
 )
+from .results_json import Saved
 from .stationary import freeze_fields
 
 if TYPE_CHECKING:
@@ -194,6 +195,11 @@ class ModalAnalysis:
         -------
         ModalAnalysis
 
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
         Examples
         --------
         >>> import json, resonant
@@ -202,24 +208,34 @@ class ModalAnalysis:
         >>> back.to_dict() == m.to_dict()
         True
         """
-        rayleigh = data.get("rayleigh")
-        errors = data.get("frequency_errors", [])
+        saved = Saved(data, "ModalAnalysis")
+        coordinates = saved.strings("coordinates")
+        natural = saved.floats("natural_frequencies", ndim=1)
+        shapes = (natural.size, len(coordinates))  # saved one mode a row
+        pairs = saved.floats("eigenvalues", ndim=2)
+        if pairs.size == 0:
+            pairs = pairs.reshape(0, 2)
+        if pairs.shape[1] != 2:
+            raise saved.error("is not a list of [real, imaginary] pairs", "eigenvalues")
+        eigenvalues = np.empty(len(pairs), dtype=complex)
+        eigenvalues.real, eigenvalues.imag = pairs[:, 0], pairs[:, 1]
+        rayleigh = None
+        if saved.value("rayleigh", None) is not None:
+            coefficients = saved.mapping("rayleigh")
+            rayleigh = (coefficients.number("a"), coefficients.number("b"))
         return cls(
-            coordinates=tuple(data["coordinates"]),
-            omega_squared=np.array(data["omega_squared"], dtype=float),
-            natural_frequencies=np.array(data["natural_frequencies"], dtype=float),
-            mode_shapes=np.array(data["mode_shapes"], dtype=float).T,
-            mass_normalised_modes=np.array(data["mass_normalised_modes"], dtype=float).T,
-            eigenvalues=np.array([complex(re, im) for re, im in data["eigenvalues"]]),
-            damping_ratios=np.array(data["damping_ratios"], dtype=float),
-            damped_frequencies=np.array(data["damped_frequencies"], dtype=float),
-            proportional_damping=bool(data["proportional_damping"]),
-            rayleigh=None if rayleigh is None else (rayleigh["a"], rayleigh["b"]),
-            damped=bool(data["damped"]), stability=str(data["stability"]),
-            method=str(data.get("method", "dense")), warnings=tuple(data.get("warnings", ())),
-            title=str(data.get("title", "")),
-            frequency_errors=np.array([math.nan if e is None else e for e in errors],
-                                      dtype=float))
+            coordinates=coordinates, omega_squared=saved.floats("omega_squared", ndim=1),
+            natural_frequencies=natural,
+            mode_shapes=saved.floats("mode_shapes", shape=shapes).T,
+            mass_normalised_modes=saved.floats("mass_normalised_modes", shape=shapes).T,
+            eigenvalues=eigenvalues,
+            damping_ratios=saved.floats("damping_ratios", ndim=1),
+            damped_frequencies=saved.floats("damped_frequencies", ndim=1),
+            proportional_damping=saved.boolean("proportional_damping"), rayleigh=rayleigh,
+            damped=saved.boolean("damped"), stability=saved.string("stability"),
+            method=saved.string("method", "dense"), warnings=saved.strings("warnings", ()),
+            title=saved.string("title", ""),
+            frequency_errors=saved.floats("frequency_errors", [], ndim=1))
 
     def limited(self, count: int | None) -> ModalAnalysis:
         """The analysis restricted to the lowest ``count`` modes (dense path with --count)."""

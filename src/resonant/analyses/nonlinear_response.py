@@ -21,10 +21,12 @@ import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .results_json import Saved, complex_json, floats_json
 from .special_points import SpecialPoint
 from .stationary import freeze_fields
 from .sweep import FrequencyResponse
@@ -149,7 +151,97 @@ class NonlinearResponse:
         data["harmonics"] = self.harmonics
         data["residual"] = self.residual
         data["truncation"] = self.truncation
+        # the rest of the result (the branch above holds the values, amplitudes, stability
+        # and coefficients), for from_dict
+        data["continuation"] = {
+            "title": self.title, "parameter": self.parameter,
+            "coordinates": list(self.coordinates), "outputs": list(self.outputs),
+            "quantities": list(self.amplitudes),
+            "output_coefficients": self.output_coefficients is not None,
+            "base_frequencies": floats_json(self.base_frequencies),
+            "multipliers": complex_json(self.multipliers),
+            "start": self.start, "stop": self.stop, "warnings": list(self.warnings),
+            "linear": self.linear is not None}
         return data
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> NonlinearResponse:
+        """The branch back from its :meth:`to_dict` (the JSON of ``resonant sweep
+        --nonlinear``), with its linear sweep (:meth:`FrequencyResponse.from_dict`).
+
+        The values, amplitudes, stability and coefficients come from ``branch``, the rest
+        from ``continuation``; finite numbers come back bit for bit (a multiplier that
+        overflowed to infinity comes back as NaN).
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        NonlinearResponse
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json, resonant
+        >>> r = resonant.load("examples/duffing.toml").nonlinear_sweep(
+        ...     "omega", 0.8, 1.2, harmonics=1, points=20)
+        >>> back = NonlinearResponse.from_dict(json.loads(json.dumps(r.to_dict())))
+        >>> back.to_dict() == r.to_dict()
+        True
+        """
+        saved = Saved(data, "NonlinearResponse")
+        rest = saved.mapping("continuation")
+        H = saved.integer("harmonics", minimum=1)
+        coordinates, outputs = rest.strings("coordinates"), rest.strings("outputs")
+        quantities = rest.strings("quantities")
+        points = saved.records("branch")
+        values = np.array([p.number("value") for p in points], dtype=float)
+        stable = np.array([p.boolean("stable") for p in points], dtype=bool)
+        amplitudes = {name: np.array([p.mapping("amplitudes").number(name) for p in points],
+                                     dtype=float) for name in quantities}
+
+        def coefficients(names: Sequence[str]) -> np.ndarray:
+            """(points, names, 2H+1) from the branch's ``[[a_0], [a_1, b_1], ...]``."""
+            out = np.empty((len(points), len(names), 2 * H + 1))
+            for i, p in enumerate(points):
+                lists = p.mapping("harmonics")
+                for j, name in enumerate(names):
+                    pairs = lists.value(name)
+                    flat = [c for pair in pairs for c in pair] if isinstance(pairs, list) and \
+                        all(isinstance(pair, list) for pair in pairs) else pairs
+                    out[i, j] = lists.array_of(flat, name, shape=(2 * H + 1,))
+            return out
+
+        own = rest.strings("warnings")
+        every = saved.strings("warnings")
+        if every[len(every) - len(own):] != own:
+            raise saved.error("has warnings that do not end with those of "
+                              "'continuation.warnings'", "warnings")
+        linear = None
+        if rest.boolean("linear"):
+            linear = FrequencyResponse.from_dict(
+                {**saved.data, "warnings": list(every[:len(every) - len(own)])})
+        return cls(
+            title=rest.string("title"), parameter=rest.string("parameter"),
+            coordinates=coordinates, values=values, amplitudes=MappingProxyType(amplitudes),
+            coefficients=coefficients(coordinates),
+            base_frequencies=rest.floats("base_frequencies", shape=(len(points),)),
+            stable=stable,
+            multipliers=rest.complex("multipliers", ndim=2),
+            special_points=tuple(SpecialPoint._read(p)
+                                 for p in saved.records("special_points")),
+            harmonics=H, residual=saved.number("residual"),
+            truncation=saved.number("truncation"), start=rest.number("start"),
+            stop=rest.number("stop"), linear=linear, warnings=own, outputs=outputs,
+            output_coefficients=coefficients(outputs)
+            if rest.boolean("output_coefficients") else None)
 
     def to_frame(self) -> Any:
         """The branch as a table: the parameter, stability and every amplitude (pandas, the

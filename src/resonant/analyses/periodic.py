@@ -53,6 +53,7 @@ from ..model import Model
 from ..system import LinearSystem, NonlinearSystem, nonlinear_system
 from .harmonic_balance import DEFAULT_HARMONICS, MAX_HARMONICS, TRUNCATION_TOL
 from .hb_solver import HarmonicBalance, resize, start_coefficients, truncation
+from .results_json import Saved
 from .special_points import STABILITY_TOL
 from .stationary import freeze_fields, stationary
 
@@ -130,6 +131,60 @@ class PeriodicSolution:
                              for name, c in zip(self.coordinates, self.coefficients)},
             "warnings": list(self.warnings),
         }
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> PeriodicSolution:
+        """The solution back from its :meth:`to_dict` (the coordinates are the keys of
+        ``coefficients``, in order).
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        PeriodicSolution
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json, resonant
+        >>> s = periodic_solution(resonant.load("examples/duffing.toml"), harmonics=3)
+        >>> back = PeriodicSolution.from_dict(json.loads(json.dumps(s.to_dict())))
+        >>> back.to_dict() == s.to_dict(), (back.multipliers == s.multipliers).all()
+        (True, np.True_)
+        """
+        saved = Saved(data, "PeriodicSolution")
+        H = saved.integer("harmonics", minimum=1)
+        lists = saved.mapping("coefficients")
+        coordinates = tuple(str(k) for k in lists.data)
+        coefficients = np.empty((len(coordinates), 2 * H + 1))
+        for j, name in enumerate(coordinates):
+            pairs = lists.value(name)
+            flat = [c for pair in pairs for c in pair] if isinstance(pairs, list) and \
+                all(isinstance(pair, list) for pair in pairs) else pairs
+            coefficients[j] = lists.array_of(flat, name, shape=(2 * H + 1,))
+        pairs = saved.floats("multipliers", ndim=2)
+        if pairs.size == 0:
+            pairs = pairs.reshape(0, 2)
+        if pairs.shape[1] != 2:
+            raise saved.error("is not a list of [real, imaginary] pairs", "multipliers")
+        multipliers = np.empty(len(pairs), dtype=complex)
+        multipliers.real, multipliers.imag = pairs[:, 0], pairs[:, 1]
+        return cls(title=saved.string("title"), coordinates=coordinates, harmonics=H,
+                   coefficients=coefficients, base_frequency=saved.number("base_frequency"),
+                   initial=saved.numbers_of("initial"),
+                   amplitudes=saved.numbers_of("amplitudes"),
+                   linear_amplitudes=saved.numbers_of("linear_amplitudes"),
+                   relative_difference=saved.numbers_of("relative_difference"),
+                   multipliers=multipliers, stable=saved.boolean("stable"),
+                   residual=saved.number("residual"), truncation=saved.number("truncation"),
+                   warnings=saved.strings("warnings", ()))
 
     def summary(self) -> str:
         lines = [f"{self.title or 'model'}: periodic solution of the full equations "

@@ -35,7 +35,7 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -48,6 +48,7 @@ from ..model.load_spec import SHAPES, PeriodicSpec
 from ..model.random_spec import RandomInput
 from ..system import LinearSystem
 from .random_response import Transfer, responses_to_solve
+from .results_json import Saved, complex_json, floats_json
 from .stationary import freeze_fields
 
 #: most harmonics of a series
@@ -243,14 +244,85 @@ class PeriodicResponse:
         dict
         """
         shown = min(50, self.series.harmonics)
-        return {"period_s": self.series.period, "harmonics": self.series.harmonics,
-                "remainder": self.series.remainder, "shape": self.series.shape,
+        s = self.series
+        return {"period_s": s.period, "harmonics": s.harmonics,
+                "remainder": s.remainder, "shape": s.shape,
                 "responses": {name: {
                     "mean": self.mean[name], "largest": self.largest[name],
                     "amplitudes": np.abs(self.harmonics[name][:shown]).tolist(),
-                    "phases": np.angle(self.harmonics[name][:shown]).tolist()}
+                    "phases": np.angle(self.harmonics[name][:shown]).tolist(),
+                    # every harmonic's complex amplitude (the history is their sum)
+                    "coefficients": complex_json(self.harmonics[name])}
                     for name in self.names},
-                "warnings": list(self.warnings)}
+                "warnings": list(self.warnings),
+                "series": {"period": s.period, "a0": s.a0, "a": floats_json(s.a),
+                           "b": floats_json(s.b), "remainder": s.remainder,
+                           "shape": s.shape}}
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> PeriodicResponse:
+        """The response back from its :meth:`to_dict` (the ``periodic`` of ``resonant solve
+        --json``).
+
+        The history over the period is summed again from the harmonics, as the analysis
+        sums it, so it is the same numbers.
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        PeriodicResponse
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json, resonant
+        >>> r = periodic_load_response(
+        ...     resonant.load("examples/teaching/fourier_square.toml").linearize())
+        >>> back = PeriodicResponse.from_dict(json.loads(json.dumps(r.to_dict())))
+        >>> back.to_dict() == r.to_dict(), (back.history["x"] == r.history["x"]).all()
+        (True, np.True_)
+        """
+        saved = Saved(data, "PeriodicResponse")
+        s = saved.mapping("series")
+        a = s.floats("a", ndim=1)
+        series = FourierSeries(s.number("period"), s.number("a0"), a,
+                               s.floats("b", shape=a.shape), s.number("remainder"),
+                               s.string("shape"))
+        responses = saved.mapping("responses")
+        names = tuple(str(k) for k in responses.data)
+        Z = np.empty((series.harmonics, len(names)), dtype=complex)
+        for i, name in enumerate(names):
+            Z[:, i] = responses.mapping(name).complex("coefficients", shape=a.shape)
+        mean = np.array([responses.mapping(name).number("mean") for name in names])
+        return _summed(series, names, Z, mean, tuple(saved.strings("warnings", ())))
+
+    def to_frame(self) -> Any:
+        """One period of the summed response as a table: ``time`` (s) and every response
+        (pandas, the ``study`` extra).
+
+        Returns
+        -------
+        pandas.DataFrame
+
+        Examples
+        --------
+        >>> import resonant
+        >>> r = periodic_load_response(
+        ...     resonant.load("examples/teaching/fourier_square.toml").linearize())
+        >>> list(r.to_frame().columns)
+        ['time', 'x']
+        """
+        import pandas as pd
+        return pd.DataFrame({"time": self.time,
+                             **{name: self.history[name] for name in self.names}})
 
 
 def periodic_response(system: LinearSystem, signal: str, series: FourierSeries, *,
@@ -295,17 +367,24 @@ def periodic_response(system: LinearSystem, signal: str, series: FourierSeries, 
     Z = H * c[:, None]
     responses = [num.coordinates[i] for i in keep] + outputs
     mean = _mean(transfer, outputs, series.a0, derivative, len(responses))
+    return _summed(series, tuple(responses), Z, mean, tuple(transfer.warnings))
+
+
+def _summed(series: FourierSeries, responses: tuple[str, ...], Z: np.ndarray,
+            mean: np.ndarray, warnings: tuple[str, ...]) -> PeriodicResponse:
+    """The result from the harmonics Z (H, responses) and the means: the history over one
+    period summed by an inverse FFT, and its largest excursions."""
     count = max(SAMPLES_PER_HARMONIC * series.harmonics, 4096)
     spectrum = np.zeros((count // 2 + 1, len(responses)), dtype=complex)
     spectrum[1:series.harmonics + 1] = Z * count / 2
     samples = np.fft.irfft(spectrum, n=count, axis=0) + mean[None, :]
     time = np.arange(count) * series.period / count
     return PeriodicResponse(
-        series, tuple(responses), {r: float(mean[i]) for i, r in enumerate(responses)},
+        series, responses, {r: float(mean[i]) for i, r in enumerate(responses)},
         {r: Z[:, i].copy() for i, r in enumerate(responses)}, time,
         {r: samples[:, i].copy() for i, r in enumerate(responses)},
         {r: float(np.abs(samples[:, i]).max()) for i, r in enumerate(responses)},
-        tuple(transfer.warnings))
+        warnings)
 
 
 def _mean(transfer: Transfer, outputs: Sequence[str], a0: float, derivative: int,

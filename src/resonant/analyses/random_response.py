@@ -74,6 +74,7 @@ from ..model.units import Dimension
 from ..system import Batch, BatchHarmonic, LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
 from .kernel import solve_harmonic
+from .results_json import Saved, optional_float
 from .stationary import freeze_fields
 
 if TYPE_CHECKING:
@@ -193,7 +194,60 @@ class RandomResponse:
             "input_psd": {name: self.input_psd[name].tolist() for name in self.inputs},
             "method": self.method,
             "warnings": list(self.warnings),
+            "miles": None if self.miles is None else {
+                name: optional_float(value) for name, value in self.miles.items()},
         }
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> RandomResponse:
+        """The result back from its :meth:`to_dict` (the JSON of ``resonant random``).
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        RandomResponse
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json, resonant
+        >>> r = resonant.load("examples/shaker_gevs.toml").random_response()
+        >>> back = RandomResponse.from_dict(json.loads(json.dumps(r.to_dict())))
+        >>> back.to_dict() == r.to_dict()
+        True
+        """
+        saved = Saved(data, "RandomResponse")
+        responses = {str(k): saved.mapping("responses").mapping(k)
+                     for k in saved.mapping("responses").data}
+        inputs = {str(k): saved.mapping("inputs").mapping(k)
+                  for k in saved.mapping("inputs").data}
+        frequency = saved.floats("frequency_hz", ndim=1)
+        band = saved.floats("band_hz", shape=(2,))
+        miles = saved.numbers_of("miles") if saved.value("miles", None) is not None else None
+        return cls(
+            title=saved.string("title"), names=tuple(responses), inputs=tuple(inputs),
+            frequency=frequency, psd=saved.arrays("psd", shape=frequency.shape),
+            input_psd=saved.arrays("input_psd", shape=frequency.shape),
+            rms={k: r.number("rms") for k, r in responses.items()},
+            zero_crossing_rate={k: r.number("zero_crossing_rate_hz")
+                                for k, r in responses.items()},
+            peak_rate={k: r.number("peak_rate_hz") for k, r in responses.items()},
+            error={k: r.number("relative_error") for k, r in responses.items()},
+            units={k: r.string("unit") for k, r in responses.items()},
+            band=(float(band[0]), float(band[1])),
+            input_units={k: i.string("unit") for k, i in inputs.items()},
+            input_derivatives={k: i.integer("derivative", minimum=0) for k, i in inputs.items()},
+            miles=miles, natural_frequency=saved.optional_number("natural_frequency_hz"),
+            quality=saved.optional_number("quality_factor"), method=saved.string("method"),
+            warnings=saved.strings("warnings", ()))
 
     def summary(self) -> str:
         """The text ``resonant random`` prints (:func:`resonant.views.random_views.random_text`).

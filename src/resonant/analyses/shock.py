@@ -38,7 +38,7 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -46,6 +46,7 @@ import numpy as np
 
 from ..errors import AnalysisError
 from ..model.load_spec import PULSES
+from .results_json import Saved
 from .stationary import freeze_fields
 
 #: the responses an SRS can be of
@@ -233,6 +234,60 @@ class ShockSpectrum:
                 "quantity": self.quantity, "damping_ratio": self.damping,
                 "Q": None if self.damping == 0 else 1 / (2 * self.damping),
                 "duration_s": self.duration, "warnings": list(self.warnings)}
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> ShockSpectrum:
+        """The spectrum back from its :meth:`to_dict` (the JSON of ``resonant srs``).
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        ShockSpectrum
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json
+        >>> t, a = pulse("half-sine", 1.0, 0.01, 1e-5)
+        >>> srs = shock_response_spectrum(a, 1e-5, [1.0, 80.0, 10000.0])
+        >>> back = ShockSpectrum.from_dict(json.loads(json.dumps(srs.to_dict())))
+        >>> back.to_dict() == srs.to_dict(), (back.maximax == srs.maximax).all()
+        (True, np.True_)
+        """
+        saved = Saved(data, "ShockSpectrum")
+        frequency = saved.floats("frequency_hz", ndim=1)
+        return cls(frequency=frequency,
+                   maximax=saved.floats("maximax", shape=frequency.shape),
+                   primary=saved.floats("primary", shape=frequency.shape),
+                   residual=saved.floats("residual", shape=frequency.shape),
+                   quantity=saved.string("quantity"), damping=saved.number("damping_ratio"),
+                   duration=saved.number("duration_s"), warnings=saved.strings("warnings", ()))
+
+    def to_frame(self) -> Any:
+        """The spectrum as a table: one row per natural frequency (Hz), the maximax, primary
+        and residual spectra (pandas, the ``study`` extra).
+
+        Returns
+        -------
+        pandas.DataFrame
+
+        Examples
+        --------
+        >>> t, a = pulse("half-sine", 1.0, 0.01, 1e-5)
+        >>> list(shock_response_spectrum(a, 1e-5, [10.0, 100.0]).to_frame().columns)
+        ['frequency_hz', 'maximax', 'primary', 'residual']
+        """
+        import pandas as pd
+        return pd.DataFrame({"frequency_hz": self.frequency, "maximax": self.maximax,
+                             "primary": self.primary, "residual": self.residual})
 
 
 def _weight(s: complex, w: float, zeta: float, quantity: str) -> complex:

@@ -71,6 +71,7 @@ from ..system.stability import (
 )
 from .peaks import sampled_peak
 from .periodic import PeriodicSolution, periodic_solution
+from .results_json import Saved, floats_json
 from .stationary import StationarySolution, freeze_fields, stationary
 from .time_integration import STIFF_RATIO, LinearDynamics, NonlinearDynamics, integrate
 
@@ -170,8 +171,90 @@ class Simulation:
     def names(self) -> tuple[str, ...]:
         return tuple(self.states)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form (without the time history; see :meth:`to_csv`)."""
+    def to_dict(self, history: bool = False) -> dict[str, Any]:
+        """The JSON form: the amplitudes, and the time history only when asked for.
+
+        Parameters
+        ----------
+        history : bool, optional
+            Also write the time history (``"history"``: ``t``, ``states`` and
+            ``linear_response``, NaN as ``null``), which :meth:`from_dict` needs.  Off by
+            default: a history has up to :data:`MAX_SAMPLES` samples of every coordinate and
+            output (``resonant simulate --json`` leaves it out; :meth:`to_csv` writes it).
+
+        Returns
+        -------
+        dict
+
+        Examples
+        --------
+        >>> import resonant
+        >>> sim = resonant.load("examples/two_dof_free.toml").simulate(0.05, initial={"x1": 0.01})
+        >>> "history" in sim.to_dict(), sorted(sim.to_dict(history=True)["history"])
+        (False, ['linear_response', 'states', 't'])
+        """
+        data = self._summary_dict()
+        if history:
+            data["history"] = {
+                "t": floats_json(self.t),
+                "states": {k: floats_json(v) for k, v in self.states.items()},
+                "linear_response": {k: floats_json(v) for k, v in self.linear_response.items()}}
+        return data
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> Simulation:
+        """The simulation back from its :meth:`to_dict` with ``history=True``.
+
+        The time history is the simulation's data: a ``to_dict()`` without it (the JSON of
+        ``resonant simulate``) cannot give the simulation back, and is refused.
+
+        Parameters
+        ----------
+        data : mapping
+            What ``to_dict(history=True)`` gave (read back from JSON).
+
+        Returns
+        -------
+        Simulation
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing (``history`` included) or holds the wrong kind of value
+            (the message names it).
+
+        Examples
+        --------
+        >>> import json, resonant
+        >>> sim = resonant.load("examples/two_dof_free.toml").simulate(0.05, initial={"x1": 0.01})
+        >>> back = Simulation.from_dict(json.loads(json.dumps(sim.to_dict(history=True))))
+        >>> back.to_dict(history=True) == sim.to_dict(history=True)
+        True
+        >>> Simulation.from_dict(sim.to_dict())
+        Traceback (most recent call last):
+        resonant.errors.AnalysisError: the saved Simulation has no time history: save it with \
+to_dict(history=True)
+        """
+        saved = Saved(data, "Simulation")
+        if "history" not in saved:
+            raise AnalysisError("the saved Simulation has no time history: save it with "
+                                "to_dict(history=True)")
+        history = saved.mapping("history")
+        t = history.floats("t", ndim=1)
+
+        window = saved.floats("window", shape=(2,))
+        return cls(
+            title=saved.string("title"), coordinates=saved.strings("coordinates"), t=t,
+            states=history.arrays("states", shape=t.shape),
+            linear_response=history.arrays("linear_response", shape=t.shape),
+            steady_amplitudes=saved.numbers_of("steady_amplitudes"),
+            linear_amplitudes=saved.numbers_of("linear_amplitudes"),
+            relative_difference=saved.numbers_of("relative_difference"),
+            window=(float(window[0]), float(window[1])), nonlinear=saved.boolean("nonlinear"),
+            start=saved.string("start"), method=saved.string("method"),
+            initial=saved.numbers_of("initial"), warnings=saved.strings("warnings", ()))
+
+    def _summary_dict(self) -> dict[str, Any]:
         return {
             "title": self.title,
             "coordinates": list(self.coordinates),

@@ -58,6 +58,7 @@ from ..system.base import numeric_point
 from .continuation import Branch, follow, refine
 from .harmonic_balance import DEFAULT_HARMONICS, MAX_HARMONICS, TRUNCATION_TOL
 from .hb_solver import HarmonicBalance, basis, resize, start_coefficients, truncation
+from .results_json import Saved, floats_json
 from .special_points import STABILITY_TOL
 from .stationary import freeze_fields, stationary
 from .time_integration import NonlinearDynamics, integrate
@@ -140,7 +141,51 @@ class SweptState:
         return {"parameter": self.parameter, "start": self.start, "value": self.value,
                 "amplitudes": dict(self.amplitudes), "harmonics": self.harmonics,
                 "jumps": [list(j) for j in self.jumps], "residual": self.residual,
-                "truncation": self.truncation}
+                "truncation": self.truncation,
+                "coefficients": floats_json(self.coefficients)}
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> SweptState:
+        """The state back from its :meth:`to_dict`.
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        SweptState
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json
+        >>> state = SweptState("omega", 0.5, 1.0, {"x": 0.1}, np.zeros((1, 3)), 1, (), 0.0, 0.0)
+        >>> SweptState.from_dict(json.loads(json.dumps(state.to_dict()))).to_dict() == \\
+        ...     state.to_dict()
+        True
+        """
+        saved = Saved(data, "SweptState")
+        H = saved.integer("harmonics", minimum=1)
+        coefficients = saved.floats("coefficients", ndim=2)
+        if coefficients.shape[1:] != (2 * H + 1,) and coefficients.size:
+            raise saved.error(f"has rows of {coefficients.shape[1]} numbers, not 2H + 1 = "
+                              f"{2 * H + 1}", "coefficients")
+        jumps = saved.floats("jumps", ndim=2)
+        if jumps.size == 0:
+            jumps = jumps.reshape(0, 2)
+        if jumps.shape[1] != 2:
+            raise saved.error("is not a list of [left, landed] pairs", "jumps")
+        return cls(parameter=saved.string("parameter"), start=saved.number("start"),
+                   value=saved.number("value"), amplitudes=saved.numbers_of("amplitudes"),
+                   coefficients=coefficients, harmonics=H,
+                   jumps=tuple((float(a), float(b)) for a, b in jumps),
+                   residual=saved.number("residual"), truncation=saved.number("truncation"))
 
 
 def stable_point(hb: HarmonicBalance, x: np.ndarray, p: float) -> bool:

@@ -26,6 +26,7 @@ import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
 from .continuation import Balance, Branch, refine
+from .results_json import Saved
 
 #: a multiplier with |mu| > 1 + this is unstable
 STABILITY_TOL = 1e-6
@@ -78,7 +79,44 @@ class SpecialPoint:
             data["quantity"] = self.quantity
         if self.stable is not None:
             data["stable"] = self.stable
+        data["index"] = self.index
         return data
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> SpecialPoint:
+        """The point back from its :meth:`to_dict`.
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        SpecialPoint
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json
+        >>> p = SpecialPoint("peak", 1.2, {"x": 0.5}, 7, "x", True)
+        >>> SpecialPoint.from_dict(json.loads(json.dumps(p.to_dict()))) == p
+        True
+        """
+        return cls._read(Saved(data, "SpecialPoint"))
+
+    @classmethod
+    def _read(cls, saved: Saved) -> SpecialPoint:
+        """The point from a reader (also the special points inside a saved branch)."""
+        return cls(kind=saved.string("kind"), value=saved.number("value"),
+                   amplitudes=MappingProxyType(saved.numbers_of("amplitudes")),
+                   index=saved.integer("index", minimum=0),
+                   quantity=saved.string("quantity") if "quantity" in saved else None,
+                   stable=saved.boolean("stable") if "stable" in saved else None)
 
 
 def classify(lam: np.ndarray, W: float) -> tuple[int, int, int]:

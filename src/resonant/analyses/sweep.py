@@ -97,6 +97,7 @@ from .kernel import (
     choose_method,
     solve_harmonic,
 )
+from .results_json import Saved, complex_json, floats_json
 from .stationary import freeze_fields, peak, phase_angle
 
 if TYPE_CHECKING:
@@ -194,9 +195,9 @@ class FrequencyResponse:
     quantities : tuple of str
         The coordinates and outputs computed, in the order of ``response``.
     response : ndarray
-        (N, quantities, harmonics) complex amplitudes L - iN per frequency.
+        (harmonics, N, quantities) complex amplitudes L - iN per frequency.
     harmonic_omegas : ndarray
-        (N, harmonics) the excitation frequencies at every value.
+        (harmonics, N) the excitation frequencies at every value.
     natural_frequencies : ndarray or None
         The undamped natural frequencies when M, C, K do not change along the sweep.
     warnings : tuple of str
@@ -333,7 +334,71 @@ class FrequencyResponse:
             data["natural_frequencies"] = self.natural_frequencies.tolist()
         if self.natural_values is not None:
             data["natural_values"] = self.natural_values.tolist()
+        # the result itself (the keys above are derived from it): for from_dict
+        data.update({
+            "quantities": list(self.quantities),
+            "coordinates": list(self.coordinates),
+            "response": complex_json(self.response),
+            "harmonic_omegas": floats_json(self.harmonic_omegas),
+            "frequency_sweep": self.frequency_sweep,
+            "frequency_scale": self.frequency_scale,
+            "log": self.log,
+        })
         return data
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> FrequencyResponse:
+        """The sweep back from its :meth:`to_dict` (the JSON of ``resonant sweep``).
+
+        The amplitudes, phases and extrema are derived again from the complex responses
+        (``response``), so they are the same numbers, bit for bit.
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        FrequencyResponse
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json, resonant
+        >>> r = resonant.load("examples/cart_pendulum.toml").linearize().sweep(
+        ...     "omega", [5.0, 10.0, 20.0])
+        >>> back = FrequencyResponse.from_dict(json.loads(json.dumps(r.to_dict())))
+        >>> back.to_dict() == r.to_dict(), back.peaks == r.peaks
+        (True, True)
+        >>> FrequencyResponse.from_dict({"parameter": "omega"})
+        Traceback (most recent call last):
+        resonant.errors.AnalysisError: the saved FrequencyResponse has no key 'values' \
+(FrequencyResponse.to_dict() writes it)
+        """
+        saved = Saved(data, "FrequencyResponse")
+        values = saved.floats("values", ndim=1)
+        quantities = saved.strings("quantities")
+        harmonics = saved.floats("harmonic_omegas", ndim=2).shape[0]
+        shape = (harmonics, values.size, len(quantities))
+        return cls(
+            parameter=saved.string("parameter"), values=values, quantities=quantities,
+            response=saved.complex("response", shape=shape),
+            harmonic_omegas=saved.floats("harmonic_omegas", shape=shape[:2]),
+            method=saved.string("method"),
+            frequency_sweep=saved.boolean("frequency_sweep"),
+            natural_frequencies=saved.optional_floats("natural_frequencies", ndim=1),
+            frequency_scale=saved.optional_number("frequency_scale"),
+            skipped=saved.numbers("skipped", ()),
+            warnings=saved.strings("warnings", ()),
+            log=saved.boolean("log"), title=saved.string("title", ""),
+            coordinates=saved.strings("coordinates", ()),
+            estimated_error=saved.optional_number("estimated_error"),
+            tolerance=saved.optional_number("tolerance"))
 
     def to_frame(self) -> Any:
         """The table of the sweep: one row per value, the amplitude and the phase (rad) of

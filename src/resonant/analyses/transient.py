@@ -27,7 +27,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -38,6 +38,7 @@ from ..errors import AnalysisError, ModelError, Problem
 from ..model.load_spec import ShockSpec
 from ..system import LinearSystem
 from ..system.excitation import excitation_columns
+from .results_json import Saved, floats_json
 from .shock import pulse
 from .stationary import freeze_fields
 
@@ -75,15 +76,89 @@ class TransientResponse:
     def __post_init__(self) -> None:
         freeze_fields(self)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form (the largest values; the histories are not written).
+    def to_dict(self, history: bool = False) -> dict[str, Any]:
+        """The JSON form: the largest values, and the histories only when asked for.
+
+        Parameters
+        ----------
+        history : bool, optional
+            Also write the histories (``"history"``: ``time``, ``input`` and ``responses``),
+            which :meth:`from_dict` needs.  Off by default: a history has up to
+            :data:`MAX_SAMPLES` samples of every coordinate and output.
 
         Returns
         -------
         dict
         """
-        return {"duration_s": float(self.time[-1]), "samples": len(self.time),
-                "largest": dict(self.largest), "warnings": list(self.warnings)}
+        data: dict[str, Any] = {"duration_s": float(self.time[-1]), "samples": len(self.time),
+                                "largest": dict(self.largest), "warnings": list(self.warnings)}
+        if history:
+            data["history"] = {
+                "time": floats_json(self.time), "input": floats_json(self.input),
+                "responses": {k: floats_json(self.history[k]) for k in self.names}}
+        return data
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> TransientResponse:
+        """The response back from its :meth:`to_dict` with ``history=True``.
+
+        Parameters
+        ----------
+        data : mapping
+            What ``to_dict(history=True)`` gave (read back from JSON).
+
+        Returns
+        -------
+        TransientResponse
+
+        Raises
+        ------
+        AnalysisError
+            Without the histories, or when a key is missing or holds the wrong kind of value
+            (the message names it).
+
+        Examples
+        --------
+        >>> import json, resonant
+        >>> from resonant.model.load_spec import ShockSpec
+        >>> system = resonant.load("examples/shaker_gevs.toml").linearize()
+        >>> r = shock_response(system, ShockSpec("y", 2, "half-sine", 100.0, 0.011, 1e-4, 0.02))
+        >>> back = TransientResponse.from_dict(json.loads(json.dumps(r.to_dict(history=True))))
+        >>> back.to_dict(history=True) == r.to_dict(history=True)
+        True
+        """
+        saved = Saved(data, "TransientResponse")
+        if "history" not in saved:
+            raise AnalysisError("the saved TransientResponse has no histories: save it with "
+                                "to_dict(history=True)")
+        history = saved.mapping("history")
+        time = history.floats("time", ndim=1)
+        responses = history.arrays("responses", shape=time.shape)
+        return cls(time=time, input=history.floats("input", shape=time.shape),
+                   history=responses, largest=saved.numbers_of("largest"),
+                   names=tuple(responses), warnings=saved.strings("warnings", ()))
+
+    def to_frame(self) -> Any:
+        """The histories as a table: ``time`` (s), ``input`` and every response (pandas, the
+        ``study`` extra).
+
+        Returns
+        -------
+        pandas.DataFrame
+
+        Examples
+        --------
+        >>> import resonant
+        >>> from resonant.model.load_spec import ShockSpec
+        >>> system = resonant.load("examples/shaker_gevs.toml").linearize()
+        >>> r = shock_response(system, ShockSpec("y", 2, "half-sine", 100.0, 0.011, 1e-4, 0.02),
+        ...                    names=["table"])
+        >>> list(r.to_frame().columns)
+        ['time', 'input', 'table']
+        """
+        import pandas as pd
+        return pd.DataFrame({"time": self.time, "input": self.input,
+                             **{name: self.history[name] for name in self.names}})
 
 
 def _state_space(system: LinearSystem, signal: str, derivative: int,
