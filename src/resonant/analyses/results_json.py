@@ -38,15 +38,17 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from ..errors import AnalysisError, printable
 
 __all__ = ["Saved", "floats_json", "complex_json", "optional_float"]
 
-_MISSING: Any = object()
+#: the default of a key that must be there
+_MISSING = object()
 
 
-def floats_json(a: Any) -> Any:
+def floats_json(a: npt.ArrayLike) -> Any:
     """A real array (or number) as nested lists of floats, ``None`` for NaN and infinities.
 
     Examples
@@ -73,7 +75,7 @@ def optional_float(value: float | None) -> float | None:
     return None if value is None else _finite(float(value))
 
 
-def complex_json(a: Any) -> dict[str, Any]:
+def complex_json(a: npt.ArrayLike) -> dict[str, Any]:
     """A complex array as ``{"real": nested lists, "imag": nested lists}`` (:func:`floats_json`
     of each part)."""
     array = np.asarray(a, dtype=complex)
@@ -98,7 +100,7 @@ class Saved:
         When ``data`` is not a mapping.
     """
 
-    def __init__(self, data: Any, kind: str, where: str = "") -> None:
+    def __init__(self, data: object, kind: str, where: str = "") -> None:
         self.kind = kind
         self.where = where
         if not isinstance(data, Mapping):
@@ -122,7 +124,7 @@ class Saved:
     def __contains__(self, key: str) -> bool:
         return key in self.data
 
-    def value(self, key: str, default: Any = _MISSING) -> Any:
+    def value(self, key: str, default: object = _MISSING) -> Any:
         """The raw value of ``key`` (``default`` when missing; an error without default)."""
         if key in self.data:
             return self.data[key]
@@ -132,28 +134,28 @@ class Saved:
                                 f"{where} ({self.kind}.to_dict() writes it)")
         return default
 
-    def string(self, key: str, default: Any = _MISSING) -> str:
+    def string(self, key: str, default: object = _MISSING) -> str:
         """A string."""
         value = self.value(key, default)
         if not isinstance(value, str):
             raise self.error(f"is {_type(value)}, not a string", key)
         return value
 
-    def strings(self, key: str, default: Any = _MISSING) -> tuple[str, ...]:
+    def strings(self, key: str, default: object = _MISSING) -> tuple[str, ...]:
         """A list of strings, as a tuple."""
         value = self.value(key, default)
         if not isinstance(value, (list, tuple)) or not all(isinstance(v, str) for v in value):
             raise self.error("is not a list of strings", key)
         return tuple(value)
 
-    def boolean(self, key: str, default: Any = _MISSING) -> bool:
+    def boolean(self, key: str, default: object = _MISSING) -> bool:
         """true or false (not a number)."""
         value = self.value(key, default)
         if not isinstance(value, bool):
             raise self.error(f"is {_type(value)}, not true or false", key)
         return value
 
-    def integer(self, key: str, default: Any = _MISSING, *, minimum: int | None = None) -> int:
+    def integer(self, key: str, default: object = _MISSING, *, minimum: int | None = None) -> int:
         """An integer (not a boolean), at least ``minimum`` when given."""
         value = self.value(key, default)
         if isinstance(value, bool) or not isinstance(value, int):
@@ -162,7 +164,7 @@ class Saved:
             raise self.error(f"is {value}, less than {minimum}", key)
         return value
 
-    def number(self, key: str, default: Any = _MISSING) -> float:
+    def number(self, key: str, default: object = _MISSING) -> float:
         """A float; ``None`` (a non-finite number in JSON) reads as NaN."""
         value = self.value(key, default)
         if value is None:
@@ -176,11 +178,11 @@ class Saved:
         value = self.value(key, None)
         return None if value is None else self.number(key)
 
-    def numbers(self, key: str, default: Any = _MISSING) -> tuple[float, ...]:
+    def numbers(self, key: str, default: object = _MISSING) -> tuple[float, ...]:
         """A list of numbers (``None`` read as NaN), as a tuple of floats."""
         return tuple(self.floats(key, default=default, ndim=1).tolist())
 
-    def floats(self, key: str, default: Any = _MISSING, *, shape: Sequence[int] | None = None,
+    def floats(self, key: str, default: object = _MISSING, *, shape: Sequence[int] | None = None,
                ndim: int | None = None) -> np.ndarray:
         """A real array (``None`` entries read as NaN) of the given shape or dimension.
 
@@ -188,9 +190,11 @@ class Saved:
         """
         return self.array_of(self.value(key, default), key, shape, ndim)
 
-    def optional_floats(self, key: str, **kwargs: Any) -> np.ndarray | None:
+    def optional_floats(self, key: str, *, shape: Sequence[int] | None = None,
+                        ndim: int | None = None) -> np.ndarray | None:
         """:meth:`floats`, or None when the key is missing or null."""
-        return None if self.value(key, None) is None else self.floats(key, **kwargs)
+        return None if self.value(key, None) is None else \
+            self.floats(key, shape=shape, ndim=ndim)
 
     def complex(self, key: str, *, shape: Sequence[int] | None = None,
                 ndim: int | None = None) -> np.ndarray:
@@ -203,11 +207,11 @@ class Saved:
         out.imag = imag
         return out
 
-    def mapping(self, key: str, default: Any = _MISSING) -> Saved:
+    def mapping(self, key: str, default: object = _MISSING) -> Saved:
         """The nested mapping under ``key``, as a reader."""
         return Saved(self.value(key, default), self.kind, self._path(key))
 
-    def records(self, key: str, default: Any = _MISSING) -> list[Saved]:
+    def records(self, key: str, default: object = _MISSING) -> list[Saved]:
         """The list of mappings under ``key``, each as a reader."""
         value = self.value(key, default)
         if not isinstance(value, (list, tuple)):
@@ -215,12 +219,12 @@ class Saved:
         return [Saved(v, self.kind, f"{self._path(key)}[{i}]") for i, v in enumerate(value)]
 
     def arrays(self, key: str, *, shape: Sequence[int] | None = None, ndim: int | None = None,
-               default: Any = _MISSING) -> dict[str, np.ndarray]:
+               default: object = _MISSING) -> dict[str, np.ndarray]:
         """A mapping name -> real array (each :meth:`floats`)."""
         inner = self.mapping(key, default)
         return {str(k): inner.array_of(v, str(k), shape, ndim) for k, v in inner.data.items()}
 
-    def numbers_of(self, key: str, default: Any = _MISSING) -> dict[str, float]:
+    def numbers_of(self, key: str, default: object = _MISSING) -> dict[str, float]:
         """A mapping name -> number (each :meth:`number`)."""
         inner = self.mapping(key, default)
         return {str(k): inner.number(k) for k in inner.data}
@@ -228,7 +232,7 @@ class Saved:
     def _path(self, key: str) -> str:
         return f"{self.where}.{key}" if self.where else key
 
-    def array_of(self, value: Any, key: str, shape: Sequence[int] | None = None,
+    def array_of(self, value: object, key: str, shape: Sequence[int] | None = None,
                  ndim: int | None = None) -> np.ndarray:
         """``value`` (the value of ``key``) as a real array, checked as :meth:`floats`."""
         if value is None and (ndim == 0 or (shape is not None and len(shape) == 0)):
@@ -253,7 +257,7 @@ class Saved:
         return array
 
 
-def _type(value: Any) -> str:
+def _type(value: object) -> str:
     if value is None:
         return "null"
     names = {bool: "a boolean", str: "a string", int: "a number", float: "a number",
