@@ -52,6 +52,10 @@ def _number(value: float | None) -> bool:
         math.isfinite(value)
 
 
+def _whole(value: int | None) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
 def check_harmonics(harmonics: int | None) -> None:
     """Raise AnalysisError unless ``harmonics`` is None or 1 ... MAX_GIVEN_HARMONICS.
 
@@ -59,7 +63,7 @@ def check_harmonics(harmonics: int | None) -> None:
     --------
     >>> check_harmonics(7)
     """
-    if harmonics is not None and not (isinstance(harmonics, int) and
+    if harmonics is not None and not (_whole(harmonics) and
                                       1 <= harmonics <= MAX_GIVEN_HARMONICS):
         raise AnalysisError(f"harmonics must be between 1 and {MAX_GIVEN_HARMONICS}, not "
                             f"{harmonics}")
@@ -158,9 +162,9 @@ class BalanceOptions:
 
     def __post_init__(self) -> None:
         check_harmonics(self.harmonics)
-        if not isinstance(self.points, int) or self.points < MIN_BRANCH_POINTS:
+        if not _whole(self.points) or self.points < MIN_BRANCH_POINTS:
             raise AnalysisError(f"points must be at least {MIN_BRANCH_POINTS}")
-        if self.samples is not None and not (isinstance(self.samples, int) and
+        if self.samples is not None and not (_whole(self.samples) and
                                              self.samples >= 1):
             raise AnalysisError(f"samples must be a positive whole number, not "
                                 f"{self.samples}")

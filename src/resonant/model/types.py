@@ -28,6 +28,7 @@ import sympy
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, name_list
 from ..expressions import Expression, ExpressionError
+from .options import BalanceOptions, SimulationOptions
 from .parts import check_values as check_part_values
 from .study import StudySpec
 from .units import ModelUnits, parse_with_unit
@@ -343,7 +344,8 @@ class Model:
                  initial: Mapping[str, float | str] | None = None, *, start: str = "auto",
                  periods: float | None = None, method: str | None = None,
                  rtol: float = 1e-9, progress: bool | None = None,
-                 deadline: Deadline | None = None) -> Simulation:
+                 deadline: Deadline | None = None, options: SimulationOptions | None = None
+                 ) -> Simulation:
         """Time integration, linear or of the full nonlinear equations
         (:func:`resonant.analyses.simulate.simulate`, where the options are described).
 
@@ -367,6 +369,8 @@ class Model:
             A progress bar on standard error.
         deadline : Deadline, optional
             The run's time limit.
+        options : SimulationOptions, optional
+            The options above (but ``deadline``) as one record, instead of keywords.
 
         Returns
         -------
@@ -382,13 +386,15 @@ class Model:
         from ..analyses import simulate
         return simulate.simulate(self.linearize(deadline=deadline), duration, nonlinear, initial,
                                  start=start, periods=periods, method=method, rtol=rtol,
-                                 progress=progress, deadline=deadline or NO_DEADLINE)
+                                 progress=progress, deadline=deadline or NO_DEADLINE,
+                                 options=options)
 
     def nonlinear_sweep(self, param: str, start: float, stop: float, *,
                         harmonics: int | None = None, points: int = 101, linear: bool = True,
                         observe: Sequence[str] | None = None, samples: int | None = None,
                         exact: bool | None = None, tol: float | None = None,
-                        deadline: Deadline | None = None) -> NonlinearResponse:
+                        deadline: Deadline | None = None, options: BalanceOptions | None = None
+                        ) -> NonlinearResponse:
         """The periodic steady state against a parameter: harmonic balance, continuation,
         stability (:func:`resonant.analyses.harmonic_balance.nonlinear_sweep`, which chooses
         the balance the model calls for).
@@ -409,6 +415,8 @@ class Model:
             Options of the balance condensed onto ``[[nonlinear]]`` elements.
         deadline : Deadline, optional
             The run's time limit.
+        options : BalanceOptions, optional
+            The options above (but ``deadline``) as one record, instead of keywords.
 
         Returns
         -------
@@ -426,7 +434,7 @@ class Model:
         return harmonic_balance.nonlinear_sweep(
             self.linearize(deadline=deadline), param, start, stop, harmonics=harmonics,
             points=points, linear=linear, observe=observe, samples=samples, exact=exact,
-            tol=tol, deadline=deadline or NO_DEADLINE)
+            tol=tol, deadline=deadline or NO_DEADLINE, options=options)
 
     def backbone(self, amplitude: float | None = None, *, harmonics: int | None = None,
                  points: int | None = None, modes: list[int] | None = None,

@@ -31,6 +31,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
 from ..model import Model
+from ..model.options import SweepOptions
 from .batch import Batch, BatchHarmonic, Var, frozen_array, group_frequencies
 
 if TYPE_CHECKING:
@@ -252,7 +253,8 @@ class LinearSystem(ABC):
     def sweep(self, param: str, values: Sequence[float] | np.ndarray, *, method: str = "auto",
               names: Sequence[str] | None = None, progress: bool | None = None,
               log: bool | None = None, deadline: Deadline = NO_DEADLINE,
-              tol: float | None = None) -> FrequencyResponse:
+              tol: float | None = None, options: SweepOptions | None = None
+              ) -> FrequencyResponse:
         """Amplitudes and phases against a parameter (:func:`resonant.analyses.sweep.sweep`,
         where the options are described).
 
@@ -274,6 +276,8 @@ class LinearSystem(ABC):
             The run's time limit.
         tol : float, optional
             Relative tolerance of a reduced model.
+        options : SweepOptions, optional
+            The options above (but ``deadline``) as one record, instead of keywords.
 
         Returns
         -------
@@ -288,7 +292,7 @@ class LinearSystem(ABC):
         """
         from ..analyses import sweep
         return sweep.sweep(self, param, values, method=method, names=names, progress=progress,
-                           log=log, deadline=deadline, tol=tol)
+                           log=log, deadline=deadline, tol=tol, options=options)
 
 
 def parameter_values(model: Model, param: str, values: np.ndarray,
