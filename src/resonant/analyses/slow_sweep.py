@@ -53,6 +53,7 @@ import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
+from ..model.options import check_harmonics
 from ..system import NonlinearSystem, nonlinear_at, nonlinear_system
 from ..system.base import numeric_point
 from .continuation import Branch, follow, refine
@@ -303,8 +304,7 @@ def _check(system: NonlinearSystem, param: str, start: float, value: float,
     if not (math.isfinite(start) and math.isfinite(value)) or value < start:
         raise AnalysisError(f"a slow upward sweep needs start <= value, got {start:g} and "
                             f"{value:g}")
-    if harmonics is not None and not 1 <= harmonics <= MAX_HARMONICS:
-        raise AnalysisError(f"harmonics must be from 1 to {MAX_HARMONICS}, not {harmonics}")
+    check_harmonics(harmonics)
 
 
 def _sweep(system: NonlinearSystem, hb: HarmonicBalance, start: float, value: float,

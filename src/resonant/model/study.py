@@ -37,6 +37,7 @@ import numpy as np
 
 from ..errors import ModelError, Problem
 from ..expressions import ExpressionError, numeric_value
+from .options import MAX_GIVEN_HARMONICS
 from .units import ModelUnits, parse_with_unit
 
 #: the designs: a full factorial grid, independent random samples, a Latin hypercube
@@ -50,8 +51,8 @@ QUANTITY_KINDS = {"natural_frequency": "index", "damping_ratio": "index", "ampli
 #: the quantities that need a band: peaks (searched over it) and the nonlinear steady state
 #: (swept up from its start)
 BAND_KINDS = ("peak", "nonlinear_amplitude")
-#: the most harmonics of the nonlinear steady state (harmonic balance's own limit)
-MAX_HARMONICS = 40
+#: the most harmonics of the nonlinear steady state (every nonlinear analysis's limit)
+MAX_HARMONICS = MAX_GIVEN_HARMONICS
 #: most samples of one study (a grid's product included): 10^9 rows is ~10 GB per column
 MAX_SAMPLES = 1_000_000_000
 MAX_VARIED = 100
