@@ -445,6 +445,32 @@ def periodic_load_response(system: LinearSystem, spec: PeriodicSpec | None = Non
             raise ModelError(Problem("the model has no [periodic] section: add one with the "
                                      "signal, its shape and period (docs/model-format.md)",
                                      system.source, "periodic"))
+    return periodic_response(system, spec.signal, load_series(system, spec),
+                             derivative=spec.derivative, names=names, method=method,
+                             deadline=deadline)
+
+
+def load_series(system: LinearSystem, spec: PeriodicSpec) -> FourierSeries:
+    """The Fourier series of a ``[periodic]`` load: the closed form of its shape, or its
+    expression at the model's parameter values sampled and transformed.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model's system (its parameter values enter an expression).
+    spec : PeriodicSpec
+
+    Returns
+    -------
+    FourierSeries
+
+    Examples
+    --------
+    >>> import resonant
+    >>> system = resonant.load("examples/teaching/fourier_square.toml").linearize()
+    >>> load_series(system, system.model.periodic_section).harmonics
+    4053
+    """
     function = None
     if spec.expression is not None:
         expression = spec.expression
@@ -453,11 +479,9 @@ def periodic_load_response(system: LinearSystem, spec: PeriodicSpec | None = Non
         def function(t: np.ndarray) -> np.ndarray:
             value = numeric_value(expression, {**values, "t": t})
             return np.broadcast_to(np.asarray(value, dtype=float), t.shape).copy()
-    series = fourier_series(spec.shape, spec.amplitude, spec.period, tolerance=spec.tolerance,
-                            function=function)
-    return periodic_response(system, spec.signal, series, derivative=spec.derivative,
-                             names=names, method=method, deadline=deadline)
+    return fourier_series(spec.shape, spec.amplitude, spec.period, tolerance=spec.tolerance,
+                          function=function)
 
 
 __all__ = ["SHAPES", "FourierSeries", "fourier_series", "PeriodicResponse",
-           "periodic_load_response", "periodic_response"]
+           "periodic_load_response", "periodic_response", "load_series"]

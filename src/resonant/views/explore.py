@@ -39,6 +39,7 @@ from typing import Any
 import numpy as np
 
 from ..analyses.modes import modes
+from ..analyses.periodic_load import load_series, periodic_response
 from ..analyses.stationary import stationary
 from ..analyses.sweep import sweep
 from ..deadline import NO_DEADLINE, Deadline
@@ -518,6 +519,63 @@ def check_page_size(model: Model) -> None:
             model.source, "coordinates"))
 
 
+#: the most harmonics of a periodic load the page sums (a square wave to 1 % has 4053)
+MAX_PAGE_HARMONICS = 20_000
+
+
+def periodic_data(model: Model, system: LinearSystem, live: bool,
+                  deadline: Deadline = NO_DEADLINE) -> dict[str, Any] | None:
+    """What the page needs of the model's ``[periodic]`` load (None without one): its
+    series (the page sums the response to it live, per harmonic, as ``resonant solve``
+    does), or on a precomputed page the summed response at the file's values.
+
+    Parameters
+    ----------
+    model : Model
+    system : LinearSystem
+    live : bool
+        Whether the page computes itself.
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    dict or None
+        ``name``, ``derivative``, ``shape``, ``amplitude``, ``period``, ``tolerance``,
+        ``harmonics``,
+        ``a0``, ``a``, ``b`` (the series; ``a``/``b`` None when it has more than
+        :data:`MAX_PAGE_HARMONICS` harmonics) and ``precomputed`` (``time``, ``history``,
+        ``largest``; None on a live page).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/teaching/fourier_square.toml")
+    >>> data = periodic_data(model, model.linearize(), True)
+    >>> data["name"], data["harmonics"], round(data["b"][0], 6)
+    ('x', 4053, 12.732395)
+    """
+    spec = model.periodic_section
+    if spec is None:
+        return None
+    series = load_series(system, spec)
+    summable = series.harmonics <= MAX_PAGE_HARMONICS
+    data: dict[str, Any] = {
+        "name": spec.signal, "derivative": spec.derivative, "shape": spec.shape,
+        "amplitude": spec.amplitude,
+        "period": series.period, "tolerance": spec.tolerance, "harmonics": series.harmonics,
+        "a0": series.a0, "a": series.a.tolist() if summable else None,
+        "b": series.b.tolist() if summable else None, "precomputed": None}
+    if not live or not summable:
+        result = periodic_response(system, spec.signal, series, derivative=spec.derivative,
+                                   names=shown_names(model, system), deadline=deadline)
+        step = max(1, result.time.size // CURVE_POINTS)
+        data["precomputed"] = {
+            "time": result.time[::step].tolist(),
+            "history": {k: v[::step].tolist() for k, v in result.history.items()},
+            "largest": dict(result.largest)}
+    return data
+
+
 def explore_data(model: Model, system: LinearSystem | None = None,
                  deadline: Deadline = NO_DEADLINE) -> tuple[dict[str, Any], str]:
     """Everything the explore page of a model holds: its data and its program.
@@ -560,6 +618,7 @@ def explore_data(model: Model, system: LinearSystem | None = None,
         "layout": exported.layout if exported is not None else None,
         "drawing": _drawing(motion) if motion is not None and exported is not None else None,
         "precomputed": None}
+    data["periodic"] = periodic_data(model, system, exported is not None, deadline)
     if exported is None:
         control = next((c for c in sliders if c["frequency"]), None)
         data["precomputed"] = precomputed(system, frequency, control, shown, deadline)

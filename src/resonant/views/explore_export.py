@@ -294,6 +294,49 @@ def motion_functions(model: Model, motion: SketchMotion) -> tuple[str, int]:
     return source, count
 
 
+def periodic_columns(system: LinearSystem, name: str, derivative: int
+                     ) -> tuple[list[sympy.Expr], list[int]]:
+    """The load of a periodic input per unit of its series: the generalized-force column
+    of every derivative of the signal ``name`` (n expressions each) and the power of
+    (i omega) each is multiplied by (its order less ``derivative``); for a coordinate, its
+    unit column (a force on it), power 0.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    name : str
+        A signal of the model or a coordinate (the ``[periodic]`` section's ``signal``).
+    derivative : int
+        The series is of this derivative of the signal.
+
+    Returns
+    -------
+    tuple
+        (the columns, flattened; the powers).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> from resonant.system import linear_system
+    >>> system = linear_system(resonant.load("examples/base_excitation.toml"))
+    >>> columns, powers = periodic_columns(system, "y", 0)
+    >>> len(columns) == system.n * len(powers), powers
+    (True, [0, 1])
+    """
+    excitation: Mapping[Var, Any] = getattr(system, "excitation", None) or {}
+    n = system.n
+    columns: list[sympy.Expr] = []
+    powers: list[int] = []
+    for (var, order), column in sorted(excitation.items()):
+        if var == name:
+            columns += [sympy.sympify(column[i]) for i in range(n)]
+            powers.append(order - derivative)
+    if not powers and name in system.coordinates:
+        columns = [sympy.Integer(int(q == name)) for q in system.coordinates]
+        powers = [0]
+    return columns, powers
+
+
 def export_system(system: LinearSystem, motion: SketchMotion | None = None
                   ) -> ExportedSystem:
     """The JavaScript program of a system (and of its drawing's motion).
@@ -329,6 +372,11 @@ def export_system(system: LinearSystem, motion: SketchMotion | None = None
     size = 3 * system.n ** 2
     program = [parameters_function(model), js_function("resonantMatrices", exprs[:size], names),
                js_function("resonantLoads", exprs[size:], names)]
+    periodic = model.periodic_section
+    if periodic is not None:
+        columns, powers = periodic_columns(system, periodic.signal, periodic.derivative)
+        program.append(js_function("resonantPeriodic", columns, names))
+        layout["periodic_powers"] = powers
     if motion is not None:
         source, count = motion_functions(model, motion)
         program.append(source)

@@ -5,6 +5,7 @@
 // - eigenvalues of a real matrix (the state matrix): balancing, Hessenberg reduction and the
 //   Francis double-shift QR iteration (the classic EISPACK hqr scheme)
 // - the stationary solution's peak amplitude and phase, as resonant computes them
+// - a periodic load's response summed over its harmonics (an FFT)
 "use strict";
 const ResonantNumerics = (() => {
   const EPS = 2.220446049250313e-16;
@@ -605,8 +606,50 @@ const ResonantNumerics = (() => {
     return best;
   }
 
+  // -- periodic loads ----------------------------------------------------------------------
+  // In-place radix-2 FFT of (re, im) (length a power of two): sum_k x_k e^(sign 2 pi i jk/N).
+  function fft(re, im, sign) {
+    const N = re.length;
+    for (let i = 1, j = 0; i < N; i++) {
+      let bit = N >> 1;
+      for (; j & bit; bit >>= 1) j ^= bit;
+      j ^= bit;
+      if (i < j) { [re[i], re[j]] = [re[j], re[i]]; [im[i], im[j]] = [im[j], im[i]]; }
+    }
+    for (let len = 2; len <= N; len <<= 1) {
+      const angle = sign * 2 * Math.PI / len, wr = Math.cos(angle), wi = Math.sin(angle);
+      for (let i = 0; i < N; i += len) {
+        let cr = 1, ci = 0;
+        for (let k = 0; k < len / 2; k++) {
+          const a = i + k, b = a + len / 2;
+          const xr = re[b] * cr - im[b] * ci, xi = re[b] * ci + im[b] * cr;
+          re[b] = re[a] - xr; im[b] = im[a] - xi; re[a] += xr; im[a] += xi;
+          [cr, ci] = [cr * wr - ci * wi, cr * wi + ci * wr];
+        }
+      }
+    }
+  }
+
+  // The response over one period to a periodic load, as resonant sums it: mean + sum over
+  // the harmonics k = 1..H of Re(Z_k e^(i k W t)), sampled at the smallest power of two of
+  // at least 16 H (and 4096) points by an inverse FFT; {values, largest}.
+  function periodicHistory(Zre, Zim, mean) {
+    const H = Zre.length;
+    let count = 4096;
+    while (count < 16 * H) count *= 2;
+    const re = new Float64Array(count), im = new Float64Array(count);
+    for (let k = 1; k <= H; k++) {  // Re(Z e^(i w t)) = (Z e^(i w t) + conj(Z) e^(-i w t)) / 2
+      re[k] = Zre[k - 1] / 2; im[k] = Zim[k - 1] / 2;
+      re[count - k] = Zre[k - 1] / 2; im[count - k] = -Zim[k - 1] / 2;
+    }
+    fft(re, im, 1);
+    let largest = 0;
+    for (let j = 0; j < count; j++) { re[j] += mean; largest = Math.max(largest, Math.abs(re[j])); }
+    return { values: re, largest };
+  }
+
   return {
-    complexSolve, realSolve, jacobi, cholesky, generalizedSymmetric, eigenvalues,
+    fft, periodicHistory, complexSolve, realSolve, jacobi, cholesky, generalizedSymmetric, eigenvalues,
     undampedEigen, frequenciesFromEigenvalues, unitShape, stateEigenvalues, classify,
     dampingRatios, phaseAngle, limitDenominator, commonPeriod, peak, isSymmetric,
   };

@@ -236,6 +236,84 @@
     return result;
   }
 
+  // the response to the model's periodic load ([periodic]): per harmonic k of its series the
+  // stationary response to the load's columns at k W (times the coefficient a_k - i b_k),
+  // the mean from K z = a0 column, summed over one period (NUM.periodicHistory), as
+  // resonant solve sums it; null without a periodic load
+  const PER = D.periodic;
+  function complexPower(w, p) {  // (i w)^p
+    const m = Math.pow(w, p), a = p * Math.PI / 2;
+    return [Math.abs(p % 2) === 1 ? 0 : m * Math.cos(a), Math.abs(p % 2) === 1 ? m * Math.sin(a) : 0];
+  }
+  function periodicLive(p, sys) {
+    if (!PER || !PER.a || !LIVE) return null;
+    const cols = resonantPeriodic(p), powers = LAYOUT.periodic_powers, H = PER.harmonics;
+    const W = 2 * Math.PI / PER.period, name = PER.name, d = PER.derivative;
+    const Z = {};
+    NAMES.forEach(x => { Z[x.name] = { re: new Float64Array(H), im: new Float64Array(H), mean: 0 }; });
+    const ar = new Float64Array(n * n), ai = new Float64Array(n * n);
+    for (let k = 1; k <= H; k++) {
+      const w = k * W, ca = PER.a[k - 1], cb = -PER.b[k - 1];
+      if (ca === 0 && cb === 0) continue;
+      for (let i = 0; i < n * n; i++) { ar[i] = sys.K[i] - w * w * sys.M[i]; ai[i] = w * sys.C[i]; }
+      const br = new Float64Array(n), bi = new Float64Array(n);
+      powers.forEach((pw, j) => {
+        const [pr, pi] = complexPower(w, pw);
+        for (let i = 0; i < n; i++) { br[i] += pr * cols[j * n + i]; bi[i] += pi * cols[j * n + i]; }
+      });
+      const z = NUM.complexSolve(n, ar, ai, br, bi);
+      if (z.singular) throw new Error(`resonance: the periodic load's harmonic ${k} (${fmt(w)} rad/s) meets an undamped natural frequency, so its response is unbounded`);
+      const put = (x, hr, hi) => { Z[x].re[k - 1] = hr * ca - hi * cb; Z[x].im[k - 1] = hr * cb + hi * ca; };
+      COORDS.forEach((c, i) => put(c.name, z.re[i], z.im[i]));
+      LAYOUT.outputs.forEach((o, j) => {
+        let hr = 0, hi = 0;
+        o.terms.forEach(([v, order, qi], t) => {
+          const coef = sys.outputs[j].coefs[t];
+          let tr = 0, ti = 0, pw = order;
+          if (qi >= 0) { tr = z.re[qi]; ti = z.im[qi]; } else if (v === name) { tr = 1; pw = order - d; } else return;
+          const [pr, pi] = complexPower(w, pw);
+          hr += coef * (pr * tr - pi * ti); hi += coef * (pr * ti + pi * tr);
+        });
+        put(o.name, hr, hi);
+      });
+    }
+    if (PER.a0 !== 0) {
+      if (d > 0) throw new Error("the series of a derivative (a velocity or an acceleration) has a nonzero mean: the displacement would grow without bound");
+      const rhs = new Float64Array(n);
+      powers.forEach((pw, j) => { if (pw === 0) for (let i = 0; i < n; i++) rhs[i] += PER.a0 * cols[j * n + i]; });
+      const z0 = NUM.realSolve(n, sys.K, rhs, 1);
+      if (z0 === null) throw new Error("the periodic load has a mean, but the system has no static stiffness (a rigid-body mode): there is no stationary response");
+      COORDS.forEach((c, i) => { Z[c.name].mean = z0[i]; });
+      LAYOUT.outputs.forEach((o, j) => {
+        let y = 0;
+        o.terms.forEach(([v, order, qi], t) => {
+          if (order !== 0) return;
+          if (qi >= 0) y += sys.outputs[j].coefs[t] * z0[qi]; else if (v === name) y += sys.outputs[j].coefs[t] * PER.a0;
+        });
+        Z[o.name].mean = y;
+      });
+    }
+    const history = {}, largest = {};
+    for (const [x, zx] of Object.entries(Z)) {
+      const h = NUM.periodicHistory(zx.re, zx.im, zx.mean);
+      history[x] = h.values; largest[x] = h.largest;
+    }
+    return { period: PER.period, history, largest, load: loadHistory() };
+  }
+
+  // the load itself: its series summed (what the response answers)
+  function loadHistory() {
+    const h = NUM.periodicHistory(Float64Array.from(PER.a), Float64Array.from(PER.b, x => -x), PER.a0);
+    return { values: h.values, largest: h.largest };
+  }
+
+  function periodicPrecomputed() {
+    const pre = PER && PER.precomputed;
+    if (!pre) return null;
+    return { period: PER.period, history: pre.history, largest: pre.largest, time: pre.time,
+      load: PER.a ? loadHistory() : null };
+  }
+
   // the frequency response of the shown names over the frequency parameter's range
   function curveLive(v, o, shown) {
     if (FREQ < 0 || !LAYOUT.harmonic) return null;
@@ -314,6 +392,12 @@
       } else {
         S.result = solvePrecomputed(S.v);
         S.curve = curvePrecomputed();
+      }
+      S.periodic = null;
+      try {
+        S.periodic = PER && PER.a && LIVE ? periodicLive(S.result.p, S.result.sys) : periodicPrecomputed();
+      } catch (e) {
+        S.periodic = { error: String(e.message || e) };
       }
       $("status").textContent = S.result.error || "";
     } catch (e) {
@@ -733,6 +817,48 @@
     $("history-caption").textContent = `t from 0 to T = ${fmt(T, 4)} s (one period); each curve scaled to its amplitude.`;
   }
 
+  function drawPeriodic() {
+    if (!PER) return;
+    $("periodic-panel").hidden = false;
+    const { ctx, w, h } = canvasContext($("periodic"));
+    const r = S.periodic;
+    const names = [...S.shown].filter(s => r && r.history && r.history[s]);
+    if (!r || r.error || !names.length) {
+      ctx.fillStyle = "#5b5b60"; ctx.fillText(r && r.error ? r.error : "No periodic response.", 12, 24);
+      return;
+    }
+    // the load first (grey), then every shown response, each row scaled to its largest |value|
+    const rows = (r.load ? [{ key: null, ys: r.load.values, big: r.load.largest, colour: "#8a8a8f",
+      label: `load on ${PER.name}`, value: PER.shape === "expression" ? `max ${fmt(r.load.largest, 4)} (SI)` : `amplitude ${fmt(PER.amplitude, 4)} (SI)` }] : []).concat(names.map(s => {
+      const f = UNIT[s] ? UNIT[s].factor : 1;
+      return { key: s, ys: r.history[s], big: r.largest[s], colour: colourOf(s), label: symbolText(UNIT[s] || { name: s }),
+        value: `max ${fmt(r.largest[s] / f, 4)} ${UNIT[s] ? unitText(UNIT[s].unit) : ""}` };
+    }));
+    const left = Math.max(96, 12 + Math.max(...rows.map(q => Math.max(ctx.measureText(q.label).width, ctx.measureText(q.value).width))));
+    const right = 10, rowH = (h - 8) / rows.length;
+    rows.forEach((q, k) => {
+      const ys = q.ys, big = Math.max(q.big, 1e-300);
+      const mid = 4 + rowH * (k + 0.5), count = ys.length, step = Math.max(1, Math.floor(count / 800));
+      ctx.strokeStyle = "#e4e1da"; ctx.lineWidth = 1;
+      ctx.beginPath(); ctx.moveTo(left, mid); ctx.lineTo(w - right, mid); ctx.stroke();
+      ctx.fillStyle = q.colour; ctx.textAlign = "right";
+      ctx.fillText(q.label, left - 6, mid - 2);
+      ctx.fillStyle = "#5b5b60";
+      ctx.fillText(q.value, left - 6, mid + 12);
+      ctx.strokeStyle = q.colour; ctx.lineWidth = 1.5;
+      ctx.beginPath();
+      for (let j = 0; j <= count; j += step) {
+        const y = ys[j % count] / big, px = left + (w - left - right) * j / count, py = mid - y * rowH * 0.42;
+        if (j) ctx.lineTo(px, py); else ctx.moveTo(px, py);
+      }
+      ctx.stroke();
+    });
+    const shape = PER.shape === "expression" ? "a signal given by its expression" : `a ${PER.shape} wave`;
+    $("periodic-caption").textContent = `${shape} on ${PER.name}${PER.derivative ? ` (its derivative of order ${PER.derivative})` : ""}, period ${fmt(PER.period, 4)} s: ` +
+      `${PER.harmonics} harmonics (remainder below ${fmt(100 * PER.tolerance, 3)} % RMS), each answered by the stationary response and summed; ` +
+      `t from 0 to T, each curve scaled to its largest excursion (max).` + (LIVE && PER.a ? "" : " Computed by resonant at the file's parameter values.");
+  }
+
   // -- motion --------------------------------------------------------------------------------
   const DR = D.drawing;
   const SIGNALS = LAYOUT && LAYOUT.signals ? LAYOUT.signals.length : 0;
@@ -1121,6 +1247,7 @@
     if (r) renderNumbers(r);
     renderDiagnosis(r);
     drawResponse();
+    drawPeriodic();
     if (r && S.mode >= r.modes.length) S.mode = -1;
     const before = $("modes").childElementCount;
     if (!r || before !== (r.modes.slice(0, 12).length + 1)) buildModes();
@@ -1152,6 +1279,10 @@
     const r = S.result;
     const out = { title: D.title, coordinates: COORDS.map(c => c.name), parameters: Object.fromEntries(PARAMS.map((c, i) => [c.name, r ? r.p[i] : S.v[i]])),
       live: LIVE, error: r ? r.error : $("status").textContent, timing_ms: S.timing };
+    if (PER) {
+      const pr = S.periodic;
+      out.periodic = pr && !pr.error ? { harmonics: PER.harmonics, period: PER.period, largest: pr.largest } : { error: pr ? pr.error : null };
+    }
     if (!r) return out;
     Object.assign(out, { M: jsonMatrix(r.M), C: jsonMatrix(r.C), K: jsonMatrix(r.K), natural_frequencies: Array.from(r.omegas),
       harmonics: r.harmonics, amplitudes: r.amplitudes, phases: r.phases, stability: r.stability,
