@@ -56,6 +56,11 @@ def _whole(value: int | None) -> bool:
     return isinstance(value, int) and not isinstance(value, bool)
 
 
+def _check_tolerance(tol: float | None) -> None:
+    if tol is not None and not (_number(tol) and 0 < tol < 1):
+        raise AnalysisError(f"the tolerance must be a number between 0 and 1, not {tol}")
+
+
 def check_harmonics(harmonics: int | None) -> None:
     """Raise AnalysisError unless ``harmonics`` is None or 1 ... MAX_GIVEN_HARMONICS.
 
@@ -109,9 +114,7 @@ class SweepOptions:
         if self.method not in SWEEP_METHODS:
             raise AnalysisError(f"unknown method '{self.method}'; choose one of "
                                 f"{', '.join(SWEEP_METHODS)}")
-        if self.tol is not None and not (_number(self.tol) and 0 < self.tol < 1):
-            raise AnalysisError(f"the tolerance must be a number between 0 and 1, not "
-                                f"{self.tol}")
+        _check_tolerance(self.tol)
         if self.names is not None:
             object.__setattr__(self, "names", tuple(self.names))
 
@@ -168,9 +171,7 @@ class BalanceOptions:
                                              self.samples >= 1):
             raise AnalysisError(f"samples must be a positive whole number, not "
                                 f"{self.samples}")
-        if self.tol is not None and not (_number(self.tol) and 0 < self.tol < 1):
-            raise AnalysisError(f"the tolerance must be a number between 0 and 1, not "
-                                f"{self.tol}")
+        _check_tolerance(self.tol)
         if self.observe is not None:
             object.__setattr__(self, "observe", tuple(self.observe))
 
