@@ -45,7 +45,9 @@ if TYPE_CHECKING:
     import symengine
 
 Var = tuple[str, int]
-#: a jet's coefficient: a sympy or symengine expression, or a number (the float backend)
+#: a jet's coefficient: a sympy or symengine expression, or a number (the float backend;
+#: the numeric residual's are :class:`~resonant.derivation.residual.Sized` numbers, which
+#: mypy lets pass where sympy's untyped classes are expected)
 Coefficient: TypeAlias = "sympy.Basic | symengine.Basic | float"
 
 #: sympy constructors of the model language's functions
