@@ -35,10 +35,13 @@ import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..deadline import NO_DEADLINE, AnalysisTimeout, Deadline
 from ..errors import AnalysisError, ModelError, Problem, printable
+
+if TYPE_CHECKING:
+    from dask.distributed import Client, Future, LocalCluster
 
 #: below this many seconds of estimated work, local workers are not started
 START_UP_SECONDS = 4.0
@@ -195,7 +198,7 @@ class Engine:
     mode: str = "auto"
     workers: int | None = None
     scheduler: str | None = None
-    client: Any = None
+    client: Client | None = None
     deadline: Deadline = field(default=NO_DEADLINE, compare=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -249,8 +252,8 @@ def _client(engine: Engine, function: Callable[..., Any]) -> Iterator[Any]:
 
 
 @contextlib.contextmanager
-def _local_cluster(cluster_type: Any, workers: int, deadline: Deadline = NO_DEADLINE
-                   ) -> Iterator[Any]:
+def _local_cluster(cluster_type: Callable[..., LocalCluster], workers: int,
+                   deadline: Deadline = NO_DEADLINE) -> Iterator[LocalCluster]:
     """Start local workers within the run's time limit; a failure to start them is an
     error in one line."""
     try:
@@ -383,7 +386,7 @@ def _on_dask(function: Callable[..., Any], tasks: Iterator[tuple], engine: Engin
                 future.cancel()
 
 
-def _result(future: Any, deadline: Deadline) -> Any:
+def _result(future: Future, deadline: Deadline) -> Any:
     """A task's result, waited for no longer than the deadline allows."""
     try:
         return future.result(timeout=deadline.remaining())
@@ -464,7 +467,7 @@ def _chain(first: list[tuple], rest: Iterator[tuple]) -> Iterator[tuple]:
 
 
 def engine_for(workers: int | None = None, scheduler: str | None = None,
-               client: Any = None, deadline: Deadline = NO_DEADLINE) -> Engine:
+               client: Client | None = None, deadline: Deadline = NO_DEADLINE) -> Engine:
     """The engine for the usual arguments: ``workers=0`` this process, ``workers=N`` N
     local workers, a ``scheduler`` address or a ``client`` their cluster, none of them
     ``auto``.
