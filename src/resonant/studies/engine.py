@@ -310,10 +310,15 @@ def _abandon_clusters() -> None:
     Their worker processes are daemons and end with this process."""
     from distributed.deploy.spec import SpecCluster
 
-    for cluster in list(SpecCluster._instances):
+    clusters = list(SpecCluster._instances)
+    for cluster in clusters:
         with contextlib.suppress(Exception):
             cluster.close(timeout=5)
-        SpecCluster._instances.discard(cluster)
+    # forgotten by identity: the set's own ``discard`` compares clusters by name, which one
+    # cut short in its constructor does not have yet (an AttributeError)
+    others = [c for c in SpecCluster._instances if not any(c is d for d in clusters)]
+    SpecCluster._instances.clear()
+    SpecCluster._instances.update(others)
 
 
 @contextlib.contextmanager
