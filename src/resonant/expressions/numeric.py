@@ -44,13 +44,13 @@ class FloatOps:
     array([4., 9.])
     """
 
-    def __init__(self, values: Mapping[str, Any]) -> None:
+    def __init__(self, values: Mapping[str, Value]) -> None:
         self.values = values
 
     def num(self, text: str) -> float:
         return float(text)
 
-    def name(self, name: str, primes: int) -> Any:
+    def name(self, name: str, primes: int) -> Value:
         if primes:
             return 0.0  # parameters are constants: their time derivatives vanish
         return self.values[name]
@@ -58,25 +58,25 @@ class FloatOps:
     def pi(self) -> float:
         return float(np.pi)
 
-    def add(self, a: Value, b: Value) -> Any:
+    def add(self, a: Value, b: Value) -> Value:
         return a + b
 
-    def sub(self, a: Value, b: Value) -> Any:
+    def sub(self, a: Value, b: Value) -> Value:
         return a - b
 
-    def mul(self, a: Value, b: Value) -> Any:
+    def mul(self, a: Value, b: Value) -> Value:
         return a * b
 
-    def div(self, a: Value, b: Value) -> Any:
+    def div(self, a: Value, b: Value) -> Value:
         return np.divide(a, b)
 
-    def neg(self, a: Value) -> Any:
+    def neg(self, a: Value) -> Value:
         return -a
 
-    def pow(self, a: Value, b: Value) -> Any:
+    def pow(self, a: Value, b: Value) -> Value:
         return np.power(np.asarray(a, dtype=float), b)
 
-    def call(self, func: str, args: list[Any]) -> Any:
+    def call(self, func: str, args: list[Value]) -> Value:
         return NUMPY[func](*args)
 
 
