@@ -21,7 +21,7 @@ import operator
 import re
 from collections.abc import Callable, Collection
 from dataclasses import dataclass, field
-from typing import Any, Protocol, TypeVar
+from typing import Protocol, TypeVar
 
 import sympy
 
@@ -631,7 +631,7 @@ class _Pending:
 
     def __init__(self, mul: bool) -> None:
         self.mul, self.coeff = mul, sympy.Integer(int(mul))
-        self.items: list[Any] = []
+        self.items: list[sympy.Expr] = []
 
 
 class _SympyOps:
@@ -642,7 +642,8 @@ class _SympyOps:
     numeric coefficient accumulated eagerly so it can be bounded at each step.
     """
 
-    def __init__(self, resolve: Callable[[str, int], Any], expression: Expression):
+    def __init__(self, resolve: Callable[[str, int], sympy.Expr | int | float],
+                 expression: Expression) -> None:
         self.resolve, self.expression = resolve, expression
 
     def fail(self, reason: str) -> ExpressionError:
