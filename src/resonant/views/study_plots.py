@@ -30,8 +30,10 @@ from .plotting import _figure_of, _new_figure, _save, math_name, unit_math
 
 if TYPE_CHECKING:
     import pandas as pd
+    from matplotlib.artist import Artist
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
 
 #: at most this many points in a scatter plot (an even subsample of the rest)
 MAX_SCATTER = 20_000
@@ -225,7 +227,7 @@ def _cell_edges(centres: np.ndarray) -> np.ndarray:
     return np.concatenate(([2 * centres[0] - mid[0]], mid, [2 * centres[-1] - mid[-1]]))
 
 
-def _impossible_handle(missing: Mapping[str, int]) -> Any:
+def _impossible_handle(missing: Mapping[str, int]) -> Patch:
     from matplotlib.patches import Patch
 
     return Patch(facecolor="white", edgecolor=IMPOSSIBLE_COLOR, hatch=HATCH,
@@ -280,7 +282,8 @@ def plot_scatter(frame: pd.DataFrame, quantity: str, parameters: Sequence[str],
     # the band of the samples without a value, under the lowest value (in the axis' scale)
     below = [10 ** v if log else v for v in (low - 0.18 * span, low - 0.12 * span,
                                               low - 0.06 * span)]
-    handles = [Line2D([], [], ls="", marker=".", color="#4477aa", label="sample")]
+    handles: list[Artist] = [Line2D([], [], ls="", marker=".", color="#4477aa",
+                                    label="sample")]
     for a, name in zip(axes, parameters):
         x = np.asarray(frame[name], dtype=float)[::step]
         a.plot(x[~bad], y[~bad], ".", markersize=3, alpha=0.45, color="#4477aa")
@@ -398,7 +401,7 @@ def plot_contour(frame: pd.DataFrame, quantity: str, x: str, y: str, ax: Axes | 
                           shading="flat", zorder=1)
     fig.colorbar(cells, ax=ax, label=axis_label(quantity, units)
                  + (" (log scale)" if log else ""))
-    handles: list[Any] = []
+    handles: list[Artist] = []
     if missing:
         handles.append(_impossible_handle(missing))
     if nominal and x in nominal and y in nominal:
