@@ -222,7 +222,7 @@ class Engine:
 
 
 @contextlib.contextmanager
-def _client(engine: Engine, function: Callable[..., Any]) -> Iterator[Any]:
+def _client(engine: Engine, function: Callable[..., Any]) -> Iterator[Client]:
     """A Dask client for the engine, its local workers set up to run ``function``; what it
     starts, it stops."""
     import dask
@@ -270,7 +270,8 @@ def _local_cluster(cluster_type: Callable[..., LocalCluster], workers: int,
         yield cluster
 
 
-def _started(cluster_type: Callable[..., Any], workers: int, deadline: Deadline) -> Any:
+def _started(cluster_type: Callable[..., LocalCluster], workers: int, deadline: Deadline
+             ) -> LocalCluster:
     """The cluster, started on a thread and waited for no longer than the deadline allows
     (Dask bounds each worker's start by its own timeouts, not by the run's limit).  A
     cluster whose start is given up is closed as soon as it is up."""
@@ -322,7 +323,7 @@ def _abandon_clusters() -> None:
 
 
 @contextlib.contextmanager
-def _connect(engine: Engine) -> Iterator[Any]:
+def _connect(engine: Engine) -> Iterator[Client]:
     """A client of the scheduler at ``engine.scheduler``, connected within the run's time
     limit (Dask's own connect timeout does not bound a peer that accepts the connection
     and never answers: the connection is made on a thread, waited for up to the limit)."""
