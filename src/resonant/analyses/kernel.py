@@ -56,7 +56,7 @@ from __future__ import annotations
 import sys
 import time
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeAlias
 
 import numpy as np
 
@@ -219,7 +219,7 @@ def _is_proportional(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> bool:
     return bool(np.linalg.norm(lhs - rhs) <= 1e-9 * scale)
 
 
-def direct_costs(batch: Any, omega: np.ndarray | None = None) -> dict[str, float]:
+def direct_costs(batch: Batch, omega: np.ndarray | None = None) -> dict[str, float]:
     """Estimated seconds per frequency of the exact direct methods for fixed M, C, K.
 
     ``dense``: (32/3) n^3 real FLOPs of a complex LU at :data:`DENSE_RATE`;
@@ -263,7 +263,7 @@ def direct_costs(batch: Any, omega: np.ndarray | None = None) -> dict[str, float
     return _measured_costs(batch, omega)[0]
 
 
-def _band_costs(batch: Any) -> dict[str, float]:
+def _band_costs(batch: Batch) -> dict[str, float]:
     """The modelled costs of the dense and banded LU per frequency (seconds)."""
     n = len(batch.coordinates)
     lower, upper = _bandwidths(batch.M, batch.C, batch.K)
@@ -276,7 +276,7 @@ def _band_costs(batch: Any) -> dict[str, float]:
     }
 
 
-def _batch_frequencies(batch: Any, omega: np.ndarray | None) -> np.ndarray:
+def _batch_frequencies(batch: Batch, omega: np.ndarray | None) -> np.ndarray:
     if omega is not None:
         result: np.ndarray = np.abs(np.asarray(omega, dtype=float)).ravel()
         return result
@@ -285,7 +285,7 @@ def _batch_frequencies(batch: Any, omega: np.ndarray | None) -> np.ndarray:
     return out[np.isfinite(out)]
 
 
-def _measured_costs(batch: Any, omega: np.ndarray | None
+def _measured_costs(batch: Batch, omega: np.ndarray | None
                     ) -> tuple[dict[str, float], tuple[float, Any] | None]:
     """:func:`direct_costs` and the probe's factorization (s, SuperLU), kept for reuse
     (None when no sparse factorization was made)."""
@@ -318,7 +318,7 @@ def _measured_costs(batch: Any, omega: np.ndarray | None
     return costs, (s, lu)
 
 
-def choose_direct(batch: Any, omega: np.ndarray | None = None,
+def choose_direct(batch: Batch, omega: np.ndarray | None = None,
                   costs: dict[str, float] | None = None) -> str:
     """The cheapest exact direct method (``dense``, ``banded`` or ``sparse``) by
     :func:`direct_costs` (``costs`` when measured already, else measured with the
@@ -333,7 +333,7 @@ def choose_direct(batch: Any, omega: np.ndarray | None = None,
     return min(costs, key=lambda k: costs[k])
 
 
-def choose_method(batch_or_matrices: Any, n_points: int = 1,
+def choose_method(batch_or_matrices: Batch, n_points: int = 1,
                   costs: dict[str, float] | None = None,
                   omega: np.ndarray | None = None) -> str:
     """The exact method ``method="auto"`` uses for a sweep (when no reduced model is tried
@@ -404,6 +404,10 @@ class _Progress:
         sys.stderr.flush()
 
 
+#: the points of a sweep a store's row index picks: one, a range or a boolean mask
+_Index: TypeAlias = int | slice | np.ndarray
+
+
 class _Store:
     """The responses kept from the solves: only the columns ``keep`` (memory stays
     bounded for large models), plus the largest |component| of every full solution."""
@@ -421,7 +425,7 @@ class _Store:
             if hasattr(C, "nnz") and C.nnz or not hasattr(C, "nnz") and np.any(C):
                 self._damping = C
 
-    def _fraction(self, index: Any, x: np.ndarray) -> None:
+    def _fraction(self, index: _Index, x: np.ndarray) -> None:
         C = self._damping
         if C is None:
             return
@@ -431,7 +435,7 @@ class _Store:
         self.damped[rows] = damping_fraction(C if hasattr(C, "nnz") or np.ndim(C) == 2
                                              else C[rows], X)
 
-    def __setitem__(self, index: Any, x: Any) -> None:
+    def __setitem__(self, index: _Index, x: np.ndarray | complex) -> None:
         x = np.asarray(x, dtype=complex)
         if x.ndim == 0:
             self.values[index] = x
@@ -442,7 +446,7 @@ class _Store:
             self.largest[index] = largest_abs(x)
         self._fraction(index, x)
 
-    def __getitem__(self, index: Any) -> np.ndarray:
+    def __getitem__(self, index: _Index) -> np.ndarray:
         result: np.ndarray = self.values[index]
         return result
 
@@ -715,8 +719,9 @@ def equilibration(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return row, col
 
 
-def _norm_inf(a: Any) -> Any:
-    if hasattr(a, "tocsr"):
+def _norm_inf(a: Matrix) -> Any:
+    """The infinity norm of a matrix, or of each of a stack (N, n, n) of them."""
+    if hasattr(a, "tocsr") and not isinstance(a, np.ndarray):  # sparse
         return float(abs(a).sum(axis=1).max()) if a.nnz else 0.0
     if a.ndim == 3 and a.shape[-1] == 2:  # a stack of 2 x 2: without short reductions
         row = np.abs(a[:, :, 0]) + np.abs(a[:, :, 1])
@@ -1027,7 +1032,7 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
     N, n = w.shape[0], len(batch.coordinates)
     forces = (rhs @ phi) if rhs.ndim == 2 else np.broadcast_to(rhs @ phi, (N, n))
 
-    def modal(sl: Any) -> np.ndarray:
+    def modal(sl: slice) -> np.ndarray:
         ww = w[sl, None]
         with np.errstate(all="ignore"):
             result: np.ndarray = (forces[sl] / (lam - ww**2 + 1j * ww * diag_c)) @ phi.T

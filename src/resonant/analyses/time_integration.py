@@ -17,7 +17,7 @@ import math
 import sys
 import time
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import Any, TypeAlias, cast
 
 import numpy as np
 import sympy
@@ -26,7 +26,7 @@ from ..deadline import Deadline
 from ..errors import AnalysisError
 from ..expressions import compilable
 from ..model import TIME, Model, symbol
-from ..system import NonlinearSystem, NumericEOM
+from ..system import LinearEOM, LinearSystem, MatrixEOM, NonlinearSystem, NumericEOM
 
 #: most right-hand-side evaluations of one run (all attempts together): beyond it the run
 #: stops with exit 3 and the time reached (about 100 s and 200 MB for a small system)
@@ -82,7 +82,10 @@ def _parameter_args(model: Model) -> tuple[list[sympy.Symbol], list[float]]:
 class LinearDynamics:
     """y = [q, q'] of M q'' + C q' + K q = Q(t); q are deviations."""
 
-    def __init__(self, eom: Any, num: NumericEOM, model: Model) -> None:
+    def __init__(self, eom: LinearSystem, num: NumericEOM, model: Model) -> None:
+        # the loads and signals in sympy: a system derived from a model's energies or
+        # given by its matrices (a bare NumericEOM has no model to simulate)
+        eom = cast("LinearEOM | MatrixEOM", eom)
         self.n = num.n
         self.M, self.C, self.K = num.M, num.C, num.K
         self.Minv = np.linalg.inv(num.M)
@@ -110,7 +113,7 @@ class LinearDynamics:
         self._signals = _lambdify([signals[v] for v in self.signal_vars], [TIME, *params]) \
             if self.signal_vars else None
 
-    def forcing(self, t: Any) -> np.ndarray:
+    def forcing(self, t: float | np.ndarray) -> np.ndarray:
         shape = np.shape(t)
         if self._q is None:
             return np.zeros((self.n, *shape))
@@ -196,6 +199,10 @@ class NonlinearDynamics:
         return q - self.equilibrium[:, None], outputs
 
 
+#: the right-hand side of an integration: the linearized or the full equations
+Dynamics: TypeAlias = LinearDynamics | NonlinearDynamics
+
+
 class Progress:
     """A one-line progress indication on stderr for runs longer than a second."""
 
@@ -220,7 +227,7 @@ class Counter:
     """The right-hand side of one run: counts evaluations, checks the deadline and the
     budget, shows progress, and turns non-finite values into :class:`Breakdown`."""
 
-    def __init__(self, dynamics: Any, duration: float, deadline: Deadline,
+    def __init__(self, dynamics: Dynamics, duration: float, deadline: Deadline,
                  report: Progress) -> None:
         self.dynamics, self.duration, self.deadline, self.report = \
             dynamics, duration, deadline, report
@@ -292,7 +299,7 @@ def _with_fallback(rhs: Counter, y0: np.ndarray, method: str, rtol: float, atol:
     return _solve(rhs, y0, method, rtol, atol), method
 
 
-def integrate(dynamics: Any, y0: np.ndarray, duration: float, method: str, rtol: float,
+def integrate(dynamics: Dynamics, y0: np.ndarray, duration: float, method: str, rtol: float,
               atol: np.ndarray, spread: float, coordinates: Sequence[str], nonlinear: bool,
               warnings: list[str], deadline: Deadline, progress: bool) -> tuple[Any, str]:
     """solve_ivp's result (with dense output) and the method that produced it.

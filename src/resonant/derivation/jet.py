@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 import numpy as np
 import sympy
@@ -39,8 +39,16 @@ from sympy.core.mul import _mulsort
 from ..expressions.functions import MATH
 from ..expressions.functions import SYMPY as SYMPY_CONSTRUCTORS
 
+if TYPE_CHECKING:
+    from types import ModuleType
+
+    import symengine
+
 Var = tuple[str, int]
-Coefficient = Any  # a sympy or symengine expression (or a Python int)
+#: a jet's coefficient: a sympy or symengine expression, or a number (the float backend;
+#: the numeric residual's are :class:`~resonant.derivation.residual.Sized` numbers, which
+#: mypy lets pass where sympy's untyped classes are expected)
+Coefficient: TypeAlias = "sympy.Basic | symengine.Basic | float"
 
 #: sympy constructors of the model language's functions
 SYMPY_FUNCTIONS: Mapping[str, Callable[..., Any]] = SYMPY_CONSTRUCTORS
@@ -79,18 +87,18 @@ class Backend:
             self._derivatives[func] = (u, d1, self.module.diff(d1, u))
         return self._derivatives[func]
 
-    def slopes(self, func: str, value: Any, second: bool) -> tuple[Any, Any]:
+    def slopes(self, func: str, value: Coefficient, second: bool) -> tuple[Any, Any]:
         """(f'(value), f''(value)) of a one-argument function (f'' only if ``second``)."""
         u, d1, d2 = self.derivatives(func)
         return d1.subs({u: value}), (d2.subs({u: value}) if second else 0)
 
-    def is_bad(self, value: Any) -> bool:
+    def is_bad(self, value: object) -> bool:
         """True for infinities and NaN (a function evaluated at a singularity)."""
         m = self.module
         return isinstance(value, self.basic) and any(
             value.has(x) for x in (m.zoo, m.nan, m.oo))
 
-    def to_sympy(self, value: Any, cache: dict | None = None) -> sympy.Expr:
+    def to_sympy(self, value: Coefficient, cache: dict | None = None) -> sympy.Expr:
         if self.name == "sympy":
             return sympy.sympify(value)
         return to_sympy(value, cache)
@@ -129,7 +137,7 @@ class FloatBackend(Backend):
     def pi(self) -> Any:
         return math.pi
 
-    def slopes(self, func: str, value: Any, second: bool) -> tuple[Any, Any]:
+    def slopes(self, func: str, value: Coefficient, second: bool) -> tuple[Any, Any]:
         if func not in self._derivatives:
             u = sympy.Symbol("_jet_u")
             d1 = sympy.diff(SYMPY_FUNCTIONS[func](u), u)
@@ -138,10 +146,10 @@ class FloatBackend(Backend):
         first, other = self._derivatives[func]
         return first(value), (other(value) if second else 0)
 
-    def is_bad(self, value: Any) -> bool:
+    def is_bad(self, value: object) -> bool:
         return not isinstance(value, (int, float)) or not math.isfinite(value)
 
-    def to_sympy(self, value: Any, cache: dict | None = None) -> sympy.Expr:
+    def to_sympy(self, value: Coefficient, cache: dict | None = None) -> sympy.Expr:
         return sympy.sympify(value)
 
     def add(self, terms: list[Any]) -> Any:
@@ -559,7 +567,7 @@ def _sorted_factors(args: list[sympy.Expr]) -> list[sympy.Expr]:
     return numbers + [a for _, a in keyed]
 
 
-def _convert(e: Any, cache: dict, se: Any) -> sympy.Expr:
+def _convert(e: symengine.Basic, cache: dict, se: ModuleType) -> sympy.Expr:
     if e in cache:
         return cache[e]
     if isinstance(e, se.Symbol):

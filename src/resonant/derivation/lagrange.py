@@ -49,7 +49,7 @@ from ..expressions import Expression, numeric_value
 from ..expressions.functions import MATH
 from ..model import TIME, Model, symbol
 from ..model.loader import definition_chain
-from .jet import FLOAT, SYMPY, Backend, Jet, NotDifferentiable, Var, backend
+from .jet import FLOAT, SYMPY, Backend, Coefficient, Jet, NotDifferentiable, Var, backend
 from .nonlinear import derivative_symbol, find_equilibrium
 from .residual import Sized, is_zero
 
@@ -244,7 +244,7 @@ class _JetOps:
     def pi(self) -> Jet:
         return Jet(self.cas.pi)
 
-    def to_sympy(self, value: Any) -> sympy.Expr:
+    def to_sympy(self, value: Coefficient) -> sympy.Expr:
         return self.cas.to_sympy(value, self.converted)
 
     def name(self, name: str, primes: int) -> Jet:
@@ -297,7 +297,7 @@ class _JetOps:
         self.tick()
         return self.whole(a) * self.whole(b)
 
-    def guard(self, value: Any) -> None:
+    def guard(self, value: Coefficient) -> None:
         """In the numeric path: a near-zero where an exact zero changes the result."""
         if self.numeric and abs(value) < SINGULAR_GUARD:
             raise _Inexact
@@ -387,7 +387,7 @@ class _FirstOrderOps(_JetOps):
         self.equilibrium = {q: Sized(float(v)) for q, v in self.equilibrium.items()}
 
     @staticmethod
-    def _linear(const: Any, slope: Any, jet: Jet) -> Jet:
+    def _linear(const: Sized | float, slope: Sized | float, jet: Jet) -> Jet:
         """const + slope * (jet - its constant)."""
         return Jet(const, {k: slope * v for k, v in jet.lin.items()})
 

@@ -23,7 +23,7 @@ False
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
+from typing import Any, SupportsFloat
 
 import mpmath  # type: ignore[import-untyped]
 import sympy
@@ -134,44 +134,44 @@ class Sized:
         self.size = abs(value) if size is None else size
 
     @staticmethod
-    def of(x: Any) -> Sized:
+    def of(x: SupportsFloat) -> Sized:
         return x if isinstance(x, Sized) else Sized(float(x))
 
     def is_zero(self) -> bool:
         """Whether the value is rounding noise of the terms that formed it."""
         return abs(self.value) <= RELATIVE_TOLERANCE * self.size or abs(self.value) <= 1e-300
 
-    def __add__(self, other: Any) -> Sized:
+    def __add__(self, other: SupportsFloat) -> Sized:
         o = Sized.of(other)
         return Sized(self.value + o.value, self.size + o.size)
 
     __radd__ = __add__
 
-    def __sub__(self, other: Any) -> Sized:
+    def __sub__(self, other: SupportsFloat) -> Sized:
         o = Sized.of(other)
         return Sized(self.value - o.value, self.size + o.size)
 
-    def __rsub__(self, other: Any) -> Sized:
+    def __rsub__(self, other: SupportsFloat) -> Sized:
         return Sized.of(other) - self
 
     def __neg__(self) -> Sized:
         return Sized(-self.value, self.size)
 
-    def __mul__(self, other: Any) -> Sized:
+    def __mul__(self, other: SupportsFloat) -> Sized:
         o = Sized.of(other)
         return Sized(self.value * o.value, self.size * o.size)
 
     __rmul__ = __mul__
 
-    def __truediv__(self, other: Any) -> Sized:
+    def __truediv__(self, other: SupportsFloat) -> Sized:
         o = Sized.of(other)
         # a * b^-1, the size of b^-1 as magnitude() propagates it: size(b) / b^2
         return Sized(self.value / o.value, self.size * o.size / o.value**2)
 
-    def __rtruediv__(self, other: Any) -> Sized:
+    def __rtruediv__(self, other: SupportsFloat) -> Sized:
         return Sized.of(other) / self
 
-    def __pow__(self, exponent: Any) -> Sized:
+    def __pow__(self, exponent: SupportsFloat) -> Sized:
         e = float(exponent.value if isinstance(exponent, Sized) else exponent)
         value = self.value ** e
         if not isinstance(value, float):

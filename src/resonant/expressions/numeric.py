@@ -11,13 +11,18 @@ array([4., 6.])
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
+from typing import Any, TypeAlias, TypeVar
 
 import numpy as np
+import numpy.typing as npt
 import sympy
 
 from .functions import NUMPY
 from .parser import Expression
+
+#: a value while folding: a number, or an array of them (one per set of parameter values)
+Value: TypeAlias = float | npt.NDArray[np.floating[Any]]
+_E = TypeVar("_E")
 
 
 class FloatOps:
@@ -39,13 +44,13 @@ class FloatOps:
     array([4., 9.])
     """
 
-    def __init__(self, values: Mapping[str, Any]) -> None:
+    def __init__(self, values: Mapping[str, Value]) -> None:
         self.values = values
 
     def num(self, text: str) -> float:
         return float(text)
 
-    def name(self, name: str, primes: int) -> Any:
+    def name(self, name: str, primes: int) -> Value:
         if primes:
             return 0.0  # parameters are constants: their time derivatives vanish
         return self.values[name]
@@ -53,25 +58,25 @@ class FloatOps:
     def pi(self) -> float:
         return float(np.pi)
 
-    def add(self, a: Any, b: Any) -> Any:
+    def add(self, a: Value, b: Value) -> Value:
         return a + b
 
-    def sub(self, a: Any, b: Any) -> Any:
+    def sub(self, a: Value, b: Value) -> Value:
         return a - b
 
-    def mul(self, a: Any, b: Any) -> Any:
+    def mul(self, a: Value, b: Value) -> Value:
         return a * b
 
-    def div(self, a: Any, b: Any) -> Any:
+    def div(self, a: Value, b: Value) -> Value:
         return np.divide(a, b)
 
-    def neg(self, a: Any) -> Any:
+    def neg(self, a: Value) -> Value:
         return -a
 
-    def pow(self, a: Any, b: Any) -> Any:
+    def pow(self, a: Value, b: Value) -> Value:
         return np.power(np.asarray(a, dtype=float), b)
 
-    def call(self, func: str, args: list[Any]) -> Any:
+    def call(self, func: str, args: list[Value]) -> Value:
         return NUMPY[func](*args)
 
 
@@ -108,7 +113,7 @@ def _inexact(number: sympy.Basic) -> bool:
     return bool(number.is_Rational and (abs(number.p) > _EXACT_LIMIT or number.q > _EXACT_LIMIT))
 
 
-def compilable(expression: Any) -> Any:
+def compilable(expression: _E) -> _E:
     """``expression`` with its huge exact numbers as floats, ready for :func:`sympy.lambdify`.
 
     A lambdified sympy expression writes an exact integer as a Python ``int``;

@@ -21,7 +21,7 @@ import operator
 import re
 from collections.abc import Callable, Collection
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Protocol, TypeVar
 
 import sympy
 
@@ -207,6 +207,24 @@ class Neg:
 Node = Num | Name | Call | BinOp | Neg
 _OPS = {"+": "add", "-": "sub", "*": "mul", "/": "div", "^": "pow"}
 
+_T = TypeVar("_T")
+_N = TypeVar("_N", bound=Node)
+
+
+class FoldOps(Protocol[_T]):
+    """The operations :meth:`Expression.fold` evaluates a tree with; ``_T`` is their value."""
+
+    def num(self, text: str) -> _T: ...
+    def name(self, name: str, primes: int) -> _T: ...
+    def pi(self) -> _T: ...
+    def add(self, a: _T, b: _T) -> _T: ...
+    def sub(self, a: _T, b: _T) -> _T: ...
+    def mul(self, a: _T, b: _T) -> _T: ...
+    def div(self, a: _T, b: _T) -> _T: ...
+    def pow(self, a: _T, b: _T) -> _T: ...
+    def neg(self, a: _T) -> _T: ...
+    def call(self, func: str, args: list[_T]) -> _T: ...
+
 
 def _children(node: Node) -> tuple[Node, ...]:
     if isinstance(node, BinOp):
@@ -255,7 +273,7 @@ class Expression:
             stack.extend(_children(node))
         return frozenset(found)
 
-    def fold(self, ops: Any) -> Any:
+    def fold(self, ops: FoldOps[_T]) -> _T:
         """Evaluate the tree bottom-up with the methods of ``ops``.
 
         ``ops`` provides ``num(text)``, ``name(name, primes)``, ``pi()``,
@@ -273,7 +291,7 @@ class Expression:
         507.0
         """
         stack: list[tuple[Node, bool]] = [(self.root, False)]
-        out: list[Any] = []
+        out: list[_T] = []
         while stack:
             node, expanded = stack.pop()
             if isinstance(node, Num):
@@ -390,7 +408,7 @@ class _Parser:
     def peek(self) -> tuple[str, str, int, int]:
         return self.tokens[self.i]
 
-    def node(self, cls: type, *args: Any) -> Any:
+    def node(self, cls: Callable[..., _N], *args: object) -> _N:
         self.nodes += 1
         if self.nodes > MAX_NODES:
             raise self.error(f"expression too large (more than {MAX_NODES} nodes)", None)
@@ -613,7 +631,7 @@ class _Pending:
 
     def __init__(self, mul: bool) -> None:
         self.mul, self.coeff = mul, sympy.Integer(int(mul))
-        self.items: list[Any] = []
+        self.items: list[sympy.Expr] = []
 
 
 class _SympyOps:
@@ -624,7 +642,8 @@ class _SympyOps:
     numeric coefficient accumulated eagerly so it can be bounded at each step.
     """
 
-    def __init__(self, resolve: Callable[[str, int], Any], expression: Expression):
+    def __init__(self, resolve: Callable[[str, int], sympy.Expr | int | float],
+                 expression: Expression) -> None:
         self.resolve, self.expression = resolve, expression
 
     def fail(self, reason: str) -> ExpressionError:
@@ -687,22 +706,22 @@ class _SympyOps:
     def pi(self) -> sympy.Expr:
         return sympy.pi
 
-    def add(self, a: Any, b: Any) -> _Pending:
+    def add(self, a: sympy.Expr | _Pending, b: sympy.Expr | _Pending) -> _Pending:
         return self.collect(a, self.done(b), mul=False)
 
-    def sub(self, a: Any, b: Any) -> _Pending:
+    def sub(self, a: sympy.Expr | _Pending, b: sympy.Expr | _Pending) -> _Pending:
         return self.collect(a, -self.done(b), mul=False)
 
-    def mul(self, a: Any, b: Any) -> _Pending:
+    def mul(self, a: sympy.Expr | _Pending, b: sympy.Expr | _Pending) -> _Pending:
         return self.collect(a, self.done(b), mul=True)
 
-    def div(self, a: Any, b: Any) -> _Pending:
+    def div(self, a: sympy.Expr | _Pending, b: sympy.Expr | _Pending) -> _Pending:
         return self.collect(a, sympy.Pow(self.done(b), -1), mul=True)
 
-    def neg(self, a: Any) -> sympy.Expr:
+    def neg(self, a: sympy.Expr | _Pending) -> sympy.Expr:
         return -self.done(a)
 
-    def pow(self, a: Any, b: Any) -> sympy.Expr:
+    def pow(self, a: sympy.Expr | _Pending, b: sympy.Expr | _Pending) -> sympy.Expr:
         a, b = self.done(a), self.done(b)
         if _huge(b, MAX_EXPONENT):
             raise self.fail(f"exponent too large (at most {MAX_EXPONENT} in magnitude)")
@@ -716,10 +735,10 @@ class _SympyOps:
                 return self.check(sympy.Pow(sympy.Float(a, _FLOAT_DIGITS), b))
         return self.check(sympy.Pow(a, b))
 
-    def call(self, func: str, args: list[Any]) -> sympy.Expr:
-        args = [self.done(a) for a in args]
+    def call(self, func: str, args: list[sympy.Expr | _Pending]) -> sympy.Expr:
+        values = [self.done(a) for a in args]
         # exp(c*log(b)) evaluates to b**c: bound c like any exponent.
-        if func == "exp" and args[0].has(sympy.log) and any(
-                _huge(n, MAX_EXPONENT) for n in args[0].atoms(sympy.Number)):
+        if func == "exp" and values[0].has(sympy.log) and any(
+                _huge(n, MAX_EXPONENT) for n in values[0].atoms(sympy.Number)):
             raise self.fail(f"exponent too large (at most {MAX_EXPONENT} in magnitude)")
-        return self.check(SYMPY[func](*args))
+        return self.check(SYMPY[func](*values))

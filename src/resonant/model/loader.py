@@ -36,6 +36,7 @@ from typing import Any
 
 import sympy
 
+from ..arrays import Matrix
 from ..errors import ModelError, Problem
 from ..expressions import (
     BinOp,
@@ -47,6 +48,7 @@ from ..expressions import (
     parse,
     validate_name,
 )
+from ..expressions.parser import Node
 from . import limits
 from .dimensions import check_units
 from .exercise import Exercise, parse_exercise
@@ -65,7 +67,7 @@ from .load_spec import parse_fatigue, parse_periodic, parse_shock
 from .matrix_files import read_matrix_spec
 from .nonlinear_elements import read_nonlinear_elements
 from .part_energies import Mechanism, derive_energies, point_expressions
-from .parts import DerivedEnergies, read_parts
+from .parts import DerivedEnergies, Parts, read_parts
 from .random_spec import parse_random
 from .study import parse_study
 from .types import (
@@ -238,7 +240,7 @@ class _Builder:
         self.declared[name] = section
         return True
 
-    def expression(self, value: Any, section: str, key: str,
+    def expression(self, value: object, section: str, key: str,
                    allowed: Collection[str]) -> Expression | None:
         if isinstance(value, bool) or not isinstance(value, (str, int, float)):
             self.problem(f"expected a number or an expression string, got "
@@ -250,7 +252,7 @@ class _Builder:
             self.problems.extend(exc.problems)
             return None
 
-    def valued(self, value: Any, section: str, key: str, allowed: Collection[str],
+    def valued(self, value: object, section: str, key: str, allowed: Collection[str],
                file: str | None = None, name: str | None = None) -> Expression | None:
         """A parameter value, with an optional unit after it (converted to SI)."""
         if isinstance(value, bool) or not isinstance(value, (str, int, float)):
@@ -661,7 +663,7 @@ class _Builder:
                          "matrix", "energy", "T")
         return out
 
-    def mechanism(self, parts: Any, params: list[str], coordinates: list[str],
+    def mechanism(self, parts: Parts | None, params: list[str], coordinates: list[str],
                   signals: Mapping[str, Expression], definitions: Mapping[str, Expression],
                   equilibrium: Mapping[str, Expression]) -> Mechanism | None:
         """The geometry of the parts (resonant.model.part_energies), None without parts."""
@@ -774,7 +776,7 @@ class _Cycle(Exception):
 
 # -- resource limits ---------------------------------------------------------------------------
 
-def _exponent_value(node: Any) -> float | None:
+def _exponent_value(node: Node) -> float | None:
     """The value of a literal exponent (``2``, ``-1``, ``(3)``), else None."""
     if isinstance(node, Num):
         return float(node.value)
@@ -791,7 +793,7 @@ def _inlined_cost(expression: Expression, costs: Mapping[str, tuple[float, float
     ``size`` counts tree nodes with multiplicity (what repeated substitution builds);
     ``degree`` is the polynomial degree, a function of a variable counting as 1.
     """
-    stack: list[tuple[Any, bool]] = [(expression.root, False)]
+    stack: list[tuple[Node, bool]] = [(expression.root, False)]
     out: list[tuple[float, float]] = []
     while stack:
         node, expanded = stack.pop()
@@ -881,7 +883,7 @@ def definition_chain(definitions: Mapping[str, Expression]) -> str:
     return f" (definition chain {' -> '.join(chain)}{more}, {levels} levels)"
 
 
-def _matrix_size(matrix: Any) -> int:
+def _matrix_size(matrix: Matrix | list[Any]) -> int:
     return int(matrix.shape[0]) if hasattr(matrix, "shape") else len(matrix)
 
 

@@ -34,7 +34,7 @@ import zipfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import IO, Any
+from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -45,6 +45,9 @@ from ..expressions.numeric import numeric_value
 from . import inline_matrices, limits
 from .files import FileRefused, open_regular_file, read_bounded
 from .types import Harmonic, MatrixSpec
+
+if TYPE_CHECKING:
+    import pyarrow
 
 MATRIX_KEYS = ("M", "K", "C")
 MODAL_KEY = "modal_damping"
@@ -228,7 +231,7 @@ def _check_dtype(dtype: np.dtype, what: str, text: bool = False) -> None:
     raise FileRefused(f"{what} {reason}")
 
 
-def _check_size(n: Any, m: Any, what: str) -> int:
+def _check_size(n: object, m: object, what: str) -> int:
     """The size n of an n x n matrix, checked against the limits."""
     if not (isinstance(n, (int, np.integer)) and isinstance(m, (int, np.integer))):
         raise FileRefused(f"{what} has no valid shape")
@@ -583,7 +586,7 @@ def _mtx_entries(fields: list[bytes], coordinate: bool, symmetry: str, size: int
     return n, entries
 
 
-def _mtx_arrow_indices(column: Any, n: int) -> np.ndarray | None:
+def _mtx_arrow_indices(column: pyarrow.ChunkedArray, n: int) -> np.ndarray | None:
     """A column of 1-based indices (a chunked pyarrow integer array) as 0-based indices of
     scipy's index type, in one pass over the chunks; None if one lies outside 1..n."""
     index = _mtx_index_type(n)
@@ -598,7 +601,7 @@ def _mtx_arrow_indices(column: Any, n: int) -> np.ndarray | None:
     return out
 
 
-def _arrow_numbers(chunk: Any, dtype: type[np.number]) -> np.ndarray:
+def _arrow_numbers(chunk: pyarrow.Array, dtype: type[np.number]) -> np.ndarray:
     """A pyarrow array of ``dtype`` numbers without nulls as a read-only view of its data
     buffer: pyarrow's own ``to_numpy`` imports pandas, half a second in every process
     that reads a matrix file, and most of them never use pandas."""
@@ -679,7 +682,7 @@ def _read_mtx(handle: IO[bytes], size: int) -> Any:
     return _mtx_sparse(values, n, symmetry) if coordinate else _mtx_dense(values, n, symmetry)
 
 
-def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
+def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
                      coordinates: Sequence[str], source: str, base_dir: Path | None,
                      allow_paths: Sequence[str | os.PathLike[str]] = (),
                      inline_arrays: Mapping[str, np.ndarray] | None = None) -> MatrixSpec:
@@ -743,8 +746,8 @@ def read_matrix_spec(section: Any, harmonics: Any, params: Sequence[str],
                       harmonics=tuple(h for h in parsed if h is not None))
 
 
-def _harmonics_given(section: dict, harmonics: Any, source: str, problems: list[Problem]
-                     ) -> Any:
+def _harmonics_given(section: dict, harmonics: object, source: str, problems: list[Problem]
+                     ) -> object:
     """The harmonics: top-level ``[[harmonic]]`` or ``harmonic = [...]`` in [matrices]."""
     if "harmonic" not in section:
         return harmonics
@@ -763,7 +766,7 @@ def _harmonics_given(section: dict, harmonics: Any, source: str, problems: list[
     return inner
 
 
-def _matrix(key: str, value: Any, params: Sequence[str], source: str, base_dir: Path | None,
+def _matrix(key: str, value: object, params: Sequence[str], source: str, base_dir: Path | None,
             allow_paths: Sequence[str | os.PathLike[str]],
             inline_arrays: Mapping[str, np.ndarray], problems: list[Problem]) -> Any:
     """One of M, C, K: read from its file, inline numbers or expressions (None: a problem)."""
@@ -817,7 +820,7 @@ class _LoadContext:
     allow_paths: Sequence[str | os.PathLike[str]]
 
 
-def _load_vector(vec: Any, key: str, n: int, where: str, source: str,
+def _load_vector(vec: object, key: str, n: int, where: str, source: str,
                  loads: _LoadContext | None) -> list[Any]:
     """The n entries of F_S or F_C given as a list, a file or named entries."""
     if isinstance(vec, str) and loads is not None:
@@ -962,13 +965,13 @@ def _modal_matrix(ratios: np.ndarray, M: Matrix | list[Any], K: Matrix | list[An
     return np.asarray(0.5 * (C + C.T), dtype=float)
 
 
-def _rayleigh_matrix(coefficients: tuple[Expression, Expression], M: Any, K: Any,
-                     params: Sequence[str], source: str, problems: list[Problem]) -> Any:
+def _rayleigh_matrix(coefficients: tuple[Expression, Expression], M: Matrix | list[Any],
+                     K: Matrix | list[Any], params: Sequence[str], source: str,
+                     problems: list[Problem]) -> Any:
     """C = alpha M + beta K: numbers for numeric M, K (file or plain numbers); entry
     expressions for inline expression matrices."""
     alpha, beta = coefficients
-    numeric = not isinstance(M, list) and not isinstance(K, list)
-    if numeric:
+    if not isinstance(M, list) and not isinstance(K, list):  # numbers
         if alpha.names() or beta.names():
             problems.append(Problem(
                 "Rayleigh damping of matrices read from files or given as numbers needs "
@@ -984,10 +987,10 @@ def _rayleigh_matrix(coefficients: tuple[Expression, Expression], M: Any, K: Any
         C = a * M + b * K
         return C.tocsr() if hasattr(C, "tocsr") else np.asarray(C, dtype=float)
 
-    def text(entry: Any) -> str:
+    def text(entry: Expression | float) -> str:
         return entry.text if isinstance(entry, Expression) else repr(float(entry))
 
-    def rows(matrix: Any) -> list[list[Any]]:
+    def rows(matrix: Matrix | list[Any]) -> list[list[Any]]:
         if isinstance(matrix, list):
             return matrix
         dense = matrix.toarray() if hasattr(matrix, "toarray") else np.asarray(matrix)
@@ -1002,7 +1005,7 @@ def _rayleigh_matrix(coefficients: tuple[Expression, Expression], M: Any, K: Any
     return out
 
 
-def _harmonic(entry: Any, where: str, n: int, params: Sequence[str], source: str,
+def _harmonic(entry: object, where: str, n: int, params: Sequence[str], source: str,
               problems: list[Problem], loads: _LoadContext | None = None
               ) -> Harmonic | None:
     """One ``[[harmonic]]``: omega and the load vectors F_S, F_C of n entries (a list, a
@@ -1068,7 +1071,7 @@ def _inline_entries(value: list[list[Any]], key: str, params: Sequence[str], sou
     return rows
 
 
-def _entry(value: Any, params: Sequence[str], source: str, key: str,
+def _entry(value: object, params: Sequence[str], source: str, key: str,
            section: str = "matrices") -> Expression:
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
         raise ModelError(Problem(f"expected a number or an expression, got "

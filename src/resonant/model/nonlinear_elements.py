@@ -30,7 +30,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import sympy
 
@@ -90,7 +89,7 @@ def _finite(expression: Expression) -> bool:
     return not exact.has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo)
 
 
-def _entry(entry: Any, number: int, params: Sequence[str], coordinates: Sequence[str],
+def _entry(entry: object, number: int, params: Sequence[str], coordinates: Sequence[str],
            source: str, problems: list[Problem]) -> NonlinearElement | None:
     where = f"nonlinear {number}"
     if not isinstance(entry, dict):
@@ -172,7 +171,7 @@ def _entry(entry: Any, number: int, params: Sequence[str], coordinates: Sequence
                             **parsed)
 
 
-def read_nonlinear_elements(entries: Any, params: Sequence[str], coordinates: Sequence[str],
+def read_nonlinear_elements(entries: object, params: Sequence[str], coordinates: Sequence[str],
                             source: str) -> tuple[NonlinearElement, ...]:
     """Validate the ``[[nonlinear]]`` entries; every problem in one ModelError.
 

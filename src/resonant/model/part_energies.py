@@ -59,20 +59,20 @@ _T = TIME  # never a model name (reserved): the time of the functions
 class _Printer(StrPrinter):
     """sympy -> text of the model language (``**`` powers, ``x'`` rates)."""
 
-    def _print_Derivative(self, expr: Any) -> str:
+    def _print_Derivative(self, expr: sympy.Derivative) -> str:
         function, *variables = expr.args
         order = sum(int(count) for _, count in variables)
         return f"{function.func.__name__}{chr(39) * order}"
 
-    def _print_Function(self, expr: Any) -> str:
+    def _print_Function(self, expr: sympy.Function) -> str:
         if isinstance(expr, AppliedUndef):
             return str(expr.func.__name__)
         return str(super()._print_Function(expr))
 
-    def _print_Exp1(self, expr: Any) -> str:
+    def _print_Exp1(self, expr: sympy.Expr) -> str:
         return "exp(1)"
 
-    def _print_Float(self, expr: Any) -> str:
+    def _print_Float(self, expr: sympy.Float) -> str:
         return repr(float(expr))
 
 

@@ -187,7 +187,7 @@ class RandomSpec:
     source: str = field(default="", compare=False)
 
 
-def _unit_factor(text: Any, where: tuple[str, str, str], problems: list[Problem]
+def _unit_factor(text: object, where: tuple[str, str, str], problems: list[Problem]
                  ) -> tuple[float, Dimension | None] | None:
     """(SI factor per Hz, dimension of the density's quantity) of a density's unit."""
     if not isinstance(text, str) or not text.strip():
@@ -236,7 +236,7 @@ def _table(values: list, where: tuple[str, str, str], problems: list[Problem]
     return table
 
 
-def _vector(value: Any, allowed: list[str], n: int | None, where: tuple[str, str, str],
+def _vector(value: object, allowed: list[str], n: int | None, where: tuple[str, str, str],
             problems: list[Problem]) -> tuple[Expression, ...]:
     if not isinstance(value, list) or (n is not None and len(value) != n):
         problems.append(Problem(f"expected a list of {n if n is not None else 'the'} "
@@ -252,7 +252,7 @@ def _vector(value: Any, allowed: list[str], n: int | None, where: tuple[str, str
     return tuple(out)
 
 
-def _input(name: str, table: Any, params: list[str], signals: Sequence[str],
+def _input(name: str, table: object, params: list[str], signals: Sequence[str],
            coordinates: Sequence[str], units: ModelUnits | None, source: str,
            problems: list[Problem]) -> RandomInput | None:
     section = f"{SECTION}.psd.{name}"
@@ -338,7 +338,7 @@ def _check_dimension(name: str, quantity: Dimension | None, derivative: int, bas
                                 f"({expected.text() or '1'})^2/Hz", *where))
 
 
-def _coherence(entry: Any, index: int, params: list[str], names: list[str], source: str,
+def _coherence(entry: object, index: int, params: list[str], names: list[str], source: str,
                problems: list[Problem]) -> Coherence | None:
     section = f"{SECTION}.coherence"
     key = f"#{index + 1}"
@@ -366,14 +366,14 @@ def _coherence(entry: Any, index: int, params: list[str], names: list[str], sour
     return Coherence(pair[0], pair[1], value, phase)
 
 
-def parse_random(data: Any, params: list[str], signals: Sequence[str],
+def parse_random(data: object, params: list[str], signals: Sequence[str],
                  coordinates: Sequence[str], source: str, problems: list[Problem],
                  units: ModelUnits | None = None) -> RandomSpec | None:
     """The ``[random]`` section, its problems appended to ``problems``.
 
     Parameters
     ----------
-    data : Any
+    data : object
         The section as read from TOML.
     params : list of str
         The parameters (allowed in expressions, with ``f``).
@@ -442,7 +442,7 @@ def parse_random(data: Any, params: list[str], signals: Sequence[str],
                       int(lines), source)
 
 
-def _band(value: Any, inputs: list[RandomInput], source: str, problems: list[Problem]
+def _band(value: object, inputs: list[RandomInput], source: str, problems: list[Problem]
           ) -> tuple[float, float] | None:
     tables = [i for i in inputs if i.table is not None]
     if value is None:

@@ -35,10 +35,13 @@ import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..deadline import NO_DEADLINE, AnalysisTimeout, Deadline
 from ..errors import AnalysisError, ModelError, Problem, printable
+
+if TYPE_CHECKING:
+    from dask.distributed import Client, Future, LocalCluster
 
 #: below this many seconds of estimated work, local workers are not started
 START_UP_SECONDS = 4.0
@@ -195,7 +198,7 @@ class Engine:
     mode: str = "auto"
     workers: int | None = None
     scheduler: str | None = None
-    client: Any = None
+    client: Client | None = None
     deadline: Deadline = field(default=NO_DEADLINE, compare=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -219,7 +222,7 @@ class Engine:
 
 
 @contextlib.contextmanager
-def _client(engine: Engine, function: Callable[..., Any]) -> Iterator[Any]:
+def _client(engine: Engine, function: Callable[..., Any]) -> Iterator[Client]:
     """A Dask client for the engine, its local workers set up to run ``function``; what it
     starts, it stops."""
     import dask
@@ -249,8 +252,8 @@ def _client(engine: Engine, function: Callable[..., Any]) -> Iterator[Any]:
 
 
 @contextlib.contextmanager
-def _local_cluster(cluster_type: Any, workers: int, deadline: Deadline = NO_DEADLINE
-                   ) -> Iterator[Any]:
+def _local_cluster(cluster_type: Callable[..., LocalCluster], workers: int,
+                   deadline: Deadline = NO_DEADLINE) -> Iterator[LocalCluster]:
     """Start local workers within the run's time limit; a failure to start them is an
     error in one line."""
     try:
@@ -267,7 +270,8 @@ def _local_cluster(cluster_type: Any, workers: int, deadline: Deadline = NO_DEAD
         yield cluster
 
 
-def _started(cluster_type: Callable[..., Any], workers: int, deadline: Deadline) -> Any:
+def _started(cluster_type: Callable[..., LocalCluster], workers: int, deadline: Deadline
+             ) -> LocalCluster:
     """The cluster, started on a thread and waited for no longer than the deadline allows
     (Dask bounds each worker's start by its own timeouts, not by the run's limit).  A
     cluster whose start is given up is closed as soon as it is up."""
@@ -307,14 +311,19 @@ def _abandon_clusters() -> None:
     Their worker processes are daemons and end with this process."""
     from distributed.deploy.spec import SpecCluster
 
-    for cluster in list(SpecCluster._instances):
+    clusters = list(SpecCluster._instances)
+    for cluster in clusters:
         with contextlib.suppress(Exception):
             cluster.close(timeout=5)
-        SpecCluster._instances.discard(cluster)
+    # forgotten by identity: the set's own ``discard`` compares clusters by name, which one
+    # cut short in its constructor does not have yet (an AttributeError)
+    others = [c for c in SpecCluster._instances if not any(c is d for d in clusters)]
+    SpecCluster._instances.clear()
+    SpecCluster._instances.update(others)
 
 
 @contextlib.contextmanager
-def _connect(engine: Engine) -> Iterator[Any]:
+def _connect(engine: Engine) -> Iterator[Client]:
     """A client of the scheduler at ``engine.scheduler``, connected within the run's time
     limit (Dask's own connect timeout does not bound a peer that accepts the connection
     and never answers: the connection is made on a thread, waited for up to the limit)."""
@@ -383,7 +392,7 @@ def _on_dask(function: Callable[..., Any], tasks: Iterator[tuple], engine: Engin
                 future.cancel()
 
 
-def _result(future: Any, deadline: Deadline) -> Any:
+def _result(future: Future, deadline: Deadline) -> Any:
     """A task's result, waited for no longer than the deadline allows."""
     try:
         return future.result(timeout=deadline.remaining())
@@ -464,7 +473,7 @@ def _chain(first: list[tuple], rest: Iterator[tuple]) -> Iterator[tuple]:
 
 
 def engine_for(workers: int | None = None, scheduler: str | None = None,
-               client: Any = None, deadline: Deadline = NO_DEADLINE) -> Engine:
+               client: Client | None = None, deadline: Deadline = NO_DEADLINE) -> Engine:
     """The engine for the usual arguments: ``workers=0`` this process, ``workers=N`` N
     local workers, a ``scheduler`` address or a ``client`` their cluster, none of them
     ``auto``.

@@ -27,11 +27,14 @@ import math
 import os
 from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import ModelError, Problem
+
+if TYPE_CHECKING:
+    import pyarrow
 
 METADATA_KEY = b"resonant.study"
 FORMATS = (".parquet", ".csv")
@@ -179,11 +182,11 @@ def completed_rows(path: str | os.PathLike[str]) -> int:
         return max(0, sum(1 for line in handle if line.endswith(b"\n")) - 1)
 
 
-def _number(value: Any) -> bool:
+def _number(value: object) -> bool:
     """A cell that reads as a floating-point number (NaN, infinities and blanks
     included; not digits beyond the range of floats, which read as infinite)."""
     try:
-        x = float(value)
+        x = float(value)  # type: ignore[arg-type]  # any cell: float() is the test
     except (TypeError, ValueError, OverflowError):
         return False
     return not math.isinf(x) or str(value).strip().lstrip("+-").lower() in ("inf", "infinity")
@@ -314,7 +317,7 @@ class ResultWriter:
                 dst.write(line)
         self.rows = keep_rows
 
-    def _write_table(self, table: Any) -> None:
+    def _write_table(self, table: pyarrow.Table) -> None:
         import pyarrow.parquet as pq
 
         if self._writer is None:

@@ -40,10 +40,11 @@ from ..analyses.random_response import random_response
 from ..analyses.shock import shock_response_spectrum
 from ..analyses.sweep import amplitude_and_phase, amplitudes, harmonic_responses, kept_coordinates
 from ..analyses.transient import shock_response
+from ..arrays import Matrix
 from ..errors import ModelError, Problem, ResonantError
 from ..expressions import numeric_value
 from ..model import Model
-from ..model.study import StudySpec
+from ..model.study import Band, StudySpec
 from ..system import Batch, LinearSystem, NonlinearSystem, nonlinear_system
 from ..system.base import numeric_point
 from ..system.modal import (
@@ -148,7 +149,7 @@ def sample_parameters(model: Model, varied: Mapping[str, np.ndarray | float], co
     return out, bad, reasons
 
 
-def _stack(a: Any) -> np.ndarray:
+def _stack(a: Matrix) -> np.ndarray:
     """A matrix as a stack: (N, n, n), or (1, n, n) when it is the same for every sample
     (so that what depends on it alone is computed once)."""
     a = a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
@@ -326,7 +327,7 @@ def _peak_search(system: LinearSystem, model: Model, values: Mapping[str, Any],
     return best, where
 
 
-def _shared_band(system: LinearSystem, model: Model, values: Mapping[str, Any], band: Any,
+def _shared_band(system: LinearSystem, model: Model, values: Mapping[str, Any], band: Band,
                  grid: np.ndarray, names: Sequence[str]) -> ReducedBand | None:
     """One sample of a large model: its reduced model over the band, where it pays."""
     if grid.shape[0] != 1 or system.n <= SMALL:
@@ -335,7 +336,7 @@ def _shared_band(system: LinearSystem, model: Model, values: Mapping[str, Any], 
     return reduced_band(system.evaluate(band_values, size), grid[0], names)
 
 
-def _vertex(center: np.ndarray, step: np.ndarray, band: Any, last: np.ndarray,
+def _vertex(center: np.ndarray, step: np.ndarray, band: Band, last: np.ndarray,
             points: np.ndarray) -> np.ndarray:
     """The vertex of the parabola through the best of the last round and its neighbours."""
     a = np.where(np.isfinite(last), last, -np.inf)
@@ -352,14 +353,14 @@ def _vertex(center: np.ndarray, step: np.ndarray, band: Any, last: np.ndarray,
     return np.clip(vertex, band.start, band.stop)[:, None]
 
 
-def _refined(center: np.ndarray, step: np.ndarray, band: Any) -> np.ndarray:
+def _refined(center: np.ndarray, step: np.ndarray, band: Band) -> np.ndarray:
     """REFINE_POINTS points from one grid step below ``center`` to one above, in the band."""
     offsets = np.linspace(-1.0, 1.0, REFINE_POINTS)
     points = center[:, None] + step[:, None] * offsets
     return np.clip(np.nan_to_num(points, nan=band.start), band.start, band.stop)
 
 
-def undamped_resonance_in_band(lam: np.ndarray, C: np.ndarray, band: Any) -> np.ndarray:
+def undamped_resonance_in_band(lam: np.ndarray, C: np.ndarray, band: Band) -> np.ndarray:
     """Samples without damping that have a natural frequency in the band: their peak is
     unbounded (a mode the load does not excite is counted too)."""
     undamped = ~np.any(C != 0, axis=(1, 2))

@@ -17,18 +17,21 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..model.study import StudySpec
 from .designs import sobol_problem
 
+if TYPE_CHECKING:
+    import pandas as pd
+
 #: the quantiles of a summary
 QUANTILES = (0.05, 0.5, 0.95)
 
 
-def summary_table(frame: Any, columns: Sequence[str]) -> Any:
+def summary_table(frame: pd.DataFrame, columns: Sequence[str]) -> pd.DataFrame:
     """Count, mean, standard deviation, extremes and quantiles of each column.
 
     Parameters
@@ -78,7 +81,7 @@ def bootstrap_seed(seed: int) -> int:
     return int(seed) % (2**32 - 1) + 1
 
 
-def sobol_indices(frame: Any, spec: StudySpec, seed: int | None = None
+def sobol_indices(frame: pd.DataFrame, spec: StudySpec, seed: int | None = None
                   ) -> dict[str, dict[str, Any]]:
     """First-order and total Sobol indices of every quantity, with 95 % confidence
     intervals, by SALib from the rows of a ``sobol`` design (in sample order).

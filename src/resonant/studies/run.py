@@ -29,7 +29,7 @@ import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -45,6 +45,9 @@ from .engine import Engine, engine_for, ordered_map
 from .files import ResultWriter, check_output, check_rows, completed_rows, read_description
 from .quantities import empty_rows, evaluate_samples
 from .result import StudyResult, sobol_indices
+
+if TYPE_CHECKING:
+    from dask.distributed import Client
 
 #: the default engine: this process, or local workers when the work pays for them
 AUTO = Engine()
@@ -538,7 +541,7 @@ __all__ = ["collect", "model_text", "read_table", "RunSummary", "StudyJob", "eva
 def study_of(model: Model, vary: Mapping[str, Any] | None = None,
              quantities: Sequence[str] | None = None, *,
              output: str | os.PathLike[str] | None = None, workers: int | None = None,
-             scheduler: str | None = None, client: Any = None, resume: bool = False,
+             scheduler: str | None = None, client: Client | None = None, resume: bool = False,
              progress: bool | None = None, design: str | None = None,
              samples: int | None = None, seed: int | None = None,
              band: Mapping[str, Any] | None = None, harmonics: int | None = None

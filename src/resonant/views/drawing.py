@@ -25,12 +25,20 @@ import math
 import re
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, TypedDict, Unpack
 
 from ..errors import AnalysisError, ModelError, Problem
 from ..model import Model
 from .plotting import _figure_of
 from .sketch import Arc, Arrow, BodyShape, Label, LinkShape, Point, Sketch, Support, sketch
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+    from matplotlib.axes import Axes
+    from matplotlib.backend_bases import RendererBase
+    from matplotlib.figure import Figure
+    from matplotlib.transforms import Bbox
 
 #: formats ``resonant draw`` writes (from the file ending)
 FORMATS = (".svg", ".png", ".pdf")
@@ -58,7 +66,17 @@ def drawing_format(path: str | Path) -> str:
     return suffix[1:]
 
 
-def _text(ax: Any, at: Point, label: Label, **options: Any) -> None:
+class _TextOptions(TypedDict, total=False):
+    """The keyword arguments the drawing gives :meth:`matplotlib.axes.Axes.text`."""
+
+    ha: str
+    va: str
+    fontsize: float
+    color: str
+    style: str
+
+
+def _text(ax: Axes, at: Point, label: Label, **options: Unpack[_TextOptions]) -> None:
     if not label.text:
         return
     text = f"${label.text}$" if label.math else label.text
@@ -116,7 +134,7 @@ def coil(link: LinkShape, u: float, turns: int = 6, steps: int = 24) -> list[Poi
     return points
 
 
-def _draw_spring(ax: Any, link: LinkShape, u: float) -> None:
+def _draw_spring(ax: Axes, link: LinkShape, u: float) -> None:
     if link.torsion:  # the shaft, and the coil about it
         ax.plot([link.start[0], link.end[0]], [link.start[1], link.end[1]], color=INK,
                 linewidth=0.7, zorder=2, dashes=(6, 2, 1, 2))
@@ -127,7 +145,7 @@ def _draw_spring(ax: Any, link: LinkShape, u: float) -> None:
     ax.plot(xs, ys, color=INK, linewidth=1.1, zorder=2, solid_joinstyle="miter")
 
 
-def _draw_damper(ax: Any, link: LinkShape, u: float) -> None:
+def _draw_damper(ax: Axes, link: LinkShape, u: float) -> None:
     a, b = link.start, link.end
     w = 0.05 * u
     cyl0, cyl1, plate = 0.35, 0.65, 0.55
@@ -144,11 +162,11 @@ def _draw_damper(ax: Any, link: LinkShape, u: float) -> None:
         ax.plot(xs, ys, color=INK, linewidth=1.1, zorder=2, solid_capstyle="butt")
 
 
-def _link_label(ax: Any, link: LinkShape, u: float) -> None:
+def _link_label(ax: Axes, link: LinkShape, u: float) -> None:
     _text(ax, link.label_at, link.label, ha="center", va="center")
 
 
-def _draw_support(ax: Any, support: Support, u: float) -> None:
+def _draw_support(ax: Axes, support: Support, u: float) -> None:
     from matplotlib.patches import Polygon
 
     n = support.normal
@@ -225,7 +243,7 @@ def _busy(data: Sketch) -> list[tuple[Point, Point]]:
     return out
 
 
-def _corner_label(ax: Any, body: BodyShape, u: float, busy: Sequence[tuple[Point, Point]],
+def _corner_label(ax: Axes, body: BodyShape, u: float, busy: Sequence[tuple[Point, Point]],
                   reach: float) -> None:
     """A round body's name at the corner (of four) farthest from arrows and springs."""
     places = [(sx, sy) for sx in (1.0, -1.0) for sy in (-1.0, 1.0)] + [(0.0, -1.0), (0.0, 1.0)]
@@ -245,7 +263,7 @@ def _corner_label(ax: Any, body: BodyShape, u: float, busy: Sequence[tuple[Point
           va="bottom" if sy > 0 else "top")
 
 
-def _draw_body(ax: Any, body: BodyShape, u: float, pins: Sequence[Point] = (),
+def _draw_body(ax: Axes, body: BodyShape, u: float, pins: Sequence[Point] = (),
                busy: Sequence[tuple[Point, Point]] = ()) -> None:
     from matplotlib.patches import Circle, Polygon, Rectangle, Wedge
 
@@ -310,7 +328,7 @@ def _draw_body(ax: Any, body: BodyShape, u: float, pins: Sequence[Point] = (),
         _text(ax, at, body.label, ha="right" if b[1] < a[1] else "left", va="center")
 
 
-def _draw_arrow(ax: Any, arrow: Arrow, u: float) -> None:
+def _draw_arrow(ax: Axes, arrow: Arrow, u: float) -> None:
     from matplotlib.patches import FancyArrowPatch
 
     colour = FORCE if arrow.kind == "force" else COORDINATE
@@ -331,7 +349,7 @@ def _draw_arrow(ax: Any, arrow: Arrow, u: float) -> None:
     _text(ax, at, arrow.label, ha=ha, va=va, color=colour)
 
 
-def _draw_arc(ax: Any, arc: Arc, u: float) -> None:
+def _draw_arc(ax: Axes, arc: Arc, u: float) -> None:
     from matplotlib.patches import FancyArrowPatch
     from matplotlib.path import Path as MplPath
 
@@ -349,7 +367,7 @@ def _draw_arc(ax: Any, arc: Arc, u: float) -> None:
     _text(ax, at, arc.label, ha="center", va="center", color=colour)
 
 
-def _draw_points(ax: Any, data: Sketch) -> None:
+def _draw_points(ax: Axes, data: Sketch) -> None:
     from matplotlib.patches import Circle
 
     u = data.scale
@@ -364,7 +382,7 @@ def _draw_points(ax: Any, data: Sketch) -> None:
               ha="right", va="top", fontsize=9, style="italic")
 
 
-def draw_sketch(data: Sketch, ax: Any = None) -> Any:
+def draw_sketch(data: Sketch, ax: Axes | None = None) -> Figure:
     """Draw a :class:`Sketch`; returns the Figure (the one ``ax`` belongs to, if given)."""
     if ax is None:
         from matplotlib.figure import Figure
@@ -411,7 +429,7 @@ def draw_sketch(data: Sketch, ax: Any = None) -> Any:
 LABEL_PAD = 2.0
 
 
-def _label_obstacles(ax: Any, renderer: Any) -> list[Any]:
+def _label_obstacles(ax: Axes, renderer: RendererBase) -> list[npt.NDArray[np.float64]]:
     """The drawn lines and arrows of ``ax`` as display-space vertex arrays."""
     import numpy as np
     from matplotlib.patches import FancyArrowPatch
@@ -431,7 +449,7 @@ def _label_obstacles(ax: Any, renderer: Any) -> list[Any]:
     return out
 
 
-def _crosses(box: Any, polyline: Any) -> bool:
+def _crosses(box: Bbox, polyline: npt.NDArray[np.float64]) -> bool:
     """Whether a display-space polyline enters ``box`` (sampled finely enough for text)."""
     import numpy as np
 
@@ -447,7 +465,7 @@ def _crosses(box: Any, polyline: Any) -> bool:
     return False
 
 
-def separate_labels(ax: Any) -> int:
+def separate_labels(ax: Axes) -> int:
     """Move each label that overlaps an earlier one, a line or an arrow to the nearest free
     place around it (rings of 8 directions, up to 36 points away); returns how many moved.
 
@@ -462,12 +480,12 @@ def separate_labels(ax: Any) -> int:
         FigureCanvasAgg(fig)
     renderer = fig.canvas.get_renderer()
     obstacles = _label_obstacles(ax, renderer)
-    placed: list[Any] = []
+    placed: list[Bbox] = []
     moved = 0
     scale = fig.dpi / 72.0
     pad = LABEL_PAD * scale
 
-    def free(box: Any) -> bool:
+    def free(box: Bbox) -> bool:
         grown = box.expanded(1.0, 1.0).padded(pad)
         return not any(grown.overlaps(p) for p in placed) and \
             not any(_crosses(grown, o) for o in obstacles)
@@ -496,8 +514,8 @@ def separate_labels(ax: Any) -> int:
     return moved
 
 
-def draw_mechanism(model: Model | Sketch, path: str | Path | None = None, ax: Any = None
-                   ) -> Any:
+def draw_mechanism(model: Model | Sketch, path: str | Path | None = None,
+                   ax: Axes | None = None) -> Figure:
     """The figure of a model's parts at its reference state, like a textbook exercise's.
 
     Parameters
@@ -529,7 +547,7 @@ def draw_mechanism(model: Model | Sketch, path: str | Path | None = None, ax: An
     return fig
 
 
-def save_figure(fig: Any, path: str | Path) -> None:
+def save_figure(fig: Figure, path: str | Path) -> None:
     """Write a drawing (format from the ending), with reproducible SVG ids."""
     import matplotlib
     from matplotlib.backend_bases import FigureCanvasBase
@@ -562,7 +580,7 @@ def to_svg(data: Sketch, salt: str = "resonant-drawing") -> str:
     return text.strip()
 
 
-def labels(fig: Any) -> Sequence[str]:
+def labels(fig: Figure) -> Sequence[str]:
     """The texts of a drawing (for tests and checks)."""
     return [t.get_text() for ax in fig.axes for t in ax.texts]
 

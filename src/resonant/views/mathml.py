@@ -102,7 +102,7 @@ def _ziamath() -> Any:
     stretchy = {name for (name, _), params in operators.operators.items()
                 if params.get("stretchy", "false") != "false"}
 
-    def may_stretch(element: Any) -> bool:
+    def may_stretch(element: ElementTree.Element) -> bool:
         if element.tag in ("mrow", "math", "mtd", "mtr", "none"):
             return False  # a row of its own: it measures its own children
         if element.tag in ("mo", "mi"):
@@ -112,7 +112,8 @@ def _ziamath() -> Any:
                 "minsize" in element.attrib or "maxsize" in element.attrib)
         return any(may_stretch(child) for child in element)
 
-    def linear(self: Any, line: Any, **kwargs: Any) -> tuple[float, float]:
+    def linear(self: Mrow, line: list[ElementTree.Element], **kwargs: object
+               ) -> tuple[float, float]:
         if kwargs.get("nostretch") or not any(may_stretch(child) for child in line):
             return 0.0, 0.0
         return measure(self, line, **kwargs)

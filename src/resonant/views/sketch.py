@@ -57,7 +57,7 @@ import sympy
 from ..errors import ModelError, Problem, printable
 from ..expressions import Expression, Name, parse
 from ..model import Model
-from ..model.parts import Body, DerivedEnergies, Link
+from ..model.parts import Body, DerivedEnergies, Link, Parts
 from .notation import name_latex
 
 Point = tuple[float, float]
@@ -401,7 +401,7 @@ class _Layout:
         sizes = [abs(s) * 4 for s in sizes if math.isfinite(s) and s > 0]
         return max(sizes) if sizes else 1.0
 
-    def size(self, text: Any) -> float:
+    def size(self, text: str | Expression) -> float:
         """A size of the model, bounded: at most :data:`DRAWABLE` (the square of a radius of
         1e300 is out of the range of a float; the figure is scaled to the bounded size)."""
         return min(abs(self.geo.value(self.geo.expr(text))), DRAWABLE)
@@ -1060,7 +1060,7 @@ def sketch_motion(model: Model) -> SketchMotion:
         {name: of(name) for name in data.points})
 
 
-def torsional(parts: Any, link: Link) -> bool:
+def torsional(parts: Parts, link: Link) -> bool:
     """Whether a spring or damper twists rather than stretches: its elongation is made of
     coordinates that turn bodies (their ``angle``) and move none (no ``position``).
 
@@ -1077,8 +1077,8 @@ def torsional(parts: Any, link: Link) -> bool:
     if link.mode != "elongation" or link.elongation is None:
         return False
     names = set(link.elongation.names())
-    turning: set[str] = set()
-    moving: set[str] = set()
+    turning: set[tuple[str, int]] = set()  # (name, primes), as Expression.names() gives
+    moving: set[tuple[str, int]] = set()
     for body in parts.bodies:
         if body.angle is not None:
             turning |= set(body.angle.names())
@@ -1087,7 +1087,7 @@ def torsional(parts: Any, link: Link) -> bool:
     return bool(names) and names <= turning and not names & moving
 
 
-def _link_groups(parts: Any) -> list[list[Link]]:
+def _link_groups(parts: Parts) -> list[list[Link]]:
     """Springs and dampers grouped by the two points they join (the sketch's order)."""
     groups: dict[frozenset[str], list[Link]] = {}
     for link in (*parts.springs, *parts.dampers):

@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -27,6 +27,13 @@ from ..errors import AnalysisError
 from ..model import Model
 from ..model.study import StudySpec
 from .plotting import _figure_of, _new_figure, _save, math_name, unit_math
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.artist import Artist
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
 
 #: at most this many points in a scatter plot (an even subsample of the rest)
 MAX_SCATTER = 20_000
@@ -128,14 +135,14 @@ def axis_label(column: str, units: Mapping[str, str] | None = None) -> str:
     return text + (f" [{unit_math(unit)}]" if unit and unit != "1" else "")
 
 
-def _axes(ax: Any, **figure: Any) -> tuple[Any, Any]:
+def _axes(ax: Axes | None, **figure: object) -> tuple[Figure, Axes]:
     if ax is not None:
         return _figure_of(ax), ax
     fig = _new_figure(**figure)
     return fig, fig.add_subplot()
 
 
-def _finite(frame: Any, name: str) -> np.ndarray:
+def _finite(frame: pd.DataFrame, name: str) -> np.ndarray:
     values = np.asarray(frame[name], dtype=float)
     return values[np.isfinite(values)]
 
@@ -152,7 +159,7 @@ def spans_decades(values: np.ndarray) -> bool:
     return bool(finite.size and np.all(finite > 0) and finite.max() >= LOG_SPAN * finite.min())
 
 
-def _without_value(frame: Any, quantity: str) -> dict[str, int]:
+def _without_value(frame: pd.DataFrame, quantity: str) -> dict[str, int]:
     """Samples without a value of ``quantity``, counted by their status."""
     values = np.asarray(frame[quantity], dtype=float)
     missing = ~np.isfinite(values)
@@ -170,8 +177,8 @@ def _counted(missing: Mapping[str, int]) -> str:
     return ", ".join(f"{count} {kind}" for kind, count in missing.items())
 
 
-def plot_histogram(frame: Any, quantity: str, ax: Any = None,
-                   units: Mapping[str, str] | None = None) -> Any:
+def plot_histogram(frame: pd.DataFrame, quantity: str, ax: Axes | None = None,
+                   units: Mapping[str, str] | None = None) -> Figure:
     """The distribution of one quantity, with its mean and its 5 % and 95 % quantiles.
 
     Parameters
@@ -220,16 +227,16 @@ def _cell_edges(centres: np.ndarray) -> np.ndarray:
     return np.concatenate(([2 * centres[0] - mid[0]], mid, [2 * centres[-1] - mid[-1]]))
 
 
-def _impossible_handle(missing: Mapping[str, int]) -> Any:
+def _impossible_handle(missing: Mapping[str, int]) -> Patch:
     from matplotlib.patches import Patch
 
     return Patch(facecolor="white", edgecolor=IMPOSSIBLE_COLOR, hatch=HATCH,
                  label=f"no value: {_counted(missing)}")
 
 
-def plot_scatter(frame: Any, quantity: str, parameters: Sequence[str], ax: Any = None,
-                 units: Mapping[str, str] | None = None,
-                 nominal: Mapping[str, float] | None = None) -> Any:
+def plot_scatter(frame: pd.DataFrame, quantity: str, parameters: Sequence[str],
+                 ax: Axes | None = None, units: Mapping[str, str] | None = None,
+                 nominal: Mapping[str, float] | None = None) -> Figure:
     """One quantity against each varied parameter, side by side.
 
     Samples without a value (unstable, resonant) are drawn as grey crosses on a hatched
@@ -275,7 +282,8 @@ def plot_scatter(frame: Any, quantity: str, parameters: Sequence[str], ax: Any =
     # the band of the samples without a value, under the lowest value (in the axis' scale)
     below = [10 ** v if log else v for v in (low - 0.18 * span, low - 0.12 * span,
                                               low - 0.06 * span)]
-    handles = [Line2D([], [], ls="", marker=".", color="#4477aa", label="sample")]
+    handles: list[Artist] = [Line2D([], [], ls="", marker=".", color="#4477aa",
+                                    label="sample")]
     for a, name in zip(axes, parameters):
         x = np.asarray(frame[name], dtype=float)[::step]
         a.plot(x[~bad], y[~bad], ".", markersize=3, alpha=0.45, color="#4477aa")
@@ -305,8 +313,8 @@ def plot_scatter(frame: Any, quantity: str, parameters: Sequence[str], ax: Any =
     return fig
 
 
-def plot_sobol(indices: Mapping[str, Any], quantity: str, ax: Any = None,
-               units: Mapping[str, str] | None = None) -> Any:
+def plot_sobol(indices: Mapping[str, Any], quantity: str, ax: Axes | None = None,
+               units: Mapping[str, str] | None = None) -> Figure:
     """First-order and total Sobol indices of one quantity, with 95 % intervals.
 
     Parameters
@@ -341,14 +349,14 @@ def plot_sobol(indices: Mapping[str, Any], quantity: str, ax: Any = None,
     return fig
 
 
-def _numbers(values: Any) -> np.ndarray:
+def _numbers(values: Iterable[float | None]) -> np.ndarray:
     """Indices as numbers, NaN where there are none (None)."""
     return np.array([math.nan if v is None else v for v in values], dtype=float)
 
 
-def plot_contour(frame: Any, quantity: str, x: str, y: str, ax: Any = None,
+def plot_contour(frame: pd.DataFrame, quantity: str, x: str, y: str, ax: Axes | None = None,
                  units: Mapping[str, str] | None = None,
-                 nominal: Mapping[str, float] | None = None) -> Any:
+                 nominal: Mapping[str, float] | None = None) -> Figure:
     """A quantity over a two-parameter grid, one coloured cell per grid point.
 
     Cells, not contours: a jump (a peak's frequency moving from one resonance to the
@@ -393,7 +401,7 @@ def plot_contour(frame: Any, quantity: str, x: str, y: str, ax: Any = None,
                           shading="flat", zorder=1)
     fig.colorbar(cells, ax=ax, label=axis_label(quantity, units)
                  + (" (log scale)" if log else ""))
-    handles: list[Any] = []
+    handles: list[Artist] = []
     if missing:
         handles.append(_impossible_handle(missing))
     if nominal and x in nominal and y in nominal:
@@ -415,7 +423,7 @@ def _file_name(kind: str, quantity: str) -> str:
     return f"{kind}-{re.sub(r'[^A-Za-z0-9_.-]+', '_', quantity)}.png"
 
 
-def plot_study(frame: Any, parameters: Sequence[str], quantities: Sequence[str],
+def plot_study(frame: pd.DataFrame, parameters: Sequence[str], quantities: Sequence[str],
                directory: str | Path, sensitivity: Mapping[str, Any] | None = None,
                grid: bool = False, units: Mapping[str, str] | None = None,
                nominal: Mapping[str, float] | None = None) -> list[Path]:
@@ -449,7 +457,7 @@ def plot_study(frame: Any, parameters: Sequence[str], quantities: Sequence[str],
                             f"{exc.strerror or exc}") from None
     written: list[Path] = []
 
-    def save(fig: Any, kind: str, quantity: str) -> None:
+    def save(fig: Figure, kind: str, quantity: str) -> None:
         path = directory / _file_name(kind, quantity)
         _save(fig, path, dpi=110)
         written.append(path)
