@@ -26,6 +26,7 @@ from __future__ import annotations
 import collections
 import contextlib
 import gc
+import logging
 import math
 import os
 import pickle
@@ -296,6 +297,9 @@ def _started(cluster_type: Callable[..., LocalCluster], workers: int, deadline: 
         if thread.is_alive():
             given_up.set()
     if thread.is_alive():
+        # the abandoned start goes on logging (Dask restores its log level when a cluster
+        # closes, and this one closes only once it is up): not the user's concern
+        logging.getLogger("distributed").setLevel(logging.ERROR)
         raise AnalysisTimeout(
             f"the analysis exceeded the time limit of {deadline.seconds:g} s while starting "
             f"{workers} local workers; ask for fewer workers, or allow more time (timeout, "
