@@ -27,7 +27,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -44,7 +44,7 @@ from ..arrays import Matrix
 from ..errors import ModelError, Problem, ResonantError
 from ..expressions import numeric_value
 from ..model import Model
-from ..model.study import Band, StudySpec
+from ..model.study import Band, Quantity, StudySpec
 from ..system import Batch, LinearSystem, NonlinearSystem, nonlinear_system
 from ..system.base import numeric_point
 from ..system.modal import (
@@ -401,25 +401,38 @@ def _fill_nonlinear(rows: Rows, spec: StudySpec, nonlinear: NonlinearSystem | No
             rows.columns[q.text] = np.where(rows.valid("nonlinear"), column, np.nan)
 
 
+def _per_sample(rows: Rows, wanted: list[Quantity], system: LinearSystem,
+                values: Mapping[str, Any], batch: Batch, stage: str,
+                compute: Callable[[LinearSystem], dict[str, float]]) -> None:
+    """The ``wanted`` columns sample by sample: ``compute`` of each sample's system gives
+    every wanted quantity's value (the samples whose stability failed before are
+    skipped; a sample whose analysis fails is marked failed at ``stage``)."""
+    for i in np.flatnonzero(rows.valid("stability")):
+        try:
+            found = compute(numeric_point(batch, int(i), system, values))
+            for q in wanted:
+                rows.columns[q.text][i] = found[q.text]
+        except ResonantError as exc:
+            rows.fail(np.arange(rows.count) == i, "failed", str(exc), stage)
+            for q in wanted:
+                rows.columns[q.text][i] = np.nan
+
+
 def _fill_rms(rows: Rows, spec: StudySpec, system: LinearSystem, values: Mapping[str, Any],
               batch: Batch) -> None:
-    """The RMS values under the model's ``[random]`` inputs (docs/random.md), sample by
-    sample (the samples whose stability failed before are skipped)."""
+    """The RMS values (and the fatigue damage) under the model's ``[random]`` inputs
+    (docs/random.md), sample by sample."""
     wanted = [q for q in spec.quantities if q.kind in ("rms", "damage")]
     if not wanted:
         return
     names = list(dict.fromkeys(q.target for q in wanted))
-    for i in np.flatnonzero(rows.valid("stability")):
-        try:
-            point = numeric_point(batch, int(i), system, values)
-            result = random_response(point, names=names)
-            for q in wanted:
-                rows.columns[q.text][i] = result.rms[q.target] if q.kind == "rms" else \
-                    _damage(point, result.frequency, result.psd[q.target])
-        except ResonantError as exc:
-            rows.fail(np.arange(rows.count) == i, "failed", str(exc), "random")
-            for q in wanted:
-                rows.columns[q.text][i] = np.nan
+
+    def compute(point: LinearSystem) -> dict[str, float]:
+        result = random_response(point, names=names)
+        return {q.text: result.rms[q.target] if q.kind == "rms" else
+                _damage(point, result.frequency, result.psd[q.target]) for q in wanted}
+
+    _per_sample(rows, wanted, system, values, batch, "random", compute)
 
 
 def _damage(system: LinearSystem, frequency: np.ndarray, psd: np.ndarray) -> float:
@@ -444,22 +457,20 @@ def _fill_srs(rows: Rows, spec: StudySpec, system: LinearSystem, values: Mapping
     if not wanted:
         return
     names = list(dict.fromkeys(q.target for q in wanted))
-    for i in np.flatnonzero(rows.valid("stability")):
-        try:
-            point = numeric_point(batch, int(i), system, values)
-            response = shock_response(point, names=names)
-            shock = point.model.shock_section if point.model is not None else None
-            assert shock is not None  # shock_response raised otherwise
-            for name in names:
-                here = [q for q in wanted if q.target == name]
-                srs = shock_response_spectrum(response.history[name], shock.step,
-                                              [q.frequency for q in here], Q=shock.Q)
-                for q, value in zip(here, srs.maximax):
-                    rows.columns[q.text][i] = value
-        except ResonantError as exc:
-            rows.fail(np.arange(rows.count) == i, "failed", str(exc), "shock")
-            for q in wanted:
-                rows.columns[q.text][i] = np.nan
+
+    def compute(point: LinearSystem) -> dict[str, float]:
+        response = shock_response(point, names=names)
+        shock = point.model.shock_section if point.model is not None else None
+        assert shock is not None  # shock_response raised otherwise
+        found = {}
+        for name in names:
+            here = [q for q in wanted if q.target == name]
+            srs = shock_response_spectrum(response.history[name], shock.step,
+                                          [q.frequency for q in here], Q=shock.Q)
+            found.update({q.text: float(v) for q, v in zip(here, srs.maximax)})
+        return found
+
+    _per_sample(rows, wanted, system, values, batch, "shock", compute)
 
 
 def _fill(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
