@@ -964,10 +964,11 @@ def draw_figure(charts: Charts | Chart, ax: Any = None) -> Any:
         handles, labels = axes[0].get_legend_handles_labels()
         fig.legend(handles, labels, loc="outside lower center", fontsize=9, ncols=3,
                    frameon=False)
-    if own and charts.title:
-        fig.suptitle(mathtext_label(charts.title) if "\n" not in charts.title else
-                     "\n".join(mathtext_label(t) for t in charts.title.split("\n")),
-                     fontsize=10)
+    title = "\n".join(mathtext_label(t) for t in charts.title.split("\n"))
+    if charts.title and not charts.panels[0].title:  # over the first panel (also ax=)
+        axes[0].set_title(title, fontsize=10)
+    elif own and charts.title:
+        fig.suptitle(title, fontsize=11)
     return fig
 
 
