@@ -740,6 +740,17 @@ def charts_svg(charts: Charts, ident: str) -> str:
     return _svg(body, y, describe(charts))
 
 
+def unit_text(unit: str) -> str:
+    """A unit for a chart label, its powers raised (``m/s^2`` -> ``m/s$^{2}$``).
+
+    Examples
+    --------
+    >>> unit_text("(m/s^2)^2/Hz")
+    '(m/s$^{2}$)$^{2}$/Hz'
+    """
+    return re.sub(r"\^(-?[0-9]+)", r"$^{\1}$", unit.replace("$", ""))
+
+
 def plain_text(label: str) -> str:
     """A label as plain text (its math set as characters: ``$x_{2}$`` -> ``x2``)."""
     return _NOT_XML.sub(" ", "".join(text for text, _, _ in text_runs(label)))
@@ -975,5 +986,5 @@ def draw_figure(charts: Charts | Chart, ax: Any = None) -> Any:
 __all__ = ["Chart", "Charts", "Curve", "Marker", "Rule", "Span", "Note", "chart_svg",
            "charts_svg", "describe", "draw_chart", "draw_figure", "figure_of", "legend_keys",
            "mathtext_label", "panel_heights", "plain_text", "nice_ticks", "log_ticks",
-           "tick_labels", "text_runs", "text_width", "x_limits", "y_limits", "WIDTH",
+           "tick_labels", "text_runs", "unit_text", "text_width", "x_limits", "y_limits", "WIDTH",
            "HEIGHT", "COLORS", "MARKER_SHAPES", "LEGENDS"]
