@@ -24,8 +24,9 @@ from ..errors import AnalysisError
 from ..system import NonlinearSystem, nonlinear_system
 from ..views.nonlinear_plots import plot_nonlinear_response
 from ..views.notation import number_text
+from ..views.plotting import name_label as _label
 from .blocks import Block, Heading, Math, Note, Table, cell, paragraph
-from .plots import _label, _swept_parameter
+from .plots import _swept_parameter
 from .steps import Context
 
 #: the curve runs over [LOW, HIGH] times the operating frequency

@@ -518,13 +518,14 @@ def history_chart(t: Any, values: Mapping[str, Any], units: Mapping[str, str] | 
     """
     t = np.asarray(t, dtype=float)
     suffix, per_curve = unit_suffix(list(values), units or {})
-    curves = tuple(Curve(t, np.asarray(y, dtype=float), _label(name, per_curve))
+    curves = tuple(Curve(t, np.asarray(y, dtype=float), name_label(name, per_curve))
                    for name, y in values.items())
     return Chart(curves, "time $t$ [s]", ylabel + suffix, (float(t[0]), float(t[-1])),
                  rules=(Rule(0.0, vertical=False, color="#999999", width=0.8),))
 
 
-def _label(name: str, units: Mapping[str, str] | None = None) -> str:
+def name_label(name: str, units: Mapping[str, str] | None = None) -> str:
+    """A curve's label: the name typeset, and its unit where given (``$x_{1}$ [m]``)."""
     unit = (units or {}).get(name, "")
     return _name(name) + (f" [{unit}]" if unit and unit != "1" else "")
 
@@ -586,4 +587,4 @@ def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None,
 
 __all__ = ["plot_frequency_response", "plot_modes", "plot_simulation", "math_name",
            "unit_math", "unwrapped_degrees", "frequency_response_chart", "simulation_chart",
-           "history_chart", "unit_suffix", "MAX_CURVES", "MAX_LINES"]
+           "history_chart", "name_label", "unit_suffix", "MAX_CURVES", "MAX_LINES"]
