@@ -533,12 +533,25 @@ def _dasharray(dash: str | None, width: float) -> str:
     return ' stroke-dasharray="' + " ".join(f"{v:g}" for v in values) + '"'
 
 
+def _minor_labels(majors: list[int], minors: list[float]) -> list[tuple[float, str]]:
+    """The minor ticks of a log axis, those at 2, 3 and 5 times a power of ten labelled
+    (``3``, ``0.02``) when the axis spans less than two labelled decades."""
+    if len(majors) >= 2:
+        return [(m, "") for m in minors]
+    out = []
+    for m in minors:
+        mantissa = m / 10.0 ** math.floor(math.log10(m) + 1e-9)
+        label = f"{m:.3g}" if any(abs(mantissa - v) < 1e-6 for v in (2, 3, 5)) else ""
+        out.append((m, label.replace("-", "\u2212")))
+    return out
+
+
 def _x_ticks(frame: _Frame) -> list[tuple[float, str, bool]]:
     """(value, label, minor) of the x ticks."""
     if frame.xlog:
         majors, minors = log_ticks(*frame.xlim)
         return ([(10.0 ** k, f"$10^{{{k}}}$", False) for k in majors]
-                + [(m, "", True) for m in minors])
+                + [(m, label, not label) for m, label in _minor_labels(majors, minors)])
     ticks = [t for t in nice_ticks(*frame.xlim) if frame.xlim[0] <= t <= frame.xlim[1]]
     labels, _ = tick_labels(ticks)
     return [(t, label, False) for t, label in zip(ticks, labels)]
@@ -590,7 +603,8 @@ def _y_ticks(frame: _Frame) -> list[tuple[float, str, bool]]:
     if frame.ylog:
         majors, minors = log_ticks(*frame.ylim)
         return ([(float(frame.y(10.0 ** k)), f"$10^{{{k}}}$", False) for k in majors]
-                + [(float(frame.y(m)), "", True) for m in minors])
+                + [(float(frame.y(m)), label, not label)
+                   for m, label in _minor_labels(majors, minors)])
     ticks = _linear_y_ticks(frame)
     labels, _ = tick_labels(ticks)
     return [(float(frame.y(t)), label, False) for t, label in zip(ticks, labels)]
