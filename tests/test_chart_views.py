@@ -213,3 +213,64 @@ def test_a_chart_of_hostile_labels_draws_both_ways() -> None:
     fig = draw_figure(chart)
     FigureCanvasAgg(fig).draw()  # no mathtext error
     ElementTree.fromstring(charts_svg(Charts((chart,)), "h"))
+
+
+LOADS = """
+[shock]
+signal = "y"
+derivative = 2
+pulse = "half-sine"
+amplitude = 50
+unit = "g"
+duration = 0.011
+step = 1e-5
+total = 0.04
+
+[periodic]
+signal = "y"
+shape = "triangle"
+amplitude = 0.5
+unit = "mm"
+period = 0.004
+"""
+
+
+def test_the_report_s_load_sections_draw_the_views_charts(tmp_path) -> None:
+    """The periodic, random and shock sections of the report carry the views' chart
+    descriptions: the periodic response against time, the densities on log-log axes with
+    units in the labels, the pulse above its SRS; their SVG is written directly (no
+    matplotlib) and without plots there are none."""
+    from resonant.analyses.random_response import random_response as random_route
+    from resonant.report import build_report, render
+    from resonant.report.blocks import Figure
+
+    path = tmp_path / "loads.toml"
+    path.write_text((EXAMPLES / "shaker_gevs.toml").read_text() + LOADS)
+    model = resonant.load(path)
+    report = build_report(model)
+    figures = {b.caption.split(" ")[0] + " " + b.caption.split(" ")[1]: b.plot
+               for b in report.blocks if isinstance(b, Figure)}
+    periodic = next(p for c, p in figures.items() if c.startswith("The summed"))
+    assert isinstance(periodic, Chart) and not periodic.xlog and periodic.ylabel.endswith("[m]")
+    densities = next(p for c, p in figures.items() if c.startswith("One-sided"))
+    assert isinstance(densities, Charts)
+    assert all(p.xlog and p.ylog for p in densities.panels)
+    assert densities.panels[0].ylabel == "input [(m/s$^{2}$)$^{2}$/Hz]"
+    assert "response [m$^{2}$/Hz]" in [p.ylabel for p in densities.panels]
+    direct = random_route(model.linearize())
+    labels = [c.label for p in densities.panels for c in p.curves]
+    assert f"a (RMS {direct.rms['a']:.3g} m/s$^{{2}}$)" in labels
+    shock = next(p for c, p in figures.items() if c.startswith("The pulse"))
+    assert isinstance(shock, Charts) and len(shock.panels) == 2
+    history, spectrum = shock.panels
+    assert not history.xlog and spectrum.xlog and spectrum.ylog
+    assert max(history.curves[0].y) == pytest.approx(50 * 9.80665, rel=1e-9)
+    assert [c.label for c in spectrum.curves] == ["maximax", "primary", "residual"]
+    html = render(report, "html")
+    for chart in figures.values():
+        assert plain_text(chart.panels[0].ylabel if isinstance(chart, Charts)
+                          else chart.ylabel) in html
+    assert html.count("<figure>") == len([b for b in report.blocks if isinstance(b, Figure)])
+    bare = build_report(model, plots=False)
+    assert not [b for b in bare.blocks if isinstance(b, Figure)]
+    assert "Shock load: the pulse and its shock response spectrum" in bare.headings()

@@ -23,7 +23,19 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import AnalysisError, printable
-from .charts import COLORS, Chart, Charts, Curve, Marker, Note, Rule, Span, draw_figure, figure_of
+from .charts import (
+    COLORS,
+    Chart,
+    Charts,
+    Curve,
+    Marker,
+    Note,
+    Rule,
+    Span,
+    draw_figure,
+    figure_of,
+    unit_text,
+)
 from .notation import name_latex
 from .units_display import unit_latex
 
@@ -527,7 +539,7 @@ def history_chart(t: Any, values: Mapping[str, Any], units: Mapping[str, str] | 
 def name_label(name: str, units: Mapping[str, str] | None = None) -> str:
     """A curve's label: the name typeset, and its unit where given (``$x_{1}$ [m]``)."""
     unit = (units or {}).get(name, "")
-    return _name(name) + (f" [{unit}]" if unit and unit != "1" else "")
+    return _name(name) + (f" [{unit_text(unit)}]" if unit and unit != "1" else "")
 
 
 def unit_suffix(names: Sequence[str], units: Mapping[str, str]) -> tuple[str, Mapping[str, str]]:
@@ -542,8 +554,9 @@ def unit_suffix(names: Sequence[str], units: Mapping[str, str]) -> tuple[str, Ma
     shown = {units.get(n, "") for n in names}
     if len(shown) <= 1:
         unit = next(iter(shown), "")
-        return (f" [{unit}]" if unit and unit != "1" else ""), {}
-    named = [u if u and u != "1" else "1" for u in dict.fromkeys(units.get(n, "") for n in names)]
+        return (f" [{unit_text(unit)}]" if unit and unit != "1" else ""), {}
+    named = [unit_text(u) if u and u != "1" else "1"
+             for u in dict.fromkeys(units.get(n, "") for n in names)]
     return f" [{', '.join(named)}]", units
 
 
