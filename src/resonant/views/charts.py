@@ -130,7 +130,7 @@ class Span:
 
 
 @dataclass(frozen=True)
-class Note:
+class Annotation:
     """A short text at the top of the axes above x = ``at`` (the value of a peak), on a
     white ground."""
 
@@ -167,7 +167,7 @@ class Chart:
     ylim: tuple[float, float] | None = None
     yticks: tuple[float, ...] | None = None
     spans: tuple[Span, ...] = ()
-    notes: tuple[Note, ...] = ()
+    notes: tuple[Annotation, ...] = ()
     title: str = ""
     legend: str = "best"
 
@@ -997,7 +997,7 @@ def draw_figure(charts: Charts | Chart, ax: Any = None) -> Any:
     return fig
 
 
-__all__ = ["Chart", "Charts", "Curve", "Marker", "Rule", "Span", "Note", "chart_svg",
+__all__ = ["Annotation", "Chart", "Charts", "Curve", "Marker", "Rule", "Span", "chart_svg",
            "charts_svg", "describe", "draw_chart", "draw_figure", "figure_of", "legend_keys",
            "mathtext_label", "panel_heights", "plain_text", "nice_ticks", "log_ticks",
            "tick_labels", "text_runs", "unit_text", "text_width", "x_limits", "y_limits", "WIDTH",

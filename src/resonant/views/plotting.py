@@ -25,11 +25,11 @@ import numpy as np
 from ..errors import AnalysisError, printable
 from .charts import (
     COLORS,
+    Annotation,
     Chart,
     Charts,
     Curve,
     Marker,
-    Note,
     Rule,
     Span,
     draw_figure,
@@ -182,7 +182,7 @@ def frequency_response_chart(response: FrequencyResponse, names: Sequence[str] |
     amp_curves: list[Curve] = []
     phase_curves: list[Curve] = []
     markers: list[Marker] = []
-    notes: list[Note] = []
+    notes: list[Annotation] = []
     labelled: list[float] = []
     for k, name in enumerate(names):
         color = COLORS[k % len(COLORS)]
@@ -261,7 +261,7 @@ def _phase_ticks(curves: Sequence[Curve]) -> tuple[float, ...]:
 
 
 def _extrema_marks(response: FrequencyResponse, name: str, color: str, floor: float,
-                   notes: list[Note], labelled: list[float]) -> list[Marker]:
+                   notes: list[Annotation], labelled: list[float]) -> list[Marker]:
     """Triangles on the resonance peaks (each resonance's value noted once), circles on
     the antiresonances (at the drawn floor for a true zero)."""
     marks = []
@@ -270,7 +270,7 @@ def _extrema_marks(response: FrequencyResponse, name: str, color: str, floor: fl
         # one note per resonance: curves peaking at nearly the same value share it
         if all(abs(p.value - v) > 0.06 * abs(v) for v in labelled):
             labelled.append(p.value)
-            notes.append(Note(p.value, f"{p.value:.4g}", color))
+            notes.append(Annotation(p.value, f"{p.value:.4g}", color))
     for p in [p for p in response.antiresonances if p.name == name][:20]:
         marks.append(Marker(p.value, max(p.amplitude, floor), color, "ring",
                             "antiresonance (zero)"))
