@@ -128,6 +128,62 @@ def _name(name: str) -> str:
     return f"${name_latex(name)}$"
 
 
+def response_axes(parameter: str, names: Sequence[str], *, coordinates: Sequence[str] = (),
+                  units: Mapping[str, str] | None = None, unit: str = "",
+                  frequency_sweep: bool = True, log: bool = False) -> Chart:
+    """The axes and curve styles of a frequency response's amplitude chart, without data:
+    what :func:`frequency_response_chart` fills with a sweep and the explore page (its JSON)
+    with the curve it computes live.
+
+    Parameters
+    ----------
+    parameter : str
+        The swept parameter.
+    names : sequence of str
+        The curves, in order (each its colour of the cycle).
+    coordinates : sequence of str
+        The names that are coordinates (the others are labelled as outputs).
+    units : mapping, optional
+        name -> unit of the amplitudes: on the axis, or on each curve where they differ.
+    unit : str
+        The parameter's unit.
+    frequency_sweep : bool
+        Whether the parameter is the excitation frequency.
+    log : bool
+        A logarithmic parameter axis.
+
+    Returns
+    -------
+    Chart
+        Curves without points, labels, scales (amplitudes on a log axis).
+
+    Examples
+    --------
+    >>> c = response_axes("omega", ["x1", "phi"], coordinates=["x1"],
+    ...                   units={"x1": "m", "phi": "rad"}, unit="rad/s")
+    >>> print(c.xlabel, "|", c.ylabel)
+    excitation frequency $\\omega$ [rad/s] | amplitude $X$ [m, rad]
+    >>> print(", ".join(k.label for k in c.curves))
+    $x_{1}$ [m], $\\varphi$ (output) [rad]
+    """
+    amplitude_units = {units.get(n, "") for n in names} if units else set()
+    per_curve = units if len(amplitude_units) > 1 else None
+    curves = []
+    for k, name in enumerate(names):
+        kind = "" if name in coordinates else " (output)"
+        if per_curve and per_curve.get(name) not in (None, "", "1"):
+            kind += f" [{unit_math(per_curve[name])}]"
+        curves.append(Curve(np.empty(0), np.empty(0), f"{_name(name)}{kind}",
+                            COLORS[k % len(COLORS)], 1.5))
+    shown_units = [unit_math(u) if u not in ("", "1") else "1" for u in sorted(amplitude_units)]
+    xlabel = (("excitation frequency " if frequency_sweep else "") + _name(parameter)
+              + (f" [{unit}]" if unit else ""))
+    ylabel = "amplitude $X$" + (f" [{', '.join(shown_units)}]"
+                                if shown_units and shown_units != ["1"] else "")
+    return Chart(tuple(curves), xlabel, ylabel, (0.0, 1.0), ylog=True, xlog=log,
+                 legend="beside")
+
+
 def frequency_response_chart(response: FrequencyResponse, names: Sequence[str] | None = None,
                              units: Mapping[str, str] | None = None, *, phase: bool = True,
                              extrema: bool = True, title: bool = True,
@@ -175,8 +231,9 @@ def frequency_response_chart(response: FrequencyResponse, names: Sequence[str] |
     (2, 'amplitude $X$', True)
     """
     names = _curve_names(response, names)
-    amplitude_units = {units.get(n, "") for n in names} if units else set()
-    per_curve = units if len(amplitude_units) > 1 else None
+    axes = response_axes(response.parameter, names, coordinates=response.coordinates,
+                         units=units, unit=response.unit,
+                         frequency_sweep=response.frequency_sweep, log=bool(response.log))
     floor, top = _amplitude_floor(response, names)
     x = np.asarray(response.values, dtype=float)
     amp_curves: list[Curve] = []
@@ -184,15 +241,12 @@ def frequency_response_chart(response: FrequencyResponse, names: Sequence[str] |
     markers: list[Marker] = []
     notes: list[Annotation] = []
     labelled: list[float] = []
-    for k, name in enumerate(names):
-        color = COLORS[k % len(COLORS)]
+    for name, style in zip(names, axes.curves):
+        color = style.color or COLORS[0]
         amplitude = np.array(response.amplitudes[name], dtype=float)
         with np.errstate(invalid="ignore"):
             shown = np.where(amplitude > 0, np.maximum(amplitude, floor), np.nan)  # log: no 0
-        kind = "" if name in response.coordinates else " (output)"
-        if per_curve and per_curve.get(name) not in (None, "", "1"):
-            kind += f" [{unit_math(per_curve[name])}]"
-        amp_curves.append(Curve(x, shown, f"{_name(name)}{kind}", color, 1.5))
+        amp_curves.append(replace(style, x=x, y=shown))
         phase_curves.append(Curve(x, unwrapped_degrees(response.phases[name]), "", color, 1.2))
         if operating is not None and x.size > 1 and np.all(np.diff(x) > 0):
             at = float(np.interp(operating, x, amplitude))
@@ -211,21 +265,15 @@ def frequency_response_chart(response: FrequencyResponse, names: Sequence[str] |
     if operating is not None:
         rules.append(Rule(float(operating), color="#404040", dash="3.7 1.6",
                           label="operating point"))
-    shown_units = [unit_math(u) if u not in ("", "1") else "1" for u in sorted(amplitude_units)]
     ylim = None
     if extrema and floor > 0 and top > 0:  # clipped to the data, room above for the notes
         ylim = (floor / 1.5, top * (top / floor) ** 0.12 * 1.5)
-    unit = f" [{response.unit}]" if response.unit else ""
-    xlabel = (("excitation frequency " if response.frequency_sweep else "")
-              + f"{_name(response.parameter)}{unit}")
     xlim = (float(np.nanmin(x)), float(np.nanmax(x))) if x.size else (0.0, 1.0)
-    log = bool(response.log)
+    xlabel, log = axes.xlabel, axes.xlog
     any_positive = any(np.isfinite(c.y).any() for c in amp_curves)
-    ylabel = "amplitude $X$" + (f" [{', '.join(shown_units)}]"
-                                if shown_units and shown_units != ["1"] else "")
-    amplitude_chart = Chart(tuple(amp_curves), xlabel, ylabel, xlim, ylog=any_positive,
-                            markers=tuple(markers), rules=tuple(rules), xlog=log, ylim=ylim,
-                            notes=tuple(notes), legend="beside")
+    amplitude_chart = replace(axes, curves=tuple(amp_curves), xlim=xlim, ylog=any_positive,
+                              markers=tuple(markers), rules=tuple(rules), ylim=ylim,
+                              notes=tuple(notes))
     heading = ""
     if title:
         heading = (printable(response.title or "frequency response", limit=80)
@@ -600,4 +648,4 @@ def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None,
 
 __all__ = ["plot_frequency_response", "plot_modes", "plot_simulation", "math_name",
            "unit_math", "unwrapped_degrees", "frequency_response_chart", "simulation_chart",
-           "history_chart", "name_label", "unit_suffix", "MAX_CURVES", "MAX_LINES"]
+           "history_chart", "name_label", "response_axes", "unit_suffix", "MAX_CURVES", "MAX_LINES"]
