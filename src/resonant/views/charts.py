@@ -74,7 +74,8 @@ class Curve:
 
     def to_dict(self) -> dict[str, Any]:
         return {"x": _numbers(self.x), "y": _numbers(self.y), "label": self.label,
-                "color": self.color, "width": self.width, "dash": self.dash}
+                "text": unicode_text(self.label), "color": self.color, "width": self.width,
+                "dash": self.dash}
 
 
 #: the kinds of :class:`Marker`: a filled dot, a downward triangle with a black edge (a
@@ -177,7 +178,9 @@ class Chart:
                      for i, c in enumerate(self.curves))
 
     def to_dict(self) -> dict[str, Any]:
-        """The chart as JSON-ready data (non-finite numbers as None), for a page's drawing.
+        """The chart as JSON-ready data (non-finite numbers as None), for a page's drawing;
+    the labels also as Unicode text (``xtext``, ``ytext``, each curve's ``text``) for a
+    canvas.
 
         Examples
         --------
@@ -187,7 +190,8 @@ class Chart:
         ([None, 3.0], False)
         """
         return {"curves": [c.to_dict() for c in self.colored()], "xlabel": self.xlabel,
-                "ylabel": self.ylabel, "xlim": _numbers(self.xlim),
+                "ylabel": self.ylabel, "xtext": unicode_text(self.xlabel),
+                "ytext": unicode_text(self.ylabel), "xlim": _numbers(self.xlim),
                 "ylim": None if self.ylim is None else _numbers(self.ylim),
                 "xlog": self.xlog, "ylog": self.ylog,
                 "yticks": None if self.yticks is None else _numbers(self.yticks),
@@ -770,6 +774,36 @@ def plain_text(label: str) -> str:
     return _NOT_XML.sub(" ", "".join(text for text, _, _ in text_runs(label)))
 
 
+_SUBSCRIPTS = dict(zip("0123456789+-=()aehijklmnoprstuvx",
+                       "₀₁₂₃₄₅₆₇₈₉₊₋₌₍₎ₐₑₕᵢⱼₖₗₘₙₒₚᵣₛₜᵤᵥₓ"))
+_SUPERSCRIPTS = dict(zip("0123456789+-=()ni", "⁰¹²³⁴⁵⁶⁷⁸⁹⁺⁻⁼⁽⁾ⁿⁱ"))
+
+
+def unicode_text(label: str) -> str:
+    """A label as one line of Unicode text, for a canvas that sets no math: sub- and
+    superscripts as their Unicode forms where every character has one
+    (``$x_{1}$ [m/s$^{2}$]`` -> ``x₁ [m/s²]``), else written ``x_ab``; accents combined.
+
+    Examples
+    --------
+    >>> unicode_text("amplitude $X$ [m/s$^{2}$]"), unicode_text("$x_{12}$")
+    ('amplitude X [m/s²]', 'x₁₂')
+    >>> unicode_text("$F_{ab}$")
+    'F_ab'
+
+    """
+    out = []
+    for text, level, _ in text_runs(label):
+        table = _SUBSCRIPTS if level < 0 else _SUPERSCRIPTS if level > 0 else None
+        if table is None:
+            out.append(text)
+        elif all(ch in table for ch in text):
+            out.append("".join(table[ch] for ch in text))
+        else:
+            out.append(("_" if level < 0 else "^") + text)
+    return _NOT_XML.sub(" ", "".join(out))
+
+
 def describe(chart: Chart | Charts) -> str:
     """A one-line description of the chart for readers that cannot see it.
 
@@ -1000,5 +1034,5 @@ def draw_figure(charts: Charts | Chart, ax: Any = None) -> Any:
 __all__ = ["Annotation", "Chart", "Charts", "Curve", "Marker", "Rule", "Span", "chart_svg",
            "charts_svg", "describe", "draw_chart", "draw_figure", "figure_of", "legend_keys",
            "mathtext_label", "panel_heights", "plain_text", "nice_ticks", "log_ticks",
-           "tick_labels", "text_runs", "unit_text", "text_width", "x_limits", "y_limits", "WIDTH",
-           "HEIGHT", "COLORS", "MARKER_SHAPES", "LEGENDS"]
+           "tick_labels", "text_runs", "unicode_text", "unit_text", "text_width", "x_limits",
+           "y_limits", "WIDTH", "HEIGHT", "COLORS", "MARKER_SHAPES", "LEGENDS"]

@@ -49,6 +49,7 @@ from ..system.stability import natural_frequencies
 from .explore_export import ExportedSystem, equilibrium_values, export_system
 from .js_printer import NotPrintable
 from .notation import name_latex
+from .plotting import response_axes
 from .sketch import SketchMotion, sketch_motion
 from .units_display import result_units
 
@@ -559,9 +560,17 @@ def explore_data(model: Model, system: LinearSystem | None = None,
         if model.matrices is None else [0.0] * system.n,
         "layout": exported.layout if exported is not None else None,
         "drawing": _drawing(motion) if motion is not None and exported is not None else None,
-        "precomputed": None}
+        "precomputed": None, "response_chart": None}
+    control = next((c for c in sliders if c["frequency"]), None)
+    if frequency is not None and control is not None:
+        # the frequency response's axes and curve styles, as resonant's plots draw them
+        # (the page samples its curve evenly from the range's start: a linear axis)
+        units = result_units(model)
+        data["response_chart"] = response_axes(
+            frequency, names, coordinates=list(system.coordinates),
+            units={n: _unit_text(units, n) for n in names}, unit=control["unit"],
+            frequency_sweep=True, log=False).to_dict()
     if exported is None:
-        control = next((c for c in sliders if c["frequency"]), None)
         data["precomputed"] = precomputed(system, frequency, control, shown, deadline)
     return data, exported.program if exported is not None else ""
 

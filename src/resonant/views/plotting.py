@@ -173,8 +173,10 @@ def response_axes(parameter: str, names: Sequence[str], *, coordinates: Sequence
         kind = "" if name in coordinates else " (output)"
         if per_curve and per_curve.get(name) not in (None, "", "1"):
             kind += f" [{unit_math(per_curve[name])}]"
+        # past the colour cycle, dashes: every curve stays distinguishable
+        dash = (None, "3.7 1.6", "1 1.65", "6.4 1.6 1 1.6")[(k // len(COLORS)) % 4]
         curves.append(Curve(np.empty(0), np.empty(0), f"{_name(name)}{kind}",
-                            COLORS[k % len(COLORS)], 1.5))
+                            COLORS[k % len(COLORS)], 1.5, dash))
     shown_units = [unit_math(u) if u not in ("", "1") else "1" for u in sorted(amplitude_units)]
     xlabel = (("excitation frequency " if frequency_sweep else "") + _name(parameter)
               + (f" [{unit}]" if unit else ""))
