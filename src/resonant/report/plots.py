@@ -84,9 +84,26 @@ class DrawnPlot(Protocol):
     def to_dict(self) -> dict: ...  # pragma: no cover
 
 
-#: what a report figure holds: a chart description (drawn as SVG text or with matplotlib)
-#: or plot data that draws itself
-PlotData = Chart | Charts | DrawnPlot
+class ChartedPlot(Protocol):
+    """Plot data of another step that describes its figure as a chart (the nonlinear
+    frequency-response curve of :mod:`resonant.report.nonlinear`)."""
+
+    def chart(self) -> Chart | Charts: ...  # pragma: no cover
+
+    def to_dict(self) -> dict: ...  # pragma: no cover
+
+
+#: what a report figure holds: a chart description (drawn as SVG text or with matplotlib),
+#: plot data that describes itself as one, or plot data that draws itself
+PlotData = Chart | Charts | ChartedPlot | DrawnPlot
+
+
+def described(plot: PlotData) -> Chart | Charts | None:
+    """The chart description of a figure's plot data (None: it draws itself)."""
+    if isinstance(plot, Chart | Charts):
+        return plot
+    chart = getattr(plot, "chart", None)
+    return chart() if callable(chart) else None
 
 
 # -- data ----------------------------------------------------------------------------------
@@ -207,14 +224,15 @@ def time_history(solution: StationarySolution, points: int = 600) -> TimeHistory
 
 def draw(plot: PlotData, figure) -> None:
     """Draw ``plot`` on a matplotlib figure."""
-    if isinstance(plot, Charts):
-        draw_figure(plot, [figure.add_subplot(len(plot.panels), 1, k + 1)
-                           for k in range(len(plot.panels))])
+    chart = described(plot)
+    if isinstance(chart, Charts):
+        draw_figure(chart, [figure.add_subplot(len(chart.panels), 1, k + 1)
+                            for k in range(len(chart.panels))])
         return
-    if not isinstance(plot, Chart):
-        plot.draw(figure)
+    if chart is None:
+        plot.draw(figure)  # type: ignore[union-attr]
         return
-    ax = draw_chart(plot, figure)
+    ax = draw_chart(chart, figure)
     # margins from the tick labels' lengths: tight_layout measured every text (half the
     # time of a figure)
     figure.subplots_adjust(left=_left_margin(ax), **MARGINS)
@@ -231,8 +249,9 @@ def _left_margin(ax: Any) -> float:
 def _figure(plot: PlotData):
     from matplotlib.figure import Figure
 
-    if isinstance(plot, Charts):
-        return draw_figure(plot)
+    chart = described(plot)
+    if isinstance(chart, Charts):
+        return draw_figure(chart)
     figure = Figure(figsize=(7.0, 3.6))
     draw(plot, figure)
     return figure
@@ -242,10 +261,11 @@ def to_svg(plot: PlotData, number: int) -> str:
     """The plot as an ``<svg>`` element for inline HTML (no XML prolog): chart descriptions
     written directly (:func:`resonant.views.charts.chart_svg`, about a millisecond each),
     other plots by matplotlib."""
-    if isinstance(plot, Chart):
-        return chart_svg(plot, f"resonant-figure-{number}")
-    if isinstance(plot, Charts):
-        return charts_svg(plot, f"resonant-figure-{number}")
+    chart = described(plot)
+    if isinstance(chart, Chart):
+        return chart_svg(chart, f"resonant-figure-{number}")
+    if isinstance(chart, Charts):
+        return charts_svg(chart, f"resonant-figure-{number}")
     import matplotlib
 
     buffer = io.StringIO()
@@ -267,6 +287,6 @@ def save(plot: PlotData, path, number: int) -> None:
         _figure(plot).savefig(path, metadata=metadata)
 
 
-__all__ = ["TimeHistory", "DrawnPlot", "PlotData", "frequency_response", "follows_frequency",
-           "operating_frequency", "response_chart", "history_figure", "time_history", "draw",
-           "to_svg", "save"]
+__all__ = ["TimeHistory", "DrawnPlot", "ChartedPlot", "PlotData", "described",
+           "frequency_response", "follows_frequency", "operating_frequency", "response_chart",
+           "history_figure", "time_history", "draw", "to_svg", "save"]

@@ -79,24 +79,26 @@ class Curve:
 
 
 #: the kinds of :class:`Marker`: a filled dot, a downward triangle with a black edge (a
-#: resonance peak), an open circle (an antiresonance)
-MARKER_SHAPES = ("dot", "peak", "ring")
+#: resonance peak), a circle on white (an antiresonance); and the special points' shapes,
+#: open (``filled=False``: the outline in the colour) or filled (a black outline)
+MARKER_SHAPES = ("dot", "peak", "ring", "circle", "square", "diamond", "triangle", "star")
 
 
 @dataclass(frozen=True)
 class Marker:
     """A mark at one point (the operating point on a curve, a peak); markers with a
-    ``label`` are named once in the legend (in grey: the colour is the curve's)."""
+    ``label`` are named once in the legend (in grey where the colour is the curve's)."""
 
     x: float
     y: float
     color: str
     shape: str = "dot"
     label: str = ""
+    filled: bool = True
 
     def to_dict(self) -> dict[str, Any]:
         return {"x": _number(self.x), "y": _number(self.y), "color": self.color,
-                "shape": self.shape, "label": self.label}
+                "shape": self.shape, "label": self.label, "filled": self.filled}
 
 
 @dataclass(frozen=True)
@@ -477,13 +479,19 @@ class _Key:
     width: float = 1.4
     dash: str | None = None
     shape: str = ""
+    filled: bool = True
+
+
+#: marker shapes named in the legend in their own colour (the special points' kinds)
+_OWN_COLOUR = ("circle", "square", "diamond", "triangle", "star")
 
 
 def legend_keys(chart: Chart) -> list[_Key]:
     """The legend's entries: the curves, then each labelled rule, band and marker kind once."""
     if chart.legend == "none":
         return []
-    keys = [_Key(c.label, c.color or "#000", c.width, c.dash) for c in chart.colored()]
+    keys = [_Key(c.label, c.color or "#000", c.width, c.dash) for c in chart.colored()
+            if c.label]
     seen: set[str] = set()
     for rule in chart.rules:
         if rule.label and rule.label not in seen:
@@ -496,7 +504,8 @@ def legend_keys(chart: Chart) -> list[_Key]:
     for marker in chart.markers:
         if marker.label and marker.label not in seen:
             seen.add(marker.label)
-            keys.append(_Key(marker.label, "#4d4d4d", shape=marker.shape))
+            keys.append(_Key(marker.label, marker.color if marker.shape in _OWN_COLOUR
+                             else "#4d4d4d", shape=marker.shape, filled=marker.filled))
     return keys
 
 
@@ -627,7 +636,29 @@ def _y_label_texts(chart: Chart) -> list[str]:
     return [label for _, label, minor in _y_ticks(frame) if not minor]
 
 
-def _marker_svg(shape: str, x: float, y: float, color: str) -> str:
+def _star(x: float, y: float, outer: float, inner: float) -> str:
+    points = []
+    for k in range(10):
+        r = outer if k % 2 == 0 else inner
+        angle = math.pi / 2 + k * math.pi / 5
+        points.append(f"{x + r * math.cos(angle):.2f},{y - r * math.sin(angle):.2f}")
+    return " ".join(points)
+
+
+def _marker_svg(shape: str, x: float, y: float, color: str, filled: bool = True) -> str:
+    if shape in _OWN_COLOUR:
+        paint = (f'fill="{color}" stroke="#000" stroke-width="0.6"' if filled else
+                 f'fill="none" stroke="{color}" stroke-width="1"')
+        if shape == "circle":
+            return f'<circle cx="{x:.2f}" cy="{y:.2f}" r="3.5" {paint}/>'
+        if shape == "square":
+            return f'<rect x="{x - 3:.2f}" y="{y - 3:.2f}" width="6" height="6" {paint}/>'
+        points = {"diamond": f"{x:.2f},{y - 4:.2f} {x + 3:.2f},{y:.2f} {x:.2f},{y + 4:.2f} "
+                             f"{x - 3:.2f},{y:.2f}",
+                  "triangle": f"{x:.2f},{y - 4:.2f} {x + 3.5:.2f},{y + 3:.2f} "
+                              f"{x - 3.5:.2f},{y + 3:.2f}",
+                  "star": _star(x, y, 5.5, 2.2)}[shape]
+        return f'<polygon points="{points}" {paint}/>'
     if shape == "peak":
         return (f'<polygon points="{x - 3.5:.2f},{y - 3.0:.2f} {x + 3.5:.2f},{y - 3.0:.2f} '
                 f'{x:.2f},{y + 3.5:.2f}" fill="{color}" stroke="#000" stroke-width="0.6"/>')
@@ -672,7 +703,7 @@ def _panel(chart: Chart, ident: str, height: float = HEIGHT) -> list[str]:
     for m in chart.markers:
         x, y = float(frame.x(m.x)), float(frame.y(m.y))
         if math.isfinite(x) and math.isfinite(y):
-            body.append(_marker_svg(m.shape, x, y, m.color))
+            body.append(_marker_svg(m.shape, x, y, m.color, m.filled))
     body.append("</g>")
     body.append(f'<rect x="{frame.left:.2f}" y="{frame.top:.2f}" '
                 f'width="{frame.right - frame.left:.2f}" height="{frame.bottom - frame.top:.2f}"'
@@ -828,7 +859,7 @@ def _legend(rows: list[list[tuple[_Key, float]]], frame: _Frame) -> list[str]:
         y = 12.0 + 15.0 * r
         for key, width in row:
             if key.shape:
-                out.append(_marker_svg(key.shape, x + 10.0, y - 3.5, key.color))
+                out.append(_marker_svg(key.shape, x + 10.0, y - 3.5, key.color, key.filled))
             elif key.width > 4.0:  # a band
                 out.append(f'<rect x="{x:.2f}" y="{y - 7.5:.2f}" width="20" height="8" '
                            f'fill="{key.color}"/>')
@@ -867,9 +898,22 @@ def mathtext_label(label: str) -> str:
     return label.replace("$", r"\$")
 
 
-_MPL_MARKERS: dict[str, dict[str, Any]] = {"dot": {"marker": "o", "markersize": 5},
-                "peak": {"marker": "v", "markersize": 7, "mec": "black", "mew": 0.6},
-                "ring": {"marker": "o", "markersize": 6, "mfc": "white"}}
+_MPL_MARKERS: dict[str, dict[str, Any]] = {
+    "dot": {"marker": "o", "markersize": 5},
+    "peak": {"marker": "v", "markersize": 7, "mec": "black", "mew": 0.6},
+    "ring": {"marker": "o", "markersize": 6, "mfc": "white"},
+    "circle": {"marker": "o", "markersize": 7}, "square": {"marker": "s", "markersize": 6},
+    "diamond": {"marker": "D", "markersize": 6}, "triangle": {"marker": "^", "markersize": 7},
+    "star": {"marker": "*", "markersize": 11}}
+
+
+def _marker_style(shape: str, color: str, filled: bool) -> dict[str, Any]:
+    """matplotlib's keywords of a marker: its shape, and its fill and outline."""
+    style = dict(_MPL_MARKERS.get(shape, _MPL_MARKERS["dot"]))
+    if shape in _OWN_COLOUR:
+        style.update({"mfc": color, "mec": "black", "mew": 0.6} if filled else
+                     {"mfc": "none", "mec": color, "mew": 1.0})
+    return style
 
 
 def _draw_panel(chart: Chart, ax: Any, own: bool, legend_size: float | None = None) -> None:
@@ -887,7 +931,7 @@ def _draw_panel(chart: Chart, ax: Any, own: bool, legend_size: float | None = No
                 linewidth=curve.width, linestyle=_linestyle(curve.dash))
     for m in chart.markers:
         ax.plot([m.x], [m.y], ls="", color=m.color, zorder=3,
-                **_MPL_MARKERS.get(m.shape, _MPL_MARKERS["dot"]))
+                **_marker_style(m.shape, m.color, m.filled))
     for rule in chart.rules:
         style = {"color": rule.color, "linewidth": rule.width, "linestyle": _linestyle(rule.dash)}
         (ax.axvline if rule.vertical else ax.axhline)(rule.at, **style)
@@ -914,11 +958,11 @@ def _draw_panel(chart: Chart, ax: Any, own: bool, legend_size: float | None = No
     ax.grid(True, which="major", color="0.9")
     if chart.xlog or chart.ylog:
         ax.grid(True, which="minor", color="0.95", linewidth=0.5)
-    keys = legend_keys(chart)[len(chart.curves):]
+    keys = legend_keys(chart)[len([c for c in chart.curves if c.label]):]
     handles = [Patch(color=k.color, label=mathtext_label(k.label)) if k.width > 4.0 and
                not k.shape else
                Line2D([], [], ls="", color=k.color, label=mathtext_label(k.label),
-                      **_MPL_MARKERS.get(k.shape, {})) if k.shape else
+                      **_marker_style(k.shape, k.color, k.filled)) if k.shape else
                Line2D([], [], color=k.color, linewidth=k.width, linestyle=_linestyle(k.dash),
                       label=mathtext_label(k.label)) for k in keys
                if not any(s.label == k.label for s in chart.spans)]
