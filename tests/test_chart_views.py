@@ -21,6 +21,8 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 
 import resonant
 from conftest import EXAMPLES
+from resonant.analyses.backbone import backbone
+from resonant.analyses.harmonic_balance import nonlinear_sweep
 from resonant.analyses.random_response import random_response
 from resonant.analyses.shock import pulse, shock_response_spectrum
 from resonant.analyses.simulate import simulate
@@ -34,6 +36,7 @@ from resonant.views.charts import (
     mathtext_label,
     plain_text,
 )
+from resonant.views.nonlinear_plots import backbones_chart, nonlinear_response_chart
 from resonant.views.plotting import (
     frequency_response_chart,
     plot_frequency_response,
@@ -56,6 +59,7 @@ def descriptions() -> dict[str, Charts]:
     shaker = resonant.load(EXAMPLES / "shaker_gevs.toml").linearize()
     t, a = pulse("half-sine", 100.0, 0.011, 1e-5)
     srs = shock_response_spectrum(a, 1e-5, np.geomspace(10.0, 2000.0, 25))
+    duffing = resonant.load(EXAMPLES / "duffing.toml")
     solution = eom.stationary()
     frf = plots.frequency_response(eom, solution)
     assert frf is not None
@@ -69,11 +73,16 @@ def descriptions() -> dict[str, Charts]:
         "report response": Charts((plots.response_chart(
             frf, plots.operating_frequency(solution), si),)),
         "report history": Charts((plots.history_figure(history),)),
+        "nonlinear": Charts((nonlinear_response_chart(
+            nonlinear_sweep(duffing, "omega", 0.5, 2.5, harmonics=3, points=41),
+            operating=(1.0, {"x": 0.8})),)),
+        "backbones": Charts((backbones_chart(backbone(duffing, amplitude=2.0, harmonics=1,
+                                                      points=20)),)),
     }
 
 
 KINDS = ["frequency response", "simulation", "random", "srs", "report response",
-         "report history"]
+         "report history", "nonlinear", "backbones"]
 
 
 def _svg_panels(svg: str) -> list[ElementTree.Element]:
@@ -119,9 +128,17 @@ def test_matplotlib_and_svg_draw_the_same_description(descriptions, kind) -> Non
         assert plain_text(chart.ylabel) in texts and plain_text(chart.xlabel) in texts
         if chart.legend != "none":
             for curve in chart.curves:
-                assert plain_text(curve.label) in texts
+                assert not curve.label or plain_text(curve.label) in texts
         if chart.title:
             assert ax.get_title() == mathtext_label(chart.title)
+        # the markers: one matplotlib line of one point each, one SVG shape each (in the
+        # clipped plot area, where the curves are)
+        points = [ln for ln in ax.get_lines() if len(ln.get_xdata()) == 1]
+        assert len(points) == len(chart.markers)
+        plot_area = next(g for g in group.iter(f"{SVG}g") if g.get("clip-path"))
+        shapes = [e for e in plot_area if e.tag in (f"{SVG}circle", f"{SVG}polygon",
+                                                    f"{SVG}rect")]
+        assert len(shapes) == len(chart.markers)
     assert fig.axes[len(charts.panels) - 1].get_xlabel() == mathtext_label(
         charts.panels[-1].xlabel)
 
