@@ -39,6 +39,7 @@ from resonant.views.charts import (
 from resonant.views.nonlinear_plots import backbones_chart, nonlinear_response_chart
 from resonant.views.plotting import (
     frequency_response_chart,
+    modes_chart,
     plot_frequency_response,
     simulation_chart,
 )
@@ -78,11 +79,12 @@ def descriptions() -> dict[str, Charts]:
             operating=(1.0, {"x": 0.8})),)),
         "backbones": Charts((backbones_chart(backbone(duffing, amplitude=2.0, harmonics=1,
                                                       points=20)),)),
+        "modes": modes_chart(eom.modes(), count=2),
     }
 
 
 KINDS = ["frequency response", "simulation", "random", "srs", "report response",
-         "report history", "nonlinear", "backbones"]
+         "report history", "nonlinear", "backbones", "modes"]
 
 
 def _svg_panels(svg: str) -> list[ElementTree.Element]:
@@ -137,8 +139,13 @@ def test_matplotlib_and_svg_draw_the_same_description(descriptions, kind) -> Non
         assert len(points) == len(chart.markers)
         plot_area = next(g for g in group.iter(f"{SVG}g") if g.get("clip-path"))
         shapes = [e for e in plot_area if e.tag in (f"{SVG}circle", f"{SVG}polygon",
-                                                    f"{SVG}rect")]
+                                                    f"{SVG}rect") and e.get("stroke") != "none"]
         assert len(shapes) == len(chart.markers)
+        # the bars: matplotlib's rectangles and the SVG's, of the bars' colours
+        bars = [e for e in plot_area if e.tag == f"{SVG}rect" and e.get("stroke") == "none"]
+        heights = [h for b in chart.bars for h in np.asarray(b.heights)]
+        assert sum(len(c) for c in ax.containers) == len(bars) == len(heights)
+        assert [e.get("fill") for e in bars] == [c for b in chart.bars for c in b.colors]
     assert fig.axes[len(charts.panels) - 1].get_xlabel() == mathtext_label(
         charts.panels[-1].xlabel)
 
@@ -149,6 +156,15 @@ def test_the_svg_places_the_points_on_the_description_s_axes(descriptions, kind)
     data -- affine in log10(x) on a log axis, in x on a linear one."""
     charts = descriptions[kind]
     for chart, group in zip(charts.panels, _svg_panels(charts_svg(charts, "p"))):
+        for bar in chart.bars:  # the bars' free ends, affine in their heights
+            rects = [e for e in group.iter(f"{SVG}rect") if e.get("stroke") == "none"]
+            h = np.asarray(bar.heights, dtype=float)
+            ends = np.array([float(r.get("y")) + (float(r.get("height")) if v < 0 else 0.0)
+                             for r, v in zip(rects, h)])
+            fit = np.polyfit(h, ends, 1)
+            assert fit[0] < 0 and np.max(np.abs(np.polyval(fit, h) - ends)) < 0.02
+        if not chart.curves:
+            continue
         path = next(group.iter(f"{SVG}path"))
         curve = next(c for c in chart.curves
                      if np.any(np.isfinite(c.y) & ((np.asarray(c.y) > 0) if chart.ylog

@@ -145,6 +145,21 @@ class Annotation:
         return {"at": _number(self.at), "text": self.text, "color": self.color}
 
 
+@dataclass(frozen=True, eq=False)
+class Bar:
+    """Bars of width ``width`` centred at ``x``, from zero to ``heights``, each in its
+    colour (a mode shape's components)."""
+
+    x: np.ndarray
+    heights: np.ndarray
+    colors: tuple[str, ...]
+    width: float = 0.6
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"x": _numbers(self.x), "heights": _numbers(self.heights),
+                "colors": list(self.colors), "width": self.width}
+
+
 #: where a chart's legend goes: inside the axes, beside them (right of a figure of its
 #: own; inside when drawn into a caller's axes), or none
 LEGENDS = ("best", "beside", "none")
@@ -173,6 +188,9 @@ class Chart:
     notes: tuple[Annotation, ...] = ()
     title: str = ""
     legend: str = "best"
+    bars: tuple[Bar, ...] = ()
+    #: the x ticks where the view names them: (value, label) (a coordinate under its bar)
+    xticks: tuple[tuple[float, str], ...] | None = None
 
     def colored(self) -> tuple[Curve, ...]:
         """The curves with the colour cycle filled in where a curve has none."""
@@ -201,7 +219,9 @@ class Chart:
                 "rules": [r.to_dict() for r in self.rules],
                 "spans": [s.to_dict() for s in self.spans],
                 "notes": [n.to_dict() for n in self.notes], "title": self.title,
-                "legend": self.legend}
+                "legend": self.legend, "bars": [b.to_dict() for b in self.bars],
+                "xticks": None if self.xticks is None else
+                [[_number(v), label] for v, label in self.xticks]}
 
 
 @dataclass(frozen=True)
@@ -221,11 +241,14 @@ class Charts:
     size: tuple[float, float] = (7.0, 3.6)
     sharex: bool = True
     legend: str = "panels"
+    #: panels side by side in this many columns (matplotlib; the SVG stacks them)
+    columns: int = 1
 
     def to_dict(self) -> dict[str, Any]:
         return {"title": self.title, "panels": [p.to_dict() for p in self.panels],
                 "heights": None if self.heights is None else list(self.heights),
-                "size": list(self.size), "sharex": self.sharex, "legend": self.legend}
+                "size": list(self.size), "sharex": self.sharex, "legend": self.legend,
+                "columns": self.columns}
 
 
 # -- limits and ticks ----------------------------------------------------------------------
@@ -245,6 +268,7 @@ def y_limits(chart: Chart) -> tuple[float, float]:
                 low > 0 or not chart.ylog):
             return low, high
     data = [_finite(c.y, chart.ylog) for c in chart.curves]
+    data += [_finite(np.append(b.heights, 0.0), chart.ylog) for b in chart.bars]
     data.append(_finite(np.array([m.y for m in chart.markers]), chart.ylog))
     values = np.concatenate(data) if data else np.empty(0)
     # within the floats' range, so that limits, margins and ticks stay finite
@@ -425,6 +449,7 @@ class _Frame:
     ylog: bool
     xlog: bool = False
     yticks: tuple[float, ...] | None = None
+    xticks: tuple[tuple[float, str], ...] | None = None
 
     def x(self, values: Any) -> np.ndarray:
         lo, hi = self.xlim
@@ -462,12 +487,13 @@ def _frame(chart: Chart, legend_rows: int, ylabels: list[str], height: float = H
     left = min(0.35 * WIDTH, 30.0 + widest)
     top = 8.0 + 15.0 * legend_rows + (15.0 if chart.title else 0.0)
     low, high = x_limits(chart)
-    probe = _Frame(0.0, 1.0, 0.0, 1.0, (low, high), (0.0, 1.0), False, chart.xlog)
+    probe = _Frame(0.0, 1.0, 0.0, 1.0, (low, high), (0.0, 1.0), False, chart.xlog,
+                   xticks=chart.xticks)
     xlabels = [label for _, label, minor in _x_ticks(probe) if not minor]
     right = WIDTH - max(0.02 * WIDTH, 4.0 + text_width(xlabels[-1] if xlabels else "", TICK_FONT)
                         / 2)
     return _Frame(left, right, top, height - 0.14 * HEIGHT, (low, high), y_limits(chart),
-                  chart.ylog, chart.xlog, chart.yticks)
+                  chart.ylog, chart.xlog, chart.yticks, chart.xticks)
 
 
 @dataclass(frozen=True)
@@ -561,6 +587,9 @@ def _minor_labels(majors: list[int], minors: list[float]) -> list[tuple[float, s
 
 def _x_ticks(frame: _Frame) -> list[tuple[float, str, bool]]:
     """(value, label, minor) of the x ticks."""
+    if frame.xticks is not None:
+        return [(float(v), label, False) for v, label in frame.xticks
+                if frame.xlim[0] <= v <= frame.xlim[1]]
     if frame.xlog:
         majors, minors = log_ticks(*frame.xlim)
         return ([(10.0 ** k, f"$10^{{{k}}}$", False) for k in majors]
@@ -580,12 +609,13 @@ def _axes(frame: _Frame) -> tuple[list[str], list[str]]:
             over.append(f'<line x1="{x:.2f}" y1="{frame.bottom:.2f}" x2="{x:.2f}" '
                         f'y2="{frame.bottom + 2.0:.2f}" stroke="#000" stroke-width="0.6"/>')
             continue
-        under.append(f'<line x1="{x:.2f}" y1="{frame.top:.2f}" x2="{x:.2f}" '
-                     f'y2="{frame.bottom:.2f}" stroke="#e6e6e6" stroke-width="0.8"/>')
+        if frame.xticks is None:  # named ticks (under bars) have no grid line
+            under.append(f'<line x1="{x:.2f}" y1="{frame.top:.2f}" x2="{x:.2f}" '
+                         f'y2="{frame.bottom:.2f}" stroke="#e6e6e6" stroke-width="0.8"/>')
         over.append(f'<line x1="{x:.2f}" y1="{frame.bottom:.2f}" x2="{x:.2f}" '
                     f'y2="{frame.bottom + 3.5:.2f}" {tick}/>')
         over.append(_text(x, frame.bottom + 15.0, label, TICK_FONT))
-    xpower = 0 if frame.xlog else tick_labels(
+    xpower = 0 if frame.xlog or frame.xticks is not None else tick_labels(
         [t for t in nice_ticks(*frame.xlim) if frame.xlim[0] <= t <= frame.xlim[1]])[1]
     if xpower:
         over.append(_text(frame.right, frame.bottom + 27.0, f"$\\times 10^{{{xpower}}}$",
@@ -685,6 +715,16 @@ def _panel(chart: Chart, ident: str, height: float = HEIGHT) -> list[str]:
             body.append(f'<rect x="{x0:.2f}" y="{frame.top:.2f}" width="{x1 - x0:.2f}" '
                         f'height="{frame.bottom - frame.top:.2f}" fill="{span.color}"/>')
     body += [*under, f'<g clip-path="url(#{clip})" fill="none">']
+    for bar in chart.bars:
+        zero = float(frame.y(0.0))
+        for k, (x, h) in enumerate(zip(np.asarray(bar.x, float).tolist(),
+                                       np.asarray(bar.heights, float).tolist())):
+            x0, x1 = float(frame.x(x - bar.width / 2)), float(frame.x(x + bar.width / 2))
+            y = float(frame.y(h))
+            if all(math.isfinite(v) for v in (x0, x1, y, zero)):
+                color = bar.colors[k % len(bar.colors)] if bar.colors else COLORS[0]
+                body.append(f'<rect x="{x0:.2f}" y="{min(y, zero):.2f}" width="{x1 - x0:.2f}" '
+                            f'height="{abs(zero - y):.2f}" fill="{color}" stroke="none"/>')
     for rule in chart.rules:
         dash = _dasharray(rule.dash, 1.0)
         if rule.vertical:
@@ -925,6 +965,8 @@ def _draw_panel(chart: Chart, ax: Any, own: bool, legend_size: float | None = No
     for span in chart.spans:
         ax.axvspan(span.start, span.stop, color=span.color, zorder=0,
                    label=mathtext_label(span.label) if span.label else None)
+    for bar in chart.bars:
+        ax.bar(bar.x, bar.heights, width=bar.width, color=list(bar.colors) or None)
     for curve in chart.colored():
         y = np.where(np.asarray(curve.y) > 0, curve.y, np.nan) if chart.ylog else curve.y
         ax.plot(curve.x, y, label=mathtext_label(curve.label), color=curve.color,
@@ -953,9 +995,14 @@ def _draw_panel(chart: Chart, ax: Any, own: bool, legend_size: float | None = No
         ax.set_ylim(*y_limits(chart))
     if chart.yticks is not None:
         ax.set_yticks(list(chart.yticks))
+    if chart.xticks is not None:
+        ax.set_xticks([v for v, _ in chart.xticks])
+        ax.set_xticklabels([mathtext_label(label) for _, label in chart.xticks], fontsize=10,
+                           rotation=0 if len(chart.xticks) <= 8 else 90)
     if chart.title:
         ax.set_title(mathtext_label(chart.title), fontsize=10)
-    ax.grid(True, which="major", color="0.9")
+    ax.set_axisbelow(True)  # the grid under the bars
+    ax.grid(True, which="major", color="0.9", axis="y" if chart.xticks is not None else "both")
     if chart.xlog or chart.ylog:
         ax.grid(True, which="minor", color="0.95", linewidth=0.5)
     keys = legend_keys(chart)[len([c for c in chart.curves if c.label]):]
@@ -1046,10 +1093,15 @@ def draw_figure(charts: Charts | Chart, ax: Any = None) -> Any:
 
         fig = Figure(figsize=charts.size, layout="constrained")
         n = len(charts.panels)
-        axes = list(np.atleast_1d(fig.subplots(
-            n, 1, sharex=charts.sharex, squeeze=False,
-            gridspec_kw={"height_ratios": list(charts.heights)} if charts.heights else None
-        )[:, 0]))
+        columns = max(1, min(charts.columns, n))
+        rows = math.ceil(n / columns)
+        grid = fig.subplots(rows, columns, sharex=charts.sharex, squeeze=False,
+                            gridspec_kw={"height_ratios": list(charts.heights)}
+                            if charts.heights and columns == 1 else None)
+        axes = list(grid.ravel())
+        for extra in axes[n:]:
+            extra.set_visible(False)
+        axes = axes[:n]
     else:
         axes = list(np.ravel(np.asarray(ax, dtype=object)))
         if not axes:
@@ -1061,7 +1113,7 @@ def draw_figure(charts: Charts | Chart, ax: Any = None) -> Any:
         if below or (charts.legend == "below" and k > 0):
             panel = replace(panel, legend="none")
         _draw_panel(panel, axis, own, legend_size=8.0)
-        if own and charts.sharex and k < len(charts.panels) - 1:
+        if own and charts.sharex and charts.columns == 1 and k < len(charts.panels) - 1:
             axis.set_xlabel("")
     if below:
         handles, labels = axes[0].get_legend_handles_labels()
@@ -1075,7 +1127,7 @@ def draw_figure(charts: Charts | Chart, ax: Any = None) -> Any:
     return fig
 
 
-__all__ = ["Annotation", "Chart", "Charts", "Curve", "Marker", "Rule", "Span", "chart_svg",
+__all__ = ["Annotation", "Bar", "Chart", "Charts", "Curve", "Marker", "Rule", "Span", "chart_svg",
            "charts_svg", "describe", "draw_chart", "draw_figure", "figure_of", "legend_keys",
            "mathtext_label", "panel_heights", "plain_text", "nice_ticks", "log_ticks",
            "tick_labels", "text_runs", "unicode_text", "unit_text", "text_width", "x_limits",

@@ -26,6 +26,7 @@ from ..errors import AnalysisError, printable
 from .charts import (
     COLORS,
     Annotation,
+    Bar,
     Chart,
     Charts,
     Curve,
@@ -437,9 +438,66 @@ def unwrapped_degrees(phase: Any) -> np.ndarray:
     return out
 
 
+def modes_chart(analysis: ModalAnalysis, count: int | None = 6) -> Charts:
+    """What the figure of the mode shapes shows: each mode (largest component +1) in a
+    panel of its own, bars for up to 24 coordinates (positive blue, negative red) under
+    the coordinates' names, a line for more.
+
+    Parameters
+    ----------
+    analysis : ModalAnalysis
+        The modes (those with omega^2 >= 0).
+    count : int, optional
+        How many modes, lowest first (default 6; None: all).
+
+    Returns
+    -------
+    Charts
+
+    Raises
+    ------
+    AnalysisError
+        Without modes to draw.
+    """
+    shapes = analysis.mode_shapes
+    total = shapes.shape[1]
+    if total == 0:
+        raise AnalysisError("there are no modes with omega^2 >= 0 to plot")
+    count = total if count is None else max(1, min(count, total))
+    panels = []
+    for j in range(count):
+        shape = np.asarray(shapes[:, j], dtype=float)
+        n = shape.shape[0]
+        positions = np.arange(1, n + 1, dtype=float)
+        w = analysis.natural_frequencies[j]
+        text = (f"mode {j + 1}: $\\omega_{{{j + 1}}}$ = {w:.5g} rad/s "
+                f"($f_{{{j + 1}}}$ = {w / (2 * math.pi):.4g} Hz)")
+        if analysis.proportional_damping and analysis.damped and \
+                j < len(analysis.damping_ratios):
+            text += f", $\\zeta_{{{j + 1}}}$ = {analysis.damping_ratios[j]:.3g}"
+        zero = Rule(0.0, vertical=False, color="#000000", width=0.6)
+        if n <= 24:
+            colors = tuple(COLORS[0] if v >= 0 else COLORS[3] for v in shape)
+            panels.append(Chart((), "", "", (0.4, n + 0.6), rules=(zero,), ylim=(-1.15, 1.15),
+                                title=text, legend="none",
+                                bars=(Bar(positions, shape, colors),),
+                                xticks=tuple((float(p), _name(c)) for p, c in
+                                             zip(positions, analysis.coordinates))))
+        else:
+            panels.append(Chart((Curve(positions, shape, "", COLORS[0], 1.2),),
+                                "coordinate number", "", (1.0, float(n)), rules=(zero,),
+                                ylim=(-1.15, 1.15), title=text, legend="none"))
+    columns = 2 if count > 1 else 1
+    rows = math.ceil(count / columns)
+    return Charts(tuple(panels), printable(analysis.title or "mode shapes", limit=80)
+                  + " (largest component +1)", size=(4.9 * columns, 2.5 * rows),
+                  sharex=False, columns=columns)
+
+
 def plot_modes(analysis: ModalAnalysis, path: Any = None, count: int | None = 6,
                ax: Any = None) -> Figure:
-    """The mode shapes (largest component +1): bars for few coordinates, lines for many.
+    """The mode shapes (largest component +1): the chart of :func:`modes_chart` (bars for
+    few coordinates, lines for many), drawn with matplotlib.
 
     Parameters
     ----------
@@ -466,58 +524,15 @@ def plot_modes(analysis: ModalAnalysis, path: Any = None, count: int | None = 6,
         Without modes to draw, or for an unsupported file suffix.
     """
     _check_path(path)
-    shapes = analysis.mode_shapes
-    total = shapes.shape[1]
-    if total == 0:
-        raise AnalysisError("there are no modes with omega^2 >= 0 to plot")
-    count = total if count is None else max(1, min(count, total))
-    if ax is None:
-        columns = 2 if count > 1 else 1
-        rows = math.ceil(count / columns)
-        fig = _new_figure(figsize=(4.9 * columns, 2.5 * rows))
-        panels = list(fig.subplots(rows, columns, squeeze=False).ravel())
-        for extra in panels[count:]:
-            extra.set_visible(False)
-        panels = panels[:count]
-    else:
-        panels = list(np.ravel(np.asarray(ax, dtype=object)))[:count]
-        if not panels:
+    charts = modes_chart(analysis, count)
+    axes = None
+    if ax is not None:
+        axes = list(np.ravel(np.asarray(ax, dtype=object)))
+        if not axes:
             raise AnalysisError("ax= takes an Axes or a non-empty sequence of Axes")
-        fig = _figure_of(panels[0])
-    for j, panel in enumerate(panels):
-        _draw_mode(panel, analysis, j)
-    if ax is None:
-        fig.suptitle(printable(analysis.title or "mode shapes", limit=80)
-                     + " (largest component +1)",
-                     fontsize=10)
-        fig.tight_layout()
+    fig = draw_figure(charts, axes)
     _save(fig, path, dpi=150, bbox_inches="tight")
     return fig
-
-
-def _draw_mode(ax: Any, analysis: ModalAnalysis, j: int) -> None:
-    """Mode ``j`` (0-based) on one Axes: bars for up to 24 coordinates, else a line."""
-    shape = analysis.mode_shapes[:, j]
-    n = shape.shape[0]
-    positions = np.arange(1, n + 1)
-    if n <= 24:
-        ax.bar(positions, shape, color=np.where(shape >= 0, "C0", "C3"), width=0.6)
-        ax.set_xticks(positions)
-        ax.set_xticklabels([math_name(c) for c in analysis.coordinates], fontsize=10,
-                           rotation=0 if n <= 8 else 90)
-    else:
-        ax.plot(positions, shape, color="C0", lw=1.2)
-        ax.set_xlabel("coordinate number", fontsize=10)
-    ax.axhline(0, color="black", lw=0.6)
-    ax.set_ylim(-1.15, 1.15)
-    w = analysis.natural_frequencies[j]
-    text = (f"mode {j + 1}: $\\omega_{{{j + 1}}}$ = {w:.5g} rad/s "
-            f"($f_{{{j + 1}}}$ = {w / (2 * math.pi):.4g} Hz)")
-    if analysis.proportional_damping and analysis.damped and j < len(analysis.damping_ratios):
-        text += f", $\\zeta_{{{j + 1}}}$ = {analysis.damping_ratios[j]:.3g}"
-    ax.set_title(text, fontsize=10)
-    ax.tick_params(axis="y", labelsize=10)
-    ax.grid(True, axis="y", alpha=0.3)
 
 
 def simulation_chart(sim: Simulation, units: Mapping[str, str] | None = None) -> Charts:
@@ -650,4 +665,5 @@ def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None,
 
 __all__ = ["plot_frequency_response", "plot_modes", "plot_simulation", "math_name",
            "unit_math", "unwrapped_degrees", "frequency_response_chart", "simulation_chart",
-           "history_chart", "name_label", "response_axes", "unit_suffix", "MAX_CURVES", "MAX_LINES"]
+           "history_chart", "modes_chart", "name_label", "response_axes", "unit_suffix",
+           "MAX_CURVES", "MAX_LINES"]
