@@ -57,7 +57,7 @@ def _numbers(values: Any) -> list[float | None]:
     return [_number(v) for v in np.asarray(values, dtype=float).ravel()]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Curve:
     """A line through the points (x, y); NaN breaks it (a left-out point).
 

@@ -335,6 +335,21 @@ def _name_units(model: Model, names: list[str]) -> list[dict[str, Any]]:
     return out
 
 
+def response_chart(model: Model, system: LinearSystem, sliders: list[dict[str, Any]],
+                   names: list[str]) -> dict[str, Any] | None:
+    """The frequency response's axes and curve styles as resonant's plots draw them
+    (:func:`resonant.views.plotting.response_axes`, as JSON): the page draws its curve with
+    them; None without an excitation frequency.  The page samples its curve evenly from
+    the range's start: a linear axis."""
+    control = next((c for c in sliders if c["frequency"]), None)
+    if control is None:
+        return None
+    units = result_units(model)
+    return response_axes(control["name"], names, coordinates=list(system.coordinates),
+                         units={n: _unit_text(units, n) for n in names}, unit=control["unit"],
+                         frequency_sweep=True, log=False).to_dict()
+
+
 def _drawing(motion: SketchMotion) -> dict[str, Any]:
     """The sketch as JSON with what carries each item."""
     data = motion.sketch.to_dict()
@@ -560,18 +575,11 @@ def explore_data(model: Model, system: LinearSystem | None = None,
         if model.matrices is None else [0.0] * system.n,
         "layout": exported.layout if exported is not None else None,
         "drawing": _drawing(motion) if motion is not None and exported is not None else None,
-        "precomputed": None, "response_chart": None}
-    control = next((c for c in sliders if c["frequency"]), None)
-    if frequency is not None and control is not None:
-        # the frequency response's axes and curve styles, as resonant's plots draw them
-        # (the page samples its curve evenly from the range's start: a linear axis)
-        units = result_units(model)
-        data["response_chart"] = response_axes(
-            frequency, names, coordinates=list(system.coordinates),
-            units={n: _unit_text(units, n) for n in names}, unit=control["unit"],
-            frequency_sweep=True, log=False).to_dict()
+        "precomputed": None}
     if exported is None:
+        control = next((c for c in sliders if c["frequency"]), None)
         data["precomputed"] = precomputed(system, frequency, control, shown, deadline)
+    data["response_chart"] = response_chart(model, system, sliders, names)
     return data, exported.program if exported is not None else ""
 
 
