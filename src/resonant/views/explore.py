@@ -335,8 +335,8 @@ def _name_units(model: Model, names: list[str]) -> list[dict[str, Any]]:
     return out
 
 
-def response_chart(model: Model, system: LinearSystem, sliders: list[dict[str, Any]],
-                   names: list[str]) -> dict[str, Any] | None:
+def _response_chart(model: Model, system: LinearSystem, sliders: list[dict[str, Any]],
+                    names: list[str]) -> dict[str, Any] | None:
     """The frequency response's axes and curve styles as resonant's plots draw them
     (:func:`resonant.views.plotting.response_axes`, as JSON): the page draws its curve with
     them; None without an excitation frequency.  The page samples its curve evenly from
@@ -579,7 +579,7 @@ def explore_data(model: Model, system: LinearSystem | None = None,
     if exported is None:
         control = next((c for c in sliders if c["frequency"]), None)
         data["precomputed"] = precomputed(system, frequency, control, shown, deadline)
-    data["response_chart"] = response_chart(model, system, sliders, names)
+    data["response_chart"] = _response_chart(model, system, sliders, names)
     return data, exported.program if exported is not None else ""
 
 
