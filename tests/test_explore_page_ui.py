@@ -16,6 +16,8 @@ written by ``resonant explore``; nothing but the page itself may load (as in
 * the response plot's y range holds every point of the curves shown (above the 8 decades
   below the highest peak it shows at most), a frequency beyond the plotted range is said,
   and the curves have distinct colours,
+* the response plot's axis labels and curve styles are those of the chart description the
+  library's plots draw (``response_chart``, from ``resonant.views.plotting.response_axes``),
 * at 375 px the mechanism stays in view while a slider far down is used.
 """
 
@@ -186,6 +188,32 @@ def test_the_response_plot_fits_its_curves(browser: Any, written: dict[str, Path
         assert p.evaluate("resonant.response()")["beyond"] is True
         p.evaluate("resonant.set({omega: 20})")
         assert p.evaluate("resonant.response()")["beyond"] is False
+
+
+def test_the_response_plot_draws_the_chart_description(browser: Any,  # noqa: F811
+                                                       written: dict[str, Path]) -> None:
+    """The page takes the frequency response's axis labels and curve styles from the same
+    description as plot_frequency_response: its labels as Unicode text, its colours,
+    widths and dashes (in pixels: the description's are in line widths)."""
+    import resonant
+    from resonant.views.explore import explore_data
+    from resonant.views.plotting import frequency_response_chart
+
+    model = resonant.load(REFERENCE)
+    chart = explore_data(model)[0]["response_chart"]
+    names = [*model.coordinates, *model.outputs]
+    assert chart["xtext"] == "excitation frequency ω [rad/s]"
+    sweep = model.linearize().sweep("omega", [1.0, 2.0, 3.0])
+    drawn = frequency_response_chart(sweep, units={"x1": "m", "x2": "m", "phi": "rad"})
+    assert [c.label for c in drawn.panels[0].curves] == [c["label"] for c in chart["curves"]]
+    assert drawn.panels[0].ylabel == chart["ylabel"]
+    with opened(browser, written["cart_pendulum"]) as page:
+        plot = page.page.evaluate("resonant.response()")
+        assert plot["xlabel"] == chart["xtext"] and plot["ylabel"] == chart["ytext"]
+        for name, style in zip(plot["names"], plot["styles"]):
+            own = chart["curves"][names.index(name)]
+            assert style["colour"] == own["color"] and style["width"] == own["width"]
+            assert style["dash"] == []
 
 
 def test_curves_have_distinct_colours_and_names_are_typeset(browser: Any,  # noqa: F811

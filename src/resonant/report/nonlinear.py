@@ -12,7 +12,7 @@ amplitudes at the operating point: linear, nonlinear, and their difference.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -22,10 +22,12 @@ from ..analyses.nonlinear_response import NonlinearResponse
 from ..analyses.periodic import PeriodicSolution, periodic_solution
 from ..errors import AnalysisError
 from ..system import NonlinearSystem, nonlinear_system
-from ..views.nonlinear_plots import plot_nonlinear_response
+from ..views.charts import Chart, draw_chart
+from ..views.nonlinear_plots import nonlinear_response_chart
 from ..views.notation import number_text
+from ..views.plotting import name_label as _label
 from .blocks import Block, Heading, Math, Note, Table, cell, paragraph
-from .plots import _label, _swept_parameter
+from .plots import _swept_parameter
 from .steps import Context
 
 #: the curve runs over [LOW, HIGH] times the operating frequency
@@ -42,15 +44,15 @@ class NonlinearCurve:
     operating: float
     operating_amplitudes: dict[str, float]
 
+    def chart(self) -> Chart:
+        """What its figure shows: the view's chart of the curve, the operating point starred
+        (:func:`resonant.views.nonlinear_plots.nonlinear_response_chart`)."""
+        return replace(nonlinear_response_chart(
+            self.response, title=False, operating=(self.operating, self.operating_amplitudes)),
+            legend="best")
+
     def draw(self, figure: Any) -> None:
-        ax = figure.add_subplot(1, 1, 1)
-        plot_nonlinear_response(self.response, ax=ax)
-        for i, (name, value) in enumerate(self.operating_amplitudes.items()):
-            ax.plot([self.operating], [value], "*", color=f"C{i % 10}", markersize=11,
-                    markeredgecolor="k", zorder=4, label=f"{_label(name)} at the operating point")
-        ax.axvline(self.operating, color="0.25", linestyle="--", linewidth=1.0)
-        ax.set_title("")
-        ax.legend(fontsize=7, loc="best", frameon=False)
+        draw_chart(self.chart(), figure)
         figure.tight_layout()
 
     def to_dict(self) -> dict:

@@ -1,21 +1,31 @@
-"""Plot data of the report (computed first) and its drawing with matplotlib (separately).
+"""The report's figures: its data computed first, described by the views' chart functions
+(:mod:`resonant.views.charts`, the same descriptions the library's plots draw), written
+as SVG text for HTML or drawn with matplotlib for files.
 
 :func:`frequency_response` sweeps the excitation frequency through the model:
 when the frequency is a parameter (``omega``), every parameter-dependent
 excitation amplitude follows it (a rotating unbalance grows with Omega^2);
-otherwise the force amplitudes are held at their operating values.
+otherwise the force amplitudes are held at their operating values.  It returns the
+library's :class:`~resonant.analyses.sweep.FrequencyResponse` (the response at the
+excitation frequency alone), which :func:`response_chart` describes with
+:func:`resonant.views.plotting.frequency_response_chart`.
 
 Examples
 --------
 >>> from resonant.api import load
->>> from resonant.report.plots import frequency_response, to_svg
+>>> from resonant.report.plots import (frequency_response, operating_frequency,
+...                                    response_chart, to_svg)
 >>> import resonant, pathlib
 >>> path = pathlib.Path(resonant.__file__).parents[2] / "examples" / "cart_pendulum.toml"
 >>> eom = load(path).linearize()
->>> frf = frequency_response(eom, eom.stationary())
->>> frf.parameter, round(frf.operating, 6), round(float(frf.operating_amplitudes["x2"]), 4)
-('omega', 20.0, 0.0451)
->>> to_svg(frf, 1).startswith("<svg")
+>>> solution = eom.stationary()
+>>> frf = frequency_response(eom, solution)
+>>> frf.parameter, operating_frequency(solution)
+('omega', 20.0)
+>>> chart = response_chart(frf, 20.0)
+>>> [round(m.y, 4) for m in chart.markers][1], chart.xlog, chart.ylog
+(0.0451, False, True)
+>>> to_svg(chart, 1).startswith("<svg")
 True
 """
 
@@ -26,6 +36,7 @@ import math
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
+from dataclasses import replace as dataclass_replace
 from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
@@ -34,37 +45,18 @@ import sympy
 from ..analyses.stationary import common_period
 from ..analyses.sweep import sweep
 from ..system import LinearSystem
-from ..views.charts import COLORS, Chart, Curve, Marker, Rule, chart_svg, draw_chart
-from ..views.notation import name_latex
+from ..views.charts import Chart, Charts, chart_svg, charts_svg, draw_chart, draw_figure
+from ..views.plotting import frequency_response_chart, history_chart
 from ..views.units_display import result_units
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..analyses.stationary import StationarySolution
+    from ..analyses.sweep import FrequencyResponse
     from ..system import LinearEOM
 
 MAX_PLOT_COORDINATES = 12
 #: subplot margins of the report's 7.0 x 3.6 in figures (room for the axis labels)
 MARGINS = {"right": 0.98, "bottom": 0.14, "top": 0.97}
-
-
-@dataclass(frozen=True)
-class ResponseCurves:
-    """Amplitude of each coordinate against the excitation frequency."""
-
-    omega: np.ndarray
-    amplitudes: Mapping[str, np.ndarray]
-    operating: float
-    operating_amplitudes: Mapping[str, float]
-    natural_frequencies: np.ndarray
-    #: the swept parameter, or None when the force amplitudes are held fixed
-    parameter: str | None
-    #: name -> SI unit of the amplitudes (a model with units; empty without)
-    units: Mapping[str, str] = field(default_factory=dict)
-
-    def to_dict(self) -> dict:
-        return {"omega": self.omega.tolist(), "parameter": self.parameter,
-                "amplitudes": {k: v.tolist() for k, v in self.amplitudes.items()},
-                "operating": self.operating}
 
 
 @dataclass(frozen=True)
@@ -92,7 +84,26 @@ class DrawnPlot(Protocol):
     def to_dict(self) -> dict: ...  # pragma: no cover
 
 
-PlotData = ResponseCurves | TimeHistory | DrawnPlot
+class ChartedPlot(Protocol):
+    """Plot data of another step that describes its figure as a chart (the nonlinear
+    frequency-response curve of :mod:`resonant.report.nonlinear`)."""
+
+    def chart(self) -> Chart | Charts: ...  # pragma: no cover
+
+    def to_dict(self) -> dict: ...  # pragma: no cover
+
+
+#: what a report figure holds: a chart description (drawn as SVG text or with matplotlib),
+#: plot data that describes itself as one, or plot data that draws itself
+PlotData = Chart | Charts | ChartedPlot | DrawnPlot
+
+
+def described(plot: PlotData) -> Chart | Charts | None:
+    """The chart description of a figure's plot data (None: it draws itself)."""
+    if isinstance(plot, Chart | Charts):
+        return plot
+    chart = getattr(plot, "chart", None)
+    return chart() if callable(chart) else None
 
 
 # -- data ----------------------------------------------------------------------------------
@@ -106,15 +117,22 @@ def _dependents(model, name: str) -> set[str]:
     return found - {name}
 
 
-def frequency_response(eom: LinearEOM, solution: StationarySolution,
-                       points: int = 500) -> ResponseCurves | None:
-    """Amplitudes of the coordinates for excitation frequencies from 0 to ~1.6x the highest
-    natural frequency (or the excitation); None unless there is one excitation frequency."""
+def operating_frequency(solution: StationarySolution) -> float | None:
+    """The excitation frequency of a solution with one moving harmonic (else None)."""
     moving = [h for h in solution.harmonics if h.omega > 0]
+    return float(moving[0].omega) if len(moving) == 1 else None
+
+
+def frequency_response(eom: LinearEOM, solution: StationarySolution,
+                       points: int = 500) -> FrequencyResponse | None:
+    """Amplitudes of the coordinates (and the outputs the sweep gives) at excitation
+    frequencies from 0 to ~1.6x the highest natural frequency (or the excitation): the
+    response at the excitation frequency alone (a static load does not count), as one
+    harmonic; None unless there is one excitation frequency."""
+    w0 = operating_frequency(solution)
     n = len(eom.coordinates)
-    if len(moving) != 1 or n > MAX_PLOT_COORDINATES or eom.harmonics is None:
+    if w0 is None or n > MAX_PLOT_COORDINATES or eom.harmonics is None:
         return None
-    w0 = moving[0].omega
     top = max([w0, *solution.natural_frequencies.tolist()])
     grid = np.linspace(top * 1.6 / points, top * 1.6, points)
     grid = np.union1d(grid, [w0])
@@ -130,8 +148,8 @@ def frequency_response(eom: LinearEOM, solution: StationarySolution,
         system = replace(nm, harmonics=(h,), outputs={}, system=None)
     result = sweep(system, parameter or "omega", grid, names=list(eom.coordinates),
                    progress=False)
-    # the response at the excitation frequency alone (a static load does not count): the
-    # sum over the harmonics running with the grid (the frequency p and -p, signs folded)
+    # the response at the excitation frequency alone: the sum over the harmonics running
+    # with the grid (the frequency p and -p, signs folded)
     follows = [k for k, w in enumerate(result.harmonic_omegas)
                if np.allclose(w, grid, rtol=1e-9, atol=0.0)]
     # the coordinates, and the outputs where the sweep gives them (the model's own sweep)
@@ -140,15 +158,32 @@ def frequency_response(eom: LinearEOM, solution: StationarySolution,
     X = np.zeros((grid.size, len(names)), dtype=complex)
     for k in follows:
         X = X + result.response[k][:, columns]
-    skipped = np.isin(grid, np.asarray(result.skipped, dtype=float))
-    X[skipped] = np.nan  # exactly at an undamped resonance: left out of the curve
-    amplitudes = {c: np.abs(X[:, i]) for i, c in enumerate(names)}
-    at = int(np.argmin(np.abs(grid - w0)))
-    units = result_units(eom.model)
-    return ResponseCurves(grid, amplitudes, w0,
-                             {c: float(a[at]) for c, a in amplitudes.items()},
-                             solution.natural_frequencies, parameter,
-                             units.si if units is not None else {})
+    return replace(result, quantities=tuple(names), response=X[None], harmonic_omegas=grid[None],
+                   frequency_sweep=True, frequency_scale=1.0,
+                   natural_frequencies=np.asarray(solution.natural_frequencies, dtype=float),
+                   coordinates=tuple(eom.coordinates))
+
+
+def follows_frequency(eom: LinearEOM, solution: StationarySolution) -> str | None:
+    """The parameter the report's frequency response sweeps (the excitation amplitudes
+    that depend on it follow), or None when they are held at their operating values."""
+    w0 = operating_frequency(solution)
+    return None if w0 is None else _swept_parameter(eom, w0)
+
+
+def response_chart(frf: FrequencyResponse, operating: float | None,
+                   units: Mapping[str, str] | None = None) -> Chart:
+    """The report's figure of a frequency response: the amplitudes (the library's chart
+    without the phase panel and the peaks), the operating point marked."""
+    chart = frequency_response_chart(frf, list(frf.names), units or None, phase=False,
+                                     extrema=False, title=False, operating=operating)
+    return dataclass_replace(chart.panels[0], legend="best",
+                             xlim=(0.0, chart.panels[0].xlim[1]))
+
+
+def history_figure(history: TimeHistory) -> Chart:
+    """The report's figure of a time history (:func:`resonant.views.plotting.history_chart`)."""
+    return history_chart(history.t, history.values, history.units)
 
 
 def _swept_parameter(eom: LinearEOM, w0: float) -> str | None:
@@ -187,53 +222,17 @@ def time_history(solution: StationarySolution, points: int = 600) -> TimeHistory
 
 # -- drawing ---------------------------------------------------------------------------------
 
-def _label(name: str, units: Mapping[str, str] | None = None) -> str:
-    unit = (units or {}).get(name, "")
-    return "$" + name_latex(name) + "$" + (f" [{unit}]" if unit and unit != "1" else "")
-
-
-def _unit_suffix(plot: ResponseCurves | TimeHistory) -> tuple[str, Mapping[str, str]]:
-    """`` [m]`` for the y axis when every curve has that unit, else `` [m, rad]`` and
-    per-curve units in the legend."""
-    shown = {plot.units.get(n, "") for n in (plot.amplitudes if isinstance(
-        plot, ResponseCurves) else plot.values)}
-    if len(shown) == 1:
-        unit = next(iter(shown))
-        return (f" [{unit}]" if unit and unit != "1" else ""), {}
-    # several units: all of them on the axis (in the order of the curves), each in the legend
-    named = [u if u and u != "1" else "1" for u in dict.fromkeys(
-        plot.units.get(n, "") for n in (plot.amplitudes if isinstance(
-            plot, ResponseCurves) else plot.values))]
-    return f" [{', '.join(named)}]", plot.units
-
-
-def chart_of(plot: ResponseCurves | TimeHistory) -> Chart:
-    """What the figure of a frequency response or a time history shows."""
-    suffix, per_curve = _unit_suffix(plot)
-    if isinstance(plot, ResponseCurves):
-        curves = tuple(Curve(plot.omega, amp, _label(name, per_curve), COLORS[i % len(COLORS)])
-                       for i, (name, amp) in enumerate(plot.amplitudes.items()))
-        markers = tuple(Marker(plot.operating, value, c.color or "#000")
-                        for c, value in zip(curves, plot.operating_amplitudes.values())
-                        if value > 0)
-        rules = tuple(Rule(float(w), color="#999999", dash="1 1.65")
-                      for w in plot.natural_frequencies if 0 < w <= plot.omega[-1])
-        rules += (Rule(plot.operating, color="#404040", dash="3.7 1.6"),)
-        return Chart(curves, r"excitation frequency $\omega$ [rad/s]", "amplitude $X$" + suffix,
-                     (0.0, float(plot.omega[-1])), ylog=True, markers=markers, rules=rules)
-    curves = tuple(Curve(plot.t, y, _label(name, per_curve))
-                   for name, y in plot.values.items())
-    return Chart(curves, "time $t$ [s]", "stationary response $q_p(t)$" + suffix,
-                 (float(plot.t[0]), float(plot.t[-1])),
-                 rules=(Rule(0.0, vertical=False, color="#999999", width=0.8),))
-
-
 def draw(plot: PlotData, figure) -> None:
     """Draw ``plot`` on a matplotlib figure."""
-    if not isinstance(plot, ResponseCurves | TimeHistory):
-        plot.draw(figure)
+    chart = described(plot)
+    if isinstance(chart, Charts):
+        draw_figure(chart, [figure.add_subplot(len(chart.panels), 1, k + 1)
+                            for k in range(len(chart.panels))])
         return
-    ax = draw_chart(chart_of(plot), figure)
+    if chart is None:
+        plot.draw(figure)  # type: ignore[union-attr]
+        return
+    ax = draw_chart(chart, figure)
     # margins from the tick labels' lengths: tight_layout measured every text (half the
     # time of a figure)
     figure.subplots_adjust(left=_left_margin(ax), **MARGINS)
@@ -250,17 +249,23 @@ def _left_margin(ax: Any) -> float:
 def _figure(plot: PlotData):
     from matplotlib.figure import Figure
 
+    chart = described(plot)
+    if isinstance(chart, Charts):
+        return draw_figure(chart)
     figure = Figure(figsize=(7.0, 3.6))
     draw(plot, figure)
     return figure
 
 
 def to_svg(plot: PlotData, number: int) -> str:
-    """The plot as an ``<svg>`` element for inline HTML (no XML prolog): frequency
-    responses and time histories written directly (:func:`resonant.views.charts.chart_svg`,
-    about a millisecond each), other plots by matplotlib."""
-    if isinstance(plot, ResponseCurves | TimeHistory):
-        return chart_svg(chart_of(plot), f"resonant-figure-{number}")
+    """The plot as an ``<svg>`` element for inline HTML (no XML prolog): chart descriptions
+    written directly (:func:`resonant.views.charts.chart_svg`, about a millisecond each),
+    other plots by matplotlib."""
+    chart = described(plot)
+    if isinstance(chart, Chart):
+        return chart_svg(chart, f"resonant-figure-{number}")
+    if isinstance(chart, Charts):
+        return charts_svg(chart, f"resonant-figure-{number}")
     import matplotlib
 
     buffer = io.StringIO()
@@ -282,5 +287,6 @@ def save(plot: PlotData, path, number: int) -> None:
         _figure(plot).savefig(path, metadata=metadata)
 
 
-__all__ = ["ResponseCurves", "TimeHistory", "DrawnPlot", "PlotData", "frequency_response",
-           "time_history", "chart_of", "draw", "to_svg", "save"]
+__all__ = ["TimeHistory", "DrawnPlot", "ChartedPlot", "PlotData", "described",
+           "frequency_response", "follows_frequency", "operating_frequency", "response_chart",
+           "history_figure", "time_history", "draw", "to_svg", "save"]

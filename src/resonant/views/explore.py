@@ -50,6 +50,7 @@ from ..system.stability import natural_frequencies
 from .explore_export import ExportedSystem, equilibrium_values, export_system
 from .js_printer import NotPrintable
 from .notation import name_latex
+from .plotting import response_axes
 from .sketch import SketchMotion, sketch_motion
 from .units_display import result_units
 
@@ -333,6 +334,21 @@ def _name_units(model: Model, names: list[str]) -> list[dict[str, Any]]:
                     "unit": _unit_text(units, name),
                     "factor": shown.factor if shown is not None else 1.0})
     return out
+
+
+def _response_chart(model: Model, system: LinearSystem, sliders: list[dict[str, Any]],
+                    names: list[str]) -> dict[str, Any] | None:
+    """The frequency response's axes and curve styles as resonant's plots draw them
+    (:func:`resonant.views.plotting.response_axes`, as JSON): the page draws its curve with
+    them; None without an excitation frequency.  The page samples its curve evenly from
+    the range's start: a linear axis."""
+    control = next((c for c in sliders if c["frequency"]), None)
+    if control is None:
+        return None
+    units = result_units(model)
+    return response_axes(control["name"], names, coordinates=list(system.coordinates),
+                         units={n: _unit_text(units, n) for n in names}, unit=control["unit"],
+                         frequency_sweep=True, log=False).to_dict()
 
 
 def _drawing(motion: SketchMotion) -> dict[str, Any]:
@@ -622,6 +638,7 @@ def explore_data(model: Model, system: LinearSystem | None = None,
     if exported is None:
         control = next((c for c in sliders if c["frequency"]), None)
         data["precomputed"] = precomputed(system, frequency, control, shown, deadline)
+    data["response_chart"] = _response_chart(model, system, sliders, names)
     return data, exported.program if exported is not None else ""
 
 

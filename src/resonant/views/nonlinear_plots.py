@@ -14,7 +14,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .plotting import MAX_CURVES, _figure_of, _new_figure, _save, math_name, unit_math
+from ..errors import printable
+from .charts import COLORS, Chart, Charts, Curve, Marker, Rule, draw_figure
+from .plotting import MAX_CURVES, _check_path, _name, _save, unit_math
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -24,65 +26,113 @@ if TYPE_CHECKING:  # pragma: no cover
 
 MARKERS = {"fold": "o", "period-doubling": "s", "neimark-sacker": "D", "branch": "^",
            "peak": "*"}
+#: the chart's marker shape of each kind of special point (as :data:`MARKERS`)
+SHAPES = {"fold": "circle", "period-doubling": "square", "neimark-sacker": "diamond",
+          "branch": "triangle", "peak": "star"}
+
+
+def _segments(values: np.ndarray, amplitudes: np.ndarray, stable: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(x, stable y, unstable y): the branch as two curves broken by NaN, each running on
+    to the point where the stability changes (the two join there)."""
+    n = values.size
+    keep = np.zeros((2, n), dtype=bool)  # [stable, unstable]
+    for i in range(n):
+        k = 0 if stable[i] else 1
+        keep[k, i] = True
+        if i + 1 < n and stable[i + 1] != stable[i]:
+            keep[k, i + 1] = True  # the segment reaches the switching point
+    with np.errstate(invalid="ignore"):
+        return (values.astype(float), np.where(keep[0], amplitudes, np.nan),
+                np.where(keep[1], amplitudes, np.nan))
+
+
+def nonlinear_response_chart(response: NonlinearResponse, names: Sequence[str] | None = None,
+                             linear: bool = True, units: Mapping[str, str] | None = None, *,
+                             title: bool = True,
+                             operating: tuple[float, Mapping[str, float]] | None = None
+                             ) -> Chart:
+    """What the figure of a nonlinear steady-state sweep shows: the peak amplitude of each
+    coordinate and output against the parameter, stable parts solid, unstable dashed,
+    special points marked, the linear frequency response dotted beside it.
+
+    Parameters
+    ----------
+    response : NonlinearResponse
+    names : sequence of str, optional
+        The curves (default: the first :data:`MAX_CURVES`).
+    linear : bool
+        Draw the linear frequency response beside.
+    units : mapping, optional
+        name -> SI unit, on the curves and the axis.
+    title : bool
+        Give the chart the model's title.
+    operating : (value, amplitudes), optional
+        The operating point: a dashed line at the value and a star on each curve.
+
+    Returns
+    -------
+    Chart
+    """
+    chosen = list(names) if names else list(response.amplitudes)[:MAX_CURVES]
+    v = np.asarray(response.values, dtype=float)
+    stable = np.asarray(response.stable, dtype=bool)
+    curves: list[Curve] = []
+    markers: list[Marker] = []
+    for k, name in enumerate(chosen):
+        color = COLORS[k % len(COLORS)]
+        a = np.asarray(response.amplitudes[name], dtype=float)
+        unit = (units or {}).get(name, "")
+        shown = _name(name) + (f" [{unit_math(unit)}]" if unit not in ("", "1") else "")
+        if linear and response.linear is not None and name in response.linear.amplitudes:
+            curves.append(Curve(np.asarray(response.linear.values, dtype=float),
+                                np.asarray(response.linear.amplitudes[name], dtype=float),
+                                f"{shown} (linear)", color, 1.1, "1 1.65"))
+        x, on, off = _segments(v, a, stable)
+        curves.append(Curve(x, on, f"{shown} (harmonic balance, H = {response.harmonics})",
+                            color, 1.6))
+        if np.isfinite(off).any():
+            curves.append(Curve(x, off, "", color, 1.6, "3.7 1.6"))
+        for point in response.special_points:
+            if name in point.amplitudes and point.quantity in (None, name):
+                markers.append(Marker(point.value, point.amplitudes[name], "#000000",
+                                      SHAPES.get(point.kind, "circle"), point.kind,
+                                      filled=False))
+    if not stable.all():
+        curves.append(Curve(np.empty(0), np.empty(0), "unstable", "#4d4d4d", 1.6, "3.7 1.6"))
+    rules: tuple[Rule, ...] = ()
+    if operating is not None:
+        value, amplitudes = operating
+        markers += [Marker(value, amplitudes[name], COLORS[k % len(COLORS)], "star",
+                           f"{_name(name)} at the operating point")
+                    for k, name in enumerate(chosen) if name in amplitudes]
+        rules = (Rule(float(value), color="#404040", dash="3.7 1.6"),)
+    base = np.asarray(response.base_frequencies, dtype=float)
+    frequency = base.shape == v.shape and bool(np.allclose(base, v))  # the parameter is ω
+    xlabel = (("excitation frequency " if frequency else "") + _name(response.parameter)
+              + (" [rad/s]" if frequency else ""))
+    shown_units = sorted({(units or {}).get(n, "") for n in chosen} - {"", "1"})
+    ylabel = ("peak amplitude $X$ (deviation)"
+              + (f" [{', '.join(unit_math(u) for u in shown_units)}]" if shown_units else ""))
+    top = max((float(np.nanmax(response.amplitudes[n])) for n in chosen), default=1.0)
+    return Chart(tuple(curves), xlabel, ylabel,
+                 (min(response.start, response.stop), max(response.start, response.stop)),
+                 markers=tuple(markers), rules=rules,
+                 ylim=(0.0, 1.15 * top) if top > 0 else None,
+                 title=printable(response.title or "nonlinear steady state", limit=80)
+                 if title else "")
 
 
 def plot_nonlinear_response(response: NonlinearResponse, path: Any = None,
                             names: Sequence[str] | None = None, ax: Any = None,
                             linear: bool = True, units: Mapping[str, str] | None = None) -> Figure:
-    """Amplitude against the parameter; returns the Figure (and writes it to ``path``).
+    """Amplitude against the parameter (the chart of :func:`nonlinear_response_chart`, drawn
+    with matplotlib); returns the Figure (and writes it to ``path``).
 
     ``units`` (name -> SI unit, ``ResultUnits.si``) labels the curves and the axis."""
-    if ax is None:
-        fig = _new_figure(figsize=(7.5, 4.8), layout="constrained")
-        ax = fig.add_subplot()
-    else:
-        fig = _figure_of(ax)
-    chosen = list(names) if names else list(response.amplitudes)[:MAX_CURVES]
-    colors = [f"C{i % 10}" for i in range(len(chosen))]
-    v = np.asarray(response.values)
-    stable = np.asarray(response.stable)
-    for name, color in zip(chosen, colors):
-        a = np.asarray(response.amplitudes[name])
-        unit = (units or {}).get(name, "")
-        shown = math_name(name) + (f" [{unit_math(unit)}]" if unit not in ("", "1") else "")
-        if linear and response.linear is not None and name in response.linear.amplitudes:
-            ax.plot(response.linear.values, response.linear.amplitudes[name], color=color,
-                    lw=1.1, alpha=0.6, ls=":", label=f"{shown} (linear)")
-        # draw segments of constant stability, joined at the switching points
-        start = 0
-        first = True
-        for i in range(1, v.size + 1):
-            if i == v.size or stable[i] != stable[start]:
-                stop = min(i + 1, v.size)
-                ax.plot(v[start:stop], a[start:stop], color=color,
-                        ls="-" if stable[start] else "--", lw=1.6,
-                        label=(f"{shown} (harmonic balance, H = {response.harmonics})"
-                               if first else None))
-                first = False
-                start = i
-        for point in response.special_points:
-            if name in point.amplitudes and point.quantity in (None, name):
-                big = point.kind == "peak"
-                ax.plot([point.value], [point.amplitudes[name]], MARKERS.get(point.kind, "x"),
-                        color="k", mfc="none", ms=10 if big else 7)
-    kinds = sorted({p.kind for p in response.special_points})
-    for kind in kinds:
-        ax.plot([], [], MARKERS.get(kind, "x"), color="k", mfc="none", label=kind)
-    ax.plot([], [], color="0.3", ls="--", label="unstable")
-    base = np.asarray(response.base_frequencies, dtype=float)
-    frequency = base.shape == v.shape and bool(np.allclose(base, v))  # the parameter is ω
-    ax.set_xlabel(("excitation frequency " if frequency else "") + math_name(response.parameter)
-                  + (" [rad/s]" if frequency else ""))
-    shown_units = sorted({(units or {}).get(n, "") for n in chosen} - {"", "1"})
-    ax.set_ylabel("peak amplitude $X$ (deviation)"
-                  + (f" [{', '.join(unit_math(u) for u in shown_units)}]" if shown_units else ""))
-    ax.set_title(response.title or "nonlinear steady state", fontsize=10)
-    top = max((float(np.nanmax(response.amplitudes[n])) for n in chosen), default=1.0)
-    if top > 0:
-        ax.set_ylim(0, 1.15 * top)
-    ax.set_xlim(min(response.start, response.stop), max(response.start, response.stop))
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, loc="best")
+    _check_path(path)
+    chart = nonlinear_response_chart(response, names, linear, units)
+    fig = draw_figure(Charts((chart,), size=(7.5, 4.8)), ax)
     _save(fig, path)
     return fig
 
@@ -120,30 +170,38 @@ def nonlinear_text(response: NonlinearResponse) -> str:
     return "\n".join(lines) + "\n"
 
 
-def plot_backbones(backbones: Backbones, path: Any = None, ax: Any = None) -> Figure:
-    """Backbone curves: the free-vibration frequency (x) against the amplitude of each mode's
-    reference coordinate (y), the linear natural frequencies dotted; returns the Figure."""
-    if ax is None:
-        fig = _new_figure(figsize=(7.0, 4.6), layout="constrained")
-        ax = fig.add_subplot()
-    else:
-        fig = _figure_of(ax)
+def backbones_chart(backbones: Backbones) -> Chart:
+    """What the figure of backbone curves shows: the free-vibration frequency (x) against
+    the amplitude of each mode's reference coordinate (y), the linear natural frequencies
+    dotted."""
+    curves, rules = [], []
     for i, curve in enumerate(backbones.curves):
-        color = f"C{i % 10}"
+        color = COLORS[i % len(COLORS)]
         amp = np.concatenate([[0.0], np.asarray(curve.amplitudes[curve.reference])])
         freq = np.concatenate([[curve.linear_frequency], np.asarray(curve.frequencies)])
-        ax.plot(freq, amp, color=color, lw=1.6,
-                label=f"mode {curve.mode} (amplitude of {math_name(curve.reference)})")
-        ax.axvline(curve.linear_frequency, color=color, ls=":", lw=1.0)
-    ax.set_xlabel(r"frequency of free vibration $\omega$ [rad/s]")
-    ax.set_ylabel("peak amplitude $X$ (deviation)")
-    ax.set_title((backbones.title or "backbone curves")
-                 + f" (harmonic balance, H = {backbones.harmonics})", fontsize=10)
-    ax.set_ylim(bottom=0)
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, loc="best")
+        curves.append(Curve(freq, amp, f"mode {curve.mode} (amplitude of "
+                            f"{_name(curve.reference)})", color, 1.6))
+        rules.append(Rule(float(curve.linear_frequency), color=color, dash="1 1.65"))
+    finite = np.concatenate([c.x for c in curves] + [np.empty(0)])
+    finite = finite[np.isfinite(finite)]
+    low, high = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+    pad = 0.05 * (high - low) if high > low else max(abs(high) * 0.1, 1.0)
+    top = max((float(np.nanmax(c.y)) for c in curves if np.isfinite(c.y).any()), default=0.0)
+    return Chart(tuple(curves), r"frequency of free vibration $\omega$ [rad/s]",
+                 "peak amplitude $X$ (deviation)", (low - pad, high + pad), rules=tuple(rules),
+                 ylim=(0.0, 1.05 * top) if top > 0 else None,
+                 title=printable(backbones.title or "backbone curves", limit=80)
+                 + f" (harmonic balance, H = {backbones.harmonics})")
+
+
+def plot_backbones(backbones: Backbones, path: Any = None, ax: Any = None) -> Figure:
+    """Backbone curves (the chart of :func:`backbones_chart`, drawn with matplotlib);
+    returns the Figure."""
+    _check_path(path)
+    fig = draw_figure(Charts((backbones_chart(backbones),), size=(7.0, 4.6)), ax)
     _save(fig, path)
     return fig
 
 
-__all__ = ["plot_nonlinear_response", "nonlinear_text", "plot_backbones"]
+__all__ = ["plot_nonlinear_response", "nonlinear_text", "plot_backbones",
+           "nonlinear_response_chart", "backbones_chart"]

@@ -16,12 +16,27 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import AnalysisError, printable
+from .charts import (
+    COLORS,
+    Annotation,
+    Bar,
+    Chart,
+    Charts,
+    Curve,
+    Marker,
+    Rule,
+    Span,
+    draw_figure,
+    figure_of,
+    unit_text,
+)
 from .notation import name_latex
 from .units_display import unit_latex
 
@@ -80,16 +95,8 @@ def _new_figure(**options: Any) -> Any:
     return Figure(**options)
 
 
-def _figure_of(ax: Any) -> Any:
-    """The figure an Axes belongs to (the top-level one for a subfigure)."""
-    fig = ax.figure
-    root = getattr(fig, "get_figure", None)
-    if root is not None:
-        try:
-            return root(root=True)
-        except TypeError:  # matplotlib < 3.8: no ``root`` argument
-            pass
-    return getattr(fig, "figure", fig)
+#: the figure an Axes belongs to (kept under its old name for the other views)
+_figure_of = figure_of
 
 
 def _check_path(path: Any) -> Path | None:
@@ -117,14 +124,215 @@ def _save(fig: Any, path: Any, **options: Any) -> None:
         raise AnalysisError(f"cannot write the plot '{path}': {exc.strerror or exc}") from None
 
 
+def _name(name: str) -> str:
+    """A model name as a chart label (math between dollar signs)."""
+    return f"${name_latex(name)}$"
+
+
+def response_axes(parameter: str, names: Sequence[str], *, coordinates: Sequence[str] = (),
+                  units: Mapping[str, str] | None = None, unit: str = "",
+                  frequency_sweep: bool = True, log: bool = False) -> Chart:
+    """The axes and curve styles of a frequency response's amplitude chart, without data:
+    what :func:`frequency_response_chart` fills with a sweep and the explore page (its JSON)
+    with the curve it computes live.
+
+    Parameters
+    ----------
+    parameter : str
+        The swept parameter.
+    names : sequence of str
+        The curves, in order (each its colour of the cycle).
+    coordinates : sequence of str
+        The names that are coordinates (the others are labelled as outputs).
+    units : mapping, optional
+        name -> unit of the amplitudes: on the axis, or on each curve where they differ.
+    unit : str
+        The parameter's unit.
+    frequency_sweep : bool
+        Whether the parameter is the excitation frequency.
+    log : bool
+        A logarithmic parameter axis.
+
+    Returns
+    -------
+    Chart
+        Curves without points, labels, scales (amplitudes on a log axis).
+
+    Examples
+    --------
+    >>> c = response_axes("omega", ["x1", "phi"], coordinates=["x1"],
+    ...                   units={"x1": "m", "phi": "rad"}, unit="rad/s")
+    >>> print(c.xlabel, "|", c.ylabel)
+    excitation frequency $\\omega$ [rad/s] | amplitude $X$ [m, rad]
+    >>> print(", ".join(k.label for k in c.curves))
+    $x_{1}$ [m], $\\varphi$ (output) [rad]
+    """
+    amplitude_units = {units.get(n, "") for n in names} if units else set()
+    per_curve = units if len(amplitude_units) > 1 else None
+    curves = []
+    for k, name in enumerate(names):
+        kind = "" if name in coordinates else " (output)"
+        if per_curve and per_curve.get(name) not in (None, "", "1"):
+            kind += f" [{unit_math(per_curve[name])}]"
+        # past the colour cycle, dashes: every curve stays distinguishable
+        dash = (None, "3.7 1.6", "1 1.65", "6.4 1.6 1 1.6")[(k // len(COLORS)) % 4]
+        curves.append(Curve(np.empty(0), np.empty(0), f"{_name(name)}{kind}",
+                            COLORS[k % len(COLORS)], 1.5, dash))
+    shown_units = [unit_math(u) if u not in ("", "1") else "1" for u in sorted(amplitude_units)]
+    xlabel = (("excitation frequency " if frequency_sweep else "") + _name(parameter)
+              + (f" [{unit}]" if unit else ""))
+    ylabel = "amplitude $X$" + (f" [{', '.join(shown_units)}]"
+                                if shown_units and shown_units != ["1"] else "")
+    return Chart(tuple(curves), xlabel, ylabel, (0.0, 1.0), ylog=True, xlog=log,
+                 legend="beside")
+
+
+def frequency_response_chart(response: FrequencyResponse, names: Sequence[str] | None = None,
+                             units: Mapping[str, str] | None = None, *, phase: bool = True,
+                             extrema: bool = True, title: bool = True,
+                             operating: float | None = None) -> Charts:
+    """What the figure of a frequency response shows: amplitudes (log axis) above phases.
+
+    Resonance peaks are marked with triangles (their values noted above the curves),
+    antiresonances with circles; natural frequencies in the range of a frequency sweep
+    are dotted vertical lines.  Skipped points (undamped resonance) are gaps.
+
+    Parameters
+    ----------
+    response : FrequencyResponse
+    names : sequence of str, optional
+        The coordinates and outputs to draw (default: all, at most :data:`MAX_CURVES`,
+        outputs included).
+    units : mapping, optional
+        name -> SI unit of the amplitudes: the amplitude axis is labelled with the unit,
+        or each curve where the units differ.
+    phase : bool
+        Draw the phase panel under the amplitudes.
+    extrema : bool
+        Mark the peaks and antiresonances.
+    title : bool
+        Give the figure the model's title.
+    operating : float, optional
+        The operating value of the parameter: a dashed line there and a dot on each curve.
+
+    Returns
+    -------
+    Charts
+
+    Raises
+    ------
+    AnalysisError
+        For an unknown name.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> r = resonant.load("examples/cart_pendulum.toml").linearize().sweep(
+    ...     "omega", np.linspace(1.0, 20.0, 50))
+    >>> charts = frequency_response_chart(r, ["x1"])
+    >>> len(charts.panels), charts.panels[0].ylabel, charts.panels[0].ylog
+    (2, 'amplitude $X$', True)
+    """
+    names = _curve_names(response, names)
+    axes = response_axes(response.parameter, names, coordinates=response.coordinates,
+                         units=units, unit=response.unit,
+                         frequency_sweep=response.frequency_sweep, log=bool(response.log))
+    floor, top = _amplitude_floor(response, names)
+    x = np.asarray(response.values, dtype=float)
+    amp_curves: list[Curve] = []
+    phase_curves: list[Curve] = []
+    markers: list[Marker] = []
+    notes: list[Annotation] = []
+    labelled: list[float] = []
+    for name, style in zip(names, axes.curves):
+        color = style.color or COLORS[0]
+        amplitude = np.array(response.amplitudes[name], dtype=float)
+        with np.errstate(invalid="ignore"):
+            shown = np.where(amplitude > 0, np.maximum(amplitude, floor), np.nan)  # log: no 0
+        amp_curves.append(replace(style, x=x, y=shown))
+        phase_curves.append(Curve(x, unwrapped_degrees(response.phases[name]), "", color, 1.2))
+        if operating is not None and x.size > 1 and np.all(np.diff(x) > 0):
+            at = float(np.interp(operating, x, amplitude))
+            if at > 0:
+                markers.append(Marker(float(operating), at, color))
+        if extrema:
+            markers += _extrema_marks(response, name, color, floor, notes, labelled)
+    rules: list[Rule] = []
+    natural = response.natural_values
+    if natural is not None and x.size:
+        lo, hi = float(np.min(x)), float(np.max(x))
+        what = "natural frequency" if response.frequency_sweep else \
+            "excitation at a natural frequency"
+        rules += [Rule(float(w), color="#737373", dash="1 1.65", label=what)
+                  for w in natural if lo <= w <= hi][:MAX_LINES]
+    if operating is not None:
+        rules.append(Rule(float(operating), color="#404040", dash="3.7 1.6",
+                          label="operating point"))
+    ylim = None
+    if extrema and floor > 0 and top > 0:  # clipped to the data, room above for the notes
+        ylim = (floor / 1.5, top * (top / floor) ** 0.12 * 1.5)
+    xlim = (float(np.nanmin(x)), float(np.nanmax(x))) if x.size else (0.0, 1.0)
+    xlabel, log = axes.xlabel, axes.xlog
+    any_positive = any(np.isfinite(c.y).any() for c in amp_curves)
+    amplitude_chart = replace(axes, curves=tuple(amp_curves), xlim=xlim, ylog=any_positive,
+                              markers=tuple(markers), rules=tuple(rules), ylim=ylim,
+                              notes=tuple(notes))
+    heading = ""
+    if title:
+        heading = (printable(response.title or "frequency response", limit=80)
+                   + "\n" + r"$x = X \sin(\omega t + \delta)$")
+    if not phase:
+        return Charts((amplitude_chart,), heading)
+    phase_rules = tuple(replace(r, label="") for r in rules)
+    return Charts((amplitude_chart,
+                   Chart(tuple(phase_curves), xlabel, r"phase $\delta$ [°]", xlim,
+                         rules=phase_rules, xlog=log, yticks=_phase_ticks(phase_curves),
+                         ylim=_phase_limits(phase_curves), legend="none")),
+                  heading, heights=(2.2, 1.0), size=(9.5, 6.5))
+
+
+def _phase_limits(curves: Sequence[Curve]) -> tuple[float, float]:
+    """The phase axis: whole quarter turns around the data (at least a half turn) and
+    10 degrees of margin."""
+    values = np.concatenate([np.asarray(c.y, dtype=float) for c in curves]) if curves else \
+        np.empty(0)
+    values = values[np.isfinite(values)]
+    low, high = (float(values.min()), float(values.max())) if values.size else (-90.0, 0.0)
+    first, last = 90 * math.floor(low / 90), 90 * math.ceil(high / 90)
+    if last - first < 180:
+        first, last = first - 90, last + 90
+    return first - 10.0, last + 10.0
+
+
+def _phase_ticks(curves: Sequence[Curve]) -> tuple[float, ...]:
+    low, high = _phase_limits(curves)
+    first, last = low + 10.0, high - 10.0
+    step = 90 * max(1, math.ceil((last - first) / 90 / 8))
+    return tuple(float(v) for v in np.arange(first, last + 1, step))
+
+
+def _extrema_marks(response: FrequencyResponse, name: str, color: str, floor: float,
+                   notes: list[Annotation], labelled: list[float]) -> list[Marker]:
+    """Triangles on the resonance peaks (each resonance's value noted once), circles on
+    the antiresonances (at the drawn floor for a true zero)."""
+    marks = []
+    for p in [p for p in response.peaks if p.name == name][:20]:
+        marks.append(Marker(p.value, p.amplitude, color, "peak", "resonance peak"))
+        # one note per resonance: curves peaking at nearly the same value share it
+        if all(abs(p.value - v) > 0.06 * abs(v) for v in labelled):
+            labelled.append(p.value)
+            notes.append(Annotation(p.value, f"{p.value:.4g}", color))
+    for p in [p for p in response.antiresonances if p.name == name][:20]:
+        marks.append(Marker(p.value, max(p.amplitude, floor), color, "ring",
+                            "antiresonance (zero)"))
+    return marks
+
+
 def plot_frequency_response(response: FrequencyResponse, path: Any = None,
                             names: Sequence[str] | None = None, ax: Any = None,
                             units: Mapping[str, str] | None = None) -> Figure:
-    """Amplitude (log axis) above phase, against the swept parameter.
-
-    Resonance peaks are marked with triangles, antiresonances with circles;
-    natural frequencies in the range of a frequency sweep are dashed vertical
-    lines.  Skipped points (undamped resonance) are gaps.
+    """Amplitude (log axis) above phase, against the swept parameter: the chart of
+    :func:`frequency_response_chart`, drawn with matplotlib.
 
     Parameters
     ----------
@@ -156,30 +364,11 @@ def plot_frequency_response(response: FrequencyResponse, path: Any = None,
     AnalysisError
         For an unknown name or an unsupported file suffix.
     """
-    import matplotlib
-
     _check_path(path)
-    names = _curve_names(response, names)
-    fig, ax_amp, ax_phase = _response_axes(ax)
-    panels = [a for a in (ax_amp, ax_phase) if a is not None]
-    colors = matplotlib.rcParams["axes.prop_cycle"].by_key().get("color", ["C0"])
-    amplitude_units = {units.get(n, "") for n in names} if units else set()
-    per_curve = units if len(amplitude_units) > 1 else None
-    floor, top = _amplitude_floor(response, names)
-    labelled: list[float] = []
-    any_positive = False
-    for k, name in enumerate(names):
-        color = colors[k % len(colors)]
-        any_positive |= _draw_curve(response, name, color, floor, ax_amp, ax_phase, per_curve)
-        _mark_peaks(response, name, color, floor, ax_amp, labelled)
-    _mark_natural(response, panels, ax_amp)
-    if any_positive:
-        ax_amp.set_yscale("log")
-        if floor > 0 and top > 0:  # clipped to the sampled data, room above for the labels
-            ax_amp.set_ylim(floor / 1.5, top * (top / floor) ** 0.12 * 1.5)
-    _label_response_axes(response, panels, ax_amp, ax_phase, amplitude_units, own=ax is None)
-    if ax is None:
-        fig.tight_layout()
+    axes = _response_axes(ax)
+    charts = frequency_response_chart(response, names, units,
+                                      phase=axes is None or len(axes) == 2)
+    fig = draw_figure(charts, axes)
     _save(fig, path, dpi=150, bbox_inches="tight")
     return fig
 
@@ -198,19 +387,16 @@ def _curve_names(response: FrequencyResponse, names: Sequence[str] | None) -> li
     return list(names)
 
 
-def _response_axes(ax: Any) -> tuple[Any, Any, Any]:
-    """(figure, amplitude axes, phase axes or None): new, or the caller's ``ax=``."""
+def _response_axes(ax: Any) -> list[Any] | None:
+    """The caller's ``ax=`` as a list of Axes (amplitude, phase), or None for a new figure."""
     if ax is None:
-        fig = _new_figure(figsize=(9.5, 6.5))
-        ax_amp, ax_phase = fig.subplots(2, 1, sharex=True,
-                                        gridspec_kw={"height_ratios": [2.2, 1]})
-        return fig, ax_amp, ax_phase
+        return None
     if isinstance(ax, (tuple, list)) or (isinstance(ax, np.ndarray) and ax.ndim == 1):
         if len(ax) != 2:
             raise AnalysisError("ax= takes a pair of Axes (amplitude, phase) or one Axes "
                                 "(amplitude only)")
-        return _figure_of(ax[0]), ax[0], ax[1]
-    return _figure_of(ax), ax, None
+        return list(ax)
+    return [ax]
 
 
 def _amplitude_floor(response: FrequencyResponse, names: Sequence[str]) -> tuple[float, float]:
@@ -224,21 +410,6 @@ def _amplitude_floor(response: FrequencyResponse, names: Sequence[str]) -> tuple
     meaningful = sampled[np.isfinite(sampled) & (sampled > FLOOR * top)]
     floor = float(meaningful.min()) if meaningful.size else 0.0
     return floor, top
-
-
-def _draw_curve(response: FrequencyResponse, name: str, color: str, floor: float,
-                ax_amp: Any, ax_phase: Any, units: Mapping[str, str] | None) -> bool:
-    """One name's amplitude (and phase) curve; True if it has a positive amplitude."""
-    x = response.values
-    amplitude = np.array(response.amplitudes[name], dtype=float)
-    shown = np.where(amplitude > 0, np.maximum(amplitude, floor), np.nan)  # log: no zeros
-    kind = "" if name in response.coordinates else " (output)"
-    if units and units.get(name) not in (None, "", "1"):
-        kind += f" [{unit_math(units[name])}]"
-    ax_amp.plot(x, shown, color=color, lw=1.5, label=f"{math_name(name)}{kind}")
-    if ax_phase is not None:
-        ax_phase.plot(x, unwrapped_degrees(response.phases[name]), color=color, lw=1.2)
-    return bool(np.any(np.isfinite(shown)))
 
 
 def unwrapped_degrees(phase: Any) -> np.ndarray:
@@ -267,85 +438,66 @@ def unwrapped_degrees(phase: Any) -> np.ndarray:
     return out
 
 
-def _mark_peaks(response: FrequencyResponse, name: str, color: str, floor: float,
-                ax_amp: Any, labelled: list[float]) -> None:
-    """Triangles on the resonance peaks (labelled once per resonance), circles on the
-    antiresonances (at the plotted floor for a true zero)."""
-    for p in [p for p in response.peaks if p.name == name][:20]:
-        ax_amp.plot([p.value], [p.amplitude], "v", color=color, ms=7, mec="black", mew=0.6)
-        # one label per resonance: curves peaking at nearly the same value share it
-        if all(abs(p.value - v) > 0.06 * abs(v) for v in labelled):
-            labelled.append(p.value)
-            # above the curves (in the headroom the axis leaves over the highest peak),
-            # on a white ground: no curve crosses it
-            ax_amp.annotate(f"{p.value:.4g}", (p.value, 1.0), xycoords=("data", "axes fraction"),
-                            textcoords="offset points", xytext=(0, -3), ha="center", va="top",
-                            fontsize=8, color=color, zorder=5,
-                            bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none",
-                                  "alpha": 0.9})
-    for p in [p for p in response.antiresonances if p.name == name][:20]:
-        ax_amp.plot([p.value], [max(p.amplitude, floor)], "o", mfc="white", color=color, ms=6)
+def modes_chart(analysis: ModalAnalysis, count: int | None = 6) -> Charts:
+    """What the figure of the mode shapes shows: each mode (largest component +1) in a
+    panel of its own, bars for up to 24 coordinates (positive blue, negative red) under
+    the coordinates' names, a line for more.
 
+    Parameters
+    ----------
+    analysis : ModalAnalysis
+        The modes (those with omega^2 >= 0).
+    count : int, optional
+        How many modes, lowest first (default 6; None: all).
 
-def _mark_natural(response: FrequencyResponse, panels: Sequence[Any], ax_amp: Any) -> None:
-    """Dashed vertical lines at the natural frequencies inside the range."""
-    natural = response.natural_values
-    if natural is None:
-        return
-    x = response.values
-    lo, hi = float(np.min(x)), float(np.max(x))
-    inside = [w for w in natural if lo <= w <= hi][:MAX_LINES]
-    what = "natural frequency" if response.frequency_sweep else \
-        "excitation at a natural frequency"
-    for j, w in enumerate(inside):
-        for panel in panels:
-            panel.axvline(w, color="0.45", lw=0.9, ls="--",
-                          label=what if (j == 0 and panel is ax_amp) else None)
+    Returns
+    -------
+    Charts
 
-
-def _label_response_axes(response: FrequencyResponse, panels: Sequence[Any], ax_amp: Any,
-                         ax_phase: Any, amplitude_units: set[str], own: bool = False) -> None:
-    """Axis labels, grids, the legend (with the marker kinds) and the title."""
-    from matplotlib.lines import Line2D
-
-    shown_units = [unit_math(u) if u not in ("", "1") else "1" for u in sorted(amplitude_units)]
-    ax_amp.set_ylabel("amplitude $X$" + (f" [{', '.join(shown_units)}]"
-                                         if shown_units and shown_units != ["1"] else ""))
-    ax_amp.grid(True, which="both", alpha=0.3)
-    marker_handles = [Line2D([], [], ls="", marker="v", color="0.3", mec="black",
-                             label="resonance peak")] if response.peaks else []
-    if response.antiresonances:
-        marker_handles.append(Line2D([], [], ls="", marker="o", mfc="white", color="0.3",
-                                     label="antiresonance (zero)"))
-    handles, labels = ax_amp.get_legend_handles_labels()
-    # beside the plot (own figure): it never hides a curve or a peak's label
-    beside = {"loc": "upper left", "bbox_to_anchor": (1.01, 1.0), "borderaxespad": 0.0} \
-        if own else {"loc": "best"}
-    ax_amp.legend(handles + marker_handles, labels + [h.get_label() for h in marker_handles],
-                  fontsize=8, ncol=1, **beside)
-    if ax_phase is not None:
-        ax_phase.set_ylabel(r"phase $\delta$ [°]")
-        low, high = ax_phase.get_ylim()
-        first, last = 90 * math.floor(low / 90), 90 * math.ceil(high / 90)
-        if last - first < 180:
-            first, last = first - 90, last + 90
-        step = 90 * max(1, math.ceil((last - first) / 90 / 8))
-        ax_phase.set_yticks(np.arange(first, last + 1, step))
-        ax_phase.set_ylim(first - 10, last + 10)
-        ax_phase.grid(True, alpha=0.3)
-    unit = f" [{response.unit}]" if response.unit else ""
-    panels[-1].set_xlabel(("excitation frequency " if response.frequency_sweep else "")
-                          + f"{math_name(response.parameter)}{unit}")
-    if response.log:
-        for panel in panels:
-            panel.set_xscale("log")
-    title = printable(response.title or "frequency response", limit=80)
-    ax_amp.set_title(f"{title}\n" + r"$x = X \sin(\omega t + \delta)$", fontsize=10)
+    Raises
+    ------
+    AnalysisError
+        Without modes to draw.
+    """
+    shapes = analysis.mode_shapes
+    total = shapes.shape[1]
+    if total == 0:
+        raise AnalysisError("there are no modes with omega^2 >= 0 to plot")
+    count = total if count is None else max(1, min(count, total))
+    panels = []
+    for j in range(count):
+        shape = np.asarray(shapes[:, j], dtype=float)
+        n = shape.shape[0]
+        positions = np.arange(1, n + 1, dtype=float)
+        w = analysis.natural_frequencies[j]
+        text = (f"mode {j + 1}: $\\omega_{{{j + 1}}}$ = {w:.5g} rad/s "
+                f"($f_{{{j + 1}}}$ = {w / (2 * math.pi):.4g} Hz)")
+        if analysis.proportional_damping and analysis.damped and \
+                j < len(analysis.damping_ratios):
+            text += f", $\\zeta_{{{j + 1}}}$ = {analysis.damping_ratios[j]:.3g}"
+        zero = Rule(0.0, vertical=False, color="#000000", width=0.6)
+        if n <= 24:
+            colors = tuple(COLORS[0] if v >= 0 else COLORS[3] for v in shape)
+            panels.append(Chart((), "", "", (0.4, n + 0.6), rules=(zero,), ylim=(-1.15, 1.15),
+                                title=text, legend="none",
+                                bars=(Bar(positions, shape, colors),),
+                                xticks=tuple((float(p), _name(c)) for p, c in
+                                             zip(positions, analysis.coordinates))))
+        else:
+            panels.append(Chart((Curve(positions, shape, "", COLORS[0], 1.2),),
+                                "coordinate number", "", (1.0, float(n)), rules=(zero,),
+                                ylim=(-1.15, 1.15), title=text, legend="none"))
+    columns = 2 if count > 1 else 1
+    rows = math.ceil(count / columns)
+    return Charts(tuple(panels), printable(analysis.title or "mode shapes", limit=80)
+                  + " (largest component +1)", size=(4.9 * columns, 2.5 * rows),
+                  sharex=False, columns=columns)
 
 
 def plot_modes(analysis: ModalAnalysis, path: Any = None, count: int | None = 6,
                ax: Any = None) -> Figure:
-    """The mode shapes (largest component +1): bars for few coordinates, lines for many.
+    """The mode shapes (largest component +1): the chart of :func:`modes_chart` (bars for
+    few coordinates, lines for many), drawn with matplotlib.
 
     Parameters
     ----------
@@ -372,63 +524,111 @@ def plot_modes(analysis: ModalAnalysis, path: Any = None, count: int | None = 6,
         Without modes to draw, or for an unsupported file suffix.
     """
     _check_path(path)
-    shapes = analysis.mode_shapes
-    total = shapes.shape[1]
-    if total == 0:
-        raise AnalysisError("there are no modes with omega^2 >= 0 to plot")
-    count = total if count is None else max(1, min(count, total))
-    if ax is None:
-        columns = 2 if count > 1 else 1
-        rows = math.ceil(count / columns)
-        fig = _new_figure(figsize=(4.9 * columns, 2.5 * rows))
-        panels = list(fig.subplots(rows, columns, squeeze=False).ravel())
-        for extra in panels[count:]:
-            extra.set_visible(False)
-        panels = panels[:count]
-    else:
-        panels = list(np.ravel(np.asarray(ax, dtype=object)))[:count]
-        if not panels:
+    charts = modes_chart(analysis, count)
+    axes = None
+    if ax is not None:
+        axes = list(np.ravel(np.asarray(ax, dtype=object)))
+        if not axes:
             raise AnalysisError("ax= takes an Axes or a non-empty sequence of Axes")
-        fig = _figure_of(panels[0])
-    for j, panel in enumerate(panels):
-        _draw_mode(panel, analysis, j)
-    if ax is None:
-        fig.suptitle(printable(analysis.title or "mode shapes", limit=80)
-                     + " (largest component +1)",
-                     fontsize=10)
-        fig.tight_layout()
+    fig = draw_figure(charts, axes)
     _save(fig, path, dpi=150, bbox_inches="tight")
     return fig
 
 
-def _draw_mode(ax: Any, analysis: ModalAnalysis, j: int) -> None:
-    """Mode ``j`` (0-based) on one Axes: bars for up to 24 coordinates, else a line."""
-    shape = analysis.mode_shapes[:, j]
-    n = shape.shape[0]
-    positions = np.arange(1, n + 1)
-    if n <= 24:
-        ax.bar(positions, shape, color=np.where(shape >= 0, "C0", "C3"), width=0.6)
-        ax.set_xticks(positions)
-        ax.set_xticklabels([math_name(c) for c in analysis.coordinates], fontsize=10,
-                           rotation=0 if n <= 8 else 90)
-    else:
-        ax.plot(positions, shape, color="C0", lw=1.2)
-        ax.set_xlabel("coordinate number", fontsize=10)
-    ax.axhline(0, color="black", lw=0.6)
-    ax.set_ylim(-1.15, 1.15)
-    w = analysis.natural_frequencies[j]
-    text = (f"mode {j + 1}: $\\omega_{{{j + 1}}}$ = {w:.5g} rad/s "
-            f"($f_{{{j + 1}}}$ = {w / (2 * math.pi):.4g} Hz)")
-    if analysis.proportional_damping and analysis.damped and j < len(analysis.damping_ratios):
-        text += f", $\\zeta_{{{j + 1}}}$ = {analysis.damping_ratios[j]:.3g}"
-    ax.set_title(text, fontsize=10)
-    ax.tick_params(axis="y", labelsize=10)
-    ax.grid(True, axis="y", alpha=0.3)
+def simulation_chart(sim: Simulation, units: Mapping[str, str] | None = None) -> Charts:
+    """What the figure of a simulation shows: each coordinate's and output's deviation
+    against time in a panel of its own, the linear stationary prediction dashed, the
+    window the steady amplitude is read in shaded.
+
+    Parameters
+    ----------
+    sim : Simulation
+    units : mapping, optional
+        name -> SI unit (``ResultUnits.si``), shown in each panel's label.
+
+    Returns
+    -------
+    Charts
+    """
+    kind = "nonlinear" if sim.nonlinear else "linear"
+    t = np.asarray(sim.t, dtype=float)
+    xlim = (float(t[0]), float(t[-1])) if t.size > 1 and t[-1] > t[0] else (0.0, 1.0)
+    panels = []
+    for name in sim.names:
+        curves = [Curve(t, np.asarray(sim.states[name], dtype=float), f"{kind} simulation",
+                        COLORS[0], 1.0)]
+        if name in sim.linear_response:
+            curves.append(Curve(t, np.asarray(sim.linear_response[name], dtype=float),
+                                "linear stationary prediction", COLORS[3], 1.0, "3.7 1.6"))
+        steady = sim.steady_amplitudes.get(name)
+        text = f"steady amplitude {steady:.4g}" if steady is not None else ""
+        if name in sim.linear_amplitudes:
+            text += f", linear {sim.linear_amplitudes[name]:.4g}"
+        if name in sim.relative_difference:
+            text += f" ({100 * sim.relative_difference[name]:+.3g}%)"
+        kindof = "coordinate" if name in sim.coordinates else "output"
+        unit = (units or {}).get(name, "")
+        unit = f" [{unit}]" if unit not in ("", "1") else ""
+        panels.append(Chart(tuple(curves), "time $t$ [s]",
+                            f"{_name(name)}{unit} ({kindof}, deviation)", xlim,
+                            spans=(Span(float(sim.window[0]), float(sim.window[1]), "#e6e6e6",
+                                        "amplitude window"),),
+                            title=f"{_name(name)}: {text}"))
+    start = {"rest": "from rest", "stationary": "from the stationary initial state",
+             "given": "from the given initial state"}[sim.start]
+    title = printable(sim.title or "simulation", limit=80)
+    return Charts(tuple(panels), f"{title} — {kind}, {start}",
+                  size=(9.0, 1.2 + 2.1 * len(panels)), legend="below")
+
+
+def history_chart(t: Any, values: Mapping[str, Any], units: Mapping[str, str] | None = None,
+                  ylabel: str = "stationary response $q_p(t)$") -> Chart:
+    """What the figure of responses against time shows: every curve in one chart, the
+    unit on the axis (or each curve's where they differ), a line at zero.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 1.0, 5)
+    >>> c = history_chart(t, {"x1": t, "x2": -t}, {"x1": "m", "x2": "rad"})
+    >>> c.ylabel, [k.label for k in c.curves]
+    ('stationary response $q_p(t)$ [m, rad]', ['$x_{1}$ [m]', '$x_{2}$ [rad]'])
+    """
+    t = np.asarray(t, dtype=float)
+    suffix, per_curve = unit_suffix(list(values), units or {})
+    curves = tuple(Curve(t, np.asarray(y, dtype=float), name_label(name, per_curve))
+                   for name, y in values.items())
+    return Chart(curves, "time $t$ [s]", ylabel + suffix, (float(t[0]), float(t[-1])),
+                 rules=(Rule(0.0, vertical=False, color="#999999", width=0.8),))
+
+
+def name_label(name: str, units: Mapping[str, str] | None = None) -> str:
+    """A curve's label: the name typeset, and its unit where given (``$x_{1}$ [m]``)."""
+    unit = (units or {}).get(name, "")
+    return _name(name) + (f" [{unit_text(unit)}]" if unit and unit != "1" else "")
+
+
+def unit_suffix(names: Sequence[str], units: Mapping[str, str]) -> tuple[str, Mapping[str, str]]:
+    """`` [m]`` for the y axis when every curve has that unit (and no per-curve units),
+    else `` [m, rad]`` (in the order of the curves) and the units for each curve's label.
+
+    Examples
+    --------
+    >>> unit_suffix(["x", "y"], {"x": "m", "y": "m"})
+    (' [m]', {})
+    """
+    shown = {units.get(n, "") for n in names}
+    if len(shown) <= 1:
+        unit = next(iter(shown), "")
+        return (f" [{unit_text(unit)}]" if unit and unit != "1" else ""), {}
+    named = [unit_text(u) if u and u != "1" else "1"
+             for u in dict.fromkeys(units.get(n, "") for n in names)]
+    return f" [{', '.join(named)}]", units
 
 
 def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None,
                     units: Mapping[str, str] | None = None) -> Figure:
-    """Deviations vs time, one panel per coordinate/output, the linear prediction dashed.
+    """Deviations vs time, one panel per coordinate/output, the linear prediction dashed:
+    the chart of :func:`simulation_chart`, drawn with matplotlib.
 
     Parameters
     ----------
@@ -456,49 +656,14 @@ def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None,
         For an unsupported file suffix.
     """
     _check_path(path)
-    names = sim.names
-    own = axes is None
-    if own:
-        fig = _new_figure(figsize=(9, 1.2 + 2.1 * len(names)), layout="constrained")
-        panels = list(fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0])
-    else:
-        panels = list(np.ravel(np.asarray(axes, dtype=object)))
-        if not panels:
-            raise AnalysisError("axes= takes an Axes or a non-empty sequence of Axes")
-        fig = _figure_of(panels[0])
-    kind = "nonlinear" if sim.nonlinear else "linear"
-    for ax, name in zip(panels, names):
-        ax.plot(sim.t, sim.states[name], lw=1.0, color="C0", label=f"{kind} simulation")
-        if name in sim.linear_response:
-            ax.plot(sim.t, sim.linear_response[name], "--", lw=1.0, color="C3",
-                    label="linear stationary prediction")
-        ax.axvspan(*sim.window, color="0.9", zorder=0, label="amplitude window")
-        steady = sim.steady_amplitudes.get(name)
-        text = f"steady amplitude {steady:.4g}" if steady is not None else ""
-        if name in sim.linear_amplitudes:
-            text += f", linear {sim.linear_amplitudes[name]:.4g}"
-        if name in sim.relative_difference:
-            text += f" ({100 * sim.relative_difference[name]:+.3g}%)"
-        ax.set_title(f"{math_name(name)}: {text}", fontsize=9, loc="left")
-        kindof = "coordinate" if name in sim.coordinates else "output"
-        unit = (units or {}).get(name, "")
-        unit = f" [{unit}]" if unit not in ("", "1") else ""
-        ax.set_ylabel(f"{math_name(name)}{unit} ({kindof}, deviation)", fontsize=9)
-        ax.grid(True, lw=0.4, alpha=0.6)
-    panels[min(len(panels), len(names)) - 1].set_xlabel("time $t$ [s]")
-    if own:
-        handles, labels = panels[0].get_legend_handles_labels()
-        fig.legend(handles, labels, loc="outside lower center", fontsize=9, ncols=3,
-                   frameon=False)
-        start = {"rest": "from rest", "stationary": "from the stationary initial state",
-                 "given": "from the given initial state"}[sim.start]
-        title = printable(sim.title or "simulation", limit=80)
-        fig.suptitle(f"{title} — {kind}, {start}", fontsize=11)
-    else:
-        panels[0].legend(fontsize=8, loc="best")
+    if axes is not None and not list(np.ravel(np.asarray(axes, dtype=object))):
+        raise AnalysisError("axes= takes an Axes or a non-empty sequence of Axes")
+    fig = draw_figure(simulation_chart(sim, units), axes)
     _save(fig, path, dpi=120)
     return fig
 
 
 __all__ = ["plot_frequency_response", "plot_modes", "plot_simulation", "math_name",
-           "unit_math", "unwrapped_degrees", "MAX_CURVES", "MAX_LINES"]
+           "unit_math", "unwrapped_degrees", "frequency_response_chart", "simulation_chart",
+           "history_chart", "modes_chart", "name_label", "response_axes", "unit_suffix",
+           "MAX_CURVES", "MAX_LINES"]

@@ -21,7 +21,8 @@ from ..analyses.periodic_load import PeriodicResponse
 from ..analyses.random_response import RandomResponse
 from ..errors import AnalysisError, printable
 from ..model.random_spec import STANDARD_GRAVITY
-from .plotting import _figure_of, _new_figure, _save
+from .charts import Chart, Charts, Curve, Rule, draw_figure, unit_text
+from .plotting import _check_path, _save
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -127,9 +128,69 @@ def _density_unit(unit: str) -> str:
     return f"({unit})^2/Hz" if any(c in unit for c in "*/^") else f"{unit}^2/Hz"
 
 
+def random_chart(result: RandomResponse, names: Sequence[str] | None = None) -> Charts:
+    """What the figure of a random response shows: the inputs' spectral densities above
+    the responses', one panel per unit, on log-log axes with the units on the axes and
+    each curve's RMS value in its label.
+
+    Parameters
+    ----------
+    result : RandomResponse
+    names : sequence of str, optional
+        The responses to draw (default: all, at most :data:`MAX_CURVES` per panel).
+
+    Returns
+    -------
+    Charts
+
+    Raises
+    ------
+    AnalysisError
+        For an unknown name.
+    """
+    chosen = list(result.names if names is None else names)
+    unknown = [n for n in chosen if n not in result.names]
+    if unknown:
+        raise AnalysisError(f"no response named '{unknown[0]}'; the responses are "
+                            f"{', '.join(result.names)}")
+    groups: dict[str, list[str]] = {}
+    for name in chosen:
+        if np.any(result.psd[name] > 0):
+            groups.setdefault(result.units.get(name, ""), []).append(name)
+    f = np.asarray(result.frequency, dtype=float)
+    positive = f > 0
+    xlim = (float(f[positive].min()), float(f[positive].max())) if positive.any() else \
+        (1.0, 10.0)
+    xlabel = "frequency $f$ [Hz]"
+    inputs = []
+    for name in result.inputs:
+        density = np.asarray(result.input_psd[name], dtype=float)
+        rms = math.sqrt(max(float(np.trapezoid(density, f)), 0.0))
+        unit = result.input_units.get(name, "")
+        label = name + "'" * result.input_derivatives.get(name, 0)
+        inputs.append(Curve(f[positive], density[positive],
+                            f"{label} (RMS {rms:.3g} {unit_text(unit)})".replace(" )", ")")))
+    units = {result.input_units.get(n, "") for n in result.inputs}
+    unit = units.pop() if len(units) == 1 else ""
+    panels = [Chart(tuple(inputs), xlabel, f"input [{unit_text(_density_unit(unit))}]", xlim,
+                    ylog=True, xlog=True, title="input spectral densities (one-sided)")]
+    rules = () if result.natural_frequency is None else (
+        Rule(float(result.natural_frequency), color="#999999", dash="3.7 1.6", width=0.8,
+             label="natural frequency"),)
+    for unit, members in list(groups.items())[:MAX_PANELS]:
+        curves = tuple(Curve(f[positive], np.asarray(result.psd[name], dtype=float)[positive],
+                             f"{name} (RMS {result.rms[name]:.3g} {unit_text(unit)})"
+                             .replace(" )", ")"))
+                       for name in members[:MAX_CURVES])
+        panels.append(Chart(curves, xlabel, f"response [{unit_text(_density_unit(unit))}]",
+                            xlim, ylog=True, xlog=True, rules=rules))
+    return Charts(tuple(panels), size=(7.5, 2.6 * len(panels) + 0.6))
+
+
 def plot_random(result: RandomResponse, path: Any = None, names: Sequence[str] | None = None,
                 ax: Any = None) -> Figure:
-    """The inputs' and the responses' spectral densities on log-log axes, with units.
+    """The inputs' and the responses' spectral densities on log-log axes, with units: the
+    chart of :func:`random_chart`, drawn with matplotlib.
 
     The inputs are drawn in the first panel, the responses below, one panel per unit;
     each curve is labelled with its RMS value.
@@ -153,51 +214,14 @@ def plot_random(result: RandomResponse, path: Any = None, names: Sequence[str] |
     AnalysisError
         For an unknown name or an unsupported file suffix.
     """
-    chosen = list(result.names if names is None else names)
-    unknown = [n for n in chosen if n not in result.names]
-    if unknown:
-        raise AnalysisError(f"no response named '{unknown[0]}'; the responses are "
-                            f"{', '.join(result.names)}")
-    groups: dict[str, list[str]] = {}
-    for name in chosen:
-        if np.any(result.psd[name] > 0):
-            groups.setdefault(result.units.get(name, ""), []).append(name)
-    panels = list(groups.items())[:MAX_PANELS]
-    count = 1 + len(panels)
-    if ax is None:
-        fig = _new_figure(figsize=(7.5, 2.6 * count + 0.6), layout="constrained")
-        axes = list(np.atleast_1d(fig.subplots(count, 1, sharex=True)))
-    else:
-        axes = list(np.atleast_1d(ax))
-        if len(axes) < count:
-            raise AnalysisError(f"the plot needs {count} axes (inputs and one per unit)")
-        fig = _figure_of(axes[0])
-    f = result.frequency
-    positive = f > 0
-    first = axes[0]
-    for name in result.inputs:
-        density = result.input_psd[name]
-        rms = math.sqrt(max(float(np.trapezoid(density, f)), 0.0))
-        unit = result.input_units.get(name, "")
-        label = name + "'" * result.input_derivatives.get(name, 0)
-        first.loglog(f[positive], density[positive],
-                     label=f"{label} (RMS {rms:.3g} {unit})".replace(" )", ")"))
-    units = {result.input_units.get(n, "") for n in result.inputs}
-    first.set_ylabel(f"input [{_density_unit(units.pop() if len(units) == 1 else '')}]")
-    first.set_title("input spectral densities (one-sided)", fontsize=10)
-    for axis, (unit, members) in zip(axes[1:], panels):
-        for name in members[:MAX_CURVES]:
-            axis.loglog(f[positive], result.psd[name][positive],
-                        label=f"{name} (RMS {result.rms[name]:.3g} {unit})".replace(" )", ")"))
-        axis.set_ylabel(f"response [{_density_unit(unit)}]")
-        if result.natural_frequency is not None:
-            axis.axvline(result.natural_frequency, color="0.6", lw=0.8, ls="--")
-    for axis in axes[:count]:
-        axis.grid(True, which="both", lw=0.3)
-        axis.legend(fontsize=8, loc="best")
-    axes[count - 1].set_xlabel("frequency [Hz]")
+    _check_path(path)
+    charts = random_chart(result, names)
+    count = len(charts.panels)
+    if ax is not None and len(list(np.atleast_1d(ax))) < count:
+        raise AnalysisError(f"the plot needs {count} axes (inputs and one per unit)")
+    fig = draw_figure(charts, None if ax is None else list(np.atleast_1d(ax)))
     _save(fig, path, dpi=150)
     return fig
 
 
-__all__ = ["random_text", "plot_random"]
+__all__ = ["random_text", "plot_random", "random_chart"]

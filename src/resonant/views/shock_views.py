@@ -11,12 +11,14 @@ Shock response spectrum: absolute acceleration, zeta = 0.05 (Q = 10), signal 0.0
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
 from ..analyses.shock import ShockSpectrum
-from .plotting import _figure_of, _new_figure, _save
+from .charts import COLORS, Chart, Charts, Curve, draw_figure, unit_text
+from .plotting import _check_path, _save
 
 #: at most this many rows in the text table (evenly picked)
 MAX_ROWS = 40
@@ -50,9 +52,67 @@ def srs_text(spectrum: ShockSpectrum) -> str:
     return "\n".join(lines) + "\n"
 
 
+def srs_chart(spectrum: ShockSpectrum, time: Any = None, signal: Any = None, unit: str = "",
+              reference: ShockSpectrum | None = None, reference_label: str = "input") -> Charts:
+    """What the figure of a shock response spectrum shows: the maximax, primary and
+    residual spectra on log-log axes, under the input's history where it is given, and
+    beside another spectrum (the input's own, for a response's) where given.
+
+    Parameters
+    ----------
+    spectrum : ShockSpectrum
+    time, signal : array_like, optional
+        The input's history, drawn in a panel above the spectrum.
+    unit : str
+        The signal's unit, for the labels.
+    reference : ShockSpectrum, optional
+        A spectrum to draw beside (its maximax in grey).
+    reference_label : str
+        Its name in the legend (``input``: "maximax of the input").
+
+    Returns
+    -------
+    Charts
+
+    Examples
+    --------
+    >>> from resonant.analyses.shock import pulse, shock_response_spectrum
+    >>> t, a = pulse("half-sine", 100.0, 0.011, 1e-5)
+    >>> srs = shock_response_spectrum(a, 1e-5, [10.0, 100.0, 1000.0])
+    >>> charts = srs_chart(srs, t, a, "m/s^2")
+    >>> [p.xlog for p in charts.panels], [c.label for c in charts.panels[1].curves]
+    ([False, True], ['maximax', 'primary', 'residual'])
+    """
+    label = f" [{unit_text(unit)}]" if unit else ""
+    panels = []
+    if time is not None and signal is not None:
+        t = np.asarray(time, dtype=float)
+        xlim = (float(t[0]), float(t[-1])) if t.size > 1 and t[-1] > t[0] else (0.0, 1.0)
+        panels.append(Chart((Curve(t, np.asarray(signal, dtype=float), "input", width=1.0),),
+                            "time $t$ [s]", f"input{label}", xlim, title="input history",
+                            legend="none"))
+    f = np.asarray(spectrum.frequency, dtype=float)
+    curves = [Curve(f, np.asarray(spectrum.maximax), "maximax", COLORS[0], 1.6),
+              Curve(f, np.asarray(spectrum.primary), "primary", COLORS[1], 1.0, "3.7 1.6"),
+              Curve(f, np.asarray(spectrum.residual), "residual", COLORS[2], 1.0, "1 1.65")]
+    if reference is not None:
+        curves.append(Curve(np.asarray(reference.frequency, dtype=float),
+                            np.asarray(reference.maximax), f"maximax of the {reference_label}",
+                            "#7f7f7f", 1.2))
+    zeta = spectrum.damping
+    q = "inf" if zeta == 0 else f"{1 / (2 * zeta):.3g}"
+    positive = f[f > 0]
+    xlim = (float(positive.min()), float(positive.max())) if positive.size > 1 else (1.0, 10.0)
+    panels.append(Chart(tuple(curves), "natural frequency $f_n$ [Hz]",
+                        f"{spectrum.quantity}{label}", xlim, ylog=True, xlog=True,
+                        title=f"shock response spectrum ({spectrum.quantity}, Q = {q})"))
+    return Charts(tuple(panels), size=(7.5, 6.4 if len(panels) > 1 else 4.2), sharex=False)
+
+
 def plot_srs(spectrum: ShockSpectrum, time: Any = None, signal: Any = None, path: Any = None,
              ax: Any = None, unit: str = "") -> Any:
-    """The SRS (maximax, primary, residual) on log-log axes, with the input's history.
+    """The SRS (maximax, primary, residual) on log-log axes, with the input's history: the
+    chart of :func:`srs_chart`, drawn with matplotlib.
 
     Parameters
     ----------
@@ -70,34 +130,14 @@ def plot_srs(spectrum: ShockSpectrum, time: Any = None, signal: Any = None, path
     -------
     matplotlib.figure.Figure
     """
-    with_signal = time is not None and signal is not None
-    if ax is None:
-        fig = _new_figure(figsize=(7.5, 6.4 if with_signal else 4.2), layout="constrained")
-        axes = list(np.atleast_1d(fig.subplots(2 if with_signal else 1, 1)))
-    else:
-        axes = list(np.atleast_1d(ax))
-        fig = _figure_of(axes[0])
-    label = f" [{unit}]" if unit else ""
-    if with_signal and len(axes) > 1:
-        axes[0].plot(np.asarray(time), np.asarray(signal), lw=1.0)
-        axes[0].set_xlabel("time [s]")
-        axes[0].set_ylabel(f"input{label}")
-        axes[0].set_title("input history", fontsize=10)
-        axes[0].grid(True, lw=0.3)
-    target = axes[-1]
-    f = spectrum.frequency
-    target.loglog(f, spectrum.maximax, lw=1.6, label="maximax")
-    target.loglog(f, spectrum.primary, lw=1.0, ls="--", label="primary")
-    target.loglog(f, spectrum.residual, lw=1.0, ls=":", label="residual")
-    zeta = spectrum.damping
-    q = "inf" if zeta == 0 else f"{1 / (2 * zeta):.3g}"
-    target.set_title(f"shock response spectrum ({spectrum.quantity}, Q = {q})", fontsize=10)
-    target.set_xlabel("natural frequency [Hz]")
-    target.set_ylabel(f"{spectrum.quantity}{label}")
-    target.grid(True, which="both", lw=0.3)
-    target.legend(fontsize=8)
+    _check_path(path)
+    charts = srs_chart(spectrum, time, signal, unit)
+    axes = None if ax is None else list(np.atleast_1d(ax))
+    if axes is not None and len(axes) < len(charts.panels):
+        charts = replace(charts, panels=charts.panels[-len(axes):])  # the spectrum's
+    fig = draw_figure(charts, axes)
     _save(fig, path, dpi=150)
     return fig
 
 
-__all__ = ["srs_text", "plot_srs"]
+__all__ = ["srs_text", "plot_srs", "srs_chart"]

@@ -25,7 +25,7 @@ from .energies import coordinates, dissipation, kinetic, potential
 from .excitation import equation_of_motion, forces
 from .excursions import excursions
 from .given_matrices import given_matrices
-from .loads import periodic_load, random_load
+from .loads import periodic_load, random_load, shock_load
 from .modal import natural_frequencies
 from .opening import data, method, title
 from .stationary_solution import stationary
@@ -54,7 +54,7 @@ def step_order(ctx: Context) -> list[Step]:
         steps.append(lambda c: natural_frequencies(c, with_modes=True))
     else:
         steps.extend([stationary, excursions, natural_frequencies, plots])
-    steps.extend([periodic_load, random_load])  # loads beyond a sine (docs/random.md)
+    steps.extend([periodic_load, random_load, shock_load])  # loads beyond a sine (docs/random.md)
     steps.append(warnings)
     return steps
 

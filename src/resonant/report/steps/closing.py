@@ -4,8 +4,16 @@ from __future__ import annotations
 
 from ...views.charts import plain_text
 from ...views.notation import name_latex
+from ...views.units_display import result_units
 from ..blocks import Block, Heading, Note
-from ..plots import frequency_response, time_history
+from ..plots import (
+    follows_frequency,
+    frequency_response,
+    history_figure,
+    operating_frequency,
+    response_chart,
+    time_history,
+)
 from .context import Context
 
 
@@ -22,12 +30,15 @@ def plots(ctx: Context) -> list[Block]:
         return []
     blocks: list[Block] = [Heading("Frequency response and time history")]
     if frf is not None:
-        parameter = plain_text(f"${name_latex(frf.parameter)}$") if frf.parameter else ""
+        follows = follows_frequency(ctx.eom, sol)
+        parameter = plain_text(f"${name_latex(follows)}$") if follows else ""
         how = (f"the excitation frequency {parameter} is swept and the excitation "
-               "amplitudes follow it" if frf.parameter else
+               "amplitudes follow it" if follows else
                "the excitation amplitudes are held at their operating values")
         what = "coordinates and outputs" if len(frf.amplitudes) > ctx.n else "coordinates"
-        blocks.append(ctx.figure(frf, f"Amplitudes of the {what} against the excitation "
+        units = result_units(ctx.model)
+        chart = response_chart(frf, operating_frequency(sol), units.si if units else None)
+        blocks.append(ctx.figure(chart, f"Amplitudes of the {what} against the excitation "
                                  f"frequency ({how}); dots: the operating point, dashed: the "
                                  "excitation frequency, dotted: the natural frequencies."))
     if history is not None:
@@ -37,7 +48,7 @@ def plots(ctx: Context) -> list[Block]:
                 "frequencies" if history.periodic else
                 "two periods of the slowest excitation frequency (the frequencies are "
                 "incommensurate: the excitation is not periodic)")
-        blocks.append(ctx.figure(history, f"The stationary solution over {what}."))
+        blocks.append(ctx.figure(history_figure(history), f"The stationary solution over {what}."))
     return blocks
 
 

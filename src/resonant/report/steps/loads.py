@@ -1,7 +1,11 @@
 """Loads beyond a sine: the periodic load of ``[periodic]`` (Fourier series, the response
-per harmonic, the sum, its largest excursion) and the random inputs of ``[random]``
-(spectral densities, RMS, Rice's rates, Miles beside the exact value), as a textbook
-shows them (docs/random.md)."""
+per harmonic, the sum, its largest excursion), the random inputs of ``[random]``
+(spectral densities, RMS, Rice's rates, Miles beside the exact value) and the pulse of
+``[shock]`` (its shock response spectrum, the largest responses), as a textbook shows them
+(docs/random.md).  Their figures are the views' chart descriptions (the ones the library's
+plots draw): :func:`~resonant.views.plotting.history_chart`,
+:func:`~resonant.views.random_views.random_chart`,
+:func:`~resonant.views.shock_views.srs_chart`."""
 
 from __future__ import annotations
 
@@ -9,8 +13,14 @@ import numpy as np
 
 from ...analyses.periodic_load import periodic_load_response
 from ...analyses.random_response import random_response
+from ...analyses.shock import pulse, shock_response_spectrum
+from ...analyses.transient import shock_response
 from ...errors import ResonantError
+from ...model.units import Dimension
 from ...views.notation import number_latex
+from ...views.plotting import history_chart
+from ...views.random_views import random_chart
+from ...views.shock_views import srs_chart
 from ...views.units_display import result_units
 from ..blocks import Block, Heading, Note, Table, cell, paragraph
 from .context import Context, _m
@@ -19,6 +29,10 @@ from .context import Context, _m
 SHOWN_HARMONICS = 8
 #: responses in the table of harmonics (the first coordinates; it fits a phone)
 SHOWN_RESPONSES = 2
+#: curves in the figure of the periodic response (the first responses)
+DRAWN_RESPONSES = 4
+#: natural frequencies of the shock response spectrum's oscillators
+SRS_POINTS = 80
 
 _SERIES = {
     "square": r"b_{n} = \frac{4A}{n\pi}\ (n\ \text{odd}),\quad a_{0} = a_{n} = 0",
@@ -104,6 +118,14 @@ def periodic_load(ctx: Context) -> list[Block]:
             for name in result.names]
     blocks.append(Table((cell("response"), cell("mean ", _m("q_{k,0}")),
                          cell(_m(r"\max_{t}|q_{k}(t)|"))), tuple(rows)))
+    # the first responses of the first one's unit: one axis, one scale
+    drawn = [n for n in result.names if si.get(n, "") == si.get(result.names[0], "")]
+    drawn = drawn[:DRAWN_RESPONSES]
+    blocks += [] if not ctx.plots else [ctx.figure(
+        history_chart(result.time, {name: result.history[name] for name in drawn}, si,
+                      "periodic response $q_{k}(t)$"),
+        f"The summed response over one period (T = {series.period:.4g} s): the static part "
+        f"and the stationary responses to the first {series.harmonics} harmonics.")]
     blocks.extend(Note((w,)) for w in result.warnings)
     return blocks
 
@@ -171,7 +193,78 @@ def random_load(ctx: Context) -> list[Block]:
                 for name, value in result.miles.items() if result.rms.get(name)]
         blocks.append(Table((cell("response"), cell("Miles"), cell("exact"),
                              cell("difference")), tuple(miles_rows)))
+    blocks += [] if not ctx.plots else [ctx.figure(
+        random_chart(result),
+        "One-sided spectral densities on log-log axes: the input" +
+        ("s" if len(result.inputs) > 1 else "") + " (top) and the responses (one panel "
+        "per unit), each labelled with its RMS value" +
+        ("; dashed: the natural frequency." if result.natural_frequency is not None
+         else "."))]
     blocks.extend(Note((w,)) for w in result.warnings)
+    return blocks
+
+
+_PULSES = {"half-sine": "a half-sine", "haversine": "a haversine", "sawtooth": "a sawtooth",
+           "rectangular": "a rectangular", "step": "a step", "impulse": "an impulse"}
+
+
+def _input_unit(ctx: Context, name: str, derivative: int) -> str:
+    """The SI unit of a signal's derivative (a force for a coordinate), "" without units."""
+    units = ctx.model.units
+    found = units.dimensions.get(name) if units is not None else None
+    if found is None:
+        return ""
+    dim = (Dimension.of(kg=1, m=2, s=-2) / found if name in ctx.model.coordinates
+           else found / Dimension.of(s=derivative))
+    return dim.text() or "1"
+
+
+def _srs_frequencies(ctx: Context, duration: float, step: float) -> np.ndarray:
+    """The oscillators' natural frequencies (Hz): around the pulse's own (1/duration) and
+    the system's, below a tenth of the sampling rate."""
+    natural = [w / (2 * np.pi) for w in ctx.solution.natural_frequencies if w > 0] \
+        if ctx.solution.available else []
+    low = min([0.1 / duration, *(f / 3 for f in natural)])
+    high = min(max([20.0 / duration, *(3 * f for f in natural)]), 0.1 / step)
+    return np.geomspace(low, max(high, 10 * low), SRS_POINTS)
+
+
+def shock_load(ctx: Context) -> list[Block]:
+    """The ``[shock]`` pulse: its shock response spectrum and the largest responses."""
+    spec = ctx.model.shock_section
+    if spec is None:
+        return []
+    blocks: list[Block] = [Heading("Shock load: the pulse and its shock response spectrum")]
+    try:
+        t, values = pulse(spec.pulse, spec.amplitude, spec.duration, spec.step)
+        spectrum = shock_response_spectrum(values, spec.step,
+                                           _srs_frequencies(ctx, spec.duration, spec.step),
+                                           Q=spec.Q)
+        result = shock_response(ctx.eom, spec)
+    except ResonantError as exc:
+        return blocks + [Note((f"The shock response cannot be computed: {exc}",))]
+    s = _signal(ctx, spec.signal, spec.derivative)
+    unit = _input_unit(ctx, spec.signal, spec.derivative)
+    blocks.append(paragraph(
+        "The input ", _m(s), f" is {_PULSES.get(spec.pulse, spec.pulse)} pulse of "
+        "amplitude ", _m(rf"A = {_n(spec.amplitude)}"), " and duration ",
+        _m(rf"\tau = {_n(spec.duration)}\ \mathrm{{s}}"), ". Its shock response spectrum "
+        "is the largest absolute acceleration of a single-degree-of-freedom oscillator of "
+        "natural frequency ", _m("f_{n}"), " and ", _m(rf"Q = {_n(spec.Q)}"), " on it, "
+        "against ", _m("f_{n}"), ": over all time (maximax), while the pulse lasts "
+        "(primary) and after it (residual)."))
+    blocks += [] if not ctx.plots else [ctx.figure(
+        srs_chart(spectrum, t, values, unit),
+        "The pulse (top) and its shock response spectrum on log-log axes (bottom).")]
+    blocks.append(paragraph(
+        "The model's own response, computed step by step over ",
+        _m(rf"{_n(spec.total)}\ \mathrm{{s}}"), ", reaches at most:"))
+    units = result_units(ctx.model)
+    si = dict(units.si) if units is not None else {}
+    rows = [(cell(_m(ctx.namer(name))), cell(_t(result.largest[name], si.get(name, ""))))
+            for name in result.names]
+    blocks.append(Table((cell("response"), cell(_m(r"\max_{t}|q_{k}(t)|"))), tuple(rows)))
+    blocks.extend(Note((w,)) for w in (*spectrum.warnings, *result.warnings))
     return blocks
 
 

@@ -18,6 +18,10 @@
   const COLOURS = ["#0072b2", "#d55e00", "#009e73", "#cc79a7", "#e69f00", "#56b4e9", "#1d1d1f", "#8c564b",
     "#7a3fb0", "#9e9a00", "#b2182b", "#6b7f9e"];
   const DASHES = [[], [6, 3], [2, 2], [8, 2, 2, 2]];
+  // the frequency response's axes and curve styles: the chart description resonant's plots
+  // draw (resonant.views.charts, Chart.to_dict), one curve per name in the order of NAMES
+  const CHART = D.response_chart;
+  const STYLE = new Map(CHART ? NAMES.map((x, i) => [x.name, CHART.curves[i]]).filter(e => e[1]) : []);
 
   const $ = id => document.getElementById(id);
   function el(tag, attrs, text) {
@@ -679,7 +683,11 @@
     for (const s of names) for (const y of curve.curves[s]) shownValues.push(y / factor(s));
     for (const s of names) if (r.amplitudes[s] > 0) shownValues.push(r.amplitudes[s] / factor(s));
     const [la, lb] = logRange(shownValues);
-    S.plotted = { log_range: [la, lb], names, beyond: false };
+    const units = [...new Set(names.map(s => unitText(UNIT[s] ? UNIT[s].unit : "") || (D.has_units ? "1" : "SI")))];
+    const xText = CHART ? CHART.xtext : `${c.frequency ? "excitation frequency " : ""}${symbolText(c)} (${unitText(c.unit) || "SI"})`;
+    const yText = CHART ? CHART.ytext : `amplitude (${units.join(", ")})`;
+    S.plotted = { log_range: [la, lb], names, beyond: false, xlabel: xText, ylabel: yText,
+      styles: names.map(s => ({ colour: colourOf(s), width: widthOf(s), dash: dashOf(s) })) };
     const X = x => left + (w - left - right) * (x - xs[0]) / (xs[xs.length - 1] - xs[0]);
     const Y = y => top + (h - top - bottom) * (1 - (Math.log10(y) - la) / (lb - la));
     const inside = y => Number.isFinite(y) && y > 0 && Math.log10(y) >= la;
@@ -699,11 +707,10 @@
     }
     // the axes' titles: the quantity, its symbol and its unit
     ctx.fillStyle = "#1d1d1f";
-    ctx.fillText(`${c.frequency ? "excitation frequency " : ""}${symbolText(c)} (${unitText(c.unit) || "SI"})`, left + (w - left - right) / 2, h - 4);
-    const units = [...new Set(names.map(s => unitText(UNIT[s] ? UNIT[s].unit : "") || (D.has_units ? "1" : "SI")))];
+    ctx.fillText(xText, left + (w - left - right) / 2, h - 4);
     ctx.save();
     ctx.translate(13, top + (h - top - bottom) / 2); ctx.rotate(-Math.PI / 2);
-    ctx.fillText(`amplitude (${units.join(", ")})`, 0, 0);
+    ctx.fillText(yText, 0, 0);
     ctx.restore();
     // natural frequencies: dashed lines, their labels above the plot (staggered when close)
     ctx.setLineDash([4, 3]); ctx.strokeStyle = "#8a8a8a"; ctx.fillStyle = "#5b5b60";
@@ -722,7 +729,7 @@
     names.forEach((s, k) => {
       const ys = curve.curves[s];
       const f = factor(s);
-      ctx.strokeStyle = colourOf(s); ctx.lineWidth = 1.6;
+      ctx.strokeStyle = colourOf(s); ctx.lineWidth = widthOf(s);
       ctx.setLineDash(dashOf(s));
       ctx.beginPath();
       let pen = false;
@@ -762,14 +769,24 @@
     $("response-caption").textContent = `Peak amplitude (log scale, each in its unit) against ${symbolText(c)} from ${range}; the orange line is the current value, dashed lines the natural frequencies ω₁, ω₂, … (rad/s)` + (FREQ >= 0 && c.unit && c.unit !== "rad/s" ? ` drawn where ${symbolText(c)} equals them` : "") + "." + (beyond ? ` The current value, ${fmt(now / c.factor, 6)}${c.unit ? " " + unitText(c.unit) : ""}, lies outside this range (the arrow).` : "");
   }
 
+  // a curve's dash pattern in pixels: the description's is in line widths (as matplotlib's)
   function dashOf(name) {
+    const style = STYLE.get(name);
+    if (style) return style.dash ? style.dash.split(/[ ,]+/).map(v => Number(v) * style.width).filter(v => Number.isFinite(v) && v >= 0) : [];
     const i = NAMES.findIndex(x => x.name === name);
     return DASHES[Math.floor(Math.max(i, 0) / COLOURS.length) % DASHES.length];
   }
 
   function colourOf(name) {
+    const style = STYLE.get(name);
+    if (style && /^#[0-9a-fA-F]{6}$/.test(style.color || "")) return style.color;
     const i = NAMES.findIndex(x => x.name === name);
     return COLOURS[i % COLOURS.length];
+  }
+
+  function widthOf(name) {
+    const style = STYLE.get(name);
+    return style && style.width > 0 && style.width < 10 ? style.width : 1.6;
   }
 
   function periodOf(r) {
