@@ -13,7 +13,7 @@ amplitudes at the operating point: linear, nonlinear, and their difference.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -29,6 +29,9 @@ from ..views.plotting import name_label as _label
 from .blocks import Block, Heading, Math, Note, Table, cell, paragraph
 from .plots import _swept_parameter
 from .steps import Context
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
 
 #: the curve runs over [LOW, HIGH] times the operating frequency
 LOW, HIGH = 0.6, 1.5
@@ -51,7 +54,7 @@ class NonlinearCurve:
             self.response, title=False, operating=(self.operating, self.operating_amplitudes)),
             legend="best")
 
-    def draw(self, figure: Any) -> None:
+    def draw(self, figure: Figure) -> None:
         draw_chart(self.chart(), figure)
         figure.tight_layout()
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Sequence
-from typing import Any, Protocol, TypeVar
+from typing import TYPE_CHECKING, Any, Protocol, TypeVar
 
 import sympy
 from sympy.core.function import AppliedUndef
@@ -39,6 +39,9 @@ from ..views.drawing import draw_sketch
 from ..views.notation import Namer, column_latex, expression_latex, name_latex
 from ..views.sketch import Sketch, sketch
 from .blocks import Block, Equation, Figure, Heading, Math, paragraph
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure as MplFigure
 
 
 class PartsContext(Protocol):
@@ -65,7 +68,7 @@ class MechanismFigure:
     def __init__(self, data: Sketch) -> None:
         self.sketch = data
 
-    def draw(self, figure: Any) -> None:
+    def draw(self, figure: MplFigure) -> None:
         xmin, xmax, ymin, ymax = self.sketch.bounds()
         u = self.sketch.scale
         ratio = (ymax - ymin + 0.3 * u) / max(xmax - xmin + 0.3 * u, 1e-12)

@@ -37,7 +37,7 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from dataclasses import replace as dataclass_replace
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 import sympy
@@ -50,6 +50,9 @@ from ..views.plotting import frequency_response_chart, history_chart
 from ..views.units_display import result_units
 
 if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
     from ..analyses.stationary import StationarySolution
     from ..analyses.sweep import FrequencyResponse
     from ..system import LinearEOM
@@ -79,7 +82,7 @@ class DrawnPlot(Protocol):
     """Plot data of another step that draws itself (the nonlinear frequency-response curve of
     :mod:`resonant.report.nonlinear`)."""
 
-    def draw(self, figure: Any) -> None: ...  # pragma: no cover
+    def draw(self, figure: Figure) -> None: ...  # pragma: no cover
 
     def to_dict(self) -> dict: ...  # pragma: no cover
 
@@ -238,10 +241,10 @@ def draw(plot: PlotData, figure) -> None:
     figure.subplots_adjust(left=_left_margin(ax), **MARGINS)
 
 
-def _left_margin(ax: Any) -> float:
+def _left_margin(ax: Axes) -> float:
     """Room for the y tick labels and the y label, from the labels' lengths (a character
     of the 10 pt tick font is about 1/80 of the 7 in figure's width)."""
-    labels = ax.yaxis.get_major_formatter().format_ticks(ax.get_yticks())
+    labels = ax.yaxis.get_major_formatter().format_ticks(ax.get_yticks().tolist())
     visible = [re.sub(r"\\mathdefault|\\times|[{}$^\\]", "", label) for label in labels]
     return min(0.3, 0.05 + 0.0125 * max((len(v) for v in visible), default=1))
 

@@ -29,13 +29,22 @@ from __future__ import annotations
 
 import html
 import math
+import os
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from functools import lru_cache
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import numpy.typing as npt
 
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+#: a file to write a figure to (None: no file)
+PathArg = str | os.PathLike[str] | None
 #: the report's figures: 7.0 x 3.6 in, in points (the size of its matplotlib figures)
 WIDTH, HEIGHT = 504.0, 259.2
 #: matplotlib's default colour cycle, so that both drawings of a chart agree
@@ -47,13 +56,13 @@ TICK_FONT = 10.0
 _FAR = 1e4
 
 
-def _number(value: Any) -> float | None:
+def _number(value: float) -> float | None:
     """A float for JSON: None for NaN and infinities."""
     value = float(value)
     return value if math.isfinite(value) else None
 
 
-def _numbers(values: Any) -> list[float | None]:
+def _numbers(values: npt.ArrayLike) -> list[float | None]:
     return [_number(v) for v in np.asarray(values, dtype=float).ravel()]
 
 
@@ -451,7 +460,7 @@ class _Frame:
     yticks: tuple[float, ...] | None = None
     xticks: tuple[tuple[float, str], ...] | None = None
 
-    def x(self, values: Any) -> np.ndarray:
+    def x(self, values: npt.ArrayLike) -> np.ndarray:
         lo, hi = self.xlim
         with np.errstate(all="ignore"):
             v = np.asarray(values, dtype=float)
@@ -461,7 +470,7 @@ class _Frame:
             pos = self.left + (v - lo) / span * (self.right - self.left)
         return np.clip(pos, -_FAR * WIDTH, _FAR * WIDTH)
 
-    def y(self, values: Any) -> np.ndarray:
+    def y(self, values: npt.ArrayLike) -> np.ndarray:
         lo, hi = self.ylim
         with np.errstate(all="ignore"):
             v = np.asarray(values, dtype=float)
@@ -956,7 +965,7 @@ def _marker_style(shape: str, color: str, filled: bool) -> dict[str, Any]:
     return style
 
 
-def _draw_panel(chart: Chart, ax: Any, own: bool, legend_size: float | None = None) -> None:
+def _draw_panel(chart: Chart, ax: Axes, own: bool, legend_size: float | None = None) -> None:
     """Draw one chart on an Axes (the drawing behind :func:`draw_chart` and
     :func:`draw_figure`)."""
     from matplotlib.lines import Line2D
@@ -1023,10 +1032,11 @@ def _draw_panel(chart: Chart, ax: Any, own: bool, legend_size: float | None = No
                            frameon=True)
         else:
             options["loc"] = "best"
-        ax.legend(curve_handles + handles, labels + [h.get_label() for h in handles], **options)
+        ax.legend([*curve_handles, *handles], labels + [h.get_label() for h in handles],
+                  **options)
 
 
-def draw_chart(chart: Chart, figure: Any = None, ax: Any = None) -> Any:
+def draw_chart(chart: Chart, figure: Figure | None = None, ax: Axes | None = None) -> Any:
     """Draw the chart on a matplotlib figure (a new Axes filling it) or on the caller's
     ``ax``; return the Axes.
 
@@ -1052,7 +1062,7 @@ def draw_chart(chart: Chart, figure: Any = None, ax: Any = None) -> Any:
     return ax
 
 
-def figure_of(ax: Any) -> Any:
+def figure_of(ax: Axes) -> Any:
     """The figure an Axes belongs to (the top-level one for a subfigure)."""
     fig = ax.figure
     root = getattr(fig, "get_figure", None)
@@ -1064,7 +1074,19 @@ def figure_of(ax: Any) -> Any:
     return getattr(fig, "figure", fig)
 
 
-def draw_figure(charts: Charts | Chart, ax: Any = None) -> Any:
+def axes_list(ax: Axes | Sequence[Axes] | npt.NDArray[Any]) -> list[Axes]:
+    """One Axes, a sequence or an array of them (``fig.subplots``) as a list.
+
+    Examples
+    --------
+    >>> axes_list([1, 2])
+    [1, 2]
+    """
+    found: list[Axes] = list(np.ravel(np.asarray(ax, dtype=object)))
+    return found
+
+
+def draw_figure(charts: Charts | Chart, ax: Axes | Sequence[Axes] | None = None) -> Any:
     """Draw the charts with matplotlib's object API: a new figure (no pyplot) with one
     Axes per panel, or the caller's Axes (one per panel, the first panels when fewer).
 

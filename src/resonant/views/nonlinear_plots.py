@@ -10,15 +10,16 @@ The curves are the coordinates' and the outputs' (``[outputs]``).
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import printable
-from .charts import COLORS, Chart, Charts, Curve, Marker, Rule, draw_figure
+from .charts import COLORS, Chart, Charts, Curve, Marker, PathArg, Rule, draw_figure
 from .plotting import MAX_CURVES, _check_path, _name, _save, unit_math
 
 if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
     from ..analyses.backbone import Backbones
@@ -123,8 +124,8 @@ def nonlinear_response_chart(response: NonlinearResponse, names: Sequence[str] |
                  if title else "")
 
 
-def plot_nonlinear_response(response: NonlinearResponse, path: Any = None,
-                            names: Sequence[str] | None = None, ax: Any = None,
+def plot_nonlinear_response(response: NonlinearResponse, path: PathArg = None,
+                            names: Sequence[str] | None = None, ax: Axes | None = None,
                             linear: bool = True, units: Mapping[str, str] | None = None) -> Figure:
     """Amplitude against the parameter (the chart of :func:`nonlinear_response_chart`, drawn
     with matplotlib); returns the Figure (and writes it to ``path``).
@@ -194,7 +195,7 @@ def backbones_chart(backbones: Backbones) -> Chart:
                  + f" (harmonic balance, H = {backbones.harmonics})")
 
 
-def plot_backbones(backbones: Backbones, path: Any = None, ax: Any = None) -> Figure:
+def plot_backbones(backbones: Backbones, path: PathArg = None, ax: Axes | None = None) -> Figure:
     """Backbone curves (the chart of :func:`backbones_chart`, drawn with matplotlib);
     returns the Figure."""
     _check_path(path)

@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import numpy.typing as npt
 
 from ..errors import AnalysisError, printable
 from .charts import (
@@ -31,6 +32,7 @@ from .charts import (
     Charts,
     Curve,
     Marker,
+    PathArg,
     Rule,
     Span,
     draw_figure,
@@ -41,6 +43,7 @@ from .notation import name_latex
 from .units_display import unit_latex
 
 if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
     from ..analyses.modes import ModalAnalysis
@@ -99,7 +102,7 @@ def _new_figure(**options: Any) -> Any:
 _figure_of = figure_of
 
 
-def _check_path(path: Any) -> Path | None:
+def _check_path(path: PathArg) -> Path | None:
     if path is None:
         return None
     path = Path(path)
@@ -108,7 +111,7 @@ def _check_path(path: Any) -> Path | None:
     return path
 
 
-def _save(fig: Any, path: Any, **options: Any) -> None:
+def _save(fig: Figure, path: PathArg, **options: Any) -> None:
     """Write ``fig`` to ``path`` (nothing for None), attaching an Agg canvas if it has none."""
     path = _check_path(path)
     if path is None:
@@ -328,8 +331,8 @@ def _extrema_marks(response: FrequencyResponse, name: str, color: str, floor: fl
     return marks
 
 
-def plot_frequency_response(response: FrequencyResponse, path: Any = None,
-                            names: Sequence[str] | None = None, ax: Any = None,
+def plot_frequency_response(response: FrequencyResponse, path: PathArg = None,
+                            names: Sequence[str] | None = None, ax: Axes | None = None,
                             units: Mapping[str, str] | None = None) -> Figure:
     """Amplitude (log axis) above phase, against the swept parameter: the chart of
     :func:`frequency_response_chart`, drawn with matplotlib.
@@ -387,7 +390,7 @@ def _curve_names(response: FrequencyResponse, names: Sequence[str] | None) -> li
     return list(names)
 
 
-def _response_axes(ax: Any) -> list[Any] | None:
+def _response_axes(ax: Axes | None) -> list[Any] | None:
     """The caller's ``ax=`` as a list of Axes (amplitude, phase), or None for a new figure."""
     if ax is None:
         return None
@@ -412,7 +415,7 @@ def _amplitude_floor(response: FrequencyResponse, names: Sequence[str]) -> tuple
     return floor, top
 
 
-def unwrapped_degrees(phase: Any) -> np.ndarray:
+def unwrapped_degrees(phase: npt.ArrayLike) -> np.ndarray:
     """A phase curve in degrees made continuous: jumps of a full turn removed (each run
     between gaps on its own), so that a phase passing -180 degrees goes on to -270
     instead of jumping to +90; a jump of half a turn (the sign change at an undamped
@@ -494,8 +497,8 @@ def modes_chart(analysis: ModalAnalysis, count: int | None = 6) -> Charts:
                   sharex=False, columns=columns)
 
 
-def plot_modes(analysis: ModalAnalysis, path: Any = None, count: int | None = 6,
-               ax: Any = None) -> Figure:
+def plot_modes(analysis: ModalAnalysis, path: PathArg = None, count: int | None = 6,
+               ax: Axes | None = None) -> Figure:
     """The mode shapes (largest component +1): the chart of :func:`modes_chart` (bars for
     few coordinates, lines for many), drawn with matplotlib.
 
@@ -581,7 +584,8 @@ def simulation_chart(sim: Simulation, units: Mapping[str, str] | None = None) ->
                   size=(9.0, 1.2 + 2.1 * len(panels)), legend="below")
 
 
-def history_chart(t: Any, values: Mapping[str, Any], units: Mapping[str, str] | None = None,
+def history_chart(t: npt.ArrayLike, values: Mapping[str, Any],
+                  units: Mapping[str, str] | None = None,
                   ylabel: str = "stationary response $q_p(t)$") -> Chart:
     """What the figure of responses against time shows: every curve in one chart, the
     unit on the axis (or each curve's where they differ), a line at zero.
@@ -625,7 +629,7 @@ def unit_suffix(names: Sequence[str], units: Mapping[str, str]) -> tuple[str, Ma
     return f" [{', '.join(named)}]", units
 
 
-def plot_simulation(sim: Simulation, path: Any = None, axes: Any = None,
+def plot_simulation(sim: Simulation, path: PathArg = None, axes: Sequence[Axes] | None = None,
                     units: Mapping[str, str] | None = None) -> Figure:
     """Deviations vs time, one panel per coordinate/output, the linear prediction dashed:
     the chart of :func:`simulation_chart`, drawn with matplotlib.

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -21,10 +21,11 @@ from ..analyses.periodic_load import PeriodicResponse
 from ..analyses.random_response import RandomResponse
 from ..errors import AnalysisError, printable
 from ..model.random_spec import STANDARD_GRAVITY
-from .charts import Chart, Charts, Curve, Rule, draw_figure, unit_text
+from .charts import Chart, Charts, Curve, PathArg, Rule, axes_list, draw_figure, unit_text
 from .plotting import _check_path, _save
 
 if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 #: at most this many curves per panel
@@ -187,8 +188,8 @@ def random_chart(result: RandomResponse, names: Sequence[str] | None = None) -> 
     return Charts(tuple(panels), size=(7.5, 2.6 * len(panels) + 0.6))
 
 
-def plot_random(result: RandomResponse, path: Any = None, names: Sequence[str] | None = None,
-                ax: Any = None) -> Figure:
+def plot_random(result: RandomResponse, path: PathArg = None, names: Sequence[str] | None = None,
+                ax: Axes | Sequence[Axes] | None = None) -> Figure:
     """The inputs' and the responses' spectral densities on log-log axes, with units: the
     chart of :func:`random_chart`, drawn with matplotlib.
 
@@ -217,9 +218,10 @@ def plot_random(result: RandomResponse, path: Any = None, names: Sequence[str] |
     _check_path(path)
     charts = random_chart(result, names)
     count = len(charts.panels)
-    if ax is not None and len(list(np.atleast_1d(ax))) < count:
+    axes = None if ax is None else axes_list(ax)
+    if axes is not None and len(axes) < count:
         raise AnalysisError(f"the plot needs {count} axes (inputs and one per unit)")
-    fig = draw_figure(charts, None if ax is None else list(np.atleast_1d(ax)))
+    fig = draw_figure(charts, axes)
     _save(fig, path, dpi=150)
     return fig
 

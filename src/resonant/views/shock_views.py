@@ -11,14 +11,20 @@ Shock response spectrum: absolute acceleration, zeta = 0.05 (Q = 10), signal 0.0
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import replace
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
+import numpy.typing as npt
 
 from ..analyses.shock import ShockSpectrum
-from .charts import COLORS, Chart, Charts, Curve, draw_figure, unit_text
+from .charts import COLORS, Chart, Charts, Curve, PathArg, axes_list, draw_figure, unit_text
 from .plotting import _check_path, _save
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 #: at most this many rows in the text table (evenly picked)
 MAX_ROWS = 40
@@ -52,7 +58,8 @@ def srs_text(spectrum: ShockSpectrum) -> str:
     return "\n".join(lines) + "\n"
 
 
-def srs_chart(spectrum: ShockSpectrum, time: Any = None, signal: Any = None, unit: str = "",
+def srs_chart(spectrum: ShockSpectrum, time: npt.ArrayLike | None = None,
+              signal: npt.ArrayLike | None = None, unit: str = "",
               reference: ShockSpectrum | None = None, reference_label: str = "input") -> Charts:
     """What the figure of a shock response spectrum shows: the maximax, primary and
     residual spectra on log-log axes, under the input's history where it is given, and
@@ -109,8 +116,9 @@ def srs_chart(spectrum: ShockSpectrum, time: Any = None, signal: Any = None, uni
     return Charts(tuple(panels), size=(7.5, 6.4 if len(panels) > 1 else 4.2), sharex=False)
 
 
-def plot_srs(spectrum: ShockSpectrum, time: Any = None, signal: Any = None, path: Any = None,
-             ax: Any = None, unit: str = "") -> Any:
+def plot_srs(spectrum: ShockSpectrum, time: npt.ArrayLike | None = None,
+             signal: npt.ArrayLike | None = None, path: PathArg = None,
+             ax: Axes | Sequence[Axes] | None = None, unit: str = "") -> Figure:
     """The SRS (maximax, primary, residual) on log-log axes, with the input's history: the
     chart of :func:`srs_chart`, drawn with matplotlib.
 
@@ -132,7 +140,7 @@ def plot_srs(spectrum: ShockSpectrum, time: Any = None, signal: Any = None, path
     """
     _check_path(path)
     charts = srs_chart(spectrum, time, signal, unit)
-    axes = None if ax is None else list(np.atleast_1d(ax))
+    axes = None if ax is None else axes_list(ax)
     if axes is not None and len(axes) < len(charts.panels):
         charts = replace(charts, panels=charts.panels[-len(axes):])  # the spectrum's
     fig = draw_figure(charts, axes)
