@@ -18,6 +18,7 @@
   const COLOURS = ["#0072b2", "#d55e00", "#009e73", "#cc79a7", "#e69f00", "#56b4e9", "#1d1d1f", "#8c564b",
     "#7a3fb0", "#9e9a00", "#b2182b", "#6b7f9e"];
   const DASHES = [[], [6, 3], [2, 2], [8, 2, 2, 2]];
+  const NOW = "#1d1d1f";  // the current value (response) and the current instant (history)
   // the frequency response's axes and curve styles: the chart description resonant's plots
   // draw (resonant.views.charts, Chart.to_dict), one curve per name in the order of NAMES
   const CHART = D.response_chart;
@@ -744,7 +745,9 @@
     ctx.setLineDash([]);
     const now = r.p[FREQ], first = xs[0], last = xs[xs.length - 1];
     const beyond = !(now >= Math.min(first, last) && now <= Math.max(first, last));
-    ctx.strokeStyle = "#f0a500"; ctx.fillStyle = "#f0a500"; ctx.lineWidth = 2;
+    // the current value in black: the curves take the chart description's colours (orange
+    // among them), the natural frequencies grey dashes
+    ctx.strokeStyle = NOW; ctx.fillStyle = NOW; ctx.lineWidth = 2;
     if (!beyond) {
       ctx.beginPath(); ctx.moveTo(X(now), top); ctx.lineTo(X(now), h - bottom); ctx.stroke();
       for (const s of names) {
@@ -760,13 +763,13 @@
       const note = `${atRight ? "" : "← "}${symbolText(c)} = ${fmt(now / c.factor, 4)} ${unitText(c.unit)}${atRight ? " →" : ""}`;
       const wide = ctx.measureText(note).width, x0 = atRight ? px - 14 - wide : px + 14;
       ctx.fillStyle = "rgba(255,255,255,.92)"; ctx.fillRect(x0 - 4, ym - 11, wide + 8, 18);
-      ctx.strokeStyle = "#f0a500"; ctx.lineWidth = 1; ctx.strokeRect(x0 - 4, ym - 11, wide + 8, 18);
-      ctx.fillStyle = "#8a4b12"; ctx.textAlign = "left";
+      ctx.strokeStyle = NOW; ctx.lineWidth = 1; ctx.strokeRect(x0 - 4, ym - 11, wide + 8, 18);
+      ctx.fillStyle = NOW; ctx.textAlign = "left";
       ctx.fillText(note, x0, ym + 3);
     }
     S.plotted.beyond = beyond;
     const range = `${fmt(first / c.factor, 4)} to ${fmt(last / c.factor, 4)}${c.unit ? " " + unitText(c.unit) : ""}`;
-    $("response-caption").textContent = `Peak amplitude (log scale, each in its unit) against ${symbolText(c)} from ${range}; the orange line is the current value, dashed lines the natural frequencies ω₁, ω₂, … (rad/s)` + (FREQ >= 0 && c.unit && c.unit !== "rad/s" ? ` drawn where ${symbolText(c)} equals them` : "") + "." + (beyond ? ` The current value, ${fmt(now / c.factor, 6)}${c.unit ? " " + unitText(c.unit) : ""}, lies outside this range (the arrow).` : "");
+    $("response-caption").textContent = `Peak amplitude (log scale, each in its unit) against ${symbolText(c)} from ${range}; the black line is the current value, dashed lines the natural frequencies ω₁, ω₂, … (rad/s)` + (FREQ >= 0 && c.unit && c.unit !== "rad/s" ? ` drawn where ${symbolText(c)} equals them` : "") + "." + (beyond ? ` The current value, ${fmt(now / c.factor, 6)}${c.unit ? " " + unitText(c.unit) : ""}, lies outside this range (the arrow).` : "");
   }
 
   // a curve's dash pattern in pixels: the description's is in line widths (as matplotlib's)
@@ -829,7 +832,7 @@
       ctx.stroke();
     });
     const px = left + (w - left - right) * S.phase;
-    ctx.strokeStyle = "#f0a500"; ctx.lineWidth = 1.5;
+    ctx.strokeStyle = NOW; ctx.lineWidth = 1.5;
     ctx.beginPath(); ctx.moveTo(px, 2); ctx.lineTo(px, h - 4); ctx.stroke();
     $("history-caption").textContent = `t from 0 to T = ${fmt(T, 4)} s (one period); each curve scaled to its amplitude.`;
   }
