@@ -46,7 +46,7 @@ import html
 import math
 import os
 import sys
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
@@ -76,6 +76,7 @@ from .stationary import StationarySolution, freeze_fields, stationary
 from .time_integration import STIFF_RATIO, LinearDynamics, NonlinearDynamics, integrate
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 #: measurement window: this many periods of the lowest excitation frequency
@@ -314,7 +315,8 @@ to_dict(history=True)
                 "<table><tr><th>quantity</th><th>steady amplitude</th><th>linear "
                 f"stationary</th><th>difference</th></tr>{rows}</table>{warn}")
 
-    def plot(self, path: str | os.PathLike[str] | None = None, axes: Any = None,
+    def plot(self, path: str | os.PathLike[str] | None = None,
+             axes: Sequence[Axes] | None = None,
              units: Mapping[str, str] | None = None) -> Figure:
         """The time histories (:func:`resonant.views.plotting.plot_simulation`).
 

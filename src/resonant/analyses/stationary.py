@@ -27,7 +27,7 @@ from dataclasses import dataclass, fields
 from fractions import Fraction
 from functools import reduce
 from types import MappingProxyType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -54,6 +54,9 @@ from .kernel import (
 )
 from .threads import blas_threads
 
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
+
 NEAR_RESONANCE = 0.02       # relative distance to a natural frequency that earns a warning
 #: above this many coordinates (or with sparse matrices) the eigenvalues come from the
 #: undamped ones where the damping allows (no dense 2n x 2n problem) and solves are sparse
@@ -68,7 +71,7 @@ MAX_PEAK_SAMPLES = 20_000
 PEAK_CANDIDATES = 16
 
 
-def freeze_fields(result: Any) -> None:
+def freeze_fields(result: DataclassInstance) -> None:
     """Make a frozen dataclass's arrays read-only, in place (for ``__post_init__``).
 
     Every ndarray field becomes a read-only view

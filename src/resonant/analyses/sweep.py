@@ -420,7 +420,7 @@ class FrequencyResponse:
                              **{f"amplitude:{k}": v for k, v in self.amplitudes.items()},
                              **{f"phase:{k}": v for k, v in self.phases.items()}})
 
-    def to_csv(self, path: Any) -> None:
+    def to_csv(self, path: str | os.PathLike[str]) -> None:
         """Write one row per value: the parameter, then amplitude and phase of each name."""
         with open(path, "w", newline="", encoding="utf-8") as handle:
             writer = csv.writer(handle)

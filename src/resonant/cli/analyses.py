@@ -18,11 +18,14 @@ from typing import Any
 
 import resonant.cli.common as cli
 
-from ..analyses.backbone import backbone
+from ..analyses.backbone import Backbones, backbone
 from ..analyses.harmonic_balance import nonlinear_sweep
-from ..analyses.modes import modes
-from ..analyses.sweep import MAX_SWEEP_POINTS, linspace, sweep
+from ..analyses.modes import ModalAnalysis, modes
+from ..analyses.nonlinear_response import NonlinearResponse
+from ..analyses.sweep import MAX_SWEEP_POINTS, FrequencyResponse, linspace, sweep
+from ..deadline import Deadline
 from ..errors import AnalysisError
+from ..model import Model
 from ..model.options import MAX_GIVEN_HARMONICS, SWEEP_METHODS, BalanceOptions, SweepOptions
 from ..system import linear_system
 from ..views.display import modes_text, sweep_text
@@ -34,7 +37,8 @@ from ..views.units_display import ResultUnits, result_units
 MAX_HARMONICS_OPTION = MAX_GIVEN_HARMONICS
 
 
-def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+             parent: argparse.ArgumentParser) -> None:
     modes = subparsers.add_parser(
         "modes", parents=[parent], help="natural frequencies, mode shapes, damping ratios")
     modes.add_argument("--count", type=cli.integer(1, 10**9), metavar="K",
@@ -102,7 +106,7 @@ def run_modes(args: argparse.Namespace) -> int:
                  lambda path: plot_modes(result, path), units)
 
 
-def _run_backbones(args: argparse.Namespace, model: Any, deadline: Any) -> int:
+def _run_backbones(args: argparse.Namespace, model: Model, deadline: Deadline) -> int:
     """``modes --nonlinear``: :func:`resonant.analyses.backbone.backbone`."""
     if args.count is not None:
         raise AnalysisError("--count applies to the linear modes, not to --nonlinear")
@@ -135,7 +139,7 @@ def run_sweep(args: argparse.Namespace) -> int:
                      result, path, units=units.si if units is not None else None), units)
 
 
-def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
+def _run_nonlinear(args: argparse.Namespace, model: Model) -> int:
     """``sweep --nonlinear``: :func:`resonant.analyses.harmonic_balance.nonlinear_sweep`, which
     balances the way the model calls for (in full, or condensed onto ``[[nonlinear]]``
     elements)."""
@@ -153,7 +157,11 @@ def _run_nonlinear(args: argparse.Namespace, model: Any) -> int:
                      result, path, units=units.si if units is not None else None))
 
 
-def _emit(args: argparse.Namespace, result: Any, text: Callable[[], str],
+#: the results this module writes
+Emitted = ModalAnalysis | Backbones | FrequencyResponse | NonlinearResponse
+
+
+def _emit(args: argparse.Namespace, result: Emitted, text: Callable[[], str],
           plot: Callable[[str], Any], units: ResultUnits | None = None) -> int:
     """Plot, CSV (sweeps), JSON or text of a result, then its warnings.
 
@@ -162,7 +170,7 @@ def _emit(args: argparse.Namespace, result: Any, text: Callable[[], str],
     """
     if args.plot:
         plot(args.plot)
-    if getattr(args, "csv", None):
+    if getattr(args, "csv", None) and isinstance(result, FrequencyResponse | NonlinearResponse):
         try:
             result.to_csv(args.csv)
         except OSError as exc:

@@ -7,11 +7,10 @@ import json
 import math
 import os
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any
 
 from ..deadline import Deadline
 from ..errors import AnalysisError, ModelError, Problem, printable
@@ -110,7 +109,7 @@ def writable_output(name: str, what: str) -> Path:
     raise ModelError(Problem(f"cannot write {what}: {problem}", name))
 
 
-def emit_json(data: Any) -> None:
+def emit_json(data: Mapping[str, object]) -> None:
     try:
         text = json.dumps(data, indent=2, allow_nan=False)
     except ValueError:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
 
 import resonant.cli.common as common
 
@@ -13,7 +12,8 @@ from ..views.drawing import draw_mechanism, drawing_format
 from ..views.sketch import sketch
 
 
-def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+             parent: argparse.ArgumentParser) -> None:
     parser = subparsers.add_parser(
         "draw", parents=[parent],
         help="draw the mechanism at its reference state (.svg, .png or .pdf)",

@@ -14,7 +14,6 @@ import argparse
 import re
 import sys
 from pathlib import Path
-from typing import Any
 
 from ..errors import ModelError, Problem
 
@@ -53,7 +52,8 @@ def _title(path: Path) -> str:
     return match.group(1) if match else ""
 
 
-def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+             parent: argparse.ArgumentParser) -> None:
     parser = subparsers.add_parser(
         "example", help="list the bundled example models, or write one to a file",
         description="Without NAME: list the bundled examples. With NAME: write the model "

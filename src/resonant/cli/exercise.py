@@ -16,7 +16,8 @@ from ..exercises.writing import ExerciseJob
 from ..studies import engine_for, model_text
 
 
-def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+             parent: argparse.ArgumentParser) -> None:
     parser = subparsers.add_parser(
         "exercise", parents=[parent],
         help="exercise variants: statements, worked solutions, answer key, Moodle XML",

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-from typing import Any
 
 import resonant.cli.common as common
 
@@ -13,7 +12,8 @@ from ..errors import ModelError, Problem
 from ..views.explore import explore_page
 
 
-def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+             parent: argparse.ArgumentParser) -> None:
     parser = subparsers.add_parser(
         "explore", parents=[parent],
         help="write an interactive page of the model (.html, self-contained)",

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
 
 import resonant.cli.common as cli
 
@@ -14,7 +13,8 @@ from ..system import linear_system
 from ..views.random_views import plot_random, random_text
 
 
-def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+             parent: argparse.ArgumentParser) -> None:
     command = subparsers.add_parser(
         "random", parents=[parent],
         help="response spectral densities, RMS, 3-sigma and Rice's rates under the "

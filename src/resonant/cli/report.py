@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
 
 import resonant.cli.common as common
 
@@ -12,7 +11,8 @@ from ..errors import ModelError, Problem
 from ..report import build_report, render, report_format
 
 
-def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+             parent: argparse.ArgumentParser) -> None:
     parser = subparsers.add_parser(
         "report", parents=[parent],
         help="write the worked solution (.html, .md or .tex)",

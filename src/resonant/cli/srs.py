@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
 
 import numpy as np
 
@@ -26,7 +25,8 @@ from ..model.time_series import read_time_series
 from ..views.shock_views import plot_srs, srs_text
 
 
-def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+             parent: argparse.ArgumentParser) -> None:
     srs = subparsers.add_parser("srs", help="shock response spectrum of a pulse or a CSV "
                                 "history (maximax, primary, residual)")
     srs.add_argument("model", nargs="?", default=None,

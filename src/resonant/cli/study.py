@@ -24,7 +24,8 @@ from ..studies.files import check_output, completed_rows
 from ..views.study_plots import plot_study, study_units
 
 
-def register(subparsers: Any, parent: argparse.ArgumentParser) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+             parent: argparse.ArgumentParser) -> None:
     study = subparsers.add_parser(
         "study", parents=[parent], help="a parameter study: Monte Carlo, grids, Sobol "
         "indices, on local workers or a Dask cluster")

@@ -13,10 +13,10 @@ array([1.      , 1.732051])
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 
+from ..arrays import Matrix
 from ..errors import AnalysisError
 from . import modal
 from .modal import (
@@ -109,10 +109,12 @@ def classify(eigenvalues: np.ndarray) -> str:
     return MARGINAL if modal.marginal(eigenvalues) else ASYMPTOTIC
 
 
-def rayleigh(M: Any, C: Any, K: Any) -> tuple[float, float] | None:
+def rayleigh(M: Matrix, C: Matrix, K: Matrix) -> tuple[float, float] | None:
     """(a, b) with C = a M + b K to relative accuracy 1e-9, else None."""
-    def dot(x: Any, y: Any) -> float:
-        return float(x.multiply(y).sum()) if hasattr(x, "tocsr") else float(np.sum(x * y))
+    def dot(x: Matrix, y: Matrix) -> float:
+        if isinstance(x, np.ndarray):
+            return float(np.sum(x * y))
+        return float(x.multiply(y).sum())
 
     gram = np.array([[dot(M, M), dot(M, K)], [dot(K, M), dot(K, K)]])
     rhs = np.array([dot(M, C), dot(K, C)])

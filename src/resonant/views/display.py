@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import html
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy
@@ -61,6 +61,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..analyses.modes import ModalAnalysis  # noqa: F401
     from ..analyses.simulate import Simulation  # noqa: F401
     from ..analyses.stationary import StationarySolution  # noqa: F401
+    from ..analyses.sweep import FrequencyResponse
 
 
 def _matrix_text(matrix: np.ndarray, indent: str = "    ") -> str:
@@ -312,7 +313,7 @@ def stationary_html(sol: StationarySolution) -> str:
             f"</table>{warn}")
 
 
-def modes_text(result: Any, units: ResultUnits | None = None) -> str:
+def modes_text(result: ModalAnalysis, units: ResultUnits | None = None) -> str:
     """The human-readable table of ``resonant modes``; the second frequency column is in
     the display unit of frequencies (``units.frequency``, Hz by default)."""
     out = [printable(result.title or "modes"), ""]
@@ -355,7 +356,7 @@ def modes_text(result: Any, units: ResultUnits | None = None) -> str:
     return "\n".join(out) + "\n"
 
 
-def sweep_text(result: Any) -> str:
+def sweep_text(result: FrequencyResponse) -> str:
     """The human-readable summary of ``resonant sweep``."""
     unit = f" {result.unit}" if result.unit else ""
     out = [printable(result.title or "sweep"),

@@ -52,7 +52,7 @@ from .js_printer import NotPrintable
 from .notation import name_latex
 from .plotting import response_axes
 from .sketch import SketchMotion, sketch_motion
-from .units_display import result_units
+from .units_display import ResultUnits, result_units
 
 #: the most coordinates for which the page computes everything itself
 LIVE_LIMIT = 40
@@ -314,11 +314,11 @@ def shown_names(model: Model, system: LinearSystem) -> list[str]:
     return [*system.coordinates, *model.outputs][:DEFAULT_SHOWN]
 
 
-def _unit_text(units: Any, name: str) -> str:
+def _unit_text(units: ResultUnits | None, name: str) -> str:
     """The unit a name is shown in: its display unit, else its SI unit (an angle: rad);
     "" for a pure number."""
     shown = units.unit(name) if units is not None else None
-    if shown is None:
+    if units is None or shown is None:
         return ""
     text = shown.text or (units.si.get(name, "") if shown.factor == 1 else "")
     return "" if text == "1" else str(text)
@@ -432,7 +432,7 @@ def _finite(array: np.ndarray) -> list[Any]:
 
 # -- the page -------------------------------------------------------------------------------
 
-def script_json(data: Any) -> str:
+def script_json(data: object) -> str:
     """JSON safe inside ``<script type="application/json">``: ``<``, ``>``, ``&`` and the
     line separators escaped, so no text of a model can close the element.
 
