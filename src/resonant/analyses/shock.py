@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from ..errors import AnalysisError
 from ..model.load_spec import PULSES
@@ -174,7 +175,8 @@ def _oscillator(f: float, zeta: float) -> tuple[complex, complex]:
     return s, -1 / (s - s.conjugate())
 
 
-def _lfilter(b: Any, a: Any, x: np.ndarray, zi: Any) -> np.ndarray:
+def _lfilter(b: npt.ArrayLike, a: npt.ArrayLike, x: np.ndarray, zi: npt.ArrayLike | None
+             ) -> np.ndarray:
     from scipy.signal import lfilter
 
     result: np.ndarray = lfilter(b, a, x) if zi is None else lfilter(b, a, x, zi=zi)[0]

@@ -13,6 +13,7 @@ import resonant.cli.common as common
 from ..errors import ModelError, Problem, printable
 from ..exercises import FORMATS, generate, grade, grade_text, write
 from ..exercises.writing import ExerciseJob
+from ..model import Model
 from ..studies import engine_for, model_text
 
 
@@ -98,7 +99,7 @@ def run_exercise(args: argparse.Namespace) -> int:
     return 0
 
 
-def _engine(args: argparse.Namespace, model: Any, formats: list[str], folder: Path
+def _engine(args: argparse.Namespace, model: Model, formats: list[str], folder: Path
             ) -> dict[str, Any]:
     """The engine and job of ``--workers``/``--scheduler`` (none: this process)."""
     if not args.workers and args.scheduler is None:

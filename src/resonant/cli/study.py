@@ -19,7 +19,7 @@ import resonant.cli.common as cli
 from ..deadline import AnalysisTimeout, DeadlineExceeded
 from ..errors import ModelError, Problem, printable
 from ..model.study import DESIGNS, MAX_HARMONICS, MAX_SAMPLES, MAX_SEED
-from ..studies import StudyJob, collect, engine_for, request
+from ..studies import StudyJob, StudyResult, collect, engine_for, request
 from ..studies.files import check_output, completed_rows
 from ..views.study_plots import plot_study, study_units
 
@@ -146,7 +146,7 @@ def _index(value: float | None) -> str:
     return "none" if value is None else f"{value:.3f}"
 
 
-def _text(result: Any, output: str, units: dict[str, str] | None = None) -> str:
+def _text(result: StudyResult, output: str, units: dict[str, str] | None = None) -> str:
     lines = [f"{len(result.table)} samples ({result.spec.design}) of "
              f"{', '.join(result.spec.vary)} in {printable(output)}, run in {result.where}"]
     lines.append("status: " + ", ".join(f"{k} {v}" for k, v in result.failures().items()))

@@ -42,7 +42,7 @@ import math
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -60,6 +60,9 @@ from ..model.units import (
     display_quantity,
 )
 
+#: a number or an array of numbers in SI
+FloatOrArray = TypeVar("FloatOrArray", float, np.ndarray)
+
 
 @dataclass(frozen=True)
 class Shown:
@@ -68,7 +71,7 @@ class Shown:
     text: str
     factor: float = 1.0
 
-    def __call__(self, value: Any) -> Any:
+    def __call__(self, value: FloatOrArray) -> FloatOrArray:
         return value / self.factor if self.factor != 1.0 else value
 
 
