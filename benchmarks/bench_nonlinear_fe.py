@@ -74,10 +74,11 @@ def write_rod(directory: Path, n: int) -> Path:
     return path
 
 
-def write_plate(directory: Path, n: int) -> tuple[Path, int]:
-    """The clamped Kirchhoff plate of ``benchmarks/corpus.py`` (Morley triangles, about n
-    coordinates) with a cubic spring and the harmonic force at one deflection: the model
-    file and the 0-based coordinate of spring and force.
+def write_plate(directory: Path, n: int, name: str = "plate") -> tuple[Path, int]:
+    """A structure of ``benchmarks/corpus.py`` (``plate``: the clamped Kirchhoff plate,
+    Morley triangles; ``grid``: the 2-D spring-mass grid with Rayleigh damping; about n
+    coordinates) with a cubic spring and the harmonic force at its loaded coordinate: the
+    model file and the 0-based coordinate of spring and force.
 
     Scaled so that the rod's range and children serve unchanged: frequencies in units of
     w1 / (pi/2) (w1 the plate's first natural frequency: M' = s^2 M, C' = s C), stiffness
@@ -92,7 +93,7 @@ def write_plate(directory: Path, n: int) -> tuple[Path, int]:
     sys.path.insert(0, str(HERE))
     import corpus
 
-    structure = corpus.plate(n)
+    structure = corpus.build(name, n)
     at = int(np.flatnonzero(structure.b)[0])
     w1 = float(corpus._lowest(structure.M, structure.K, 1, 0.0)[0])
     s = w1 / (np.pi / 2)
@@ -109,9 +110,9 @@ def write_plate(directory: Path, n: int) -> tuple[Path, int]:
     for name, matrix in (("M", M), ("C", C), ("K", K)):
         sp.save_npz(directory / f"{name}.npz", matrix)
     q = f"q{at + 1}"
-    path = directory / f"plate{M.shape[0]}.toml"
+    path = directory / f"{name}{M.shape[0]}.toml"
     path.write_text(
-        f'title = "Clamped plate, {M.shape[0]} coordinates, cubic spring at {q}"\n'
+        f'title = "{name}, {M.shape[0]} coordinates, cubic spring at {q}"\n'
         "[parameters]\nomega = 1\n"
         '[matrices]\nM = "M.npz"\nC = "C.npz"\nK = "K.npz"\n'
         f'[[harmonic]]\nomega = "omega"\nF_C = {{ {q} = "{F0!r}" }}\n'
@@ -126,8 +127,8 @@ def write_plate(directory: Path, n: int) -> tuple[Path, int]:
 def write_model(structure: str, directory: Path, n: int) -> tuple[Path, int]:
     """The rod or the plate: the model file and the 0-based coordinate observed (the
     rod's tip; the plate's spring)."""
-    if structure == "plate":
-        return write_plate(directory, n)
+    if structure in ("plate", "grid"):
+        return write_plate(directory, n, structure)
     path = write_rod(directory, n)
     (directory / "connectors.json").write_text(json.dumps(ROD_CONNECTORS(n)))
     return path, n - 1
@@ -306,7 +307,7 @@ def compare(n: int, directory: Path, timeout: float, nldofs: bool, structure: st
     """The same rod (or plate) in resonant and in pyHarm, each in a fresh process."""
     path, at = write_model(structure, directory / f"n{n}", n)
     n = _coordinates(path)
-    samples = SMOOTH_SAMPLES if structure == "plate" else SAMPLES
+    samples = SMOOTH_SAMPLES if structure in ("plate", "grid") else SAMPLES
     row: dict = {"n": n, "structure": structure, "samples": samples, "resonant": _child(
         _fill(RESONANT_CHILD, samples), [str(path), str(n), str(at)], timeout)}
     for reductor in ("noreductor",) + (("NLdofs",) if nldofs else ()):
@@ -367,7 +368,7 @@ def main(argv: list[str] | None = None) -> int:
                         help="comma-separated sizes (even) to run in both pyHarm and resonant")
     parser.add_argument("--pyharm-nldofs", action="store_true",
                         help="also run pyHarm with its NLdofs reductor")
-    parser.add_argument("--structure", choices=("rod", "plate"), default="rod",
+    parser.add_argument("--structure", choices=("rod", "plate", "grid"), default="rod",
                         help="the rod (a chain with a cubic spring and a stop) or the clamped "
                              "Kirchhoff plate of benchmarks/corpus.py with a cubic spring")
     parser.add_argument("--timeout", type=float, default=900.0,
