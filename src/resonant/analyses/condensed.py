@@ -76,7 +76,7 @@ from typing import Any
 
 import numpy as np
 
-from ..deadline import NO_DEADLINE, Deadline
+from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
 from ..expressions import numeric_value
 from ..model import Model
@@ -84,8 +84,17 @@ from ..system import LinearSystem
 from ..system.base import parameter_values
 from ..system.matrix_outputs import OutputSeries
 from ..system.nonlinear_elements import ElementForces
-from .continuation import follow
-from .hb_solver import MAX_GIVEN_HARMONICS, basis, newton_at
+from .continuation import Branch, follow
+from .hb_solver import (
+    DEFAULT_HARMONICS,
+    MAX_GIVEN_HARMONICS,
+    MAX_HARMONICS,
+    TRUNCATION_TOL,
+    basis,
+    newton_at,
+    raise_harmonics,
+    truncation,
+)
 from .nonlinear_response import NonlinearResponse
 from .peaks import periodic_peak, series_peaks
 from .reduced import DEFAULT_TOL, reduced_model
@@ -106,8 +115,9 @@ MAX_DYNAMIC = 40
 SMALL_HILL = 200
 #: least samples per period for elements with kinks (gap, friction)
 NONSMOOTH_SAMPLES = 2048
-#: default harmonics
-DEFAULT_HARMONICS = 7
+#: a harmonic k of the base frequency W resonates with a mode of natural frequency w_j
+#: where |k W - w_j| <= RESONANCE_BAND w_j (named in the truncation warning)
+RESONANCE_BAND = 0.05
 NEWTON_TOL = 1e-10
 #: frequencies per unit of the band where the reduced model's error is checked
 BAND_POINTS = 400
@@ -132,6 +142,7 @@ class LinearPart:
     error: float            # the reduced model's estimated error (0 for the full matrices)
     size: int               # r
     seconds: float
+    top: float = math.inf   # the highest frequency it holds for (a reduced model's band)
 
     def transfer(self, w: float, rows: slice | np.ndarray = slice(None)) -> np.ndarray:
         """(rows, m + p) transfer at w (default: every kept row)."""
@@ -320,7 +331,7 @@ def linear_part(M: Any, C: Any, K: Any, loads: np.ndarray, nonlinear: Sequence[i
     Vrows = np.eye(n)[rows] if V is None else V[rows]
     Rin = Xinv[:, r:] @ np.linalg.solve(Mr, Br)
     return LinearPart(mu, Vrows @ X[:r], Vrows @ X[r:], Rin, len(nl), error, r,
-                      time.monotonic() - start)
+                      time.monotonic() - start, math.inf if exact else float(band.max()))
 
 
 # -- the harmonic balance -----------------------------------------------------------------
@@ -879,7 +890,7 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
         ``param``, incommensurate excitations, or no convergence at the start.
     """
     model = system._model()
-    harmonics = DEFAULT_HARMONICS if harmonics is None else harmonics
+    given, harmonics = harmonics, DEFAULT_HARMONICS if harmonics is None else harmonics
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
         raise AnalysisError("the range must be two different finite numbers")
     if not 1 <= harmonics <= MAX_GIVEN_HARMONICS:
@@ -900,19 +911,14 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     observed = list(dict.fromkeys(position[q] for q in wanted if position[q] not in nl))
     grid = np.linspace(min(start, stop), max(start, stop), 64)
     Wmax = max(setup.base(float(p)) for p in grid)
-    band = np.linspace(0.0, harmonics * Wmax * 1.05, BAND_POINTS)
-    lin = linear_part(setup.M, setup.C, setup.K, setup.loads, nl, observed, band,
-                      exact=exact, tol=tol, deadline=deadline)
-    N = samples or default_samples(model, harmonics)
     names = tuple(coords[i] for i in nl + observed)
-    kept = {q: j for j, q in enumerate(names)}
-    outputs = BranchOutputs(series, np.array([kept[q] for q in series.coordinates], dtype=int),
-                            setup.values, harmonics) if series else None
-    hb = CondensedBalance(lin, setup.forces, setup.orders, setup.base, harmonics, N, param,
-                          names, Wmax, outputs)
-    x0 = _start_point(hb, start)
-    branch = follow(hb, x0, start, stop, points, deadline)
-    coeffs = np.array([hb.coefficients(x, p) for x, p in zip(branch.x, branch.p)])
+    balances = _Balances(setup, model, nl, observed, names, series, param, Wmax, samples,
+                         exact, tol, deadline)
+    limit = MAX_HARMONICS if samples is None else max(harmonics, samples // 4 - 1)
+    hb, branch, failed = _branch(balances, harmonics, given is not None, start, stop, points,
+                                 limit, deadline)
+    lin, N, outputs = hb.linear, hb.basis.N, hb.outputs
+    coeffs = _coefficients(hb, branch)
     lam, residual = [], 0.0
     for x, p in zip(branch.x, branch.p):
         deadline.check("during the stability analysis", analysis=True)
@@ -934,6 +940,10 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
                                           for c, W, p in zip(coeffs, Ws, branch.p)])])
     special = special_points(hb, branch, lam_arr, Ws, amps, deadline)
     warnings = list(branch.warnings)
+    trunc = float(truncation(coeffs, hb.H).max()) if coeffs.size else 0.0
+    if hb.H > 1 and trunc > TRUNCATION_TOL:
+        warnings.append(_truncation_warning(hb, coeffs, Ws, branch.p, given is not None,
+                                            failed, elements))
     if lin.error > 0:
         warnings.append(f"linear part: reduced model of {lin.size} vectors, largest error "
                         f"{lin.error:.2g} of its transfer functions where checked against "
@@ -944,22 +954,183 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
         title=model.title, parameter=param, coordinates=names, values=np.array(branch.p),
         amplitudes=MappingProxyType({nm: amps[:, j] for j, nm in enumerate(hb.names())}),
         coefficients=coeffs, base_frequencies=Ws, stable=stable, multipliers=mult,
-        special_points=tuple(special), harmonics=harmonics, residual=residual,
-        truncation=float(_truncation(coeffs)), start=float(start), stop=float(stop),
+        special_points=tuple(special), harmonics=hb.H, residual=residual,
+        truncation=trunc, start=float(start), stop=float(stop),
         linear=linear_response, warnings=tuple(warnings),
         outputs=series.names if series else (), output_coefficients=out_coeffs)
 
 
-def _truncation(coeffs: np.ndarray) -> float:
-    """The largest share of the highest harmonic in a coordinate's amplitude."""
-    amps = np.concatenate([np.abs(coeffs[..., :1]),
-                           np.hypot(coeffs[..., 1::2], coeffs[..., 2::2])], axis=-1)
-    total = amps.sum(axis=-1)
-    with np.errstate(all="ignore"):
-        ratio = np.where(total > 1e-12 * max(float(total.max(initial=0.0)), 1e-300),
-                         amps[..., -1] / total, 0.0)
-    return float(ratio.max(initial=0.0))
+class _Balances:
+    """The condensed balance of one sweep at any H: the linear part built once per band
+    (a reduced model holds up to the band it was built for, H W_max; the full matrices
+    for every H), the samples per period the default for H unless given."""
+
+    def __init__(self, setup: _Setup, model: Model, nl: list[int], observed: list[int],
+                 names: tuple[str, ...], series: OutputSeries | None, param: str,
+                 Wmax: float, samples: int | None, exact: bool | None, tol: float,
+                 deadline: Deadline) -> None:
+        self.setup, self.model, self.nl, self.observed = setup, model, nl, observed
+        self.names, self.series, self.param, self.Wmax = names, series, param, Wmax
+        self.samples, self.exact, self.tol, self.deadline = samples, exact, tol, deadline
+        self.parts: list[LinearPart] = []
+
+    def at(self, H: int) -> CondensedBalance:
+        top = H * self.Wmax * 1.05
+        lin = next((part for part in self.parts if part.top >= top), None)
+        if lin is None:
+            setup = self.setup
+            lin = linear_part(setup.M, setup.C, setup.K, setup.loads, self.nl, self.observed,
+                              np.linspace(0.0, top, BAND_POINTS), exact=self.exact,
+                              tol=self.tol, deadline=self.deadline)
+            self.parts.append(lin)
+        N = self.samples or default_samples(self.model, H)
+        outputs = None
+        if self.series is not None:
+            kept = {q: j for j, q in enumerate(self.names)}
+            rows = np.array([kept[q] for q in self.series.coordinates], dtype=int)
+            outputs = BranchOutputs(self.series, rows, self.setup.values, H)
+        return CondensedBalance(lin, self.setup.forces, self.setup.orders, self.setup.base,
+                                H, N, self.param, self.names, self.Wmax, outputs)
 
 
-__all__ = ["condensed_sweep", "default_samples", "has_nonlinear_elements",
+def _coefficients(hb: CondensedBalance, branch: Branch) -> np.ndarray:
+    """(points, kept rows, 2H+1) coefficients along the branch."""
+    return np.array([hb.coefficients(x, p) for x, p in zip(branch.x, branch.p)])
+
+
+def _branch(balances: _Balances, H: int, given: bool, start: float, stop: float,
+            points: int, limit: int, deadline: Deadline
+            ) -> tuple[CondensedBalance, Branch, str]:
+    """The branch with H harmonics; when H is not given, H is raised by the full balance's
+    rule (:func:`~resonant.analyses.hb_solver.raise_harmonics`) at the point of the branch
+    whose highest harmonics carry most of the kept rows' amplitude, and the branch followed
+    again, until they carry at most TRUNCATION_TOL or H reaches ``limit``.  Also: why a
+    raise failed ('' when none did)."""
+    hb = balances.at(H)
+    branch = follow(hb, _start_point(hb, start), start, stop, points, deadline)
+    failed = ""
+    while not given and hb.H < limit:
+        shares = truncation(_coefficients(hb, branch), hb.H)
+        worst = int(np.argmax(shares))
+        if shares[worst] <= TRUNCATION_TOL:
+            break
+        raised, why = _raise(balances, hb, branch.x[worst], float(branch.p[worst]), limit,
+                             deadline)
+        failed = why or failed
+        if raised is hb:
+            break
+        hb = raised
+        branch = follow(hb, _start_point(hb, start), start, stop, points, deadline)
+    return hb, branch, failed
+
+
+def _raise(balances: _Balances, hb: CondensedBalance, x: np.ndarray, p: float, limit: int,
+           deadline: Deadline) -> tuple[CondensedBalance, str]:
+    """The balance at the H the shared rule reaches at the point (x, p) (``hb`` itself when
+    the first raise fails), and why a raise failed ('' when none did)."""
+    trials = {hb.H: hb}
+    failed = ""
+
+    def converge(x: np.ndarray, H: int) -> tuple[np.ndarray, bool]:
+        nonlocal failed
+        try:
+            trials[H] = balances.at(H)
+        except DeadlineExceeded:
+            raise
+        except AnalysisError as exc:
+            failed = f"no linear part for {H} harmonics ({exc})"
+            return x, False
+        x_new, ok = trials[H].newton(x, p, float(np.linalg.norm(x)))
+        if not ok:
+            failed = f"the balance with {H} harmonics did not converge at " \
+                     f"{balances.param} = {p:.6g}"
+        return x_new, ok
+
+    def share(x: np.ndarray, H: int) -> float:
+        return float(truncation(trials[H].coefficients(x, p)[None], H)[0])
+
+    H, _ = raise_harmonics(x, hb.m, hb.H, converge, share, limit, lambda: deadline.check(
+        "while raising the number of harmonics", analysis=True))
+    return trials[H], failed
+
+
+def _ordinal(k: int) -> str:
+    suffix = "th" if 10 <= k % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(k % 10, "th")
+    return f"{k}{suffix}"
+
+
+def harmonic_resonance(mu: np.ndarray, W: float, coef: np.ndarray
+                       ) -> tuple[int, int, float] | None:
+    """The highest harmonic of a periodic motion that resonates with a mode.
+
+    Parameters
+    ----------
+    mu : ndarray
+        Poles of the linear part (its modes: those with Im mu > 0, natural frequencies
+        |mu|, counted from the lowest).
+    W : float
+        Base frequency.
+    coef : ndarray
+        (rows, 2H+1) coefficients of the motion.
+
+    Returns
+    -------
+    (k, j, w_j) or None
+        The highest harmonic k >= 2 that carries more than TRUNCATION_TOL of a row's
+        amplitude and whose frequency k W lies within :data:`RESONANCE_BAND` of the
+        natural frequency w_j of mode j; None when there is none.
+
+    Examples
+    --------
+    >>> mu = np.array([-0.01 + 1j, -0.01 - 1j, -0.01 + 3.1j, -0.01 - 3.1j])
+    >>> harmonic_resonance(mu, 1.0, np.array([[0.0, 1.0, 0.0, 0.0, 0.0, 0.01, 0.0]]))
+    (3, 2, 3.1)
+    """
+    freqs = np.sort(np.abs(mu[mu.imag > 0]))
+    if freqs.size == 0:
+        return None
+    amps = np.hypot(coef[:, 1::2], coef[:, 2::2])
+    total = np.abs(coef[:, 0]) + amps.sum(axis=1)
+    share = (amps / np.where(total > 0, total, 1.0)[:, None]).max(axis=0, initial=0.0)
+    for k in range(amps.shape[1], 1, -1):
+        if share[k - 1] <= TRUNCATION_TOL:
+            continue
+        j = int(np.argmin(np.abs(k * W - freqs)))
+        if abs(k * W - freqs[j]) <= RESONANCE_BAND * freqs[j]:
+            return k, j + 1, float(freqs[j])
+    return None
+
+
+def _truncation_warning(hb: CondensedBalance, coeffs: np.ndarray, Ws: np.ndarray,
+                        values: Sequence[float], given: bool, failed: str,
+                        elements: ElementForces) -> str:
+    """Why the highest harmonics still carry more than TRUNCATION_TOL, in words."""
+    shares = truncation(coeffs, hb.H)
+    worst = int(np.argmax(shares))
+    where = f"{hb.param} = {values[worst]:.6g}"
+    text = f"the highest harmonics carry up to {shares[worst]:.2g} of the amplitude " \
+           f"({where}) with {hb.H} harmonics"
+    if given:
+        text += " given"
+    elif failed:
+        text += f", the automatic choice stopped there: {failed}"
+    elif hb.H < MAX_HARMONICS:
+        text += f", the most the automatic choice takes with {hb.basis.N} samples per " \
+                "period (4 per harmonic)"
+    else:
+        text += ", the most the automatic choice takes"
+    found = harmonic_resonance(hb.linear.mu, float(Ws[worst]), coeffs[worst])
+    if found is not None:
+        k, j, w = found
+        text += f"; the {_ordinal(k)} harmonic ({k * Ws[worst]:.4g} rad/s) resonates with " \
+                f"mode {j} ({w:.4g} rad/s)"
+    elif any(e.kind in ("gap", "friction") for e in elements.elements):
+        text += "; the force of a gap or friction element has kinks, so its harmonics " \
+                "decay slowly"
+    return text + f": the curve is less accurate than the truncation tolerance " \
+                  f"{TRUNCATION_TOL:g}" + ("; more harmonics give a more accurate one"
+                                            if given else "")
+
+
+__all__ = ["condensed_sweep", "default_samples", "has_nonlinear_elements", "harmonic_resonance",
            "CondensedBalance", "LinearPart", "linear_part", "EXACT_SIZE"]
