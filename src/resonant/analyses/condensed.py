@@ -1083,7 +1083,8 @@ def harmonic_resonance(mu: np.ndarray, W: float, coef: np.ndarray
     Examples
     --------
     >>> mu = np.array([-0.01 + 1j, -0.01 - 1j, -0.01 + 3.1j, -0.01 - 3.1j])
-    >>> harmonic_resonance(mu, 1.0, np.array([[0.0, 1.0, 0.0, 0.0, 0.0, 0.01, 0.0]]))
+    >>> k, j, w = harmonic_resonance(mu, 1.0, np.array([[0.0, 1.0, 0.0, 0.0, 0.0, 0.01, 0.0]]))
+    >>> k, j, round(w, 4)  # the 3rd harmonic, 3 rad/s, within 5 % of mode 2's 3.1 rad/s
     (3, 2, 3.1)
     """
     freqs = np.sort(np.abs(mu[mu.imag > 0]))
