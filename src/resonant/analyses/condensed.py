@@ -94,6 +94,7 @@ from .hb_solver import (
     newton_at,
     raise_harmonics,
     truncation,
+    truncation_warning,
 )
 from .nonlinear_response import NonlinearResponse
 from .peaks import periodic_peak, series_peaks
@@ -1108,29 +1109,20 @@ def _truncation_warning(hb: CondensedBalance, coeffs: np.ndarray, Ws: np.ndarray
     """Why the highest harmonics still carry more than TRUNCATION_TOL, in words."""
     shares = truncation(coeffs, hb.H)
     worst = int(np.argmax(shares))
-    where = f"{hb.param} = {values[worst]:.6g}"
-    text = f"the highest harmonics carry up to {shares[worst]:.2g} of the amplitude " \
-           f"({where}) with {hb.H} harmonics"
-    if given:
-        text += " given"
-    elif failed:
-        text += f", the automatic choice stopped there: {failed}"
-    elif hb.H < MAX_HARMONICS:
-        text += f", the most the automatic choice takes with {hb.basis.N} samples per " \
-                "period (4 per harmonic)"
-    else:
-        text += ", the most the automatic choice takes"
+    stopped = f"the automatic choice stopped there: {failed}" if failed else \
+        f"the most the automatic choice takes with {hb.basis.N} samples per period " \
+        "(4 per harmonic)" if hb.H < MAX_HARMONICS else ""
+    cause = ""
     found = harmonic_resonance(hb.linear.mu, float(Ws[worst]), coeffs[worst])
     if found is not None:
         k, j, w = found
-        text += f"; the {_ordinal(k)} harmonic ({k * Ws[worst]:.4g} rad/s) resonates with " \
+        cause = f"the {_ordinal(k)} harmonic ({k * Ws[worst]:.4g} rad/s) resonates with " \
                 f"mode {j} ({w:.4g} rad/s)"
     elif any(e.kind in ("gap", "friction") for e in elements.elements):
-        text += "; the force of a gap or friction element has kinks, so its harmonics " \
-                "decay slowly"
-    return text + f": the curve is less accurate than the truncation tolerance " \
-                  f"{TRUNCATION_TOL:g}" + ("; more harmonics give a more accurate one"
-                                            if given else "")
+        cause = "the force of a gap or friction element has kinks, so its harmonics decay " \
+                "slowly"
+    return truncation_warning(float(shares[worst]), hb.H, given,
+                              f"{hb.param} = {values[worst]:.6g}", stopped, cause)
 
 
 __all__ = ["condensed_sweep", "default_samples", "has_nonlinear_elements", "harmonic_resonance",

@@ -85,6 +85,7 @@ from .hb_solver import (
     resize,
     start_coefficients,
     truncation,
+    truncation_warning,
 )
 from .nonlinear_response import NonlinearResponse
 from .reduced import DEFAULT_TOL
@@ -316,10 +317,12 @@ def full_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, start
     stable = np.all(np.abs(mult) <= 1 + STABILITY_TOL, axis=1)
     special = special_points(hb, branch, lam, Ws, amps, deadline)
     warnings = list(branch.warnings)
-    trunc = float(truncation(coeffs, hb.H).max()) if values.size else 0.0
+    shares = truncation(coeffs, hb.H) if values.size else np.zeros(1)
+    trunc, worst = float(shares.max()), int(np.argmax(shares))
     if hb.H > 1 and trunc > TRUNCATION_TOL:
-        warnings.append(f"the highest harmonics carry up to {trunc:.3g} of the amplitude: "
-                        "raise --harmonics for a more accurate curve")
+        warnings.append(truncation_warning(
+            trunc, hb.H, harmonics is not None, f"{param} = {values[worst]:.6g}",
+            "" if hb.H >= MAX_HARMONICS else "the automatic choice stopped there"))
     linear_response = _linear_sweep(system, param, start, stop, points, warnings,
                                     deadline) if linear else None
     return NonlinearResponse(

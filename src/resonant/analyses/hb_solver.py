@@ -332,6 +332,42 @@ def raise_harmonics(x: np.ndarray, n: int, H: int,
     return H, x
 
 
+def truncation_warning(share: float, H: int, given: bool, where: str = "",
+                       stopped: str = "", cause: str = "") -> str:
+    """The warning of a solution whose highest harmonics carry more than
+    :data:`TRUNCATION_TOL` of the amplitude (one text for every balance).
+
+    Parameters
+    ----------
+    share : float
+        The truncation measure (:func:`truncation`).
+    H : int
+    given : bool
+        Whether H was given (else the automatic choice ended there).
+    where : str
+        The point, e.g. ``"omega = 1.2"``.
+    stopped : str
+        Why the automatic choice ended at H (default: its largest H).
+    cause : str
+        What keeps the highest harmonics large, where known.
+
+    Examples
+    --------
+    >>> truncation_warning(3e-4, 7, True, "w = 1.5")  # doctest: +NORMALIZE_WHITESPACE
+    'the highest harmonics carry up to 0.0003 of the amplitude (w = 1.5) with 7 harmonics
+    given: the result is less accurate than the truncation tolerance 1e-06; more harmonics
+    give a more accurate one'
+    """
+    text = f"the highest harmonics carry up to {share:.2g} of the amplitude" \
+           + (f" ({where})" if where else "") + f" with {H} harmonics"
+    text += " given" if given else f", {stopped or 'the most the automatic choice takes'}"
+    if cause:
+        text += f"; {cause}"
+    return text + f": the result is less accurate than the truncation tolerance " \
+                  f"{TRUNCATION_TOL:g}" + ("; more harmonics give a more accurate one"
+                                           if given else "")
+
+
 def resize(x: np.ndarray, n: int, H_old: int, H_new: int) -> np.ndarray:
     """The coefficient vector of H_old harmonics as one of H_new (cut or padded with 0)."""
     X = x.reshape(n, 2 * H_old + 1)
@@ -355,5 +391,5 @@ def start_coefficients(solution: Any, n: int, H: int, W: float) -> np.ndarray:
 
 
 __all__ = ["HarmonicBalance", "NEWTON_TOL", "NEWTON_MAX", "newton_at", "basis", "truncation",
-           "resize", "start_coefficients", "raise_harmonics", "DEFAULT_HARMONICS",
-           "TRUNCATION_TOL", "HARMONICS_STEP", "MAX_HARMONICS"]
+           "resize", "start_coefficients", "raise_harmonics", "truncation_warning",
+           "DEFAULT_HARMONICS", "TRUNCATION_TOL", "HARMONICS_STEP", "MAX_HARMONICS"]

@@ -58,6 +58,7 @@ from .hb_solver import (
     raise_harmonics,
     start_coefficients,
     truncation,
+    truncation_warning,
 )
 from .special_points import STABILITY_TOL
 from .stationary import freeze_fields, stationary
@@ -227,8 +228,7 @@ def periodic_solution(system: NonlinearSystem | LinearSystem | Model,
     trunc = float(truncation(coeffs[None], hb.H)[0])
     warnings = []
     if trunc > TRUNCATION_TOL:
-        warnings.append(f"the highest harmonics carry {trunc:.3g} of the amplitude: raise "
-                        "harmonics for a more accurate solution")
+        warnings.append(truncation_warning(trunc, hb.H, harmonics is not None))
     return PeriodicSolution(
         title=system.title, coordinates=names, harmonics=hb.H, coefficients=coeffs,
         base_frequency=W,
