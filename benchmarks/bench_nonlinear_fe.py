@@ -164,7 +164,7 @@ def measure(n: int, points: int, directory: Path, structure: str = "rod") -> dic
     try:
         start = time.perf_counter()
         result = condensed.condensed_sweep(system, "omega", 1.0, 2.4, points=points,
-                                           linear=False)
+                                           harmonics=HARMONICS, linear=False)
         seconds = time.perf_counter() - start
     finally:
         condensed.linear_part = original
