@@ -909,7 +909,10 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     start, stop : float
         The range; the continuation starts from the linear response at ``start``.
     harmonics : int, optional
-        H (default :data:`DEFAULT_HARMONICS`).
+        H, kept as given; default: 7, raised by the full balance's rule
+        (:func:`~resonant.analyses.hb_solver.raise_harmonics`) until the highest
+        harmonics of the kept coordinates carry at most 1e-6 of the amplitude (at most
+        40, and at most ``samples`` / 4 - 1 with ``samples`` given).
     points : int
         About this many steps across the range (more near folds).
     observe : sequence of str, optional
@@ -929,7 +932,8 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     -------
     NonlinearResponse
         With the nonlinear and observed coordinates; ``warnings`` carries the
-        reduced model's estimated error.
+        reduced model's estimated error, and the truncation where the highest harmonics
+        carry more than 1e-6 (with the harmonic resonance behind it, where found).
 
     Raises
     ------
