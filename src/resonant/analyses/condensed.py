@@ -125,6 +125,9 @@ MONODROMY_ROWS = SMALL_HILL
 MONODROMY_STEPS = 128
 #: least samples per period for elements with kinks (gap, friction)
 NONSMOOTH_SAMPLES = 2048
+#: with more samples than this many per harmonic coefficient the Jacobian's blocks come
+#: from the tangent's spectrum (:meth:`_Basis.galerkin`), not from the samples
+SPECTRAL_SAMPLES = 16
 #: a harmonic k of the base frequency W resonates with a mode of natural frequency w_j
 #: where |k W - w_j| <= RESONANCE_BAND w_j (named in the truncation warning)
 RESONANCE_BAND = 0.05
@@ -361,6 +364,29 @@ class _Basis:
         self.P = np.empty((self.size, N))
         self.P[0] = 1.0 / N
         self.P[1::2], self.P[2::2] = 2.0 / N * c.T, 2.0 / N * s.T
+        #: d/dtau in the basis: dphi = phi @ D
+        self.D = np.zeros((self.size, self.size))
+        self.D[2 * k, 2 * k - 1], self.D[2 * k - 1, 2 * k] = -k, k
+
+    def galerkin(self, G: np.ndarray) -> np.ndarray:
+        """``P diag(G) phi`` for samples G (..., N), from G's spectrum: the product of
+        g = sum_d c_d e^{i d tau} with cos j tau, sin j tau has the coefficients
+        (c_{k-j} +- c_{k+j}) / 2 (/ i) at e^{i k tau}, indices modulo N as the samples
+        alias them (equal to the sampled product to rounding; O(H^2), not O(N H^2))."""
+        H, N = self.H, self.N
+        c = np.fft.fft(G, axis=-1) / N
+        k = np.arange(H + 1)[:, None]
+        j = np.arange(1, H + 1)[None, :]
+        minus, plus = c[..., (k - j) % N], c[..., (k + j) % N]
+        F = np.empty((*G.shape[:-1], H + 1, self.size), dtype=complex)
+        F[..., 0] = c[..., np.arange(H + 1)]
+        F[..., 1::2] = (minus + plus) / 2
+        F[..., 2::2] = (minus - plus) / 2j
+        out = np.empty((*G.shape[:-1], self.size, self.size))
+        out[..., 0, :] = F[..., 0, :].real
+        out[..., 1::2, :] = 2 * F[..., 1:, :].real
+        out[..., 2::2, :] = -2 * F[..., 1:, :].imag
+        return out
 
     def complex(self, X: np.ndarray) -> np.ndarray:
         """(..., 2H+1) real coefficients -> (..., H+1) complex z_k = a_k - i b_k."""
@@ -495,9 +521,14 @@ class CondensedBalance:
         P diag(G0_ij) phi + W P diag(G1_ij) dphi, without a sample array per unknown."""
         b, m = self.basis, self.m
         F, G0, G1 = forces.forces_and_tangent(U, Ud)
-        blocks = (G0[:, :, None, :] * b.P) @ b.phi                # (m, m, 2H+1, 2H+1)
-        if G1.any():
-            blocks += W * ((G1[:, :, None, :] * b.P) @ b.dphi)
+        if b.N > SPECTRAL_SAMPLES * b.size:  # many samples (kinks): from the spectra
+            blocks = b.galerkin(G0)                               # (m, m, 2H+1, 2H+1)
+            if G1.any():
+                blocks += W * (b.galerkin(G1) @ b.D)
+        else:
+            blocks = (G0[:, :, None, :] * b.P) @ b.phi
+            if G1.any():
+                blocks += W * ((G1[:, :, None, :] * b.P) @ b.dphi)
         return F, blocks.transpose(0, 1, 3, 2).reshape(m, m * b.size, b.size)
 
     def jacobian(self, x: np.ndarray, p: float
