@@ -452,8 +452,11 @@ class CondensedBalance:
         if W not in self._cache:
             if len(self._cache) > 64:
                 self._cache.clear()
-            self._cache[W] = np.array([self.linear.transfer(k * W, slice(0, self.m))
-                                       for k in range(self.H + 1)])
+            lin = self.linear
+            with np.errstate(all="ignore"):  # every harmonic at once (m rows: small)
+                ws = W * np.arange(self.H + 1)
+                self._cache[W] = (lin.Lq[None, :self.m] / (1j * ws[:, None, None] - lin.mu)
+                                  ) @ lin.Rin
         return self._cache[W]
 
     def _directions(self, W: float) -> tuple[np.ndarray, np.ndarray]:
