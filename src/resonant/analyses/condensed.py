@@ -524,7 +524,7 @@ class CondensedBalance:
         P diag(G0_ij) phi + W P diag(G1_ij) dphi, without a sample array per unknown."""
         b, m = self.basis, self.m
         F, G0, G1 = forces.forces_and_tangent(U, Ud)
-        if b.N > SPECTRAL_SAMPLES * b.size:  # many samples (kinks): from the spectra
+        if b.N > SPECTRAL_SAMPLES * b.size:  # many samples (a gap): from the spectra
             blocks = b.galerkin(G0)                               # (m, m, 2H+1, 2H+1)
             if G1.any():
                 blocks += W * (b.galerkin(G1) @ b.D)
