@@ -118,3 +118,22 @@ def test_galerkin_blocks_from_the_spectrum_equal_the_sampled_product(H, N):
     spectral = basis.galerkin(G)
     assert np.abs(spectral - sampled).max() <= 1e-13 * np.abs(sampled).max()
     np.testing.assert_allclose(basis.phi @ basis.D, basis.dphi, atol=1e-12)
+
+
+def test_a_raise_that_fails_keeps_the_last_harmonics_and_says_why(monkeypatch):
+    """Where the balance cannot be built for more harmonics (here: no linear part beyond
+    11, as a reduced model over a wider band might fail), H stays at the last that
+    converged and the warning names the failure."""
+    at = condensed._Balances.at
+
+    def limited(self, H):
+        if H > 11:
+            raise condensed.AnalysisError("the reduced model did not reach the tolerance")
+        return at(self, H)
+
+    monkeypatch.setattr(condensed._Balances, "at", limited)
+    r = _sweep(None, force=0.01)
+    assert r.harmonics == 11 and r.truncation > TRUNCATION_TOL
+    [warning] = [w for w in r.warnings if "highest harmonics" in w]
+    assert ("with 11 harmonics, the automatic choice stopped there: no linear part for 15 "
+            "harmonics (the reduced model did not reach the tolerance)") in warning

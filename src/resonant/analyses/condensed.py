@@ -1000,7 +1000,8 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     names = tuple(coords[i] for i in nl + observed)
     balances = _Balances(setup, model, nl, observed, names, series, param, Wmax, samples,
                          exact, tol, deadline)
-    limit = MAX_HARMONICS if samples is None else max(harmonics, samples // 4 - 1)
+    limit = MAX_HARMONICS if samples is None else \
+        max(harmonics, min(MAX_HARMONICS, samples // 4 - 1))
     hb, branch, failed = _branch(balances, harmonics, given is not None, start, stop, points,
                                  limit, deadline)
     lin, N, outputs = hb.linear, hb.basis.N, hb.outputs
@@ -1090,8 +1091,8 @@ def _branch(balances: _Balances, H: int, given: bool, start: float, stop: float,
     """The branch with H harmonics; when H is not given, H is raised by the full balance's
     rule (:func:`~resonant.analyses.hb_solver.raise_harmonics`) at the point of the branch
     whose highest harmonics carry most of the kept rows' amplitude, and the branch followed
-    again, until they carry at most TRUNCATION_TOL or H reaches ``limit``.  Also: why a
-    raise failed ('' when none did)."""
+    again, until they carry at most TRUNCATION_TOL or H reaches ``limit``.  Also: why the
+    last round's raise failed ('' when it did not)."""
     hb = balances.at(H)
     branch = follow(hb, _start_point(hb, start), start, stop, points, deadline)
     failed = ""
@@ -1100,9 +1101,8 @@ def _branch(balances: _Balances, H: int, given: bool, start: float, stop: float,
         worst = int(np.argmax(shares))
         if shares[worst] <= TRUNCATION_TOL:
             break
-        raised, why = _raise(balances, hb, branch.x[worst], float(branch.p[worst]), limit,
-                             deadline)
-        failed = why or failed
+        raised, failed = _raise(balances, hb, branch.x[worst], float(branch.p[worst]),
+                                limit, deadline)
         if raised is hb:
             break
         hb = raised
