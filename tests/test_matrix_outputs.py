@@ -201,14 +201,16 @@ def test_a_start_far_from_the_linear_response_is_reached_by_raising_the_loads():
     too far from the linear one for Newton's method: the start point is found with the
     loads raised step by step, and equals the point the branch reaches when it is followed
     there from omega = 0.05 (two routes; 1e-12 relative).  The linear sweep compared with
-    the branch reports the outputs too (no warning)."""
+    the branch reports the outputs too (no warning but the truncation's: H = 7 given, as
+    the automatic choice would take different H on the two ranges)."""
     system = loads(STRONG).linearize()
-    direct = condensed_sweep(system, "omega", 0.3, 0.31, points=5)
-    followed = condensed_sweep(system, "omega", 0.05, 0.3, points=40, linear=False)
+    direct = condensed_sweep(system, "omega", 0.3, 0.31, points=5, harmonics=7)
+    followed = condensed_sweep(system, "omega", 0.05, 0.3, points=40, linear=False,
+                               harmonics=7)
     assert followed.values[-1] == pytest.approx(0.3, abs=1e-14)
     for name in ("q1", "q2", "stretch"):
         assert direct.amplitudes[name][0] == pytest.approx(followed.amplitudes[name][-1],
                                                            rel=1e-12)
     assert direct.amplitudes["q2"][0] > 1.5
-    assert not direct.warnings
+    assert not [w for w in direct.warnings if "highest harmonics" not in w]
     assert direct.linear is not None and "stretch" in direct.linear.amplitudes

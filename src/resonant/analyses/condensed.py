@@ -38,7 +38,11 @@ flexibility at the nonlinear coordinates (a residual flexibility), so the
 eigenvalue problem has 2s(2H+1) rows for s kept modes, not 2n(2H+1).  This is
 an approximation where modes above the cutoff respond dynamically to the
 perturbation; the tests check it against time simulations of the full
-equations.
+equations.  Where Hill's matrix would have more than :data:`MONODROMY_ROWS` rows
+(many kept modes, many harmonics) the same linearization gives the exponents
+through its monodromy matrix instead: the 2s x 2s state-transition matrix over
+one period by fourth-order Magnus steps, its eigenvalues the multipliers (cost
+linear in H, not cubic; equal verdicts, ``tests/test_condensed_monodromy.py``).
 
 Examples
 --------
@@ -76,7 +80,7 @@ from typing import Any
 
 import numpy as np
 
-from ..deadline import NO_DEADLINE, Deadline
+from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
 from ..expressions import numeric_value
 from ..model import Model
@@ -85,8 +89,17 @@ from ..system import LinearSystem
 from ..system.base import parameter_values
 from ..system.matrix_outputs import OutputSeries
 from ..system.nonlinear_elements import ElementForces
-from .continuation import follow
-from .hb_solver import basis, newton_at
+from .continuation import Branch, follow
+from .hb_solver import (
+    DEFAULT_HARMONICS,
+    MAX_HARMONICS,
+    TRUNCATION_TOL,
+    basis,
+    newton_at,
+    raise_harmonics,
+    truncation,
+    truncation_warning,
+)
 from .nonlinear_response import NonlinearResponse
 from .peaks import periodic_peak, series_peaks
 from .reduced import DEFAULT_TOL, reduced_model
@@ -105,10 +118,19 @@ MAX_DYNAMIC = 40
 #: Hill matrices up to this many rows keep every mode dynamic (one eigenvalue problem
 #: per branch point: 200 complex rows cost ~10 ms, 600 rows ~30 times as much)
 SMALL_HILL = 200
+#: Hill matrices of more rows give way to the monodromy matrix (:func:`_monodromy`: its
+#: cost grows as H, Hill's as H^3: 600 rows cost ~1.4 s, the monodromy ~0.2 s)
+MONODROMY_ROWS = SMALL_HILL
+#: least steps per period of the monodromy matrix (fourth-order Magnus steps)
+MONODROMY_STEPS = 128
 #: least samples per period for elements with kinks (gap, friction)
 NONSMOOTH_SAMPLES = 2048
-#: default harmonics
-DEFAULT_HARMONICS = 7
+#: with more samples than this many per harmonic coefficient the Jacobian's blocks come
+#: from the tangent's spectrum (:meth:`_Basis.galerkin`), not from the samples
+SPECTRAL_SAMPLES = 16
+#: a harmonic k of the base frequency W resonates with a mode of natural frequency w_j
+#: where |k W - w_j| <= RESONANCE_BAND w_j (named in the truncation warning)
+RESONANCE_BAND = 0.05
 NEWTON_TOL = 1e-10
 #: frequencies per unit of the band where the reduced model's error is checked
 BAND_POINTS = 400
@@ -133,6 +155,7 @@ class LinearPart:
     error: float            # the reduced model's estimated error (0 for the full matrices)
     size: int               # r
     seconds: float
+    top: float = math.inf   # the highest frequency it holds for (a reduced model's band)
 
     def transfer(self, w: float, rows: slice | np.ndarray = slice(None)) -> np.ndarray:
         """(rows, m + p) transfer at w (default: every kept row)."""
@@ -321,7 +344,7 @@ def linear_part(M: Any, C: Any, K: Any, loads: np.ndarray, nonlinear: Sequence[i
     Vrows = np.eye(n)[rows] if V is None else V[rows]
     Rin = Xinv[:, r:] @ np.linalg.solve(Mr, Br)
     return LinearPart(mu, Vrows @ X[:r], Vrows @ X[r:], Rin, len(nl), error, r,
-                      time.monotonic() - start)
+                      time.monotonic() - start, math.inf if exact else float(band.max()))
 
 
 # -- the harmonic balance -----------------------------------------------------------------
@@ -341,6 +364,29 @@ class _Basis:
         self.P = np.empty((self.size, N))
         self.P[0] = 1.0 / N
         self.P[1::2], self.P[2::2] = 2.0 / N * c.T, 2.0 / N * s.T
+        #: d/dtau in the basis: dphi = phi @ D
+        self.D = np.zeros((self.size, self.size))
+        self.D[2 * k, 2 * k - 1], self.D[2 * k - 1, 2 * k] = -k, k
+
+    def galerkin(self, G: np.ndarray) -> np.ndarray:
+        """``P diag(G) phi`` for samples G (..., N), from G's spectrum: the product of
+        g = sum_d c_d e^{i d tau} with cos j tau, sin j tau has the coefficients
+        (c_{k-j} +- c_{k+j}) / 2 (/ i) at e^{i k tau}, indices modulo N as the samples
+        alias them (equal to the sampled product to rounding; O(H^2), not O(N H^2))."""
+        H, N = self.H, self.N
+        c = np.fft.fft(G, axis=-1) / N
+        k = np.arange(H + 1)[:, None]
+        j = np.arange(1, H + 1)[None, :]
+        minus, plus = c[..., (k - j) % N], c[..., (k + j) % N]
+        F = np.empty((*G.shape[:-1], H + 1, self.size), dtype=complex)
+        F[..., 0] = c[..., np.arange(H + 1)]
+        F[..., 1::2] = (minus + plus) / 2
+        F[..., 2::2] = (minus - plus) / 2j
+        out = np.empty((*G.shape[:-1], self.size, self.size))
+        out[..., 0, :] = F[..., 0, :].real
+        out[..., 1::2, :] = 2 * F[..., 1:, :].real
+        out[..., 2::2, :] = -2 * F[..., 1:, :].imag
+        return out
 
     def complex(self, X: np.ndarray) -> np.ndarray:
         """(..., 2H+1) real coefficients -> (..., H+1) complex z_k = a_k - i b_k."""
@@ -406,8 +452,11 @@ class CondensedBalance:
         if W not in self._cache:
             if len(self._cache) > 64:
                 self._cache.clear()
-            self._cache[W] = np.array([self.linear.transfer(k * W, slice(0, self.m))
-                                       for k in range(self.H + 1)])
+            lin = self.linear
+            with np.errstate(all="ignore"):  # every harmonic at once (m rows: small)
+                ws = W * np.arange(self.H + 1)
+                self._cache[W] = (lin.Lq[None, :self.m] / (1j * ws[:, None, None] - lin.mu)
+                                  ) @ lin.Rin
         return self._cache[W]
 
     def _directions(self, W: float) -> tuple[np.ndarray, np.ndarray]:
@@ -475,9 +524,14 @@ class CondensedBalance:
         P diag(G0_ij) phi + W P diag(G1_ij) dphi, without a sample array per unknown."""
         b, m = self.basis, self.m
         F, G0, G1 = forces.forces_and_tangent(U, Ud)
-        blocks = (G0[:, :, None, :] * b.P) @ b.phi                # (m, m, 2H+1, 2H+1)
-        if G1.any():
-            blocks += W * ((G1[:, :, None, :] * b.P) @ b.dphi)
+        if b.N > SPECTRAL_SAMPLES * b.size:  # many samples (a gap): from the spectra
+            blocks = b.galerkin(G0)                               # (m, m, 2H+1, 2H+1)
+            if G1.any():
+                blocks += W * (b.galerkin(G1) @ b.D)
+        else:
+            blocks = (G0[:, :, None, :] * b.P) @ b.phi
+            if G1.any():
+                blocks += W * ((G1[:, :, None, :] * b.P) @ b.dphi)
         return F, blocks.transpose(0, 1, 3, 2).reshape(m, m * b.size, b.size)
 
     def jacobian(self, x: np.ndarray, p: float
@@ -565,7 +619,8 @@ class CondensedBalance:
         coef[2 * H] += np.diag(mu_s)
         if b.N <= 4 * H:  # too few samples to resolve the offsets: alias-free part only
             coef[np.abs(offsets) >= b.N // 2] = 0.0
-        lam = _hill(coef, W, H, s)
+        lam = _hill(coef, W, H, s) if s * (2 * H + 1) <= MONODROMY_ROWS else \
+            _monodromy(coef, W, H, s)
         sign = float(np.linalg.slogdet(J)[0])
         if self.reference is None:
             self.reference = (sign, _real_unstable(lam, W) % 2)
@@ -587,6 +642,43 @@ def _hill(coef: np.ndarray, W: float, H: int, s: int) -> np.ndarray:
     lam = np.linalg.eigvals(hill)
     order = np.argsort(np.abs(lam.imag), kind="stable")
     return lam[order[:s]]
+
+
+def _monodromy(coef: np.ndarray, W: float, H: int, s: int) -> np.ndarray:
+    """The s exponents of eta' = A(t) eta (``coef`` as :func:`_hill` takes it) from its
+    monodromy matrix: the state-transition matrix over one period T = 2 pi / W as the
+    product of fourth-order Magnus steps (A at the two Gauss points of each step, from its
+    Fourier series), its eigenvalues the multipliers mu, the exponents log(mu) / T (the
+    fundamental strip, |Im| <= W / 2).  At least :data:`MONODROMY_STEPS` steps, 16 per
+    harmonic, and 4 per unit of T |A| (the modes kept dynamic are slow where it is used).
+
+    Examples
+    --------
+    >>> coef = np.zeros((5, 1, 1), dtype=complex)
+    >>> coef[2] = -0.1 + 2.5j  # eta' = (-0.1 + 2.5i) eta: its exponent, Im shifted by W
+    >>> np.round(_monodromy(coef, 2.0, 1, 1), 12)
+    array([-0.1+0.5j])
+    """
+    import scipy.linalg
+
+    T = 2 * np.pi / W
+    size = float(np.abs(coef).sum(axis=(0, 2)).max(initial=0.0))
+    steps = max(MONODROMY_STEPS, 16 * H, math.ceil(4 * T * size))
+    h = T / steps
+    gauss = 0.5 / math.sqrt(3)
+    t = (np.arange(steps)[:, None] + 0.5 + np.array([-gauss, gauss])) * h   # (steps, 2)
+    d = np.arange(-2 * H, 2 * H + 1)
+    A = np.einsum("sgd,dij->sgij", np.exp(1j * W * t[..., None] * d), coef)
+    A1, A2 = A[:, 0], A[:, 1]
+    omega = h / 2 * (A1 + A2) + math.sqrt(3) / 12 * h * h * (A2 @ A1 - A1 @ A2)
+    steps_ = scipy.linalg.expm(omega)
+    phi = np.eye(s, dtype=complex)
+    for step in steps_:
+        phi = step @ phi
+    mult = np.linalg.eigvals(phi)
+    with np.errstate(divide="ignore"):
+        lam = np.log(np.where(mult == 0, 1e-300, mult)) / T
+    return np.asarray(lam[np.argsort(np.abs(lam.imag), kind="stable")])
 
 
 def _dynamic_modes(mu: np.ndarray, top: float, H: int) -> np.ndarray:
@@ -851,7 +943,10 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     start, stop : float
         The range; the continuation starts from the linear response at ``start``.
     harmonics : int, optional
-        H (default :data:`DEFAULT_HARMONICS`).
+        H, kept as given; default: 7, raised by the full balance's rule
+        (:func:`~resonant.analyses.hb_solver.raise_harmonics`) until the highest
+        harmonics of the kept coordinates carry at most 1e-6 of the amplitude (at most
+        40, and at most ``samples`` / 4 - 1 with ``samples`` given).
     points : int
         About this many steps across the range (more near folds).
     observe : sequence of str, optional
@@ -871,7 +966,8 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     -------
     NonlinearResponse
         With the nonlinear and observed coordinates; ``warnings`` carries the
-        reduced model's estimated error.
+        reduced model's estimated error, and the truncation where the highest harmonics
+        carry more than 1e-6 (with the harmonic resonance behind it, where found).
 
     Raises
     ------
@@ -880,7 +976,7 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
         ``param``, incommensurate excitations, or no convergence at the start.
     """
     model = system._model()
-    harmonics = DEFAULT_HARMONICS if harmonics is None else harmonics
+    given, harmonics = harmonics, DEFAULT_HARMONICS if harmonics is None else harmonics
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
         raise AnalysisError("the range must be two different finite numbers")
     BalanceOptions(harmonics=harmonics, points=points, samples=samples, tol=tol)  # checks
@@ -897,19 +993,15 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
     observed = list(dict.fromkeys(position[q] for q in wanted if position[q] not in nl))
     grid = np.linspace(min(start, stop), max(start, stop), 64)
     Wmax = max(setup.base(float(p)) for p in grid)
-    band = np.linspace(0.0, harmonics * Wmax * 1.05, BAND_POINTS)
-    lin = linear_part(setup.M, setup.C, setup.K, setup.loads, nl, observed, band,
-                      exact=exact, tol=tol, deadline=deadline)
-    N = samples or default_samples(model, harmonics)
     names = tuple(coords[i] for i in nl + observed)
-    kept = {q: j for j, q in enumerate(names)}
-    outputs = BranchOutputs(series, np.array([kept[q] for q in series.coordinates], dtype=int),
-                            setup.values, harmonics) if series else None
-    hb = CondensedBalance(lin, setup.forces, setup.orders, setup.base, harmonics, N, param,
-                          names, Wmax, outputs)
-    x0 = _start_point(hb, start)
-    branch = follow(hb, x0, start, stop, points, deadline)
-    coeffs = np.array([hb.coefficients(x, p) for x, p in zip(branch.x, branch.p)])
+    balances = _Balances(setup, model, nl, observed, names, series, param, Wmax, samples,
+                         exact, tol, deadline)
+    limit = MAX_HARMONICS if samples is None else \
+        max(harmonics, min(MAX_HARMONICS, samples // 4 - 1))
+    hb, branch, failed = _branch(balances, harmonics, given is not None, start, stop, points,
+                                 limit, deadline)
+    lin, N, outputs = hb.linear, hb.basis.N, hb.outputs
+    coeffs = _coefficients(hb, branch)
     lam, residual = [], 0.0
     for x, p in zip(branch.x, branch.p):
         deadline.check("during the stability analysis", analysis=True)
@@ -931,6 +1023,10 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
                                           for c, W, p in zip(coeffs, Ws, branch.p)])])
     special = special_points(hb, branch, lam_arr, Ws, amps, deadline)
     warnings = list(branch.warnings)
+    trunc = float(truncation(coeffs, hb.H).max()) if coeffs.size else 0.0
+    if hb.H > 1 and trunc > TRUNCATION_TOL:
+        warnings.append(_truncation_warning(hb, coeffs, Ws, branch.p, given is not None,
+                                            failed, elements))
     if lin.error > 0:
         warnings.append(f"linear part: reduced model of {lin.size} vectors, largest error "
                         f"{lin.error:.2g} of its transfer functions where checked against "
@@ -941,22 +1037,174 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
         title=model.title, parameter=param, coordinates=names, values=np.array(branch.p),
         amplitudes=MappingProxyType({nm: amps[:, j] for j, nm in enumerate(hb.names())}),
         coefficients=coeffs, base_frequencies=Ws, stable=stable, multipliers=mult,
-        special_points=tuple(special), harmonics=harmonics, residual=residual,
-        truncation=float(_truncation(coeffs)), start=float(start), stop=float(stop),
+        special_points=tuple(special), harmonics=hb.H, residual=residual,
+        truncation=trunc, start=float(start), stop=float(stop),
         linear=linear_response, warnings=tuple(warnings),
         outputs=series.names if series else (), output_coefficients=out_coeffs)
 
 
-def _truncation(coeffs: np.ndarray) -> float:
-    """The largest share of the highest harmonic in a coordinate's amplitude."""
-    amps = np.concatenate([np.abs(coeffs[..., :1]),
-                           np.hypot(coeffs[..., 1::2], coeffs[..., 2::2])], axis=-1)
-    total = amps.sum(axis=-1)
-    with np.errstate(all="ignore"):
-        ratio = np.where(total > 1e-12 * max(float(total.max(initial=0.0)), 1e-300),
-                         amps[..., -1] / total, 0.0)
-    return float(ratio.max(initial=0.0))
+class _Balances:
+    """The condensed balance of one sweep at any H: the linear part built once per band
+    (a reduced model holds up to the band it was built for, H W_max; the full matrices
+    for every H), the samples per period the default for H unless given."""
+
+    def __init__(self, setup: _Setup, model: Model, nl: list[int], observed: list[int],
+                 names: tuple[str, ...], series: OutputSeries | None, param: str,
+                 Wmax: float, samples: int | None, exact: bool | None, tol: float,
+                 deadline: Deadline) -> None:
+        self.setup, self.model, self.nl, self.observed = setup, model, nl, observed
+        self.names, self.series, self.param, self.Wmax = names, series, param, Wmax
+        self.samples, self.exact, self.tol, self.deadline = samples, exact, tol, deadline
+        self.parts: list[LinearPart] = []
+
+    def at(self, H: int) -> CondensedBalance:
+        top = H * self.Wmax * 1.05
+        lin = next((part for part in self.parts if part.top >= top), None)
+        if lin is None:
+            setup = self.setup
+            lin = linear_part(setup.M, setup.C, setup.K, setup.loads, self.nl, self.observed,
+                              np.linspace(0.0, top, BAND_POINTS), exact=self.exact,
+                              tol=self.tol, deadline=self.deadline)
+            self.parts.append(lin)
+        N = self.samples or default_samples(self.model, H)
+        outputs = None
+        if self.series is not None:
+            kept = {q: j for j, q in enumerate(self.names)}
+            rows = np.array([kept[q] for q in self.series.coordinates], dtype=int)
+            outputs = BranchOutputs(self.series, rows, self.setup.values, H)
+        return CondensedBalance(lin, self.setup.forces, self.setup.orders, self.setup.base,
+                                H, N, self.param, self.names, self.Wmax, outputs)
 
 
-__all__ = ["condensed_sweep", "default_samples", "has_nonlinear_elements",
+def _coefficients(hb: CondensedBalance, branch: Branch) -> np.ndarray:
+    """(points, kept rows, 2H+1) coefficients along the branch."""
+    return np.array([hb.coefficients(x, p) for x, p in zip(branch.x, branch.p)])
+
+
+def _branch(balances: _Balances, H: int, given: bool, start: float, stop: float,
+            points: int, limit: int, deadline: Deadline
+            ) -> tuple[CondensedBalance, Branch, str]:
+    """The branch with H harmonics; when H is not given, H is raised by the full balance's
+    rule (:func:`~resonant.analyses.hb_solver.raise_harmonics`) at the point of the branch
+    whose highest harmonics carry most of the kept rows' amplitude, and the branch followed
+    again, until they carry at most TRUNCATION_TOL or H reaches ``limit``.  Also: why the
+    last round's raise failed ('' when it did not)."""
+    hb = balances.at(H)
+    branch = follow(hb, _start_point(hb, start), start, stop, points, deadline)
+    failed = ""
+    while not given and hb.H < limit:
+        shares = truncation(_coefficients(hb, branch), hb.H)
+        worst = int(np.argmax(shares))
+        if shares[worst] <= TRUNCATION_TOL:
+            break
+        raised, failed = _raise(balances, hb, branch.x[worst], float(branch.p[worst]),
+                                limit, deadline)
+        if raised is hb:
+            break
+        hb = raised
+        branch = follow(hb, _start_point(hb, start), start, stop, points, deadline)
+    return hb, branch, failed
+
+
+def _raise(balances: _Balances, hb: CondensedBalance, x: np.ndarray, p: float, limit: int,
+           deadline: Deadline) -> tuple[CondensedBalance, str]:
+    """The balance at the H the shared rule reaches at the point (x, p) (``hb`` itself when
+    the first raise fails), and why a raise failed ('' when none did)."""
+    trials = {hb.H: hb}
+    failed = ""
+
+    def converge(x: np.ndarray, H: int) -> tuple[np.ndarray, bool]:
+        nonlocal failed
+        try:
+            trials[H] = balances.at(H)
+        except DeadlineExceeded:
+            raise
+        except AnalysisError as exc:
+            failed = f"no linear part for {H} harmonics ({exc})"
+            return x, False
+        x_new, ok = trials[H].newton(x, p, float(np.linalg.norm(x)))
+        if not ok:
+            failed = f"the balance with {H} harmonics did not converge at " \
+                     f"{balances.param} = {p:.6g}"
+        return x_new, ok
+
+    def share(x: np.ndarray, H: int) -> float:
+        return float(truncation(trials[H].coefficients(x, p)[None], H)[0])
+
+    H, _ = raise_harmonics(x, hb.m, hb.H, converge, share, limit, lambda: deadline.check(
+        "while raising the number of harmonics", analysis=True))
+    return trials[H], failed
+
+
+def _ordinal(k: int) -> str:
+    suffix = "th" if 10 <= k % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(k % 10, "th")
+    return f"{k}{suffix}"
+
+
+def harmonic_resonance(mu: np.ndarray, W: float, coef: np.ndarray
+                       ) -> tuple[int, int, float] | None:
+    """The highest harmonic of a periodic motion that resonates with a mode.
+
+    Parameters
+    ----------
+    mu : ndarray
+        Poles of the linear part (its modes: those with Im mu > 0, natural frequencies
+        |mu|, counted from the lowest).
+    W : float
+        Base frequency.
+    coef : ndarray
+        (rows, 2H+1) coefficients of the motion.
+
+    Returns
+    -------
+    (k, j, w_j) or None
+        The highest harmonic k >= 2 that carries more than TRUNCATION_TOL of a row's
+        amplitude and whose frequency k W lies within :data:`RESONANCE_BAND` of the
+        natural frequency w_j of mode j; None when there is none.
+
+    Examples
+    --------
+    >>> mu = np.array([-0.01 + 1j, -0.01 - 1j, -0.01 + 3.1j, -0.01 - 3.1j])
+    >>> k, j, w = harmonic_resonance(mu, 1.0, np.array([[0.0, 1.0, 0.0, 0.0, 0.0, 0.01, 0.0]]))
+    >>> k, j, round(w, 4)  # the 3rd harmonic, 3 rad/s, within 5 % of mode 2's 3.1 rad/s
+    (3, 2, 3.1)
+    """
+    freqs = np.sort(np.abs(mu[mu.imag > 0]))
+    if freqs.size == 0:
+        return None
+    amps = np.hypot(coef[:, 1::2], coef[:, 2::2])
+    total = np.abs(coef[:, 0]) + amps.sum(axis=1)
+    share = (amps / np.where(total > 0, total, 1.0)[:, None]).max(axis=0, initial=0.0)
+    for k in range(amps.shape[1], 1, -1):
+        if share[k - 1] <= TRUNCATION_TOL:
+            continue
+        j = int(np.argmin(np.abs(k * W - freqs)))
+        if abs(k * W - freqs[j]) <= RESONANCE_BAND * freqs[j]:
+            return k, j + 1, float(freqs[j])
+    return None
+
+
+def _truncation_warning(hb: CondensedBalance, coeffs: np.ndarray, Ws: np.ndarray,
+                        values: Sequence[float], given: bool, failed: str,
+                        elements: ElementForces) -> str:
+    """Why the highest harmonics still carry more than TRUNCATION_TOL, in words."""
+    shares = truncation(coeffs, hb.H)
+    worst = int(np.argmax(shares))
+    stopped = f"the automatic choice stopped there: {failed}" if failed else \
+        f"the most the automatic choice takes with {hb.basis.N} samples per period " \
+        "(4 per harmonic)" if hb.H < MAX_HARMONICS else ""
+    cause = ""
+    found = harmonic_resonance(hb.linear.mu, float(Ws[worst]), coeffs[worst])
+    if found is not None:
+        k, j, w = found
+        cause = f"the {_ordinal(k)} harmonic ({k * Ws[worst]:.4g} rad/s) resonates with " \
+                f"mode {j} ({w:.4g} rad/s)"
+    elif any(e.kind in ("gap", "friction") for e in elements.elements):
+        cause = "the force of a gap or friction element has kinks, so its harmonics decay " \
+                "slowly"
+    return truncation_warning(float(shares[worst]), hb.H, given,
+                              f"{hb.param} = {values[worst]:.6g}", stopped, cause)
+
+
+__all__ = ["condensed_sweep", "default_samples", "has_nonlinear_elements", "harmonic_resonance",
            "CondensedBalance", "LinearPart", "linear_part", "EXACT_SIZE"]

@@ -76,18 +76,23 @@ from ..system import LinearSystem, NonlinearSystem, linear_system, nonlinear_sys
 from .condensed import condensed_sweep, has_nonlinear_elements
 from .continuation import Branch
 from .continuation import follow as _continue
-from .hb_solver import HarmonicBalance, resize, start_coefficients, truncation
+from .hb_solver import (
+    DEFAULT_HARMONICS,
+    MAX_HARMONICS,
+    TRUNCATION_TOL,
+    HarmonicBalance,
+    raise_harmonics,
+    resize,
+    start_coefficients,
+    truncation,
+    truncation_warning,
+)
 from .nonlinear_response import NonlinearResponse
 from .reduced import DEFAULT_TOL
 from .special_points import SPECIAL_KINDS, STABILITY_TOL, SpecialPoint, special_points
 from .stationary import stationary
 from .sweep import FrequencyResponse, sweep
 
-#: default number of harmonics (the start of the automatic choice)
-DEFAULT_HARMONICS = 7
-#: the automatic choice adds harmonics until the highest carry less than this
-TRUNCATION_TOL = 1e-6
-MAX_HARMONICS = 40
 #: a branch point whose residual exceeds this many times the branch's median is polished
 POLISH_FACTOR = 100.0
 
@@ -118,20 +123,16 @@ def _start(system: NonlinearSystem, hb: HarmonicBalance, start: float,
 
 def _more_harmonics(hb: HarmonicBalance, branch: Branch) -> int:
     """H at which the branch point with the largest truncation error carries less than
-    TRUNCATION_TOL in its highest harmonics (at most MAX_HARMONICS)."""
-    n, H = hb.n, hb.H
-    ratios = truncation(np.array(branch.x).reshape(len(branch.x), n, hb.m), H)
+    TRUNCATION_TOL in its highest harmonics (at most MAX_HARMONICS; the shared rule,
+    :func:`~resonant.analyses.hb_solver.raise_harmonics`)."""
+    ratios = truncation(np.array(branch.x).reshape(len(branch.x), hb.n, hb.m), hb.H)
     worst = int(np.argmax(ratios))
-    x = branch.x[worst]
-    while ratios[worst] > TRUNCATION_TOL and H < MAX_HARMONICS:
-        H_next = min(MAX_HARMONICS, H + 4)
-        x = resize(x, n, H, H_next)
-        trial = HarmonicBalance(hb.system, hb.param, H_next, reference=hb.reference)
-        x, ok = trial.newton(x, branch.p[worst], float(np.linalg.norm(x)))
-        H = H_next
-        if not ok or truncation(x.reshape(1, n, trial.m), H)[0] <= TRUNCATION_TOL:
-            break
-    return H
+
+    def converge(x: np.ndarray, H: int) -> tuple[np.ndarray, bool]:
+        trial = HarmonicBalance(hb.system, hb.param, H, reference=hb.reference)
+        return trial.newton(x, branch.p[worst], float(np.linalg.norm(x)))
+
+    return raise_harmonics(branch.x[worst], hb.n, hb.H, converge)[0]
 
 
 def _branch(system: NonlinearSystem, param: str, start: float, stop: float,
@@ -317,10 +318,12 @@ def full_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, start
     stable = np.all(np.abs(mult) <= 1 + STABILITY_TOL, axis=1)
     special = special_points(hb, branch, lam, Ws, amps, deadline)
     warnings = list(branch.warnings)
-    trunc = float(truncation(coeffs, hb.H).max()) if values.size else 0.0
+    shares = truncation(coeffs, hb.H) if values.size else np.zeros(1)
+    trunc, worst = float(shares.max()), int(np.argmax(shares))
     if hb.H > 1 and trunc > TRUNCATION_TOL:
-        warnings.append(f"the highest harmonics carry up to {trunc:.3g} of the amplitude: "
-                        "raise --harmonics for a more accurate curve")
+        warnings.append(truncation_warning(
+            trunc, hb.H, harmonics is not None, f"{param} = {values[worst]:.6g}",
+            "" if hb.H >= MAX_HARMONICS else "the automatic choice stopped there"))
     linear_response = _linear_sweep(system, param, start, stop, points, warnings,
                                     deadline) if linear else None
     return NonlinearResponse(

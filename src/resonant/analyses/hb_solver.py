@@ -53,6 +53,14 @@ from ..errors import AnalysisError
 from ..system import NonlinearSystem
 from .peaks import GRID, periodic_peak, series_peaks
 
+#: the automatic choice of H (every balance that chooses H, full or condensed, shares it):
+#: start at DEFAULT_HARMONICS, raise by HARMONICS_STEP while the highest harmonics carry more
+#: than TRUNCATION_TOL of the amplitude (:func:`truncation`), at most MAX_HARMONICS
+DEFAULT_HARMONICS = 7
+TRUNCATION_TOL = 1e-6
+HARMONICS_STEP = 4
+MAX_HARMONICS = 40
+
 #: Newton: relative step size that ends the iteration, and its iteration limit
 NEWTON_TOL = 1e-11
 NEWTON_MAX = 12
@@ -268,6 +276,94 @@ def truncation(coefficients: np.ndarray, H: int) -> np.ndarray:
     return np.asarray(ratio.max(axis=-1))
 
 
+def raise_harmonics(x: np.ndarray, n: int, H: int,
+                    converge: Callable[[np.ndarray, int], tuple[np.ndarray, bool]],
+                    share: Callable[[np.ndarray, int], float] | None = None,
+                    limit: int = MAX_HARMONICS,
+                    check: Callable[[], None] | None = None) -> tuple[int, np.ndarray]:
+    """The automatic choice of H at one solution: H raised by :data:`HARMONICS_STEP` (at
+    most ``limit``, itself at most :data:`MAX_HARMONICS`) while the highest harmonics of
+    ``x`` carry more than :data:`TRUNCATION_TOL` of its amplitude, the point solved again
+    at each H.
+
+    Parameters
+    ----------
+    x : ndarray
+        The solution with H harmonics, n rows of 2H+1 coefficients, raveled.
+    n, H : int
+    converge : callable
+        ``converge(x_guess, H_new) -> (x_new, ok)``: the point solved with H_new harmonics
+        from ``x`` padded with zeros (:func:`resize`).
+    share : callable, optional
+        ``share(x, H)``: the truncation measure of a solution (default: :func:`truncation`
+        of x itself).
+    limit : int
+        The most harmonics to take.
+    check : callable, optional
+        Called before each raise (a deadline's check).
+
+    Returns
+    -------
+    (int, ndarray)
+        The H reached and the solution there: the last H whose point converged.
+
+    Examples
+    --------
+    >>> x = np.array([0.0, 1.0, 0.0, 0.1, 0.0])  # H = 2: the highest pair is all of it
+    >>> raise_harmonics(x, 1, 2, lambda x, H: (x, True))[0]  # once raised, zeros on top
+    6
+    """
+    if share is None:
+        def share(x: np.ndarray, H: int) -> float:
+            return float(truncation(x.reshape(1, n, 2 * H + 1), H)[0])
+    limit = min(limit, MAX_HARMONICS)
+    while H < limit and share(x, H) > TRUNCATION_TOL:
+        if check is not None:
+            check()
+        H_next = min(limit, H + HARMONICS_STEP)
+        x_next, ok = converge(resize(x, n, H, H_next), H_next)
+        if not ok:
+            break
+        x, H = x_next, H_next
+    return H, x
+
+
+def truncation_warning(share: float, H: int, given: bool, where: str = "",
+                       stopped: str = "", cause: str = "") -> str:
+    """The warning of a solution whose highest harmonics carry more than
+    :data:`TRUNCATION_TOL` of the amplitude (one text for every balance).
+
+    Parameters
+    ----------
+    share : float
+        The truncation measure (:func:`truncation`).
+    H : int
+    given : bool
+        Whether H was given (else the automatic choice ended there).
+    where : str
+        The point, e.g. ``"omega = 1.2"``.
+    stopped : str
+        Why the automatic choice ended at H (default: its largest H).
+    cause : str
+        What keeps the highest harmonics large, where known.
+
+    Examples
+    --------
+    >>> truncation_warning(3e-4, 7, True, "w = 1.5")  # doctest: +NORMALIZE_WHITESPACE
+    'the highest harmonics carry up to 0.0003 of the amplitude (w = 1.5) with 7 harmonics
+    given: the result is less accurate than the truncation tolerance 1e-06; more harmonics
+    give a more accurate one'
+    """
+    text = f"the highest harmonics carry up to {share:.2g} of the amplitude" \
+           + (f" ({where})" if where else "") + f" with {H} harmonics"
+    text += " given" if given else f", {stopped or 'the most the automatic choice takes'}"
+    if cause:
+        text += f"; {cause}"
+    return text + f": the result is less accurate than the truncation tolerance " \
+                  f"{TRUNCATION_TOL:g}" + ("; more harmonics give a more accurate one"
+                                           if given else "")
+
+
 def resize(x: np.ndarray, n: int, H_old: int, H_new: int) -> np.ndarray:
     """The coefficient vector of H_old harmonics as one of H_new (cut or padded with 0)."""
     X = x.reshape(n, 2 * H_old + 1)
@@ -291,4 +387,5 @@ def start_coefficients(solution: Any, n: int, H: int, W: float) -> np.ndarray:
 
 
 __all__ = ["HarmonicBalance", "NEWTON_TOL", "NEWTON_MAX", "newton_at", "basis", "truncation",
-           "resize", "start_coefficients"]
+           "resize", "start_coefficients", "raise_harmonics", "truncation_warning",
+           "DEFAULT_HARMONICS", "TRUNCATION_TOL", "HARMONICS_STEP", "MAX_HARMONICS"]

@@ -51,8 +51,15 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model import Model
 from ..system import LinearSystem, NonlinearSystem, nonlinear_system
-from .harmonic_balance import DEFAULT_HARMONICS, MAX_HARMONICS, TRUNCATION_TOL
-from .hb_solver import HarmonicBalance, resize, start_coefficients, truncation
+from .hb_solver import (
+    DEFAULT_HARMONICS,
+    TRUNCATION_TOL,
+    HarmonicBalance,
+    raise_harmonics,
+    start_coefficients,
+    truncation,
+    truncation_warning,
+)
 from .results_json import Saved
 from .special_points import STABILITY_TOL
 from .stationary import freeze_fields, stationary
@@ -217,15 +224,15 @@ def _solve(system: NonlinearSystem, harmonics: int | None, deadline: Deadline
                             "solution: no periodic solution of the full equations near it "
                             "(the response is far from linear)")
     if harmonics is None:
-        while truncation(x.reshape(1, hb.n, hb.m), H)[0] > TRUNCATION_TOL and \
-                H < MAX_HARMONICS:
-            deadline.check("while raising the number of harmonics", analysis=True)
-            H_next = min(MAX_HARMONICS, H + 4)
-            trial = HarmonicBalance(system, param, H_next)
-            x_next, ok = trial.newton(resize(x, hb.n, H, H_next), p, scale)
-            if not ok:
-                break
-            x, H, hb = x_next, H_next, trial
+        trials = {H: hb}
+
+        def converge(x_new: np.ndarray, H_new: int) -> tuple[np.ndarray, bool]:
+            trials[H_new] = HarmonicBalance(system, param, H_new)
+            return trials[H_new].newton(x_new, p, scale)
+
+        H, x = raise_harmonics(x, hb.n, H, converge, check=lambda: deadline.check(
+            "while raising the number of harmonics", analysis=True))
+        hb = trials[H]
     return hb, x, solution
 
 
@@ -276,8 +283,7 @@ def periodic_solution(system: NonlinearSystem | LinearSystem | Model,
     trunc = float(truncation(coeffs[None], hb.H)[0])
     warnings = []
     if trunc > TRUNCATION_TOL:
-        warnings.append(f"the highest harmonics carry {trunc:.3g} of the amplitude: raise "
-                        "harmonics for a more accurate solution")
+        warnings.append(truncation_warning(trunc, hb.H, harmonics is not None))
     return PeriodicSolution(
         title=system.title, coordinates=names, harmonics=hb.H, coefficients=coeffs,
         base_frequency=W,

@@ -57,8 +57,14 @@ from ..model.options import check_harmonics
 from ..system import NonlinearSystem, nonlinear_at, nonlinear_system
 from ..system.base import numeric_point
 from .continuation import Branch, follow, refine
-from .harmonic_balance import DEFAULT_HARMONICS, MAX_HARMONICS, TRUNCATION_TOL
-from .hb_solver import HarmonicBalance, basis, resize, start_coefficients, truncation
+from .hb_solver import (
+    DEFAULT_HARMONICS,
+    HarmonicBalance,
+    basis,
+    raise_harmonics,
+    start_coefficients,
+    truncation,
+)
 from .results_json import Saved, floats_json
 from .special_points import STABILITY_TOL
 from .stationary import freeze_fields, stationary
@@ -284,17 +290,17 @@ def _jump(system: NonlinearSystem, hb: HarmonicBalance, x: np.ndarray, p: float,
 
 def _more_harmonics(hb: HarmonicBalance, x: np.ndarray, p: float
                     ) -> tuple[HarmonicBalance, np.ndarray]:
-    """H raised (by 4, at most MAX_HARMONICS) until the highest harmonics of x carry less
-    than TRUNCATION_TOL of its amplitude; the point converged again at each H."""
-    while truncation(x.reshape(1, hb.n, hb.m), hb.H)[0] > TRUNCATION_TOL \
-            and hb.H < MAX_HARMONICS:
-        H = min(MAX_HARMONICS, hb.H + 4)
-        trial = HarmonicBalance(hb.system, hb.param, H, reference=hb.reference)
-        x_new, ok = trial.newton(resize(x, hb.n, hb.H, H), p, float(np.linalg.norm(x)))
-        if not ok:
-            break
-        hb, x = trial, x_new
-    return hb, x
+    """H raised until the highest harmonics of x carry less than TRUNCATION_TOL of its
+    amplitude, the point converged again at each H (the shared rule,
+    :func:`~resonant.analyses.hb_solver.raise_harmonics`)."""
+    trials = {hb.H: hb}
+
+    def converge(x_new: np.ndarray, H: int) -> tuple[np.ndarray, bool]:
+        trials[H] = HarmonicBalance(hb.system, hb.param, H, reference=hb.reference)
+        return trials[H].newton(x_new, p, float(np.linalg.norm(x)))
+
+    H, x = raise_harmonics(x, hb.n, hb.H, converge)
+    return trials[H], x
 
 
 def _check(system: NonlinearSystem, param: str, start: float, value: float,

@@ -1,0 +1,126 @@
+"""The stability of one point of the condensed balance: Hill's matrix or the monodromy matrix.
+
+    python benchmarks/bench_condensed_stability.py [--modes 40] [--harmonics 7,11,15]
+    python benchmarks/bench_condensed_stability.py --plate 100
+
+For s first-order modes kept dynamic (poles -0.01 + i w_j, w_j spread over 1 ... 7 W,
+W = 1) and H harmonics, the periodic system eta' = A(t) eta with A's Fourier
+coefficients up to 2H of size 0.01 / 2^|offset| (a seeded random linearization whose
+harmonics decay like those of a smooth element's stiffness): the time of
+``condensed._hill`` (the eigenvalues of its s(2H+1)-row matrix) and of
+``condensed._monodromy`` (fourth-order Magnus steps over one period), one BLAS thread,
+and the difference of their largest growth rates (Hill's truncation to H harmonics
+mostly: the monodromy matrix does not change with more steps).
+
+With ``--plate N``: the branch of ``bench_nonlinear_fe.py``'s plate of about N
+coordinates (H = 7, omega 1.0 ... 2.4, 100 points asked), once with Hill's matrix at
+every point and once as ``condensed.py`` chooses (the monodromy matrix above
+``MONODROMY_ROWS`` rows): CPU seconds of the sweep and of its exponents, and whether
+the verdicts and special points agree.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "src"))
+
+
+def measure(s: int, H: int, repeat: int = 3) -> dict[str, float]:
+    import numpy as np
+
+    from resonant.analyses import condensed
+
+    rng = np.random.default_rng(0)
+    decay = 0.5 ** np.abs(np.arange(-2 * H, 2 * H + 1))[:, None, None]
+    coef = 0.01 * decay * (rng.standard_normal((4 * H + 1, s, s))
+                           + 1j * rng.standard_normal((4 * H + 1, s, s)))
+    coef[2 * H] += np.diag(-0.01 + 1j * np.linspace(1.0, 7.0, s))
+    times = {}
+    growth = {}
+    for name, method in (("hill", condensed._hill), ("monodromy", condensed._monodromy)):
+        best = np.inf
+        for _ in range(repeat):
+            start = time.perf_counter()
+            lam = method(coef, 1.0, H, s)
+            best = min(best, time.perf_counter() - start)
+        times[name] = best
+        growth[name] = float(lam.real.max())
+    return {"modes": s, "harmonics": H, "hill_s": times["hill"],
+            "monodromy_s": times["monodromy"],
+            "growth_difference": abs(growth["hill"] - growth["monodromy"])}
+
+
+def plate(n: int) -> None:
+    import tempfile
+
+    import numpy as np
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from bench_nonlinear_fe import write_model
+
+    import resonant
+    from resonant.analyses import condensed
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path, _ = write_model("plate", Path(tmp), n)
+        system = resonant.load(path).linearize()
+    original = condensed.CondensedBalance.exponents
+    spent = [0.0]
+
+    def timed(self, J, blocks):
+        start = time.process_time()
+        lam = original(self, J, blocks)
+        spent[0] += time.process_time() - start
+        return lam
+
+    condensed.CondensedBalance.exponents = timed
+    chosen = condensed.MONODROMY_ROWS
+    results = []
+    print("| route | coordinates | points | unstable | sweep CPU | exponents CPU | a point |")
+    print("| --- | ---: | ---: | ---: | ---: | ---: | ---: |")
+    for name, rows in (("Hill everywhere", 10**9), ("as chosen (monodromy)", chosen)):
+        condensed.MONODROMY_ROWS = rows
+        spent[0] = 0.0
+        start = time.process_time()
+        r = condensed.condensed_sweep(system, "omega", 1.0, 2.4, harmonics=7, points=100,
+                                      linear=False)
+        total = time.process_time() - start
+        results.append(r)
+        print(f"| {name} | {system.n} | {r.values.size} | {int((~r.stable).sum())} | "
+              f"{total:.1f} s | {spent[0]:.1f} s | {1e3 * spent[0] / r.values.size:.1f} ms |")
+    condensed.MONODROMY_ROWS = chosen
+    condensed.CondensedBalance.exponents = original
+    hill, mono = results
+    same = hill.values.size == mono.values.size and np.array_equal(hill.stable, mono.stable)
+    points = [[(p.kind, round(p.value, 9)) for p in r.special_points] for r in results]
+    print(f"\nsame verdicts at every point: {same}; same special points: "
+          f"{points[0] == points[1]}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--modes", type=int, default=40)
+    parser.add_argument("--harmonics", default="7,11,15")
+    parser.add_argument("--plate", type=int, default=0,
+                        help="the plate of about this many coordinates instead")
+    args = parser.parse_args(argv)
+    if args.plate:
+        plate(args.plate)
+        return 0
+    print("| s | H | Hill rows | Hill | monodromy | growth rates differ by |")
+    print("| --- | --- | --- | --- | --- | --- |")
+    for H in (int(h) for h in args.harmonics.split(",")):
+        r = measure(args.modes, H)
+        print(f"| {r['modes']} | {H} | {r['modes'] * (2 * H + 1)} | {r['hill_s']:.3f} s | "
+              f"{r['monodromy_s']:.3f} s | {r['growth_difference']:.1e} |")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
