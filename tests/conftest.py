@@ -12,10 +12,17 @@ from __future__ import annotations
 import contextlib
 import io
 import json
+import os
 from pathlib import Path
 from typing import Any, Callable
 
 import pytest
+
+# The suite runs in two worker processes on CI's two cores (pyproject.toml): one BLAS thread
+# each, so that neither waits for the other's spinning threads (set before numpy loads;
+# resonant.analyses.threads still raises it for a dense call where more threads pay off).
+for _variable in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_variable, "1")
 
 #: The directory holding the example model files.
 EXAMPLES = Path(__file__).parents[1] / "examples"
