@@ -73,13 +73,14 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
 from ..expressions import numeric_value
@@ -105,6 +106,9 @@ from .peaks import periodic_peak, series_peaks
 from .reduced import DEFAULT_TOL, reduced_model
 from .special_points import STABILITY_TOL, classify, special_points
 from .sweep import FrequencyResponse, sweep
+
+if TYPE_CHECKING:
+    from scipy.sparse.linalg import SuperLU
 
 #: most modes in the basis of the linear part; frequencies where it is checked exactly
 MAX_MODES = 400
@@ -185,7 +189,7 @@ def _first_order(Mr: np.ndarray, Cr: np.ndarray, Kr: np.ndarray
     return mu, X, np.linalg.inv(X)
 
 
-def _scaling(M: Any, K: Any) -> np.ndarray:
+def _scaling(M: Matrix, K: Matrix) -> np.ndarray:
     """D = diag(K)^(-1/2) where the stiffness diagonal is positive (else diag(M)^(-1/2),
     else 1): a symmetric scaling that gives every coordinate unit diagonal stiffness."""
     k = np.asarray(K.diagonal() if hasattr(K, "diagonal") else np.diag(K), dtype=float)
@@ -200,14 +204,14 @@ def _sparse_diagonal(d: np.ndarray) -> Any:
     return sp.diags(d, format="csr")
 
 
-def _symmetric(a: Any) -> bool:
+def _symmetric(a: Matrix) -> bool:
     diff = a - a.T
     size = abs(diff).max() if hasattr(diff, "toarray") else np.abs(diff).max(initial=0.0)
     scale = abs(a).max() if hasattr(a, "toarray") else np.abs(a).max(initial=0.0)
     return bool(size <= 1e-12 * scale)
 
 
-def _factor_stiffness(K: Any, M: Any, top: float) -> Any:
+def _factor_stiffness(K: Matrix, M: Matrix, top: float) -> SuperLU:
     """A sparse LU of K, or of K + (1e-3 top)^2 M where K is singular (a free body)."""
     import scipy.sparse as sp
     import scipy.sparse.linalg as sla
@@ -218,7 +222,7 @@ def _factor_stiffness(K: Any, M: Any, top: float) -> Any:
         return sla.splu(sp.csc_matrix(K + (1e-3 * top) ** 2 * M))
 
 
-def _modes_below(K: Any, M: Any, lu: Any, cut: float) -> np.ndarray:
+def _modes_below(K: Matrix, M: Matrix, lu: SuperLU, cut: float) -> np.ndarray:
     """The M-orthonormal modes with omega <= cut (shift-invert Lanczos about 0)."""
     import scipy.sparse.linalg as sla
 
@@ -232,7 +236,7 @@ def _modes_below(K: Any, M: Any, lu: Any, cut: float) -> np.ndarray:
         k = min(2 * k, n - 2, MAX_MODES)
 
 
-def _ritz_basis(M: Any, K: Any, B: np.ndarray, cut: float, levels: int, lu: Any
+def _ritz_basis(M: Matrix, K: Matrix, B: np.ndarray, cut: float, levels: int, lu: SuperLU
                 ) -> np.ndarray:
     """The modes below ``cut`` and ``levels`` load-dependent Ritz blocks
     (K^-1 B, K^-1 M K^-1 B, ...: the static and quasi-static response of the modes
@@ -250,7 +254,7 @@ def _ritz_basis(M: Any, K: Any, B: np.ndarray, cut: float, levels: int, lu: Any
     return np.asarray(Q[:, d > 1e-12 * d.max()])
 
 
-def _modal_basis(M: Any, C: Any, K: Any, B: np.ndarray, top: float, rows: list[int],
+def _modal_basis(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, top: float, rows: list[int],
                  tol: float, deadline: Deadline) -> tuple[np.ndarray, float] | None:
     """A basis of modes and load-dependent Ritz vectors whose transfer to ``rows`` meets
     ``tol`` at check frequencies over the band (exact sparse solves there); the largest
@@ -279,7 +283,7 @@ def _modal_basis(M: Any, C: Any, K: Any, B: np.ndarray, top: float, rows: list[i
     return None
 
 
-def _exact_transfer(M: Any, C: Any, K: Any, B: np.ndarray, w: float, rows: list[int]
+def _exact_transfer(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: float, rows: list[int]
                     ) -> np.ndarray:
     import scipy.sparse as sp
     import scipy.sparse.linalg as sla
@@ -288,7 +292,7 @@ def _exact_transfer(M: Any, C: Any, K: Any, B: np.ndarray, w: float, rows: list[
     return np.asarray(sla.splu(A).solve(B))[rows]
 
 
-def linear_part(M: Any, C: Any, K: Any, loads: np.ndarray, nonlinear: Sequence[int],
+def linear_part(M: Matrix, C: Matrix, K: Matrix, loads: np.ndarray, nonlinear: Sequence[int],
                 observed: Sequence[int], band: np.ndarray, *, exact: bool | None = None,
                 tol: float = DEFAULT_TOL, deadline: Deadline = NO_DEADLINE) -> LinearPart:
     """The transfer of the linear model to the nonlinear and observed coordinates.
@@ -426,8 +430,9 @@ class CondensedBalance:
         The model's outputs, evaluated in full from the kept rows.
     """
 
-    def __init__(self, linear: LinearPart, forces: Any, loads: list[tuple[int, int]],
-                 base: Any, H: int, N: int, param: str, names: tuple[str, ...],
+    def __init__(self, linear: LinearPart, forces: Callable[[float], ElementForces],
+                 loads: list[tuple[int, int]], base: Callable[[float], float], H: int,
+                 N: int, param: str, names: tuple[str, ...],
                  top: float, outputs: BranchOutputs | None = None) -> None:
         self.outputs = outputs
         #: factor of the external loads (below 1 only while the start point is found)
@@ -739,7 +744,8 @@ class BranchOutputs:
         Harmonics.
     """
 
-    def __init__(self, series: OutputSeries, rows: np.ndarray, values: Any, H: int) -> None:
+    def __init__(self, series: OutputSeries, rows: np.ndarray,
+                 values: Callable[[float], dict[str, float]], H: int) -> None:
         self.series, self.rows, self.values, self.H = series, rows, values, H
 
     def deviations(self, coef: np.ndarray, W: float, p: float, tau: np.ndarray
@@ -777,9 +783,9 @@ class _Setup:
     K: Any
     loads: np.ndarray
     orders: list[tuple[int, int]]
-    base: Any
-    forces: Any
-    values: Any
+    base: Callable[[float], float]
+    forces: Callable[[float], ElementForces]
+    values: Callable[[float], dict[str, float]]
 
 
 def _setup(system: LinearSystem, model: Model, param: str, start: float, stop: float
