@@ -48,11 +48,13 @@ def test_stiff_spring_beam_is_not_undamped(monkeypatch):
     s = corpus.build("beam_spring", 200)
     w = np.linspace(*s.band, 12)
     ref = corpus.reference(s, w)
-    red = reduced_response(s.M, s.C, s.K, s.b, w, tol=1e-6)
+    # tol 1e-5: the beam's rounding floor of the residual estimate is near 1e-6 (1.0e-6 to
+    # 1.3e-6 depending on the BLAS's summation order), so 1e-6 would test the rounding
+    red = reduced_response(s.M, s.C, s.K, s.b, w, tol=1e-5)
     assert not red.singular.any()
     true = relative(red.Z, ref)
     assert np.all(red.error >= true)
-    assert red.converged and true.max() <= 1e-6   # (measured 1e-10)
+    assert red.converged and true.max() <= 1e-5   # (measured 1e-10)
     # the size still shows the fault: with the condition number alone (a fraction no
     # damping reaches) points of this damped beam are called undamped
     monkeypatch.setattr(reduced, "DAMPED_FRACTION", 2.0)
