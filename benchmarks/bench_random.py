@@ -118,6 +118,7 @@ def write_model(directory: Path, nx: int) -> None:
 
 
 def resonant_side(directory: Path, nx: int, tolerance: float) -> dict[str, Any]:
+    import resonant.analyses.random_response as rr
     import resonant.model.limits as limits
     from resonant.analyses.random_response import random_response
     from resonant.expressions import parse
@@ -132,12 +133,25 @@ def resonant_side(directory: Path, nx: int, tolerance: float) -> dict[str, Any]:
     spec = RandomSpec((RandomInput("a", 0, np.load(directory / "table.npy"), None,
                                    base=(one,) * n),), (), BAND, tolerance=tolerance)
     names = [system.coordinates[i] for i in response_points(nx)]
-    t0 = time.perf_counter()
+    seen: list[Any] = []
+    plain = rr.reduced_model
+
+    def spy(*args: Any, **kwargs: Any) -> Any:  # what the reduced model was
+        seen.append(plain(*args, **kwargs))
+        return seen[-1]
+
+    rr.reduced_model = spy  # type: ignore[assignment]
+    t0, c0 = time.perf_counter(), time.process_time()
     result = random_response(system, spec, names=names)
-    seconds = time.perf_counter() - t0
-    return {"seconds": seconds, "rms": [result.rms[q] for q in names],
+    seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
+    return {"seconds": seconds, "cpu": cpu, "rms": [result.rms[q] for q in names],
             "error": [result.error[q] for q in names], "method": result.method,
-            "frequencies": len(result.frequency), "warnings": list(result.warnings)}
+            "frequencies": len(result.frequency), "warnings": list(result.warnings),
+            "reduced": None if not seen else {
+                "basis": int(seen[-1].V.shape[1]), "expansion": len(seen[-1].expansion),
+                "validations": len(seen[-1].checks), "seconds": seen[-1].seconds,
+                "estimated_error": seen[-1].estimated_error.tolist(),
+                "adjoint_residuals": seen[-1].adjoint_residuals.tolist()}}
 
 
 def scipy_side(directory: Path, nx: int) -> dict[str, Any]:
@@ -145,7 +159,7 @@ def scipy_side(directory: Path, nx: int) -> dict[str, Any]:
     import scipy.sparse as sp
     import scipy.sparse.linalg as sla
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     M, C, K = (sp.load_npz(directory / f"{key}.npz").tocsc() for key in "MCK")
     table = np.load(directory / "table.npy")
     rows = np.array(response_points(nx))
@@ -172,8 +186,9 @@ def scipy_side(directory: Path, nx: int) -> dict[str, Any]:
         parts.append(np.abs(H) ** 2)
     S = np.concatenate(parts) * G[:, None]
     ms = np.trapezoid(S, f, axis=0)
-    seconds = time.perf_counter() - t0
-    return {"seconds": seconds, "rms": np.sqrt(ms).tolist(), "modes": int(len(lam))}
+    seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
+    return {"seconds": seconds, "cpu": cpu, "rms": np.sqrt(ms).tolist(),
+            "modes": int(len(lam))}
 
 
 def child(side: str, directory: Path, nx: int, tolerance: float) -> None:
@@ -225,6 +240,14 @@ def main(argv: list[str] | None = None) -> int:
             diff = max(abs(a / b - 1) for a, b in zip(res["rms"], ref["rms"]))
             print(json.dumps({"nx": nx, "n": nx * nx, "busy": args.busy, "resonant": res,
                               "scipy": ref, "rms_difference": diff}), flush=True)
+            busy = "one core busy" if args.busy else "idle"
+            print(f"| {nx}x{nx} | {nx * nx:,} | {busy} | resonant ({res['method']}) | "
+                  f"{res['seconds']:.3g} s | {res['cpu']:.3g} s | {diff:.1e} | "
+                  f"{max(res['error']):.1e} | {res['frequencies']} | "
+                  f"{res['peak_rss'] / 2**30:.2f} GB |", flush=True)
+            print(f"| {nx}x{nx} | {nx * nx:,} | {busy} | scipy modal ({ref['modes']} modes "
+                  f"+ static residual) | {ref['seconds']:.3g} s | {ref['cpu']:.3g} s | - | - | "
+                  f"{FINE} | {ref['peak_rss'] / 2**30:.2f} GB |", flush=True)
     finally:
         stop.set()
         if spinner is not None:

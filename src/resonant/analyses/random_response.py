@@ -91,8 +91,8 @@ MODES_LIMIT = 400
 REDUCED_TOLERANCE = 1e-2
 #: ... within these bounds (its residual has a rounding floor near 1e-10)
 REDUCED_TOLERANCE_RANGE = (1e-8, 1e-4)
-#: the reduced model also solves the adjoint problem of each response coordinate (a unit
-#: load there) for up to this many coordinates: its residual bounds their errors far
+#: the reduced model's basis also holds the adjoint (a unit load) of each response
+#: coordinate, for up to this many coordinates: its residual bounds their errors far
 #: below the normwise estimate
 ADJOINT_LIMIT = 16
 #: ``auto`` keeps the band's reduced model only when its estimated error is below this
@@ -314,21 +314,22 @@ class Transfer:
         w = 2 * np.pi * np.asarray(f, dtype=float)
         B = np.column_stack(self.columns).astype(complex)
         adjoint = len(self.keep) <= ADJOINT_LIMIT and _symmetric(num.M, num.C, num.K)
+        unit = None
         if adjoint:
             unit = np.zeros((num.n, len(self.keep)), dtype=complex)
             unit[self.keep, np.arange(len(self.keep))] = 1.0
-            B = np.hstack([B, unit])
         budget = None
+        probe: dict[float, Any] = {}
         if self.method == "auto":
             batch = Batch(tuple(num.coordinates), num.M, num.C, num.K,
                           [BatchHarmonic(w, np.zeros(num.n), self.columns[0])], {},
                           num.title, True, len(w))
-            budget = reduced_budget(batch, w, np.asarray(B[:, 0]))
+            budget = reduced_budget(batch, w, np.asarray(B[:, 0]), probe)
             if budget is None:
                 return
         try:
             rom = reduced_model(num.M, num.C, num.K, B, w, tol=tol, deadline=self.deadline,
-                                budget=budget)
+                                budget=budget, adjoints=unit, factorizations=probe)
         except AnalysisError:
             if self.method == "reduced":
                 raise
@@ -341,9 +342,9 @@ class Transfer:
                                  f"{worst:.2g}, not its tolerance {tol:.2g} ({rom.reason}); "
                                  "its error is included in the estimate of each mean square")
         self.reduced = rom
-        # the adjoints' relative residuals (||e_i|| = 1) are at most their estimates
-        p = len(self.columns)
-        self.adjoint = (np.minimum(1.0, np.asarray(rom.estimated_error[p:])) if adjoint
+        # the adjoints' largest relative residuals (||e_i|| = 1)
+        residuals = np.asarray(rom.adjoint_residuals)
+        self.adjoint = (np.minimum(1.0, residuals) if len(residuals) == len(self.keep)
                         else np.ones(len(self.keep)))
 
     def _in_outputs(self, name: str) -> bool:
@@ -381,13 +382,12 @@ class Transfer:
         Where the model also holds the adjoint of coordinate i (a unit load e_i; A is
         symmetric, A^T = A), the Galerkin orthogonality V^T A (z - z_exact) = 0 gives
         e_i^T (z - z_exact) = r_i^T (z - z_exact) with r_i the adjoint's residual, so
-        the bound is multiplied by its relative residual, at most its estimate
-        (Becker & Rannacher's dual-weighted residual).  An output
+        the bound is multiplied by its largest relative residual over the band
+        (Becker & Rannacher's dual-weighted residual; computed, not estimated).  An output
         sum_t c_t (i w)^p_t q_t errs by at most sum_t |c_t| w^p_t times its coordinates'
         bounds.
         """
         w = 2 * np.pi * np.asarray(f, dtype=float)
-        num = self.num
         if self.reduced is not None:
             Zs, norms = self.reduced.responses(w, self.keep, len(self.columns))
             bad = ~np.all(np.isfinite(Zs), axis=(1, 2))
