@@ -88,7 +88,7 @@ MAX_ROUNDS = 60
 #: damped natural frequencies are located for systems up to this many coordinates
 MODES_LIMIT = 400
 #: the band's reduced model is asked for this fraction of the quadrature's tolerance ...
-REDUCED_TOLERANCE = 1e-2
+REDUCED_TOLERANCE = 1e-1
 #: ... within these bounds (its residual has a rounding floor near 1e-10)
 REDUCED_TOLERANCE_RANGE = (1e-8, 1e-4)
 #: the reduced model's basis also holds the adjoint (a unit load) of each response

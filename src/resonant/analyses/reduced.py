@@ -482,14 +482,36 @@ def _svd_tall(X: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         np.einsum("ij,ij->", Xs, Xs))
     try:
         Q, R = _cholesky_qr(Xs, shift)
-        for _ in range(2):
-            Q, T = _cholesky_qr(Q)
+        for step in range(2):
+            Q, T = _cholesky_qr(Q) if step else _gram_qr(Q)
             R = T @ R
     except np.linalg.LinAlgError:  # (not seen: the shift makes X well conditioned)
         U, S, Wt = np.linalg.svd(X, full_matrices=False)
         return U, S, Wt
     Ur, S, Wt = np.linalg.svd(R * d)
     return Q @ Ur, S, Wt
+
+
+def _gram_qr(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Q = Qo T with Qo orthonormal (to the accuracy of a Cholesky QR step) for the Q of a
+    shifted Cholesky QR step: by Cholesky, or, where X was rank deficient (the products
+    K V, M V of a Krylov basis are: K x_0 lies in the span of b, M x_0 and C x_0) and Q
+    holds directions the shift took down to rounding, by the eigenvectors of Qᵀ Q
+    without those directions (T then has fewer rows than columns).  A LAPACK SVD of the
+    tall matrix instead costs as much as 50 Gram matrices."""
+    G = Q.T @ Q
+    try:
+        import scipy.linalg
+
+        T = scipy.linalg.cholesky(G, lower=False, check_finite=False)
+        return scipy.linalg.solve_triangular(T, Q.T, trans="T", lower=False,
+                                             check_finite=False).T, T
+    except np.linalg.LinAlgError:
+        lam, W = np.linalg.eigh(G)
+        keep = lam > 1e-14 * max(G.shape[0], 1) * max(float(lam.max(initial=0.0)), 1e-300)
+        lam, W = lam[keep], W[:, keep]
+        root = np.sqrt(lam)
+        return (Q @ W) / root, root[:, None] * W.T
 
 
 def _orthonormalize(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
