@@ -9,14 +9,15 @@ natural frequencies in the band.
 
 References, both hand-written with scipy:
 
-* a direct solve (SuperLU, ``scipy.sparse.linalg.splu``) at every frequency of the
-  result's grid: the reduced model's densities agree to 1e-6 of the largest, and the
-  mean squares integrated on that grid agree within the reported error;
+* a direct solve (SuperLU, ``scipy.sparse.linalg.splu``) at every 16th frequency of the
+  result's grid and at the densities' peaks: the reduced model's densities agree to
+  1e-6 of the largest;
 * the exact mean square: the modal superposition of all 900 modes (``scipy.linalg.eigh``;
   Rayleigh damping decouples them exactly), |H|^2 G integrated by the trapezoidal rule
-  on 100,000 log-spaced frequencies and the table's breakpoints (its own error below
-  1e-7).  The reported relative error of every mean square bounds its true error, and
-  is below 2x the quadrature's tolerance 1e-4.
+  on 40,000 log-spaced frequencies and the table's breakpoints (steps of 1.2e-4 f, 170
+  per half-power bandwidth: its own error below 1e-6).  The reported relative error of
+  every mean square bounds its true error, and is below 2x the quadrature's tolerance
+  1e-4.
 """
 
 from __future__ import annotations
@@ -68,7 +69,7 @@ def case(tmp_path_factory):  # type: ignore[no-untyped-def]
             f'values = {[list(p) for p in GEVS]}\n')
     system = linear_system(loads(text, source=str(tmp / "grid.toml"), base_dir=tmp))
     names = [system.coordinates[i] for i in ROWS]
-    return system, names, (M, C, K)
+    return system, names, (M, C, K), exact_mean_squares(M, C, K)
 
 
 def density(f: np.ndarray) -> np.ndarray:
@@ -80,7 +81,7 @@ def exact_mean_squares(M: sp.csr_matrix, C: sp.csr_matrix, K: sp.csr_matrix) -> 
     lam, phi = scipy.linalg.eigh(K.toarray(), M.toarray())
     c = np.einsum("ij,ij->j", phi, C @ phi)
     p = phi.T @ -(M @ np.ones(M.shape[0]))
-    f = np.unique(np.r_[np.geomspace(20, 2000, 100_000), [g for g, _ in GEVS]])
+    f = np.unique(np.r_[np.geomspace(20, 2000, 40_000), [g for g, _ in GEVS]])
     parts = []
     for start in range(0, len(f), 5000):
         w = 2 * np.pi * f[start:start + 5000, None]
@@ -90,22 +91,20 @@ def exact_mean_squares(M: sp.csr_matrix, C: sp.csr_matrix, K: sp.csr_matrix) -> 
 
 @pytest.mark.parametrize("method", ["auto", "reduced"])
 def test_one_reduced_model_against_direct_solves_and_exact_mean_squares(case, method):  # type: ignore[no-untyped-def]
-    system, names, (M, C, K) = case
+    system, names, (M, C, K), exact = case
     result = random_response(system, names=names, method=method)
     assert result.method == "reduced"
     f = result.frequency
     S = np.column_stack([result.psd[q] for q in names])
-    # the direct solve at every frequency of the grid
+    # the direct solve at every 16th frequency of the grid (and its densities' peaks)
     load = -(M @ np.ones(M.shape[0])).astype(complex)
+    some = np.unique(np.r_[np.arange(0, len(f), 16), np.argmax(S, axis=0)])
     Z = np.array([sla.splu((K - w * w * M + 1j * w * C).tocsc()).solve(load)[ROWS]
-                  for w in 2 * np.pi * f])
-    direct = np.abs(Z) ** 2 * density(f)[:, None]
-    assert np.abs(S - direct).max() <= 1e-6 * direct.max()
-    on_grid = np.trapezoid(S, f, axis=0) / np.trapezoid(direct, f, axis=0) - 1
-    exact = exact_mean_squares(M, C, K)
+                  for w in 2 * np.pi * f[some]])
+    direct = np.abs(Z) ** 2 * density(f[some])[:, None]
+    assert np.abs(S[some] - direct).max() <= 1e-6 * direct.max()
     for r, name in enumerate(names):
         error = result.error[name]
-        assert abs(on_grid[r]) <= error
         true = abs(result.rms[name] ** 2 / exact[r] - 1)
         assert true <= error, (name, true, error)
-        assert error <= 2e-4
+        assert error <= 2e-4, (name, error)
