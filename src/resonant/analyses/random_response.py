@@ -22,6 +22,12 @@ width), and is refined pair by pair: each pair of intervals is integrated by Sim
 and its error estimated by Richardson's (fine - coarse)/3 of the composite trapezoid; pairs
 are halved until the estimated error of every mean square is below the tolerance.
 
+Where the kernel would take a reduced model (large sparse matrices), one reduced model of
+the band (:func:`resonant.analyses.reduced.reduced_model`) serves every refinement round
+(:meth:`Transfer.reduce`), and a bound of its error, from its estimated normwise error
+and the adjoint residuals of the response coordinates, is integrated beside each density
+and added to the quadrature's estimate (docs/random.md).
+
 For a single-DOF model driven by one input, ``miles`` holds the estimate of Miles' equation
 RMS^2 = (pi/2) f_n Q G_u(f_n) g^2 beside the exact value, for every response that has a
 static gain g (|H| flat below f_n/100, extrapolated to f = 0) and resonates
