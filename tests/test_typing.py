@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "src" / "resonant"
 
 #: the most parameters typed bare ``Any`` the package may have
-MAX_BARE_ANY = 24
+MAX_BARE_ANY = 18
 
 #: mypy --strict's per-module flags (``strict`` itself is global only)
 STRICT_FLAGS = ("disallow_any_generics", "disallow_subclassing_any", "disallow_untyped_calls",

@@ -568,7 +568,8 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact, method)
 
 
-def reduced_budget(batch: Batch, w: np.ndarray, rhs: np.ndarray) -> float | None:
+def reduced_budget(batch: Batch, w: np.ndarray, rhs: np.ndarray,
+                   probe: dict[float, Any] | None = None) -> float | None:
     """Seconds a reduced model may take in ``auto``, or None when it is not worth trying:
     fixed sparse (or very large) matrices and load, many distinct frequencies, and
     direct solves estimated at more than :data:`REDUCED_WORTH` seconds.
@@ -580,12 +581,17 @@ def reduced_budget(batch: Batch, w: np.ndarray, rhs: np.ndarray) -> float | None
         The frequencies to solve at.
     rhs : ndarray
         The load F_C - i F_S, (n,) or (N, n).
+    probe : dict, optional
+        Receives the cost probe's factorization {s: LU} (for the ``factorizations`` of
+        :func:`resonant.analyses.reduced.reduced_model`).
 
     Returns
     -------
     float or None
     """
-    costs, _ = _costs_and_probe(batch, w)
+    costs, made = _costs_and_probe(batch, w)
+    if probe is not None:
+        probe.update(made)
     return _reduced_budget(batch, w, rhs, costs)
 
 

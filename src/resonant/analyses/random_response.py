@@ -22,6 +22,12 @@ width), and is refined pair by pair: each pair of intervals is integrated by Sim
 and its error estimated by Richardson's (fine - coarse)/3 of the composite trapezoid; pairs
 are halved until the estimated error of every mean square is below the tolerance.
 
+Where the kernel would take a reduced model (large sparse matrices), one reduced model of
+the band (:func:`resonant.analyses.reduced.reduced_model`) serves every refinement round
+(:meth:`Transfer.reduce`), and a bound of its error, from its estimated normwise error
+and the adjoint residuals of the response coordinates, is integrated beside each density
+and added to the quadrature's estimate (docs/random.md).
+
 For a single-DOF model driven by one input, ``miles`` holds the estimate of Miles' equation
 RMS^2 = (pi/2) f_n Q G_u(f_n) g^2 beside the exact value, for every response that has a
 static gain g (|H| flat below f_n/100, extrapolated to f = 0) and resonates
@@ -66,6 +72,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
@@ -73,7 +80,8 @@ from ..model.random_spec import RandomInput, RandomSpec
 from ..model.units import Dimension
 from ..system import Batch, BatchHarmonic, LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
-from .kernel import solve_harmonic
+from .kernel import reduced_budget, solve_harmonic
+from .reduced import ReducedModel, reduced_model
 from .results_json import Saved, optional_float
 from .stationary import freeze_fields
 
@@ -87,6 +95,17 @@ MAX_POINTS = 400_000
 MAX_ROUNDS = 60
 #: damped natural frequencies are located for systems up to this many coordinates
 MODES_LIMIT = 400
+#: the band's reduced model is asked for this fraction of the quadrature's tolerance ...
+REDUCED_TOLERANCE = 1e-1
+#: ... within these bounds (its residual has a rounding floor near 1e-10)
+REDUCED_TOLERANCE_RANGE = (1e-8, 1e-4)
+#: the reduced model's basis also holds the adjoint (a unit load) of each response
+#: coordinate, for up to this many coordinates: its residual bounds their errors far
+#: below the normwise estimate
+ADJOINT_LIMIT = 16
+#: ``auto`` keeps the band's reduced model only when its estimated error is below this
+#: (else the kernel solves each round's frequencies itself)
+REDUCED_ACCEPT = 1e-3
 
 
 @dataclass(frozen=True)
@@ -335,6 +354,59 @@ class Transfer:
                 entry.append((same[0] if same else len(self.columns) - 1, load.power))
             self.index.append(entry)
         self.used_method = ""
+        self.reduced: ReducedModel | None = None
+        self.adjoint = np.ones(len(keep))
+
+    def reduce(self, f: np.ndarray, tol: float) -> None:
+        """Build one reduced model of the band for every load column, where the kernel
+        would take a reduced model (``auto``: :func:`resonant.analyses.kernel.reduced_budget`
+        says it pays; ``reduced``: always), and use it for every later call.
+
+        Parameters
+        ----------
+        f : ndarray
+            The frequencies (Hz) where the reduced model's error is estimated.
+        tol : float
+            Its relative tolerance (normwise, per load and frequency).
+        """
+        if self.method not in ("auto", "reduced") or not self.columns:
+            return
+        num = self.num
+        w = 2 * np.pi * np.asarray(f, dtype=float)
+        B = np.column_stack(self.columns).astype(complex)
+        adjoint = len(self.keep) <= ADJOINT_LIMIT and _symmetric(num.M, num.C, num.K)
+        unit = None
+        if adjoint:
+            unit = np.zeros((num.n, len(self.keep)), dtype=complex)
+            unit[self.keep, np.arange(len(self.keep))] = 1.0
+        budget = None
+        probe: dict[float, Any] = {}
+        if self.method == "auto":
+            batch = Batch(tuple(num.coordinates), num.M, num.C, num.K,
+                          [BatchHarmonic(w, np.zeros(num.n), self.columns[0])], {},
+                          num.title, True, len(w))
+            budget = reduced_budget(batch, w, np.asarray(B[:, 0]), probe)
+            if budget is None:
+                return
+        try:
+            rom = reduced_model(num.M, num.C, num.K, B, w, tol=tol, deadline=self.deadline,
+                                budget=budget, adjoints=unit, factorizations=probe)
+        except AnalysisError:
+            if self.method == "reduced":
+                raise
+            return
+        worst = float(np.max(rom.estimated_error, initial=0.0))
+        if self.method == "auto" and not worst <= REDUCED_ACCEPT:
+            return
+        if not rom.converged:
+            self.warnings.append(f"the band's reduced model reached the estimated error "
+                                 f"{worst:.2g}, not its tolerance {tol:.2g} ({rom.reason}); "
+                                 "its error is included in the estimate of each mean square")
+        self.reduced = rom
+        # the adjoints' largest relative residuals (||e_i|| = 1)
+        residuals = np.asarray(rom.adjoint_residuals)
+        self.adjoint = (np.minimum(1.0, residuals) if len(residuals) == len(self.keep)
+                        else np.ones(len(self.keep)))
 
     def _in_outputs(self, name: str) -> bool:
         return any(v[0] == name for out in self.num.outputs.values() for v in out.terms)
@@ -359,7 +431,40 @@ class Transfer:
 
     def __call__(self, f: np.ndarray, outputs: Sequence[str]) -> np.ndarray:
         """H (len(f), responses, inputs): the kept coordinates, then ``outputs``."""
+        return self.with_bound(f, outputs)[0]
+
+    def with_bound(self, f: np.ndarray, outputs: Sequence[str]
+                   ) -> tuple[np.ndarray, np.ndarray | None]:
+        """H as :meth:`__call__`, and a bound of |H - H_exact| of the same shape from the
+        band's reduced model (None without one, the kernel's solves being exact).
+
+        The reduced model's estimated normwise error eps_k of load column k gives
+        |z_i - z_i,exact| <= ||z - z_exact|| <= eps_k ||z_k|| for every coordinate i.
+        Where the model also holds the adjoint of coordinate i (a unit load e_i; A is
+        symmetric, A^T = A), the Galerkin orthogonality V^T A (z - z_exact) = 0 gives
+        e_i^T (z - z_exact) = r_i^T (z - z_exact) with r_i the adjoint's residual, so
+        the bound is multiplied by its largest relative residual over the band
+        (Becker & Rannacher's dual-weighted residual; computed, not estimated).  An output
+        sum_t c_t (i w)^p_t q_t errs by at most sum_t |c_t| w^p_t times its coordinates'
+        bounds.
+        """
         w = 2 * np.pi * np.asarray(f, dtype=float)
+        if self.reduced is not None:
+            Zs, norms = self.reduced.responses(w, self.keep, len(self.columns))
+            bad = ~np.all(np.isfinite(Zs), axis=(1, 2))
+            if bad.any():
+                where = float(f[int(np.argmax(bad))])
+                raise AnalysisError(f"the system is singular at {where:.6g} Hz (an undamped "
+                                    "resonance): the response there is unbounded; add "
+                                    "damping")
+            self.used_method = "reduced"
+            Z = [Zs[:, :, k] for k in range(Zs.shape[2])]
+            errors = norms * np.asarray(self.reduced.estimated_error)[None, :]
+            return self._assemble(w, outputs, Z, errors)
+        return self._assemble(w, outputs, self._solve(f, w), None)
+
+    def _solve(self, f: np.ndarray, w: np.ndarray) -> list[np.ndarray]:
+        """The kernel's z of every load column at the kept coordinates, (len(f), keep)."""
         num = self.num
         n = num.n
         Z = []
@@ -377,12 +482,24 @@ class Transfer:
                                     "damping")
             self.used_method = result.method
             Z.append(result.Z)
+        return Z
+
+    def _assemble(self, w: np.ndarray, outputs: Sequence[str], Z: list[np.ndarray],
+                  errors: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
+        """H from the load columns' responses Z; with ``errors`` (len(w), columns), the
+        bounds eps_k ||z_k|| of their coordinates' errors, the bound of |H - H_exact|."""
+        num = self.num
         iw = 1j * w
+        shape = (len(w), len(self.keep) + len(outputs), len(self.loads))
+        D = None if errors is None else np.zeros(shape)
         with np.errstate(divide="ignore", invalid="ignore"):
-            H = np.zeros((len(w), len(self.keep) + len(outputs), len(self.loads)), complex)
+            H = np.zeros(shape, complex)
             for j, entry in enumerate(self.index):
                 for k, power in entry:
                     H[:, :len(self.keep), j] += iw[:, None] ** power * Z[k]
+                    if D is not None and errors is not None:
+                        D[:, :len(self.keep), j] += (np.abs(w) ** power * errors[:, k]
+                                                     )[:, None] * self.adjoint[None, :]
             position = {int(c): i for i, c in enumerate(self.keep)}
             for r, name in enumerate(outputs):
                 row = len(self.keep) + r
@@ -390,11 +507,14 @@ class Transfer:
                     if var in num.coordinates:
                         i = position[num.coordinates.index(var)]
                         H[:, row, :] += coefficient * iw[:, None] ** order * H[:, i, :]
+                        if D is not None:
+                            D[:, row, :] += (abs(complex(coefficient)) * np.abs(w)[:, None]
+                                             ** order * D[:, i, :])
                     else:
                         for j, u in enumerate(self.inputs):
                             if u.name == var:
                                 H[:, row, j] += coefficient * iw ** (order - u.derivative)
-        return H
+        return H, D
 
 
 def _input_matrix(spec: RandomSpec, f: np.ndarray, values: Mapping[str, Any]) -> np.ndarray:
@@ -422,6 +542,15 @@ def _input_matrix(spec: RandomSpec, f: np.ndarray, values: Mapping[str, Any]) ->
 def _response_density(H: np.ndarray, G: np.ndarray) -> np.ndarray:
     """G_y (len(f), responses) = diag(H G H^*)."""
     result: np.ndarray = np.einsum("frj,fjl,frl->fr", H, G, H.conj()).real
+    return result
+
+
+def _density_bound(H: np.ndarray, D: np.ndarray, G: np.ndarray) -> np.ndarray:
+    """A bound of |G_y - G_y,exact| (len(f), responses) where |H - H_exact| <= D:
+    sum_jl |G_jl| (2 |H_j| D_l + D_j D_l)."""
+    A, B = np.abs(H), np.abs(G)
+    result: np.ndarray = (2 * np.einsum("frj,fjl,frl->fr", A, B, D)
+                          + np.einsum("frj,fjl,frl->fr", D, B, D))
     return result
 
 
@@ -461,10 +590,15 @@ def _initial_grid(spec: RandomSpec, num: NumericEOM) -> np.ndarray:
 
 
 class _Quadrature:
-    """Pairs of intervals (a, m, b): Simpson's rule, Richardson's error estimate."""
+    """Pairs of intervals (a, m, b): Simpson's rule, Richardson's error estimate.
 
-    def __init__(self, evaluate: Any, grid: np.ndarray) -> None:
+    ``refined``: the leading columns of the integrands the refinement looks at (default
+    all; the others, bounds of the integrands' errors, are integrated on the same grid).
+    """
+
+    def __init__(self, evaluate: Any, grid: np.ndarray, refined: int | None = None) -> None:
         self.evaluate = evaluate
+        self.refined = refined
         a, b = grid[:-1], grid[1:]
         m = _middle(a, b)
         values = evaluate(np.concatenate([grid, m]))
@@ -516,6 +650,27 @@ class _Quadrature:
         return out
 
 
+def _symmetric(*matrices: Matrix) -> bool:
+    """Whether every matrix equals its transpose (dense or sparse)."""
+    for a in matrices:
+        difference = a - a.T
+        largest = abs(difference).max() if hasattr(difference, "tocsr") else \
+            np.abs(difference).max(initial=0.0)
+        if largest != 0:
+            return False
+    return True
+
+
+def _checked_frequencies(grid: np.ndarray) -> np.ndarray:
+    """The first grid with its middles and quarter points: the frequencies of the first
+    evaluation and of the first refinement round, where a band's reduced model is
+    checked."""
+    f = np.unique(grid)
+    for _ in range(2):
+        f = np.unique(np.concatenate([f, _middle(f[:-1], f[1:])]))
+    return f
+
+
 def _middle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The geometric middle where both ends are positive (log grids), else the mean."""
     with np.errstate(invalid="ignore"):
@@ -529,6 +684,7 @@ def _refine(quad: _Quadrature, tolerance: float, deadline: Deadline
     for _ in range(MAX_ROUNDS):
         deadline.check("while refining the frequency grid of the random response")
         value, error = quad.estimates()
+        value, error = value[:, :quad.refined], error[:, :quad.refined]
         total = value.sum(axis=0)
         scale = np.where(total > 0, total, np.inf)
         relative = error.sum(axis=0) / scale
@@ -541,8 +697,9 @@ def _refine(quad: _Quadrature, tolerance: float, deadline: Deadline
             return total, relative, False
         quad.split(chosen)
     value, error = quad.estimates()
-    total = value.sum(axis=0)
-    return total, error.sum(axis=0) / np.where(total > 0, total, np.inf), False
+    total = value[:, :quad.refined].sum(axis=0)
+    return (total, error[:, :quad.refined].sum(axis=0) / np.where(total > 0, total, np.inf),
+            False)
 
 
 def _input_units(system: LinearSystem, spec: RandomSpec) -> dict[str, str]:
@@ -657,20 +814,34 @@ def random_response(system: LinearSystem, spec: RandomSpec | None = None,
     responses = [num.coordinates[i] for i in keep] + outputs
 
     def evaluate(f: np.ndarray) -> np.ndarray:
-        H = transfer(f, outputs)
-        return _response_density(H, _input_matrix(spec, f, transfer.values))
+        H, D = transfer.with_bound(f, outputs)
+        G = _input_matrix(spec, f, transfer.values)
+        S = _response_density(H, G)
+        return S if D is None else np.hstack([S, _density_bound(H, D, G)])
 
     tol = spec.tolerance if tolerance is None else tolerance
-    quad = _Quadrature(evaluate, _initial_grid(spec, num))
+    grid = _initial_grid(spec, num)
+    low, high = REDUCED_TOLERANCE_RANGE
+    transfer.reduce(_checked_frequencies(grid), min(high, max(low, REDUCED_TOLERANCE * tol)))
+    R = len(responses)
+    quad = _Quadrature(evaluate, grid, R)
     m0, error, converged = _refine(quad, tol, deadline)
     warnings = list(transfer.warnings)
     if not converged:
         warnings.append(f"the quadrature reached {len(quad.f)} frequencies with the estimated "
                         f"relative error {np.nanmax(error):.2g} above the tolerance {tol:.2g}")
-    m2, m4 = quad.moments((2, 4))
+    if quad.S.shape[1] > R:   # the reduced model's part of each mean square's error
+        bound = quad.estimates()[0][:, R:].sum(axis=0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            error = error + np.where(m0 > 0, bound / m0, 0.0)
+        if converged and np.nanmax(error) > tol:
+            warnings.append(f"the estimated relative error {np.nanmax(error):.2g} of a mean "
+                            f"square (quadrature and reduced model) is above the tolerance "
+                            f"{tol:.2g}")
+    m2, m4 = (m[:R] for m in quad.moments((2, 4)))
     order = np.argsort(quad.f)
     f = quad.f[order]
-    S = quad.S[order]
+    S = quad.S[order][:, :R]
     with np.errstate(divide="ignore", invalid="ignore"):
         nu0 = np.sqrt(m2 / m0)
         nup = np.sqrt(m4 / m2)

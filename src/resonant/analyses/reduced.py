@@ -75,8 +75,8 @@ True
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -84,6 +84,15 @@ from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from .threads import blas_threads
+
+if TYPE_CHECKING:
+    from scipy.sparse.linalg import SuperLU
+
+
+class Solver(Protocol):
+    """A factorization that solves A x = b (a :class:`ScaledLU` or SciPy's SuperLU)."""
+
+    def solve(self, b: np.ndarray) -> np.ndarray: ...
 
 #: default relative tolerance of the reduced response (normwise, per frequency)
 DEFAULT_TOL = 1e-6
@@ -117,6 +126,8 @@ FLOOR_REACHED = 10.0
 #: safety factor on the componentwise error estimate of an exact solve (two random probes
 #: of |A^-1|)
 FLOOR_SAFETY = 10.0
+#: moments of each adjoint load of :func:`reduced_model` put into the basis
+ADJOINT_MOMENTS = 3
 #: bytes of complex responses computed at once
 _CHUNK_BYTES = 32 * 2**20
 
@@ -180,7 +191,7 @@ class ReducedResponse:
 
 # -- factorizations ---------------------------------------------------------------------------
 
-def sparse_lu_options(pattern: Any) -> dict[str, Any]:
+def sparse_lu_options(pattern: Matrix) -> dict[str, Any]:
     """SuperLU options (``scipy.sparse.linalg.splu`` keywords) for matrices of this pattern.
 
     A structurally symmetric pattern (every mass-spring-damper model) gets a
@@ -254,7 +265,7 @@ class ScaledLU:
     True
     """
 
-    def __init__(self, A: Any, d: np.ndarray, **options: Any) -> None:
+    def __init__(self, A: Matrix, d: np.ndarray, **options: Any) -> None:
         import scipy.sparse as sp
         from scipy.sparse.linalg import splu
 
@@ -289,7 +300,7 @@ class ScaledLU:
         return result
 
 
-def backward_stable(A: Any, x: np.ndarray, b: np.ndarray, a_norm: float | None = None
+def backward_stable(A: Matrix, x: np.ndarray, b: np.ndarray, a_norm: float | None = None
                     ) -> bool:
     """Whether ||A x - b|| <= 1e-10 (||A|| ||x|| + ||b||) (infinity norms): the solve was
     backward stable (a stable LU gives about 1e-15; not finite counts as stable, the
@@ -420,7 +431,7 @@ class _Operators:
                                + abs(s) * np.abs(self.C.diagonal()))
 
 
-def _krylov(ops: _Operators, lu: Any, b: np.ndarray, s: float, q: int,
+def _krylov(ops: _Operators, lu: Solver, b: np.ndarray, s: float, q: int,
             deadline: Deadline) -> np.ndarray:
     """q moments of z(w) about s, as the top halves of an Arnoldi basis of the
     linearization (columns complex, shape (n, <= q))."""
@@ -464,23 +475,52 @@ def _svd_tall(X: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The thin SVD X = U S Wt of a tall matrix (n >> k), through its QR factorization
     by shifted Cholesky QR3 (Fukaya et al., SIAM J. Sci. Comput. 42 (2020) A477: a
     shifted step makes any X, even rank deficient, well conditioned, two plain steps
-    make Q orthonormal to rounding; X = Q R to rounding of ||X||) and the SVD of R."""
+    make Q orthonormal to rounding; X = Q R to rounding of ||X||) and the SVD of R.
+    The columns are scaled to unit norm for the QR (X = Xs D, X = Q (R D)): columns of
+    very different sizes (K V and M V of a stiff model) would leave the small ones
+    below the shift, and the unshifted steps would fail."""
     n, k = X.shape
     norm2 = float(np.einsum("ij,ij->", X, X))
     if 4 * k > n or not norm2 > 0 or not np.isfinite(norm2):  # not tall: LAPACK is cheap
         U, S, Wt = np.linalg.svd(X, full_matrices=False)
         return U, S, Wt
-    shift = 11.0 * (n * k + k * (k + 1)) * np.finfo(float).eps * norm2
+    d = np.linalg.norm(X, axis=0)
+    d[~(d > 0)] = 1.0
+    Xs = X / d
+    shift = 11.0 * (n * k + k * (k + 1)) * np.finfo(float).eps * float(
+        np.einsum("ij,ij->", Xs, Xs))
     try:
-        Q, R = _cholesky_qr(X, shift)
-        for _ in range(2):
-            Q, T = _cholesky_qr(Q)
+        Q, R = _cholesky_qr(Xs, shift)
+        for step in range(2):
+            Q, T = _cholesky_qr(Q) if step else _gram_qr(Q)
             R = T @ R
     except np.linalg.LinAlgError:  # (not seen: the shift makes X well conditioned)
         U, S, Wt = np.linalg.svd(X, full_matrices=False)
         return U, S, Wt
-    Ur, S, Wt = np.linalg.svd(R)
+    Ur, S, Wt = np.linalg.svd(R * d)
     return Q @ Ur, S, Wt
+
+
+def _gram_qr(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Q = Qo T with Qo orthonormal (to the accuracy of a Cholesky QR step) for the Q of a
+    shifted Cholesky QR step: by Cholesky, or, where X was rank deficient (the products
+    K V, M V of a Krylov basis are: K x_0 lies in the span of b, M x_0 and C x_0) and Q
+    holds directions the shift took down to rounding, by the eigenvectors of Qᵀ Q
+    without those directions (T then has fewer rows than columns).  A LAPACK SVD of the
+    tall matrix instead costs as much as 50 Gram matrices."""
+    G = Q.T @ Q
+    try:
+        import scipy.linalg
+
+        T = scipy.linalg.cholesky(G, lower=False, check_finite=False)
+        return scipy.linalg.solve_triangular(T, Q.T, trans="T", lower=False,
+                                             check_finite=False).T, T
+    except np.linalg.LinAlgError:
+        lam, W = np.linalg.eigh(G)
+        keep = lam > 1e-14 * max(G.shape[0], 1) * max(float(lam.max(initial=0.0)), 1e-300)
+        lam, W = lam[keep], W[:, keep]
+        root = np.sqrt(lam)
+        return (Q @ W) / root, root[:, None] * W.T
 
 
 def _orthonormalize(Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -661,6 +701,16 @@ class _Residual:
         self.column += column
         self.kind += kind
 
+    def replace_load(self, b: np.ndarray) -> None:
+        """The residual of another load on the same basis: the old load's columns leave P
+        (their directions stay in Q, which spans more than P then: P = Q R holds), the new
+        load's are added, O(n) per basis vector instead of a new factorization."""
+        kept = [i for i, c in enumerate(self.column) if c >= 0]
+        self.R = self.R[:, kept]
+        self.column = [self.column[i] for i in kept]
+        self.kind = [self.kind[i] for i in kept]
+        self._add(np.column_stack([b.real, b.imag]), [-1, -1], [0, 1])
+
     def extend(self, products: list[np.ndarray], r: int) -> None:
         """Add the columns of the new basis vectors (``products``: K V_new, M V_new and
         C V_new when damped; r: the basis size now)."""
@@ -740,7 +790,7 @@ def probe_frequency(w: np.ndarray) -> float:
     return points[len(points) // 2]
 
 
-def off_diagonal_pivots(lu: Any) -> int:
+def off_diagonal_pivots(lu: SuperLU) -> int:
     """How many pivots of a SuperLU factorization were taken off the diagonal.
 
     With the symmetric-mode options of :func:`sparse_lu_options` every pivot
@@ -886,7 +936,8 @@ class _Enrichment:
     calibrated by exact solves where the residual is largest."""
 
     def __init__(self, ops: _Operators, b: np.ndarray, w: np.ndarray, tol: float,
-                 moments: int, deadline: Deadline, V: np.ndarray | None = None) -> None:
+                 moments: int, deadline: Deadline, V: np.ndarray | None = None,
+                 shared: tuple[_Projection, _Residual] | None = None) -> None:
         self.ops, self.b, self.w, self.tol = ops, b, w, tol
         self.moments, self.deadline = moments, deadline
         self.b_norm = float(np.linalg.norm(b))
@@ -906,8 +957,12 @@ class _Enrichment:
         self.history: list[float] = []
         self.pending: list[tuple[float, Any]] = [
             (s, None) for s in _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))]
-        self.residual = _Residual(ops, b, 2 + 3 * self.max_basis)
-        self.projection = _Projection(ops)
+        if shared is None:
+            self.residual = _Residual(ops, b, 2 + 3 * self.max_basis)
+            self.projection = _Projection(ops)
+        else:   # another load's, on the basis V given: its products are not made again
+            self.projection, self.residual = shared
+            self.residual.replace_load(b)
         self.reason = ""
         N = w.shape[0]
         self.Y = np.zeros((N, 0), dtype=complex)
@@ -1014,7 +1069,7 @@ class _Enrichment:
         validations (1 before any)."""
         return max(self.floor_ratios) if self.floor_ratios else 1.0
 
-    def solve_error(self, lu: Any, s: float, x: np.ndarray) -> float:
+    def solve_error(self, lu: Solver, s: float, x: np.ndarray) -> float:
         """An estimate of the relative error of the exact solve x = A(s)^-1 b from rounding:
         ``FLOOR_SAFETY`` eps || |A^-1| (|A| |x| + |b|) || / ||x|| (Skeel's componentwise
         bound, Higham, Accuracy and Stability of Numerical Algorithms, 2nd ed., Sect. 7.2),
@@ -1121,6 +1176,9 @@ class ReducedModel:
         Why not ("" when converged).
     expansion : tuple of float
     seconds : float
+    adjoint_residuals : ndarray
+        (q,) the largest relative residual ||A(w) V y(w) - c|| / ||c|| over the band of
+        each column c of ``adjoints`` (computed, not estimated; empty without).
     """
 
     V: np.ndarray
@@ -1134,9 +1192,10 @@ class ReducedModel:
     reason: str
     expansion: tuple[float, ...]
     seconds: float
+    adjoint_residuals: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def __post_init__(self) -> None:
-        for name in ("V", "Mr", "Cr", "Kr", "Br", "estimated_error"):
+        for name in ("V", "Mr", "Cr", "Kr", "Br", "estimated_error", "adjoint_residuals"):
             array = np.array(getattr(self, name))
             array.flags.writeable = False
             object.__setattr__(self, name, array)
@@ -1152,16 +1211,75 @@ class ReducedModel:
         result: np.ndarray = self.V[rows] @ np.linalg.solve(A, rhs)
         return result
 
+    def responses(self, w: np.ndarray, rows: np.ndarray, columns: int | None = None
+                  ) -> tuple[np.ndarray, np.ndarray]:
+        """z at the coordinates ``rows`` for every load column at many frequencies, and
+        the norm of the whole response vector.
+
+        The reduced system is diagonalized once per load (as in :func:`reduced_response`),
+        so a frequency costs O(r) per coordinate.
+
+        Parameters
+        ----------
+        w : ndarray
+            Frequencies (rad/s), shape (N,).
+        rows : ndarray of int
+            The coordinates.
+        columns : int, optional
+            Only the first ``columns`` loads (default all).
+
+        Returns
+        -------
+        Z : ndarray
+            (N, rows, p) complex; inf or NaN where the reduced system is singular.
+        norms : ndarray
+            (N, p): ||z(w)||_2 over all n coordinates (= ||y(w)||_2, V being orthonormal).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> M, K, C = np.eye(3), np.diag([2.0, 3.0, 4.0]), 0.01 * np.eye(3)
+        >>> B = np.eye(3)[:, :2].astype(complex)
+        >>> rom = reduced_model(M, C, K, B, np.linspace(0, 2, 30))
+        >>> Z, norms = rom.responses(np.array([0.5, 1.5]), np.arange(3))
+        >>> exact = np.linalg.solve(K - 2.25 * M + 0.015j * np.eye(3), B)
+        >>> bool(np.abs(Z[1] - exact).max() < 1e-10), Z.shape, norms.shape
+        (True, (2, 3, 2), (2, 2))
+        """
+        w = np.abs(np.asarray(w, dtype=float)).ravel()
+        rows = np.asarray(rows, dtype=int)
+        p = self.Br.shape[1] if columns is None else int(columns)
+        Z = np.empty((len(w), len(rows), p), dtype=complex)
+        norms = np.empty((len(w), p))
+        for j in range(p):
+            Y = _Reduced(self.Kr, self.Mr, self.Cr, self.Br[:, j]).solve(w)
+            with np.errstate(all="ignore"):
+                Z[:, :, j] = Y @ self.V[rows].T
+                norms[:, j] = np.linalg.norm(Y, axis=1)
+        return Z, norms
+
 
 def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray, *,
                   tol: float = DEFAULT_TOL, deadline: Deadline = NO_DEADLINE,
                   budget: float | None = None, max_points: int | None = None,
-                  moments: int = MOMENTS) -> ReducedModel:
+                  moments: int = MOMENTS, adjoints: np.ndarray | None = None,
+                  factorizations: dict[float, Any] | None = None) -> ReducedModel:
     """One reduced basis for the responses to every column of B at the frequencies w.
 
     The enrichment of :func:`reduced_response` runs for each load in turn on the
     basis the previous ones built (factorizations are shared), so later loads
     mostly find their response already in the span.
+
+    ``adjoints`` (n, q), optional: further loads, typically unit loads at the
+    coordinates whose responses matter, that are not enriched to ``tol``: the basis
+    gets :data:`ADJOINT_MOMENTS` moments of each at the factorized expansion point
+    nearest the band's middle, and the largest relative residual of each over ``w``
+    is computed (``adjoint_residuals``).  For symmetric M, C, K (A^T = A) the Galerkin
+    orthogonality V^T A (z - z_exact) = 0 gives e_i^T (z - z_exact) = r_i^T (z - z_exact)
+    with r_i the residual of the unit load at i: the error of coordinate i is at most
+    that residual times ||z - z_exact|| (the dual-weighted residual of Becker &
+    Rannacher).  The loads' ``estimated_error`` is from before these vectors joined
+    the basis (as for the earlier loads of B).
 
     Parameters
     ----------
@@ -1171,8 +1289,10 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
         (n, p) complex loads.
     w : ndarray
         Frequencies (rad/s) where each response must meet ``tol``.
-    tol, deadline, budget, max_points, moments
+    tol, deadline, budget, max_points, moments, factorizations
         As for :func:`reduced_response`.
+    adjoints : ndarray, optional
+        (n, q) loads whose residuals are computed (see above).
 
     Returns
     -------
@@ -1196,32 +1316,73 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
     B = np.asarray(B, dtype=complex).reshape(np.shape(B)[0], -1)
     ops = _Operators(M, C, K)
     ops.cache = {}
+    ops.given = factorizations if factorizations is not None else {}
     V = np.zeros((ops.n, 0))
     stop = _Limits(MAX_POINTS if max_points is None else max_points, budget, start)
     errors, checks, expansion, reasons = [], [], [], []
+    shared: tuple[_Projection, _Residual] | None = None
     for j in range(B.shape[1]):
         if not np.any(B[:, j]):
             errors.append(0.0)
             continue
-        model = _Enrichment(ops, B[:, j], w, tol, moments, deadline, V)
+        model = _Enrichment(ops, B[:, j], w, tol, moments, deadline, V, shared)
         with blas_threads(_largest_call(ops.n)):
             _grow(model, stop)
         V = model.V
+        shared = (model.projection, model.residual)
         errors.append(float(np.nanmax(np.where(model.finite, model.estimate, np.nan)))
                       if model.finite.any() else float("inf"))
         checks += model.checks
         expansion += model.expansion
         if model.reason:
             reasons.append(model.reason)
+    residuals = np.zeros(0)
+    if adjoints is not None and np.shape(adjoints)[1] and shared is not None and ops.cache:
+        V, residuals = _adjoints(ops, shared, np.asarray(adjoints, dtype=complex), V, w,
+                                 deadline)
     ops.cache = None
-    KV, MV, CV = (np.asarray(a @ V) for a in (ops.K, ops.M, ops.C))
+    if shared is not None and shared[0].size == V.shape[1] and ops.damped:
+        Kr, Mr, Cr = shared[0].reduced     # kept up to date while the basis grew
+    else:
+        Kr, Mr, Cr = (V.T @ np.asarray(a @ V) for a in (ops.K, ops.M, ops.C))
     err = np.array(errors)
     converged = bool(np.all(err <= tol))
     reason = "" if converged else (reasons[0] if reasons else
                                    "the estimated error stayed above the tolerance")
-    return ReducedModel(V, V.T @ MV, V.T @ CV, V.T @ KV, V.T @ B, err, tuple(checks),
+    return ReducedModel(V, Mr, Cr, Kr, V.T @ B, err, tuple(checks),
                         converged, reason, tuple(sorted(set(expansion))),
-                        time.monotonic() - start)
+                        time.monotonic() - start, residuals)
+
+
+def _adjoints(ops: _Operators, shared: tuple[_Projection, _Residual], C: np.ndarray,
+              V: np.ndarray, w: np.ndarray, deadline: Deadline
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """The basis with :data:`ADJOINT_MOMENTS` moments of each column of C at the cached
+    factorization nearest the band's middle, and each column's largest relative residual
+    over w on it (:func:`reduced_model`)."""
+    assert ops.cache
+    middle = float(np.sqrt(max(w.min(), 1e-300) * w.max())) if w.min() > 0 else \
+        float(w.mean())
+    s = min(ops.cache, key=lambda t: abs(t - middle))
+    lu = ops.cache[s]
+    drop = 1e-8
+    for j in range(C.shape[1]):
+        deadline.check("while building the reduced basis", analysis=True)
+        V = _extend(V, _krylov(ops, lu, C[:, j], s, ADJOINT_MOMENTS, deadline), drop)
+    projection, residual = shared
+    products = projection.update(V)
+    residual.extend(products, V.shape[1])
+    del products
+    Kr, Mr, Cr = projection.reduced
+    out = np.empty(C.shape[1])
+    for j in range(C.shape[1]):
+        c = C[:, j]
+        residual.replace_load(c)
+        Y = _Reduced(Kr, Mr, Cr, V.T @ c).solve(w)
+        with np.errstate(all="ignore"):
+            rho = residual.norms(w, Y) / float(np.linalg.norm(c))
+        out[j] = float(np.max(rho)) if np.all(np.isfinite(rho)) else np.inf
+    return V, out
 
 
 __all__ = ["reduced_response", "ReducedResponse", "reduced_model", "ReducedModel",
