@@ -28,6 +28,7 @@ from resonant.analyses.shock import QUANTITIES, ShockSpectrum, pulse, shock_resp
 from resonant.analyses.simulate import Simulation
 from resonant.analyses.slow_sweep import SweptState, swept_state
 from resonant.analyses.special_points import SpecialPoint
+from resonant.analyses.stationary import StationarySolution
 from resonant.analyses.sweep import FrequencyResponse
 from resonant.analyses.transient import TransientResponse, shock_response
 from resonant.errors import AnalysisError
@@ -122,6 +123,37 @@ def _assert_same_sweep(back: FrequencyResponse, sweep: FrequencyResponse) -> Non
     else:
         np.testing.assert_array_equal(back.natural_frequencies, sweep.natural_frequencies)
     assert back.summary() == sweep.summary()
+
+
+#: a square-wave force: the equation of motion without a stationary solution
+SQUARE = TWO_HARMONICS.replace('"sin(omega*t) + 0.3*cos(3*omega*t)"', '"abs(sin(omega*t))"')
+
+
+@pytest.mark.parametrize("source", [*(f"{name}.toml" for name in [*MODELS, "absorber",
+                                                                  "base_excitation"]),
+                                    TWO_HARMONICS, SQUARE])
+def test_stationary_round_trip(source):
+    """The stationary solution back from JSON: every number bit for bit, the outputs'
+    responses (``output_harmonics``) and the text ``resonant solve`` prints."""
+    if source.endswith(".toml"):
+        model = resonant.load(EXAMPLES / source)
+    else:
+        model = resonant.loads(source)
+    solution = model.linearize().stationary()
+    saved = _through_json(solution.to_dict())
+    back = StationarySolution.from_dict(saved)
+    again = back.to_dict()
+    del saved["symbolic"]  # the symbolic form is text for a reader, not read back
+    assert "symbolic" not in again
+    assert again == saved
+    assert back.output_harmonics == solution.output_harmonics
+    assert back.available == solution.available
+    np.testing.assert_array_equal(back.eigenvalues, solution.eigenvalues)
+    for t in (0.0, 0.37, 2.0):
+        for name, value in back.response(t).items():
+            assert value == solution.response(t)[name], name
+    title = solution.summary().splitlines()[0].split("  (")[0]  # the file name is not saved
+    assert back.summary().splitlines()[0] == title
 
 
 @pytest.mark.parametrize("name", MODELS)
@@ -502,6 +534,7 @@ def _saved(name):
     _, a = pulse("half-sine", 100.0, 0.011, 1e-4)
     results = {
         "sweep": lambda: (FrequencyResponse, SWEEPS["two-harmonics"]().to_dict()),
+        "stationary": lambda: (StationarySolution, model.linearize().stationary().to_dict()),
         "nonlinear": lambda: (NonlinearResponse, BRANCHES["duffing-no-linear"]().to_dict()),
         "simulation": lambda: (Simulation, model.simulate(0.1, initial={"x1": 0.01}).to_dict(
             history=True)),
@@ -527,8 +560,8 @@ def _saved(name):
     return results[name]()
 
 
-SAVED = ["sweep", "nonlinear", "simulation", "modes", "backbones", "random", "periodic",
-         "shock", "transient", "rainflow", "periodic-solution", "swept-state"]
+SAVED = ["stationary", "sweep", "nonlinear", "simulation", "modes", "backbones", "random",
+         "periodic", "shock", "transient", "rainflow", "periodic-solution", "swept-state"]
 #: values of the wrong kind put in place of each key
 WRONG = [None, "text", 1.5, -1, True, [], [[1.0], [2.0, 3.0]], {}, {"real": [1.0]}]
 

@@ -52,6 +52,7 @@ from .kernel import (
     equilibration,
     solve_harmonic,
 )
+from .results_json import Saved
 from .threads import blas_threads
 
 if TYPE_CHECKING:
@@ -191,8 +192,69 @@ class StationarySolution:
             "eigenvalues": [[float(v.real), float(v.imag)] for v in self.eigenvalues],
             "stationary_available": self.available,
             "warnings": list(self.warnings),
+            "output_harmonics": {k: [list(p) for p in v]
+                                 for k, v in self.output_harmonics.items()},
         })
         return data
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> StationarySolution:
+        """The solution back from its :meth:`to_dict` (read back from JSON).
+
+        The equation of motion comes back with its numbers (``M``, ``C``, ``K``, the
+        excitation's amplitudes per frequency, the parameters) and every response, the
+        outputs' ones included (``output_harmonics``); its symbolic form (the saved
+        ``symbolic`` entry, text for a reader) is not read back.
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave.
+
+        Returns
+        -------
+        StationarySolution
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json, resonant
+        >>> sol = resonant.load("examples/cart_pendulum.toml").linearize().stationary()
+        >>> back = StationarySolution.from_dict(json.loads(json.dumps(sol.to_dict())))
+        >>> back.amplitudes == sol.amplitudes
+        True
+        >>> saved = sol.to_dict()
+        >>> del saved["symbolic"]  # text for a reader, not read back
+        >>> back.to_dict() == saved
+        True
+        """
+        saved = Saved(data, "StationarySolution")
+        coordinates = saved.strings("coordinates")
+        n = len(coordinates)
+        harmonics = tuple(_harmonic_from(h, n) for h in saved.records("harmonics"))
+        M, C, K = (saved.floats(key, shape=(n, n)) for key in ("M", "C", "K"))
+        eom = NumericEOM(
+            coordinates=coordinates, M=M, C=C, K=K,
+            harmonics=tuple(NumericHarmonic(h.omega, h.F_S, h.F_C) for h in harmonics),
+            parameters=saved.numbers_of("parameters", {}), title_=saved.string("title", ""))
+        eigenvalues = saved.floats("eigenvalues", ndim=2)
+        if eigenvalues.size and eigenvalues.shape[1] != 2:
+            raise saved.error("holds pairs [real, imaginary]", "eigenvalues")
+        pairs = saved.mapping("output_harmonics")
+        return cls(
+            eom=eom, natural_frequencies=saved.floats("natural_frequencies", ndim=1),
+            eigenvalues=eigenvalues[:, 0] + 1j * eigenvalues[:, 1] if eigenvalues.size
+            else np.zeros(0, complex),
+            stability=saved.string("stability"), harmonics=harmonics,
+            output_harmonics={str(k): tuple((float(L), float(N)) for L, N in pairs.floats(
+                str(k), shape=(len(harmonics), 2))) for k in pairs.data},
+            amplitudes=saved.numbers_of("amplitudes"), phases=saved.numbers_of("phases"),
+            warnings=saved.strings("warnings", ()),
+            available=saved.boolean("stationary_available", True))
 
     def summary(self) -> str:
         """The text ``resonant solve`` prints (:func:`resonant.views.display.solution_text`).
@@ -218,6 +280,12 @@ class StationarySolution:
     def _repr_latex_(self) -> str:
         from ..views import display
         return display.stationary_latex(self)
+
+
+def _harmonic_from(saved: Saved, n: int) -> HarmonicResponse:
+    """One saved frequency's response (:meth:`HarmonicResponse.to_dict`)."""
+    F_S, F_C, L, N = (saved.floats(key, shape=(n,)) for key in ("F_S", "F_C", "L", "N"))
+    return HarmonicResponse(saved.number("omega"), F_S, F_C, L, N)
 
 
 def _output_pairs(eom: NumericEOM, responses: tuple[HarmonicResponse, ...]
