@@ -111,8 +111,10 @@ def _check_path(path: PathArg) -> Path | None:
     return path
 
 
-def _save(fig: Figure, path: PathArg, **options: Any) -> None:
-    """Write ``fig`` to ``path`` (nothing for None), attaching an Agg canvas if it has none."""
+def _save(fig: Figure, path: PathArg, *, dpi: float | str = "figure",
+          bbox_inches: str | None = None) -> None:
+    """Write ``fig`` to ``path`` (nothing for None), attaching an Agg canvas if it has none;
+    ``dpi`` and ``bbox_inches`` as :meth:`matplotlib.figure.Figure.savefig` takes them."""
     path = _check_path(path)
     if path is None:
         return
@@ -122,7 +124,7 @@ def _save(fig: Figure, path: PathArg, **options: Any) -> None:
     if type(fig.canvas) is FigureCanvasBase:  # a bare Figure: give it a canvas to print on
         FigureCanvasAgg(fig)
     try:
-        fig.savefig(path, **options)
+        fig.savefig(path, dpi=dpi, bbox_inches=bbox_inches)
     except OSError as exc:
         raise AnalysisError(f"cannot write the plot '{path}': {exc.strerror or exc}") from None
 
