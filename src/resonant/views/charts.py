@@ -1397,12 +1397,19 @@ def _draw_panel(chart: Chart, ax: Axes, own: bool, legend_size: float | None = N
                 axis="y" if chart.xticks is not None else "both")
         if chart.xlog or chart.ylog:
             ax.grid(True, which="minor", color="0.95", linewidth=0.5)
+    return _panel_legend(chart, ax, own, lines, legend_size, show_legend)
+
+
+def _panel_legend(chart: Chart, ax: Axes, own: bool, lines: list[tuple[Curve, Any]],
+                  legend_size: float | None, show: bool) -> tuple[list[Any], list[str]]:
+    """The legend of a panel (``lines``: its labelled curves and their drawn lines), drawn
+    where the chart puts it when ``show``; its handles and labels."""
     keys = legend_keys(chart)
     handles = [line if curve.line else _key_handle(key)
                for (curve, line), key in zip(lines, keys)]
     handles += [_key_handle(key) for key in keys[len(lines):]]
     labels = [mathtext_label(key.label) for key in keys]
-    if show_legend and chart.legend != "none" and (chart.curves or handles):
+    if show and chart.legend != "none" and (chart.curves or handles):
         options: dict[str, Any] = {"frameon": False}
         if legend_size is not None:
             options["fontsize"] = legend_size
