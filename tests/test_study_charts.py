@@ -344,3 +344,18 @@ def test_the_plot_functions_draw_the_charts(tmp_path) -> None:
                          {"peak:x1": SOBOL}, grid=True, units=UNITS)
     assert [p.name for p in written] == [f"{kind}-peak_x1.png" for _, kind, _ in charts]
     assert all(p.stat().st_size > 1000 for p in written)
+
+
+@pytest.mark.parametrize("kind", ["histogram (log)", "contour (log)"])
+def test_a_legend_below_covers_nothing_and_stays_in_the_figure(descriptions, kind) -> None:
+    """Rendered extents: the legend under the axes lies below the x label and the tick
+    labels, and inside the figure (constrained layout makes room for it)."""
+    fig = draw_figure(descriptions[kind])
+    FigureCanvasAgg(fig).draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    legend = ax.get_legend().get_window_extent(renderer)
+    label = ax.xaxis.label.get_window_extent(renderer)
+    ticks = [t.get_window_extent(renderer) for t in ax.get_xticklabels() if t.get_text()]
+    assert legend.y1 <= label.y0 + 0.5 and all(legend.y1 <= t.y0 for t in ticks)
+    assert legend.y0 >= 0 and legend.x0 >= 0 and legend.x1 <= fig.bbox.width

@@ -1069,7 +1069,15 @@ def _field_svg(field: Field, frame: _Frame, hatches: dict[str, str]) -> str:
 
 def field_ticks(field: Field) -> tuple[list[tuple[float, str]], int]:
     """The colour bar's ticks: (position from 0 at the bottom to 1 at the top, label), and
-    the power of ten linear labels are given in (0: none)."""
+    the power of ten linear labels are given in (0: none).
+
+    Examples
+    --------
+    >>> f = Field(np.arange(3.0), np.arange(2.0), np.array([[1e-2, 1e2]]), "z", log=True)
+    >>> ticks, power = field_ticks(f)
+    >>> [at for at, _ in ticks], ticks[0][1], power
+    ([0.0, 0.25, 0.5, 0.75, 1.0], '$10^{-2}$', 0)
+    """
     low, high = field.range()
     if field.levels is not None and len(field.levels) >= 2:
         levels = [float(v) for v in field.levels]
@@ -1447,7 +1455,15 @@ def _key_handle(key: _Key) -> Any:
 
 def field_colormap(field: Field) -> tuple[Any, Any]:
     """matplotlib's colour map and norm of a field: the colour table of
-    :data:`FIELD_COLORS` (the bands' colours with levels), over the field's range."""
+    :data:`FIELD_COLORS` (the bands' colours with levels), over the field's range.
+
+    Examples
+    --------
+    >>> f = Field(np.arange(3.0), np.arange(2.0), np.array([[0.0, 4.0]]), levels=(0, 2, 4))
+    >>> cmap, norm = field_colormap(f)
+    >>> cmap.N, type(norm).__name__
+    (2, 'BoundaryNorm')
+    """
     from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm, Normalize
 
     if field.levels is not None and len(field.levels) >= 2:
