@@ -72,6 +72,9 @@ class Curve:
 
     ``dash`` is a dash pattern (on, off, ...) in multiples of the line's width, as
     matplotlib scales it (``"3.7 1.6"`` dashed, ``"1 1.65"`` dotted); None: solid.
+    ``marker`` marks every point (one of :data:`CURVE_MARKERS`), ``line=False`` leaves the
+    line out (a scatter plot: markers only), ``opacity`` below 1 lets dense points show
+    through each other.
     """
 
     x: np.ndarray
@@ -80,11 +83,22 @@ class Curve:
     color: str | None = None
     width: float = 1.4
     dash: str | None = None
+    marker: str = ""
+    line: bool = True
+    opacity: float = 1.0
 
     def to_dict(self) -> dict[str, Any]:
         return {"x": _numbers(self.x), "y": _numbers(self.y), "label": self.label,
                 "text": unicode_text(self.label), "color": self.color, "width": self.width,
-                "dash": self.dash}
+                "dash": self.dash, "marker": self.marker, "line": self.line,
+                "opacity": self.opacity}
+
+
+#: the marks a :class:`Curve` can put at every point: a small dot, a small cross
+CURVE_MARKERS = ("point", "cross")
+#: the hatch of an area without values (matplotlib's pattern; the SVG's diagonal lines)
+HATCH = "////"
+HATCH_COLOR = "#8c8c8c"
 
 
 #: the kinds of :class:`Marker`: a filled dot, a downward triangle with a black edge (a
@@ -129,16 +143,20 @@ class Rule:
 
 @dataclass(frozen=True)
 class Span:
-    """A shaded band across the axes from x = ``start`` to x = ``stop`` (under the curves)."""
+    """A shaded band across the axes from x = ``start`` to x = ``stop`` (under the curves);
+    with ``vertical=False`` from y = ``start`` to y = ``stop``.  A ``hatch`` colour draws
+    it white with diagonal lines of that colour (where there are no values)."""
 
     start: float
     stop: float
     color: str = "#e6e6e6"
     label: str = ""
+    vertical: bool = True
+    hatch: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         return {"start": _number(self.start), "stop": _number(self.stop), "color": self.color,
-                "label": self.label}
+                "label": self.label, "vertical": self.vertical, "hatch": self.hatch}
 
 
 @dataclass(frozen=True)
@@ -156,22 +174,176 @@ class Annotation:
 
 @dataclass(frozen=True, eq=False)
 class Bar:
-    """Bars of width ``width`` centred at ``x``, from zero to ``heights``, each in its
-    colour (a mode shape's components)."""
+    """Bars of width ``width`` (one for all, or one each) centred at ``x``, from zero to
+    ``heights``, in the ``colors`` in turn (a mode shape's components, a histogram's
+    bins); NaN: no bar.
+
+    ``label`` names the series once in the legend, ``errors`` are half-widths of error
+    bars (a confidence interval; NaN: none), ``edge`` the colour of a thin outline.
+    """
 
     x: np.ndarray
     heights: np.ndarray
     colors: tuple[str, ...]
-    width: float = 0.6
+    width: float | np.ndarray = 0.6
+    label: str = ""
+    errors: np.ndarray | None = None
+    edge: str | None = None
+
+    def widths(self) -> np.ndarray:
+        """Each bar's width."""
+        x = np.asarray(self.x, dtype=float)
+        return np.broadcast_to(np.asarray(self.width, dtype=float), x.shape)
 
     def to_dict(self) -> dict[str, Any]:
+        width = self.width if np.ndim(self.width) == 0 else _numbers(self.width)
         return {"x": _numbers(self.x), "heights": _numbers(self.heights),
-                "colors": list(self.colors), "width": self.width}
+                "colors": list(self.colors), "width": width, "label": self.label,
+                "errors": None if self.errors is None else _numbers(self.errors),
+                "edge": self.edge}
+
+
+#: the colours of a :class:`Field`: matplotlib's viridis at 33 points, interpolated
+#: linearly to :data:`FIELD_STEPS` steps (for matplotlib and the SVG alike)
+FIELD_COLORS = ("#440154", "#470d60", "#48186a", "#482374", "#472d7b", "#453781", "#424086",
+                "#3e4989", "#3b528b", "#375b8d", "#33638d", "#2f6b8e", "#2c728e", "#297a8e",
+                "#26828e", "#23898e", "#21918c", "#1f988b", "#1fa088", "#22a785", "#28ae80",
+                "#32b67a", "#3fbc73", "#4ec36b", "#5ec962", "#70cf57", "#84d44b", "#98d83e",
+                "#addc30", "#c2df23", "#d8e219", "#ece51b", "#fde725")
+FIELD_STEPS = 256
+
+
+@lru_cache(maxsize=1)
+def _field_table() -> np.ndarray:
+    """The field's colour table: :data:`FIELD_STEPS` RGB rows in [0, 1]."""
+    anchors = np.array([[int(c[k:k + 2], 16) / 255.0 for k in (1, 3, 5)]
+                        for c in FIELD_COLORS])
+    at = np.linspace(0.0, 1.0, len(FIELD_COLORS))
+    steps = np.linspace(0.0, 1.0, FIELD_STEPS)
+    table = np.column_stack([np.interp(steps, at, anchors[:, k]) for k in range(3)])
+    table.flags.writeable = False
+    return table
+
+
+def _hex(rgb: npt.ArrayLike) -> str:
+    r, g, b = (int(round(float(v) * 255.0)) for v in np.asarray(rgb, dtype=float)[:3])
+    return f"#{r:02x}{g:02x}{b:02x}"
+
+
+@dataclass(frozen=True, eq=False)
+class Field:
+    """A quantity over a rectangular grid: one coloured cell per value.
+
+    ``x`` and ``y`` are the cells' edges (increasing), ``z`` the values, one row per y
+    cell (``z[j, i]`` between ``y[j]``, ``y[j + 1]`` and ``x[i]``, ``x[i + 1]``); NaN is a
+    cell without a value, hatched where ``missing`` names them in the legend.  The
+    colour scale runs over ``limits`` (None: the values' range), logarithmic with
+    ``log``; ``levels`` (increasing) makes it bands of one colour each.  ``label`` is the
+    colour bar's (none without it).  Cells, not contour lines: a jump stays a sharp edge.
+
+    Examples
+    --------
+    >>> f = Field(np.array([0.0, 1.0, 2.0]), np.array([0.0, 1.0]), np.array([[1.0, 3.0]]),
+    ...           "$z$ [m]")
+    >>> f.colors()
+    [['#440154', '#fde725']]
+    >>> Field.from_dict(f.to_dict()).z.tolist()
+    [[1.0, 3.0]]
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+    z: np.ndarray
+    label: str = ""
+    log: bool = False
+    levels: tuple[float, ...] | None = None
+    limits: tuple[float, float] | None = None
+    missing: str = ""
+
+    def values(self) -> np.ndarray:
+        """The values as a float array (ny, nx); NaN where there is none (also a value
+        that is not positive on a logarithmic scale)."""
+        z = np.array(self.z, dtype=float, ndmin=2)
+        if self.log:
+            z[~(z > 0)] = np.nan
+        return z
+
+    def range(self) -> tuple[float, float]:
+        """The colour scale's ends: ``limits``, the levels' ends or the values' range."""
+        if self.levels is not None and len(self.levels) >= 2:
+            return float(self.levels[0]), float(self.levels[-1])
+        if self.limits is not None:
+            low, high = float(self.limits[0]), float(self.limits[1])
+        else:
+            z = self.values()
+            finite = z[np.isfinite(z)]
+            low, high = ((float(finite.min()), float(finite.max())) if finite.size else
+                         (1.0, 10.0) if self.log else (0.0, 1.0))
+        if self.log and not low > 0:
+            low = high / 10.0 if high > 0 else 1.0
+            high = max(high, 10.0 * low)
+        return low, high
+
+    def bands(self) -> list[str]:
+        """The colour of each band between ``levels`` (the colour at its middle)."""
+        count = max(len(self.levels or ()) - 1, 1)
+        table = _field_table()
+        return [_hex(table[min(int((k + 0.5) / count * FIELD_STEPS), FIELD_STEPS - 1)])
+                for k in range(count)]
+
+    def steps(self, values: npt.ArrayLike) -> np.ndarray:
+        """The index of each value's colour: in the table of :func:`_field_table`, or
+        among the bands (-1: no value)."""
+        v = np.asarray(values, dtype=float)
+        finite = np.isfinite(v) & ((v > 0) if self.log else True)
+        if self.levels is not None and len(self.levels) >= 2:
+            index = np.searchsorted(np.asarray(self.levels, dtype=float), v, side="right") - 1
+            index = np.clip(index, 0, len(self.levels) - 2)
+        else:
+            low, high = self.range()
+            with np.errstate(all="ignore"):
+                if self.log:
+                    v, low, high = np.log10(v), math.log10(low), math.log10(high)
+                t = (v - low) / (high - low) if high > low else np.zeros_like(v)
+                index = np.clip(np.floor(np.nan_to_num(t) * FIELD_STEPS), 0,
+                                FIELD_STEPS - 1).astype(int)
+        return np.where(finite, index, -1)
+
+    def colors(self) -> list[list[str | None]]:
+        """Each cell's colour (rows of ``z``); None for a cell without a value."""
+        table = self.bands() if self.levels is not None and len(self.levels) >= 2 else [
+            _hex(row) for row in _field_table()]
+        return [[table[k] if k >= 0 else None for k in row.tolist()]
+                for row in self.steps(self.values())]
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"x": _numbers(self.x), "y": _numbers(self.y),
+                "z": [_numbers(row) for row in np.array(self.z, dtype=float, ndmin=2)],
+                "label": self.label, "text": unicode_text(self.label), "log": self.log,
+                "levels": None if self.levels is None else _numbers(self.levels),
+                "limits": None if self.limits is None else _numbers(self.limits),
+                "missing": self.missing, "colors": self.colors()}
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> Field:
+        """The field of :meth:`to_dict`'s data (None as NaN)."""
+        def array(values: Any) -> np.ndarray:
+            return np.array([[math.nan if v is None else v for v in row] for row in values]
+                            if values and isinstance(values[0], list) else
+                            [math.nan if v is None else v for v in values], dtype=float)
+
+        levels, limits = data.get("levels"), data.get("limits")
+        return cls(array(data["x"]), array(data["y"]), array(data["z"]),
+                   str(data.get("label", "")), bool(data.get("log", False)),
+                   None if levels is None else tuple(float(v) for v in levels),
+                   None if limits is None else (float(limits[0]), float(limits[1])),
+                   str(data.get("missing", "")))
 
 
 #: where a chart's legend goes: inside the axes, beside them (right of a figure of its
-#: own; inside when drawn into a caller's axes), or none
-LEGENDS = ("best", "beside", "none")
+#: own; inside when drawn into a caller's axes), under them (matplotlib; the SVG puts every
+#: legend above the plot), or none
+LEGENDS = ("best", "beside", "below", "none")
 
 
 @dataclass(frozen=True)
@@ -200,6 +372,8 @@ class Chart:
     bars: tuple[Bar, ...] = ()
     #: the x ticks where the view names them: (value, label) (a coordinate under its bar)
     xticks: tuple[tuple[float, str], ...] | None = None
+    #: quantities over a grid, as coloured cells under the curves (with a colour bar)
+    fields: tuple[Field, ...] = ()
 
     def colored(self) -> tuple[Curve, ...]:
         """The curves with the colour cycle filled in where a curve has none."""
@@ -230,7 +404,8 @@ class Chart:
                 "notes": [n.to_dict() for n in self.notes], "title": self.title,
                 "legend": self.legend, "bars": [b.to_dict() for b in self.bars],
                 "xticks": None if self.xticks is None else
-                [[_number(v), label] for v, label in self.xticks]}
+                [[_number(v), label] for v, label in self.xticks],
+                "fields": [f.to_dict() for f in self.fields]}
 
 
 @dataclass(frozen=True)
@@ -278,6 +453,13 @@ def y_limits(chart: Chart) -> tuple[float, float]:
             return low, high
     data = [_finite(c.y, chart.ylog) for c in chart.curves]
     data += [_finite(np.append(b.heights, 0.0), chart.ylog) for b in chart.bars]
+    with np.errstate(all="ignore"):
+        data += [_finite(np.concatenate([np.asarray(b.heights, float) - b.errors,
+                                         np.asarray(b.heights, float) + b.errors]), chart.ylog)
+                 for b in chart.bars if b.errors is not None]
+    data += [_finite(np.array([s.start, s.stop]), chart.ylog) for s in chart.spans
+             if not s.vertical]
+    data += [_finite(f.y, chart.ylog) for f in chart.fields]
     data.append(_finite(np.array([m.y for m in chart.markers]), chart.ylog))
     values = np.concatenate(data) if data else np.empty(0)
     # within the floats' range, so that limits, margins and ticks stay finite
@@ -500,7 +682,7 @@ def _frame(chart: Chart, legend_rows: int, ylabels: list[str], height: float = H
                    xticks=chart.xticks)
     xlabels = [label for _, label, minor in _x_ticks(probe) if not minor]
     right = WIDTH - max(0.02 * WIDTH, 4.0 + text_width(xlabels[-1] if xlabels else "", TICK_FONT)
-                        / 2)
+                        / 2) - _colorbar_room(chart)
     return _Frame(left, right, top, height - 0.14 * HEIGHT, (low, high), y_limits(chart),
                   chart.ylog, chart.xlog, chart.yticks, chart.xticks)
 
@@ -515,6 +697,8 @@ class _Key:
     dash: str | None = None
     shape: str = ""
     filled: bool = True
+    #: a band hatched in this colour (no values)
+    hatch: str = ""
 
 
 #: marker shapes named in the legend in their own colour (the special points' kinds)
@@ -525,9 +709,14 @@ def legend_keys(chart: Chart) -> list[_Key]:
     """The legend's entries: the curves, then each labelled rule, band and marker kind once."""
     if chart.legend == "none":
         return []
-    keys = [_Key(c.label, c.color or "#000", c.width, c.dash) for c in chart.colored()
+    keys = [_Key(c.label, c.color or "#000", c.width, c.dash) if c.line else
+            _Key(c.label, c.color or "#000", shape=c.marker or "point") for c in chart.colored()
             if c.label]
     seen: set[str] = set()
+    for bar in chart.bars:
+        if bar.label and bar.label not in seen:
+            seen.add(bar.label)
+            keys.append(_Key(bar.label, bar.colors[0] if bar.colors else COLORS[0], 8.0))
     for rule in chart.rules:
         if rule.label and rule.label not in seen:
             seen.add(rule.label)
@@ -535,7 +724,11 @@ def legend_keys(chart: Chart) -> list[_Key]:
     for span in chart.spans:
         if span.label and span.label not in seen:
             seen.add(span.label)
-            keys.append(_Key(span.label, span.color, 8.0))
+            keys.append(_Key(span.label, span.color, 8.0, hatch=span.hatch))
+    for field in chart.fields:
+        if field.missing and field.missing not in seen:
+            seen.add(field.missing)
+            keys.append(_Key(field.missing, "#ffffff", 8.0, hatch=HATCH_COLOR))
     for marker in chart.markers:
         if marker.label and marker.label not in seen:
             seen.add(marker.label)
@@ -608,9 +801,11 @@ def _x_ticks(frame: _Frame) -> list[tuple[float, str, bool]]:
     return [(t, label, False) for t, label in zip(ticks, labels)]
 
 
-def _axes(frame: _Frame) -> tuple[list[str], list[str]]:
-    """Grid lines (under the curves) and ticks with labels (over them)."""
-    under, over = [], []
+def _axes(frame: _Frame, grid: bool = True) -> tuple[list[str], list[str]]:
+    """Grid lines (under the curves; none with ``grid=False``) and ticks with labels
+    (over them)."""
+    under: list[str] = []
+    over: list[str] = []
     tick = 'stroke="#000" stroke-width="0.8"'
     for t, label, minor in _x_ticks(frame):
         x = float(frame.x(t))
@@ -629,6 +824,8 @@ def _axes(frame: _Frame) -> tuple[list[str], list[str]]:
     if xpower:
         over.append(_text(frame.right, frame.bottom + 27.0, f"$\\times 10^{{{xpower}}}$",
                           TICK_FONT, "end"))
+    if not grid:
+        under = []
     for y, label, minor in _y_ticks(frame):
         length = 2.0 if minor else 3.5
         if not minor:
@@ -685,6 +882,11 @@ def _star(x: float, y: float, outer: float, inner: float) -> str:
 
 
 def _marker_svg(shape: str, x: float, y: float, color: str, filled: bool = True) -> str:
+    if shape == "point":
+        return f'<circle cx="{x:.2f}" cy="{y:.2f}" r="2.2" fill="{color}"/>'
+    if shape == "cross":
+        return (f'<path d="M{x - 2.5:.2f} {y - 2.5:.2f}l5 5m0 -5l-5 5" stroke="{color}" '
+                'stroke-width="1" fill="none"/>')
     if shape in _OWN_COLOUR:
         paint = (f'fill="{color}" stroke="#000" stroke-width="0.6"' if filled else
                  f'fill="none" stroke="{color}" stroke-width="1"')
@@ -712,28 +914,20 @@ def _panel(chart: Chart, ident: str, height: float = HEIGHT) -> list[str]:
     rows = _legend_rows(legend_keys(chart), 0.9 * WIDTH)
     frame = _frame(chart, len(rows), _y_label_texts(chart), height)
     clip = f"{ident}-plot"
-    under, over = _axes(frame)
+    hatches = _hatches(chart, ident)
+    under, over = _axes(frame, grid=not chart.fields)
     body = [f'<defs><clipPath id="{clip}"><rect x="{frame.left:.2f}" y="{frame.top:.2f}" '
             f'width="{frame.right - frame.left:.2f}" height="{frame.bottom - frame.top:.2f}"/>'
-            f"</clipPath></defs>", f'<rect width="100%" height="{height:g}" fill="#fff"/>'
+            f"</clipPath>{''.join(_pattern(i, c) for c, i in hatches.items())}</defs>",
+            f'<rect width="100%" height="{height:g}" fill="#fff"/>'
             if height != HEIGHT else '<rect width="100%" height="100%" fill="#fff"/>']
     for span in chart.spans:
-        x0, x1 = sorted((float(frame.x(span.start)), float(frame.x(span.stop))))
-        x0, x1 = max(x0, frame.left), min(x1, frame.right)
-        if math.isfinite(x0) and math.isfinite(x1) and x1 > x0:
-            body.append(f'<rect x="{x0:.2f}" y="{frame.top:.2f}" width="{x1 - x0:.2f}" '
-                        f'height="{frame.bottom - frame.top:.2f}" fill="{span.color}"/>')
+        body += _span_svg(span, frame, hatches)
     body += [*under, f'<g clip-path="url(#{clip})" fill="none">']
+    for field in chart.fields:
+        body.append(_field_svg(field, frame, hatches))
     for bar in chart.bars:
-        zero = float(frame.y(0.0))
-        for k, (x, h) in enumerate(zip(np.asarray(bar.x, float).tolist(),
-                                       np.asarray(bar.heights, float).tolist())):
-            x0, x1 = float(frame.x(x - bar.width / 2)), float(frame.x(x + bar.width / 2))
-            y = float(frame.y(h))
-            if all(math.isfinite(v) for v in (x0, x1, y, zero)):
-                color = bar.colors[k % len(bar.colors)] if bar.colors else COLORS[0]
-                body.append(f'<rect x="{x0:.2f}" y="{min(y, zero):.2f}" width="{x1 - x0:.2f}" '
-                            f'height="{abs(zero - y):.2f}" fill="{color}" stroke="none"/>')
+        body += _bar_svg(bar, frame)
     for rule in chart.rules:
         dash = _dasharray(rule.dash, 1.0)
         if rule.vertical:
@@ -744,11 +938,17 @@ def _panel(chart: Chart, ident: str, height: float = HEIGHT) -> list[str]:
             coords = f'x1="{frame.left:.2f}" y1="{y:.2f}" x2="{frame.right:.2f}" y2="{y:.2f}"'
         body.append(f'<line {coords} stroke="{rule.color}" stroke-width="{rule.width:g}"{dash}/>')
     for curve in chart.colored():
-        path = _polyline(frame.x(curve.x), frame.y(curve.y))
+        path = _polyline(frame.x(curve.x), frame.y(curve.y)) if curve.line else ""
+        opacity = f' opacity="{curve.opacity:g}"' if curve.opacity < 1.0 else ""
         if path:
             body.append(f'<path d="{path}" stroke="{curve.color}" stroke-width="{curve.width:g}"'
-                        f'{_dasharray(curve.dash, curve.width)}'
+                        f'{_dasharray(curve.dash, curve.width)}{opacity}'
                         ' stroke-linejoin="round" stroke-linecap="round"/>')
+        marks = _marks(curve, frame) if curve.marker or not curve.line else ""
+        if marks:
+            width = 0.9 if curve.marker == "cross" else 2.4
+            body.append(f'<path d="{marks}" stroke="{curve.color}" stroke-width="{width:g}"'
+                        f'{opacity} stroke-linecap="round"/>')
     for m in chart.markers:
         x, y = float(frame.x(m.x)), float(frame.y(m.y))
         if math.isfinite(x) and math.isfinite(y):
@@ -758,6 +958,8 @@ def _panel(chart: Chart, ident: str, height: float = HEIGHT) -> list[str]:
                 f'width="{frame.right - frame.left:.2f}" height="{frame.bottom - frame.top:.2f}"'
                 ' fill="none" stroke="#000" stroke-width="0.8"/>')
     body += over
+    for field in chart.fields:
+        body += _colorbar_svg(field, frame, ident)
     for note in chart.notes:
         x = float(frame.x(note.at))
         if math.isfinite(x) and frame.left <= x <= frame.right:
@@ -770,8 +972,174 @@ def _panel(chart: Chart, ident: str, height: float = HEIGHT) -> list[str]:
     body.append(_text((frame.left + frame.right) / 2, height - 8.0, chart.xlabel, TICK_FONT))
     body.append(_text(13.0, (frame.top + frame.bottom) / 2, chart.ylabel, TICK_FONT,
                       rotate=True))
-    body += _legend(rows, frame)
+    body += _legend(rows, frame, hatches)
     return body
+
+
+def _hatches(chart: Chart, ident: str) -> dict[str, str]:
+    """The hatch colours a chart uses, each with the id of its SVG pattern."""
+    colors = [s.hatch for s in chart.spans if s.hatch]
+    colors += [HATCH_COLOR for f in chart.fields if f.missing]
+    return {c: f"{ident}-hatch-{k}" for k, c in enumerate(dict.fromkeys(colors))}
+
+
+def _pattern(ident: str, color: str) -> str:
+    """An SVG pattern of diagonal lines on white (matplotlib's ``////`` hatch)."""
+    return (f'<pattern id="{ident}" patternUnits="userSpaceOnUse" width="5" height="5">'
+            '<rect width="5" height="5" fill="#fff"/>'
+            f'<path d="M-1 1l2 -2M0 5l5 -5M4 6l2 -2" stroke="{html.escape(color)}" '
+            'stroke-width="0.7"/></pattern>')
+
+
+def _span_svg(span: Span, frame: _Frame, hatches: dict[str, str]) -> list[str]:
+    fill = f"url(#{hatches[span.hatch]})" if span.hatch else span.color
+    if span.vertical:
+        x0, x1 = sorted((float(frame.x(span.start)), float(frame.x(span.stop))))
+        x0, x1 = max(x0, frame.left), min(x1, frame.right)
+        if math.isfinite(x0) and math.isfinite(x1) and x1 > x0:
+            return [f'<rect x="{x0:.2f}" y="{frame.top:.2f}" width="{x1 - x0:.2f}" '
+                    f'height="{frame.bottom - frame.top:.2f}" fill="{fill}"/>']
+        return []
+    y0, y1 = sorted((float(frame.y(span.start)), float(frame.y(span.stop))))
+    y0, y1 = max(y0, frame.top), min(y1, frame.bottom)
+    if math.isfinite(y0) and math.isfinite(y1) and y1 > y0:
+        return [f'<rect x="{frame.left:.2f}" y="{y0:.2f}" width="{frame.right - frame.left:.2f}" '
+                f'height="{y1 - y0:.2f}" fill="{fill}"/>']
+    return []
+
+
+def _bar_svg(bar: Bar, frame: _Frame) -> list[str]:
+    """A bar series' rectangles, then its error bars (a stem and two caps each)."""
+    out, whiskers = [], []
+    zero = float(frame.y(0.0))
+    edge = (f' stroke="{bar.edge}" stroke-width="0.4"' if bar.edge else ' stroke="none"')
+    x = np.asarray(bar.x, float)
+    heights = np.asarray(bar.heights, float)
+    errors = (np.full(x.shape, math.nan) if bar.errors is None else
+              np.broadcast_to(np.asarray(bar.errors, float), x.shape))
+    for k, (c, h, w, e) in enumerate(zip(x.tolist(), heights.tolist(), bar.widths().tolist(),
+                                         errors.tolist())):
+        x0, x1 = float(frame.x(c - w / 2)), float(frame.x(c + w / 2))
+        y = float(frame.y(h))
+        if all(math.isfinite(v) for v in (x0, x1, y, zero)):
+            color = bar.colors[k % len(bar.colors)] if bar.colors else COLORS[0]
+            out.append(f'<rect x="{x0:.2f}" y="{min(y, zero):.2f}" width="{x1 - x0:.2f}" '
+                       f'height="{abs(zero - y):.2f}" fill="{color}"{edge}/>')
+        mid = float(frame.x(c))
+        low, high = float(frame.y(h - e)), float(frame.y(h + e))
+        if all(math.isfinite(v) for v in (mid, low, high)):
+            whiskers += [f'<line x1="{mid:.2f}" y1="{low:.2f}" x2="{mid:.2f}" y2="{high:.2f}" '
+                         'stroke="#000" stroke-width="1"/>']
+            whiskers += [f'<line x1="{mid - 3:.2f}" y1="{v:.2f}" x2="{mid + 3:.2f}" '
+                         f'y2="{v:.2f}" stroke="#000" stroke-width="1"/>' for v in (low, high)]
+    return out + whiskers
+
+
+def _marks(curve: Curve, frame: _Frame) -> str:
+    """Path data of a mark at every point of a curve: a dot (a zero-length piece with a
+    round cap) or a small cross."""
+    xs, ys = frame.x(curve.x), frame.y(curve.y)
+    ok = np.isfinite(xs) & np.isfinite(ys)
+    if curve.marker == "cross":
+        return "".join(f"M{x - 1.6:.2f} {y - 1.6:.2f}l3.2 3.2m0 -3.2l-3.2 3.2"
+                       for x, y in zip(xs[ok].tolist(), ys[ok].tolist()))
+    return "".join(f"M{x:.2f} {y:.2f}h0" for x, y in zip(xs[ok].tolist(), ys[ok].tolist()))
+
+
+def _field_svg(field: Field, frame: _Frame, hatches: dict[str, str]) -> str:
+    """A field's cells as rectangles (edges crisp, so that neighbours leave no seam),
+    over a hatched ground where cells without a value are named."""
+    xs, ys = frame.x(field.x), frame.y(field.y)
+    out = ['<g shape-rendering="crispEdges">']
+    if field.missing and xs.size >= 2 and ys.size >= 2:
+        x0, x1 = sorted((float(xs[0]), float(xs[-1])))
+        y0, y1 = sorted((float(ys[0]), float(ys[-1])))
+        if all(math.isfinite(v) for v in (x0, x1, y0, y1)):
+            out.append(f'<rect x="{x0:.2f}" y="{y0:.2f}" width="{x1 - x0:.2f}" '
+                       f'height="{y1 - y0:.2f}" fill="url(#{hatches[HATCH_COLOR]})"/>')
+    for j, row in enumerate(field.colors()[:max(ys.size - 1, 0)]):
+        y0, y1 = sorted((float(ys[j]), float(ys[j + 1])))
+        for i, color in enumerate(row[:max(xs.size - 1, 0)]):
+            x0, x1 = sorted((float(xs[i]), float(xs[i + 1])))
+            if color is not None and all(math.isfinite(v) for v in (x0, x1, y0, y1)):
+                out.append(f'<rect x="{x0:.2f}" y="{y0:.2f}" width="{x1 - x0:.2f}" '
+                           f'height="{y1 - y0:.2f}" fill="{color}"/>')
+    return "".join(out) + "</g>"
+
+
+def field_ticks(field: Field) -> tuple[list[tuple[float, str]], int]:
+    """The colour bar's ticks: (position from 0 at the bottom to 1 at the top, label), and
+    the power of ten linear labels are given in (0: none).
+
+    Examples
+    --------
+    >>> f = Field(np.arange(3.0), np.arange(2.0), np.array([[1e-2, 1e2]]), "z", log=True)
+    >>> ticks, power = field_ticks(f)
+    >>> [at for at, _ in ticks], ticks[0][1], power
+    ([0.0, 0.25, 0.5, 0.75, 1.0], '$10^{-2}$', 0)
+    """
+    low, high = field.range()
+    if field.levels is not None and len(field.levels) >= 2:
+        levels = [float(v) for v in field.levels]
+        every = max(1, math.ceil(len(levels) / 9))
+        chosen = list(range(0, len(levels), every))
+        labels, power = tick_labels([levels[k] for k in chosen])
+        return [(k / (len(levels) - 1), label) for k, label in zip(chosen, labels)], power
+    if field.log:
+        lo, hi = math.log10(low), math.log10(high)
+        majors, _ = log_ticks(low, high, most=7)
+        return [((k - lo) / (hi - lo), f"$10^{{{k}}}$") for k in majors], 0
+    ticks = [t for t in nice_ticks(low, high, most=7) if low <= t <= high]
+    labels, power = tick_labels(ticks)
+    span = high - low if high > low else 1.0
+    return [((t - low) / span, label) for t, label in zip(ticks, labels)], power
+
+
+def _colorbar_room(chart: Chart) -> float:
+    """The width the colour bars right of the plot take."""
+    room = 0.0
+    for field in chart.fields:
+        if field.label:
+            ticks, _ = field_ticks(field)
+            widest = max((text_width(label, TICK_FONT) for _, label in ticks), default=10.0)
+            room += 10.0 + 12.0 + 4.0 + widest + 24.0
+    return room
+
+
+def _colorbar_svg(field: Field, frame: _Frame, ident: str) -> list[str]:
+    """The colour bar of a field right of the plot: its colours bottom to top, ticks and
+    labels on its right, its label beside them."""
+    if not field.label:
+        return []
+    left, top, bottom = frame.right + 10.0, frame.top, frame.bottom
+    out = []
+    if field.levels is not None and len(field.levels) >= 2:
+        bands = field.bands()
+        step = (bottom - top) / len(bands)
+        out += [f'<rect x="{left:.2f}" y="{bottom - (k + 1) * step:.2f}" width="12" '
+                f'height="{step:.2f}" fill="{color}"/>' for k, color in enumerate(bands)]
+    else:
+        gradient = f"{ident}-colors"
+        stops = "".join(f'<stop offset="{k / (len(FIELD_COLORS) - 1):.4f}" stop-color="{c}"/>'
+                        for k, c in enumerate(FIELD_COLORS))
+        out.append(f'<defs><linearGradient id="{gradient}" x1="0" y1="1" x2="0" y2="0">{stops}'
+                   '</linearGradient></defs>')
+        out.append(f'<rect x="{left:.2f}" y="{top:.2f}" width="12" height="{bottom - top:.2f}" '
+                   f'fill="url(#{gradient})"/>')
+    out.append(f'<rect x="{left:.2f}" y="{top:.2f}" width="12" height="{bottom - top:.2f}" '
+               'fill="none" stroke="#000" stroke-width="0.8"/>')
+    ticks, power = field_ticks(field)
+    widest = max((text_width(label, TICK_FONT) for _, label in ticks), default=10.0)
+    for at, label in ticks:
+        y = bottom - at * (bottom - top)
+        out.append(f'<line x1="{left + 12:.2f}" y1="{y:.2f}" x2="{left + 15.5:.2f}" '
+                   f'y2="{y:.2f}" stroke="#000" stroke-width="0.8"/>')
+        out.append(_text(left + 18.0, y + 3.5, label, TICK_FONT, "start"))
+    if power:
+        out.append(_text(left, top - 5.0, f"$\\times 10^{{{power}}}$", TICK_FONT, "start"))
+    out.append(_text(left + 12.0 + 4.0 + widest + 18.0, (top + bottom) / 2, field.label,
+                     TICK_FONT, rotate=True))
+    return out
 
 
 def _svg(body: list[str], height: float, title: str) -> str:
@@ -897,11 +1265,13 @@ def describe(chart: Chart | Charts) -> str:
         title = plain_text(chart.title.replace("\n", " ")).strip()
         return (f"{title}: " if title else "") + "; ".join(describe(p) for p in chart.panels)
     scale = " (logarithmic)" if chart.ylog else ""
+    colours = "".join(f"; colour: {plain_text(f.label)}" for f in chart.fields if f.label)
     return (f"{plain_text(chart.ylabel)}{scale} against {plain_text(chart.xlabel)}: "
-            + ", ".join(plain_text(c.label) for c in chart.curves))
+            + ", ".join(plain_text(c.label) for c in chart.curves) + colours)
 
 
-def _legend(rows: list[list[tuple[_Key, float]]], frame: _Frame) -> list[str]:
+def _legend(rows: list[list[tuple[_Key, float]]], frame: _Frame,
+            hatches: dict[str, str] | None = None) -> list[str]:
     out = []
     for r, row in enumerate(rows):
         x = frame.right - sum(w for _, w in row) + 14.0
@@ -910,8 +1280,11 @@ def _legend(rows: list[list[tuple[_Key, float]]], frame: _Frame) -> list[str]:
             if key.shape:
                 out.append(_marker_svg(key.shape, x + 10.0, y - 3.5, key.color, key.filled))
             elif key.width > 4.0:  # a band
+                hatch = (hatches or {}).get(key.hatch) if key.hatch else None
+                paint = (f'fill="url(#{hatch})" stroke="{key.hatch}" stroke-width="0.6"'
+                         if hatch else f'fill="{key.color}"')
                 out.append(f'<rect x="{x:.2f}" y="{y - 7.5:.2f}" width="20" height="8" '
-                           f'fill="{key.color}"/>')
+                           f'{paint}/>')
             else:
                 out.append(f'<line x1="{x:.2f}" y1="{y - 3.5:.2f}" x2="{x + 20:.2f}" '
                            f'y2="{y - 3.5:.2f}" stroke="{key.color}" '
@@ -948,7 +1321,8 @@ def mathtext_label(label: str) -> str:
 
 
 _MPL_MARKERS: dict[str, dict[str, Any]] = {
-    "dot": {"marker": "o", "markersize": 5},
+    "dot": {"marker": "o", "markersize": 5}, "point": {"marker": "o", "markersize": 4.4},
+    "cross": {"marker": "x", "markersize": 5},
     "peak": {"marker": "v", "markersize": 7, "mec": "black", "mew": 0.6},
     "ring": {"marker": "o", "markersize": 6, "mfc": "white"},
     "circle": {"marker": "o", "markersize": 7}, "square": {"marker": "s", "markersize": 6},
@@ -965,21 +1339,36 @@ def _marker_style(shape: str, color: str, filled: bool) -> dict[str, Any]:
     return style
 
 
-def _draw_panel(chart: Chart, ax: Axes, own: bool, legend_size: float | None = None) -> None:
+def _draw_panel(chart: Chart, ax: Axes, own: bool, legend_size: float | None = None,
+                show_legend: bool = True) -> tuple[list[Any], list[str]]:
     """Draw one chart on an Axes (the drawing behind :func:`draw_chart` and
-    :func:`draw_figure`)."""
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
-
+    :func:`draw_figure`); return its legend's handles and labels (in the order of
+    :func:`legend_keys`, as the SVG lists them)."""
     for span in chart.spans:
-        ax.axvspan(span.start, span.stop, color=span.color, zorder=0,
-                   label=mathtext_label(span.label) if span.label else None)
+        style: dict[str, Any] = ({"facecolor": "white", "edgecolor": span.hatch, "hatch": HATCH,
+                                  "linewidth": 0} if span.hatch else {"color": span.color})
+        (ax.axvspan if span.vertical else ax.axhspan)(span.start, span.stop, zorder=0, **style)
+    for field in chart.fields:
+        _draw_field(field, ax)
     for bar in chart.bars:
-        ax.bar(bar.x, bar.heights, width=bar.width, color=list(bar.colors) or None)
+        errors: dict[str, Any] = {} if bar.errors is None else {
+            "yerr": np.asarray(bar.errors, dtype=float), "capsize": 3,
+            "error_kw": {"ecolor": "black", "elinewidth": 1.0, "capthick": 1.0}}
+        edge: dict[str, Any] = {} if bar.edge is None else {"edgecolor": bar.edge,
+                                                             "linewidth": 0.4}
+        ax.bar(bar.x, bar.heights, width=bar.widths(), color=list(bar.colors) or None,
+               **edge, **errors)
+    lines = []
     for curve in chart.colored():
         y = np.where(np.asarray(curve.y) > 0, curve.y, np.nan) if chart.ylog else curve.y
-        ax.plot(curve.x, y, label=mathtext_label(curve.label), color=curve.color,
-                linewidth=curve.width, linestyle=_linestyle(curve.dash))
+        mark: dict[str, Any] = {} if not (curve.marker or not curve.line) else {
+            "marker": "x" if curve.marker == "cross" else ".", "markersize": 3}
+        (line,) = ax.plot(curve.x, y, label=mathtext_label(curve.label), color=curve.color,
+                          linewidth=curve.width, linestyle=_linestyle(curve.dash)
+                          if curve.line else "", alpha=curve.opacity if curve.opacity < 1 else None,
+                          **mark)
+        if curve.label:
+            lines.append((curve, line))
     for m in chart.markers:
         ax.plot([m.x], [m.y], ls="", color=m.color, zorder=3,
                 **_marker_style(m.shape, m.color, m.filled))
@@ -1011,29 +1400,93 @@ def _draw_panel(chart: Chart, ax: Axes, own: bool, legend_size: float | None = N
     if chart.title:
         ax.set_title(mathtext_label(chart.title), fontsize=10)
     ax.set_axisbelow(True)  # the grid under the bars
-    ax.grid(True, which="major", color="0.9", axis="y" if chart.xticks is not None else "both")
-    if chart.xlog or chart.ylog:
-        ax.grid(True, which="minor", color="0.95", linewidth=0.5)
-    keys = legend_keys(chart)[len([c for c in chart.curves if c.label]):]
-    handles = [Patch(color=k.color, label=mathtext_label(k.label)) if k.width > 4.0 and
-               not k.shape else
-               Line2D([], [], ls="", color=k.color, label=mathtext_label(k.label),
-                      **_marker_style(k.shape, k.color, k.filled)) if k.shape else
-               Line2D([], [], color=k.color, linewidth=k.width, linestyle=_linestyle(k.dash),
-                      label=mathtext_label(k.label)) for k in keys
-               if not any(s.label == k.label for s in chart.spans)]
-    if chart.legend != "none" and (chart.curves or handles):
-        curve_handles, labels = ax.get_legend_handles_labels()
+    if not chart.fields:  # the cells would hide it
+        ax.grid(True, which="major", color="0.9",
+                axis="y" if chart.xticks is not None else "both")
+        if chart.xlog or chart.ylog:
+            ax.grid(True, which="minor", color="0.95", linewidth=0.5)
+    return _panel_legend(chart, ax, own, lines, legend_size, show_legend)
+
+
+def _panel_legend(chart: Chart, ax: Axes, own: bool, lines: list[tuple[Curve, Any]],
+                  legend_size: float | None, show: bool) -> tuple[list[Any], list[str]]:
+    """The legend of a panel (``lines``: its labelled curves and their drawn lines), drawn
+    where the chart puts it when ``show``; its handles and labels."""
+    keys = legend_keys(chart)
+    handles = [line if curve.line else _key_handle(key)
+               for (curve, line), key in zip(lines, keys)]
+    handles += [_key_handle(key) for key in keys[len(lines):]]
+    labels = [mathtext_label(key.label) for key in keys]
+    if show and chart.legend != "none" and (chart.curves or handles):
         options: dict[str, Any] = {"frameon": False}
         if legend_size is not None:
             options["fontsize"] = legend_size
         if chart.legend == "beside" and own:
             options.update(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0,
                            frameon=True)
+        elif chart.legend == "below":  # under the x label: it hides nothing
+            from matplotlib.transforms import ScaledTranslation
+
+            below = ScaledTranslation(0.0, -0.55, figure_of(ax).dpi_scale_trans)
+            options.update(loc="upper center", bbox_to_anchor=(0.5, 0.0),
+                           bbox_transform=ax.transAxes + below, ncols=min(3, len(handles) or 1))
         else:
             options["loc"] = "best"
-        ax.legend([*curve_handles, *handles], labels + [h.get_label() for h in handles],
-                  **options)
+        ax.legend(handles, labels, **options)
+    return handles, labels
+
+
+def _key_handle(key: _Key) -> Any:
+    """A matplotlib legend handle drawn as the SVG draws the key."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    label = mathtext_label(key.label)
+    if key.shape:
+        return Line2D([], [], ls="", color=key.color, label=label,
+                      **_marker_style(key.shape, key.color, key.filled))
+    if key.width > 4.0:  # a band
+        if key.hatch:
+            return Patch(facecolor="white", edgecolor=key.hatch, hatch=HATCH, label=label)
+        return Patch(color=key.color, label=label)
+    return Line2D([], [], color=key.color, linewidth=key.width, linestyle=_linestyle(key.dash),
+                  label=label)
+
+
+def field_colormap(field: Field) -> tuple[Any, Any]:
+    """matplotlib's colour map and norm of a field: the colour table of
+    :data:`FIELD_COLORS` (the bands' colours with levels), over the field's range.
+
+    Examples
+    --------
+    >>> f = Field(np.arange(3.0), np.arange(2.0), np.array([[0.0, 4.0]]), levels=(0, 2, 4))
+    >>> cmap, norm = field_colormap(f)
+    >>> cmap.N, type(norm).__name__
+    (2, 'BoundaryNorm')
+    """
+    from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm, Normalize
+
+    if field.levels is not None and len(field.levels) >= 2:
+        bands = field.bands()
+        return (ListedColormap(bands, name="resonant-bands"),
+                BoundaryNorm(list(field.levels), len(bands)))
+    low, high = field.range()
+    norm = LogNorm(low, high) if field.log else Normalize(low, high)
+    return ListedColormap(_field_table(), name="resonant-field"), norm
+
+
+def _draw_field(field: Field, ax: Axes) -> None:
+    """A field's cells (a QuadMesh over a hatched ground where cells without a value are
+    named) and its colour bar."""
+    x, y = np.asarray(field.x, dtype=float), np.asarray(field.y, dtype=float)
+    if field.missing and x.size >= 2 and y.size >= 2:  # the hatch shows through
+        ax.fill_between([x[0], x[-1]], y[0], y[-1], facecolor="white", edgecolor=HATCH_COLOR,
+                        hatch=HATCH, linewidth=0, zorder=0)
+    cmap, norm = field_colormap(field)
+    cells = ax.pcolormesh(x, y, np.ma.masked_invalid(field.values()), cmap=cmap, norm=norm,
+                          shading="flat", zorder=1)
+    if field.label:
+        figure_of(ax).colorbar(cells, ax=ax, label=mathtext_label(field.label))
 
 
 def draw_chart(chart: Chart, figure: Figure | None = None, ax: Axes | None = None) -> Any:
@@ -1131,16 +1584,17 @@ def draw_figure(charts: Charts | Chart, ax: Axes | Sequence[Axes] | None = None)
         fig = figure_of(axes[0])
     own = ax is None
     below = charts.legend == "below" and own
+    entries: dict[str, Any] = {}  # the panels' legend entries, each label once
     for k, (panel, axis) in enumerate(zip(charts.panels, axes)):
-        if below or (charts.legend == "below" and k > 0):
-            panel = replace(panel, legend="none")
-        _draw_panel(panel, axis, own, legend_size=8.0)
+        handles, labels = _draw_panel(panel, axis, own, legend_size=8.0, show_legend=not (
+            below or (charts.legend == "below" and k > 0)))
+        for handle, label in zip(handles, labels):
+            entries.setdefault(label, handle)
         if own and charts.sharex and charts.columns == 1 and k < len(charts.panels) - 1:
             axis.set_xlabel("")
-    if below:
-        handles, labels = axes[0].get_legend_handles_labels()
-        fig.legend(handles, labels, loc="outside lower center", fontsize=9, ncols=3,
-                   frameon=False)
+    if below and entries:
+        fig.legend(list(entries.values()), list(entries), loc="outside lower center", fontsize=9,
+                   ncols=3, frameon=False)
     title = "\n".join(mathtext_label(t) for t in charts.title.split("\n"))
     if charts.title and not charts.panels[0].title:  # over the first panel (also ax=)
         axes[0].set_title(title, fontsize=10)
@@ -1149,7 +1603,9 @@ def draw_figure(charts: Charts | Chart, ax: Axes | Sequence[Axes] | None = None)
     return fig
 
 
-__all__ = ["Annotation", "Bar", "Chart", "Charts", "Curve", "Marker", "Rule", "Span", "chart_svg",
+__all__ = ["Annotation", "Bar", "Chart", "Charts", "Curve", "Field", "Marker", "Rule", "Span",
+           "chart_svg", "field_colormap", "field_ticks", "CURVE_MARKERS", "FIELD_COLORS",
+           "HATCH", "HATCH_COLOR",
            "charts_svg", "describe", "draw_chart", "draw_figure", "figure_of", "legend_keys",
            "mathtext_label", "panel_heights", "plain_text", "nice_ticks", "log_ticks",
            "tick_labels", "text_runs", "unicode_text", "unit_text", "text_width", "x_limits",

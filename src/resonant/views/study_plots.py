@@ -1,8 +1,11 @@
 """Pictures of a study: histograms, scatter plots, Sobol indices, a map of a grid.
 
-Each ``plot_*`` function draws on ``ax`` (a new figure without one) and
-returns the Figure; :func:`plot_study` writes all that fit a study into a
-directory.  Failed samples (NaN) are left out and counted in the titles.
+Each ``*_chart`` function describes a picture as a chart
+(:class:`~resonant.views.charts.Charts`: drawn with matplotlib or written as SVG text);
+each ``plot_*`` function draws that description on ``ax`` (a new figure without one) and
+returns the Figure; :func:`plot_study` writes all that fit a study into a directory
+(:func:`study_charts` lists them).  Failed samples (NaN) are left out and counted in the
+titles.
 
 Examples
 --------
@@ -26,22 +29,38 @@ import numpy as np
 from ..errors import AnalysisError
 from ..model import Model
 from ..model.study import StudySpec
-from .plotting import _figure_of, _new_figure, _save, math_name, unit_math
+from .charts import (
+    HATCH,
+    HATCH_COLOR,
+    Bar,
+    Chart,
+    Charts,
+    Curve,
+    Field,
+    Marker,
+    PathArg,
+    Rule,
+    Span,
+    draw_figure,
+)
+from .plotting import _save, math_name, unit_math
 
 if TYPE_CHECKING:
     import pandas as pd
-    from matplotlib.artist import Artist
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
-    from matplotlib.patches import Patch
 
 #: at most this many points in a scatter plot (an even subsample of the rest)
 MAX_SCATTER = 20_000
 #: a colour scale is logarithmic where the positive values span this ratio or more
 LOG_SPAN = 100.0
 #: the hatch of samples without a value (unstable, resonant, failed)
-HATCH = "////"
-IMPOSSIBLE_COLOR = "0.55"
+IMPOSSIBLE_COLOR = HATCH_COLOR
+#: the samples' colour, and that of the marks over them (mean, quantiles, nominal design)
+SAMPLE_COLOR = "#4477aa"
+MARK_COLOR = "#cc3311"
+#: matplotlib's dashes, in line widths
+DASHED = "3.7 1.6"
 
 
 def study_units(model: Model, spec: StudySpec) -> dict[str, str]:
@@ -135,13 +154,6 @@ def axis_label(column: str, units: Mapping[str, str] | None = None) -> str:
     return text + (f" [{unit_math(unit)}]" if unit and unit != "1" else "")
 
 
-def _axes(ax: Axes | None, **figure: object) -> tuple[Figure, Axes]:
-    if ax is not None:
-        return _figure_of(ax), ax
-    fig = _new_figure(**figure)
-    return fig, fig.add_subplot()
-
-
 def _finite(frame: pd.DataFrame, name: str) -> np.ndarray:
     values = np.asarray(frame[name], dtype=float)
     return values[np.isfinite(values)]
@@ -177,9 +189,78 @@ def _counted(missing: Mapping[str, int]) -> str:
     return ", ".join(f"{count} {kind}" for kind, count in missing.items())
 
 
+def _name_label(name: str) -> str:
+    """A varied parameter's name as a tick label under its bars."""
+    return math_name(name)
+
+
+def _padded(low: float, high: float, log: bool = False) -> tuple[float, float]:
+    """A range with 5 % margins (in decades on a log axis), as matplotlib's autoscale."""
+    if log:
+        lo, hi = _padded(math.log10(low), math.log10(high))
+        return 10.0 ** lo, 10.0 ** hi
+    pad = 0.05 * (high - low) if high > low else (0.05 * abs(low) or 0.5)
+    return low - pad, high + pad
+
+
+def histogram_chart(frame: pd.DataFrame, quantity: str,
+                    units: Mapping[str, str] | None = None) -> Charts:
+    """What the histogram of one quantity shows: its samples in bins (geometric ones where
+    the values span :data:`LOG_SPAN` or more, on a log axis), its mean and its 5 % and 95 %
+    quantiles; the samples without a value counted in the title.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+    quantity : str
+        A column.
+    units : mapping, optional
+        column -> unit (:func:`study_units`).
+
+    Returns
+    -------
+    Charts
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> chart = histogram_chart(pd.DataFrame({"f": [1.0, 2.0, 2.0, np.nan]}), "f")
+    >>> panel = chart.panels[0]
+    >>> int(panel.bars[0].heights.sum()), panel.title
+    (3, '3 samples (1 no value: no value)')
+    """
+    values = _finite(frame, quantity)
+    missing = _without_value(frame, quantity)
+    count = int(np.clip(np.sqrt(values.size), 10, 100)) if values.size else 10
+    log = spans_decades(values)
+    bars: tuple[Bar, ...] = ()
+    rules: tuple[Rule, ...] = ()
+    xlim, ylim = (0.0, 1.0), (0.0, 1.0)
+    if values.size:
+        edges = (np.geomspace(values.min(), values.max(), count + 1) if log else
+                 np.histogram_bin_edges(values, bins=count))
+        heights, edges = np.histogram(values, bins=edges)
+        bars = (Bar((edges[1:] + edges[:-1]) / 2, heights.astype(float), (SAMPLE_COLOR,),
+                    width=np.diff(edges), edge="#ffffff"),)
+        low, high = np.quantile(values, [0.05, 0.95])
+        rules = (Rule(float(values.mean()), color=MARK_COLOR, width=1.2, label="mean"),
+                 Rule(float(low), color=MARK_COLOR, width=0.8, dash=DASHED,
+                      label="5 % and 95 % quantiles"),
+                 Rule(float(high), color=MARK_COLOR, width=0.8, dash=DASHED,
+                      label="5 % and 95 % quantiles"))
+        xlim = _padded(float(edges[0]), float(edges[-1]), log)
+        ylim = (0.0, 1.05 * float(max(heights.max(), 1)))
+    title = f"{values.size} samples" + (f" ({_counted(missing)}: no value)" if missing else "")
+    chart = Chart((), axis_label(quantity, units) + (" (log scale)" if log else ""), "samples",
+                  xlim, xlog=log, ylim=ylim, bars=bars, rules=rules, title=title,
+                  legend="below")
+    return Charts((chart,), size=(6.4, 4.6))
+
+
 def plot_histogram(frame: pd.DataFrame, quantity: str, ax: Axes | None = None,
-                   units: Mapping[str, str] | None = None) -> Figure:
-    """The distribution of one quantity, with its mean and its 5 % and 95 % quantiles.
+                   units: Mapping[str, str] | None = None, path: PathArg = None) -> Figure:
+    """The distribution of one quantity, with its mean and its 5 % and 95 % quantiles: the
+    chart of :func:`histogram_chart`, drawn with matplotlib.
 
     Parameters
     ----------
@@ -189,32 +270,15 @@ def plot_histogram(frame: pd.DataFrame, quantity: str, ax: Axes | None = None,
     ax : matplotlib Axes, optional
     units : mapping, optional
         column -> unit (:func:`study_units`).
+    path : str or Path, optional
+        Also write the figure there (``.png``, ``.svg`` or ``.pdf``).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
-    fig, ax = _axes(ax, figsize=(6.4, 4.6), layout="constrained")
-    values = _finite(frame, quantity)
-    missing = _without_value(frame, quantity)
-    count = int(np.clip(np.sqrt(values.size), 10, 100)) if values.size else 10
-    log = spans_decades(values)
-    bins: Any = np.geomspace(values.min(), values.max(), count + 1) if log else count
-    ax.hist(values, bins=bins, color="#4477aa", edgecolor="white", linewidth=0.4)
-    if log:
-        ax.set_xscale("log")
-    if values.size:
-        ax.axvline(values.mean(), color="#cc3311", linewidth=1.2, label="mean")
-        for k, q in enumerate(np.quantile(values, [0.05, 0.95])):
-            ax.axvline(q, color="#cc3311", linewidth=0.8, linestyle="--",
-                       label="5 % and 95 % quantiles" if k == 0 else None)
-        # under the plot: no line crosses it
-        ax.legend(fontsize="small", frameon=False, ncols=2, loc="upper center",
-                  bbox_to_anchor=(0.5, -0.16))
-    ax.set_xlabel(axis_label(quantity, units) + (" (log scale)" if log else ""))
-    ax.set_ylabel("samples")
-    ax.set_title(f"{values.size} samples" + (f" ({_counted(missing)}: no value)"
-                                              if missing else ""), fontsize="medium")
+    fig = draw_figure(histogram_chart(frame, quantity, units), None if ax is None else [ax])
+    _save(fig, path, dpi=110)
     return fig
 
 
@@ -227,17 +291,86 @@ def _cell_edges(centres: np.ndarray) -> np.ndarray:
     return np.concatenate(([2 * centres[0] - mid[0]], mid, [2 * centres[-1] - mid[-1]]))
 
 
-def _impossible_handle(missing: Mapping[str, int]) -> Patch:
-    from matplotlib.patches import Patch
+def scatter_chart(frame: pd.DataFrame, quantity: str, parameters: Sequence[str],
+                  units: Mapping[str, str] | None = None,
+                  nominal: Mapping[str, float] | None = None) -> Charts:
+    """What the scatter plots of one quantity show: a panel per varied parameter (three to
+    a row), every sample a dot (at most :data:`MAX_SCATTER`, an even subsample); samples
+    without a value as grey crosses on a hatched band under the lowest value; the nominal
+    design (the model's values) as a dashed line.
 
-    return Patch(facecolor="white", edgecolor=IMPOSSIBLE_COLOR, hatch=HATCH,
-                 label=f"no value: {_counted(missing)}")
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+    quantity : str
+    parameters : sequence of str
+        The varied parameters (one panel each).
+    units : mapping, optional
+        column -> unit (:func:`study_units`).
+    nominal : mapping, optional
+        parameter -> its nominal value, marked.
+
+    Returns
+    -------
+    Charts
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> frame = pd.DataFrame({"k": [1.0, 2.0, 3.0], "f": [1.0, np.nan, 3.0]})
+    >>> panel = scatter_chart(frame, "f", ["k"]).panels[0]
+    >>> [(c.label, c.marker, c.line, len(c.x)) for c in panel.curves]
+    [('sample', 'point', False, 2), ('', 'cross', False, 1)]
+    >>> panel.spans[0].label
+    'no value: 1 no value'
+    """
+    step = max(1, len(frame) // MAX_SCATTER)
+    y = np.asarray(frame[quantity], dtype=float)[::step]
+    bad = ~np.isfinite(y)
+    missing = _without_value(frame, quantity)
+    finite = y[~bad]
+    log = spans_decades(finite)
+    shown = np.log10(finite) if log else finite
+    low, high = (float(shown.min()), float(shown.max())) if finite.size else (0.0, 1.0)
+    span = (high - low) or abs(high) or 1.0
+    # the band of the samples without a value, under the lowest value (in the axis' scale)
+    below = [10 ** v if log else v for v in (low - 0.18 * span, low - 0.12 * span,
+                                              low - 0.06 * span)]
+    ylim = None
+    if bad.any():
+        bottom, top = low - 0.18 * span - 0.06 * span, high + 0.06 * span
+        ylim = (10 ** bottom, 10 ** top) if log else (bottom, top)
+    panels = []
+    for name in parameters:
+        x = np.asarray(frame[name], dtype=float)[::step]
+        curves = [Curve(x[~bad], y[~bad], "sample", SAMPLE_COLOR, marker="point", line=False,
+                        opacity=0.45)]
+        spans: tuple[Span, ...] = ()
+        if bad.any():
+            curves.append(Curve(x[bad], np.full(int(bad.sum()), below[1]), "", IMPOSSIBLE_COLOR,
+                                marker="cross", line=False))
+            spans = (Span(below[0], below[2], "#ffffff", f"no value: {_counted(missing)}",
+                          vertical=False, hatch=IMPOSSIBLE_COLOR),)
+        rules: tuple[Rule, ...] = ()
+        marks = x[np.isfinite(x)]
+        if nominal and name in nominal:
+            rules = (Rule(float(nominal[name]), color=MARK_COLOR, dash=DASHED,
+                          label="nominal design"),)
+            marks = np.append(marks, float(nominal[name]))
+        xlim = _padded(float(marks.min()), float(marks.max())) if marks.size else (0.0, 1.0)
+        panels.append(Chart(tuple(curves), axis_label(name, units), axis_label(quantity, units),
+                            xlim, ylog=log, ylim=ylim, rules=rules, spans=spans))
+    columns = max(1, min(len(parameters), 3))
+    rows = -(-len(parameters) // 3)
+    return Charts(tuple(panels), size=(4.3 * columns + 0.6, 3.9 * rows + 0.7), sharex=False,
+                  legend="below", columns=columns)
 
 
 def plot_scatter(frame: pd.DataFrame, quantity: str, parameters: Sequence[str],
                  ax: Axes | None = None, units: Mapping[str, str] | None = None,
-                 nominal: Mapping[str, float] | None = None) -> Figure:
-    """One quantity against each varied parameter, side by side.
+                 nominal: Mapping[str, float] | None = None, path: PathArg = None) -> Figure:
+    """One quantity against each varied parameter, side by side: the chart of
+    :func:`scatter_chart`, drawn with matplotlib.
 
     Samples without a value (unstable, resonant) are drawn as grey crosses on a hatched
     band under the axis, the nominal design (the model's values) as a dashed line.
@@ -254,68 +387,73 @@ def plot_scatter(frame: pd.DataFrame, quantity: str, parameters: Sequence[str],
         column -> unit (:func:`study_units`).
     nominal : mapping, optional
         parameter -> its nominal value, marked.
+    path : str or Path, optional
+        Also write the figure there (``.png``, ``.svg`` or ``.pdf``).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
-    from matplotlib.lines import Line2D
-
     if ax is not None and len(parameters) != 1:
         raise AnalysisError("a scatter plot of several parameters needs its own figure")
-    columns = min(len(parameters), 3)
-    rows = -(-len(parameters) // 3)
-    if ax is not None:
-        fig, axes = _figure_of(ax), [ax]
-    else:
-        fig = _new_figure(figsize=(4.3 * columns + 0.6, 3.9 * rows + 0.7), layout="constrained")
-        axes = fig.subplots(rows, columns, squeeze=False).ravel()
-    step = max(1, len(frame) // MAX_SCATTER)
-    y = np.asarray(frame[quantity], dtype=float)[::step]
-    bad = ~np.isfinite(y)
-    missing = _without_value(frame, quantity)
-    finite = y[~bad]
-    log = spans_decades(finite)
-    shown = np.log10(finite) if log else finite
-    low, high = (float(shown.min()), float(shown.max())) if finite.size else (0.0, 1.0)
-    span = (high - low) or abs(high) or 1.0
-    # the band of the samples without a value, under the lowest value (in the axis' scale)
-    below = [10 ** v if log else v for v in (low - 0.18 * span, low - 0.12 * span,
-                                              low - 0.06 * span)]
-    handles: list[Artist] = [Line2D([], [], ls="", marker=".", color="#4477aa",
-                                    label="sample")]
-    for a, name in zip(axes, parameters):
-        x = np.asarray(frame[name], dtype=float)[::step]
-        a.plot(x[~bad], y[~bad], ".", markersize=3, alpha=0.45, color="#4477aa")
-        if log:
-            a.set_yscale("log")
-        if bad.any():
-            a.axhspan(below[0], below[2], facecolor="white", edgecolor=IMPOSSIBLE_COLOR,
-                      hatch=HATCH, linewidth=0)
-            a.plot(x[bad], np.full(int(bad.sum()), below[1]), "x", markersize=3,
-                   color=IMPOSSIBLE_COLOR)
-        if nominal and name in nominal:
-            a.axvline(nominal[name], color="#cc3311", linewidth=1.0, linestyle="--")
-        a.set_xlabel(axis_label(name, units))
-        a.set_ylabel(axis_label(quantity, units))
-        a.grid(True, alpha=0.3)
-    if bad.any():
-        handles.append(_impossible_handle(missing))
-    if nominal and any(name in nominal for name in parameters):
-        handles.append(Line2D([], [], color="#cc3311", ls="--", label="nominal design"))
-    for a in axes[len(parameters):]:
-        a.set_visible(False)
-    if ax is None:
-        fig.legend(handles=handles, loc="outside lower center", ncols=len(handles),
-                   frameon=False, fontsize="small")
-    else:
-        ax.legend(handles=handles, fontsize="small")
+    # in the caller's axes, the legend inside them
+    fig = draw_figure(scatter_chart(frame, quantity, parameters, units, nominal),
+                      None if ax is None else [ax])
+    _save(fig, path, dpi=110)
     return fig
 
 
+def sobol_chart(indices: Mapping[str, Any], quantity: str,
+                units: Mapping[str, str] | None = None) -> Charts:
+    """What the Sobol indices of one quantity show: the first-order and the total index of
+    each varied parameter side by side, with their 95 % intervals.
+
+    Parameters
+    ----------
+    indices : mapping
+        The entry of :func:`resonant.studies.sobol_indices` for the quantity.
+    quantity : str
+    units : mapping, optional
+        column -> unit (:func:`study_units`).
+
+    Returns
+    -------
+    Charts
+
+    Examples
+    --------
+    >>> entry = {"parameters": ["k", "c"], "S1": [0.7, None], "S1_conf": [0.1, None],
+    ...          "ST": [0.8, 0.1], "ST_conf": [0.1, 0.05]}
+    >>> panel = sobol_chart(entry, "f").panels[0]
+    >>> [b.label for b in panel.bars], panel.bars[0].heights.tolist()
+    (['first order', 'total'], [0.7, nan])
+    """
+    names = list(indices["parameters"])
+    x = np.arange(len(names), dtype=float)
+    bars = tuple(Bar(x + offset, _numbers(indices[key]), (color,), width=0.36, label=label,
+                     errors=_numbers(indices[f"{key}_conf"]))
+                 for offset, key, color, label in ((-0.18, "S1", "#4477aa", "first order"),
+                                                   (0.18, "ST", "#ee7733", "total")))
+    with np.errstate(all="ignore"):
+        ends = np.concatenate([_numbers(indices[key]) + sign * np.nan_to_num(
+            _numbers(indices[f"{key}_conf"])) for key in ("S1", "ST") for sign in (-1, 1)])
+    ends = ends[np.isfinite(ends)]
+    low, high = _padded(float(min(ends.min(), 0.0)) if ends.size else 0.0,
+                        float(max(ends.max(), 0.0)) if ends.size else 1.0)
+    low = low if ends.size and ends.min() < 0 else 0.0  # bars stand on the axis
+    note = f" ({indices['note']})" if indices.get("note") else ""
+    chart = Chart((), "", "Sobol index", _padded(-0.36, len(names) - 1 + 0.36),
+                  ylim=(min(0.0, low), max(1.05, high)),
+                  rules=(Rule(0.0, vertical=False, color="#000000", width=0.6),),
+                  title=f"sensitivity of {axis_label(quantity, units)}{note}", bars=bars,
+                  xticks=tuple((float(k), _name_label(n)) for k, n in enumerate(names)))
+    return Charts((chart,), size=(6.4, 4.4))
+
+
 def plot_sobol(indices: Mapping[str, Any], quantity: str, ax: Axes | None = None,
-               units: Mapping[str, str] | None = None) -> Figure:
-    """First-order and total Sobol indices of one quantity, with 95 % intervals.
+               units: Mapping[str, str] | None = None, path: PathArg = None) -> Figure:
+    """First-order and total Sobol indices of one quantity, with 95 % intervals: the chart
+    of :func:`sobol_chart`, drawn with matplotlib.
 
     Parameters
     ----------
@@ -325,27 +463,15 @@ def plot_sobol(indices: Mapping[str, Any], quantity: str, ax: Axes | None = None
     ax : matplotlib Axes, optional
     units : mapping, optional
         column -> unit (:func:`study_units`).
+    path : str or Path, optional
+        Also write the figure there (``.png``, ``.svg`` or ``.pdf``).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
-    fig, ax = _axes(ax, figsize=(6.4, 4.4))
-    names = list(indices["parameters"])
-    x = np.arange(len(names))
-    for offset, key, color, label in ((-0.18, "S1", "#4477aa", "first order"),
-                                      (0.18, "ST", "#ee7733", "total")):
-        ax.bar(x + offset, _numbers(indices[key]), width=0.36,
-               yerr=_numbers(indices[f"{key}_conf"]),
-               color=color, label=label, capsize=3)
-    ax.set_xticks(x, [math_name(n) for n in names])
-    ax.set_ylim(min(0.0, ax.get_ylim()[0]), max(1.05, ax.get_ylim()[1]))
-    ax.axhline(0, color="black", linewidth=0.6)
-    ax.set_ylabel("Sobol index")
-    ax.set_title(f"sensitivity of {axis_label(quantity, units)}" + (f" ({indices['note']})"
-                                                 if indices.get("note") else ""),
-                 fontsize="medium")
-    ax.legend(frameon=False, fontsize="small")
+    fig = draw_figure(sobol_chart(indices, quantity, units), None if ax is None else [ax])
+    _save(fig, path, dpi=110)
     return fig
 
 
@@ -354,10 +480,11 @@ def _numbers(values: Iterable[float | None]) -> np.ndarray:
     return np.array([math.nan if v is None else v for v in values], dtype=float)
 
 
-def plot_contour(frame: pd.DataFrame, quantity: str, x: str, y: str, ax: Axes | None = None,
-                 units: Mapping[str, str] | None = None,
-                 nominal: Mapping[str, float] | None = None) -> Figure:
-    """A quantity over a two-parameter grid, one coloured cell per grid point.
+def contour_chart(frame: pd.DataFrame, quantity: str, x: str, y: str,
+                  units: Mapping[str, str] | None = None,
+                  nominal: Mapping[str, float] | None = None) -> Charts:
+    """What the map of a quantity over a two-parameter grid shows: one coloured cell per
+    grid point (a :class:`~resonant.views.charts.Field`).
 
     Cells, not contours: a jump (a peak's frequency moving from one resonance to the
     other) stays a sharp edge instead of being smeared into colours that do not occur.
@@ -371,7 +498,6 @@ def plot_contour(frame: pd.DataFrame, quantity: str, x: str, y: str, ax: Axes | 
         The rows of a grid design over ``x`` and ``y``.
     quantity, x, y : str
         Columns.
-    ax : matplotlib Axes, optional
     units : mapping, optional
         column -> unit (:func:`study_units`).
     nominal : mapping, optional
@@ -379,43 +505,63 @@ def plot_contour(frame: pd.DataFrame, quantity: str, x: str, y: str, ax: Axes | 
 
     Returns
     -------
-    matplotlib.figure.Figure
-    """
-    from matplotlib.colors import LogNorm
-    from matplotlib.lines import Line2D
+    Charts
 
-    fig, ax = _axes(ax, figsize=(6.6, 5.4), layout="constrained")
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> frame = pd.DataFrame({"a": [1.0, 2.0, 1.0, 2.0], "b": [0.0, 0.0, 1.0, 1.0],
+    ...                       "f": [1.0, 2.0, 3.0, np.nan]})
+    >>> field = contour_chart(frame, "f", "a", "b").panels[0].fields[0]
+    >>> field.x.tolist(), field.z.tolist(), field.missing
+    ([0.5, 1.5, 2.5], [[1.0, 2.0], [3.0, nan]], 'no value: 1 no value')
+    """
     table = frame.pivot_table(index=y, columns=x, values=quantity, aggfunc="first",
                               dropna=False)
     grid = np.asarray(table.to_numpy(dtype=float))
     xs, ys = table.columns.to_numpy(dtype=float), table.index.to_numpy(dtype=float)
-    positive = grid[np.isfinite(grid) & (grid > 0)]
     log = spans_decades(grid.ravel())
-    norm = LogNorm(positive.min(), positive.max()) if log else None
     missing = _without_value(frame, quantity)
     xe, ye = _cell_edges(xs), _cell_edges(ys)
-    if missing:  # the hatch shows through the cells without a value
-        ax.fill_between([xe[0], xe[-1]], ye[0], ye[-1], facecolor="white",
-                        edgecolor=IMPOSSIBLE_COLOR, hatch=HATCH, linewidth=0, zorder=0)
-    cells = ax.pcolormesh(xe, ye, np.ma.masked_invalid(grid), cmap="viridis", norm=norm,
-                          shading="flat", zorder=1)
-    fig.colorbar(cells, ax=ax, label=axis_label(quantity, units)
-                 + (" (log scale)" if log else ""))
-    handles: list[Artist] = []
-    if missing:
-        handles.append(_impossible_handle(missing))
+    field = Field(xe, ye, grid, axis_label(quantity, units) + (" (log scale)" if log else ""),
+                  log=log, missing=f"no value: {_counted(missing)}" if missing else "")
+    markers: tuple[Marker, ...] = ()
     if nominal and x in nominal and y in nominal:
-        ax.plot([nominal[x]], [nominal[y]], "*", color="white", markersize=14,
-                markeredgecolor="black", zorder=3)
-        handles.append(Line2D([], [], ls="", marker="*", color="white", markeredgecolor="black",
-                              markersize=11, label="nominal design"))
-    ax.set_xlim(xe[0], xe[-1])
-    ax.set_ylim(ye[0], ye[-1])
-    ax.set_xlabel(axis_label(x, units))
-    ax.set_ylabel(axis_label(y, units))
-    if handles:  # under the plot: it hides no cell
-        ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.13),
-                  ncols=len(handles), frameon=False, fontsize="small")
+        markers = (Marker(float(nominal[x]), float(nominal[y]), "#ffffff", "star",
+                          "nominal design"),)
+    chart = Chart((), axis_label(x, units), axis_label(y, units),
+                  (float(xe[0]), float(xe[-1])), ylim=(float(ye[0]), float(ye[-1])),
+                  markers=markers, fields=(field,), legend="below")
+    return Charts((chart,), size=(6.6, 5.4))
+
+
+def plot_contour(frame: pd.DataFrame, quantity: str, x: str, y: str, ax: Axes | None = None,
+                 units: Mapping[str, str] | None = None,
+                 nominal: Mapping[str, float] | None = None, path: PathArg = None) -> Figure:
+    """A quantity over a two-parameter grid, one coloured cell per grid point: the chart
+    of :func:`contour_chart`, drawn with matplotlib.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        The rows of a grid design over ``x`` and ``y``.
+    quantity, x, y : str
+        Columns.
+    ax : matplotlib Axes, optional
+    units : mapping, optional
+        column -> unit (:func:`study_units`).
+    nominal : mapping, optional
+        parameter -> its nominal value.
+    path : str or Path, optional
+        Also write the figure there (``.png``, ``.svg`` or ``.pdf``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = draw_figure(contour_chart(frame, quantity, x, y, units, nominal),
+                      None if ax is None else [ax])
+    _save(fig, path, dpi=110)
     return fig
 
 
@@ -457,23 +603,46 @@ def plot_study(frame: pd.DataFrame, parameters: Sequence[str], quantities: Seque
                             f"{exc.strerror or exc}") from None
     written: list[Path] = []
 
-    def save(fig: Figure, kind: str, quantity: str) -> None:
+    def save(charts: Charts, kind: str, quantity: str) -> None:
         path = directory / _file_name(kind, quantity)
-        _save(fig, path, dpi=110)
+        _save(draw_figure(charts), path, dpi=110)
         written.append(path)
 
-    for quantity in quantities:
-        save(plot_histogram(frame, quantity, units=units), "histogram", quantity)
-        save(plot_scatter(frame, quantity, parameters, units=units, nominal=nominal),
-             "scatter", quantity)
-        if sensitivity and quantity in sensitivity:
-            save(plot_sobol(sensitivity[quantity], quantity, units=units), "sobol", quantity)
-        if grid and len(parameters) == 2:
-            first, second = parameters
-            save(plot_contour(frame, quantity, first, second, units=units, nominal=nominal),
-                 "contour", quantity)
+    for quantity, kind, charts in study_charts(frame, parameters, quantities, sensitivity,
+                                               grid, units, nominal):
+        save(charts, kind, quantity)
     return written
 
 
-__all__ = ["axis_label", "plot_contour", "plot_histogram", "plot_scatter", "plot_sobol",
-           "plot_study", "spans_decades", "study_units"]
+def study_charts(frame: pd.DataFrame, parameters: Sequence[str], quantities: Sequence[str],
+                 sensitivity: Mapping[str, Any] | None = None, grid: bool = False,
+                 units: Mapping[str, str] | None = None,
+                 nominal: Mapping[str, float] | None = None) -> list[tuple[str, str, Charts]]:
+    """Every chart of a study that fits it: (quantity, kind, chart) with kind
+    ``histogram``, ``scatter``, ``sobol`` (with its Sobol indices) and ``contour`` (a grid
+    over two parameters); the arguments as :func:`plot_study`'s.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> frame = pd.DataFrame({"k": np.linspace(1, 2, 20), "f": np.linspace(1, 2, 20)})
+    >>> [kind for _, kind, _ in study_charts(frame, ["k"], ["f"])]
+    ['histogram', 'scatter']
+    """
+    out = []
+    for quantity in quantities:
+        out.append((quantity, "histogram", histogram_chart(frame, quantity, units)))
+        out.append((quantity, "scatter", scatter_chart(frame, quantity, parameters, units,
+                                                       nominal)))
+        if sensitivity and quantity in sensitivity:
+            out.append((quantity, "sobol", sobol_chart(sensitivity[quantity], quantity, units)))
+        if grid and len(parameters) == 2:
+            first, second = parameters
+            out.append((quantity, "contour", contour_chart(frame, quantity, first, second,
+                                                           units, nominal)))
+    return out
+
+
+__all__ = ["axis_label", "contour_chart", "histogram_chart", "plot_contour", "plot_histogram",
+           "plot_scatter", "plot_sobol", "plot_study", "scatter_chart", "sobol_chart",
+           "spans_decades", "study_charts", "study_units", "HATCH"]
