@@ -91,13 +91,6 @@ def unit_math(unit: str) -> str:
     return "$" + unit_latex(unit).removeprefix("\\ ") + "$"
 
 
-def _new_figure(**options: Any) -> Any:
-    """A figure of its own, without pyplot (no backend switch, no figure manager)."""
-    from matplotlib.figure import Figure
-
-    return Figure(**options)
-
-
 #: the figure an Axes belongs to (kept under its old name for the other views)
 _figure_of = figure_of
 
