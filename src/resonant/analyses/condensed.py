@@ -631,8 +631,15 @@ class CondensedBalance:
         coef[2 * H] += np.diag(mu_s)
         if b.N <= 4 * H:  # too few samples to resolve the offsets: alias-free part only
             coef[np.abs(offsets) >= b.N // 2] = 0.0
-        lam = _hill(coef, W, H, s) if s * (2 * H + 1) <= MONODROMY_ROWS else \
-            _monodromy(coef, W, H, s)
+        if s * (2 * H + 1) <= MONODROMY_ROWS:
+            lam = _hill(coef, W, H, s)
+        else:
+            pairs = _real_coordinates(mu_s)
+            real = pairs is not None
+            if pairs is not None:  # the same system in real coordinates: a quarter the work
+                Q, Qinv = pairs
+                coef = Qinv @ coef @ Q
+            lam = _monodromy(coef, W, H, s, real)
         sign = float(np.linalg.slogdet(J)[0])
         if self.reference is None:
             self.reference = (sign, _real_unstable(lam, W) % 2)
@@ -656,13 +663,59 @@ def _hill(coef: np.ndarray, W: float, H: int, s: int) -> np.ndarray:
     return lam[order[:s]]
 
 
-def _monodromy(coef: np.ndarray, W: float, H: int, s: int) -> np.ndarray:
+def _real_coordinates(mu: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """Q and Q^-1 with eta = Q y taking first-order modal coordinates eta (poles ``mu``
+    of a real system: each complex pole beside its conjugate, whose modes are conjugate)
+    to real ones y (the real and imaginary parts of each pair's first); None where the
+    poles do not pair.
+
+    Examples
+    --------
+    >>> Q, Qinv = _real_coordinates(np.array([-0.1 + 2j, -0.3, -0.1 - 2j]))
+    >>> A = np.diag([-0.1 + 2j, -0.3, -0.1 - 2j])
+    >>> np.round((Qinv @ A @ Q).real, 12) + 0.0  # the pair's rotation, the real pole alone
+    array([[-0.1, -2. ,  0. ],
+           [ 2. , -0.1,  0. ],
+           [ 0. ,  0. , -0.3]])
+    """
+    s = mu.size
+    Q = np.zeros((s, s), dtype=complex)
+    used = np.zeros(s, dtype=bool)
+    column = 0
+    scale = max(float(np.abs(mu).max(initial=0.0)), 1e-300)
+    for i in np.argsort(-mu.imag, kind="stable"):
+        if used[i]:
+            continue
+        used[i] = True
+        if abs(mu[i].imag) <= 1e-12 * scale:  # a real pole: its mode is real
+            Q[i, column] = 1.0
+            column += 1
+            continue
+        if mu[i].imag < 0:
+            return None
+        rest = np.flatnonzero(~used)
+        if rest.size == 0:
+            return None
+        j = rest[np.argmin(np.abs(mu[rest] - np.conj(mu[i])))]
+        if abs(mu[j] - np.conj(mu[i])) > 1e-9 * scale:
+            return None
+        used[j] = True
+        Q[i, column], Q[i, column + 1] = 1.0, 1j
+        Q[j, column], Q[j, column + 1] = 1.0, -1j
+        column += 2
+    return Q, np.linalg.inv(Q)
+
+
+def _monodromy(coef: np.ndarray, W: float, H: int, s: int, real: bool = False
+               ) -> np.ndarray:
     """The s exponents of eta' = A(t) eta (``coef`` as :func:`_hill` takes it) from its
     monodromy matrix: the state-transition matrix over one period T = 2 pi / W as the
     product of fourth-order Magnus steps (A at the two Gauss points of each step, from its
     Fourier series), its eigenvalues the multipliers mu, the exponents log(mu) / T (the
     fundamental strip, |Im| <= W / 2).  At least :data:`MONODROMY_STEPS` steps, 16 per
     harmonic, and 4 per unit of T |A| (the modes kept dynamic are slow where it is used).
+    ``real``: A(t) is real (``coef`` in real coordinates, :func:`_real_coordinates`),
+    its rounding-level imaginary part dropped: real arithmetic, a quarter of the work.
 
     Examples
     --------
@@ -681,6 +734,8 @@ def _monodromy(coef: np.ndarray, W: float, H: int, s: int) -> np.ndarray:
     # A at every Gauss point at once: (2 steps, offsets) @ (offsets, s s), one product
     A = (np.exp(1j * W * t.reshape(-1, 1) * d) @ coef.reshape(d.size, s * s)
          ).reshape(steps, 2, s, s)
+    if real:
+        A = np.ascontiguousarray(A.real)
     A1, A2 = A[:, 0], A[:, 1]
     omega = h / 2 * (A1 + A2) + math.sqrt(3) / 12 * h * h * (A2 @ A1 - A1 @ A2)
     phi = _product(_expm_small(omega))
