@@ -15,7 +15,8 @@ nonlinear coordinates u this is the residual
 m(2H+1) real unknowns whatever n.  H_uu and H_uF come from one reduced-order
 model of the whole band 0 ... H W_max (:func:`resonant.analyses.reduced.
 reduced_model`, loads: F and a unit load at each nonlinear coordinate, its
-error estimate reported), or, for models of at most :data:`EXACT_SIZE`
+error estimate reported; modes and load-dependent Ritz vectors checked against exact
+solves where it does not converge), or, for models of at most :data:`EXACT_SIZE`
 coordinates or ``exact=True``, from the full matrices.  The reduced (or full)
 system is diagonalized once (first-order form, poles mu_j), so each H(w) costs
 O(r m^2).
@@ -27,7 +28,8 @@ the chain rule along the harmonic basis (a friction element's derivative is
 marched with it).
 
 **Continuation** by pseudo-arclength in (x / s_x, p / s_p), Newton correctors,
-step control from the iteration count and the change per step; folds where the
+step control from the iteration count and the change per step relative to the
+present amplitude (``follow(..., relative=True)``); folds where the
 parameter component of the tangent changes sign, refined by regula falsi.
 
 **Stability** by Hill's method on the linearization about each point in the
@@ -784,7 +786,8 @@ def _product(factors: np.ndarray) -> np.ndarray:
             factors = np.concatenate([factors[:-2], (factors[-1] @ factors[-2])[None]])
             continue
         factors = factors[1::2] @ factors[0::2]
-    return factors[0]
+    result: np.ndarray = factors[0]
+    return result
 
 
 def _dynamic_modes(mu: np.ndarray, top: float, H: int) -> np.ndarray:
