@@ -96,7 +96,7 @@ def correct(hb: Balance, pred: np.ndarray, t: np.ndarray, sx: float, sp: float
 
 
 def follow(hb: Balance, x0: np.ndarray, start: float, stop: float, points: int,
-           deadline: Deadline) -> Branch:
+           deadline: Deadline, relative: bool = False) -> Branch:
     """Continue the solution x0 at ``start`` to ``stop`` by pseudo-arclength.
 
     Parameters
@@ -109,6 +109,11 @@ def follow(hb: Balance, x0: np.ndarray, start: float, stop: float, points: int,
     points : int
         About this many steps across the range in the parameter direction.
     deadline : Deadline
+    relative : bool
+        Step control relative to the present amplitude (the condensed balance's): the
+        step's ceiling grows with the amplitude beyond the start point's, and the step
+        grows after four Newton iterations, not only after three.  Default: the
+        ceiling in units of the start point's amplitude.
 
     Returns
     -------
@@ -167,10 +172,18 @@ def follow(hb: Balance, x0: np.ndarray, start: float, stop: float, points: int,
             branch.append(x, p, t)
             break
         branch.append(x, p, t)
-        factor = 1.5 if iterations <= 3 else (1.0 if iterations <= 5 else 0.6)
+        # relative: the last iteration only confirms convergence (its correction below
+        # NEWTON_TOL); four are a predictor off by about 1e-4 of the step, not a hard one
+        easy = 4 if relative else 3
+        factor = 1.5 if iterations <= easy else (1.0 if iterations <= easy + 2 else 0.6)
         factor = min(factor, MAX_RELATIVE_CHANGE / max(change, 1e-12),
                      ds_max / max(dp_rel, 1e-12))
-        ds = float(np.clip(ds * max(factor, 0.3), ds_min, ds_max * 20))
+        # relative: the step's ceiling grows with the amplitude (the unknowns are scaled by
+        # the start point's amplitude, so where the response has grown 80-fold, a lightly
+        # damped resonance, a fixed ceiling held every step to a 0.5 % change); the
+        # change, the parameter's step and the Newton iterations bound it there
+        ceiling = ds_max * 20 * (max(1.0, float(np.linalg.norm(x)) / sx) if relative else 1.0)
+        ds = float(np.clip(ds * max(factor, 0.3), ds_min, ceiling))
     else:
         branch.warnings.append(f"the continuation stopped after {max_steps} steps before "
                                f"reaching {stop:g}")
