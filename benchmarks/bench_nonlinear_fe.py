@@ -95,7 +95,9 @@ def write_plate(directory: Path, n: int, name: str = "plate") -> tuple[Path, int
 
     structure = corpus.build(name, n)
     at = int(np.flatnonzero(structure.b)[0])
-    w1 = float(corpus._lowest(structure.M, structure.K, 1, 0.0)[0])
+    # the first elastic frequency: a free structure's rigid-body modes (w = 0) come first
+    rigid = int(structure.meta.get("rigid_modes", 0))
+    w1 = float(corpus._lowest(structure.M, structure.K, rigid + 1, -1.0 if rigid else 0.0)[rigid])
     s = w1 / (np.pi / 2)
     k0 = float(structure.K[at, at])
     M, C, K = ((scale * a / k0).tocsr() for scale, a in
@@ -107,8 +109,8 @@ def write_plate(directory: Path, n: int, name: str = "plate") -> tuple[Path, int
     k_eff = 1.0 / float(spsolve(K.tocsc(), e)[at])
     F0, k3 = float(1.0 / peak), float(0.5 * k_eff)
     directory.mkdir(parents=True, exist_ok=True)
-    for name, matrix in (("M", M), ("C", C), ("K", K)):
-        sp.save_npz(directory / f"{name}.npz", matrix)
+    for key, matrix in (("M", M), ("C", C), ("K", K)):  # not `name`: the file's name below
+        sp.save_npz(directory / f"{key}.npz", matrix)
     q = f"q{at + 1}"
     path = directory / f"{name}{M.shape[0]}.toml"
     path.write_text(
