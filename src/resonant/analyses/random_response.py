@@ -411,13 +411,24 @@ class Transfer:
     def _in_outputs(self, name: str) -> bool:
         return any(v[0] == name for out in self.num.outputs.values() for v in out.terms)
 
+    def _vector(self, expressions: Sequence[Any]) -> np.ndarray:
+        """The values of one expression per coordinate, each distinct expression evaluated
+        once (a base vector of 250,000 ones is one expression)."""
+        known: dict[Any, float] = {}
+        out = np.empty(len(expressions))
+        for i, e in enumerate(expressions):
+            value = known.get(e)
+            if value is None:
+                value = known[e] = float(numeric_value(e, self.values))
+            out[i] = value
+        return out
+
     def _loads(self, u: RandomInput, columns: Mapping[Any, np.ndarray]) -> list[_Load]:
         n = self.num.n
         if u.load:
-            vector = np.array([float(numeric_value(e, self.values)) for e in u.load])
-            return [_Load(vector, 0)]
+            return [_Load(self._vector(u.load), 0)]
         if u.base:
-            r = np.array([float(numeric_value(e, self.values)) for e in u.base])
+            r = self._vector(u.base)
             return [_Load(-np.asarray(self.num.M @ r, dtype=float).ravel(), 0)]
         found = [_Load(np.asarray(c, dtype=float), order - u.derivative)
                  for (name, order), c in sorted(columns.items()) if name == u.name]

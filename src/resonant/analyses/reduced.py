@@ -128,6 +128,8 @@ FLOOR_REACHED = 10.0
 FLOOR_SAFETY = 10.0
 #: moments of each adjoint load of :func:`reduced_model` put into the basis
 ADJOINT_MOMENTS = 3
+#: models of at least this many coordinates factorize several expansion points at once
+PARALLEL_FACTOR_SIZE = 20_000
 #: bytes of complex responses computed at once
 _CHUNK_BYTES = 32 * 2**20
 
@@ -431,13 +433,22 @@ class _Operators:
                                + abs(s) * np.abs(self.C.diagonal()))
 
 
+def _real_times(A: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """A @ x for a real A and a complex x without converting A to complex (numpy would
+    copy a large A, the n x r basis or its transpose, into complex numbers first)."""
+    if not np.iscomplexobj(x):
+        result: np.ndarray = A @ x
+        return result
+    return (A @ x.real) + 1j * (A @ x.imag)
+
+
 def _krylov(ops: _Operators, lu: Solver, b: np.ndarray, s: float, q: int,
             deadline: Deadline) -> np.ndarray:
     """q moments of z(w) about s, as the top halves of an Arnoldi basis of the
     linearization (columns complex, shape (n, <= q))."""
     n = ops.n
     x0 = lu.solve(b)
-    U = np.zeros((2 * n, q), dtype=complex)
+    U = np.zeros((2 * n, q), dtype=complex, order="F")   # contiguous columns
     nrm = np.linalg.norm(x0)
     if not np.isfinite(nrm) or nrm == 0:
         return np.zeros((n, 0), dtype=complex)
@@ -977,19 +988,39 @@ class _Enrichment:
         return self.norms[0] + w**2 * self.norms[1] + w * self.norms[2]
 
     def enrich(self) -> None:
-        """The moments at every pending point (its factorization, if known)."""
-        for s, lu in self.pending:
-            self.deadline.check("while building the reduced basis", analysis=True)
-            if lu is None:
-                lu, s = _factor_near(self.ops, s, self.width)
+        """The moments at every pending point (its factorization, if known).
+
+        Where several points of a large model need a factorization, a helper thread
+        factorizes the later ones while this thread factorizes the first and builds the
+        moments (SuperLU releases the GIL: on two cores the three first points of a
+        250,000-coordinate grid took 3.8 s instead of 6.0 s)."""
+        todo = [s for s, lu in self.pending if lu is None]
+        helper = None
+        ahead: dict[float, Any] = {}
+        if len(todo) > 1 and self.ops.n >= PARALLEL_FACTOR_SIZE:
+            from concurrent.futures import ThreadPoolExecutor
+
+            helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
+            ahead = {s: helper.submit(_factor_near, self.ops, s, self.width)
+                     for s in todo[1:]}
+        try:
+            for s, lu in self.pending:
+                self.deadline.check("while building the reduced basis", analysis=True)
                 if lu is None:
-                    continue
-            self.expansion.append(float(s))
-            self.V = _extend(self.V, _krylov(self.ops, lu, self.b, s, self.moments,
-                                             self.deadline), self.drop)
-            if self.V.shape[1] >= self.max_basis:
-                self.V = self.V[:, :self.max_basis]
-                break
+                    lu, s = ahead.pop(s).result() if s in ahead else \
+                        _factor_near(self.ops, s, self.width)
+                    if lu is None:
+                        continue
+                self.expansion.append(float(s))
+                self.V = _extend(self.V, _krylov(self.ops, lu, self.b, s, self.moments,
+                                                 self.deadline), self.drop)
+                del lu
+                if self.V.shape[1] >= self.max_basis:
+                    self.V = self.V[:, :self.max_basis]
+                    break
+        finally:
+            if helper is not None:   # (a factorization under way is left to finish)
+                helper.shutdown(wait=False, cancel_futures=True)
         self.pending = []
         if self.V.shape[1] == 0:
             raise AnalysisError("the reduced model has no basis: A(w) is singular at every "
@@ -1001,7 +1032,7 @@ class _Enrichment:
         w = self.w
         products = self.projection.update(self.V)
         Kr, Mr, Cr = self.projection.reduced
-        red = _Reduced(Kr, Mr, Cr, self.V.T @ self.b)
+        red = _Reduced(Kr, Mr, Cr, _real_times(self.V.T, self.b))
         self.Y = red.solve(w)
         # an undamped resonance (condition number beyond SINGULAR_CONDITION and a response
         # the damping does not act on, as in the kernel) has no response to estimate: such
@@ -1047,7 +1078,7 @@ class _Enrichment:
         if not backward_stable(self.ops.matrix(s), exact, self.b):  # pivots grew too much
             solver = self.ops.factor(s, partial=True)
             exact = solver.solve(self.b)
-        approx = self.V @ self.Y[worst]
+        approx = _real_times(self.V, self.Y[worst])
         true = float(np.linalg.norm(approx - exact)) / max(float(np.linalg.norm(exact)),
                                                             1e-300)
         self.checks.append((s, true))
@@ -1349,7 +1380,7 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
     converged = bool(np.all(err <= tol))
     reason = "" if converged else (reasons[0] if reasons else
                                    "the estimated error stayed above the tolerance")
-    return ReducedModel(V, Mr, Cr, Kr, V.T @ B, err, tuple(checks),
+    return ReducedModel(V, Mr, Cr, Kr, _real_times(V.T, B), err, tuple(checks),
                         converged, reason, tuple(sorted(set(expansion))),
                         time.monotonic() - start, residuals)
 
@@ -1378,7 +1409,7 @@ def _adjoints(ops: _Operators, shared: tuple[_Projection, _Residual], C: np.ndar
     for j in range(C.shape[1]):
         c = C[:, j]
         residual.replace_load(c)
-        Y = _Reduced(Kr, Mr, Cr, V.T @ c).solve(w)
+        Y = _Reduced(Kr, Mr, Cr, _real_times(V.T, c)).solve(w)
         with np.errstate(all="ignore"):
             rho = residual.norms(w, Y) / float(np.linalg.norm(c))
         out[j] = float(np.max(rho)) if np.all(np.isfinite(rho)) else np.inf
