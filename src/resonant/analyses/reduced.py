@@ -439,7 +439,8 @@ def _real_times(A: np.ndarray, x: np.ndarray) -> np.ndarray:
     if not np.iscomplexobj(x):
         result: np.ndarray = A @ x
         return result
-    return (A @ x.real) + 1j * (A @ x.imag)
+    product: np.ndarray = (A @ x.real) + 1j * (A @ x.imag)
+    return product
 
 
 def _krylov(ops: _Operators, lu: Solver, b: np.ndarray, s: float, q: int,
