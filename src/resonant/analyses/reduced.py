@@ -717,11 +717,20 @@ class _Residual:
         """The residual of another load on the same basis: the old load's columns leave P
         (their directions stay in Q, which spans more than P then: P = Q R holds), the new
         load's are added, O(n) per basis vector instead of a new factorization."""
+        self.replace_loads(b[:, None])
+
+    def replace_loads(self, B: np.ndarray) -> None:
+        """:meth:`replace_load` with the loads of all columns of B (n, p) at once, load j
+        being column -1 - j of P (:meth:`norms` with ``which=j``): one pass over Q for
+        all of them."""
         kept = [i for i, c in enumerate(self.column) if c >= 0]
         self.R = self.R[:, kept]
         self.column = [self.column[i] for i in kept]
         self.kind = [self.kind[i] for i in kept]
-        self._add(np.column_stack([b.real, b.imag]), [-1, -1], [0, 1])
+        p = B.shape[1]
+        X = np.empty((B.shape[0], 2 * p))
+        X[:, 0::2], X[:, 1::2] = B.real, B.imag
+        self._add(X, [-1 - j for j in range(p) for _ in range(2)], [0, 1] * p)
 
     def extend(self, products: list[np.ndarray], r: int) -> None:
         """Add the columns of the new basis vectors (``products``: K V_new, M V_new and
@@ -738,8 +747,12 @@ class _Residual:
                   [k for k in kinds for _ in new])
         self.size = r
 
-    def norms(self, w: np.ndarray, Y: np.ndarray) -> np.ndarray:
+    def norms(self, w: np.ndarray, Y: np.ndarray, which: int = 0) -> np.ndarray:
+        """||A(w) V y(w) - b|| at the frequencies w for the reduced responses Y (N, r);
+        b the load of column -1 - ``which`` (:meth:`replace_loads`)."""
         column, kind = np.array(self.column), np.array(self.kind)
+        used = (column >= 0) | (column == -1 - which)
+        column, kind, R = column[used], kind[used], self.R[:, used]
         load = column < 0
         out = np.empty(len(w))
         chunk = max(1, _CHUNK_BYTES // (16 * max(len(column), 1)))
@@ -754,7 +767,7 @@ class _Residual:
             u[:, ~load] = factor[kind[~load], :, 0].T * yy[:, column[~load]]
             u[:, load] = np.where(kind[load] == 0, -1.0, -1j)
             with np.errstate(all="ignore"):
-                out[start:start + chunk] = np.linalg.norm(u @ self.R.T, axis=1)
+                out[start:start + chunk] = np.linalg.norm(u @ R.T, axis=1)
         return out
 
 
@@ -1397,22 +1410,26 @@ def _adjoints(ops: _Operators, shared: tuple[_Projection, _Residual], C: np.ndar
         float(w.mean())
     s = min(ops.cache, key=lambda t: abs(t - middle))
     lu = ops.cache[s]
-    drop = 1e-8
+    moments = []
     for j in range(C.shape[1]):
         deadline.check("while building the reduced basis", analysis=True)
-        V = _extend(V, _krylov(ops, lu, C[:, j], s, ADJOINT_MOMENTS, deadline), drop)
+        moments.append(_krylov(ops, lu, C[:, j], s, ADJOINT_MOMENTS, deadline))
+    # one extension and one residual update for all of them (each pass over the n x r
+    # basis and the residual's n x 2r directions costs as much for one column as for ten)
+    V = _extend(V, np.hstack(moments), 1e-8)
+    del moments
     projection, residual = shared
     products = projection.update(V)
     residual.extend(products, V.shape[1])
     del products
     Kr, Mr, Cr = projection.reduced
+    residual.replace_loads(C)
     out = np.empty(C.shape[1])
     for j in range(C.shape[1]):
         c = C[:, j]
-        residual.replace_load(c)
         Y = _Reduced(Kr, Mr, Cr, _real_times(V.T, c)).solve(w)
         with np.errstate(all="ignore"):
-            rho = residual.norms(w, Y) / float(np.linalg.norm(c))
+            rho = residual.norms(w, Y, which=j) / float(np.linalg.norm(c))
         out[j] = float(np.max(rho)) if np.all(np.isfinite(rho)) else np.inf
     return V, out
 
