@@ -122,3 +122,41 @@ def test_adjoint_residuals_are_the_computed_residuals(case):
             r = K @ z - x * x * (M @ z) + 1j * x * (C @ z) - e
             worst = max(worst, float(np.linalg.norm(r)))
         assert rom.adjoint_residuals[j] == pytest.approx(worst, rel=1e-8, abs=1e-13)
+
+
+@pytest.mark.parametrize("method", ["reduced", "auto"])
+def test_random_response_with_factorizations_ahead(tmp_path, monkeypatch, method):
+    """The first expansion points factorized in a helper thread during the cost probe
+    (``auto``) or before the reduced model (``reduced``): the same result."""
+    from resonant.analyses.random_response import random_response
+    from resonant.model import loads
+    from resonant.system import linear_system
+
+    nx = 20
+    M, C, K = grid(nx, seed=2)
+    K = K * 400.0   # natural frequencies about 100-1300 rad/s, in the band
+    C = 0.5 * M + 2e-5 * K
+    for key, a in (("M", M), ("C", C), ("K", K)):
+        sp.save_npz(tmp_path / f"{key}.npz", a.tocsr())
+    text = ('[matrices]\nM = "M.npz"\nC = "C.npz"\nK = "K.npz"\n'
+            '[random]\nband = [5, 300]\ntolerance = 1e-4\n[random.psd.a]\n'
+            f'unit = "(m/s^2)^2/Hz"\nbase = [{", ".join(["1"] * nx * nx)}]\n'
+            'values = [[5, 1.0], [50, 2.0], [300, 0.5]]\n')
+    system = linear_system(loads(text, source=str(tmp_path / "grid.toml"), base_dir=tmp_path))
+    names = [system.coordinates[i] for i in (nx * nx // 2 + nx // 2, 3 * nx + 4)]
+    plain = random_response(system, names=names, method=method)
+    made: list[str] = []
+    factor = reduced._Operators.factor
+
+    def spy(self, s, partial=False):
+        made.append(threading.current_thread().name)
+        return factor(self, s, partial)
+
+    monkeypatch.setattr(reduced, "PARALLEL_FACTOR_SIZE", 0)
+    monkeypatch.setattr(reduced._Operators, "factor", spy)
+    ahead = random_response(system, names=names, method=method)
+    assert any(name.startswith("resonant-lu") for name in made)
+    assert ahead.method == plain.method
+    for q in names:
+        assert ahead.rms[q] == pytest.approx(plain.rms[q], rel=1e-10)
+        assert ahead.error[q] == pytest.approx(plain.error[q], rel=1e-6, abs=1e-12)

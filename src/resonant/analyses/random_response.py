@@ -81,7 +81,7 @@ from ..model.units import Dimension
 from ..system import Batch, BatchHarmonic, LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
 from .kernel import reduced_budget, solve_harmonic
-from .reduced import ReducedModel, reduced_model
+from .reduced import FactorizationsAhead, ReducedModel, probe_frequency, reduced_model
 from .results_json import Saved, optional_float
 from .stationary import freeze_fields
 
@@ -381,20 +381,27 @@ class Transfer:
             unit[self.keep, np.arange(len(self.keep))] = 1.0
         budget = None
         probe: dict[float, Any] = {}
-        if self.method == "auto":
-            batch = Batch(tuple(num.coordinates), num.M, num.C, num.K,
-                          [BatchHarmonic(w, np.zeros(num.n), self.columns[0])], {},
-                          num.title, True, len(w))
-            budget = reduced_budget(batch, w, np.asarray(B[:, 0]), probe)
-            if budget is None:
-                return
+        # the model's other first expansion points are factorized during the cost probe
+        ahead = FactorizationsAhead(num.M, num.C, num.K, w, (
+            probe_frequency(w),) if self.method == "auto" else ())
         try:
+            if self.method == "auto":
+                batch = Batch(tuple(num.coordinates), num.M, num.C, num.K,
+                              [BatchHarmonic(w, np.zeros(num.n), self.columns[0])], {},
+                              num.title, True, len(w))
+                budget = reduced_budget(batch, w, np.asarray(B[:, 0]), probe)
+                if budget is None:
+                    return
+            probe.update(ahead.futures)
             rom = reduced_model(num.M, num.C, num.K, B, w, tol=tol, deadline=self.deadline,
                                 budget=budget, adjoints=unit, factorizations=probe)
         except AnalysisError:
             if self.method == "reduced":
                 raise
             return
+        finally:
+            ahead.stop()
+            probe.clear()
         worst = float(np.max(rom.estimated_error, initial=0.0))
         if self.method == "auto" and not worst <= REDUCED_ACCEPT:
             return

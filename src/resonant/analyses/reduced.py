@@ -75,6 +75,7 @@ True
 from __future__ import annotations
 
 import time
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -680,12 +681,13 @@ class _Residual:
 
     def _add(self, X: np.ndarray, column: list[int], kind: list[int]) -> None:
         m = self.Q.shape[1]
-        scale = float(np.abs(X).max(initial=0.0))
+        X = np.asfortranarray(X, dtype=float)   # (columns contiguous, as Q's)
+        scale = float(max(X.max(initial=0.0), -X.min(initial=0.0)))
         R12 = np.zeros((m, X.shape[1]))
         for _ in range(2):
             if m:
                 h = self.Q.T @ X
-                X = X - self.Q @ h
+                X = X - (h.T @ self.Q.T).T   # = Q h, computed into Fortran order
                 R12 += h
         # What is left spans at most n - m new directions; rounding noise of columns that
         # were (nearly) in the span of Q is dropped (below 1e-14 of the block).
@@ -813,6 +815,51 @@ def probe_frequency(w: np.ndarray) -> float:
     w = np.abs(np.asarray(w, dtype=float)).ravel()
     points = _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))
     return points[len(points) // 2]
+
+
+class FactorizationsAhead:
+    """The factorizations of a reduced model's first expansion points, made in a helper
+    thread while the caller does something else (``auto``'s cost probe): pass
+    :attr:`futures` in the ``factorizations`` of :func:`reduced_model` (each is waited
+    for when its point comes), and call :meth:`stop` at the end (a factorization
+    under way then finishes unused).  Large models only (:data:`PARALLEL_FACTOR_SIZE`):
+    elsewhere :attr:`futures` is empty.
+
+    Parameters
+    ----------
+    M, C, K : sparse matrix or ndarray
+        As for :func:`reduced_model`.
+    w : ndarray
+        Its frequencies (rad/s).
+    skip : sequence of float
+        Points factorized elsewhere (the probe's :func:`probe_frequency`).
+
+    Examples
+    --------
+    >>> ahead = FactorizationsAhead(np.eye(2), np.eye(2), np.eye(2), np.linspace(1, 2, 9))
+    >>> ahead.futures, ahead.stop()
+    ({}, None)
+    """
+
+    def __init__(self, M: Matrix, C: Matrix, K: Matrix, w: np.ndarray,
+                 skip: tuple[float, ...] = ()) -> None:
+        self.futures: dict[float, Any] = {}
+        self._helper: ThreadPoolExecutor | None = None
+        if M.shape[0] < PARALLEL_FACTOR_SIZE or not np.size(w):
+            return
+        w = np.abs(np.asarray(w, dtype=float)).ravel()
+        points = [s for s in _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))
+                  if s not in skip]
+        if not points:
+            return
+        ops = _Operators(M, C, K)
+        self._helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
+        self.futures = {s: self._helper.submit(ops.factor, s) for s in points}
+
+    def stop(self) -> None:
+        """Cancel what has not started; the helper thread ends after its current one."""
+        if self._helper is not None:
+            self._helper.shutdown(wait=False, cancel_futures=True)
 
 
 def off_diagonal_pivots(lu: SuperLU) -> int:
@@ -1012,8 +1059,6 @@ class _Enrichment:
         helper = None
         ahead: dict[float, Any] = {}
         if len(todo) > 1 and self.ops.n >= PARALLEL_FACTOR_SIZE:
-            from concurrent.futures import ThreadPoolExecutor
-
             helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
             ahead = {s: helper.submit(_factor_near, self.ops, s, self.width)
                      for s in todo[1:]}
@@ -1180,7 +1225,15 @@ def _factor_near(ops: _Operators, s: float, width: float) -> tuple[Any, float]:
     for shift in (0.0, 1e-3, -1e-3, 1e-2):
         t = s + shift * max(width, abs(s), 1e-12)
         if t in ops.given:  # taken: its memory goes with the point's moments
-            return ops.given.pop(t), t
+            found = ops.given.pop(t)
+            if isinstance(found, Future):   # made for this model (FactorizationsAhead)
+                try:
+                    found = found.result()
+                except RuntimeError:
+                    continue
+                if ops.cache is not None:   # kept as one made here would be
+                    ops.cache[t] = found
+            return found, t
         if ops.cache is not None and t in ops.cache:
             return ops.cache[t], t
         try:
@@ -1437,4 +1490,4 @@ def _adjoints(ops: _Operators, shared: tuple[_Projection, _Residual], C: np.ndar
 __all__ = ["reduced_response", "ReducedResponse", "reduced_model", "ReducedModel",
            "DEFAULT_TOL", "sparse_lu_options", "backward_stable", "probe_frequency",
            "off_diagonal_pivots", "damping_fraction", "DAMPED_FRACTION", "ScaledLU",
-           "symmetric_scale"]
+           "symmetric_scale", "FactorizationsAhead"]
