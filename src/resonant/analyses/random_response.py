@@ -64,6 +64,7 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 from collections.abc import Mapping, Sequence
@@ -84,6 +85,7 @@ from .kernel import reduced_budget, solve_harmonic
 from .reduced import FactorizationsAhead, ReducedModel, probe_frequency, reduced_model
 from .results_json import Saved, optional_float
 from .stationary import freeze_fields
+from .threads import blas_threads
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -389,7 +391,9 @@ class Transfer:
                 batch = Batch(tuple(num.coordinates), num.M, num.C, num.K,
                               [BatchHarmonic(w, np.zeros(num.n), self.columns[0])], {},
                               num.title, True, len(w))
-                budget = reduced_budget(batch, w, np.asarray(B[:, 0]), probe)
+                # (one BLAS thread while the helper factorizes: a core each)
+                with blas_threads(0.0) if ahead.futures else contextlib.nullcontext():
+                    budget = reduced_budget(batch, w, np.asarray(B[:, 0]), probe)
                 if budget is None:
                     return
             probe.update(ahead.futures)

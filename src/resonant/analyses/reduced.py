@@ -74,6 +74,7 @@ True
 
 from __future__ import annotations
 
+import contextlib
 import time
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
@@ -1058,10 +1059,14 @@ class _Enrichment:
         todo = [s for s, lu in self.pending if lu is None]
         helper = None
         ahead: dict[float, Any] = {}
+        stack = contextlib.ExitStack()
         if len(todo) > 1 and self.ops.n >= PARALLEL_FACTOR_SIZE:
             helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
             ahead = {s: helper.submit(_factor_near, self.ops, s, self.width)
                      for s in todo[1:]}
+            # one core for the helper, one for this thread's BLAS calls (a BLAS thread
+            # sharing its core with the helper would hold up the others at every step)
+            stack.enter_context(blas_threads(0.0))
         try:
             for s, lu in self.pending:
                 self.deadline.check("while building the reduced basis", analysis=True)
@@ -1080,6 +1085,7 @@ class _Enrichment:
         finally:
             if helper is not None:   # (a factorization under way is left to finish)
                 helper.shutdown(wait=False, cancel_futures=True)
+            stack.close()
         self.pending = []
         if self.V.shape[1] == 0:
             raise AnalysisError("the reduced model has no basis: A(w) is singular at every "
