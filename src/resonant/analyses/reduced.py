@@ -1062,19 +1062,24 @@ class _Enrichment:
         stack = contextlib.ExitStack()
         if len(todo) > 1 and self.ops.n >= PARALLEL_FACTOR_SIZE:
             helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
-            ahead = {s: helper.submit(_factor_near, self.ops, s, self.width)
-                     for s in todo[1:]}
+            for s in todo[1:]:
+                made: dict[float, Any] = {}
+                ahead[s] = (helper.submit(_factor_near, self.ops, s, self.width, made), made)
             # one core for the helper, one for this thread's BLAS calls (a BLAS thread
             # sharing its core with the helper would hold up the others at every step)
             stack.enter_context(blas_threads(0.0))
         try:
             for s, lu in self.pending:
                 self.deadline.check("while building the reduced basis", analysis=True)
+                if lu is None and s in ahead:
+                    future, made = ahead.pop(s)
+                    lu, s = future.result()
+                    if self.ops.cache is not None:
+                        self.ops.cache.update(made)
+                elif lu is None:
+                    lu, s = _factor_near(self.ops, s, self.width)
                 if lu is None:
-                    lu, s = ahead.pop(s).result() if s in ahead else \
-                        _factor_near(self.ops, s, self.width)
-                    if lu is None:
-                        continue
+                    continue
                 self.expansion.append(float(s))
                 self.V = _extend(self.V, _krylov(self.ops, lu, self.b, s, self.moments,
                                                  self.deadline), self.drop)
@@ -1226,8 +1231,13 @@ class _Enrichment:
                                seconds)
 
 
-def _factor_near(ops: _Operators, s: float, width: float) -> tuple[Any, float]:
-    """The LU of A(s), or of A at a nearby frequency when A(s) is exactly singular."""
+def _factor_near(ops: _Operators, s: float, width: float,
+                 made: dict[float, Any] | None = None) -> tuple[Any, float]:
+    """The LU of A(s), or of A at a nearby frequency when A(s) is exactly singular.
+    Where the factorizations are kept (``ops.cache``), a new one goes into ``made``
+    if given (a helper thread's: the caller adds it to the cache, which is not changed
+    under another thread's iteration then), else into the cache."""
+    keep = ops.cache if made is None or ops.cache is None else made
     for shift in (0.0, 1e-3, -1e-3, 1e-2):
         t = s + shift * max(width, abs(s), 1e-12)
         if t in ops.given:  # taken: its memory goes with the point's moments
@@ -1237,15 +1247,15 @@ def _factor_near(ops: _Operators, s: float, width: float) -> tuple[Any, float]:
                     found = found.result()
                 except RuntimeError:
                     continue
-                if ops.cache is not None:   # kept as one made here would be
-                    ops.cache[t] = found
+                if keep is not None:   # kept as one made here would be
+                    keep[t] = found
             return found, t
         if ops.cache is not None and t in ops.cache:
             return ops.cache[t], t
         try:
             lu = ops.factor(t)
-            if ops.cache is not None:
-                ops.cache[t] = lu
+            if keep is not None:
+                keep[t] = lu
             return lu, t
         except RuntimeError:  # "Factor is exactly singular"
             continue
