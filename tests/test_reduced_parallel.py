@@ -1,6 +1,7 @@
 """The reduced model's shortcuts for large models give the answer of the plain route.
 
-* expansion points factorized two at a time (a helper thread, used from
+* expansion points factorized two at a time, and the validation point factorized while
+  the adjoints' moments are made (a helper thread, used from
   :data:`resonant.analyses.reduced.PARALLEL_FACTOR_SIZE` coordinates; lowered to 0 here):
   the same expansion points, validations, basis and reduced matrices as one at a time,
   to rounding (each factorization and solve is the same arithmetic in either thread);
@@ -15,6 +16,7 @@
 from __future__ import annotations
 
 import threading
+import traceback
 
 import numpy as np
 import pytest
@@ -66,10 +68,19 @@ def test_parallel_factorizations_give_the_serial_model(case, monkeypatch):
         threads.append(threading.current_thread().name)
         return plain(*args, **kwargs)
 
+    callers: list[str] = []
+    moments = reduced._adjoint_moments
+
+    def spy_moments(*args, **kwargs):
+        callers.append(traceback.extract_stack()[-2].name)
+        return moments(*args, **kwargs)
+
     monkeypatch.setattr(reduced, "PARALLEL_FACTOR_SIZE", 0)
     monkeypatch.setattr(reduced, "_factor_near", spy)
+    monkeypatch.setattr(reduced, "_adjoint_moments", spy_moments)
     parallel = reduced.reduced_model(M, C, K, B, w, tol=1e-6, adjoints=unit)
     assert any(name.startswith("resonant-lu") for name in threads)   # the helper was used
+    assert callers[0] == "side"   # the adjoints' moments made during the first validation
     assert parallel.expansion == serial.expansion
     assert len(parallel.checks) == len(serial.checks)
     for (s1, e1), (s2, e2) in zip(parallel.checks, serial.checks):

@@ -419,6 +419,8 @@ class _Operators:
         self.given: dict[float, Any] = {}
         #: |K|, |M|, |C| (for the rounding error of exact solves), made when needed
         self.abs: tuple[Any, Any, Any] | None = None
+        #: work done once while a helper thread factorizes a validation point, or None
+        self.side: Any = None
 
     def matrix(self, s: float) -> Any:
         return (self.K - (s * s) * self.M + (1j * s) * self.C).tocsc()
@@ -1140,7 +1142,24 @@ class _Enrichment:
     def validate(self, worst: int) -> Any:
         """The exact solve at ``w[worst]``: calibrates the estimate; its factorization
         (None where A is singular: nothing to validate there)."""
-        lu, s = _factor_near(self.ops, float(self.w[worst]), 0.0)
+        side, self.ops.side = self.ops.side, None
+        if side is not None and self.ops.n >= PARALLEL_FACTOR_SIZE:
+            # the factorization in a helper thread, the side work (the adjoints' moments)
+            # here meanwhile, one BLAS thread (a core each)
+            made: dict[float, Any] = {}
+            helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
+            try:
+                future = helper.submit(_factor_near, self.ops, float(self.w[worst]), 0.0,
+                                       made)
+                with blas_threads(0.0):
+                    side()
+                lu, s = future.result()
+            finally:
+                helper.shutdown(wait=False, cancel_futures=True)
+            if self.ops.cache is not None:
+                self.ops.cache.update(made)
+        else:
+            lu, s = _factor_near(self.ops, float(self.w[worst]), 0.0)
         if lu is None:
             return None
         exact = lu.solve(self.b)
@@ -1433,6 +1452,16 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
     ops.given = factorizations if factorizations is not None else {}
     V = np.zeros((ops.n, 0))
     stop = _Limits(MAX_POINTS if max_points is None else max_points, budget, start)
+    early: dict[float, list[np.ndarray]] = {}   # the adjoints' moments, made ahead
+    if adjoints is not None and np.shape(adjoints)[1]:
+        unit = np.asarray(adjoints, dtype=complex)
+
+        def side() -> None:   # (at the first validation, while it is factorized)
+            if ops.cache:
+                s = _adjoint_point(ops, w)
+                early[s] = _adjoint_moments(ops, unit, s, deadline)
+
+        ops.side = side
     errors, checks, expansion, reasons = [], [], [], []
     shared: tuple[_Projection, _Residual] | None = None
     for j in range(B.shape[1]):
@@ -1453,7 +1482,9 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
     residuals = np.zeros(0)
     if adjoints is not None and np.shape(adjoints)[1] and shared is not None and ops.cache:
         V, residuals = _adjoints(ops, shared, np.asarray(adjoints, dtype=complex), V, w,
-                                 deadline)
+                                 deadline, early)
+    ops.side = None
+    early.clear()
     ops.cache = None
     if shared is not None and shared[0].size == V.shape[1] and ops.damped:
         Kr, Mr, Cr = shared[0].reduced     # kept up to date while the basis grew
@@ -1468,21 +1499,36 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
                         time.monotonic() - start, residuals)
 
 
-def _adjoints(ops: _Operators, shared: tuple[_Projection, _Residual], C: np.ndarray,
-              V: np.ndarray, w: np.ndarray, deadline: Deadline
-              ) -> tuple[np.ndarray, np.ndarray]:
-    """The basis with :data:`ADJOINT_MOMENTS` moments of each column of C at the cached
-    factorization nearest the band's middle, and each column's largest relative residual
-    over w on it (:func:`reduced_model`)."""
+def _adjoint_point(ops: _Operators, w: np.ndarray) -> float:
+    """The cached factorization's frequency nearest the band's middle."""
     assert ops.cache
     middle = float(np.sqrt(max(w.min(), 1e-300) * w.max())) if w.min() > 0 else \
         float(w.mean())
-    s = min(ops.cache, key=lambda t: abs(t - middle))
+    return min(ops.cache, key=lambda t: abs(t - middle))
+
+
+def _adjoint_moments(ops: _Operators, C: np.ndarray, s: float, deadline: Deadline
+                     ) -> list[np.ndarray]:
+    """:data:`ADJOINT_MOMENTS` moments of each column of C about s (cached there)."""
+    assert ops.cache is not None
     lu = ops.cache[s]
     moments = []
     for j in range(C.shape[1]):
         deadline.check("while building the reduced basis", analysis=True)
         moments.append(_krylov(ops, lu, C[:, j], s, ADJOINT_MOMENTS, deadline))
+    return moments
+
+
+def _adjoints(ops: _Operators, shared: tuple[_Projection, _Residual], C: np.ndarray,
+              V: np.ndarray, w: np.ndarray, deadline: Deadline,
+              early: dict[float, list[np.ndarray]] | None = None
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """The basis with :data:`ADJOINT_MOMENTS` moments of each column of C at the cached
+    factorization nearest the band's middle, and each column's largest relative residual
+    over w on it (:func:`reduced_model`).  ``early``: moments made before, by point
+    (used if made at that point)."""
+    s = _adjoint_point(ops, w)
+    moments = (early or {}).pop(s, None) or _adjoint_moments(ops, C, s, deadline)
     # one extension and one residual update for all of them (each pass over the n x r
     # basis and the residual's n x 2r directions costs as much for one column as for ten)
     V = _extend(V, np.hstack(moments), 1e-8)
