@@ -428,7 +428,11 @@ class Transfer:
         known: dict[Any, float] = {}
         out = np.empty(len(expressions))
         for i, e in enumerate(expressions):
-            value = known.get(e)
+            try:
+                value = known.get(e)
+            except TypeError:   # (an expression that cannot be hashed: evaluated each time)
+                out[i] = float(numeric_value(e, self.values))
+                continue
             if value is None:
                 value = known[e] = float(numeric_value(e, self.values))
             out[i] = value
