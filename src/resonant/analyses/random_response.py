@@ -64,6 +64,7 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 from collections.abc import Mapping, Sequence
@@ -81,9 +82,10 @@ from ..model.units import Dimension
 from ..system import Batch, BatchHarmonic, LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
 from .kernel import reduced_budget, solve_harmonic
-from .reduced import ReducedModel, reduced_model
+from .reduced import FactorizationsAhead, ReducedModel, probe_frequency, reduced_model
 from .results_json import Saved, optional_float
 from .stationary import freeze_fields
+from .threads import blas_threads
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -381,20 +383,29 @@ class Transfer:
             unit[self.keep, np.arange(len(self.keep))] = 1.0
         budget = None
         probe: dict[float, Any] = {}
-        if self.method == "auto":
-            batch = Batch(tuple(num.coordinates), num.M, num.C, num.K,
-                          [BatchHarmonic(w, np.zeros(num.n), self.columns[0])], {},
-                          num.title, True, len(w))
-            budget = reduced_budget(batch, w, np.asarray(B[:, 0]), probe)
-            if budget is None:
-                return
+        # the model's other first expansion points are factorized during the cost probe
+        ahead = FactorizationsAhead(num.M, num.C, num.K, w, (
+            probe_frequency(w),) if self.method == "auto" else ())
         try:
+            if self.method == "auto":
+                batch = Batch(tuple(num.coordinates), num.M, num.C, num.K,
+                              [BatchHarmonic(w, np.zeros(num.n), self.columns[0])], {},
+                              num.title, True, len(w))
+                # (one BLAS thread while the helper factorizes: a core each)
+                with blas_threads(0.0) if ahead.futures else contextlib.nullcontext():
+                    budget = reduced_budget(batch, w, np.asarray(B[:, 0]), probe)
+                if budget is None:
+                    return
+            probe.update(ahead.futures)
             rom = reduced_model(num.M, num.C, num.K, B, w, tol=tol, deadline=self.deadline,
                                 budget=budget, adjoints=unit, factorizations=probe)
         except AnalysisError:
             if self.method == "reduced":
                 raise
             return
+        finally:
+            ahead.stop()
+            probe.clear()
         worst = float(np.max(rom.estimated_error, initial=0.0))
         if self.method == "auto" and not worst <= REDUCED_ACCEPT:
             return
@@ -411,13 +422,28 @@ class Transfer:
     def _in_outputs(self, name: str) -> bool:
         return any(v[0] == name for out in self.num.outputs.values() for v in out.terms)
 
+    def _vector(self, expressions: Sequence[Any]) -> np.ndarray:
+        """The values of one expression per coordinate, each distinct expression evaluated
+        once (a base vector of 250,000 ones is one expression)."""
+        known: dict[Any, float] = {}
+        out = np.empty(len(expressions))
+        for i, e in enumerate(expressions):
+            try:
+                value = known.get(e)
+            except TypeError:   # (an expression that cannot be hashed: evaluated each time)
+                out[i] = float(numeric_value(e, self.values))
+                continue
+            if value is None:
+                value = known[e] = float(numeric_value(e, self.values))
+            out[i] = value
+        return out
+
     def _loads(self, u: RandomInput, columns: Mapping[Any, np.ndarray]) -> list[_Load]:
         n = self.num.n
         if u.load:
-            vector = np.array([float(numeric_value(e, self.values)) for e in u.load])
-            return [_Load(vector, 0)]
+            return [_Load(self._vector(u.load), 0)]
         if u.base:
-            r = np.array([float(numeric_value(e, self.values)) for e in u.base])
+            r = self._vector(u.base)
             return [_Load(-np.asarray(self.num.M @ r, dtype=float).ravel(), 0)]
         found = [_Load(np.asarray(c, dtype=float), order - u.derivative)
                  for (name, order), c in sorted(columns.items()) if name == u.name]

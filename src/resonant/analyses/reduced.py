@@ -74,7 +74,9 @@ True
 
 from __future__ import annotations
 
+import contextlib
 import time
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -128,6 +130,8 @@ FLOOR_REACHED = 10.0
 FLOOR_SAFETY = 10.0
 #: moments of each adjoint load of :func:`reduced_model` put into the basis
 ADJOINT_MOMENTS = 3
+#: models of at least this many coordinates factorize several expansion points at once
+PARALLEL_FACTOR_SIZE = 20_000
 #: bytes of complex responses computed at once
 _CHUNK_BYTES = 32 * 2**20
 
@@ -415,6 +419,8 @@ class _Operators:
         self.given: dict[float, Any] = {}
         #: |K|, |M|, |C| (for the rounding error of exact solves), made when needed
         self.abs: tuple[Any, Any, Any] | None = None
+        #: work done once while a helper thread factorizes a validation point, or None
+        self.side: Any = None
 
     def matrix(self, s: float) -> Any:
         return (self.K - (s * s) * self.M + (1j * s) * self.C).tocsc()
@@ -431,13 +437,23 @@ class _Operators:
                                + abs(s) * np.abs(self.C.diagonal()))
 
 
+def _real_times(A: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """A @ x for a real A and a complex x without converting A to complex (numpy would
+    copy a large A, the n x r basis or its transpose, into complex numbers first)."""
+    if not np.iscomplexobj(x):
+        result: np.ndarray = A @ x
+        return result
+    product: np.ndarray = (A @ x.real) + 1j * (A @ x.imag)
+    return product
+
+
 def _krylov(ops: _Operators, lu: Solver, b: np.ndarray, s: float, q: int,
             deadline: Deadline) -> np.ndarray:
     """q moments of z(w) about s, as the top halves of an Arnoldi basis of the
     linearization (columns complex, shape (n, <= q))."""
     n = ops.n
     x0 = lu.solve(b)
-    U = np.zeros((2 * n, q), dtype=complex)
+    U = np.zeros((2 * n, q), dtype=complex, order="F")   # contiguous columns
     nrm = np.linalg.norm(x0)
     if not np.isfinite(nrm) or nrm == 0:
         return np.zeros((n, 0), dtype=complex)
@@ -668,12 +684,13 @@ class _Residual:
 
     def _add(self, X: np.ndarray, column: list[int], kind: list[int]) -> None:
         m = self.Q.shape[1]
-        scale = float(np.abs(X).max(initial=0.0))
+        X = np.asfortranarray(X, dtype=float)   # (columns contiguous, as Q's)
+        scale = float(max(X.max(initial=0.0), -X.min(initial=0.0)))
         R12 = np.zeros((m, X.shape[1]))
         for _ in range(2):
             if m:
                 h = self.Q.T @ X
-                X = X - self.Q @ h
+                X = X - (h.T @ self.Q.T).T   # = Q h, computed into Fortran order
                 R12 += h
         # What is left spans at most n - m new directions; rounding noise of columns that
         # were (nearly) in the span of Q is dropped (below 1e-14 of the block).
@@ -705,11 +722,20 @@ class _Residual:
         """The residual of another load on the same basis: the old load's columns leave P
         (their directions stay in Q, which spans more than P then: P = Q R holds), the new
         load's are added, O(n) per basis vector instead of a new factorization."""
+        self.replace_loads(b[:, None])
+
+    def replace_loads(self, B: np.ndarray) -> None:
+        """:meth:`replace_load` with the loads of all columns of B (n, p) at once, load j
+        being column -1 - j of P (:meth:`norms` with ``which=j``): one pass over Q for
+        all of them."""
         kept = [i for i, c in enumerate(self.column) if c >= 0]
         self.R = self.R[:, kept]
         self.column = [self.column[i] for i in kept]
         self.kind = [self.kind[i] for i in kept]
-        self._add(np.column_stack([b.real, b.imag]), [-1, -1], [0, 1])
+        p = B.shape[1]
+        X = np.empty((B.shape[0], 2 * p))
+        X[:, 0::2], X[:, 1::2] = B.real, B.imag
+        self._add(X, [-1 - j for j in range(p) for _ in range(2)], [0, 1] * p)
 
     def extend(self, products: list[np.ndarray], r: int) -> None:
         """Add the columns of the new basis vectors (``products``: K V_new, M V_new and
@@ -726,8 +752,12 @@ class _Residual:
                   [k for k in kinds for _ in new])
         self.size = r
 
-    def norms(self, w: np.ndarray, Y: np.ndarray) -> np.ndarray:
+    def norms(self, w: np.ndarray, Y: np.ndarray, which: int = 0) -> np.ndarray:
+        """||A(w) V y(w) - b|| at the frequencies w for the reduced responses Y (N, r);
+        b the load of column -1 - ``which`` (:meth:`replace_loads`)."""
         column, kind = np.array(self.column), np.array(self.kind)
+        used = (column >= 0) | (column == -1 - which)
+        column, kind, R = column[used], kind[used], self.R[:, used]
         load = column < 0
         out = np.empty(len(w))
         chunk = max(1, _CHUNK_BYTES // (16 * max(len(column), 1)))
@@ -742,7 +772,7 @@ class _Residual:
             u[:, ~load] = factor[kind[~load], :, 0].T * yy[:, column[~load]]
             u[:, load] = np.where(kind[load] == 0, -1.0, -1j)
             with np.errstate(all="ignore"):
-                out[start:start + chunk] = np.linalg.norm(u @ self.R.T, axis=1)
+                out[start:start + chunk] = np.linalg.norm(u @ R.T, axis=1)
         return out
 
 
@@ -788,6 +818,51 @@ def probe_frequency(w: np.ndarray) -> float:
     w = np.abs(np.asarray(w, dtype=float)).ravel()
     points = _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))
     return points[len(points) // 2]
+
+
+class FactorizationsAhead:
+    """The factorizations of a reduced model's first expansion points, made in a helper
+    thread while the caller does something else (``auto``'s cost probe): pass
+    :attr:`futures` in the ``factorizations`` of :func:`reduced_model` (each is waited
+    for when its point comes), and call :meth:`stop` at the end (a factorization
+    under way then finishes unused).  Large models only (:data:`PARALLEL_FACTOR_SIZE`):
+    elsewhere :attr:`futures` is empty.
+
+    Parameters
+    ----------
+    M, C, K : sparse matrix or ndarray
+        As for :func:`reduced_model`.
+    w : ndarray
+        Its frequencies (rad/s).
+    skip : sequence of float
+        Points factorized elsewhere (the probe's :func:`probe_frequency`).
+
+    Examples
+    --------
+    >>> ahead = FactorizationsAhead(np.eye(2), np.eye(2), np.eye(2), np.linspace(1, 2, 9))
+    >>> ahead.futures, ahead.stop()
+    ({}, None)
+    """
+
+    def __init__(self, M: Matrix, C: Matrix, K: Matrix, w: np.ndarray,
+                 skip: tuple[float, ...] = ()) -> None:
+        self.futures: dict[float, Any] = {}
+        self._helper: ThreadPoolExecutor | None = None
+        if M.shape[0] < PARALLEL_FACTOR_SIZE or not np.size(w):
+            return
+        w = np.abs(np.asarray(w, dtype=float)).ravel()
+        points = [s for s in _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))
+                  if s not in skip]
+        if not points:
+            return
+        ops = _Operators(M, C, K)
+        self._helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
+        self.futures = {s: self._helper.submit(ops.factor, s) for s in points}
+
+    def stop(self) -> None:
+        """Cancel what has not started; the helper thread ends after its current one."""
+        if self._helper is not None:
+            self._helper.shutdown(wait=False, cancel_futures=True)
 
 
 def off_diagonal_pivots(lu: SuperLU) -> int:
@@ -977,19 +1052,47 @@ class _Enrichment:
         return self.norms[0] + w**2 * self.norms[1] + w * self.norms[2]
 
     def enrich(self) -> None:
-        """The moments at every pending point (its factorization, if known)."""
-        for s, lu in self.pending:
-            self.deadline.check("while building the reduced basis", analysis=True)
-            if lu is None:
-                lu, s = _factor_near(self.ops, s, self.width)
+        """The moments at every pending point (its factorization, if known).
+
+        Where several points of a large model need a factorization, a helper thread
+        factorizes the later ones while this thread factorizes the first and builds the
+        moments (SuperLU releases the GIL: on two cores the three first points of a
+        250,000-coordinate grid took 3.8 s instead of 6.0 s)."""
+        todo = [s for s, lu in self.pending if lu is None]
+        helper = None
+        ahead: dict[float, Any] = {}
+        stack = contextlib.ExitStack()
+        if len(todo) > 1 and self.ops.n >= PARALLEL_FACTOR_SIZE:
+            helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
+            for s in todo[1:]:
+                made: dict[float, Any] = {}
+                ahead[s] = (helper.submit(_factor_near, self.ops, s, self.width, made), made)
+            # one core for the helper, one for this thread's BLAS calls (a BLAS thread
+            # sharing its core with the helper would hold up the others at every step)
+            stack.enter_context(blas_threads(0.0))
+        try:
+            for s, lu in self.pending:
+                self.deadline.check("while building the reduced basis", analysis=True)
+                if lu is None and s in ahead:
+                    future, made = ahead.pop(s)
+                    lu, s = future.result()
+                    if self.ops.cache is not None:
+                        self.ops.cache.update(made)
+                elif lu is None:
+                    lu, s = _factor_near(self.ops, s, self.width)
                 if lu is None:
                     continue
-            self.expansion.append(float(s))
-            self.V = _extend(self.V, _krylov(self.ops, lu, self.b, s, self.moments,
-                                             self.deadline), self.drop)
-            if self.V.shape[1] >= self.max_basis:
-                self.V = self.V[:, :self.max_basis]
-                break
+                self.expansion.append(float(s))
+                self.V = _extend(self.V, _krylov(self.ops, lu, self.b, s, self.moments,
+                                                 self.deadline), self.drop)
+                del lu
+                if self.V.shape[1] >= self.max_basis:
+                    self.V = self.V[:, :self.max_basis]
+                    break
+        finally:
+            if helper is not None:   # (a factorization under way is left to finish)
+                helper.shutdown(wait=False, cancel_futures=True)
+            stack.close()
         self.pending = []
         if self.V.shape[1] == 0:
             raise AnalysisError("the reduced model has no basis: A(w) is singular at every "
@@ -1001,7 +1104,7 @@ class _Enrichment:
         w = self.w
         products = self.projection.update(self.V)
         Kr, Mr, Cr = self.projection.reduced
-        red = _Reduced(Kr, Mr, Cr, self.V.T @ self.b)
+        red = _Reduced(Kr, Mr, Cr, _real_times(self.V.T, self.b))
         self.Y = red.solve(w)
         # an undamped resonance (condition number beyond SINGULAR_CONDITION and a response
         # the damping does not act on, as in the kernel) has no response to estimate: such
@@ -1039,7 +1142,24 @@ class _Enrichment:
     def validate(self, worst: int) -> Any:
         """The exact solve at ``w[worst]``: calibrates the estimate; its factorization
         (None where A is singular: nothing to validate there)."""
-        lu, s = _factor_near(self.ops, float(self.w[worst]), 0.0)
+        side, self.ops.side = self.ops.side, None
+        if side is not None and self.ops.n >= PARALLEL_FACTOR_SIZE:
+            # the factorization in a helper thread, the side work (the adjoints' moments)
+            # here meanwhile, one BLAS thread (a core each)
+            made: dict[float, Any] = {}
+            helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
+            try:
+                future = helper.submit(_factor_near, self.ops, float(self.w[worst]), 0.0,
+                                       made)
+                with blas_threads(0.0):
+                    side()
+                lu, s = future.result()
+            finally:
+                helper.shutdown(wait=False, cancel_futures=True)
+            if self.ops.cache is not None:
+                self.ops.cache.update(made)
+        else:
+            lu, s = _factor_near(self.ops, float(self.w[worst]), 0.0)
         if lu is None:
             return None
         exact = lu.solve(self.b)
@@ -1047,7 +1167,7 @@ class _Enrichment:
         if not backward_stable(self.ops.matrix(s), exact, self.b):  # pivots grew too much
             solver = self.ops.factor(s, partial=True)
             exact = solver.solve(self.b)
-        approx = self.V @ self.Y[worst]
+        approx = _real_times(self.V, self.Y[worst])
         true = float(np.linalg.norm(approx - exact)) / max(float(np.linalg.norm(exact)),
                                                             1e-300)
         self.checks.append((s, true))
@@ -1130,18 +1250,31 @@ class _Enrichment:
                                seconds)
 
 
-def _factor_near(ops: _Operators, s: float, width: float) -> tuple[Any, float]:
-    """The LU of A(s), or of A at a nearby frequency when A(s) is exactly singular."""
+def _factor_near(ops: _Operators, s: float, width: float,
+                 made: dict[float, Any] | None = None) -> tuple[Any, float]:
+    """The LU of A(s), or of A at a nearby frequency when A(s) is exactly singular.
+    Where the factorizations are kept (``ops.cache``), a new one goes into ``made``
+    if given (a helper thread's: the caller adds it to the cache, which is not changed
+    under another thread's iteration then), else into the cache."""
+    keep = ops.cache if made is None or ops.cache is None else made
     for shift in (0.0, 1e-3, -1e-3, 1e-2):
         t = s + shift * max(width, abs(s), 1e-12)
         if t in ops.given:  # taken: its memory goes with the point's moments
-            return ops.given.pop(t), t
+            found = ops.given.pop(t)
+            if isinstance(found, Future):   # made for this model (FactorizationsAhead)
+                try:
+                    found = found.result()
+                except RuntimeError:
+                    continue
+                if keep is not None:   # kept as one made here would be
+                    keep[t] = found
+            return found, t
         if ops.cache is not None and t in ops.cache:
             return ops.cache[t], t
         try:
             lu = ops.factor(t)
-            if ops.cache is not None:
-                ops.cache[t] = lu
+            if keep is not None:
+                keep[t] = lu
             return lu, t
         except RuntimeError:  # "Factor is exactly singular"
             continue
@@ -1319,6 +1452,16 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
     ops.given = factorizations if factorizations is not None else {}
     V = np.zeros((ops.n, 0))
     stop = _Limits(MAX_POINTS if max_points is None else max_points, budget, start)
+    early: dict[float, list[np.ndarray]] = {}   # the adjoints' moments, made ahead
+    if adjoints is not None and np.shape(adjoints)[1]:
+        unit = np.asarray(adjoints, dtype=complex)
+
+        def side() -> None:   # (at the first validation, while it is factorized)
+            if ops.cache:
+                s = _adjoint_point(ops, w)
+                early[s] = _adjoint_moments(ops, unit, s, deadline)
+
+        ops.side = side
     errors, checks, expansion, reasons = [], [], [], []
     shared: tuple[_Projection, _Residual] | None = None
     for j in range(B.shape[1]):
@@ -1339,7 +1482,9 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
     residuals = np.zeros(0)
     if adjoints is not None and np.shape(adjoints)[1] and shared is not None and ops.cache:
         V, residuals = _adjoints(ops, shared, np.asarray(adjoints, dtype=complex), V, w,
-                                 deadline)
+                                 deadline, early)
+    ops.side = None
+    early.clear()
     ops.cache = None
     if shared is not None and shared[0].size == V.shape[1] and ops.damped:
         Kr, Mr, Cr = shared[0].reduced     # kept up to date while the basis grew
@@ -1349,38 +1494,57 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
     converged = bool(np.all(err <= tol))
     reason = "" if converged else (reasons[0] if reasons else
                                    "the estimated error stayed above the tolerance")
-    return ReducedModel(V, Mr, Cr, Kr, V.T @ B, err, tuple(checks),
+    return ReducedModel(V, Mr, Cr, Kr, _real_times(V.T, B), err, tuple(checks),
                         converged, reason, tuple(sorted(set(expansion))),
                         time.monotonic() - start, residuals)
 
 
-def _adjoints(ops: _Operators, shared: tuple[_Projection, _Residual], C: np.ndarray,
-              V: np.ndarray, w: np.ndarray, deadline: Deadline
-              ) -> tuple[np.ndarray, np.ndarray]:
-    """The basis with :data:`ADJOINT_MOMENTS` moments of each column of C at the cached
-    factorization nearest the band's middle, and each column's largest relative residual
-    over w on it (:func:`reduced_model`)."""
+def _adjoint_point(ops: _Operators, w: np.ndarray) -> float:
+    """The cached factorization's frequency nearest the band's middle."""
     assert ops.cache
     middle = float(np.sqrt(max(w.min(), 1e-300) * w.max())) if w.min() > 0 else \
         float(w.mean())
-    s = min(ops.cache, key=lambda t: abs(t - middle))
+    return min(ops.cache, key=lambda t: abs(t - middle))
+
+
+def _adjoint_moments(ops: _Operators, C: np.ndarray, s: float, deadline: Deadline
+                     ) -> list[np.ndarray]:
+    """:data:`ADJOINT_MOMENTS` moments of each column of C about s (cached there)."""
+    assert ops.cache is not None
     lu = ops.cache[s]
-    drop = 1e-8
+    moments = []
     for j in range(C.shape[1]):
         deadline.check("while building the reduced basis", analysis=True)
-        V = _extend(V, _krylov(ops, lu, C[:, j], s, ADJOINT_MOMENTS, deadline), drop)
+        moments.append(_krylov(ops, lu, C[:, j], s, ADJOINT_MOMENTS, deadline))
+    return moments
+
+
+def _adjoints(ops: _Operators, shared: tuple[_Projection, _Residual], C: np.ndarray,
+              V: np.ndarray, w: np.ndarray, deadline: Deadline,
+              early: dict[float, list[np.ndarray]] | None = None
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """The basis with :data:`ADJOINT_MOMENTS` moments of each column of C at the cached
+    factorization nearest the band's middle, and each column's largest relative residual
+    over w on it (:func:`reduced_model`).  ``early``: moments made before, by point
+    (used if made at that point)."""
+    s = _adjoint_point(ops, w)
+    moments = (early or {}).pop(s, None) or _adjoint_moments(ops, C, s, deadline)
+    # one extension and one residual update for all of them (each pass over the n x r
+    # basis and the residual's n x 2r directions costs as much for one column as for ten)
+    V = _extend(V, np.hstack(moments), 1e-8)
+    del moments
     projection, residual = shared
     products = projection.update(V)
     residual.extend(products, V.shape[1])
     del products
     Kr, Mr, Cr = projection.reduced
+    residual.replace_loads(C)
     out = np.empty(C.shape[1])
     for j in range(C.shape[1]):
         c = C[:, j]
-        residual.replace_load(c)
-        Y = _Reduced(Kr, Mr, Cr, V.T @ c).solve(w)
+        Y = _Reduced(Kr, Mr, Cr, _real_times(V.T, c)).solve(w)
         with np.errstate(all="ignore"):
-            rho = residual.norms(w, Y) / float(np.linalg.norm(c))
+            rho = residual.norms(w, Y, which=j) / float(np.linalg.norm(c))
         out[j] = float(np.max(rho)) if np.all(np.isfinite(rho)) else np.inf
     return V, out
 
@@ -1388,4 +1552,4 @@ def _adjoints(ops: _Operators, shared: tuple[_Projection, _Residual], C: np.ndar
 __all__ = ["reduced_response", "ReducedResponse", "reduced_model", "ReducedModel",
            "DEFAULT_TOL", "sparse_lu_options", "backward_stable", "probe_frequency",
            "off_diagonal_pivots", "damping_fraction", "DAMPED_FRACTION", "ScaledLU",
-           "symmetric_scale"]
+           "symmetric_scale", "FactorizationsAhead"]
