@@ -62,4 +62,23 @@ def test_blas_threads_at_most_the_idle_cores(monkeypatch):
     monkeypatch.setattr(threads.os, "getloadavg", lambda: (2.0, 2.0, 2.0))
     assert threads.idle_cores() == 1 and threads.threads_for(1e12) == 1
     monkeypatch.setattr(threads.os, "getloadavg", lambda: (1.0, 1.0, 1.0))
+    monkeypatch.setattr(threads, "_running_now", lambda: 1.0)  # this process alone
     assert threads.idle_cores() == 2 and threads.threads_for(1e12) == 2
+    # a process that has just started to keep a core busy: not in the average yet
+    monkeypatch.setattr(threads, "_running_now", lambda: 2.0)
+    assert threads.idle_cores() == 1 and threads.threads_for(1e12) == 1
+
+
+def test_a_busy_core_is_seen_at_once():
+    """A busy loop started a moment ago (the 1-minute average has not seen it): the BLAS
+    calls get one thread."""
+    if threads.cores() < 2 or threads._running_now() == 0:
+        pytest.skip("needs two cores and Linux's /proc/stat")
+    busy = subprocess.Popen([sys.executable, "-c", "while True: pass"])
+    try:
+        time.sleep(0.3)
+        seen = [threads.idle_cores() for _ in range(20)]
+    finally:
+        busy.kill()
+        busy.wait()
+    assert min(seen) < threads.cores(), seen

@@ -10,7 +10,9 @@ small matrices threads never pay (their start-up costs more than the work).
 installed) for the duration of a ``with`` block to :func:`threads_for` the work:
 one thread below :data:`PARALLEL_FLOPS` floating-point operations per call; above,
 the cores of this process's CPU set that are not busy with other processes (the
-1-minute load average, less this process).  The method a sweep uses never depends on
+1-minute load average or the tasks running at this instant, whichever is larger, less
+this process: a busy loop started a second ago is not in the average yet, and two
+threads with a busy core made the 10,000-DOF random response 18.5 s instead of 4.5 s).  The method a sweep uses never depends on
 this: it is chosen from the cost model (docs/sweeps.md); only the threads the
 chosen method runs with do.
 
@@ -46,14 +48,29 @@ def cores() -> int:
 
 def idle_cores() -> int:
     """The cores of :func:`cores` not busy with other processes (at least 1): the cores
-    less the 1-minute load average, this process's own run counted out."""
+    less the larger of the 1-minute load average and the tasks running right now, this
+    process's own run counted out.  The average lags by a minute (a process that has just
+    started to keep a core busy is not in it yet); the tasks running now catch it."""
     total = cores()
     try:
         load = os.getloadavg()[0]
     except (AttributeError, OSError):  # (not Unix)
         return total
-    busy = max(0.0, load - 1.0)
+    busy = max(0.0, load - 1.0, _running_now() - 1.0)
     return int(max(1, min(total, round(total - busy))))
+
+
+def _running_now() -> float:
+    """The tasks running or ready to run at this instant, the caller among them (Linux's
+    ``procs_running`` of /proc/stat; 0 where there is none)."""
+    try:
+        with open("/proc/stat", "rb") as stat:
+            for line in stat:
+                if line.startswith(b"procs_running "):
+                    return float(line.split()[1])
+    except (OSError, ValueError, IndexError):
+        pass
+    return 0.0
 
 
 def threads_for(flops: float) -> int:
