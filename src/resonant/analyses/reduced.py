@@ -76,7 +76,6 @@ from __future__ import annotations
 
 import contextlib
 import time
-from collections.abc import Iterable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Protocol
@@ -133,8 +132,6 @@ FLOOR_SAFETY = 10.0
 ADJOINT_MOMENTS = 3
 #: models of at least this many coordinates factorize several expansion points at once
 PARALLEL_FACTOR_SIZE = 20_000
-#: the one thread that factorizes ahead (made on first use, alive until the process ends)
-_FACTOR_THREAD: ThreadPoolExecutor | None = None
 #: bytes of complex responses computed at once
 _CHUNK_BYTES = 32 * 2**20
 
@@ -823,35 +820,6 @@ def probe_frequency(w: np.ndarray) -> float:
     return points[len(points) // 2]
 
 
-def factor_thread() -> ThreadPoolExecutor:
-    """The one long-lived thread that factorizes expansion points ahead.
-
-    One thread for the process, never shut down: a SuperLU factor keeps memory its
-    making thread allocated, and a factor outliving a thread that ended has leaked memory
-    (scipy issue #15921) or, in development versions of scipy, been freed under it (scipy
-    pull request #25759); reused, the thread never ends while a factor lives.
-
-    Returns
-    -------
-    concurrent.futures.ThreadPoolExecutor
-
-    Examples
-    --------
-    >>> factor_thread() is factor_thread()
-    True
-    """
-    global _FACTOR_THREAD
-    if _FACTOR_THREAD is None:
-        _FACTOR_THREAD = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
-    return _FACTOR_THREAD
-
-
-def _cancel(futures: Iterable[Future[Any]]) -> None:
-    """Cancel the factorizations not started (one under way finishes unused)."""
-    for future in futures:
-        future.cancel()
-
-
 class FactorizationsAhead:
     """The factorizations of a reduced model's first expansion points, made in a helper
     thread while the caller does something else (``auto``'s cost probe): pass
@@ -879,6 +847,7 @@ class FactorizationsAhead:
     def __init__(self, M: Matrix, C: Matrix, K: Matrix, w: np.ndarray,
                  skip: tuple[float, ...] = ()) -> None:
         self.futures: dict[float, Any] = {}
+        self._helper: ThreadPoolExecutor | None = None
         if M.shape[0] < PARALLEL_FACTOR_SIZE or not np.size(w):
             return
         w = np.abs(np.asarray(w, dtype=float)).ravel()
@@ -887,11 +856,13 @@ class FactorizationsAhead:
         if not points:
             return
         ops = _Operators(M, C, K)
-        self.futures = {s: factor_thread().submit(ops.factor, s) for s in points}
+        self._helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
+        self.futures = {s: self._helper.submit(ops.factor, s) for s in points}
 
     def stop(self) -> None:
-        """Cancel what has not started (one under way finishes unused)."""
-        _cancel(self.futures.values())
+        """Cancel what has not started; the helper thread ends after its current one."""
+        if self._helper is not None:
+            self._helper.shutdown(wait=False, cancel_futures=True)
 
 
 def off_diagonal_pivots(lu: SuperLU) -> int:
@@ -1088,13 +1059,14 @@ class _Enrichment:
         moments (SuperLU releases the GIL: on two cores the three first points of a
         250,000-coordinate grid took 3.8 s instead of 6.0 s)."""
         todo = [s for s, lu in self.pending if lu is None]
+        helper = None
         ahead: dict[float, Any] = {}
         stack = contextlib.ExitStack()
         if len(todo) > 1 and self.ops.n >= PARALLEL_FACTOR_SIZE:
+            helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
             for s in todo[1:]:
                 made: dict[float, Any] = {}
-                future = factor_thread().submit(_factor_near, self.ops, s, self.width, made)
-                ahead[s] = (future, made)
+                ahead[s] = (helper.submit(_factor_near, self.ops, s, self.width, made), made)
             # one core for the helper, one for this thread's BLAS calls (a BLAS thread
             # sharing its core with the helper would hold up the others at every step)
             stack.enter_context(blas_threads(0.0))
@@ -1118,7 +1090,8 @@ class _Enrichment:
                     self.V = self.V[:, :self.max_basis]
                     break
         finally:
-            _cancel(future for future, _ in ahead.values())
+            if helper is not None:   # (a factorization under way is left to finish)
+                helper.shutdown(wait=False, cancel_futures=True)
             stack.close()
         self.pending = []
         if self.V.shape[1] == 0:
@@ -1174,14 +1147,15 @@ class _Enrichment:
             # the factorization in a helper thread, the side work (the adjoints' moments)
             # here meanwhile, one BLAS thread (a core each)
             made: dict[float, Any] = {}
-            future = factor_thread().submit(_factor_near, self.ops, float(self.w[worst]), 0.0,
-                                            made)
+            helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
             try:
+                future = helper.submit(_factor_near, self.ops, float(self.w[worst]), 0.0,
+                                       made)
                 with blas_threads(0.0):
                     side()
                 lu, s = future.result()
             finally:
-                future.cancel()  # when side() failed (a deadline): not needed any more
+                helper.shutdown(wait=False, cancel_futures=True)
             if self.ops.cache is not None:
                 self.ops.cache.update(made)
         else:
