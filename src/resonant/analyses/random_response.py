@@ -404,8 +404,8 @@ class Transfer:
                 raise
             return
         finally:
+            probe.clear()   # first: the helper's factors are then freed in its thread
             ahead.stop()
-            probe.clear()
         worst = float(np.max(rom.estimated_error, initial=0.0))
         if self.method == "auto" and not worst <= REDUCED_ACCEPT:
             return

@@ -421,6 +421,23 @@ class _Operators:
         self.abs: tuple[Any, Any, Any] | None = None
         #: work done once while a helper thread factorizes a validation point, or None
         self.side: Any = None
+        #: the helper thread of :meth:`helper`, made on first use
+        self.maker: FactorThread | None = None
+
+    def helper(self) -> FactorThread:
+        """The one helper thread of this model's factorizations (:meth:`release` frees
+        what it made)."""
+        if self.maker is None:
+            self.maker = FactorThread()
+        return self.maker
+
+    def release(self) -> None:
+        """Drop every factorization kept here; those of the helper thread are freed
+        there (:class:`FactorThread`)."""
+        self.cache, self.given, self.side = None, {}, None
+        if self.maker is not None:
+            self.maker.release()
+            self.maker = None
 
     def matrix(self, s: float) -> Any:
         return (self.K - (s * s) * self.M + (1j * s) * self.C).tocsc()
@@ -820,6 +837,49 @@ def probe_frequency(w: np.ndarray) -> float:
     return points[len(points) // 2]
 
 
+class FactorThread:
+    """A helper thread that factorizes, and frees in that thread what it made.
+
+    SuperLU (scipy 1.17) gives a factor's memory back only when the factor is freed in the
+    thread that made it: freed in another thread, every factorization of a 40,000-row
+    grid kept its 40 MB (scipy issue 15921).  So the thread keeps a reference to each
+    factor it makes, and :meth:`release` -- called when the caller has let go of all of
+    them -- drops those references in the thread, then lets the thread end.
+
+    Examples
+    --------
+    >>> maker = FactorThread()
+    >>> maker.submit(sum, [1, 2]).result()
+    3
+    >>> maker.release()
+    """
+
+    def __init__(self) -> None:
+        self._pool = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
+        self._made: list[Any] = []
+        self._futures: list[Future[Any]] = []
+
+    def submit(self, fn: Any, *args: Any) -> Future[Any]:
+        """Run ``fn(*args)`` in the thread; its result is kept there until :meth:`release`."""
+        future = self._pool.submit(self._keep, fn, *args)
+        self._futures.append(future)
+        return future
+
+    def _keep(self, fn: Any, *args: Any) -> Any:
+        made = fn(*args)
+        self._made.append(made)
+        return made
+
+    def release(self) -> None:
+        """Cancel what has not started, free what was made (in the thread, after one
+        under way), and let the thread end; the caller does not wait."""
+        for future in self._futures:
+            future.cancel()
+        self._futures.clear()
+        self._pool.submit(self._made.clear)
+        self._pool.shutdown(wait=False)
+
+
 class FactorizationsAhead:
     """The factorizations of a reduced model's first expansion points, made in a helper
     thread while the caller does something else (``auto``'s cost probe): pass
@@ -847,7 +907,7 @@ class FactorizationsAhead:
     def __init__(self, M: Matrix, C: Matrix, K: Matrix, w: np.ndarray,
                  skip: tuple[float, ...] = ()) -> None:
         self.futures: dict[float, Any] = {}
-        self._helper: ThreadPoolExecutor | None = None
+        self._helper: FactorThread | None = None
         if M.shape[0] < PARALLEL_FACTOR_SIZE or not np.size(w):
             return
         w = np.abs(np.asarray(w, dtype=float)).ravel()
@@ -856,13 +916,17 @@ class FactorizationsAhead:
         if not points:
             return
         ops = _Operators(M, C, K)
-        self._helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
+        self._helper = FactorThread()
         self.futures = {s: self._helper.submit(ops.factor, s) for s in points}
 
     def stop(self) -> None:
-        """Cancel what has not started; the helper thread ends after its current one."""
+        """Cancel what has not started and free the factors in the thread that made them
+        (:class:`FactorThread`); call it when no factor of :attr:`futures` is used any
+        more."""
+        self.futures = {}
         if self._helper is not None:
-            self._helper.shutdown(wait=False, cancel_futures=True)
+            self._helper.release()
+            self._helper = None
 
 
 def off_diagonal_pivots(lu: SuperLU) -> int:
@@ -1059,11 +1123,10 @@ class _Enrichment:
         moments (SuperLU releases the GIL: on two cores the three first points of a
         250,000-coordinate grid took 3.8 s instead of 6.0 s)."""
         todo = [s for s, lu in self.pending if lu is None]
-        helper = None
         ahead: dict[float, Any] = {}
         stack = contextlib.ExitStack()
         if len(todo) > 1 and self.ops.n >= PARALLEL_FACTOR_SIZE:
-            helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
+            helper = self.ops.helper()
             for s in todo[1:]:
                 made: dict[float, Any] = {}
                 ahead[s] = (helper.submit(_factor_near, self.ops, s, self.width, made), made)
@@ -1090,8 +1153,8 @@ class _Enrichment:
                     self.V = self.V[:, :self.max_basis]
                     break
         finally:
-            if helper is not None:   # (a factorization under way is left to finish)
-                helper.shutdown(wait=False, cancel_futures=True)
+            for future, _ in ahead.values():   # not needed any more
+                future.cancel()
             stack.close()
         self.pending = []
         if self.V.shape[1] == 0:
@@ -1147,15 +1210,14 @@ class _Enrichment:
             # the factorization in a helper thread, the side work (the adjoints' moments)
             # here meanwhile, one BLAS thread (a core each)
             made: dict[float, Any] = {}
-            helper = ThreadPoolExecutor(1, thread_name_prefix="resonant-lu")
+            future = self.ops.helper().submit(_factor_near, self.ops, float(self.w[worst]),
+                                              0.0, made)
             try:
-                future = helper.submit(_factor_near, self.ops, float(self.w[worst]), 0.0,
-                                       made)
                 with blas_threads(0.0):
                     side()
                 lu, s = future.result()
             finally:
-                helper.shutdown(wait=False, cancel_futures=True)
+                future.cancel()   # (side() failed: not needed)
             if self.ops.cache is not None:
                 self.ops.cache.update(made)
         else:
@@ -1464,28 +1526,32 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
         ops.side = side
     errors, checks, expansion, reasons = [], [], [], []
     shared: tuple[_Projection, _Residual] | None = None
-    for j in range(B.shape[1]):
-        if not np.any(B[:, j]):
-            errors.append(0.0)
-            continue
-        model = _Enrichment(ops, B[:, j], w, tol, moments, deadline, V, shared)
-        with blas_threads(_largest_call(ops.n)):
-            _grow(model, stop)
-        V = model.V
-        shared = (model.projection, model.residual)
-        errors.append(float(np.nanmax(np.where(model.finite, model.estimate, np.nan)))
-                      if model.finite.any() else float("inf"))
-        checks += model.checks
-        expansion += model.expansion
-        if model.reason:
-            reasons.append(model.reason)
-    residuals = np.zeros(0)
-    if adjoints is not None and np.shape(adjoints)[1] and shared is not None and ops.cache:
-        V, residuals = _adjoints(ops, shared, np.asarray(adjoints, dtype=complex), V, w,
-                                 deadline, early)
-    ops.side = None
-    early.clear()
-    ops.cache = None
+    model: _Enrichment | None = None
+    try:
+        for j in range(B.shape[1]):
+            if not np.any(B[:, j]):
+                errors.append(0.0)
+                continue
+            model = _Enrichment(ops, B[:, j], w, tol, moments, deadline, V, shared)
+            with blas_threads(_largest_call(ops.n)):
+                _grow(model, stop)
+            V = model.V
+            shared = (model.projection, model.residual)
+            errors.append(float(np.nanmax(np.where(model.finite, model.estimate, np.nan)))
+                          if model.finite.any() else float("inf"))
+            checks += model.checks
+            expansion += model.expansion
+            if model.reason:
+                reasons.append(model.reason)
+        residuals = np.zeros(0)
+        if adjoints is not None and np.shape(adjoints)[1] and shared is not None and ops.cache:
+            V, residuals = _adjoints(ops, shared, np.asarray(adjoints, dtype=complex), V, w,
+                                     deadline, early)
+    finally:
+        # the factorizations go (a helper thread's freed there): the model's last one too
+        model = None
+        early.clear()
+        ops.release()
     if shared is not None and shared[0].size == V.shape[1] and ops.damped:
         Kr, Mr, Cr = shared[0].reduced     # kept up to date while the basis grew
     else:
