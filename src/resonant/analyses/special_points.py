@@ -255,8 +255,8 @@ class Locator:
         b = arc(self.branch, i)
         if not b > 0:
             return [], 0
-        samples = [(0.0, sign * (self.rate(i, k) - edge), None),
-                   (b, sign * (self.rate(i + 1, k) - edge), None)]
+        samples = [(0.0, sign * (self.rate(i, k) - edge)),
+                   (b, sign * (self.rate(i + 1, k) - edge))]
         for used in range(1, probes + 1):
             top = max(range(len(samples)), key=lambda m: samples[m][1])
             if top == 0:
@@ -271,7 +271,7 @@ class Locator:
                 return [], used
             x, p, t = at
             f = sign * (growth(x, p, t) - edge)
-            samples.insert(gap + 1, (sigma, f, at))
+            samples.insert(gap + 1, (sigma, f))
             if f > 0:
                 inside = self.counts_at(x, p)
                 before = classify(self.lam[i], self.Ws[i])
