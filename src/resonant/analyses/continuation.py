@@ -190,16 +190,41 @@ def follow(hb: Balance, x0: np.ndarray, start: float, stop: float, points: int,
     return branch
 
 
-def refine(hb: Balance, branch: Branch, i: int,
-           g: Callable[[np.ndarray, float, np.ndarray], float], g0: float, g1: float
-           ) -> tuple[np.ndarray, float] | None:
-    """The point between branch points i and i+1 where g(x, p, tangent) = 0 (regula falsi
-    with the Illinois modification on the arc-length coordinate)."""
+def arc(branch: Branch, i: int) -> float:
+    """The length of step i -> i+1 along the tangent at i (scaled variables): the
+    coordinate :func:`refine` and :func:`probe` use."""
+    sx, sp = branch.sx, branch.sp
+    ui = np.concatenate([branch.x[i] / sx, [branch.p[i] / sp]])
+    uj = np.concatenate([branch.x[i + 1] / sx, [branch.p[i + 1] / sp]])
+    return float(branch.tangents[i] @ (uj - ui))
+
+
+def probe(hb: Balance, branch: Branch, i: int, sigma: float
+          ) -> tuple[np.ndarray, float, np.ndarray] | None:
+    """The branch's point at ``sigma`` along the tangent of point i (the coordinate of
+    :func:`arc`), corrected by Newton: (x, p, its tangent), or None without convergence."""
     sx, sp = branch.sx, branch.sp
     t = branch.tangents[i]
     ui = np.concatenate([branch.x[i] / sx, [branch.p[i] / sp]])
-    uj = np.concatenate([branch.x[i + 1] / sx, [branch.p[i + 1] / sp]])
-    a, b = 0.0, float(t @ (uj - ui))
+    v, ok, _ = correct(hb, ui + sigma * t, t, sx, sp)
+    if not ok:
+        return None
+    x, p = v[:-1] * sx, float(v[-1] * sp)
+    _, J, _ = hb.jacobian(x, p)
+    return x, p, tangent(J, hb.dp(x, p), sx, sp, t)
+
+
+def refine(hb: Balance, branch: Branch, i: int,
+           g: Callable[[np.ndarray, float, np.ndarray], float], g0: float, g1: float,
+           span: tuple[float, float] | None = None) -> tuple[np.ndarray, float] | None:
+    """The point between branch points i and i+1 where g(x, p, tangent) = 0 (regula falsi
+    with the Illinois modification on the arc-length coordinate).  ``span``: the part
+    (a, b) of that coordinate to search (g0 at a, g1 at b; :func:`arc` gives the whole:
+    the default), for a zero between two corrected points inside the step."""
+    sx, sp = branch.sx, branch.sp
+    t = branch.tangents[i]
+    ui = np.concatenate([branch.x[i] / sx, [branch.p[i] / sp]])
+    a, b = (0.0, arc(branch, i)) if span is None else span
     fa, fb = g0, g1
     if not (fa * fb < 0 and b > 0):
         return None
@@ -223,4 +248,5 @@ def refine(hb: Balance, branch: Branch, i: int,
     return best
 
 
-__all__ = ["Balance", "Branch", "tangent", "correct", "follow", "refine", "MAX_RELATIVE_CHANGE"]
+__all__ = ["Balance", "Branch", "tangent", "correct", "follow", "refine", "arc", "probe",
+           "MAX_RELATIVE_CHANGE"]

@@ -25,7 +25,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
-from .continuation import Balance, Branch, refine
+from .continuation import Balance, Branch, arc, probe, refine
 from .results_json import Saved
 
 #: a multiplier with |mu| > 1 + this is unstable
@@ -35,6 +35,14 @@ SPECIAL_KINDS = ("fold", "period-doubling", "neimark-sacker", "branch", "peak")
 ARC_STEP = 1e-5
 #: a local maximum of a sampled amplitude counts when it stands out by this (relative)
 PEAK_MARGIN = 1e-10
+#: a sampled extremum of a growth rate that keeps its sign (the largest rate of the stable
+#: multipliers at a local maximum, the smallest of the unstable ones at a local minimum) is
+#: searched for a narrow window of the other stability between its neighbours when it lies
+#: within this many times its rise from them of the unit circle
+WINDOW_FACTOR = 4.0
+#: corrected points tried per suspected window, and in all per branch point
+WINDOW_PROBES = 4
+WINDOW_SHARE = 0.1
 
 
 class BranchEquations(Balance, Protocol):
@@ -180,8 +188,11 @@ class Locator:
     def rate(self, i: int, k: int) -> float:
         return float(np.sort(self.lam[i].real)[::-1][k] * 2 * np.pi / self.Ws[i])
 
+    def counts(self) -> list[tuple[int, int, int]]:
+        return [classify(self.lam[i], self.Ws[i]) for i in range(self.Ws.size)]
+
     def stability_changes(self, folds: set[int]) -> list[SpecialPoint]:
-        counts = [classify(self.lam[i], self.Ws[i]) for i in range(self.Ws.size)]
+        counts = self.counts()
         found = []
         for i in range(len(counts) - 1):
             a, b = counts[i], counts[i + 1]
@@ -197,6 +208,91 @@ class Locator:
                                 self.rate(i + 1, k))
                 found.append(self.point(i, kind, at))
         return found
+
+    def windows(self, counts: list[tuple[int, int, int]]) -> list[SpecialPoint]:
+        """The changes of stability of windows narrower than a step.
+
+        Where the largest rate of the stable multipliers has a sampled local maximum at
+        point i near the circle (within WINDOW_FACTOR times its rise from the lower
+        neighbour), or the smallest rate of the unstable ones a local minimum, the step
+        towards the higher (lower) neighbour and then the other are searched by at most
+        WINDOW_PROBES corrected points for a crossing, each crossing located by
+        :func:`refine` between them.  At most WINDOW_SHARE corrected points per branch
+        point in all.
+        """
+        budget = int(WINDOW_SHARE * len(counts)) + WINDOW_PROBES
+        found: list[SpecialPoint] = []
+        edge = math.log1p(STABILITY_TOL)
+        width = self.lam.shape[1]
+        for i in range(1, len(counts) - 1):
+            if not counts[i - 1] == counts[i] == counts[i + 1]:
+                continue
+            u = sum(counts[i])
+            for k, sign in ((u, 1.0), (u - 1, -1.0)):
+                if budget <= 0 or not 0 <= k < width:
+                    continue
+                r = [sign * (self.rate(j, k) - edge) for j in (i - 1, i, i + 1)]
+                # r < 0 at all three; a window where r rises above 0 between them
+                rise = r[1] - min(r[0], r[2])
+                if not (r[1] > r[0] and r[1] >= r[2] and -r[1] < WINDOW_FACTOR * rise):
+                    continue
+                sides = (i, i - 1) if r[2] >= r[0] else (i - 1, i)
+                for j in sides:
+                    self.check()
+                    more, used = self.window(j, k, sign, edge, min(budget, WINDOW_PROBES))
+                    budget -= used
+                    found += more
+                    if more or budget <= 0:
+                        break
+        return found
+
+    def window(self, i: int, k: int, sign: float, edge: float, probes: int
+               ) -> tuple[list[SpecialPoint], int]:
+        """Search step i -> i+1 for sign * (rate k - edge) > 0 by up to ``probes``
+        corrected points (each halving the gap beside the highest so far); the two
+        crossings around the first point found there, and the points used."""
+        growth = self.growth(k)
+        b = arc(self.branch, i)
+        if not b > 0:
+            return [], 0
+        samples = [(0.0, sign * (self.rate(i, k) - edge)),
+                   (b, sign * (self.rate(i + 1, k) - edge))]
+        for used in range(1, probes + 1):
+            top = max(range(len(samples)), key=lambda m: samples[m][1])
+            if top == 0:
+                gap = 0
+            elif top == len(samples) - 1:
+                gap = top - 1
+            else:
+                gap = top if samples[top + 1][1] >= samples[top - 1][1] else top - 1
+            sigma = 0.5 * (samples[gap][0] + samples[gap + 1][0])
+            at = probe(self.hb, self.branch, i, sigma)
+            if at is None:
+                return [], used
+            x, p, t = at
+            f = sign * (growth(x, p, t) - edge)
+            samples.insert(gap + 1, (sigma, f))
+            if f > 0:
+                inside = self.counts_at(x, p)
+                before = classify(self.lam[i], self.Ws[i])
+                crossings = []
+                for lo, hi in ((samples[gap], samples[gap + 1]),
+                               (samples[gap + 1], samples[gap + 2])):
+                    # the crossing of the circle itself (rate 0), as stability_changes
+                    located = refine(self.hb, self.branch, i,
+                                     lambda x, p, t: sign * growth(x, p, t),
+                                     lo[1] + sign * edge, hi[1] + sign * edge,
+                                     span=(lo[0], hi[0]))
+                    # every count that changes, as between two branch points
+                    crossings += [self.point(i, kind, located or (x, p)) for j, kind in
+                                  ((1, "period-doubling"), (2, "neimark-sacker"),
+                                   (0, "branch")) if inside[j] != before[j]]
+                return crossings, used
+        return [], probes
+
+    def counts_at(self, x: np.ndarray, p: float) -> tuple[int, int, int]:
+        _, J, blocks = self.hb.jacobian(x, p)
+        return classify(self.hb.exponents(J, blocks), blocks[-1])
 
     def slope(self, j: int) -> Callable[[np.ndarray, float, np.ndarray], float]:
         """d(amplitude of quantity j)/d(arc) by a central difference along the tangent."""
@@ -261,7 +357,8 @@ def special_points(hb: BranchEquations, branch: Branch, lam: np.ndarray, Ws: np.
     """
     locator = Locator(hb, branch, lam, Ws, deadline)
     folds, near = locator.folds()
-    found = folds + locator.stability_changes(near) + locator.peaks(amplitudes)
+    found = (folds + locator.stability_changes(near) + locator.windows(locator.counts())
+             + locator.peaks(amplitudes))
     found.sort(key=lambda sp: sp.index)
     return tuple(found)
 
