@@ -105,9 +105,9 @@ def read_time_series(path: str | os.PathLike[str]) -> tuple[float, np.ndarray]:
                 np.abs(steps - step).max() > STEP_TOLERANCE * step:
             worst = int(np.nanargmax(np.abs(steps - step))) + 2 \
                 if np.isfinite(steps - step).any() else 2
-            raise ModelError(Problem(f"the times must increase by a constant, finite step "
-                                     f"(sample {worst} breaks it); resample the history",
-                                     name))
+            raise ModelError(Problem(f"the times must increase by a constant step (sample "
+                                     f"{worst} breaks it; the step must be a finite number); "
+                                     "resample the history", name))
     return step, np.array(values)
 
 
