@@ -359,3 +359,24 @@ def test_allocations_are_refused_before_they_happen(args):
                           text=True, timeout=60, env=env, preexec_fn=lambda: _limited(2**30))
     assert done.returncode == 3, done.stderr
     assert "limited" in done.stderr and "Traceback" not in done.stderr
+
+
+# -- saved results read back (analyses/results_json.py) ----------------------------------
+
+@pytest.mark.parametrize("data, words", [
+    # before: OverflowError (int too large to convert to float)
+    ({"frequency_hz": [10**400], "maximax": [1], "primary": [1], "residual": [1]},
+     "'frequency_hz' holds a number beyond the floating-point range"),
+    ({"frequency_hz": [1.0], "maximax": [1.0], "primary": [1.0], "residual": [1.0],
+      "quantity": "z", "damping_ratio": 10**400, "duration_s": 1.0},
+     "'damping_ratio' is a number beyond the floating-point range"),
+    ({"frequency_hz": [1.0] * 10, "maximax": [1.0] * 1_000_000}, "has shape (1000000,)"),
+    ({"frequency_hz": "abc"}, "is a string"),
+])
+def test_saved_spectrum_with_hostile_values(data, words):
+    from resonant.analyses.shock import ShockSpectrum
+    from resonant.errors import AnalysisError
+
+    with pytest.raises(AnalysisError, match=None) as caught:
+        ShockSpectrum.from_dict(data)
+    assert words in str(caught.value)
