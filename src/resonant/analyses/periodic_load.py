@@ -165,6 +165,9 @@ def fourier_series(shape: str, amplitude: float, period: float, *, tolerance: fl
         a0, a, b, mean_square = _closed_form(shape, float(amplitude), n)
     else:
         a0, a, b, mean_square = _sampled(function, period, tolerance, max_harmonics)
+    if not math.isfinite(mean_square):
+        raise AnalysisError(f"the periodic signal '{shape}' is too large: its mean square "
+                            "overflows the floating-point range; rescale it (other units)")
     remainder = _remainders(a0, a, b, mean_square)
     within = np.flatnonzero(remainder <= tolerance)
     if not len(within):
@@ -189,7 +192,10 @@ def _sampled(function: Callable[[np.ndarray], np.ndarray], period: float, tolera
         a0 = float(spectrum[0].real)
         a = 2 * spectrum[1:samples // 4].real
         b = -2 * spectrum[1:samples // 4].imag
-        mean_square = float(np.mean(values**2))
+        with np.errstate(over="ignore"):
+            mean_square = float(np.mean(values**2))
+        if not math.isfinite(mean_square):
+            return a0, a, b, mean_square
         scale = math.sqrt(mean_square) or 1.0
         if previous is not None:
             k = len(previous[0])

@@ -548,6 +548,13 @@ def _input_matrix(spec: RandomSpec, f: np.ndarray, values: Mapping[str, Any]) ->
     J = len(spec.inputs)
     G = np.zeros((len(f), J, J), dtype=complex)
     diag = [u.density(f, values) for u in spec.inputs]
+    for u, d in zip(spec.inputs, diag):
+        bad = ~(np.isfinite(d) & (d >= 0))
+        if bad.any():
+            raise ModelError(Problem(
+                f"the density is {'negative' if np.isfinite(d[bad][0]) else 'not finite'} "
+                f"at {f[bad][0]:.6g} Hz: a spectral density is a finite number >= 0 over the "
+                "band", spec.source, f"random.psd.{u.name}", "values"))
     for j in range(J):
         G[:, j, j] = diag[j]
     names = [u.name for u in spec.inputs]
@@ -559,6 +566,9 @@ def _input_matrix(spec: RandomSpec, f: np.ndarray, values: Mapping[str, Any]) ->
             raise ModelError(Problem(f"the coherence of {c.first} and {c.second} must lie in "
                                      "[0, 1] over the band", spec.source, "random.coherence"))
         phase = float(numeric_value(c.phase, values))
+        if not math.isfinite(phase):
+            raise ModelError(Problem(f"the phase of {c.first} and {c.second} is not a finite "
+                                     "number", spec.source, "random.coherence"))
         cross = np.sqrt(gamma2 * diag[a] * diag[b]) * np.exp(1j * phase)
         G[:, a, b] = cross
         G[:, b, a] = np.conj(cross)

@@ -171,7 +171,10 @@ class Saved:
             return math.nan
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise self.error(f"is {_type(value)}, not a number", key)
-        return float(value)
+        try:
+            return float(value)
+        except OverflowError:   # a JSON whole number beyond the floating-point range
+            raise self.error("is a number beyond the floating-point range", key) from None
 
     def optional_number(self, key: str) -> float | None:
         """A float or None (a missing key is None)."""
@@ -243,6 +246,8 @@ class Saved:
             array = np.array(value, dtype=float)  # None -> NaN
         except (TypeError, ValueError) as exc:
             raise self.error(f"is not an array of numbers: {exc}", key) from None
+        except OverflowError:   # a JSON whole number beyond the floating-point range
+            raise self.error("holds a number beyond the floating-point range", key) from None
         if shape is not None:
             shape = tuple(int(s) for s in shape)
             if array.size == 0 and math.prod(shape) == 0:

@@ -52,8 +52,10 @@ from .stationary import freeze_fields
 
 #: the responses an SRS can be of
 QUANTITIES = ("absolute acceleration", "pseudo-velocity", "relative displacement")
-#: most samples of a signal
-MAX_SAMPLES = 50_000_000
+#: most samples of a signal (a few arrays of this length are held per oscillator)
+MAX_SAMPLES = 10_000_000
+#: most samples x natural frequencies of one spectrum (each oscillator filters the signal)
+MAX_WORK = 500_000_000
 #: points evaluated between samples around the largest sample (peak refinement)
 REFINE = 64
 
@@ -101,10 +103,14 @@ def pulse(kind: str, amplitude: float, duration: float, step: float,
     if not (math.isfinite(duration) and math.isfinite(step) and 0 < step < duration):
         raise AnalysisError(f"the step ({step:g} s) must be positive and below the pulse's "
                             f"duration ({duration:g} s)")
+    if not math.isfinite(amplitude):
+        raise AnalysisError(f"the pulse's amplitude {amplitude:g} must be a finite number")
     end = duration + step if total is None else total
-    count = int(round(end / step)) + 1
-    if count > MAX_SAMPLES or not math.isfinite(amplitude):
-        raise AnalysisError(f"{count} samples; a signal is limited to {MAX_SAMPLES}")
+    ratio = end / step
+    if not ratio <= MAX_SAMPLES:
+        raise AnalysisError(f"{ratio:.3g} samples (duration / step); a signal is limited to "
+                            f"{MAX_SAMPLES}: a larger step or a shorter duration")
+    count = int(round(ratio)) + 1
     t = np.arange(count) * step
     inside = t <= duration * (1 + 1e-12)
     a = np.zeros(count)
@@ -362,6 +368,10 @@ def shock_response_spectrum(signal: Sequence[float] | np.ndarray, step: float,
         raise AnalysisError(f"the sampling step {step:g} s must be positive")
     if not len(f) or not np.isfinite(f).all() or (f <= 0).any():
         raise AnalysisError("the SRS frequencies must be positive numbers")
+    if len(a) * len(f) > MAX_WORK:
+        raise AnalysisError(f"{len(a)} samples x {len(f)} natural frequencies; a spectrum is "
+                            f"limited to {MAX_WORK:.3g}: fewer frequencies (points) or a "
+                            "shorter or coarser signal")
     warnings = []
     if f.max() * step > 0.1:
         warnings.append(f"{1 / (f.max() * step):.3g} samples per cycle at {f.max():g} Hz: "
@@ -378,6 +388,12 @@ def shock_response_spectrum(signal: Sequence[float] | np.ndarray, step: float,
         primary[i] = _refine(a, _mode(z[k], v[k], s), k, s, c, w, zeta, quantity, step,
                              abs(float(y[k])))
         residual[i] = _residual(_mode(z[-1], v[-1], s), s, w, zeta, quantity)
+    if not (np.isfinite(primary).all() and np.isfinite(residual).all()):
+        bad = float(f[~(np.isfinite(primary) & np.isfinite(residual))][0])
+        raise AnalysisError(f"the oscillator's response at {bad:g} Hz overflows: the signal "
+                            f"(up to {np.abs(a).max():.3g}), its step ({step:g} s) or the "
+                            "frequency span too many orders of magnitude; rescale the signal "
+                            "or choose frequencies nearer to 1/step")
     return ShockSpectrum(f.copy(), np.maximum(primary, residual), primary, residual, quantity,
                          zeta, step * (len(a) - 1), tuple(warnings))
 

@@ -58,7 +58,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..errors import Problem
+from ..errors import Problem, printable
 from ..expressions import Expression, ExpressionError, parse
 from .units import UnitError, parse_unit
 
@@ -180,6 +180,34 @@ def _unknown(data: dict[Any, Any], known: Sequence[str], source: str, section: s
             problems.append(Problem(f"unknown key '{key}'; {hint}", source, section, str(key)))
 
 
+def _finite(raw: object) -> float | None:
+    """``raw`` as a finite float, or None (a bool, a text, NaN, infinity, or a whole number
+    beyond the floating-point range, which TOML allows)."""
+    if isinstance(raw, bool) or not isinstance(raw, (int, float)):
+        return None
+    try:
+        value = float(raw)
+    except OverflowError:
+        return None
+    return value if math.isfinite(value) else None
+
+
+def _shown(raw: object) -> str:
+    """``raw`` as quoted in a message: short, and safe to print."""
+    return printable(repr(raw), limit=40)
+
+
+def _scaled(value: float, factor: float, source: str, section: str, key: str,
+            problems: list[Problem]) -> float | None:
+    """``value`` times its unit's SI factor, if that is still a finite number."""
+    scaled = value * factor
+    if not math.isfinite(scaled):
+        problems.append(Problem(f"{value:g} in SI units is beyond the floating-point range; "
+                                "give a smaller value", source, section, key))
+        return None
+    return scaled
+
+
 def _positive(data: dict[Any, Any], key: str, source: str, section: str,
               problems: list[Problem], default: float | None = None) -> float | None:
     """A finite positive number (a missing key gives ``default``; None: required)."""
@@ -187,12 +215,12 @@ def _positive(data: dict[Any, Any], key: str, source: str, section: str,
     if raw is None:
         problems.append(Problem("missing: a positive number is required", source, section, key))
         return None
-    if isinstance(raw, bool) or not isinstance(raw, (int, float)) or \
-            not math.isfinite(raw) or raw <= 0:
-        problems.append(Problem(f"must be a positive finite number, got {raw!r}", source,
+    value = _finite(raw)
+    if value is None or value <= 0:
+        problems.append(Problem(f"must be a positive finite number, got {_shown(raw)}", source,
                                 section, key))
         return None
-    return float(raw)
+    return value
 
 
 def _input(data: dict[Any, Any], signals: Sequence[str], coordinates: Sequence[str],
@@ -204,13 +232,13 @@ def _input(data: dict[Any, Any], signals: Sequence[str], coordinates: Sequence[s
         close = difflib.get_close_matches(str(signal), names, n=1)
         hint = f"did you mean '{close[0]}'?" if close else \
             f"they are {', '.join(names[:20]) or 'none'}"
-        problems.append(Problem(f"{signal!r} is neither a signal nor a coordinate; {hint}"
+        problems.append(Problem(f"{_shown(signal)} is neither a signal nor a coordinate; {hint}"
                                 if signal is not None else
                                 f"missing: the signal or coordinate the load acts on; {hint}",
                                 source, section, "signal"))
     derivative = data.get("derivative", 0)
     if isinstance(derivative, bool) or derivative not in (0, 1, 2):
-        problems.append(Problem(f"must be 0, 1 or 2, got {derivative!r}", source, section,
+        problems.append(Problem(f"must be 0, 1 or 2, got {_shown(derivative)}", source, section,
                                 "derivative"))
         derivative = 0
     factor = 1.0
@@ -294,21 +322,21 @@ def parse_periodic(data: object, params: Sequence[str], signals: Sequence[str],
         shape = data.get("shape")
         if shape not in SHAPES:
             problems.append(Problem(f"must be one of {', '.join(SHAPES)} (or give an "
-                                    f"expression of t), got {shape!r}", source, section,
+                                    f"expression of t), got {_shown(shape)}", source, section,
                                     "shape"))
         raw = data.get("amplitude")
-        amplitude = None
-        if isinstance(raw, bool) or not isinstance(raw, (int, float)) or \
-                not math.isfinite(raw) or raw == 0:
-            problems.append(Problem(f"must be a finite non-zero number, got {raw!r}",
+        amplitude = _finite(raw)
+        if amplitude is None or amplitude == 0:
+            problems.append(Problem(f"must be a finite non-zero number, got {_shown(raw)}",
                                     source, section, "amplitude"))
+            amplitude = None
         else:
-            amplitude = float(raw) * factor
+            amplitude = _scaled(amplitude, factor, source, section, "amplitude", problems)
     period = _positive(data, "period", source, section, problems)
     tolerance = data.get("tolerance", 1e-2)
     if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or \
             not 1e-8 <= tolerance < 1:
-        problems.append(Problem(f"must be a number in [1e-8, 1), got {tolerance!r}", source,
+        problems.append(Problem(f"must be a number in [1e-8, 1), got {_shown(tolerance)}", source,
                                 section, "tolerance"))
     if len(problems) > count:
         return None
@@ -354,24 +382,29 @@ def parse_shock(data: object, signals: Sequence[str], coordinates: Sequence[str]
     signal, derivative, factor = _input(data, signals, coordinates, source, section, problems)
     kind = data.get("pulse")
     if kind not in PULSES:
-        problems.append(Problem(f"must be one of {', '.join(PULSES)}, got {kind!r}", source,
+        problems.append(Problem(f"must be one of {', '.join(PULSES)}, got {_shown(kind)}", source,
                                 section, "pulse"))
-    amplitude = data.get("amplitude")
-    if isinstance(amplitude, bool) or not isinstance(amplitude, (int, float)) or \
-            not math.isfinite(amplitude) or amplitude == 0:
-        problems.append(Problem(f"must be a finite non-zero number, got {amplitude!r}",
+    raw = data.get("amplitude")
+    amplitude = _finite(raw)
+    if amplitude is None or amplitude == 0:
+        problems.append(Problem(f"must be a finite non-zero number, got {_shown(raw)}",
                                 source, section, "amplitude"))
         amplitude = None
+    else:
+        amplitude = _scaled(amplitude, factor, source, section, "amplitude", problems)
     duration = _positive(data, "duration", source, section, problems)
+    # without a valid duration, a missing step or total (their defaults) is not a problem more
     step = _positive(data, "step", source, section, problems,
-                     None if duration is None else duration / 2000)
+                     None if duration is None else duration / 2000) \
+        if duration is not None or "step" in data else None
     total = _positive(data, "total", source, section, problems,
-                      None if duration is None else 3 * duration)
-    Q = data.get("Q", 10.0)
-    if isinstance(Q, bool) or not isinstance(Q, (int, float)) or not math.isfinite(Q) \
-            or Q <= 0.5:
-        problems.append(Problem(f"must be a number above 0.5 (Q = 1/(2 zeta)), got {Q!r}",
-                                source, section, "Q"))
+                      None if duration is None else 3 * duration) \
+        if duration is not None or "total" in data else None
+    raw_Q = data.get("Q", 10.0)
+    Q = _finite(raw_Q)
+    if Q is None or Q <= 0.5:
+        problems.append(Problem(f"must be a number above 0.5 (Q = 1/(2 zeta)), got "
+                                f"{_shown(raw_Q)}", source, section, "Q"))
     if duration is not None and total is not None and total < duration:
         problems.append(Problem(f"the history ({total:g} s) must cover the pulse's duration "
                                 f"({duration:g} s)", source, section, "total"))
@@ -387,8 +420,9 @@ def parse_shock(data: object, signals: Sequence[str], coordinates: Sequence[str]
         return None
     assert amplitude is not None and duration is not None and step is not None \
         and total is not None
-    return ShockSpec(str(signal), int(derivative), str(kind), float(amplitude) * factor,
-                     duration, step, total, float(Q), source)
+    assert Q is not None
+    return ShockSpec(str(signal), int(derivative), str(kind), amplitude, duration, step,
+                     total, Q, source)
 
 
 def parse_fatigue(data: object, source: str, problems: list[Problem]) -> FatigueSpec | None:
@@ -433,20 +467,24 @@ def parse_fatigue(data: object, source: str, problems: list[Problem]) -> Fatigue
     else:
         value = _positive(data, given[0], source, section, problems)
         if value is not None and k is not None:
-            if given[0] == "C":
-                C = value
-            elif given[0] == "C_range":
-                C = value / 2.0 ** k
-            else:
-                cycles = _positive(data, "cycles", source, section, problems)
-                if cycles is not None:
-                    C = cycles * value ** k
+            try:
+                if given[0] == "C":
+                    C = value
+                elif given[0] == "C_range":
+                    C = value / 2.0 ** k
+                else:
+                    cycles = _positive(data, "cycles", source, section, problems)
+                    if cycles is not None:
+                        C = cycles * value ** k
+            except OverflowError:
+                C = math.inf
             if C is not None and not (math.isfinite(C) and C > 0):
                 problems.append(Problem(f"the curve's C = {C:g} is not a positive finite "
                                         "number", source, section, given[0]))
     method = data.get("method", "dirlik")
     if method not in FATIGUE_METHODS:
-        problems.append(Problem(f"must be one of {', '.join(FATIGUE_METHODS)}, got {method!r}",
+        problems.append(Problem(f"must be one of {', '.join(FATIGUE_METHODS)}, got "
+                                f"{_shown(method)}",
                                 source, section, "method"))
     duration = _positive(data, "duration", source, section, problems)
     if len(problems) > count:

@@ -221,11 +221,13 @@ def _table(values: list, where: tuple[str, str, str], problems: list[Problem]
         problems.append(Problem("a table is a list of at least two [frequency in Hz, density] "
                                 "rows", *where))
         return None
-    try:
-        table = np.array(values, dtype=float)
-    except (TypeError, ValueError):
+    if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for r in values for x in r):
         problems.append(Problem("the rows of the table must hold numbers", *where))
         return None
+    try:
+        table = np.array(values, dtype=float)
+    except OverflowError:   # a whole number beyond the floating-point range
+        table = np.full((len(values), 2), math.inf)
     if not np.isfinite(table).all() or (table <= 0).any():
         problems.append(Problem("the frequencies and densities of a table must be positive "
                                 "numbers (log-log interpolation)", *where))
@@ -302,7 +304,12 @@ def _input(name: str, table: object, params: list[str], signals: Sequence[str],
     elif isinstance(values, list):
         array = _table(values, (source, section, "values"), problems)
         if array is not None:
-            array[:, 1] *= factor
+            with np.errstate(over="ignore", under="ignore"):
+                array[:, 1] *= factor
+            if not np.isfinite(array[:, 1]).all() or (array[:, 1] == 0).any():
+                problems.append(Problem(f"the densities in SI units ({factor:g} x the values) "
+                                        "leave the floating-point range; give smaller values",
+                                        source, section, "values"))
     else:
         try:
             expression = parse(values, allowed=[*params, "f"], file=source, section=section,
@@ -359,9 +366,13 @@ def _coherence(entry: object, index: int, params: list[str], names: list[str], s
     try:
         value = parse(entry.get("value", 1), allowed=[*params, "f"], file=source,
                       section=section, key=key)
-        phase, _ = parse_with_unit(entry.get("phase", 0), params, source, section, key)
+        phase, given = parse_with_unit(entry.get("phase", 0), params, source, section, key)
     except ExpressionError as exc:
         problems.extend(exc.problems)
+        return None
+    if given is not None and not given[1].dimension.dimensionless:
+        problems.append(Problem(f"the phase's unit '{given[1].text}' is not an angle; give it "
+                                "in rad or deg (\"30 deg\")", source, section, key))
         return None
     return Coherence(pair[0], pair[1], value, phase)
 
@@ -456,12 +467,14 @@ def _band(value: object, inputs: list[RandomInput], source: str, problems: list[
         high = min(float(i.table[-1, 0]) for i in tables)  # type: ignore[index]
     elif (isinstance(value, list) and len(value) == 2
           and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
-        low, high = float(value[0]), float(value[1])
+        # a TOML whole number may lie beyond the floating-point range: then infinite
+        low, high = (float(v) if not isinstance(v, int) or abs(v) < 2**1023 else
+                     math.inf if v > 0 else -math.inf for v in value)
     else:
         problems.append(Problem("band must be [low, high] in Hz", source, SECTION, "band"))
         return None
     if not (math.isfinite(high) and 0 <= low < high):
-        problems.append(Problem(f"band [{low:g}, {high:g}] Hz must have 0 <= low < high",
+        problems.append(Problem(f"band [{low:g}, {high:g}] Hz must be finite with 0 <= low < high",
                                 source, SECTION, "band"))
         return None
     for i in tables:
