@@ -842,9 +842,10 @@ class FactorThread:
 
     SuperLU (scipy 1.17) gives a factor's memory back only when the factor is freed in the
     thread that made it: freed in another thread, every factorization of a 40,000-row
-    grid kept its 40 MB (scipy issue 15921).  So the thread keeps a reference to each
-    factor it makes, and :meth:`release` -- called when the caller has let go of all of
-    them -- drops those references in the thread, then lets the thread end.
+    grid kept its 40 MB (https://github.com/scipy/scipy/issues/15921).  So the thread
+    keeps a reference to each factor it makes, and :meth:`release` -- called when the
+    caller has let go of all of them -- drops those references in the thread, then lets
+    the thread end.
 
     Examples
     --------

@@ -12,9 +12,9 @@ one thread below :data:`PARALLEL_FLOPS` floating-point operations per call; abov
 the cores of this process's CPU set that are not busy with other processes (the
 1-minute load average or the tasks running at this instant, whichever is larger, less
 this process: a busy loop started a second ago is not in the average yet, and two
-threads with a busy core made the 10,000-DOF random response 18.5 s instead of 4.5 s).  The method a sweep uses never depends on
-this: it is chosen from the cost model (docs/sweeps.md); only the threads the
-chosen method runs with do.
+threads with a busy core made the 10,000-DOF random response 18.5 s instead of 4.5 s).
+The method a sweep uses never depends on this: it is chosen from the cost model
+(docs/sweeps.md); only the threads the chosen method runs with do.
 
 Examples
 --------
