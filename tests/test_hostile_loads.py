@@ -98,6 +98,13 @@ RANDOM_CASES = {
     # NaN in the cross density: internal error
     "phase-infinite": (TWO_INPUTS + 'phase = "1/0"', 2,
                        ("[random.coherence]", "phase of y and x is not a finite")),
+    # a load vector that is not finite was called "an undamped resonance" (exit 3)
+    "load-vector-infinite": ('band = [1, 100]\n[random.psd.W]\nunit = "N^2/Hz"\n'
+                             'load = ["1/0"]\nvalues = 1', 2,
+                             ("[random.psd.W] load", "entry 1 (coordinate x) is inf")),
+    "base-vector-infinite": ('band = [1, 100]\n[random.psd.W]\nunit = "(m/s^2)^2/Hz"\n'
+                             'base = ["exp(1000)"]\nvalues = 1', 2,
+                             ("[random.psd.W] base", "finite numbers")),
     # already right: kept as regressions of the table's checks
     "table-unsorted": ("[random.psd.y]\nvalues = [[100, 1.0], [1, 1.0]]", 2, ("increase",)),
     "table-duplicate": ("[random.psd.y]\nvalues = [[1, 1], [1, 1], [100, 1]]", 2,

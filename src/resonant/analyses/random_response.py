@@ -438,12 +438,23 @@ class Transfer:
             out[i] = value
         return out
 
+    def _finite(self, vector: np.ndarray, u: RandomInput, key: str) -> np.ndarray:
+        """``vector``, or a ModelError naming its first entry that is not a finite number."""
+        bad = np.flatnonzero(~np.isfinite(vector))
+        if bad.size:
+            i = int(bad[0])
+            raise ModelError(Problem(
+                f"entry {i + 1} (coordinate {self.num.coordinates[i]}) is {vector[i]}: the "
+                f"{key} vector needs finite numbers", self.num.source, f"random.psd.{u.name}",
+                key))
+        return vector
+
     def _loads(self, u: RandomInput, columns: Mapping[Any, np.ndarray]) -> list[_Load]:
         n = self.num.n
         if u.load:
-            return [_Load(self._vector(u.load), 0)]
+            return [_Load(self._finite(self._vector(u.load), u, "load"), 0)]
         if u.base:
-            r = self._vector(u.base)
+            r = self._finite(self._vector(u.base), u, "base")
             return [_Load(-np.asarray(self.num.M @ r, dtype=float).ravel(), 0)]
         found = [_Load(np.asarray(c, dtype=float), order - u.derivative)
                  for (name, order), c in sorted(columns.items()) if name == u.name]
