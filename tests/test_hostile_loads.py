@@ -105,6 +105,9 @@ RANDOM_CASES = {
     "base-vector-infinite": ('band = [1, 100]\n[random.psd.W]\nunit = "(m/s^2)^2/Hz"\n'
                              'base = ["exp(1000)"]\nvalues = 1', 2,
                              ("[random.psd.W] base", "finite numbers")),
+    # "m^2/rad" (per radian) was taken as a density per rad/s
+    "unit-per-radian": ('[random.psd.y]\nunit = "m^2/rad"\nvalues = [[1, 1], [100, 1]]', 2,
+                        ("[random.psd.y] unit", "not a density per frequency")),
     # already right: kept as regressions of the table's checks
     "table-unsorted": ("[random.psd.y]\nvalues = [[100, 1.0], [1, 1.0]]", 2, ("increase",)),
     "table-duplicate": ("[random.psd.y]\nvalues = [[1, 1], [1, 1], [100, 1]]", 2,

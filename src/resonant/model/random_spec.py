@@ -208,8 +208,14 @@ def _unit_factor(text: object, where: tuple[str, str, str], problems: list[Probl
                                 "by Hz (e.g. \"g^2/Hz\") or by rad/s (\"N^2/(rad/s)\")",
                                 *where))
         return None
-    squared = unit.dimension / PER_FREQUENCY
-    return factor, squared ** Fraction(1, 2)
+    root = (unit.dimension / PER_FREQUENCY) ** Fraction(1, 2)
+    if any(isinstance(e, Fraction) and e.denominator != 1 for e in root.exponents):
+        # ("m^2/rad": a density per radian, not per rad/s)
+        problems.append(Problem(f"the unit '{text}' is not a density per frequency: divide "
+                                "a squared unit by Hz (e.g. \"g^2/Hz\") or by rad/s "
+                                "(\"N^2/(rad/s)\")", *where))
+        return None
+    return factor, root
 
 
 def _table(values: list, where: tuple[str, str, str], problems: list[Problem]
