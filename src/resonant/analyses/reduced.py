@@ -76,9 +76,10 @@ from __future__ import annotations
 
 import contextlib
 import time
+from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol, TypeVar
 
 import numpy as np
 
@@ -132,6 +133,8 @@ FLOOR_SAFETY = 10.0
 ADJOINT_MOMENTS = 3
 #: models of at least this many coordinates factorize several expansion points at once
 PARALLEL_FACTOR_SIZE = 20_000
+
+_T = TypeVar("_T")
 #: bytes of complex responses computed at once
 _CHUNK_BYTES = 32 * 2**20
 
@@ -860,13 +863,13 @@ class FactorThread:
         self._made: list[Any] = []
         self._futures: list[Future[Any]] = []
 
-    def submit(self, fn: Any, *args: Any) -> Future[Any]:
+    def submit(self, fn: Callable[..., _T], *args: object) -> Future[_T]:
         """Run ``fn(*args)`` in the thread; its result is kept there until :meth:`release`."""
         future = self._pool.submit(self._keep, fn, *args)
         self._futures.append(future)
         return future
 
-    def _keep(self, fn: Any, *args: Any) -> Any:
+    def _keep(self, fn: Callable[..., _T], *args: object) -> _T:
         made = fn(*args)
         self._made.append(made)
         return made
