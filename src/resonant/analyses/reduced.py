@@ -79,7 +79,7 @@ import time
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Protocol, TypeVar
+from typing import TYPE_CHECKING, Any, Protocol, TypedDict, TypeVar, Unpack
 
 import numpy as np
 
@@ -198,7 +198,15 @@ class ReducedResponse:
 
 # -- factorizations ---------------------------------------------------------------------------
 
-def sparse_lu_options(pattern: Matrix) -> dict[str, Any]:
+class SuperLUOptions(TypedDict, total=False):
+    """The keywords of ``scipy.sparse.linalg.splu`` that :func:`sparse_lu_options` sets."""
+
+    permc_spec: str
+    diag_pivot_thresh: float
+    options: dict[str, bool]
+
+
+def sparse_lu_options(pattern: Matrix) -> SuperLUOptions:
     """SuperLU options (``scipy.sparse.linalg.splu`` keywords) for matrices of this pattern.
 
     A structurally symmetric pattern (every mass-spring-damper model) gets a
@@ -272,7 +280,7 @@ class ScaledLU:
     True
     """
 
-    def __init__(self, A: Matrix, d: np.ndarray, **options: Any) -> None:
+    def __init__(self, A: Matrix, d: np.ndarray, **options: Unpack[SuperLUOptions]) -> None:
         import scipy.sparse as sp
         from scipy.sparse.linalg import splu
 
@@ -1622,4 +1630,4 @@ def _adjoints(ops: _Operators, shared: tuple[_Projection, _Residual], C: np.ndar
 __all__ = ["reduced_response", "ReducedResponse", "reduced_model", "ReducedModel",
            "DEFAULT_TOL", "sparse_lu_options", "backward_stable", "probe_frequency",
            "off_diagonal_pivots", "damping_fraction", "DAMPED_FRACTION", "ScaledLU",
-           "symmetric_scale", "FactorizationsAhead"]
+           "symmetric_scale", "FactorizationsAhead", "FactorThread", "SuperLUOptions"]
