@@ -74,6 +74,7 @@ from .reduced import (
     ScaledLU,
     backward_stable,
     damping_fraction,
+    damping_norm,
     probe_frequency,
     reduced_response,
     sparse_lu_options,
@@ -415,7 +416,8 @@ class _Store:
     """The responses kept from the solves: only the columns ``keep`` (memory stays
     bounded for large models), plus the largest |component| of every full solution."""
 
-    def __init__(self, N: int, keep: np.ndarray, batch: Batch | None = None) -> None:
+    def __init__(self, N: int, keep: np.ndarray, batch: Batch | None = None,
+                 bound: np.ndarray | None = None) -> None:
         self.keep = keep
         self.values = np.empty((N, len(keep)), dtype=complex)
         self.largest = np.zeros(N)
@@ -423,20 +425,38 @@ class _Store:
         #: (:func:`resonant.analyses.reduced.damping_fraction`; 0 without damping)
         self.damped = np.zeros(N)
         self._damping: Any = None
+        #: ||C|| of a damping matrix that is one for every point (computed once), or None
+        self._c_norm: float | None = None
+        #: ||A|| / ||b|| per point: where the largest |x| times it stays within
+        #: SINGULAR_CONDITION, the point is no resonance and needs no damping fraction
+        #: (None: every point gets one)
+        self._bound = bound
         if batch is not None:
             C = batch.C
             if hasattr(C, "nnz") and C.nnz or not hasattr(C, "nnz") and np.any(C):
                 self._damping = C
+                if hasattr(C, "nnz") or np.ndim(C) == 2:
+                    self._c_norm = damping_norm(C)
 
     def _fraction(self, index: _Index, x: np.ndarray) -> None:
         C = self._damping
         if C is None:
             return
+        if self._bound is not None and isinstance(index, (int, np.integer)) and (
+                self.largest[index] * self._bound[index] <= SINGULAR_CONDITION):
+            return   # (one point, well conditioned: the common case, made fast)
         rows = np.atleast_1d(np.arange(len(self.damped))[index])
         X = np.atleast_2d(x)
+        if self._bound is not None:
+            with np.errstate(invalid="ignore"):
+                suspect = ~(self.largest[rows] * self._bound[rows] <= SINGULAR_CONDITION)
+            if not suspect.all():
+                rows, X = rows[suspect], X[suspect]
+            if not rows.size:
+                return
         # C is one matrix, or one for each point when it changes with the parameter
-        self.damped[rows] = damping_fraction(C if hasattr(C, "nnz") or np.ndim(C) == 2
-                                             else C[rows], X)
+        self.damped[rows] = damping_fraction(C if self._c_norm is not None else C[rows], X,
+                                             self._c_norm)
 
     def __setitem__(self, index: _Index, x: np.ndarray | complex) -> None:
         x = np.asarray(x, dtype=complex)
@@ -543,9 +563,17 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                 progress.advance(N)
                 return attempt
             method = choose_method(batch, N, costs=costs, omega=w)
-    store = _Store(N, keep, batch)
     exact = exact_condition and method == "dense" and (
         n <= EXACT_CONDITION or (N == 1 and n <= EXACT_CONDITION_SINGLE))
+    b_norm = largest_abs(rhs) * np.ones(N)
+    bound = None
+    if not exact:
+        # ||A|| / ||rhs||: times the largest |z|, a lower bound of the condition number
+        norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
+        with np.errstate(all="ignore"):
+            bound = (norms[0] + w**2 * norms[1] + w * norms[2]) / np.where(b_norm > 0, b_norm,
+                                                                           np.inf)
+    store = _Store(N, keep, batch, bound)
     condition = np.ones(N)
     if method == "dense":
         singular = _solve_dense(batch, w, rhs, progress, store, deadline,
@@ -557,13 +585,10 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     else:
         singular = _solve_modal(batch, w, rhs, progress, warnings, store, deadline)
     Z = store.values
-    b_norm = largest_abs(rhs) * np.ones(N)
-    if not exact:
+    if bound is not None:
         # a lower bound of the condition number: ||A|| ||Z|| / ||rhs|| (exact resonance: huge)
-        norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
-        a_norm = norms[0] + w**2 * norms[1] + w * norms[2]
         with np.errstate(all="ignore"):
-            condition = a_norm * store.largest / np.where(b_norm > 0, b_norm, np.inf)
+            condition = bound * store.largest
     singular |= ~np.isfinite(store.largest) | (~(condition <= SINGULAR_CONDITION)
                                                 & (store.damped < DAMPED_FRACTION))
     singular &= b_norm > 0

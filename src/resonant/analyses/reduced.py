@@ -351,6 +351,20 @@ def _rayleigh(M: Matrix, C: Matrix, K: Matrix) -> tuple[float, float] | None:
     return None
 
 
+def damping_norm(C: Matrix) -> float:
+    """max(||C||_1, ||C||_inf), a bound of ||C||_2 (0 for an empty or zero C).
+
+    Examples
+    --------
+    >>> damping_norm(np.array([[1.0, -2.0], [0.0, 0.5]]))
+    3.0
+    """
+    a = abs(C)
+    if not (a.nnz if hasattr(a, "nnz") else a.size):
+        return 0.0
+    return float(max(a.sum(axis=0).max(), a.sum(axis=1).max()))
+
+
 def damping_fraction(C: Matrix, X: np.ndarray, c_norm: float | None = None) -> np.ndarray:
     """How much the damping acts on each response: |x^H C x| / (||x||^2 ||C||), per row.
 
@@ -388,9 +402,7 @@ def damping_fraction(C: Matrix, X: np.ndarray, c_norm: float | None = None) -> n
         return _stacked_damping_fraction(np.asarray(C), X)
     sparse = hasattr(C, "tocsr")
     if c_norm is None:
-        a = abs(C)
-        c_norm = float(max(a.sum(axis=0).max(), a.sum(axis=1).max())) if (
-            a.nnz if sparse else a.size) else 0.0
+        c_norm = damping_norm(C)
     if not c_norm > 0:
         return np.zeros(X.shape[0])
     with np.errstate(all="ignore"):
@@ -1629,5 +1641,5 @@ def _adjoints(ops: _Operators, shared: tuple[_Projection, _Residual], C: np.ndar
 
 __all__ = ["reduced_response", "ReducedResponse", "reduced_model", "ReducedModel",
            "DEFAULT_TOL", "sparse_lu_options", "backward_stable", "probe_frequency",
-           "off_diagonal_pivots", "damping_fraction", "DAMPED_FRACTION", "ScaledLU",
+           "off_diagonal_pivots", "damping_fraction", "damping_norm", "DAMPED_FRACTION", "ScaledLU",
            "symmetric_scale", "FactorizationsAhead", "FactorThread", "SuperLUOptions"]
