@@ -24,15 +24,16 @@ def _rows(A: np.ndarray) -> str:
     return "[" + ", ".join("[" + ", ".join(repr(float(v)) for v in r) + "]" for r in A) + "]"
 
 
-def light_chain(n: int = 4) -> object:
+def light_chain(n: int = 4, alpha: float = 0.004, beta: float = 0.0004,
+                force: float = 0.004) -> object:
     """n masses 1/n on springs n (first frequency about 1.5), light Rayleigh damping
-    C = 0.004 M + 0.0004 K, a cubic spring and the force 0.004 at the tip."""
+    C = alpha M + beta K, a cubic spring and the force at the tip."""
     K = (np.diag(np.r_[2 * np.ones(n - 1), 1.0]) - np.diag(np.ones(n - 1), 1)
          - np.diag(np.ones(n - 1), -1)) * n
     M = np.eye(n) / n
-    C = 0.004 * M + 0.0004 * K
+    C = alpha * M + beta * K
     f = [0.0] * n
-    f[-1] = 0.004
+    f[-1] = force
     return loads(f"""
 [parameters]
 w = 1

@@ -19,32 +19,12 @@ import pytest
 
 from resonant.analyses import condensed
 from resonant.analyses.condensed import condensed_sweep
-from resonant.api import loads
-from test_condensed_steps import _rows
+from test_condensed_steps import light_chain
 
 
 def chain(n: int = 6) -> object:
-    K = (np.diag(np.r_[2 * np.ones(n - 1), 1.0]) - np.diag(np.ones(n - 1), 1)
-         - np.diag(np.ones(n - 1), -1)) * n
-    M = np.eye(n) / n
-    C = 0.002 * M + 0.0002 * K
-    f = [0.0] * n
-    f[-1] = 0.008
-    return loads(f"""
-[parameters]
-w = 1
-[matrices]
-M = {_rows(M)}
-K = {_rows(K)}
-C = {_rows(C)}
-[[harmonic]]
-omega = "w"
-F_C = {f}
-[[nonlinear]]
-name = "tip"
-coordinates = ["q{n}"]
-force = "2*q{n}^3"
-""")
+    """The light chain with less damping and twice the force: a narrow window."""
+    return light_chain(n, alpha=0.002, beta=0.0002, force=0.008)
 
 
 def _sweep(monkeypatch, relative: bool, points: int):
