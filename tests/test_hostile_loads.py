@@ -390,3 +390,27 @@ def test_saved_spectrum_with_hostile_values(data, words):
     with pytest.raises(AnalysisError, match=None) as caught:
         ShockSpectrum.from_dict(data)
     assert words in str(caught.value)
+
+
+#: the shaker example's model (units: y in m) without its [random] section
+SHAKER = (Path(__file__).resolve().parents[1] / "examples" / "shaker_gevs.toml").read_text(
+    encoding="utf-8").split("\n[random]")[0] + "\n"
+
+
+@pytest.mark.parametrize("section, status, words", [
+    # a [shock] or [periodic] unit of another dimension than the signal's was accepted
+    ('[shock]\nsignal = "y"\nderivative = 2\npulse = "half-sine"\namplitude = 100\n'
+     'unit = "kg"\nduration = 0.011', 2,
+     ("[shock] unit", "the unit is kg, but y'' is in m/s^2")),
+    ('[periodic]\nsignal = "y"\nshape = "square"\namplitude = 1\nunit = "s"\nperiod = 0.1',
+     2, ("[periodic] unit", "but y is in m; give it in m")),
+    ('[shock]\nsignal = "y"\nderivative = 2\npulse = "half-sine"\namplitude = 100\n'
+     'unit = "g"\nduration = 0.011', 0, ()),
+    ('[periodic]\nsignal = "y"\nshape = "square"\namplitude = 1\nunit = "mm"\n'
+     'period = 0.1', 0, ()),
+])
+def test_load_units_against_the_signals_dimension(section, status, words, tmp_path):
+    path = tmp_path / "m.toml"
+    path.write_text(SHAKER + section, encoding="utf-8")
+    code, _, err = run_cli(["check", str(path)])
+    _check(code, err, status, words)

@@ -60,7 +60,7 @@ from typing import Any
 
 from ..errors import Problem, printable
 from ..expressions import Expression, ExpressionError, parse
-from .units import UnitError, parse_unit
+from .units import Dimension, ModelUnits, UnitError, parse_unit
 
 #: the pulses of ``[shock]`` (resonant.analyses.shock.pulse makes them)
 PULSES = ("half-sine", "haversine", "sawtooth", "rectangular", "step", "impulse")
@@ -223,9 +223,48 @@ def _positive(data: dict[Any, Any], key: str, source: str, section: str,
     return value
 
 
+def check_input_dimension(name: str, quantity: Dimension | None, derivative: int, base: bool,
+                          units: ModelUnits | None, coordinates: Sequence[str],
+                          where: tuple[str, str, str], problems: list[Problem],
+                          density: bool = False) -> None:
+    """An input's quantity (a load's or a density's unit) against the signal's (or the
+    force's) dimension, where the model's units know it.
+
+    Examples
+    --------
+    >>> from types import MappingProxyType
+    >>> units = ModelUnits(dimensions=MappingProxyType({"y": Dimension.of(m=1)}))
+    >>> problems = []
+    >>> check_input_dimension("y", Dimension.of(kg=1), 2, False, units, ["x"],
+    ...                       ("m.toml", "shock", "unit"), problems)
+    >>> print(problems[0].message)
+    the unit is kg, but y'' is in m/s^2; give it in m/s^2
+    """
+    if quantity is None or units is None:
+        return
+    expected: Dimension | None
+    if base:
+        expected = Dimension.of(m=1, s=-2)
+    elif name in coordinates:
+        coordinate = units.dimensions.get(name)
+        expected = None if coordinate is None else \
+            Dimension.of(kg=1, m=2, s=-2) / coordinate
+    else:
+        signal = units.dimensions.get(name)
+        expected = None if signal is None else signal / Dimension.of(s=derivative)
+    if expected is not None and expected != quantity:
+        what = ("the base acceleration" if base else f"{name}" + "'" * derivative)
+        wanted = f"({expected.text() or '1'})^2/Hz" if density else expected.text() or "1"
+        problems.append(Problem(f"the unit is {'a density of ' if density else ''}"
+                                f"{quantity.text() or '1'}, but {what} is in "
+                                f"{expected.text() or '1'}; give it in {wanted}", *where))
+
+
 def _input(data: dict[Any, Any], signals: Sequence[str], coordinates: Sequence[str],
-           source: str, section: str, problems: list[Problem]) -> tuple[str, int, float]:
-    """(signal, derivative, unit factor) of a section giving one input."""
+           source: str, section: str, problems: list[Problem],
+           units: ModelUnits | None = None) -> tuple[str, int, float]:
+    """(signal, derivative, unit factor) of a section giving one input; its unit checked
+    against the signal's dimension where the model's units know it."""
     signal = data.get("signal")
     names = list(signals) + list(coordinates)
     if not isinstance(signal, str) or signal not in names:
@@ -242,6 +281,7 @@ def _input(data: dict[Any, Any], signals: Sequence[str], coordinates: Sequence[s
                                 "derivative"))
         derivative = 0
     factor = 1.0
+    quantity: Dimension | None = None
     unit = data.get("unit")
     if unit is not None:
         if not isinstance(unit, str) or not unit.strip():
@@ -249,17 +289,22 @@ def _input(data: dict[Any, Any], signals: Sequence[str], coordinates: Sequence[s
                                     section, "unit"))
         elif unit.strip() == "g":
             factor = STANDARD_GRAVITY
+            quantity = Dimension.of(m=1, s=-2)
         else:
             try:
-                factor = parse_unit(unit).to_si()
+                parsed = parse_unit(unit)
+                factor, quantity = parsed.to_si(), parsed.dimension
             except UnitError as exc:
                 problems.append(Problem(str(exc), source, section, "unit"))
+        if quantity is not None and isinstance(signal, str) and signal in names:
+            check_input_dimension(signal, quantity, int(derivative), False, units,
+                                  coordinates, (source, section, "unit"), problems)
     return str(signal), int(derivative), factor
 
 
 def parse_periodic(data: object, params: Sequence[str], signals: Sequence[str],
-                   coordinates: Sequence[str], source: str, problems: list[Problem]
-                   ) -> PeriodicSpec | None:
+                   coordinates: Sequence[str], source: str, problems: list[Problem],
+                   units: ModelUnits | None = None) -> PeriodicSpec | None:
     """The ``[periodic]`` section, its problems appended to ``problems``.
 
     Parameters
@@ -274,6 +319,8 @@ def parse_periodic(data: object, params: Sequence[str], signals: Sequence[str],
         The model file.
     problems : list of Problem
         Receives every problem found.
+    units : ModelUnits, optional
+        The model's units: a ``unit`` is checked against the signal's dimension.
 
     Returns
     -------
@@ -297,7 +344,8 @@ def parse_periodic(data: object, params: Sequence[str], signals: Sequence[str],
         problems.append(Problem("expected a table", source, section))
         return None
     _unknown(data, PERIODIC_KEYS, source, section, problems)
-    signal, derivative, factor = _input(data, signals, coordinates, source, section, problems)
+    signal, derivative, factor = _input(data, signals, coordinates, source, section, problems,
+                                        units)
     expression: Expression | None = None
     if "expression" in data:
         if "shape" in data:
@@ -346,7 +394,7 @@ def parse_periodic(data: object, params: Sequence[str], signals: Sequence[str],
 
 
 def parse_shock(data: object, signals: Sequence[str], coordinates: Sequence[str], source: str,
-                problems: list[Problem]) -> ShockSpec | None:
+                problems: list[Problem], units: ModelUnits | None = None) -> ShockSpec | None:
     """The ``[shock]`` section, its problems appended to ``problems``.
 
     Parameters
@@ -359,6 +407,8 @@ def parse_shock(data: object, signals: Sequence[str], coordinates: Sequence[str]
         The model file.
     problems : list of Problem
         Receives every problem found.
+    units : ModelUnits, optional
+        The model's units: a ``unit`` is checked against the signal's dimension.
 
     Returns
     -------
@@ -379,7 +429,8 @@ def parse_shock(data: object, signals: Sequence[str], coordinates: Sequence[str]
         problems.append(Problem("expected a table", source, section))
         return None
     _unknown(data, SHOCK_KEYS, source, section, problems)
-    signal, derivative, factor = _input(data, signals, coordinates, source, section, problems)
+    signal, derivative, factor = _input(data, signals, coordinates, source, section, problems,
+                                        units)
     kind = data.get("pulse")
     if kind not in PULSES:
         problems.append(Problem(f"must be one of {', '.join(PULSES)}, got {_shown(kind)}", source,

@@ -349,9 +349,9 @@ class _Builder:
                               self.source, self.problems, units) \
             if "random" in self.data else None
         shock = parse_shock(self.data["shock"], list(signals), names, self.source,
-                            self.problems) if "shock" in self.data else None
+                            self.problems, units) if "shock" in self.data else None
         periodic = parse_periodic(self.data["periodic"], param_names, list(signals), names,
-                                  self.source, self.problems) \
+                                  self.source, self.problems, units) \
             if "periodic" in self.data else None
         fatigue = parse_fatigue(self.data["fatigue"], self.source, self.problems) \
             if "fatigue" in self.data else None

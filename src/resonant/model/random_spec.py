@@ -45,6 +45,7 @@ import numpy as np
 
 from ..errors import Problem
 from ..expressions import Expression, ExpressionError, numeric_value, parse
+from .load_spec import check_input_dimension
 from .units import Dimension, ModelUnits, UnitError, parse_unit, parse_with_unit
 
 SECTION = "random"
@@ -300,8 +301,8 @@ def _input(name: str, table: object, params: list[str], signals: Sequence[str],
         found = _unit_factor(table["unit"], (source, section, "unit"), problems)
         if found is not None:
             factor, quantity = found
-    _check_dimension(name, quantity, int(derivative), bool(base), units, coordinates,
-                     (source, section, "unit"), problems)
+    check_input_dimension(name, quantity, int(derivative), bool(base), units, coordinates,
+                          (source, section, "unit"), problems, density=True)
     values = table.get("values")
     array, expression = None, None
     if values is None:
@@ -326,29 +327,6 @@ def _input(name: str, table: object, params: list[str], signals: Sequence[str],
         return None
     return RandomInput(name, int(derivative), array, expression, factor, load, base,
                        str(table.get("unit", "")))
-
-
-def _check_dimension(name: str, quantity: Dimension | None, derivative: int, base: bool,
-                     units: ModelUnits | None, coordinates: Sequence[str],
-                     where: tuple[str, str, str], problems: list[Problem]) -> None:
-    """The density's quantity against the signal's (or the force's) dimension, where known."""
-    if quantity is None or units is None:
-        return
-    expected: Dimension | None
-    if base:
-        expected = Dimension.of(m=1, s=-2)
-    elif name in coordinates:
-        coordinate = units.dimensions.get(name)
-        expected = None if coordinate is None else \
-            Dimension.of(kg=1, m=2, s=-2) / coordinate
-    else:
-        signal = units.dimensions.get(name)
-        expected = None if signal is None else signal / Dimension.of(s=derivative)
-    if expected is not None and expected != quantity:
-        what = ("the base acceleration" if base else f"{name}" + "'" * derivative)
-        problems.append(Problem(f"the unit is a density of {quantity.text() or '1'}, but "
-                                f"{what} is in {expected.text() or '1'}; give it in "
-                                f"({expected.text() or '1'})^2/Hz", *where))
 
 
 def _coherence(entry: object, index: int, params: list[str], names: list[str], source: str,
