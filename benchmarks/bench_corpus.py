@@ -7,7 +7,9 @@ Per structure: the method ``auto`` chooses and its time; a hand-written scipy lo
 SuperLU (its default COLAMD ordering, partial pivoting: what a user would write) and
 its time; the ratio; the exact ``sparse`` method against a hand-written loop of the
 *same* factorization (the symmetric scaling and options of
-resonant.analyses.reduced.ScaledLU); the reduced model's estimated error against its
+resonant.analyses.reduced.ScaledLU); where the exact method would be ``banded``, that
+method against a hand-written loop of LAPACK's gtsv/gbsv on band storage (reverse
+Cuthill-McKee order where narrower); the reduced model's estimated error against its
 true error (measured against the LU loop's responses).  Prints a Markdown table.
 
 With ``--loop-points K`` (for the largest sizes, where a loop over every frequency would
@@ -64,6 +66,46 @@ def lu_loop(s, w, same: bool):
     return Z, time.perf_counter() - start
 
 
+def band_loop(s, w):
+    """The hand-written loop of the ``banded`` method's factorization: LAPACK gtsv
+    (tridiagonal) or gbsv on band storage, the solution stored as the LU loop's."""
+    from scipy.linalg import lapack
+
+    from scipy.sparse.csgraph import reverse_cuthill_mckee
+
+    start = time.perf_counter()
+    pattern = (abs(s.K) + abs(s.M) + abs(s.C)).tocsr()
+    order = reverse_cuthill_mckee(pattern + pattern.T, symmetric_mode=True)
+    if sum(bandwidths(pattern[order][:, order])) >= sum(bandwidths(pattern)):
+        order = np.arange(s.n)
+    lower, upper = bandwidths(pattern[order][:, order])
+    rows = 2 * lower + upper + 1
+
+    def storage(a):
+        a = a.tocsr()[order][:, order].tocoo()
+        ab = np.zeros((rows, s.n))
+        np.add.at(ab, (lower + upper + a.row - a.col, a.col), a.data)
+        return ab
+
+    Kb, Mb, Cb = storage(s.K), storage(s.M), storage(s.C)
+    b = s.b[order].astype(complex)
+    back = np.argsort(order)
+    Z = np.empty((len(w), s.n), dtype=complex)
+    for i, wi in enumerate(w):
+        ab = Kb - wi * wi * Mb + 1j * wi * Cb
+        if lower == upper == 1:
+            Z[i] = lapack.zgtsv(ab[3, :-1], ab[2], ab[1, 1:], b)[3][back]
+        else:
+            Z[i] = lapack.zgbsv(lower, upper, ab, b, overwrite_ab=1)[2][back]
+    return Z, time.perf_counter() - start
+
+
+def bandwidths(a):
+    """(sub-, superdiagonals) of a sparse matrix."""
+    a = a.tocoo()
+    return int((a.row - a.col).max()), int((a.col - a.row).max())
+
+
 def run_case(name: str, size: int, points: int, loop_points: int | None = None) -> dict:
     s = corpus.build(name, size)
     w = np.linspace(*s.band, points)
@@ -75,11 +117,16 @@ def run_case(name: str, size: int, points: int, loop_points: int | None = None) 
     scale = points / some.size
     ref, t_loop = lu_loop(s, w[some], same=False)
     _, t_same = lu_loop(s, w[some], same=True)
-    t_sparse = math.nan
-    if scale == 1:  # the exact sparse method over the whole band (skipped when scaled)
+    t_sparse = t_banded = t_band_loop = math.nan
+    if scale == 1:  # the exact methods over the whole band (skipped when scaled)
         start = time.perf_counter()
         kernel.solve_harmonic(batch, batch.harmonics[0], "sparse")
         t_sparse = time.perf_counter() - start
+        if kernel.choose_direct(batch, w) == "banded":
+            start = time.perf_counter()
+            kernel.solve_harmonic(batch, batch.harmonics[0], "banded")
+            t_banded = time.perf_counter() - start
+            _, t_band_loop = band_loop(s, w)
     red = reduced_response(s.M, s.C, s.K, s.b, w)
     Z = red.Z[some]
     true = np.linalg.norm(Z - ref, axis=1) / np.linalg.norm(ref, axis=1)
@@ -87,19 +134,24 @@ def run_case(name: str, size: int, points: int, loop_points: int | None = None) 
             "auto": t_auto, "loop": t_loop * scale, "ratio": t_auto / (t_loop * scale),
             "sparse": t_sparse, "same": t_same * scale,
             "sparse_ratio": t_sparse / (t_same * scale), "scaled": scale != 1,
+            "banded": t_banded, "band_loop": t_band_loop,
+            "banded_ratio": t_banded / t_band_loop,
             "estimated": red.estimated_error, "true": float(np.nanmax(true)),
             "converged": red.converged}
 
 
 def table(rows: list[dict]) -> str:
     lines = ["| structure | n | method (auto) | auto s | LU loop s | auto / loop | sparse s | "
-             "same-LU loop s | sparse / same | reduced estimated | reduced true |",
-             "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+             "same-LU loop s | sparse / same | banded s | band loop s | banded / loop | "
+             "reduced estimated | reduced true |",
+             "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | "
+             "---: | ---: | ---: |"]
     for r in rows:
         star = "*" if r.get("scaled") else ""
         lines.append(f"| {r['name']} | {r['n']} | {r['method']} | {r['auto']:.3g} | "
                      f"{r['loop']:.3g}{star} | {r['ratio']:.3g}{star} | {r['sparse']:.3g} | "
                      f"{r['same']:.3g}{star} | {r['sparse_ratio']:.2f} | "
+                     f"{r['banded']:.3g} | {r['band_loop']:.3g} | {r['banded_ratio']:.2f} | "
                      f"{r['estimated']:.2g} | {r['true']:.2g} |")
     return "\n".join(lines)
 

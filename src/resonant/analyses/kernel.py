@@ -195,18 +195,96 @@ def check_batch_mass(batch: Batch, values: np.ndarray | None = None, param: str 
 
 
 
-def _bandwidths(*matrices: Matrix) -> tuple[int, int]:
+def _entries(a: Matrix, position: np.ndarray | None = None
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rows, columns and values of the nonzeros of a; ``position``: the new index of
+    every old one (a symmetric permutation)."""
+    if hasattr(a, "tocoo"):
+        coo = a.tocoo()
+        nonzero = coo.data != 0
+        rows, cols, values = coo.row[nonzero], coo.col[nonzero], coo.data[nonzero]
+    else:
+        rows, cols = np.nonzero(a)
+        values = np.asarray(a)[rows, cols]
+    if position is not None:
+        rows, cols = position[rows], position[cols]
+    return rows, cols, values
+
+
+def _bandwidths(*matrices: Matrix, position: np.ndarray | None = None) -> tuple[int, int]:
     lower = upper = 0
     for a in matrices:
-        if hasattr(a, "tocoo"):
-            coo = a.tocoo()
-            rows, cols = coo.row[coo.data != 0], coo.col[coo.data != 0]
-        else:
-            rows, cols = np.nonzero(a)
+        rows, cols, _ = _entries(a, position)
         if rows.size:
             lower = max(lower, int((rows - cols).max()))
             upper = max(upper, int((cols - rows).max()))
     return lower, upper
+
+
+@dataclass(frozen=True)
+class BandOrdering:
+    """The order of the coordinates a band solve takes, and its bandwidths there.
+
+    An assembler's numbering can make a narrow band wide (quadratic beam elements
+    with their midside unknowns numbered last: a bandwidth of n/2 where reverse
+    Cuthill-McKee finds 5), so the band is measured in the given order and in the
+    reverse Cuthill-McKee order of the pattern of M, C and K together, and the
+    narrower taken.
+
+    Attributes
+    ----------
+    order : ndarray of int or None
+        Coordinate ``order[i]`` is the i-th unknown of the band system (None: as
+        given).
+    lower, upper : int
+        Sub- and superdiagonals of the band.
+    """
+
+    order: np.ndarray | None
+    lower: int
+    upper: int
+
+    @property
+    def position(self) -> np.ndarray | None:
+        """The band system's index of every coordinate (the inverse of ``order``)."""
+        if self.order is None:
+            return None
+        position = np.empty_like(self.order)
+        position[self.order] = np.arange(self.order.size)
+        return position
+
+
+def band_ordering(*matrices: Matrix) -> BandOrdering:
+    """The narrower band of the given and the reverse Cuthill-McKee order.
+
+    Examples
+    --------
+    >>> import numpy as np, scipy.sparse as sp
+    >>> n = 6
+    >>> K = sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1])
+    >>> scrambled = np.array([0, 3, 1, 4, 2, 5])
+    >>> chain = K.tocsr()[scrambled][:, scrambled]
+    >>> band = band_ordering(chain)
+    >>> (band.lower, band.upper), band_ordering(K).order is None
+    ((1, 1), True)
+    """
+    lower, upper = _bandwidths(*matrices)
+    n = matrices[0].shape[0]
+    if lower + upper <= 2 or n < 3:
+        return BandOrdering(None, lower, upper)
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import reverse_cuthill_mckee
+
+    pattern = sp.csr_matrix((n, n))
+    for a in matrices:
+        pattern = pattern + abs(sp.csr_matrix(a))
+    order = reverse_cuthill_mckee((pattern + pattern.T).tocsr(), symmetric_mode=True)
+    order = np.asarray(order, dtype=np.intp)
+    band = BandOrdering(order, 0, 0)
+    new_lower, new_upper = _bandwidths(*matrices, position=band.position)
+    if new_lower + new_upper >= lower + upper:
+        return BandOrdering(None, lower, upper)
+    return BandOrdering(order, new_lower, new_upper)
 
 
 def _is_proportional(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> bool:
@@ -267,7 +345,8 @@ def direct_costs(batch: Batch, omega: np.ndarray | None = None) -> dict[str, flo
 def _band_costs(batch: Batch) -> dict[str, float]:
     """The modelled costs of the dense and banded LU per frequency (seconds)."""
     n = len(batch.coordinates)
-    lower, upper = _bandwidths(batch.M, batch.C, batch.K)
+    band = band_ordering(batch.M, batch.C, batch.K)
+    lower, upper = band.lower, band.upper
     band_rate = BANDED_RATE * min(1.0, 0.1 + (lower + upper) / 200)
     return {
         "dense": 32.0 / 3.0 * n ** 3 / DENSE_RATE + 16.0 * n * n * 4 / DENSE_RATE
@@ -360,7 +439,8 @@ def choose_method(batch_or_matrices: Batch, n_points: int = 1,
     n = len(b.coordinates)
     if n <= 40:
         return "dense"
-    lower, upper = _bandwidths(b.M, b.C, b.K)
+    band = band_ordering(b.M, b.C, b.K)
+    lower, upper = band.lower, band.upper
     sparse = any(hasattr(a, "tocsr") for a in (b.M, b.C, b.K))
     if sparse:
         nnz = sum(a.nnz if hasattr(a, "nnz") else np.count_nonzero(a) for a in (b.M, b.C, b.K))
@@ -949,16 +1029,12 @@ def closed_form_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 
 
-def _band_storage(a: Matrix, lower: int, upper: int, rows: int, offset: int) -> np.ndarray:
-    """LAPACK band storage: ab[offset + upper + i - j, j] = a[i, j]."""
-    n = a.shape[0]
-    ab = np.zeros((rows, n))
-    coo = a.tocoo() if hasattr(a, "tocoo") else None
-    if coo is not None:
-        i, j, v = coo.row, coo.col, coo.data
-    else:
-        i, j = np.nonzero(a)
-        v = a[i, j]
+def _band_storage(a: Matrix, upper: int, rows: int, offset: int,
+                  position: np.ndarray | None) -> np.ndarray:
+    """LAPACK band storage: ab[offset + upper + i - j, j] = a[i, j], in the band
+    system's order (``position``: see :class:`BandOrdering`)."""
+    ab = np.zeros((rows, a.shape[0]))
+    i, j, v = _entries(a, position)
     np.add.at(ab, (offset + upper + i - j, j), v)
     return ab
 
@@ -968,11 +1044,14 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     from scipy.linalg import lapack
 
     N = w.shape[0]
-    lower, upper = _bandwidths(batch.M, batch.C, batch.K)
+    band = band_ordering(batch.M, batch.C, batch.K)
+    lower, upper, order, position = band.lower, band.upper, band.order, band.position
     singular = np.zeros(N, dtype=bool)
     varying_rhs = rhs.ndim == 2
+    if order is not None:
+        rhs = rhs[..., order]
     if lower == upper == 1:  # tridiagonal: LAPACK gtsv (partial pivoting)
-        storage = [_band_storage(a, 1, 1, 3, 0) for a in (batch.M, batch.C, batch.K)]
+        storage = [_band_storage(a, 1, 3, 0, position) for a in (batch.M, batch.C, batch.K)]
         gtsv = lapack.get_lapack_funcs("gtsv", (np.zeros(1, complex),))
 
         def solve(ab: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, int]:
@@ -980,7 +1059,7 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
             return x, info
     else:
         rows = 2 * lower + upper + 1  # gbsv needs lower extra rows for the LU fill-in
-        storage = [_band_storage(a, lower, upper, rows, lower)
+        storage = [_band_storage(a, upper, rows, lower, position)
                    for a in (batch.M, batch.C, batch.K)]
         gbsv = lapack.get_lapack_funcs("gbsv", (np.zeros(1, complex),))
 
@@ -994,8 +1073,10 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
         if info != 0:
             singular[i] = True
             Z[i] = np.nan
-        else:
+        elif order is None:
             Z[i] = x
+        else:
+            Z[i] = x[position]   # (x[position[k]] is coordinate k)
         if i % 64 == 63:
             progress.advance(64)
             deadline.check("while solving the harmonic systems", analysis=True)
@@ -1094,7 +1175,8 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
         if error > MODAL_TOLERANCE:
             warnings.append(f"modal superposition differs from the direct solve by {error:.2g} "
                             f"at {w[i]:.6g} rad/s; solved directly instead")
-            banded = sum(_bandwidths(M, C, K)) + 1 <= max(3, n // 10)
+            band = band_ordering(M, C, K)
+            banded = band.lower + band.upper + 1 <= max(3, n // 10)
             if banded:
                 return _solve_banded(batch, w, rhs, _Progress(N, False), store, deadline)
             return _solve_dense(batch, w, rhs, _Progress(N, False), store, deadline, None)
@@ -1104,6 +1186,7 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
 
 
 __all__ = ["solve_harmonic", "KernelResult", "choose_method", "choose_direct", "direct_costs",
+           "band_ordering", "BandOrdering",
            "reduced_budget", "reduced_points", "largest_abs", "closed_form_solve",
            "check_batch_mass", "equilibration", "METHODS", "SINGULAR_CONDITION",
            "LOSS_CONDITION", "DEFAULT_TOL"]
