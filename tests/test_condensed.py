@@ -30,14 +30,15 @@ def _rows(A: np.ndarray) -> str:
 
 
 def chain(n: int, force: float = 0.01, element: str = 'force = "k3*q{n}^3"',
-          k3: float = 2.0) -> tuple[object, np.ndarray, np.ndarray, np.ndarray]:
+          k3: float = 2.0, alpha: float = 0.02, beta: float = 0.002
+          ) -> tuple[object, np.ndarray, np.ndarray, np.ndarray]:
     """A chain of n masses 1/n, springs n (tip stiffness 1, first frequency about 1.57),
-    grounded at q1, Rayleigh damping, a harmonic force at the free tip q_n, and one
-    nonlinear element at the tip."""
+    grounded at q1, Rayleigh damping C = alpha M + beta K, a harmonic force at the free
+    tip q_n, and one nonlinear element at the tip."""
     K = (np.diag(np.r_[2 * np.ones(n - 1), 1.0]) - np.diag(np.ones(n - 1), 1)
          - np.diag(np.ones(n - 1), -1)) * n
     M = np.eye(n) / n
-    C = 0.02 * M + 0.002 * K
+    C = alpha * M + beta * K
     f = [0.0] * n
     f[-1] = force
     text = f"""

@@ -17,38 +17,15 @@ import pytest
 
 from resonant.analyses import condensed
 from resonant.analyses.condensed import condensed_sweep
-from resonant.api import loads
-
-
-def _rows(A: np.ndarray) -> str:
-    return "[" + ", ".join("[" + ", ".join(repr(float(v)) for v in r) + "]" for r in A) + "]"
+from test_condensed import chain
 
 
 def light_chain(n: int = 4, alpha: float = 0.004, beta: float = 0.0004,
                 force: float = 0.004) -> object:
-    """n masses 1/n on springs n (first frequency about 1.5), light Rayleigh damping
-    C = alpha M + beta K, a cubic spring and the force at the tip."""
-    K = (np.diag(np.r_[2 * np.ones(n - 1), 1.0]) - np.diag(np.ones(n - 1), 1)
-         - np.diag(np.ones(n - 1), -1)) * n
-    M = np.eye(n) / n
-    C = alpha * M + beta * K
-    f = [0.0] * n
-    f[-1] = force
-    return loads(f"""
-[parameters]
-w = 1
-[matrices]
-M = {_rows(M)}
-K = {_rows(K)}
-C = {_rows(C)}
-[[harmonic]]
-omega = "w"
-F_C = {f}
-[[nonlinear]]
-name = "tip"
-coordinates = ["q{n}"]
-force = "2*q{n}^3"
-""")
+    """The chain of tests/test_condensed.py (n masses 1/n on springs n, first frequency
+    about 1.5, the cubic spring 2 q_n^3 and the force at the tip) with light Rayleigh
+    damping C = alpha M + beta K."""
+    return chain(n, force=force, alpha=alpha, beta=beta)[0]
 
 
 def _sweep(model, monkeypatch, relative: bool):
