@@ -9,7 +9,8 @@ its time; the ratio; the exact ``sparse`` method against a hand-written loop of 
 *same* factorization (the symmetric scaling and options of
 resonant.analyses.reduced.ScaledLU); where the exact method would be ``banded``, that
 method against a hand-written loop of LAPACK's gtsv/gbsv on band storage (reverse
-Cuthill-McKee order where narrower); the reduced model's estimated error against its
+Cuthill-McKee order where narrower); up to 2,000 coordinates the ``dense`` method against
+numpy.linalg.solve in a loop; the reduced model's estimated error against its
 true error (measured against the LU loop's responses).  Prints a Markdown table.
 
 With ``--loop-points K`` (for the largest sizes, where a loop over every frequency would
@@ -39,6 +40,10 @@ from resonant.analyses.reduced import (  # noqa: E402
     symmetric_scale,
 )
 from resonant.system import NumericEOM, NumericHarmonic  # noqa: E402
+
+
+#: the dense method is timed (against numpy.linalg.solve in a loop) up to this size
+DENSE_SIZE = 2000
 
 
 def batch_of(s, w):
@@ -100,6 +105,17 @@ def band_loop(s, w):
     return Z, time.perf_counter() - start
 
 
+def dense_loop(s, w):
+    """The hand-written loop of the ``dense`` method's factorization: LAPACK's LU of the
+    dense complex matrix per frequency (numpy.linalg.solve)."""
+    K, M, C = s.K.toarray(), s.M.toarray(), s.C.toarray()
+    Z = np.empty((len(w), s.n), dtype=complex)
+    start = time.perf_counter()
+    for i, wi in enumerate(w):
+        Z[i] = np.linalg.solve(K - wi * wi * M + 1j * wi * C, s.b)
+    return Z, time.perf_counter() - start
+
+
 def bandwidths(a):
     """(sub-, superdiagonals) of a sparse matrix."""
     a = a.tocoo()
@@ -127,6 +143,12 @@ def run_case(name: str, size: int, points: int, loop_points: int | None = None) 
             kernel.solve_harmonic(batch, batch.harmonics[0], "banded")
             t_banded = time.perf_counter() - start
             _, t_band_loop = band_loop(s, w)
+    t_dense = t_dense_loop = math.nan
+    if scale == 1 and s.n <= DENSE_SIZE:
+        start = time.perf_counter()
+        kernel.solve_harmonic(batch, batch.harmonics[0], "dense")
+        t_dense = time.perf_counter() - start
+        _, t_dense_loop = dense_loop(s, w)
     red = reduced_response(s.M, s.C, s.K, s.b, w)
     Z = red.Z[some]
     true = np.linalg.norm(Z - ref, axis=1) / np.linalg.norm(ref, axis=1)
@@ -136,6 +158,7 @@ def run_case(name: str, size: int, points: int, loop_points: int | None = None) 
             "sparse_ratio": t_sparse / (t_same * scale), "scaled": scale != 1,
             "banded": t_banded, "band_loop": t_band_loop,
             "banded_ratio": t_banded / t_band_loop,
+            "dense": t_dense, "dense_loop": t_dense_loop, "dense_ratio": t_dense / t_dense_loop,
             "estimated": red.estimated_error, "true": float(np.nanmax(true)),
             "converged": red.converged}
 
@@ -143,15 +166,16 @@ def run_case(name: str, size: int, points: int, loop_points: int | None = None) 
 def table(rows: list[dict]) -> str:
     lines = ["| structure | n | method (auto) | auto s | LU loop s | auto / loop | sparse s | "
              "same-LU loop s | sparse / same | banded s | band loop s | banded / loop | "
-             "reduced estimated | reduced true |",
+             "dense s | dense loop s | dense / loop | reduced estimated | reduced true |",
              "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | "
-             "---: | ---: | ---: |"]
+             "---: | ---: | ---: | ---: | ---: | ---: |"]
     for r in rows:
         star = "*" if r.get("scaled") else ""
         lines.append(f"| {r['name']} | {r['n']} | {r['method']} | {r['auto']:.3g} | "
                      f"{r['loop']:.3g}{star} | {r['ratio']:.3g}{star} | {r['sparse']:.3g} | "
                      f"{r['same']:.3g}{star} | {r['sparse_ratio']:.2f} | "
                      f"{r['banded']:.3g} | {r['band_loop']:.3g} | {r['banded_ratio']:.2f} | "
+                     f"{r['dense']:.3g} | {r['dense_loop']:.3g} | {r['dense_ratio']:.2f} | "
                      f"{r['estimated']:.2g} | {r['true']:.2g} |")
     return "\n".join(lines)
 

@@ -426,7 +426,8 @@ def choose_method(batch_or_matrices: Batch, n_points: int = 1,
     Fixed matrices: ``dense`` for n <= 40 (one batched LAPACK call beats a
     Python loop); for sparse matrices the cheaper of ``banded`` and ``sparse``
     by their estimated costs (:func:`direct_costs`: band work against the
-    measured sparse LU, not the band alone); ``banded`` for dense arrays whose
+    measured sparse LU, not the band alone) where the pattern is narrow or sparse, else
+    (after ``modal``, below) the cheapest of the three; ``banded`` for dense arrays whose
     total bandwidth is at most n/10; ``modal`` for dense symmetric,
     proportionally damped systems with n <= 3000 (one eigendecomposition, then
     n^2 per point); ``dense`` otherwise.  ``costs``: :func:`direct_costs` when
@@ -453,6 +454,8 @@ def choose_method(batch_or_matrices: Batch, n_points: int = 1,
         M, C, K = (_dense(a) for a in (b.M, b.C, b.K))
         if _symmetric(M) and _symmetric(K) and _symmetric(C) and _is_proportional(M, C, K):
             return "modal"
+    if sparse:   # dense enough to consider the dense LU: the cheapest by the cost model
+        return choose_direct(b, omega, costs)
     return "dense" if n <= 3000 else "sparse"
 
 
