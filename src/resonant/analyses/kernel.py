@@ -71,6 +71,7 @@ from . import reduced as reduced_module
 from .reduced import (
     DAMPED_FRACTION,
     DEFAULT_TOL,
+    DampingFraction,
     ScaledLU,
     backward_stable,
     damping_fraction,
@@ -491,11 +492,6 @@ class _Progress:
         sys.stderr.flush()
 
 
-#: the responses whose damping fractions are computed together: at most this many, and
-#: at most FRACTION_BYTES of them (one at a time beyond 500,000 coordinates)
-FRACTION_STACK = 32
-FRACTION_BYTES = 8 * 2**20
-
 #: the points of a sweep a store's row index picks: one, a range or a boolean mask
 _Index: TypeAlias = int | slice | np.ndarray
 
@@ -519,8 +515,7 @@ class _Store:
         #: SINGULAR_CONDITION, the point is no resonance and needs no damping fraction
         #: (None: every point gets one)
         self._bound = bound
-        self._pending_rows: list[int] = []
-        self._pending: list[np.ndarray] = []
+        self._single: DampingFraction | None = None
         if batch is not None:
             C = batch.C
             if hasattr(C, "nnz") and C.nnz or not hasattr(C, "nnz") and np.any(C):
@@ -546,22 +541,12 @@ class _Store:
                 return
         if self._c_norm is None:   # one C for each point (it changes with the parameter)
             self.damped[rows] = damping_fraction(C[rows], X)
-            return
-        # one C for every point: the fractions of single points in stacks (one product
-        # C X for many x costs less than one C x each; a stiff structure may need them
-        # at every point)
-        self._pending_rows.extend(rows.tolist())
-        self._pending.extend(X)
-        if len(self._pending_rows) >= min(FRACTION_STACK,
-                                          FRACTION_BYTES // (16 * max(X.shape[1], 1))):
-            self.flush()
-
-    def flush(self) -> None:
-        """The damping fractions of the points still pending."""
-        if self._pending_rows:
-            self.damped[self._pending_rows] = damping_fraction(
-                self._damping, np.array(self._pending), self._c_norm)
-            self._pending_rows, self._pending = [], []
+        elif rows.size == 1:   # (a stiff structure may need it at every point)
+            if self._single is None:
+                self._single = DampingFraction(C, self._c_norm)
+            self.damped[rows[0]] = self._single(X[0])
+        else:
+            self.damped[rows] = damping_fraction(C, X, self._c_norm)
 
     def __setitem__(self, index: _Index, x: np.ndarray | complex) -> None:
         x = np.asarray(x, dtype=complex)
@@ -689,7 +674,6 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
         singular = _solve_sparse(batch, w, rhs, progress, store, deadline, probe)
     else:
         singular = _solve_modal(batch, w, rhs, progress, warnings, store, deadline)
-    store.flush()
     Z = store.values
     if bound is not None:
         # a lower bound of the condition number: ||A|| ||Z|| / ||rhs|| (exact resonance: huge)
