@@ -117,3 +117,26 @@ def test_damping_fraction_of_a_stack_is_each_points_own(n, count, seed):
     X = rng.standard_normal((count, n)) + 1j * rng.standard_normal((count, n))
     each = [damping_fraction(C[k], X[k:k + 1])[0] for k in range(count)]
     np.testing.assert_allclose(damping_fraction(C, X), each, rtol=1e-12, atol=0)
+
+
+@settings(max_examples=60, deadline=None)
+@given(n=st.integers(2, 40), touched=st.integers(1, 40), seed=st.integers(0, 2**31 - 1),
+       dense=st.booleans())
+def test_one_response_fraction_equals_the_stacked_one(n, touched, seed, dense):
+    """DampingFraction (C restricted to the coordinates it touches) against
+    damping_fraction of the whole C: two routes to one number."""
+    import scipy.sparse as sp
+
+    from resonant.analyses.reduced import DampingFraction
+
+    rng = np.random.default_rng(seed)
+    where = rng.choice(n, size=min(touched, n), replace=False)
+    C = np.zeros((n, n))
+    C[np.ix_(where, where)] = rng.standard_normal((where.size, where.size))
+    x = rng.standard_normal(n) * 10.0 ** rng.integers(-8, 9) + 1j * rng.standard_normal(n)
+    matrix = C if dense else sp.csr_matrix(C)
+    if not np.any(C):
+        return
+    one = DampingFraction(matrix)(x)
+    assert one == pytest.approx(float(damping_fraction(matrix, x[None])[0]), rel=1e-12,
+                                abs=1e-300)
