@@ -271,7 +271,10 @@ def band_ordering(*matrices: Matrix) -> BandOrdering:
     """
     lower, upper = _bandwidths(*matrices)
     n = matrices[0].shape[0]
-    if lower + upper <= 2 or n < 3:
+    entries = sum(int(a.nnz) if hasattr(a, "nnz") else int(np.count_nonzero(a))
+                  for a in matrices)
+    # (no order narrows a pattern with more than a quarter of its entries filled)
+    if lower + upper <= 2 or n < 3 or entries > n * n // 4:
         return BandOrdering(None, lower, upper)
     import scipy.sparse as sp
     from scipy.sparse.csgraph import reverse_cuthill_mckee
