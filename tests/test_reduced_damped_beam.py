@@ -140,3 +140,15 @@ def test_one_response_fraction_equals_the_stacked_one(n, touched, seed, dense):
     one = DampingFraction(matrix)(x)
     assert one == pytest.approx(float(damping_fraction(matrix, x[None])[0]), rel=1e-12,
                                 abs=1e-300)
+
+
+def test_one_response_fraction_of_zero_tiny_and_infinite_responses():
+    """0 where x is zero, underflows to zero, or is not finite (the 1-DOF oscillator
+    with m = -1, c = -1 at w = 1e150 divided by zero before)."""
+    from resonant.analyses.reduced import DampingFraction
+
+    fraction = DampingFraction(np.array([[-1.0]]))
+    assert fraction(np.array([0j])) == 0.0
+    assert fraction(np.array([1e-170 + 0j])) == 0.0
+    assert fraction(np.array([np.inf + 0j])) == 0.0
+    assert fraction(np.array([2.0 + 0j])) == 1.0

@@ -449,9 +449,11 @@ class DampingFraction:
     def __call__(self, x: np.ndarray) -> float:
         xs = x if self.support is None else x[self.support]
         with np.errstate(all="ignore"):
-            size = float(np.vdot(x, x).real)
-            fraction = abs(complex(np.vdot(xs, self.C @ xs))) / (size * self.c_norm)
-        return fraction if size > 0 and np.isfinite(fraction) else 0.0
+            size = np.vdot(x, x).real * self.c_norm
+            if not size > 0:   # (x zero, or underflowing to it)
+                return 0.0
+            fraction = float(np.abs(np.vdot(xs, self.C @ xs)) / size)
+        return fraction if np.isfinite(fraction) else 0.0
 
 
 def _stacked_damping_fraction(C: np.ndarray, X: np.ndarray) -> np.ndarray:
