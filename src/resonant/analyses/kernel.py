@@ -271,7 +271,7 @@ def band_ordering(*matrices: Matrix) -> BandOrdering:
     """
     lower, upper = _bandwidths(*matrices)
     n = matrices[0].shape[0]
-    entries = sum(int(a.nnz) if hasattr(a, "nnz") else int(np.count_nonzero(a))
+    entries = max(int(a.nnz) if hasattr(a, "nnz") else int(np.count_nonzero(a))
                   for a in matrices)
     # (no order narrows a pattern with more than a quarter of its entries filled)
     if lower + upper <= 2 or n < 3 or entries > n * n // 4:
