@@ -83,6 +83,9 @@ def assert_within_bound(x: np.ndarray, y: np.ndarray, cond: float, case: object)
 @given(st.lists(systems(), min_size=1, max_size=8), st.booleans())
 @example([(np.array([[1j, 1j], [0.25, 0.0]]), np.array([2.22507386e-311j, 0.0]))], False)
 @example([(np.array([[1e90j, 1e82j], [5e-129j, 0.0]]), np.array([0.0, 1e90j]))], False)
+@example([(np.array([[0.1, 2.78806550e-130], [1.52592589e-196, 0.0]]), np.zeros(2))], True)
+@example([(np.array([[0.0, 1.56676907e-201j], [5e-206j, 0.0]]), np.array([0.0, 1e103j]))],
+         False)
 def test_closed_form_agrees_with_lapack_to_cond_times_u(cases, real):
     """Complex matrices, or their real parts (a system without damping: real arithmetic),
     against the exact solution, and against LAPACK where LAPACK's is finite."""
@@ -94,11 +97,15 @@ def test_closed_form_agrees_with_lapack_to_cond_times_u(cases, real):
         cond = np.linalg.cond(A[i])
         assert_within_bound(x[i], exact_solution(A[i], b[i]), cond, (A[i], b[i]))
         with np.errstate(all="ignore"):
-            y = np.linalg.solve(A[i], b[i])
+            try:
+                y = np.linalg.solve(A[i], b[i])
+            except np.linalg.LinAlgError:  # a pivot underflowed to an exact zero in LU
+                continue
         if np.isfinite(y).all():
             assert_within_bound(x[i], y, cond, (A[i], b[i]))
     for i in range(len(cases)):  # r = |det| / (|a11 a22| + |a12 a21|) >= 1 / (2 cond)
-        if np.linalg.cond(A[i]) < 1e5 and np.abs(b[i]).max() > 0:
+        if np.linalg.cond(A[i]) < 1e5 and np.abs(b[i]).max() > 0 and np.isfinite(
+                exact_solution(A[i], b[i])).all():   # (a solution beyond 1.8e308 is hard)
             assert not hard[i], A[i]
 
 
