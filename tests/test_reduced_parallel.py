@@ -15,33 +15,28 @@
 
 from __future__ import annotations
 
+import sys
 import threading
 import traceback
+from pathlib import Path
 
 import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from resonant.analyses import reduced
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+
+import bench_reduced  # noqa: E402
+
+from resonant.analyses import reduced  # noqa: E402
 
 
 def grid(nx: int, seed: int = 0):
-    """(M, C, K) of an nx x nx mass-spring grid, edges grounded, irregular springs and
-    masses, Rayleigh damping (lowest natural frequency about 5 rad/s)."""
-    n = nx * nx
-    idx = np.arange(n).reshape(nx, nx)
-    rows = np.concatenate([idx[:, :-1].ravel(), idx[:-1, :].ravel()])
-    cols = np.concatenate([idx[:, 1:].ravel(), idx[1:, :].ravel()])
-    rng = np.random.default_rng(seed)
-    springs = sp.coo_matrix((1e4 * (1 + 0.2 * rng.random(len(rows))), (rows, cols)),
-                            shape=(n, n))
-    springs = springs + springs.T
-    edge = np.zeros((nx, nx), dtype=bool)
-    edge[0, :] = edge[-1, :] = edge[:, 0] = edge[:, -1] = True
-    K = (sp.diags(np.asarray(springs.sum(axis=1)).ravel() + 1e4 * edge.ravel())
-         - springs).tocsr()
-    M = sp.diags(1 + 0.3 * rng.random(n)).tocsr()
-    return M, (0.1 * M + 1e-3 * K).tocsr(), K
+    """(M, C, K) of the random nx x nx grid of benchmarks/bench_reduced.py: edges
+    grounded, irregular springs and masses, C = 0.1 M + 1e-3 K (lowest natural frequency
+    about 5 rad/s)."""
+    M, C, K, _ = bench_reduced.grid_matrices(nx, seed)
+    return M, C, K
 
 
 @pytest.fixture(scope="module")

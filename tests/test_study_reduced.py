@@ -4,18 +4,22 @@ load vectors."""
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 import scipy.io
-import scipy.sparse as sp
 
-import resonant
-from resonant.analyses import kernel
-from resonant.studies import StudyJob, collect, engine_for, request
-from resonant.studies import quantities as quantities_module
-from resonant.studies import reduced_band as reduced_band_module
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+
+import bench_reduced  # noqa: E402
+
+import resonant  # noqa: E402
+from resonant.analyses import kernel  # noqa: E402
+from resonant.studies import StudyJob, collect, engine_for, request  # noqa: E402
+from resonant.studies import quantities as quantities_module  # noqa: E402
+from resonant.studies import reduced_band as reduced_band_module  # noqa: E402
 
 pytest.importorskip("pandas")
 
@@ -23,24 +27,11 @@ pytest.importorskip("pandas")
 def grid_model(directory: Path, nx: int = 24) -> Path:
     """An nx x nx mass-spring grid (random masses and springs, edges grounded, Rayleigh
     damping), a force F0 at one interior mass: the sparse kind a reduced model is for."""
-    n = nx * nx
-    idx = np.arange(n).reshape(nx, nx)
-    rows = np.concatenate([idx[:, :-1].ravel(), idx[:-1, :].ravel()])
-    cols = np.concatenate([idx[:, 1:].ravel(), idx[1:, :].ravel()])
-    rng = np.random.default_rng(0)
-    springs = sp.coo_matrix((1e4 * (1 + 0.2 * rng.random(len(rows))), (rows, cols)),
-                            shape=(n, n))
-    springs = springs + springs.T
-    edge = np.zeros((nx, nx), dtype=bool)
-    edge[0, :] = edge[-1, :] = edge[:, 0] = edge[:, -1] = True
-    K = (sp.diags(np.asarray(springs.sum(axis=1)).ravel() + 1e4 * edge.ravel())
-         - springs).tocsr()
-    M = sp.diags(1 + 0.3 * rng.random(n)).tocsr()
+    M, _, K, f = bench_reduced.grid_matrices(nx)
     C = (0.5 * M + 1e-4 * K).tocsr()
     for key, a in (("M", M), ("C", C), ("K", K)):
         scipy.io.mmwrite(str(directory / f"{key}.mtx"), a)
-    load = ["0"] * n
-    load[idx[nx // 3, nx // 4]] = '"F0"'
+    load = ['"F0"' if v else "0" for v in f]
     path = directory / "grid.toml"
     path.write_text('[parameters]\nF0 = 1\nomega = 10\n[matrices]\nM = "M.mtx"\n'
                     'C = "C.mtx"\nK = "K.mtx"\n[[harmonic]]\nomega = "omega"\n'
