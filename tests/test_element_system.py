@@ -18,8 +18,8 @@ from resonant.analyses.backbone import backbone
 from resonant.analyses.condensed import condensed_sweep
 from resonant.analyses.harmonic_balance import full_sweep
 from resonant.analyses.simulate import simulate
+from resonant.api import loads
 from resonant.errors import AnalysisError
-from resonant.model import loads
 from resonant.system import ElementSystem, EnergySystem, nonlinear_system
 from test_condensed import DUFFING_ENERGY, DUFFING_MATRICES
 

@@ -53,7 +53,9 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model import Model
 from ..model.options import check_harmonics
-from ..system import LinearSystem, NonlinearSystem, nonlinear_system
+from ..system.base import LinearSystem
+from ..system.build import nonlinear_system
+from ..system.nonlinear import NonlinearSystem
 from ..system.stability import undamped_eigen
 from .hb_solver import NEWTON_MAX, NEWTON_TOL, HarmonicBalance
 from .results_json import Saved
@@ -242,8 +244,8 @@ class Backbones:
         >>> len(b.plot().axes)
         1
         """
-        from ..views import nonlinear_plots
-        return nonlinear_plots.plot_backbones(self, path, ax)
+        from ..views.nonlinear_plots import plot_backbones
+        return plot_backbones(self, path, ax)
 
 
 class _Free:

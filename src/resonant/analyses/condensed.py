@@ -88,9 +88,15 @@ from ..errors import AnalysisError
 from ..expressions import numeric_value
 from ..model import Model
 from ..model.options import BalanceOptions
-from ..system import LinearSystem
-from ..system.base import parameter_values
+from ..system.base import LinearSystem, parameter_values
 from ..system.matrix_outputs import OutputSeries
+from ..system.modal import (
+    eigenvalues,
+    factor_stiffness,
+    fundamental_strip,
+    modes_below,
+    state_modes,
+)
 from ..system.nonlinear_elements import ElementForces
 from .continuation import Branch, follow
 from .hb_solver import (
@@ -103,6 +109,7 @@ from .hb_solver import (
     truncation,
     truncation_warning,
 )
+from .kernel import transfer_at
 from .nonlinear_response import NonlinearResponse
 from .peaks import periodic_peak, series_peaks
 from .reduced import DEFAULT_TOL, reduced_model
@@ -174,27 +181,6 @@ class LinearPart:
             return result
 
 
-def _first_order(Mr: np.ndarray, Cr: np.ndarray, Kr: np.ndarray
-                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Poles mu, right eigenvectors X and X^-1 of [[0, I], [-M^-1 K, -M^-1 C]]."""
-    import scipy.linalg
-
-    r = Mr.shape[0]
-    try:
-        minv = np.linalg.solve(Mr, np.hstack([Kr, Cr]))
-    except np.linalg.LinAlgError:
-        raise AnalysisError("the mass matrix M is singular: the condensed harmonic balance "
-                            "needs a positive definite M") from None
-    A = np.zeros((2 * r, 2 * r))
-    A[:r, r:] = np.eye(r)
-    A[r:, :r], A[r:, r:] = -minv[:, :r], -minv[:, r:]
-    mu, X = scipy.linalg.eig(A)
-    if not np.all(np.isfinite(X)) or np.linalg.cond(X) > 1e10:
-        raise AnalysisError("the linear part is defective (its modes are not independent): "
-                            "the condensed harmonic balance cannot diagonalize it")
-    return mu, X, np.linalg.inv(X)
-
-
 def _scaling(M: Matrix, K: Matrix) -> np.ndarray:
     """D = diag(K)^(-1/2) where the stiffness diagonal is positive (else diag(M)^(-1/2),
     else 1): a symmetric scaling that gives every coordinate unit diagonal stiffness."""
@@ -217,37 +203,12 @@ def _symmetric(a: Matrix) -> bool:
     return bool(size <= 1e-12 * scale)
 
 
-def _factor_stiffness(K: Matrix, M: Matrix, top: float) -> SuperLU:
-    """A sparse LU of K, or of K + (1e-3 top)^2 M where K is singular (a free body)."""
-    import scipy.sparse as sp
-    import scipy.sparse.linalg as sla
-
-    try:
-        return sla.splu(sp.csc_matrix(K))
-    except RuntimeError:
-        return sla.splu(sp.csc_matrix(K + (1e-3 * top) ** 2 * M))
-
-
-def _modes_below(K: Matrix, M: Matrix, lu: SuperLU, cut: float) -> np.ndarray:
-    """The M-orthonormal modes with omega <= cut (shift-invert Lanczos about 0)."""
-    import scipy.sparse.linalg as sla
-
-    n = K.shape[0]
-    op = sla.LinearOperator(K.shape, matvec=lu.solve, dtype=float)
-    k = min(n - 2, 16)
-    while True:
-        vals, phi = sla.eigsh(K, k=k, M=M, sigma=0.0, OPinv=op)
-        if vals.max() > cut * cut or k >= min(n - 2, MAX_MODES):
-            return np.asarray(phi[:, vals <= cut * cut])
-        k = min(2 * k, n - 2, MAX_MODES)
-
-
 def _ritz_basis(M: Matrix, K: Matrix, B: np.ndarray, cut: float, levels: int, lu: SuperLU
                 ) -> np.ndarray:
     """The modes below ``cut`` and ``levels`` load-dependent Ritz blocks
     (K^-1 B, K^-1 M K^-1 B, ...: the static and quasi-static response of the modes
     above), orthonormalized."""
-    phi = _modes_below(K, M, lu, cut) if M.shape[0] > 2 else np.zeros((M.shape[0], 0))
+    phi = modes_below(K, M, lu, cut, MAX_MODES) if M.shape[0] > 2 else np.zeros((M.shape[0], 0))
     loads = np.hstack([B.real, B.imag])
     X = lu.solve(loads[:, np.abs(loads).max(axis=0) > 0])
     blocks = [phi]
@@ -269,9 +230,9 @@ def _modal_basis(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, top: float, row
     Ds = _sparse_diagonal(D)
     M, K, B = Ds @ M @ Ds, Ds @ K @ Ds, D[:, None] * B
     C = None if C is None else Ds @ C @ Ds
-    lu = _factor_stiffness(K, M, top)
+    lu = factor_stiffness(K, M, top)
     checks = np.linspace(0.0, top, CHECKS)
-    exact = [_exact_transfer(M, C, K, B, w, rows) for w in checks]
+    exact = [transfer_at(M, C, K, B, w)[rows] for w in checks]
     scale = max(float(np.abs(t).max()) for t in exact)
     previous = np.inf
     for cut, levels in ((4 * top, 2), (8 * top, 3), (16 * top, 4)):
@@ -287,15 +248,6 @@ def _modal_basis(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, top: float, row
             return D[:, None] * V, error
         previous = error
     return None
-
-
-def _exact_transfer(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: float, rows: list[int]
-                    ) -> np.ndarray:
-    import scipy.sparse as sp
-    import scipy.sparse.linalg as sla
-
-    A = sp.csc_matrix(K - w * w * M + (1j * w * C if C is not None else 0 * M))
-    return np.asarray(sla.splu(A).solve(B))[rows]
 
 
 def linear_part(M: Matrix, C: Matrix, K: Matrix, loads: np.ndarray, nonlinear: Sequence[int],
@@ -353,7 +305,7 @@ def linear_part(M: Matrix, C: Matrix, K: Matrix, loads: np.ndarray, nonlinear: S
         Mr, Cr, Kr = (V.T @ (a @ V) for a in (M, C if C is not None else 0 * M, K))
         Br = V.T @ B
     r = Mr.shape[0]
-    mu, X, Xinv = _first_order(Mr, Cr, Kr)
+    mu, X, Xinv = state_modes(Mr, Cr, Kr, "the condensed harmonic balance")
     Vrows = np.eye(n)[rows] if V is None else V[rows]
     Rin = Xinv[:, r:] @ np.linalg.solve(Mr, Br)
     return LinearPart(mu, Vrows @ X[:r], Vrows @ X[r:], Rin, len(nl), error, r,
@@ -660,9 +612,7 @@ def _hill(coef: np.ndarray, W: float, H: int, s: int) -> np.ndarray:
         for c, j in enumerate(range(-H, H + 1)):
             hill[a * s:(a + 1) * s, c * s:(c + 1) * s] = coef[k - j + 2 * H]
         hill[a * s:(a + 1) * s, a * s:(a + 1) * s] -= 1j * k * W * np.eye(s)
-    lam = np.linalg.eigvals(hill)
-    order = np.argsort(np.abs(lam.imag), kind="stable")
-    return lam[order[:s]]
+    return fundamental_strip(eigenvalues(hill), s)
 
 
 def _real_coordinates(mu: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
@@ -741,10 +691,10 @@ def _monodromy(coef: np.ndarray, W: float, H: int, s: int, real: bool = False
     A1, A2 = A[:, 0], A[:, 1]
     omega = h / 2 * (A1 + A2) + math.sqrt(3) / 12 * h * h * (A2 @ A1 - A1 @ A2)
     phi = _product(_expm_small(omega))
-    mult = np.linalg.eigvals(phi)
+    mult = eigenvalues(phi)
     with np.errstate(divide="ignore"):
         lam = np.log(np.where(mult == 0, 1e-300, mult)) / T
-    return np.asarray(lam[np.argsort(np.abs(lam.imag), kind="stable")])
+    return fundamental_strip(lam, lam.size)
 
 
 def _expm_small(omega: np.ndarray) -> np.ndarray:

@@ -72,7 +72,9 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model import Model
 from ..model.options import MAX_GIVEN_HARMONICS, BalanceOptions, chosen, names_tuple
-from ..system import LinearSystem, NonlinearSystem, linear_system, nonlinear_system
+from ..system.base import LinearSystem
+from ..system.build import linear_system, nonlinear_system
+from ..system.nonlinear import NonlinearSystem
 from .condensed import condensed_sweep, has_nonlinear_elements
 from .continuation import Branch
 from .continuation import follow as _continue

@@ -50,7 +50,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import AnalysisError
-from ..system import NonlinearSystem
+from ..system.modal import eigenvalues, fundamental_strip
+from ..system.nonlinear import NonlinearSystem
 from .peaks import GRID, periodic_peak, series_peaks
 
 #: the automatic choice of H (every balance that chooses H, full or condensed, shares it):
@@ -153,8 +154,6 @@ class HarmonicBalance:
 
     def exponents(self, J: np.ndarray, blocks: Any) -> np.ndarray:
         """The 2n Floquet exponents of Hill's method (smallest |Im| of the QEP's)."""
-        import scipy.linalg
-
         G0, G1, G2, W = blocks
         D1 = self.galerkin((G1, self.phi), (G2, 2 * W * self.dphi))
         D2 = self.galerkin((G2, self.phi))
@@ -162,10 +161,7 @@ class HarmonicBalance:
         eye, zero = np.eye(size), np.zeros((size, size))
         A = np.block([[zero, eye], [-J, -D1]])
         B = np.block([[eye, zero], [zero, D2]])
-        lam = scipy.linalg.eig(A, B, right=False)
-        lam = lam[np.isfinite(lam)]
-        order = np.argsort(np.abs(lam.imag), kind="stable")
-        return np.asarray(lam[order[:2 * self.n]])
+        return fundamental_strip(eigenvalues(A, B), 2 * self.n)
 
     def newton(self, x: np.ndarray, p: float, scale: float) -> tuple[np.ndarray, bool]:
         """Newton's method on R(x, p) = 0 at fixed p (converged: the step below 1e-11)."""

@@ -49,7 +49,7 @@ import numpy as np
 from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
-from ..system import LinearSystem
+from ..system.base import LinearSystem
 from ..system.modal import (
     LIMITED_ACCURACY,
     accurate_product,
@@ -58,7 +58,9 @@ from ..system.modal import (
     eigenvalue_bounds,
     frequency_bounds,
     lowest_modes,
+    lowest_state_eigenvalues,
     order,
+    point_state_eigenvalues,
     undamped_eigen,
 )
 from ..system.stability import (
@@ -70,7 +72,6 @@ from ..system.stability import (
     classify,
     mass_warning,
     rayleigh,
-    state_eigenvalues,
 )
 from .results_json import Saved
 from .stationary import freeze_fields
@@ -298,8 +299,8 @@ class ModalAnalysis:
         >>> len(fig.axes) >= 1
         True
         """
-        from ..views import plotting
-        return plotting.plot_modes(self, path=path, count=count, ax=ax)
+        from ..views.plotting import plot_modes
+        return plot_modes(self, path=path, count=count, ax=ax)
 
     def summary(self, units: ResultUnits | None = None) -> str:
         """The text ``resonant modes`` prints (:func:`resonant.views.display.modes_text`).
@@ -320,8 +321,8 @@ class ModalAnalysis:
         >>> "mode" in m.summary().lower()
         True
         """
-        from ..views import display
-        return display.modes_text(self, units)
+        from ..views.display import modes_text
+        return modes_text(self, units)
 
 
 # -- the numeric system ---------------------------------------------------------------------
@@ -485,9 +486,9 @@ def _damped_modes(M: Matrix, C: Matrix, K: Matrix, lam: np.ndarray, mass_phi: np
         damped_freq = np.sqrt(np.maximum(lam - c_modal**2 / 4, 0.0))[lam >= 0]
         return _modal_eigenvalues(lam, c_modal), zeta[lam >= 0], damped_freq, ""
     if not lanczos:
-        eigenvalues = state_eigenvalues(M, C, K)
+        eigenvalues = point_state_eigenvalues(M, C, K)
         return (eigenvalues, *damping_ratios(eigenvalues), "")
-    eigenvalues = complex_modes(M, C, K, len(lam))
+    eigenvalues = lowest_state_eigenvalues(M, C, K, len(lam))
     return (eigenvalues, *damping_ratios(eigenvalues), " + shift-invert Arnoldi (complex modes)")
 
 
@@ -553,64 +554,6 @@ def _frequency_errors(lam: np.ndarray, bounds: np.ndarray, warnings: list[str]) 
     return errors
 
 
-def complex_modes(M: Matrix, C: Matrix, K: Matrix, count: int) -> np.ndarray:
-    """The ``2 count`` eigenvalues s of (s^2 M + s C + K) x = 0 nearest to 0, without dense
-    2n x 2n matrices.
-
-    The state-space pencil A x = s B x, A = [[0, I], [-K, -C]], B = [[I, 0], [0, M]], is
-    solved by shift-invert Arnoldi (:func:`scipy.sparse.linalg.eigs`) with one sparse LU
-    of A - sigma B; sigma is a small negative shift (a rigid-body mode makes A singular).
-
-    Parameters
-    ----------
-    M, C, K : sparse or dense matrices (n, n)
-    count : int
-        The number of modes (eigenvalue pairs).
-
-    Returns
-    -------
-    ndarray
-        Complex eigenvalues, ordered by modulus.
-
-    Raises
-    ------
-    AnalysisError
-        If the eigensolver does not converge.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> M, K = np.eye(2), np.array([[2.0, -1.0], [-1.0, 1.0]])
-    >>> C = np.array([[0.3, 0.0], [0.0, 0.0]])
-    >>> s = complex_modes(M, C, K, 1)
-    >>> dense = np.linalg.eigvals(np.block([[np.zeros((2, 2)), np.eye(2)], [-K, -C]]))
-    >>> nearest = dense[np.argsort(np.abs(dense))][:2]
-    >>> bool(all(np.min(np.abs(s - v)) < 1e-10 for v in nearest))
-    True
-    """
-    import scipy.sparse as sp
-    from scipy.sparse.linalg import LinearOperator, eigs, splu
-
-    n = M.shape[0]
-    M, C, K = (sp.csc_matrix(a) for a in (M, C, K))
-    eye = sp.identity(n, format="csc")
-    A = sp.bmat([[None, eye], [-K, -C]], format="csc")
-    B = sp.bmat([[eye, None], [None, M]], format="csc")
-    scale = float(np.sqrt(abs(K).sum() / max(abs(M).sum(), 1e-300))) or 1.0
-    sigma = -1e-3 * scale
-    try:
-        lu = splu((A - sigma * B).tocsc())
-        # shift-invert: eigenvalues nu = 1 / (s - sigma) of (A - sigma B)^-1 B, largest first
-        op = LinearOperator((2 * n, 2 * n), matvec=lambda x: lu.solve(B @ x), dtype=float)
-        nu = eigs(op, k=min(2 * count, 2 * n - 2), which="LM", return_eigenvectors=False)
-    except (RuntimeError, ValueError) as exc:
-        raise AnalysisError(f"the sparse eigensolver for the complex modes failed: {exc}"
-                            ) from None
-    s = sigma + 1.0 / nu
-    result: np.ndarray = s[np.argsort(np.abs(s))]
-    return result
-
-
 def modal_damping_ratios(rayleigh: tuple[float, float], omegas: Sequence[float] | np.ndarray
                          ) -> np.ndarray:
     """zeta_j = a / (2 omega_j) + b omega_j / 2 for Rayleigh damping C = a M + b K.
@@ -625,4 +568,4 @@ def modal_damping_ratios(rayleigh: tuple[float, float], omegas: Sequence[float] 
     return a / (2 * w) + b * w / 2
 
 
-__all__ = ["modes", "ModalAnalysis", "modal_damping_ratios", "complex_modes"]
+__all__ = ["modes", "ModalAnalysis", "modal_damping_ratios"]

@@ -294,8 +294,8 @@ class NonlinearResponse:
         -------
         matplotlib.figure.Figure
         """
-        from ..views import nonlinear_plots
-        return nonlinear_plots.plot_nonlinear_response(self, path, names, ax, linear)
+        from ..views.nonlinear_plots import plot_nonlinear_response
+        return plot_nonlinear_response(self, path, names, ax, linear)
 
     def summary(self) -> str:
         """The text ``resonant sweep --nonlinear`` prints
@@ -313,5 +313,5 @@ class NonlinearResponse:
         >>> r.parameter, r.harmonics
         ('omega', 1)
         """
-        from ..views import nonlinear_plots
-        return nonlinear_plots.nonlinear_text(self)
+        from ..views.nonlinear_plots import nonlinear_text
+        return nonlinear_text(self)

@@ -50,7 +50,9 @@ import numpy as np
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model import Model
-from ..system import LinearSystem, NonlinearSystem, nonlinear_system
+from ..system.base import LinearSystem
+from ..system.build import nonlinear_system
+from ..system.nonlinear import NonlinearSystem
 from .hb_solver import (
     DEFAULT_HARMONICS,
     TRUNCATION_TOL,

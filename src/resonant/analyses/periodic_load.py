@@ -46,7 +46,7 @@ from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
 from ..model.load_spec import SHAPES, PeriodicSpec
 from ..model.random_spec import RandomInput
-from ..system import LinearSystem
+from ..system.base import LinearSystem
 from .random_response import Transfer, responses_to_solve
 from .results_json import Saved, complex_json, floats_json
 from .stationary import freeze_fields

@@ -79,8 +79,10 @@ from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
 from ..model.random_spec import RandomInput, RandomSpec
 from ..model.units import Dimension
-from ..system import Batch, BatchHarmonic, LinearSystem, NumericEOM
+from ..system.base import LinearSystem, NumericEOM
+from ..system.batch import Batch, BatchHarmonic
 from ..system.excitation import excitation_columns
+from ..system.modal import point_state_eigenvalues
 from .kernel import reduced_budget, solve_harmonic
 from .reduced import FactorizationsAhead, ReducedModel, probe_frequency, reduced_model
 from .results_json import Saved, optional_float
@@ -277,8 +279,8 @@ class RandomResponse:
         -------
         str
         """
-        from ..views import random_views
-        return random_views.random_text(self)
+        from ..views.random_views import random_text
+        return random_text(self)
 
     def plot(self, path: str | os.PathLike[str] | None = None,
              names: Sequence[str] | None = None, ax: Axes | None = None) -> Figure:
@@ -298,8 +300,8 @@ class RandomResponse:
         -------
         matplotlib.figure.Figure
         """
-        from ..views import random_views
-        return random_views.plot_random(self, path, names, ax)
+        from ..views.random_views import plot_random
+        return plot_random(self, path, names, ax)
 
 
 @dataclass(frozen=True)
@@ -605,13 +607,10 @@ def _modal_points(num: NumericEOM, band: tuple[float, float]) -> list[float]:
     """Damped natural frequencies in the band and their half-power points (Hz)."""
     if num.n > MODES_LIMIT or num.sparse:
         return []
-    n = num.n
     M, C, K = (np.asarray(a, dtype=float) for a in (num.M, num.C, num.K))
     try:
-        A = np.block([[np.zeros((n, n)), np.eye(n)],
-                      [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
-        s = np.linalg.eigvals(A)
-    except np.linalg.LinAlgError:
+        s = point_state_eigenvalues(M, C, K)
+    except (np.linalg.LinAlgError, AnalysisError):
         return []
     out = []
     for root in s[s.imag > 0]:

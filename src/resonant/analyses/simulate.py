@@ -61,13 +61,15 @@ from ..expressions import parse
 from ..model import Model
 from ..model.options import SimulationOptions, chosen
 from ..model.types import constant_prime_message, primed_names
-from ..system import LinearSystem, NonlinearSystem, NumericEOM, nonlinear_system
+from ..system.base import LinearSystem, NumericEOM
+from ..system.build import nonlinear_system
+from ..system.modal import point_state_eigenvalues
+from ..system.nonlinear import NonlinearSystem
 from ..system.stability import (
     ASYMPTOTIC,
     UNSTABLE,
     check_mass_matrix,
     classify,
-    state_eigenvalues,
 )
 from .peaks import sampled_peak
 from .periodic import PeriodicSolution, periodic_solution
@@ -333,8 +335,8 @@ to_dict(history=True)
         -------
         matplotlib.figure.Figure
         """
-        from ..views import plotting
-        return plotting.plot_simulation(self, path=path, axes=axes, units=units)
+        from ..views.plotting import plot_simulation
+        return plot_simulation(self, path=path, axes=axes, units=units)
 
     def summary(self) -> str:
         """The text ``resonant simulate`` prints
@@ -351,8 +353,8 @@ to_dict(history=True)
         >>> sim.start, "x1" in sim.summary()
         ('given', True)
         """
-        from ..views import display
-        return display.simulation_text(self)
+        from ..views.display import simulation_text
+        return simulation_text(self)
 
 
 def _fmt(value: float | None, percent: bool = False) -> str:
@@ -376,7 +378,7 @@ class _Scales:
 
     @staticmethod
     def of(num: NumericEOM, periods: float) -> _Scales:
-        eigenvalues = state_eigenvalues(num.M, num.C, num.K)
+        eigenvalues = point_state_eigenvalues(num.M, num.C, num.K)
         stability = classify(eigenvalues)
         natural = np.abs(eigenvalues.imag)
         natural = natural[natural > 1e-9 * max(1.0, float(natural.max(initial=0.0)))]

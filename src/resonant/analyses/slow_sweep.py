@@ -54,8 +54,10 @@ import numpy as np
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model.options import check_harmonics
-from ..system import NonlinearSystem, nonlinear_at, nonlinear_system
 from ..system.base import numeric_point
+from ..system.build import nonlinear_system
+from ..system.nonlinear import NonlinearSystem
+from ..system.nonlinear_at import nonlinear_at
 from .continuation import Branch, follow, refine
 from .hb_solver import (
     DEFAULT_HARMONICS,

@@ -33,15 +33,15 @@ import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
-from ..system import Batch, LinearSystem, NumericEOM, NumericHarmonic
-from ..system.batch import check_finite, frozen_array
+from ..system.base import LinearSystem, NumericEOM, NumericHarmonic
+from ..system.batch import Batch, check_finite, frozen_array
+from ..system.modal import point_state_eigenvalues
 from ..system.stability import (
     UNSTABLE,
     classify,
     frequencies_from_eigenvalues,
     mass_warning,
     rayleigh,
-    state_eigenvalues,
     undamped_eigen,
     undamped_eigenvalues,
 )
@@ -270,16 +270,16 @@ class StationarySolution:
         >>> print(sol.summary().splitlines()[0].split("  (")[0])
         Cart with pendulum under force and support excitation
         """
-        from ..views import display
-        return display.solution_text(self)
+        from ..views.display import solution_text
+        return solution_text(self)
 
     def _repr_html_(self) -> str:
-        from ..views import display
-        return display.stationary_html(self)
+        from ..views.display import stationary_html
+        return stationary_html(self)
 
     def _repr_latex_(self) -> str:
-        from ..views import display
-        return display.stationary_latex(self)
+        from ..views.display import stationary_latex
+        return stationary_latex(self)
 
 
 def _harmonic_from(saved: Saved, n: int) -> HarmonicResponse:
@@ -526,11 +526,11 @@ def _eigenvalues(sparse: NumericEOM, dense: NumericEOM, large: bool
     """
     if not large:
         lam, _ = undamped_eigen(dense.M, dense.K)
-        return lam, state_eigenvalues(dense.M, dense.C, dense.K)
+        return lam, point_state_eigenvalues(dense.M, dense.C, dense.K)
     lam = undamped_eigenvalues(sparse.M, sparse.K)
     proportional = rayleigh(sparse.M, sparse.C, sparse.K) if np.any(dense.C) else (0.0, 0.0)
     if proportional is None:
-        return lam, state_eigenvalues(dense.M, dense.C, dense.K)
+        return lam, point_state_eigenvalues(dense.M, dense.C, dense.K)
     c = proportional[0] + proportional[1] * lam
     root = np.sqrt((c * c - 4 * lam).astype(complex))
     eigenvalues = np.concatenate([(-c + root) / 2, (-c - root) / 2])

@@ -85,8 +85,8 @@ import numpy as np
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model.options import SweepOptions, chosen, names_tuple
-from ..system import Batch, LinearSystem
-from ..system.batch import frozen_array, group_frequencies
+from ..system.base import LinearSystem
+from ..system.batch import Batch, frozen_array, group_frequencies
 from ..system.stability import natural_frequencies as _natural_frequencies
 from .kernel import (
     DEFAULT_TOL,
@@ -475,8 +475,8 @@ class FrequencyResponse:
         >>> len(r.plot().axes) >= 2
         True
         """
-        from ..views import plotting
-        return plotting.plot_frequency_response(self, path=path, names=names, ax=ax, units=units)
+        from ..views.plotting import plot_frequency_response
+        return plot_frequency_response(self, path=path, names=names, ax=ax, units=units)
 
     def summary(self) -> str:
         """The text ``resonant sweep`` prints (:func:`resonant.views.display.sweep_text`).
@@ -485,8 +485,8 @@ class FrequencyResponse:
         -------
         str
         """
-        from ..views import display
-        return display.sweep_text(self)
+        from ..views.display import sweep_text
+        return sweep_text(self)
 
 
 # -- amplitudes, phases, extrema ------------------------------------------------------------

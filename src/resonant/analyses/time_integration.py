@@ -26,7 +26,10 @@ from ..deadline import Deadline
 from ..errors import AnalysisError
 from ..expressions import compilable
 from ..model import TIME, Model, symbol
-from ..system import LinearEOM, LinearSystem, MatrixEOM, NonlinearSystem, NumericEOM
+from ..system.base import LinearSystem, NumericEOM
+from ..system.matrix import MatrixEOM
+from ..system.nonlinear import NonlinearSystem
+from ..system.symbolic import LinearEOM
 
 #: most right-hand-side evaluations of one run (all attempts together): beyond it the run
 #: stops with exit 3 and the time reached (about 100 s and 200 MB for a small system)

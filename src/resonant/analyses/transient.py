@@ -36,7 +36,7 @@ import numpy as np
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..model.load_spec import ShockSpec
-from ..system import LinearSystem
+from ..system.base import LinearSystem
 from ..system.excitation import excitation_columns
 from .results_json import Saved, floats_json
 from .shock import pulse

@@ -22,6 +22,7 @@ from ..analyses.transient import shock_response
 from ..errors import ModelError, Problem
 from ..model import load
 from ..model.time_series import read_time_series
+from ..system.build import linear_system
 from ..views.shock_views import plot_srs, srs_text
 
 
@@ -76,7 +77,7 @@ def _from_model(args: argparse.Namespace) -> tuple[float, np.ndarray, float]:
         if args.output not in names:
             raise ModelError(Problem(f"'{args.output}' is not a coordinate or output; they are "
                                      + ", ".join(names[:20]), "--output"))
-        values = shock_response(model.linearize(), names=[args.output]).history[args.output]
+        values = shock_response(linear_system(model), names=[args.output]).history[args.output]
     return spec.step, values, spec.Q
 
 

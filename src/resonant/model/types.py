@@ -16,34 +16,20 @@ from __future__ import annotations
 
 import difflib
 import math
-import os
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 import sympy
 
-from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, name_list
 from ..expressions import Expression, ExpressionError
-from .options import BalanceOptions, SimulationOptions
 from .parts import check_values as check_part_values
 from .study import StudySpec
 from .units import ModelUnits, parse_with_unit
 
 if TYPE_CHECKING:
-    from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
-
-    from ..analyses.backbone import Backbones
-    from ..analyses.nonlinear_response import NonlinearResponse
-    from ..analyses.random_response import RandomResponse
-    from ..analyses.simulate import Simulation
-    from ..studies.result import StudyResult
-    from ..system import LinearSystem
-    from ..views.explore import ExplorePage
     from .exercise import Exercise
     from .explore import ExploreSpec
     from .load_spec import FatigueSpec, PeriodicSpec, ShockSpec
@@ -165,10 +151,9 @@ class MatrixSpec:
 class Model:
     """A validated model: names, parsed expressions and parameter values.
 
-    Build it with :func:`load` or :func:`loads`.  The data, and every analysis as a
-    method (``linearize()``, ``simulate()``, ``nonlinear_sweep()``, ``backbone()``,
-    ``study()``, ``draw()``, ``explore()``, ``report()``): each a one-line call of the
-    function that does the work in a higher layer, imported when the method runs.
+    Build it with :func:`load` or :func:`loads`.  This is the data: nothing here computes
+    with a layer above.  What ``resonant.load`` returns is :class:`resonant.api.Model`,
+    this class with the analyses as methods (``linearize()``, ``simulate()``, ...).
 
     Attributes
     ----------
@@ -305,297 +290,6 @@ class Model:
         return replace(self, parameters=MappingProxyType(params),
                         exact_values=MappingProxyType(exact),
                         parameter_values=MappingProxyType(floats))
-
-    def linearize(self, timeout: float | None = None, deadline: Deadline | None = None
-                  ) -> LinearSystem:
-        """The linearized equation of motion M q'' + C q' + K q = Q(t)
-        (:func:`resonant.system.linear_system`).
-
-        Parameters
-        ----------
-        timeout : float, optional
-            Time limit of the derivation in seconds (used when no ``deadline`` is given).
-        deadline : Deadline, optional
-            The cooperative deadline of the whole run.
-
-        Returns
-        -------
-        LinearSystem
-            A :class:`~resonant.system.LinearEOM` for a model given by its energies, a
-            :class:`~resonant.system.MatrixEOM` for ``[matrices]``, with
-            ``stationary()``, ``modes()`` and ``sweep()``.
-
-        Raises
-        ------
-        ModelError
-            If the derivation fails, exceeds the time limit, overflows or nests
-            too deeply; the message names the expression being worked on.
-
-        Examples
-        --------
-        >>> import resonant
-        >>> resonant.load("examples/two_dof_free.toml").linearize().n
-        2
-        """
-        from .. import system
-        return system.linear_system(self, deadline or Deadline(timeout, self.source))
-
-    def simulate(self, duration: float | None = None, nonlinear: bool | None = None,
-                 initial: Mapping[str, float | str] | None = None, *, start: str = "auto",
-                 periods: float | None = None, method: str | None = None,
-                 rtol: float = 1e-9, progress: bool | None = None,
-                 deadline: Deadline | None = None, options: SimulationOptions | None = None
-                 ) -> Simulation:
-        """Time integration, linear or of the full nonlinear equations
-        (:func:`resonant.analyses.simulate.simulate`, where the options are described).
-
-        Parameters
-        ----------
-        duration : float, optional
-            End time in s (default: chosen from the system's time scales).
-        nonlinear : bool, optional
-            Integrate the full Lagrange equations instead of the linearized ones.
-        initial : mapping, optional
-            coordinate -> initial value.
-        start : {"auto", "rest", "stationary", "given"}
-            Where the motion starts.
-        periods : float, optional
-            Forcing periods to integrate when no ``duration`` is given.
-        method : str, optional
-            The integrator.
-        rtol : float
-            Relative tolerance of the integrator.
-        progress : bool, optional
-            A progress bar on standard error.
-        deadline : Deadline, optional
-            The run's time limit.
-        options : SimulationOptions, optional
-            The options above (but ``deadline``) as one record, instead of keywords.
-
-        Returns
-        -------
-        Simulation
-
-        Examples
-        --------
-        >>> import resonant
-        >>> sim = resonant.load("examples/two_dof_free.toml").simulate(0.05, initial={"x1": 0.01})
-        >>> sim.start
-        'given'
-        """
-        from ..analyses import simulate
-        return simulate.simulate(self.linearize(deadline=deadline), duration, nonlinear, initial,
-                                 start=start, periods=periods, method=method, rtol=rtol,
-                                 progress=progress, deadline=deadline or NO_DEADLINE,
-                                 options=options)
-
-    def nonlinear_sweep(self, param: str, start: float, stop: float, *,
-                        harmonics: int | None = None, points: int = 101, linear: bool = True,
-                        observe: Sequence[str] | None = None, samples: int | None = None,
-                        exact: bool | None = None, tol: float | None = None,
-                        deadline: Deadline | None = None, options: BalanceOptions | None = None
-                        ) -> NonlinearResponse:
-        """The periodic steady state against a parameter: harmonic balance, continuation,
-        stability (:func:`resonant.analyses.harmonic_balance.nonlinear_sweep`, which chooses
-        the balance the model calls for).
-
-        Parameters
-        ----------
-        param : str
-            The parameter to vary (usually the excitation frequency).
-        start, stop : float
-            The range.
-        harmonics : int, optional
-            H (default: chosen from the truncation).
-        points : int
-            About this many steps across the range.
-        linear : bool
-            Also compute the linear sweep.
-        observe, samples, exact, tol : optional
-            Options of the balance condensed onto ``[[nonlinear]]`` elements.
-        deadline : Deadline, optional
-            The run's time limit.
-        options : BalanceOptions, optional
-            The options above (but ``deadline``) as one record, instead of keywords.
-
-        Returns
-        -------
-        NonlinearResponse
-
-        Examples
-        --------
-        >>> import resonant
-        >>> r = resonant.load("examples/duffing.toml").nonlinear_sweep(
-        ...     "omega", 0.8, 1.2, harmonics=1, points=20)
-        >>> r.parameter, r.harmonics
-        ('omega', 1)
-        """
-        from ..analyses import harmonic_balance
-        return harmonic_balance.nonlinear_sweep(
-            self.linearize(deadline=deadline), param, start, stop, harmonics=harmonics,
-            points=points, linear=linear, observe=observe, samples=samples, exact=exact,
-            tol=tol, deadline=deadline or NO_DEADLINE, options=options)
-
-    def backbone(self, amplitude: float | None = None, *, harmonics: int | None = None,
-                 points: int | None = None, modes: list[int] | None = None,
-                 deadline: Deadline | None = None) -> Backbones:
-        """The backbone curves: free-vibration frequency against amplitude
-        (:func:`resonant.analyses.backbone.backbone`).
-
-        Parameters
-        ----------
-        amplitude : float, optional
-            The largest amplitude to follow.
-        harmonics : int, optional
-            H (default: chosen).
-        points : int, optional
-            Points per curve.
-        modes : list of int, optional
-            The modes to follow (1-based; default all).
-        deadline : Deadline, optional
-            The run's time limit.
-
-        Returns
-        -------
-        Backbones
-
-        Examples
-        --------
-        >>> import resonant
-        >>> b = resonant.load("examples/duffing.toml").backbone(harmonics=1, points=10)
-        >>> len(b.curves) >= 1
-        True
-        """
-        from ..analyses import backbone
-        return backbone.backbone(self, amplitude, harmonics=harmonics, points=points,
-                                 modes=modes, deadline=deadline or NO_DEADLINE)
-
-    def study(self, vary: Mapping[str, Any] | None = None,
-              quantities: Sequence[str] | None = None, *,
-              output: str | os.PathLike[str] | None = None, workers: int | None = None,
-              scheduler: str | None = None, client: Any = None, resume: bool = False,
-              progress: bool | None = None, design: str | None = None,
-              samples: int | None = None, seed: int | None = None,
-              band: Mapping[str, Any] | None = None, harmonics: int | None = None
-              ) -> StudyResult:
-        """A parameter study (docs/studies.md; :func:`resonant.studies.run.study_of`, where
-        the arguments are described): the arguments given, the rest from the model's
-        ``[study]`` section.
-
-        Returns
-        -------
-        StudyResult
-
-        Examples
-        --------
-        >>> import resonant
-        >>> model = resonant.load("examples/cart_pendulum.toml")
-        >>> study = model.study({"k": "uniform(90, 110)"}, ["natural_frequency:1"],
-        ...                     samples=200, seed=1, workers=0)
-        >>> round(float(study.summary().loc["natural_frequency:1", "mean"]), 2)
-        4.56
-        """
-        from ..studies import run
-        return run.study_of(self, vary, quantities, output=output, workers=workers,
-                            scheduler=scheduler, client=client, resume=resume,
-                            progress=progress, design=design, samples=samples, seed=seed,
-                            band=band, harmonics=harmonics)
-
-    def draw(self, path: str | Path | None = None, ax: Axes | None = None
-             ) -> Figure:
-        """The mechanism drawn from its parts (:func:`resonant.views.drawing.draw_mechanism`).
-
-        Parameters
-        ----------
-        path : str or Path, optional
-            Also write the figure there (``.svg``, ``.png`` or ``.pdf``).
-        ax : matplotlib.axes.Axes, optional
-            Draw into the caller's axes.
-
-        Returns
-        -------
-        matplotlib.figure.Figure
-        """
-        from ..views import drawing
-        return drawing.draw_mechanism(self, path, ax)
-
-    def explore(self, path: str | Path | None = None,
-                timeout: float | None = None) -> ExplorePage:
-        """The interactive page of the model (:func:`resonant.views.explore.explore_page`);
-        shown inline in Jupyter.
-
-        Parameters
-        ----------
-        path : str or Path, optional
-            Also write the page there (``.html``).
-        timeout : float, optional
-            Seconds for the derivation (default: no limit).
-
-        Returns
-        -------
-        ExplorePage
-            With ``html``, ``save(path)`` and ``_repr_html_`` (an iframe).
-        """
-        from ..views import explore
-        return explore.explore_page(self, deadline=Deadline(timeout, self.source)).saved(path)
-
-    def report(self, path: str | Path, plots: bool = True) -> Path:
-        """Write the worked solution (:func:`resonant.report.write_report`).
-
-        Parameters
-        ----------
-        path : str or Path
-            ``.html``, ``.md`` or ``.tex``.
-        plots : bool
-            Include the figures.
-
-        Returns
-        -------
-        Path
-        """
-        from .. import report
-        return report.write_report(self, path, plots)
-
-    def random_response(self, *, names: Sequence[str] | None = None, method: str = "auto",
-                        tolerance: float | None = None, deadline: Deadline | None = None
-                        ) -> RandomResponse:
-        """The response to the ``[random]`` section's inputs: spectral densities, RMS values,
-        Rice's rates (:func:`resonant.analyses.random_response.random_response`).
-
-        Parameters
-        ----------
-        names : sequence of str, optional
-            The coordinates and outputs to report (default all).
-        method : str
-            The harmonic solve's method.
-        tolerance : float, optional
-            Relative accuracy of the RMS values.
-        deadline : Deadline, optional
-            The run's time limit.
-
-        Returns
-        -------
-        RandomResponse
-
-        Examples
-        --------
-        >>> import resonant
-        >>> result = resonant.load("examples/shaker_gevs.toml").random_response()
-        >>> all(v > 0 for v in result.rms.values())
-        True
-        """
-        from ..analyses import random_response
-        return random_response.random_response(
-            self.linearize(deadline=deadline), self.random_section, deadline or NO_DEADLINE,
-            names=names, method=method, tolerance=tolerance)
-
-    def _repr_latex_(self) -> str:
-        from ..views import display
-        return display.model_latex(self)
-
-    def _repr_html_(self) -> str:
-        from ..views import display
-        return display.model_html(self)
 
 
 def unknown_parameter(name: str, source: str, params: Iterable[str]) -> Problem:

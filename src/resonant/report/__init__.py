@@ -25,7 +25,8 @@ from typing import cast
 from ..analyses.stationary import stationary
 from ..errors import ModelError, Problem
 from ..model import Model
-from ..system import LinearEOM, linear_system
+from ..system.build import linear_system
+from ..system.symbolic import LinearEOM
 from .blocks import Report
 from .derivation import derive
 from .html import render_html

@@ -21,7 +21,8 @@ from ..analyses.harmonic_balance import nonlinear_sweep
 from ..analyses.nonlinear_response import NonlinearResponse
 from ..analyses.periodic import PeriodicSolution, periodic_solution
 from ..errors import AnalysisError
-from ..system import NonlinearSystem, nonlinear_system
+from ..system.build import nonlinear_system
+from ..system.nonlinear import NonlinearSystem
 from ..views.charts import Chart, draw_chart
 from ..views.nonlinear_plots import nonlinear_response_chart
 from ..views.notation import number_text

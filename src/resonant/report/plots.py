@@ -44,7 +44,7 @@ import sympy
 
 from ..analyses.stationary import common_period
 from ..analyses.sweep import sweep
-from ..system import LinearSystem
+from ..system.base import LinearSystem
 from ..views.charts import Chart, Charts, chart_svg, charts_svg, draw_chart, draw_figure
 from ..views.plotting import frequency_response_chart, history_chart
 from ..views.units_display import result_units
@@ -55,7 +55,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ..analyses.stationary import StationarySolution
     from ..analyses.sweep import FrequencyResponse
-    from ..system import LinearEOM
+    from ..system.symbolic import LinearEOM
 
 MAX_PLOT_COORDINATES = 12
 #: subplot margins of the report's 7.0 x 3.6 in figures (room for the axis labels)

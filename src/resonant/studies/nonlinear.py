@@ -37,7 +37,8 @@ import numpy as np
 from ..analyses.slow_sweep import NotConverged, NotPeriodic, swept_state
 from ..errors import ResonantError
 from ..model.study import StudySpec
-from ..system import NonlinearSystem, nonlinear_at
+from ..system.nonlinear import NonlinearSystem
+from ..system.nonlinear_at import nonlinear_at
 
 #: the statuses of a sample whose nonlinear steady state is not found
 NOT_CONVERGED = "not converged"

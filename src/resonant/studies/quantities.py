@@ -45,8 +45,9 @@ from ..errors import ModelError, Problem, ResonantError
 from ..expressions import numeric_value
 from ..model import Model
 from ..model.study import Band, Quantity, StudySpec
-from ..system import Batch, LinearSystem, NonlinearSystem, nonlinear_system
-from ..system.base import numeric_point
+from ..system.base import LinearSystem, numeric_point
+from ..system.batch import Batch
+from ..system.build import nonlinear_system
 from ..system.modal import (
     cholesky_lambdas,
     damping_ratio,
@@ -58,6 +59,7 @@ from ..system.modal import (
     unstable,
     unstable_by_inertia,
 )
+from ..system.nonlinear import NonlinearSystem
 from .designs import REFINE_POINTS, REFINE_ROUNDS
 from .nonlinear import nonlinear_amplitudes
 from .reduced_band import ReducedBand, reduced_band

@@ -38,7 +38,7 @@ import numpy as np
 from ..analyses.kernel import reduced_budget
 from ..analyses.reduced import ReducedModel, reduced_model
 from ..errors import AnalysisError
-from ..system import Batch
+from ..system.batch import Batch
 
 #: the reduced model's certified relative error over the band (the found peak is solved
 #: again exactly)

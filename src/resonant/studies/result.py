@@ -241,8 +241,8 @@ class StudyResult:
         list of Path
             The files written.
         """
-        from ..views import study_plots
-        return study_plots.plot_study(self.table, list(self.spec.vary), list(self.spec.columns),
+        from ..views.study_plots import plot_study
+        return plot_study(self.table, list(self.spec.vary), list(self.spec.columns),
                                       directory, self.sensitivity,
                                       grid=self.spec.design == "grid")
 

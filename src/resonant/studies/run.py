@@ -39,7 +39,9 @@ from ..model import Model, loads
 from ..model.files import open_regular_file, read_bounded
 from ..model.limits import MAX_FILE_BYTES
 from ..model.study import RESERVED_COLUMNS, StudySpec, study_spec
-from ..system import LinearSystem, NonlinearSystem, linear_system, nonlinear_system
+from ..system.base import LinearSystem
+from ..system.build import linear_system, nonlinear_system
+from ..system.nonlinear import NonlinearSystem
 from .designs import chunk_size, chunk_values, chunks
 from .engine import Engine, engine_for, ordered_map
 from .files import ResultWriter, check_output, check_rows, completed_rows, read_description

@@ -169,8 +169,8 @@ class LinearSystem(ABC):
         >>> all(value > 0 for value in result.rms.values())
         True
         """
-        from ..analyses import random_response
-        return random_response.random_response(self, spec, deadline, names=names, method=method,
+        from ..analyses.random_response import random_response
+        return random_response(self, spec, deadline, names=names, method=method,
                                                tolerance=tolerance)
 
     def _model(self) -> Model:
@@ -221,8 +221,8 @@ class LinearSystem(ABC):
         ...     "x2"], 5) != 0.04514
         (0.04514, True)
         """
-        from ..analyses import stationary
-        return stationary.stationary(self, deadline, **overrides)
+        from ..analyses.stationary import stationary
+        return stationary(self, deadline, **overrides)
 
     def modes(self, count: int | None = None, deadline: Deadline = NO_DEADLINE
               ) -> ModalAnalysis:
@@ -247,8 +247,8 @@ class LinearSystem(ABC):
         >>> eom.modes().natural_frequencies.round(3).tolist()
         [20.0, 34.641]
         """
-        from ..analyses import modes
-        return modes.modes(self, count, deadline)
+        from ..analyses.modes import modes
+        return modes(self, count, deadline)
 
     def sweep(self, param: str, values: Sequence[float] | np.ndarray, *, method: str = "auto",
               names: Sequence[str] | None = None, progress: bool | None = None,
@@ -290,8 +290,8 @@ class LinearSystem(ABC):
         >>> eom.sweep("omega", [10.0, 20.0]).values.tolist()
         [10.0, 20.0]
         """
-        from ..analyses import sweep
-        return sweep.sweep(self, param, values, method=method, names=names, progress=progress,
+        from ..analyses.sweep import sweep
+        return sweep(self, param, values, method=method, names=names, progress=progress,
                            log=log, deadline=deadline, tol=tol, options=options)
 
 
@@ -525,8 +525,8 @@ class NumericEOM(LinearSystem):
         return self.system.symbolic_dict() if self.system is not None else None
 
     def _repr_latex_(self) -> str:
-        from ..views import display
-        return display.numeric_eom_latex(self)
+        from ..views.display import numeric_eom_latex
+        return numeric_eom_latex(self)
 
 
 def _dense(a: Matrix) -> np.ndarray:

@@ -257,8 +257,8 @@ class MatrixEOM(LinearSystem):
                 "Q": [str(e) for e in self.Q]}
 
     def _repr_latex_(self) -> str:
-        from ..views import display
-        return display.eom_latex(self)
+        from ..views.display import eom_latex
+        return eom_latex(self)
 
 
 def _linear_output(expression: Expression, coordinates: tuple[str, ...], source: str,

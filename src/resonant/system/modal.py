@@ -17,7 +17,13 @@ stability tolerance:
 
 Large sparse models have their lowest modes from :func:`lowest_modes` (shift-invert
 Lanczos, refined with residuals computed in twice the working precision) and every mode
-an error bound from its residual (:func:`eigenvalue_bounds`).
+an error bound from its residual (:func:`eigenvalue_bounds`); their complex modes from
+:func:`lowest_state_eigenvalues`.  The rest of the package's eigen-solves are here too:
+one point (:func:`point_state_eigenvalues`), the first-order modes with their vectors
+(:func:`state_modes`), the modes below a frequency of a reduced model's basis
+(:func:`modes_below`), and the exponents of periodic systems (:func:`eigenvalues` of
+Hill's or the monodromy matrix, :func:`fundamental_strip`).  No module outside the
+kernels calls an eigensolver or a sparse factorization (tests/test_architecture.py).
 
 Examples
 --------
@@ -657,6 +663,190 @@ def lowest_modes(M: Matrix, K: Matrix, count: int) -> tuple[np.ndarray, np.ndarr
     return lam[:count], phi[:, :count], bounds[:count]
 
 
+
+# -- one point, the state space, periodic systems ---------------------------------------------
+
+def symmetric_eigenvalues(A: np.ndarray) -> np.ndarray:
+    """The ascending eigenvalues of a symmetric dense matrix (the definiteness of M).
+
+    Examples
+    --------
+    >>> symmetric_eigenvalues(np.diag([2.0, -1.0])).tolist()
+    [-1.0, 2.0]
+    """
+    return np.asarray(np.linalg.eigvalsh(A))
+
+
+def point_state_eigenvalues(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> np.ndarray:
+    """The 2n state eigenvalues at one point (:func:`state_eigenvalues` of a stack of one);
+    AnalysisError naming M^-1 K or M^-1 C where they are not finite.
+
+    Examples
+    --------
+    >>> s = point_state_eigenvalues(np.eye(1), np.zeros((1, 1)), 4 * np.eye(1))
+    >>> sorted(s.imag.round(12).tolist())
+    [-2.0, 2.0]
+    """
+    require_finite("the state matrix (M^-1 K, M^-1 C)", np.linalg.solve(M, K),
+                   np.linalg.solve(M, C))
+    result: np.ndarray = state_eigenvalues(
+        *(np.asarray(a, dtype=float)[None] for a in (M, C, K)))[0]
+    return result
+
+
+def state_modes(M: np.ndarray, C: np.ndarray, K: np.ndarray, what: str = "the analysis"
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The first-order modes of a small dense system: the poles mu, the modes X of the
+    state matrix [[0, I], [-M^-1 K, -M^-1 C]] and X^-1 (``what`` needs them: the error
+    messages name it).
+
+    Raises
+    ------
+    AnalysisError
+        If M is singular or the modes are not independent (a defective system).
+
+    Examples
+    --------
+    >>> mu, X, Xinv = state_modes(np.eye(1), np.zeros((1, 1)), 4 * np.eye(1))
+    >>> sorted(mu.imag.round(12).tolist()), bool(np.allclose(X @ Xinv, np.eye(2)))
+    ([-2.0, 2.0], True)
+    """
+    import scipy.linalg
+
+    r = M.shape[0]
+    try:
+        minv = np.linalg.solve(M, np.hstack([K, C]))
+    except np.linalg.LinAlgError:
+        raise AnalysisError(f"the mass matrix M is singular: {what} needs a positive "
+                            "definite M") from None
+    A = np.zeros((2 * r, 2 * r))
+    A[:r, r:] = np.eye(r)
+    A[r:, :r], A[r:, r:] = -minv[:, :r], -minv[:, r:]
+    mu, X = scipy.linalg.eig(A)
+    if not np.all(np.isfinite(X)) or np.linalg.cond(X) > 1e10:
+        raise AnalysisError("the linear part is defective (its modes are not independent): "
+                            f"{what} cannot diagonalize it")
+    return mu, X, np.linalg.inv(X)
+
+
+def lowest_state_eigenvalues(M: Matrix, C: Matrix, K: Matrix, count: int) -> np.ndarray:
+    """The ``count`` eigenvalue pairs of smallest modulus of a sparse model's state pencil,
+    in the one order (:func:`order`).
+
+    The pencil A x = s B x, A = [[0, I], [-K, -C]], B = [[I, 0], [0, M]], is solved by
+    shift-invert Arnoldi (:func:`scipy.sparse.linalg.eigs`) with one sparse LU of
+    A - sigma B; sigma is a small negative shift (a rigid-body mode makes A singular).
+
+    Raises
+    ------
+    AnalysisError
+        If the eigensolver does not converge.
+
+    Examples
+    --------
+    >>> M, K = np.eye(2), np.array([[2.0, -1.0], [-1.0, 1.0]])
+    >>> C = np.array([[0.3, 0.0], [0.0, 0.0]])
+    >>> s = lowest_state_eigenvalues(M, C, K, 1)
+    >>> dense = point_state_eigenvalues(M, C, K)
+    >>> nearest = dense[np.argsort(np.abs(dense))][:2]
+    >>> bool(all(np.min(np.abs(s - v)) < 1e-10 for v in nearest))
+    True
+    """
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import LinearOperator, eigs, splu
+
+    n = M.shape[0]
+    M, C, K = (sp.csc_matrix(a) for a in (M, C, K))
+    eye = sp.identity(n, format="csc")
+    A = sp.bmat([[None, eye], [-K, -C]], format="csc")
+    B = sp.bmat([[eye, None], [None, M]], format="csc")
+    scale = float(np.sqrt(abs(K).sum() / max(abs(M).sum(), 1e-300))) or 1.0
+    sigma = -1e-3 * scale
+    try:
+        lu = splu((A - sigma * B).tocsc())
+        # shift-invert: eigenvalues nu = 1 / (s - sigma) of (A - sigma B)^-1 B, largest first
+        op = LinearOperator((2 * n, 2 * n), matvec=lambda x: lu.solve(B @ x), dtype=float)
+        nu = eigs(op, k=min(2 * count, 2 * n - 2), which="LM", return_eigenvectors=False)
+    except (RuntimeError, ValueError) as exc:
+        raise AnalysisError(f"the sparse eigensolver for the complex modes failed: {exc}"
+                            ) from None
+    return order(sigma + 1.0 / nu)
+
+
+def eigenvalues(A: np.ndarray, B: np.ndarray | None = None) -> np.ndarray:
+    """The finite eigenvalues of a dense matrix A (or of the pencil A x = s B x), for a
+    system that is not M, C, K: Hill's matrix, a monodromy matrix.
+
+    Examples
+    --------
+    >>> sorted(eigenvalues(np.array([[0.0, 1.0], [-4.0, 0.0]])).imag.round(12).tolist())
+    [-2.0, 2.0]
+    >>> eigenvalues(np.eye(2), np.diag([1.0, 0.0])).tolist()
+    [(1+0j)]
+    """
+    import scipy.linalg
+
+    if B is None:
+        return np.asarray(np.linalg.eigvals(A))
+    lam = scipy.linalg.eig(A, B, right=False)
+    return np.asarray(lam[np.isfinite(lam)])
+
+
+def fundamental_strip(exponents: np.ndarray, count: int) -> np.ndarray:
+    """The ``count`` Floquet exponents of smallest |Im s| (the fundamental strip, where
+    Hill's method and the monodromy matrix give each exponent once), in that order.
+
+    Examples
+    --------
+    >>> fundamental_strip(np.array([-1 + 3j, -1 + 0.5j, -1 - 0.5j]), 2).tolist()
+    [(-1+0.5j), (-1-0.5j)]
+    """
+    strip = np.argsort(np.abs(exponents.imag), kind="stable")
+    return np.asarray(exponents[strip[:count]])
+
+
+def factor_stiffness(K: Matrix, M: Matrix, top: float) -> Any:
+    """A sparse LU of K, or of K + (1e-3 top)^2 M where K is singular (a free body).
+
+    Examples
+    --------
+    >>> lu = factor_stiffness(np.diag([2.0, 0.0]), np.eye(2), 10.0)
+    >>> lu.solve(np.ones(2)).round(6).tolist()
+    [0.5, 100.0]
+    """
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import splu
+
+    try:
+        return splu(sp.csc_matrix(K))
+    except RuntimeError:
+        return splu(sp.csc_matrix(K + (1e-3 * top) ** 2 * M))
+
+
+def modes_below(K: Matrix, M: Matrix, lu: Any, cut: float, limit: int) -> np.ndarray:
+    """The M-orthonormal modes with omega <= cut (shift-invert Lanczos about 0 with the
+    factorization ``lu`` of :func:`factor_stiffness`), at most ``limit`` of them.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> K = sp.diags([1.0, 4.0, 9.0, 16.0, 25.0], format="csc")
+    >>> phi = modes_below(K, sp.identity(5), factor_stiffness(K, sp.identity(5), 1.0), 2.5, 8)
+    >>> phi.shape
+    (5, 2)
+    """
+    from scipy.sparse.linalg import LinearOperator, eigsh
+
+    n = K.shape[0]
+    op = LinearOperator(K.shape, matvec=lu.solve, dtype=float)
+    k = min(n - 2, 16)
+    while True:
+        vals, phi = eigsh(K, k=k, M=M, sigma=0.0, OPinv=op)
+        if vals.max() > cut * cut or k >= min(n - 2, limit):
+            return np.asarray(phi[:, vals <= cut * cut])
+        k = min(2 * k, n - 2, limit)
+
+
 __all__ = ["ZERO_EIGENVALUE", "ZERO_STATE", "STABILITY_TOLERANCE", "undamped_eigen",
            "undamped_lambdas", "cholesky_lambdas", "general_lambdas", "pencil_roots_2x2",
            "clean_zeros", "frequencies_from_eigenvalues", "natural_frequency",
@@ -664,4 +854,6 @@ __all__ = ["ZERO_EIGENVALUE", "ZERO_STATE", "STABILITY_TOLERANCE", "undamped_eig
            "damping_ratios", "damping_ratio", "unstable_by_inertia", "singular_mass",
            "symmetric_stack", "undamped_eigenvalues", "require_finite", "largest_abs",
            "largest_entry", "accurate_product", "eigenvalue_bounds", "frequency_bounds",
-           "lowest_modes"]
+           "lowest_modes", "symmetric_eigenvalues", "point_state_eigenvalues", "state_modes",
+           "lowest_state_eigenvalues", "eigenvalues", "fundamental_strip", "factor_stiffness",
+           "modes_below"]

@@ -6,7 +6,8 @@ Examples
 >>> M, K = np.eye(2), np.array([[2.0, -1.0], [-1.0, 2.0]])
 >>> np.round(natural_frequencies(M, K), 6)
 array([1.      , 1.732051])
->>> classify(state_eigenvalues(M, np.zeros((2, 2)), K))
+>>> from resonant.system.modal import point_state_eigenvalues
+>>> classify(point_state_eigenvalues(M, np.zeros((2, 2)), K))
 'marginally stable'
 """
 
@@ -18,12 +19,13 @@ import numpy as np
 
 from ..arrays import Matrix
 from ..errors import AnalysisError
-from . import modal
 from .modal import (
     frequencies_from_eigenvalues,
-    require_finite,
+    marginal,
+    symmetric_eigenvalues,
     undamped_eigen,
     undamped_eigenvalues,
+    unstable,
 )
 
 #: relative tolerance of the proportional-damping and Rayleigh tests
@@ -65,7 +67,7 @@ def mass_warning(M: np.ndarray) -> str | None:
     """
     if M.size == 0 or M.ndim != 2 or not np.all(np.isfinite(M)) or not np.allclose(M, M.T):
         return None
-    eig = np.linalg.eigvalsh(M)
+    eig = symmetric_eigenvalues(M)
     if eig[0] >= 0:
         return None
     kind = "negative definite" if eig[-1] < 0 else "indefinite (not positive definite)"
@@ -79,24 +81,6 @@ def natural_frequencies(M: np.ndarray, K: np.ndarray) -> np.ndarray:
     return frequencies_from_eigenvalues(undamped_eigen(M, K)[0])
 
 
-def state_matrix(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> np.ndarray:
-    """A = [[0, I], [-M^-1 K, -M^-1 C]] of x' = A x with x = [q, q']."""
-    n = M.shape[0]
-    minv_k = np.linalg.solve(M, K)
-    minv_c = np.linalg.solve(M, C)
-    require_finite("the state matrix (M^-1 K, M^-1 C)", minv_k, minv_c)
-    return np.block([[np.zeros((n, n)), np.eye(n)], [-minv_k, -minv_c]])
-
-
-def state_eigenvalues(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> np.ndarray:
-    """The eigenvalues of the state matrix at one point (the modal kernel's
-    :func:`~resonant.system.modal.state_eigenvalues`); AnalysisError if it is not finite."""
-    state_matrix(M, C, K)  # names what is not finite
-    result: np.ndarray = modal.state_eigenvalues(
-        *(np.asarray(a, dtype=float)[None] for a in (M, C, K)))[0]
-    return result
-
-
 def classify(eigenvalues: np.ndarray) -> str:
     """Stability of x' = A x from the eigenvalues of A (the modal kernel's tolerance).
 
@@ -104,9 +88,9 @@ def classify(eigenvalues: np.ndarray) -> str:
     """
     if eigenvalues.size == 0:
         return ASYMPTOTIC
-    if modal.unstable(eigenvalues):
+    if unstable(eigenvalues):
         return UNSTABLE
-    return MARGINAL if modal.marginal(eigenvalues) else ASYMPTOTIC
+    return MARGINAL if marginal(eigenvalues) else ASYMPTOTIC
 
 
 def rayleigh(M: Matrix, C: Matrix, K: Matrix) -> tuple[float, float] | None:
@@ -135,6 +119,6 @@ def rayleigh(M: Matrix, C: Matrix, K: Matrix) -> tuple[float, float] | None:
 
 
 
-__all__ = ["natural_frequencies", "frequencies_from_eigenvalues", "undamped_eigen", "state_matrix",
-           "state_eigenvalues", "classify", "undamped_eigenvalues", "rayleigh", "check_mass_matrix",
+__all__ = ["natural_frequencies", "frequencies_from_eigenvalues", "undamped_eigen",
+           "classify", "undamped_eigenvalues", "rayleigh", "check_mass_matrix",
            "is_symmetric", "ASYMPTOTIC", "MARGINAL", "UNSTABLE"]

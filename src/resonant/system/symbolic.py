@@ -230,8 +230,8 @@ class LinearEOM(LinearSystem):
         }
 
     def _repr_latex_(self) -> str:
-        from ..views import display
-        return display.eom_latex(self)
+        from ..views.display import eom_latex
+        return eom_latex(self)
 
 
 #: from this many coordinates on, a model's numbers come from the numeric derivation

@@ -36,7 +36,10 @@ import sympy
 from ..derivation import derivative_symbol
 from ..errors import printable
 from ..model import Model, symbol
-from ..system import LinearEOM, MatrixEOM, NumericEOM, linear_system
+from ..system.base import NumericEOM
+from ..system.build import linear_system
+from ..system.matrix import MatrixEOM
+from ..system.symbolic import LinearEOM
 from .mathml import latex_to_mathml
 from .notation import (
     Namer,

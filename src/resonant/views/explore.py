@@ -45,7 +45,8 @@ from ..analyses.sweep import sweep
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..model import Model
-from ..system import LinearSystem, linear_system
+from ..system.base import LinearSystem
+from ..system.build import linear_system
 from ..system.stability import natural_frequencies
 from .explore_export import ExportedSystem, equilibrium_values, export_system
 from .js_printer import NotPrintable

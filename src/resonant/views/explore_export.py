@@ -39,7 +39,7 @@ import sympy
 from ..derivation import decompose_signals
 from ..derivation.lagrange import signal_derivatives
 from ..model import Model, symbol
-from ..system import LinearSystem
+from ..system.base import LinearSystem
 from .js_printer import js_function, js_number
 from .sketch import SketchMotion
 
