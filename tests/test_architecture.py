@@ -360,3 +360,47 @@ def test_the_methods_users_call_are_on_the_one_class() -> None:
     assert numeric.modes().natural_frequencies.round(3).tolist() == [20.0, 34.641]
     solution = model.linearize().stationary()
     assert type(solution) is StationarySolution and solution.summary()
+
+
+#: the modules that hold the package's eigen-solves and sparse factorizations: the modal
+#: kernel, the harmonic kernel and its reduced models (docs/architecture.md)
+KERNEL_MODULES = {"resonant.modal", "resonant.analyses.kernel", "resonant.analyses.reduced"}
+EIGENSOLVERS = {"eig", "eigh", "eigvals", "eigvalsh", "eigs", "eigsh", "eig_banded",
+                "eigvals_banded", "lobpcg"}
+FACTORIZATIONS = {"splu", "factorized", "spilu", "lu_factor", "cho_factor", "spsolve"}
+
+
+def _kernel_calls(tree: ast.AST, text: str) -> list[str]:
+    """Eigen-solves, sparse factorizations and hand-made state matrices (a block matrix
+    with an identity block) in a module's source."""
+    found = []
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Call):
+            continue
+        func = node.func
+        name = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", None)
+        if name in EIGENSOLVERS or name in FACTORIZATIONS:
+            found.append(f"line {node.lineno}: {name}")
+        if name in {"block", "bmat"} and "eye" in (ast.get_source_segment(text, node) or ""):
+            found.append(f"line {node.lineno}: a state matrix written by hand ({name})")
+    return found
+
+
+@pytest.mark.parametrize("module, path", MODULES, ids=[m for m, _ in MODULES])
+def test_eigen_solves_and_factorizations_only_in_the_kernels(module: str, path: Path) -> None:
+    """Every eigen-solve and sparse factorization goes through the modal or the harmonic
+    kernel: one ordering rule, one threshold, one place to make each faster."""
+    if module in KERNEL_MODULES:
+        return
+    text = path.read_text(encoding="utf-8")
+    found = _kernel_calls(ast.parse(text), text)
+    assert not found, f"{module} (use resonant.modal or resonant.analyses.kernel):\n" + \
+        "\n".join(found)
+
+
+def test_the_kernel_scan_is_not_vacuous() -> None:
+    """The scan finds an eigen-solve, a factorization and a state matrix written by hand."""
+    text = ("import numpy as np\nnp.linalg.eigvals(A)\nsplu(A)\n"
+            "np.block([[np.zeros((n, n)), np.eye(n)], [-K, -C]])\n")
+    assert len(_kernel_calls(ast.parse(text), text)) == 3
+    assert all(m in MODULE_NAMES for m in KERNEL_MODULES)

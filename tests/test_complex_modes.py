@@ -13,7 +13,7 @@ import scipy.io
 import scipy.sparse as sp
 
 from resonant.api import load
-from resonant.system.modal import lowest_state_eigenvalues
+from resonant.modal import lowest_state_eigenvalues
 
 
 def nonproportional_chain(n: int, k: float = 1e4, m: float = 1.0):

@@ -1,4 +1,4 @@
-"""The modal kernel (resonant.system.modal): accurate, deterministic lowest modes of a stiff
+"""The modal kernel (resonant.modal): accurate, deterministic lowest modes of a stiff
 sparse structure, error bounds from residuals, and one ordering rule for every caller.
 
 Reference values: the first natural frequency of a clamped-free Euler-Bernoulli beam is
@@ -22,7 +22,7 @@ import scipy.sparse as sp
 
 from resonant.analyses.modes import modes
 from resonant.system import MatrixEOM  # noqa: F401  (the system types load first)
-from resonant.system.modal import (
+from resonant.modal import (
     accurate_product,
     damping_ratio,
     damping_ratios,

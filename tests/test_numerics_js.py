@@ -1,5 +1,5 @@
 """The page's JavaScript numerics (views/explore_assets/numerics.js) against the modal kernel
-(resonant.system.modal), outside the browser: node runs the page's own file on a set of golden
+(resonant.modal), outside the browser: node runs the page's own file on a set of golden
 cases (every small bundled example at its parameter values, and constructed cases: rigid-body
 modes, an unstable equilibrium, gyroscopic and circulatory terms, repeated frequencies,
 non-proportional damping) through tests/js/numerics_cases.js, which loads it with ``require``.
@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 import resonant
-from resonant.system import modal
+from resonant import modal
 from resonant.system.stability import classify
 
 ROOT = Path(__file__).parents[1]

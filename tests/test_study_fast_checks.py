@@ -9,9 +9,9 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from resonant.system.modal import largest_entry as _largest_entry
-from resonant.system.modal import pencil_roots_2x2 as _pencil_roots_2x2
-from resonant.system.modal import symmetric_stack as _symmetric
+from resonant.modal import largest_entry as _largest_entry
+from resonant.modal import pencil_roots_2x2 as _pencil_roots_2x2
+from resonant.modal import symmetric_stack as _symmetric
 
 VALUES = [0.0, -0.0, 1.0, -1.0, 1 + 1e-13, 1 + 1e-11, 2.5, np.inf, -np.inf, np.nan, 1e-300,
           5e-324, 1e308]

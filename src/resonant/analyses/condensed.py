@@ -86,17 +86,17 @@ from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
 from ..expressions import numeric_value
-from ..model import Model
-from ..model.options import BalanceOptions
-from ..system.base import LinearSystem, parameter_values
-from ..system.matrix_outputs import OutputSeries
-from ..system.modal import (
+from ..modal import (
     eigenvalues,
     factor_stiffness,
     fundamental_strip,
     modes_below,
     state_modes,
 )
+from ..model import Model
+from ..model.options import BalanceOptions
+from ..system.base import LinearSystem, parameter_values
+from ..system.matrix_outputs import OutputSeries
 from ..system.nonlinear_elements import ElementForces
 from .continuation import Branch, follow
 from .hb_solver import (

@@ -50,7 +50,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import AnalysisError
-from ..system.modal import eigenvalues, fundamental_strip
+from ..modal import fundamental_strip, quadratic_eigenvalues
 from ..system.nonlinear import NonlinearSystem
 from .peaks import GRID, periodic_peak, series_peaks
 
@@ -157,11 +157,7 @@ class HarmonicBalance:
         G0, G1, G2, W = blocks
         D1 = self.galerkin((G1, self.phi), (G2, 2 * W * self.dphi))
         D2 = self.galerkin((G2, self.phi))
-        size = J.shape[0]
-        eye, zero = np.eye(size), np.zeros((size, size))
-        A = np.block([[zero, eye], [-J, -D1]])
-        B = np.block([[eye, zero], [zero, D2]])
-        return fundamental_strip(eigenvalues(A, B), 2 * self.n)
+        return fundamental_strip(quadratic_eigenvalues(J, D1, D2), 2 * self.n)
 
     def newton(self, x: np.ndarray, p: float, scale: float) -> tuple[np.ndarray, bool]:
         """Newton's method on R(x, p) = 0 at fixed p (converged: the step below 1e-11)."""

@@ -63,9 +63,9 @@ import numpy as np
 from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
+from ..modal import largest_abs
 from ..model.options import SWEEP_METHODS
 from ..system.batch import Batch, BatchHarmonic
-from ..system.modal import largest_abs
 from ..system.stability import check_mass_matrix
 from . import reduced as reduced_module
 from .reduced import (

@@ -14,12 +14,12 @@ these are reported per mode, together with a and b when C = a M + b K.
 
 Large sparse matrix models: with ``count`` the lowest modes come from
 shift-invert Lanczos, refined with compensated residuals
-(:func:`~resonant.system.modal.lowest_modes`: the shift at 0, or just below it when
+(:func:`~resonant.modal.lowest_modes`: the shift at 0, or just below it when
 rigid-body modes make K singular), and nothing dense of size n x n is formed.  Every
 natural frequency comes with a bound on its error from its residual
 (``frequency_errors``), and a warning where the conditioning of M and K limits it.
 
-The numbers come from the modal kernel :mod:`resonant.system.modal`, which the
+The numbers come from the modal kernel :mod:`resonant.modal`, which the
 stability checks and the study quantities share: ``modes`` is that kernel at one point.
 
 Examples
@@ -49,8 +49,7 @@ import numpy as np
 from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
-from ..system.base import LinearSystem
-from ..system.modal import (
+from ..modal import (
     LIMITED_ACCURACY,
     accurate_product,
     clean_zeros,
@@ -63,6 +62,7 @@ from ..system.modal import (
     point_state_eigenvalues,
     undamped_eigen,
 )
+from ..system.base import LinearSystem
 from ..system.stability import (
     ASYMPTOTIC,
     MARGINAL,
@@ -118,7 +118,7 @@ class ModalAnalysis:
         ``"dense"`` or ``"shift-invert Lanczos"``.
     frequency_errors : ndarray
         A bound on the error of each natural frequency in rad/s, from the residual of its
-        mode (:func:`~resonant.system.modal.eigenvalue_bounds`); NaN where the pencil is
+        mode (:func:`~resonant.modal.eigenvalue_bounds`); NaN where the pencil is
         not symmetric definite.  A warning says when it exceeds 1e-8 of the frequency
         (the conditioning of M and K limits the accuracy).
     damped : bool

@@ -77,12 +77,12 @@ from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
+from ..modal import point_state_eigenvalues
 from ..model.random_spec import RandomInput, RandomSpec
 from ..model.units import Dimension
 from ..system.base import LinearSystem, NumericEOM
 from ..system.batch import Batch, BatchHarmonic
 from ..system.excitation import excitation_columns
-from ..system.modal import point_state_eigenvalues
 from .kernel import reduced_budget, solve_harmonic
 from .reduced import FactorizationsAhead, ReducedModel, probe_frequency, reduced_model
 from .results_json import Saved, optional_float

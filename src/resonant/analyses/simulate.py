@@ -58,12 +58,12 @@ import sympy
 from ..deadline import NO_DEADLINE, AnalysisTimeout, Deadline
 from ..errors import AnalysisError, ModelError, Problem, name_list
 from ..expressions import parse
+from ..modal import point_state_eigenvalues
 from ..model import Model
 from ..model.options import SimulationOptions, chosen
 from ..model.types import constant_prime_message, primed_names
 from ..system.base import LinearSystem, NumericEOM
 from ..system.build import nonlinear_system
-from ..system.modal import point_state_eigenvalues
 from ..system.nonlinear import NonlinearSystem
 from ..system.stability import (
     ASYMPTOTIC,

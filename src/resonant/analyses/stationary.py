@@ -33,9 +33,9 @@ import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
+from ..modal import point_state_eigenvalues
 from ..system.base import LinearSystem, NumericEOM, NumericHarmonic
 from ..system.batch import Batch, check_finite, frozen_array
-from ..system.modal import point_state_eigenvalues
 from ..system.stability import (
     UNSTABLE,
     classify,

@@ -25,6 +25,7 @@ import sympy
 from ..deadline import Deadline
 from ..errors import AnalysisError
 from ..expressions import compilable
+from ..modal import state_matrix
 from ..model import TIME, Model, symbol
 from ..system.base import LinearSystem, NumericEOM
 from ..system.matrix import MatrixEOM
@@ -92,9 +93,7 @@ class LinearDynamics:
         self.n = num.n
         self.M, self.C, self.K = num.M, num.C, num.K
         self.Minv = np.linalg.inv(num.M)
-        n = self.n
-        self.A = np.block([[np.zeros((n, n)), np.eye(n)],
-                           [-self.Minv @ num.K, -self.Minv @ num.C]])
+        self.A = state_matrix(self.Minv @ num.K, self.Minv @ num.C)
         params, self.pvals = _parameter_args(model)
         self._q = _lambdify(list(eom.Q), [TIME, *params]) if eom.excitation else None
         signals = eom.signal_functions

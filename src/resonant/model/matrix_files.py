@@ -42,6 +42,7 @@ from ..arrays import Matrix
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
 from ..expressions.numeric import numeric_value
+from ..modal import mass_normalized_modes
 from . import inline_matrices, limits
 from .files import FileRefused, open_regular_file, read_bounded
 from .types import Harmonic, MatrixSpec
@@ -918,8 +919,6 @@ def _modal_matrix(ratios: np.ndarray, M: Matrix | list[Any], K: Matrix | list[An
                   problems: list[Problem]) -> np.ndarray | None:
     """C = M Phi diag(2 zeta_r omega_r) Phi^T M with mass-normalized modes Phi of (K, M);
     modes beyond the list of ratios take its last ratio (None: a problem is recorded)."""
-    import scipy.linalg
-
     def numbers(matrix: Matrix | list[Any]) -> np.ndarray | None:
         if not isinstance(matrix, list):
             return matrix.toarray() if hasattr(matrix, "toarray") else \
@@ -951,7 +950,7 @@ def _modal_matrix(ratios: np.ndarray, M: Matrix | list[Any], K: Matrix | list[An
                                 f"only {n} modes", source, "matrices", MODAL_KEY))
         return None
     try:
-        lam, phi = scipy.linalg.eigh(Kd, Md)
+        lam, phi = mass_normalized_modes(Md, Kd)
     except (np.linalg.LinAlgError, ValueError):
         problems.append(Problem(f"{MODAL_KEY} needs a symmetric positive definite M and a "
                                 "symmetric K (the modes are those of K phi = omega^2 M phi)",

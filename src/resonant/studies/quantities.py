@@ -43,12 +43,7 @@ from ..analyses.transient import shock_response
 from ..arrays import Matrix
 from ..errors import ModelError, Problem, ResonantError
 from ..expressions import numeric_value
-from ..model import Model
-from ..model.study import Band, Quantity, StudySpec
-from ..system.base import LinearSystem, numeric_point
-from ..system.batch import Batch
-from ..system.build import nonlinear_system
-from ..system.modal import (
+from ..modal import (
     cholesky_lambdas,
     damping_ratio,
     general_lambdas,
@@ -59,6 +54,11 @@ from ..system.modal import (
     unstable,
     unstable_by_inertia,
 )
+from ..model import Model
+from ..model.study import Band, Quantity, StudySpec
+from ..system.base import LinearSystem, numeric_point
+from ..system.batch import Batch
+from ..system.build import nonlinear_system
 from ..system.nonlinear import NonlinearSystem
 from .designs import REFINE_POINTS, REFINE_ROUNDS
 from .nonlinear import nonlinear_amplitudes

@@ -6,7 +6,7 @@ Examples
 >>> M, K = np.eye(2), np.array([[2.0, -1.0], [-1.0, 2.0]])
 >>> np.round(natural_frequencies(M, K), 6)
 array([1.      , 1.732051])
->>> from resonant.system.modal import point_state_eigenvalues
+>>> from resonant.modal import point_state_eigenvalues
 >>> classify(point_state_eigenvalues(M, np.zeros((2, 2)), K))
 'marginally stable'
 """
@@ -19,7 +19,7 @@ import numpy as np
 
 from ..arrays import Matrix
 from ..errors import AnalysisError
-from .modal import (
+from ..modal import (
     frequencies_from_eigenvalues,
     marginal,
     symmetric_eigenvalues,

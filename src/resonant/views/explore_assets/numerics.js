@@ -489,7 +489,7 @@ const ResonantNumerics = (() => {
   }
 
   // Damping ratio -Re s/|s| and damped frequency Im s of every s with Im s >= 0, in the
-  // modal kernel's order (resonant.system.modal.order): by |s| to 12 significant digits of
+  // modal kernel's order (resonant.modal.order): by |s| to 12 significant digits of
   // the largest |s|, then by Im s.
   function dampingRatios(eig) {
     const upper = [];

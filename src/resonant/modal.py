@@ -41,8 +41,8 @@ from typing import Any
 
 import numpy as np
 
-from ..arrays import Matrix
-from ..errors import AnalysisError, ResonantError
+from .arrays import Matrix
+from .errors import AnalysisError, ResonantError
 
 #: |lambda| < ZERO_EIGENVALUE * max |lambda| of the point is a round-off zero
 ZERO_EIGENVALUE = 1e-12
@@ -281,15 +281,45 @@ def natural_frequency(lam: np.ndarray, index: int) -> np.ndarray:
 
 # -- the state eigenvalues ------------------------------------------------------------------
 
+def state_matrix(minv_k: np.ndarray, minv_c: np.ndarray) -> np.ndarray:
+    """The state matrix A = [[0, I], [-M^-1 K, -M^-1 C]] of x' = A x, x = [q, q'], from
+    M^-1 K and M^-1 C (one point (n, n) or a stack (..., n, n)): the one place the
+    first-order form is written.
+
+    Examples
+    --------
+    >>> state_matrix(4 * np.eye(1), 0.5 * np.eye(1)).tolist()
+    [[0.0, 1.0], [-4.0, -0.5]]
+    """
+    n = minv_k.shape[-1]
+    A = np.zeros((*minv_k.shape[:-2], 2 * n, 2 * n))
+    A[..., :n, n:] = np.eye(n)
+    A[..., n:, :n], A[..., n:, n:] = -minv_k, -minv_c
+    return A
+
+
+def quadratic_eigenvalues(K0: np.ndarray, K1: np.ndarray, K2: np.ndarray) -> np.ndarray:
+    """The finite eigenvalues s of (s^2 K2 + s K1 + K0) x = 0 (dense; K2 may be singular),
+    by the companion pencil [[0, I], [-K0, -K1]] - s [[I, 0], [0, K2]].
+
+    Examples
+    --------
+    >>> s = quadratic_eigenvalues(4 * np.eye(1), np.zeros((1, 1)), np.eye(1))
+    >>> sorted(s.imag.round(12).tolist())
+    [-2.0, 2.0]
+    """
+    size = K0.shape[0]
+    eye, zero = np.eye(size), np.zeros((size, size))
+    return eigenvalues(np.block([[zero, eye], [-K0, -K1]]), np.block([[eye, zero], [zero, K2]]))
+
+
 def state_eigenvalues(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> np.ndarray:
     """Eigenvalues of the state matrix [[0, I], [-M^-1 K, -M^-1 C]] per sample (N, 2n)
     (NaN for a sample whose state matrix is not finite)."""
-    N, n = M.shape[:2]
+    n = M.shape[1]
     with np.errstate(all="ignore"):
         minv = np.linalg.solve(M, np.concatenate([K, C], axis=2))
-    A = np.zeros((N, 2 * n, 2 * n))
-    A[:, :n, n:] = np.eye(n)
-    A[:, n:, :] = -minv
+    A = state_matrix(minv[..., :n], minv[..., n:])
     finite = np.isfinite(A).all(axis=(1, 2))
     A[~finite] = 0.0
     eigenvalues = np.linalg.eigvals(A)
@@ -677,6 +707,22 @@ def symmetric_eigenvalues(A: np.ndarray) -> np.ndarray:
     return np.asarray(np.linalg.eigvalsh(A))
 
 
+def mass_normalized_modes(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """lambda = omega^2 (ascending) and the M-orthonormal modes of K phi = lambda M phi for
+    a symmetric K and a symmetric positive definite M (LinAlgError or ValueError else).
+
+    Examples
+    --------
+    >>> lam, phi = mass_normalized_modes(np.diag([2.0, 2.0]), np.diag([2.0, 8.0]))
+    >>> lam.tolist(), bool(np.allclose(phi.T @ np.diag([2.0, 2.0]) @ phi, np.eye(2)))
+    ([1.0, 4.0], True)
+    """
+    import scipy.linalg
+
+    lam, phi = scipy.linalg.eigh(K, M)
+    return np.asarray(lam), np.asarray(phi)
+
+
 def point_state_eigenvalues(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> np.ndarray:
     """The 2n state eigenvalues at one point (:func:`state_eigenvalues` of a stack of one);
     AnalysisError naming M^-1 K or M^-1 C where they are not finite.
@@ -719,10 +765,7 @@ def state_modes(M: np.ndarray, C: np.ndarray, K: np.ndarray, what: str = "the an
     except np.linalg.LinAlgError:
         raise AnalysisError(f"the mass matrix M is singular: {what} needs a positive "
                             "definite M") from None
-    A = np.zeros((2 * r, 2 * r))
-    A[:r, r:] = np.eye(r)
-    A[r:, :r], A[r:, r:] = -minv[:, :r], -minv[:, r:]
-    mu, X = scipy.linalg.eig(A)
+    mu, X = scipy.linalg.eig(state_matrix(minv[:, :r], minv[:, r:]))
     if not np.all(np.isfinite(X)) or np.linalg.cond(X) > 1e10:
         raise AnalysisError("the linear part is defective (its modes are not independent): "
                             f"{what} cannot diagonalize it")
@@ -850,10 +893,11 @@ def modes_below(K: Matrix, M: Matrix, lu: Any, cut: float, limit: int) -> np.nda
 __all__ = ["ZERO_EIGENVALUE", "ZERO_STATE", "STABILITY_TOLERANCE", "undamped_eigen",
            "undamped_lambdas", "cholesky_lambdas", "general_lambdas", "pencil_roots_2x2",
            "clean_zeros", "frequencies_from_eigenvalues", "natural_frequency",
-           "state_eigenvalues", "order", "unstable", "marginal", "clean_state_zeros",
-           "damping_ratios", "damping_ratio", "unstable_by_inertia", "singular_mass",
-           "symmetric_stack", "undamped_eigenvalues", "require_finite", "largest_abs",
-           "largest_entry", "accurate_product", "eigenvalue_bounds", "frequency_bounds",
-           "lowest_modes", "symmetric_eigenvalues", "point_state_eigenvalues", "state_modes",
+           "state_eigenvalues", "state_matrix", "quadratic_eigenvalues", "order", "unstable",
+           "marginal", "clean_state_zeros", "damping_ratios", "damping_ratio",
+           "unstable_by_inertia", "singular_mass", "symmetric_stack", "undamped_eigenvalues",
+           "require_finite", "largest_abs", "largest_entry", "accurate_product",
+           "eigenvalue_bounds", "frequency_bounds", "lowest_modes", "mass_normalized_modes",
+           "symmetric_eigenvalues", "point_state_eigenvalues", "state_modes",
            "lowest_state_eigenvalues", "eigenvalues", "fundamental_strip", "factor_stiffness",
            "modes_below"]
