@@ -307,3 +307,31 @@ def test_the_report_s_load_sections_draw_the_views_charts(tmp_path) -> None:
     bare = build_report(model, plots=False)
     assert not [b for b in bare.blocks if isinstance(b, Figure)]
     assert "Shock load: the pulse and its shock response spectrum" in bare.headings()
+
+
+@pytest.mark.parametrize("example", ["cart_pendulum", "pendulum"])
+def test_a_nonlinear_simulation_of_an_undamped_example_plots(example, tmp_path) -> None:
+    """``resonant simulate MODEL --nonlinear --plot F`` on the README's examples: an undamped
+    model starts on its periodic solution, and the plot says so (it once stopped with a
+    KeyError there)."""
+    from conftest import run_cli
+
+    path = tmp_path / "sim.png"
+    status, _, err = run_cli(["simulate", EXAMPLES / f"{example}.toml", "--nonlinear",
+                              "--plot", path])
+    assert status == 0, err
+    assert path.stat().st_size > 10_000
+
+
+def test_every_start_kind_is_described() -> None:
+    """Every start a simulation reports has its words in the plot's title."""
+    from dataclasses import replace
+
+    from resonant.model.options import START_KINDS, START_MODES
+    from resonant.views.plotting import simulation_chart
+
+    sim = simulate(resonant.load(EXAMPLES / "two_dof_free.toml").linearize(), 0.05,
+                   initial={"x1": 0.01})
+    assert set(START_MODES) - {"auto"} <= set(START_KINDS)
+    for kind, words in START_KINDS.items():
+        assert words in simulation_chart(replace(sim, start=kind)).title

@@ -149,3 +149,48 @@ def test_the_site_fits_a_phone_and_a_laptop(site: Path, width: int) -> None:
                 assert overflow <= 0, f"{name} is {overflow} px wider than {width} px"
         finally:
             browser.close()
+
+
+def _contrast(a: tuple[float, ...], b: tuple[float, ...]) -> float:
+    """WCAG contrast ratio of two sRGB colours (0-255)."""
+    def luminance(c: tuple[float, ...]) -> float:
+        lin = [(v / 255) / 12.92 if v / 255 <= 0.04045 else ((v / 255 + 0.055) / 1.055) ** 2.4
+               for v in c[:3]]
+        return 0.2126 * lin[0] + 0.7152 * lin[1] + 0.0722 * lin[2]
+    hi, lo = sorted((luminance(a), luminance(b)), reverse=True)
+    return (hi + 0.05) / (lo + 0.05)
+
+
+@pytest.mark.parametrize("scheme", ["light", "dark"])
+def test_formulas_are_legible_in_light_and_dark_mode(site: Path, scheme: str) -> None:
+    """The typeset formulas of a guide page, photographed in Chromium with the reader's OS
+    in light and in dark mode: the glyphs stand out from the page (the contrast of the
+    inkiest pixel against the background, measured on the screenshot, at least 4.5)."""
+    import io
+
+    from PIL import Image
+
+    chromium = Path("/usr/bin/chromium")
+    if not chromium.exists():
+        pytest.skip("Debian's chromium (/usr/bin/chromium) is not installed")
+    api = pytest.importorskip("playwright.sync_api")
+    with api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=str(chromium), args=[
+            "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking"])
+        try:
+            page = browser.new_page(viewport={"width": 1280, "height": 900},
+                                    color_scheme=scheme)
+            page.goto((site / "sweeps.html").as_uri())
+            assert page.evaluate("document.documentElement.dataset.theme") == scheme
+            formulas = page.locator("svg.m")
+            assert formulas.count() > 3
+            ratios = []
+            for i in range(min(formulas.count(), 6)):
+                shot = Image.open(io.BytesIO(formulas.nth(i).screenshot())).convert("RGB")
+                colours = shot.getcolors(shot.width * shot.height) or []
+                background = max(colours)[1]
+                ratios.append(max(_contrast(background, c) for _, c in colours))
+            page.close()
+        finally:
+            browser.close()
+    assert min(ratios) >= 4.5, ratios

@@ -126,8 +126,9 @@ class Simulation:
     window : tuple of float
         The interval the steady amplitudes are measured over.
     start : str
-        ``"rest"``, ``"stationary"`` (the stationary solution's initial state)
-        or ``"given"`` (``initial`` values).
+        ``"rest"``, ``"stationary"`` (the stationary solution's initial state),
+        ``"periodic"`` (the periodic solution of the full equations) or ``"given"``
+        (``initial`` values): a key of :data:`resonant.model.options.START_KINDS`.
     title, coordinates
         The model's title and its coordinates.
     nonlinear : bool

@@ -138,7 +138,7 @@ class Model(model_types.Model):
             Integrate the full Lagrange equations instead of the linearized ones.
         initial : mapping, optional
             coordinate -> initial value.
-        start : {"auto", "rest", "stationary", "given"}
+        start : {"auto", "rest", "stationary", "periodic"}
             Where the motion starts.
         periods : float, optional
             Forcing periods to integrate when no ``duration`` is given.

@@ -38,8 +38,13 @@ from ..errors import AnalysisError
 SWEEP_METHODS = ("auto", "direct", "dense", "banded", "sparse", "modal", "reduced")
 #: the integrators of a simulation (:func:`scipy.integrate.solve_ivp` methods)
 INTEGRATORS = ("DOP853", "RK45", "LSODA", "Radau", "BDF")
-#: where a simulation starts
-START_MODES = ("auto", "rest", "stationary", "periodic")
+#: where a simulation started (``Simulation.start``) -> how its text and plots say it
+START_KINDS = {"rest": "from rest",
+               "stationary": "from the stationary initial state",
+               "periodic": "from the periodic solution of the full equations",
+               "given": "from the given initial state"}
+#: where a simulation may be asked to start (``given``: by giving ``initial`` values)
+START_MODES = ("auto", *(kind for kind in START_KINDS if kind != "given"))
 #: the most harmonics an analysis takes when they are given (every nonlinear analysis, the
 #: command line's ``--harmonics`` and the ``[study]`` key ``harmonics`` share it)
 MAX_GIVEN_HARMONICS = 200
@@ -294,5 +299,5 @@ def names_tuple(names: Sequence[str] | None) -> tuple[str, ...] | None:
 
 
 __all__ = ["SweepOptions", "BalanceOptions", "SimulationOptions", "chosen", "check_harmonics",
-           "names_tuple", "SWEEP_METHODS", "INTEGRATORS", "START_MODES",
+           "names_tuple", "SWEEP_METHODS", "INTEGRATORS", "START_MODES", "START_KINDS",
            "MAX_GIVEN_HARMONICS", "MIN_BRANCH_POINTS"]

@@ -24,6 +24,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..errors import AnalysisError, printable
+from ..model.options import START_KINDS
 from .charts import (
     COLORS,
     Annotation,
@@ -572,8 +573,7 @@ def simulation_chart(sim: Simulation, units: Mapping[str, str] | None = None) ->
                             spans=(Span(float(sim.window[0]), float(sim.window[1]), "#e6e6e6",
                                         "amplitude window"),),
                             title=f"{_name(name)}: {text}"))
-    start = {"rest": "from rest", "stationary": "from the stationary initial state",
-             "given": "from the given initial state"}[sim.start]
+    start = START_KINDS[sim.start]
     title = printable(sim.title or "simulation", limit=80)
     return Charts(tuple(panels), f"{title} — {kind}, {start}",
                   size=(9.0, 1.2 + 2.1 * len(panels)), legend="below")
