@@ -92,6 +92,26 @@ RANDOM_CASES = {
                        ("[random.psd.y] values", "not finite at")),
     "expression-log": ('band = [1, 100]\n[random.psd.y]\nvalues = "log(f - 50)"', 2,
                        ("[random.psd.y] values",)),
+    # an input's name went unchecked into the report's LaTeX (\\input{...}), its Markdown
+    # (raw HTML) and the terminal (escape sequences), and was printed whole
+    "name-latex": ('band = [1, 100]\n[random.psd."W}\\\\input{/etc/passwd}"]\nload = [1]\n'
+                   'values = 1', 2, ("[random.psd]", "is not a valid name")),
+    "name-html": ('band = [1, 100]\n[random.psd."<img src=x onerror=alert(1)>"]\nload = [1]\n'
+                  'values = 1', 2, ("[random.psd]", "is not a valid name")),
+    "name-escapes": ('band = [1, 100]\n[random.psd."\\u001b[2J\\u202eW"]\nload = [1]\n'
+                     'values = 1', 2, ("[random.psd] \\x1b[2J\\u202eW", "is not a valid name")),
+    "name-long": (f'band = [1, 100]\n[random.psd.{"W" * 500}]\nload = [1]\nvalues = 1', 2,
+                  ("[random.psd] WWW", "name too long (500 characters")),
+    "name-reserved": ('band = [1, 100]\n[random.psd.sin]\nload = [1]\nvalues = 1', 2,
+                      ("[random.psd] sin", "'sin' is reserved")),
+    # densities (or load and base vectors) whose responses overflow: an internal error
+    # ("zero-size array to reduction operation maximum") or RMS values with numpy warnings
+    "density-overflows-response": ("band = [1, 100]\n[random.psd.y]\nvalues = 1e300", 2,
+                                   ("[random.psd] y", "floating-point range")),
+    "load-overflows-response": ('band = [1, 100]\n[random.psd.W]\nload = ["1e300"]\n'
+                                'values = 1', 2, ("[random.psd] W", "floating-point range")),
+    "base-overflows-response": ('band = [1, 100]\n[random.psd.W]\nbase = ["1e200"]\n'
+                                'values = 1', 2, ("[random.psd] W", "floating-point range")),
     # "30 furlongs" was taken as a phase of 6035 rad
     "phase-not-an-angle": (TWO_INPUTS + 'phase = "30 furlongs"', 2,
                            ("[random.coherence] #1", "not an angle")),
@@ -414,3 +434,29 @@ def test_load_units_against_the_signals_dimension(section, status, words, tmp_pa
     path.write_text(SHAKER + section, encoding="utf-8")
     code, _, err = run_cli(["check", str(path)])
     _check(code, err, status, words)
+
+
+@pytest.mark.parametrize("args, words", [
+    # TypeError: 'int' object is not iterable
+    (["random", "--only", ",,,"], ("m.toml --only", "give one or more coordinates")),
+    # named neither the file nor the option
+    (["random", "--only", "nosuch"], ("m.toml --only", "unknown coordinate or output 'nosuch'")),
+    (["sweep", "--param", "k", "--from", "1", "--to", "2", "--only", "z"],
+     ("m.toml --only", "unknown coordinate 'z'; known: x")),
+])
+def test_only_names_are_checked_before_the_work(args, words, tmp_path):
+    path = tmp_path / "m.toml"
+    path.write_text(SDOF + "\n[random]\nband = [1, 100]\n[random.psd.y]\nvalues = 1\n")
+    code, _, err = run_cli([args[0], str(path), *args[1:]])
+    _check(code, err, 2, words)
+
+
+@pytest.mark.parametrize("C, k", [(1e-300, 4.0), (1e300, 300.0), (1e12, 1e6)])
+def test_a_fatigue_life_without_a_digit_is_said(C, k):
+    """Before: ZeroDivisionError for a life of 0, or an empty damage marked ok."""
+    from resonant.analyses.fatigue import SNCurve, spectral_fatigue
+    from resonant.errors import AnalysisError
+
+    f = np.linspace(90, 110, 201)
+    with pytest.raises(AnalysisError, match="no digit left in double precision"):
+        spectral_fatigue(f, np.full(201, 50.0), SNCurve(C, k), 3600.0)

@@ -31,6 +31,7 @@ Examples
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -255,7 +256,17 @@ def spectral_fatigue(frequency: Sequence[float] | np.ndarray,
                   "dirlik": lambda: FLife.Dirlik(data).get_life(sn.C, sn.k),
                   "tovo-benasciutti": lambda: FLife.TovoBenasciutti(data).get_life(
                       sn.C, sn.k, method="method 2")}
-    life = {m: float(estimators[m]()) for m in methods}
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)   # FLife's overflows: checked below
+        life = {m: float(estimators[m]()) for m in methods}
+    lost = [m for m, v in life.items() if not (math.isfinite(v) and v > 0)]
+    if lost:
+        raise AnalysisError(
+            f"the {lost[0]} estimate of the fatigue life has no digit left in double precision "
+            f"(it came out as {life[lost[0]]:g} s): the stress amplitudes raised to k = {sn.k:g} "
+            f"against C = {sn.C:g} leave the floating-point range; an S-N curve's k is usually "
+            "3 to 20 and C the cycles to failure at a unit stress amplitude, in the stress's "
+            "unit (check both, and the unit of the stress)")
     rate = {m: 1.0 / v for m, v in life.items()}
     m0, m2, m4 = (float(np.trapezoid(f**i * G, f)) for i in (0, 2, 4))
     return SpectralFatigue(rate, life,

@@ -724,6 +724,17 @@ def _middle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         return result
 
 
+def _out_of_range(spec: RandomSpec) -> ModelError:
+    """The error for responses whose densities or spectral moments (m0, m2, m4) leave the
+    floating-point range although the inputs and the transfer are finite."""
+    names = ", ".join(u.name for u in spec.inputs)
+    return ModelError(Problem(
+        "the response's spectral density or its moments (the mean square, and its moments "
+        "of f^2 and f^4 for Rice's rates) leave the floating-point range: the input densities "
+        "(or load and base vectors) are too large for double precision; give them in units "
+        "that keep the numbers nearer 1", spec.source, "random.psd", names))
+
+
 def _refine(quad: _Quadrature, tolerance: float, deadline: Deadline
             ) -> tuple[np.ndarray, np.ndarray, bool]:
     """Halve the pairs until every mean square's estimated error is below ``tolerance``."""
@@ -862,7 +873,10 @@ def random_response(system: LinearSystem, spec: RandomSpec | None = None,
     def evaluate(f: np.ndarray) -> np.ndarray:
         H, D = transfer.with_bound(f, outputs)
         G = _input_matrix(spec, f, transfer.values)
-        S = _response_density(H, G)
+        with np.errstate(over="ignore", invalid="ignore"):
+            S = _response_density(H, G)
+        if np.all(np.isfinite(H)) and np.all(np.isfinite(G)) and not np.all(np.isfinite(S)):
+            raise _out_of_range(spec)
         return S if D is None else np.hstack([S, _density_bound(H, D, G)])
 
     tol = spec.tolerance if tolerance is None else tolerance
@@ -884,7 +898,10 @@ def random_response(system: LinearSystem, spec: RandomSpec | None = None,
             warnings.append(f"the estimated relative error {np.nanmax(error):.2g} of a mean "
                             f"square (quadrature and reduced model) is above the tolerance "
                             f"{tol:.2g}")
-    m2, m4 = (m[:R] for m in quad.moments((2, 4)))
+    with np.errstate(over="ignore", invalid="ignore"):
+        m2, m4 = (m[:R] for m in quad.moments((2, 4)))
+    if not (np.all(np.isfinite(m0)) and np.all(np.isfinite(m2)) and np.all(np.isfinite(m4))):
+        raise _out_of_range(spec)
     order = np.argsort(quad.f)
     f = quad.f[order]
     S = quad.S[order][:, :R]

@@ -124,9 +124,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     if args.harmonics is not None:
         raise AnalysisError("--harmonics needs --nonlinear")
     values = linspace(args.start, args.stop, args.points, log=args.log)
-    names = None
-    if args.only:
-        names = [n.strip() for n in args.only.split(",") if n.strip()]
+    names = cli.response_names(args.only, model, outputs=False)
     deadline = cli.deadline(args)
     options = SweepOptions(method=args.method, names=None if names is None else tuple(names),
                            tol=args.tol, log=args.log,

@@ -68,6 +68,34 @@ def load_model(args: argparse.Namespace) -> Model:
     return model
 
 
+def response_names(text: str | None, model: Model, *, outputs: bool = True,
+                   option: str = "--only") -> list[str] | None:
+    """The comma-separated coordinates (and outputs) of ``option`` (None when not given),
+    each checked against the model before any work: exit 2 naming the file and option.
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> model = loads('[matrices]\\nM = [[1]]\\nK = [[4]]\\n')
+    >>> response_names(" q1, ", model)
+    ['q1']
+    """
+    if text is None:
+        return None
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    known = [*model.coordinates, *(model.outputs if outputs else ())]
+    what = "coordinate or output" if outputs else "coordinate"
+    if not names:
+        plural = "coordinates or outputs" if outputs else "coordinates"
+        raise ModelError(Problem(f"give one or more {plural}, separated by commas (of "
+                                 f"{', '.join(known[:20])})", model.source, key=option))
+    unknown = [n for n in names if n not in known]
+    if unknown:
+        raise ModelError(Problem(f"unknown {what} '{printable(unknown[0], 40)}'; known: "
+                                 f"{', '.join(known[:20])}", model.source, key=option))
+    return names
+
+
 def writable_output(name: str, what: str) -> Path:
     """The output file ``name``, checked once before any work: its folder exists and is
     writable, and it is not a folder itself.

@@ -34,7 +34,7 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
 def run_random(args: argparse.Namespace) -> int:
     deadline = cli.deadline(args)
     model = cli.load_model(args)
-    names = [n.strip() for n in args.only.split(",") if n.strip()] if args.only else None
+    names = cli.response_names(args.only, model)
     result = random_response(linear_system(model, deadline), deadline=deadline, names=names,
                              tolerance=args.tol)
     if args.plot:

@@ -43,8 +43,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import Problem
-from ..expressions import Expression, ExpressionError, numeric_value, parse
+from ..errors import Problem, printable
+from ..expressions import Expression, ExpressionError, numeric_value, parse, validate_name
 from .load_spec import check_input_dimension
 from .units import Dimension, ModelUnits, UnitError, parse_unit, parse_with_unit
 
@@ -265,6 +265,13 @@ def _input(name: str, table: object, params: list[str], signals: Sequence[str],
            coordinates: Sequence[str], units: ModelUnits | None, source: str,
            problems: list[Problem]) -> RandomInput | None:
     section = f"{SECTION}.psd.{name}"
+    reason = validate_name(name)
+    if reason is not None:  # a name is printed in reports, on terminals and in LaTeX
+        shown = printable(name, limit=40)
+        reason = reason.replace(repr(name), f"'{shown}'")
+        problems.append(Problem(f"an input's name, like every name of the model: {reason}",
+                                source, f"{SECTION}.psd", shown))
+        return None
     if not isinstance(table, dict):
         problems.append(Problem("expected a table with 'values' and 'unit'", source,
                                 f"{SECTION}.psd", name))
