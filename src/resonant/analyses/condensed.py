@@ -86,6 +86,7 @@ from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
 from ..expressions import numeric_value
+from ..memory import budget, chunk_rows
 from ..modal import (
     eigenvalues,
     factor_stiffness,
@@ -585,7 +586,7 @@ class CondensedBalance:
         coef[2 * H] += np.diag(mu_s)
         if b.N <= 4 * H:  # too few samples to resolve the offsets: alias-free part only
             coef[np.abs(offsets) >= b.N // 2] = 0.0
-        if s * (2 * H + 1) <= MONODROMY_ROWS:
+        if s * (2 * H + 1) <= MONODROMY_ROWS or _hill_is_cheaper(coef, W, H, s):
             lam = _hill(coef, W, H, s)
         else:
             pairs = _real_coordinates(mu_s)
@@ -677,24 +678,52 @@ def _monodromy(coef: np.ndarray, W: float, H: int, s: int, real: bool = False
     array([-0.1+0.5j])
     """
     T = 2 * np.pi / W
-    size = float(np.abs(coef).sum(axis=(0, 2)).max(initial=0.0))
-    steps = max(MONODROMY_STEPS, 16 * H, math.ceil(4 * T * size))
+    steps = _monodromy_steps(coef, W, H)
     h = T / steps
-    gauss = 0.5 / math.sqrt(3)
-    t = (np.arange(steps)[:, None] + 0.5 + np.array([-gauss, gauss])) * h   # (steps, 2)
     d = np.arange(-2 * H, 2 * H + 1)
-    # A at every Gauss point at once: (2 steps, offsets) @ (offsets, s s), one product
-    A = (np.exp(1j * W * t.reshape(-1, 1) * d) @ coef.reshape(d.size, s * s)
-         ).reshape(steps, 2, s, s)
-    if real:
-        A = np.ascontiguousarray(A.real)
-    A1, A2 = A[:, 0], A[:, 1]
-    omega = h / 2 * (A1 + A2) + math.sqrt(3) / 12 * h * h * (A2 @ A1 - A1 @ A2)
-    phi = _product(_expm_small(omega))
+    # the steps a chunk at a time: memory bounded whatever the step count (a stiff
+    # coordinate makes T |A| large), the product of the chunks' products in order
+    chunk = chunk_rows(16.0 * (16 * s * s + 2 * d.size), steps)
+    phi = np.eye(s, dtype=float if real else complex)
+    for first in range(0, steps, chunk):
+        phi = _magnus_steps(coef, W, d, h, np.arange(first, min(first + chunk, steps)),
+                            s, real) @ phi
     mult = eigenvalues(phi)
     with np.errstate(divide="ignore"):
         lam = np.log(np.where(mult == 0, 1e-300, mult)) / T
     return fundamental_strip(lam, lam.size)
+
+
+def _monodromy_steps(coef: np.ndarray, W: float, H: int) -> int:
+    """The Magnus steps over a period: at least :data:`MONODROMY_STEPS`, 16 per harmonic
+    and 4 per unit of T |A|."""
+    size = float(np.abs(coef).sum(axis=(0, 2)).max(initial=0.0))
+    return max(MONODROMY_STEPS, 16 * H, math.ceil(4 * 2 * np.pi / W * size))
+
+
+def _hill_is_cheaper(coef: np.ndarray, W: float, H: int, s: int) -> bool:
+    """Whether Hill's matrix (s (2H + 1) rows, one eigenvalue problem of about 10 rows^3
+    flops) costs less than the monodromy matrix (about 15 s^3 flops a step): a stiff
+    coordinate makes T |A|, and so the steps, large; neither is then needed twice."""
+    rows = s * (2 * H + 1)
+    return 10.0 * rows**3 <= 15.0 * _monodromy_steps(coef, W, H) * s**3 and \
+        16.0 * rows * rows <= budget()
+
+
+def _magnus_steps(coef: np.ndarray, W: float, d: np.ndarray, h: float, steps: np.ndarray,
+                  s: int, real: bool) -> np.ndarray:
+    """The product of the fourth-order Magnus steps ``steps`` (of length h) of
+    eta' = A(t) eta, the last on the left."""
+    gauss = 0.5 / math.sqrt(3)
+    t = (steps[:, None] + 0.5 + np.array([-gauss, gauss])) * h   # (steps, 2)
+    # A at every Gauss point at once: (2 steps, offsets) @ (offsets, s s), one product
+    A = (np.exp(1j * W * t.reshape(-1, 1) * d) @ coef.reshape(d.size, s * s)
+         ).reshape(len(steps), 2, s, s)
+    if real:
+        A = np.ascontiguousarray(A.real)
+    A1, A2 = A[:, 0], A[:, 1]
+    omega = h / 2 * (A1 + A2) + math.sqrt(3) / 12 * h * h * (A2 @ A1 - A1 @ A2)
+    return _product(_expm_small(omega))
 
 
 def _expm_small(omega: np.ndarray) -> np.ndarray:

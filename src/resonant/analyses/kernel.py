@@ -63,6 +63,7 @@ import numpy as np
 from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
+from ..memory import require
 from ..modal import largest_abs
 from ..model.options import SWEEP_METHODS
 from ..system.batch import Batch, BatchHarmonic
@@ -522,6 +523,9 @@ class _Store:
     def __init__(self, N: int, keep: np.ndarray, batch: Batch | None = None,
                  bound: np.ndarray | None = None) -> None:
         self.keep = keep
+        require(16.0 * N * len(keep), f"the responses kept ({N} frequencies x {len(keep)} "
+                "coordinates)", "ask for fewer frequencies (points, lines) or fewer "
+                "coordinates (the names to report)")
         self.values = np.empty((N, len(keep)), dtype=complex)
         self.largest = np.zeros(N)
         #: how much the damping acts on the response at each point

@@ -35,8 +35,9 @@ import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
+from ..memory import chunk_rows, require
 from ..model.load_spec import ShockSpec
-from ..system.base import LinearSystem
+from ..system.base import LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
 from .results_json import Saved, floats_json
 from .shock import pulse
@@ -258,41 +259,75 @@ def transient_response(system: LinearSystem, signal: str, values: Sequence[float
     if not (np.isfinite(step) and step > 0) or derivative not in (0, 1, 2):
         raise AnalysisError("the step must be positive and the derivative 0, 1 or 2")
     num, A, B = _state_space(system, signal, derivative, deadline)
-    n = num.n
+    rows, R, D = _output_map(num, A, B, signal, derivative, names)
+    require(8.0 * len(u) * (len(rows) + 2), f"the response histories ({len(u)} samples x "
+            f"{len(rows)} coordinates and outputs)", "ask for fewer names, a longer step or a "
+            "shorter history")
     Phi, F0, F1 = _discretize(A, B, step)
-    G0 = F0 - F1
-    X = np.zeros((len(u), len(A)))
-    state = np.zeros(len(A))
-    for j in range(len(u) - 1):
-        if j % 10_000 == 0:
-            deadline.check("while marching the transient response")
-        state = Phi @ state + G0 * u[j] + F1 * u[j + 1]
-        X[j + 1] = state
-    acceleration = X @ A[n:2 * n].T + np.outer(u, B[n:2 * n])
-    derivatives = {0: X[:, :n], 1: X[:, n:2 * n], 2: acceleration}
-    signal_values = {k: X[:, 2 * n + k] for k in range(derivative)}
-    signal_values[derivative] = u
-    history: dict[str, np.ndarray] = {}
-    for i, q in enumerate(num.coordinates):
-        if names is None or q in names:
-            history[q] = X[:, i].copy()
-    for name, output in num.outputs.items():
-        if names is not None and name not in names:
-            continue
-        y = np.zeros(len(u))
-        for (var, order), coefficient in output.terms.items():
-            if var in num.coordinates:
-                y += coefficient * derivatives[order][:, num.coordinates.index(var)]
-            elif var == signal and order in signal_values:
-                y += coefficient * signal_values[order]
-            elif var == signal:
-                raise AnalysisError(f"the output {name} uses {var}" + "'" * order + ", a "
-                                    "higher derivative than the history's")
-        history[name] = y
+    Y = _march(Phi, F0 - F1, F1, u, R, D, deadline)
+    history = {name: Y[:, k] for k, name in enumerate(rows)}
     time = np.arange(len(u)) * step
     return TransientResponse(time, u, history,
                              {k: float(np.abs(v).max()) for k, v in history.items()},
                              tuple(history))
+
+
+def _output_map(num: NumericEOM, A: np.ndarray, B: np.ndarray, signal: str, derivative: int,
+                names: Sequence[str] | None) -> tuple[list[str], np.ndarray, np.ndarray]:
+    """The names reported and the map y = R X + D u from the state X = [q, q', s, ...,
+    s^(m-1)] and the input u = s^(m) to them (a coordinate, or an output's terms in q, q',
+    q'' = A[q''] X + B[q''] u and the signal's derivatives)."""
+    n, size = num.n, len(A)
+    rows: list[str] = []
+    R, D = [], []
+    for i, q in enumerate(num.coordinates):
+        if names is None or q in names:
+            rows.append(q)
+            R.append(np.eye(size)[i])
+            D.append(0.0)
+    for name, output in num.outputs.items():
+        if names is not None and name not in names:
+            continue
+        r, d = np.zeros(size), 0.0
+        for (var, order), coefficient in output.terms.items():
+            if var in num.coordinates:
+                i = num.coordinates.index(var)
+                if order < 2:
+                    r[order * n + i] += coefficient
+                else:
+                    r += coefficient * A[n + i]
+                    d += coefficient * B[n + i]
+            elif var == signal and order < derivative:
+                r[2 * n + order] += coefficient
+            elif var == signal and order == derivative:
+                d += coefficient
+            elif var == signal:
+                raise AnalysisError(f"the output {name} uses {var}" + "'" * order + ", a "
+                                    "higher derivative than the history's")
+        rows.append(name)
+        R.append(r)
+        D.append(d)
+    return rows, np.array(R).reshape(len(rows), size), np.array(D)
+
+
+def _march(Phi: np.ndarray, G0: np.ndarray, G1: np.ndarray, u: np.ndarray, R: np.ndarray,
+           D: np.ndarray, deadline: Deadline) -> np.ndarray:
+    """y[j] = R X[j] + D u[j] along X[j+1] = Phi X[j] + G0 u[j] + G1 u[j+1], X[0] = 0,
+    holding the states of one chunk of samples at a time (memory: the outputs only)."""
+    Y = np.empty((len(u), len(R)))
+    chunk = chunk_rows(8.0 * len(Phi), len(u))
+    buffer = np.zeros((chunk, len(Phi)))
+    state = np.zeros(len(Phi))
+    for start in range(0, len(u), chunk):
+        stop = min(start + chunk, len(u))
+        for j in range(start, stop):
+            if j % 10_000 == 0:
+                deadline.check("while marching the transient response")
+            if j > 0:
+                state = Phi @ state + G0 * u[j - 1] + G1 * u[j]
+            buffer[j - start] = state
+        Y[start:stop] = buffer[:stop - start] @ R.T + np.outer(u[start:stop], D)
+    return Y
 
 
 def shock_response(system: LinearSystem, spec: ShockSpec | None = None, *,

@@ -1,0 +1,142 @@
+"""Memory bounded by design (resonant.memory): analyses whose arrays grow with the request
+estimate them first and stream, chunk or refuse above the budget.
+
+Each model here is chosen to make the naive size explode: a light coordinate (the
+monodromy's step count), many spectral lines on many coordinates, a long history of a
+large model.  The command runs in a subprocess under a 2 GiB address-space limit (the
+interpreter, numpy and scipy take about half of it): before, these ended in
+``internal error (MemoryError ...)`` after asking for 3 to 60 GiB.
+"""
+
+from __future__ import annotations
+
+import os
+import resource
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from resonant.errors import AnalysisError, ModelError
+
+ADDRESS_SPACE = 2 << 30
+
+
+def run_limited(args: list[str], env: dict[str, str] | None = None, timeout: float = 240
+                ) -> tuple[int, str, str]:
+    """``resonant ARGS`` in a subprocess with at most ADDRESS_SPACE bytes of address
+    space, one BLAS thread."""
+
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_AS, (ADDRESS_SPACE, ADDRESS_SPACE))
+
+    environment = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
+                       MKL_NUM_THREADS="1", **(env or {}))
+    code = "import sys\nfrom resonant.cli import main\nsys.exit(main(sys.argv[1:]))"
+    proc = subprocess.run([sys.executable, "-c", code, *map(str, args)], capture_output=True,
+                          text=True, timeout=timeout, preexec_fn=limit, env=environment)
+    return proc.returncode, proc.stdout, proc.stderr
+
+
+def rows(a: np.ndarray) -> str:
+    return "[" + ", ".join("[" + ", ".join(f"{v:.17g}" for v in r) + "]" for r in a) + "]"
+
+
+def chain(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    K = 1e4 * (2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
+    K[-1, -1] = 1e4
+    return np.eye(n), 0.01 * np.eye(n) + 1e-4 * K, K
+
+
+LIGHT = """[parameters]
+w = 1.0
+[matrices]
+M = [[1, 0, 0], [0, 1, 0], [0, 0, 1e-4]]
+K = [[2, -1, 0], [-1, 2, -1], [0, -1, 1]]
+C = [[0.02, 0, 0], [0, 0.02, 0], [0, 0, 10]]
+[[harmonic]]
+omega = "w"
+F_C = [0.1, 0, 0]
+F_S = [0, 0, 0]
+[[nonlinear]]
+coordinates = ["q1"]
+force = "0.5*q1^3"
+"""
+
+
+def test_the_stability_of_a_stiff_light_coordinate_is_bounded(tmp_path: Path) -> None:
+    """A light, heavily damped coordinate made the monodromy's step count (4 T |A|) and
+    its stack of matrices huge (3 GiB with 25 harmonics, 60 GiB with 40): the steps now go a chunk at a
+    time, and Hill's matrix is taken where it is the cheaper of the two."""
+    path = tmp_path / "light.toml"
+    path.write_text(LIGHT)
+    code, out, err = run_limited(["sweep", path, "--nonlinear", "--param", "w", "--from",
+                                  "0.8", "--to", "1.2", "--harmonics", "25", "--points", "12"])
+    assert code == 0, err
+    assert "MemoryError" not in err and "peak of the stable branch" in out
+
+
+def test_many_lines_on_many_coordinates_are_refused_before_the_work(tmp_path: Path) -> None:
+    """``[random] lines = 1000000`` on a 100-coordinate chain: 2.98 GiB of kept responses,
+    refused with the size and how to ask for less (exit 3) before the solves."""
+    M, C, K = chain(100)
+    load = ", ".join(["0"] * 99 + ["1"])
+    path = tmp_path / "chain.toml"
+    path.write_text(f"[matrices]\nM = {rows(M)}\nK = {rows(K)}\nC = {rows(C)}\n"
+                    f"[random]\nband = [1, 100]\nlines = 1000000\n[random.psd.W]\n"
+                    f"values = 1\nload = [{load}]\n")
+    code, _, err = run_limited(["random", path])
+    assert code == 3, err
+    assert "GiB of memory, above the budget" in err and "fewer" in err
+
+
+def test_the_budget_is_the_environment_s(tmp_path: Path) -> None:
+    """``RESONANT_MEMORY`` sets the budget; a value that is no size is exit 2 naming it."""
+    M, C, K = chain(3)
+    path = tmp_path / "chain.toml"
+    path.write_text(f"[parameters]\nomega = 1\n[matrices]\nM = {rows(M)}\nK = {rows(K)}\n"
+                    f"C = {rows(C)}\n[[harmonic]]\nomega = \"omega\"\nF_C = [0, 0, 1]\n"
+                    "F_S = [0, 0, 0]\n")
+    code, _, err = run_limited(["sweep", path, "--param", "omega", "--from", "1", "--to",
+                                "100", "--points", "100000"], env={"RESONANT_MEMORY": "1M"})
+    assert code == 3 and "above the budget of 1 MiB" in err, err
+    code, _, err = run_limited(["solve", path], env={"RESONANT_MEMORY": "lots"})
+    assert code == 2 and "RESONANT_MEMORY" in err and "no memory size" in err, err
+
+
+def test_a_long_history_keeps_only_what_was_asked(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A transient of 10^6 samples on a 40-coordinate chain held samples x states before
+    it stepped (2.7 GiB at 3 10^6 samples and 60 coordinates): now it holds the histories
+    asked for, and refuses what would pass the budget before it steps."""
+    import resonant
+    from resonant.analyses.transient import transient_response
+
+    M, C, K = chain(40)
+    model = resonant.loads(f"[matrices]\nM = {rows(M)}\nK = {rows(K)}\nC = {rows(C)}\n")
+    u = np.zeros(1_000_000)
+    u[:100] = 1.0
+    monkeypatch.setenv("RESONANT_MEMORY", "64M")
+    with pytest.raises(AnalysisError, match=r"1000000 samples x 40 coordinates"):
+        transient_response(model.linearize(), "q40", u, 1e-5)
+    short = transient_response(model.linearize(), "q40", u[:20_000], 1e-5, names=["q40"])
+    assert list(short.history) == ["q40"] and short.history["q40"].shape == (20_000,)
+
+
+def test_the_budget_reads_sizes() -> None:
+    from resonant.memory import budget
+
+    for text, value in (("512M", 512 * 2**20), ("1.5GiB", 3 * 2**29), ("4g", 4 * 2**30),
+                        ("2097152", 2**21)):
+        os.environ["RESONANT_MEMORY"] = text
+        try:
+            assert budget() == value
+        finally:
+            del os.environ["RESONANT_MEMORY"]
+    os.environ["RESONANT_MEMORY"] = "-1G"
+    try:
+        with pytest.raises(ModelError, match="RESONANT_MEMORY"):
+            budget()
+    finally:
+        del os.environ["RESONANT_MEMORY"]
