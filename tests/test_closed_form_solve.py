@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 import resonant
 from resonant.analyses.kernel import closed_form_solve, solve_harmonic
-from resonant.studies.quantities import sample_parameters
+from resonant.system.base import sample_parameters
 
 U = np.finfo(float).eps / 2
 TINY = np.finfo(float).tiny

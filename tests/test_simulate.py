@@ -173,12 +173,12 @@ def test_free_vibration_from_a_given_initial_state():
 
 def test_parse_initial_errors_and_velocities():
     model = load(EXAMPLES / "two_dof_free.toml")
-    q, v = parse_initial(model, {"x2'": "k/m/100"})
+    q, v = parse_initial(model.coordinates, model.parameter_values, {"x2'": "k/m/100"})
     assert np.isnan(q).all() and v[1] == pytest.approx(4.0)
     with pytest.raises(ModelError, match="'y' is not a coordinate"):
-        parse_initial(model, {"y": 1})
+        parse_initial(model.coordinates, model.parameter_values, {"y": 1})
     with pytest.raises(ModelError, match="unknown name"):
-        parse_initial(model, {"x1": "bogus*2"})
+        parse_initial(model.coordinates, model.parameter_values, {"x1": "bogus*2"})
 
 
 def test_matrix_model_simulates_linear_but_not_nonlinear():

@@ -18,7 +18,8 @@ import resonant
 from resonant.analyses.kernel import _dynamic_matrix
 from resonant.analyses.sweep import amplitude_and_phase, amplitudes
 from resonant.studies.files import ResultWriter, read_columns
-from resonant.studies.quantities import responses, sample_parameters
+from resonant.studies.quantities import responses
+from resonant.system.base import sample_parameters
 
 finite = st.floats(min_value=-1e6, max_value=1e6, allow_nan=False)
 anything = st.floats(allow_nan=True, allow_infinity=True, width=64)

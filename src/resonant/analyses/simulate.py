@@ -59,7 +59,6 @@ from ..deadline import NO_DEADLINE, AnalysisTimeout, Deadline
 from ..errors import AnalysisError, ModelError, Problem, name_list
 from ..expressions import parse
 from ..modal import point_state_eigenvalues
-from ..model import Model
 from ..model.options import SimulationOptions, chosen
 from ..model.types import constant_prime_message, primed_names
 from ..system.base import LinearSystem, NumericEOM
@@ -451,24 +450,24 @@ def _periodic_start(system: NonlinearSystem | None, start: str, given: bool,
     return periodic
 
 
-def parse_initial(model: Model, initial: Mapping[str, float | str] | None
+def parse_initial(coordinates: Sequence[str], values: Mapping[str, float],
+                  initial: Mapping[str, float | str] | None
                   ) -> tuple[np.ndarray | None, np.ndarray | None]:
     """Deviations and velocities from ``{"x1": 0.01, "x2'": "0.1*l"}`` (None where not given).
 
-    Values may be expressions of the parameters (parsed, never evaluated as code).
+    Values may be expressions of the parameters ``values`` (parsed, never evaluated as
+    code).
 
     Examples
     --------
-    >>> from resonant.api import loads
-    >>> m = loads('[parameters]\\nl = 2\\n[coordinates]\\nx = ""\\n[energy]\\nT = "x\\'^2/2"')
-    >>> parse_initial(m, {"x": "l/4", "x'": 1})
+    >>> parse_initial(("x",), {"l": 2.0}, {"x": "l/4", "x'": 1})
     (array([0.5]), array([1.]))
     """
     if not initial:
         return None, None
 
-    n = len(model.coordinates)
-    index = {c: i for i, c in enumerate(model.coordinates)}
+    n = len(coordinates)
+    index = {c: i for i, c in enumerate(coordinates)}
     q0, v0 = np.full(n, np.nan), np.full(n, np.nan)
     problems = []
     for key, value in initial.items():
@@ -478,16 +477,16 @@ def parse_initial(model: Model, initial: Mapping[str, float | str] | None
         if base not in index or order > 1:
             problems.append(Problem(
                 f"'{key}' is not a coordinate or a coordinate's velocity (coordinates: "
-                f"{name_list(model.coordinates)}; a velocity is written x')", "--initial"))
+                f"{name_list(coordinates)}; a velocity is written x')", "--initial"))
             continue
         try:
-            expression = parse(value, allowed=set(model.parameters), file="--initial", key=name)
+            expression = parse(value, allowed=set(values), file="--initial", key=name)
             primed = primed_names(expression)
             if primed:
                 problems.append(Problem(constant_prime_message(primed), "--initial", "", name))
                 continue
             number = float(expression.to_sympy(
-                lambda nm, p: sympy.Float(model.parameter_values[nm])).evalf())
+                lambda nm, p: sympy.Float(values[nm])).evalf())
         except ModelError as exc:
             problems.extend(exc.problems)
             continue
@@ -547,13 +546,13 @@ def _start_kind(start: str, given: bool, scales: _Scales,
     return start
 
 
-def _initial_state(model: Model, num: NumericEOM, initial: Mapping[str, float | str] | None,
+def _initial_state(num: NumericEOM, initial: Mapping[str, float | str] | None,
                    start: str, scales: _Scales, solution: StationarySolution | None,
                    full: NonlinearSystem | None, slow: bool, excited: bool,
                    warnings: list[str], deadline: Deadline
                    ) -> tuple[np.ndarray, np.ndarray, str]:
     """Initial deviations, velocities and the kind of start."""
-    q_given, v_given = parse_initial(model, initial)
+    q_given, v_given = parse_initial(num.coordinates, num.parameters, initial)
     periodic = _periodic_start(full, start, bool(initial), scales.stability, solution,
                                warnings, deadline, slow)
     start_kind = _start_kind(start, bool(initial), scales, solution, periodic)
@@ -786,7 +785,6 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
     method, rtol, progress = given.method, given.rtol, given.progress
     periods = DEFAULT_PERIODS if given.periods is None else given.periods
     linear_system, full = _systems(system, nonlinear, deadline)
-    model = linear_system._model()
     warnings: list[str] = []
     num = linear_system.numeric(deadline).dense()
     check_mass_matrix(num.M, num.coordinates)
@@ -795,12 +793,12 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
     slow = scales.stability == ASYMPTOTIC and duration is None and \
         scales.settle_time > MAX_DEFAULT_CYCLES * 2 * math.pi / scales.highest
     excited = bool(cast(Any, linear_system).excitation)  # signals or loads present
-    q0, v0, start_kind = _initial_state(model, num, initial, start, scales, solution, full,
+    q0, v0, start_kind = _initial_state(num, initial, start, scales, solution, full,
                                         slow, excited, warnings, deadline)
     duration, window = _duration(duration, scales, start_kind,
                                  bool(np.any(q0) or np.any(v0)), num.harmonic, warnings)
     dynamics: Any = NonlinearDynamics(full) if full is not None else \
-        LinearDynamics(linear_system, num, model)
+        LinearDynamics(linear_system, num)
     for name in dynamics.unsupported:
         warnings.append(f"output '{name}' depends on a coordinate's derivative of order > 2 "
                         "and is not simulated")
@@ -816,7 +814,7 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
     linear, response, relative = _compare(solution, t, states, steady, start_kind, scales,
                                           window, full is not None, warnings)
     return Simulation(
-        title=model.title, coordinates=num.coordinates, t=t,
+        title=linear_system.title, coordinates=num.coordinates, t=t,
         states=MappingProxyType(states), linear_response=MappingProxyType(response),
         steady_amplitudes=MappingProxyType(steady), linear_amplitudes=MappingProxyType(linear),
         relative_difference=MappingProxyType(relative), window=window,

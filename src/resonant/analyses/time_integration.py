@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, TypeAlias, cast
 
 import numpy as np
@@ -26,7 +26,7 @@ from ..deadline import Deadline
 from ..errors import AnalysisError
 from ..expressions import compilable
 from ..modal import state_matrix
-from ..model import TIME, Model, symbol
+from ..model import TIME, symbol
 from ..system.base import LinearSystem, NumericEOM
 from ..system.matrix import MatrixEOM
 from ..system.nonlinear import NonlinearSystem
@@ -78,15 +78,14 @@ def _stack(values: Sequence[Any], shape: tuple[int, ...]) -> np.ndarray:
                     dtype=float)
 
 
-def _parameter_args(model: Model) -> tuple[list[sympy.Symbol], list[float]]:
-    names = list(model.parameters)
-    return [symbol(n) for n in names], [float(model.parameter_values[n]) for n in names]
+def _parameter_args(values: Mapping[str, float]) -> tuple[list[sympy.Symbol], list[float]]:
+    return [symbol(n) for n in values], [float(v) for v in values.values()]
 
 
 class LinearDynamics:
     """y = [q, q'] of M q'' + C q' + K q = Q(t); q are deviations."""
 
-    def __init__(self, eom: LinearSystem, num: NumericEOM, model: Model) -> None:
+    def __init__(self, eom: LinearSystem, num: NumericEOM) -> None:
         # the loads and signals in sympy: a system derived from a model's energies or
         # given by its matrices (a bare NumericEOM has no model to simulate)
         eom = cast("LinearEOM | MatrixEOM", eom)
@@ -94,7 +93,7 @@ class LinearDynamics:
         self.M, self.C, self.K = num.M, num.C, num.K
         self.Minv = np.linalg.inv(num.M)
         self.A = state_matrix(self.Minv @ num.K, self.Minv @ num.C)
-        params, self.pvals = _parameter_args(model)
+        params, self.pvals = _parameter_args(num.parameters)
         self._q = _lambdify(list(eom.Q), [TIME, *params]) if eom.excitation else None
         signals = eom.signal_functions
         self.outputs: dict[str, list[tuple[tuple[str, int], float]]] = {}

@@ -42,7 +42,6 @@ from ..analyses.sweep import amplitude_and_phase, amplitudes, harmonic_responses
 from ..analyses.transient import shock_response
 from ..arrays import Matrix
 from ..errors import ModelError, Problem, ResonantError
-from ..expressions import numeric_value
 from ..modal import (
     cholesky_lambdas,
     damping_ratio,
@@ -54,7 +53,6 @@ from ..modal import (
     unstable,
     unstable_by_inertia,
 )
-from ..model import Model
 from ..model.study import Band, Quantity, StudySpec
 from ..system.base import LinearSystem, numeric_point
 from ..system.batch import Batch
@@ -118,37 +116,6 @@ class Rows:
         out["status"] = self.status.astype(str)
         out["reason"] = self.reason.astype(str)
         return out
-
-
-def sample_parameters(model: Model, varied: Mapping[str, np.ndarray | float], count: int
-                      ) -> tuple[dict[str, Any], np.ndarray, list[str]]:
-    """Every parameter's values with ``varied`` set (arrays of ``count``, or numbers shared
-    by all); parameters defined from them follow.
-
-    Returns the values, the mask of samples where a dependent parameter is not
-    finite, and a reason for each such sample.
-    """
-    out: dict[str, Any] = {}
-    bad = np.zeros(count, dtype=bool)
-    reasons = [""] * count
-    for name, expression in model.parameters.items():
-        if name in varied:  # a value shared by every point stays a number
-            given = np.asarray(varied[name], dtype=float)
-            out[name] = given if given.ndim else float(given)
-        elif any(n in varied or isinstance(out.get(n), np.ndarray)
-                 for n, _ in expression.names()):
-            with np.errstate(all="ignore"):
-                raw = np.asarray(numeric_value(expression, out), dtype=float)
-            value = np.broadcast_to(raw, (count,)).copy()
-            wrong = ~np.isfinite(value) & ~bad
-            for i in np.flatnonzero(wrong):
-                reasons[i] = f"{name} = {expression.text} is not finite"
-            bad |= wrong
-            value[wrong] = model.parameter_values[name]
-            out[name] = value if raw.ndim else float(value[0])
-        else:
-            out[name] = model.parameter_values[name]
-    return out, bad, reasons
 
 
 def _stack(a: Matrix) -> np.ndarray:
@@ -258,7 +225,8 @@ def _fill_responses(rows: Rows, spec: StudySpec, system: LinearSystem,
         rows.columns[q.text] = np.where(ok, column, np.nan)
 
 
-def _band_values(values: Mapping[str, Any], model: Model, param: str, grid: np.ndarray
+def _band_values(values: Mapping[str, Any], system: LinearSystem, param: str,
+                 grid: np.ndarray
                  ) -> tuple[dict[str, Any], int]:
     """Every sample's values repeated for the points of its own ``grid`` row (N, F); one
     sample's values stay numbers (its matrices and loads are then computed once, not F
@@ -267,7 +235,7 @@ def _band_values(values: Mapping[str, Any], model: Model, param: str, grid: np.n
     varied = {k: float(v[0]) if N == 1 else np.repeat(v, F) for k, v in values.items()
               if isinstance(v, np.ndarray) and k != param}
     varied[param] = grid.ravel()
-    out, _, _ = sample_parameters(model, varied, N * F)
+    out, _, _ = system.parameter_samples(varied, N * F)
     return out, N * F
 
 
@@ -283,15 +251,15 @@ def _best(rows: np.ndarray, points: np.ndarray, best: np.ndarray, where: np.ndar
     where[better] = points[np.arange(count), k][better]
 
 
-def _amplitude_on(system: LinearSystem, model: Model, values: Mapping[str, Any], param: str,
+def _amplitude_on(system: LinearSystem, values: Mapping[str, Any], param: str,
                   points: np.ndarray, names: Sequence[str]) -> np.ndarray:
     """Amplitudes (N, F, names) with ``param`` at each sample's own points (N, F)."""
-    band_values, size = _band_values(values, model, param, points)
+    band_values, size = _band_values(values, system, param, points)
     amplitude, _, _ = responses(system, band_values, size, names, phase=False)
     return amplitude.reshape(*points.shape, len(names))
 
 
-def _peak_search(system: LinearSystem, model: Model, values: Mapping[str, Any],
+def _peak_search(system: LinearSystem, values: Mapping[str, Any],
                  spec: StudySpec, names: Sequence[str], count: int
                  ) -> tuple[np.ndarray, np.ndarray]:
     """The largest amplitude of each name over the band and where it is, per sample:
@@ -302,12 +270,12 @@ def _peak_search(system: LinearSystem, model: Model, values: Mapping[str, Any],
     band = spec.band
     assert band is not None
     grid = np.broadcast_to(np.linspace(band.start, band.stop, band.points), (count, band.points))
-    shared = _shared_band(system, model, values, band, grid, names)
+    shared = _shared_band(system, values, band, grid, names)
 
     def on(points: np.ndarray, which: Sequence[str]) -> np.ndarray:
         if shared is not None:
             return shared.amplitudes(points)[..., [names.index(q) for q in which]]
-        return _amplitude_on(system, model, values, band.parameter, points, which)
+        return _amplitude_on(system, values, band.parameter, points, which)
 
     amplitude = on(grid, names)
     best = np.full((count, len(names)), -np.inf)
@@ -324,17 +292,17 @@ def _peak_search(system: LinearSystem, model: Model, values: Mapping[str, Any],
         a = on(points, names[j:j + 1])
         _best(a[:, :, 0], points, best[:, j], where[:, j])
         if shared is not None:  # the peak found on the reduced model, solved exactly
-            best[:, j] = _amplitude_on(system, model, values, band.parameter,
+            best[:, j] = _amplitude_on(system, values, band.parameter,
                                        where[:, j:j + 1], names[j:j + 1])[:, 0, 0]
     return best, where
 
 
-def _shared_band(system: LinearSystem, model: Model, values: Mapping[str, Any], band: Band,
+def _shared_band(system: LinearSystem, values: Mapping[str, Any], band: Band,
                  grid: np.ndarray, names: Sequence[str]) -> ReducedBand | None:
     """One sample of a large model: its reduced model over the band, where it pays."""
     if grid.shape[0] != 1 or system.n <= SMALL:
         return None
-    band_values, size = _band_values(values, model, band.parameter, grid)
+    band_values, size = _band_values(values, system, band.parameter, grid)
     return reduced_band(system.evaluate(band_values, size), grid[0], names)
 
 
@@ -372,13 +340,13 @@ def undamped_resonance_in_band(lam: np.ndarray, C: np.ndarray, band: Band) -> np
     return undamped & inside
 
 
-def _fill_peaks(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
+def _fill_peaks(rows: Rows, spec: StudySpec, system: LinearSystem,
                 values: Mapping[str, Any]) -> None:
     wanted = [q for q in spec.quantities if q.kind == "peak"]
     if not wanted:
         return
     names = list(dict.fromkeys(q.target for q in wanted))
-    best, where = _peak_search(system, model, values, spec, names, rows.count)
+    best, where = _peak_search(system, values, spec, names, rows.count)
     for q in wanted:
         j = names.index(q.target)
         ok = rows.valid("stability", "band")
@@ -475,7 +443,7 @@ def _fill_srs(rows: Rows, spec: StudySpec, system: LinearSystem, values: Mapping
     _per_sample(rows, wanted, system, values, batch, "shock", compute)
 
 
-def _fill(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
+def _fill(rows: Rows, spec: StudySpec, system: LinearSystem,
           values: Mapping[str, Any], nonlinear: NonlinearSystem | None = None) -> None:
     """Every quantity of a chunk whose parameters evaluate."""
     batch = system.evaluate(values, rows.count)
@@ -494,7 +462,7 @@ def _fill(rows: Rows, spec: StudySpec, system: LinearSystem, model: Model,
     else:
         _fill_modal_large(rows, spec, system, values)
     _fill_responses(rows, spec, system, values, batch)
-    _fill_peaks(rows, spec, system, model, values)
+    _fill_peaks(rows, spec, system, values)
     _fill_nonlinear(rows, spec, nonlinear, values)
     _fill_rms(rows, spec, system, values, batch)
     _fill_srs(rows, spec, system, values, batch)
@@ -520,16 +488,15 @@ def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str,
     dict
         column -> array (N,): the quantities' columns, ``status`` and ``reason``.
     """
-    model = system._model()
     if nonlinear is None and any(q.kind == "nonlinear_amplitude" for q in spec.quantities):
         nonlinear = nonlinear_system(system)
     count = len(next(iter(varied.values())))
     rows = Rows(count, spec)
-    values, bad, reasons = sample_parameters(model, varied, count)
+    values, bad, reasons = system.parameter_samples(varied, count)
     for i in np.flatnonzero(bad):
         rows.fail(np.arange(count) == i, "failed", reasons[i])
     try:
-        _fill(rows, spec, system, model, values, nonlinear)
+        _fill(rows, spec, system, values, nonlinear)
     except (ResonantError, np.linalg.LinAlgError, FloatingPointError, OverflowError) as exc:
         if count == 1:
             rows.fail(np.ones(1, dtype=bool), "failed", str(exc).splitlines()[0])

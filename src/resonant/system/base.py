@@ -138,6 +138,26 @@ class LinearSystem(ABC):
         return self.evaluate(parameter_values(self._model(), param, values), len(values),
                              deadline)
 
+    def parameter_samples(self, varied: Mapping[str, np.ndarray | float], count: int
+                          ) -> tuple[dict[str, Any], np.ndarray, list[str]]:
+        """Every parameter's values at ``count`` points with ``varied`` set, the parameters
+        defined from them following (:func:`sample_parameters`).
+
+        Parameters
+        ----------
+        varied : mapping
+            parameter -> an array of ``count`` values, or a number shared by all.
+        count : int
+            The number of points.
+
+        Returns
+        -------
+        tuple
+            The values (name -> float or array), the mask of the points where a dependent
+            parameter is not finite, and a reason for each such point.
+        """
+        return sample_parameters(self._model(), varied, count)
+
     def random_response(self, spec: RandomSpec | None = None, deadline: Deadline = NO_DEADLINE,
                         *, names: Sequence[str] | None = None, method: str = "auto",
                         tolerance: float | None = None) -> RandomResponse:
@@ -293,6 +313,46 @@ class LinearSystem(ABC):
         from ..analyses.sweep import sweep
         return sweep(self, param, values, method=method, names=names, progress=progress,
                            log=log, deadline=deadline, tol=tol, options=options)
+
+
+def sample_parameters(model: Model, varied: Mapping[str, np.ndarray | float], count: int
+                      ) -> tuple[dict[str, Any], np.ndarray, list[str]]:
+    """Every parameter's values with ``varied`` set (arrays of ``count``, or numbers shared
+    by all); parameters defined from them follow.
+
+    Returns the values, the mask of samples where a dependent parameter is not
+    finite, and a reason for each such sample.
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> model = loads('[parameters]\\nk = 1\\nk2 = "2*k"\\n[matrices]\\nM = [[1]]\\n'
+    ...               'K = [["k2"]]\\n')
+    >>> values, bad, _ = sample_parameters(model, {"k": np.array([1.0, 3.0])}, 2)
+    >>> values["k2"].tolist(), bad.tolist()
+    ([2.0, 6.0], [False, False])
+    """
+    out: dict[str, Any] = {}
+    bad = np.zeros(count, dtype=bool)
+    reasons = [""] * count
+    for name, expression in model.parameters.items():
+        if name in varied:  # a value shared by every point stays a number
+            given = np.asarray(varied[name], dtype=float)
+            out[name] = given if given.ndim else float(given)
+        elif any(n in varied or isinstance(out.get(n), np.ndarray)
+                 for n, _ in expression.names()):
+            with np.errstate(all="ignore"):
+                raw = np.asarray(numeric_value(expression, out), dtype=float)
+            value = np.broadcast_to(raw, (count,)).copy()
+            wrong = ~np.isfinite(value) & ~bad
+            for i in np.flatnonzero(wrong):
+                reasons[i] = f"{name} = {expression.text} is not finite"
+            bad |= wrong
+            value[wrong] = model.parameter_values[name]
+            out[name] = value if raw.ndim else float(value[0])
+        else:
+            out[name] = model.parameter_values[name]
+    return out, bad, reasons
 
 
 def parameter_values(model: Model, param: str, values: np.ndarray,
