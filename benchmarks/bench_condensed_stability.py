@@ -66,10 +66,11 @@ def plate(n: int) -> None:
 
     import resonant
     from resonant.analyses import condensed
+    from resonant.system import nonlinear_system
 
     with tempfile.TemporaryDirectory() as tmp:
         path, _ = write_model("plate", Path(tmp), n)
-        system = resonant.load(path).linearize()
+        system = nonlinear_system(resonant.load(path))
     original = condensed.CondensedBalance.exponents
     spent = [0.0]
 

@@ -150,10 +150,11 @@ def measure(n: int, points: int, directory: Path, structure: str = "rod") -> dic
     """One size: load, follow the branch, time it."""
     import resonant
     from resonant.analyses import condensed
+    from resonant.system import nonlinear_system
 
     path, _ = write_model(structure, directory / f"n{n}", n)
     model = resonant.load(path)
-    system = model.linearize()
+    system = nonlinear_system(model)
     built: dict[str, float] = {}
     original = condensed.linear_part
 
@@ -193,9 +194,10 @@ import json, sys, time
 import numpy as np
 import resonant
 from resonant.analyses import condensed
+from resonant.system import nonlinear_system
 path, n, at = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 model = resonant.load(path)
-system = model.linearize()
+system = nonlinear_system(model)
 t1 = time.perf_counter()
 r = condensed.condensed_sweep(system, "omega", @START@, @STOP@, harmonics=@H@,
                               points=100, samples=@SAMPLES@, linear=False)

@@ -18,6 +18,7 @@ from scipy.optimize import brentq
 from scipy.sparse.linalg import spsolve
 
 from resonant.analyses import condensed
+from resonant.system import nonlinear_system
 from resonant.analyses.condensed import condensed_sweep
 from resonant.analyses.harmonic_balance import nonlinear_sweep
 from resonant.analyses.sweep import sweep
@@ -149,7 +150,7 @@ def test_condensed_equals_full_harmonic_balance_on_a_200_dof_chain():
     H = 3
     model, M, C, K = chain(200)
     n = 200
-    r = condensed_sweep(model.linearize(), "w", 1.0, 2.4, harmonics=H, points=60,
+    r = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, harmonics=H, points=60,
                         observe=[f"q{i}" for i in range(1, n + 1)], linear=False)
     folds = [s for s in r.special_points if s.kind == "fold"]
     assert len(folds) == 2
@@ -217,7 +218,7 @@ def test_folds_and_peaks_equal_the_harmonic_balance_of_the_energy_model():
     and the peaks of the condensed balance equal those of resonant's full harmonic
     balance (1e-8 relative, amplitudes too), and so do the amplitudes at the branch's end."""
     H = 5
-    condensed = condensed_sweep(loads(DUFFING_MATRICES).linearize(), "w", 0.4, 2.2,
+    condensed = condensed_sweep(nonlinear_system(loads(DUFFING_MATRICES)), "w", 0.4, 2.2,
                                 harmonics=H, points=60, observe=["q1"], linear=False)
     full = nonlinear_sweep(loads(DUFFING_ENERGY).linearize(), "w", 0.4, 2.2, harmonics=H,
                            points=60, linear=False)
@@ -241,7 +242,7 @@ def test_folds_and_peaks_equal_the_harmonic_balance_of_the_energy_model():
 def test_a_gap_that_never_closes_gives_the_linear_response():
     """A gap far beyond the motion: the branch is the linear sweep's curve (1e-9)."""
     model, *_ = chain(30, element='kind = "gap"\ngap = 10\nstiffness = 1e4')
-    r = condensed_sweep(model.linearize(), "w", 0.5, 3.0, harmonics=3, points=30)
+    r = condensed_sweep(nonlinear_system(model), "w", 0.5, 3.0, harmonics=3, points=30)
     assert {s.kind for s in r.special_points} == {"peak"} and r.stable.all()
     linear = sweep(model.linearize(), "w", r.values, names=["q30"])
     np.testing.assert_allclose(r.amplitudes["q30"], linear.amplitudes["q30"], rtol=1e-9)
@@ -284,7 +285,7 @@ stiffness = {kt}
 slip_force = {fs}
 ''')
     for start in (0.5, 1.1, 1.6):  # below, at and above the resonance: stick-slip each
-        r = condensed_sweep(model.linearize(), "w", start, start + 0.02, harmonics=1,
+        r = condensed_sweep(nonlinear_system(model), "w", start, start + 0.02, harmonics=1,
                             points=3, samples=2**17, linear=False)
         assert len(r.values) >= 3
         for w, c in zip(r.values, r.coefficients[:, 0]):
@@ -324,7 +325,7 @@ def test_stability_agrees_with_time_simulation():
     more than 1e-2); stability changes exactly at the folds."""
     n, H, k3 = 10, 9, 2.0
     model, M, C, K = chain(n, k3=k3)
-    r = condensed_sweep(model.linearize(), "w", 1.0, 2.4, harmonics=H, points=60,
+    r = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, harmonics=H, points=60,
                         observe=[f"q{i}" for i in range(1, n)], linear=False)
     folds = sorted(s.index for s in r.special_points if s.kind == "fold")
     assert len(folds) == 2 and r.truncation < 1e-4
@@ -353,9 +354,9 @@ def test_fast_modes_static_in_the_stability_give_the_same_verdicts(monkeypatch):
     the static modes are an approximation, the verdicts are not changed by it)."""
     model, *_ = chain(8)
     kwargs = dict(harmonics=7, points=40, linear=False)
-    cut = condensed_sweep(model.linearize(), "w", 1.0, 2.4, **kwargs)
+    cut = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, **kwargs)
     monkeypatch.setattr(condensed, "SMALL_HILL", 10**6)
-    every = condensed_sweep(model.linearize(), "w", 1.0, 2.4, **kwargs)
+    every = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, **kwargs)
     assert len(cut.values) == len(every.values)
     np.testing.assert_array_equal(cut.stable, every.stable)
     assert (~cut.stable).any() and cut.stable.any()
@@ -387,7 +388,7 @@ def test_tangent_jacobian_equals_the_derivative_pushed_through_the_elements(monk
         return fast
 
     monkeypatch.setattr(condensed.CondensedBalance, "force_derivatives_by_tangent", both)
-    r = condensed_sweep(model.linearize(), "w", 1.0, 2.4, harmonics=5, points=20,
+    r = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, harmonics=5, points=20,
                         samples=256, linear=False)
     assert len(seen) > 50 and max(seen) < 1e-12
     assert any(closed) and not all(closed)  # the gap opens and closes along the branch
@@ -399,8 +400,8 @@ def test_reduced_linear_part_equals_the_full_matrices():
     matrices to 1e-7 relative."""
     model, *_ = chain(120)
     kwargs = dict(harmonics=3, points=30, linear=False)
-    exact = condensed_sweep(model.linearize(), "w", 1.0, 2.4, exact=True, **kwargs)
-    reduced = condensed_sweep(model.linearize(), "w", 1.0, 2.4, exact=False, tol=1e-9,
+    exact = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, exact=True, **kwargs)
+    reduced = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, exact=False, tol=1e-9,
                               **kwargs)
     assert len(exact.values) == len(reduced.values)
     np.testing.assert_allclose(reduced.values, exact.values, rtol=1e-7)
@@ -470,8 +471,8 @@ def test_beam_example_reduced_equals_exact(tmp_path):
     first = float(np.sqrt(model.linearize().modes().omega_squared[0]))
     assert first == pytest.approx(expected, rel=1e-4) and first >= expected
     kwargs = dict(harmonics=3, points=30, linear=False)
-    exact = condensed_sweep(model.linearize(), "omega", 20.0, 40.0, exact=True, **kwargs)
-    reduced = condensed_sweep(model.linearize(), "omega", 20.0, 40.0, exact=False, **kwargs)
+    exact = condensed_sweep(nonlinear_system(model), "omega", 20.0, 40.0, exact=True, **kwargs)
+    reduced = condensed_sweep(nonlinear_system(model), "omega", 20.0, 40.0, exact=False, **kwargs)
     folds = [[s.value for s in r.special_points if s.kind == "fold"] for r in (exact, reduced)]
     assert len(folds[0]) == 2
     np.testing.assert_allclose(folds[1], folds[0], rtol=1e-6)

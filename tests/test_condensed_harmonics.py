@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from resonant.analyses import condensed
+from resonant.system import nonlinear_system
 from resonant.analyses.condensed import condensed_sweep
 from resonant.analyses.harmonic_balance import nonlinear_sweep
 from resonant.analyses.hb_solver import DEFAULT_HARMONICS, TRUNCATION_TOL
@@ -27,7 +28,7 @@ OBSERVE = ["q10", "q20"]
 
 def _sweep(harmonics: int | None, force: float = 0.004, **options: object):
     model, *_ = chain(30, force=force)
-    return condensed_sweep(model.linearize(), "w", *RANGE, harmonics=harmonics, points=10,
+    return condensed_sweep(nonlinear_system(model), "w", *RANGE, harmonics=harmonics, points=10,
                            observe=OBSERVE, linear=False, **options)
 
 
@@ -95,7 +96,7 @@ def test_the_same_choice_as_the_full_balance():
     [[nonlinear]] element, once by its energies, H not given: the condensed and the full
     balance raise H alike (to 15), their truncations agree to 1e-8 relative and the
     amplitudes at the branch's end to 1e-8."""
-    condensed_ = condensed_sweep(loads(DUFFING_MATRICES).linearize(), "w", 0.4, 0.6,
+    condensed_ = condensed_sweep(nonlinear_system(loads(DUFFING_MATRICES)), "w", 0.4, 0.6,
                                  points=10, observe=["q1"], linear=False)
     full = nonlinear_sweep(loads(DUFFING_ENERGY).linearize(), "w", 0.4, 0.6, points=10,
                            linear=False)

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from resonant.analyses import condensed
+from resonant.system import nonlinear_system
 from resonant.analyses.condensed import condensed_sweep
 
 from test_condensed import chain
@@ -35,9 +36,9 @@ def test_monodromy_gives_hills_verdicts(monkeypatch, n, H, every):
         monkeypatch.setattr(condensed, "SMALL_HILL", 10**6)
     model, *_ = chain(n)
     kwargs = dict(harmonics=H, points=40, linear=False)
-    hill = condensed_sweep(model.linearize(), "w", 1.0, 2.4, **kwargs)
+    hill = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, **kwargs)
     monkeypatch.setattr(condensed, "MONODROMY_ROWS", 0)
-    mono = condensed_sweep(model.linearize(), "w", 1.0, 2.4, **kwargs)
+    mono = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, **kwargs)
     assert len(hill.values) == len(mono.values)
     np.testing.assert_array_equal(mono.stable, hill.stable)
     assert (~hill.stable).any() and hill.stable.any()

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from resonant.analyses import condensed
+from resonant.system import nonlinear_system
 from resonant.analyses.condensed import condensed_sweep
 from test_condensed import chain
 
@@ -36,7 +37,7 @@ def _sweep(model, monkeypatch, relative: bool):
 
     with monkeypatch.context() as patch:
         patch.setattr(condensed, "follow", follow)
-        return condensed_sweep(model.linearize(), "w", 1.0, 2.4, harmonics=3, points=50,
+        return condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, harmonics=3, points=50,
                                linear=False)
 
 

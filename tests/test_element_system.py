@@ -73,7 +73,7 @@ def test_full_balance_equals_the_condensed_one():
     condensed onto the element's coordinates: the same folds (1e-8 relative)."""
     model = loads(MATRICES)
     full = full_sweep(model.linearize(), "w", 0.4, 2.2, harmonics=5, points=60, linear=False)
-    condensed = condensed_sweep(model.linearize(), "w", 0.4, 2.2, harmonics=5, points=60,
+    condensed = condensed_sweep(nonlinear_system(model), "w", 0.4, 2.2, harmonics=5, points=60,
                                 observe=["q1"], linear=False)
     folds = [sorted(s.value for s in r.special_points if s.kind == "fold")
              for r in (full, condensed)]
@@ -81,19 +81,34 @@ def test_full_balance_equals_the_condensed_one():
     np.testing.assert_allclose(folds[0], folds[1], rtol=1e-8)
 
 
+def _full_equations(system):
+    q = np.zeros((system.n, 1))
+    pvals = system.parameter_values
+    return system.equations(q, q, q, system.forcing(np.zeros(1), pvals), pvals)
+
+
 def test_friction_element_is_refused_with_its_name():
+    """A friction element's system is its local elements (the condensed balance takes
+    it); its full equations, which the time integration and the backbones need, are
+    refused with the element's name."""
     text = MATRICES.replace('force = "2*(q2 - q1)^3"',
                             'kind = "friction"\nstiffness = 10\nslip_force = 0.1')
+    system = nonlinear_system(loads(text))
+    assert system.local_elements is not None
     with pytest.raises(AnalysisError, match="nonlinear 'hardening'.*history"):
-        nonlinear_system(loads(text))
+        _full_equations(system)
+    with pytest.raises(AnalysisError, match="nonlinear 'hardening'.*history"):
+        loads(text).simulate(1.0, nonlinear=True)
 
 
 def test_a_large_model_is_sent_to_the_condensed_balance():
     n = 401
     text = (f"[matrices]\nM = {np.eye(n).tolist()}\nK = {(2 * np.eye(n)).tolist()}\n"
             "[[nonlinear]]\ncoordinates = [\"q1\"]\nforce = \"q1^3\"\n")
+    system = nonlinear_system(loads(text))
+    assert system.local_elements is not None
     with pytest.raises(AnalysisError, match="up to 400 coordinates.*condensed"):
-        nonlinear_system(loads(text))
+        _full_equations(system)
 
 
 def test_a_matrix_model_without_elements_has_no_nonlinear_equations():

@@ -17,6 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from resonant.analyses.condensed import condensed_sweep
+from resonant.system import nonlinear_system
 from resonant.analyses.harmonic_balance import nonlinear_sweep
 from resonant.errors import ModelError
 from resonant import loads
@@ -111,7 +112,7 @@ def test_condensed_branch_carries_the_outputs_in_full():
     at the outputs' peaks (1e-8 relative); the outputs' coordinates are recovered without
     being asked for."""
     H = 5
-    condensed = condensed_sweep(loads(MATRICES.format(nonlinear=ELEMENT)).linearize(), "w",
+    condensed = condensed_sweep(nonlinear_system(loads(MATRICES.format(nonlinear=ELEMENT))), "w",
                                 0.4, 2.2, harmonics=H, points=60, linear=False)
     full = nonlinear_sweep(loads(ENERGY.format(cubic="k3")).linearize(), "w", 0.4, 2.2,
                            harmonics=H, points=60, linear=False)
@@ -173,7 +174,8 @@ def test_a_third_rate_is_linear_but_not_on_a_branch():
     r = eom.stationary()
     assert r.amplitudes["jerk"] == pytest.approx(0.125 * r.amplitudes["q1"], rel=1e-12)
     with pytest.raises(ModelError, match="up to the second rate") as info:
-        condensed_sweep(eom, "w", 0.4, 0.6, harmonics=3, points=10, linear=False)
+        condensed_sweep(nonlinear_system(eom), "w", 0.4, 0.6, harmonics=3, points=10,
+                        linear=False)
     assert "[outputs] jerk" in str(info.value)
 
 
@@ -203,7 +205,7 @@ def test_a_start_far_from_the_linear_response_is_reached_by_raising_the_loads():
     there from omega = 0.05 (two routes; 1e-12 relative).  The linear sweep compared with
     the branch reports the outputs too (no warning but the truncation's: H = 7 given, as
     the automatic choice would take different H on the two ranges)."""
-    system = loads(STRONG).linearize()
+    system = nonlinear_system(loads(STRONG))
     direct = condensed_sweep(system, "omega", 0.3, 0.31, points=5, harmonics=7)
     followed = condensed_sweep(system, "omega", 0.05, 0.3, points=40, linear=False,
                                harmonics=7)

@@ -144,10 +144,10 @@ def test_rayleigh_damped_chain_damping_ratios():
     np.testing.assert_allclose(result.damping_ratios, modal_damping_ratios((a, b), w),
                                rtol=1e-12)
     # the modal eigenvalues are those of the state matrix
-    from resonant.system.stability import state_eigenvalues
+    from resonant.modal import point_state_eigenvalues
 
     eom = loads(chain_model(n, m, k, damping=(a, b))).linearize().numeric()
-    dense = np.sort_complex(state_eigenvalues(eom.M, eom.C, eom.K))
+    dense = np.sort_complex(point_state_eigenvalues(eom.M, eom.C, eom.K))
     np.testing.assert_allclose(np.sort_complex(result.eigenvalues), dense, rtol=1e-9)
     assert result.stability == "asymptotically stable"
 

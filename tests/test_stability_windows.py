@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from resonant.analyses import condensed
+from resonant.system import nonlinear_system
 from resonant.analyses.condensed import condensed_sweep
 from test_condensed_steps import light_chain
 
@@ -35,7 +36,7 @@ def _sweep(monkeypatch, relative: bool, points: int):
 
     with monkeypatch.context() as patch:
         patch.setattr(condensed, "follow", follow)
-        return condensed_sweep(chain().linearize(), "w", 1.42, 1.46, harmonics=5, points=points,
+        return condensed_sweep(nonlinear_system(chain()), "w", 1.42, 1.46, harmonics=5, points=points,
                                linear=False)
 
 

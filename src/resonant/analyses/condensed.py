@@ -49,7 +49,7 @@ linear in H, not cubic; equal verdicts, ``tests/test_condensed_monodromy.py``).
 Examples
 --------
 >>> from resonant.model import loads
->>> from resonant.system import linear_system
+>>> from resonant.system import nonlinear_system
 >>> model = loads('''
 ... [parameters]
 ... w = 0.8
@@ -65,7 +65,7 @@ Examples
 ... coordinates = ["q2"]
 ... force = "0.5*q2^3"
 ... ''')
->>> r = condensed_sweep(linear_system(model), "w", 0.3, 0.5, harmonics=3, points=20,
+>>> r = condensed_sweep(nonlinear_system(model), "w", 0.3, 0.5, harmonics=3, points=20,
 ...                     linear=False)
 >>> bool(r.stable.all()), r.coordinates
 (True, ('q2',))
@@ -85,7 +85,6 @@ import numpy as np
 from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
-from ..expressions import numeric_value
 from ..memory import budget, chunk_rows
 from ..modal import (
     eigenvalues,
@@ -94,10 +93,11 @@ from ..modal import (
     modes_below,
     state_modes,
 )
-from ..model import Model
+from ..model.nonlinear_elements import NonlinearElement
 from ..model.options import BalanceOptions
-from ..system.base import LinearSystem, parameter_values
+from ..system.base import LinearSystem
 from ..system.matrix_outputs import OutputSeries
+from ..system.nonlinear import LocalElements, NonlinearSystem
 from ..system.nonlinear_elements import ElementForces
 from .continuation import Branch, follow
 from .hb_solver import (
@@ -871,14 +871,10 @@ class _Setup:
     values: Callable[[float], dict[str, float]]
 
 
-def _setup(system: LinearSystem, model: Model, param: str, start: float, stop: float
-           ) -> _Setup:
+def _setup(system: NonlinearSystem, parts: LocalElements, param: str, start: float,
+           stop: float) -> _Setup:
     """The fixed matrices, the loads with their harmonic orders and the parameter maps."""
-    spec = model.matrices
-    if spec is None or not spec.nonlinear:
-        raise AnalysisError("the condensed harmonic balance needs a [matrices] model with "
-                            "[[nonlinear]] elements")
-    batch = system.batch(param, np.array([start, stop], dtype=float))
+    batch = parts.linear.batch(param, np.array([start, stop], dtype=float))
     if not batch.constant:
         raise AnalysisError(f"M, C and K change with '{param}': the condensed harmonic "
                             "balance needs them fixed")
@@ -891,16 +887,21 @@ def _setup(system: LinearSystem, model: Model, param: str, start: float, stop: f
         columns.append(f_c[0] - 1j * f_s[0])
     if not columns:
         raise AnalysisError("nothing excites the model periodically (no [[harmonic]] load)")
+    points: dict[float, np.ndarray] = {}
+
+    def point(p: float) -> np.ndarray:
+        """All parameter values at ``param = p`` (cached: a branch revisits its points)."""
+        if p not in points:
+            if len(points) > 256:
+                points.clear()
+            points[p] = system.parameter_point(param, float(p))
+        return points[p]
 
     def values(p: float) -> dict[str, float]:
-        out = parameter_values(model, param, np.array([float(p)]))
-        return {k: float(np.asarray(v, dtype=float).ravel()[0]) for k, v in out.items()}
+        return {k: float(v) for k, v in zip(system.parameters, point(p))}
 
     def omegas(p: float) -> np.ndarray:
-        v = values(p)
-        result: np.ndarray = np.abs(np.array([float(numeric_value(h.omega, v))
-                                              for h in spec.harmonics]))
-        return result
+        return np.asarray(np.abs(parts.frequencies(point(p))))
 
     w0 = omegas(start)
     lowest = float(w0[w0 > 0].min()) if np.any(w0 > 0) else 0.0
@@ -912,7 +913,6 @@ def _setup(system: LinearSystem, model: Model, param: str, start: float, stop: f
                             "lowest: the condensed harmonic balance needs one base frequency")
     index = int(np.argmin(np.where(w0 > 0, w0, np.inf)))
     orders = [(int(round(r)), j) for j, r in enumerate(ratios)]
-    elements = ElementForces(spec.nonlinear, values(start))
 
     def base(p: float) -> float:
         return float(omegas(p)[index])
@@ -923,7 +923,7 @@ def _setup(system: LinearSystem, model: Model, param: str, start: float, stop: f
         if p not in cache:
             if len(cache) > 256:
                 cache.clear()
-            cache[p] = elements.with_parameters(values(p))
+            cache[p] = parts.forces(point(p))
         return cache[p]
 
     return _Setup(batch.M, batch.C, batch.K, np.array(columns).T, orders, base, forces,
@@ -981,7 +981,7 @@ def _linear_sweep(system: LinearSystem, hb: CondensedBalance, param: str,
         return None
 
 
-def default_samples(model: Model, harmonics: int) -> int:
+def default_samples(elements: Sequence[NonlinearElement], harmonics: int) -> int:
     """Samples per period of the alternating frequency-time scheme: 8 per harmonic
     coefficient (at least 64) for smooth forces; for a gap or a friction element, whose
     force has kinks between samples and whose harmonics converge only as 1/N^2, at
@@ -990,31 +990,16 @@ def default_samples(model: Model, harmonics: int) -> int:
 
     Examples
     --------
-    >>> from resonant.model import loads
-    >>> default_samples(loads('[matrices]\\nM = [[1]]\\nK = [[1]]\\n'), 7)
+    >>> default_samples((), 7)
     120
     """
     smooth = max(64, 8 * (2 * harmonics + 1))
-    elements = model.matrices.nonlinear if model.matrices is not None else ()
     if any(e.kind in ("gap", "friction") for e in elements):
         return max(NONSMOOTH_SAMPLES, 2 * smooth)
     return smooth
 
 
-def has_nonlinear_elements(model: Model) -> bool:
-    """Whether ``model`` is a ``[matrices]`` model with ``[[nonlinear]]`` elements (whose
-    periodic response :func:`condensed_sweep` computes).
-
-    Examples
-    --------
-    >>> from resonant.model import loads
-    >>> has_nonlinear_elements(loads('[matrices]\\nM = [[1]]\\nK = [[1]]\\n'))
-    False
-    """
-    return model.matrices is not None and bool(model.matrices.nonlinear)
-
-
-def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float, *,
+def condensed_sweep(system: NonlinearSystem, param: str, start: float, stop: float, *,
                     harmonics: int | None = None, points: int = 101,
                     observe: Sequence[str] | None = None, samples: int | None = None,
                     exact: bool | None = None, tol: float = DEFAULT_TOL,
@@ -1024,8 +1009,10 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
 
     Parameters
     ----------
-    system : LinearSystem
-        ``model.linearize()`` of a ``[matrices]`` model with nonlinear elements.
+    system : NonlinearSystem
+        The system of a ``[matrices]`` model with ``[[nonlinear]]`` elements
+        (:func:`resonant.system.nonlinear_system`), whose ``local_elements`` it condenses
+        onto.
     param : str
         The continuation parameter (usually the excitation frequency); M, C, K and
         the load vectors must not depend on it.
@@ -1064,26 +1051,30 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
         For a model without nonlinear elements, matrices or loads that change with
         ``param``, incommensurate excitations, or no convergence at the start.
     """
-    model = system._model()
+    parts = system.local_elements
+    if parts is None:
+        raise AnalysisError("the condensed harmonic balance needs a [matrices] model with "
+                            "[[nonlinear]] elements")
     given, harmonics = harmonics, DEFAULT_HARMONICS if harmonics is None else harmonics
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
         raise AnalysisError("the range must be two different finite numbers")
     BalanceOptions(harmonics=harmonics, points=points, samples=samples, tol=tol)  # checks
-    setup = _setup(system, model, param, start, stop)
-    coords = model.coordinates or tuple(f"q{i + 1}" for i in range(setup.M.shape[0]))
+    setup = _setup(system, parts, param, start, stop)
+    coords = system.coordinates
     position = {q: i for i, q in enumerate(coords)}
     unknown = [q for q in (observe or ()) if q not in position]
     if unknown:
         raise AnalysisError(f"unknown coordinate(s) {', '.join(unknown)}")
     elements = setup.forces(start)
     nl = list(elements.dofs)
-    series = OutputSeries(model.outputs, coords, model.source) if model.outputs else None
+    series = parts.outputs
     wanted = [*(observe or ()), *(series.coordinates if series else ())]
     observed = list(dict.fromkeys(position[q] for q in wanted if position[q] not in nl))
     grid = np.linspace(min(start, stop), max(start, stop), 64)
     Wmax = max(setup.base(float(p)) for p in grid)
     names = tuple(coords[i] for i in nl + observed)
-    balances = _Balances(setup, model, nl, observed, names, series, param, Wmax, samples,
+    balances = _Balances(setup, parts.elements, nl, observed, names, series, param, Wmax,
+                         samples,
                          exact, tol, deadline)
     limit = MAX_HARMONICS if samples is None else \
         max(harmonics, min(MAX_HARMONICS, samples // 4 - 1))
@@ -1120,10 +1111,10 @@ def condensed_sweep(system: LinearSystem, param: str, start: float, stop: float,
         warnings.append(f"linear part: reduced model of {lin.size} vectors, largest error "
                         f"{lin.error:.2g} of its transfer functions where checked against "
                         "exact solves (an estimate, not a bound)")
-    linear_response = _linear_sweep(system, hb, param, (start, stop), warnings,
+    linear_response = _linear_sweep(parts.linear, hb, param, (start, stop), warnings,
                                     deadline) if linear else None
     return NonlinearResponse(
-        title=model.title, parameter=param, coordinates=names, values=np.array(branch.p),
+        title=system.title, parameter=param, coordinates=names, values=np.array(branch.p),
         amplitudes=MappingProxyType({nm: amps[:, j] for j, nm in enumerate(hb.names())}),
         coefficients=coeffs, base_frequencies=Ws, stable=stable, multipliers=mult,
         special_points=tuple(special), harmonics=hb.H, residual=residual,
@@ -1137,11 +1128,12 @@ class _Balances:
     (a reduced model holds up to the band it was built for, H W_max; the full matrices
     for every H), the samples per period the default for H unless given."""
 
-    def __init__(self, setup: _Setup, model: Model, nl: list[int], observed: list[int],
+    def __init__(self, setup: _Setup, elements: Sequence[NonlinearElement], nl: list[int],
+                 observed: list[int],
                  names: tuple[str, ...], series: OutputSeries | None, param: str,
                  Wmax: float, samples: int | None, exact: bool | None, tol: float,
                  deadline: Deadline) -> None:
-        self.setup, self.model, self.nl, self.observed = setup, model, nl, observed
+        self.setup, self.elements, self.nl, self.observed = setup, elements, nl, observed
         self.names, self.series, self.param, self.Wmax = names, series, param, Wmax
         self.samples, self.exact, self.tol, self.deadline = samples, exact, tol, deadline
         self.parts: list[LinearPart] = []
@@ -1155,7 +1147,7 @@ class _Balances:
                               np.linspace(0.0, top, BAND_POINTS), exact=self.exact,
                               tol=self.tol, deadline=self.deadline)
             self.parts.append(lin)
-        N = self.samples or default_samples(self.model, H)
+        N = self.samples or default_samples(self.elements, H)
         outputs = None
         if self.series is not None:
             kept = {q: j for j, q in enumerate(self.names)}
@@ -1297,5 +1289,5 @@ def _truncation_warning(hb: CondensedBalance, coeffs: np.ndarray, Ws: np.ndarray
                               f"{hb.param} = {values[worst]:.6g}", stopped, cause)
 
 
-__all__ = ["condensed_sweep", "default_samples", "has_nonlinear_elements", "harmonic_resonance",
+__all__ = ["condensed_sweep", "default_samples", "harmonic_resonance",
            "CondensedBalance", "LinearPart", "linear_part", "EXACT_SIZE"]

@@ -73,9 +73,9 @@ from ..errors import AnalysisError
 from ..model import Model
 from ..model.options import MAX_GIVEN_HARMONICS, BalanceOptions, chosen, names_tuple
 from ..system.base import LinearSystem
-from ..system.build import linear_system, nonlinear_system
+from ..system.build import nonlinear_system
 from ..system.nonlinear import NonlinearSystem
-from .condensed import condensed_sweep, has_nonlinear_elements
+from .condensed import condensed_sweep
 from .continuation import Branch
 from .continuation import follow as _continue
 from .hb_solver import (
@@ -257,11 +257,9 @@ def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, 
     """
     o = chosen(options, BalanceOptions(harmonics, points, linear, names_tuple(observe),
                                        samples, exact, tol))
-    model = system if isinstance(system, Model) else system.model
-    if model is not None and has_nonlinear_elements(model):
-        linear_system_ = system.linear if isinstance(system, NonlinearSystem) else \
-            system if isinstance(system, LinearSystem) else linear_system(model, deadline)
-        return condensed_sweep(linear_system_, param, start, stop, harmonics=o.harmonics,
+    full = nonlinear_system(system, deadline)
+    if full.local_elements is not None:
+        return condensed_sweep(full, param, start, stop, harmonics=o.harmonics,
                                points=o.points, observe=o.observe, samples=o.samples,
                                exact=o.exact, tol=DEFAULT_TOL if o.tol is None else o.tol,
                                linear=o.linear, deadline=deadline)
@@ -271,7 +269,7 @@ def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, 
         raise AnalysisError(f"{', '.join(given)} apply to the balance condensed onto the "
                             "[[nonlinear]] elements of a [matrices] model, not to a model "
                             "given by its energies")
-    return full_sweep(system, param, start, stop, harmonics=o.harmonics, points=o.points,
+    return full_sweep(full, param, start, stop, harmonics=o.harmonics, points=o.points,
                       linear=o.linear, deadline=deadline)
 
 

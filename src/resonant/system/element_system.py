@@ -41,6 +41,7 @@ Examples
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from fractions import Fraction
 from functools import reduce
 
@@ -48,9 +49,11 @@ import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
+from ..expressions import numeric_value
+from ..model.nonlinear_elements import NonlinearElement
 from .base import LinearSystem, NumericEOM, numeric_point
 from .matrix_outputs import MAX_RATE, OutputSeries
-from .nonlinear import NonlinearSystem
+from .nonlinear import LocalElements, NonlinearSystem
 from .nonlinear_elements import ElementForces
 
 #: the full equations keep dense (n, n, N) derivatives: larger models take the condensed
@@ -84,17 +87,6 @@ class ElementSystem(NonlinearSystem):
     def __init__(self, linear: LinearSystem, deadline: Deadline = NO_DEADLINE) -> None:
         model = linear._model()
         assert model.matrices is not None
-        if linear.n > MAX_FULL_COORDINATES:
-            raise AnalysisError(
-                f"the full equations of a [matrices] model with [[nonlinear]] elements are "
-                f"kept for up to {MAX_FULL_COORDINATES} coordinates, not {linear.n}: its "
-                "periodic response is computed by the balance condensed onto the elements")
-        friction = [e.name for e in model.matrices.nonlinear if e.kind == "friction"]
-        if friction:
-            raise AnalysisError(
-                f"[nonlinear '{friction[0]}'] the force of a friction element depends on the "
-                "history of the motion: only the harmonic balance condensed onto the "
-                "elements takes it (not the time integration nor the backbone curves)")
         self.model, self.linear = model, linear
         self.coordinates = linear.coordinates
         self.parameters = tuple(model.parameters)
@@ -105,20 +97,58 @@ class ElementSystem(NonlinearSystem):
         self._forces = ElementForces(model.matrices.nonlinear, model.parameter_values)
         self._dofs = np.array(self._forces.dofs, dtype=int)
         self._cache: dict[tuple[float, ...], NumericEOM] = {}
-        self._numbers(self.parameter_values, deadline)
+        self._points: dict[tuple[float, ...], NumericEOM] = {}
+        self._harmonics = model.matrices.harmonics
+        self.local_elements = LocalElements(linear, tuple(model.matrices.nonlinear),
+                                            self.element_forces, self.harmonic_frequencies,
+                                            series if model.outputs else None)
+        self._full = _full_equations_problem(linear.n, model.matrices.nonlinear)
+        if self._full is None:
+            self._numbers(self.parameter_values, deadline)
+        else:
+            self._point(self.parameter_values, deadline)
 
-    def _numbers(self, pvals: np.ndarray, deadline: Deadline = NO_DEADLINE) -> NumericEOM:
-        """The matrices and the load at the parameter values (dense; cached)."""
+    def _require_full(self) -> None:
+        if self._full is not None:
+            raise AnalysisError(self._full)
+
+    def _point(self, pvals: np.ndarray, deadline: Deadline = NO_DEADLINE) -> NumericEOM:
+        """The matrices (as given: sparse stays sparse) and the load at the parameter
+        values (cached)."""
         key = tuple(float(v) for v in pvals)
-        num = self._cache.pop(key, None)
+        num = self._points.pop(key, None)
         if num is None:  # the values as they are (no parsing): every parameter is given
             values = dict(zip(self.parameters, key))
             num = numeric_point(self.linear.evaluate(values, 1, deadline), 0, self.linear,
-                                values).dense()
-        self._cache[key] = num  # the most recent last; a sweep keeps the last few only
+                                values)
+        self._points[key] = num  # the most recent last; a sweep keeps the last few only
+        while len(self._points) > CACHED_POINTS:
+            del self._points[next(iter(self._points))]
+        return num
+
+    def _numbers(self, pvals: np.ndarray, deadline: Deadline = NO_DEADLINE) -> NumericEOM:
+        """The matrices and the load at the parameter values, dense (cached): the full
+        equations' (bounded to :data:`MAX_FULL_COORDINATES`)."""
+        self._require_full()
+        key = tuple(float(v) for v in pvals)
+        num = self._cache.pop(key, None)
+        if num is None:
+            num = self._point(pvals, deadline).dense()
+        self._cache[key] = num
         while len(self._cache) > CACHED_POINTS:
             del self._cache[next(iter(self._cache))]
         return num
+
+    def element_forces(self, pvals: np.ndarray) -> ElementForces:
+        """The elements' forces and tangents at the parameter values."""
+        return self._forces.with_parameters(dict(zip(self.parameters, (float(v)
+                                                                      for v in pvals))))
+
+    def harmonic_frequencies(self, pvals: np.ndarray) -> np.ndarray:
+        """The angular frequency of each ``[[harmonic]]`` load at the parameter values
+        (their expressions alone: no matrix is evaluated)."""
+        values = dict(zip(self.parameters, (float(v) for v in pvals)))
+        return np.array([float(numeric_value(h.omega, values)) for h in self._harmonics])
 
     def reference(self, pvals: np.ndarray) -> np.ndarray:
         return np.zeros(self.n)
@@ -126,7 +156,7 @@ class ElementSystem(NonlinearSystem):
     def forcing(self, t: np.ndarray, pvals: np.ndarray) -> np.ndarray:
         t = np.asarray(t, dtype=float)
         out = np.zeros((self.n, *t.shape))
-        for h in self._numbers(pvals).harmonics:
+        for h in self._point(pvals).harmonics:
             phase = h.omega * t
             out = out + np.multiply.outer(h.F_C, np.cos(phase)) \
                 + np.multiply.outer(h.F_S, np.sin(phase))
@@ -142,7 +172,7 @@ class ElementSystem(NonlinearSystem):
         dq = np.repeat(K[:, :, None], count, axis=2)
         dqd = np.repeat(damping * C[:, :, None], count, axis=2)
         mass = np.repeat(M[:, :, None], count, axis=2)
-        forces = self._forces.with_parameters(dict(zip(self.parameters, pvals)))
+        forces = self.element_forces(pvals)
         F, G0, G1 = forces.forces_and_tangent(q[self._dofs], qd[self._dofs])
         E[self._dofs] += F
         block = np.ix_(self._dofs, self._dofs)
@@ -162,7 +192,7 @@ class ElementSystem(NonlinearSystem):
         return {name: at[i] - rest[i, 0] for i, name in enumerate(self.outputs)}
 
     def base_frequency(self, pvals: np.ndarray) -> float:
-        omegas = [abs(h.omega) for h in self._numbers(pvals).harmonics if h.omega != 0]
+        omegas = [abs(h.omega) for h in self._point(pvals).harmonics if h.omega != 0]
         if not omegas:
             raise AnalysisError("nothing excites the model periodically (no harmonic load): "
                                 "there is no forced periodic steady state to follow")
@@ -173,6 +203,22 @@ class ElementSystem(NonlinearSystem):
             raise AnalysisError("the excitation frequencies are not commensurate: the "
                                 "excitation is not periodic")
         return lowest / reduce(math.lcm, (f.denominator for f in fractions), 1)
+
+
+
+def _full_equations_problem(n: int, elements: Sequence[NonlinearElement]) -> str | None:
+    """Why a matrix model with these elements has no full equations of motion (None: it
+    has them): too many coordinates for dense derivatives, or a friction element."""
+    if n > MAX_FULL_COORDINATES:
+        return (f"the full equations of a [matrices] model with [[nonlinear]] elements are "
+                f"kept for up to {MAX_FULL_COORDINATES} coordinates, not {n}: its periodic "
+                "response is computed by the balance condensed onto the elements")
+    friction = [e.name for e in elements if e.kind == "friction"]
+    if friction:
+        return (f"[nonlinear '{friction[0]}'] the force of a friction element depends on the "
+                "history of the motion: only the harmonic balance condensed onto the "
+                "elements takes it (not the time integration nor the backbone curves)")
+    return None
 
 
 __all__ = ["ElementSystem", "MAX_FULL_COORDINATES"]

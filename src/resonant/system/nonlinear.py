@@ -67,6 +67,7 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from fractions import Fraction
 from functools import reduce
 from typing import Any
@@ -79,10 +80,40 @@ from ..derivation.harmonics import NotHarmonic, decompose
 from ..errors import AnalysisError
 from ..expressions import compilable
 from ..model import TIME, Model, symbol
+from ..model.nonlinear_elements import NonlinearElement
 from .base import LinearSystem, parameter_values
+from .matrix_outputs import OutputSeries
+from .nonlinear_elements import ElementForces
 
 #: the dissipation factor symbol of the compiled equations (1: damped, 0: undamped)
 _DAMPING = sympy.Symbol("_resonant_damping")
+
+
+@dataclass(frozen=True)
+class LocalElements:
+    """A system's nonlinear forces as local elements between fixed linear matrices, what
+    the balance condensed onto the elements' coordinates takes
+    (:func:`resonant.analyses.condensed.condensed_sweep`).
+
+    Attributes
+    ----------
+    linear : LinearSystem
+        The linear part M q'' + C q' + K q = Q(t).
+    elements : tuple of NonlinearElement
+        The ``[[nonlinear]]`` elements (their kinds, coordinates and laws).
+    forces : callable
+        ``pvals -> ElementForces``: the elements' forces and tangents at parameter values.
+    frequencies : callable
+        ``pvals -> ndarray``: the angular frequency of each harmonic load.
+    outputs : OutputSeries or None
+        The model's outputs in full over a sampled motion (None without outputs).
+    """
+
+    linear: LinearSystem
+    elements: tuple[NonlinearElement, ...]
+    forces: Callable[[np.ndarray], ElementForces]
+    frequencies: Callable[[np.ndarray], np.ndarray]
+    outputs: OutputSeries | None
 
 
 class NonlinearSystem(ABC):
@@ -133,6 +164,9 @@ class NonlinearSystem(ABC):
     forcing_size: int
     #: outputs that cannot be evaluated (a coordinate's derivative of order > 2)
     unsupported_outputs: tuple[str, ...] = ()
+    #: the nonlinear forces as local elements between linear matrices, where they are
+    #: (a [matrices] model's [[nonlinear]] elements; None for a model given by energies)
+    local_elements: LocalElements | None = None
 
     @property
     def n(self) -> int:
@@ -501,5 +535,5 @@ class EnergySystem(NonlinearSystem):
         return self._base(pvals)
 
 
-__all__ = ["NonlinearSystem", "EnergySystem", "reference_values",
+__all__ = ["LocalElements", "NonlinearSystem", "EnergySystem", "reference_values",
            "signal_function"]
