@@ -339,3 +339,35 @@ def test_subnormal_mass_is_a_clean_analysis_error(tmp_path):
                                      '[[harmonic]]\nomega = "w"\nF_S = [1, 0, 0]\n')
     code, _, err = run_cli(["solve", tmp_path / "m.toml"])
     assert code == 3 and "internal error" not in err
+
+
+#: the subcommands that read no model file (a bundled example's name; a key and answers)
+NO_MODEL_COMMANDS = {"example", "grade"}
+
+
+def test_every_command_of_a_model_takes_the_common_options():
+    """Every subcommand that reads a model (or a history) takes --timeout, --allow-path,
+    --units and --set (docs/security.md): ``srs`` took none of them."""
+    import argparse
+
+    from resonant.cli import COMMANDS, build_parser
+
+    (sub,) = [a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction)]
+    assert set(sub.choices) == set(COMMANDS)
+    for name, parser in sub.choices.items():
+        if name in NO_MODEL_COMMANDS:
+            continue
+        options = {o for action in parser._actions for o in action.option_strings}
+        missing = {"--timeout", "--allow-path", "--units", "--set"} - options
+        assert not missing, f"resonant {name} lacks {sorted(missing)}"
+
+
+def test_srs_keeps_its_time_limit(tmp_path):
+    """``resonant srs MODEL --output NAME`` ran 27 s with no limit: now --timeout holds."""
+    path = tmp_path / "m.toml"
+    path.write_text(CHAIN.read_text() + '\n[shock]\nsignal = "F"\npulse = "half-sine"\n'
+                    "amplitude = 1\nduration = 0.01\nstep = 1e-6\ntotal = 2\n")
+    started = time.perf_counter()
+    code, _, err = run_cli(["srs", str(path), "--output", "x1", "--timeout", "1"])
+    assert code == 3 and "time limit" in err, err
+    assert time.perf_counter() - started < 20

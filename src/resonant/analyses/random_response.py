@@ -739,7 +739,7 @@ def _refine(quad: _Quadrature, tolerance: float, deadline: Deadline
             ) -> tuple[np.ndarray, np.ndarray, bool]:
     """Halve the pairs until every mean square's estimated error is below ``tolerance``."""
     for _ in range(MAX_ROUNDS):
-        deadline.check("while refining the frequency grid of the random response")
+        deadline.check("while refining the frequency grid of the random response", analysis=True)
         value, error = quad.estimates()
         value, error = value[:, :quad.refined], error[:, :quad.refined]
         total = value.sum(axis=0)

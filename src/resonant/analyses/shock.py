@@ -45,6 +45,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model.load_spec import PULSES
 from .results_json import Saved
@@ -321,7 +322,8 @@ def _residual(q_end: complex, s: complex, w: float, zeta: float, quantity: str) 
 def shock_response_spectrum(signal: Sequence[float] | np.ndarray, step: float,
                             frequencies: Sequence[float] | np.ndarray, *,
                             damping: float | None = None, Q: float | None = None,
-                            quantity: str = "absolute acceleration") -> ShockSpectrum:
+                            quantity: str = "absolute acceleration",
+                            deadline: Deadline = NO_DEADLINE) -> ShockSpectrum:
     """The shock response spectrum (maximax, primary, residual) of a sampled base input.
 
     Parameters
@@ -338,6 +340,8 @@ def shock_response_spectrum(signal: Sequence[float] | np.ndarray, step: float,
         Instead of ``damping``: Q = 1 / (2 zeta) > 0.5.
     quantity : str
         One of :data:`QUANTITIES`.
+    deadline : Deadline, optional
+        Checked at every natural frequency.
 
     Returns
     -------
@@ -380,6 +384,7 @@ def shock_response_spectrum(signal: Sequence[float] | np.ndarray, step: float,
                         "at least 10)")
     primary, residual = np.empty(len(f)), np.empty(len(f))
     for i, fi in enumerate(f):
+        deadline.check("while computing the shock response spectrum", analysis=True)
         s, c = _oscillator(float(fi), zeta)
         w = 2 * math.pi * float(fi)
         z, v = _displacement_and_velocity(a, s, c, step)

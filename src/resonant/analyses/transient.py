@@ -322,7 +322,7 @@ def _march(Phi: np.ndarray, G0: np.ndarray, G1: np.ndarray, u: np.ndarray, R: np
         stop = min(start + chunk, len(u))
         for j in range(start, stop):
             if j % 10_000 == 0:
-                deadline.check("while marching the transient response")
+                deadline.check("while marching the transient response", analysis=True)
             if j > 0:
                 state = Phi @ state + G0 * u[j - 1] + G1 * u[j]
             buffer[j - start] = state

@@ -152,8 +152,17 @@ def warn(messages: Sequence[str]) -> None:
 
 
 def common_parser() -> argparse.ArgumentParser:
-    common = argparse.ArgumentParser(add_help=False)
+    """The options every subcommand of a model file takes: the model and
+    :func:`option_parser`'s."""
+    common = argparse.ArgumentParser(add_help=False, parents=[option_parser()])
     common.add_argument("model", help="the model file (TOML)")
+    return common
+
+
+def option_parser() -> argparse.ArgumentParser:
+    """The options every subcommand takes (``--set``, ``--timeout``, ``--units``,
+    ``--allow-path``), for a command whose model file is optional."""
+    common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--set", action="append", metavar="NAME=VALUE", default=[],
                         help="override a parameter (the value may be an expression)")
     common.add_argument("--timeout", type=_seconds, default=DEFAULT_TIMEOUT, metavar="SECONDS",

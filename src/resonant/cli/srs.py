@@ -19,8 +19,8 @@ import resonant.cli.common as cli
 
 from ..analyses.shock import PULSES, QUANTITIES, pulse, shock_response_spectrum
 from ..analyses.transient import shock_response
+from ..deadline import Deadline
 from ..errors import ModelError, Problem
-from ..model import load
 from ..model.time_series import read_time_series
 from ..system.build import linear_system
 from ..views.shock_views import plot_srs, srs_text
@@ -28,8 +28,9 @@ from ..views.shock_views import plot_srs, srs_text
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
              parent: argparse.ArgumentParser) -> None:
-    srs = subparsers.add_parser("srs", help="shock response spectrum of a pulse or a CSV "
-                                "history (maximax, primary, residual)")
+    srs = subparsers.add_parser("srs", parents=[cli.option_parser()],
+                                help="shock response spectrum of a pulse or a CSV history "
+                                "(maximax, primary, residual)")
     srs.add_argument("model", nargs="?", default=None,
                      help="a model file with a [shock] section (instead of --pulse/--csv)")
     srs.add_argument("--output", metavar="NAME",
@@ -61,9 +62,10 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
     srs.set_defaults(run=run_srs)
 
 
-def _from_model(args: argparse.Namespace) -> tuple[float, np.ndarray, float]:
+def _from_model(args: argparse.Namespace, deadline: Deadline
+                ) -> tuple[float, np.ndarray, float]:
     """(step, history, Q) of the model's [shock] pulse or of an output under it."""
-    model = load(args.model)
+    model = cli.load_model(args)
     spec = model.shock_section
     if spec is None:
         raise ModelError(Problem("the model has no [shock] section: add one with the pulse, "
@@ -77,7 +79,8 @@ def _from_model(args: argparse.Namespace) -> tuple[float, np.ndarray, float]:
         if args.output not in names:
             raise ModelError(Problem(f"'{args.output}' is not a coordinate or output; they are "
                                      + ", ".join(names[:20]), "--output"))
-        values = shock_response(linear_system(model), names=[args.output]).history[args.output]
+        values = shock_response(linear_system(model, deadline), names=[args.output],
+                                deadline=deadline).history[args.output]
     return spec.step, values, spec.Q
 
 
@@ -91,8 +94,11 @@ def run_srs(args: argparse.Namespace) -> int:
     if args.stop <= args.start:
         raise ModelError(Problem("--to must be above --from", "srs"))
     Q = 10.0
+    deadline = cli.deadline(args)
+    if args.plot:
+        cli.writable_output(args.plot, "the plot")
     if args.model is not None:
-        step, values, Q = _from_model(args)
+        step, values, Q = _from_model(args, deadline)
     elif args.csv is not None:
         step, values = read_time_series(args.csv)
     else:
@@ -103,7 +109,8 @@ def run_srs(args: argparse.Namespace) -> int:
     frequencies = np.geomspace(args.start, args.stop, args.points)
     spectrum = shock_response_spectrum(values, step, frequencies, damping=args.damping,
                                        Q=args.Q if args.Q is not None or args.damping
-                                       is not None else Q, quantity=args.quantity)
+                                       is not None else Q, quantity=args.quantity,
+                                       deadline=deadline)
     if args.plot:
         plot_srs(spectrum, np.arange(len(values)) * step, values, args.plot)
     if args.json:
