@@ -43,7 +43,8 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
         "modes", parents=[parent], help="natural frequencies, mode shapes, damping ratios")
     modes.add_argument("--count", type=cli.integer(1, 10**9), metavar="K",
                        help="only the K lowest modes (sparse Lanczos for large matrix models)")
-    modes.add_argument("--plot", metavar="FILE", help="draw the mode shapes (.png, .svg, .pdf)")
+    modes.add_argument("--plot", metavar="FILE", type=cli.plot_file,
+                      help="draw the mode shapes (.png, .svg, .pdf)")
     modes.add_argument("--json", action="store_true", help="print one JSON object")
     modes.add_argument("--nonlinear", action="store_true",
                        help="backbone curves: the free-vibration frequency of each mode of the "
@@ -78,7 +79,8 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
     sweep.add_argument("--only", metavar="NAMES",
                        help="comma-separated coordinates to report (default all; outputs "
                             "are always reported)")
-    sweep.add_argument("--plot", metavar="FILE", help="draw amplitude and phase "
+    sweep.add_argument("--plot", metavar="FILE", type=cli.plot_file,
+                      help="draw amplitude and phase "
                        "(.png, .svg, .pdf)")
     sweep.add_argument("--csv", metavar="FILE", help="write the table as CSV")
     sweep.add_argument("--progress", action="store_true",

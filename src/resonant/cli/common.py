@@ -137,6 +137,29 @@ def writable_output(name: str, what: str) -> Path:
     raise ModelError(Problem(f"cannot write {what}: {problem}", name))
 
 
+#: the files a plot is written to
+PLOT_SUFFIXES = (".png", ".svg", ".pdf")
+
+
+def plot_file(text: str) -> str:
+    """The ``--plot FILE`` of a command, checked when the arguments are read (exit 2 before
+    any work): a .png, .svg or .pdf file in a writable folder.
+
+    Examples
+    --------
+    >>> plot_file("fr.png")
+    'fr.png'
+    """
+    if Path(text).suffix.lower() not in PLOT_SUFFIXES:
+        raise argparse.ArgumentTypeError("--plot needs a file ending in .png, .svg or .pdf, "
+                                         f"got '{printable(text, 80)}'")
+    try:
+        writable_output(text, "the plot")
+    except ModelError as exc:
+        raise argparse.ArgumentTypeError(str(exc.problems[0].message)) from None
+    return text
+
+
 def emit_json(data: Mapping[str, object]) -> None:
     try:
         text = json.dumps(data, indent=2, allow_nan=False)

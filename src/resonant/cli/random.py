@@ -19,7 +19,7 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
         "random", parents=[parent],
         help="response spectral densities, RMS, 3-sigma and Rice's rates under the "
              "[random] inputs")
-    command.add_argument("--plot", metavar="FILE",
+    command.add_argument("--plot", metavar="FILE", type=cli.plot_file,
                          help="draw the spectral densities on log-log axes (.png, .svg, .pdf)")
     command.add_argument("--json", action="store_true", help="print one JSON object")
     command.add_argument("--only", metavar="NAMES",
@@ -41,7 +41,7 @@ def run_random(args: argparse.Namespace) -> int:
         plot_random(result, args.plot)
     if args.json:
         cli.emit_json(result.to_dict())
-        cli.warn(result.warnings)
     else:
-        sys.stdout.write(random_text(result))
+        sys.stdout.write(random_text(result, warnings=False))
+    cli.warn(result.warnings)
     return 0

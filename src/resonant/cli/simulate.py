@@ -10,7 +10,6 @@ from __future__ import annotations
 import argparse
 import sys
 from functools import partial
-from pathlib import Path
 
 import resonant.cli.common as common
 
@@ -21,8 +20,6 @@ from ..system import linear_system
 from ..views.display import simulation_text
 from ..views.plotting import plot_simulation
 from ..views.units_display import result_units
-
-PLOT_SUFFIXES = (".png", ".svg", ".pdf")
 
 
 def parse_initial_items(items: list[str] | None) -> dict[str, str]:
@@ -83,16 +80,14 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
                              "frequency (default 5)")
     parser.add_argument("--method", choices=INTEGRATORS, default=None,
                         help="integrator (default DOP853, LSODA for stiff systems)")
-    parser.add_argument("--plot", metavar="FILE", help="write a plot (.png, .svg or .pdf)")
+    parser.add_argument("--plot", metavar="FILE", type=common.plot_file,
+                       help="write a plot (.png, .svg or .pdf)")
     parser.add_argument("--csv", metavar="FILE", help="write the time history as CSV")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.set_defaults(run=run_simulate)
 
 
 def run_simulate(args: argparse.Namespace) -> int:
-    if args.plot and Path(args.plot).suffix.lower() not in PLOT_SUFFIXES:
-        raise ModelError(Problem(f"--plot needs a file ending in {', '.join(PLOT_SUFFIXES)}, "
-                                 f"got '{args.plot}'", "--plot"))
     initial = parse_initial_items(args.initial)
     model = common.load_model(args)
     deadline = common.deadline(args)

@@ -57,7 +57,8 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
                          metavar="ZETA", help="the damping ratio")
     srs.add_argument("--quantity", choices=QUANTITIES, default=QUANTITIES[0],
                      help="the response (default absolute acceleration)")
-    srs.add_argument("--plot", metavar="FILE", help="draw the SRS and the history")
+    srs.add_argument("--plot", metavar="FILE", type=cli.plot_file,
+                    help="draw the SRS and the history")
     srs.add_argument("--json", action="store_true", help="print one JSON object")
     srs.set_defaults(run=run_srs)
 
@@ -95,8 +96,6 @@ def run_srs(args: argparse.Namespace) -> int:
         raise ModelError(Problem("--to must be above --from", "srs"))
     Q = 10.0
     deadline = cli.deadline(args)
-    if args.plot:
-        cli.writable_output(args.plot, "the plot")
     if args.model is not None:
         step, values, Q = _from_model(args, deadline)
     elif args.csv is not None:

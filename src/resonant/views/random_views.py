@@ -38,12 +38,14 @@ def _number(value: float | None) -> str:
     return "-" if value is None or not math.isfinite(value) else f"{value:.4g}"
 
 
-def random_text(result: RandomResponse) -> str:
+def random_text(result: RandomResponse, warnings: bool = True) -> str:
     """The RMS, 3-sigma, Rice's rates (and Miles' estimate) of every response, as text.
 
     Parameters
     ----------
     result : RandomResponse
+    warnings : bool
+        End with the result's warnings (the command line writes them to standard error).
 
     Returns
     -------
@@ -75,7 +77,7 @@ def random_text(result: RandomResponse) -> str:
             for n in accelerations))
     lines.append("  RMS about the reference state; 3-sigma = 3 RMS; Rice's rates of zero "
                  "up-crossings sqrt(m2/m0) and of peaks sqrt(m4/m2).")
-    lines += [f"warning: {w}" for w in result.warnings]
+    lines += [f"warning: {w}" for w in result.warnings] if warnings else []
     return "\n".join(lines) + "\n"
 
 
