@@ -49,6 +49,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model import Model
@@ -59,7 +60,6 @@ from ..system.nonlinear import NonlinearSystem
 from ..system.stability import undamped_eigen
 from .hb_solver import NEWTON_MAX, NEWTON_TOL, HarmonicBalance
 from .results_json import Saved
-from .stationary import freeze_fields
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

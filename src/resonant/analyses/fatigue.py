@@ -38,10 +38,10 @@ from typing import Any
 
 import numpy as np
 
+from ..arrays import freeze_fields
 from ..errors import AnalysisError
 from ..model.load_spec import FATIGUE_METHODS
 from .results_json import Saved
-from .stationary import freeze_fields
 
 #: the spectral methods (FLife's Narrowband, Dirlik, TovoBenasciutti)
 METHODS = FATIGUE_METHODS

@@ -46,7 +46,7 @@ from typing import TYPE_CHECKING, Any, TypeGuard
 
 import numpy as np
 
-from ..arrays import Matrix
+from ..arrays import Matrix, freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..modal import (
@@ -74,7 +74,6 @@ from ..system.stability import (
     rayleigh,
 )
 from .results_json import Saved
-from .stationary import freeze_fields
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

@@ -26,9 +26,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..arrays import freeze_fields
 from .results_json import Saved, complex_json, floats_json
 from .special_points import SpecialPoint
-from .stationary import freeze_fields
 from .sweep import FrequencyResponse
 
 if TYPE_CHECKING:

@@ -47,6 +47,7 @@ from typing import Any
 
 import numpy as np
 
+from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model import Model
@@ -64,7 +65,7 @@ from .hb_solver import (
 )
 from .results_json import Saved
 from .special_points import STABILITY_TOL
-from .stationary import freeze_fields, stationary
+from .stationary import stationary
 
 
 @dataclass(frozen=True)

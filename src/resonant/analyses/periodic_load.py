@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
@@ -49,7 +50,6 @@ from ..model.random_spec import RandomInput
 from ..system.base import LinearSystem
 from .random_response import Transfer, responses_to_solve
 from .results_json import Saved, complex_json, floats_json
-from .stationary import freeze_fields
 
 #: most harmonics of a series
 MAX_HARMONICS = 200_000

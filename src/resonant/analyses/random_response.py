@@ -73,7 +73,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..arrays import Matrix
+from ..arrays import Matrix, freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
@@ -86,7 +86,6 @@ from ..system.excitation import excitation_columns
 from .kernel import reduced_budget, solve_harmonic
 from .reduced import FactorizationsAhead, ReducedModel, probe_frequency, reduced_model
 from .results_json import Saved, optional_float
-from .stationary import freeze_fields
 from .threads import blas_threads
 
 if TYPE_CHECKING:

@@ -45,11 +45,11 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model.load_spec import PULSES
 from .results_json import Saved
-from .stationary import freeze_fields
 
 #: the responses an SRS can be of
 QUANTITIES = ("absolute acceleration", "pseudo-velocity", "relative displacement")

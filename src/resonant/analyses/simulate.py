@@ -55,6 +55,7 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 import sympy
 
+from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, AnalysisTimeout, Deadline
 from ..errors import AnalysisError, ModelError, Problem, name_list
 from ..expressions import parse
@@ -73,7 +74,7 @@ from ..system.stability import (
 from .peaks import sampled_peak
 from .periodic import PeriodicSolution, periodic_solution
 from .results_json import Saved, floats_json
-from .stationary import StationarySolution, freeze_fields, stationary
+from .stationary import StationarySolution, stationary
 from .time_integration import STIFF_RATIO, LinearDynamics, NonlinearDynamics, integrate
 
 if TYPE_CHECKING:

@@ -51,6 +51,7 @@ from typing import Any
 
 import numpy as np
 
+from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model.options import check_harmonics
@@ -69,7 +70,7 @@ from .hb_solver import (
 )
 from .results_json import Saved, floats_json
 from .special_points import STABILITY_TOL
-from .stationary import freeze_fields, stationary
+from .stationary import stationary
 from .time_integration import NonlinearDynamics, integrate
 
 #: continuation steps across the way from one start to ``value``

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from fractions import Fraction
 from functools import reduce
 from types import MappingProxyType
@@ -31,11 +31,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..arrays import freeze_fields, frozen_array
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..modal import point_state_eigenvalues
 from ..system.base import LinearSystem, NumericEOM, NumericHarmonic
-from ..system.batch import Batch, check_finite, frozen_array
+from ..system.batch import Batch, check_finite
 from ..system.stability import (
     UNSTABLE,
     classify,
@@ -56,7 +57,7 @@ from .results_json import Saved
 from .threads import blas_threads
 
 if TYPE_CHECKING:
-    from _typeshed import DataclassInstance
+    pass
 
 NEAR_RESONANCE = 0.02       # relative distance to a natural frequency that earns a warning
 #: above this many coordinates (or with sparse matrices) the eigenvalues come from the
@@ -70,24 +71,6 @@ EXACT_MASS_CHECK = 1500
 #: largest PEAK_CANDIDATES samples are then refined by a golden-section search each
 MAX_PEAK_SAMPLES = 20_000
 PEAK_CANDIDATES = 16
-
-
-def freeze_fields(result: DataclassInstance) -> None:
-    """Make a frozen dataclass's arrays read-only, in place (for ``__post_init__``).
-
-    Every ndarray field becomes a read-only view
-    (:func:`resonant.system.batch.frozen_array`), and so does every ndarray value of a
-    mapping field (the mapping is then replaced by a read-only ``MappingProxyType``).
-    Other fields are left as they are.
-    """
-    for f in fields(result):
-        value = getattr(result, f.name)
-        if isinstance(value, np.ndarray):
-            object.__setattr__(result, f.name, frozen_array(value))
-        elif isinstance(value, Mapping) and any(isinstance(v, np.ndarray)
-                                                for v in value.values()):
-            object.__setattr__(result, f.name, MappingProxyType(
-                {k: frozen_array(v) for k, v in value.items()}))
 
 
 @dataclass(frozen=True)
@@ -587,4 +570,4 @@ def _response(h: NumericHarmonic, result: KernelResult, omegas: np.ndarray,
                             frozen_array(-X.imag.copy()), condition)
 
 
-__all__ = ["StationarySolution", "HarmonicResponse", "stationary", "peak", "freeze_fields"]
+__all__ = ["StationarySolution", "HarmonicResponse", "stationary", "peak"]

@@ -82,11 +82,12 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from ..arrays import freeze_fields, frozen_array
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model.options import SweepOptions, chosen, names_tuple
 from ..system.base import LinearSystem
-from ..system.batch import Batch, frozen_array, group_frequencies
+from ..system.batch import Batch, group_frequencies
 from ..system.stability import natural_frequencies as _natural_frequencies
 from .kernel import (
     DEFAULT_TOL,
@@ -98,7 +99,7 @@ from .kernel import (
     solve_harmonic,
 )
 from .results_json import Saved, complex_json, floats_json
-from .stationary import freeze_fields, peak, phase_angle
+from .stationary import peak, phase_angle
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

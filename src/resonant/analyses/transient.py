@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..memory import chunk_rows, require
@@ -41,7 +42,6 @@ from ..system.base import LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
 from .results_json import Saved, floats_json
 from .shock import pulse
-from .stationary import freeze_fields
 
 #: most state variables marched (dense matrices)
 MAX_STATES = 2000

@@ -26,13 +26,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..arrays import Matrix
+from ..arrays import Matrix, frozen_array
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
 from ..model import Model
 from ..model.options import SweepOptions
-from .batch import Batch, BatchHarmonic, Var, frozen_array, group_frequencies
+from .batch import Batch, BatchHarmonic, Var, group_frequencies
 
 if TYPE_CHECKING:
     from ..analyses.modes import ModalAnalysis

@@ -32,14 +32,6 @@ Var = tuple[str, int]
 SAME_FREQUENCY = 1e-12
 
 
-def frozen_array(a: _T) -> _T:
-    """A read-only view of an array (sparse matrices and non-arrays pass unchanged)."""
-    if isinstance(a, np.ndarray):
-        a = a.view()
-        a.flags.writeable = False
-    return a
-
-
 def group_frequencies(omegas: Sequence[float]) -> list[list[int]]:
     """Indices of equal frequencies (within :data:`SAME_FREQUENCY`), in first-seen order.
 
@@ -361,5 +353,5 @@ def not_finite_problem(label: str, i: int, j: int, entry: str, source: str,
 
 __all__ = ["Batch", "BatchHarmonic", "CompiledExpressions", "compile_expressions",
            "SYMENGINE_MIN_EXPRESSIONS",
-           "FlatReader", "check_finite", "group_frequencies", "frozen_array", "SAME_FREQUENCY",
+           "FlatReader", "check_finite", "group_frequencies", "SAME_FREQUENCY",
            "not_finite_problem"]
