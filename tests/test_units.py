@@ -694,3 +694,33 @@ def test_a_contradiction_elsewhere_does_not_change_an_inference(exponents, a):
         (parse("p"), Dimension.of(s=1))])
     assert alone["z"] == power / k ** Fraction(a) == both["z"]
     assert both["p"] is None and "p" not in alone
+
+
+KN_TEMPLATE = """
+[parameters]
+m = "2 kg"
+k = "800 kN/m"
+[coordinates]
+x = { description = "the mass", unit = "m" }
+[energy]
+T = "m*x'^2/2"
+U = "k*x^2/2"
+"""
+
+
+@pytest.mark.parametrize("value, written", [(6e5, None), ("600 kN/m", "600 kN/m"),
+                                             ("0.6 MN/m", "0.6 MN/m")])
+def test_a_replaced_value_is_written_as_it_was_given(value, written, tmp_path):
+    """A variant's k replaces the template's "800 kN/m": what the answer sheet shows as
+    "given as" is the variant's, never the template's beside the variant's value (9 of 24
+    rows of a teacher's sheet read "given as 800 kN/m, value 6e5 N/m")."""
+    import resonant
+
+    model = resonant.loads(KN_TEMPLATE).with_parameters(k=value)
+    assert model.parameter_values["k"] == pytest.approx(6e5, rel=1e-15)
+    given = model.units.given.get("k")
+    assert (given is None) if written is None else \
+        f"{given[0].text} {given[1].text}" == written
+    path = model.report(tmp_path / "r.md", plots=False)
+    data = path.read_text().split("## ")[1]   # the data section's table
+    assert "800" not in data, data

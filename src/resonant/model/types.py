@@ -266,6 +266,7 @@ class Model:
         """
         params = dict(self.parameters)
         problems: list[Problem] = []
+        written = dict(self.units.given) if self.units is not None else {}
         for name, value in values.items():
             if name not in params:
                 problems.append(unknown_parameter(name, self.source, params))
@@ -276,6 +277,11 @@ class Model:
             except ExpressionError as exc:
                 problems.extend(exc.problems)
                 continue
+            # what the value was written as follows the value ("800 kN/m" is the template's)
+            if given is not None:
+                written[name] = given
+            else:
+                written.pop(name, None)
             mismatch = self.units.replacement_problem(name, *given) \
                 if given is not None and self.units is not None else None
             if mismatch:
@@ -287,9 +293,11 @@ class Model:
             negative = check_part_values(self.parts.parts, exact, self.source)
             if negative:
                 raise ModelError(negative)
+        units = None if self.units is None else \
+            replace(self.units, given=MappingProxyType(written))
         return replace(self, parameters=MappingProxyType(params),
                         exact_values=MappingProxyType(exact),
-                        parameter_values=MappingProxyType(floats))
+                        parameter_values=MappingProxyType(floats), units=units)
 
 
 def unknown_parameter(name: str, source: str, params: Iterable[str]) -> Problem:
