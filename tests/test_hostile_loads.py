@@ -112,6 +112,11 @@ RANDOM_CASES = {
                                 'values = 1', 2, ("[random.psd] W", "floating-point range")),
     "base-overflows-response": ('band = [1, 100]\n[random.psd.W]\nbase = ["1e200"]\n'
                                 'values = 1', 2, ("[random.psd] W", "floating-point range")),
+    # a frequency beyond the dynamic stiffness' range was called "an undamped resonance"
+    "band-beyond-the-frequency-range": ("band = [0, 1e300]\n[random.psd.y]\nvalues = 1", 2,
+                                        ("[random] band", "above 1e+15 Hz")),
+    "table-beyond-the-frequency-range": ("[random.psd.y]\nvalues = [[1, 1], [1e308, 1]]", 2,
+                                         ("[random] band", "the tables' span")),
     # "30 furlongs" was taken as a phase of 6035 rad
     "phase-not-an-angle": (TWO_INPUTS + 'phase = "30 furlongs"', 2,
                            ("[random.coherence] #1", "not an angle")),
@@ -166,6 +171,9 @@ SECTION_CASES = {
         "shock", SHOCK.replace("amplitude = 10", 'amplitude = 1e308\nunit = "g"'),
         ("[shock] amplitude", "floating-point range")),
     "shock-step-underflows": ("shock", SHOCK + "step = 5e-324", ("[shock] step", "samples")),
+    # a base frequency of 1e300 Hz was called "an undamped resonance"
+    "periodic-period-underflows": ("periodic", SQUARE + "period = 1e-300",
+                                   ("[periodic] period", "above 1e+15 Hz")),
     # [periodic]: OverflowError; an infinite amplitude was reported as "needs more than
     # 200000 harmonics"
     "periodic-huge-period": ("periodic", SQUARE + f"period = {HUGE}", ("[periodic] period",)),

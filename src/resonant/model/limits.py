@@ -74,3 +74,10 @@ MAX_HARMONICS = 1000
 
 __all__ += ["MAX_PARAMETERS", "MAX_SIGNALS", "MAX_DEFINITIONS", "MAX_OUTPUTS", "MAX_FORCES",
             "MAX_HARMONICS"]
+
+#: the highest frequency (Hz) an analysis in the frequency domain takes: above it the
+#: dynamic stiffness w^2 M and the spectral moments (f^4 times a density) leave the
+#: floating-point range, or no digit of the response is left beside w^2 M
+MAX_FREQUENCY_HZ = 1e15
+
+__all__ += ["MAX_FREQUENCY_HZ"]

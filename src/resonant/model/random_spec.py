@@ -45,6 +45,7 @@ import numpy as np
 
 from ..errors import Problem, printable
 from ..expressions import Expression, ExpressionError, numeric_value, parse, validate_name
+from . import limits
 from .load_spec import check_input_dimension
 from .units import Dimension, ModelUnits, UnitError, parse_unit, parse_with_unit
 
@@ -467,6 +468,14 @@ def _band(value: object, inputs: list[RandomInput], source: str, problems: list[
     if not (math.isfinite(high) and 0 <= low < high):
         problems.append(Problem(f"band [{low:g}, {high:g}] Hz must be finite with 0 <= low < high",
                                 source, SECTION, "band"))
+        return None
+    if high > limits.MAX_FREQUENCY_HZ:
+        problems.append(Problem(
+            f"the band ends at {high:g} Hz, above {limits.MAX_FREQUENCY_HZ:g} Hz: there the "
+            "dynamic stiffness (2 pi f)^2 M and the moments of the densities leave the "
+            "floating-point range; end the band at the highest frequency that matters"
+            + (" (without a band, the band is the tables' span)" if value is None else ""),
+            source, SECTION, "band"))
         return None
     for i in tables:
         assert i.table is not None
