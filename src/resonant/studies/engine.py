@@ -458,8 +458,9 @@ def ordered_map(function: Callable[..., Any], tasks: Iterable[tuple], engine: En
             yield from (function(*args) for args in tasks)
             return
         tasks = _chain(rest, tasks)
+    count = engine.workers or os.cpu_count() or 1
     say(engine.scheduler or ("a client's cluster" if engine.client is not None else
-                             f"{engine.workers or os.cpu_count()} local workers"))
+                             f"{count} local worker{'s' if count != 1 else ''}"))
     yield from _on_dask(function, tasks, engine)
 
 
