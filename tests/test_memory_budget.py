@@ -21,6 +21,9 @@ import pytest
 
 from resonant.errors import AnalysisError, ModelError
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+from bench_memory_paths import LIGHT_MODEL  # noqa: E402
+
 ADDRESS_SPACE = 2 << 30
 
 
@@ -50,20 +53,6 @@ def chain(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return np.eye(n), 0.01 * np.eye(n) + 1e-4 * K, K
 
 
-LIGHT = """[parameters]
-w = 1.0
-[matrices]
-M = [[1, 0, 0], [0, 1, 0], [0, 0, 1e-4]]
-K = [[2, -1, 0], [-1, 2, -1], [0, -1, 1]]
-C = [[0.02, 0, 0], [0, 0.02, 0], [0, 0, 10]]
-[[harmonic]]
-omega = "w"
-F_C = [0.1, 0, 0]
-F_S = [0, 0, 0]
-[[nonlinear]]
-coordinates = ["q1"]
-force = "0.5*q1^3"
-"""
 
 
 def test_the_stability_of_a_stiff_light_coordinate_is_bounded(tmp_path: Path) -> None:
@@ -71,7 +60,7 @@ def test_the_stability_of_a_stiff_light_coordinate_is_bounded(tmp_path: Path) ->
     its stack of matrices huge (3 GiB with 25 harmonics, 60 GiB with 40): the steps now go a chunk at a
     time, and Hill's matrix is taken where it is the cheaper of the two."""
     path = tmp_path / "light.toml"
-    path.write_text(LIGHT)
+    path.write_text(LIGHT_MODEL)
     code, out, err = run_limited(["sweep", path, "--nonlinear", "--param", "w", "--from",
                                   "0.8", "--to", "1.2", "--harmonics", "25", "--points", "12"])
     assert code == 0, err
