@@ -117,6 +117,15 @@ RANDOM_CASES = {
                                         ("[random] band", "above 1e+15 Hz")),
     "table-beyond-the-frequency-range": ("[random.psd.y]\nvalues = [[1, 1], [1e308, 1]]", 2,
                                          ("[random] band", "the tables' span")),
+    # a time derivative was read as a zero: RMS 0 with status ok
+    "density-primed-f": ('band = [1, 100]\n[random.psd.y]\nvalues = "f\'"', 2,
+                         ("[random.psd.y] values", "f': a time derivative")),
+    "density-primed-parameter": ('band = [1, 100]\n[random.psd.y]\nvalues = "k\'"', 2,
+                                 ("[random.psd.y] values", "k': a time derivative")),
+    "load-primed": ('band = [1, 100]\n[random.psd.W]\nload = ["k\'"]\nvalues = 1', 2,
+                    ("[random.psd.W] load", "k': a time derivative")),
+    "coherence-primed": (TWO_INPUTS.replace("value = 0.5", "value = \"c'\""), 2,
+                         ("[random.coherence] #1", "c': a time derivative")),
     # "30 furlongs" was taken as a phase of 6035 rad
     "phase-not-an-angle": (TWO_INPUTS + 'phase = "30 furlongs"', 2,
                            ("[random.coherence] #1", "not an angle")),

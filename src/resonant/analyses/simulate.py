@@ -58,10 +58,10 @@ import sympy
 from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, AnalysisTimeout, Deadline
 from ..errors import AnalysisError, ModelError, Problem, name_list
-from ..expressions import parse
+from ..expressions import parse, primed_names
 from ..modal import point_state_eigenvalues
 from ..model.options import SimulationOptions, chosen
-from ..model.types import constant_prime_message, primed_names
+from ..model.types import constant_prime_message
 from ..system.base import LinearSystem, NumericEOM
 from ..system.build import nonlinear_system
 from ..system.nonlinear import NonlinearSystem

@@ -14,10 +14,11 @@ from .parser import (
                      Neg,
                      Num,
                      parse,
+                     primed_names,
                      validate_name,
 )
 
 __all__ = ["FUNCTIONS", "Function", "FloatOps", "compilable", "numeric_value",
            "BinOp", "Call", "Expression",
-           "ExpressionError", "Name", "Neg", "Num", "parse", "validate_name",
+           "ExpressionError", "Name", "Neg", "Num", "parse", "primed_names", "validate_name",
            "MAX_NUMBER", "MIN_NUMBER"]

@@ -587,6 +587,26 @@ def parse(text: str | int | float, *, allowed: Collection[str] | None = None,
     return Expression(text, _Parser(text, allowed, where).parse(), where)
 
 
+def primed_names(expression: Expression) -> list[str]:
+    """The time derivatives (``k'``) in an expression that may only use constants.
+
+    Parameters
+    ----------
+    expression : Expression
+
+    Returns
+    -------
+    list of str
+        Each primed name with its primes, sorted.
+
+    Examples
+    --------
+    >>> primed_names(parse("k' + 2*m''"))
+    ["k'", "m''"]
+    """
+    return sorted(name + "'" * primes for name, primes in expression.names() if primes)
+
+
 def validate_name(name: str) -> str | None:
     """Why ``name`` cannot be declared by a model, or None if it can.
 

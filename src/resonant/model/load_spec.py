@@ -60,7 +60,7 @@ from typing import Any
 
 from ..errors import Problem, printable
 from ..expressions import Expression, ExpressionError, parse
-from . import limits
+from .limits import MAX_FREQUENCY_HZ
 from .units import Dimension, ModelUnits, UnitError, parse_unit
 
 #: the pulses of ``[shock]`` (resonant.analyses.shock.pulse makes them)
@@ -382,10 +382,10 @@ def parse_periodic(data: object, params: Sequence[str], signals: Sequence[str],
         else:
             amplitude = _scaled(amplitude, factor, source, section, "amplitude", problems)
     period = _positive(data, "period", source, section, problems)
-    if period is not None and 1 / period > limits.MAX_FREQUENCY_HZ:
+    if period is not None and 1 / period > MAX_FREQUENCY_HZ:
         problems.append(Problem(
             f"a period of {period:g} s is a base frequency of {1 / period:g} Hz, above "
-            f"{limits.MAX_FREQUENCY_HZ:g} Hz, where the dynamic stiffness (2 pi f)^2 M leaves "
+            f"{MAX_FREQUENCY_HZ:g} Hz, where the dynamic stiffness (2 pi f)^2 M leaves "
             "the floating-point range; give the period in seconds", source, section,
             "period"))
         period = None

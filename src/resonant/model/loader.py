@@ -46,6 +46,7 @@ from ..expressions import (
     Neg,
     Num,
     parse,
+    primed_names,
     validate_name,
 )
 from ..expressions.parser import Node
@@ -76,7 +77,6 @@ from .types import (
     Model,
     constant_prime_message,
     evaluate_parameters,
-    primed_names,
     unknown_parameter,
 )
 from .units import (

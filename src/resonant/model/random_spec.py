@@ -44,8 +44,15 @@ from typing import Any
 import numpy as np
 
 from ..errors import Problem, printable
-from ..expressions import Expression, ExpressionError, numeric_value, parse, validate_name
-from . import limits
+from ..expressions import (
+    Expression,
+    ExpressionError,
+    numeric_value,
+    parse,
+    primed_names,
+    validate_name,
+)
+from .limits import MAX_FREQUENCY_HZ
 from .load_spec import check_input_dimension
 from .units import Dimension, ModelUnits, UnitError, parse_unit, parse_with_unit
 
@@ -255,11 +262,27 @@ def _vector(value: object, allowed: list[str], n: int | None, where: tuple[str, 
     out = []
     for entry in value:
         try:
-            out.append(parse(entry, allowed=allowed, file=where[0], section=where[1],
-                             key=where[2]))
+            expression = parse(entry, allowed=allowed, file=where[0], section=where[1],
+                               key=where[2])
         except ExpressionError as exc:
             problems.extend(exc.problems)
+            continue
+        if _no_primes(expression, where, problems):
+            out.append(expression)
     return tuple(out)
+
+
+def _no_primes(expression: Expression, where: tuple[str, str, str],
+               problems: list[Problem]) -> bool:
+    """Whether ``expression`` has no time derivative (``f'``, ``k'``): a density, a load
+    vector or a coherence is a function of the frequency and the parameters, constants in
+    time (a prime was read as a zero)."""
+    primed = primed_names(expression)
+    if primed:
+        problems.append(Problem(f"{primed[0]}: a time derivative has no meaning here (a "
+                                "function of the frequency f and the parameters); remove the "
+                                "prime", *where))
+    return not primed
 
 
 def _input(name: str, table: object, params: list[str], signals: Sequence[str],
@@ -329,6 +352,7 @@ def _input(name: str, table: object, params: list[str], signals: Sequence[str],
         try:
             expression = parse(values, allowed=[*params, "f"], file=source, section=section,
                                key="values")
+            _no_primes(expression, (source, section, "values"), problems)
         except ExpressionError as exc:
             problems.extend(exc.problems)
     if len(problems) > count:
@@ -361,6 +385,9 @@ def _coherence(entry: object, index: int, params: list[str], names: list[str], s
         phase, given = parse_with_unit(entry.get("phase", 0), params, source, section, key)
     except ExpressionError as exc:
         problems.extend(exc.problems)
+        return None
+    if not (_no_primes(value, (source, section, key), problems)
+            and _no_primes(phase, (source, section, key), problems)):
         return None
     if given is not None and not given[1].dimension.dimensionless:
         problems.append(Problem(f"the phase's unit '{given[1].text}' is not an angle; give it "
@@ -469,9 +496,9 @@ def _band(value: object, inputs: list[RandomInput], source: str, problems: list[
         problems.append(Problem(f"band [{low:g}, {high:g}] Hz must be finite with 0 <= low < high",
                                 source, SECTION, "band"))
         return None
-    if high > limits.MAX_FREQUENCY_HZ:
+    if high > MAX_FREQUENCY_HZ:
         problems.append(Problem(
-            f"the band ends at {high:g} Hz, above {limits.MAX_FREQUENCY_HZ:g} Hz: there the "
+            f"the band ends at {high:g} Hz, above {MAX_FREQUENCY_HZ:g} Hz: there the "
             "dynamic stiffness (2 pi f)^2 M and the moments of the densities leave the "
             "floating-point range; end the band at the highest frequency that matters"
             + (" (without a band, the band is the tables' span)" if value is None else ""),

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 import sympy
 
 from ..errors import ModelError, Problem, name_list
-from ..expressions import Expression, ExpressionError
+from ..expressions import Expression, ExpressionError, primed_names
 from .parts import check_values as check_part_values
 from .study import StudySpec
 from .units import ModelUnits, parse_with_unit
@@ -309,11 +309,6 @@ def unknown_parameter(name: str, source: str, params: Iterable[str]) -> Problem:
 
 # -- parameters ---------------------------------------------------------------------------
 
-def primed_names(expression: Expression) -> list[str]:
-    """The time derivatives (``k'``) in an expression that may only use constants."""
-    return sorted(name + "'" * primes for name, primes in expression.names() if primes)
-
-
 def constant_prime_message(primed: Sequence[str]) -> str:
     """Why ``k'`` is refused where only parameters (constants) are allowed."""
     return (f"{primed[0]} is the time derivative of a parameter; parameters are constants "
@@ -398,5 +393,5 @@ def _dependents_line(names: Sequence[str], source: str, key: str) -> Problem:
 
 
 __all__ = ["Model", "Force", "Harmonic", "MatrixSpec", "symbol", "TIME", "evaluate_parameters",
-           "primed_names", "constant_prime_message",
+           "constant_prime_message",
            "unknown_parameter"]
