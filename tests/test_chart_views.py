@@ -27,7 +27,7 @@ from resonant.analyses.random_response import random_response
 from resonant.analyses.shock import pulse, shock_response_spectrum
 from resonant.analyses.simulate import simulate
 from resonant.report import plots
-from resonant.views.charts import (
+from resonant.charts import (
     Chart,
     Charts,
     Curve,
@@ -45,7 +45,7 @@ from resonant.views.plotting import (
 )
 from resonant.views.random_views import plot_random, random_chart
 from resonant.views.shock_views import plot_srs, srs_chart
-from resonant.views.units_display import result_units
+from resonant.model.units_display import result_units
 
 SVG = "{http://www.w3.org/2000/svg}"
 

@@ -1,4 +1,4 @@
-"""Charts written as SVG directly (resonant.views.charts) and their matplotlib drawing.
+"""Charts written as SVG directly (resonant.charts) and their matplotlib drawing.
 
 The HTML report and the exercise solutions draw frequency responses and time histories
 as SVG text (docs/performance.md, "Parameter studies": 100 exercise variants with their
@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 from resonant.api import load
 from resonant.report import plots
-from resonant.views.charts import (
+from resonant.charts import (
     HEIGHT,
     WIDTH,
     Chart,

@@ -29,7 +29,7 @@ def _sweep(name: str, start: float, stop: float) -> tuple:
     model = resonant.load(EXAMPLES / name)
     system = model.linearize()
     response = system.sweep("omega", np.linspace(start, stop, 600))
-    from resonant.views.units_display import result_units
+    from resonant.model.units_display import result_units
 
     units = result_units(model)
     return response, (units.si if units is not None else None)

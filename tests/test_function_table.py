@@ -14,8 +14,8 @@ import resonant
 from resonant.expressions import parse
 from resonant.expressions.functions import FUNCTIONS, JAVASCRIPT
 from resonant.views.js_printer import FUNCTIONS_JS, js_expression
-from resonant.views.mathml import latex_to_mathml
-from resonant.views.notation import expression_latex, sympy_latex
+from resonant.expressions.mathml import latex_to_mathml
+from resonant.expressions.notation import expression_latex, sympy_latex
 
 ROOT = Path(__file__).parents[1]
 x, y = sympy.symbols("x y")

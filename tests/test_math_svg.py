@@ -6,8 +6,8 @@ import re
 
 import pytest
 
-from resonant.views import mathml
-from resonant.views.mathml import SvgMath, formula_pieces, latex_to_svg
+from resonant.expressions import mathml
+from resonant.expressions.mathml import SvgMath, formula_pieces, latex_to_svg
 
 pytest.importorskip("ziamath")
 

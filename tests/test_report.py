@@ -272,7 +272,7 @@ def test_derivation_is_checked_against_the_equation_of_motion():
     lambda v: v == 0 or abs(v) > 1e-12))
 @settings(max_examples=200, deadline=None)
 def test_numbers_round_trip(value):
-    from resonant.views.notation import number_latex
+    from resonant.expressions.notation import number_latex
 
     text = number_latex(value)
     assert math.isclose(to_float(text), value, rel_tol=5e-4, abs_tol=0.0)
@@ -281,7 +281,7 @@ def test_numbers_round_trip(value):
 @given(st.from_regex(r"[A-Za-z][A-Za-z0-9]{0,6}(_[A-Za-z0-9]{1,5})?", fullmatch=True),
        st.integers(0, 3))
 def test_names_are_balanced_latex(name, primes):
-    from resonant.views.notation import name_latex
+    from resonant.expressions.notation import name_latex
 
     text = name_latex(name, primes)
     assert text.count("{") == text.count("}") and text

@@ -24,7 +24,7 @@ from matplotlib.collections import QuadMesh
 from matplotlib.colors import to_hex
 from matplotlib.container import BarContainer, ErrorbarContainer
 
-from resonant.views.charts import (
+from resonant.charts import (
     Chart,
     Charts,
     Field,

@@ -521,7 +521,7 @@ def test_plot_axes_are_labelled_with_units(tmp_path):
     import matplotlib
 
     matplotlib.use("Agg")
-    from resonant.views.units_display import result_units
+    from resonant.model.units_display import result_units
 
     model = loads(CART_PENDULUM.format(**MIXED))
     units = result_units(model)

@@ -2,7 +2,7 @@
 
 Sphinx's default renders ``$...$`` and ``$$...$$`` (MyST's dollar math) with MathJax
 loaded from a CDN; this site loads nothing from the network.  Each formula is drawn as
-SVG by resonant's own route (:class:`resonant.views.mathml.SvgMath`: ziamath with its
+SVG by resonant's own route (:class:`resonant.expressions.mathml.SvgMath`: ziamath with its
 bundled STIX Two Math font, so brackets stretch whatever fonts the reader has), with a
 visually hidden MathML copy for screen readers; each page defines its glyphs once.
 """
@@ -13,7 +13,7 @@ from typing import Any
 
 from docutils import nodes
 
-from resonant.views.mathml import SvgMath
+from resonant.expressions.mathml import SvgMath
 
 #: docname -> the formulas of that page (their shared glyphs)
 _PAGES: dict[str, SvgMath] = {}

@@ -80,7 +80,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
     from scipy.sparse import sparray, spmatrix
 
-    from ..views.units_display import ResultUnits
+    from ..model.units_display import ResultUnits
 
 #: matrices up to this size are analysed densely when no ``count`` is given
 DENSE_MODES = 1500
@@ -307,7 +307,7 @@ class ModalAnalysis:
         Parameters
         ----------
         units : ResultUnits, optional
-            The display units (:mod:`resonant.views.units_display`); Hz by default.
+            The display units (:mod:`resonant.model.units_display`); Hz by default.
 
         Returns
         -------

@@ -27,11 +27,11 @@ from ..deadline import Deadline
 from ..errors import AnalysisError
 from ..model import Model
 from ..model.options import MAX_GIVEN_HARMONICS, SWEEP_METHODS, BalanceOptions, SweepOptions
+from ..model.units_display import ResultUnits, result_units
 from ..system import linear_system
 from ..views.display import modes_text, sweep_text
 from ..views.nonlinear_plots import nonlinear_text, plot_backbones, plot_nonlinear_response
 from ..views.plotting import plot_frequency_response, plot_modes
-from ..views.units_display import ResultUnits, result_units
 
 #: the most harmonics a nonlinear analysis takes (the analyses' own limit)
 MAX_HARMONICS_OPTION = MAX_GIVEN_HARMONICS

@@ -18,7 +18,7 @@ from __future__ import annotations
 import html
 
 from ..errors import printable
-from ..views.mathml import SvgMath
+from ..expressions.mathml import SvgMath
 from .blocks import (
     Equation,
     Figure,

@@ -20,12 +20,12 @@ import numpy as np
 from ..analyses.harmonic_balance import nonlinear_sweep
 from ..analyses.nonlinear_response import NonlinearResponse
 from ..analyses.periodic import PeriodicSolution, periodic_solution
+from ..charts import Chart, draw_chart
 from ..errors import AnalysisError
+from ..expressions.notation import number_text
 from ..system.build import nonlinear_system
 from ..system.nonlinear import NonlinearSystem
-from ..views.charts import Chart, draw_chart
 from ..views.nonlinear_plots import nonlinear_response_chart
-from ..views.notation import number_text
 from ..views.plotting import name_label as _label
 from .blocks import Block, Heading, Math, Note, Table, cell, paragraph
 from .plots import _swept_parameter

@@ -32,11 +32,11 @@ from sympy.core.function import AppliedUndef
 from ..derivation import derivative_symbol
 from ..errors import ModelError
 from ..expressions import ExpressionError, parse
+from ..expressions.notation import Namer, column_latex, expression_latex, name_latex
 from ..model import Model
 from ..model.part_energies import TIME, Mechanism
 from ..model.parts import Body, Contribution, Link
 from ..views.drawing import draw_sketch
-from ..views.notation import Namer, column_latex, expression_latex, name_latex
 from ..views.sketch import Sketch, sketch
 from .blocks import Block, Equation, Figure, Heading, Math, paragraph
 

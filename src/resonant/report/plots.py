@@ -1,5 +1,5 @@
 """The report's figures: its data computed first, described by the views' chart functions
-(:mod:`resonant.views.charts`, the same descriptions the library's plots draw), written
+(:mod:`resonant.charts`, the same descriptions the library's plots draw), written
 as SVG text for HTML or drawn with matplotlib for files.
 
 :func:`frequency_response` sweeps the excitation frequency through the model:
@@ -44,10 +44,10 @@ import sympy
 
 from ..analyses.stationary import common_period
 from ..analyses.sweep import sweep
+from ..charts import Chart, Charts, chart_svg, charts_svg, draw_chart, draw_figure
+from ..model.units_display import result_units
 from ..system.base import LinearSystem
-from ..views.charts import Chart, Charts, chart_svg, charts_svg, draw_chart, draw_figure
 from ..views.plotting import frequency_response_chart, history_chart
-from ..views.units_display import result_units
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -262,7 +262,7 @@ def _figure(plot: PlotData):
 
 def to_svg(plot: PlotData, number: int) -> str:
     """The plot as an ``<svg>`` element for inline HTML (no XML prolog): chart descriptions
-    written directly (:func:`resonant.views.charts.chart_svg`, about a millisecond each),
+    written directly (:func:`resonant.charts.chart_svg`, about a millisecond each),
     other plots by matplotlib."""
     chart = described(plot)
     if isinstance(chart, Chart):

@@ -35,13 +35,8 @@ import sympy
 
 from ..derivation import derivative_symbol
 from ..errors import printable
-from ..model import Model, symbol
-from ..system.base import NumericEOM
-from ..system.build import linear_system
-from ..system.matrix import MatrixEOM
-from ..system.symbolic import LinearEOM
-from .mathml import latex_to_mathml
-from .notation import (
+from ..expressions.mathml import latex_to_mathml
+from ..expressions.notation import (
     Namer,
     column_latex,
     expression_latex,
@@ -51,7 +46,8 @@ from .notation import (
     sympy_latex,
     vector_latex,
 )
-from .units_display import (
+from ..model import Model, symbol
+from ..model.units_display import (
     HZ,
     ResultUnits,
     result_units,
@@ -59,6 +55,10 @@ from .units_display import (
     uniform,
     units_grid,
 )
+from ..system.base import NumericEOM
+from ..system.build import linear_system
+from ..system.matrix import MatrixEOM
+from ..system.symbolic import LinearEOM
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..analyses.modes import ModalAnalysis  # noqa: F401

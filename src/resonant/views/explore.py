@@ -44,16 +44,16 @@ from ..analyses.stationary import stationary
 from ..analyses.sweep import sweep
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
+from ..expressions.notation import name_latex
 from ..model import Model
+from ..model.units_display import ResultUnits, result_units
 from ..system.base import LinearSystem
 from ..system.build import linear_system
 from ..system.stability import natural_frequencies
 from .explore_export import ExportedSystem, equilibrium_values, export_system
 from .js_printer import NotPrintable
-from .notation import name_latex
 from .plotting import response_axes
 from .sketch import SketchMotion, sketch_motion
-from .units_display import ResultUnits, result_units
 
 #: the most coordinates for which the page computes everything itself
 LIVE_LIMIT = 40

@@ -14,8 +14,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..charts import COLORS, Chart, Charts, Curve, Marker, PathArg, Rule, draw_figure
 from ..errors import printable
-from .charts import COLORS, Chart, Charts, Curve, Marker, PathArg, Rule, draw_figure
 from .plotting import MAX_CURVES, _check_path, _name, _save, unit_math
 
 if TYPE_CHECKING:  # pragma: no cover

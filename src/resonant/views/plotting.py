@@ -23,9 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from ..errors import AnalysisError, printable
-from ..model.options import START_KINDS
-from .charts import (
+from ..charts import (
     COLORS,
     Annotation,
     Bar,
@@ -40,8 +38,10 @@ from .charts import (
     figure_of,
     unit_text,
 )
-from .notation import name_latex
-from .units_display import unit_latex
+from ..errors import AnalysisError, printable
+from ..expressions.notation import name_latex
+from ..model.options import START_KINDS
+from ..model.units_display import unit_latex
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -350,7 +350,7 @@ def plot_frequency_response(response: FrequencyResponse, path: PathArg = None,
         the two panels stacked is made.
     units : mapping, optional
         name -> SI unit of the amplitudes (``ResultUnits.si`` of
-        :mod:`resonant.views.units_display`): the amplitude axis is labelled with the
+        :mod:`resonant.model.units_display`): the amplitude axis is labelled with the
         unit, or each curve where the units differ.
 
     Returns

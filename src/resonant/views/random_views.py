@@ -19,9 +19,9 @@ import numpy as np
 
 from ..analyses.periodic_load import PeriodicResponse
 from ..analyses.random_response import RandomResponse
+from ..charts import Chart, Charts, Curve, PathArg, Rule, axes_list, draw_figure, unit_text
 from ..errors import AnalysisError, printable
 from ..model.random_spec import STANDARD_GRAVITY
-from .charts import Chart, Charts, Curve, PathArg, Rule, axes_list, draw_figure, unit_text
 from .plotting import _check_path, _save
 
 if TYPE_CHECKING:  # pragma: no cover

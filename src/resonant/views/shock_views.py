@@ -19,7 +19,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..analyses.shock import ShockSpectrum
-from .charts import COLORS, Chart, Charts, Curve, PathArg, axes_list, draw_figure, unit_text
+from ..charts import COLORS, Chart, Charts, Curve, PathArg, axes_list, draw_figure, unit_text
 from .plotting import _check_path, _save
 
 if TYPE_CHECKING:  # pragma: no cover

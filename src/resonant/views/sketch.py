@@ -56,9 +56,9 @@ import sympy
 
 from ..errors import ModelError, Problem, printable
 from ..expressions import Expression, Name, parse
+from ..expressions.notation import name_latex
 from ..model import Model
 from ..model.parts import Body, DerivedEnergies, Link, Parts
-from .notation import name_latex
 
 Point = tuple[float, float]
 

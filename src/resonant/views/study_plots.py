@@ -1,7 +1,7 @@
 """Pictures of a study: histograms, scatter plots, Sobol indices, a map of a grid.
 
 Each ``*_chart`` function describes a picture as a chart
-(:class:`~resonant.views.charts.Charts`: drawn with matplotlib or written as SVG text);
+(:class:`~resonant.charts.Charts`: drawn with matplotlib or written as SVG text);
 each ``plot_*`` function draws that description on ``ax`` (a new figure without one) and
 returns the Figure; :func:`plot_study` writes all that fit a study into a directory
 (:func:`study_charts` lists them).  Failed samples (NaN) are left out and counted in the
@@ -26,10 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..errors import AnalysisError
-from ..model import Model
-from ..model.study import StudySpec
-from .charts import (
+from ..charts import (
     HATCH,
     HATCH_COLOR,
     Bar,
@@ -43,6 +40,9 @@ from .charts import (
     Span,
     draw_figure,
 )
+from ..errors import AnalysisError
+from ..model import Model
+from ..model.study import StudySpec
 from .plotting import _save, math_name, unit_math
 
 if TYPE_CHECKING:
@@ -484,7 +484,7 @@ def contour_chart(frame: pd.DataFrame, quantity: str, x: str, y: str,
                   units: Mapping[str, str] | None = None,
                   nominal: Mapping[str, float] | None = None) -> Charts:
     """What the map of a quantity over a two-parameter grid shows: one coloured cell per
-    grid point (a :class:`~resonant.views.charts.Field`).
+    grid point (a :class:`~resonant.charts.Field`).
 
     Cells, not contours: a jump (a peak's frequency moving from one resonance to the
     other) stays a sharp edge instead of being smeared into colours that do not occur.

@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from ...views.charts import plain_text
-from ...views.notation import name_latex
-from ...views.units_display import result_units
+from ...charts import plain_text
+from ...expressions.notation import name_latex
+from ...model.units_display import result_units
 from ..blocks import Block, Heading, Note
 from ..plots import (
     follows_frequency,

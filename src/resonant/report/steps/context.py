@@ -10,14 +10,14 @@ import sympy
 from ...analyses.stationary import StationarySolution
 from ...derivation import derivative_symbol
 from ...derivation.lagrange import signal_derivatives
-from ...model import Model, symbol
-from ...system import LinearEOM
-from ...views.notation import (
+from ...expressions.notation import (
     Namer,
     column_latex,
     number_latex,
     sympy_latex,
 )
+from ...model import Model, symbol
+from ...system import LinearEOM
 from ..blocks import Equation, Figure, Math
 from ..derivation import Derivation, SourceTerms
 

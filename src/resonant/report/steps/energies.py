@@ -7,7 +7,7 @@ from collections.abc import Sequence
 
 import sympy
 
-from ...views.notation import (
+from ...expressions.notation import (
     expression_latex,
 )
 from ..blocks import Block, Heading, paragraph

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sympy
 
-from ...views.notation import (
+from ...expressions.notation import (
     matrix_latex,
     number_latex,
     vector_latex,

@@ -6,12 +6,12 @@ import sympy
 
 from ...derivation import derivative_symbol
 from ...expressions import numeric_value
-from ...views.notation import (
+from ...expressions.notation import (
     expression_latex,
     number_latex,
     with_subscript,
 )
-from ...views.units_display import NO_UNIT, RAD, result_units, unit_latex
+from ...model.units_display import NO_UNIT, RAD, result_units, unit_latex
 from ..blocks import Block, Heading, Table, cell, paragraph
 from .context import MAX, Context, _m
 

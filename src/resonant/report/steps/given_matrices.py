@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ...views.notation import (
+from ...expressions.notation import (
     expression_latex,
     matrix_latex,
 )

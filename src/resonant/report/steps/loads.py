@@ -16,12 +16,12 @@ from ...analyses.random_response import random_response
 from ...analyses.shock import pulse, shock_response_spectrum
 from ...analyses.transient import shock_response
 from ...errors import ResonantError
+from ...expressions.notation import number_latex
 from ...model.units import Dimension
-from ...views.notation import number_latex
+from ...model.units_display import result_units
 from ...views.plotting import history_chart
 from ...views.random_views import random_chart
 from ...views.shock_views import srs_chart
-from ...views.units_display import result_units
 from ..blocks import Block, Heading, Note, Table, cell, paragraph
 from .context import Context, _m
 

@@ -8,12 +8,12 @@ import numpy as np
 import sympy
 
 from ...analyses.modes import modes
-from ...system.stability import undamped_eigen
-from ...views.notation import (
+from ...expressions.notation import (
     number_latex,
     sympy_latex,
     vector_latex,
 )
+from ...system.stability import undamped_eigen
 from ..blocks import Block, Heading, paragraph
 from .context import MAX_MATRIX, Context, _m
 

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ...views.notation import (
+from ...expressions.notation import (
     expression_latex,
     number_latex,
 )
-from ...views.units_display import unit_latex
+from ...model.units_display import unit_latex
 from ..blocks import Block, Heading, Table, cell, paragraph
 from .context import Context, _at_reference, _m
 from .energies import _energy_name

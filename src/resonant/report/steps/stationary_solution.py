@@ -7,12 +7,12 @@ import math
 import numpy as np
 import sympy
 
-from ...model import symbol
-from ...views.notation import (
+from ...expressions.notation import (
     number_latex,
     number_text,
     vector_latex,
 )
+from ...model import symbol
 from ..blocks import Block, Heading, Note, paragraph
 from .context import (
     MAX_MATRIX,
