@@ -34,10 +34,13 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from functools import lru_cache
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
+
+from .errors import AnalysisError
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -1539,6 +1542,54 @@ def axes_list(ax: Axes | Sequence[Axes] | npt.NDArray[Any]) -> list[Axes]:
     return found
 
 
+def check_plot_path(path: PathArg) -> Path | None:
+    """``path`` as a :class:`~pathlib.Path` if it names a ``.png``, ``.svg`` or ``.pdf`` file
+    (None for None), before any work is done.
+
+    Examples
+    --------
+    >>> check_plot_path("response.svg").name
+    'response.svg'
+    >>> check_plot_path("r.txt")
+    Traceback (most recent call last):
+    ...
+    resonant.errors.AnalysisError: cannot write a plot to 'r.txt': use a .png, .svg or .pdf file
+    """
+    if path is None:
+        return None
+    path = Path(path)
+    if path.suffix.lower() not in (".png", ".svg", ".pdf"):
+        raise AnalysisError(f"cannot write a plot to '{path}': use a .png, .svg or .pdf file")
+    return path
+
+
+def save_figure(fig: Figure, path: PathArg, *, dpi: float | str = "figure",
+                bbox_inches: str | None = None) -> Figure:
+    """Write ``fig`` to ``path`` (nothing for None), attaching an Agg canvas if it has none,
+    and return it; ``dpi`` and ``bbox_inches`` as :meth:`matplotlib.figure.Figure.savefig`
+    takes them.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> save_figure(Figure(), None).__class__.__name__
+    'Figure'
+    """
+    path = check_plot_path(path)
+    if path is None:
+        return fig
+    from matplotlib.backend_bases import FigureCanvasBase
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    if type(fig.canvas) is FigureCanvasBase:  # a bare Figure: give it a canvas to print on
+        FigureCanvasAgg(fig)
+    try:
+        fig.savefig(path, dpi=dpi, bbox_inches=bbox_inches)
+    except OSError as exc:
+        raise AnalysisError(f"cannot write the plot '{path}': {exc.strerror or exc}") from None
+    return fig
+
+
 def draw_figure(charts: Charts | Chart, ax: Axes | Sequence[Axes] | None = None) -> Any:
     """Draw the charts with matplotlib's object API: a new figure (no pyplot) with one
     Axes per panel, or the caller's Axes (one per panel, the first panels when fewer).
@@ -1606,7 +1657,8 @@ def draw_figure(charts: Charts | Chart, ax: Axes | Sequence[Axes] | None = None)
 __all__ = ["Annotation", "Bar", "Chart", "Charts", "Curve", "Field", "Marker", "Rule", "Span",
            "chart_svg", "field_colormap", "field_ticks", "CURVE_MARKERS", "FIELD_COLORS",
            "HATCH", "HATCH_COLOR",
-           "charts_svg", "describe", "draw_chart", "draw_figure", "figure_of", "legend_keys",
+           "charts_svg", "check_plot_path", "describe", "draw_chart", "draw_figure", "figure_of",
+           "legend_keys",
            "mathtext_label", "panel_heights", "plain_text", "nice_ticks", "log_ticks",
            "tick_labels", "text_runs", "unicode_text", "unit_text", "text_width", "x_limits",
-           "y_limits", "WIDTH", "HEIGHT", "COLORS", "MARKER_SHAPES", "LEGENDS"]
+           "y_limits", "save_figure", "WIDTH", "HEIGHT", "COLORS", "MARKER_SHAPES", "LEGENDS"]

@@ -14,9 +14,20 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..charts import COLORS, Chart, Charts, Curve, Marker, PathArg, Rule, draw_figure
+from ..charts import (
+    COLORS,
+    Chart,
+    Charts,
+    Curve,
+    Marker,
+    PathArg,
+    Rule,
+    check_plot_path,
+    draw_figure,
+    save_figure,
+)
 from ..errors import printable
-from .plotting import MAX_CURVES, _check_path, _name, _save, unit_math
+from .plotting import MAX_CURVES, _name, unit_math
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -131,10 +142,10 @@ def plot_nonlinear_response(response: NonlinearResponse, path: PathArg = None,
     with matplotlib); returns the Figure (and writes it to ``path``).
 
     ``units`` (name -> SI unit, ``ResultUnits.si``) labels the curves and the axis."""
-    _check_path(path)
+    check_plot_path(path)
     chart = nonlinear_response_chart(response, names, linear, units)
     fig = draw_figure(Charts((chart,), size=(7.5, 4.8)), ax)
-    _save(fig, path)
+    save_figure(fig, path)
     return fig
 
 
@@ -198,9 +209,9 @@ def backbones_chart(backbones: Backbones) -> Chart:
 def plot_backbones(backbones: Backbones, path: PathArg = None, ax: Axes | None = None) -> Figure:
     """Backbone curves (the chart of :func:`backbones_chart`, drawn with matplotlib);
     returns the Figure."""
-    _check_path(path)
+    check_plot_path(path)
     fig = draw_figure(Charts((backbones_chart(backbones),), size=(7.0, 4.6)), ax)
-    _save(fig, path)
+    save_figure(fig, path)
     return fig
 
 

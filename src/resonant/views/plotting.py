@@ -17,7 +17,6 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -34,8 +33,10 @@ from ..charts import (
     PathArg,
     Rule,
     Span,
+    check_plot_path,
     draw_figure,
     figure_of,
+    save_figure,
     unit_text,
 )
 from ..errors import AnalysisError, printable
@@ -94,33 +95,6 @@ def unit_math(unit: str) -> str:
 
 #: the figure an Axes belongs to (kept under its old name for the other views)
 _figure_of = figure_of
-
-
-def _check_path(path: PathArg) -> Path | None:
-    if path is None:
-        return None
-    path = Path(path)
-    if path.suffix.lower() not in (".png", ".svg", ".pdf"):
-        raise AnalysisError(f"cannot write a plot to '{path}': use a .png, .svg or .pdf file")
-    return path
-
-
-def _save(fig: Figure, path: PathArg, *, dpi: float | str = "figure",
-          bbox_inches: str | None = None) -> None:
-    """Write ``fig`` to ``path`` (nothing for None), attaching an Agg canvas if it has none;
-    ``dpi`` and ``bbox_inches`` as :meth:`matplotlib.figure.Figure.savefig` takes them."""
-    path = _check_path(path)
-    if path is None:
-        return
-    from matplotlib.backend_bases import FigureCanvasBase
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-    if type(fig.canvas) is FigureCanvasBase:  # a bare Figure: give it a canvas to print on
-        FigureCanvasAgg(fig)
-    try:
-        fig.savefig(path, dpi=dpi, bbox_inches=bbox_inches)
-    except OSError as exc:
-        raise AnalysisError(f"cannot write the plot '{path}': {exc.strerror or exc}") from None
 
 
 def _name(name: str) -> str:
@@ -363,12 +337,12 @@ def plot_frequency_response(response: FrequencyResponse, path: PathArg = None,
     AnalysisError
         For an unknown name or an unsupported file suffix.
     """
-    _check_path(path)
+    check_plot_path(path)
     axes = _response_axes(ax)
     charts = frequency_response_chart(response, names, units,
                                       phase=axes is None or len(axes) == 2)
     fig = draw_figure(charts, axes)
-    _save(fig, path, dpi=150, bbox_inches="tight")
+    save_figure(fig, path, dpi=150, bbox_inches="tight")
     return fig
 
 
@@ -522,7 +496,7 @@ def plot_modes(analysis: ModalAnalysis, path: PathArg = None, count: int | None 
     AnalysisError
         Without modes to draw, or for an unsupported file suffix.
     """
-    _check_path(path)
+    check_plot_path(path)
     charts = modes_chart(analysis, count)
     axes = None
     if ax is not None:
@@ -530,7 +504,7 @@ def plot_modes(analysis: ModalAnalysis, path: PathArg = None, count: int | None 
         if not axes:
             raise AnalysisError("ax= takes an Axes or a non-empty sequence of Axes")
     fig = draw_figure(charts, axes)
-    _save(fig, path, dpi=150, bbox_inches="tight")
+    save_figure(fig, path, dpi=150, bbox_inches="tight")
     return fig
 
 
@@ -654,11 +628,11 @@ def plot_simulation(sim: Simulation, path: PathArg = None, axes: Sequence[Axes] 
     AnalysisError
         For an unsupported file suffix.
     """
-    _check_path(path)
+    check_plot_path(path)
     if axes is not None and not list(np.ravel(np.asarray(axes, dtype=object))):
         raise AnalysisError("axes= takes an Axes or a non-empty sequence of Axes")
     fig = draw_figure(simulation_chart(sim, units), axes)
-    _save(fig, path, dpi=120)
+    save_figure(fig, path, dpi=120)
     return fig
 
 

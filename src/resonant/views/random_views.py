@@ -19,10 +19,20 @@ import numpy as np
 
 from ..analyses.periodic_load import PeriodicResponse
 from ..analyses.random_response import RandomResponse
-from ..charts import Chart, Charts, Curve, PathArg, Rule, axes_list, draw_figure, unit_text
+from ..charts import (
+    Chart,
+    Charts,
+    Curve,
+    PathArg,
+    Rule,
+    axes_list,
+    check_plot_path,
+    draw_figure,
+    save_figure,
+    unit_text,
+)
 from ..errors import AnalysisError, printable
 from ..model.random_spec import STANDARD_GRAVITY
-from .plotting import _check_path, _save
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -217,14 +227,14 @@ def plot_random(result: RandomResponse, path: PathArg = None, names: Sequence[st
     AnalysisError
         For an unknown name or an unsupported file suffix.
     """
-    _check_path(path)
+    check_plot_path(path)
     charts = random_chart(result, names)
     count = len(charts.panels)
     axes = None if ax is None else axes_list(ax)
     if axes is not None and len(axes) < count:
         raise AnalysisError(f"the plot needs {count} axes (inputs and one per unit)")
     fig = draw_figure(charts, axes)
-    _save(fig, path, dpi=150)
+    save_figure(fig, path, dpi=150)
     return fig
 
 

@@ -19,8 +19,18 @@ import numpy as np
 import numpy.typing as npt
 
 from ..analyses.shock import ShockSpectrum
-from ..charts import COLORS, Chart, Charts, Curve, PathArg, axes_list, draw_figure, unit_text
-from .plotting import _check_path, _save
+from ..charts import (
+    COLORS,
+    Chart,
+    Charts,
+    Curve,
+    PathArg,
+    axes_list,
+    check_plot_path,
+    draw_figure,
+    save_figure,
+    unit_text,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -138,13 +148,13 @@ def plot_srs(spectrum: ShockSpectrum, time: npt.ArrayLike | None = None,
     -------
     matplotlib.figure.Figure
     """
-    _check_path(path)
+    check_plot_path(path)
     charts = srs_chart(spectrum, time, signal, unit)
     axes = None if ax is None else axes_list(ax)
     if axes is not None and len(axes) < len(charts.panels):
         charts = replace(charts, panels=charts.panels[-len(axes):])  # the spectrum's
     fig = draw_figure(charts, axes)
-    _save(fig, path, dpi=150)
+    save_figure(fig, path, dpi=150)
     return fig
 
 

@@ -39,11 +39,12 @@ from ..charts import (
     Rule,
     Span,
     draw_figure,
+    save_figure,
 )
 from ..errors import AnalysisError
 from ..model import Model
 from ..model.study import StudySpec
-from .plotting import _save, math_name, unit_math
+from .plotting import math_name, unit_math
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -278,7 +279,7 @@ def plot_histogram(frame: pd.DataFrame, quantity: str, ax: Axes | None = None,
     matplotlib.figure.Figure
     """
     fig = draw_figure(histogram_chart(frame, quantity, units), None if ax is None else [ax])
-    _save(fig, path, dpi=110)
+    save_figure(fig, path, dpi=110)
     return fig
 
 
@@ -399,7 +400,7 @@ def plot_scatter(frame: pd.DataFrame, quantity: str, parameters: Sequence[str],
     # in the caller's axes, the legend inside them
     fig = draw_figure(scatter_chart(frame, quantity, parameters, units, nominal),
                       None if ax is None else [ax])
-    _save(fig, path, dpi=110)
+    save_figure(fig, path, dpi=110)
     return fig
 
 
@@ -471,7 +472,7 @@ def plot_sobol(indices: Mapping[str, Any], quantity: str, ax: Axes | None = None
     matplotlib.figure.Figure
     """
     fig = draw_figure(sobol_chart(indices, quantity, units), None if ax is None else [ax])
-    _save(fig, path, dpi=110)
+    save_figure(fig, path, dpi=110)
     return fig
 
 
@@ -561,7 +562,7 @@ def plot_contour(frame: pd.DataFrame, quantity: str, x: str, y: str, ax: Axes | 
     """
     fig = draw_figure(contour_chart(frame, quantity, x, y, units, nominal),
                       None if ax is None else [ax])
-    _save(fig, path, dpi=110)
+    save_figure(fig, path, dpi=110)
     return fig
 
 
@@ -605,7 +606,7 @@ def plot_study(frame: pd.DataFrame, parameters: Sequence[str], quantities: Seque
 
     def save(charts: Charts, kind: str, quantity: str) -> None:
         path = directory / _file_name(kind, quantity)
-        _save(draw_figure(charts), path, dpi=110)
+        save_figure(draw_figure(charts), path, dpi=110)
         written.append(path)
 
     for quantity, kind, charts in study_charts(frame, parameters, quantities, sensitivity,
