@@ -37,12 +37,9 @@ from resonant.charts import (
     plain_text,
 )
 from resonant.views.nonlinear_plots import backbones_chart, nonlinear_response_chart
-from resonant.views.plotting import (
-    frequency_response_chart,
-    modes_chart,
-    plot_frequency_response,
-    simulation_chart,
-)
+from resonant.analyses.simulate import simulation_chart
+from resonant.analyses.modes import modes_chart
+from resonant.analyses.sweep import frequency_response_chart, plot_frequency_response
 from resonant.views.random_views import plot_random, random_chart
 from resonant.views.shock_views import plot_srs, srs_chart
 from resonant.model.units_display import result_units
@@ -328,7 +325,7 @@ def test_every_start_kind_is_described() -> None:
     from dataclasses import replace
 
     from resonant.model.options import START_KINDS, START_MODES
-    from resonant.views.plotting import simulation_chart
+    from resonant.analyses.simulate import simulation_chart
 
     sim = simulate(resonant.load(EXAMPLES / "two_dof_free.toml").linearize(), 0.05,
                    initial={"x1": 0.01})

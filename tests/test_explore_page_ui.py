@@ -17,7 +17,7 @@ written by ``resonant explore``; nothing but the page itself may load (as in
   below the highest peak it shows at most), a frequency beyond the plotted range is said,
   and the curves have distinct colours,
 * the response plot's axis labels and curve styles are those of the chart description the
-  library's plots draw (``response_chart``, from ``resonant.views.plotting.response_axes``),
+  library's plots draw (``response_chart``, from ``resonant.analyses.sweep.response_axes``),
 * at 375 px the mechanism stays in view while a slider far down is used.
 """
 
@@ -197,7 +197,7 @@ def test_the_response_plot_draws_the_chart_description(browser: Any,  # noqa: F8
     widths and dashes (in pixels: the description's are in line widths)."""
     import resonant
     from resonant.views.explore import explore_data
-    from resonant.views.plotting import frequency_response_chart
+    from resonant.analyses.sweep import frequency_response_chart
 
     model = resonant.load(REFERENCE)
     chart = explore_data(model)[0]["response_chart"]

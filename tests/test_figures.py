@@ -15,7 +15,8 @@ import pytest
 
 import resonant
 from conftest import EXAMPLES, run_cli
-from resonant.views.plotting import plot_frequency_response, plot_modes, unwrapped_degrees
+from resonant.analyses.modes import plot_modes
+from resonant.analyses.sweep import plot_frequency_response, unwrapped_degrees
 from resonant.views.study_plots import (
     axis_label,
     plot_contour,

@@ -35,7 +35,7 @@ from resonant.analyses.reduced import reduced_response
 from resonant.analyses.sweep import sweep
 from resonant.errors import AnalysisError
 from resonant.api import load
-from resonant.views.display import sweep_text
+from resonant.analyses.sweep import sweep_text
 
 
 def grid(nx: int, ny: int | None = None, k: float = 1e4, alpha: float = 0.1,

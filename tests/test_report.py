@@ -297,6 +297,6 @@ def test_jupyter_views():
     assert r"\dot{x}_{1}" in display.model_latex(model)
     assert "<math" in display.model_html(model)
     assert eom._repr_latex_().startswith(r"$\displaystyle \begin{bmatrix} m_{1} + m_{2}")
-    assert r"\cos(20t)" in display.stationary_latex(sol)
+    assert r"\cos(20t)" in sol._repr_latex_()
     assert "<math" in sol._repr_html_()
-    assert "natural frequencies" in display.solution_text(sol)
+    assert "natural frequencies" in sol.summary()

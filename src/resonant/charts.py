@@ -1590,7 +1590,7 @@ def save_figure(fig: Figure, path: PathArg, *, dpi: float | str = "figure",
     return fig
 
 
-def draw_figure(charts: Charts | Chart, ax: Axes | Sequence[Axes] | None = None) -> Any:
+def draw_figure(charts: Charts | Chart, ax: Axes | Sequence[Axes] | None = None) -> Figure:
     """Draw the charts with matplotlib's object API: a new figure (no pyplot) with one
     Axes per panel, or the caller's Axes (one per panel, the first panels when fewer).
 
@@ -1654,11 +1654,14 @@ def draw_figure(charts: Charts | Chart, ax: Axes | Sequence[Axes] | None = None)
     return fig
 
 
-__all__ = ["Annotation", "Bar", "Chart", "Charts", "Curve", "Field", "Marker", "Rule", "Span",
-           "chart_svg", "field_colormap", "field_ticks", "CURVE_MARKERS", "FIELD_COLORS",
-           "HATCH", "HATCH_COLOR",
-           "charts_svg", "check_plot_path", "describe", "draw_chart", "draw_figure", "figure_of",
-           "legend_keys",
-           "mathtext_label", "panel_heights", "plain_text", "nice_ticks", "log_ticks",
-           "tick_labels", "text_runs", "unicode_text", "unit_text", "text_width", "x_limits",
-           "y_limits", "save_figure", "WIDTH", "HEIGHT", "COLORS", "MARKER_SHAPES", "LEGENDS"]
+#: at most this many curves are drawn (a 1000-coordinate sweep shows the first ones)
+MAX_CURVES = 8
+
+
+__all__ = ["MAX_CURVES", "Annotation", "Bar", "Chart", "Charts", "Curve", "Field", "Marker", "Rule",
+           "Span", "chart_svg", "field_colormap", "field_ticks", "CURVE_MARKERS", "FIELD_COLORS",
+           "HATCH", "HATCH_COLOR", "charts_svg", "check_plot_path", "describe", "draw_chart",
+           "draw_figure", "figure_of", "legend_keys", "mathtext_label", "panel_heights",
+           "plain_text", "nice_ticks", "log_ticks", "tick_labels", "text_runs", "unicode_text",
+           "unit_text", "text_width", "x_limits", "y_limits", "save_figure", "WIDTH", "HEIGHT",
+           "COLORS", "MARKER_SHAPES", "LEGENDS"]

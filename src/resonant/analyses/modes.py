@@ -47,8 +47,21 @@ from typing import TYPE_CHECKING, Any, TypeGuard
 import numpy as np
 
 from ..arrays import Matrix, freeze_fields
+from ..charts import (
+    COLORS,
+    Bar,
+    Chart,
+    Charts,
+    Curve,
+    PathArg,
+    Rule,
+    check_plot_path,
+    draw_figure,
+    save_figure,
+)
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import AnalysisError
+from ..errors import AnalysisError, printable
+from ..expressions.notation import dollar_name
 from ..modal import (
     LIMITED_ACCURACY,
     accurate_product,
@@ -62,6 +75,7 @@ from ..modal import (
     point_state_eigenvalues,
     undamped_eigen,
 )
+from ..model.units_display import HZ
 from ..system.base import LinearSystem
 from ..system.stability import (
     ASYMPTOTIC,
@@ -276,7 +290,7 @@ class ModalAnalysis:
 
     def plot(self, path: str | os.PathLike[str] | None = None, count: int | None = None,
              ax: Axes | None = None) -> Figure:
-        """The mode shapes (:func:`resonant.views.plotting.plot_modes`).
+        """The mode shapes (:func:`resonant.analyses.modes.plot_modes`).
 
         Parameters
         ----------
@@ -298,11 +312,10 @@ class ModalAnalysis:
         >>> len(fig.axes) >= 1
         True
         """
-        from ..views.plotting import plot_modes
         return plot_modes(self, path=path, count=count, ax=ax)
 
     def summary(self, units: ResultUnits | None = None) -> str:
-        """The text ``resonant modes`` prints (:func:`resonant.views.display.modes_text`).
+        """The text ``resonant modes`` prints (:func:`resonant.analyses.modes.modes_text`).
 
         Parameters
         ----------
@@ -320,7 +333,6 @@ class ModalAnalysis:
         >>> "mode" in m.summary().lower()
         True
         """
-        from ..views.display import modes_text
         return modes_text(self, units)
 
 
@@ -567,4 +579,144 @@ def modal_damping_ratios(rayleigh: tuple[float, float], omegas: Sequence[float] 
     return a / (2 * w) + b * w / 2
 
 
-__all__ = ["modes", "ModalAnalysis", "modal_damping_ratios"]
+def modes_chart(analysis: ModalAnalysis, count: int | None = 6) -> Charts:
+    """What the figure of the mode shapes shows: each mode (largest component +1) in a
+    panel of its own, bars for up to 24 coordinates (positive blue, negative red) under
+    the coordinates' names, a line for more.
+
+    Parameters
+    ----------
+    analysis : ModalAnalysis
+        The modes (those with omega^2 >= 0).
+    count : int, optional
+        How many modes, lowest first (default 6; None: all).
+
+    Returns
+    -------
+    Charts
+
+    Raises
+    ------
+    AnalysisError
+        Without modes to draw.
+    """
+    shapes = analysis.mode_shapes
+    total = shapes.shape[1]
+    if total == 0:
+        raise AnalysisError("there are no modes with omega^2 >= 0 to plot")
+    count = total if count is None else max(1, min(count, total))
+    panels = []
+    for j in range(count):
+        shape = np.asarray(shapes[:, j], dtype=float)
+        n = shape.shape[0]
+        positions = np.arange(1, n + 1, dtype=float)
+        w = analysis.natural_frequencies[j]
+        text = (f"mode {j + 1}: $\\omega_{{{j + 1}}}$ = {w:.5g} rad/s "
+                f"($f_{{{j + 1}}}$ = {w / (2 * math.pi):.4g} Hz)")
+        if analysis.proportional_damping and analysis.damped and \
+                j < len(analysis.damping_ratios):
+            text += f", $\\zeta_{{{j + 1}}}$ = {analysis.damping_ratios[j]:.3g}"
+        zero = Rule(0.0, vertical=False, color="#000000", width=0.6)
+        if n <= 24:
+            colors = tuple(COLORS[0] if v >= 0 else COLORS[3] for v in shape)
+            panels.append(Chart((), "", "", (0.4, n + 0.6), rules=(zero,), ylim=(-1.15, 1.15),
+                                title=text, legend="none",
+                                bars=(Bar(positions, shape, colors),),
+                                xticks=tuple((float(p), dollar_name(c)) for p, c in
+                                             zip(positions, analysis.coordinates))))
+        else:
+            panels.append(Chart((Curve(positions, shape, "", COLORS[0], 1.2),),
+                                "coordinate number", "", (1.0, float(n)), rules=(zero,),
+                                ylim=(-1.15, 1.15), title=text, legend="none"))
+    columns = 2 if count > 1 else 1
+    rows = math.ceil(count / columns)
+    return Charts(tuple(panels), printable(analysis.title or "mode shapes", limit=80)
+                  + " (largest component +1)", size=(4.9 * columns, 2.5 * rows),
+                  sharex=False, columns=columns)
+
+
+def plot_modes(analysis: ModalAnalysis, path: PathArg = None, count: int | None = 6,
+               ax: Axes | None = None) -> Figure:
+    """The mode shapes (largest component +1): the chart of :func:`modes_chart` (bars for
+    few coordinates, lines for many), drawn with matplotlib.
+
+    Parameters
+    ----------
+    analysis : ModalAnalysis
+        The modes to draw (those with omega^2 >= 0).
+    path : str or Path, optional
+        Also write the figure there; the format follows the suffix (``.png``,
+        ``.svg`` or ``.pdf``, anything else raises :class:`AnalysisError`).
+    count : int, optional
+        How many modes to draw, lowest first (default 6; None: all).
+    ax : matplotlib.axes.Axes or sequence of Axes, optional
+        Draw into the caller's figure: one mode per Axes (a single Axes shows
+        the first mode), at most ``count``.  By default a new figure with a
+        grid of two columns is made.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The new figure, or the one ``ax`` belongs to.
+
+    Raises
+    ------
+    AnalysisError
+        Without modes to draw, or for an unsupported file suffix.
+    """
+    check_plot_path(path)
+    charts = modes_chart(analysis, count)
+    axes = None
+    if ax is not None:
+        axes = list(np.ravel(np.asarray(ax, dtype=object)))
+        if not axes:
+            raise AnalysisError("ax= takes an Axes or a non-empty sequence of Axes")
+    fig = draw_figure(charts, axes)
+    save_figure(fig, path, dpi=150, bbox_inches="tight")
+    return fig
+
+
+def modes_text(result: ModalAnalysis, units: ResultUnits | None = None) -> str:
+    """The human-readable table of ``resonant modes``; the second frequency column is in
+    the display unit of frequencies (``units.frequency``, Hz by default)."""
+    out = [printable(result.title or "modes"), ""]
+    names = result.coordinates
+    shown = ", ".join(names[:8]) + (" ..." if len(names) > 8 else "")
+    frequency = units.frequency if units is not None and units.frequency.text != "rad/s" \
+        else HZ
+    column = f"f [{frequency.text}]"
+    out.append(f"{'mode':>4}  {'omega [rad/s]':>14}  {column:>12}  {'zeta':>8}   "
+               f"shape (largest component +1): {shown}")
+    per_mode = result.proportional_damping
+    for j, w in enumerate(result.natural_frequencies):
+        zeta = f"{result.damping_ratios[j]:8.4g}" if per_mode and j < len(
+            result.damping_ratios) else " " * 8
+        shape = ", ".join(f"{v: .4g}" for v in result.mode_shapes[:8, j])
+        out.append(f"{j + 1:>4}  {w:14.6g}  {frequency(w):12.6g}  {zeta}   [{shape}]")
+    if result.damped:
+        out.append("")
+        if result.rayleigh is not None and len(names) <= 2:
+            # with two coordinates every C that commutes with M^-1 K is some a M + b K:
+            # the fit says nothing about the damping, the modal ratios do
+            out.append("proportional damping: the modes decouple C (with two coordinates "
+                       "every such C is a M + b K); modal damping ratios: " + ", ".join(
+                           f"zeta_{j + 1} = {z:.4g}"
+                           for j, z in enumerate(result.damping_ratios)))
+        elif result.rayleigh is not None:
+            a, b = result.rayleigh
+            out.append(f"proportional (Rayleigh) damping: C = {a:.6g} M + {b:.6g} K")
+        elif result.proportional_damping:
+            out.append("proportional damping (K M^-1 C = C M^-1 K): the modes decouple C")
+        else:
+            out.append("non-proportional damping: eigenvalues s of the state matrix")
+            out.append(f"{'Re s':>14}  {'Im s':>14}  {'zeta':>8}")
+            for s in result.eigenvalues[:2 * 20]:
+                if s.imag >= 0:
+                    ratio = -s.real / abs(s) if abs(s) else 0.0
+                    out.append(f"{s.real:14.6g}  {s.imag:14.6g}  {ratio:8.4g}")
+    out.append("")
+    out.append(f"stability: {result.stability}   (method: {result.method})")
+    return "\n".join(out) + "\n"
+
+
+__all__ = ["plot_modes", "modes_chart", "modes", "ModalAnalysis", "modal_damping_ratios"]

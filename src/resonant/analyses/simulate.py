@@ -53,15 +53,30 @@ from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
+import numpy.typing as npt
 import sympy
 
 from ..arrays import freeze_fields
+from ..charts import (
+    COLORS,
+    Chart,
+    Charts,
+    Curve,
+    PathArg,
+    Rule,
+    Span,
+    check_plot_path,
+    draw_figure,
+    save_figure,
+)
 from ..deadline import NO_DEADLINE, AnalysisTimeout, Deadline
-from ..errors import AnalysisError, ModelError, Problem, name_list
+from ..errors import AnalysisError, ModelError, Problem, name_list, printable
 from ..expressions import parse, primed_names
+from ..expressions.notation import dollar_name
 from ..modal import point_state_eigenvalues
-from ..model.options import SimulationOptions, chosen
+from ..model.options import START_KINDS, SimulationOptions, chosen
 from ..model.types import constant_prime_message
+from ..model.units_display import name_label, unit_suffix
 from ..system.base import LinearSystem, NumericEOM
 from ..system.build import nonlinear_system
 from ..system.nonlinear import NonlinearSystem
@@ -321,7 +336,7 @@ to_dict(history=True)
     def plot(self, path: str | os.PathLike[str] | None = None,
              axes: Sequence[Axes] | None = None,
              units: Mapping[str, str] | None = None) -> Figure:
-        """The time histories (:func:`resonant.views.plotting.plot_simulation`).
+        """The time histories (:func:`resonant.analyses.simulate.plot_simulation`).
 
         Parameters
         ----------
@@ -336,12 +351,11 @@ to_dict(history=True)
         -------
         matplotlib.figure.Figure
         """
-        from ..views.plotting import plot_simulation
         return plot_simulation(self, path=path, axes=axes, units=units)
 
     def summary(self) -> str:
         """The text ``resonant simulate`` prints
-        (:func:`resonant.views.display.simulation_text`).
+        (:func:`resonant.analyses.simulate.simulation_text`).
 
         Returns
         -------
@@ -354,7 +368,6 @@ to_dict(history=True)
         >>> sim.start, "x1" in sim.summary()
         ('given', True)
         """
-        from ..views.display import simulation_text
         return simulation_text(self)
 
 
@@ -826,4 +839,127 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
         warnings=tuple(warnings))
 
 
-__all__ = ["Simulation", "simulate", "parse_initial"]
+def simulation_chart(sim: Simulation, units: Mapping[str, str] | None = None) -> Charts:
+    """What the figure of a simulation shows: each coordinate's and output's deviation
+    against time in a panel of its own, the linear stationary prediction dashed, the
+    window the steady amplitude is read in shaded.
+
+    Parameters
+    ----------
+    sim : Simulation
+    units : mapping, optional
+        name -> SI unit (``ResultUnits.si``), shown in each panel's label.
+
+    Returns
+    -------
+    Charts
+    """
+    kind = "nonlinear" if sim.nonlinear else "linear"
+    t = np.asarray(sim.t, dtype=float)
+    xlim = (float(t[0]), float(t[-1])) if t.size > 1 and t[-1] > t[0] else (0.0, 1.0)
+    panels = []
+    for name in sim.names:
+        curves = [Curve(t, np.asarray(sim.states[name], dtype=float), f"{kind} simulation",
+                        COLORS[0], 1.0)]
+        if name in sim.linear_response:
+            curves.append(Curve(t, np.asarray(sim.linear_response[name], dtype=float),
+                                "linear stationary prediction", COLORS[3], 1.0, "3.7 1.6"))
+        steady = sim.steady_amplitudes.get(name)
+        text = f"steady amplitude {steady:.4g}" if steady is not None else ""
+        if name in sim.linear_amplitudes:
+            text += f", linear {sim.linear_amplitudes[name]:.4g}"
+        if name in sim.relative_difference:
+            text += f" ({100 * sim.relative_difference[name]:+.3g}%)"
+        kindof = "coordinate" if name in sim.coordinates else "output"
+        unit = (units or {}).get(name, "")
+        unit = f" [{unit}]" if unit not in ("", "1") else ""
+        panels.append(Chart(tuple(curves), "time $t$ [s]",
+                            f"{dollar_name(name)}{unit} ({kindof}, deviation)", xlim,
+                            spans=(Span(float(sim.window[0]), float(sim.window[1]), "#e6e6e6",
+                                        "amplitude window"),),
+                            title=f"{dollar_name(name)}: {text}"))
+    start = START_KINDS[sim.start]
+    title = printable(sim.title or "simulation", limit=80)
+    return Charts(tuple(panels), f"{title} — {kind}, {start}",
+                  size=(9.0, 1.2 + 2.1 * len(panels)), legend="below")
+
+
+def history_chart(t: npt.ArrayLike, values: Mapping[str, Any],
+                  units: Mapping[str, str] | None = None,
+                  ylabel: str = "stationary response $q_p(t)$") -> Chart:
+    """What the figure of responses against time shows: every curve in one chart, the
+    unit on the axis (or each curve's where they differ), a line at zero.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 1.0, 5)
+    >>> c = history_chart(t, {"x1": t, "x2": -t}, {"x1": "m", "x2": "rad"})
+    >>> c.ylabel, [k.label for k in c.curves]
+    ('stationary response $q_p(t)$ [m, rad]', ['$x_{1}$ [m]', '$x_{2}$ [rad]'])
+    """
+    t = np.asarray(t, dtype=float)
+    suffix, per_curve = unit_suffix(list(values), units or {})
+    curves = tuple(Curve(t, np.asarray(y, dtype=float), name_label(name, per_curve))
+                   for name, y in values.items())
+    return Chart(curves, "time $t$ [s]", ylabel + suffix, (float(t[0]), float(t[-1])),
+                 rules=(Rule(0.0, vertical=False, color="#999999", width=0.8),))
+
+
+def plot_simulation(sim: Simulation, path: PathArg = None, axes: Sequence[Axes] | None = None,
+                    units: Mapping[str, str] | None = None) -> Figure:
+    """Deviations vs time, one panel per coordinate/output, the linear prediction dashed:
+    the chart of :func:`simulation_chart`, drawn with matplotlib.
+
+    Parameters
+    ----------
+    sim : Simulation
+        The simulation to draw.
+    path : str or Path, optional
+        Also write the figure there; the format follows the suffix (``.png``,
+        ``.svg`` or ``.pdf``, anything else raises :class:`AnalysisError`).
+    axes : matplotlib.axes.Axes or sequence of Axes, optional
+        Draw into the caller's figure: one Axes per coordinate/output in the
+        order of ``sim.names`` (fewer Axes draw the first names only; a single
+        Axes shows the first).  By default a new figure with one panel per
+        name is made.
+    units : mapping, optional
+        name -> SI unit (``ResultUnits.si``), shown in each panel's label.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The new figure, or the one ``axes`` belong to.
+
+    Raises
+    ------
+    AnalysisError
+        For an unsupported file suffix.
+    """
+    check_plot_path(path)
+    if axes is not None and not list(np.ravel(np.asarray(axes, dtype=object))):
+        raise AnalysisError("axes= takes an Axes or a non-empty sequence of Axes")
+    fig = draw_figure(simulation_chart(sim, units), axes)
+    save_figure(fig, path, dpi=120)
+    return fig
+
+
+def simulation_text(sim: Simulation) -> str:
+    """A short plain-text report of a :class:`~resonant.analyses.simulate.Simulation`."""
+    kind = "nonlinear" if sim.nonlinear else "linear"
+    lines = [printable(sim.title),
+             f"{kind} simulation, t = 0 ... {sim.t_end:.6g} s ({sim.method}, start: "
+             f"{sim.start})",
+             f"steady amplitudes (peak |deviation| over t = {sim.window[0]:.6g} ... "
+             f"{sim.window[1]:.6g} s):",
+             f"  {'name':<12} {'simulated':>14} {'linear':>14} {'difference':>11}"]
+    for name, value in sim.steady_amplitudes.items():
+        linear = sim.linear_amplitudes.get(name)
+        diff = sim.relative_difference.get(name)
+        lines.append(f"  {name:<12} {value:>14.6g} "
+                     f"{'-' if linear is None else format(linear, '.6g'):>14} "
+                     f"{'-' if diff is None else format(100 * diff, '+.3g') + '%':>11}")
+    return "\n".join(line for line in lines if line) + "\n"
+
+
+__all__ = ["plot_simulation", "simulation_chart", "history_chart", "Simulation", "simulate",
+           "parse_initial"]

@@ -21,20 +21,26 @@ Examples
 
 from __future__ import annotations
 
+import html
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import reduce
+from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import sympy
 
 from ..arrays import freeze_fields, frozen_array
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import AnalysisError
+from ..errors import AnalysisError, printable
+from ..expressions.mathml import latex_to_mathml
+from ..expressions.notation import number_latex, vector_latex
 from ..modal import point_state_eigenvalues
+from ..model.units_display import HZ, ResultUnits, result_units, shown_vector, uniform, units_grid
 from ..system.base import LinearSystem, NumericEOM, NumericHarmonic
 from ..system.batch import Batch, check_finite
 from ..system.stability import (
@@ -240,7 +246,7 @@ class StationarySolution:
             available=saved.boolean("stationary_available", True))
 
     def summary(self) -> str:
-        """The text ``resonant solve`` prints (:func:`resonant.views.display.solution_text`).
+        """The text ``resonant solve`` prints (:func:`resonant.analyses.stationary.solution_text`).
 
         Returns
         -------
@@ -253,15 +259,12 @@ class StationarySolution:
         >>> print(sol.summary().splitlines()[0].split("  (")[0])
         Cart with pendulum under force and support excitation
         """
-        from ..views.display import solution_text
         return solution_text(self)
 
     def _repr_html_(self) -> str:
-        from ..views.display import stationary_html
         return stationary_html(self)
 
     def _repr_latex_(self) -> str:
-        from ..views.display import stationary_latex
         return stationary_latex(self)
 
 
@@ -568,6 +571,184 @@ def _response(h: NumericHarmonic, result: KernelResult, omegas: np.ndarray,
     check_finite("the stationary solution", X)
     return HarmonicResponse(w, h.F_S, h.F_C, frozen_array(X.real.copy()),
                             frozen_array(-X.imag.copy()), condition)
+
+
+def _matrix_text(matrix: np.ndarray, indent: str = "    ") -> str:
+    rows = [[f"{v + 0.0: .6g}" for v in row] for row in np.atleast_2d(matrix)]  # no -0
+    width = max((len(c) for row in rows for c in row), default=1)
+    return "\n".join(indent + "[" + "  ".join(c.rjust(width) for c in row) + "]"
+                     for row in rows)
+
+
+def _vector_text(vector: np.ndarray) -> str:
+    return "[" + ", ".join(f"{v + 0.0:.6g}" for v in vector) + "]"  # -0 printed as 0
+
+
+def _pretty(expr: sympy.Basic, indent: str = "    ") -> str:
+    """A symbolic matrix as an aligned grid of its entries (cheap: no 2-D pretty-printer)."""
+    matrix = sympy.Matrix(expr)
+    rows = [[sympy.sstr(matrix[i, j]) for j in range(matrix.cols)] for i in range(matrix.rows)]
+    widths = [max(len(rows[i][j]) for i in range(matrix.rows)) for j in range(matrix.cols)]
+    return "\n".join(indent + "[" + "   ".join(c.ljust(w) for c, w in zip(row, widths)) + "]"
+                     for row in rows)
+
+
+def _coordinate_units(coordinates: tuple[str, ...], units: ResultUnits | None) -> str:
+    """`` in m`` or `` in [m, rad]`` after the coordinates (their SI units), or ''."""
+    if units is None or not any(units.si.get(q) for q in coordinates):
+        return ""
+    texts = [units.si.get(q) or "?" for q in coordinates]
+    return f" in {texts[0]}" if len(set(texts)) == 1 else f" in [{', '.join(texts)}]"
+
+
+def _load_units(units: ResultUnits | None) -> str:
+    """The unit(s) of the rows of F_S and F_C (N, or N*m for a rotation), or ''."""
+    rows = units.matrices.get("Q") if units is not None else None
+    if not rows:
+        return ""
+    one = uniform(rows)
+    return f" {one}" if one else f"  ([{', '.join(rows)}])"
+
+
+#: matrices of more coordinates are summarized in the text of ``solve`` (their entries, numeric
+#: and symbolic, are in ``to_dict()``/JSON and the report): a 100-link chain printed 15 MB of
+#: symbolic entries and spent 30 s deriving them for the screen
+PRINTED_MATRIX_SIZE = 12
+
+
+def _matrices_in_brief(e: NumericEOM, units: ResultUnits | None) -> list[str]:
+    out = []
+    for key, label, numeric in (("M", "mass matrix M", e.M), ("C", "damping matrix C", e.C),
+                                ("K", "stiffness matrix K", e.K)):
+        entry_units = units.matrices.get(key) if units is not None else None
+        one = uniform(entry_units) if entry_units else None
+        out.append(f"  {label}: {e.n} x {e.n}, {np.count_nonzero(numeric)} nonzero entries"
+                   + (f" [{one}]" if one else ""))
+    out.append(f"  (matrices of more than {PRINTED_MATRIX_SIZE} coordinates are not printed "
+               "entry by entry; the JSON output and the report hold them, numeric and "
+               "symbolic)")
+    return out
+
+
+def _matrices_in_full(e: NumericEOM, units: ResultUnits | None) -> list[str]:
+    out = []
+    # the symbolic form where it says more than the numbers (energies, not given matrices)
+    sym = e.system.derived_matrices() if e.system is not None else None
+    # headings say what the matrix is: a parameter may be called M, C or L too
+    for key, label, numeric in (("M", "mass matrix M", e.M), ("C", "damping matrix C", e.C),
+                                ("K", "stiffness matrix K", e.K)):
+        entry_units = units.matrices.get(key) if units is not None else None
+        one = uniform(entry_units) if entry_units else None
+        out.append(f"  {label}" + (f" [{one}]" if one else
+                                   " (entries in the units below)" if entry_units else "") + " =")
+        if sym is not None:
+            out.append(_pretty(sym["MCK".index(key)]))
+            out.append("    =")
+        out.append(_matrix_text(numeric))
+        if entry_units and not one:
+            out.append("    units:")
+            out.append(units_grid(entry_units))
+    if sym is not None:
+        out.append("  excitation Q(t) =")
+        out.append(_pretty(sym[3]))
+    return out
+
+
+def solution_text(sol: StationarySolution) -> str:
+    """The human-readable report of ``resonant solve``."""
+    e = sol.eom
+    out: list[str] = []
+    title = printable(e.title or "model")
+    out.append(f"{title}" + (f"  ({printable(Path(e.source).name)})" if e.source else ""))
+    out.append("=" * min(78, len(out[0])))
+    units = result_units(e.model)
+    out.append(f"generalized coordinates q = [{', '.join(e.coordinates)}]"
+               + _coordinate_units(e.coordinates, units))
+    out.append("")
+    out.append("linearized equation of motion:  M q'' + C q' + K q = Q(t)")
+    if e.n > PRINTED_MATRIX_SIZE:
+        out.extend(_matrices_in_brief(e, units))
+    else:
+        out.extend(_matrices_in_full(e, units))
+    out.append("")
+    freqs = sol.natural_frequencies
+    out.append("natural frequencies (undamped):")
+    if freqs.size:
+        for i, w in enumerate(freqs, start=1):
+            shown = units.frequency if units is not None else HZ
+            out.append(f"  omega_{i} = {w:.6g} rad/s"
+                       + (f"  ({shown(w):.6g} {shown.text})" if shown.text != "rad/s" else ""))
+    else:
+        out.append("  none (no positive eigenvalue of K q = lambda M q)")
+    out.append(f"stability: {sol.stability}")
+    out.append("")
+    if not sol.available:
+        out.append("stationary solution: not available (signals are not harmonic)")
+    elif not sol.harmonics:
+        out.append("stationary solution: none (no excitation: free vibration)")
+    else:
+        out.append("stationary solution  q_p = sum of L cos(omega t) + N sin(omega t):")
+        for h in sol.harmonics:
+            head = "static load" if h.omega == 0 else f"omega = {h.omega:.6g} rad/s"
+            if units is not None and h.omega and units.frequency.text not in ("rad/s", "Hz"):
+                head += f"  ({units.frequency(h.omega):.6g} {units.frequency.text})"
+            out.append(f"  {head}")
+            load = _load_units(units)
+            out.append(f"    F_S = {_vector_text(h.F_S)}{load}")
+            out.append(f"    F_C = {_vector_text(h.F_C)}{load}")
+            if units is None:
+                out.append(f"    cos coefficients L = {_vector_text(h.L)}")
+                out.append(f"    sin coefficients N = {_vector_text(h.N)}")
+            else:
+                out.append(f"    cos coefficients L = {shown_vector(h.L, e.coordinates, units)}")
+                out.append(f"    sin coefficients N = {shown_vector(h.N, e.coordinates, units)}")
+        out.append("  amplitudes (peak deviation) and phases delta = atan2(L, N):")
+        width = max(len(n) for n in sol.amplitudes)
+        for name, amp in sol.amplitudes.items():
+            phase = sol.phases.get(name)
+            kind = "" if name in e.coordinates else "  (output)"
+            if units is None:
+                extra = f"   delta = {phase: .6g} rad" if phase is not None else ""
+                out.append(f"    {name.ljust(width)}  X = {amp:.6g}{extra}{kind}")
+                continue
+            unit = units.unit(name)
+            extra = f"   delta = {units.phase(phase): .6g} {units.phase.text}" \
+                if phase is not None else ""
+            out.append(f"    {name.ljust(width)}  X = {unit(amp):.6g}"
+                       f"{' ' + unit.text if unit.text else ''}{extra}{kind}")
+    if sol.warnings:
+        out.append("")
+        for w in sol.warnings:
+            out.append(f"warning: {w}")
+    return "\n".join(out) + "\n"
+
+
+def stationary_latex(sol: StationarySolution) -> str:
+    """q_p(t) = sum of L cos(w t) + N sin(w t) with numbers (``_repr_latex_``)."""
+    terms = []
+    for h in sol.harmonics:
+        if h.omega == 0:
+            terms.append(vector_latex(h.L))
+        else:
+            wt = number_latex(h.omega) + "t"
+            terms.append(rf"{vector_latex(h.L)}\cos({wt}) + {vector_latex(h.N)}\sin({wt})")
+    rhs = " + ".join(terms) or r"\mathbf{0}"
+    return rf"$\displaystyle \mathbf{{q}}_{{p}}(t) = {rhs}$"
+
+
+def stationary_html(sol: StationarySolution) -> str:
+    """A compact HTML table of amplitudes and phases (Jupyter ``_repr_html_``)."""
+    rows = "".join(
+        f"<tr><td>{html.escape(n)}</td><td>{a:.6g}</td>"
+        f"<td>{'' if sol.phases.get(n) is None else format(sol.phases[n], '.6g')}</td></tr>"
+        for n, a in sol.amplitudes.items())
+    freqs = ", ".join(f"{w:.6g}" for w in sol.natural_frequencies)
+    warn = "".join(f"<p><b>warning:</b> {html.escape(w)}</p>" for w in sol.warnings)
+    body = stationary_latex(sol).removeprefix(r"$\displaystyle ").removesuffix("$")
+    solution = latex_to_mathml(body, True) if sol.harmonics else ""
+    return (f"{solution}<p>natural frequencies: {freqs} rad/s; {html.escape(sol.stability)}</p>"
+            f"<table><tr><th>quantity</th><th>amplitude</th><th>phase [rad]</th></tr>{rows}"
+            f"</table>{warn}")
 
 
 __all__ = ["StationarySolution", "HarmonicResponse", "stationary", "peak"]

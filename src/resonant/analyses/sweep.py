@@ -75,17 +75,34 @@ import math
 import os
 import sys
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
+import numpy.typing as npt
 
 from ..arrays import freeze_fields, frozen_array
+from ..charts import (
+    COLORS,
+    MAX_CURVES,
+    Annotation,
+    Chart,
+    Charts,
+    Curve,
+    Marker,
+    PathArg,
+    Rule,
+    check_plot_path,
+    draw_figure,
+    save_figure,
+)
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import AnalysisError
+from ..errors import AnalysisError, printable
+from ..expressions.notation import dollar_name
 from ..model.options import SweepOptions, chosen, names_tuple
+from ..model.units_display import unit_math
 from ..system.base import LinearSystem
 from ..system.batch import Batch, group_frequencies
 from ..system.stability import natural_frequencies as _natural_frequencies
@@ -452,7 +469,7 @@ class FrequencyResponse:
              names: Sequence[str] | None = None, ax: Axes | None = None,
              units: Mapping[str, str] | None = None) -> Figure:
         """Amplitude and phase against the swept parameter
-        (:func:`resonant.views.plotting.plot_frequency_response`).
+        (:func:`resonant.analyses.sweep.plot_frequency_response`).
 
         Parameters
         ----------
@@ -476,17 +493,15 @@ class FrequencyResponse:
         >>> len(r.plot().axes) >= 2
         True
         """
-        from ..views.plotting import plot_frequency_response
         return plot_frequency_response(self, path=path, names=names, ax=ax, units=units)
 
     def summary(self) -> str:
-        """The text ``resonant sweep`` prints (:func:`resonant.views.display.sweep_text`).
+        """The text ``resonant sweep`` prints (:func:`resonant.analyses.sweep.sweep_text`).
 
         Returns
         -------
         str
         """
-        from ..views.display import sweep_text
         return sweep_text(self)
 
 
@@ -925,5 +940,355 @@ def linspace(start: float, stop: float, points: int, log: bool = False) -> np.nd
     return np.linspace(start, stop, points)
 
 
-__all__ = ["sweep", "FrequencyResponse", "Extremum", "ExtremaTable", "choose_method", "linspace",
-           "METHODS", "MAX_SWEEP_POINTS", "MAX_SWEEP_RESULTS", "check_points"]
+#: amplitudes below this fraction of the largest one are drawn at the curve's floor
+FLOOR = 1e-9
+
+
+#: at most this many natural frequencies are drawn as vertical lines
+MAX_LINES = 30
+
+
+def response_axes(parameter: str, names: Sequence[str], *, coordinates: Sequence[str] = (),
+                  units: Mapping[str, str] | None = None, unit: str = "",
+                  frequency_sweep: bool = True, log: bool = False) -> Chart:
+    """The axes and curve styles of a frequency response's amplitude chart, without data:
+    what :func:`frequency_response_chart` fills with a sweep and the explore page (its JSON)
+    with the curve it computes live.
+
+    Parameters
+    ----------
+    parameter : str
+        The swept parameter.
+    names : sequence of str
+        The curves, in order (each its colour of the cycle).
+    coordinates : sequence of str
+        The names that are coordinates (the others are labelled as outputs).
+    units : mapping, optional
+        name -> unit of the amplitudes: on the axis, or on each curve where they differ.
+    unit : str
+        The parameter's unit.
+    frequency_sweep : bool
+        Whether the parameter is the excitation frequency.
+    log : bool
+        A logarithmic parameter axis.
+
+    Returns
+    -------
+    Chart
+        Curves without points, labels, scales (amplitudes on a log axis).
+
+    Examples
+    --------
+    >>> c = response_axes("omega", ["x1", "phi"], coordinates=["x1"],
+    ...                   units={"x1": "m", "phi": "rad"}, unit="rad/s")
+    >>> print(c.xlabel, "|", c.ylabel)
+    excitation frequency $\\omega$ [rad/s] | amplitude $X$ [m, rad]
+    >>> print(", ".join(k.label for k in c.curves))
+    $x_{1}$ [m], $\\varphi$ (output) [rad]
+    """
+    amplitude_units = {units.get(n, "") for n in names} if units else set()
+    per_curve = units if len(amplitude_units) > 1 else None
+    curves = []
+    for k, name in enumerate(names):
+        kind = "" if name in coordinates else " (output)"
+        if per_curve and per_curve.get(name) not in (None, "", "1"):
+            kind += f" [{unit_math(per_curve[name])}]"
+        # past the colour cycle, dashes: every curve stays distinguishable
+        dash = (None, "3.7 1.6", "1 1.65", "6.4 1.6 1 1.6")[(k // len(COLORS)) % 4]
+        curves.append(Curve(np.empty(0), np.empty(0), f"{dollar_name(name)}{kind}",
+                            COLORS[k % len(COLORS)], 1.5, dash))
+    shown_units = [unit_math(u) if u not in ("", "1") else "1" for u in sorted(amplitude_units)]
+    xlabel = (("excitation frequency " if frequency_sweep else "") + dollar_name(parameter)
+              + (f" [{unit}]" if unit else ""))
+    ylabel = "amplitude $X$" + (f" [{', '.join(shown_units)}]"
+                                if shown_units and shown_units != ["1"] else "")
+    return Chart(tuple(curves), xlabel, ylabel, (0.0, 1.0), ylog=True, xlog=log,
+                 legend="beside")
+
+
+def frequency_response_chart(response: FrequencyResponse, names: Sequence[str] | None = None,
+                             units: Mapping[str, str] | None = None, *, phase: bool = True,
+                             extrema: bool = True, title: bool = True,
+                             operating: float | None = None) -> Charts:
+    """What the figure of a frequency response shows: amplitudes (log axis) above phases.
+
+    Resonance peaks are marked with triangles (their values noted above the curves),
+    antiresonances with circles; natural frequencies in the range of a frequency sweep
+    are dotted vertical lines.  Skipped points (undamped resonance) are gaps.
+
+    Parameters
+    ----------
+    response : FrequencyResponse
+    names : sequence of str, optional
+        The coordinates and outputs to draw (default: all, at most :data:`MAX_CURVES`,
+        outputs included).
+    units : mapping, optional
+        name -> SI unit of the amplitudes: the amplitude axis is labelled with the unit,
+        or each curve where the units differ.
+    phase : bool
+        Draw the phase panel under the amplitudes.
+    extrema : bool
+        Mark the peaks and antiresonances.
+    title : bool
+        Give the figure the model's title.
+    operating : float, optional
+        The operating value of the parameter: a dashed line there and a dot on each curve.
+
+    Returns
+    -------
+    Charts
+
+    Raises
+    ------
+    AnalysisError
+        For an unknown name.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> r = resonant.load("examples/cart_pendulum.toml").linearize().sweep(
+    ...     "omega", np.linspace(1.0, 20.0, 50))
+    >>> charts = frequency_response_chart(r, ["x1"])
+    >>> len(charts.panels), charts.panels[0].ylabel, charts.panels[0].ylog
+    (2, 'amplitude $X$', True)
+    """
+    names = _curve_names(response, names)
+    axes = response_axes(response.parameter, names, coordinates=response.coordinates,
+                         units=units, unit=response.unit,
+                         frequency_sweep=response.frequency_sweep, log=bool(response.log))
+    floor, top = _amplitude_floor(response, names)
+    x = np.asarray(response.values, dtype=float)
+    amp_curves: list[Curve] = []
+    phase_curves: list[Curve] = []
+    markers: list[Marker] = []
+    notes: list[Annotation] = []
+    labelled: list[float] = []
+    for name, style in zip(names, axes.curves):
+        color = style.color or COLORS[0]
+        amplitude = np.array(response.amplitudes[name], dtype=float)
+        with np.errstate(invalid="ignore"):
+            shown = np.where(amplitude > 0, np.maximum(amplitude, floor), np.nan)  # log: no 0
+        amp_curves.append(replace(style, x=x, y=shown))
+        phase_curves.append(Curve(x, unwrapped_degrees(response.phases[name]), "", color, 1.2))
+        if operating is not None and x.size > 1 and np.all(np.diff(x) > 0):
+            at = float(np.interp(operating, x, amplitude))
+            if at > 0:
+                markers.append(Marker(float(operating), at, color))
+        if extrema:
+            markers += _extrema_marks(response, name, color, floor, notes, labelled)
+    rules: list[Rule] = []
+    natural = response.natural_values
+    if natural is not None and x.size:
+        lo, hi = float(np.min(x)), float(np.max(x))
+        what = "natural frequency" if response.frequency_sweep else \
+            "excitation at a natural frequency"
+        rules += [Rule(float(w), color="#737373", dash="1 1.65", label=what)
+                  for w in natural if lo <= w <= hi][:MAX_LINES]
+    if operating is not None:
+        rules.append(Rule(float(operating), color="#404040", dash="3.7 1.6",
+                          label="operating point"))
+    ylim = None
+    if extrema and floor > 0 and top > 0:  # clipped to the data, room above for the notes
+        ylim = (floor / 1.5, top * (top / floor) ** 0.12 * 1.5)
+    xlim = (float(np.nanmin(x)), float(np.nanmax(x))) if x.size else (0.0, 1.0)
+    xlabel, log = axes.xlabel, axes.xlog
+    any_positive = any(np.isfinite(c.y).any() for c in amp_curves)
+    amplitude_chart = replace(axes, curves=tuple(amp_curves), xlim=xlim, ylog=any_positive,
+                              markers=tuple(markers), rules=tuple(rules), ylim=ylim,
+                              notes=tuple(notes))
+    heading = ""
+    if title:
+        heading = (printable(response.title or "frequency response", limit=80)
+                   + "\n" + r"$x = X \sin(\omega t + \delta)$")
+    if not phase:
+        return Charts((amplitude_chart,), heading)
+    phase_rules = tuple(replace(r, label="") for r in rules)
+    return Charts((amplitude_chart,
+                   Chart(tuple(phase_curves), xlabel, r"phase $\delta$ [°]", xlim,
+                         rules=phase_rules, xlog=log, yticks=_phase_ticks(phase_curves),
+                         ylim=_phase_limits(phase_curves), legend="none")),
+                  heading, heights=(2.2, 1.0), size=(9.5, 6.5))
+
+
+def _phase_limits(curves: Sequence[Curve]) -> tuple[float, float]:
+    """The phase axis: whole quarter turns around the data (at least a half turn) and
+    10 degrees of margin."""
+    values = np.concatenate([np.asarray(c.y, dtype=float) for c in curves]) if curves else \
+        np.empty(0)
+    values = values[np.isfinite(values)]
+    low, high = (float(values.min()), float(values.max())) if values.size else (-90.0, 0.0)
+    first, last = 90 * math.floor(low / 90), 90 * math.ceil(high / 90)
+    if last - first < 180:
+        first, last = first - 90, last + 90
+    return first - 10.0, last + 10.0
+
+
+def _phase_ticks(curves: Sequence[Curve]) -> tuple[float, ...]:
+    low, high = _phase_limits(curves)
+    first, last = low + 10.0, high - 10.0
+    step = 90 * max(1, math.ceil((last - first) / 90 / 8))
+    return tuple(float(v) for v in np.arange(first, last + 1, step))
+
+
+def _extrema_marks(response: FrequencyResponse, name: str, color: str, floor: float,
+                   notes: list[Annotation], labelled: list[float]) -> list[Marker]:
+    """Triangles on the resonance peaks (each resonance's value noted once), circles on
+    the antiresonances (at the drawn floor for a true zero)."""
+    marks = []
+    for p in [p for p in response.peaks if p.name == name][:20]:
+        marks.append(Marker(p.value, p.amplitude, color, "peak", "resonance peak"))
+        # one note per resonance: curves peaking at nearly the same value share it
+        if all(abs(p.value - v) > 0.06 * abs(v) for v in labelled):
+            labelled.append(p.value)
+            notes.append(Annotation(p.value, f"{p.value:.4g}", color))
+    for p in [p for p in response.antiresonances if p.name == name][:20]:
+        marks.append(Marker(p.value, max(p.amplitude, floor), color, "ring",
+                            "antiresonance (zero)"))
+    return marks
+
+
+def plot_frequency_response(response: FrequencyResponse, path: PathArg = None,
+                            names: Sequence[str] | None = None, ax: Axes | None = None,
+                            units: Mapping[str, str] | None = None) -> Figure:
+    """Amplitude (log axis) above phase, against the swept parameter: the chart of
+    :func:`frequency_response_chart`, drawn with matplotlib.
+
+    Parameters
+    ----------
+    response : FrequencyResponse
+        The sweep to draw.
+    path : str or Path, optional
+        Also write the figure there; the format follows the suffix (``.png``,
+        ``.svg`` or ``.pdf``, anything else raises :class:`AnalysisError`).
+    names : sequence of str, optional
+        The coordinates and outputs to draw (default: all, at most
+        :data:`MAX_CURVES`, outputs included).
+    ax : pair of matplotlib.axes.Axes, or Axes, optional
+        Draw into the caller's figure: ``(amplitude_axes, phase_axes)`` for both
+        panels, or a single Axes for the amplitude panel alone.  The axes are
+        drawn into as they are (no layout change); by default a new figure with
+        the two panels stacked is made.
+    units : mapping, optional
+        name -> SI unit of the amplitudes (``ResultUnits.si`` of
+        :mod:`resonant.model.units_display`): the amplitude axis is labelled with the
+        unit, or each curve where the units differ.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The new figure, or the one ``ax`` belongs to.
+
+    Raises
+    ------
+    AnalysisError
+        For an unknown name or an unsupported file suffix.
+    """
+    check_plot_path(path)
+    axes = _response_axes(ax)
+    charts = frequency_response_chart(response, names, units,
+                                      phase=axes is None or len(axes) == 2)
+    fig = draw_figure(charts, axes)
+    save_figure(fig, path, dpi=150, bbox_inches="tight")
+    return fig
+
+
+def _curve_names(response: FrequencyResponse, names: Sequence[str] | None) -> list[str]:
+    """The names to draw: the given ones (checked), else all, at most MAX_CURVES."""
+    if names is None:
+        names = list(response.names)
+        if len(names) > MAX_CURVES:
+            outputs = [n for n in names if n not in response.coordinates]
+            names = (names[:MAX_CURVES - len(outputs[:MAX_CURVES // 2])]
+                     + outputs[:MAX_CURVES // 2])
+    unknown = [n for n in names if n not in response.amplitudes]
+    if unknown:
+        raise AnalysisError(f"nothing to plot named {', '.join(unknown)}")
+    return list(names)
+
+
+def _response_axes(ax: Axes | None) -> list[Any] | None:
+    """The caller's ``ax=`` as a list of Axes (amplitude, phase), or None for a new figure."""
+    if ax is None:
+        return None
+    if isinstance(ax, (tuple, list)) or (isinstance(ax, np.ndarray) and ax.ndim == 1):
+        if len(ax) != 2:
+            raise AnalysisError("ax= takes a pair of Axes (amplitude, phase) or one Axes "
+                                "(amplitude only)")
+        return list(ax)
+    return [ax]
+
+
+def _amplitude_floor(response: FrequencyResponse, names: Sequence[str]) -> tuple[float, float]:
+    """(floor, top) of the plotted amplitudes.
+
+    True zeros (antiresonances of undamped systems, 1e-19 and less) are drawn at the
+    floor instead of stretching the log axis over many decades.
+    """
+    sampled = np.array([response.amplitudes[name] for name in names], dtype=float)
+    top = float(np.nanmax(sampled, initial=0.0)) if np.isfinite(sampled).any() else 0.0
+    meaningful = sampled[np.isfinite(sampled) & (sampled > FLOOR * top)]
+    floor = float(meaningful.min()) if meaningful.size else 0.0
+    return floor, top
+
+
+def unwrapped_degrees(phase: npt.ArrayLike) -> np.ndarray:
+    """A phase curve in degrees made continuous: jumps of a full turn removed (each run
+    between gaps on its own), so that a phase passing -180 degrees goes on to -270
+    instead of jumping to +90; a jump of half a turn (the sign change at an undamped
+    resonance) is taken as a growing lag.
+
+    Examples
+    --------
+    >>> unwrapped_degrees(np.radians([170.0, 179.0, -178.0, -170.0])).round(6).tolist()
+    [170.0, 179.0, 182.0, 190.0]
+    """
+    radians = np.array(phase, dtype=float)
+    out = np.full(radians.shape, np.nan)
+    finite = np.isfinite(radians)
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], finite.astype(int), [0]))))
+    for start, stop in zip(edges[::2], edges[1::2]):
+        run = radians[start:stop]
+        step = np.diff(run)
+        wrapped = np.mod(step + math.pi, 2 * math.pi) - math.pi
+        # a jump of half a turn (an undamped resonance or antiresonance: the sign flips) is
+        # taken as a growing lag, as textbooks draw it, whatever side rounding puts it on
+        wrapped[np.abs(np.abs(wrapped) - math.pi) < 0.05] = -math.pi
+        out[start:stop] = np.degrees(run + np.concatenate(([0.0], np.cumsum(wrapped - step))))
+    return out
+
+
+def sweep_text(result: FrequencyResponse) -> str:
+    """The human-readable summary of ``resonant sweep``."""
+    unit = f" {result.unit}" if result.unit else ""
+    out = [printable(result.title or "sweep"),
+           f"{result.parameter} from {result.values[0]:.6g} to {result.values[-1]:.6g}{unit}, "
+           f"{len(result.values)} values, method {result.method}" + (
+               f" (estimated error {result.estimated_error:.2g}, tolerance "
+               f"{result.tolerance:.2g})" if getattr(result, "estimated_error", None) is not None
+               else ""), ""]
+    natural = result.natural_values
+    if natural is not None:
+        inside = [w for w in natural if result.values.min() <= w <= result.values.max()]
+        if inside and result.frequency_sweep:
+            out.append("natural frequencies in range: " +
+                       ", ".join(f"{w:.6g}" for w in inside[:20]) + unit)
+        elif inside:
+            out.append(f"the excitation meets a natural frequency at {result.parameter} = " +
+                       ", ".join(f"{w:.6g}" for w in inside[:20]) + unit)
+    for title, items in (("resonance peaks", result.peaks),
+                         ("antiresonances", result.antiresonances)):
+        out.append(f"{title}:")
+        if not items:
+            out.append("  none")
+        for p in items[:50]:
+            out.append(f"  {p.name:>12}  at {result.parameter} = {p.value:.6g}{unit}   "
+                       f"amplitude {p.amplitude:.6g}")
+        if len(items) > 50:
+            out.append(f"  ... {len(items) - 50} more (use --json)")
+    return "\n".join(out) + "\n"
+
+
+__all__ = ["plot_frequency_response", "frequency_response_chart", "response_axes",
+           "unwrapped_degrees", "MAX_LINES", "sweep", "FrequencyResponse", "Extremum",
+           "ExtremaTable", "choose_method", "linspace", "METHODS", "MAX_SWEEP_POINTS",
+           "MAX_SWEEP_RESULTS", "check_points"]

@@ -20,18 +20,23 @@ import resonant.cli.common as cli
 
 from ..analyses.backbone import Backbones, backbone
 from ..analyses.harmonic_balance import nonlinear_sweep
-from ..analyses.modes import ModalAnalysis, modes
+from ..analyses.modes import ModalAnalysis, modes, modes_text, plot_modes
 from ..analyses.nonlinear_response import NonlinearResponse
-from ..analyses.sweep import MAX_SWEEP_POINTS, FrequencyResponse, linspace, sweep
+from ..analyses.sweep import (
+    MAX_SWEEP_POINTS,
+    FrequencyResponse,
+    linspace,
+    plot_frequency_response,
+    sweep,
+    sweep_text,
+)
 from ..deadline import Deadline
 from ..errors import AnalysisError
 from ..model import Model
 from ..model.options import MAX_GIVEN_HARMONICS, SWEEP_METHODS, BalanceOptions, SweepOptions
 from ..model.units_display import ResultUnits, result_units
 from ..system import linear_system
-from ..views.display import modes_text, sweep_text
 from ..views.nonlinear_plots import nonlinear_text, plot_backbones, plot_nonlinear_response
-from ..views.plotting import plot_frequency_response, plot_modes
 
 #: the most harmonics a nonlinear analysis takes (the analyses' own limit)
 MAX_HARMONICS_OPTION = MAX_GIVEN_HARMONICS

@@ -13,13 +13,11 @@ from functools import partial
 
 import resonant.cli.common as common
 
-from ..analyses.simulate import DEFAULT_PERIODS, simulate
+from ..analyses.simulate import DEFAULT_PERIODS, plot_simulation, simulate, simulation_text
 from ..errors import AnalysisError, ModelError, Problem
 from ..model.options import INTEGRATORS, START_MODES, SimulationOptions
 from ..model.units_display import result_units
 from ..system import linear_system
-from ..views.display import simulation_text
-from ..views.plotting import plot_simulation
 
 
 def parse_initial_items(items: list[str] | None) -> dict[str, str]:

@@ -8,11 +8,10 @@ import sys
 import resonant.cli.common as common
 
 from ..analyses.periodic_load import periodic_load_response
-from ..analyses.stationary import stationary
+from ..analyses.stationary import solution_text, stationary
 from ..errors import name_list
 from ..model.units_display import result_units
 from ..system import linear_system
-from ..views.display import solution_text
 from ..views.random_views import periodic_text
 
 

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy
 
+from ..errors import printable
 from ..expressions import Expression
 from ..expressions.functions import FUNCTIONS
 
@@ -235,5 +236,29 @@ def column_latex(entries: Iterable[str]) -> str:
     return r"\begin{bmatrix} " + r" \\ ".join(entries) + r" \end{bmatrix}"
 
 
-__all__ = ["Namer", "name_latex", "expression_latex", "sympy_latex", "number_latex",
+def math_name(name: str) -> str:
+    """A model name typeset for matplotlib (``x1`` -> ``$x_{1}$``, ``phi`` -> ``$\\varphi$``),
+    or the name as plain text where mathtext cannot set it.
+
+    Examples
+    --------
+    >>> print(math_name("x1"), math_name("omega"), math_name("F0"))
+    $x_{1}$ $\\omega$ $F_{0}$
+    """
+    from matplotlib.mathtext import MathTextParser
+
+    text = f"${name_latex(name)}$"
+    try:
+        MathTextParser("path").parse(text)
+    except ValueError:
+        return printable(name, limit=40).replace("$", r"\$")
+    return text
+
+
+def dollar_name(name: str) -> str:
+    """A model name as a chart label (math between dollar signs)."""
+    return f"${name_latex(name)}$"
+
+
+__all__ = ["math_name", "Namer", "name_latex", "expression_latex", "sympy_latex", "number_latex",
            "number_text", "with_subscript", "vector_latex", "matrix_latex", "column_latex"]

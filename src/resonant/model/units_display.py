@@ -46,6 +46,8 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from ..charts import unit_text
+from ..expressions.notation import dollar_name
 from ..model import Model
 from ..model.units import (
     DIMENSIONLESS,
@@ -225,5 +227,44 @@ def axis_label(label: str, unit: str) -> str:
     return f"{label} [{unit}]" if unit else label
 
 
-__all__ = ["ResultUnits", "Shown", "result_units", "uniform", "units_grid", "shown_vector",
-           "axis_label", "unit_latex", "HZ", "RAD", "RAD_PER_S", "NO_UNIT", "display_quantity"]
+def unit_math(unit: str) -> str:
+    """A unit for a matplotlib label: ``N*s/m`` and ``m/s^2`` typeset (a product's dot,
+    a power's superscript), a plain one (``m``, ``rad/s``) as it is.
+
+    Examples
+    --------
+    >>> print(unit_math("m"), unit_math("N*s/m"))
+    m $\\mathrm{N\\,s/m}$
+    """
+    if not any(c in unit for c in "*^"):
+        return unit.replace("$", r"\$")
+    return "$" + unit_latex(unit).removeprefix("\\ ") + "$"
+
+
+def name_label(name: str, units: Mapping[str, str] | None = None) -> str:
+    """A curve's label: the name typeset, and its unit where given (``$x_{1}$ [m]``)."""
+    unit = (units or {}).get(name, "")
+    return dollar_name(name) + (f" [{unit_text(unit)}]" if unit and unit != "1" else "")
+
+
+def unit_suffix(names: Sequence[str], units: Mapping[str, str]) -> tuple[str, Mapping[str, str]]:
+    """`` [m]`` for the y axis when every curve has that unit (and no per-curve units),
+    else `` [m, rad]`` (in the order of the curves) and the units for each curve's label.
+
+    Examples
+    --------
+    >>> unit_suffix(["x", "y"], {"x": "m", "y": "m"})
+    (' [m]', {})
+    """
+    shown = {units.get(n, "") for n in names}
+    if len(shown) <= 1:
+        unit = next(iter(shown), "")
+        return (f" [{unit_text(unit)}]" if unit and unit != "1" else ""), {}
+    named = [unit_text(u) if u and u != "1" else "1"
+             for u in dict.fromkeys(units.get(n, "") for n in names)]
+    return f" [{', '.join(named)}]", units
+
+
+__all__ = ["unit_math", "name_label", "unit_suffix", "ResultUnits", "Shown", "result_units",
+           "uniform", "units_grid", "shown_vector", "axis_label", "unit_latex", "HZ", "RAD",
+           "RAD_PER_S", "NO_UNIT", "display_quantity"]

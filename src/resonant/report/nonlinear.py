@@ -23,10 +23,10 @@ from ..analyses.periodic import PeriodicSolution, periodic_solution
 from ..charts import Chart, draw_chart
 from ..errors import AnalysisError
 from ..expressions.notation import number_text
+from ..model.units_display import name_label as _label
 from ..system.build import nonlinear_system
 from ..system.nonlinear import NonlinearSystem
 from ..views.nonlinear_plots import nonlinear_response_chart
-from ..views.plotting import name_label as _label
 from .blocks import Block, Heading, Math, Note, Table, cell, paragraph
 from .plots import _swept_parameter
 from .steps import Context

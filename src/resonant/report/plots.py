@@ -8,7 +8,7 @@ excitation amplitude follows it (a rotating unbalance grows with Omega^2);
 otherwise the force amplitudes are held at their operating values.  It returns the
 library's :class:`~resonant.analyses.sweep.FrequencyResponse` (the response at the
 excitation frequency alone), which :func:`response_chart` describes with
-:func:`resonant.views.plotting.frequency_response_chart`.
+:func:`resonant.analyses.sweep.frequency_response_chart`.
 
 Examples
 --------
@@ -42,12 +42,12 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 import sympy
 
+from ..analyses.simulate import history_chart
 from ..analyses.stationary import common_period
-from ..analyses.sweep import sweep
+from ..analyses.sweep import frequency_response_chart, sweep
 from ..charts import Chart, Charts, chart_svg, charts_svg, draw_chart, draw_figure
 from ..model.units_display import result_units
 from ..system.base import LinearSystem
-from ..views.plotting import frequency_response_chart, history_chart
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -185,7 +185,7 @@ def response_chart(frf: FrequencyResponse, operating: float | None,
 
 
 def history_figure(history: TimeHistory) -> Chart:
-    """The report's figure of a time history (:func:`resonant.views.plotting.history_chart`)."""
+    """The report's figure of a time history (:func:`resonant.analyses.simulate.history_chart`)."""
     return history_chart(history.t, history.values, history.units)
 
 

@@ -30,6 +30,13 @@ from ..arrays import Matrix, frozen_array
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import numeric_value
+from ..expressions.notation import (
+    column_latex,
+    matrix_latex,
+    name_latex,
+    number_latex,
+    vector_latex,
+)
 from ..model import Model
 from ..model.options import SweepOptions
 from .batch import Batch, BatchHarmonic, Var, group_frequencies
@@ -214,6 +221,17 @@ class LinearSystem(ABC):
         Returns
         -------
         dict or None
+        """
+        return None
+
+    def derived_matrices(self) -> tuple[Any, Any, Any, Any] | None:
+        """The symbolic M, C, K and Q(t) where Lagrange's equations derived them (a model
+        given by its energies), for a text that shows where the numbers come from; None for
+        given matrices and for numbers.
+
+        Returns
+        -------
+        tuple of sympy.ImmutableMatrix, or None
         """
         return None
 
@@ -585,7 +603,7 @@ class NumericEOM(LinearSystem):
         return self.system.symbolic_dict() if self.system is not None else None
 
     def _repr_latex_(self) -> str:
-        from ..views.display import numeric_eom_latex
+
         return numeric_eom_latex(self)
 
 
@@ -627,6 +645,25 @@ def numeric_point(batch: Batch, i: int, system: LinearSystem | None = None,
         K=batch.matrix("K", i), harmonics=tuple(harmonics), harmonic=batch.harmonic,
         outputs=MappingProxyType(outputs), parameters=MappingProxyType(params),
         system=system)
+
+
+def numeric_eom_latex(eom: NumericEOM) -> str:
+    """M q'' + C q' + K q = Q with numbers (Jupyter ``_repr_latex_`` of a NumericEOM)."""
+    if eom.n > 12:
+        return rf"$\text{{{eom.n} coordinates}}$"
+    q = [name_latex(c) for c in eom.coordinates]
+    parts = [matrix_latex(getattr(eom.dense(), key)) + column_latex(
+        [rf"\{dots}{{{c}}}" if dots else c for c in q])
+        for key, dots in (("M", "ddot"), ("C", "dot"), ("K", ""))
+        if np.any(getattr(eom.dense(), key))]
+    terms = []
+    for h in eom.harmonics:
+        wt = number_latex(h.omega) + "t"
+        terms += [rf"{vector_latex(h.F_S)}\sin({wt})" if np.any(h.F_S) else "",
+                  rf"{vector_latex(h.F_C)}\cos({wt})" if np.any(h.F_C) and h.omega else "",
+                  vector_latex(h.F_C) if np.any(h.F_C) and not h.omega else ""]
+    rhs = " + ".join(t for t in terms if t) or r"\mathbf{0}"
+    return rf"$\displaystyle {' + '.join(parts) or '0'} = {rhs}$"
 
 
 __all__ = ["LinearSystem", "parameter_values", "NumericEOM", "NumericHarmonic", "NumericOutput",

@@ -25,6 +25,7 @@ from ..expressions import Expression, Num, numeric_value
 from ..model import TIME, Model, symbol
 from .base import LinearSystem
 from .batch import Batch, BatchHarmonic, compile_expressions
+from .latex import eom_latex
 from .symbolic import matrix_strings
 
 Var = tuple[str, int]
@@ -257,7 +258,7 @@ class MatrixEOM(LinearSystem):
                 "Q": [str(e) for e in self.Q]}
 
     def _repr_latex_(self) -> str:
-        from ..views.display import eom_latex
+
         return eom_latex(self)
 
 

@@ -61,6 +61,7 @@ from .batch import (
     compile_expressions,
     not_finite_problem,
 )
+from .latex import eom_latex
 
 Var = tuple[str, int]
 
@@ -222,6 +223,9 @@ class LinearEOM(LinearSystem):
     def symbolic_dict(self) -> dict[str, Any] | None:
         return self.to_dict()
 
+    def derived_matrices(self) -> tuple[Any, Any, Any, Any] | None:
+        return self.M, self.C, self.K, self.Q
+
     def to_dict(self) -> dict[str, Any]:
         return {
             "coordinates": list(self.coordinates),
@@ -230,7 +234,7 @@ class LinearEOM(LinearSystem):
         }
 
     def _repr_latex_(self) -> str:
-        from ..views.display import eom_latex
+
         return eom_latex(self)
 
 

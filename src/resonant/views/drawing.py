@@ -27,9 +27,9 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, TypedDict, Unpack
 
+from ..charts import figure_of as _figure_of
 from ..errors import AnalysisError, ModelError, Problem
 from ..model import Model
-from .plotting import _figure_of
 from .sketch import Arc, Arrow, BodyShape, Label, LinkShape, Point, Sketch, Support, sketch
 
 if TYPE_CHECKING:

@@ -41,7 +41,7 @@ import numpy as np
 from ..analyses.modes import modes
 from ..analyses.periodic_load import load_series, periodic_response
 from ..analyses.stationary import stationary
-from ..analyses.sweep import sweep
+from ..analyses.sweep import response_axes, sweep
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions.notation import name_latex
@@ -52,7 +52,6 @@ from ..system.build import linear_system
 from ..system.stability import natural_frequencies
 from .explore_export import ExportedSystem, equilibrium_values, export_system
 from .js_printer import NotPrintable
-from .plotting import response_axes
 from .sketch import SketchMotion, sketch_motion
 
 #: the most coordinates for which the page computes everything itself
@@ -340,7 +339,7 @@ def _name_units(model: Model, names: list[str]) -> list[dict[str, Any]]:
 def _response_chart(model: Model, system: LinearSystem, sliders: list[dict[str, Any]],
                     names: list[str]) -> dict[str, Any] | None:
     """The frequency response's axes and curve styles as resonant's plots draw them
-    (:func:`resonant.views.plotting.response_axes`, as JSON): the page draws its curve with
+    (:func:`resonant.analyses.sweep.response_axes`, as JSON): the page draws its curve with
     them; None without an excitation frequency.  The page samples its curve evenly from
     the range's start: a linear axis."""
     control = next((c for c in sliders if c["frequency"]), None)

@@ -16,6 +16,7 @@ import numpy as np
 
 from ..charts import (
     COLORS,
+    MAX_CURVES,
     Chart,
     Charts,
     Curve,
@@ -27,7 +28,8 @@ from ..charts import (
     save_figure,
 )
 from ..errors import printable
-from .plotting import MAX_CURVES, _name, unit_math
+from ..expressions.notation import dollar_name
+from ..model.units_display import unit_math
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -95,7 +97,7 @@ def nonlinear_response_chart(response: NonlinearResponse, names: Sequence[str] |
         color = COLORS[k % len(COLORS)]
         a = np.asarray(response.amplitudes[name], dtype=float)
         unit = (units or {}).get(name, "")
-        shown = _name(name) + (f" [{unit_math(unit)}]" if unit not in ("", "1") else "")
+        shown = dollar_name(name) + (f" [{unit_math(unit)}]" if unit not in ("", "1") else "")
         if linear and response.linear is not None and name in response.linear.amplitudes:
             curves.append(Curve(np.asarray(response.linear.values, dtype=float),
                                 np.asarray(response.linear.amplitudes[name], dtype=float),
@@ -116,12 +118,12 @@ def nonlinear_response_chart(response: NonlinearResponse, names: Sequence[str] |
     if operating is not None:
         value, amplitudes = operating
         markers += [Marker(value, amplitudes[name], COLORS[k % len(COLORS)], "star",
-                           f"{_name(name)} at the operating point")
+                           f"{dollar_name(name)} at the operating point")
                     for k, name in enumerate(chosen) if name in amplitudes]
         rules = (Rule(float(value), color="#404040", dash="3.7 1.6"),)
     base = np.asarray(response.base_frequencies, dtype=float)
     frequency = base.shape == v.shape and bool(np.allclose(base, v))  # the parameter is ω
-    xlabel = (("excitation frequency " if frequency else "") + _name(response.parameter)
+    xlabel = (("excitation frequency " if frequency else "") + dollar_name(response.parameter)
               + (" [rad/s]" if frequency else ""))
     shown_units = sorted({(units or {}).get(n, "") for n in chosen} - {"", "1"})
     ylabel = ("peak amplitude $X$ (deviation)"
@@ -192,7 +194,7 @@ def backbones_chart(backbones: Backbones) -> Chart:
         amp = np.concatenate([[0.0], np.asarray(curve.amplitudes[curve.reference])])
         freq = np.concatenate([[curve.linear_frequency], np.asarray(curve.frequencies)])
         curves.append(Curve(freq, amp, f"mode {curve.mode} (amplitude of "
-                            f"{_name(curve.reference)})", color, 1.6))
+                            f"{dollar_name(curve.reference)})", color, 1.6))
         rules.append(Rule(float(curve.linear_frequency), color=color, dash="1 1.65"))
     finite = np.concatenate([c.x for c in curves] + [np.empty(0)])
     finite = finite[np.isfinite(finite)]

@@ -42,9 +42,10 @@ from ..charts import (
     save_figure,
 )
 from ..errors import AnalysisError
+from ..expressions.notation import math_name
 from ..model import Model
 from ..model.study import StudySpec
-from .plotting import math_name, unit_math
+from ..model.units_display import unit_math
 
 if TYPE_CHECKING:
     import pandas as pd

@@ -3,7 +3,7 @@ per harmonic, the sum, its largest excursion), the random inputs of ``[random]``
 (spectral densities, RMS, Rice's rates, Miles beside the exact value) and the pulse of
 ``[shock]`` (its shock response spectrum, the largest responses), as a textbook shows them
 (docs/random.md).  Their figures are the views' chart descriptions (the ones the library's
-plots draw): :func:`~resonant.views.plotting.history_chart`,
+plots draw): :func:`~resonant.analyses.simulate.history_chart`,
 :func:`~resonant.views.random_views.random_chart`,
 :func:`~resonant.views.shock_views.srs_chart`."""
 
@@ -14,12 +14,12 @@ import numpy as np
 from ...analyses.periodic_load import periodic_load_response
 from ...analyses.random_response import random_response
 from ...analyses.shock import pulse, shock_response_spectrum
+from ...analyses.simulate import history_chart
 from ...analyses.transient import shock_response
 from ...errors import ResonantError
 from ...expressions.notation import number_latex
 from ...model.units import Dimension
 from ...model.units_display import result_units
-from ...views.plotting import history_chart
 from ...views.random_views import random_chart
 from ...views.shock_views import srs_chart
 from ..blocks import Block, Heading, Note, Table, cell, paragraph
