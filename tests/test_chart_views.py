@@ -36,12 +36,13 @@ from resonant.charts import (
     mathtext_label,
     plain_text,
 )
-from resonant.views.nonlinear_plots import backbones_chart, nonlinear_response_chart
+from resonant.analyses.backbone import backbones_chart
+from resonant.analyses.nonlinear_response import nonlinear_response_chart
 from resonant.analyses.simulate import simulation_chart
 from resonant.analyses.modes import modes_chart
 from resonant.analyses.sweep import frequency_response_chart, plot_frequency_response
-from resonant.views.random_views import plot_random, random_chart
-from resonant.views.shock_views import plot_srs, srs_chart
+from resonant.analyses.random_response import plot_random, random_chart
+from resonant.analyses.shock import plot_srs, srs_chart
 from resonant.model.units_display import result_units
 
 SVG = "{http://www.w3.org/2000/svg}"

@@ -17,7 +17,7 @@ import resonant
 from conftest import EXAMPLES, run_cli
 from resonant.analyses.modes import plot_modes
 from resonant.analyses.sweep import plot_frequency_response, unwrapped_degrees
-from resonant.views.study_plots import (
+from resonant.studies.study_charts import (
     axis_label,
     plot_contour,
     plot_histogram,

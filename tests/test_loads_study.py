@@ -111,7 +111,7 @@ def test_damage_equals_the_spectral_fatigue_of_the_stress_response(tmp_path: Pat
 
 def test_units_of_the_new_columns(tmp_path: Path) -> None:
     from resonant.studies import request
-    from resonant.views.study_plots import study_units
+    from resonant.studies.study_charts import study_units
     model = resonant.load(_model(tmp_path))
     spec = request(model, {"k": [1e6]}, ["srs:a@100", "damage:sigma"], design="grid")
     units = study_units(model, spec)

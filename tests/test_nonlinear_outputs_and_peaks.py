@@ -32,7 +32,7 @@ from resonant.analyses.harmonic_balance import NonlinearResponse, nonlinear_swee
 from resonant.analyses.sweep import sweep
 from resonant.model import load
 from resonant.system import linear_system, nonlinear_system
-from resonant.views.nonlinear_plots import nonlinear_text, plot_nonlinear_response
+from resonant.analyses.nonlinear_response import nonlinear_text, plot_nonlinear_response
 
 DUFFING = EXAMPLES / "duffing.toml"
 CART = EXAMPLES / "cart_pendulum.toml"

@@ -36,7 +36,7 @@ from resonant.charts import (
     x_limits,
     y_limits,
 )
-from resonant.views.study_plots import (
+from resonant.studies.study_charts import (
     contour_chart,
     histogram_chart,
     plot_contour,

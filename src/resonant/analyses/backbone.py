@@ -50,8 +50,20 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..arrays import freeze_fields
+from ..charts import (
+    COLORS,
+    Chart,
+    Charts,
+    Curve,
+    PathArg,
+    Rule,
+    check_plot_path,
+    draw_figure,
+    save_figure,
+)
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import AnalysisError
+from ..errors import AnalysisError, printable
+from ..expressions.notation import dollar_name
 from ..model import Model
 from ..model.options import check_harmonics
 from ..system.base import LinearSystem
@@ -221,10 +233,20 @@ class Backbones:
                              f"({100 * (c.frequencies[i] / c.linear_frequency - 1):+.3g}%)")
         return "\n".join(lines) + "\n"
 
+    def chart(self) -> Chart:
+        """The figure's description: each backbone curve, the linear natural frequencies
+        dotted (:func:`backbones_chart`).
+
+        Returns
+        -------
+        resonant.charts.Chart
+        """
+        return backbones_chart(self)
+
     def plot(self, path: str | os.PathLike[str] | None = None, ax: Axes | None = None
              ) -> Figure:
         """Frequency against amplitude, one curve per mode
-        (:func:`resonant.views.nonlinear_plots.plot_backbones`).
+        (:func:`resonant.analyses.backbone.plot_backbones`).
 
         Parameters
         ----------
@@ -244,7 +266,6 @@ class Backbones:
         >>> len(b.plot().axes)
         1
         """
-        from ..views.nonlinear_plots import plot_backbones
         return plot_backbones(self, path, ax)
 
 
@@ -430,6 +451,39 @@ def backbone(system: NonlinearSystem | LinearSystem | Model, amplitude: float | 
             curves.append(curve)
     return Backbones(title=system.title, coordinates=system.coordinates, harmonics=H,
                      curves=tuple(curves), residual=residual, warnings=tuple(warnings))
+
+
+def backbones_chart(backbones: Backbones) -> Chart:
+    """What the figure of backbone curves shows: the free-vibration frequency (x) against
+    the amplitude of each mode's reference coordinate (y), the linear natural frequencies
+    dotted."""
+    curves, rules = [], []
+    for i, curve in enumerate(backbones.curves):
+        color = COLORS[i % len(COLORS)]
+        amp = np.concatenate([[0.0], np.asarray(curve.amplitudes[curve.reference])])
+        freq = np.concatenate([[curve.linear_frequency], np.asarray(curve.frequencies)])
+        curves.append(Curve(freq, amp, f"mode {curve.mode} (amplitude of "
+                            f"{dollar_name(curve.reference)})", color, 1.6))
+        rules.append(Rule(float(curve.linear_frequency), color=color, dash="1 1.65"))
+    finite = np.concatenate([c.x for c in curves] + [np.empty(0)])
+    finite = finite[np.isfinite(finite)]
+    low, high = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+    pad = 0.05 * (high - low) if high > low else max(abs(high) * 0.1, 1.0)
+    top = max((float(np.nanmax(c.y)) for c in curves if np.isfinite(c.y).any()), default=0.0)
+    return Chart(tuple(curves), r"frequency of free vibration $\omega$ [rad/s]",
+                 "peak amplitude $X$ (deviation)", (low - pad, high + pad), rules=tuple(rules),
+                 ylim=(0.0, 1.05 * top) if top > 0 else None,
+                 title=printable(backbones.title or "backbone curves", limit=80)
+                 + f" (harmonic balance, H = {backbones.harmonics})")
+
+
+def plot_backbones(backbones: Backbones, path: PathArg = None, ax: Axes | None = None) -> Figure:
+    """Backbone curves (the chart of :func:`backbones_chart`, drawn with matplotlib);
+    returns the Figure."""
+    check_plot_path(path)
+    fig = draw_figure(Charts((backbones_chart(backbones),), size=(7.0, 4.6)), ax)
+    save_figure(fig, path)
+    return fig
 
 
 __all__ = ["Backbones", "BackboneCurve", "backbone"]

@@ -288,6 +288,21 @@ class ModalAnalysis:
         freqs = r",\ ".join(f"{w:.6g}" for w in self.natural_frequencies[:12])
         return rf"$\omega_j = {freqs}\ \mathrm{{rad/s}}$"
 
+    def chart(self, count: int | None = 6) -> Charts:
+        """The figure's description: each mode shape in a panel of its own
+        (:func:`modes_chart`).
+
+        Parameters
+        ----------
+        count : int or None
+            The lowest modes to draw (None: all).
+
+        Returns
+        -------
+        resonant.charts.Charts
+        """
+        return modes_chart(self, count)
+
     def plot(self, path: str | os.PathLike[str] | None = None, count: int | None = None,
              ax: Axes | None = None) -> Figure:
         """The mode shapes (:func:`resonant.analyses.modes.plot_modes`).

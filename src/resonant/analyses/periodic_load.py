@@ -43,11 +43,12 @@ import numpy as np
 
 from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import AnalysisError, ModelError, Problem
+from ..errors import AnalysisError, ModelError, Problem, printable
 from ..expressions import numeric_value
 from ..model.load_spec import SHAPES, PeriodicSpec
 from ..model.random_spec import RandomInput
 from ..system.base import LinearSystem
+from ..tables import Table, number_cell
 from .random_response import Transfer, responses_to_solve
 from .results_json import Saved, complex_json, floats_json
 
@@ -487,6 +488,48 @@ def load_series(system: LinearSystem, spec: PeriodicSpec) -> FourierSeries:
             return np.broadcast_to(np.asarray(value, dtype=float), t.shape).copy()
     return fourier_series(spec.shape, spec.amplitude, spec.period, tolerance=spec.tolerance,
                           function=function)
+
+
+#: harmonics listed by :func:`periodic_text`
+SHOWN_HARMONICS = 5
+
+
+def periodic_text(result: PeriodicResponse) -> str:
+    """The periodic load's series and the response: per harmonic, the mean and the
+    largest excursion of the sum, as text.
+
+    Parameters
+    ----------
+    result : PeriodicResponse
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> import resonant
+    >>> from resonant.analyses.periodic_load import fourier_series, periodic_response
+    >>> system = resonant.load("examples/shaker_gevs.toml").linearize()
+    >>> result = periodic_response(system, "y", fourier_series("triangle", 1e-3, 0.01),
+    ...                            names=["z"])
+    >>> print(periodic_text(result).splitlines()[0])
+    Periodic load: triangle, period 0.01 s, 11 harmonics (remainder 0.0097 of the RMS)
+    """
+    series = result.series
+    lines = [f"Periodic load: {series.shape}, period {series.period:.6g} s, "
+             f"{series.harmonics} harmonics (remainder {series.remainder:.2g} of the RMS)"]
+    shown = min(SHOWN_HARMONICS, series.harmonics)
+    header = ("name", "mean", "largest", *(f"|z_{n + 1}|" for n in range(shown)))
+    rows = tuple((printable(name, limit=40), number_cell(result.mean[name]),
+                  number_cell(result.largest[name]),
+                  *(number_cell(abs(result.harmonics[name][n])) for n in range(shown)))
+                 for name in result.names)
+    lines.append(Table(header, rows).text())
+    lines.append("  the sum of the harmonics' stationary responses (SI): mean, largest "
+                 "|excursion| over a period, amplitudes of the first harmonics")
+    lines += [f"warning: {w}" for w in result.warnings]
+    return "\n".join(lines) + "\n"
 
 
 __all__ = ["SHAPES", "FourierSeries", "fourier_series", "PeriodicResponse",

@@ -74,15 +74,29 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..arrays import Matrix, freeze_fields
+from ..charts import (
+    MAX_CURVES,
+    Chart,
+    Charts,
+    Curve,
+    PathArg,
+    Rule,
+    axes_list,
+    check_plot_path,
+    draw_figure,
+    save_figure,
+    unit_text,
+)
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import AnalysisError, ModelError, Problem
+from ..errors import AnalysisError, ModelError, Problem, printable
 from ..expressions import numeric_value
 from ..modal import point_state_eigenvalues
-from ..model.random_spec import RandomInput, RandomSpec
+from ..model.random_spec import STANDARD_GRAVITY, RandomInput, RandomSpec
 from ..model.units import Dimension
 from ..system.base import LinearSystem, NumericEOM
 from ..system.batch import Batch, BatchHarmonic
 from ..system.excitation import excitation_columns
+from ..tables import Table, number_cell
 from .kernel import reduced_budget, solve_harmonic
 from .reduced import FactorizationsAhead, ReducedModel, probe_frequency, reduced_model
 from .results_json import Saved, optional_float
@@ -272,19 +286,42 @@ class RandomResponse:
             warnings=saved.strings("warnings", ()))
 
     def summary(self) -> str:
-        """The text ``resonant random`` prints (:func:`resonant.views.random_views.random_text`).
+        """The text ``resonant random`` prints (:func:`random_text`).
 
         Returns
         -------
         str
         """
-        from ..views.random_views import random_text
         return random_text(self)
+
+    def table(self) -> Table:
+        """The RMS, 3-sigma and Rice's rates of every response (:func:`random_table`).
+
+        Returns
+        -------
+        resonant.tables.Table
+        """
+        return random_table(self)
+
+    def chart(self, names: Sequence[str] | None = None) -> Charts:
+        """The figure's description: the inputs' and the responses' densities
+        (:func:`random_chart`).
+
+        Parameters
+        ----------
+        names : sequence of str, optional
+            The responses to draw.
+
+        Returns
+        -------
+        resonant.charts.Charts
+        """
+        return random_chart(self, names)
 
     def plot(self, path: str | os.PathLike[str] | None = None,
              names: Sequence[str] | None = None, ax: Axes | None = None) -> Figure:
         """The inputs' and the responses' spectral densities on log-log axes
-        (:func:`resonant.views.random_views.plot_random`).
+        (:func:`resonant.analyses.random_response.plot_random`).
 
         Parameters
         ----------
@@ -299,7 +336,6 @@ class RandomResponse:
         -------
         matplotlib.figure.Figure
         """
-        from ..views.random_views import plot_random
         return plot_random(self, path, names, ax)
 
 
@@ -958,6 +994,168 @@ def _miles(num: NumericEOM, spec: RandomSpec, transfer: Transfer, outputs: Seque
         gain = math.sqrt(max(4 * H[1, r] ** 2 - H[0, r] ** 2, 0.0) / 3)
         out[name] = math.sqrt(math.pi / 2 * fn * quality * level) * float(gain)
     return out, fn, quality
+
+
+#: at most this many response panels (one per unit)
+MAX_PANELS = 4
+
+
+def random_table(result: RandomResponse) -> Table:
+    """The RMS, 3-sigma, Rice's rates (and Miles' estimate) of every response, as a table.
+
+    Parameters
+    ----------
+    result : RandomResponse
+
+    Returns
+    -------
+    resonant.tables.Table
+    """
+    rows = []
+    for name in result.names:
+        miles = None if result.miles is None else result.miles.get(name)
+        rows.append((printable(name, limit=40), result.units.get(name, "") or "SI",
+                     number_cell(result.rms[name]), number_cell(3 * result.rms[name]),
+                     number_cell(result.zero_crossing_rate[name]),
+                     number_cell(result.peak_rate[name]), number_cell(miles),
+                     f"{result.error[name]:.1e}"))
+    return Table(("name", "unit", "RMS", "3-sigma", "nu0+ [Hz]", "peaks [Hz]", "Miles RMS",
+                  "rel. error"), tuple(rows))
+
+
+def random_text(result: RandomResponse, warnings: bool = True) -> str:
+    """The RMS, 3-sigma, Rice's rates (and Miles' estimate) of every response, as text.
+
+    Parameters
+    ----------
+    result : RandomResponse
+    warnings : bool
+        End with the result's warnings (the command line writes them to standard error).
+
+    Returns
+    -------
+    str
+    """
+    lines = [f"Random response: {printable(result.title) or '(untitled)'}",
+             f"  band {result.band[0]:g}-{result.band[1]:g} Hz; one-sided spectral densities "
+             f"per Hz; {len(result.frequency)} frequencies; inputs: "
+             f"{', '.join(result.inputs)}"]
+    if result.natural_frequency is not None:
+        lines.append(f"  single DOF: f_n = {result.natural_frequency:.6g} Hz, "
+                     f"Q = {result.quality:.4g}")
+    lines.append(random_table(result).text())
+    accelerations = [n for n in result.names if result.units.get(n) == "m/s^2"]
+    if accelerations:
+        lines.append("  in g (9.80665 m/s^2): " + ", ".join(
+            f"{printable(n, limit=40)} {result.rms[n] / STANDARD_GRAVITY:.4g} g RMS"
+            for n in accelerations))
+    lines.append("  RMS about the reference state; 3-sigma = 3 RMS; Rice's rates of zero "
+                 "up-crossings sqrt(m2/m0) and of peaks sqrt(m4/m2).")
+    lines += [f"warning: {w}" for w in result.warnings] if warnings else []
+    return "\n".join(lines) + "\n"
+
+
+def _density_unit(unit: str) -> str:
+    if not unit:
+        return "SI^2/Hz"
+    return f"({unit})^2/Hz" if any(c in unit for c in "*/^") else f"{unit}^2/Hz"
+
+
+def random_chart(result: RandomResponse, names: Sequence[str] | None = None) -> Charts:
+    """What the figure of a random response shows: the inputs' spectral densities above
+    the responses', one panel per unit, on log-log axes with the units on the axes and
+    each curve's RMS value in its label.
+
+    Parameters
+    ----------
+    result : RandomResponse
+    names : sequence of str, optional
+        The responses to draw (default: all, at most :data:`MAX_CURVES` per panel).
+
+    Returns
+    -------
+    Charts
+
+    Raises
+    ------
+    AnalysisError
+        For an unknown name.
+    """
+    chosen = list(result.names if names is None else names)
+    unknown = [n for n in chosen if n not in result.names]
+    if unknown:
+        raise AnalysisError(f"no response named '{unknown[0]}'; the responses are "
+                            f"{', '.join(result.names)}")
+    groups: dict[str, list[str]] = {}
+    for name in chosen:
+        if np.any(result.psd[name] > 0):
+            groups.setdefault(result.units.get(name, ""), []).append(name)
+    f = np.asarray(result.frequency, dtype=float)
+    positive = f > 0
+    xlim = (float(f[positive].min()), float(f[positive].max())) if positive.any() else \
+        (1.0, 10.0)
+    xlabel = "frequency $f$ [Hz]"
+    inputs = []
+    for name in result.inputs:
+        density = np.asarray(result.input_psd[name], dtype=float)
+        rms = math.sqrt(max(float(np.trapezoid(density, f)), 0.0))
+        unit = result.input_units.get(name, "")
+        label = name + "'" * result.input_derivatives.get(name, 0)
+        inputs.append(Curve(f[positive], density[positive],
+                            f"{label} (RMS {rms:.3g} {unit_text(unit)})".replace(" )", ")")))
+    units = {result.input_units.get(n, "") for n in result.inputs}
+    unit = units.pop() if len(units) == 1 else ""
+    panels = [Chart(tuple(inputs), xlabel, f"input [{unit_text(_density_unit(unit))}]", xlim,
+                    ylog=True, xlog=True, title="input spectral densities (one-sided)")]
+    rules = () if result.natural_frequency is None else (
+        Rule(float(result.natural_frequency), color="#999999", dash="3.7 1.6", width=0.8,
+             label="natural frequency"),)
+    for unit, members in list(groups.items())[:MAX_PANELS]:
+        curves = tuple(Curve(f[positive], np.asarray(result.psd[name], dtype=float)[positive],
+                             f"{name} (RMS {result.rms[name]:.3g} {unit_text(unit)})"
+                             .replace(" )", ")"))
+                       for name in members[:MAX_CURVES])
+        panels.append(Chart(curves, xlabel, f"response [{unit_text(_density_unit(unit))}]",
+                            xlim, ylog=True, xlog=True, rules=rules))
+    return Charts(tuple(panels), size=(7.5, 2.6 * len(panels) + 0.6))
+
+
+def plot_random(result: RandomResponse, path: PathArg = None, names: Sequence[str] | None = None,
+                ax: Axes | Sequence[Axes] | None = None) -> Figure:
+    """The inputs' and the responses' spectral densities on log-log axes, with units: the
+    chart of :func:`random_chart`, drawn with matplotlib.
+
+    The inputs are drawn in the first panel, the responses below, one panel per unit;
+    each curve is labelled with its RMS value.
+
+    Parameters
+    ----------
+    result : RandomResponse
+    path : str or Path, optional
+        Also write the figure there (``.png``, ``.svg`` or ``.pdf``).
+    names : sequence of str, optional
+        The responses to draw (default: all, at most :data:`MAX_CURVES` per panel).
+    ax : matplotlib.axes.Axes or sequence of Axes, optional
+        Draw into the caller's axes (one per panel: inputs, then each unit).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    AnalysisError
+        For an unknown name or an unsupported file suffix.
+    """
+    check_plot_path(path)
+    charts = random_chart(result, names)
+    count = len(charts.panels)
+    axes = None if ax is None else axes_list(ax)
+    if axes is not None and len(axes) < count:
+        raise AnalysisError(f"the plot needs {count} axes (inputs and one per unit)")
+    fig = draw_figure(charts, axes)
+    save_figure(fig, path, dpi=150)
+    return fig
 
 
 __all__ = ["RandomResponse", "random_response", "Transfer", "responses_to_solve"]

@@ -39,17 +39,34 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
 
 from ..arrays import freeze_fields
+from ..charts import (
+    COLORS,
+    Chart,
+    Charts,
+    Curve,
+    PathArg,
+    axes_list,
+    check_plot_path,
+    draw_figure,
+    save_figure,
+    unit_text,
+)
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model.load_spec import PULSES
+from ..tables import Table, number_column
 from .results_json import Saved
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 #: the responses an SRS can be of
 QUANTITIES = ("absolute acceleration", "pseudo-velocity", "relative displacement")
@@ -243,6 +260,71 @@ class ShockSpectrum:
                 "quantity": self.quantity, "damping_ratio": self.damping,
                 "Q": None if self.damping == 0 else 1 / (2 * self.damping),
                 "duration_s": self.duration, "warnings": list(self.warnings)}
+
+    def table(self, unit: str = "") -> Table:
+        """The spectrum's numbers (:func:`srs_table`).
+
+        Parameters
+        ----------
+        unit : str
+            The response's unit, for the headings.
+
+        Returns
+        -------
+        resonant.tables.Table
+        """
+        return srs_table(self, unit)
+
+    def summary(self, unit: str = "") -> str:
+        """The text ``resonant srs`` prints (:func:`srs_text`).
+
+        Parameters
+        ----------
+        unit : str
+            The response's unit, for the headings.
+
+        Returns
+        -------
+        str
+        """
+        return srs_text(self, unit)
+
+    def chart(self, time: npt.ArrayLike | None = None, signal: npt.ArrayLike | None = None,
+              unit: str = "") -> Charts:
+        """The figure's description (:func:`srs_chart`), under the input's history where
+        it is given.
+
+        Parameters
+        ----------
+        time, signal : array_like, optional
+            The input's history.
+        unit : str
+            The signal's unit, for the labels.
+
+        Returns
+        -------
+        resonant.charts.Charts
+        """
+        return srs_chart(self, time, signal, unit)
+
+    def plot(self, path: PathArg = None, ax: Axes | Sequence[Axes] | None = None,
+             unit: str = "") -> Figure:
+        """The spectrum drawn with matplotlib (:func:`plot_srs`).
+
+        Parameters
+        ----------
+        path : str or Path, optional
+            Save the figure there (format from the suffix).
+        ax : matplotlib Axes, optional
+            Draw into the caller's axes.
+        unit : str
+            The signal's unit, for the labels.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        return plot_srs(self, path=path, ax=ax, unit=unit)
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> ShockSpectrum:
@@ -460,6 +542,149 @@ def _refine(a: np.ndarray, q: complex, k: int, s: complex, c: complex, w: float,
         qs = _lfilter([c * g1, c * g0], [1.0, -E], u[1:], [E * origin + c * g0 * u[0]])
         best = max(best, float(np.abs(_output(qs, s, w, zeta, quantity)).max()))
     return best
+
+
+#: at most this many rows in the text table (evenly picked)
+MAX_ROWS = 40
+
+
+def srs_table(spectrum: ShockSpectrum, unit: str = "") -> Table:
+    """The spectrum as a table: natural frequency, maximax, primary, residual (at most
+    :data:`MAX_ROWS` frequencies, spread over the range), each column in one notation.
+
+    Parameters
+    ----------
+    spectrum : ShockSpectrum
+    unit : str
+        The response's unit, for the headings.
+
+    Returns
+    -------
+    resonant.tables.Table
+    """
+    rows = np.unique(np.linspace(0, len(spectrum.frequency) - 1,
+                                 min(MAX_ROWS, len(spectrum.frequency))).round().astype(int))
+    suffix = f" [{unit}]" if unit else ""
+    columns = [number_column([float(v[i]) for i in rows])
+               for v in (spectrum.frequency, spectrum.maximax, spectrum.primary,
+                         spectrum.residual)]
+    return Table(("f_n [Hz]", f"maximax{suffix}", f"primary{suffix}", f"residual{suffix}"),
+                 tuple(zip(*columns)), align="rrrr")
+
+
+def srs_text(spectrum: ShockSpectrum, unit: str = "") -> str:
+    """The spectrum as text: what it is, its table (:func:`srs_table`), its warnings.
+
+    Parameters
+    ----------
+    spectrum : ShockSpectrum
+    unit : str
+        The response's unit, for the headings.
+
+    Returns
+    -------
+    str
+    """
+    zeta = spectrum.damping
+    q = "inf" if zeta == 0 else f"{1 / (2 * zeta):.4g}"
+    lines = [f"Shock response spectrum: {spectrum.quantity}, zeta = {zeta:.4g} (Q = {q}), "
+             f"signal {spectrum.duration:.4g} s", srs_table(spectrum, unit).text()]
+    shown = min(MAX_ROWS, len(spectrum.frequency))
+    if shown < len(spectrum.frequency):
+        lines.append(f"  ({shown} of {len(spectrum.frequency)} frequencies; the JSON form "
+                     "holds all)")
+    lines += [f"warning: {w}" for w in spectrum.warnings]
+    return "\n".join(lines) + "\n"
+
+
+def srs_chart(spectrum: ShockSpectrum, time: npt.ArrayLike | None = None,
+              signal: npt.ArrayLike | None = None, unit: str = "",
+              reference: ShockSpectrum | None = None, reference_label: str = "input") -> Charts:
+    """What the figure of a shock response spectrum shows: the maximax, primary and
+    residual spectra on log-log axes, under the input's history where it is given, and
+    beside another spectrum (the input's own, for a response's) where given.
+
+    Parameters
+    ----------
+    spectrum : ShockSpectrum
+    time, signal : array_like, optional
+        The input's history, drawn in a panel above the spectrum.
+    unit : str
+        The signal's unit, for the labels.
+    reference : ShockSpectrum, optional
+        A spectrum to draw beside (its maximax in grey).
+    reference_label : str
+        Its name in the legend (``input``: "maximax of the input").
+
+    Returns
+    -------
+    Charts
+
+    Examples
+    --------
+    >>> from resonant.analyses.shock import pulse, shock_response_spectrum
+    >>> t, a = pulse("half-sine", 100.0, 0.011, 1e-5)
+    >>> srs = shock_response_spectrum(a, 1e-5, [10.0, 100.0, 1000.0])
+    >>> charts = srs_chart(srs, t, a, "m/s^2")
+    >>> [p.xlog for p in charts.panels], [c.label for c in charts.panels[1].curves]
+    ([False, True], ['maximax', 'primary', 'residual'])
+    """
+    label = f" [{unit_text(unit)}]" if unit else ""
+    panels = []
+    if time is not None and signal is not None:
+        t = np.asarray(time, dtype=float)
+        xlim = (float(t[0]), float(t[-1])) if t.size > 1 and t[-1] > t[0] else (0.0, 1.0)
+        panels.append(Chart((Curve(t, np.asarray(signal, dtype=float), "input", width=1.0),),
+                            "time $t$ [s]", f"input{label}", xlim, title="input history",
+                            legend="none"))
+    f = np.asarray(spectrum.frequency, dtype=float)
+    curves = [Curve(f, np.asarray(spectrum.maximax), "maximax", COLORS[0], 1.6),
+              Curve(f, np.asarray(spectrum.primary), "primary", COLORS[1], 1.0, "3.7 1.6"),
+              Curve(f, np.asarray(spectrum.residual), "residual", COLORS[2], 1.0, "1 1.65")]
+    if reference is not None:
+        curves.append(Curve(np.asarray(reference.frequency, dtype=float),
+                            np.asarray(reference.maximax), f"maximax of the {reference_label}",
+                            "#7f7f7f", 1.2))
+    zeta = spectrum.damping
+    q = "inf" if zeta == 0 else f"{1 / (2 * zeta):.3g}"
+    positive = f[f > 0]
+    xlim = (float(positive.min()), float(positive.max())) if positive.size > 1 else (1.0, 10.0)
+    panels.append(Chart(tuple(curves), "natural frequency $f_n$ [Hz]",
+                        f"{spectrum.quantity}{label}", xlim, ylog=True, xlog=True,
+                        title=f"shock response spectrum ({spectrum.quantity}, Q = {q})"))
+    return Charts(tuple(panels), size=(7.5, 6.4 if len(panels) > 1 else 4.2), sharex=False)
+
+
+def plot_srs(spectrum: ShockSpectrum, time: npt.ArrayLike | None = None,
+             signal: npt.ArrayLike | None = None, path: PathArg = None,
+             ax: Axes | Sequence[Axes] | None = None, unit: str = "") -> Figure:
+    """The SRS (maximax, primary, residual) on log-log axes, with the input's history: the
+    chart of :func:`srs_chart`, drawn with matplotlib.
+
+    Parameters
+    ----------
+    spectrum : ShockSpectrum
+    time, signal : array_like, optional
+        The input's history, drawn in a panel above the spectrum.
+    path : str or Path, optional
+        Also write the figure there (``.png``, ``.svg`` or ``.pdf``).
+    ax : Axes or pair of Axes, optional
+        Draw into the caller's axes (the spectrum's, or (history's, spectrum's)).
+    unit : str
+        The signal's unit, for the labels.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    check_plot_path(path)
+    charts = srs_chart(spectrum, time, signal, unit)
+    axes = None if ax is None else axes_list(ax)
+    if axes is not None and len(axes) < len(charts.panels):
+        charts = replace(charts, panels=charts.panels[-len(axes):])  # the spectrum's
+    fig = draw_figure(charts, axes)
+    save_figure(fig, path, dpi=150)
+    return fig
 
 
 __all__ = ["PULSES", "QUANTITIES", "pulse", "ramp_invariant", "ShockSpectrum",

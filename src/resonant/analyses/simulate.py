@@ -333,6 +333,21 @@ to_dict(history=True)
                 "<table><tr><th>quantity</th><th>steady amplitude</th><th>linear "
                 f"stationary</th><th>difference</th></tr>{rows}</table>{warn}")
 
+    def chart(self, units: Mapping[str, str] | None = None) -> Charts:
+        """The figure's description: each history against time, the linear prediction
+        dashed, the window of the steady amplitudes shaded (:func:`simulation_chart`).
+
+        Parameters
+        ----------
+        units : mapping, optional
+            name -> unit text for the axis labels.
+
+        Returns
+        -------
+        resonant.charts.Charts
+        """
+        return simulation_chart(self, units)
+
     def plot(self, path: str | os.PathLike[str] | None = None,
              axes: Sequence[Axes] | None = None,
              units: Mapping[str, str] | None = None) -> Figure:

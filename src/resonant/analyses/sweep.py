@@ -465,6 +465,27 @@ class FrequencyResponse:
                 f"<th>peak at {html.escape(self.parameter)}</th><th>amplitude</th></tr>"
                 f"{rows}</table>")
 
+    def chart(self, names: Sequence[str] | None = None,
+              units: Mapping[str, str] | None = None, phase: bool = True) -> Charts:
+        """The figure's description: amplitudes (log axis) above phases, the natural
+        frequencies and the extrema marked (:func:`frequency_response_chart`); what
+        :meth:`plot`, the report and the page draw.
+
+        Parameters
+        ----------
+        names : sequence of str, optional
+            The quantities to draw.
+        units : mapping, optional
+            quantity -> unit text for the axis labels.
+        phase : bool
+            With the phase panel.
+
+        Returns
+        -------
+        resonant.charts.Charts
+        """
+        return frequency_response_chart(self, names, units, phase=phase)
+
     def plot(self, path: str | os.PathLike[str] | None = None,
              names: Sequence[str] | None = None, ax: Axes | None = None,
              units: Mapping[str, str] | None = None) -> Figure:

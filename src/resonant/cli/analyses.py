@@ -18,10 +18,10 @@ from typing import Any
 
 import resonant.cli.common as cli
 
-from ..analyses.backbone import Backbones, backbone
+from ..analyses.backbone import Backbones, backbone, plot_backbones
 from ..analyses.harmonic_balance import nonlinear_sweep
 from ..analyses.modes import ModalAnalysis, modes, modes_text, plot_modes
-from ..analyses.nonlinear_response import NonlinearResponse
+from ..analyses.nonlinear_response import NonlinearResponse, nonlinear_text, plot_nonlinear_response
 from ..analyses.sweep import (
     MAX_SWEEP_POINTS,
     FrequencyResponse,
@@ -36,7 +36,6 @@ from ..model import Model
 from ..model.options import MAX_GIVEN_HARMONICS, SWEEP_METHODS, BalanceOptions, SweepOptions
 from ..model.units_display import ResultUnits, result_units
 from ..system import linear_system
-from ..views.nonlinear_plots import nonlinear_text, plot_backbones, plot_nonlinear_response
 
 #: the most harmonics a nonlinear analysis takes (the analyses' own limit)
 MAX_HARMONICS_OPTION = MAX_GIVEN_HARMONICS

@@ -8,9 +8,8 @@ import sys
 
 import resonant.cli.common as cli
 
-from ..analyses.random_response import random_response
+from ..analyses.random_response import plot_random, random_response, random_text
 from ..system import linear_system
-from ..views.random_views import plot_random, random_text
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],

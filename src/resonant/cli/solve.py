@@ -7,12 +7,11 @@ import sys
 
 import resonant.cli.common as common
 
-from ..analyses.periodic_load import periodic_load_response
+from ..analyses.periodic_load import periodic_load_response, periodic_text
 from ..analyses.stationary import solution_text, stationary
 from ..errors import name_list
 from ..model.units_display import result_units
 from ..system import linear_system
-from ..views.random_views import periodic_text
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],

@@ -17,13 +17,12 @@ import numpy as np
 
 import resonant.cli.common as cli
 
-from ..analyses.shock import PULSES, QUANTITIES, pulse, shock_response_spectrum
+from ..analyses.shock import PULSES, QUANTITIES, plot_srs, pulse, shock_response_spectrum, srs_text
 from ..analyses.transient import shock_response
 from ..deadline import Deadline
 from ..errors import ModelError, Problem
 from ..model.time_series import read_time_series
 from ..system.build import linear_system
-from ..views.shock_views import plot_srs, srs_text
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],

@@ -21,7 +21,7 @@ from ..errors import ModelError, Problem, printable
 from ..model.study import DESIGNS, MAX_HARMONICS, MAX_SAMPLES, MAX_SEED
 from ..studies import StudyJob, StudyResult, collect, engine_for, request
 from ..studies.files import check_output, completed_rows
-from ..views.study_plots import plot_study, study_units
+from ..studies.study_charts import plot_study, study_units
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],

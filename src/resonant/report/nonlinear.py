@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..analyses.harmonic_balance import nonlinear_sweep
-from ..analyses.nonlinear_response import NonlinearResponse
+from ..analyses.nonlinear_response import NonlinearResponse, nonlinear_response_chart
 from ..analyses.periodic import PeriodicSolution, periodic_solution
 from ..charts import Chart, draw_chart
 from ..errors import AnalysisError
@@ -26,7 +26,6 @@ from ..expressions.notation import number_text
 from ..model.units_display import name_label as _label
 from ..system.build import nonlinear_system
 from ..system.nonlinear import NonlinearSystem
-from ..views.nonlinear_plots import nonlinear_response_chart
 from .blocks import Block, Heading, Math, Note, Table, cell, paragraph
 from .plots import _swept_parameter
 from .steps import Context
@@ -50,7 +49,7 @@ class NonlinearCurve:
 
     def chart(self) -> Chart:
         """What its figure shows: the view's chart of the curve, the operating point starred
-        (:func:`resonant.views.nonlinear_plots.nonlinear_response_chart`)."""
+        (:func:`resonant.analyses.nonlinear_response.nonlinear_response_chart`)."""
         return replace(nonlinear_response_chart(
             self.response, title=False, operating=(self.operating, self.operating_amplitudes)),
             legend="best")

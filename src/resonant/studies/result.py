@@ -23,6 +23,7 @@ import numpy as np
 
 from ..model.study import StudySpec
 from .designs import sobol_problem
+from .study_charts import plot_study
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -230,7 +231,7 @@ class StudyResult:
 
     def plot(self, directory: str | Path) -> list[Path]:
         """Write the study's pictures into ``directory``
-        (:func:`resonant.views.study_plots.plot_study`).
+        (:func:`resonant.studies.study_charts.plot_study`).
 
         Parameters
         ----------
@@ -241,10 +242,8 @@ class StudyResult:
         list of Path
             The files written.
         """
-        from ..views.study_plots import plot_study
         return plot_study(self.table, list(self.spec.vary), list(self.spec.columns),
-                                      directory, self.sensitivity,
-                                      grid=self.spec.design == "grid")
+                          directory, self.sensitivity, grid=self.spec.design == "grid")
 
 
 __all__ = ["StudyResult", "bootstrap_seed", "sobol_indices", "summary_table"]

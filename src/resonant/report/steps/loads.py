@@ -4,24 +4,22 @@ per harmonic, the sum, its largest excursion), the random inputs of ``[random]``
 ``[shock]`` (its shock response spectrum, the largest responses), as a textbook shows them
 (docs/random.md).  Their figures are the views' chart descriptions (the ones the library's
 plots draw): :func:`~resonant.analyses.simulate.history_chart`,
-:func:`~resonant.views.random_views.random_chart`,
-:func:`~resonant.views.shock_views.srs_chart`."""
+:func:`~resonant.analyses.random_response.random_chart`,
+:func:`~resonant.analyses.shock.srs_chart`."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from ...analyses.periodic_load import periodic_load_response
-from ...analyses.random_response import random_response
-from ...analyses.shock import pulse, shock_response_spectrum
+from ...analyses.random_response import random_chart, random_response
+from ...analyses.shock import pulse, shock_response_spectrum, srs_chart
 from ...analyses.simulate import history_chart
 from ...analyses.transient import shock_response
 from ...errors import ResonantError
 from ...expressions.notation import number_latex
 from ...model.units import Dimension
 from ...model.units_display import result_units
-from ...views.random_views import random_chart
-from ...views.shock_views import srs_chart
 from ..blocks import Block, Heading, Note, Table, cell, paragraph
 from .context import Context, _m
 
