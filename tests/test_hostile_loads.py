@@ -156,6 +156,10 @@ RANDOM_CASES = {
     "coherence-unknown-input": ('band = [1, 100]\n[random.psd.y]\nvalues = 1\n'
                                 '[[random.coherence]]\ninputs = ["y", "q"]', 2,
                                 ("[random.coherence] #1", "known: y")),
+    # the same pair twice with two values: the second silently won
+    "coherence-pair-twice": (TWO_INPUTS + '[[random.coherence]]\ninputs = ["x", "y"]\n'
+                             'value = 0.9\n', 2,
+                             ("[random.coherence] #2", "given twice", "#1 and #2")),
 }
 
 
@@ -206,6 +210,12 @@ SECTION_CASES = {
                                 "duration = 10", ("[fatigue] amplitude", "C = inf")),
     "fatigue-negative-k": ("fatigue", "k = -4\nC = 1e12\nduration = 10", ("[fatigue] k",)),
     "fatigue-zero-C": ("fatigue", "k = 4\nC = 0\nduration = 10", ("[fatigue] C",)),
+    # total / step = 5e6 passed the check, and its 5e6 + 1 samples then failed in srs
+    "shock-one-sample-too-many": ("shock", SHOCK + "step = 1e-8\ntotal = 0.05",
+                                  ("[shock] step", "5e+06 samples")),
+    "periodic-expression-zero-amplitude": (
+        "periodic", 'signal = "y"\nexpression = "t"\namplitude = 0\nperiod = 0.5\n',
+        ("[periodic] amplitude", "factor on the expression")),
 }
 
 
@@ -477,3 +487,31 @@ def test_a_fatigue_life_without_a_digit_is_said(C, k):
     f = np.linspace(90, 110, 201)
     with pytest.raises(AnalysisError, match="no digit left in double precision"):
         spectral_fatigue(f, np.full(201, 50.0), SNCurve(C, k), 3600.0)
+
+
+def test_periodic_expression_takes_its_amplitude_and_unit():
+    """An ``expression`` ignored ``amplitude`` and ``unit``: the load "t" given with
+    amplitude 2 in mm has 2e-3 times the series of the bare "t" (rel 1e-12)."""
+    from resonant.analyses.periodic_load import load_series
+    from resonant.api import loads
+
+    bare = SDOF + '[periodic]\nsignal = "y"\nexpression = "t"\nperiod = 0.5\n'
+    scaled = bare.replace('expression = "t"', 'expression = "t"\namplitude = 2\nunit = "mm"')
+    series = []
+    for text in (bare, scaled):
+        model = loads(text)
+        series.append(load_series(model.linearize(), model.periodic_section))
+    for part in ("a", "b"):
+        np.testing.assert_allclose(getattr(series[1], part), 2e-3 * getattr(series[0], part),
+                                   rtol=1e-12, atol=1e-18)
+
+
+def test_random_response_of_an_unstable_system_is_refused(tmp_path):
+    """Negative damping: the RMS table came out with no warning; a stationary random
+    response does not exist (exit 3, the eigenvalue named)."""
+    path = tmp_path / "m.toml"
+    path.write_text(SDOF.replace("c = 2", "c = -2") + "\n[random]\n"
+                    "band = [1, 100]\n[random.psd.y]\nvalues = 1\n")
+    code, out, err = run_cli(["random", str(path)])
+    _check(code, err, 3, ("unstable", "positive real part", "does not exist"))
+    assert out == ""

@@ -480,12 +480,13 @@ def load_series(system: LinearSystem, spec: PeriodicSpec) -> FourierSeries:
     """
     function = None
     if spec.expression is not None:
-        expression = spec.expression
+        expression, scale = spec.expression, spec.amplitude
         values = dict(system.model.parameter_values) if system.model is not None else {}
 
         def function(t: np.ndarray) -> np.ndarray:
-            value = numeric_value(expression, {**values, "t": t})
-            return np.broadcast_to(np.asarray(value, dtype=float), t.shape).copy()
+            value = scale * np.asarray(numeric_value(expression, {**values, "t": t}),
+                                       dtype=float)
+            return np.broadcast_to(value, t.shape).copy()
     return fourier_series(spec.shape, spec.amplitude, spec.period, tolerance=spec.tolerance,
                           function=function)
 

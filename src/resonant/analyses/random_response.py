@@ -96,6 +96,7 @@ from ..model.units import Dimension
 from ..system.base import LinearSystem, NumericEOM
 from ..system.batch import Batch, BatchHarmonic
 from ..system.excitation import excitation_columns
+from ..system.stability import UNSTABLE, classify
 from ..tables import Table, number_cell
 from .kernel import reduced_budget, solve_harmonic
 from .reduced import FactorizationsAhead, ReducedModel, probe_frequency, reduced_model
@@ -857,6 +858,28 @@ def responses_to_solve(num: NumericEOM, names: Sequence[str] | None
     return keep, outputs
 
 
+#: the stability of systems up to this many coordinates is checked before a random
+#: response (the state eigenvalues, dense: 0.1 s at this size)
+STABILITY_CHECK_SIZE = 300
+
+
+def _require_stable(num: NumericEOM) -> None:
+    """A stationary random response exists only where free vibrations die out or stay
+    bounded: an unstable system (negative damping, a negative stiffness) has none, and its
+    RMS values would be numbers without meaning."""
+    if num.n > STABILITY_CHECK_SIZE:
+        return
+    dense = num.dense()
+    eigenvalues = point_state_eigenvalues(np.asarray(dense.M), np.asarray(dense.C),
+                                          np.asarray(dense.K))
+    if classify(eigenvalues) == UNSTABLE:
+        worst = eigenvalues[np.argmax(eigenvalues.real)]
+        raise AnalysisError(f"the system is unstable (a state eigenvalue s = {worst.real:.4g}"
+                            f" {'+' if worst.imag >= 0 else '-'} {abs(worst.imag):.4g}i has a "
+                            "positive real part): a stationary random response does not "
+                            "exist; check the damping and stiffness at these parameter values")
+
+
 def random_response(system: LinearSystem, spec: RandomSpec | None = None,
                     deadline: Deadline = NO_DEADLINE, *, names: Sequence[str] | None = None,
                     method: str = "auto", tolerance: float | None = None) -> RandomResponse:
@@ -897,6 +920,7 @@ def random_response(system: LinearSystem, spec: RandomSpec | None = None,
                                      "spectral densities of its random inputs "
                                      "(docs/random.md)", system.source, "random"))
     num = system.numeric(deadline)
+    _require_stable(num)
     keep, outputs = responses_to_solve(num, names)
     transfer = Transfer(system, num, spec.inputs, keep, method, deadline)
     if spec.band[0] == 0 and any(load.power < 0 for loads in transfer.loads for load in loads):

@@ -50,7 +50,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -821,7 +821,8 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
     solution = _linear_solution(num, scales, warnings, deadline)
     slow = scales.stability == ASYMPTOTIC and duration is None and \
         scales.settle_time > MAX_DEFAULT_CYCLES * 2 * math.pi / scales.highest
-    excited = bool(cast(Any, linear_system).excitation)  # signals or loads present
+    equations = linear_system.symbolic()
+    excited = equations is not None and bool(equations.excitation)  # signals or loads
     q0, v0, start_kind = _initial_state(num, initial, start, scales, solution, full,
                                         slow, excited, warnings, deadline)
     duration, window = _duration(duration, scales, start_kind,

@@ -17,7 +17,7 @@ import math
 import sys
 import time
 from collections.abc import Callable, Mapping, Sequence
-from typing import Any, TypeAlias, cast
+from typing import Any, TypeAlias
 
 import numpy as np
 import sympy
@@ -28,9 +28,7 @@ from ..expressions import compilable
 from ..modal import state_matrix
 from ..model import TIME, symbol
 from ..system.base import LinearSystem, NumericEOM
-from ..system.matrix import MatrixEOM
 from ..system.nonlinear import NonlinearSystem
-from ..system.symbolic import LinearEOM
 
 #: most right-hand-side evaluations of one run (all attempts together): beyond it the run
 #: stops with exit 3 and the time reached (about 100 s and 200 MB for a small system)
@@ -86,16 +84,19 @@ class LinearDynamics:
     """y = [q, q'] of M q'' + C q' + K q = Q(t); q are deviations."""
 
     def __init__(self, eom: LinearSystem, num: NumericEOM) -> None:
-        # the loads and signals in sympy: a system derived from a model's energies or
-        # given by its matrices (a bare NumericEOM has no model to simulate)
-        eom = cast("LinearEOM | MatrixEOM", eom)
+        # the loads and signals in sympy (a bare NumericEOM has no model to simulate)
+        equations = eom.symbolic()
+        if equations is None:
+            raise AnalysisError("a simulation needs the system's loads as functions of time; "
+                                "this system is given by numbers only")
         self.n = num.n
         self.M, self.C, self.K = num.M, num.C, num.K
         self.Minv = np.linalg.inv(num.M)
         self.A = state_matrix(self.Minv @ num.K, self.Minv @ num.C)
         params, self.pvals = _parameter_args(num.parameters)
-        self._q = _lambdify(list(eom.Q), [TIME, *params]) if eom.excitation else None
-        signals = eom.signal_functions
+        self._q = _lambdify(list(equations.Q), [TIME, *params]) if equations.excitation \
+            else None
+        signals = equations.signal_functions
         self.outputs: dict[str, list[tuple[tuple[str, int], float]]] = {}
         self.unsupported: list[str] = []
         needed_signals = []

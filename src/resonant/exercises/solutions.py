@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
+from ..errors import AnalysisError
 from ..report.blocks import Report
 from ..report.derivation import Derivation
 from ..report.steps import Context, step_order
@@ -40,8 +41,10 @@ def solution_report(variant: Variant, derivation: Derivation | None, plots: bool
     """
     d = dataclasses.replace(derivation, model=variant.model) if derivation is not None \
         else None
-    ctx = Context(variant.model, variant.eom, variant.solution, d,  # type: ignore[arg-type]
-                  plots=plots)
+    equations = variant.eom.symbolic()
+    if equations is None:
+        raise AnalysisError("a worked solution needs the system's equations in symbols")
+    ctx = Context(variant.model, variant.eom, equations, variant.solution, d, plots=plots)
     blocks = []
     for step in step_order(ctx):
         blocks.extend(step(ctx))

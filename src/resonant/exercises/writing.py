@@ -15,7 +15,6 @@ from ..report.html import render_html
 from ..report.latex import render_latex
 from ..report.markdown import render_markdown
 from ..studies.engine import Engine, ordered_map
-from ..system import LinearEOM
 from .key import key_data
 from .moodle import moodle_feedback, moodle_xml
 from .solutions import solution_report
@@ -63,8 +62,10 @@ _RENDERERS: dict[ExerciseJob, tuple[ExerciseSet, Any]] = {}
 def _derivation(batch: ExerciseSet, formats: Sequence[str]) -> Any:
     solutions = any(f in formats for f in ("html", "md", "tex", "moodle"))
     eom = batch.eom
-    return derive(eom) if solutions and isinstance(eom, LinearEOM) and eom.n <= MAX_DERIVED \
-        else None
+    equations = eom.symbolic()
+    derived = eom.derived_matrices() is not None
+    return derive(equations) if solutions and equations is not None and derived \
+        and eom.n <= MAX_DERIVED else None
 
 
 def render_variants(job: ExerciseJob, start: int, stop: int) -> list[Rendered]:

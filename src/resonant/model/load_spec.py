@@ -76,7 +76,7 @@ SHOCK_KEYS = ("signal", "derivative", "pulse", "amplitude", "unit", "duration", 
 PERIODIC_KEYS = ("signal", "derivative", "shape", "expression", "amplitude", "unit", "period",
                  "tolerance")
 FATIGUE_KEYS = ("k", "C", "C_range", "amplitude", "cycles", "method", "duration")
-#: most samples of the pulse's history (total / step)
+#: most samples of the pulse's history (total / step + 1, the samples t = 0 ... total)
 MAX_SHOCK_SAMPLES = 5_000_000
 #: standard gravity (m/s^2): ``g`` as the unit of a pulse's amplitude
 STANDARD_GRAVITY = 9.80665
@@ -130,7 +130,8 @@ class PeriodicSpec:
     shape : str
         One of :data:`SHAPES`, or ``"expression"``.
     amplitude : float
-        The shape's amplitude A (SI); 1 with an expression.
+        The shape's amplitude A (SI); with an expression, the factor on it (its
+        ``amplitude``, 1 by default, times its ``unit``'s factor to SI).
     period : float
         T (s).
     tolerance : float
@@ -366,7 +367,16 @@ def parse_periodic(data: object, params: Sequence[str], signals: Sequence[str],
             except ExpressionError as exc:
                 problems.extend(exc.problems)
         shape: object = "expression"
-        amplitude: float | None = 1.0
+        # the expression in the section's unit, scaled by its amplitude where one is given
+        raw_scale = data.get("amplitude", 1.0)
+        amplitude = _finite(raw_scale)
+        if amplitude is None or amplitude == 0:
+            problems.append(Problem(f"must be a finite non-zero number (a factor on the "
+                                    f"expression), got {_shown(raw_scale)}", source, section,
+                                    "amplitude"))
+            amplitude = None
+        else:
+            amplitude = _scaled(amplitude, factor, source, section, "amplitude", problems)
     else:
         shape = data.get("shape")
         if shape not in SHAPES:
@@ -467,8 +477,10 @@ def parse_shock(data: object, signals: Sequence[str], coordinates: Sequence[str]
     if duration is not None and total is not None and total < duration:
         problems.append(Problem(f"the history ({total:g} s) must cover the pulse's duration "
                                 f"({duration:g} s)", source, section, "total"))
-    if step is not None and total is not None and total / step > MAX_SHOCK_SAMPLES:
-        problems.append(Problem(f"{total / step:.3g} samples (total / step); at most "
+    # the history holds the samples t = 0, step, ..., total: one more than total / step
+    samples = total / step + 1 if step is not None and total is not None else 0.0
+    if not samples < MAX_SHOCK_SAMPLES + 0.5:   # the pulse rounds total / step
+        problems.append(Problem(f"{samples:.3g} samples (total / step + 1); at most "
                                 f"{MAX_SHOCK_SAMPLES}: a larger step or a shorter total",
                                 source, section, "step"))
     if step is not None and duration is not None and kind not in ("step", "impulse") \

@@ -396,6 +396,24 @@ def _coherence(entry: object, index: int, params: list[str], names: list[str], s
     return Coherence(pair[0], pair[1], value, phase)
 
 
+def _check_pairs_once(coherences: Sequence[Coherence | None], source: str,
+                      problems: list[Problem]) -> None:
+    """A pair of inputs has one coherence: a second entry for it (in either order) would
+    leave which value holds to the order of the file."""
+    first: dict[frozenset[str], int] = {}
+    for index, c in enumerate(coherences):
+        if c is None:
+            continue
+        pair = frozenset((c.first, c.second))
+        if pair in first:
+            problems.append(Problem(
+                f"the coherence of {c.first} and {c.second} is given twice (entries "
+                f"#{first[pair] + 1} and #{index + 1}); give each pair once",
+                source, f"{SECTION}.coherence", f"#{index + 1}"))
+        else:
+            first[pair] = index
+
+
 def parse_random(data: object, params: list[str], signals: Sequence[str],
                  coordinates: Sequence[str], source: str, problems: list[Problem],
                  units: ModelUnits | None = None) -> RandomSpec | None:
@@ -455,6 +473,7 @@ def parse_random(data: object, params: list[str], signals: Sequence[str],
         entries = []
     coherences = [_coherence(e, i, params, [str(n) for n in tables], source, problems)
                   for i, e in enumerate(entries)]
+    _check_pairs_once(coherences, source, problems)
     band = _band(data.get("band"), [i for i in inputs if i is not None], source, problems)
     tolerance = data.get("tolerance", 1e-4)
     if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or \

@@ -20,13 +20,11 @@ True
 from __future__ import annotations
 
 from pathlib import Path
-from typing import cast
 
 from ..analyses.stationary import stationary
-from ..errors import ModelError, Problem
+from ..errors import AnalysisError, ModelError, Problem
 from ..model import Model
 from ..system.build import linear_system
-from ..system.symbolic import LinearEOM
 from .blocks import Report
 from .derivation import derive
 from .html import render_html
@@ -78,9 +76,13 @@ def build_report(model: Model, plots: bool = True, nonlinear: bool = False) -> R
     # the source-by-source derivation (a second, independent one, checked against the
     # solver's) is shown element by element only for small models: above MAX_DERIVED
     # coordinates it would cost what a full symbolic Lagrange derivation costs
-    derivation = derive(eom) if isinstance(eom, LinearEOM) and eom.n <= MAX_DERIVED else None
-    # the steps read a MatrixEOM through what it shares with a LinearEOM (M, C, K, Q)
-    ctx = Context(model, cast(LinearEOM, eom), solution, derivation, plots=plots)
+    equations = eom.symbolic()
+    if equations is None:
+        raise AnalysisError("a report needs the system's equations in symbols; this one is "
+                            "given by numbers only")
+    derived = eom.derived_matrices() is not None
+    derivation = derive(equations) if derived and eom.n <= MAX_DERIVED else None
+    ctx = Context(model, eom, equations, solution, derivation, plots=plots)
     steps = step_order(ctx)
     if nonlinear and ctx.eom.excitation:
         steps.insert(len(steps) - 1, beyond_small_oscillations)  # before the warnings

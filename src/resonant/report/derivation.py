@@ -43,7 +43,7 @@ from ..derivation.nonlinear import derivative_symbol
 from ..model import Model, symbol
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..system.symbolic import LinearEOM
+    from ..system.base import SymbolicEquations
 
 ENERGIES = ("T", "D", "U")
 
@@ -123,7 +123,7 @@ def _tidy(e: sympy.Expr) -> sympy.Expr:
     return expanded if sympy.count_ops(expanded) <= sympy.count_ops(e) + 2 else e
 
 
-def derive(eom: LinearEOM) -> Derivation:
+def derive(eom: SymbolicEquations) -> Derivation:
     """Differentiate T, D, U and the forces of ``eom.model`` and check against ``eom``.
 
     Raises
@@ -256,7 +256,7 @@ def _equal(a: sympy.Expr, b: sympy.Expr, model: Model) -> bool:
     return True
 
 
-def _check(d: Derivation, eom: LinearEOM) -> None:
+def _check(d: Derivation, eom: SymbolicEquations) -> None:
     n = len(eom.coordinates)
     parts = [*d.parts.values(), *(f.part for f in d.forces)]
     totals = {label: sum((getattr(p, label) for p in parts), sympy.zeros(n, n))

@@ -114,7 +114,7 @@ def beyond_small_oscillations(ctx: Context) -> list[Block]:
                             r"t"), ", whose coefficients make the equations' harmonics vanish "
         "(Newton's method, the nonlinear terms sampled over one period). Its stability comes "
         "from the Floquet multipliers (Hill's method)."))
-    system: NonlinearSystem = nonlinear_system(ctx.eom)  # compiled once for both analyses
+    system: NonlinearSystem = nonlinear_system(ctx.system)  # compiled once for both analyses
     try:
         periodic: PeriodicSolution | None = periodic_solution(system)
     except AnalysisError as exc:

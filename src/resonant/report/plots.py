@@ -55,7 +55,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ..analyses.stationary import StationarySolution
     from ..analyses.sweep import FrequencyResponse
-    from ..system.symbolic import LinearEOM
+    from ..system.base import SymbolicEquations
 
 MAX_PLOT_COORDINATES = 12
 #: subplot margins of the report's 7.0 x 3.6 in figures (room for the axis labels)
@@ -126,13 +126,16 @@ def operating_frequency(solution: StationarySolution) -> float | None:
     return float(moving[0].omega) if len(moving) == 1 else None
 
 
-def frequency_response(eom: LinearEOM, solution: StationarySolution,
+def frequency_response(model_system: LinearSystem, solution: StationarySolution,
                        points: int = 500) -> FrequencyResponse | None:
     """Amplitudes of the coordinates (and the outputs the sweep gives) at excitation
     frequencies from 0 to ~1.6x the highest natural frequency (or the excitation): the
     response at the excitation frequency alone (a static load does not count), as one
-    harmonic; None unless there is one excitation frequency."""
+    harmonic; None unless there is one excitation frequency (or no equations in symbols)."""
     w0 = operating_frequency(solution)
+    eom = model_system.symbolic()
+    if eom is None:
+        return None
     n = len(eom.coordinates)
     if w0 is None or n > MAX_PLOT_COORDINATES or eom.harmonics is None:
         return None
@@ -142,7 +145,7 @@ def frequency_response(eom: LinearEOM, solution: StationarySolution,
     parameter = _swept_parameter(eom, w0)
     if parameter is not None:
         # the model swept over its frequency parameter: amplitudes that depend on it follow
-        system: LinearSystem = eom
+        system: LinearSystem = model_system
     else:
         # the force amplitudes held at their operating values: the numeric system with only
         # the moving harmonic, swept over its frequency
@@ -167,7 +170,7 @@ def frequency_response(eom: LinearEOM, solution: StationarySolution,
                    coordinates=tuple(eom.coordinates))
 
 
-def follows_frequency(eom: LinearEOM, solution: StationarySolution) -> str | None:
+def follows_frequency(eom: SymbolicEquations, solution: StationarySolution) -> str | None:
     """The parameter the report's frequency response sweeps (the excitation amplitudes
     that depend on it follow), or None when they are held at their operating values."""
     w0 = operating_frequency(solution)
@@ -189,7 +192,7 @@ def history_figure(history: TimeHistory) -> Chart:
     return history_chart(history.t, history.values, history.units)
 
 
-def _swept_parameter(eom: LinearEOM, w0: float) -> str | None:
+def _swept_parameter(eom: SymbolicEquations, w0: float) -> str | None:
     """The parameter that is the excitation frequency, if the sweep can vary it alone."""
     model = eom.model
     if model.matrices is not None:

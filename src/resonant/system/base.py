@@ -22,7 +22,7 @@ from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -47,6 +47,35 @@ if TYPE_CHECKING:
     from ..analyses.stationary import StationarySolution
     from ..analyses.sweep import FrequencyResponse
     from ..model.random_spec import RandomSpec
+
+
+class SymbolicEquations(Protocol):
+    """A linear system's equations in symbols: what the report, the display and the time
+    integration read of a system derived from energies or given by its matrices
+    (:meth:`LinearSystem.symbolic`)."""
+
+    @property
+    def model(self) -> Model: ...
+    @property
+    def coordinates(self) -> tuple[str, ...]: ...
+    @property
+    def M(self) -> Any: ...
+    @property
+    def C(self) -> Any: ...
+    @property
+    def K(self) -> Any: ...
+    @property
+    def Q(self) -> Any: ...
+    @property
+    def Q_signals(self) -> Any: ...
+    @property
+    def excitation(self) -> Mapping[Var, Any]: ...
+    @property
+    def signal_functions(self) -> Mapping[Var, Any]: ...
+    @property
+    def harmonics(self) -> Any: ...
+    @property
+    def outputs(self) -> Mapping[str, Any]: ...
 
 
 class LinearSystem(ABC):
@@ -221,6 +250,16 @@ class LinearSystem(ABC):
         Returns
         -------
         dict or None
+        """
+        return None
+
+    def symbolic(self) -> SymbolicEquations | None:
+        """This system's equations in symbols (M, C, K, Q(t), the excitation's columns, the
+        signals as functions of time, the outputs), or None for a system of numbers only.
+
+        Returns
+        -------
+        SymbolicEquations or None
         """
         return None
 

@@ -6,28 +6,12 @@ in the notation of the worked-solution report (:mod:`resonant.expressions.notati
 
 from __future__ import annotations
 
-from typing import Any, Protocol
+from typing import Any
 
 from ..derivation import derivative_symbol
 from ..expressions.notation import Namer, column_latex, sympy_latex
 from ..model import Model, symbol
-
-
-class SymbolicEquations(Protocol):
-    """What the display reads of a linear system given in symbols (energies or matrices)."""
-
-    @property
-    def model(self) -> Model | None: ...
-    @property
-    def coordinates(self) -> tuple[str, ...]: ...
-    @property
-    def M(self) -> Any: ...
-    @property
-    def C(self) -> Any: ...
-    @property
-    def K(self) -> Any: ...
-    @property
-    def Q(self) -> Any: ...
+from .base import SymbolicEquations
 
 
 def model_namer(model: Model) -> tuple[Namer, dict[Any, str]]:
@@ -59,8 +43,6 @@ def eom_latex(eom: SymbolicEquations) -> str:
     >>> print(eom_latex(eom)[:40])
     $\\displaystyle \\begin{bmatrix} m \\end{bm
     """
-    if eom.model is None:
-        raise ValueError("the equations have no model to name their symbols")
     namer, names = model_namer(eom.model)
     parts = []
     for mat, order in ((eom.M, 2), (eom.C, 1), (eom.K, 0)):
@@ -71,4 +53,4 @@ def eom_latex(eom: SymbolicEquations) -> str:
     return rf"$\displaystyle {lhs} = {sympy_latex(eom.Q, names)}$"
 
 
-__all__ = ["eom_latex", "model_namer", "SymbolicEquations"]
+__all__ = ["eom_latex", "model_namer"]

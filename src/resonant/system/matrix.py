@@ -23,10 +23,10 @@ from ..derivation import LinearMap, SignalHarmonics, decompose_signals
 from ..errors import ModelError, Problem
 from ..expressions import Expression, Num, numeric_value
 from ..model import TIME, Model, symbol
-from .base import LinearSystem
+from .base import LinearSystem, SymbolicEquations
 from .batch import Batch, BatchHarmonic, compile_expressions
 from .latex import eom_latex
-from .symbolic import matrix_strings
+from .symbolic import loads_in_signals, loads_in_time, matrix_strings
 
 Var = tuple[str, int]
 
@@ -156,10 +156,12 @@ class MatrixEOM(LinearSystem):
     @cached_property
     def Q(self) -> sympy.ImmutableMatrix:
         """Q(t) with the harmonics written out."""
-        q = sympy.zeros(self.n, 1)
-        for var, column in self.excitation.items():
-            q += column * self.signal_functions[var]
-        return sympy.ImmutableMatrix(q)
+        return loads_in_time(self.excitation, self.signal_functions, self.n)
+
+    @cached_property
+    def Q_signals(self) -> sympy.ImmutableMatrix:
+        """Q(t) written with the internal harmonic signals' names as symbols."""
+        return loads_in_signals(self.excitation, self.n)
 
     @property
     def residual(self) -> sympy.ImmutableMatrix:
@@ -256,6 +258,9 @@ class MatrixEOM(LinearSystem):
                 "M": matrix_strings(self.M), "C": matrix_strings(self.C),
                 "K": matrix_strings(self.K),
                 "Q": [str(e) for e in self.Q]}
+
+    def symbolic(self) -> SymbolicEquations | None:
+        return self
 
     def _repr_latex_(self) -> str:
 

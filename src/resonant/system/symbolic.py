@@ -51,7 +51,7 @@ from ..derivation.lagrange import (
 )
 from ..errors import ModelError, Problem
 from ..model import Model, symbol
-from .base import LinearSystem
+from .base import LinearSystem, SymbolicEquations
 from .batch import (
     SYMENGINE_MIN_EXPRESSIONS,
     Batch,
@@ -64,6 +64,23 @@ from .batch import (
 from .latex import eom_latex
 
 Var = tuple[str, int]
+
+
+def loads_in_time(excitation: Mapping[Var, Any], signals: Mapping[Var, Any],
+                  n: int) -> sympy.ImmutableMatrix:
+    """Q(t): each excitation column times its signal derivative written out in time."""
+    q = sympy.zeros(n, 1)
+    for var, column in excitation.items():
+        q += column * signals[var]
+    return sympy.ImmutableMatrix(q)
+
+
+def loads_in_signals(excitation: Mapping[Var, Any], n: int) -> sympy.ImmutableMatrix:
+    """Q(t) written with the signals' names (r, r', ...) as symbols."""
+    q = sympy.zeros(n, 1)
+    for (name, order), column in excitation.items():
+        q += column * signal_symbol(name, order)
+    return sympy.ImmutableMatrix(q)
 
 
 @dataclass(frozen=True, eq=False)
@@ -160,18 +177,12 @@ class LinearEOM(LinearSystem):
     @cached_property
     def Q(self) -> sympy.ImmutableMatrix:
         """Q(t) with the signals written out as functions of time (Eq. (32))."""
-        q = sympy.zeros(self.n, 1)
-        for var, column in self.excitation.items():
-            q += column * self.signal_functions[var]
-        return sympy.ImmutableMatrix(q)
+        return loads_in_time(self.excitation, self.signal_functions, self.n)
 
     @cached_property
     def Q_signals(self) -> sympy.ImmutableMatrix:
         """Q(t) written with the signal names (r, r', ...) as symbols."""
-        q = sympy.zeros(self.n, 1)
-        for (name, order), column in self.excitation.items():
-            q += column * signal_symbol(name, order)
-        return sympy.ImmutableMatrix(q)
+        return loads_in_signals(self.excitation, self.n)
 
     @cached_property
     def harmonics(self) -> SignalHarmonics | None:
@@ -232,6 +243,9 @@ class LinearEOM(LinearSystem):
             "M": matrix_strings(self.M), "C": matrix_strings(self.C), "K": matrix_strings(self.K),
             "Q": [str(e) for e in self.Q],
         }
+
+    def symbolic(self) -> SymbolicEquations | None:
+        return self
 
     def _repr_latex_(self) -> str:
 

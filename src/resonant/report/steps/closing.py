@@ -24,7 +24,7 @@ def plots(ctx: Context) -> list[Block]:
     sol = ctx.solution
     if not sol.available or not sol.harmonics:
         return []
-    frf = frequency_response(ctx.eom, sol)
+    frf = frequency_response(ctx.system, sol)
     history = time_history(sol)
     if frf is None and history is None:
         return []

@@ -16,8 +16,9 @@ from ...expressions.notation import (
     number_latex,
     sympy_latex,
 )
-from ...model import Model, symbol
-from ...system import LinearEOM
+from ...model import Model
+from ...system.base import LinearSystem, SymbolicEquations
+from ...system.latex import model_namer
 from ..blocks import Equation, Figure, Math
 from ..derivation import Derivation, SourceTerms
 
@@ -35,7 +36,8 @@ class Context:
     """Everything the steps share; ``equation`` numbers the displayed equations."""
 
     model: Model
-    eom: LinearEOM
+    system: LinearSystem
+    eom: SymbolicEquations
     solution: StationarySolution
     derivation: Derivation | None
     plots: bool = True
@@ -46,11 +48,7 @@ class Context:
     labels: dict[str, int] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        self.namer = Namer(frozenset(self.model.signals))
-        symbols = [symbol(p) for p in self.model.parameters]
-        for name in [*self.model.coordinates, *self.model.signals]:
-            symbols.extend(derivative_symbol(name, order) for order in range(4))
-        self.names = self.namer.symbol_names(symbols)
+        self.namer, self.names = model_namer(self.model)
 
     @property
     def n(self) -> int:

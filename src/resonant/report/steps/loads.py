@@ -67,7 +67,7 @@ def periodic_load(ctx: Context) -> list[Block]:
         return []
     blocks: list[Block] = [Heading("Periodic load: Fourier series and superposition")]
     try:
-        result = periodic_load_response(ctx.eom)
+        result = periodic_load_response(ctx.system)
     except ResonantError as exc:
         return blocks + [Note((f"The periodic response cannot be computed: {exc}",))]
     series = result.series
@@ -135,7 +135,7 @@ def random_load(ctx: Context) -> list[Block]:
         return []
     blocks: list[Block] = [Heading("Random load: spectral densities and RMS values")]
     try:
-        result = random_response(ctx.eom)
+        result = random_response(ctx.system)
     except ResonantError as exc:
         return blocks + [Note((f"The random response cannot be computed: {exc}",))]
     inputs = [_signal(ctx, name, result.input_derivatives.get(name, 0))
@@ -238,7 +238,7 @@ def shock_load(ctx: Context) -> list[Block]:
         spectrum = shock_response_spectrum(values, spec.step,
                                            _srs_frequencies(ctx, spec.duration, spec.step),
                                            Q=spec.Q)
-        result = shock_response(ctx.eom, spec)
+        result = shock_response(ctx.system, spec)
     except ResonantError as exc:
         return blocks + [Note((f"The shock response cannot be computed: {exc}",))]
     s = _signal(ctx, spec.signal, spec.derivative)
