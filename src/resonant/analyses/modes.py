@@ -75,7 +75,7 @@ from ..modal import (
     point_state_eigenvalues,
     undamped_eigen,
 )
-from ..model.units_display import HZ
+from ..model.units_display import HZ, Shown
 from ..system.base import LinearSystem
 from ..system.stability import (
     ASYMPTOTIC,
@@ -87,6 +87,7 @@ from ..system.stability import (
     mass_warning,
     rayleigh,
 )
+from ..tables import Table, number_cell, number_column
 from .results_json import Saved
 
 if TYPE_CHECKING:
@@ -691,6 +692,25 @@ def plot_modes(analysis: ModalAnalysis, path: PathArg = None, count: int | None 
     return fig
 
 
+def _mode_table(result: ModalAnalysis, frequency: Shown) -> Table:
+    """Frequency, damping ratio and shape of every mode, each column in one notation."""
+    per_mode = result.proportional_damping
+    shown = min(8, len(result.coordinates))
+    count = len(result.natural_frequencies)
+    zetas = [float(result.damping_ratios[j]) if per_mode and j < len(result.damping_ratios)
+             else None for j in range(count)]
+    columns = [tuple(str(j + 1) for j in range(count)),
+               number_column(result.natural_frequencies.tolist(), 6),
+               number_column([float(frequency(w)) for w in result.natural_frequencies], 6),
+               tuple("" if z is None else number_cell(z, 4) for z in zetas)]
+    columns += [number_column([float(v) for v in result.mode_shapes[i, :count]], 4)
+                for i in range(shown)]
+    header = ("mode", "omega [rad/s]", f"f [{frequency.text}]", "zeta",
+              *(printable(c, limit=12) for c in result.coordinates[:shown]))
+    rows = tuple(zip(*columns)) if count else ()
+    return Table(header, rows, align="r" * len(header))
+
+
 def modes_text(result: ModalAnalysis, units: ResultUnits | None = None) -> str:
     """The human-readable table of ``resonant modes``; the second frequency column is in
     the display unit of frequencies (``units.frequency``, Hz by default)."""
@@ -699,15 +719,8 @@ def modes_text(result: ModalAnalysis, units: ResultUnits | None = None) -> str:
     shown = ", ".join(names[:8]) + (" ..." if len(names) > 8 else "")
     frequency = units.frequency if units is not None and units.frequency.text != "rad/s" \
         else HZ
-    column = f"f [{frequency.text}]"
-    out.append(f"{'mode':>4}  {'omega [rad/s]':>14}  {column:>12}  {'zeta':>8}   "
-               f"shape (largest component +1): {shown}")
-    per_mode = result.proportional_damping
-    for j, w in enumerate(result.natural_frequencies):
-        zeta = f"{result.damping_ratios[j]:8.4g}" if per_mode and j < len(
-            result.damping_ratios) else " " * 8
-        shape = ", ".join(f"{v: .4g}" for v in result.mode_shapes[:8, j])
-        out.append(f"{j + 1:>4}  {w:14.6g}  {frequency(w):12.6g}  {zeta}   [{shape}]")
+    out.append(f"mode shapes (largest component +1) over {shown}:")
+    out.append(_mode_table(result, frequency).text(indent=""))
     if result.damped:
         out.append("")
         if result.rayleigh is not None and len(names) <= 2:

@@ -52,6 +52,7 @@ from ..system.stability import (
     undamped_eigen,
     undamped_eigenvalues,
 )
+from ..tables import Table, number_cell
 from .kernel import (
     LOSS_CONDITION,
     KernelResult,
@@ -654,6 +655,34 @@ def _matrices_in_full(e: NumericEOM, units: ResultUnits | None) -> list[str]:
     return out
 
 
+def amplitude_table(sol: StationarySolution, units: ResultUnits | None = None) -> Table:
+    """The amplitude X (peak deviation) and the phase delta of every coordinate and output,
+    in their display units, one aligned column each.
+
+    Parameters
+    ----------
+    sol : StationarySolution
+    units : ResultUnits, optional
+        The display units (SI and rad without).
+
+    Returns
+    -------
+    resonant.tables.Table
+    """
+    rows = []
+    for name, amplitude in sol.amplitudes.items():
+        phase = sol.phases.get(name)
+        unit = units.unit(name) if units is not None else None
+        shown_phase = None if phase is None else units.phase(phase) if units else phase
+        rows.append((printable(name, limit=40),
+                     number_cell(unit(amplitude) if unit is not None else amplitude, 6),
+                     unit.text if unit is not None else "",
+                     number_cell(shown_phase, 6),
+                     (units.phase.text if units else "rad") if phase is not None else "",
+                     "" if name in sol.eom.coordinates else "(output)"))
+    return Table(("name", "X", "unit", "delta", "unit", ""), tuple(rows), align="lrlrll")
+
+
 def solution_text(sol: StationarySolution) -> str:
     """The human-readable report of ``resonant solve``."""
     e = sol.eom
@@ -703,19 +732,7 @@ def solution_text(sol: StationarySolution) -> str:
                 out.append(f"    cos coefficients L = {shown_vector(h.L, e.coordinates, units)}")
                 out.append(f"    sin coefficients N = {shown_vector(h.N, e.coordinates, units)}")
         out.append("  amplitudes (peak deviation) and phases delta = atan2(L, N):")
-        width = max(len(n) for n in sol.amplitudes)
-        for name, amp in sol.amplitudes.items():
-            phase = sol.phases.get(name)
-            kind = "" if name in e.coordinates else "  (output)"
-            if units is None:
-                extra = f"   delta = {phase: .6g} rad" if phase is not None else ""
-                out.append(f"    {name.ljust(width)}  X = {amp:.6g}{extra}{kind}")
-                continue
-            unit = units.unit(name)
-            extra = f"   delta = {units.phase(phase): .6g} {units.phase.text}" \
-                if phase is not None else ""
-            out.append(f"    {name.ljust(width)}  X = {unit(amp):.6g}"
-                       f"{' ' + unit.text if unit.text else ''}{extra}{kind}")
+        out.append(amplitude_table(sol, units).text(indent="    "))
     if sol.warnings:
         out.append("")
         for w in sol.warnings:

@@ -102,10 +102,11 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, printable
 from ..expressions.notation import dollar_name
 from ..model.options import SweepOptions, chosen, names_tuple
-from ..model.units_display import unit_math
+from ..model.units_display import ResultUnits, unit_math
 from ..system.base import LinearSystem
 from ..system.batch import Batch, group_frequencies
 from ..system.stability import natural_frequencies as _natural_frequencies
+from ..tables import Table, number_cell
 from .kernel import (
     DEFAULT_TOL,
     METHODS,
@@ -1278,8 +1279,37 @@ def unwrapped_degrees(phase: npt.ArrayLike) -> np.ndarray:
     return out
 
 
-def sweep_text(result: FrequencyResponse) -> str:
-    """The human-readable summary of ``resonant sweep``."""
+def extrema_table(result: FrequencyResponse, items: Sequence[Extremum],
+                  units: ResultUnits | None = None) -> Table:
+    """The peaks (or antiresonances) as a table: the quantity, where (in the parameter's
+    unit) and the amplitude (in the quantity's display unit where the model gives one).
+
+    Parameters
+    ----------
+    result : FrequencyResponse
+    items : sequence of Extremum
+        ``result.peaks`` or ``result.antiresonances``.
+    units : ResultUnits, optional
+        The model's display units.
+
+    Returns
+    -------
+    resonant.tables.Table
+    """
+    rows = []
+    for p in items:
+        unit = units.unit(p.name) if units is not None else None
+        rows.append((printable(p.name, limit=40), number_cell(p.value, 6),
+                     number_cell(unit(p.amplitude) if unit is not None else p.amplitude, 6),
+                     unit.text if unit is not None else ""))
+    where = f"{printable(result.parameter, limit=40)}" + (f" [{result.unit}]" if result.unit
+                                                          else "")
+    return Table(("name", where, "amplitude", "unit"), tuple(rows), align="lrrl")
+
+
+def sweep_text(result: FrequencyResponse, units: ResultUnits | None = None) -> str:
+    """The human-readable summary of ``resonant sweep``; the amplitudes in the display units
+    of ``units`` where given."""
     unit = f" {result.unit}" if result.unit else ""
     out = [printable(result.title or "sweep"),
            f"{result.parameter} from {result.values[0]:.6g} to {result.values[-1]:.6g}{unit}, "
@@ -1301,15 +1331,14 @@ def sweep_text(result: FrequencyResponse) -> str:
         out.append(f"{title}:")
         if not items:
             out.append("  none")
-        for p in items[:50]:
-            out.append(f"  {p.name:>12}  at {result.parameter} = {p.value:.6g}{unit}   "
-                       f"amplitude {p.amplitude:.6g}")
+        else:
+            out.append(extrema_table(result, items[:50], units).text())
         if len(items) > 50:
             out.append(f"  ... {len(items) - 50} more (use --json)")
     return "\n".join(out) + "\n"
 
 
-__all__ = ["plot_frequency_response", "frequency_response_chart", "response_axes",
-           "unwrapped_degrees", "MAX_LINES", "sweep", "FrequencyResponse", "Extremum",
-           "ExtremaTable", "choose_method", "linspace", "METHODS", "MAX_SWEEP_POINTS",
+__all__ = ["extrema_table", "sweep_text", "plot_frequency_response", "frequency_response_chart",
+           "response_axes", "unwrapped_degrees", "MAX_LINES", "sweep", "FrequencyResponse",
+           "Extremum", "ExtremaTable", "choose_method", "linspace", "METHODS", "MAX_SWEEP_POINTS",
            "MAX_SWEEP_RESULTS", "check_points"]

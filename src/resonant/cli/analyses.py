@@ -138,7 +138,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     result = sweep(linear_system(model, deadline), args.param, values, options=options,
                    deadline=deadline)
     units = result_units(model)
-    return _emit(args, result, lambda: sweep_text(result),
+    return _emit(args, result, lambda: sweep_text(result, units),
                  lambda path: plot_frequency_response(
                      result, path, units=units.si if units is not None else None), units)
 
