@@ -42,7 +42,8 @@ from ..charts import (
 )
 from ..errors import printable
 from ..expressions.notation import dollar_name
-from ..model.units_display import unit_math
+from ..model.units_display import ResultUnits, unit_math
+from ..tables import Table, number_column
 from .results_json import Saved, complex_json, floats_json
 from .special_points import SpecialPoint
 from .sweep import FrequencyResponse
@@ -167,8 +168,45 @@ def plot_nonlinear_response(response: NonlinearResponse, path: PathArg = None,
     return fig
 
 
-def nonlinear_text(response: NonlinearResponse) -> str:
-    """Special points and the peak of the stable branch, as plain text."""
+def special_points_table(response: NonlinearResponse, units: ResultUnits | None = None
+                         ) -> Table:
+    """The special points of the branch (folds, changes of stability, peaks) as a table:
+    where, and the amplitude of every quantity in its display unit where the model gives
+    one, each column in one notation (6 significant digits).
+
+    Parameters
+    ----------
+    response : NonlinearResponse
+    units : ResultUnits, optional
+        The model's display units.
+
+    Returns
+    -------
+    resonant.tables.Table
+    """
+    names = list(response.special_points[0].amplitudes) if response.special_points else []
+    shown = {n: units.unit(n) if units is not None else None for n in names}
+    kinds = []
+    for p in response.special_points:
+        kind = f"peak of {printable(p.quantity, limit=20)}" if p.kind == "peak" else p.kind
+        kinds.append(kind + (" (unstable)" if p.stable is False else ""))
+    columns = [tuple(kinds), number_column([p.value for p in response.special_points], 6)]
+    for n in names:
+        unit = shown[n]
+        columns.append(number_column([
+            float(unit(p.amplitudes[n])) if unit is not None else p.amplitudes[n]
+            for p in response.special_points], 6))
+    def heading(name: str) -> str:
+        unit = shown[name]
+        return printable(name, limit=20) + (f" [{unit.text}]" if unit and unit.text else "")
+
+    header = ("point", printable(response.parameter, limit=20), *(heading(n) for n in names))
+    return Table(header, tuple(zip(*columns)), align="l" + "r" * (len(header) - 1))
+
+
+def nonlinear_text(response: NonlinearResponse, units: ResultUnits | None = None) -> str:
+    """Special points and the peak of the stable branch, as plain text (the amplitudes in
+    the display units of ``units`` where given)."""
     lines = [f"{response.title or 'model'}: nonlinear steady state (harmonic balance, "
              f"H = {response.harmonics}) against {response.parameter} from "
              f"{response.start:g} to {response.stop:g}",
@@ -176,13 +214,8 @@ def nonlinear_text(response: NonlinearResponse) -> str:
              f"largest residual {response.residual:.3g}; highest harmonics carry up to "
              f"{response.truncation:.3g} of the amplitude"]
     if response.special_points:
-        lines.append("  special points:")
-        for p in response.special_points:
-            amps = ", ".join(f"{k} = {v:.10g}" for k, v in p.amplitudes.items())
-            kind = f"peak of {p.quantity}" if p.kind == "peak" else p.kind
-            if p.stable is False:
-                kind += " (unstable)"
-            lines.append(f"    {kind:16s} {response.parameter} = {p.value:.10g}   {amps}")
+        lines.append("  special points (peak amplitudes):")
+        lines.append(special_points_table(response, units).text(indent="    "))
     else:
         lines.append("  no special points (no fold, no change of stability, no peak)")
     top = response.peak()

@@ -156,7 +156,7 @@ def _run_nonlinear(args: argparse.Namespace, model: Model) -> int:
     result = nonlinear_sweep(linear_system(model, deadline), args.param, args.start, args.stop,
                              options=options, deadline=deadline)
     units = result_units(model)
-    return _emit(args, result, lambda: nonlinear_text(result),
+    return _emit(args, result, lambda: nonlinear_text(result, units),
                  lambda path: plot_nonlinear_response(
                      result, path, units=units.si if units is not None else None))
 
