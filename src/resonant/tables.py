@@ -1,16 +1,17 @@
 """The one table description a result's text, its HTML and its Markdown are written from.
 
-A result describes its numbers once, as a :class:`Table` (a header, rows of cells already
-formatted, each column aligned left or right), and each writer renders that description:
-:meth:`Table.text` for the terminal (columns padded to one width), :meth:`Table.html` for
-Jupyter and the report (every cell escaped), :meth:`Table.markdown` (``|`` and other
-Markdown characters escaped).  The cells are strings so that every writer shows the same
-digits; :func:`number_cell` is the one rule for a number in a table.
+A result describes its numbers once, as a :class:`ResultTable` (a header, rows of cells
+already formatted, each column aligned left or right), and each writer renders that
+description: :meth:`ResultTable.text` for the terminal (columns padded to one width),
+:meth:`ResultTable.html` for Jupyter and the report (every cell escaped),
+:meth:`ResultTable.markdown` (``|`` and other Markdown characters escaped).  The cells are
+strings so that every writer shows the same digits; :func:`number_cell` is the one rule
+for a number in a table.
 
 Examples
 --------
->>> table = Table(("name", "RMS"), (("x1", number_cell(0.0123456)), ("x2", number_cell(None))),
-...               align="lr")
+>>> table = ResultTable(("name", "RMS"),
+...                     (("x1", number_cell(0.0123456)), ("x2", number_cell(None))), align="lr")
 >>> print(table.text())
   name      RMS
   x1    0.01235
@@ -88,7 +89,7 @@ def number_column(values: Sequence[float | None], digits: int = 4) -> tuple[str,
 
 
 @dataclass(frozen=True)
-class Table:
+class ResultTable:
     """A header and rows of formatted cells.
 
     Parameters
@@ -105,7 +106,7 @@ class Table:
 
     Examples
     --------
-    >>> Table(("a",), (("<b>",),)).html()
+    >>> ResultTable(("a",), (("<b>",),)).html()
     '<table><tr><th>a</th></tr><tr><td>&lt;b&gt;</td></tr></table>'
     """
 
@@ -138,7 +139,7 @@ class Table:
 
         Examples
         --------
-        >>> print(Table(("n", "value"), (("1", "10"),), align="rr").text(indent=""))
+        >>> print(ResultTable(("n", "value"), (("1", "10"),), align="rr").text(indent=""))
         n  value
         1     10
         """
@@ -161,7 +162,7 @@ class Table:
 
         Examples
         --------
-        >>> Table(("x",), (("1",),), align="r").html()
+        >>> ResultTable(("x",), (("1",),), align="r").html()
         '<table><tr><th>x</th></tr><tr><td style="text-align:right">1</td></tr></table>'
         """
         def cell(text: str, a: str) -> str:
@@ -183,7 +184,7 @@ class Table:
 
         Examples
         --------
-        >>> print(Table(("a|b",), (("*x*",),)).markdown())
+        >>> print(ResultTable(("a|b",), (("*x*",),)).markdown())
         | a\\|b |
         |:--|
         | \\*x\\* |
@@ -197,4 +198,4 @@ class Table:
         return "\n".join(lines)
 
 
-__all__ = ["Table", "number_cell", "number_column", "MISSING"]
+__all__ = ["ResultTable", "number_cell", "number_column", "MISSING"]

@@ -87,7 +87,7 @@ from ..system.stability import (
     mass_warning,
     rayleigh,
 )
-from ..tables import Table, number_cell, number_column
+from ..tables import ResultTable, number_cell, number_column
 from .results_json import Saved
 
 if TYPE_CHECKING:
@@ -692,7 +692,7 @@ def plot_modes(analysis: ModalAnalysis, path: PathArg = None, count: int | None 
     return fig
 
 
-def _mode_table(result: ModalAnalysis, frequency: Shown) -> Table:
+def _mode_table(result: ModalAnalysis, frequency: Shown) -> ResultTable:
     """Frequency, damping ratio and shape of every mode, each column in one notation."""
     per_mode = result.proportional_damping
     shown = min(8, len(result.coordinates))
@@ -708,7 +708,7 @@ def _mode_table(result: ModalAnalysis, frequency: Shown) -> Table:
     header = ("mode", "omega [rad/s]", f"f [{frequency.text}]", "zeta",
               *(printable(c, limit=12) for c in result.coordinates[:shown]))
     rows = tuple(zip(*columns)) if count else ()
-    return Table(header, rows, align="r" * len(header))
+    return ResultTable(header, rows, align="r" * len(header))
 
 
 def modes_text(result: ModalAnalysis, units: ResultUnits | None = None) -> str:

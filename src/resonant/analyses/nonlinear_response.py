@@ -43,7 +43,7 @@ from ..charts import (
 from ..errors import printable
 from ..expressions.notation import dollar_name
 from ..model.units_display import ResultUnits, unit_math
-from ..tables import Table, number_column
+from ..tables import ResultTable, number_column
 from .results_json import Saved, complex_json, floats_json
 from .special_points import SpecialPoint
 from .sweep import FrequencyResponse
@@ -169,7 +169,7 @@ def plot_nonlinear_response(response: NonlinearResponse, path: PathArg = None,
 
 
 def special_points_table(response: NonlinearResponse, units: ResultUnits | None = None
-                         ) -> Table:
+                         ) -> ResultTable:
     """The special points of the branch (folds, changes of stability, peaks) as a table:
     where, and the amplitude of every quantity in its display unit where the model gives
     one, each column in one notation (6 significant digits).
@@ -182,7 +182,7 @@ def special_points_table(response: NonlinearResponse, units: ResultUnits | None 
 
     Returns
     -------
-    resonant.tables.Table
+    resonant.tables.ResultTable
     """
     names = list(response.special_points[0].amplitudes) if response.special_points else []
     shown = {n: units.unit(n) if units is not None else None for n in names}
@@ -201,7 +201,7 @@ def special_points_table(response: NonlinearResponse, units: ResultUnits | None 
         return printable(name, limit=20) + (f" [{unit.text}]" if unit and unit.text else "")
 
     header = ("point", printable(response.parameter, limit=20), *(heading(n) for n in names))
-    return Table(header, tuple(zip(*columns)), align="l" + "r" * (len(header) - 1))
+    return ResultTable(header, tuple(zip(*columns)), align="l" + "r" * (len(header) - 1))
 
 
 def nonlinear_text(response: NonlinearResponse, units: ResultUnits | None = None) -> str:

@@ -48,7 +48,7 @@ from ..expressions import numeric_value
 from ..model.load_spec import SHAPES, PeriodicSpec
 from ..model.random_spec import RandomInput
 from ..system.base import LinearSystem
-from ..tables import Table, number_cell
+from ..tables import ResultTable, number_cell
 from .random_response import Transfer, responses_to_solve
 from .results_json import Saved, complex_json, floats_json
 
@@ -526,7 +526,7 @@ def periodic_text(result: PeriodicResponse) -> str:
                   number_cell(result.largest[name]),
                   *(number_cell(abs(result.harmonics[name][n])) for n in range(shown)))
                  for name in result.names)
-    lines.append(Table(header, rows).text())
+    lines.append(ResultTable(header, rows).text())
     lines.append("  the sum of the harmonics' stationary responses (SI): mean, largest "
                  "|excursion| over a period, amplitudes of the first harmonics")
     lines += [f"warning: {w}" for w in result.warnings]

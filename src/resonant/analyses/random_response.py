@@ -97,7 +97,7 @@ from ..system.base import LinearSystem, NumericEOM
 from ..system.batch import Batch, BatchHarmonic
 from ..system.excitation import excitation_columns
 from ..system.stability import UNSTABLE, classify
-from ..tables import Table, number_cell
+from ..tables import ResultTable, number_cell
 from .kernel import reduced_budget, solve_harmonic
 from .reduced import FactorizationsAhead, ReducedModel, probe_frequency, reduced_model
 from .results_json import Saved, optional_float
@@ -295,12 +295,12 @@ class RandomResponse:
         """
         return random_text(self)
 
-    def table(self) -> Table:
+    def table(self) -> ResultTable:
         """The RMS, 3-sigma and Rice's rates of every response (:func:`random_table`).
 
         Returns
         -------
-        resonant.tables.Table
+        resonant.tables.ResultTable
         """
         return random_table(self)
 
@@ -1024,7 +1024,7 @@ def _miles(num: NumericEOM, spec: RandomSpec, transfer: Transfer, outputs: Seque
 MAX_PANELS = 4
 
 
-def random_table(result: RandomResponse) -> Table:
+def random_table(result: RandomResponse) -> ResultTable:
     """The RMS, 3-sigma, Rice's rates (and Miles' estimate) of every response, as a table.
 
     Parameters
@@ -1033,7 +1033,7 @@ def random_table(result: RandomResponse) -> Table:
 
     Returns
     -------
-    resonant.tables.Table
+    resonant.tables.ResultTable
     """
     rows = []
     for name in result.names:
@@ -1043,7 +1043,7 @@ def random_table(result: RandomResponse) -> Table:
                      number_cell(result.zero_crossing_rate[name]),
                      number_cell(result.peak_rate[name]), number_cell(miles),
                      f"{result.error[name]:.1e}"))
-    return Table(("name", "unit", "RMS", "3-sigma", "nu0+ [Hz]", "peaks [Hz]", "Miles RMS",
+    return ResultTable(("name", "unit", "RMS", "3-sigma", "nu0+ [Hz]", "peaks [Hz]", "Miles RMS",
                   "rel. error"), tuple(rows))
 
 

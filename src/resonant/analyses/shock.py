@@ -61,7 +61,7 @@ from ..charts import (
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model.load_spec import PULSES
-from ..tables import Table, number_column
+from ..tables import ResultTable, number_column
 from .results_json import Saved
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -261,7 +261,7 @@ class ShockSpectrum:
                 "Q": None if self.damping == 0 else 1 / (2 * self.damping),
                 "duration_s": self.duration, "warnings": list(self.warnings)}
 
-    def table(self, unit: str = "") -> Table:
+    def table(self, unit: str = "") -> ResultTable:
         """The spectrum's numbers (:func:`srs_table`).
 
         Parameters
@@ -271,7 +271,7 @@ class ShockSpectrum:
 
         Returns
         -------
-        resonant.tables.Table
+        resonant.tables.ResultTable
         """
         return srs_table(self, unit)
 
@@ -548,7 +548,7 @@ def _refine(a: np.ndarray, q: complex, k: int, s: complex, c: complex, w: float,
 MAX_ROWS = 40
 
 
-def srs_table(spectrum: ShockSpectrum, unit: str = "") -> Table:
+def srs_table(spectrum: ShockSpectrum, unit: str = "") -> ResultTable:
     """The spectrum as a table: natural frequency, maximax, primary, residual (at most
     :data:`MAX_ROWS` frequencies, spread over the range), each column in one notation.
 
@@ -560,7 +560,7 @@ def srs_table(spectrum: ShockSpectrum, unit: str = "") -> Table:
 
     Returns
     -------
-    resonant.tables.Table
+    resonant.tables.ResultTable
     """
     rows = np.unique(np.linspace(0, len(spectrum.frequency) - 1,
                                  min(MAX_ROWS, len(spectrum.frequency))).round().astype(int))
@@ -568,7 +568,7 @@ def srs_table(spectrum: ShockSpectrum, unit: str = "") -> Table:
     columns = [number_column([float(v[i]) for i in rows])
                for v in (spectrum.frequency, spectrum.maximax, spectrum.primary,
                          spectrum.residual)]
-    return Table(("f_n [Hz]", f"maximax{suffix}", f"primary{suffix}", f"residual{suffix}"),
+    return ResultTable(("f_n [Hz]", f"maximax{suffix}", f"primary{suffix}", f"residual{suffix}"),
                  tuple(zip(*columns)), align="rrrr")
 
 

@@ -52,7 +52,7 @@ from ..system.stability import (
     undamped_eigen,
     undamped_eigenvalues,
 )
-from ..tables import Table, number_cell
+from ..tables import ResultTable, number_cell
 from .kernel import (
     LOSS_CONDITION,
     KernelResult,
@@ -655,7 +655,7 @@ def _matrices_in_full(e: NumericEOM, units: ResultUnits | None) -> list[str]:
     return out
 
 
-def amplitude_table(sol: StationarySolution, units: ResultUnits | None = None) -> Table:
+def amplitude_table(sol: StationarySolution, units: ResultUnits | None = None) -> ResultTable:
     """The amplitude X (peak deviation) and the phase delta of every coordinate and output,
     in their display units, one aligned column each.
 
@@ -667,7 +667,7 @@ def amplitude_table(sol: StationarySolution, units: ResultUnits | None = None) -
 
     Returns
     -------
-    resonant.tables.Table
+    resonant.tables.ResultTable
     """
     rows = []
     for name, amplitude in sol.amplitudes.items():
@@ -680,7 +680,7 @@ def amplitude_table(sol: StationarySolution, units: ResultUnits | None = None) -
                      number_cell(shown_phase, 6),
                      (units.phase.text if units else "rad") if phase is not None else "",
                      "" if name in sol.eom.coordinates else "(output)"))
-    return Table(("name", "X", "unit", "delta", "unit", ""), tuple(rows), align="lrlrll")
+    return ResultTable(("name", "X", "unit", "delta", "unit", ""), tuple(rows), align="lrlrll")
 
 
 def solution_text(sol: StationarySolution) -> str:

@@ -106,7 +106,7 @@ from ..model.units_display import ResultUnits, unit_math
 from ..system.base import LinearSystem
 from ..system.batch import Batch, group_frequencies
 from ..system.stability import natural_frequencies as _natural_frequencies
-from ..tables import Table, number_cell
+from ..tables import ResultTable, number_cell
 from .kernel import (
     DEFAULT_TOL,
     METHODS,
@@ -1280,7 +1280,7 @@ def unwrapped_degrees(phase: npt.ArrayLike) -> np.ndarray:
 
 
 def extrema_table(result: FrequencyResponse, items: Sequence[Extremum],
-                  units: ResultUnits | None = None) -> Table:
+                  units: ResultUnits | None = None) -> ResultTable:
     """The peaks (or antiresonances) as a table: the quantity, where (in the parameter's
     unit) and the amplitude (in the quantity's display unit where the model gives one).
 
@@ -1294,7 +1294,7 @@ def extrema_table(result: FrequencyResponse, items: Sequence[Extremum],
 
     Returns
     -------
-    resonant.tables.Table
+    resonant.tables.ResultTable
     """
     rows = []
     for p in items:
@@ -1304,7 +1304,7 @@ def extrema_table(result: FrequencyResponse, items: Sequence[Extremum],
                      unit.text if unit is not None else ""))
     where = f"{printable(result.parameter, limit=40)}" + (f" [{result.unit}]" if result.unit
                                                           else "")
-    return Table(("name", where, "amplitude", "unit"), tuple(rows), align="lrrl")
+    return ResultTable(("name", where, "amplitude", "unit"), tuple(rows), align="lrrl")
 
 
 def sweep_text(result: FrequencyResponse, units: ResultUnits | None = None) -> str:
