@@ -153,6 +153,12 @@ PHONE = """() => ({
             hidden: box.scrollWidth - box.clientWidth,
             cue: style.backgroundImage.includes('radial-gradient'),
             scrolls: ['auto', 'scroll'].includes(style.overflowX)};
+  }),
+  tables: [...document.querySelectorAll('table')].map(t => {
+    const box = t.parentElement, style = getComputedStyle(box);
+    return {hidden: box.scrollWidth - box.clientWidth,
+            cue: style.backgroundImage.includes('radial-gradient'),
+            scrolls: ['auto', 'scroll'].includes(style.overflowX)};
   })})"""
 
 
@@ -180,6 +186,9 @@ def test_on_a_phone_nothing_is_clipped_without_a_cue(browser: Any, reports: dict
         assert figure["text"] >= 9 - 0.05, figure
         if figure["hidden"] > 1:
             assert figure["scrolls"] and figure["cue"], figure
+    for table in found["tables"]:
+        if table["hidden"] > 1:
+            assert table["scrolls"] and table["cue"], table
 
 
 def test_units_in_tables_are_typeset(tmp_path: Path) -> None:

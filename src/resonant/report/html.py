@@ -118,6 +118,7 @@ svg.glyphs { position: absolute; width: 0; height: 0; overflow: hidden; }
 .equation .body > math { margin: 0 auto; overflow-x: auto; max-width: 100%; }
 .equation .number { flex: 0 0 auto; color: #444; min-width: 2.8rem; text-align: right; }
 table { border-collapse: collapse; margin: .8rem auto; min-width: 50%; }
+.table-scroll { max-width: 100%; overflow-x: auto; }
 th, td { padding: .3rem .9rem; text-align: left; }
 thead th { border-top: 2px solid #333; border-bottom: 1px solid #333; font-weight: 600; }
 tbody tr:last-child td { border-bottom: 2px solid #333; }
@@ -163,6 +164,14 @@ code { font-family: "DejaVu Sans Mono", monospace; font-size: .9em; }
       radial-gradient(farthest-side at 100% 50%, rgba(0,0,0,.4), rgba(0,0,0,0))
         right / .9rem 100% no-repeat scroll; }
   figure .plot svg { min-width: var(--legible, 0); }
+  .table-scroll {
+    background:
+      linear-gradient(to right, #fff 40%, rgba(255,255,255,0)) left / 1.5rem 100% no-repeat local,
+      linear-gradient(to left, #fff 40%, rgba(255,255,255,0)) right / 1.5rem 100% no-repeat local,
+      radial-gradient(farthest-side at 0 50%, rgba(0,0,0,.4), rgba(0,0,0,0))
+        left / .9rem 100% no-repeat scroll,
+      radial-gradient(farthest-side at 100% 50%, rgba(0,0,0,.4), rgba(0,0,0,0))
+        right / .9rem 100% no-repeat scroll; }
 }
 @media print {
   body { background: #fff; font-size: 11pt; }
