@@ -404,3 +404,17 @@ def test_the_error_tables_fit_without_cutting_a_column(site: Path, chromium: Any
     assert not cut, cut
     if width == 1280:  # on a laptop the four columns fit: nothing to scroll
         assert not [t for t in tables if t["scrolls"]], tables
+
+
+def test_the_long_references_are_split_into_pages(site: Path) -> None:
+    """performance.md was one page of 55,000 px: the overview keeps the targets and the
+    sections benchmarks/run.py writes, each other area has its page, linked from it."""
+    import re
+
+    overview = (site / "performance.html").read_text(encoding="utf-8")
+    areas = sorted(site.glob("performance-*.html"))
+    assert len(areas) >= 4
+    for page in areas:
+        assert f'href="{page.name}"' in overview, page.name
+    text = len(re.sub(r"<[^>]+>", "", overview.split("<article", 1)[1]))
+    assert text < 60_000, text
