@@ -11,6 +11,7 @@ from __future__ import annotations
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -194,3 +195,226 @@ def test_formulas_are_legible_in_light_and_dark_mode(site: Path, scheme: str) ->
         finally:
             browser.close()
     assert min(ratios) >= 4.5, ratios
+
+
+def _results_and_analyses() -> dict[str, object]:
+    """Every result type of resonant.analyses (a dataclass with ``to_dict`` in a module's
+    ``__all__``) and every function there that returns one, by dotted home name."""
+    import dataclasses
+    import importlib
+    import inspect
+    import pkgutil
+    import typing
+
+    import resonant.analyses
+
+    modules = [importlib.import_module(info.name) for info in
+               pkgutil.iter_modules(resonant.analyses.__path__, "resonant.analyses.")]
+    exported = [(m, getattr(m, n)) for m in modules for n in getattr(m, "__all__", ())]
+    results = {obj for m, obj in exported if inspect.isclass(obj) and obj.__module__ ==
+               m.__name__ and dataclasses.is_dataclass(obj) and hasattr(obj, "to_dict")}
+    found: dict[str, object] = {f"{o.__module__}.{o.__qualname__}": o for o in results}
+    names = {r.__name__ for r in results}
+    for m, obj in exported:
+        if inspect.isfunction(obj) and obj.__module__ == m.__name__:
+            try:
+                returned = typing.get_type_hints(obj).get("return")
+            except NameError:  # an annotation only a type checker resolves
+                returned = obj.__annotations__.get("return")
+            if returned in results or returned in names:
+                found[f"{m.__name__}.{obj.__name__}"] = obj
+    return found
+
+
+def test_every_public_result_and_analysis_has_its_api_page(site: Path) -> None:
+    """The names of ``import resonant`` and every result type and analysis function of
+    resonant.analyses have a page of their own: under ``resonant.NAME`` where the package
+    names them, else under their module (docs/_ext/public_names.py, HOME_PAGES)."""
+    import inspect
+
+    import resonant
+
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    import public_names
+
+    pages = {p.stem for p in (site / "generated").glob("*.html")}
+    public = {getattr(resonant, n) for n in resonant.__all__ if n != "__version__"}
+    for name in resonant.__all__:
+        obj = getattr(resonant, name, None)
+        if inspect.isfunction(obj) or inspect.isclass(obj):
+            assert f"resonant.{name}" in pages, name
+    homes = {f"{module}.{name}" for module, names in public_names.HOME_PAGES.items()
+             for name in names}
+    missing = [name for name, obj in _results_and_analyses().items()
+               if obj not in public and name not in homes]
+    assert not missing, f"no API page for {missing}: add them to HOME_PAGES and docs/api.rst"
+    assert not homes - pages, sorted(homes - pages)
+    for name in ("RandomResponse", "ShockSpectrum", "PeriodicResponse", "SpectralFatigue",
+                 "RainflowDamage", "TransientResponse", "PeriodicSolution", "SweptState"):
+        assert any(page.endswith(f".{name}") for page in pages), name
+
+
+def test_returns_link_to_the_result_and_types_to_numpy(site: Path) -> None:
+    """"Returns: RandomResponse" is a link to its page; numpy's and matplotlib's types
+    link to their references through the inventories made offline."""
+    page = (site / "generated" / "resonant.analyses.random_response.random_response.html"
+            ).read_text(encoding="utf-8")
+    returns = page.split('Returns<span class="colon">:</span>')[1][:600]
+    assert 'href="resonant.analyses.random_response.RandomResponse.html' in returns
+    texts = "".join(p.read_text(encoding="utf-8") for p in (site / "generated").glob("*.html"))
+    assert "https://numpy.org/doc/stable/reference/generated/numpy.ndarray.html" in texts
+    assert "https://matplotlib.org/stable/api/_as_gen/matplotlib.figure.Figure.html" in texts
+    assert "https://docs.python.org/3/library/stdtypes.html#str" in texts
+    inventories = site / ".doctrees" / "inventories"
+    assert {p.stem for p in inventories.glob("*.inv")} >= {"numpy", "scipy", "matplotlib"}
+
+
+def test_the_landing_page_has_cards_and_the_site_its_version(site: Path) -> None:
+    import re
+
+    import resonant
+
+    index = (site / "index.html").read_text(encoding="utf-8")
+    article = index.split('<article', 1)[1]
+    cards = re.findall(r'class="[^"]*landing-card', article)
+    assert len(cards) >= 5
+    for target in ("install.html", "first-model.html", "gallery/index.html", "guide.html",
+                   "api.html"):
+        assert f'href="{target}' in article, target
+    # no table of contents of every page on the landing page any more
+    assert len(re.findall(r"<a ", article)) < 40
+    assert f"v{resonant.__version__}" in index
+    # copy buttons, served from the site itself
+    assert (site / "_static" / "copybutton.js").is_file()
+    assert 'src="_static/copybutton.js' in index
+
+
+def test_the_gallery_shows_each_example_its_own_analysis(site: Path) -> None:
+    """A model with [random], [shock], [periodic] or [fatigue] shows that analysis and
+    suggests the command that computes it (resonant solve prints zeros for a random
+    input); the guide's random page shows the densities and an SRS, typeset."""
+    import re
+
+    gallery = site / "gallery"
+    for name, image, command in (
+            ("shaker_gevs", "shaker_gevs_random.png", "resonant random"),
+            ("teaching_miles_shaker", "teaching_miles_shaker_random.png", "resonant random"),
+            ("shock_half_sine", "shock_half_sine_srs_a.png", "resonant srs"),
+            ("periodic_sawtooth", "periodic_sawtooth_periodic.png", "resonant solve"),
+            ("teaching_fourier_square", "teaching_fourier_square_periodic.png",
+             "resonant solve"),
+            ("bracket_fatigue", "bracket_fatigue_fatigue.png", "resonant study"),
+            ("rotating_unbalance", "rotating_unbalance_sweep.png", "resonant sweep")):
+        page = (gallery / f"{name}.html").read_text(encoding="utf-8")
+        text = re.sub(r"<[^>]+>", "", page)
+        assert image in page and (site / "_images" / image).is_file(), name
+        assert command in text, name
+    gevs = re.sub(r"<[^>]+>", "", (gallery / "shaker_gevs.html").read_text(encoding="utf-8"))
+    assert "resonant solve" not in gevs
+    sections = {s for p in (ROOT / "examples").glob("*.toml")
+                for s in ("random", "shock", "periodic", "fatigue")
+                if f"\n[{s}]" in p.read_text(encoding="utf-8")}
+    assert sections == {"random", "shock", "periodic", "fatigue"}
+    random = (site / "random.html").read_text(encoding="utf-8")
+    for image in ("shaker_gevs_random.png", "shock_half_sine_srs.png"):
+        assert image in random, image
+    prose = re.sub(r"<[^>]+>", "", random.split("<pre", 1)[0])
+    assert random.count('class="m"') > 40
+    for ascii_math in ("integral of", "sqrt(m2/m0)", "sum_jl"):
+        assert ascii_math not in re.sub(r"<[^>]+>", "", random), ascii_math
+    assert prose
+    exercise = (site / "reference-exercise.html").read_text(encoding="utf-8")
+    assert exercise.count('class="math-display"') >= 20
+    assert "d^2 T / (dq_i' dq_j')" not in exercise
+
+
+NAVIGATION = """() => {
+  const header = [...document.querySelectorAll('.bd-header .navbar-header-items__start '
+      + '.nav-link, .bd-header .navbar-nav .nav-link')].filter(a => a.offsetParent !== null);
+  const links = header.map(a => [a.textContent.trim(), a.getBoundingClientRect().height]);
+  const line = parseFloat(getComputedStyle(header[0]).lineHeight) || 24;
+  const side = [...document.querySelectorAll('.bd-sidebar-primary nav a')]
+      .filter(a => a.offsetParent !== null).map(a => a.textContent.trim());
+  const more = [...document.querySelectorAll('.bd-header .navbar-nav .dropdown-toggle')]
+      .filter(a => a.offsetParent !== null).length;
+  return {links, line, side, more};
+}"""
+
+TABLES = """() => [...document.querySelectorAll('article table')].map(t => {
+  const box = t.closest('.pst-scrollable-table-container') || t.parentElement;
+  const last = [...t.querySelectorAll('tr')].map(r => r.lastElementChild)
+      .filter(c => c).map(c => c.getBoundingClientRect().right);
+  return {right: Math.max(...last), edge: box.getBoundingClientRect().right,
+          scrolls: box.scrollWidth > box.clientWidth + 1};
+})"""
+
+
+@pytest.fixture(scope="module")
+def chromium() -> Any:
+    path = Path("/usr/bin/chromium")
+    if not path.exists():
+        pytest.skip("Debian's chromium (/usr/bin/chromium) is not installed")
+    api = pytest.importorskip("playwright.sync_api")
+    with api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=str(path), args=[
+            "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking"])
+        try:
+            yield browser
+        finally:
+            browser.close()
+
+
+def test_the_header_shows_every_section_on_one_line_and_the_sidebar_its_pages(
+        site: Path, chromium: Any) -> None:
+    """At 1280 px the header's entries (guide, gallery, API reference, ...) are all shown,
+    none wraps, none is hidden under "More"; a guide page's left sidebar lists the
+    guide's pages; the reference's long table (errors.md) is not cut off."""
+    page = chromium.new_page(viewport={"width": 1280, "height": 900})
+    try:
+        page.goto((site / "sweeps.html").as_uri())
+        nav = page.evaluate(NAVIGATION)
+        page.goto((site / "errors.html").as_uri())
+        errors = page.evaluate(NAVIGATION)
+        tables = page.evaluate(TABLES)
+    finally:
+        page.close()
+    names = [name for name, _ in nav["links"]]
+    for entry in ("User guide", "Gallery", "API reference", "Reference"):
+        assert entry in names, names
+    assert nav["more"] == 0, "an entry is hidden under More"
+    assert all(height < 1.6 * nav["line"] for _, height in nav["links"]), nav["links"]
+    assert {"Model files", "Frequency sweeps", "Units"} & set(nav["side"]) or \
+        len(nav["side"]) >= 8, nav["side"]
+    assert len(nav["side"]) >= 8 and len(errors["side"]) >= 5, (nav["side"], errors["side"])
+    assert tables
+    for table in tables:
+        assert table["right"] <= table["edge"] + 1 or table["scrolls"], table
+
+
+@pytest.mark.parametrize("width", [375, 1280])
+def test_the_error_tables_fit_without_cutting_a_column(site: Path, chromium: Any,
+                                                       width: int) -> None:
+    page = chromium.new_page(viewport={"width": width, "height": 900})
+    try:
+        page.goto((site / "errors.html").as_uri())
+        tables = page.evaluate(TABLES)
+    finally:
+        page.close()
+    cut = [t for t in tables if t["right"] > t["edge"] + 1 and not t["scrolls"]]
+    assert not cut, cut
+    if width == 1280:  # on a laptop the four columns fit: nothing to scroll
+        assert not [t for t in tables if t["scrolls"]], tables
+
+
+def test_the_long_references_are_split_into_pages(site: Path) -> None:
+    """performance.md was one page of 55,000 px: the overview keeps the targets and the
+    sections benchmarks/run.py writes, each other area has its page, linked from it."""
+    import re
+
+    overview = (site / "performance.html").read_text(encoding="utf-8")
+    areas = sorted(site.glob("performance-*.html"))
+    assert len(areas) >= 4
+    for page in areas:
+        assert f'href="{page.name}"' in overview, page.name
+    text = len(re.sub(r"<[^>]+>", "", overview.split("<article", 1)[1]))
+    assert text < 60_000, text

@@ -243,3 +243,52 @@ def test_the_mechanism_stays_in_view_on_a_phone(browser: Any,  # noqa: F811
         assert mechanism["y"] >= -0.5 and mechanism["y"] + mechanism["height"] <= 740
         assert slider["y"] >= mechanism["y"] + mechanism["height"], "the mechanism covers it"
         assert slider["y"] + slider["height"] <= 740
+
+
+@pytest.fixture(scope="module")
+def quarter_car(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    target = tmp_path_factory.mktemp("quarter") / "quarter_car.html"
+    status, _, err = run_cli(["explore", PARTS.parent / "quarter_car.toml", "-o", target])
+    assert status == 0, err
+    return target
+
+
+@pytest.mark.parametrize("typed, end", [("-5", 0), ("1e6", 1000)])
+def test_a_typed_value_beyond_the_range_moves_the_slider_to_it(
+        browser: Any, written: dict[str, Path], typed: str, end: int) -> None:  # noqa: F811
+    """k = -5 (or 1e6) typed in the field: the page computes with it and the slider's range
+    extends to it, so the slider stands at that end (it stayed in the middle)."""
+    with opened(browser, written["cart_pendulum"], width=375) as page:
+        p = page.page
+        p.locator('input.value[data-name="k"]').fill(typed)
+        assert page.state()["parameters"]["k"] == float(typed)
+        assert _control(p, "k")["slider"] == end
+        # the slider moves within the extended range, back towards the file's value
+        slider = p.locator('input[type=range][data-name="k"]')
+        slider.focus()
+        slider.press("ArrowRight" if end == 0 else "ArrowLeft")
+        k = page.state()["parameters"]["k"]
+        assert (k > float(typed)) if end == 0 else (k < float(typed))
+
+
+def test_two_letter_names_are_a_letter_with_its_index(browser: Any,  # noqa: F811
+                                                      quarter_car: Path) -> None:
+    """ks, cs, kt are written k_s, c_s, k_t (an italic letter, an upright subscript)."""
+    with opened(browser, quarter_car) as page:
+        names = page.page.evaluate("""() => [...document.querySelectorAll('#sliders .name')]
+            .map(n => [n.getAttribute('title'), n.querySelector('i').textContent,
+                       (n.querySelector('sub') || {}).textContent || ''])""")
+    shown = {title: (base, sub) for title, base, sub in names}
+    for name in ("ks", "cs", "kt"):
+        if name in shown:
+            assert shown[name] == (name[0], name[1]), shown
+    assert {"ks", "cs"} <= set(shown), shown
+
+
+def test_the_motion_heading_is_shown_on_a_phone(browser: Any,  # noqa: F811
+                                                written: dict[str, Path]) -> None:
+    with opened(browser, written["cart_pendulum"], width=375) as page:
+        heading = page.page.locator("#motion-heading")
+        assert heading.is_visible() and heading.inner_text() == "Motion"
+        box = heading.bounding_box()
+        assert box is not None and box["height"] > 8

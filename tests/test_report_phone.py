@@ -135,3 +135,75 @@ def test_the_report_reads_like_a_textbook(reports: dict[str, Path]) -> None:
                 and "= 0" in ln)
     fourth, second = line.find(r"\omega_{n}^{4}"), line.find(r"\omega_{n}^{2}", 30)
     assert 0 < fourth < second, line
+
+
+PHONE = """() => ({
+  equations: [...document.querySelectorAll('.equation .body')].map(b => {
+    const style = getComputedStyle(b);
+    return {hidden: b.scrollWidth - b.clientWidth, font: parseFloat(style.fontSize),
+            text: parseFloat(getComputedStyle(document.querySelector('p')).fontSize),
+            cue: style.backgroundImage.includes('radial-gradient'),
+            scrolls: ['auto', 'scroll'].includes(style.overflowX)};
+  }),
+  figures: [...document.querySelectorAll('figure svg')].map(svg => {
+    const scale = svg.getBoundingClientRect().width / svg.viewBox.baseVal.width;
+    const box = svg.parentElement, style = getComputedStyle(box);
+    return {text: Math.min(...[...svg.querySelectorAll('text')].map(
+              t => parseFloat(t.getAttribute('font-size') || '10') * scale)),
+            hidden: box.scrollWidth - box.clientWidth,
+            cue: style.backgroundImage.includes('radial-gradient'),
+            scrolls: ['auto', 'scroll'].includes(style.overflowX)};
+  }),
+  tables: [...document.querySelectorAll('table')].map(t => {
+    const box = t.parentElement, style = getComputedStyle(box);
+    return {hidden: box.scrollWidth - box.clientWidth,
+            cue: style.backgroundImage.includes('radial-gradient'),
+            scrolls: ['auto', 'scroll'].includes(style.overflowX)};
+  })})"""
+
+
+@pytest.mark.parametrize("name", [m.stem for m in MODELS])
+def test_on_a_phone_nothing_is_clipped_without_a_cue(browser: Any, reports: dict[str, Path],
+                                                     name: str) -> None:
+    """At 375 px a formula wider than the screen is first set smaller (down to 0.7 of the
+    text); one still wider scrolls in its box with a visible cue (shadows at the edges
+    where more of it lies), never cut silently; figure text is at least 9 px."""
+    page = browser.new_page(viewport={"width": 375, "height": 900})
+    try:
+        page.goto(reports[name].resolve().as_uri())
+        found = page.evaluate(PHONE)
+    finally:
+        page.close()
+    equations = found["equations"]
+    assert any(eq["font"] < eq["text"] - 0.5 for eq in equations), "no formula was scaled"
+    for k, eq in enumerate(equations):
+        assert eq["font"] >= 0.7 * eq["text"] - 0.5, f"formula {k + 1} is set too small"
+        if eq["hidden"] > 1:
+            assert eq["scrolls"] and eq["cue"], f"formula {k + 1} is cut with no cue: {eq}"
+            assert eq["font"] <= 0.7 * eq["text"] + 0.5, f"formula {k + 1} scrolls unscaled"
+    assert found["figures"]
+    for figure in found["figures"]:
+        assert figure["text"] >= 9 - 0.05, figure
+        if figure["hidden"] > 1:
+            assert figure["scrolls"] and figure["cue"], figure
+    for table in found["tables"]:
+        if table["hidden"] > 1:
+            assert table["scrolls"] and table["cue"], table
+
+
+def test_units_in_tables_are_typeset(tmp_path: Path) -> None:
+    """The random section's table writes m/s² (HTML: a superscript, Markdown: ², LaTeX:
+    \\textsuperscript), never the typed m/s^2 or TeX's \\textasciicircum."""
+    model = EXAMPLES / "shaker_gevs.toml"
+    written = {}
+    for suffix in ("html", "md", "tex"):
+        target = tmp_path / f"gevs.{suffix}"
+        status, _, err = run_cli(["report", model, "--no-plots", "-o", target])
+        assert status == 0, err
+        written[suffix] = target.read_text(encoding="utf-8")
+    assert "m/s<sup>2</sup>" in written["html"]
+    assert "m/s²" in written["md"]
+    assert r"m/s\textsuperscript{2}" in written["tex"]
+    for text in written.values():
+        outside_math = re.sub(r"\$[^$]*\$|<svg.*?</svg>|<math.*?</math>", "", text, flags=re.S)
+        assert "m/s^2" not in outside_math and r"\textasciicircum" not in outside_math

@@ -5,7 +5,9 @@ or ``backbone`` inside its own module); the API reference documents the public n
 (``resonant.sweep``).  A reference Sphinx cannot find is resolved here:
 
 * to the public page of the same object (``resonant.NAME`` or
-  ``resonant.exercises.NAME``), found by identity, not by name;
+  ``resonant.exercises.NAME``), found by identity, not by name; or, for the results and
+  analyses that ``import resonant`` does not name (:data:`HOME_PAGES`: the loads beyond a
+  sine, fatigue, the nonlinear steady state), to their page under their own module;
 * to the online reference of the standard library, numpy and scipy (a link; nothing is
   fetched while building);
 * else, for an object of resonant that has no page of its own (an internal helper: the
@@ -21,6 +23,28 @@ import importlib
 from typing import Any
 
 from docutils import nodes
+
+#: module -> the results and analyses documented under their own module (docs/api.rst):
+#: every result type and analysis function of resonant.analyses that ``import resonant``
+#: does not name (tests/test_docs_site.py checks that together with resonant.__all__ they
+#: are every result and every function returning one)
+HOME_PAGES: dict[str, tuple[str, ...]] = {
+    "resonant.analyses.random_response": ("random_response", "RandomResponse"),
+    "resonant.analyses.periodic_load": ("fourier_series", "FourierSeries", "periodic_response",
+                                        "periodic_load_response", "PeriodicResponse"),
+    "resonant.analyses.shock": ("pulse", "shock_response_spectrum", "ShockSpectrum"),
+    "resonant.analyses.transient": ("transient_response", "shock_response",
+                                    "TransientResponse"),
+    "resonant.analyses.fatigue": ("SNCurve", "spectral_fatigue", "SpectralFatigue",
+                                  "rainflow_damage", "RainflowDamage"),
+    "resonant.analyses.periodic": ("periodic_solution", "PeriodicSolution"),
+    "resonant.analyses.slow_sweep": ("swept_state", "SweptState"),
+    "resonant.analyses.harmonic_balance": ("nonlinear_sweep", "full_sweep"),
+    "resonant.analyses.condensed": ("condensed_sweep",),
+    "resonant.analyses.backbone": ("backbone", "BackboneCurve"),
+    "resonant.analyses.special_points": ("SpecialPoint",),
+    "resonant.analyses.stationary": ("HarmonicResponse",),
+}
 
 #: online references of the libraries the docstrings mention (no intersphinx: the build
 #: runs without network)
@@ -59,6 +83,11 @@ def _public_name(obj: Any) -> str | None:
         for name in getattr(package, "__all__", ()):
             if getattr(package, name, None) is obj:
                 return f"{package.__name__}.{name}"
+    for module, names in HOME_PAGES.items():
+        home = importlib.import_module(module)
+        for name in names:
+            if getattr(home, name, None) is obj:
+                return f"{module}.{name}"
     return None
 
 

@@ -16,6 +16,8 @@ the page itself never scrolls sideways.
 from __future__ import annotations
 
 import html
+import re
+from collections.abc import Callable
 
 from ..errors import printable
 from ..expressions.mathml import SvgMath
@@ -36,6 +38,56 @@ from .plots import to_svg
 def _text(text: str) -> str:
     """Model text for HTML: control and bidi characters shown as escapes, then HTML-escaped."""
     return html.escape(printable(text, limit=None))
+
+
+#: a power in a unit of a table cell (m/s^2, (m/s^2)^2/Hz, s^-1), after a letter or ")"
+POWER = re.compile(r"(?<=[A-Za-z)])\^(?:\((-?[0-9]+)\)|(-?[0-9]+))")
+
+
+def _cell_text(text: str) -> str:
+    """A table cell's text for HTML: escaped, a unit's powers raised (``m/s^2`` ->
+    m/s<sup>2</sup>) and its products dotted (``N*s/m`` -> N·s/m)."""
+    escaped = _text(text)
+    escaped = re.sub(r"(?<=[A-Za-z])\*(?=[A-Za-z])", "\u00b7", escaped)
+    return POWER.sub(lambda m: f"<sup>{m.group(1) or m.group(2)}</sup>", escaped)
+
+
+_WIDTH = re.compile(r'<svg class="m"[^>]*? width="([0-9.]+)em"')
+
+
+def display_width(drawn: str) -> float:
+    """The width of a drawn display formula in em: its pieces side by side, with the
+    spaces between them (what a phone's CSS scales it by, ``--w``).
+
+    Examples
+    --------
+    >>> display_width('<svg class="m" width="2.5em"></svg><svg class="m" width="1em">')
+    3.5
+    """
+    pieces = sum(float(w) for w in _WIDTH.findall(drawn))
+    return pieces + 1.2 * drawn.count("g-quad") + 0.35 * drawn.count("g-space")
+
+
+#: the smallest figure text a reader is shown (px)
+LEGIBLE_TEXT = 9.0
+_VIEWBOX = re.compile(r'viewBox="[-0-9.]+ [-0-9.]+ ([0-9.]+) [0-9.]+"')
+_TEXT_SIZE = re.compile(r'<text [^>]*?font-size="([0-9.]+)"')
+
+
+def legible_width(svg: str) -> float:
+    """The width (px) at which a drawn chart's smallest text is :data:`LEGIBLE_TEXT`
+    high: its viewBox width scaled by 9 over its smallest text size (0 if none).
+
+    Examples
+    --------
+    >>> legible_width('<svg viewBox="0 0 504 300"><text x="1" font-size="10">a</text></svg>')
+    453.6
+    """
+    box = _VIEWBOX.search(svg)
+    sizes = [float(size) for size in _TEXT_SIZE.findall(svg)]
+    if box is None or not sizes:
+        return 0.0
+    return float(box.group(1)) * LEGIBLE_TEXT / min(sizes)
 
 
 CSS = """
@@ -66,6 +118,7 @@ svg.glyphs { position: absolute; width: 0; height: 0; overflow: hidden; }
 .equation .body > math { margin: 0 auto; overflow-x: auto; max-width: 100%; }
 .equation .number { flex: 0 0 auto; color: #444; min-width: 2.8rem; text-align: right; }
 table { border-collapse: collapse; margin: .8rem auto; min-width: 50%; }
+.table-scroll { max-width: 100%; overflow-x: auto; }
 th, td { padding: .3rem .9rem; text-align: left; }
 thead th { border-top: 2px solid #333; border-bottom: 1px solid #333; font-weight: 600; }
 tbody tr:last-child td { border-bottom: 2px solid #333; }
@@ -81,13 +134,44 @@ code { font-family: "DejaVu Sans Mono", monospace; font-size: .9em; }
   p { text-align: left; }
   .equation { gap: .4rem; }
   .equation .number { min-width: 0; }
+  /* a formula wider than the phone is set smaller to fit (its width in em is --w), down
+     to 0.7 of the text; one wider still scrolls in its own box, and shadows at the edges
+     where more of it lies show that it does (the page itself never scrolls sideways) */
   .equation .body { overflow-x: auto; overflow-y: hidden; white-space: nowrap; position: relative;
-    text-align: left; padding-bottom: .4rem; }
+    text-align: left; padding-bottom: .4rem;
+    font-size: clamp(0.7em, calc((100vw - 5.2rem) / var(--w, 1)), 1em);
+    background:
+      linear-gradient(to right, #fff 40%, rgba(255,255,255,0)) left / 1.5rem 100% no-repeat local,
+      linear-gradient(to left, #fff 40%, rgba(255,255,255,0)) right / 1.5rem 100% no-repeat local,
+      radial-gradient(farthest-side at 0 50%, rgba(0,0,0,.4), rgba(0,0,0,0))
+        left / .9rem 100% no-repeat scroll,
+      radial-gradient(farthest-side at 100% 50%, rgba(0,0,0,.4), rgba(0,0,0,0))
+        right / .9rem 100% no-repeat scroll; }
   .equation .body .mp { max-width: none; }
   .equation .body wbr { display: none; }
   .equation .body svg.m { max-width: none; }
   table { min-width: 0; font-size: .95rem; }
   th, td { padding: .25rem .5rem; }
+  /* a figure is never drawn so small that its text is below 9 px (--legible, the width
+     at which it is, from html.py); narrower than that it scrolls in its own box, with
+     shadows at the edges where more of it lies */
+  figure .plot { overflow-x: auto; overflow-y: hidden;
+    background:
+      linear-gradient(to right, #fff 40%, rgba(255,255,255,0)) left / 1.5rem 100% no-repeat local,
+      linear-gradient(to left, #fff 40%, rgba(255,255,255,0)) right / 1.5rem 100% no-repeat local,
+      radial-gradient(farthest-side at 0 50%, rgba(0,0,0,.4), rgba(0,0,0,0))
+        left / .9rem 100% no-repeat scroll,
+      radial-gradient(farthest-side at 100% 50%, rgba(0,0,0,.4), rgba(0,0,0,0))
+        right / .9rem 100% no-repeat scroll; }
+  figure .plot svg { min-width: var(--legible, 0); }
+  .table-scroll {
+    background:
+      linear-gradient(to right, #fff 40%, rgba(255,255,255,0)) left / 1.5rem 100% no-repeat local,
+      linear-gradient(to left, #fff 40%, rgba(255,255,255,0)) right / 1.5rem 100% no-repeat local,
+      radial-gradient(farthest-side at 0 50%, rgba(0,0,0,.4), rgba(0,0,0,0))
+        left / .9rem 100% no-repeat scroll,
+      radial-gradient(farthest-side at 100% 50%, rgba(0,0,0,.4), rgba(0,0,0,0))
+        right / .9rem 100% no-repeat scroll; }
 }
 @media print {
   body { background: #fff; font-size: 11pt; }
@@ -101,8 +185,8 @@ code { font-family: "DejaVu Sans Mono", monospace; font-size: .9em; }
 def render_html(report: Report) -> str:
     math = SvgMath()
 
-    def _inline(parts: tuple[Part, ...]) -> str:
-        return "".join(math.inline(p.latex) if isinstance(p, Math) else _text(p)
+    def _inline(parts: tuple[Part, ...], text: Callable[[str], str] = _text) -> str:
+        return "".join(math.inline(p.latex) if isinstance(p, Math) else text(p)
                        for p in parts)
 
     out = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
@@ -119,18 +203,24 @@ def render_html(report: Report) -> str:
             out.append(f"<p>{_inline(block.parts)}</p>")
         elif isinstance(block, Equation):
             number = f"({block.number})" if block.number is not None else ""
-            out.append(f'<div class="equation"><div class="body">{math.display(block.latex)}'
-                       f'</div><div class="number">{number}</div></div>')
+            drawn = math.display(block.latex)
+            out.append(f'<div class="equation"><div class="body" style="--w: '
+                       f'{display_width(drawn):.2f}">{drawn}</div><div class="number">'
+                       f"{number}</div></div>")
         elif isinstance(block, Table):
-            head = "".join(f"<th>{_inline(c)}</th>" for c in block.header)
-            rows = "".join("<tr>" + "".join(f"<td>{_inline(c)}</td>" for c in row) + "</tr>"
-                           for row in block.rows)
-            out.append(f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>")
+            head = "".join(f"<th>{_inline(c, _cell_text)}</th>" for c in block.header)
+            rows = "".join("<tr>" + "".join(f"<td>{_inline(c, _cell_text)}</td>" for c in row)
+                           + "</tr>" for row in block.rows)
+            # a table wider than a phone scrolls in its own box, with a visible cue
+            out.append(f'<div class="table-scroll"><table><thead><tr>{head}</tr></thead>'
+                       f"<tbody>{rows}</tbody></table></div>")
         elif isinstance(block, Note):
             out.append(f'<p class="note"><b>Warning:</b> {_inline(block.parts)}</p>')
         elif isinstance(block, Figure):
-            out.append(f"<figure>{to_svg(block.plot, block.number)}<figcaption>Figure "
-                       f"{block.number}: {_text(block.caption)}</figcaption></figure>")
+            svg = to_svg(block.plot, block.number)
+            out.append(f'<figure><div class="plot" style="--legible: {legible_width(svg):.0f}px">'
+                       f"{svg}</div><figcaption>Figure {block.number}: "
+                       f"{_text(block.caption)}</figcaption></figure>")
     out[out.index("<body>") + 1] = math.glyphs()
     out += ["</main>", "</body>", "</html>"]
     return "\n".join(out) + "\n"

@@ -6,6 +6,7 @@ Figures are written as PDF files next to the ``.tex`` file and included with
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from .blocks import (
@@ -53,8 +54,37 @@ def escape(text: str) -> str:
     return "".join(out)
 
 
-def _inline(parts: tuple[Part, ...]) -> str:
-    return "".join("$" + p.latex + "$" if isinstance(p, Math) else escape(p) for p in parts)
+#: a power in a unit (m/s^2, (m/s^2)^2/Hz, s^-1), after a letter or ")"
+_POWER = re.compile(r"(?<=[A-Za-z)])\^(?:\((-?[0-9]+)\)|(-?[0-9]+))")
+
+
+def cell_text(text: str) -> str:
+    r"""A table cell's text for LaTeX: escaped, a unit's powers raised and its products
+    dotted (``m/s^2`` -> ``m/s\textsuperscript{2}``, ``N*s/m`` -> ``N$\cdot$s/m``).
+
+    Examples
+    --------
+    >>> print(cell_text("219.7 m/s^2"), cell_text("N*s/m"), cell_text("a_b"))
+    219.7 m/s\textsuperscript{2} N$\cdot$s/m a\_b
+    """
+    out, last = [], 0
+    for match in _POWER.finditer(text):
+        out.append(_dotted(text[last:match.start()]))
+        out.append(rf"\textsuperscript{{{match.group(1) or match.group(2)}}}")
+        last = match.end()
+    out.append(_dotted(text[last:]))
+    return "".join(out)
+
+
+def _dotted(text: str) -> str:
+    """Escaped, a product of units (``N*s``) with a centred dot."""
+    return r"$\cdot$".join(escape(piece) for piece in re.split(r"(?<=[A-Za-z])\*(?=[A-Za-z])",
+                                                               text))
+
+
+def _inline(parts: tuple[Part, ...], cell: bool = False) -> str:
+    text = cell_text if cell else escape
+    return "".join("$" + p.latex + "$" if isinstance(p, Math) else text(p) for p in parts)
 
 
 def render_latex(report: Report, figure_path: Path | None = None) -> str:
@@ -73,8 +103,8 @@ def render_latex(report: Report, figure_path: Path | None = None) -> str:
         elif isinstance(block, Table):
             columns = "l" * len(block.header)
             lines = [r"\begin{center}", rf"\begin{{tabular}}{{{columns}}}", r"\hline",
-                     " & ".join(_inline(c) for c in block.header) + r" \\", r"\hline"]
-            lines += [" & ".join(_inline(c) for c in row) + r" \\" for row in block.rows]
+                     " & ".join(_inline(c, True) for c in block.header) + r" \\", r"\hline"]
+            lines += [" & ".join(_inline(c, True) for c in row) + r" \\" for row in block.rows]
             lines += [r"\hline", r"\end{tabular}", r"\end{center}"]
             out.append("\n".join(lines))
         elif isinstance(block, Note):

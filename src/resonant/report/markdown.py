@@ -30,13 +30,30 @@ def _escape(text: str) -> str:
     return _SPECIAL.sub(r"\\\1", printable(text, limit=None))
 
 
-def _inline(parts: tuple[Part, ...]) -> str:
+#: a power in a unit (m/s^2, (m/s^2)^2/Hz, s^-1), after a letter or ")"
+_POWER = re.compile(r"(?<=[A-Za-z)])\^(?:\((-?[0-9]+)\)|(-?[0-9]+))")
+_SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+
+
+def unit_text(text: str) -> str:
+    """A table cell's units typeset as text: powers raised, products dotted.
+
+    Examples
+    --------
+    >>> unit_text("219.7 m/s^2"), unit_text("(m/s^2)^2/Hz"), unit_text("N*s/m")
+    ('219.7 m/s²', '(m/s²)²/Hz', 'N·s/m')
+    """
+    text = re.sub(r"(?<=[A-Za-z])\*(?=[A-Za-z])", "\u00b7", text)
+    return _POWER.sub(lambda m: (m.group(1) or m.group(2)).translate(_SUPERSCRIPT), text)
+
+
+def _inline(parts: tuple[Part, ...], cell: bool = False) -> str:
     out = []
     for part in parts:
         if isinstance(part, Math):
             out.append("$" + part.latex + "$")
         else:
-            out.append(_escape(part))
+            out.append(_escape(unit_text(part) if cell else part))
     return "".join(out)
 
 
@@ -55,10 +72,10 @@ def render_markdown(report: Report, figure_path: Path | None = None) -> str:
             tag = rf" \tag{{{block.number}}}" if block.number is not None else ""
             lines += ["$$", _one_line(block.latex) + tag, "$$", ""]
         elif isinstance(block, Table):
-            lines.append("| " + " | ".join(_inline(c) for c in block.header) + " |")
+            lines.append("| " + " | ".join(_inline(c, True) for c in block.header) + " |")
             lines.append("|" + "---|" * len(block.header))
             for row in block.rows:
-                lines.append("| " + " | ".join(_inline(c) for c in row) + " |")
+                lines.append("| " + " | ".join(_inline(c, True) for c in row) + " |")
             lines.append("")
         elif isinstance(block, Note):
             lines += ["> **Warning:** " + _inline(block.parts), ""]

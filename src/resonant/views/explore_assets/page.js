@@ -52,6 +52,9 @@
   // LaTeX of a name (x_{1}, \varphi, \mathrm{stroke}) as [base, subscript] in Unicode
   const GREEK = { alpha: "α", beta: "β", gamma: "γ", delta: "δ", epsilon: "ε", varepsilon: "ε", zeta: "ζ", eta: "η", theta: "θ", vartheta: "ϑ", iota: "ι", kappa: "κ", lambda: "λ", mu: "μ", nu: "ν", xi: "ξ", pi: "π", rho: "ρ", sigma: "σ", tau: "τ", upsilon: "υ", phi: "ϕ", varphi: "φ", chi: "χ", psi: "ψ", omega: "ω", Gamma: "Γ", Delta: "Δ", Theta: "Θ", Lambda: "Λ", Xi: "Ξ", Pi: "Π", Sigma: "Σ", Phi: "Φ", Psi: "Ψ", Omega: "Ω" };
   function latexText(text) {
+    // a two-letter name (ks, cs, kt) is a letter with a one-letter index, as k_s is written
+    const pair = text.match(/^\\mathrm\{([A-Za-z])([A-Za-z])\}$/);
+    if (pair && !GREEK[pair[1] + pair[2]]) return [pair[1], pair[2], ""];
     let t = text.replace(/\\mathrm\{([^{}]*)\}/g, "$1").replace(/\\([A-Za-z]+)/g, (m, g) => GREEK[g] || g);
     const m = t.match(/^(.*?)_\{([^{}]*)\}(.*)$/);
     return m ? [m[1], m[2], m[3]] : [t, "", ""];
@@ -417,8 +420,20 @@
   // -- controls ------------------------------------------------------------------------------
   const controlsOf = [];
   function toSlider(c, x) {
-    const t = c.log ? Math.log(x / c.from) / Math.log(c.to / c.from) : (x - c.from) / (c.to - c.from);
+    let t = c.log ? Math.log(x / c.from) / Math.log(c.to / c.from) : (x - c.from) / (c.to - c.from);
+    // a value a log slider cannot show (0 or negative) sits at its lower end, not the middle
+    if (Number.isNaN(t)) t = 0;
     return Math.round(1000 * Math.min(1, Math.max(0, t)));
+  }
+  // a typed value beyond the slider's range extends the range to it (a log slider that
+  // must reach 0 or below becomes linear), so that the slider shows where the value is
+  function extendRange(c, x) {
+    const lo = Math.min(c.from, c.to), hi = Math.max(c.from, c.to);
+    if (!(x < lo || x > hi)) return false;
+    if (c.log && x <= 0) c.log = false;
+    const up = c.from <= c.to;
+    if ((x < lo) === up) c.from = x; else c.to = x;
+    return true;
   }
   function fromSlider(c, pos) {
     const t = pos / 1000;
@@ -471,6 +486,10 @@
         const x = parseNumber(field.value);
         if (x === null) { fieldError(i, complaint(i, field.value, false)); return; }
         fieldError(i, "");
+        // the frequency's range is also the response plot's band: it stays, with the arrow
+        if (!c.frequency && extendRange(c, x * c.factor)) {
+          range.setAttribute("aria-label", `${c.name}, range extended to ${fmt(Math.min(c.from, c.to) / c.factor)} … ${fmt(Math.max(c.from, c.to) / c.factor)}`);
+        }
         setValue(i, x * c.factor, true);
       });
       // leaving the field (Enter, Tab): an invalid entry goes back to the last valid value,
