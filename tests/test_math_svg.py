@@ -1,4 +1,4 @@
-"""Formulas drawn as SVG for the HTML report (views.mathml): pieces, glyphs, fallbacks."""
+"""Formulas drawn as SVG for the HTML report (expressions.mathml): pieces, glyphs, fallbacks."""
 
 from __future__ import annotations
 
