@@ -60,7 +60,7 @@ from ..charts import (
 )
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
-from ..model.load_spec import PULSES
+from ..model.pulses import PULSE_KINDS, PULSES
 from ..tables import ResultTable, number_column
 from .results_json import Saved
 
@@ -130,21 +130,7 @@ def pulse(kind: str, amplitude: float, duration: float, step: float,
                             f"{MAX_SAMPLES}: a larger step or a shorter duration")
     count = int(round(ratio)) + 1
     t = np.arange(count) * step
-    inside = t <= duration * (1 + 1e-12)
-    a = np.zeros(count)
-    if kind == "half-sine":
-        a[inside] = amplitude * np.sin(np.pi * t[inside] / duration)
-    elif kind == "haversine":
-        a[inside] = amplitude * np.sin(np.pi * t[inside] / duration) ** 2
-    elif kind == "sawtooth":
-        a[inside] = amplitude * t[inside] / duration
-    elif kind == "rectangular":
-        a[inside] = amplitude
-    elif kind == "step":
-        a[:] = amplitude
-    else:
-        a[1] = amplitude / step
-    a[np.abs(a) < 1e-300] = 0.0
+    a = PULSE_KINDS[kind].samples(t, amplitude, duration, step)
     return t, a
 
 

@@ -61,10 +61,9 @@ from typing import Any
 from ..errors import Problem, printable
 from ..expressions import Expression, ExpressionError, parse
 from .limits import MAX_FREQUENCY_HZ
+from .pulses import PULSES
 from .units import Dimension, ModelUnits, UnitError, parse_unit
 
-#: the pulses of ``[shock]`` (resonant.analyses.shock.pulse makes them)
-PULSES = ("half-sine", "haversine", "sawtooth", "rectangular", "step", "impulse")
 #: the periodic shapes of ``[periodic]`` with closed-form Fourier coefficients
 #: (resonant.analyses.periodic_load)
 SHAPES = ("square", "sawtooth", "triangle", "rectified-sine")

@@ -18,6 +18,7 @@ from ...analyses.simulate import history_chart
 from ...analyses.transient import shock_response
 from ...errors import ResonantError
 from ...expressions.notation import number_latex
+from ...model.pulses import PULSE_KINDS
 from ...model.units import Dimension
 from ...model.units_display import result_units
 from ..blocks import Block, Heading, Note, Table, cell, paragraph
@@ -202,10 +203,6 @@ def random_load(ctx: Context) -> list[Block]:
     return blocks
 
 
-_PULSES = {"half-sine": "a half-sine", "haversine": "a haversine", "sawtooth": "a sawtooth",
-           "rectangular": "a rectangular", "step": "a step", "impulse": "an impulse"}
-
-
 def _input_unit(ctx: Context, name: str, derivative: int) -> str:
     """The SI unit of a signal's derivative (a force for a coordinate), "" without units."""
     units = ctx.model.units
@@ -244,7 +241,7 @@ def shock_load(ctx: Context) -> list[Block]:
     s = _signal(ctx, spec.signal, spec.derivative)
     unit = _input_unit(ctx, spec.signal, spec.derivative)
     blocks.append(paragraph(
-        "The input ", _m(s), f" is {_PULSES.get(spec.pulse, spec.pulse)} pulse of "
+        "The input ", _m(s), f" is {PULSE_KINDS[spec.pulse].description} pulse of "
         "amplitude ", _m(rf"A = {_n(spec.amplitude)}"), " and duration ",
         _m(rf"\tau = {_n(spec.duration)}\ \mathrm{{s}}"), ". Its shock response spectrum "
         "is the largest absolute acceleration of a single-degree-of-freedom oscillator of "
