@@ -58,7 +58,7 @@ from ..charts import (
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem, printable
 from ..memory import require
-from ..model.measured import MeasuredData
+from ..model.measured import MeasuredData, MeasuredFunction
 from ..model.measurement_spec import ChannelMap, MeasurementSpec, match_channels
 from ..model.random_spec import RandomInput
 from ..system.base import LinearSystem
@@ -185,6 +185,33 @@ class MeasuredFRF:
                    saved.integer("segment", minimum=1), saved.number("step_s"), units,
                    saved.number("added_decay_per_s"), saved.strings("warnings", ()))
 
+    def to_measured(self, source: str = "frf") -> MeasuredData:
+        """The FRFs as measured functions (for :func:`resonant.model.measured.write_uff`).
+
+        Parameters
+        ----------
+        source : str
+            The name the data carries.
+
+        Returns
+        -------
+        MeasuredData
+            One ``"frf"`` function per channel, then one ``"coherence"`` function each.
+
+        Examples
+        --------
+        >>> x = np.random.default_rng(0).standard_normal(2048)
+        >>> estimate_frf(x, {"y": 3 * x}, 0.01, segment=256).to_measured().names
+        ('y', 'y coherence')
+        """
+        f = np.asarray(self.frequency)
+        frfs = [MeasuredFunction(k, "frf", f, np.asarray(h), "Hz", self.units.get(k, ""),
+                                 (n + 1, 3), (0, 3)) for n, (k, h) in enumerate(self.frf.items())]
+        coherences = [MeasuredFunction(f"{k} coherence", "coherence", f,
+                                       np.asarray(self.coherence[k]), "Hz", "", (n + 1, 3),
+                                       (0, 3)) for n, k in enumerate(self.frf)]
+        return MeasuredData(source, tuple(frfs + coherences))
+
     def chart(self, names: Sequence[str] | None = None,
               model: Mapping[str, np.ndarray] | None = None) -> Charts:
         """Magnitude, phase and coherence of the FRFs, the model's beside them.
@@ -272,6 +299,9 @@ class MeasuredFRF:
             lines.append(f"{printable(name, limit=16):<16} {f[k]:>10.4g} {abs(h[k]):>12.4g} "
                          f"{printable(self.units.get(name, ''), limit=10):<10} "
                          f"{self.coherence[name][k]:>9.3f}")
+        if self.added_decay:
+            lines.append(f"the exponential window added the decay {self.added_decay:.6g} 1/s "
+                         "to every mode (identify: added_decay)")
         lines.extend(f"warning: {w}" for w in self.warnings)
         return "\n".join(lines) + "\n"
 

@@ -256,7 +256,8 @@ class ModalIdentification:
             if xs:
                 curves.append(Curve(np.array(xs), np.array(ys, dtype=float), label, color,
                                     marker="point" if flag != "s" else "cross", line=False))
-        rules = tuple(Rule(float(x), label="" if k else "identified", color="#2ca02c")
+        rules = tuple(Rule(float(x), label="" if k else "identified", color="#2ca02c",
+                           dash="1 1.65")
                       for k, x in enumerate(self.frequency))
         top = Chart(tuple(curves), "frequency [Hz]", "model order", xlim, rules=rules,
                     title="stabilization")
@@ -448,7 +449,7 @@ def identify_modes(frequency: np.ndarray, frfs: Mapping[str, Any], *, max_order:
                    derivative: int = 0, near: Sequence[float] | None = None,
                    stable_orders: int = 4, frequency_tolerance: float = FREQUENCY_TOLERANCE,
                    damping_tolerance: float = DAMPING_TOLERANCE,
-                   mac_tolerance: float = MAC_TOLERANCE,
+                   mac_tolerance: float = MAC_TOLERANCE, added_decay: float = 0.0,
                    deadline: Deadline = NO_DEADLINE) -> ModalIdentification:
     """Poles by LSCF with a stabilization chart, then residues and shapes by LSFD.
 
@@ -469,6 +470,10 @@ def identify_modes(frequency: np.ndarray, frfs: Mapping[str, Any], *, max_order:
         How many of the last orders a pole must stay stable in (automatic choice).
     frequency_tolerance, damping_tolerance, mac_tolerance : float
         The stability criteria (module docstring).
+    added_decay : float
+        The decay rate (s^-1) an exponential window added to the FRFs
+        (:attr:`resonant.analyses.frf_estimate.MeasuredFRF.added_decay`): the poles reported
+        are s + added_decay (the fit, of the windowed FRFs, keeps s).
     deadline : Deadline, optional
         Checked between orders.
 
@@ -510,6 +515,10 @@ def identify_modes(frequency: np.ndarray, frfs: Mapping[str, Any], *, max_order:
     errors = {n: float(np.linalg.norm(fitted[k] - H[k]) / np.linalg.norm(H[k]))
               for k, n in enumerate(names)}
     stabilization = Stabilization(tuple(orders), tuple(all_poles), tuple(all_flags), criteria)
+    chosen = chosen + added_decay
+    if (chosen.real >= 0).any():
+        warnings.append("the window's added decay is larger than a pole's: that mode's "
+                        "damping is not known (use a slower exponential window)")
     return ModalIdentification(chosen, np.abs(chosen) / (2 * np.pi),
                                -chosen.real / np.abs(chosen), residues, names, f,
                                {n: H[k] for k, n in enumerate(names)},

@@ -282,7 +282,7 @@ def _check_ending(path: str, name: str, complete: int) -> None:
         handle.seek(0, os.SEEK_END)
         handle.seek(max(0, handle.tell() - 256))
         tail = handle.read().rstrip()
-    if tail.rsplit(b"\n", 1)[-1].strip() != b"-1":
+    if not tail.endswith(b"    -1"):        # (58b: the binary values run up to it)
         raise ModelError(Problem(f"record {complete + 1} is truncated: the file ends inside it "
                                  "(a record ends with a line '    -1')", name))
 
