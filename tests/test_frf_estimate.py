@@ -29,6 +29,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import resonant
 from resonant.analyses.frf_estimate import MeasuredFRF, estimate_frf, model_frf
@@ -201,3 +203,32 @@ def test_bad_samples():
         estimate_frf(x, {"y": y}, 0.01)
     with pytest.raises(ModelError, match="has 1000 samples, the excitation 1024"):
         estimate_frf(x, {"y": x[:1000]}, 0.01)
+
+
+@settings(max_examples=25, deadline=None)
+@given(gain=st.floats(-1e3, 1e3).filter(lambda g: abs(g) > 1e-3),
+       segment=st.integers(16, 512), overlap=st.sampled_from([0.0, 0.25, 0.5, 0.75]),
+       window=st.sampled_from(["hann", "rectangular"]))
+def test_the_three_estimators_agree_without_noise(gain, segment, overlap, window):
+    """y = g x: H1, H2 and Hv are g at every line, the coherence 1 (two routes: the
+    estimators differ only in how they treat noise)."""
+    x = np.random.default_rng(segment).standard_normal(2048)
+    for estimator in ("H1", "H2", "Hv"):
+        r = estimate_frf(x, {"y": gain * x}, 1e-3, estimator=estimator, segment=segment,
+                         overlap=overlap, window=window)
+        np.testing.assert_allclose(r.frf["y"], gain, rtol=1e-9)
+        np.testing.assert_allclose(r.coherence["y"], 1.0, rtol=1e-9)
+
+
+def test_estimate_written_and_read_as_uff(tmp_path):
+    pytest.importorskip("pyuff")
+    from resonant.model.measured import read_uff, write_uff
+
+    x = np.random.default_rng(2).standard_normal(4096)
+    r = estimate_frf(x, {"d3": 0.5 * x}, 1e-3, segment=512, units={"d3": "m/N"})
+    write_uff(tmp_path / "frf.uff", r.to_measured(), binary=True)
+    back = read_uff(tmp_path / "frf.uff")
+    h = back.function("d3")
+    assert h.kind == "frf" and h.ordinate_unit == "m/N"
+    np.testing.assert_allclose(h.ordinate, r.frf["d3"], rtol=1e-15)
+    np.testing.assert_allclose(back.function("d3 coherence").ordinate, 1.0, rtol=1e-12)

@@ -350,23 +350,45 @@ def lscf_poles(frequency: np.ndarray, H: np.ndarray, order: int) -> np.ndarray:
     >>> complex(np.round(p[(p.imag > 0) & (p.real < 0)][0], 4))
     (-1+20j)
     """
-    w = 2 * np.pi * frequency
+    return _lscf_roots(_lscf_sums(frequency, H, order), order)
+
+
+@dataclass(frozen=True)
+class _Sums:
+    """The LSCF's Toeplitz sums for m = -N ... N: sum_k z_k^m, sum_k H_ok z_k^m (each FRF)
+    and sum_o sum_k |H_ok|^2 z_k^m; every order up to N takes its normal matrices from them."""
+
+    top: int
+    dt: float
+    ones: np.ndarray
+    frfs: np.ndarray
+    squares: np.ndarray
+
+
+def _lscf_sums(frequency: np.ndarray, H: np.ndarray, top: int) -> _Sums:
     dt = 1.0 / (2.0 * frequency[-1])
-    m = np.arange(-order, order + 1)
-    Z = np.exp(-1j * np.outer(w, m) * dt)             # z^m at every line
+    Z = np.exp(-1j * np.outer(2 * np.pi * frequency, np.arange(-top, top + 1)) * dt)
+    return _Sums(top, dt, np.real(Z.sum(axis=0)), np.real(H @ Z),
+                 np.real((np.abs(H) ** 2).sum(axis=0) @ Z))
+
+
+def _lscf_roots(sums: _Sums, order: int) -> np.ndarray:
+    """The poles of order ``order``: the reduced normal equations
+    M = sum_o (T_o - S_o^T R^-1 S_o) in the denominator, a_n = 1 (R = Re G^H G,
+    S_o = -Re G^H diag(H_o) G, T_o = Re G^H diag|H_o|^2 G, G_kr = z_k^r)."""
     r = np.arange(order + 1)
-    # R = Re(G^H G), S_o = -Re(G^H diag(H_o) G), T_o = Re(G^H diag|H_o|^2 G), G_kr = z_k^r:
-    # each entry (r, c) depends on c - r only: sums of z^(c - r) weighted
-    diff = r[None, :] - r[:, None] + order
-    R = np.real(Z.sum(axis=0))[diff]
-    S = -np.real(H @ Z)[:, diff]                         # (channels, n+1, n+1)
-    T = np.real((np.abs(H) ** 2).sum(axis=0) @ Z)[diff]
+    diff = r[None, :] - r[:, None] + sums.top
+    R = sums.ones[diff]
+    S = -sums.frfs[:, diff]                               # (channels, n+1, n+1)
+    T = sums.squares[diff]
+    count = len(S)
     Rinv_S = np.linalg.solve(R, S.transpose(1, 0, 2).reshape(order + 1, -1)).reshape(
-        order + 1, len(H), order + 1).transpose(1, 0, 2)
-    M = T - np.einsum("orc,ord->cd", S, Rinv_S)
+        order + 1, count, order + 1).transpose(1, 0, 2)
+    # sum_o S_o^T R^-1 S_o as one matrix product over (o, r)
+    M = T - S.reshape(-1, order + 1).T @ Rinv_S.reshape(-1, order + 1)
     alpha = np.append(np.linalg.solve(M[:order, :order], -M[:order, order]), 1.0)
     z = matrix_polynomial_roots(alpha)
-    return np.asarray(-np.log(z.astype(complex)) / dt)
+    return np.asarray(-np.log(z.astype(complex)) / sums.dt)
 
 
 def lsfd_residues(frequency: np.ndarray, H: np.ndarray, poles: np.ndarray,
@@ -496,9 +518,10 @@ def identify_modes(frequency: np.ndarray, frfs: Mapping[str, Any], *, max_order:
                 "mac": mac_tolerance}
     orders, all_poles, all_flags, history = [], [], [], []
     previous, previous_shapes = np.zeros(0, complex), np.zeros((len(H), 0), complex)
+    sums = _lscf_sums(f, H, max_order)
     for order in range(2, max_order + 1, 2):
         deadline.check("while fitting the stabilization chart", analysis=True)
-        poles = _physical(lscf_poles(f, H, order), f)
+        poles = _physical(_lscf_roots(sums, order), f)
         shapes = lsfd_residues(f, H, poles, derivative)[0] if len(poles) else \
             np.zeros((len(H), 0), complex)
         flags = _stable_flags(poles, shapes, previous, previous_shapes, criteria)
