@@ -203,6 +203,8 @@ def test_bad_samples():
         estimate_frf(x, {"y": y}, 0.01)
     with pytest.raises(ModelError, match="has 1000 samples, the excitation 1024"):
         estimate_frf(x, {"y": x[:1000]}, 0.01)
+    with pytest.raises(ModelError, match="the excitation has no energy"):
+        estimate_frf(np.zeros(1024), {"y": x}, 0.01)
 
 
 @settings(max_examples=25, deadline=None)

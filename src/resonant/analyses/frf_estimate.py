@@ -450,6 +450,12 @@ def estimate_frf(excitation: np.ndarray | Sequence[float],
             "use longer segments or fewer samples")
     X = np.fft.rfft(_frames(x, segment, hop) * windows.input, axis=1)
     Gxx = (np.abs(X) ** 2).mean(axis=0)
+    empty = np.flatnonzero(~(Gxx[lines] > 1e-300 * max(float(Gxx.max()), 1e-300)))
+    if len(empty) or not Gxx.max() > 0:
+        where = frequency[lines][empty[0]] if len(empty) else 0.0
+        raise ModelError(Problem(f"the excitation has no energy at {max(len(empty), 1)} "
+                                 f"spectral lines (the first at {where:.6g} Hz): no FRF "
+                                 "there; narrow the band", "", "", "band"))
     warnings = _clipping("the excitation", x)
     if force_window is not None:
         warnings += _double_impacts(_frames(x, segment, hop), step)
