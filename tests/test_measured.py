@@ -112,8 +112,8 @@ def test_truncated_record_names_the_record(tmp_path):
 
 def test_unknown_dataset_named(tmp_path):
     path = tmp_path / "odd.uff"
-    path.write_text("    -1\n   151\nmodel\nNONE\n    -1\n")
-    with pytest.raises(ModelError, match=r"odd\.uff: record 1: dataset 151 is not read"):
+    path.write_text("    -1\n  2414\nresults\nNONE\n    -1\n")
+    with pytest.raises(ModelError, match=r"odd\.uff: record 1: dataset 2414 is not read"):
         read_uff(path)
 
 
@@ -200,3 +200,25 @@ def test_pyuff_imported_lazily():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True)
     assert out.stdout.strip() == "False"
+
+
+SAMPLES = __import__("pathlib").Path(__file__).parent / "data" / "pyuff"
+
+
+def test_pyuff_sample_files_read_as_pyuff_reads_them():
+    """Files from real exporters (pyuff's sample data, tests/data/pyuff/README.md): the
+    values are pyuff's own (these files are in SI or carry no unit record), the headers'
+    descriptive datasets passed over and named."""
+    raw = pyuff.UFF(str(SAMPLES / "binary8byte.uff")).read_sets(0)
+    f = read_uff(SAMPLES / "binary8byte.uff").functions[0]
+    assert (f.kind, f.samples, f.ordinate_unit) == ("time", 250, "m/s^2")
+    np.testing.assert_array_equal(f.ordinate, raw["data"])
+    assert f.step == pytest.approx(0.01)
+    partial = read_uff(SAMPLES / "time-history-not-all-columns-filled.uff").functions[0]
+    assert partial.samples == 13
+    modes = read_uff(SAMPLES / "uff55_translation.uff").modes
+    assert [m.frequency for m in modes] == [10.0, 12.0, 13.0]
+    assert modes[0].shape.shape == (4, 3)
+    testlab = read_uff(SAMPLES / "TestLab 161 164 18 15 82.uff")
+    assert len(testlab.geometry) == 36 and not testlab.functions
+    assert any("dataset 82 (trace lines) passed over" in n for n in testlab.notes)

@@ -46,6 +46,11 @@ from .files import FileRefused, open_regular_file, read_bounded
 MAX_BYTES = 512 * 2**20
 #: the datasets read (164 only for its units)
 DATASETS = (15, 55, 58, 164, 2411)
+#: datasets that describe, not measure, and are passed over (named in the data's notes):
+#: header, coordinate systems, trace lines, 58 qualifiers, model header, elements, groups
+DESCRIPTIVE = {151: "header", 18: "coordinate systems", 82: "trace lines",
+               1858: "dataset 58 qualifiers", 2400: "model header", 2412: "elements",
+               2420: "coordinate systems", 2429: "groups", 2467: "groups"}
 #: function types of dataset 58 (its record 6, field 1) by name
 FUNCTION_TYPES = {0: "general", 1: "time", 2: "autospectrum", 3: "cross-spectrum",
                   4: "frf", 5: "transmissibility", 6: "coherence", 9: "psd", 12: "spectrum"}
@@ -59,7 +64,7 @@ DIRECTIONS = {0: "", 1: "+X", 2: "+Y", 3: "+Z", 4: "+RX", 5: "+RY", 6: "+RZ",
 STEP_TOLERANCE = 1e-6
 
 __all__ = ["MeasuredFunction", "MeasuredMode", "MeasuredData", "read_uff", "write_uff",
-           "read_histories", "DATASETS", "FUNCTION_TYPES"]
+           "read_histories", "DATASETS", "DESCRIPTIVE", "FUNCTION_TYPES"]
 
 
 @dataclass(frozen=True)
@@ -144,12 +149,15 @@ class MeasuredData:
     modes : tuple of MeasuredMode
     geometry : mapping
         Node number -> its (x, y, z) coordinates (m).
+    notes : tuple of str
+        What was passed over (descriptive datasets, :data:`DESCRIPTIVE`).
     """
 
     source: str
     functions: tuple[MeasuredFunction, ...] = ()
     modes: tuple[MeasuredMode, ...] = ()
     geometry: Mapping[int, tuple[float, float, float]] = field(default_factory=dict)
+    notes: tuple[str, ...] = ()
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -220,9 +228,10 @@ def read_uff(path: str | os.PathLike[str]) -> MeasuredData:
     Raises
     ------
     ModelError
-        For an unreadable file, a dataset other than :data:`DATASETS`, a record pyuff cannot
-        read or one that is truncated, NaN or infinite values, or functions of one kind
-        sampled at different steps (the message names the record).
+        For an unreadable file, a dataset other than :data:`DATASETS` and
+        :data:`DESCRIPTIVE`, a record pyuff cannot read or one that is truncated, NaN or
+        infinite values, or functions of one kind sampled at different steps (the message
+        names the record).
 
     Examples
     --------
@@ -250,12 +259,19 @@ def read_uff(path: str | os.PathLike[str]) -> MeasuredData:
         raise ModelError(Problem("no Universal File dataset found (a dataset starts with a "
                                  "line '    -1' and its number)", name))
     _check_ending(checked, name, len(types))
+    notes = []
     for record, kind in enumerate(types, start=1):
-        if kind not in DATASETS:
+        if kind in DESCRIPTIVE:
+            notes.append(f"record {record}: dataset {kind} ({DESCRIPTIVE[kind]}) passed over")
+        elif kind not in DATASETS:
             raise ModelError(Problem(f"record {record}: dataset {kind} is not read (read: "
-                                     f"{', '.join(map(str, DATASETS))})", name))
-    sets = []
+                                     f"{', '.join(map(str, DATASETS))}; passed over: "
+                                     f"{', '.join(map(str, DESCRIPTIVE))})", name))
+    sets: list[dict[str, Any]] = []
     for record in range(len(types)):
+        if types[record] in DESCRIPTIVE:
+            sets.append({"type": types[record]})
+            continue
         try:
             sets.append(uff.read_sets(record))
         except Exception as exc:
@@ -273,7 +289,8 @@ def read_uff(path: str | os.PathLike[str]) -> MeasuredData:
         elif kind in (15, 2411):
             geometry.update(_nodes(dataset, factors[0], name, where))
     _check_steps(functions, name)
-    return MeasuredData(name, tuple(_unique_names(functions)), tuple(modes), geometry)
+    return MeasuredData(name, tuple(_unique_names(functions)), tuple(modes), geometry,
+                        tuple(notes))
 
 
 def _check_ending(path: str, name: str, complete: int) -> None:
