@@ -13,7 +13,8 @@ H being the model's own FRF (resonant.analyses.frf_estimate.model_frf, the kerne
 what a perfect acquisition measures; the estimators are checked against it:
 
 * impact, no noise, rectangular window, the response decayed within the record: H1 = G_d to
-  1e-4 (relative, every line of the band);
+  1e-6 (relative, every line of the band; the issue asks 1e-4, 3e-9 is measured: what is
+  left of the response at the record's end);
 * random force, noise on the output: H1 within the confidence bound of Bendat & Piersol
   (Random Data, 4th ed., eq. 9.90): |H1 - H|^2 <= 2 / (n - 2) F(2, 2n - 2; 1 - a)
   (1 - gamma^2) / gamma^2 |H|^2, at a = 1e-4 for every line (n: the averages, divided by
@@ -47,8 +48,9 @@ def system():
         .linearize()
 
 
-def sampled_frf(system, f: np.ndarray, fs: float, aliases: int = 60) -> dict[str, np.ndarray]:
-    """G_d of the module docstring: the model's FRF as a sampled test sees it."""
+def sampled_frf(system, f: np.ndarray, fs: float, aliases: int = 20) -> dict[str, np.ndarray]:
+    """G_d of the module docstring: the model's FRF as a sampled test sees it (the terms
+    beyond 20 aliases are below 1e-12 of |H| here: |H| falls as f^-2, the hold as f^-2)."""
     total = {name: np.zeros(len(f), complex) for name in CHANNELS}
     for k in range(-aliases, aliases + 1):
         g = f + k * fs
@@ -64,7 +66,7 @@ def simulate(system, force: np.ndarray, step: float) -> dict[str, np.ndarray]:
     return {name: np.asarray(r.history[name]) for name in CHANNELS}
 
 
-def test_impact_without_noise_gives_the_model_frf_to_1e4(system):
+def test_impact_without_noise_gives_the_model_frf(system):
     fs, n = 256.0, 8192                   # 32 s: the slowest mode decays by exp(-25)
     t = np.arange(n) / fs
     force = np.where((t > 0.1) & (t < 0.12), 100 * np.sin(np.pi * (t - 0.1) / 0.02), 0.0)
@@ -74,7 +76,7 @@ def test_impact_without_noise_gives_the_model_frf_to_1e4(system):
     expected = sampled_frf(system, r.frequency, fs)
     for name in CHANNELS:
         error = np.abs(r.frf[name] - expected[name]) / np.abs(expected[name])
-        assert error.max() < 1e-4, (name, error.max())
+        assert error.max() < 1e-6, (name, error.max())
     # the hold and the aliases are what separate the sampled test from H itself
     h = model_frf(system, "F", r.frequency, CHANNELS)["x3"]
     assert np.abs(r.frf["x3"] / h - 1).max() > 1e-3
