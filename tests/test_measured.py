@@ -222,3 +222,16 @@ def test_pyuff_sample_files_read_as_pyuff_reads_them():
     testlab = read_uff(SAMPLES / "TestLab 161 164 18 15 82.uff")
     assert len(testlab.geometry) == 36 and not testlab.functions
     assert any("dataset 82 (trace lines) passed over" in n for n in testlab.notes)
+
+
+def test_hostile_npz_refused_from_its_directory(tmp_path):
+    """Too many members (or too many bytes, or a zip bomb's ratio): refused before numpy
+    decompresses anything."""
+    import zipfile
+
+    path = tmp_path / "many.npz"
+    with zipfile.ZipFile(path, "w") as archive:
+        for k in range(4100):
+            archive.writestr(f"c{k}.npy", b"")
+    with pytest.raises(ModelError, match="many.npz: the archive's 4100 members"):
+        read_histories(path)

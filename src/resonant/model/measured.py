@@ -41,6 +41,7 @@ import numpy as np
 from ..arrays import freeze_fields
 from ..errors import ModelError, Problem, name_list, printable
 from .files import FileRefused, open_regular_file, read_bounded
+from .limits import MAX_COMPRESSION_RATIO
 
 #: the largest measurement file read
 MAX_BYTES = 512 * 2**20
@@ -60,6 +61,8 @@ DATA_UNITS = {8: "m", 9: "N", 11: "m/s", 12: "m/s^2", 13: "N", 15: "Pa", 16: "kg
 #: UFF directions by code (record 6, fields 6 and 9)
 DIRECTIONS = {0: "", 1: "+X", 2: "+Y", 3: "+Z", 4: "+RX", 5: "+RY", 6: "+RZ",
               -1: "-X", -2: "-Y", -3: "-Z", -4: "-RX", -5: "-RY", -6: "-RZ"}
+#: most members of an .npz of histories (the time and the channels)
+MAX_MEMBERS = 4097
 #: relative spread of the sampling steps accepted as one step
 STEP_TOLERANCE = 1e-6
 
@@ -590,7 +593,28 @@ def read_histories(path: str | os.PathLike[str]) -> MeasuredData:
     return MeasuredData(name, tuple(functions))
 
 
+def _check_archive(path: str, name: str) -> None:
+    """Refuse a hostile archive from its directory, before anything is decompressed: too
+    many members, more than :data:`MAX_BYTES` decompressed, or a member compressed beyond
+    ``resonant.model.limits.MAX_COMPRESSION_RATIO`` (a zip bomb)."""
+    import zipfile
+
+    try:
+        with zipfile.ZipFile(path) as archive:
+            members = archive.infolist()
+    except (OSError, zipfile.BadZipFile) as exc:
+        raise ModelError(Problem(f"not a NumPy archive ({_reason(exc)})", name)) from None
+    total = sum(m.file_size for m in members)
+    if len(members) > MAX_MEMBERS or total > MAX_BYTES or any(
+            m.file_size > MAX_COMPRESSION_RATIO * max(m.compress_size, 1) for m in members):
+        raise ModelError(Problem(f"the archive's {len(members)} members decompress to "
+                                 f"{total} bytes: at most {MAX_MEMBERS} members, {MAX_BYTES} "
+                                 f"bytes and a compression ratio of {MAX_COMPRESSION_RATIO}",
+                                 name))
+
+
 def _npz(path: str, name: str) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    _check_archive(path, name)
     try:
         with np.load(path, allow_pickle=False) as archive:
             arrays = {k: np.asarray(archive[k]) for k in archive.files}
