@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -40,6 +40,7 @@ import numpy as np
 
 from ..arrays import freeze_fields
 from ..errors import ModelError, Problem, name_list, printable
+from ..memory import require
 from .files import FileRefused, open_regular_file, read_bounded
 from .limits import MAX_COMPRESSION_RATIO
 
@@ -61,6 +62,8 @@ DATA_UNITS = {8: "m", 9: "N", 11: "m/s", 12: "m/s^2", 13: "N", 15: "Pa", 16: "kg
 #: UFF directions by code (record 6, fields 6 and 9)
 DIRECTIONS = {0: "", 1: "+X", 2: "+Y", 3: "+Z", 4: "+RX", 5: "+RY", 6: "+RZ",
               -1: "-X", -2: "-Y", -3: "-Z", -4: "-RX", -5: "-RY", -6: "-RZ"}
+#: the most samples a CSV history holds (a line each)
+MAX_SAMPLES = 10_000_000
 #: most members of an .npz of histories (the time and the channels)
 MAX_MEMBERS = 4097
 #: relative spread of the sampling steps accepted as one step
@@ -641,22 +644,32 @@ def _npy(path: str, name: str) -> np.ndarray:
 
 def _csv(path: str, name: str) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     with open_regular_file(path, follow_symlinks=True, max_bytes=MAX_BYTES) as handle:
-        text = read_bounded(handle, MAX_BYTES).removeprefix(b"\xef\xbb\xbf").decode(
-            "utf-8", errors="replace")
-    lines = [(n, line.split("#", 1)[0].strip()) for n, line in
-             enumerate(text.splitlines(), start=1)]
-    lines = [(n, line) for n, line in lines if line]
-    if not lines:
+        data = read_bounded(handle, MAX_BYTES).removeprefix(b"\xef\xbb\xbf")
+    lines = ((n, raw.decode("utf-8", errors="replace").split("#", 1)[0].strip())
+             for n, raw in enumerate(_byte_lines(data), start=1))
+    content = ((n, line) for n, line in lines if line)
+    first = next(content, None)
+    if first is None:
         raise ModelError(Problem("the file is empty", name))
-    header = [p.strip() for p in lines[0][1].replace(";", ",").split(",")]
+    header = [p.strip() for p in first[1].replace(";", ",").split(",")]
     try:
-        [float(p) for p in header]
+        values = [float(p) for p in header]
         names = [f"ch{k}" for k in range(1, len(header))]
+        pending = [(first[0], values)]
     except ValueError:
-        names = header[1:]
-        lines = lines[1:]
-    rows = np.empty((len(lines), len(names) + 1))
-    for row, (number, line) in enumerate(lines):
+        names, pending = header[1:], []
+    count = data.count(b"\n") + 1
+    if count > MAX_SAMPLES:
+        raise ModelError(Problem(f"{count} lines; at most {MAX_SAMPLES} samples are read "
+                                 "(resample, or save the histories as .npy)", name))
+    require(8.0 * count * (len(names) + 1), f"the histories ({count} samples x "
+            f"{len(names) + 1} columns)", "read fewer channels or a shorter record")
+    rows = np.empty((count, len(names) + 1))
+    row = 0
+    for _, values in pending:
+        rows[row] = values
+        row += 1
+    for number, line in content:
         parts = line.replace(";", ",").split(",")
         try:
             if len(parts) != len(names) + 1:
@@ -664,6 +677,18 @@ def _csv(path: str, name: str) -> tuple[np.ndarray, dict[str, np.ndarray]]:
             rows[row] = [float(p) for p in parts]
         except ValueError:
             raise ModelError(Problem(f"line {number}: expected {len(names) + 1} numbers (time "
-                                     f"and {', '.join(names)}), got "
+                                     f"and {', '.join(names[:8])}), got "
                                      f"'{printable(line, limit=60)}'", name)) from None
+        row += 1
+    rows = rows[:row]
     return rows[:, 0], {channel: rows[:, k + 1] for k, channel in enumerate(names)}
+
+
+def _byte_lines(data: bytes) -> Iterator[bytes]:
+    """The lines of ``data`` one at a time (no list of them all: a file may hold millions)."""
+    start = 0
+    while start < len(data):
+        end = data.find(b"\n", start)
+        end = len(data) if end < 0 else end
+        yield data[start:end]
+        start = end + 1
