@@ -835,6 +835,39 @@ def eigenvalues(A: np.ndarray, B: np.ndarray | None = None) -> np.ndarray:
     return np.asarray(lam[np.isfinite(lam)])
 
 
+def matrix_polynomial_roots(coefficients: np.ndarray) -> np.ndarray:
+    """The roots of a polynomial sum_r a_r z^r with matrix (or scalar) coefficients and
+    a_n = I: the eigenvalues of its block companion matrix (the poles of a least-squares
+    complex-frequency fit, :mod:`resonant.analyses.identify`).
+
+    Parameters
+    ----------
+    coefficients : ndarray
+        (n + 1,) scalars or (n + 1, p, p) matrices a_0 ... a_n, lowest order first; a_n is
+        the identity (or 1).
+
+    Returns
+    -------
+    ndarray
+        The n p roots (complex).
+
+    Examples
+    --------
+    >>> sorted(matrix_polynomial_roots(np.array([2.0, -3.0, 1.0])).real.round(12).tolist())
+    [1.0, 2.0]
+    """
+    a = np.asarray(coefficients)
+    if a.ndim == 1:
+        a = a[:, None, None]
+    n, p = a.shape[0] - 1, a.shape[1]
+    if n < 1:
+        return np.zeros(0, dtype=complex)
+    companion = np.zeros((n * p, n * p), dtype=a.dtype)
+    companion[p:, :-p] = np.eye((n - 1) * p)
+    companion[:, -p:] = -np.concatenate([a[r] for r in range(n)], axis=0)
+    return np.asarray(np.linalg.eigvals(companion.T).astype(complex))
+
+
 def fundamental_strip(exponents: np.ndarray, count: int) -> np.ndarray:
     """The ``count`` Floquet exponents of smallest |Im s| (the fundamental strip, where
     Hill's method and the monodromy matrix give each exponent once), in that order.
@@ -900,4 +933,4 @@ __all__ = ["ZERO_EIGENVALUE", "ZERO_STATE", "STABILITY_TOLERANCE", "undamped_eig
            "eigenvalue_bounds", "frequency_bounds", "lowest_modes", "mass_normalized_modes",
            "symmetric_eigenvalues", "point_state_eigenvalues", "state_modes",
            "lowest_state_eigenvalues", "eigenvalues", "fundamental_strip", "factor_stiffness",
-           "modes_below"]
+           "modes_below", "matrix_polynomial_roots"]

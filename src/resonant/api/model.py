@@ -63,6 +63,8 @@ class Model(model_types.Model):
     matrices, exercise, parts, units, study_section, explore_section : see Model
         As :class:`resonant.model.Model`.
     random_section, shock_section, fatigue_section, periodic_section : see Model
+        As :class:`resonant.model.Model`.
+    measurement_section : see Model
         The data of the model, exactly those of :class:`resonant.model.Model` (this class
         adds no field).
 

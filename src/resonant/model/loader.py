@@ -66,6 +66,7 @@ from .limits import (
 )
 from .load_spec import parse_fatigue, parse_periodic, parse_shock
 from .matrix_files import read_matrix_spec
+from .measurement_spec import MeasurementSpec, parse_measurement
 from .nonlinear_elements import read_nonlinear_elements
 from .part_energies import Mechanism, derive_energies, point_expressions
 from .parts import DerivedEnergies, Parts, read_parts
@@ -355,6 +356,7 @@ class _Builder:
             if "periodic" in self.data else None
         fatigue = parse_fatigue(self.data["fatigue"], self.source, self.problems) \
             if "fatigue" in self.data else None
+        measurement = self.measurement(list(signals), names, list(outputs))
         self.raise_problems(misplaced)
         if matrix_spec is not None and not coordinates:
             n = _matrix_size(matrix_spec.M)
@@ -370,7 +372,14 @@ class _Builder:
             exercise=exercise, parts=derived, units=units, study_section=study,
             explore_section=explore, random_section=random,
             shock_section=shock, fatigue_section=fatigue,
-            periodic_section=periodic)
+            periodic_section=periodic, measurement_section=measurement)
+
+    def measurement(self, signals: list[str], names: list[str], outputs: list[str]
+                    ) -> MeasurementSpec | None:
+        if "measurement" not in self.data:
+            return None
+        return parse_measurement(self.data["measurement"], signals, names, outputs,
+                                 self.source, self.problems)
 
     def exercise(self, param_names: list[str], names: list[str], outputs: list[str]
                  ) -> Exercise | None:

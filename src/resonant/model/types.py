@@ -33,6 +33,7 @@ if TYPE_CHECKING:
     from .exercise import Exercise
     from .explore import ExploreSpec
     from .load_spec import FatigueSpec, PeriodicSpec, ShockSpec
+    from .measurement_spec import MeasurementSpec
     from .parts import DerivedEnergies
     from .random_spec import RandomSpec
 
@@ -203,6 +204,8 @@ class Model:
         The ``[fatigue]`` section: an S-N curve, a spectral method and the exposure.
     periodic_section : PeriodicSpec or None
         The ``[periodic]`` section: a periodic, non-harmonic load on one input.
+    measurement_section : MeasurementSpec or None
+        The ``[measurement]`` section: the measured channels' coordinates and outputs.
 
     Examples
     --------
@@ -248,6 +251,8 @@ class Model:
     fatigue_section: FatigueSpec | None = None
     #: the ``[periodic]`` section (resonant.model.load_spec); None without one
     periodic_section: PeriodicSpec | None = None
+    #: the ``[measurement]`` section (resonant.model.measurement_spec); None without one
+    measurement_section: MeasurementSpec | None = None
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""

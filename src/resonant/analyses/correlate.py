@@ -1,0 +1,291 @@
+"""Test against model: identified modes paired with the model's by MAC, the frequency
+errors, and the auto-MAC of each set (docs/testing.md).
+
+The model's mode shapes are read at the measured channels: each channel of
+``[measurement.channels]`` names a coordinate (its derivative does not change a shape).
+The pairing maximizes the sum of the paired MACs (the assignment problem,
+:func:`scipy.optimize.linear_sum_assignment`), so two close modes are not both paired with
+one.
+
+Examples
+--------
+>>> import numpy as np
+>>> c = correlate_shapes(np.array([2.2, 6.3]), np.eye(2), np.array([2.24, 6.28]),
+...                      np.array([[1.0, 0.1], [0.0, 1.0]]))
+>>> c.pairs, [round(e, 4) for e in c.frequency_error]
+((0, 1), [-0.0179, 0.0032])
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..arrays import freeze_fields
+from ..charts import Bar, Chart, Charts, charts_svg, check_plot_path, draw_figure, save_figure
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import ModelError, Problem, printable
+from ..modal import undamped_eigen
+from ..model.measurement_spec import ChannelMap
+from ..system.base import LinearSystem
+from .identify import ModalIdentification, modal_assurance
+from .results_json import Saved, floats_json
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = ["Correlation", "correlate", "correlate_shapes", "model_shapes"]
+
+
+@dataclass(frozen=True)
+class Correlation:
+    """Identified (test) modes against the model's: MAC, pairs, frequency errors.
+
+    Attributes
+    ----------
+    test_frequency, model_frequency : ndarray
+        Natural frequencies (Hz).
+    mac : ndarray
+        (test modes, model modes).
+    pairs : tuple of int
+        For each test mode the model mode paired with it (-1: none).
+    frequency_error : tuple of float
+        (f_test - f_model) / f_model of each pair (NaN without a pair).
+    auto_mac_test, auto_mac_model : ndarray
+        The MAC of each set with itself (off-diagonal: how distinct the shapes are).
+    """
+
+    test_frequency: np.ndarray
+    model_frequency: np.ndarray
+    mac: np.ndarray
+    pairs: tuple[int, ...]
+    frequency_error: tuple[float, ...]
+    auto_mac_test: np.ndarray
+    auto_mac_model: np.ndarray
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
+    @property
+    def paired_mac(self) -> np.ndarray:
+        """The MAC of each test mode with its pair (NaN without one)."""
+        return np.array([self.mac[i, j] if j >= 0 else np.nan
+                         for i, j in enumerate(self.pairs)])
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form.
+
+        Returns
+        -------
+        dict
+        """
+        return {"test_frequency_hz": floats_json(self.test_frequency),
+                "model_frequency_hz": floats_json(self.model_frequency),
+                "mac": floats_json(self.mac), "pairs": list(self.pairs),
+                "frequency_error": floats_json(np.array(self.frequency_error)),
+                "auto_mac_test": floats_json(self.auto_mac_test),
+                "auto_mac_model": floats_json(self.auto_mac_model)}
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> Correlation:
+        """The correlation back from its :meth:`to_dict`.
+
+        Parameters
+        ----------
+        data : mapping
+
+        Returns
+        -------
+        Correlation
+
+        Examples
+        --------
+        >>> c = correlate_shapes(np.array([1.0]), np.ones((2, 1)), np.array([1.1]),
+        ...                      np.ones((2, 1)))
+        >>> Correlation.from_dict(c.to_dict()).pairs
+        (0,)
+        """
+        saved = Saved(data, "Correlation")
+        test = saved.floats("test_frequency_hz", ndim=1)
+        model = saved.floats("model_frequency_hz", ndim=1)
+        return cls(test, model, saved.floats("mac", shape=(len(test), len(model))),
+                   tuple(int(p) for p in saved.numbers("pairs")),
+                   tuple(saved.floats("frequency_error", shape=test.shape).tolist()),
+                   saved.floats("auto_mac_test", shape=(len(test), len(test))),
+                   saved.floats("auto_mac_model", shape=(len(model), len(model))))
+
+    def chart(self) -> Charts:
+        """The paired MACs and the frequency errors as bars, one per test mode.
+
+        Returns
+        -------
+        Charts
+        """
+        x = np.arange(1, len(self.pairs) + 1, dtype=float)
+        xlim = (0.4, len(x) + 0.6)
+        ticks = tuple((float(k), str(int(k))) for k in x)
+        mac = Chart((), "test mode", "MAC with its pair", xlim, ylim=(0.0, 1.05),
+                    bars=(Bar(x, self.paired_mac, ("#1f77b4",), label="MAC"),), xticks=ticks)
+        errors = 100 * np.array(self.frequency_error)
+        span = max(1.0, float(np.nanmax(np.abs(errors), initial=0.0)) * 1.2)
+        freq = Chart((), "test mode", "frequency error [%]", xlim, ylim=(-span, span),
+                     bars=(Bar(x, errors, ("#d62728",), label="(f test - f model) / f model"),),
+                     xticks=ticks)
+        return Charts((mac, freq), title="test against model", sharex=True)
+
+    def plot(self, path: str | os.PathLike[str] | None = None,
+             ax: Axes | Sequence[Axes] | None = None) -> Figure:
+        """Draw :meth:`chart` with matplotlib (saved to ``path`` when given).
+
+        Parameters
+        ----------
+        path : str or PathLike, optional
+        ax : matplotlib axes, optional
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        check_plot_path(path)
+        return save_figure(draw_figure(self.chart(), ax), path)
+
+    def summary(self) -> str:
+        """The pairs as a text table.
+
+        Returns
+        -------
+        str
+        """
+        lines = [f"{'test':>4} {'f test [Hz]':>11} {'model':>5} {'f model [Hz]':>12} "
+                 f"{'error [%]':>9} {'MAC':>6}"]
+        for i, j in enumerate(self.pairs):
+            if j < 0:
+                lines.append(f"{i + 1:>4} {self.test_frequency[i]:>11.5g} {'-':>5}")
+                continue
+            lines.append(f"{i + 1:>4} {self.test_frequency[i]:>11.5g} {j + 1:>5} "
+                         f"{self.model_frequency[j]:>12.5g} "
+                         f"{100 * self.frequency_error[i]:>9.3f} {self.mac[i, j]:>6.3f}")
+        return "\n".join(lines) + "\n"
+
+    def _repr_html_(self) -> str:
+        return charts_svg(self.chart(), "correlation")
+
+
+def correlate_shapes(test_frequency: np.ndarray, test_shapes: np.ndarray,
+                     model_frequency: np.ndarray, model_shapes: np.ndarray) -> Correlation:
+    """Pair two sets of modes by MAC and compare their frequencies.
+
+    Parameters
+    ----------
+    test_frequency : ndarray
+        (Hz), one per test mode.
+    test_shapes : ndarray
+        (channels, test modes), complex allowed.
+    model_frequency : ndarray
+        (Hz).
+    model_shapes : ndarray
+        (channels, model modes) at the same channels.
+
+    Returns
+    -------
+    Correlation
+    """
+    from scipy.optimize import linear_sum_assignment
+
+    tf, mf = np.asarray(test_frequency, float), np.asarray(model_frequency, float)
+    a, b = np.asarray(test_shapes), np.asarray(model_shapes)
+    if a.shape[0] != b.shape[0] or a.shape[1] != len(tf) or b.shape[1] != len(mf):
+        raise ModelError(Problem(f"the shapes must share their channels ({a.shape[0]} test, "
+                                 f"{b.shape[0]} model) and hold one column per mode"))
+    mac = modal_assurance(a, b)
+    rows, cols = linear_sum_assignment(-mac)
+    pairs = [-1] * len(tf)
+    for i, j in zip(rows, cols):
+        pairs[int(i)] = int(j)
+    errors = tuple(float((tf[i] - mf[j]) / mf[j]) if j >= 0 else float("nan")
+                   for i, j in enumerate(pairs))
+    return Correlation(tf, mf, mac, tuple(pairs), errors, modal_assurance(a, a),
+                       modal_assurance(b, b))
+
+
+def model_shapes(system: LinearSystem, channels: Mapping[str, ChannelMap], *,
+                 deadline: Deadline = NO_DEADLINE, **values: float
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """The model's undamped natural frequencies (Hz) and mode shapes at the channels.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    channels : mapping
+        Channel -> its coordinate (``[measurement.channels]``).
+    deadline : Deadline, optional
+    **values
+        Parameter values replacing the model's (SI).
+
+    Returns
+    -------
+    frequency : ndarray
+    shapes : ndarray
+        (channels, modes).
+
+    Raises
+    ------
+    ModelError
+        For a channel that names an output (a shape is read at coordinates only).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> system = resonant.load("examples/chain3_damped.toml").linearize()
+    >>> f, phi = model_shapes(system, {"a3": ChannelMap("x3", 2)})
+    >>> round(float(f[0]), 4), phi.shape
+    (2.2399, (1, 3))
+    """
+    num = system.numeric(deadline, **values)
+    rows = []
+    for channel, c in channels.items():
+        if c.name not in num.coordinates:
+            raise ModelError(Problem(f"channel '{printable(channel, limit=40)}' is the output "
+                                     f"'{c.name}'; mode shapes are compared at coordinates",
+                                     system.source, "measurement.channels", channel))
+        rows.append(num.coordinates.index(c.name))
+    M, K = (np.asarray(a.toarray() if hasattr(a, "toarray") else a, float)
+            for a in (num.M, num.K))
+    lam, phi = undamped_eigen(M, K)
+    return np.sqrt(np.maximum(lam, 0.0)) / (2 * np.pi), phi[rows]
+
+
+def correlate(identified: ModalIdentification, system: LinearSystem,
+              channels: Mapping[str, ChannelMap], *,
+              deadline: Deadline = NO_DEADLINE) -> Correlation:
+    """The identified modes against the model's at the measured channels.
+
+    Parameters
+    ----------
+    identified : ModalIdentification
+    system : LinearSystem
+    channels : mapping
+        Channel -> coordinate, for every channel of the identification.
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    Correlation
+
+    Raises
+    ------
+    ModelError
+        When a channel of the identification is not mapped.
+    """
+    missing = [c for c in identified.channels if c not in channels]
+    if missing:
+        raise ModelError(Problem(f"channel '{printable(missing[0], limit=40)}' is not mapped "
+                                 "to a coordinate", system.source, "measurement.channels"))
+    ordered = {c: channels[c] for c in identified.channels}
+    f, phi = model_shapes(system, ordered, deadline=deadline)
+    return correlate_shapes(identified.frequency, identified.shapes, f, phi)

@@ -1,0 +1,582 @@
+"""Modes identified from measured frequency response functions (docs/testing.md).
+
+**Poles: the least-squares complex-frequency method** (LSCF; Guillaume, Verboven,
+Vanlanduit, Van der Auweraer & Peeters, IMAC 2003), common denominator: every FRF
+H_o(w) = B_o(z) / A(z) with z = exp(-i w dt), dt = 1 / (2 f_max), polynomials of order n.
+The linearized error B_o - H_o A, minimized over all FRFs with real coefficients, reduces to
+one (n+1) x (n+1) system in the denominator (the numerators eliminated; the normal
+matrices are Toeplitz, built from sums of H_o z^m over the lines, so 64 FRFs x 4,000 lines
+cost one matrix product); the poles are the roots of A (its companion matrix,
+:func:`resonant.modal.matrix_polynomial_roots`), s = -ln(z) / dt.
+
+**The stabilization chart**: the fit at orders 2, 4, ..., ``max_order``; a pole of order n
+is *stable* when a pole of order n - 2 lies within ``frequency_tolerance`` (relative, 1 %)
+in frequency, ``damping_tolerance`` (relative, 5 %) in damping, and its mode shape (the
+residues of a least-squares fit at that order) has a MAC above ``mac_tolerance`` (0.98) with
+that pole's.  The modes reported are the poles of the highest order that stay stable over
+the last ``stable_orders`` orders (default 4), or the poles closest to frequencies given.
+
+**Residues and shapes: least squares in the frequency domain** (LSFD): with the poles
+fixed, H_o(w) = sum_r [A_or / (i w - s_r) + conj(A_or) / (i w - conj s_r)] + U_o - L_o / w^2
+(upper and lower residuals) is linear in A_or, U_o, L_o, solved for every FRF at once
+(real unknowns; one least-squares matrix shared by all).  For an FRF of a derivative d of
+the response (``derivative``: 1 mobility, 2 accelerance) every term is multiplied by
+(i w)^d.  The mode shape of mode r is the column A_r (one reference), its fitted FRFs and
+their error beside the measured ones.
+
+Examples
+--------
+>>> import numpy as np
+>>> f = np.linspace(1, 10, 400)
+>>> s = -0.05 * 2 * np.pi * 4 + 2j * np.pi * 4 * np.sqrt(1 - 0.05 ** 2)
+>>> iw = 2j * np.pi * f
+>>> h = 1 / (iw - s) + 1 / (iw - np.conj(s))
+>>> r = identify_modes(f, {"a": h, "b": 2 * h}, max_order=16)
+>>> round(float(r.frequency[0]), 6), round(float(r.damping[0]), 6), r.errors["a"] < 1e-6
+(4.0, 0.05, True)
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..arrays import freeze_fields
+from ..charts import (
+    COLORS,
+    Chart,
+    Charts,
+    Curve,
+    Rule,
+    charts_svg,
+    check_plot_path,
+    draw_figure,
+    save_figure,
+)
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import ModelError, Problem, printable
+from ..memory import require
+from ..modal import matrix_polynomial_roots
+from .results_json import Saved, complex_json, floats_json
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+#: the stability criteria's defaults (relative frequency, relative damping, MAC)
+FREQUENCY_TOLERANCE, DAMPING_TOLERANCE, MAC_TOLERANCE = 0.01, 0.05, 0.98
+#: the highest model order accepted
+MAX_ORDER = 200
+
+__all__ = ["ModalIdentification", "Stabilization", "identify_modes", "lscf_poles",
+           "lsfd_residues", "modal_assurance"]
+
+
+def modal_assurance(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The modal assurance criterion of every column of ``a`` with every column of ``b``:
+    |a_i^H b_j|^2 / ((a_i^H a_i) (b_j^H b_j)) (Allemang & Brown 1982), complex shapes allowed.
+
+    Parameters
+    ----------
+    a, b : ndarray
+        (dofs, modes) shapes; the same dofs in both.
+
+    Returns
+    -------
+    ndarray
+        (modes of a, modes of b), each in [0, 1].
+
+    Examples
+    --------
+    >>> modal_assurance(np.eye(2), np.array([[1.0], [1.0]])).round(12).tolist()
+    [[0.5], [0.5]]
+    """
+    a = np.asarray(a).reshape(len(a), -1)
+    b = np.asarray(b).reshape(len(b), -1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mac = np.abs(a.conj().T @ b) ** 2 / np.outer(np.sum(np.abs(a) ** 2, axis=0),
+                                                     np.sum(np.abs(b) ** 2, axis=0))
+    return np.asarray(np.nan_to_num(mac.real))
+
+
+@dataclass(frozen=True)
+class Stabilization:
+    """The poles of every model order and their stability (the stabilization chart).
+
+    Attributes
+    ----------
+    orders : tuple of int
+    poles : tuple of ndarray
+        The poles of each order (upper half plane, damped, in the band), rad/s.
+    stable : tuple of ndarray of str
+        For each pole: ``"s"`` stable in frequency, damping and MAC; ``"d"`` in frequency
+        and damping; ``"f"`` in frequency; ``"o"`` new.
+    criteria : mapping
+        The tolerances: ``frequency``, ``damping`` (relative) and ``mac``.
+    """
+
+    orders: tuple[int, ...]
+    poles: tuple[np.ndarray, ...]
+    stable: tuple[np.ndarray, ...]
+    criteria: dict[str, float]
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
+
+@dataclass(frozen=True)
+class ModalIdentification:
+    """Modes identified from FRFs: poles, shapes, the fit and the stabilization chart.
+
+    Attributes
+    ----------
+    poles : ndarray
+        s_r (rad/s), one per mode, by frequency.
+    frequency : ndarray
+        Natural frequencies |s_r| / (2 pi) (Hz).
+    damping : ndarray
+        Damping ratios -Re s_r / |s_r|.
+    shapes : ndarray
+        (channels, modes) the residues A_or (complex mode shapes times the reference's).
+    channels : tuple of str
+    measured_frequency : ndarray
+        The lines fitted (Hz).
+    measured : mapping
+        Channel -> the measured FRF.
+    fitted : mapping
+        Channel -> the fitted FRF (modes and residuals).
+    errors : mapping
+        Channel -> ||fitted - measured|| / ||measured|| over the lines.
+    stabilization : Stabilization
+    derivative : int
+        0 receptance, 1 mobility, 2 accelerance.
+    warnings : tuple of str
+    """
+
+    poles: np.ndarray
+    frequency: np.ndarray
+    damping: np.ndarray
+    shapes: np.ndarray
+    channels: tuple[str, ...]
+    measured_frequency: np.ndarray
+    measured: dict[str, np.ndarray]
+    fitted: dict[str, np.ndarray]
+    errors: dict[str, float]
+    stabilization: Stabilization
+    derivative: int = 0
+    warnings: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form: the modes, the fit's errors and the stabilization chart.
+
+        Returns
+        -------
+        dict
+        """
+        st = self.stabilization
+        return {
+            "modes": [{"frequency_hz": float(f), "damping_ratio": float(z),
+                       "pole": {"real": float(p.real), "imag": float(p.imag)}}
+                      for f, z, p in zip(self.frequency, self.damping, self.poles)],
+            "channels": list(self.channels), "shapes": complex_json(self.shapes),
+            "fit_error": dict(self.errors), "derivative": self.derivative,
+            "stabilization": {"criteria": dict(st.criteria), "orders": [
+                {"order": n, "poles": complex_json(p), "stable": list(map(str, s))}
+                for n, p, s in zip(st.orders, st.poles, st.stable)]},
+            "frequency_hz": floats_json(self.measured_frequency),
+            "measured": {k: complex_json(v) for k, v in self.measured.items()},
+            "fitted": {k: complex_json(v) for k, v in self.fitted.items()},
+            "warnings": list(self.warnings)}
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> ModalIdentification:
+        """The identification back from its :meth:`to_dict`.
+
+        Parameters
+        ----------
+        data : mapping
+
+        Returns
+        -------
+        ModalIdentification
+
+        Raises
+        ------
+        AnalysisError
+            For a missing or malformed key (named).
+        """
+        saved = Saved(data, "ModalIdentification")
+        modes = saved.records("modes")
+        poles = np.array([complex(m.mapping("pole").number("real"),
+                                  m.mapping("pole").number("imag")) for m in modes])
+        channels = saved.strings("channels")
+        f = saved.floats("frequency_hz", ndim=1)
+        st = saved.mapping("stabilization")
+        orders = st.records("orders")
+        stabilization = Stabilization(
+            tuple(o.integer("order", minimum=0) for o in orders),
+            tuple(o.complex("poles", ndim=1) for o in orders),
+            tuple(np.array(o.strings("stable")) for o in orders),
+            st.numbers_of("criteria"))
+        measured, fitted = saved.mapping("measured"), saved.mapping("fitted")
+        return cls(poles, np.abs(poles) / (2 * np.pi), -poles.real / np.abs(poles),
+                   saved.complex("shapes", shape=(len(channels), len(poles))), channels, f,
+                   {k: measured.complex(k, shape=f.shape) for k in channels},
+                   {k: fitted.complex(k, shape=f.shape) for k in channels},
+                   saved.numbers_of("fit_error"), stabilization,
+                   saved.integer("derivative", minimum=0), saved.strings("warnings", ()))
+
+    def chart(self) -> Charts:
+        """The stabilization chart over the FRFs' sum, and the measured and fitted FRFs.
+
+        Returns
+        -------
+        Charts
+        """
+        f = np.asarray(self.measured_frequency)
+        xlim = (float(f[0]), float(f[-1]))
+        st = self.stabilization
+        kinds = (("o", "new", "#bbbbbb"), ("f", "frequency", "#ff7f0e"),
+                 ("d", "frequency, damping", "#1f77b4"), ("s", "stable (f, damping, MAC)",
+                                                          "#d62728"))
+        curves = []
+        for flag, label, color in kinds:
+            xs, ys = [], []
+            for n, p, s in zip(st.orders, st.poles, st.stable):
+                keep = np.asarray(s) == flag
+                xs.extend(np.abs(p[keep]) / (2 * np.pi))
+                ys.extend([n] * int(keep.sum()))
+            if xs:
+                curves.append(Curve(np.array(xs), np.array(ys, dtype=float), label, color,
+                                    marker="point" if flag != "s" else "cross", line=False))
+        rules = tuple(Rule(float(x), label="" if k else "identified", color="#2ca02c",
+                           dash="1 1.65")
+                      for k, x in enumerate(self.frequency))
+        top = Chart(tuple(curves), "frequency [Hz]", "model order", xlim, rules=rules,
+                    title="stabilization")
+        fits = []
+        for k, name in enumerate(self.channels):
+            color = COLORS[k % len(COLORS)]
+            fits.append(Curve(f, np.abs(self.measured[name]), f"{name} measured", color))
+            fits.append(Curve(f, np.abs(self.fitted[name]), f"{name} fitted", color,
+                              dash="3.7 1.6"))
+        bottom = Chart(tuple(fits), "frequency [Hz]", "|H|", xlim, ylog=True, rules=rules)
+        return Charts((top, bottom), title="identified modes", heights=(1.4, 1.0),
+                      size=(7.0, 6.0))
+
+    def plot(self, path: str | os.PathLike[str] | None = None,
+             ax: Axes | Sequence[Axes] | None = None) -> Figure:
+        """Draw :meth:`chart` with matplotlib (saved to ``path`` when given).
+
+        Parameters
+        ----------
+        path : str or PathLike, optional
+        ax : matplotlib axes, optional
+            Two axes.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        check_plot_path(path)
+        return save_figure(draw_figure(self.chart(), ax), path)
+
+    def summary(self) -> str:
+        """The modes as a text table and the fit's error per channel.
+
+        Returns
+        -------
+        str
+        """
+        lines = [f"{'mode':>4} {'f [Hz]':>10} {'zeta [%]':>9}"]
+        lines += [f"{k + 1:>4} {f:>10.5g} {100 * z:>9.4g}"
+                  for k, (f, z) in enumerate(zip(self.frequency, self.damping))]
+        lines += [f"fit error {printable(k, limit=20)}: {v:.3g}" for k, v in self.errors.items()]
+        lines += [f"warning: {w}" for w in self.warnings]
+        return "\n".join(lines) + "\n"
+
+    def _repr_html_(self) -> str:
+        return charts_svg(self.chart(), "identified-modes")
+
+
+def _check(frequency: np.ndarray, frfs: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray]:
+    f = np.asarray(frequency, dtype=float).ravel()
+    if len(f) < 4 or not np.isfinite(f).all() or (np.diff(f) <= 0).any() or f[0] < 0:
+        raise ModelError(Problem("the frequencies must be at least 4 increasing, "
+                                 "non-negative numbers", "", "", "frequency"))
+    if not frfs:
+        raise ModelError(Problem("no FRF to identify modes from", "", "", "frfs"))
+    H = np.array([np.asarray(h, dtype=complex).ravel() for h in frfs.values()])
+    if H.shape[1] != len(f):
+        raise ModelError(Problem(f"every FRF needs {len(f)} values, one per frequency", "",
+                                 "", "frfs"))
+    bad = ~np.isfinite(H).all(axis=1)
+    if bad.any():
+        raise ModelError(Problem(f"the FRF '{list(frfs)[int(np.argmax(bad))]}' holds NaN",
+                                 "", "", "frfs"))
+    return f, H
+
+
+def lscf_poles(frequency: np.ndarray, H: np.ndarray, order: int) -> np.ndarray:
+    """The poles of a common-denominator LSCF fit of order ``order`` to the FRFs ``H``.
+
+    Parameters
+    ----------
+    frequency : ndarray
+        The lines (Hz).
+    H : ndarray
+        (channels, lines) FRFs.
+    order : int
+        The denominator's order (twice the modes it can hold).
+
+    Returns
+    -------
+    ndarray
+        Every root s = -ln(z) / dt (rad/s), unsorted.
+
+    Examples
+    --------
+    >>> f = np.linspace(1, 10, 200)
+    >>> s = -1 + 20j
+    >>> h = 1 / (2j * np.pi * f - s) + 1 / (2j * np.pi * f - np.conj(s))
+    >>> p = lscf_poles(f, h[None, :], 8)
+    >>> complex(np.round(p[(p.imag > 0) & (p.real < 0)][0], 4))
+    (-1+20j)
+    """
+    return _lscf_roots(_lscf_sums(frequency, H, order), order)
+
+
+@dataclass(frozen=True)
+class _Sums:
+    """The LSCF's Toeplitz sums for m = -N ... N: sum_k z_k^m, sum_k H_ok z_k^m (each FRF)
+    and sum_o sum_k |H_ok|^2 z_k^m; every order up to N takes its normal matrices from them."""
+
+    top: int
+    dt: float
+    ones: np.ndarray
+    frfs: np.ndarray
+    squares: np.ndarray
+
+
+def _lscf_sums(frequency: np.ndarray, H: np.ndarray, top: int) -> _Sums:
+    dt = 1.0 / (2.0 * frequency[-1])
+    Z = np.exp(-1j * np.outer(2 * np.pi * frequency, np.arange(-top, top + 1)) * dt)
+    return _Sums(top, dt, np.real(Z.sum(axis=0)), np.real(H @ Z),
+                 np.real((np.abs(H) ** 2).sum(axis=0) @ Z))
+
+
+def _lscf_roots(sums: _Sums, order: int) -> np.ndarray:
+    """The poles of order ``order``: the reduced normal equations
+    M = sum_o (T_o - S_o^T R^-1 S_o) in the denominator, a_n = 1 (R = Re G^H G,
+    S_o = -Re G^H diag(H_o) G, T_o = Re G^H diag|H_o|^2 G, G_kr = z_k^r)."""
+    r = np.arange(order + 1)
+    diff = r[None, :] - r[:, None] + sums.top
+    R = sums.ones[diff]
+    S = -sums.frfs[:, diff]                               # (channels, n+1, n+1)
+    T = sums.squares[diff]
+    count = len(S)
+    Rinv_S = np.linalg.solve(R, S.transpose(1, 0, 2).reshape(order + 1, -1)).reshape(
+        order + 1, count, order + 1).transpose(1, 0, 2)
+    # sum_o S_o^T R^-1 S_o as one matrix product over (o, r)
+    M = T - S.reshape(-1, order + 1).T @ Rinv_S.reshape(-1, order + 1)
+    alpha = np.append(np.linalg.solve(M[:order, :order], -M[:order, order]), 1.0)
+    z = matrix_polynomial_roots(alpha)
+    return np.asarray(-np.log(z.astype(complex)) / sums.dt)
+
+
+def lsfd_residues(frequency: np.ndarray, H: np.ndarray, poles: np.ndarray,
+                  derivative: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """Residues of the poles (upper half plane) and residuals by least squares (LSFD).
+
+    Parameters
+    ----------
+    frequency : ndarray
+        The lines (Hz).
+    H : ndarray
+        (channels, lines).
+    poles : ndarray
+        s_r, Im s_r > 0.
+    derivative : int
+        The FRFs' derivative of the response (0, 1, 2).
+
+    Returns
+    -------
+    residues : ndarray
+        (channels, poles) A_or.
+    fitted : ndarray
+        (channels, lines) the fitted FRFs.
+
+    Examples
+    --------
+    >>> f = np.linspace(1, 10, 50)
+    >>> s = np.array([-1 + 20j])
+    >>> iw = 2j * np.pi * f
+    >>> h = (2 - 1j) / (iw - s[0]) + (2 + 1j) / (iw - np.conj(s[0]))
+    >>> A, fit = lsfd_residues(f, h[None, :], s)
+    >>> complex(np.round(A[0, 0], 9)), bool(np.allclose(fit, h))
+    ((2-1j), True)
+    """
+    iw = 2j * np.pi * frequency
+    factor = iw ** derivative
+    p = np.asarray(poles)[None, :]
+    plus = factor[:, None] / (iw[:, None] - p)
+    minus = factor[:, None] / (iw[:, None] - np.conj(p))
+    w2 = (2 * np.pi * np.maximum(frequency, frequency[frequency > 0].min())) ** 2
+    basis = np.column_stack([plus + minus, 1j * (plus - minus), factor,
+                             -factor / w2])            # a_r, b_r, upper, lower residual
+    design = np.vstack([basis.real, basis.imag])
+    rhs = np.vstack([H.real.T, H.imag.T])
+    scale = np.linalg.norm(design, axis=0)
+    scale[scale == 0] = 1.0
+    x = np.linalg.lstsq(design / scale, rhs, rcond=None)[0] / scale[:, None]
+    count = p.shape[1]
+    residues = (x[:count] + 1j * x[count:2 * count]).T
+    return residues, (basis @ x).T
+
+
+def _stable_flags(poles: np.ndarray, shapes: np.ndarray, previous: np.ndarray,
+                  previous_shapes: np.ndarray, criteria: Mapping[str, float]) -> np.ndarray:
+    flags = np.full(len(poles), "o", dtype="<U1")
+    if not len(previous):
+        return flags
+    f, z = np.abs(poles), -poles.real / np.abs(poles)
+    fp, zp = np.abs(previous), -previous.real / np.abs(previous)
+    mac = modal_assurance(shapes, previous_shapes)
+    for k in range(len(poles)):
+        j = int(np.argmin(np.abs(fp - f[k])))
+        if abs(fp[j] - f[k]) > criteria["frequency"] * f[k]:
+            continue
+        flags[k] = "f"
+        if abs(zp[j] - z[k]) > criteria["damping"] * z[k]:
+            continue
+        flags[k] = "s" if mac[k, j] >= criteria["mac"] else "d"
+    return flags
+
+
+def _physical(s: np.ndarray, frequency: np.ndarray) -> np.ndarray:
+    """The poles of a vibrating mode: Im s > 0, damped (0 < zeta < 1), inside the band."""
+    f = np.abs(s) / (2 * np.pi)
+    keep = (s.imag > 0) & (s.real < 0) & (f >= frequency[0]) & (f <= frequency[-1])
+    return np.sort_complex(s[keep][np.argsort(np.abs(s[keep]))])
+
+
+def identify_modes(frequency: np.ndarray, frfs: Mapping[str, Any], *, max_order: int = 40,
+                   derivative: int = 0, near: Sequence[float] | None = None,
+                   stable_orders: int = 4, frequency_tolerance: float = FREQUENCY_TOLERANCE,
+                   damping_tolerance: float = DAMPING_TOLERANCE,
+                   mac_tolerance: float = MAC_TOLERANCE, added_decay: float = 0.0,
+                   deadline: Deadline = NO_DEADLINE) -> ModalIdentification:
+    """Poles by LSCF with a stabilization chart, then residues and shapes by LSFD.
+
+    Parameters
+    ----------
+    frequency : ndarray
+        The lines (Hz), increasing.
+    frfs : mapping
+        Channel -> complex FRF at ``frequency`` (one reference).
+    max_order : int
+        The highest LSCF order (even; 2 to :data:`MAX_ORDER`).
+    derivative : int
+        0 receptance, 1 mobility, 2 accelerance.
+    near : sequence of float, optional
+        Take the stable (else any) pole of the highest order closest to each of these
+        frequencies (Hz) instead of the automatic choice.
+    stable_orders : int
+        How many of the last orders a pole must stay stable in (automatic choice).
+    frequency_tolerance, damping_tolerance, mac_tolerance : float
+        The stability criteria (module docstring).
+    added_decay : float
+        The decay rate (s^-1) an exponential window added to the FRFs
+        (:attr:`resonant.analyses.frf_estimate.MeasuredFRF.added_decay`): the poles reported
+        are s + added_decay (the fit, of the windowed FRFs, keeps s).
+    deadline : Deadline, optional
+        Checked between orders.
+
+    Returns
+    -------
+    ModalIdentification
+
+    Raises
+    ------
+    ModelError
+        For frequencies or FRFs that are not numbers, an order out of range, or when no
+        pole is stable.
+    """
+    f, H = _check(frequency, frfs)
+    if not (2 <= max_order <= MAX_ORDER) or derivative not in (0, 1, 2):
+        raise ModelError(Problem(f"the order must lie in 2 to {MAX_ORDER} and the derivative "
+                                 "be 0, 1 or 2", "", "", "max_order"))
+    require(16.0 * len(f) * (2 * max_order + 1) * 2, "the LSCF sums", "fit fewer lines")
+    criteria = {"frequency": frequency_tolerance, "damping": damping_tolerance,
+                "mac": mac_tolerance}
+    orders, all_poles, all_flags, history = [], [], [], []
+    previous, previous_shapes = np.zeros(0, complex), np.zeros((len(H), 0), complex)
+    sums = _lscf_sums(f, H, max_order)
+    for order in range(2, max_order + 1, 2):
+        deadline.check("while fitting the stabilization chart", analysis=True)
+        poles = _physical(_lscf_roots(sums, order), f)
+        shapes = lsfd_residues(f, H, poles, derivative)[0] if len(poles) else \
+            np.zeros((len(H), 0), complex)
+        flags = _stable_flags(poles, shapes, previous, previous_shapes, criteria)
+        orders.append(order)
+        all_poles.append(poles)
+        all_flags.append(flags)
+        history.append((poles, flags))
+        previous, previous_shapes = poles, shapes
+    chosen = _choose(history, near, stable_orders, criteria)
+    warnings = [] if len(chosen) else ["no pole is stable over the last orders: raise the "
+                                       "order, narrow the band or give the frequencies"]
+    residues, fitted = lsfd_residues(f, H, chosen, derivative)
+    names = tuple(frfs)
+    errors = {n: float(np.linalg.norm(fitted[k] - H[k]) / np.linalg.norm(H[k]))
+              for k, n in enumerate(names)}
+    stabilization = Stabilization(tuple(orders), tuple(all_poles), tuple(all_flags), criteria)
+    chosen = chosen + added_decay
+    if (chosen.real >= 0).any():
+        warnings.append("the window's added decay is larger than a pole's: that mode's "
+                        "damping is not known (use a slower exponential window)")
+    return ModalIdentification(chosen, np.abs(chosen) / (2 * np.pi),
+                               -chosen.real / np.abs(chosen), residues, names, f,
+                               {n: H[k] for k, n in enumerate(names)},
+                               {n: fitted[k] for k, n in enumerate(names)}, errors,
+                               stabilization, derivative, tuple(warnings))
+
+
+def _choose(history: list[tuple[np.ndarray, np.ndarray]], near: Sequence[float] | None,
+            stable_orders: int, criteria: Mapping[str, float]) -> np.ndarray:
+    """The poles of the highest order stable over its last orders, or nearest ``near``."""
+    poles, flags = history[-1]
+    if near is not None:
+        stable = poles[flags == "s"] if (flags == "s").any() else poles
+        if not len(stable):
+            return np.zeros(0, complex)
+        picked = [stable[int(np.argmin(np.abs(np.abs(stable) / (2 * np.pi) - x)))]
+                  for x in near]
+        return np.array(sorted(set(picked), key=abs))
+    chosen = []
+    for k, s in enumerate(poles):
+        if flags[k] != "s":
+            continue
+        run, target = 1, s
+        for earlier, earlier_flags in reversed(history[:-1]):
+            if not len(earlier):
+                break
+            j = int(np.argmin(np.abs(np.abs(earlier) - abs(target))))
+            if abs(abs(earlier[j]) - abs(target)) > criteria["frequency"] * abs(target) or \
+                    earlier_flags[j] not in "sd":
+                break
+            run, target = run + 1, earlier[j]
+        if run >= stable_orders:
+            chosen.append(s)
+    kept: list[complex] = []
+    for s in sorted(chosen, key=abs):       # one pole per mode (a close double is one)
+        if not kept or abs(abs(s) - abs(kept[-1])) > 1e-3 * abs(s):
+            kept.append(s)
+    return np.array(kept, dtype=complex)

@@ -1,0 +1,226 @@
+"""The lab's commands (docs/testing.md), each on a model with a ``[measurement]`` section:
+
+* ``resonant frf MODEL DATA``: FRFs (H1, H2, Hv) of the channels from time histories
+  (a Universal File, CSV, .npy or .npz), beside the model's; ``--save FILE.uff`` writes them;
+* ``resonant identify MODEL FRFS``: modes by LSCF and LSFD from the FRFs of a Universal
+  File, with the stabilization chart;
+* ``resonant correlate MODEL FRFS``: the identified modes against the model's (MAC, pairs,
+  frequency errors);
+* ``resonant update MODEL FRFS --vary NAME=LOW:HIGH ...``: parameters fitted to the
+  identified frequencies and shapes.
+
+Each takes ``--json`` and ``--plot FILE``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+
+import resonant.cli.common as cli
+
+from ..analyses.correlate import correlate
+from ..analyses.frf_estimate import ESTIMATORS, WINDOWS, frf_from_measurement, model_frf
+from ..analyses.identify import ModalIdentification, identify_modes
+from ..analyses.model_update import update_parameters
+from ..deadline import Deadline
+from ..errors import ModelError, Problem, printable
+from ..model.measured import MeasuredData, read_histories, read_uff, write_uff
+from ..model.measurement_spec import MeasurementSpec, match_channels
+from ..model.types import Model
+from ..system.build import linear_system
+
+#: the suffixes read as Universal Files
+UFF_SUFFIXES = (".uff", ".unv", ".uf", ".bunv")
+
+
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+             parent: argparse.ArgumentParser) -> None:
+    frf = subparsers.add_parser("frf", parents=[parent],
+                                help="frequency response functions from measured time "
+                                     "histories (H1, H2, Hv), beside the model's")
+    frf.add_argument("data", help="the measured histories: .uff/.unv (dataset 58), .csv, "
+                                  ".npy or .npz (docs/testing.md)")
+    frf.add_argument("--estimator", choices=ESTIMATORS, default="H1")
+    frf.add_argument("--window", choices=WINDOWS, default="hann")
+    frf.add_argument("--segment", type=cli.integer(16, 1 << 26), metavar="N",
+                     help="samples per segment (default: an eighth of the record; with an "
+                          "impact window the whole record)")
+    frf.add_argument("--overlap", type=cli.number(0, 1, open_high=True), metavar="R")
+    frf.add_argument("--force-window", type=cli.number(0, 1, open_low=True), metavar="R",
+                     help="keep the force over this first fraction of each segment")
+    frf.add_argument("--exponential", type=cli.number(0, 1, open_low=True, open_high=True),
+                     metavar="E", help="exponential window falling to E at the segment's end")
+    _band(frf)
+    frf.add_argument("--save", metavar="FILE", help="write the FRFs as a Universal File "
+                                                    "(dataset 58; .uff)")
+    _outputs(frf)
+    frf.set_defaults(run=run_frf)
+    for name, text, run in (
+            ("identify", "modes from measured FRFs: LSCF poles with a stabilization chart, "
+                         "LSFD shapes", run_identify),
+            ("correlate", "identified modes against the model's: MAC, pairs, frequency "
+                          "errors", run_correlate),
+            ("update", "fit parameters to the identified frequencies and shapes",
+             run_update)):
+        command = subparsers.add_parser(name, parents=[parent], help=text)
+        command.add_argument("frfs", help="a Universal File of FRFs (dataset 58, function "
+                                          "type 4), e.g. from resonant frf --save")
+        command.add_argument("--order", type=cli.integer(2, 200), default=40, metavar="N",
+                             help="the highest LSCF order (default 40)")
+        command.add_argument("--near", metavar="F1,F2,...",
+                             help="take the poles nearest these frequencies (Hz)")
+        command.add_argument("--added-decay", type=cli.number(0), default=0.0, metavar="RATE",
+                             help="the decay (1/s) an exponential window added to the FRFs "
+                                  "(resonant frf prints it); removed from the poles")
+        _band(command)
+        if name == "update":
+            command.add_argument("--vary", action="append", default=[], metavar="NAME=LO:HI",
+                                 help="a parameter and its bounds, e.g. 'k1=500 N/m:2 kN/m' "
+                                      "(repeatable)")
+            command.add_argument("--sigma", type=cli.number(0, open_low=True), metavar="S",
+                                 help="the measured frequencies' relative standard deviation")
+        _outputs(command)
+        command.set_defaults(run=run)
+
+
+def _band(command: argparse.ArgumentParser) -> None:
+    command.add_argument("--from", dest="start", type=cli.number(0), metavar="F1",
+                         help="lowest frequency kept (Hz)")
+    command.add_argument("--to", dest="stop", type=cli.number(0, open_low=True), metavar="F2",
+                         help="highest frequency kept (Hz)")
+
+
+def _outputs(command: argparse.ArgumentParser) -> None:
+    command.add_argument("--plot", metavar="FILE", type=cli.plot_file,
+                         help="draw the result (.png, .svg, .pdf)")
+    command.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def _spec(model: Model) -> MeasurementSpec:
+    spec = model.measurement_section
+    if spec is None:
+        raise ModelError(Problem("the model has no [measurement] section: add one naming "
+                                 "the excitation channel, the input and the response "
+                                 "channels (docs/testing.md)", model.source, "measurement"))
+    return spec
+
+
+def _read(path: str) -> MeasuredData:
+    return read_uff(path) if Path(path).suffix.lower() in UFF_SUFFIXES else \
+        read_histories(path)
+
+
+def _band_of(args: argparse.Namespace) -> tuple[float, float] | None:
+    if args.start is None and args.stop is None:
+        return None
+    return (args.start or 0.0, args.stop if args.stop is not None else float("inf"))
+
+
+def _emit(result: object, args: argparse.Namespace, text: str, warnings: tuple[str, ...]
+          ) -> int:
+    if args.json:
+        cli.emit_json(result.to_dict())  # type: ignore[attr-defined]
+    else:
+        sys.stdout.write(text)
+    cli.warn(warnings)
+    return 0
+
+
+def run_frf(args: argparse.Namespace) -> int:
+    deadline = cli.deadline(args)
+    model = cli.load_model(args)
+    spec = _spec(model)
+    data = _read(args.data)
+    result = frf_from_measurement(data, spec, model.source, estimator=args.estimator,
+                                  window=args.window, segment=args.segment,
+                                  overlap=args.overlap, force_window=args.force_window,
+                                  exponential=args.exponential, band=_band_of(args),
+                                  deadline=deadline)
+    if args.save:
+        write_uff(cli.writable_output(args.save, "the FRFs"), result.to_measured(args.save))
+    if args.plot:
+        own = model_frf(linear_system(model, deadline), spec.input, result.frequency,
+                        spec.channels, deadline=deadline) if spec.input else None
+        result.plot(args.plot, model=own)
+    return _emit(result, args, result.summary(), ())
+
+
+def _identified(args: argparse.Namespace, model: Model, deadline: Deadline
+                ) -> tuple[MeasurementSpec, ModalIdentification]:
+    spec = _spec(model)
+    data = _read(args.frfs)
+    frfs = {f.name: f for f in data.functions if f.kind == "frf"}
+    if not frfs:
+        raise ModelError(Problem("the file holds no FRF (dataset 58, function type 4)",
+                                 data.source))
+    match_channels(MeasurementSpec("", spec.input, spec.channels), list(frfs), model.source,
+                   data.source)
+    derivatives = {c.derivative for c in spec.channels.values()}
+    if len(derivatives) > 1:
+        raise ModelError(Problem("identify the channels of one kind at a time (all "
+                                 "displacements, velocities or accelerations)", model.source,
+                                 "measurement.channels"))
+    f = np.asarray(frfs[next(iter(spec.channels))].abscissa)
+    band = _band_of(args) or (0.0, float("inf"))
+    lines = (f >= band[0]) & (f <= band[1])
+    near = [float(x) for x in args.near.split(",") if x.strip()] if args.near else None
+    try:
+        chosen = {c: np.asarray(frfs[c].ordinate)[lines] for c in spec.channels}
+    except IndexError:
+        raise ModelError(Problem("the FRFs of the channels have different lines",
+                                 data.source)) from None
+    return spec, identify_modes(f[lines], chosen, max_order=args.order,
+                                derivative=derivatives.pop(), near=near,
+                                added_decay=args.added_decay, deadline=deadline)
+
+
+def run_identify(args: argparse.Namespace) -> int:
+    deadline = cli.deadline(args)
+    _, result = _identified(args, cli.load_model(args), deadline)
+    if args.plot:
+        result.plot(args.plot)
+    return _emit(result, args, result.summary(), result.warnings)
+
+
+def run_correlate(args: argparse.Namespace) -> int:
+    deadline = cli.deadline(args)
+    model = cli.load_model(args)
+    spec, identified = _identified(args, model, deadline)
+    result = correlate(identified, linear_system(model, deadline), spec.channels,
+                       deadline=deadline)
+    if args.plot:
+        result.plot(args.plot)
+    return _emit(result, args, result.summary(), identified.warnings)
+
+
+def _bounds(items: list[str]) -> Mapping[str, tuple[str, str]]:
+    bounds = {}
+    for item in items:
+        name, _, rest = item.partition("=")
+        low, _, high = rest.partition(":")
+        if not name.strip() or not low.strip() or not high.strip():
+            raise ModelError(Problem(f"--vary takes NAME=LOW:HIGH, got "
+                                     f"'{printable(item, limit=60)}'", "--vary"))
+        bounds[name.strip()] = (low.strip(), high.strip())
+    if not bounds:
+        raise ModelError(Problem("give at least one parameter to fit: --vary NAME=LOW:HIGH",
+                                 "--vary"))
+    return bounds
+
+
+def run_update(args: argparse.Namespace) -> int:
+    deadline = cli.deadline(args)
+    model = cli.load_model(args)
+    bounds = _bounds(args.vary)
+    spec, identified = _identified(args, model, deadline)
+    result = update_parameters(linear_system(model, deadline), bounds, identified.frequency,
+                               target_shapes=identified.shapes, channels=spec.channels,
+                               sigma=args.sigma, deadline=deadline)
+    if args.plot:
+        result.plot(args.plot)
+    return _emit(result, args, result.summary(), identified.warnings + result.warnings)

@@ -1,0 +1,195 @@
+"""The ``[measurement]`` section: which measured channel is which quantity of the model
+(docs/testing.md).
+
+.. code-block:: toml
+
+    [measurement]
+    excitation = "hammer"     # the channel that measures the input (a force)
+    input = "F"               # the model's signal or coordinate that channel is
+    [measurement.channels]    # response channel = coordinate or output, ' per derivative
+    a1 = "x1''"               # an accelerometer on mass 1
+    a3 = "x3''"
+
+Examples
+--------
+>>> problems = []
+>>> spec = parse_measurement({"excitation": "hammer", "input": "F",
+...                           "channels": {"a3": "x3''"}}, ["F"], ["x1", "x3"], [],
+...                           "m.toml", problems)
+>>> spec.channels["a3"], problems
+(ChannelMap(name='x3', derivative=2), [])
+>>> parse_measurement({"input": "G", "channels": {"a": "y"}}, ["F"], ["x"], [], "m.toml",
+...                   problems)
+>>> print(problems[0])
+m.toml: [measurement] input: 'G' is neither a signal nor a coordinate of the model (signals: \
+F; coordinates: x)
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from types import MappingProxyType
+
+from ..errors import ModelError, Problem, name_list, printable
+
+#: the keys of ``[measurement]``
+MEASUREMENT_KEYS = ("excitation", "input", "channels")
+#: most channels mapped
+MAX_CHANNELS = 4096
+
+__all__ = ["ChannelMap", "MeasurementSpec", "parse_measurement", "match_channels",
+           "MEASUREMENT_KEYS"]
+
+
+@dataclass(frozen=True)
+class ChannelMap:
+    """A measured channel's quantity: a coordinate or output and its time derivative.
+
+    Parameters
+    ----------
+    name : str
+        The coordinate or output.
+    derivative : int
+        0 (displacement), 1 (velocity) or 2 (acceleration).
+    """
+
+    name: str
+    derivative: int = 0
+
+
+@dataclass(frozen=True)
+class MeasurementSpec:
+    """The ``[measurement]`` section.
+
+    Parameters
+    ----------
+    excitation : str
+        The channel of the input (``""`` when the file has FRFs only).
+    input : str
+        The model's signal or coordinate the input channel measures.
+    channels : mapping
+        Response channel name -> :class:`ChannelMap`.
+    """
+
+    excitation: str
+    input: str
+    channels: Mapping[str, ChannelMap]
+
+
+def parse_measurement(data: object, signals: Sequence[str], coordinates: Sequence[str],
+                      outputs: Sequence[str], source: str, problems: list[Problem]
+                      ) -> MeasurementSpec | None:
+    """The ``[measurement]`` section, its problems appended to ``problems``.
+
+    Parameters
+    ----------
+    data : Any
+        The section as read from TOML.
+    signals, coordinates, outputs : sequence of str
+        The model's names.
+    source : str
+        The model file.
+    problems : list of Problem
+        Receives every problem found.
+
+    Returns
+    -------
+    MeasurementSpec or None
+        None when the section has problems.
+    """
+    section = "measurement"
+    count = len(problems)
+    if not isinstance(data, dict):
+        problems.append(Problem("expected a table", source, section))
+        return None
+    for key in data:
+        if key not in MEASUREMENT_KEYS:
+            close = difflib.get_close_matches(str(key), MEASUREMENT_KEYS, n=1)
+            hint = f"did you mean '{close[0]}'?" if close else \
+                f"known: {', '.join(MEASUREMENT_KEYS)}"
+            problems.append(Problem(f"unknown key '{printable(key, limit=40)}'; {hint}",
+                                    source, section, str(key)))
+    excitation = data.get("excitation", "")
+    if not isinstance(excitation, str):
+        problems.append(Problem("expected the name of a channel", source, section,
+                                "excitation"))
+    given = data.get("input", "")
+    if not isinstance(given, str) or (given and given not in (*signals, *coordinates)):
+        problems.append(Problem(
+            f"'{printable(given, limit=40)}' is neither a signal nor a coordinate of the "
+            f"model (signals: {name_list(signals) or 'none'}; coordinates: "
+            f"{name_list(coordinates) or 'none'})", source, section, "input"))
+    channels = _channels(data.get("channels"), [*coordinates, *outputs], source, problems)
+    if len(problems) > count:
+        return None
+    return MeasurementSpec(str(excitation), str(given), MappingProxyType(channels))
+
+
+def _channels(table: object, names: Sequence[str], source: str, problems: list[Problem]
+              ) -> dict[str, ChannelMap]:
+    section = "measurement.channels"
+    if not isinstance(table, dict) or not table:
+        problems.append(Problem("expected a table of channel = \"coordinate or output\" "
+                                "(with ' for each time derivative)", source, section))
+        return {}
+    if len(table) > MAX_CHANNELS:
+        problems.append(Problem(f"{len(table)} channels; at most {MAX_CHANNELS}", source,
+                                section))
+        return {}
+    channels = {}
+    for channel, value in table.items():
+        text = value.strip() if isinstance(value, str) else ""
+        name = text.rstrip("'")
+        derivative = len(text) - len(name)
+        if name not in names or derivative > 2:
+            problems.append(Problem(
+                f"'{printable(value, limit=40)}' is not a coordinate or output with at most "
+                f"two primes (known: {name_list(names) or 'none'})", source, section,
+                str(channel)))
+            continue
+        channels[str(channel)] = ChannelMap(name, derivative)
+    return channels
+
+
+def match_channels(spec: MeasurementSpec, available: Sequence[str], source: str,
+                   measured: str) -> None:
+    """Check that every channel the section names is in the measurement.
+
+    Parameters
+    ----------
+    spec : MeasurementSpec
+    available : sequence of str
+        The channel names of the measurement.
+    source : str
+        The model file (the section's).
+    measured : str
+        The measurement file's name.
+
+    Raises
+    ------
+    ModelError
+        Naming each channel of ``[measurement]`` the file does not hold.
+
+    Examples
+    --------
+    >>> spec = MeasurementSpec("hammer", "F", {"a3": ChannelMap("x3", 2)})
+    >>> match_channels(spec, ["hammer", "a1"], "m.toml", "lab.uff")
+    Traceback (most recent call last):
+    resonant.errors.ModelError: m.toml: [measurement.channels] a3: lab.uff has no channel 'a3' \
+(its channels: hammer, a1)
+    """
+    problems = []
+    listed = name_list(available) or "none"
+    if spec.excitation and spec.excitation not in available:
+        problems.append(Problem(f"{printable(measured)} has no channel "
+                                f"'{printable(spec.excitation, limit=40)}' (its channels: "
+                                f"{listed})", source, "measurement", "excitation"))
+    for channel in spec.channels:
+        if channel not in available:
+            problems.append(Problem(f"{printable(measured)} has no channel "
+                                    f"'{printable(channel, limit=40)}' (its channels: "
+                                    f"{listed})", source, "measurement.channels", channel))
+    if problems:
+        raise ModelError(problems)
