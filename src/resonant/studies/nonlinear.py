@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from ..analyses.slow_sweep import NotConverged, NotPeriodic, swept_state
+from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import ResonantError
 from ..model.study import StudySpec
 from ..system.nonlinear import NonlinearSystem
@@ -63,7 +64,7 @@ def _sample(values: Mapping[str, Any], i: int) -> dict[str, float]:
 
 
 def _one(system: NonlinearSystem, spec: StudySpec, sample: Mapping[str, float],
-         names: Sequence[str]) -> tuple[list[float], str, str]:
+         names: Sequence[str], deadline: Deadline) -> tuple[list[float], str, str]:
     """The amplitudes of ``names`` at one sample, its status and reason."""
     band = spec.band
     assert band is not None
@@ -74,7 +75,9 @@ def _one(system: NonlinearSystem, spec: StudySpec, sample: Mapping[str, float],
             f"{band.stop:g} (the nonlinear steady state is swept up from its start)")
     try:
         state = swept_state(nonlinear_at(system, sample), band.parameter, band.start, value,
-                            harmonics=spec.harmonics)
+                            harmonics=spec.harmonics, deadline=deadline)
+    except DeadlineExceeded:
+        raise
     except NotConverged as exc:
         return [math.nan] * len(names), NOT_CONVERGED, str(exc).splitlines()[0]
     except NotPeriodic as exc:
@@ -90,7 +93,8 @@ def _one(system: NonlinearSystem, spec: StudySpec, sample: Mapping[str, float],
 
 
 def nonlinear_amplitudes(system: NonlinearSystem, spec: StudySpec, values: Mapping[str, Any],
-                         count: int, skip: np.ndarray | None = None) -> NonlinearRows:
+                         count: int, skip: np.ndarray | None = None,
+                         deadline: Deadline = NO_DEADLINE) -> NonlinearRows:
     """The ``nonlinear_amplitude:`` quantities of ``spec`` at ``count`` samples.
 
     Parameters
@@ -117,8 +121,9 @@ def nonlinear_amplitudes(system: NonlinearSystem, spec: StudySpec, values: Mappi
     for i in range(count):
         if skip is not None and skip[i]:
             continue
+        deadline.check("while computing the study's nonlinear amplitudes", analysis=True)
         amplitudes, out.status[i], out.reason[i] = _one(system, spec, _sample(values, i),
-                                                        names)
+                                                        names, deadline)
         out.amplitudes[i] = amplitudes
     return out
 

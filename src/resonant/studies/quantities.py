@@ -41,6 +41,7 @@ from ..analyses.shock import shock_response_spectrum
 from ..analyses.sweep import amplitude_and_phase, amplitudes, harmonic_responses, kept_coordinates
 from ..analyses.transient import shock_response
 from ..arrays import Matrix
+from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import ModelError, Problem, ResonantError
 from ..modal import (
     cholesky_lambdas,
@@ -355,11 +356,11 @@ def _fill_peaks(rows: Rows, spec: StudySpec, system: LinearSystem,
 
 
 def _fill_nonlinear(rows: Rows, spec: StudySpec, nonlinear: NonlinearSystem | None,
-                    values: Mapping[str, Any]) -> None:
+                    values: Mapping[str, Any], deadline: Deadline = NO_DEADLINE) -> None:
     """The nonlinear steady states, sample by sample (the samples that failed before are
     skipped)."""
-    found = nonlinear_amplitudes(nonlinear, spec, values, rows.count,
-                                 skip=~rows.valid()) if nonlinear is not None else None
+    found = nonlinear_amplitudes(nonlinear, spec, values, rows.count, skip=~rows.valid(),
+                                 deadline=deadline) if nonlinear is not None else None
     if found is None:
         return
     for i, status in enumerate(found.status):
@@ -373,15 +374,19 @@ def _fill_nonlinear(rows: Rows, spec: StudySpec, nonlinear: NonlinearSystem | No
 
 def _per_sample(rows: Rows, wanted: list[Quantity], system: LinearSystem,
                 values: Mapping[str, Any], batch: Batch, stage: str,
-                compute: Callable[[LinearSystem], dict[str, float]]) -> None:
+                compute: Callable[[LinearSystem], dict[str, float]],
+                deadline: Deadline = NO_DEADLINE) -> None:
     """The ``wanted`` columns sample by sample: ``compute`` of each sample's system gives
     every wanted quantity's value (the samples whose stability failed before are
     skipped; a sample whose analysis fails is marked failed at ``stage``)."""
     for i in np.flatnonzero(rows.valid("stability")):
+        deadline.check(f"while computing the study's {stage} quantities", analysis=True)
         try:
             found = compute(numeric_point(batch, int(i), system, values))
             for q in wanted:
                 rows.columns[q.text][i] = found[q.text]
+        except DeadlineExceeded:
+            raise
         except ResonantError as exc:
             rows.fail(np.arange(rows.count) == i, "failed", str(exc), stage)
             for q in wanted:
@@ -389,7 +394,7 @@ def _per_sample(rows: Rows, wanted: list[Quantity], system: LinearSystem,
 
 
 def _fill_rms(rows: Rows, spec: StudySpec, system: LinearSystem, values: Mapping[str, Any],
-              batch: Batch) -> None:
+              batch: Batch, deadline: Deadline = NO_DEADLINE) -> None:
     """The RMS values (and the fatigue damage) under the model's ``[random]`` inputs
     (docs/random.md), sample by sample."""
     wanted = [q for q in spec.quantities if q.kind in ("rms", "damage")]
@@ -398,11 +403,11 @@ def _fill_rms(rows: Rows, spec: StudySpec, system: LinearSystem, values: Mapping
     names = list(dict.fromkeys(q.target for q in wanted))
 
     def compute(point: LinearSystem) -> dict[str, float]:
-        result = random_response(point, names=names)
+        result = random_response(point, names=names, deadline=deadline)
         return {q.text: result.rms[q.target] if q.kind == "rms" else
                 _damage(point, result.frequency, result.psd[q.target]) for q in wanted}
 
-    _per_sample(rows, wanted, system, values, batch, "random", compute)
+    _per_sample(rows, wanted, system, values, batch, "random", compute, deadline)
 
 
 def _damage(system: LinearSystem, frequency: np.ndarray, psd: np.ndarray) -> float:
@@ -420,7 +425,7 @@ def _damage(system: LinearSystem, frequency: np.ndarray, psd: np.ndarray) -> flo
 
 
 def _fill_srs(rows: Rows, spec: StudySpec, system: LinearSystem, values: Mapping[str, Any],
-              batch: Batch) -> None:
+              batch: Batch, deadline: Deadline = NO_DEADLINE) -> None:
     """The shock response spectra at the quantities' frequencies of the histories under the
     model's ``[shock]`` pulse, sample by sample."""
     wanted = [q for q in spec.quantities if q.kind == "srs"]
@@ -429,22 +434,24 @@ def _fill_srs(rows: Rows, spec: StudySpec, system: LinearSystem, values: Mapping
     names = list(dict.fromkeys(q.target for q in wanted))
 
     def compute(point: LinearSystem) -> dict[str, float]:
-        response = shock_response(point, names=names)
+        response = shock_response(point, names=names, deadline=deadline)
         shock = point.model.shock_section if point.model is not None else None
         assert shock is not None  # shock_response raised otherwise
         found = {}
         for name in names:
             here = [q for q in wanted if q.target == name]
             srs = shock_response_spectrum(response.history[name], shock.step,
-                                          [q.frequency for q in here], Q=shock.Q)
+                                          [q.frequency for q in here], Q=shock.Q,
+                                          deadline=deadline)
             found.update({q.text: float(v) for q, v in zip(here, srs.maximax)})
         return found
 
-    _per_sample(rows, wanted, system, values, batch, "shock", compute)
+    _per_sample(rows, wanted, system, values, batch, "shock", compute, deadline)
 
 
 def _fill(rows: Rows, spec: StudySpec, system: LinearSystem,
-          values: Mapping[str, Any], nonlinear: NonlinearSystem | None = None) -> None:
+          values: Mapping[str, Any], nonlinear: NonlinearSystem | None = None,
+          deadline: Deadline = NO_DEADLINE) -> None:
     """Every quantity of a chunk whose parameters evaluate."""
     batch = system.evaluate(values, rows.count)
     n = len(batch.coordinates)
@@ -463,13 +470,14 @@ def _fill(rows: Rows, spec: StudySpec, system: LinearSystem,
         _fill_modal_large(rows, spec, system, values)
     _fill_responses(rows, spec, system, values, batch)
     _fill_peaks(rows, spec, system, values)
-    _fill_nonlinear(rows, spec, nonlinear, values)
-    _fill_rms(rows, spec, system, values, batch)
-    _fill_srs(rows, spec, system, values, batch)
+    _fill_nonlinear(rows, spec, nonlinear, values, deadline)
+    _fill_rms(rows, spec, system, values, batch, deadline)
+    _fill_srs(rows, spec, system, values, batch, deadline)
 
 
 def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.ndarray],
-                     nonlinear: NonlinearSystem | None = None) -> dict[str, np.ndarray]:
+                     nonlinear: NonlinearSystem | None = None,
+                     deadline: Deadline = NO_DEADLINE) -> dict[str, np.ndarray]:
     """The quantities of ``spec`` at the samples ``varied`` (parameter -> values).
 
     Parameters
@@ -482,6 +490,9 @@ def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str,
     nonlinear : NonlinearSystem, optional
         The model's full equations, for ``nonlinear_amplitude:`` quantities (derived
         from ``system`` when not given).
+    deadline : Deadline, optional
+        Checked between the samples of the quantities computed sample by sample (RMS,
+        SRS, nonlinear amplitudes) and inside their analyses.
 
     Returns
     -------
@@ -496,12 +507,14 @@ def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str,
     for i in np.flatnonzero(bad):
         rows.fail(np.arange(count) == i, "failed", reasons[i])
     try:
-        _fill(rows, spec, system, values, nonlinear)
+        _fill(rows, spec, system, values, nonlinear, deadline)
+    except DeadlineExceeded:
+        raise
     except (ResonantError, np.linalg.LinAlgError, FloatingPointError, OverflowError) as exc:
         if count == 1:
             rows.fail(np.ones(1, dtype=bool), "failed", str(exc).splitlines()[0])
             return rows.table()
-        return _one_by_one(system, spec, varied, count, nonlinear)
+        return _one_by_one(system, spec, varied, count, nonlinear, deadline)
     return rows.table()
 
 
@@ -523,10 +536,11 @@ def empty_rows(spec: StudySpec) -> dict[str, np.ndarray]:
 
 
 def _one_by_one(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.ndarray],
-                count: int, nonlinear: NonlinearSystem | None) -> dict[str, np.ndarray]:
+                count: int, nonlinear: NonlinearSystem | None,
+                deadline: Deadline = NO_DEADLINE) -> dict[str, np.ndarray]:
     """A chunk that failed as a whole, sample by sample: the failing ones get the reason."""
     parts = [evaluate_samples(system, spec, {k: v[i:i + 1] for k, v in varied.items()},
-                              nonlinear) for i in range(count)]
+                              nonlinear, deadline) for i in range(count)]
     return {c: np.concatenate([p[c] for p in parts]) for c in parts[0]}
 
 

@@ -252,7 +252,8 @@ def nonlinear_of(job: StudyJob) -> NonlinearSystem | None:
     return system
 
 
-def evaluate_chunk(job: StudyJob, k: int, size: int) -> dict[str, np.ndarray]:
+def evaluate_chunk(job: StudyJob, k: int, size: int, seconds: float | None = None
+                   ) -> dict[str, np.ndarray]:
     """The rows of chunk ``k``: sample number, varied parameters, quantities, status.
 
     Parameters
@@ -262,6 +263,10 @@ def evaluate_chunk(job: StudyJob, k: int, size: int) -> dict[str, np.ndarray]:
         The chunk.
     size : int
         Samples per chunk.
+    seconds : float, optional
+        The time left to the command when the chunk was handed out: the quantities
+        computed sample by sample stop with :class:`~resonant.deadline.AnalysisTimeout`
+        when it passes (a number travels to a worker, a clock does not).
 
     Returns
     -------
@@ -281,7 +286,8 @@ def evaluate_chunk(job: StudyJob, k: int, size: int) -> dict[str, np.ndarray]:
     rows: dict[str, np.ndarray] = {"sample": np.arange(k * size, k * size + count,
                                                        dtype=np.int64)}
     rows.update(varied)
-    rows.update(evaluate_samples(system_of(job), job.spec, varied, nonlinear_of(job)))
+    rows.update(evaluate_samples(system_of(job), job.spec, varied, nonlinear_of(job),
+                                 Deadline(seconds, job.source)))
     return rows
 
 
@@ -426,7 +432,8 @@ def run_study(job: StudyJob, output: str | os.PathLike[str], engine: Engine = AU
     start = time.perf_counter()
     stopped = False  # by an interrupt or the time limit: the file is left for a resume
     try:
-        tasks = ((job, k, size) for k, _, _ in chunks(job.spec, size, math.ceil(kept / size)))
+        tasks = ((job, k, size, deadline.remaining())
+                 for k, _, _ in chunks(job.spec, size, math.ceil(kept / size)))
         for rows in ordered_map(evaluate_chunk, tasks, engine,
                                 on_start=lambda w: where.__setitem__(0, w)):
             writer.write(rows)
@@ -488,8 +495,9 @@ def collect(job: StudyJob, engine: Engine = AUTO,
         found = description(job, size)
         places = ["this process"]
         bar = _Bar(job.spec.size, sys.stderr.isatty() if progress is None else progress)
-        for rows in ordered_map(evaluate_chunk, ((job, k, size) for k, _, _ in
-                                                 chunks(job.spec, size)), engine,
+        for rows in ordered_map(evaluate_chunk, ((job, k, size, deadline.remaining())
+                                                 for k, _, _ in chunks(job.spec, size)),
+                                engine,
                                 on_start=lambda w: places.__setitem__(0, w)):
             parts.append(rows)
             bar.advance(len(rows["sample"]))
