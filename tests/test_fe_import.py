@@ -1,0 +1,208 @@
+"""Models from finite-element files: Nastran OUTPUT4 through pyYeti, the DOF map, the
+checks on the way in (resonant.model.op4_files, resonant.analyses.fe_checks,
+docs/interop.md).
+
+References (tests/data/README.md for the files' source and licence):
+
+* pyYeti's OP4 suite: RMAT in every layout Nastran writes (dense, bigmat, non-bigmat;
+  single, double; little-, big-endian, ASCII) against its MATLAB ground truth
+  ``r_c_rc.mat``: double precision bit for bit, single precision to float32 rounding;
+* ``inboard.op4`` (NX Nastran EXTSEOUT, a Craig-Bampton model): the fixed-interface
+  eigenvalue table of ``inboard.out`` (6.129345, 6.130134, 23.63188 Hz, printed to 7
+  digits); its grid point weight check (mass 1.755052, the 6 x 6 rigid-body mass about
+  the origin, centre of gravity (1039.998, 150, 150), inertia about it; printed to 7
+  digits) from resonant's rigid-body check; six rigid-body modes of the free model;
+* a scikit-fem beam written to OP4 in each layout and read back bit for bit.
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pyyeti")
+
+import resonant  # noqa: E402
+from resonant.analyses.fe_checks import check_matrices  # noqa: E402
+from resonant.errors import ModelError  # noqa: E402
+from resonant.model.op4_files import read_op4_matrix, write_op4  # noqa: E402
+
+DATA = Path(__file__).resolve().parent / "data" / "op4"
+LAYOUTS = [f"{p}_{s}_{o}.op4" for p in ("double", "single")
+           for s in ("dense", "bigmat", "nonbigmat") for o in ("le", "be", "ascii")]
+#: the inboard model's DOFs: the b-set (grids 3, 11, 19, 27; all six components), then
+#: the q-set (scalar points 2995001-2995008), as EXTSEOUT orders them
+INBOARD_DOFS = [[g, c] for g in (3, 11, 19, 27) for c in range(1, 7)] + \
+    [[p, 0] for p in range(2995001, 2995009)]
+INBOARD_NODES = {3: (600.0, 0.0, 300.0), 11: (600.0, 300.0, 300.0),
+                 19: (600.0, 300.0, 0.0), 27: (600.0, 0.0, 0.0)}
+#: grid 11's output system CORD2R 10 (inboard.blk): local x, y, z = basic y, z, x
+INBOARD_FRAMES = {11: [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]}
+
+
+@pytest.mark.parametrize("layout", LAYOUTS)
+def test_pyyeti_op4_suite_against_its_ground_truth(layout: str) -> None:
+    from scipy.io import loadmat
+
+    truth = loadmat(DATA / "r_c_rc.mat")["rmat"]
+    single = layout.startswith("single")
+    matrix = read_op4_matrix(str(DATA / layout), "RMATS" if single else "RMAT", "M",
+                             square=False)
+    matrix = matrix.toarray() if hasattr(matrix, "toarray") else matrix
+    expected = truth.astype(np.float32).astype(float) if single else truth
+    if layout.endswith("_ascii.op4"):  # Nastran prints 10 (double) or 7 (single) digits
+        assert np.allclose(matrix, expected, rtol=1e-6 if single else 1e-9, atol=0)
+    else:
+        assert np.array_equal(matrix, expected)
+
+
+def _inboard(folder: Path, dofs: list[list[int]] = INBOARD_DOFS, extra: str = "") -> Path:
+    shutil.copy(DATA / "inboard.op4", folder / "inboard.op4")
+    path = folder / "inboard.toml"
+    path.write_text('title = "inboard"\n[matrices]\nM = "inboard.op4:MXX"\n'
+                    f'K = "inboard.op4:KXX"\ndofs = {dofs}\n{extra}', encoding="utf-8")
+    return path
+
+
+def test_inboard_names_and_nastran_weight_check(tmp_path: Path) -> None:
+    model = resonant.load(_inboard(tmp_path))
+    assert model.coordinates[:3] == ("n3_ux", "n3_uy", "n3_uz")
+    assert model.coordinates[23:25] == ("n27_rz", "n2995001")
+    checks = check_matrices(model.linearize(), nodes=INBOARD_NODES, frames=INBOARD_FRAMES)
+    assert checks.ok, checks.problems
+    assert checks.rigid_body_modes == 6
+    assert all(v < 1e-14 for v in checks.rigid_body_forces.values())
+    # NX Nastran, inboard.out page 19: O U T P U T   F R O M   W E I G H T   C H E C K
+    nastran = np.array([
+        [1.755052e+00, 0, 0, 0, 2.632578e+02, -2.632578e+02],
+        [0, 1.755052e+00, 0, -2.632578e+02, 0, 1.825251e+03],
+        [0, 0, 1.755052e+00, 2.632578e+02, -1.825251e+03, 0],
+        [0, -2.632578e+02, 2.632578e+02, 1.148825e+05, -2.737877e+05, -2.737877e+05],
+        [2.632578e+02, 0, -1.825251e+03, -2.737877e+05, 2.305948e+06, -3.937911e+04],
+        [-2.632578e+02, 1.825251e+03, 0, -2.737877e+05, -3.937911e+04, 2.305948e+06]])
+    assert checks.rigid_body_mass is not None
+    assert np.allclose(checks.rigid_body_mass, nastran, rtol=5e-7, atol=1e-8)
+    for value in checks.mass_by_direction.values():
+        assert value == pytest.approx(1.755052, rel=5e-7)
+    assert checks.centre_of_gravity == pytest.approx((1.039998e3, 150.0, 150.0), rel=5e-7)
+    # page 17, I(S) about the centre of gravity; Nastran prints the products of inertia
+    # with the sign opposite to the tensor's (I_yz = -sum m y z)
+    assert checks.inertia is not None
+    assert np.diag(checks.inertia) == pytest.approx([3.590520e4, 3.682012e5, 3.682012e5],
+                                                     rel=5e-7)
+    assert checks.inertia[1, 2] == pytest.approx(1.095583e2, rel=5e-7)
+    assert "rigid-body modes: 6" in checks.summary()
+
+
+def test_inboard_fixed_interface_frequencies(tmp_path: Path) -> None:
+    """The b-set clamped: the q-set blocks give Nastran's eigenvalue table."""
+    K = read_op4_matrix(str(DATA / "inboard.op4"), "KXX", "K")[24:, 24:]
+    M = read_op4_matrix(str(DATA / "inboard.op4"), "MXX", "M")[24:, 24:]
+    write_op4(tmp_path / "fixed.op4", {"kqq": K, "mqq": M})
+    (tmp_path / "fixed.toml").write_text(
+        '[matrices]\nM = "fixed.op4:MQQ"\nK = "fixed.op4:KQQ"\n'
+        f"dofs = {[[p, 0] for p in range(2995001, 2995009)]}\n", encoding="utf-8")
+    modes = resonant.load(tmp_path / "fixed.toml").linearize().modes()
+    hz = modes.natural_frequencies[:3] / (2 * np.pi)
+    assert hz == pytest.approx([6.129345, 6.130134, 23.63188], rel=5e-7)
+
+
+@pytest.mark.parametrize("binary", [True, False])
+@pytest.mark.parametrize("sparse", [None, "dense", "bigmat", "nonbigmat"])
+def test_scikit_fem_beam_round_trip(tmp_path: Path, binary: bool, sparse: str | None) -> None:
+    """A scikit-fem model written to OP4 and read back: bit for bit in binary, to the 16
+    significant digits pyYeti prints in ASCII."""
+    pytest.importorskip("skfem")
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import corpus
+
+    structure = corpus.build("eb_beam", 40)
+    K, M = structure.K.tocsr(), structure.M.tocsr()
+    write_op4(tmp_path / "beam.op4", {"kaa": K if sparse != "dense" else K.toarray(),
+                                      "maa": M if sparse != "dense" else M.toarray()},
+              binary=binary, sparse="auto" if sparse is None else sparse)
+    for name, original in (("KAA", K), ("MAA", M)):
+        back = read_op4_matrix(str(tmp_path / "beam.op4"), name, name[0])
+        back = back.toarray() if hasattr(back, "toarray") else back
+        if binary:
+            assert np.array_equal(back, original.toarray())
+        else:
+            assert np.allclose(back, original.toarray(), rtol=1e-15, atol=0)
+
+
+def _cli(*args: str) -> subprocess.CompletedProcess[str]:
+    code = "import sys\nfrom resonant.cli import main\nsys.exit(main(sys.argv[1:]))"
+    return subprocess.run([sys.executable, "-c", code, *args], capture_output=True,
+                          text=True, timeout=120)
+
+
+def test_truncated_op4_record_is_exit_2_naming_file_and_matrix(tmp_path: Path) -> None:
+    path = _inboard(tmp_path)
+    data = (tmp_path / "inboard.op4").read_bytes()
+    (tmp_path / "inboard.op4").write_bytes(data[:len(data) // 3])
+    run = _cli("check", str(path))
+    assert run.returncode == 2, run.stderr
+    assert "inboard.op4" in run.stderr and "Traceback" not in run.stderr
+    assert "truncated" in run.stderr
+    assert "[matrices]" in run.stderr
+
+
+def test_missing_matrix_name_lists_what_the_file_holds(tmp_path: Path) -> None:
+    path = _inboard(tmp_path)
+    path.write_text(path.read_text().replace("MXX", "MGG"), encoding="utf-8")
+    with pytest.raises(ModelError, match=r"no matrix named MGG \(it holds KXX, MXX"):
+        resonant.load(path)
+
+
+def test_dof_map_that_does_not_match(tmp_path: Path) -> None:
+    with pytest.raises(ModelError, match="lists 31 DOFs but the matrices have 32 rows"):
+        resonant.load(_inboard(tmp_path, INBOARD_DOFS[:-1]))
+    with pytest.raises(ModelError, match="n3_ux twice"):
+        resonant.load(_inboard(tmp_path, [[3, 1], *INBOARD_DOFS[1:-1], [3, 1]]))
+    with pytest.raises(ModelError, match="component"):
+        resonant.load(_inboard(tmp_path, [[3, 7], *INBOARD_DOFS[1:]]))
+
+
+def test_complex_and_unsquare_matrices_are_refused(tmp_path: Path) -> None:
+    shutil.copy(DATA / "double_dense_le.op4", tmp_path / "m.op4")
+    (tmp_path / "model.toml").write_text('[matrices]\nM = "m.op4:CMAT"\nK = "m.op4:RMAT"\n',
+                                         encoding="utf-8")
+    with pytest.raises(ModelError) as info:
+        resonant.load(tmp_path / "model.toml")
+    text = str(info.value)
+    assert "CMAT holds complex numbers" in text and "RMAT is 25x31, not a square" in text
+
+
+def test_op4_outside_the_folder_is_refused(tmp_path: Path) -> None:
+    (tmp_path / "sub").mkdir()
+    shutil.copy(DATA / "inboard.op4", tmp_path / "inboard.op4")
+    (tmp_path / "sub" / "model.toml").write_text(
+        '[matrices]\nM = "../inboard.op4:MXX"\nK = "../inboard.op4:KXX"\n', encoding="utf-8")
+    with pytest.raises(ModelError, match="outside the model's folder"):
+        resonant.load(tmp_path / "sub" / "model.toml")
+    model = resonant.load(tmp_path / "sub" / "model.toml", allow_paths=[tmp_path])
+    assert model.coordinates[0] == "q1"
+
+
+def test_loads_by_node_name_and_a_sweep(tmp_path: Path) -> None:
+    """F_C given at a named DOF: the clamped q-set responds; the free model's names
+    reach the load table."""
+    path = _inboard(tmp_path, extra='C = "1e-4*K"\n[[harmonic]]\nomega = 40\n'
+                                    'F_C = { n2995001 = 1.0 }\n')
+    model = resonant.load(path)
+    assert model.matrices is not None
+    assert model.matrices.harmonics[0].F_C[24].text == "1.0"
+
+
+def test_a_missing_mass_matrix_says_which_analysis_writes_one() -> None:
+    from resonant.system.base import NumericEOM
+
+    system = NumericEOM(("n1_ux", "n2_ux"), np.zeros((2, 2)), np.zeros((2, 2)), np.eye(2))
+    checks = check_matrices(system)
+    assert not checks.ok
+    assert "SOL 103" in checks.problems[0] and "ANTYPE,MODAL" in checks.problems[0]
