@@ -206,3 +206,52 @@ def test_a_missing_mass_matrix_says_which_analysis_writes_one() -> None:
     checks = check_matrices(system)
     assert not checks.ok
     assert "SOL 103" in checks.problems[0] and "ANTYPE,MODAL" in checks.problems[0]
+
+
+def _ansys(folder: Path, extra: str = "drop_unconnected = true\n") -> Path:
+    from ansys.mapdl.reader import examples
+
+    shutil.copy(examples.fullfile, folder / "file.full")
+    path = folder / "model.toml"
+    path.write_text('[matrices]\nM = "file.full"\nK = "file.full"\ndofs = "file.full"\n'
+                    + extra, encoding="utf-8")
+    return path
+
+
+def test_ansys_full_example_against_its_frequencies(tmp_path: Path) -> None:
+    """ansys-mapdl-reader's example file.full: its documented first frequencies
+    (examples.load_km: 1283.20036921, 1283.20036921, 5781.97486169, 6919.39887714 Hz),
+    the 63 unconnected DOFs (no mass, no stiffness) found and dropped."""
+    pytest.importorskip("ansys.mapdl.reader")
+    raw = resonant.load(_ansys(tmp_path, ""))
+    assert len(raw.coordinates) == 963 and raw.coordinates[:2] == ("n1_ux", "n1_uy")
+    checks = check_matrices(raw.linearize())
+    assert "63 coordinates have neither mass nor stiffness" in checks.problems[0]
+    model = resonant.load(_ansys(tmp_path))
+    assert len(model.coordinates) == 900
+    assert check_matrices(model.linearize()).ok
+    hz = model.linearize().modes(count=4).natural_frequencies / (2 * np.pi)
+    assert hz == pytest.approx([1283.20036921, 1283.20036921, 5781.97486169, 6919.39887714],
+                               rel=1e-9)
+
+
+def test_ansys_full_without_mass_is_exit_2(tmp_path: Path, monkeypatch) -> None:
+    """A static run's .full holds K only: the message names the file, M, and the analysis
+    that writes a mass matrix (the reader's empty mass matrix stands in for such a file)."""
+    pytest.importorskip("ansys.mapdl.reader")
+    import scipy.sparse as sp
+
+    from resonant.model import full_files
+
+    real = full_files._load
+
+    def without_mass(path: str):
+        dof_ref, k, m = real(path)
+        return dof_ref, k, sp.csc_matrix(m.shape)
+
+    monkeypatch.setattr(full_files, "_load", without_mass)
+    with pytest.raises(ModelError) as info:
+        resonant.load(_ansys(tmp_path))
+    text = str(info.value)
+    assert "file.full" in text and "[matrices] M" in text
+    assert "no mass matrix" in text and "ANTYPE,MODAL" in text

@@ -295,7 +295,14 @@ def check_matrices(system: LinearSystem, *, nodes: Mapping[int, Sequence[float]]
             problems.append(f"{key} is not symmetric (max |{key} - {key}^T| / max |{key}| = "
                             f"{value:.2g})")
     massless = tuple(q for q, row in zip(num.coordinates, _row_norms(num.M)) if row == 0)
-    if massless and present:
+    free = [q for q, m, k in zip(num.coordinates, _row_norms(num.M), _row_norms(num.K))
+            if m == 0 and k == 0]
+    if free:
+        problems.append(f"{len(free)} coordinates have neither mass nor stiffness "
+                        f"({', '.join(free[:6])}{', ...' if len(free) > 6 else ''}): "
+                        "unconnected DOFs of the FE model; drop them (drop_unconnected = "
+                        "true in [matrices])")
+    if massless and present and len(massless) > len(free):
         notes.append(f"{len(massless)} coordinates carry no mass ({', '.join(massless[:6])}"
                      f"{', ...' if len(massless) > 6 else ''}): M is singular; condense them "
                      "(Guyan) or add mass before a transient or state-space analysis")

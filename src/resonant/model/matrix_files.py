@@ -45,6 +45,7 @@ from ..expressions.numeric import numeric_value
 from ..modal import mass_normalized_modes
 from . import inline_matrices, limits
 from .files import FileRefused, open_regular_file, read_bounded
+from .full_files import full_dof_names, read_full_matrix, split_full
 from .op4_files import dof_names, read_op4_matrix, split_reference
 from .types import Harmonic, MatrixSpec
 
@@ -55,13 +56,15 @@ MATRIX_KEYS = ("M", "K", "C")
 MODAL_KEY = "modal_damping"
 #: the DOF map of matrices read from finite-element files: [node, component] per row
 DOFS_KEY = "dofs"
+#: drop the coordinates with neither mass nor stiffness (unconnected DOFs of an FE file)
+DROP_KEY = "drop_unconnected"
 MODAL_DAMPING_MAX_DOF = 3000
 """Largest model modal damping builds C for: C = M Phi diag(2 zeta omega) Phi^T M is dense
 (n^2 numbers) and needs the dense generalized eigenproblem; beyond this give C explicitly
 or as Rayleigh damping."""
 FILE_SUFFIXES = (".npy", ".npz", ".mtx")
 #: finite-element files, each with the name of its matrix: ``"model.op4:KAA"``
-FE_SUFFIXES = (".op4",)
+FE_SUFFIXES = (".op4", ".full")
 
 
 def is_file_reference(value: str) -> bool:
@@ -72,7 +75,8 @@ def is_file_reference(value: str) -> bool:
     >>> is_file_reference("k.mtx"), is_file_reference("m.op4:MGG"), is_file_reference("0.1*K")
     (True, True, False)
     """
-    return value.lower().endswith(FILE_SUFFIXES) or split_reference(value) is not None
+    return value.lower().endswith(FILE_SUFFIXES) or split_reference(value) is not None or \
+        split_full(value) is not None
 SPARSE_NPZ_KEYS = {"format", "shape", "data"}
 SPARSE_FORMATS = ("csr", "csc", "coo")
 OUTSIDE = ("the path leads outside the model's folder; matrix files are read only from the "
@@ -201,6 +205,10 @@ def read_matrix_file(value: str, key: str, base_dir: Path | None,
     if reference is not None:
         return read_op4_matrix(resolve_matrix_path(reference[0], base_dir, allow_paths),
                                reference[1], key)
+    full = split_full(value)
+    if full is not None:
+        return read_full_matrix(resolve_matrix_path(full[0], base_dir, allow_paths),
+                                full[1], key)
     suffix = os.path.splitext(value)[1].lower()
     if suffix not in FILE_SUFFIXES:
         raise FileRefused("unknown matrix file type; use "
@@ -726,6 +734,7 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
     rayleigh = None
     modal = None
     dofs: list[str] | None = None
+    drop = False
     for key, value in section.items():
         if key == "harmonic":
             continue
@@ -735,9 +744,15 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
         if key == DOFS_KEY:
             dofs = _dof_map(value, source, base_dir, allow_paths, problems)
             continue
+        if key == DROP_KEY:
+            if not isinstance(value, bool):
+                problems.append(Problem(f"{DROP_KEY} must be true or false", source,
+                                        "matrices", key))
+            drop = value is True
+            continue
         if key not in MATRIX_KEYS:
             problems.append(Problem(f"unknown key '{key}'; [matrices] takes M, K, C, "
-                                    f"{MODAL_KEY} and {DOFS_KEY}",
+                                    f"{MODAL_KEY}, {DOFS_KEY} and {DROP_KEY}",
                                     source, "matrices", key))
             continue
         if key == "C" and isinstance(value, str) and value not in inline_arrays and \
@@ -762,6 +777,9 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
             matrices["C"] = damping
     n = _check_sizes(section, matrices, coordinates, source, problems)
     dofs = _dofs_for(dofs, coordinates, n, source, problems)
+    if drop and not problems:
+        dofs = _drop_unconnected(matrices, dofs, coordinates, n, source, problems)
+        n = matrices["M"].shape[0] if "M" in matrices else n
     names = list(coordinates) if coordinates else dofs or [f"q{i + 1}" for i in range(n)]
     loads = _LoadContext(names, base_dir, allow_paths)
     parsed = [_harmonic(entry, f"harmonic {i}", n, params, source, problems, loads)
@@ -785,19 +803,46 @@ def _dof_map(value: object, source: str, base_dir: Path | None,
             pairs = read_op4_matrix(resolve_matrix_path(path, base_dir, allow_paths), name,
                                     DOFS_KEY, square=False)
             pairs = pairs.toarray() if hasattr(pairs, "toarray") else pairs
+        elif isinstance(value, str) and split_full(value) is not None:
+            path = (split_full(value) or (value, None))[0]
+            return full_dof_names(resolve_matrix_path(path, base_dir, allow_paths))
         elif isinstance(value, list) and all(
                 isinstance(p, list) and len(p) == 2 and all(
                     type(v) is int for v in p) for p in value):
             pairs = np.array(value, dtype=np.int64).reshape(-1, 2)
         else:
             raise FileRefused("dofs must be a list of [node, component] pairs (dofs = "
-                              '[[1042, 3], [1042, 4]]) or an n x 2 matrix of an OP4 file '
-                              '(dofs = "model.op4:DOFS")')
+                              '[[1042, 3], [1042, 4]]), an n x 2 matrix of an OP4 file '
+                              '(dofs = "model.op4:DOFS") or an ANSYS .full file (dofs = '
+                              '"model.full")')
         return dof_names(np.asarray(pairs))
     except FileRefused as exc:
         shown = f"cannot read '{value}': " if isinstance(value, str) else ""
         problems.append(Problem(f"{shown}{exc}", source, "matrices", DOFS_KEY))
         return None
+
+
+def _drop_unconnected(matrices: dict[str, Any], dofs: list[str] | None,
+                      coordinates: Sequence[str], n: int, source: str,
+                      problems: list[Problem]) -> list[str] | None:
+    """Remove the rows and columns of M, K, C where all three are zero; the names that are
+    left (the DOF map's, or q1 ... qn of the file's numbering)."""
+    if coordinates or any(isinstance(m, list) for m in matrices.values()) or \
+            not {"M", "K"} <= set(matrices):
+        problems.append(Problem(f"{DROP_KEY} takes matrices from files (or plain numbers) "
+                                "and no [coordinates]: the names come from dofs or the "
+                                "file's numbering", source, "matrices", DROP_KEY))
+        return dofs
+    used = np.zeros(n, dtype=bool)
+    for matrix in matrices.values():
+        magnitude = abs(matrix)
+        used |= np.asarray(magnitude.sum(axis=1)).ravel() > 0
+        used |= np.asarray(magnitude.sum(axis=0)).ravel() > 0
+    keep = np.flatnonzero(used)
+    for key, matrix in matrices.items():
+        matrices[key] = matrix[keep][:, keep]
+    names = dofs or [f"q{i + 1}" for i in range(n)]
+    return [names[i] for i in keep]
 
 
 def _dofs_for(dofs: list[str] | None, coordinates: Sequence[str], n: int, source: str,
@@ -1153,7 +1198,7 @@ def _entry(value: object, params: Sequence[str], source: str, key: str,
 
 
 
-__all__ = ["read_matrix_spec", "read_matrix_file", "is_file_reference", "DOFS_KEY",
+__all__ = ["read_matrix_spec", "read_matrix_file", "is_file_reference", "DOFS_KEY", "DROP_KEY",
            "read_vector_file", "resolve_matrix_path",
            "open_regular_file",
            "read_bounded", "FileRefused", "MATRIX_KEYS", "FILE_SUFFIXES"]
