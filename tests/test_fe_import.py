@@ -255,3 +255,58 @@ def test_ansys_full_without_mass_is_exit_2(tmp_path: Path, monkeypatch) -> None:
     text = str(info.value)
     assert "file.full" in text and "[matrices] M" in text
     assert "no mass matrix" in text and "ANTYPE,MODAL" in text
+
+
+def _write_abaqus(path: Path, matrix, dofs: list[tuple[int, int]], triangle: str) -> None:
+    """Abaqus's MATRIX INPUT text (row node, row DOF, column node, column DOF, value)."""
+    import scipy.sparse as sp
+
+    coo = sp.coo_matrix(matrix)
+    keep = {"lower": coo.row >= coo.col, "upper": coo.row <= coo.col,
+            "full": np.ones(coo.nnz, dtype=bool)}[triangle]
+    lines = ["** written like Abaqus *MATRIX OUTPUT, FORMAT=MATRIX INPUT"]
+    for i, j, v in zip(coo.row[keep], coo.col[keep], coo.data[keep]):
+        lines.append(f"{dofs[i][0]},{dofs[i][1]}, {dofs[j][0]},{dofs[j][1]}, {float(v)!r}")
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+@pytest.mark.parametrize("triangle", ["lower", "upper", "full"])
+def test_abaqus_matrix_output_round_trip(tmp_path: Path, triangle: str) -> None:
+    """A scikit-fem beam written as Abaqus matrix output (repr: 17 digits) and read back
+    bit for bit, the coordinates named by node and DOF."""
+    pytest.importorskip("skfem")
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import corpus
+
+    structure = corpus.build("eb_beam", 40)
+    # Abaqus writes symmetric matrices; the assembled beam is symmetric to rounding
+    K, M = ((a + a.T).tocsr() / 2 for a in (structure.K, structure.M))
+    # a beam node carries a deflection (uz, 3) and a rotation (ry, 5)
+    dofs = [(10 + i // 2, 3 if i % 2 == 0 else 5) for i in range(K.shape[0])]
+    _write_abaqus(tmp_path / "job_STIF2.mtx", K, dofs, triangle)
+    _write_abaqus(tmp_path / "job_MASS2.mtx", M, dofs, triangle)
+    (tmp_path / "beam.toml").write_text('[matrices]\nK = "job_STIF2.mtx"\n'
+                                        'M = "job_MASS2.mtx"\n', encoding="utf-8")
+    model = resonant.load(tmp_path / "beam.toml")
+    assert model.coordinates[:3] == ("n10_uz", "n10_ry", "n11_uz")
+    num = model.linearize().numeric()
+    assert np.array_equal(num.K.toarray(), K.toarray())
+    assert np.array_equal(num.M.toarray(), M.toarray())
+
+
+def test_abaqus_bad_input_names_the_problem(tmp_path: Path) -> None:
+    (tmp_path / "k.mtx").write_text("1,1, 1,1, 2.0\n1,1, 1\n", encoding="utf-8")
+    (tmp_path / "m.mtx").write_text("1,1, 1,1, 1.0\n1,1, 1,1, 1.0\n", encoding="utf-8")
+    (tmp_path / "model.toml").write_text('[matrices]\nK = "k.mtx"\nM = "m.mtx"\n',
+                                         encoding="utf-8")
+    with pytest.raises(ModelError) as info:
+        resonant.load(tmp_path / "model.toml")
+    text = str(info.value)
+    assert "[matrices] K: cannot read 'k.mtx'" in text and "5 numbers" in text
+    (tmp_path / "k.mtx").write_text("1,1, 1,1, 2.0\n", encoding="utf-8")
+    with pytest.raises(ModelError, match="an entry of M is listed twice"):
+        resonant.load(tmp_path / "model.toml")
+    (tmp_path / "m.mtx").write_text("1,1, 1,1, 1.0\n1,1, 2,1, 0.5\n2,1, 1,1, 0.25\n"
+                                    "2,1, 2,1, 1.0\n", encoding="utf-8")
+    with pytest.raises(ModelError, match="M is listed in full but is not symmetric"):
+        resonant.load(tmp_path / "model.toml")

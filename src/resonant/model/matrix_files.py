@@ -44,6 +44,7 @@ from ..expressions import Expression, ExpressionError, parse
 from ..expressions.numeric import numeric_value
 from ..modal import mass_normalized_modes
 from . import inline_matrices, limits
+from .abaqus_files import AbaqusEntries, assemble_abaqus, looks_like_abaqus, parse_abaqus
 from .files import FileRefused, open_regular_file, read_bounded
 from .full_files import full_dof_names, read_full_matrix, split_full
 from .op4_files import dof_names, read_op4_matrix, split_reference
@@ -222,6 +223,10 @@ def read_matrix_file(value: str, key: str, base_dir: Path | None,
                 return _dense(_read_npy(handle, "the array", size, matrix=True))
             if suffix == ".npz":
                 return _read_npz(handle, size, key)
+            head = handle.read(4096)
+            handle.seek(0)
+            if looks_like_abaqus(head):
+                return parse_abaqus(handle.read(size + 1), key)
             return _read_mtx(handle, size)
         except FileRefused:
             raise
@@ -763,6 +768,8 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
                          problems)
         if matrix is not None:
             matrices[key] = matrix
+    if any(isinstance(m, AbaqusEntries) for m in matrices.values()):
+        dofs = _abaqus_matrices(matrices, dofs, source, problems)
     if rayleigh is not None and "M" in matrices and "K" in matrices:
         damping = _rayleigh_matrix(rayleigh, matrices["M"], matrices["K"], params, source,
                                    problems)
@@ -820,6 +827,29 @@ def _dof_map(value: object, source: str, base_dir: Path | None,
         shown = f"cannot read '{value}': " if isinstance(value, str) else ""
         problems.append(Problem(f"{shown}{exc}", source, "matrices", DOFS_KEY))
         return None
+
+
+def _abaqus_matrices(matrices: dict[str, Any], dofs: list[str] | None, source: str,
+                     problems: list[Problem]) -> list[str] | None:
+    """Abaqus matrix files assembled on the union of their DOFs; their names."""
+    entries = {k: m for k, m in matrices.items() if isinstance(m, AbaqusEntries)}
+    if len(entries) != len(matrices):
+        problems.append(Problem("Abaqus matrix output cannot be combined with other matrix "
+                                "files or inline matrices: give M, K (and C) from the same "
+                                "Abaqus step", source, "matrices"))
+        for key in entries:
+            del matrices[key]
+        return dofs
+    try:
+        assembled, names = assemble_abaqus(entries)
+    except FileRefused as exc:
+        problems.append(Problem(f"cannot assemble the Abaqus matrices: {exc}", source,
+                                "matrices"))
+        for key in entries:
+            del matrices[key]
+        return dofs
+    matrices.update(assembled)
+    return dofs if dofs is not None else names
 
 
 def _drop_unconnected(matrices: dict[str, Any], dofs: list[str] | None,
