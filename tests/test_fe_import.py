@@ -310,3 +310,53 @@ def test_abaqus_bad_input_names_the_problem(tmp_path: Path) -> None:
                                     "2,1, 2,1, 1.0\n", encoding="utf-8")
     with pytest.raises(ModelError, match="M is listed in full but is not symmetric"):
         resonant.load(tmp_path / "model.toml")
+
+
+WORKED = """title = "Clamped beam from a Nastran OUTPUT4 file"
+[matrices]
+M = "beam.op4:MAA"
+K = "beam.op4:KAA"
+C = "1e-5*K"
+dofs = "beam.op4:DOFS"
+
+[random]
+band = [1, 2000]
+[random.psd.n110_uz]      # a random force on node 110 in z
+unit = "N^2/Hz"
+values = 1.0
+"""
+
+
+def test_worked_example_op4_to_random_response_at_a_node(tmp_path: Path) -> None:
+    """docs/interop.md's worked example: the RMS at n110_uz and n120_uz against the
+    exported state space's Lyapunov equation (another route than the random analysis's
+    quadrature over the kernel's responses), to 1e-3."""
+    pytest.importorskip("skfem")
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import corpus
+
+    structure = corpus.build("eb_beam", 40)
+    K, M = ((a + a.T).tocsr() / 2 for a in (structure.K, structure.M))
+    dofs = np.array([[101 + i // 2, 3 if i % 2 == 0 else 5] for i in range(K.shape[0])])
+    write_op4(tmp_path / "beam.op4", {"kaa": K, "maa": M, "dofs": dofs.astype(float)})
+    (tmp_path / "beam.toml").write_text(WORKED, encoding="utf-8")
+    model = resonant.load(tmp_path / "beam.toml")
+    system = model.linearize()
+    result = system.random_response(names=["n110_uz", "n120_uz"])
+    exported = system.state_space(inputs=["n110_uz"], outputs=["n110_uz", "n120_uz"])
+    # white noise of one-sided density 1 N^2/Hz is intensity 1/2: the variance over
+    # 0..inf is C P C^T with A P + P A^T + B B^T / 2 = 0; the parts below 1 Hz and above
+    # 2000 Hz (smooth) are taken off by quadrature
+    from scipy.linalg import solve_continuous_lyapunov
+
+    P = solve_continuous_lyapunov(exported.A, -0.5 * exported.B @ exported.B.T)
+    total = np.diag(exported.C @ P @ exported.C.T)
+
+    def outside(f: np.ndarray) -> np.ndarray:
+        power = np.abs(exported.frequency_response(2 * np.pi * f)[:, :, 0]) ** 2
+        return np.sum((power[1:] + power[:-1]) / 2 * np.diff(f)[:, None], axis=0)
+
+    band = total - outside(np.linspace(0.0, 1.0, 201)) - outside(np.geomspace(2e3, 2e6, 2001))
+    for k, name in enumerate(("n110_uz", "n120_uz")):
+        assert result.rms[name] == pytest.approx(np.sqrt(band[k]), rel=1e-3), name
+    assert result.rms["n110_uz"] == pytest.approx(0.1356, rel=1e-3)  # the page's table
