@@ -360,3 +360,15 @@ def test_worked_example_op4_to_random_response_at_a_node(tmp_path: Path) -> None
     for k, name in enumerate(("n110_uz", "n120_uz")):
         assert result.rms[name] == pytest.approx(np.sqrt(band[k]), rel=1e-3), name
     assert result.rms["n110_uz"] == pytest.approx(0.1356, rel=1e-3)  # the page's table
+
+
+def test_check_command_prints_the_matrix_report(tmp_path: Path) -> None:
+    run = _cli("check", "--matrices", str(_inboard(tmp_path)))
+    assert run.returncode == 0, run.stderr
+    # no output frames on the command line: grid 11's DOFs (in CORD2R 10) spoil the
+    # basic translations, and the report says so
+    assert "rigid-body modes: 6" in run.stdout and "give their output frames" in run.stdout
+    (tmp_path / "zero.toml").write_text("[matrices]\nM = [[0, 0], [0, 0]]\n"
+                                        "K = [[2, -1], [-1, 2]]\n", encoding="utf-8")
+    run = _cli("check", "--matrices", str(tmp_path / "zero.toml"))
+    assert run.returncode == 2 and "the mass matrix M is zero" in run.stdout

@@ -47,6 +47,8 @@ MASS_SOURCES = ("Nastran writes the mass matrix in a modal or dynamic solution (
                 "analysis (ANTYPE,MODAL), never in a static one; Abaqus in a *MATRIX "
                 "GENERATE step with MASS")
 _DIRECTIONS = ("ux", "uy", "uz", "rx", "ry", "rz")
+#: max |K T| / max |K| of a rigid translation above which the structure is not free
+RIGID_FORCE_TOLERANCE = 1e-8
 
 
 @dataclass(frozen=True)
@@ -356,6 +358,11 @@ def _rigid_body_check(num: Any, nodes: Mapping[int, Sequence[float]] | None,
     mass = {axis: float(T[:, k] @ MT[:, k]) for k, axis in enumerate("xyz")}
     forces = {axis: float(np.max(np.abs(KT[:, k])) / scale) for k, axis in enumerate("xyz")
               if np.any(T[:, k])}
+    if any(v > RIGID_FORCE_TOLERANCE for v in forces.values()):
+        notes.append("a rigid translation leaves forces K T: the structure is constrained "
+                     "(supports, springs to ground), or some nodes' DOFs are not in the "
+                     "basic system (give their output frames); the mass by translation then "
+                     "is not the total mass")
     out: dict[str, Any] = {"mass_by_direction": mass, "rigid_body_forces": forces}
     if nodes is None:
         return out
