@@ -372,3 +372,28 @@ def test_check_command_prints_the_matrix_report(tmp_path: Path) -> None:
                                         "K = [[2, -1], [-1, 2]]\n", encoding="utf-8")
     run = _cli("check", "--matrices", str(tmp_path / "zero.toml"))
     assert run.returncode == 2 and "the mass matrix M is zero" in run.stdout
+
+
+DMIG = Path(__file__).resolve().parent / "data" / "dmig" / "matrix_factory.pch"
+
+
+def test_dmig_from_a_punch_file(tmp_path: Path) -> None:
+    """pyYeti's punch file of DMIG entries (21 DOFs: grids 1-3 with six components,
+    scalar points 10-12): IDENT as M and K gives 21 modes at 1 rad/s, the coordinates
+    named from the DMIG labels; the unsymmetric PATRN as K is refused by name."""
+    shutil.copy(DMIG, tmp_path / "matrix_factory.pch")
+    path = tmp_path / "model.toml"
+    path.write_text('[matrices]\nM = "matrix_factory.pch:IDENT"\n'
+                    'K = "matrix_factory.pch:IDENT"\n', encoding="utf-8")
+    model = resonant.load(path)
+    assert model.coordinates[:2] == ("n1_ux", "n1_uy")
+    assert model.coordinates[-3:] == ("n10", "n11", "n12")
+    assert np.allclose(model.linearize().modes().natural_frequencies, 1.0, rtol=1e-14)
+    path.write_text('[matrices]\nM = "matrix_factory.pch:IDENT"\n'
+                    'K = "matrix_factory.pch:PATRN"\n', encoding="utf-8")
+    with pytest.raises(ModelError, match="K is listed in full but is not symmetric"):
+        resonant.load(path)
+    path.write_text('[matrices]\nM = "matrix_factory.pch:IDENT"\n'
+                    'K = "matrix_factory.pch:KAAX"\n', encoding="utf-8")
+    with pytest.raises(ModelError, match="no DMIG named KAAX"):
+        resonant.load(path)

@@ -155,6 +155,8 @@ def dof_name(node: int, dof: int) -> str:
     ('n12_uz', 'nm4_d11')
     """
     label = f"m{-node}" if node < 0 else str(node)
+    if dof == 0:  # a Nastran scalar point (DMIG); Abaqus DOFs start at 1
+        return f"n{label}"
     return f"n{label}_{DIRECTIONS.get(dof, f'd{dof}')}"
 
 
@@ -205,8 +207,8 @@ def assemble_abaqus(files: Mapping[str, AbaqusEntries]) -> tuple[dict[str, Any],
         matrix = sp.coo_matrix((entries.values, (rows, cols)), shape=(n, n)).tocsr()
         if lower.any() and upper.any():  # the full square listed
             if abs(matrix - matrix.T).max() != 0:
-                raise FileRefused(f"{key} is listed in full but is not symmetric (Abaqus "
-                                  "writes a symmetric matrix's entries equal across the "
+                raise FileRefused(f"{key} is listed in full but is not symmetric (a "
+                                  "symmetric matrix's entries are equal across the "
                                   "diagonal)")
         elif lower.any() or upper.any():  # one triangle: mirror it
             matrix = (matrix + sp.triu(matrix, 1).T + sp.tril(matrix, -1).T).tocsr()

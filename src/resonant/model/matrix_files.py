@@ -48,6 +48,7 @@ from .abaqus_files import AbaqusEntries, assemble_abaqus, looks_like_abaqus, par
 from .files import FileRefused, open_regular_file, read_bounded
 from .full_files import full_dof_names, read_full_matrix, split_full
 from .op4_files import dof_names, read_op4_matrix, split_reference
+from .punch_files import read_dmig, split_punch
 from .types import Harmonic, MatrixSpec
 
 if TYPE_CHECKING:
@@ -65,7 +66,7 @@ MODAL_DAMPING_MAX_DOF = 3000
 or as Rayleigh damping."""
 FILE_SUFFIXES = (".npy", ".npz", ".mtx")
 #: finite-element files, each with the name of its matrix: ``"model.op4:KAA"``
-FE_SUFFIXES = (".op4", ".full")
+FE_SUFFIXES = (".op4", ".full", ".pch")
 
 
 def is_file_reference(value: str) -> bool:
@@ -77,7 +78,7 @@ def is_file_reference(value: str) -> bool:
     (True, True, False)
     """
     return value.lower().endswith(FILE_SUFFIXES) or split_reference(value) is not None or \
-        split_full(value) is not None
+        split_full(value) is not None or split_punch(value) is not None
 SPARSE_NPZ_KEYS = {"format", "shape", "data"}
 SPARSE_FORMATS = ("csr", "csc", "coo")
 OUTSIDE = ("the path leads outside the model's folder; matrix files are read only from the "
@@ -206,6 +207,9 @@ def read_matrix_file(value: str, key: str, base_dir: Path | None,
     if reference is not None:
         return read_op4_matrix(resolve_matrix_path(reference[0], base_dir, allow_paths),
                                reference[1], key)
+    punch = split_punch(value)
+    if punch is not None:
+        return read_dmig(resolve_matrix_path(punch[0], base_dir, allow_paths), punch[1], key)
     full = split_full(value)
     if full is not None:
         return read_full_matrix(resolve_matrix_path(full[0], base_dir, allow_paths),
@@ -834,16 +838,17 @@ def _abaqus_matrices(matrices: dict[str, Any], dofs: list[str] | None, source: s
     """Abaqus matrix files assembled on the union of their DOFs; their names."""
     entries = {k: m for k, m in matrices.items() if isinstance(m, AbaqusEntries)}
     if len(entries) != len(matrices):
-        problems.append(Problem("Abaqus matrix output cannot be combined with other matrix "
-                                "files or inline matrices: give M, K (and C) from the same "
-                                "Abaqus step", source, "matrices"))
+        problems.append(Problem("Abaqus matrix output and DMIG entries, labelled by node, "
+                                "cannot be combined with other matrix files or inline "
+                                "matrices: give M, K (and C) all labelled", source,
+                                "matrices"))
         for key in entries:
             del matrices[key]
         return dofs
     try:
         assembled, names = assemble_abaqus(entries)
     except FileRefused as exc:
-        problems.append(Problem(f"cannot assemble the Abaqus matrices: {exc}", source,
+        problems.append(Problem(f"cannot assemble the labelled matrices: {exc}", source,
                                 "matrices"))
         for key in entries:
             del matrices[key]
