@@ -7,6 +7,7 @@ import sys
 
 import resonant.cli.common as common
 
+from ..analyses.fe_checks import check_matrices
 from ..analyses.periodic_load import periodic_load_response, periodic_text
 from ..analyses.stationary import solution_text, stationary
 from ..errors import name_list
@@ -21,6 +22,10 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
     solve.add_argument("--json", action="store_true", help="print one JSON object")
     solve.set_defaults(run=run_solve)
     check = subparsers.add_parser("check", parents=[parent], help="validate a model only")
+    check.add_argument("--matrices", action="store_true",
+                       help="also check M and K as read from FE files (symmetry, "
+                       "definiteness, rigid-body modes, mass by direction; docs/interop.md); "
+                       "exit 2 when something is wrong")
     check.set_defaults(run=run_check)
 
 
@@ -55,7 +60,12 @@ CHECK_LISTED = 12
 def run_check(args: argparse.Namespace) -> int:
     deadline = common.deadline(args)
     model = common.load_model(args)
-    linear_system(model, deadline).numeric(deadline)
+    system = linear_system(model, deadline)
+    system.numeric(deadline)
     print(f"{args.model}: valid model, {len(model.coordinates)} coordinate(s): "
           f"{name_list(model.coordinates, limit=CHECK_LISTED)}")
+    if getattr(args, "matrices", False):
+        checks = check_matrices(system)
+        print(checks.summary())
+        return 0 if checks.ok else 2
     return 0

@@ -322,8 +322,7 @@ class _Builder:
         display = self.display()
         matrix_spec = self.matrices(param_names, coordinates) if matrices else None
         self.check_one_kind(matrices, bool(energy or forces), parts is not None)
-        names = coordinates or ([f"q{i + 1}" for i in range(_matrix_size(matrix_spec.M))]
-                                if matrix_spec is not None else [])
+        names = coordinates or (_matrix_names(matrix_spec) if matrix_spec is not None else [])
         # a matrix model's outputs are functions of its coordinates (also the default
         # names q1 ... qn) and parameters
         outputs = self.outputs([*param_names, *names] if matrices else allowed)
@@ -359,8 +358,7 @@ class _Builder:
         measurement = self.measurement(list(signals), names, list(outputs))
         self.raise_problems(misplaced)
         if matrix_spec is not None and not coordinates:
-            n = _matrix_size(matrix_spec.M)
-            coordinates = [f"q{i + 1}" for i in range(n)]
+            coordinates = _matrix_names(matrix_spec)
         return Model(
             title=title, source=self.source,
             parameters=MappingProxyType(parameters),
@@ -770,13 +768,19 @@ class _Builder:
                                                 self.source, self.base_dir, self.allow_paths,
                                                 self.inline_arrays)
             if "nonlinear" in self.data:
-                names = coordinates or [f"q{i + 1}" for i in range(_matrix_size(spec.M))]
+                names = coordinates or _matrix_names(spec)
                 spec = replace(spec, nonlinear=read_nonlinear_elements(
                     self.data["nonlinear"], params, names, self.source))
             return spec
         except ModelError as exc:
             self.problems.extend(exc.problems)
             return None
+
+
+def _matrix_names(spec: MatrixSpec) -> list[str]:
+    """The coordinates of a matrix model without [coordinates]: its DOF map's names
+    (``n1042_uz``) or q1 ... qn."""
+    return list(spec.coordinates) or [f"q{i + 1}" for i in range(_matrix_size(spec.M))]
 
 
 class _Cycle(Exception):

@@ -44,7 +44,11 @@ from ..expressions import Expression, ExpressionError, parse
 from ..expressions.numeric import numeric_value
 from ..modal import mass_normalized_modes
 from . import inline_matrices, limits
+from .abaqus_files import AbaqusEntries, assemble_abaqus, looks_like_abaqus, parse_abaqus
 from .files import FileRefused, open_regular_file, read_bounded
+from .full_files import full_dof_names, read_full_matrix, split_full
+from .op4_files import dof_names, read_op4_matrix, split_reference
+from .punch_files import read_dmig, split_punch
 from .types import Harmonic, MatrixSpec
 
 if TYPE_CHECKING:
@@ -52,11 +56,29 @@ if TYPE_CHECKING:
 
 MATRIX_KEYS = ("M", "K", "C")
 MODAL_KEY = "modal_damping"
+#: the DOF map of matrices read from finite-element files: [node, component] per row
+DOFS_KEY = "dofs"
+#: drop the coordinates with neither mass nor stiffness (unconnected DOFs of an FE file)
+DROP_KEY = "drop_unconnected"
 MODAL_DAMPING_MAX_DOF = 3000
 """Largest model modal damping builds C for: C = M Phi diag(2 zeta omega) Phi^T M is dense
 (n^2 numbers) and needs the dense generalized eigenproblem; beyond this give C explicitly
 or as Rayleigh damping."""
 FILE_SUFFIXES = (".npy", ".npz", ".mtx")
+#: finite-element files, each with the name of its matrix: ``"model.op4:KAA"``
+FE_SUFFIXES = (".op4", ".full", ".pch")
+
+
+def is_file_reference(value: str) -> bool:
+    """Whether a ``[matrices]`` string names a matrix file (not Rayleigh damping).
+
+    Examples
+    --------
+    >>> is_file_reference("k.mtx"), is_file_reference("m.op4:MGG"), is_file_reference("0.1*K")
+    (True, True, False)
+    """
+    return value.lower().endswith(FILE_SUFFIXES) or split_reference(value) is not None or \
+        split_full(value) is not None or split_punch(value) is not None
 SPARSE_NPZ_KEYS = {"format", "shape", "data"}
 SPARSE_FORMATS = ("csr", "csc", "coo")
 OUTSIDE = ("the path leads outside the model's folder; matrix files are read only from the "
@@ -181,9 +203,21 @@ def read_matrix_file(value: str, key: str, base_dir: Path | None,
 
     Raises :class:`FileRefused` with a message safe to show for every problem.
     """
+    reference = split_reference(value)
+    if reference is not None:
+        return read_op4_matrix(resolve_matrix_path(reference[0], base_dir, allow_paths),
+                               reference[1], key)
+    punch = split_punch(value)
+    if punch is not None:
+        return read_dmig(resolve_matrix_path(punch[0], base_dir, allow_paths), punch[1], key)
+    full = split_full(value)
+    if full is not None:
+        return read_full_matrix(resolve_matrix_path(full[0], base_dir, allow_paths),
+                                full[1], key)
     suffix = os.path.splitext(value)[1].lower()
     if suffix not in FILE_SUFFIXES:
-        raise FileRefused(f"unknown matrix file type; use {', '.join(FILE_SUFFIXES)}")
+        raise FileRefused("unknown matrix file type; use "
+                          f"{', '.join(FILE_SUFFIXES + FE_SUFFIXES)}")
     path = resolve_matrix_path(value, base_dir, allow_paths)
     with open_regular_file(path, follow_symlinks=False,
                            max_bytes=limits.MAX_MATRIX_FILE_BYTES) as handle:
@@ -193,6 +227,10 @@ def read_matrix_file(value: str, key: str, base_dir: Path | None,
                 return _dense(_read_npy(handle, "the array", size, matrix=True))
             if suffix == ".npz":
                 return _read_npz(handle, size, key)
+            head = handle.read(4096)
+            handle.seek(0)
+            if looks_like_abaqus(head):
+                return parse_abaqus(handle.read(size + 1), key)
             return _read_mtx(handle, size)
         except FileRefused:
             raise
@@ -704,25 +742,38 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
     matrices: dict[str, Any] = {}
     rayleigh = None
     modal = None
+    dofs: list[str] | None = None
+    drop = False
     for key, value in section.items():
         if key == "harmonic":
             continue
         if key == MODAL_KEY:
             modal = _modal_ratios(value, source, problems)
             continue
+        if key == DOFS_KEY:
+            dofs = _dof_map(value, source, base_dir, allow_paths, problems)
+            continue
+        if key == DROP_KEY:
+            if not isinstance(value, bool):
+                problems.append(Problem(f"{DROP_KEY} must be true or false", source,
+                                        "matrices", key))
+            drop = value is True
+            continue
         if key not in MATRIX_KEYS:
-            problems.append(Problem(f"unknown key '{key}'; [matrices] takes M, K, C and "
-                                    f"{MODAL_KEY}",
+            problems.append(Problem(f"unknown key '{key}'; [matrices] takes M, K, C, "
+                                    f"{MODAL_KEY}, {DOFS_KEY} and {DROP_KEY}",
                                     source, "matrices", key))
             continue
         if key == "C" and isinstance(value, str) and value not in inline_arrays and \
-                not value.lower().endswith(FILE_SUFFIXES):
+                not is_file_reference(value):
             rayleigh = _rayleigh_coefficients(value, params, source, problems)
             continue
         matrix = _matrix(key, value, params, source, base_dir, allow_paths, inline_arrays,
                          problems)
         if matrix is not None:
             matrices[key] = matrix
+    if any(isinstance(m, AbaqusEntries) for m in matrices.values()):
+        dofs = _abaqus_matrices(matrices, dofs, source, problems)
     if rayleigh is not None and "M" in matrices and "K" in matrices:
         damping = _rayleigh_matrix(rayleigh, matrices["M"], matrices["K"], params, source,
                                    problems)
@@ -736,7 +787,11 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
         if damping is not None:
             matrices["C"] = damping
     n = _check_sizes(section, matrices, coordinates, source, problems)
-    names = list(coordinates) if coordinates else [f"q{i + 1}" for i in range(n)]
+    dofs = _dofs_for(dofs, coordinates, n, source, problems)
+    if drop and not problems:
+        dofs = _drop_unconnected(matrices, dofs, coordinates, n, source, problems)
+        n = matrices["M"].shape[0] if "M" in matrices else n
+    names = list(coordinates) if coordinates else dofs or [f"q{i + 1}" for i in range(n)]
     loads = _LoadContext(names, base_dir, allow_paths)
     parsed = [_harmonic(entry, f"harmonic {i}", n, params, source, problems, loads)
               for i, entry in enumerate(harmonics if isinstance(harmonics, list)
@@ -744,7 +799,102 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
     if problems:
         raise ModelError(problems)
     return MatrixSpec(M=matrices["M"], K=matrices["K"], C=matrices.get("C"),
-                      harmonics=tuple(h for h in parsed if h is not None))
+                      harmonics=tuple(h for h in parsed if h is not None),
+                      coordinates=tuple(dofs or ()))
+
+
+def _dof_map(value: object, source: str, base_dir: Path | None,
+             allow_paths: Sequence[str | os.PathLike[str]], problems: list[Problem]
+             ) -> list[str] | None:
+    """The coordinate names of ``dofs``: inline [[node, component], ...] or an n x 2
+    matrix of an OP4 file (None: a problem is recorded)."""
+    try:
+        if isinstance(value, str) and split_reference(value) is not None:
+            path, name = split_reference(value) or (value, None)
+            pairs = read_op4_matrix(resolve_matrix_path(path, base_dir, allow_paths), name,
+                                    DOFS_KEY, square=False)
+            pairs = pairs.toarray() if hasattr(pairs, "toarray") else pairs
+        elif isinstance(value, str) and split_full(value) is not None:
+            path = (split_full(value) or (value, None))[0]
+            return full_dof_names(resolve_matrix_path(path, base_dir, allow_paths))
+        elif isinstance(value, list) and all(
+                isinstance(p, list) and len(p) == 2 and all(
+                    type(v) is int for v in p) for p in value):
+            pairs = np.array(value, dtype=np.int64).reshape(-1, 2)
+        else:
+            raise FileRefused("dofs must be a list of [node, component] pairs (dofs = "
+                              '[[1042, 3], [1042, 4]]), an n x 2 matrix of an OP4 file '
+                              '(dofs = "model.op4:DOFS") or an ANSYS .full file (dofs = '
+                              '"model.full")')
+        return dof_names(np.asarray(pairs))
+    except FileRefused as exc:
+        shown = f"cannot read '{value}': " if isinstance(value, str) else ""
+        problems.append(Problem(f"{shown}{exc}", source, "matrices", DOFS_KEY))
+        return None
+
+
+def _abaqus_matrices(matrices: dict[str, Any], dofs: list[str] | None, source: str,
+                     problems: list[Problem]) -> list[str] | None:
+    """Abaqus matrix files assembled on the union of their DOFs; their names."""
+    entries = {k: m for k, m in matrices.items() if isinstance(m, AbaqusEntries)}
+    if len(entries) != len(matrices):
+        problems.append(Problem("Abaqus matrix output and DMIG entries, labelled by node, "
+                                "cannot be combined with other matrix files or inline "
+                                "matrices: give M, K (and C) all labelled", source,
+                                "matrices"))
+        for key in entries:
+            del matrices[key]
+        return dofs
+    try:
+        assembled, names = assemble_abaqus(entries)
+    except FileRefused as exc:
+        problems.append(Problem(f"cannot assemble the labelled matrices: {exc}", source,
+                                "matrices"))
+        for key in entries:
+            del matrices[key]
+        return dofs
+    matrices.update(assembled)
+    return dofs if dofs is not None else names
+
+
+def _drop_unconnected(matrices: dict[str, Any], dofs: list[str] | None,
+                      coordinates: Sequence[str], n: int, source: str,
+                      problems: list[Problem]) -> list[str] | None:
+    """Remove the rows and columns of M, K, C where all three are zero; the names that are
+    left (the DOF map's, or q1 ... qn of the file's numbering)."""
+    if coordinates or any(isinstance(m, list) for m in matrices.values()) or \
+            not {"M", "K"} <= set(matrices):
+        problems.append(Problem(f"{DROP_KEY} takes matrices from files (or plain numbers) "
+                                "and no [coordinates]: the names come from dofs or the "
+                                "file's numbering", source, "matrices", DROP_KEY))
+        return dofs
+    used = np.zeros(n, dtype=bool)
+    for matrix in matrices.values():
+        magnitude = abs(matrix)
+        used |= np.asarray(magnitude.sum(axis=1)).ravel() > 0
+        used |= np.asarray(magnitude.sum(axis=0)).ravel() > 0
+    keep = np.flatnonzero(used)
+    for key, matrix in matrices.items():
+        matrices[key] = matrix[keep][:, keep]
+    names = dofs or [f"q{i + 1}" for i in range(n)]
+    return [names[i] for i in keep]
+
+
+def _dofs_for(dofs: list[str] | None, coordinates: Sequence[str], n: int, source: str,
+              problems: list[Problem]) -> list[str] | None:
+    """The DOF map's names when they fit the matrices (n of them, no [coordinates])."""
+    if dofs is None:
+        return None
+    if coordinates:
+        problems.append(Problem(f"give the coordinates either in [coordinates] or by "
+                                f"{DOFS_KEY}, not both", source, "matrices", DOFS_KEY))
+        return None
+    if n and len(dofs) != n:
+        problems.append(Problem(f"the DOF map lists {len(dofs)} DOFs but the matrices have "
+                                f"{n} rows: it does not belong to these matrices", source,
+                                "matrices", DOFS_KEY))
+        return None
+    return dofs
 
 
 def _harmonics_given(section: dict, harmonics: object, source: str, problems: list[Problem]
@@ -773,7 +923,7 @@ def _matrix(key: str, value: object, params: Sequence[str], source: str, base_di
     """One of M, C, K: read from its file, inline numbers or expressions (None: a problem)."""
     if isinstance(value, str) and value in inline_arrays:
         return inline_arrays[value]
-    if isinstance(value, str) and value.lower().endswith(FILE_SUFFIXES):
+    if isinstance(value, str) and is_file_reference(value):
         try:
             return read_matrix_file(value, key, base_dir, allow_paths)
         except FileRefused as exc:
@@ -790,7 +940,8 @@ def _matrix(key: str, value: object, params: Sequence[str], source: str, base_di
             _inline_entries(value, key, params, source, problems)
     problems.append(Problem(
         f"{key} must be an array of rows ([[1, 0], [0, 1]]) or a path to a "
-        f"{'/'.join(FILE_SUFFIXES)} file", source, "matrices", key))
+        f"{'/'.join(FILE_SUFFIXES)} file or an OP4 matrix (\"model.op4:KAA\")", source,
+        "matrices", key))
     return None
 
 
@@ -1082,6 +1233,7 @@ def _entry(value: object, params: Sequence[str], source: str, key: str,
 
 
 
-__all__ = ["read_matrix_spec", "read_matrix_file", "read_vector_file", "resolve_matrix_path",
+__all__ = ["read_matrix_spec", "read_matrix_file", "is_file_reference", "DOFS_KEY", "DROP_KEY",
+           "read_vector_file", "resolve_matrix_path",
            "open_regular_file",
            "read_bounded", "FileRefused", "MATRIX_KEYS", "FILE_SUFFIXES"]

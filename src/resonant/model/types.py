@@ -132,6 +132,8 @@ class MatrixSpec:
         The ``[[harmonic]]`` loads.
     nonlinear : tuple of NonlinearElement
         The ``[[nonlinear]]`` elements (:mod:`resonant.model.nonlinear_elements`).
+    coordinates : tuple of str
+        The coordinate names of a DOF map (``dofs``: ``n1042_uz``), or empty.
 
     Examples
     --------
@@ -146,6 +148,7 @@ class MatrixSpec:
     C: Any = None
     harmonics: tuple[Harmonic, ...] = ()
     nonlinear: tuple[Any, ...] = ()
+    coordinates: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -44,6 +44,7 @@ from .batch import Batch, BatchHarmonic, Var, group_frequencies
 if TYPE_CHECKING:
     from ..analyses.modes import ModalAnalysis
     from ..analyses.random_response import RandomResponse
+    from ..analyses.state_space import StateSpaceModel
     from ..analyses.stationary import StationarySolution
     from ..analyses.sweep import FrequencyResponse
     from ..model.random_spec import RandomSpec
@@ -228,6 +229,75 @@ class LinearSystem(ABC):
         from ..analyses.random_response import random_response
         return random_response(self, spec, deadline, names=names, method=method,
                                                tolerance=tolerance)
+
+    def state_space(self, *, inputs: Sequence[str] | None = None,
+                    outputs: Sequence[str] | None = None,
+                    parameters: Mapping[str, float | str] | None = None,
+                    deadline: Deadline = NO_DEADLINE) -> StateSpaceModel:
+        """The first-order form x' = A x + B u, y = C x + D u with named inputs and outputs
+        (:func:`resonant.analyses.state_space.state_space`; docs/interop.md).
+
+        Parameters
+        ----------
+        inputs : sequence of str, optional
+            Signals, or coordinates a generalized force acts on (default: the signals).
+        outputs : sequence of str, optional
+            Coordinates, their rates (``x1'``) and outputs (default: coordinates and outputs).
+        parameters : mapping, optional
+            Parameter values replacing the model's.
+        deadline : Deadline, optional
+            The run's time limit.
+
+        Returns
+        -------
+        StateSpaceModel
+
+        Examples
+        --------
+        >>> import resonant
+        >>> eom = resonant.load("examples/base_excitation.toml").linearize()
+        >>> eom.state_space().inputs
+        ('y',)
+        """
+        from ..analyses.state_space import state_space
+        return state_space(self, inputs=inputs, outputs=outputs, parameters=parameters,
+                           deadline=deadline)
+
+    def to_state_space(self, *, inputs: Sequence[str] | None = None,
+                       outputs: Sequence[str] | None = None,
+                       parameters: Mapping[str, float | str] | None = None,
+                       library: str = "auto", deadline: Deadline = NO_DEADLINE) -> Any:
+        """The system as a python-control ``StateSpace`` with named inputs, states and
+        outputs, or a ``scipy.signal.StateSpace``
+        (:func:`resonant.analyses.state_space.to_state_space`; docs/interop.md).
+
+        Parameters
+        ----------
+        inputs : sequence of str, optional
+            Signals, or coordinates a generalized force acts on (default: the signals).
+        outputs : sequence of str, optional
+            Coordinates, their rates (``x1'``) and outputs (default: coordinates and outputs).
+        parameters : mapping, optional
+            Parameter values replacing the model's.
+        library : {"auto", "control", "scipy"}
+            Which library's system (``"auto"``: python-control where installed).
+        deadline : Deadline, optional
+            The run's time limit.
+
+        Returns
+        -------
+        control.StateSpace or scipy.signal.StateSpace
+
+        Examples
+        --------
+        >>> import resonant
+        >>> eom = resonant.load("examples/base_excitation.toml").linearize()
+        >>> eom.to_state_space(library="scipy").B.shape
+        (2, 1)
+        """
+        from ..analyses.state_space import to_state_space
+        return to_state_space(self, inputs=inputs, outputs=outputs, parameters=parameters,
+                              library=library, deadline=deadline)
 
     def _model(self) -> Model:
         if self.model is None:

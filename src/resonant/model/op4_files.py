@@ -1,0 +1,280 @@
+"""Nastran OUTPUT4 (``.op4``) matrices named in a model: ``M = "model.op4:MGG"``.
+
+The file is read by pyYeti's OP4 reader (``pyyeti.nastran.op4``, the optional extra
+``resonant[fe]``; imported when a model names an ``.op4`` file): ASCII and binary, dense
+and sparse (bigmat and non-bigmat), single and double precision, either byte order.
+resonant keeps the file policy of every matrix file (docs/security.md): the path is
+resolved and checked by :func:`resonant.model.matrix_files.resolve_matrix_path`, the
+file opened non-blocking and refused unless regular and within
+:data:`~resonant.model.limits.MAX_MATRIX_FILE_BYTES`; the directory of the file (names and
+sizes, read from the headers only) is checked against the limits before a matrix is
+read; a matrix above :data:`~resonant.model.limits.MAX_DENSE_ENTRIES` entries is read
+sparse.  Every failure of the reader (a truncated record, a header that is no OP4 header)
+becomes one message naming the file, the matrix and what is wrong, never the reader's
+traceback.
+
+Examples
+--------
+>>> split_reference("inboard.op4:KXX")
+('inboard.op4', 'KXX')
+>>> split_reference("stiffness.mtx") is None
+True
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import re
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import limits
+from .files import FileRefused, open_regular_file
+
+#: ``file.op4`` or ``file.op4:NAME`` (a Nastran matrix name: letters, digits, underscores)
+_REFERENCE = re.compile(r"(?P<path>.+\.op4)(?::(?P<name>[A-Za-z0-9_]{1,64}))?", re.IGNORECASE)
+#: Nastran's matrix types: 1 real single, 2 real double, 3 complex single, 4 complex double
+_REAL_TYPES = (1, 2)
+
+
+def split_reference(value: str) -> tuple[str, str | None] | None:
+    """The path and the matrix name of an OP4 reference (None when it is none).
+
+    Parameters
+    ----------
+    value : str
+        ``"file.op4"`` or ``"file.op4:NAME"``.
+
+    Returns
+    -------
+    tuple or None
+        ``(path, name or None)``.
+
+    Examples
+    --------
+    >>> split_reference("a/b.OP4")
+    ('a/b.OP4', None)
+    """
+    match = _REFERENCE.fullmatch(value)
+    if match is None:
+        return None
+    return match.group("path"), match.group("name")
+
+
+def _reader() -> Any:
+    try:
+        from pyyeti.nastran import op4
+    except ImportError:
+        raise FileRefused("reading Nastran OUTPUT4 files needs pyYeti (pip install pyyeti, "
+                          "or pip install 'resonant[fe]')") from None
+    return op4
+
+
+def op4_directory(path: str) -> list[tuple[str, tuple[int, int], int]]:
+    """The matrices of an OP4 file: (lower-case name, (rows, columns), Nastran type).
+
+    Parameters
+    ----------
+    path : str
+        A checked path (:func:`resonant.model.matrix_files.resolve_matrix_path`).
+
+    Returns
+    -------
+    list of tuple
+
+    Raises
+    ------
+    FileRefused
+        With a message safe to show for every problem.
+
+    Examples
+    --------
+    >>> import numpy as np, tempfile, os
+    >>> from pyyeti.nastran import op4
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = os.path.join(folder, "k.op4")
+    ...     op4.write(path, {"kaa": np.eye(2)})
+    ...     op4_directory(path)
+    [('kaa', (2, 2), 2)]
+    """
+    op4 = _reader()
+    with open_regular_file(path, follow_symlinks=False,
+                           max_bytes=limits.MAX_MATRIX_FILE_BYTES):
+        pass
+    try:
+        with contextlib.redirect_stdout(io.StringIO()):
+            names, sizes, _, types = op4.dir(path, verbose=False)
+    except MemoryError:
+        raise FileRefused("not enough memory to read its directory") from None
+    except Exception:  # noqa: BLE001 - never echo the reader's message about the file
+        raise FileRefused("it is truncated or not a valid OUTPUT4 file (a record ends "
+                          "before its header or data says)") from None
+    if not names:
+        raise FileRefused("it holds no matrix (an empty or damaged OUTPUT4 file)")
+    return [(str(n), (int(s[0]), int(s[1])), int(t)) for n, s, t in zip(names, sizes, types)]
+
+
+def _choose(directory: Sequence[tuple[str, tuple[int, int], int]], name: str | None,
+            key: str) -> tuple[str, tuple[int, int], int]:
+    listed = ", ".join(n.upper() for n, _, _ in directory[:12]) + \
+        (", ..." if len(directory) > 12 else "")
+    if name is None:
+        if len(directory) == 1:
+            return directory[0]
+        raise FileRefused(f"it holds {len(directory)} matrices ({listed}); name the one for "
+                          f"{key}: \"file.op4:NAME\"")
+    found = [entry for entry in directory if entry[0] == name.lower()]
+    if not found:
+        raise FileRefused(f"it holds no matrix named {name.upper()} (it holds {listed})")
+    return found[0]
+
+
+def read_op4_matrix(path: str, name: str | None, key: str, *, square: bool = True) -> Any:
+    """One real matrix of an OP4 file: a float64 ndarray, or a CSR matrix when large.
+
+    Parameters
+    ----------
+    path : str
+        A checked path.
+    name : str or None
+        The matrix name (any case); None for a file of one matrix.
+    key : str
+        What it is for (``M``, ``K``, ``C``, ``dofs``), for the messages.
+    square : bool
+        Whether it must be square (M, K, C).
+
+    Returns
+    -------
+    ndarray or scipy.sparse.csr_matrix
+
+    Raises
+    ------
+    FileRefused
+        With a message safe to show.
+
+    Examples
+    --------
+    >>> import numpy as np, tempfile, os
+    >>> from pyyeti.nastran import op4
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = os.path.join(folder, "m.op4")
+    ...     op4.write(path, {"maa": 2 * np.eye(2), "kaa": np.eye(2)})
+    ...     read_op4_matrix(path, "MAA", "M").tolist()
+    [[2.0, 0.0], [0.0, 2.0]]
+    """
+    chosen, (rows, columns), kind = _choose(op4_directory(path), name, key)
+    shown = chosen.upper()
+    if kind not in _REAL_TYPES:
+        raise FileRefused(f"matrix {shown} holds complex numbers (Nastran type {kind}); M, K "
+                          "and C must be real")
+    if square and rows != columns:
+        raise FileRefused(f"matrix {shown} is {rows}x{columns}, not a square matrix")
+    if max(rows, columns) > limits.MAX_MATRIX_DIMENSION:
+        raise FileRefused(f"matrix {shown} is {rows}x{columns}; matrices are limited to "
+                          f"{limits.MAX_MATRIX_DIMENSION} rows "
+                          "(resonant.model.limits.MAX_MATRIX_DIMENSION)")
+    sparse = rows * columns > limits.MAX_DENSE_ENTRIES
+    try:
+        with contextlib.redirect_stdout(io.StringIO()):
+            matrix = _reader().read(path, [chosen], sparse=sparse)[chosen]
+    except MemoryError:
+        raise FileRefused(f"not enough memory to read matrix {shown}") from None
+    except Exception:  # noqa: BLE001 - never echo the reader's message about the file
+        raise FileRefused(f"matrix {shown} is truncated or damaged (a record ends before "
+                          "its header says)") from None
+    return _checked(matrix, shown, sparse)
+
+
+def _checked(matrix: Any, shown: str, sparse: bool) -> Any:
+    import scipy.sparse as sp
+
+    if sp.issparse(matrix):
+        out = sp.csr_matrix(matrix, dtype=float)
+        if out.nnz > limits.MAX_MATRIX_NONZEROS:
+            raise FileRefused(f"matrix {shown} has {out.nnz} stored entries; sparse matrices "
+                              f"are limited to {limits.MAX_MATRIX_NONZEROS}")
+        data = out.data
+    else:
+        out = np.array(matrix, dtype=float)
+        data = out
+    if not np.all(np.isfinite(data)):
+        raise FileRefused(f"matrix {shown} holds non-finite entries (inf or nan)")
+    return out
+
+
+#: Nastran's components 1..6 as the directions of a coordinate's name
+DIRECTIONS = {1: "ux", 2: "uy", 3: "uz", 4: "rx", 5: "ry", 6: "rz"}
+
+
+def dof_names(pairs: np.ndarray) -> list[str]:
+    """Coordinate names from (node, component) pairs: ``n1042_uz`` (component 0, a scalar
+    point: ``n1042``).
+
+    Parameters
+    ----------
+    pairs : ndarray
+        (n, 2) integers: grid or scalar point id, Nastran component 0..6.
+
+    Returns
+    -------
+    list of str
+
+    Raises
+    ------
+    FileRefused
+        For a pair that is no (node, component) or a DOF listed twice.
+
+    Examples
+    --------
+    >>> dof_names(np.array([[1042, 3], [7, 0]]))
+    ['n1042_uz', 'n7']
+    """
+    pairs = np.asarray(pairs)
+    if pairs.ndim != 2 or pairs.shape[1] != 2 or pairs.shape[0] == 0:
+        raise FileRefused("the DOF map must be a list of [node, component] pairs")
+    if np.any(pairs != np.round(pairs)) or np.any(pairs[:, 0] < 0) or \
+            np.any((pairs[:, 1] < 0) | (pairs[:, 1] > 6)):
+        raise FileRefused("every DOF is [node, component] with a node id >= 0 and a Nastran "
+                          "component 0 (scalar point) or 1..6 (ux uy uz rx ry rz)")
+    names = [f"n{int(node)}_{DIRECTIONS[int(c)]}" if c else f"n{int(node)}"
+             for node, c in pairs]
+    seen: set[str] = set()
+    for name in names:
+        if name in seen:
+            raise FileRefused(f"the DOF map lists {name} twice")
+        seen.add(name)
+    return names
+
+
+def write_op4(path: str | os.PathLike[str], matrices: dict[str, Any], *,
+              binary: bool = True, sparse: str = "auto") -> None:
+    """Write matrices to an OP4 file through pyYeti (tests, ``resonant import``).
+
+    Parameters
+    ----------
+    path : str or path
+        The file to write.
+    matrices : dict
+        name -> dense or sparse matrix.
+    binary : bool
+        Binary (native byte order) or ASCII.
+    sparse : {"auto", "dense", "bigmat", "nonbigmat"}
+        The record layout ("auto": dense for ndarrays, bigmat for sparse matrices).
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     write_op4(os.path.join(folder, "x.op4"), {"kaa": np.eye(2)}, binary=False)
+    """
+    op4 = _reader()
+    op4.write(str(Path(path)), matrices, binary=binary, sparse=sparse)
+
+
+__all__ = ["split_reference", "op4_directory", "read_op4_matrix", "dof_names", "write_op4",
+           "DIRECTIONS"]
