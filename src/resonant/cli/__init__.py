@@ -48,6 +48,7 @@ COMMANDS: dict[str, str] = {
     "example": "list the bundled example models, or write one to a file",
     "random": "response spectral densities, RMS and Rice's rates under random inputs",
     "srs": "shock response spectrum of a pulse or a CSV history",
+    "campbell": "a rotor's Campbell diagram: tracked modes, critical speeds, stability",
 }
 
 Register = Callable[[Any, argparse.ArgumentParser], None]
@@ -104,6 +105,9 @@ def command_registrar(command: str) -> Register:
         case "srs":
             from . import srs
             return srs.register
+        case "campbell":
+            from . import campbell
+            return campbell.register
     raise KeyError(command)
 
 

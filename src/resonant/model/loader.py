@@ -51,6 +51,7 @@ from ..expressions import (
 )
 from ..expressions.parser import Node
 from . import limits
+from .campbell_spec import CampbellSpec, parse_campbell
 from .dimensions import check_units
 from .exercise import Exercise, parse_exercise
 from .explore import parse_explore
@@ -64,7 +65,7 @@ from .limits import (
     MAX_INLINED_NODES,
     TOP_LEVEL,
 )
-from .load_spec import parse_fatigue, parse_periodic, parse_shock
+from .load_spec import FatigueSpec, parse_fatigue, parse_periodic, parse_shock
 from .matrix_files import read_matrix_spec
 from .nonlinear_elements import read_nonlinear_elements
 from .part_energies import Mechanism, derive_energies, point_expressions
@@ -353,8 +354,7 @@ class _Builder:
         periodic = parse_periodic(self.data["periodic"], param_names, list(signals), names,
                                   self.source, self.problems, units) \
             if "periodic" in self.data else None
-        fatigue = parse_fatigue(self.data["fatigue"], self.source, self.problems) \
-            if "fatigue" in self.data else None
+        fatigue, campbell = self.fatigue(), self.campbell(param_names)
         self.raise_problems(misplaced)
         if matrix_spec is not None and not coordinates:
             n = _matrix_size(matrix_spec.M)
@@ -370,7 +370,17 @@ class _Builder:
             exercise=exercise, parts=derived, units=units, study_section=study,
             explore_section=explore, random_section=random,
             shock_section=shock, fatigue_section=fatigue,
-            periodic_section=periodic)
+            periodic_section=periodic, campbell_section=campbell)
+
+    def fatigue(self) -> FatigueSpec | None:
+        if "fatigue" not in self.data:
+            return None
+        return parse_fatigue(self.data["fatigue"], self.source, self.problems)
+
+    def campbell(self, param_names: list[str]) -> CampbellSpec | None:
+        if "campbell" not in self.data:
+            return None
+        return parse_campbell(self.data["campbell"], param_names, self.source, self.problems)
 
     def exercise(self, param_names: list[str], names: list[str], outputs: list[str]
                  ) -> Exercise | None:

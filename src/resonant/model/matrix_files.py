@@ -50,8 +50,10 @@ from .types import Harmonic, MatrixSpec
 if TYPE_CHECKING:
     import pyarrow
 
-MATRIX_KEYS = ("M", "K", "C")
+MATRIX_KEYS = ("M", "K", "C", "G")
 MODAL_KEY = "modal_damping"
+#: the key naming the speed parameter that multiplies the gyroscopic matrix G
+SPEED_KEY = "speed"
 MODAL_DAMPING_MAX_DOF = 3000
 """Largest model modal damping builds C for: C = M Phi diag(2 zeta omega) Phi^T M is dense
 (n^2 numbers) and needs the dense generalized eigenproblem; beyond this give C explicitly
@@ -710,9 +712,11 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
         if key == MODAL_KEY:
             modal = _modal_ratios(value, source, problems)
             continue
+        if key == SPEED_KEY:
+            continue
         if key not in MATRIX_KEYS:
-            problems.append(Problem(f"unknown key '{key}'; [matrices] takes M, K, C and "
-                                    f"{MODAL_KEY}",
+            problems.append(Problem(f"unknown key '{key}'; [matrices] takes M, K, C, G, "
+                                    f"{SPEED_KEY} and {MODAL_KEY}",
                                     source, "matrices", key))
             continue
         if key == "C" and isinstance(value, str) and value not in inline_arrays and \
@@ -735,6 +739,7 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
         damping = _modal_matrix(modal, matrices["M"], matrices["K"], source, problems)
         if damping is not None:
             matrices["C"] = damping
+    speed = _speed_parameter(section, params, source, problems)
     n = _check_sizes(section, matrices, coordinates, source, problems)
     names = list(coordinates) if coordinates else [f"q{i + 1}" for i in range(n)]
     loads = _LoadContext(names, base_dir, allow_paths)
@@ -744,7 +749,28 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
     if problems:
         raise ModelError(problems)
     return MatrixSpec(M=matrices["M"], K=matrices["K"], C=matrices.get("C"),
-                      harmonics=tuple(h for h in parsed if h is not None))
+                      harmonics=tuple(h for h in parsed if h is not None),
+                      G=matrices.get("G"), speed=speed)
+
+
+def _speed_parameter(section: dict, params: Sequence[str], source: str,
+                     problems: list[Problem]) -> str | None:
+    """The parameter named by ``speed`` (the rotor's spin speed, rad/s), which G needs."""
+    speed = section.get(SPEED_KEY)
+    if speed is None:
+        if "G" in section:
+            problems.append(Problem(
+                "the gyroscopic matrix G needs the speed it is multiplied by: add speed = "
+                "\"NAME\" naming a parameter (the spin speed, e.g. Omega = \"3000 rpm\")",
+                source, "matrices", SPEED_KEY))
+        return None
+    if not isinstance(speed, str) or speed not in params:
+        known = ", ".join(params) or "none"
+        problems.append(Problem(f"speed must name a parameter (the spin speed); got "
+                                f"{speed!r}, parameters: {known}", source, "matrices",
+                                SPEED_KEY))
+        return None
+    return speed
 
 
 def _harmonics_given(section: dict, harmonics: object, source: str, problems: list[Problem]
@@ -802,7 +828,7 @@ def _check_sizes(section: dict, matrices: Mapping[str, Any], coordinates: Sequen
             problems.append(Problem(f"{key} is missing", source, "matrices", key))
     sizes = {k: (m.shape[0] if hasattr(m, "shape") else len(m)) for k, m in matrices.items()}
     if len(set(sizes.values())) > 1:
-        problems.append(Problem("M, K and C must have the same size; got " + ", ".join(
+        problems.append(Problem("M, K, C and G must have the same size; got " + ", ".join(
             f"{k}: {v}x{v}" for k, v in sizes.items()), source, "matrices"))
     n = sizes.get("M", 0)
     if coordinates and n and len(coordinates) != n:
@@ -1084,4 +1110,5 @@ def _entry(value: object, params: Sequence[str], source: str, key: str,
 
 __all__ = ["read_matrix_spec", "read_matrix_file", "read_vector_file", "resolve_matrix_path",
            "open_regular_file",
-           "read_bounded", "FileRefused", "MATRIX_KEYS", "FILE_SUFFIXES"]
+           "read_bounded", "FileRefused", "MATRIX_KEYS", "FILE_SUFFIXES",
+           "SPEED_KEY"]

@@ -30,6 +30,7 @@ from .study import StudySpec
 from .units import ModelUnits, parse_with_unit
 
 if TYPE_CHECKING:
+    from .campbell_spec import CampbellSpec
     from .exercise import Exercise
     from .explore import ExploreSpec
     from .load_spec import FatigueSpec, PeriodicSpec, ShockSpec
@@ -131,6 +132,11 @@ class MatrixSpec:
         The ``[[harmonic]]`` loads.
     nonlinear : tuple of NonlinearElement
         The ``[[nonlinear]]`` elements (:mod:`resonant.model.nonlinear_elements`).
+    G : array_like or sparse matrix, optional
+        The gyroscopic matrix, multiplied by the speed parameter: the equation of motion
+        is M q'' + (C + speed G) q' + K q = Q (None: no gyroscopic part).
+    speed : str, optional
+        The parameter that is the spin speed (rad/s); G needs it (docs/rotors.md).
 
     Examples
     --------
@@ -145,6 +151,8 @@ class MatrixSpec:
     C: Any = None
     harmonics: tuple[Harmonic, ...] = ()
     nonlinear: tuple[Any, ...] = ()
+    G: Any = None
+    speed: str | None = None
 
 
 @dataclass(frozen=True)
@@ -203,6 +211,8 @@ class Model:
         The ``[fatigue]`` section: an S-N curve, a spectral method and the exposure.
     periodic_section : PeriodicSpec or None
         The ``[periodic]`` section: a periodic, non-harmonic load on one input.
+    campbell_section : CampbellSpec or None
+        The ``[campbell]`` section: a rotor's speed range, branches and orders.
 
     Examples
     --------
@@ -248,6 +258,8 @@ class Model:
     fatigue_section: FatigueSpec | None = None
     #: the ``[periodic]`` section (resonant.model.load_spec); None without one
     periodic_section: PeriodicSpec | None = None
+    #: the ``[campbell]`` section (resonant.model.campbell_spec); None without one
+    campbell_section: CampbellSpec | None = None
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""

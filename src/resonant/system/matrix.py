@@ -70,7 +70,13 @@ class MatrixEOM(LinearSystem):
 
     @cached_property
     def C(self) -> sympy.ImmutableMatrix:
-        return _to_sympy(self._spec_matrix("C"), self.n)
+        """C + speed G: the damping with the gyroscopic part (docs/rotors.md)."""
+        damping = _to_sympy(self._spec_matrix("C"), self.n)
+        speed = self._spec_matrix("speed")
+        if self._spec_matrix("G") is None or speed is None:
+            return damping
+        return sympy.ImmutableMatrix(damping + symbol(speed) *
+                                     _to_sympy(self._spec_matrix("G"), self.n))
 
     @cached_property
     def K(self) -> sympy.ImmutableMatrix:
@@ -170,6 +176,7 @@ class MatrixEOM(LinearSystem):
         spec = self.model.matrices
         assert spec is not None
         M, C, K = (self._matrix_values(key, values) for key in ("M", "C", "K"))
+        C = self._with_gyroscopic(C, values)
         harmonics = []
         for j, h in enumerate(spec.harmonics, start=1):
             deadline.check("while evaluating the harmonic loads", f"harmonic {j}",
@@ -242,6 +249,20 @@ class MatrixEOM(LinearSystem):
                 out[..., i, j] = v
         self._check_finite(out, key)
         return out
+
+    def _with_gyroscopic(self, C: Any, values: Mapping[str, Any]) -> Any:
+        """C + speed G at the parameter values: (n, n) where the speed is one number (dense
+        or sparse, as given), else a stack (N, n, n)."""
+        G, speed = self._spec_matrix("G"), self._spec_matrix("speed")
+        if G is None or speed is None:
+            return C
+        G = self._matrix_values("G", values)
+        omega = np.asarray(values[speed], dtype=float)
+        self._check_finite(omega, "speed")
+        if omega.size == 1 and np.ndim(G) <= 2 and np.ndim(C) <= 2:
+            return C + float(omega.reshape(-1)[0]) * G
+        dense = [a.toarray() if hasattr(a, "toarray") else np.asarray(a) for a in (C, G)]
+        return dense[0] + omega.reshape(-1, 1, 1) * dense[1]
 
     def _check_finite(self, array: npt.ArrayLike, key: str, section: str = "matrices") -> None:
         if not np.all(np.isfinite(array)):
