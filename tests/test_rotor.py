@@ -273,3 +273,79 @@ def test_campbell_command_json_and_plot(tmp_path) -> None:
     assert {c["whirl"] for c in data["critical_speeds"]} == {"forward", "backward"}
     assert data["stability_threshold"]["verdict"] == "stable in range"
     assert "rad/s" in data["conventions"]["speed"]
+
+
+# -- the [rotor] section: Friswell et al. (2010) Example 5.9.1 ---------------------------------
+
+FRISWELL = EXAMPLES / "friswell_5_9_1.toml"
+
+
+def test_friswell_5_9_1_published_frequencies() -> None:
+    """Friswell, Penny, Garvey & Lees (2010), Example 5.9.1, p. 206, as ROSS's tests pin
+    them (ross/tests/test_examples.py, 1e-3): the lateral natural frequencies at 0 and
+    4000 rpm (the book's 650.41 rad/s, the same at both speeds, is the mode outside the
+    lateral plane ROSS's six coordinates a node add), here to 1e-3; and ROSS 2.3.0's
+    run_modal on the same model (recorded, 6 elements) to 1e-8."""
+    model = loads(FRISWELL.read_text(), source=str(FRISWELL))
+    result = campbell(linear_system(model), [0.0, 4000 * np.pi / 30], modes=6)
+    book_0 = [86.66, 86.66, 274.31, 274.31, 716.78]
+    book_4000 = [85.39, 87.80, 251.78, 294.71, 600.18]
+    assert np.allclose(np.delete(result.frequencies[0], 4), book_0, rtol=1e-3)
+    assert np.allclose(result.frequencies[-1, :5], book_4000, rtol=1e-3)
+    ross_4000 = [85.389467, 87.795864, 251.784604, 294.713331, 600.179362, 827.075362]
+    assert np.allclose(result.frequencies[-1], ross_4000, rtol=1e-8, atol=1e-6)
+    assert [result.whirl[-1][j] for j in range(4)] == ["backward", "forward"] * 2
+    assert result.threshold.verdict == "stable in range"
+
+
+def test_rotor_coordinates_are_named_by_station() -> None:
+    model = loads(FRISWELL.read_text())
+    assert model.coordinates[:4] == ("bearing1_x", "bearing1_y", "bearing1_ax", "bearing1_ay")
+    assert "disc2_ay" in model.coordinates and len(model.coordinates) == 28
+
+
+def test_speed_dependent_bearings_threshold() -> None:
+    """The fluid-film-like example: tables interpolated in speed and kxy = q Omega; the
+    threshold is found by Brent's method: Re s of the unstable branch there is 0 to the
+    kernel's tolerance, and the speed is the same on a finer grid (1e-8)."""
+    path = EXAMPLES / "rotor_fluid_film.toml"
+    system = linear_system(loads(path.read_text(), source=str(path)))
+    coarse = campbell(system, np.linspace(0, 6000 * np.pi / 30, 13), modes=4)
+    fine = campbell(system, np.linspace(0, 6000 * np.pi / 30, 25), modes=4)
+    assert coarse.threshold.verdict == "threshold" and coarse.threshold.whirl == "forward"
+    assert coarse.threshold.speed == pytest.approx(fine.threshold.speed, rel=1e-8)
+    point = system.numeric(Omega=coarse.threshold.speed)
+    s, _ = gyroscopic_modes(np.asarray(point.M), np.asarray(point.C), np.asarray(point.K))
+    nearest = s[np.argmin(np.abs(np.abs(s.imag) - coarse.threshold.frequency))]
+    assert abs(nearest.real) < 1e-7 * abs(nearest)
+
+
+def test_table_is_interpolated_in_speed() -> None:
+    text = FRISWELL.read_text().replace('kxx = "1 MN/m"\nkyy = "1 MN/m"\n\n[[rotor.bearing]]\n'
+                                        'station = 6',
+                                        'kxx = { speed = ["0 rpm", "1000 rpm"], values = '
+                                        '[1e6, 3e6] }\nkyy = "1 MN/m"\n\n[[rotor.bearing]]\n'
+                                        'station = 6', 1)
+    system = linear_system(loads(text))
+    K = system.batch("Omega", np.array([0.0, 500 * np.pi / 30, 5000.0])).K
+    assert np.allclose(K[:, 0, 0] - K[0, 0, 0], [0.0, 1e6, 2e6], rtol=1e-12, atol=1e-3)
+
+
+@pytest.mark.parametrize("change, key", [
+    (('kxx = "1 MN/m"', 'k = [[1e6, 0, 0], [0, 1e6, 0], [0, 0, 1]]'), "k"),
+    (('name = "disc1"', 'name = "disc1"\nm = 10\nIp = -1\nIt = 1'), "Ip"),
+    (('kxx = "1 MN/m"', 'kxx = { speed = [0, 100, 50], values = [1, 2, 3] }'), "kxx"),
+    (('station = 4', 'station = 40'), "station"),
+    (('speed = "Omega"', 'speed = "W"'), "speed"),
+])
+def test_bad_rotor_section_names_entry_and_key(change: tuple[str, str], key: str,
+                                               tmp_path) -> None:
+    """A bearing matrix that is not given as 2 x 2 coefficients, a negative inertia, a
+    speed table that does not increase, a station off the shaft: file, entry, key, exit 2."""
+    path = tmp_path / "rotor.toml"
+    path.write_text(FRISWELL.read_text().replace(*change, 1))
+    with pytest.raises(ModelError) as info:
+        loads(path.read_text(), source=str(path))
+    assert any(p.key == key for p in info.value.problems), info.value
+    status, _, err = run_cli(["campbell", path])
+    assert status == 2 and "rotor.toml" in err and key in err

@@ -56,7 +56,7 @@ from ..charts import (
 )
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem
-from ..modal import modal_assurance
+from ..modal import STABILITY_TOLERANCE, modal_assurance
 from ..system.base import LinearSystem
 from .results_json import Saved, floats_json
 from .rotor_tracking import (
@@ -402,9 +402,11 @@ def _continued(solver: ModeSolver, reference: np.ndarray, speed: float
 def _threshold(solver: ModeSolver, track: Tracked, pairs: list[tuple[int, int]],
                tolerance: float) -> StabilityThreshold:
     """The lowest speed where some branch's Re s crosses from below zero to above."""
-    real = track.eigenvalues.real
     scale = np.maximum(np.abs(track.eigenvalues), 1.0)
-    if np.any(real[0] > 1e-9 * scale[0]):
+    real = track.eigenvalues.real
+    # a real part within the kernel's tolerance is 0: an undamped rotor is marginal
+    real = np.where(np.abs(real) <= STABILITY_TOLERANCE * scale, 0.0, real)
+    if np.any(real[0] > 0):
         j = int(np.argmax(real[0]))
         return StabilityThreshold(None, j + 1, float(track.frequencies[0, j]), "",
                                   "unstable in range")

@@ -71,6 +71,7 @@ from .nonlinear_elements import read_nonlinear_elements
 from .part_energies import Mechanism, derive_energies, point_expressions
 from .parts import DerivedEnergies, Parts, read_parts
 from .random_spec import parse_random
+from .rotor import read_rotor
 from .study import parse_study
 from .types import (
     Force,
@@ -301,7 +302,7 @@ class _Builder:
         # every declared parameter, also those whose value is invalid, so that one bad
         # value is reported once and not again as an unknown name wherever it is used
         param_names = [n for n, sec in self.declared.items() if sec == "parameters"]
-        matrices = self.data.get("matrices") is not None
+        matrices = self.data.get("matrices") is not None or "rotor" in self.data
         coordinates, descriptions = self.coordinates(required=not matrices)
         equilibrium = self.equilibrium(param_names, coordinates)
         signals = self.named_table("signals", [*param_names, "t"])
@@ -320,7 +321,8 @@ class _Builder:
         energy = self.energy(allowed, required=not matrices and not has_parts)
         forces = self.forces(allowed, coordinates, mechanism)
         display = self.display()
-        matrix_spec = self.matrices(param_names, coordinates) if matrices else None
+        matrix_spec, coordinates = self.matrices(param_names, coordinates) if matrices \
+            else (None, coordinates)
         self.check_one_kind(matrices, bool(energy or forces), parts is not None)
         names = coordinates or ([f"q{i + 1}" for i in range(_matrix_size(matrix_spec.M))]
                                 if matrix_spec is not None else [])
@@ -763,7 +765,24 @@ class _Builder:
                 forces.append(Force(name, vector=tuple(vec), point=tuple(pnt)))  # type: ignore
         return forces
 
-    def matrices(self, params: list[str], coordinates: list[str]) -> MatrixSpec | None:
+    def matrices(self, params: list[str], coordinates: list[str]
+                 ) -> tuple[MatrixSpec | None, list[str]]:
+        """The [matrices] (or the assembled [rotor]) and the coordinates."""
+        if "rotor" not in self.data:
+            return self.matrix_section(params, coordinates), coordinates
+        if "matrices" in self.data or coordinates:
+            self.problems.append(Problem("a [rotor] makes its own matrices and coordinates: "
+                                         "give no [matrices] or [coordinates] with it",
+                                         self.source, "rotor"))
+            return None, coordinates
+        try:
+            spec, names = read_rotor(self.data["rotor"], params, self.source)
+        except ModelError as exc:
+            self.problems.extend(exc.problems)
+            return None, coordinates
+        return spec, list(names)
+
+    def matrix_section(self, params: list[str], coordinates: list[str]) -> MatrixSpec | None:
         section = self.data.get("matrices")
         harmonics = self.data.get("harmonic", [])
         try:

@@ -137,6 +137,9 @@ class MatrixSpec:
         is M q'' + (C + speed G) q' + K q = Q (None: no gyroscopic part).
     speed : str, optional
         The parameter that is the spin speed (rad/s); G needs it (docs/rotors.md).
+    speed_terms : tuple of SpeedTerm
+        Entries of K and C that depend on the parameters (a ``[rotor]``'s bearing
+        coefficients: :class:`resonant.model.rotor.SpeedTerm`), added to the numbers.
 
     Examples
     --------
@@ -153,6 +156,7 @@ class MatrixSpec:
     nonlinear: tuple[Any, ...] = ()
     G: Any = None
     speed: str | None = None
+    speed_terms: tuple[Any, ...] = ()
 
 
 @dataclass(frozen=True)

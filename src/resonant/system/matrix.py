@@ -23,6 +23,7 @@ from ..derivation import LinearMap, SignalHarmonics, decompose_signals
 from ..errors import ModelError, Problem
 from ..expressions import Expression, Num, numeric_value
 from ..model import TIME, Model, symbol
+from ..model.rotor import SpeedTable
 from .base import LinearSystem
 from .batch import Batch, BatchHarmonic, compile_expressions
 from .symbolic import matrix_strings
@@ -175,7 +176,8 @@ class MatrixEOM(LinearSystem):
                  deadline: Deadline = NO_DEADLINE) -> Batch:
         spec = self.model.matrices
         assert spec is not None
-        M, C, K = (self._matrix_values(key, values) for key in ("M", "C", "K"))
+        M, C, K = (self._with_terms(key, self._matrix_values(key, values), values)
+                   for key in ("M", "C", "K"))
         C = self._with_gyroscopic(C, values)
         harmonics = []
         for j, h in enumerate(spec.harmonics, start=1):
@@ -248,6 +250,31 @@ class MatrixEOM(LinearSystem):
             for j, v in enumerate(row):
                 out[..., i, j] = v
         self._check_finite(out, key)
+        return out
+
+    def _with_terms(self, key: str, matrix: Any, values: Mapping[str, Any]) -> Any:
+        """The matrix with the entries that depend on the parameters added (a rotor's
+        bearing coefficients; tables interpolated in the speed): a stack (N, n, n) where
+        they vary."""
+        terms = [t for t in self._spec_matrix("speed_terms") if t.key == key]
+        if not terms:
+            return matrix
+        speed = self._spec_matrix("speed")
+        added = []
+        for term in terms:
+            value = term.value(values[speed]) if isinstance(term.value, SpeedTable) else \
+                numeric_value(term.value, values)
+            value = np.asarray(value, dtype=float)
+            if not np.all(np.isfinite(value)):
+                raise ModelError(Problem("is not finite for the given parameter values",
+                                         self.source, term.where, key))
+            added.append(value.reshape(-1))
+        size = max(len(a) for a in added)
+        out = np.array(matrix.toarray() if hasattr(matrix, "toarray") else matrix, dtype=float)
+        out = np.broadcast_to(out, (size, self.n, self.n) if size > 1 or out.ndim == 3
+                              else out.shape).copy()
+        for term, value in zip(terms, added):
+            out[..., term.row, term.column] += value if out.ndim == 3 else value[0]
         return out
 
     def _with_gyroscopic(self, C: Any, values: Mapping[str, Any]) -> Any:
