@@ -24,6 +24,7 @@ import pytest
 from conftest import EXAMPLES, run_cli
 from resonant.analyses.campbell import Campbell, campbell
 from resonant.analyses.rotor_tracking import track_modes
+from resonant.analyses.unbalance import unbalance_response
 from resonant.errors import ModelError
 from resonant.modal import gyroscopic_modes, lowest_gyroscopic_modes, modal_assurance
 from resonant.model import loads
@@ -349,3 +350,52 @@ def test_bad_rotor_section_names_entry_and_key(change: tuple[str, str], key: str
     assert any(p.key == key for p in info.value.problems), info.value
     status, _, err = run_cli(["campbell", path])
     assert status == 2 and "rotor.toml" in err and key in err
+
+
+# -- the unbalance response -------------------------------------------------------------------
+
+def test_jeffcott_unbalance_orbit_and_phase_closed_form() -> None:
+    """Genta 2005 sec. 4.7 / Vance et al. 2010 sec. 2.7: the synchronous forward whirl
+    X = m e Omega^2 / (k - m Omega^2 + i Omega c_e) (the rotating damping does not act on
+    it), a circle, its lag atan2(c_e Omega, k - m Omega^2): 90 degrees at omega_n; to 1e-10."""
+    m, k, ce = 10.0, 1e6, 20.0
+    wn = np.sqrt(k / m)
+    speeds = np.array([0.5 * wn, wn, 2 * wn])
+    r = unbalance_response(linear_system(loads(JEFFCOTT.read_text())), speeds)
+    exact = 1e-4 * speeds ** 2 / (k - m * speeds ** 2 + 1j * speeds * ce)
+    assert np.allclose(r.major[:, 0], np.abs(exact), rtol=1e-10)
+    assert np.allclose(r.minor[:, 0], np.abs(exact), rtol=1e-8)
+    assert np.allclose(r.phase_lag[:, 0], np.arctan2(ce * speeds, k - m * speeds ** 2),
+                       rtol=1e-10)
+    assert r.phase_lag[1, 0] == pytest.approx(np.pi / 2, rel=1e-12)
+    assert all(p == ("forward",) for p in r.precession)
+    data = r.to_dict()
+    assert data["amplitude_convention"].startswith("0-pk")
+    assert np.allclose(data["stations"]["(x, y)"]["major_axis_pk_pk"], 2 * np.abs(exact))
+
+
+def test_anisotropic_supports_whirl_backward_between_criticals() -> None:
+    """A Jeffcott disc on supports stiffer in y: X = F / (k_x - m W^2 + i W c),
+    Y = -i F / (k_y - m W^2 + i W c); between the two critical speeds the orbit is run
+    backward (Vance et al. 2010 sec. 2.9), outside them forward; semi-axes to 1e-10."""
+    model = loads('[parameters]\nW = 0\n[coordinates]\nx = ""\ny = ""\n[matrices]\n'
+                  'M = [[1, 0], [0, 1]]\nK = [[100, 0], [0, 400]]\nC = [[0.5, 0], [0, 0.5]]\n'
+                  'speed = "W"\n[[unbalance]]\nat = ""\namount = 0.01\n')
+    speeds = np.array([5.0, 15.0, 30.0])
+    r = unbalance_response(linear_system(model), speeds)
+    X = 0.01 * speeds ** 2 / (100 - speeds ** 2 + 0.5j * speeds)
+    Y = -1j * 0.01 * speeds ** 2 / (400 - speeds ** 2 + 0.5j * speeds)
+    forward, backward = np.abs(X + 1j * Y) / 2, np.abs(np.conj(X) + 1j * np.conj(Y)) / 2
+    assert np.allclose(r.major[:, 0], forward + backward, rtol=1e-10)
+    assert np.allclose(r.minor[:, 0], np.abs(forward - backward), rtol=1e-10)
+    assert [p[0] for p in r.precession] == ["forward", "backward", "forward"]
+
+
+def test_unbalance_command(tmp_path) -> None:
+    status, out, _ = run_cli(["unbalance", JEFFCOTT, "--to", "6000 rpm", "--points", "7",
+                              "--plot", tmp_path / "u.png"])
+    assert status == 0 and "0-pk" in out and "pk-pk" in out
+    bad = tmp_path / "bad.toml"
+    bad.write_text(JEFFCOTT.read_text().replace('at = ""', 'at = "disc9"'))
+    status, _, err = run_cli(["unbalance", bad])
+    assert status == 2 and "unbalance 1" in err and "at" in err

@@ -150,9 +150,10 @@ def whirl_label(value: float) -> str:
     return "forward" if value > 0 else "backward"
 
 
-def check_speeds(speeds: np.ndarray, source: str, key: str = "speeds") -> np.ndarray:
+def check_speeds(speeds: np.ndarray, source: str, key: str = "speeds", least: int = 2
+                 ) -> np.ndarray:
     """The speeds as an ascending float array; ModelError naming ``key`` if they are not
-    finite, not increasing or fewer than 2.
+    finite, not increasing or fewer than ``least``.
 
     Examples
     --------
@@ -160,9 +161,9 @@ def check_speeds(speeds: np.ndarray, source: str, key: str = "speeds") -> np.nda
     [0.0, 10.0]
     """
     values = np.asarray(speeds, dtype=float).reshape(-1)
-    if values.size < 2 or not np.all(np.isfinite(values)) or np.any(np.diff(values) <= 0):
-        raise ModelError(Problem("the speeds must be at least 2 finite values in increasing "
-                                 "order (rad/s)", source, "campbell", key))
+    if values.size < least or not np.all(np.isfinite(values)) or np.any(np.diff(values) <= 0):
+        raise ModelError(Problem(f"the speeds must be at least {least} finite values in "
+                                 "increasing order (rad/s)", source, "campbell", key))
     return values
 
 

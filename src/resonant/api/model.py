@@ -30,6 +30,7 @@ from ..analyses.harmonic_balance import nonlinear_sweep
 from ..analyses.nonlinear_response import NonlinearResponse
 from ..analyses.random_response import RandomResponse, random_response
 from ..analyses.simulate import Simulation, simulate
+from ..analyses.unbalance import UnbalanceResponse, unbalance_response
 from ..deadline import NO_DEADLINE, Deadline
 from ..model import loader
 from ..model import types as model_types
@@ -64,7 +65,7 @@ class Model(model_types.Model):
     matrices, exercise, parts, units, study_section, explore_section : see Model
         As :class:`resonant.model.Model`.
     random_section, shock_section, fatigue_section, periodic_section : see Model
-    campbell_section : see Model
+    campbell_section, unbalances : see Model
         The data of the model, exactly those of :class:`resonant.model.Model` (this class
         adds no field).
 
@@ -364,6 +365,35 @@ class Model(model_types.Model):
         """
         return campbell(self.linearize(deadline=deadline), speeds, modes=modes, orders=orders,
                         speed=speed, deadline=deadline or NO_DEADLINE)
+
+    def unbalance_response(self, speeds: Sequence[float] | None = None, *,
+                           speed: str | None = None, deadline: Deadline | None = None
+                           ) -> UnbalanceResponse:
+        """The orbits of the rotor's stations under its ``[[unbalance]]`` over the speed
+        (:func:`resonant.analyses.unbalance.unbalance_response`; amplitudes 0-pk).
+
+        Parameters
+        ----------
+        speeds : sequence of float, optional
+            The speeds (rad/s); default the ``[campbell]`` section's range.
+        speed : str, optional
+            The speed parameter (default ``[matrices]`` ``speed``).
+        deadline : Deadline, optional
+            The run's time limit.
+
+        Returns
+        -------
+        UnbalanceResponse
+
+        Examples
+        --------
+        >>> import resonant
+        >>> r = resonant.load("examples/jeffcott_rotor.toml").unbalance_response([316.2])
+        >>> r.precession[0]
+        ('forward',)
+        """
+        return unbalance_response(self.linearize(deadline=deadline), speeds, speed=speed,
+                                  deadline=deadline or NO_DEADLINE)
 
     def random_response(self, *, names: Sequence[str] | None = None, method: str = "auto",
                         tolerance: float | None = None, deadline: Deadline | None = None

@@ -49,6 +49,7 @@ COMMANDS: dict[str, str] = {
     "random": "response spectral densities, RMS and Rice's rates under random inputs",
     "srs": "shock response spectrum of a pulse or a CSV history",
     "campbell": "a rotor's Campbell diagram: tracked modes, critical speeds, stability",
+    "unbalance": "a rotor's orbits under its unbalances over the speed",
 }
 
 Register = Callable[[Any, argparse.ArgumentParser], None]
@@ -105,7 +106,7 @@ def command_registrar(command: str) -> Register:
         case "srs":
             from . import srs
             return srs.register
-        case "campbell":
+        case "campbell" | "unbalance":
             from . import campbell
             return campbell.register
     raise KeyError(command)

@@ -1,4 +1,5 @@
-"""The ``[campbell]`` section: the speed range of a rotor's Campbell diagram (docs/rotors.md).
+"""The ``[campbell]`` section (the speed range of a rotor's Campbell diagram) and the
+``[[unbalance]]`` tables (the unbalances of its unbalance response); docs/rotors.md.
 
 ```toml
 [campbell]
@@ -8,6 +9,11 @@ points = 61           # the grid; refinement adds speeds where the tracking need
 modes = 6             # the branches followed
 orders = [1, 2]       # the excitation orders of the critical speeds
 speed = "Omega"       # the speed parameter (default: [matrices] speed)
+
+[[unbalance]]
+at = "disc1"          # a station: its coordinates disc1_x, disc1_y (or "" for x, y)
+amount = "1e-4 kg*m"  # m e
+phase = "0 deg"       # the unbalance's angle from x at t = 0, towards y
 ```
 """
 
@@ -167,4 +173,80 @@ def parse_campbell(data: object, params: Sequence[str], source: str,
     return CampbellSpec(start, stop, points, modes, tuple(float(r) for r in orders), speed)
 
 
-__all__ = ["CampbellSpec", "parse_campbell", "parse_speed", "CAMPBELL_KEYS"]
+UNBALANCE_KEYS = ("at", "amount", "phase")
+
+
+@dataclass(frozen=True)
+class Unbalance:
+    """One unbalance: m e (kg m) at a station, at an angle (rad) from x towards y at t = 0.
+
+    Parameters
+    ----------
+    station : str
+        The station (its coordinates ``STATION_x``, ``STATION_y``; "" for ``x``, ``y``).
+    amount : float
+        m e (kg m).
+    phase : float
+        The angle (rad).
+    """
+
+    station: str
+    amount: float
+    phase: float = 0.0
+
+
+def parse_unbalances(data: object, coordinates: Sequence[str], source: str,
+                     problems: list[Problem]) -> tuple[Unbalance, ...]:
+    """The ``[[unbalance]]`` tables, their problems appended to ``problems``.
+
+    Examples
+    --------
+    >>> problems = []
+    >>> parse_unbalances([{"at": "d", "amount": "1e-5 kg*m"}], ["d_x", "d_y"], "r.toml",
+    ...                  problems)
+    (Unbalance(station='d', amount=1e-05, phase=0.0),)
+    """
+    entries = data if isinstance(data, list) else [data]
+    out = []
+    for i, entry in enumerate(entries, start=1):
+        where = f"unbalance {i}"
+        if not isinstance(entry, dict):
+            problems.append(Problem("expected a table", source, where))
+            continue
+        for key in set(entry) - set(UNBALANCE_KEYS):
+            problems.append(Problem(f"unknown key; [[unbalance]] takes "
+                                    f"{', '.join(UNBALANCE_KEYS)}", source, where, str(key)))
+        station = entry.get("at", "")
+        x, y = (f"{station}_x", f"{station}_y") if station else ("x", "y")
+        if not isinstance(station, str) or x not in coordinates or y not in coordinates:
+            problems.append(Problem(f"must name a station with coordinates {x} and {y}",
+                                    source, where, "at"))
+            continue
+        amount = _constant(entry.get("amount"), source, where, "amount", problems)
+        phase = _constant(entry.get("phase", 0), source, where, "phase", problems,
+                          signed=True)
+        if amount is not None and phase is not None:
+            out.append(Unbalance(station, amount, phase))
+    return tuple(out)
+
+
+def _constant(raw: object, source: str, section: str, key: str, problems: list[Problem],
+              signed: bool = False) -> float | None:
+    if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
+        problems.append(Problem("must be a number or a value with a unit", source, section,
+                                key))
+        return None
+    try:
+        value = float(numeric_value(parse_with_unit(raw, [], source, section, key)[0], {}))
+    except (ExpressionError, ValueError, TypeError) as exc:
+        problems.append(Problem(f"not a constant: {exc}", source, section, key))
+        return None
+    if not math.isfinite(value) or (not signed and value <= 0):
+        problems.append(Problem(f"must be {'finite' if signed else 'positive'}, got {raw!r}",
+                                source, section, key))
+        return None
+    return value
+
+
+__all__ = ["CampbellSpec", "parse_campbell", "parse_speed", "CAMPBELL_KEYS", "Unbalance",
+           "parse_unbalances", "UNBALANCE_KEYS"]

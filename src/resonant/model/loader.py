@@ -51,7 +51,7 @@ from ..expressions import (
 )
 from ..expressions.parser import Node
 from . import limits
-from .campbell_spec import CampbellSpec, parse_campbell
+from .campbell_spec import CampbellSpec, Unbalance, parse_campbell, parse_unbalances
 from .dimensions import check_units
 from .exercise import Exercise, parse_exercise
 from .explore import parse_explore
@@ -356,7 +356,7 @@ class _Builder:
         periodic = parse_periodic(self.data["periodic"], param_names, list(signals), names,
                                   self.source, self.problems, units) \
             if "periodic" in self.data else None
-        fatigue, campbell = self.fatigue(), self.campbell(param_names)
+        fatigue, campbell = self.fatigue(), self.campbell(param_names, names)
         self.raise_problems(misplaced)
         if matrix_spec is not None and not coordinates:
             n = _matrix_size(matrix_spec.M)
@@ -372,17 +372,21 @@ class _Builder:
             exercise=exercise, parts=derived, units=units, study_section=study,
             explore_section=explore, random_section=random,
             shock_section=shock, fatigue_section=fatigue,
-            periodic_section=periodic, campbell_section=campbell)
+            periodic_section=periodic, campbell_section=campbell[0], unbalances=campbell[1])
 
     def fatigue(self) -> FatigueSpec | None:
         if "fatigue" not in self.data:
             return None
         return parse_fatigue(self.data["fatigue"], self.source, self.problems)
 
-    def campbell(self, param_names: list[str]) -> CampbellSpec | None:
-        if "campbell" not in self.data:
-            return None
-        return parse_campbell(self.data["campbell"], param_names, self.source, self.problems)
+    def campbell(self, param_names: list[str], coordinates: list[str]
+                 ) -> tuple[CampbellSpec | None, tuple[Unbalance, ...]]:
+        """[campbell] and [[unbalance]]: a rotor's speed range and unbalances."""
+        spec = parse_campbell(self.data["campbell"], param_names, self.source,
+                              self.problems) if "campbell" in self.data else None
+        unbalances = parse_unbalances(self.data["unbalance"], coordinates, self.source,
+                                      self.problems) if "unbalance" in self.data else ()
+        return spec, unbalances
 
     def exercise(self, param_names: list[str], names: list[str], outputs: list[str]
                  ) -> Exercise | None:

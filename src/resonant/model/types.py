@@ -30,7 +30,7 @@ from .study import StudySpec
 from .units import ModelUnits, parse_with_unit
 
 if TYPE_CHECKING:
-    from .campbell_spec import CampbellSpec
+    from .campbell_spec import CampbellSpec, Unbalance
     from .exercise import Exercise
     from .explore import ExploreSpec
     from .load_spec import FatigueSpec, PeriodicSpec, ShockSpec
@@ -217,6 +217,8 @@ class Model:
         The ``[periodic]`` section: a periodic, non-harmonic load on one input.
     campbell_section : CampbellSpec or None
         The ``[campbell]`` section: a rotor's speed range, branches and orders.
+    unbalances : tuple of Unbalance
+        The ``[[unbalance]]`` tables (resonant.model.campbell_spec).
 
     Examples
     --------
@@ -264,6 +266,8 @@ class Model:
     periodic_section: PeriodicSpec | None = None
     #: the ``[campbell]`` section (resonant.model.campbell_spec); None without one
     campbell_section: CampbellSpec | None = None
+    #: the ``[[unbalance]]`` tables (resonant.model.campbell_spec)
+    unbalances: tuple[Unbalance, ...] = ()
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""
