@@ -784,6 +784,9 @@ class _Builder:
         except ModelError as exc:
             self.problems.extend(exc.problems)
             return None, coordinates
+        for name in names:   # the stations' displacements (m) and tilts (rad)
+            self.coordinate_units[name] = parse_unit("rad" if name.endswith(("_ax", "_ay"))
+                                                     else "m")
         return spec, list(names)
 
     def matrix_section(self, params: list[str], coordinates: list[str]) -> MatrixSpec | None:
