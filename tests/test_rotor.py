@@ -399,3 +399,20 @@ def test_unbalance_command(tmp_path) -> None:
     bad.write_text(JEFFCOTT.read_text().replace('at = ""', 'at = "disc9"'))
     status, _, err = run_cli(["unbalance", bad])
     assert status == 2 and "unbalance 1" in err and "at" in err
+
+
+def test_large_rotor_uses_the_sparse_solver_and_agrees_with_dense() -> None:
+    """A [rotor] of 404 coordinates (above the dense limit): the shift-invert modes at
+    each speed are the dense kernel's lowest, to 1e-9."""
+    import sys
+
+    sys.path.insert(0, str(EXAMPLES.parent / "benchmarks"))
+    from bench_rotor import rotor_toml
+
+    system = linear_system(loads(rotor_toml(100)))
+    assert system.n == 404
+    result = campbell(system, [0.0, 200.0, 400.0], modes=4)
+    point = system.numeric(Omega=400.0)
+    s, _ = gyroscopic_modes(np.asarray(point.M), np.asarray(point.C), np.asarray(point.K))
+    assert np.allclose(np.sort(result.frequencies[-1]), np.sort(np.abs(s.imag[:4])),
+                       rtol=1e-9)

@@ -195,8 +195,13 @@ class ModeSolver:
         self.mass: Any = None
 
     def matrices(self, speeds: np.ndarray) -> list[tuple[Any, Any, Any]]:
-        """(M, C, K) at each speed (one evaluation of the model for them all)."""
-        batch = self.system.batch(self.speed, np.asarray(speeds, dtype=float), self.deadline)
+        """(M, C, K) at each speed: one evaluation of the model for them all, or, for a
+        large model (whose stacks would not fit), one speed at a time (sparse stays
+        sparse)."""
+        speeds = np.asarray(speeds, dtype=float)
+        if self.system.n > DENSE_LIMIT and len(speeds) > 1:
+            return [m for value in speeds for m in self.matrices(np.array([value]))]
+        batch = self.system.batch(self.speed, speeds, self.deadline)
 
         def at(a: Any, i: int) -> Any:
             return a[i] if isinstance(a, np.ndarray) and a.ndim == 3 else a

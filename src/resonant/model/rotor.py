@@ -51,8 +51,9 @@ from .units import parse_with_unit
 
 COEFFICIENTS = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
 ROTOR_KEYS = ("speed", "E", "rho", "G", "shaft", "disc", "bearing")
-#: the most stations of a [rotor]
-MAX_STATIONS = 25_000
+#: the most stations of a [rotor] (its matrices are assembled dense: 2,000 coordinates
+#: are 32 MB a matrix; a larger rotor comes as sparse [matrices] files)
+MAX_STATIONS = 500
 
 
 @dataclass(frozen=True)

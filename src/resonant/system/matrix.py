@@ -270,6 +270,11 @@ class MatrixEOM(LinearSystem):
                                          self.source, term.where, key))
             added.append(value.reshape(-1))
         size = max(len(a) for a in added)
+        if hasattr(matrix, "tolil") and size == 1:   # one point of a sparse model stays sparse
+            sparse = matrix.tolil(copy=True)
+            for term, value in zip(terms, added):
+                sparse[term.row, term.column] += float(value[0])
+            return sparse.tocsr()
         out = np.array(matrix.toarray() if hasattr(matrix, "toarray") else matrix, dtype=float)
         out = np.broadcast_to(out, (size, self.n, self.n) if size > 1 or out.ndim == 3
                               else out.shape).copy()
