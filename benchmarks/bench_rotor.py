@@ -82,18 +82,20 @@ kyy = 1e6
 """
 
 
-def run_resonant(elements: int, speeds: np.ndarray, modes: int) -> tuple[float, np.ndarray]:
+def run_resonant(elements: int, speeds: np.ndarray, modes: int
+                 ) -> tuple[float, float, np.ndarray]:
     from resonant.analyses.campbell import campbell
     from resonant.model import loads
     from resonant.system import linear_system
 
     system = linear_system(loads(rotor_toml(elements)))
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     result = campbell(system, speeds, modes=modes)
-    return time.perf_counter() - start, result.frequencies[-1]
+    return time.perf_counter() - start, time.process_time() - cpu, result.frequencies[-1]
 
 
-def run_ross(elements: int, speeds: np.ndarray, modes: int) -> tuple[float, np.ndarray] | None:
+def run_ross(elements: int, speeds: np.ndarray, modes: int
+             ) -> tuple[float, float, np.ndarray] | None:
     try:
         import ross as rs
     except Exception:  # noqa: BLE001 - an optional library that may fail to import
@@ -106,9 +108,9 @@ def run_ross(elements: int, speeds: np.ndarray, modes: int) -> tuple[float, np.n
              for n, d in ((elements // 3, 0.28), (2 * elements // 3, 0.35))]
     bearings = [rs.BearingElement(n=n, kxx=1e6, kyy=1e6, cxx=0, cyy=0) for n in (0, elements)]
     rotor = rs.Rotor(shaft, discs, bearings)
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     result = rotor.run_campbell(speeds, frequencies=modes + 4)
-    return time.perf_counter() - start, np.asarray(result.wd)[-1]
+    return time.perf_counter() - start, time.process_time() - cpu, np.asarray(result.wd)[-1]
 
 
 def main() -> None:
@@ -119,15 +121,18 @@ def main() -> None:
     parser.add_argument("--top", type=float, default=4000 * np.pi / 30)
     args = parser.parse_args()
     speeds = np.linspace(0.0, args.top, args.speeds)
-    ours, frequencies = run_resonant(args.elements, speeds, args.modes)
+    ours, ours_cpu, frequencies = run_resonant(args.elements, speeds, args.modes)
     report = {"elements": args.elements, "coordinates": 4 * (args.elements + 1),
               "speeds": args.speeds, "modes": args.modes, "resonant_s": ours,
+              "resonant_cpu_s": ours_cpu,
               "resonant_frequencies": frequencies.tolist()}
+    print(json.dumps(report), file=sys.stderr, flush=True)   # before ROSS's long run
     theirs = run_ross(args.elements, speeds, args.modes)
     if theirs is not None:
-        seconds, ross_wd = theirs
+        seconds, cpu, ross_wd = theirs
         nearest = np.array([ross_wd[np.argmin(np.abs(ross_wd - f))] for f in frequencies])
-        report.update({"ross_s": seconds, "ratio": seconds / ours,
+        report.update({"ross_s": seconds, "ross_cpu_s": cpu, "ratio": seconds / ours,
+                       "cpu_ratio": cpu / ours_cpu,
                        "largest_relative_difference": float(np.max(np.abs(
                            nearest - frequencies) / frequencies))})
     else:
