@@ -72,7 +72,7 @@ class MatrixEOM(LinearSystem):
     @cached_property
     def C(self) -> sympy.ImmutableMatrix:
         """C + speed G: the damping with the gyroscopic part (docs/rotors.md)."""
-        damping = _to_sympy(self._spec_matrix("C"), self.n)
+        damping = self._symbolic_terms("C", _to_sympy(self._spec_matrix("C"), self.n))
         speed = self._spec_matrix("speed")
         if self._spec_matrix("G") is None or speed is None:
             return damping
@@ -81,7 +81,25 @@ class MatrixEOM(LinearSystem):
 
     @cached_property
     def K(self) -> sympy.ImmutableMatrix:
-        return _to_sympy(self._spec_matrix("K"), self.n)
+        return self._symbolic_terms("K", _to_sympy(self._spec_matrix("K"), self.n))
+
+    def _symbolic_terms(self, key: str, matrix: sympy.ImmutableMatrix
+                        ) -> sympy.ImmutableMatrix:
+        """The matrix with a rotor's parameter-dependent entries added (a table in speed
+        as ``table_<entry>(speed)``)."""
+        terms = [t for t in self._spec_matrix("speed_terms") if t.key == key]
+        if not terms:
+            return matrix
+        out = sympy.Matrix(matrix)
+        speed = symbol(self._spec_matrix("speed"))
+        for term in terms:
+            if isinstance(term.value, SpeedTable):
+                name = "table_" + term.where.replace("rotor.", "").replace(" ", "_")
+                out[term.row, term.column] += sympy.Function(name)(speed)
+            else:
+                out[term.row, term.column] += term.value.to_sympy(
+                    lambda label, primes: symbol(label) if primes == 0 else 0)
+        return sympy.ImmutableMatrix(out)
 
     @cached_property
     def _signals(self) -> tuple[dict[Var, sympy.ImmutableMatrix], dict[Var, sympy.Expr]]:
