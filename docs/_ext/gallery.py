@@ -207,6 +207,10 @@ def _figures(model: Any, path: Path, out: Path) -> list[tuple[str, str]]:
             figures.append(("Frequency response about the natural frequencies "
                             f"(`resonant sweep --param {param}`)",
                             _save(response.plot(), out / f"{stem}_sweep.png")))
+    if model.campbell_section is not None:
+        figures.append(("Campbell diagram: modes tracked over the speed, critical speeds, "
+                        "log decrements (`resonant campbell --plot`)",
+                        _save(model.campbell().plot(), out / f"{stem}_campbell.png")))
     if path.name in NONLINEAR and band is not None:
         low = float(system.modes().natural_frequencies.min())
         branch = model.nonlinear_sweep("omega", 0.5 * low, 2.5 * low, harmonics=3,

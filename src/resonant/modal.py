@@ -816,6 +816,130 @@ def lowest_state_eigenvalues(M: Matrix, C: Matrix, K: Matrix, count: int) -> np.
     return order(sigma + 1.0 / nu)
 
 
+# -- gyroscopic systems: the complex modes with their shapes ---------------------------------
+
+def _upper_modes(s: np.ndarray, X: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The eigenvalues with Im s >= 0 (one of each conjugate pair, a real one kept) in the
+    one order (:func:`order`), with their displacement parts (the first n rows of the
+    state vectors), each of unit norm with its largest entry real and positive."""
+    scale = max(1.0, float(np.nanmax(np.abs(s), initial=0.0)))
+    upper = s.imag >= -UPPER_TOLERANCE * np.maximum(scale, np.abs(s))
+    s, X = s[upper], X[:n, upper]
+    size = np.round(np.abs(s) / scale, 12)
+    index = np.lexsort((s.imag, size))
+    s, X = s[index], X[:, index]
+    norms = np.linalg.norm(X, axis=0)
+    X = X / np.where(norms > 0, norms, 1.0)
+    largest = X[np.argmax(np.abs(X), axis=0), np.arange(X.shape[1])]
+    X = X * np.where(largest != 0, np.conj(largest) / np.maximum(np.abs(largest), 1e-300), 1)
+    return s, X
+
+
+def gyroscopic_modes(M: np.ndarray, C: np.ndarray, K: np.ndarray
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """The complex modes of M q'' + C q' + K q = 0 at one point, where C may hold a
+    gyroscopic part Omega G (skew) and K a circulatory part (cross-coupled bearings): the
+    eigenvalues s with Im s >= 0 in the one order (|s|, then Im s; :func:`order`) and their
+    shapes q (columns of unit norm, largest entry real and positive), so that a mode's
+    motion is Re(q e^(s t)).  Dense: the state matrix by :func:`state_matrix`.
+
+    Raises
+    ------
+    AnalysisError
+        If M is singular or a matrix is not finite.
+
+    Examples
+    --------
+    >>> G = np.array([[0.0, 1.0], [-1.0, 0.0]])          # a disc's tilts at Ip Omega = 1
+    >>> s, q = gyroscopic_modes(np.eye(2), G, np.eye(2))
+    >>> s.imag.round(6).tolist()                          # (sqrt(5) -+ 1) / 2
+    [0.618034, 1.618034]
+    """
+    import scipy.linalg
+
+    M, C, K = (np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
+               for a in (M, C, K))
+    require_finite("M, C or K", M, C, K)
+    n = M.shape[0]
+    try:
+        minv = np.linalg.solve(M, np.hstack([K, C]))
+    except np.linalg.LinAlgError:
+        raise AnalysisError("the mass matrix M is singular: the complex modes need a "
+                            "positive definite M") from None
+    s, X = scipy.linalg.eig(state_matrix(minv[:, :n], minv[:, n:]))
+    return _upper_modes(s, X, n)
+
+
+def lowest_gyroscopic_modes(M: Matrix, C: Matrix, K: Matrix, count: int,
+                            shift: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` complex modes of smallest |s| of a large sparse M q'' + C q' + K q = 0
+    (gyroscopic C, unsymmetric K), as :func:`gyroscopic_modes` gives them: the eigenvalues
+    with Im s >= 0 in the one order and their unit shapes.
+
+    Shift-invert Arnoldi (:func:`scipy.sparse.linalg.eigs`, a fixed start vector) on the
+    pencil [[0, I], [-K, -C]] - s [[I, 0], [0, M]] with one sparse LU; the shift is a small
+    negative number (a rigid-body mode makes the pencil singular at 0), or ``shift``.
+
+    Raises
+    ------
+    AnalysisError
+        If the eigensolver does not converge.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> n = 40
+    >>> K = sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1])
+    >>> C = 0.01 * sp.identity(n)
+    >>> s, q = lowest_gyroscopic_modes(sp.identity(n), C, K, 2)
+    >>> dense, _ = gyroscopic_modes(np.eye(n), C.toarray(), K.toarray())
+    >>> bool(np.allclose(s, dense[:2], rtol=1e-10)), q.shape
+    (True, (40, 2))
+    """
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import LinearOperator, eigs, splu
+
+    n = M.shape[0]
+    M, C, K = (sp.csc_matrix(a) for a in (M, C, K))
+    eye = sp.identity(n, format="csc")
+    A = sp.bmat([[None, eye], [-K, -C]], format="csc")
+    B = sp.bmat([[eye, None], [None, M]], format="csc")
+    scale = float(np.sqrt(abs(K).sum() / max(abs(M).sum(), 1e-300))) or 1.0
+    sigma = -1e-3 * scale if shift is None else shift
+    wanted = min(2 * count + 6, 2 * n - 2)
+    try:
+        lu = splu((A - sigma * B).tocsc())
+        op = LinearOperator((2 * n, 2 * n), matvec=lambda x: lu.solve(B @ x), dtype=float)
+        start = np.random.default_rng(0).standard_normal(2 * n)  # the same every run
+        nu, X = eigs(op, k=wanted, which="LM", v0=start)
+    except (RuntimeError, ValueError) as exc:
+        raise AnalysisError(f"the sparse eigensolver for the complex modes failed: {exc}"
+                            ) from None
+    s, q = _upper_modes(sigma + 1.0 / nu, X, n)
+    return s[:count], q[:, :count]
+
+
+def modal_assurance(A: np.ndarray, B: np.ndarray, weight: Matrix | None = None) -> np.ndarray:
+    """The modal assurance criterion |a^H W b|^2 / (a^H W a b^H W b) of every column of A
+    against every column of B (complex shapes), shape (columns of A, columns of B); W is
+    ``weight`` (the mass matrix: distinct undamped modes are then orthogonal) or I.
+
+    Examples
+    --------
+    >>> forward, backward = np.array([[1.0], [-1j]]), np.array([[1.0], [1j]])
+    >>> modal_assurance(forward, np.hstack([forward, backward])).round(12).tolist()
+    [[1.0, 0.0]]
+    """
+    WB = B if weight is None else np.asarray(weight @ B)
+    WA = A if weight is None else np.asarray(weight @ A)
+    dot = np.abs(np.conj(A).T @ WB) ** 2
+    norms = np.outer(np.abs(np.einsum("ij,ij->j", np.conj(A), WA)),
+                     np.abs(np.einsum("ij,ij->j", np.conj(B), WB)))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        result: np.ndarray = np.where(norms > 0, dot / np.where(norms > 0, norms, 1), 0.0)
+    return result
+
+
 def eigenvalues(A: np.ndarray, B: np.ndarray | None = None) -> np.ndarray:
     """The finite eigenvalues of a dense matrix A (or of the pencil A x = s B x), for a
     system that is not M, C, K: Hill's matrix, a monodromy matrix.
@@ -932,5 +1056,6 @@ __all__ = ["ZERO_EIGENVALUE", "ZERO_STATE", "STABILITY_TOLERANCE", "undamped_eig
            "require_finite", "largest_abs", "largest_entry", "accurate_product",
            "eigenvalue_bounds", "frequency_bounds", "lowest_modes", "mass_normalized_modes",
            "symmetric_eigenvalues", "point_state_eigenvalues", "state_modes",
-           "lowest_state_eigenvalues", "eigenvalues", "fundamental_strip", "factor_stiffness",
+           "lowest_state_eigenvalues", "gyroscopic_modes", "lowest_gyroscopic_modes",
+           "modal_assurance", "eigenvalues", "fundamental_strip", "factor_stiffness",
            "modes_below", "matrix_polynomial_roots"]

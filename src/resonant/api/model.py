@@ -25,10 +25,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..analyses.backbone import Backbones, backbone
+from ..analyses.campbell import Campbell, campbell
 from ..analyses.harmonic_balance import nonlinear_sweep
 from ..analyses.nonlinear_response import NonlinearResponse
 from ..analyses.random_response import RandomResponse, random_response
 from ..analyses.simulate import Simulation, simulate
+from ..analyses.unbalance import UnbalanceResponse, unbalance_response
 from ..deadline import NO_DEADLINE, Deadline
 from ..model import loader
 from ..model import types as model_types
@@ -65,6 +67,7 @@ class Model(model_types.Model):
     random_section, shock_section, fatigue_section, periodic_section : see Model
         As :class:`resonant.model.Model`.
     measurement_section : see Model
+    campbell_section, unbalances : see Model
         The data of the model, exactly those of :class:`resonant.model.Model` (this class
         adds no field).
 
@@ -331,6 +334,68 @@ class Model(model_types.Model):
         Path
         """
         return write_report(self, path, plots)
+
+    def campbell(self, speeds: Sequence[float] | None = None, *, modes: int | None = None,
+                 orders: Sequence[float] | None = None, speed: str | None = None,
+                 deadline: Deadline | None = None) -> Campbell:
+        """The Campbell diagram of a rotor: its modes tracked over the speed, the critical
+        speeds and the stability threshold (:func:`resonant.analyses.campbell.campbell`).
+
+        Parameters
+        ----------
+        speeds : sequence of float, optional
+            The speeds (rad/s); default the ``[campbell]`` section's range.
+        modes : int, optional
+            The branches followed.
+        orders : sequence of float, optional
+            The excitation orders of the critical speeds.
+        speed : str, optional
+            The speed parameter (default ``[matrices]`` ``speed``).
+        deadline : Deadline, optional
+            The run's time limit.
+
+        Returns
+        -------
+        Campbell
+
+        Examples
+        --------
+        >>> import resonant
+        >>> result = resonant.load("examples/jeffcott_rotor.toml").campbell()
+        >>> sorted(c.whirl for c in result.critical_speeds)
+        ['backward', 'forward']
+        """
+        return campbell(self.linearize(deadline=deadline), speeds, modes=modes, orders=orders,
+                        speed=speed, deadline=deadline or NO_DEADLINE)
+
+    def unbalance_response(self, speeds: Sequence[float] | None = None, *,
+                           speed: str | None = None, deadline: Deadline | None = None
+                           ) -> UnbalanceResponse:
+        """The orbits of the rotor's stations under its ``[[unbalance]]`` over the speed
+        (:func:`resonant.analyses.unbalance.unbalance_response`; amplitudes 0-pk).
+
+        Parameters
+        ----------
+        speeds : sequence of float, optional
+            The speeds (rad/s); default the ``[campbell]`` section's range.
+        speed : str, optional
+            The speed parameter (default ``[matrices]`` ``speed``).
+        deadline : Deadline, optional
+            The run's time limit.
+
+        Returns
+        -------
+        UnbalanceResponse
+
+        Examples
+        --------
+        >>> import resonant
+        >>> r = resonant.load("examples/jeffcott_rotor.toml").unbalance_response([316.2])
+        >>> r.precession[0]
+        ('forward',)
+        """
+        return unbalance_response(self.linearize(deadline=deadline), speeds, speed=speed,
+                                  deadline=deadline or NO_DEADLINE)
 
     def random_response(self, *, names: Sequence[str] | None = None, method: str = "auto",
                         tolerance: float | None = None, deadline: Deadline | None = None

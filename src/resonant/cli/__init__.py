@@ -52,6 +52,8 @@ COMMANDS: dict[str, str] = {
     "identify": "modes from measured FRFs (LSCF, stabilization chart, LSFD)",
     "correlate": "identified modes against the model's (MAC, frequency errors)",
     "update": "fit parameters to identified frequencies and mode shapes",
+    "campbell": "a rotor's Campbell diagram: tracked modes, critical speeds, stability",
+    "unbalance": "a rotor's orbits under its unbalances over the speed",
 }
 
 Register = Callable[[Any, argparse.ArgumentParser], None]
@@ -111,6 +113,9 @@ def command_registrar(command: str) -> Register:
         case "frf" | "identify" | "correlate" | "update":
             from . import testdata
             return testdata.register
+        case "campbell" | "unbalance":
+            from . import campbell
+            return campbell.register
     raise KeyError(command)
 
 

@@ -10,7 +10,7 @@ TOP_LEVEL = ("title", "description", "parameters", "coordinates", "equilibrium",
              "definitions", "energy", "force", "outputs", "matrices", "harmonic", "exercise",
              "variants", "gravity", "point", "body", "spring", "damper", "torque", "display",
              "study", "explore", "nonlinear", "random", "shock", "fatigue",
-             "periodic", "measurement")
+             "periodic", "measurement", "campbell", "rotor", "unbalance")
 #: the part sections (docs/parts.md; resonant.model.parts)
 PART_SECTIONS = ("point", "body", "spring", "damper", "torque")
 #: most entries of each part section ([[body]], [[spring]], ...)

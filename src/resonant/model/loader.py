@@ -51,6 +51,7 @@ from ..expressions import (
 )
 from ..expressions.parser import Node
 from . import limits
+from .campbell_spec import CampbellSpec, Unbalance, parse_campbell, parse_unbalances
 from .dimensions import check_units
 from .exercise import Exercise, parse_exercise
 from .explore import parse_explore
@@ -64,13 +65,14 @@ from .limits import (
     MAX_INLINED_NODES,
     TOP_LEVEL,
 )
-from .load_spec import parse_fatigue, parse_periodic, parse_shock
+from .load_spec import FatigueSpec, parse_fatigue, parse_periodic, parse_shock
 from .matrix_files import read_matrix_spec
 from .measurement_spec import MeasurementSpec, parse_measurement
 from .nonlinear_elements import read_nonlinear_elements
 from .part_energies import Mechanism, derive_energies, point_expressions
 from .parts import DerivedEnergies, Parts, read_parts
 from .random_spec import parse_random
+from .rotor import read_rotor
 from .study import parse_study
 from .types import (
     Force,
@@ -301,7 +303,7 @@ class _Builder:
         # every declared parameter, also those whose value is invalid, so that one bad
         # value is reported once and not again as an unknown name wherever it is used
         param_names = [n for n, sec in self.declared.items() if sec == "parameters"]
-        matrices = self.data.get("matrices") is not None
+        matrices = self.data.get("matrices") is not None or "rotor" in self.data
         coordinates, descriptions = self.coordinates(required=not matrices)
         equilibrium = self.equilibrium(param_names, coordinates)
         signals = self.named_table("signals", [*param_names, "t"])
@@ -320,7 +322,8 @@ class _Builder:
         energy = self.energy(allowed, required=not matrices and not has_parts)
         forces = self.forces(allowed, coordinates, mechanism)
         display = self.display()
-        matrix_spec = self.matrices(param_names, coordinates) if matrices else None
+        matrix_spec, coordinates = self.matrices(param_names, coordinates) if matrices \
+            else (None, coordinates)
         self.check_one_kind(matrices, bool(energy or forces), parts is not None)
         names = coordinates or (_matrix_names(matrix_spec) if matrix_spec is not None else [])
         # a matrix model's outputs are functions of its coordinates (also the default
@@ -353,8 +356,7 @@ class _Builder:
         periodic = parse_periodic(self.data["periodic"], param_names, list(signals), names,
                                   self.source, self.problems, units) \
             if "periodic" in self.data else None
-        fatigue = parse_fatigue(self.data["fatigue"], self.source, self.problems) \
-            if "fatigue" in self.data else None
+        fatigue, campbell = self.fatigue(), self.campbell(param_names, names)
         measurement = self.measurement(list(signals), names, list(outputs))
         self.raise_problems(misplaced)
         if matrix_spec is not None and not coordinates:
@@ -370,7 +372,8 @@ class _Builder:
             exercise=exercise, parts=derived, units=units, study_section=study,
             explore_section=explore, random_section=random,
             shock_section=shock, fatigue_section=fatigue,
-            periodic_section=periodic, measurement_section=measurement)
+            periodic_section=periodic, measurement_section=measurement,
+            campbell_section=campbell[0], unbalances=campbell[1])
 
     def measurement(self, signals: list[str], names: list[str], outputs: list[str]
                     ) -> MeasurementSpec | None:
@@ -378,6 +381,20 @@ class _Builder:
             return None
         return parse_measurement(self.data["measurement"], signals, names, outputs,
                                  self.source, self.problems)
+
+    def fatigue(self) -> FatigueSpec | None:
+        if "fatigue" not in self.data:
+            return None
+        return parse_fatigue(self.data["fatigue"], self.source, self.problems)
+
+    def campbell(self, param_names: list[str], coordinates: list[str]
+                 ) -> tuple[CampbellSpec | None, tuple[Unbalance, ...]]:
+        """[campbell] and [[unbalance]]: a rotor's speed range and unbalances."""
+        spec = parse_campbell(self.data["campbell"], param_names, self.source,
+                              self.problems) if "campbell" in self.data else None
+        unbalances = parse_unbalances(self.data["unbalance"], coordinates, self.source,
+                                      self.problems) if "unbalance" in self.data else ()
+        return spec, unbalances
 
     def exercise(self, param_names: list[str], names: list[str], outputs: list[str]
                  ) -> Exercise | None:
@@ -760,7 +777,27 @@ class _Builder:
                 forces.append(Force(name, vector=tuple(vec), point=tuple(pnt)))  # type: ignore
         return forces
 
-    def matrices(self, params: list[str], coordinates: list[str]) -> MatrixSpec | None:
+    def matrices(self, params: list[str], coordinates: list[str]
+                 ) -> tuple[MatrixSpec | None, list[str]]:
+        """The [matrices] (or the assembled [rotor]) and the coordinates."""
+        if "rotor" not in self.data:
+            return self.matrix_section(params, coordinates), coordinates
+        if "matrices" in self.data or coordinates:
+            self.problems.append(Problem("a [rotor] makes its own matrices and coordinates: "
+                                         "give no [matrices] or [coordinates] with it",
+                                         self.source, "rotor"))
+            return None, coordinates
+        try:
+            spec, names = read_rotor(self.data["rotor"], params, self.source)
+        except ModelError as exc:
+            self.problems.extend(exc.problems)
+            return None, coordinates
+        for name in names:   # the stations' displacements (m) and tilts (rad)
+            self.coordinate_units[name] = parse_unit("rad" if name.endswith(("_ax", "_ay"))
+                                                     else "m")
+        return spec, list(names)
+
+    def matrix_section(self, params: list[str], coordinates: list[str]) -> MatrixSpec | None:
         section = self.data.get("matrices")
         harmonics = self.data.get("harmonic", [])
         try:

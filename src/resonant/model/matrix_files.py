@@ -54,12 +54,14 @@ from .types import Harmonic, MatrixSpec
 if TYPE_CHECKING:
     import pyarrow
 
-MATRIX_KEYS = ("M", "K", "C")
+MATRIX_KEYS = ("M", "K", "C", "G")
 MODAL_KEY = "modal_damping"
 #: the DOF map of matrices read from finite-element files: [node, component] per row
 DOFS_KEY = "dofs"
 #: drop the coordinates with neither mass nor stiffness (unconnected DOFs of an FE file)
 DROP_KEY = "drop_unconnected"
+#: the key naming the speed parameter that multiplies the gyroscopic matrix G
+SPEED_KEY = "speed"
 MODAL_DAMPING_MAX_DOF = 3000
 """Largest model modal damping builds C for: C = M Phi diag(2 zeta omega) Phi^T M is dense
 (n^2 numbers) and needs the dense generalized eigenproblem; beyond this give C explicitly
@@ -750,6 +752,8 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
         if key == MODAL_KEY:
             modal = _modal_ratios(value, source, problems)
             continue
+        if key == SPEED_KEY:
+            continue
         if key == DOFS_KEY:
             dofs = _dof_map(value, source, base_dir, allow_paths, problems)
             continue
@@ -760,8 +764,8 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
             drop = value is True
             continue
         if key not in MATRIX_KEYS:
-            problems.append(Problem(f"unknown key '{key}'; [matrices] takes M, K, C, "
-                                    f"{MODAL_KEY}, {DOFS_KEY} and {DROP_KEY}",
+            problems.append(Problem(f"unknown key '{key}'; [matrices] takes M, K, C, G, "
+                                    f"{SPEED_KEY}, {MODAL_KEY}, {DOFS_KEY} and {DROP_KEY}",
                                     source, "matrices", key))
             continue
         if key == "C" and isinstance(value, str) and value not in inline_arrays and \
@@ -786,6 +790,7 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
         damping = _modal_matrix(modal, matrices["M"], matrices["K"], source, problems)
         if damping is not None:
             matrices["C"] = damping
+    speed = _speed_parameter(section, params, source, problems)
     n = _check_sizes(section, matrices, coordinates, source, problems)
     dofs = _dofs_for(dofs, coordinates, n, source, problems)
     if drop and not problems:
@@ -800,7 +805,7 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
         raise ModelError(problems)
     return MatrixSpec(M=matrices["M"], K=matrices["K"], C=matrices.get("C"),
                       harmonics=tuple(h for h in parsed if h is not None),
-                      coordinates=tuple(dofs or ()))
+                      coordinates=tuple(dofs or ()), G=matrices.get("G"), speed=speed)
 
 
 def _dof_map(value: object, source: str, base_dir: Path | None,
@@ -897,6 +902,26 @@ def _dofs_for(dofs: list[str] | None, coordinates: Sequence[str], n: int, source
     return dofs
 
 
+def _speed_parameter(section: dict, params: Sequence[str], source: str,
+                     problems: list[Problem]) -> str | None:
+    """The parameter named by ``speed`` (the rotor's spin speed, rad/s), which G needs."""
+    speed = section.get(SPEED_KEY)
+    if speed is None:
+        if "G" in section:
+            problems.append(Problem(
+                "the gyroscopic matrix G needs the speed it is multiplied by: add speed = "
+                "\"NAME\" naming a parameter (the spin speed, e.g. Omega = \"3000 rpm\")",
+                source, "matrices", SPEED_KEY))
+        return None
+    if not isinstance(speed, str) or speed not in params:
+        known = ", ".join(params) or "none"
+        problems.append(Problem(f"speed must name a parameter (the spin speed); got "
+                                f"{speed!r}, parameters: {known}", source, "matrices",
+                                SPEED_KEY))
+        return None
+    return speed
+
+
 def _harmonics_given(section: dict, harmonics: object, source: str, problems: list[Problem]
                      ) -> object:
     """The harmonics: top-level ``[[harmonic]]`` or ``harmonic = [...]`` in [matrices]."""
@@ -953,7 +978,7 @@ def _check_sizes(section: dict, matrices: Mapping[str, Any], coordinates: Sequen
             problems.append(Problem(f"{key} is missing", source, "matrices", key))
     sizes = {k: (m.shape[0] if hasattr(m, "shape") else len(m)) for k, m in matrices.items()}
     if len(set(sizes.values())) > 1:
-        problems.append(Problem("M, K and C must have the same size; got " + ", ".join(
+        problems.append(Problem("M, K, C and G must have the same size; got " + ", ".join(
             f"{k}: {v}x{v}" for k, v in sizes.items()), source, "matrices"))
     n = sizes.get("M", 0)
     if coordinates and n and len(coordinates) != n:
@@ -1236,4 +1261,5 @@ def _entry(value: object, params: Sequence[str], source: str, key: str,
 __all__ = ["read_matrix_spec", "read_matrix_file", "is_file_reference", "DOFS_KEY", "DROP_KEY",
            "read_vector_file", "resolve_matrix_path",
            "open_regular_file",
-           "read_bounded", "FileRefused", "MATRIX_KEYS", "FILE_SUFFIXES"]
+           "read_bounded", "FileRefused", "MATRIX_KEYS", "FILE_SUFFIXES",
+           "SPEED_KEY"]

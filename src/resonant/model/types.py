@@ -30,6 +30,7 @@ from .study import StudySpec
 from .units import ModelUnits, parse_with_unit
 
 if TYPE_CHECKING:
+    from .campbell_spec import CampbellSpec, Unbalance
     from .exercise import Exercise
     from .explore import ExploreSpec
     from .load_spec import FatigueSpec, PeriodicSpec, ShockSpec
@@ -134,6 +135,14 @@ class MatrixSpec:
         The ``[[nonlinear]]`` elements (:mod:`resonant.model.nonlinear_elements`).
     coordinates : tuple of str
         The coordinate names of a DOF map (``dofs``: ``n1042_uz``), or empty.
+    G : array_like or sparse matrix, optional
+        The gyroscopic matrix, multiplied by the speed parameter: the equation of motion
+        is M q'' + (C + speed G) q' + K q = Q (None: no gyroscopic part).
+    speed : str, optional
+        The parameter that is the spin speed (rad/s); G needs it (docs/rotors.md).
+    speed_terms : tuple of SpeedTerm
+        Entries of K and C that depend on the parameters (a ``[rotor]``'s bearing
+        coefficients: :class:`resonant.model.rotor.SpeedTerm`), added to the numbers.
 
     Examples
     --------
@@ -149,6 +158,9 @@ class MatrixSpec:
     harmonics: tuple[Harmonic, ...] = ()
     nonlinear: tuple[Any, ...] = ()
     coordinates: tuple[str, ...] = ()
+    G: Any = None
+    speed: str | None = None
+    speed_terms: tuple[Any, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -209,6 +221,10 @@ class Model:
         The ``[periodic]`` section: a periodic, non-harmonic load on one input.
     measurement_section : MeasurementSpec or None
         The ``[measurement]`` section: the measured channels' coordinates and outputs.
+    campbell_section : CampbellSpec or None
+        The ``[campbell]`` section: a rotor's speed range, branches and orders.
+    unbalances : tuple of Unbalance
+        The ``[[unbalance]]`` tables (resonant.model.campbell_spec).
 
     Examples
     --------
@@ -256,6 +272,10 @@ class Model:
     periodic_section: PeriodicSpec | None = None
     #: the ``[measurement]`` section (resonant.model.measurement_spec); None without one
     measurement_section: MeasurementSpec | None = None
+    #: the ``[campbell]`` section (resonant.model.campbell_spec); None without one
+    campbell_section: CampbellSpec | None = None
+    #: the ``[[unbalance]]`` tables (resonant.model.campbell_spec)
+    unbalances: tuple[Unbalance, ...] = ()
 
     def symbols(self) -> dict[str, sympy.Symbol]:
         """The parameter symbols by name."""

@@ -23,6 +23,7 @@ from ..derivation import LinearMap, SignalHarmonics, decompose_signals
 from ..errors import ModelError, Problem
 from ..expressions import Expression, Num, numeric_value
 from ..model import TIME, Model, symbol
+from ..model.rotor import SpeedTable
 from .base import LinearSystem, SymbolicEquations
 from .batch import Batch, BatchHarmonic, compile_expressions
 from .latex import eom_latex
@@ -71,11 +72,35 @@ class MatrixEOM(LinearSystem):
 
     @cached_property
     def C(self) -> sympy.ImmutableMatrix:
-        return _to_sympy(self._spec_matrix("C"), self.n)
+        """C + speed G: the damping with the gyroscopic part (docs/rotors.md)."""
+        damping = self._symbolic_terms("C", _to_sympy(self._spec_matrix("C"), self.n))
+        speed = self._spec_matrix("speed")
+        if self._spec_matrix("G") is None or speed is None:
+            return damping
+        return sympy.ImmutableMatrix(damping + symbol(speed) *
+                                     _to_sympy(self._spec_matrix("G"), self.n))
 
     @cached_property
     def K(self) -> sympy.ImmutableMatrix:
-        return _to_sympy(self._spec_matrix("K"), self.n)
+        return self._symbolic_terms("K", _to_sympy(self._spec_matrix("K"), self.n))
+
+    def _symbolic_terms(self, key: str, matrix: sympy.ImmutableMatrix
+                        ) -> sympy.ImmutableMatrix:
+        """The matrix with a rotor's parameter-dependent entries added (a table in speed
+        as ``table_<entry>(speed)``)."""
+        terms = [t for t in self._spec_matrix("speed_terms") if t.key == key]
+        if not terms:
+            return matrix
+        out = sympy.Matrix(matrix)
+        speed = symbol(self._spec_matrix("speed"))
+        for term in terms:
+            if isinstance(term.value, SpeedTable):
+                name = "table_" + term.where.replace("rotor.", "").replace(" ", "_")
+                out[term.row, term.column] += sympy.Function(name)(speed)
+            else:
+                out[term.row, term.column] += term.value.to_sympy(
+                    lambda label, primes: symbol(label) if primes == 0 else 0)
+        return sympy.ImmutableMatrix(out)
 
     @cached_property
     def _signals(self) -> tuple[dict[Var, sympy.ImmutableMatrix], dict[Var, sympy.Expr]]:
@@ -172,7 +197,9 @@ class MatrixEOM(LinearSystem):
                  deadline: Deadline = NO_DEADLINE) -> Batch:
         spec = self.model.matrices
         assert spec is not None
-        M, C, K = (self._matrix_values(key, values) for key in ("M", "C", "K"))
+        M, C, K = (self._with_terms(key, self._matrix_values(key, values), values)
+                   for key in ("M", "C", "K"))
+        C = self._with_gyroscopic(C, values)
         harmonics = []
         for j, h in enumerate(spec.harmonics, start=1):
             deadline.check("while evaluating the harmonic loads", f"harmonic {j}",
@@ -245,6 +272,50 @@ class MatrixEOM(LinearSystem):
                 out[..., i, j] = v
         self._check_finite(out, key)
         return out
+
+    def _with_terms(self, key: str, matrix: Any, values: Mapping[str, Any]) -> Any:
+        """The matrix with the entries that depend on the parameters added (a rotor's
+        bearing coefficients; tables interpolated in the speed): a stack (N, n, n) where
+        they vary."""
+        terms = [t for t in self._spec_matrix("speed_terms") if t.key == key]
+        if not terms:
+            return matrix
+        speed = self._spec_matrix("speed")
+        added = []
+        for term in terms:
+            value = term.value(values[speed]) if isinstance(term.value, SpeedTable) else \
+                numeric_value(term.value, values)
+            value = np.asarray(value, dtype=float)
+            if not np.all(np.isfinite(value)):
+                raise ModelError(Problem("is not finite for the given parameter values",
+                                         self.source, term.where, key))
+            added.append(value.reshape(-1))
+        size = max(len(a) for a in added)
+        if hasattr(matrix, "tolil") and size == 1:   # one point of a sparse model stays sparse
+            sparse = matrix.tolil(copy=True)
+            for term, value in zip(terms, added):
+                sparse[term.row, term.column] += float(value[0])
+            return sparse.tocsr()
+        out = np.array(matrix.toarray() if hasattr(matrix, "toarray") else matrix, dtype=float)
+        out = np.broadcast_to(out, (size, self.n, self.n) if size > 1 or out.ndim == 3
+                              else out.shape).copy()
+        for term, value in zip(terms, added):
+            out[..., term.row, term.column] += value if out.ndim == 3 else value[0]
+        return out
+
+    def _with_gyroscopic(self, C: Any, values: Mapping[str, Any]) -> Any:
+        """C + speed G at the parameter values: (n, n) where the speed is one number (dense
+        or sparse, as given), else a stack (N, n, n)."""
+        G, speed = self._spec_matrix("G"), self._spec_matrix("speed")
+        if G is None or speed is None:
+            return C
+        G = self._matrix_values("G", values)
+        omega = np.asarray(values[speed], dtype=float)
+        self._check_finite(omega, "speed")
+        if omega.size == 1 and np.ndim(G) <= 2 and np.ndim(C) <= 2:
+            return C + float(omega.reshape(-1)[0]) * G
+        dense = [a.toarray() if hasattr(a, "toarray") else np.asarray(a) for a in (C, G)]
+        return dense[0] + omega.reshape(-1, 1, 1) * dense[1]
 
     def _check_finite(self, array: npt.ArrayLike, key: str, section: str = "matrices") -> None:
         if not np.all(np.isfinite(array)):

@@ -1,0 +1,144 @@
+"""Benchmark: a rotor's Campbell diagram, resonant against ROSS's ``run_campbell``
+(docs/performance.md, Rotors).
+
+The model: a steel shaft (E 211 GPa, rho 7810 kg/m^3, G 81.2 GPa), 50 mm in diameter and
+1.5 m long, in ``elements`` equal Timoshenko elements, two discs (Friswell et al. 2010,
+Example 5.9.1: 70 mm thick, 280 and 350 mm in diameter) at a third and two thirds of its
+length, isotropic bearings of 1 MN/m at both ends: Example 5.9.1 refined.  249 elements
+are 250 stations, 1,000 lateral coordinates in resonant (ROSS adds the axial and
+torsional ones: 1,500).
+
+Sides, each in this process, one BLAS thread (the caller sets OMP_NUM_THREADS=1
+OPENBLAS_NUM_THREADS=1):
+
+``resonant``
+    ``campbell(system, speeds, modes=K)`` on the ``[rotor]`` model (loading not timed):
+    the modes at every speed by shift-invert Arnoldi, tracked by MAC with refinement,
+    the 1x critical speeds and the threshold by Brent's method;
+``ross``
+    ``Rotor.run_campbell(speeds, frequencies=K)`` (ross-rotordynamics, optional: skipped
+    when it does not import).
+
+The frequencies of both at the highest speed are compared (each resonant branch against
+the nearest ROSS frequency; ROSS's axial/torsional modes are left over).
+
+Examples
+--------
+>>> text = rotor_toml(6)
+>>> "count = 6" in text
+True
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
+
+
+def rotor_toml(elements: int) -> str:
+    """The benchmark's rotor as a ``[rotor]`` model of ``elements`` shaft elements
+    (a multiple of 3 puts the discs on stations)."""
+    first, second = elements // 3, 2 * elements // 3
+    return f"""
+title = "Example 5.9.1 refined: {elements} elements"
+[parameters]
+Omega = 0
+[rotor]
+speed = "Omega"
+E = 211e9
+rho = 7810
+G = 81.2e9
+[[rotor.shaft]]
+length = 1.5
+diameter = 0.05
+count = {elements}
+[[rotor.disc]]
+station = {first}
+name = "disc1"
+width = 0.07
+diameter = 0.28
+inner_diameter = 0.05
+[[rotor.disc]]
+station = {second}
+name = "disc2"
+width = 0.07
+diameter = 0.35
+inner_diameter = 0.05
+[[rotor.bearing]]
+station = 0
+kxx = 1e6
+kyy = 1e6
+[[rotor.bearing]]
+station = {elements}
+kxx = 1e6
+kyy = 1e6
+"""
+
+
+def run_resonant(elements: int, speeds: np.ndarray, modes: int
+                 ) -> tuple[float, float, np.ndarray]:
+    from resonant.analyses.campbell import campbell
+    from resonant.model import loads
+    from resonant.system import linear_system
+
+    system = linear_system(loads(rotor_toml(elements)))
+    start, cpu = time.perf_counter(), time.process_time()
+    result = campbell(system, speeds, modes=modes)
+    return time.perf_counter() - start, time.process_time() - cpu, result.frequencies[-1]
+
+
+def run_ross(elements: int, speeds: np.ndarray, modes: int
+             ) -> tuple[float, float, np.ndarray] | None:
+    try:
+        import ross as rs
+    except Exception:  # noqa: BLE001 - an optional library that may fail to import
+        return None
+    L = 1.5 / elements
+    shaft = [rs.ShaftElement(L=L, material=rs.materials.steel, n=i, idl=0, odl=0.05)
+             for i in range(elements)]
+    discs = [rs.DiskElement.from_geometry(n=n, material=rs.materials.steel, width=0.07,
+                                          i_d=0.05, o_d=d)
+             for n, d in ((elements // 3, 0.28), (2 * elements // 3, 0.35))]
+    bearings = [rs.BearingElement(n=n, kxx=1e6, kyy=1e6, cxx=0, cyy=0) for n in (0, elements)]
+    rotor = rs.Rotor(shaft, discs, bearings)
+    start, cpu = time.perf_counter(), time.process_time()
+    result = rotor.run_campbell(speeds, frequencies=modes + 4)
+    return time.perf_counter() - start, time.process_time() - cpu, np.asarray(result.wd)[-1]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--elements", type=int, default=249)
+    parser.add_argument("--speeds", type=int, default=200)
+    parser.add_argument("--modes", type=int, default=8)
+    parser.add_argument("--top", type=float, default=4000 * np.pi / 30)
+    args = parser.parse_args()
+    speeds = np.linspace(0.0, args.top, args.speeds)
+    ours, ours_cpu, frequencies = run_resonant(args.elements, speeds, args.modes)
+    report = {"elements": args.elements, "coordinates": 4 * (args.elements + 1),
+              "speeds": args.speeds, "modes": args.modes, "resonant_s": ours,
+              "resonant_cpu_s": ours_cpu,
+              "resonant_frequencies": frequencies.tolist()}
+    print(json.dumps(report), file=sys.stderr, flush=True)   # before ROSS's long run
+    theirs = run_ross(args.elements, speeds, args.modes)
+    if theirs is not None:
+        seconds, cpu, ross_wd = theirs
+        nearest = np.array([ross_wd[np.argmin(np.abs(ross_wd - f))] for f in frequencies])
+        report.update({"ross_s": seconds, "ross_cpu_s": cpu, "ratio": seconds / ours,
+                       "cpu_ratio": cpu / ours_cpu,
+                       "largest_relative_difference": float(np.max(np.abs(
+                           nearest - frequencies) / frequencies))})
+    else:
+        report["ross"] = "not installed (or does not import)"
+    print(json.dumps(report, indent=2))
+
+
+if __name__ == "__main__":
+    main()

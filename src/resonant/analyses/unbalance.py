@@ -1,0 +1,296 @@
+"""The unbalance response of a rotor: the orbit of every station over a speed range.
+
+An unbalance m e at angle phi (from x towards y at t = 0) on a station spinning at Omega
+loads it with m e Omega^2 (cos(Omega t + phi), sin(Omega t + phi)); the stationary
+response at each speed is one harmonic solve (:func:`resonant.analyses.kernel.solve_harmonic`)
+of (K(Omega) - Omega^2 M + i Omega (C + Omega G)) z = F.  A station's motion
+x = Re(X e^(i Omega t)), y = Re(Y e^(i Omega t)) is an ellipse: with the forward and
+backward circles a_f = (X + i Y) / 2 and a_b = (conj X + i conj Y) / 2 (x + i y = a_f
+e^(i Omega t) + a_b e^(-i Omega t)), its semi-axes are |a_f| + |a_b| and ||a_f| - |a_b||
+and it is run forward (in the direction of the spin) where |a_f| > |a_b|.
+
+**Amplitudes are 0-peak (semi-axes); peak-to-peak is twice them** -- every output says so.
+
+Examples
+--------
+>>> import resonant
+>>> r = unbalance_response(resonant.load("examples/jeffcott_rotor.toml").linearize(),
+...                        np.array([100.0, 316.2, 600.0]))
+>>> r.major[:, 0].round(9).tolist()        # 0-pk, m (1e-4 kg m at x, y)
+[1.111e-06, 0.001580391, 1.3846e-05]
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..arrays import freeze_fields
+from ..charts import COLORS, Chart, Charts, Curve, check_plot_path, draw_figure, save_figure
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import ModelError, Problem
+from ..model.campbell_spec import Unbalance
+from ..system.base import LinearSystem
+from ..system.batch import BatchHarmonic
+from .campbell import RPM, speed_parameter
+from .kernel import solve_harmonic
+from .results_json import floats_json
+from .rotor_tracking import check_speeds
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+#: what every output says of its amplitudes
+CONVENTION = "0-pk (semi-axes of the orbit); pk-pk = 2 x 0-pk"
+
+
+@dataclass(frozen=True)
+class UnbalanceResponse:
+    """The orbits of a rotor's stations over the speed.
+
+    Attributes
+    ----------
+    title : str
+        The model's title.
+    speed_parameter : str
+        The speed parameter.
+    stations : tuple of str
+        The stations ("" for a model's plain ``x``, ``y``).
+    speeds : ndarray
+        The speeds (rad/s), shape (N,).
+    X, Y : ndarray
+        The complex amplitudes of x and y (x = Re(X e^(i Omega t))), shape (N, stations).
+    unbalances : tuple of Unbalance
+        The unbalances.
+    warnings : tuple of str
+    """
+
+    title: str
+    speed_parameter: str
+    stations: tuple[str, ...]
+    speeds: np.ndarray
+    X: np.ndarray
+    Y: np.ndarray
+    unbalances: tuple[Unbalance, ...]
+    warnings: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
+    @property
+    def forward_circle(self) -> np.ndarray:
+        """|a_f| = |X + i Y| / 2, shape (N, stations)."""
+        result: np.ndarray = np.abs(self.X + 1j * self.Y) / 2
+        return result
+
+    @property
+    def backward_circle(self) -> np.ndarray:
+        """|a_b| = |conj X + i conj Y| / 2, shape (N, stations)."""
+        result: np.ndarray = np.abs(np.conj(self.X) + 1j * np.conj(self.Y)) / 2
+        return result
+
+    @property
+    def major(self) -> np.ndarray:
+        """The major semi-axis (0-pk), shape (N, stations)."""
+        result: np.ndarray = self.forward_circle + self.backward_circle
+        return result
+
+    @property
+    def minor(self) -> np.ndarray:
+        """The minor semi-axis (0-pk), shape (N, stations)."""
+        result: np.ndarray = np.abs(self.forward_circle - self.backward_circle)
+        return result
+
+    @property
+    def precession(self) -> tuple[tuple[str, ...], ...]:
+        """``"forward"``, ``"backward"`` or ``"line"`` (a straight orbit) per speed and
+        station."""
+        f, b = self.forward_circle, self.backward_circle
+        tol = 1e-9 * np.maximum(f + b, 1e-300)
+        return tuple(tuple("line" if abs(fi - bi) <= ti else
+                           ("forward" if fi > bi else "backward")
+                           for fi, bi, ti in zip(fr, br, tr))
+                     for fr, br, tr in zip(f, b, tol))
+
+    @property
+    def phase_lag(self) -> np.ndarray:
+        """The lag of x behind the unbalance force's x component, (phi - arg X) modulo
+        2 pi (rad; about pi/2 at a lightly damped critical speed)."""
+        phases = np.array([u.phase for u in self.unbalances] or [0.0])
+        result: np.ndarray = np.mod(phases[0] - np.angle(self.X), 2 * np.pi)
+        return result
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form: SI, speeds in rad/s with rpm, amplitudes 0-pk and pk-pk.
+
+        Returns
+        -------
+        dict
+        """
+        return {"title": self.title, "speed_parameter": self.speed_parameter,
+                "amplitude_convention": CONVENTION,
+                "speeds_rad_s": floats_json(self.speeds),
+                "speeds_rpm": floats_json(self.speeds / RPM),
+                "unbalances": [{"at": u.station, "amount_kg_m": u.amount, "phase_rad": u.phase}
+                               for u in self.unbalances],
+                "stations": {name or "(x, y)": {
+                    "major_semi_axis_0pk": floats_json(self.major[:, i]),
+                    "minor_semi_axis_0pk": floats_json(self.minor[:, i]),
+                    "major_axis_pk_pk": floats_json(2 * self.major[:, i]),
+                    "x": {"real": floats_json(self.X[:, i].real),
+                          "imag": floats_json(self.X[:, i].imag)},
+                    "y": {"real": floats_json(self.Y[:, i].real),
+                          "imag": floats_json(self.Y[:, i].imag)},
+                    "phase_lag_x_rad": floats_json(self.phase_lag[:, i]),
+                    "precession": [row[i] for row in self.precession]}
+                    for i, name in enumerate(self.stations)},
+                "warnings": list(self.warnings)}
+
+    def summary(self) -> str:
+        """The largest orbit of each station and the speed where it is.
+
+        Returns
+        -------
+        str
+        """
+        lines = [self.title or "Unbalance response",
+                 f"amplitudes: {CONVENTION}", "",
+                 f"{'station':>12}  {'peak major 0-pk':>16}  {'pk-pk':>12}  {'at [rpm]':>10}  "
+                 f"{'minor 0-pk':>12}  precession"]
+        for i, name in enumerate(self.stations):
+            k = int(np.nanargmax(self.major[:, i]))
+            lines.append(f"{name or '(x, y)':>12}  {self.major[k, i]:16.6g}  "
+                         f"{2 * self.major[k, i]:12.6g}  {self.speeds[k] / RPM:10.6g}  "
+                         f"{self.minor[k, i]:12.6g}  {self.precession[k][i]}")
+        lines += [f"warning: {w}" for w in self.warnings]
+        return "\n".join(lines) + "\n"
+
+    def chart(self) -> Charts:
+        """The major semi-axis (0-pk) of each station against speed (rpm), log scale,
+        above the phase lag of x.
+
+        Returns
+        -------
+        resonant.charts.Charts
+        """
+        rpm = self.speeds / RPM
+        amplitude, phase = [], []
+        for i, name in enumerate(self.stations):
+            color = COLORS[i % len(COLORS)]
+            label = name or "x, y"
+            amplitude.append(Curve(rpm, self.major[:, i], label, color=color))
+            phase.append(Curve(rpm, np.degrees(self.phase_lag[:, i]), label, color=color))
+        xlim = (float(rpm[0]), float(rpm[-1]))
+        top = Chart(tuple(amplitude), "speed [rpm]", "major semi-axis, 0-pk [m]", xlim,
+                    ylog=True, title="unbalance response (pk-pk = 2 x 0-pk)")
+        bottom = Chart(tuple(phase), "speed [rpm]", "phase lag of x [deg]", xlim,
+                       ylim=(0.0, 360.0), yticks=(0.0, 90.0, 180.0, 270.0, 360.0),
+                       legend="none")
+        return Charts((top, bottom), title=self.title, heights=(2.0, 1.0), size=(7.0, 5.5))
+
+    def plot(self, path: str | os.PathLike[str] | None = None, ax: Axes | None = None
+             ) -> Figure:
+        """Draw :meth:`chart` (and save it where ``path`` says).
+
+        Parameters
+        ----------
+        path : str or Path, optional
+            Save the figure there.
+        ax : matplotlib.axes.Axes or sequence of two, optional
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        check_plot_path(path)
+        return save_figure(draw_figure(self.chart(), ax), path)
+
+
+def _stations(system: LinearSystem) -> list[tuple[str, int, int]]:
+    index = {n: i for i, n in enumerate(system.coordinates)}
+    out = [(n[:-2], i, index[n[:-2] + "_y"]) for n, i in index.items()
+           if n.endswith("_x") and n[:-2] + "_y" in index]
+    if "x" in index and "y" in index:
+        out.insert(0, ("", index["x"], index["y"]))
+    return out
+
+
+def _loads(system: LinearSystem, unbalances: Sequence[Unbalance], speeds: np.ndarray
+           ) -> tuple[np.ndarray, np.ndarray]:
+    """F_S and F_C (N, n) of the unbalances (F = F_C - i F_S, x = Re(z e^(i Omega t)))."""
+    index = {n: i for i, n in enumerate(system.coordinates)}
+    F_S, F_C = np.zeros((len(speeds), system.n)), np.zeros((len(speeds), system.n))
+    for u in unbalances:
+        x, y = (index[f"{u.station}_x"], index[f"{u.station}_y"]) if u.station else \
+            (index["x"], index["y"])
+        force = u.amount * speeds ** 2
+        F_C[:, x] += force * math.cos(u.phase)
+        F_S[:, x] -= force * math.sin(u.phase)
+        F_C[:, y] += force * math.sin(u.phase)
+        F_S[:, y] += force * math.cos(u.phase)
+    return F_S, F_C
+
+
+def unbalance_response(system: LinearSystem, speeds: Sequence[float] | np.ndarray | None = None,
+                       unbalances: Sequence[Unbalance] | None = None, *,
+                       speed: str | None = None, deadline: Deadline = NO_DEADLINE
+                       ) -> UnbalanceResponse:
+    """The orbits of every station (``NAME_x``/``NAME_y`` pairs, or ``x``, ``y``) under the
+    unbalances over ``speeds``.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor.
+    speeds : sequence of float, optional
+        The speeds (rad/s); default the ``[campbell]`` range.
+    unbalances : sequence of Unbalance, optional
+        Default: the model's ``[[unbalance]]``, else 1e-4 kg m at the first station.
+    speed : str, optional
+        The speed parameter.
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    UnbalanceResponse
+    """
+    name = speed_parameter(system, speed)
+    model = system.model
+    if speeds is None:
+        spec = model.campbell_section if model is not None else None
+        if spec is None:
+            raise ModelError(Problem("no speeds: give them or a [campbell] section",
+                                     system.source, "campbell", "to"))
+        speeds = np.linspace(spec.start, spec.stop, spec.points)
+    values = check_speeds(np.asarray(speeds, dtype=float), system.source, least=1)
+    stations = _stations(system)
+    if not stations:
+        raise ModelError(Problem("no stations: the unbalance response needs coordinate pairs "
+                                 "NAME_x, NAME_y (or x, y)", system.source, "coordinates"))
+    warnings = []
+    if unbalances is None:
+        unbalances = model.unbalances if model is not None and model.unbalances else None
+    if unbalances is None:
+        unbalances = (Unbalance(stations[0][0], 1e-4, 0.0),)
+        warnings.append(f"no [[unbalance]]: 1e-4 kg m at {stations[0][0] or '(x, y)'}")
+    batch = system.batch(name, values, deadline)
+    F_S, F_C = _loads(system, unbalances, values)
+    result = solve_harmonic(batch, BatchHarmonic(values, F_S, F_C), "direct",
+                            deadline=deadline, warnings=warnings)
+    Z = result.Z
+    if np.any(result.singular):
+        warnings.append("the response is unbounded at some speed (an undamped critical "
+                        "speed): NaN there")
+    X = np.stack([Z[:, i] for _, i, _ in stations], axis=1)
+    Y = np.stack([Z[:, j] for _, _, j in stations], axis=1)
+    return UnbalanceResponse(system.title, name, tuple(s for s, _, _ in stations), values,
+                             X, Y, tuple(unbalances), tuple(warnings))
+
+
+__all__ = ["unbalance_response", "UnbalanceResponse", "CONVENTION"]

@@ -1,0 +1,119 @@
+"""``resonant campbell MODEL [--from S] [--to S] [--points N] [--modes K] [--orders R,...]
+[--plot FILE] [--json]``: a rotor's Campbell diagram, critical speeds and stability
+threshold; ``resonant unbalance MODEL [--from S] [--to S] [--points N] [--plot FILE]
+[--json]``: its stations' orbits under the ``[[unbalance]]`` (docs/rotors.md)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+import numpy as np
+
+import resonant.cli.common as cli
+
+from ..analyses.campbell import campbell
+from ..analyses.unbalance import unbalance_response
+from ..errors import ModelError
+from ..model.campbell_spec import parse_speed
+from ..system import linear_system
+
+
+def speed_value(text: str) -> float:
+    """A speed on the command line: a number (rad/s) or ``"3000 rpm"``."""
+    problems: list = []
+    value = parse_speed(text, "", "campbell", "speed", problems)
+    if value is None:
+        raise argparse.ArgumentTypeError(problems[0].message if problems else "not a speed")
+    return value
+
+
+def orders_value(text: str) -> tuple[float, ...]:
+    """Comma-separated positive excitation orders (``1,2``)."""
+    try:
+        orders = tuple(float(part) for part in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a list of numbers: {text!r}") from None
+    if not orders or not all(np.isfinite(r) and r > 0 for r in orders):
+        raise argparse.ArgumentTypeError("the orders must be positive numbers")
+    return orders
+
+
+def _speed_options(command: argparse.ArgumentParser) -> None:
+    command.add_argument("--from", dest="start", type=speed_value, metavar="SPEED",
+                         help="lowest speed (rad/s, or with a unit: '0 rpm'; default "
+                              "[campbell] from)")
+    command.add_argument("--to", dest="stop", type=speed_value, metavar="SPEED",
+                         help="highest speed (default [campbell] to)")
+    command.add_argument("--points", type=cli.integer(2, 100_000), metavar="N",
+                         help="speeds of the grid (default [campbell] points, else 41)")
+    command.add_argument("--speed", metavar="NAME",
+                         help="the speed parameter (default [matrices] speed)")
+    command.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
+             parent: argparse.ArgumentParser) -> None:
+    command = subparsers.add_parser(
+        "campbell", parents=[parent],
+        help="a rotor's modes tracked over its speed, critical speeds, stability threshold")
+    _speed_options(command)
+    command.add_argument("--modes", type=cli.integer(1, 10_000), metavar="K",
+                         help="branches followed (default [campbell] modes, else 6)")
+    command.add_argument("--orders", type=orders_value, metavar="R,...",
+                         help="excitation orders of the critical speeds (default 1)")
+    command.add_argument("--plot", metavar="FILE", type=cli.plot_file,
+                         help="draw the Campbell diagram and the log decrements")
+    command.set_defaults(run=run_campbell)
+    command = subparsers.add_parser(
+        "unbalance", parents=[parent],
+        help="a rotor's orbits under its [[unbalance]] over the speed (0-pk and pk-pk)")
+    _speed_options(command)
+    command.add_argument("--plot", metavar="FILE", type=cli.plot_file,
+                         help="draw the major semi-axes and the phase against speed")
+    command.set_defaults(run=run_unbalance)
+
+
+def _speeds(args: argparse.Namespace, model: object) -> np.ndarray:
+    """The speeds of the options, else of the [campbell] section."""
+    spec = getattr(model, "campbell_section", None)
+    start = args.start if args.start is not None else (spec.start if spec else 0.0)
+    stop = args.stop if args.stop is not None else (spec.stop if spec else None)
+    if stop is None:
+        raise ModelError("no speed range: give --to (and --from), or a [campbell] section")
+    points = args.points or (spec.points if spec else 41)
+    if stop <= start:
+        raise ModelError(f"the highest speed ({stop:g} rad/s) must be above the lowest "
+                         f"({start:g} rad/s)")
+    return np.linspace(start, stop, points)
+
+
+def run_unbalance(args: argparse.Namespace) -> int:
+    deadline = cli.deadline(args)
+    model = cli.load_model(args)
+    result = unbalance_response(linear_system(model, deadline), _speeds(args, model),
+                                speed=args.speed, deadline=deadline)
+    if args.plot:
+        result.plot(args.plot)
+    if args.json:
+        cli.emit_json(result.to_dict())
+        cli.warn(result.warnings)
+    else:
+        sys.stdout.write(result.summary())   # the summary ends with the warnings
+    return 0
+
+
+def run_campbell(args: argparse.Namespace) -> int:
+    deadline = cli.deadline(args)
+    model = cli.load_model(args)
+    result = campbell(linear_system(model, deadline), _speeds(args, model),
+                      modes=args.modes, orders=args.orders, speed=args.speed,
+                      deadline=deadline)
+    if args.plot:
+        result.plot(args.plot)
+    if args.json:
+        cli.emit_json(result.to_dict())
+        cli.warn(result.warnings)
+    else:
+        sys.stdout.write(result.summary())   # the summary ends with the warnings
+    return 0

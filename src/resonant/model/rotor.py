@@ -1,0 +1,402 @@
+"""The ``[rotor]`` section: a rotor of shaft elements, discs and bearings, assembled into
+the matrices of M q'' + (C + Omega G) q' + K(Omega) q = 0 (docs/rotors.md).
+
+```toml
+[rotor]
+speed = "Omega"                       # the speed parameter (rad/s)
+E = "211 GPa"                         # the shaft's material
+rho = "7810 kg/m^3"
+G = "81.2 GPa"                        # with G: Timoshenko elements, else Euler-Bernoulli
+
+[[rotor.shaft]]                       # elements, station after station from station 0
+length = "0.25 m"
+diameter = "50 mm"                    # inner_diameter optional
+count = 6                             # this many equal elements
+
+[[rotor.disc]]
+station = 2
+name = "disc1"                        # its coordinates: disc1_x, disc1_y, disc1_ax, disc1_ay
+m = "33 kg"                           # or width, diameter, inner_diameter (of rho)
+Ip = "0.3 kg*m^2"
+It = "0.17 kg*m^2"
+
+[[rotor.bearing]]
+station = 0
+kxx = "1 MN/m"                        # kxx kxy kyx kyy cxx cxy cyx cyy: a number, an
+kyy = "1e6 + 10*Omega"                # expression of the parameters (the speed), or a
+cxx = { speed = [0, 500], values = [100, 200] }   # table interpolated in speed
+```
+
+Each station has four coordinates: the displacements x, y and the tilts ax (about x) and
+ay (about y); the spin is about z, from x towards y for a positive speed.  A station is
+named by its disc or bearing (``name``), else ``s<index>``.  The shaft's elements are
+those of Nelson (J. Mech. Design 102, 1980) and Friswell et al. (Dynamics of Rotating
+Machines, CUP 2010, sec. 5.4): consistent mass, rotary inertia and gyroscopic matrices,
+with the shear factor Phi = 12 E I / (kappa G A L^2) (Cowper's kappa of a tube).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ModelError, Problem
+from ..expressions import Expression, ExpressionError
+from ..expressions.numeric import numeric_value
+from .types import MatrixSpec
+from .units import parse_with_unit
+
+COEFFICIENTS = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
+ROTOR_KEYS = ("speed", "E", "rho", "G", "shaft", "disc", "bearing")
+#: the most stations of a [rotor] (its matrices are assembled dense: 2,000 coordinates
+#: are 32 MB a matrix; a larger rotor comes as sparse [matrices] files)
+MAX_STATIONS = 500
+
+
+@dataclass(frozen=True)
+class SpeedTable:
+    """A bearing coefficient tabulated in speed, interpolated linearly (held constant
+    beyond the table's ends).
+
+    Parameters
+    ----------
+    speeds : tuple of float
+        Increasing speeds (rad/s).
+    values : tuple of float
+        The coefficient at each (SI).
+
+    Examples
+    --------
+    >>> SpeedTable((0.0, 10.0), (1.0, 3.0))(np.array([5.0, 20.0])).tolist()
+    [2.0, 3.0]
+    """
+
+    speeds: tuple[float, ...]
+    values: tuple[float, ...]
+
+    def __call__(self, speed: np.ndarray) -> np.ndarray:
+        return np.interp(np.asarray(speed, dtype=float), self.speeds, self.values)
+
+
+@dataclass(frozen=True)
+class SpeedTerm:
+    """An entry of K or C that depends on the parameters (a bearing coefficient).
+
+    Parameters
+    ----------
+    key : str
+        ``"K"`` or ``"C"``.
+    row, column : int
+        Its place.
+    value : Expression or SpeedTable
+        Added to the entry.
+    where : str
+        The bearing and coefficient, for messages (``bearing 1 kxx``).
+    """
+
+    key: str
+    row: int
+    column: int
+    value: Expression | SpeedTable
+    where: str
+
+
+class _Reader:
+    """The section's values with their problems collected."""
+
+    def __init__(self, source: str, params: Sequence[str]) -> None:
+        self.source, self.params, self.problems = source, params, []  # type: ignore[var-annotated]
+
+    def problem(self, message: str, section: str, key: str) -> None:
+        self.problems.append(Problem(message, self.source, section, key))
+
+    def number(self, table: dict, key: str, section: str, *, default: float | None = None,
+               positive: bool = True) -> float | None:
+        """A constant (a number or a value with a unit, in SI), > 0 (or >= 0)."""
+        raw = table.get(key, default)
+        if raw is None:
+            self.problem("missing", section, key)
+            return None
+        if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
+            self.problem("must be a number or a value with a unit", section, key)
+            return None
+        try:
+            value = float(numeric_value(parse_with_unit(raw, [], self.source, section, key)[0],
+                                        {}))
+        except (ExpressionError, ValueError, TypeError) as exc:
+            self.problem(f"not a constant: {exc}", section, key)
+            return None
+        if not math.isfinite(value) or value < 0 or (positive and value == 0):
+            self.problem(f"must be {'positive' if positive else 'at least 0'}, got {raw!r}",
+                         section, key)
+            return None
+        return value
+
+    def station(self, table: dict, section: str, stations: int) -> int | None:
+        raw = table.get("station")
+        if isinstance(raw, bool) or not isinstance(raw, int) or not 0 <= raw < stations:
+            self.problem(f"must be a station from 0 to {stations - 1}, got {raw!r}", section,
+                         "station")
+            return None
+        return raw
+
+    def coefficient(self, raw: object, section: str, key: str) -> Expression | SpeedTable | None:
+        if isinstance(raw, dict):
+            return self.table(raw, section, key)
+        if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
+            self.problem("must be a number, an expression of the parameters or a table "
+                         "{ speed = [...], values = [...] }", section, key)
+            return None
+        try:
+            return parse_with_unit(raw, self.params, self.source, section, key)[0]
+        except ExpressionError as exc:
+            self.problem(str(exc), section, key)
+            return None
+
+    def table(self, raw: dict, section: str, key: str) -> SpeedTable | None:
+        speeds, values = raw.get("speed"), raw.get("values")
+        if not (isinstance(speeds, list) and isinstance(values, list) and len(speeds) >= 2
+                and len(speeds) == len(values)) or set(raw) - {"speed", "values"}:
+            self.problem("a table is { speed = [...], values = [...] } of equal lengths (at "
+                         "least 2)", section, key)
+            return None
+        s = [self.number({"v": v}, "v", section, positive=False) for v in speeds]
+        v = [self.number({"v": x}, "v", section, positive=False) if not
+             (isinstance(x, (int, float)) and not isinstance(x, bool) and x < 0)
+             else float(x) for x in values]
+        if any(x is None for x in s + v):
+            return None
+        if any(b <= a for a, b in zip(s, s[1:])):  # type: ignore[operator]
+            self.problem("the table's speeds must increase", section, key)
+            return None
+        return SpeedTable(tuple(s), tuple(v))  # type: ignore[arg-type]
+
+
+def shaft_matrices(length: float, outer: float, inner: float, E: float, rho: float,
+                   shear: float | None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """One shaft element's matrices in one plane, on (w1, slope1, w2, slope2): stiffness,
+    translational mass, rotary inertia mass, and P = 2 x the rotary inertia (the
+    gyroscopic coupling of the two planes); Timoshenko with the shear modulus ``shear``,
+    Euler-Bernoulli (Phi = 0) without (Friswell et al. 2010, eqs. 5.47-5.52).
+
+    Examples
+    --------
+    >>> K, MT, MR, P = shaft_matrices(1.0, 0.1, 0.0, 2e11, 7800.0, 8e10)
+    >>> rigid = np.array([1.0, 0.0, 1.0, 0.0])          # a translation: the element's mass
+    >>> round(float(rigid @ MT @ rigid / (7800 * np.pi * 0.1**2 / 4)), 12)
+    1.0
+    >>> bool(np.allclose(K @ rigid, 0)), bool(np.allclose(P, 2 * MR))
+    (True, True)
+    """
+    L = length
+    A = math.pi * (outer ** 2 - inner ** 2) / 4
+    second = math.pi * (outer ** 4 - inner ** 4) / 64
+    phi = 0.0
+    if shear is not None:
+        nu = E / (2 * shear) - 1
+        r2 = (inner / outer) ** 2
+        r12 = (1 + r2) ** 2
+        kappa = 6 * r12 * (1 + nu) / (r12 * (7 + 6 * nu) + r2 * (20 + 12 * nu))
+        phi = 12 * E * second / (kappa * shear * A * L * L)
+    c = E * second / ((1 + phi) * L ** 3)
+    near, far = (4 + phi) * L * L, (2 - phi) * L * L
+    K = c * np.array([[12, 6 * L, -12, 6 * L], [6 * L, near, -6 * L, far],
+                      [-12, -6 * L, 12, -6 * L], [6 * L, far, -6 * L, near]])
+    m1, m2, m3 = 312 + 588 * phi + 280 * phi ** 2, 44 + 77 * phi + 35 * phi ** 2, \
+        108 + 252 * phi + 140 * phi ** 2
+    m4, m5, m6 = 26 + 63 * phi + 35 * phi ** 2, 8 + 14 * phi + 7 * phi ** 2, \
+        6 + 14 * phi + 7 * phi ** 2
+    MT = rho * A * L / (840 * (1 + phi) ** 2) * np.array([
+        [m1, m2 * L, m3, -m4 * L], [m2 * L, m5 * L * L, m4 * L, -m6 * L * L],
+        [m3, m4 * L, m1, -m2 * L], [-m4 * L, -m6 * L * L, -m2 * L, m5 * L * L]])
+    m7, m8 = 36.0, 3 - 15 * phi
+    m9, m10 = 4 + 5 * phi + 10 * phi ** 2, -1 - 5 * phi + 5 * phi ** 2
+    MR = rho * second / (30 * (1 + phi) ** 2 * L) * np.array([
+        [m7, m8 * L, -m7, m8 * L], [m8 * L, m9 * L * L, -m8 * L, m10 * L * L],
+        [-m7, -m8 * L, m7, -m8 * L], [m8 * L, m10 * L * L, -m8 * L, m9 * L * L]])
+    return K, MT, MR, 2 * MR
+
+
+def _planes(a: int, b: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The coordinates of an element from station a to b in the xz plane (x, ay) and in the
+    yz plane (y, ax), and the signs of the yz plane's (its slope dy/dz is -ax)."""
+    xz = np.array([4 * a, 4 * a + 3, 4 * b, 4 * b + 3])
+    yz = np.array([4 * a + 1, 4 * a + 2, 4 * b + 1, 4 * b + 2])
+    return xz, yz, np.array([1.0, -1.0, 1.0, -1.0])
+
+
+def add_element(M: np.ndarray, K: np.ndarray, G: np.ndarray, a: int, b: int,
+                element: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> None:
+    """Add one plane matrix set (:func:`shaft_matrices`) to both planes, and P to G."""
+    Ke, MT, MR, P = element
+    xz, yz, sign = _planes(a, b)
+    flip = np.outer(sign, sign)
+    for matrix, block in ((K, Ke), (M, MT + MR)):
+        matrix[np.ix_(xz, xz)] += block
+        matrix[np.ix_(yz, yz)] += flip * block
+    # T = rho Ip Omega ax' ay per unit length: ay rows, ax columns +P; ax rows, ay columns -P
+    G[np.ix_(xz, yz)] += P * sign[None, :]
+    G[np.ix_(yz, xz)] -= sign[:, None] * P
+
+
+def _disc(reader: _Reader, entry: dict, where: str, rho: float | None
+          ) -> tuple[float, float, float] | None:
+    if "m" in entry:
+        m = reader.number(entry, "m", where)
+        Ip = reader.number(entry, "Ip", where, default=0, positive=False)
+        It = reader.number(entry, "It", where, default=0, positive=False)
+        return None if m is None or Ip is None or It is None else (m, Ip, It)
+    width, outer = reader.number(entry, "width", where), reader.number(entry, "diameter", where)
+    inner = reader.number(entry, "inner_diameter", where, default=0, positive=False)
+    if width is None or outer is None or inner is None or rho is None:
+        return None
+    m = rho * math.pi * (outer ** 2 - inner ** 2) / 4 * width
+    Ip = m * (outer ** 2 + inner ** 2) / 8
+    return m, Ip, Ip / 2 + m * width ** 2 / 12
+
+
+def _names(stations: int, entries: list[tuple[int | None, str]]) -> list[str]:
+    names = [f"s{i}" for i in range(stations)]
+    for station, name in entries:
+        if station is not None and name:
+            names[station] = name
+    return names
+
+
+def read_rotor(section: object, params: Sequence[str], source: str
+               ) -> tuple[MatrixSpec, tuple[str, ...]]:
+    """The ``[rotor]`` section assembled: its matrices (``G`` and ``speed`` set, the
+    bearings' parameter-dependent coefficients as :class:`SpeedTerm`) and coordinates.
+
+    Raises
+    ------
+    ModelError
+        Naming the file, the entry and the key of every problem.
+
+    Examples
+    --------
+    >>> spec, names = read_rotor({"speed": "W", "disc": [{"station": 0, "name": "d", "m": 2,
+    ...     "Ip": 0.1, "It": 0.05}], "bearing": [{"station": 0, "kxx": 100, "kyy": "100 + W"}]},
+    ...     ["W"], "r.toml")
+    >>> names, spec.M.diagonal().tolist(), float(spec.G[2, 3]), len(spec.speed_terms)
+    (('d_x', 'd_y', 'd_ax', 'd_ay'), [2.0, 2.0, 0.05, 0.05], 0.1, 1)
+    """
+    if not isinstance(section, dict):
+        raise ModelError(Problem("[rotor] must be a table", source, "rotor"))
+    reader = _Reader(source, params)
+    for key in section:
+        if key not in ROTOR_KEYS:
+            reader.problem(f"unknown key; [rotor] takes {', '.join(ROTOR_KEYS)}", "rotor", key)
+    speed = section.get("speed")
+    if not isinstance(speed, str) or speed not in params:
+        reader.problem(f"must name a parameter (the spin speed), got {speed!r}", "rotor",
+                       "speed")
+    shafts, discs, bearings = (_entries(reader, section, k) for k in ("shaft", "disc", "bearing"))
+    E = reader.number(section, "E", "rotor") if shafts else None
+    rho = reader.number(section, "rho", "rotor") if shafts or any(
+        "m" not in d for d in discs) else None
+    shear = reader.number(section, "G", "rotor") if "G" in section else None
+    elements = _shaft_elements(reader, shafts)
+    stations = 1 + len(elements)
+    if stations > MAX_STATIONS:
+        raise ModelError(Problem(f"{stations} stations: at most {MAX_STATIONS}", source,
+                                 "rotor", "shaft"))
+    n = 4 * stations
+    M, K, C, G = (np.zeros((n, n)) for _ in range(4))
+    if E is not None and rho is not None:
+        for i, (length, outer, inner) in enumerate(elements):
+            add_element(M, K, G, i, i + 1, shaft_matrices(length, outer, inner, E, rho, shear))
+    named = _add_discs(reader, discs, stations, rho, M, G)
+    terms, bearing_names = _add_bearings(reader, bearings, stations, K, C)
+    if reader.problems:
+        raise ModelError(reader.problems)
+    names = _names(stations, named + bearing_names)
+    coordinates = tuple(f"{s}_{c}" for s in names for c in ("x", "y", "ax", "ay"))
+    if len(set(coordinates)) != len(coordinates):
+        raise ModelError(Problem("two stations have the same name", source, "rotor", "name"))
+    return MatrixSpec(M=M, K=K, C=C, G=G, speed=str(speed), speed_terms=tuple(terms)), \
+        coordinates
+
+
+def _entries(reader: _Reader, section: dict, key: str) -> list[dict]:
+    raw = section.get(key, [])
+    if not isinstance(raw, list) or not all(isinstance(e, dict) for e in raw):
+        reader.problem(f"must be an array of tables ([[rotor.{key}]])", "rotor", key)
+        return []
+    return raw
+
+
+def _shaft_elements(reader: _Reader, shafts: list[dict]) -> list[tuple[float, float, float]]:
+    elements = []
+    for i, entry in enumerate(shafts, start=1):
+        where = f"rotor.shaft {i}"
+        length, outer = reader.number(entry, "length", where), \
+            reader.number(entry, "diameter", where)
+        inner = reader.number(entry, "inner_diameter", where, default=0, positive=False)
+        count = entry.get("count", 1)
+        if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= \
+                MAX_STATIONS:
+            reader.problem(f"must be a positive integer, got {count!r}", where, "count")
+            continue
+        if inner is not None and outer is not None and inner >= outer:
+            reader.problem("must be below diameter", where, "inner_diameter")
+            continue
+        if length is not None and outer is not None and inner is not None:
+            elements += [(length / count, outer, inner)] * count
+    return elements
+
+
+def _add_discs(reader: _Reader, discs: list[dict], stations: int, rho: float | None,
+               M: np.ndarray, G: np.ndarray) -> list[tuple[int | None, str]]:
+    named = []
+    for i, entry in enumerate(discs, start=1):
+        where = f"rotor.disc {i}"
+        station = reader.station(entry, where, stations)
+        inertia = _disc(reader, entry, where, rho)
+        named.append((station, str(entry.get("name", ""))))
+        if station is None or inertia is None:
+            continue
+        m, Ip, It = inertia
+        s = 4 * station
+        M[s, s] += m
+        M[s + 1, s + 1] += m
+        M[s + 2, s + 2] += It
+        M[s + 3, s + 3] += It
+        G[s + 2, s + 3] += Ip
+        G[s + 3, s + 2] -= Ip
+    return named
+
+
+def _add_bearings(reader: _Reader, bearings: list[dict], stations: int, K: np.ndarray,
+                  C: np.ndarray) -> tuple[list[SpeedTerm], list[tuple[int | None, str]]]:
+    terms, named = [], []
+    for i, entry in enumerate(bearings, start=1):
+        where = f"rotor.bearing {i}"
+        station = reader.station(entry, where, stations)
+        named.append((station, str(entry.get("name", ""))))
+        for key in ("k", "c"):
+            if key in entry:
+                reader.problem(f"give the coefficients one by one ({key}xx, {key}xy, {key}yx, "
+                               f"{key}yy): a bearing's matrix is 2 x 2 on x and y", where, key)
+        for key in set(entry) - {"station", "name", "k", "c", *COEFFICIENTS}:
+            reader.problem(f"unknown key; a bearing takes station, name and "
+                           f"{', '.join(COEFFICIENTS)}", where, key)
+        for key in COEFFICIENTS:
+            if key not in entry or station is None:
+                continue
+            value = reader.coefficient(entry[key], where, key)
+            row = 4 * station + (key[1] == "y")
+            column = 4 * station + (key[2] == "y")
+            target = K if key[0] == "k" else C
+            if isinstance(value, Expression) and not value.names():
+                target[row, column] += float(numeric_value(value, {}))
+            elif value is not None:
+                terms.append(SpeedTerm(key[0].upper(), row, column, value, f"{where} {key}"))
+    return terms, named
+
+
+__all__ = ["read_rotor", "shaft_matrices", "add_element", "SpeedTable", "SpeedTerm",
+           "COEFFICIENTS", "ROTOR_KEYS"]
