@@ -42,7 +42,7 @@ from ..expressions.notation import number_latex, vector_latex
 from ..modal import point_state_eigenvalues
 from ..model.units_display import HZ, ResultUnits, result_units, shown_vector, uniform, units_grid
 from ..system.base import LinearSystem, NumericEOM, NumericHarmonic
-from ..system.batch import Batch, check_finite
+from ..system.batch import check_finite
 from ..system.stability import (
     UNSTABLE,
     classify,
@@ -447,7 +447,7 @@ def stationary(system: LinearSystem, deadline: Deadline = NO_DEADLINE,
             f"frequencies and eigenvalues is limited to {DENSE_LIMIT}: use `modes` with a "
             "count and `sweep`, which work with sparse matrices")
     sparse_eom, eom = eom, eom.dense()  # the solution reports dense matrices
-    batch = Batch.constant_system(sparse_eom if large else eom, 1)
+    batch = (sparse_eom if large else eom).constant_batch(1)
     check_batch_mass(batch)
     warnings = _mass_warnings(eom)
     deadline.check("while computing the eigenvalues", analysis=True)

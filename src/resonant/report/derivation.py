@@ -43,7 +43,7 @@ from ..derivation.nonlinear import derivative_symbol
 from ..model import Model, symbol
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..system.base import SymbolicEquations
+    from ..system.latex import SymbolicEquations
 
 ENERGIES = ("T", "D", "U")
 

@@ -55,7 +55,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ..analyses.stationary import StationarySolution
     from ..analyses.sweep import FrequencyResponse
-    from ..system.base import SymbolicEquations
+    from ..system.latex import SymbolicEquations
 
 MAX_PLOT_COORDINATES = 12
 #: subplot margins of the report's 7.0 x 3.6 in figures (room for the axis labels)

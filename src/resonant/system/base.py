@@ -22,7 +22,7 @@ from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -40,6 +40,7 @@ from ..expressions.notation import (
 from ..model import Model
 from ..model.options import SweepOptions
 from .batch import Batch, BatchHarmonic, Var, group_frequencies
+from .latex import SymbolicEquations
 
 if TYPE_CHECKING:
     from ..analyses.modes import ModalAnalysis
@@ -48,35 +49,6 @@ if TYPE_CHECKING:
     from ..analyses.stationary import StationarySolution
     from ..analyses.sweep import FrequencyResponse
     from ..model.random_spec import RandomSpec
-
-
-class SymbolicEquations(Protocol):
-    """A linear system's equations in symbols: what the report, the display and the time
-    integration read of a system derived from energies or given by its matrices
-    (:meth:`LinearSystem.symbolic`)."""
-
-    @property
-    def model(self) -> Model: ...
-    @property
-    def coordinates(self) -> tuple[str, ...]: ...
-    @property
-    def M(self) -> Any: ...
-    @property
-    def C(self) -> Any: ...
-    @property
-    def K(self) -> Any: ...
-    @property
-    def Q(self) -> Any: ...
-    @property
-    def Q_signals(self) -> Any: ...
-    @property
-    def excitation(self) -> Mapping[Var, Any]: ...
-    @property
-    def signal_functions(self) -> Mapping[Var, Any]: ...
-    @property
-    def harmonics(self) -> Any: ...
-    @property
-    def outputs(self) -> Mapping[str, Any]: ...
 
 
 class LinearSystem(ABC):
@@ -674,7 +646,7 @@ class NumericEOM(LinearSystem):
 
     def evaluate(self, values: Mapping[str, Any], count: int,
                  deadline: Deadline = NO_DEADLINE) -> Batch:
-        return Batch.constant_system(self, count)
+        return self.constant_batch(count)
 
     def numeric(self, deadline: Deadline = NO_DEADLINE, **overrides: float | str
                 ) -> NumericEOM:
@@ -697,7 +669,7 @@ class NumericEOM(LinearSystem):
                 "without its model, a numeric equation of motion can only be swept over the "
                 "excitation frequency 'omega' of a single harmonic; pass the model's system "
                 "to sweep other parameters")
-        batch = Batch.constant_system(self, len(values))
+        batch = self.constant_batch(len(values))
         h = moving[0]
         static = [BatchHarmonic(np.zeros_like(values), np.zeros(self.n), s.F_C)
                   for s in self.harmonics if s.omega == 0]
@@ -711,8 +683,28 @@ class NumericEOM(LinearSystem):
     def symbolic_dict(self) -> dict[str, Any] | None:
         return self.system.symbolic_dict() if self.system is not None else None
 
-    def _repr_latex_(self) -> str:
+    def constant_batch(self, count: int) -> Batch:
+        """A batch of ``count`` copies of this system (the same numbers at every point).
 
+        Parameters
+        ----------
+        count : int
+
+        Returns
+        -------
+        Batch
+        """
+        return Batch(tuple(self.coordinates), self.M, self.C, self.K,
+                     [BatchHarmonic(np.full(count, h.omega), h.F_S, h.F_C,
+                                    {v: (np.full(count, s), np.full(count, c))
+                                     for v, (s, c) in h.signals.items()})
+                      for h in self.harmonics],
+                     {name: (np.full(count, out.value),
+                             {v: np.full(count, c) for v, c in out.terms.items()})
+                      for name, out in self.outputs.items()},
+                     self.title, self.harmonic, count)
+
+    def _repr_latex_(self) -> str:
         return numeric_eom_latex(self)
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import Any, TypeVar
 
 import numpy as np
 import numpy.typing as npt
@@ -20,9 +20,6 @@ import sympy
 from ..arrays import Matrix
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions import compilable
-
-if TYPE_CHECKING:
-    from .base import NumericEOM
 
 _T = TypeVar("_T")
 
@@ -136,19 +133,6 @@ class Batch:
     def constant(self) -> bool:
         """True when M, C and K do not change with the parameter."""
         return all(hasattr(a, "tocsr") or np.ndim(a) == 2 for a in (self.M, self.C, self.K))
-
-    @classmethod
-    def constant_system(cls, eom: NumericEOM, count: int) -> Batch:
-        """A batch of ``count`` copies of a numeric system."""
-        return cls(tuple(eom.coordinates), eom.M, eom.C, eom.K,
-                   [BatchHarmonic(np.full(count, h.omega), h.F_S, h.F_C,
-                                  {v: (np.full(count, s), np.full(count, c))
-                                   for v, (s, c) in h.signals.items()})
-                    for h in eom.harmonics],
-                   {name: (np.full(count, out.value),
-                           {v: np.full(count, c) for v, c in out.terms.items()})
-                    for name, out in eom.outputs.items()},
-                   eom.title, eom.harmonic, count)
 
     def matrix(self, key: str, i: int) -> Matrix:
         """M, C or K at point ``i``."""

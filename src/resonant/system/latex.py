@@ -6,12 +6,43 @@ in the notation of the worked-solution report (:mod:`resonant.expressions.notati
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Mapping
+from typing import Any, Protocol
 
 from ..derivation import derivative_symbol
 from ..expressions.notation import Namer, column_latex, sympy_latex
 from ..model import Model, symbol
-from .base import SymbolicEquations
+
+Var = tuple[str, int]
+
+
+class SymbolicEquations(Protocol):
+    """A linear system's equations in symbols: what the report, the display and the time
+    integration read of a system derived from energies or given by its matrices
+    (:meth:`LinearSystem.symbolic`)."""
+
+    @property
+    def model(self) -> Model: ...
+    @property
+    def coordinates(self) -> tuple[str, ...]: ...
+    @property
+    def M(self) -> Any: ...
+    @property
+    def C(self) -> Any: ...
+    @property
+    def K(self) -> Any: ...
+    @property
+    def Q(self) -> Any: ...
+    @property
+    def Q_signals(self) -> Any: ...
+    @property
+    def excitation(self) -> Mapping[Var, Any]: ...
+    @property
+    def signal_functions(self) -> Mapping[Var, Any]: ...
+    @property
+    def harmonics(self) -> Any: ...
+    @property
+    def outputs(self) -> Mapping[str, Any]: ...
 
 
 def model_namer(model: Model) -> tuple[Namer, dict[Any, str]]:
@@ -53,4 +84,4 @@ def eom_latex(eom: SymbolicEquations) -> str:
     return rf"$\displaystyle {lhs} = {sympy_latex(eom.Q, names)}$"
 
 
-__all__ = ["eom_latex", "model_namer"]
+__all__ = ["eom_latex", "model_namer", "SymbolicEquations"]

@@ -24,9 +24,9 @@ from ..errors import ModelError, Problem
 from ..expressions import Expression, Num, numeric_value
 from ..model import TIME, Model, symbol
 from ..model.rotor import SpeedTable
-from .base import LinearSystem, SymbolicEquations
+from .base import LinearSystem
 from .batch import Batch, BatchHarmonic, compile_expressions
-from .latex import eom_latex
+from .latex import SymbolicEquations, eom_latex
 from .symbolic import loads_in_signals, loads_in_time, matrix_strings
 
 Var = tuple[str, int]
@@ -334,7 +334,6 @@ class MatrixEOM(LinearSystem):
         return self
 
     def _repr_latex_(self) -> str:
-
         return eom_latex(self)
 
 

@@ -51,7 +51,7 @@ from ..derivation.lagrange import (
 )
 from ..errors import ModelError, Problem
 from ..model import Model, symbol
-from .base import LinearSystem, SymbolicEquations
+from .base import LinearSystem
 from .batch import (
     SYMENGINE_MIN_EXPRESSIONS,
     Batch,
@@ -61,7 +61,7 @@ from .batch import (
     compile_expressions,
     not_finite_problem,
 )
-from .latex import eom_latex
+from .latex import SymbolicEquations, eom_latex
 
 Var = tuple[str, int]
 
@@ -248,7 +248,6 @@ class LinearEOM(LinearSystem):
         return self
 
     def _repr_latex_(self) -> str:
-
         return eom_latex(self)
 
 

@@ -17,8 +17,8 @@ from ...expressions.notation import (
     sympy_latex,
 )
 from ...model import Model
-from ...system.base import LinearSystem, SymbolicEquations
-from ...system.latex import model_namer
+from ...system.base import LinearSystem
+from ...system.latex import SymbolicEquations, model_namer
 from ..blocks import Equation, Figure, Math
 from ..derivation import Derivation, SourceTerms
 
