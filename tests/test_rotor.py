@@ -30,7 +30,7 @@ from resonant.modal import gyroscopic_modes, lowest_gyroscopic_modes, modal_assu
 from resonant.model import loads
 from resonant.system import linear_system
 
-JEFFCOTT = EXAMPLES / "jeffcott_rotor.toml"
+JEFFCOTT = EXAMPLES / "rotors" / "jeffcott_rotor.toml"
 
 
 def jeffcott_roots(m: float, k: float, ce: float, ci: float, speed: float) -> np.ndarray:
@@ -278,7 +278,7 @@ def test_campbell_command_json_and_plot(tmp_path) -> None:
 
 # -- the [rotor] section: Friswell et al. (2010) Example 5.9.1 ---------------------------------
 
-FRISWELL = EXAMPLES / "friswell_5_9_1.toml"
+FRISWELL = EXAMPLES / "rotors" / "friswell_5_9_1.toml"
 
 
 def test_friswell_5_9_1_published_frequencies() -> None:
@@ -309,7 +309,7 @@ def test_speed_dependent_bearings_threshold() -> None:
     """The fluid-film-like example: tables interpolated in speed and kxy = q Omega; the
     threshold is found by Brent's method: Re s of the unstable branch there is 0 to the
     kernel's tolerance, and the speed is the same on a finer grid (1e-8)."""
-    path = EXAMPLES / "rotor_fluid_film.toml"
+    path = EXAMPLES / "rotors" / "rotor_fluid_film.toml"
     system = linear_system(loads(path.read_text(), source=str(path)))
     coarse = campbell(system, np.linspace(0, 6000 * np.pi / 30, 13), modes=4)
     fine = campbell(system, np.linspace(0, 6000 * np.pi / 30, 25), modes=4)

@@ -268,7 +268,7 @@ class Campbell:
         Examples
         --------
         >>> import json, resonant
-        >>> r = resonant.load("examples/jeffcott_rotor.toml").campbell()
+        >>> r = resonant.load("examples/rotors/jeffcott_rotor.toml").campbell()
         >>> Campbell.from_dict(json.loads(json.dumps(r.to_dict()))).to_dict() == r.to_dict()
         True
         """
@@ -350,7 +350,7 @@ def speed_parameter(system: LinearSystem, speed: str | None) -> str:
     Examples
     --------
     >>> import resonant
-    >>> speed_parameter(resonant.load("examples/jeffcott_rotor.toml").linearize(), None)
+    >>> speed_parameter(resonant.load("examples/rotors/jeffcott_rotor.toml").linearize(), None)
     'Omega'
     """
     model = system.model
@@ -479,7 +479,7 @@ def campbell(system: LinearSystem, speeds: Sequence[float] | np.ndarray | None =
     Examples
     --------
     >>> import resonant
-    >>> r = campbell(resonant.load("examples/jeffcott_rotor.toml").linearize(),
+    >>> r = campbell(resonant.load("examples/rotors/jeffcott_rotor.toml").linearize(),
     ...              np.linspace(0, 500, 11), modes=2)
     >>> round(r.critical_speeds[0].speed, 3)
     316.225
@@ -534,7 +534,7 @@ def campbell_text(result: Campbell) -> str:
     Examples
     --------
     >>> import resonant
-    >>> r = resonant.load("examples/jeffcott_rotor.toml").campbell()
+    >>> r = resonant.load("examples/rotors/jeffcott_rotor.toml").campbell()
     >>> "critical speeds" in campbell_text(r)
     True
     """
@@ -585,7 +585,7 @@ def campbell_chart(result: Campbell, damping: str = "log_decrement") -> Charts:
     Examples
     --------
     >>> import resonant
-    >>> charts = campbell_chart(resonant.load("examples/jeffcott_rotor.toml").campbell())
+    >>> charts = campbell_chart(resonant.load("examples/rotors/jeffcott_rotor.toml").campbell())
     >>> len(charts.panels)
     2
     """

@@ -32,9 +32,9 @@ from typing import Any
 
 import numpy as np
 
-from ..arrays import freeze_fields
+from ..arrays import Matrix, freeze_fields
 from ..modal import ZERO_EIGENVALUE, symmetric_eigenvalues
-from ..system.base import LinearSystem
+from ..system.base import LinearSystem, NumericEOM
 
 #: dense eigenvalues of M and K are computed up to this many coordinates
 MAX_DENSE_CHECK = 3000
@@ -192,11 +192,11 @@ class MatrixChecks:
         return "\n".join(lines)
 
 
-def _dense(a: Any) -> np.ndarray:
+def _dense(a: Matrix) -> np.ndarray:
     return np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
 
 
-def _asymmetry(a: Any) -> float:
+def _asymmetry(a: Matrix) -> float:
     scale = abs(a).max()
     if scale == 0:
         return 0.0
@@ -339,11 +339,11 @@ def check_matrices(system: LinearSystem, *, nodes: Mapping[int, Sequence[float]]
                         problems=tuple(problems), notes=tuple(notes), **rigid_fields)
 
 
-def _row_norms(a: Any) -> np.ndarray:
+def _row_norms(a: Matrix) -> np.ndarray:
     return np.asarray(abs(a).sum(axis=1)).ravel()
 
 
-def _rigid_body_check(num: Any, nodes: Mapping[int, Sequence[float]] | None,
+def _rigid_body_check(num: NumericEOM, nodes: Mapping[int, Sequence[float]] | None,
                       frames: Mapping[int, Any] | None, notes: list[str]) -> dict[str, Any]:
     """Mass by direction, the forces of a rigid translation, and with node positions the
     rigid-body mass, centre of gravity and inertia."""

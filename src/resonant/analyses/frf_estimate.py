@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import numpy.typing as npt
 
 from ..arrays import freeze_fields
 from ..charts import (
@@ -474,7 +475,7 @@ def estimate_frf(excitation: np.ndarray | Sequence[float],
                        tuple(warnings))
 
 
-def _samples(values: Any, what: str, length: int | None = None) -> np.ndarray:
+def _samples(values: npt.ArrayLike, what: str, length: int | None = None) -> np.ndarray:
     array = np.asarray(values, dtype=float).ravel()
     if length is not None and len(array) != length:
         raise ModelError(Problem(f"{what} has {len(array)} samples, the excitation {length}: "

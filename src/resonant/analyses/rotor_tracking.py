@@ -39,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..modal import gyroscopic_modes, lowest_gyroscopic_modes, modal_assurance
@@ -203,7 +204,7 @@ class ModeSolver:
             return [m for value in speeds for m in self.matrices(np.array([value]))]
         batch = self.system.batch(self.speed, speeds, self.deadline)
 
-        def at(a: Any, i: int) -> Any:
+        def at(a: Matrix, i: int) -> Any:
             return a[i] if isinstance(a, np.ndarray) and a.ndim == 3 else a
 
         return [(at(batch.M, i), at(batch.C, i), at(batch.K, i)) for i in range(len(speeds))]
@@ -255,7 +256,7 @@ def align_degenerate(modes: Modes, reference: np.ndarray) -> Modes:
     return s, q
 
 
-def _assign(reference: np.ndarray, modes: Modes, mass: Any
+def _assign(reference: np.ndarray, modes: Modes, mass: Matrix | None
             ) -> tuple[np.ndarray, np.ndarray, bool]:
     """The candidate of each branch (indices), its MAC (weighted by the mass matrix) and
     whether the choice is ambiguous."""

@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from ..arrays import freeze_fields
+from ..arrays import Matrix, freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..memory import require
@@ -270,7 +270,7 @@ def to_state_space(system: LinearSystem, *, inputs: Sequence[str] | None = None,
 
 # -- the pieces ---------------------------------------------------------------------------------
 
-def _dense(a: Any) -> np.ndarray:
+def _dense(a: Matrix) -> np.ndarray:
     return np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
 
 

@@ -14,7 +14,7 @@ and it is run forward (in the direction of the spin) where |a_f| > |a_b|.
 Examples
 --------
 >>> import resonant
->>> r = unbalance_response(resonant.load("examples/jeffcott_rotor.toml").linearize(),
+>>> r = unbalance_response(resonant.load("examples/rotors/jeffcott_rotor.toml").linearize(),
 ...                        np.array([100.0, 316.2, 600.0]))
 >>> r.major[:, 0].round(9).tolist()        # 0-pk, m (1e-4 kg m at x, y)
 [1.111e-06, 0.001580391, 1.3846e-05]

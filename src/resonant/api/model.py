@@ -361,7 +361,7 @@ class Model(model_types.Model):
         Examples
         --------
         >>> import resonant
-        >>> result = resonant.load("examples/jeffcott_rotor.toml").campbell()
+        >>> result = resonant.load("examples/rotors/jeffcott_rotor.toml").campbell()
         >>> sorted(c.whirl for c in result.critical_speeds)
         ['backward', 'forward']
         """
@@ -390,7 +390,7 @@ class Model(model_types.Model):
         Examples
         --------
         >>> import resonant
-        >>> r = resonant.load("examples/jeffcott_rotor.toml").unbalance_response([316.2])
+        >>> r = resonant.load("examples/rotors/jeffcott_rotor.toml").unbalance_response([316.2])
         >>> r.precession[0]
         ('forward',)
         """

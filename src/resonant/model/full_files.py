@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from ..arrays import Matrix
 from . import limits
 from .files import FileRefused, open_regular_file
 
@@ -89,7 +90,7 @@ def _load(path: str) -> tuple[np.ndarray, Any, Any]:
     return np.asarray(dof_ref), k, m
 
 
-def _symmetric(triangle: Any) -> Any:
+def _symmetric(triangle: Matrix) -> Any:
     import scipy.sparse as sp
 
     upper = sp.triu(triangle, format="csr")

@@ -34,6 +34,7 @@ import math
 import os
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from types import ModuleType
 from typing import Any
 
 import numpy as np
@@ -501,7 +502,7 @@ def write_uff(path: str | os.PathLike[str], data: MeasuredData, *,
     uff.write_sets(sets, mode="add")
 
 
-def _dataset58(pyuff: Any, f: MeasuredFunction, binary: bool) -> dict[str, Any]:
+def _dataset58(pyuff: ModuleType, f: MeasuredFunction, binary: bool) -> dict[str, Any]:
     per_newton = f.kind in ("frf", "transmissibility") and f.ordinate_unit.endswith("/N")
     numerator = f.ordinate_unit[:-2] if per_newton else f.ordinate_unit
     complex_data = np.iscomplexobj(f.ordinate)
@@ -523,7 +524,7 @@ def _dataset58(pyuff: Any, f: MeasuredFunction, binary: bool) -> dict[str, Any]:
         x=np.asarray(f.abscissa, dtype=float), num_pts=f.samples)
 
 
-def _dataset55(pyuff: Any, mode: MeasuredMode, number: int) -> dict[str, Any]:
+def _dataset55(pyuff: ModuleType, mode: MeasuredMode, number: int) -> dict[str, Any]:
     complex_shape = np.iscomplexobj(mode.shape)
     w = 2 * np.pi * mode.frequency
     kind: dict[str, Any] = dict(

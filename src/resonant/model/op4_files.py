@@ -27,12 +27,13 @@ import contextlib
 import io
 import os
 import re
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ..arrays import Matrix
 from . import limits
 from .files import FileRefused, open_regular_file
 
@@ -66,9 +67,30 @@ def split_reference(value: str) -> tuple[str, str | None] | None:
     return match.group("path"), match.group("name")
 
 
+@contextlib.contextmanager
+def numpy_print_options_kept() -> Iterator[None]:
+    """Keep numpy's print options across an import of pyYeti's ``nastran`` package, which
+    sets them for the whole process (``legacy="1.13"``): reading a file must not change how
+    the user's arrays print.
+
+    Examples
+    --------
+    >>> with numpy_print_options_kept():
+    ...     np.set_printoptions(precision=2)
+    >>> np.get_printoptions()["precision"]
+    8
+    """
+    options = np.get_printoptions()
+    try:
+        yield
+    finally:
+        np.set_printoptions(**options)
+
+
 def _reader() -> Any:
     try:
-        from pyyeti.nastran import op4
+        with numpy_print_options_kept():
+            from pyyeti.nastran import op4
     except ImportError:
         raise FileRefused("reading Nastran OUTPUT4 files needs pyYeti (pip install pyyeti, "
                           "or pip install 'resonant[fe]')") from None
@@ -95,7 +117,7 @@ def op4_directory(path: str) -> list[tuple[str, tuple[int, int], int]]:
     Examples
     --------
     >>> import numpy as np, tempfile, os
-    >>> from pyyeti.nastran import op4
+    >>> op4 = _reader()
     >>> with tempfile.TemporaryDirectory() as folder:
     ...     path = os.path.join(folder, "k.op4")
     ...     op4.write(path, {"kaa": np.eye(2)})
@@ -160,7 +182,7 @@ def read_op4_matrix(path: str, name: str | None, key: str, *, square: bool = Tru
     Examples
     --------
     >>> import numpy as np, tempfile, os
-    >>> from pyyeti.nastran import op4
+    >>> op4 = _reader()
     >>> with tempfile.TemporaryDirectory() as folder:
     ...     path = os.path.join(folder, "m.op4")
     ...     op4.write(path, {"maa": 2 * np.eye(2), "kaa": np.eye(2)})
@@ -190,7 +212,7 @@ def read_op4_matrix(path: str, name: str | None, key: str, *, square: bool = Tru
     return _checked(matrix, shown, sparse)
 
 
-def _checked(matrix: Any, shown: str, sparse: bool) -> Any:
+def _checked(matrix: Matrix, shown: str, sparse: bool) -> Any:
     import scipy.sparse as sp
 
     if sp.issparse(matrix):

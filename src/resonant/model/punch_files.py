@@ -26,6 +26,7 @@ import numpy as np
 from . import limits
 from .abaqus_files import AbaqusEntries
 from .files import FileRefused, open_regular_file, read_bounded
+from .op4_files import numpy_print_options_kept
 
 _REFERENCE = re.compile(r"(?P<path>.+\.(?:pch|bdf|dat))(?::(?P<name>[A-Za-z0-9_]{1,8}))",
                         re.IGNORECASE)
@@ -79,7 +80,8 @@ def read_dmig(path: str, name: str, key: str) -> AbaqusEntries:
     [1.0, 1.0]
     """
     try:
-        from pyyeti.nastran import bulk
+        with numpy_print_options_kept():
+            from pyyeti.nastran import bulk
     except ImportError:
         raise FileRefused("reading DMIG entries needs pyYeti (pip install pyyeti, or pip "
                           "install 'resonant[fe]')") from None

@@ -273,7 +273,7 @@ class MatrixEOM(LinearSystem):
         self._check_finite(out, key)
         return out
 
-    def _with_terms(self, key: str, matrix: Any, values: Mapping[str, Any]) -> Any:
+    def _with_terms(self, key: str, matrix: Matrix, values: Mapping[str, Any]) -> Any:
         """The matrix with the entries that depend on the parameters added (a rotor's
         bearing coefficients; tables interpolated in the speed): a stack (N, n, n) where
         they vary."""
@@ -303,7 +303,7 @@ class MatrixEOM(LinearSystem):
             out[..., term.row, term.column] += value if out.ndim == 3 else value[0]
         return out
 
-    def _with_gyroscopic(self, C: Any, values: Mapping[str, Any]) -> Any:
+    def _with_gyroscopic(self, C: Matrix, values: Mapping[str, Any]) -> Any:
         """C + speed G at the parameter values: (n, n) where the speed is one number (dense
         or sparse, as given), else a stack (N, n, n)."""
         G, speed = self._spec_matrix("G"), self._spec_matrix("speed")

@@ -46,6 +46,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions.notation import name_latex
 from ..model import Model
+from ..model.rotor import SpeedTable
 from ..model.units_display import ResultUnits, result_units
 from ..system.base import LinearSystem
 from ..system.build import linear_system
@@ -525,6 +526,15 @@ def check_page_size(model: Model) -> None:
     >>> import resonant
     >>> check_page_size(resonant.load("examples/absorber.toml"))  # 2 coordinates: fine
     """
+    tabulated = [t.where for t in getattr(model.matrices, "speed_terms", ())
+                 if isinstance(t.value, SpeedTable)]
+    if tabulated:
+        # the page's numerics evaluate expressions; a table interpolated in speed has no
+        # printed form there yet, and the page would show no number at all
+        raise ModelError(Problem(
+            f"the explore page does not yet evaluate bearing coefficients tabulated in "
+            f"speed ({tabulated[0]}); give them as expressions of the speed, or use "
+            "campbell and unbalance on this model", model.source, "rotor"))
     n = len(model.coordinates)
     if model.matrices is None and n > MAX_ENERGY_COORDINATES:
         raise ModelError(Problem(
