@@ -1542,6 +1542,48 @@ def axes_list(ax: Axes | Sequence[Axes] | npt.NDArray[Any]) -> list[Axes]:
     return found
 
 
+class Charted:
+    """A result that describes its figure: the result writes :meth:`chart`, and
+    :meth:`plot` draws that one description with matplotlib and writes it to a file, so
+    that a result's plot, its report figure and its page show one picture.
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass
+    >>> @dataclass(frozen=True)
+    ... class Line(Charted):
+    ...     def chart(self) -> Chart:
+    ...         return Chart((Curve([0.0, 1.0], [0.0, 1.0], "y"),), "x", "y", (0.0, 1.0))
+    >>> len(Line().plot().axes)
+    1
+    """
+
+    def chart(self) -> Chart | Charts:
+        """The figure's description (written by each result).
+
+        Returns
+        -------
+        Chart or Charts
+        """
+        raise NotImplementedError
+
+    def plot(self, path: PathArg = None, ax: Axes | Sequence[Axes] | None = None) -> Figure:
+        """Draw :meth:`chart` with matplotlib (into ``ax`` where given) and write it to
+        ``path`` where given (.png, .svg or .pdf).
+
+        Parameters
+        ----------
+        path : str or PathLike, optional
+        ax : matplotlib Axes or sequence of them, optional
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        check_plot_path(path)
+        return save_figure(draw_figure(self.chart(), ax), path)
+
+
 def check_plot_path(path: PathArg) -> Path | None:
     """``path`` as a :class:`~pathlib.Path` if it names a ``.png``, ``.svg`` or ``.pdf`` file
     (None for None), before any work is done.
@@ -1658,10 +1700,10 @@ def draw_figure(charts: Charts | Chart, ax: Axes | Sequence[Axes] | None = None)
 MAX_CURVES = 8
 
 
-__all__ = ["MAX_CURVES", "Annotation", "Bar", "Chart", "Charts", "Curve", "Field", "Marker", "Rule",
-           "Span", "chart_svg", "field_colormap", "field_ticks", "CURVE_MARKERS", "FIELD_COLORS",
-           "HATCH", "HATCH_COLOR", "charts_svg", "check_plot_path", "describe", "draw_chart",
-           "draw_figure", "figure_of", "legend_keys", "mathtext_label", "panel_heights",
-           "plain_text", "nice_ticks", "log_ticks", "tick_labels", "text_runs", "unicode_text",
-           "unit_text", "text_width", "x_limits", "y_limits", "save_figure", "WIDTH", "HEIGHT",
-           "COLORS", "MARKER_SHAPES", "LEGENDS"]
+__all__ = ["Charted", "MAX_CURVES", "Annotation", "Bar", "Chart", "Charts", "Curve", "Field",
+           "Marker", "Rule", "Span", "chart_svg", "field_colormap", "field_ticks", "CURVE_MARKERS",
+           "FIELD_COLORS", "HATCH", "HATCH_COLOR", "charts_svg", "check_plot_path", "describe",
+           "draw_chart", "draw_figure", "figure_of", "legend_keys", "mathtext_label",
+           "panel_heights", "plain_text", "nice_ticks", "log_ticks", "tick_labels", "text_runs",
+           "unicode_text", "unit_text", "text_width", "x_limits", "y_limits", "save_figure",
+           "WIDTH", "HEIGHT", "COLORS", "MARKER_SHAPES", "LEGENDS"]

@@ -18,15 +18,20 @@ Examples
 
 from __future__ import annotations
 
-import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..arrays import freeze_fields
-from ..charts import Bar, Chart, Charts, charts_svg, check_plot_path, draw_figure, save_figure
+from ..charts import (
+    Bar,
+    Chart,
+    Charted,
+    Charts,
+    charts_svg,
+)
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..modal import undamped_eigen
@@ -36,14 +41,13 @@ from .identify import ModalIdentification, modal_assurance
 from .results_json import Saved, floats_json
 
 if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
+    pass
 
 __all__ = ["Correlation", "correlate", "correlate_shapes", "model_shapes"]
 
 
 @dataclass(frozen=True)
-class Correlation:
+class Correlation(Charted):
     """Identified (test) modes against the model's: MAC, pairs, frequency errors.
 
     Attributes
@@ -137,22 +141,6 @@ class Correlation:
                      bars=(Bar(x, errors, ("#d62728",), label="(f test - f model) / f model"),),
                      xticks=ticks)
         return Charts((mac, freq), title="test against model", sharex=True)
-
-    def plot(self, path: str | os.PathLike[str] | None = None,
-             ax: Axes | Sequence[Axes] | None = None) -> Figure:
-        """Draw :meth:`chart` with matplotlib (saved to ``path`` when given).
-
-        Parameters
-        ----------
-        path : str or PathLike, optional
-        ax : matplotlib axes, optional
-
-        Returns
-        -------
-        matplotlib.figure.Figure
-        """
-        check_plot_path(path)
-        return save_figure(draw_figure(self.chart(), ax), path)
 
     def summary(self) -> str:
         """The pairs as a text table.

@@ -38,7 +38,6 @@ Examples
 
 from __future__ import annotations
 
-import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -49,13 +48,11 @@ from ..arrays import freeze_fields
 from ..charts import (
     COLORS,
     Chart,
+    Charted,
     Charts,
     Curve,
     Rule,
     charts_svg,
-    check_plot_path,
-    draw_figure,
-    save_figure,
 )
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
@@ -64,8 +61,7 @@ from ..modal import matrix_polynomial_roots
 from .results_json import Saved, complex_json, floats_json
 
 if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
+    pass
 
 #: the stability criteria's defaults (relative frequency, relative damping, MAC)
 FREQUENCY_TOLERANCE, DAMPING_TOLERANCE, MAC_TOLERANCE = 0.01, 0.05, 0.98
@@ -129,7 +125,7 @@ class Stabilization:
 
 
 @dataclass(frozen=True)
-class ModalIdentification:
+class ModalIdentification(Charted):
     """Modes identified from FRFs: poles, shapes, the fit and the stabilization chart.
 
     Attributes
@@ -270,23 +266,6 @@ class ModalIdentification:
         bottom = Chart(tuple(fits), "frequency [Hz]", "|H|", xlim, ylog=True, rules=rules)
         return Charts((top, bottom), title="identified modes", heights=(1.4, 1.0),
                       size=(7.0, 6.0))
-
-    def plot(self, path: str | os.PathLike[str] | None = None,
-             ax: Axes | Sequence[Axes] | None = None) -> Figure:
-        """Draw :meth:`chart` with matplotlib (saved to ``path`` when given).
-
-        Parameters
-        ----------
-        path : str or PathLike, optional
-        ax : matplotlib axes, optional
-            Two axes.
-
-        Returns
-        -------
-        matplotlib.figure.Figure
-        """
-        check_plot_path(path)
-        return save_figure(draw_figure(self.chart(), ax), path)
 
     def summary(self) -> str:
         """The modes as a text table and the fit's error per channel.

@@ -28,7 +28,6 @@ Examples
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -36,7 +35,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..arrays import freeze_fields
-from ..charts import Bar, Chart, Charts, charts_svg, check_plot_path, draw_figure, save_figure
+from ..charts import (
+    Bar,
+    Chart,
+    Charted,
+    Charts,
+    charts_svg,
+)
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..expressions import ExpressionError, numeric_value
@@ -49,8 +54,7 @@ from .identify import modal_assurance
 from .results_json import Saved, floats_json
 
 if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
+    pass
 
 __all__ = ["ModelUpdate", "update_parameters"]
 
@@ -59,7 +63,7 @@ _STEP = 1e-6
 
 
 @dataclass(frozen=True)
-class ModelUpdate:
+class ModelUpdate(Charted):
     """Parameters fitted to measured modes, with their uncertainty.
 
     Attributes
@@ -168,22 +172,6 @@ class ModelUpdate:
                             Bar(x + 0.2, after, ("#1f77b4",), 0.35, "after")),
                       xticks=tuple((float(k), str(int(k))) for k in x))
         return Charts((chart,), title="model updating")
-
-    def plot(self, path: str | os.PathLike[str] | None = None,
-             ax: Axes | Sequence[Axes] | None = None) -> Figure:
-        """Draw :meth:`chart` with matplotlib (saved to ``path`` when given).
-
-        Parameters
-        ----------
-        path : str or PathLike, optional
-        ax : matplotlib axes, optional
-
-        Returns
-        -------
-        matplotlib.figure.Figure
-        """
-        check_plot_path(path)
-        return save_figure(draw_figure(self.chart(), ax), path)
 
     def summary(self) -> str:
         """The fitted parameters and the frequencies before and after.

@@ -23,7 +23,6 @@ Examples
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -31,7 +30,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..arrays import freeze_fields
-from ..charts import COLORS, Chart, Charts, Curve, check_plot_path, draw_figure, save_figure
+from ..charts import (
+    COLORS,
+    Chart,
+    Charted,
+    Charts,
+    Curve,
+)
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem
 from ..model.campbell_spec import Unbalance
@@ -43,15 +48,14 @@ from .results_json import floats_json
 from .rotor_tracking import check_speeds
 
 if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
+    pass
 
 #: what every output says of its amplitudes
 CONVENTION = "0-pk (semi-axes of the orbit); pk-pk = 2 x 0-pk"
 
 
 @dataclass(frozen=True)
-class UnbalanceResponse:
+class UnbalanceResponse(Charted):
     """The orbits of a rotor's stations over the speed.
 
     Attributes
@@ -193,23 +197,6 @@ class UnbalanceResponse:
                        ylim=(0.0, 360.0), yticks=(0.0, 90.0, 180.0, 270.0, 360.0),
                        legend="none")
         return Charts((top, bottom), title=self.title, heights=(2.0, 1.0), size=(7.0, 5.5))
-
-    def plot(self, path: str | os.PathLike[str] | None = None, ax: Axes | None = None
-             ) -> Figure:
-        """Draw :meth:`chart` (and save it where ``path`` says).
-
-        Parameters
-        ----------
-        path : str or Path, optional
-            Save the figure there.
-        ax : matplotlib.axes.Axes or sequence of two, optional
-
-        Returns
-        -------
-        matplotlib.figure.Figure
-        """
-        check_plot_path(path)
-        return save_figure(draw_figure(self.chart(), ax), path)
 
 
 def _stations(system: LinearSystem) -> list[tuple[str, int, int]]:
