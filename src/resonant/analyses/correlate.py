@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -34,14 +34,11 @@ from ..charts import (
 )
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
-from ..modal import undamped_eigen
+from ..modal import modal_assurance, undamped_eigen
 from ..model.measurement_spec import ChannelMap
 from ..system.base import LinearSystem
-from .identify import ModalIdentification, modal_assurance
+from .identify import ModalIdentification
 from .results_json import Saved, floats_json
-
-if TYPE_CHECKING:  # pragma: no cover
-    pass
 
 __all__ = ["Correlation", "correlate", "correlate_shapes", "model_shapes"]
 

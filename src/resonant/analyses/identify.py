@@ -40,7 +40,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -57,11 +57,8 @@ from ..charts import (
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..memory import require
-from ..modal import matrix_polynomial_roots
+from ..modal import matrix_polynomial_roots, modal_assurance
 from .results_json import Saved, complex_json, floats_json
-
-if TYPE_CHECKING:  # pragma: no cover
-    pass
 
 #: the stability criteria's defaults (relative frequency, relative damping, MAC)
 FREQUENCY_TOLERANCE, DAMPING_TOLERANCE, MAC_TOLERANCE = 0.01, 0.05, 0.98
@@ -69,34 +66,7 @@ FREQUENCY_TOLERANCE, DAMPING_TOLERANCE, MAC_TOLERANCE = 0.01, 0.05, 0.98
 MAX_ORDER = 200
 
 __all__ = ["ModalIdentification", "Stabilization", "identify_modes", "lscf_poles",
-           "lsfd_residues", "modal_assurance"]
-
-
-def modal_assurance(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The modal assurance criterion of every column of ``a`` with every column of ``b``:
-    |a_i^H b_j|^2 / ((a_i^H a_i) (b_j^H b_j)) (Allemang & Brown 1982), complex shapes allowed.
-
-    Parameters
-    ----------
-    a, b : ndarray
-        (dofs, modes) shapes; the same dofs in both.
-
-    Returns
-    -------
-    ndarray
-        (modes of a, modes of b), each in [0, 1].
-
-    Examples
-    --------
-    >>> modal_assurance(np.eye(2), np.array([[1.0], [1.0]])).round(12).tolist()
-    [[0.5], [0.5]]
-    """
-    a = np.asarray(a).reshape(len(a), -1)
-    b = np.asarray(b).reshape(len(b), -1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        mac = np.abs(a.conj().T @ b) ** 2 / np.outer(np.sum(np.abs(a) ** 2, axis=0),
-                                                     np.sum(np.abs(b) ** 2, axis=0))
-    return np.asarray(np.nan_to_num(mac.real))
+           "lsfd_residues"]
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -45,16 +45,12 @@ from ..charts import (
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..expressions import ExpressionError, numeric_value
-from ..modal import mass_normalized_modes
+from ..modal import mass_normalized_modes, modal_assurance
 from ..model.measurement_spec import ChannelMap
 from ..model.units import parse_with_unit
 from ..system.base import LinearSystem
 from .correlate import Correlation, correlate_shapes
-from .identify import modal_assurance
 from .results_json import Saved, floats_json
-
-if TYPE_CHECKING:  # pragma: no cover
-    pass
 
 __all__ = ["ModelUpdate", "update_parameters"]
 

@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -46,9 +46,6 @@ from .campbell import RPM, speed_parameter
 from .kernel import solve_harmonic
 from .results_json import floats_json
 from .rotor_tracking import check_speeds
-
-if TYPE_CHECKING:  # pragma: no cover
-    pass
 
 #: what every output says of its amplitudes
 CONVENTION = "0-pk (semi-axes of the orbit); pk-pk = 2 x 0-pk"
