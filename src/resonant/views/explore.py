@@ -520,6 +520,8 @@ def check_page_size(model: Model) -> None:
     ------
     ModelError
         Naming the model's coordinates, the bound and what to do instead.
+    AnalysisError
+        For what the page cannot evaluate yet (a bearing coefficient tabulated in speed).
 
     Examples
     --------
@@ -531,10 +533,10 @@ def check_page_size(model: Model) -> None:
     if tabulated:
         # the page's numerics evaluate expressions; a table interpolated in speed has no
         # printed form there yet, and the page would show no number at all
-        raise ModelError(Problem(
+        raise AnalysisError(
             f"the explore page does not yet evaluate bearing coefficients tabulated in "
-            f"speed ({tabulated[0]}); give them as expressions of the speed, or use "
-            "campbell and unbalance on this model", model.source, "rotor"))
+            f"speed ([rotor] {tabulated[0]}); give them as expressions of the speed, or use "
+            "campbell and unbalance on this model")
     n = len(model.coordinates)
     if model.matrices is None and n > MAX_ENERGY_COORDINATES:
         raise ModelError(Problem(
