@@ -748,3 +748,16 @@ def test_any_two_mass_sweep_round_trips():
         _assert_same_sweep(FrequencyResponse.from_dict(_through_json(sweep.to_dict())), sweep)
 
     check()
+
+
+def test_a_peak_refined_on_an_uneven_triple_stays_finite():
+    """Found by the property above: values 0.1, the lowest natural frequency (0.158) and 20
+    rad/s of a lightly damped chain; the parabola through the log amplitudes of that uneven
+    triple overflowed, so the peak's amplitude was infinity (and the JSON invalid). The grid
+    point is the peak then."""
+    system = _two_masses().numeric(m=40.0, k1=1.0, k2=1.0, c=0.001, a3=0.0)
+    M, K = np.asarray(system.M), np.asarray(system.K)
+    lowest = float(np.sqrt(np.linalg.eigvals(np.linalg.solve(M, K)).real.min()))
+    sweep = system.sweep("omega", np.unique([0.1, lowest, 20.0]))
+    assert sweep.peaks and all(np.isfinite(p.amplitude) for p in sweep.peaks)
+    json.dumps(sweep.to_dict(), allow_nan=False)

@@ -674,7 +674,10 @@ def _extrema(names: Sequence[str], values: np.ndarray, amplitude: np.ndarray, lo
         triples = np.stack([rows - 1, rows, rows + 1])
         with np.errstate(all="ignore"):
             x, y = _vertices(u[triples], transform(amplitude[triples, cols]))
-        y = back(y)
+            y = back(y)
+        # a parabola through an uneven triple can overflow: the grid point is then the extremum
+        wild = ~np.isfinite(y)
+        x, y = np.where(wild, u[rows], x), np.where(wild, amplitude[rows, cols], y)
         if mask is is_dip:
             if response is None or not cols.size:
                 out.append(ExtremaTable(names))
