@@ -71,6 +71,7 @@ from ..system.build import nonlinear_system
 from ..system.nonlinear import NonlinearSystem
 from ..system.stability import undamped_eigen
 from .hb_solver import NEWTON_MAX, NEWTON_TOL, HarmonicBalance
+from .result_fields import FieldsJSON, saved
 from .results_json import Saved
 
 if TYPE_CHECKING:
@@ -84,7 +85,7 @@ DEFAULT_SHIFT = 0.2
 
 
 @dataclass(frozen=True)
-class BackboneCurve:
+class BackboneCurve(FieldsJSON):
     """One mode's backbone: frequency against amplitude.
 
     ``amplitude`` is the continuation parameter A (the first-harmonic cosine coefficient of
@@ -95,63 +96,23 @@ class BackboneCurve:
     reference: str
     linear_frequency: float
     amplitude: np.ndarray
-    frequencies: np.ndarray
-    amplitudes: Mapping[str, np.ndarray]
-    coefficients: np.ndarray
-    damping: float
+    frequencies: np.ndarray = saved(axes=("amplitude",))
+    amplitudes: Mapping[str, np.ndarray] = saved(axes=("amplitude",))
+    coefficients: np.ndarray = saved()
+    damping: float = saved(key="fictitious_damping")
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "amplitudes", MappingProxyType(dict(self.amplitudes)))
         freeze_fields(self)
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"mode": self.mode, "reference": self.reference,
-                "linear_frequency": self.linear_frequency,
-                "amplitude": self.amplitude.tolist(), "frequencies": self.frequencies.tolist(),
-                "amplitudes": {k: v.tolist() for k, v in self.amplitudes.items()},
-                "fictitious_damping": self.damping, "coefficients": self.coefficients.tolist()}
-
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> BackboneCurve:
-        """The curve back from its :meth:`to_dict` (see :meth:`Backbones.from_dict`).
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        BackboneCurve
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json, resonant
-        >>> curve = resonant.load("examples/duffing.toml").backbone(harmonics=1, points=4).curves[0]
-        >>> BackboneCurve.from_dict(json.loads(json.dumps(curve.to_dict()))).to_dict() == \\
-        ...     curve.to_dict()
-        True
-        """
-        return cls._read(Saved(data, "BackboneCurve"))
-
-    @classmethod
-    def _read(cls, saved: Saved) -> BackboneCurve:
-        amplitude = saved.floats("amplitude", ndim=1)
-        return cls(mode=saved.integer("mode"), reference=saved.string("reference"),
-                   linear_frequency=saved.number("linear_frequency"), amplitude=amplitude,
-                   frequencies=saved.floats("frequencies", shape=amplitude.shape),
-                   amplitudes=MappingProxyType(saved.arrays("amplitudes",
-                                                            shape=amplitude.shape)),
-                   coefficients=saved.floats("coefficients", ndim=3),
-                   damping=saved.number("fictitious_damping"))
-
+    def _check_saved(cls, values: Mapping[str, Any], reader: Saved) -> None:
+        if values["coefficients"].ndim != 3 and values["coefficients"].size:
+            raise reader.error(f"has {values['coefficients'].ndim} dimension(s), not 3",
+                               "coefficients")
 
 @dataclass(frozen=True)
-class Backbones:
+class Backbones(FieldsJSON):
     """The backbone curves of the modes of a model (``resonant modes --nonlinear``).
 
     Attributes
@@ -175,48 +136,14 @@ class Backbones:
     title: str
     coordinates: tuple[str, ...]
     harmonics: int
-    curves: tuple[BackboneCurve, ...]
-    residual: float
+    curves: tuple[BackboneCurve, ...] = saved(key="backbones")
+    residual: float = saved()
     warnings: tuple[str, ...] = ()
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"title": self.title, "coordinates": list(self.coordinates),
-                "harmonics": self.harmonics, "residual": self.residual,
-                "backbones": [c.to_dict() for c in self.curves],
-                "warnings": list(self.warnings)}
-
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> Backbones:
-        """The curves back from their :meth:`to_dict` (the JSON of ``resonant modes
-        --nonlinear``).
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        Backbones
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json, resonant
-        >>> b = resonant.load("examples/duffing.toml").backbone(harmonics=1, points=6)
-        >>> Backbones.from_dict(json.loads(json.dumps(b.to_dict()))).to_dict() == b.to_dict()
-        True
-        """
-        saved = Saved(data, "Backbones")
-        return cls(title=saved.string("title"), coordinates=saved.strings("coordinates"),
-                   harmonics=saved.integer("harmonics", minimum=1),
-                   residual=saved.number("residual"),
-                   curves=tuple(BackboneCurve._read(c) for c in saved.records("backbones")),
-                   warnings=saved.strings("warnings", ()))
+    def _check_saved(cls, values: Mapping[str, Any], reader: Saved) -> None:
+        if values["harmonics"] < 1:
+            raise reader.error(f"is {values['harmonics']}, less than 1", "harmonics")
 
     def summary(self) -> str:
         lines = [f"{self.title or 'model'}: backbone curves (free vibration of the full "

@@ -33,7 +33,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -41,6 +41,7 @@ import numpy as np
 from ..arrays import freeze_fields
 from ..errors import AnalysisError
 from ..model.load_spec import FATIGUE_METHODS
+from .result_fields import FieldsJSON, saved
 from .results_json import Saved
 
 #: the spectral methods (FLife's Narrowband, Dirlik, TovoBenasciutti)
@@ -48,7 +49,7 @@ METHODS = FATIGUE_METHODS
 
 
 @dataclass(frozen=True)
-class SNCurve:
+class SNCurve(FieldsJSON):
     """An S-N curve N S^k = C, S the stress amplitude.
 
     Parameters
@@ -68,6 +69,14 @@ class SNCurve:
 
     C: float
     k: float
+
+    def _derived_json(self) -> dict[str, Any]:
+        return {"stress": "amplitude"}
+
+    @classmethod
+    def _check_saved(cls, values: Mapping[str, Any], reader: Saved) -> None:
+        if reader.string("stress", "amplitude") != "amplitude":
+            raise reader.error("is not of stress amplitudes", "stress")
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.C) and self.C > 0 and math.isfinite(self.k) and self.k > 0):
@@ -108,7 +117,7 @@ class SNCurve:
 
 
 @dataclass(frozen=True)
-class SpectralFatigue:
+class SpectralFatigue(FieldsJSON):
     """Damage intensities and lives of one stress density by the spectral methods.
 
     Attributes
@@ -129,68 +138,15 @@ class SpectralFatigue:
         alpha_2 = m2 / sqrt(m0 m4).
     """
 
-    damage_rate: dict[str, float]
-    life: dict[str, float]
-    damage: dict[str, float] | None
-    duration: float | None
-    rms: float
-    zero_crossing_rate: float
-    peak_rate: float
-    irregularity: float
-    sn: SNCurve = field(default=SNCurve(1.0, 1.0))
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form.
-
-        Returns
-        -------
-        dict
-        """
-        return {"damage_rate_per_s": dict(self.damage_rate), "life_s": dict(self.life),
-                "damage": None if self.damage is None else dict(self.damage),
-                "duration_s": self.duration, "rms": self.rms,
-                "zero_crossing_rate_hz": self.zero_crossing_rate,
-                "peak_rate_hz": self.peak_rate, "irregularity": self.irregularity,
-                "sn_curve": {"C": self.sn.C, "k": self.sn.k, "stress": "amplitude"}}
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> SpectralFatigue:
-        """The result back from its :meth:`to_dict`.
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        SpectralFatigue
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json
-        >>> f = np.linspace(90, 110, 201)
-        >>> result = spectral_fatigue(f, np.full(201, 50.0), SNCurve(1e20, 4.0), 3600.0)
-        >>> SpectralFatigue.from_dict(json.loads(json.dumps(result.to_dict()))) == result
-        True
-        """
-        saved = Saved(data, "SpectralFatigue")
-        damage = saved.value("damage")
-        duration = saved.value("duration_s")
-        return cls(damage_rate=saved.numbers_of("damage_rate_per_s"),
-                   life=saved.numbers_of("life_s"),
-                   damage=None if damage is None else saved.numbers_of("damage"),
-                   duration=None if duration is None else saved.number("duration_s"),
-                   rms=saved.number("rms"),
-                   zero_crossing_rate=saved.number("zero_crossing_rate_hz"),
-                   peak_rate=saved.number("peak_rate_hz"),
-                   irregularity=saved.number("irregularity"), sn=_sn_curve(saved))
-
+    damage_rate: dict[str, float] = saved(key="damage_rate_per_s")
+    life: dict[str, float] = saved(key="life_s")
+    damage: dict[str, float] | None = saved()
+    duration: float | None = saved(key="duration_s")
+    rms: float = saved()
+    zero_crossing_rate: float = saved(key="zero_crossing_rate_hz")
+    peak_rate: float = saved(key="peak_rate_hz")
+    irregularity: float = saved()
+    sn: SNCurve = saved(SNCurve(1.0, 1.0), key="sn_curve")
 
 def _flife() -> Any:
     try:
@@ -277,7 +233,7 @@ def spectral_fatigue(frequency: Sequence[float] | np.ndarray,
 
 
 @dataclass(frozen=True)
-class RainflowDamage:
+class RainflowDamage(FieldsJSON):
     """Rainflow cycles of a stress history and Miner's damage.
 
     Attributes
@@ -292,57 +248,13 @@ class RainflowDamage:
     """
 
     ranges: np.ndarray
-    counts: np.ndarray
-    damage: float
-    sn: SNCurve
+    counts: np.ndarray = saved(axes=("ranges",))
+    damage: float = saved()
+    sn: SNCurve = saved(key="sn_curve")
     warnings: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         freeze_fields(self)
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form.
-
-        Returns
-        -------
-        dict
-        """
-        return {"ranges": self.ranges.tolist(), "counts": self.counts.tolist(),
-                "damage": self.damage, "sn_curve": {"C": self.sn.C, "k": self.sn.k,
-                                                    "stress": "amplitude"},
-                "warnings": list(self.warnings)}
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> RainflowDamage:
-        """The result back from its :meth:`to_dict`.
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        RainflowDamage
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json
-        >>> result = rainflow_damage([0.0, 100.0, -50.0, 80.0, -100.0, 0.0], SNCurve(1e12, 3.0))
-        >>> back = RainflowDamage.from_dict(json.loads(json.dumps(result.to_dict())))
-        >>> back.damage == result.damage, (back.ranges == result.ranges).all()
-        (True, np.True_)
-        """
-        saved = Saved(data, "RainflowDamage")
-        ranges = saved.floats("ranges", ndim=1)
-        return cls(ranges=ranges, counts=saved.floats("counts", shape=ranges.shape),
-                   damage=saved.number("damage"), sn=_sn_curve(saved),
-                   warnings=saved.strings("warnings", ()))
 
     def to_frame(self) -> Any:
         """The counted cycles as a table: their ``range`` and ``count`` (pandas, the
@@ -360,14 +272,6 @@ class RainflowDamage:
         """
         import pandas as pd
         return pd.DataFrame({"range": self.ranges, "count": self.counts})
-
-
-def _sn_curve(saved: Saved) -> SNCurve:
-    """The S-N curve of a saved fatigue result (``sn_curve``: C and k of amplitudes)."""
-    curve = saved.mapping("sn_curve")
-    if curve.string("stress", "amplitude") != "amplitude":
-        raise curve.error("is not of stress amplitudes", "stress")
-    return SNCurve(curve.number("C"), curve.number("k"))
 
 
 def rainflow_damage(stress: Sequence[float] | np.ndarray, sn: SNCurve) -> RainflowDamage:

@@ -433,7 +433,7 @@ class NonlinearResponse:
             base_frequencies=rest.floats("base_frequencies", shape=(len(points),)),
             stable=stable,
             multipliers=rest.complex("multipliers", ndim=2),
-            special_points=tuple(SpecialPoint._read(p)
+            special_points=tuple(SpecialPoint.read_saved(p)
                                  for p in saved.records("special_points")),
             harmonics=H, residual=saved.number("residual"),
             truncation=saved.number("truncation"), start=rest.number("start"),

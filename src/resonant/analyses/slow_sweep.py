@@ -68,7 +68,8 @@ from .hb_solver import (
     start_coefficients,
     truncation,
 )
-from .results_json import Saved, floats_json
+from .result_fields import FieldsJSON
+from .results_json import Saved
 from .special_points import STABILITY_TOL
 from .stationary import stationary
 from .time_integration import NonlinearDynamics, integrate
@@ -101,7 +102,7 @@ class NotPeriodic(AnalysisError):
 
 
 @dataclass(frozen=True)
-class SweptState:
+class SweptState(FieldsJSON):
     """The periodic steady state reached by a slow sweep from ``start`` up to ``value``.
 
     Attributes
@@ -141,61 +142,17 @@ class SweptState:
         object.__setattr__(self, "amplitudes", MappingProxyType(dict(self.amplitudes)))
         freeze_fields(self)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form.
-
-        Returns
-        -------
-        dict
-        """
-        return {"parameter": self.parameter, "start": self.start, "value": self.value,
-                "amplitudes": dict(self.amplitudes), "harmonics": self.harmonics,
-                "jumps": [list(j) for j in self.jumps], "residual": self.residual,
-                "truncation": self.truncation,
-                "coefficients": floats_json(self.coefficients)}
-
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> SweptState:
-        """The state back from its :meth:`to_dict`.
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        SweptState
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json
-        >>> state = SweptState("omega", 0.5, 1.0, {"x": 0.1}, np.zeros((1, 3)), 1, (), 0.0, 0.0)
-        >>> SweptState.from_dict(json.loads(json.dumps(state.to_dict()))).to_dict() == \\
-        ...     state.to_dict()
-        True
-        """
-        saved = Saved(data, "SweptState")
-        H = saved.integer("harmonics", minimum=1)
-        coefficients = saved.floats("coefficients", ndim=2)
-        if coefficients.shape[1:] != (2 * H + 1,) and coefficients.size:
-            raise saved.error(f"has rows of {coefficients.shape[1]} numbers, not 2H + 1 = "
-                              f"{2 * H + 1}", "coefficients")
-        jumps = saved.floats("jumps", ndim=2)
-        if jumps.size == 0:
-            jumps = jumps.reshape(0, 2)
-        if jumps.shape[1] != 2:
-            raise saved.error("is not a list of [left, landed] pairs", "jumps")
-        return cls(parameter=saved.string("parameter"), start=saved.number("start"),
-                   value=saved.number("value"), amplitudes=saved.numbers_of("amplitudes"),
-                   coefficients=coefficients, harmonics=H,
-                   jumps=tuple((float(a), float(b)) for a, b in jumps),
-                   residual=saved.number("residual"), truncation=saved.number("truncation"))
+    def _check_saved(cls, values: Mapping[str, Any], reader: Saved) -> None:
+        if values["harmonics"] < 1:
+            raise reader.error(f"is {values['harmonics']}, less than 1", "harmonics")
+        rows = values["coefficients"]
+        width = 2 * values["harmonics"] + 1
+        if rows.ndim != 2 and rows.size:
+            raise reader.error(f"has {rows.ndim} dimension(s), not 2", "coefficients")
+        if rows.size and rows.shape[1] != width:
+            raise reader.error(f"has rows of {rows.shape[-1]} numbers, not 2H + 1 = {width}",
+                              "coefficients")
 
 
 def stable_point(hb: HarmonicBalance, x: np.ndarray, p: float) -> bool:

@@ -26,6 +26,7 @@ import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
 from .continuation import Balance, Branch, arc, probe, refine
+from .result_fields import FieldsJSON, saved
 from .results_json import Saved
 
 #: a multiplier with |mu| > 1 + this is unstable
@@ -66,7 +67,7 @@ class BranchEquations(Balance, Protocol):
 
 
 @dataclass(frozen=True)
-class SpecialPoint:
+class SpecialPoint(FieldsJSON):
     """A point where the stability or the direction of the branch changes, or a peak.
 
     ``quantity`` (peaks) names the coordinate or output whose amplitude is largest
@@ -77,54 +78,16 @@ class SpecialPoint:
     value: float
     amplitudes: Mapping[str, float]
     index: int
-    quantity: str | None = None
-    stable: bool | None = None
+    quantity: str | None = saved(None, omit_none=True)
+    stable: bool | None = saved(None, omit_none=True)
 
-    def to_dict(self) -> dict[str, Any]:
-        data: dict[str, Any] = {"kind": self.kind, "value": self.value,
-                                "amplitudes": dict(self.amplitudes)}
-        if self.quantity is not None:
-            data["quantity"] = self.quantity
-        if self.stable is not None:
-            data["stable"] = self.stable
-        data["index"] = self.index
-        return data
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "amplitudes", MappingProxyType(dict(self.amplitudes)))
 
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> SpecialPoint:
-        """The point back from its :meth:`to_dict`.
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        SpecialPoint
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json
-        >>> p = SpecialPoint("peak", 1.2, {"x": 0.5}, 7, "x", True)
-        >>> SpecialPoint.from_dict(json.loads(json.dumps(p.to_dict()))) == p
-        True
-        """
-        return cls._read(Saved(data, "SpecialPoint"))
-
-    @classmethod
-    def _read(cls, saved: Saved) -> SpecialPoint:
-        """The point from a reader (also the special points inside a saved branch)."""
-        return cls(kind=saved.string("kind"), value=saved.number("value"),
-                   amplitudes=MappingProxyType(saved.numbers_of("amplitudes")),
-                   index=saved.integer("index", minimum=0),
-                   quantity=saved.string("quantity") if "quantity" in saved else None,
-                   stable=saved.boolean("stable") if "stable" in saved else None)
+    def _check_saved(cls, values: Mapping[str, Any], reader: Saved) -> None:
+        if values["index"] < 0:
+            raise reader.error(f"is {values['index']}, less than 0", "index")
 
 
 def classify(lam: np.ndarray, W: float) -> tuple[int, int, int]:

@@ -1,0 +1,401 @@
+"""A frozen result's ``to_dict()``, ``from_dict()`` and ``to_frame()``, written once from its
+dataclass fields.
+
+A result class inherits :class:`FieldsJSON`; each of its fields is saved under its name
+(or the ``key`` given by :func:`saved`), in the form its annotation says:
+
+==============================  ==============================================================
+annotation                      JSON
+==============================  ==============================================================
+``str``, ``bool``, ``int``      the same
+``float``                       a number, ``null`` for NaN and infinities
+``tuple[str, ...]``             a list of strings
+``tuple[float, ...]``           a list of numbers
+``tuple[int, ...]``             a list of whole numbers
+``np.ndarray``                  nested lists (real) or ``{"real": ..., "imag": ...}`` (complex)
+``Mapping[str, float]``         an object of numbers
+``Mapping[str, np.ndarray]``    an object of nested lists
+``Mapping[str, str]``           an object of strings
+a result class                  its ``to_dict()``
+``tuple[<result class>, ...]``  a list of them
+``X | None``                    ``null`` or X
+==============================  ==============================================================
+
+A field whose saved form is none of these names its :class:`Codec` in :func:`saved`;
+``axes`` there gives an array's shape by the lengths of other fields (or numbers), checked on
+reading, so that a hand-edited file is refused with the key and the shapes, not half read.
+What a class writes beside its fields (numbers derived for the reader of the JSON) comes
+from its ``_derived_json()``; ``from_dict`` reads the fields only, so the derived numbers are
+computed again, bit for bit.
+
+Examples
+--------
+>>> import json
+>>> from dataclasses import dataclass
+>>> import numpy as np
+>>> @dataclass(frozen=True)
+... class Peak(FieldsJSON):
+...     name: str
+...     frequency: np.ndarray = saved(key="frequency_hz")
+...     level: np.ndarray = saved(axes=("frequency",))
+...     warnings: tuple[str, ...] = ()
+>>> p = Peak("x", np.array([1.0, 2.0]), np.array([0.5, np.nan]))
+>>> p.to_dict()
+{'name': 'x', 'frequency_hz': [1.0, 2.0], 'level': [0.5, None], 'warnings': []}
+>>> Peak.from_dict(json.loads(json.dumps(p.to_dict()))).level
+array([0.5, nan])
+>>> Peak.from_dict({"name": "x", "frequency_hz": [1.0, 2.0], "level": [1.0]})
+Traceback (most recent call last):
+resonant.errors.AnalysisError: the saved Peak 'level' has shape (1,), not (2,)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+import sys
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, ClassVar, TypeVar
+
+import numpy as np
+import numpy.typing as npt
+
+from ..errors import AnalysisError
+from .results_json import Saved, complex_json, floats_json, optional_float
+
+__all__ = ["Codec", "FieldsJSON", "saved", "COMPLEX_PAIRS", "ROWS", "frame_of"]
+
+T = TypeVar("T", bound="FieldsJSON")
+
+#: the shape of an array field: other fields' names (their lengths) or numbers
+Axes = tuple[str | int, ...]
+
+
+@dataclass(frozen=True)
+class Codec:
+    """How one field is written to JSON and read back.
+
+    Parameters
+    ----------
+    write : callable
+        value -> JSON value.
+    read : callable
+        (reader, key, shape or None) -> value; the reader raises on a wrong entry.
+    """
+
+    write: Callable[[Any], Any]
+    read: Callable[[Saved, str, tuple[int, ...] | None], Any]
+
+
+def _number_write(value: float) -> float | None:
+    return optional_float(value)
+
+
+def _array_write(value: npt.ArrayLike) -> Any:
+    array = np.asarray(value)
+    if np.iscomplexobj(array):
+        return complex_json(array)
+    if array.dtype.kind in "iub":
+        return array.tolist()
+    return floats_json(array)
+
+
+def _array_read(saved: Saved, key: str, shape: tuple[int, ...] | None) -> np.ndarray:
+    if isinstance(saved.value(key), Mapping):
+        return saved.complex(key, shape=shape)
+    return saved.floats(key, shape=shape)
+
+
+def _arrays_read(saved: Saved, key: str, shape: tuple[int, ...] | None) -> dict[str, Any]:
+    inner = saved.mapping(key)
+    return {str(k): _array_read(inner, str(k), shape) for k in inner.data}
+
+
+def _pairs_write(value: npt.ArrayLike) -> list[list[float | None]]:
+    array = np.asarray(value, dtype=complex).ravel()
+    return [[optional_float(s.real), optional_float(s.imag)] for s in array.tolist()]
+
+
+def _pairs_read(saved: Saved, key: str, shape: tuple[int, ...] | None) -> np.ndarray:
+    pairs = saved.floats(key, ndim=2)
+    if pairs.size == 0:
+        pairs = pairs.reshape(0, 2)
+    if pairs.shape[1] != 2:
+        raise saved.error("is not a list of [real, imaginary] pairs", key)
+    out = pairs[:, 0] + 1j * pairs[:, 1]
+    if shape is not None and out.shape != shape:
+        raise saved.error(f"has shape {out.shape}, not {shape}", key)
+    return out
+
+
+def _rows_read(saved: Saved, key: str, shape: tuple[int, ...] | None) -> np.ndarray:
+    transposed = None if shape is None else shape[::-1]
+    return saved.floats(key, shape=transposed, ndim=None if shape else 2).T
+
+
+def _number_pairs_read(saved: Saved, key: str, shape: tuple[int, ...] | None
+                       ) -> tuple[tuple[float, float], ...]:
+    pairs = saved.floats(key, ndim=2)
+    if pairs.size == 0:
+        pairs = pairs.reshape(0, 2)
+    if pairs.shape[1] != 2:
+        raise saved.error("is not a list of pairs of numbers", key)
+    return tuple((float(a), float(b)) for a, b in pairs)
+
+
+#: a complex vector as a list of [real, imaginary] pairs
+COMPLEX_PAIRS = Codec(_pairs_write, _pairs_read)
+#: a real matrix saved transposed: one column (a mode, a point) a row
+ROWS = Codec(lambda value: floats_json(np.asarray(value, dtype=float).T), _rows_read)
+
+_TEXT = Codec(str, lambda s, k, shape: s.string(k))
+_FLAG = Codec(bool, lambda s, k, shape: s.boolean(k))
+_WHOLE = Codec(int, lambda s, k, shape: s.integer(k))
+_NUMBER = Codec(_number_write, lambda s, k, shape: s.number(k))
+_TEXTS = Codec(list, lambda s, k, shape: s.strings(k))
+_NUMBERS = Codec(lambda v: [optional_float(x) for x in v], lambda s, k, shape: s.numbers(k))
+_WHOLES = Codec(lambda v: [int(x) for x in v],
+                lambda s, k, shape: tuple(int(x) for x in s.numbers(k)))
+_ARRAY = Codec(_array_write, _array_read)
+_NUMBERS_BY_NAME = Codec(lambda v: {k: optional_float(x) for k, x in v.items()},
+                         lambda s, k, shape: s.numbers_of(k))
+_ARRAYS_BY_NAME = Codec(lambda v: {k: _array_write(x) for k, x in v.items()}, _arrays_read)
+_TEXTS_BY_NAME = Codec(dict, lambda s, k, shape: {
+    str(name): s.mapping(k).string(str(name)) for name in s.mapping(k).data})
+
+_BY_ANNOTATION: dict[str, Codec] = {
+    "str": _TEXT, "bool": _FLAG, "int": _WHOLE, "float": _NUMBER,
+    "tuple[str,...]": _TEXTS, "tuple[float,...]": _NUMBERS, "tuple[int,...]": _WHOLES,
+    "tuple[float,float]": _NUMBERS,
+    "tuple[tuple[float,float],...]": Codec(lambda v: [[optional_float(a), optional_float(b)]
+                                                      for a, b in v], _number_pairs_read),
+    "np.ndarray": _ARRAY, "FloatArray": _ARRAY, "ComplexArray": _ARRAY,
+    "Mapping[str,float]": _NUMBERS_BY_NAME, "dict[str,float]": _NUMBERS_BY_NAME,
+    "Mapping[str,np.ndarray]": _ARRAYS_BY_NAME, "dict[str,np.ndarray]": _ARRAYS_BY_NAME,
+    "Mapping[str,str]": _TEXTS_BY_NAME, "dict[str,str]": _TEXTS_BY_NAME,
+}
+
+
+@dataclass(frozen=True)
+class _Saving:
+    """What :func:`saved` put in a field's metadata."""
+
+    key: str | None = None
+    codec: Codec | None = None
+    axes: Axes | None = None
+    omit_none: bool = False
+
+
+def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
+          codec: Codec | None = None, axes: Axes | None = None, omit_none: bool = False,
+          default_factory: Callable[[], object] | None = None) -> Any:
+    """A dataclass field with the way it is saved (see the module's table).
+
+    Parameters
+    ----------
+    default, default_factory
+        As for :func:`dataclasses.field`.
+    key : str, optional
+        The JSON key (default: the field's name).
+    codec : Codec, optional
+        How it is written and read, when the annotation does not say it.
+    axes : tuple, optional
+        The array's shape by other fields' lengths (names) or numbers, checked on reading.
+    omit_none : bool
+        Leave the key out when the value is None (instead of writing ``null``).
+
+    Returns
+    -------
+    dataclasses.Field
+    """
+    metadata = {"saved": _Saving(key, codec, axes, omit_none)}
+    if default_factory is not None:
+        return dataclasses.field(default_factory=default_factory, metadata=metadata)
+    return dataclasses.field(default=default, metadata=metadata)
+
+
+def _optional(codec: Codec) -> Codec:
+    return Codec(lambda v: None if v is None else codec.write(v),
+                 lambda s, k, shape: None if s.value(k) is None else codec.read(s, k, shape))
+
+
+def _nested(kind: type[FieldsJSON]) -> Codec:
+    return Codec(lambda v: v.to_dict(),
+                 lambda s, k, shape: kind.read_saved(s.mapping(k)))
+
+
+def _nested_list(kind: type[FieldsJSON]) -> Codec:
+    return Codec(lambda v: [x.to_dict() for x in v],
+                 lambda s, k, shape: tuple(kind.read_saved(r) for r in s.records(k)))
+
+
+def _codec_of(owner: type, field: dataclasses.Field[Any]) -> Codec:
+    """The codec of ``field`` of the class ``owner``: given, or from its annotation."""
+    saving: _Saving = field.metadata.get("saved", _Saving())
+    if saving.codec is not None:
+        return saving.codec
+    text = re.sub(r"\s+", "", field.type if isinstance(field.type, str)
+                  else getattr(field.type, "__name__", str(field.type)))
+    text = re.sub(r"^npt\.NDArray\[.*\]$", "np.ndarray", text)
+    optional = text.endswith("|None")
+    inner = text[:-len("|None")] if optional else text
+    codec = _BY_ANNOTATION.get(inner) or _result_codec(owner, inner)
+    if codec is None:
+        raise TypeError(f"{owner.__name__}.{field.name}: no saved form for '{field.type}'; "
+                        "give one with saved(codec=...)")
+    return _optional(codec) if optional else codec
+
+
+def _result_codec(owner: type, text: str) -> Codec | None:
+    """The codec of a nested result (``Name`` or ``tuple[Name, ...]``), looked up among the
+    names of the module that defines ``owner``."""
+    match = re.fullmatch(r"tuple\[(\w+),\.\.\.\]", text)
+    name = match.group(1) if match else text
+    kind = vars(sys.modules[owner.__module__]).get(name)
+    if not (isinstance(kind, type) and issubclass(kind, FieldsJSON)):
+        return None
+    return _nested_list(kind) if match else _nested(kind)
+
+
+@dataclass(frozen=True)
+class _Entry:
+    name: str
+    key: str
+    codec: Codec
+    axes: Axes | None
+    has_default: bool
+    omit_none: bool
+
+
+def _entries(cls: type) -> tuple[_Entry, ...]:
+    out = []
+    for f in dataclasses.fields(cls):
+        if not f.init:
+            continue
+        saving = f.metadata.get("saved", _Saving())
+        has_default = (f.default is not dataclasses.MISSING
+                       or f.default_factory is not dataclasses.MISSING)
+        out.append(_Entry(f.name, saving.key or f.name, _codec_of(cls, f), saving.axes,
+                          has_default, saving.omit_none))
+    return tuple(out)
+
+
+def _length(value: Any) -> int:
+    return int(np.shape(value)[0]) if isinstance(value, np.ndarray) else len(value)
+
+
+class FieldsJSON:
+    """``to_dict()`` and ``from_dict()`` of a frozen result, from its dataclass fields.
+
+    Subclasses are dataclasses; ``_derived_json()`` adds the keys written for readers only.
+    """
+
+    _saved_entries: ClassVar[dict[type, tuple[_Entry, ...]]] = {}
+
+    @classmethod
+    def _saved_fields(cls) -> tuple[_Entry, ...]:
+        entries = FieldsJSON._saved_entries.get(cls)
+        if entries is None:
+            entries = FieldsJSON._saved_entries[cls] = _entries(cls)
+        return entries
+
+    def _derived_json(self) -> dict[str, Any]:
+        """Keys written beside the fields, for the reader of the JSON (none by default)."""
+        return {}
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form: the derived keys, then every field (see :mod:`result_fields`).
+
+        Returns
+        -------
+        dict
+        """
+        data = self._derived_json()
+        for entry in self._saved_fields():
+            value = getattr(self, entry.name)
+            if value is not None or not entry.omit_none:
+                data[entry.key] = entry.codec.write(value)
+        return data
+
+    @classmethod
+    def from_dict(cls: type[T], data: Mapping[str, Any]) -> T:
+        """The result back from its :meth:`to_dict` (read back from JSON).
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave.
+
+        Returns
+        -------
+        The result.
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value or shape (the message
+            names it).
+        """
+        return cls.read_saved(Saved(data, cls.__name__))
+
+    @classmethod
+    def _check_saved(cls, values: Mapping[str, Any], saved_data: Saved) -> None:
+        """Checks between saved fields beyond their shapes (raise ``saved_data.error``)."""
+
+    @classmethod
+    def read_saved(cls: type[T], saved_data: Saved) -> T:
+        """The result from a checked reader (:meth:`from_dict` and nested results)."""
+        values: dict[str, Any] = {}
+        entries = cls._saved_fields()
+        # fields without axes first: the axes are the lengths of those read before
+        for entry in sorted(entries, key=lambda e: e.axes is not None):
+            if entry.key not in saved_data and entry.has_default:
+                continue
+            shape = None if entry.axes is None else _shape(entry, values, saved_data)
+            values[entry.name] = entry.codec.read(saved_data, entry.key, shape)
+        cls._check_saved(values, saved_data)
+        try:
+            return cls(**values)
+        except (TypeError, ValueError) as exc:
+            raise saved_data.error(f"does not make a {cls.__name__}: {exc}") from None
+
+
+def _shape(entry: _Entry, values: Mapping[str, Any], saved_data: Saved) -> tuple[int, ...]:
+    shape = []
+    for axis in entry.axes or ():
+        if isinstance(axis, int):
+            shape.append(axis)
+        elif axis in values and values[axis] is not None:
+            if np.ndim(values[axis]) == 0 and isinstance(values[axis], np.ndarray):
+                raise saved_data.error(f"cannot be checked: its axis '{axis}' is a number, "
+                                       "not a list", entry.key)
+            shape.append(_length(values[axis]))
+        else:
+            raise saved_data.error(f"cannot be checked: its axis '{axis}' was not saved",
+                                   entry.key)
+    return tuple(shape)
+
+
+def frame_of(columns: Mapping[str, Sequence[float] | np.ndarray]) -> Any:
+    """A pandas DataFrame of named columns (pandas imported here: it is optional).
+
+    Parameters
+    ----------
+    columns : mapping
+        column name -> values, all of one length.
+
+    Returns
+    -------
+    pandas.DataFrame
+
+    Raises
+    ------
+    AnalysisError
+        Without pandas.
+    """
+    try:
+        import pandas as pd
+    except ImportError:  # pragma: no cover - pandas is a dependency of the test extra
+        raise AnalysisError("to_frame() needs pandas: pip install pandas") from None
+    return pd.DataFrame(dict(columns))
