@@ -40,7 +40,7 @@ from __future__ import annotations
 import html
 import math
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, TypeGuard
 
@@ -88,6 +88,7 @@ from ..system.stability import (
     rayleigh,
 )
 from ..tables import ResultTable, number_cell, number_column
+from .result_fields import COMPLEX_PAIRS, ROWS, Codec, FieldsJSON, saved
 from .results_json import Saved
 
 if TYPE_CHECKING:
@@ -101,8 +102,20 @@ if TYPE_CHECKING:
 DENSE_MODES = 1500
 
 
+def _rayleigh_read(reader: Saved, key: str, shape: tuple[int, ...] | None
+                   ) -> tuple[float, float] | None:
+    if reader.value(key) is None:
+        return None
+    coefficients = reader.mapping(key)
+    return coefficients.number("a"), coefficients.number("b")
+
+
+#: Rayleigh's coefficients (a, b) of C = a M + b K as {"a": ..., "b": ...}, or null
+_RAYLEIGH = Codec(lambda v: None if v is None else {"a": v[0], "b": v[1]}, _rayleigh_read)
+
+
 @dataclass(frozen=True)
-class ModalAnalysis:
+class ModalAnalysis(FieldsJSON):
     """The modes of M q'' + C q' + K q = 0.
 
     Attributes
@@ -153,15 +166,16 @@ class ModalAnalysis:
     coordinates: tuple[str, ...]
     omega_squared: np.ndarray
     natural_frequencies: np.ndarray
-    mode_shapes: np.ndarray
-    mass_normalised_modes: np.ndarray
-    eigenvalues: np.ndarray
-    damping_ratios: np.ndarray
-    damped_frequencies: np.ndarray
-    proportional_damping: bool
-    rayleigh: tuple[float, float] | None
-    damped: bool
-    stability: str
+    mode_shapes: np.ndarray = saved(codec=ROWS, axes=("coordinates", "natural_frequencies"))
+    mass_normalised_modes: np.ndarray = saved(codec=ROWS,
+                                              axes=("coordinates", "natural_frequencies"))
+    eigenvalues: np.ndarray = saved(codec=COMPLEX_PAIRS)
+    damping_ratios: np.ndarray = saved()
+    damped_frequencies: np.ndarray = saved()
+    proportional_damping: bool = saved()
+    rayleigh: tuple[float, float] | None = saved(codec=_RAYLEIGH)
+    damped: bool = saved()
+    stability: str = saved()
     method: str = "dense"
     warnings: tuple[str, ...] = ()
     title: str = ""
@@ -170,87 +184,12 @@ class ModalAnalysis:
     def __post_init__(self) -> None:
         freeze_fields(self)
 
+    def _derived_json(self) -> dict[str, Any]:
+        return {"frequencies_hz": self.frequencies_hz.tolist()}
+
     @property
     def frequencies_hz(self) -> np.ndarray:
         return self.natural_frequencies / (2 * math.pi)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "title": self.title,
-            "coordinates": list(self.coordinates),
-            "natural_frequencies": self.natural_frequencies.tolist(),
-            "frequencies_hz": self.frequencies_hz.tolist(),
-            "omega_squared": self.omega_squared.tolist(),
-            "mode_shapes": self.mode_shapes.T.tolist(),
-            "mass_normalised_modes": self.mass_normalised_modes.T.tolist(),
-            "eigenvalues": [[float(s.real), float(s.imag)] for s in self.eigenvalues],
-            "damping_ratios": self.damping_ratios.tolist(),
-            "damped_frequencies": self.damped_frequencies.tolist(),
-            "damped": self.damped,
-            "proportional_damping": self.proportional_damping,
-            "rayleigh": None if self.rayleigh is None else
-            {"a": self.rayleigh[0], "b": self.rayleigh[1]},
-            "stability": self.stability,
-            "method": self.method,
-            "warnings": list(self.warnings),
-            "frequency_errors": [float(e) if math.isfinite(e) else None
-                                 for e in self.frequency_errors],
-        }
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> ModalAnalysis:
-        """The analysis back from its :meth:`to_dict` (the JSON of ``resonant modes``).
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        ModalAnalysis
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json, resonant
-        >>> m = resonant.load("examples/two_dof_free.toml").linearize().modes()
-        >>> back = ModalAnalysis.from_dict(json.loads(json.dumps(m.to_dict())))
-        >>> back.to_dict() == m.to_dict()
-        True
-        """
-        saved = Saved(data, "ModalAnalysis")
-        coordinates = saved.strings("coordinates")
-        natural = saved.floats("natural_frequencies", ndim=1)
-        shapes = (natural.size, len(coordinates))  # saved one mode a row
-        pairs = saved.floats("eigenvalues", ndim=2)
-        if pairs.size == 0:
-            pairs = pairs.reshape(0, 2)
-        if pairs.shape[1] != 2:
-            raise saved.error("is not a list of [real, imaginary] pairs", "eigenvalues")
-        eigenvalues = np.empty(len(pairs), dtype=complex)
-        eigenvalues.real, eigenvalues.imag = pairs[:, 0], pairs[:, 1]
-        rayleigh = None
-        if saved.value("rayleigh", None) is not None:
-            coefficients = saved.mapping("rayleigh")
-            rayleigh = (coefficients.number("a"), coefficients.number("b"))
-        return cls(
-            coordinates=coordinates, omega_squared=saved.floats("omega_squared", ndim=1),
-            natural_frequencies=natural,
-            mode_shapes=saved.floats("mode_shapes", shape=shapes).T,
-            mass_normalised_modes=saved.floats("mass_normalised_modes", shape=shapes).T,
-            eigenvalues=eigenvalues,
-            damping_ratios=saved.floats("damping_ratios", ndim=1),
-            damped_frequencies=saved.floats("damped_frequencies", ndim=1),
-            proportional_damping=saved.boolean("proportional_damping"), rayleigh=rayleigh,
-            damped=saved.boolean("damped"), stability=saved.string("stability"),
-            method=saved.string("method", "dense"), warnings=saved.strings("warnings", ()),
-            title=saved.string("title", ""),
-            frequency_errors=saved.floats("frequency_errors", [], ndim=1))
 
     def limited(self, count: int | None) -> ModalAnalysis:
         """The analysis restricted to the lowest ``count`` modes (dense path with --count)."""
