@@ -761,3 +761,23 @@ def test_a_peak_refined_on_an_uneven_triple_stays_finite():
     sweep = system.sweep("omega", np.unique([0.1, lowest, 20.0]))
     assert sweep.peaks and all(np.isfinite(p.amplitude) for p in sweep.peaks)
     json.dumps(sweep.to_dict(), allow_nan=False)
+
+
+def test_every_result_saved_by_its_fields_has_a_saved_form_for_each_field():
+    """A result class that inherits result_fields.FieldsJSON is checked here, not when a
+    user first saves one: every field's annotation names a saved form (or its codec)."""
+    import importlib
+    import pkgutil
+
+    import resonant.analyses
+    from resonant.analyses.result_fields import FieldsJSON
+
+    for module in pkgutil.iter_modules(resonant.analyses.__path__):
+        importlib.import_module(f"resonant.analyses.{module.name}")
+    seen, stack = [], list(FieldsJSON.__subclasses__())
+    while stack:
+        kind = stack.pop()
+        seen.append(kind.__name__)
+        kind._saved_fields()  # raises TypeError naming the field without a saved form
+        stack += kind.__subclasses__()
+    assert {"FrequencyResponse", "ModalAnalysis", "SpecialPoint", "Backbones"} <= set(seen)

@@ -88,7 +88,7 @@ from ..system.stability import (
     rayleigh,
 )
 from ..tables import ResultTable, number_cell, number_column
-from .result_fields import COMPLEX_PAIRS, ROWS, Codec, FieldsJSON, saved
+from .result_fields import COMPLEX_PAIRS, ROWS, Codec, FieldsJSON, Shape, saved
 from .results_json import Saved
 
 if TYPE_CHECKING:
@@ -102,8 +102,7 @@ if TYPE_CHECKING:
 DENSE_MODES = 1500
 
 
-def _rayleigh_read(reader: Saved, key: str, shape: tuple[int, ...] | None
-                   ) -> tuple[float, float] | None:
+def _rayleigh_read(reader: Saved, key: str, shape: Shape) -> tuple[float, float] | None:
     if reader.value(key) is None:
         return None
     coefficients = reader.mapping(key)

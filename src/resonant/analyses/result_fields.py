@@ -64,12 +64,16 @@ import numpy.typing as npt
 from ..errors import AnalysisError
 from .results_json import Saved, complex_json, floats_json, optional_float
 
-__all__ = ["Codec", "FieldsJSON", "saved", "COMPLEX_PAIRS", "ROWS", "frame_of"]
+__all__ = ["Codec", "FieldsJSON", "saved", "COMPLEX_PAIRS", "ROWS", "Shape", "frame_of"]
 
 T = TypeVar("T", bound="FieldsJSON")
 
-#: the shape of an array field: other fields' names (their lengths) or numbers
-Axes = tuple[str | int, ...]
+#: the shape asked of a saved array (None entries: any length), or None (unchecked)
+Shape = tuple[int | None, ...] | None
+
+#: the shape of an array field: other fields' names (their lengths), numbers, or None
+#: (any length)
+Axes = tuple[str | int | None, ...]
 
 
 @dataclass(frozen=True)
@@ -81,11 +85,12 @@ class Codec:
     write : callable
         value -> JSON value.
     read : callable
-        (reader, key, shape or None) -> value; the reader raises on a wrong entry.
+        (reader, key, shape or None) -> value; the reader raises on a wrong entry (a None
+        in the shape is any length).
     """
 
     write: Callable[[Any], Any]
-    read: Callable[[Saved, str, tuple[int, ...] | None], Any]
+    read: Callable[[Saved, str, Shape], Any]
 
 
 def _number_write(value: float) -> float | None:
@@ -101,13 +106,35 @@ def _array_write(value: npt.ArrayLike) -> Any:
     return floats_json(array)
 
 
-def _array_read(saved: Saved, key: str, shape: tuple[int, ...] | None) -> np.ndarray:
+def _fixed(shape: Shape) -> tuple[int, ...] | None:
+    """``shape`` when every length is given (else None: checked by :func:`_free_shape`)."""
+    if shape is None or None in shape:
+        return None
+    return tuple(int(s) for s in shape if s is not None)
+
+
+def _array_read(saved: Saved, key: str, shape: Shape) -> np.ndarray:
+    fixed = _fixed(shape)
     if isinstance(saved.value(key), Mapping):
-        return saved.complex(key, shape=shape)
-    return saved.floats(key, shape=shape)
+        array = saved.complex(key, shape=fixed)
+    else:
+        array = saved.floats(key, shape=fixed)
+    return array if fixed is not None or shape is None else _free_shape(saved, key, array, shape)
 
 
-def _arrays_read(saved: Saved, key: str, shape: tuple[int, ...] | None) -> dict[str, Any]:
+def _free_shape(saved: Saved, key: str, array: np.ndarray, shape: tuple[int | None, ...]
+                ) -> np.ndarray:
+    """``array`` checked against ``shape`` whose None entries take any length."""
+    if array.size == 0:
+        return array.reshape(tuple(0 if s is None else s for s in shape))
+    if array.ndim != len(shape) or any(s is not None and s != a
+                                       for s, a in zip(shape, array.shape)):
+        wanted = tuple("any" if s is None else s for s in shape)
+        raise saved.error(f"has shape {array.shape}, not {wanted}".replace("'", ""), key)
+    return array
+
+
+def _arrays_read(saved: Saved, key: str, shape: Shape) -> dict[str, Any]:
     inner = saved.mapping(key)
     return {str(k): _array_read(inner, str(k), shape) for k in inner.data}
 
@@ -117,7 +144,7 @@ def _pairs_write(value: npt.ArrayLike) -> list[list[float | None]]:
     return [[optional_float(s.real), optional_float(s.imag)] for s in array.tolist()]
 
 
-def _pairs_read(saved: Saved, key: str, shape: tuple[int, ...] | None) -> np.ndarray:
+def _pairs_read(saved: Saved, key: str, shape: Shape) -> np.ndarray:
     pairs = saved.floats(key, ndim=2)
     if pairs.size == 0:
         pairs = pairs.reshape(0, 2)
@@ -129,12 +156,13 @@ def _pairs_read(saved: Saved, key: str, shape: tuple[int, ...] | None) -> np.nda
     return out
 
 
-def _rows_read(saved: Saved, key: str, shape: tuple[int, ...] | None) -> np.ndarray:
-    transposed = None if shape is None else shape[::-1]
-    return saved.floats(key, shape=transposed, ndim=None if shape else 2).T
+def _rows_read(saved: Saved, key: str, shape: Shape) -> np.ndarray:
+    fixed = _fixed(shape)
+    transposed = None if fixed is None else fixed[::-1]
+    return saved.floats(key, shape=transposed, ndim=None if transposed else 2).T
 
 
-def _number_pairs_read(saved: Saved, key: str, shape: tuple[int, ...] | None
+def _number_pairs_read(saved: Saved, key: str, shape: Shape
                        ) -> tuple[tuple[float, float], ...]:
     pairs = saved.floats(key, ndim=2)
     if pairs.size == 0:
@@ -185,11 +213,12 @@ class _Saving:
     codec: Codec | None = None
     axes: Axes | None = None
     omit_none: bool = False
+    required: bool = False
 
 
 def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
           codec: Codec | None = None, axes: Axes | None = None, omit_none: bool = False,
-          default_factory: Callable[[], object] | None = None) -> Any:
+          required: bool = False, default_factory: Callable[[], object] | None = None) -> Any:
     """A dataclass field with the way it is saved (see the module's table).
 
     Parameters
@@ -204,12 +233,15 @@ def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
         The array's shape by other fields' lengths (names) or numbers, checked on reading.
     omit_none : bool
         Leave the key out when the value is None (instead of writing ``null``).
+    required : bool
+        The key must be in a saved result even though the field has a default (a missing
+        key of a field with a default otherwise reads as the default).
 
     Returns
     -------
     dataclasses.Field
     """
-    metadata = {"saved": _Saving(key, codec, axes, omit_none)}
+    metadata = {"saved": _Saving(key, codec, axes, omit_none, required)}
     if default_factory is not None:
         return dataclasses.field(default_factory=default_factory, metadata=metadata)
     return dataclasses.field(default=default, metadata=metadata)
@@ -274,8 +306,8 @@ def _entries(cls: type) -> tuple[_Entry, ...]:
         if not f.init:
             continue
         saving = f.metadata.get("saved", _Saving())
-        has_default = (f.default is not dataclasses.MISSING
-                       or f.default_factory is not dataclasses.MISSING)
+        has_default = not saving.required and (f.default is not dataclasses.MISSING
+                                                or f.default_factory is not dataclasses.MISSING)
         out.append(_Entry(f.name, saving.key or f.name, _codec_of(cls, f), saving.axes,
                           has_default, saving.omit_none))
     return tuple(out)
@@ -348,8 +380,7 @@ class FieldsJSON:
         """The result from a checked reader (:meth:`from_dict` and nested results)."""
         values: dict[str, Any] = {}
         entries = cls._saved_fields()
-        # fields without axes first: the axes are the lengths of those read before
-        for entry in sorted(entries, key=lambda e: e.axes is not None):
+        for entry in _reading_order(entries):
             if entry.key not in saved_data and entry.has_default:
                 continue
             shape = None if entry.axes is None else _shape(entry, values, saved_data)
@@ -361,10 +392,28 @@ class FieldsJSON:
             raise saved_data.error(f"does not make a {cls.__name__}: {exc}") from None
 
 
-def _shape(entry: _Entry, values: Mapping[str, Any], saved_data: Saved) -> tuple[int, ...]:
-    shape = []
+def _reading_order(entries: tuple[_Entry, ...]) -> list[_Entry]:
+    """The fields in an order where every axis is read before the arrays it measures."""
+    names = {e.name for e in entries}
+    done: set[str] = set()
+    order: list[_Entry] = []
+    waiting = list(entries)
+    while waiting:
+        ready = [e for e in waiting if all(not isinstance(a, str) or a in done or a not in names
+                                           for a in e.axes or ())]
+        if not ready:   # a cycle of axes: read in field order (the check then says which)
+            ready = waiting[:1]
+        order += ready
+        done.update(e.name for e in ready)
+        waiting = [e for e in waiting if e not in ready]
+    return order
+
+
+def _shape(entry: _Entry, values: Mapping[str, Any], saved_data: Saved
+           ) -> tuple[int | None, ...]:
+    shape: list[int | None] = []
     for axis in entry.axes or ():
-        if isinstance(axis, int):
+        if axis is None or isinstance(axis, int):
             shape.append(axis)
         elif axis in values and values[axis] is not None:
             if np.ndim(values[axis]) == 0 and isinstance(values[axis], np.ndarray):

@@ -116,7 +116,8 @@ from .kernel import (
     choose_method,
     solve_harmonic,
 )
-from .results_json import Saved, complex_json, floats_json
+from .result_fields import FieldsJSON, saved
+from .results_json import Saved, floats_json
 from .stationary import peak, phase_angle
 
 if TYPE_CHECKING:
@@ -178,7 +179,7 @@ class ExtremaTable:
 
 
 @dataclass(frozen=True)
-class FrequencyResponse:
+class FrequencyResponse(FieldsJSON):
     """Amplitudes and phases of coordinates and outputs against one parameter.
 
     Attributes
@@ -239,16 +240,16 @@ class FrequencyResponse:
     values: np.ndarray
     quantities: tuple[str, ...]
     #: complex responses z = L - i N, shape (harmonics, values, quantities)
-    response: np.ndarray
+    response: np.ndarray = saved(axes=("harmonic_omegas", "values", "quantities"))
     #: the excitation frequency of each harmonic at each value, shape (harmonics, values)
-    harmonic_omegas: np.ndarray
-    method: str
-    frequency_sweep: bool = False
-    natural_frequencies: np.ndarray | None = None
+    harmonic_omegas: np.ndarray = saved(axes=(None, "values"))
+    method: str = saved()
+    frequency_sweep: bool = saved(False, required=True)
+    natural_frequencies: np.ndarray | None = saved(None, omit_none=True)
     frequency_scale: float | None = None
     skipped: tuple[float, ...] = ()
     warnings: tuple[str, ...] = ()
-    log: bool = False
+    log: bool = saved(False, required=True)
     title: str = ""
     coordinates: tuple[str, ...] = ()
     estimated_error: float | None = None
@@ -309,6 +310,24 @@ class FrequencyResponse:
     def antiresonances(self) -> tuple[Extremum, ...]:
         return self.antiresonance_table.entries()
 
+    def _derived_json(self) -> dict[str, Any]:
+        """What readers of the JSON want beside the result itself (derived from it)."""
+        data: dict[str, Any] = {
+            "unit": self.unit,
+            "amplitudes": {k: floats_json(v) for k, v in self.amplitudes.items()},
+            "phases": {k: floats_json(v) for k, v in self.phases.items()},
+            "peaks": self.peak_table.to_list(),
+            "antiresonances": self.antiresonance_table.to_list(),
+        }
+        if self.natural_values is not None:
+            data["natural_values"] = self.natural_values.tolist()
+        return data
+
+    @classmethod
+    def _check_saved(cls, values: Mapping[str, Any], reader: Saved) -> None:
+        if values["values"].ndim != 1:
+            raise reader.error("is not a list of numbers", "values")
+
     @property
     def unit(self) -> str:
         """The unit of the parameter where known: "rad/s" for the excitation frequency,
@@ -329,95 +348,6 @@ class FrequencyResponse:
             return None
         values: np.ndarray = frozen_array(self.natural_frequencies / self.frequency_scale)
         return values
-
-    def to_dict(self) -> dict[str, Any]:
-        def clean(a: np.ndarray) -> list[float | None]:
-            return [float(v) if math.isfinite(v) else None for v in a]
-
-        data: dict[str, Any] = {
-            "title": self.title,
-            "parameter": self.parameter,
-            "unit": self.unit,
-            "values": self.values.tolist(),
-            "amplitudes": {k: clean(v) for k, v in self.amplitudes.items()},
-            "phases": {k: clean(v) for k, v in self.phases.items()},
-            "peaks": self.peak_table.to_list(),
-            "antiresonances": self.antiresonance_table.to_list(),
-            "method": self.method,
-            "estimated_error": self.estimated_error,
-            "tolerance": self.tolerance,
-            "skipped": list(self.skipped),
-            "warnings": list(self.warnings),
-        }
-        if self.natural_frequencies is not None:
-            data["natural_frequencies"] = self.natural_frequencies.tolist()
-        if self.natural_values is not None:
-            data["natural_values"] = self.natural_values.tolist()
-        # the result itself (the keys above are derived from it): for from_dict
-        data.update({
-            "quantities": list(self.quantities),
-            "coordinates": list(self.coordinates),
-            "response": complex_json(self.response),
-            "harmonic_omegas": floats_json(self.harmonic_omegas),
-            "frequency_sweep": self.frequency_sweep,
-            "frequency_scale": self.frequency_scale,
-            "log": self.log,
-        })
-        return data
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> FrequencyResponse:
-        """The sweep back from its :meth:`to_dict` (the JSON of ``resonant sweep``).
-
-        The amplitudes, phases and extrema are derived again from the complex responses
-        (``response``), so they are the same numbers, bit for bit.
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        FrequencyResponse
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json, resonant
-        >>> r = resonant.load("examples/cart_pendulum.toml").linearize().sweep(
-        ...     "omega", [5.0, 10.0, 20.0])
-        >>> back = FrequencyResponse.from_dict(json.loads(json.dumps(r.to_dict())))
-        >>> back.to_dict() == r.to_dict(), back.peaks == r.peaks
-        (True, True)
-        >>> FrequencyResponse.from_dict({"parameter": "omega"})
-        Traceback (most recent call last):
-        resonant.errors.AnalysisError: the saved FrequencyResponse has no key 'values' \
-(FrequencyResponse.to_dict() writes it)
-        """
-        saved = Saved(data, "FrequencyResponse")
-        values = saved.floats("values", ndim=1)
-        quantities = saved.strings("quantities")
-        harmonics = saved.floats("harmonic_omegas", ndim=2).shape[0]
-        shape = (harmonics, values.size, len(quantities))
-        return cls(
-            parameter=saved.string("parameter"), values=values, quantities=quantities,
-            response=saved.complex("response", shape=shape),
-            harmonic_omegas=saved.floats("harmonic_omegas", shape=shape[:2]),
-            method=saved.string("method"),
-            frequency_sweep=saved.boolean("frequency_sweep"),
-            natural_frequencies=saved.optional_floats("natural_frequencies", ndim=1),
-            frequency_scale=saved.optional_number("frequency_scale"),
-            skipped=saved.numbers("skipped", ()),
-            warnings=saved.strings("warnings", ()),
-            log=saved.boolean("log"), title=saved.string("title", ""),
-            coordinates=saved.strings("coordinates", ()),
-            estimated_error=saved.optional_number("estimated_error"),
-            tolerance=saved.optional_number("tolerance"))
 
     def to_frame(self) -> Any:
         """The table of the sweep: one row per value, the amplitude and the phase (rad) of
