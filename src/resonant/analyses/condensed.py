@@ -88,9 +88,7 @@ from ..errors import AnalysisError
 from ..memory import budget, chunk_rows
 from ..modal import (
     eigenvalues,
-    factor_stiffness,
     fundamental_strip,
-    modes_below,
     state_modes,
 )
 from ..model.nonlinear_elements import NonlinearElement
@@ -110,19 +108,15 @@ from .hb_solver import (
     truncation,
     truncation_warning,
 )
-from .kernel import transfer_at
 from .nonlinear_response import NonlinearResponse
 from .peaks import periodic_peak, series_peaks
-from .reduced import DEFAULT_TOL, reduced_model
+from .reduced import DEFAULT_TOL, modal_ritz_basis, reduced_model, symmetric
 from .special_points import STABILITY_TOL, classify, special_points
 from .sweep import FrequencyResponse, sweep
 
 if TYPE_CHECKING:
-    from scipy.sparse.linalg import SuperLU
+    pass
 
-#: most modes in the basis of the linear part; frequencies where it is checked exactly
-MAX_MODES = 400
-CHECKS = 7
 #: models up to this many coordinates use the full matrices (no reduced model)
 EXACT_SIZE = 400
 #: modes with |Im mu| up to this multiple of W stay dynamic in the stability analysis
@@ -182,75 +176,6 @@ class LinearPart:
             return result
 
 
-def _scaling(M: Matrix, K: Matrix) -> np.ndarray:
-    """D = diag(K)^(-1/2) where the stiffness diagonal is positive (else diag(M)^(-1/2),
-    else 1): a symmetric scaling that gives every coordinate unit diagonal stiffness."""
-    k = np.asarray(K.diagonal() if hasattr(K, "diagonal") else np.diag(K), dtype=float)
-    m = np.asarray(M.diagonal() if hasattr(M, "diagonal") else np.diag(M), dtype=float)
-    d = np.where(k > 0, k, np.where(m > 0, m, 1.0))
-    return np.asarray(1.0 / np.sqrt(d))
-
-
-def _sparse_diagonal(d: np.ndarray) -> Any:
-    import scipy.sparse as sp
-
-    return sp.diags(d, format="csr")
-
-
-def _symmetric(a: Matrix) -> bool:
-    diff = a - a.T
-    size = abs(diff).max() if hasattr(diff, "toarray") else np.abs(diff).max(initial=0.0)
-    scale = abs(a).max() if hasattr(a, "toarray") else np.abs(a).max(initial=0.0)
-    return bool(size <= 1e-12 * scale)
-
-
-def _ritz_basis(M: Matrix, K: Matrix, B: np.ndarray, cut: float, levels: int, lu: SuperLU
-                ) -> np.ndarray:
-    """The modes below ``cut`` and ``levels`` load-dependent Ritz blocks
-    (K^-1 B, K^-1 M K^-1 B, ...: the static and quasi-static response of the modes
-    above), orthonormalized."""
-    phi = modes_below(K, M, lu, cut, MAX_MODES) if M.shape[0] > 2 else np.zeros((M.shape[0], 0))
-    loads = np.hstack([B.real, B.imag])
-    X = lu.solve(loads[:, np.abs(loads).max(axis=0) > 0])
-    blocks = [phi]
-    for _ in range(levels):
-        X = X - phi @ (phi.T @ (M @ X))
-        blocks.append(X)
-        X = lu.solve(M @ X)
-    Q, R = np.linalg.qr(np.hstack(blocks))
-    d = np.abs(np.diag(R))
-    return np.asarray(Q[:, d > 1e-12 * d.max()])
-
-
-def _modal_basis(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, top: float, rows: list[int],
-                 tol: float, deadline: Deadline) -> tuple[np.ndarray, float] | None:
-    """A basis of modes and load-dependent Ritz vectors whose transfer to ``rows`` meets
-    ``tol`` at check frequencies over the band (exact sparse solves there); the largest
-    error seen, or None when no basis of at most :data:`MAX_MODES` modes meets it."""
-    D = _scaling(M, K)  # deflections and slopes of a beam differ in scale by far
-    Ds = _sparse_diagonal(D)
-    M, K, B = Ds @ M @ Ds, Ds @ K @ Ds, D[:, None] * B
-    C = None if C is None else Ds @ C @ Ds
-    lu = factor_stiffness(K, M, top)
-    checks = np.linspace(0.0, top, CHECKS)
-    exact = [transfer_at(M, C, K, B, w)[rows] for w in checks]
-    scale = max(float(np.abs(t).max()) for t in exact)
-    previous = np.inf
-    for cut, levels in ((4 * top, 2), (8 * top, 3), (16 * top, 4)):
-        deadline.check("while building the reduced model of the linear part", analysis=True)
-        V = _ritz_basis(M, K, B, cut, levels, lu)
-        Mr, Kr, Br = V.T @ (M @ V), V.T @ (K @ V), V.T @ B
-        Cr = V.T @ (C @ V) if C is not None else np.zeros_like(Mr)
-        error = max(float(np.abs(V[rows] @ np.linalg.solve(Kr - w * w * Mr + 1j * w * Cr, Br)
-                                 - t).max()) for w, t in zip(checks, exact)) / scale
-        # met, or a larger basis no longer helps: the rounding floor of the exact solves
-        # of an ill-conditioned K (then accepted up to 100 tol, said in the warning)
-        if error <= tol or (error >= 0.5 * previous and error <= 100 * tol):
-            return D[:, None] * V, error
-        previous = error
-    return None
-
-
 def linear_part(M: Matrix, C: Matrix, K: Matrix, loads: np.ndarray, nonlinear: Sequence[int],
                 observed: Sequence[int], band: np.ndarray, *, exact: bool | None = None,
                 tol: float = DEFAULT_TOL, deadline: Deadline = NO_DEADLINE) -> LinearPart:
@@ -297,8 +222,8 @@ def linear_part(M: Matrix, C: Matrix, K: Matrix, loads: np.ndarray, nonlinear: S
         rom = reduced_model(M, C, K, B, band, tol=tol, deadline=deadline)
         basis = (rom.V, float(np.max(rom.estimated_error, initial=0.0))) \
             if rom.converged else None
-        if basis is None and _symmetric(M) and _symmetric(K):
-            basis = _modal_basis(M, C, K, B, float(band.max()), rows, tol, deadline)
+        if basis is None and symmetric(M) and symmetric(K):
+            basis = modal_ritz_basis(M, C, K, B, float(band.max()), rows, tol, deadline)
         if basis is None:
             raise AnalysisError(f"the reduced model of the linear part did not reach the "
                                 f"tolerance {tol:.2g}: {rom.reason}")

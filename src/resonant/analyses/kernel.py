@@ -196,7 +196,6 @@ def check_batch_mass(batch: Batch, values: np.ndarray | None = None, param: str 
                                 "negative mass or inertia; the results there are not physical")
 
 
-
 def _entries(a: Matrix, position: np.ndarray | None = None
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Rows, columns and values of the nonzeros of a; ``position``: the new index of
@@ -1060,8 +1059,6 @@ def closed_form_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndar
     return x, hard
 
 
-
-
 def _band_storage(a: Matrix, upper: int, rows: int, offset: int,
                   position: np.ndarray | None) -> np.ndarray:
     """LAPACK band storage: ab[offset + upper + i - j, j] = a[i, j], in the band
@@ -1216,30 +1213,8 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
     return singular
 
 
-
-
-
-def transfer_at(M: Matrix, C: Matrix | None, K: Matrix, B: np.ndarray, w: float
-                ) -> np.ndarray:
-    """(K - w^2 M + i w C)^-1 B at one frequency by one sparse LU: the exact reference a
-    reduced basis is checked against.
-
-    Examples
-    --------
-    >>> import scipy.sparse as sp
-    >>> K, M = sp.diags([4.0, 9.0]), sp.identity(2)
-    >>> transfer_at(M, None, K, np.eye(2), 1.0).real.diagonal().round(6).tolist()
-    [0.333333, 0.125]
-    """
-    import scipy.sparse as sp
-    from scipy.sparse.linalg import splu
-
-    A = sp.csc_matrix(K - w * w * M + (1j * w * C if C is not None else 0 * M))
-    return np.asarray(splu(A).solve(B))
-
-
 __all__ = ["solve_harmonic", "KernelResult", "choose_method", "choose_direct", "direct_costs",
            "band_ordering", "BandOrdering",
            "reduced_budget", "reduced_points", "largest_abs", "closed_form_solve",
            "check_batch_mass", "equilibration", "METHODS", "SINGULAR_CONDITION",
-           "LOSS_CONDITION", "DEFAULT_TOL", "transfer_at"]
+           "LOSS_CONDITION", "DEFAULT_TOL"]

@@ -86,6 +86,7 @@ import numpy as np
 from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
+from ..modal import factor_stiffness, modes_below
 from .threads import blas_threads
 
 if TYPE_CHECKING:
@@ -1680,6 +1681,102 @@ def _adjoints(ops: _Operators, shared: tuple[_Projection, _Residual], C: np.ndar
             rho = residual.norms(w, Y, which=j) / float(np.linalg.norm(c))
         out[j] = float(np.max(rho)) if np.all(np.isfinite(rho)) else np.inf
     return V, out
+
+
+# -- the modal fallback: modes and load-dependent Ritz vectors, checked by exact solves --
+
+#: most modes in the modal fallback's basis; frequencies where it is checked exactly
+MAX_MODES = 400
+CHECKS = 7
+
+
+def _scaling(M: Matrix, K: Matrix) -> np.ndarray:
+    """D = diag(K)^(-1/2) where the stiffness diagonal is positive (else diag(M)^(-1/2),
+    else 1): a symmetric scaling that gives every coordinate unit diagonal stiffness."""
+    k = np.asarray(K.diagonal() if hasattr(K, "diagonal") else np.diag(K), dtype=float)
+    m = np.asarray(M.diagonal() if hasattr(M, "diagonal") else np.diag(M), dtype=float)
+    d = np.where(k > 0, k, np.where(m > 0, m, 1.0))
+    return np.asarray(1.0 / np.sqrt(d))
+
+
+def _sparse_diagonal(d: np.ndarray) -> Any:
+    import scipy.sparse as sp
+
+    return sp.diags(d, format="csr")
+
+
+def symmetric(a: Matrix) -> bool:
+    """Whether ``a`` (dense or sparse) equals its transpose to 1e-12 of its largest entry."""
+    diff = a - a.T
+    size = abs(diff).max() if hasattr(diff, "toarray") else np.abs(diff).max(initial=0.0)
+    scale = abs(a).max() if hasattr(a, "toarray") else np.abs(a).max(initial=0.0)
+    return bool(size <= 1e-12 * scale)
+
+
+def _ritz_basis(M: Matrix, K: Matrix, B: np.ndarray, cut: float, levels: int, lu: SuperLU
+                ) -> np.ndarray:
+    """The modes below ``cut`` and ``levels`` load-dependent Ritz blocks
+    (K^-1 B, K^-1 M K^-1 B, ...: the static and quasi-static response of the modes
+    above), orthonormalized."""
+    phi = modes_below(K, M, lu, cut, MAX_MODES) if M.shape[0] > 2 else np.zeros((M.shape[0], 0))
+    loads = np.hstack([B.real, B.imag])
+    X = lu.solve(loads[:, np.abs(loads).max(axis=0) > 0])
+    blocks = [phi]
+    for _ in range(levels):
+        X = X - phi @ (phi.T @ (M @ X))
+        blocks.append(X)
+        X = lu.solve(M @ X)
+    Q, R = np.linalg.qr(np.hstack(blocks))
+    d = np.abs(np.diag(R))
+    return np.asarray(Q[:, d > 1e-12 * d.max()])
+
+
+def modal_ritz_basis(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, top: float, rows: list[int],
+                 tol: float, deadline: Deadline) -> tuple[np.ndarray, float] | None:
+    """A basis of modes and load-dependent Ritz vectors whose transfer to ``rows`` meets
+    ``tol`` at check frequencies over the band (exact sparse solves there); the largest
+    error seen, or None when no basis of at most :data:`MAX_MODES` modes meets it."""
+    D = _scaling(M, K)  # deflections and slopes of a beam differ in scale by far
+    Ds = _sparse_diagonal(D)
+    M, K, B = Ds @ M @ Ds, Ds @ K @ Ds, D[:, None] * B
+    C = None if C is None else Ds @ C @ Ds
+    lu = factor_stiffness(K, M, top)
+    checks = np.linspace(0.0, top, CHECKS)
+    exact = [transfer_at(M, C, K, B, w)[rows] for w in checks]
+    scale = max(float(np.abs(t).max()) for t in exact)
+    previous = np.inf
+    for cut, levels in ((4 * top, 2), (8 * top, 3), (16 * top, 4)):
+        deadline.check("while building the reduced model of the linear part", analysis=True)
+        V = _ritz_basis(M, K, B, cut, levels, lu)
+        Mr, Kr, Br = V.T @ (M @ V), V.T @ (K @ V), V.T @ B
+        Cr = V.T @ (C @ V) if C is not None else np.zeros_like(Mr)
+        error = max(float(np.abs(V[rows] @ np.linalg.solve(Kr - w * w * Mr + 1j * w * Cr, Br)
+                                 - t).max()) for w, t in zip(checks, exact)) / scale
+        # met, or a larger basis no longer helps: the rounding floor of the exact solves
+        # of an ill-conditioned K (then accepted up to 100 tol, said in the warning)
+        if error <= tol or (error >= 0.5 * previous and error <= 100 * tol):
+            return D[:, None] * V, error
+        previous = error
+    return None
+
+
+def transfer_at(M: Matrix, C: Matrix | None, K: Matrix, B: np.ndarray, w: float
+                ) -> np.ndarray:
+    """(K - w^2 M + i w C)^-1 B at one frequency by one sparse LU: the exact reference a
+    reduced basis is checked against.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> K, M = sp.diags([4.0, 9.0]), sp.identity(2)
+    >>> transfer_at(M, None, K, np.eye(2), 1.0).real.diagonal().round(6).tolist()
+    [0.333333, 0.125]
+    """
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import splu
+
+    A = sp.csc_matrix(K - w * w * M + (1j * w * C if C is not None else 0 * M))
+    return np.asarray(splu(A).solve(B))
 
 
 __all__ = ["reduced_response", "ReducedResponse", "reduced_model", "ReducedModel",
