@@ -33,7 +33,7 @@ def sweep_auto(s, w):
 def test_same_method_with_a_busy_core(name, monkeypatch):
     monkeypatch.setattr(kernel, "REDUCED_WORTH", 0.0)   # small models: try reduced anyway
     s = corpus.build(name, 900 if name == "grid" else 481)
-    w = np.linspace(*s.band, 200)
+    w = np.linspace(*s.band, 80)
     idle = sweep_auto(s, w)
     busy = subprocess.Popen([sys.executable, "-c", "while True: pass"])
     try:
