@@ -45,7 +45,8 @@ from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem, printable
 from ..expressions import numeric_value
-from ..model.load_spec import SHAPES, PeriodicSpec
+from ..model.fourier_shapes import FOURIER_SHAPES, SHAPES
+from ..model.load_spec import PeriodicSpec
 from ..model.random_spec import RandomInput
 from ..system.base import LinearSystem
 from ..tables import ResultTable, number_cell
@@ -100,20 +101,6 @@ class FourierSeries:
         return result
 
 
-def _closed_form(shape: str, A: float, n: np.ndarray) -> tuple[float, np.ndarray, np.ndarray,
-                                                                 float]:
-    """(a0, a_n, b_n, mean square) of a shape."""
-    odd = n % 2 == 1
-    zero = np.zeros(len(n))
-    if shape == "square":
-        return 0.0, zero, np.where(odd, 4 * A / (n * np.pi), 0.0), A * A
-    if shape == "sawtooth":
-        return 0.0, zero, -2 * A / (n * np.pi), A * A / 3
-    if shape == "triangle":
-        return 0.0, np.where(odd, 8 * A / (n * np.pi) ** 2, 0.0), zero, A * A / 3
-    return 2 * A / np.pi, -4 * A / (np.pi * (4 * n**2 - 1)), zero, A * A / 2
-
-
 def _remainders(a0: float, a: np.ndarray, b: np.ndarray, mean_square: float) -> np.ndarray:
     """Relative RMS of the remainder after 1, 2, ... harmonics (Parseval)."""
     kept = a0 * a0 + np.cumsum((a * a + b * b) / 2)
@@ -163,7 +150,9 @@ def fourier_series(shape: str, amplitude: float, period: float, *, tolerance: fl
             raise AnalysisError(f"unknown periodic shape '{shape}'; the shapes are "
                                 f"{', '.join(SHAPES)} (or give the signal as a function)")
         n = np.arange(1, max_harmonics + 1)
-        a0, a, b, mean_square = _closed_form(shape, float(amplitude), n)
+        known = FOURIER_SHAPES[shape]
+        a0, a, b = known.coefficients(float(amplitude), n)
+        mean_square = known.mean_square(float(amplitude))
     else:
         a0, a, b, mean_square = _sampled(function, period, tolerance, max_harmonics)
     if not math.isfinite(mean_square):

@@ -60,13 +60,11 @@ from typing import Any
 
 from ..errors import Problem, printable
 from ..expressions import Expression, ExpressionError, parse
+from .fourier_shapes import SHAPES
 from .limits import MAX_FREQUENCY_HZ
 from .pulses import PULSES
 from .units import Dimension, ModelUnits, UnitError, parse_unit
 
-#: the periodic shapes of ``[periodic]`` with closed-form Fourier coefficients
-#: (resonant.analyses.periodic_load)
-SHAPES = ("square", "sawtooth", "triangle", "rectified-sine")
 #: the spectral fatigue methods of ``[fatigue]`` (resonant.analyses.fatigue)
 FATIGUE_METHODS = ("narrowband", "dirlik", "tovo-benasciutti")
 #: the keys of ``[shock]`` and ``[fatigue]``

@@ -18,6 +18,7 @@ from ...analyses.simulate import history_chart
 from ...analyses.transient import shock_response
 from ...errors import ResonantError
 from ...expressions.notation import number_latex
+from ...model.fourier_shapes import FOURIER_SHAPES
 from ...model.pulses import PULSE_KINDS
 from ...model.units import Dimension
 from ...model.units_display import result_units
@@ -33,16 +34,11 @@ DRAWN_RESPONSES = 4
 #: natural frequencies of the shock response spectrum's oscillators
 SRS_POINTS = 80
 
-_SERIES = {
-    "square": r"b_{n} = \frac{4A}{n\pi}\ (n\ \text{odd}),\quad a_{0} = a_{n} = 0",
-    "sawtooth": r"b_{n} = -\frac{2A}{n\pi},\quad a_{0} = a_{n} = 0",
-    "triangle": r"a_{n} = \frac{8A}{(n\pi)^{2}}\ (n\ \text{odd}),\quad a_{0} = b_{n} = 0",
-    "rectified-sine": r"a_{0} = \frac{2A}{\pi},\quad a_{n} = -\frac{4A}{\pi(4n^{2} - 1)},"
-                      r"\quad b_{n} = 0",
-}
-_SHAPES = {"square": "a square wave", "sawtooth": "a sawtooth",
-           "triangle": "a triangle wave", "rectified-sine": "a full-wave rectified sine",
-           "expression": "the model's expression over one period"}
+def _shape_description(shape: str) -> str:
+    known = FOURIER_SHAPES.get(shape)
+    if known is not None:
+        return known.description
+    return "the model's expression over one period" if shape == "expression" else shape
 
 
 def _n(value: float) -> str:
@@ -74,7 +70,7 @@ def periodic_load(ctx: Context) -> list[Block]:
     series = result.series
     s = _signal(ctx, spec.signal, spec.derivative)
     blocks.append(paragraph(
-        "The load ", _m(s), f" is {_SHAPES.get(series.shape, series.shape)} of "
+        "The load ", _m(s), f" is {_shape_description(series.shape)} of "
         "period ", _m(rf"T = {_n(series.period)}\ \mathrm{{s}}"),
         *((" and amplitude ", _m(f"A = {_n(spec.amplitude)}"))
           if spec.expression is None else ()),
@@ -83,9 +79,9 @@ def periodic_load(ctx: Context) -> list[Block]:
         s + r" = a_{0} + \sum_{n=1}^{H} \left(a_{n}\cos n\Omega t + b_{n}\sin n\Omega t"
         rf"\right),\quad \Omega = \frac{{2\pi}}{{T}} = {_n(2 * np.pi / series.period)}"
         r"\ \mathrm{rad/s},", label="fourier"))
-    if series.shape in _SERIES:
+    if series.shape in FOURIER_SHAPES:
         blocks.append(paragraph("with the coefficients of the shape"))
-        blocks.append(ctx.equation(_SERIES[series.shape] + "."))
+        blocks.append(ctx.equation(FOURIER_SHAPES[series.shape].latex + "."))
     else:
         blocks.append(paragraph("its coefficients from samples of one period (FFT)."))
     blocks.append(paragraph(
