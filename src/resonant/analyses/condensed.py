@@ -919,7 +919,7 @@ def default_samples(elements: Sequence[NonlinearElement], harmonics: int) -> int
     120
     """
     smooth = max(64, 8 * (2 * harmonics + 1))
-    if any(e.kind in ("gap", "friction") for e in elements):
+    if any(not e.law.smooth for e in elements):
         return max(NONSMOOTH_SAMPLES, 2 * smooth)
     return smooth
 
@@ -1207,7 +1207,7 @@ def _truncation_warning(hb: CondensedBalance, coeffs: np.ndarray, Ws: np.ndarray
         k, j, w = found
         cause = f"the {_ordinal(k)} harmonic ({k * Ws[worst]:.4g} rad/s) resonates with " \
                 f"mode {j} ({w:.4g} rad/s)"
-    elif any(e.kind in ("gap", "friction") for e in elements.elements):
+    elif any(not e.law.smooth for e in elements.elements):
         cause = "the force of a gap or friction element has kinks, so its harmonics decay " \
                 "slowly"
     return truncation_warning(float(shares[worst]), hb.H, given,

@@ -36,11 +36,41 @@ import sympy
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
 
+
+@dataclass(frozen=True)
+class ElementKind:
+    """A kind of nonlinear element: what its entry takes and what its force is like.
+
+    Parameters
+    ----------
+    name : str
+        Its ``kind`` in a model file.
+    keys : tuple of str
+        The keys its entry takes (besides name, coordinates, kind).
+    smooth : bool
+        Whether its force is a smooth function of the motion (its harmonics decay fast);
+        a gap's or a slider's kinks need more samples and harmonics.
+    description : str
+        How a sentence names it.
+    """
+
+    name: str
+    keys: tuple[str, ...]
+    smooth: bool
+    description: str
+
+
+#: every kind of nonlinear element, by its ``kind`` in a model file
+ELEMENT_KINDS: dict[str, ElementKind] = {kind.name: kind for kind in (
+    ElementKind("force", ("force",), True, "a force expression"),
+    ElementKind("gap", ("gap", "stiffness"), False, "a unilateral contact"),
+    ElementKind("friction", ("stiffness", "slip_force"), False,
+                "an elastic dry-friction (Jenkins) element"),
+)}
 #: the kinds of nonlinear element
-KINDS = ("force", "gap", "friction")
+KINDS = tuple(ELEMENT_KINDS)
 #: the keys each kind takes (besides name, coordinates, kind)
-KIND_KEYS = {"force": ("force",), "gap": ("gap", "stiffness"),
-             "friction": ("stiffness", "slip_force")}
+KIND_KEYS = {name: kind.keys for name, kind in ELEMENT_KINDS.items()}
 #: most [[nonlinear]] entries of one model (the condensed harmonic balance grows with them)
 MAX_ELEMENTS = 200
 
@@ -77,6 +107,11 @@ class NonlinearElement:
     @property
     def section(self) -> str:
         return f"nonlinear '{self.name}'"
+
+    @property
+    def law(self) -> ElementKind:
+        """Its kind's entry (:data:`ELEMENT_KINDS`)."""
+        return ELEMENT_KINDS[self.kind]
 
 
 def _finite(expression: Expression) -> bool:
@@ -227,4 +262,5 @@ def read_nonlinear_elements(entries: object, params: Sequence[str], coordinates:
     return tuple(out)
 
 
-__all__ = ["NonlinearElement", "read_nonlinear_elements", "KINDS", "MAX_ELEMENTS"]
+__all__ = ["NonlinearElement", "read_nonlinear_elements", "KINDS", "MAX_ELEMENTS",
+           "ELEMENT_KINDS", "ElementKind"]

@@ -33,7 +33,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -42,6 +42,10 @@ import sympy
 from ..errors import AnalysisError
 from ..expressions import compilable, numeric_value
 from ..model.nonlinear_elements import NonlinearElement
+
+#: a law's force (N,), its derivative along the directions (N, c) or None, and its tangent
+#: stiffness (N,) at the samples of a relative displacement
+_Law = tuple[np.ndarray, np.ndarray | None, np.ndarray]
 
 
 def _rate(name: str) -> sympy.Symbol:
@@ -105,6 +109,9 @@ class ElementForces:
         self._compiled = [_Expression(e, self.params) if e.kind == "force" else None
                           for e in self.elements]
         self.hysteretic = any(e.kind == "friction" for e in self.elements)
+        #: the laws of relative displacement, by kind (a force's law is its expression)
+        self._laws: dict[str, Callable[[NonlinearElement, np.ndarray, np.ndarray | None],
+                                       _Law]] = {"gap": self._gap, "friction": self._jenkins}
 
     def with_parameters(self, values: Mapping[str, float]) -> ElementForces:
         """The same elements with other parameter values (no recompilation)."""
@@ -163,14 +170,8 @@ class ElementForces:
                     k = len(loc)
                     g = sum(parts[1 + j][:, None] * dU[loc[j]] for j in range(k)) + \
                         sum(parts[1 + k + j][:, None] * dUd[loc[j]] for j in range(k))
-            elif e.kind == "gap":
-                gap, kc = self._constant(e, "gap"), self._constant(e, "stiffness")
-                closed = u > gap
-                f = np.where(closed, kc * (u - gap), 0.0)
-                if du is not None:
-                    g = np.where(closed[:, None], kc * du, 0.0)
             else:
-                f, g = self._friction(e, u, du)
+                f, g, _ = self._laws[e.kind](e, u, du)
             F[loc[0]] += f
             if len(loc) == 2:
                 F[loc[1]] -= f
@@ -179,6 +180,19 @@ class ElementForces:
                 if len(loc) == 2:
                     dF[loc[1]] -= g
         return F, dF
+
+    def _gap(self, e: NonlinearElement, u: np.ndarray, du: np.ndarray | None) -> _Law:
+        """A contact: kc (u - g) while u exceeds the clearance g."""
+        gap, kc = self._constant(e, "gap"), self._constant(e, "stiffness")
+        closed = u > gap
+        along = None if du is None else np.where(closed[:, None], kc * du, 0.0)
+        return np.where(closed, kc * (u - gap), 0.0), along, np.where(closed, kc, 0.0)
+
+    def _jenkins(self, e: NonlinearElement, u: np.ndarray, du: np.ndarray | None) -> _Law:
+        """The Jenkins element: its tangent kt while it sticks, zero while it slips."""
+        f, along = self._friction(e, u, du)
+        fs, kt = self._constant(e, "slip_force"), self._constant(e, "stiffness")
+        return f, along, np.where(np.abs(f) < fs * (1 - 1e-12), kt, 0.0)
 
     def _friction(self, e: NonlinearElement, u: np.ndarray, du: np.ndarray | None
                   ) -> tuple[np.ndarray, Any]:
@@ -224,17 +238,7 @@ class ElementForces:
                         G0[loc[a], loc[b]] += sign[a] * parts[1 + b]
                         G1[loc[a], loc[b]] += sign[a] * parts[1 + k + b]
                 continue
-            u = self._relative(loc, U)
-            if e.kind == "gap":
-                gap, kc = self._constant(e, "gap"), self._constant(e, "stiffness")
-                closed = u > gap
-                f = np.where(closed, kc * (u - gap), 0.0)
-                t = np.where(closed, kc, 0.0)
-            else:
-                f, _ = self._friction(e, u, None)
-                fs = self._constant(e, "slip_force")
-                kt = self._constant(e, "stiffness")
-                t = np.where(np.abs(f) < fs * (1 - 1e-12), kt, 0.0)
+            f, _, t = self._laws[e.kind](e, self._relative(loc, U), None)
             for a in range(k):
                 F[loc[a]] += sign[a] * f
                 for b in range(k):
