@@ -43,6 +43,7 @@ from ..modal import point_state_eigenvalues
 from ..model.units_display import HZ, ResultUnits, result_units, shown_vector, uniform, units_grid
 from ..system.base import LinearSystem, NumericEOM, NumericHarmonic
 from ..system.batch import check_finite
+from ..system.output_map import output_map
 from ..system.stability import (
     UNSTABLE,
     classify,
@@ -277,29 +278,16 @@ def _harmonic_from(saved: Saved, n: int) -> HarmonicResponse:
 
 def _output_pairs(eom: NumericEOM, responses: tuple[HarmonicResponse, ...]
                   ) -> dict[str, tuple[tuple[float, float], ...]]:
-    index = {q: i for i, q in enumerate(eom.coordinates)}
-    out: dict[str, tuple[tuple[float, float], ...]] = {}
-    for i, q in enumerate(eom.coordinates):
-        out[q] = tuple((float(r.L[i]), float(r.N[i])) for r in responses)
-    for name, output in eom.outputs.items():
-        pairs = []
-        for r, h in zip(responses, eom.harmonics):
-            L = N = 0.0
-            w = r.omega
-            for (var, order), coef in output.terms.items():
-                if var in index:
-                    lt, nt = r.L[index[var]], r.N[index[var]]
-                    # d/dt maps (L, N) -> (w N, -w L)
-                    for _ in range(order):
-                        lt, nt = w * nt, -w * lt
-                else:
-                    s, c = h.signals.get((var, order), (0.0, 0.0))
-                    lt, nt = c, s
-                with np.errstate(all="ignore"):  # an overflow is caught with the result
-                    L += coef * lt
-                    N += coef * nt
-            pairs.append((float(L), float(N)))
-        out[name] = tuple(pairs)
+    """(L, N) of every coordinate and output at each frequency (z = L - i N)."""
+    out: dict[str, tuple[tuple[float, float], ...]] = {
+        q: tuple((float(r.L[i]), float(r.N[i])) for r in responses)
+        for i, q in enumerate(eom.coordinates)}
+    outputs = output_map(eom.outputs, eom.coordinates)
+    y = [outputs.harmonic(r.omega, r.L - 1j * r.N,
+                          {v: c - 1j * s for v, (s, c) in h.signals.items()})
+         for r, h in zip(responses, eom.harmonics)]
+    for j, name in enumerate(outputs.names):
+        out[name] = tuple((float(each[j].real), float(-each[j].imag)) for each in y)
     return out
 
 

@@ -30,6 +30,7 @@ from ..modal import state_matrix
 from ..model import TIME, symbol
 from ..system.base import LinearSystem, NumericEOM
 from ..system.nonlinear import NonlinearSystem
+from ..system.output_map import output_map
 
 #: most right-hand-side evaluations of one run (all attempts together): beyond it the run
 #: stops with exit 3 and the time reached (about 100 s and 200 MB for a small system)
@@ -98,21 +99,12 @@ class LinearDynamics:
         self._q = _lambdify(list(equations.Q), [TIME, *params]) if equations.excitation \
             else None
         signals = equations.signal_functions
-        self.outputs: dict[str, list[tuple[tuple[str, int], float]]] = {}
-        self.unsupported: list[str] = []
-        needed_signals = []
-        index = {c: i for i, c in enumerate(num.coordinates)}
-        for name, out in num.outputs.items():
-            terms = list(out.terms.items())
-            for (var, order), _ in terms:
-                if var in index and order > 2:
-                    self.unsupported.append(name)
-                elif var not in index:
-                    needed_signals.append((var, order))
-            self.outputs[name] = terms
-        self.outputs = {k: v for k, v in self.outputs.items() if k not in self.unsupported}
-        self.index = index
-        self.signal_vars = sorted(set(needed_signals))
+        every = output_map(num.outputs, num.coordinates)
+        # the integration gives q, q' and q'': an output of a higher derivative is left out
+        self.unsupported = [n for n, k in zip(every.names, every.orders) if k > 2]
+        self.outputs = output_map(num.outputs, num.coordinates,
+                                  [n for n in every.names if n not in self.unsupported])
+        self.signal_vars = list(self.outputs.signals)
         self._signals = _lambdify([signals[v] for v in self.signal_vars], [TIME, *params]) \
             if self.signal_vars else None
 
@@ -139,19 +131,9 @@ class LinearDynamics:
         """Deviations (n, N) of the coordinates and the outputs at the samples."""
         q, v = Y[:self.n], Y[self.n:]
         a = self.Minv @ (self.forcing(t) - self.C @ v - self.K @ q)
-        derivs = (q, v, a)
         sig = _stack(self._signals(t, *self.pvals), t.shape) if self._signals else None
-        outputs = {}
-        for name, terms in self.outputs.items():
-            y = np.zeros_like(t)
-            for (var, order), coef in terms:
-                if var in self.index:
-                    y = y + coef * derivs[order][self.index[var]]
-                else:
-                    assert sig is not None  # a term not on a coordinate is on a signal
-                    y = y + coef * sig[self.signal_vars.index((var, order))]
-            outputs[name] = y
-        return q, outputs
+        y = self.outputs.history((q, v, a), sig)
+        return q, {name: y[j] for j, name in enumerate(self.outputs.names)}
 
 
 class NonlinearDynamics:
