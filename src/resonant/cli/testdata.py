@@ -7,7 +7,7 @@
 * ``resonant correlate MODEL FRFS``: the identified modes against the model's (MAC, pairs,
   frequency errors);
 * ``resonant update MODEL FRFS --vary NAME=LOW:HIGH ...``: parameters fitted to the
-  identified frequencies and shapes.
+  identified frequencies and shapes, or (``--fit frf``) to the measured FRFs themselves.
 
 Each takes ``--json`` and ``--plot FILE``.
 """
@@ -25,6 +25,7 @@ import resonant.cli.common as cli
 
 from ..analyses.correlate import correlate
 from ..analyses.frf_estimate import ESTIMATORS, WINDOWS, frf_from_measurement, model_frf
+from ..analyses.frf_update import RESIDUALS, update_to_frf
 from ..analyses.identify import ModalIdentification, identify_modes
 from ..analyses.model_update import update_parameters
 from ..deadline import Deadline
@@ -83,7 +84,13 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
                                  help="a parameter and its bounds, e.g. 'k1=500 N/m:2 kN/m' "
                                       "(repeatable)")
             command.add_argument("--sigma", type=cli.number(0, open_low=True), metavar="S",
-                                 help="the measured frequencies' relative standard deviation")
+                                 help="the measured frequencies' relative standard deviation "
+                                      "(with --fit frf: the FRFs' relative magnitude noise)")
+            command.add_argument("--fit", choices=("modes", "frf"), default="modes",
+                                 help="fit the identified modes (default) or the measured "
+                                      "FRFs themselves at their lines")
+            command.add_argument("--residual", choices=RESIDUALS, default="log",
+                                 help="with --fit frf: log-magnitude or complex residuals")
         _outputs(command)
         command.set_defaults(run=run)
 
@@ -213,10 +220,45 @@ def _bounds(items: list[str]) -> Mapping[str, tuple[str, str]]:
     return bounds
 
 
+def _measured_frfs(args: argparse.Namespace, model: Model
+                   ) -> tuple[MeasurementSpec, np.ndarray, dict[str, np.ndarray],
+                              dict[str, str]]:
+    """The spec, the lines (within the band, above 0 Hz) and each channel's measured FRF."""
+    spec = _spec(model)
+    if not spec.input:
+        raise ModelError(Problem("fitting FRFs needs the input they are measured to",
+                                 model.source, "measurement", "input"))
+    data = _read(args.frfs)
+    frfs = {f.name: f for f in data.functions if f.kind == "frf"}
+    if not frfs:
+        raise ModelError(Problem("the file holds no FRF (dataset 58, function type 4)",
+                                 data.source))
+    match_channels(MeasurementSpec("", spec.input, spec.channels), list(frfs), model.source,
+                   data.source)
+    f = np.asarray(frfs[next(iter(spec.channels))].abscissa)
+    band = _band_of(args) or (0.0, float("inf"))
+    lines = (f >= band[0]) & (f <= band[1]) & (f > 0)
+    if not lines.any():
+        raise ModelError(Problem("no spectral line in the band", data.source))
+    if any(len(frfs[c].ordinate) != len(f) for c in spec.channels):
+        raise ModelError(Problem("the FRFs of the channels have different lines",
+                                 data.source))
+    return spec, f[lines], {c: np.asarray(frfs[c].ordinate)[lines] for c in spec.channels}, \
+        {c: frfs[c].ordinate_unit for c in spec.channels}
+
+
 def run_update(args: argparse.Namespace) -> int:
     deadline = cli.deadline(args)
     model = cli.load_model(args)
     bounds = _bounds(args.vary)
+    if args.fit == "frf":
+        spec, lines, measured, units = _measured_frfs(args, model)
+        fitted = update_to_frf(linear_system(model, deadline), bounds, lines, measured,
+                               spec.input, spec.channels, residual=args.residual,
+                               sigma=args.sigma, units=units, deadline=deadline)
+        if args.plot:
+            fitted.plot(args.plot)
+        return _emit(fitted, args, fitted.summary(), fitted.warnings)
     spec, identified = _identified(args, model, deadline)
     result = update_parameters(linear_system(model, deadline), bounds, identified.frequency,
                                target_shapes=identified.shapes, channels=spec.channels,
