@@ -409,6 +409,7 @@ def update_to_frf(system: LinearSystem, parameters: Mapping[str, tuple[Any, Any]
                   frequency: Sequence[float] | np.ndarray, measured: Mapping[str, Any],
                   signal: str, channels: Mapping[str, ChannelMap], *, residual: str = "log",
                   sigma: float | None = None, units: Mapping[str, str] | None = None,
+                  start: Mapping[str, float] | None = None,
                   deadline: Deadline = NO_DEADLINE) -> FRFUpdate:
     """Fit parameters within bounds to measured FRFs at their lines.
 
@@ -432,6 +433,9 @@ def update_to_frf(system: LinearSystem, parameters: Mapping[str, tuple[Any, Any]
         The residuals' standard deviation (log: the relative magnitude noise).
     units : mapping, optional
         Channel -> its FRF's unit (for the figure's labels).
+    start : mapping, optional
+        name -> the value (SI) the fit starts from (default the model's), clipped into the
+        bounds: one start of a multi-start (:mod:`resonant.studies.multi_start`).
     deadline : Deadline, optional
 
     Returns
@@ -462,19 +466,20 @@ def update_to_frf(system: LinearSystem, parameters: Mapping[str, tuple[Any, Any]
     bounds = parameter_bounds(system, parameters, model_values)
     names = list(bounds)
     problem = _FRFProblem(system, names, f, rows, signal, channels, residual, deadline)
-    start = np.array([min(max(float(model_values[n]), bounds[n][0]), bounds[n][1])
-                      for n in names])
+    first = {**model_values, **(start or {})}
+    start_values = np.array([min(max(float(first[n]), bounds[n][0]), bounds[n][1])
+                             for n in names])
     lower = np.log([bounds[n][0] for n in names])
     upper = np.log([bounds[n][1] for n in names])
-    before = problem.frf(start)
-    solution = least_squares(problem.residuals, np.log(start), jac=problem.jacobian,
+    before = problem.frf(start_values)
+    solution = least_squares(problem.residuals, np.log(start_values), jac=problem.jacobian,
                              bounds=(lower, upper), x_scale=1.0, xtol=1e-12, ftol=1e-12,
                              gtol=1e-12)
     fitted = np.exp(solution.x)
     std = log_std(solution.jac, solution.fun, fitted, sigma, len(solution.fun))
     warnings = [f"{n} ended on its bound {fitted[k]:.6g}" for k, n in enumerate(names)
                 if np.isclose(solution.x[k], lower[k]) or np.isclose(solution.x[k], upper[k])]
-    return FRFUpdate(tuple(names), dict(zip(names, start.tolist())),
+    return FRFUpdate(tuple(names), dict(zip(names, start_values.tolist())),
                      dict(zip(names, fitted.tolist())), dict(zip(names, std.tolist())),
                      bounds, f, tuple(channels), rows, before, problem.frf(fitted), residual,
                      tuple((units or {}).get(c, "") for c in channels), float(solution.cost),

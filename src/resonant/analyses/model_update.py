@@ -320,6 +320,7 @@ def update_parameters(system: LinearSystem, parameters: Mapping[str, tuple[Any, 
                       target_shapes: np.ndarray | None = None,
                       channels: Mapping[str, ChannelMap] | None = None,
                       mac_weight: float = 1.0, sigma: float | None = None,
+                      start: Mapping[str, float] | None = None,
                       deadline: Deadline = NO_DEADLINE) -> ModelUpdate:
     """Fit parameters within bounds to measured natural frequencies (and shapes).
 
@@ -340,6 +341,9 @@ def update_parameters(system: LinearSystem, parameters: Mapping[str, tuple[Any, 
         The weight of the (1 - MAC) residuals.
     sigma : float, optional
         The measured frequencies' relative standard deviation (for the uncertainty).
+    start : mapping, optional
+        name -> the value (SI) the fit starts from (default the model's), clipped into the
+        bounds: one start of a multi-start (:mod:`resonant.studies.multi_start`).
     deadline : Deadline, optional
 
     Returns
@@ -371,21 +375,23 @@ def update_parameters(system: LinearSystem, parameters: Mapping[str, tuple[Any, 
                                      system.source, "update"))
         rows = [num.coordinates.index(c.name) for c in channels.values()]
     problem = _Problem(system, names, target, shapes, rows, mac_weight, deadline)
-    start = np.array([min(max(float(model_values[n]), bounds[n][0]), bounds[n][1])
-                      for n in names])
+    first = {**model_values, **(start or {})}
+    start_values = np.array([min(max(float(first[n]), bounds[n][0]), bounds[n][1])
+                             for n in names])
     lower = np.log([bounds[n][0] for n in names])
     upper = np.log([bounds[n][1] for n in names])
-    solution = least_squares(problem.residuals, np.log(start), jac=problem.jacobian,
+    solution = least_squares(problem.residuals, np.log(start_values), jac=problem.jacobian,
                              bounds=(lower, upper), x_scale=1.0, xtol=1e-12, ftol=1e-12,
                              gtol=1e-12)
     fitted = np.exp(solution.x)
     std = log_std(solution.jac, solution.fun, fitted, sigma, len(target))
-    correlation = _correlations(problem, start, fitted) if shapes is not None else (None, None)
+    correlation = _correlations(problem, start_values, fitted) if shapes is not None \
+        else (None, None)
     warnings = [f"{n} ended on its bound {fitted[k]:.6g}" for k, n in enumerate(names)
                 if np.isclose(solution.x[k], lower[k]) or np.isclose(solution.x[k], upper[k])]
-    return ModelUpdate(tuple(names), dict(zip(names, start.tolist())),
+    return ModelUpdate(tuple(names), dict(zip(names, start_values.tolist())),
                        dict(zip(names, fitted.tolist())), dict(zip(names, std.tolist())),
-                       bounds, target, problem.modes(start)[0], problem.modes(fitted)[0],
+                       bounds, target, problem.modes(start_values)[0], problem.modes(fitted)[0],
                        correlation[0], correlation[1], float(solution.cost),
                        str(solution.message), tuple(warnings))
 

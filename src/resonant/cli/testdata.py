@@ -33,6 +33,8 @@ from ..errors import ModelError, Problem, printable
 from ..model.measured import MeasuredData, read_histories, read_uff, write_uff
 from ..model.measurement_spec import MeasurementSpec, match_channels
 from ..model.types import Model
+from ..studies.engine import engine_for
+from ..studies.multi_start import MAX_STARTS, multi_start_update
 from ..system.build import linear_system
 
 #: the suffixes read as Universal Files
@@ -91,6 +93,15 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
                                       "FRFs themselves at their lines")
             command.add_argument("--residual", choices=RESIDUALS, default="log",
                                  help="with --fit frf: log-magnitude or complex residuals")
+            command.add_argument("--starts", type=cli.integer(1, MAX_STARTS), default=1,
+                                 metavar="N", help="start from the model's values and N - 1 "
+                                 "further points in the bounds (on the study engine), keep "
+                                 "the best")
+            where = command.add_mutually_exclusive_group()
+            where.add_argument("--workers", type=cli.integer(0, 1024), metavar="N",
+                               help="with --starts: local worker processes (0: this one)")
+            where.add_argument("--scheduler", metavar="ADDRESS",
+                               help="with --starts: a running Dask scheduler, tcp://HOST:PORT")
         _outputs(command)
         command.set_defaults(run=run)
 
@@ -247,10 +258,34 @@ def _measured_frfs(args: argparse.Namespace, model: Model
         {c: frfs[c].ordinate_unit for c in spec.channels}
 
 
+def _run_multi_start(args: argparse.Namespace, model: Model,
+                     bounds: Mapping[str, tuple[str, str]], deadline: Deadline) -> int:
+    data: dict[str, object]
+    if args.fit == "frf":
+        spec, lines, measured, units = _measured_frfs(args, model)
+        data = {"frequency": lines, "measured": measured, "signal": spec.input,
+                "channels": spec.channels, "residual": args.residual, "sigma": args.sigma,
+                "units": units}
+        warnings: tuple[str, ...] = ()
+    else:
+        spec, identified = _identified(args, model, deadline)
+        data = {"target_frequency": identified.frequency, "target_shapes": identified.shapes,
+                "channels": spec.channels, "sigma": args.sigma}
+        warnings = identified.warnings
+    result = multi_start_update(model, bounds, args.fit, data, starts=args.starts,
+                                engine=engine_for(args.workers, args.scheduler,
+                                                  deadline=deadline), deadline=deadline)
+    if args.plot:
+        result.best.plot(args.plot)
+    return _emit(result, args, result.summary(), warnings + result.warnings)
+
+
 def run_update(args: argparse.Namespace) -> int:
     deadline = cli.deadline(args)
     model = cli.load_model(args)
     bounds = _bounds(args.vary)
+    if args.starts > 1:
+        return _run_multi_start(args, model, bounds, deadline)
     if args.fit == "frf":
         spec, lines, measured, units = _measured_frfs(args, model)
         fitted = update_to_frf(linear_system(model, deadline), bounds, lines, measured,
