@@ -27,6 +27,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import resonant
+from conftest import run_cli
 from resonant.analyses.frf_estimate import estimate_frf
 from resonant.analyses.frf_mimo import MIMOFRF, estimate_frf_matrix
 from resonant.analyses.frf_update import model_frf
@@ -68,14 +69,19 @@ def _hit(t: np.ndarray, start: float, width: float) -> np.ndarray:
                     100 * np.sin(np.pi * (t - start) / width), 0.0)
 
 
-def test_two_input_impacts_give_the_model_frf_matrix(system):
+@pytest.fixture(scope="module")
+def impact_test(system):
     fs, n = 64.0, 1536                    # 24 s records: the slowest mode decays by exp(-19)
     t = np.arange(n) / fs
     pattern = [((0.10, 0.02), (0.30, 0.015)), ((0.25, 0.012), (0.05, 0.02)),
                ((0.05, 0.018), (0.07, 0.01))]
     forces = {"F": np.concatenate([_hit(t, *a) for a, _ in pattern]),
               "x1": np.concatenate([_hit(t, *b) for _, b in pattern])}
-    y = respond(system, forces, 1 / fs)
+    return fs, n, forces, respond(system, forces, 1 / fs)
+
+
+def test_two_input_impacts_give_the_model_frf_matrix(system, impact_test):
+    fs, n, forces, y = impact_test
     r = estimate_frf_matrix(forces, y, 1 / fs, window="rectangular", segment=n,
                             band=(0.5, 12.0))
     assert r.averages == 3 and r.H.shape == (len(r.frequency), 3, 2)
@@ -85,6 +91,39 @@ def test_two_input_impacts_give_the_model_frf_matrix(system):
             error = np.abs(r.frf(name, source) / expected[name] - 1)
             assert error.max() < 1e-6, (source, name, error.max())
     np.testing.assert_allclose(r.coherence, 1.0, atol=1e-9)
+
+
+def test_two_inputs_from_the_measurement_section(impact_test, tmp_path):
+    fs, n, forces, y = impact_test
+    text = open("examples/chain3_lab.toml").read().replace(
+        'excitation = "hammer"\ninput = "F"',
+        'excitation = ["hammer", "shaker"]\ninput = ["F", "x1"]')
+    model = tmp_path / "two_inputs.toml"
+    model.write_text(text)
+    spec = resonant.load(str(model)).measurement_section
+    assert spec.references == (("hammer", "F"), ("shaker", "x1"))
+    columns = [np.arange(3 * n) / fs, forces["F"], forces["x1"], *(y[c] for c in CHANNELS)]
+    csv = tmp_path / "test.csv"
+    np.savetxt(csv, np.column_stack(columns), fmt="%.17g", delimiter=",",
+               header="time,hammer,shaker,d1,d2,d3", comments="")
+    status, out, err = run_cli(["frf", model, csv, "--window", "rectangular", "--segment",
+                                str(n), "--from", "0.5", "--to", "12", "--json"])
+    assert status == 0, err
+    saved = MIMOFRF.from_dict(json.loads(out))
+    direct = estimate_frf_matrix(forces, y, 1 / fs, window="rectangular", segment=n,
+                                 band=(0.5, 12.0))
+    assert saved.inputs == ("hammer", "shaker") and saved.outputs == ("d1", "d2", "d3")
+    np.testing.assert_allclose(saved.H, direct.H, rtol=1e-9)
+    status, _, err = run_cli(["frf", model, csv, "--estimator", "H2"])
+    assert status == 2 and "the H1 matrix" in err
+    for bad, match in (('excitation = ["hammer", "shaker"]\ninput = ["F"]',
+                        "2 excitation channels for 1 inputs"),
+                       ('excitation = ["hammer", "hammer"]\ninput = ["F", "x1"]',
+                        "a list of 1 to 16 distinct ones")):
+        model.write_text(text.replace('excitation = ["hammer", "shaker"]\ninput = ["F", "x1"]',
+                                      bad))
+        status, _, err = run_cli(["frf", model, csv])
+        assert status == 2 and "[measurement]" in err and match in err, err
 
 
 def test_two_random_inputs_with_output_noise(system):

@@ -43,10 +43,13 @@ from ..charts import COLORS, Chart, Charted, Charts, Curve, charts_svg
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..memory import require
+from ..model.measured import MeasuredData
+from ..model.measurement_spec import MeasurementSpec, match_channels
 from .frf_estimate import _band_lines, _clipping, _frames, _samples, _windows
 from .results_json import Saved, complex_json, floats_json
 
-__all__ = ["MIMOFRF", "estimate_frf_matrix", "CONDITION_WARNING", "CONDITION_LIMIT"]
+__all__ = ["MIMOFRF", "estimate_frf_matrix", "frf_matrix_from_measurement",
+           "CONDITION_WARNING", "CONDITION_LIMIT"]
 
 #: condition numbers of G_xx above which a line's separation is warned about
 CONDITION_WARNING = 1e4
@@ -313,3 +316,46 @@ def estimate_frf_matrix(excitations: Mapping[str, np.ndarray | Sequence[float]],
                         + (", NaN where singular" if np.isnan(H).any() else ""))
     return MIMOFRF(f, tuple(inputs), tuple(outputs), H, coherence, condition,
                    windows.text, averages, segment, float(step), tuple(warnings))
+
+
+def frf_matrix_from_measurement(data: MeasuredData, spec: MeasurementSpec, source: str = "",
+                                **options: Any) -> MIMOFRF:
+    """The H1 matrix of the channels of a ``[measurement]`` section with several inputs.
+
+    Parameters
+    ----------
+    data : MeasuredData
+        Time histories of the excitation and response channels.
+    spec : MeasurementSpec
+        Its ``references`` (the excitation channels) and ``channels``.
+    source : str
+        The model file (for the messages).
+    **options
+        As :func:`estimate_frf_matrix` (window, segment, overlap, force_window,
+        exponential, band, deadline).
+
+    Returns
+    -------
+    MIMOFRF
+        Its inputs named by the excitation channels, in the section's order.
+
+    Raises
+    ------
+    ModelError
+        When a channel is missing or is not a time history, or as
+        :func:`estimate_frf_matrix`.
+    """
+    match_channels(spec, data.names, source, data.source)
+    references = [r[0] for r in spec.references] or [spec.excitation]
+    if not all(references):
+        raise ModelError(Problem("name the excitation channels to estimate FRFs from time "
+                                 "histories", source, "measurement", "excitation"))
+    functions = {name: data.function(name) for name in [*references, *spec.channels]}
+    for name, f in functions.items():
+        if f.kind != "time":
+            raise ModelError(Problem(f"channel '{printable(name, limit=40)}' is a {f.kind} "
+                                     "function, not a time history", data.source))
+    step = functions[references[0]].step
+    return estimate_frf_matrix({r: functions[r].ordinate for r in references},
+                               {c: functions[c].ordinate for c in spec.channels}, step,
+                               **options)

@@ -2,6 +2,7 @@
 
 * ``resonant frf MODEL DATA``: FRFs (H1, H2, Hv) of the channels from time histories
   (a Universal File, CSV, .npy or .npz), beside the model's; ``--save FILE.uff`` writes them;
+  with several inputs in ``[measurement]``, the H1 matrix;
 * ``resonant identify MODEL FRFS``: modes by LSCF and LSFD from the FRFs of a Universal
   File, with the stabilization chart;
 * ``resonant correlate MODEL FRFS``: the identified modes against the model's (MAC, pairs,
@@ -25,6 +26,7 @@ import resonant.cli.common as cli
 
 from ..analyses.correlate import correlate
 from ..analyses.frf_estimate import ESTIMATORS, WINDOWS, frf_from_measurement, model_frf
+from ..analyses.frf_mimo import frf_matrix_from_measurement
 from ..analyses.frf_update import RESIDUALS, update_to_frf
 from ..analyses.identify import ModalIdentification, identify_modes
 from ..analyses.model_update import update_parameters
@@ -149,11 +151,29 @@ def _emit(result: object, args: argparse.Namespace, text: str, warnings: tuple[s
     return 0
 
 
+def _run_frf_matrix(args: argparse.Namespace, model: Model, spec: MeasurementSpec,
+                    data: MeasuredData, deadline: Deadline) -> int:
+    """``resonant frf`` with several inputs: the H1 matrix."""
+    if args.estimator != "H1" or args.save:
+        raise ModelError(Problem("with several inputs, resonant frf estimates the H1 matrix "
+                                 "and does not save it (leave out --estimator and --save)",
+                                 model.source, "measurement", "excitation"))
+    result = frf_matrix_from_measurement(
+        data, spec, model.source, window=args.window, segment=args.segment,
+        overlap=args.overlap, force_window=args.force_window, exponential=args.exponential,
+        band=_band_of(args), deadline=deadline)
+    if args.plot:
+        result.plot(args.plot)
+    return _emit(result, args, result.summary(), result.warnings)
+
+
 def run_frf(args: argparse.Namespace) -> int:
     deadline = cli.deadline(args)
     model = cli.load_model(args)
     spec = _spec(model)
     data = _read(args.data)
+    if len(spec.references) > 1:
+        return _run_frf_matrix(args, model, spec, data, deadline)
     result = frf_from_measurement(data, spec, model.source, estimator=args.estimator,
                                   window=args.window, segment=args.segment,
                                   overlap=args.overlap, force_window=args.force_window,
