@@ -16,6 +16,15 @@
   whole (with each order's LSFD shapes for the MAC criterion) against
   ``sdypy.EMA.Model(..., pol_order_high=order // 2).get_poles()``.
 
+* MIMO H1 (``--only mimo``): ``inputs`` independent random inputs and ``channels``
+  responses, Hann segments of 4096 overlapping by half: ``estimate_frf_matrix`` against
+  what a user writes with scipy: ``scipy.signal.csd`` for every input pair and every
+  input-response pair, then ``numpy.linalg.solve`` of G_xx H^T = G_xy at every line.
+* The Universal File check (``--only uff``): a file of ``functions`` ASCII dataset 58
+  records of ``points`` values each; ``resonant.model.uff_bounds.check_uff`` (the scan
+  before pyuff) against ``read_uff`` as a whole (the check, pyuff's parsing and
+  resonant's checks): what the refusal of hostile files costs a good one.
+
 One BLAS thread (threadpoolctl) for both sides.  Reported: median times and their ratio.
 """
 
@@ -29,6 +38,7 @@ from collections.abc import Iterator, Mapping
 import numpy as np
 
 from resonant.analyses.frf_estimate import estimate_frf
+from resonant.analyses.frf_mimo import estimate_frf_matrix
 from resonant.analyses.identify import _lscf_roots, _lscf_sums, identify_modes
 
 
@@ -121,6 +131,65 @@ def bench_lscf(channels: int, lines: int, order: int, repeat: int) -> str:
             f"{med['sums'] / med['sdypy']:.2f})")
 
 
+def bench_mimo(inputs: int, channels: int, samples: int, repeat: int) -> str:
+    from scipy import signal
+
+    rng = np.random.default_rng(0)
+    xs = {f"in{i}": rng.standard_normal(samples) for i in range(inputs)}
+    total = sum(xs.values())
+    ys = Channels(total, channels)
+    estimate_frf_matrix({"a": total[:8192]}, {"y": total[:8192]}, 1e-3, segment=4096)
+    kw = dict(fs=1000.0, window="hann", nperseg=4096, noverlap=2048, detrend=False)
+    ours, theirs = [], []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        mine = estimate_frf_matrix(xs, ys, 1e-3, segment=4096)
+        ours.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        names = list(xs)
+        Gxx = np.array([[signal.csd(xs[a], xs[b], **kw)[1] for b in names] for a in names]
+                       ).transpose(2, 0, 1)
+        reference = {}
+        for name, y in ys.items():
+            Gxy = np.array([signal.csd(xs[a], y, **kw)[1] for a in names]).T
+            reference[name] = np.linalg.solve(Gxx, Gxy[..., None])[..., 0]
+        theirs.append(time.perf_counter() - t0)
+    worst = max(float(np.max(np.abs(mine.H[:, r, :] / reference[n] - 1)))
+                for r, n in enumerate(ys))
+    a, b = statistics.median(ours), statistics.median(theirs)
+    return (f"MIMO H1 {inputs} inputs, {channels} channels x {samples} samples: resonant "
+            f"{a:.2f} s, scipy csd + solve {b:.2f} s (ratio {a / b:.2f}); largest "
+            f"difference {worst:.1e}")
+
+
+def bench_uff_check(functions: int, points: int, repeat: int) -> str:
+    import os
+    import tempfile
+
+    from resonant.model.measured import MeasuredData, MeasuredFunction, read_uff, write_uff
+    from resonant.model.uff_bounds import check_uff
+
+    t = np.arange(points) * 1e-3
+    data = MeasuredData("bench.uff", tuple(
+        MeasuredFunction(f"a{k}", "time", t, np.sin((k + 1) * t), "s", "m/s^2", (k, 3), (0, 0))
+        for k in range(functions)))
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "bench.uff")
+        write_uff(path, data)
+        size = os.path.getsize(path)
+        checks, reads = [], []
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            check_uff(path)
+            checks.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            read_uff(path)
+            reads.append(time.perf_counter() - t0)
+    a, b = statistics.median(checks), statistics.median(reads)
+    return (f"UFF {functions} x {points} points ({size / 2**20:.0f} MiB): check_uff {a:.3f} s, "
+            f"read_uff {b:.2f} s (the check is {100 * a / b:.1f} % of the read)")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--channels", type=int, default=64)
@@ -128,15 +197,24 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--lines", type=int, default=4000)
     parser.add_argument("--order", type=int, default=40)
     parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--only", choices=("h1", "lscf"), help="run one of the two")
+    parser.add_argument("--inputs", type=int, default=2, help="MIMO: the inputs")
+    parser.add_argument("--functions", type=int, default=8, help="UFF: the records")
+    parser.add_argument("--points", type=int, default=100_000, help="UFF: points a record")
+    parser.add_argument("--only", choices=("h1", "lscf", "mimo", "uff"),
+                        help="run one of them (default: h1 and lscf)")
     args = parser.parse_args(argv)
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(1):
-        if args.only != "h1":
-            print(bench_lscf(args.channels, args.lines, args.order, args.repeat))
-        if args.only != "lscf":
-            print(bench_h1(args.channels, args.samples, args.repeat))
+        if args.only == "mimo":
+            print(bench_mimo(args.inputs, args.channels, args.samples, args.repeat))
+        elif args.only == "uff":
+            print(bench_uff_check(args.functions, args.points, args.repeat))
+        else:
+            if args.only != "h1":
+                print(bench_lscf(args.channels, args.lines, args.order, args.repeat))
+            if args.only != "lscf":
+                print(bench_h1(args.channels, args.samples, args.repeat))
     return 0
 
 

@@ -52,7 +52,7 @@ from ..system.base import LinearSystem
 from .correlate import Correlation, correlate_shapes
 from .results_json import Saved, floats_json
 
-__all__ = ["ModelUpdate", "update_parameters"]
+__all__ = ["ModelUpdate", "update_parameters", "parameter_bounds", "log_std"]
 
 #: relative step of the matrices' central differences
 _STEP = 1e-6
@@ -206,6 +206,49 @@ def _si(value: object, name: str, source: str) -> float:
     return number
 
 
+def parameter_bounds(system: LinearSystem, parameters: Mapping[str, tuple[Any, Any]],
+                     model_values: Mapping[str, Any]) -> dict[str, tuple[float, float]]:
+    """The bounds (SI) of the parameters to fit, checked.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        Its source names the file in the messages.
+    parameters : mapping
+        name -> (low, high): numbers (SI) or texts with units.
+    model_values : mapping
+        The model's parameters and their values.
+
+    Returns
+    -------
+    dict
+        name -> (low, high).
+
+    Raises
+    ------
+    ModelError
+        For an unknown parameter, or bounds that are not positive and increasing.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> system = resonant.load("examples/chain3_damped.toml").linearize()
+    >>> parameter_bounds(system, {"k": ("0.5 kN/m", 2000)}, {"k": 1000.0})
+    {'k': (500.0, 2000.0)}
+    """
+    bounds = {}
+    for name in parameters:
+        if name not in model_values:
+            raise ModelError(Problem(f"'{printable(name, limit=40)}' is not a parameter of "
+                                     "the model", system.source, "update", name))
+        low, high = (_si(v, name, system.source) for v in parameters[name])
+        if not low < high:
+            raise ModelError(Problem("the lower bound must be below the upper", system.source,
+                                     "update", name))
+        bounds[name] = (low, high)
+    return bounds
+
+
 class _Problem:
     """The residuals and their Jacobian at x = ln p."""
 
@@ -277,6 +320,7 @@ def update_parameters(system: LinearSystem, parameters: Mapping[str, tuple[Any, 
                       target_shapes: np.ndarray | None = None,
                       channels: Mapping[str, ChannelMap] | None = None,
                       mac_weight: float = 1.0, sigma: float | None = None,
+                      start: Mapping[str, float] | None = None,
                       deadline: Deadline = NO_DEADLINE) -> ModelUpdate:
     """Fit parameters within bounds to measured natural frequencies (and shapes).
 
@@ -297,6 +341,9 @@ def update_parameters(system: LinearSystem, parameters: Mapping[str, tuple[Any, 
         The weight of the (1 - MAC) residuals.
     sigma : float, optional
         The measured frequencies' relative standard deviation (for the uncertainty).
+    start : mapping, optional
+        name -> the value (SI) the fit starts from (default the model's), clipped into the
+        bounds: one start of a multi-start (:mod:`resonant.studies.multi_start`).
     deadline : Deadline, optional
 
     Returns
@@ -315,16 +362,7 @@ def update_parameters(system: LinearSystem, parameters: Mapping[str, tuple[Any, 
     model_values = dict(num.parameters)
     target = np.asarray(target_frequency, float).ravel()
     names = list(parameters)
-    bounds = {}
-    for name in names:
-        if name not in model_values:
-            raise ModelError(Problem(f"'{printable(name, limit=40)}' is not a parameter of "
-                                     "the model", system.source, "update", name))
-        low, high = (_si(v, name, system.source) for v in parameters[name])
-        if not low < high:
-            raise ModelError(Problem("the lower bound must be below the upper", system.source,
-                                     "update", name))
-        bounds[name] = (low, high)
+    bounds = parameter_bounds(system, parameters, model_values)
     if not len(target) or len(target) > num.n or not np.all(target > 0):
         raise ModelError(Problem(f"give 1 to {num.n} positive measured frequencies",
                                  system.source, "update"))
@@ -337,28 +375,54 @@ def update_parameters(system: LinearSystem, parameters: Mapping[str, tuple[Any, 
                                      system.source, "update"))
         rows = [num.coordinates.index(c.name) for c in channels.values()]
     problem = _Problem(system, names, target, shapes, rows, mac_weight, deadline)
-    start = np.array([min(max(float(model_values[n]), bounds[n][0]), bounds[n][1])
-                      for n in names])
+    first = {**model_values, **(start or {})}
+    start_values = np.array([min(max(float(first[n]), bounds[n][0]), bounds[n][1])
+                             for n in names])
     lower = np.log([bounds[n][0] for n in names])
     upper = np.log([bounds[n][1] for n in names])
-    solution = least_squares(problem.residuals, np.log(start), jac=problem.jacobian,
+    solution = least_squares(problem.residuals, np.log(start_values), jac=problem.jacobian,
                              bounds=(lower, upper), x_scale=1.0, xtol=1e-12, ftol=1e-12,
                              gtol=1e-12)
     fitted = np.exp(solution.x)
-    std = _std(solution.jac, solution.fun, fitted, sigma, len(target))
-    correlation = _correlations(problem, start, fitted) if shapes is not None else (None, None)
+    std = log_std(solution.jac, solution.fun, fitted, sigma, len(target))
+    correlation = _correlations(problem, start_values, fitted) if shapes is not None \
+        else (None, None)
     warnings = [f"{n} ended on its bound {fitted[k]:.6g}" for k, n in enumerate(names)
                 if np.isclose(solution.x[k], lower[k]) or np.isclose(solution.x[k], upper[k])]
-    return ModelUpdate(tuple(names), dict(zip(names, start.tolist())),
+    return ModelUpdate(tuple(names), dict(zip(names, start_values.tolist())),
                        dict(zip(names, fitted.tolist())), dict(zip(names, std.tolist())),
-                       bounds, target, problem.modes(start)[0], problem.modes(fitted)[0],
+                       bounds, target, problem.modes(start_values)[0], problem.modes(fitted)[0],
                        correlation[0], correlation[1], float(solution.cost),
                        str(solution.message), tuple(warnings))
 
 
-def _std(J: np.ndarray, r: np.ndarray, p: np.ndarray, sigma: float | None,
-         frequencies: int) -> np.ndarray:
-    """The fitted values' standard deviations from the Jacobian in ln p."""
+def log_std(J: np.ndarray, r: np.ndarray, p: np.ndarray, sigma: float | None,
+            frequencies: int) -> np.ndarray:
+    """The fitted values' standard deviations from the Jacobian in ln p.
+
+    Parameters
+    ----------
+    J : ndarray
+        (residuals, parameters) the Jacobian of the residuals in ln p at the solution.
+    r : ndarray
+        The residuals there.
+    p : ndarray
+        The fitted values.
+    sigma : float or None
+        The residuals' standard deviation, else estimated from ``r`` (NaN without more
+        residuals than parameters).
+    frequencies : int
+        How many leading rows of ``J`` the covariance takes (all: ``len(r)``).
+
+    Returns
+    -------
+    ndarray
+
+    Examples
+    --------
+    >>> log_std(np.array([[1.0], [1.0]]), np.array([0.1, -0.1]), np.array([2.0]), None, 2)
+    array([0.2])
+    """
     m, n = J.shape
     if sigma is None:
         if m <= n:

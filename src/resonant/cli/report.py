@@ -3,12 +3,19 @@
 from __future__ import annotations
 
 import argparse
+import json
+import os
 import sys
 
 import resonant.cli.common as common
 
-from ..errors import ModelError, Problem
+from ..analyses.correlate import Correlation
+from ..errors import AnalysisError, ModelError, Problem
+from ..model.files import FileRefused, open_regular_file, read_bounded
 from ..report import build_report, render, report_format
+
+#: the largest correlation file read (a JSON of a few modes)
+MAX_TEST_BYTES = 16 * 2**20
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
@@ -30,6 +37,9 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
                         help="add the section 'Beyond small oscillations': the periodic steady "
                              "state of the full equations (harmonic balance), its frequency-"
                              "response curve and the operating point on it")
+    parser.add_argument("--test", metavar="FILE.json",
+                        help="add the section 'Test against model' from the JSON of "
+                             "resonant correlate --json (identified modes, MAC, pairs)")
     parser.set_defaults(run=run_report)
 
 
@@ -38,11 +48,43 @@ def _cannot_write(path: str, exc: OSError) -> ModelError:
                               str(path)))
 
 
+def read_correlation(path: str) -> Correlation:
+    """The saved correlation of ``resonant correlate --json`` (an untrusted file).
+
+    Parameters
+    ----------
+    path : str
+
+    Returns
+    -------
+    Correlation
+
+    Raises
+    ------
+    ModelError
+        For a file that cannot be read, is not JSON or not a saved correlation (exit 2).
+    """
+    name = os.path.basename(path)
+    try:
+        with open_regular_file(path, follow_symlinks=True, max_bytes=MAX_TEST_BYTES) as handle:
+            data = json.loads(read_bounded(handle, MAX_TEST_BYTES).decode("utf-8"))
+        return Correlation.from_dict(data)
+    except (OSError, FileRefused) as exc:
+        raise ModelError(Problem(f"cannot read the test: {exc}", name)) from None
+    except (UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:
+        raise ModelError(Problem(f"not JSON ({type(exc).__name__})", name)) from None
+    except (AnalysisError, TypeError, AttributeError) as exc:
+        raise ModelError(Problem(f"not the JSON of resonant correlate --json: {exc}",
+                                 name)) from None
+
+
 def run_report(args: argparse.Namespace) -> int:
     fmt = report_format(args.output)  # check the ending before any work
     path = common.writable_output(args.output, "the report")  # before any work
+    test = read_correlation(args.test) if args.test else None
     model = common.load_model(args)
-    report = build_report(model, plots=not args.no_plots, nonlinear=args.nonlinear)
+    report = build_report(model, plots=not args.no_plots, nonlinear=args.nonlinear,
+                          correlation=test)
     try:
         text = render(report, fmt, path)  # writes the figures of .md and .tex beside it
         path.write_text(text, encoding="utf-8")

@@ -2,12 +2,13 @@
 
 * ``resonant frf MODEL DATA``: FRFs (H1, H2, Hv) of the channels from time histories
   (a Universal File, CSV, .npy or .npz), beside the model's; ``--save FILE.uff`` writes them;
+  with several inputs in ``[measurement]``, the H1 matrix;
 * ``resonant identify MODEL FRFS``: modes by LSCF and LSFD from the FRFs of a Universal
   File, with the stabilization chart;
 * ``resonant correlate MODEL FRFS``: the identified modes against the model's (MAC, pairs,
   frequency errors);
 * ``resonant update MODEL FRFS --vary NAME=LOW:HIGH ...``: parameters fitted to the
-  identified frequencies and shapes.
+  identified frequencies and shapes, or (``--fit frf``) to the measured FRFs themselves.
 
 Each takes ``--json`` and ``--plot FILE``.
 """
@@ -25,6 +26,8 @@ import resonant.cli.common as cli
 
 from ..analyses.correlate import correlate
 from ..analyses.frf_estimate import ESTIMATORS, WINDOWS, frf_from_measurement, model_frf
+from ..analyses.frf_mimo import frf_matrix_from_measurement
+from ..analyses.frf_update import RESIDUALS, update_to_frf
 from ..analyses.identify import ModalIdentification, identify_modes
 from ..analyses.model_update import update_parameters
 from ..deadline import Deadline
@@ -32,6 +35,8 @@ from ..errors import ModelError, Problem, printable
 from ..model.measured import MeasuredData, read_histories, read_uff, write_uff
 from ..model.measurement_spec import MeasurementSpec, match_channels
 from ..model.types import Model
+from ..studies.engine import engine_for
+from ..studies.multi_start import MAX_STARTS, multi_start_update
 from ..system.build import linear_system
 
 #: the suffixes read as Universal Files
@@ -83,7 +88,22 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
                                  help="a parameter and its bounds, e.g. 'k1=500 N/m:2 kN/m' "
                                       "(repeatable)")
             command.add_argument("--sigma", type=cli.number(0, open_low=True), metavar="S",
-                                 help="the measured frequencies' relative standard deviation")
+                                 help="the measured frequencies' relative standard deviation "
+                                      "(with --fit frf: the FRFs' relative magnitude noise)")
+            command.add_argument("--fit", choices=("modes", "frf"), default="modes",
+                                 help="fit the identified modes (default) or the measured "
+                                      "FRFs themselves at their lines")
+            command.add_argument("--residual", choices=RESIDUALS, default="log",
+                                 help="with --fit frf: log-magnitude or complex residuals")
+            command.add_argument("--starts", type=cli.integer(1, MAX_STARTS), default=1,
+                                 metavar="N", help="start from the model's values and N - 1 "
+                                 "further points in the bounds (on the study engine), keep "
+                                 "the best")
+            where = command.add_mutually_exclusive_group()
+            where.add_argument("--workers", type=cli.integer(0, 1024), metavar="N",
+                               help="with --starts: local worker processes (0: this one)")
+            where.add_argument("--scheduler", metavar="ADDRESS",
+                               help="with --starts: a running Dask scheduler, tcp://HOST:PORT")
         _outputs(command)
         command.set_defaults(run=run)
 
@@ -131,11 +151,29 @@ def _emit(result: object, args: argparse.Namespace, text: str, warnings: tuple[s
     return 0
 
 
+def _run_frf_matrix(args: argparse.Namespace, model: Model, spec: MeasurementSpec,
+                    data: MeasuredData, deadline: Deadline) -> int:
+    """``resonant frf`` with several inputs: the H1 matrix."""
+    if args.estimator != "H1" or args.save:
+        raise ModelError(Problem("with several inputs, resonant frf estimates the H1 matrix "
+                                 "and does not save it (leave out --estimator and --save)",
+                                 model.source, "measurement", "excitation"))
+    result = frf_matrix_from_measurement(
+        data, spec, model.source, window=args.window, segment=args.segment,
+        overlap=args.overlap, force_window=args.force_window, exponential=args.exponential,
+        band=_band_of(args), deadline=deadline)
+    if args.plot:
+        result.plot(args.plot)
+    return _emit(result, args, result.summary(), result.warnings)
+
+
 def run_frf(args: argparse.Namespace) -> int:
     deadline = cli.deadline(args)
     model = cli.load_model(args)
     spec = _spec(model)
     data = _read(args.data)
+    if len(spec.references) > 1:
+        return _run_frf_matrix(args, model, spec, data, deadline)
     result = frf_from_measurement(data, spec, model.source, estimator=args.estimator,
                                   window=args.window, segment=args.segment,
                                   overlap=args.overlap, force_window=args.force_window,
@@ -213,10 +251,69 @@ def _bounds(items: list[str]) -> Mapping[str, tuple[str, str]]:
     return bounds
 
 
+def _measured_frfs(args: argparse.Namespace, model: Model
+                   ) -> tuple[MeasurementSpec, np.ndarray, dict[str, np.ndarray],
+                              dict[str, str]]:
+    """The spec, the lines (within the band, above 0 Hz) and each channel's measured FRF."""
+    spec = _spec(model)
+    if not spec.input:
+        raise ModelError(Problem("fitting FRFs needs the input they are measured to",
+                                 model.source, "measurement", "input"))
+    data = _read(args.frfs)
+    frfs = {f.name: f for f in data.functions if f.kind == "frf"}
+    if not frfs:
+        raise ModelError(Problem("the file holds no FRF (dataset 58, function type 4)",
+                                 data.source))
+    match_channels(MeasurementSpec("", spec.input, spec.channels), list(frfs), model.source,
+                   data.source)
+    f = np.asarray(frfs[next(iter(spec.channels))].abscissa)
+    band = _band_of(args) or (0.0, float("inf"))
+    lines = (f >= band[0]) & (f <= band[1]) & (f > 0)
+    if not lines.any():
+        raise ModelError(Problem("no spectral line in the band", data.source))
+    if any(len(frfs[c].ordinate) != len(f) for c in spec.channels):
+        raise ModelError(Problem("the FRFs of the channels have different lines",
+                                 data.source))
+    return spec, f[lines], {c: np.asarray(frfs[c].ordinate)[lines] for c in spec.channels}, \
+        {c: frfs[c].ordinate_unit for c in spec.channels}
+
+
+def _run_multi_start(args: argparse.Namespace, model: Model,
+                     bounds: Mapping[str, tuple[str, str]], deadline: Deadline) -> int:
+    data: dict[str, object]
+    if args.fit == "frf":
+        spec, lines, measured, units = _measured_frfs(args, model)
+        data = {"frequency": lines, "measured": measured, "signal": spec.input,
+                "channels": spec.channels, "residual": args.residual, "sigma": args.sigma,
+                "units": units}
+        warnings: tuple[str, ...] = ()
+    else:
+        spec, identified = _identified(args, model, deadline)
+        data = {"target_frequency": identified.frequency, "target_shapes": identified.shapes,
+                "channels": spec.channels, "sigma": args.sigma}
+        warnings = identified.warnings
+    result = multi_start_update(model, bounds, args.fit, data, starts=args.starts,
+                                engine=engine_for(args.workers, args.scheduler,
+                                                  deadline=deadline), deadline=deadline)
+    if args.plot:
+        result.best.plot(args.plot)
+    return _emit(result, args, result.summary(), warnings + result.warnings)
+
+
 def run_update(args: argparse.Namespace) -> int:
     deadline = cli.deadline(args)
     model = cli.load_model(args)
     bounds = _bounds(args.vary)
+    if args.starts > 1:
+        return _run_multi_start(args, model, bounds, deadline)
+    if args.fit == "frf":
+        spec, lines, measured, units = _measured_frfs(args, model)
+        fitted = update_to_frf(linear_system(model, deadline), bounds, lines, measured,
+                               spec.input, spec.channels, residual=args.residual,
+                               sigma=args.sigma, units=units, deadline=deadline)
+        if args.plot:
+            fitted.plot(args.plot)
+        return _emit(fitted, args, fitted.summary(), fitted.warnings)
     spec, identified = _identified(args, model, deadline)
     result = update_parameters(linear_system(model, deadline), bounds, identified.frequency,
                                target_shapes=identified.shapes, channels=spec.channels,

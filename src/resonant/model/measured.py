@@ -44,6 +44,7 @@ from ..errors import ModelError, Problem, name_list, printable
 from ..memory import require
 from .files import FileRefused, open_regular_file, read_bounded
 from .limits import MAX_COMPRESSION_RATIO
+from .uff_bounds import check_uff
 
 #: the largest measurement file read
 MAX_BYTES = 512 * 2**20
@@ -235,7 +236,10 @@ def read_uff(path: str | os.PathLike[str]) -> MeasuredData:
     Raises
     ------
     ModelError
-        For an unreadable file, a dataset other than :data:`DATASETS` and
+        For a file whose reading would exceed the memory budget, or whose dataset 58
+        header announces more points than the record holds (checked from the bytes before
+        pyuff parses them: :func:`resonant.model.uff_bounds.check_uff`), an unreadable
+        file, a dataset other than :data:`DATASETS` and
         :data:`DESCRIPTIVE`, a record pyuff cannot read or one that is truncated, NaN or
         infinite values, or functions of one kind sampled at different steps (the message
         names the record).
@@ -256,6 +260,7 @@ def read_uff(path: str | os.PathLike[str]) -> MeasuredData:
     checked = _checked_path(path)
     name = os.path.basename(checked)
     pyuff = _pyuff()
+    check_uff(checked)              # the memory and the declared sizes, before pyuff parses
     try:
         uff = pyuff.UFF(checked)
         types = [int(t) for t in uff.get_set_types()]

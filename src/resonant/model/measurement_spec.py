@@ -10,6 +10,10 @@
     a1 = "x1''"               # an accelerometer on mass 1
     a3 = "x3''"
 
+Several inputs measured together (two shakers; the H1 matrix,
+:func:`resonant.analyses.frf_mimo.frf_matrix_from_measurement`) are lists of one length:
+``excitation = ["shaker1", "shaker2"]``, ``input = ["F", "x1"]``.
+
 Examples
 --------
 >>> problems = []
@@ -38,6 +42,8 @@ from ..errors import ModelError, Problem, name_list, printable
 MEASUREMENT_KEYS = ("excitation", "input", "channels")
 #: most channels mapped
 MAX_CHANNELS = 4096
+#: most inputs (excitation channels) of one measurement
+MAX_INPUTS = 16
 
 __all__ = ["ChannelMap", "MeasurementSpec", "parse_measurement", "match_channels",
            "MEASUREMENT_KEYS"]
@@ -71,11 +77,16 @@ class MeasurementSpec:
         The model's signal or coordinate the input channel measures.
     channels : mapping
         Response channel name -> :class:`ChannelMap`.
+    references : tuple of (str, str)
+        With several inputs (``excitation`` and ``input`` given as lists of one length):
+        each input's (channel, model signal or coordinate); ``excitation`` and ``input``
+        are then the first.  Empty with one input.
     """
 
     excitation: str
     input: str
     channels: Mapping[str, ChannelMap]
+    references: tuple[tuple[str, str], ...] = ()
 
 
 def parse_measurement(data: object, signals: Sequence[str], coordinates: Sequence[str],
@@ -111,20 +122,41 @@ def parse_measurement(data: object, signals: Sequence[str], coordinates: Sequenc
                 f"known: {', '.join(MEASUREMENT_KEYS)}"
             problems.append(Problem(f"unknown key '{printable(key, limit=40)}'; {hint}",
                                     source, section, str(key)))
-    excitation = data.get("excitation", "")
-    if not isinstance(excitation, str):
-        problems.append(Problem("expected the name of a channel", source, section,
-                                "excitation"))
-    given = data.get("input", "")
-    if not isinstance(given, str) or (given and given not in (*signals, *coordinates)):
-        problems.append(Problem(
-            f"'{printable(given, limit=40)}' is neither a signal nor a coordinate of the "
-            f"model (signals: {name_list(signals) or 'none'}; coordinates: "
-            f"{name_list(coordinates) or 'none'})", source, section, "input"))
+    excitations = _names(data.get("excitation", ""), "the name of a channel", source,
+                         "excitation", problems)
+    inputs = _names(data.get("input", ""), "a signal or coordinate", source, "input",
+                    problems)
+    for given in inputs:
+        if given and given not in (*signals, *coordinates):
+            problems.append(Problem(
+                f"'{printable(given, limit=40)}' is neither a signal nor a coordinate of the "
+                f"model (signals: {name_list(signals) or 'none'}; coordinates: "
+                f"{name_list(coordinates) or 'none'})", source, section, "input"))
+    several = isinstance(data.get("excitation"), list) or isinstance(data.get("input"), list)
+    if several and len(excitations) != len(inputs):
+        problems.append(Problem(f"{len(excitations)} excitation channels for {len(inputs)} "
+                                "inputs: give one input per excitation channel, in order",
+                                source, section, "input"))
     channels = _channels(data.get("channels"), [*coordinates, *outputs], source, problems)
     if len(problems) > count:
         return None
-    return MeasurementSpec(str(excitation), str(given), MappingProxyType(channels))
+    references = tuple(zip(excitations, inputs, strict=True)) if several else ()
+    return MeasurementSpec(excitations[0] if excitations else "",
+                           inputs[0] if inputs else "", MappingProxyType(channels),
+                           references)
+
+
+def _names(value: object, what: str, source: str, key: str, problems: list[Problem]
+           ) -> list[str]:
+    """A name, or a list of 1 to :data:`MAX_INPUTS` distinct names (several inputs)."""
+    if isinstance(value, str):
+        return [value]
+    if isinstance(value, list) and 1 <= len(value) <= MAX_INPUTS and all(
+            isinstance(v, str) and v for v in value) and len(set(value)) == len(value):
+        return [str(v) for v in value]
+    problems.append(Problem(f"expected {what}, or a list of 1 to {MAX_INPUTS} distinct ones "
+                            "(several inputs)", source, "measurement", key))
+    return []
 
 
 def _channels(table: object, names: Sequence[str], source: str, problems: list[Problem]
@@ -182,10 +214,11 @@ def match_channels(spec: MeasurementSpec, available: Sequence[str], source: str,
     """
     problems = []
     listed = name_list(available) or "none"
-    if spec.excitation and spec.excitation not in available:
-        problems.append(Problem(f"{printable(measured)} has no channel "
-                                f"'{printable(spec.excitation, limit=40)}' (its channels: "
-                                f"{listed})", source, "measurement", "excitation"))
+    for excitation in [r[0] for r in spec.references] or [spec.excitation]:
+        if excitation and excitation not in available:
+            problems.append(Problem(f"{printable(measured)} has no channel "
+                                    f"'{printable(excitation, limit=40)}' (its channels: "
+                                    f"{listed})", source, "measurement", "excitation"))
     for channel in spec.channels:
         if channel not in available:
             problems.append(Problem(f"{printable(measured)} has no channel "

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..analyses.correlate import Correlation
 from ..analyses.stationary import stationary
 from ..errors import AnalysisError, ModelError, Problem
 from ..model import Model
@@ -39,7 +40,8 @@ MAX_DERIVED = 12
 FORMATS = {".html": "html", ".htm": "html", ".md": "md", ".markdown": "md", ".tex": "tex"}
 
 
-def build_report(model: Model, plots: bool = True, nonlinear: bool = False) -> Report:
+def build_report(model: Model, plots: bool = True, nonlinear: bool = False,
+                 correlation: Correlation | None = None) -> Report:
     """The worked solution of ``model`` as a list of blocks.
 
     Parameters
@@ -50,6 +52,9 @@ def build_report(model: Model, plots: bool = True, nonlinear: bool = False) -> R
         Whether to include the figures.
     nonlinear : bool
         Add the section beyond small oscillations (see below).
+    correlation : Correlation, optional
+        Identified modes against the model's (:func:`resonant.analyses.correlate.correlate`):
+        adds the section "Test against model" (pairs, frequency errors, MAC).
 
     Returns
     -------
@@ -82,7 +87,8 @@ def build_report(model: Model, plots: bool = True, nonlinear: bool = False) -> R
                             "given by numbers only")
     derived = eom.derived_matrices() is not None
     derivation = derive(equations) if derived and eom.n <= MAX_DERIVED else None
-    ctx = Context(model, eom, equations, solution, derivation, plots=plots)
+    ctx = Context(model, eom, equations, solution, derivation, plots=plots,
+                  correlation=correlation)
     steps = step_order(ctx)
     if nonlinear and ctx.eom.excitation:
         steps.insert(len(steps) - 1, beyond_small_oscillations)  # before the warnings

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import sympy
 
+from ...analyses.correlate import Correlation
 from ...analyses.stationary import StationarySolution
 from ...derivation import derivative_symbol
 from ...derivation.lagrange import signal_derivatives
@@ -41,6 +42,8 @@ class Context:
     solution: StationarySolution
     derivation: Derivation | None
     plots: bool = True
+    #: the test against the model (``resonant report --test``), shown by its step
+    correlation: Correlation | None = None
     namer: Namer = field(init=False)
     names: dict[sympy.Symbol, str] = field(init=False)
     count: int = 0

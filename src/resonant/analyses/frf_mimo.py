@@ -1,0 +1,361 @@
+"""FRF matrices from several inputs at once: the multiple-input H1 estimate (docs/testing.md).
+
+With p inputs x (shakers, or hammer hits at several points) and the responses y measured
+together, every segment k gives the spectra X_k (p,) and Y_k (q,), and a linear system
+Y_k = H X_k + noise.  Averaged over the segments (Welch, windows and overlap as in
+:func:`~resonant.analyses.frf_estimate.estimate_frf`),
+
+    G_xx[i, j] = < conj(X_i) X_j >,   G_xy[i, r] = < conj(X_i) Y_r >,   H^T = G_xx^-1 G_xy,
+
+the least-squares H1 matrix (Bendat & Piersol, Random Data, 4th ed., ch. 7): unbiased by
+noise on the responses, and exact where the segments' inputs are independent enough for
+G_xx to be invertible.  With one input it is the single-input H1.  The multiple coherence
+of each response, gamma^2_r = G_xy[:, r]^H G_xx^-1 G_xy[:, r] / G_yy[r], says how much of it
+the inputs explain together.  Where the inputs are coherent with each other (one shaker
+driving through the other, the same hit pattern on two points) G_xx is singular and H cannot
+be separated: its condition number is kept per line, lines above
+:data:`CONDITION_WARNING` are warned about, and a band where every line is above
+:data:`CONDITION_LIMIT` is refused.  At least as many segments as inputs are needed.
+
+Examples
+--------
+>>> import numpy as np
+>>> rng = np.random.default_rng(0)
+>>> x = rng.standard_normal((2, 4096))
+>>> y = {"y": 2.0 * x[0] - 0.5 * x[1]}           # a static gain from each input
+>>> r = estimate_frf_matrix({"a": x[0], "b": x[1]}, y, 0.01, window="rectangular",
+...                         segment=256)
+>>> np.round(r.frf("y", "a")[:3].real, 9).tolist(), round(float(r.frf("y", "b")[5].real), 9)
+([2.0, 2.0, 2.0], -0.5)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..arrays import freeze_fields
+from ..charts import COLORS, Chart, Charted, Charts, Curve, charts_svg
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import ModelError, Problem, printable
+from ..memory import require
+from ..model.measured import MeasuredData
+from ..model.measurement_spec import MeasurementSpec, match_channels
+from .frf_estimate import _band_lines, _clipping, _frames, _samples, _windows
+from .results_json import Saved, complex_json, floats_json
+
+__all__ = ["MIMOFRF", "estimate_frf_matrix", "frf_matrix_from_measurement",
+           "CONDITION_WARNING", "CONDITION_LIMIT"]
+
+#: condition numbers of G_xx above which a line's separation is warned about
+CONDITION_WARNING = 1e4
+#: above which a line cannot be separated at all (the inputs coherent)
+CONDITION_LIMIT = 1e12
+
+
+@dataclass(frozen=True)
+class MIMOFRF(Charted):
+    """The H1 matrix of every response to every input, with the multiple coherence.
+
+    Attributes
+    ----------
+    frequency : ndarray
+        The spectral lines (Hz).
+    inputs, outputs : tuple of str
+        The input and response channels.
+    H : ndarray
+        (lines, outputs, inputs) complex: H[l, r, i] the FRF of output r to input i.
+    coherence : ndarray
+        (lines, outputs) the multiple coherence of each response.
+    condition : ndarray
+        (lines,) the condition number of the inputs' cross-spectral matrix G_xx.
+    window : str
+    averages, segment : int
+    step : float
+        The sampling step (s).
+    warnings : tuple of str
+    """
+
+    frequency: np.ndarray
+    inputs: tuple[str, ...]
+    outputs: tuple[str, ...]
+    H: np.ndarray
+    coherence: np.ndarray
+    condition: np.ndarray
+    window: str
+    averages: int
+    segment: int
+    step: float
+    warnings: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
+    def frf(self, output: str, input: str) -> np.ndarray:
+        """The FRF of one response to one input.
+
+        Parameters
+        ----------
+        output, input : str
+
+        Returns
+        -------
+        ndarray
+
+        Raises
+        ------
+        ModelError
+            For a channel that is not there.
+        """
+        for name, names in ((output, self.outputs), (input, self.inputs)):
+            if name not in names:
+                raise ModelError(Problem(f"no channel '{printable(name, limit=40)}' (have "
+                                         f"{', '.join(names)})"))
+        return np.asarray(self.H[:, self.outputs.index(output), self.inputs.index(input)])
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form.
+
+        Returns
+        -------
+        dict
+        """
+        return {"frequency_hz": floats_json(self.frequency), "inputs": list(self.inputs),
+                "outputs": list(self.outputs), "H": complex_json(self.H),
+                "coherence": floats_json(self.coherence),
+                "condition": floats_json(self.condition), "window": self.window,
+                "averages": self.averages, "segment": self.segment, "step_s": self.step,
+                "warnings": list(self.warnings)}
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> MIMOFRF:
+        """The estimate back from its :meth:`to_dict`.
+
+        Parameters
+        ----------
+        data : mapping
+
+        Returns
+        -------
+        MIMOFRF
+        """
+        saved = Saved(data, "MIMOFRF")
+        f = saved.floats("frequency_hz", ndim=1)
+        inputs, outputs = saved.strings("inputs"), saved.strings("outputs")
+        return cls(f, inputs, outputs,
+                   saved.complex("H", shape=(len(f), len(outputs), len(inputs))),
+                   saved.floats("coherence", shape=(len(f), len(outputs))),
+                   saved.floats("condition", shape=f.shape), saved.string("window"),
+                   int(saved.number("averages")), int(saved.number("segment")),
+                   saved.number("step_s"), saved.strings("warnings", ()))
+
+    def chart(self) -> Charts:
+        """|H| of every response, one panel per input, and the multiple coherence.
+
+        Returns
+        -------
+        Charts
+        """
+        f = np.asarray(self.frequency)
+        xlim = (float(f[0]), float(f[-1]))
+        panels = []
+        for i, name in enumerate(self.inputs):
+            curves = tuple(Curve(f, np.abs(self.H[:, r, i]), out, COLORS[r % len(COLORS)])
+                           for r, out in enumerate(self.outputs))
+            panels.append(Chart(curves, "frequency [Hz]", f"|H| to {name}", xlim, ylog=True))
+        panels.append(Chart(tuple(Curve(f, self.coherence[:, r], out, COLORS[r % len(COLORS)])
+                                  for r, out in enumerate(self.outputs)),
+                            "frequency [Hz]", "multiple coherence", xlim, ylim=(0.0, 1.05),
+                            legend="none"))
+        return Charts(tuple(panels), title=f"H1 matrix, {len(self.inputs)} inputs, "
+                                           f"{self.averages} averages",
+                      size=(7.0, 2.4 * len(panels)))
+
+    def summary(self) -> str:
+        """The channels, the averages and the separation of the inputs.
+
+        Returns
+        -------
+        str
+        """
+        lines = [f"H1 matrix: {len(self.outputs)} responses x {len(self.inputs)} inputs "
+                 f"({', '.join(self.inputs)}), {len(self.frequency)} lines "
+                 f"{self.frequency[0]:.6g} to {self.frequency[-1]:.6g} Hz, {self.window}, "
+                 f"{self.averages} averages of {self.segment} samples",
+                 f"condition of G_xx: median {float(np.median(self.condition)):.3g}, "
+                 f"largest {float(np.max(self.condition)):.3g}",
+                 f"{'response':<12} {'min coherence':>14} {'median':>8}"]
+        lines += [f"{printable(o, limit=12):<12} {float(self.coherence[:, r].min()):>14.4f} "
+                  f"{float(np.median(self.coherence[:, r])):>8.4f}"
+                  for r, o in enumerate(self.outputs)]
+        lines += [f"warning: {w}" for w in self.warnings]
+        return "\n".join(lines) + "\n"
+
+    def _repr_html_(self) -> str:
+        return charts_svg(self.chart(), "frf-matrix")
+
+
+def _solve_lines(Gxx: np.ndarray, Gxy: np.ndarray, Gyy: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """H (lines, q, p), the multiple coherence (lines, q) and cond(G_xx) (lines,)."""
+    scale = np.sqrt(np.einsum("lii->li", Gxx).real)           # equilibrate each line
+    scale = np.where(scale > 0, scale, 1.0)
+    S = Gxx / (scale[:, :, None] * scale[:, None, :])
+    condition = np.linalg.cond(S)
+    good = condition < CONDITION_LIMIT
+    HT = np.full(Gxy.shape, np.nan, dtype=complex)
+    HT[good] = np.linalg.solve(S[good], Gxy[good] / scale[good][:, :, None]) / \
+        scale[good][:, :, None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        explained = np.einsum("lir,lir->lr", np.conj(Gxy), HT).real
+        coherence = np.clip(np.nan_to_num(explained / Gyy), 0.0, 1.0)
+    return np.transpose(HT, (0, 2, 1)), coherence, condition
+
+
+def estimate_frf_matrix(excitations: Mapping[str, np.ndarray | Sequence[float]],
+                        responses: Mapping[str, np.ndarray | Sequence[float]], step: float, *,
+                        window: str = "hann", segment: int | None = None,
+                        overlap: float | None = None, force_window: float | None = None,
+                        exponential: float | None = None,
+                        band: tuple[float, float] | None = None,
+                        deadline: Deadline = NO_DEADLINE) -> MIMOFRF:
+    """The H1 matrix of the responses to several inputs measured together.
+
+    Parameters
+    ----------
+    excitations : mapping
+        Input channel -> its samples (two or more for a matrix; one gives the single-input
+        H1).
+    responses : mapping
+        Response channel -> its samples (as many as the inputs').
+    step : float
+        The sampling step (s).
+    window : {"hann", "rectangular"}
+    segment : int, optional
+        Samples per segment (default an eighth of the record).  With impact windows, the
+        length of one record (one hit pattern per segment, at least one per input).
+    overlap : float, optional
+        0 to below 1 (default 0.5 with ``hann``, else 0).
+    force_window, exponential : float, optional
+        The impact windows of :func:`~resonant.analyses.frf_estimate.estimate_frf`, on every
+        input and response.
+    band : (float, float), optional
+        The lines kept (Hz).
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    MIMOFRF
+
+    Raises
+    ------
+    ModelError
+        For no input or response, histories of different lengths or with NaN, fewer
+        segments than inputs, a band without lines, or inputs coherent at every line.
+    """
+    if not excitations or not responses:
+        raise ModelError(Problem("give at least one input and one response channel", "", "",
+                                 "channels"))
+    inputs, outputs = list(excitations), list(responses)
+    first = _samples(excitations[inputs[0]], f"input '{printable(inputs[0], limit=40)}'")
+    x = np.array([first] + [_samples(excitations[n], f"input '{printable(n, limit=40)}'",
+                                     len(first)) for n in inputs[1:]])
+    if not (math.isfinite(step) and step > 0):
+        raise ModelError(Problem("the sampling step must be a positive number", "", "",
+                                 "step"))
+    n = x.shape[1]
+    segment = int(segment) if segment is not None else n // 8
+    overlap = (0.5 if window == "hann" and force_window is None and exponential is None
+               else 0.0) if overlap is None else float(overlap)
+    if not 16 <= segment <= n or not 0 <= overlap < 1:
+        raise ModelError(Problem(f"the segment must hold 16 to {n} samples and the overlap "
+                                 "lie in [0, 1)", "", "", "segment"))
+    hop = max(1, int(round(segment * (1 - overlap))))
+    averages = (n - segment) // hop + 1
+    if averages < len(inputs):
+        raise ModelError(Problem(f"{averages} segments for {len(inputs)} inputs: the H1 matrix "
+                                 "needs at least one segment per input (shorter segments or "
+                                 "more records)", "", "", "segment"))
+    windows = _windows(window, segment, step, force_window, exponential)
+    frequency = np.fft.rfftfreq(segment, step)
+    lines = _band_lines(frequency, band)
+    p, q = len(inputs), len(outputs)
+    require(16.0 * averages * len(frequency) * (p + 1) + 16.0 * len(lines) * (p + q) ** 2,
+            f"the spectra of {averages} segments x {p + q} channels",
+            "use longer segments, fewer samples or fewer channels")
+    X = np.stack([np.fft.rfft(_frames(xi, segment, hop) * windows.input, axis=1)[:, lines]
+                  for xi in x])                                     # (p, frames, lines)
+    Gxx = np.einsum("ikl,jkl->lij", np.conj(X), X) / averages
+    Gxy = np.empty((len(lines), p, q), dtype=complex)
+    Gyy = np.empty((len(lines), q))
+    warnings = [w for k, name in enumerate(inputs)
+                for w in _clipping(f"input '{printable(name, limit=40)}'", x[k])]
+    for r, name in enumerate(outputs):
+        deadline.check("while estimating the FRF matrix", analysis=True)
+        y = _samples(responses[name], f"channel '{printable(name, limit=40)}'", n)
+        Y = np.fft.rfft(_frames(y, segment, hop) * windows.response, axis=1)[:, lines]
+        Gxy[:, :, r] = np.einsum("ikl,kl->li", np.conj(X), Y) / averages
+        Gyy[:, r] = (np.abs(Y) ** 2).mean(axis=0)
+        warnings += _clipping(f"channel '{printable(name, limit=40)}'", y)
+    H, coherence, condition = _solve_lines(Gxx, Gxy, Gyy)
+    f = frequency[lines]
+    if not (condition < CONDITION_LIMIT).any():
+        raise ModelError(Problem("the inputs are coherent with each other at every line: "
+                                 "the FRF matrix cannot be separated (drive them with "
+                                 "independent signals, or hit the points in different "
+                                 "patterns per segment)", "", "", "excitation"))
+    poor = np.flatnonzero(condition > CONDITION_WARNING)
+    if len(poor):
+        warnings.append(f"the inputs are nearly coherent at {len(poor)} lines (the first at "
+                        f"{f[poor[0]]:.6g} Hz; condition of G_xx above "
+                        f"{CONDITION_WARNING:g}): H is poorly separated there"
+                        + (", NaN where singular" if np.isnan(H).any() else ""))
+    return MIMOFRF(f, tuple(inputs), tuple(outputs), H, coherence, condition,
+                   windows.text, averages, segment, float(step), tuple(warnings))
+
+
+def frf_matrix_from_measurement(data: MeasuredData, spec: MeasurementSpec, source: str = "",
+                                **options: Any) -> MIMOFRF:
+    """The H1 matrix of the channels of a ``[measurement]`` section with several inputs.
+
+    Parameters
+    ----------
+    data : MeasuredData
+        Time histories of the excitation and response channels.
+    spec : MeasurementSpec
+        Its ``references`` (the excitation channels) and ``channels``.
+    source : str
+        The model file (for the messages).
+    **options
+        As :func:`estimate_frf_matrix` (window, segment, overlap, force_window,
+        exponential, band, deadline).
+
+    Returns
+    -------
+    MIMOFRF
+        Its inputs named by the excitation channels, in the section's order.
+
+    Raises
+    ------
+    ModelError
+        When a channel is missing or is not a time history, or as
+        :func:`estimate_frf_matrix`.
+    """
+    match_channels(spec, data.names, source, data.source)
+    references = [r[0] for r in spec.references] or [spec.excitation]
+    if not all(references):
+        raise ModelError(Problem("name the excitation channels to estimate FRFs from time "
+                                 "histories", source, "measurement", "excitation"))
+    functions = {name: data.function(name) for name in [*references, *spec.channels]}
+    for name, f in functions.items():
+        if f.kind != "time":
+            raise ModelError(Problem(f"channel '{printable(name, limit=40)}' is a {f.kind} "
+                                     "function, not a time history", data.source))
+    step = functions[references[0]].step
+    return estimate_frf_matrix({r: functions[r].ordinate for r in references},
+                               {c: functions[c].ordinate for c in spec.channels}, step,
+                               **options)

@@ -1,0 +1,486 @@
+"""Model updating against measured frequency response functions (docs/testing.md).
+
+Where :mod:`.model_update` fits the identified natural frequencies (and shapes), this fits
+the measured FRFs themselves at their spectral lines, so that no identification stands
+between the test and the model: damping, residual flexibility and every mode in the band
+take part.  The residuals at the lines f_l of each channel c (its FRF H_c to the input):
+
+``"log"`` (the default)
+    r = ln |H_c(f_l; p)| - ln |H_c,test(f_l)|: the log-magnitude error, which weighs a
+    resonance peak and an antiresonance alike and ignores the phase (robust to a sensor's
+    delay or a sign convention); r is the relative magnitude error for small errors.
+``"complex"``
+    r = (H_c(f_l; p) - H_c,test(f_l)) / s_c, real and imaginary parts, s_c the RMS of the
+    channel's measured |H|: the phase counts too, and the peaks dominate.
+
+They are minimized by :func:`scipy.optimize.least_squares` (trust-region reflective,
+inside the bounds) over x = ln p.  The sensitivities dr/d ln p are central differences of
+the model's FRF (relative step 1e-5 in p; the FRF is a smooth function of p away from an
+undamped resonance, so the error is O(1e-10)), each model FRF a kernel solve
+(:class:`~resonant.analyses.random_response.Transfer`, method ``"direct"`` so that no
+reduced-model tolerance enters the differences).  The fitted values' standard deviations
+come from the Jacobian at the solution, cov(ln p) = s^2 (J^T J)^-1, s the residuals' standard
+deviation if known (``sigma``: in log magnitude, the relative magnitude noise), else
+estimated from the residuals.  The correlation before and after is the FRAC (frequency
+response assurance criterion, the MAC of two FRFs over the lines) of each channel and the
+RMS of the residuals.
+
+Examples
+--------
+>>> import numpy as np, resonant
+>>> from resonant.model.measurement_spec import ChannelMap
+>>> truth = resonant.load("examples/chain3_lab.toml").with_parameters(k1="1100 N/m")
+>>> f = np.linspace(1.0, 10.0, 60)
+>>> channels = {"d3": ChannelMap("x3")}
+>>> test = model_frf(truth.linearize(), "F", f, channels)
+>>> system = resonant.load("examples/chain3_lab.toml").linearize()
+>>> r = update_to_frf(system, {"k1": ("500 N/m", "2 kN/m")}, f, test, "F", channels)
+>>> round(r.fitted["k1"], 3)
+1100.0
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..arrays import freeze_fields
+from ..charts import Chart, Charted, Charts, Curve, charts_svg, check_plot_path, draw_figure
+from ..charts import save_figure as _save_figure
+from ..deadline import NO_DEADLINE, Deadline
+from ..errors import ModelError, Problem, printable
+from ..model.measurement_spec import ChannelMap
+from ..model.random_spec import RandomInput
+from ..system.base import LinearSystem
+from .model_update import log_std, parameter_bounds
+from .random_response import Transfer, responses_to_solve
+from .results_json import Saved, complex_json, floats_json
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = ["FRFUpdate", "update_to_frf", "frac", "model_frf", "RESIDUALS"]
+
+#: the residuals (module docstring)
+RESIDUALS = ("log", "complex")
+#: relative step of the FRF's central differences in p
+_STEP = 1e-5
+
+
+def frac(measured: np.ndarray, model: np.ndarray) -> float:
+    """The frequency response assurance criterion of two FRFs over their lines (1: alike
+    up to a complex factor, 0: orthogonal).
+
+    Parameters
+    ----------
+    measured, model : ndarray
+        (lines,) complex.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> h = np.array([1 + 1j, 2.0, -1j])
+    >>> frac(h, 3j * h), round(frac(h, np.array([1.0, 0.0, 0.0])), 3)
+    (1.0, 0.286)
+    """
+    a, b = np.asarray(measured).ravel(), np.asarray(model).ravel()
+    denominator = float(np.vdot(a, a).real * np.vdot(b, b).real)
+    return float(abs(np.vdot(a, b)) ** 2 / denominator) if denominator > 0 else 0.0
+
+
+def model_frf(system: LinearSystem, signal: str, frequency: np.ndarray,
+              channels: Mapping[str, ChannelMap], *, deadline: Deadline = NO_DEADLINE,
+              **values: float) -> dict[str, np.ndarray]:
+    """The model's FRF of each channel's quantity to one input at a parameter point.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    signal : str
+        The input (a signal of the model or a coordinate).
+    frequency : ndarray
+        Hz.
+    channels : mapping
+        Channel -> its coordinate or output and derivative.
+    deadline : Deadline, optional
+    **values : float
+        Parameters that differ from the model's (SI).
+
+    Returns
+    -------
+    dict
+        Channel -> the complex FRF (the derivative's (i w)^d included).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> system = resonant.load("examples/chain3_lab.toml").linearize()
+    >>> h = model_frf(system, "F", np.array([0.0]), {"d3": ChannelMap("x3")}, k1=500.0)
+    >>> round(float(h["d3"].real[0]), 6)    # 1/k1 + 1/k2 + 1/k3
+    0.004
+    """
+    f = np.asarray(frequency, dtype=float)
+    num = system.numeric(deadline, **values)
+    names = sorted({c.name for c in channels.values()})
+    keep, outputs = responses_to_solve(num, names)
+    transfer = Transfer(system, num, [RandomInput(signal, 0, None, None)], keep, "direct",
+                        deadline)
+    if transfer.warnings:
+        raise ModelError(Problem("; ".join(transfer.warnings), system.source, "measurement",
+                                 "input"))
+    H = transfer(f, outputs)[:, :, 0]
+    order = [num.coordinates[i] for i in keep] + list(outputs)
+    iw = 2j * np.pi * f
+    return {channel: H[:, order.index(c.name)] * iw ** c.derivative
+            for channel, c in channels.items()}
+
+
+@dataclass(frozen=True)
+class FRFUpdate(Charted):
+    """Parameters fitted to measured FRFs, with their uncertainty and the FRFs before and
+    after.
+
+    Attributes
+    ----------
+    names : tuple of str
+        The parameters.
+    start, fitted, std : mapping
+        Their values before and after (SI) and the fitted values' standard deviations.
+    bounds : mapping
+        name -> (low, high).
+    frequency : ndarray
+        The spectral lines fitted (Hz).
+    channels : tuple of str
+        The measured channels, in the rows' order.
+    measured, before, after : ndarray
+        (channels, lines) complex: the test's FRFs and the model's before and after.
+    residual : str
+        ``"log"`` or ``"complex"`` (:data:`RESIDUALS`).
+    units : tuple of str
+        The FRFs' units per channel (``"m/N"``; empty when not known).
+    cost : float
+        Half the sum of the squared residuals at the solution.
+    message : str
+        The optimizer's.
+    warnings : tuple of str
+    """
+
+    names: tuple[str, ...]
+    start: dict[str, float]
+    fitted: dict[str, float]
+    std: dict[str, float]
+    bounds: dict[str, tuple[float, float]]
+    frequency: np.ndarray
+    channels: tuple[str, ...]
+    measured: np.ndarray
+    before: np.ndarray
+    after: np.ndarray
+    residual: str = "log"
+    units: tuple[str, ...] = ()
+    cost: float = 0.0
+    message: str = ""
+    warnings: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
+    @property
+    def frac_before(self) -> np.ndarray:
+        """The FRAC of each channel before the update."""
+        return np.array([frac(a, b) for a, b in zip(self.measured, self.before)])
+
+    @property
+    def frac_after(self) -> np.ndarray:
+        """The FRAC of each channel after the update."""
+        return np.array([frac(a, b) for a, b in zip(self.measured, self.after)])
+
+    @property
+    def log_error_before(self) -> float:
+        """The RMS log-magnitude error (natural log) over every channel and line, before."""
+        return _log_rms(self.measured, self.before)
+
+    @property
+    def log_error_after(self) -> float:
+        """The RMS log-magnitude error after."""
+        return _log_rms(self.measured, self.after)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form.
+
+        Returns
+        -------
+        dict
+        """
+        return {"parameters": {n: {"start": self.start[n], "fitted": self.fitted[n],
+                                   "std": self.std[n], "bounds": list(self.bounds[n])}
+                               for n in self.names},
+                "residual": self.residual, "units": list(self.units),
+                "frequency_hz": floats_json(self.frequency),
+                "channels": list(self.channels), "measured": complex_json(self.measured),
+                "before": complex_json(self.before), "after": complex_json(self.after),
+                "frac_before": floats_json(self.frac_before),
+                "frac_after": floats_json(self.frac_after),
+                "log_error_before": self.log_error_before,
+                "log_error_after": self.log_error_after,
+                "cost": self.cost, "message": self.message, "warnings": list(self.warnings)}
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> FRFUpdate:
+        """The update back from its :meth:`to_dict`.
+
+        Parameters
+        ----------
+        data : mapping
+
+        Returns
+        -------
+        FRFUpdate
+        """
+        saved = Saved(data, "FRFUpdate")
+        names = tuple(saved.value("parameters"))
+        params = saved.mapping("parameters")
+        entries = {n: params.mapping(n) for n in names}
+        f = saved.floats("frequency_hz", ndim=1)
+        channels = saved.strings("channels")
+        shape = (len(channels), len(f))
+        return cls(names, {n: e.number("start") for n, e in entries.items()},
+                   {n: e.number("fitted") for n, e in entries.items()},
+                   {n: e.number("std") for n, e in entries.items()},
+                   {n: (e.numbers("bounds")[0], e.numbers("bounds")[1])
+                    for n, e in entries.items()},
+                   f, channels, saved.complex("measured", shape=shape),
+                   saved.complex("before", shape=shape), saved.complex("after", shape=shape),
+                   saved.string("residual"), saved.strings("units", ()), saved.number("cost"),
+                   saved.string("message"),
+                   saved.strings("warnings", ()))
+
+    def chart(self, channels: Sequence[str] | None = None) -> Charts:
+        """The measured |H| of each channel with the model's before and after (log axis).
+
+        Parameters
+        ----------
+        channels : sequence of str, optional
+            The channels drawn (default all).
+
+        Returns
+        -------
+        Charts
+        """
+        rows = [self.channels.index(c) for c in channels] if channels else \
+            range(len(self.channels))
+        f = self.frequency
+        charts = []
+        for k in rows:
+            curves = (Curve(f, np.abs(self.measured[k]), "test", "#000000", marker="point",
+                            line=False),
+                      Curve(f, np.abs(self.before[k]), "model before", "#7f7f7f",
+                            dash="3.7 1.6"),
+                      Curve(f, np.abs(self.after[k]), "model after", "#1f77b4"))
+            unit = self.units[k] if k < len(self.units) and self.units[k] else ""
+            label = f"|H| of {self.channels[k]}" + (f" [{unit}]" if unit else "")
+            charts.append(Chart(curves, "frequency [Hz]", label,
+                                (float(f[0]), float(f[-1])), ylog=True,
+                                title=printable(self.channels[k], limit=40)))
+        return Charts(tuple(charts), title="model updated to the measured FRFs")
+
+    def plot(self, path: str | os.PathLike[str] | None = None,
+             ax: Axes | Sequence[Axes] | None = None,
+             channels: Sequence[str] | None = None) -> Figure:
+        """Draw :meth:`chart` (and save it to ``path``).
+
+        Parameters
+        ----------
+        path : str or PathLike, optional
+        ax : Axes or sequence of Axes, optional
+        channels : sequence of str, optional
+
+        Returns
+        -------
+        Figure
+        """
+        check_plot_path(path)
+        fig = draw_figure(self.chart(channels), ax)
+        return _save_figure(fig, path)
+
+    def summary(self) -> str:
+        """The fitted parameters and the correlation before and after.
+
+        Returns
+        -------
+        str
+        """
+        lines = [f"{'parameter':<12} {'start':>12} {'fitted':>12} {'std':>10}"]
+        lines += [f"{printable(n, limit=12):<12} {self.start[n]:>12.6g} "
+                  f"{self.fitted[n]:>12.6g} {self.std[n]:>10.3g}" for n in self.names]
+        lines.append(f"{'channel':<12} {'FRAC before':>12} {'FRAC after':>12}")
+        lines += [f"{printable(c, limit=12):<12} {b:>12.4f} {a:>12.4f}" for c, b, a in
+                  zip(self.channels, self.frac_before, self.frac_after)]
+        lines.append(f"RMS log-magnitude error: {self.log_error_before:.4g} before, "
+                     f"{self.log_error_after:.4g} after ({self.residual} residuals, "
+                     f"{len(self.frequency)} lines)")
+        lines += [f"warning: {w}" for w in self.warnings]
+        return "\n".join(lines) + "\n"
+
+    def _repr_html_(self) -> str:
+        return charts_svg(self.chart(), "frf-update")
+
+
+def _log_rms(measured: np.ndarray, model: np.ndarray) -> float:
+    a, b = np.abs(measured), np.abs(model)
+    ok = (a > 0) & (b > 0)
+    return float(np.sqrt(np.mean((np.log(b[ok]) - np.log(a[ok])) ** 2))) if ok.any() \
+        else math.nan
+
+
+class _FRFProblem:
+    """The residuals and their Jacobian at x = ln p."""
+
+    def __init__(self, system: LinearSystem, names: Sequence[str], frequency: np.ndarray,
+                 measured: np.ndarray, signal: str, channels: Mapping[str, ChannelMap],
+                 residual: str, deadline: Deadline) -> None:
+        self.system, self.names, self.frequency = system, list(names), frequency
+        self.measured, self.signal, self.channels = measured, signal, dict(channels)
+        self.residual, self.deadline = residual, deadline
+        self.scale = np.sqrt(np.mean(np.abs(measured) ** 2, axis=1, keepdims=True))
+        self.log_measured = np.log(np.abs(measured)) if residual == "log" else measured
+
+    def frf(self, p: np.ndarray) -> np.ndarray:
+        self.deadline.check("while updating the model to the FRFs", analysis=True)
+        h = model_frf(self.system, self.signal, self.frequency, self.channels,
+                      deadline=self.deadline, **dict(zip(self.names, map(float, p))))
+        return np.array([h[c] for c in self.channels])
+
+    def _residuals_of(self, H: np.ndarray) -> np.ndarray:
+        if self.residual == "log":
+            with np.errstate(divide="ignore"):
+                r = np.log(np.abs(H)) - self.log_measured
+            return np.asarray(np.nan_to_num(r, nan=0.0, posinf=50.0, neginf=-50.0)).ravel()
+        d = (H - self.measured) / self.scale
+        return np.concatenate([d.real.ravel(), d.imag.ravel()])
+
+    def residuals(self, x: np.ndarray) -> np.ndarray:
+        return self._residuals_of(self.frf(np.exp(x)))
+
+    def jacobian(self, x: np.ndarray) -> np.ndarray:
+        columns = []
+        for k in range(len(x)):
+            h = math.log1p(_STEP)
+            up, down = x.copy(), x.copy()
+            up[k] += h
+            down[k] -= h
+            columns.append((self.residuals(up) - self.residuals(down)) / (2 * h))
+        return np.column_stack(columns)
+
+
+def _measured_rows(frequency: np.ndarray, measured: Mapping[str, Any],
+                   channels: Mapping[str, ChannelMap], residual: str, source: str
+                   ) -> np.ndarray:
+    """The measured FRFs as (channels, lines), checked."""
+    missing = [c for c in channels if c not in measured]
+    if missing:
+        raise ModelError(Problem(f"no measured FRF for the channel "
+                                 f"'{printable(missing[0], limit=40)}'", source, "measurement",
+                                 "channels"))
+    rows = np.array([np.asarray(measured[c], dtype=complex).ravel() for c in channels]) \
+        if all(np.shape(measured[c]) == frequency.shape for c in channels) else None
+    if rows is None:
+        raise ModelError(Problem(f"every measured FRF needs one value per line "
+                                 f"({len(frequency)} lines)", source, "update"))
+    if not np.isfinite(rows).all():
+        raise ModelError(Problem("a measured FRF holds NaN or infinite values", source,
+                                 "update"))
+    if residual == "log" and not (np.abs(rows) > 0).all():
+        raise ModelError(Problem("a measured FRF is zero at a line: the log-magnitude "
+                                 "residual needs |H| > 0 (leave the line out or use the "
+                                 "complex residual)", source, "update"))
+    return rows
+
+
+def update_to_frf(system: LinearSystem, parameters: Mapping[str, tuple[Any, Any]],
+                  frequency: Sequence[float] | np.ndarray, measured: Mapping[str, Any],
+                  signal: str, channels: Mapping[str, ChannelMap], *, residual: str = "log",
+                  sigma: float | None = None, units: Mapping[str, str] | None = None,
+                  start: Mapping[str, float] | None = None,
+                  deadline: Deadline = NO_DEADLINE) -> FRFUpdate:
+    """Fit parameters within bounds to measured FRFs at their lines.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    parameters : mapping
+        name -> (low, high): numbers (SI) or texts with units; the fit starts from the
+        model's value (clipped into the bounds).
+    frequency : array_like
+        The lines (Hz), positive.
+    measured : mapping
+        Channel -> its measured FRF (complex, one value per line) to ``signal``.
+    signal : str
+        The model's input the FRFs are measured to (``[measurement] input``).
+    channels : mapping
+        Channel -> its coordinate or output and derivative.
+    residual : {"log", "complex"}
+        The residual (module docstring).
+    sigma : float, optional
+        The residuals' standard deviation (log: the relative magnitude noise).
+    units : mapping, optional
+        Channel -> its FRF's unit (for the figure's labels).
+    start : mapping, optional
+        name -> the value (SI) the fit starts from (default the model's), clipped into the
+        bounds: one start of a multi-start (:mod:`resonant.studies.multi_start`).
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    FRFUpdate
+
+    Raises
+    ------
+    ModelError
+        For an unknown parameter or residual, bounds that are not positive and increasing,
+        no lines, a measured FRF missing, of the wrong length, NaN, or zero (log residual).
+    """
+    from scipy.optimize import least_squares
+
+    source = system.source
+    if residual not in RESIDUALS:
+        raise ModelError(Problem(f"residual '{printable(residual, limit=20)}' is not one of "
+                                 f"{', '.join(RESIDUALS)}", source, "update", "residual"))
+    f = np.asarray(frequency, dtype=float).ravel()
+    if not len(f) or not (np.isfinite(f).all() and (f > 0).all()):
+        raise ModelError(Problem("give one or more positive, finite lines (Hz)", source,
+                                 "update"))
+    if not channels:
+        raise ModelError(Problem("give at least one channel", source, "measurement",
+                                 "channels"))
+    rows = _measured_rows(f, measured, channels, residual, source)
+    model_values = dict(system.numeric(deadline).parameters)
+    bounds = parameter_bounds(system, parameters, model_values)
+    names = list(bounds)
+    problem = _FRFProblem(system, names, f, rows, signal, channels, residual, deadline)
+    first = {**model_values, **(start or {})}
+    start_values = np.array([min(max(float(first[n]), bounds[n][0]), bounds[n][1])
+                             for n in names])
+    lower = np.log([bounds[n][0] for n in names])
+    upper = np.log([bounds[n][1] for n in names])
+    before = problem.frf(start_values)
+    solution = least_squares(problem.residuals, np.log(start_values), jac=problem.jacobian,
+                             bounds=(lower, upper), x_scale=1.0, xtol=1e-12, ftol=1e-12,
+                             gtol=1e-12)
+    fitted = np.exp(solution.x)
+    std = log_std(solution.jac, solution.fun, fitted, sigma, len(solution.fun))
+    warnings = [f"{n} ended on its bound {fitted[k]:.6g}" for k, n in enumerate(names)
+                if np.isclose(solution.x[k], lower[k]) or np.isclose(solution.x[k], upper[k])]
+    return FRFUpdate(tuple(names), dict(zip(names, start_values.tolist())),
+                     dict(zip(names, fitted.tolist())), dict(zip(names, std.tolist())),
+                     bounds, f, tuple(channels), rows, before, problem.frf(fitted), residual,
+                     tuple((units or {}).get(c, "") for c in channels), float(solution.cost),
+                     str(solution.message), tuple(warnings))

@@ -1,0 +1,66 @@
+"""The test against the model: identified modes paired with the model's by the MAC, their
+frequency errors, and the figure of both (docs/testing.md).  Shown when the report is given
+a :class:`~resonant.analyses.correlate.Correlation` (``resonant correlate --json``, read by
+``resonant report --test FILE``); its figure is the correlation's own chart."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..blocks import Block, Heading, Note, Table, cell, paragraph
+from .context import Context, _m
+
+#: paired MACs below this are pointed out (a pair that is not the same shape)
+LOW_MAC = 0.9
+
+
+def _t(value: float, digits: int = 4) -> str:
+    return f"{float(value):.{digits}g}" if math.isfinite(value) else "-"
+
+
+def measured_modes(ctx: Context) -> list[Block]:
+    """The pairs, MACs and frequency errors of the report's correlation (none: nothing)."""
+    c = ctx.correlation
+    if c is None:
+        return []
+    blocks: list[Block] = [Heading("Test against model")]
+    blocks.append(paragraph(
+        f"{len(c.test_frequency)} modes identified from the measured frequency response "
+        f"functions are compared with the model's {len(c.model_frequency)} by the modal "
+        "assurance criterion of the test shape ", _m(r"\phi_{j}"), " and the model shape ",
+        _m(r"\psi_{k}"), " at the measured channels:"))
+    blocks.append(ctx.equation(
+        r"\mathrm{MAC}_{jk} = \frac{|\phi_{j}^{H}\psi_{k}|^{2}}"
+        r"{(\phi_{j}^{H}\phi_{j})(\psi_{k}^{H}\psi_{k})}", "mac"))
+    blocks.append(paragraph(
+        "Each test mode is paired with the model mode that maximizes the sum of the paired "
+        "MACs (two close test modes are not both paired with one model mode); the frequency "
+        "error of a pair is ", _m(r"(f_{\mathrm{test}} - f_{\mathrm{model}})/f_{\mathrm{model}}"),
+        "."))
+    header = (cell("test mode"), cell(_m(r"f_{\mathrm{test}}"), " [Hz]"), cell("model mode"),
+              cell(_m(r"f_{\mathrm{model}}"), " [Hz]"), cell("error [%]"), cell("MAC"))
+    rows = []
+    for j, k in enumerate(c.pairs):
+        paired = k >= 0
+        rows.append((cell(str(j + 1)), cell(_t(c.test_frequency[j])),
+                     cell(str(k + 1) if paired else "none"),
+                     cell(_t(c.model_frequency[k]) if paired else "-"),
+                     cell(_t(100 * c.frequency_error[j], 3)),
+                     cell(_t(c.paired_mac[j], 4))))
+    blocks.append(Table(header, tuple(rows)))
+    if ctx.plots and len(c.pairs):
+        blocks.append(ctx.figure(c.chart(), "The MAC of each test mode with its paired model "
+                                 "mode (top) and their frequency errors (bottom)."))
+    low = [j + 1 for j, m in enumerate(c.paired_mac) if not m >= LOW_MAC]
+    if low:
+        blocks.append(Note((f"Test mode{'s' if len(low) > 1 else ''} "
+                            f"{', '.join(map(str, low))}: no model mode of MAC above "
+                            f"{LOW_MAC:g}; the shape is not the model's (a mode the model "
+                            "lacks, a channel mapped to the wrong coordinate, or noise).",)))
+    off = np.abs(c.auto_mac_test - np.eye(len(c.test_frequency)))
+    if off.size and float(off.max()) > LOW_MAC:
+        blocks.append(Note(("Two identified shapes have an auto-MAC above "
+                            f"{LOW_MAC:g}: too few channels to tell them apart.",)))
+    return blocks
