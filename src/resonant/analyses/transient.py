@@ -40,6 +40,7 @@ from ..memory import chunk_rows, require
 from ..model.load_spec import ShockSpec
 from ..system.base import LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
+from ..system.output_map import output_map
 from .results_json import Saved, floats_json
 from .shock import pulse
 
@@ -278,30 +279,30 @@ def _output_map(num: NumericEOM, A: np.ndarray, B: np.ndarray, signal: str, deri
     s^(m-1)] and the input u = s^(m) to them (a coordinate, or an output's terms in q, q',
     q'' = A[q''] X + B[q''] u and the signal's derivatives)."""
     n, size = num.n, len(A)
-    rows: list[str] = []
-    R, D = [], []
-    for i, q in enumerate(num.coordinates):
-        if names is None or q in names:
-            rows.append(q)
-            R.append(np.eye(size)[i])
-            D.append(0.0)
-    for name, output in num.outputs.items():
-        if names is not None and name not in names:
-            continue
+    rows = [q for q in num.coordinates if names is None or q in names]
+    R = [np.eye(size)[num.coordinates.index(q)] for q in rows]
+    D = [0.0] * len(rows)
+    outputs = output_map(num.outputs, num.coordinates,
+                         [o for o in num.outputs if names is None or o in names])
+    for j, name in enumerate(outputs.names):
+        if outputs.orders[j] > 2:
+            raise AnalysisError(f"the output {name} holds a rate of order "
+                                f"{outputs.orders[j]} of a coordinate; a transient gives "
+                                "rates up to 2")
         r, d = np.zeros(size), 0.0
-        for (var, order), coefficient in output.terms.items():
-            if var in num.coordinates:
-                i = num.coordinates.index(var)
-                if order < 2:
-                    r[order * n + i] += coefficient
-                else:
-                    r += coefficient * A[n + i]
-                    d += coefficient * B[n + i]
-            elif var == signal and order < derivative:
+        r[:n] += outputs.R[0][j]
+        r[n:2 * n] += outputs.R[1][j]
+        if len(outputs.R) > 2:
+            r += outputs.R[2][j] @ A[n:2 * n]
+            d += float(outputs.R[2][j] @ B[n:2 * n])
+        for (var, order), coefficient in zip(outputs.signals, outputs.S[j]):
+            if var != signal or coefficient == 0:
+                continue
+            if order < derivative:
                 r[2 * n + order] += coefficient
-            elif var == signal and order == derivative:
+            elif order == derivative:
                 d += coefficient
-            elif var == signal:
+            else:
                 raise AnalysisError(f"the output {name} uses {var}" + "'" * order + ", a "
                                     "higher derivative than the history's")
         rows.append(name)
