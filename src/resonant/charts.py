@@ -1408,7 +1408,27 @@ def _draw_panel(chart: Chart, ax: Axes, own: bool, legend_size: float | None = N
                 axis="y" if chart.xticks is not None else "both")
         if chart.xlog or chart.ylog:
             ax.grid(True, which="minor", color="0.95", linewidth=0.5)
+    if chart.xlog:
+        _log_minor_ticks(ax.xaxis, *ax.get_xlim())
+    if chart.ylog:
+        _log_minor_ticks(ax.yaxis, *ax.get_ylim())
     return _panel_legend(chart, ax, own, lines, legend_size, show_legend)
+
+
+def _log_minor_ticks(axis: Any, low: float, high: float) -> None:
+    """A log axis's minor ticks as the SVG writer draws them (:func:`log_ticks`): on an
+    axis of fewer than two labelled decades those at 2, 3 and 5 times a power of ten read
+    ``3`` or ``0.02``, not ``3×10^0``; the others carry no label."""
+    from matplotlib.ticker import FixedLocator, FuncFormatter
+
+    low, high = min(low, high), max(low, high)
+    if not (low > 0 and math.isfinite(high)):
+        return
+    majors, minors = log_ticks(low, high)
+    labels = {f"{m:.6g}": label for m, label in _minor_labels(majors, minors)}
+    axis.set_minor_locator(FixedLocator(minors))
+    axis.set_minor_formatter(FuncFormatter(lambda v, _: labels.get(f"{v:.6g}", "")))
+    axis.set_tick_params(which="minor", labelsize=8)
 
 
 def _panel_legend(chart: Chart, ax: Axes, own: bool, lines: list[tuple[Curve, Any]],
@@ -1605,11 +1625,15 @@ def check_plot_path(path: PathArg) -> Path | None:
     return path
 
 
-def save_figure(fig: Figure, path: PathArg, *, dpi: float | str = "figure",
+#: the resolution of every figure written to a raster file (dots per inch)
+FIGURE_DPI = 150
+
+
+def save_figure(fig: Figure, path: PathArg, *, dpi: float | str = FIGURE_DPI,
                 bbox_inches: str | None = None) -> Figure:
     """Write ``fig`` to ``path`` (nothing for None), attaching an Agg canvas if it has none,
-    and return it; ``dpi`` and ``bbox_inches`` as :meth:`matplotlib.figure.Figure.savefig`
-    takes them.
+    and return it; ``dpi`` (default :data:`FIGURE_DPI`, one resolution for every figure)
+    and ``bbox_inches`` as :meth:`matplotlib.figure.Figure.savefig` takes them.
 
     Examples
     --------
@@ -1705,5 +1729,6 @@ __all__ = ["Charted", "MAX_CURVES", "Annotation", "Bar", "Chart", "Charts", "Cur
            "FIELD_COLORS", "HATCH", "HATCH_COLOR", "charts_svg", "check_plot_path", "describe",
            "draw_chart", "draw_figure", "figure_of", "legend_keys", "mathtext_label",
            "panel_heights", "plain_text", "nice_ticks", "log_ticks", "tick_labels", "text_runs",
-           "unicode_text", "unit_text", "text_width", "x_limits", "y_limits", "save_figure",
+           "unicode_text", "unit_text", "FIGURE_DPI", "text_width", "x_limits", "y_limits",
+           "save_figure",
            "WIDTH", "HEIGHT", "COLORS", "MARKER_SHAPES", "LEGENDS"]

@@ -58,6 +58,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..memory import require
 from ..modal import matrix_polynomial_roots, modal_assurance
+from ..model.units_display import ResultUnits, cyclic_shown
 from .results_json import Saved, complex_json, floats_json
 
 #: the stability criteria's defaults (relative frequency, relative damping, MAC)
@@ -237,15 +238,21 @@ class ModalIdentification(Charted):
         return Charts((top, bottom), title="identified modes", heights=(1.4, 1.0),
                       size=(7.0, 6.0))
 
-    def summary(self) -> str:
+    def summary(self, units: ResultUnits | None = None) -> str:
         """The modes as a text table and the fit's error per channel.
+
+        Parameters
+        ----------
+        units : ResultUnits, optional
+            The display units (``--units``: frequencies in the unit chosen; default Hz).
 
         Returns
         -------
         str
         """
-        lines = [f"{'mode':>4} {'f [Hz]':>10} {'zeta [%]':>9}"]
-        lines += [f"{k + 1:>4} {f:>10.5g} {100 * z:>9.4g}"
+        hz = cyclic_shown(units)
+        lines = [f"{'mode':>4} {f'f [{hz.text}]':>10} {'zeta [%]':>9}"]
+        lines += [f"{k + 1:>4} {hz(f):>10.5g} {100 * z:>9.4g}"
                   for k, (f, z) in enumerate(zip(self.frequency, self.damping))]
         lines += [f"fit error {printable(k, limit=20)}: {v:.3g}" for k, v in self.errors.items()]
         lines += [f"warning: {w}" for w in self.warnings]
