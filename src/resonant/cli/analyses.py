@@ -158,8 +158,7 @@ def _run_nonlinear(args: argparse.Namespace, model: Model) -> int:
                              options=options, deadline=deadline)
     units = result_units(model)
     return _emit(args, result, lambda: nonlinear_text(result, units),
-                 lambda path: plot_nonlinear_response(
-                     result, path, units=units.si if units is not None else None))
+                 lambda path: plot_nonlinear_response(result, path, units=units))
 
 
 #: the results this module writes
