@@ -19,9 +19,11 @@ import pytest
 
 from conftest import run_cli
 from resonant.analyses.identify import identify_modes
+from resonant.charts import Chart, Curve, _thinned, chart_svg
 from resonant.cli import COMMANDS, build_parser
 from resonant.model.units import display_units
 from resonant.model.units_display import ResultUnits
+from resonant.report.steps.loads import _amount, _cell
 
 #: the subcommands that print no number of a model (a list of examples, a grade sheet)
 WITHOUT_NUMBERS = {"example", "grade"}
@@ -113,3 +115,23 @@ def test_measured_frequencies_follow_the_frequency_unit():
     assert "f [Hz]" in hz and "f [rad/s]" in rad
     assert float(rad.splitlines()[1].split()[1]) == pytest.approx(
         2 * math.pi * float(hz.splitlines()[1].split()[1]), rel=1e-4)
+
+
+def test_long_curves_are_thinned_in_svg():
+    """A history of 10^5 samples is written as what its drawing shows (about four points
+    per half-point column), not as 10^5 points (the report with random, shock and
+    periodic sections was 3.7 MB); its extremes are kept exactly."""
+    t = np.linspace(0.0, 1.0, 100_001)
+    y = np.sin(2 * np.pi * 7 * t) + 0.3 * np.sin(2 * np.pi * 400 * t)
+    svg = chart_svg(Chart((Curve(t, y, "y"),), "t", "y", (0.0, 1.0)), "long")
+    assert len(svg) < 120_000
+    keep = _thinned(t * 400, y)
+    assert y[keep].max() == y.max() and y[keep].min() == y.min()
+
+
+def test_report_amplitudes_carry_their_units():
+    """The shock's amplitude reads 490.3 m/s^2 (50 g), the cells' units are typeset."""
+    text = _amount(490.3325, "m/s^2")
+    assert r"\mathrm{m/s^{2}}" in text and r"50\ \mathrm{g}" in text
+    number, unit = _cell(0.25, "m/s^2")
+    assert number == "0.25" and r"s^{2}" in str(unit)

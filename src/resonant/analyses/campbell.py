@@ -177,6 +177,12 @@ class Campbell:
     refined : int
         Speeds that refinement added.
     warnings : tuple of str
+    Examples
+    --------
+    >>> import resonant
+    >>> r = resonant.load("examples/rotors/jeffcott_rotor.toml").campbell()
+    >>> [(round(c.speed, 1), c.whirl) for c in r.critical_speeds]    # rad/s: sqrt(k/m)
+    [(316.2, 'backward'), (316.2, 'forward')]
     """
 
     title: str

@@ -60,6 +60,14 @@ class Correlation(Charted):
         (f_test - f_model) / f_model of each pair (NaN without a pair).
     auto_mac_test, auto_mac_model : ndarray
         The MAC of each set with itself (off-diagonal: how distinct the shapes are).
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from resonant.analyses.correlate import correlate_shapes
+    >>> c = correlate_shapes(np.array([2.2, 6.3]), np.eye(2), np.array([2.24, 6.28]),
+    ...                      np.array([[1.0, 0.1], [0.0, 1.0]]))
+    >>> c.pairs, round(float(c.mac[1, 1]), 4)
+    ((0, 1), 0.9901)
     """
 
     test_frequency: np.ndarray

@@ -111,6 +111,14 @@ class MeasuredFRF:
     added_decay : float
         The decay rate 1 / tau (s^-1) the exponential window adds to every mode (0 without).
     warnings : tuple of str
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from resonant.analyses.frf_estimate import estimate_frf
+    >>> x = np.random.default_rng(0).standard_normal(2048)
+    >>> r = estimate_frf(x, {"y": 3 * x}, 0.01, segment=256)     # y = 3 x: H = 3
+    >>> r.estimator, round(float(abs(r.frf["y"][10])), 9), round(float(r.coherence["y"][10]), 9)
+    ('H1', 3.0, 1.0)
     """
 
     frequency: np.ndarray

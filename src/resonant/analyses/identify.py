@@ -122,6 +122,16 @@ class ModalIdentification(Charted):
     derivative : int
         0 receptance, 1 mobility, 2 accelerance.
     warnings : tuple of str
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from resonant.analyses.identify import identify_modes
+    >>> f = np.linspace(0.5, 6.0, 400)
+    >>> w, wn = 2 * np.pi * f, 2 * np.pi * 3.0                   # one mode: 3 Hz, 2 %
+    >>> frf = 1 / (wn ** 2 - w ** 2 + 2j * 0.02 * wn * w)
+    >>> r = identify_modes(f, {"x": frf}, max_order=20, near=[3.0])
+    >>> [round(float(v), 6) for v in (r.frequency[0], r.damping[0])]
+    [3.0, 0.02]
     """
 
     poles: np.ndarray

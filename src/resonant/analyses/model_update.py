@@ -82,6 +82,14 @@ class ModelUpdate(Charted):
     message : str
         The optimizer's.
     warnings : tuple of str
+    Examples
+    --------
+    >>> import resonant
+    >>> from resonant.analyses.model_update import update_parameters
+    >>> system = resonant.load("examples/chain3_damped.toml").linearize()
+    >>> r = update_parameters(system, {"k": ("500 N/m", "2000 N/m")}, [2.2399 * 1.05])
+    >>> r.names, round(r.fitted["k"] / r.start["k"], 4)         # 5 % higher: k 1.05^2
+    (('k',), 1.1025)
     """
 
     names: tuple[str, ...]

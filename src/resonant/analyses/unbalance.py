@@ -71,6 +71,13 @@ class UnbalanceResponse(Charted):
     unbalances : tuple of Unbalance
         The unbalances.
     warnings : tuple of str
+    Examples
+    --------
+    >>> import numpy as np, resonant
+    >>> model = resonant.load("examples/rotors/jeffcott_rotor.toml")
+    >>> r = model.unbalance_response(np.array([100.0, 316.2, 600.0]))
+    >>> r.stations, r.speeds[int(np.argmax(r.major[:, 0]))]     # largest at the critical
+    (('',), np.float64(316.2))
     """
 
     title: str
