@@ -177,6 +177,7 @@ class Campbell:
     refined : int
         Speeds that refinement added.
     warnings : tuple of str
+
     Examples
     --------
     >>> import resonant

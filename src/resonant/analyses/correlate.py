@@ -60,6 +60,7 @@ class Correlation(Charted):
         (f_test - f_model) / f_model of each pair (NaN without a pair).
     auto_mac_test, auto_mac_model : ndarray
         The MAC of each set with itself (off-diagonal: how distinct the shapes are).
+
     Examples
     --------
     >>> import numpy as np

@@ -111,6 +111,7 @@ class MeasuredFRF:
     added_decay : float
         The decay rate 1 / tau (s^-1) the exponential window adds to every mode (0 without).
     warnings : tuple of str
+
     Examples
     --------
     >>> import numpy as np

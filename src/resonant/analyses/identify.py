@@ -122,6 +122,7 @@ class ModalIdentification(Charted):
     derivative : int
         0 receptance, 1 mobility, 2 accelerance.
     warnings : tuple of str
+
     Examples
     --------
     >>> import numpy as np

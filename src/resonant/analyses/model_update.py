@@ -82,6 +82,7 @@ class ModelUpdate(Charted):
     message : str
         The optimizer's.
     warnings : tuple of str
+
     Examples
     --------
     >>> import resonant

@@ -71,6 +71,7 @@ class UnbalanceResponse(Charted):
     unbalances : tuple of Unbalance
         The unbalances.
     warnings : tuple of str
+
     Examples
     --------
     >>> import numpy as np, resonant
