@@ -15,12 +15,14 @@ import math
 import re
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from conftest import run_cli
 from resonant.analyses.identify import identify_modes
 from resonant.charts import Chart, Curve, _thinned, chart_svg
 from resonant.cli import COMMANDS, build_parser
+from resonant.cli.study import _in_display_units
 from resonant.model.units import display_units
 from resonant.model.units_display import ResultUnits
 from resonant.report.steps.loads import _amount, _cell
@@ -135,3 +137,15 @@ def test_report_amplitudes_carry_their_units():
     assert r"\mathrm{m/s^{2}}" in text and r"50\ \mathrm{g}" in text
     number, unit = _cell(0.25, "m/s^2")
     assert number == "0.25" and r"s^{2}" in str(unit)
+
+
+def test_study_pictures_in_display_units():
+    """The study's columns drawn in the display units (the file stays SI)."""
+    table = pd.DataFrame({"k2": [400.0], "natural_frequency:1": [2 * math.pi]})
+    units = {"k2": "N/m", "natural_frequency:1": "rad/s"}
+    shown = ResultUnits(display=display_units(["Hz"]))
+    converted, texts, nominal = _in_display_units(table, units, {"k2": 400.0}, shown)
+    assert texts == {"k2": "N/m", "natural_frequency:1": "Hz"}
+    assert converted["natural_frequency:1"].iloc[0] == pytest.approx(1.0)
+    assert table["natural_frequency:1"].iloc[0] == pytest.approx(2 * math.pi)
+    assert nominal == {"k2": 400.0}

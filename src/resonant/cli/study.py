@@ -120,15 +120,33 @@ def run_study(args: argparse.Namespace) -> int:
         raise
     units = study_units(model, spec)
     if args.plot:
-        plot_study(result.table, list(spec.vary), list(spec.columns), args.plot,
-                   result.sensitivity, grid=spec.design == "grid", units=units,
-                   nominal={name: float(model.parameter_values[name]) for name in spec.vary})
+        nominal = {name: float(model.parameter_values[name]) for name in spec.vary}
+        table, shown, nominal = _in_display_units(result.table, units, nominal,
+                                                  cli.shown_units(args, model))
+        plot_study(table, list(spec.vary), list(spec.columns), args.plot,
+                   result.sensitivity, grid=spec.design == "grid", units=shown,
+                   nominal=nominal)
     if args.json:
         # the SI unit of every varied parameter and quantity ("" for a pure number)
         cli.emit_json({**result.to_dict(), "units": units})
     else:
         sys.stdout.write(_text(result, args.output, units, cli.shown_units(args, model)))
     return 0
+
+
+def _in_display_units(table: Any, units: dict[str, str], nominal: dict[str, float],
+                      shown: ResultUnits | None) -> tuple[Any, dict[str, str], dict[str, float]]:
+    """The study's columns, units and nominal values in the display units (``--units``:
+    MPa for a stress, Hz for a frequency; the file itself stays SI)."""
+    if shown is None or not units:
+        return table, units, nominal
+    display = {column: shown_unit(shown, unit) for column, unit in units.items()}
+    converted = table.copy()
+    for column, unit in display.items():
+        if column in converted.columns and unit.factor != 1.0:
+            converted[column] = converted[column] / unit.factor
+    return (converted, {c: u.text for c, u in display.items()},
+            {n: display[n](v) if n in display else v for n, v in nominal.items()})
 
 
 def _stopped(output: str) -> str:
