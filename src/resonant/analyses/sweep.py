@@ -1230,7 +1230,9 @@ def _extrema_marks(response: FrequencyResponse, name: str, color: str, floor: fl
     where its note does not overlap another), circles on the antiresonances (at the drawn
     floor for a true zero); ``unit`` shows an amplitude."""
     marks = []
-    peaks = [p for p in response.peaks if p.name == name and axis.resonant(p.value)]
+    own = [p for p in response.peaks if p.name == name]
+    highest = max(own, key=lambda p: p.amplitude, default=None)  # never left unmarked
+    peaks = [p for p in own if p is highest or axis.resonant(p.value)]
     for p in peaks[:20]:
         value = axis.at(p.value)
         marks.append(Marker(value, unit(p.amplitude), color, "peak", "resonance peak"))
