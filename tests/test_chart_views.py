@@ -20,6 +20,7 @@ import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 
 import resonant
+import resonant.charts
 from conftest import EXAMPLES
 from resonant.analyses.backbone import backbone
 from resonant.analyses.harmonic_balance import nonlinear_sweep
@@ -149,9 +150,12 @@ def test_matplotlib_and_svg_draw_the_same_description(descriptions, kind) -> Non
 
 
 @pytest.mark.parametrize("kind", KINDS)
-def test_the_svg_places_the_points_on_the_description_s_axes(descriptions, kind) -> None:
+def test_the_svg_places_the_points_on_the_description_s_axes(descriptions, kind,
+                                                           monkeypatch) -> None:
     """Two routes: the SVG path's points, mapped back through the axis scale, follow the
-    data -- affine in log10(x) on a log axis, in x on a linear one."""
+    data -- affine in log10(x) on a log axis, in x on a linear one (every point written:
+    the thinning of long curves is tested in tests/test_units_option.py)."""
+    monkeypatch.setattr(resonant.charts, "THIN_ABOVE", 10**9)
     charts = descriptions[kind]
     for chart, group in zip(charts.panels, _svg_panels(charts_svg(charts, "p"))):
         for bar in chart.bars:  # the bars' free ends, affine in their heights

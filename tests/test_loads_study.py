@@ -287,11 +287,13 @@ def test_report_shows_the_periodic_and_random_responses(tmp_path: Path) -> None:
     periodic = periodic_load_response(model.linearize())
     random = model.random_response()
     tables = [b for b in report.blocks if isinstance(b, Table)]
-    cells = [" ".join(p for p in c if isinstance(p, str)) for t in tables for r in t.rows
-             for c in r]
-    assert f"{periodic.largest['z']:.4g} m" in cells
-    assert f"{random.rms['a']:.4g} m/s^2" in cells
-    assert random.miles is not None and f"{random.miles['a']:.4g} m/s^2" in cells
+    # the number as text, its unit typeset (m/s², not m/s^2)
+    cells = [" ".join(p if isinstance(p, str) else p.latex for p in c) for t in tables
+             for r in t.rows for c in r]
+    metre, acceleration = r" \ \mathrm{m}", r" \ \mathrm{m/s^{2}}"
+    assert f"{periodic.largest['z']:.4g}{metre}" in cells
+    assert f"{random.rms['a']:.4g}{acceleration}" in cells
+    assert random.miles is not None and f"{random.miles['a']:.4g}{acceleration}" in cells
     assert "Miles" in text and "Parseval" in text
 
 

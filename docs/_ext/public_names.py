@@ -44,14 +44,14 @@ HOME_PAGES: dict[str, tuple[str, ...]] = {
     "resonant.analyses.backbone": ("backbone", "BackboneCurve"),
     "resonant.analyses.special_points": ("SpecialPoint",),
     "resonant.analyses.stationary": ("HarmonicResponse",),
-    "resonant.analyses.campbell": ("campbell", "Campbell", "CriticalSpeed", "StabilityThreshold",),
-    "resonant.analyses.unbalance": ("unbalance_response", "UnbalanceResponse",),
-    "resonant.analyses.frf_estimate": ("estimate_frf", "frf_from_measurement", "MeasuredFRF",),
-    "resonant.analyses.identify": ("identify_modes", "ModalIdentification",),
-    "resonant.analyses.correlate": ("correlate", "correlate_shapes", "Correlation",),
-    "resonant.analyses.model_update": ("update_parameters", "ModelUpdate",),
-    "resonant.analyses.state_space": ("state_space", "StateSpaceModel",),
-    "resonant.analyses.fe_checks": ("check_matrices", "MatrixChecks",),
+    "resonant.analyses.campbell": ("campbell", "CriticalSpeed", "StabilityThreshold",),
+    "resonant.analyses.unbalance": ("unbalance_response",),
+    "resonant.analyses.frf_estimate": ("estimate_frf", "frf_from_measurement",),
+    "resonant.analyses.identify": ("identify_modes",),
+    "resonant.analyses.correlate": ("correlate", "correlate_shapes",),
+    "resonant.analyses.model_update": ("update_parameters",),
+    "resonant.analyses.state_space": ("state_space",),
+    "resonant.analyses.fe_checks": ("check_matrices",),
 }
 
 #: online references of the libraries the docstrings mention (no intersphinx: the build

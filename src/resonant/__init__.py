@@ -27,16 +27,20 @@ from .errors import AnalysisError, ModelError, Problem, ResonantError
 __version__ = "0.1.0"
 
 #: the names taken from :mod:`resonant.api` on first use
-API_NAMES = ("load", "loads", "Model", "linear_system", "stationary", "modes", "sweep",
-             "simulate", "StationarySolution", "ModalAnalysis", "FrequencyResponse",
-             "Simulation", "NonlinearResponse", "Backbones", "LinearSystem", "LinearEOM",
-             "MatrixEOM", "NumericEOM", "StudyResult")
+API_NAMES = ("load", "loads", "Model", "linear_system", "stationary", "modes", "sweep", "simulate",
+             "StationarySolution", "ModalAnalysis", "FrequencyResponse", "Simulation",
+             "NonlinearResponse", "Backbones", "LinearSystem", "LinearEOM", "MatrixEOM",
+             "NumericEOM", "StudyResult", "Campbell", "UnbalanceResponse", "MeasuredFRF",
+             "ModalIdentification", "Correlation", "ModelUpdate", "StateSpaceModel",
+             "MatrixChecks")
 
-__all__ = ["AnalysisError", "Backbones", "Deadline", "FrequencyResponse", "LinearEOM",
-           "LinearSystem", "MatrixEOM", "ModalAnalysis", "Model", "ModelError",
-           "NonlinearResponse", "NumericEOM", "Problem", "ResonantError", "Simulation",
-           "StationarySolution", "StudyResult", "__version__", "linear_system", "load",
-           "loads", "modes", "simulate", "stationary", "sweep"]
+__all__ = ["AnalysisError", "Backbones", "Campbell", "Correlation", "Deadline",
+           "FrequencyResponse", "LinearEOM", "LinearSystem", "MatrixChecks", "MatrixEOM",
+           "MeasuredFRF", "ModalAnalysis", "ModalIdentification", "Model", "ModelError",
+           "ModelUpdate", "NonlinearResponse", "NumericEOM", "Problem", "ResonantError",
+           "Simulation", "StateSpaceModel", "StationarySolution", "StudyResult",
+           "UnbalanceResponse", "__version__", "linear_system", "load", "loads", "modes",
+           "simulate", "stationary", "sweep"]
 
 
 def __getattr__(name: str) -> Any:

@@ -753,8 +753,48 @@ def _legend_rows(keys: list[_Key], room: float) -> list[list[tuple[_Key, float]]
     return rows if rows[0] else []
 
 
+#: a curve of more points than this is thinned for the SVG (see :func:`_thinned`)
+THIN_ABOVE = 2000
+#: the width of a column of the thinning, in points of the SVG (a screen pixel or less)
+THIN_COLUMN = 0.5
+
+
+def _thinned(xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
+    """The indices of the points of a long curve that its drawing needs: in every column
+    of :data:`THIN_COLUMN` points its first, lowest, highest and last point, in order (a
+    curve drawn through them differs from the full one by less than a column; a history
+    of 10^5 samples becomes about 4 per column).  A curve that goes back and forth in x,
+    or a short one, keeps every point; a left-out (NaN) point is kept as the gap it is.
+
+    Examples
+    --------
+    >>> x = np.linspace(0.0, 100.0, 100_001)
+    >>> keep = _thinned(x, np.sin(x))
+    >>> len(keep) < 1000, keep[0], keep[-1]
+    (True, np.int64(0), np.int64(100000))
+    """
+    n = xs.size
+    if n <= THIN_ABOVE:
+        return np.arange(n)
+    ok = np.isfinite(xs) & np.isfinite(ys)
+    columns = np.where(ok, np.floor(np.where(ok, xs, 0.0) / THIN_COLUMN), -1.0 - np.arange(n))
+    starts = np.concatenate(([0], np.flatnonzero(np.diff(columns) != 0) + 1))
+    if starts.size > n // 4:
+        return np.arange(n)
+    ends = np.append(starts[1:], n)
+    keep = {0, n - 1}
+    for start, end in zip(starts.tolist(), ends.tolist()):
+        column = ys[start:end]
+        keep.update((start, end - 1, start + int(np.argmin(column)),
+                     start + int(np.argmax(column))))
+    return np.array(sorted(keep))
+
+
 def _polyline(xs: np.ndarray, ys: np.ndarray) -> str:
-    """Path data with a new piece after each left-out (NaN) point."""
+    """Path data with a new piece after each left-out (NaN) point (a long curve thinned to
+    what its drawing shows, :func:`_thinned`)."""
+    keep = _thinned(xs, ys)
+    xs, ys = xs[keep], ys[keep]
     ok = np.isfinite(xs) & np.isfinite(ys)
     parts, pen = [], False
     for x, y, good in zip(xs.tolist(), ys.tolist(), ok.tolist()):
@@ -1408,7 +1448,27 @@ def _draw_panel(chart: Chart, ax: Axes, own: bool, legend_size: float | None = N
                 axis="y" if chart.xticks is not None else "both")
         if chart.xlog or chart.ylog:
             ax.grid(True, which="minor", color="0.95", linewidth=0.5)
+    if chart.xlog:
+        _log_minor_ticks(ax.xaxis, *ax.get_xlim())
+    if chart.ylog:
+        _log_minor_ticks(ax.yaxis, *ax.get_ylim())
     return _panel_legend(chart, ax, own, lines, legend_size, show_legend)
+
+
+def _log_minor_ticks(axis: Any, low: float, high: float) -> None:
+    """A log axis's minor ticks as the SVG writer draws them (:func:`log_ticks`): on an
+    axis of fewer than two labelled decades those at 2, 3 and 5 times a power of ten read
+    ``3`` or ``0.02``, not ``3×10^0``; the others carry no label."""
+    from matplotlib.ticker import FixedLocator, FuncFormatter
+
+    low, high = min(low, high), max(low, high)
+    if not (low > 0 and math.isfinite(high)):
+        return
+    majors, minors = log_ticks(low, high)
+    labels = {f"{m:.6g}": label for m, label in _minor_labels(majors, minors)}
+    axis.set_minor_locator(FixedLocator(minors))
+    axis.set_minor_formatter(FuncFormatter(lambda v, _: labels.get(f"{v:.6g}", "")))
+    axis.set_tick_params(which="minor", labelsize=8)
 
 
 def _panel_legend(chart: Chart, ax: Axes, own: bool, lines: list[tuple[Curve, Any]],
@@ -1605,11 +1665,15 @@ def check_plot_path(path: PathArg) -> Path | None:
     return path
 
 
-def save_figure(fig: Figure, path: PathArg, *, dpi: float | str = "figure",
+#: the resolution of every figure written to a raster file (dots per inch)
+FIGURE_DPI = 150
+
+
+def save_figure(fig: Figure, path: PathArg, *, dpi: float | str = FIGURE_DPI,
                 bbox_inches: str | None = None) -> Figure:
     """Write ``fig`` to ``path`` (nothing for None), attaching an Agg canvas if it has none,
-    and return it; ``dpi`` and ``bbox_inches`` as :meth:`matplotlib.figure.Figure.savefig`
-    takes them.
+    and return it; ``dpi`` (default :data:`FIGURE_DPI`, one resolution for every figure)
+    and ``bbox_inches`` as :meth:`matplotlib.figure.Figure.savefig` takes them.
 
     Examples
     --------
@@ -1705,5 +1769,6 @@ __all__ = ["Charted", "MAX_CURVES", "Annotation", "Bar", "Chart", "Charts", "Cur
            "FIELD_COLORS", "HATCH", "HATCH_COLOR", "charts_svg", "check_plot_path", "describe",
            "draw_chart", "draw_figure", "figure_of", "legend_keys", "mathtext_label",
            "panel_heights", "plain_text", "nice_ticks", "log_ticks", "tick_labels", "text_runs",
-           "unicode_text", "unit_text", "text_width", "x_limits", "y_limits", "save_figure",
+           "unicode_text", "unit_text", "FIGURE_DPI", "text_width", "x_limits", "y_limits",
+           "save_figure",
            "WIDTH", "HEIGHT", "COLORS", "MARKER_SHAPES", "LEGENDS"]

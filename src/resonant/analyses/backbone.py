@@ -66,6 +66,7 @@ from ..errors import AnalysisError, printable
 from ..expressions.notation import dollar_name
 from ..model import Model
 from ..model.options import check_harmonics
+from ..model.units_display import NO_UNIT, ResultUnits, angular_shown
 from ..system.base import LinearSystem
 from ..system.build import nonlinear_system
 from ..system.nonlinear import NonlinearSystem
@@ -145,18 +146,32 @@ class Backbones(FieldsJSON):
         if values["harmonics"] < 1:
             raise reader.error(f"is {values['harmonics']}, less than 1", "harmonics")
 
-    def summary(self) -> str:
+    def summary(self, units: ResultUnits | None = None) -> str:
+        """The text ``resonant modes --nonlinear`` prints: a few points of each curve.
+
+        Parameters
+        ----------
+        units : ResultUnits, optional
+            The display units (``--units``: amplitudes, frequencies; default SI, rad/s).
+
+        Returns
+        -------
+        str
+        """
         lines = [f"{self.title or 'model'}: backbone curves (free vibration of the full "
                  f"undamped equations, harmonic balance, H = {self.harmonics}; largest "
                  f"residual {self.residual:.3g})"]
+        w = angular_shown(units)
         for c in self.curves:
+            a = units.unit(c.reference) if units is not None else NO_UNIT
             lines.append(f"  mode {c.mode} (amplitude of {c.reference}): linear "
-                         f"{c.linear_frequency:.6g} rad/s")
+                         f"{w(c.linear_frequency):.6g} {w.text}")
             picks = sorted({0, c.amplitude.size // 4, c.amplitude.size // 2,
                             3 * c.amplitude.size // 4, c.amplitude.size - 1})
             for i in picks:
-                lines.append(f"    {c.reference} = {c.amplitudes[c.reference][i]:<12.6g} "
-                             f"omega = {c.frequencies[i]:.6g} rad/s "
+                amplitude = f"{a(c.amplitudes[c.reference][i]):.6g} {a.text}".rstrip()
+                lines.append(f"    {c.reference} = {amplitude:<14} "
+                             f"omega = {w(c.frequencies[i]):.6g} {w.text} "
                              f"({100 * (c.frequencies[i] / c.linear_frequency - 1):+.3g}%)")
         return "\n".join(lines) + "\n"
 

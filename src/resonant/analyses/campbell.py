@@ -57,6 +57,7 @@ from ..charts import (
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem
 from ..modal import STABILITY_TOLERANCE, modal_assurance
+from ..model.units_display import HZ, ResultUnits, Shown, angular_shown
 from ..system.base import LinearSystem
 from .results_json import Saved, floats_json
 from .rotor_tracking import (
@@ -176,6 +177,13 @@ class Campbell:
     refined : int
         Speeds that refinement added.
     warnings : tuple of str
+
+    Examples
+    --------
+    >>> import resonant
+    >>> r = resonant.load("examples/rotors/jeffcott_rotor.toml").campbell()
+    >>> [(round(c.speed, 1), c.whirl) for c in r.critical_speeds]    # rad/s: sqrt(k/m)
+    [(316.2, 'backward'), (316.2, 'forward')]
     """
 
     title: str
@@ -292,15 +300,21 @@ class Campbell:
                    threshold, saved.integer("refined", minimum=0),
                    saved.strings("warnings", ()))
 
-    def summary(self) -> str:
+    def summary(self, units: ResultUnits | None = None) -> str:
         """The text ``resonant campbell`` prints: the modes at the first and last speed,
         the critical speeds and the stability threshold.
+
+        Parameters
+        ----------
+        units : ResultUnits, optional
+            The display units (``--units``: frequencies and speeds in the frequency unit
+            chosen; default Hz and rpm).
 
         Returns
         -------
         str
         """
-        return campbell_text(self)
+        return campbell_text(self, units)
 
     def chart(self, damping: str = "log_decrement") -> Charts:
         """The Campbell diagram (frequency in Hz against speed in rpm, with the excitation
@@ -520,12 +534,15 @@ def _branch_whirl(result: Campbell, j: int) -> str:
     return "F" if counts["forward"] >= counts["backward"] else "B"
 
 
-def campbell_text(result: Campbell) -> str:
-    """The summary of a Campbell diagram (frequencies in Hz, speeds in rpm and rad/s).
+def campbell_text(result: Campbell, units: ResultUnits | None = None) -> str:
+    """The summary of a Campbell diagram (frequencies in Hz, speeds in rpm and rad/s, or
+    both in the frequency unit ``units`` chooses).
 
     Parameters
     ----------
     result : Campbell
+    units : ResultUnits, optional
+        The display units (``--units``).
 
     Returns
     -------
@@ -538,13 +555,15 @@ def campbell_text(result: Campbell) -> str:
     >>> "critical speeds" in campbell_text(r)
     True
     """
+    speed = angular_shown(units, Shown("rpm", RPM))
+    frequency = angular_shown(units, HZ)
     lines = [result.title or "Campbell diagram",
-             f"speed {result.speed_parameter}: {result.speeds[0] / RPM:.6g} to "
-             f"{result.speeds[-1] / RPM:.6g} rpm, {len(result.speeds)} speeds "
+             f"speed {result.speed_parameter}: {speed(result.speeds[0]):.6g} to "
+             f"{speed(result.speeds[-1]):.6g} {speed.text}, {len(result.speeds)} speeds "
              f"({result.refined} added by refinement)", "",
-             f"{'mode':>4}  {'whirl':>8}  {'f first [Hz]':>13}  {'f last [Hz]':>12}  "
-             f"{'log dec first':>13}  {'log dec last':>12}"]
-    f = result.frequencies / (2 * np.pi)
+             f"{'mode':>4}  {'whirl':>8}  {f'f first [{frequency.text}]':>13}  "
+             f"{f'f last [{frequency.text}]':>12}  {'log dec first':>13}  {'log dec last':>12}"]
+    f = frequency(result.frequencies)
     for j in range(f.shape[1]):
         whirl = {"F": "forward", "B": "backward"}.get(_branch_whirl(result, j), "-")
         lines.append(f"{j + 1:>4}  {whirl:>8}  {f[0, j]:13.6g}  {f[-1, j]:12.6g}  "
@@ -553,12 +572,13 @@ def campbell_text(result: Campbell) -> str:
     if not result.critical_speeds:
         lines.append("  none in the range")
     for c in result.critical_speeds:
-        lines.append(f"  {c.speed / RPM:12.6g} rpm ({c.speed:.6g} rad/s)  mode {c.mode}  "
+        lines.append(f"  {speed(c.speed):12.6g} {speed.text} ({c.speed:.6g} rad/s)  mode {c.mode}  "
                      f"{c.order:g}x  {c.whirl}")
     t = result.threshold
     lines.append("")
     if t.verdict == "threshold" and t.speed is not None:
-        lines.append(f"stability threshold: {t.speed / RPM:.6g} rpm ({t.speed:.6g} rad/s), "
+        lines.append(f"stability threshold: {speed(t.speed):.6g} {speed.text} ({t.speed:.6g} "
+                     "rad/s), "
                      f"mode {t.mode} ({t.whirl}) goes unstable")
     elif t.verdict == "unstable in range":
         lines.append(f"unstable at the first speed already (mode {t.mode}): no threshold "

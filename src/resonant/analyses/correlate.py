@@ -36,6 +36,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..modal import modal_assurance, undamped_eigen
 from ..model.measurement_spec import ChannelMap
+from ..model.units_display import ResultUnits, cyclic_shown
 from ..system.base import LinearSystem
 from .identify import ModalIdentification
 from .results_json import Saved, floats_json
@@ -59,6 +60,15 @@ class Correlation(Charted):
         (f_test - f_model) / f_model of each pair (NaN without a pair).
     auto_mac_test, auto_mac_model : ndarray
         The MAC of each set with itself (off-diagonal: how distinct the shapes are).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from resonant.analyses.correlate import correlate_shapes
+    >>> c = correlate_shapes(np.array([2.2, 6.3]), np.eye(2), np.array([2.24, 6.28]),
+    ...                      np.array([[1.0, 0.1], [0.0, 1.0]]))
+    >>> c.pairs, round(float(c.mac[1, 1]), 4)
+    ((0, 1), 0.9901)
     """
 
     test_frequency: np.ndarray
@@ -139,21 +149,27 @@ class Correlation(Charted):
                      xticks=ticks)
         return Charts((mac, freq), title="test against model", sharex=True)
 
-    def summary(self) -> str:
+    def summary(self, units: ResultUnits | None = None) -> str:
         """The pairs as a text table.
+
+        Parameters
+        ----------
+        units : ResultUnits, optional
+            The display units (``--units``: frequencies in the unit chosen; default Hz).
 
         Returns
         -------
         str
         """
-        lines = [f"{'test':>4} {'f test [Hz]':>11} {'model':>5} {'f model [Hz]':>12} "
-                 f"{'error [%]':>9} {'MAC':>6}"]
+        hz = cyclic_shown(units)
+        lines = [f"{'test':>4} {f'f test [{hz.text}]':>11} {'model':>5} "
+                 f"{f'f model [{hz.text}]':>12} {'error [%]':>9} {'MAC':>6}"]
         for i, j in enumerate(self.pairs):
             if j < 0:
-                lines.append(f"{i + 1:>4} {self.test_frequency[i]:>11.5g} {'-':>5}")
+                lines.append(f"{i + 1:>4} {hz(self.test_frequency[i]):>11.5g} {'-':>5}")
                 continue
-            lines.append(f"{i + 1:>4} {self.test_frequency[i]:>11.5g} {j + 1:>5} "
-                         f"{self.model_frequency[j]:>12.5g} "
+            lines.append(f"{i + 1:>4} {hz(self.test_frequency[i]):>11.5g} {j + 1:>5} "
+                         f"{hz(self.model_frequency[j]):>12.5g} "
                          f"{100 * self.frequency_error[i]:>9.3f} {self.mac[i, j]:>6.3f}")
         return "\n".join(lines) + "\n"
 

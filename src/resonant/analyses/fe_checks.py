@@ -53,7 +53,7 @@ RIGID_FORCE_TOLERANCE = 1e-8
 
 @dataclass(frozen=True)
 class MatrixChecks:
-    """What :func:`check_matrices` found.
+    """What :func:`~resonant.analyses.fe_checks.check_matrices` found.
 
     Parameters
     ----------

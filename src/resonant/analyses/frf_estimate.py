@@ -62,6 +62,7 @@ from ..memory import require
 from ..model.measured import MeasuredData, MeasuredFunction
 from ..model.measurement_spec import ChannelMap, MeasurementSpec, match_channels
 from ..model.random_spec import RandomInput
+from ..model.units_display import ResultUnits, cyclic_shown
 from ..system.base import LinearSystem
 from .random_response import Transfer, responses_to_solve
 from .results_json import Saved, complex_json, floats_json
@@ -110,6 +111,15 @@ class MeasuredFRF:
     added_decay : float
         The decay rate 1 / tau (s^-1) the exponential window adds to every mode (0 without).
     warnings : tuple of str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from resonant.analyses.frf_estimate import estimate_frf
+    >>> x = np.random.default_rng(0).standard_normal(2048)
+    >>> r = estimate_frf(x, {"y": 3 * x}, 0.01, segment=256)     # y = 3 x: H = 3
+    >>> r.estimator, round(float(abs(r.frf["y"][10])), 9), round(float(r.coherence["y"][10]), 9)
+    ('H1', 3.0, 1.0)
     """
 
     frequency: np.ndarray
@@ -277,8 +287,13 @@ class MeasuredFRF:
         fig = draw_figure(self.chart(names, model), ax)
         return save_figure(fig, path)
 
-    def summary(self) -> str:
+    def summary(self, units: ResultUnits | None = None) -> str:
         """A text table: each channel's peak and its coherence.
+
+        Parameters
+        ----------
+        units : ResultUnits, optional
+            The display units (``--units``: frequencies in the unit chosen; default Hz).
 
         Returns
         -------
@@ -290,10 +305,12 @@ class MeasuredFRF:
         >>> print(estimate_frf(x, {"y": 3 * x}, 0.01, segment=256).summary().splitlines()[0])
         H1 from 15 averages of 256 samples (hann, step 0.01 s, lines 0 to 50 Hz)
         """
-        f = self.frequency
+        hz = cyclic_shown(units)
+        f = hz(np.asarray(self.frequency, dtype=float))
         lines = [f"{self.estimator} from {self.averages} averages of {self.segment} samples "
-                 f"({self.window}, step {self.step:.6g} s, lines {f[0]:.6g} to {f[-1]:.6g} Hz)",
-                 f"{'channel':<16} {'peak [Hz]':>10} {'|H| peak':>12} {'unit':<10} "
+                 f"({self.window}, step {self.step:.6g} s, lines {f[0]:.6g} to {f[-1]:.6g} "
+                 f"{hz.text})",
+                 f"{'channel':<16} {f'peak [{hz.text}]':>10} {'|H| peak':>12} {'unit':<10} "
                  f"{'coherence':>9}"]
         for name, h in self.frf.items():
             k = int(np.argmax(np.abs(h)))

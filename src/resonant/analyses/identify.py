@@ -58,6 +58,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..memory import require
 from ..modal import matrix_polynomial_roots, modal_assurance
+from ..model.units_display import ResultUnits, cyclic_shown
 from .results_json import Saved, complex_json, floats_json
 
 #: the stability criteria's defaults (relative frequency, relative damping, MAC)
@@ -121,6 +122,17 @@ class ModalIdentification(Charted):
     derivative : int
         0 receptance, 1 mobility, 2 accelerance.
     warnings : tuple of str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from resonant.analyses.identify import identify_modes
+    >>> f = np.linspace(0.5, 6.0, 400)
+    >>> w, wn = 2 * np.pi * f, 2 * np.pi * 3.0                   # one mode: 3 Hz, 2 %
+    >>> frf = 1 / (wn ** 2 - w ** 2 + 2j * 0.02 * wn * w)
+    >>> r = identify_modes(f, {"x": frf}, max_order=20, near=[3.0])
+    >>> [round(float(v), 6) for v in (r.frequency[0], r.damping[0])]
+    [3.0, 0.02]
     """
 
     poles: np.ndarray
@@ -237,15 +249,21 @@ class ModalIdentification(Charted):
         return Charts((top, bottom), title="identified modes", heights=(1.4, 1.0),
                       size=(7.0, 6.0))
 
-    def summary(self) -> str:
+    def summary(self, units: ResultUnits | None = None) -> str:
         """The modes as a text table and the fit's error per channel.
+
+        Parameters
+        ----------
+        units : ResultUnits, optional
+            The display units (``--units``: frequencies in the unit chosen; default Hz).
 
         Returns
         -------
         str
         """
-        lines = [f"{'mode':>4} {'f [Hz]':>10} {'zeta [%]':>9}"]
-        lines += [f"{k + 1:>4} {f:>10.5g} {100 * z:>9.4g}"
+        hz = cyclic_shown(units)
+        lines = [f"{'mode':>4} {f'f [{hz.text}]':>10} {'zeta [%]':>9}"]
+        lines += [f"{k + 1:>4} {hz(f):>10.5g} {100 * z:>9.4g}"
                   for k, (f, z) in enumerate(zip(self.frequency, self.damping))]
         lines += [f"fit error {printable(k, limit=20)}: {v:.3g}" for k, v in self.errors.items()]
         lines += [f"warning: {w}" for w in self.warnings]

@@ -48,6 +48,7 @@ from ..expressions import ExpressionError, numeric_value
 from ..modal import mass_normalized_modes, modal_assurance
 from ..model.measurement_spec import ChannelMap
 from ..model.units import parse_with_unit
+from ..model.units_display import ResultUnits, cyclic_shown
 from ..system.base import LinearSystem
 from .correlate import Correlation, correlate_shapes
 from .results_json import Saved, floats_json
@@ -81,6 +82,15 @@ class ModelUpdate(Charted):
     message : str
         The optimizer's.
     warnings : tuple of str
+
+    Examples
+    --------
+    >>> import resonant
+    >>> from resonant.analyses.model_update import update_parameters
+    >>> system = resonant.load("examples/chain3_damped.toml").linearize()
+    >>> r = update_parameters(system, {"k": ("500 N/m", "2000 N/m")}, [2.2399 * 1.05])
+    >>> r.names, round(r.fitted["k"] / r.start["k"], 4)         # 5 % higher: k 1.05^2
+    (('k',), 1.1025)
     """
 
     names: tuple[str, ...]
@@ -169,8 +179,13 @@ class ModelUpdate(Charted):
                       xticks=tuple((float(k), str(int(k))) for k in x))
         return Charts((chart,), title="model updating")
 
-    def summary(self) -> str:
+    def summary(self, units: ResultUnits | None = None) -> str:
         """The fitted parameters and the frequencies before and after.
+
+        Parameters
+        ----------
+        units : ResultUnits, optional
+            The display units (``--units``: frequencies in the unit chosen; default Hz).
 
         Returns
         -------
@@ -179,8 +194,9 @@ class ModelUpdate(Charted):
         lines = [f"{'parameter':<12} {'start':>12} {'fitted':>12} {'std':>10}"]
         lines += [f"{printable(n, limit=12):<12} {self.start[n]:>12.6g} "
                   f"{self.fitted[n]:>12.6g} {self.std[n]:>10.3g}" for n in self.names]
-        lines.append(f"{'mode':>4} {'test [Hz]':>10} {'before':>10} {'after':>10}")
-        lines += [f"{k + 1:>4} {t:>10.5g} {b:>10.5g} {a:>10.5g}"
+        hz = cyclic_shown(units)
+        lines.append(f"{'mode':>4} {f'test [{hz.text}]':>10} {'before':>10} {'after':>10}")
+        lines += [f"{k + 1:>4} {hz(t):>10.5g} {hz(b):>10.5g} {hz(a):>10.5g}"
                   for k, (t, b, a) in enumerate(zip(self.target, self.before, self.after))]
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines) + "\n"

@@ -626,7 +626,7 @@ def plot_modes(analysis: ModalAnalysis, path: PathArg = None, count: int | None 
         if not axes:
             raise AnalysisError("ax= takes an Axes or a non-empty sequence of Axes")
     fig = draw_figure(charts, axes)
-    save_figure(fig, path, dpi=150, bbox_inches="tight")
+    save_figure(fig, path, bbox_inches="tight")
     return fig
 
 

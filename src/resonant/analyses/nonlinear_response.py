@@ -42,7 +42,7 @@ from ..charts import (
 )
 from ..errors import printable
 from ..expressions.notation import dollar_name
-from ..model.units_display import ResultUnits, unit_math
+from ..model.units_display import ResultUnits, Shown, curve_units, frequency_axis, unit_math
 from ..tables import ResultTable, number_column
 from .results_json import Saved, complex_json, floats_json
 from .special_points import SpecialPoint
@@ -79,7 +79,8 @@ def _segments(values: np.ndarray, amplitudes: np.ndarray, stable: np.ndarray
 
 
 def nonlinear_response_chart(response: NonlinearResponse, names: Sequence[str] | None = None,
-                             linear: bool = True, units: Mapping[str, str] | None = None, *,
+                             linear: bool = True,
+                             units: Mapping[str, str] | ResultUnits | None = None, *,
                              title: bool = True,
                              operating: tuple[float, Mapping[str, float]] | None = None
                              ) -> Chart:
@@ -94,7 +95,8 @@ def nonlinear_response_chart(response: NonlinearResponse, names: Sequence[str] |
         The curves (default: the first :data:`MAX_CURVES`).
     linear : bool
         Draw the linear frequency response beside.
-    units : mapping, optional
+    units : ResultUnits or mapping, optional
+        The display units (amplitudes and a frequency axis converted, ``--units``), or
         name -> SI unit, on the curves and the axis.
     title : bool
         Give the chart the model's title.
@@ -106,18 +108,25 @@ def nonlinear_response_chart(response: NonlinearResponse, names: Sequence[str] |
     Chart
     """
     chosen = list(names) if names else list(response.amplitudes)[:MAX_CURVES]
+    base = np.asarray(response.base_frequencies, dtype=float)
     v = np.asarray(response.values, dtype=float)
+    frequency = base.shape == v.shape and bool(np.allclose(base, v))  # the parameter is ω
+    along, scale = frequency_axis(units, 1.0 if frequency else None, "rad/s")
+    along_text = along.text if frequency else ""
+    v = along(v * scale)
+    each = curve_units(units, chosen)
     stable = np.asarray(response.stable, dtype=bool)
     curves: list[Curve] = []
     markers: list[Marker] = []
     for k, name in enumerate(chosen):
         color = COLORS[k % len(COLORS)]
-        a = np.asarray(response.amplitudes[name], dtype=float)
-        unit = (units or {}).get(name, "")
+        a = each[name](np.asarray(response.amplitudes[name], dtype=float))
+        unit = each[name].text
         shown = dollar_name(name) + (f" [{unit_math(unit)}]" if unit not in ("", "1") else "")
         if linear and response.linear is not None and name in response.linear.amplitudes:
-            curves.append(Curve(np.asarray(response.linear.values, dtype=float),
-                                np.asarray(response.linear.amplitudes[name], dtype=float),
+            curves.append(Curve(along(np.asarray(response.linear.values, dtype=float) * scale),
+                                each[name](np.asarray(response.linear.amplitudes[name],
+                                                      dtype=float)),
                                 f"{shown} (linear)", color, 1.1, "1 1.65"))
         x, on, off = _segments(v, a, stable)
         curves.append(Curve(x, on, f"{shown} (harmonic balance, H = {response.harmonics})",
@@ -126,7 +135,8 @@ def nonlinear_response_chart(response: NonlinearResponse, names: Sequence[str] |
             curves.append(Curve(x, off, "", color, 1.6, "3.7 1.6"))
         for point in response.special_points:
             if name in point.amplitudes and point.quantity in (None, name):
-                markers.append(Marker(point.value, point.amplitudes[name], "#000000",
+                markers.append(Marker(along(point.value * scale),
+                                      each[name](point.amplitudes[name]), "#000000",
                                       SHAPES.get(point.kind, "circle"), point.kind,
                                       filled=False))
     if not stable.all():
@@ -134,29 +144,50 @@ def nonlinear_response_chart(response: NonlinearResponse, names: Sequence[str] |
     rules: tuple[Rule, ...] = ()
     if operating is not None:
         value, amplitudes = operating
-        markers += [Marker(value, amplitudes[name], COLORS[k % len(COLORS)], "star",
+        markers += [Marker(along(value * scale), each[name](amplitudes[name]),
+                           COLORS[k % len(COLORS)], "star",
                            f"{dollar_name(name)} at the operating point")
                     for k, name in enumerate(chosen) if name in amplitudes]
-        rules = (Rule(float(value), color="#404040", dash="3.7 1.6"),)
-    base = np.asarray(response.base_frequencies, dtype=float)
-    frequency = base.shape == v.shape and bool(np.allclose(base, v))  # the parameter is ω
-    xlabel = (("excitation frequency " if frequency else "") + dollar_name(response.parameter)
-              + (" [rad/s]" if frequency else ""))
-    shown_units = sorted({(units or {}).get(n, "") for n in chosen} - {"", "1"})
+        rules = (Rule(along(float(value) * scale), color="#404040", dash="3.7 1.6"),)
+    parameter = "f" if along_text in ("Hz", "kHz") else response.parameter
+    xlabel = (("excitation frequency " if frequency else "") + dollar_name(parameter)
+              + (f" [{along_text}]" if frequency else ""))
+    shown_units = sorted({each[n].text for n in chosen} - {"", "1"})
     ylabel = ("peak amplitude $X$ (deviation)"
               + (f" [{', '.join(unit_math(u) for u in shown_units)}]" if shown_units else ""))
-    top = max((float(np.nanmax(response.amplitudes[n])) for n in chosen), default=1.0)
-    return Chart(tuple(curves), xlabel, ylabel,
-                 (min(response.start, response.stop), max(response.start, response.stop)),
-                 markers=tuple(markers), rules=rules,
+    top = max((float(np.nanmax(each[n](np.asarray(response.amplitudes[n], dtype=float))))
+               for n in chosen), default=1.0)
+    xlim = (along(min(response.start, response.stop) * scale),
+            along(max(response.start, response.stop) * scale))
+    return Chart(tuple(curves), xlabel, ylabel, xlim,
+                 markers=_apart(markers, xlim, top), rules=rules,
                  ylim=(0.0, 1.15 * top) if top > 0 else None,
                  title=printable(response.title or "nonlinear steady state", limit=80)
                  if title else "")
 
 
+#: markers closer than this fraction of both axes are one point drawn once (a fold where
+#: the peak is, both marked, read as a blot)
+MARKER_GAP = 0.012
+
+
+def _apart(markers: Sequence[Marker], xlim: tuple[float, float], top: float
+           ) -> tuple[Marker, ...]:
+    """The markers without those that would cover an earlier one (the earlier kept)."""
+    width = abs(xlim[1] - xlim[0]) or 1.0
+    height = abs(top) or 1.0
+    kept: list[Marker] = []
+    for m in markers:
+        if all(abs(m.x - k.x) > MARKER_GAP * width or abs(m.y - k.y) > MARKER_GAP * height
+               for k in kept):
+            kept.append(m)
+    return tuple(kept)
+
+
 def plot_nonlinear_response(response: NonlinearResponse, path: PathArg = None,
                             names: Sequence[str] | None = None, ax: Axes | None = None,
-                            linear: bool = True, units: Mapping[str, str] | None = None) -> Figure:
+                            linear: bool = True,
+                            units: Mapping[str, str] | ResultUnits | None = None) -> Figure:
     """Amplitude against the parameter (the chart of :func:`nonlinear_response_chart`, drawn
     with matplotlib); returns the Figure (and writes it to ``path``).
 
@@ -190,7 +221,9 @@ def special_points_table(response: NonlinearResponse, units: ResultUnits | None 
     for p in response.special_points:
         kind = f"peak of {printable(p.quantity, limit=20)}" if p.kind == "peak" else p.kind
         kinds.append(kind + (" (unstable)" if p.stable is False else ""))
-    columns = [tuple(kinds), number_column([p.value for p in response.special_points], 6)]
+    along, scale = _parameter_axis(response, units)
+    columns = [tuple(kinds),
+               number_column([along(p.value * scale) for p in response.special_points], 6)]
     for n in names:
         unit = shown[n]
         columns.append(number_column([
@@ -200,16 +233,35 @@ def special_points_table(response: NonlinearResponse, units: ResultUnits | None 
         unit = shown[name]
         return printable(name, limit=20) + (f" [{unit.text}]" if unit and unit.text else "")
 
-    header = ("point", printable(response.parameter, limit=20), *(heading(n) for n in names))
+    where = printable(response.parameter, limit=20) + (f" [{along.text}]" if along.text else "")
+    header = ("point", where, *(heading(n) for n in names))
     return ResultTable(header, tuple(zip(*columns)), align="l" + "r" * (len(header) - 1))
+
+
+def _parameter_axis(response: NonlinearResponse, units: ResultUnits | None
+                    ) -> tuple[Shown, float]:
+    """How the continuation parameter is shown: an excitation frequency in rad/s, or in
+    the frequency unit ``units`` chooses; another parameter as it is."""
+    base = np.asarray(response.base_frequencies, dtype=float)
+    v = np.asarray(response.values, dtype=float)
+    if base.shape != v.shape or not np.allclose(base, v):
+        return Shown(""), 1.0
+    return frequency_axis(units, 1.0, "rad/s")
 
 
 def nonlinear_text(response: NonlinearResponse, units: ResultUnits | None = None) -> str:
     """Special points and the peak of the stable branch, as plain text (the amplitudes in
     the display units of ``units`` where given)."""
+    along, scale = _parameter_axis(response, units)
+    unit = f" {along.text}" if along.text else ""
+
+    def amplitude(name: str, value: float) -> str:
+        shown = units.unit(name) if units is not None else Shown("")
+        return f"{shown(value):.6g}" + (f" {shown.text}" if shown.text else "")
+
     lines = [f"{response.title or 'model'}: nonlinear steady state (harmonic balance, "
              f"H = {response.harmonics}) against {response.parameter} from "
-             f"{response.start:g} to {response.stop:g}",
+             f"{along(response.start * scale):g} to {along(response.stop * scale):g}{unit}",
              f"  {response.values.size} branch points, {int(response.stable.sum())} stable; "
              f"largest residual {response.residual:.3g}; highest harmonics carry up to "
              f"{response.truncation:.3g} of the amplitude"]
@@ -221,13 +273,15 @@ def nonlinear_text(response: NonlinearResponse, units: ResultUnits | None = None
     top = response.peak()
     if top is not None:
         value, peak_amps = top
-        lines.append(f"  peak of the stable branch at {response.parameter} = {value:.6g}: "
-                     + ", ".join(f"{k} = {v:.6g}" for k, v in peak_amps.items()))
+        lines.append(f"  peak of the stable branch at {response.parameter} = "
+                     f"{along(value * scale):.6g}{unit}: "
+                     + ", ".join(f"{k} = {amplitude(k, v)}" for k, v in peak_amps.items()))
         if response.linear is not None:
             first = response.coordinates[0]
             lin = np.asarray(response.linear.amplitudes.get(first, []), dtype=float)
             if lin.size and np.isfinite(lin).any():
-                lines.append(f"  linear peak of {first}: {float(np.nanmax(lin)):.6g}")
+                lines.append(f"  linear peak of {first}: "
+                             f"{amplitude(first, float(np.nanmax(lin)))}")
     else:
         lines.append("  no stable point on the branch")
     return "\n".join(lines) + "\n"

@@ -48,6 +48,7 @@ from ..expressions import numeric_value
 from ..model.fourier_shapes import FOURIER_SHAPES, SHAPES
 from ..model.load_spec import PeriodicSpec
 from ..model.random_spec import RandomInput
+from ..model.units_display import NO_UNIT, ResultUnits
 from ..system.base import LinearSystem
 from ..tables import ResultTable, number_cell
 from .random_response import Transfer, responses_to_solve
@@ -484,13 +485,15 @@ def load_series(system: LinearSystem, spec: PeriodicSpec) -> FourierSeries:
 SHOWN_HARMONICS = 5
 
 
-def periodic_text(result: PeriodicResponse) -> str:
+def periodic_text(result: PeriodicResponse, units: ResultUnits | None = None) -> str:
     """The periodic load's series and the response: per harmonic, the mean and the
     largest excursion of the sum, as text.
 
     Parameters
     ----------
     result : PeriodicResponse
+    units : ResultUnits, optional
+        The display units (the coordinates' declared ones, ``--units``; default SI).
 
     Returns
     -------
@@ -510,13 +513,16 @@ def periodic_text(result: PeriodicResponse) -> str:
     lines = [f"Periodic load: {series.shape}, period {series.period:.6g} s, "
              f"{series.harmonics} harmonics (remainder {series.remainder:.2g} of the RMS)"]
     shown = min(SHOWN_HARMONICS, series.harmonics)
-    header = ("name", "mean", "largest", *(f"|z_{n + 1}|" for n in range(shown)))
-    rows = tuple((printable(name, limit=40), number_cell(result.mean[name]),
-                  number_cell(result.largest[name]),
-                  *(number_cell(abs(result.harmonics[name][n])) for n in range(shown)))
+    header = ("name", "unit", "mean", "largest", *(f"|z_{n + 1}|" for n in range(shown)))
+    each = {n: units.unit(n) if units is not None else NO_UNIT for n in result.names}
+    rows = tuple((printable(name, limit=40), each[name].text or "SI",
+                  number_cell(each[name](result.mean[name])),
+                  number_cell(each[name](result.largest[name])),
+                  *(number_cell(each[name](abs(result.harmonics[name][n])))
+                    for n in range(shown)))
                  for name in result.names)
     lines.append(ResultTable(header, rows).text())
-    lines.append("  the sum of the harmonics' stationary responses (SI): mean, largest "
+    lines.append("  the sum of the harmonics' stationary responses: mean, largest "
                  "|excursion| over a period, amplitudes of the first harmonics")
     lines += [f"warning: {w}" for w in result.warnings]
     return "\n".join(lines) + "\n"

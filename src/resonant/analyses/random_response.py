@@ -93,6 +93,7 @@ from ..expressions import numeric_value
 from ..modal import point_state_eigenvalues
 from ..model.random_spec import STANDARD_GRAVITY, RandomInput, RandomSpec
 from ..model.units import Dimension
+from ..model.units_display import ResultUnits, Shown, density_unit, shown_unit
 from ..system.base import LinearSystem, NumericEOM
 from ..system.batch import Batch, BatchHarmonic
 from ..system.excitation import excitation_columns
@@ -286,25 +287,36 @@ class RandomResponse:
             quality=saved.optional_number("quality_factor"), method=saved.string("method"),
             warnings=saved.strings("warnings", ()))
 
-    def summary(self) -> str:
+    def summary(self, units: ResultUnits | None = None) -> str:
         """The text ``resonant random`` prints (:func:`random_text`).
+
+        Parameters
+        ----------
+        units : ResultUnits, optional
+            The display units (``--units``; default SI).
 
         Returns
         -------
         str
         """
-        return random_text(self)
+        return random_text(self, units=units)
 
-    def table(self) -> ResultTable:
+    def table(self, units: ResultUnits | None = None) -> ResultTable:
         """The RMS, 3-sigma and Rice's rates of every response (:func:`random_table`).
+
+        Parameters
+        ----------
+        units : ResultUnits, optional
+            The display units (default SI).
 
         Returns
         -------
         resonant.tables.ResultTable
         """
-        return random_table(self)
+        return random_table(self, units)
 
-    def chart(self, names: Sequence[str] | None = None) -> Charts:
+    def chart(self, names: Sequence[str] | None = None,
+              units: ResultUnits | None = None) -> Charts:
         """The figure's description: the inputs' and the responses' densities
         (:func:`random_chart`).
 
@@ -312,15 +324,18 @@ class RandomResponse:
         ----------
         names : sequence of str, optional
             The responses to draw.
+        units : ResultUnits, optional
+            The display units (default SI).
 
         Returns
         -------
         resonant.charts.Charts
         """
-        return random_chart(self, names)
+        return random_chart(self, names, units)
 
     def plot(self, path: str | os.PathLike[str] | None = None,
-             names: Sequence[str] | None = None, ax: Axes | None = None) -> Figure:
+             names: Sequence[str] | None = None, ax: Axes | None = None,
+             units: ResultUnits | None = None) -> Figure:
         """The inputs' and the responses' spectral densities on log-log axes
         (:func:`resonant.analyses.random_response.plot_random`).
 
@@ -332,12 +347,14 @@ class RandomResponse:
             The responses to draw.
         ax : matplotlib.axes.Axes, optional
             Draw into the caller's axes.
+        units : ResultUnits, optional
+            The display units (default SI).
 
         Returns
         -------
         matplotlib.figure.Figure
         """
-        return plot_random(self, path, names, ax)
+        return plot_random(self, path, names, ax, units)
 
 
 @dataclass(frozen=True)
@@ -1024,12 +1041,14 @@ def _miles(num: NumericEOM, spec: RandomSpec, transfer: Transfer, outputs: Seque
 MAX_PANELS = 4
 
 
-def random_table(result: RandomResponse) -> ResultTable:
+def random_table(result: RandomResponse, units: ResultUnits | None = None) -> ResultTable:
     """The RMS, 3-sigma, Rice's rates (and Miles' estimate) of every response, as a table.
 
     Parameters
     ----------
     result : RandomResponse
+    units : ResultUnits, optional
+        The display units (``--units``: ``mm``, ``g``, ...; default SI).
 
     Returns
     -------
@@ -1038,16 +1057,20 @@ def random_table(result: RandomResponse) -> ResultTable:
     rows = []
     for name in result.names:
         miles = None if result.miles is None else result.miles.get(name)
-        rows.append((printable(name, limit=40), result.units.get(name, "") or "SI",
-                     number_cell(result.rms[name]), number_cell(3 * result.rms[name]),
+        shown = shown_unit(units, result.units.get(name, ""))
+        rms = shown(result.rms[name])
+        rows.append((printable(name, limit=40), shown.text or "SI",
+                     number_cell(rms), number_cell(3 * rms),
                      number_cell(result.zero_crossing_rate[name]),
-                     number_cell(result.peak_rate[name]), number_cell(miles),
+                     number_cell(result.peak_rate[name]),
+                     number_cell(None if miles is None else shown(miles)),
                      f"{result.error[name]:.1e}"))
     return ResultTable(("name", "unit", "RMS", "3-sigma", "nu0+ [Hz]", "peaks [Hz]", "Miles RMS",
                   "rel. error"), tuple(rows))
 
 
-def random_text(result: RandomResponse, warnings: bool = True) -> str:
+def random_text(result: RandomResponse, warnings: bool = True,
+                units: ResultUnits | None = None) -> str:
     """The RMS, 3-sigma, Rice's rates (and Miles' estimate) of every response, as text.
 
     Parameters
@@ -1055,6 +1078,8 @@ def random_text(result: RandomResponse, warnings: bool = True) -> str:
     result : RandomResponse
     warnings : bool
         End with the result's warnings (the command line writes them to standard error).
+    units : ResultUnits, optional
+        The display units (``--units``; default SI, accelerations also in g).
 
     Returns
     -------
@@ -1067,9 +1092,9 @@ def random_text(result: RandomResponse, warnings: bool = True) -> str:
     if result.natural_frequency is not None:
         lines.append(f"  single DOF: f_n = {result.natural_frequency:.6g} Hz, "
                      f"Q = {result.quality:.4g}")
-    lines.append(random_table(result).text())
+    lines.append(random_table(result, units).text())
     accelerations = [n for n in result.names if result.units.get(n) == "m/s^2"]
-    if accelerations:
+    if accelerations and shown_unit(units, "m/s^2").text == "m/s^2":
         lines.append("  in g (9.80665 m/s^2): " + ", ".join(
             f"{printable(n, limit=40)} {result.rms[n] / STANDARD_GRAVITY:.4g} g RMS"
             for n in accelerations))
@@ -1079,13 +1104,8 @@ def random_text(result: RandomResponse, warnings: bool = True) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _density_unit(unit: str) -> str:
-    if not unit:
-        return "SI^2/Hz"
-    return f"({unit})^2/Hz" if any(c in unit for c in "*/^") else f"{unit}^2/Hz"
-
-
-def random_chart(result: RandomResponse, names: Sequence[str] | None = None) -> Charts:
+def random_chart(result: RandomResponse, names: Sequence[str] | None = None,
+                 units: ResultUnits | None = None) -> Charts:
     """What the figure of a random response shows: the inputs' spectral densities above
     the responses', one panel per unit, on log-log axes with the units on the axes and
     each curve's RMS value in its label.
@@ -1095,6 +1115,8 @@ def random_chart(result: RandomResponse, names: Sequence[str] | None = None) -> 
     result : RandomResponse
     names : sequence of str, optional
         The responses to draw (default: all, at most :data:`MAX_CURVES` per panel).
+    units : ResultUnits, optional
+        The display units (``--units``: ``mm``, ``g``, ...; default SI).
 
     Returns
     -------
@@ -1121,31 +1143,37 @@ def random_chart(result: RandomResponse, names: Sequence[str] | None = None) -> 
     xlabel = "frequency $f$ [Hz]"
     inputs = []
     for name in result.inputs:
-        density = np.asarray(result.input_psd[name], dtype=float)
+        shown = shown_unit(units, result.input_units.get(name, ""))
+        density = density_unit(shown)(np.asarray(result.input_psd[name], dtype=float))
         rms = math.sqrt(max(float(np.trapezoid(density, f)), 0.0))
-        unit = result.input_units.get(name, "")
         label = name + "'" * result.input_derivatives.get(name, 0)
         inputs.append(Curve(f[positive], density[positive],
-                            f"{label} (RMS {rms:.3g} {unit_text(unit)})".replace(" )", ")")))
-    units = {result.input_units.get(n, "") for n in result.inputs}
-    unit = units.pop() if len(units) == 1 else ""
-    panels = [Chart(tuple(inputs), xlabel, f"input [{unit_text(_density_unit(unit))}]", xlim,
-                    ylog=True, xlog=True, title="input spectral densities (one-sided)")]
+                            f"{label} (RMS {rms:.3g} {unit_text(shown.text)})"
+                            .replace(" )", ")")))
+    input_units = {result.input_units.get(n, "") for n in result.inputs}
+    unit = shown_unit(units, input_units.pop() if len(input_units) == 1 else "").text
+    panels = [Chart(tuple(inputs), xlabel, f"input [{unit_text(density_unit(Shown(unit)).text)}]",
+                    xlim, ylog=True, xlog=True, title="input spectral densities (one-sided)")]
     rules = () if result.natural_frequency is None else (
         Rule(float(result.natural_frequency), color="#999999", dash="3.7 1.6", width=0.8,
              label="natural frequency"),)
-    for unit, members in list(groups.items())[:MAX_PANELS]:
-        curves = tuple(Curve(f[positive], np.asarray(result.psd[name], dtype=float)[positive],
-                             f"{name} (RMS {result.rms[name]:.3g} {unit_text(unit)})"
+    for si, members in list(groups.items())[:MAX_PANELS]:
+        shown = shown_unit(units, si)
+        curves = tuple(Curve(f[positive],
+                             density_unit(shown)(np.asarray(result.psd[name], dtype=float))[
+                                 positive],
+                             f"{name} (RMS {shown(result.rms[name]):.3g} {unit_text(shown.text)})"
                              .replace(" )", ")"))
                        for name in members[:MAX_CURVES])
-        panels.append(Chart(curves, xlabel, f"response [{unit_text(_density_unit(unit))}]",
+        panels.append(Chart(curves, xlabel,
+                            f"response [{unit_text(density_unit(shown).text)}]",
                             xlim, ylog=True, xlog=True, rules=rules))
     return Charts(tuple(panels), size=(7.5, 2.6 * len(panels) + 0.6))
 
 
 def plot_random(result: RandomResponse, path: PathArg = None, names: Sequence[str] | None = None,
-                ax: Axes | Sequence[Axes] | None = None) -> Figure:
+                ax: Axes | Sequence[Axes] | None = None,
+                units: ResultUnits | None = None) -> Figure:
     """The inputs' and the responses' spectral densities on log-log axes, with units: the
     chart of :func:`random_chart`, drawn with matplotlib.
 
@@ -1161,6 +1189,8 @@ def plot_random(result: RandomResponse, path: PathArg = None, names: Sequence[st
         The responses to draw (default: all, at most :data:`MAX_CURVES` per panel).
     ax : matplotlib.axes.Axes or sequence of Axes, optional
         Draw into the caller's axes (one per panel: inputs, then each unit).
+    units : ResultUnits, optional
+        The display units (default SI).
 
     Returns
     -------
@@ -1172,13 +1202,13 @@ def plot_random(result: RandomResponse, path: PathArg = None, names: Sequence[st
         For an unknown name or an unsupported file suffix.
     """
     check_plot_path(path)
-    charts = random_chart(result, names)
+    charts = random_chart(result, names, units)
     count = len(charts.panels)
     axes = None if ax is None else axes_list(ax)
     if axes is not None and len(axes) < count:
         raise AnalysisError(f"the plot needs {count} axes (inputs and one per unit)")
     fig = draw_figure(charts, axes)
-    save_figure(fig, path, dpi=150)
+    save_figure(fig, path)
     return fig
 
 

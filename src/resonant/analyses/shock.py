@@ -61,6 +61,8 @@ from ..charts import (
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model.pulses import PULSE_KINDS, PULSES
+from ..model.units import TIME, UnitError, parse_unit
+from ..model.units_display import ResultUnits, Shown, shown_unit
 from ..tables import ResultTable, number_column
 from .results_json import Saved
 
@@ -247,33 +249,37 @@ class ShockSpectrum:
                 "Q": None if self.damping == 0 else 1 / (2 * self.damping),
                 "duration_s": self.duration, "warnings": list(self.warnings)}
 
-    def table(self, unit: str = "") -> ResultTable:
+    def table(self, unit: str = "", units: ResultUnits | None = None) -> ResultTable:
         """The spectrum's numbers (:func:`srs_table`).
 
         Parameters
         ----------
         unit : str
-            The response's unit, for the headings.
+            The signal's SI unit, for the headings.
+        units : ResultUnits, optional
+            The display units (``--units``).
 
         Returns
         -------
         resonant.tables.ResultTable
         """
-        return srs_table(self, unit)
+        return srs_table(self, unit, units)
 
-    def summary(self, unit: str = "") -> str:
+    def summary(self, unit: str = "", units: ResultUnits | None = None) -> str:
         """The text ``resonant srs`` prints (:func:`srs_text`).
 
         Parameters
         ----------
         unit : str
-            The response's unit, for the headings.
+            The signal's SI unit, for the headings.
+        units : ResultUnits, optional
+            The display units (``--units``).
 
         Returns
         -------
         str
         """
-        return srs_text(self, unit)
+        return srs_text(self, unit, units)
 
     def chart(self, time: npt.ArrayLike | None = None, signal: npt.ArrayLike | None = None,
               unit: str = "") -> Charts:
@@ -534,7 +540,36 @@ def _refine(a: np.ndarray, q: complex, k: int, s: complex, c: complex, w: float,
 MAX_ROWS = 40
 
 
-def srs_table(spectrum: ShockSpectrum, unit: str = "") -> ResultTable:
+#: the power of time by which each response's unit differs from the signal's
+_TIME_POWER = {"absolute acceleration": 0, "pseudo-velocity": 1, "relative displacement": 2}
+
+
+def spectrum_unit(spectrum: ShockSpectrum, unit: str, units: ResultUnits | None = None
+                  ) -> Shown:
+    """The display unit of the spectrum's values, from the signal's SI unit ``unit``: the
+    signal's own for the absolute acceleration, times s for the pseudo-velocity, times s^2
+    for the relative displacement; in the unit ``units`` chooses for that quantity.
+
+    Examples
+    --------
+    >>> from resonant.model.units import display_units
+    >>> t, a = pulse("half-sine", 100.0, 0.011, 1e-5)
+    >>> srs = shock_response_spectrum(a, 1e-5, [100.0], quantity="relative displacement")
+    >>> spectrum_unit(srs, "m/s^2").text, spectrum_unit(srs, "m/s^2",
+    ...     ResultUnits(display=display_units(["mm"]))).text
+    ('m', 'mm')
+    """
+    if not unit:
+        return Shown("")
+    try:
+        dimension = parse_unit(unit).dimension * TIME ** _TIME_POWER[spectrum.quantity]
+    except UnitError:
+        return Shown(unit)
+    return shown_unit(units, dimension.text())
+
+
+def srs_table(spectrum: ShockSpectrum, unit: str = "",
+              units: ResultUnits | None = None) -> ResultTable:
     """The spectrum as a table: natural frequency, maximax, primary, residual (at most
     :data:`MAX_ROWS` frequencies, spread over the range), each column in one notation.
 
@@ -542,7 +577,9 @@ def srs_table(spectrum: ShockSpectrum, unit: str = "") -> ResultTable:
     ----------
     spectrum : ShockSpectrum
     unit : str
-        The response's unit, for the headings.
+        The signal's SI unit (``m/s^2``), for the headings.
+    units : ResultUnits, optional
+        The display units (``--units``: ``g``, ``mm``, ...; default SI).
 
     Returns
     -------
@@ -550,22 +587,26 @@ def srs_table(spectrum: ShockSpectrum, unit: str = "") -> ResultTable:
     """
     rows = np.unique(np.linspace(0, len(spectrum.frequency) - 1,
                                  min(MAX_ROWS, len(spectrum.frequency))).round().astype(int))
-    suffix = f" [{unit}]" if unit else ""
-    columns = [number_column([float(v[i]) for i in rows])
-               for v in (spectrum.frequency, spectrum.maximax, spectrum.primary,
-                         spectrum.residual)]
+    shown = spectrum_unit(spectrum, unit, units)
+    suffix = f" [{shown.text}]" if shown.text else ""
+    frequency = [float(spectrum.frequency[i]) for i in rows]
+    columns = [number_column(frequency, digits=5)] + [
+        number_column([float(shown(v[i])) for i in rows])
+        for v in (spectrum.maximax, spectrum.primary, spectrum.residual)]
     return ResultTable(("f_n [Hz]", f"maximax{suffix}", f"primary{suffix}", f"residual{suffix}"),
                  tuple(zip(*columns)), align="rrrr")
 
 
-def srs_text(spectrum: ShockSpectrum, unit: str = "") -> str:
+def srs_text(spectrum: ShockSpectrum, unit: str = "", units: ResultUnits | None = None) -> str:
     """The spectrum as text: what it is, its table (:func:`srs_table`), its warnings.
 
     Parameters
     ----------
     spectrum : ShockSpectrum
     unit : str
-        The response's unit, for the headings.
+        The signal's SI unit, for the headings.
+    units : ResultUnits, optional
+        The display units (``--units``; default SI).
 
     Returns
     -------
@@ -573,8 +614,10 @@ def srs_text(spectrum: ShockSpectrum, unit: str = "") -> str:
     """
     zeta = spectrum.damping
     q = "inf" if zeta == 0 else f"{1 / (2 * zeta):.4g}"
+    time = _time_unit(spectrum.duration, units)
     lines = [f"Shock response spectrum: {spectrum.quantity}, zeta = {zeta:.4g} (Q = {q}), "
-             f"signal {spectrum.duration:.4g} s", srs_table(spectrum, unit).text()]
+             f"signal {time(spectrum.duration):.4g} {time.text}",
+             srs_table(spectrum, unit, units).text()]
     shown = min(MAX_ROWS, len(spectrum.frequency))
     if shown < len(spectrum.frequency):
         lines.append(f"  ({shown} of {len(spectrum.frequency)} frequencies; the JSON form "
@@ -583,9 +626,17 @@ def srs_text(spectrum: ShockSpectrum, unit: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
+def _time_unit(duration: float, units: ResultUnits | None) -> Shown:
+    """The unit a shock's times are shown in: the one chosen, else ms for a history
+    shorter than a second (an 11 ms pulse reads 0 to 40 ms, not 0 to 0.04 s)."""
+    chosen = shown_unit(units, "s")
+    return chosen if chosen.text != "s" or not 0 < duration < 1 else Shown("ms", 1e-3)
+
+
 def srs_chart(spectrum: ShockSpectrum, time: npt.ArrayLike | None = None,
               signal: npt.ArrayLike | None = None, unit: str = "",
-              reference: ShockSpectrum | None = None, reference_label: str = "input") -> Charts:
+              reference: ShockSpectrum | None = None, reference_label: str = "input",
+              units: ResultUnits | None = None, signal_label: str = "input") -> Charts:
     """What the figure of a shock response spectrum shows: the maximax, primary and
     residual spectra on log-log axes, under the input's history where it is given, and
     beside another spectrum (the input's own, for a response's) where given.
@@ -596,11 +647,16 @@ def srs_chart(spectrum: ShockSpectrum, time: npt.ArrayLike | None = None,
     time, signal : array_like, optional
         The input's history, drawn in a panel above the spectrum.
     unit : str
-        The signal's unit, for the labels.
+        The signal's SI unit (``m/s^2``), for the labels.
     reference : ShockSpectrum, optional
         A spectrum to draw beside (its maximax in grey).
     reference_label : str
         Its name in the legend (``input``: "maximax of the input").
+    units : ResultUnits, optional
+        The display units (``--units``: ``g``, ``ms``, ...; default SI, times of a history
+        shorter than a second in ms).
+    signal_label : str
+        What the history is (``input``, or the response whose spectrum this is).
 
     Returns
     -------
@@ -614,23 +670,33 @@ def srs_chart(spectrum: ShockSpectrum, time: npt.ArrayLike | None = None,
     >>> charts = srs_chart(srs, t, a, "m/s^2")
     >>> [p.xlog for p in charts.panels], [c.label for c in charts.panels[1].curves]
     ([False, True], ['maximax', 'primary', 'residual'])
+    >>> charts.panels[0].xlabel, charts.panels[1].ylabel
+    ('time $t$ [ms]', 'absolute acceleration [m/s$^{2}$]')
     """
-    label = f" [{unit_text(unit)}]" if unit else ""
     panels = []
     if time is not None and signal is not None:
         t = np.asarray(time, dtype=float)
+        shown_t = _time_unit(float(t[-1] - t[0]) if t.size > 1 else 0.0, units)
+        t = shown_t(t)
         xlim = (float(t[0]), float(t[-1])) if t.size > 1 and t[-1] > t[0] else (0.0, 1.0)
-        panels.append(Chart((Curve(t, np.asarray(signal, dtype=float), "input", width=1.0),),
-                            "time $t$ [s]", f"input{label}", xlim, title="input history",
-                            legend="none"))
+        value = shown_unit(units, unit)
+        label = f" [{unit_text(value.text)}]" if value.text else ""
+        panels.append(Chart((Curve(t, value(np.asarray(signal, dtype=float)), signal_label,
+                                   width=1.0),),
+                            f"time $t$ [{shown_t.text}]", f"{signal_label}{label}", xlim,
+                            title=f"{signal_label} history", legend="none"))
     f = np.asarray(spectrum.frequency, dtype=float)
-    curves = [Curve(f, np.asarray(spectrum.maximax), "maximax", COLORS[0], 1.6),
-              Curve(f, np.asarray(spectrum.primary), "primary", COLORS[1], 1.0, "3.7 1.6"),
-              Curve(f, np.asarray(spectrum.residual), "residual", COLORS[2], 1.0, "1 1.65")]
+    shown = spectrum_unit(spectrum, unit, units)
+    label = f" [{unit_text(shown.text)}]" if shown.text else ""
+    curves = [Curve(f, shown(np.asarray(spectrum.maximax)), "maximax", COLORS[0], 1.6),
+              Curve(f, shown(np.asarray(spectrum.primary)), "primary", COLORS[1], 1.0,
+                    "3.7 1.6"),
+              Curve(f, shown(np.asarray(spectrum.residual)), "residual", COLORS[2], 1.0,
+                    "1 1.65")]
     if reference is not None:
         curves.append(Curve(np.asarray(reference.frequency, dtype=float),
-                            np.asarray(reference.maximax), f"maximax of the {reference_label}",
-                            "#7f7f7f", 1.2))
+                            shown(np.asarray(reference.maximax)),
+                            f"maximax of the {reference_label}", "#7f7f7f", 1.2))
     zeta = spectrum.damping
     q = "inf" if zeta == 0 else f"{1 / (2 * zeta):.3g}"
     positive = f[f > 0]
@@ -643,7 +709,8 @@ def srs_chart(spectrum: ShockSpectrum, time: npt.ArrayLike | None = None,
 
 def plot_srs(spectrum: ShockSpectrum, time: npt.ArrayLike | None = None,
              signal: npt.ArrayLike | None = None, path: PathArg = None,
-             ax: Axes | Sequence[Axes] | None = None, unit: str = "") -> Figure:
+             ax: Axes | Sequence[Axes] | None = None, unit: str = "",
+             units: ResultUnits | None = None, signal_label: str = "input") -> Figure:
     """The SRS (maximax, primary, residual) on log-log axes, with the input's history: the
     chart of :func:`srs_chart`, drawn with matplotlib.
 
@@ -657,19 +724,23 @@ def plot_srs(spectrum: ShockSpectrum, time: npt.ArrayLike | None = None,
     ax : Axes or pair of Axes, optional
         Draw into the caller's axes (the spectrum's, or (history's, spectrum's)).
     unit : str
-        The signal's unit, for the labels.
+        The signal's SI unit, for the labels.
+    units : ResultUnits, optional
+        The display units (``--units``).
+    signal_label : str
+        What the history is (``input``, or the response whose spectrum this is).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
     check_plot_path(path)
-    charts = srs_chart(spectrum, time, signal, unit)
+    charts = srs_chart(spectrum, time, signal, unit, units=units, signal_label=signal_label)
     axes = None if ax is None else axes_list(ax)
     if axes is not None and len(axes) < len(charts.panels):
         charts = replace(charts, panels=charts.panels[-len(axes):])  # the spectrum's
     fig = draw_figure(charts, axes)
-    save_figure(fig, path, dpi=150)
+    save_figure(fig, path)
     return fig
 
 

@@ -68,6 +68,7 @@ from ..charts import (
     check_plot_path,
     draw_figure,
     save_figure,
+    unit_text,
 )
 from ..deadline import NO_DEADLINE, AnalysisTimeout, Deadline
 from ..errors import AnalysisError, ModelError, Problem, name_list, printable
@@ -76,7 +77,15 @@ from ..expressions.notation import dollar_name
 from ..modal import point_state_eigenvalues
 from ..model.options import START_KINDS, SimulationOptions, chosen
 from ..model.types import constant_prime_message
-from ..model.units_display import name_label, unit_suffix
+from ..model.units_display import (
+    NO_UNIT,
+    ResultUnits,
+    Shown,
+    curve_units,
+    name_label,
+    shown_unit,
+    unit_suffix,
+)
 from ..system.base import LinearSystem, NumericEOM
 from ..system.build import nonlinear_system
 from ..system.nonlinear import NonlinearSystem
@@ -86,6 +95,7 @@ from ..system.stability import (
     check_mass_matrix,
     classify,
 )
+from ..tables import ResultTable, number_cell
 from .peaks import sampled_peak
 from .periodic import PeriodicSolution, periodic_solution
 from .results_json import Saved, floats_json
@@ -855,7 +865,8 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
         warnings=tuple(warnings))
 
 
-def simulation_chart(sim: Simulation, units: Mapping[str, str] | None = None) -> Charts:
+def simulation_chart(sim: Simulation, units: Mapping[str, str] | ResultUnits | None = None
+                     ) -> Charts:
     """What the figure of a simulation shows: each coordinate's and output's deviation
     against time in a panel of its own, the linear stationary prediction dashed, the
     window the steady amplitude is read in shaded.
@@ -863,36 +874,40 @@ def simulation_chart(sim: Simulation, units: Mapping[str, str] | None = None) ->
     Parameters
     ----------
     sim : Simulation
-    units : mapping, optional
-        name -> SI unit (``ResultUnits.si``), shown in each panel's label.
+    units : ResultUnits or mapping, optional
+        The display units (values and times converted), or name -> SI unit
+        (``ResultUnits.si``), shown in each panel's label.
 
     Returns
     -------
     Charts
     """
     kind = "nonlinear" if sim.nonlinear else "linear"
-    t = np.asarray(sim.t, dtype=float)
+    time = shown_unit(units, "s") if isinstance(units, ResultUnits) else Shown("s")
+    shown = curve_units(units, sim.names)
+    t = time(np.asarray(sim.t, dtype=float))
     xlim = (float(t[0]), float(t[-1])) if t.size > 1 and t[-1] > t[0] else (0.0, 1.0)
     panels = []
     for name in sim.names:
-        curves = [Curve(t, np.asarray(sim.states[name], dtype=float), f"{kind} simulation",
-                        COLORS[0], 1.0)]
+        value = shown[name]
+        curves = [Curve(t, value(np.asarray(sim.states[name], dtype=float)),
+                        f"{kind} simulation", COLORS[0], 1.0)]
         if name in sim.linear_response:
-            curves.append(Curve(t, np.asarray(sim.linear_response[name], dtype=float),
+            curves.append(Curve(t, value(np.asarray(sim.linear_response[name], dtype=float)),
                                 "linear stationary prediction", COLORS[3], 1.0, "3.7 1.6"))
         steady = sim.steady_amplitudes.get(name)
-        text = f"steady amplitude {steady:.4g}" if steady is not None else ""
+        text = f"steady amplitude {value(steady):.4g}" if steady is not None else ""
         if name in sim.linear_amplitudes:
-            text += f", linear {sim.linear_amplitudes[name]:.4g}"
+            text += f", linear {value(sim.linear_amplitudes[name]):.4g}"
+        text += f" {unit_text(value.text)}" if text and value.text not in ("", "1") else ""
         if name in sim.relative_difference:
             text += f" ({100 * sim.relative_difference[name]:+.3g}%)"
         kindof = "coordinate" if name in sim.coordinates else "output"
-        unit = (units or {}).get(name, "")
-        unit = f" [{unit}]" if unit not in ("", "1") else ""
-        panels.append(Chart(tuple(curves), "time $t$ [s]",
+        unit = f" [{unit_text(value.text)}]" if value.text not in ("", "1") else ""
+        panels.append(Chart(tuple(curves), f"time $t$ [{time.text}]",
                             f"{dollar_name(name)}{unit} ({kindof}, deviation)", xlim,
-                            spans=(Span(float(sim.window[0]), float(sim.window[1]), "#e6e6e6",
-                                        "amplitude window"),),
+                            spans=(Span(time(float(sim.window[0])), time(float(sim.window[1])),
+                                        "#e6e6e6", "amplitude window"),),
                             title=f"{dollar_name(name)}: {text}"))
     start = START_KINDS[sim.start]
     title = printable(sim.title or "simulation", limit=80)
@@ -922,7 +937,7 @@ def history_chart(t: npt.ArrayLike, values: Mapping[str, Any],
 
 
 def plot_simulation(sim: Simulation, path: PathArg = None, axes: Sequence[Axes] | None = None,
-                    units: Mapping[str, str] | None = None) -> Figure:
+                    units: Mapping[str, str] | ResultUnits | None = None) -> Figure:
     """Deviations vs time, one panel per coordinate/output, the linear prediction dashed:
     the chart of :func:`simulation_chart`, drawn with matplotlib.
 
@@ -955,25 +970,30 @@ def plot_simulation(sim: Simulation, path: PathArg = None, axes: Sequence[Axes] 
     if axes is not None and not list(np.ravel(np.asarray(axes, dtype=object))):
         raise AnalysisError("axes= takes an Axes or a non-empty sequence of Axes")
     fig = draw_figure(simulation_chart(sim, units), axes)
-    save_figure(fig, path, dpi=120)
+    save_figure(fig, path)
     return fig
 
 
-def simulation_text(sim: Simulation) -> str:
-    """A short plain-text report of a :class:`~resonant.analyses.simulate.Simulation`."""
+def simulation_text(sim: Simulation, units: ResultUnits | None = None) -> str:
+    """A short plain-text report of a :class:`~resonant.analyses.simulate.Simulation`;
+    amplitudes and times in the display units of ``units`` where given (``--units``)."""
     kind = "nonlinear" if sim.nonlinear else "linear"
+    time = shown_unit(units, "s")
     lines = [printable(sim.title),
-             f"{kind} simulation, t = 0 ... {sim.t_end:.6g} s ({sim.method}, start: "
-             f"{sim.start})",
-             f"steady amplitudes (peak |deviation| over t = {sim.window[0]:.6g} ... "
-             f"{sim.window[1]:.6g} s):",
-             f"  {'name':<12} {'simulated':>14} {'linear':>14} {'difference':>11}"]
+             f"{kind} simulation, t = 0 ... {time(sim.t_end):.6g} {time.text} ({sim.method}, "
+             f"start: {sim.start})",
+             f"steady amplitudes (peak |deviation| over t = {time(sim.window[0]):.6g} ... "
+             f"{time(sim.window[1]):.6g} {time.text}):"]
+    rows = []
     for name, value in sim.steady_amplitudes.items():
         linear = sim.linear_amplitudes.get(name)
         diff = sim.relative_difference.get(name)
-        lines.append(f"  {name:<12} {value:>14.6g} "
-                     f"{'-' if linear is None else format(linear, '.6g'):>14} "
-                     f"{'-' if diff is None else format(100 * diff, '+.3g') + '%':>11}")
+        unit = units.unit(name) if units is not None else NO_UNIT
+        rows.append((printable(name, limit=40), number_cell(unit(value), 6),
+                     number_cell(None if linear is None else unit(linear), 6), unit.text,
+                     "-" if diff is None else format(100 * diff, "+.3g") + "%"))
+    lines.append(ResultTable(("name", "simulated", "linear", "unit", "difference"),
+                             tuple(rows), align="lrrlr").text())
     return "\n".join(line for line in lines if line) + "\n"
 
 

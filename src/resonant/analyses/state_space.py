@@ -61,7 +61,8 @@ MAX_DEFAULT_FORCE_INPUTS = 50
 
 @dataclass(frozen=True)
 class StateSpaceModel:
-    """x' = A x + B u, y = C x + D u with named inputs, states and outputs.
+    """A system in state-space form, x' = A x + B u, y = C x + D u, with named inputs,
+    states and outputs.
 
     Parameters
     ----------

@@ -707,7 +707,9 @@ def solution_text(sol: StationarySolution) -> str:
         out.append("stationary solution  q_p = sum of L cos(omega t) + N sin(omega t):")
         for h in sol.harmonics:
             head = "static load" if h.omega == 0 else f"omega = {h.omega:.6g} rad/s"
-            if units is not None and h.omega and units.frequency.text not in ("rad/s", "Hz"):
+            # in the frequency unit chosen (--units Hz, rpm), or one that is not Hz
+            if units is not None and h.omega and units.frequency.text != "rad/s" and (
+                    units.chosen("frequency") or units.frequency.text != "Hz"):
                 head += f"  ({units.frequency(h.omega):.6g} {units.frequency.text})"
             out.append(f"  {head}")
             load = _load_units(units)

@@ -74,7 +74,7 @@ import csv
 import math
 import os
 import sys
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from types import MappingProxyType
@@ -102,7 +102,14 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, printable
 from ..expressions.notation import dollar_name
 from ..model.options import SweepOptions, chosen, names_tuple
-from ..model.units_display import ResultUnits, unit_math
+from ..model.units_display import (
+    NO_UNIT,
+    ResultUnits,
+    Shown,
+    curve_units,
+    frequency_axis,
+    unit_math,
+)
 from ..system.base import LinearSystem
 from ..system.batch import Batch, group_frequencies
 from ..system.stability import natural_frequencies as _natural_frequencies
@@ -962,7 +969,8 @@ def response_axes(parameter: str, names: Sequence[str], *, coordinates: Sequence
 
 
 def frequency_response_chart(response: FrequencyResponse, names: Sequence[str] | None = None,
-                             units: Mapping[str, str] | None = None, *, phase: bool = True,
+                             units: Mapping[str, str] | ResultUnits | None = None, *,
+                             phase: bool = True,
                              extrema: bool = True, title: bool = True,
                              operating: float | None = None) -> Charts:
     """What the figure of a frequency response shows: amplitudes (log axis) above phases.
@@ -977,9 +985,10 @@ def frequency_response_chart(response: FrequencyResponse, names: Sequence[str] |
     names : sequence of str, optional
         The coordinates and outputs to draw (default: all, at most :data:`MAX_CURVES`,
         outputs included).
-    units : mapping, optional
-        name -> SI unit of the amplitudes: the amplitude axis is labelled with the unit,
-        or each curve where the units differ.
+    units : ResultUnits or mapping, optional
+        The display units (amplitudes converted to them; a frequency sweep's axis in the
+        frequency unit chosen, ``--units Hz``), or name -> SI unit of the amplitudes: the
+        amplitude axis is labelled with the unit, or each curve where the units differ.
     phase : bool
         Draw the phase panel under the amplitudes.
     extrema : bool
@@ -1007,12 +1016,19 @@ def frequency_response_chart(response: FrequencyResponse, names: Sequence[str] |
     >>> len(charts.panels), charts.panels[0].ylabel, charts.panels[0].ylog
     (2, 'amplitude $X$', True)
     """
+    given = names
     names = _curve_names(response, names)
-    axes = response_axes(response.parameter, names, coordinates=response.coordinates,
-                         units=units, unit=response.unit,
-                         frequency_sweep=response.frequency_sweep, log=bool(response.log))
-    floor, top = _amplitude_floor(response, names)
-    x = np.asarray(response.values, dtype=float)
+    shown_units = curve_units(units, names)
+    along, scale = frequency_axis(units, response.frequency_scale, response.unit)
+    # an angular frequency shown in Hz is the cyclic frequency f = omega / (2 pi)
+    parameter = "f" if response.frequency_sweep and along.text in ("Hz", "kHz") \
+        and response.unit == "rad/s" else response.parameter
+    axes = response_axes(parameter, names, coordinates=response.coordinates,
+                         units={n: s.text for n, s in shown_units.items()} if units else None,
+                         unit=along.text, frequency_sweep=response.frequency_sweep,
+                         log=bool(response.log))
+    floor, top = _amplitude_floor(response, names, shown_units)
+    x = along(np.asarray(response.values, dtype=float) * scale)
     amp_curves: list[Curve] = []
     phase_curves: list[Curve] = []
     markers: list[Marker] = []
@@ -1020,27 +1036,31 @@ def frequency_response_chart(response: FrequencyResponse, names: Sequence[str] |
     labelled: list[float] = []
     for name, style in zip(names, axes.curves):
         color = style.color or COLORS[0]
-        amplitude = np.array(response.amplitudes[name], dtype=float)
+        amplitude = shown_units[name](np.array(response.amplitudes[name], dtype=float))
         with np.errstate(invalid="ignore"):
             shown = np.where(amplitude > 0, np.maximum(amplitude, floor), np.nan)  # log: no 0
         amp_curves.append(replace(style, x=x, y=shown))
         phase_curves.append(Curve(x, unwrapped_degrees(response.phases[name]), "", color, 1.2))
         if operating is not None and x.size > 1 and np.all(np.diff(x) > 0):
-            at = float(np.interp(operating, x, amplitude))
+            at = float(np.interp(along(operating * scale), x, amplitude))
             if at > 0:
-                markers.append(Marker(float(operating), at, color))
+                markers.append(Marker(along(operating * scale), at, color))
         if extrema:
-            markers += _extrema_marks(response, name, color, floor, notes, labelled)
+            markers += _extrema_marks(response, name, color, floor, notes, labelled,
+                                      _Axis(lambda v: along(v * scale), along.text,
+                                            _axis_span(x, bool(response.log)),
+                                            bool(response.log), _resonances(response)),
+                                      shown_units[name])
     rules: list[Rule] = []
     natural = response.natural_values
     if natural is not None and x.size:
         lo, hi = float(np.min(x)), float(np.max(x))
         what = "natural frequency" if response.frequency_sweep else \
             "excitation at a natural frequency"
-        rules += [Rule(float(w), color="#737373", dash="1 1.65", label=what)
-                  for w in natural if lo <= w <= hi][:MAX_LINES]
+        rules += [Rule(along(float(w) * scale), color="#737373", dash="1 1.65", label=what)
+                  for w in natural if lo <= along(w * scale) <= hi][:MAX_LINES]
     if operating is not None:
-        rules.append(Rule(float(operating), color="#404040", dash="3.7 1.6",
+        rules.append(Rule(along(float(operating) * scale), color="#404040", dash="3.7 1.6",
                           label="operating point"))
     ylim = None
     if extrema and floor > 0 and top > 0:  # clipped to the data, room above for the notes
@@ -1055,6 +1075,10 @@ def frequency_response_chart(response: FrequencyResponse, names: Sequence[str] |
     if title:
         heading = (printable(response.title or "frequency response", limit=80)
                    + "\n" + r"$x = X \sin(\omega t + \delta)$")
+        left_out = len(response.names) - len(names)
+        if left_out > 0 and given is None:  # said, never dropped without a word
+            heading += (f" — {len(names)} of {len(response.names)} responses drawn "
+                        "(choose them with names=, --only)")
     if not phase:
         return Charts((amplitude_chart,), heading)
     phase_rules = tuple(replace(r, label="") for r in rules)
@@ -1085,26 +1109,80 @@ def _phase_ticks(curves: Sequence[Curve]) -> tuple[float, ...]:
     return tuple(float(v) for v in np.arange(first, last + 1, step))
 
 
+#: a peak's note needs this fraction of the axis's width to itself (its text's width)
+NOTE_WIDTH = 0.06
+#: a peak farther than this (relative) from every natural frequency is a local bump of the
+#: curve between two resonances: it is not marked as one
+RESONANCE_BAND = 0.12
+
+
+@dataclass(frozen=True)
+class _Axis:
+    """The parameter axis as the chart draws it: the map of a value onto it, its unit, its
+    span (in decades on a log axis), and the parameter values of the resonances."""
+
+    at: Callable[[float], float]
+    unit: str
+    span: float
+    log: bool
+    resonances: np.ndarray | None
+
+    def apart(self, a: float, b: float) -> bool:
+        """Whether two notes at ``a`` and ``b`` (on the axis) do not overlap."""
+        if self.log and a > 0 and b > 0:
+            return abs(math.log10(a / b)) > NOTE_WIDTH * self.span
+        return abs(a - b) > NOTE_WIDTH * self.span
+
+    def resonant(self, value: float) -> bool:
+        """Whether a peak at ``value`` (the parameter's) is near a natural frequency (every
+        peak is, where the sweep knows none)."""
+        if self.resonances is None or self.resonances.size == 0:
+            return True
+        return bool(np.any(np.abs(self.resonances - value) <= RESONANCE_BAND
+                           * np.abs(self.resonances)))
+
+
+def _axis_span(x: np.ndarray, log: bool) -> float:
+    finite = x[np.isfinite(x) & ((x > 0) if log else True)]
+    if finite.size < 2:
+        return 1.0
+    low, high = float(finite.min()), float(finite.max())
+    return (math.log10(high / low) if log else high - low) or 1.0
+
+
+def _resonances(response: FrequencyResponse) -> np.ndarray | None:
+    """The parameter values at the natural frequencies (None where the sweep is not of a
+    frequency: every peak counts)."""
+    return response.natural_values if response.frequency_sweep else None
+
+
 def _extrema_marks(response: FrequencyResponse, name: str, color: str, floor: float,
-                   notes: list[Annotation], labelled: list[float]) -> list[Marker]:
-    """Triangles on the resonance peaks (each resonance's value noted once), circles on
-    the antiresonances (at the drawn floor for a true zero)."""
+                   notes: list[Annotation], labelled: list[float], axis: _Axis,
+                   unit: Shown) -> list[Marker]:
+    """Triangles on the resonance peaks (each resonance's value noted once, with its unit,
+    where its note does not overlap another), circles on the antiresonances (at the drawn
+    floor for a true zero); ``unit`` shows an amplitude."""
     marks = []
-    for p in [p for p in response.peaks if p.name == name][:20]:
-        marks.append(Marker(p.value, p.amplitude, color, "peak", "resonance peak"))
+    own = [p for p in response.peaks if p.name == name]
+    highest = max(own, key=lambda p: p.amplitude, default=None)  # never left unmarked
+    peaks = [p for p in own if p is highest or axis.resonant(p.value)]
+    for p in peaks[:20]:
+        value = axis.at(p.value)
+        marks.append(Marker(value, unit(p.amplitude), color, "peak", "resonance peak"))
         # one note per resonance: curves peaking at nearly the same value share it
-        if all(abs(p.value - v) > 0.06 * abs(v) for v in labelled):
-            labelled.append(p.value)
-            notes.append(Annotation(p.value, f"{p.value:.4g}", color))
+        if all(axis.apart(value, v) for v in labelled):
+            labelled.append(value)
+            text = f"{value:.4g}" + (f" {axis.unit}" if axis.unit and not labelled[1:] else "")
+            notes.append(Annotation(value, text, color))
     for p in [p for p in response.antiresonances if p.name == name][:20]:
-        marks.append(Marker(p.value, max(p.amplitude, floor), color, "ring",
+        marks.append(Marker(axis.at(p.value), max(unit(p.amplitude), floor), color, "ring",
                             "antiresonance (zero)"))
     return marks
 
 
 def plot_frequency_response(response: FrequencyResponse, path: PathArg = None,
                             names: Sequence[str] | None = None, ax: Axes | None = None,
-                            units: Mapping[str, str] | None = None) -> Figure:
+                            units: Mapping[str, str] | ResultUnits | None = None) -> Figure:
     """Amplitude (log axis) above phase, against the swept parameter: the chart of
     :func:`frequency_response_chart`, drawn with matplotlib.
 
@@ -1123,10 +1201,11 @@ def plot_frequency_response(response: FrequencyResponse, path: PathArg = None,
         panels, or a single Axes for the amplitude panel alone.  The axes are
         drawn into as they are (no layout change); by default a new figure with
         the two panels stacked is made.
-    units : mapping, optional
-        name -> SI unit of the amplitudes (``ResultUnits.si`` of
-        :mod:`resonant.model.units_display`): the amplitude axis is labelled with the
-        unit, or each curve where the units differ.
+    units : ResultUnits or mapping, optional
+        The display units (:func:`resonant.model.units_display.result_units`: amplitudes
+        and a frequency axis converted), or name -> SI unit of the amplitudes
+        (``ResultUnits.si``): the amplitude axis is labelled with the unit, or each curve
+        where the units differ.
 
     Returns
     -------
@@ -1143,7 +1222,7 @@ def plot_frequency_response(response: FrequencyResponse, path: PathArg = None,
     charts = frequency_response_chart(response, names, units,
                                       phase=axes is None or len(axes) == 2)
     fig = draw_figure(charts, axes)
-    save_figure(fig, path, dpi=150, bbox_inches="tight")
+    save_figure(fig, path, bbox_inches="tight")
     return fig
 
 
@@ -1173,13 +1252,15 @@ def _response_axes(ax: Axes | None) -> list[Any] | None:
     return [ax]
 
 
-def _amplitude_floor(response: FrequencyResponse, names: Sequence[str]) -> tuple[float, float]:
-    """(floor, top) of the plotted amplitudes.
+def _amplitude_floor(response: FrequencyResponse, names: Sequence[str],
+                     shown: Mapping[str, Shown] | None = None) -> tuple[float, float]:
+    """(floor, top) of the plotted amplitudes (in their display units ``shown``).
 
     True zeros (antiresonances of undamped systems, 1e-19 and less) are drawn at the
     floor instead of stretching the log axis over many decades.
     """
-    sampled = np.array([response.amplitudes[name] for name in names], dtype=float)
+    sampled = np.array([(shown[name] if shown else NO_UNIT)(
+        np.asarray(response.amplitudes[name], dtype=float)) for name in names], dtype=float)
     top = float(np.nanmax(sampled, initial=0.0)) if np.isfinite(sampled).any() else 0.0
     meaningful = sampled[np.isfinite(sampled) & (sampled > FLOOR * top)]
     floor = float(meaningful.min()) if meaningful.size else 0.0
@@ -1230,12 +1311,13 @@ def extrema_table(result: FrequencyResponse, items: Sequence[Extremum],
     resonant.tables.ResultTable
     """
     rows = []
+    along, scale = frequency_axis(units, result.frequency_scale, result.unit)
     for p in items:
         unit = units.unit(p.name) if units is not None else None
-        rows.append((printable(p.name, limit=40), number_cell(p.value, 6),
+        rows.append((printable(p.name, limit=40), number_cell(along(p.value * scale), 6),
                      number_cell(unit(p.amplitude) if unit is not None else p.amplitude, 6),
                      unit.text if unit is not None else ""))
-    where = f"{printable(result.parameter, limit=40)}" + (f" [{result.unit}]" if result.unit
+    where = f"{printable(result.parameter, limit=40)}" + (f" [{along.text}]" if along.text
                                                           else "")
     return ResultTable(("name", where, "amplitude", "unit"), tuple(rows), align="lrrl")
 
@@ -1243,9 +1325,11 @@ def extrema_table(result: FrequencyResponse, items: Sequence[Extremum],
 def sweep_text(result: FrequencyResponse, units: ResultUnits | None = None) -> str:
     """The human-readable summary of ``resonant sweep``; the amplitudes in the display units
     of ``units`` where given."""
-    unit = f" {result.unit}" if result.unit else ""
+    along, scale = frequency_axis(units, result.frequency_scale, result.unit)
+    unit = f" {along.text}" if along.text else ""
     out = [printable(result.title or "sweep"),
-           f"{result.parameter} from {result.values[0]:.6g} to {result.values[-1]:.6g}{unit}, "
+           f"{result.parameter} from {along(result.values[0] * scale):.6g} to "
+           f"{along(result.values[-1] * scale):.6g}{unit}, "
            f"{len(result.values)} values, method {result.method}" + (
                f" (estimated error {result.estimated_error:.2g}, tolerance "
                f"{result.tolerance:.2g})" if getattr(result, "estimated_error", None) is not None
@@ -1255,10 +1339,10 @@ def sweep_text(result: FrequencyResponse, units: ResultUnits | None = None) -> s
         inside = [w for w in natural if result.values.min() <= w <= result.values.max()]
         if inside and result.frequency_sweep:
             out.append("natural frequencies in range: " +
-                       ", ".join(f"{w:.6g}" for w in inside[:20]) + unit)
+                       ", ".join(f"{along(w * scale):.6g}" for w in inside[:20]) + unit)
         elif inside:
             out.append(f"the excitation meets a natural frequency at {result.parameter} = " +
-                       ", ".join(f"{w:.6g}" for w in inside[:20]) + unit)
+                       ", ".join(f"{along(w * scale):.6g}" for w in inside[:20]) + unit)
     for title, items in (("resonance peaks", result.peaks),
                          ("antiresonances", result.antiresonances)):
         out.append(f"{title}:")

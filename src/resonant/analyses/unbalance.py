@@ -40,6 +40,7 @@ from ..charts import (
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem
 from ..model.campbell_spec import Unbalance
+from ..model.units_display import ResultUnits, Shown, angular_shown, shown_unit
 from ..system.base import LinearSystem
 from ..system.batch import BatchHarmonic
 from .campbell import RPM, speed_parameter
@@ -70,6 +71,14 @@ class UnbalanceResponse(Charted):
     unbalances : tuple of Unbalance
         The unbalances.
     warnings : tuple of str
+
+    Examples
+    --------
+    >>> import numpy as np, resonant
+    >>> model = resonant.load("examples/rotors/jeffcott_rotor.toml")
+    >>> r = model.unbalance_response(np.array([100.0, 316.2, 600.0]))
+    >>> r.stations, r.speeds[int(np.argmax(r.major[:, 0]))]     # largest at the critical
+    (('',), np.float64(316.2))
     """
 
     title: str
@@ -153,22 +162,29 @@ class UnbalanceResponse(Charted):
                     for i, name in enumerate(self.stations)},
                 "warnings": list(self.warnings)}
 
-    def summary(self) -> str:
+    def summary(self, units: ResultUnits | None = None) -> str:
         """The largest orbit of each station and the speed where it is.
+
+        Parameters
+        ----------
+        units : ResultUnits, optional
+            The display units (``--units``: lengths, speeds; default m and rpm).
 
         Returns
         -------
         str
         """
+        length = shown_unit(units, "m")
+        speed = angular_shown(units, Shown("rpm", RPM))
         lines = [self.title or "Unbalance response",
-                 f"amplitudes: {CONVENTION}", "",
-                 f"{'station':>12}  {'peak major 0-pk':>16}  {'pk-pk':>12}  {'at [rpm]':>10}  "
-                 f"{'minor 0-pk':>12}  precession"]
+                 f"amplitudes: {CONVENTION}, in {length.text}", "",
+                 f"{'station':>12}  {'peak major 0-pk':>16}  {'pk-pk':>12}  "
+                 f"{f'at [{speed.text}]':>10}  {'minor 0-pk':>12}  precession"]
         for i, name in enumerate(self.stations):
             k = int(np.nanargmax(self.major[:, i]))
-            lines.append(f"{name or '(x, y)':>12}  {self.major[k, i]:16.6g}  "
-                         f"{2 * self.major[k, i]:12.6g}  {self.speeds[k] / RPM:10.6g}  "
-                         f"{self.minor[k, i]:12.6g}  {self.precession[k][i]}")
+            lines.append(f"{name or '(x, y)':>12}  {length(self.major[k, i]):16.6g}  "
+                         f"{length(2 * self.major[k, i]):12.6g}  {speed(self.speeds[k]):10.6g}  "
+                         f"{length(self.minor[k, i]):12.6g}  {self.precession[k][i]}")
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines) + "\n"
 

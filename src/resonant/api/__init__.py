@@ -19,16 +19,26 @@ True
 from __future__ import annotations
 
 from ..analyses.backbone import Backbones
+from ..analyses.campbell import Campbell
+from ..analyses.correlate import Correlation
+from ..analyses.fe_checks import MatrixChecks
+from ..analyses.frf_estimate import MeasuredFRF
+from ..analyses.identify import ModalIdentification
+from ..analyses.model_update import ModelUpdate
 from ..analyses.modes import ModalAnalysis, modes
 from ..analyses.nonlinear_response import NonlinearResponse
 from ..analyses.simulate import Simulation, simulate
+from ..analyses.state_space import StateSpaceModel
 from ..analyses.stationary import StationarySolution, stationary
 from ..analyses.sweep import FrequencyResponse, sweep
+from ..analyses.unbalance import UnbalanceResponse
 from ..studies.result import StudyResult
 from ..system import LinearEOM, LinearSystem, MatrixEOM, NumericEOM, linear_system
 from .model import Model, load, loads
 
-__all__ = ["Backbones", "FrequencyResponse", "LinearEOM", "LinearSystem", "MatrixEOM",
-           "ModalAnalysis", "Model", "NonlinearResponse", "NumericEOM", "Simulation",
-           "StationarySolution", "StudyResult", "linear_system", "load", "loads", "modes",
-           "simulate", "stationary", "sweep"]
+__all__ = ["Backbones", "Campbell", "Correlation", "FrequencyResponse", "LinearEOM",
+           "LinearSystem", "MatrixChecks", "MatrixEOM", "MeasuredFRF", "ModalAnalysis",
+           "ModalIdentification", "Model", "ModelUpdate", "NonlinearResponse", "NumericEOM",
+           "Simulation", "StateSpaceModel", "StationarySolution", "StudyResult",
+           "UnbalanceResponse", "linear_system", "load", "loads", "modes", "simulate",
+           "stationary", "sweep"]

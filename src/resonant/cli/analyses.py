@@ -118,7 +118,9 @@ def _run_backbones(args: argparse.Namespace, model: Model, deadline: Deadline) -
         raise AnalysisError("--count applies to the linear modes, not to --nonlinear")
     result = backbone(model, args.amplitude, harmonics=args.harmonics, points=args.points,
                       deadline=deadline)
-    return _emit(args, result, result.summary, lambda path: plot_backbones(result, path))
+    units = cli.shown_units(args, model)
+    return _emit(args, result, lambda: result.summary(units),
+                 lambda path: plot_backbones(result, path))
 
 
 def run_sweep(args: argparse.Namespace) -> int:
@@ -139,8 +141,7 @@ def run_sweep(args: argparse.Namespace) -> int:
                    deadline=deadline)
     units = result_units(model)
     return _emit(args, result, lambda: sweep_text(result, units),
-                 lambda path: plot_frequency_response(
-                     result, path, units=units.si if units is not None else None), units)
+                 lambda path: plot_frequency_response(result, path, units=units), units)
 
 
 def _run_nonlinear(args: argparse.Namespace, model: Model) -> int:
@@ -157,8 +158,7 @@ def _run_nonlinear(args: argparse.Namespace, model: Model) -> int:
                              options=options, deadline=deadline)
     units = result_units(model)
     return _emit(args, result, lambda: nonlinear_text(result, units),
-                 lambda path: plot_nonlinear_response(
-                     result, path, units=units.si if units is not None else None))
+                 lambda path: plot_nonlinear_response(result, path, units=units))
 
 
 #: the results this module writes

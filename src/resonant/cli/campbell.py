@@ -99,7 +99,8 @@ def run_unbalance(args: argparse.Namespace) -> int:
         cli.emit_json(result.to_dict())
         cli.warn(result.warnings)
     else:
-        sys.stdout.write(result.summary())   # the summary ends with the warnings
+        # the summary ends with the warnings
+        sys.stdout.write(result.summary(cli.shown_units(args, model)))
     return 0
 
 
@@ -115,5 +116,6 @@ def run_campbell(args: argparse.Namespace) -> int:
         cli.emit_json(result.to_dict())
         cli.warn(result.warnings)
     else:
-        sys.stdout.write(result.summary())   # the summary ends with the warnings
+        # the summary ends with the warnings
+        sys.stdout.write(result.summary(cli.shown_units(args, model)))
     return 0

@@ -15,7 +15,8 @@ from types import MappingProxyType
 from ..deadline import Deadline
 from ..errors import AnalysisError, ModelError, Problem, printable
 from ..model import Model, load
-from ..model.units import ModelUnits, UnitError, display_units
+from ..model.units import ModelUnits, Unit, UnitError, display_units
+from ..model.units_display import ResultUnits, frequency_shown, result_units
 
 #: default time limit of a command (``--timeout``), in seconds
 DEFAULT_TIMEOUT = 120.0
@@ -55,17 +56,49 @@ def load_model(args: argparse.Namespace) -> Model:
                  allow_paths=getattr(args, "allow_path", None) or ())
     if model.units is not None:
         warn(model.units.notes)
-    chosen = getattr(args, "units", None)
-    if chosen:
-        try:
-            display = display_units(t for t in chosen.split(",") if t.strip())
-        except UnitError as exc:
-            raise ModelError(Problem(f"{exc} (--units takes units of length, angle, "
-                                     "frequency, ... like mm,deg,Hz)", "--units")) from None
+    display = chosen_units(args)
+    if display:
         own = model.units or ModelUnits()
         model = replace(model, units=replace(own, display=MappingProxyType(
             {**own.display, **display})))
     return model
+
+
+def chosen_units(args: argparse.Namespace) -> dict[str, Unit]:
+    """The display units of ``--units`` (quantity -> unit; empty without the option),
+    checked: exit 2 naming the option for a unit that is none of a displayed quantity's.
+
+    Examples
+    --------
+    >>> sorted(chosen_units(argparse.Namespace(units="mm,Hz")))
+    ['frequency', 'length']
+    """
+    chosen = getattr(args, "units", None)
+    if not chosen:
+        return {}
+    try:
+        return display_units(t for t in chosen.split(",") if t.strip())
+    except UnitError as exc:
+        raise ModelError(Problem(f"{exc} (--units takes units of length, angle, "
+                                 "frequency, acceleration, ... like mm,deg,Hz or g)",
+                                 "--units")) from None
+
+
+def shown_units(args: argparse.Namespace, model: Model | None = None) -> ResultUnits | None:
+    """The units a command shows its numbers in: the model's (with ``--units``, as
+    :func:`load_model` applied them), or for a command without a model the ``--units``
+    alone (None when neither gives any).
+
+    Examples
+    --------
+    >>> shown_units(argparse.Namespace(units="g")).of("m/s^2").text
+    'g'
+    """
+    if model is not None:
+        return result_units(model)
+    display = chosen_units(args)
+    return ResultUnits(display=display, frequency=frequency_shown(display)) \
+        if display else None
 
 
 def response_names(text: str | None, model: Model, *, outputs: bool = True,

@@ -36,11 +36,12 @@ def run_random(args: argparse.Namespace) -> int:
     names = cli.response_names(args.only, model)
     result = random_response(linear_system(model, deadline), deadline=deadline, names=names,
                              tolerance=args.tol)
+    units = cli.shown_units(args, model)
     if args.plot:
-        plot_random(result, args.plot)
+        plot_random(result, args.plot, units=units)
     if args.json:
         cli.emit_json(result.to_dict())
     else:
-        sys.stdout.write(random_text(result, warnings=False))
+        sys.stdout.write(random_text(result, warnings=False, units=units))
     cli.warn(result.warnings)
     return 0

@@ -95,7 +95,7 @@ def run_simulate(args: argparse.Namespace) -> int:
     sim = simulate(linear_system(model, deadline), options=options, deadline=deadline)
     written = []
     units = result_units(model)
-    plot = partial(plot_simulation, sim, units=units.si if units is not None else None)
+    plot = partial(plot_simulation, sim, units=units)
     for path, write in ((args.csv, sim.to_csv), (args.plot, plot)):
         if not path:
             continue
@@ -110,7 +110,7 @@ def run_simulate(args: argparse.Namespace) -> int:
             data["units"] = units.to_json()
         common.emit_json(data)
     else:
-        sys.stdout.write(simulation_text(sim))
+        sys.stdout.write(simulation_text(sim, units))
         for path in written:
             print(f"wrote {path}")
     common.warn(sim.warnings)

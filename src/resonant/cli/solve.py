@@ -49,7 +49,7 @@ def run_solve(args: argparse.Namespace) -> int:
     else:
         sys.stdout.write(solution_text(solution))
         if periodic is not None:
-            sys.stdout.write(periodic_text(periodic))
+            sys.stdout.write(periodic_text(periodic, result_units(model)))
     return 0
 
 

@@ -21,13 +21,19 @@ from ..analyses.shock import PULSES, QUANTITIES, plot_srs, pulse, shock_response
 from ..analyses.transient import shock_response
 from ..deadline import Deadline
 from ..errors import ModelError, Problem
+from ..model import Model
 from ..model.time_series import read_time_series
+from ..model.units import ENERGY, TIME
+from ..model.units_display import ResultUnits
 from ..system.build import linear_system
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
              parent: argparse.ArgumentParser) -> None:
     srs = subparsers.add_parser("srs", parents=[cli.option_parser()],
+                                description="A --pulse or --csv history is a base "
+                                "acceleration in m/s^2 (SI; --units g shows it and the "
+                                "spectrum in g); a model's [shock] pulse has its own unit.",
                                 help="shock response spectrum of a pulse or a CSV history "
                                 "(maximax, primary, residual)")
     srs.add_argument("model", nargs="?", default=None,
@@ -37,7 +43,7 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
                           "the [shock] pulse (default: of the pulse itself)")
     srs.add_argument("--pulse", choices=PULSES, help="a classical pulse")
     srs.add_argument("--amplitude", type=cli.number(), default=1.0, metavar="A",
-                     help="the pulse's peak (its area for an impulse); default 1")
+                     help="the pulse's peak in m/s^2 (its area for an impulse); default 1")
     srs.add_argument("--duration", type=cli.number(0, open_low=True), metavar="TAU",
                      help="the pulse's duration (s)")
     srs.add_argument("--step", type=cli.number(0, open_low=True), metavar="DT",
@@ -62,10 +68,25 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
     srs.set_defaults(run=run_srs)
 
 
+#: the SI unit of a --pulse or --csv history: a base acceleration
+PULSE_UNIT = "m/s^2"
+
+
+def _signal_unit(model: Model, name: str, derivative: int) -> str:
+    """The SI unit of a signal's derivative (a force for a coordinate), "" without units."""
+    found = model.units.dimensions.get(name) if model.units is not None else None
+    if found is None:
+        return ""
+    dim = (ENERGY / found if name in model.coordinates else found / TIME ** derivative)
+    return dim.text()
+
+
 def _from_model(args: argparse.Namespace, deadline: Deadline
-                ) -> tuple[float, np.ndarray, float]:
-    """(step, history, Q) of the model's [shock] pulse or of an output under it."""
+                ) -> tuple[float, np.ndarray, float, str, ResultUnits | None]:
+    """(step, history, Q, the history's SI unit, the display units) of the model's [shock]
+    pulse or of an output under it."""
     model = cli.load_model(args)
+    units = cli.shown_units(args, model)
     spec = model.shock_section
     if spec is None:
         raise ModelError(Problem("the model has no [shock] section: add one with the pulse, "
@@ -74,6 +95,7 @@ def _from_model(args: argparse.Namespace, deadline: Deadline
     if args.output is None:
         _, values = pulse(spec.pulse, spec.amplitude, spec.duration, spec.step,
                           total=spec.total)
+        unit = _signal_unit(model, spec.signal, spec.derivative)
     else:
         names = (*model.coordinates, *model.outputs)
         if args.output not in names:
@@ -81,7 +103,8 @@ def _from_model(args: argparse.Namespace, deadline: Deadline
                                      + ", ".join(names[:20]), "--output"))
         values = shock_response(linear_system(model, deadline), names=[args.output],
                                 deadline=deadline).history[args.output]
-    return spec.step, values, spec.Q
+        unit = units.si.get(args.output, "") if units is not None else ""
+    return spec.step, values, spec.Q, unit, units
 
 
 def run_srs(args: argparse.Namespace) -> int:
@@ -95,8 +118,9 @@ def run_srs(args: argparse.Namespace) -> int:
         raise ModelError(Problem("--to must be above --from", "srs"))
     Q = 10.0
     deadline = cli.deadline(args)
+    unit, units = PULSE_UNIT, cli.shown_units(args)
     if args.model is not None:
-        step, values, Q = _from_model(args, deadline)
+        step, values, Q, unit, units = _from_model(args, deadline)
     elif args.csv is not None:
         step, values = read_time_series(args.csv)
     else:
@@ -110,10 +134,11 @@ def run_srs(args: argparse.Namespace) -> int:
                                        is not None else Q, quantity=args.quantity,
                                        deadline=deadline)
     if args.plot:
-        plot_srs(spectrum, np.arange(len(values)) * step, values, args.plot)
+        plot_srs(spectrum, np.arange(len(values)) * step, values, args.plot, unit=unit,
+                 units=units, signal_label=args.output or "input")
     if args.json:
         cli.emit_json(spectrum.to_dict())
     else:
-        sys.stdout.write(srs_text(spectrum))
+        sys.stdout.write(srs_text(spectrum, unit, units))
     cli.warn(spectrum.warnings)
     return 0

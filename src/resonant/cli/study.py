@@ -19,6 +19,7 @@ import resonant.cli.common as cli
 from ..deadline import AnalysisTimeout, DeadlineExceeded
 from ..errors import ModelError, Problem, printable
 from ..model.study import DESIGNS, MAX_HARMONICS, MAX_SAMPLES, MAX_SEED
+from ..model.units_display import ResultUnits, shown_unit
 from ..studies import StudyJob, StudyResult, collect, engine_for, request
 from ..studies.files import check_output, completed_rows
 from ..studies.study_charts import plot_study, study_units
@@ -119,15 +120,33 @@ def run_study(args: argparse.Namespace) -> int:
         raise
     units = study_units(model, spec)
     if args.plot:
-        plot_study(result.table, list(spec.vary), list(spec.columns), args.plot,
-                   result.sensitivity, grid=spec.design == "grid", units=units,
-                   nominal={name: float(model.parameter_values[name]) for name in spec.vary})
+        nominal = {name: float(model.parameter_values[name]) for name in spec.vary}
+        table, shown, nominal = _in_display_units(result.table, units, nominal,
+                                                  cli.shown_units(args, model))
+        plot_study(table, list(spec.vary), list(spec.columns), args.plot,
+                   result.sensitivity, grid=spec.design == "grid", units=shown,
+                   nominal=nominal)
     if args.json:
         # the SI unit of every varied parameter and quantity ("" for a pure number)
         cli.emit_json({**result.to_dict(), "units": units})
     else:
-        sys.stdout.write(_text(result, args.output, units))
+        sys.stdout.write(_text(result, args.output, units, cli.shown_units(args, model)))
     return 0
+
+
+def _in_display_units(table: Any, units: dict[str, str], nominal: dict[str, float],
+                      shown: ResultUnits | None) -> tuple[Any, dict[str, str], dict[str, float]]:
+    """The study's columns, units and nominal values in the display units (``--units``:
+    MPa for a stress, Hz for a frequency; the file itself stays SI)."""
+    if shown is None or not units:
+        return table, units, nominal
+    display = {column: shown_unit(shown, unit) for column, unit in units.items()}
+    converted = table.copy()
+    for column, unit in display.items():
+        if column in converted.columns and unit.factor != 1.0:
+            converted[column] = converted[column] / unit.factor
+    return (converted, {c: u.text for c, u in display.items()},
+            {n: display[n](v) if n in display else v for n, v in nominal.items()})
 
 
 def _stopped(output: str) -> str:
@@ -146,13 +165,17 @@ def _index(value: float | None) -> str:
     return "none" if value is None else f"{value:.3f}"
 
 
-def _text(result: StudyResult, output: str, units: dict[str, str] | None = None) -> str:
+def _text(result: StudyResult, output: str, units: dict[str, str] | None = None,
+          shown: ResultUnits | None = None) -> str:
     lines = [f"{len(result.table)} samples ({result.spec.design}) of "
              f"{', '.join(result.spec.vary)} in {printable(output)}, run in {result.where}"]
     lines.append("status: " + ", ".join(f"{k} {v}" for k, v in result.failures().items()))
     table = result.summary()
     if units:  # each quantity's own unit (a peak's frequency: the band parameter's)
-        table.insert(0, "unit", [units.get(str(name), "") for name in table.index])
+        display = [shown_unit(shown, units.get(str(name), "")) for name in table.index]
+        values = [c for c in table.columns if c != "count"]  # statistics scale with the unit
+        table[values] = table[values].astype(float).div([d.factor for d in display], axis=0)
+        table.insert(0, "unit", [d.text for d in display])
     lines.append(table.to_string(float_format=lambda v: f"{v:.6g}"))
     for name, entry in (result.sensitivity or {}).items():
         indices = ", ".join(

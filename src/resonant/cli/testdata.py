@@ -185,7 +185,7 @@ def run_frf(args: argparse.Namespace) -> int:
         own = model_frf(linear_system(model, deadline), spec.input, result.frequency,
                         spec.channels, deadline=deadline) if spec.input else None
         result.plot(args.plot, model=own)
-    return _emit(result, args, result.summary(), ())
+    return _emit(result, args, result.summary(cli.shown_units(args, model)), ())
 
 
 def _identified(args: argparse.Namespace, model: Model, deadline: Deadline
@@ -219,10 +219,11 @@ def _identified(args: argparse.Namespace, model: Model, deadline: Deadline
 
 def run_identify(args: argparse.Namespace) -> int:
     deadline = cli.deadline(args)
-    _, result = _identified(args, cli.load_model(args), deadline)
+    model = cli.load_model(args)
+    _, result = _identified(args, model, deadline)
     if args.plot:
         result.plot(args.plot)
-    return _emit(result, args, result.summary(), result.warnings)
+    return _emit(result, args, result.summary(cli.shown_units(args, model)), result.warnings)
 
 
 def run_correlate(args: argparse.Namespace) -> int:
@@ -233,7 +234,7 @@ def run_correlate(args: argparse.Namespace) -> int:
                        deadline=deadline)
     if args.plot:
         result.plot(args.plot)
-    return _emit(result, args, result.summary(), identified.warnings)
+    return _emit(result, args, result.summary(cli.shown_units(args, model)), identified.warnings)
 
 
 def _bounds(items: list[str]) -> Mapping[str, tuple[str, str]]:
@@ -320,4 +321,5 @@ def run_update(args: argparse.Namespace) -> int:
                                sigma=args.sigma, deadline=deadline)
     if args.plot:
         result.plot(args.plot)
-    return _emit(result, args, result.summary(), identified.warnings + result.warnings)
+    return _emit(result, args, result.summary(cli.shown_units(args, model)),
+                 identified.warnings + result.warnings)

@@ -137,6 +137,9 @@ FREQUENCY = Dimension.of(s=-1)
 FORCE = Dimension.of(m=1, kg=1, s=-2)
 ENERGY = Dimension.of(m=2, kg=1, s=-2)
 POWER = Dimension.of(m=2, kg=1, s=-3)
+VELOCITY = Dimension.of(m=1, s=-1)
+ACCELERATION = Dimension.of(m=1, s=-2)
+STRESS = Dimension.of(kg=1, m=-1, s=-2)
 #: the SI names of common dimensions (everything else is written in base units)
 _NAMED: dict[Dimension, str] = {
     DIMENSIONLESS: "1", LENGTH: "m", MASS: "kg", TIME: "s", FREQUENCY: "1/s",
@@ -580,7 +583,16 @@ class ModelUnits:
 
 #: the quantities a display unit can be chosen for (--units, [display])
 DISPLAY_QUANTITIES = ("length", "angle", "frequency", "mass", "force", "time", "energy",
-                      "moment")
+                      "moment", "velocity", "acceleration", "stress")
+
+#: ``g`` as a display unit: standard gravity, an acceleration (as in a pulse's or a
+#: spectral density's unit), never the gram (nobody asks for a result in grams)
+STANDARD_GRAVITY_UNIT = Unit("g", Fraction("9.80665"), 0, ACCELERATION)
+
+#: the quantity each dimension is shown as (its display unit chosen by that name)
+_DISPLAYED: dict[Dimension, str] = {
+    LENGTH: "length", FREQUENCY: "frequency", MASS: "mass", FORCE: "force", TIME: "time",
+    ENERGY: "energy", VELOCITY: "velocity", ACCELERATION: "acceleration", STRESS: "stress"}
 
 
 def display_quantity(unit: Unit) -> str | None:
@@ -588,30 +600,36 @@ def display_quantity(unit: Unit) -> str | None:
 
     Examples
     --------
-    >>> [display_quantity(parse_unit(u)) for u in ("mm", "deg", "Hz", "kN", "J")]
-    ['length', 'angle', 'frequency', 'force', 'energy']
+    >>> [display_quantity(parse_unit(u)) for u in ("mm", "deg", "Hz", "kN", "J", "MPa")]
+    ['length', 'angle', 'frequency', 'force', 'energy', 'stress']
     """
     if unit.angle:
         return "angle"
-    return {LENGTH: "length", FREQUENCY: "frequency", MASS: "mass", FORCE: "force",
-            TIME: "time", ENERGY: "energy"}.get(unit.dimension)
+    return _DISPLAYED.get(unit.dimension)
 
 
 def display_units(texts: Iterable[str]) -> dict[str, Unit]:
     """``["mm", "deg", "Hz"]`` -> ``{"length": mm, "angle": deg, "frequency": Hz}``.
 
+    ``g`` is standard gravity (:data:`STANDARD_GRAVITY_UNIT`), for accelerations.
+
     Raises
     ------
     UnitError
         For an unknown unit or one that is none of :data:`DISPLAY_QUANTITIES`.
+
+    Examples
+    --------
+    >>> sorted(display_units(["g", "MPa", "mm/s"]).items())
+    [('acceleration', Unit('g')), ('stress', Unit('MPa')), ('velocity', Unit('mm/s'))]
     """
     out: dict[str, Unit] = {}
     for text in texts:
-        unit = parse_unit(text.strip())
+        unit = STANDARD_GRAVITY_UNIT if text.strip() == "g" else parse_unit(text.strip())
         quantity = display_quantity(unit)
         if quantity is None:
             raise UnitError(f"'{text.strip()}' is not a unit of length, angle, frequency, "
-                            "mass, force, time or energy")
+                            "mass, force, time, energy, velocity, acceleration or stress")
         out[quantity] = unit
     return out
 
@@ -623,5 +641,6 @@ def frozen(**maps: Mapping[str, Any]) -> dict[str, Any]:
 
 __all__ = ["Dimension", "Unit", "UnitError", "ModelUnits", "UNITS", "BASE", "DIMENSIONLESS",
            "LENGTH", "MASS", "TIME", "FREQUENCY", "FORCE", "ENERGY", "POWER", "ONE",
+           "VELOCITY", "ACCELERATION", "STRESS", "STANDARD_GRAVITY_UNIT",
            "parse_unit", "lookup", "split_value", "scaled", "display_units",
            "display_quantity", "DISPLAY_QUANTITIES", "frozen", "parse_with_unit"]

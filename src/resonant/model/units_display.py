@@ -42,6 +42,7 @@ import math
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import Any, TypeVar
 
 import numpy as np
@@ -52,14 +53,12 @@ from ..model import Model
 from ..model.units import (
     DIMENSIONLESS,
     ENERGY,
-    FORCE,
-    FREQUENCY,
-    LENGTH,
-    MASS,
     TIME,
     Dimension,
     Unit,
+    UnitError,
     display_quantity,
+    parse_unit,
 )
 
 #: a number or an array of numbers in SI
@@ -98,6 +97,9 @@ class ResultUnits:
         ``"Q"`` -> the unit of every row of the excitation (N, or N*m for an angle).
     phase, frequency : Shown
         The display units of phases and of (angular) frequencies.
+    display : mapping
+        quantity (length, acceleration, ...) -> the display unit chosen for it
+        (``--units``, ``[display]``); what :meth:`of` converts to.
     """
 
     si: Mapping[str, str] = field(default_factory=dict)
@@ -105,9 +107,30 @@ class ResultUnits:
     matrices: Mapping[str, Any] = field(default_factory=dict)
     phase: Shown = RAD
     frequency: Shown = HZ
+    display: Mapping[str, Unit] = field(default_factory=dict)
 
     def unit(self, name: str) -> Shown:
         return self.shown.get(name, NO_UNIT)
+
+    def of(self, si: str) -> Shown:
+        """The display unit of a quantity whose SI unit is ``si`` (``"m/s^2"``): the one
+        chosen for its kind, else ``si`` itself (``""`` stays without a unit).
+
+        Examples
+        --------
+        >>> from resonant.model.units import display_units
+        >>> units = ResultUnits(display=display_units(["g", "mm"]))
+        >>> [(s.text, round(s(19.6133), 6)) for s in map(units.of, ("m/s^2", "m", "N"))]
+        [('g', 2.0), ('mm', 19613.3), ('N', 19.6133)]
+        """
+        kind = _si_quantity(si)
+        if kind is None or kind not in self.display:
+            return Shown(si)
+        return _display_unit(self.display[kind], kind == "frequency")
+
+    def chosen(self, kind: str) -> bool:
+        """Whether a display unit was chosen for ``kind`` (``"frequency"``, ...)."""
+        return kind in self.display
 
     def to_json(self) -> dict[str, Any]:
         """``{name: SI unit}`` for every coordinate, output and matrix (JSON stays SI)."""
@@ -134,8 +157,115 @@ def _si_text(dim: Dimension | None, angle: bool) -> str:
 def _quantity(dim: Dimension | None, declared: Unit | None) -> str | None:
     if declared is not None and declared.angle:
         return "angle"
-    return {LENGTH: "length", MASS: "mass", FORCE: "force", TIME: "time", ENERGY: "energy",
-            FREQUENCY: "frequency"}.get(dim) if dim is not None else None
+    return None if dim is None else display_quantity(Unit("", Fraction(1), 0, dim))
+
+
+def _si_quantity(si: str) -> str | None:
+    """The quantity of an SI unit text (``"m/s^2"`` -> acceleration; None if unknown)."""
+    if not si or si == "1":
+        return None
+    if si == "rad":
+        return "angle"
+    try:
+        return display_quantity(parse_unit(si))
+    except UnitError:
+        return None
+
+
+def shown_unit(units: ResultUnits | None, si: str) -> Shown:
+    """``units.of(si)``, or ``si`` unchanged without units (a model without them).
+
+    Examples
+    --------
+    >>> shown_unit(None, "m").text
+    'm'
+    """
+    return Shown(si) if units is None else units.of(si)
+
+
+def curve_units(units: Mapping[str, str] | ResultUnits | None,
+                names: Sequence[str]) -> dict[str, Shown]:
+    """Each named curve's display unit: from :class:`ResultUnits` (converted), from a
+    mapping name -> unit text (shown as it is), none without.
+
+    Examples
+    --------
+    >>> from resonant.model.units import display_units
+    >>> units = ResultUnits(shown={"x": Shown("mm", 1e-3)})
+    >>> curve_units(units, ["x"])["x"](0.002), curve_units({"x": "m"}, ["x"])["x"].text
+    (2.0, 'm')
+    """
+    if units is None:
+        return {n: NO_UNIT for n in names}
+    if isinstance(units, ResultUnits):
+        return {n: units.unit(n) for n in names}
+    return {n: Shown(units.get(n, "")) for n in names}
+
+
+def frequency_axis(units: Mapping[str, str] | ResultUnits | None, scale: float | None,
+                   unit: str) -> tuple[Shown, float]:
+    """How a parameter axis in ``unit`` whose value times ``scale`` is an angular frequency
+    (rad/s) is shown: (the display unit of that angular frequency, ``scale``) where a
+    frequency unit was chosen (``--units Hz``), else (``unit`` as it is, 1).
+
+    Examples
+    --------
+    >>> from resonant.model.units import display_units
+    >>> shown, scale = frequency_axis(ResultUnits(display=display_units(["Hz"])), 1.0, "rad/s")
+    >>> shown.text, round(shown(scale * 2 * math.pi), 12)
+    ('Hz', 1.0)
+    """
+    if isinstance(units, ResultUnits) and units.chosen("frequency") and scale is not None \
+            and unit in ("rad/s", "Hz"):
+        return units.frequency, scale
+    return Shown(unit), 1.0
+
+
+def angular_shown(units: ResultUnits | None, default: Shown = RAD_PER_S) -> Shown:
+    """How a value in rad/s (an angular frequency, a speed) is shown: in the frequency
+    unit chosen (``--units Hz``, ``rpm``), else in ``default``.
+
+    Examples
+    --------
+    >>> from resonant.model.units import display_units
+    >>> rpm = angular_shown(ResultUnits(display=display_units(["rpm"])))
+    >>> rpm.text, round(rpm(2 * math.pi), 9), angular_shown(None).text
+    ('rpm', 60.0, 'rad/s')
+    """
+    return frequency_shown(units.display) if units is not None and units.chosen("frequency") \
+        else default
+
+
+def cyclic_shown(units: ResultUnits | None) -> Shown:
+    """How a value in Hz (a measured or cyclic frequency) is shown: in the frequency unit
+    chosen, else in Hz.
+
+    Examples
+    --------
+    >>> from resonant.model.units import display_units
+    >>> w = cyclic_shown(ResultUnits(display=display_units(["rad/s"])))
+    >>> w.text, round(w(1.0), 12)
+    ('rad/s', 6.28318530718)
+    """
+    angular = angular_shown(units, HZ)
+    return Shown(angular.text, angular.factor / (2 * math.pi))
+
+
+def density_unit(shown: Shown) -> Shown:
+    """The unit of a one-sided spectral density of a quantity shown in ``shown``:
+    ``mm`` -> ``mm^2/Hz`` (its factor squared; ``SI^2/Hz`` without a unit).
+
+    Examples
+    --------
+    >>> d = density_unit(Shown("g", 9.80665))
+    >>> d.text, round(d(9.80665 ** 2), 12)
+    ('g^2/Hz', 1.0)
+    """
+    text = shown.text
+    if not text:
+        return Shown("SI^2/Hz")
+    base = f"({text})" if any(c in text for c in "*/^") else text
+    return Shown(f"{base}^2/Hz", shown.factor ** 2)
 
 
 def result_units(model: Model | None, chosen: Mapping[str, Unit] | None = None
@@ -173,8 +303,13 @@ def result_units(model: Model | None, chosen: Mapping[str, Unit] | None = None
                              for di in dims]
         matrices["Q"] = [(ENERGY / di).text(moment=True) for di in dims]
     phase = _display_unit(display["angle"]) if "angle" in display else RAD
-    frequency = _display_unit(display["frequency"], True) if "frequency" in display else HZ
-    return ResultUnits(si, shown, matrices, phase, frequency)
+    frequency = frequency_shown(display)
+    return ResultUnits(si, shown, matrices, phase, frequency, display)
+
+
+def frequency_shown(display: Mapping[str, Unit]) -> Shown:
+    """How (angular) frequencies are shown: in the unit chosen for them, else in Hz."""
+    return _display_unit(display["frequency"], True) if "frequency" in display else HZ
 
 
 def uniform(units: Sequence[Any]) -> str | None:
@@ -265,6 +400,7 @@ def unit_suffix(names: Sequence[str], units: Mapping[str, str]) -> tuple[str, Ma
     return f" [{', '.join(named)}]", units
 
 
-__all__ = ["unit_math", "name_label", "unit_suffix", "ResultUnits", "Shown", "result_units",
-           "uniform", "units_grid", "shown_vector", "axis_label", "unit_latex", "HZ", "RAD",
-           "RAD_PER_S", "NO_UNIT", "display_quantity"]
+__all__ = ["angular_shown", "cyclic_shown", "curve_units", "frequency_axis", "frequency_shown",
+           "shown_unit", "density_unit", "unit_math", "name_label", "unit_suffix", "ResultUnits",
+           "Shown", "result_units", "uniform", "units_grid", "shown_vector", "axis_label",
+           "unit_latex", "HZ", "RAD", "RAD_PER_S", "NO_UNIT", "display_quantity"]

@@ -280,7 +280,7 @@ def plot_histogram(frame: pd.DataFrame, quantity: str, ax: Axes | None = None,
     matplotlib.figure.Figure
     """
     fig = draw_figure(histogram_chart(frame, quantity, units), None if ax is None else [ax])
-    save_figure(fig, path, dpi=110)
+    save_figure(fig, path)
     return fig
 
 
@@ -401,7 +401,7 @@ def plot_scatter(frame: pd.DataFrame, quantity: str, parameters: Sequence[str],
     # in the caller's axes, the legend inside them
     fig = draw_figure(scatter_chart(frame, quantity, parameters, units, nominal),
                       None if ax is None else [ax])
-    save_figure(fig, path, dpi=110)
+    save_figure(fig, path)
     return fig
 
 
@@ -473,7 +473,7 @@ def plot_sobol(indices: Mapping[str, Any], quantity: str, ax: Axes | None = None
     matplotlib.figure.Figure
     """
     fig = draw_figure(sobol_chart(indices, quantity, units), None if ax is None else [ax])
-    save_figure(fig, path, dpi=110)
+    save_figure(fig, path)
     return fig
 
 
@@ -563,7 +563,7 @@ def plot_contour(frame: pd.DataFrame, quantity: str, x: str, y: str, ax: Axes | 
     """
     fig = draw_figure(contour_chart(frame, quantity, x, y, units, nominal),
                       None if ax is None else [ax])
-    save_figure(fig, path, dpi=110)
+    save_figure(fig, path)
     return fig
 
 
@@ -607,7 +607,7 @@ def plot_study(frame: pd.DataFrame, parameters: Sequence[str], quantities: Seque
 
     def save(charts: Charts, kind: str, quantity: str) -> None:
         path = directory / _file_name(kind, quantity)
-        save_figure(draw_figure(charts), path, dpi=110)
+        save_figure(draw_figure(charts), path)
         written.append(path)
 
     for quantity, kind, charts in study_charts(frame, parameters, quantities, sensitivity,

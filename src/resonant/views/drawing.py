@@ -27,6 +27,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, TypedDict, Unpack
 
+from ..charts import FIGURE_DPI
 from ..charts import figure_of as _figure_of
 from ..errors import AnalysisError, ModelError, Problem
 from ..model import Model
@@ -559,7 +560,7 @@ def save_figure(fig: Figure, path: str | Path) -> None:
     metadata = {"Date": None} if fmt == "svg" else None
     try:
         with matplotlib.rc_context({"svg.hashsalt": "resonant-drawing"}):
-            fig.savefig(path, format=fmt, dpi=150 if fmt == "png" else "figure",
+            fig.savefig(path, format=fmt, dpi=FIGURE_DPI if fmt == "png" else "figure",
                         metadata=metadata, bbox_inches="tight", pad_inches=0.08)
     except OSError as exc:
         raise AnalysisError(f"cannot write the drawing '{path}': "

@@ -20,9 +20,10 @@ from ...errors import ResonantError
 from ...expressions.notation import number_latex
 from ...model.fourier_shapes import FOURIER_SHAPES
 from ...model.pulses import PULSE_KINDS
+from ...model.random_spec import STANDARD_GRAVITY
 from ...model.units import Dimension
-from ...model.units_display import result_units
-from ..blocks import Block, Heading, Note, Table, cell, paragraph
+from ...model.units_display import result_units, unit_latex
+from ..blocks import Block, Heading, Note, Part, Table, cell, paragraph
 from .context import Context, _m
 
 #: harmonics listed in the table of the periodic response
@@ -51,6 +52,22 @@ def _t(value: float, unit: str = "") -> str:
     return f"{text} {unit}" if unit and unit != "1" else text
 
 
+def _cell(value: float, unit: str = "") -> tuple[Part, ...]:
+    """A number and its unit as a table cell: the number as plain text (it wraps on a
+    phone), the unit typeset (``m/s²``, not ``m/s^2``, in every writer)."""
+    if not unit or unit == "1":
+        return cell(_t(value))
+    return cell(_t(value), _m(unit_latex(unit)))
+
+
+def _amount(value: float, unit: str) -> str:
+    """``490.3 m/s² (50 g)`` in LaTeX: a value with its unit, an acceleration also in g."""
+    text = _n(value) + unit_latex(unit) if unit and unit != "1" else _n(value)
+    if unit == "m/s^2":
+        text += rf"\ ({_n(value / STANDARD_GRAVITY)}\ \mathrm{{g}})"
+    return text
+
+
 def _signal(ctx: Context, name: str, derivative: int) -> str:
     """The input as a function of time, as the report names it: y(t), its derivatives."""
     text = ctx.namer(name, derivative)
@@ -72,7 +89,8 @@ def periodic_load(ctx: Context) -> list[Block]:
     blocks.append(paragraph(
         "The load ", _m(s), f" is {_shape_description(series.shape)} of "
         "period ", _m(rf"T = {_n(series.period)}\ \mathrm{{s}}"),
-        *((" and amplitude ", _m(f"A = {_n(spec.amplitude)}"))
+        *((" and amplitude ", _m("A = " + _amount(
+            spec.amplitude, _input_unit(ctx, spec.signal, spec.derivative))))
           if spec.expression is None else ()),
         ". It is not harmonic, but it is the sum of its Fourier series,"))
     blocks.append(ctx.equation(
@@ -101,15 +119,15 @@ def periodic_load(ctx: Context) -> list[Block]:
               cell(_m("b_{n}")), *(cell(_m(f"|z_{{{label}}}|")) for label in labels))
     rows = []
     for i in range(min(SHOWN_HARMONICS, series.harmonics)):
-        rows.append((cell(str(i + 1)), cell(_t((i + 1) / series.period)),
-                     cell(_t(series.a[i])), cell(_t(series.b[i])),
-                     *(cell(_t(abs(result.harmonics[name][i]))) for name in names)))
+        rows.append((cell(str(i + 1)), _cell((i + 1) / series.period),
+                     _cell(series.a[i]), _cell(series.b[i]),
+                     *(_cell(abs(result.harmonics[name][i])) for name in names)))
     blocks.append(Table(header, tuple(rows)))
     blocks.append(paragraph("The sum over one period gives the largest excursions:"))
     units = result_units(ctx.model)
     si = dict(units.si) if units is not None else {}
-    rows = [(cell(_m(ctx.namer(name))), cell(_t(result.mean[name], si.get(name, ""))),
-             cell(_t(result.largest[name], si.get(name, ""))))
+    rows = [(cell(_m(ctx.namer(name))), _cell(result.mean[name], si.get(name, "")),
+             _cell(result.largest[name], si.get(name, "")))
             for name in result.names]
     blocks.append(Table((cell("response"), cell("mean ", _m("q_{k,0}")),
                          cell(_m(r"\max_{t}|q_{k}(t)|"))), tuple(rows)))
@@ -160,10 +178,10 @@ def random_load(ctx: Context) -> list[Block]:
     rows = []
     for name in result.names:
         unit = result.units.get(name, "")
-        rows.append((cell(_m(ctx.namer(name))), cell(_t(result.rms[name], unit)),
-                     cell(_t(3 * result.rms[name], unit)),
-                     cell(_t(result.zero_crossing_rate[name])),
-                     cell(_t(result.peak_rate[name]))))
+        rows.append((cell(_m(ctx.namer(name))), _cell(result.rms[name], unit),
+                     _cell(3 * result.rms[name], unit),
+                     _cell(result.zero_crossing_rate[name]),
+                     _cell(result.peak_rate[name])))
     blocks.append(Table((cell("response"), cell("RMS ", _m(r"\sigma")),
                          cell(_m(r"3\sigma")), cell(_m(r"\nu_{0}^{+}"), " [1/s]"),
                          cell(_m(r"\nu_{p}"), " [1/s]")), tuple(rows)))
@@ -182,8 +200,8 @@ def random_load(ctx: Context) -> list[Block]:
         blocks.append(paragraph(
             "with ", _m("g_{r}"), " the response's static gain (1 for the absolute "
             "acceleration under a base acceleration, Miles 1954). Beside the exact value:"))
-        miles_rows = [(cell(_m(ctx.namer(name))), cell(_t(value, result.units.get(name, ""))),
-                 cell(_t(result.rms[name], result.units.get(name, ""))),
+        miles_rows = [(cell(_m(ctx.namer(name))), _cell(value, result.units.get(name, "")),
+                 _cell(result.rms[name], result.units.get(name, "")),
                  cell(f"{100 * (value / result.rms[name] - 1):+.2f} %"))
                 for name, value in result.miles.items() if result.rms.get(name)]
         blocks.append(Table((cell("response"), cell("Miles"), cell("exact"),
@@ -238,7 +256,7 @@ def shock_load(ctx: Context) -> list[Block]:
     unit = _input_unit(ctx, spec.signal, spec.derivative)
     blocks.append(paragraph(
         "The input ", _m(s), f" is {PULSE_KINDS[spec.pulse].description} pulse of "
-        "amplitude ", _m(rf"A = {_n(spec.amplitude)}"), " and duration ",
+        "amplitude ", _m("A = " + _amount(spec.amplitude, unit)), " and duration ",
         _m(rf"\tau = {_n(spec.duration)}\ \mathrm{{s}}"), ". Its shock response spectrum "
         "is the largest absolute acceleration of a single-degree-of-freedom oscillator of "
         "natural frequency ", _m("f_{n}"), " and ", _m(rf"Q = {_n(spec.Q)}"), " on it, "
@@ -252,7 +270,7 @@ def shock_load(ctx: Context) -> list[Block]:
         _m(rf"{_n(spec.total)}\ \mathrm{{s}}"), ", reaches at most:"))
     units = result_units(ctx.model)
     si = dict(units.si) if units is not None else {}
-    rows = [(cell(_m(ctx.namer(name))), cell(_t(result.largest[name], si.get(name, ""))))
+    rows = [(cell(_m(ctx.namer(name))), _cell(result.largest[name], si.get(name, "")))
             for name in result.names]
     blocks.append(Table((cell("response"), cell(_m(r"\max_{t}|q_{k}(t)|"))), tuple(rows)))
     blocks.extend(Note((w,)) for w in (*spectrum.warnings, *result.warnings))
