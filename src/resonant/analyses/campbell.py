@@ -510,6 +510,51 @@ def campbell(system: LinearSystem, speeds: Sequence[float] | np.ndarray | None =
                     tuple(warnings))
 
 
+def log_decrement(system: LinearSystem, at: float, mode: int = 1, *, speed: str | None = None,
+                  deadline: Deadline = NO_DEADLINE) -> float:
+    """The logarithmic decrement -2 pi Re s / Im s of one mode at one speed.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor.
+    at : float
+        The speed (rad/s).
+    mode : int
+        The mode, counted from 1 in the kernel's order (the lowest first:
+        :func:`resonant.modal.gyroscopic_modes`).
+    speed : str, optional
+        The speed parameter (default: the model's).
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    float
+        Positive for a decaying mode, negative for a growing one; inf for a mode that
+        does not oscillate (Im s = 0).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> rotor = resonant.load("examples/rotors/jeffcott_rotor.toml").linearize()
+    >>> round(log_decrement(rotor, 0.0, 1), 6)
+    0.029804
+    """
+    name = speed_parameter(system, _section_defaults_speed(system, speed))
+    check_speeds(np.array([at], dtype=float), system.source, "speed", least=1)
+    s, _ = ModeSolver(system, name, mode, deadline).modes(np.array([at], dtype=float))[0]
+    value = complex(s[mode - 1])
+    if value.imag == 0:
+        return math.inf
+    return float(-2 * np.pi * value.real / abs(value.imag))
+
+
+def _section_defaults_speed(system: LinearSystem, speed: str | None) -> str | None:
+    """The speed parameter given, else the ``[campbell]`` section's (if any)."""
+    spec = system.model.campbell_section if system.model is not None else None
+    return spec.speed if speed is None and spec is not None else speed
+
+
 # -- text and chart ----------------------------------------------------------------------------
 
 def _branch_whirl(result: Campbell, j: int) -> str:
@@ -622,5 +667,5 @@ def campbell_chart(result: Campbell, damping: str = "log_decrement") -> Charts:
     return Charts((top, bottom), title=result.title, heights=(2.0, 1.0), size=(7.0, 6.0))
 
 
-__all__ = ["campbell", "Campbell", "CriticalSpeed", "StabilityThreshold", "campbell_text",
-           "campbell_chart", "speed_parameter", "RPM"]
+__all__ = ["campbell", "Campbell", "log_decrement", "CriticalSpeed", "StabilityThreshold",
+           "campbell_text", "campbell_chart", "speed_parameter", "RPM"]
