@@ -380,21 +380,22 @@ def _critical_speeds(solver: ModeSolver, track: Tracked, orders: Sequence[float]
         for r in orders:
             gap = track.frequencies[:, j] - r * track.speeds
             for i in crossings(gap):
-                reference = track.shapes[i, :, j]
-                value = branch_value(solver, reference, _order_gap(r))
+                reference, target = track.shapes[i, :, j], complex(track.eigenvalues[i, j])
+                value = branch_value(solver, reference, _order_gap(r), target)
                 speed = find_root(value, float(track.speeds[i]), float(track.speeds[i + 1]),
                                   tolerance)
-                s, q = _continued(solver, reference, speed)
+                s, q = _continued(solver, reference, speed, target)
                 found.append(CriticalSpeed(speed, j + 1, float(r), abs(s.imag),
                                            whirl_label(float(precession(q[:, None],
                                                                         pairs)[0]))))
     return sorted(found, key=lambda c: (c.speed, c.mode))
 
 
-def _continued(solver: ModeSolver, reference: np.ndarray, speed: float
+def _continued(solver: ModeSolver, reference: np.ndarray, speed: float, target: complex
                ) -> tuple[complex, np.ndarray]:
-    """The mode at ``speed`` continuing the branch whose shape is ``reference``."""
-    s, q = solver.modes(np.array([speed]))[0]
+    """The mode at ``speed`` continuing the branch whose shape is ``reference`` (and
+    eigenvalue ``target``) at a neighbouring speed."""
+    s, q = solver.near(speed, target)
     best = int(np.argmax(modal_assurance(reference[:, None], q, solver.mass)[0]))
     return complex(s[best]), q[:, best]
 
@@ -418,11 +419,11 @@ def _threshold(solver: ModeSolver, track: Tracked, pairs: list[tuple[int, int]],
         i = up[0]
         if best is not None and track.speeds[i] >= best[0]:
             continue
-        reference = track.shapes[i, :, j]
-        value = branch_value(solver, reference, lambda s, w: s.real)
+        reference, target = track.shapes[i, :, j], complex(track.eigenvalues[i, j])
+        value = branch_value(solver, reference, lambda s, w: s.real, target)
         speed = find_root(value, float(track.speeds[i]), float(track.speeds[i + 1]),
                           tolerance)
-        s, q = _continued(solver, reference, speed)
+        s, q = _continued(solver, reference, speed, target)
         best = (speed, j, s, q)
     if best is None:
         return StabilityThreshold(None, None, None, "", "stable in range")

@@ -40,20 +40,25 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError
 from ..expressions.numeric import numeric_value
+from ..memory import require
 from .types import MatrixSpec
 from .units import parse_with_unit
 
 COEFFICIENTS = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
 ROTOR_KEYS = ("speed", "E", "rho", "G", "shaft", "disc", "bearing")
-#: the most stations of a [rotor] (its matrices are assembled dense: 2,000 coordinates
-#: are 32 MB a matrix; a larger rotor comes as sparse [matrices] files)
-MAX_STATIONS = 500
+#: the most stations of a [rotor]: 10^5 coordinates (assembled sparse above
+#: :data:`SPARSE_STATIONS`: some 60 stored entries a station and matrix)
+MAX_STATIONS = 25_000
+#: a rotor of more stations is assembled sparse (CSR; 400 coordinates, where the Campbell
+#: diagram turns to the sparse eigensolver); fewer, dense
+SPARSE_STATIONS = 100
 
 
 @dataclass(frozen=True)
@@ -228,18 +233,66 @@ def _planes(a: int, b: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return xz, yz, np.array([1.0, -1.0, 1.0, -1.0])
 
 
-def add_element(M: np.ndarray, K: np.ndarray, G: np.ndarray, a: int, b: int,
+class Assembly:
+    """The entries of a rotor's M, K, C and G collected as (row, column, value) triplets
+    and summed into dense arrays (a small rotor) or CSR matrices (a large one).
+
+    Parameters
+    ----------
+    n : int
+        The coordinates.
+
+    Examples
+    --------
+    >>> a = Assembly(2)
+    >>> a.add("K", np.array([0, 1]), np.array([0, 1]), np.array([[1.0, 2.0], [3.0, 4.0]]))
+    >>> a.add("K", np.array([1]), np.array([1]), np.array([[10.0]]))
+    >>> a.matrix("K", sparse=False).tolist(), a.matrix("K", sparse=True).nnz
+    ([[1.0, 2.0], [3.0, 14.0]], 4)
+    """
+
+    def __init__(self, n: int) -> None:
+        self.n = n
+        self.parts: dict[str, list[tuple[np.ndarray, np.ndarray, np.ndarray]]] = {
+            k: [] for k in ("M", "K", "C", "G")}
+
+    def add(self, key: str, rows: np.ndarray, columns: np.ndarray, block: np.ndarray
+            ) -> None:
+        """Add ``block`` (len(rows), len(columns)) at ``rows`` x ``columns`` of ``key``."""
+        r, c = np.meshgrid(rows, columns, indexing="ij")
+        self.parts[key].append((r.ravel(), c.ravel(), np.asarray(block, dtype=float).ravel()))
+
+    def entries(self) -> int:
+        """The triplets collected (an upper bound of the stored entries)."""
+        return sum(len(v) for part in self.parts.values() for _, _, v in part)
+
+    def matrix(self, key: str, sparse: bool) -> Any:
+        """The summed matrix: CSR where ``sparse``, else a dense array."""
+        parts = self.parts[key]
+        rows, columns, values = (np.concatenate([p[i] for p in parts]) if parts else
+                                 np.zeros(0, dtype=float if i == 2 else int) for i in range(3))
+        if sparse:
+            import scipy.sparse
+
+            return scipy.sparse.coo_matrix((values, (rows, columns)),
+                                           shape=(self.n, self.n)).tocsr()
+        out = np.zeros((self.n, self.n))
+        np.add.at(out, (rows.astype(int), columns.astype(int)), values)
+        return out
+
+
+def add_element(assembly: Assembly, a: int, b: int,
                 element: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> None:
     """Add one plane matrix set (:func:`shaft_matrices`) to both planes, and P to G."""
     Ke, MT, MR, P = element
     xz, yz, sign = _planes(a, b)
     flip = np.outer(sign, sign)
-    for matrix, block in ((K, Ke), (M, MT + MR)):
-        matrix[np.ix_(xz, xz)] += block
-        matrix[np.ix_(yz, yz)] += flip * block
+    for key, block in (("K", Ke), ("M", MT + MR)):
+        assembly.add(key, xz, xz, block)
+        assembly.add(key, yz, yz, flip * block)
     # T = rho Ip Omega ax' ay per unit length: ay rows, ax columns +P; ax rows, ay columns -P
-    G[np.ix_(xz, yz)] += P * sign[None, :]
-    G[np.ix_(yz, xz)] -= sign[:, None] * P
+    assembly.add("G", xz, yz, P * sign[None, :])
+    assembly.add("G", yz, xz, -sign[:, None] * P)
 
 
 def _disc(reader: _Reader, entry: dict, where: str, rho: float | None
@@ -304,21 +357,42 @@ def read_rotor(section: object, params: Sequence[str], source: str
     if stations > MAX_STATIONS:
         raise ModelError(Problem(f"{stations} stations: at most {MAX_STATIONS}", source,
                                  "rotor", "shaft"))
-    n = 4 * stations
-    M, K, C, G = (np.zeros((n, n)) for _ in range(4))
+    sparse = stations > SPARSE_STATIONS
+    _require_memory(4 * stations, len(elements) + len(discs) + len(bearings), sparse)
+    assembly = Assembly(4 * stations)
     if E is not None and rho is not None:
-        for i, (length, outer, inner) in enumerate(elements):
-            add_element(M, K, G, i, i + 1, shaft_matrices(length, outer, inner, E, rho, shear))
-    named = _add_discs(reader, discs, stations, rho, M, G)
-    terms, bearing_names = _add_bearings(reader, bearings, stations, K, C)
+        _add_shaft(assembly, elements, E, rho, shear)
+    named = _add_discs(reader, discs, stations, rho, assembly)
+    terms, bearing_names = _add_bearings(reader, bearings, stations, assembly)
     if reader.problems:
         raise ModelError(reader.problems)
+    M, K, C, G = (assembly.matrix(k, sparse) for k in ("M", "K", "C", "G"))
     names = _names(stations, named + bearing_names)
     coordinates = tuple(f"{s}_{c}" for s in names for c in ("x", "y", "ax", "ay"))
     if len(set(coordinates)) != len(coordinates):
         raise ModelError(Problem("two stations have the same name", source, "rotor", "name"))
     return MatrixSpec(M=M, K=K, C=C, G=G, speed=str(speed), speed_terms=tuple(terms)), \
         coordinates
+
+
+def _add_shaft(assembly: Assembly, elements: list[tuple[float, float, float]], E: float,
+               rho: float, shear: float | None) -> None:
+    """Every shaft element's matrices (computed once for the equal elements of a run)."""
+    computed: dict[tuple[float, float, float], Any] = {}
+    for i, geometry in enumerate(elements):
+        if geometry not in computed:
+            computed[geometry] = shaft_matrices(*geometry, E, rho, shear)
+        add_element(assembly, i, i + 1, computed[geometry])
+
+
+def _require_memory(n: int, parts: int, sparse: bool) -> None:
+    """Refuse a rotor whose assembly would not fit the memory budget, before it starts:
+    each element, disc or bearing adds at most 192 triplets (row, column, value: 24 bytes,
+    kept while they are summed into as many stored entries), and a dense rotor four
+    n x n arrays."""
+    triplets = 192 * parts * (24 + 12)
+    require(triplets + (0 if sparse else 4 * 8.0 * n * n),
+            f"the matrices of a [rotor] of {n} coordinates", "use fewer shaft elements")
 
 
 def _entries(reader: _Reader, section: dict, key: str) -> list[dict]:
@@ -350,7 +424,7 @@ def _shaft_elements(reader: _Reader, shafts: list[dict]) -> list[tuple[float, fl
 
 
 def _add_discs(reader: _Reader, discs: list[dict], stations: int, rho: float | None,
-               M: np.ndarray, G: np.ndarray) -> list[tuple[int | None, str]]:
+               assembly: Assembly) -> list[tuple[int | None, str]]:
     named = []
     for i, entry in enumerate(discs, start=1):
         where = f"rotor.disc {i}"
@@ -360,18 +434,14 @@ def _add_discs(reader: _Reader, discs: list[dict], stations: int, rho: float | N
         if station is None or inertia is None:
             continue
         m, Ip, It = inertia
-        s = 4 * station
-        M[s, s] += m
-        M[s + 1, s + 1] += m
-        M[s + 2, s + 2] += It
-        M[s + 3, s + 3] += It
-        G[s + 2, s + 3] += Ip
-        G[s + 3, s + 2] -= Ip
+        s = 4 * station + np.arange(4)
+        assembly.add("M", s, s, np.diag([m, m, It, It]))
+        assembly.add("G", s[2:], s[2:], np.array([[0.0, Ip], [-Ip, 0.0]]))
     return named
 
 
-def _add_bearings(reader: _Reader, bearings: list[dict], stations: int, K: np.ndarray,
-                  C: np.ndarray) -> tuple[list[SpeedTerm], list[tuple[int | None, str]]]:
+def _add_bearings(reader: _Reader, bearings: list[dict], stations: int, assembly: Assembly
+                  ) -> tuple[list[SpeedTerm], list[tuple[int | None, str]]]:
     terms, named = [], []
     for i, entry in enumerate(bearings, start=1):
         where = f"rotor.bearing {i}"
@@ -390,9 +460,9 @@ def _add_bearings(reader: _Reader, bearings: list[dict], stations: int, K: np.nd
             value = reader.coefficient(entry[key], where, key)
             row = 4 * station + (key[1] == "y")
             column = 4 * station + (key[2] == "y")
-            target = K if key[0] == "k" else C
             if isinstance(value, Expression) and not value.names():
-                target[row, column] += float(numeric_value(value, {}))
+                assembly.add(key[0].upper(), np.array([row]), np.array([column]),
+                             np.array([[float(numeric_value(value, {}))]]))
             elif value is not None:
                 terms.append(SpeedTerm(key[0].upper(), row, column, value, f"{where} {key}"))
     return terms, named
