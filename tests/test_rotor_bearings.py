@@ -102,3 +102,73 @@ def test_bad_pedestal(pedestal: str, key: str, message: str) -> None:
     problem = caught.value.problems[0]
     assert (problem.file, problem.key) == ("p.toml", key)
     assert problem.section.startswith("rotor.bearing 1")
+
+
+# -- the undamped critical speed map --------------------------------------------------------
+
+def test_critical_speed_map_of_the_chain_closed_form() -> None:
+    """At each bearing stiffness the chain's two frequencies (forward and backward whirl
+    alike: no gyroscopic coupling of the translations) to 1e-10; damping ignored."""
+    from resonant.analyses.rotor_map import critical_speed_map
+
+    stiffness = [1e5, 1e6, 1e7, 1e8]
+    result = critical_speed_map(linear_system(loads(chain())), stiffness, modes=4)
+    for i, k in enumerate(stiffness):
+        w = np.sqrt(np.sort(np.roots([M * MP, -(M * (k + KS) + MP * k), k * KS])))
+        assert np.allclose(result.speeds[i, 0], np.repeat(w, 2), rtol=1e-10)
+    chart = result.chart()
+    assert chart.xlog and chart.ylog and len(chart.curves) == 4
+    assert "undamped" in result.summary()
+    assert result.to_dict()["critical_speeds_rpm"][0][0][0] == pytest.approx(
+        result.speeds[0, 0, 0] * 30 / np.pi)
+
+
+def test_critical_speed_map_agrees_with_campbell() -> None:
+    """Friswell et al. Example 5.9.1 (undamped, 1 MN/m bearings): the map's direct
+    eigenproblem and campbell()'s tracked branches with Brent's method give the same 1x
+    and 2x critical speeds below 4000 rpm, to 1e-8."""
+    from conftest import EXAMPLES
+    from resonant.analyses.campbell import campbell
+    from resonant.analyses.rotor_map import critical_speed_map
+
+    system = linear_system(loads((EXAMPLES / "rotors" / "friswell_5_9_1.toml").read_text()))
+    top = 4000 * np.pi / 30
+    tracked = campbell(system, np.linspace(0, top, 9), modes=4, orders=[1, 2])
+    found = critical_speed_map(system, [1e6], modes=4, orders=[1, 2])
+    for o, r in enumerate((1.0, 2.0)):
+        expected = sorted(c.speed for c in tracked.critical_speeds if c.order == r)
+        direct = found.speeds[0, o][found.speeds[0, o] < top]
+        assert len(expected) == len(direct) >= 2
+        assert np.allclose(direct, expected, rtol=1e-8)
+        whirl = [c.whirl for c in sorted(tracked.critical_speeds, key=lambda c: c.speed)
+                 if c.order == r]
+        assert list(found.whirl[0][o][:len(whirl)]) == whirl
+
+
+def test_critical_speed_map_bad_input() -> None:
+    from resonant.analyses.rotor_map import critical_speed_map
+
+    system = linear_system(loads(chain()))
+    with pytest.raises(ModelError, match="positive and increasing"):
+        critical_speed_map(system, [1e6, 1e5])
+    plain = linear_system(loads("[matrices]\nM = [[1]]\nK = [[4]]\n"))
+    with pytest.raises(ModelError, match="needs a \\[rotor\\] with bearings"):
+        critical_speed_map(plain, [1e6])
+
+
+def test_speed_map_command(tmp_path) -> None:
+    import json
+
+    from conftest import EXAMPLES, run_cli
+
+    model = EXAMPLES / "rotors" / "friswell_5_9_1.toml"
+    status, out, _ = run_cli(["speed-map", model, "--stiffness", "1e6:1e8:3", "--modes",
+                              "2", "--json", "--plot", tmp_path / "map.svg"])
+    assert status == 0 and (tmp_path / "map.svg").exists()
+    data = json.loads(out)
+    assert data["stiffness_N_m"] == pytest.approx([1e6, 1e7, 1e8])
+    assert data["critical_speeds_rpm"][0][0] == pytest.approx([825.13, 829.87], abs=0.01)
+    status, _, err = run_cli(["speed-map", EXAMPLES / "rotors" / "jeffcott_rotor.toml"])
+    assert status == 2 and "[rotor] with bearings" in err
+    status, _, err = run_cli(["speed-map", model, "--stiffness", "1e6:1e5:3"])
+    assert status == 2 and "FROM:TO:N" in err
