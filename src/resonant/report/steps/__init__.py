@@ -28,6 +28,7 @@ from .given_matrices import given_matrices
 from .loads import periodic_load, random_load, shock_load
 from .modal import natural_frequencies
 from .opening import data, method, title
+from .rotor import rotor
 from .stationary_solution import stationary
 
 # -- the order of the steps ------------------------------------------------------------------
@@ -55,6 +56,7 @@ def step_order(ctx: Context) -> list[Step]:
     else:
         steps.extend([stationary, excursions, natural_frequencies, plots])
     steps.extend([periodic_load, random_load, shock_load])  # loads beyond a sine (docs/random.md)
+    steps.append(rotor)  # the Campbell diagram and the unbalance response (docs/rotors.md)
     steps.append(warnings)
     return steps
 
