@@ -413,6 +413,13 @@ def test_large_rotor_uses_the_sparse_solver_and_agrees_with_dense() -> None:
     assert system.n == 404
     result = campbell(system, [0.0, 200.0, 400.0], modes=4)
     point = system.numeric(Omega=400.0)
-    s, _ = gyroscopic_modes(np.asarray(point.M), np.asarray(point.C), np.asarray(point.K))
+    s, _ = gyroscopic_modes(point.M, point.C, point.K)   # sparse: the kernel densifies
     assert np.allclose(np.sort(result.frequencies[-1]), np.sort(np.abs(s.imag[:4])),
                        rtol=1e-9)
+    # the critical speeds (found on the modes near the branch, gyroscopic_modes_near): a
+    # dense-kernel eigenvalue there has |Im s| = the speed, to the speed tolerance
+    assert len(result.critical_speeds) >= 2
+    c = result.critical_speeds[0]
+    point = system.numeric(Omega=c.speed)
+    s, _ = gyroscopic_modes(point.M, point.C, point.K)
+    assert np.min(np.abs(np.abs(s.imag) - c.speed)) < 1e-10 * 400.0 * 10

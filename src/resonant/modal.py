@@ -919,6 +919,80 @@ def lowest_gyroscopic_modes(M: Matrix, C: Matrix, K: Matrix, count: int,
     return s[:count], q[:, :count]
 
 
+def gyroscopic_modes_near(M: Matrix, C: Matrix, K: Matrix, target: complex, count: int = 6
+                          ) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` complex modes of a sparse M q'' + C q' + K q = 0 whose eigenvalues are
+    nearest ``target`` (those with Im s >= 0, in the one order, unit shapes, as
+    :func:`gyroscopic_modes`): shift-invert Arnoldi with the complex shift ``target``, so
+    that following one branch of a large rotor (a root finder's evaluations) costs a few
+    modes, not the lowest dozens.
+
+    Raises
+    ------
+    AnalysisError
+        If the eigensolver does not converge or the shift is an eigenvalue.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> n = 40
+    >>> K = sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1])
+    >>> C = 0.01 * sp.identity(n)
+    >>> dense, _ = gyroscopic_modes(np.eye(n), C.toarray(), K.toarray())
+    >>> s, q = gyroscopic_modes_near(sp.identity(n), C, K, dense[9] + 0.001j, 3)
+    >>> bool(np.min(np.abs(s - dense[9])) < 1e-10 * abs(dense[9])), q.shape[0]
+    (True, 40)
+    """
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import LinearOperator, eigs, splu
+
+    n = M.shape[0]
+    M, C, K = (sp.csc_matrix(a) for a in (M, C, K))
+    eye = sp.identity(n, format="csc")
+    A = sp.bmat([[None, eye], [-K, -C]], format="csc")
+    B = sp.bmat([[eye, None], [None, M]], format="csc")
+    wanted = max(1, min(count, 2 * n - 2))
+    try:
+        lu = splu((A - complex(target) * B).astype(complex).tocsc())
+        op = LinearOperator((2 * n, 2 * n), matvec=lambda x: lu.solve(B @ x), dtype=complex)
+        start = np.random.default_rng(0).standard_normal(2 * n).astype(complex)
+        nu, X = eigs(op, k=wanted, which="LM", v0=start)
+    except (RuntimeError, ValueError) as exc:
+        raise AnalysisError(f"the sparse eigensolver for the complex modes near {target:.6g} "
+                            f"failed: {exc}") from None
+    return _upper_modes(complex(target) + 1.0 / nu, X, n)
+
+
+def synchronous_speeds(M: Matrix, G: Matrix, K: Matrix, order: float = 1.0
+                       ) -> tuple[np.ndarray, np.ndarray]:
+    """The speeds Omega at which an undamped rotor M q'' + Omega G q' + K q = 0 has a mode
+    of frequency ``order`` x Omega (its critical speeds of that order, forward and
+    backward), and those modes: s = i r Omega turns the equation into the generalized
+    eigenproblem K q = Omega^2 (r^2 M - i r G) q, whose real positive eigenvalues are the
+    squared critical speeds.  Dense (scipy.linalg.eig); ascending; unit shapes.
+
+    Examples
+    --------
+    >>> G = np.array([[0.0, 1.0], [-1.0, 0.0]])        # a disc's tilts, Ip = 1, It = 2
+    >>> speeds, _ = synchronous_speeds(2 * np.eye(2), G, np.eye(2))
+    >>> speeds.round(6).tolist()                         # 1 / sqrt(It -+ Ip)
+    [0.57735, 1.0]
+    """
+    import scipy.linalg
+
+    M, G, K = (np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
+               for a in (M, G, K))
+    require_finite("M, G or K", M, G, K)
+    lam, X = scipy.linalg.eig(K.astype(complex), order * order * M - 1j * order * G)
+    scale = max(1.0, float(np.nanmax(np.abs(lam[np.isfinite(lam)]), initial=1.0)))
+    real = np.isfinite(lam) & (np.abs(lam.imag) <= 1e-9 * scale) & (lam.real > 1e-12 * scale)
+    speeds, X = np.sqrt(lam.real[real]), X[:, real]
+    index = np.argsort(speeds)
+    X = X[:, index]
+    norms = np.linalg.norm(X, axis=0)
+    return speeds[index], X / np.where(norms > 0, norms, 1.0)
+
+
 def modal_assurance(A: np.ndarray, B: np.ndarray, weight: Matrix | None = None) -> np.ndarray:
     """The modal assurance criterion |a^H W b|^2 / (a^H W a b^H W b) of every column of A
     against every column of B (complex shapes), shape (columns of A, columns of B); W is
@@ -1057,5 +1131,6 @@ __all__ = ["ZERO_EIGENVALUE", "ZERO_STATE", "STABILITY_TOLERANCE", "undamped_eig
            "eigenvalue_bounds", "frequency_bounds", "lowest_modes", "mass_normalized_modes",
            "symmetric_eigenvalues", "point_state_eigenvalues", "state_modes",
            "lowest_state_eigenvalues", "gyroscopic_modes", "lowest_gyroscopic_modes",
+           "gyroscopic_modes_near", "synchronous_speeds",
            "modal_assurance", "eigenvalues", "fundamental_strip", "factor_stiffness",
            "modes_below", "matrix_polynomial_roots"]

@@ -394,21 +394,22 @@ def _critical_speeds(solver: ModeSolver, track: Tracked, orders: Sequence[float]
         for r in orders:
             gap = track.frequencies[:, j] - r * track.speeds
             for i in crossings(gap):
-                reference = track.shapes[i, :, j]
-                value = branch_value(solver, reference, _order_gap(r))
+                reference, target = track.shapes[i, :, j], complex(track.eigenvalues[i, j])
+                value = branch_value(solver, reference, _order_gap(r), target)
                 speed = find_root(value, float(track.speeds[i]), float(track.speeds[i + 1]),
                                   tolerance)
-                s, q = _continued(solver, reference, speed)
+                s, q = _continued(solver, reference, speed, target)
                 found.append(CriticalSpeed(speed, j + 1, float(r), abs(s.imag),
                                            whirl_label(float(precession(q[:, None],
                                                                         pairs)[0]))))
     return sorted(found, key=lambda c: (c.speed, c.mode))
 
 
-def _continued(solver: ModeSolver, reference: np.ndarray, speed: float
+def _continued(solver: ModeSolver, reference: np.ndarray, speed: float, target: complex
                ) -> tuple[complex, np.ndarray]:
-    """The mode at ``speed`` continuing the branch whose shape is ``reference``."""
-    s, q = solver.modes(np.array([speed]))[0]
+    """The mode at ``speed`` continuing the branch whose shape is ``reference`` (and
+    eigenvalue ``target``) at a neighbouring speed."""
+    s, q = solver.near(speed, target)
     best = int(np.argmax(modal_assurance(reference[:, None], q, solver.mass)[0]))
     return complex(s[best]), q[:, best]
 
@@ -432,11 +433,11 @@ def _threshold(solver: ModeSolver, track: Tracked, pairs: list[tuple[int, int]],
         i = up[0]
         if best is not None and track.speeds[i] >= best[0]:
             continue
-        reference = track.shapes[i, :, j]
-        value = branch_value(solver, reference, lambda s, w: s.real)
+        reference, target = track.shapes[i, :, j], complex(track.eigenvalues[i, j])
+        value = branch_value(solver, reference, lambda s, w: s.real, target)
         speed = find_root(value, float(track.speeds[i]), float(track.speeds[i + 1]),
                           tolerance)
-        s, q = _continued(solver, reference, speed)
+        s, q = _continued(solver, reference, speed, target)
         best = (speed, j, s, q)
     if best is None:
         return StabilityThreshold(None, None, None, "", "stable in range")
@@ -522,6 +523,51 @@ def campbell(system: LinearSystem, speeds: Sequence[float] | np.ndarray | None =
                     tuple(_critical_speeds(solver, track, orders, pairs, tolerance)),
                     _threshold(solver, track, pairs, tolerance), track.refined,
                     tuple(warnings))
+
+
+def log_decrement(system: LinearSystem, at: float, mode: int = 1, *, speed: str | None = None,
+                  deadline: Deadline = NO_DEADLINE) -> float:
+    """The logarithmic decrement -2 pi Re s / Im s of one mode at one speed.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The rotor.
+    at : float
+        The speed (rad/s).
+    mode : int
+        The mode, counted from 1 in the kernel's order (the lowest first:
+        :func:`resonant.modal.gyroscopic_modes`).
+    speed : str, optional
+        The speed parameter (default: the model's).
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    float
+        Positive for a decaying mode, negative for a growing one; inf for a mode that
+        does not oscillate (Im s = 0).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> rotor = resonant.load("examples/rotors/jeffcott_rotor.toml").linearize()
+    >>> round(log_decrement(rotor, 0.0, 1), 6)
+    0.029804
+    """
+    name = speed_parameter(system, _section_defaults_speed(system, speed))
+    check_speeds(np.array([at], dtype=float), system.source, "speed", least=1)
+    s, _ = ModeSolver(system, name, mode, deadline).modes(np.array([at], dtype=float))[0]
+    value = complex(s[mode - 1])
+    if value.imag == 0:
+        return math.inf
+    return float(-2 * np.pi * value.real / abs(value.imag))
+
+
+def _section_defaults_speed(system: LinearSystem, speed: str | None) -> str | None:
+    """The speed parameter given, else the ``[campbell]`` section's (if any)."""
+    spec = system.model.campbell_section if system.model is not None else None
+    return spec.speed if speed is None and spec is not None else speed
 
 
 # -- text and chart ----------------------------------------------------------------------------
@@ -642,5 +688,5 @@ def campbell_chart(result: Campbell, damping: str = "log_decrement") -> Charts:
     return Charts((top, bottom), title=result.title, heights=(2.0, 1.0), size=(7.0, 6.0))
 
 
-__all__ = ["campbell", "Campbell", "CriticalSpeed", "StabilityThreshold", "campbell_text",
-           "campbell_chart", "speed_parameter", "RPM"]
+__all__ = ["campbell", "Campbell", "log_decrement", "CriticalSpeed", "StabilityThreshold",
+           "campbell_text", "campbell_chart", "speed_parameter", "RPM"]

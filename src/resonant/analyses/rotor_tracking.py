@@ -42,7 +42,12 @@ import numpy as np
 from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
-from ..modal import gyroscopic_modes, lowest_gyroscopic_modes, modal_assurance
+from ..modal import (
+    gyroscopic_modes,
+    gyroscopic_modes_near,
+    lowest_gyroscopic_modes,
+    modal_assurance,
+)
 from ..system.base import LinearSystem
 
 #: an assignment with every MAC at least this is confident
@@ -53,6 +58,8 @@ RIVAL = 0.5
 MAX_HALVINGS = 8
 #: a model with more coordinates than this (or sparse) uses the sparse eigensolver
 DENSE_LIMIT = 400
+#: the modes a large rotor's root finder computes near the followed branch's eigenvalue
+NEAR_CANDIDATES = 6
 #: eigenvalues this close (relative to |s|) form one degenerate eigenspace
 DEGENERATE = 1e-7
 #: |precession| below this is no whirl (a planar or a non-lateral motion)
@@ -209,6 +216,26 @@ class ModeSolver:
 
         return [(at(batch.M, i), at(batch.C, i), at(batch.K, i)) for i in range(len(speeds))]
 
+    @property
+    def large(self) -> bool:
+        """Whether the rotor is solved by the sparse eigensolver."""
+        return self.system.n > DENSE_LIMIT
+
+    def near(self, speed: float, target: complex) -> Modes:
+        """The candidate modes at one speed: a large rotor's few nearest ``target`` (a
+        branch's eigenvalue at a neighbouring speed: what a root finder follows), a small
+        one's lowest (:meth:`modes`)."""
+        M, C, K = self.matrices(np.array([speed]))[0]
+        if not (self.large or hasattr(M, "tocsc") or hasattr(K, "tocsc")):
+            return self.modes(np.array([speed]))[0]
+        self.mass = M
+        self.deadline.check("while computing the modes over the speed", "speeds",
+                            analysis=True)
+        self.calls += 1
+        # off the eigenvalue itself (the pencil is singular there): 1e-3 of its size
+        shift = complex(target) + 1e-3 * max(abs(target), 1.0) * (1 + 1j)
+        return gyroscopic_modes_near(M, C, K, shift, NEAR_CANDIDATES)
+
     def modes(self, speeds: np.ndarray) -> list[Modes]:
         """The candidate modes (s, shapes) at each speed."""
         out = []
@@ -339,12 +366,13 @@ def track_modes(system: LinearSystem, speed: str, speeds: np.ndarray, count: int
 
 
 def branch_value(solver: ModeSolver, reference: np.ndarray,
-                 quantity: Callable[[complex, float], float]) -> Callable[[float], float]:
+                 quantity: Callable[[complex, float], float], target: complex = 0j
+                 ) -> Callable[[float], float]:
     """quantity(s, speed) of the mode at any speed that continues a branch (the candidate
-    nearest, by MAC, to the branch's shape ``reference`` (n,) at a bracketing speed): the
-    function a root finder calls."""
+    nearest, by MAC, to the branch's shape ``reference`` (n,) at a bracketing speed, where
+    its eigenvalue is ``target``): the function a root finder calls."""
     def value(speed: float) -> float:
-        s, q = solver.modes(np.array([speed]))[0]
+        s, q = solver.near(speed, target)
         mac = modal_assurance(reference[:, None], q, solver.mass)[0]
         return quantity(complex(s[int(np.argmax(mac))]), speed)
     return value

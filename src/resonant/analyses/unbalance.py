@@ -23,7 +23,7 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -39,9 +39,11 @@ from ..charts import (
 )
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem
+from ..expressions.numeric import numeric_value
 from ..model.campbell_spec import Unbalance
+from ..model.rotor import Bearing, SpeedTable
 from ..model.units_display import ResultUnits, Shown, angular_shown, shown_unit
-from ..system.base import LinearSystem
+from ..system.base import LinearSystem, parameter_values
 from ..system.batch import BatchHarmonic
 from .campbell import RPM, speed_parameter
 from .kernel import solve_harmonic
@@ -71,6 +73,11 @@ class UnbalanceResponse(Charted):
     unbalances : tuple of Unbalance
         The unbalances.
     warnings : tuple of str
+    bearings : tuple of str
+        The bearings whose transmitted forces are given.
+    bearing_forces : ndarray
+        The complex amplitudes of the x and y forces each bearing transmits,
+        (K_b + i Omega C_b) (z_station - z_pedestal), shape (N, bearings, 2).
 
     Examples
     --------
@@ -89,9 +96,20 @@ class UnbalanceResponse(Charted):
     Y: np.ndarray
     unbalances: tuple[Unbalance, ...]
     warnings: tuple[str, ...] = field(default=())
+    bearings: tuple[str, ...] = field(default=())
+    bearing_forces: np.ndarray = field(default_factory=lambda: np.zeros((0, 0, 2), complex))
 
     def __post_init__(self) -> None:
         freeze_fields(self)
+
+    @property
+    def bearing_force(self) -> np.ndarray:
+        """The major semi-axis (0-pk, N) of the force each bearing transmits, shape
+        (N, bearings): its x and y components are ``bearing_forces`` (N, bearings, 2), the
+        complex amplitudes of (K_b + i Omega C_b) (z_station - z_pedestal)."""
+        FX, FY = self.bearing_forces[..., 0], self.bearing_forces[..., 1]
+        result: np.ndarray = (np.abs(FX + 1j * FY) + np.abs(np.conj(FX) + 1j * np.conj(FY))) / 2
+        return result
 
     @property
     def forward_circle(self) -> np.ndarray:
@@ -160,6 +178,14 @@ class UnbalanceResponse(Charted):
                     "phase_lag_x_rad": floats_json(self.phase_lag[:, i]),
                     "precession": [row[i] for row in self.precession]}
                     for i, name in enumerate(self.stations)},
+                "bearing_forces": {name: {
+                    "major_semi_axis_0pk_N": floats_json(self.bearing_force[:, i]),
+                    "major_axis_pk_pk_N": floats_json(2 * self.bearing_force[:, i]),
+                    "fx": {"real": floats_json(self.bearing_forces[:, i, 0].real),
+                           "imag": floats_json(self.bearing_forces[:, i, 0].imag)},
+                    "fy": {"real": floats_json(self.bearing_forces[:, i, 1].real),
+                           "imag": floats_json(self.bearing_forces[:, i, 1].imag)}}
+                    for i, name in enumerate(self.bearings)},
                 "warnings": list(self.warnings)}
 
     def summary(self, units: ResultUnits | None = None) -> str:
@@ -185,6 +211,13 @@ class UnbalanceResponse(Charted):
             lines.append(f"{name or '(x, y)':>12}  {length(self.major[k, i]):16.6g}  "
                          f"{length(2 * self.major[k, i]):12.6g}  {speed(self.speeds[k]):10.6g}  "
                          f"{length(self.minor[k, i]):12.6g}  {self.precession[k][i]}")
+        if self.bearings:
+            lines += ["", f"{'bearing':>12}  {'peak force 0-pk [N]':>20}  {'pk-pk':>12}  "
+                      f"{f'at [{speed.text}]':>10}"]
+        for i, name in enumerate(self.bearings):
+            k = int(np.nanargmax(self.bearing_force[:, i]))
+            lines.append(f"{name:>12}  {self.bearing_force[k, i]:20.6g}  "
+                         f"{2 * self.bearing_force[k, i]:12.6g}  {speed(self.speeds[k]):10.6g}")
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines) + "\n"
 
@@ -289,8 +322,51 @@ def unbalance_response(system: LinearSystem, speeds: Sequence[float] | np.ndarra
                         "speed): NaN there")
     X = np.stack([Z[:, i] for _, i, _ in stations], axis=1)
     Y = np.stack([Z[:, j] for _, _, j in stations], axis=1)
+    bearings = model.matrices.bearings if model is not None and model.matrices is not None \
+        else ()
+    forces = np.stack([bearing_force(b, Z, values, parameter_values(model, name, values))
+                       for b in bearings], axis=1) if bearings and model is not None else \
+        np.zeros((len(values), 0, 2), complex)
     return UnbalanceResponse(system.title, name, tuple(s for s, _, _ in stations), values,
-                             X, Y, tuple(unbalances), tuple(warnings))
+                             X, Y, tuple(unbalances), tuple(warnings),
+                             tuple(b.name for b in bearings), forces)
 
 
-__all__ = ["unbalance_response", "UnbalanceResponse", "CONVENTION"]
+def bearing_force(bearing: Bearing, Z: np.ndarray, speeds: np.ndarray,
+                  values: Mapping[str, Any]) -> np.ndarray:
+    """The complex amplitudes (N, 2) of the force a bearing transmits,
+    (K_b + i Omega C_b) (z_station - z_pedestal), at each speed.
+
+    Parameters
+    ----------
+    bearing : Bearing
+    Z : ndarray
+        The response (N, n) at the speeds.
+    speeds : ndarray
+        (N,) rad/s.
+    values : mapping
+        The parameters at the speeds (for coefficients that are expressions).
+
+    Returns
+    -------
+    ndarray
+    """
+    relative = Z[:, list(bearing.station)]
+    if bearing.pedestal is not None:
+        relative = relative - Z[:, list(bearing.pedestal)]
+    impedance = np.zeros((len(speeds), 2, 2), complex)
+    for key, value in bearing.coefficients:
+        if isinstance(value, SpeedTable):
+            number = value(speeds)
+        elif isinstance(value, float):
+            number = np.full(len(speeds), value)
+        else:
+            number = np.broadcast_to(np.asarray(numeric_value(value, values), float),
+                                     speeds.shape)
+        factor = 1.0 if key[0] == "k" else 1j * speeds
+        impedance[:, int(key[1] == "y"), int(key[2] == "y")] += factor * number
+    result: np.ndarray = np.einsum("nij,nj->ni", impedance, relative)
+    return result
+
+
+__all__ = ["unbalance_response", "UnbalanceResponse", "CONVENTION", "bearing_force"]

@@ -29,6 +29,7 @@ from ..analyses.campbell import Campbell, campbell
 from ..analyses.harmonic_balance import nonlinear_sweep
 from ..analyses.nonlinear_response import NonlinearResponse
 from ..analyses.random_response import RandomResponse, random_response
+from ..analyses.rotor_map import CriticalSpeedMap, critical_speed_map
 from ..analyses.simulate import Simulation, simulate
 from ..analyses.unbalance import UnbalanceResponse, unbalance_response
 from ..deadline import NO_DEADLINE, Deadline
@@ -396,6 +397,33 @@ class Model(model_types.Model):
         """
         return unbalance_response(self.linearize(deadline=deadline), speeds, speed=speed,
                                   deadline=deadline or NO_DEADLINE)
+
+    def critical_speed_map(self, stiffness: Sequence[float], *, modes: int = 4,
+                           orders: Sequence[float] = (1.0,)) -> CriticalSpeedMap:
+        """The undamped critical speeds of the ``[rotor]`` against its bearings' direct
+        stiffness (:func:`resonant.analyses.rotor_map.critical_speed_map`).
+
+        Parameters
+        ----------
+        stiffness : sequence of float
+            Increasing stiffness values (N/m) given to every bearing (kxx = kyy).
+        modes : int
+            Critical speeds per order.
+        orders : sequence of float
+            The excitation orders.
+
+        Returns
+        -------
+        CriticalSpeedMap
+
+        Examples
+        --------
+        >>> import resonant
+        >>> m = resonant.load("examples/rotors/friswell_5_9_1.toml")
+        >>> m.critical_speed_map([1e6, 1e7], modes=1).speeds.shape
+        (2, 1, 1)
+        """
+        return critical_speed_map(self.linearize(), stiffness, modes=modes, orders=orders)
 
     def random_response(self, *, names: Sequence[str] | None = None, method: str = "auto",
                         tolerance: float | None = None, deadline: Deadline | None = None

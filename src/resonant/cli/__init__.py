@@ -54,6 +54,7 @@ COMMANDS: dict[str, str] = {
     "update": "fit parameters to identified frequencies and mode shapes",
     "campbell": "a rotor's Campbell diagram: tracked modes, critical speeds, stability",
     "unbalance": "a rotor's orbits under its unbalances over the speed",
+    "speed-map": "a rotor's undamped critical speeds against its bearings' stiffness",
 }
 
 Register = Callable[[Any, argparse.ArgumentParser], None]
@@ -113,7 +114,7 @@ def command_registrar(command: str) -> Register:
         case "frf" | "identify" | "correlate" | "update":
             from . import testdata
             return testdata.register
-        case "campbell" | "unbalance":
+        case "campbell" | "unbalance" | "speed-map":
             from . import campbell
             return campbell.register
     raise KeyError(command)

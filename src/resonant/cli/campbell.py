@@ -1,7 +1,9 @@
 """``resonant campbell MODEL [--from S] [--to S] [--points N] [--modes K] [--orders R,...]
 [--plot FILE] [--json]``: a rotor's Campbell diagram, critical speeds and stability
 threshold; ``resonant unbalance MODEL [--from S] [--to S] [--points N] [--plot FILE]
-[--json]``: its stations' orbits under the ``[[unbalance]]`` (docs/rotors.md)."""
+[--json]``: its stations' orbits under the ``[[unbalance]]``; ``resonant speed-map MODEL
+[--stiffness FROM:TO:N] [--modes K] [--orders R,...] [--plot FILE] [--json]``: the
+undamped critical speed map against the bearings' stiffness (docs/rotors.md)."""
 
 from __future__ import annotations
 
@@ -13,6 +15,7 @@ import numpy as np
 import resonant.cli.common as cli
 
 from ..analyses.campbell import campbell
+from ..analyses.rotor_map import critical_speed_map
 from ..analyses.unbalance import unbalance_response
 from ..errors import ModelError
 from ..model.campbell_spec import parse_speed
@@ -72,6 +75,34 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
     command.add_argument("--plot", metavar="FILE", type=cli.plot_file,
                          help="draw the major semi-axes and the phase against speed")
     command.set_defaults(run=run_unbalance)
+    command = subparsers.add_parser(
+        "speed-map", parents=[parent],
+        help="a [rotor]'s undamped critical speeds against its bearings' stiffness")
+    command.add_argument("--stiffness", type=stiffness_value, default=(1e5, 1e9, 17),
+                         metavar="FROM:TO:N",
+                         help="bearing stiffness values, N/m, spaced logarithmically "
+                              "(default 1e5:1e9:17)")
+    command.add_argument("--modes", type=cli.integer(1, 1000), default=4, metavar="K",
+                         help="critical speeds per order (default 4)")
+    command.add_argument("--orders", type=orders_value, metavar="R,...", default=(1.0,),
+                         help="excitation orders (default 1)")
+    command.add_argument("--plot", metavar="FILE", type=cli.plot_file,
+                         help="draw the map (log-log)")
+    command.add_argument("--json", action="store_true", help="print one JSON object")
+    command.set_defaults(run=run_speed_map)
+
+
+def stiffness_value(text: str) -> tuple[float, float, int]:
+    """``FROM:TO:N``: N stiffness values (N/m) from FROM to TO, logarithmically spaced."""
+    parts = text.split(":")
+    try:
+        low, high, count = float(parts[0]), float(parts[1]), int(parts[2])
+    except (ValueError, IndexError):
+        raise argparse.ArgumentTypeError(f"not FROM:TO:N: {text!r}") from None
+    if len(parts) != 3 or not (0 < low < high < float("inf")) or not 1 < count <= 10_000:
+        raise argparse.ArgumentTypeError("FROM:TO:N needs 0 < FROM < TO and 2 to 10000 "
+                                         "values")
+    return low, high, count
 
 
 def _speeds(args: argparse.Namespace, model: object) -> np.ndarray:
@@ -118,4 +149,19 @@ def run_campbell(args: argparse.Namespace) -> int:
     else:
         # the summary ends with the warnings
         sys.stdout.write(result.summary(cli.shown_units(args, model)))
+    return 0
+
+
+def run_speed_map(args: argparse.Namespace) -> int:
+    model = cli.load_model(args)
+    low, high, count = args.stiffness
+    result = critical_speed_map(linear_system(model, cli.deadline(args)),
+                                np.geomspace(low, high, count), modes=args.modes,
+                                orders=args.orders)
+    if args.plot:
+        result.plot(args.plot)
+    if args.json:
+        cli.emit_json(result.to_dict())
+    else:
+        sys.stdout.write(result.summary())
     return 0

@@ -36,7 +36,8 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
     study.add_argument("--quantity", action="append", metavar="Q",
                        help="natural_frequency:I, damping_ratio:I, amplitude:NAME, "
                        "phase:NAME, peak:NAME, stable, nonlinear_amplitude:NAME, rms:NAME, "
-                       "srs:NAME@F, damage:NAME")
+                       "srs:NAME@F, damage:NAME, critical_speed:K[@R], "
+                       "stability_threshold, log_decrement:K@SPEED (rotors)")
     study.add_argument("--design", choices=DESIGNS)
     study.add_argument("--samples", type=cli.integer(1, MAX_SAMPLES), metavar="N")
     study.add_argument("--seed", type=cli.integer(0, MAX_SEED), metavar="S")

@@ -73,7 +73,7 @@ from .part_energies import Mechanism, derive_energies, point_expressions
 from .parts import DerivedEnergies, Parts, read_parts
 from .random_spec import parse_random
 from .rotor import read_rotor
-from .study import parse_study
+from .study import StudySpec, parse_study, rotor_problems
 from .types import (
     Force,
     MatrixSpec,
@@ -356,7 +356,8 @@ class _Builder:
         periodic = parse_periodic(self.data["periodic"], param_names, list(signals), names,
                                   self.source, self.problems, units) \
             if "periodic" in self.data else None
-        fatigue, campbell = self.fatigue(), self.campbell(param_names, names)
+        fatigue, campbell = self.fatigue(), self.campbell(param_names, names, study,
+                                                          matrix_spec)
         measurement = self.measurement(list(signals), names, list(outputs))
         self.raise_problems(misplaced)
         if matrix_spec is not None and not coordinates:
@@ -387,11 +388,16 @@ class _Builder:
             return None
         return parse_fatigue(self.data["fatigue"], self.source, self.problems)
 
-    def campbell(self, param_names: list[str], coordinates: list[str]
+    def campbell(self, param_names: list[str], coordinates: list[str],
+                 study: StudySpec | None = None, matrices: MatrixSpec | None = None
                  ) -> tuple[CampbellSpec | None, tuple[Unbalance, ...]]:
-        """[campbell] and [[unbalance]]: a rotor's speed range and unbalances."""
+        """[campbell] and [[unbalance]]: a rotor's speed range and unbalances (and what
+        the study's rotor quantities need of them)."""
         spec = parse_campbell(self.data["campbell"], param_names, self.source,
                               self.problems) if "campbell" in self.data else None
+        if study is not None:
+            self.problems.extend(rotor_problems(study, spec is not None,
+                                                _speed_named(matrices, spec), self.source))
         unbalances = parse_unbalances(self.data["unbalance"], coordinates, self.source,
                                       self.problems) if "unbalance" in self.data else ()
         return spec, unbalances
@@ -812,6 +818,13 @@ class _Builder:
         except ModelError as exc:
             self.problems.extend(exc.problems)
             return None
+
+
+def _speed_named(matrices: MatrixSpec | None, campbell: CampbellSpec | None) -> bool:
+    """Whether the model names its rotor's speed parameter (``[matrices]``/``[rotor]`` or
+    ``[campbell]`` ``speed``)."""
+    return (matrices is not None and matrices.speed is not None) or \
+        (campbell is not None and campbell.speed is not None)
 
 
 def _matrix_names(spec: MatrixSpec) -> list[str]:

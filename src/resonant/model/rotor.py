@@ -40,20 +40,25 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError
 from ..expressions.numeric import numeric_value
+from ..memory import require
 from .types import MatrixSpec
 from .units import parse_with_unit
 
 COEFFICIENTS = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
 ROTOR_KEYS = ("speed", "E", "rho", "G", "shaft", "disc", "bearing")
-#: the most stations of a [rotor] (its matrices are assembled dense: 2,000 coordinates
-#: are 32 MB a matrix; a larger rotor comes as sparse [matrices] files)
-MAX_STATIONS = 500
+#: the most stations of a [rotor]: 10^5 coordinates (assembled sparse above
+#: :data:`SPARSE_STATIONS`: some 60 stored entries a station and matrix)
+MAX_STATIONS = 25_000
+#: a rotor of more stations is assembled sparse (CSR; 400 coordinates, where the Campbell
+#: diagram turns to the sparse eigensolver); fewer, dense
+SPARSE_STATIONS = 100
 
 
 @dataclass(frozen=True)
@@ -102,6 +107,31 @@ class SpeedTerm:
     column: int
     value: Expression | SpeedTable
     where: str
+    sign: float = 1.0
+
+
+@dataclass(frozen=True)
+class Bearing:
+    """A bearing of a ``[rotor]``, as the bearing forces need it: the force it transmits
+    is (K_b + i Omega C_b) (z_station - z_pedestal), K_b = [[kxx, kxy], [kyx, kyy]].
+
+    Parameters
+    ----------
+    name : str
+        Its name (that of its station where it has none).
+    station : tuple of int
+        The rows of its station's x and y.
+    pedestal : tuple of int or None
+        The rows of its pedestal's x and y (None: the bearing is on the ground).
+    coefficients : tuple of (str, value)
+        ``kxx`` ... ``cyy`` given: a number (SI), an expression of the parameters or a
+        :class:`SpeedTable`.
+    """
+
+    name: str
+    station: tuple[int, int]
+    pedestal: tuple[int, int] | None
+    coefficients: tuple[tuple[str, float | Expression | SpeedTable], ...]
 
 
 class _Reader:
@@ -114,8 +144,9 @@ class _Reader:
         self.problems.append(Problem(message, self.source, section, key))
 
     def number(self, table: dict, key: str, section: str, *, default: float | None = None,
-               positive: bool = True) -> float | None:
-        """A constant (a number or a value with a unit, in SI), > 0 (or >= 0)."""
+               positive: bool = True, signed: bool = False) -> float | None:
+        """A constant (a number or a value with a unit, in SI), > 0 (or >= 0, or any
+        finite number where ``signed``)."""
         raw = table.get(key, default)
         if raw is None:
             self.problem("missing", section, key)
@@ -129,6 +160,8 @@ class _Reader:
         except (ExpressionError, ValueError, TypeError) as exc:
             self.problem(f"not a constant: {exc}", section, key)
             return None
+        if signed and math.isfinite(value):
+            return value
         if not math.isfinite(value) or value < 0 or (positive and value == 0):
             self.problem(f"must be {'positive' if positive else 'at least 0'}, got {raw!r}",
                          section, key)
@@ -228,18 +261,66 @@ def _planes(a: int, b: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return xz, yz, np.array([1.0, -1.0, 1.0, -1.0])
 
 
-def add_element(M: np.ndarray, K: np.ndarray, G: np.ndarray, a: int, b: int,
+class Assembly:
+    """The entries of a rotor's M, K, C and G collected as (row, column, value) triplets
+    and summed into dense arrays (a small rotor) or CSR matrices (a large one).
+
+    Parameters
+    ----------
+    n : int
+        The coordinates.
+
+    Examples
+    --------
+    >>> a = Assembly(2)
+    >>> a.add("K", np.array([0, 1]), np.array([0, 1]), np.array([[1.0, 2.0], [3.0, 4.0]]))
+    >>> a.add("K", np.array([1]), np.array([1]), np.array([[10.0]]))
+    >>> a.matrix("K", sparse=False).tolist(), a.matrix("K", sparse=True).nnz
+    ([[1.0, 2.0], [3.0, 14.0]], 4)
+    """
+
+    def __init__(self, n: int) -> None:
+        self.n = n
+        self.parts: dict[str, list[tuple[np.ndarray, np.ndarray, np.ndarray]]] = {
+            k: [] for k in ("M", "K", "C", "G")}
+
+    def add(self, key: str, rows: np.ndarray, columns: np.ndarray, block: np.ndarray
+            ) -> None:
+        """Add ``block`` (len(rows), len(columns)) at ``rows`` x ``columns`` of ``key``."""
+        r, c = np.meshgrid(rows, columns, indexing="ij")
+        self.parts[key].append((r.ravel(), c.ravel(), np.asarray(block, dtype=float).ravel()))
+
+    def entries(self) -> int:
+        """The triplets collected (an upper bound of the stored entries)."""
+        return sum(len(v) for part in self.parts.values() for _, _, v in part)
+
+    def matrix(self, key: str, sparse: bool) -> Any:
+        """The summed matrix: CSR where ``sparse``, else a dense array."""
+        parts = self.parts[key]
+        rows, columns, values = (np.concatenate([p[i] for p in parts]) if parts else
+                                 np.zeros(0, dtype=float if i == 2 else int) for i in range(3))
+        if sparse:
+            import scipy.sparse
+
+            return scipy.sparse.coo_matrix((values, (rows, columns)),
+                                           shape=(self.n, self.n)).tocsr()
+        out = np.zeros((self.n, self.n))
+        np.add.at(out, (rows.astype(int), columns.astype(int)), values)
+        return out
+
+
+def add_element(assembly: Assembly, a: int, b: int,
                 element: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> None:
     """Add one plane matrix set (:func:`shaft_matrices`) to both planes, and P to G."""
     Ke, MT, MR, P = element
     xz, yz, sign = _planes(a, b)
     flip = np.outer(sign, sign)
-    for matrix, block in ((K, Ke), (M, MT + MR)):
-        matrix[np.ix_(xz, xz)] += block
-        matrix[np.ix_(yz, yz)] += flip * block
+    for key, block in (("K", Ke), ("M", MT + MR)):
+        assembly.add(key, xz, xz, block)
+        assembly.add(key, yz, yz, flip * block)
     # T = rho Ip Omega ax' ay per unit length: ay rows, ax columns +P; ax rows, ay columns -P
-    G[np.ix_(xz, yz)] += P * sign[None, :]
-    G[np.ix_(yz, xz)] -= sign[:, None] * P
+    assembly.add("G", xz, yz, P * sign[None, :])
+    assembly.add("G", yz, xz, -sign[:, None] * P)
 
 
 def _disc(reader: _Reader, entry: dict, where: str, rho: float | None
@@ -304,21 +385,55 @@ def read_rotor(section: object, params: Sequence[str], source: str
     if stations > MAX_STATIONS:
         raise ModelError(Problem(f"{stations} stations: at most {MAX_STATIONS}", source,
                                  "rotor", "shaft"))
-    n = 4 * stations
-    M, K, C, G = (np.zeros((n, n)) for _ in range(4))
+    sparse = stations > SPARSE_STATIONS
+    pedestals = sum(1 for b in bearings if "pedestal" in b)
+    n = 4 * stations + 2 * pedestals
+    _require_memory(n, len(elements) + len(discs) + len(bearings), sparse)
+    assembly = Assembly(n)
     if E is not None and rho is not None:
-        for i, (length, outer, inner) in enumerate(elements):
-            add_element(M, K, G, i, i + 1, shaft_matrices(length, outer, inner, E, rho, shear))
-    named = _add_discs(reader, discs, stations, rho, M, G)
-    terms, bearing_names = _add_bearings(reader, bearings, stations, K, C)
+        _add_shaft(assembly, elements, E, rho, shear)
+    named = _add_discs(reader, discs, stations, rho, assembly)
+    terms, bearing_names, records = _add_bearings(reader, bearings, stations, assembly)
     if reader.problems:
         raise ModelError(reader.problems)
+    M, K, C, G = (assembly.matrix(k, sparse) for k in ("M", "K", "C", "G"))
     names = _names(stations, named + bearing_names)
     coordinates = tuple(f"{s}_{c}" for s in names for c in ("x", "y", "ax", "ay"))
+    named_bearings = tuple(_named_bearing(b, names) for b in records)
+    coordinates += tuple(f"{b.name}_pedestal_{c}" for b in named_bearings
+                         if b.pedestal is not None for c in ("x", "y"))
     if len(set(coordinates)) != len(coordinates):
         raise ModelError(Problem("two stations have the same name", source, "rotor", "name"))
-    return MatrixSpec(M=M, K=K, C=C, G=G, speed=str(speed), speed_terms=tuple(terms)), \
-        coordinates
+    return MatrixSpec(M=M, K=K, C=C, G=G, speed=str(speed), speed_terms=tuple(terms),
+                      bearings=named_bearings), coordinates
+
+
+def _named_bearing(bearing: Bearing, names: list[str]) -> Bearing:
+    """The bearing named after its station where it has no name."""
+    if bearing.name:
+        return bearing
+    return Bearing(names[bearing.station[0] // 4], bearing.station, bearing.pedestal,
+                   bearing.coefficients)
+
+
+def _add_shaft(assembly: Assembly, elements: list[tuple[float, float, float]], E: float,
+               rho: float, shear: float | None) -> None:
+    """Every shaft element's matrices (computed once for the equal elements of a run)."""
+    computed: dict[tuple[float, float, float], Any] = {}
+    for i, geometry in enumerate(elements):
+        if geometry not in computed:
+            computed[geometry] = shaft_matrices(*geometry, E, rho, shear)
+        add_element(assembly, i, i + 1, computed[geometry])
+
+
+def _require_memory(n: int, parts: int, sparse: bool) -> None:
+    """Refuse a rotor whose assembly would not fit the memory budget, before it starts:
+    each element, disc or bearing adds at most 192 triplets (row, column, value: 24 bytes,
+    kept while they are summed into as many stored entries), and a dense rotor four
+    n x n arrays."""
+    triplets = 192 * parts * (24 + 12)
+    require(triplets + (0 if sparse else 4 * 8.0 * n * n),
+            f"the matrices of a [rotor] of {n} coordinates", "use fewer shaft elements")
 
 
 def _entries(reader: _Reader, section: dict, key: str) -> list[dict]:
@@ -350,7 +465,7 @@ def _shaft_elements(reader: _Reader, shafts: list[dict]) -> list[tuple[float, fl
 
 
 def _add_discs(reader: _Reader, discs: list[dict], stations: int, rho: float | None,
-               M: np.ndarray, G: np.ndarray) -> list[tuple[int | None, str]]:
+               assembly: Assembly) -> list[tuple[int | None, str]]:
     named = []
     for i, entry in enumerate(discs, start=1):
         where = f"rotor.disc {i}"
@@ -360,43 +475,97 @@ def _add_discs(reader: _Reader, discs: list[dict], stations: int, rho: float | N
         if station is None or inertia is None:
             continue
         m, Ip, It = inertia
-        s = 4 * station
-        M[s, s] += m
-        M[s + 1, s + 1] += m
-        M[s + 2, s + 2] += It
-        M[s + 3, s + 3] += It
-        G[s + 2, s + 3] += Ip
-        G[s + 3, s + 2] -= Ip
+        s = 4 * station + np.arange(4)
+        assembly.add("M", s, s, np.diag([m, m, It, It]))
+        assembly.add("G", s[2:], s[2:], np.array([[0.0, Ip], [-Ip, 0.0]]))
     return named
 
 
-def _add_bearings(reader: _Reader, bearings: list[dict], stations: int, K: np.ndarray,
-                  C: np.ndarray) -> tuple[list[SpeedTerm], list[tuple[int | None, str]]]:
-    terms, named = [], []
+PEDESTAL_KEYS = ("m", *COEFFICIENTS)
+
+
+def _add_bearings(reader: _Reader, bearings: list[dict], stations: int, assembly: Assembly
+                  ) -> tuple[list[SpeedTerm], list[tuple[int | None, str]], list[Bearing]]:
+    """Every bearing's coefficients into K and C (between its station and the ground, or
+    its pedestal), the pedestals' masses and supports; the bearings' records."""
+    terms: list[SpeedTerm] = []
+    named: list[tuple[int | None, str]] = []
+    records: list[Bearing] = []
+    pedestal_row = 4 * stations
     for i, entry in enumerate(bearings, start=1):
         where = f"rotor.bearing {i}"
         station = reader.station(entry, where, stations)
         named.append((station, str(entry.get("name", ""))))
-        for key in ("k", "c"):
-            if key in entry:
-                reader.problem(f"give the coefficients one by one ({key}xx, {key}xy, {key}yx, "
-                               f"{key}yy): a bearing's matrix is 2 x 2 on x and y", where, key)
-        for key in set(entry) - {"station", "name", "k", "c", *COEFFICIENTS}:
-            reader.problem(f"unknown key; a bearing takes station, name and "
-                           f"{', '.join(COEFFICIENTS)}", where, key)
+        _check_bearing_keys(reader, entry, where)
+        pedestal = None
+        if "pedestal" in entry:
+            pedestal = (pedestal_row, pedestal_row + 1)
+            pedestal_row += 2
+            _add_pedestal(reader, entry["pedestal"], f"{where} pedestal", pedestal, assembly)
+        if station is None:
+            continue
+        rows = (4 * station, 4 * station + 1)
+        given = []
         for key in COEFFICIENTS:
-            if key not in entry or station is None:
+            if key not in entry:
                 continue
-            value = reader.coefficient(entry[key], where, key)
-            row = 4 * station + (key[1] == "y")
-            column = 4 * station + (key[2] == "y")
-            target = K if key[0] == "k" else C
-            if isinstance(value, Expression) and not value.names():
-                target[row, column] += float(numeric_value(value, {}))
-            elif value is not None:
-                terms.append(SpeedTerm(key[0].upper(), row, column, value, f"{where} {key}"))
-    return terms, named
+            read = reader.coefficient(entry[key], where, key)
+            if read is None:
+                continue
+            value: float | Expression | SpeedTable = read
+            if isinstance(read, Expression) and not read.names():
+                value = float(numeric_value(read, {}))
+            given.append((key, value))
+            terms += _connect(assembly, key, value, rows, pedestal, f"{where} {key}")
+        records.append(Bearing(str(entry.get("name", "")), rows, pedestal, tuple(given)))
+    return terms, named, records
 
 
-__all__ = ["read_rotor", "shaft_matrices", "add_element", "SpeedTable", "SpeedTerm",
-           "COEFFICIENTS", "ROTOR_KEYS"]
+def _check_bearing_keys(reader: _Reader, entry: dict, where: str) -> None:
+    for key in ("k", "c"):
+        if key in entry:
+            reader.problem(f"give the coefficients one by one ({key}xx, {key}xy, {key}yx, "
+                           f"{key}yy): a bearing's matrix is 2 x 2 on x and y", where, key)
+    for key in set(entry) - {"station", "name", "k", "c", "pedestal", *COEFFICIENTS}:
+        reader.problem(f"unknown key; a bearing takes station, name, pedestal and "
+                       f"{', '.join(COEFFICIENTS)}", where, key)
+
+
+def _connect(assembly: Assembly, key: str, value: float | Expression | SpeedTable,
+             rows: tuple[int, int], pedestal: tuple[int, int] | None, where: str
+             ) -> list[SpeedTerm]:
+    """One coefficient (``kxy``: the force on x per displacement in y) between the station
+    and the ground (one entry) or the pedestal (+ on the station's and the pedestal's own
+    entries, - on the cross ones); a parameter-dependent one as speed terms."""
+    a, b = int(key[1] == "y"), int(key[2] == "y")
+    ends = [(rows[a], rows[b], 1.0)]
+    if pedestal is not None:
+        ends += [(rows[a], pedestal[b], -1.0), (pedestal[a], rows[b], -1.0),
+                 (pedestal[a], pedestal[b], 1.0)]
+    matrix = key[0].upper()
+    if isinstance(value, float):
+        for row, column, sign in ends:
+            assembly.add(matrix, np.array([row]), np.array([column]),
+                         np.array([[sign * value]]))
+        return []
+    return [SpeedTerm(matrix, row, column, value, where, sign) for row, column, sign in ends]
+
+
+def _add_pedestal(reader: _Reader, raw: object, where: str, rows: tuple[int, int],
+                  assembly: Assembly) -> None:
+    """A pedestal (support) mass m on x and y, on the ground through its constant
+    coefficients kxx ... cyy."""
+    if not isinstance(raw, dict):
+        reader.problem("a pedestal is a table { m = ..., kxx = ..., kyy = ..., cxx = ... }",
+                       where, "pedestal")
+        return
+    for key in set(raw) - set(PEDESTAL_KEYS):
+        reader.problem(f"unknown key; a pedestal takes {', '.join(PEDESTAL_KEYS)}", where, key)
+    m = reader.number(raw, "m", where)
+    if m is not None:
+        assembly.add("M", np.array(rows), np.array(rows), m * np.eye(2))
+    for key in COEFFICIENTS:
+        if key in raw:
+            value = reader.number(raw, key, where, positive=False, signed=key[1] != key[2])
+            if value is not None:
+                _connect(assembly, key, value, rows, None, where)

@@ -37,6 +37,7 @@ import numpy as np
 
 from ..errors import ModelError, Problem
 from ..expressions import ExpressionError, numeric_value
+from .campbell_spec import parse_speed
 from .options import MAX_GIVEN_HARMONICS
 from .units import ModelUnits, parse_with_unit
 
@@ -47,7 +48,11 @@ DISTRIBUTIONS = ("uniform", "normal", "lognormal")
 #: the quantities a study records: kind -> what follows the colon
 QUANTITY_KINDS = {"natural_frequency": "index", "damping_ratio": "index", "amplitude": "name",
                   "phase": "name", "peak": "name", "stable": "", "nonlinear_amplitude": "name",
-                  "rms": "name", "srs": "name@frequency", "damage": "name"}
+                  "rms": "name", "srs": "name@frequency", "damage": "name",
+                  "critical_speed": "index@order", "stability_threshold": "",
+                  "log_decrement": "index@speed"}
+#: the rotor quantities (docs/rotors.md): computed from the model's [campbell] section
+ROTOR_KINDS = ("critical_speed", "stability_threshold", "log_decrement")
 #: the quantities that need a band: peaks (searched over it) and the nonlinear steady state
 #: (swept up from its start)
 BAND_KINDS = ("peak", "nonlinear_amplitude")
@@ -156,6 +161,10 @@ class Quantity:
         As written.
     frequency : float
         The oscillator's natural frequency in Hz (``srs:NAME@f``).
+    order : float
+        The excitation order of ``critical_speed:K@R`` (1 without ``@``).
+    speed : float
+        The rotor speed in rad/s of ``log_decrement:K@SPEED``.
 
     Examples
     --------
@@ -168,6 +177,8 @@ class Quantity:
     index: int
     text: str
     frequency: float = 0.0
+    order: float = 1.0
+    speed: float = 0.0
 
     @property
     def columns(self) -> tuple[str, ...]:
@@ -464,6 +475,8 @@ def parse_quantity(text: object, names: Collection[str], reader: _Reader) -> Qua
                        + ", ".join(f"{k}:{v.upper()}" if v else k
                                    for k, v in QUANTITY_KINDS.items()), "quantities")
         return None
+    if what in ("index@order", "index@speed"):
+        return _rotor_quantity(kind, what, target, text, reader)
     if what == "index":
         if not target.isdigit() or not 1 <= int(target) <= 100_000:
             reader.problem(f"'{text}' needs a mode number counted from 1, as in {kind}:1",
@@ -495,6 +508,37 @@ def parse_quantity(text: object, names: Collection[str], reader: _Reader) -> Qua
         reader.problem(f"'{kind}' takes no ':'", "quantities")
         return None
     return Quantity(kind, "", 0, kind)
+
+
+def _rotor_quantity(kind: str, what: str, target: str, text: str, reader: _Reader
+                    ) -> Quantity | None:
+    """``critical_speed:K[@ORDER]`` (the K-th critical speed of that excitation order) and
+    ``log_decrement:K@SPEED`` (a number in rad/s or a speed with its unit, as ``3000 rpm``).
+    """
+    index, _, at = (part.strip() for part in target.partition("@"))
+    example = f"{kind}:1@2" if what == "index@order" else f"{kind}:1@3000 rpm"
+    if not index.isdigit() or not 1 <= int(index) <= 100_000:
+        reader.problem(f"'{text}' needs a number counted from 1, as in {example}",
+                       "quantities")
+        return None
+    if what == "index@order":
+        try:
+            order = float(at) if at else 1.0
+        except ValueError:
+            order = math.nan
+        if not (math.isfinite(order) and order > 0):
+            reader.problem(f"'{text}' needs a positive excitation order after '@', as in "
+                           f"{example}", "quantities")
+            return None
+        suffix = "" if order == 1.0 else f"@{order:.12g}"
+        return Quantity(kind, "", int(index), f"{kind}:{int(index)}{suffix}", order=order)
+    if not at:
+        reader.problem(f"'{text}' needs a speed after '@', as in {example}", "quantities")
+        return None
+    speed = parse_speed(at, reader.source, reader.section, "quantities", reader.problems)
+    if speed is None:
+        return None
+    return Quantity(kind, "", int(index), f"{kind}:{int(index)}@{at}", speed=speed)
 
 
 def _integer(reader: _Reader, raw: object, key: str, low: int, high: int) -> int | None:
@@ -625,7 +669,7 @@ def _read(reader: _Reader, vary: object, quantities: object, design: object, sam
     read = [parse_quantity(q, names, reader) for q in quantities]
     modes = len([n for n in names if n not in outputs])
     for q in read:
-        if q is not None and q.index > modes > 0:
+        if q is not None and q.kind != "critical_speed" and q.index > modes > 0:
             reader.problem(f"'{q.text}': the model has {modes} modes", "quantities")
     chosen = _design(reader, design, samples, seed)
     needs_band = [q.kind for q in read if q is not None and q.kind in BAND_KINDS]
@@ -651,6 +695,32 @@ def _checked_size(reader: _Reader, spec: StudySpec) -> StudySpec | None:
         reader.problem(f"the study has {spec.size} samples; at most {MAX_SAMPLES}", "samples")
         return None
     return spec
+
+
+def rotor_problems(spec: StudySpec, has_campbell: bool, has_speed: bool, source: str
+                   ) -> list[Problem]:
+    """What the rotor quantities of ``spec`` miss: the ``[campbell]`` section's speed
+    range (critical speeds, the threshold) and a speed parameter (all of them).
+
+    Examples
+    --------
+    >>> spec = study_spec({"k": [1.0]}, ["stability_threshold"], parameters=["k"],
+    ...                   coordinates=["x"], outputs=[])
+    >>> rotor_problems(spec, False, True, "r.toml")[0].section
+    'campbell'
+    """
+    kinds = {q.kind for q in spec.quantities}
+    problems = []
+    if not has_speed and kinds & set(ROTOR_KINDS):
+        problems.append(Problem(f"{sorted(kinds & set(ROTOR_KINDS))[0]} needs a rotor: a "
+                                "speed parameter (speed = \"NAME\" in [matrices] or [rotor])",
+                                source, "study", "quantities"))
+    ranged = sorted(kinds & {"critical_speed", "stability_threshold"})
+    if ranged and not has_campbell:
+        problems.append(Problem(f"{ranged[0]} is searched over the [campbell] section's "
+                                "speed range: add [campbell] with from, to and points",
+                                source, "campbell"))
+    return problems
 
 
 STUDY_KEYS = ("vary", "quantities", "design", "samples", "seed", "band", "harmonics")
@@ -696,4 +766,4 @@ def parse_study(raw: object, parameters: Collection[str], coordinates: Collectio
 
 
 __all__ = ["Band", "BAND_KINDS", "DESIGNS", "DISTRIBUTIONS", "Distribution", "QUANTITY_KINDS",
-           "Quantity", "StudySpec", "parse_study", "study_spec"]
+           "ROTOR_KINDS", "Quantity", "StudySpec", "parse_study", "rotor_problems", "study_spec"]

@@ -143,6 +143,9 @@ class MatrixSpec:
     speed_terms : tuple of SpeedTerm
         Entries of K and C that depend on the parameters (a ``[rotor]``'s bearing
         coefficients: :class:`resonant.model.rotor.SpeedTerm`), added to the numbers.
+    bearings : tuple of Bearing
+        A ``[rotor]``'s bearings (:class:`resonant.model.rotor.Bearing`): where they are
+        and their coefficients, for the bearing forces.
 
     Examples
     --------
@@ -161,6 +164,7 @@ class MatrixSpec:
     G: Any = None
     speed: str | None = None
     speed_terms: tuple[Any, ...] = ()
+    bearings: tuple[Any, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -27,12 +27,14 @@ Examples
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
+from ..analyses.campbell import campbell, log_decrement
 from ..analyses.fatigue import SNCurve, spectral_fatigue
 from ..analyses.kernel import solve_harmonic
 from ..analyses.modes import modes
@@ -54,7 +56,7 @@ from ..modal import (
     unstable,
     unstable_by_inertia,
 )
-from ..model.study import Band, Quantity, StudySpec
+from ..model.study import ROTOR_KINDS, Band, Quantity, StudySpec
 from ..system.base import LinearSystem, numeric_point
 from ..system.batch import Batch
 from ..system.build import nonlinear_system
@@ -84,10 +86,11 @@ class Rows:
         #: what failed where: "all" (every quantity), "stability" (responses),
         #: "excitation" (amplitude, phase), "band" (peaks), "nonlinear" (the nonlinear
         #: steady state), "random" (the response to the [random] inputs: rms, damage),
-        #: "shock" (the response to the [shock] pulse: srs)
+        #: "shock" (the response to the [shock] pulse: srs), "rotor" (the Campbell
+        #: diagram and the modes at a speed: critical speeds, threshold, log decrements)
         self.failed = {k: np.zeros(count, dtype=bool)
                        for k in ("all", "stability", "excitation", "band", "nonlinear", "random",
-                                 "shock")}
+                                 "shock", "rotor")}
 
     def fail(self, mask: np.ndarray, status: str, reason: str, scope: str = "all") -> None:
         """Mark the samples of ``mask``; the first failure of a sample gives its status."""
@@ -449,6 +452,38 @@ def _fill_srs(rows: Rows, spec: StudySpec, system: LinearSystem, values: Mapping
     _per_sample(rows, wanted, system, values, batch, "shock", compute, deadline)
 
 
+def _fill_rotor(rows: Rows, spec: StudySpec, system: LinearSystem, values: Mapping[str, Any],
+                batch: Batch, deadline: Deadline = NO_DEADLINE) -> None:
+    """The rotor quantities (docs/rotors.md), sample by sample: one Campbell diagram over
+    the ``[campbell]`` section's range gives ``critical_speed:K[@R]`` (the K-th lowest
+    critical speed of order R, forward or backward) and ``stability_threshold`` (NaN where
+    there is none in the range); ``log_decrement:K@SPEED`` is the K-th mode at that speed
+    in the kernel's order (lowest first)."""
+    wanted = [q for q in spec.quantities if q.kind in ROTOR_KINDS]
+    if not wanted:
+        return
+    ranged = [q for q in wanted if q.kind != "log_decrement"]
+    orders = sorted({q.order for q in ranged if q.kind == "critical_speed"}) or [1.0]
+
+    def compute(point: LinearSystem) -> dict[str, float]:
+        found: dict[str, float] = {}
+        if ranged:
+            diagram = campbell(point, orders=orders, deadline=deadline)
+            for q in ranged:
+                if q.kind == "stability_threshold":
+                    t = diagram.threshold.speed
+                    found[q.text] = math.nan if t is None else t
+                    continue
+                speeds = [c.speed for c in diagram.critical_speeds if c.order == q.order]
+                found[q.text] = speeds[q.index - 1] if q.index <= len(speeds) else math.nan
+        for q in wanted:
+            if q.kind == "log_decrement":
+                found[q.text] = log_decrement(point, q.speed, q.index, deadline=deadline)
+        return found
+
+    _per_sample(rows, wanted, system, values, batch, "rotor", compute, deadline)
+
+
 def _fill(rows: Rows, spec: StudySpec, system: LinearSystem,
           values: Mapping[str, Any], nonlinear: NonlinearSystem | None = None,
           deadline: Deadline = NO_DEADLINE) -> None:
@@ -473,6 +508,7 @@ def _fill(rows: Rows, spec: StudySpec, system: LinearSystem,
     _fill_nonlinear(rows, spec, nonlinear, values, deadline)
     _fill_rms(rows, spec, system, values, batch, deadline)
     _fill_srs(rows, spec, system, values, batch, deadline)
+    _fill_rotor(rows, spec, system, values, batch, deadline)
 
 
 def evaluate_samples(system: LinearSystem, spec: StudySpec, varied: Mapping[str, np.ndarray],

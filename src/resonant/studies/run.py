@@ -38,7 +38,7 @@ from ..errors import ModelError, Problem
 from ..model import Model, loads
 from ..model.files import open_regular_file, read_bounded
 from ..model.limits import MAX_FILE_BYTES
-from ..model.study import RESERVED_COLUMNS, StudySpec, study_spec
+from ..model.study import RESERVED_COLUMNS, StudySpec, rotor_problems, study_spec
 from ..system.base import LinearSystem
 from ..system.build import linear_system, nonlinear_system
 from ..system.nonlinear import NonlinearSystem
@@ -202,10 +202,18 @@ def request(model: Model, vary: Mapping[str, Any] | None = None,
     if "vary" not in merged or "quantities" not in merged:
         raise ModelError(Problem("a study needs the parameters to vary and the quantities "
                                  "(or a [study] section in the model)", model.source))
-    return study_spec(merged.pop("vary"), merged.pop("quantities"), **merged,
+    spec = study_spec(merged.pop("vary"), merged.pop("quantities"), **merged,
                       parameters=model.parameters, coordinates=model.coordinates,
                       outputs=model.outputs, units=model.units, source=model.source,
                       section="study")
+    rotor = model.campbell_section
+    problems = rotor_problems(spec, rotor is not None, (rotor is not None and rotor.speed
+                                                       is not None) or
+                              (model.matrices is not None and model.matrices.speed is not None),
+                              model.source)
+    if problems:
+        raise ModelError(problems)
+    return spec
 
 
 def system_of(job: StudyJob) -> LinearSystem:

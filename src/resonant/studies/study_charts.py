@@ -117,7 +117,7 @@ def study_units(model: Model, spec: StudySpec) -> dict[str, str]:
                 out[column] = ""
             elif kind == "phase":
                 out[column] = "rad"
-            elif kind == "natural_frequency":
+            elif kind in ("natural_frequency", "critical_speed", "stability_threshold"):
                 out[column] = "rad/s"
             elif kind == "peak_frequency" and spec.band is not None:
                 out[column] = si(spec.band.parameter)

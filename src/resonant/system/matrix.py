@@ -96,9 +96,9 @@ class MatrixEOM(LinearSystem):
         for term in terms:
             if isinstance(term.value, SpeedTable):
                 name = "table_" + term.where.replace("rotor.", "").replace(" ", "_")
-                out[term.row, term.column] += sympy.Function(name)(speed)
+                out[term.row, term.column] += int(term.sign) * sympy.Function(name)(speed)
             else:
-                out[term.row, term.column] += term.value.to_sympy(
+                out[term.row, term.column] += int(term.sign) * term.value.to_sympy(
                     lambda label, primes: symbol(label) if primes == 0 else 0)
         return sympy.ImmutableMatrix(out)
 
@@ -289,7 +289,7 @@ class MatrixEOM(LinearSystem):
             if not np.all(np.isfinite(value)):
                 raise ModelError(Problem("is not finite for the given parameter values",
                                          self.source, term.where, key))
-            added.append(value.reshape(-1))
+            added.append(term.sign * value.reshape(-1))
         size = max(len(a) for a in added)
         if hasattr(matrix, "tolil") and size == 1:   # one point of a sparse model stays sparse
             sparse = matrix.tolil(copy=True)

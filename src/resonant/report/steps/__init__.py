@@ -29,6 +29,7 @@ from .given_matrices import given_matrices
 from .loads import periodic_load, random_load, shock_load
 from .modal import natural_frequencies
 from .opening import data, method, title
+from .rotor import rotor
 from .stationary_solution import stationary
 
 # -- the order of the steps ------------------------------------------------------------------
@@ -57,6 +58,7 @@ def step_order(ctx: Context) -> list[Step]:
         steps.extend([stationary, excursions, natural_frequencies, plots])
     steps.extend([periodic_load, random_load, shock_load])  # loads beyond a sine (docs/random.md)
     steps.append(measured_modes)  # a measurement's modes against the model's (testing.md)
+    steps.append(rotor)  # the Campbell diagram and the unbalance response (docs/rotors.md)
     steps.append(warnings)
     return steps
 

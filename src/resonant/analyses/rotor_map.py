@@ -1,0 +1,220 @@
+"""The undamped critical speed map of a ``[rotor]``: its critical speeds against the
+stiffness of its bearings (docs/rotors.md).
+
+Every bearing is replaced by a direct stiffness k on x and y (kxx = kyy = k; no cross
+coupling, no damping; a pedestal and its support stay), and at each k the critical speeds
+of an excitation order r are the speeds where a mode's frequency is r Omega: with
+s = i r Omega the undamped equation M q'' + Omega G q' + K(k) q = 0 becomes
+K(k) q = Omega^2 (r^2 M - i r G) q, solved directly
+(:func:`resonant.modal.synchronous_speeds`), not tracked over a speed grid.  Soft
+bearings give the rigid-rotor modes (bouncing and rocking, rising as sqrt(k)); stiff ones
+the pinned shaft's bending modes (a plateau).
+
+Examples
+--------
+>>> import resonant
+>>> rotor = resonant.load("examples/rotors/friswell_5_9_1.toml").linearize()
+>>> result = critical_speed_map(rotor, [1e6], modes=2)
+>>> (result.speeds[0, 0] * 60 / (2 * np.pi)).round(1).tolist()   # rpm, 1x
+[825.1, 829.9]
+>>> result.whirl[0][0]
+('backward', 'forward')
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..arrays import freeze_fields
+from ..charts import COLORS, Chart, Charted, Curve
+from ..errors import ModelError, Problem
+from ..memory import require
+from ..modal import synchronous_speeds
+from ..model.rotor import Bearing
+from ..system.base import LinearSystem
+from .campbell import RPM
+from .results_json import floats_json
+from .rotor_tracking import precession, whirl_label, whirl_pairs
+
+#: the most coordinates of a map (each stiffness is one dense complex eigenproblem)
+MAX_MAP_COORDINATES = 2000
+
+
+@dataclass(frozen=True)
+class CriticalSpeedMap(Charted):
+    """The undamped critical speeds of a rotor against its bearings' stiffness.
+
+    Attributes
+    ----------
+    title : str
+    stiffness : ndarray
+        The bearings' direct stiffness k (N/m), shape (S,).
+    orders : tuple of float
+        The excitation orders r.
+    speeds : ndarray
+        The ``modes`` lowest critical speeds (rad/s) of each order at each k, shape
+        (S, orders, modes); NaN where there are fewer.
+    whirl : tuple
+        Their whirl (``"forward"``, ``"backward"``, ``"none"``; "" where NaN), nested as
+        ``speeds``.
+    """
+
+    title: str
+    stiffness: np.ndarray
+    orders: tuple[float, ...]
+    speeds: np.ndarray
+    whirl: tuple[tuple[tuple[str, ...], ...], ...]
+
+    def __post_init__(self) -> None:
+        freeze_fields(self)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form (rad/s, with rpm).
+
+        Returns
+        -------
+        dict
+        """
+        return {"title": self.title, "stiffness_N_m": floats_json(self.stiffness),
+                "orders": list(self.orders),
+                "conventions": {"bearings": "kxx = kyy = stiffness, no cross coupling, "
+                                            "undamped"},
+                "critical_speeds_rad_s": floats_json(self.speeds),
+                "critical_speeds_rpm": floats_json(self.speeds / RPM),
+                "whirl": [[list(row) for row in block] for block in self.whirl]}
+
+    def summary(self) -> str:
+        """The critical speeds (rpm) at each stiffness, a row per stiffness.
+
+        Returns
+        -------
+        str
+        """
+        lines = [self.title or "Critical speed map",
+                 "undamped; every bearing kxx = kyy = k (no cross coupling)", ""]
+        for o, r in enumerate(self.orders):
+            lines.append(f"{r:g}x critical speeds [rpm] (F forward, B backward whirl):")
+            for i, k in enumerate(self.stiffness):
+                cells = [f"{v / RPM:10.5g} {w[:1].upper()}" if math.isfinite(v) else
+                         f"{'-':>10}  " for v, w in zip(self.speeds[i, o], self.whirl[i][o])]
+                lines.append(f"  k = {k:10.4g} N/m  " + "  ".join(cells))
+        return "\n".join(lines) + "\n"
+
+    def chart(self) -> Chart:
+        """The critical speeds (rpm) against k (N/m), both axes logarithmic.
+
+        Returns
+        -------
+        resonant.charts.Chart
+        """
+        curves = []
+        for o, r in enumerate(self.orders):
+            for j in range(self.speeds.shape[2]):
+                curves.append(Curve(self.stiffness, self.speeds[:, o, j] / RPM,
+                                    f"mode {j + 1}" + (f" ({r:g}x)" if len(self.orders) > 1
+                                                       else ""),
+                                    color=COLORS[j % len(COLORS)],
+                                    dash=None if o == 0 else "3.7 1.6", marker="o"))
+        xlim = (float(self.stiffness[0]), float(self.stiffness[-1]))
+        return Chart(tuple(curves), "bearing stiffness [N/m]", "critical speed [rpm]", xlim,
+                     ylog=True, xlog=True, title="undamped critical speed map")
+
+
+def _stiffness_pattern(bearing: Bearing, n: int) -> np.ndarray:
+    """The stiffness matrix of one bearing of kxx = kyy = 1 (to the ground or its
+    pedestal)."""
+    out = np.zeros((n, n))
+    for axis in (0, 1):
+        ends = [(bearing.station[axis], bearing.station[axis], 1.0)]
+        if bearing.pedestal is not None:
+            p = bearing.pedestal[axis]
+            ends += [(bearing.station[axis], p, -1.0), (p, bearing.station[axis], -1.0),
+                     (p, p, 1.0)]
+        for row, column, sign in ends:
+            out[row, column] += sign
+    return out
+
+
+def _without_bearings(K: np.ndarray, bearings: Sequence[Bearing]) -> np.ndarray:
+    """The assembled constant stiffness with the bearings' constant coefficients taken
+    out (those given as expressions or tables are speed terms, never in it)."""
+    out = K.copy()
+    for b in bearings:
+        for key, value in b.coefficients:
+            if key[0] != "k" or not isinstance(value, float):
+                continue
+            a, c = int(key[1] == "y"), int(key[2] == "y")
+            ends = [(b.station[a], b.station[c], 1.0)]
+            if b.pedestal is not None:
+                ends += [(b.station[a], b.pedestal[c], -1.0), (b.pedestal[a], b.station[c],
+                                                               -1.0),
+                         (b.pedestal[a], b.pedestal[c], 1.0)]
+            for row, column, sign in ends:
+                out[row, column] -= sign * value
+    return out
+
+
+def critical_speed_map(system: LinearSystem, stiffness: Sequence[float] | np.ndarray, *,
+                       modes: int = 4, orders: Sequence[float] = (1.0,)) -> CriticalSpeedMap:
+    """The undamped critical speeds of a ``[rotor]`` at each bearing stiffness.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        A rotor from a ``[rotor]`` section (its bearings are known by name and place).
+    stiffness : sequence of float
+        The bearings' direct stiffness values k (N/m), positive, increasing.
+    modes : int
+        The lowest critical speeds kept per order.
+    orders : sequence of float
+        The excitation orders r.
+
+    Returns
+    -------
+    CriticalSpeedMap
+    """
+    model = system.model
+    spec = model.matrices if model is not None else None
+    if spec is None or not spec.bearings:
+        raise ModelError(Problem("the critical speed map needs a [rotor] with bearings",
+                                 system.source, "rotor", "bearing"))
+    k = np.asarray(stiffness, dtype=float).reshape(-1)
+    if k.size < 1 or not np.all(np.isfinite(k) & (k > 0)) or np.any(np.diff(k) <= 0):
+        raise ModelError(Problem("the bearing stiffness values must be positive and "
+                                 "increasing (N/m)", system.source, "rotor", "bearing"))
+    if not orders or not all(math.isfinite(r) and r > 0 for r in orders) or modes < 1:
+        raise ModelError(Problem("orders must be positive numbers and modes at least 1",
+                                 system.source, "campbell", "orders"))
+    n = system.n
+    if n > MAX_MAP_COORDINATES:
+        raise ModelError(Problem(f"the critical speed map is dense: at most "
+                                 f"{MAX_MAP_COORDINATES} coordinates, the rotor has {n}",
+                                 system.source, "rotor", "shaft"))
+    require(6 * 16.0 * n * n, f"the critical speed map of {n} coordinates", "use fewer "
+            "shaft elements")
+    M, K0, G = (np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
+                for a in (spec.M, spec.K, spec.G if spec.G is not None else np.zeros((n, n))))
+    base = _without_bearings(K0, spec.bearings)
+    pattern = sum(_stiffness_pattern(b, n) for b in spec.bearings)
+    pairs = whirl_pairs(system.coordinates)
+    speeds = np.full((len(k), len(orders), modes), np.nan)
+    whirl = []
+    for i, value in enumerate(k):
+        rows = []
+        for o, r in enumerate(orders):
+            found, shapes = synchronous_speeds(M, G, base + value * pattern, float(r))
+            count = min(modes, len(found))
+            speeds[i, o, :count] = found[:count]
+            labels = [whirl_label(float(v)) for v in precession(shapes[:, :count], pairs)]
+            rows.append(tuple(labels + [""] * (modes - count)))
+        whirl.append(tuple(rows))
+    return CriticalSpeedMap(system.title, k, tuple(float(r) for r in orders), speeds,
+                            tuple(whirl))
+
+
+__all__ = ["critical_speed_map", "CriticalSpeedMap", "MAX_MAP_COORDINATES"]
