@@ -71,7 +71,7 @@ from .measurement_spec import MeasurementSpec, parse_measurement
 from .nonlinear_elements import read_nonlinear_elements
 from .part_energies import Mechanism, derive_energies, point_expressions
 from .parts import DerivedEnergies, Parts, read_parts
-from .random_spec import parse_random
+from .random_spec import Files, parse_random
 from .rotor import read_rotor
 from .study import parse_study
 from .types import (
@@ -349,7 +349,8 @@ class _Builder:
                                 self.source, self.problems, units) \
             if "explore" in self.data else None
         random = parse_random(self.data["random"], param_names, list(signals), names,
-                              self.source, self.problems, units) \
+                              self.source, self.problems, units,
+                              Files(self.base_dir, tuple(self.allow_paths))) \
             if "random" in self.data else None
         shock = parse_shock(self.data["shock"], list(signals), names, self.source,
                             self.problems, units) if "shock" in self.data else None
