@@ -382,14 +382,14 @@ class ShockSpectrum:
         """
         saved = Saved(data, "ShockSpectrum")
         frequency = saved.floats("frequency_hz", ndim=1)
-        return cls(frequency=frequency,
-                   maximax=saved.floats("maximax", shape=frequency.shape),
-                   primary=saved.floats("primary", shape=frequency.shape),
-                   residual=saved.floats("residual", shape=frequency.shape),
+        spectra = {key: saved.floats(key, shape=frequency.shape)
+                   for key in ("maximax", "primary", "residual")}
+        quantity, damping = saved.string("quantity"), saved.number("damping_ratio")
+        duration = saved.number("duration_s")
+        return cls(frequency=frequency, **spectra,
                    positive=saved.floats("positive", shape=frequency.shape),
                    negative=saved.floats("negative", shape=frequency.shape),
-                   quantity=saved.string("quantity"), damping=saved.number("damping_ratio"),
-                   duration=saved.number("duration_s"),
+                   quantity=quantity, damping=damping, duration=duration,
                    excitation_end=saved.number("excitation_end_s"),
                    warnings=saved.strings("warnings", ()))
 
