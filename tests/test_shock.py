@@ -87,7 +87,7 @@ def half_sine_signed(f: float) -> tuple[float, float, float]:
     found = []
     for sign in (1.0, -1.0):
         i = int(np.argmax(sign * values))
-        best = minimize_scalar(lambda x: -sign * s(x), bounds=(t[max(i - 1, 0)],
+        best = minimize_scalar(lambda x, sign=sign: -sign * s(x), bounds=(t[max(i - 1, 0)],
                                t[min(i + 1, len(t) - 1)]), method="bounded",
                                options={"xatol": 1e-15})
         found.append(sign * max(-best.fun, sign * values[i]))
