@@ -72,6 +72,71 @@ def test_half_sine_against_closed_form() -> None:
         assert srs.maximax[i] == max(srs.primary[i], srs.residual[i])
 
 
+def half_sine_signed(f: float) -> tuple[float, float, float]:
+    """(largest, smallest) of the undamped absolute acceleration while the pulse lasts and
+    the free vibration's amplitude after it, from the closed form (on a fine grid refined
+    by a bounded search)."""
+    W, w = math.pi / TAU, 2 * math.pi * f
+    k = A * w * w / (w * w - W * W)
+
+    def s(t: float) -> float:
+        return float(k * (np.sin(W * t) - W / w * np.sin(w * t)))
+
+    t = np.linspace(0, TAU, 200_001)
+    values = k * (np.sin(W * t) - W / w * np.sin(w * t))
+    found = []
+    for sign in (1.0, -1.0):
+        i = int(np.argmax(sign * values))
+        best = minimize_scalar(lambda x, sign=sign: -sign * s(x), bounds=(t[max(i - 1, 0)],
+                               t[min(i + 1, len(t) - 1)]), method="bounded",
+                               options={"xatol": 1e-15})
+        found.append(sign * max(-best.fun, sign * values[i]))
+    velocity = k * W * (-1 - math.cos(w * TAU))
+    return found[0], found[1], math.hypot(s(TAU), velocity / w)
+
+
+def test_iso_primary_residual_positive_negative_of_a_long_record() -> None:
+    """ISO 18431-4: primary while the pulse lasts (0 <= t <= tau), residual after it, on a
+    record three pulses long; positive and negative over all time (the undamped free
+    vibration swings to +-its amplitude)."""
+    _, a = pulse("half-sine", A, TAU, STEP, total=3 * TAU)
+    srs = shock_response_spectrum(a, STEP, FREQUENCIES, damping=0.0, excitation_end=TAU)
+    assert srs.excitation_end == pytest.approx(TAU, rel=1e-12)
+    for i, f in enumerate(FREQUENCIES):
+        high, low, residual = half_sine_signed(f)
+        assert srs.primary[i] == pytest.approx(max(high, -low), rel=2e-8)
+        assert srs.residual[i] == pytest.approx(residual, rel=2e-8)
+        assert srs.positive[i] == pytest.approx(max(high, residual), rel=2e-8)
+        assert srs.negative[i] == pytest.approx(max(-low, residual), rel=2e-8)
+        assert srs.maximax[i] == max(srs.positive[i], srs.negative[i])
+    # without the pulse's end the primary part is the whole record, which holds part of
+    # the free vibration: more than ISO's primary, the same maximax
+    whole = shock_response_spectrum(a, STEP, FREQUENCIES, damping=0.0)
+    assert (whole.primary >= srs.primary * (1 - 1e-12)).all()
+    assert (whole.primary > srs.primary * 1.01).any()
+    assert whole.maximax == pytest.approx(srs.maximax, rel=2e-8)   # sampled vs exact
+
+
+def test_damped_split_against_the_record_cut_at_the_pulse() -> None:
+    """With damping the residual after tau on a long record is the free vibration from
+    the state at tau: the same as the SRS of the record cut at tau (its residual)."""
+    _, long = pulse("haversine", A, TAU, 10 * STEP, total=4 * TAU)
+    _, cut = pulse("haversine", A, TAU, 10 * STEP, total=TAU)
+    f = [5.0, 60.0, 400.0]
+    split = shock_response_spectrum(long, 10 * STEP, f, Q=10, excitation_end=TAU)
+    ref = shock_response_spectrum(cut, 10 * STEP, f, Q=10)
+    assert split.primary == pytest.approx(ref.primary, rel=1e-12)
+    assert split.residual == pytest.approx(ref.residual, rel=1e-12)
+
+
+def test_excitation_end_errors() -> None:
+    _, a = pulse("half-sine", A, TAU, STEP * 100)
+    with pytest.raises(AnalysisError, match="beyond the signal"):
+        shock_response_spectrum(a, STEP * 100, [10.0], excitation_end=1.0)
+    with pytest.raises(AnalysisError, match="positive time"):
+        shock_response_spectrum(a, STEP * 100, [10.0], excitation_end=-1.0)
+
+
 def test_half_sine_textbook_shape() -> None:
     _, a = pulse("half-sine", A, TAU, STEP)
     f = np.linspace(60, 100, 81)

@@ -34,15 +34,20 @@ import math
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..arrays import freeze_fields
-from ..errors import AnalysisError
+from ..charts import COLORS, Bar, Chart, Charted, Charts
+from ..errors import AnalysisError, printable
 from ..model.load_spec import FATIGUE_METHODS
+from ..tables import ResultTable, number_cell
 from .result_fields import FieldsJSON, saved
 from .results_json import Saved
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .random_response import RandomResponse
 
 #: the spectral methods (FLife's Narrowband, Dirlik, TovoBenasciutti)
 METHODS = FATIGUE_METHODS
@@ -233,7 +238,253 @@ def spectral_fatigue(frequency: Sequence[float] | np.ndarray,
 
 
 @dataclass(frozen=True)
-class RainflowDamage(FieldsJSON):
+class ResponseFatigue(Charted):
+    """The fatigue of a model's stress responses under its ``[random]`` inputs: for each
+    response, its :class:`SpectralFatigue` by every method asked for.
+
+    Attributes
+    ----------
+    names : tuple of str
+        The responses (stress outputs), in order.
+    results : mapping
+        name -> :class:`SpectralFatigue` of that response's density.
+    units : mapping
+        name -> the response's SI unit ("" where the model has no units).
+    method : str
+        The method the model's ``[fatigue]`` section chose (the study's ``damage:NAME``).
+    warnings : tuple of str
+        What the random response and the fatigue estimates warned of.
+    """
+
+    names: tuple[str, ...]
+    results: Mapping[str, SpectralFatigue]
+    units: Mapping[str, str]
+    method: str
+    warnings: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form: every field (each response's :meth:`SpectralFatigue.to_dict`).
+
+        Returns
+        -------
+        dict
+        """
+        return {"names": list(self.names),
+                "results": {n: self.results[n].to_dict() for n in self.names},
+                "units": {n: self.units.get(n, "") for n in self.names},
+                "method": self.method, "warnings": list(self.warnings)}
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> ResponseFatigue:
+        """The result back from its :meth:`to_dict` (the JSON of ``resonant fatigue``).
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        ResponseFatigue
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json
+        >>> f = np.linspace(90, 110, 201)
+        >>> one = spectral_fatigue(f, np.full(201, 50.0), SNCurve(1e20, 4.0), 3600.0)
+        >>> result = ResponseFatigue(("s",), {"s": one}, {"s": "Pa"}, "dirlik")
+        >>> ResponseFatigue.from_dict(json.loads(json.dumps(result.to_dict()))) == result
+        True
+        """
+        saved = Saved(data, "ResponseFatigue")
+        names = saved.strings("names")
+        results = saved.mapping("results")
+        units = saved.mapping("units")
+        return cls(names=names,
+                   results={n: SpectralFatigue.from_dict(results.value(n)) for n in names},
+                   units={n: units.string(n) for n in names}, method=saved.string("method"),
+                   warnings=saved.strings("warnings", ()))
+
+    def table(self) -> ResultTable:
+        """Each response's RMS, and its damage and life by each method (:func:`fatigue_table`).
+
+        Returns
+        -------
+        resonant.tables.ResultTable
+        """
+        return fatigue_table(self)
+
+    def summary(self) -> str:
+        """The text ``resonant fatigue`` prints (:func:`fatigue_text`).
+
+        Returns
+        -------
+        str
+        """
+        return fatigue_text(self)
+
+    def chart(self) -> Charts:
+        """The figure's description (:func:`fatigue_chart`).
+
+        Returns
+        -------
+        resonant.charts.Charts
+        """
+        return fatigue_chart(self)
+
+
+def response_fatigue(response: RandomResponse, sn: SNCurve, duration: float, *,
+                     names: Sequence[str] | None = None, methods: Sequence[str] = METHODS,
+                     method: str = "dirlik") -> ResponseFatigue:
+    """The fatigue damage over ``duration`` of the responses of a random response, from
+    their densities by the spectral methods (:func:`spectral_fatigue`).
+
+    Parameters
+    ----------
+    response : RandomResponse
+        The model's random response (its densities of the stress outputs).
+    sn : SNCurve
+        The S-N curve, in the responses' units (SI: Pa).
+    duration : float
+        The exposure (s).
+    names : sequence of str, optional
+        The responses (default every response of ``response``).
+    methods : sequence of str
+        Some of :data:`METHODS`.
+    method : str
+        The model's chosen method (reported as such; it is computed whether or not it is
+        in ``methods``).
+
+    Returns
+    -------
+    ResponseFatigue
+
+    Raises
+    ------
+    AnalysisError
+        For a name that is not a response of ``response``, a response with no density
+        (zero everywhere), or as :func:`spectral_fatigue`.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/bracket_fatigue.toml")
+    >>> from resonant.analyses.random_response import random_response
+    >>> response = random_response(model.linearize(), names=["stress"])
+    >>> spec = model.fatigue_section
+    >>> result = response_fatigue(response, SNCurve(spec.C, spec.k), spec.duration)
+    >>> 0.02 < result.results["stress"].damage["dirlik"] < 0.04
+    True
+    """
+    chosen = list(response.names if names is None else names)
+    missing = [n for n in chosen if n not in response.psd]
+    if missing:
+        raise AnalysisError(f"'{printable(missing[0], limit=40)}' is not a response of the "
+                            f"random response (of {', '.join(response.names[:20])})")
+    wanted = list(dict.fromkeys([*methods, method]))
+    results, warned = {}, list(response.warnings)
+    for name in chosen:
+        unit = response.units.get(name, "")
+        if unit and unit != "Pa":
+            warned.append(f"{printable(name, limit=40)} is in {unit}, not a stress (Pa): the "
+                          "S-N curve is applied to it as given")
+        psd = np.asarray(response.psd[name])
+        if not psd.any():
+            raise AnalysisError(f"{printable(name, limit=40)} does not respond to the "
+                                "[random] inputs (its density is zero): it has no fatigue "
+                                "damage to estimate; choose a stress that the inputs load")
+        results[name] = spectral_fatigue(response.frequency, psd, sn, duration, wanted)
+    return ResponseFatigue(tuple(chosen), results,
+                           {n: response.units.get(n, "") for n in chosen}, method,
+                           tuple(dict.fromkeys(warned)))
+
+
+def fatigue_table(result: ResponseFatigue) -> ResultTable:
+    """Each response's RMS, and its damage over the exposure and its life by each method
+    (the model's method marked ``*``).
+
+    Parameters
+    ----------
+    result : ResponseFatigue
+
+    Returns
+    -------
+    resonant.tables.ResultTable
+    """
+    rows = []
+    for name in result.names:
+        one = result.results[name]
+        for m in one.life:
+            damage = None if one.damage is None else one.damage[m]
+            rows.append((printable(name, limit=40), result.units.get(name, "") or "SI",
+                         number_cell(one.rms), m + (" *" if m == result.method else ""),
+                         number_cell(damage), number_cell(one.life[m]),
+                         number_cell(one.life[m] / 3600)))
+    return ResultTable(("name", "unit", "RMS", "method", "damage", "life [s]", "life [h]"),
+                       tuple(rows), align="llrlrrr")
+
+
+def fatigue_text(result: ResponseFatigue, warnings: bool = True) -> str:
+    """The fatigue damage of a model's stress responses as text: the S-N curve and the
+    exposure, the table (:func:`fatigue_table`), the warnings.
+
+    Parameters
+    ----------
+    result : ResponseFatigue
+    warnings : bool
+        End with the result's warnings (the command line writes them to standard error).
+
+    Returns
+    -------
+    str
+    """
+    first = result.results[result.names[0]] if result.names else None
+    lines = ["Fatigue under the [random] inputs (spectral methods, FLife)"]
+    if first is not None:
+        lines.append(f"  S-N curve N S^{first.sn.k:g} = {first.sn.C:.4g} (S the stress "
+                     f"amplitude); exposure {first.duration or 0:.4g} s; "
+                     f"* the [fatigue] section's method")
+    lines.append(fatigue_table(result).text())
+    lines += [f"warning: {w}" for w in result.warnings] if warnings else []
+    return "\n".join(lines) + "\n"
+
+
+def fatigue_chart(result: ResponseFatigue) -> Charts:
+    """What the figure of the fatigue damage shows: each response's damage over the
+    exposure by method, as bars (one panel per response).
+
+    Parameters
+    ----------
+    result : ResponseFatigue
+
+    Returns
+    -------
+    Charts
+    """
+    panels = []
+    for name in result.names:
+        one = result.results[name]
+        methods = list(one.life)
+        damage = [float(one.damage[m]) if one.damage is not None else math.nan
+                  for m in methods]
+        x = np.arange(len(methods), dtype=float)
+        panels.append(Chart((), "spectral method",
+                            f"Miner's damage over {one.duration or 0:g} s", (-0.6, x[-1] + 0.6),
+                            title=f"fatigue of {printable(name, limit=40)} (RMS "
+                                  f"{one.rms:.3g} {result.units.get(name, '') or 'SI'})",
+                            legend="none",
+                            bars=(Bar(x, np.array(damage), tuple(COLORS[:len(methods)])),),
+                            xticks=tuple(zip(x.tolist(), methods))))
+    return Charts(tuple(panels), size=(7.0, 3.2 * max(1, len(panels))), sharex=False)
+
+
+@dataclass(frozen=True)
+class RainflowDamage(FieldsJSON, Charted):
     """Rainflow cycles of a stress history and Miner's damage.
 
     Attributes
@@ -273,6 +524,72 @@ class RainflowDamage(FieldsJSON):
         import pandas as pd
         return pd.DataFrame({"range": self.ranges, "count": self.counts})
 
+    def life(self, duration: float) -> float:
+        """The time to failure when the history, ``duration`` seconds long, repeats
+        (duration / damage; infinite without damage).
+
+        Parameters
+        ----------
+        duration : float
+            The history's length (s).
+
+        Returns
+        -------
+        float
+
+        Examples
+        --------
+        >>> result = rainflow_damage([0.0, 100.0, -100.0, 0.0], SNCurve(1e12, 3.0))
+        >>> result.life(2.0) == 2.0 / result.damage
+        True
+        """
+        return duration / self.damage if self.damage > 0 else math.inf
+
+    def table(self, unit: str = "") -> ResultTable:
+        """The counted cycles by range (:data:`RANGE_BINS` bins at most): the cycles, the
+        damage and its share.
+
+        Parameters
+        ----------
+        unit : str
+            The stress's unit, for the headings.
+
+        Returns
+        -------
+        resonant.tables.ResultTable
+        """
+        return rainflow_table(self, unit)
+
+    def summary(self, unit: str = "", duration: float | None = None) -> str:
+        """The text ``resonant fatigue --csv`` prints (:func:`rainflow_text`).
+
+        Parameters
+        ----------
+        unit : str
+            The stress's unit.
+        duration : float, optional
+            The history's length (s): the life is given too.
+
+        Returns
+        -------
+        str
+        """
+        return rainflow_text(self, unit, duration)
+
+    def chart(self, unit: str = "") -> Charts:
+        """The figure's description (:func:`rainflow_chart`).
+
+        Parameters
+        ----------
+        unit : str
+            The stress's unit, for the labels.
+
+        Returns
+        -------
+        resonant.charts.Charts
+        """
+        return rainflow_chart(self, unit)
+
 
 def rainflow_damage(stress: Sequence[float] | np.ndarray, sn: SNCurve) -> RainflowDamage:
     """Rainflow counting (ASTM E1049) and Palmgren-Miner's damage of a stress history.
@@ -304,9 +621,137 @@ def rainflow_damage(stress: Sequence[float] | np.ndarray, sn: SNCurve) -> Rainfl
     cycles = list(rainflow.count_cycles(x))
     ranges = np.array([r for r, _ in cycles], dtype=float)
     counts = np.array([n for _, n in cycles], dtype=float)
-    damage = float(np.sum(counts / sn.cycles(ranges / 2))) if len(ranges) else 0.0
+    with np.errstate(all="ignore"):
+        damage = float(np.sum(counts / sn.cycles(ranges / 2))) if len(ranges) else 0.0
+    if not math.isfinite(damage):
+        raise AnalysisError(
+            f"Miner's damage has no digit left in double precision: the stress ranges (up to "
+            f"{ranges.max():.3g}) raised to k = {sn.k:g} against C = {sn.C:g} leave the "
+            "floating-point range; check the S-N curve and the unit of the stress")
     return RainflowDamage(ranges, counts, damage, sn)
 
 
-__all__ = ["METHODS", "SNCurve", "SpectralFatigue", "spectral_fatigue", "RainflowDamage",
-           "rainflow_damage"]
+#: most range bins in the table and the chart of a rainflow count
+RANGE_BINS = 12
+
+
+def _range_bins(result: RainflowDamage) -> list[tuple[float, float, float, float]]:
+    """(low, high, cycles, damage) of equal range bins from 0 to the largest range."""
+    if not len(result.ranges):
+        return []
+    top = float(result.ranges.max())
+    edges = np.linspace(0.0, top if top > 0 else 1.0, RANGE_BINS + 1)
+    index = np.clip(np.searchsorted(edges, result.ranges, side="right") - 1, 0, RANGE_BINS - 1)
+    with np.errstate(all="ignore"):
+        each = result.counts / result.sn.cycles(result.ranges / 2)
+    return [(float(edges[b]), float(edges[b + 1]), float(result.counts[index == b].sum()),
+             float(each[index == b].sum())) for b in range(RANGE_BINS)
+            if (index == b).any()]
+
+
+def rainflow_table(result: RainflowDamage, unit: str = "") -> ResultTable:
+    """A rainflow count by range bin: the bin, its cycles (half cycles 0.5), their damage
+    and its share of the whole.
+
+    Parameters
+    ----------
+    result : RainflowDamage
+    unit : str
+        The stress's unit, for the headings.
+
+    Returns
+    -------
+    resonant.tables.ResultTable
+
+    Examples
+    --------
+    >>> result = rainflow_damage([0.0, 100.0, -100.0, 0.0], SNCurve(1e12, 3.0))
+    >>> print(rainflow_table(result, "Pa").text())
+      range [Pa]  cycles    damage  share
+       100-116.7       1  1.25e-07    20%
+       183.3-200     0.5     5e-07    80%
+    """
+    suffix = f" [{printable(unit, limit=20)}]" if unit else ""
+    rows = tuple((f"{number_cell(low)}-{number_cell(high)}", number_cell(cycles),
+                  number_cell(damage, 3),
+                  f"{100 * damage / result.damage:.3g}%" if result.damage > 0 else "-")
+                 for low, high, cycles, damage in _range_bins(result))
+    return ResultTable((f"range{suffix}", "cycles", "damage", "share"), rows, align="rrrr")
+
+
+def rainflow_text(result: RainflowDamage, unit: str = "", duration: float | None = None,
+                  warnings: bool = True) -> str:
+    """A rainflow count and Miner's damage as text: the S-N curve, the damage (and the
+    life where the history's length is given), the cycles by range.
+
+    Parameters
+    ----------
+    result : RainflowDamage
+    unit : str
+        The stress's unit.
+    duration : float, optional
+        The history's length (s).
+    warnings : bool
+        End with the result's warnings (the command line writes them to standard error).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> result = rainflow_damage([0.0, 100.0, -100.0, 0.0], SNCurve(1e12, 3.0))
+    >>> print(rainflow_text(result, "Pa", 2.0).splitlines()[1])
+      Miner's damage 6.25e-07 over the history (2 s); life 3.2e+06 s (888.9 h)
+    """
+    shown = printable(unit, limit=20) or "the stress's unit"
+    lines = [f"Rainflow counting (ASTM E1049) and Miner's rule: S-N curve N S^{result.sn.k:g} "
+             f"= {result.sn.C:.4g} (S the amplitude in {shown}); "
+             f"{result.counts.sum():g} cycles"]
+    text = f"  Miner's damage {result.damage:.4g} over the history"
+    if duration is not None:
+        life = result.life(duration)
+        text += f" ({duration:.4g} s); life " + (
+            "infinite (no damage)" if not math.isfinite(life) else
+            f"{life:.4g} s ({life / 3600:.4g} h)")
+    lines += [text, rainflow_table(result, unit).text()]
+    lines += [f"warning: {w}" for w in result.warnings] if warnings else []
+    return "\n".join(lines) + "\n"
+
+
+def rainflow_chart(result: RainflowDamage, unit: str = "") -> Charts:
+    """What the figure of a rainflow count shows: the cycles and their damage by range
+    bin, as bars.
+
+    Parameters
+    ----------
+    result : RainflowDamage
+    unit : str
+        The stress's unit, for the labels.
+
+    Returns
+    -------
+    Charts
+
+    Examples
+    --------
+    >>> result = rainflow_damage([0.0, 100.0, -100.0, 0.0], SNCurve(1e12, 3.0))
+    >>> [p.ylabel for p in rainflow_chart(result, "Pa").panels]
+    ['cycles', "Miner's damage"]
+    """
+    bins = _range_bins(result)
+    label = f" [{printable(unit, limit=20)}]" if unit else ""
+    x = np.array([(low + high) / 2 for low, high, _, _ in bins])
+    width = (bins[0][1] - bins[0][0]) * 0.85 if bins else 1.0
+    xlim = (0.0, bins[-1][1]) if bins else (0.0, 1.0)
+    panels = tuple(
+        Chart((), f"stress range{label}", ylabel, xlim, title=title, legend="none",
+              bars=(Bar(x, np.array([b[column] for b in bins]), (COLORS[column - 2],),
+                        width),))
+        for column, ylabel, title in ((2, "cycles", "rainflow cycles by range"),
+                                      (3, "Miner's damage", "damage by range")))
+    return Charts(panels, size=(7.0, 5.6), sharex=True)
+
+
+__all__ = ["METHODS", "SNCurve", "SpectralFatigue", "spectral_fatigue", "ResponseFatigue",
+           "response_fatigue", "RainflowDamage", "rainflow_damage"]

@@ -18,11 +18,15 @@ relative displacement, zero initial state):
 * ``"pseudo-velocity"``: w z;
 * ``"relative displacement"``: z.
 
-``primary`` is the largest |response| while the signal lasts (0 <= t <= T, T the last
-sample), ``residual`` the largest after it (the free vibration from the state at T,
-exact: its first extremum or its value at T), ``maximax`` the larger of the two.  The
-largest sample of the primary part is refined by evaluating the exact response at 64
-points within the two steps around it.
+The spectra are ISO 18431-4's (section 3): ``primary`` is the largest |response| while
+the excitation lasts (0 <= t <= tau: a pulse's duration, or the record's end T for a
+history unless its ``excitation_end`` is given), ``residual`` the largest after it (t >
+tau: the samples up to T and the free vibration from the state at T, whose extrema are
+found exactly; when the signal is zero after tau, the free vibration from the state at
+tau, exact), ``maximax`` the larger of the two; ``positive`` and ``negative`` are the
+largest positive response and the magnitude of the largest negative one over all time
+(maximax is the larger of these too).  Each extremum of the samples is refined by
+evaluating the exact response at 64 points within the two steps around it.
 
 Examples
 --------
@@ -136,6 +140,32 @@ def pulse(kind: str, amplitude: float, duration: float, step: float,
     return t, a
 
 
+def pulse_end(kind: str, duration: float, step: float) -> float | None:
+    """Where the excitation of a sampled classical pulse ends (ISO 18431-4's primary
+    spectrum is of the response until then): its duration; two steps for an impulse (the
+    triangle of :func:`pulse`); None for a step, which lasts the whole record.
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`PULSES`.
+    duration, step : float
+        The pulse's duration and its sampling step (s).
+
+    Returns
+    -------
+    float or None
+
+    Examples
+    --------
+    >>> pulse_end("half-sine", 0.011, 1e-5), pulse_end("impulse", 0.01, 1e-4)
+    (0.011, 0.0002)
+    """
+    if kind == "step":
+        return None
+    return 2 * step if kind == "impulse" else duration
+
+
 def _phi(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """e^z, (e^z - 1)/z and (e^z - 1 - z)/z^2, accurate also for small |z|."""
     E = np.exp(z)
@@ -215,22 +245,31 @@ class ShockSpectrum:
     frequency : ndarray
         Natural frequencies (Hz).
     maximax, primary, residual : ndarray
-        The largest |response| overall, while the signal lasts, and after it.
+        The largest |response| overall, while the excitation lasts (t <= excitation_end),
+        and after it (ISO 18431-4).
+    positive, negative : ndarray
+        The largest positive response and the magnitude of the largest negative one, over
+        all time.
     quantity : str
         The response (see :data:`QUANTITIES`).
     damping : float
         The damping ratio zeta (Q = 1/(2 zeta)).
     duration : float
         The signal's length T (s).
+    excitation_end : float
+        tau (s): where primary ends and residual starts (a sample time).
     """
 
     frequency: np.ndarray
     maximax: np.ndarray
     primary: np.ndarray
     residual: np.ndarray
+    positive: np.ndarray
+    negative: np.ndarray
     quantity: str
     damping: float
     duration: float
+    excitation_end: float
     warnings: tuple[str, ...] = field(default=())
 
     def __post_init__(self) -> None:
@@ -245,9 +284,11 @@ class ShockSpectrum:
         """
         return {"frequency_hz": self.frequency.tolist(), "maximax": self.maximax.tolist(),
                 "primary": self.primary.tolist(), "residual": self.residual.tolist(),
+                "positive": self.positive.tolist(), "negative": self.negative.tolist(),
                 "quantity": self.quantity, "damping_ratio": self.damping,
                 "Q": None if self.damping == 0 else 1 / (2 * self.damping),
-                "duration_s": self.duration, "warnings": list(self.warnings)}
+                "duration_s": self.duration, "excitation_end_s": self.excitation_end,
+                "warnings": list(self.warnings)}
 
     def table(self, unit: str = "", units: ResultUnits | None = None) -> ResultTable:
         """The spectrum's numbers (:func:`srs_table`).
@@ -347,12 +388,16 @@ class ShockSpectrum:
         """
         saved = Saved(data, "ShockSpectrum")
         frequency = saved.floats("frequency_hz", ndim=1)
-        return cls(frequency=frequency,
-                   maximax=saved.floats("maximax", shape=frequency.shape),
-                   primary=saved.floats("primary", shape=frequency.shape),
-                   residual=saved.floats("residual", shape=frequency.shape),
-                   quantity=saved.string("quantity"), damping=saved.number("damping_ratio"),
-                   duration=saved.number("duration_s"), warnings=saved.strings("warnings", ()))
+        spectra = {key: saved.floats(key, shape=frequency.shape)
+                   for key in ("maximax", "primary", "residual")}
+        quantity, damping = saved.string("quantity"), saved.number("damping_ratio")
+        duration = saved.number("duration_s")
+        return cls(frequency=frequency, **spectra,
+                   positive=saved.floats("positive", shape=frequency.shape),
+                   negative=saved.floats("negative", shape=frequency.shape),
+                   quantity=quantity, damping=damping, duration=duration,
+                   excitation_end=saved.number("excitation_end_s"),
+                   warnings=saved.strings("warnings", ()))
 
     def to_frame(self) -> Any:
         """The spectrum as a table: one row per natural frequency (Hz), the maximax, primary
@@ -366,11 +411,12 @@ class ShockSpectrum:
         --------
         >>> t, a = pulse("half-sine", 1.0, 0.01, 1e-5)
         >>> list(shock_response_spectrum(a, 1e-5, [10.0, 100.0]).to_frame().columns)
-        ['frequency_hz', 'maximax', 'primary', 'residual']
+        ['frequency_hz', 'maximax', 'primary', 'residual', 'positive', 'negative']
         """
         import pandas as pd
         return pd.DataFrame({"frequency_hz": self.frequency, "maximax": self.maximax,
-                             "primary": self.primary, "residual": self.residual})
+                             "primary": self.primary, "residual": self.residual,
+                             "positive": self.positive, "negative": self.negative})
 
 
 def _weight(s: complex, w: float, zeta: float, quantity: str) -> complex:
@@ -382,23 +428,46 @@ def _weight(s: complex, w: float, zeta: float, quantity: str) -> complex:
     return -(2 * zeta * w * s + w * w)
 
 
-def _residual(q_end: complex, s: complex, w: float, zeta: float, quantity: str) -> float:
-    """The largest |response| of the free vibration from the modal state at the end."""
-    r = _weight(s, w, zeta, quantity) * q_end
+def _free_extremes(q_start: complex, s: complex, w: float, zeta: float, quantity: str
+                   ) -> tuple[float, float]:
+    """The largest and the smallest response of the free vibration from the modal state
+    ``q_start`` on (t >= 0), exact: its value at 0 and its first extrema."""
+    r = _weight(s, w, zeta, quantity) * q_start
     alpha, wd = -s.real, s.imag
-    # y(t) = 2 |r| e^(-alpha t) cos(wd t + arg r): extrema where tan(wd t + arg r) = -alpha/wd
+    # y(t) = 2 |r| e^(-alpha t) cos(wd t + arg r): extrema where tan(wd t + arg r) = -alpha/wd;
+    # they alternate in sign and shrink, so the first of each sign is its largest
     base = math.atan2(-alpha, wd) - math.atan2(r.imag, r.real)
     times = [0.0] + [(base + k * math.pi) / wd for k in range(-2, 4)
                      if (base + k * math.pi) / wd > 0]
-    return float(max(abs(2 * (r * np.exp(s * t)).real) for t in times))
+    values = [float(2 * (r * np.exp(s * t)).real) for t in times]
+    return max(values), min(values)
+
+
+def _split(excitation_end: float | None, step: float, samples: int) -> int:
+    """The sample where the excitation ends: tau / step where tau is a sample time (to
+    1e-9 of a step), else the last sample before tau; the record's last without a tau."""
+    if excitation_end is None:
+        return samples - 1
+    if not (math.isfinite(excitation_end) and excitation_end > 0):
+        raise AnalysisError(f"the end of the excitation {excitation_end:g} s must be a "
+                            "positive time")
+    ratio = excitation_end / step
+    index = round(ratio) if abs(ratio - round(ratio)) <= 1e-9 * max(1.0, ratio) else \
+        math.floor(ratio)
+    if index > samples - 1:
+        raise AnalysisError(f"the end of the excitation ({excitation_end:g} s) lies beyond "
+                            f"the signal ({step * (samples - 1):g} s)")
+    return max(int(index), 1)
 
 
 def shock_response_spectrum(signal: Sequence[float] | np.ndarray, step: float,
                             frequencies: Sequence[float] | np.ndarray, *,
                             damping: float | None = None, Q: float | None = None,
                             quantity: str = "absolute acceleration",
+                            excitation_end: float | None = None,
                             deadline: Deadline = NO_DEADLINE) -> ShockSpectrum:
-    """The shock response spectrum (maximax, primary, residual) of a sampled base input.
+    """The shock response spectrum (maximax, primary, residual, positive, negative) of a
+    sampled base input, as ISO 18431-4 defines them.
 
     Parameters
     ----------
@@ -414,6 +483,10 @@ def shock_response_spectrum(signal: Sequence[float] | np.ndarray, step: float,
         Instead of ``damping``: Q = 1 / (2 zeta) > 0.5.
     quantity : str
         One of :data:`QUANTITIES`.
+    excitation_end : float, optional
+        tau (s): the primary spectrum is of 0 <= t <= tau, the residual of t > tau (a
+        pulse's duration; default: the signal's last sample).  A tau between samples
+        ends the primary part at the sample before it.
     deadline : Deadline, optional
         Checked at every natural frequency.
 
@@ -456,25 +529,48 @@ def shock_response_spectrum(signal: Sequence[float] | np.ndarray, step: float,
                         "the response is exact for the signal linear between samples, but "
                         "that signal may differ from the real one (ISO 18431-4 asks for "
                         "at least 10)")
-    primary, residual = np.empty(len(f)), np.empty(len(f))
+    end = _split(excitation_end, step, len(a))
+    quiet = not a[end + 1:].any()   # the signal is zero after the excitation: free vibration
+    # the largest and smallest response while the excitation lasts and after it
+    extremes = np.empty((len(f), 4))
     for i, fi in enumerate(f):
         deadline.check("while computing the shock response spectrum", analysis=True)
         s, c = _oscillator(float(fi), zeta)
         w = 2 * math.pi * float(fi)
         z, v = _displacement_and_velocity(a, s, c, step)
         y = _combine(z, v, w, zeta, quantity)
-        k = int(np.argmax(np.abs(y)))
-        primary[i] = _refine(a, _mode(z[k], v[k], s), k, s, c, w, zeta, quantity, step,
-                             abs(float(y[k])))
-        residual[i] = _residual(_mode(z[-1], v[-1], s), s, w, zeta, quantity)
-    if not (np.isfinite(primary).all() and np.isfinite(residual).all()):
-        bad = float(f[~(np.isfinite(primary) & np.isfinite(residual))][0])
+        oscillator = (a, z, v, y, s, c, w, zeta, quantity, step)
+        extremes[i, :2] = _sampled_extremes(oscillator, 0, end)
+        free = _free_extremes(_mode(z[end if quiet else -1], v[end if quiet else -1], s), s, w,
+                              zeta, quantity)
+        after = free if quiet else _sampled_extremes(oscillator, end, len(a) - 1)
+        extremes[i, 2:] = max(after[0], free[0]), min(after[1], free[1])
+    if not np.isfinite(extremes).all():
+        bad = float(f[~np.isfinite(extremes).all(axis=1)][0])
         raise AnalysisError(f"the oscillator's response at {bad:g} Hz overflows: the signal "
                             f"(up to {np.abs(a).max():.3g}), its step ({step:g} s) or the "
                             "frequency span too many orders of magnitude; rescale the signal "
                             "or choose frequencies nearer to 1/step")
-    return ShockSpectrum(f.copy(), np.maximum(primary, residual), primary, residual, quantity,
-                         zeta, step * (len(a) - 1), tuple(warnings))
+    primary = np.maximum(extremes[:, 0], -extremes[:, 1])
+    residual = np.maximum(np.maximum(extremes[:, 2], -extremes[:, 3]), 0.0)
+    positive = np.maximum(np.maximum(extremes[:, 0], extremes[:, 2]), 0.0)
+    negative = np.maximum(-np.minimum(extremes[:, 1], extremes[:, 3]), 0.0)
+    return ShockSpectrum(f.copy(), np.maximum(primary, residual), primary, residual,
+                         positive, negative, quantity, zeta, step * (len(a) - 1),
+                         step * end, tuple(warnings))
+
+
+def _sampled_extremes(oscillator: tuple[Any, ...], first: int, last: int
+                      ) -> tuple[float, float]:
+    """The largest and smallest response from sample ``first`` to ``last``, each refined
+    within the steps around it that lie in that range."""
+    a, z, v, y, s, c, w, zeta, quantity, step = oscillator
+    part = y[first:last + 1]
+    found = []
+    for k, pick in ((first + int(np.argmax(part)), max), (first + int(np.argmin(part)), min)):
+        found.append(pick(float(y[k]), _refine(a, _mode(z[k], v[k], s), k, s, c, w, zeta,
+                                               quantity, step, first, last, pick)))
+    return found[0], found[1]
 
 
 def _displacement_and_velocity(a: np.ndarray, s: complex, c: complex, step: float
@@ -517,13 +613,16 @@ def _combine(z: np.ndarray, v: np.ndarray, w: float, zeta: float, quantity: str
 
 
 def _refine(a: np.ndarray, q: complex, k: int, s: complex, c: complex, w: float,
-            zeta: float, quantity: str, step: float, best: float) -> float:
-    """The largest |response| within the steps on both sides of sample ``k`` (its modal
-    state ``q``), exact for the input linear between samples."""
+            zeta: float, quantity: str, step: float, first: int, last: int,
+            pick: Any) -> float:
+    """The largest (``pick = max``) or smallest (``min``) response within the steps on
+    both sides of sample ``k`` (its modal state ``q``) that lie between the samples
+    ``first`` and ``last``, exact for the input linear between samples."""
     sub = step / REFINE
     E, g0, g1 = (x[0] for x in ramp_invariant(np.array([s]), sub))
+    best = float(_output(np.array([q]), s, w, zeta, quantity)[0])
     for start in (k - 1, k):
-        if start < 0 or start + 1 >= len(a):
+        if start < first or start + 1 > last:
             continue
         if start == k - 1:   # back one step: q[k] = E q[k-1] + c (g0 a[k-1] + g1 a[k])
             Es, h0, h1 = (x[0] for x in ramp_invariant(np.array([s]), step))
@@ -532,7 +631,7 @@ def _refine(a: np.ndarray, q: complex, k: int, s: complex, c: complex, w: float,
             origin = q
         u = np.linspace(a[start], a[start + 1], REFINE + 1)
         qs = _lfilter([c * g1, c * g0], [1.0, -E], u[1:], [E * origin + c * g0 * u[0]])
-        best = max(best, float(np.abs(_output(qs, s, w, zeta, quantity)).max()))
+        best = pick(best, float(pick(_output(qs, s, w, zeta, quantity))))
     return best
 
 
@@ -592,9 +691,11 @@ def srs_table(spectrum: ShockSpectrum, unit: str = "",
     frequency = [float(spectrum.frequency[i]) for i in rows]
     columns = [number_column(frequency, digits=5)] + [
         number_column([float(shown(v[i])) for i in rows])
-        for v in (spectrum.maximax, spectrum.primary, spectrum.residual)]
-    return ResultTable(("f_n [Hz]", f"maximax{suffix}", f"primary{suffix}", f"residual{suffix}"),
-                 tuple(zip(*columns)), align="rrrr")
+        for v in (spectrum.maximax, spectrum.primary, spectrum.residual, spectrum.positive,
+                  spectrum.negative)]
+    return ResultTable(("f_n [Hz]", f"maximax{suffix}", f"primary{suffix}", f"residual{suffix}",
+                        f"positive{suffix}", f"negative{suffix}"),
+                       tuple(zip(*columns)), align="rrrrrr")
 
 
 def srs_text(spectrum: ShockSpectrum, unit: str = "", units: ResultUnits | None = None) -> str:
@@ -617,7 +718,9 @@ def srs_text(spectrum: ShockSpectrum, unit: str = "", units: ResultUnits | None 
     time = _time_unit(spectrum.duration, units)
     lines = [f"Shock response spectrum: {spectrum.quantity}, zeta = {zeta:.4g} (Q = {q}), "
              f"signal {time(spectrum.duration):.4g} {time.text}",
-             srs_table(spectrum, unit, units).text()]
+             f"  (ISO 18431-4) primary: 0 <= t <= {time(spectrum.excitation_end):.4g} "
+             f"{time.text} (the excitation), residual: after it; positive, negative: the "
+             "largest response of each sign", srs_table(spectrum, unit, units).text()]
     shown = min(MAX_ROWS, len(spectrum.frequency))
     if shown < len(spectrum.frequency):
         lines.append(f"  ({shown} of {len(spectrum.frequency)} frequencies; the JSON form "
@@ -744,5 +847,5 @@ def plot_srs(spectrum: ShockSpectrum, time: npt.ArrayLike | None = None,
     return fig
 
 
-__all__ = ["PULSES", "QUANTITIES", "pulse", "ramp_invariant", "ShockSpectrum",
+__all__ = ["PULSES", "QUANTITIES", "pulse", "pulse_end", "ramp_invariant", "ShockSpectrum",
            "shock_response_spectrum"]

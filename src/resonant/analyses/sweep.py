@@ -116,7 +116,10 @@ from ..system.stability import natural_frequencies as _natural_frequencies
 from ..tables import ResultTable, number_cell
 from .kernel import (
     DEFAULT_TOL,
+    LOSS_CONDITION,
     METHODS,
+    SINGULAR_CONDITION,
+    KernelResult,
     _dense,
     _Progress,
     check_batch_mass,
@@ -751,8 +754,10 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
                       dtype=float).reshape(len(batch.harmonics), len(values))
     skipped_mask = _without_overflow(skipped_mask, omegas, values, param, warnings)
     skipped = tuple(float(v) for v in values[skipped_mask])
+    damped = _has_damping(batch.C)
     if skipped:
-        warnings.append(_skipped_warning(param, skipped))
+        warnings.append(_skipped_warning(param, skipped, damped))
+    warnings.extend(_conditioning_warning(results, values, skipped_mask, param))
     scale = _frequency_scale(batch, values)
     natural = _natural_frequencies_of(batch)
     if natural is not None and scale is not None and not np.any(_dense(batch.C)):
@@ -841,11 +846,53 @@ def _without_overflow(skipped: np.ndarray, omegas: np.ndarray, values: np.ndarra
     return np.asarray(skipped & ~overflow)
 
 
-def _skipped_warning(param: str, skipped: Sequence[float]) -> str:
+def _has_damping(C: Any) -> bool:
+    """Whether the damping matrix (or stack of them) has a nonzero entry."""
+    if hasattr(C, "count_nonzero"):
+        return bool(C.count_nonzero())
+    return bool(np.any(np.asarray(C)))
+
+
+def _skipped_warning(param: str, skipped: Sequence[float], damped: bool = False) -> str:
+    """The points without a solution: an undamped resonance only where the system has no
+    damping; a damped system singular to double precision has lost every digit to its
+    conditioning (or has a mode its damping does not reach)."""
     shown = ", ".join(f"{v:.6g}" for v in skipped[:5])
-    return (f"no stationary solution at {param} = {shown}{' ...' if len(skipped) > 5 else ''} "
-            "(undamped resonance: the amplitude is unbounded); these points are skipped "
-            "(NaN, null in JSON)")
+    where = f"no stationary solution at {param} = {shown}{' ...' if len(skipped) > 5 else ''}"
+    if not damped:
+        return (f"{where} (undamped resonance: the amplitude is unbounded); these points are "
+                "skipped (NaN, null in JSON)")
+    return (f"{where}: the dynamic stiffness is singular to double precision there "
+            f"(condition number above {SINGULAR_CONDITION:.0e}) although the model is damped: "
+            "either no digit is left to its conditioning (a fine mesh, stiffnesses or units "
+            "many orders of magnitude apart: coarsen the mesh or rescale the units) or a "
+            "mode there is not reached by the damping; these points are skipped (NaN, null "
+            "in JSON)")
+
+
+def _conditioning_warning(results: Sequence[KernelResult], values: np.ndarray,
+                          skipped: np.ndarray, param: str) -> list[str]:
+    """Where the solves lost more than half their digits (condition number above
+    :data:`~resonant.analyses.kernel.LOSS_CONDITION`; a lower bound unless exact): the
+    worst point, how many such points, and how many digits may be left there."""
+    if not results:
+        return []
+    condition = np.max([np.asarray(r.condition, dtype=float) for r in results], axis=0)
+    lossy = (condition > LOSS_CONDITION) & ~skipped & np.isfinite(condition)
+    if not lossy.any():
+        return []
+    worst = int(np.flatnonzero(lossy)[np.argmax(condition[lossy])])
+    exact = all(r.exact for r in results)
+    digits = int(math.log10(condition[worst]))
+    left = max(16 - digits, 0)
+    return [f"ill-conditioned solves at {int(lossy.sum())} of {len(values)} points (from "
+            f"{param} = {values[lossy].min():.6g} to {values[lossy].max():.6g}): the condition "
+            f"number reaches {'' if exact else 'at least '}{condition[worst]:.2g} at {param} = "
+            f"{values[worst]:.6g}, so about {digits} of 16 digits are lost and "
+            + ("fewer than three are left: the values there may be wrong" if left < 3 else
+               f"about {left} are left")
+            + " (conditioning: a fine mesh, or stiffnesses or units many orders of magnitude "
+            "apart; not a resonance)"]
 
 
 def _natural_frequencies_of(batch: Batch) -> np.ndarray | None:

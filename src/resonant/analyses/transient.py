@@ -35,12 +35,13 @@ import numpy as np
 
 from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import AnalysisError, ModelError, Problem
+from ..errors import AnalysisError, ModelError, Problem, printable
 from ..memory import chunk_rows, require
 from ..model.load_spec import ShockSpec
 from ..system.base import LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
 from ..system.output_map import output_map
+from ..tables import ResultTable, number_cell
 from .results_json import Saved, floats_json
 from .shock import pulse
 
@@ -161,6 +162,165 @@ class TransientResponse:
         import pandas as pd
         return pd.DataFrame({"time": self.time, "input": self.input,
                              **{name: self.history[name] for name in self.names}})
+
+
+@dataclass(frozen=True)
+class ShockPeaks:
+    """The largest responses of a model under its ``[shock]`` pulse: what a mounted part,
+    a clearance or a stress sees, per coordinate and output.
+
+    Attributes
+    ----------
+    names : tuple of str
+        The coordinates, then the outputs.
+    largest : mapping
+        name -> the largest |response| on the samples.
+    maximum, minimum : mapping
+        name -> the largest and the smallest response (signed).
+    time : mapping
+        name -> when the largest |response| happens (s from the pulse's start).
+    units : mapping
+        name -> the response's SI unit ("" where the model has no units).
+    shock : ShockSpec
+        The pulse (SI).
+    warnings : tuple of str
+    """
+
+    names: tuple[str, ...]
+    largest: Mapping[str, float]
+    maximum: Mapping[str, float]
+    minimum: Mapping[str, float]
+    time: Mapping[str, float]
+    units: Mapping[str, str]
+    shock: ShockSpec
+    warnings: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form: every field, the pulse as its section's keys (SI).
+
+        Returns
+        -------
+        dict
+        """
+        return {"names": list(self.names),
+                **{key: {n: float(getattr(self, key)[n]) for n in self.names}
+                   for key in ("largest", "maximum", "minimum", "time")},
+                "units": {n: self.units.get(n, "") for n in self.names},
+                "shock": {key: getattr(self.shock, key) for key in SHOCK_FIELDS},
+                "warnings": list(self.warnings)}
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> ShockPeaks:
+        """The result back from its :meth:`to_dict` (``resonant srs MODEL --largest
+        --json``: its ``response``).
+
+        Parameters
+        ----------
+        data : mapping
+            What :meth:`to_dict` gave (read back from JSON).
+
+        Returns
+        -------
+        ShockPeaks
+
+        Raises
+        ------
+        AnalysisError
+            When a key is missing or holds the wrong kind of value (the message names it).
+
+        Examples
+        --------
+        >>> import json, resonant
+        >>> system = resonant.load("examples/shaker_gevs.toml").linearize()
+        >>> spec = ShockSpec("y", 2, "half-sine", 100.0, 0.011, 1e-4, 0.02)
+        >>> peaks = shock_peaks(shock_response(system, spec, names=["table"]), spec)
+        >>> ShockPeaks.from_dict(json.loads(json.dumps(peaks.to_dict()))) == peaks
+        True
+        """
+        saved = Saved(data, "ShockPeaks")
+        names = saved.strings("names")
+        shock = saved.mapping("shock")
+        units = saved.mapping("units")
+        spec = ShockSpec(shock.string("signal"), shock.integer("derivative"),
+                         shock.string("pulse"), shock.number("amplitude"),
+                         shock.number("duration"), shock.number("step"),
+                         shock.number("total"), shock.number("Q"))
+        largest, maximum, minimum, time = ({n: saved.mapping(key).number(n) for n in names}
+                                           for key in ("largest", "maximum", "minimum", "time"))
+        return cls(names, largest, maximum, minimum, time,
+                   units={n: units.string(n) for n in names}, shock=spec,
+                   warnings=saved.strings("warnings", ()))
+
+    def table(self) -> ResultTable:
+        """The largest |response|, the largest of each sign and when (:func:`peaks_table`).
+
+        Returns
+        -------
+        resonant.tables.ResultTable
+        """
+        return peaks_table(self)
+
+
+#: the fields of the pulse that :meth:`ShockPeaks.to_dict` writes (its section's keys, SI)
+SHOCK_FIELDS = ("signal", "derivative", "pulse", "amplitude", "duration", "step", "total", "Q")
+
+
+def shock_peaks(response: TransientResponse, spec: ShockSpec,
+                units: Mapping[str, str] | None = None,
+                names: Sequence[str] | None = None) -> ShockPeaks:
+    """The largest responses of a :func:`shock_response` under the pulse ``spec``.
+
+    Parameters
+    ----------
+    response : TransientResponse
+        The response to the pulse.
+    spec : ShockSpec
+        The pulse.
+    units : mapping, optional
+        name -> SI unit of each response.
+    names : sequence of str, optional
+        The responses (default all of ``response``).
+
+    Returns
+    -------
+    ShockPeaks
+
+    Examples
+    --------
+    >>> import resonant
+    >>> system = resonant.load("examples/shaker_gevs.toml").linearize()
+    >>> spec = ShockSpec("y", 2, "half-sine", 100.0, 0.011, 1e-5, 0.05)
+    >>> peaks = shock_peaks(shock_response(system, spec, names=["table"]), spec)
+    >>> round(peaks.largest["table"], 9), round(peaks.time["table"], 6)   # the pulse's peak
+    (100.0, 0.0055)
+    """
+    names = tuple(response.names if names is None else names)
+    history = {n: np.asarray(response.history[n]) for n in names}
+    return ShockPeaks(
+        names, {n: response.largest[n] for n in names}, {n: float(history[n].max()) for n in names},
+        {n: float(history[n].min()) for n in names},
+        {n: float(response.time[int(np.argmax(np.abs(history[n])))]) for n in names},
+        {n: (units or {}).get(n, "") for n in names}, spec, response.warnings)
+
+
+def peaks_table(peaks: ShockPeaks) -> ResultTable:
+    """Each response's largest |value| under the pulse, its largest and smallest value and
+    the time of the largest |value|.
+
+    Parameters
+    ----------
+    peaks : ShockPeaks
+
+    Returns
+    -------
+    resonant.tables.ResultTable
+    """
+    rows = tuple((printable(n, limit=40), peaks.units.get(n, "") or "SI",
+                  number_cell(peaks.largest[n]), number_cell(peaks.maximum[n]),
+                  number_cell(peaks.minimum[n]), number_cell(peaks.time[n]))
+                 for n in peaks.names)
+    return ResultTable(("name", "unit", "max |value|", "max", "min", "at t [s]"), rows,
+                       align="llrrrr")
 
 
 def _state_space(system: LinearSystem, signal: str, derivative: int,
@@ -377,4 +537,5 @@ def shock_response(system: LinearSystem, spec: ShockSpec | None = None, *,
                               derivative=spec.derivative, names=names, deadline=deadline)
 
 
-__all__ = ["TransientResponse", "shock_response", "transient_response"]
+__all__ = ["TransientResponse", "ShockPeaks", "shock_peaks", "shock_response",
+           "transient_response"]

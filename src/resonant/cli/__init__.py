@@ -48,6 +48,7 @@ COMMANDS: dict[str, str] = {
     "example": "list the bundled example models, or write one to a file",
     "random": "response spectral densities, RMS and Rice's rates under random inputs",
     "srs": "shock response spectrum of a pulse or a CSV history",
+    "fatigue": "fatigue damage and life: spectral methods under [random], rainflow of a history",
     "frf": "frequency response functions from measured time histories (H1, H2, Hv)",
     "identify": "modes from measured FRFs (LSCF, stabilization chart, LSFD)",
     "correlate": "identified modes against the model's (MAC, frequency errors)",
@@ -111,6 +112,9 @@ def command_registrar(command: str) -> Register:
         case "srs":
             from . import srs
             return srs.register
+        case "fatigue":
+            from . import fatigue
+            return fatigue.register
         case "frf" | "identify" | "correlate" | "update":
             from . import testdata
             return testdata.register

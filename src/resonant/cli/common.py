@@ -7,7 +7,7 @@ import json
 import math
 import os
 import sys
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 from types import MappingProxyType
@@ -200,6 +200,56 @@ def emit_json(data: Mapping[str, object]) -> None:
         raise AnalysisError("the result holds NaN or infinity and cannot be written as "
                             "JSON; check the parameter values") from None
     sys.stdout.write(text + "\n")
+
+
+def emit_json_streamed(head: Mapping[str, object],
+                       streamed: Mapping[str, Iterable[Iterable[tuple[str, object]]]]) -> None:
+    """Print one JSON object whose large members are written piece by piece.
+
+    ``head`` gives the keys in order and the small values (written as :func:`emit_json`
+    writes them); a key of ``streamed`` is an object written from its chunks of (name,
+    value) items, each item on one line, so that the memory held is one chunk's and the
+    output grows with the numbers asked for, not with an indentation per number.
+
+    Raises
+    ------
+    AnalysisError
+        For NaN or infinity (found before anything of that chunk is written).
+
+    Examples
+    --------
+    >>> emit_json_streamed({"a": 1, "b": None}, {"b": [[("x", [1.0, 2.0])]]})
+    {
+      "a": 1,
+      "b": {
+        "x": [1.0, 2.0]
+      }
+    }
+    """
+    def dumps(value: object, indent: int | None) -> str:
+        try:
+            return json.dumps(value, indent=indent, allow_nan=False)
+        except ValueError:
+            raise AnalysisError("the result holds NaN or infinity and cannot be written as "
+                                "JSON; check the parameter values") from None
+
+    write = sys.stdout.write
+    write("{")
+    for k, key in enumerate(head):
+        write(("," if k else "") + f"\n  {json.dumps(key)}: ")
+        if key not in streamed:
+            value = head[key]   # a list (of numbers: a frequency grid) on one line
+            write(dumps(value, None if isinstance(value, list) else 2).replace("\n", "\n  "))
+            continue
+        first = True
+        write("{")
+        for chunk in streamed[key]:
+            lines = [f"\n    {json.dumps(name)}: {dumps(value, None)}" for name, value in chunk]
+            if lines:
+                write(("" if first else ",") + ",".join(lines))
+                first = False
+        write("\n  }" if not first else "}")
+    write("\n}\n")
 
 
 def warn(messages: Sequence[str]) -> None:

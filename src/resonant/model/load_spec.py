@@ -59,11 +59,11 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..errors import Problem, printable
-from ..expressions import Expression, ExpressionError, parse
+from ..expressions import Expression, ExpressionError, numeric_value, parse
 from .fourier_shapes import SHAPES
 from .limits import MAX_FREQUENCY_HZ
 from .pulses import PULSES
-from .units import Dimension, ModelUnits, UnitError, parse_unit
+from .units import Dimension, ModelUnits, UnitError, parse_unit, parse_with_unit
 
 #: the spectral fatigue methods of ``[fatigue]`` (resonant.analyses.fatigue)
 FATIGUE_METHODS = ("narrowband", "dirlik", "tovo-benasciutti")
@@ -77,6 +77,8 @@ FATIGUE_KEYS = ("k", "C", "C_range", "amplitude", "cycles", "method", "duration"
 MAX_SHOCK_SAMPLES = 5_000_000
 #: standard gravity (m/s^2): ``g`` as the unit of a pulse's amplitude
 STANDARD_GRAVITY = 9.80665
+#: the quantity of a duration, a step, a period
+_TIME = Dimension.of(s=1)
 
 
 @dataclass(frozen=True)
@@ -207,13 +209,64 @@ def _scaled(value: float, factor: float, source: str, section: str, key: str,
     return scaled
 
 
+#: a stress (Pa), the quantity of an S-N curve's amplitude
+STRESS = Dimension.of(kg=1, m=-1, s=-2)
+
+
+def quantity_value(raw: object, dimension: Dimension, source: str, section: str, key: str,
+                   problems: list[Problem]) -> object:
+    """A key's value as a number in SI: a number as it is, or a text like ``"41.4 ms"``
+    or ``"2*60 s"`` (arithmetic of numbers, a unit of ``dimension`` after a space, as in
+    ``[parameters]``) converted to SI; the raw value where it is no text, None (and a
+    problem) where the text is wrong.
+
+    Examples
+    --------
+    >>> problems = []
+    >>> quantity_value("1 h", Dimension.of(s=1), "m.toml", "fatigue", "duration", problems)
+    3600.0
+    >>> quantity_value("2 m", Dimension.of(s=1), "m.toml", "fatigue", "duration", problems)
+    >>> print(problems[0])
+    m.toml: [fatigue] duration: the unit m is not one of time (s); give it in s
+    """
+    if not isinstance(raw, str):
+        return raw
+    try:
+        expression, given = parse_with_unit(raw, [], source, section, key)
+    except ExpressionError as exc:
+        problems.extend(exc.problems)
+        return None
+    if given is not None and given[1].dimension != dimension:
+        problems.append(Problem(f"the unit {printable(given[1].text, limit=30)} is not one of "
+                                f"{_DIMENSION_NAMES.get(dimension, 'this quantity')} "
+                                f"({dimension.text() or '1'}); give it in "
+                                f"{dimension.text() or 'a number'}", source, section, key))
+        return None
+    value = float(numeric_value(expression, {}))
+    if not math.isfinite(value):
+        problems.append(Problem(f"{_shown(raw)} is not a finite number", source, section, key))
+        return None
+    return value
+
+
+#: how a message names a key's quantity
+_DIMENSION_NAMES = {Dimension.of(s=1): "time", STRESS: "stress", Dimension(): "a number"}
+
+
 def _positive(data: dict[Any, Any], key: str, source: str, section: str,
-              problems: list[Problem], default: float | None = None) -> float | None:
-    """A finite positive number (a missing key gives ``default``; None: required)."""
+              problems: list[Problem], default: float | None = None,
+              dimension: Dimension | None = None) -> float | None:
+    """A finite positive number (a missing key gives ``default``; None: required); with a
+    ``dimension``, also a text with a unit (:func:`quantity_value`)."""
     raw = data.get(key, default)
     if raw is None:
         problems.append(Problem("missing: a positive number is required", source, section, key))
         return None
+    if dimension is not None and isinstance(raw, str):
+        count = len(problems)
+        raw = quantity_value(raw, dimension, source, section, key, problems)
+        if len(problems) > count:
+            return None
     value = _finite(raw)
     if value is None or value <= 0:
         problems.append(Problem(f"must be a positive finite number, got {_shown(raw)}", source,
@@ -388,7 +441,7 @@ def parse_periodic(data: object, params: Sequence[str], signals: Sequence[str],
             amplitude = None
         else:
             amplitude = _scaled(amplitude, factor, source, section, "amplitude", problems)
-    period = _positive(data, "period", source, section, problems)
+    period = _positive(data, "period", source, section, problems, dimension=_TIME)
     if period is not None and 1 / period > MAX_FREQUENCY_HZ:
         problems.append(Problem(
             f"a period of {period:g} s is a base frequency of {1 / period:g} Hz, above "
@@ -458,13 +511,13 @@ def parse_shock(data: object, signals: Sequence[str], coordinates: Sequence[str]
         amplitude = None
     else:
         amplitude = _scaled(amplitude, factor, source, section, "amplitude", problems)
-    duration = _positive(data, "duration", source, section, problems)
+    duration = _positive(data, "duration", source, section, problems, dimension=_TIME)
     # without a valid duration, a missing step or total (their defaults) is not a problem more
     step = _positive(data, "step", source, section, problems,
-                     None if duration is None else duration / 2000) \
+                     None if duration is None else duration / 2000, _TIME) \
         if duration is not None or "step" in data else None
     total = _positive(data, "total", source, section, problems,
-                      None if duration is None else 3 * duration) \
+                      None if duration is None else 3 * duration, _TIME) \
         if duration is not None or "total" in data else None
     raw_Q = data.get("Q", 10.0)
     Q = _finite(raw_Q)
@@ -533,7 +586,8 @@ def parse_fatigue(data: object, source: str, problems: list[Problem]) -> Fatigue
                                 "cycles", source, section, given[1] if len(given) > 1 else
                                 ("cycles" if "cycles" in data and not given else "C")))
     else:
-        value = _positive(data, given[0], source, section, problems)
+        value = _positive(data, given[0], source, section, problems,
+                          dimension=STRESS if given[0] == "amplitude" else None)
         if value is not None and k is not None:
             try:
                 if given[0] == "C":
@@ -541,7 +595,8 @@ def parse_fatigue(data: object, source: str, problems: list[Problem]) -> Fatigue
                 elif given[0] == "C_range":
                     C = value / 2.0 ** k
                 else:
-                    cycles = _positive(data, "cycles", source, section, problems)
+                    cycles = _positive(data, "cycles", source, section, problems,
+                                       dimension=Dimension())
                     if cycles is not None:
                         C = cycles * value ** k
             except OverflowError:
@@ -554,7 +609,7 @@ def parse_fatigue(data: object, source: str, problems: list[Problem]) -> Fatigue
         problems.append(Problem(f"must be one of {', '.join(FATIGUE_METHODS)}, got "
                                 f"{_shown(method)}",
                                 source, section, "method"))
-    duration = _positive(data, "duration", source, section, problems)
+    duration = _positive(data, "duration", source, section, problems, dimension=_TIME)
     if len(problems) > count:
         return None
     assert k is not None and C is not None and duration is not None

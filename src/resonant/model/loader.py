@@ -65,13 +65,20 @@ from .limits import (
     MAX_INLINED_NODES,
     TOP_LEVEL,
 )
-from .load_spec import FatigueSpec, parse_fatigue, parse_periodic, parse_shock
+from .load_spec import (
+    FatigueSpec,
+    PeriodicSpec,
+    ShockSpec,
+    parse_fatigue,
+    parse_periodic,
+    parse_shock,
+)
 from .matrix_files import read_matrix_spec
 from .measurement_spec import MeasurementSpec, parse_measurement
 from .nonlinear_elements import read_nonlinear_elements
 from .part_energies import Mechanism, derive_energies, point_expressions
 from .parts import DerivedEnergies, Parts, read_parts
-from .random_spec import parse_random
+from .random_spec import Files, RandomSpec, parse_random
 from .rotor import read_rotor
 from .study import StudySpec, parse_study, rotor_problems
 from .types import (
@@ -348,14 +355,7 @@ class _Builder:
         explore = parse_explore(self.data["explore"], param_names, names, list(outputs),
                                 self.source, self.problems, units) \
             if "explore" in self.data else None
-        random = parse_random(self.data["random"], param_names, list(signals), names,
-                              self.source, self.problems, units) \
-            if "random" in self.data else None
-        shock = parse_shock(self.data["shock"], list(signals), names, self.source,
-                            self.problems, units) if "shock" in self.data else None
-        periodic = parse_periodic(self.data["periodic"], param_names, list(signals), names,
-                                  self.source, self.problems, units) \
-            if "periodic" in self.data else None
+        random, shock, periodic = self.loads(param_names, list(signals), names, units)
         fatigue, campbell = self.fatigue(), self.campbell(param_names, names, study,
                                                           matrix_spec)
         measurement = self.measurement(list(signals), names, list(outputs))
@@ -375,6 +375,21 @@ class _Builder:
             shock_section=shock, fatigue_section=fatigue,
             periodic_section=periodic, measurement_section=measurement,
             campbell_section=campbell[0], unbalances=campbell[1])
+
+    def loads(self, param_names: list[str], signals: list[str], names: list[str],
+              units: ModelUnits | None
+              ) -> tuple[RandomSpec | None, ShockSpec | None, PeriodicSpec | None]:
+        """The ``[random]``, ``[shock]`` and ``[periodic]`` sections (None where absent)."""
+        random = parse_random(self.data["random"], param_names, signals, names,
+                              self.source, self.problems, units,
+                              Files(self.base_dir, tuple(self.allow_paths))) \
+            if "random" in self.data else None
+        shock = parse_shock(self.data["shock"], signals, names, self.source,
+                            self.problems, units) if "shock" in self.data else None
+        periodic = parse_periodic(self.data["periodic"], param_names, signals, names,
+                                  self.source, self.problems, units) \
+            if "periodic" in self.data else None
+        return random, shock, periodic
 
     def measurement(self, signals: list[str], names: list[str], outputs: list[str]
                     ) -> MeasurementSpec | None:

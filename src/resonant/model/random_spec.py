@@ -35,10 +35,12 @@ from __future__ import annotations
 
 import difflib
 import math
+import os
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -52,8 +54,12 @@ from ..expressions import (
     primed_names,
     validate_name,
 )
+from . import limits
+from .csv_tables import read_csv_table
+from .files import FileRefused
 from .limits import MAX_FREQUENCY_HZ
 from .load_spec import check_input_dimension
+from .matrix_files import read_vector_file
 from .units import Dimension, ModelUnits, UnitError, parse_unit, parse_with_unit
 
 SECTION = "random"
@@ -253,11 +259,75 @@ def _table(values: list, where: tuple[str, str, str], problems: list[Problem]
     return table
 
 
+#: the files a load or base vector may be read from (one entry per coordinate)
+VECTOR_FILES = (".npy", ".mtx", ".csv")
+#: the file a density's table may be read from (rows of frequency in Hz, density)
+TABLE_FILES = (".csv",)
+
+
+@dataclass(frozen=True)
+class Files:
+    """Where the files a section names are read from: the model's folder (None for a
+    model given as text) and the other folders allowed (``--allow-path``)."""
+
+    base_dir: Path | None = None
+    allow_paths: tuple[str | os.PathLike[str], ...] = ()
+
+
+def _vector_file(value: str, n: int | None, files: Files, where: tuple[str, str, str],
+                 problems: list[Problem]) -> tuple[Expression, ...]:
+    """A load or base vector from a file (``.npy``, ``.mtx``, or ``.csv``: one number a
+    line), one number per coordinate, as expressions (one per distinct value)."""
+    shown = printable(value, limit=60)
+    if n is None:
+        problems.append(Problem(f"'{shown}': a vector from a file needs the model's "
+                                "coordinates ([matrices])", *where))
+        return ()
+    try:
+        if value.lower().endswith(".csv"):
+            numbers = read_csv_table(value, 1, files.base_dir, files.allow_paths,
+                                     max_rows=limits.MAX_MATRIX_DIMENSION)[:, 0]
+            if len(numbers) != n:
+                raise FileRefused(f"it holds {len(numbers)} entries; the model has {n} "
+                                  "coordinates")
+        else:
+            numbers = read_vector_file(value, n, files.base_dir, files.allow_paths)
+    except FileRefused as exc:
+        problems.append(Problem(f"'{shown}': {exc}", *where))
+        return ()
+    if not np.isfinite(numbers).all():
+        i = int(np.flatnonzero(~np.isfinite(numbers))[0])
+        problems.append(Problem(f"'{shown}': entry {i + 1} is {numbers[i]}; a vector needs "
+                                "finite numbers", *where))
+        return ()
+    parsed: dict[float, Expression] = {}
+    return tuple(parsed.setdefault(x, parse(repr(x))) for x in map(float, numbers))
+
+
+def _table_file(value: str, files: Files, where: tuple[str, str, str],
+                problems: list[Problem]) -> np.ndarray | None:
+    """A density's table from a CSV file of [frequency in Hz, density] rows."""
+    try:
+        rows = read_csv_table(value, 2, files.base_dir, files.allow_paths, max_rows=MAX_ROWS)
+    except FileRefused as exc:
+        problems.append(Problem(f"'{printable(value, limit=60)}': {exc}", *where))
+        return None
+    return _table(rows.tolist(), where, problems)
+
+
+def _is_file(value: object, suffixes: Sequence[str]) -> bool:
+    return isinstance(value, str) and value.strip().lower().endswith(tuple(suffixes))
+
+
 def _vector(value: object, allowed: list[str], n: int | None, where: tuple[str, str, str],
-            problems: list[Problem]) -> tuple[Expression, ...]:
+            problems: list[Problem], files: Files = Files()) -> tuple[Expression, ...]:
+    if _is_file(value, VECTOR_FILES):
+        assert isinstance(value, str)
+        return _vector_file(value.strip(), n, files, where, problems)
     if not isinstance(value, list) or (n is not None and len(value) != n):
         problems.append(Problem(f"expected a list of {n if n is not None else 'the'} "
-                                "entries, one per coordinate", *where))
+                                "entries, one per coordinate, or a file of them ("
+                                f"{', '.join(VECTOR_FILES)})", *where))
         return ()
     out = []
     for entry in value:
@@ -287,7 +357,7 @@ def _no_primes(expression: Expression, where: tuple[str, str, str],
 
 def _input(name: str, table: object, params: list[str], signals: Sequence[str],
            coordinates: Sequence[str], units: ModelUnits | None, source: str,
-           problems: list[Problem]) -> RandomInput | None:
+           problems: list[Problem], files: Files = Files()) -> RandomInput | None:
     section = f"{SECTION}.psd.{name}"
     reason = validate_name(name)
     if reason is not None:  # a name is printed in reports, on terminals and in LaTeX
@@ -307,12 +377,13 @@ def _input(name: str, table: object, params: list[str], signals: Sequence[str],
             hint = f"did you mean '{close[0]}'?" if close else f"known: {', '.join(INPUT_KEYS)}"
             problems.append(Problem(f"unknown key '{key}'; {hint}", source, section, key))
     load = _vector(table["load"], params, len(coordinates) or None, (source, section, "load"),
-                   problems) if "load" in table else ()
+                   problems, files) if "load" in table else ()
     base = _vector(table["base"], params, len(coordinates) or None, (source, section, "base"),
-                   problems) if "base" in table else ()
+                   problems, files) if "base" in table else ()
     if load and base:
         problems.append(Problem("give either 'load' or 'base', not both", source, section))
-    if not load and not base and name not in signals and name not in coordinates:
+    vector = "load" in table or "base" in table   # (a vector that failed: its problem said)
+    if not vector and name not in signals and name not in coordinates:
         close = difflib.get_close_matches(name, [*signals, *coordinates], n=1)
         hint = f"did you mean '{close[0]}'?" if close else \
             "give a signal or a coordinate of the model, or a 'load' or 'base' vector"
@@ -339,8 +410,10 @@ def _input(name: str, table: object, params: list[str], signals: Sequence[str],
     if values is None:
         problems.append(Problem("missing 'values': a table [[Hz, density], ...], a number or "
                                 "an expression of f (Hz)", source, section))
-    elif isinstance(values, list):
-        array = _table(values, (source, section, "values"), problems)
+    elif isinstance(values, list) or _is_file(values, TABLE_FILES):
+        array = _table(values, (source, section, "values"), problems) \
+            if isinstance(values, list) else \
+            _table_file(str(values).strip(), files, (source, section, "values"), problems)
         if array is not None:
             with np.errstate(over="ignore", under="ignore"):
                 array[:, 1] *= factor
@@ -416,7 +489,8 @@ def _check_pairs_once(coherences: Sequence[Coherence | None], source: str,
 
 def parse_random(data: object, params: list[str], signals: Sequence[str],
                  coordinates: Sequence[str], source: str, problems: list[Problem],
-                 units: ModelUnits | None = None) -> RandomSpec | None:
+                 units: ModelUnits | None = None, files: Files = Files()
+                 ) -> RandomSpec | None:
     """The ``[random]`` section, its problems appended to ``problems``.
 
     Parameters
@@ -433,6 +507,9 @@ def parse_random(data: object, params: list[str], signals: Sequence[str],
         Receives every problem found.
     units : ModelUnits, optional
         The model's units: a density's unit is checked against its signal's.
+    files : Files, optional
+        Where the files of ``load``, ``base`` and ``values`` are read from (without a
+        folder, none is).
 
     Returns
     -------
@@ -464,8 +541,8 @@ def parse_random(data: object, params: list[str], signals: Sequence[str],
         problems.append(Problem(f"{len(tables)} inputs; at most {MAX_INPUTS}", source, SECTION,
                                 "psd"))
         return None
-    inputs = [_input(str(name), table, params, signals, coordinates, units, source, problems)
-              for name, table in tables.items()]
+    inputs = [_input(str(name), table, params, signals, coordinates, units, source, problems,
+                     files) for name, table in tables.items()]
     entries = data.get("coherence", [])
     if not isinstance(entries, list) or len(entries) > MAX_INPUTS ** 2:
         problems.append(Problem("coherence must be a list of tables [[random.coherence]]",

@@ -39,7 +39,7 @@ from ..errors import ModelError, Problem
 from ..expressions import ExpressionError, numeric_value
 from .campbell_spec import parse_speed
 from .options import MAX_GIVEN_HARMONICS
-from .units import ModelUnits, parse_with_unit
+from .units import FREQUENCY, ModelUnits, parse_with_unit
 
 #: the designs: a full factorial grid, independent random samples, a Latin hypercube
 #: (per chunk of samples), and Saltelli's scheme for Sobol indices
@@ -491,13 +491,11 @@ def parse_quantity(text: object, names: Collection[str], reader: _Reader) -> Qua
         return Quantity(kind, target, 0, f"{kind}:{target}")
     if what == "name@frequency":
         name, _, at = (part.strip() for part in target.partition("@"))
-        try:
-            frequency = float(at)
-        except ValueError:
-            frequency = math.nan
+        frequency = _frequency_hz(at)
         if not (math.isfinite(frequency) and frequency > 0):
-            reader.problem(f"'{text}' needs a natural frequency in Hz after '@', as in "
-                           f"{kind}:{name or 'NAME'}@100", "quantities")
+            reader.problem(f"'{text}' needs a natural frequency in Hz after '@' (positive; "
+                           "or a number with a unit of frequency), as in "
+                           f"{kind}:{name or 'NAME'}@100 or @0.1 kHz", "quantities")
             return None
         if name not in names:
             reader.problem(f"'{text}': '{name}' is not a coordinate or output; they are "
@@ -539,6 +537,31 @@ def _rotor_quantity(kind: str, what: str, target: str, text: str, reader: _Reade
     if speed is None:
         return None
     return Quantity(kind, "", int(index), f"{kind}:{int(index)}@{at}", speed=speed)
+
+
+def _frequency_hz(text: str) -> float:
+    """A natural frequency in Hz from ``text``: a number (Hz), arithmetic of numbers, or
+    either with a unit of frequency as ``[parameters]`` takes it (``0.1 kHz``, ``628.3
+    rad/s``: an angular frequency is divided by 2 pi); NaN where it is none of these.
+
+    Examples
+    --------
+    >>> _frequency_hz("100"), _frequency_hz("0.1 kHz"), round(_frequency_hz("2*pi*50 rad/s"), 9)
+    (100.0, 100.0, 50.0)
+    >>> _frequency_hz("3 m")
+    nan
+    """
+    try:
+        expression, given = parse_with_unit(text, allowed=())
+    except ExpressionError:
+        return math.nan
+    value = float(numeric_value(expression, {}))
+    if given is None:
+        return value
+    unit = given[1]
+    if unit.dimension != FREQUENCY:
+        return math.nan
+    return value if unit.cyclic else value / (2 * math.pi)
 
 
 def _integer(reader: _Reader, raw: object, key: str, low: int, high: int) -> int | None:

@@ -13,7 +13,7 @@ import numpy as np
 
 from ...analyses.periodic_load import periodic_load_response
 from ...analyses.random_response import random_chart, random_response
-from ...analyses.shock import pulse, shock_response_spectrum, srs_chart
+from ...analyses.shock import pulse, pulse_end, shock_response_spectrum, srs_chart
 from ...analyses.simulate import history_chart
 from ...analyses.transient import shock_response
 from ...errors import ResonantError
@@ -248,7 +248,9 @@ def shock_load(ctx: Context) -> list[Block]:
         t, values = pulse(spec.pulse, spec.amplitude, spec.duration, spec.step)
         spectrum = shock_response_spectrum(values, spec.step,
                                            _srs_frequencies(ctx, spec.duration, spec.step),
-                                           Q=spec.Q)
+                                           Q=spec.Q,
+                                           excitation_end=pulse_end(spec.pulse, spec.duration,
+                                                                    spec.step))
         result = shock_response(ctx.system, spec)
     except ResonantError as exc:
         return blocks + [Note((f"The shock response cannot be computed: {exc}",))]
