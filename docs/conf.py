@@ -57,6 +57,10 @@ myst_enable_extensions = ["dollarmath", "amsmath"]
 html_math_renderer = "offline_svg"
 # one page per public object (api.rst), with its source ([source], sphinx.ext.viewcode)
 autosummary_generate = True
+# the pages autosummary writes are rebuilt on every build: a page left from an object
+# that moved (a result now under ``resonant.NAME``) would otherwise be an orphan warning
+for _stale in (HERE / "generated").glob("*.rst"):
+    _stale.unlink()
 autodoc_default_options = {"members": True, "undoc-members": False}
 # the guide links to files of the repository (benchmarks, examples); they are not pages
 myst_url_schemes = ["http", "https", "mailto"]

@@ -1,4 +1,4 @@
-"""The plot details of issue 47 (item 8): the sweep's peak notes do not overlap, a local
+"""The details of the plots: the sweep's peak notes do not overlap, a local
 bump between resonances is not marked as one (the highest peak always is), a curve left
 out is said, a log axis of fewer than two decades labels 2, 3, 5 plainly, one resolution
 for every figure."""

@@ -1,4 +1,4 @@
-"""``--units`` on every command that prints or draws numbers (issue 47, item 7).
+"""``--units`` on every command that prints or draws numbers (docs/units.md).
 
 The parser is walked: every subcommand takes ``--units`` and ``--timeout`` (the two that
 print no number, ``example`` and ``grade``, are named).  Then each command with numeric

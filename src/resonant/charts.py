@@ -44,6 +44,7 @@ from .errors import AnalysisError
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
+    from matplotlib.axis import Axis
     from matplotlib.figure import Figure
 
 #: a file to write a figure to (None: no file)
@@ -1455,7 +1456,7 @@ def _draw_panel(chart: Chart, ax: Axes, own: bool, legend_size: float | None = N
     return _panel_legend(chart, ax, own, lines, legend_size, show_legend)
 
 
-def _log_minor_ticks(axis: Any, low: float, high: float) -> None:
+def _log_minor_ticks(axis: Axis, low: float, high: float) -> None:
     """A log axis's minor ticks as the SVG writer draws them (:func:`log_ticks`): on an
     axis of fewer than two labelled decades those at 2, 3 and 5 times a power of ten read
     ``3`` or ``0.02``, not ``3×10^0``; the others carry no label."""

@@ -54,7 +54,7 @@ from __future__ import annotations
 import dataclasses
 import re
 import sys
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence, Sized
 from dataclasses import dataclass
 from typing import Any, ClassVar, TypeVar
 
@@ -313,7 +313,7 @@ def _entries(cls: type) -> tuple[_Entry, ...]:
     return tuple(out)
 
 
-def _length(value: Any) -> int:
+def _length(value: Sized | np.ndarray) -> int:
     return int(np.shape(value)[0]) if isinstance(value, np.ndarray) else len(value)
 
 

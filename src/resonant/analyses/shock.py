@@ -42,7 +42,7 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
@@ -614,7 +614,7 @@ def _combine(z: np.ndarray, v: np.ndarray, w: float, zeta: float, quantity: str
 
 def _refine(a: np.ndarray, q: complex, k: int, s: complex, c: complex, w: float,
             zeta: float, quantity: str, step: float, first: int, last: int,
-            pick: Any) -> float:
+            pick: Callable[..., float]) -> float:
     """The largest (``pick = max``) or smallest (``min``) response within the steps on
     both sides of sample ``k`` (its modal state ``q``) that lie between the samples
     ``first`` and ``last``, exact for the input linear between samples."""

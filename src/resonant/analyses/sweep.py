@@ -83,7 +83,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 import numpy.typing as npt
 
-from ..arrays import freeze_fields, frozen_array
+from ..arrays import Matrix, freeze_fields, frozen_array
 from ..charts import (
     COLORS,
     MAX_CURVES,
@@ -846,7 +846,7 @@ def _without_overflow(skipped: np.ndarray, omegas: np.ndarray, values: np.ndarra
     return np.asarray(skipped & ~overflow)
 
 
-def _has_damping(C: Any) -> bool:
+def _has_damping(C: Matrix | np.ndarray) -> bool:
     """Whether the damping matrix (or stack of them) has a nonzero entry."""
     if hasattr(C, "count_nonzero"):
         return bool(C.count_nonzero())

@@ -12,7 +12,7 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import resonant.cli.common as cli
 
@@ -23,6 +23,9 @@ from ..model.units_display import ResultUnits, shown_unit
 from ..studies import StudyJob, StudyResult, collect, engine_for, request
 from ..studies.files import check_output, completed_rows
 from ..studies.study_charts import plot_study, study_units
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
@@ -135,8 +138,9 @@ def run_study(args: argparse.Namespace) -> int:
     return 0
 
 
-def _in_display_units(table: Any, units: dict[str, str], nominal: dict[str, float],
-                      shown: ResultUnits | None) -> tuple[Any, dict[str, str], dict[str, float]]:
+def _in_display_units(table: pd.DataFrame, units: dict[str, str], nominal: dict[str, float],
+                      shown: ResultUnits | None
+                      ) -> tuple[pd.DataFrame, dict[str, str], dict[str, float]]:
     """The study's columns, units and nominal values in the display units (``--units``:
     MPa for a stress, Hz for a frequency; the file itself stays SI)."""
     if shown is None or not units:
