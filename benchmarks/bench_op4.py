@@ -65,7 +65,8 @@ KINDS: dict[str, tuple[int, dict[str, Any], bool]] = {
 SIDES = {
     "pyyeti": ("from pyyeti.nastran import op4\n",
                "m = op4.read(PATH, ['kaa'], sparse=SPARSE)['kaa']\n"),
-    "resonant": ("import resonant.model.limits as limits\n"
+    "resonant": ("import scipy.sparse\n"  # imported with pyYeti; by resonant's models too
+                 "import resonant.model.limits as limits\n"
                  "limits.MAX_MATRIX_DIMENSION = 300_000\n"
                  "from resonant.model.op4_files import read_op4_matrix\n",
                  "m = read_op4_matrix(PATH, 'KAA', 'K')\n"),

@@ -161,15 +161,21 @@ def test_truncated_binary_file_names_what_is_wrong() -> None:
 
 
 def test_many_ascii_numbers_parse_as_python_does() -> None:
-    """Above 100,000 numbers the ASCII values go through pyarrow's parser (when
+    """Above _ARROW_NUMBERS numbers the ASCII values go through pyarrow's parser (when
     installed): the same doubles as Python's float() (correctly rounded), D exponents
     included."""
+    import resonant.model.op4_records as records
     from resonant.model.op4_records import _parse_numbers
+
+    records._ARROW_NUMBERS, kept = 100_000, records._ARROW_NUMBERS
 
     values = np.random.default_rng(5).standard_normal(100_000) * \
         10.0 ** np.random.default_rng(6).integers(-60, 60, 100_000)
     text = "".join(f"{v:23.16E}" for v in values).replace("E", "D", 7)
-    parsed = _parse_numbers(text.encode(), 23, len(values))
+    try:
+        parsed = _parse_numbers(text.encode(), 23, len(values))
+    finally:
+        records._ARROW_NUMBERS = kept
     expected = np.array([float(text[i:i + 23].replace("D", "E"))
                          for i in range(0, len(text), 23)])
     assert np.array_equal(parsed, expected)

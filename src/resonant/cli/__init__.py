@@ -54,6 +54,7 @@ COMMANDS: dict[str, str] = {
     "update": "fit parameters to identified frequencies and mode shapes",
     "campbell": "a rotor's Campbell diagram: tracked modes, critical speeds, stability",
     "unbalance": "a rotor's orbits under its unbalances over the speed",
+    "import": "write a model naming the matrices of FE files (OP4, DMIG, .full, Abaqus)",
 }
 
 Register = Callable[[Any, argparse.ArgumentParser], None]
@@ -116,6 +117,9 @@ def command_registrar(command: str) -> Register:
         case "campbell" | "unbalance":
             from . import campbell
             return campbell.register
+        case "import":
+            from . import fe_import
+            return fe_import.register
     raise KeyError(command)
 
 

@@ -36,7 +36,7 @@ import numpy as np
 
 from . import limits
 from .files import FileRefused, open_regular_file, read_bounded
-from .op4_records import Op4Entry, Op4Runs, op4_entries, op4_runs
+from .op4_records import Op4Entry, Op4Runs, forget_parsed_text, op4_entries, op4_runs
 
 #: ``file.op4`` or ``file.op4:NAME`` (a Nastran matrix name: letters, digits, underscores)
 _REFERENCE = re.compile(r"(?P<path>.+\.op4)(?::(?P<name>[A-Za-z0-9_]{1,64}))?", re.IGNORECASE)
@@ -141,7 +141,10 @@ def op4_directory(path: str) -> list[tuple[str, tuple[int, int], int]]:
     ...     op4_directory(path)
     [('kaa', (2, 2), 2)]
     """
-    return [(e.name, (e.rows, e.columns), e.kind) for e in _entries(_file_bytes(path))]
+    try:
+        return [(e.name, (e.rows, e.columns), e.kind) for e in _entries(_file_bytes(path))]
+    finally:
+        forget_parsed_text()
 
 
 def _choose(directory: Sequence[Op4Entry], name: str | None, key: str) -> Op4Entry:
@@ -193,6 +196,13 @@ def read_op4_matrix(path: str, name: str | None, key: str, *, square: bool = Tru
     ...     read_op4_matrix(path, "MAA", "M").tolist()
     [[2.0, 0.0], [0.0, 2.0]]
     """
+    try:
+        return _read(path, name, key, square)
+    finally:
+        forget_parsed_text()
+
+
+def _read(path: str, name: str | None, key: str, square: bool) -> Any:
     data = _file_bytes(path)
     entry = _choose(_entries(data), name, key)
     shown = entry.name.upper()

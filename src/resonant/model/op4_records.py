@@ -126,7 +126,7 @@ def op4_entries(data: bytes) -> list[Op4Entry]:
     """
     layout = _layout(data)
     if layout is None:
-        return _ascii_entries(_AsciiText(data))
+        return _ascii_entries(_ascii_text(data))
     return _binary_entries(data, layout)
 
 
@@ -160,8 +160,9 @@ class Op4Runs:
                 np.repeat(self.at_columns, self.counts), self.values)
 
     def dense(self) -> np.ndarray:
-        """The matrix as a float64 array (few runs: copied run by run)."""
-        matrix = np.zeros((self.rows, self.columns))
+        """The matrix as a float64 array (few runs: copied run by run, into Fortran order
+        where a column is contiguous, as the file stores it)."""
+        matrix = np.zeros((self.rows, self.columns), order="F")
         if len(self.counts) > _WALKED_RECORDS:
             rows, columns, values = self.coo()
             matrix[rows, columns] = values
@@ -197,7 +198,7 @@ def op4_runs(data: bytes, entry: Op4Entry) -> Op4Runs:
         raise FileRefused(f"it is of Nastran type {entry.kind}, not real")
     layout = _layout(data)
     if layout is None:
-        runs = _ascii_values(_AsciiText(data), entry)
+        runs = _ascii_values(_ascii_text(data), entry)
     else:
         runs = _binary_values(data, layout, entry)
     first_rows, counts, columns = runs.first_rows, runs.counts, runs.at_columns
@@ -513,6 +514,24 @@ class _AsciiText:
                      int(np.searchsorted(self.integer_lines, stop)))
 
 
+#: the last file parsed: (its bytes, the parse), so that the directory and the values of
+#: one read parse the lines once
+_LAST_TEXT: list[tuple[bytes, _AsciiText]] = []
+
+
+def _ascii_text(data: bytes) -> _AsciiText:
+    if _LAST_TEXT and _LAST_TEXT[0][0] is data:
+        return _LAST_TEXT[0][1]
+    text = _AsciiText(data)
+    _LAST_TEXT[:] = [(data, text)]
+    return text
+
+
+def forget_parsed_text() -> None:
+    """Drop the parse kept for the last ASCII file (its memory)."""
+    _LAST_TEXT.clear()
+
+
 @dataclass(frozen=True)
 class _AsciiHeader:
     entry: Op4Entry
@@ -665,7 +684,7 @@ def _fitted(line: bytes, header: _AsciiHeader, numbers: int) -> bytes:
 
 
 #: numbers from which pyarrow's CSV parser (when installed) is worth its import
-_ARROW_NUMBERS = 100_000
+_ARROW_NUMBERS = 1_000_000
 
 
 def _parse_numbers(blob: bytes, width: int, count: int) -> np.ndarray:
@@ -731,4 +750,5 @@ def _arrow_numbers(lines: bytes, count: int) -> np.ndarray | None:
                            for chunk in column.chunks])
 
 
-__all__ = ["Op4Entry", "Op4Runs", "op4_entries", "op4_runs", "op4_values", "BIGMAT_ROWS"]
+__all__ = ["Op4Entry", "Op4Runs", "op4_entries", "op4_runs", "op4_values", "BIGMAT_ROWS",
+           "forget_parsed_text"]
