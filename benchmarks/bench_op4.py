@@ -31,7 +31,10 @@ resident memory after the imports; ``peak_mib``: the process's peak), one BLAS t
 
 Both sides' matrices are compared (bit for bit) in a separate step, not timed.
 
-Run: ``OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python benchmarks/bench_op4.py [KIND ...]``.
+Run: ``OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python benchmarks/bench_op4.py [KIND ...]``;
+``... bench_op4.py sweep``: a sweep on the model read from the 300,000-row file (M = I,
+C = 1e-3 K, a force on q1; ``auto``, ``banded`` on a tenth of the frequencies, and the
+reduced route forced), docs/performance-large.md.
 
 Examples
 --------
@@ -146,6 +149,41 @@ def measure(kind: str, folder: str, repeats: int) -> dict[str, Any]:
             "time_ratio": best["resonant"]["seconds"] / best["pyyeti"]["seconds"]}
 
 
+def sweep_on_large(folder: str) -> dict[str, Any]:
+    """The sweep on the model of the 300,000-row file (in this process)."""
+    import scipy.sparse as sp
+    from pyyeti.nastran import op4
+
+    import resonant
+    import resonant.model.limits as limits
+    from resonant.analyses.sweep import sweep
+
+    limits.MAX_MATRIX_DIMENSION = 300_000
+    base = Path(folder)
+    op4.write(str(base / "chain.op4"), {"kaa": chain(300_000)}, binary=True, sparse="bigmat")
+    sp.save_npz(base / "mass.npz", sp.identity(300_000, format="csr"))
+    (base / "chain.toml").write_text(
+        'title = "chain"\n[parameters]\nomega = 1.0\n[matrices]\nM = "mass.npz"\n'
+        'K = "chain.op4:KAA"\nC = "1e-3*K"\n[[harmonic]]\nomega = "omega"\n'
+        'F_C = { q1 = 1.0 }\n', encoding="utf-8")
+    start = time.perf_counter()
+    system = resonant.load(base / "chain.toml").linearize()
+    report: dict[str, Any] = {"load_seconds": time.perf_counter() - start}
+    omegas = np.linspace(1e-3, 2e-2, 200)
+    results = {}
+    for label, method, chosen in (("auto", "auto", omegas), ("banded", "banded", omegas[::10]),
+                                  ("reduced", "reduced", omegas)):
+        start = time.perf_counter()
+        results[label] = sweep(system, "omega", chosen, names=["q1"], method=method)
+        report[f"{label}_seconds"] = time.perf_counter() - start
+        report[f"{label}_method"] = results[label].method
+    exact = np.asarray(results["banded"].amplitudes["q1"])
+    report["reduced_error_q1"] = float(np.max(np.abs(
+        np.asarray(results["reduced"].amplitudes["q1"])[::10] - exact)) / np.max(exact))
+    print(json.dumps(report), flush=True)
+    return report
+
+
 def main(kinds: list[str] | None = None, repeats: int = 3) -> list[dict[str, Any]]:
     """Measure each kind; print one JSON line per kind and return them."""
     reports = []
@@ -158,4 +196,8 @@ def main(kinds: list[str] | None = None, repeats: int = 3) -> list[dict[str, Any
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:] or None)
+    if sys.argv[1:] == ["sweep"]:
+        with tempfile.TemporaryDirectory() as scratch:
+            sweep_on_large(scratch)
+    else:
+        main(sys.argv[1:] or None)
