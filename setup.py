@@ -16,7 +16,7 @@ from setuptools.command.build_py import build_py
 
 HERE = Path(__file__).resolve().parent
 #: the files of examples/ that ship with the package
-SHIPPED = ("*.toml", "*/*.toml", "*/*.mtx", "*/*.csv")
+SHIPPED = ("*.toml", "*/*.toml", "*/*.mtx", "*/*.csv", "*/*.op4")
 
 
 class BuildWithExamples(build_py):

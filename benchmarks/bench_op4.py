@@ -1,22 +1,40 @@
-"""Benchmark: a 300,000-row binary OP4 file read by resonant against pyYeti's own reader
-(docs/performance.md, "FE files").
+"""Benchmark: OP4 files read by resonant's own reader against pyYeti's reader
+(docs/performance-large.md, "Nastran OUTPUT4").
 
-The file: a generated sparse symmetric stiffness of 300,000 rows (a chain with second
-neighbours: five diagonals, 1.5 million entries) in Nastran's binary bigmat layout,
-written by pyYeti (not timed), about 20 MB.
+The files, written by pyYeti (not timed), one matrix each:
 
-Sides, each in a fresh process (its peak resident set size measured), one BLAS thread:
+``bigmat_le``
+    a sparse symmetric stiffness of 300,000 rows (a chain with second neighbours: five
+    diagonals, 1.5 million entries), binary bigmat layout, little-endian, double;
+``bigmat_be``
+    the same, big-endian;
+``nonbigmat``
+    the chain with 60,000 rows (below 65,536 rows: Nastran's non-bigmat strings), binary;
+``dense``
+    a dense random 2000 x 2000 matrix, binary dense layout;
+``ascii_bigmat``
+    the chain with 100,000 rows, ASCII bigmat (16 digits);
+``ascii_dense``
+    a dense random 1000 x 1000 matrix, ASCII dense.
+
+Sides, each in a fresh process, the read timed after the imports (``before_mib``: the
+resident memory after the imports; ``peak_mib``: the process's peak), one BLAS thread:
 
 ``pyyeti``
-    ``pyyeti.nastran.op4.read(path, ["kaa"], sparse=True)``: what a user calls;
+    ``pyyeti.nastran.op4.read(path, ["kaa"], sparse=...)``: what a user calls (sparse for
+    the sparse layouts, dense for the dense ones);
 ``resonant``
     ``resonant.model.op4_files.read_op4_matrix(path, "KAA", "K")`` with
-    ``resonant.model.limits.MAX_MATRIX_DIMENSION`` raised to 300,000: the directory pass
-    (names and sizes from the headers, checked against the limits), the read through
-    pyYeti (sparse above ``MAX_DENSE_ENTRIES``), the CSR conversion and the finiteness
-    check.
+    ``resonant.model.limits.MAX_MATRIX_DIMENSION`` raised to 300,000: the file read once,
+    the directory checked against the limits, the values gathered in bulk, the CSR (or
+    dense) matrix built and checked finite.
 
-Run: ``OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python benchmarks/bench_op4.py``.
+Both sides' matrices are compared (bit for bit) in a separate step, not timed.
+
+Run: ``OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python benchmarks/bench_op4.py [KIND ...]``;
+``... bench_op4.py sweep``: a sweep on the model read from the 300,000-row file (M = I,
+C = 1e-3 K, a force on q1; ``auto``, ``banded`` on a tenth of the frequencies, and the
+reduced route forced), docs/performance-large.md.
 
 Examples
 --------
@@ -36,14 +54,24 @@ from typing import Any
 
 import numpy as np
 
-ROWS = 300_000
+#: kind -> (rows, pyYeti write options, sparse read)
+KINDS: dict[str, tuple[int, dict[str, Any], bool]] = {
+    "bigmat_le": (300_000, {"binary": True, "sparse": "bigmat", "endian": "<"}, True),
+    "bigmat_be": (300_000, {"binary": True, "sparse": "bigmat", "endian": ">"}, True),
+    "nonbigmat": (60_000, {"binary": True, "sparse": "nonbigmat"}, True),
+    "dense": (2000, {"binary": True, "sparse": "dense"}, False),
+    "ascii_bigmat": (100_000, {"binary": False, "sparse": "bigmat"}, True),
+    "ascii_dense": (1000, {"binary": False, "sparse": "dense"}, False),
+}
 
+#: side -> (imports, not timed; the timed read)
 SIDES = {
-    "pyyeti": ("from pyyeti.nastran import op4\n"
-               "m = op4.read(PATH, ['kaa'], sparse=True)['kaa']\n"),
-    "resonant": ("import resonant.model.limits as limits\n"
+    "pyyeti": ("from pyyeti.nastran import op4\n",
+               "m = op4.read(PATH, ['kaa'], sparse=SPARSE)['kaa']\n"),
+    "resonant": ("import scipy.sparse\n"  # imported with pyYeti; by resonant's models too
+                 "import resonant.model.limits as limits\n"
                  "limits.MAX_MATRIX_DIMENSION = 300_000\n"
-                 "from resonant.model.op4_files import read_op4_matrix\n"
+                 "from resonant.model.op4_files import read_op4_matrix\n",
                  "m = read_op4_matrix(PATH, 'KAA', 'K')\n"),
 }
 
@@ -58,40 +86,118 @@ def chain(n: int) -> Any:
     return sp.diags([second, first, main, first, second], [-2, -1, 0, 1, 2], format="csr")
 
 
-def _child(side: str, path: str) -> dict[str, float]:
-    report = ("import json\nprint(json.dumps({'seconds': elapsed, 'nnz': int(m.nnz), "
-              "'peak_mib': resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))\n")
-    code = (f"import resource, time\nPATH = {path!r}\nstart = time.perf_counter()\n"
-            f"{SIDES[side]}elapsed = time.perf_counter() - start\n{report}")
+def matrix(kind: str) -> Any:
+    """The matrix written for ``kind``."""
+    rows, _, sparse = KINDS[kind]
+    if sparse:
+        return chain(rows)
+    return np.random.default_rng(1).standard_normal((rows, rows))
+
+
+def _child(side: str, path: str, sparse: bool) -> dict[str, float]:
+    """One read in a fresh process: its time and the process's peak memory (VmHWM, which
+    a new program starts afresh, unlike ru_maxrss that Linux keeps across exec)."""
+    imports, read = SIDES[side]
+    report = ("import json, re\nstatus = open('/proc/self/status').read()\n"
+              "peak = int(re.search(r'VmHWM:\\s+(\\d+)', status).group(1)) / 1024\n"
+              "print(json.dumps({'seconds': elapsed, 'peak_mib': peak, "
+              "'before_mib': before}))\n")
+    code = (f"import re, time\nPATH = {path!r}\nSPARSE = {sparse!r}\n{imports}"
+            "before = int(re.search(r'VmRSS:\\s+(\\d+)', open('/proc/self/status').read())"
+            ".group(1)) / 1024\n"
+            f"start = time.perf_counter()\n{read}elapsed = time.perf_counter() - start\n"
+            f"{report}")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True, timeout=1800)
     result: dict[str, float] = json.loads(out.stdout.strip().splitlines()[-1])
     return result
 
 
-def main(repeats: int = 3) -> dict[str, Any]:
-    """Write the file, read it ``repeats`` times by each side, print and return the best."""
+def _same(path: str, sparse: bool) -> bool:
+    """Whether both readers give the same matrix, bit for bit."""
     from pyyeti.nastran import op4
 
-    with tempfile.TemporaryDirectory() as folder:
-        path = str(Path(folder) / "large.op4")
+    import resonant.model.limits as limits
+    from resonant.model.op4_files import read_op4_matrix
+
+    limits.MAX_MATRIX_DIMENSION = 300_000
+    theirs = op4.read(path, ["kaa"], sparse=sparse)["kaa"]
+    ours = read_op4_matrix(path, "KAA", "K")
+    if sparse:
+        return bool((abs(theirs.tocsr() - ours) > 0).nnz == 0)
+    return bool(np.array_equal(theirs, ours))
+
+
+def measure(kind: str, folder: str, repeats: int) -> dict[str, Any]:
+    """Write one file, read it ``repeats`` times by each side, keep the best."""
+    from pyyeti.nastran import op4
+
+    rows, options, sparse = KINDS[kind]
+    path = str(Path(folder) / f"{kind}.op4")
+    start = time.perf_counter()
+    op4.write(path, {"kaa": matrix(kind)}, **options)
+    written = time.perf_counter() - start
+    best: dict[str, dict[str, float]] = {}
+    for _ in range(repeats):
+        for side in SIDES:
+            run = _child(side, path, sparse)
+            if side not in best or run["seconds"] < best[side]["seconds"]:
+                best[side] = run
+    return {"kind": kind, "rows": rows, "file_mib": Path(path).stat().st_size / 2**20,
+            "write_seconds": written, "same": _same(path, sparse),
+            **{f"{side}_{k}": v for side, run in best.items() for k, v in run.items()},
+            "time_ratio": best["resonant"]["seconds"] / best["pyyeti"]["seconds"]}
+
+
+def sweep_on_large(folder: str) -> dict[str, Any]:
+    """The sweep on the model of the 300,000-row file (in this process)."""
+    import scipy.sparse as sp
+    from pyyeti.nastran import op4
+
+    import resonant
+    import resonant.model.limits as limits
+    from resonant.analyses.sweep import sweep
+
+    limits.MAX_MATRIX_DIMENSION = 300_000
+    base = Path(folder)
+    op4.write(str(base / "chain.op4"), {"kaa": chain(300_000)}, binary=True, sparse="bigmat")
+    sp.save_npz(base / "mass.npz", sp.identity(300_000, format="csr"))
+    (base / "chain.toml").write_text(
+        'title = "chain"\n[parameters]\nomega = 1.0\n[matrices]\nM = "mass.npz"\n'
+        'K = "chain.op4:KAA"\nC = "1e-3*K"\n[[harmonic]]\nomega = "omega"\n'
+        'F_C = { q1 = 1.0 }\n', encoding="utf-8")
+    start = time.perf_counter()
+    system = resonant.load(base / "chain.toml").linearize()
+    report: dict[str, Any] = {"load_seconds": time.perf_counter() - start}
+    omegas = np.linspace(1e-3, 2e-2, 200)
+    results = {}
+    for label, method, chosen in (("auto", "auto", omegas), ("banded", "banded", omegas[::10]),
+                                  ("reduced", "reduced", omegas)):
         start = time.perf_counter()
-        op4.write(path, {"kaa": chain(ROWS)}, binary=True, sparse="bigmat")
-        written = time.perf_counter() - start
-        size = Path(path).stat().st_size
-        best: dict[str, dict[str, float]] = {}
-        for _ in range(repeats):
-            for side in SIDES:
-                run = _child(side, path)
-                if side not in best or run["seconds"] < best[side]["seconds"]:
-                    best[side] = run
-    ratio = best["resonant"]["seconds"] / best["pyyeti"]["seconds"]
-    report = {"rows": ROWS, "file_mib": size / 2**20, "write_seconds": written,
-              **{f"{side}_{k}": v for side, run in best.items() for k, v in run.items()},
-              "time_ratio": ratio}
-    print(json.dumps(report, indent=1))
+        results[label] = sweep(system, "omega", chosen, names=["q1"], method=method)
+        report[f"{label}_seconds"] = time.perf_counter() - start
+        report[f"{label}_method"] = results[label].method
+    exact = np.asarray(results["banded"].amplitudes["q1"])
+    report["reduced_error_q1"] = float(np.max(np.abs(
+        np.asarray(results["reduced"].amplitudes["q1"])[::10] - exact)) / np.max(exact))
+    print(json.dumps(report), flush=True)
     return report
 
 
+def main(kinds: list[str] | None = None, repeats: int = 3) -> list[dict[str, Any]]:
+    """Measure each kind; print one JSON line per kind and return them."""
+    reports = []
+    for kind in kinds or list(KINDS):
+        with tempfile.TemporaryDirectory() as folder:
+            report = measure(kind, folder, repeats)
+        print(json.dumps(report), flush=True)
+        reports.append(report)
+    return reports
+
+
 if __name__ == "__main__":
-    main()
+    if sys.argv[1:] == ["sweep"]:
+        with tempfile.TemporaryDirectory() as scratch:
+            sweep_on_large(scratch)
+    else:
+        main(sys.argv[1:] or None)

@@ -116,7 +116,7 @@ def test_the_gallery_index_has_thumbnails_and_distinct_titles(site: Path) -> Non
 
 
 def test_every_example_has_a_gallery_page_with_its_figures(site: Path) -> None:
-    examples = [p for folder in ("", "parts", "teaching", "rotors")
+    examples = [p for folder in ("", "parts", "teaching", "rotors", "matrices")
                 for p in (ROOT / "examples" / folder).glob("*.toml")]
     pages = list((site / "gallery").glob("*.html"))
     assert len(pages) == len(examples) + 1  # and the index

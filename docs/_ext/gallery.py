@@ -41,7 +41,7 @@ from resonant.cli import main as run_command  # noqa: E402
 from resonant.errors import ResonantError  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
-FOLDERS = ("", "parts", "teaching", "rotors")
+FOLDERS = ("", "parts", "teaching", "rotors", "matrices")
 #: examples whose nonlinear steady state the gallery shows
 NONLINEAR = ("duffing.toml", "two_dof_cubic.toml")
 

@@ -56,6 +56,7 @@ COMMANDS: dict[str, str] = {
     "campbell": "a rotor's Campbell diagram: tracked modes, critical speeds, stability",
     "unbalance": "a rotor's orbits under its unbalances over the speed",
     "speed-map": "a rotor's undamped critical speeds against its bearings' stiffness",
+    "import": "write a model naming the matrices of FE files (OP4, DMIG, .full, Abaqus)",
 }
 
 Register = Callable[[Any, argparse.ArgumentParser], None]
@@ -121,6 +122,9 @@ def command_registrar(command: str) -> Register:
         case "campbell" | "unbalance" | "speed-map":
             from . import campbell
             return campbell.register
+        case "import":
+            from . import fe_import
+            return fe_import.register
     raise KeyError(command)
 
 

@@ -1,17 +1,19 @@
 """Nastran OUTPUT4 (``.op4``) matrices named in a model: ``M = "model.op4:MGG"``.
 
-The file is read by pyYeti's OP4 reader (``pyyeti.nastran.op4``, the optional extra
-``resonant[fe]``; imported when a model names an ``.op4`` file): ASCII and binary, dense
-and sparse (bigmat and non-bigmat), single and double precision, either byte order.
-resonant keeps the file policy of every matrix file (docs/security.md): the path is
-resolved and checked by :func:`resonant.model.matrix_files.resolve_matrix_path`, the
-file opened non-blocking and refused unless regular and within
-:data:`~resonant.model.limits.MAX_MATRIX_FILE_BYTES`; the directory of the file (names and
-sizes, read from the headers only) is checked against the limits before a matrix is
-read; a matrix above :data:`~resonant.model.limits.MAX_DENSE_ENTRIES` entries is read
-sparse.  Every failure of the reader (a truncated record, a header that is no OP4 header)
-becomes one message naming the file, the matrix and what is wrong, never the reader's
-traceback.
+The file is read by resonant's own reader (:mod:`resonant.model.op4_records`): ASCII and
+binary, dense and sparse (bigmat and non-bigmat), single and double precision, either byte
+order, 4- or 8-byte integers; only the record headers are walked in Python, the values are
+gathered in bulk (bit for bit what pyYeti's reader gives, several times faster on large
+files: docs/performance-large.md). pyYeti (the optional extra ``resonant[fe]``) is used to
+write OP4 files (:func:`write_op4`). resonant keeps the file policy of every matrix file
+(docs/security.md): the path is resolved and checked by
+:func:`resonant.model.matrix_files.resolve_matrix_path`, the file opened non-blocking and
+refused unless regular and within :data:`~resonant.model.limits.MAX_MATRIX_FILE_BYTES`;
+the directory of the file (names and sizes, from the headers) is checked against the
+limits before a matrix is read; a matrix above
+:data:`~resonant.model.limits.MAX_DENSE_ENTRIES` entries is read sparse.  Every failure
+(a truncated record, a header that is no OP4 header) becomes one message naming the file,
+the matrix and what is wrong, never a traceback.
 
 Examples
 --------
@@ -24,7 +26,6 @@ True
 from __future__ import annotations
 
 import contextlib
-import io
 import os
 import re
 from collections.abc import Iterator, Sequence
@@ -33,9 +34,9 @@ from typing import Any
 
 import numpy as np
 
-from ..arrays import Matrix
 from . import limits
-from .files import FileRefused, open_regular_file
+from .files import FileRefused, open_regular_file, read_bounded
+from .op4_records import Op4Entry, Op4Runs, forget_parsed_text, op4_entries, op4_runs
 
 #: ``file.op4`` or ``file.op4:NAME`` (a Nastran matrix name: letters, digits, underscores)
 _REFERENCE = re.compile(r"(?P<path>.+\.op4)(?::(?P<name>[A-Za-z0-9_]{1,64}))?", re.IGNORECASE)
@@ -97,6 +98,23 @@ def _reader() -> Any:
     return op4
 
 
+def _file_bytes(path: str) -> bytes:
+    """The whole file (regular, within the size limit), read once."""
+    with open_regular_file(path, follow_symlinks=False,
+                           max_bytes=limits.MAX_MATRIX_FILE_BYTES) as handle:
+        try:
+            return read_bounded(handle, limits.MAX_MATRIX_FILE_BYTES)
+        except MemoryError:
+            raise FileRefused("not enough memory to read it") from None
+
+
+def _entries(data: bytes) -> list[Op4Entry]:
+    entries = op4_entries(data)
+    if not entries:
+        raise FileRefused("it holds no matrix (an empty or damaged OUTPUT4 file)")
+    return entries
+
+
 def op4_directory(path: str) -> list[tuple[str, tuple[int, int], int]]:
     """The matrices of an OP4 file: (lower-case name, (rows, columns), Nastran type).
 
@@ -117,40 +135,27 @@ def op4_directory(path: str) -> list[tuple[str, tuple[int, int], int]]:
     Examples
     --------
     >>> import numpy as np, tempfile, os
-    >>> op4 = _reader()
     >>> with tempfile.TemporaryDirectory() as folder:
     ...     path = os.path.join(folder, "k.op4")
-    ...     op4.write(path, {"kaa": np.eye(2)})
+    ...     write_op4(path, {"kaa": np.eye(2)})
     ...     op4_directory(path)
     [('kaa', (2, 2), 2)]
     """
-    op4 = _reader()
-    with open_regular_file(path, follow_symlinks=False,
-                           max_bytes=limits.MAX_MATRIX_FILE_BYTES):
-        pass
     try:
-        with contextlib.redirect_stdout(io.StringIO()):
-            names, sizes, _, types = op4.dir(path, verbose=False)
-    except MemoryError:
-        raise FileRefused("not enough memory to read its directory") from None
-    except Exception:  # noqa: BLE001 - never echo the reader's message about the file
-        raise FileRefused("it is truncated or not a valid OUTPUT4 file (a record ends "
-                          "before its header or data says)") from None
-    if not names:
-        raise FileRefused("it holds no matrix (an empty or damaged OUTPUT4 file)")
-    return [(str(n), (int(s[0]), int(s[1])), int(t)) for n, s, t in zip(names, sizes, types)]
+        return [(e.name, (e.rows, e.columns), e.kind) for e in _entries(_file_bytes(path))]
+    finally:
+        forget_parsed_text()
 
 
-def _choose(directory: Sequence[tuple[str, tuple[int, int], int]], name: str | None,
-            key: str) -> tuple[str, tuple[int, int], int]:
-    listed = ", ".join(n.upper() for n, _, _ in directory[:12]) + \
+def _choose(directory: Sequence[Op4Entry], name: str | None, key: str) -> Op4Entry:
+    listed = ", ".join(e.name.upper() for e in directory[:12]) + \
         (", ..." if len(directory) > 12 else "")
     if name is None:
         if len(directory) == 1:
             return directory[0]
         raise FileRefused(f"it holds {len(directory)} matrices ({listed}); name the one for "
                           f"{key}: \"file.op4:NAME\"")
-    found = [entry for entry in directory if entry[0] == name.lower()]
+    found = [entry for entry in directory if entry.name == name.lower()]
     if not found:
         raise FileRefused(f"it holds no matrix named {name.upper()} (it holds {listed})")
     return found[0]
@@ -158,6 +163,9 @@ def _choose(directory: Sequence[tuple[str, tuple[int, int], int]], name: str | N
 
 def read_op4_matrix(path: str, name: str | None, key: str, *, square: bool = True) -> Any:
     """One real matrix of an OP4 file: a float64 ndarray, or a CSR matrix when large.
+
+    The file is read once, by resonant's own reader (:mod:`resonant.model.op4_records`:
+    the record headers walked, the values gathered in bulk); pyYeti is not needed.
 
     Parameters
     ----------
@@ -182,15 +190,23 @@ def read_op4_matrix(path: str, name: str | None, key: str, *, square: bool = Tru
     Examples
     --------
     >>> import numpy as np, tempfile, os
-    >>> op4 = _reader()
     >>> with tempfile.TemporaryDirectory() as folder:
     ...     path = os.path.join(folder, "m.op4")
-    ...     op4.write(path, {"maa": 2 * np.eye(2), "kaa": np.eye(2)})
+    ...     write_op4(path, {"maa": 2 * np.eye(2), "kaa": np.eye(2)})
     ...     read_op4_matrix(path, "MAA", "M").tolist()
     [[2.0, 0.0], [0.0, 2.0]]
     """
-    chosen, (rows, columns), kind = _choose(op4_directory(path), name, key)
-    shown = chosen.upper()
+    try:
+        return _read(path, name, key, square)
+    finally:
+        forget_parsed_text()
+
+
+def _read(path: str, name: str | None, key: str, square: bool) -> Any:
+    data = _file_bytes(path)
+    entry = _choose(_entries(data), name, key)
+    shown = entry.name.upper()
+    rows, columns, kind = entry.rows, entry.columns, entry.kind
     if kind not in _REAL_TYPES:
         raise FileRefused(f"matrix {shown} holds complex numbers (Nastran type {kind}); M, K "
                           "and C must be real")
@@ -200,33 +216,31 @@ def read_op4_matrix(path: str, name: str | None, key: str, *, square: bool = Tru
         raise FileRefused(f"matrix {shown} is {rows}x{columns}; matrices are limited to "
                           f"{limits.MAX_MATRIX_DIMENSION} rows "
                           "(resonant.model.limits.MAX_MATRIX_DIMENSION)")
-    sparse = rows * columns > limits.MAX_DENSE_ENTRIES
     try:
-        with contextlib.redirect_stdout(io.StringIO()):
-            matrix = _reader().read(path, [chosen], sparse=sparse)[chosen]
+        runs = op4_runs(data, entry)
+    except FileRefused as exc:
+        raise FileRefused(f"matrix {shown}: {exc}") from None
     except MemoryError:
         raise FileRefused(f"not enough memory to read matrix {shown}") from None
-    except Exception:  # noqa: BLE001 - never echo the reader's message about the file
-        raise FileRefused(f"matrix {shown} is truncated or damaged (a record ends before "
-                          "its header says)") from None
-    return _checked(matrix, shown, sparse)
+    del data
+    return _assembled(entry, runs)
 
 
-def _checked(matrix: Matrix, shown: str, sparse: bool) -> Any:
+def _assembled(entry: Op4Entry, runs: Op4Runs) -> Any:
+    """The matrix from its stored entries: dense up to ``MAX_DENSE_ENTRIES``, else CSR
+    (checked against ``MAX_MATRIX_NONZEROS`` before it is built)."""
     import scipy.sparse as sp
 
-    if sp.issparse(matrix):
-        out = sp.csr_matrix(matrix, dtype=float)
-        if out.nnz > limits.MAX_MATRIX_NONZEROS:
-            raise FileRefused(f"matrix {shown} has {out.nnz} stored entries; sparse matrices "
-                              f"are limited to {limits.MAX_MATRIX_NONZEROS}")
-        data = out.data
-    else:
-        out = np.array(matrix, dtype=float)
-        data = out
-    if not np.all(np.isfinite(data)):
+    shown = entry.name.upper()
+    if not np.all(np.isfinite(runs.values)):
         raise FileRefused(f"matrix {shown} holds non-finite entries (inf or nan)")
-    return out
+    if entry.rows * entry.columns <= limits.MAX_DENSE_ENTRIES:
+        return runs.dense()
+    if len(runs.values) > limits.MAX_MATRIX_NONZEROS:
+        raise FileRefused(f"matrix {shown} has {len(runs.values)} stored entries; sparse "
+                          f"matrices are limited to {limits.MAX_MATRIX_NONZEROS}")
+    rows, columns, values = runs.coo()
+    return sp.coo_matrix((values, (rows, columns)), shape=(entry.rows, entry.columns)).tocsr()
 
 
 #: Nastran's components 1..6 as the directions of a coordinate's name
