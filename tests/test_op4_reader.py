@@ -25,9 +25,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from resonant.model.files import FileRefused
+from resonant.model.op4_files import numpy_print_options_kept
 from resonant.model.op4_records import op4_entries, op4_values
 
-op4 = pytest.importorskip("pyyeti.nastran.op4")
+# pyYeti sets numpy's print options for the whole process when imported (legacy 1.13)
+with numpy_print_options_kept():
+    op4 = pytest.importorskip("pyyeti.nastran.op4")
 
 DATA = Path(__file__).resolve().parent / "data" / "op4"
 LAYOUTS = [(binary, endian, sparse) for binary, endian in ((True, "<"), (True, ">"),

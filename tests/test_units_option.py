@@ -28,7 +28,7 @@ from resonant.model.units_display import ResultUnits
 from resonant.report.steps.loads import _amount, _cell
 
 #: the subcommands that print no number of a model (a list of examples, a grade sheet)
-WITHOUT_NUMBERS = {"example", "grade"}
+WITHOUT_NUMBERS = {"example", "grade", "import"}  # import: FE files in, a model out
 
 
 def _subparsers() -> dict[str, argparse.ArgumentParser]:
