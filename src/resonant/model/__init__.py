@@ -5,6 +5,7 @@ Imports only from :mod:`resonant.errors`, :mod:`resonant.deadline` and
 """
 
 from .loader import load, loads
-from .types import TIME, Force, Harmonic, MatrixSpec, Model, symbol
+from .matrix_spec import Harmonic, MatrixSpec
+from .types import TIME, Force, Model, symbol
 
 __all__ = ["load", "loads", "Model", "Force", "Harmonic", "MatrixSpec", "symbol", "TIME"]

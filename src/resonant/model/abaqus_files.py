@@ -30,7 +30,8 @@ from typing import Any
 
 import numpy as np
 
-from . import limits
+import resonant.model.limits as limits
+
 from .files import FileRefused
 
 #: the first entry line of Abaqus's MATRIX INPUT format

@@ -24,8 +24,9 @@ from typing import Any
 
 import numpy as np
 
+import resonant.model.limits as limits
+
 from ..arrays import Matrix
-from . import limits
 from .files import FileRefused, open_regular_file
 
 _REFERENCE = re.compile(r"(?P<path>.+\.full)(?::(?P<name>[MKC]))?", re.IGNORECASE)

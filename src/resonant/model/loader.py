@@ -36,6 +36,8 @@ from typing import Any
 
 import sympy
 
+import resonant.model.limits as limits
+
 from ..arrays import Matrix
 from ..errors import ModelError, Problem
 from ..expressions import (
@@ -50,7 +52,6 @@ from ..expressions import (
     validate_name,
 )
 from ..expressions.parser import Node
-from . import limits
 from .campbell_spec import CampbellSpec, Unbalance, parse_campbell, parse_unbalances
 from .dimensions import check_units
 from .exercise import Exercise, parse_exercise

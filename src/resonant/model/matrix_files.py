@@ -38,18 +38,20 @@ from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
+import resonant.model.inline_matrices as inline_matrices
+import resonant.model.limits as limits
+
 from ..arrays import Matrix
 from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError, parse
 from ..expressions.numeric import numeric_value
 from ..modal import mass_normalized_modes
-from . import inline_matrices, limits
 from .abaqus_files import AbaqusEntries, assemble_abaqus, looks_like_abaqus, parse_abaqus
 from .files import FileRefused, open_regular_file, read_bounded
 from .full_files import full_dof_names, read_full_matrix, split_full
+from .matrix_spec import Harmonic, MatrixSpec
 from .op4_files import dof_names, read_op4_matrix, split_reference
 from .punch_files import read_dmig, split_punch
-from .types import Harmonic, MatrixSpec
 
 if TYPE_CHECKING:
     import pyarrow

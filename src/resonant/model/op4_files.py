@@ -34,7 +34,8 @@ from typing import Any
 
 import numpy as np
 
-from . import limits
+import resonant.model.limits as limits
+
 from .files import FileRefused, open_regular_file, read_bounded
 from .op4_records import Op4Entry, Op4Runs, forget_parsed_text, op4_entries, op4_runs
 

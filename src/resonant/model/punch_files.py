@@ -23,7 +23,8 @@ import re
 
 import numpy as np
 
-from . import limits
+import resonant.model.limits as limits
+
 from .abaqus_files import AbaqusEntries
 from .files import FileRefused, open_regular_file, read_bounded
 from .op4_files import numpy_print_options_kept

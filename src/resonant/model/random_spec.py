@@ -45,6 +45,8 @@ from typing import Any
 
 import numpy as np
 
+import resonant.model.limits as limits
+
 from ..errors import Problem, printable
 from ..expressions import (
     Expression,
@@ -54,7 +56,6 @@ from ..expressions import (
     primed_names,
     validate_name,
 )
-from . import limits
 from .csv_tables import read_csv_table
 from .files import FileRefused
 from .limits import MAX_FREQUENCY_HZ

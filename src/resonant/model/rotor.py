@@ -48,7 +48,7 @@ from ..errors import ModelError, Problem
 from ..expressions import Expression, ExpressionError
 from ..expressions.numeric import numeric_value
 from ..memory import require
-from .types import MatrixSpec
+from .matrix_spec import MatrixSpec
 from .units import parse_with_unit
 
 COEFFICIENTS = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
