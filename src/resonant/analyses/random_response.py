@@ -97,6 +97,7 @@ from ..model.units_display import ResultUnits, Shown, density_unit, shown_unit
 from ..system.base import LinearSystem, NumericEOM
 from ..system.batch import Batch, BatchHarmonic
 from ..system.excitation import excitation_columns
+from ..system.output_map import output_map
 from ..system.stability import UNSTABLE, classify
 from ..tables import ResultTable, number_cell
 from .kernel import reduced_budget, solve_harmonic
@@ -592,20 +593,16 @@ class Transfer:
                     if D is not None and errors is not None:
                         D[:, :len(self.keep), j] += (np.abs(w) ** power * errors[:, k]
                                                      )[:, None] * self.adjoint[None, :]
-            position = {int(c): i for i, c in enumerate(self.keep)}
-            for r, name in enumerate(outputs):
-                row = len(self.keep) + r
-                for (var, order), coefficient in num.outputs[name].terms.items():
-                    if var in num.coordinates:
-                        i = position[num.coordinates.index(var)]
-                        H[:, row, :] += coefficient * iw[:, None] ** order * H[:, i, :]
-                        if D is not None:
-                            D[:, row, :] += (abs(complex(coefficient)) * np.abs(w)[:, None]
-                                             ** order * D[:, i, :])
-                    else:
-                        for j, u in enumerate(self.inputs):
-                            if u.name == var:
-                                H[:, row, j] += coefficient * iw ** (order - u.derivative)
+            nk = len(self.keep)
+            y = output_map(num.outputs, num.coordinates, outputs)
+            for k, R in enumerate(y.R[:, :, self.keep]):
+                H[:, nk:, :] += iw[:, None, None] ** k * (R @ H[:, :nk, :])
+                if D is not None:
+                    D[:, nk:, :] += np.abs(w)[:, None, None] ** k * (np.abs(R) @ D[:, :nk, :])
+            for s, (var, order) in enumerate(y.signals):
+                for j, u in enumerate(self.inputs):
+                    if u.name == var:
+                        H[:, nk:, j] += y.S[:, s] * iw[:, None] ** (order - u.derivative)
         return H, D
 
 

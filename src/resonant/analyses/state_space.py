@@ -45,8 +45,9 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..memory import require
 from ..modal import state_matrix
-from ..system.base import LinearSystem, NumericEOM
+from ..system.base import LinearSystem, NumericEOM, NumericOutput
 from ..system.excitation import excitation_columns
+from ..system.output_map import output_map
 from ..system.stability import check_mass_matrix
 
 #: largest model exported: its dense state matrix (2n)^2 holds 128 MB of float64 at 2000
@@ -213,10 +214,9 @@ def state_space(system: LinearSystem, *, inputs: Sequence[str] | None = None,
     B = np.concatenate([e1, b0 - minv_c @ e1], axis=0)
     quantities = _quantities(A, B, e1, d0)
     names = tuple(outputs) if outputs is not None else (*num.coordinates, *num.outputs)
-    rows = [_output_row(num, name, quantities, chosen) for name in names]
+    C_out, D_out = _output_rows(num, names, quantities, chosen)
     return StateSpaceModel(
-        A=A, B=B, C=np.array([r[0] for r in rows]).reshape(len(rows), 2 * n),
-        D=np.array([r[1] for r in rows]).reshape(len(rows), count),
+        A=A, B=B, C=C_out, D=D_out,
         inputs=tuple(_input_name(num, name) for name in chosen),
         states=(*num.coordinates, *(f"{q}'" for q in num.coordinates)),
         outputs=names, parameters=dict(num.parameters), title=num.title)
@@ -365,44 +365,49 @@ def _quantities(A: np.ndarray, B: np.ndarray, e1: np.ndarray, d0: np.ndarray
             (A[n:], [B[n:], e1, d0])]
 
 
-def _output_row(num: NumericEOM, name: str,
-                quantities: Sequence[tuple[np.ndarray, list[np.ndarray]]],
-                chosen: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
-    """The row of C and of D of one output; refused where it needs an input's rate."""
-    position = {q: i for i, q in enumerate(num.coordinates)}
-    signal_at = {s: j for j, s in enumerate(chosen) if s not in position}
+def _output_terms(num: NumericEOM, name: str) -> NumericOutput:
+    """An output of the export: a coordinate or its rate (``x1'``), or an ``[outputs]`` one."""
     base = name.rstrip("'")
     order = len(name) - len(base)
-    if base in position and order <= 2:
-        terms: Mapping[tuple[str, int], float] = {(base, order): 1.0}
-    elif name in num.outputs:
-        terms = num.outputs[name].terms
-    else:
-        raise ModelError(Problem(
-            f"'{name}' is not an output: the outputs are the coordinates, their rates "
-            f"(x', x'') and [outputs] ({_listed([*num.coordinates, *num.outputs])})",
-            num.source, "outputs"))
-    size = quantities[0][0].shape[1]
-    row, feed = np.zeros(size), [np.zeros(len(chosen)) for _ in range(3)]
-    for (variable, rate), coefficient in terms.items():
-        if variable in position:
+    if base in num.coordinates and order <= 2:
+        return NumericOutput(0.0, {(base, order): 1.0})
+    if name in num.outputs:
+        return num.outputs[name]
+    raise ModelError(Problem(
+        f"'{name}' is not an output: the outputs are the coordinates, their rates "
+        f"(x', x'') and [outputs] ({_listed([*num.coordinates, *num.outputs])})",
+        num.source, "outputs"))
+
+
+def _output_rows(num: NumericEOM, names: Sequence[str],
+                 quantities: Sequence[tuple[np.ndarray, list[np.ndarray]]],
+                 chosen: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
+    """C and D of the outputs ``names``; refused where one needs an input's rate."""
+    y = output_map({name: _output_terms(num, name) for name in names}, num.coordinates,
+                   names)
+    for name, order in zip(y.names, y.orders):
+        if order > 2:
+            raise AnalysisError(f"the output '{name}' holds a rate of order {order} of a "
+                                "coordinate: a state-space output takes rates up to 2")
+    size, count = quantities[0][0].shape[1], len(chosen)
+    C, feed = np.zeros((len(names), size)), np.zeros((3, len(names), count))
+    for R, (states, through) in zip(y.R, quantities):
+        C += R @ states
+        feed += np.array([R @ t for t in through])
+    signal_at = {s: j for j, s in enumerate(chosen) if s not in num.coordinates}
+    for column, (variable, rate) in enumerate(y.signals):
+        if variable in signal_at:
             if rate > 2:
-                raise AnalysisError(f"the output '{name}' holds a rate of order {rate} of "
-                                    f"'{variable}': a state-space output takes rates up to 2")
-            states, through = quantities[rate]
-            row += coefficient * states[position[variable]]
-            for k in range(3):
-                feed[k] += coefficient * through[k][position[variable]]
-        elif variable in signal_at:
-            if rate > 2:
-                raise AnalysisError(f"the output '{name}' holds a rate of order {rate} of "
-                                    f"the signal '{variable}'")
-            feed[rate][signal_at[variable]] += coefficient
-    if np.any(feed[1]) or np.any(feed[2]):
+                raise AnalysisError(f"an output holds a rate of order {rate} of the signal "
+                                    f"'{variable}'")
+            feed[rate][:, signal_at[variable]] += y.S[:, column]
+    rated = np.any(feed[1:] != 0, axis=(0, 2))
+    if rated.any():
+        name = y.names[int(np.flatnonzero(rated)[0])]
         raise AnalysisError(f"the output '{name}' follows the rate of an input (through the "
                             "signal rates the loads hold): it has no proper state-space "
                             "form; export its integral or choose other outputs")
-    return row, feed[0]
+    return C, feed[0]
 
 
 __all__ = ["StateSpaceModel", "state_space", "to_state_space", "MAX_STATE_SPACE_COORDINATES",
