@@ -781,3 +781,29 @@ def test_every_result_saved_by_its_fields_has_a_saved_form_for_each_field():
         kind._saved_fields()  # raises TypeError naming the field without a saved form
         stack += kind.__subclasses__()
     assert {"FrequencyResponse", "ModalAnalysis", "SpecialPoint", "Backbones"} <= set(seen)
+
+
+def test_tables_are_written_once_from_the_declared_columns():
+    """No result writes its own ``to_frame``: each declares its columns (``_frame``) and
+    :class:`~resonant.analyses.result_fields.Framed` builds the table; a table whose columns
+    differ in length is refused."""
+    import ast
+    from dataclasses import dataclass
+
+    from resonant.analyses.result_fields import Framed
+
+    own = [f"{path.name}:{node.lineno}"
+           for path in sorted((Path(resonant.__file__).parent).rglob("*.py"))
+           if path.name != "result_fields.py"
+           for node in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+           if isinstance(node, ast.FunctionDef) and node.name == "to_frame"]
+    assert own == []
+
+    @dataclass(frozen=True)
+    class Ragged(Framed):
+        _frame = (("a", "a"), ("b", "b"))
+        a: np.ndarray
+        b: np.ndarray
+
+    with pytest.raises(AnalysisError, match="lengths"):
+        Ragged(np.zeros(2), np.zeros(3)).frame_columns()

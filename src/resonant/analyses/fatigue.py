@@ -43,7 +43,7 @@ from ..charts import COLORS, Bar, Chart, Charted, Charts
 from ..errors import AnalysisError, printable
 from ..model.load_spec import FATIGUE_METHODS
 from ..tables import ResultTable, number_cell
-from .result_fields import FieldsJSON, saved
+from .result_fields import FieldsJSON, Framed, saved
 from .results_json import Saved
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -484,7 +484,7 @@ def fatigue_chart(result: ResponseFatigue) -> Charts:
 
 
 @dataclass(frozen=True)
-class RainflowDamage(FieldsJSON, Charted):
+class RainflowDamage(Framed, FieldsJSON, Charted):
     """Rainflow cycles of a stress history and Miner's damage.
 
     Attributes
@@ -498,6 +498,9 @@ class RainflowDamage(FieldsJSON, Charted):
     sn : SNCurve
     """
 
+    #: the columns of to_frame() (resonant.analyses.result_fields.Framed)
+    _frame = (("ranges", "range"), ("counts", "count"))
+
     ranges: np.ndarray
     counts: np.ndarray = saved(axes=("ranges",))
     damage: float = saved()
@@ -506,23 +509,6 @@ class RainflowDamage(FieldsJSON, Charted):
 
     def __post_init__(self) -> None:
         freeze_fields(self)
-
-    def to_frame(self) -> Any:
-        """The counted cycles as a table: their ``range`` and ``count`` (pandas, the
-        ``study`` extra).
-
-        Returns
-        -------
-        pandas.DataFrame
-
-        Examples
-        --------
-        >>> result = rainflow_damage([0.0, 100.0, -50.0, 80.0, -100.0, 0.0], SNCurve(1e12, 3.0))
-        >>> list(result.to_frame().columns)
-        ['range', 'count']
-        """
-        import pandas as pd
-        return pd.DataFrame({"range": self.ranges, "count": self.counts})
 
     def life(self, duration: float) -> float:
         """The time to failure when the history, ``duration`` seconds long, repeats

@@ -44,6 +44,7 @@ from ..errors import printable
 from ..expressions.notation import dollar_name
 from ..model.units_display import ResultUnits, Shown, curve_units, frequency_axis, unit_math
 from ..tables import ResultTable, number_column
+from .result_fields import Framed
 from .results_json import Saved, complex_json, floats_json
 from .special_points import SpecialPoint
 from .sweep import FrequencyResponse
@@ -291,7 +292,7 @@ __all__ = ["NonlinearResponse"]
 
 
 @dataclass(frozen=True)
-class NonlinearResponse:
+class NonlinearResponse(Framed):
     """The periodic steady state of the full equations, followed along a parameter.
 
     Attributes
@@ -338,6 +339,10 @@ class NonlinearResponse:
     --------
     See :func:`resonant.analyses.harmonic_balance.nonlinear_sweep` and the module's example.
     """
+
+    #: the columns of to_frame() (resonant.analyses.result_fields.Framed)
+    _frame = (("values", "{parameter}"), ("stable", "stable"),
+              ("amplitudes", "amplitude:{key}"))
 
     title: str
     parameter: str
@@ -494,26 +499,6 @@ class NonlinearResponse:
             stop=rest.number("stop"), linear=linear, warnings=own, outputs=outputs,
             output_coefficients=coefficients(outputs)
             if rest.boolean("output_coefficients") else None)
-
-    def to_frame(self) -> Any:
-        """The branch as a table: the parameter, stability and every amplitude (pandas, the
-        ``study`` extra).
-
-        Returns
-        -------
-        pandas.DataFrame
-
-        Examples
-        --------
-        >>> import resonant
-        >>> r = resonant.load("examples/duffing.toml").nonlinear_sweep(
-        ...     "omega", 0.8, 1.2, harmonics=1, points=20)
-        >>> list(r.to_frame().columns)
-        ['omega', 'stable', 'amplitude:x']
-        """
-        import pandas as pd
-        return pd.DataFrame({self.parameter: self.values, "stable": self.stable,
-                             **{f"amplitude:{k}": v for k, v in self.amplitudes.items()}})
 
     def to_csv(self, path: str | Path) -> None:
         """One row per branch point: value, stable, the amplitudes."""

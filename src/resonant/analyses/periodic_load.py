@@ -52,6 +52,7 @@ from ..model.units_display import NO_UNIT, ResultUnits
 from ..system.base import LinearSystem
 from ..tables import ResultTable, number_cell
 from .random_response import Transfer, responses_to_solve
+from .result_fields import Framed
 from .results_json import Saved, complex_json, floats_json
 
 #: most harmonics of a series
@@ -199,7 +200,7 @@ def _sampled(function: Callable[[np.ndarray], np.ndarray], period: float, tolera
 
 
 @dataclass(frozen=True)
-class PeriodicResponse:
+class PeriodicResponse(Framed):
     """The stationary response to a periodic load, harmonic by harmonic and summed.
 
     Attributes
@@ -220,6 +221,9 @@ class PeriodicResponse:
     largest : mapping
         name -> the largest |response| over the period (on the samples).
     """
+
+    #: the columns of to_frame() (resonant.analyses.result_fields.Framed)
+    _frame = (("time", "time"), ("history", "{key}"))
 
     series: FourierSeries
     names: tuple[str, ...]
@@ -301,25 +305,6 @@ class PeriodicResponse:
         mean = np.array([responses.mapping(name).number("mean") for name in names])
         return _summed(series, names, Z, mean, tuple(saved.strings("warnings", ())))
 
-    def to_frame(self) -> Any:
-        """One period of the summed response as a table: ``time`` (s) and every response
-        (pandas, the ``study`` extra).
-
-        Returns
-        -------
-        pandas.DataFrame
-
-        Examples
-        --------
-        >>> import resonant
-        >>> r = periodic_load_response(
-        ...     resonant.load("examples/teaching/fourier_square.toml").linearize())
-        >>> list(r.to_frame().columns)
-        ['time', 'x']
-        """
-        import pandas as pd
-        return pd.DataFrame({"time": self.time,
-                             **{name: self.history[name] for name in self.names}})
 
 
 def periodic_response(system: LinearSystem, signal: str, series: FourierSeries, *,

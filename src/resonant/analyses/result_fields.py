@@ -64,7 +64,8 @@ import numpy.typing as npt
 from ..errors import AnalysisError
 from .results_json import Saved, complex_json, floats_json, optional_float
 
-__all__ = ["Codec", "FieldsJSON", "saved", "COMPLEX_PAIRS", "ROWS", "Shape", "frame_of"]
+__all__ = ["Codec", "FieldsJSON", "Framed", "saved", "COMPLEX_PAIRS", "ROWS", "Shape",
+           "frame_of"]
 
 T = TypeVar("T", bound="FieldsJSON")
 
@@ -424,6 +425,65 @@ def _shape(entry: _Entry, values: Mapping[str, Any], saved_data: Saved
             raise saved_data.error(f"cannot be checked: its axis '{axis}' was not saved",
                                    entry.key)
     return tuple(shape)
+
+
+class Framed:
+    """``to_frame()`` of a result whose numbers are a table, from the attributes it names.
+
+    A subclass lists its columns in ``_frame``: (attribute, label) pairs in order, the first
+    the rows.  An attribute holding an array is one column; one holding a mapping of arrays
+    is a column per key.  The label is formatted with the result's attributes and, for a
+    mapping, ``key``: ``"{parameter}"`` names the column by the swept parameter,
+    ``"amplitude:{key}"`` the amplitude of each quantity.  Every column has the rows'
+    length (checked).
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass
+    >>> import numpy as np
+    >>> @dataclass(frozen=True)
+    ... class Levels(Framed):
+    ...     _frame = (("time", "{unit}"), ("levels", "level:{key}"))
+    ...     unit: str
+    ...     time: np.ndarray
+    ...     levels: dict
+    >>> Levels("s", np.array([0.0, 1.0]), {"x": np.array([2.0, 3.0])}).frame_columns()
+    {'s': array([0., 1.]), 'level:x': array([2., 3.])}
+    """
+
+    _frame: ClassVar[tuple[tuple[str, str], ...]] = ()
+
+    def frame_columns(self) -> dict[str, np.ndarray]:
+        """The table's columns, label -> values, in the order of ``_frame``.
+
+        Returns
+        -------
+        dict
+        """
+        names = dict(vars(self))
+        columns: dict[str, np.ndarray] = {}
+        for attribute, label in self._frame:
+            value = getattr(self, attribute)
+            if isinstance(value, Mapping):
+                for key, column in value.items():
+                    columns[label.format(key=key, **names)] = np.asarray(column)
+            else:
+                columns[label.format(**names)] = np.asarray(value)
+        rows = {len(c) for c in columns.values()}
+        if len(rows) > 1:
+            raise AnalysisError(f"the columns of {type(self).__name__} have the lengths "
+                                f"{sorted(rows)}: they do not make one table")
+        return columns
+
+    def to_frame(self) -> Any:
+        """The result as a table, one row per entry of its first column (pandas, the
+        ``study`` extra).
+
+        Returns
+        -------
+        pandas.DataFrame
+        """
+        return frame_of(self.frame_columns())
 
 
 def frame_of(columns: Mapping[str, Sequence[float] | np.ndarray]) -> Any:

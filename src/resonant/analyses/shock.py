@@ -68,6 +68,7 @@ from ..model.pulses import PULSE_KINDS, PULSES
 from ..model.units import TIME, UnitError, parse_unit
 from ..model.units_display import ResultUnits, Shown, shown_unit
 from ..tables import ResultTable, number_column
+from .result_fields import Framed
 from .results_json import Saved
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -237,7 +238,7 @@ def _output(q: np.ndarray, s: complex, w: float, zeta: float, quantity: str) -> 
 
 
 @dataclass(frozen=True)
-class ShockSpectrum:
+class ShockSpectrum(Framed):
     """The shock response spectrum of a signal.
 
     Attributes
@@ -259,6 +260,10 @@ class ShockSpectrum:
     excitation_end : float
         tau (s): where primary ends and residual starts (a sample time).
     """
+
+    #: the columns of to_frame() (resonant.analyses.result_fields.Framed)
+    _frame = (("frequency", "frequency_hz"), ("maximax", "maximax"), ("primary", "primary"),
+              ("residual", "residual"), ("positive", "positive"), ("negative", "negative"))
 
     frequency: np.ndarray
     maximax: np.ndarray
@@ -399,24 +404,6 @@ class ShockSpectrum:
                    excitation_end=saved.number("excitation_end_s"),
                    warnings=saved.strings("warnings", ()))
 
-    def to_frame(self) -> Any:
-        """The spectrum as a table: one row per natural frequency (Hz), the maximax, primary
-        and residual spectra (pandas, the ``study`` extra).
-
-        Returns
-        -------
-        pandas.DataFrame
-
-        Examples
-        --------
-        >>> t, a = pulse("half-sine", 1.0, 0.01, 1e-5)
-        >>> list(shock_response_spectrum(a, 1e-5, [10.0, 100.0]).to_frame().columns)
-        ['frequency_hz', 'maximax', 'primary', 'residual', 'positive', 'negative']
-        """
-        import pandas as pd
-        return pd.DataFrame({"frequency_hz": self.frequency, "maximax": self.maximax,
-                             "primary": self.primary, "residual": self.residual,
-                             "positive": self.positive, "negative": self.negative})
 
 
 def _weight(s: complex, w: float, zeta: float, quantity: str) -> complex:

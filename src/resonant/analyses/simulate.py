@@ -98,6 +98,7 @@ from ..system.stability import (
 from ..tables import ResultTable, number_cell
 from .peaks import sampled_peak
 from .periodic import PeriodicSolution, periodic_solution
+from .result_fields import Framed
 from .results_json import Saved, floats_json
 from .stationary import StationarySolution, stationary
 from .time_integration import STIFF_RATIO, LinearDynamics, NonlinearDynamics, integrate
@@ -130,7 +131,7 @@ MAX_PERIODS = 1e6
 MAX_INITIAL = 1e100
 
 @dataclass(frozen=True)
-class Simulation:
+class Simulation(Framed):
     """A simulated time history and its steady-state amplitudes.
 
     Attributes
@@ -173,6 +174,9 @@ class Simulation:
     >>> sim.start, sim.nonlinear, float(sim.t[0])
     ('given', False, 0.0)
     """
+
+    #: the columns of to_frame() (resonant.analyses.result_fields.Framed)
+    _frame = (("t", "t"), ("states", "{key}"))
 
     title: str
     coordinates: tuple[str, ...]
@@ -301,24 +305,6 @@ to_dict(history=True)
             "relative_difference": dict(self.relative_difference),
             "warnings": list(self.warnings),
         }
-
-    def to_frame(self) -> Any:
-        """The time history as a table: ``t`` and every coordinate and output (pandas, the
-        ``study`` extra).
-
-        Returns
-        -------
-        pandas.DataFrame
-
-        Examples
-        --------
-        >>> import resonant
-        >>> sim = resonant.load("examples/two_dof_free.toml").simulate(0.05, initial={"x1": 0.01})
-        >>> list(sim.to_frame().columns)
-        ['t', 'x1', 'x2']
-        """
-        import pandas as pd
-        return pd.DataFrame({"t": self.t, **{k: v for k, v in self.states.items()}})
 
     def to_csv(self, path: str | Path) -> None:
         """Write ``t`` and every deviation (and the linear prediction) as CSV."""

@@ -126,7 +126,7 @@ from .kernel import (
     choose_method,
     solve_harmonic,
 )
-from .result_fields import FieldsJSON, saved
+from .result_fields import FieldsJSON, Framed, saved
 from .results_json import Saved, floats_json
 from .stationary import peak, phase_angle
 
@@ -189,7 +189,7 @@ class ExtremaTable:
 
 
 @dataclass(frozen=True)
-class FrequencyResponse(FieldsJSON):
+class FrequencyResponse(Framed, FieldsJSON):
     """Amplitudes and phases of coordinates and outputs against one parameter.
 
     Attributes
@@ -245,6 +245,10 @@ class FrequencyResponse(FieldsJSON):
     >>> r.parameter, r.values.tolist(), r.frequency_sweep
     ('omega', [5.0, 10.0], True)
     """
+
+    #: the columns of to_frame() (resonant.analyses.result_fields.Framed)
+    _frame = (("values", "{parameter}"), ("amplitudes", "amplitude:{key}"),
+              ("phases", "phase:{key}"))
 
     parameter: str
     values: np.ndarray
@@ -358,26 +362,6 @@ class FrequencyResponse(FieldsJSON):
             return None
         values: np.ndarray = frozen_array(self.natural_frequencies / self.frequency_scale)
         return values
-
-    def to_frame(self) -> Any:
-        """The table of the sweep: one row per value, the amplitude and the phase (rad) of
-        every quantity (pandas, the ``study`` extra).
-
-        Returns
-        -------
-        pandas.DataFrame
-
-        Examples
-        --------
-        >>> import resonant
-        >>> r = resonant.load("examples/cart_pendulum.toml").linearize().sweep("omega", [5, 10])
-        >>> list(r.to_frame().columns)[:3]
-        ['omega', 'amplitude:x1', 'amplitude:x2']
-        """
-        import pandas as pd
-        return pd.DataFrame({self.parameter: self.values,
-                             **{f"amplitude:{k}": v for k, v in self.amplitudes.items()},
-                             **{f"phase:{k}": v for k, v in self.phases.items()}})
 
     def to_csv(self, path: str | os.PathLike[str]) -> None:
         """Write one row per value: the parameter, then amplitude and phase of each name."""

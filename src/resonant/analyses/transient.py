@@ -42,6 +42,7 @@ from ..system.base import LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
 from ..system.output_map import output_map
 from ..tables import ResultTable, number_cell
+from .result_fields import Framed
 from .results_json import Saved, floats_json
 from .shock import pulse
 
@@ -52,7 +53,7 @@ MAX_SAMPLES = 5_000_000
 
 
 @dataclass(frozen=True)
-class TransientResponse:
+class TransientResponse(Framed):
     """The response histories of every coordinate and output to a sampled input.
 
     Attributes
@@ -68,6 +69,9 @@ class TransientResponse:
     names : tuple of str
         The coordinates, then the outputs.
     """
+
+    #: the columns of to_frame() (resonant.analyses.result_fields.Framed)
+    _frame = (("time", "time"), ("input", "input"), ("history", "{key}"))
 
     time: np.ndarray
     input: np.ndarray
@@ -141,27 +145,6 @@ class TransientResponse:
                    history=responses, largest=saved.numbers_of("largest"),
                    names=tuple(responses), warnings=saved.strings("warnings", ()))
 
-    def to_frame(self) -> Any:
-        """The histories as a table: ``time`` (s), ``input`` and every response (pandas, the
-        ``study`` extra).
-
-        Returns
-        -------
-        pandas.DataFrame
-
-        Examples
-        --------
-        >>> import resonant
-        >>> from resonant.model.load_spec import ShockSpec
-        >>> system = resonant.load("examples/shaker_gevs.toml").linearize()
-        >>> r = shock_response(system, ShockSpec("y", 2, "half-sine", 100.0, 0.011, 1e-4, 0.02),
-        ...                    names=["table"])
-        >>> list(r.to_frame().columns)
-        ['time', 'input', 'table']
-        """
-        import pandas as pd
-        return pd.DataFrame({"time": self.time, "input": self.input,
-                             **{name: self.history[name] for name in self.names}})
 
 
 @dataclass(frozen=True)
