@@ -53,7 +53,9 @@ def example_files() -> list[Path]:
 
 
 def _save(figure: Any, path: Path) -> str:
-    figure.savefig(path, dpi=90, bbox_inches="tight")
+    # a figure laid out by its engine already fits; "tight" would draw it a second time
+    tight = None if figure.get_layout_engine() is not None else "tight"
+    figure.savefig(path, dpi=90, bbox_inches=tight)
     plt.close(figure)
     return path.name
 

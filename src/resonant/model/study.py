@@ -45,17 +45,76 @@ from .units import FREQUENCY, ModelUnits, parse_with_unit
 #: (per chunk of samples), and Saltelli's scheme for Sobol indices
 DESIGNS = ("grid", "random", "lhs", "sobol")
 DISTRIBUTIONS = ("uniform", "normal", "lognormal")
-#: the quantities a study records: kind -> what follows the colon
-QUANTITY_KINDS = {"natural_frequency": "index", "damping_ratio": "index", "amplitude": "name",
-                  "phase": "name", "peak": "name", "stable": "", "nonlinear_amplitude": "name",
-                  "rms": "name", "srs": "name@frequency", "damage": "name",
-                  "critical_speed": "index@order", "stability_threshold": "",
-                  "log_decrement": "index@speed"}
+
+
+@dataclass(frozen=True)
+class QuantityKind:
+    """One kind of quantity a study records (``kind:target``), with what it means.
+
+    Parameters
+    ----------
+    name : str
+        The kind, before the colon (``peak``).
+    target : str
+        What follows the colon: ``"index"`` (a mode number), ``"name"`` (a coordinate or
+        output), ``"name@frequency"``, ``"index@order"``, ``"index@speed"``, or ``""``.
+    unit : str
+        Its column's SI unit: a unit (``"rad/s"``), ``""`` for a pure number, or
+        ``"target"``: the unit of the coordinate or output it names.
+    label : str
+        Its axis title, ``{}`` standing for the typeset target (a name, or a mode number
+        as a subscript); ``""``: the column as written.
+    band : bool
+        It needs the study's band (searched over it, or swept up from its start).
+    rotor : bool
+        It needs a rotor (the model's ``[campbell]`` speeds).
+    derived : str
+        The kind of a second column it gives (a peak's frequency), or ``""``.
+
+    Examples
+    --------
+    >>> QUANTITY_KINDS["peak"].label.format("x")
+    'peak of x over the band'
+    """
+
+    name: str
+    target: str
+    unit: str
+    label: str = ""
+    band: bool = False
+    rotor: bool = False
+    derived: str = ""
+
+
+#: the quantities a study records (docs/studies.md): a new kind is one entry here and its
+#: evaluation in resonant.studies.quantities
+QUANTITY_KIND_TABLE = (
+    QuantityKind("natural_frequency", "index", "rad/s", r"natural frequency $\omega_{{{}}}$"),
+    QuantityKind("damping_ratio", "index", "", r"damping ratio $\zeta_{{{}}}$"),
+    QuantityKind("amplitude", "name", "target", "amplitude of {}"),
+    QuantityKind("phase", "name", "rad", "phase of {}"),
+    QuantityKind("peak", "name", "target", "peak of {} over the band", band=True,
+                 derived="peak_frequency"),
+    QuantityKind("stable", "", ""),
+    QuantityKind("nonlinear_amplitude", "name", "target", "amplitude of {} (nonlinear)",
+                 band=True),
+    QuantityKind("rms", "name", "target"),
+    QuantityKind("srs", "name@frequency", "target"),
+    QuantityKind("damage", "name", ""),
+    QuantityKind("critical_speed", "index@order", "rad/s", rotor=True),
+    QuantityKind("stability_threshold", "", "rad/s", rotor=True),
+    QuantityKind("log_decrement", "index@speed", "", rotor=True),
+)
+#: kind -> its entry
+QUANTITY_KINDS = MappingProxyType({kind.name: kind for kind in QUANTITY_KIND_TABLE})
+#: the second columns some kinds give: a peak's frequency, in the unit of the band's parameter
+DERIVED_COLUMNS = MappingProxyType({"peak_frequency": QuantityKind(
+    "peak_frequency", "name", "band", "frequency of the peak of {}")})
 #: the rotor quantities (docs/rotors.md): computed from the model's [campbell] section
-ROTOR_KINDS = ("critical_speed", "stability_threshold", "log_decrement")
+ROTOR_KINDS = tuple(kind.name for kind in QUANTITY_KIND_TABLE if kind.rotor)
 #: the quantities that need a band: peaks (searched over it) and the nonlinear steady state
 #: (swept up from its start)
-BAND_KINDS = ("peak", "nonlinear_amplitude")
+BAND_KINDS = tuple(kind.name for kind in QUANTITY_KIND_TABLE if kind.band)
 #: the most harmonics of the nonlinear steady state (every nonlinear analysis's limit)
 MAX_HARMONICS = MAX_GIVEN_HARMONICS
 #: most samples of one study (a grid's product included): 10^9 rows is ~10 GB per column
@@ -183,9 +242,8 @@ class Quantity:
     @property
     def columns(self) -> tuple[str, ...]:
         """The columns of the result (a peak also gives the frequency where it is)."""
-        if self.kind == "peak":
-            return self.text, f"peak_frequency:{self.target}"
-        return (self.text,)
+        derived = QUANTITY_KINDS[self.kind].derived if self.kind in QUANTITY_KINDS else ""
+        return (self.text, f"{derived}:{self.target}") if derived else (self.text,)
 
 
 @dataclass(frozen=True)
@@ -469,12 +527,13 @@ def parse_quantity(text: object, names: Collection[str], reader: _Reader) -> Qua
                        f"{type(text).__name__}", "quantities")
         return None
     kind, _, target = (part.strip() for part in text.strip().partition(":"))
-    what = QUANTITY_KINDS.get(kind)
-    if what is None:
+    entry = QUANTITY_KINDS.get(kind)
+    if entry is None:
         reader.problem(f"unknown quantity '{text}'; the quantities are "
-                       + ", ".join(f"{k}:{v.upper()}" if v else k
-                                   for k, v in QUANTITY_KINDS.items()), "quantities")
+                       + ", ".join(f"{k.name}:{k.target.upper()}" if k.target else k.name
+                                   for k in QUANTITY_KIND_TABLE), "quantities")
         return None
+    what = entry.target
     if what in ("index@order", "index@speed"):
         return _rotor_quantity(kind, what, target, text, reader)
     if what == "index":
@@ -788,5 +847,6 @@ def parse_study(raw: object, parameters: Collection[str], coordinates: Collectio
         return None
 
 
-__all__ = ["Band", "BAND_KINDS", "DESIGNS", "DISTRIBUTIONS", "Distribution", "QUANTITY_KINDS",
+__all__ = ["Band", "BAND_KINDS", "DERIVED_COLUMNS", "DESIGNS", "DISTRIBUTIONS", "Distribution",
+           "QUANTITY_KINDS", "QUANTITY_KIND_TABLE", "QuantityKind",
            "ROTOR_KINDS", "Quantity", "StudySpec", "parse_study", "rotor_problems", "study_spec"]

@@ -44,7 +44,7 @@ from ..charts import (
 from ..errors import AnalysisError
 from ..expressions.notation import math_name
 from ..model import Model
-from ..model.study import StudySpec
+from ..model.study import DERIVED_COLUMNS, QUANTITY_KINDS, QuantityKind, StudySpec
 from ..model.units_display import unit_math
 
 if TYPE_CHECKING:
@@ -109,21 +109,18 @@ def study_units(model: Model, spec: StudySpec) -> dict[str, str]:
     for quantity in spec.quantities:
         for column in quantity.columns:
             kind, _, target = column.partition(":")
-            if kind in ("amplitude", "peak", "nonlinear_amplitude", "rms"):
-                out[column] = si(target)
-            elif kind == "srs":  # the maximax of an oscillator on the output's history
-                out[column] = si(target.partition("@")[0])
-            elif kind == "damage":  # Miner's sum
-                out[column] = ""
-            elif kind == "phase":
-                out[column] = "rad"
-            elif kind in ("natural_frequency", "critical_speed", "stability_threshold"):
-                out[column] = "rad/s"
-            elif kind == "peak_frequency" and spec.band is not None:
-                out[column] = si(spec.band.parameter)
-            else:
-                out[column] = ""
+            unit = _kind_of(kind).unit
+            if unit == "target":    # srs: the output before the oscillator's '@frequency'
+                unit = si(target.partition("@")[0])
+            elif unit == "band":
+                unit = si(spec.band.parameter) if spec.band is not None else ""
+            out[column] = unit
     return out
+
+
+def _kind_of(kind: str) -> QuantityKind:
+    """The meaning of a column's kind (a quantity's, or a derived column's)."""
+    return QUANTITY_KINDS.get(kind) or DERIVED_COLUMNS.get(kind) or QuantityKind(kind, "", "")
 
 
 def axis_label(column: str, units: Mapping[str, str] | None = None) -> str:
@@ -139,17 +136,13 @@ def axis_label(column: str, units: Mapping[str, str] | None = None) -> str:
     '$k_{2}$ [N/m]'
     """
     kind, _, target = column.partition(":")
-    words = {"amplitude": "amplitude of {}", "peak": "peak of {} over the band",
-             "peak_frequency": "frequency of the peak of {}", "phase": "phase of {}",
-             "nonlinear_amplitude": "amplitude of {} (nonlinear)"}
+    label = _kind_of(kind).label
     if not target:
         text = math_name(column)
-    elif kind in words:
-        text = words[kind].format(math_name(target))
-    elif kind == "natural_frequency" and target.isdigit():
-        text = rf"natural frequency $\omega_{{{target}}}$"
-    elif kind == "damping_ratio" and target.isdigit():
-        text = rf"damping ratio $\zeta_{{{target}}}$"
+    elif label and _kind_of(kind).target == "name":
+        text = label.format(math_name(target))
+    elif label and _kind_of(kind).target == "index" and target.isdigit():
+        text = label.format(target)
     else:
         text = column.replace("$", r"\$")
     unit = (units or {}).get(column, "")
