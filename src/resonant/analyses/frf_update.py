@@ -65,7 +65,8 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["FRFUpdate", "update_to_frf", "frac", "model_frf", "RESIDUALS"]
+__all__ = ["FRFUpdate", "update_to_frf", "frac", "model_frf", "model_frf_matrix",
+           "RESIDUALS"]
 
 #: the residuals (module docstring)
 RESIDUALS = ("log", "complex")
@@ -142,6 +143,55 @@ def model_frf(system: LinearSystem, signal: str, frequency: np.ndarray,
     iw = 2j * np.pi * f
     return {channel: H[:, order.index(c.name)] * iw ** c.derivative
             for channel, c in channels.items()}
+
+
+def model_frf_matrix(system: LinearSystem, signals: Sequence[str], frequency: np.ndarray,
+                     channels: Mapping[str, ChannelMap], *, deadline: Deadline = NO_DEADLINE,
+                     **values: float) -> np.ndarray:
+    """The model's FRF matrix of the channels' quantities to several inputs (one kernel
+    solve per distinct load column, every input at once).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    signals : sequence of str
+        The inputs (signals of the model or coordinates).
+    frequency : ndarray
+        Hz.
+    channels : mapping
+        Channel -> its coordinate or output and derivative.
+    deadline : Deadline, optional
+    **values : float
+        Parameters that differ from the model's (SI).
+
+    Returns
+    -------
+    ndarray
+        (lines, channels, inputs) complex, the derivatives' (i w)^d included.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> system = resonant.load("examples/chain3_lab.toml").linearize()
+    >>> H = model_frf_matrix(system, ["x1", "x3"], np.array([0.0]),
+    ...                      {"d1": ChannelMap("x1"), "d3": ChannelMap("x3")})
+    >>> np.round(H[0].real * 1000, 6).tolist()     # static flexibilities (reciprocal)
+    [[1.0, 1.0], [1.0, 3.0]]
+    """
+    f = np.asarray(frequency, dtype=float)
+    num = system.numeric(deadline, **values)
+    names = sorted({c.name for c in channels.values()})
+    keep, outputs = responses_to_solve(num, names)
+    transfer = Transfer(system, num, [RandomInput(s, 0, None, None) for s in signals], keep,
+                        "direct", deadline)
+    if transfer.warnings:
+        raise ModelError(Problem("; ".join(transfer.warnings), system.source, "measurement",
+                                 "input"))
+    H = transfer(f, outputs)
+    order = [num.coordinates[i] for i in keep] + list(outputs)
+    iw = 2j * np.pi * f
+    return np.stack([H[:, order.index(c.name), :] * (iw ** c.derivative)[:, None]
+                     for c in channels.values()], axis=1)
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,142 @@
+"""The sensitivities of a model's FRFs to its parameters, analytically (docs/testing.md).
+
+With the dynamic stiffness Z(w; p) = K - w^2 M + i w C and an input's load b(w; p)
+(the sum of its generalized-force columns times (i w)^order), the response is
+x = Z^-1 b and, differentiating Z x = b,
+
+    dx/dp = Z^-1 (db/dp - (dK/dp - w^2 dM/dp + i w dC/dp) x),
+
+the classical dH/dp = -H (dZ/dp) H for a load that does not depend on p (Fox & Kapoor,
+AIAA J. 6, 1968; Heylen, Lammens & Sas, Modal Analysis Theory and Testing, sec. A.4).
+The matrices' and the loads' derivatives are central differences of the system's numbers
+at p (1 -+ 1e-6): exact to rounding for matrices linear or quadratic in p (a mass, a
+stiffness, a dashpot; k L^2), as they are in a lumped model.  One factorization of Z per
+line serves the response and every parameter's derivative, where finite differences of
+the FRF solve the whole model twice per parameter.
+
+The analytic route covers FRFs of coordinates (and their derivatives); for a channel that
+is an output of the model, or a model too large for the dense solve
+(:data:`DENSE_LIMIT` coordinates), :func:`frf_with_sensitivities` returns None and the
+caller differences the FRF instead.
+
+Examples
+--------
+>>> import numpy as np, resonant
+>>> from resonant.model.measurement_spec import ChannelMap
+>>> system = resonant.load("examples/chain3_lab.toml").linearize()
+>>> f = np.array([0.0])
+>>> H, dH = frf_with_sensitivities(system, ["F"], f, {"d3": ChannelMap("x3")}, ["k1"], {})
+>>> round(float(H[0, 0, 0].real), 6), round(float(dH[0, 0, 0, 0].real * 1e6), 6)
+(0.003, -1.0)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ..deadline import NO_DEADLINE, Deadline
+from ..memory import require
+from ..model.measurement_spec import ChannelMap
+from ..system.base import LinearSystem, NumericEOM
+from ..system.excitation import excitation_columns
+
+__all__ = ["frf_with_sensitivities", "DENSE_LIMIT"]
+
+#: the most coordinates the analytic route solves densely
+DENSE_LIMIT = 400
+#: relative step of the matrices' central differences
+_STEP = 1e-6
+
+
+def _dense(a: object) -> np.ndarray:
+    return np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
+
+
+def _loads(system: LinearSystem, num: NumericEOM, signals: Sequence[str],
+           iw: np.ndarray) -> np.ndarray | None:
+    """The loads b_j(w) (lines, n, inputs) of each input at ``num``'s parameters; None for an
+    input that is neither a signal with a force column nor a coordinate."""
+    columns = excitation_columns(system, dict(num.parameters))
+    B = np.zeros((len(iw), num.n, len(signals)), complex)
+    for j, name in enumerate(signals):
+        found = [(order, c) for (var, order), c in sorted(columns.items()) if var == name]
+        if found:
+            for order, c in found:
+                B[:, :, j] += iw[:, None] ** order * np.asarray(c, dtype=float)[None, :]
+        elif name in num.coordinates:
+            B[:, num.coordinates.index(name), j] = 1.0
+        else:
+            return None
+    return B
+
+
+def frf_with_sensitivities(system: LinearSystem, signals: Sequence[str],
+                           frequency: np.ndarray, channels: Mapping[str, ChannelMap],
+                           names: Sequence[str], values: Mapping[str, float], *,
+                           deadline: Deadline = NO_DEADLINE
+                           ) -> tuple[np.ndarray, np.ndarray] | None:
+    """The model's FRFs and their derivatives with respect to parameters, analytically.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    signals : sequence of str
+        The inputs (signals with a force column, or coordinates).
+    frequency : ndarray
+        The lines (Hz).
+    channels : mapping
+        Channel -> its coordinate and derivative.
+    names : sequence of str
+        The parameters differentiated.
+    values : mapping
+        The parameter point (SI; those not given keep the model's values).
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    (H, dH) or None
+        H (lines, channels, inputs) as
+        :func:`resonant.analyses.frf_update.model_frf_matrix`, dH (parameters, lines,
+        channels, inputs) its derivatives d H / d p; None where the analytic route does not
+        apply (module docstring).
+    """
+    num = system.numeric(deadline, **values)
+    if num.n > DENSE_LIMIT or any(c.name not in num.coordinates for c in channels.values()):
+        return None
+    f = np.asarray(frequency, dtype=float)
+    w = 2 * np.pi * f
+    iw = 1j * w
+    n, lines, inputs = num.n, len(f), len(signals)
+    require(16.0 * lines * n * (n + inputs * (2 + len(names))),
+            f"the dynamic stiffness of {n} coordinates at {lines} lines",
+            "fit fewer lines or fewer parameters")
+    B = _loads(system, num, signals, iw)
+    if B is None:
+        return None
+    M, C, K = (_dense(a) for a in (num.M, num.C, num.K))
+    Z = K[None] - (w ** 2)[:, None, None] * M[None] + iw[:, None, None] * C[None]
+    rows = [num.coordinates.index(c.name) for c in channels.values()]
+    factor = np.array([iw ** c.derivative for c in channels.values()]).T[:, :, None]
+    right = [B]
+    base = dict(num.parameters)
+    for name in names:
+        deadline.check("while differentiating the FRFs", analysis=True)
+        p = float(base[name])
+        h = _STEP * abs(p) if p else _STEP
+        up, down = (system.numeric(deadline, **{**values, name: p + s}) for s in (h, -h))
+        dM, dC, dK = ((_dense(getattr(up, a)) - _dense(getattr(down, a))) / (2 * h)
+                      for a in ("M", "C", "K"))
+        bu, bd = _loads(system, up, signals, iw), _loads(system, down, signals, iw)
+        dB = (bu - bd) / (2 * h) if bu is not None and bd is not None else 0 * B
+        right.append((dB, dK[None] - (w ** 2)[:, None, None] * dM[None]
+                      + iw[:, None, None] * dC[None]))
+    X = np.linalg.solve(Z, B)                               # (lines, n, inputs)
+    H = X[:, rows, :] * factor
+    if not names:
+        return H, np.zeros((0, *H.shape), complex)
+    rhs = np.concatenate([dB - dZ @ X for dB, dZ in right[1:]], axis=2)
+    dX = np.linalg.solve(Z, rhs).reshape(lines, n, len(names), inputs)
+    dH = np.moveaxis(dX[:, rows, :, :], 2, 0) * factor[None]
+    return H, dH
