@@ -9,10 +9,13 @@ x = Z^-1 b and, differentiating Z x = b,
 the classical dH/dp = -H (dZ/dp) H for a load that does not depend on p (Fox & Kapoor,
 AIAA J. 6, 1968; Heylen, Lammens & Sas, Modal Analysis Theory and Testing, sec. A.4).
 The matrices' and the loads' derivatives are central differences of the system's numbers
-at p (1 -+ 1e-6): exact to rounding for matrices linear or quadratic in p (a mass, a
-stiffness, a dashpot; k L^2), as they are in a lumped model.  One factorization of Z per
-line serves the response and every parameter's derivative, where finite differences of
-the FRF solve the whole model twice per parameter.
+at p (1 -+ 1e-6; the matrices of both points in one :meth:`~resonant.system.base.NumericEOM.batch`,
+a matrix that does not depend on p has the derivative 0 exactly): exact to rounding for
+matrices linear or quadratic in p (a mass, a stiffness, a dashpot; k L^2), as they are in a
+lumped model.  The loads' columns are differenced only for the parameters they depend on
+(:func:`loads_depend_on`, probed once).  One solve per line serves the response and every
+parameter's derivative, where finite differences of the FRF solve the whole model twice
+per parameter.
 
 The analytic route covers FRFs of coordinates (and their derivatives); for a channel that
 is an output of the model, or a model too large for the dense solve
@@ -32,7 +35,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 
 import numpy as np
 
@@ -42,7 +45,7 @@ from ..model.measurement_spec import ChannelMap
 from ..system.base import LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
 
-__all__ = ["frf_with_sensitivities", "DENSE_LIMIT"]
+__all__ = ["frf_with_sensitivities", "loads_depend_on", "DENSE_LIMIT"]
 
 #: the most coordinates the analytic route solves densely
 DENSE_LIMIT = 400
@@ -72,9 +75,57 @@ def _loads(system: LinearSystem, num: NumericEOM, signals: Sequence[str],
     return B
 
 
+def loads_depend_on(system: LinearSystem, signals: Sequence[str], names: Sequence[str],
+                    values: Mapping[str, float], deadline: Deadline = NO_DEADLINE
+                    ) -> frozenset[str]:
+    """The parameters the inputs' force columns depend on: those for which the columns
+    differ at 0.5, 1.3 or 2.1 times the parameter's value (parameters defined from it
+    following) from the columns at ``values``.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    signals : sequence of str
+    names : sequence of str
+    values : mapping
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    frozenset of str
+
+    Examples
+    --------
+    >>> import resonant
+    >>> system = resonant.load("examples/chain3_lab.toml").linearize()
+    >>> loads_depend_on(system, ["F"], ["k1", "m"], {})
+    frozenset()
+    """
+    iw = np.array([1j])
+    num = system.numeric(deadline, **values)
+    base = _loads(system, num, signals, iw)
+    found = set()
+    for name in names:
+        p = float(num.parameters[name])
+        for scale in (0.5, 1.3, 2.1):
+            moved = _loads(system, system.numeric(deadline, **{**values, name: scale * p}),
+                           signals, iw)
+            if base is None or moved is None or not np.array_equal(base, moved):
+                found.add(name)
+                break
+    return frozenset(found)
+
+
+def _derivative(a: np.ndarray | object, up: int, down: int, h: float) -> np.ndarray | float:
+    """The central difference of a batch's matrix of two points (0 when it is constant)."""
+    a = a.toarray() if hasattr(a, "toarray") else np.asarray(a)
+    return (a[up] - a[down]) / (2 * h) if np.ndim(a) == 3 else 0.0
+
+
 def frf_with_sensitivities(system: LinearSystem, signals: Sequence[str],
                            frequency: np.ndarray, channels: Mapping[str, ChannelMap],
                            names: Sequence[str], values: Mapping[str, float], *,
+                           loads_vary: Collection[str] | None = None,
                            deadline: Deadline = NO_DEADLINE
                            ) -> tuple[np.ndarray, np.ndarray] | None:
     """The model's FRFs and their derivatives with respect to parameters, analytically.
@@ -92,6 +143,9 @@ def frf_with_sensitivities(system: LinearSystem, signals: Sequence[str],
         The parameters differentiated.
     values : mapping
         The parameter point (SI; those not given keep the model's values).
+    loads_vary : collection of str, optional
+        The parameters the inputs' force columns depend on (:func:`loads_depend_on`);
+        default all of ``names`` (their columns differenced too).
     deadline : Deadline, optional
 
     Returns
@@ -119,24 +173,28 @@ def frf_with_sensitivities(system: LinearSystem, signals: Sequence[str],
     Z = K[None] - (w ** 2)[:, None, None] * M[None] + iw[:, None, None] * C[None]
     rows = [num.coordinates.index(c.name) for c in channels.values()]
     factor = np.array([iw ** c.derivative for c in channels.values()]).T[:, :, None]
-    right = [B]
+    right: list[tuple[np.ndarray, np.ndarray]] = []
     base = dict(num.parameters)
     for name in names:
         deadline.check("while differentiating the FRFs", analysis=True)
         p = float(base[name])
         h = _STEP * abs(p) if p else _STEP
-        up, down = (system.numeric(deadline, **{**values, name: p + s}) for s in (h, -h))
-        dM, dC, dK = ((_dense(getattr(up, a)) - _dense(getattr(down, a))) / (2 * h)
-                      for a in ("M", "C", "K"))
-        bu, bd = _loads(system, up, signals, iw), _loads(system, down, signals, iw)
-        dB = (bu - bd) / (2 * h) if bu is not None and bd is not None else 0 * B
-        right.append((dB, dK[None] - (w ** 2)[:, None, None] * dM[None]
-                      + iw[:, None, None] * dC[None]))
+        pair = num.batch(name, np.array([p + h, p - h]), deadline)
+        dM, dC, dK = (_derivative(a, 0, 1, h) for a in (pair.M, pair.C, pair.K))
+        dB = np.zeros_like(B)
+        if loads_vary is None or name in loads_vary:
+            up, down = (system.numeric(deadline, **{**values, name: p + s}) for s in (h, -h))
+            bu, bd = _loads(system, up, signals, iw), _loads(system, down, signals, iw)
+            if bu is None or bd is None:
+                return None
+            dB = (bu - bd) / (2 * h)
+        right.append((dB, np.asarray(dK)[None] - (w ** 2)[:, None, None] * np.asarray(dM)[None]
+                      + iw[:, None, None] * np.asarray(dC)[None]))
     X = np.linalg.solve(Z, B)                               # (lines, n, inputs)
     H = X[:, rows, :] * factor
     if not names:
         return H, np.zeros((0, *H.shape), complex)
-    rhs = np.concatenate([dB - dZ @ X for dB, dZ in right[1:]], axis=2)
+    rhs = np.concatenate([dB - dZ @ X for dB, dZ in right], axis=2)
     dX = np.linalg.solve(Z, rhs).reshape(lines, n, len(names), inputs)
     dH = np.moveaxis(dX[:, rows, :, :], 2, 0) * factor[None]
     return H, dH
