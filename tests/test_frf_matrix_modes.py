@@ -46,6 +46,7 @@ from resonant.analyses.identify import (
     identify_modes_matrix,
     modal_assurance,
 )
+from resonant.api import loads
 from resonant.deadline import NO_DEADLINE
 from resonant.errors import ModelError
 from resonant.model.measured import MeasuredData, MeasuredFunction, read_uff, write_uff
@@ -254,3 +255,47 @@ def test_frf_saves_the_matrix(tmp_path):
     direct = estimate_frf_matrix({"hammer": x[0], "shaker": x[1]}, y, 1 / fs, segment=512)
     np.testing.assert_allclose(H, direct.H, rtol=1e-10, atol=1e-10)
     np.testing.assert_allclose(f, direct.frequency)
+
+
+def _matrix_chain(n: int) -> str:
+    """An n-mass chain given by its matrices, k1 its first spring (tridiagonal)."""
+    def spring(i: int) -> str:
+        return "k1" if i == 0 else "k"
+
+    K = [[0] * n for _ in range(n)]
+    for i in range(n):
+        K[i][i] = f"{spring(i)} + k" if i < n - 1 else spring(i)
+        if i:
+            K[i][i - 1] = K[i - 1][i] = "-k"
+    M = [["m" if i == j else 0 for j in range(n)] for i in range(n)]
+    C = [["2*sqrt(k*m)/100" if i == j else 0 for j in range(n)] for i in range(n)]
+    coordinates = "\n".join(f'x{i + 1} = {{ unit = "m" }}' for i in range(n))
+    return (f'title = "chain"\n[parameters]\nm = "1 kg"\nk1 = "1000 N/m"\nk = "1000 N/m"\n'
+            f'[coordinates]\n{coordinates}\n[matrices]\nM = {json.dumps(M)}\n'
+            f'K = {json.dumps(K)}\nC = {json.dumps(C)}\n')
+
+
+@pytest.mark.parametrize("n, stacked", [(16, 0), (3, 0), (16, 24)])
+def test_banded_dense_and_stacked_routes_agree(monkeypatch, n, stacked):
+    from resonant.analyses import frf_sensitivity
+
+    monkeypatch.setattr(frf_sensitivity, "STACKED_LIMIT", stacked)
+    system = loads(_matrix_chain(n)).linearize()
+    f = np.linspace(0.5, 12.0, 50)
+    channels = {"d1": ChannelMap("x1"), "v": ChannelMap(f"x{n}", 1)}
+    signals = ["x1", f"x{n}"]
+    H = model_frf_matrix(system, signals, f, channels, k1=1200.0)
+    problem = _FRFProblem(system, ["k1", "k", "m"], f, np.transpose(H, (1, 2, 0)).reshape(
+        -1, len(f)), signals, channels, "complex", "analytic", NO_DEADLINE)
+    x = np.log([1000.0, 900.0, 1.2])
+    analytic, differences = problem.analytic_jacobian(x), problem.difference_jacobian(x)
+    scale = np.abs(differences).max(axis=0)
+    assert (np.abs(analytic - differences).max(axis=0) <= 1e-6 * scale).all()
+    found = frf_sensitivities_at(system, signals, f, channels)
+    np.testing.assert_allclose(found, H, rtol=1e-9)
+
+
+def frf_sensitivities_at(system, signals, f, channels):
+    from resonant.analyses.frf_sensitivity import frf_with_sensitivities
+
+    return frf_with_sensitivities(system, signals, f, channels, [], {"k1": 1200.0})[0]
