@@ -37,23 +37,22 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Collection, Mapping, Sequence
-from typing import Any
 
 import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import AnalysisError
 from ..memory import require
 from ..model.measurement_spec import ChannelMap
 from ..system.base import LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
+from .kernel import LineFactors
 
 __all__ = ["frf_with_sensitivities", "loads_depend_on", "ANALYTIC_LIMIT", "STACKED_LIMIT"]
 
 #: the most coordinates of the analytic route (the matrices' derivatives are held dense)
 ANALYTIC_LIMIT = 2000
 #: up to this many coordinates the lines are solved as one stacked dense system, above
-#: by a banded or dense LU per line
+#: by a banded or dense LU per line (:class:`resonant.analyses.kernel.LineFactors`)
 STACKED_LIMIT = 24
 #: relative step of the matrices' central differences
 _STEP = 1e-6
@@ -128,12 +127,10 @@ def _derivative(a: np.ndarray | object, up: int, down: int, h: float) -> np.ndar
     return (a[up] - a[down]) / (2 * h) if np.ndim(a) == 3 else 0.0
 
 
-def _times(a: Any, X: np.ndarray) -> np.ndarray | float:
+def _times(a: np.ndarray | float, X: np.ndarray) -> np.ndarray | float:
     """dA X for every line (X (lines, n, inputs)); 0 for a constant matrix."""
     if isinstance(a, float):
         return 0.0
-    if hasattr(a, "toarray"):
-        return np.stack([np.asarray(a @ x) for x in X])
     return np.asarray(np.matmul(a, X))
 
 
@@ -187,7 +184,8 @@ def frf_with_sensitivities(system: LinearSystem, signals: Sequence[str],
         return None
     rows = [num.coordinates.index(c.name) for c in channels.values()]
     factor = np.array([iw ** c.derivative for c in channels.values()]).T[:, :, None]
-    derivatives: list[tuple[np.ndarray, Any, Any, Any]] = []
+    derivatives: list[tuple[np.ndarray, np.ndarray | float, np.ndarray | float,
+                            np.ndarray | float]] = []
     base = dict(num.parameters)
     for name in names:
         deadline.check("while differentiating the FRFs", analysis=True)
@@ -212,72 +210,18 @@ def frf_with_sensitivities(system: LinearSystem, signals: Sequence[str],
     return H, dH
 
 
-def _bandwidths(A: np.ndarray) -> tuple[int, int]:
-    """The lower and upper bandwidths of the nonzero pattern of A."""
-    i, j = np.nonzero(A)
-    return (int(max(0, (i - j).max(initial=0))), int(max(0, (j - i).max(initial=0))))
-
-
 def _solve_lines(num: NumericEOM, w: np.ndarray, B: np.ndarray,
-                 derivatives: list[tuple[np.ndarray, Any, Any, Any]],
+                 derivatives: list[tuple[np.ndarray, np.ndarray | float, np.ndarray | float,
+                                         np.ndarray | float]],
                  rows: Sequence[int] = ()) -> tuple[np.ndarray, np.ndarray]:
     """X = Z^-1 B at every line and dX = Z^-1 (dB - dZ X) at ``rows``, one factorization of
-    Z per line: stacked dense solves for up to :data:`STACKED_LIMIT` coordinates, else per
-    line a banded LU (LAPACK ``zgbtrf``, where the bandwidth is at most n / 4) or a dense
-    one."""
-    lines, n, inputs = B.shape
-    iw = 1j * w
+    Z per line (:class:`resonant.analyses.kernel.LineFactors`)."""
+    factors = LineFactors(num.M, num.C, num.K, w, STACKED_LIMIT)
+    X = factors.solve(B)
+    if not derivatives:
+        return X, np.zeros((len(w), 0, 0), complex)
+    iw = 1j * w[:, None, None]
     w2 = (w ** 2)[:, None, None]
-
-    def right(X: np.ndarray, sl: slice) -> np.ndarray:
-        return np.concatenate([dB[sl] - _times(dK, X) + w2[sl] * _times(dM, X)
-                               - iw[sl, None, None] * _times(dC, X)
-                               for dB, dM, dC, dK in derivatives], axis=2)
-
-    if n <= STACKED_LIMIT:
-        M, C, K = (_dense(a) for a in (num.M, num.C, num.K))
-        Z = K[None] - w2 * M[None] + iw[:, None, None] * C[None]
-        X = np.linalg.solve(Z, B)
-        if not derivatives:
-            return X, np.zeros((lines, 0, 0), complex)
-        return X, np.linalg.solve(Z, right(X, slice(None)))[:, list(rows), :]
-    from scipy.linalg import lu_factor, lu_solve
-    from scipy.linalg.lapack import zgbtrf, zgbtrs
-
-    M, C, K = (_dense(a) for a in (num.M, num.C, num.K))
-    lower, upper = _bandwidths(np.abs(M) + np.abs(C) + np.abs(K))
-    X = np.empty((lines, n, inputs), complex)
-    if lower + upper + 1 <= n // 4:
-        def band(A: np.ndarray) -> np.ndarray:
-            out = np.zeros((2 * lower + upper + 1, n))
-            for d in range(-lower, upper + 1):        # A[i, j] at out[lower + upper + i - j, j]
-                out[lower + upper - d, max(d, 0):n + min(d, 0)] = np.diagonal(A, d)
-            return out
-
-        bands = band(K)[None] - w2 * band(M)[None] + iw[:, None, None] * band(C)[None]
-        factors: list[Any] = []
-        for line in range(lines):
-            lu, pivots, info = zgbtrf(bands[line], lower, upper)
-            if info != 0:
-                raise AnalysisError(f"the system is singular at {w[line] / (2 * np.pi):.6g} "
-                                    "Hz (an undamped resonance): add damping")
-            factors.append((lu, pivots))
-            X[line] = zgbtrs(lu, lower, upper, B[line], pivots)[0]
-
-        def solve(line: int, b: np.ndarray) -> np.ndarray:
-            lu, pivots = factors[line]
-            return np.asarray(zgbtrs(lu, lower, upper, b, pivots)[0])
-    else:
-        factors = []
-        for line in range(lines):
-            factors.append(lu_factor(K - w[line] ** 2 * M + iw[line] * C, check_finite=False))
-            X[line] = lu_solve(factors[-1], B[line], check_finite=False)
-
-        def solve(line: int, b: np.ndarray) -> np.ndarray:
-            return np.asarray(lu_solve(factors[line], b, check_finite=False))
-    dX = np.empty((lines, len(rows), len(derivatives) * inputs), complex)
-    if derivatives:
-        R = right(X, slice(None))
-        for line in range(lines):
-            dX[line] = solve(line, R[line])[list(rows)]
-    return X, dX
+    R = np.concatenate([dB - _times(dK, X) + w2 * _times(dM, X) - iw * _times(dC, X)
+                        for dB, dM, dC, dK in derivatives], axis=2)
+    return X, factors.solve(R)[:, list(rows), :]

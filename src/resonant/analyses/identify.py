@@ -572,7 +572,12 @@ RANK_ONE_WARNING = 0.1
 
 
 def identify_modes_matrix(frequency: np.ndarray, H: np.ndarray, outputs: Sequence[str],
-                          inputs: Sequence[str], **options: Any) -> ModalIdentification:
+                          inputs: Sequence[str], *, max_order: int = 40, derivative: int = 0,
+                          near: Sequence[float] | None = None, stable_orders: int = 4,
+                          frequency_tolerance: float = FREQUENCY_TOLERANCE,
+                          damping_tolerance: float = DAMPING_TOLERANCE,
+                          mac_tolerance: float = MAC_TOLERANCE, added_decay: float = 0.0,
+                          deadline: Deadline = NO_DEADLINE) -> ModalIdentification:
     """Modes from an FRF matrix (several inputs): poles shared by every response and input,
     mode shapes and participation factors from the residue matrices.
 
@@ -595,9 +600,18 @@ def identify_modes_matrix(frequency: np.ndarray, H: np.ndarray, outputs: Sequenc
         (lines, outputs, inputs) complex, as :attr:`resonant.analyses.frf_mimo.MIMOFRF.H`.
     outputs, inputs : sequence of str
         The response and input channels.
-    **options
-        As :func:`identify_modes` (``max_order``, ``derivative``, ``near``, the stability
-        criteria, ``added_decay``, ``deadline``).
+    max_order : int
+        The highest LSCF order (as :func:`identify_modes`).
+    derivative : int
+        0 receptance, 1 mobility, 2 accelerance.
+    near : sequence of float, optional
+        The frequencies (Hz) the poles are taken nearest to.
+    stable_orders : int
+    frequency_tolerance, damping_tolerance, mac_tolerance : float
+        The stability criteria (module docstring).
+    added_decay : float
+        The decay rate (s^-1) an exponential window added.
+    deadline : Deadline, optional
 
     Returns
     -------
@@ -630,7 +644,11 @@ def identify_modes_matrix(frequency: np.ndarray, H: np.ndarray, outputs: Sequenc
                                  f"{len(inputs)} inputs), not {H.shape}", "", "", "H"))
     frfs = {pair_name(o, i): H[:, r, k] for r, o in enumerate(outputs)
             for k, i in enumerate(inputs)}
-    base = identify_modes(frequency, frfs, **options)
+    base = identify_modes(frequency, frfs, max_order=max_order, derivative=derivative,
+                          near=near, stable_orders=stable_orders,
+                          frequency_tolerance=frequency_tolerance,
+                          damping_tolerance=damping_tolerance, mac_tolerance=mac_tolerance,
+                          added_decay=added_decay, deadline=deadline)
     count = len(base.poles)
     residues = np.asarray(base.shapes).reshape(len(outputs), len(inputs), count)
     shapes = np.zeros((len(outputs), count), complex)
