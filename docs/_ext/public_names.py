@@ -52,7 +52,7 @@ HOME_PAGES: dict[str, tuple[str, ...]] = {
                                    "MIMOFRF"),
     "resonant.analyses.frf_update": ("update_to_frf", "FRFUpdate"),
     "resonant.analyses.frf_estimate": ("estimate_frf", "frf_from_measurement",),
-    "resonant.analyses.identify": ("identify_modes",),
+    "resonant.analyses.identify": ("identify_modes", "identify_modes_matrix"),
     "resonant.analyses.correlate": ("correlate", "correlate_shapes",),
     "resonant.analyses.model_update": ("update_parameters",),
     "resonant.analyses.state_space": ("state_space",),

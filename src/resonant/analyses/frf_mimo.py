@@ -43,18 +43,42 @@ from ..charts import COLORS, Chart, Charted, Charts, Curve, charts_svg
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..memory import require
-from ..model.measured import MeasuredData
+from ..model.measured import MeasuredData, MeasuredFunction
 from ..model.measurement_spec import MeasurementSpec, match_channels
 from .frf_estimate import _band_lines, _clipping, _frames, _samples, _windows
 from .results_json import Saved, complex_json, floats_json
 
 __all__ = ["MIMOFRF", "estimate_frf_matrix", "frf_matrix_from_measurement",
-           "CONDITION_WARNING", "CONDITION_LIMIT"]
+           "CONDITION_WARNING", "CONDITION_LIMIT", "pair_name", "frf_matrix_of",
+           "PAIR_SEPARATOR"]
 
 #: condition numbers of G_xx above which a line's separation is warned about
 CONDITION_WARNING = 1e4
 #: above which a line cannot be separated at all (the inputs coherent)
 CONDITION_LIMIT = 1e12
+#: joins a response and an input channel in the name of one FRF of a matrix
+PAIR_SEPARATOR = "/"
+
+
+def pair_name(output: str, input: str) -> str:
+    """The name of the FRF of ``output`` to ``input`` in a file or a mapping of FRFs
+    (``"a3/shaker1"``): the Universal File record of one element of an FRF matrix.
+
+    Parameters
+    ----------
+    output, input : str
+        The response and the input (excitation) channel.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> pair_name("a3", "hammer2")
+    'a3/hammer2'
+    """
+    return f"{output}{PAIR_SEPARATOR}{input}"
 
 
 @dataclass(frozen=True)
@@ -116,6 +140,43 @@ class MIMOFRF(Charted):
                 raise ModelError(Problem(f"no channel '{printable(name, limit=40)}' (have "
                                          f"{', '.join(names)})"))
         return np.asarray(self.H[:, self.outputs.index(output), self.inputs.index(input)])
+
+    def to_measured(self, source: str = "frf", units: Mapping[str, str] | None = None
+                    ) -> MeasuredData:
+        """The matrix as measured functions (for :func:`resonant.model.measured.write_uff`):
+        one ``"frf"`` function per response and input, named :func:`pair_name`, its
+        response node the response's position and its reference node the input's (both
+        counted from 1); then the multiple coherence of each response
+        (``"a3 coherence"``).
+
+        Parameters
+        ----------
+        source : str
+            The name the data carries.
+        units : mapping, optional
+            Response -> the unit of its FRFs (``"m/s^2/N"``).
+
+        Returns
+        -------
+        MeasuredData
+
+        Examples
+        --------
+        >>> x = np.random.default_rng(1).standard_normal((2, 2048))
+        >>> r = estimate_frf_matrix({"u": x[0], "v": x[1]}, {"y": x[0] + x[1]}, 0.01,
+        ...                         segment=256)
+        >>> r.to_measured().names
+        ('y/u', 'y/v', 'y coherence')
+        """
+        f = np.asarray(self.frequency)
+        units = units or {}
+        frfs = [MeasuredFunction(pair_name(out, inp), "frf", f, np.asarray(self.H[:, r, i]),
+                                 "Hz", units.get(out, ""), (r + 1, 0), (i + 1, 0))
+                for r, out in enumerate(self.outputs) for i, inp in enumerate(self.inputs)]
+        coherences = [MeasuredFunction(f"{out} coherence", "coherence", f,
+                                       np.asarray(self.coherence[:, r]), "Hz", "", (r + 1, 0),
+                                       (0, 0)) for r, out in enumerate(self.outputs)]
+        return MeasuredData(source, tuple(frfs + coherences))
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON form.
@@ -359,3 +420,64 @@ def frf_matrix_from_measurement(data: MeasuredData, spec: MeasurementSpec, sourc
     return estimate_frf_matrix({r: functions[r].ordinate for r in references},
                                {c: functions[c].ordinate for c in spec.channels}, step,
                                **options)
+
+
+def frf_matrix_of(data: MeasuredData, outputs: Sequence[str], inputs: Sequence[str]
+                  ) -> tuple[np.ndarray, np.ndarray, dict[str, str]]:
+    """The FRF matrix of a file's functions named :func:`pair_name` (as
+    :meth:`MIMOFRF.to_measured` writes them).
+
+    Parameters
+    ----------
+    data : MeasuredData
+    outputs, inputs : sequence of str
+        The response and the input channels.
+
+    Returns
+    -------
+    frequency : ndarray
+        The lines (Hz).
+    H : ndarray
+        (lines, outputs, inputs) complex.
+    units : dict
+        Response -> the unit of its FRFs (``""`` when the file gives none).
+
+    Raises
+    ------
+    ModelError
+        For a pair the file does not hold (named), one that is not an FRF, or FRFs at
+        different lines.
+
+    Examples
+    --------
+    >>> x = np.random.default_rng(1).standard_normal((2, 2048))
+    >>> r = estimate_frf_matrix({"u": x[0], "v": x[1]}, {"y": 2 * x[0] - x[1]}, 0.01,
+    ...                         segment=256)
+    >>> f, H, units = frf_matrix_of(r.to_measured(), ["y"], ["u", "v"])
+    >>> H.shape, bool(np.allclose(H, r.H))
+    ((129, 1, 2), True)
+    """
+    have = {f.name: f for f in data.functions}
+    missing = [pair_name(o, i) for o in outputs for i in inputs if pair_name(o, i) not in have]
+    if missing:
+        frfs = [f.name for f in data.functions if f.kind == "frf"]
+        raise ModelError(Problem(
+            f"no FRF '{printable(missing[0], limit=60)}' (response{PAIR_SEPARATOR}input) for "
+            f"the matrix of {len(outputs)} responses x {len(inputs)} inputs; the file's FRFs: "
+            f"{', '.join(printable(n, limit=40) for n in frfs[:12]) or 'none'}",
+            data.source))
+    first = have[pair_name(outputs[0], inputs[0])]
+    f = np.asarray(first.abscissa, dtype=float)
+    H = np.empty((len(f), len(outputs), len(inputs)), dtype=complex)
+    for r, out in enumerate(outputs):
+        for i, inp in enumerate(inputs):
+            g = have[pair_name(out, inp)]
+            if g.kind != "frf":
+                raise ModelError(Problem(f"'{printable(g.name, limit=60)}' is a {g.kind} "
+                                         "function, not an FRF", data.source))
+            if g.abscissa.shape != f.shape or not np.allclose(g.abscissa, f, rtol=1e-9):
+                raise ModelError(Problem(f"the FRF '{printable(g.name, limit=60)}' has other "
+                                         "lines than the matrix's first", data.source))
+            H[:, r, i] = g.ordinate
+    units = {out: have[pair_name(out, inputs[0])].ordinate_unit for out in outputs}
+    return f, H, units

@@ -57,6 +57,8 @@ from ..errors import ModelError, Problem, printable
 from ..model.measurement_spec import ChannelMap
 from ..model.random_spec import RandomInput
 from ..system.base import LinearSystem
+from .frf_mimo import pair_name
+from .frf_sensitivity import frf_with_sensitivities, loads_depend_on
 from .model_update import log_std, parameter_bounds
 from .random_response import Transfer, responses_to_solve
 from .results_json import Saved, complex_json, floats_json
@@ -65,12 +67,15 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["FRFUpdate", "update_to_frf", "frac", "model_frf", "RESIDUALS"]
+__all__ = ["FRFUpdate", "update_to_frf", "frac", "model_frf", "model_frf_matrix",
+           "RESIDUALS", "SENSITIVITIES"]
 
 #: the residuals (module docstring)
 RESIDUALS = ("log", "complex")
 #: relative step of the FRF's central differences in p
 _STEP = 1e-5
+#: the Jacobians (:func:`update_to_frf`'s ``sensitivities``)
+SENSITIVITIES = ("analytic", "differences")
 
 
 def frac(measured: np.ndarray, model: np.ndarray) -> float:
@@ -142,6 +147,55 @@ def model_frf(system: LinearSystem, signal: str, frequency: np.ndarray,
     iw = 2j * np.pi * f
     return {channel: H[:, order.index(c.name)] * iw ** c.derivative
             for channel, c in channels.items()}
+
+
+def model_frf_matrix(system: LinearSystem, signals: Sequence[str], frequency: np.ndarray,
+                     channels: Mapping[str, ChannelMap], *, deadline: Deadline = NO_DEADLINE,
+                     **values: float) -> np.ndarray:
+    """The model's FRF matrix of the channels' quantities to several inputs (one kernel
+    solve per distinct load column, every input at once).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    signals : sequence of str
+        The inputs (signals of the model or coordinates).
+    frequency : ndarray
+        Hz.
+    channels : mapping
+        Channel -> its coordinate or output and derivative.
+    deadline : Deadline, optional
+    **values : float
+        Parameters that differ from the model's (SI).
+
+    Returns
+    -------
+    ndarray
+        (lines, channels, inputs) complex, the derivatives' (i w)^d included.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> system = resonant.load("examples/chain3_lab.toml").linearize()
+    >>> H = model_frf_matrix(system, ["x1", "x3"], np.array([0.0]),
+    ...                      {"d1": ChannelMap("x1"), "d3": ChannelMap("x3")})
+    >>> np.round(H[0].real * 1000, 6).tolist()     # static flexibilities (reciprocal)
+    [[1.0, 1.0], [1.0, 3.0]]
+    """
+    f = np.asarray(frequency, dtype=float)
+    num = system.numeric(deadline, **values)
+    names = sorted({c.name for c in channels.values()})
+    keep, outputs = responses_to_solve(num, names)
+    transfer = Transfer(system, num, [RandomInput(s, 0, None, None) for s in signals], keep,
+                        "direct", deadline)
+    if transfer.warnings:
+        raise ModelError(Problem("; ".join(transfer.warnings), system.source, "measurement",
+                                 "input"))
+    H = transfer(f, outputs)
+    order = [num.coordinates[i] for i in keep] + list(outputs)
+    iw = 2j * np.pi * f
+    return np.stack([H[:, order.index(c.name), :] * (iw ** c.derivative)[:, None]
+                     for c in channels.values()], axis=1)
 
 
 @dataclass(frozen=True)
@@ -342,22 +396,30 @@ def _log_rms(measured: np.ndarray, model: np.ndarray) -> float:
 
 
 class _FRFProblem:
-    """The residuals and their Jacobian at x = ln p."""
+    """The residuals and their Jacobian at x = ln p; the rows are the channels (one input)
+    or the channel/input pairs of the matrix, channel-major."""
 
     def __init__(self, system: LinearSystem, names: Sequence[str], frequency: np.ndarray,
-                 measured: np.ndarray, signal: str, channels: Mapping[str, ChannelMap],
-                 residual: str, deadline: Deadline) -> None:
+                 measured: np.ndarray, signals: Sequence[str],
+                 channels: Mapping[str, ChannelMap], residual: str, sensitivities: str,
+                 deadline: Deadline) -> None:
         self.system, self.names, self.frequency = system, list(names), frequency
-        self.measured, self.signal, self.channels = measured, signal, dict(channels)
-        self.residual, self.deadline = residual, deadline
+        self.measured, self.signals, self.channels = measured, list(signals), dict(channels)
+        self.residual, self.sensitivities, self.deadline = residual, sensitivities, deadline
         self.scale = np.sqrt(np.mean(np.abs(measured) ** 2, axis=1, keepdims=True))
         self.log_measured = np.log(np.abs(measured)) if residual == "log" else measured
+        self.used = ""
+        self.loads_vary: frozenset[str] | None = None
+
+    def _rows(self, H: np.ndarray) -> np.ndarray:
+        """(lines, channels, inputs) -> (rows, lines)."""
+        return np.transpose(H, (1, 2, 0)).reshape(-1, H.shape[0])
 
     def frf(self, p: np.ndarray) -> np.ndarray:
         self.deadline.check("while updating the model to the FRFs", analysis=True)
-        h = model_frf(self.system, self.signal, self.frequency, self.channels,
-                      deadline=self.deadline, **dict(zip(self.names, map(float, p))))
-        return np.array([h[c] for c in self.channels])
+        return self._rows(model_frf_matrix(self.system, self.signals, self.frequency,
+                                           self.channels, deadline=self.deadline,
+                                           **dict(zip(self.names, map(float, p)))))
 
     def _residuals_of(self, H: np.ndarray) -> np.ndarray:
         if self.residual == "log":
@@ -371,6 +433,38 @@ class _FRFProblem:
         return self._residuals_of(self.frf(np.exp(x)))
 
     def jacobian(self, x: np.ndarray) -> np.ndarray:
+        if self.sensitivities == "analytic":
+            J = self.analytic_jacobian(x)
+            if J is not None:
+                self.used = self.used or "analytic"
+                return J
+        self.used = "differences"
+        return self.difference_jacobian(x)
+
+    def analytic_jacobian(self, x: np.ndarray) -> np.ndarray | None:
+        """dr/d ln p from dH/dp (:mod:`.frf_sensitivity`); None where it does not apply."""
+        p = np.exp(x)
+        values = dict(zip(self.names, map(float, p)))
+        if self.loads_vary is None:
+            self.loads_vary = loads_depend_on(self.system, self.signals, self.names, values,
+                                              self.deadline)
+        found = frf_with_sensitivities(self.system, self.signals, self.frequency,
+                                       self.channels, self.names, values,
+                                       loads_vary=self.loads_vary, deadline=self.deadline)
+        if found is None:
+            return None
+        H = self._rows(found[0])
+        dH = np.array([self._rows(d) * pk for d, pk in zip(found[1], p)])  # d H / d ln p
+        if self.residual == "log":
+            with np.errstate(divide="ignore", invalid="ignore"):
+                J = np.nan_to_num((np.conj(H)[None] * dH).real / (np.abs(H) ** 2)[None])
+            return np.asarray(J.reshape(len(p), -1).T)
+        d = dH / self.scale[None]
+        return np.asarray(np.concatenate([d.real.reshape(len(p), -1),
+                                          d.imag.reshape(len(p), -1)], axis=1).T)
+
+    def difference_jacobian(self, x: np.ndarray) -> np.ndarray:
+        """dr/d ln p by central differences of the FRF (relative step :data:`_STEP`)."""
         columns = []
         for k in range(len(x)):
             h = math.log1p(_STEP)
@@ -382,8 +476,7 @@ class _FRFProblem:
 
 
 def _measured_rows(frequency: np.ndarray, measured: Mapping[str, Any],
-                   channels: Mapping[str, ChannelMap], residual: str, source: str
-                   ) -> np.ndarray:
+                   channels: Sequence[str], residual: str, source: str) -> np.ndarray:
     """The measured FRFs as (channels, lines), checked."""
     missing = [c for c in channels if c not in measured]
     if missing:
@@ -407,9 +500,10 @@ def _measured_rows(frequency: np.ndarray, measured: Mapping[str, Any],
 
 def update_to_frf(system: LinearSystem, parameters: Mapping[str, tuple[Any, Any]],
                   frequency: Sequence[float] | np.ndarray, measured: Mapping[str, Any],
-                  signal: str, channels: Mapping[str, ChannelMap], *, residual: str = "log",
-                  sigma: float | None = None, units: Mapping[str, str] | None = None,
-                  start: Mapping[str, float] | None = None,
+                  signal: str | Mapping[str, str], channels: Mapping[str, ChannelMap], *,
+                  residual: str = "log", sigma: float | None = None,
+                  units: Mapping[str, str] | None = None,
+                  start: Mapping[str, float] | None = None, sensitivities: str = "analytic",
                   deadline: Deadline = NO_DEADLINE) -> FRFUpdate:
     """Fit parameters within bounds to measured FRFs at their lines.
 
@@ -422,9 +516,13 @@ def update_to_frf(system: LinearSystem, parameters: Mapping[str, tuple[Any, Any]
     frequency : array_like
         The lines (Hz), positive.
     measured : mapping
-        Channel -> its measured FRF (complex, one value per line) to ``signal``.
-    signal : str
-        The model's input the FRFs are measured to (``[measurement] input``).
+        Channel -> its measured FRF (complex, one value per line) to ``signal``; with
+        several inputs, :func:`resonant.analyses.frf_mimo.pair_name` (channel, input
+        label) -> the FRF of the matrix.
+    signal : str or mapping
+        The model's input the FRFs are measured to (``[measurement] input``); or, for an
+        FRF matrix, input label (the excitation channel) -> the model's signal or
+        coordinate, every channel fitted to every input (one kernel solve for all).
     channels : mapping
         Channel -> its coordinate or output and derivative.
     residual : {"log", "complex"}
@@ -436,6 +534,9 @@ def update_to_frf(system: LinearSystem, parameters: Mapping[str, tuple[Any, Any]
     start : mapping, optional
         name -> the value (SI) the fit starts from (default the model's), clipped into the
         bounds: one start of a multi-start (:mod:`resonant.studies.multi_start`).
+    sensitivities : {"analytic", "differences"}
+        The Jacobian: dH/dp analytically (:mod:`.frf_sensitivity`; for FRFs of
+        coordinates, else differences) or central differences of the FRF.
     deadline : Deadline, optional
 
     Returns
@@ -461,11 +562,23 @@ def update_to_frf(system: LinearSystem, parameters: Mapping[str, tuple[Any, Any]
     if not channels:
         raise ModelError(Problem("give at least one channel", source, "measurement",
                                  "channels"))
-    rows = _measured_rows(f, measured, channels, residual, source)
+    if sensitivities not in SENSITIVITIES:
+        raise ModelError(Problem(f"sensitivities '{printable(sensitivities, limit=20)}' is "
+                                 f"not one of {', '.join(SENSITIVITIES)}", source, "update",
+                                 "sensitivities"))
+    labels = dict(signal) if isinstance(signal, Mapping) else {}
+    if isinstance(signal, Mapping) and not labels:
+        raise ModelError(Problem("give at least one input", source, "measurement", "input"))
+    signals = list(labels.values()) if isinstance(signal, Mapping) else [signal]
+    keys = [pair_name(c, i) for c in channels for i in labels] if labels else list(channels)
+    channel_of = {pair_name(c, i): c for c in channels for i in labels} if labels else \
+        {c: c for c in channels}
+    rows = _measured_rows(f, measured, keys, residual, source)
     model_values = dict(system.numeric(deadline).parameters)
     bounds = parameter_bounds(system, parameters, model_values)
     names = list(bounds)
-    problem = _FRFProblem(system, names, f, rows, signal, channels, residual, deadline)
+    problem = _FRFProblem(system, names, f, rows, signals, channels, residual, sensitivities,
+                          deadline)
     first = {**model_values, **(start or {})}
     start_values = np.array([min(max(float(first[n]), bounds[n][0]), bounds[n][1])
                              for n in names])
@@ -481,6 +594,8 @@ def update_to_frf(system: LinearSystem, parameters: Mapping[str, tuple[Any, Any]
                 if np.isclose(solution.x[k], lower[k]) or np.isclose(solution.x[k], upper[k])]
     return FRFUpdate(tuple(names), dict(zip(names, start_values.tolist())),
                      dict(zip(names, fitted.tolist())), dict(zip(names, std.tolist())),
-                     bounds, f, tuple(channels), rows, before, problem.frf(fitted), residual,
-                     tuple((units or {}).get(c, "") for c in channels), float(solution.cost),
+                     bounds, f, tuple(keys), rows, before, problem.frf(fitted), residual,
+                     tuple((units or {}).get(k, (units or {}).get(channel_of[k], ""))
+                           for k in keys),
+                     float(solution.cost),
                      str(solution.message), tuple(warnings))

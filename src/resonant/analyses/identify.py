@@ -39,7 +39,7 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -59,6 +59,7 @@ from ..errors import ModelError, Problem, printable
 from ..memory import require
 from ..modal import matrix_polynomial_roots, modal_assurance
 from ..model.units_display import ResultUnits, cyclic_shown
+from .frf_mimo import pair_name
 from .results_json import Saved, complex_json, floats_json
 
 #: the stability criteria's defaults (relative frequency, relative damping, MAC)
@@ -67,7 +68,7 @@ FREQUENCY_TOLERANCE, DAMPING_TOLERANCE, MAC_TOLERANCE = 0.01, 0.05, 0.98
 MAX_ORDER = 200
 
 __all__ = ["ModalIdentification", "Stabilization", "identify_modes", "lscf_poles",
-           "lsfd_residues"]
+           "lsfd_residues", "identify_modes_matrix"]
 
 
 @dataclass(frozen=True)
@@ -122,6 +123,14 @@ class ModalIdentification(Charted):
     derivative : int
         0 receptance, 1 mobility, 2 accelerance.
     warnings : tuple of str
+    inputs : tuple of str
+        With an FRF matrix (:func:`identify_modes_matrix`): the inputs; ``measured``,
+        ``fitted`` and ``errors`` are then keyed by response/input pairs
+        (:func:`resonant.analyses.frf_mimo.pair_name`).  Empty for one reference.
+    participation : ndarray
+        (inputs, modes) the modal participation factors L_ir with an FRF matrix (the
+        residues A_r = shapes_r L_r^T), each mode's largest equal to 1; (0, modes) for one
+        reference.
 
     Examples
     --------
@@ -147,6 +156,8 @@ class ModalIdentification(Charted):
     stabilization: Stabilization
     derivative: int = 0
     warnings: tuple[str, ...] = field(default=())
+    inputs: tuple[str, ...] = field(default=())
+    participation: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), complex))
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -171,7 +182,9 @@ class ModalIdentification(Charted):
             "frequency_hz": floats_json(self.measured_frequency),
             "measured": {k: complex_json(v) for k, v in self.measured.items()},
             "fitted": {k: complex_json(v) for k, v in self.fitted.items()},
-            "warnings": list(self.warnings)}
+            "warnings": list(self.warnings),
+            **({"inputs": list(self.inputs),
+                "participation": complex_json(self.participation)} if self.inputs else {})}
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> ModalIdentification:
@@ -204,12 +217,17 @@ class ModalIdentification(Charted):
             tuple(np.array(o.strings("stable")) for o in orders),
             st.numbers_of("criteria"))
         measured, fitted = saved.mapping("measured"), saved.mapping("fitted")
+        inputs = saved.strings("inputs", ())
+        keys = [pair_name(c, i) for c in channels for i in inputs] if inputs else channels
+        participation = saved.complex("participation", shape=(len(inputs), len(poles))) \
+            if inputs else np.zeros((0, len(poles)), complex)
         return cls(poles, np.abs(poles) / (2 * np.pi), -poles.real / np.abs(poles),
                    saved.complex("shapes", shape=(len(channels), len(poles))), channels, f,
-                   {k: measured.complex(k, shape=f.shape) for k in channels},
-                   {k: fitted.complex(k, shape=f.shape) for k in channels},
+                   {k: measured.complex(k, shape=f.shape) for k in keys},
+                   {k: fitted.complex(k, shape=f.shape) for k in keys},
                    saved.numbers_of("fit_error"), stabilization,
-                   saved.integer("derivative", minimum=0), saved.strings("warnings", ()))
+                   saved.integer("derivative", minimum=0), saved.strings("warnings", ()),
+                   inputs, participation)
 
     def chart(self) -> Charts:
         """The stabilization chart over the FRFs' sum, and the measured and fitted FRFs.
@@ -240,7 +258,7 @@ class ModalIdentification(Charted):
         top = Chart(tuple(curves), "frequency [Hz]", "model order", xlim, rules=rules,
                     title="stabilization")
         fits = []
-        for k, name in enumerate(self.channels):
+        for k, name in enumerate(self.measured):
             color = COLORS[k % len(COLORS)]
             fits.append(Curve(f, np.abs(self.measured[name]), f"{name} measured", color))
             fits.append(Curve(f, np.abs(self.fitted[name]), f"{name} fitted", color,
@@ -547,3 +565,104 @@ def _choose(history: list[tuple[np.ndarray, np.ndarray]], near: Sequence[float] 
         if not kept or abs(abs(s) - abs(kept[-1])) > 1e-3 * abs(s):
             kept.append(s)
     return np.array(kept, dtype=complex)
+
+
+#: the ratio of a mode's second to first residue singular value above which it is warned of
+RANK_ONE_WARNING = 0.1
+
+
+def identify_modes_matrix(frequency: np.ndarray, H: np.ndarray, outputs: Sequence[str],
+                          inputs: Sequence[str], *, max_order: int = 40, derivative: int = 0,
+                          near: Sequence[float] | None = None, stable_orders: int = 4,
+                          frequency_tolerance: float = FREQUENCY_TOLERANCE,
+                          damping_tolerance: float = DAMPING_TOLERANCE,
+                          mac_tolerance: float = MAC_TOLERANCE, added_decay: float = 0.0,
+                          deadline: Deadline = NO_DEADLINE) -> ModalIdentification:
+    """Modes from an FRF matrix (several inputs): poles shared by every response and input,
+    mode shapes and participation factors from the residue matrices.
+
+    The LSCF's common denominator is fitted to all outputs x inputs FRFs at once (the
+    poles of the structure do not depend on where it is driven), the LSFD residues A_or,i
+    to each FRF with those poles.  Each mode's residue matrix is of rank one,
+    A_r = psi_r L_r^T (mode shape times participation factor: Ewins, Modal Testing, 2nd
+    ed., sec. 4.4); its first singular pair gives psi_r and L_r, L_r scaled so that its
+    largest entry is 1 (with one input, psi_r is the residue column of
+    :func:`identify_modes`).  A mode that one input does not drive (a node at that point)
+    is still found when another input drives it.  Where a mode's second singular value
+    exceeds :data:`RANK_ONE_WARNING` times its first (close modes fitted as one, or
+    inconsistent FRFs) a warning says so.
+
+    Parameters
+    ----------
+    frequency : ndarray
+        The lines (Hz), increasing.
+    H : ndarray
+        (lines, outputs, inputs) complex, as :attr:`resonant.analyses.frf_mimo.MIMOFRF.H`.
+    outputs, inputs : sequence of str
+        The response and input channels.
+    max_order : int
+        The highest LSCF order (as :func:`identify_modes`).
+    derivative : int
+        0 receptance, 1 mobility, 2 accelerance.
+    near : sequence of float, optional
+        The frequencies (Hz) the poles are taken nearest to.
+    stable_orders : int
+    frequency_tolerance, damping_tolerance, mac_tolerance : float
+        The stability criteria (module docstring).
+    added_decay : float
+        The decay rate (s^-1) an exponential window added.
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    ModalIdentification
+        ``shapes`` (outputs, modes), ``participation`` (inputs, modes); ``measured``,
+        ``fitted`` and ``errors`` keyed by :func:`resonant.analyses.frf_mimo.pair_name`.
+
+    Raises
+    ------
+    ModelError
+        For an H of another shape than (lines, outputs, inputs), or as
+        :func:`identify_modes`.
+
+    Examples
+    --------
+    >>> f = np.linspace(1, 10, 400)
+    >>> iw = 2j * np.pi * f
+    >>> s = -0.05 * 2 * np.pi * 4 + 2j * np.pi * 4 * np.sqrt(1 - 0.05 ** 2)
+    >>> mode = 1 / (iw - s) + 1 / (iw - np.conj(s))            # psi = (1, 2), L = (1, 0.5)
+    >>> H = np.array([[1.0, 0.5], [2.0, 1.0]])[None, :, :] * mode[:, None, None]
+    >>> r = identify_modes_matrix(f, H, ["a", "b"], ["u", "v"], max_order=16)
+    >>> round(float(r.frequency[0]), 6), np.round(r.participation[:, 0].real, 6).tolist()
+    (4.0, [1.0, 0.5])
+    >>> np.round(r.shapes[:, 0].real, 6).tolist(), sorted(r.errors)
+    ([1.0, 2.0], ['a/u', 'a/v', 'b/u', 'b/v'])
+    """
+    H = np.asarray(H)
+    if H.ndim != 3 or H.shape[1:] != (len(outputs), len(inputs)) or not len(inputs):
+        raise ModelError(Problem(f"the FRF matrix must be (lines, {len(outputs)} outputs, "
+                                 f"{len(inputs)} inputs), not {H.shape}", "", "", "H"))
+    frfs = {pair_name(o, i): H[:, r, k] for r, o in enumerate(outputs)
+            for k, i in enumerate(inputs)}
+    base = identify_modes(frequency, frfs, max_order=max_order, derivative=derivative,
+                          near=near, stable_orders=stable_orders,
+                          frequency_tolerance=frequency_tolerance,
+                          damping_tolerance=damping_tolerance, mac_tolerance=mac_tolerance,
+                          added_decay=added_decay, deadline=deadline)
+    count = len(base.poles)
+    residues = np.asarray(base.shapes).reshape(len(outputs), len(inputs), count)
+    shapes = np.zeros((len(outputs), count), complex)
+    participation = np.zeros((len(inputs), count), complex)
+    warnings = list(base.warnings)
+    for m in range(count):
+        U, S, Vh = np.linalg.svd(residues[:, :, m])
+        factor = Vh[0]                                      # A_r ~ S0 U0 Vh0 (= psi L^T)
+        largest = factor[int(np.argmax(np.abs(factor)))]
+        participation[:, m] = factor / largest
+        shapes[:, m] = S[0] * U[:, 0] * largest
+        if len(S) > 1 and S[0] > 0 and S[1] > RANK_ONE_WARNING * S[0]:
+            warnings.append(f"mode {m + 1} ({base.frequency[m]:.6g} Hz): its residue matrix is "
+                            f"not of rank one (second singular value {S[1] / S[0]:.2g} of "
+                            "the first): close modes fitted as one, or inconsistent FRFs")
+    return replace(base, shapes=shapes, channels=tuple(outputs), warnings=tuple(warnings),
+                   inputs=tuple(inputs), participation=participation)

@@ -55,6 +55,7 @@ from __future__ import annotations
 
 import sys
 import time
+import warnings as _warnings
 from dataclasses import dataclass
 from typing import Any, TypeAlias
 
@@ -1213,8 +1214,117 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
     return singular
 
 
+#: up to this many coordinates :class:`LineFactors` solves all lines as one stacked system
+STACKED_LIMIT = 24
+
+
+class LineFactors:
+    """Z(w_l) = K - w_l^2 M + i w_l C factorized once at every line, for several
+    right-hand sides that change from line to line (the response, then its derivatives:
+    :mod:`resonant.analyses.frf_sensitivity`).
+
+    Up to :data:`STACKED_LIMIT` coordinates the lines are one stacked dense system
+    (``numpy.linalg.solve`` per call); above, each line keeps its LU: LAPACK's banded
+    ``zgbtrf`` where the bandwidth of M, C, K is at most n / 4, else a dense one.
+
+    Parameters
+    ----------
+    M, C, K : ndarray or sparse matrix
+        (n, n).
+    w : ndarray
+        The lines (rad/s).
+    stacked_limit : int, optional
+        Overrides :data:`STACKED_LIMIT`.
+
+    Raises
+    ------
+    AnalysisError
+        Where Z is singular at a line (an undamped resonance).
+
+    Examples
+    --------
+    >>> factors = LineFactors(np.eye(1), np.zeros((1, 1)), 4 * np.eye(1), np.array([1.0]))
+    >>> factors.solve(np.array([[[3.0]]])).real.tolist()        # 3 / (4 - 1)
+    [[[1.0]]]
+    """
+
+    def __init__(self, M: Matrix, C: Matrix, K: Matrix, w: np.ndarray,
+                 stacked_limit: int | None = None) -> None:
+        from scipy.linalg import lu_factor
+        from scipy.linalg.lapack import zgbtrf
+
+        Md, Cd, Kd = (_dense(a) for a in (M, C, K))
+        n = Kd.shape[0]
+        self.w = np.asarray(w, dtype=float)
+        w2 = (self.w ** 2)[:, None, None]
+        iw = 1j * self.w[:, None, None]
+        self.kind = "stacked" if n <= (STACKED_LIMIT if stacked_limit is None
+                                       else stacked_limit) else "dense"
+        self.lower, self.upper = _dense_bandwidths((Md != 0) | (Cd != 0) | (Kd != 0))
+        self.factors: list[Any] = []
+        if self.kind == "stacked":
+            self.Z = Kd[None] - w2 * Md[None] + iw * Cd[None]
+            return
+        if self.lower + self.upper + 1 <= n // 4:
+            self.kind = "banded"
+            lo, up = self.lower, self.upper
+
+            def band(A: np.ndarray) -> np.ndarray:
+                out = np.zeros((2 * lo + up + 1, n))
+                for d in range(-lo, up + 1):         # A[i, j] at out[lo + up + i - j, j]
+                    out[lo + up - d, max(d, 0):n + min(d, 0)] = np.diagonal(A, d)
+                return out
+
+            bands = band(Kd)[None] - w2 * band(Md)[None] + iw * band(Cd)[None]
+            for line in range(len(self.w)):
+                lu, pivots, info = zgbtrf(bands[line], lo, up)
+                if info != 0:
+                    self._singular(line)
+                self.factors.append((lu, pivots))
+            return
+        for line in range(len(self.w)):
+            Z = Kd - self.w[line] ** 2 * Md + 1j * self.w[line] * Cd
+            with _warnings.catch_warnings():
+                _warnings.simplefilter("ignore")              # a singular Z: refused below
+                lu, pivots = lu_factor(Z, check_finite=False)
+            if not (np.isfinite(lu).all() and (np.diagonal(lu) != 0).all()):
+                self._singular(line)
+            self.factors.append((lu, pivots))
+
+    def _singular(self, line: int) -> None:
+        raise AnalysisError(f"the system is singular at {self.w[line] / (2 * np.pi):.6g} Hz "
+                            "(an undamped resonance): the response there is unbounded; add "
+                            "damping")
+
+    def solve(self, B: np.ndarray) -> np.ndarray:
+        """Z(w_l)^-1 B_l at every line.
+
+        Parameters
+        ----------
+        B : ndarray
+            (lines, n, k).
+
+        Returns
+        -------
+        ndarray
+            (lines, n, k) complex.
+        """
+        from scipy.linalg import lu_solve
+        from scipy.linalg.lapack import zgbtrs
+
+        if self.kind == "stacked":
+            return np.asarray(np.linalg.solve(self.Z, B))
+        out = np.empty(B.shape, complex)
+        for line, factor in enumerate(self.factors):
+            if self.kind == "banded":
+                out[line] = zgbtrs(factor[0], self.lower, self.upper, B[line], factor[1])[0]
+            else:
+                out[line] = lu_solve(factor, B[line], check_finite=False)
+        return out
+
+
 __all__ = ["solve_harmonic", "KernelResult", "choose_method", "choose_direct", "direct_costs",
            "band_ordering", "BandOrdering",
            "reduced_budget", "reduced_points", "largest_abs", "closed_form_solve",
            "check_batch_mass", "equilibration", "METHODS", "SINGULAR_CONDITION",
-           "LOSS_CONDITION", "DEFAULT_TOL"]
+           "LOSS_CONDITION", "DEFAULT_TOL", "LineFactors", "STACKED_LIMIT"]

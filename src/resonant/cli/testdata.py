@@ -2,9 +2,11 @@
 
 * ``resonant frf MODEL DATA``: FRFs (H1, H2, Hv) of the channels from time histories
   (a Universal File, CSV, .npy or .npz), beside the model's; ``--save FILE.uff`` writes them;
-  with several inputs in ``[measurement]``, the H1 matrix;
+  with several inputs in ``[measurement]``, the H1 matrix (saved as one FRF per
+  response/input pair, :func:`resonant.analyses.frf_mimo.pair_name`);
 * ``resonant identify MODEL FRFS``: modes by LSCF and LSFD from the FRFs of a Universal
-  File, with the stabilization chart;
+  File, with the stabilization chart (from the whole FRF matrix where ``[measurement]``
+  names several inputs: poles shared by every input);
 * ``resonant correlate MODEL FRFS``: the identified modes against the model's (MAC, pairs,
   frequency errors);
 * ``resonant update MODEL FRFS --vary NAME=LOW:HIGH ...``: parameters fitted to the
@@ -26,9 +28,9 @@ import resonant.cli.common as cli
 
 from ..analyses.correlate import correlate
 from ..analyses.frf_estimate import ESTIMATORS, WINDOWS, frf_from_measurement, model_frf
-from ..analyses.frf_mimo import frf_matrix_from_measurement
+from ..analyses.frf_mimo import frf_matrix_from_measurement, frf_matrix_of, pair_name
 from ..analyses.frf_update import RESIDUALS, update_to_frf
-from ..analyses.identify import ModalIdentification, identify_modes
+from ..analyses.identify import ModalIdentification, identify_modes, identify_modes_matrix
 from ..analyses.model_update import update_parameters
 from ..deadline import Deadline
 from ..errors import ModelError, Problem, printable
@@ -154,14 +156,20 @@ def _emit(result: object, args: argparse.Namespace, text: str, warnings: tuple[s
 def _run_frf_matrix(args: argparse.Namespace, model: Model, spec: MeasurementSpec,
                     data: MeasuredData, deadline: Deadline) -> int:
     """``resonant frf`` with several inputs: the H1 matrix."""
-    if args.estimator != "H1" or args.save:
+    if args.estimator != "H1":
         raise ModelError(Problem("with several inputs, resonant frf estimates the H1 matrix "
-                                 "and does not save it (leave out --estimator and --save)",
-                                 model.source, "measurement", "excitation"))
+                                 "(leave out --estimator)", model.source, "measurement",
+                                 "excitation"))
     result = frf_matrix_from_measurement(
         data, spec, model.source, window=args.window, segment=args.segment,
         overlap=args.overlap, force_window=args.force_window, exponential=args.exponential,
         band=_band_of(args), deadline=deadline)
+    if args.save:
+        force = data.function(result.inputs[0]).ordinate_unit
+        units = {c: f"{data.function(c).ordinate_unit}/{force}" if force and
+                 data.function(c).ordinate_unit else "" for c in result.outputs}
+        write_uff(cli.writable_output(args.save, "the FRF matrix"),
+                  result.to_measured(Path(args.save).name, units))
     if args.plot:
         result.plot(args.plot)
     return _emit(result, args, result.summary(), result.warnings)
@@ -192,21 +200,28 @@ def _identified(args: argparse.Namespace, model: Model, deadline: Deadline
                 ) -> tuple[MeasurementSpec, ModalIdentification]:
     spec = _spec(model)
     data = _read(args.frfs)
+    derivatives = {c.derivative for c in spec.channels.values()}
+    if len(derivatives) > 1:
+        raise ModelError(Problem("identify the channels of one kind at a time (all "
+                                 "displacements, velocities or accelerations)", model.source,
+                                 "measurement.channels"))
+    band = _band_of(args) or (0.0, float("inf"))
+    near = [float(x) for x in args.near.split(",") if x.strip()] if args.near else None
+    if len(spec.references) > 1:
+        f, H, _ = frf_matrix_of(data, list(spec.channels), [r[0] for r in spec.references])
+        lines = (f >= band[0]) & (f <= band[1])
+        return spec, identify_modes_matrix(
+            f[lines], H[lines], list(spec.channels), [r[0] for r in spec.references],
+            max_order=args.order, derivative=derivatives.pop(), near=near,
+            added_decay=args.added_decay, deadline=deadline)
     frfs = {f.name: f for f in data.functions if f.kind == "frf"}
     if not frfs:
         raise ModelError(Problem("the file holds no FRF (dataset 58, function type 4)",
                                  data.source))
     match_channels(MeasurementSpec("", spec.input, spec.channels), list(frfs), model.source,
                    data.source)
-    derivatives = {c.derivative for c in spec.channels.values()}
-    if len(derivatives) > 1:
-        raise ModelError(Problem("identify the channels of one kind at a time (all "
-                                 "displacements, velocities or accelerations)", model.source,
-                                 "measurement.channels"))
     f = np.asarray(frfs[next(iter(spec.channels))].abscissa)
-    band = _band_of(args) or (0.0, float("inf"))
     lines = (f >= band[0]) & (f <= band[1])
-    near = [float(x) for x in args.near.split(",") if x.strip()] if args.near else None
     try:
         chosen = {c: np.asarray(frfs[c].ordinate)[lines] for c in spec.channels}
     except IndexError:
@@ -254,13 +269,25 @@ def _bounds(items: list[str]) -> Mapping[str, tuple[str, str]]:
 
 def _measured_frfs(args: argparse.Namespace, model: Model
                    ) -> tuple[MeasurementSpec, np.ndarray, dict[str, np.ndarray],
-                              dict[str, str]]:
-    """The spec, the lines (within the band, above 0 Hz) and each channel's measured FRF."""
+                              dict[str, str], str | dict[str, str]]:
+    """The spec, the lines (within the band, above 0 Hz), each channel's measured FRF (each
+    response/input pair's, with several inputs), their units and the input(s) they are
+    measured to."""
     spec = _spec(model)
     if not spec.input:
         raise ModelError(Problem("fitting FRFs needs the input they are measured to",
                                  model.source, "measurement", "input"))
     data = _read(args.frfs)
+    band = _band_of(args) or (0.0, float("inf"))
+    if len(spec.references) > 1:
+        labels = dict(spec.references)
+        f, H, units = frf_matrix_of(data, list(spec.channels), list(labels))
+        lines = (f >= band[0]) & (f <= band[1]) & (f > 0)
+        if not lines.any():
+            raise ModelError(Problem("no spectral line in the band", data.source))
+        measured = {pair_name(c, i): H[lines, r, k] for r, c in enumerate(spec.channels)
+                    for k, i in enumerate(labels)}
+        return spec, f[lines], measured, units, labels
     frfs = {f.name: f for f in data.functions if f.kind == "frf"}
     if not frfs:
         raise ModelError(Problem("the file holds no FRF (dataset 58, function type 4)",
@@ -268,7 +295,6 @@ def _measured_frfs(args: argparse.Namespace, model: Model
     match_channels(MeasurementSpec("", spec.input, spec.channels), list(frfs), model.source,
                    data.source)
     f = np.asarray(frfs[next(iter(spec.channels))].abscissa)
-    band = _band_of(args) or (0.0, float("inf"))
     lines = (f >= band[0]) & (f <= band[1]) & (f > 0)
     if not lines.any():
         raise ModelError(Problem("no spectral line in the band", data.source))
@@ -276,15 +302,15 @@ def _measured_frfs(args: argparse.Namespace, model: Model
         raise ModelError(Problem("the FRFs of the channels have different lines",
                                  data.source))
     return spec, f[lines], {c: np.asarray(frfs[c].ordinate)[lines] for c in spec.channels}, \
-        {c: frfs[c].ordinate_unit for c in spec.channels}
+        {c: frfs[c].ordinate_unit for c in spec.channels}, spec.input
 
 
 def _run_multi_start(args: argparse.Namespace, model: Model,
                      bounds: Mapping[str, tuple[str, str]], deadline: Deadline) -> int:
     data: dict[str, object]
     if args.fit == "frf":
-        spec, lines, measured, units = _measured_frfs(args, model)
-        data = {"frequency": lines, "measured": measured, "signal": spec.input,
+        spec, lines, measured, units, signal = _measured_frfs(args, model)
+        data = {"frequency": lines, "measured": measured, "signal": signal,
                 "channels": spec.channels, "residual": args.residual, "sigma": args.sigma,
                 "units": units}
         warnings: tuple[str, ...] = ()
@@ -308,9 +334,9 @@ def run_update(args: argparse.Namespace) -> int:
     if args.starts > 1:
         return _run_multi_start(args, model, bounds, deadline)
     if args.fit == "frf":
-        spec, lines, measured, units = _measured_frfs(args, model)
+        spec, lines, measured, units, signal = _measured_frfs(args, model)
         fitted = update_to_frf(linear_system(model, deadline), bounds, lines, measured,
-                               spec.input, spec.channels, residual=args.residual,
+                               signal, spec.channels, residual=args.residual,
                                sigma=args.sigma, units=units, deadline=deadline)
         if args.plot:
             fitted.plot(args.plot)
