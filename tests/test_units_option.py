@@ -11,8 +11,10 @@ printed numbers to their 4-6 printed digits.
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import re
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -23,6 +25,7 @@ from resonant.analyses.identify import identify_modes
 from resonant.charts import Chart, Curve, _thinned, chart_svg
 from resonant.cli import COMMANDS, build_parser
 from resonant.cli.study import _in_display_units
+from resonant.exercises.writing import ExerciseJob, render_variants
 from resonant.model.units import display_units
 from resonant.model.units_display import ResultUnits
 from resonant.report.steps.loads import _amount, _cell
@@ -149,3 +152,38 @@ def test_study_pictures_in_display_units():
     assert converted["natural_frequency:1"].iloc[0] == pytest.approx(1.0)
     assert table["natural_frequency:1"].iloc[0] == pytest.approx(2 * math.pi)
     assert nominal == {"k2": 400.0}
+
+
+def _key_answers(folder) -> dict:
+    key = json.loads((folder / "key.json").read_text(encoding="utf-8"))
+    return key["variants"][0]["answers"]
+
+
+def test_exercise_key_in_display_units(tmp_path):
+    """``exercise --units Hz,mm,deg`` writes the key as every command shows its results:
+    the natural frequencies divided by 2 pi, the amplitude of C times 1000, the rod's
+    angle times 180/pi (exact factors), the matrices unchanged; a worker's solution is
+    the one this process writes (both in mm)."""
+    model = "examples/teaching/cart_pendulum.toml"
+    base = ["exercise", model, "--variants", "1", "--format", "json"]
+    assert run_cli([*base, "-o", tmp_path / "si"])[0] == 0
+    status, _, err = run_cli([*base, "-o", tmp_path / "shown", "--units", "Hz,mm,deg"])
+    assert status == 0, err
+    si, shown = _key_answers(tmp_path / "si"), _key_answers(tmp_path / "shown")
+    assert si["natural_frequencies"]["unit"] == "rad/s"
+    assert shown["natural_frequencies"]["unit"] == "Hz"
+    assert np.allclose(np.multiply(shown["natural_frequencies"]["value"], 2 * math.pi),
+                       si["natural_frequencies"]["value"], rtol=1e-12)
+    assert (shown["amplitude:x2"]["unit"], si["amplitude:x2"]["unit"]) == ("mm", "m")
+    assert shown["amplitude:x2"]["value"] == pytest.approx(
+        1e3 * si["amplitude:x2"]["value"], rel=1e-12)
+    assert shown["amplitude:phi"]["unit"] == "deg"
+    assert shown["amplitude:phi"]["value"] == pytest.approx(
+        math.degrees(si["amplitude:phi"]["value"]), rel=1e-12)
+    assert shown["L"]["unit"] == "mm" and shown["K"] == si["K"]
+    text = Path(model).read_text(encoding="utf-8")
+    job = ExerciseJob(text, model, "examples/teaching", (), 1, 0, ("html",), False,
+                      str(tmp_path / "worker"), ("mm",))
+    html = render_variants(job, 0, 1)[0][1]["solution.html"]
+    millimetre = '<mi mathvariant="normal">m</mi><mi mathvariant="normal">m</mi>'
+    assert millimetre in html
