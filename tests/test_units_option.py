@@ -26,8 +26,9 @@ from resonant.charts import Chart, Curve, _thinned, chart_svg
 from resonant.cli import COMMANDS, build_parser
 from resonant.cli.study import _in_display_units
 from resonant.exercises.writing import ExerciseJob, render_variants
+from resonant.model import loads
 from resonant.model.units import display_units
-from resonant.model.units_display import ResultUnits
+from resonant.model.units_display import ResultUnits, result_units
 from resonant.report.steps.loads import _amount, _cell
 
 #: the subcommands that print no number of a model (a list of examples, a grade sheet)
@@ -182,8 +183,59 @@ def test_exercise_key_in_display_units(tmp_path):
         math.degrees(si["amplitude:phi"]["value"]), rel=1e-12)
     assert shown["L"]["unit"] == "mm" and shown["K"] == si["K"]
     text = Path(model).read_text(encoding="utf-8")
-    job = ExerciseJob(text, model, "examples/teaching", (), 1, 0, ("html",), False,
+    job = ExerciseJob(text, model, "examples/teaching", (), 1, 0, ("md",), False,
                       str(tmp_path / "worker"), ("mm",))
-    html = render_variants(job, 0, 1)[0][1]["solution.html"]
-    millimetre = '<mi mathvariant="normal">m</mi><mi mathvariant="normal">m</mi>'
-    assert millimetre in html
+    solution = render_variants(job, 0, 1)[0][1]["solution.md"]
+    assert r"\ \mathrm{mm}$ |" in solution  # the amplitudes' table
+
+
+SHOCK_MODEL = """
+[parameters]
+m = "1 kg"
+k = "1e4 N/m"
+[coordinates]
+x = { description = "absolute displacement", unit = "m" }
+[signals]
+y = "0"
+[energy]
+T = "m*x'^2/2"
+U = "k*(x - y)^2/2"
+[outputs]
+a = "-k*(x - y)/m"
+[shock]
+signal = "y"
+derivative = 2
+pulse = "half-sine"
+amplitude = 50
+duration = 0.011
+"""
+
+
+@pytest.mark.parametrize("extra, shown", [
+    ('unit = "g"\n', "g"),                                            # the input in g
+    ('unit = "m/s^2"\n', "m/s^2"),                                    # in SI
+    ('unit = "g"\n[display]\nacceleration = "m/s^2"\n', "m/s^2"),     # [display] decides
+])
+def test_accelerations_in_g_where_the_input_is(extra, shown):
+    """A pulse (or a spectrum) given in g: accelerations are shown in g unless ``[display]``
+    or ``--units`` choose; JSON stays SI."""
+    model = loads(SHOCK_MODEL + extra)
+    assert result_units(model).of("m/s^2").text == shown
+    assert result_units(model).unit("a").text == shown
+
+
+def test_srs_and_random_of_an_input_in_g_print_g():
+    """The 50 g half-sine of examples/shock_half_sine.toml: its SRS above 1/tau tends to
+    the pulse's peak, 50 g (rel 2e-3), in g by default; the GEVS spectrum's table RMS is
+    14.14 g; ``--units m/s^2`` gives SI back (50 g = 490.3 m/s^2)."""
+    args = ["srs", "examples/shock_half_sine.toml", "--from", "5000", "--to", "10000",
+            "--points", "2", "--largest"]
+    status, out, err = run_cli(args)
+    assert status == 0, err
+    row = next(line for line in out.splitlines() if line.split()[:1] == ["10000"])
+    assert "maximax [g]" in out and float(row.split()[1]) == pytest.approx(50.0, rel=2e-3)
+    assert re.search(r"\ba +g ", out), out            # the largest responses in g too
+    status, out, err = run_cli([*args, "--units", "m/s^2"])
+    row = next(line for line in out.splitlines() if line.split()[:1] == ["10000"])
+    assert status == 0 and float(row.split()[1]) == pytest.approx(490.3325, rel=2e-3)
+    assert re.search(r"\ba +m/s\^2 ", out), out
