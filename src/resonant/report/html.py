@@ -162,8 +162,9 @@ code { font-family: "DejaVu Sans Mono", monospace; font-size: .9em; }
       radial-gradient(farthest-side at 0 50%, rgba(0,0,0,.4), rgba(0,0,0,0))
         left / .9rem 100% no-repeat scroll,
       radial-gradient(farthest-side at 100% 50%, rgba(0,0,0,.4), rgba(0,0,0,0))
-        right / .9rem 100% no-repeat scroll; }
-  figure .plot svg { min-width: var(--legible, 0); }
+        right / .9rem 100% no-repeat scroll, #fff; }
+  /* the chart's own white ground would hide the shadows: multiplied, white lets them show */
+  figure .plot svg { min-width: var(--legible, 0); mix-blend-mode: multiply; }
   .table-scroll {
     background:
       linear-gradient(to right, #fff 40%, rgba(255,255,255,0)) left / 1.5rem 100% no-repeat local,
