@@ -120,6 +120,8 @@ svg.glyphs { position: absolute; width: 0; height: 0; overflow: hidden; }
 table { border-collapse: collapse; margin: .8rem auto; min-width: 50%; }
 .table-scroll { max-width: 100%; overflow-x: auto; }
 th, td { padding: .3rem .9rem; text-align: left; }
+td { white-space: nowrap; }  /* a number stays on one line with its unit */
+th svg.m, td svg.m { max-width: none; }  /* a unit in a narrow column keeps its size */
 thead th { border-top: 2px solid #333; border-bottom: 1px solid #333; font-weight: 600; }
 tbody tr:last-child td { border-bottom: 2px solid #333; }
 figure { margin: 1.4rem 0; text-align: center; }
