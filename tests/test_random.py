@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -320,6 +321,9 @@ def test_to_dict_and_read_only() -> None:
 
 def test_cli_text_json_and_plot(tmp_path) -> None:  # type: ignore[no-untyped-def]
     status, out, err = run_cli(["random", GEVS])
+    assert status == 0, err
+    assert re.search(r"table +g +14\.14 ", out)  # the spectrum is in g^2/Hz: the output in g
+    status, out, err = run_cli(["random", GEVS, "--units", "m/s^2"])
     assert status == 0, err
     assert "table  m/s^2" in out and "14.14 g RMS" in out
     assert "Miles RMS" in out

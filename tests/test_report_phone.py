@@ -16,6 +16,7 @@ Skipped, with the reason, when Chromium or Playwright is missing.
 
 from __future__ import annotations
 
+import io
 import re
 from collections.abc import Iterator
 from pathlib import Path
@@ -210,3 +211,35 @@ def test_units_in_tables_are_typeset(tmp_path: Path) -> None:
     for text in written.values():
         outside_math = re.sub(r"\$[^$]*\$|<svg.*?</svg>|<math.*?</math>", "", text, flags=re.S)
         assert "m/s^2" not in outside_math and r"\textasciicircum" not in outside_math
+
+
+def test_a_figure_wider_than_a_phone_shows_its_scroll_cue(browser: Any,
+                                                          reports: dict[str, Path]) -> None:
+    """The cue is measured, not assumed: at 375 px the right edge of a figure that scrolls
+    is shaded (the median of its last 4 pixel columns darker than 235 of 255), where the
+    chart's white ground used to cover the shadow; scrolled to its end, the right edge is
+    clear and the left one shaded."""
+    from PIL import Image, ImageStat
+
+    page = browser.new_page(viewport={"width": 375, "height": 900})
+    try:
+        page.goto(reports["cart_pendulum"].resolve().as_uri())
+        box = page.query_selector("figure .plot")
+        assert box is not None
+        box.scroll_into_view_if_needed()
+        assert page.evaluate("(e) => e.scrollWidth - e.clientWidth", box) > 1
+
+        def edges() -> tuple[float, float]:
+            image = Image.open(io.BytesIO(box.screenshot())).convert("L")
+            w, h = image.size
+            left = ImageStat.Stat(image.crop((0, 0, 4, h))).median[0]
+            right = ImageStat.Stat(image.crop((w - 4, 0, w, h))).median[0]
+            return left, right
+
+        left, right = edges()
+        assert right < 235 and left > 245, (left, right)
+        page.evaluate("(e) => { e.scrollLeft = e.scrollWidth; }", box)
+        left, right = edges()
+        assert left < 235 and right > 245, (left, right)
+    finally:
+        page.close()

@@ -11,8 +11,10 @@ printed numbers to their 4-6 printed digits.
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import re
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -23,8 +25,10 @@ from resonant.analyses.identify import identify_modes
 from resonant.charts import Chart, Curve, _thinned, chart_svg
 from resonant.cli import COMMANDS, build_parser
 from resonant.cli.study import _in_display_units
+from resonant.exercises.writing import ExerciseJob, render_variants
+from resonant.model import loads
 from resonant.model.units import display_units
-from resonant.model.units_display import ResultUnits
+from resonant.model.units_display import ResultUnits, result_units
 from resonant.report.steps.loads import _amount, _cell
 
 #: the subcommands that print no number of a model (a list of examples, a grade sheet)
@@ -149,3 +153,89 @@ def test_study_pictures_in_display_units():
     assert converted["natural_frequency:1"].iloc[0] == pytest.approx(1.0)
     assert table["natural_frequency:1"].iloc[0] == pytest.approx(2 * math.pi)
     assert nominal == {"k2": 400.0}
+
+
+def _key_answers(folder) -> dict:
+    key = json.loads((folder / "key.json").read_text(encoding="utf-8"))
+    return key["variants"][0]["answers"]
+
+
+def test_exercise_key_in_display_units(tmp_path):
+    """``exercise --units Hz,mm,deg`` writes the key as every command shows its results:
+    the natural frequencies divided by 2 pi, the amplitude of C times 1000, the rod's
+    angle times 180/pi (exact factors), the matrices unchanged; a worker's solution is
+    the one this process writes (both in mm)."""
+    model = "examples/teaching/cart_pendulum.toml"
+    base = ["exercise", model, "--variants", "1", "--format", "json"]
+    assert run_cli([*base, "-o", tmp_path / "si"])[0] == 0
+    status, _, err = run_cli([*base, "-o", tmp_path / "shown", "--units", "Hz,mm,deg"])
+    assert status == 0, err
+    si, shown = _key_answers(tmp_path / "si"), _key_answers(tmp_path / "shown")
+    assert si["natural_frequencies"]["unit"] == "rad/s"
+    assert shown["natural_frequencies"]["unit"] == "Hz"
+    assert np.allclose(np.multiply(shown["natural_frequencies"]["value"], 2 * math.pi),
+                       si["natural_frequencies"]["value"], rtol=1e-12)
+    assert (shown["amplitude:x2"]["unit"], si["amplitude:x2"]["unit"]) == ("mm", "m")
+    assert shown["amplitude:x2"]["value"] == pytest.approx(
+        1e3 * si["amplitude:x2"]["value"], rel=1e-12)
+    assert shown["amplitude:phi"]["unit"] == "deg"
+    assert shown["amplitude:phi"]["value"] == pytest.approx(
+        math.degrees(si["amplitude:phi"]["value"]), rel=1e-12)
+    assert shown["L"]["unit"] == "mm" and shown["K"] == si["K"]
+    text = Path(model).read_text(encoding="utf-8")
+    job = ExerciseJob(text, model, "examples/teaching", (), 1, 0, ("md",), False,
+                      str(tmp_path / "worker"), ("mm",))
+    solution = render_variants(job, 0, 1)[0][1]["solution.md"]
+    assert r"\ \mathrm{mm}$ |" in solution  # the amplitudes' table
+
+
+SHOCK_MODEL = """
+[parameters]
+m = "1 kg"
+k = "1e4 N/m"
+[coordinates]
+x = { description = "absolute displacement", unit = "m" }
+[signals]
+y = "0"
+[energy]
+T = "m*x'^2/2"
+U = "k*(x - y)^2/2"
+[outputs]
+a = "-k*(x - y)/m"
+[shock]
+signal = "y"
+derivative = 2
+pulse = "half-sine"
+amplitude = 50
+duration = 0.011
+"""
+
+
+@pytest.mark.parametrize("extra, shown", [
+    ('unit = "g"\n', "g"),                                            # the input in g
+    ('unit = "m/s^2"\n', "m/s^2"),                                    # in SI
+    ('unit = "g"\n[display]\nacceleration = "m/s^2"\n', "m/s^2"),     # [display] decides
+])
+def test_accelerations_in_g_where_the_input_is(extra, shown):
+    """A pulse (or a spectrum) given in g: accelerations are shown in g unless ``[display]``
+    or ``--units`` choose; JSON stays SI."""
+    model = loads(SHOCK_MODEL + extra)
+    assert result_units(model).of("m/s^2").text == shown
+    assert result_units(model).unit("a").text == shown
+
+
+def test_srs_and_random_of_an_input_in_g_print_g():
+    """The 50 g half-sine of examples/shock_half_sine.toml: its SRS above 1/tau tends to
+    the pulse's peak, 50 g (rel 2e-3), in g by default; the GEVS spectrum's table RMS is
+    14.14 g; ``--units m/s^2`` gives SI back (50 g = 490.3 m/s^2)."""
+    args = ["srs", "examples/shock_half_sine.toml", "--from", "5000", "--to", "10000",
+            "--points", "2", "--largest"]
+    status, out, err = run_cli(args)
+    assert status == 0, err
+    row = next(line for line in out.splitlines() if line.split()[:1] == ["10000"])
+    assert "maximax [g]" in out and float(row.split()[1]) == pytest.approx(50.0, rel=2e-3)
+    assert re.search(r"\ba +g ", out), out            # the largest responses in g too
+    status, out, err = run_cli([*args, "--units", "m/s^2"])
+    row = next(line for line in out.splitlines() if line.split()[:1] == ["10000"])
+    assert status == 0 and float(row.split()[1]) == pytest.approx(490.3325, rel=2e-3)
+    assert re.search(r"\ba +m/s\^2 ", out), out

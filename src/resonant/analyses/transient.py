@@ -38,6 +38,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem, printable
 from ..memory import chunk_rows, require
 from ..model.load_spec import ShockSpec
+from ..model.units_display import ResultUnits, shown_unit
 from ..system.base import LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
 from ..system.output_map import output_map
@@ -234,14 +235,19 @@ class ShockPeaks:
                    units={n: units.string(n) for n in names}, shock=spec,
                    warnings=saved.strings("warnings", ()))
 
-    def table(self) -> ResultTable:
+    def table(self, units: ResultUnits | None = None) -> ResultTable:
         """The largest |response|, the largest of each sign and when (:func:`peaks_table`).
+
+        Parameters
+        ----------
+        units : ResultUnits, optional
+            The display units (``mm``, ``g``, ...; default SI).
 
         Returns
         -------
         resonant.tables.ResultTable
         """
-        return peaks_table(self)
+        return peaks_table(self, units)
 
 
 #: the fields of the pulse that :meth:`ShockPeaks.to_dict` writes (its section's keys, SI)
@@ -286,23 +292,37 @@ def shock_peaks(response: TransientResponse, spec: ShockSpec,
         {n: (units or {}).get(n, "") for n in names}, spec, response.warnings)
 
 
-def peaks_table(peaks: ShockPeaks) -> ResultTable:
+def peaks_table(peaks: ShockPeaks, units: ResultUnits | None = None) -> ResultTable:
     """Each response's largest |value| under the pulse, its largest and smallest value and
-    the time of the largest |value|.
+    the time of the largest |value|, in the display units.
 
     Parameters
     ----------
     peaks : ShockPeaks
+    units : ResultUnits, optional
+        The display units (``mm``, ``g``, ...; default SI).
 
     Returns
     -------
     resonant.tables.ResultTable
+
+    Examples
+    --------
+    >>> from resonant.model.units import display_units
+    >>> peaks = ShockPeaks(("a",), {"a": 98.0665}, {"a": 98.0665}, {"a": -9.80665},
+    ...                    {"a": 0.0055}, {"a": "m/s^2"},
+    ...                    ShockSpec("y", 2, "half-sine", 98.0665, 0.011, 1e-5, 0.03))
+    >>> print(peaks_table(peaks, ResultUnits(display=display_units(["g"]))).text())
+      name  unit  max |value|  max  min  at t [s]
+      a     g              10   10   -1    0.0055
     """
-    rows = tuple((printable(n, limit=40), peaks.units.get(n, "") or "SI",
-                  number_cell(peaks.largest[n]), number_cell(peaks.maximum[n]),
-                  number_cell(peaks.minimum[n]), number_cell(peaks.time[n]))
-                 for n in peaks.names)
-    return ResultTable(("name", "unit", "max |value|", "max", "min", "at t [s]"), rows,
+    rows = []
+    for n in peaks.names:
+        shown = shown_unit(units, peaks.units.get(n, ""))
+        rows.append((printable(n, limit=40), shown.text or "SI",
+                     number_cell(shown(peaks.largest[n])), number_cell(shown(peaks.maximum[n])),
+                     number_cell(shown(peaks.minimum[n])), number_cell(peaks.time[n])))
+    return ResultTable(("name", "unit", "max |value|", "max", "min", "at t [s]"), tuple(rows),
                        align="llrrrr")
 
 

@@ -8,15 +8,18 @@ import math
 import os
 import sys
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import replace
 from pathlib import Path
-from types import MappingProxyType
 
 from ..deadline import Deadline
 from ..errors import AnalysisError, ModelError, Problem, printable
 from ..model import Model, load
-from ..model.units import ModelUnits, Unit, UnitError, display_units
-from ..model.units_display import ResultUnits, frequency_shown, result_units
+from ..model.units import Unit, UnitError, display_units
+from ..model.units_display import (
+    ResultUnits,
+    frequency_shown,
+    result_units,
+    with_display,
+)
 
 #: default time limit of a command (``--timeout``), in seconds
 DEFAULT_TIMEOUT = 120.0
@@ -56,12 +59,7 @@ def load_model(args: argparse.Namespace) -> Model:
                  allow_paths=getattr(args, "allow_path", None) or ())
     if model.units is not None:
         warn(model.units.notes)
-    display = chosen_units(args)
-    if display:
-        own = model.units or ModelUnits()
-        model = replace(model, units=replace(own, display=MappingProxyType(
-            {**own.display, **display})))
-    return model
+    return with_display(model, chosen_units(args))
 
 
 def chosen_units(args: argparse.Namespace) -> dict[str, Unit]:

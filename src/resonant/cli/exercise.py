@@ -107,7 +107,8 @@ def _engine(args: argparse.Namespace, model: Model, formats: list[str], folder: 
     text, base_dir = model_text(model)
     overrides = tuple(sorted(common.parse_settings(getattr(args, "set", None)).items()))
     job = ExerciseJob(text, model.source, base_dir, overrides, args.variants, args.seed,
-                      tuple(formats), not args.no_plots, str(folder.resolve()))
+                      tuple(formats), not args.no_plots, str(folder.resolve()),
+                      tuple(u.text for u in common.chosen_units(args).values()))
     return {"engine": engine_for(args.workers, args.scheduler, deadline=common.deadline(args)),
             "job": job}
 

@@ -221,6 +221,6 @@ def run_srs(args: argparse.Namespace) -> int:
         sys.stdout.write(srs_text(spectrum, unit, units))
         if peaks is not None:
             sys.stdout.write(f"Largest responses under the [shock] pulse (over "
-                             f"{peaks.shock.total:.4g} s):\n{peaks.table().text()}\n")
+                             f"{peaks.shock.total:.4g} s):\n{peaks.table(units).text()}\n")
     cli.warn([*notes, *spectrum.warnings, *(peaks.warnings if peaks is not None else ())])
     return 0

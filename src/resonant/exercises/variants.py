@@ -29,6 +29,7 @@ from ..derivation.residual import is_zero
 from ..errors import AnalysisError, ModelError, Problem, printable
 from ..model import Model, symbol
 from ..model.exercise import Exercise
+from ..model.units_display import ResultUnits, result_units
 from ..system import LinearSystem, linear_system
 from ..system.stability import UNSTABLE
 
@@ -250,6 +251,7 @@ def _coordinate_unit(exercise: Exercise, coordinates: Sequence[str]) -> str | No
 def _answers(exercise: Exercise, solution: StationarySolution, model: Model
              ) -> dict[str, Answer]:
     units = exercise.units or {}
+    shown = result_units(model)
     e = solution.eom
     q = _coordinate_unit(exercise, e.coordinates)
     metre = q == "m"
@@ -295,8 +297,32 @@ def _answers(exercise: Exercise, solution: StationarySolution, model: Model
             "rms": f"RMS value of {name} under the random load",
             "miles": f"Miles' estimate of the RMS value of {name}",
             "largest": f"largest excursion of {name} under the periodic load"}[kind]
-        out[key] = Answer(key, label, value, unit)
+        out[key] = Answer(key, label, *_in_display_units(value, unit, shown))
     return out
+
+
+def _in_display_units(value: Any, unit: str | None, units: ResultUnits | None
+                      ) -> tuple[Any, str | None]:
+    """An answer (SI, in ``unit``) in the display unit chosen for its quantity
+    (``[display]``, or the command line's units), as every result is shown: natural
+    frequencies in Hz, amplitudes in mm, phases in degrees; unchanged where none was chosen.
+
+    Examples
+    --------
+    >>> from resonant.model.units import display_units
+    >>> units = ResultUnits(display=display_units(["Hz", "mm"]))
+    >>> _in_display_units([6.283185307179586], "rad/s", units)
+    ([1.0], 'Hz')
+    >>> _in_display_units(0.0025, "m", units), _in_display_units(2.0, "kg", units)
+    ((2.5, 'mm'), (2.0, 'kg'))
+    """
+    if units is None or not unit:
+        return value, unit
+    shown = units.of(unit)
+    if shown.factor == 1.0 and shown.text == unit:
+        return value, unit
+    scaled = shown(np.asarray(value, dtype=float))
+    return (scaled.tolist() if isinstance(value, list) else float(scaled)), shown.text
 
 
 def _load_answer(kind: str, name: str, solution: StationarySolution, model: Model) -> float:

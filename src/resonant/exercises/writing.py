@@ -10,6 +10,8 @@ from typing import Any
 
 from ..errors import AnalysisError
 from ..model import loads
+from ..model.units import display_units
+from ..model.units_display import with_display
 from ..report.derivation import derive
 from ..report.html import render_html
 from ..report.latex import render_latex
@@ -42,6 +44,9 @@ class ExerciseJob:
     plots : bool
     folder : str
         Where the variants' folders are (figures are written there by the renderer).
+    display : tuple of str
+        The units the results are shown in (``("mm", "Hz")``), over the model's
+        ``[display]``.
     """
 
     text: str
@@ -53,6 +58,7 @@ class ExerciseJob:
     formats: tuple[str, ...]
     plots: bool
     folder: str
+    display: tuple[str, ...] = ()
 
 
 #: rendered sets of this process, by job: a worker draws and derives once
@@ -83,8 +89,8 @@ def render_variants(job: ExerciseJob, start: int, stop: int) -> list[Rendered]:
         Per variant: its number, file name -> text, and its Moodle feedback.
     """
     if job not in _RENDERERS:
-        model = loads(job.text, source=job.source, base_dir=job.base_dir,
-                      overrides=dict(job.overrides))
+        model = with_display(loads(job.text, source=job.source, base_dir=job.base_dir,
+                                   overrides=dict(job.overrides)), display_units(job.display))
         batch = generate(model, job.count, job.seed)
         _RENDERERS[job] = (batch, _derivation(batch, job.formats))
     batch, derivation = _RENDERERS[job]

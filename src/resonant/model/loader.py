@@ -57,6 +57,7 @@ from .dimensions import check_units
 from .exercise import Exercise, parse_exercise
 from .explore import parse_explore
 from .files import FileRefused, open_regular_file, read_bounded
+from .gravity_display import given_in_g, gravity_default
 from .inline_matrices import extract_numeric_matrices
 from .limits import (
     ENERGY_KEYS,
@@ -357,6 +358,7 @@ class _Builder:
                                 self.source, self.problems, units) \
             if "explore" in self.data else None
         random, shock, periodic = self.loads(param_names, list(signals), names, units)
+        units = gravity_default(units, given_in_g(random, self.data))  # input in g: output too
         fatigue, campbell = self.fatigue(), self.campbell(param_names, names, study,
                                                           matrix_spec)
         measurement = self.measurement(list(signals), names, list(outputs))

@@ -41,8 +41,9 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
+from types import MappingProxyType
 from typing import Any, TypeVar
 
 import numpy as np
@@ -55,6 +56,7 @@ from ..model.units import (
     ENERGY,
     TIME,
     Dimension,
+    ModelUnits,
     Unit,
     UnitError,
     display_quantity,
@@ -307,6 +309,25 @@ def result_units(model: Model | None, chosen: Mapping[str, Unit] | None = None
     return ResultUnits(si, shown, matrices, phase, frequency, display)
 
 
+def with_display(model: Model, display: Mapping[str, Unit]) -> Model:
+    """``model`` with its results shown in ``display`` (quantity -> unit, like the command
+    line's units), which takes precedence over the model's own ``[display]``.
+
+    Examples
+    --------
+    >>> from resonant.model import loads
+    >>> from resonant.model.units import display_units
+    >>> model = loads('[coordinates]\\nx = ""\\n[energy]\\nT = "x\\'^2/2"\\nU = "x^2/2"')
+    >>> result_units(with_display(model, display_units(["Hz"]))).frequency.text
+    'Hz'
+    """
+    if not display:
+        return model
+    own = model.units or ModelUnits()
+    return replace(model, units=replace(own, display=MappingProxyType({**own.display,
+                                                                       **display})))
+
+
 def frequency_shown(display: Mapping[str, Unit]) -> Shown:
     """How (angular) frequencies are shown: in the unit chosen for them, else in Hz."""
     return _display_unit(display["frequency"], True) if "frequency" in display else HZ
@@ -403,4 +424,4 @@ def unit_suffix(names: Sequence[str], units: Mapping[str, str]) -> tuple[str, Ma
 __all__ = ["angular_shown", "cyclic_shown", "curve_units", "frequency_axis", "frequency_shown",
            "shown_unit", "density_unit", "unit_math", "name_label", "unit_suffix", "ResultUnits",
            "Shown", "result_units", "uniform", "units_grid", "shown_vector", "axis_label",
-           "unit_latex", "HZ", "RAD", "RAD_PER_S", "NO_UNIT", "display_quantity"]
+           "unit_latex", "with_display", "HZ", "RAD", "RAD_PER_S", "NO_UNIT", "display_quantity"]

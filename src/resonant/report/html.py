@@ -120,6 +120,8 @@ svg.glyphs { position: absolute; width: 0; height: 0; overflow: hidden; }
 table { border-collapse: collapse; margin: .8rem auto; min-width: 50%; }
 .table-scroll { max-width: 100%; overflow-x: auto; }
 th, td { padding: .3rem .9rem; text-align: left; }
+td { white-space: nowrap; }  /* a number stays on one line with its unit */
+th svg.m, td svg.m { max-width: none; }  /* a unit in a narrow column keeps its size */
 thead th { border-top: 2px solid #333; border-bottom: 1px solid #333; font-weight: 600; }
 tbody tr:last-child td { border-bottom: 2px solid #333; }
 figure { margin: 1.4rem 0; text-align: center; }
@@ -162,8 +164,9 @@ code { font-family: "DejaVu Sans Mono", monospace; font-size: .9em; }
       radial-gradient(farthest-side at 0 50%, rgba(0,0,0,.4), rgba(0,0,0,0))
         left / .9rem 100% no-repeat scroll,
       radial-gradient(farthest-side at 100% 50%, rgba(0,0,0,.4), rgba(0,0,0,0))
-        right / .9rem 100% no-repeat scroll; }
-  figure .plot svg { min-width: var(--legible, 0); }
+        right / .9rem 100% no-repeat scroll, #fff; }
+  /* the chart's own white ground would hide the shadows: multiplied, white lets them show */
+  figure .plot svg { min-width: var(--legible, 0); mix-blend-mode: multiply; }
   .table-scroll {
     background:
       linear-gradient(to right, #fff 40%, rgba(255,255,255,0)) left / 1.5rem 100% no-repeat local,

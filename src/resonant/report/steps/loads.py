@@ -22,7 +22,8 @@ from ...model.fourier_shapes import FOURIER_SHAPES
 from ...model.pulses import PULSE_KINDS
 from ...model.random_spec import STANDARD_GRAVITY
 from ...model.units import Dimension
-from ...model.units_display import result_units, unit_latex
+from ...model.units_display import ResultUnits, Shown, result_units, shown_unit, unit_latex
+from ...tables import number_column
 from ..blocks import Block, Heading, Note, Part, Table, cell, paragraph
 from .context import Context, _m
 
@@ -60,12 +61,33 @@ def _cell(value: float, unit: str = "") -> tuple[Part, ...]:
     return cell(_t(value), _m(unit_latex(unit)))
 
 
-def _amount(value: float, unit: str) -> str:
-    """``490.3 m/s² (50 g)`` in LaTeX: a value with its unit, an acceleration also in g."""
-    text = _n(value) + unit_latex(unit) if unit and unit != "1" else _n(value)
-    if unit == "m/s^2":
+def _amount(value: float, unit: str, units: ResultUnits | None = None) -> str:
+    """``490.3 m/s² (50 g)`` in LaTeX: a value with its unit (in the display unit where
+    one is chosen: ``50 g``), an acceleration in SI also in g."""
+    shown = shown_unit(units, unit)
+    text = _n(shown(value)) + unit_latex(shown.text) if shown.text and shown.text != "1" \
+        else _n(value)
+    if shown.text == "m/s^2":
         text += rf"\ ({_n(value / STANDARD_GRAVITY)}\ \mathrm{{g}})"
     return text
+
+
+def _header(latex: str, shown: Shown) -> tuple[Part, ...]:
+    """A column's header with the one unit of its numbers: ``b_n [m]`` (the unit typeset)."""
+    if not shown.text or shown.text == "1":
+        return cell(_m(latex))
+    return cell(_m(latex + r"\ [" + unit_latex(shown.text).removeprefix("\\ ") + "]"))
+
+
+def _column(values: list[float]) -> list[tuple[Part, ...]]:
+    """A column's numbers in one notation (never ``0.0002056`` above ``8.637e-5``)."""
+    return [cell(text.replace("e-0", "e-").replace("e+0", "e").replace("e+", "e"))
+            for text in number_column(values)]
+
+
+def _shown_cell(value: float, shown: Shown) -> tuple[Part, ...]:
+    """A value (SI) in its display unit, as a table cell."""
+    return _cell(shown(value), shown.text)
 
 
 def _signal(ctx: Context, name: str, derivative: int) -> str:
@@ -86,11 +108,13 @@ def periodic_load(ctx: Context) -> list[Block]:
         return blocks + [Note((f"The periodic response cannot be computed: {exc}",))]
     series = result.series
     s = _signal(ctx, spec.signal, spec.derivative)
+    units = result_units(ctx.model)
+    load_unit = shown_unit(units, _input_unit(ctx, spec.signal, spec.derivative))
     blocks.append(paragraph(
         "The load ", _m(s), f" is {_shape_description(series.shape)} of "
         "period ", _m(rf"T = {_n(series.period)}\ \mathrm{{s}}"),
         *((" and amplitude ", _m("A = " + _amount(
-            spec.amplitude, _input_unit(ctx, spec.signal, spec.derivative))))
+            spec.amplitude, _input_unit(ctx, spec.signal, spec.derivative), units)))
           if spec.expression is None else ()),
         ". It is not harmonic, but it is the sum of its Fourier series,"))
     blocks.append(ctx.equation(
@@ -115,19 +139,23 @@ def periodic_load(ctx: Context) -> list[Block]:
                             _m("a_{0}"), ". The first harmonics:"))
     names = list(result.names[:SHOWN_RESPONSES])
     labels = [ctx.namer(name) for name in names]
-    header = (cell(_m("n")), cell(_m(r"n\Omega/2\pi"), " [Hz]"), cell(_m("a_{n}")),
-              cell(_m("b_{n}")), *(cell(_m(f"|z_{{{label}}}|")) for label in labels))
-    rows = []
-    for i in range(min(SHOWN_HARMONICS, series.harmonics)):
-        rows.append((cell(str(i + 1)), _cell((i + 1) / series.period),
-                     _cell(series.a[i]), _cell(series.b[i]),
-                     *(_cell(abs(result.harmonics[name][i])) for name in names)))
+    si = dict(units.si) if units is not None else {}
+    shown = {name: shown_unit(units, si.get(name, "")) for name in result.names}
+    # each column in one unit, written in its header (the numbers alone fit a phone)
+    header = (cell(_m("n")), cell(_m(r"n\Omega/2\pi"), " [Hz]"), _header("a_{n}", load_unit),
+              _header("b_{n}", load_unit),
+              *(_header(f"|z_{{{label}}}|", shown[name]) for name, label in zip(names, labels)))
+    shown_harmonics = range(min(SHOWN_HARMONICS, series.harmonics))
+    columns = [_column([(i + 1) / series.period for i in shown_harmonics]),
+               _column([float(load_unit(series.a[i])) for i in shown_harmonics]),
+               _column([float(load_unit(series.b[i])) for i in shown_harmonics]),
+               *(_column([float(shown[name](abs(result.harmonics[name][i])))
+                          for i in shown_harmonics]) for name in names)]
+    rows = [(cell(str(i + 1)), *(column[i] for column in columns)) for i in shown_harmonics]
     blocks.append(Table(header, tuple(rows)))
     blocks.append(paragraph("The sum over one period gives the largest excursions:"))
-    units = result_units(ctx.model)
-    si = dict(units.si) if units is not None else {}
-    rows = [(cell(_m(ctx.namer(name))), _cell(result.mean[name], si.get(name, "")),
-             _cell(result.largest[name], si.get(name, "")))
+    rows = [(cell(_m(ctx.namer(name))), _shown_cell(result.mean[name], shown[name]),
+             _shown_cell(result.largest[name], shown[name]))
             for name in result.names]
     blocks.append(Table((cell("response"), cell("mean ", _m("q_{k,0}")),
                          cell(_m(r"\max_{t}|q_{k}(t)|"))), tuple(rows)))
@@ -135,7 +163,9 @@ def periodic_load(ctx: Context) -> list[Block]:
     drawn = [n for n in result.names if si.get(n, "") == si.get(result.names[0], "")]
     drawn = drawn[:DRAWN_RESPONSES]
     blocks += [] if not ctx.plots else [ctx.figure(
-        history_chart(result.time, {name: result.history[name] for name in drawn}, si,
+        history_chart(result.time, {name: shown[name](np.asarray(result.history[name]))
+                                    for name in drawn},
+                      {name: shown[name].text for name in drawn},
                       "periodic response $q_{k}(t)$"),
         f"The summed response over one period (T = {series.period:.4g} s): the static part "
         f"and the stationary responses to the first {series.harmonics} harmonics.")]
@@ -175,11 +205,12 @@ def random_load(ctx: Context) -> list[Block]:
         "A Gaussian response crosses zero upwards ", _m(r"\nu_{0}^{+} = \sqrt{m_{2}/m_{0}}"),
         " times a second and peaks ", _m(r"\nu_{p} = \sqrt{m_{4}/m_{2}}"), " times a second "
         "(Rice), ", _m(r"m_{j} = \int f^{j} S_{r}\, \mathrm{d}f"), ":"))
+    units = result_units(ctx.model)
+    shown = {name: shown_unit(units, result.units.get(name, "")) for name in result.names}
     rows = []
     for name in result.names:
-        unit = result.units.get(name, "")
-        rows.append((cell(_m(ctx.namer(name))), _cell(result.rms[name], unit),
-                     _cell(3 * result.rms[name], unit),
+        rows.append((cell(_m(ctx.namer(name))), _shown_cell(result.rms[name], shown[name]),
+                     _shown_cell(3 * result.rms[name], shown[name]),
                      _cell(result.zero_crossing_rate[name]),
                      _cell(result.peak_rate[name])))
     blocks.append(Table((cell("response"), cell("RMS ", _m(r"\sigma")),
@@ -200,14 +231,14 @@ def random_load(ctx: Context) -> list[Block]:
         blocks.append(paragraph(
             "with ", _m("g_{r}"), " the response's static gain (1 for the absolute "
             "acceleration under a base acceleration, Miles 1954). Beside the exact value:"))
-        miles_rows = [(cell(_m(ctx.namer(name))), _cell(value, result.units.get(name, "")),
-                 _cell(result.rms[name], result.units.get(name, "")),
+        miles_rows = [(cell(_m(ctx.namer(name))), _shown_cell(value, shown[name]),
+                 _shown_cell(result.rms[name], shown[name]),
                  cell(f"{100 * (value / result.rms[name] - 1):+.2f} %"))
                 for name, value in result.miles.items() if result.rms.get(name)]
         blocks.append(Table((cell("response"), cell("Miles"), cell("exact"),
                              cell("difference")), tuple(miles_rows)))
     blocks += [] if not ctx.plots else [ctx.figure(
-        random_chart(result),
+        random_chart(result, units=units),
         "One-sided spectral densities on log-log axes: the input" +
         ("s" if len(result.inputs) > 1 else "") + " (top) and the responses (one panel "
         "per unit), each labelled with its RMS value" +
@@ -256,23 +287,24 @@ def shock_load(ctx: Context) -> list[Block]:
         return blocks + [Note((f"The shock response cannot be computed: {exc}",))]
     s = _signal(ctx, spec.signal, spec.derivative)
     unit = _input_unit(ctx, spec.signal, spec.derivative)
+    units = result_units(ctx.model)
     blocks.append(paragraph(
         "The input ", _m(s), f" is {PULSE_KINDS[spec.pulse].description} pulse of "
-        "amplitude ", _m("A = " + _amount(spec.amplitude, unit)), " and duration ",
+        "amplitude ", _m("A = " + _amount(spec.amplitude, unit, units)), " and duration ",
         _m(rf"\tau = {_n(spec.duration)}\ \mathrm{{s}}"), ". Its shock response spectrum "
         "is the largest absolute acceleration of a single-degree-of-freedom oscillator of "
         "natural frequency ", _m("f_{n}"), " and ", _m(rf"Q = {_n(spec.Q)}"), " on it, "
         "against ", _m("f_{n}"), ": over all time (maximax), while the pulse lasts "
         "(primary) and after it (residual)."))
     blocks += [] if not ctx.plots else [ctx.figure(
-        srs_chart(spectrum, t, values, unit),
+        srs_chart(spectrum, t, values, unit, units=units),
         "The pulse (top) and its shock response spectrum on log-log axes (bottom).")]
     blocks.append(paragraph(
         "The model's own response, computed step by step over ",
         _m(rf"{_n(spec.total)}\ \mathrm{{s}}"), ", reaches at most:"))
-    units = result_units(ctx.model)
     si = dict(units.si) if units is not None else {}
-    rows = [(cell(_m(ctx.namer(name))), _cell(result.largest[name], si.get(name, "")))
+    rows = [(cell(_m(ctx.namer(name))),
+             _shown_cell(result.largest[name], shown_unit(units, si.get(name, ""))))
             for name in result.names]
     blocks.append(Table((cell("response"), cell(_m(r"\max_{t}|q_{k}(t)|"))), tuple(rows)))
     blocks.extend(Note((w,)) for w in (*spectrum.warnings, *result.warnings))

@@ -1,0 +1,94 @@
+"""Accelerations shown in g where the model's input is given in g.
+
+A shaker's spectrum written in g^2/Hz, a shock pulse of 50 g: the engineer reads the
+response in the unit the input was given in.  Where a ``[random]`` density, the
+``[shock]`` pulse or the ``[periodic]`` load is given in g (standard gravity,
+9.80665 m/s^2), accelerations are shown in g by default, as if ``[display]`` said
+``acceleration = "g"``; ``[display]`` and the command line's units choose otherwise.  The
+numbers computed and JSON stay SI.
+
+Examples
+--------
+>>> from resonant.model import loads
+>>> model = loads('''
+... [parameters]
+... m = "1 kg"
+... k = "1e4 N/m"
+... [coordinates]
+... x = { description = "absolute displacement", unit = "m" }
+... [signals]
+... y = "0"
+... [energy]
+... T = "m*x'^2/2"
+... U = "k*(x - y)^2/2"
+... [shock]
+... signal = "y"
+... derivative = 2
+... pulse = "half-sine"
+... amplitude = 50
+... unit = "g"
+... duration = 0.011
+... ''')
+>>> model.units.display["acceleration"].text
+'g'
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from dataclasses import replace
+from types import MappingProxyType
+from typing import Any
+
+from .random_spec import RandomSpec
+from .units import STANDARD_GRAVITY_UNIT, ModelUnits
+
+#: ``g`` as a unit in a unit text (``"g^2/Hz"``, ``"g"``), not inside a name (``"kg"``)
+_G = re.compile(r"(?<![A-Za-z0-9_µμ])g(?![A-Za-z0-9_])")
+#: the sections that give one input with a ``unit`` key
+_INPUT_SECTIONS = ("shock", "periodic")
+
+
+def given_in_g(random: RandomSpec | None, data: Mapping[str, Any]) -> bool:
+    """Whether a ``[random]`` density or the ``[shock]`` / ``[periodic]`` input is given in g.
+
+    Parameters
+    ----------
+    random : RandomSpec or None
+        The parsed ``[random]`` section (each input keeps its unit as written).
+    data : mapping
+        The model file's tables (``[shock]`` and ``[periodic]`` as written).
+
+    Examples
+    --------
+    >>> given_in_g(None, {"shock": {"unit": "g"}}), given_in_g(None, {"shock": {"unit": "kg"}})
+    (True, False)
+    """
+    if random is not None and any(_G.search(u.unit) for u in random.inputs):
+        return True
+    for name in _INPUT_SECTIONS:
+        section = data.get(name)
+        unit = section.get("unit") if isinstance(section, Mapping) else None
+        if isinstance(unit, str) and _G.search(unit):
+            return True
+    return False
+
+
+def gravity_default(units: ModelUnits | None, in_g: bool) -> ModelUnits | None:
+    """The model's units with accelerations shown in g when its input is (``in_g``) and
+    ``[display]`` chose no unit of acceleration.
+
+    Examples
+    --------
+    >>> gravity_default(None, True).display["acceleration"].text, gravity_default(None, False)
+    ('g', None)
+    """
+    if not in_g or (units is not None and "acceleration" in units.display):
+        return units
+    own = units or ModelUnits()
+    return replace(own, display=MappingProxyType({**own.display,
+                                                  "acceleration": STANDARD_GRAVITY_UNIT}))
+
+
+__all__ = ["given_in_g", "gravity_default"]
