@@ -24,7 +24,7 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -38,15 +38,41 @@ from ..modal import synchronous_speeds
 from ..model.rotor import Bearing
 from ..system.base import LinearSystem
 from .campbell import RPM
-from .results_json import floats_json
+from .result_fields import Codec, FieldsJSON, Shape, saved
+from .results_json import Saved, floats_json
 from .rotor_tracking import precession, whirl_label, whirl_pairs
+
+
+def _whirl_read(saved_data: Saved, key: str, shape: Shape
+                ) -> tuple[tuple[tuple[str, ...], ...], ...]:
+    blocks = saved_data.value(key)
+    if not isinstance(blocks, list) or not all(
+            isinstance(block, list) and all(isinstance(row, list) and
+                                            all(isinstance(w, str) for w in row)
+                                            for row in block) for block in blocks):
+        raise saved_data.error("is not a list (stiffness) of lists (orders) of lists of "
+                               "whirl labels", key)
+    return tuple(tuple(tuple(row) for row in block) for block in blocks)
+
+
+def _nested_shape(whirl: tuple[tuple[tuple[str, ...], ...], ...]) -> tuple[int, ...] | None:
+    """(stiffness, orders, modes) of the nested labels, None where they are ragged."""
+    rows = {len(block) for block in whirl}
+    labels = {len(row) for block in whirl for row in block}
+    if len(rows) > 1 or len(labels) > 1:
+        return None
+    return (len(whirl), rows.pop() if rows else 0, labels.pop() if labels else 0)
+
+
+#: the whirl labels nested as the critical speeds (stiffness, orders, modes)
+_WHIRL = Codec(lambda value: [[list(row) for row in block] for block in value], _whirl_read)
 
 #: the most coordinates of a map (each stiffness is one dense complex eigenproblem)
 MAX_MAP_COORDINATES = 2000
 
 
 @dataclass(frozen=True)
-class CriticalSpeedMap(Charted):
+class CriticalSpeedMap(FieldsJSON, Charted):
     """The undamped critical speeds of a rotor against its bearings' stiffness.
 
     Attributes
@@ -65,28 +91,25 @@ class CriticalSpeedMap(Charted):
     """
 
     title: str
-    stiffness: np.ndarray
-    orders: tuple[float, ...]
-    speeds: np.ndarray
-    whirl: tuple[tuple[tuple[str, ...], ...], ...]
+    stiffness: np.ndarray = saved(key="stiffness_N_m", axes=(None,))
+    orders: tuple[float, ...] = saved()
+    speeds: np.ndarray = saved(key="critical_speeds_rad_s", axes=("stiffness", "orders", None))
+    whirl: tuple[tuple[tuple[str, ...], ...], ...] = saved(codec=_WHIRL)
 
     def __post_init__(self) -> None:
         freeze_fields(self)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form (rad/s, with rpm).
-
-        Returns
-        -------
-        dict
-        """
-        return {"title": self.title, "stiffness_N_m": floats_json(self.stiffness),
-                "orders": list(self.orders),
-                "conventions": {"bearings": "kxx = kyy = stiffness, no cross coupling, "
+    def _derived_json(self) -> dict[str, Any]:
+        return {"conventions": {"bearings": "kxx = kyy = stiffness, no cross coupling, "
                                             "undamped"},
-                "critical_speeds_rad_s": floats_json(self.speeds),
-                "critical_speeds_rpm": floats_json(self.speeds / RPM),
-                "whirl": [[list(row) for row in block] for block in self.whirl]}
+                "critical_speeds_rpm": floats_json(self.speeds / RPM)}
+
+    @classmethod
+    def _check_saved(cls, values: Mapping[str, Any], reader: Saved) -> None:
+        shape = np.shape(values["speeds"])
+        if _nested_shape(values["whirl"]) != shape:
+            raise reader.error(f"does not hold a label for each of the {shape} critical "
+                               "speeds", "whirl")
 
     def summary(self) -> str:
         """The critical speeds (rpm) at each stiffness, a row per stiffness.
