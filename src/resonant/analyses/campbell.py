@@ -68,6 +68,7 @@ from .rotor_tracking import (
     check_speeds,
     crossings,
     find_root,
+    motion_kinds,
     precession,
     track_modes,
     whirl_label,
@@ -172,6 +173,10 @@ class Campbell(FieldsJSON):
     refined : int
         Speeds that refinement added.
     warnings : tuple of str
+    motion : tuple of str
+        Each branch's kind at the first speed, ``"lateral"``, ``"axial"`` or
+        ``"torsional"`` (:func:`resonant.analyses.rotor_tracking.motion_kinds`); empty for
+        a rotor with lateral coordinates only.
 
     Examples
     --------
@@ -193,6 +198,7 @@ class Campbell(FieldsJSON):
     threshold: StabilityThreshold = saved(key="stability_threshold")
     refined: int = saved(0, required=True)
     warnings: tuple[str, ...] = field(default=())
+    motion: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -467,12 +473,15 @@ def campbell(system: LinearSystem, speeds: Sequence[float] | np.ndarray | None =
                         "there may be exchanged; give more speeds")
     if not pairs:
         warnings.append("no (NAME_x, NAME_y) coordinate pairs: no whirl direction")
+    if track.rigid:
+        warnings.append(f"{track.rigid} rigid-body eigenvalue(s) (s = 0: a free axial, "
+                        "torsional or lateral motion) left out of the branches")
     return Campbell(system.title, name, tuple(system.coordinates), track.speeds,
                     track.eigenvalues, precession(track.shapes, pairs), track.mac,
                     tuple(float(r) for r in orders),
                     tuple(_critical_speeds(solver, track, orders, pairs, tolerance)),
                     _threshold(solver, track, pairs, tolerance), track.refined,
-                    tuple(warnings))
+                    tuple(warnings), motion_kinds(track.shapes[0], system.coordinates))
 
 
 def log_decrement(system: LinearSystem, at: float, mode: int = 1, *, speed: str | None = None,
@@ -562,6 +571,8 @@ def campbell_text(result: Campbell, units: ResultUnits | None = None) -> str:
     f = frequency(result.frequencies)
     for j in range(f.shape[1]):
         whirl = {"F": "forward", "B": "backward"}.get(_branch_whirl(result, j), "-")
+        if j < len(result.motion) and result.motion[j] != "lateral":
+            whirl = result.motion[j]
         lines.append(f"{j + 1:>4}  {whirl:>8}  {f[0, j]:13.6g}  {f[-1, j]:12.6g}  "
                      f"{result.log_decrements[0, j]:13.4g}  {result.log_decrements[-1, j]:12.4g}")
     lines += ["", "critical speeds (damped frequency = order x speed):"]
@@ -614,7 +625,9 @@ def campbell_chart(result: Campbell, damping: str = "log_decrement") -> Charts:
     curves, below = [], []
     for j in range(hz.shape[1]):
         whirl = _branch_whirl(result, j)
-        label = f"mode {j + 1}" + (f" ({whirl})" if whirl else "")
+        kind = result.motion[j] if j < len(result.motion) else ""
+        label = f"mode {j + 1}" + (f" ({whirl})" if whirl else "") + \
+            (f" {kind}" if kind and kind != "lateral" else "")
         color = COLORS[j % len(COLORS)]
         dash = "3.7 1.6" if whirl == "B" else None
         curves.append(Curve(rpm, hz[:, j], label, color=color, dash=dash))
