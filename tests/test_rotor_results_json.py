@@ -23,8 +23,8 @@ st = hypothesis.strategies
 hnp = pytest.importorskip("hypothesis.extra.numpy")
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "rotors"
-NUMBERS = st.floats(-1e9, 1e9) | st.just(float("nan"))
-FINITE = st.floats(-1e6, 1e6, allow_nan=False)
+NUMBERS = st.floats(-1e9, 1e9).map(lambda x: round(x, 9)) | st.just(float("nan"))
+FINITE = st.floats(-1e6, 1e6, allow_nan=False).map(lambda x: round(x, 9))  # no 1e-300
 TEXT = st.text(st.characters(codec="utf-8", exclude_categories=("Cs",)), max_size=8)
 WHIRL = st.sampled_from(("forward", "backward", "none"))
 
@@ -121,6 +121,8 @@ def speed_maps(draw: st.DrawFn) -> CriticalSpeedMap:
         tuple(draw(st.lists(FINITE, min_size=o, max_size=o))),
         draw(hnp.arrays(np.float64, (s, o, m), elements=NUMBERS)),
         whirl,
+        damped := draw(st.booleans()),
+        draw(hnp.arrays(np.float64, (s, o, m), elements=NUMBERS)) if damped else None,
     )
 
 
@@ -156,6 +158,7 @@ def test_bundled_rotor_results_round_trip() -> None:
         friswell.unbalance_response(np.array([50.0, 90.0])),
         jeffcott.campbell(),
         friswell.critical_speed_map([1e6, 1e7], modes=2, orders=(1.0, 2.0)),
+        load(EXAMPLES / "friswell_5_9_5.toml").critical_speed_map([1e6], modes=2, damped=True),
     ]
     for result in results:
         back = type(result).from_dict(_json(result))
@@ -183,4 +186,8 @@ def test_a_saved_rotor_result_of_the_wrong_shape_is_refused_with_its_key() -> No
         CriticalSpeedMap.from_dict(data)
     data["whirl"] = "forward"
     with pytest.raises(AnalysisError, match="'whirl'"):
+        CriticalSpeedMap.from_dict(data)
+    data = _json(load(EXAMPLES / "friswell_5_9_1.toml").critical_speed_map([1e6], modes=2))
+    data["damped"] = True
+    with pytest.raises(AnalysisError, match="damping ratios exactly when it is damped"):
         CriticalSpeedMap.from_dict(data)

@@ -39,6 +39,7 @@ from ..charts import (
 )
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem
+from ..expressions import Expression
 from ..expressions.numeric import numeric_value
 from ..model.campbell_spec import Unbalance
 from ..model.rotor import Bearing, SpeedTable
@@ -337,6 +338,23 @@ def unbalance_response(system: LinearSystem, speeds: Sequence[float] | np.ndarra
                              tuple(b.name for b in bearings), forces)
 
 
+def coefficient_values(value: float | Expression | SpeedTable, speeds: np.ndarray,
+                       values: Mapping[str, Any]) -> np.ndarray:
+    """A bearing coefficient (a number, an expression of the parameters or a table in
+    speed) at each speed, shape (N,).
+
+    Examples
+    --------
+    >>> coefficient_values(SpeedTable((0.0, 10.0), (1.0, 3.0)), np.array([5.0]), {}).tolist()
+    [2.0]
+    """
+    if isinstance(value, SpeedTable):
+        return value(speeds)
+    if isinstance(value, float):
+        return np.full(len(speeds), value)
+    return np.broadcast_to(np.asarray(numeric_value(value, values), float), speeds.shape)
+
+
 def bearing_force(bearing: Bearing, Z: np.ndarray, speeds: np.ndarray,
                   values: Mapping[str, Any]) -> np.ndarray:
     """The complex amplitudes (N, 2) of the force a bearing transmits,
@@ -361,17 +379,12 @@ def bearing_force(bearing: Bearing, Z: np.ndarray, speeds: np.ndarray,
         relative = relative - Z[:, list(bearing.pedestal)]
     impedance = np.zeros((len(speeds), 2, 2), complex)
     for key, value in bearing.coefficients:
-        if isinstance(value, SpeedTable):
-            number = value(speeds)
-        elif isinstance(value, float):
-            number = np.full(len(speeds), value)
-        else:
-            number = np.broadcast_to(np.asarray(numeric_value(value, values), float),
-                                     speeds.shape)
+        number = coefficient_values(value, speeds, values)
         factor = 1.0 if key[0] == "k" else 1j * speeds
         impedance[:, int(key[1] == "y"), int(key[2] == "y")] += factor * number
     result: np.ndarray = np.einsum("nij,nj->ni", impedance, relative)
     return result
 
 
-__all__ = ["unbalance_response", "UnbalanceResponse", "CONVENTION", "bearing_force"]
+__all__ = ["unbalance_response", "UnbalanceResponse", "CONVENTION", "bearing_force",
+           "coefficient_values"]
