@@ -266,6 +266,11 @@ def critical_speed_map(system: LinearSystem, stiffness: Sequence[float] | np.nda
         raise ModelError(Problem("orders must be positive numbers and modes at least 1",
                                  system.source, "campbell", "orders"))
     n = system.n
+    if not damped and any(" pedestal " in t.where for t in spec.speed_terms):
+        raise ModelError(Problem("a pedestal's coefficients depend on the speed, and the "
+                                 "undamped map is solved for the speed directly: give "
+                                 "damped=True (the damped map takes them at each speed)",
+                                 system.source, "rotor", "pedestal"))
     if damped:
         return _damped_map(system, k, modes, tuple(float(r) for r in orders), speeds,
                            deadline)

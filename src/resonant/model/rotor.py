@@ -589,7 +589,8 @@ def _add_bearings(reader: _Reader, bearings: list[dict], stations: int, assembly
         if "pedestal" in entry:
             pedestal = (pedestal_row, pedestal_row + 1)
             pedestal_row += 2
-            _add_pedestal(reader, entry["pedestal"], f"{where} pedestal", pedestal, assembly)
+            terms += _add_pedestal(reader, entry["pedestal"], f"{where} pedestal", pedestal,
+                                   assembly)
         if station is None:
             continue
         rows = (4 * station, 4 * station + 1)
@@ -671,20 +672,39 @@ def _connect(assembly: Assembly, key: str, value: float | Expression | SpeedTabl
 
 
 def _add_pedestal(reader: _Reader, raw: object, where: str, rows: tuple[int, int],
-                  assembly: Assembly) -> None:
-    """A pedestal (support) mass m on x and y, on the ground through its constant
-    coefficients kxx ... cyy."""
+                  assembly: Assembly) -> list[SpeedTerm]:
+    """A pedestal (support) mass m on x and y, on the ground through its coefficients
+    kxx ... cyy: numbers (a direct one at least 0), expressions of the parameters (the
+    speed) or tables in speed, as a bearing's; those that are not constants as speed
+    terms (``where`` names the pedestal)."""
     if not isinstance(raw, dict):
         reader.problem("a pedestal is a table { m = ..., kxx = ..., kyy = ..., cxx = ... }",
                        where, "pedestal")
-        return
+        return []
     for key in set(raw) - set(PEDESTAL_KEYS):
         reader.problem(f"unknown key; a pedestal takes {', '.join(PEDESTAL_KEYS)}", where, key)
     m = reader.number(raw, "m", where)
     if m is not None:
         assembly.add("M", np.array(rows), np.array(rows), m * np.eye(2))
+    terms: list[SpeedTerm] = []
     for key in COEFFICIENTS:
-        if key in raw:
+        if key not in raw:
+            continue
+        constant = isinstance(raw[key], (int, float)) and not isinstance(raw[key], bool)
+        if constant or (isinstance(raw[key], str) and not _has_names(raw[key], reader)):
             value = reader.number(raw, key, where, positive=False, signed=key[1] != key[2])
             if value is not None:
                 _connect(assembly, key, value, rows, None, where)
+            continue
+        read = reader.coefficient(raw[key], where, key)
+        if read is not None:
+            terms += _connect(assembly, key, read, rows, None, f"{where} {key}")
+    return terms
+
+
+def _has_names(text: str, reader: _Reader) -> bool:
+    """Whether a coefficient's text names a parameter (else it is a constant)."""
+    try:
+        return bool(parse_with_unit(text, reader.params, reader.source, "", "")[0].names())
+    except ExpressionError:
+        return False
