@@ -55,7 +55,7 @@ from ..charts import (
     save_figure,
 )
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import ModelError, Problem
+from ..errors import AnalysisError, ModelError, Problem
 from ..modal import STABILITY_TOLERANCE, modal_assurance
 from ..model.units_display import HZ, ResultUnits, Shown, angular_shown
 from ..system.base import LinearSystem
@@ -370,6 +370,20 @@ def _continued(solver: ModeSolver, reference: np.ndarray, speed: float, target: 
     return complex(s[best]), q[:, best]
 
 
+def _threshold_root(value: Callable[[float], float], low: float, high: float,
+                    tolerance: float, marginal: float) -> float:
+    """The speed in [low, high] where a followed branch's Re s crosses zero upwards; the
+    bracket's start where the branch is marginal there already (|Re s| within the kernel's
+    stability tolerance ``marginal``, with no change of sign to find: an undamped rotor at
+    rest whose cross coupling grows with the speed)."""
+    try:
+        return find_root(value, low, high, tolerance)
+    except AnalysisError:
+        if value(low) >= -marginal:
+            return low
+        raise
+
+
 def _threshold(solver: ModeSolver, track: Tracked, pairs: list[tuple[int, int]],
                tolerance: float) -> StabilityThreshold:
     """The lowest speed where some branch's Re s crosses from below zero to above."""
@@ -391,8 +405,8 @@ def _threshold(solver: ModeSolver, track: Tracked, pairs: list[tuple[int, int]],
             continue
         reference, target = track.shapes[i, :, j], complex(track.eigenvalues[i, j])
         value = branch_value(solver, reference, lambda s, w: s.real, target)
-        speed = find_root(value, float(track.speeds[i]), float(track.speeds[i + 1]),
-                          tolerance)
+        speed = _threshold_root(value, float(track.speeds[i]), float(track.speeds[i + 1]),
+                                tolerance, STABILITY_TOLERANCE * float(scale[i, j]))
         s, q = _continued(solver, reference, speed, target)
         best = (speed, j, s, q)
     if best is None:

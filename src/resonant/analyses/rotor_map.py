@@ -360,12 +360,14 @@ def _damped_map(system: LinearSystem, stiffness: np.ndarray, modes: int,
     for i, k in enumerate(stiffness):
         rows = []
         for o, r in enumerate(orders):
-            counts = [above(float(w), float(k), r) for w in grid]
+            def count(w: float, k: float = float(k), r: float = r) -> int:
+                return above(w, k, r)
+
+            counts = [count(float(w)) for w in grid]
             found: list[float] = []
             for a, b, ca, cb in zip(grid[:-1], grid[1:], counts[:-1], counts[1:]):
                 if ca != cb and len(found) < modes:
-                    found += _changes(lambda w, k=float(k), r=r: above(w, k, r), float(a),
-                                      float(b), ca, cb, tolerance)
+                    found += _changes(count, float(a), float(b), ca, cb, tolerance)
             found = sorted(found)[:modes]
             labels: list[str] = []
             for j, speed in enumerate(found):

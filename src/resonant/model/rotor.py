@@ -561,10 +561,10 @@ def _add_discs(reader: _Reader, discs: list[dict], stations: int, rho: float | N
         s = 4 * station + np.arange(4)
         assembly.add("M", s, s, np.diag([m, m, It, It]))
         assembly.add("G", s[2:], s[2:], np.array([[0.0, Ip], [-Ip, 0.0]]))
-        for start, inertia in ((motions.axial, m), (motions.torsional, Ip)):
+        for start, value in ((motions.axial, m), (motions.torsional, Ip)):
             if start is not None:
                 assembly.add("M", np.array([start + station]), np.array([start + station]),
-                             np.array([[inertia]]))
+                             np.array([[value]]))
     return named
 
 
