@@ -172,3 +172,30 @@ def test_speed_map_command(tmp_path) -> None:
     assert status == 2 and "[rotor] with bearings" in err
     status, _, err = run_cli(["speed-map", model, "--stiffness", "1e6:1e5:3"])
     assert status == 2 and "FROM:TO:N" in err
+
+
+def test_pedestal_coefficients_that_depend_on_the_speed() -> None:
+    """A pedestal support stiffening with the speed (an expression, and a table in speed):
+    at each speed the chain's two frequencies with k_s(Omega), to 1e-10; the undamped map,
+    solved for the speed directly, refuses it and the damped one takes it."""
+    from resonant.analyses.rotor_map import critical_speed_map
+
+    for support in ('"4e6 + 2000*Omega"', "{ speed = [0, 1000], values = [4e6, 6e6] }"):
+        text = chain(cb=0.0).replace(f'kxx = "{KS} N/m", kyy = "{KS} N/m"',
+                                     f"kxx = {support}, kyy = {support}")
+        text = text.replace("Ip = 0.1", "Ip = 0")  # no nutation: the tilts stay at s = 0
+        model = loads(text, source="p.toml")
+        system = linear_system(model)
+        for speed in (0.0, 400.0):
+            ks = KS + 2000 * speed if "Omega" in support else np.interp(speed, [0, 1000],
+                                                                         [4e6, 6e6])
+            point = system.numeric(Omega=speed)
+            s, _ = gyroscopic_modes(point.M, point.C, point.K)
+            found = np.sort(np.abs(s.imag[np.abs(s) > 1.0]))
+            w2 = np.roots([M * MP, -(M * (KB + ks) + MP * KB), KB * ks])
+            assert np.allclose(found, np.sort(np.repeat(np.sqrt(w2), 2)), rtol=1e-10)
+    with pytest.raises(ModelError, match="damped=True"):
+        critical_speed_map(system, [1e6])
+    damped = critical_speed_map(system, [1e6], modes=2, damped=True,
+                                speeds=np.linspace(0, 800, 9))
+    assert np.all(np.isfinite(damped.speeds))

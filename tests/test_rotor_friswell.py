@@ -8,8 +8,9 @@ bundled ``[rotor]`` examples (six Timoshenko elements each), against
   file, run 2026-12-02; recorded here), to 1e-8.
 
 The book's and ROSS's 650.41 rad/s (the same at every speed and in every example with
-the 1.5 m shaft on bearings at its ends) is a mode outside the lateral plane (ROSS has six
-coordinates a node); resonant's lateral models do not have it, and it is left out.
+the 1.5 m shaft on bearings at its ends) is the torsional mode (ROSS has six coordinates a
+node); these lateral models do not have it, and it is left out here
+(tests/test_rotor_axial_torsional.py checks it with ``torsional = true``).
 """
 
 from __future__ import annotations

@@ -55,10 +55,11 @@ from ..charts import (
     save_figure,
 )
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import ModelError, Problem
+from ..errors import AnalysisError, ModelError, Problem
 from ..modal import STABILITY_TOLERANCE, modal_assurance
 from ..model.units_display import HZ, ResultUnits, Shown, angular_shown
 from ..system.base import LinearSystem
+from .result_fields import FieldsJSON, saved
 from .results_json import Saved, floats_json
 from .rotor_tracking import (
     ModeSolver,
@@ -67,6 +68,7 @@ from .rotor_tracking import (
     check_speeds,
     crossings,
     find_root,
+    motion_kinds,
     precession,
     track_modes,
     whirl_label,
@@ -84,7 +86,7 @@ SPEED_TOLERANCE = 1e-10
 
 
 @dataclass(frozen=True)
-class CriticalSpeed:
+class CriticalSpeed(FieldsJSON):
     """A speed where a branch's damped natural frequency equals an excitation order times
     the speed (omega_j = r Omega).
 
@@ -102,20 +104,18 @@ class CriticalSpeed:
         ``"forward"``, ``"backward"`` or ``"none"``.
     """
 
-    speed: float
-    mode: int
-    order: float
-    frequency: float
-    whirl: str
+    speed: float = saved(key="speed_rad_s")
+    mode: int = saved()
+    order: float = saved()
+    frequency: float = saved(key="frequency_rad_s")
+    whirl: str = saved()
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form (rad/s, with rpm)."""
-        return {"speed_rad_s": self.speed, "speed_rpm": self.speed / RPM, "mode": self.mode,
-                "order": self.order, "frequency_rad_s": self.frequency, "whirl": self.whirl}
+    def _derived_json(self) -> dict[str, Any]:
+        return {"speed_rpm": self.speed / RPM}
 
 
 @dataclass(frozen=True)
-class StabilityThreshold:
+class StabilityThreshold(FieldsJSON):
     """The lowest speed of the range where a mode's damping crosses zero.
 
     Attributes
@@ -133,22 +133,18 @@ class StabilityThreshold:
         the first speed already).
     """
 
-    speed: float | None
-    mode: int | None
-    frequency: float | None
-    whirl: str
-    verdict: str
+    speed: float | None = saved(key="speed_rad_s")
+    mode: int | None = saved()
+    frequency: float | None = saved(key="frequency_rad_s")
+    whirl: str = saved()
+    verdict: str = saved()
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form (rad/s, with rpm)."""
-        return {"speed_rad_s": self.speed,
-                "speed_rpm": None if self.speed is None else self.speed / RPM,
-                "mode": self.mode, "frequency_rad_s": self.frequency, "whirl": self.whirl,
-                "verdict": self.verdict}
+    def _derived_json(self) -> dict[str, Any]:
+        return {"speed_rpm": None if self.speed is None else self.speed / RPM}
 
 
 @dataclass(frozen=True)
-class Campbell:
+class Campbell(FieldsJSON):
     """The modes of a rotor over its speed, with critical speeds and stability.
 
     Attributes
@@ -177,6 +173,10 @@ class Campbell:
     refined : int
         Speeds that refinement added.
     warnings : tuple of str
+    motion : tuple of str
+        Each branch's kind at the first speed, ``"lateral"``, ``"axial"`` or
+        ``"torsional"`` (:func:`resonant.analyses.rotor_tracking.motion_kinds`); empty for
+        a rotor with lateral coordinates only.
 
     Examples
     --------
@@ -189,15 +189,16 @@ class Campbell:
     title: str
     speed_parameter: str
     coordinates: tuple[str, ...]
-    speeds: np.ndarray
-    eigenvalues: np.ndarray
-    precession: np.ndarray
-    mac: np.ndarray
-    orders: tuple[float, ...]
-    critical_speeds: tuple[CriticalSpeed, ...]
-    threshold: StabilityThreshold
-    refined: int = 0
+    speeds: np.ndarray = saved(key="speeds_rad_s", axes=(None,))
+    eigenvalues: np.ndarray = saved(axes=("speeds", None))
+    precession: np.ndarray = saved(axes=("speeds", None))
+    mac: np.ndarray = saved(axes=("speeds", None))
+    orders: tuple[float, ...] = saved()
+    critical_speeds: tuple[CriticalSpeed, ...] = saved()
+    threshold: StabilityThreshold = saved(key="stability_threshold")
+    refined: int = saved(0, required=True)
     warnings: tuple[str, ...] = field(default=())
+    motion: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -229,76 +230,31 @@ class Campbell:
         """The whirl label of each branch at each speed (P tuples of k)."""
         return tuple(tuple(whirl_label(v) for v in row) for row in self.precession)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form: SI numbers (rad/s), rpm and Hz beside them.
-
-        Returns
-        -------
-        dict
-        """
+    def _derived_json(self) -> dict[str, Any]:
+        """The numbers for a reader of the JSON (rpm, Hz, damping, whirl), derived from the
+        fields."""
         return {
-            "title": self.title, "speed_parameter": self.speed_parameter,
-            "coordinates": list(self.coordinates),
             "conventions": {"speed": "rad/s (speed_rpm: rev/min)",
                             "frequency": "damped natural frequency |Im s| in rad/s",
                             "log_decrement": "-2 pi Re(s) / Im(s)",
                             "whirl": "forward: in the direction of the spin, from x "
                                      "towards y"},
-            "speeds_rad_s": floats_json(self.speeds),
             "speeds_rpm": floats_json(self.speeds / RPM),
-            "eigenvalues": {"real": floats_json(self.eigenvalues.real),
-                            "imag": floats_json(self.eigenvalues.imag)},
             "frequencies_rad_s": floats_json(self.frequencies),
             "frequencies_hz": floats_json(self.frequencies / (2 * np.pi)),
             "damping_ratios": floats_json(self.damping_ratios),
             "log_decrements": floats_json(self.log_decrements),
-            "precession": floats_json(self.precession),
-            "whirl": [list(row) for row in self.whirl],
-            "mac": floats_json(self.mac),
-            "orders": list(self.orders),
-            "critical_speeds": [c.to_dict() for c in self.critical_speeds],
-            "stability_threshold": self.threshold.to_dict(),
-            "refined": self.refined, "warnings": list(self.warnings)}
+            "whirl": [list(row) for row in self.whirl]}
 
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> Campbell:
-        """The result back from its :meth:`to_dict`.
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        Campbell
-
-        Examples
-        --------
-        >>> import json, resonant
-        >>> r = resonant.load("examples/rotors/jeffcott_rotor.toml").campbell()
-        >>> Campbell.from_dict(json.loads(json.dumps(r.to_dict()))).to_dict() == r.to_dict()
-        True
-        """
-        saved = Saved(data, "Campbell")
-        speeds = saved.floats("speeds_rad_s", ndim=1)
-        eig = saved.mapping("eigenvalues")
-        s = eig.floats("real", ndim=2) + 1j * eig.floats("imag", ndim=2)
-        t = saved.mapping("stability_threshold")
-        threshold = StabilityThreshold(
-            t.optional_number("speed_rad_s"), None if t.value("mode") is None else
-            t.integer("mode"), t.optional_number("frequency_rad_s"), t.string("whirl"),
-            t.string("verdict"))
-        critical = tuple(CriticalSpeed(c.number("speed_rad_s"), c.integer("mode"),
-                                       c.number("order"), c.number("frequency_rad_s"),
-                                       c.string("whirl"))
-                         for c in saved.records("critical_speeds"))
-        return cls(saved.string("title"), saved.string("speed_parameter"),
-                   saved.strings("coordinates"), speeds, s,
-                   saved.floats("precession", shape=s.shape),
-                   saved.floats("mac", shape=s.shape), saved.numbers("orders"), critical,
-                   threshold, saved.integer("refined", minimum=0),
-                   saved.strings("warnings", ()))
+    def _check_saved(cls, values: Mapping[str, Any], reader: Saved) -> None:
+        shape = np.shape(values["eigenvalues"])
+        for key in ("precession", "mac"):
+            if np.shape(values[key]) != shape:
+                raise reader.error(f"has shape {np.shape(values[key])}, not {shape} (that "
+                                   "of 'eigenvalues')", key)
+        if values.get("refined", 0) < 0:
+            raise reader.error("is negative", "refined")
 
     def summary(self, units: ResultUnits | None = None) -> str:
         """The text ``resonant campbell`` prints: the modes at the first and last speed,
@@ -414,6 +370,20 @@ def _continued(solver: ModeSolver, reference: np.ndarray, speed: float, target: 
     return complex(s[best]), q[:, best]
 
 
+def _threshold_root(value: Callable[[float], float], low: float, high: float,
+                    tolerance: float, marginal: float) -> float:
+    """The speed in [low, high] where a followed branch's Re s crosses zero upwards; the
+    bracket's start where the branch is marginal there already (|Re s| within the kernel's
+    stability tolerance ``marginal``, with no change of sign to find: an undamped rotor at
+    rest whose cross coupling grows with the speed)."""
+    try:
+        return find_root(value, low, high, tolerance)
+    except AnalysisError:
+        if value(low) >= -marginal:
+            return low
+        raise
+
+
 def _threshold(solver: ModeSolver, track: Tracked, pairs: list[tuple[int, int]],
                tolerance: float) -> StabilityThreshold:
     """The lowest speed where some branch's Re s crosses from below zero to above."""
@@ -435,8 +405,8 @@ def _threshold(solver: ModeSolver, track: Tracked, pairs: list[tuple[int, int]],
             continue
         reference, target = track.shapes[i, :, j], complex(track.eigenvalues[i, j])
         value = branch_value(solver, reference, lambda s, w: s.real, target)
-        speed = find_root(value, float(track.speeds[i]), float(track.speeds[i + 1]),
-                          tolerance)
+        speed = _threshold_root(value, float(track.speeds[i]), float(track.speeds[i + 1]),
+                                tolerance, STABILITY_TOLERANCE * float(scale[i, j]))
         s, q = _continued(solver, reference, speed, target)
         best = (speed, j, s, q)
     if best is None:
@@ -517,12 +487,15 @@ def campbell(system: LinearSystem, speeds: Sequence[float] | np.ndarray | None =
                         "there may be exchanged; give more speeds")
     if not pairs:
         warnings.append("no (NAME_x, NAME_y) coordinate pairs: no whirl direction")
+    if track.rigid:
+        warnings.append(f"{track.rigid} rigid-body eigenvalue(s) (s = 0: a free axial, "
+                        "torsional or lateral motion) left out of the branches")
     return Campbell(system.title, name, tuple(system.coordinates), track.speeds,
                     track.eigenvalues, precession(track.shapes, pairs), track.mac,
                     tuple(float(r) for r in orders),
                     tuple(_critical_speeds(solver, track, orders, pairs, tolerance)),
                     _threshold(solver, track, pairs, tolerance), track.refined,
-                    tuple(warnings))
+                    tuple(warnings), motion_kinds(track.shapes[0], system.coordinates))
 
 
 def log_decrement(system: LinearSystem, at: float, mode: int = 1, *, speed: str | None = None,
@@ -612,6 +585,8 @@ def campbell_text(result: Campbell, units: ResultUnits | None = None) -> str:
     f = frequency(result.frequencies)
     for j in range(f.shape[1]):
         whirl = {"F": "forward", "B": "backward"}.get(_branch_whirl(result, j), "-")
+        if j < len(result.motion) and result.motion[j] != "lateral":
+            whirl = result.motion[j]
         lines.append(f"{j + 1:>4}  {whirl:>8}  {f[0, j]:13.6g}  {f[-1, j]:12.6g}  "
                      f"{result.log_decrements[0, j]:13.4g}  {result.log_decrements[-1, j]:12.4g}")
     lines += ["", "critical speeds (damped frequency = order x speed):"]
@@ -664,7 +639,9 @@ def campbell_chart(result: Campbell, damping: str = "log_decrement") -> Charts:
     curves, below = [], []
     for j in range(hz.shape[1]):
         whirl = _branch_whirl(result, j)
-        label = f"mode {j + 1}" + (f" ({whirl})" if whirl else "")
+        kind = result.motion[j] if j < len(result.motion) else ""
+        label = f"mode {j + 1}" + (f" ({whirl})" if whirl else "") + \
+            (f" {kind}" if kind and kind != "lateral" else "")
         color = COLORS[j % len(COLORS)]
         dash = "3.7 1.6" if whirl == "B" else None
         curves.append(Curve(rpm, hz[:, j], label, color=color, dash=dash))

@@ -10,6 +10,15 @@ K(k) q = Omega^2 (r^2 M - i r G) q, solved directly
 bearings give the rigid-rotor modes (bouncing and rocking, rising as sqrt(k)); stiff ones
 the pinned shaft's bending modes (a plateau).
 
+With ``damped=True`` the bearings keep their damping and cross-coupled stiffness (kxy,
+kyx, c..; numbers, expressions or tables at each speed) and only their direct stiffness
+kxx = kyy becomes k; the critical speeds are then the **damped** ones, where a mode's
+damped frequency |Im s| equals r Omega of M q'' + (C(Omega) + Omega G) q' + K(k, Omega) q =
+0.  They are found on a speed grid without tracking: the number of modes whose frequency
+is above r Omega changes at each, and the change is bisected to
+:data:`resonant.analyses.campbell.SPEED_TOLERANCE`; each comes with the damping ratio of
+its mode there.
+
 Examples
 --------
 >>> import resonant
@@ -24,7 +33,7 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -32,21 +41,51 @@ import numpy as np
 
 from ..arrays import freeze_fields
 from ..charts import COLORS, Chart, Charted, Curve
+from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem
 from ..memory import require
-from ..modal import synchronous_speeds
+from ..modal import ZERO_STATE, gyroscopic_modes, synchronous_speeds
 from ..model.rotor import Bearing
-from ..system.base import LinearSystem
-from .campbell import RPM
-from .results_json import floats_json
-from .rotor_tracking import precession, whirl_label, whirl_pairs
+from ..system.base import LinearSystem, parameter_values
+from .campbell import RPM, SPEED_TOLERANCE, speed_parameter
+from .result_fields import Codec, FieldsJSON, Shape, saved
+from .results_json import Saved, floats_json
+from .rotor_tracking import ModeSolver, check_speeds, precession, whirl_label, whirl_pairs
+from .unbalance import coefficient_values
+
+
+def _whirl_read(saved_data: Saved, key: str, shape: Shape
+                ) -> tuple[tuple[tuple[str, ...], ...], ...]:
+    blocks = saved_data.value(key)
+    if not isinstance(blocks, list) or not all(
+            isinstance(block, list) and all(isinstance(row, list) and
+                                            all(isinstance(w, str) for w in row)
+                                            for row in block) for block in blocks):
+        raise saved_data.error("is not a list (stiffness) of lists (orders) of lists of "
+                               "whirl labels", key)
+    return tuple(tuple(tuple(row) for row in block) for block in blocks)
+
+
+def _nested_shape(whirl: tuple[tuple[tuple[str, ...], ...], ...]) -> tuple[int, ...] | None:
+    """(stiffness, orders, modes) of the nested labels, None where they are ragged."""
+    rows = {len(block) for block in whirl}
+    labels = {len(row) for block in whirl for row in block}
+    if len(rows) > 1 or len(labels) > 1:
+        return None
+    return (len(whirl), rows.pop() if rows else 0, labels.pop() if labels else 0)
+
+
+#: the whirl labels nested as the critical speeds (stiffness, orders, modes)
+_WHIRL = Codec(lambda value: [[list(row) for row in block] for block in value], _whirl_read)
 
 #: the most coordinates of a map (each stiffness is one dense complex eigenproblem)
 MAX_MAP_COORDINATES = 2000
+#: the most coordinates of a damped map (dense complex modes at every speed it tries)
+MAX_DAMPED_MAP_COORDINATES = 400
 
 
 @dataclass(frozen=True)
-class CriticalSpeedMap(Charted):
+class CriticalSpeedMap(FieldsJSON, Charted):
     """The undamped critical speeds of a rotor against its bearings' stiffness.
 
     Attributes
@@ -62,31 +101,41 @@ class CriticalSpeedMap(Charted):
     whirl : tuple
         Their whirl (``"forward"``, ``"backward"``, ``"none"``; "" where NaN), nested as
         ``speeds``.
+    damped : bool
+        Whether the bearings kept their damping and cross coupling (damped critical
+        speeds), or not (undamped, no cross coupling).
+    damping_ratios : ndarray or None
+        A damped map's damping ratio -Re s / |s| of each critical speed's mode there, as
+        ``speeds`` (None for an undamped map).
     """
 
     title: str
-    stiffness: np.ndarray
-    orders: tuple[float, ...]
-    speeds: np.ndarray
-    whirl: tuple[tuple[tuple[str, ...], ...], ...]
+    stiffness: np.ndarray = saved(key="stiffness_N_m", axes=(None,))
+    orders: tuple[float, ...] = saved()
+    speeds: np.ndarray = saved(key="critical_speeds_rad_s", axes=("stiffness", "orders", None))
+    whirl: tuple[tuple[tuple[str, ...], ...], ...] = saved(codec=_WHIRL)
+    damped: bool = False
+    damping_ratios: np.ndarray | None = saved(None, omit_none=True,
+                                              axes=("stiffness", "orders", None))
 
     def __post_init__(self) -> None:
         freeze_fields(self)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form (rad/s, with rpm).
+    def _derived_json(self) -> dict[str, Any]:
+        bearings = ("kxx = kyy = stiffness, their cross coupling and damping kept; damped "
+                    "critical speeds (|Im s| = order x speed)" if self.damped else
+                    "kxx = kyy = stiffness, no cross coupling, undamped")
+        return {"conventions": {"bearings": bearings},
+                "critical_speeds_rpm": floats_json(self.speeds / RPM)}
 
-        Returns
-        -------
-        dict
-        """
-        return {"title": self.title, "stiffness_N_m": floats_json(self.stiffness),
-                "orders": list(self.orders),
-                "conventions": {"bearings": "kxx = kyy = stiffness, no cross coupling, "
-                                            "undamped"},
-                "critical_speeds_rad_s": floats_json(self.speeds),
-                "critical_speeds_rpm": floats_json(self.speeds / RPM),
-                "whirl": [[list(row) for row in block] for block in self.whirl]}
+    @classmethod
+    def _check_saved(cls, values: Mapping[str, Any], reader: Saved) -> None:
+        shape = np.shape(values["speeds"])
+        if _nested_shape(values["whirl"]) != shape:
+            raise reader.error(f"does not hold a label for each of the {shape} critical "
+                               "speeds", "whirl")
+        if values.get("damped", False) != (values.get("damping_ratios") is not None):
+            raise reader.error("has damping ratios exactly when it is damped", "damped")
 
     def summary(self) -> str:
         """The critical speeds (rpm) at each stiffness, a row per stiffness.
@@ -96,12 +145,18 @@ class CriticalSpeedMap(Charted):
         str
         """
         lines = [self.title or "Critical speed map",
+                 "damped: every bearing kxx = kyy = k, its cross coupling and damping kept "
+                 "(damping ratio in brackets)" if self.damped else
                  "undamped; every bearing kxx = kyy = k (no cross coupling)", ""]
         for o, r in enumerate(self.orders):
             lines.append(f"{r:g}x critical speeds [rpm] (F forward, B backward whirl):")
             for i, k in enumerate(self.stiffness):
-                cells = [f"{v / RPM:10.5g} {w[:1].upper()}" if math.isfinite(v) else
-                         f"{'-':>10}  " for v, w in zip(self.speeds[i, o], self.whirl[i][o])]
+                ratios = (self.damping_ratios[i, o] if self.damping_ratios is not None else
+                          [math.nan] * len(self.whirl[i][o]))
+                cells = [f"{v / RPM:10.5g} {w[:1].upper()}" +
+                         (f" ({z:.3g})" if math.isfinite(z) else "") if math.isfinite(v) else
+                         f"{'-':>10}  " for v, w, z in zip(self.speeds[i, o], self.whirl[i][o],
+                                                          ratios)]
                 lines.append(f"  k = {k:10.4g} N/m  " + "  ".join(cells))
         return "\n".join(lines) + "\n"
 
@@ -122,14 +177,16 @@ class CriticalSpeedMap(Charted):
                                     dash=None if o == 0 else "3.7 1.6", marker="o"))
         xlim = (float(self.stiffness[0]), float(self.stiffness[-1]))
         return Chart(tuple(curves), "bearing stiffness [N/m]", "critical speed [rpm]", xlim,
-                     ylog=True, xlog=True, title="undamped critical speed map")
+                     ylog=True, xlog=True, title=("damped" if self.damped else "undamped") +
+                     " critical speed map")
 
 
-def _stiffness_pattern(bearing: Bearing, n: int) -> np.ndarray:
+def _stiffness_pattern(bearing: Bearing, n: int, axes: tuple[int, ...] = (0, 1)
+                       ) -> np.ndarray:
     """The stiffness matrix of one bearing of kxx = kyy = 1 (to the ground or its
-    pedestal)."""
+    pedestal; ``axes`` (0,): kxx only, (1,): kyy only)."""
     out = np.zeros((n, n))
-    for axis in (0, 1):
+    for axis in axes:
         ends = [(bearing.station[axis], bearing.station[axis], 1.0)]
         if bearing.pedestal is not None:
             p = bearing.pedestal[axis]
@@ -160,8 +217,11 @@ def _without_bearings(K: np.ndarray, bearings: Sequence[Bearing]) -> np.ndarray:
 
 
 def critical_speed_map(system: LinearSystem, stiffness: Sequence[float] | np.ndarray, *,
-                       modes: int = 4, orders: Sequence[float] = (1.0,)) -> CriticalSpeedMap:
-    """The undamped critical speeds of a ``[rotor]`` at each bearing stiffness.
+                       modes: int = 4, orders: Sequence[float] = (1.0,), damped: bool = False,
+                       speeds: Sequence[float] | np.ndarray | None = None,
+                       deadline: Deadline = NO_DEADLINE) -> CriticalSpeedMap:
+    """The critical speeds of a ``[rotor]`` at each bearing stiffness: undamped (no cross
+    coupling), or damped (the bearings' damping and cross coupling kept).
 
     Parameters
     ----------
@@ -173,10 +233,25 @@ def critical_speed_map(system: LinearSystem, stiffness: Sequence[float] | np.nda
         The lowest critical speeds kept per order.
     orders : sequence of float
         The excitation orders r.
+    damped : bool
+        Keep the bearings' damping and cross-coupled stiffness: the damped critical speeds
+        (|Im s| = r Omega) and their damping ratios.
+    speeds : sequence of float, optional
+        A damped map's speed grid (rad/s, increasing), which brackets its critical speeds
+        (those beyond it are not found); default the ``[campbell]`` range.
+    deadline : Deadline, optional
 
     Returns
     -------
     CriticalSpeedMap
+
+    Examples
+    --------
+    >>> import resonant
+    >>> rotor = resonant.load("examples/rotors/friswell_5_9_5.toml").linearize()
+    >>> damped = critical_speed_map(rotor, [1e6], modes=2, damped=True)
+    >>> (damped.speeds[0, 0] * 60 / (2 * np.pi)).round(1).tolist()     # rpm, 1x
+    [830.8, 835.7]
     """
     model = system.model
     spec = model.matrices if model is not None else None
@@ -191,6 +266,14 @@ def critical_speed_map(system: LinearSystem, stiffness: Sequence[float] | np.nda
         raise ModelError(Problem("orders must be positive numbers and modes at least 1",
                                  system.source, "campbell", "orders"))
     n = system.n
+    if not damped and any(" pedestal " in t.where for t in spec.speed_terms):
+        raise ModelError(Problem("a pedestal's coefficients depend on the speed, and the "
+                                 "undamped map is solved for the speed directly: give "
+                                 "damped=True (the damped map takes them at each speed)",
+                                 system.source, "rotor", "pedestal"))
+    if damped:
+        return _damped_map(system, k, modes, tuple(float(r) for r in orders), speeds,
+                           deadline)
     if n > MAX_MAP_COORDINATES:
         raise ModelError(Problem(f"the critical speed map is dense: at most "
                                  f"{MAX_MAP_COORDINATES} coordinates, the rotor has {n}",
@@ -217,4 +300,106 @@ def critical_speed_map(system: LinearSystem, stiffness: Sequence[float] | np.nda
                             tuple(whirl))
 
 
-__all__ = ["critical_speed_map", "CriticalSpeedMap", "MAX_MAP_COORDINATES"]
+def _damped_map(system: LinearSystem, stiffness: np.ndarray, modes: int,
+                orders: tuple[float, ...], speeds: Sequence[float] | np.ndarray | None,
+                deadline: Deadline) -> CriticalSpeedMap:
+    """:func:`critical_speed_map` with the bearings' damping and cross coupling kept."""
+    model = system.model
+    assert model is not None and model.matrices is not None
+    n = system.n
+    if n > MAX_DAMPED_MAP_COORDINATES:
+        raise ModelError(Problem(f"the damped critical speed map is dense: at most "
+                                 f"{MAX_DAMPED_MAP_COORDINATES} coordinates, the rotor has "
+                                 f"{n}", system.source, "rotor", "shaft"))
+    if speeds is None:
+        spec = model.campbell_section
+        if spec is None:
+            raise ModelError(Problem("the damped critical speed map needs a speed range: "
+                                     "give speeds, or a [campbell] section with from, to "
+                                     "and points", system.source, "campbell", "to"))
+        speeds = np.linspace(spec.start, spec.stop, spec.points)
+    grid = check_speeds(np.asarray(speeds, dtype=float), system.source)
+    name = speed_parameter(system, None)
+    require(8 * 16.0 * n * n, f"the damped critical speed map of {n} coordinates",
+            "use fewer shaft elements")
+    bearings = model.matrices.bearings
+    pattern = sum(_stiffness_pattern(b, n) for b in bearings)
+    solver = ModeSolver(system, name, 1, deadline)
+    pairs = whirl_pairs(system.coordinates)
+    tolerance = SPEED_TOLERANCE * max(abs(float(grid[-1])), 1.0)
+
+    def direct(speed: float) -> np.ndarray:
+        """The bearings' direct stiffness kxx, kyy at ``speed`` as assembled."""
+        at = np.array([speed])
+        values = parameter_values(model, name, at)
+        out = np.zeros((n, n))
+        for b in bearings:
+            for key, value in b.coefficients:
+                if key in ("kxx", "kyy"):
+                    axis = int(key == "kyy")
+                    one = _stiffness_pattern(b, n, axes=(axis,))
+                    out += float(coefficient_values(value, at, values)[0]) * one
+        return out
+
+    def modes_at(speed: float, k: float) -> tuple[np.ndarray, np.ndarray]:
+        M, C, K = (np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
+                   for a in solver.matrices(np.array([speed]))[0])
+        deadline.check("while computing the damped critical speed map", "stiffness",
+                       analysis=True)
+        s, q = gyroscopic_modes(M, C, K - direct(speed) + k * pattern)
+        size = np.abs(s)
+        moving = size > ZERO_STATE * max(1.0, float(size.max(initial=0.0)))
+        return s[moving], q[:, moving]
+
+    def above(speed: float, k: float, r: float) -> int:
+        return int(np.count_nonzero(np.abs(modes_at(speed, k)[0].imag) > r * speed))
+
+    out = np.full((len(stiffness), len(orders), modes), np.nan)
+    ratios = np.full_like(out, np.nan)
+    whirl = []
+    for i, k in enumerate(stiffness):
+        rows = []
+        for o, r in enumerate(orders):
+            def count(w: float, k: float = float(k), r: float = r) -> int:
+                return above(w, k, r)
+
+            counts = [count(float(w)) for w in grid]
+            found: list[float] = []
+            for a, b, ca, cb in zip(grid[:-1], grid[1:], counts[:-1], counts[1:]):
+                if ca != cb and len(found) < modes:
+                    found += _changes(count, float(a), float(b), ca, cb, tolerance)
+            found = sorted(found)[:modes]
+            labels: list[str] = []
+            for j, speed in enumerate(found):
+                # the mode whose frequency is r Omega there (the next nearest for a second
+                # critical speed at the same place: a forward and a backward mode together)
+                repeat = sum(1 for x in found[:j] if x == speed)
+                s, q = modes_at(speed, float(k))
+                best = int(np.argsort(np.abs(np.abs(s.imag) - r * speed),
+                                      kind="stable")[min(repeat, len(s) - 1)])
+                out[i, o, j] = speed
+                ratios[i, o, j] = -s[best].real / abs(s[best])
+                labels.append(whirl_label(float(precession(q[:, [best]], pairs)[0])))
+            rows.append(tuple(labels + [""] * (modes - len(labels))))
+        whirl.append(tuple(rows))
+    return CriticalSpeedMap(system.title, stiffness, orders, out, tuple(whirl), True, ratios)
+
+
+def _changes(count: Callable[[float], int], low: float, high: float, at_low: int,
+             at_high: int, tolerance: float) -> list[float]:
+    """The speeds in (low, high) where the integer ``count`` changes, each bisected to
+    ``tolerance`` (a bracket whose ends differ by more than one holds several)."""
+    if high - low <= tolerance:
+        return [0.5 * (low + high)] * abs(at_high - at_low)
+    middle = 0.5 * (low + high)
+    at_middle = count(middle)
+    out = []
+    if at_middle != at_low:
+        out += _changes(count, low, middle, at_low, at_middle, tolerance)
+    if at_middle != at_high:
+        out += _changes(count, middle, high, at_middle, at_high, tolerance)
+    return out
+
+
+__all__ = ["critical_speed_map", "CriticalSpeedMap", "MAX_MAP_COORDINATES",
+           "MAX_DAMPED_MAP_COORDINATES"]

@@ -43,6 +43,7 @@ from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..modal import (
+    ZERO_STATE,
     gyroscopic_modes,
     gyroscopic_modes_near,
     lowest_gyroscopic_modes,
@@ -64,6 +65,9 @@ NEAR_CANDIDATES = 6
 DEGENERATE = 1e-7
 #: |precession| below this is no whirl (a planar or a non-lateral motion)
 PLANAR = 1e-6
+#: a mode whose pairs hold less than this share of |q|^2 has no lateral motion (an axial
+#: or torsional mode: its x, y are round-off, amplitudes below 1e-10 of the shape's)
+LATERAL_SHARE = 1e-20
 
 Modes = tuple[np.ndarray, np.ndarray]
 
@@ -87,6 +91,8 @@ class Tracked:
         The speeds refinement added.
     ambiguous : tuple of float
         Speeds where the assignment stayed ambiguous after :data:`MAX_HALVINGS`.
+    rigid : int
+        The rigid-body eigenvalues (s = 0) left out (:meth:`ModeSolver.modes`).
     """
 
     speeds: np.ndarray
@@ -95,6 +101,7 @@ class Tracked:
     mac: np.ndarray
     refined: int
     ambiguous: tuple[float, ...]
+    rigid: int = 0
 
     @property
     def frequencies(self) -> np.ndarray:
@@ -127,7 +134,8 @@ def precession(shapes: np.ndarray, pairs: Sequence[tuple[int, int]]) -> np.ndarr
     """The direction of precession of each mode (columns, shape (n, k) or (P, n, k)):
     2 Im(X conj(Y)) / (|X|^2 + |Y|^2) summed over the pairs, +1 a circular forward whirl
     (from x towards y, the direction of a positive spin about z), -1 a circular backward
-    one, 0 a planar motion.  The motion of a mode is Re(q e^(s t)).
+    one, 0 a planar motion (or one without lateral motion: the pairs hold less than
+    :data:`LATERAL_SHARE` of |q|^2).  The motion of a mode is Re(q e^(s t)).
 
     Examples
     --------
@@ -140,9 +148,37 @@ def precession(shapes: np.ndarray, pairs: Sequence[tuple[int, int]]) -> np.ndarr
     y = shapes[..., [p[1] for p in pairs], :]
     signed = (2 * (x * np.conj(y)).imag).sum(axis=-2)
     size = (np.abs(x) ** 2 + np.abs(y) ** 2).sum(axis=-2)
+    size = np.where(size > LATERAL_SHARE * (np.abs(shapes) ** 2).sum(axis=-2), size, 0.0)
     with np.errstate(invalid="ignore", divide="ignore"):
         result: np.ndarray = np.where(size > 0, signed / np.where(size > 0, size, 1), 0.0)
     return result
+
+
+def motion_kinds(shapes: np.ndarray, coordinates: Sequence[str]) -> tuple[str, ...]:
+    """``"lateral"``, ``"axial"`` or ``"torsional"`` for each mode (columns of ``shapes``,
+    (n, k)): the kind of coordinate that holds the largest share of |q|^2 -- a station's
+    ``NAME_z`` (axial) and ``NAME_az`` (its twist), beside its ``NAME_x``; the rest
+    lateral.  Empty where the rotor has neither axial nor torsional coordinates.
+
+    Examples
+    --------
+    >>> names = ["d_x", "d_y", "d_ax", "d_ay", "d_z", "d_az"]
+    >>> motion_kinds(np.array([[1, 0], [1j, 0], [0, 0], [0, 0], [0, 0], [0, 1.0]]), names)
+    ('lateral', 'torsional')
+    """
+    index = set(coordinates)
+    axial = [i for i, n in enumerate(coordinates) if n.endswith("_z") and
+             n[:-2] + "_x" in index]
+    torsional = [i for i, n in enumerate(coordinates) if n.endswith("_az") and
+                 n[:-3] + "_x" in index]
+    if not axial and not torsional:
+        return ()
+    energy = np.abs(shapes) ** 2
+    total = energy.sum(axis=0)
+    shares = np.stack([total - energy[axial].sum(axis=0) - energy[torsional].sum(axis=0),
+                       energy[axial].sum(axis=0), energy[torsional].sum(axis=0)])
+    kinds = ("lateral", "axial", "torsional")
+    return tuple(kinds[int(i)] for i in np.argmax(shares, axis=0))
 
 
 def whirl_label(value: float) -> str:
@@ -201,6 +237,8 @@ class ModeSolver:
         self.calls = 0
         #: the mass matrix of the last speed: the weight of the MAC
         self.mass: Any = None
+        #: the most rigid-body eigenvalues (s = 0) left out at one speed
+        self.rigid = 0
 
     def matrices(self, speeds: np.ndarray) -> list[tuple[Any, Any, Any]]:
         """(M, C, K) at each speed: one evaluation of the model for them all, or, for a
@@ -237,7 +275,10 @@ class ModeSolver:
         return gyroscopic_modes_near(M, C, K, shift, NEAR_CANDIDATES)
 
     def modes(self, speeds: np.ndarray) -> list[Modes]:
-        """The candidate modes (s, shapes) at each speed."""
+        """The candidate modes (s, shapes) at each speed; a small rotor's rigid-body
+        eigenvalues (|s| within the kernel's zero threshold :data:`resonant.modal.ZERO_STATE`:
+        a free axial or torsional motion, a rotor without bearings) are left out, as they
+        have no frequency to follow and no shape the MAC can tell apart."""
         out = []
         for M, C, K in self.matrices(speeds):
             self.mass = M
@@ -249,6 +290,15 @@ class ModeSolver:
                 out.append(lowest_gyroscopic_modes(M, C, K, self.candidates))
             else:
                 s, q = gyroscopic_modes(M, C, K)
+                size = np.abs(s)
+                moving = size > ZERO_STATE * max(1.0, float(size.max(initial=0.0)))
+                self.rigid = max(self.rigid, int(np.count_nonzero(~moving)))
+                if np.count_nonzero(moving) < self.count:
+                    raise ModelError(Problem(
+                        f"modes must be at most {np.count_nonzero(moving)}: the rotor has "
+                        f"{np.count_nonzero(~moving)} rigid-body eigenvalue(s) (s = 0) beside "
+                        "them", self.system.source, "campbell", "modes"))
+                s, q = s[moving], q[:, moving]
                 out.append((s[:self.candidates], q[:, :self.candidates]))
         return out
 
@@ -362,7 +412,7 @@ def track_modes(system: LinearSystem, speed: str, speeds: np.ndarray, count: int
     rows = tracker.rows
     return Tracked(np.array([r[0] for r in rows]), np.array([r[1] for r in rows]),
                    np.array([r[2] for r in rows]), np.array([r[3] for r in rows]),
-                   tracker.refined, tuple(tracker.ambiguous))
+                   tracker.refined, tuple(tracker.ambiguous), solver.rigid)
 
 
 def branch_value(solver: ModeSolver, reference: np.ndarray,
@@ -417,6 +467,6 @@ def find_root(function: Callable[[float], float], low: float, high: float,
     return float(brentq(function, low, high, xtol=tolerance, rtol=4 * np.finfo(float).eps))
 
 
-__all__ = ["Tracked", "track_modes", "whirl_pairs", "precession", "whirl_label",
+__all__ = ["Tracked", "track_modes", "whirl_pairs", "precession", "whirl_label", "motion_kinds",
            "check_speeds", "ModeSolver", "align_degenerate", "branch_value", "crossings",
            "find_root", "CONFIDENT", "RIVAL", "MAX_HALVINGS", "DENSE_LIMIT"]

@@ -39,6 +39,7 @@ from ..charts import (
 )
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem
+from ..expressions import Expression
 from ..expressions.numeric import numeric_value
 from ..model.campbell_spec import Unbalance
 from ..model.rotor import Bearing, SpeedTable
@@ -47,15 +48,26 @@ from ..system.base import LinearSystem, parameter_values
 from ..system.batch import BatchHarmonic
 from .campbell import RPM, speed_parameter
 from .kernel import solve_harmonic
-from .results_json import floats_json
+from .result_fields import Codec, FieldsJSON, Shape, saved
+from .results_json import Saved, floats_json
 from .rotor_tracking import check_speeds
 
 #: what every output says of its amplitudes
 CONVENTION = "0-pk (semi-axes of the orbit); pk-pk = 2 x 0-pk"
 
 
+def _unbalances_read(saved_data: Saved, key: str, shape: Shape) -> tuple[Unbalance, ...]:
+    return tuple(Unbalance(r.string("at"), r.number("amount_kg_m"), r.number("phase_rad"))
+                 for r in saved_data.records(key))
+
+
+#: the unbalances as ``[{"at", "amount_kg_m", "phase_rad"}, ...]``
+_UNBALANCES = Codec(lambda value: [{"at": u.station, "amount_kg_m": u.amount,
+                                    "phase_rad": u.phase} for u in value], _unbalances_read)
+
+
 @dataclass(frozen=True)
-class UnbalanceResponse(Charted):
+class UnbalanceResponse(FieldsJSON, Charted):
     """The orbits of a rotor's stations over the speed.
 
     Attributes
@@ -90,14 +102,16 @@ class UnbalanceResponse(Charted):
 
     title: str
     speed_parameter: str
-    stations: tuple[str, ...]
-    speeds: np.ndarray
-    X: np.ndarray
-    Y: np.ndarray
-    unbalances: tuple[Unbalance, ...]
+    stations: tuple[str, ...] = saved(key="station_names")
+    speeds: np.ndarray = saved(key="speeds_rad_s")
+    X: np.ndarray = saved(axes=("speeds", "stations"))
+    Y: np.ndarray = saved(axes=("speeds", "stations"))
+    unbalances: tuple[Unbalance, ...] = saved(codec=_UNBALANCES)
     warnings: tuple[str, ...] = field(default=())
-    bearings: tuple[str, ...] = field(default=())
-    bearing_forces: np.ndarray = field(default_factory=lambda: np.zeros((0, 0, 2), complex))
+    bearings: tuple[str, ...] = saved((), key="bearing_names")
+    bearing_forces: np.ndarray = saved(key="bearing_forces_complex",
+                                       axes=("speeds", "bearings", 2),
+                                       default_factory=lambda: np.zeros((0, 0, 2), complex))
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -154,19 +168,12 @@ class UnbalanceResponse(Charted):
         result: np.ndarray = np.mod(phases[0] - np.angle(self.X), 2 * np.pi)
         return result
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form: SI, speeds in rad/s with rpm, amplitudes 0-pk and pk-pk.
-
-        Returns
-        -------
-        dict
-        """
-        return {"title": self.title, "speed_parameter": self.speed_parameter,
-                "amplitude_convention": CONVENTION,
-                "speeds_rad_s": floats_json(self.speeds),
+    def _derived_json(self) -> dict[str, Any]:
+        """The numbers for a reader of the JSON: rpm, the orbits' semi-axes 0-pk and pk-pk,
+        phases and precession by station, the bearing forces by bearing (computed again by
+        :meth:`from_dict` from the fields ``X``, ``Y``, ``bearing_forces_complex``)."""
+        return {"amplitude_convention": CONVENTION,
                 "speeds_rpm": floats_json(self.speeds / RPM),
-                "unbalances": [{"at": u.station, "amount_kg_m": u.amount, "phase_rad": u.phase}
-                               for u in self.unbalances],
                 "stations": {name or "(x, y)": {
                     "major_semi_axis_0pk": floats_json(self.major[:, i]),
                     "minor_semi_axis_0pk": floats_json(self.minor[:, i]),
@@ -185,8 +192,7 @@ class UnbalanceResponse(Charted):
                            "imag": floats_json(self.bearing_forces[:, i, 0].imag)},
                     "fy": {"real": floats_json(self.bearing_forces[:, i, 1].real),
                            "imag": floats_json(self.bearing_forces[:, i, 1].imag)}}
-                    for i, name in enumerate(self.bearings)},
-                "warnings": list(self.warnings)}
+                    for i, name in enumerate(self.bearings)}}
 
     def summary(self, units: ResultUnits | None = None) -> str:
         """The largest orbit of each station and the speed where it is.
@@ -332,6 +338,23 @@ def unbalance_response(system: LinearSystem, speeds: Sequence[float] | np.ndarra
                              tuple(b.name for b in bearings), forces)
 
 
+def coefficient_values(value: float | Expression | SpeedTable, speeds: np.ndarray,
+                       values: Mapping[str, Any]) -> np.ndarray:
+    """A bearing coefficient (a number, an expression of the parameters or a table in
+    speed) at each speed, shape (N,).
+
+    Examples
+    --------
+    >>> coefficient_values(SpeedTable((0.0, 10.0), (1.0, 3.0)), np.array([5.0]), {}).tolist()
+    [2.0]
+    """
+    if isinstance(value, SpeedTable):
+        return value(speeds)
+    if isinstance(value, float):
+        return np.full(len(speeds), value)
+    return np.broadcast_to(np.asarray(numeric_value(value, values), float), speeds.shape)
+
+
 def bearing_force(bearing: Bearing, Z: np.ndarray, speeds: np.ndarray,
                   values: Mapping[str, Any]) -> np.ndarray:
     """The complex amplitudes (N, 2) of the force a bearing transmits,
@@ -356,17 +379,12 @@ def bearing_force(bearing: Bearing, Z: np.ndarray, speeds: np.ndarray,
         relative = relative - Z[:, list(bearing.pedestal)]
     impedance = np.zeros((len(speeds), 2, 2), complex)
     for key, value in bearing.coefficients:
-        if isinstance(value, SpeedTable):
-            number = value(speeds)
-        elif isinstance(value, float):
-            number = np.full(len(speeds), value)
-        else:
-            number = np.broadcast_to(np.asarray(numeric_value(value, values), float),
-                                     speeds.shape)
+        number = coefficient_values(value, speeds, values)
         factor = 1.0 if key[0] == "k" else 1j * speeds
         impedance[:, int(key[1] == "y"), int(key[2] == "y")] += factor * number
     result: np.ndarray = np.einsum("nij,nj->ni", impedance, relative)
     return result
 
 
-__all__ = ["unbalance_response", "UnbalanceResponse", "CONVENTION", "bearing_force"]
+__all__ = ["unbalance_response", "UnbalanceResponse", "CONVENTION", "bearing_force",
+           "coefficient_values"]

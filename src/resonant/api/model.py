@@ -399,9 +399,12 @@ class Model(model_types.Model):
                                   deadline=deadline or NO_DEADLINE)
 
     def critical_speed_map(self, stiffness: Sequence[float], *, modes: int = 4,
-                           orders: Sequence[float] = (1.0,)) -> CriticalSpeedMap:
-        """The undamped critical speeds of the ``[rotor]`` against its bearings' direct
-        stiffness (:func:`resonant.analyses.rotor_map.critical_speed_map`).
+                           orders: Sequence[float] = (1.0,), damped: bool = False,
+                           speeds: Sequence[float] | None = None,
+                           deadline: Deadline | None = None) -> CriticalSpeedMap:
+        """The critical speeds of the ``[rotor]`` against its bearings' direct stiffness,
+        undamped or (``damped``) with the bearings' damping and cross coupling kept
+        (:func:`resonant.analyses.rotor_map.critical_speed_map`).
 
         Parameters
         ----------
@@ -411,6 +414,11 @@ class Model(model_types.Model):
             Critical speeds per order.
         orders : sequence of float
             The excitation orders.
+        damped : bool
+            The damped critical speeds (the bearings' damping and cross coupling kept).
+        speeds : sequence of float, optional
+            A damped map's speed grid (rad/s; default the ``[campbell]`` range).
+        deadline : Deadline, optional
 
         Returns
         -------
@@ -423,7 +431,9 @@ class Model(model_types.Model):
         >>> m.critical_speed_map([1e6, 1e7], modes=1).speeds.shape
         (2, 1, 1)
         """
-        return critical_speed_map(self.linearize(), stiffness, modes=modes, orders=orders)
+        return critical_speed_map(self.linearize(deadline=deadline), stiffness, modes=modes,
+                                  orders=orders, damped=damped, speeds=speeds,
+                                  deadline=deadline or NO_DEADLINE)
 
     def random_response(self, *, names: Sequence[str] | None = None, method: str = "auto",
                         tolerance: float | None = None, deadline: Deadline | None = None

@@ -2,8 +2,9 @@
 [--plot FILE] [--json]``: a rotor's Campbell diagram, critical speeds and stability
 threshold; ``resonant unbalance MODEL [--from S] [--to S] [--points N] [--plot FILE]
 [--json]``: its stations' orbits under the ``[[unbalance]]``; ``resonant speed-map MODEL
-[--stiffness FROM:TO:N] [--modes K] [--orders R,...] [--plot FILE] [--json]``: the
-undamped critical speed map against the bearings' stiffness (docs/rotors.md)."""
+[--stiffness FROM:TO:N] [--modes K] [--orders R,...] [--damped] [--plot FILE] [--json]``:
+the undamped (or damped) critical speed map against the bearings' stiffness
+(docs/rotors.md)."""
 
 from __future__ import annotations
 
@@ -86,6 +87,9 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
                          help="critical speeds per order (default 4)")
     command.add_argument("--orders", type=orders_value, metavar="R,...", default=(1.0,),
                          help="excitation orders (default 1)")
+    command.add_argument("--damped", action="store_true",
+                         help="keep the bearings' damping and cross coupling: the damped "
+                              "critical speeds, on the [campbell] speed range")
     command.add_argument("--plot", metavar="FILE", type=cli.plot_file,
                          help="draw the map (log-log)")
     command.add_argument("--json", action="store_true", help="print one JSON object")
@@ -157,7 +161,8 @@ def run_speed_map(args: argparse.Namespace) -> int:
     low, high, count = args.stiffness
     result = critical_speed_map(linear_system(model, cli.deadline(args)),
                                 np.geomspace(low, high, count), modes=args.modes,
-                                orders=args.orders)
+                                orders=args.orders, damped=args.damped,
+                                deadline=cli.deadline(args))
     if args.plot:
         result.plot(args.plot)
     if args.json:

@@ -817,7 +817,7 @@ class _Builder:
             self.problems.extend(exc.problems)
             return None, coordinates
         for name in names:   # the stations' displacements (m) and tilts (rad)
-            self.coordinate_units[name] = parse_unit("rad" if name.endswith(("_ax", "_ay"))
+            self.coordinate_units[name] = parse_unit("rad" if name.endswith(("_ax", "_ay", "_az"))
                                                      else "m")
         return spec, list(names)
 

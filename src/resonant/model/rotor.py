@@ -7,6 +7,8 @@ speed = "Omega"                       # the speed parameter (rad/s)
 E = "211 GPa"                         # the shaft's material
 rho = "7810 kg/m^3"
 G = "81.2 GPa"                        # with G: Timoshenko elements, else Euler-Bernoulli
+axial = false                         # true: each station's axial displacement NAME_z
+torsional = false                     # true: each station's twist NAME_az (needs G)
 
 [[rotor.shaft]]                       # elements, station after station from station 0
 length = "0.25 m"
@@ -25,6 +27,8 @@ station = 0
 kxx = "1 MN/m"                        # kxx kxy kyx kyy cxx cxy cyx cyy: a number, an
 kyy = "1e6 + 10*Omega"                # expression of the parameters (the speed), or a
 cxx = { speed = [0, 500], values = [100, 200] }   # table interpolated in speed
+kz = "1 GN/m"                         # with axial = true: a thrust bearing (kz, cz);
+kaz = "1 kN*m/rad"                    # with torsional = true: a torsional support (kaz, caz)
 ```
 
 Each station has four coordinates: the displacements x, y and the tilts ax (about x) and
@@ -33,6 +37,14 @@ named by its disc or bearing (``name``), else ``s<index>``.  The shaft's element
 those of Nelson (J. Mech. Design 102, 1980) and Friswell et al. (Dynamics of Rotating
 Machines, CUP 2010, sec. 5.4): consistent mass, rotary inertia and gyroscopic matrices,
 with the shear factor Phi = 12 E I / (kappa G A L^2) (Cowper's kappa of a tube).
+
+With ``axial`` and ``torsional`` each station also has its axial displacement ``NAME_z``
+and its twist about the spin axis ``NAME_az``, listed after the lateral (and pedestal)
+coordinates: the shaft's bar elements (E A / L, consistent mass rho A L / 6 [[2, 1], [1, 2]])
+and torsion elements (G J / L, rho J L / 6 [[2, 1], [1, 2]], J the polar second moment of
+area), a disc's mass on z and its polar moment Ip on the twist, a bearing's kz, cz and
+kaz, caz to the ground.  For a straight shaft spinning at a constant speed they are
+decoupled from the lateral motion (no entry of M, C, G or K joins them).
 """
 
 from __future__ import annotations
@@ -52,7 +64,9 @@ from .matrix_spec import MatrixSpec
 from .units import parse_with_unit
 
 COEFFICIENTS = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
-ROTOR_KEYS = ("speed", "E", "rho", "G", "shaft", "disc", "bearing")
+#: a bearing's axial (kz, cz) and torsional (kaz, caz) coefficients, to the ground
+AXIAL_COEFFICIENTS = ("kz", "cz", "kaz", "caz")
+ROTOR_KEYS = ("speed", "E", "rho", "G", "shaft", "disc", "bearing", "axial", "torsional")
 #: the most stations of a [rotor]: 10^5 coordinates (assembled sparse above
 #: :data:`SPARSE_STATIONS`: some 60 stored entries a station and matrix)
 MAX_STATIONS = 25_000
@@ -253,6 +267,42 @@ def shaft_matrices(length: float, outer: float, inner: float, E: float, rho: flo
     return K, MT, MR, 2 * MR
 
 
+def bar_matrices(length: float, outer: float, inner: float, modulus: float, rho: float,
+                 torsion: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """One shaft element's axial (bar) or, with ``torsion``, torsional stiffness and
+    consistent mass on (end 1, end 2): E A / L [[1, -1], [-1, 1]] and rho A L / 6
+    [[2, 1], [1, 2]], or G J / L and rho J L / 6 with J = pi (D^4 - d^4) / 32
+    (``modulus``: E, or G for torsion).
+
+    Examples
+    --------
+    >>> K, M = bar_matrices(2.0, 0.1, 0.0, 8e10, 7800.0, torsion=True)
+    >>> J = np.pi * 0.1**4 / 32
+    >>> bool(np.allclose(K, 8e10 * J / 2 * np.array([[1, -1], [-1, 1]]))), float(M.sum() / J)
+    (True, 15600.0)
+    """
+    area = math.pi * (outer ** 2 - inner ** 2) / 4
+    section = math.pi * (outer ** 4 - inner ** 4) / 32 if torsion else area
+    K = modulus * section / length * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    M = rho * section * length / 6 * np.array([[2.0, 1.0], [1.0, 2.0]])
+    return K, M
+
+
+@dataclass(frozen=True)
+class Motions:
+    """Where a rotor's axial and torsional coordinates start (None: not modelled); the
+    coordinate of station i is ``axial + i`` (``torsional + i``).
+
+    Parameters
+    ----------
+    axial, torsional : int or None
+        The row of station 0's axial displacement (twist).
+    """
+
+    axial: int | None = None
+    torsional: int | None = None
+
+
 def _planes(a: int, b: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The coordinates of an element from station a to b in the xz plane (x, ay) and in the
     yz plane (y, ax), and the signs of the yz plane's (its slope dy/dz is -ax)."""
@@ -380,6 +430,11 @@ def read_rotor(section: object, params: Sequence[str], source: str
     rho = reader.number(section, "rho", "rotor") if shafts or any(
         "m" not in d for d in discs) else None
     shear = reader.number(section, "G", "rotor") if "G" in section else None
+    axial, torsional = (_flag(reader, section, key) for key in ("axial", "torsional"))
+    if torsional and shafts and "G" not in section:
+        reader.problem("torsional coordinates need the shaft's shear modulus G (its "
+                       "torsional stiffness is G J / L): give G in [rotor]", "rotor",
+                       "torsional")
     elements = _shaft_elements(reader, shafts)
     stations = 1 + len(elements)
     if stations > MAX_STATIONS:
@@ -388,12 +443,16 @@ def read_rotor(section: object, params: Sequence[str], source: str
     sparse = stations > SPARSE_STATIONS
     pedestals = sum(1 for b in bearings if "pedestal" in b)
     n = 4 * stations + 2 * pedestals
+    motions = Motions(n if axial else None,
+                      n + stations * axial if torsional else None)
+    n += stations * (axial + torsional)
     _require_memory(n, len(elements) + len(discs) + len(bearings), sparse)
     assembly = Assembly(n)
     if E is not None and rho is not None:
-        _add_shaft(assembly, elements, E, rho, shear)
-    named = _add_discs(reader, discs, stations, rho, assembly)
-    terms, bearing_names, records = _add_bearings(reader, bearings, stations, assembly)
+        _add_shaft(assembly, elements, E, rho, shear, motions)
+    named = _add_discs(reader, discs, stations, rho, assembly, motions)
+    terms, bearing_names, records = _add_bearings(reader, bearings, stations, assembly,
+                                                  motions)
     if reader.problems:
         raise ModelError(reader.problems)
     M, K, C, G = (assembly.matrix(k, sparse) for k in ("M", "K", "C", "G"))
@@ -402,6 +461,8 @@ def read_rotor(section: object, params: Sequence[str], source: str
     named_bearings = tuple(_named_bearing(b, names) for b in records)
     coordinates += tuple(f"{b.name}_pedestal_{c}" for b in named_bearings
                          if b.pedestal is not None for c in ("x", "y"))
+    coordinates += tuple(f"{s}_z" for s in names if axial)
+    coordinates += tuple(f"{s}_az" for s in names if torsional)
     if len(set(coordinates)) != len(coordinates):
         raise ModelError(Problem("two stations have the same name", source, "rotor", "name"))
     return MatrixSpec(M=M, K=K, C=C, G=G, speed=str(speed), speed_terms=tuple(terms),
@@ -416,14 +477,35 @@ def _named_bearing(bearing: Bearing, names: list[str]) -> Bearing:
                    bearing.coefficients)
 
 
+def _flag(reader: _Reader, section: dict, key: str) -> bool:
+    value = section.get(key, False)
+    if not isinstance(value, bool):
+        reader.problem(f"must be true or false, got {value!r}", "rotor", key)
+        return False
+    return value
+
+
 def _add_shaft(assembly: Assembly, elements: list[tuple[float, float, float]], E: float,
-               rho: float, shear: float | None) -> None:
-    """Every shaft element's matrices (computed once for the equal elements of a run)."""
+               rho: float, shear: float | None, motions: Motions = Motions()) -> None:
+    """Every shaft element's matrices (computed once for the equal elements of a run), and
+    its bar and torsion elements where the rotor has those coordinates."""
     computed: dict[tuple[float, float, float], Any] = {}
+    along = [(start, modulus, torsion)
+             for start, modulus, torsion in ((motions.axial, E, False),
+                                             (motions.torsional, shear, True))
+             if start is not None and modulus is not None]
+    bars: dict[tuple[float, float, float, bool], tuple[np.ndarray, np.ndarray]] = {}
     for i, geometry in enumerate(elements):
         if geometry not in computed:
             computed[geometry] = shaft_matrices(*geometry, E, rho, shear)
         add_element(assembly, i, i + 1, computed[geometry])
+        for start, modulus, torsion in along:
+            key = (*geometry, torsion)
+            if key not in bars:
+                bars[key] = bar_matrices(*geometry, modulus, rho, torsion)
+            rows = np.array([start + i, start + i + 1])
+            assembly.add("K", rows, rows, bars[key][0])
+            assembly.add("M", rows, rows, bars[key][1])
 
 
 def _require_memory(n: int, parts: int, sparse: bool) -> None:
@@ -465,7 +547,8 @@ def _shaft_elements(reader: _Reader, shafts: list[dict]) -> list[tuple[float, fl
 
 
 def _add_discs(reader: _Reader, discs: list[dict], stations: int, rho: float | None,
-               assembly: Assembly) -> list[tuple[int | None, str]]:
+               assembly: Assembly, motions: Motions = Motions()
+               ) -> list[tuple[int | None, str]]:
     named = []
     for i, entry in enumerate(discs, start=1):
         where = f"rotor.disc {i}"
@@ -478,13 +561,18 @@ def _add_discs(reader: _Reader, discs: list[dict], stations: int, rho: float | N
         s = 4 * station + np.arange(4)
         assembly.add("M", s, s, np.diag([m, m, It, It]))
         assembly.add("G", s[2:], s[2:], np.array([[0.0, Ip], [-Ip, 0.0]]))
+        for start, value in ((motions.axial, m), (motions.torsional, Ip)):
+            if start is not None:
+                assembly.add("M", np.array([start + station]), np.array([start + station]),
+                             np.array([[value]]))
     return named
 
 
 PEDESTAL_KEYS = ("m", *COEFFICIENTS)
 
 
-def _add_bearings(reader: _Reader, bearings: list[dict], stations: int, assembly: Assembly
+def _add_bearings(reader: _Reader, bearings: list[dict], stations: int, assembly: Assembly,
+                  motions: Motions = Motions()
                   ) -> tuple[list[SpeedTerm], list[tuple[int | None, str]], list[Bearing]]:
     """Every bearing's coefficients into K and C (between its station and the ground, or
     its pedestal), the pedestals' masses and supports; the bearings' records."""
@@ -501,7 +589,8 @@ def _add_bearings(reader: _Reader, bearings: list[dict], stations: int, assembly
         if "pedestal" in entry:
             pedestal = (pedestal_row, pedestal_row + 1)
             pedestal_row += 2
-            _add_pedestal(reader, entry["pedestal"], f"{where} pedestal", pedestal, assembly)
+            terms += _add_pedestal(reader, entry["pedestal"], f"{where} pedestal", pedestal,
+                                   assembly)
         if station is None:
             continue
         rows = (4 * station, 4 * station + 1)
@@ -517,6 +606,7 @@ def _add_bearings(reader: _Reader, bearings: list[dict], stations: int, assembly
                 value = float(numeric_value(read, {}))
             given.append((key, value))
             terms += _connect(assembly, key, value, rows, pedestal, f"{where} {key}")
+        terms += _add_axial(reader, entry, where, station, assembly, motions)
         records.append(Bearing(str(entry.get("name", "")), rows, pedestal, tuple(given)))
     return terms, named, records
 
@@ -526,9 +616,39 @@ def _check_bearing_keys(reader: _Reader, entry: dict, where: str) -> None:
         if key in entry:
             reader.problem(f"give the coefficients one by one ({key}xx, {key}xy, {key}yx, "
                            f"{key}yy): a bearing's matrix is 2 x 2 on x and y", where, key)
-    for key in set(entry) - {"station", "name", "k", "c", "pedestal", *COEFFICIENTS}:
-        reader.problem(f"unknown key; a bearing takes station, name, pedestal and "
-                       f"{', '.join(COEFFICIENTS)}", where, key)
+    for key in set(entry) - {"station", "name", "k", "c", "pedestal", *COEFFICIENTS,
+                             *AXIAL_COEFFICIENTS}:
+        reader.problem(f"unknown key; a bearing takes station, name, pedestal, "
+                       f"{', '.join(COEFFICIENTS)} and {', '.join(AXIAL_COEFFICIENTS)}",
+                       where, key)
+
+
+def _add_axial(reader: _Reader, entry: dict, where: str, station: int, assembly: Assembly,
+               motions: Motions) -> list[SpeedTerm]:
+    """A bearing's axial (kz, cz) and torsional (kaz, caz) coefficients, between its
+    station and the ground (a pedestal carries the lateral coefficients only)."""
+    terms = []
+    for key in AXIAL_COEFFICIENTS:
+        if key not in entry:
+            continue
+        torsional = key.endswith("az")
+        start = motions.torsional if torsional else motions.axial
+        if start is None:
+            reader.problem(f"{key} needs {'torsional' if torsional else 'axial'} = true in "
+                           "[rotor]", where, key)
+            continue
+        read = reader.coefficient(entry[key], where, key)
+        if read is None:
+            continue
+        value: float | Expression | SpeedTable = read
+        if isinstance(read, Expression) and not read.names():
+            value = float(numeric_value(read, {}))
+        row, matrix = start + station, key[0].upper()
+        if isinstance(value, float):
+            assembly.add(matrix, np.array([row]), np.array([row]), np.array([[value]]))
+        else:
+            terms.append(SpeedTerm(matrix, row, row, value, f"{where} {key}"))
+    return terms
 
 
 def _connect(assembly: Assembly, key: str, value: float | Expression | SpeedTable,
@@ -552,20 +672,39 @@ def _connect(assembly: Assembly, key: str, value: float | Expression | SpeedTabl
 
 
 def _add_pedestal(reader: _Reader, raw: object, where: str, rows: tuple[int, int],
-                  assembly: Assembly) -> None:
-    """A pedestal (support) mass m on x and y, on the ground through its constant
-    coefficients kxx ... cyy."""
+                  assembly: Assembly) -> list[SpeedTerm]:
+    """A pedestal (support) mass m on x and y, on the ground through its coefficients
+    kxx ... cyy: numbers (a direct one at least 0), expressions of the parameters (the
+    speed) or tables in speed, as a bearing's; those that are not constants as speed
+    terms (``where`` names the pedestal)."""
     if not isinstance(raw, dict):
         reader.problem("a pedestal is a table { m = ..., kxx = ..., kyy = ..., cxx = ... }",
                        where, "pedestal")
-        return
+        return []
     for key in set(raw) - set(PEDESTAL_KEYS):
         reader.problem(f"unknown key; a pedestal takes {', '.join(PEDESTAL_KEYS)}", where, key)
     m = reader.number(raw, "m", where)
     if m is not None:
         assembly.add("M", np.array(rows), np.array(rows), m * np.eye(2))
+    terms: list[SpeedTerm] = []
     for key in COEFFICIENTS:
-        if key in raw:
+        if key not in raw:
+            continue
+        constant = isinstance(raw[key], (int, float)) and not isinstance(raw[key], bool)
+        if constant or (isinstance(raw[key], str) and not _has_names(raw[key], reader)):
             value = reader.number(raw, key, where, positive=False, signed=key[1] != key[2])
             if value is not None:
                 _connect(assembly, key, value, rows, None, where)
+            continue
+        read = reader.coefficient(raw[key], where, key)
+        if read is not None:
+            terms += _connect(assembly, key, read, rows, None, f"{where} {key}")
+    return terms
+
+
+def _has_names(text: str, reader: _Reader) -> bool:
+    """Whether a coefficient's text names a parameter (else it is a constant)."""
+    try:
+        return bool(parse_with_unit(text, reader.params, reader.source, "", "")[0].names())
+    except ExpressionError:
+        return False
