@@ -29,6 +29,7 @@ from pathlib import Path
 
 from .abaqus_files import looks_like_abaqus
 from .files import FileRefused, open_regular_file
+from .full_files import has_damping
 from .op4_files import op4_directory
 
 #: Nastran's matrix names by role, in the order they are tried (the a-, g-, x- (EXTSEOUT
@@ -286,7 +287,7 @@ def fe_model(files: Sequence[str | os.PathLike[str]], output: str | os.PathLike[
         try:
             if kinds == {"full"}:
                 matrices = {"M": f"{reference}:M", "K": f"{reference}:K"}
-                if "C" in names:
+                if "C" in names or has_damping(str(path)):
                     matrices["C"] = f"{reference}:C"
                 matrices["dofs"] = reference
             else:
