@@ -4,9 +4,9 @@ Without a name it lists the examples with their titles; with one it writes the m
 to ``examples/NAME.toml`` under the current folder (so that the commands of the guide,
 ``resonant solve examples/cart_pendulum.toml``, work as written), or to ``-o FILE``
 (``-o -``: standard output), and copies the data files the model reads from its folder
-(``matrices/inboard_fixed``: its ``inboard_fixed.op4``) beside it.  The examples come from the installed package
-(``resonant/examples``, copied there when the package is built) or, in a checkout of the
-repository, from its ``examples/`` folder.
+(``matrices/inboard_fixed``: its ``inboard_fixed.op4``) beside it.  The examples come from
+the installed package (``resonant/examples``, copied there when the package is built) or,
+in a checkout of the repository, from its ``examples/`` folder.
 """
 
 from __future__ import annotations
