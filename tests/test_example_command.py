@@ -8,6 +8,7 @@ the command, so that ``pip install resonant`` then ``resonant example cart_pendu
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -49,6 +50,31 @@ def test_an_example_is_written_where_the_guide_expects_it(tmp_path: Path,
     assert status == 2 and "did you mean" in err and "cart_pendulum" in err
 
 
+def test_an_example_gets_its_data_file_beside_it(tmp_path: Path,
+                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    """``matrices/inboard_fixed`` reads ``inboard_fixed.op4`` beside it: written with it,
+    then the model runs where it was written (Nastran's 6.129345 Hz, inboard.out)."""
+    pytest.importorskip("pyyeti")
+    monkeypatch.chdir(tmp_path)
+    status, _, err = run_cli(["example", "matrices/inboard_fixed"])
+    assert status == 0 and "inboard_fixed.op4" in err
+    copy = tmp_path / "examples" / "matrices" / "inboard_fixed.op4"
+    assert copy.read_bytes() == (EXAMPLES / "matrices" / "inboard_fixed.op4").read_bytes()
+    status, out, _ = run_cli(["modes", "examples/matrices/inboard_fixed.toml", "--json"])
+    assert status == 0
+    hz = json.loads(out)["frequencies_hz"][0]
+    assert hz == pytest.approx(6.129345, rel=5e-7)
+    assert run_cli(["example", "matrices/inboard_fixed"])[0] == 0  # the same files
+    copy.write_bytes(b"changed")
+    target = tmp_path / "examples" / "matrices" / "inboard_fixed.toml"
+    target.unlink()
+    status, _, err = run_cli(["example", "matrices/inboard_fixed"])
+    assert status == 2 and "inboard_fixed.op4' exists and differs" in err
+    assert not target.exists()  # refused before anything is written
+    status, _, err = run_cli(["example", "matrices/inboard_fixed", "-o", "-"])
+    assert status == 0 and "reads inboard_fixed.op4 beside it" in err
+
+
 def test_a_built_package_carries_the_examples(tmp_path: Path) -> None:
     build = tmp_path / "lib"
     run = subprocess.run([sys.executable, "setup.py", "-q", "build_py", "--build-lib",
@@ -57,6 +83,8 @@ def test_a_built_package_carries_the_examples(tmp_path: Path) -> None:
     shipped = sorted(p.relative_to(build / "resonant" / "examples").as_posix()
                      for p in (build / "resonant" / "examples").rglob("*.toml"))
     assert shipped == sorted(p.relative_to(EXAMPLES).as_posix() for p in EXAMPLES.rglob("*.toml"))
+    data = build / "resonant" / "examples" / "matrices" / "inboard_fixed.op4"
+    assert data.read_bytes() == (EXAMPLES / "matrices" / "inboard_fixed.op4").read_bytes()
     # the built package alone (no checkout on the path) finds and writes them
     work = tmp_path / "work"
     work.mkdir()
@@ -65,6 +93,12 @@ def test_a_built_package_carries_the_examples(tmp_path: Path) -> None:
                           cwd=work, env=env, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert (work / "examples" / "cart_pendulum.toml").is_file()
+    done = subprocess.run([sys.executable, "-m", "resonant", "example",
+                           "matrices/inboard_fixed"], cwd=work, env=env, capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert (work / "examples" / "matrices" / "inboard_fixed.op4").read_bytes() == \
+        data.read_bytes()
     solved = subprocess.run([sys.executable, "-m", "resonant", "solve",
                              "examples/cart_pendulum.toml"], cwd=work, env=env,
                             capture_output=True, text=True, timeout=300)

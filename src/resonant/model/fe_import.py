@@ -5,7 +5,8 @@ The matrices are not copied: the model refers to the FE file (``M = "model.op4:M
 by a path relative to the model's folder, under the usual file policy (docs/security.md).
 Which matrix is the mass, the stiffness, the damping and the DOF map is taken from the
 names Nastran gives them (``MAA``/``MGG``/``MXX``..., ``KAA``..., ``BAA``... for viscous
-damping; an n x 2 matrix named like ``DOFS`` or ``USET`` for the DOF map), from the file
+damping; an n x 2 matrix named like ``DOFS`` or ``USET`` for the DOF map, else a USET
+table of bit masks, :mod:`resonant.model.uset_map`), from the file
 names of Abaqus matrix output (``job_MASS2.mtx``, ``job_STIF2.mtx``), or from the names
 given (``names={"M": "MHH"}``). Anything ambiguous is an error that lists the candidates.
 
@@ -28,6 +29,7 @@ from pathlib import Path
 
 from .abaqus_files import looks_like_abaqus
 from .files import FileRefused, open_regular_file
+from .full_files import has_damping
 from .op4_files import op4_directory
 
 #: Nastran's matrix names by role, in the order they are tried (the a-, g-, x- (EXTSEOUT
@@ -103,7 +105,8 @@ def guess_matrix(role: str, directory: Sequence[tuple[str, tuple[int, int], int]
     if role == "dofs":
         fitting = [n for n, (r, c) in real if c == 2 and r > 1 and (size is None or r == size)]
         named = [n for n in fitting if "dof" in n or "uset" in n]
-        chosen = named or fitting
+        tables = [n for n, (r, c) in real if c >= 3 and r > 1 and "uset" in n]  # bit masks
+        chosen = named or fitting or tables
     else:
         square = {n: r for n, (r, c) in real if r == c and (size is None or r == size)}
         exact = [n for n in NASTRAN_NAMES[role] if n in square]
@@ -284,7 +287,7 @@ def fe_model(files: Sequence[str | os.PathLike[str]], output: str | os.PathLike[
         try:
             if kinds == {"full"}:
                 matrices = {"M": f"{reference}:M", "K": f"{reference}:K"}
-                if "C" in names:
+                if "C" in names or has_damping(str(path)):
                     matrices["C"] = f"{reference}:C"
                 matrices["dofs"] = reference
             else:

@@ -2,7 +2,9 @@
 
 Read by ansys-mapdl-reader (``ansys.mapdl.reader``, the optional extra ``resonant[ansys]``;
 imported when a model names a ``.full`` file): the stiffness and mass matrices of the
-unconstrained DOFs, sorted by node and direction, and the DOF reference (``dofs =
+unconstrained DOFs, sorted by node and direction, the damping matrix where the file holds
+one (``C = "file.full"``: the library's record reader at the file's damping pointer, the
+same layout as K), and the DOF reference (``dofs =
 "file.full"`` names the coordinates ``n12_ux``).  The file stores one triangle of each
 symmetric matrix; resonant adds the other.  A ``.full`` file of a static analysis holds
 no mass matrix: that is an error naming the file and the analysis types that write one.
@@ -35,6 +37,9 @@ ANSYS_DIRECTIONS = ("ux", "uy", "uz", "rx", "ry", "rz")
 NO_MASS = ("it holds no mass matrix: ANSYS writes one to the .full file only in a modal, "
            "harmonic or transient analysis (ANTYPE,MODAL with WRFULL), never in a static "
            "one")
+NO_DAMPING = ("it holds no damping matrix (ANSYS writes one only for a model with damping "
+              "elements or damping specified, in a modal, harmonic or transient analysis); "
+              'give C as Rayleigh damping (C = "alpha*M + beta*K") or modal_damping')
 
 
 def split_full(value: str) -> tuple[str, str | None] | None:
@@ -91,6 +96,109 @@ def _load(path: str) -> tuple[np.ndarray, Any, Any]:
     return np.asarray(dof_ref), k, m
 
 
+def _damping_entries(path: str, header: Any
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int] | None:
+    """The stored triangle of the damping matrix (rows, columns, values, order), None when
+    the file holds none.
+
+    ansys-mapdl-reader's ``load_km`` reads K and M only. The damping matrix is stored like
+    them (fdfull.inc: DMP "same format as the stiffness matrix", at ``ptrDMP``, ``ntermD``
+    terms), so it is read by the library's own record reader (``read_array``), its
+    constrained DOFs removed and its rows put in the node and direction order of the DOF
+    reference, as ``load_km(sort=True)`` does for K and M."""
+    from ansys.mapdl.reader import _binary_reader
+    from ansys.mapdl.reader.common import read_table, two_ints_to_long
+
+    terms = two_ints_to_long(header["ntermDl"], header["ntermDh"])
+    pointer = header["ptrDMP"]
+    if not terms or not pointer:
+        return None
+    order = int(header["neqn"])
+    with open(path, "rb") as handle:
+        for _ in range(3):  # the standard header, the full header, the number of DOFs
+            read_table(handle, skip=True)
+        equivalence = read_table(handle, cython=True)
+        handle.seek(header["ptrDOF"] * 4)
+        per_node = read_table(handle, cython=True)
+        constrained = read_table(handle, cython=True)
+    rows, columns, values = _binary_reader.read_array(path, pointer, terms, order,
+                                                      constrained)[:3]
+    removed = np.flatnonzero(np.asarray(constrained) < 0)
+    if removed.size:
+        kept = ~(np.isin(rows, removed) | np.isin(columns, removed))
+        rows, columns, values = rows[kept], columns[kept], values[kept]
+    index = _binary_reader.sort_nodal_eqlv(order, equivalence, per_node)[1]
+    rows, columns = np.sort(np.vstack((index[rows], index[columns])), 0)
+    return rows, columns, np.asarray(values, dtype=float), order
+
+
+def _full_header(path: str) -> Any:
+    """The header of a ``.full`` file (ansys-mapdl-reader), its order within the limits."""
+    try:
+        from ansys.mapdl import reader
+    except ImportError:
+        raise FileRefused("reading ANSYS .full files needs ansys-mapdl-reader (pip install "
+                          "ansys-mapdl-reader, or pip install 'resonant[ansys]')") from None
+    with open_regular_file(path, follow_symlinks=False,
+                           max_bytes=limits.MAX_MATRIX_FILE_BYTES):
+        pass
+    with contextlib.redirect_stdout(io.StringIO()):
+        header = reader.read_binary(path)._header
+    if int(header["neqn"]) > limits.MAX_MATRIX_DIMENSION:
+        raise FileRefused(f"its matrices have {int(header['neqn'])} rows; matrices are "
+                          f"limited to {limits.MAX_MATRIX_DIMENSION}")
+    return header
+
+
+def _load_damping(path: str) -> Any:
+    """The damping matrix of a ``.full`` file as stored (one triangle), None when absent."""
+    import scipy.sparse as sp
+
+    try:
+        header = _full_header(path)
+        with contextlib.redirect_stdout(io.StringIO()):
+            entries = _damping_entries(path, header)
+    except FileRefused:
+        raise
+    except MemoryError:
+        raise FileRefused("not enough memory to read it") from None
+    except NotImplementedError:
+        raise FileRefused("it holds a lumped or unsymmetric matrix, which "
+                          "ansys-mapdl-reader does not read") from None
+    except Exception:  # noqa: BLE001 - never echo the reader's message about the file
+        raise FileRefused("it is truncated or not a valid ANSYS .full file") from None
+    if entries is None:
+        return None
+    rows, columns, values, order = entries
+    return sp.coo_matrix((values, (rows, columns)), shape=(order, order)).tocsr()
+
+
+def has_damping(path: str) -> bool:
+    """Whether a ``.full`` file holds a damping matrix (from its header; False for a file
+    that cannot be read, which the load that follows reports).
+
+    Parameters
+    ----------
+    path : str
+        A checked path.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> from ansys.mapdl.reader import examples  # doctest: +SKIP
+    >>> has_damping(examples.fullfile)  # doctest: +SKIP
+    False
+    """
+    try:
+        header = _full_header(path)
+    except Exception:  # noqa: BLE001 - the load that follows names what is wrong
+        return False
+    return bool(header["ptrDMP"]) and bool(header["ntermDl"] or header["ntermDh"])
+
+
 def _symmetric(triangle: Matrix) -> Any:
     import scipy.sparse as sp
 
@@ -99,7 +207,7 @@ def _symmetric(triangle: Matrix) -> Any:
 
 
 def read_full_matrix(path: str, name: str | None, key: str) -> Any:
-    """The mass or stiffness matrix of a ``.full`` file as a symmetric CSR matrix.
+    """The mass, stiffness or damping matrix of a ``.full`` file as a symmetric CSR matrix.
 
     Parameters
     ----------
@@ -117,26 +225,25 @@ def read_full_matrix(path: str, name: str | None, key: str) -> Any:
     Raises
     ------
     FileRefused
-        For a missing mass matrix, a damping matrix (not read), a damaged file.
+        For a missing mass or damping matrix, a damaged file.
 
     Examples
     --------
     >>> from ansys.mapdl.reader import examples  # doctest: +SKIP
     >>> read_full_matrix(examples.fullfile, None, "K").shape  # doctest: +SKIP
     (963, 963)
-    >>> try:
-    ...     read_full_matrix("model.full", "C", "C")
-    ... except FileRefused as exc:
-    ...     print(str(exc)[:43])
-    ansys-mapdl-reader reads K and M of a .full
+    >>> read_full_matrix(examples.fullfile, "C", "C")  # doctest: +SKIP
+    Traceback (most recent call last):
+    FileRefused: it holds no damping matrix (ANSYS writes one only for a model with ...
     """
     which = name or key
     if which == "C":
-        raise FileRefused("ansys-mapdl-reader reads K and M of a .full file, not its damping "
-                          'matrix; give C as Rayleigh damping (C = "alpha*M + beta*K") or '
-                          "modal_damping")
-    _, k, m = _load(path)
-    matrix = m if which == "M" else k
+        matrix = _load_damping(path)
+        if matrix is None:
+            raise FileRefused(NO_DAMPING)
+    else:
+        _, k, m = _load(path)
+        matrix = m if which == "M" else k
     if which == "M" and (matrix is None or matrix.nnz == 0 or not abs(matrix).max() > 0):
         raise FileRefused(NO_MASS)
     out = _symmetric(matrix)
@@ -170,4 +277,5 @@ def full_dof_names(path: str) -> list[str]:
     return [f"n{int(node)}_{ANSYS_DIRECTIONS[int(d)]}" for node, d in dof_ref]
 
 
-__all__ = ["split_full", "read_full_matrix", "full_dof_names", "ANSYS_DIRECTIONS", "NO_MASS"]
+__all__ = ["split_full", "read_full_matrix", "full_dof_names", "has_damping",
+           "ANSYS_DIRECTIONS", "NO_MASS", "NO_DAMPING"]

@@ -52,6 +52,7 @@ from .full_files import full_dof_names, read_full_matrix, split_full
 from .matrix_spec import Harmonic, MatrixSpec
 from .op4_files import dof_names, read_op4_matrix, split_reference
 from .punch_files import read_dmig, split_punch
+from .uset_map import UsetMap, read_usetprt, uset_from_table, uset_names
 
 if TYPE_CHECKING:
     import pyarrow
@@ -747,6 +748,7 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
     rayleigh = None
     modal = None
     dofs: list[str] | None = None
+    uset: tuple[UsetMap, str | None] | None = None
     drop = False
     for key, value in section.items():
         if key == "harmonic":
@@ -757,7 +759,11 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
         if key == SPEED_KEY:
             continue
         if key == DOFS_KEY:
-            dofs = _dof_map(value, source, base_dir, allow_paths, problems)
+            mapped = _dof_map(value, source, base_dir, allow_paths, problems)
+            if isinstance(mapped, tuple):
+                uset = mapped
+            else:
+                dofs = mapped
             continue
         if key == DROP_KEY:
             if not isinstance(value, bool):
@@ -794,6 +800,8 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
             matrices["C"] = damping
     speed = _speed_parameter(section, params, source, problems)
     n = _check_sizes(section, matrices, coordinates, source, problems)
+    if uset is not None and n:
+        dofs = _uset_dofs(uset, n, section, source, problems)
     dofs = _dofs_for(dofs, coordinates, n, source, problems)
     if drop and not problems:
         dofs = _drop_unconnected(matrices, dofs, coordinates, n, source, problems)
@@ -810,17 +818,64 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
                       coordinates=tuple(dofs or ()), G=matrices.get("G"), speed=speed)
 
 
+#: the keys of ``dofs = { uset = "run.f06", set = "a", table = 1 }``
+USET_KEYS = ("uset", "set", "table")
+#: Nastran's printed output, where a USET table is read from
+PRINTOUT_SUFFIXES = (".f06", ".out")
+
+
+def _uset_table(value: dict, base_dir: Path | None,
+                allow_paths: Sequence[str | os.PathLike[str]]) -> tuple[UsetMap, str | None]:
+    """``dofs = { uset = ..., set = ..., table = ... }``: the USET map and the set asked."""
+    unknown = sorted(set(value) - set(USET_KEYS))
+    reference, nasset, table = value.get("uset"), value.get("set"), value.get("table")
+    if unknown or not isinstance(reference, str) or \
+            not (nasset is None or isinstance(nasset, str)) or \
+            not (table is None or (type(table) is int and table >= 1)):
+        raise FileRefused('dofs as a table is { uset = "run.f06" or "model.op4:USET", '
+                          'set = "a" (optional), table = 1 (optional, for a printout of '
+                          "several superelements) }" +
+                          (f"; unknown key(s) {', '.join(unknown)}" if unknown else ""))
+    if reference.lower().endswith(PRINTOUT_SUFFIXES):
+        path = resolve_matrix_path(reference, base_dir, allow_paths)
+        return read_usetprt(path, table, reference), nasset
+    if split_reference(reference) is None:
+        raise FileRefused("uset names a Nastran printout (.f06, .out: its USET DEFINITION "
+                          'TABLE) or an OP4 matrix of bit masks ("model.op4:USET")')
+    path, name = split_reference(reference) or (reference, None)
+    matrix = read_op4_matrix(resolve_matrix_path(path, base_dir, allow_paths), name,
+                             DOFS_KEY, square=False)
+    return uset_from_table(matrix, reference), nasset
+
+
+def _uset_dofs(uset: tuple[UsetMap, str | None], n: int, section: dict, source: str,
+               problems: list[Problem]) -> list[str] | None:
+    """The names of the matrices' rows from a USET map (None: a problem is recorded)."""
+    names = [ref[1] for key in MATRIX_KEYS if isinstance(section.get(key), str)
+             and (ref := split_reference(section[key])) is not None and ref[1]]
+    try:
+        return uset_names(uset[0], n, uset[1], names)
+    except FileRefused as exc:
+        problems.append(Problem(str(exc), source, "matrices", DOFS_KEY))
+        return None
+
+
 def _dof_map(value: object, source: str, base_dir: Path | None,
              allow_paths: Sequence[str | os.PathLike[str]], problems: list[Problem]
-             ) -> list[str] | None:
-    """The coordinate names of ``dofs``: inline [[node, component], ...] or an n x 2
-    matrix of an OP4 file (None: a problem is recorded)."""
+             ) -> list[str] | tuple[UsetMap, str | None] | None:
+    """The coordinate names of ``dofs``: inline [[node, component], ...], an n x 2 matrix
+    of an OP4 file, or a USET map (an OP4 matrix of three or more columns, or a table
+    naming one) with the set asked for (None: a problem is recorded)."""
     try:
+        if isinstance(value, dict):
+            return _uset_table(value, base_dir, allow_paths)
         if isinstance(value, str) and split_reference(value) is not None:
             path, name = split_reference(value) or (value, None)
             pairs = read_op4_matrix(resolve_matrix_path(path, base_dir, allow_paths), name,
                                     DOFS_KEY, square=False)
             pairs = pairs.toarray() if hasattr(pairs, "toarray") else pairs
+            if pairs.ndim == 2 and pairs.shape[1] >= 3:
+                return uset_from_table(pairs, value), None
         elif isinstance(value, str) and split_full(value) is not None:
             path = (split_full(value) or (value, None))[0]
             return full_dof_names(resolve_matrix_path(path, base_dir, allow_paths))
@@ -831,8 +886,9 @@ def _dof_map(value: object, source: str, base_dir: Path | None,
         else:
             raise FileRefused("dofs must be a list of [node, component] pairs (dofs = "
                               '[[1042, 3], [1042, 4]]), an n x 2 matrix of an OP4 file '
-                              '(dofs = "model.op4:DOFS") or an ANSYS .full file (dofs = '
-                              '"model.full")')
+                              '(dofs = "model.op4:DOFS"), an ANSYS .full file (dofs = '
+                              '"model.full") or a Nastran USET table (dofs = { uset = '
+                              '"run.f06", set = "a" })')
         return dof_names(np.asarray(pairs))
     except FileRefused as exc:
         shown = f"cannot read '{value}': " if isinstance(value, str) else ""

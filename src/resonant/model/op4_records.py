@@ -458,6 +458,17 @@ def _binary_values(data: bytes, layout: _Binary, entry: Op4Entry) -> Op4Runs:
 
 # -- ASCII -----------------------------------------------------------------------------------
 
+def _bare_header(line: bytes) -> bool:
+    """Whether a line without a ``.`` is a matrix header without its number format
+    (``       6       5       2       1R1``: four I8 integers, then the name)."""
+    head, name = line[:32], line[32:].strip()
+    try:
+        return len(head) == 32 and bool(name) and all(
+            int(head[i:i + 8]) is not None for i in range(0, 32, 8))
+    except ValueError:
+        return False
+
+
 class _AsciiText:
     """An ASCII OP4 file as lines, and its integer lines (no ``.``: column and string
     headers) parsed at once: their field counts and first three fields."""
@@ -473,7 +484,13 @@ class _AsciiText:
         dotted = np.zeros(len(self.starts), dtype=bool)
         dotted[np.searchsorted(newlines, np.flatnonzero(self.buffer == 46))] = True
         self.dotted = dotted
-        self.integer_lines = np.flatnonzero(~dotted & (self.ends > self.starts))
+        headers = np.zeros(len(self.starts), dtype=bool)  # matrix headers without a format
+        lower = self.buffer | 32
+        lettered = np.unique(np.searchsorted(newlines, np.flatnonzero((lower >= 97)
+                                                                      & (lower <= 122))))
+        for at in lettered[~dotted[lettered]].tolist():
+            headers[at] = _bare_header(self.line(at))
+        self.integer_lines = np.flatnonzero(~dotted & ~headers & (self.ends > self.starts))
         self.counts, self.fields = self._parse_integer_lines()
 
     def line(self, at: int) -> bytes:
@@ -506,6 +523,16 @@ class _AsciiText:
         for k in range(3):
             has = counts > k
             fields[has, k] = values[offsets[has] + k]
+        # I8 fields that touch (``       310000001``: 3 and 10000001) read as one number:
+        # a line of whole I8 fields, more than its numbers, is read again field by field
+        # (a non-bigmat string header is one wider field, ``     196609``: left as it is)
+        lengths = (self.ends - self.starts)[chosen]
+        for i in np.flatnonzero(lengths > 8 * counts).tolist():
+            line = self.line(int(chosen[i])).rstrip()
+            if len(line) > 8 * counts[i] and len(line) % 8 == 0:
+                numbers = _integers(line, -(-len(line) // 8))
+                counts[i] = len(numbers)
+                fields[i] = (numbers + [0, 0, 0])[:3]
         return counts, fields
 
     def integer_range(self, first: int, stop: int) -> slice:
@@ -551,13 +578,18 @@ def _integers(line: bytes, count: int, width: int = 8) -> list[int]:
 
 def _ascii_header(text: _AsciiText, at: int) -> _AsciiHeader:
     line = text.line(at).rstrip()
-    width = 16 if line.endswith(b"|I16") else 8
-    if width == 16:
+    wide = line.endswith(b"|I16")  # pyYeti's mark: columns and rows in I16, the rest I8
+    if wide:
         line = line[:-4]
-    columns, rows, form, kind = _integers(line, 4, width)
-    name = line[4 * width:5 * width].decode("ascii", "replace")
+        columns, rows = _integers(line, 2, 16)
+        form, kind = _integers(line[32:], 2)
+        name_at = 48
+    else:
+        columns, rows, form, kind = _integers(line, 4)
+        name_at = 32
+    name = line[name_at:name_at + 8].decode("ascii", "replace")
     name = name.replace(" ", "").replace("\x00", "").lower()
-    number = line[5 * width:].strip().upper().decode("ascii", "replace")
+    number = line[name_at + 8:].strip().upper().decode("ascii", "replace")
     number = number[3:] if number.startswith("1P,") else number
     per_line, length = 5, 16
     split = number.replace("D", "E").find("E")
