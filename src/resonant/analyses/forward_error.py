@@ -143,7 +143,8 @@ def dense_residuals(K: np.ndarray, M: np.ndarray, C: np.ndarray, w: np.ndarray,
         (Kr, Ki), (Mr, Mi), (Cr, Ci) = products
         rr = np.real(B).astype(dtype) - Kr + w * w * Mr + w * Ci
         ri = np.imag(B).astype(dtype) - Ki + w * w * Mi - w * Cr
-        return rr.astype(float) + 1j * ri.astype(float)
+        residual: np.ndarray = rr.astype(float) + 1j * ri.astype(float)
+        return residual
 
 
 def relative_error(d: np.ndarray, x: np.ndarray) -> np.ndarray:

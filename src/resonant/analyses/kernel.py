@@ -1224,7 +1224,7 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
             return x, info
 
         def correction(ab: np.ndarray, r: np.ndarray) -> np.ndarray:
-            d, _ = gbtrs(factors[0], lower, upper, r, factors[1])
+            d: np.ndarray = gbtrs(factors[0], lower, upper, r, factors[1])[0]
             return d
     Mb, Cb, Kb = storage
     for i in range(N):
@@ -1239,14 +1239,21 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
             x = x if order is None else x[position]   # (x[position[k]] is coordinate k)
             if residuals is not None and errors is not None:
                 errors[i] = _point_error(residuals, wi, x, model_rhs[i] if varying_rhs else
-                                         model_rhs, lambda r, A=A: correction(
-                                             A, r if order is None else r[order]))
+                                         model_rhs, _banded_correction(correction, A, order))
             Z[i] = x
         if i % 64 == 63:
             progress.advance(64)
             deadline.check("while solving the harmonic systems", analysis=True)
     progress.advance(N % 64)
     return singular
+
+
+def _banded_correction(correction: Callable[[np.ndarray, np.ndarray], np.ndarray],
+                       A: np.ndarray, order: np.ndarray | None
+                       ) -> Callable[[np.ndarray], np.ndarray]:
+    """The correction of one point's residual by its banded factorization (rows in the
+    band's order where the coordinates were reordered)."""
+    return lambda r: correction(A, r if order is None else r[order])
 
 
 def _point_error(residuals: Residuals, w: float, x: np.ndarray, b: np.ndarray,

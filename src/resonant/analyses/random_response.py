@@ -625,7 +625,7 @@ class Transfer:
         return H, D
 
 
-def _singular_message(where: float, C: Any) -> str:
+def _singular_message(where: float, C: Matrix) -> str:
     """Why the kernel found no response at ``where`` Hz: an undamped resonance only where
     the model has no damping; a damped model singular to double precision has lost every
     digit to its conditioning (or has a mode its damping does not reach)."""

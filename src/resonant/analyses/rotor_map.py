@@ -300,6 +300,20 @@ def critical_speed_map(system: LinearSystem, stiffness: Sequence[float] | np.nda
                             tuple(whirl))
 
 
+def _damped_map_speeds(system: LinearSystem, speeds: Sequence[float] | np.ndarray | None
+                       ) -> np.ndarray:
+    """The speeds the damped map searches over: given, or the ``[campbell]`` range."""
+    model = system.model
+    if speeds is None:
+        spec = None if model is None else model.campbell_section
+        if spec is None:
+            raise ModelError(Problem("the damped critical speed map needs a speed range: "
+                                     "give speeds, or a [campbell] section with from, to "
+                                     "and points", system.source, "campbell", "to"))
+        speeds = np.linspace(spec.start, spec.stop, spec.points)
+    return check_speeds(np.asarray(speeds, dtype=float), system.source)
+
+
 def _damped_map(system: LinearSystem, stiffness: np.ndarray, modes: int,
                 orders: tuple[float, ...], speeds: Sequence[float] | np.ndarray | None,
                 deadline: Deadline) -> CriticalSpeedMap:
@@ -311,14 +325,7 @@ def _damped_map(system: LinearSystem, stiffness: np.ndarray, modes: int,
         raise ModelError(Problem(f"the damped critical speed map is dense: at most "
                                  f"{MAX_DAMPED_MAP_COORDINATES} coordinates, the rotor has "
                                  f"{n}", system.source, "rotor", "shaft"))
-    if speeds is None:
-        spec = model.campbell_section
-        if spec is None:
-            raise ModelError(Problem("the damped critical speed map needs a speed range: "
-                                     "give speeds, or a [campbell] section with from, to "
-                                     "and points", system.source, "campbell", "to"))
-        speeds = np.linspace(spec.start, spec.stop, spec.points)
-    grid = check_speeds(np.asarray(speeds, dtype=float), system.source)
+    grid = _damped_map_speeds(system, speeds)
     name = speed_parameter(system, None)
     require(8 * 16.0 * n * n, f"the damped critical speed map of {n} coordinates",
             "use fewer shaft elements")

@@ -301,8 +301,8 @@ def _answers(exercise: Exercise, solution: StationarySolution, model: Model
     return out
 
 
-def _in_display_units(value: Any, unit: str | None, units: ResultUnits | None
-                      ) -> tuple[Any, str | None]:
+def _in_display_units(value: object, unit: str | None, units: ResultUnits | None
+                      ) -> tuple[object, str | None]:
     """An answer (SI, in ``unit``) in the display unit chosen for its quantity
     (``[display]``, or the command line's units), as every result is shown: natural
     frequencies in Hz, amplitudes in mm, phases in degrees; unchanged where none was chosen.

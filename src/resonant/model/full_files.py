@@ -22,6 +22,7 @@ from __future__ import annotations
 import contextlib
 import io
 import re
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -96,7 +97,7 @@ def _load(path: str) -> tuple[np.ndarray, Any, Any]:
     return np.asarray(dof_ref), k, m
 
 
-def _damping_entries(path: str, header: Any
+def _damping_entries(path: str, header: Mapping[str, int]
                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int] | None:
     """The stored triangle of the damping matrix (rows, columns, values, order), None when
     the file holds none.

@@ -726,6 +726,25 @@ def _read_mtx(handle: IO[bytes], size: int) -> Any:
     return _mtx_sparse(values, n, symmetry) if coordinate else _mtx_dense(values, n, symmetry)
 
 
+def _damping_from_ratios(matrices: dict[str, Any], section: Mapping[str, object],
+                         rayleigh: tuple[Expression, Expression] | None,
+                         modal: np.ndarray | None, params: Sequence[str], source: str,
+                         problems: list[Problem]) -> None:
+    """C from Rayleigh coefficients or modal damping ratios, put in ``matrices``."""
+    if rayleigh is not None and "M" in matrices and "K" in matrices:
+        damping = _rayleigh_matrix(rayleigh, matrices["M"], matrices["K"], params, source,
+                                   problems)
+        if damping is not None:
+            matrices["C"] = damping
+    if modal is not None and ("C" in section):
+        problems.append(Problem(f"give either C or {MODAL_KEY}, not both", source,
+                                "matrices", MODAL_KEY))
+    elif modal is not None and "M" in matrices and "K" in matrices:
+        damping = _modal_matrix(modal, matrices["M"], matrices["K"], source, problems)
+        if damping is not None:
+            matrices["C"] = damping
+
+
 def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
                      coordinates: Sequence[str], source: str, base_dir: Path | None,
                      allow_paths: Sequence[str | os.PathLike[str]] = (),
@@ -786,18 +805,7 @@ def read_matrix_spec(section: object, harmonics: object, params: Sequence[str],
             matrices[key] = matrix
     if any(isinstance(m, AbaqusEntries) for m in matrices.values()):
         dofs = _abaqus_matrices(matrices, dofs, source, problems)
-    if rayleigh is not None and "M" in matrices and "K" in matrices:
-        damping = _rayleigh_matrix(rayleigh, matrices["M"], matrices["K"], params, source,
-                                   problems)
-        if damping is not None:
-            matrices["C"] = damping
-    if modal is not None and ("C" in section):
-        problems.append(Problem(f"give either C or {MODAL_KEY}, not both", source,
-                                "matrices", MODAL_KEY))
-    elif modal is not None and "M" in matrices and "K" in matrices:
-        damping = _modal_matrix(modal, matrices["M"], matrices["K"], source, problems)
-        if damping is not None:
-            matrices["C"] = damping
+    _damping_from_ratios(matrices, section, rayleigh, modal, params, source, problems)
     speed = _speed_parameter(section, params, source, problems)
     n = _check_sizes(section, matrices, coordinates, source, problems)
     if uset is not None and n:

@@ -36,6 +36,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 import resonant.model.limits as limits
 
@@ -399,7 +400,7 @@ def _checked_dofs(nodes: np.ndarray, components: np.ndarray, what: str) -> None:
         raise FileRefused(f"{what} lists the DOF {twice // 8}-{twice % 8} twice")
 
 
-def uset_from_table(table: Any, source: str = "") -> UsetMap:
+def uset_from_table(table: npt.ArrayLike, source: str = "") -> UsetMap:
     """The USET map of a table of bit masks: one row per g-set DOF, ``[node, component,
     mask, ...]`` (pyYeti's ``uset`` layout; further columns, the coordinates, are ignored).
 
