@@ -442,7 +442,7 @@ class _FRFProblem:
         return self.difference_jacobian(x)
 
     def analytic_jacobian(self, x: np.ndarray) -> np.ndarray | None:
-        """dr/d ln p from dH/dp (:mod:`.frf_sensitivity`); None where it does not apply."""
+        """dr/d ln p from dH/dp (``resonant.analyses.frf_sensitivity``); None where it does not apply."""
         p = np.exp(x)
         values = dict(zip(self.names, map(float, p)))
         if self.loads_vary is None:
@@ -535,7 +535,7 @@ def update_to_frf(system: LinearSystem, parameters: Mapping[str, tuple[Any, Any]
         name -> the value (SI) the fit starts from (default the model's), clipped into the
         bounds: one start of a multi-start (:mod:`resonant.studies.multi_start`).
     sensitivities : {"analytic", "differences"}
-        The Jacobian: dH/dp analytically (:mod:`.frf_sensitivity`; for FRFs of
+        The Jacobian: dH/dp analytically (``resonant.analyses.frf_sensitivity``; for FRFs of
         coordinates, else differences) or central differences of the FRF.
     deadline : Deadline, optional
 
