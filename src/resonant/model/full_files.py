@@ -22,7 +22,7 @@ from __future__ import annotations
 import contextlib
 import io
 import re
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from typing import Any
 
 import numpy as np
@@ -67,24 +67,23 @@ def split_full(value: str) -> tuple[str, str | None] | None:
     return match.group("path"), name.upper() if name else None
 
 
-def _load(path: str) -> tuple[np.ndarray, Any, Any]:
+def _reader_module() -> Any:
+    """ansys-mapdl-reader, or a refusal that says how to install it."""
     try:
         from ansys.mapdl import reader
     except ImportError:
         raise FileRefused("reading ANSYS .full files needs ansys-mapdl-reader (pip install "
                           "ansys-mapdl-reader, or pip install 'resonant[ansys]')") from None
-    with open_regular_file(path, follow_symlinks=False,
-                           max_bytes=limits.MAX_MATRIX_FILE_BYTES):
-        pass
+    return reader
+
+
+@contextlib.contextmanager
+def _reader_failures_refused() -> Iterator[None]:
+    """The reader's failures as `FileRefused`, its printing silenced: never its own message
+    about the file."""
     try:
         with contextlib.redirect_stdout(io.StringIO()):
-            full = reader.read_binary(path)
-            header = full._header
-            rows = int(header["neqn"])
-            if rows > limits.MAX_MATRIX_DIMENSION:
-                raise FileRefused(f"its matrices have {rows} rows; matrices are limited to "
-                                  f"{limits.MAX_MATRIX_DIMENSION}")
-            dof_ref, k, m = full.load_km(sort=True)
+            yield
     except FileRefused:
         raise
     except MemoryError:
@@ -94,6 +93,27 @@ def _load(path: str) -> tuple[np.ndarray, Any, Any]:
                           "ansys-mapdl-reader does not read") from None
     except Exception:  # noqa: BLE001 - never echo the reader's message about the file
         raise FileRefused("it is truncated or not a valid ANSYS .full file") from None
+
+
+def _opened(path: str) -> Any:
+    """The ``.full`` file opened by ansys-mapdl-reader, its order within the limits."""
+    reader = _reader_module()
+    with open_regular_file(path, follow_symlinks=False,
+                           max_bytes=limits.MAX_MATRIX_FILE_BYTES):
+        pass
+    with _reader_failures_refused():
+        full = reader.read_binary(path)
+        rows = int(full._header["neqn"])
+    if rows > limits.MAX_MATRIX_DIMENSION:
+        raise FileRefused(f"its matrices have {rows} rows; matrices are limited to "
+                          f"{limits.MAX_MATRIX_DIMENSION}")
+    return full
+
+
+def _load(path: str) -> tuple[np.ndarray, Any, Any]:
+    full = _opened(path)
+    with _reader_failures_refused():
+        dof_ref, k, m = full.load_km(sort=True)
     return np.asarray(dof_ref), k, m
 
 
@@ -133,41 +153,13 @@ def _damping_entries(path: str, header: Mapping[str, int]
     return rows, columns, np.asarray(values, dtype=float), order
 
 
-def _full_header(path: str) -> Any:
-    """The header of a ``.full`` file (ansys-mapdl-reader), its order within the limits."""
-    try:
-        from ansys.mapdl import reader
-    except ImportError:
-        raise FileRefused("reading ANSYS .full files needs ansys-mapdl-reader (pip install "
-                          "ansys-mapdl-reader, or pip install 'resonant[ansys]')") from None
-    with open_regular_file(path, follow_symlinks=False,
-                           max_bytes=limits.MAX_MATRIX_FILE_BYTES):
-        pass
-    with contextlib.redirect_stdout(io.StringIO()):
-        header = reader.read_binary(path)._header
-    if int(header["neqn"]) > limits.MAX_MATRIX_DIMENSION:
-        raise FileRefused(f"its matrices have {int(header['neqn'])} rows; matrices are "
-                          f"limited to {limits.MAX_MATRIX_DIMENSION}")
-    return header
-
-
 def _load_damping(path: str) -> Any:
     """The damping matrix of a ``.full`` file as stored (one triangle), None when absent."""
     import scipy.sparse as sp
 
-    try:
-        header = _full_header(path)
-        with contextlib.redirect_stdout(io.StringIO()):
-            entries = _damping_entries(path, header)
-    except FileRefused:
-        raise
-    except MemoryError:
-        raise FileRefused("not enough memory to read it") from None
-    except NotImplementedError:
-        raise FileRefused("it holds a lumped or unsymmetric matrix, which "
-                          "ansys-mapdl-reader does not read") from None
-    except Exception:  # noqa: BLE001 - never echo the reader's message about the file
-        raise FileRefused("it is truncated or not a valid ANSYS .full file") from None
+    full = _opened(path)
+    with _reader_failures_refused():
+        entries = _damping_entries(path, full._header)
     if entries is None:
         return None
     rows, columns, values, order = entries
@@ -194,7 +186,7 @@ def has_damping(path: str) -> bool:
     False
     """
     try:
-        header = _full_header(path)
+        header = _opened(path)._header
     except Exception:  # noqa: BLE001 - the load that follows names what is wrong
         return False
     return bool(header["ptrDMP"]) and bool(header["ntermDl"] or header["ntermDh"])
