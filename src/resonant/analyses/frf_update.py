@@ -133,20 +133,8 @@ def model_frf(system: LinearSystem, signal: str, frequency: np.ndarray,
     >>> round(float(h["d3"].real[0]), 6)    # 1/k1 + 1/k2 + 1/k3
     0.004
     """
-    f = np.asarray(frequency, dtype=float)
-    num = system.numeric(deadline, **values)
-    names = sorted({c.name for c in channels.values()})
-    keep, outputs = responses_to_solve(num, names)
-    transfer = Transfer(system, num, [RandomInput(signal, 0, None, None)], keep, "direct",
-                        deadline)
-    if transfer.warnings:
-        raise ModelError(Problem("; ".join(transfer.warnings), system.source, "measurement",
-                                 "input"))
-    H = transfer(f, outputs)[:, :, 0]
-    order = [num.coordinates[i] for i in keep] + list(outputs)
-    iw = 2j * np.pi * f
-    return {channel: H[:, order.index(c.name)] * iw ** c.derivative
-            for channel, c in channels.items()}
+    H = model_frf_matrix(system, [signal], frequency, channels, deadline=deadline, **values)
+    return {channel: H[:, j, 0] for j, channel in enumerate(channels)}
 
 
 def model_frf_matrix(system: LinearSystem, signals: Sequence[str], frequency: np.ndarray,
@@ -442,7 +430,8 @@ class _FRFProblem:
         return self.difference_jacobian(x)
 
     def analytic_jacobian(self, x: np.ndarray) -> np.ndarray | None:
-        """dr/d ln p from dH/dp (``resonant.analyses.frf_sensitivity``); None where it does not apply."""
+        """dr/d ln p from dH/dp (``resonant.analyses.frf_sensitivity``); None where it
+        does not apply."""
         p = np.exp(x)
         values = dict(zip(self.names, map(float, p)))
         if self.loads_vary is None:
