@@ -598,17 +598,23 @@ def _add_bearings(reader: _Reader, bearings: list[dict], stations: int, assembly
         for key in COEFFICIENTS:
             if key not in entry:
                 continue
-            read = reader.coefficient(entry[key], where, key)
-            if read is None:
+            value = _coefficient(reader, entry, where, key)
+            if value is None:
                 continue
-            value: float | Expression | SpeedTable = read
-            if isinstance(read, Expression) and not read.names():
-                value = float(numeric_value(read, {}))
             given.append((key, value))
             terms += _connect(assembly, key, value, rows, pedestal, f"{where} {key}")
         terms += _add_axial(reader, entry, where, station, assembly, motions)
         records.append(Bearing(str(entry.get("name", "")), rows, pedestal, tuple(given)))
     return terms, named, records
+
+
+def _coefficient(reader: _Reader, entry: dict, where: str, key: str
+                 ) -> float | Expression | SpeedTable | None:
+    """A bearing coefficient as read, a constant expression folded to its number."""
+    read = reader.coefficient(entry[key], where, key)
+    if isinstance(read, Expression) and not read.names():
+        return float(numeric_value(read, {}))
+    return read
 
 
 def _check_bearing_keys(reader: _Reader, entry: dict, where: str) -> None:
@@ -637,12 +643,9 @@ def _add_axial(reader: _Reader, entry: dict, where: str, station: int, assembly:
             reader.problem(f"{key} needs {'torsional' if torsional else 'axial'} = true in "
                            "[rotor]", where, key)
             continue
-        read = reader.coefficient(entry[key], where, key)
-        if read is None:
+        value = _coefficient(reader, entry, where, key)
+        if value is None:
             continue
-        value: float | Expression | SpeedTable = read
-        if isinstance(read, Expression) and not read.names():
-            value = float(numeric_value(read, {}))
         row, matrix = start + station, key[0].upper()
         if isinstance(value, float):
             assembly.add(matrix, np.array([row]), np.array([row]), np.array([[value]]))
