@@ -56,6 +56,7 @@ from __future__ import annotations
 import sys
 import time
 import warnings as _warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, TypeAlias
 
@@ -70,6 +71,7 @@ from ..model.options import SWEEP_METHODS
 from ..system.batch import Batch, BatchHarmonic
 from ..system.stability import check_mass_matrix
 from . import reduced as reduced_module
+from .forward_error import EXTENDED_ABOVE, Residuals, dense_residuals, relative_error
 from .reduced import (
     DAMPED_FRACTION,
     DEFAULT_TOL,
@@ -94,6 +96,9 @@ LOSS_CONDITION = 1e8
 MODAL_TOLERANCE = 1e-10
 #: bytes of complex matrices built at once by the dense method
 CHUNK_BYTES = 64 * 2**20
+#: above this many coordinates a dense solve that estimates its forward error factors
+#: point by point (the correction's solve reuses the LU); below, a second batched solve
+DENSE_BATCHED_CORRECTION = 48
 #: exact condition numbers (an SVD per point) up to this many coordinates ...
 EXACT_CONDITION = 64
 #: ... or, for a single point (the stationary solution), up to this many
@@ -149,6 +154,10 @@ class KernelResult:
     method: str = ""
     #: the estimated largest relative error (reduced), None for the exact methods
     error: float | None = None
+    #: the estimated relative forward error of each point's solve, shape (N,), NaN where
+    #: singular (:mod:`resonant.analyses.forward_error`); None when not estimated (the
+    #: reduced model, which has ``error``, or ``forward_error=False``)
+    forward_error: np.ndarray | None = None
 
 
 def check_batch_mass(batch: Batch, values: np.ndarray | None = None, param: str = "",
@@ -528,6 +537,8 @@ class _Store:
                 "coordinates (the names to report)")
         self.values = np.empty((N, len(keep)), dtype=complex)
         self.largest = np.zeros(N)
+        #: the estimated relative forward error of each point (NaN: not estimated)
+        self.error = np.full(N, np.nan)
         #: how much the damping acts on the response at each point
         #: (:func:`resonant.analyses.reduced.damping_fraction`; 0 without damping)
         self.damped = np.zeros(N)
@@ -590,7 +601,8 @@ class _Store:
 def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                    progress: _Progress | None = None, warnings: list[str] | None = None,
                    keep: np.ndarray | None = None, deadline: Deadline = NO_DEADLINE,
-                   tol: float = DEFAULT_TOL, exact_condition: bool = True) -> KernelResult:
+                   tol: float = DEFAULT_TOL, exact_condition: bool = True,
+                   forward_error: bool = True) -> KernelResult:
     """Complex responses z = L - i N of one harmonic at every point of a batch.
 
     Parameters
@@ -615,6 +627,10 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
         Compute exact condition numbers where they are cheap (small dense systems);
         False keeps the lower bound ||A|| ||z|| / ||F|| (a study, where only the
         singular points matter).
+    forward_error : bool
+        Estimate each exact solve's relative forward error (one residual and one solve
+        with the same factorization per point: :mod:`resonant.analyses.forward_error`);
+        False skips it (``KernelResult.forward_error`` is then None).
 
     Returns
     -------
@@ -631,13 +647,14 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     with blas_threads(8.0 * min(float(n) ** 3, float(n) * 1e4)):
         return _solve_harmonic(batch, h, method, progress=progress, warnings=warnings,
                                keep=keep, deadline=deadline, tol=tol,
-                               exact_condition=exact_condition)
+                               exact_condition=exact_condition, forward_error=forward_error)
 
 
 def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                     progress: _Progress | None = None, warnings: list[str] | None = None,
                     keep: np.ndarray | None = None, deadline: Deadline = NO_DEADLINE,
-                    tol: float = DEFAULT_TOL, exact_condition: bool = True) -> KernelResult:
+                    tol: float = DEFAULT_TOL, exact_condition: bool = True,
+                    forward_error: bool = True) -> KernelResult:
     """:func:`solve_harmonic` within its BLAS thread limit."""
     w = h.omega
     N = w.shape[0]
@@ -650,7 +667,8 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
         progress.advance(N)
         return KernelResult(np.zeros((N, len(keep)), dtype=complex), np.zeros(N, dtype=bool),
                             np.ones(N), False,
-                            method if method not in ("auto", "direct") else "dense")
+                            method if method not in ("auto", "direct") else "dense",
+                            forward_error=np.zeros(N) if forward_error else None)
     if rhs.ndim == 2 and np.all(rhs == rhs[:1]):
         rhs = rhs[0]
     if method == "reduced":
@@ -687,16 +705,17 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
             bound = (norms[0] + w**2 * norms[1] + w * norms[2]) / np.where(b_norm > 0, b_norm,
                                                                            np.inf)
     store = _Store(N, keep, batch, bound)
+    errors = store.error if forward_error else None
     condition = np.ones(N)
     if method == "dense":
         singular = _solve_dense(batch, w, rhs, progress, store, deadline,
-                                condition if exact else None)
+                                condition if exact else None, errors)
     elif method == "banded":
-        singular = _solve_banded(batch, w, rhs, progress, store, deadline)
+        singular = _solve_banded(batch, w, rhs, progress, store, deadline, errors)
     elif method == "sparse":
-        singular = _solve_sparse(batch, w, rhs, progress, store, deadline, probe)
+        singular = _solve_sparse(batch, w, rhs, progress, store, deadline, probe, errors)
     else:
-        singular = _solve_modal(batch, w, rhs, progress, warnings, store, deadline)
+        singular = _solve_modal(batch, w, rhs, progress, warnings, store, deadline, errors)
     Z = store.values
     if bound is not None:
         # a lower bound of the condition number: ||A|| ||Z|| / ||rhs|| (exact resonance: huge)
@@ -706,7 +725,10 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                                                 & (store.damped < DAMPED_FRACTION))
     singular &= b_norm > 0
     Z[singular] = np.nan
-    return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact, method)
+    if errors is not None:
+        errors[singular] = np.nan
+    return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact, method,
+                        forward_error=errors)
 
 
 def reduced_budget(batch: Batch, w: np.ndarray, rhs: np.ndarray,
@@ -877,7 +899,8 @@ def _norm_inf(a: Matrix) -> Any:
 
 
 def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
-                 Z: _Store, deadline: Deadline, condition: np.ndarray | None) -> np.ndarray:
+                 Z: _Store, deadline: Deadline, condition: np.ndarray | None,
+                 errors: np.ndarray | None = None) -> np.ndarray:
     N, n = w.shape[0], len(batch.coordinates)
     M, C, K = (a.toarray() if hasattr(a, "toarray") else a for a in (batch.M, batch.C, batch.K))
     chunk = max(1, int(CHUNK_BYTES // (16 * n * n)))
@@ -894,6 +917,7 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
         with np.errstate(all="ignore"):  # an overflow gives inf, caught as not finite
             A = _dynamic_matrix(pick(K), pick(M), pick(C), w[sl], undamped)
         b = np.broadcast_to(rhs[sl] if rhs.ndim == 2 else rhs, (A.shape[0], n))
+        b_model = b
         # an overflow (inf) gives NaN in the solution: marked singular by the caller
         finite = np.ones(A.shape[0], dtype=bool)
         if condition is not None and not np.isfinite(A).all():
@@ -907,18 +931,30 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
             row, col = equilibration(A)
             A = row[..., :, None] * A * col[..., None, :]
             b = row * b
+        points = start + np.arange(A.shape[0])
+        correct: Callable[[np.ndarray, np.ndarray], np.ndarray]
         if condition is None and n <= 2:
             # the closed form (no condition number wanted); LAPACK where it is not trusted
-            X, hard = closed_form_solve(A, b)
-            if hard.any():
-                where = np.flatnonzero(hard)
-                X[where] = _lapack_solve(A[where], b[where], singular, start + where)
+            X = _closed_form_or_lapack(A, b, singular, points)
+
+            def correct(R: np.ndarray, at: np.ndarray, A: np.ndarray = A,
+                        points: np.ndarray = points) -> np.ndarray:
+                return _closed_form_or_lapack(A[at], R, np.zeros(N, dtype=bool), points[at])
+        elif errors is not None and n > DENSE_BATCHED_CORRECTION:
+            X, correct = _lu_solves(A, b, singular, points)
         else:
-            X = _lapack_solve(A, b, singular, start + np.arange(A.shape[0]))
+            X = _lapack_solve(A, b, singular, points)
+
+            def correct(R: np.ndarray, at: np.ndarray, A: np.ndarray = A,
+                        points: np.ndarray = points) -> np.ndarray:
+                return _lapack_solve(A[at], R, np.zeros(N, dtype=bool), points[at])
         if col is not None:
             X = col * X
         X[~finite] = np.nan
         Z[sl] = X
+        if errors is not None:   # one refinement step's correction, not applied
+            errors[sl] = _dense_errors(pick(K), pick(M), pick(C), w[sl], X, b_model,
+                                       correct, row if col is not None else None, col)
         if condition is not None:  # exact condition numbers, where they are cheap
             with np.errstate(all="ignore"):
                 try:
@@ -927,6 +963,84 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
                     condition[sl] = np.inf
         progress.advance(A.shape[0])
     return singular
+
+
+def _closed_form_or_lapack(A: np.ndarray, b: np.ndarray, singular: np.ndarray,
+                           points: np.ndarray) -> np.ndarray:
+    """:func:`closed_form_solve`, with LAPACK at the points it does not trust."""
+    X, hard = closed_form_solve(A, b)
+    if hard.any():
+        where = np.flatnonzero(hard)
+        X[where] = _lapack_solve(A[where], b[where], singular, points[where])
+    return X
+
+
+def _lu_solves(A: np.ndarray, b: np.ndarray, singular: np.ndarray, points: np.ndarray
+               ) -> tuple[np.ndarray, Callable[[np.ndarray, np.ndarray], np.ndarray]]:
+    """Point by point: x from an LU of A (NaN, and marked in ``singular``, where A is
+    exactly singular), and the solve with the same LUs of the corrections of
+    :func:`_dense_errors` (``correct(R, at)``: the rows ``at`` of the chunk)."""
+    from scipy.linalg import lapack
+
+    X = np.empty(b.shape, dtype=complex)
+    real = not np.iscomplexobj(A)
+    getrf, getrs = lapack.get_lapack_funcs(("getrf", "getrs"), (A[:1],))
+    factors: list[Any] = []
+
+    def apply(i: int, rhs: np.ndarray) -> np.ndarray:
+        if factors[i] is None:
+            return np.full(rhs.shape, np.nan, dtype=complex)
+        lu, piv = factors[i]   # of A^T (Fortran order without a copy): solved transposed
+        if real:   # a real LU: the real and imaginary parts as two columns
+            cols, _ = getrs(lu, piv, np.stack([rhs.real, rhs.imag], axis=1), trans=1)
+            return np.asarray(cols[:, 0] + 1j * cols[:, 1])
+        x, _ = getrs(lu, piv, rhs, trans=1)
+        return np.asarray(x)
+
+    for i in range(A.shape[0]):
+        lu, piv, info = getrf(A[i].T)
+        if info != 0 or not np.isfinite(lu).all():
+            factors.append(None)
+            singular[points[i]] = info > 0 or bool(singular[points[i]])
+        else:
+            factors.append((lu, piv))
+        X[i] = apply(i, b[i])
+
+    def correct(R: np.ndarray, at: np.ndarray) -> np.ndarray:
+        return np.array([apply(int(i), r) for i, r in zip(at, R)]).reshape(R.shape)
+    return X, correct
+
+
+def _dense_errors(K: np.ndarray, M: np.ndarray, C: np.ndarray, w: np.ndarray, X: np.ndarray,
+                  b: np.ndarray, correct: Callable[[np.ndarray, np.ndarray], np.ndarray],
+                  row: np.ndarray | None, col: np.ndarray | None) -> np.ndarray:
+    """The estimated relative forward errors of a chunk's solves X (:mod:`.forward_error`):
+    residuals from K, M, C (one matrix or a stack each) in double precision, and in
+    extended precision at the points where that estimate exceeds
+    :data:`~resonant.analyses.forward_error.EXTENDED_ABOVE`; the corrections by
+    ``correct`` (the chunk's factorizations, in its equilibrated variables: ``row``
+    scales the residual, ``col`` the correction)."""
+    every = np.arange(X.shape[0])
+
+    def estimate(R: np.ndarray, at: np.ndarray) -> np.ndarray:
+        if row is not None:
+            R = row[at] * R
+        D = correct(R, at)
+        if col is not None:
+            D = col[at] * D
+        return relative_error(D, X[at])
+
+    with np.errstate(all="ignore"):
+        errors = estimate(dense_residuals(K, M, C, w, X, b), every)
+        errors[~np.isfinite(X).all(axis=-1)] = np.nan
+        suspect = np.flatnonzero(errors > EXTENDED_ABOVE)
+        if suspect.size:
+            def pick(a: np.ndarray) -> np.ndarray:
+                return a[suspect] if a.ndim == 3 else a
+            errors[suspect] = estimate(dense_residuals(pick(K), pick(M), pick(C), w[suspect],
+                                                       X[suspect], b[suspect], extended=True),
+                                       suspect)
+    return errors
 
 
 def _dynamic_matrix(K: np.ndarray, M: np.ndarray, C: np.ndarray, w: np.ndarray,
@@ -1071,7 +1185,8 @@ def _band_storage(a: Matrix, upper: int, rows: int, offset: int,
 
 
 def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
-                  Z: _Store, deadline: Deadline) -> np.ndarray:
+                  Z: _Store, deadline: Deadline, errors: np.ndarray | None = None
+                  ) -> np.ndarray:
     from scipy.linalg import lapack
 
     N = w.shape[0]
@@ -1079,6 +1194,8 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     lower, upper, order, position = band.lower, band.upper, band.order, band.position
     singular = np.zeros(N, dtype=bool)
     varying_rhs = rhs.ndim == 2
+    model_rhs = rhs
+    residuals = Residuals(batch.K, batch.M, batch.C) if errors is not None else None
     if order is not None:
         rhs = rhs[..., order]
     if lower == upper == 1:  # tridiagonal: LAPACK gtsv (partial pivoting)
@@ -1088,26 +1205,42 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
         def solve(ab: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, int]:
             _, _, _, x, info = gtsv(ab[2, :-1], ab[1], ab[0, 1:], b)
             return x, info
+
+        def correction(ab: np.ndarray, r: np.ndarray) -> np.ndarray:
+            # (a tridiagonal solve costs no more than applying its factors again)
+            d, _ = solve(ab, r)
+            return d
     else:
         rows = 2 * lower + upper + 1  # gbsv needs lower extra rows for the LU fill-in
         storage = [_band_storage(a, upper, rows, lower, position)
                    for a in (batch.M, batch.C, batch.K)]
         gbsv = lapack.get_lapack_funcs("gbsv", (np.zeros(1, complex),))
+        gbtrs = lapack.get_lapack_funcs("gbtrs", (np.zeros(1, complex),))
+        factors: list[Any] = []
 
         def solve(ab: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, int]:
-            _, _, x, info = gbsv(lower, upper, ab, b, overwrite_ab=True)
+            lub, piv, x, info = gbsv(lower, upper, ab, b, overwrite_ab=True)
+            factors[:] = [lub, piv]
             return x, info
+
+        def correction(ab: np.ndarray, r: np.ndarray) -> np.ndarray:
+            d: np.ndarray = gbtrs(factors[0], lower, upper, r, factors[1])[0]
+            return d
     Mb, Cb, Kb = storage
     for i in range(N):
         wi = w[i]
-        x, info = solve(Kb - (wi * wi) * Mb + (1j * wi) * Cb, rhs[i] if varying_rhs else rhs)
+        b = rhs[i] if varying_rhs else rhs
+        A = Kb - (wi * wi) * Mb + (1j * wi) * Cb
+        x, info = solve(A, b)
         if info != 0:
             singular[i] = True
             Z[i] = np.nan
-        elif order is None:
-            Z[i] = x
         else:
-            Z[i] = x[position]   # (x[position[k]] is coordinate k)
+            x = x if order is None else x[position]   # (x[position[k]] is coordinate k)
+            if residuals is not None and errors is not None:
+                errors[i] = _point_error(residuals, wi, x, model_rhs[i] if varying_rhs else
+                                         model_rhs, _banded_correction(correction, A, order))
+            Z[i] = x
         if i % 64 == 63:
             progress.advance(64)
             deadline.check("while solving the harmonic systems", analysis=True)
@@ -1115,9 +1248,30 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     return singular
 
 
+def _banded_correction(correction: Callable[[np.ndarray, np.ndarray], np.ndarray],
+                       A: np.ndarray, order: np.ndarray | None
+                       ) -> Callable[[np.ndarray], np.ndarray]:
+    """The correction of one point's residual by its banded factorization (rows in the
+    band's order where the coordinates were reordered)."""
+    return lambda r: correction(A, r if order is None else r[order])
+
+
+def _point_error(residuals: Residuals, w: float, x: np.ndarray, b: np.ndarray,
+                 correct: Callable[[np.ndarray], np.ndarray]) -> float:
+    """One point's estimated relative forward error (:mod:`.forward_error`): the
+    correction ``correct(r)`` (the point's factorization) of its residual in double
+    precision, and in extended precision where that exceeds
+    :data:`~resonant.analyses.forward_error.EXTENDED_ABOVE`."""
+    with np.errstate(all="ignore"):
+        error = float(relative_error(correct(residuals.double(w, x, b)), x))
+        if error > EXTENDED_ABOVE:
+            error = float(relative_error(correct(residuals.extended(w, x, b)), x))
+    return error
+
+
 def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
-                  Z: _Store, deadline: Deadline, probe: dict[float, Any] | None = None
-                  ) -> np.ndarray:
+                  Z: _Store, deadline: Deadline, probe: dict[float, Any] | None = None,
+                  errors: np.ndarray | None = None) -> np.ndarray:
     """A SuperLU per frequency (``probe``: factorizations made before, by frequency,
     taken where a frequency is one of them)."""
     import scipy.sparse as sp
@@ -1128,6 +1282,7 @@ def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     options = sparse_lu_options(abs(K) + abs(M) + abs(C))
     row_norms = [_norm_inf(a) for a in (K, M, C)]
     singular = np.zeros(N, dtype=bool)
+    residuals = Residuals(K, M, C) if errors is not None else None
     for i in range(N):
         wi = w[i]
         A = (K - (wi * wi) * M + (1j * wi) * C).tocsc()
@@ -1135,11 +1290,15 @@ def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
         b = np.asarray(b, dtype=complex)
         try:
             lu = probe.pop(float(wi), None) if probe else None
-            x = (ScaledLU(A, _sparse_scale(K, M, C, wi), **options) if lu is None
-                 else lu).solve(b)
+            if lu is None:
+                lu = ScaledLU(A, _sparse_scale(K, M, C, wi), **options)
+            x = lu.solve(b)
             if "options" in options and not backward_stable(
                     A, x, b, row_norms[0] + wi * wi * row_norms[1] + wi * row_norms[2]):
-                x = splu(A).solve(b)  # threshold pivoting grew too much: partial pivoting
+                lu = splu(A)  # threshold pivoting grew too much: partial pivoting
+                x = lu.solve(b)
+            if residuals is not None and errors is not None:
+                errors[i] = _point_error(residuals, wi, x, b, lu.solve)
             Z[i] = x
         except RuntimeError:  # "Factor is exactly singular"
             Z[i] = np.nan
@@ -1156,7 +1315,8 @@ def _sparse_scale(K: Matrix, M: Matrix, C: Matrix, s: float) -> np.ndarray:
 
 
 def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
-                 warnings: list[str], store: _Store, deadline: Deadline) -> np.ndarray:
+                 warnings: list[str], store: _Store, deadline: Deadline,
+                 errors: np.ndarray | None = None) -> np.ndarray:
     """Superposition of all undamped modes (exact for proportional damping), checked."""
     import scipy.linalg
 
@@ -1178,16 +1338,24 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
     N, n = w.shape[0], len(batch.coordinates)
     forces = (rhs @ phi) if rhs.ndim == 2 else np.broadcast_to(rhs @ phi, (N, n))
 
-    def modal(sl: slice) -> np.ndarray:
+    def modal(sl: slice, loads: np.ndarray | None = None) -> np.ndarray:
         ww = w[sl, None]
         with np.errstate(all="ignore"):
-            result: np.ndarray = (forces[sl] / (lam - ww**2 + 1j * ww * diag_c)) @ phi.T
+            modal_loads = forces[sl] if loads is None else loads @ phi
+            result: np.ndarray = (modal_loads / (lam - ww**2 + 1j * ww * diag_c)) @ phi.T
             return result
 
     chunk = max(1, int(CHUNK_BYTES // (16 * n)))
     for start in range(0, N, chunk):
         sl = slice(start, min(N, start + chunk))
-        store[sl] = modal(sl)
+        X = modal(sl)
+        if errors is not None:   # the residual from M, C, K, its modal correction
+            ww = w[sl, None]
+            with np.errstate(all="ignore"):
+                R = (rhs[sl] if rhs.ndim == 2 else rhs) - (
+                    X @ K.T - ww**2 * (X @ M.T) + 1j * ww * (X @ C.T))
+            errors[sl] = relative_error(modal(sl, R), X)
+        store[sl] = X
         progress.advance(sl.stop - sl.start)
         deadline.check("while summing the modes", analysis=True)
     singular = ~np.isfinite(store.largest)
@@ -1209,8 +1377,10 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
             band = band_ordering(M, C, K)
             banded = band.lower + band.upper + 1 <= max(3, n // 10)
             if banded:
-                return _solve_banded(batch, w, rhs, _Progress(N, False), store, deadline)
-            return _solve_dense(batch, w, rhs, _Progress(N, False), store, deadline, None)
+                return _solve_banded(batch, w, rhs, _Progress(N, False), store, deadline,
+                                     errors)
+            return _solve_dense(batch, w, rhs, _Progress(N, False), store, deadline, None,
+                                errors)
     return singular
 
 
