@@ -16,10 +16,19 @@ resonance, a stiff spring between two softly held masses).  The lower bound of t
 condition number the kernel kept before (``||A|| ||x|| / ||b||``) could not tell these
 apart.
 
-The cost is one residual and one solve with an existing factorization per point
-(docs/performance.md measures it).  :func:`accuracy_warning` is the one message the
-sweep, the stationary solution and the random response give where fewer than
-:data:`DIGITS_WANTED` digits are left.
+The cost is one residual and one solve with an existing factorization per estimated
+point, as much as the solve itself for a banded system.  So not every point of a sweep
+is estimated (:class:`Sampling`): every :data:`STRIDE`-th point and the last; every point
+whose a-priori screen -- ``u ||A|| ||x|| / ||b||``, the unit roundoff times a lower bound
+of the condition number -- exceeds :data:`SCREEN_ABOVE`; and,
+once an estimate exceeds :data:`ALERT` (a thousand times below the warning), every point
+after it and every point skipped since the previous estimate, until an estimate falls
+below :data:`ALERT` again.  A point left out (NaN) lies between two estimated points
+with at least six digits each, and its screen says nothing is lost: three more digits
+lost there would need a direction the load does not excite turning a thousand times
+worse within :data:`STRIDE` points (docs/sweeps.md).  docs/performance.md measures the
+cost.  :func:`accuracy_warning` is the one message the sweep, the stationary solution
+and the random response give where fewer than :data:`DIGITS_WANTED` digits are left.
 
 Examples
 --------
@@ -36,6 +45,7 @@ True
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -50,6 +60,86 @@ ERROR_LIMIT = 10.0 ** -DIGITS_WANTED
 #: (the double residual's own rounding makes its estimate noisy: in tests it fell up to
 #: 1000 times below the true error, never 10^5 times)
 EXTENDED_ABOVE = 1e-8
+#: the unit roundoff of double precision
+UNIT_ROUNDOFF = float(np.finfo(float).eps) / 2
+#: every STRIDE-th point of a sweep is estimated (and the last) ...
+STRIDE = 16
+#: ... and every point while the estimates exceed this (a thousand times below
+#: :data:`ERROR_LIMIT`), with the points skipped before the first of them ...
+ALERT = 1e-3 * ERROR_LIMIT
+#: ... and every point whose a-priori screen ``u ||A|| ||x|| / ||b||`` (u times a lower
+#: bound of the condition number) exceeds this: fewer than six digits could remain (it
+#: fell up to 1,200 times below the estimate in docs/performance.md's sweeps, in chains
+#: of 10,000 masses that kept nine digits; at most 40 times in the others)
+SCREEN_ABOVE = 1e-6
+
+
+class Sampling:
+    """Which points of a sweep get the forward-error estimate (the module docstring).
+
+    Parameters
+    ----------
+    errors : ndarray
+        (N,), NaN: filled with the estimates, NaN where a point is left out.
+    scale : ndarray
+        (N,): ``||A|| / ||b||`` at each point (infinity norms); times ``||x||`` the
+        lower bound of the condition number the screen uses.
+
+    Examples
+    --------
+    >>> sampling = Sampling(np.full(40, np.nan), np.ones(40))
+    >>> for i in range(40):
+    ...     sampling.point(i, 1.0, lambda: 1e-12, lambda j: 1e-12)
+    >>> np.flatnonzero(np.isfinite(sampling.errors)).tolist()
+    [0, 16, 32, 39]
+    >>> sampling = Sampling(np.full(40, np.nan), np.ones(40))
+    >>> for i in range(40):   # an estimate above ALERT: every point, skipped ones too
+    ...     sampling.point(i, 1.0, lambda: 1e-5 if i >= 16 else 1e-12, lambda j: 2e-5)
+    >>> int(np.isfinite(sampling.errors).sum()), float(sampling.errors[3])
+    (40, 2e-05)
+    """
+
+    def __init__(self, errors: np.ndarray, scale: np.ndarray) -> None:
+        self.errors = errors
+        with np.errstate(all="ignore"):
+            self.screen = UNIT_ROUNDOFF * np.asarray(scale, dtype=float)
+        self._screen = self.screen.tolist()   # (point by point: without numpy's overhead)
+        self.last = len(errors) - 1
+        self.alert = False
+        self.skipped: list[int] = []
+
+    def wanted(self, points: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+        """Which of ``points`` (their ``||x||``: ``sizes``) the rule estimates now."""
+        with np.errstate(all="ignore"):
+            screened = ~(self.screen[points] * sizes <= SCREEN_ABOVE)
+        return np.asarray(self.alert | (points % STRIDE == 0)
+                          | (points == self.last) | screened)
+
+    def point(self, i: int, size: float, estimate: Callable[[], float],
+              revisit: Callable[[int], float]) -> None:
+        """Point ``i`` (``||x||``: ``size``), solved: ``estimate()`` its error if the rule
+        wants it; ``revisit(j)`` the error of a skipped point j (solved again)."""
+        if not (self.alert or i % STRIDE == 0 or i == self.last
+                or not self._screen[i] * size <= SCREEN_ABOVE):
+            self.skipped.append(i)
+            return
+        self.errors[i] = error = estimate()
+        self.alert = bool(error > ALERT)
+        if self.alert:
+            for j in self.skipped:
+                self.errors[j] = revisit(j)
+        self.skipped = []
+
+    def chunk(self, points: np.ndarray, sizes: np.ndarray,
+              estimate: Callable[[np.ndarray], np.ndarray]) -> None:
+        """Points solved together (a dense chunk): ``estimate(at)`` the errors of the
+        chunk's rows ``at``; every row when one of them exceeds :data:`ALERT`."""
+        want = self.wanted(points, sizes)
+        rows = np.arange(points.size)
+        self.errors[points[want]] = estimate(rows[want])
+        if not want.all() and bool(np.any(self.errors[points[want]] > ALERT)):
+            self.errors[points[~want]] = estimate(rows[~want])
+        self.alert = bool(np.any(self.errors[points] > ALERT))
 
 
 class Residuals:
@@ -82,15 +172,19 @@ class Residuals:
         self.n = K.shape[0]
         self.stacked = sp.csr_matrix(sp.vstack([sp.csr_matrix(a) for a in (K, M, C)]))
         self._extended: tuple[Any, ...] | None = None
+        self._complex: Any = None
 
     def double(self, w: float, x: np.ndarray, b: np.ndarray) -> np.ndarray:
         """The residual in double precision."""
         n = self.n
+        if self._complex is None:   # (a real entry times a complex one rounds as in reals)
+            self._complex = self.stacked.astype(complex)
         with np.errstate(all="ignore"):
-            P = self.stacked @ np.stack([x.real, x.imag], axis=1)
-            Kx, Mx, Cx = (P[k * n:(k + 1) * n, 0] + 1j * P[k * n:(k + 1) * n, 1]
-                          for k in range(3))
-            return np.asarray(b - Kx + (w * w) * Mx - (1j * w) * Cx)
+            P = self._complex @ np.asarray(x, dtype=complex)
+            residual = b - P[:n]
+            residual += (w * w) * P[n:2 * n]
+            residual -= (1j * w) * P[2 * n:]
+            return np.asarray(residual)
 
     def extended(self, w: float, x: np.ndarray, b: np.ndarray) -> np.ndarray:
         """The residual in extended precision (rounded to complex double at the end)."""
@@ -191,7 +285,7 @@ def accuracy_warning(errors: np.ndarray, values: np.ndarray, where: str,
     --------
     >>> text = accuracy_warning(np.array([1e-9, 0.2, 0.02]), np.array([1.0, 2.0, 3.0]),
     ...                         "omega = {:.6g}")
-    >>> print(text[:96])
+    >>> print(text[:93])
     fewer than 3 correct digits at 2 of 3 points (omega = 2 to omega = 3): the estimated relative
     """
     errors = np.asarray(errors, dtype=float)
@@ -217,5 +311,6 @@ def accuracy_warning(errors: np.ndarray, values: np.ndarray, where: str,
             "coarsen the mesh or rescale the model")
 
 
-__all__ = ["Residuals", "EXTENDED_ABOVE", "dense_residuals", "relative_error",
+__all__ = ["Residuals", "Sampling", "STRIDE", "ALERT", "SCREEN_ABOVE", "UNIT_ROUNDOFF",
+           "EXTENDED_ABOVE", "dense_residuals", "relative_error",
            "accuracy_warning", "ERROR_LIMIT", "DIGITS_WANTED"]

@@ -53,11 +53,13 @@ Examples
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 import warnings as _warnings
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from typing import Any, TypeAlias
 
 import numpy as np
@@ -71,7 +73,13 @@ from ..model.options import SWEEP_METHODS
 from ..system.batch import Batch, BatchHarmonic
 from ..system.stability import check_mass_matrix
 from . import reduced as reduced_module
-from .forward_error import EXTENDED_ABOVE, Residuals, dense_residuals, relative_error
+from .forward_error import (
+    EXTENDED_ABOVE,
+    Residuals,
+    Sampling,
+    dense_residuals,
+    relative_error,
+)
 from .reduced import (
     DAMPED_FRACTION,
     DEFAULT_TOL,
@@ -96,9 +104,6 @@ LOSS_CONDITION = 1e8
 MODAL_TOLERANCE = 1e-10
 #: bytes of complex matrices built at once by the dense method
 CHUNK_BYTES = 64 * 2**20
-#: above this many coordinates a dense solve that estimates its forward error factors
-#: point by point (the correction's solve reuses the LU); below, a second batched solve
-DENSE_BATCHED_CORRECTION = 48
 #: exact condition numbers (an SVD per point) up to this many coordinates ...
 EXACT_CONDITION = 64
 #: ... or, for a single point (the stationary solution), up to this many
@@ -697,15 +702,14 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     exact = exact_condition and method == "dense" and (
         n <= EXACT_CONDITION or (N == 1 and n <= EXACT_CONDITION_SINGLE))
     b_norm = largest_abs(rhs) * np.ones(N)
-    bound = None
-    if not exact:
-        # ||A|| / ||rhs||: times the largest |z|, a lower bound of the condition number
-        norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
-        with np.errstate(all="ignore"):
-            bound = (norms[0] + w**2 * norms[1] + w * norms[2]) / np.where(b_norm > 0, b_norm,
-                                                                           np.inf)
+    # ||A|| / ||rhs||: times the largest |z|, a lower bound of the condition number
+    norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
+    with np.errstate(all="ignore"):
+        scale = (norms[0] + w**2 * norms[1] + w * norms[2]) / np.where(b_norm > 0, b_norm,
+                                                                       np.inf)
+    bound = None if exact else scale
     store = _Store(N, keep, batch, bound)
-    errors = store.error if forward_error else None
+    errors = Sampling(store.error, scale) if forward_error else None
     condition = np.ones(N)
     if method == "dense":
         singular = _solve_dense(batch, w, rhs, progress, store, deadline,
@@ -726,9 +730,9 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     singular &= b_norm > 0
     Z[singular] = np.nan
     if errors is not None:
-        errors[singular] = np.nan
+        errors.errors[singular] = np.nan
     return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact, method,
-                        forward_error=errors)
+                        forward_error=None if errors is None else errors.errors)
 
 
 def reduced_budget(batch: Batch, w: np.ndarray, rhs: np.ndarray,
@@ -900,7 +904,7 @@ def _norm_inf(a: Matrix) -> Any:
 
 def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
                  Z: _Store, deadline: Deadline, condition: np.ndarray | None,
-                 errors: np.ndarray | None = None) -> np.ndarray:
+                 errors: Sampling | None = None) -> np.ndarray:
     N, n = w.shape[0], len(batch.coordinates)
     M, C, K = (a.toarray() if hasattr(a, "toarray") else a for a in (batch.M, batch.C, batch.K))
     chunk = max(1, int(CHUNK_BYTES // (16 * n * n)))
@@ -932,29 +936,28 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
             A = row[..., :, None] * A * col[..., None, :]
             b = row * b
         points = start + np.arange(A.shape[0])
-        correct: Callable[[np.ndarray, np.ndarray], np.ndarray]
-        if condition is None and n <= 2:
-            # the closed form (no condition number wanted); LAPACK where it is not trusted
-            X = _closed_form_or_lapack(A, b, singular, points)
-
-            def correct(R: np.ndarray, at: np.ndarray, A: np.ndarray = A,
-                        points: np.ndarray = points) -> np.ndarray:
-                return _closed_form_or_lapack(A[at], R, np.zeros(N, dtype=bool), points[at])
-        elif errors is not None and n > DENSE_BATCHED_CORRECTION:
-            X, correct = _lu_solves(A, b, singular, points)
-        else:
-            X = _lapack_solve(A, b, singular, points)
-
-            def correct(R: np.ndarray, at: np.ndarray, A: np.ndarray = A,
-                        points: np.ndarray = points) -> np.ndarray:
-                return _lapack_solve(A[at], R, np.zeros(N, dtype=bool), points[at])
+        # the closed form (no condition number wanted); LAPACK where it is not trusted
+        closed = condition is None and n <= 2
+        X = (_closed_form_or_lapack if closed else _lapack_solve)(A, b, singular, points)
         if col is not None:
             X = col * X
         X[~finite] = np.nan
         Z[sl] = X
         if errors is not None:   # one refinement step's correction, not applied
-            errors[sl] = _dense_errors(pick(K), pick(M), pick(C), w[sl], X, b_model,
-                                       correct, row if col is not None else None, col)
+            def correct(R: np.ndarray, at: np.ndarray, A: np.ndarray = A,
+                        points: np.ndarray = points, closed: bool = closed) -> np.ndarray:
+                # (the rows picked by the sampling: their LU again, a fraction of the sweep)
+                solver = _closed_form_or_lapack if closed else _lapack_solve
+                return solver(A[at], R, np.zeros(N, dtype=bool), points[at])
+
+            def estimate(at: np.ndarray, sl: slice = sl, X: np.ndarray = X,
+                         b: np.ndarray = b_model,
+                         correct: Callable[[np.ndarray, np.ndarray], np.ndarray] = correct,
+                         row: np.ndarray | None = row if col is not None else None,
+                         col: np.ndarray | None = col) -> np.ndarray:
+                return _dense_errors(pick(K, sl), pick(M, sl), pick(C, sl), w[sl], X, b,
+                                     correct, row, col, at)
+            errors.chunk(points, Z.largest[sl], estimate)
         if condition is not None:  # exact condition numbers, where they are cheap
             with np.errstate(all="ignore"):
                 try:
@@ -975,52 +978,18 @@ def _closed_form_or_lapack(A: np.ndarray, b: np.ndarray, singular: np.ndarray,
     return X
 
 
-def _lu_solves(A: np.ndarray, b: np.ndarray, singular: np.ndarray, points: np.ndarray
-               ) -> tuple[np.ndarray, Callable[[np.ndarray, np.ndarray], np.ndarray]]:
-    """Point by point: x from an LU of A (NaN, and marked in ``singular``, where A is
-    exactly singular), and the solve with the same LUs of the corrections of
-    :func:`_dense_errors` (``correct(R, at)``: the rows ``at`` of the chunk)."""
-    from scipy.linalg import lapack
-
-    X = np.empty(b.shape, dtype=complex)
-    real = not np.iscomplexobj(A)
-    getrf, getrs = lapack.get_lapack_funcs(("getrf", "getrs"), (A[:1],))
-    factors: list[Any] = []
-
-    def apply(i: int, rhs: np.ndarray) -> np.ndarray:
-        if factors[i] is None:
-            return np.full(rhs.shape, np.nan, dtype=complex)
-        lu, piv = factors[i]   # of A^T (Fortran order without a copy): solved transposed
-        if real:   # a real LU: the real and imaginary parts as two columns
-            cols, _ = getrs(lu, piv, np.stack([rhs.real, rhs.imag], axis=1), trans=1)
-            return np.asarray(cols[:, 0] + 1j * cols[:, 1])
-        x, _ = getrs(lu, piv, rhs, trans=1)
-        return np.asarray(x)
-
-    for i in range(A.shape[0]):
-        lu, piv, info = getrf(A[i].T)
-        if info != 0 or not np.isfinite(lu).all():
-            factors.append(None)
-            singular[points[i]] = info > 0 or bool(singular[points[i]])
-        else:
-            factors.append((lu, piv))
-        X[i] = apply(i, b[i])
-
-    def correct(R: np.ndarray, at: np.ndarray) -> np.ndarray:
-        return np.array([apply(int(i), r) for i, r in zip(at, R)]).reshape(R.shape)
-    return X, correct
-
-
 def _dense_errors(K: np.ndarray, M: np.ndarray, C: np.ndarray, w: np.ndarray, X: np.ndarray,
                   b: np.ndarray, correct: Callable[[np.ndarray, np.ndarray], np.ndarray],
-                  row: np.ndarray | None, col: np.ndarray | None) -> np.ndarray:
-    """The estimated relative forward errors of a chunk's solves X (:mod:`.forward_error`):
-    residuals from K, M, C (one matrix or a stack each) in double precision, and in
-    extended precision at the points where that estimate exceeds
+                  row: np.ndarray | None, col: np.ndarray | None, at: np.ndarray
+                  ) -> np.ndarray:
+    """The estimated relative forward errors of the rows ``at`` of a chunk's solves X
+    (:mod:`.forward_error`): residuals from K, M, C (one matrix or a stack each) in double
+    precision, and in extended precision at the points where that estimate exceeds
     :data:`~resonant.analyses.forward_error.EXTENDED_ABOVE`; the corrections by
-    ``correct`` (the chunk's factorizations, in its equilibrated variables: ``row``
-    scales the residual, ``col`` the correction)."""
-    every = np.arange(X.shape[0])
+    ``correct`` (the chunk's matrices, in its equilibrated variables: ``row`` scales the
+    residual, ``col`` the correction)."""
+    if not at.size:
+        return np.zeros(0)
 
     def estimate(R: np.ndarray, at: np.ndarray) -> np.ndarray:
         if row is not None:
@@ -1030,16 +999,17 @@ def _dense_errors(K: np.ndarray, M: np.ndarray, C: np.ndarray, w: np.ndarray, X:
             D = col[at] * D
         return relative_error(D, X[at])
 
+    def residuals(at: np.ndarray, extended: bool) -> np.ndarray:
+        def pick(a: np.ndarray) -> np.ndarray:
+            return a[at] if a.ndim == 3 else a
+        return dense_residuals(pick(K), pick(M), pick(C), w[at], X[at], b[at], extended)
+
     with np.errstate(all="ignore"):
-        errors = estimate(dense_residuals(K, M, C, w, X, b), every)
-        errors[~np.isfinite(X).all(axis=-1)] = np.nan
+        errors = estimate(residuals(at, False), at)
+        errors[~np.isfinite(X[at]).all(axis=-1)] = np.nan
         suspect = np.flatnonzero(errors > EXTENDED_ABOVE)
         if suspect.size:
-            def pick(a: np.ndarray) -> np.ndarray:
-                return a[suspect] if a.ndim == 3 else a
-            errors[suspect] = estimate(dense_residuals(pick(K), pick(M), pick(C), w[suspect],
-                                                       X[suspect], b[suspect], extended=True),
-                                       suspect)
+            errors[suspect] = estimate(residuals(at[suspect], True), at[suspect])
     return errors
 
 
@@ -1185,7 +1155,7 @@ def _band_storage(a: Matrix, upper: int, rows: int, offset: int,
 
 
 def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
-                  Z: _Store, deadline: Deadline, errors: np.ndarray | None = None
+                  Z: _Store, deadline: Deadline, errors: Sampling | None = None
                   ) -> np.ndarray:
     from scipy.linalg import lapack
 
@@ -1227,20 +1197,32 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
             d: np.ndarray = gbtrs(factors[0], lower, upper, r, factors[1])[0]
             return d
     Mb, Cb, Kb = storage
-    for i in range(N):
+
+    def point(i: int) -> tuple[np.ndarray, np.ndarray, int]:
+        """A at point i (its factors, for gbsv), the solution (coordinates' order), info."""
         wi = w[i]
-        b = rhs[i] if varying_rhs else rhs
         A = Kb - (wi * wi) * Mb + (1j * wi) * Cb
-        x, info = solve(A, b)
+        x, info = solve(A, rhs[i] if varying_rhs else rhs)
+        return A, (x if order is None else x[position]), info  # (x[position[k]]: coordinate k)
+
+    def error(i: int, A: np.ndarray, x: np.ndarray) -> float:
+        assert residuals is not None
+        return _point_error(residuals, w[i], x, model_rhs[i] if varying_rhs else model_rhs,
+                            _banded_correction(correction, A, order))
+
+    def revisit(j: int) -> float:   # a point skipped before: solved again, estimated
+        A, x, info = point(j)
+        return error(j, A, x) if info == 0 else math.nan
+
+    for i in range(N):
+        A, x, info = point(i)
         if info != 0:
             singular[i] = True
             Z[i] = np.nan
         else:
-            x = x if order is None else x[position]   # (x[position[k]] is coordinate k)
-            if residuals is not None and errors is not None:
-                errors[i] = _point_error(residuals, wi, x, model_rhs[i] if varying_rhs else
-                                         model_rhs, _banded_correction(correction, A, order))
             Z[i] = x
+            if errors is not None:
+                errors.point(i, float(Z.largest[i]), partial(error, i, A, x), revisit)
         if i % 64 == 63:
             progress.advance(64)
             deadline.check("while solving the harmonic systems", analysis=True)
@@ -1271,7 +1253,7 @@ def _point_error(residuals: Residuals, w: float, x: np.ndarray, b: np.ndarray,
 
 def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
                   Z: _Store, deadline: Deadline, probe: dict[float, Any] | None = None,
-                  errors: np.ndarray | None = None) -> np.ndarray:
+                  errors: Sampling | None = None) -> np.ndarray:
     """A SuperLU per frequency (``probe``: factorizations made before, by frequency,
     taken where a frequency is one of them)."""
     import scipy.sparse as sp
@@ -1283,23 +1265,37 @@ def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     row_norms = [_norm_inf(a) for a in (K, M, C)]
     singular = np.zeros(N, dtype=bool)
     residuals = Residuals(K, M, C) if errors is not None else None
-    for i in range(N):
+
+    def point(i: int) -> tuple[Any, np.ndarray, np.ndarray]:
+        """The LU at point i, the solution and the load (RuntimeError: singular)."""
         wi = w[i]
         A = (K - (wi * wi) * M + (1j * wi) * C).tocsc()
-        b = rhs[i] if rhs.ndim == 2 else rhs
-        b = np.asarray(b, dtype=complex)
-        try:
-            lu = probe.pop(float(wi), None) if probe else None
-            if lu is None:
-                lu = ScaledLU(A, _sparse_scale(K, M, C, wi), **options)
+        b = np.asarray(rhs[i] if rhs.ndim == 2 else rhs, dtype=complex)
+        lu = probe.pop(float(wi), None) if probe else None
+        if lu is None:
+            lu = ScaledLU(A, _sparse_scale(K, M, C, wi), **options)
+        x = lu.solve(b)
+        if "options" in options and not backward_stable(
+                A, x, b, row_norms[0] + wi * wi * row_norms[1] + wi * row_norms[2]):
+            lu = splu(A)  # threshold pivoting grew too much: partial pivoting
             x = lu.solve(b)
-            if "options" in options and not backward_stable(
-                    A, x, b, row_norms[0] + wi * wi * row_norms[1] + wi * row_norms[2]):
-                lu = splu(A)  # threshold pivoting grew too much: partial pivoting
-                x = lu.solve(b)
-            if residuals is not None and errors is not None:
-                errors[i] = _point_error(residuals, wi, x, b, lu.solve)
+        return lu, x, b
+
+    def revisit(j: int) -> float:   # a point skipped before: factored again, estimated
+        assert residuals is not None
+        try:
+            lu, x, b = point(j)
+        except RuntimeError:
+            return math.nan
+        return _point_error(residuals, w[j], x, b, lu.solve)
+
+    for i in range(N):
+        try:
+            lu, x, b = point(i)
             Z[i] = x
+            if errors is not None and residuals is not None:
+                errors.point(i, float(Z.largest[i]),
+                             partial(_point_error, residuals, w[i], x, b, lu.solve), revisit)
         except RuntimeError:  # "Factor is exactly singular"
             Z[i] = np.nan
             singular[i] = True
@@ -1316,7 +1312,7 @@ def _sparse_scale(K: Matrix, M: Matrix, C: Matrix, s: float) -> np.ndarray:
 
 def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
                  warnings: list[str], store: _Store, deadline: Deadline,
-                 errors: np.ndarray | None = None) -> np.ndarray:
+                 errors: Sampling | None = None) -> np.ndarray:
     """Superposition of all undamped modes (exact for proportional damping), checked."""
     import scipy.linalg
 
@@ -1354,7 +1350,7 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
             with np.errstate(all="ignore"):
                 R = (rhs[sl] if rhs.ndim == 2 else rhs) - (
                     X @ K.T - ww**2 * (X @ M.T) + 1j * ww * (X @ C.T))
-            errors[sl] = relative_error(modal(sl, R), X)
+            errors.errors[sl] = relative_error(modal(sl, R), X)
         store[sl] = X
         progress.advance(sl.stop - sl.start)
         deadline.check("while summing the modes", analysis=True)
