@@ -1164,10 +1164,9 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     lower, upper, order, position = band.lower, band.upper, band.order, band.position
     singular = np.zeros(N, dtype=bool)
     varying_rhs = rhs.ndim == 2
-    model_rhs = rhs
     residuals = Residuals(batch.K, batch.M, batch.C) if errors is not None else None
-    if order is not None:
-        rhs = rhs[..., order]
+    band_rhs = rhs if order is None else rhs[..., order]
+    offset = 0
     if lower == upper == 1:  # tridiagonal: LAPACK gtsv (partial pivoting)
         storage = [_band_storage(a, 1, 3, 0, position) for a in (batch.M, batch.C, batch.K)]
         gtsv = lapack.get_lapack_funcs("gtsv", (np.zeros(1, complex),))
@@ -1177,11 +1176,10 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
             return x, info
 
         def correction(ab: np.ndarray, r: np.ndarray) -> np.ndarray:
-            # (a tridiagonal solve costs no more than applying its factors again)
-            d, _ = solve(ab, r)
-            return d
+            return solve(ab, r)[0]   # (no more than applying a tridiagonal LU again)
     else:
         rows = 2 * lower + upper + 1  # gbsv needs lower extra rows for the LU fill-in
+        offset = lower
         storage = [_band_storage(a, upper, rows, lower, position)
                    for a in (batch.M, batch.C, batch.K)]
         gbsv = lapack.get_lapack_funcs("gbsv", (np.zeros(1, complex),))
@@ -1199,16 +1197,23 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     Mb, Cb, Kb = storage
 
     def point(i: int) -> tuple[np.ndarray, np.ndarray, int]:
-        """A at point i (its factors, for gbsv), the solution (coordinates' order), info."""
+        """A at point i (its factors, for gbsv), the solution (the band's order), info."""
         wi = w[i]
         A = Kb - (wi * wi) * Mb + (1j * wi) * Cb
-        x, info = solve(A, rhs[i] if varying_rhs else rhs)
-        return A, (x if order is None else x[position]), info  # (x[position[k]]: coordinate k)
+        x, info = solve(A, band_rhs[i] if varying_rhs else band_rhs)
+        return A, x, info
 
     def error(i: int, A: np.ndarray, x: np.ndarray) -> float:
+        # the residual in the band's order from the storage of M, C, K; extended: K, M, C
         assert residuals is not None
-        return _point_error(residuals, w[i], x, model_rhs[i] if varying_rhs else model_rhs,
-                            _banded_correction(correction, A, order))
+        wi, b = w[i], band_rhs[i] if varying_rhs else band_rhs
+
+        def extended() -> np.ndarray:
+            r = residuals.extended(wi, x if order is None else x[position],
+                                   rhs[i] if varying_rhs else rhs)
+            return r if order is None else r[order]
+        return _point_error(lambda: _band_residual(storage, offset, lower, upper, wi, x, b),
+                            extended, x, partial(correction, A))
 
     def revisit(j: int) -> float:   # a point skipped before: solved again, estimated
         A, x, info = point(j)
@@ -1220,7 +1225,7 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
             singular[i] = True
             Z[i] = np.nan
         else:
-            Z[i] = x
+            Z[i] = x if order is None else x[position]   # (x[position[k]]: coordinate k)
             if errors is not None:
                 errors.point(i, float(Z.largest[i]), partial(error, i, A, x), revisit)
         if i % 64 == 63:
@@ -1230,24 +1235,37 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     return singular
 
 
-def _banded_correction(correction: Callable[[np.ndarray, np.ndarray], np.ndarray],
-                       A: np.ndarray, order: np.ndarray | None
-                       ) -> Callable[[np.ndarray], np.ndarray]:
-    """The correction of one point's residual by its banded factorization (rows in the
-    band's order where the coordinates were reordered)."""
-    return lambda r: correction(A, r if order is None else r[order])
+def _band_residual(storage: list[np.ndarray], offset: int, lower: int, upper: int,
+                   w: float, x: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``b - (K - w^2 M + i w C) x`` from the LAPACK band storages of M, C and K
+    (:func:`_band_storage`; x and b in the band's order), in double precision: each
+    diagonal's products, summed."""
+    n = x.shape[0]
+    products = []
+    with np.errstate(all="ignore"):
+        for ab in storage:
+            y = np.zeros(n, dtype=complex)
+            for d in range(-upper, lower + 1):   # the diagonal i - j = d
+                lo, hi = max(0, -d), min(n, n - d)
+                y[lo + d:hi + d] += ab[offset + upper + d, lo:hi] * x[lo:hi]
+            products.append(y)
+        Mx, Cx, Kx = products
+        residual = b - Kx
+        residual += (w * w) * Mx
+        residual -= (1j * w) * Cx
+    return residual
 
 
-def _point_error(residuals: Residuals, w: float, x: np.ndarray, b: np.ndarray,
-                 correct: Callable[[np.ndarray], np.ndarray]) -> float:
+def _point_error(double: Callable[[], np.ndarray], extended: Callable[[], np.ndarray],
+                 x: np.ndarray, correct: Callable[[np.ndarray], np.ndarray]) -> float:
     """One point's estimated relative forward error (:mod:`.forward_error`): the
     correction ``correct(r)`` (the point's factorization) of its residual in double
     precision, and in extended precision where that exceeds
     :data:`~resonant.analyses.forward_error.EXTENDED_ABOVE`."""
     with np.errstate(all="ignore"):
-        error = float(relative_error(correct(residuals.double(w, x, b)), x))
+        error = float(relative_error(correct(double()), x))
         if error > EXTENDED_ABOVE:
-            error = float(relative_error(correct(residuals.extended(w, x, b)), x))
+            error = float(relative_error(correct(extended()), x))
     return error
 
 
@@ -1287,7 +1305,7 @@ def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
             lu, x, b = point(j)
         except RuntimeError:
             return math.nan
-        return _point_error(residuals, w[j], x, b, lu.solve)
+        return _sparse_error(residuals, w[j], x, b, lu.solve)
 
     for i in range(N):
         try:
@@ -1295,13 +1313,21 @@ def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
             Z[i] = x
             if errors is not None and residuals is not None:
                 errors.point(i, float(Z.largest[i]),
-                             partial(_point_error, residuals, w[i], x, b, lu.solve), revisit)
+                             partial(_sparse_error, residuals, w[i], x, b, lu.solve), revisit)
         except RuntimeError:  # "Factor is exactly singular"
             Z[i] = np.nan
             singular[i] = True
         progress.advance()
         deadline.check("while solving the harmonic systems", analysis=True)
     return singular
+
+
+def _sparse_error(residuals: Residuals, w: float, x: np.ndarray, b: np.ndarray,
+                  solve: Callable[[np.ndarray], np.ndarray]) -> float:
+    """A sparse point's estimate: the residuals from K, M, C, the correction by its LU's
+    ``solve``."""
+    return _point_error(partial(residuals.double, w, x, b), partial(residuals.extended, w, x, b),
+                        x, solve)
 
 
 def _sparse_scale(K: Matrix, M: Matrix, C: Matrix, s: float) -> np.ndarray:
