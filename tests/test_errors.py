@@ -315,9 +315,10 @@ def test_caret_points_at_the_culprit(tmp_path):
 
 WARNING_CASES = [
     ("near-resonance", edit(BASE, "w = 10", "w = 20.1"), ("near resonance", "within")),
-    ("ill-conditioned", edit(edit(MATRIX, "omega = 3", "omega = 1e-6"), '["-k", "k"]',
-                                                '["-k", "k + 1e-7"]').replace('"2*k"', '"k"'),
-     ("ill-conditioned", "digits are lost")),
+    ("ill-conditioned", edit(edit(edit(edit(MATRIX, "omega = 3", "omega = 0.61"), '["-k", "k"]]',
+                                           '["-k", "k + 1"]]\nC = [[0.01, 0], [0, 0.01]]'),
+                                      '"2*k"', '"k + 1"'), "k = 100", "k = 1.7e15"),
+     ("ill-conditioned", "fewer than 3 correct digits", "not a resonance")),
     ("not-positive-definite", edit(BASE, "k = 800", "k = -800"),
      ("K is not positive definite",)),
     ("unstable", edit(BASE, "k = 800", "k = -800"), ("the equilibrium is unstable",)),

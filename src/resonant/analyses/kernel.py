@@ -53,10 +53,13 @@ Examples
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 import warnings as _warnings
+from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from typing import Any, TypeAlias
 
 import numpy as np
@@ -70,6 +73,13 @@ from ..model.options import SWEEP_METHODS
 from ..system.batch import Batch, BatchHarmonic
 from ..system.stability import check_mass_matrix
 from . import reduced as reduced_module
+from .forward_error import (
+    EXTENDED_ABOVE,
+    Residuals,
+    Sampling,
+    dense_residuals,
+    relative_error,
+)
 from .reduced import (
     DAMPED_FRACTION,
     DEFAULT_TOL,
@@ -149,6 +159,10 @@ class KernelResult:
     method: str = ""
     #: the estimated largest relative error (reduced), None for the exact methods
     error: float | None = None
+    #: the estimated relative forward error of each point's solve, shape (N,), NaN where
+    #: singular (:mod:`resonant.analyses.forward_error`); None when not estimated (the
+    #: reduced model, which has ``error``, or ``forward_error=False``)
+    forward_error: np.ndarray | None = None
 
 
 def check_batch_mass(batch: Batch, values: np.ndarray | None = None, param: str = "",
@@ -528,6 +542,8 @@ class _Store:
                 "coordinates (the names to report)")
         self.values = np.empty((N, len(keep)), dtype=complex)
         self.largest = np.zeros(N)
+        #: the estimated relative forward error of each point (NaN: not estimated)
+        self.error = np.full(N, np.nan)
         #: how much the damping acts on the response at each point
         #: (:func:`resonant.analyses.reduced.damping_fraction`; 0 without damping)
         self.damped = np.zeros(N)
@@ -590,7 +606,8 @@ class _Store:
 def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                    progress: _Progress | None = None, warnings: list[str] | None = None,
                    keep: np.ndarray | None = None, deadline: Deadline = NO_DEADLINE,
-                   tol: float = DEFAULT_TOL, exact_condition: bool = True) -> KernelResult:
+                   tol: float = DEFAULT_TOL, exact_condition: bool = True,
+                   forward_error: bool = True) -> KernelResult:
     """Complex responses z = L - i N of one harmonic at every point of a batch.
 
     Parameters
@@ -615,6 +632,10 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
         Compute exact condition numbers where they are cheap (small dense systems);
         False keeps the lower bound ||A|| ||z|| / ||F|| (a study, where only the
         singular points matter).
+    forward_error : bool
+        Estimate each exact solve's relative forward error (one residual and one solve
+        with the same factorization per point: :mod:`resonant.analyses.forward_error`);
+        False skips it (``KernelResult.forward_error`` is then None).
 
     Returns
     -------
@@ -631,13 +652,14 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     with blas_threads(8.0 * min(float(n) ** 3, float(n) * 1e4)):
         return _solve_harmonic(batch, h, method, progress=progress, warnings=warnings,
                                keep=keep, deadline=deadline, tol=tol,
-                               exact_condition=exact_condition)
+                               exact_condition=exact_condition, forward_error=forward_error)
 
 
 def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                     progress: _Progress | None = None, warnings: list[str] | None = None,
                     keep: np.ndarray | None = None, deadline: Deadline = NO_DEADLINE,
-                    tol: float = DEFAULT_TOL, exact_condition: bool = True) -> KernelResult:
+                    tol: float = DEFAULT_TOL, exact_condition: bool = True,
+                    forward_error: bool = True) -> KernelResult:
     """:func:`solve_harmonic` within its BLAS thread limit."""
     w = h.omega
     N = w.shape[0]
@@ -650,7 +672,8 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
         progress.advance(N)
         return KernelResult(np.zeros((N, len(keep)), dtype=complex), np.zeros(N, dtype=bool),
                             np.ones(N), False,
-                            method if method not in ("auto", "direct") else "dense")
+                            method if method not in ("auto", "direct") else "dense",
+                            forward_error=np.zeros(N) if forward_error else None)
     if rhs.ndim == 2 and np.all(rhs == rhs[:1]):
         rhs = rhs[0]
     if method == "reduced":
@@ -679,24 +702,24 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     exact = exact_condition and method == "dense" and (
         n <= EXACT_CONDITION or (N == 1 and n <= EXACT_CONDITION_SINGLE))
     b_norm = largest_abs(rhs) * np.ones(N)
-    bound = None
-    if not exact:
-        # ||A|| / ||rhs||: times the largest |z|, a lower bound of the condition number
-        norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
-        with np.errstate(all="ignore"):
-            bound = (norms[0] + w**2 * norms[1] + w * norms[2]) / np.where(b_norm > 0, b_norm,
-                                                                           np.inf)
+    # ||A|| / ||rhs||: times the largest |z|, a lower bound of the condition number
+    norms = [_norm_inf(a) for a in (batch.K, batch.M, batch.C)]
+    with np.errstate(all="ignore"):
+        scale = (norms[0] + w**2 * norms[1] + w * norms[2]) / np.where(b_norm > 0, b_norm,
+                                                                       np.inf)
+    bound = None if exact else scale
     store = _Store(N, keep, batch, bound)
+    errors = Sampling(store.error, scale) if forward_error else None
     condition = np.ones(N)
     if method == "dense":
         singular = _solve_dense(batch, w, rhs, progress, store, deadline,
-                                condition if exact else None)
+                                condition if exact else None, errors)
     elif method == "banded":
-        singular = _solve_banded(batch, w, rhs, progress, store, deadline)
+        singular = _solve_banded(batch, w, rhs, progress, store, deadline, errors)
     elif method == "sparse":
-        singular = _solve_sparse(batch, w, rhs, progress, store, deadline, probe)
+        singular = _solve_sparse(batch, w, rhs, progress, store, deadline, probe, errors)
     else:
-        singular = _solve_modal(batch, w, rhs, progress, warnings, store, deadline)
+        singular = _solve_modal(batch, w, rhs, progress, warnings, store, deadline, errors)
     Z = store.values
     if bound is not None:
         # a lower bound of the condition number: ||A|| ||Z|| / ||rhs|| (exact resonance: huge)
@@ -706,7 +729,10 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                                                 & (store.damped < DAMPED_FRACTION))
     singular &= b_norm > 0
     Z[singular] = np.nan
-    return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact, method)
+    if errors is not None:
+        errors.errors[singular] = np.nan
+    return KernelResult(Z, singular, np.asarray(condition, dtype=float), exact, method,
+                        forward_error=None if errors is None else errors.errors)
 
 
 def reduced_budget(batch: Batch, w: np.ndarray, rhs: np.ndarray,
@@ -877,7 +903,8 @@ def _norm_inf(a: Matrix) -> Any:
 
 
 def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
-                 Z: _Store, deadline: Deadline, condition: np.ndarray | None) -> np.ndarray:
+                 Z: _Store, deadline: Deadline, condition: np.ndarray | None,
+                 errors: Sampling | None = None) -> np.ndarray:
     N, n = w.shape[0], len(batch.coordinates)
     M, C, K = (a.toarray() if hasattr(a, "toarray") else a for a in (batch.M, batch.C, batch.K))
     chunk = max(1, int(CHUNK_BYTES // (16 * n * n)))
@@ -894,6 +921,7 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
         with np.errstate(all="ignore"):  # an overflow gives inf, caught as not finite
             A = _dynamic_matrix(pick(K), pick(M), pick(C), w[sl], undamped)
         b = np.broadcast_to(rhs[sl] if rhs.ndim == 2 else rhs, (A.shape[0], n))
+        b_model = b
         # an overflow (inf) gives NaN in the solution: marked singular by the caller
         finite = np.ones(A.shape[0], dtype=bool)
         if condition is not None and not np.isfinite(A).all():
@@ -907,18 +935,29 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
             row, col = equilibration(A)
             A = row[..., :, None] * A * col[..., None, :]
             b = row * b
-        if condition is None and n <= 2:
-            # the closed form (no condition number wanted); LAPACK where it is not trusted
-            X, hard = closed_form_solve(A, b)
-            if hard.any():
-                where = np.flatnonzero(hard)
-                X[where] = _lapack_solve(A[where], b[where], singular, start + where)
-        else:
-            X = _lapack_solve(A, b, singular, start + np.arange(A.shape[0]))
+        points = start + np.arange(A.shape[0])
+        # the closed form (no condition number wanted); LAPACK where it is not trusted
+        closed = condition is None and n <= 2
+        X = (_closed_form_or_lapack if closed else _lapack_solve)(A, b, singular, points)
         if col is not None:
             X = col * X
         X[~finite] = np.nan
         Z[sl] = X
+        if errors is not None:   # one refinement step's correction, not applied
+            def correct(R: np.ndarray, at: np.ndarray, A: np.ndarray = A,
+                        points: np.ndarray = points, closed: bool = closed) -> np.ndarray:
+                # (the rows picked by the sampling: their LU again, a fraction of the sweep)
+                solver = _closed_form_or_lapack if closed else _lapack_solve
+                return solver(A[at], R, np.zeros(N, dtype=bool), points[at])
+
+            def estimate(at: np.ndarray, sl: slice = sl, X: np.ndarray = X,
+                         b: np.ndarray = b_model,
+                         correct: Callable[[np.ndarray, np.ndarray], np.ndarray] = correct,
+                         row: np.ndarray | None = row if col is not None else None,
+                         col: np.ndarray | None = col) -> np.ndarray:
+                return _dense_errors(pick(K, sl), pick(M, sl), pick(C, sl), w[sl], X, b,
+                                     correct, row, col, at)
+            errors.chunk(points, Z.largest[sl], estimate)
         if condition is not None:  # exact condition numbers, where they are cheap
             with np.errstate(all="ignore"):
                 try:
@@ -927,6 +966,51 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
                     condition[sl] = np.inf
         progress.advance(A.shape[0])
     return singular
+
+
+def _closed_form_or_lapack(A: np.ndarray, b: np.ndarray, singular: np.ndarray,
+                           points: np.ndarray) -> np.ndarray:
+    """:func:`closed_form_solve`, with LAPACK at the points it does not trust."""
+    X, hard = closed_form_solve(A, b)
+    if hard.any():
+        where = np.flatnonzero(hard)
+        X[where] = _lapack_solve(A[where], b[where], singular, points[where])
+    return X
+
+
+def _dense_errors(K: np.ndarray, M: np.ndarray, C: np.ndarray, w: np.ndarray, X: np.ndarray,
+                  b: np.ndarray, correct: Callable[[np.ndarray, np.ndarray], np.ndarray],
+                  row: np.ndarray | None, col: np.ndarray | None, at: np.ndarray
+                  ) -> np.ndarray:
+    """The estimated relative forward errors of the rows ``at`` of a chunk's solves X
+    (:mod:`.forward_error`): residuals from K, M, C (one matrix or a stack each) in double
+    precision, and in extended precision at the points where that estimate exceeds
+    :data:`~resonant.analyses.forward_error.EXTENDED_ABOVE`; the corrections by
+    ``correct`` (the chunk's matrices, in its equilibrated variables: ``row`` scales the
+    residual, ``col`` the correction)."""
+    if not at.size:
+        return np.zeros(0)
+
+    def estimate(R: np.ndarray, at: np.ndarray) -> np.ndarray:
+        if row is not None:
+            R = row[at] * R
+        D = correct(R, at)
+        if col is not None:
+            D = col[at] * D
+        return relative_error(D, X[at])
+
+    def residuals(at: np.ndarray, extended: bool) -> np.ndarray:
+        def pick(a: np.ndarray) -> np.ndarray:
+            return a[at] if a.ndim == 3 else a
+        return dense_residuals(pick(K), pick(M), pick(C), w[at], X[at], b[at], extended)
+
+    with np.errstate(all="ignore"):
+        errors = estimate(residuals(at, False), at)
+        errors[~np.isfinite(X[at]).all(axis=-1)] = np.nan
+        suspect = np.flatnonzero(errors > EXTENDED_ABOVE)
+        if suspect.size:
+            errors[suspect] = estimate(residuals(at[suspect], True), at[suspect])
+    return errors
 
 
 def _dynamic_matrix(K: np.ndarray, M: np.ndarray, C: np.ndarray, w: np.ndarray,
@@ -1071,7 +1155,8 @@ def _band_storage(a: Matrix, upper: int, rows: int, offset: int,
 
 
 def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
-                  Z: _Store, deadline: Deadline) -> np.ndarray:
+                  Z: _Store, deadline: Deadline, errors: Sampling | None = None
+                  ) -> np.ndarray:
     from scipy.linalg import lapack
 
     N = w.shape[0]
@@ -1079,8 +1164,9 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     lower, upper, order, position = band.lower, band.upper, band.order, band.position
     singular = np.zeros(N, dtype=bool)
     varying_rhs = rhs.ndim == 2
-    if order is not None:
-        rhs = rhs[..., order]
+    residuals = Residuals(batch.K, batch.M, batch.C) if errors is not None else None
+    band_rhs = rhs if order is None else rhs[..., order]
+    offset = 0
     if lower == upper == 1:  # tridiagonal: LAPACK gtsv (partial pivoting)
         storage = [_band_storage(a, 1, 3, 0, position) for a in (batch.M, batch.C, batch.K)]
         gtsv = lapack.get_lapack_funcs("gtsv", (np.zeros(1, complex),))
@@ -1088,26 +1174,60 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
         def solve(ab: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, int]:
             _, _, _, x, info = gtsv(ab[2, :-1], ab[1], ab[0, 1:], b)
             return x, info
+
+        def correction(ab: np.ndarray, r: np.ndarray) -> np.ndarray:
+            return solve(ab, r)[0]   # (no more than applying a tridiagonal LU again)
     else:
         rows = 2 * lower + upper + 1  # gbsv needs lower extra rows for the LU fill-in
+        offset = lower
         storage = [_band_storage(a, upper, rows, lower, position)
                    for a in (batch.M, batch.C, batch.K)]
         gbsv = lapack.get_lapack_funcs("gbsv", (np.zeros(1, complex),))
+        gbtrs = lapack.get_lapack_funcs("gbtrs", (np.zeros(1, complex),))
+        factors: list[Any] = []
 
         def solve(ab: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, int]:
-            _, _, x, info = gbsv(lower, upper, ab, b, overwrite_ab=True)
+            lub, piv, x, info = gbsv(lower, upper, ab, b, overwrite_ab=True)
+            factors[:] = [lub, piv]
             return x, info
+
+        def correction(ab: np.ndarray, r: np.ndarray) -> np.ndarray:
+            d: np.ndarray = gbtrs(factors[0], lower, upper, r, factors[1])[0]
+            return d
     Mb, Cb, Kb = storage
-    for i in range(N):
+
+    def point(i: int) -> tuple[np.ndarray, np.ndarray, int]:
+        """A at point i (its factors, for gbsv), the solution (the band's order), info."""
         wi = w[i]
-        x, info = solve(Kb - (wi * wi) * Mb + (1j * wi) * Cb, rhs[i] if varying_rhs else rhs)
+        A = Kb - (wi * wi) * Mb + (1j * wi) * Cb
+        x, info = solve(A, band_rhs[i] if varying_rhs else band_rhs)
+        return A, x, info
+
+    def error(i: int, A: np.ndarray, x: np.ndarray) -> float:
+        # the residual in the band's order from the storage of M, C, K; extended: K, M, C
+        assert residuals is not None
+        wi, b = w[i], band_rhs[i] if varying_rhs else band_rhs
+
+        def extended() -> np.ndarray:
+            r = residuals.extended(wi, x if order is None else x[position],
+                                   rhs[i] if varying_rhs else rhs)
+            return r if order is None else r[order]
+        return _point_error(lambda: _band_residual(storage, offset, lower, upper, wi, x, b),
+                            extended, x, partial(correction, A))
+
+    def revisit(j: int) -> float:   # a point skipped before: solved again, estimated
+        A, x, info = point(j)
+        return error(j, A, x) if info == 0 else math.nan
+
+    for i in range(N):
+        A, x, info = point(i)
         if info != 0:
             singular[i] = True
             Z[i] = np.nan
-        elif order is None:
-            Z[i] = x
         else:
-            Z[i] = x[position]   # (x[position[k]] is coordinate k)
+            Z[i] = x if order is None else x[position]   # (x[position[k]]: coordinate k)
+            if errors is not None:
+                errors.point(i, float(Z.largest[i]), partial(error, i, A, x), revisit)
         if i % 64 == 63:
             progress.advance(64)
             deadline.check("while solving the harmonic systems", analysis=True)
@@ -1115,9 +1235,43 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     return singular
 
 
+def _band_residual(storage: list[np.ndarray], offset: int, lower: int, upper: int,
+                   w: float, x: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``b - (K - w^2 M + i w C) x`` from the LAPACK band storages of M, C and K
+    (:func:`_band_storage`; x and b in the band's order), in double precision: each
+    diagonal's products, summed."""
+    n = x.shape[0]
+    products = []
+    with np.errstate(all="ignore"):
+        for ab in storage:
+            y = np.zeros(n, dtype=complex)
+            for d in range(-upper, lower + 1):   # the diagonal i - j = d
+                lo, hi = max(0, -d), min(n, n - d)
+                y[lo + d:hi + d] += ab[offset + upper + d, lo:hi] * x[lo:hi]
+            products.append(y)
+        Mx, Cx, Kx = products
+        residual = b - Kx
+        residual += (w * w) * Mx
+        residual -= (1j * w) * Cx
+    return residual
+
+
+def _point_error(double: Callable[[], np.ndarray], extended: Callable[[], np.ndarray],
+                 x: np.ndarray, correct: Callable[[np.ndarray], np.ndarray]) -> float:
+    """One point's estimated relative forward error (:mod:`.forward_error`): the
+    correction ``correct(r)`` (the point's factorization) of its residual in double
+    precision, and in extended precision where that exceeds
+    :data:`~resonant.analyses.forward_error.EXTENDED_ABOVE`."""
+    with np.errstate(all="ignore"):
+        error = float(relative_error(correct(double()), x))
+        if error > EXTENDED_ABOVE:
+            error = float(relative_error(correct(extended()), x))
+    return error
+
+
 def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
-                  Z: _Store, deadline: Deadline, probe: dict[float, Any] | None = None
-                  ) -> np.ndarray:
+                  Z: _Store, deadline: Deadline, probe: dict[float, Any] | None = None,
+                  errors: Sampling | None = None) -> np.ndarray:
     """A SuperLU per frequency (``probe``: factorizations made before, by frequency,
     taken where a frequency is one of them)."""
     import scipy.sparse as sp
@@ -1128,25 +1282,52 @@ def _solve_sparse(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     options = sparse_lu_options(abs(K) + abs(M) + abs(C))
     row_norms = [_norm_inf(a) for a in (K, M, C)]
     singular = np.zeros(N, dtype=bool)
-    for i in range(N):
+    residuals = Residuals(K, M, C) if errors is not None else None
+
+    def point(i: int) -> tuple[Any, np.ndarray, np.ndarray]:
+        """The LU at point i, the solution and the load (RuntimeError: singular)."""
         wi = w[i]
         A = (K - (wi * wi) * M + (1j * wi) * C).tocsc()
-        b = rhs[i] if rhs.ndim == 2 else rhs
-        b = np.asarray(b, dtype=complex)
+        b = np.asarray(rhs[i] if rhs.ndim == 2 else rhs, dtype=complex)
+        lu = probe.pop(float(wi), None) if probe else None
+        if lu is None:
+            lu = ScaledLU(A, _sparse_scale(K, M, C, wi), **options)
+        x = lu.solve(b)
+        if "options" in options and not backward_stable(
+                A, x, b, row_norms[0] + wi * wi * row_norms[1] + wi * row_norms[2]):
+            lu = splu(A)  # threshold pivoting grew too much: partial pivoting
+            x = lu.solve(b)
+        return lu, x, b
+
+    def revisit(j: int) -> float:   # a point skipped before: factored again, estimated
+        assert residuals is not None
         try:
-            lu = probe.pop(float(wi), None) if probe else None
-            x = (ScaledLU(A, _sparse_scale(K, M, C, wi), **options) if lu is None
-                 else lu).solve(b)
-            if "options" in options and not backward_stable(
-                    A, x, b, row_norms[0] + wi * wi * row_norms[1] + wi * row_norms[2]):
-                x = splu(A).solve(b)  # threshold pivoting grew too much: partial pivoting
+            lu, x, b = point(j)
+        except RuntimeError:
+            return math.nan
+        return _sparse_error(residuals, w[j], x, b, lu.solve)
+
+    for i in range(N):
+        try:
+            lu, x, b = point(i)
             Z[i] = x
+            if errors is not None and residuals is not None:
+                errors.point(i, float(Z.largest[i]),
+                             partial(_sparse_error, residuals, w[i], x, b, lu.solve), revisit)
         except RuntimeError:  # "Factor is exactly singular"
             Z[i] = np.nan
             singular[i] = True
         progress.advance()
         deadline.check("while solving the harmonic systems", analysis=True)
     return singular
+
+
+def _sparse_error(residuals: Residuals, w: float, x: np.ndarray, b: np.ndarray,
+                  solve: Callable[[np.ndarray], np.ndarray]) -> float:
+    """A sparse point's estimate: the residuals from K, M, C, the correction by its LU's
+    ``solve``."""
+    return _point_error(partial(residuals.double, w, x, b), partial(residuals.extended, w, x, b),
+                        x, solve)
 
 
 def _sparse_scale(K: Matrix, M: Matrix, C: Matrix, s: float) -> np.ndarray:
@@ -1156,7 +1337,8 @@ def _sparse_scale(K: Matrix, M: Matrix, C: Matrix, s: float) -> np.ndarray:
 
 
 def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
-                 warnings: list[str], store: _Store, deadline: Deadline) -> np.ndarray:
+                 warnings: list[str], store: _Store, deadline: Deadline,
+                 errors: Sampling | None = None) -> np.ndarray:
     """Superposition of all undamped modes (exact for proportional damping), checked."""
     import scipy.linalg
 
@@ -1178,16 +1360,24 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
     N, n = w.shape[0], len(batch.coordinates)
     forces = (rhs @ phi) if rhs.ndim == 2 else np.broadcast_to(rhs @ phi, (N, n))
 
-    def modal(sl: slice) -> np.ndarray:
+    def modal(sl: slice, loads: np.ndarray | None = None) -> np.ndarray:
         ww = w[sl, None]
         with np.errstate(all="ignore"):
-            result: np.ndarray = (forces[sl] / (lam - ww**2 + 1j * ww * diag_c)) @ phi.T
+            modal_loads = forces[sl] if loads is None else loads @ phi
+            result: np.ndarray = (modal_loads / (lam - ww**2 + 1j * ww * diag_c)) @ phi.T
             return result
 
     chunk = max(1, int(CHUNK_BYTES // (16 * n)))
     for start in range(0, N, chunk):
         sl = slice(start, min(N, start + chunk))
-        store[sl] = modal(sl)
+        X = modal(sl)
+        if errors is not None:   # the residual from M, C, K, its modal correction
+            ww = w[sl, None]
+            with np.errstate(all="ignore"):
+                R = (rhs[sl] if rhs.ndim == 2 else rhs) - (
+                    X @ K.T - ww**2 * (X @ M.T) + 1j * ww * (X @ C.T))
+            errors.errors[sl] = relative_error(modal(sl, R), X)
+        store[sl] = X
         progress.advance(sl.stop - sl.start)
         deadline.check("while summing the modes", analysis=True)
     singular = ~np.isfinite(store.largest)
@@ -1209,8 +1399,10 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
             band = band_ordering(M, C, K)
             banded = band.lower + band.upper + 1 <= max(3, n // 10)
             if banded:
-                return _solve_banded(batch, w, rhs, _Progress(N, False), store, deadline)
-            return _solve_dense(batch, w, rhs, _Progress(N, False), store, deadline, None)
+                return _solve_banded(batch, w, rhs, _Progress(N, False), store, deadline,
+                                     errors)
+            return _solve_dense(batch, w, rhs, _Progress(N, False), store, deadline, None,
+                                errors)
     return singular
 
 

@@ -100,6 +100,7 @@ from ..system.excitation import excitation_columns
 from ..system.output_map import output_map
 from ..system.stability import UNSTABLE, classify
 from ..tables import ResultTable, number_cell
+from .forward_error import accuracy_warning
 from .kernel import reduced_budget, solve_harmonic
 from .reduced import FactorizationsAhead, ReducedModel, probe_frequency, reduced_model
 from .results_json import Saved, optional_float
@@ -390,6 +391,9 @@ class Transfer:
         self.num, self.inputs, self.keep, self.method = num, tuple(inputs), keep, method
         self.deadline = deadline
         self.warnings: list[str] = []
+        #: the frequencies solved so far and the kernel's estimated forward error at each
+        self._errors: tuple[np.ndarray, np.ndarray] = (np.zeros(0), np.zeros(0))
+        self._accuracy_text: str | None = None
         values = dict(num.parameters) or dict(system.model.parameter_values
                                               if system.model is not None else {})
         self.values = values
@@ -561,6 +565,7 @@ class Transfer:
         num = self.num
         n = num.n
         Z = []
+        errors = np.zeros(len(w))
         for column in self.columns:
             batch = Batch(tuple(num.coordinates), num.M, num.C, num.K,
                           [BatchHarmonic(w, np.zeros(n), column)], {}, num.title, True,
@@ -570,12 +575,26 @@ class Transfer:
                                     deadline=self.deadline, exact_condition=False)
             if result.singular.any():
                 where = float(f[int(np.argmax(result.singular))])
-                raise AnalysisError(f"the system is singular at {where:.6g} Hz (an undamped "
-                                    "resonance): the response there is unbounded; add "
-                                    "damping")
+                raise AnalysisError(_singular_message(where, num.C))
             self.used_method = result.method
+            if result.forward_error is not None:
+                errors = np.fmax(errors, result.forward_error)
             Z.append(result.Z)
+        self._accuracy(np.asarray(f, dtype=float), errors)
         return Z
+
+    def _accuracy(self, f: np.ndarray, errors: np.ndarray) -> None:
+        """One warning over every frequency solved so far (the band is refined in several
+        calls) where the kernel's estimated forward error leaves fewer than three digits."""
+        f_all, first = np.unique(np.concatenate([self._errors[0], f]), return_index=True)
+        e_all = np.concatenate([self._errors[1], errors])[first]
+        self._errors = (f_all, e_all)
+        if self._accuracy_text is not None and self._accuracy_text in self.warnings:
+            self.warnings.remove(self._accuracy_text)
+        said = accuracy_warning(e_all, f_all, "f = {:.6g} Hz", what="frequency lines")
+        self._accuracy_text = said
+        if said is not None:
+            self.warnings.append(said)
 
     def _assemble(self, w: np.ndarray, outputs: Sequence[str], Z: list[np.ndarray],
                   errors: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
@@ -604,6 +623,20 @@ class Transfer:
                     if u.name == var:
                         H[:, nk:, j] += y.S[:, s] * iw[:, None] ** (order - u.derivative)
         return H, D
+
+
+def _singular_message(where: float, C: Matrix) -> str:
+    """Why the kernel found no response at ``where`` Hz: an undamped resonance only where
+    the model has no damping; a damped model singular to double precision has lost every
+    digit to its conditioning (or has a mode its damping does not reach)."""
+    damped = bool(C.count_nonzero()) if hasattr(C, "count_nonzero") else bool(np.any(C))
+    if not damped:
+        return (f"the system is singular at {where:.6g} Hz (an undamped resonance): the "
+                "response there is unbounded; add damping")
+    return (f"the dynamic stiffness is singular to double precision at {where:.6g} Hz "
+            "although the model is damped: either no digit is left to its conditioning (a "
+            "fine mesh, stiffnesses or units many orders of magnitude apart: coarsen the mesh "
+            "or rescale the units) or a mode there is not reached by the damping")
 
 
 def _input_matrix(spec: RandomSpec, f: np.ndarray, values: Mapping[str, Any]) -> np.ndarray:

@@ -54,6 +54,7 @@ from ..system.stability import (
     undamped_eigenvalues,
 )
 from ..tables import ResultTable, number_cell
+from .forward_error import DIGITS_WANTED, ERROR_LIMIT
 from .kernel import (
     LOSS_CONDITION,
     KernelResult,
@@ -551,9 +552,18 @@ def _response(h: NumericHarmonic, result: KernelResult, omegas: np.ndarray,
             f"resonance: the excitation frequency {w:.6g} rad/s{where} and the system has no "
             "damping in that mode, so the stationary amplitude is unbounded; change the "
             "frequency or add damping")
-    if condition > LOSS_CONDITION:
+    bound = "" if result.exact else "at least "
+    error = None if result.forward_error is None else float(result.forward_error[0])
+    if error is not None and error > ERROR_LIMIT:   # (NaN: not estimated)
+        left = max(0, int(math.floor(-math.log10(error)))) if math.isfinite(error) else 0
+        warnings.append(f"ill-conditioned system at omega = {w:.6g} rad/s: the estimated "
+                        f"relative error of the solution is {error:.2g}, so fewer than "
+                        f"{DIGITS_WANTED} correct digits are left ({left}) and the values may "
+                        f"be wrong (condition number {bound}{condition:.2g}); the cause is the "
+                        "conditioning of the dynamic stiffness, not a resonance: stiffnesses "
+                        "or units many orders of magnitude apart, or a fine mesh")
+    elif error is None and condition > LOSS_CONDITION:
         digits = int(math.log10(condition))
-        bound = "" if result.exact else "at least "
         warnings.append(f"ill-conditioned system at omega = {w:.6g} rad/s (condition number "
                         f"{bound}{condition:.2g}): about {digits} of 16 digits are lost")
     X = result.Z[0]

@@ -114,9 +114,9 @@ from ..system.base import LinearSystem
 from ..system.batch import Batch, group_frequencies
 from ..system.stability import natural_frequencies as _natural_frequencies
 from ..tables import ResultTable, number_cell
+from .forward_error import accuracy_warning
 from .kernel import (
     DEFAULT_TOL,
-    LOSS_CONDITION,
     METHODS,
     SINGULAR_CONDITION,
     KernelResult,
@@ -856,27 +856,17 @@ def _skipped_warning(param: str, skipped: Sequence[float], damped: bool = False)
 
 def _conditioning_warning(results: Sequence[KernelResult], values: np.ndarray,
                           skipped: np.ndarray, param: str) -> list[str]:
-    """Where the solves lost more than half their digits (condition number above
-    :data:`~resonant.analyses.kernel.LOSS_CONDITION`; a lower bound unless exact): the
-    worst point, how many such points, and how many digits may be left there."""
-    if not results:
+    """Where the kernel's estimated forward error leaves fewer than three digits
+    (:func:`resonant.analyses.forward_error.accuracy_warning`: the points, the range, the
+    worst point and the cause); the largest estimate over the harmonics at each point."""
+    estimated = [np.asarray(r.forward_error, dtype=float) for r in results
+                 if r.forward_error is not None]
+    if not estimated:
         return []
-    condition = np.max([np.asarray(r.condition, dtype=float) for r in results], axis=0)
-    lossy = (condition > LOSS_CONDITION) & ~skipped & np.isfinite(condition)
-    if not lossy.any():
-        return []
-    worst = int(np.flatnonzero(lossy)[np.argmax(condition[lossy])])
-    exact = all(r.exact for r in results)
-    digits = int(math.log10(condition[worst]))
-    left = max(16 - digits, 0)
-    return [f"ill-conditioned solves at {int(lossy.sum())} of {len(values)} points (from "
-            f"{param} = {values[lossy].min():.6g} to {values[lossy].max():.6g}): the condition "
-            f"number reaches {'' if exact else 'at least '}{condition[worst]:.2g} at {param} = "
-            f"{values[worst]:.6g}, so about {digits} of 16 digits are lost and "
-            + ("fewer than three are left: the values there may be wrong" if left < 3 else
-               f"about {left} are left")
-            + " (conditioning: a fine mesh, or stiffnesses or units many orders of magnitude "
-            "apart; not a resonance)"]
+    with np.errstate(invalid="ignore"):
+        errors = np.fmax.reduce(estimated, axis=0)
+    said = accuracy_warning(errors, values, f"{param} = {{:.6g}}", skipped)
+    return [] if said is None else [said]
 
 
 def _natural_frequencies_of(batch: Batch) -> np.ndarray | None:
