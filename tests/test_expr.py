@@ -151,22 +151,22 @@ def test_fold_is_post_order_and_generic():
 
 def test_deep_left_chain_is_safe():
     text = "x" + "+x" * 9000
-    start = time.perf_counter()
+    start = time.process_time()   # CPU time: a busy machine does not make it longer
     e = parse(text)
     assert e.names() == {("x", 0)}
     assert e.to_sympy(symbol) == 9001 * sympy.Symbol("x")
     floats = SimpleNamespace(num=float, name=lambda n, p: 1.0, add=lambda p, q: p + q)
     assert e.fold(floats) == 9001.0
     assert hash(e) == hash(parse(text)) and e == parse(text) and "x+x" in repr(e)
-    assert time.perf_counter() - start < 2
+    assert time.process_time() - start < 2
 
 
 def test_long_chains_are_fast():
     for op in "+-*/":
         text = op.join(f"a{i}" for i in range(2500))
-        start = time.perf_counter()
+        start = time.process_time()
         result = parse(text).to_sympy(symbol)
-        assert time.perf_counter() - start < 2, op
+        assert time.process_time() - start < 2, op
         assert len(result.free_symbols) == 2500
 
 

@@ -129,3 +129,35 @@ def test_the_budget_reads_sizes() -> None:
             budget()
     finally:
         del os.environ["RESONANT_MEMORY"]
+
+
+def sparse_chain_model(tmp_path: Path, n: int, sections: str) -> Path:
+    """A Rayleigh-damped chain of ``n`` masses given as sparse .npz matrices, loaded at
+    its last mass (a .npy vector), with the model's further ``sections``."""
+    import scipy.sparse as sp
+
+    K = sp.diags([2e4 * np.ones(n), -1e4 * np.ones(n - 1), -1e4 * np.ones(n - 1)],
+                 [0, 1, -1], format="csr")
+    M = sp.identity(n, format="csr")
+    for name, matrix in (("K", K), ("M", M), ("C", 0.01 * M + 1e-4 * K)):
+        sp.save_npz(tmp_path / f"{name}.npz", matrix.tocsr())
+    load = np.zeros(n)
+    load[-1] = 1.0
+    np.save(tmp_path / "load.npy", load)
+    path = tmp_path / "chain.toml"
+    path.write_text('[matrices]\nM = "M.npz"\nK = "K.npz"\nC = "C.npz"\n' + sections)
+    return path
+
+
+def test_a_sparse_model_s_dense_analyses_and_many_lines_are_refused(tmp_path: Path) -> None:
+    """A 3,000-coordinate sparse chain under a 64 MiB budget: the simulation made M, C and
+    K dense (216 MiB) and the random response with 2 10^4 lines kept every coordinate at
+    every frequency, in the reduced model's responses too (an internal MemoryError under
+    the address-space limit); both are refused (exit 3) with the size, before the work."""
+    path = sparse_chain_model(tmp_path, 3000, "[random]\nband = [0.1, 20]\nlines = 20000\n"
+                                              '[random.psd.W]\nvalues = 1\nload = "load.npy"\n')
+    env = {"RESONANT_MEMORY": "64M"}
+    code, _, err = run_limited(["simulate", path, "--duration", "10"], env=env)
+    assert code == 3 and "dense M, C and K of 3000 coordinates" in err, err
+    code, _, err = run_limited(["random", path], env=env)
+    assert code == 3 and "x 3000 coordinates" in err and "above the budget" in err, err

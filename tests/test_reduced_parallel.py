@@ -15,6 +15,7 @@
 
 from __future__ import annotations
 
+import itertools
 import sys
 import threading
 import traceback
@@ -178,13 +179,17 @@ def test_helper_thread_factors_are_freed_in_their_thread(case, monkeypatch):
     made: dict[int, str] = {}
     freed: dict[int, str] = {}
 
+    tags = itertools.count()
+
     class Tracked(reduced.ScaledLU):
+        # a tag of its own, not id(): a freed factor's id is taken by the next object
         def __init__(self, *args, **kwargs):
             super().__init__(*args, **kwargs)
-            made[id(self)] = threading.current_thread().name
+            self.tag = next(tags)
+            made[self.tag] = threading.current_thread().name
 
         def __del__(self):
-            freed[id(self)] = threading.current_thread().name
+            freed[self.tag] = threading.current_thread().name
 
     monkeypatch.setattr(reduced, "PARALLEL_FACTOR_SIZE", 0)
     monkeypatch.setattr(reduced, "ScaledLU", Tracked)

@@ -537,9 +537,6 @@ class _Store:
     def __init__(self, N: int, keep: np.ndarray, batch: Batch | None = None,
                  bound: np.ndarray | None = None) -> None:
         self.keep = keep
-        require(16.0 * N * len(keep), f"the responses kept ({N} frequencies x {len(keep)} "
-                "coordinates)", "ask for fewer frequencies (points, lines) or fewer "
-                "coordinates (the names to report)")
         self.values = np.empty((N, len(keep)), dtype=complex)
         self.largest = np.zeros(N)
         #: the estimated relative forward error of each point (NaN: not estimated)
@@ -665,6 +662,10 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     N = w.shape[0]
     n = len(batch.coordinates)
     keep = np.arange(n) if keep is None else keep
+    # every method returns the kept responses at every point: refused before any solve
+    require(16.0 * N * len(keep), f"the responses kept ({N} frequencies x {len(keep)} "
+            "coordinates)", "ask for fewer frequencies (points, lines) or fewer "
+            "coordinates (the names to report)")
     progress = progress or _Progress(N, False)
     warnings = [] if warnings is None else warnings
     rhs = np.asarray(h.F_C, dtype=complex) - 1j * np.asarray(h.F_S, dtype=float)

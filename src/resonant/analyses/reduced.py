@@ -48,7 +48,7 @@ The residual has a rounding floor near 1e-10 relative, so tolerances much
 below 1e-8 may not be certified (``converged`` False, ``reason`` says so) even
 where the true error is smaller.  The basis needs one real column per moment
 and part: bands with hundreds of resonances need hundreds of vectors (capped by
-:data:`MAX_BASIS` and :data:`MEMORY_BYTES`).
+:data:`MAX_BASIS` and by the memory budget, :func:`resonant.memory.budget`).
 
 Examples
 --------
@@ -86,6 +86,7 @@ import numpy as np
 from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
+from ..memory import budget
 from ..modal import factor_stiffness, modes_below
 from .threads import blas_threads
 
@@ -108,8 +109,9 @@ INITIAL_POINTS = 3
 MAX_POINTS = 40
 #: most basis vectors
 MAX_BASIS = 800
-#: memory for the basis and the residual's QR factorization (bytes)
-MEMORY_BYTES = 1536 * 2**20
+#: basis columns the residual's QR factorization has room for at first (it doubles when
+#: full: address space is reserved as the basis grows, not for the largest basis at once)
+FIRST_CAPACITY = 64
 #: the estimate is this many times the relative residual scaled by the worst ratio
 #: of true error to residual seen at the validation solves
 SAFETY = 4.0
@@ -1153,8 +1155,9 @@ class _Enrichment:
         self.norms = [float(max(abs(a).sum(axis=0).max(), abs(a).sum(axis=1).max()))
                       if a.nnz else 0.0 for a in (ops.K, ops.M, ops.C)]
         # bytes per basis column: V and the residual's Q (K V, M V, C V directions), with
-        # room for the temporaries of the newest point's columns
-        self.max_basis = int(min(MAX_BASIS, MEMORY_BYTES // (8 * ops.n * 5)))
+        # room for the temporaries of the newest point's columns, and the reduced
+        # responses at every frequency (Y, and its copy as it grows)
+        self.max_basis = int(min(MAX_BASIS, budget() // (8 * ops.n * 5 + 32 * len(w))))
         self.width = float(w.max() - w.min())
         # a basis given (other loads') is enriched further
         self.V = np.zeros((ops.n, 0)) if V is None else V
@@ -1165,7 +1168,7 @@ class _Enrichment:
         self.pending: list[tuple[float, Any]] = [
             (s, None) for s in _initial_points(w, min(INITIAL_POINTS, len(np.unique(w))))]
         if shared is None:
-            self.residual = _Residual(ops, b, 2 + 3 * self.max_basis)
+            self.residual = _Residual(ops, b, 2 + 3 * min(self.max_basis, FIRST_CAPACITY))
             self.projection = _Projection(ops)
         else:   # another load's, on the basis V given: its products are not made again
             self.projection, self.residual = shared

@@ -37,6 +37,7 @@ from ..expressions.notation import (
     number_latex,
     vector_latex,
 )
+from ..memory import require
 from ..model import Model
 from ..model.options import SweepOptions
 from .batch import Batch, BatchHarmonic, Var, group_frequencies
@@ -639,9 +640,14 @@ class NumericEOM(LinearSystem):
         return any(hasattr(a, "tocsr") for a in (self.M, self.C, self.K))
 
     def dense(self) -> NumericEOM:
-        """The same system with dense M, C, K (itself when they are dense)."""
+        """The same system with dense M, C, K (itself when they are dense); refused
+        (AnalysisError) where the three would be above the memory budget."""
         if not self.sparse:
             return self
+        n = len(self.coordinates)
+        require(3.0 * 8 * n * n, f"dense M, C and K of {n} coordinates",
+                "this analysis works on dense matrices; modes (with a count), sweep and "
+                "random take the sparse ones, or reduce the model")
         return replace(self, M=_dense(self.M), C=_dense(self.C), K=_dense(self.K))
 
     def evaluate(self, values: Mapping[str, Any], count: int,
