@@ -18,6 +18,8 @@ annotation                      JSON
 ``Mapping[str, str]``           an object of strings
 a result class                  its ``to_dict()``
 ``tuple[<result class>, ...]``  a list of them
+``Mapping[str, <result class>]`` an object of them
+another dataclass               an object of its compared fields (by these rules)
 ``X | None``                    ``null`` or X
 ==============================  ==============================================================
 
@@ -26,7 +28,16 @@ A field whose saved form is none of these names its :class:`Codec` in :func:`sav
 reading, so that a hand-edited file is refused with the key and the shapes, not half read.
 What a class writes beside its fields (numbers derived for the reader of the JSON) comes
 from its ``_derived_json()``; ``from_dict`` reads the fields only, so the derived numbers are
-computed again, bit for bit.
+computed again, bit for bit.  The keys come in the order of the fields (the derived ones
+first), or in the order the class lists in ``_json_order``.  Three more ways of saving a
+field, for the formats the command line's outputs fix:
+
+* ``saved(history=True)``: written inside ``"history"``, and only by ``to_dict(history=True)``
+  (a time history can be long); ``from_dict`` then needs it;
+* ``saved(rows_by="names")``: an array written as an object, row ``i`` under the ``i``-th name
+  of the field ``names``;
+* ``saved(keys_of="other")``: not written; read back as the keys of the saved object of
+  the field ``other``.
 
 Examples
 --------
@@ -64,8 +75,8 @@ import numpy.typing as npt
 from ..errors import AnalysisError
 from .results_json import Saved, complex_json, floats_json, optional_float
 
-__all__ = ["Codec", "FieldsJSON", "Framed", "saved", "COMPLEX_PAIRS", "ROWS", "Shape",
-           "frame_of"]
+__all__ = ["Codec", "FieldsJSON", "Framed", "saved", "COMPLEX_PAIRS", "HARMONIC_LISTS", "ROWS",
+           "Shape", "frame_of"]
 
 T = TypeVar("T", bound="FieldsJSON")
 
@@ -173,8 +184,24 @@ def _number_pairs_read(saved: Saved, key: str, shape: Shape
     return tuple((float(a), float(b)) for a, b in pairs)
 
 
+def _harmonics_write(value: npt.ArrayLike) -> list[list[float | None]]:
+    c = np.asarray(value, dtype=float).tolist()
+    return [[optional_float(c[0])]] + [[optional_float(a), optional_float(b)]
+                                       for a, b in zip(c[1::2], c[2::2])]
+
+
+def _harmonics_read(saved: Saved, key: str, shape: Shape) -> np.ndarray:
+    lists = saved.value(key)
+    flat = [c for pair in lists for c in pair] if isinstance(lists, list) and all(
+        isinstance(pair, list) for pair in lists) else lists
+    return saved.array_of(flat, key, shape=_fixed(shape), ndim=1)
+
+
 #: a complex vector as a list of [real, imaginary] pairs
 COMPLEX_PAIRS = Codec(_pairs_write, _pairs_read)
+#: Fourier coefficients ``[a_0, a_1, b_1, ..., a_H, b_H]`` as ``[[a_0], [a_1, b_1], ...]``
+#: (a flat list is read too)
+HARMONIC_LISTS = Codec(_harmonics_write, _harmonics_read)
 #: a real matrix saved transposed: one column (a mode, a point) a row
 ROWS = Codec(lambda value: floats_json(np.asarray(value, dtype=float).T), _rows_read)
 
@@ -215,11 +242,16 @@ class _Saving:
     axes: Axes | None = None
     omit_none: bool = False
     required: bool = False
+    history: bool = False
+    rows_by: str | None = None
+    keys_of: str | None = None
 
 
 def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
           codec: Codec | None = None, axes: Axes | None = None, omit_none: bool = False,
-          required: bool = False, default_factory: Callable[[], object] | None = None) -> Any:
+          required: bool = False, default_factory: Callable[[], object] | None = None,
+          history: bool = False, rows_by: str | None = None, keys_of: str | None = None
+          ) -> Any:
     """A dataclass field with the way it is saved (see the module's table).
 
     Parameters
@@ -237,12 +269,19 @@ def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
     required : bool
         The key must be in a saved result even though the field has a default (a missing
         key of a field with a default otherwise reads as the default).
+    history : bool
+        Written inside ``"history"``, only when ``to_dict(history=True)`` is asked for.
+    rows_by : str, optional
+        The field whose names key the array's rows (an object of rows).
+    keys_of : str, optional
+        Not written: the keys of the saved object of that field.
 
     Returns
     -------
     dataclasses.Field
     """
-    metadata = {"saved": _Saving(key, codec, axes, omit_none, required)}
+    metadata = {"saved": _Saving(key, codec, axes, omit_none, required, history, rows_by,
+                                 keys_of)}
     if default_factory is not None:
         return dataclasses.field(default_factory=default_factory, metadata=metadata)
     return dataclasses.field(default=default, metadata=metadata)
@@ -280,15 +319,47 @@ def _codec_of(owner: type, field: dataclasses.Field[Any]) -> Codec:
     return _optional(codec) if optional else codec
 
 
+def _nested_by_name(kind: type[FieldsJSON]) -> Codec:
+    def read(saved_data: Saved, key: str, shape: Shape) -> dict[str, Any]:
+        inner = saved_data.mapping(key)
+        return {str(k): kind.read_saved(inner.mapping(str(k))) for k in inner.data}
+    return Codec(lambda v: {k: x.to_dict() for k, x in v.items()}, read)
+
+
+def _record(kind: type) -> Codec:
+    """A dataclass that is no result: an object of its fields, each by its annotation; a
+    field outside its comparison (``compare=False``: where it was read from) is not saved."""
+    compared = {f.name for f in dataclasses.fields(kind) if f.compare}
+    entries = tuple(e for e in _entries(kind) if e.name in compared)
+
+    def read(saved_data: Saved, key: str, shape: Shape) -> Any:
+        inner = saved_data.mapping(key)
+        values = {e.name: e.codec.read(inner, e.key, None) for e in entries
+                  if e.key in inner or not e.has_default}
+        try:
+            return kind(**values)
+        except (TypeError, ValueError) as exc:
+            raise saved_data.error(f"does not make a {kind.__name__}: {exc}", key) from None
+    return Codec(lambda v: {e.key: e.codec.write(getattr(v, e.name)) for e in entries}, read)
+
+
 def _result_codec(owner: type, text: str) -> Codec | None:
-    """The codec of a nested result (``Name`` or ``tuple[Name, ...]``), looked up among the
-    names of the module that defines ``owner``."""
-    match = re.fullmatch(r"tuple\[(\w+),\.\.\.\]", text)
-    name = match.group(1) if match else text
+    """The codec of a nested result (``Name``, ``tuple[Name, ...]`` or ``Mapping[str,
+    Name]``) or dataclass (``Name``), looked up among the names of the module that defines
+    ``owner``."""
+    listed = re.fullmatch(r"tuple\[(\w+),\.\.\.\]", text)
+    named = re.fullmatch(r"(?:Mapping|dict)\[str,(\w+)\]", text)
+    found = listed or named
+    name = found.group(1) if found else text
     kind = vars(sys.modules[owner.__module__]).get(name)
-    if not (isinstance(kind, type) and issubclass(kind, FieldsJSON)):
+    if not isinstance(kind, type):
         return None
-    return _nested_list(kind) if match else _nested(kind)
+    if issubclass(kind, FieldsJSON):
+        return _nested_list(kind) if listed else _nested_by_name(kind) if named \
+            else _nested(kind)
+    if dataclasses.is_dataclass(kind) and not (listed or named):
+        return _record(kind)
+    return None
 
 
 @dataclass(frozen=True)
@@ -299,6 +370,9 @@ class _Entry:
     axes: Axes | None
     has_default: bool
     omit_none: bool
+    history: bool = False
+    rows_by: str | None = None
+    keys_of: str | None = None
 
 
 def _entries(cls: type) -> tuple[_Entry, ...]:
@@ -309,8 +383,9 @@ def _entries(cls: type) -> tuple[_Entry, ...]:
         saving = f.metadata.get("saved", _Saving())
         has_default = not saving.required and (f.default is not dataclasses.MISSING
                                                 or f.default_factory is not dataclasses.MISSING)
-        out.append(_Entry(f.name, saving.key or f.name, _codec_of(cls, f), saving.axes,
-                          has_default, saving.omit_none))
+        codec = _codec_of(cls, f) if saving.keys_of is None else _TEXTS
+        out.append(_Entry(f.name, saving.key or f.name, codec, saving.axes, has_default,
+                          saving.omit_none, saving.history, saving.rows_by, saving.keys_of))
     return tuple(out)
 
 
@@ -337,19 +412,37 @@ class FieldsJSON:
         """Keys written beside the fields, for the reader of the JSON (none by default)."""
         return {}
 
-    def to_dict(self) -> dict[str, Any]:
+    _json_order: ClassVar[tuple[str, ...]] = ()
+
+    def to_dict(self, history: bool = False) -> dict[str, Any]:
         """The JSON form: the derived keys, then every field (see :mod:`result_fields`).
+
+        Parameters
+        ----------
+        history : bool, optional
+            Also write the fields saved in ``"history"`` (time histories, which can be
+            long, and which :meth:`from_dict` needs); a result without any has none.
 
         Returns
         -------
         dict
         """
         data = self._derived_json()
+        histories: dict[str, Any] = {}
         for entry in self._saved_fields():
             value = getattr(self, entry.name)
-            if value is not None or not entry.omit_none:
-                data[entry.key] = entry.codec.write(value)
-        return data
+            if entry.keys_of is not None or (value is None and entry.omit_none) or \
+                    (entry.history and not history):
+                continue
+            if entry.rows_by is not None:
+                written: Any = {name: entry.codec.write(row)
+                                for name, row in zip(getattr(self, entry.rows_by), value)}
+            else:
+                written = entry.codec.write(value)
+            (histories if entry.history else data)[entry.key] = written
+        if histories:
+            data["history"] = histories
+        return _ordered(data, self._json_order, type(self).__name__)
 
     @classmethod
     def from_dict(cls: type[T], data: Mapping[str, Any]) -> T:
@@ -381,16 +474,54 @@ class FieldsJSON:
         """The result from a checked reader (:meth:`from_dict` and nested results)."""
         values: dict[str, Any] = {}
         entries = cls._saved_fields()
+        histories = saved_data
+        if any(e.history for e in entries):
+            if "history" not in saved_data:
+                raise AnalysisError(f"the saved {cls.__name__} has no time history: save it "
+                                    "with to_dict(history=True)")
+            histories = saved_data.mapping("history")
+        by_name = {e.name: e for e in entries}
         for entry in _reading_order(entries):
-            if entry.key not in saved_data and entry.has_default:
+            source = histories if entry.history else saved_data
+            if entry.keys_of is not None:
+                of = by_name[entry.keys_of]
+                inner = (histories if of.history else saved_data).mapping(of.key)
+                values[entry.name] = tuple(str(k) for k in inner.data)
                 continue
-            shape = None if entry.axes is None else _shape(entry, values, saved_data)
-            values[entry.name] = entry.codec.read(saved_data, entry.key, shape)
+            if entry.key not in source and entry.has_default:
+                continue
+            shape = None if entry.axes is None else _shape(entry, values, source)
+            if entry.rows_by is not None:
+                values[entry.name] = _rows_by_name(entry, source, shape)
+            else:
+                values[entry.name] = entry.codec.read(source, entry.key, shape)
         cls._check_saved(values, saved_data)
         try:
             return cls(**values)
         except (TypeError, ValueError) as exc:
             raise saved_data.error(f"does not make a {cls.__name__}: {exc}") from None
+
+
+def _rows_by_name(entry: _Entry, saved_data: Saved, shape: Shape) -> np.ndarray:
+    """An array saved as an object of rows (``saved(rows_by=...)``), each row read by the
+    field's codec with the shape's trailing lengths."""
+    inner = saved_data.mapping(entry.key)
+    row_shape = None if shape is None else shape[1:]
+    rows = [np.asarray(entry.codec.read(inner, str(k), row_shape)) for k in inner.data]
+    if len({r.shape for r in rows}) > 1:
+        raise saved_data.error("holds rows of different lengths", entry.key)
+    return np.array(rows) if rows else np.zeros((0,) + tuple(
+        s or 0 for s in (row_shape or ())))
+
+
+def _ordered(data: dict[str, Any], order: tuple[str, ...], kind: str) -> dict[str, Any]:
+    """``data`` with its keys in ``order`` (every key must be listed; unchanged without)."""
+    if not order:
+        return data
+    unlisted = [key for key in data if key not in order]
+    if unlisted:
+        raise TypeError(f"{kind}._json_order does not list {unlisted}")
+    return {key: data[key] for key in order if key in data}
 
 
 def _reading_order(entries: tuple[_Entry, ...]) -> list[_Entry]:
@@ -401,7 +532,7 @@ def _reading_order(entries: tuple[_Entry, ...]) -> list[_Entry]:
     waiting = list(entries)
     while waiting:
         ready = [e for e in waiting if all(not isinstance(a, str) or a in done or a not in names
-                                           for a in e.axes or ())]
+                                           for a in (*(e.axes or ()), e.keys_of))]
         if not ready:   # a cycle of axes: read in field order (the check then says which)
             ready = waiting[:1]
         order += ready
