@@ -404,3 +404,58 @@ def test_the_kernel_scan_is_not_vacuous() -> None:
             "np.block([[np.zeros((n, n)), np.eye(n)], [-K, -C]])\n")
     assert len(_kernel_calls(ast.parse(text), text)) == 3
     assert all(m in MODULE_NAMES for m in KERNEL_MODULES)
+
+
+#: the results of resonant.analyses that still write their own to_dict / from_dict, each
+#: with why the fields-generic one (resonant.analyses.result_fields.FieldsJSON) does not
+#: save it yet; every other result declares its fields and inherits both
+OWN_JSON = {
+    # the equation of motion's numbers spread over the top level, its excitation inside
+    # the per-frequency responses: the format of the golden `solve --json` outputs
+    "StationarySolution": "the EOM's keys at the top level (tests/golden)",
+    "HarmonicResponse": "part of StationarySolution's format; its condition is not saved",
+    # one object per response holding numbers of several fields and derived ones
+    # (three_sigma, miles_rms; the first 50 harmonics' amplitudes and phases)
+    "RandomResponse": "numbers grouped per response, derived ones among them",
+    "PeriodicResponse": "numbers grouped per response, derived ones among them",
+    # the linear sweep's keys merged in, and the branch grouped per point
+    "NonlinearResponse": "the linear sweep's keys, the branch as one record per point",
+    # a named tuple (a long sweep has tens of thousands), not a dataclass
+    "Extremum": "a NamedTuple, not a dataclass",
+    # to_dict only (no from_dict): an export of matrices, a report of checks
+    "StateSpaceModel": "an export (to_dict only) of the matrices for other tools",
+    "MatrixChecks": "a report (to_dict only) of the checks of FE matrices",
+    # measured data: parameters grouped per name, nested optional results
+    "ModelUpdate": "numbers grouped per parameter",
+    "FRFUpdate": "numbers grouped per parameter",
+    "MeasuredFRF": "complex FRFs by pair of channels",
+    "MIMOFRF": "complex FRF matrices by channel names",
+    "ModalIdentification": "modes grouped per pole, the stabilization chart",
+    "Correlation": "pairs grouped per mode",
+}
+
+
+def _own_json_classes() -> dict[str, str]:
+    """class name -> module of every class in resonant.analyses that defines its own
+    ``to_dict`` or ``from_dict``."""
+    found = {}
+    for path in sorted((PACKAGE / "analyses").glob("*.py")):
+        if path.name == "result_fields.py":
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ClassDef) and any(
+                    isinstance(item, ast.FunctionDef) and item.name in ("to_dict", "from_dict")
+                    for item in node.body):
+                found[node.name] = path.stem
+    return found
+
+
+def test_results_are_saved_by_their_fields() -> None:
+    """No result of the analyses writes its own to_dict / from_dict but the few listed in
+    OWN_JSON (each with its reason); the list names no class that no longer does."""
+    own = _own_json_classes()
+    assert sorted(set(own) - set(OWN_JSON)) == [], (
+        "declare the fields (resonant.analyses.result_fields.saved) instead of writing "
+        "to_dict/from_dict by hand")
+    assert sorted(set(OWN_JSON) - set(own)) == [], "stale entries in OWN_JSON"
+    assert {"Simulation", "TransientResponse", "ShockSpectrum"}.isdisjoint(own)

@@ -162,7 +162,8 @@ def _pairs_read(saved: Saved, key: str, shape: Shape) -> np.ndarray:
         pairs = pairs.reshape(0, 2)
     if pairs.shape[1] != 2:
         raise saved.error("is not a list of [real, imaginary] pairs", key)
-    out = pairs[:, 0] + 1j * pairs[:, 1]
+    out = np.empty(len(pairs), dtype=complex)
+    out.real, out.imag = pairs[:, 0], pairs[:, 1]   # bit for bit, signed zeros included
     if shape is not None and out.shape != shape:
         raise saved.error(f"has shape {out.shape}, not {shape}", key)
     return out
