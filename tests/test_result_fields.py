@@ -15,7 +15,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from resonant.analyses.correlate import Correlation, correlate_shapes
 from resonant.analyses.fatigue import ResponseFatigue
+from resonant.analyses.frf_mimo import MIMOFRF, estimate_frf_matrix
 from resonant.analyses.periodic import PeriodicSolution
 from resonant.analyses.result_fields import HARMONIC_LISTS, FieldsJSON, saved
 from resonant.analyses.shock import ShockSpectrum
@@ -158,3 +160,24 @@ def test_a_pulse_is_saved_as_its_sections_keys_and_checked():
     data["shock"] = dict(data["shock"], derivative="two")
     with pytest.raises(AnalysisError, match="shock.derivative"):
         ShockPeaks.from_dict(data)
+
+
+def test_measured_results_survive_json():
+    """The H1 matrix of two inputs and the correlation of three test modes with two model
+    modes (an unpaired one: NaN frequency error) come back bit for bit."""
+    x = np.random.default_rng(1).standard_normal((2, 2048))
+    frf = estimate_frf_matrix({"u": x[0], "v": x[1]}, {"y": x[0] + x[1], "z": x[0] - x[1]},
+                              0.01, segment=256)
+    text = json.dumps(frf.to_dict())
+    back = MIMOFRF.from_dict(json.loads(text))
+    assert json.dumps(back.to_dict()) == text
+    np.testing.assert_array_equal(back.H, frf.H)
+    c = correlate_shapes(np.array([2.2, 6.3, 9.0]), np.eye(3), np.array([2.24, 6.28]),
+                         np.array([[1.0, 0.1], [0.0, 1.0], [0.2, 0.3]]))
+    back_c = Correlation.from_dict(json.loads(json.dumps(c.to_dict())))
+    assert back_c.pairs == c.pairs and np.isnan(back_c.frequency_error[2])
+    np.testing.assert_array_equal(back_c.mac, c.mac)
+    data = c.to_dict()
+    data["mac"] = data["mac"][:2]
+    with pytest.raises(AnalysisError, match="'mac' has shape"):
+        Correlation.from_dict(data)
