@@ -410,14 +410,9 @@ def test_the_kernel_scan_is_not_vacuous() -> None:
 #: with why the fields-generic one (resonant.analyses.result_fields.FieldsJSON) does not
 #: save it yet; every other result declares its fields and inherits both
 OWN_JSON = {
-    # the equation of motion's numbers spread over the top level, its excitation inside
-    # the per-frequency responses: the format of the golden `solve --json` outputs
-    "StationarySolution": "the EOM's keys at the top level (tests/golden)",
-    "HarmonicResponse": "part of StationarySolution's format; its condition is not saved",
-    # one object per response holding numbers of several fields and derived ones
-    # (three_sigma, miles_rms; the first 50 harmonics' amplitudes and phases)
-    "RandomResponse": "numbers grouped per response, derived ones among them",
-    "PeriodicResponse": "numbers grouped per response, derived ones among them",
+    # the history over the period not saved but summed again from the harmonics, the
+    # series' numbers both at the top level and in "series"
+    "PeriodicResponse": "its history is recomputed, not saved; the series written twice",
     # the linear sweep's keys merged in, and the branch grouped per point
     "NonlinearResponse": "the linear sweep's keys, the branch as one record per point",
     # a named tuple (a long sweep has tens of thousands), not a dataclass
@@ -456,4 +451,5 @@ def test_results_are_saved_by_their_fields() -> None:
         "declare the fields (resonant.analyses.result_fields.saved) instead of writing "
         "to_dict/from_dict by hand")
     assert sorted(set(OWN_JSON) - set(own)) == [], "stale entries in OWN_JSON"
-    assert {"Simulation", "TransientResponse", "ShockSpectrum", "Correlation"}.isdisjoint(own)
+    assert {"Simulation", "TransientResponse", "ShockSpectrum", "Correlation",
+            "StationarySolution", "RandomResponse"}.isdisjoint(own)

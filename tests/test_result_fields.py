@@ -181,3 +181,24 @@ def test_measured_results_survive_json():
     data["mac"] = data["mac"][:2]
     with pytest.raises(AnalysisError, match="'mac' has shape"):
         Correlation.from_dict(data)
+
+
+def test_numbers_saved_by_name_are_records_checked_by_key():
+    """A random response's numbers are one record per response (derived 3 sigma among
+    them, in the declared order); a record without a number is refused naming it, one
+    without its unit reads as no unit."""
+    from resonant.analyses.random_response import RandomResponse
+
+    f = np.array([10.0, 20.0])
+    r = RandomResponse("t", ("x",), ("y",), f, {"x": np.ones(2)}, {"y": np.ones(2)},
+                       {"x": 2.0}, {"x": 1.0}, {"x": 1.5}, {"x": 1e-9}, {}, (10.0, 20.0))
+    data = json.loads(json.dumps(r.to_dict()))
+    assert data["responses"] == {"x": {"unit": "", "rms": 2.0, "three_sigma": 6.0,
+                                       "zero_crossing_rate_hz": 1.0, "peak_rate_hz": 1.5,
+                                       "relative_error": 1e-9, "miles_rms": None}}
+    assert data["inputs"] == {"y": {"unit": "", "derivative": 0}}
+    del data["responses"]["x"]["unit"]
+    assert RandomResponse.from_dict(data).to_dict() == r.to_dict()
+    del data["responses"]["x"]["rms"]
+    with pytest.raises(AnalysisError, match="responses.x"):
+        RandomResponse.from_dict(data)

@@ -16,6 +16,7 @@ annotation                      JSON
 ``Mapping[str, float]``         an object of numbers
 ``Mapping[str, np.ndarray]``    an object of nested lists
 ``Mapping[str, str]``           an object of strings
+``Mapping[str, tuple[tuple[float, float], ...]]`` an object of lists of pairs
 a result class                  its ``to_dict()``
 ``tuple[<result class>, ...]``  a list of them
 ``Mapping[str, <result class>]`` an object of them
@@ -35,7 +36,7 @@ field, for the formats the command line's outputs fix:
 * ``saved(history=True)``: written inside ``"history"``, and only by ``to_dict(history=True)``
   (a time history can be long); ``from_dict`` then needs it;
 * ``saved(rows_by="names")``: an array written as an object, row ``i`` under the ``i``-th name
-  of the field ``names``;
+  of the field ``names`` (a mapping: its entries of those names, in their order);
 * ``saved(keys_of="other")``: not written; read back as the keys of the saved object of
   the field ``other``.
 
@@ -182,6 +183,8 @@ def _number_pairs_read(saved: Saved, key: str, shape: Shape
         pairs = pairs.reshape(0, 2)
     if pairs.shape[1] != 2:
         raise saved.error("is not a list of pairs of numbers", key)
+    if shape is not None and None not in shape and pairs.shape != shape:
+        raise saved.error(f"has shape {pairs.shape}, not {shape}", key)
     return tuple((float(a), float(b)) for a, b in pairs)
 
 
@@ -221,6 +224,11 @@ _ARRAYS_BY_NAME = Codec(lambda v: {k: _array_write(x) for k, x in v.items()}, _a
 _TEXTS_BY_NAME = Codec(dict, lambda s, k, shape: {
     str(name): s.mapping(k).string(str(name)) for name in s.mapping(k).data})
 
+_PAIRS_BY_NAME = Codec(
+    lambda v: {k: [[optional_float(a), optional_float(b)] for a, b in x] for k, x in v.items()},
+    lambda s, k, shape: {str(name): _number_pairs_read(s.mapping(k), str(name), shape)
+                         for name in s.mapping(k).data})
+
 _BY_ANNOTATION: dict[str, Codec] = {
     "str": _TEXT, "bool": _FLAG, "int": _WHOLE, "float": _NUMBER,
     "tuple[str,...]": _TEXTS, "tuple[float,...]": _NUMBERS, "tuple[int,...]": _WHOLES,
@@ -231,6 +239,7 @@ _BY_ANNOTATION: dict[str, Codec] = {
     "Mapping[str,float]": _NUMBERS_BY_NAME, "dict[str,float]": _NUMBERS_BY_NAME,
     "Mapping[str,np.ndarray]": _ARRAYS_BY_NAME, "dict[str,np.ndarray]": _ARRAYS_BY_NAME,
     "Mapping[str,str]": _TEXTS_BY_NAME, "dict[str,str]": _TEXTS_BY_NAME,
+    "Mapping[str,tuple[tuple[float,float],...]]": _PAIRS_BY_NAME,
 }
 
 
@@ -246,13 +255,18 @@ class _Saving:
     history: bool = False
     rows_by: str | None = None
     keys_of: str | None = None
+    inline: bool = False
+    written: bool = True
+    by_name: str | None = None
+    missing: tuple[object, ...] = ()   # (the value written for a name the mapping lacks,)
 
 
 def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
           codec: Codec | None = None, axes: Axes | None = None, omit_none: bool = False,
           required: bool = False, default_factory: Callable[[], object] | None = None,
-          history: bool = False, rows_by: str | None = None, keys_of: str | None = None
-          ) -> Any:
+          history: bool = False, rows_by: str | None = None, keys_of: str | None = None,
+          inline: bool = False, written: bool = True, by_name: str | None = None,
+          missing: object = dataclasses.MISSING) -> Any:
     """A dataclass field with the way it is saved (see the module's table).
 
     Parameters
@@ -273,16 +287,29 @@ def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
     history : bool
         Written inside ``"history"``, only when ``to_dict(history=True)`` is asked for.
     rows_by : str, optional
-        The field whose names key the array's rows (an object of rows).
+        The field whose names key the array's rows (an object of rows); of a mapping, the
+        names whose entries are written, in that order.
     keys_of : str, optional
         Not written: the keys of the saved object of that field.
+    inline : bool
+        The codec writes an object whose keys go beside the other fields' (and reads them
+        from there).
+    written : bool
+        False: not saved (a field with a default, read back as the default).
+    by_name : str, optional
+        A mapping name -> value saved in the object ``by_name`` of one record per name
+        (the class's ``_by_name`` says which field lists the names and the records' key
+        order), under ``key``: ``{"responses": {"x": {"rms": ...}}}``.
+    missing : optional
+        With ``by_name``: written for a name the mapping lacks (else every name is there).
 
     Returns
     -------
     dataclasses.Field
     """
     metadata = {"saved": _Saving(key, codec, axes, omit_none, required, history, rows_by,
-                                 keys_of)}
+                                 keys_of, inline, written, by_name,
+                                 () if missing is dataclasses.MISSING else (missing,))}
     if default_factory is not None:
         return dataclasses.field(default_factory=default_factory, metadata=metadata)
     return dataclasses.field(default=default, metadata=metadata)
@@ -374,19 +401,40 @@ class _Entry:
     history: bool = False
     rows_by: str | None = None
     keys_of: str | None = None
+    inline: bool = False
+    by_name: str | None = None
+    missing: tuple[object, ...] = ()
+    mapping: bool = False   # a mapping field (rows_by: the entries of those names)
+
+
+def _element_codec(owner: type, field: dataclasses.Field[Any]) -> Codec:
+    """The codec of one value of a ``Mapping[str, X]`` field (``saved(by_name=...)``)."""
+    saving: _Saving = field.metadata["saved"]
+    if saving.codec is not None:
+        return saving.codec
+    text = re.sub(r"\s+", "", str(field.type))
+    match = re.fullmatch(r"(?:Mapping|dict)\[str,(.+)\]", text)
+    codec = _BY_ANNOTATION.get(match.group(1)) if match else None
+    if codec is None:
+        raise TypeError(f"{owner.__name__}.{field.name}: saved by name, but '{field.type}' "
+                        "is no mapping of a saved form")
+    return codec
 
 
 def _entries(cls: type) -> tuple[_Entry, ...]:
     out = []
     for f in dataclasses.fields(cls):
-        if not f.init:
-            continue
         saving = f.metadata.get("saved", _Saving())
+        if not f.init or not saving.written:
+            continue
         has_default = not saving.required and (f.default is not dataclasses.MISSING
                                                 or f.default_factory is not dataclasses.MISSING)
-        codec = _codec_of(cls, f) if saving.keys_of is None else _TEXTS
+        codec = _TEXTS if saving.keys_of is not None else _element_codec(cls, f) \
+            if saving.by_name is not None else _codec_of(cls, f)
         out.append(_Entry(f.name, saving.key or f.name, codec, saving.axes, has_default,
-                          saving.omit_none, saving.history, saving.rows_by, saving.keys_of))
+                          saving.omit_none, saving.history, saving.rows_by, saving.keys_of,
+                          saving.inline, saving.by_name, saving.missing,
+                          bool(re.match(r"(Mapping|dict)\[", str(f.type)))))
     return tuple(out)
 
 
@@ -414,6 +462,12 @@ class FieldsJSON:
         return {}
 
     _json_order: ClassVar[tuple[str, ...]] = ()
+    #: record group -> (the field listing its names, the records' keys in order)
+    _by_name: ClassVar[Mapping[str, tuple[str, tuple[str, ...]]]] = {}
+
+    def _derived_record(self, group: str, name: str) -> dict[str, Any]:
+        """Keys written in the record of ``name`` in ``group`` for the reader (none)."""
+        return {}
 
     def to_dict(self, history: bool = False) -> dict[str, Any]:
         """The JSON form: the derived keys, then every field (see :mod:`result_fields`).
@@ -430,19 +484,37 @@ class FieldsJSON:
         """
         data = self._derived_json()
         histories: dict[str, Any] = {}
+        groups = {group: {name: self._derived_record(group, name)
+                          for name in getattr(self, names)}
+                  for group, (names, _) in self._by_name.items()}
         for entry in self._saved_fields():
             value = getattr(self, entry.name)
             if entry.keys_of is not None or (value is None and entry.omit_none) or \
                     (entry.history and not history):
                 continue
-            if entry.rows_by is not None:
-                written: Any = {name: entry.codec.write(row)
-                                for name, row in zip(getattr(self, entry.rows_by), value)}
+            if entry.by_name is not None:
+                data.setdefault(entry.by_name, groups[entry.by_name])
+                for name, record in groups[entry.by_name].items():
+                    one = value.get(name, *entry.missing) if entry.missing else value[name]
+                    record[entry.key] = entry.codec.write(one)
+                continue
+            if entry.rows_by is not None and entry.mapping:
+                written: Any = entry.codec.write({name: value[name]
+                                                  for name in getattr(self, entry.rows_by)})
+            elif entry.rows_by is not None:
+                written = {name: entry.codec.write(row)
+                           for name, row in zip(getattr(self, entry.rows_by), value)}
             else:
                 written = entry.codec.write(value)
-            (histories if entry.history else data)[entry.key] = written
+            if entry.inline:
+                data.update(written)
+            else:
+                (histories if entry.history else data)[entry.key] = written
         if histories:
             data["history"] = histories
+        for group, (_, order) in self._by_name.items():
+            data[group] = {name: _ordered(record, order, f"{type(self).__name__}.{group}")
+                           for name, record in groups[group].items()}
         return _ordered(data, self._json_order, type(self).__name__)
 
     @classmethod
@@ -467,8 +539,9 @@ class FieldsJSON:
         return cls.read_saved(Saved(data, cls.__name__))
 
     @classmethod
-    def _check_saved(cls, values: Mapping[str, Any], saved_data: Saved) -> None:
-        """Checks between saved fields beyond their shapes (raise ``saved_data.error``)."""
+    def _check_saved(cls, values: dict[str, Any], saved_data: Saved) -> None:
+        """Checks between saved fields beyond their shapes (raise ``saved_data.error``);
+        may complete a value from the others (a field saved inside another's)."""
 
     @classmethod
     def read_saved(cls: type[T], saved_data: Saved) -> T:
@@ -485,14 +558,19 @@ class FieldsJSON:
         for entry in _reading_order(entries):
             source = histories if entry.history else saved_data
             if entry.keys_of is not None:
-                of = by_name[entry.keys_of]
-                inner = (histories if of.history else saved_data).mapping(of.key)
+                of = by_name.get(entry.keys_of)
+                inner = saved_data.mapping(entry.keys_of) if entry.keys_of in cls._by_name \
+                    else (histories if of is not None and of.history else saved_data).mapping(
+                        of.key if of is not None else entry.keys_of)
                 values[entry.name] = tuple(str(k) for k in inner.data)
                 continue
-            if entry.key not in source and entry.has_default:
+            if entry.by_name is not None:
+                values[entry.name] = _read_by_name(entry, saved_data.mapping(entry.by_name))
+                continue
+            if entry.key not in source and entry.has_default and not entry.inline:
                 continue
             shape = None if entry.axes is None else _shape(entry, values, source)
-            if entry.rows_by is not None:
+            if entry.rows_by is not None and not entry.mapping:
                 values[entry.name] = _rows_by_name(entry, source, shape)
             else:
                 values[entry.name] = entry.codec.read(source, entry.key, shape)
@@ -501,6 +579,17 @@ class FieldsJSON:
             return cls(**values)
         except (TypeError, ValueError) as exc:
             raise saved_data.error(f"does not make a {cls.__name__}: {exc}") from None
+
+
+def _read_by_name(entry: _Entry, records: Saved) -> dict[str, Any]:
+    """A mapping saved by name (``saved(by_name=...)``): each record's ``entry.key`` (a
+    record without it is left out when the field has a ``missing`` value)."""
+    out = {}
+    for name in records.data:
+        record = records.mapping(str(name))
+        if entry.key in record or not entry.missing:
+            out[str(name)] = entry.codec.read(record, entry.key, None)
+    return out
 
 
 def _rows_by_name(entry: _Entry, saved_data: Saved, shape: Shape) -> np.ndarray:
