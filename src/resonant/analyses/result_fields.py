@@ -76,8 +76,8 @@ import numpy.typing as npt
 from ..errors import AnalysisError
 from .results_json import Saved, complex_json, floats_json, optional_float
 
-__all__ = ["Codec", "FieldsJSON", "Framed", "saved", "COMPLEX_PAIRS", "HARMONIC_LISTS", "ROWS",
-           "Shape", "frame_of"]
+__all__ = ["Codec", "FieldsJSON", "Framed", "saved", "COMPLEX_PAIRS", "HARMONIC_LISTS",
+           "PLAIN_NUMBER", "ROWS", "Shape", "frame_of"]
 
 T = TypeVar("T", bound="FieldsJSON")
 
@@ -203,6 +203,8 @@ def _harmonics_read(saved: Saved, key: str, shape: Shape) -> np.ndarray:
 
 #: a complex vector as a list of [real, imaginary] pairs
 COMPLEX_PAIRS = Codec(_pairs_write, _pairs_read)
+#: a number as Python's JSON writes it (NaN as ``NaN``: the formats that wrote it so)
+PLAIN_NUMBER = Codec(float, lambda s, k, shape: s.number(k))
 #: Fourier coefficients ``[a_0, a_1, b_1, ..., a_H, b_H]`` as ``[[a_0], [a_1, b_1], ...]``
 #: (a flat list is read too)
 HARMONIC_LISTS = Codec(_harmonics_write, _harmonics_read)
