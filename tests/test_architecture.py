@@ -421,7 +421,6 @@ OWN_JSON = {
     "StateSpaceModel": "an export (to_dict only) of the matrices for other tools",
     "MatrixChecks": "a report (to_dict only) of the checks of FE matrices",
     # measured data
-    "MeasuredFRF": "complex FRFs by pair of channels",
     "ModalIdentification": "modes grouped per pole, the stabilization chart",
 }
 
@@ -450,4 +449,5 @@ def test_results_are_saved_by_their_fields() -> None:
         "to_dict/from_dict by hand")
     assert sorted(set(OWN_JSON) - set(own)) == [], "stale entries in OWN_JSON"
     assert {"Simulation", "TransientResponse", "ShockSpectrum", "Correlation",
-            "StationarySolution", "RandomResponse", "ModelUpdate", "FRFUpdate"}.isdisjoint(own)
+            "StationarySolution", "RandomResponse", "ModelUpdate", "FRFUpdate",
+            "MeasuredFRF"}.isdisjoint(own)
