@@ -410,9 +410,6 @@ def test_the_kernel_scan_is_not_vacuous() -> None:
 #: with why the fields-generic one (resonant.analyses.result_fields.FieldsJSON) does not
 #: save it yet; every other result declares its fields and inherits both
 OWN_JSON = {
-    # the history over the period not saved but summed again from the harmonics, the
-    # series' numbers both at the top level and in "series"
-    "PeriodicResponse": "its history is recomputed, not saved; the series written twice",
     # the linear sweep's keys merged in, and the branch grouped per point
     "NonlinearResponse": "the linear sweep's keys, the branch as one record per point",
     # a named tuple (a long sweep has tens of thousands), not a dataclass
@@ -450,4 +447,4 @@ def test_results_are_saved_by_their_fields() -> None:
     assert sorted(set(OWN_JSON) - set(own)) == [], "stale entries in OWN_JSON"
     assert {"Simulation", "TransientResponse", "ShockSpectrum", "Correlation",
             "StationarySolution", "RandomResponse", "ModelUpdate", "FRFUpdate",
-            "MeasuredFRF"}.isdisjoint(own)
+            "MeasuredFRF", "PeriodicResponse"}.isdisjoint(own)
