@@ -414,8 +414,6 @@ OWN_JSON = {
     "NonlinearResponse": "the linear sweep's keys, the branch as one record per point",
     # a named tuple (a long sweep has tens of thousands), not a dataclass
     "Extremum": "a NamedTuple, not a dataclass",
-    # to_dict only (no from_dict): a report of checks
-    "MatrixChecks": "a report (to_dict only) of the checks of FE matrices",
     # measured data
     "ModalIdentification": "modes grouped per pole, the stabilization chart",
 }
@@ -446,4 +444,5 @@ def test_results_are_saved_by_their_fields() -> None:
     assert sorted(set(OWN_JSON) - set(own)) == [], "stale entries in OWN_JSON"
     assert {"Simulation", "TransientResponse", "ShockSpectrum", "Correlation",
             "StationarySolution", "RandomResponse", "ModelUpdate", "FRFUpdate",
-            "MeasuredFRF", "PeriodicResponse", "StateSpaceModel"}.isdisjoint(own)
+            "MeasuredFRF", "PeriodicResponse", "StateSpaceModel",
+            "MatrixChecks"}.isdisjoint(own)

@@ -234,7 +234,7 @@ _PAIRS_BY_NAME = Codec(
 _BY_ANNOTATION: dict[str, Codec] = {
     "str": _TEXT, "bool": _FLAG, "int": _WHOLE, "float": _NUMBER,
     "tuple[str,...]": _TEXTS, "tuple[float,...]": _NUMBERS, "tuple[int,...]": _WHOLES,
-    "tuple[float,float]": _NUMBERS,
+    "tuple[float,float]": _NUMBERS, "tuple[float,float,float]": _NUMBERS,
     "tuple[tuple[float,float],...]": Codec(lambda v: [[optional_float(a), optional_float(b)]
                                                       for a, b in v], _number_pairs_read),
     "np.ndarray": _ARRAY, "FloatArray": _ARRAY, "ComplexArray": _ARRAY,
