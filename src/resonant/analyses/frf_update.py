@@ -59,9 +59,9 @@ from ..model.random_spec import RandomInput
 from ..system.base import LinearSystem
 from .frf_mimo import pair_name
 from .frf_sensitivity import frf_with_sensitivities, loads_depend_on
-from .model_update import log_std, parameter_bounds
+from .model_update import FittedParameters, log_std, parameter_bounds
 from .random_response import Transfer, responses_to_solve
-from .result_fields import PLAIN_NUMBER, FieldsJSON, saved
+from .result_fields import PLAIN_NUMBER, saved
 from .results_json import floats_json
 
 if TYPE_CHECKING:
@@ -200,7 +200,7 @@ def model_frf_matrix(system: LinearSystem, signals: Sequence[str], frequency: np
 
 
 @dataclass(frozen=True)
-class FRFUpdate(FieldsJSON, Charted):
+class FRFUpdate(FittedParameters, Charted):
     """Parameters fitted to measured FRFs, with their uncertainty and the FRFs before and
     after.
 
@@ -234,13 +234,7 @@ class FRFUpdate(FieldsJSON, Charted):
     _json_order = ("parameters", "residual", "units", "frequency_hz", "channels", "measured",
                    "before", "after", "frac_before", "frac_after", "log_error_before",
                    "log_error_after", "cost", "message", "warnings")
-    _by_name = {"parameters": ("names", ("start", "fitted", "std", "bounds"))}
 
-    names: tuple[str, ...] = saved(keys_of="parameters")
-    start: dict[str, float] = saved(by_name="parameters", codec=PLAIN_NUMBER)
-    fitted: dict[str, float] = saved(by_name="parameters", codec=PLAIN_NUMBER)
-    std: dict[str, float] = saved(by_name="parameters", codec=PLAIN_NUMBER)
-    bounds: dict[str, tuple[float, float]] = saved(by_name="parameters")
     frequency: np.ndarray = saved(key="frequency_hz", axes=(None,))
     channels: tuple[str, ...] = saved()
     measured: np.ndarray = saved(axes=("channels", "frequency"))

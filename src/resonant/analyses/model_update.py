@@ -60,7 +60,33 @@ _STEP = 1e-6
 
 
 @dataclass(frozen=True)
-class ModelUpdate(FieldsJSON, Charted):
+class FittedParameters(FieldsJSON):
+    """The parameters a fit changed, saved one record per parameter (``"parameters"``):
+    the fields the model update and the FRF update share.
+
+    Attributes
+    ----------
+    names : tuple of str
+        The parameters.
+    start, fitted, std : mapping
+        Their values before and after (SI) and the fitted values' standard deviations.
+    bounds : mapping
+        name -> (low, high).
+    """
+
+    #: the records of to_dict() (resonant.analyses.result_fields.FieldsJSON): one per
+    #: parameter
+    _by_name = {"parameters": ("names", ("start", "fitted", "std", "bounds"))}
+
+    names: tuple[str, ...] = saved(keys_of="parameters")
+    start: dict[str, float] = saved(by_name="parameters", codec=PLAIN_NUMBER)
+    fitted: dict[str, float] = saved(by_name="parameters", codec=PLAIN_NUMBER)
+    std: dict[str, float] = saved(by_name="parameters", codec=PLAIN_NUMBER)
+    bounds: dict[str, tuple[float, float]] = saved(by_name="parameters")
+
+
+@dataclass(frozen=True)
+class ModelUpdate(FittedParameters, Charted):
     """Parameters fitted to measured modes, with their uncertainty.
 
     Attributes
@@ -93,15 +119,6 @@ class ModelUpdate(FieldsJSON, Charted):
     (('k',), 1.1025)
     """
 
-    #: the records of to_dict() (resonant.analyses.result_fields.FieldsJSON): one per
-    #: parameter
-    _by_name = {"parameters": ("names", ("start", "fitted", "std", "bounds"))}
-
-    names: tuple[str, ...] = saved(keys_of="parameters")
-    start: dict[str, float] = saved(by_name="parameters", codec=PLAIN_NUMBER)
-    fitted: dict[str, float] = saved(by_name="parameters", codec=PLAIN_NUMBER)
-    std: dict[str, float] = saved(by_name="parameters", codec=PLAIN_NUMBER)
-    bounds: dict[str, tuple[float, float]] = saved(by_name="parameters")
     target: np.ndarray = saved(key="target_hz", axes=(None,))
     before: np.ndarray = saved(key="before_hz", axes=("target",))
     after: np.ndarray = saved(key="after_hz", axes=("target",))
