@@ -61,17 +61,11 @@ _STEP = 1e-6
 
 @dataclass(frozen=True)
 class FittedParameters(FieldsJSON):
-    """The parameters a fit changed, saved one record per parameter (``"parameters"``):
-    the fields the model update and the FRF update share.
-
-    Attributes
-    ----------
-    names : tuple of str
-        The parameters.
-    start, fitted, std : mapping
-        Their values before and after (SI) and the fitted values' standard deviations.
-    bounds : mapping
-        name -> (low, high).
+    """The fields that :class:`ModelUpdate` and
+    :class:`~resonant.analyses.frf_update.FRFUpdate` share: the parameters a fit changed
+    (``names``), each one's value before (``start``) and after (``fitted``, SI), its
+    standard deviation (``std``) and its ``bounds`` (low, high); saved as one record per
+    parameter under ``"parameters"``.
     """
 
     #: the records of to_dict() (resonant.analyses.result_fields.FieldsJSON): one per
