@@ -404,3 +404,45 @@ def test_the_kernel_scan_is_not_vacuous() -> None:
             "np.block([[np.zeros((n, n)), np.eye(n)], [-K, -C]])\n")
     assert len(_kernel_calls(ast.parse(text), text)) == 3
     assert all(m in MODULE_NAMES for m in KERNEL_MODULES)
+
+
+#: the results of resonant.analyses that still write their own to_dict / from_dict, each
+#: with why the fields-generic one (resonant.analyses.result_fields.FieldsJSON) does not
+#: save it yet; every other result declares its fields and inherits both
+OWN_JSON = {
+    # the linear sweep's keys merged in, and the branch grouped per point
+    "NonlinearResponse": "the linear sweep's keys, the branch as one record per point",
+    # a named tuple (a long sweep has tens of thousands), not a dataclass
+    "Extremum": "a NamedTuple, not a dataclass",
+    # measured data
+    "ModalIdentification": "modes grouped per pole, the stabilization chart",
+}
+
+
+def _own_json_classes() -> dict[str, str]:
+    """class name -> module of every class in resonant.analyses that defines its own
+    ``to_dict`` or ``from_dict``."""
+    found = {}
+    for path in sorted((PACKAGE / "analyses").glob("*.py")):
+        if path.name == "result_fields.py":
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ClassDef) and any(
+                    isinstance(item, ast.FunctionDef) and item.name in ("to_dict", "from_dict")
+                    for item in node.body):
+                found[node.name] = path.stem
+    return found
+
+
+def test_results_are_saved_by_their_fields() -> None:
+    """No result of the analyses writes its own to_dict / from_dict but the few listed in
+    OWN_JSON (each with its reason); the list names no class that no longer does."""
+    own = _own_json_classes()
+    assert sorted(set(own) - set(OWN_JSON)) == [], (
+        "declare the fields (resonant.analyses.result_fields.saved) instead of writing "
+        "to_dict/from_dict by hand")
+    assert sorted(set(OWN_JSON) - set(own)) == [], "stale entries in OWN_JSON"
+    assert {"Simulation", "TransientResponse", "ShockSpectrum", "Correlation",
+            "StationarySolution", "RandomResponse", "ModelUpdate", "FRFUpdate",
+            "MeasuredFRF", "PeriodicResponse", "StateSpaceModel",
+            "MatrixChecks"}.isdisjoint(own)

@@ -523,7 +523,7 @@ def test_transient_round_trip(names):
         np.testing.assert_array_equal(back.history[name], result.history[name])
     assert (back.largest, back.warnings) == (result.largest, result.warnings)
     assert "history" not in result.to_dict()
-    with pytest.raises(AnalysisError, match="no histories: save it with to_dict"):
+    with pytest.raises(AnalysisError, match="no time history: save it with to_dict"):
         TransientResponse.from_dict(_through_json(result.to_dict()))
 
 

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -39,13 +38,13 @@ from ..model.measurement_spec import ChannelMap
 from ..model.units_display import ResultUnits, cyclic_shown
 from ..system.base import LinearSystem
 from .identify import ModalIdentification
-from .results_json import Saved, floats_json
+from .result_fields import FieldsJSON, saved
 
 __all__ = ["Correlation", "correlate", "correlate_shapes", "model_shapes"]
 
 
 @dataclass(frozen=True)
-class Correlation(Charted):
+class Correlation(FieldsJSON, Charted):
     """Identified (test) modes against the model's: MAC, pairs, frequency errors.
 
     Attributes
@@ -69,15 +68,17 @@ class Correlation(Charted):
     ...                      np.array([[1.0, 0.1], [0.0, 1.0]]))
     >>> c.pairs, round(float(c.mac[1, 1]), 4)
     ((0, 1), 0.9901)
+    >>> Correlation.from_dict(c.to_dict()).to_dict() == c.to_dict()   # by its fields
+    True
     """
 
-    test_frequency: np.ndarray
-    model_frequency: np.ndarray
-    mac: np.ndarray
-    pairs: tuple[int, ...]
-    frequency_error: tuple[float, ...]
-    auto_mac_test: np.ndarray
-    auto_mac_model: np.ndarray
+    test_frequency: np.ndarray = saved(key="test_frequency_hz")
+    model_frequency: np.ndarray = saved(key="model_frequency_hz")
+    mac: np.ndarray = saved(axes=("test_frequency", "model_frequency"))
+    pairs: tuple[int, ...] = saved()
+    frequency_error: tuple[float, ...] = saved()
+    auto_mac_test: np.ndarray = saved(axes=("test_frequency", "test_frequency"))
+    auto_mac_model: np.ndarray = saved(axes=("model_frequency", "model_frequency"))
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -87,48 +88,6 @@ class Correlation(Charted):
         """The MAC of each test mode with its pair (NaN without one)."""
         return np.array([self.mac[i, j] if j >= 0 else np.nan
                          for i, j in enumerate(self.pairs)])
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form.
-
-        Returns
-        -------
-        dict
-        """
-        return {"test_frequency_hz": floats_json(self.test_frequency),
-                "model_frequency_hz": floats_json(self.model_frequency),
-                "mac": floats_json(self.mac), "pairs": list(self.pairs),
-                "frequency_error": floats_json(np.array(self.frequency_error)),
-                "auto_mac_test": floats_json(self.auto_mac_test),
-                "auto_mac_model": floats_json(self.auto_mac_model)}
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> Correlation:
-        """The correlation back from its :meth:`to_dict`.
-
-        Parameters
-        ----------
-        data : mapping
-
-        Returns
-        -------
-        Correlation
-
-        Examples
-        --------
-        >>> c = correlate_shapes(np.array([1.0]), np.ones((2, 1)), np.array([1.1]),
-        ...                      np.ones((2, 1)))
-        >>> Correlation.from_dict(c.to_dict()).pairs
-        (0,)
-        """
-        saved = Saved(data, "Correlation")
-        test = saved.floats("test_frequency_hz", ndim=1)
-        model = saved.floats("model_frequency_hz", ndim=1)
-        return cls(test, model, saved.floats("mac", shape=(len(test), len(model))),
-                   tuple(int(p) for p in saved.numbers("pairs")),
-                   tuple(saved.floats("frequency_error", shape=test.shape).tolist()),
-                   saved.floats("auto_mac_test", shape=(len(test), len(test))),
-                   saved.floats("auto_mac_model", shape=(len(model), len(model))))
 
     def chart(self) -> Charts:
         """The paired MACs and the frequency errors as bars, one per test mode.

@@ -238,7 +238,7 @@ def spectral_fatigue(frequency: Sequence[float] | np.ndarray,
 
 
 @dataclass(frozen=True)
-class ResponseFatigue(Charted):
+class ResponseFatigue(FieldsJSON, Charted):
     """The fatigue of a model's stress responses under its ``[random]`` inputs: for each
     response, its :class:`SpectralFatigue` by every method asked for.
 
@@ -254,6 +254,18 @@ class ResponseFatigue(Charted):
         The method the model's ``[fatigue]`` section chose (the study's ``damage:NAME``).
     warnings : tuple of str
         What the random response and the fatigue estimates warned of.
+
+    Examples
+    --------
+    Saved by its fields (:class:`~resonant.analyses.result_fields.FieldsJSON`, the JSON of
+    ``resonant fatigue``) and read back:
+
+    >>> import json
+    >>> f = np.linspace(90, 110, 201)
+    >>> one = spectral_fatigue(f, np.full(201, 50.0), SNCurve(1e20, 4.0), 3600.0)
+    >>> result = ResponseFatigue(("s",), {"s": one}, {"s": "Pa"}, "dirlik")
+    >>> ResponseFatigue.from_dict(json.loads(json.dumps(result.to_dict()))) == result
+    True
     """
 
     names: tuple[str, ...]
@@ -261,54 +273,6 @@ class ResponseFatigue(Charted):
     units: Mapping[str, str]
     method: str
     warnings: tuple[str, ...] = ()
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form: every field (each response's :meth:`SpectralFatigue.to_dict`).
-
-        Returns
-        -------
-        dict
-        """
-        return {"names": list(self.names),
-                "results": {n: self.results[n].to_dict() for n in self.names},
-                "units": {n: self.units.get(n, "") for n in self.names},
-                "method": self.method, "warnings": list(self.warnings)}
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> ResponseFatigue:
-        """The result back from its :meth:`to_dict` (the JSON of ``resonant fatigue``).
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        ResponseFatigue
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json
-        >>> f = np.linspace(90, 110, 201)
-        >>> one = spectral_fatigue(f, np.full(201, 50.0), SNCurve(1e20, 4.0), 3600.0)
-        >>> result = ResponseFatigue(("s",), {"s": one}, {"s": "Pa"}, "dirlik")
-        >>> ResponseFatigue.from_dict(json.loads(json.dumps(result.to_dict()))) == result
-        True
-        """
-        saved = Saved(data, "ResponseFatigue")
-        names = saved.strings("names")
-        results = saved.mapping("results")
-        units = saved.mapping("units")
-        return cls(names=names,
-                   results={n: SpectralFatigue.from_dict(results.value(n)) for n in names},
-                   units={n: units.string(n) for n in names}, method=saved.string("method"),
-                   warnings=saved.strings("warnings", ()))
 
     def table(self) -> ResultTable:
         """Each response's RMS, and its damage and life by each method (:func:`fatigue_table`).

@@ -27,7 +27,7 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -35,6 +35,7 @@ import numpy as np
 from ..arrays import Matrix, freeze_fields
 from ..modal import ZERO_EIGENVALUE, symmetric_eigenvalues
 from ..system.base import LinearSystem, NumericEOM
+from .result_fields import FieldsJSON, saved
 
 #: dense eigenvalues of M and K are computed up to this many coordinates
 MAX_DENSE_CHECK = 3000
@@ -52,7 +53,7 @@ RIGID_FORCE_TOLERANCE = 1e-8
 
 
 @dataclass(frozen=True)
-class MatrixChecks:
+class MatrixChecks(FieldsJSON):
     """What :func:`~resonant.analyses.fe_checks.check_matrices` found.
 
     Parameters
@@ -93,22 +94,25 @@ class MatrixChecks:
     >>> system = NumericEOM(("q1",), np.zeros((1, 1)), np.zeros((1, 1)), np.eye(1))
     >>> check_matrices(system).problems[0][:35]
     'the mass matrix M is zero: no analy'
+    >>> saved = check_matrices(system).to_dict()    # saved by its fields (FieldsJSON)
+    >>> saved["ok"], MatrixChecks.from_dict(saved).massless
+    (False, ('q1',))
     """
 
-    n: int
-    mass_present: bool
-    asymmetry: Mapping[str, float]
-    mass_eigenvalues: tuple[float, ...] = ()
-    massless: tuple[str, ...] = ()
-    stiffness_eigenvalues: tuple[float, ...] = ()
-    rigid_body_modes: int | None = None
-    mass_by_direction: Mapping[str, float] = field(default_factory=dict)
-    rigid_body_mass: np.ndarray | None = None
-    centre_of_gravity: tuple[float, float, float] | None = None
-    inertia: np.ndarray | None = None
-    rigid_body_forces: Mapping[str, float] = field(default_factory=dict)
-    problems: tuple[str, ...] = ()
-    notes: tuple[str, ...] = ()
+    n: int = saved()
+    mass_present: bool = saved()
+    asymmetry: Mapping[str, float] = saved()
+    mass_eigenvalues: tuple[float, ...] = saved(())
+    massless: tuple[str, ...] = saved(())
+    stiffness_eigenvalues: tuple[float, ...] = saved(())
+    rigid_body_modes: int | None = saved(None)
+    mass_by_direction: Mapping[str, float] = saved(default_factory=dict)
+    rigid_body_mass: np.ndarray | None = saved(None, axes=(6, 6))
+    centre_of_gravity: tuple[float, float, float] | None = saved(None)
+    inertia: np.ndarray | None = saved(None, axes=(3, 3))
+    rigid_body_forces: Mapping[str, float] = saved(default_factory=dict)
+    problems: tuple[str, ...] = saved(())
+    notes: tuple[str, ...] = saved(())
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -118,37 +122,8 @@ class MatrixChecks:
         """True when nothing is wrong."""
         return not self.problems
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form.
-
-        Returns
-        -------
-        dict
-
-        Examples
-        --------
-        >>> import numpy as np
-        >>> from resonant.system.base import NumericEOM
-        >>> system = NumericEOM(("q1",), np.eye(1), np.zeros((1, 1)), np.eye(1))
-        >>> check_matrices(system).to_dict()["ok"]
-        True
-        """
-        def array(a: np.ndarray | None) -> Any:
-            return None if a is None else a.tolist()
-
-        return {"ok": self.ok, "n": self.n, "mass_present": self.mass_present,
-                "asymmetry": dict(self.asymmetry),
-                "mass_eigenvalues": list(self.mass_eigenvalues),
-                "massless": list(self.massless),
-                "stiffness_eigenvalues": list(self.stiffness_eigenvalues),
-                "rigid_body_modes": self.rigid_body_modes,
-                "mass_by_direction": dict(self.mass_by_direction),
-                "rigid_body_mass": array(self.rigid_body_mass),
-                "centre_of_gravity": None if self.centre_of_gravity is None
-                else list(self.centre_of_gravity),
-                "inertia": array(self.inertia),
-                "rigid_body_forces": dict(self.rigid_body_forces),
-                "problems": list(self.problems), "notes": list(self.notes)}
+    def _derived_json(self) -> dict[str, Any]:
+        return {"ok": self.ok}
 
     def summary(self) -> str:
         """The report a user reads before trusting the model.

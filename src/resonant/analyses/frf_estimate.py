@@ -39,7 +39,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -65,7 +65,8 @@ from ..model.random_spec import RandomInput
 from ..model.units_display import ResultUnits, cyclic_shown
 from ..system.base import LinearSystem
 from .random_response import Transfer, responses_to_solve
-from .results_json import Saved, complex_json, floats_json
+from .result_fields import FieldsJSON, saved
+from .results_json import Saved
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -85,7 +86,7 @@ __all__ = ["MeasuredFRF", "estimate_frf", "frf_from_measurement", "model_frf", "
 
 
 @dataclass(frozen=True)
-class MeasuredFRF:
+class MeasuredFRF(FieldsJSON):
     """Frequency response functions estimated from time histories, with their coherence.
 
     Attributes
@@ -120,19 +121,29 @@ class MeasuredFRF:
     >>> r = estimate_frf(x, {"y": 3 * x}, 0.01, segment=256)     # y = 3 x: H = 3
     >>> r.estimator, round(float(abs(r.frf["y"][10])), 9), round(float(r.coherence["y"][10]), 9)
     ('H1', 3.0, 1.0)
+    >>> import json                                  # saved by its fields (FieldsJSON)
+    >>> MeasuredFRF.from_dict(json.loads(json.dumps(r.to_dict()))).to_dict() == r.to_dict()
+    True
     """
 
-    frequency: np.ndarray
-    frf: dict[str, np.ndarray]
-    coherence: dict[str, np.ndarray]
-    estimator: str
-    window: str
-    averages: int
-    segment: int
-    step: float
-    units: dict[str, str] = field(default_factory=dict)
-    added_decay: float = 0.0
-    warnings: tuple[str, ...] = ()
+    #: the keys of to_dict() (resonant.analyses.result_fields.FieldsJSON): one record per
+    #: channel (its FRF, coherence and unit)
+    _json_order = ("frequency_hz", "estimator", "window", "averages", "segment", "step_s",
+                   "added_decay_per_s", "channels", "warnings")
+    _by_name = {"channels": ("frf", ("frf", "coherence", "unit"))}
+
+    frequency: np.ndarray = saved(key="frequency_hz", axes=(None,))
+    frf: dict[str, np.ndarray] = saved(by_name="channels")
+    coherence: dict[str, np.ndarray] = saved(by_name="channels")
+    estimator: str = saved()
+    window: str = saved()
+    averages: int = saved()
+    segment: int = saved()
+    step: float = saved(key="step_s")
+    units: dict[str, str] = saved(by_name="channels", key="unit", missing="",
+                                  default_factory=dict)
+    added_decay: float = saved(0.0, key="added_decay_per_s", required=True)
+    warnings: tuple[str, ...] = saved(())
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -142,59 +153,14 @@ class MeasuredFRF:
         """The channels in order."""
         return tuple(self.frf)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form (complex FRFs as real and imaginary parts).
-
-        Returns
-        -------
-        dict
-        """
-        return {"frequency_hz": floats_json(self.frequency), "estimator": self.estimator,
-                "window": self.window, "averages": self.averages, "segment": self.segment,
-                "step_s": self.step, "added_decay_per_s": self.added_decay,
-                "channels": {k: {"frf": complex_json(self.frf[k]),
-                                 "coherence": floats_json(self.coherence[k]),
-                                 "unit": self.units.get(k, "")} for k in self.frf},
-                "warnings": list(self.warnings)}
-
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> MeasuredFRF:
-        """The estimate back from its :meth:`to_dict`.
-
-        Parameters
-        ----------
-        data : mapping
-
-        Returns
-        -------
-        MeasuredFRF
-
-        Raises
-        ------
-        AnalysisError
-            For a missing or malformed key (named).
-
-        Examples
-        --------
-        >>> import json, numpy as np
-        >>> x = np.random.default_rng(0).standard_normal(2048)
-        >>> r = estimate_frf(x, {"y": -x}, 0.01, segment=256)
-        >>> MeasuredFRF.from_dict(json.loads(json.dumps(r.to_dict()))).to_dict() == r.to_dict()
-        True
-        """
-        saved = Saved(data, "MeasuredFRF")
-        frequency = saved.floats("frequency_hz", ndim=1)
-        channels = saved.mapping("channels")
-        frf, coherence, units = {}, {}, {}
-        for name in saved.value("channels"):
-            channel = channels.mapping(name)
-            frf[name] = channel.complex("frf", shape=frequency.shape)
-            coherence[name] = channel.floats("coherence", shape=frequency.shape)
-            units[name] = channel.string("unit")
-        return cls(frequency, frf, coherence, saved.string("estimator"),
-                   saved.string("window"), saved.integer("averages", minimum=1),
-                   saved.integer("segment", minimum=1), saved.number("step_s"), units,
-                   saved.number("added_decay_per_s"), saved.strings("warnings", ()))
+    def _check_saved(cls, values: dict[str, Any], saved_data: Saved) -> None:
+        lines = np.shape(values["frequency"])
+        for key in ("frf", "coherence"):
+            for name, value in values[key].items():
+                if np.shape(value) != lines:
+                    raise saved_data.error(f"has shape {np.shape(value)}, not {lines}",
+                                           f"channels.{name}.{key}")
 
     def to_measured(self, source: str = "frf") -> MeasuredData:
         """The FRFs as measured functions (for :func:`resonant.model.measured.write_uff`).

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -46,7 +46,7 @@ from ..memory import require
 from ..model.measured import MeasuredData, MeasuredFunction
 from ..model.measurement_spec import MeasurementSpec, match_channels
 from .frf_estimate import _band_lines, _clipping, _frames, _samples, _windows
-from .results_json import Saved, complex_json, floats_json
+from .result_fields import FieldsJSON, saved
 
 __all__ = ["MIMOFRF", "estimate_frf_matrix", "frf_matrix_from_measurement",
            "CONDITION_WARNING", "CONDITION_LIMIT", "pair_name", "frf_matrix_of",
@@ -82,7 +82,7 @@ def pair_name(output: str, input: str) -> str:
 
 
 @dataclass(frozen=True)
-class MIMOFRF(Charted):
+class MIMOFRF(FieldsJSON, Charted):
     """The H1 matrix of every response to every input, with the multiple coherence.
 
     Attributes
@@ -104,17 +104,17 @@ class MIMOFRF(Charted):
     warnings : tuple of str
     """
 
-    frequency: np.ndarray
-    inputs: tuple[str, ...]
-    outputs: tuple[str, ...]
-    H: np.ndarray
-    coherence: np.ndarray
-    condition: np.ndarray
-    window: str
-    averages: int
-    segment: int
-    step: float
-    warnings: tuple[str, ...] = field(default=())
+    frequency: np.ndarray = saved(key="frequency_hz")
+    inputs: tuple[str, ...] = saved()
+    outputs: tuple[str, ...] = saved()
+    H: np.ndarray = saved(axes=("frequency", "outputs", "inputs"))
+    coherence: np.ndarray = saved(axes=("frequency", "outputs"))
+    condition: np.ndarray = saved(axes=("frequency",))
+    window: str = saved()
+    averages: int = saved()
+    segment: int = saved()
+    step: float = saved(key="step_s")
+    warnings: tuple[str, ...] = saved(default=())
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -177,42 +177,6 @@ class MIMOFRF(Charted):
                                        np.asarray(self.coherence[:, r]), "Hz", "", (r + 1, 0),
                                        (0, 0)) for r, out in enumerate(self.outputs)]
         return MeasuredData(source, tuple(frfs + coherences))
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form.
-
-        Returns
-        -------
-        dict
-        """
-        return {"frequency_hz": floats_json(self.frequency), "inputs": list(self.inputs),
-                "outputs": list(self.outputs), "H": complex_json(self.H),
-                "coherence": floats_json(self.coherence),
-                "condition": floats_json(self.condition), "window": self.window,
-                "averages": self.averages, "segment": self.segment, "step_s": self.step,
-                "warnings": list(self.warnings)}
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> MIMOFRF:
-        """The estimate back from its :meth:`to_dict`.
-
-        Parameters
-        ----------
-        data : mapping
-
-        Returns
-        -------
-        MIMOFRF
-        """
-        saved = Saved(data, "MIMOFRF")
-        f = saved.floats("frequency_hz", ndim=1)
-        inputs, outputs = saved.strings("inputs"), saved.strings("outputs")
-        return cls(f, inputs, outputs,
-                   saved.complex("H", shape=(len(f), len(outputs), len(inputs))),
-                   saved.floats("coherence", shape=(len(f), len(outputs))),
-                   saved.floats("condition", shape=f.shape), saved.string("window"),
-                   int(saved.number("averages")), int(saved.number("segment")),
-                   saved.number("step_s"), saved.strings("warnings", ()))
 
     def chart(self) -> Charts:
         """|H| of every response, one panel per input, and the multiple coherence.

@@ -44,7 +44,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -59,9 +59,10 @@ from ..model.random_spec import RandomInput
 from ..system.base import LinearSystem
 from .frf_mimo import pair_name
 from .frf_sensitivity import frf_with_sensitivities, loads_depend_on
-from .model_update import log_std, parameter_bounds
+from .model_update import FittedParameters, log_std, parameter_bounds
 from .random_response import Transfer, responses_to_solve
-from .results_json import Saved, complex_json, floats_json
+from .result_fields import PLAIN_NUMBER, saved
+from .results_json import floats_json
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -187,7 +188,7 @@ def model_frf_matrix(system: LinearSystem, signals: Sequence[str], frequency: np
 
 
 @dataclass(frozen=True)
-class FRFUpdate(Charted):
+class FRFUpdate(FittedParameters, Charted):
     """Parameters fitted to measured FRFs, with their uncertainty and the FRFs before and
     after.
 
@@ -216,21 +217,22 @@ class FRFUpdate(Charted):
     warnings : tuple of str
     """
 
-    names: tuple[str, ...]
-    start: dict[str, float]
-    fitted: dict[str, float]
-    std: dict[str, float]
-    bounds: dict[str, tuple[float, float]]
-    frequency: np.ndarray
-    channels: tuple[str, ...]
-    measured: np.ndarray
-    before: np.ndarray
-    after: np.ndarray
-    residual: str = "log"
-    units: tuple[str, ...] = ()
-    cost: float = 0.0
-    message: str = ""
-    warnings: tuple[str, ...] = field(default=())
+    #: the keys of to_dict() (resonant.analyses.result_fields.FieldsJSON): one record per
+    #: parameter, the FRFs, the FRACs and log errors derived for the reader
+    _json_order = ("parameters", "residual", "units", "frequency_hz", "channels", "measured",
+                   "before", "after", "frac_before", "frac_after", "log_error_before",
+                   "log_error_after", "cost", "message", "warnings")
+
+    frequency: np.ndarray = saved(key="frequency_hz", axes=(None,))
+    channels: tuple[str, ...] = saved()
+    measured: np.ndarray = saved(axes=("channels", "frequency"))
+    before: np.ndarray = saved(axes=("channels", "frequency"))
+    after: np.ndarray = saved(axes=("channels", "frequency"))
+    residual: str = saved("log")
+    units: tuple[str, ...] = saved(())
+    cost: float = saved(0.0, codec=PLAIN_NUMBER)
+    message: str = saved("")
+    warnings: tuple[str, ...] = saved(())
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -255,55 +257,11 @@ class FRFUpdate(Charted):
         """The RMS log-magnitude error after."""
         return _log_rms(self.measured, self.after)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form.
-
-        Returns
-        -------
-        dict
-        """
-        return {"parameters": {n: {"start": self.start[n], "fitted": self.fitted[n],
-                                   "std": self.std[n], "bounds": list(self.bounds[n])}
-                               for n in self.names},
-                "residual": self.residual, "units": list(self.units),
-                "frequency_hz": floats_json(self.frequency),
-                "channels": list(self.channels), "measured": complex_json(self.measured),
-                "before": complex_json(self.before), "after": complex_json(self.after),
-                "frac_before": floats_json(self.frac_before),
+    def _derived_json(self) -> dict[str, Any]:
+        return {"frac_before": floats_json(self.frac_before),
                 "frac_after": floats_json(self.frac_after),
                 "log_error_before": self.log_error_before,
-                "log_error_after": self.log_error_after,
-                "cost": self.cost, "message": self.message, "warnings": list(self.warnings)}
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> FRFUpdate:
-        """The update back from its :meth:`to_dict`.
-
-        Parameters
-        ----------
-        data : mapping
-
-        Returns
-        -------
-        FRFUpdate
-        """
-        saved = Saved(data, "FRFUpdate")
-        names = tuple(saved.value("parameters"))
-        params = saved.mapping("parameters")
-        entries = {n: params.mapping(n) for n in names}
-        f = saved.floats("frequency_hz", ndim=1)
-        channels = saved.strings("channels")
-        shape = (len(channels), len(f))
-        return cls(names, {n: e.number("start") for n, e in entries.items()},
-                   {n: e.number("fitted") for n, e in entries.items()},
-                   {n: e.number("std") for n, e in entries.items()},
-                   {n: (e.numbers("bounds")[0], e.numbers("bounds")[1])
-                    for n, e in entries.items()},
-                   f, channels, saved.complex("measured", shape=shape),
-                   saved.complex("before", shape=shape), saved.complex("after", shape=shape),
-                   saved.string("residual"), saved.strings("units", ()), saved.number("cost"),
-                   saved.string("message"),
-                   saved.strings("warnings", ()))
+                "log_error_after": self.log_error_after}
 
     def chart(self, channels: Sequence[str] | None = None) -> Charts:
         """The measured |H| of each channel with the model's before and after (log axis).

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -51,7 +51,7 @@ from ..model.units import parse_with_unit
 from ..model.units_display import ResultUnits, cyclic_shown
 from ..system.base import LinearSystem
 from .correlate import Correlation, correlate_shapes
-from .results_json import Saved, floats_json
+from .result_fields import PLAIN_NUMBER, FieldsJSON, saved
 
 __all__ = ["ModelUpdate", "update_parameters", "parameter_bounds", "log_std"]
 
@@ -60,7 +60,27 @@ _STEP = 1e-6
 
 
 @dataclass(frozen=True)
-class ModelUpdate(Charted):
+class FittedParameters(FieldsJSON):
+    """The fields that :class:`ModelUpdate` and
+    :class:`~resonant.analyses.frf_update.FRFUpdate` share: the parameters a fit changed
+    (``names``), each one's value before (``start``) and after (``fitted``, SI), its
+    standard deviation (``std``) and its ``bounds`` (low, high); saved as one record per
+    parameter under ``"parameters"``.
+    """
+
+    #: the records of to_dict() (resonant.analyses.result_fields.FieldsJSON): one per
+    #: parameter
+    _by_name = {"parameters": ("names", ("start", "fitted", "std", "bounds"))}
+
+    names: tuple[str, ...] = saved(keys_of="parameters")
+    start: dict[str, float] = saved(by_name="parameters", codec=PLAIN_NUMBER)
+    fitted: dict[str, float] = saved(by_name="parameters", codec=PLAIN_NUMBER)
+    std: dict[str, float] = saved(by_name="parameters", codec=PLAIN_NUMBER)
+    bounds: dict[str, tuple[float, float]] = saved(by_name="parameters")
+
+
+@dataclass(frozen=True)
+class ModelUpdate(FittedParameters, Charted):
     """Parameters fitted to measured modes, with their uncertainty.
 
     Attributes
@@ -93,73 +113,17 @@ class ModelUpdate(Charted):
     (('k',), 1.1025)
     """
 
-    names: tuple[str, ...]
-    start: dict[str, float]
-    fitted: dict[str, float]
-    std: dict[str, float]
-    bounds: dict[str, tuple[float, float]]
-    target: np.ndarray
-    before: np.ndarray
-    after: np.ndarray
-    correlation_before: Correlation | None = None
-    correlation_after: Correlation | None = None
-    cost: float = 0.0
-    message: str = ""
-    warnings: tuple[str, ...] = field(default=())
+    target: np.ndarray = saved(key="target_hz", axes=(None,))
+    before: np.ndarray = saved(key="before_hz", axes=("target",))
+    after: np.ndarray = saved(key="after_hz", axes=("target",))
+    correlation_before: Correlation | None = saved(None)
+    correlation_after: Correlation | None = saved(None)
+    cost: float = saved(0.0, codec=PLAIN_NUMBER)
+    message: str = saved("")
+    warnings: tuple[str, ...] = saved(())
 
     def __post_init__(self) -> None:
         freeze_fields(self)
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form.
-
-        Returns
-        -------
-        dict
-        """
-        return {"parameters": {n: {"start": self.start[n], "fitted": self.fitted[n],
-                                   "std": self.std[n], "bounds": list(self.bounds[n])}
-                               for n in self.names},
-                "target_hz": floats_json(self.target), "before_hz": floats_json(self.before),
-                "after_hz": floats_json(self.after),
-                "correlation_before": self.correlation_before.to_dict()
-                if self.correlation_before is not None else None,
-                "correlation_after": self.correlation_after.to_dict()
-                if self.correlation_after is not None else None,
-                "cost": self.cost, "message": self.message, "warnings": list(self.warnings)}
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> ModelUpdate:
-        """The update back from its :meth:`to_dict`.
-
-        Parameters
-        ----------
-        data : mapping
-
-        Returns
-        -------
-        ModelUpdate
-        """
-        saved = Saved(data, "ModelUpdate")
-        names = tuple(saved.value("parameters"))
-        params = saved.mapping("parameters")
-        entries = {n: params.mapping(n) for n in names}
-        target = saved.floats("target_hz", ndim=1)
-
-        def correlation(key: str) -> Correlation | None:
-            value = saved.value(key, None)
-            return Correlation.from_dict(value) if value is not None else None
-
-        return cls(names, {n: e.number("start") for n, e in entries.items()},
-                   {n: e.number("fitted") for n, e in entries.items()},
-                   {n: e.number("std") for n, e in entries.items()},
-                   {n: (e.numbers("bounds")[0], e.numbers("bounds")[1])
-                    for n, e in entries.items()},
-                   target, saved.floats("before_hz", shape=target.shape),
-                   saved.floats("after_hz", shape=target.shape),
-                   correlation("correlation_before"), correlation("correlation_after"),
-                   saved.number("cost"), saved.string("message"),
-                   saved.strings("warnings", ()))
 
     def chart(self) -> Charts:
         """The frequency errors before and after, per measured mode.

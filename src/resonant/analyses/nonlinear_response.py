@@ -44,7 +44,7 @@ from ..errors import printable
 from ..expressions.notation import dollar_name
 from ..model.units_display import ResultUnits, Shown, curve_units, frequency_axis, unit_math
 from ..tables import ResultTable, number_column
-from .result_fields import Framed
+from .result_fields import HARMONIC_LISTS, Framed
 from .results_json import Saved, complex_json, floats_json
 from .special_points import SpecialPoint
 from .sweep import FrequencyResponse
@@ -372,9 +372,7 @@ class NonlinearResponse(Framed):
         rows = list(zip(self.coordinates, self.coefficients[i]))
         if self.output_coefficients is not None:
             rows += list(zip(self.outputs, self.output_coefficients[i]))
-        return {name: [[float(c[0])]] + [[float(c[2 * k - 1]), float(c[2 * k])]
-                                         for k in range(1, self.harmonics + 1)]
-                for name, c in rows}
+        return {name: HARMONIC_LISTS.write(c) for name, c in rows}
 
     def peak(self) -> tuple[float, dict[str, float]] | None:
         """(value, amplitudes) of the largest stable amplitude of the first coordinate: its

@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
 
@@ -63,13 +63,14 @@ from .hb_solver import (
     truncation,
     truncation_warning,
 )
+from .result_fields import COMPLEX_PAIRS, HARMONIC_LISTS, FieldsJSON, saved
 from .results_json import Saved
 from .special_points import STABILITY_TOL
 from .stationary import stationary
 
 
 @dataclass(frozen=True)
-class PeriodicSolution:
+class PeriodicSolution(FieldsJSON):
     """One periodic solution of the full equations (harmonic balance at fixed parameters).
 
     Attributes
@@ -90,22 +91,41 @@ class PeriodicSolution:
     residual : float
         max |R| of the harmonic balance; ``truncation`` the relative amplitude of the
         highest harmonic pair.
+
+    Examples
+    --------
+    Saved by its fields (:class:`~resonant.analyses.result_fields.FieldsJSON`), each
+    coordinate's coefficients as ``[[a_0], [a_1, b_1], ...]``, and read back:
+
+    >>> import json, resonant
+    >>> s = periodic_solution(resonant.load("examples/duffing.toml"), harmonics=3)
+    >>> s.to_dict()["coefficients"]["x"][0] == [s.coefficients[0, 0]]
+    True
+    >>> back = PeriodicSolution.from_dict(json.loads(json.dumps(s.to_dict())))
+    >>> back.to_dict() == s.to_dict(), (back.multipliers == s.multipliers).all()
+    (True, np.True_)
     """
 
+    #: the keys of to_dict() (resonant.analyses.result_fields.FieldsJSON); the coordinates
+    #: are the keys of ``coefficients``, in order
+    _json_order = ("title", "harmonics", "base_frequency", "period", "initial", "amplitudes",
+                   "linear_amplitudes", "relative_difference", "stable", "multipliers",
+                   "residual", "truncation", "coefficients", "warnings")
+
     title: str
-    coordinates: tuple[str, ...]
-    harmonics: int
-    coefficients: np.ndarray
-    base_frequency: float
-    initial: Mapping[str, float]
-    amplitudes: Mapping[str, float]
-    linear_amplitudes: Mapping[str, float]
-    relative_difference: Mapping[str, float]
-    multipliers: np.ndarray
-    stable: bool
-    residual: float
-    truncation: float
-    warnings: tuple[str, ...] = field(default=())
+    coordinates: tuple[str, ...] = saved(keys_of="coefficients")
+    harmonics: int = saved()
+    coefficients: np.ndarray = saved(rows_by="coordinates", codec=HARMONIC_LISTS)
+    base_frequency: float = saved()
+    initial: Mapping[str, float] = saved()
+    amplitudes: Mapping[str, float] = saved()
+    linear_amplitudes: Mapping[str, float] = saved()
+    relative_difference: Mapping[str, float] = saved()
+    multipliers: np.ndarray = saved(codec=COMPLEX_PAIRS)
+    stable: bool = saved()
+    residual: float = saved()
+    truncation: float = saved()
+    warnings: tuple[str, ...] = saved(default=())
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -122,79 +142,16 @@ class PeriodicSolution:
         return {name: self.coefficients[j, 0] + c @ self.coefficients[j, 1::2]
                 + s @ self.coefficients[j, 2::2] for j, name in enumerate(self.coordinates)}
 
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "title": self.title,
-            "harmonics": self.harmonics,
-            "base_frequency": self.base_frequency,
-            "period": self.period,
-            "initial": dict(self.initial),
-            "amplitudes": dict(self.amplitudes),
-            "linear_amplitudes": dict(self.linear_amplitudes),
-            "relative_difference": dict(self.relative_difference),
-            "stable": self.stable,
-            "multipliers": [[float(m.real), float(m.imag)] for m in self.multipliers],
-            "residual": self.residual,
-            "truncation": self.truncation,
-            "coefficients": {name: [[float(c[0])]] + [[float(c[2 * k - 1]), float(c[2 * k])]
-                                                      for k in range(1, self.harmonics + 1)]
-                             for name, c in zip(self.coordinates, self.coefficients)},
-            "warnings": list(self.warnings),
-        }
+    def _derived_json(self) -> dict[str, Any]:
+        return {"period": self.period}
 
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> PeriodicSolution:
-        """The solution back from its :meth:`to_dict` (the coordinates are the keys of
-        ``coefficients``, in order).
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        PeriodicSolution
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json, resonant
-        >>> s = periodic_solution(resonant.load("examples/duffing.toml"), harmonics=3)
-        >>> back = PeriodicSolution.from_dict(json.loads(json.dumps(s.to_dict())))
-        >>> back.to_dict() == s.to_dict(), (back.multipliers == s.multipliers).all()
-        (True, np.True_)
-        """
-        saved = Saved(data, "PeriodicSolution")
-        H = saved.integer("harmonics", minimum=1)
-        lists = saved.mapping("coefficients")
-        coordinates = tuple(str(k) for k in lists.data)
-        coefficients = np.empty((len(coordinates), 2 * H + 1))
-        for j, name in enumerate(coordinates):
-            pairs = lists.value(name)
-            flat = [c for pair in pairs for c in pair] if isinstance(pairs, list) and \
-                all(isinstance(pair, list) for pair in pairs) else pairs
-            coefficients[j] = lists.array_of(flat, name, shape=(2 * H + 1,))
-        pairs = saved.floats("multipliers", ndim=2)
-        if pairs.size == 0:
-            pairs = pairs.reshape(0, 2)
-        if pairs.shape[1] != 2:
-            raise saved.error("is not a list of [real, imaginary] pairs", "multipliers")
-        multipliers = np.empty(len(pairs), dtype=complex)
-        multipliers.real, multipliers.imag = pairs[:, 0], pairs[:, 1]
-        return cls(title=saved.string("title"), coordinates=coordinates, harmonics=H,
-                   coefficients=coefficients, base_frequency=saved.number("base_frequency"),
-                   initial=saved.numbers_of("initial"),
-                   amplitudes=saved.numbers_of("amplitudes"),
-                   linear_amplitudes=saved.numbers_of("linear_amplitudes"),
-                   relative_difference=saved.numbers_of("relative_difference"),
-                   multipliers=multipliers, stable=saved.boolean("stable"),
-                   residual=saved.number("residual"), truncation=saved.number("truncation"),
-                   warnings=saved.strings("warnings", ()))
+    def _check_saved(cls, values: Mapping[str, Any], saved_data: Saved) -> None:
+        width = 2 * values["harmonics"] + 1
+        if values["harmonics"] < 1 or np.shape(values["coefficients"])[1:] != (width,):
+            raise saved_data.error(f"does not hold {width} coefficients of each coordinate "
+                                   f"([[a_0], [a_1, b_1], ...] up to H = harmonics)",
+                                   "coefficients")
 
     def summary(self) -> str:
         lines = [f"{self.title or 'model'}: periodic solution of the full equations "

@@ -35,8 +35,8 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -52,8 +52,8 @@ from ..model.units_display import NO_UNIT, ResultUnits
 from ..system.base import LinearSystem
 from ..tables import ResultTable, number_cell
 from .random_response import Transfer, responses_to_solve
-from .result_fields import Framed
-from .results_json import Saved, complex_json, floats_json
+from .result_fields import PLAIN_NUMBER, FieldsJSON, Framed, saved
+from .results_json import Saved
 
 #: most harmonics of a series
 MAX_HARMONICS = 200_000
@@ -200,7 +200,7 @@ def _sampled(function: Callable[[np.ndarray], np.ndarray], period: float, tolera
 
 
 @dataclass(frozen=True)
-class PeriodicResponse(Framed):
+class PeriodicResponse(FieldsJSON, Framed):
     """The stationary response to a periodic load, harmonic by harmonic and summed.
 
     Attributes
@@ -220,90 +220,71 @@ class PeriodicResponse(Framed):
         name -> the summed response at ``time``.
     largest : mapping
         name -> the largest |response| over the period (on the samples).
+
+    Examples
+    --------
+    Saved by its fields (:class:`~resonant.analyses.result_fields.FieldsJSON`: the
+    ``periodic`` of ``resonant solve --json``); the history over the period is summed again
+    from the harmonics on reading, as the analysis sums it, so it is the same numbers:
+
+    >>> import json, resonant
+    >>> r = periodic_load_response(
+    ...     resonant.load("examples/teaching/fourier_square.toml").linearize())
+    >>> back = PeriodicResponse.from_dict(json.loads(json.dumps(r.to_dict())))
+    >>> back.to_dict() == r.to_dict(), (back.history["x"] == r.history["x"]).all()
+    (True, np.True_)
     """
 
     #: the columns of to_frame() (resonant.analyses.result_fields.Framed)
     _frame = (("time", "time"), ("history", "{key}"))
 
-    series: FourierSeries
-    names: tuple[str, ...]
-    mean: dict[str, float]
-    harmonics: dict[str, np.ndarray]
-    time: np.ndarray
-    history: dict[str, np.ndarray]
-    largest: dict[str, float]
-    warnings: tuple[str, ...] = field(default=())
+    #: the keys of to_dict() (resonant.analyses.result_fields.FieldsJSON): the series, one
+    #: record per response (the first 50 harmonics' amplitudes and phases for the reader,
+    #: every complex amplitude); the history is summed again from them on reading
+    _json_order = ("period_s", "harmonics", "remainder", "shape", "responses", "warnings",
+                   "series")
+    _by_name = {"responses": ("names", ("mean", "largest", "amplitudes", "phases",
+                                        "coefficients"))}
+
+    series: FourierSeries = saved()
+    names: tuple[str, ...] = saved(keys_of="responses")
+    mean: dict[str, float] = saved(by_name="responses", codec=PLAIN_NUMBER)
+    harmonics: dict[str, np.ndarray] = saved(by_name="responses", key="coefficients")
+    time: np.ndarray = saved(written=False)
+    history: dict[str, np.ndarray] = saved(written=False)
+    largest: dict[str, float] = saved(by_name="responses", codec=PLAIN_NUMBER)
+    warnings: tuple[str, ...] = saved(())
 
     def __post_init__(self) -> None:
         freeze_fields(self)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form (the first 50 harmonics' amplitudes and phases).
-
-        Returns
-        -------
-        dict
-        """
-        shown = min(50, self.series.harmonics)
+    def _derived_json(self) -> dict[str, Any]:
         s = self.series
-        return {"period_s": s.period, "harmonics": s.harmonics,
-                "remainder": s.remainder, "shape": s.shape,
-                "responses": {name: {
-                    "mean": self.mean[name], "largest": self.largest[name],
-                    "amplitudes": np.abs(self.harmonics[name][:shown]).tolist(),
-                    "phases": np.angle(self.harmonics[name][:shown]).tolist(),
-                    # every harmonic's complex amplitude (the history is their sum)
-                    "coefficients": complex_json(self.harmonics[name])}
-                    for name in self.names},
-                "warnings": list(self.warnings),
-                "series": {"period": s.period, "a0": s.a0, "a": floats_json(s.a),
-                           "b": floats_json(s.b), "remainder": s.remainder,
-                           "shape": s.shape}}
+        return {"period_s": s.period, "harmonics": s.harmonics, "remainder": s.remainder,
+                "shape": s.shape}
+
+    def _derived_record(self, group: str, name: str) -> dict[str, Any]:
+        shown = self.harmonics[name][:min(50, self.series.harmonics)]
+        return {"amplitudes": np.abs(shown).tolist(), "phases": np.angle(shown).tolist()}
 
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> PeriodicResponse:
-        """The response back from its :meth:`to_dict` (the ``periodic`` of ``resonant solve
-        --json``).
-
-        The history over the period is summed again from the harmonics, as the analysis
-        sums it, so it is the same numbers.
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        PeriodicResponse
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json, resonant
-        >>> r = periodic_load_response(
-        ...     resonant.load("examples/teaching/fourier_square.toml").linearize())
-        >>> back = PeriodicResponse.from_dict(json.loads(json.dumps(r.to_dict())))
-        >>> back.to_dict() == r.to_dict(), (back.history["x"] == r.history["x"]).all()
-        (True, np.True_)
-        """
-        saved = Saved(data, "PeriodicResponse")
-        s = saved.mapping("series")
-        a = s.floats("a", ndim=1)
-        series = FourierSeries(s.number("period"), s.number("a0"), a,
-                               s.floats("b", shape=a.shape), s.number("remainder"),
-                               s.string("shape"))
-        responses = saved.mapping("responses")
-        names = tuple(str(k) for k in responses.data)
+    def _check_saved(cls, values: dict[str, Any], saved_data: Saved) -> None:
+        """The history over the period summed again from the harmonics, as the analysis
+        sums it (the same numbers)."""
+        series, names = values["series"], values["names"]
+        if np.shape(series.b) != np.shape(series.a) or np.ndim(series.a) != 1:
+            raise saved_data.error("has a and b of different lengths", "series")
+        for name in names:
+            if np.shape(values["harmonics"][name]) != (series.harmonics,):
+                raise saved_data.error(f"does not hold {series.harmonics} harmonics",
+                                       f"responses.{name}.coefficients")
         Z = np.empty((series.harmonics, len(names)), dtype=complex)
         for i, name in enumerate(names):
-            Z[:, i] = responses.mapping(name).complex("coefficients", shape=a.shape)
-        mean = np.array([responses.mapping(name).number("mean") for name in names])
-        return _summed(series, names, Z, mean, tuple(saved.strings("warnings", ())))
+            Z[:, i] = values["harmonics"][name]
+        summed = _summed(series, names, Z, np.array([values["mean"][n] for n in names]),
+                         values.get("warnings", ()))
+        values.update(time=summed.time, history=summed.history, largest=summed.largest,
+                      mean=summed.mean, harmonics=summed.harmonics)
 
 
 

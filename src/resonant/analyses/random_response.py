@@ -68,7 +68,7 @@ import contextlib
 import math
 import os
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -103,7 +103,8 @@ from ..tables import ResultTable, number_cell
 from .forward_error import accuracy_warning
 from .kernel import reduced_budget, solve_harmonic
 from .reduced import FactorizationsAhead, ReducedModel, probe_frequency, reduced_model
-from .results_json import Saved, optional_float
+from .result_fields import FieldsJSON, saved
+from .results_json import optional_float
 from .threads import blas_threads
 
 if TYPE_CHECKING:
@@ -130,7 +131,7 @@ REDUCED_ACCEPT = 1e-3
 
 
 @dataclass(frozen=True)
-class RandomResponse:
+class RandomResponse(FieldsJSON):
     """The response spectral densities, RMS values and Rice's rates of every coordinate
     and output.
 
@@ -172,27 +173,52 @@ class RandomResponse:
     method : str
         The kernel's method.
     warnings : tuple of str
+
+    Examples
+    --------
+    Saved by its fields (:class:`~resonant.analyses.result_fields.FieldsJSON`: the JSON of
+    ``resonant random``, one record per input and per response) and read back:
+
+    >>> import json, resonant
+    >>> r = resonant.load("examples/shaker_gevs.toml").random_response()
+    >>> sorted(r.to_dict()["responses"]["x"])[:3]
+    ['miles_rms', 'peak_rate_hz', 'relative_error']
+    >>> back = RandomResponse.from_dict(json.loads(json.dumps(r.to_dict())))
+    >>> back.to_dict() == r.to_dict()
+    True
     """
 
-    title: str
-    names: tuple[str, ...]
-    inputs: tuple[str, ...]
-    frequency: np.ndarray
-    psd: Mapping[str, np.ndarray]
-    input_psd: Mapping[str, np.ndarray]
-    rms: Mapping[str, float]
-    zero_crossing_rate: Mapping[str, float]
-    peak_rate: Mapping[str, float]
-    error: Mapping[str, float]
-    units: Mapping[str, str]
-    band: tuple[float, float]
-    input_units: Mapping[str, str] = field(default_factory=dict)
-    input_derivatives: Mapping[str, int] = field(default_factory=dict)
-    miles: Mapping[str, float] | None = None
-    natural_frequency: float | None = None
-    quality: float | None = None
-    method: str = ""
-    warnings: tuple[str, ...] = field(default=())
+    #: the keys of to_dict() (resonant.analyses.result_fields.FieldsJSON): SI numbers,
+    #: frequencies in Hz, densities one-sided per Hz; one record per input and response
+    _json_order = ("title", "convention", "band_hz", "inputs", "responses",
+                   "natural_frequency_hz", "quality_factor", "frequency_hz", "psd",
+                   "input_psd", "method", "warnings", "miles")
+    _by_name = {"inputs": ("inputs", ("unit", "derivative")),
+                "responses": ("names", ("unit", "rms", "three_sigma", "zero_crossing_rate_hz",
+                                        "peak_rate_hz", "relative_error", "miles_rms"))}
+
+    title: str = saved()
+    names: tuple[str, ...] = saved(keys_of="responses")
+    inputs: tuple[str, ...] = saved(keys_of="inputs")
+    frequency: np.ndarray = saved(key="frequency_hz", axes=(None,))
+    psd: Mapping[str, np.ndarray] = saved(axes=("frequency",), rows_by="names")
+    input_psd: Mapping[str, np.ndarray] = saved(axes=("frequency",), rows_by="inputs")
+    rms: Mapping[str, float] = saved(by_name="responses")
+    zero_crossing_rate: Mapping[str, float] = saved(by_name="responses",
+                                                    key="zero_crossing_rate_hz")
+    peak_rate: Mapping[str, float] = saved(by_name="responses", key="peak_rate_hz")
+    error: Mapping[str, float] = saved(by_name="responses", key="relative_error")
+    units: Mapping[str, str] = saved(by_name="responses", key="unit", missing="")
+    band: tuple[float, float] = saved(key="band_hz")
+    input_units: Mapping[str, str] = saved(by_name="inputs", key="unit", missing="",
+                                           default_factory=dict)
+    input_derivatives: Mapping[str, int] = saved(by_name="inputs", key="derivative",
+                                                 missing=0, default_factory=dict)
+    miles: Mapping[str, float] | None = saved(None)
+    natural_frequency: float | None = saved(None, key="natural_frequency_hz")
+    quality: float | None = saved(None, key="quality_factor")
+    method: str = saved("")
+    warnings: tuple[str, ...] = saved(())
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -202,92 +228,15 @@ class RandomResponse:
         """name -> 3 RMS (the level exceeded with probability 0.27 % for a Gaussian)."""
         return {name: 3 * value for name, value in self.rms.items()}
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form (SI numbers; frequencies in Hz; densities one-sided per Hz).
+    def _derived_json(self) -> dict[str, Any]:
+        return {"convention": "one-sided spectral densities per Hz"}
 
-        Returns
-        -------
-        dict
-        """
-        def clean(value: float | None) -> float | None:
-            return None if value is None or not math.isfinite(value) else float(value)
-
-        return {
-            "title": self.title,
-            "convention": "one-sided spectral densities per Hz",
-            "band_hz": list(self.band),
-            "inputs": {name: {"unit": self.input_units.get(name, ""),
-                              "derivative": self.input_derivatives.get(name, 0)}
-                       for name in self.inputs},
-            "responses": {name: {
-                "unit": self.units.get(name, ""),
-                "rms": self.rms[name], "three_sigma": 3 * self.rms[name],
-                "zero_crossing_rate_hz": clean(self.zero_crossing_rate[name]),
-                "peak_rate_hz": clean(self.peak_rate[name]),
-                "relative_error": self.error[name],
-                "miles_rms": None if self.miles is None else clean(self.miles.get(name)),
-            } for name in self.names},
-            "natural_frequency_hz": self.natural_frequency,
-            "quality_factor": self.quality,
-            "frequency_hz": self.frequency.tolist(),
-            "psd": {name: self.psd[name].tolist() for name in self.names},
-            "input_psd": {name: self.input_psd[name].tolist() for name in self.inputs},
-            "method": self.method,
-            "warnings": list(self.warnings),
-            "miles": None if self.miles is None else {
-                name: optional_float(value) for name, value in self.miles.items()},
-        }
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> RandomResponse:
-        """The result back from its :meth:`to_dict` (the JSON of ``resonant random``).
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        RandomResponse
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json, resonant
-        >>> r = resonant.load("examples/shaker_gevs.toml").random_response()
-        >>> back = RandomResponse.from_dict(json.loads(json.dumps(r.to_dict())))
-        >>> back.to_dict() == r.to_dict()
-        True
-        """
-        saved = Saved(data, "RandomResponse")
-        responses = {str(k): saved.mapping("responses").mapping(k)
-                     for k in saved.mapping("responses").data}
-        inputs = {str(k): saved.mapping("inputs").mapping(k)
-                  for k in saved.mapping("inputs").data}
-        frequency = saved.floats("frequency_hz", ndim=1)
-        band = saved.floats("band_hz", shape=(2,))
-        miles = saved.numbers_of("miles") if saved.value("miles", None) is not None else None
-        return cls(
-            title=saved.string("title"), names=tuple(responses), inputs=tuple(inputs),
-            frequency=frequency, psd=saved.arrays("psd", shape=frequency.shape),
-            input_psd=saved.arrays("input_psd", shape=frequency.shape),
-            rms={k: r.number("rms") for k, r in responses.items()},
-            zero_crossing_rate={k: r.number("zero_crossing_rate_hz")
-                                for k, r in responses.items()},
-            peak_rate={k: r.number("peak_rate_hz") for k, r in responses.items()},
-            error={k: r.number("relative_error") for k, r in responses.items()},
-            units={k: r.string("unit") for k, r in responses.items()},
-            band=(float(band[0]), float(band[1])),
-            input_units={k: i.string("unit") for k, i in inputs.items()},
-            input_derivatives={k: i.integer("derivative", minimum=0) for k, i in inputs.items()},
-            miles=miles, natural_frequency=saved.optional_number("natural_frequency_hz"),
-            quality=saved.optional_number("quality_factor"), method=saved.string("method"),
-            warnings=saved.strings("warnings", ()))
+    def _derived_record(self, group: str, name: str) -> dict[str, Any]:
+        if group != "responses":
+            return {}
+        return {"three_sigma": 3 * self.rms[name],
+                "miles_rms": None if self.miles is None else optional_float(
+                    self.miles.get(name))}
 
     def summary(self, units: ResultUnits | None = None) -> str:
         """The text ``resonant random`` prints (:func:`random_text`).

@@ -16,8 +16,11 @@ annotation                      JSON
 ``Mapping[str, float]``         an object of numbers
 ``Mapping[str, np.ndarray]``    an object of nested lists
 ``Mapping[str, str]``           an object of strings
+``Mapping[str, tuple[tuple[float, float], ...]]`` an object of lists of pairs
 a result class                  its ``to_dict()``
 ``tuple[<result class>, ...]``  a list of them
+``Mapping[str, <result class>]`` an object of them
+another dataclass               an object of its compared fields (by these rules)
 ``X | None``                    ``null`` or X
 ==============================  ==============================================================
 
@@ -26,7 +29,16 @@ A field whose saved form is none of these names its :class:`Codec` in :func:`sav
 reading, so that a hand-edited file is refused with the key and the shapes, not half read.
 What a class writes beside its fields (numbers derived for the reader of the JSON) comes
 from its ``_derived_json()``; ``from_dict`` reads the fields only, so the derived numbers are
-computed again, bit for bit.
+computed again, bit for bit.  The keys come in the order of the fields (the derived ones
+first), or in the order the class lists in ``_json_order``.  Three more ways of saving a
+field, for the formats the command line's outputs fix:
+
+* ``saved(history=True)``: written inside ``"history"``, and only by ``to_dict(history=True)``
+  (a time history can be long); ``from_dict`` then needs it;
+* ``saved(rows_by="names")``: an array written as an object, row ``i`` under the ``i``-th name
+  of the field ``names`` (a mapping: its entries of those names, in their order);
+* ``saved(keys_of="other")``: not written; read back as the keys of the saved object of
+  the field ``other``.
 
 Examples
 --------
@@ -64,8 +76,8 @@ import numpy.typing as npt
 from ..errors import AnalysisError
 from .results_json import Saved, complex_json, floats_json, optional_float
 
-__all__ = ["Codec", "FieldsJSON", "Framed", "saved", "COMPLEX_PAIRS", "ROWS", "Shape",
-           "frame_of"]
+__all__ = ["Codec", "FieldsJSON", "Framed", "saved", "COMPLEX_PAIRS", "HARMONIC_LISTS",
+           "PLAIN_NUMBER", "ROWS", "Shape", "frame_of"]
 
 T = TypeVar("T", bound="FieldsJSON")
 
@@ -151,7 +163,8 @@ def _pairs_read(saved: Saved, key: str, shape: Shape) -> np.ndarray:
         pairs = pairs.reshape(0, 2)
     if pairs.shape[1] != 2:
         raise saved.error("is not a list of [real, imaginary] pairs", key)
-    out = pairs[:, 0] + 1j * pairs[:, 1]
+    out = np.empty(len(pairs), dtype=complex)
+    out.real, out.imag = pairs[:, 0], pairs[:, 1]   # bit for bit, signed zeros included
     if shape is not None and out.shape != shape:
         raise saved.error(f"has shape {out.shape}, not {shape}", key)
     return out
@@ -170,11 +183,31 @@ def _number_pairs_read(saved: Saved, key: str, shape: Shape
         pairs = pairs.reshape(0, 2)
     if pairs.shape[1] != 2:
         raise saved.error("is not a list of pairs of numbers", key)
+    if shape is not None and None not in shape and pairs.shape != shape:
+        raise saved.error(f"has shape {pairs.shape}, not {shape}", key)
     return tuple((float(a), float(b)) for a, b in pairs)
+
+
+def _harmonics_write(value: npt.ArrayLike) -> list[list[float | None]]:
+    c = np.asarray(value, dtype=float).tolist()
+    return [[optional_float(c[0])]] + [[optional_float(a), optional_float(b)]
+                                       for a, b in zip(c[1::2], c[2::2])]
+
+
+def _harmonics_read(saved: Saved, key: str, shape: Shape) -> np.ndarray:
+    lists = saved.value(key)
+    flat = [c for pair in lists for c in pair] if isinstance(lists, list) and all(
+        isinstance(pair, list) for pair in lists) else lists
+    return saved.array_of(flat, key, shape=_fixed(shape), ndim=1)
 
 
 #: a complex vector as a list of [real, imaginary] pairs
 COMPLEX_PAIRS = Codec(_pairs_write, _pairs_read)
+#: a number as Python's JSON writes it (NaN as ``NaN``: the formats that wrote it so)
+PLAIN_NUMBER = Codec(float, lambda s, k, shape: s.number(k))
+#: Fourier coefficients ``[a_0, a_1, b_1, ..., a_H, b_H]`` as ``[[a_0], [a_1, b_1], ...]``
+#: (a flat list is read too)
+HARMONIC_LISTS = Codec(_harmonics_write, _harmonics_read)
 #: a real matrix saved transposed: one column (a mode, a point) a row
 ROWS = Codec(lambda value: floats_json(np.asarray(value, dtype=float).T), _rows_read)
 
@@ -193,16 +226,22 @@ _ARRAYS_BY_NAME = Codec(lambda v: {k: _array_write(x) for k, x in v.items()}, _a
 _TEXTS_BY_NAME = Codec(dict, lambda s, k, shape: {
     str(name): s.mapping(k).string(str(name)) for name in s.mapping(k).data})
 
+_PAIRS_BY_NAME = Codec(
+    lambda v: {k: [[optional_float(a), optional_float(b)] for a, b in x] for k, x in v.items()},
+    lambda s, k, shape: {str(name): _number_pairs_read(s.mapping(k), str(name), shape)
+                         for name in s.mapping(k).data})
+
 _BY_ANNOTATION: dict[str, Codec] = {
     "str": _TEXT, "bool": _FLAG, "int": _WHOLE, "float": _NUMBER,
     "tuple[str,...]": _TEXTS, "tuple[float,...]": _NUMBERS, "tuple[int,...]": _WHOLES,
-    "tuple[float,float]": _NUMBERS,
+    "tuple[float,float]": _NUMBERS, "tuple[float,float,float]": _NUMBERS,
     "tuple[tuple[float,float],...]": Codec(lambda v: [[optional_float(a), optional_float(b)]
                                                       for a, b in v], _number_pairs_read),
     "np.ndarray": _ARRAY, "FloatArray": _ARRAY, "ComplexArray": _ARRAY,
     "Mapping[str,float]": _NUMBERS_BY_NAME, "dict[str,float]": _NUMBERS_BY_NAME,
     "Mapping[str,np.ndarray]": _ARRAYS_BY_NAME, "dict[str,np.ndarray]": _ARRAYS_BY_NAME,
     "Mapping[str,str]": _TEXTS_BY_NAME, "dict[str,str]": _TEXTS_BY_NAME,
+    "Mapping[str,tuple[tuple[float,float],...]]": _PAIRS_BY_NAME,
 }
 
 
@@ -215,11 +254,21 @@ class _Saving:
     axes: Axes | None = None
     omit_none: bool = False
     required: bool = False
+    history: bool = False
+    rows_by: str | None = None
+    keys_of: str | None = None
+    inline: bool = False
+    written: bool = True
+    by_name: str | None = None
+    missing: tuple[object, ...] = ()   # (the value written for a name the mapping lacks,)
 
 
 def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
           codec: Codec | None = None, axes: Axes | None = None, omit_none: bool = False,
-          required: bool = False, default_factory: Callable[[], object] | None = None) -> Any:
+          required: bool = False, default_factory: Callable[[], object] | None = None,
+          history: bool = False, rows_by: str | None = None, keys_of: str | None = None,
+          inline: bool = False, written: bool = True, by_name: str | None = None,
+          missing: object = dataclasses.MISSING) -> Any:
     """A dataclass field with the way it is saved (see the module's table).
 
     Parameters
@@ -237,12 +286,32 @@ def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
     required : bool
         The key must be in a saved result even though the field has a default (a missing
         key of a field with a default otherwise reads as the default).
+    history : bool
+        Written inside ``"history"``, only when ``to_dict(history=True)`` is asked for.
+    rows_by : str, optional
+        The field whose names key the array's rows (an object of rows); of a mapping, the
+        names whose entries are written, in that order.
+    keys_of : str, optional
+        Not written: the keys of the saved object of that field.
+    inline : bool
+        The codec writes an object whose keys go beside the other fields' (and reads them
+        from there).
+    written : bool
+        False: not saved (a field with a default, read back as the default).
+    by_name : str, optional
+        A mapping name -> value saved in the object ``by_name`` of one record per name
+        (the class's ``_by_name`` says which field lists the names and the records' key
+        order), under ``key``: ``{"responses": {"x": {"rms": ...}}}``.
+    missing : optional
+        With ``by_name``: written for a name the mapping lacks (else every name is there).
 
     Returns
     -------
     dataclasses.Field
     """
-    metadata = {"saved": _Saving(key, codec, axes, omit_none, required)}
+    metadata = {"saved": _Saving(key, codec, axes, omit_none, required, history, rows_by,
+                                 keys_of, inline, written, by_name,
+                                 () if missing is dataclasses.MISSING else (missing,))}
     if default_factory is not None:
         return dataclasses.field(default_factory=default_factory, metadata=metadata)
     return dataclasses.field(default=default, metadata=metadata)
@@ -280,15 +349,47 @@ def _codec_of(owner: type, field: dataclasses.Field[Any]) -> Codec:
     return _optional(codec) if optional else codec
 
 
+def _nested_by_name(kind: type[FieldsJSON]) -> Codec:
+    def read(saved_data: Saved, key: str, shape: Shape) -> dict[str, Any]:
+        inner = saved_data.mapping(key)
+        return {str(k): kind.read_saved(inner.mapping(str(k))) for k in inner.data}
+    return Codec(lambda v: {k: x.to_dict() for k, x in v.items()}, read)
+
+
+def _record(kind: type) -> Codec:
+    """A dataclass that is no result: an object of its fields, each by its annotation; a
+    field outside its comparison (``compare=False``: where it was read from) is not saved."""
+    compared = {f.name for f in dataclasses.fields(kind) if f.compare}
+    entries = tuple(e for e in _entries(kind) if e.name in compared)
+
+    def read(saved_data: Saved, key: str, shape: Shape) -> Any:
+        inner = saved_data.mapping(key)
+        values = {e.name: e.codec.read(inner, e.key, None) for e in entries
+                  if e.key in inner or not e.has_default}
+        try:
+            return kind(**values)
+        except (TypeError, ValueError) as exc:
+            raise saved_data.error(f"does not make a {kind.__name__}: {exc}", key) from None
+    return Codec(lambda v: {e.key: e.codec.write(getattr(v, e.name)) for e in entries}, read)
+
+
 def _result_codec(owner: type, text: str) -> Codec | None:
-    """The codec of a nested result (``Name`` or ``tuple[Name, ...]``), looked up among the
-    names of the module that defines ``owner``."""
-    match = re.fullmatch(r"tuple\[(\w+),\.\.\.\]", text)
-    name = match.group(1) if match else text
+    """The codec of a nested result (``Name``, ``tuple[Name, ...]`` or ``Mapping[str,
+    Name]``) or dataclass (``Name``), looked up among the names of the module that defines
+    ``owner``."""
+    listed = re.fullmatch(r"tuple\[(\w+),\.\.\.\]", text)
+    named = re.fullmatch(r"(?:Mapping|dict)\[str,(\w+)\]", text)
+    found = listed or named
+    name = found.group(1) if found else text
     kind = vars(sys.modules[owner.__module__]).get(name)
-    if not (isinstance(kind, type) and issubclass(kind, FieldsJSON)):
+    if not isinstance(kind, type):
         return None
-    return _nested_list(kind) if match else _nested(kind)
+    if issubclass(kind, FieldsJSON):
+        return _nested_list(kind) if listed else _nested_by_name(kind) if named \
+            else _nested(kind)
+    if dataclasses.is_dataclass(kind) and not (listed or named):
+        return _record(kind)
+    return None
 
 
 @dataclass(frozen=True)
@@ -299,18 +400,43 @@ class _Entry:
     axes: Axes | None
     has_default: bool
     omit_none: bool
+    history: bool = False
+    rows_by: str | None = None
+    keys_of: str | None = None
+    inline: bool = False
+    by_name: str | None = None
+    missing: tuple[object, ...] = ()
+    mapping: bool = False   # a mapping field (rows_by: the entries of those names)
+
+
+def _element_codec(owner: type, field: dataclasses.Field[Any]) -> Codec:
+    """The codec of one value of a ``Mapping[str, X]`` field (``saved(by_name=...)``)."""
+    saving: _Saving = field.metadata["saved"]
+    if saving.codec is not None:
+        return saving.codec
+    text = re.sub(r"\s+", "", str(field.type))
+    match = re.fullmatch(r"(?:Mapping|dict)\[str,(.+)\]", text)
+    codec = _BY_ANNOTATION.get(match.group(1)) if match else None
+    if codec is None:
+        raise TypeError(f"{owner.__name__}.{field.name}: saved by name, but '{field.type}' "
+                        "is no mapping of a saved form")
+    return codec
 
 
 def _entries(cls: type) -> tuple[_Entry, ...]:
     out = []
     for f in dataclasses.fields(cls):
-        if not f.init:
-            continue
         saving = f.metadata.get("saved", _Saving())
+        if not f.init or not saving.written:
+            continue
         has_default = not saving.required and (f.default is not dataclasses.MISSING
                                                 or f.default_factory is not dataclasses.MISSING)
-        out.append(_Entry(f.name, saving.key or f.name, _codec_of(cls, f), saving.axes,
-                          has_default, saving.omit_none))
+        codec = _TEXTS if saving.keys_of is not None else _element_codec(cls, f) \
+            if saving.by_name is not None else _codec_of(cls, f)
+        out.append(_Entry(f.name, saving.key or f.name, codec, saving.axes, has_default,
+                          saving.omit_none, saving.history, saving.rows_by, saving.keys_of,
+                          saving.inline, saving.by_name, saving.missing,
+                          bool(re.match(r"(Mapping|dict)\[", str(f.type)))))
     return tuple(out)
 
 
@@ -337,19 +463,61 @@ class FieldsJSON:
         """Keys written beside the fields, for the reader of the JSON (none by default)."""
         return {}
 
-    def to_dict(self) -> dict[str, Any]:
+    _json_order: ClassVar[tuple[str, ...]] = ()
+    #: record group -> (the field listing its names, the records' keys in order)
+    _by_name: ClassVar[Mapping[str, tuple[str, tuple[str, ...]]]] = {}
+
+    def _derived_record(self, group: str, name: str) -> dict[str, Any]:
+        """Keys written in the record of ``name`` in ``group`` for the reader (none)."""
+        return {}
+
+    def to_dict(self, history: bool = False) -> dict[str, Any]:
         """The JSON form: the derived keys, then every field (see :mod:`result_fields`).
+
+        Parameters
+        ----------
+        history : bool, optional
+            Also write the fields saved in ``"history"`` (time histories, which can be
+            long, and which :meth:`from_dict` needs); a result without any has none.
 
         Returns
         -------
         dict
         """
         data = self._derived_json()
+        histories: dict[str, Any] = {}
+        groups = {group: {name: self._derived_record(group, name)
+                          for name in getattr(self, names)}
+                  for group, (names, _) in self._by_name.items()}
         for entry in self._saved_fields():
             value = getattr(self, entry.name)
-            if value is not None or not entry.omit_none:
-                data[entry.key] = entry.codec.write(value)
-        return data
+            if entry.keys_of is not None or (value is None and entry.omit_none) or \
+                    (entry.history and not history):
+                continue
+            if entry.by_name is not None:
+                data.setdefault(entry.by_name, groups[entry.by_name])
+                for name, record in groups[entry.by_name].items():
+                    one = value.get(name, *entry.missing) if entry.missing else value[name]
+                    record[entry.key] = entry.codec.write(one)
+                continue
+            if entry.rows_by is not None and entry.mapping:
+                written: Any = entry.codec.write({name: value[name]
+                                                  for name in getattr(self, entry.rows_by)})
+            elif entry.rows_by is not None:
+                written = {name: entry.codec.write(row)
+                           for name, row in zip(getattr(self, entry.rows_by), value)}
+            else:
+                written = entry.codec.write(value)
+            if entry.inline:
+                data.update(written)
+            else:
+                (histories if entry.history else data)[entry.key] = written
+        if histories:
+            data["history"] = histories
+        for group, (_, order) in self._by_name.items():
+            data[group] = {name: _ordered(record, order, f"{type(self).__name__}.{group}")
+                           for name, record in groups[group].items()}
+        return _ordered(data, self._json_order, type(self).__name__)
 
     @classmethod
     def from_dict(cls: type[T], data: Mapping[str, Any]) -> T:
@@ -373,24 +541,79 @@ class FieldsJSON:
         return cls.read_saved(Saved(data, cls.__name__))
 
     @classmethod
-    def _check_saved(cls, values: Mapping[str, Any], saved_data: Saved) -> None:
-        """Checks between saved fields beyond their shapes (raise ``saved_data.error``)."""
+    def _check_saved(cls, values: dict[str, Any], saved_data: Saved) -> None:
+        """Checks between saved fields beyond their shapes (raise ``saved_data.error``);
+        may complete a value from the others (a field saved inside another's)."""
 
     @classmethod
     def read_saved(cls: type[T], saved_data: Saved) -> T:
         """The result from a checked reader (:meth:`from_dict` and nested results)."""
         values: dict[str, Any] = {}
         entries = cls._saved_fields()
+        histories = saved_data
+        if any(e.history for e in entries):
+            if "history" not in saved_data:
+                raise AnalysisError(f"the saved {cls.__name__} has no time history: save it "
+                                    "with to_dict(history=True)")
+            histories = saved_data.mapping("history")
+        by_name = {e.name: e for e in entries}
         for entry in _reading_order(entries):
-            if entry.key not in saved_data and entry.has_default:
+            source = histories if entry.history else saved_data
+            if entry.keys_of is not None:
+                of = by_name.get(entry.keys_of)
+                inner = saved_data.mapping(entry.keys_of) if entry.keys_of in cls._by_name \
+                    else (histories if of is not None and of.history else saved_data).mapping(
+                        of.key if of is not None else entry.keys_of)
+                values[entry.name] = tuple(str(k) for k in inner.data)
                 continue
-            shape = None if entry.axes is None else _shape(entry, values, saved_data)
-            values[entry.name] = entry.codec.read(saved_data, entry.key, shape)
+            if entry.by_name is not None:
+                values[entry.name] = _read_by_name(entry, saved_data.mapping(entry.by_name))
+                continue
+            if entry.key not in source and entry.has_default and not entry.inline:
+                continue
+            shape = None if entry.axes is None else _shape(entry, values, source)
+            if entry.rows_by is not None and not entry.mapping:
+                values[entry.name] = _rows_by_name(entry, source, shape)
+            else:
+                values[entry.name] = entry.codec.read(source, entry.key, shape)
         cls._check_saved(values, saved_data)
         try:
             return cls(**values)
         except (TypeError, ValueError) as exc:
             raise saved_data.error(f"does not make a {cls.__name__}: {exc}") from None
+
+
+def _read_by_name(entry: _Entry, records: Saved) -> dict[str, Any]:
+    """A mapping saved by name (``saved(by_name=...)``): each record's ``entry.key`` (a
+    record without it is left out when the field has a ``missing`` value)."""
+    out = {}
+    for name in records.data:
+        record = records.mapping(str(name))
+        if entry.key in record or not entry.missing:
+            out[str(name)] = entry.codec.read(record, entry.key, None)
+    return out
+
+
+def _rows_by_name(entry: _Entry, saved_data: Saved, shape: Shape) -> np.ndarray:
+    """An array saved as an object of rows (``saved(rows_by=...)``), each row read by the
+    field's codec with the shape's trailing lengths."""
+    inner = saved_data.mapping(entry.key)
+    row_shape = None if shape is None else shape[1:]
+    rows = [np.asarray(entry.codec.read(inner, str(k), row_shape)) for k in inner.data]
+    if len({r.shape for r in rows}) > 1:
+        raise saved_data.error("holds rows of different lengths", entry.key)
+    return np.array(rows) if rows else np.zeros((0,) + tuple(
+        s or 0 for s in (row_shape or ())))
+
+
+def _ordered(data: dict[str, Any], order: tuple[str, ...], kind: str) -> dict[str, Any]:
+    """``data`` with its keys in ``order`` (every key must be listed; unchanged without)."""
+    if not order:
+        return data
+    unlisted = [key for key in data if key not in order]
+    if unlisted:
+        raise TypeError(f"{kind}._json_order does not list {unlisted}")
+    return {key: data[key] for key in order if key in data}
 
 
 def _reading_order(entries: tuple[_Entry, ...]) -> list[_Entry]:
@@ -401,7 +624,7 @@ def _reading_order(entries: tuple[_Entry, ...]) -> list[_Entry]:
     waiting = list(entries)
     while waiting:
         ready = [e for e in waiting if all(not isinstance(a, str) or a in done or a not in names
-                                           for a in e.axes or ())]
+                                           for a in (*(e.axes or ()), e.keys_of))]
         if not ready:   # a cycle of axes: read in field order (the check then says which)
             ready = waiting[:1]
         order += ready

@@ -42,8 +42,8 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -68,8 +68,7 @@ from ..model.pulses import PULSE_KINDS, PULSES
 from ..model.units import TIME, UnitError, parse_unit
 from ..model.units_display import ResultUnits, Shown, shown_unit
 from ..tables import ResultTable, number_column
-from .result_fields import Framed
-from .results_json import Saved
+from .result_fields import FieldsJSON, Framed, saved
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -238,7 +237,7 @@ def _output(q: np.ndarray, s: complex, w: float, zeta: float, quantity: str) -> 
 
 
 @dataclass(frozen=True)
-class ShockSpectrum(Framed):
+class ShockSpectrum(FieldsJSON, Framed):
     """The shock response spectrum of a signal.
 
     Attributes
@@ -259,41 +258,46 @@ class ShockSpectrum(Framed):
         The signal's length T (s).
     excitation_end : float
         tau (s): where primary ends and residual starts (a sample time).
+
+    Examples
+    --------
+    Saved by its fields (:class:`~resonant.analyses.result_fields.FieldsJSON`, the JSON of
+    ``resonant srs``) and read back:
+
+    >>> import json
+    >>> t, a = pulse("half-sine", 1.0, 0.01, 1e-5)
+    >>> srs = shock_response_spectrum(a, 1e-5, [1.0, 80.0, 10000.0])
+    >>> back = ShockSpectrum.from_dict(json.loads(json.dumps(srs.to_dict())))
+    >>> back.to_dict() == srs.to_dict(), (back.maximax == srs.maximax).all()
+    (True, np.True_)
     """
 
     #: the columns of to_frame() (resonant.analyses.result_fields.Framed)
     _frame = (("frequency", "frequency_hz"), ("maximax", "maximax"), ("primary", "primary"),
               ("residual", "residual"), ("positive", "positive"), ("negative", "negative"))
 
-    frequency: np.ndarray
-    maximax: np.ndarray
-    primary: np.ndarray
-    residual: np.ndarray
-    positive: np.ndarray
-    negative: np.ndarray
-    quantity: str
-    damping: float
-    duration: float
-    excitation_end: float
-    warnings: tuple[str, ...] = field(default=())
+    #: the keys of to_dict() (resonant.analyses.result_fields.FieldsJSON)
+    _json_order = ("frequency_hz", "maximax", "primary", "residual", "positive", "negative",
+                   "quantity", "damping_ratio", "Q", "duration_s", "excitation_end_s",
+                   "warnings")
+
+    frequency: np.ndarray = saved(key="frequency_hz")
+    maximax: np.ndarray = saved(axes=("frequency",))
+    primary: np.ndarray = saved(axes=("frequency",))
+    residual: np.ndarray = saved(axes=("frequency",))
+    positive: np.ndarray = saved(axes=("frequency",))
+    negative: np.ndarray = saved(axes=("frequency",))
+    quantity: str = saved()
+    damping: float = saved(key="damping_ratio")
+    duration: float = saved(key="duration_s")
+    excitation_end: float = saved(key="excitation_end_s")
+    warnings: tuple[str, ...] = saved(default=())
 
     def __post_init__(self) -> None:
         freeze_fields(self)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form.
-
-        Returns
-        -------
-        dict
-        """
-        return {"frequency_hz": self.frequency.tolist(), "maximax": self.maximax.tolist(),
-                "primary": self.primary.tolist(), "residual": self.residual.tolist(),
-                "positive": self.positive.tolist(), "negative": self.negative.tolist(),
-                "quantity": self.quantity, "damping_ratio": self.damping,
-                "Q": None if self.damping == 0 else 1 / (2 * self.damping),
-                "duration_s": self.duration, "excitation_end_s": self.excitation_end,
-                "warnings": list(self.warnings)}
+    def _derived_json(self) -> dict[str, Any]:
+        return {"Q": None if self.damping == 0 else 1 / (2 * self.damping)}
 
     def table(self, unit: str = "", units: ResultUnits | None = None) -> ResultTable:
         """The spectrum's numbers (:func:`srs_table`).
@@ -363,47 +367,6 @@ class ShockSpectrum(Framed):
         matplotlib.figure.Figure
         """
         return plot_srs(self, path=path, ax=ax, unit=unit)
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> ShockSpectrum:
-        """The spectrum back from its :meth:`to_dict` (the JSON of ``resonant srs``).
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        ShockSpectrum
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json
-        >>> t, a = pulse("half-sine", 1.0, 0.01, 1e-5)
-        >>> srs = shock_response_spectrum(a, 1e-5, [1.0, 80.0, 10000.0])
-        >>> back = ShockSpectrum.from_dict(json.loads(json.dumps(srs.to_dict())))
-        >>> back.to_dict() == srs.to_dict(), (back.maximax == srs.maximax).all()
-        (True, np.True_)
-        """
-        saved = Saved(data, "ShockSpectrum")
-        frequency = saved.floats("frequency_hz", ndim=1)
-        spectra = {key: saved.floats(key, shape=frequency.shape)
-                   for key in ("maximax", "primary", "residual")}
-        quantity, damping = saved.string("quantity"), saved.number("damping_ratio")
-        duration = saved.number("duration_s")
-        return cls(frequency=frequency, **spectra,
-                   positive=saved.floats("positive", shape=frequency.shape),
-                   negative=saved.floats("negative", shape=frequency.shape),
-                   quantity=quantity, damping=damping, duration=duration,
-                   excitation_end=saved.number("excitation_end_s"),
-                   warnings=saved.strings("warnings", ()))
-
 
 
 def _weight(s: complex, w: float, zeta: float, quantity: str) -> complex:

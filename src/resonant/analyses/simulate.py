@@ -47,7 +47,7 @@ import math
 import os
 import sys
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
@@ -98,8 +98,7 @@ from ..system.stability import (
 from ..tables import ResultTable, number_cell
 from .peaks import sampled_peak
 from .periodic import PeriodicSolution, periodic_solution
-from .result_fields import Framed
-from .results_json import Saved, floats_json
+from .result_fields import FieldsJSON, Framed, saved
 from .stationary import StationarySolution, stationary
 from .time_integration import STIFF_RATIO, LinearDynamics, NonlinearDynamics, integrate
 
@@ -131,7 +130,7 @@ MAX_PERIODS = 1e6
 MAX_INITIAL = 1e100
 
 @dataclass(frozen=True)
-class Simulation(Framed):
+class Simulation(FieldsJSON, Framed):
     """A simulated time history and its steady-state amplitudes.
 
     Attributes
@@ -177,21 +176,26 @@ class Simulation(Framed):
 
     #: the columns of to_frame() (resonant.analyses.result_fields.Framed)
     _frame = (("t", "t"), ("states", "{key}"))
+    #: the keys of to_dict() (resonant.analyses.result_fields.FieldsJSON): the summary,
+    #: then the time history (only by ``to_dict(history=True)``, which from_dict needs)
+    _json_order = ("title", "coordinates", "nonlinear", "t_end", "samples", "method", "start",
+                   "initial", "window", "amplitude_definition", "steady_amplitudes",
+                   "linear_amplitudes", "relative_difference", "warnings", "history")
 
     title: str
     coordinates: tuple[str, ...]
-    t: np.ndarray
-    states: Mapping[str, np.ndarray]
-    linear_response: Mapping[str, np.ndarray]
-    steady_amplitudes: Mapping[str, float]
-    linear_amplitudes: Mapping[str, float]
-    relative_difference: Mapping[str, float]
-    window: tuple[float, float]
-    nonlinear: bool
-    start: str
-    method: str
-    initial: Mapping[str, float] = field(default_factory=dict)
-    warnings: tuple[str, ...] = ()
+    t: np.ndarray = saved(history=True)
+    states: Mapping[str, np.ndarray] = saved(history=True, axes=("t",))
+    linear_response: Mapping[str, np.ndarray] = saved(history=True, axes=("t",))
+    steady_amplitudes: Mapping[str, float] = saved()
+    linear_amplitudes: Mapping[str, float] = saved()
+    relative_difference: Mapping[str, float] = saved()
+    window: tuple[float, float] = saved()
+    nonlinear: bool = saved()
+    start: str = saved()
+    method: str = saved()
+    initial: Mapping[str, float] = saved(default_factory=dict)
+    warnings: tuple[str, ...] = saved(())
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -204,107 +208,10 @@ class Simulation(Framed):
     def names(self) -> tuple[str, ...]:
         return tuple(self.states)
 
-    def to_dict(self, history: bool = False) -> dict[str, Any]:
-        """The JSON form: the amplitudes, and the time history only when asked for.
-
-        Parameters
-        ----------
-        history : bool, optional
-            Also write the time history (``"history"``: ``t``, ``states`` and
-            ``linear_response``, NaN as ``null``), which :meth:`from_dict` needs.  Off by
-            default: a history has up to :data:`MAX_SAMPLES` samples of every coordinate and
-            output (``resonant simulate --json`` leaves it out; :meth:`to_csv` writes it).
-
-        Returns
-        -------
-        dict
-
-        Examples
-        --------
-        >>> import resonant
-        >>> sim = resonant.load("examples/two_dof_free.toml").simulate(0.05, initial={"x1": 0.01})
-        >>> "history" in sim.to_dict(), sorted(sim.to_dict(history=True)["history"])
-        (False, ['linear_response', 'states', 't'])
-        """
-        data = self._summary_dict()
-        if history:
-            data["history"] = {
-                "t": floats_json(self.t),
-                "states": {k: floats_json(v) for k, v in self.states.items()},
-                "linear_response": {k: floats_json(v) for k, v in self.linear_response.items()}}
-        return data
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> Simulation:
-        """The simulation back from its :meth:`to_dict` with ``history=True``.
-
-        The time history is the simulation's data: a ``to_dict()`` without it (the JSON of
-        ``resonant simulate``) cannot give the simulation back, and is refused.
-
-        Parameters
-        ----------
-        data : mapping
-            What ``to_dict(history=True)`` gave (read back from JSON).
-
-        Returns
-        -------
-        Simulation
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing (``history`` included) or holds the wrong kind of value
-            (the message names it).
-
-        Examples
-        --------
-        >>> import json, resonant
-        >>> sim = resonant.load("examples/two_dof_free.toml").simulate(0.05, initial={"x1": 0.01})
-        >>> back = Simulation.from_dict(json.loads(json.dumps(sim.to_dict(history=True))))
-        >>> back.to_dict(history=True) == sim.to_dict(history=True)
-        True
-        >>> Simulation.from_dict(sim.to_dict())
-        Traceback (most recent call last):
-        resonant.errors.AnalysisError: the saved Simulation has no time history: save it with \
-to_dict(history=True)
-        """
-        saved = Saved(data, "Simulation")
-        if "history" not in saved:
-            raise AnalysisError("the saved Simulation has no time history: save it with "
-                                "to_dict(history=True)")
-        history = saved.mapping("history")
-        t = history.floats("t", ndim=1)
-
-        window = saved.floats("window", shape=(2,))
-        return cls(
-            title=saved.string("title"), coordinates=saved.strings("coordinates"), t=t,
-            states=history.arrays("states", shape=t.shape),
-            linear_response=history.arrays("linear_response", shape=t.shape),
-            steady_amplitudes=saved.numbers_of("steady_amplitudes"),
-            linear_amplitudes=saved.numbers_of("linear_amplitudes"),
-            relative_difference=saved.numbers_of("relative_difference"),
-            window=(float(window[0]), float(window[1])), nonlinear=saved.boolean("nonlinear"),
-            start=saved.string("start"), method=saved.string("method"),
-            initial=saved.numbers_of("initial"), warnings=saved.strings("warnings", ()))
-
-    def _summary_dict(self) -> dict[str, Any]:
-        return {
-            "title": self.title,
-            "coordinates": list(self.coordinates),
-            "nonlinear": self.nonlinear,
-            "t_end": self.t_end,
-            "samples": int(self.t.size),
-            "method": self.method,
-            "start": self.start,
-            "initial": dict(self.initial),
-            "window": list(self.window),
-            "amplitude_definition": "peak absolute deviation from the reference state "
-                                    "over the window",
-            "steady_amplitudes": dict(self.steady_amplitudes),
-            "linear_amplitudes": dict(self.linear_amplitudes),
-            "relative_difference": dict(self.relative_difference),
-            "warnings": list(self.warnings),
-        }
+    def _derived_json(self) -> dict[str, Any]:
+        return {"t_end": self.t_end, "samples": int(self.t.size),
+                "amplitude_definition": "peak absolute deviation from the reference state "
+                                        "over the window"}
 
     def to_csv(self, path: str | Path) -> None:
         """Write ``t`` and every deviation (and the linear prediction) as CSV."""

@@ -49,6 +49,7 @@ from ..system.base import LinearSystem, NumericEOM, NumericOutput
 from ..system.excitation import excitation_columns
 from ..system.output_map import output_map
 from ..system.stability import check_mass_matrix
+from .result_fields import FieldsJSON, saved
 
 #: largest model exported: its dense state matrix (2n)^2 holds 128 MB of float64 at 2000
 MAX_STATE_SPACE_COORDINATES = 2000
@@ -61,7 +62,7 @@ MAX_DEFAULT_FORCE_INPUTS = 50
 
 
 @dataclass(frozen=True)
-class StateSpaceModel:
+class StateSpaceModel(FieldsJSON):
     """A system in state-space form, x' = A x + B u, y = C x + D u, with named inputs,
     states and outputs.
 
@@ -87,17 +88,25 @@ class StateSpaceModel:
     >>> system = resonant.load("examples/base_excitation.toml").linearize()
     >>> state_space(system).states
     ('x', "x'")
+    >>> sorted(state_space(system).to_dict())       # saved by its fields (FieldsJSON)
+    ['A', 'B', 'C', 'D', 'inputs', 'outputs', 'parameters', 'states', 'title']
+    >>> StateSpaceModel.from_dict(state_space(system).to_dict()).A.shape
+    (2, 2)
     """
 
-    A: np.ndarray
-    B: np.ndarray
-    C: np.ndarray
-    D: np.ndarray
-    inputs: tuple[str, ...]
-    states: tuple[str, ...]
-    outputs: tuple[str, ...]
-    parameters: Mapping[str, float]
-    title: str = ""
+    #: the keys of to_dict() (resonant.analyses.result_fields.FieldsJSON): the names, then
+    #: the matrices as lists of rows
+    _json_order = ("title", "inputs", "states", "outputs", "parameters", "A", "B", "C", "D")
+
+    A: np.ndarray = saved(axes=("states", "states"))
+    B: np.ndarray = saved(axes=("states", "inputs"))
+    C: np.ndarray = saved(axes=("outputs", "states"))
+    D: np.ndarray = saved(axes=("outputs", "inputs"))
+    inputs: tuple[str, ...] = saved()
+    states: tuple[str, ...] = saved()
+    outputs: tuple[str, ...] = saved()
+    parameters: Mapping[str, float] = saved()
+    title: str = saved("")
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -130,24 +139,6 @@ class StateSpaceModel:
             out[k] = self.C @ np.linalg.solve(1j * value * np.eye(size) - self.A, self.B) \
                 + self.D
         return out
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form: the matrices as lists of rows and the names.
-
-        Returns
-        -------
-        dict
-
-        Examples
-        --------
-        >>> import resonant
-        >>> system = resonant.load("examples/base_excitation.toml").linearize()
-        >>> sorted(state_space(system).to_dict())
-        ['A', 'B', 'C', 'D', 'inputs', 'outputs', 'parameters', 'states', 'title']
-        """
-        return {"title": self.title, "inputs": list(self.inputs), "states": list(self.states),
-                "outputs": list(self.outputs), "parameters": dict(self.parameters),
-                **{key: getattr(self, key).tolist() for key in ("A", "B", "C", "D")}}
 
 
 def state_space(system: LinearSystem, *, inputs: Sequence[str] | None = None,

@@ -24,7 +24,7 @@ from __future__ import annotations
 import html
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from fractions import Fraction
 from functools import reduce
 from pathlib import Path
@@ -62,6 +62,7 @@ from .kernel import (
     equilibration,
     solve_harmonic,
 )
+from .result_fields import COMPLEX_PAIRS, Codec, FieldsJSON, saved
 from .results_json import Saved
 from .threads import blas_threads
 
@@ -83,26 +84,52 @@ PEAK_CANDIDATES = 16
 
 
 @dataclass(frozen=True)
-class HarmonicResponse:
-    """The response at one frequency: x = L cos(omega t) + N sin(omega t)."""
+class HarmonicResponse(FieldsJSON):
+    """The response at one frequency: x = L cos(omega t) + N sin(omega t).
+
+    Saved by its fields (:class:`~resonant.analyses.result_fields.FieldsJSON`) but the
+    condition number of the solve, which is not saved.
+    """
 
     omega: float
     F_S: np.ndarray
     F_C: np.ndarray
     L: np.ndarray
     N: np.ndarray
-    condition: float = 1.0
+    condition: float = saved(1.0, written=False)
 
     def __post_init__(self) -> None:
         freeze_fields(self)
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"omega": self.omega, "F_S": self.F_S.tolist(), "F_C": self.F_C.tolist(),
-                "L": self.L.tolist(), "N": self.N.tolist()}
+
+def _eom_write(e: NumericEOM) -> dict[str, Any]:
+    data: dict[str, Any] = {"title": e.title, "coordinates": list(e.coordinates),
+                            "parameters": dict(e.parameters),
+                            "M": e.M.tolist(), "C": e.C.tolist(), "K": e.K.tolist()}
+    symbolic = e.symbolic_dict()
+    if symbolic:
+        data["symbolic"] = symbolic
+        data["symbolic"].pop("coordinates", None)
+    return data
+
+
+def _eom_read(saved_data: Saved, key: str, shape: object) -> NumericEOM:
+    """The equation's numbers (its excitation is completed from the saved responses)."""
+    coordinates = saved_data.strings("coordinates")
+    n = len(coordinates)
+    M, C, K = (saved_data.floats(k, shape=(n, n)) for k in ("M", "C", "K"))
+    return NumericEOM(coordinates=coordinates, M=M, C=C, K=K,
+                      parameters=saved_data.numbers_of("parameters", {}),
+                      title_=saved_data.string("title", ""))
+
+
+#: the equation of motion's numbers beside the solution's keys (its symbolic form, text for
+#: a reader, is written and not read back)
+EOM_KEYS = Codec(_eom_write, _eom_read)
 
 
 @dataclass(frozen=True)
-class StationarySolution:
+class StationarySolution(FieldsJSON):
     """The stationary solution of a harmonically excited linear system.
 
     Attributes
@@ -132,18 +159,40 @@ class StationarySolution:
     >>> sol = stationary(resonant.load("examples/cart_pendulum.toml").linearize())
     >>> sol.natural_frequencies.round(6).tolist(), sol.stability
     ([4.560711, 7.929966], 'marginally stable')
+
+    Saved by its fields (:class:`~resonant.analyses.result_fields.FieldsJSON`: the JSON of
+    ``resonant solve``): the equation of motion comes back with its numbers (``M``, ``C``,
+    ``K``, the excitation's amplitudes per frequency, the parameters) and every response,
+    the outputs' ones included (``output_harmonics``); its symbolic form (``symbolic``,
+    text for a reader) is not read back.
+
+    >>> import json
+    >>> back = StationarySolution.from_dict(json.loads(json.dumps(sol.to_dict())))
+    >>> back.amplitudes == sol.amplitudes
+    True
+    >>> saved = sol.to_dict()
+    >>> del saved["symbolic"]
+    >>> back.to_dict() == saved
+    True
     """
 
-    eom: NumericEOM
-    natural_frequencies: np.ndarray
-    eigenvalues: np.ndarray
-    stability: str
-    harmonics: tuple[HarmonicResponse, ...]
-    output_harmonics: Mapping[str, tuple[tuple[float, float], ...]]
-    amplitudes: Mapping[str, float]
-    phases: Mapping[str, float]
-    warnings: tuple[str, ...] = ()
-    available: bool = True
+    #: the keys of to_dict() (resonant.analyses.result_fields.FieldsJSON): the equation's
+    #: numbers (``symbolic`` where derived), then the solution
+    _json_order = ("title", "coordinates", "parameters", "M", "C", "K", "symbolic",
+                   "natural_frequencies", "harmonics", "amplitudes", "phases", "stability",
+                   "eigenvalues", "stationary_available", "warnings", "output_harmonics")
+
+    eom: NumericEOM = saved(codec=EOM_KEYS, inline=True)
+    natural_frequencies: np.ndarray = saved(axes=(None,))
+    eigenvalues: np.ndarray = saved(codec=COMPLEX_PAIRS)
+    stability: str = saved()
+    harmonics: tuple[HarmonicResponse, ...] = saved()
+    output_harmonics: Mapping[str, tuple[tuple[float, float], ...]] = saved(
+        axes=("harmonics", 2))
+    amplitudes: Mapping[str, float] = saved()
+    phases: Mapping[str, float] = saved()
+    warnings: tuple[str, ...] = saved(())
+    available: bool = saved(True, key="stationary_available")
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -163,90 +212,17 @@ class StationarySolution:
             out[name] = y
         return out
 
-    def to_dict(self) -> dict[str, Any]:
-        e = self.eom
-        data: dict[str, Any] = {
-            "title": e.title,
-            "coordinates": list(e.coordinates),
-            "parameters": dict(e.parameters),
-            "M": e.M.tolist(), "C": e.C.tolist(), "K": e.K.tolist(),
-        }
-        symbolic = e.symbolic_dict()
-        if symbolic:
-            data["symbolic"] = symbolic
-            data["symbolic"].pop("coordinates", None)
-        data.update({
-            "natural_frequencies": self.natural_frequencies.tolist(),
-            "harmonics": [h.to_dict() for h in self.harmonics],
-            "amplitudes": dict(self.amplitudes),
-            "phases": dict(self.phases),
-            "stability": self.stability,
-            "eigenvalues": [[float(v.real), float(v.imag)] for v in self.eigenvalues],
-            "stationary_available": self.available,
-            "warnings": list(self.warnings),
-            "output_harmonics": {k: [list(p) for p in v]
-                                 for k, v in self.output_harmonics.items()},
-        })
-        return data
-
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> StationarySolution:
-        """The solution back from its :meth:`to_dict` (read back from JSON).
-
-        The equation of motion comes back with its numbers (``M``, ``C``, ``K``, the
-        excitation's amplitudes per frequency, the parameters) and every response, the
-        outputs' ones included (``output_harmonics``); its symbolic form (the saved
-        ``symbolic`` entry, text for a reader) is not read back.
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave.
-
-        Returns
-        -------
-        StationarySolution
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json, resonant
-        >>> sol = resonant.load("examples/cart_pendulum.toml").linearize().stationary()
-        >>> back = StationarySolution.from_dict(json.loads(json.dumps(sol.to_dict())))
-        >>> back.amplitudes == sol.amplitudes
-        True
-        >>> saved = sol.to_dict()
-        >>> del saved["symbolic"]  # text for a reader, not read back
-        >>> back.to_dict() == saved
-        True
-        """
-        saved = Saved(data, "StationarySolution")
-        coordinates = saved.strings("coordinates")
-        n = len(coordinates)
-        harmonics = tuple(_harmonic_from(h, n) for h in saved.records("harmonics"))
-        M, C, K = (saved.floats(key, shape=(n, n)) for key in ("M", "C", "K"))
-        eom = NumericEOM(
-            coordinates=coordinates, M=M, C=C, K=K,
-            harmonics=tuple(NumericHarmonic(h.omega, h.F_S, h.F_C) for h in harmonics),
-            parameters=saved.numbers_of("parameters", {}), title_=saved.string("title", ""))
-        eigenvalues = saved.floats("eigenvalues", ndim=2)
-        if eigenvalues.size and eigenvalues.shape[1] != 2:
-            raise saved.error("holds pairs [real, imaginary]", "eigenvalues")
-        pairs = saved.mapping("output_harmonics")
-        return cls(
-            eom=eom, natural_frequencies=saved.floats("natural_frequencies", ndim=1),
-            eigenvalues=eigenvalues[:, 0] + 1j * eigenvalues[:, 1] if eigenvalues.size
-            else np.zeros(0, complex),
-            stability=saved.string("stability"), harmonics=harmonics,
-            output_harmonics={str(k): tuple((float(L), float(N)) for L, N in pairs.floats(
-                str(k), shape=(len(harmonics), 2))) for k in pairs.data},
-            amplitudes=saved.numbers_of("amplitudes"), phases=saved.numbers_of("phases"),
-            warnings=saved.strings("warnings", ()),
-            available=saved.boolean("stationary_available", True))
+    def _check_saved(cls, values: dict[str, Any], saved_data: Saved) -> None:
+        eom: NumericEOM = values["eom"]
+        n = len(eom.coordinates)
+        for i, h in enumerate(values["harmonics"]):
+            for key in ("F_S", "F_C", "L", "N"):
+                if np.shape(getattr(h, key)) != (n,):
+                    raise saved_data.error(f"has {np.shape(getattr(h, key))} numbers, not "
+                                           f"({n},): one per coordinate", f"harmonics[{i}].{key}")
+        values["eom"] = replace(eom, harmonics=tuple(
+            NumericHarmonic(h.omega, h.F_S, h.F_C) for h in values["harmonics"]))
 
     def summary(self) -> str:
         """The text ``resonant solve`` prints (:func:`resonant.analyses.stationary.solution_text`).
@@ -269,12 +245,6 @@ class StationarySolution:
 
     def _repr_latex_(self) -> str:
         return stationary_latex(self)
-
-
-def _harmonic_from(saved: Saved, n: int) -> HarmonicResponse:
-    """One saved frequency's response (:meth:`HarmonicResponse.to_dict`)."""
-    F_S, F_C, L, N = (saved.floats(key, shape=(n,)) for key in ("F_S", "F_C", "L", "N"))
-    return HarmonicResponse(saved.number("omega"), F_S, F_C, L, N)
 
 
 def _output_pairs(eom: NumericEOM, responses: tuple[HarmonicResponse, ...]

@@ -28,7 +28,7 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -43,8 +43,7 @@ from ..system.base import LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
 from ..system.output_map import output_map
 from ..tables import ResultTable, number_cell
-from .result_fields import Framed
-from .results_json import Saved, floats_json
+from .result_fields import FieldsJSON, Framed, saved
 from .shock import pulse
 
 #: most state variables marched (dense matrices)
@@ -54,7 +53,7 @@ MAX_SAMPLES = 5_000_000
 
 
 @dataclass(frozen=True)
-class TransientResponse(Framed):
+class TransientResponse(FieldsJSON, Framed):
     """The response histories of every coordinate and output to a sampled input.
 
     Attributes
@@ -73,83 +72,26 @@ class TransientResponse(Framed):
 
     #: the columns of to_frame() (resonant.analyses.result_fields.Framed)
     _frame = (("time", "time"), ("input", "input"), ("history", "{key}"))
+    #: the keys of to_dict() (resonant.analyses.result_fields.FieldsJSON): the largest
+    #: values, then the histories (only by ``to_dict(history=True)``, which from_dict needs)
+    _json_order = ("duration_s", "samples", "largest", "warnings", "history")
 
-    time: np.ndarray
-    input: np.ndarray
-    history: dict[str, np.ndarray]
-    largest: dict[str, float]
-    names: tuple[str, ...]
-    warnings: tuple[str, ...] = field(default=())
+    time: np.ndarray = saved(history=True)
+    input: np.ndarray = saved(history=True, axes=("time",))
+    history: dict[str, np.ndarray] = saved(history=True, key="responses", axes=("time",))
+    largest: dict[str, float] = saved()
+    names: tuple[str, ...] = saved(keys_of="history")
+    warnings: tuple[str, ...] = saved(default=())
 
     def __post_init__(self) -> None:
         freeze_fields(self)
 
-    def to_dict(self, history: bool = False) -> dict[str, Any]:
-        """The JSON form: the largest values, and the histories only when asked for.
-
-        Parameters
-        ----------
-        history : bool, optional
-            Also write the histories (``"history"``: ``time``, ``input`` and ``responses``),
-            which :meth:`from_dict` needs.  Off by default: a history has up to
-            :data:`MAX_SAMPLES` samples of every coordinate and output.
-
-        Returns
-        -------
-        dict
-        """
-        data: dict[str, Any] = {"duration_s": float(self.time[-1]), "samples": len(self.time),
-                                "largest": dict(self.largest), "warnings": list(self.warnings)}
-        if history:
-            data["history"] = {
-                "time": floats_json(self.time), "input": floats_json(self.input),
-                "responses": {k: floats_json(self.history[k]) for k in self.names}}
-        return data
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> TransientResponse:
-        """The response back from its :meth:`to_dict` with ``history=True``.
-
-        Parameters
-        ----------
-        data : mapping
-            What ``to_dict(history=True)`` gave (read back from JSON).
-
-        Returns
-        -------
-        TransientResponse
-
-        Raises
-        ------
-        AnalysisError
-            Without the histories, or when a key is missing or holds the wrong kind of value
-            (the message names it).
-
-        Examples
-        --------
-        >>> import json, resonant
-        >>> from resonant.model.load_spec import ShockSpec
-        >>> system = resonant.load("examples/shaker_gevs.toml").linearize()
-        >>> r = shock_response(system, ShockSpec("y", 2, "half-sine", 100.0, 0.011, 1e-4, 0.02))
-        >>> back = TransientResponse.from_dict(json.loads(json.dumps(r.to_dict(history=True))))
-        >>> back.to_dict(history=True) == r.to_dict(history=True)
-        True
-        """
-        saved = Saved(data, "TransientResponse")
-        if "history" not in saved:
-            raise AnalysisError("the saved TransientResponse has no histories: save it with "
-                                "to_dict(history=True)")
-        history = saved.mapping("history")
-        time = history.floats("time", ndim=1)
-        responses = history.arrays("responses", shape=time.shape)
-        return cls(time=time, input=history.floats("input", shape=time.shape),
-                   history=responses, largest=saved.numbers_of("largest"),
-                   names=tuple(responses), warnings=saved.strings("warnings", ()))
-
+    def _derived_json(self) -> dict[str, Any]:
+        return {"duration_s": float(self.time[-1]), "samples": len(self.time)}
 
 
 @dataclass(frozen=True)
-class ShockPeaks:
+class ShockPeaks(FieldsJSON):
     """The largest responses of a model under its ``[shock]`` pulse: what a mounted part,
     a clearance or a stress sees, per coordinate and output.
 
@@ -166,8 +108,22 @@ class ShockPeaks:
     units : mapping
         name -> the response's SI unit ("" where the model has no units).
     shock : ShockSpec
-        The pulse (SI).
+        The pulse (SI), saved as its section's keys.
     warnings : tuple of str
+
+    Examples
+    --------
+    Saved by its fields (:class:`~resonant.analyses.result_fields.FieldsJSON`; the
+    ``response`` of ``resonant srs MODEL --largest --json``) and read back:
+
+    >>> import json, resonant
+    >>> system = resonant.load("examples/shaker_gevs.toml").linearize()
+    >>> spec = ShockSpec("y", 2, "half-sine", 100.0, 0.011, 1e-4, 0.02)
+    >>> peaks = shock_peaks(shock_response(system, spec, names=["table"]), spec)
+    >>> peaks.to_dict()["shock"]["pulse"]
+    'half-sine'
+    >>> ShockPeaks.from_dict(json.loads(json.dumps(peaks.to_dict()))) == peaks
+    True
     """
 
     names: tuple[str, ...]
@@ -178,62 +134,6 @@ class ShockPeaks:
     units: Mapping[str, str]
     shock: ShockSpec
     warnings: tuple[str, ...] = ()
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form: every field, the pulse as its section's keys (SI).
-
-        Returns
-        -------
-        dict
-        """
-        return {"names": list(self.names),
-                **{key: {n: float(getattr(self, key)[n]) for n in self.names}
-                   for key in ("largest", "maximum", "minimum", "time")},
-                "units": {n: self.units.get(n, "") for n in self.names},
-                "shock": {key: getattr(self.shock, key) for key in SHOCK_FIELDS},
-                "warnings": list(self.warnings)}
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> ShockPeaks:
-        """The result back from its :meth:`to_dict` (``resonant srs MODEL --largest
-        --json``: its ``response``).
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        ShockPeaks
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json, resonant
-        >>> system = resonant.load("examples/shaker_gevs.toml").linearize()
-        >>> spec = ShockSpec("y", 2, "half-sine", 100.0, 0.011, 1e-4, 0.02)
-        >>> peaks = shock_peaks(shock_response(system, spec, names=["table"]), spec)
-        >>> ShockPeaks.from_dict(json.loads(json.dumps(peaks.to_dict()))) == peaks
-        True
-        """
-        saved = Saved(data, "ShockPeaks")
-        names = saved.strings("names")
-        shock = saved.mapping("shock")
-        units = saved.mapping("units")
-        spec = ShockSpec(shock.string("signal"), shock.integer("derivative"),
-                         shock.string("pulse"), shock.number("amplitude"),
-                         shock.number("duration"), shock.number("step"),
-                         shock.number("total"), shock.number("Q"))
-        largest, maximum, minimum, time = ({n: saved.mapping(key).number(n) for n in names}
-                                           for key in ("largest", "maximum", "minimum", "time"))
-        return cls(names, largest, maximum, minimum, time,
-                   units={n: units.string(n) for n in names}, shock=spec,
-                   warnings=saved.strings("warnings", ()))
 
     def table(self, units: ResultUnits | None = None) -> ResultTable:
         """The largest |response|, the largest of each sign and when (:func:`peaks_table`).
@@ -248,10 +148,6 @@ class ShockPeaks:
         resonant.tables.ResultTable
         """
         return peaks_table(self, units)
-
-
-#: the fields of the pulse that :meth:`ShockPeaks.to_dict` writes (its section's keys, SI)
-SHOCK_FIELDS = ("signal", "derivative", "pulse", "amplitude", "duration", "step", "total", "Q")
 
 
 def shock_peaks(response: TransientResponse, spec: ShockSpec,
