@@ -397,7 +397,9 @@ def _threshold(solver: ModeSolver, track: Tracked, pairs: list[tuple[int, int]],
                                   "unstable in range")
     best: tuple[float, int, complex, np.ndarray] | None = None
     for j in range(real.shape[1]):
-        up = [i for i in crossings(real[:, j]) if real[i + 1, j] > 0]
+        # a branch marginal at the first speed and unstable at the next crosses there too
+        start = [0] if len(real) > 1 and real[0, j] == 0 and real[1, j] > 0 else []
+        up = start + [i for i in crossings(real[:, j]) if real[i + 1, j] > 0]
         if not up:
             continue
         i = up[0]
