@@ -59,6 +59,7 @@ from ..errors import AnalysisError, ModelError, Problem
 from ..modal import STABILITY_TOLERANCE, modal_assurance
 from ..model.units_display import HZ, ResultUnits, Shown, angular_shown
 from ..system.base import LinearSystem
+from ..tables import ResultTable
 from .result_fields import FieldsJSON, saved
 from .results_json import Saved, floats_json
 from .rotor_tracking import (
@@ -581,22 +582,27 @@ def campbell_text(result: Campbell, units: ResultUnits | None = None) -> str:
     lines = [result.title or "Campbell diagram",
              f"speed {result.speed_parameter}: {speed(result.speeds[0]):.6g} to "
              f"{speed(result.speeds[-1]):.6g} {speed.text}, {len(result.speeds)} speeds "
-             f"({result.refined} added by refinement)", "",
-             f"{'mode':>4}  {'whirl':>8}  {f'f first [{frequency.text}]':>13}  "
-             f"{f'f last [{frequency.text}]':>12}  {'log dec first':>13}  {'log dec last':>12}"]
+             f"({result.refined} added by refinement)", ""]
     f = frequency(result.frequencies)
+    rows = []
     for j in range(f.shape[1]):
         whirl = {"F": "forward", "B": "backward"}.get(_branch_whirl(result, j), "-")
         if j < len(result.motion) and result.motion[j] != "lateral":
             whirl = result.motion[j]
-        lines.append(f"{j + 1:>4}  {whirl:>8}  {f[0, j]:13.6g}  {f[-1, j]:12.6g}  "
-                     f"{result.log_decrements[0, j]:13.4g}  {result.log_decrements[-1, j]:12.4g}")
+        rows.append((str(j + 1), whirl, f"{f[0, j]:.6g}", f"{f[-1, j]:.6g}",
+                     f"{result.log_decrements[0, j]:.4g}", f"{result.log_decrements[-1, j]:.4g}"))
+    # each column as wide as its widest cell: "torsional" and "backward" never shift a row
+    lines.append(ResultTable(("mode", "whirl", f"f first [{frequency.text}]",
+                              f"f last [{frequency.text}]", "log dec first", "log dec last"),
+                             tuple(rows), align="rlrrrr").text(indent=""))
     lines += ["", "critical speeds (damped frequency = order x speed):"]
     if not result.critical_speeds:
         lines.append("  none in the range")
-    for c in result.critical_speeds:
-        lines.append(f"  {speed(c.speed):12.6g} {speed.text} ({c.speed:.6g} rad/s)  mode {c.mode}  "
-                     f"{c.order:g}x  {c.whirl}")
+    else:
+        lines.append(ResultTable(
+            (f"speed [{speed.text}]", "[rad/s]", "mode", "order", "whirl"),
+            tuple((f"{speed(c.speed):.6g}", f"{c.speed:.6g}", str(c.mode), f"{c.order:g}x",
+                   c.whirl) for c in result.critical_speeds), align="rrrrl").text())
     t = result.threshold
     lines.append("")
     if t.verdict == "threshold" and t.speed is not None:
