@@ -392,26 +392,36 @@ def _threshold(solver: ModeSolver, track: Tracked, pairs: list[tuple[int, int]],
     real = track.eigenvalues.real
     # a real part within the kernel's tolerance is 0: an undamped rotor is marginal
     real = np.where(np.abs(real) <= STABILITY_TOLERANCE * scale, 0.0, real)
-    if np.any(real[0] > 0):
-        j = int(np.argmax(real[0]))
+    # the grid's Re s solved again near each eigenvalue before it is a verdict (a sparse
+    # rotor's lowest modes carry some 1e-9 |s| of noise in Re s: an undamped rotor is no
+    # threshold)
+    def re_near(i: int, j: int, at: int) -> float:
+        return branch_value(solver, track.shapes[i, :, j], lambda s, w: s.real,
+                            complex(track.eigenvalues[i, j]))(float(track.speeds[at]))
+
+    unstable = [int(j) for j in np.argsort(-real[0]) if real[0, j] > 0 and
+                re_near(0, int(j), 0) > STABILITY_TOLERANCE * float(scale[0, j])]
+    if unstable:
+        j = unstable[0]
         return StabilityThreshold(None, j + 1, float(track.frequencies[0, j]), "",
                                   "unstable in range")
     best: tuple[float, int, complex, np.ndarray] | None = None
     for j in range(real.shape[1]):
         # a branch marginal at the first speed and unstable at the next crosses there too
         start = [0] if len(real) > 1 and real[0, j] == 0 and real[1, j] > 0 else []
-        up = start + [i for i in crossings(real[:, j]) if real[i + 1, j] > 0]
-        if not up:
-            continue
-        i = up[0]
-        if best is not None and track.speeds[i] >= best[0]:
-            continue
-        reference, target = track.shapes[i, :, j], complex(track.eigenvalues[i, j])
-        value = branch_value(solver, reference, lambda s, w: s.real, target)
-        speed = _threshold_root(value, float(track.speeds[i]), float(track.speeds[i + 1]),
-                                tolerance, STABILITY_TOLERANCE * float(scale[i, j]))
-        s, q = _continued(solver, reference, speed, target)
-        best = (speed, j, s, q)
+        for i in start + [i for i in crossings(real[:, j]) if real[i + 1, j] > 0]:
+            if best is not None and track.speeds[i] >= best[0]:
+                break
+            marginal = STABILITY_TOLERANCE * float(scale[i, j])
+            if re_near(i, j, i + 1) <= marginal:
+                continue    # no crossing: the grid's Re s was noise
+            reference, target = track.shapes[i, :, j], complex(track.eigenvalues[i, j])
+            value = branch_value(solver, reference, lambda s, w: s.real, target)
+            speed = _threshold_root(value, float(track.speeds[i]),
+                                    float(track.speeds[i + 1]), tolerance, marginal)
+            s, q = _continued(solver, reference, speed, target)
+            best = (speed, j, s, q)
+            break
     if best is None:
         return StabilityThreshold(None, None, None, "", "stable in range")
     speed, j, s, q = best
