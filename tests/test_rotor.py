@@ -423,3 +423,60 @@ def test_large_rotor_uses_the_sparse_solver_and_agrees_with_dense() -> None:
     point = system.numeric(Omega=c.speed)
     s, _ = gyroscopic_modes(point.M, point.C, point.K)
     assert np.min(np.abs(np.abs(s.imag) - c.speed)) < 1e-10 * 400.0 * 10
+
+
+# -- a threshold at the start of a bracket -------------------------------------------------
+
+#: a damped Jeffcott rotor with a cross-coupled stiffness kxy = -kyx = q Omega (no G): in
+#: z = x + i y, m z'' + c z' + (k - i q Omega) z = 0, whose forward root crosses Re s = 0 at
+#: q Omega = c omega_n (Genta 2005, sec. 4.7, with the cross coupling in place of the
+#: rotating damping): Omega_th = c sqrt(k/m) / q = 632.4555 rad/s for these values
+CROSS_COUPLED = '''[parameters]
+Omega = "0 rad/s"
+m = "10 kg"
+k = "1 MN/m"
+c = "CDAMP N*s/m"
+q = "10 N*s/m"
+[matrices]
+M = [["m", 0], [0, "m"]]
+C = [["c", 0], [0, "c"]]
+K = [["k", "q*Omega"], ["-q*Omega", "k"]]
+G = [[0, 0], [0, 0]]
+speed = "Omega"
+'''
+
+
+@pytest.mark.parametrize("grid, offset", [
+    ("bracket", 1e-8),    # a grid speed just above the threshold: marginal there already
+    ("first", 1e-8),      # the range starts just above the threshold
+    ("first", -1e-8),     # the range starts just below it: the root lies just after it
+])
+def test_threshold_at_the_start_of_a_bracket(grid: str, offset: float) -> None:
+    """The threshold where the unstable branch is marginal (|Re s| within the kernel's
+    stability tolerance) at the speed that starts its bracket, there being no change of
+    sign to find: it is that speed, or the root just after it, and never 'stable in range'
+    or a failed bracket. Closed form Omega_th = c omega_n / q (Genta 2005, sec. 4.7) to
+    2e-8 (the offset of the grid speed, 1e-8, plus the root finder's 1e-10)."""
+    m, k, c, q = 10.0, 1e6, 20.0, 10.0
+    wn = np.sqrt(k / m)
+    exact = c * wn / q
+    near = exact * (1 + offset)
+    speeds = [0.0, 300.0, near, 900.0] if grid == "bracket" else [near, 700.0, 900.0]
+    system = linear_system(loads(CROSS_COUPLED.replace("CDAMP", str(c))))
+    threshold = campbell(system, speeds, modes=2).threshold
+    assert threshold.verdict == "threshold" and threshold.mode is not None
+    assert threshold.speed == pytest.approx(exact, rel=2e-8)
+    assert threshold.frequency == pytest.approx(wn, rel=1e-8)
+    # the closed-form forward root at that speed is marginal to the kernel's tolerance
+    root = np.roots([m, c, k - 1j * q * threshold.speed])
+    assert np.max(root.real) <= 1e-9 * wn
+
+
+def test_undamped_rotor_with_growing_cross_coupling_is_unstable_from_rest() -> None:
+    """Undamped (c = 0) with kxy = q Omega: marginal at rest, m s^2 + k - i q Omega = 0 has a
+    root with Re s > 0 at every Omega > 0, so the threshold is the first speed, 0 rad/s."""
+    system = linear_system(loads(CROSS_COUPLED.replace("CDAMP", "0")))
+    result = campbell(system, np.linspace(0, 500, 6), modes=2)
+    assert np.max(result.eigenvalues[1:].real) > 0.5
+    assert result.threshold.verdict == "threshold" and result.threshold.speed == 0.0
+    assert result.threshold.frequency == pytest.approx(np.sqrt(1e5), rel=1e-12)

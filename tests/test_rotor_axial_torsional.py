@@ -21,12 +21,13 @@ References:
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 import scipy.linalg
 
-from conftest import EXAMPLES
+from conftest import EXAMPLES, run_cli
 from resonant import loads
 from resonant.errors import ModelError
 from resonant.modal import gyroscopic_modes
@@ -156,3 +157,107 @@ bearing = [{{ station = 0, kxx = 1e6, kyy = 1e6{", " + body if body else ""} }}]
         loads(text, source="r.toml")
     problem = next(p for p in info.value.problems if p.key == key)
     assert words in problem.message and problem.file == "r.toml"
+
+
+# -- the text tables: columns as wide as their widest cell ---------------------------------
+
+ALIGNED_ROTOR = """title = "aligned"
+[parameters]
+Omega = "0 rpm"
+[rotor]
+speed = "Omega"
+E = 211e9
+rho = 7810
+G = 81.2e9
+axial = true
+torsional = true
+[[rotor.shaft]]
+length = 1.5
+diameter = 0.05
+count = 4
+[[rotor.disc]]
+station = 2
+name = "a_disc_with_a_long_name"
+width = 0.07
+diameter = 0.28
+inner_diameter = 0.05
+[[rotor.bearing]]
+station = 0
+name = "the_drive_end_bearing"
+kxx = 1e6
+kyy = 1e6
+cxx = 300
+cyy = 300
+kz = 1e9
+kaz = 1e4
+[[rotor.bearing]]
+station = 4
+kxx = 1e6
+kyy = 1e6
+[campbell]
+from = "0 rpm"
+to = "20000 rpm"
+points = 5
+modes = 6
+orders = [1]
+[[unbalance]]
+at = "a_disc_with_a_long_name"
+amount = "1e-4 kg*m"
+phase = "0 deg"
+"""
+
+
+def _table(text: str, first: str) -> list[str]:
+    """The lines of the table whose header line starts (stripped) with ``first``."""
+    lines = text.splitlines()
+    start = next(i for i, line in enumerate(lines) if line.strip().startswith(first))
+    end = next((i for i in range(start + 1, len(lines)) if not lines[i].strip()), len(lines))
+    return lines[start:end]
+
+
+def _column(table: list[str], heading: str, cells: set[str]) -> None:
+    """Every row's cell of a left-aligned column starts where its heading does."""
+    at = table[0].index(heading)
+    for line in table[1:]:
+        assert line[at:].split()[0] in cells, (heading, line, table)
+        assert line[at - 1] == " ", (heading, line)
+
+
+def _ends(table: list[str], heading: str) -> None:
+    """Every row's cell of a right-aligned column ends where its heading does."""
+    end = table[0].index(heading) + len(heading)
+    for line in table[1:]:
+        assert line[end - 1] != " " and line[end] == " ", (heading, line, table)
+
+
+def test_whirl_and_name_columns_are_not_cut_or_shifted(tmp_path: Path) -> None:
+    """The Campbell, unbalance and speed-map texts with 'backward', 'forward', 'torsional'
+    and 'axial' labels and long station and bearing names: each column as wide as its
+    widest cell, so that a right-aligned column ends, and a left-aligned one starts, at
+    the same place on every line."""
+    model = tmp_path / "aligned.toml"
+    model.write_text(ALIGNED_ROTOR, encoding="utf-8")
+    status, text, err = run_cli(["campbell", model])
+    assert status == 0, err
+    modes = _table(text, "mode")
+    labels = {line.split()[1] for line in modes[1:]}
+    assert {"backward", "forward", "torsional"} <= labels
+    assert len({len(line) for line in modes}) == 1, modes   # the last column ends together
+    _column(modes, "whirl", {"backward", "forward", "torsional", "axial", "-"})
+    critical = _table(text, "speed [rpm]")
+    assert len(critical) > 2
+    _column(critical, "whirl", {"backward", "forward", "none"})
+    _ends(critical, "order")
+    status, text, err = run_cli(["unbalance", model, "--points", "5"])
+    assert status == 0, err
+    stations = _table(text, "station")
+    assert any("a_disc_with_a_long_name" in line for line in stations)
+    _column(stations, "precession", {"forward", "backward", "line"})
+    _ends(stations, "minor 0-pk")
+    bearings = _table(text, "bearing")
+    assert any("the_drive_end_bearing" in line for line in bearings)
+    assert len({len(line) for line in bearings}) == 1, bearings
+    status, text, err = run_cli(["speed-map", model, "--damped", "--stiffness", "1e5:1e7:3"])
+    assert status == 0, err
+    rows = _table(text, "k [N/m]")
+    assert len(rows) == 4 and len({len(line) for line in rows}) == 1, rows

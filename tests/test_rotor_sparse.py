@@ -65,3 +65,47 @@ def test_modes_near_a_target_are_the_dense_kernels() -> None:
     assert abs(s[nearest] - dense_s[20]) < 1e-10 * abs(dense_s[20])
     a, b = q[:, nearest], dense_q[:, 20]
     assert abs(np.vdot(a, b)) ** 2 / (np.vdot(a, a).real * np.vdot(b, b).real) > 1 - 1e-9
+
+
+def _free_rotor(bearings: bool, along: bool) -> str:
+    """Friswell's Example 5.9.1 shaft (12 elements, two discs), on two bearings or on none,
+    with free axial and torsional coordinates where ``along``: rigid-body motions s = 0."""
+    text = rotor_toml(12).replace("Omega = 0\n", "Omega = 0\n", 1)
+    if along:
+        text = text.replace("G = 81.2e9\n", "G = 81.2e9\naxial = true\ntorsional = true\n")
+    if not bearings:
+        text = text[:text.index("[[rotor.bearing]]")]
+    return text
+
+
+@pytest.mark.parametrize("bearings, along", [(False, False), (True, True)])
+def test_sparse_campbell_leaves_out_rigid_body_modes_as_the_dense_one(
+        monkeypatch: pytest.MonkeyPatch, bearings: bool, along: bool) -> None:
+    """A free-free rotor (no bearings) and one free axially and in torsion: the sparse
+    eigen-solve (the rotor assembled sparse) leaves its rigid-body eigenvalues out of the
+    branches as the dense one does, so both give the same Campbell diagram, critical speeds
+    (1e-6 of the largest frequency: the shift-invert solve's backward error is some 1e-10
+    beside a cluster of rigid-body pairs at s = 0, the dense one's 1e-16) and rigid-body
+    warning."""
+    from resonant.analyses.campbell import campbell
+    from resonant.system import linear_system
+
+    speeds = np.linspace(0.0, 400.0, 5)
+    dense = campbell(linear_system(loads(_free_rotor(bearings, along))), speeds, modes=6)
+    monkeypatch.setattr(rotor, "SPARSE_STATIONS", 5)
+    model = loads(_free_rotor(bearings, along))
+    assert model.matrices is not None and sp.issparse(model.matrices.K)
+    sparse = campbell(linear_system(model), speeds, modes=6)
+    top = float(np.max(np.abs(dense.eigenvalues)))
+    assert np.min(np.abs(dense.eigenvalues)) > 10.0   # no s = 0 among the branches
+    assert sparse.eigenvalues.shape == dense.eigenvalues.shape
+    assert np.max(np.abs(sparse.eigenvalues - dense.eigenvalues)) <= 1e-6 * top
+    assert len(sparse.critical_speeds) == len(dense.critical_speeds) > 0
+    for a, b in zip(sparse.critical_speeds, dense.critical_speeds):
+        assert (a.mode, a.order, a.whirl) == (b.mode, b.order, b.whirl)
+        assert a.speed == pytest.approx(b.speed, abs=1e-6 * top)
+    assert any("rigid-body" in w for w in sparse.warnings)
+    assert any("rigid-body" in w for w in dense.warnings)
+    # undamped, no cross coupling: marginal at every speed, so no threshold, whatever the
+    # sparse solve's noise in Re s (the threshold is confirmed by the modes near a branch)
+    assert sparse.threshold.verdict == dense.threshold.verdict == "stable in range"

@@ -944,7 +944,7 @@ def gyroscopic_modes_near(M: Matrix, C: Matrix, K: Matrix, target: complex, coun
     (True, 40)
     """
     import scipy.sparse as sp
-    from scipy.sparse.linalg import LinearOperator, eigs, splu
+    from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigs, splu
 
     n = M.shape[0]
     M, C, K = (sp.csc_matrix(a) for a in (M, C, K))
@@ -956,7 +956,11 @@ def gyroscopic_modes_near(M: Matrix, C: Matrix, K: Matrix, target: complex, coun
         lu = splu((A - complex(target) * B).astype(complex).tocsc())
         op = LinearOperator((2 * n, 2 * n), matvec=lambda x: lu.solve(B @ x), dtype=complex)
         start = np.random.default_rng(0).standard_normal(2 * n).astype(complex)
-        nu, X = eigs(op, k=wanted, which="LM", v0=start)
+        try:
+            nu, X = eigs(op, k=wanted, which="LM", v0=start)
+        except ArpackNoConvergence:   # a cluster (rigid-body pairs, double modes): more room
+            nu, X = eigs(op, k=wanted, which="LM", v0=start,
+                         ncv=min(2 * n, max(4 * wanted + 8, 24)))
     except (RuntimeError, ValueError) as exc:
         raise AnalysisError(f"the sparse eigensolver for the complex modes near {target:.6g} "
                             f"failed: {exc}") from None

@@ -59,6 +59,7 @@ from ..errors import AnalysisError, ModelError, Problem
 from ..modal import STABILITY_TOLERANCE, modal_assurance
 from ..model.units_display import HZ, ResultUnits, Shown, angular_shown
 from ..system.base import LinearSystem
+from ..tables import ResultTable
 from .result_fields import FieldsJSON, saved
 from .results_json import Saved, floats_json
 from .rotor_tracking import (
@@ -391,24 +392,36 @@ def _threshold(solver: ModeSolver, track: Tracked, pairs: list[tuple[int, int]],
     real = track.eigenvalues.real
     # a real part within the kernel's tolerance is 0: an undamped rotor is marginal
     real = np.where(np.abs(real) <= STABILITY_TOLERANCE * scale, 0.0, real)
-    if np.any(real[0] > 0):
-        j = int(np.argmax(real[0]))
+    # the grid's Re s solved again near each eigenvalue before it is a verdict (a sparse
+    # rotor's lowest modes carry some 1e-9 |s| of noise in Re s: an undamped rotor is no
+    # threshold)
+    def re_near(i: int, j: int, at: int) -> float:
+        return branch_value(solver, track.shapes[i, :, j], lambda s, w: s.real,
+                            complex(track.eigenvalues[i, j]))(float(track.speeds[at]))
+
+    unstable = [int(j) for j in np.argsort(-real[0]) if real[0, j] > 0 and
+                re_near(0, int(j), 0) > STABILITY_TOLERANCE * float(scale[0, j])]
+    if unstable:
+        j = unstable[0]
         return StabilityThreshold(None, j + 1, float(track.frequencies[0, j]), "",
                                   "unstable in range")
     best: tuple[float, int, complex, np.ndarray] | None = None
     for j in range(real.shape[1]):
-        up = [i for i in crossings(real[:, j]) if real[i + 1, j] > 0]
-        if not up:
-            continue
-        i = up[0]
-        if best is not None and track.speeds[i] >= best[0]:
-            continue
-        reference, target = track.shapes[i, :, j], complex(track.eigenvalues[i, j])
-        value = branch_value(solver, reference, lambda s, w: s.real, target)
-        speed = _threshold_root(value, float(track.speeds[i]), float(track.speeds[i + 1]),
-                                tolerance, STABILITY_TOLERANCE * float(scale[i, j]))
-        s, q = _continued(solver, reference, speed, target)
-        best = (speed, j, s, q)
+        # a branch marginal at the first speed and unstable at the next crosses there too
+        start = [0] if len(real) > 1 and real[0, j] == 0 and real[1, j] > 0 else []
+        for i in start + [i for i in crossings(real[:, j]) if real[i + 1, j] > 0]:
+            if best is not None and track.speeds[i] >= best[0]:
+                break
+            marginal = STABILITY_TOLERANCE * float(scale[i, j])
+            if re_near(i, j, i + 1) <= marginal:
+                continue    # no crossing: the grid's Re s was noise
+            reference, target = track.shapes[i, :, j], complex(track.eigenvalues[i, j])
+            value = branch_value(solver, reference, lambda s, w: s.real, target)
+            speed = _threshold_root(value, float(track.speeds[i]),
+                                    float(track.speeds[i + 1]), tolerance, marginal)
+            s, q = _continued(solver, reference, speed, target)
+            best = (speed, j, s, q)
+            break
     if best is None:
         return StabilityThreshold(None, None, None, "", "stable in range")
     speed, j, s, q = best
@@ -579,22 +592,27 @@ def campbell_text(result: Campbell, units: ResultUnits | None = None) -> str:
     lines = [result.title or "Campbell diagram",
              f"speed {result.speed_parameter}: {speed(result.speeds[0]):.6g} to "
              f"{speed(result.speeds[-1]):.6g} {speed.text}, {len(result.speeds)} speeds "
-             f"({result.refined} added by refinement)", "",
-             f"{'mode':>4}  {'whirl':>8}  {f'f first [{frequency.text}]':>13}  "
-             f"{f'f last [{frequency.text}]':>12}  {'log dec first':>13}  {'log dec last':>12}"]
+             f"({result.refined} added by refinement)", ""]
     f = frequency(result.frequencies)
+    rows = []
     for j in range(f.shape[1]):
         whirl = {"F": "forward", "B": "backward"}.get(_branch_whirl(result, j), "-")
         if j < len(result.motion) and result.motion[j] != "lateral":
             whirl = result.motion[j]
-        lines.append(f"{j + 1:>4}  {whirl:>8}  {f[0, j]:13.6g}  {f[-1, j]:12.6g}  "
-                     f"{result.log_decrements[0, j]:13.4g}  {result.log_decrements[-1, j]:12.4g}")
+        rows.append((str(j + 1), whirl, f"{f[0, j]:.6g}", f"{f[-1, j]:.6g}",
+                     f"{result.log_decrements[0, j]:.4g}", f"{result.log_decrements[-1, j]:.4g}"))
+    # each column as wide as its widest cell: "torsional" and "backward" never shift a row
+    lines.append(ResultTable(("mode", "whirl", f"f first [{frequency.text}]",
+                              f"f last [{frequency.text}]", "log dec first", "log dec last"),
+                             tuple(rows), align="rlrrrr").text(indent=""))
     lines += ["", "critical speeds (damped frequency = order x speed):"]
     if not result.critical_speeds:
         lines.append("  none in the range")
-    for c in result.critical_speeds:
-        lines.append(f"  {speed(c.speed):12.6g} {speed.text} ({c.speed:.6g} rad/s)  mode {c.mode}  "
-                     f"{c.order:g}x  {c.whirl}")
+    else:
+        lines.append(ResultTable(
+            (f"speed [{speed.text}]", "[rad/s]", "mode", "order", "whirl"),
+            tuple((f"{speed(c.speed):.6g}", f"{c.speed:.6g}", str(c.mode), f"{c.order:g}x",
+                   c.whirl) for c in result.critical_speeds), align="rrrrl").text())
     t = result.threshold
     lines.append("")
     if t.verdict == "threshold" and t.speed is not None:

@@ -47,6 +47,7 @@ from ..memory import require
 from ..modal import ZERO_STATE, gyroscopic_modes, synchronous_speeds
 from ..model.rotor import Bearing
 from ..system.base import LinearSystem, parameter_values
+from ..tables import ResultTable
 from .campbell import RPM, SPEED_TOLERANCE, speed_parameter
 from .result_fields import Codec, FieldsJSON, Shape, saved
 from .results_json import Saved, floats_json
@@ -149,15 +150,20 @@ class CriticalSpeedMap(FieldsJSON, Charted):
                  "(damping ratio in brackets)" if self.damped else
                  "undamped; every bearing kxx = kyy = k (no cross coupling)", ""]
         for o, r in enumerate(self.orders):
-            lines.append(f"{r:g}x critical speeds [rpm] (F forward, B backward whirl):")
+            lines.append(f"{r:g}x critical speeds [rpm] (F forward, B backward whirl, N none: "
+                         "no lateral motion):")
+            rows = []
             for i, k in enumerate(self.stiffness):
                 ratios = (self.damping_ratios[i, o] if self.damping_ratios is not None else
                           [math.nan] * len(self.whirl[i][o]))
-                cells = [f"{v / RPM:10.5g} {w[:1].upper()}" +
-                         (f" ({z:.3g})" if math.isfinite(z) else "") if math.isfinite(v) else
-                         f"{'-':>10}  " for v, w, z in zip(self.speeds[i, o], self.whirl[i][o],
-                                                          ratios)]
-                lines.append(f"  k = {k:10.4g} N/m  " + "  ".join(cells))
+                rows.append((f"{k:.4g}", *(
+                    f"{v / RPM:.5g} {w[:1].upper()}" + (f" ({z:.3g})" if math.isfinite(z) else "")
+                    if math.isfinite(v) else "-"
+                    for v, w, z in zip(self.speeds[i, o], self.whirl[i][o], ratios))))
+            # each column as wide as its widest cell, whatever the whirl and damping shown
+            count = self.speeds.shape[2]
+            lines.append(ResultTable(("k [N/m]", *(f"mode {j + 1}" for j in range(count))),
+                                     tuple(rows), align="r" * (count + 1)).text())
         return "\n".join(lines) + "\n"
 
     def chart(self) -> Chart:

@@ -57,6 +57,9 @@ CONFIDENT = 0.8
 RIVAL = 0.5
 #: the most halvings of one speed step where the assignment is ambiguous
 MAX_HALVINGS = 8
+#: the most rigid-body eigenvalues of a rotor (its four lateral, one axial and one
+#: torsional free motions, each a pair of s = 0): computed beside a sparse rotor's candidates
+RIGID_ROOM = 12
 #: a model with more coordinates than this (or sparse) uses the sparse eigensolver
 DENSE_LIMIT = 400
 #: the modes a large rotor's root finder computes near the followed branch's eigenvalue
@@ -275,10 +278,10 @@ class ModeSolver:
         return gyroscopic_modes_near(M, C, K, shift, NEAR_CANDIDATES)
 
     def modes(self, speeds: np.ndarray) -> list[Modes]:
-        """The candidate modes (s, shapes) at each speed; a small rotor's rigid-body
-        eigenvalues (|s| within the kernel's zero threshold :data:`resonant.modal.ZERO_STATE`:
-        a free axial or torsional motion, a rotor without bearings) are left out, as they
-        have no frequency to follow and no shape the MAC can tell apart."""
+        """The candidate modes (s, shapes) at each speed; the rigid-body eigenvalues (|s|
+        within the kernel's zero threshold :data:`resonant.modal.ZERO_STATE`: a free axial
+        or torsional motion, a rotor without bearings) are left out, dense or sparse, as
+        they have no frequency to follow and no shape the MAC can tell apart."""
         out = []
         for M, C, K in self.matrices(speeds):
             self.mass = M
@@ -287,20 +290,46 @@ class ModeSolver:
             self.calls += 1
             sparse = hasattr(M, "tocsc") or hasattr(K, "tocsc")
             if sparse or self.system.n > DENSE_LIMIT:
-                out.append(lowest_gyroscopic_modes(M, C, K, self.candidates))
+                # room for the rigid-body eigenvalues beside the candidates
+                s, q = lowest_gyroscopic_modes(
+                    M, C, K, min(self.system.n - 1, self.candidates + RIGID_ROOM))
+                top = largest_state_estimate(M, K)
             else:
                 s, q = gyroscopic_modes(M, C, K)
-                size = np.abs(s)
-                moving = size > ZERO_STATE * max(1.0, float(size.max(initial=0.0)))
-                self.rigid = max(self.rigid, int(np.count_nonzero(~moving)))
-                if np.count_nonzero(moving) < self.count:
-                    raise ModelError(Problem(
-                        f"modes must be at most {np.count_nonzero(moving)}: the rotor has "
-                        f"{np.count_nonzero(~moving)} rigid-body eigenvalue(s) (s = 0) beside "
-                        "them", self.system.source, "campbell", "modes"))
-                s, q = s[moving], q[:, moving]
-                out.append((s[:self.candidates], q[:, :self.candidates]))
+                top = float(np.abs(s).max(initial=0.0))
+            out.append(self._moving(s, q, top))
         return out
+
+    def _moving(self, s: np.ndarray, q: np.ndarray, top: float) -> Modes:
+        """The candidates among modes (s, q) of one speed without its rigid-body
+        eigenvalues, |s| <= ZERO_STATE max(1, ``top``), ``top`` the largest |s| of the
+        point (or its estimate); counted in :attr:`rigid`."""
+        moving = np.abs(s) > ZERO_STATE * max(1.0, top)
+        self.rigid = max(self.rigid, int(np.count_nonzero(~moving)))
+        if np.count_nonzero(moving) < self.count:
+            raise ModelError(Problem(
+                f"modes must be at most {np.count_nonzero(moving)}: the rotor has "
+                f"{np.count_nonzero(~moving)} rigid-body eigenvalue(s) (s = 0) beside "
+                "them", self.system.source, "campbell", "modes"))
+        s, q = s[moving], q[:, moving]
+        return s[:self.candidates], q[:, :self.candidates]
+
+
+def largest_state_estimate(M: Matrix, K: Matrix) -> float:
+    """An estimate of a rotor's largest |s| without its whole spectrum: the square root of
+    the largest Rayleigh quotient K_ii / M_ii of a unit vector (a lower bound of the
+    largest omega^2 of the undamped symmetric pencil), the scale of the zero threshold
+    where only the lowest modes are computed.
+
+    Examples
+    --------
+    >>> largest_state_estimate(np.diag([1.0, 2.0]), np.array([[4.0, -1.0], [-1.0, 50.0]]))
+    5.0
+    """
+    k = np.abs(np.asarray(K.diagonal(), dtype=float))
+    m = np.asarray(M.diagonal(), dtype=float)
+    held = m > 0
+    return float(np.sqrt(np.max(k[held] / m[held], initial=0.0)))
 
 
 def align_degenerate(modes: Modes, reference: np.ndarray) -> Modes:
@@ -469,4 +498,5 @@ def find_root(function: Callable[[float], float], low: float, high: float,
 
 __all__ = ["Tracked", "track_modes", "whirl_pairs", "precession", "whirl_label", "motion_kinds",
            "check_speeds", "ModeSolver", "align_degenerate", "branch_value", "crossings",
-           "find_root", "CONFIDENT", "RIVAL", "MAX_HALVINGS", "DENSE_LIMIT"]
+           "find_root", "largest_state_estimate", "CONFIDENT", "RIVAL", "MAX_HALVINGS",
+           "DENSE_LIMIT", "RIGID_ROOM"]

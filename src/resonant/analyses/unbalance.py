@@ -46,6 +46,7 @@ from ..model.rotor import Bearing, SpeedTable
 from ..model.units_display import ResultUnits, Shown, angular_shown, shown_unit
 from ..system.base import LinearSystem, parameter_values
 from ..system.batch import BatchHarmonic
+from ..tables import ResultTable
 from .campbell import RPM, speed_parameter
 from .kernel import solve_harmonic
 from .result_fields import Codec, FieldsJSON, Shape, saved
@@ -209,21 +210,26 @@ class UnbalanceResponse(FieldsJSON, Charted):
         length = shown_unit(units, "m")
         speed = angular_shown(units, Shown("rpm", RPM))
         lines = [self.title or "Unbalance response",
-                 f"amplitudes: {CONVENTION}, in {length.text}", "",
-                 f"{'station':>12}  {'peak major 0-pk':>16}  {'pk-pk':>12}  "
-                 f"{f'at [{speed.text}]':>10}  {'minor 0-pk':>12}  precession"]
+                 f"amplitudes: {CONVENTION}, in {length.text}", ""]
+        rows = []
         for i, name in enumerate(self.stations):
             k = int(np.nanargmax(self.major[:, i]))
-            lines.append(f"{name or '(x, y)':>12}  {length(self.major[k, i]):16.6g}  "
-                         f"{length(2 * self.major[k, i]):12.6g}  {speed(self.speeds[k]):10.6g}  "
-                         f"{length(self.minor[k, i]):12.6g}  {self.precession[k][i]}")
-        if self.bearings:
-            lines += ["", f"{'bearing':>12}  {'peak force 0-pk [N]':>20}  {'pk-pk':>12}  "
-                      f"{f'at [{speed.text}]':>10}"]
+            rows.append((name or "(x, y)", f"{length(self.major[k, i]):.6g}",
+                         f"{length(2 * self.major[k, i]):.6g}", f"{speed(self.speeds[k]):.6g}",
+                         f"{length(self.minor[k, i]):.6g}", self.precession[k][i]))
+        # each column as wide as its widest cell (long station names, "backward")
+        lines.append(ResultTable(("station", "peak major 0-pk", "pk-pk", f"at [{speed.text}]",
+                                  "minor 0-pk", "precession"), tuple(rows),
+                                 align="rrrrrl").text(indent=""))
+        forces = []
         for i, name in enumerate(self.bearings):
             k = int(np.nanargmax(self.bearing_force[:, i]))
-            lines.append(f"{name:>12}  {self.bearing_force[k, i]:20.6g}  "
-                         f"{2 * self.bearing_force[k, i]:12.6g}  {speed(self.speeds[k]):10.6g}")
+            forces.append((name, f"{self.bearing_force[k, i]:.6g}",
+                           f"{2 * self.bearing_force[k, i]:.6g}", f"{speed(self.speeds[k]):.6g}"))
+        if forces:
+            lines += ["", ResultTable(("bearing", "peak force 0-pk [N]", "pk-pk",
+                                       f"at [{speed.text}]"), tuple(forces),
+                                      align="rrrr").text(indent="")]
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines) + "\n"
 

@@ -38,10 +38,12 @@ from typing import Any
 
 import numpy as np
 
+from ..analyses.campbell import RPM, campbell
 from ..analyses.modes import modes
 from ..analyses.periodic_load import load_series, periodic_response
 from ..analyses.stationary import stationary
 from ..analyses.sweep import response_axes, sweep
+from ..analyses.unbalance import unbalance_response
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions.notation import name_latex
@@ -486,7 +488,8 @@ def page_html(data: dict[str, Any], program: str) -> str:
     pieces = {"@TITLE@": html.escape(data.get("title") or "resonant explore"),
               "@STYLE@": _asset("page.css"), "@DATA@": script_json(data),
               "@PROGRAM@": program.replace("</", "<\\/"),
-              "@NUMERICS@": _asset("numerics.js"), "@UI@": _asset("page.js")}
+              "@NUMERICS@": _asset("numerics.js"), "@UI@": _asset("page.js"),
+              "@ROTOR@": _asset("rotor.js")}
     text = _asset("page.html")
     for marker, value in pieces.items():
         text = text.replace(marker, value)
@@ -604,6 +607,76 @@ def periodic_data(model: Model, system: LinearSystem, live: bool,
     return data
 
 
+#: the most stations whose orbits the rotor panel draws
+ROTOR_STATIONS = 12
+
+
+def _complex_json(array: np.ndarray) -> dict[str, list[Any]]:
+    """A complex array as its real and imaginary parts (NaN as null)."""
+    return {"re": _finite(np.real(array)), "im": _finite(np.imag(array))}
+
+
+def rotor_data(model: Model, system: LinearSystem, deadline: Deadline = NO_DEADLINE
+               ) -> dict[str, Any] | None:
+    """The rotor panel's data (None without a ``[campbell]`` section): the Campbell diagram
+    over its range (:func:`resonant.analyses.campbell.campbell`: each branch's damped
+    frequency, damping ratio and whirl at every speed, the critical speeds and the
+    threshold) and, with ``[[unbalance]]``, the unbalance orbits at the same speeds
+    (:func:`resonant.analyses.unbalance.unbalance_response`, complex amplitudes X, Y of
+    each station, 0-pk), which the page's speed slider steps through.
+
+    Parameters
+    ----------
+    model : Model
+    system : LinearSystem
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    dict or None
+        JSON-ready: ``speed_parameter``, ``speeds`` (rad/s), ``frequencies``,
+        ``damping_ratios``, ``whirl``, ``motion``, ``orders``, ``critical``, ``threshold``,
+        ``start`` (the index of the speed nearest the file's value) and ``orbits``
+        (``stations``, ``X``, ``Y``; None without ``[[unbalance]]``).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/rotors/jeffcott_rotor.toml")
+    >>> data = rotor_data(model, model.linearize())
+    >>> len(data["speeds"]), data["orbits"]["stations"], data["threshold"]["verdict"]
+    (49, [''], 'threshold')
+    """
+    spec = model.campbell_section
+    if spec is None:
+        return None
+    result = campbell(system, deadline=deadline)
+    speeds = result.speeds
+    name = result.speed_parameter
+    value = float(model.parameter_values.get(name, speeds[0]))
+    orbits = None
+    if model.unbalances:
+        response = unbalance_response(system, speeds, deadline=deadline)
+        keep = slice(0, ROTOR_STATIONS)
+        orbits = {"stations": list(response.stations[keep]),
+                  "X": _complex_json(response.X[:, keep]),
+                  "Y": _complex_json(response.Y[:, keep]),
+                  "amount": [u.amount for u in response.unbalances],
+                  "at": [u.station for u in response.unbalances]}
+    threshold = result.threshold
+    return {"speed_parameter": name, "rpm": RPM, "speeds": speeds.tolist(),
+            "frequencies": _finite(result.frequencies),
+            "damping_ratios": _finite(result.damping_ratios),
+            "whirl": [list(row) for row in result.whirl], "motion": list(result.motion),
+            "orders": list(result.orders),
+            "critical": [{"speed": c.speed, "order": c.order, "mode": c.mode,
+                          "whirl": c.whirl} for c in result.critical_speeds],
+            "threshold": {"speed": threshold.speed, "verdict": threshold.verdict,
+                          "mode": threshold.mode, "whirl": threshold.whirl},
+            "start": int(np.argmin(np.abs(speeds - value))), "orbits": orbits,
+            "warnings": list(result.warnings)}
+
+
 def explore_data(model: Model, system: LinearSystem | None = None,
                  deadline: Deadline = NO_DEADLINE) -> tuple[dict[str, Any], str]:
     """Everything the explore page of a model holds: its data and its program.
@@ -651,6 +724,7 @@ def explore_data(model: Model, system: LinearSystem | None = None,
         control = next((c for c in sliders if c["frequency"]), None)
         data["precomputed"] = precomputed(system, frequency, control, shown, deadline)
     data["response_chart"] = _response_chart(model, system, sliders, names)
+    data["rotor"] = rotor_data(model, system, deadline)
     return data, exported.program if exported is not None else ""
 
 
@@ -690,4 +764,5 @@ def explore_page(model: Model, system: LinearSystem | None = None,
 __all__ = ["ExplorePage", "check_page_size", "explore_page", "explore_data", "controls",
            "default_range",
            "frequency_parameter", "shown_names", "precomputed", "page_html", "script_json",
+           "rotor_data",
            "LIVE_LIMIT", "CURVE_POINTS"]

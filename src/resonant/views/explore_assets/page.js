@@ -1306,6 +1306,9 @@
     requestAnimationFrame(frame);
   }
 
+  // the page's helpers for the panels of other scripts (the rotor panel, rotor.js)
+  window.resonantPage = Object.freeze({ el, fmt, number, canvasContext, niceTicks, COLOURS, NOW, PARAMS });
+
   // -- the script interface ------------------------------------------------------------------
   function jsonMatrix(a) {
     if (!a) return null;

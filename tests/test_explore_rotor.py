@@ -1,0 +1,143 @@
+"""The explore page of a rotor (a model with ``[campbell]``) in a real browser: the speed
+slider, the unbalance orbits drawn at the current speed and the Campbell diagram with the
+current speed marked (docs/explore.md, Rotors).
+
+The page's numbers are compared with the Python solve of the same model
+(``resonant.analyses.campbell.campbell`` and ``resonant.analyses.unbalance
+.unbalance_response`` at the diagram's speeds): the branches' frequencies, damping ratios
+and whirl are resonant's (to 1e-12, their JSON), the orbits' semi-axes are computed by the
+page from the complex amplitudes (to 1e-9, as the other explore tests). Headless
+Chromium (``/usr/bin/chromium``) through Playwright, every request refused; skipped with
+the reason where either is missing. Model: Friswell, Penny, Garvey & Lees (2010),
+Example 5.9.1 (examples/rotors/friswell_5_9_1.toml; 7 stations, a disc unbalance).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+import test_explore_browser
+from conftest import EXAMPLES, run_cli
+from resonant.analyses.campbell import campbell
+from resonant.analyses.unbalance import unbalance_response
+from resonant.model import load
+from resonant.system import linear_system
+from test_explore_browser import REFERENCE, _changed, opened
+
+#: the browser of the explore tests (headless Chromium, one per module)
+browser = test_explore_browser.browser
+
+FRISWELL = EXAMPLES / "rotors" / "friswell_5_9_1.toml"
+RTOL = 1e-9
+
+
+@pytest.fixture(scope="module")
+def rotor_page(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    target = tmp_path_factory.mktemp("rotor") / "friswell.html"
+    status, _, err = run_cli(["explore", FRISWELL, "-o", target])
+    assert status == 0, err
+    return target
+
+
+@pytest.fixture(scope="module")
+def solved() -> tuple[Any, Any]:
+    system = linear_system(load(FRISWELL))
+    diagram = campbell(system)
+    return diagram, unbalance_response(system, diagram.speeds)
+
+
+def _pixels(page: Any, canvas: str) -> np.ndarray:
+    """A canvas's pixels (grey), read from the page itself (no screenshot)."""
+    import base64
+    import io
+
+    from PIL import Image
+
+    url = page.page.evaluate(f"document.getElementById({canvas!r}).toDataURL('image/png')")
+    png = base64.b64decode(url.split(",", 1)[1])
+    return np.asarray(Image.open(io.BytesIO(png)).convert("L"), dtype=int)
+
+
+def _state(page: Any, index: int | None = None) -> dict[str, Any]:
+    call = "resonantRotor.state()" if index is None else f"resonantRotor.set({index})"
+    return page.page.evaluate(f"JSON.parse(JSON.stringify({call}))")  # type: ignore[no-any-return]
+
+
+def _fits(page: Any, width: int) -> None:
+    """No scrolling sideways; the panel's canvases and slider inside the screen."""
+    overflow = page.page.evaluate(
+        "document.documentElement.scrollWidth - document.documentElement.clientWidth")
+    assert overflow <= 0, f"the page is {overflow} px wider than the screen"
+    for selector in ("#rotor-orbit", "#rotor-campbell", "#rotor-speed"):
+        box = page.page.locator(selector).bounding_box()
+        assert box is not None and box["width"] > 100, selector
+        assert box["x"] >= 0 and box["x"] + box["width"] <= width + 0.5, selector
+
+
+def test_the_rotor_panel_shows_what_the_python_solve_computes(
+        browser: Any, rotor_page: Path, solved: tuple[Any, Any]) -> None:
+    diagram, response = solved
+    with opened(browser, rotor_page) as page:
+        assert page.page.locator("#rotor-panel").is_visible()
+        assert page.page.evaluate("resonantRotor.speeds()") == diagram.speeds.tolist()
+        for k in (0, len(diagram.speeds) // 3, len(diagram.speeds) - 1):
+            shown = _state(page, k)
+            assert shown["speed"] == diagram.speeds[k]
+            assert np.allclose(shown["frequencies"], diagram.frequencies[k], rtol=1e-12)
+            assert np.allclose(shown["damping_ratios"], diagram.damping_ratios[k], atol=1e-12)
+            assert shown["whirl"] == list(diagram.whirl[k])
+            orbits = shown["orbits"]
+            assert [o["station"] for o in orbits] == list(response.stations)
+            assert np.allclose([o["major"] for o in orbits], response.major[k], rtol=RTOL)
+            assert np.allclose([o["minor"] for o in orbits], response.minor[k], rtol=RTOL,
+                               atol=RTOL * float(np.max(response.major[k])))
+            assert [o["precession"] for o in orbits] == list(response.precession[k])
+            # the tables show the same numbers (full values in data-value)
+            cell = page.page.locator('[data-key="rotor.frequency.0"]')
+            assert float(cell.get_attribute("data-value")) == pytest.approx(
+                diagram.frequencies[k, 0], rel=1e-12)
+            cell = page.page.locator('[data-key="rotor.major.0"]')
+            assert float(cell.get_attribute("data-value")) == pytest.approx(
+                response.major[k, 0], rel=RTOL)
+        assert "0-pk" in page.page.locator("#rotor-panel").inner_text()
+        _fits(page, 1280)
+        critical = page.page.locator("#rotor-campbell-caption").inner_text()
+        first = diagram.critical_speeds[0].speed * 30 / np.pi
+        assert f"{float(f'{first:.5g}'):g} rpm" in critical
+
+
+def test_the_slider_moves_the_speed_and_the_marked_speed(browser: Any, rotor_page: Path
+                                                         ) -> None:
+    with opened(browser, rotor_page) as page:
+        _state(page, 0)
+        before_campbell = _pixels(page, "rotor-campbell")
+        before_orbit = _pixels(page, "rotor-orbit")
+        slider = page.page.locator("#rotor-speed")
+        slider.focus()
+        page.page.keyboard.press("ArrowRight")
+        page.page.keyboard.press("ArrowRight")
+        assert _state(page)["index"] == 2
+        assert "rpm" in page.page.locator("#rotor-speed-out").inner_text()
+        # the current speed's line moved on the diagram, and the orbits were drawn again
+        assert _changed(before_campbell, _pixels(page, "rotor-campbell")) > 0.002
+        assert _changed(before_orbit, _pixels(page, "rotor-orbit")) > 0.002
+
+
+@pytest.mark.parametrize("width", [375])
+def test_the_rotor_panel_fits_the_width(browser: Any, rotor_page: Path, width: int
+                                        ) -> None:
+    with opened(browser, rotor_page, width=width) as page:
+        _fits(page, width)
+
+
+def test_a_model_without_campbell_has_no_rotor_panel(browser: Any, tmp_path: Path
+                                                     ) -> None:
+    target = tmp_path / "page.html"
+    assert run_cli(["explore", REFERENCE, "-o", target])[0] == 0
+    with opened(browser, target) as page:
+        assert page.page.locator("#rotor-panel").is_hidden()
+        assert page.page.evaluate("typeof window.resonantRotor") == "undefined"
