@@ -442,7 +442,8 @@ class _FRFProblem:
         return self.difference_jacobian(x)
 
     def analytic_jacobian(self, x: np.ndarray) -> np.ndarray | None:
-        """dr/d ln p from dH/dp (``resonant.analyses.frf_sensitivity``); None where it does not apply."""
+        """dr/d ln p from dH/dp (``resonant.analyses.frf_sensitivity``); None where it does
+        not apply."""
         p = np.exp(x)
         values = dict(zip(self.names, map(float, p)))
         if self.loads_vary is None:
