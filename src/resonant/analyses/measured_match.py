@@ -50,17 +50,20 @@ from ..arrays import freeze_fields
 from ..charts import COLORS, Chart, Charted, Charts, Curve
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
-from ..model.measured import MeasuredData, MeasuredFunction
+from ..model.measured import MeasuredData, MeasuredFunction, read_uff
 from ..model.measurement_spec import MeasurementSpec, match_channels
 from ..model.op4_files import DIRECTIONS
+from ..model.types import Model
 from ..system.base import LinearSystem
+from ..system.build import linear_system
 from .correlate import Correlation, model_shapes
 from .frf_mimo import frf_matrix_of, pair_name
 from .frf_update import frac, model_frf_matrix
 from .modes import modes
 from .results_json import complex_json, floats_json
 
-__all__ = ["MatchedTest", "match_test", "model_band", "dof_label", "check_correlation"]
+__all__ = ["MatchedTest", "match_test", "match_test_file", "model_band", "dof_label",
+           "check_correlation"]
 
 #: the lowest modes computed for the band of a model above this many coordinates
 BAND_MODES = 20
@@ -355,3 +358,35 @@ def check_correlation(correlation: Correlation, system: LinearSystem, name: str,
         raise ModelError(Problem(f"made with another model: its mode {k + 1} is at "
                                  f"{saved[k]:.6g} Hz, this model's at {mine[k]:.6g} Hz: {fix}",
                                  name))
+
+
+def match_test_file(path: str, model: Model, deadline: Deadline = NO_DEADLINE) -> MatchedTest:
+    """The measured FRFs of a Universal File checked against the model (``--test FILE`` of
+    ``resonant report`` and ``resonant explore``).
+
+    Parameters
+    ----------
+    path : str
+        The file.
+    model : Model
+        The model, with its ``[measurement]`` section.
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    MatchedTest
+
+    Raises
+    ------
+    ModelError
+        For a model without ``[measurement]``, a file that cannot be read, or one that does
+        not belong to the model (:func:`match_test`).
+    """
+    spec = model.measurement_section
+    if spec is None:
+        raise ModelError(Problem("measured FRFs need the model's [measurement] section: add "
+                                 "one naming the excitation channel, the input and the "
+                                 "response channels (docs/testing.md)", model.source,
+                                 "measurement"))
+    return match_test(read_uff(path), spec, linear_system(model, deadline), model.source,
+                      deadline=deadline)

@@ -10,12 +10,10 @@ import sys
 import resonant.cli.common as common
 
 from ..analyses.correlate import Correlation
-from ..analyses.measured_match import MatchedTest, check_correlation, match_test
-from ..deadline import Deadline
+from ..analyses.measured_match import check_correlation, match_test_file
 from ..errors import AnalysisError, ModelError, Problem
 from ..model.files import FileRefused, open_regular_file, read_bounded
-from ..model.measured import UFF_SUFFIXES, read_uff
-from ..model.types import Model
+from ..model.measured import UFF_SUFFIXES
 from ..report import build_report, render, report_format
 from ..system.build import linear_system
 
@@ -90,36 +88,6 @@ def _is_uff(path: str) -> bool:
     return os.path.splitext(path)[1].lower() in UFF_SUFFIXES
 
 
-def measured_test(path: str, model: Model, deadline: Deadline) -> MatchedTest:
-    """The measured FRFs of a Universal File, checked against the model.
-
-    Parameters
-    ----------
-    path : str
-        The file.
-    model : Model
-        The model, with its ``[measurement]`` section.
-    deadline : Deadline
-
-    Returns
-    -------
-    MatchedTest
-
-    Raises
-    ------
-    ModelError
-        For a model without ``[measurement]``, or a file that does not belong to it.
-    """
-    spec = model.measurement_section
-    if spec is None:
-        raise ModelError(Problem("measured FRFs need the model's [measurement] section: add "
-                                 "one naming the excitation channel, the input and the "
-                                 "response channels (docs/testing.md)", model.source,
-                                 "measurement"))
-    return match_test(read_uff(path), spec, linear_system(model, deadline), model.source,
-                      deadline=deadline)
-
-
 def _split_tests(given: list[str]) -> tuple[str | None, str | None]:
     """The correlation JSON and the Universal File of ``--test`` (at most one of each)."""
     uff = [p for p in given if _is_uff(p)]
@@ -140,7 +108,7 @@ def run_report(args: argparse.Namespace) -> int:
     if correlation is not None and json_file is not None:
         check_correlation(correlation, linear_system(model, deadline),
                           os.path.basename(json_file), deadline=deadline)
-    measured = measured_test(uff_file, model, deadline) if uff_file else None
+    measured = match_test_file(uff_file, model, deadline) if uff_file else None
     report = build_report(model, plots=not args.no_plots, nonlinear=args.nonlinear,
                           correlation=correlation, measured=measured)
     try:

@@ -38,6 +38,7 @@ from typing import Any
 
 import numpy as np
 
+from ..analyses.measured_match import MatchedTest
 from ..analyses.modes import modes
 from ..analyses.periodic_load import load_series, periodic_response
 from ..analyses.stationary import stationary
@@ -52,6 +53,7 @@ from ..system.base import LinearSystem
 from ..system.build import linear_system
 from ..system.stability import natural_frequencies
 from .explore_export import ExportedSystem, equilibrium_values, export_system
+from .explore_measured import measured_overlay
 from .js_printer import NotPrintable
 from .sketch import SketchMotion, sketch_motion
 
@@ -605,7 +607,8 @@ def periodic_data(model: Model, system: LinearSystem, live: bool,
 
 
 def explore_data(model: Model, system: LinearSystem | None = None,
-                 deadline: Deadline = NO_DEADLINE) -> tuple[dict[str, Any], str]:
+                 deadline: Deadline = NO_DEADLINE, measured: MatchedTest | None = None
+                 ) -> tuple[dict[str, Any], str]:
     """Everything the explore page of a model holds: its data and its program.
 
     Parameters
@@ -614,6 +617,9 @@ def explore_data(model: Model, system: LinearSystem | None = None,
     system : LinearSystem, optional
         The model's linear system (derived if not given).
     deadline : Deadline, optional
+    measured : MatchedTest, optional
+        Measured FRFs checked against the model, drawn over the frequency response
+        (:func:`resonant.views.explore_measured.measured_overlay`).
 
     Returns
     -------
@@ -651,11 +657,14 @@ def explore_data(model: Model, system: LinearSystem | None = None,
         control = next((c for c in sliders if c["frequency"]), None)
         data["precomputed"] = precomputed(system, frequency, control, shown, deadline)
     data["response_chart"] = _response_chart(model, system, sliders, names)
+    data["measured"] = measured_overlay(measured, model, system, frequency, deadline) \
+        if measured is not None else None
     return data, exported.program if exported is not None else ""
 
 
 def explore_page(model: Model, system: LinearSystem | None = None,
-                 deadline: Deadline = NO_DEADLINE) -> ExplorePage:
+                 deadline: Deadline = NO_DEADLINE, measured: MatchedTest | None = None
+                 ) -> ExplorePage:
     """The explore page of a model (``resonant explore``, ``model.explore()``).
 
     Parameters
@@ -664,6 +673,10 @@ def explore_page(model: Model, system: LinearSystem | None = None,
     system : LinearSystem, optional
         The model's linear system (derived if not given).
     deadline : Deadline, optional
+    measured : MatchedTest, optional
+        Measured FRFs checked against the model
+        (:func:`resonant.analyses.measured_match.match_test`): drawn as points over the
+        frequency response (``resonant explore --test FILE``).
 
     Returns
     -------
@@ -683,7 +696,7 @@ def explore_page(model: Model, system: LinearSystem | None = None,
     >>> page.live, len(page.html) < 1_500_000
     (True, True)
     """
-    data, program = explore_data(model, system, deadline)
+    data, program = explore_data(model, system, deadline, measured)
     return ExplorePage(page_html(data, program), model.title, bool(data["live"]))
 
 
