@@ -75,6 +75,7 @@ def test_matching_file_is_drawn_over_the_model(model, tmp_path):
                    "3) and [measurement] names one input"),
     ("band", "lab.uff's lines, 100 to 200 Hz, do not overlap the model's natural "
              "frequencies, 2.23986 to 9.06901 Hz"),
+    ("histories", "lab.uff: the file holds no FRF (dataset 58, function type 4)"),
 ])
 def test_mismatching_files_are_refused(model, tmp_path, case, expected):
     functions = _functions(model)
@@ -86,6 +87,10 @@ def test_mismatching_files_are_refused(model, tmp_path, case, expected):
         functions[0] = dataclasses.replace(functions[0], reference=(1, 3))
     elif case == "band":
         functions = _functions(model, lines=np.linspace(100.0, 200.0, 11))
+    elif case == "histories":
+        t = np.arange(64) / 64.0
+        functions = [MeasuredFunction(name, "time", t, np.sin(7 * t), "s", "m")
+                     for name in ("hammer", "d1", "d2", "d3")]
     status, err, _ = _report(EXAMPLE, _write(tmp_path / "lab.uff", functions), tmp_path)
     assert status == 2 and expected in err, err
 
