@@ -53,7 +53,7 @@ from ..system.base import LinearSystem
 from ..system.build import linear_system
 from ..system.stability import natural_frequencies
 from .explore_export import ExportedSystem, equilibrium_values, export_system
-from .explore_measured import measured_overlay
+from .explore_measured import measured_first, measured_overlay
 from .js_printer import NotPrintable
 from .sketch import SketchMotion, sketch_motion
 
@@ -642,6 +642,8 @@ def explore_data(model: Model, system: LinearSystem | None = None,
     sliders = controls(model, system, frequency, deadline)
     names = [*system.coordinates, *model.outputs]
     shown = [n for n in shown_names(model, system) if n in names]
+    if measured is not None:
+        shown = measured_first(measured, model, shown, DEFAULT_SHOWN)
     data: dict[str, Any] = {
         "title": model.title, "file": Path(model.source).name, "live": exported is not None,
         "has_units": model.units is not None,

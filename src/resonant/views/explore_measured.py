@@ -45,7 +45,7 @@ from ..errors import ModelError, Problem
 from ..model import Model
 from ..system.base import LinearSystem
 
-__all__ = ["measured_overlay"]
+__all__ = ["measured_overlay", "measured_first"]
 
 #: the model's |H| below this fraction of its largest: an antiresonance, no scale there
 ZERO_FRF = 1e-12
@@ -117,3 +117,38 @@ def measured_overlay(test: MatchedTest, model: Model, system: LinearSystem,
         curves[name] = [float(y) if np.isfinite(y) else None for y in scaled]
     return {"source": test.source, "values": values.tolist(), "curves": curves,
             "channels": {n: channels[n][1] for n in names}, "input": test.inputs[0]}
+
+
+def measured_first(test: MatchedTest, model: Model, shown: list[str], most: int) -> list[str]:
+    """The page's curves with the measured quantities first (so that their points have a
+    curve to be drawn over, the precomputed page's too), then the others shown, at most
+    ``most`` or as many as are measured.
+
+    Parameters
+    ----------
+    test : MatchedTest
+    model : Model
+        The model, with its ``[measurement]`` section.
+    shown : list of str
+        The names the page would show.
+    most : int
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/chain3_lab.toml")
+    >>> f = np.array([1.0])
+    >>> test = MatchedTest("lab.uff", f, np.ones((1, 1, 1)), np.ones((1, 1, 1)), ("d3",),
+    ...                    ("hammer",), ("m/N",), (2.24, 9.07))
+    >>> measured_first(test, model, ["x1", "x2", "x3"], 2)
+    ['x3', 'x1']
+    """
+    spec = model.measurement_section
+    first = list(dict.fromkeys(spec.channels[c].name for c in test.responses)) \
+        if spec is not None else []
+    rest = [n for n in shown if n not in first]
+    return (first + rest)[:max(most, len(first))]
