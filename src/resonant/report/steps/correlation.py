@@ -79,7 +79,7 @@ def measured_frfs(ctx: Context) -> list[Block]:
         f"{len(t.inputs)} input{'s' if several else ''}, at {len(t.frequency)} lines from "
         f"{_t(t.frequency[0])} to {_t(t.frequency[-1])} Hz (the model's natural frequencies: "
         f"{_t(t.band[0])} to {_t(t.band[1])} Hz).  Each is compared with the model's own FRF "
-        "H at the same lines by the frequency response assurance criterion",
+        "H at the same lines by the frequency response assurance criterion ",
         _m(r"\mathrm{FRAC} = |H_{\mathrm{test}}^{H} H|^{2} / "
            r"((H_{\mathrm{test}}^{H} H_{\mathrm{test}})(H^{H} H))"),
         " (1: the same curve up to a complex factor):"))
