@@ -10,8 +10,10 @@ quantity under the same load at the file's parameter values:
 
 the model's amplitude over its own FRF being the load's amplitude at f (F0 for
 ``F0*sin(omega*t)``; m e omega^2 for an unbalance).  Lines where the model's FRF is zero
-(below 1e-12 of its largest) or the response has no amplitude are left out.  The
-points stay where they are as the sliders move: the measurement does not change.
+(below 1e-12 of its largest) or the response has no amplitude are left out.  This
+supposes that the model's load is the measured input; with several inputs the FRFs to the
+first are drawn.  The points stay where they are as the sliders move: the measurement does
+not change.
 
 Examples
 --------
