@@ -34,7 +34,10 @@ Both sides' matrices are compared (bit for bit) in a separate step, not timed.
 Run: ``OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python benchmarks/bench_op4.py [KIND ...]``;
 ``... bench_op4.py sweep``: a sweep on the model read from the 300,000-row file (M = I,
 C = 1e-3 K, a force on q1; ``auto``, ``banded`` on a tenth of the frequencies, and the
-reduced route forced), docs/performance-large.md.
+reduced route forced), docs/performance-large.md; ``... bench_op4.py reduced``: ``resonant
+sweep --method reduced`` against ``--method direct`` on the 200,000-row chain (the largest
+the default limits read) in a band of its five lowest modes, through the command line,
+each command timed whole (a fresh process: reading, checks, the sweep).
 
 Examples
 --------
@@ -184,6 +187,56 @@ def sweep_on_large(folder: str) -> dict[str, Any]:
     return report
 
 
+#: the reduced sweep's model: rows, band (rad/s), points
+REDUCED = (200_000, 1e-6, 1.5e-4, 200)
+
+
+def _timed_json(command: list[str]) -> tuple[float, dict[str, Any]]:
+    """A command's wall time and its JSON output."""
+    start = time.perf_counter()
+    done = subprocess.run(command, capture_output=True, text=True, check=True)
+    return time.perf_counter() - start, json.loads(done.stdout)
+
+
+def reduced_on_large(folder: str) -> dict[str, Any]:
+    """``resonant sweep`` reduced and direct on the 200,000-row chain (fresh processes)."""
+    import scipy.sparse as sp
+    from pyyeti.nastran import op4
+
+    rows, low, high, points = REDUCED
+    base = Path(folder)
+    op4.write(str(base / "chain.op4"), {"kaa": chain(rows)}, binary=True, sparse="bigmat")
+    sp.save_npz(base / "mass.npz", sp.identity(rows, format="csr"))
+    model = base / "chain.toml"
+    model.write_text('title = "chain"\n[parameters]\nomega = 1.0\n[matrices]\n'
+                     'M = "mass.npz"\nK = "chain.op4:KAA"\nC = "1e-3*K"\n[[harmonic]]\n'
+                     'omega = "omega"\nF_C = { q1 = 1.0 }\n', encoding="utf-8")
+    program = [sys.executable, "-m", "resonant"]
+    sweep = [*program, "sweep", str(model), "--param", "omega", "--from", str(low), "--to",
+             str(high), "--points", str(points), "--only", "q1", "--json", "--timeout", "0"]
+    report: dict[str, Any] = {"rows": rows, "band": [low, high], "points": points}
+    results = {}
+    for method in ("reduced", "direct"):
+        seconds, results[method] = _timed_json([*sweep, "--method", method])
+        report[f"{method}_seconds"] = seconds
+        report[f"{method}_method"] = results[method]["method"]
+    report["estimated_error"] = results["reduced"]["estimated_error"]
+    seconds, found = _timed_json([*program, "modes", str(model), "--count", "8", "--json",
+                                  "--timeout", "0"])
+    natural = np.array(found["natural_frequencies"])
+    report["modes_seconds"] = seconds
+    report["modes_in_band"] = int(np.count_nonzero((natural >= low) & (natural <= high)))
+    omega = np.array(results["reduced"]["values"])
+    a, b = (np.array(results[m]["amplitudes"]["q1"], dtype=float) for m in ("reduced", "direct"))
+    error = np.abs(a - b) / np.abs(b)
+    away = np.min(np.abs(omega[:, None] / natural[None, :] - 1), axis=1) > 0.01
+    report["points_away"] = int(away.sum())
+    report["error_away"] = float(error[away].max())
+    report["error_all"] = float(error.max())
+    print(json.dumps(report), flush=True)
+    return report
+
+
 def main(kinds: list[str] | None = None, repeats: int = 3) -> list[dict[str, Any]]:
     """Measure each kind; print one JSON line per kind and return them."""
     reports = []
@@ -199,5 +252,8 @@ if __name__ == "__main__":
     if sys.argv[1:] == ["sweep"]:
         with tempfile.TemporaryDirectory() as scratch:
             sweep_on_large(scratch)
+    elif sys.argv[1:] == ["reduced"]:
+        with tempfile.TemporaryDirectory() as scratch:
+            reduced_on_large(scratch)
     else:
         main(sys.argv[1:] or None)

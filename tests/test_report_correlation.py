@@ -1,6 +1,7 @@
 """The report's section "Test against model" (resonant.report.steps.correlation) and
 ``resonant report --test FILE``: the pairs, frequency errors and MACs of a saved correlation,
-its figure, the notes on a poor pair; a file that is not a saved correlation is exit 2."""
+its figure, the notes on a poor pair; a file that is not a saved correlation, or one made
+with another model, is exit 2."""
 
 from __future__ import annotations
 
@@ -45,11 +46,19 @@ def test_report_command_reads_the_saved_correlation(model, correlation, tmp_path
     saved = tmp_path / "test.json"
     saved.write_text(json.dumps(correlation.to_dict()))
     out = tmp_path / "report.html"
-    # a small free model: the section shows the saved file as it is
-    status, _, err = run_cli(["report", "examples/two_dof_free.toml", "-o", out, "--test",
-                              saved, "--no-plots"])
+    status, _, err = run_cli(["report", EXAMPLE, "-o", out, "--test", saved, "--no-plots"])
     assert status == 0, err
     assert "Test against model" in out.read_text()
+    # made with another model (its three frequencies are not this model's two): refused
+    status, _, err = run_cli(["report", "examples/two_dof_free.toml", "-o", out, "--test",
+                              saved, "--no-plots"])
+    assert status == 2 and "test.json: made with a model of 3 modes" in err, err
+    assert "run resonant correlate --json with this model" in err
+    # the same number of modes at other frequencies: the first that differs is named
+    stiffer = tmp_path / "stiffer.toml"
+    stiffer.write_text(open(EXAMPLE).read().replace('k1 = "1000 N/m"', 'k1 = "1100 N/m"'))
+    status, _, err = run_cli(["report", stiffer, "-o", out, "--test", saved, "--no-plots"])
+    assert status == 2 and "made with another model: its mode 1 is at 2.23986 Hz, this model's at 2.29696" in err, err
     for content, match in (("{", "not JSON"), ('{"pairs": []}', "not the JSON of resonant "
                                                                 "correlate")):
         saved.write_text(content)

@@ -54,6 +54,8 @@ HOME_PAGES: dict[str, tuple[str, ...]] = {
     "resonant.analyses.frf_estimate": ("estimate_frf", "frf_from_measurement",),
     "resonant.analyses.identify": ("identify_modes", "identify_modes_matrix"),
     "resonant.analyses.correlate": ("correlate", "correlate_shapes",),
+    "resonant.analyses.measured_match": ("match_test", "match_test_file", "MatchedTest",
+                                         "check_correlation"),
     "resonant.analyses.model_update": ("update_parameters",),
     "resonant.analyses.state_space": ("state_space",),
     "resonant.analyses.fe_checks": ("check_matrices",),

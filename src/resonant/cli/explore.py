@@ -8,6 +8,7 @@ from pathlib import Path
 
 import resonant.cli.common as common
 
+from ..analyses.measured_match import match_test_file
 from ..errors import ModelError, Problem
 from ..views.explore import explore_page
 
@@ -29,6 +30,10 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
                     "value; --set changes the starting values.")
     parser.add_argument("-o", "--output", required=True, metavar="FILE",
                         help="the page to write (.html)")
+    parser.add_argument("--test", metavar="FILE.uff",
+                        help="measured FRFs (a Universal File, as resonant frf --save writes "
+                             "them), checked against the model's [measurement] section and "
+                             "drawn as points over the page's frequency response")
     parser.set_defaults(run=run_explore)
 
 
@@ -39,7 +44,9 @@ def run_explore(args: argparse.Namespace) -> int:
                                  "page is HTML, use a file ending in .html", str(args.output)))
     path = common.writable_output(args.output, "the page")  # before any work
     model = common.load_model(args)
-    page = explore_page(model, deadline=common.deadline(args))
+    deadline = common.deadline(args)
+    test = match_test_file(args.test, model, deadline) if args.test else None
+    page = explore_page(model, deadline=deadline, measured=test)
     page.save(path)
     kind = "computed live in the browser" if page.live else "precomputed curves and modes"
     print(f"wrote {path} ({len(page.html) // 1024} kB, {kind})", file=sys.stderr)

@@ -10,9 +10,12 @@ import sys
 import resonant.cli.common as common
 
 from ..analyses.correlate import Correlation
+from ..analyses.measured_match import check_correlation, match_test_file
 from ..errors import AnalysisError, ModelError, Problem
 from ..model.files import FileRefused, open_regular_file, read_bounded
+from ..model.measured import UFF_SUFFIXES
 from ..report import build_report, render, report_format
+from ..system.build import linear_system
 
 #: the largest correlation file read (a JSON of a few modes)
 MAX_TEST_BYTES = 16 * 2**20
@@ -37,9 +40,12 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
                         help="add the section 'Beyond small oscillations': the periodic steady "
                              "state of the full equations (harmonic balance), its frequency-"
                              "response curve and the operating point on it")
-    parser.add_argument("--test", metavar="FILE.json",
-                        help="add the section 'Test against model' from the JSON of "
-                             "resonant correlate --json (identified modes, MAC, pairs)")
+    parser.add_argument("--test", metavar="FILE", action="append", default=[],
+                        help="measured data: a Universal File of FRFs (.uff, .unv; checked "
+                             "against the model's [measurement] section, then drawn over "
+                             "the model's FRFs) or the JSON of resonant correlate --json "
+                             "(the section 'Test against model': MAC, pairs); repeatable, "
+                             "one of each")
     parser.set_defaults(run=run_report)
 
 
@@ -78,13 +84,33 @@ def read_correlation(path: str) -> Correlation:
                                  name)) from None
 
 
+def _is_uff(path: str) -> bool:
+    return os.path.splitext(path)[1].lower() in UFF_SUFFIXES
+
+
+def _split_tests(given: list[str]) -> tuple[str | None, str | None]:
+    """The correlation JSON and the Universal File of ``--test`` (at most one of each)."""
+    uff = [p for p in given if _is_uff(p)]
+    json_files = [p for p in given if not _is_uff(p)]
+    for files, what in ((uff, "Universal File of FRFs"), (json_files, "correlation JSON")):
+        if len(files) > 1:
+            raise ModelError(Problem(f"--test takes one {what}, got {len(files)}", "--test"))
+    return (json_files[0] if json_files else None), (uff[0] if uff else None)
+
+
 def run_report(args: argparse.Namespace) -> int:
     fmt = report_format(args.output)  # check the ending before any work
     path = common.writable_output(args.output, "the report")  # before any work
-    test = read_correlation(args.test) if args.test else None
+    json_file, uff_file = _split_tests(args.test)
+    correlation = read_correlation(json_file) if json_file else None
     model = common.load_model(args)
+    deadline = common.deadline(args)
+    if correlation is not None and json_file is not None:
+        check_correlation(correlation, linear_system(model, deadline),
+                          os.path.basename(json_file), deadline=deadline)
+    measured = match_test_file(uff_file, model, deadline) if uff_file else None
     report = build_report(model, plots=not args.no_plots, nonlinear=args.nonlinear,
-                          correlation=test)
+                          correlation=correlation, measured=measured)
     try:
         text = render(report, fmt, path)  # writes the figures of .md and .tex beside it
         path.write_text(text, encoding="utf-8")

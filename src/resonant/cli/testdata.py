@@ -34,15 +34,18 @@ from ..analyses.identify import ModalIdentification, identify_modes, identify_mo
 from ..analyses.model_update import update_parameters
 from ..deadline import Deadline
 from ..errors import ModelError, Problem, printable
-from ..model.measured import MeasuredData, read_histories, read_uff, write_uff
+from ..model.measured import (
+    UFF_SUFFIXES,
+    MeasuredData,
+    read_histories,
+    read_uff,
+    write_uff,
+)
 from ..model.measurement_spec import MeasurementSpec, match_channels
 from ..model.types import Model
 from ..studies.engine import engine_for
 from ..studies.multi_start import MAX_STARTS, multi_start_update
 from ..system.build import linear_system
-
-#: the suffixes read as Universal Files
-UFF_SUFFIXES = (".uff", ".unv", ".uf", ".bunv")
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],

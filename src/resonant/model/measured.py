@@ -71,6 +71,9 @@ MAX_MEMBERS = 4097
 #: relative spread of the sampling steps accepted as one step
 STEP_TOLERANCE = 1e-6
 
+#: the suffixes read as Universal Files (the other measurement files: CSV, .npy, .npz)
+UFF_SUFFIXES = (".uff", ".unv", ".uf", ".bunv")
+
 __all__ = ["MeasuredFunction", "MeasuredMode", "MeasuredData", "read_uff", "write_uff",
            "read_histories", "DATASETS", "DESCRIPTIVE", "FUNCTION_TYPES"]
 

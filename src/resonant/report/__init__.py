@@ -22,6 +22,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..analyses.correlate import Correlation
+from ..analyses.measured_match import MatchedTest
 from ..analyses.stationary import stationary
 from ..errors import AnalysisError, ModelError, Problem
 from ..model import Model
@@ -41,7 +42,8 @@ FORMATS = {".html": "html", ".htm": "html", ".md": "md", ".markdown": "md", ".te
 
 
 def build_report(model: Model, plots: bool = True, nonlinear: bool = False,
-                 correlation: Correlation | None = None) -> Report:
+                 correlation: Correlation | None = None,
+                 measured: MatchedTest | None = None) -> Report:
     """The worked solution of ``model`` as a list of blocks.
 
     Parameters
@@ -55,6 +57,10 @@ def build_report(model: Model, plots: bool = True, nonlinear: bool = False,
     correlation : Correlation, optional
         Identified modes against the model's (:func:`resonant.analyses.correlate.correlate`):
         adds the section "Test against model" (pairs, frequency errors, MAC).
+    measured : MatchedTest, optional
+        Measured FRFs checked against the model
+        (:func:`resonant.analyses.measured_match.match_test`): adds the section "Measured
+        against model FRFs" (FRAC, the figure of both).
 
     Returns
     -------
@@ -88,7 +94,7 @@ def build_report(model: Model, plots: bool = True, nonlinear: bool = False,
     derived = eom.derived_matrices() is not None
     derivation = derive(equations) if derived and eom.n <= MAX_DERIVED else None
     ctx = Context(model, eom, equations, solution, derivation, plots=plots,
-                  correlation=correlation)
+                  correlation=correlation, measured=measured)
     steps = step_order(ctx)
     if nonlinear and ctx.eom.excitation:
         steps.insert(len(steps) - 1, beyond_small_oscillations)  # before the warnings

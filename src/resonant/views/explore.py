@@ -39,6 +39,7 @@ from typing import Any
 import numpy as np
 
 from ..analyses.campbell import RPM, campbell
+from ..analyses.measured_match import MatchedTest
 from ..analyses.modes import modes
 from ..analyses.periodic_load import load_series, periodic_response
 from ..analyses.stationary import stationary
@@ -54,6 +55,7 @@ from ..system.base import LinearSystem
 from ..system.build import linear_system
 from ..system.stability import natural_frequencies
 from .explore_export import ExportedSystem, equilibrium_values, export_system
+from .explore_measured import measured_first, measured_overlay
 from .js_printer import NotPrintable
 from .sketch import SketchMotion, sketch_motion
 
@@ -678,7 +680,8 @@ def rotor_data(model: Model, system: LinearSystem, deadline: Deadline = NO_DEADL
 
 
 def explore_data(model: Model, system: LinearSystem | None = None,
-                 deadline: Deadline = NO_DEADLINE) -> tuple[dict[str, Any], str]:
+                 deadline: Deadline = NO_DEADLINE, measured: MatchedTest | None = None
+                 ) -> tuple[dict[str, Any], str]:
     """Everything the explore page of a model holds: its data and its program.
 
     Parameters
@@ -687,6 +690,9 @@ def explore_data(model: Model, system: LinearSystem | None = None,
     system : LinearSystem, optional
         The model's linear system (derived if not given).
     deadline : Deadline, optional
+    measured : MatchedTest, optional
+        Measured FRFs checked against the model, drawn over the frequency response
+        (:func:`resonant.views.explore_measured.measured_overlay`).
 
     Returns
     -------
@@ -709,6 +715,8 @@ def explore_data(model: Model, system: LinearSystem | None = None,
     sliders = controls(model, system, frequency, deadline)
     names = [*system.coordinates, *model.outputs]
     shown = [n for n in shown_names(model, system) if n in names]
+    if measured is not None:
+        shown = measured_first(measured, model, shown, DEFAULT_SHOWN)
     data: dict[str, Any] = {
         "title": model.title, "file": Path(model.source).name, "live": exported is not None,
         "has_units": model.units is not None,
@@ -725,11 +733,14 @@ def explore_data(model: Model, system: LinearSystem | None = None,
         data["precomputed"] = precomputed(system, frequency, control, shown, deadline)
     data["response_chart"] = _response_chart(model, system, sliders, names)
     data["rotor"] = rotor_data(model, system, deadline)
+    data["measured"] = measured_overlay(measured, model, system, frequency, deadline) \
+        if measured is not None else None
     return data, exported.program if exported is not None else ""
 
 
 def explore_page(model: Model, system: LinearSystem | None = None,
-                 deadline: Deadline = NO_DEADLINE) -> ExplorePage:
+                 deadline: Deadline = NO_DEADLINE, measured: MatchedTest | None = None
+                 ) -> ExplorePage:
     """The explore page of a model (``resonant explore``, ``model.explore()``).
 
     Parameters
@@ -738,6 +749,10 @@ def explore_page(model: Model, system: LinearSystem | None = None,
     system : LinearSystem, optional
         The model's linear system (derived if not given).
     deadline : Deadline, optional
+    measured : MatchedTest, optional
+        Measured FRFs checked against the model
+        (:func:`resonant.analyses.measured_match.match_test`): drawn as points over the
+        frequency response (``resonant explore --test FILE``).
 
     Returns
     -------
@@ -757,7 +772,7 @@ def explore_page(model: Model, system: LinearSystem | None = None,
     >>> page.live, len(page.html) < 1_500_000
     (True, True)
     """
-    data, program = explore_data(model, system, deadline)
+    data, program = explore_data(model, system, deadline, measured)
     return ExplorePage(page_html(data, program), model.title, bool(data["live"]))
 
 

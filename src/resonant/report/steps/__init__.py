@@ -21,7 +21,7 @@ import resonant.report.parts as part_steps
 from ..blocks import Block
 from .closing import plots, warnings
 from .context import Context
-from .correlation import measured_modes
+from .correlation import measured_frfs, measured_modes
 from .energies import coordinates, dissipation, kinetic, potential
 from .excitation import equation_of_motion, forces
 from .excursions import excursions
@@ -57,6 +57,7 @@ def step_order(ctx: Context) -> list[Step]:
     else:
         steps.extend([stationary, excursions, natural_frequencies, plots])
     steps.extend([periodic_load, random_load, shock_load])  # loads beyond a sine (docs/random.md)
+    steps.append(measured_frfs)  # measured FRFs against the model's (testing.md)
     steps.append(measured_modes)  # a measurement's modes against the model's (testing.md)
     steps.append(rotor)  # the Campbell diagram and the unbalance response (docs/rotors.md)
     steps.append(warnings)

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 import sympy
 
 from ...analyses.correlate import Correlation
+from ...analyses.measured_match import MatchedTest
 from ...analyses.stationary import StationarySolution
 from ...derivation import derivative_symbol
 from ...derivation.lagrange import signal_derivatives
@@ -44,6 +45,8 @@ class Context:
     plots: bool = True
     #: the test against the model (``resonant report --test``), shown by its step
     correlation: Correlation | None = None
+    #: measured FRFs checked against the model (``resonant report --test FILE.uff``)
+    measured: MatchedTest | None = None
     namer: Namer = field(init=False)
     names: dict[sympy.Symbol, str] = field(init=False)
     count: int = 0

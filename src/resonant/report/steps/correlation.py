@@ -64,3 +64,31 @@ def measured_modes(ctx: Context) -> list[Block]:
         blocks.append(Note(("Two identified shapes have an auto-MAC above "
                             f"{LOW_MAC:g}: too few channels to tell them apart.",)))
     return blocks
+
+
+def measured_frfs(ctx: Context) -> list[Block]:
+    """The measured FRFs beside the model's, with their FRAC (none given: nothing)."""
+    t = ctx.measured
+    if t is None:
+        return []
+    several = len(t.inputs) > 1
+    blocks: list[Block] = [Heading("Measured against model FRFs")]
+    blocks.append(paragraph(
+        f"The file {t.source} holds the frequency response functions of "
+        f"{len(t.responses)} response channel{'s' if len(t.responses) > 1 else ''} to "
+        f"{len(t.inputs)} input{'s' if several else ''}, at {len(t.frequency)} lines from "
+        f"{_t(t.frequency[0])} to {_t(t.frequency[-1])} Hz (the model's natural frequencies: "
+        f"{_t(t.band[0])} to {_t(t.band[1])} Hz).  Each is compared with the model's own FRF "
+        "H at the same lines by the frequency response assurance criterion ",
+        _m(r"\mathrm{FRAC} = |H_{\mathrm{test}}^{H} H|^{2} / "
+           r"((H_{\mathrm{test}}^{H} H_{\mathrm{test}})(H^{H} H))"),
+        " (1: the same curve up to a complex factor):"))
+    header = (cell("response"), *(cell(f"FRAC to {i}") for i in t.inputs))
+    rows = tuple((cell(r), *(cell(_t(x, 4)) for x in row))
+                 for r, row in zip(t.responses, t.frac, strict=True))
+    blocks.append(Table(header, rows))
+    if ctx.plots:
+        blocks.append(ctx.figure(t.chart(), "The measured |H| of each response (solid) and "
+                                 "the model's (dashed)" + (", a panel per input." if several
+                                                           else ".")))
+    return blocks

@@ -702,6 +702,7 @@
     const shownValues = [];
     for (const s of names) for (const y of curve.curves[s]) shownValues.push(y / factor(s));
     for (const s of names) if (r.amplitudes[s] > 0) shownValues.push(r.amplitudes[s] / factor(s));
+    shownValues.push(...measuredValues(names, xs[0], xs[xs.length - 1], factor));
     const [la, lb] = logRange(shownValues);
     const units = [...new Set(names.map(s => unitText(UNIT[s] ? UNIT[s].unit : "") || (D.has_units ? "1" : "SI")))];
     const xText = CHART ? CHART.xtext : `${c.frequency ? "excitation frequency " : ""}${symbolText(c)} (${unitText(c.unit) || "SI"})`;
@@ -762,6 +763,7 @@
       ctx.stroke();
     });
     ctx.setLineDash([]);
+    S.plotted.measured = drawMeasured(ctx, names, X, Y, inside, factor, xs[0], xs[xs.length - 1], top);
     const now = r.p[FREQ], first = xs[0], last = xs[xs.length - 1];
     const beyond = !(now >= Math.min(first, last) && now <= Math.max(first, last));
     // the current value in black: the curves take the chart description's colours (orange
@@ -788,7 +790,46 @@
     }
     S.plotted.beyond = beyond;
     const range = `${fmt(first / c.factor, 4)} to ${fmt(last / c.factor, 4)}${c.unit ? " " + unitText(c.unit) : ""}`;
-    $("response-caption").textContent = `Peak amplitude (log scale, each in its unit) against ${symbolText(c)} from ${range}; the black line is the current value, dashed lines the natural frequencies ω₁, ω₂, … (rad/s)` + (FREQ >= 0 && c.unit && c.unit !== "rad/s" ? ` drawn where ${symbolText(c)} equals them` : "") + "." + (beyond ? ` The current value, ${fmt(now / c.factor, 6)}${c.unit ? " " + unitText(c.unit) : ""}, lies outside this range (the arrow).` : "");
+    $("response-caption").textContent = `Peak amplitude (log scale, each in its unit) against ${symbolText(c)} from ${range}; the black line is the current value, dashed lines the natural frequencies ω₁, ω₂, … (rad/s)` + (FREQ >= 0 && c.unit && c.unit !== "rad/s" ? ` drawn where ${symbolText(c)} equals them` : "") + "." + (beyond ? ` The current value, ${fmt(now / c.factor, 6)}${c.unit ? " " + unitText(c.unit) : ""}, lies outside this range (the arrow).` : "") + measuredCaption();
+  }
+
+  // -- measured FRFs over the frequency response (resonant explore --test FILE) ---------------
+  // D.measured: the parameter at each measured line (SI) and per name the measured amplitude
+  // under the model's load at the file's values (SI; null where left out); they stay as the
+  // sliders move.  Drawn as open circles in the name's colour.
+  const MEAS = D.measured;
+  function measuredPoints(name, first, last) {
+    if (!MEAS || !MEAS.curves[name]) return [];
+    const lo = Math.min(first, last), hi = Math.max(first, last);
+    return MEAS.values.map((x, j) => [x, MEAS.curves[name][j]])
+      .filter(([x, y]) => x >= lo && x <= hi && y !== null && Number.isFinite(y) && y > 0);
+  }
+  function measuredValues(names, first, last, factor) {
+    return names.flatMap(s => measuredPoints(s, first, last).map(([, y]) => y / factor(s)));
+  }
+  // draws the points; returns what was drawn (per name: [x (SI), value shown, px, py])
+  function drawMeasured(ctx, names, X, Y, inside, factor, first, last, top) {
+    if (!MEAS) return null;
+    const drawn = {};
+    ctx.lineWidth = 1.3;
+    for (const s of names) {
+      const points = measuredPoints(s, first, last).filter(([, y]) => inside(y / factor(s)));
+      if (!points.length) continue;
+      ctx.strokeStyle = colourOf(s);
+      // as small as the points' spacing needs on a narrow plot (a phone), 2.6 px at most
+      const radius = Math.max(1.3, Math.min(2.6, Math.abs(X(last) - X(first)) / points.length / 2.4));
+      drawn[s] = points.map(([x, y]) => {
+        const px = X(x), py = Math.max(top, Y(y / factor(s)));
+        ctx.beginPath(); ctx.arc(px, py, radius, 0, 2 * Math.PI); ctx.stroke();
+        return [x, y / factor(s), px, py];
+      });
+    }
+    return drawn;
+  }
+  function measuredCaption() {
+    if (!MEAS) return "";
+    const shown = Object.keys(MEAS.curves).map(s => `${symbolText(UNIT[s] || { symbol: s })} (${MEAS.channels[s]})`);
+    return ` Open circles: measured (${MEAS.source}) ${shown.join(", ")}, the FRFs to ${MEAS.input} times the model's load at the file's values; they stay as the sliders move.`;
   }
 
   // a curve's dash pattern in pixels: the description's is in line widths (as matplotlib's)

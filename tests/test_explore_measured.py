@@ -1,0 +1,124 @@
+"""Measured FRFs on the explore page (``resonant explore MODEL --test FILE.uff``,
+resonant.views.explore_measured), in a real browser.
+
+The "test" is the chain's own FRF to the hammer times 3 (so that the points lie half a
+decade above the model's curves, where no curve is drawn), written as a binary Universal
+File.  Under the model's load F0 sin(omega t), F0 = 10 N, the page must draw at omega =
+2 pi f the amplitude 3 * 10 N * |H(f)| of each coordinate: the values it drew are compared
+with that, computed here from the kernel's FRF, to 1e-9 relative (the file keeps every
+bit; the rest is rounding).  The canvas is read back: the name's colour is found at the
+drawn position of the points (within 3 px).  The points stay where they are when a slider
+moves the model's curves.  A file that does not belong to the model is exit 2 before any
+page is written.  Skipped without Chromium or Playwright, as tests/test_explore_browser.py.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+import resonant
+from conftest import run_cli
+from resonant.analyses.frf_update import model_frf_matrix
+from resonant.model.measured import MeasuredData, MeasuredFunction, write_uff
+from test_explore_browser import CHROMIUM, opened
+
+EXAMPLE = Path(__file__).parents[1] / "examples" / "chain3_lab.toml"
+LINES = np.linspace(0.5, 12.0, 47)
+FACTOR = 3.0
+F0 = 10.0
+
+
+@pytest.fixture(scope="module")
+def browser() -> Any:
+    if not CHROMIUM.exists():
+        pytest.skip("Debian's chromium (/usr/bin/chromium) is not installed")
+    pytest.importorskip("pyuff")
+    api = pytest.importorskip("playwright.sync_api")
+    with api.sync_playwright() as p:
+        chromium = p.chromium.launch(executable_path=str(CHROMIUM),
+                                     args=["--headless", "--no-sandbox", "--disable-gpu"])
+        try:
+            yield chromium
+        finally:
+            chromium.close()
+
+
+@pytest.fixture(scope="module")
+def frf() -> np.ndarray:
+    model = resonant.load(EXAMPLE)
+    return model_frf_matrix(model.linearize(), ["F"], LINES,
+                            model.measurement_section.channels)[:, :, 0]
+
+
+def _uff(path: Path, H: np.ndarray, lines: np.ndarray = LINES) -> Path:
+    functions = tuple(MeasuredFunction(name, "frf", lines, H[:, k], "Hz", "m/N", (k + 1, 3),
+                                       (3, 3)) for k, name in enumerate(("d1", "d2", "d3")))
+    write_uff(path, MeasuredData(path.name, functions), binary=True)
+    return path
+
+
+def _colour_near(page: Any, px: float, py: float, colour: str) -> bool:
+    """Whether the canvas holds ``colour`` within 3 px of (px, py) (CSS pixels)."""
+    return page.evaluate("""([px, py, colour]) => {
+      const c = document.getElementById("response"), g = c.getContext("2d");
+      const s = c.width / c.getBoundingClientRect().width;
+      const want = [1, 3, 5].map(i => parseInt(colour.slice(i, i + 2), 16));
+      const d = g.getImageData(Math.round((px - 3) * s), Math.round((py - 3) * s),
+                               Math.round(7 * s), Math.round(7 * s)).data;
+      for (let i = 0; i < d.length; i += 4) {
+        if (Math.abs(d[i] - want[0]) + Math.abs(d[i + 1] - want[1]) + Math.abs(d[i + 2] - want[2]) < 60) return true;
+      }
+      return false;
+    }""", [px, py, colour])
+
+
+def test_measured_points_are_drawn_with_their_values(browser, frf, tmp_path):
+    test = _uff(tmp_path / "lab.uff", FACTOR * frf)
+    page_file = tmp_path / "page.html"
+    status, _, err = run_cli(["explore", EXAMPLE, "-o", page_file, "--test", test])
+    assert status == 0, err
+    with opened(browser, page_file) as page:
+        drawn = page.page.evaluate("resonant.response()")["measured"]
+        assert sorted(drawn) == ["x1", "x2", "x3"]
+        for k, name in enumerate(("x1", "x2", "x3")):
+            points = np.array(drawn[name])
+            expected = FACTOR * F0 * np.abs(frf[:, k])
+            assert points.shape == (len(LINES), 4)
+            assert np.allclose(points[:, 0], 2 * np.pi * LINES, rtol=1e-12)
+            assert np.allclose(points[:, 1], expected, rtol=1e-9)
+            assert np.all(np.diff(points[:, 2]) > 0)      # left to right, as omega grows
+            colour = page.page.evaluate(f"resonant.response().styles[{k}].colour")
+            found = [_colour_near(page.page, px, py, colour) for px, py in points[:, 2:]]
+            assert np.mean(found) >= 0.9, (name, colour)
+        caption = page.page.inner_text("#response-caption")
+        assert "Open circles: measured (lab.uff)" in caption
+        # a slider moves the curves, not the measurement
+        before = page.page.evaluate("resonant.response()")
+        page.page.evaluate("resonant.set({k1: 1500})")
+        after = page.page.evaluate("resonant.response()")
+        assert after["curves"]["x1"] != before["curves"]["x1"]
+        assert np.allclose(np.array(after["measured"]["x1"])[:, :2],
+                           np.array(drawn["x1"])[:, :2], rtol=1e-12)
+
+
+def test_a_file_of_another_model_is_refused(frf, tmp_path):
+    test = _uff(tmp_path / "lab.uff", frf, lines=LINES * 50)
+    page_file = tmp_path / "page.html"
+    status, _, err = run_cli(["explore", EXAMPLE, "-o", page_file, "--test", test])
+    assert status == 2 and "do not overlap the model's natural frequencies" in err, err
+    assert "Traceback" not in err and not page_file.exists()
+
+
+def test_no_measured_data_no_points(browser, tmp_path):
+    page_file = tmp_path / "page.html"
+    assert run_cli(["explore", EXAMPLE, "-o", page_file])[0] == 0
+    with contextlib.ExitStack() as stack:
+        page = stack.enter_context(opened(browser, page_file))
+        state = page.page.evaluate("resonant.response()")
+        assert state["measured"] is None
+        assert "Open circles" not in page.page.inner_text("#response-caption")
