@@ -9,6 +9,7 @@ is exit 2 naming the file and what does not match."""
 from __future__ import annotations
 
 import dataclasses
+import json
 
 import numpy as np
 import pytest
@@ -65,6 +66,12 @@ def test_matching_file_is_drawn_over_the_model(model, tmp_path):
     curves = matched.chart().panels[0].curves
     assert [c.label for c in curves[:2]] == ["d1 (measured)", "d1 (model)"]
     assert curves[1].dash and np.allclose(curves[0].y, np.abs(matched.measured[:, 0, 0]))
+    # saved by its fields: read back equal, with the FRAC written for the reader
+    saved = json.loads(json.dumps(matched.to_dict()))
+    assert list(saved) == ["source", "frequency_hz", "measured", "model", "responses",
+                           "inputs", "units", "band_hz", "frac"]
+    again = type(matched).from_dict(saved)
+    assert np.array_equal(again.measured, matched.measured) and again.band == matched.band
 
 
 @pytest.mark.parametrize("case, expected", [

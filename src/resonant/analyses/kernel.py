@@ -652,6 +652,14 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                                exact_condition=exact_condition, forward_error=forward_error)
 
 
+def _require_kept(N: int, keep: np.ndarray) -> None:
+    """Every method returns the kept responses at every point: refused (above the memory
+    budget) before any solve."""
+    require(16.0 * N * len(keep), f"the responses kept ({N} frequencies x {len(keep)} "
+            "coordinates)", "ask for fewer frequencies (points, lines) or fewer "
+            "coordinates (the names to report)")
+
+
 def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                     progress: _Progress | None = None, warnings: list[str] | None = None,
                     keep: np.ndarray | None = None, deadline: Deadline = NO_DEADLINE,
@@ -662,10 +670,7 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     N = w.shape[0]
     n = len(batch.coordinates)
     keep = np.arange(n) if keep is None else keep
-    # every method returns the kept responses at every point: refused before any solve
-    require(16.0 * N * len(keep), f"the responses kept ({N} frequencies x {len(keep)} "
-            "coordinates)", "ask for fewer frequencies (points, lines) or fewer "
-            "coordinates (the names to report)")
+    _require_kept(N, keep)
     progress = progress or _Progress(N, False)
     warnings = [] if warnings is None else warnings
     rhs = np.asarray(h.F_C, dtype=complex) - 1j * np.asarray(h.F_S, dtype=float)

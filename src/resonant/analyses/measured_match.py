@@ -60,7 +60,8 @@ from .correlate import Correlation, model_shapes
 from .frf_mimo import frf_matrix_of, pair_name
 from .frf_update import frac, model_frf_matrix
 from .modes import modes
-from .results_json import complex_json, floats_json
+from .result_fields import FieldsJSON, saved
+from .results_json import floats_json
 
 __all__ = ["MatchedTest", "match_test", "match_test_file", "model_band", "dof_label",
            "check_correlation"]
@@ -72,7 +73,7 @@ DENSE_BAND = 200
 
 
 @dataclass(frozen=True)
-class MatchedTest(Charted):
+class MatchedTest(FieldsJSON, Charted):
     """Measured FRFs that belong to the model, beside the model's own at their lines.
 
     Attributes
@@ -92,13 +93,16 @@ class MatchedTest(Charted):
     """
 
     source: str
-    frequency: np.ndarray
-    measured: np.ndarray
-    model: np.ndarray
-    responses: tuple[str, ...]
-    inputs: tuple[str, ...]
-    units: tuple[str, ...]
-    band: tuple[float, float]
+    frequency: np.ndarray = saved(key="frequency_hz")
+    measured: np.ndarray = saved(axes=("frequency", "responses", "inputs"))
+    model: np.ndarray = saved(axes=("frequency", "responses", "inputs"))
+    responses: tuple[str, ...] = ()
+    inputs: tuple[str, ...] = ()
+    units: tuple[str, ...] = ()
+    band: tuple[float, ...] = saved((), key="band_hz")
+
+    _json_order = ("source", "frequency_hz", "measured", "model", "responses", "inputs",
+                   "units", "band_hz", "frac")
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -138,18 +142,8 @@ class MatchedTest(Charted):
         return Charts(tuple(panels), title=f"measured ({self.source}) and model FRFs",
                       size=(7.0, 3.2 * len(panels)))
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form.
-
-        Returns
-        -------
-        dict
-        """
-        return {"source": self.source, "frequency_hz": floats_json(self.frequency),
-                "measured": complex_json(self.measured), "model": complex_json(self.model),
-                "responses": list(self.responses), "inputs": list(self.inputs),
-                "units": list(self.units), "band_hz": list(self.band),
-                "frac": floats_json(self.frac)}
+    def _derived_json(self) -> dict[str, Any]:
+        return {"frac": floats_json(self.frac)}
 
 
 def dof_label(node: int, direction: int) -> str:
