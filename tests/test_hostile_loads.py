@@ -515,3 +515,16 @@ def test_random_response_of_an_unstable_system_is_refused(tmp_path):
     code, out, err = run_cli(["random", str(path)])
     _check(code, err, 3, ("unstable", "positive real part", "does not exist"))
     assert out == ""
+
+
+def test_a_long_list_of_names_says_how_many_it_leaves_out() -> None:
+    """A section without its signal on a 30-coordinate model lists 20 names and says how
+    many more there are (it listed the first 20 as if they were all)."""
+    from resonant.model.load_spec import parse_shock
+
+    problems: list[Problem] = []
+    coordinates = [f"q{i}" for i in range(1, 31)]
+    parse_shock({"pulse": "half-sine", "amplitude": 1, "duration": 0.01, "step": 1e-4,
+                 "total": 0.1}, [], coordinates, "m.toml", problems)
+    message = next(str(p) for p in problems if "signal" in str(p))
+    assert "q1, q2" in message and "q20 ... and 10 more" in message, message

@@ -40,7 +40,7 @@ import numpy as np
 
 from ..arrays import freeze_fields
 from ..charts import COLORS, Bar, Chart, Charted, Charts
-from ..errors import AnalysisError, printable
+from ..errors import AnalysisError, name_list, printable
 from ..model.load_spec import FATIGUE_METHODS
 from ..tables import ResultTable, number_cell
 from .result_fields import FieldsJSON, Framed, saved
@@ -349,7 +349,7 @@ def response_fatigue(response: RandomResponse, sn: SNCurve, duration: float, *,
     missing = [n for n in chosen if n not in response.psd]
     if missing:
         raise AnalysisError(f"'{printable(missing[0], limit=40)}' is not a response of the "
-                            f"random response (of {', '.join(response.names[:20])})")
+                            f"random response (of {name_list(response.names, 20)})")
     wanted = list(dict.fromkeys([*methods, method]))
     results, warned = {}, list(response.warnings)
     for name in chosen:

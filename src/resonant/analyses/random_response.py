@@ -88,7 +88,7 @@ from ..charts import (
     unit_text,
 )
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import AnalysisError, ModelError, Problem, printable
+from ..errors import AnalysisError, ModelError, Problem, name_list, printable
 from ..expressions import numeric_value
 from ..modal import point_state_eigenvalues
 from ..model.random_spec import STANDARD_GRAVITY, RandomInput, RandomSpec
@@ -846,7 +846,7 @@ def responses_to_solve(num: NumericEOM, names: Sequence[str] | None
         unknown = [x for x in names if x not in num.coordinates and x not in num.outputs]
         if unknown:
             raise ModelError(f"unknown coordinate or output '{unknown[0]}'; known: "
-                             f"{', '.join([*num.coordinates, *num.outputs][:20])}")
+                             f"{name_list([*num.coordinates, *num.outputs], 20)}")
     wanted = set(names) if names is not None else set(num.coordinates)
     for o in outputs:
         wanted |= {v for v, _ in num.outputs[o].terms if v in num.coordinates}

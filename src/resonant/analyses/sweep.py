@@ -99,7 +99,7 @@ from ..charts import (
     save_figure,
 )
 from ..deadline import NO_DEADLINE, Deadline
-from ..errors import AnalysisError, printable
+from ..errors import AnalysisError, name_list, printable
 from ..expressions.notation import dollar_name
 from ..model.options import SweepOptions, chosen, names_tuple
 from ..model.units_display import (
@@ -789,7 +789,7 @@ def _check_request(batch: Batch, names: Sequence[str], values: np.ndarray, metho
     unknown = [q for q in names if q not in known]
     if unknown:
         raise AnalysisError(f"unknown coordinate(s) {', '.join(unknown)}; the coordinates are "
-                            f"{', '.join(batch.coordinates[:20])}"
+                            f"{name_list(batch.coordinates, 20)}"
                             f"{' ...' if n > 20 else ''}")
     quantities = len(kept_coordinates(batch, names)) + len(batch.outputs)
     results = len(values) * max(quantities, 1) * max(len(batch.harmonics), 1)

@@ -11,7 +11,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 
 from ..deadline import Deadline
-from ..errors import AnalysisError, ModelError, Problem, printable
+from ..errors import AnalysisError, ModelError, Problem, name_list, printable
 from ..model import Model, load
 from ..model.units import Unit, UnitError, display_units
 from ..model.units_display import (
@@ -119,11 +119,11 @@ def response_names(text: str | None, model: Model, *, outputs: bool = True,
     if not names:
         plural = "coordinates or outputs" if outputs else "coordinates"
         raise ModelError(Problem(f"give one or more {plural}, separated by commas (of "
-                                 f"{', '.join(known[:20])})", model.source, key=option))
+                                 f"{name_list(known, 20)})", model.source, key=option))
     unknown = [n for n in names if n not in known]
     if unknown:
         raise ModelError(Problem(f"unknown {what} '{printable(unknown[0], 40)}'; known: "
-                                 f"{', '.join(known[:20])}", model.source, key=option))
+                                 f"{name_list(known, 20)}", model.source, key=option))
     return names
 
 

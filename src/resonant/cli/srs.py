@@ -28,7 +28,7 @@ from ..analyses.shock import (
 )
 from ..analyses.transient import ShockPeaks, shock_peaks, shock_response
 from ..deadline import Deadline
-from ..errors import ModelError, Problem, printable
+from ..errors import ModelError, Problem, name_list, printable
 from ..model import Model
 from ..model.load_spec import ShockSpec
 from ..model.time_series import read_time_series
@@ -151,7 +151,7 @@ def _from_model(args: argparse.Namespace, deadline: Deadline
     if args.output is not None and args.output not in (*model.coordinates, *model.outputs):
         known = (*model.coordinates, *model.outputs)
         raise ModelError(Problem(f"'{printable(args.output, 40)}' is not a coordinate or "
-                                 "output; they are " + ", ".join(known[:20]), "--output"))
+                                 "output; they are " + name_list(known, 20), "--output"))
     peaks = response = None
     if largest or args.output is not None:
         wanted = None if largest and names is None else \

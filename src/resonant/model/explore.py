@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
 
-from ..errors import Problem
+from ..errors import Problem, name_list
 from ..expressions import ExpressionError, numeric_value
 from .units import ModelUnits, parse_with_unit
 
@@ -94,7 +94,7 @@ class ExploreSpec:
 def _unknown(name: str, known: Sequence[str], what: str) -> str:
     close = difflib.get_close_matches(name, list(known), n=1)
     hint = f"; did you mean '{close[0]}'?" if close else \
-        f"; the {what} are {', '.join(list(known)[:20]) or 'none'}"
+        f"; the {what} are {name_list(known, 20) or 'none'}"
     return f"'{name}' is not one of the model's {what}{hint}"
 
 

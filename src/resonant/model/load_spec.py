@@ -58,7 +58,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..errors import Problem, printable
+from ..errors import Problem, name_list, printable
 from ..expressions import Expression, ExpressionError, numeric_value, parse
 from .fourier_shapes import SHAPES
 from .limits import MAX_FREQUENCY_HZ
@@ -322,7 +322,7 @@ def _input(data: dict[Any, Any], signals: Sequence[str], coordinates: Sequence[s
     if not isinstance(signal, str) or signal not in names:
         close = difflib.get_close_matches(str(signal), names, n=1)
         hint = f"did you mean '{close[0]}'?" if close else \
-            f"they are {', '.join(names[:20]) or 'none'}"
+            f"they are {name_list(names, 20) or 'none'}"
         problems.append(Problem(f"{_shown(signal)} is neither a signal nor a coordinate; {hint}"
                                 if signal is not None else
                                 f"missing: the signal or coordinate the load acts on; {hint}",

@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError, Problem
+from ..errors import ModelError, Problem, name_list
 from ..expressions import ExpressionError, numeric_value
 from .campbell_spec import parse_speed
 from .options import MAX_GIVEN_HARMONICS
@@ -545,7 +545,7 @@ def parse_quantity(text: object, names: Collection[str], reader: _Reader) -> Qua
     if what == "name":
         if target not in names:
             reader.problem(f"'{text}': '{target}' is not a coordinate or output; they are "
-                           + ", ".join(list(names)[:20]), "quantities")
+                           + name_list(names, 20), "quantities")
             return None
         return Quantity(kind, target, 0, f"{kind}:{target}")
     if what == "name@frequency":
@@ -558,7 +558,7 @@ def parse_quantity(text: object, names: Collection[str], reader: _Reader) -> Qua
             return None
         if name not in names:
             reader.problem(f"'{text}': '{name}' is not a coordinate or output; they are "
-                           + ", ".join(list(names)[:20]), "quantities")
+                           + name_list(names, 20), "quantities")
             return None
         return Quantity(kind, name, 0, f"{kind}:{name}@{frequency:.12g}", frequency)
     if target:
