@@ -957,7 +957,7 @@ def lowest_state_eigenvalues(M: Matrix, C: Matrix, K: Matrix, count: int) -> Sta
         top = sigma.imag + 0.866 * radius
         every = np.concatenate(found)
         damped = np.sort(every.imag[~overdamped(every) & (every.imag > 0)])
-        if np.sum(damped <= top) >= count or n <= wanted:
+        if np.sum(damped <= top) >= count or wanted >= 2 * n - 2:
             complete = True
             break
         sigma = complex(0.0, top)
