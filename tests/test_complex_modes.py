@@ -188,3 +188,12 @@ def test_sparse_search_and_dense_pencil_agree_on_random_layers(side, beta, mu, c
                    (upper.imag <= found.imag.max() * (1 + 1e-9))]
     for value in within:
         assert np.min(np.abs(found - value)) <= 1e-8 * abs(value)
+
+
+def test_the_benchmark_runs_at_a_tiny_size(capsys):
+    import bench_complex_modes
+
+    assert bench_complex_modes.main(["--side", "5", "--count", "4", "--repeats", "1",
+                                     "--band", "80", "400", "--slices", "3"]) == 0
+    row = capsys.readouterr().out.splitlines()[-1].split("|")
+    assert row[1].strip() == "50" and float(row[6]) < 1e-8     # agrees with eigs by hand
