@@ -37,6 +37,7 @@ Examples
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -52,6 +53,8 @@ STABILITY_TOLERANCE = 1e-9
 ZERO_STATE = 1.5e-8
 #: Im s >= -UPPER_TOLERANCE * max(1, |s|) counts as an eigenvalue of the upper half plane
 UPPER_TOLERANCE = 1e-12
+#: |Im s| <= REAL_TOLERANCE * |s| is a real eigenvalue (an overdamped mode, zeta >= 1)
+REAL_TOLERANCE = 1e-8
 #: a relative error bound above this is reported as limited by the conditioning
 LIMITED_ACCURACY = 1e-8
 
@@ -772,13 +775,141 @@ def state_modes(M: np.ndarray, C: np.ndarray, K: np.ndarray, what: str = "the an
     return mu, X, np.linalg.inv(X)
 
 
-def lowest_state_eigenvalues(M: Matrix, C: Matrix, K: Matrix, count: int) -> np.ndarray:
-    """The ``count`` eigenvalue pairs of smallest modulus of a sparse model's state pencil,
-    in the one order (:func:`order`).
+def overdamped(eigenvalues: np.ndarray) -> np.ndarray:
+    """Which eigenvalues of one point are real and not zero: overdamped modes (damping
+    ratio 1 or more), which no damped frequency describes (|Im s| at most
+    :data:`REAL_TOLERANCE` times |s|, |s| above the zero threshold :data:`ZERO_STATE`).
 
-    The pencil A x = s B x, A = [[0, I], [-K, -C]], B = [[I, 0], [0, M]], is solved by
-    shift-invert Arnoldi (:func:`scipy.sparse.linalg.eigs`) with one sparse LU of
-    A - sigma B; sigma is a small negative shift (a rigid-body mode makes A singular).
+    Examples
+    --------
+    >>> overdamped(np.array([-400.0 + 1e-12j, -1 + 3j, 0j])).tolist()
+    [True, False, False]
+    """
+    s = np.asarray(eigenvalues)
+    size = np.abs(s)
+    scale = max(1.0, float(np.max(size, initial=0.0)))
+    result: np.ndarray = (np.abs(s.imag) <= REAL_TOLERANCE * size) & (size > ZERO_STATE * scale)
+    return result
+
+
+def lowest_by_frequency(eigenvalues: np.ndarray, count: int) -> np.ndarray:
+    """The eigenvalues of one point that a request for ``count`` complex modes keeps: the
+    ``count`` underdamped pairs of lowest damped frequency |Im s| (both of each pair) and
+    every zero and overdamped (real) one, in the one order (:func:`order`).  Overdamped
+    modes below the lowest structural modes (a strongly damped layer) thus never take the
+    place of a mode a user asks for.
+
+    Examples
+    --------
+    >>> s = np.array([-400.0, -401.0, -3 + 500j, -3 - 500j, -1 + 40j, -1 - 40j])
+    >>> lowest_by_frequency(s, 1).tolist()
+    [(-1-40j), (-1+40j), (-400+0j), (-401+0j)]
+    """
+    s = np.asarray(eigenvalues, dtype=complex)
+    real = overdamped(s) | (np.abs(s) <= ZERO_STATE * max(1.0, float(np.max(np.abs(s),
+                                                                               initial=0.0))))
+    pairs = s[~real]
+    upper = np.sort(np.abs(pairs.imag[pairs.imag > 0]))
+    if upper.size > count:
+        cut = upper[count - 1] if count > 0 else -1.0
+        pairs = pairs[np.abs(pairs.imag) <= cut]
+    result: np.ndarray = order(np.concatenate([pairs, s[real].real.astype(complex)]))
+    return result
+
+
+def _nearest_state_eigenvalues(M: Matrix, C: Matrix, K: Matrix, sigma: complex, wanted: int
+                               ) -> np.ndarray:
+    """The eigenvalues of s^2 M + s C + K nearest ``sigma`` (``wanted`` of them, or those
+    that converged within a bounded number of restarts: the nearest ones, a cluster at the
+    edge left out; possibly none); shift-invert Arnoldi
+    on the state pencil A x = s B x, A = [[0, I], [-K, -C]], B = [[I, 0], [0, M]], whose
+    operator (A - sigma B)^-1 B needs one sparse LU of the n x n matrix
+    P(sigma) = sigma^2 M + sigma C + K: with x = (x1, x2), u = -P^-1 (M x2 + (C + sigma M)
+    x1) and v = x1 + sigma u."""
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigs, splu
+
+    n = M.shape[0]
+    lu = splu(sp.csc_matrix(sigma * sigma * M + sigma * C + K, dtype=complex))
+    shifted = sp.csr_matrix(C + sigma * M)
+
+    def apply(x: np.ndarray) -> np.ndarray:
+        x1, x2 = x[:n], x[n:]
+        u = -lu.solve(M @ x2 + shifted @ x1)
+        return np.concatenate([u, x1 + sigma * u])
+
+    op = LinearOperator((2 * n, 2 * n), matvec=apply, dtype=complex)
+    start = np.random.default_rng(0).standard_normal(2 * n).astype(complex)  # every run
+    nu = np.zeros(0, dtype=complex)
+    for restarts in (20, 200):
+        try:
+            nu = eigs(op, k=wanted, which="LM", v0=start, maxiter=restarts,
+                      return_eigenvectors=False)
+            break
+        except ArpackNoConvergence as partial:
+            # the nearest converge first; what is left is a cluster at the disk's edge
+            # (the overdamped modes of a damping layer, nearly equal): the disk ends before
+            nu = partial.eigenvalues
+            if nu.size:
+                break
+    result: np.ndarray = sigma + 1.0 / nu
+    return result
+
+
+@dataclass(frozen=True)
+class StateSearch:
+    """The complex modes of a sparse model found by :func:`lowest_state_eigenvalues`.
+
+    Attributes
+    ----------
+    eigenvalues : ndarray
+        The ``count`` underdamped pairs of lowest damped frequency (both of each pair) and
+        the zero and overdamped (real) eigenvalues found on the way, in the one order.
+    shifts : ndarray
+        The shifts sigma_j of the search (on the imaginary axis).
+    radii : ndarray
+        Each shift's disk |s - sigma_j| <= r_j: every eigenvalue in it was found.
+    reach : float
+        The largest damping ratio up to which every underdamped mode of damped frequency
+        below the highest kept one is inside the disks (1.0: all of them).
+    complete : bool
+        Whether ``count`` underdamped pairs were found within the bounded number of shifts.
+    """
+
+    eigenvalues: np.ndarray
+    shifts: np.ndarray
+    radii: np.ndarray
+    reach: float
+    complete: bool
+
+
+def _reach(shifts: np.ndarray, radii: np.ndarray, top: float) -> float:
+    """The largest damping ratio zeta such that the wedge |Re s| <= zeta / sqrt(1 - zeta^2)
+    Im s, 0 < Im s <= top, lies in the union of the disks |s - sigma_j| <= r_j."""
+    if top <= 0:
+        return 1.0
+    y = np.linspace(top / 400, top, 400)
+    reach = np.sqrt(np.maximum(radii[None, :] ** 2 - (y[:, None] - shifts.imag[None, :]) ** 2
+                               - np.minimum(shifts.real, 0.0)[None, :] ** 2, 0.0)).max(axis=1)
+    t = float(np.min(reach / y))
+    return float(t / np.sqrt(1 + t * t))
+
+
+def lowest_state_eigenvalues(M: Matrix, C: Matrix, K: Matrix, count: int) -> StateSearch:
+    """The ``count`` complex modes of lowest damped frequency |Im s| of a sparse model,
+    whatever the overdamped (real) modes below them: shift-invert Arnoldi of the state
+    pencil at shifts along the imaginary axis.
+
+    The first shift is near 0 (just left of it: a rigid-body mode makes the pencil
+    singular at 0); each finds the m = max(count + 8, 16) eigenvalues nearest it
+    (:func:`_nearest_state_eigenvalues`: one sparse LU of an n x n matrix), so that every
+    eigenvalue in the disk of radius r_j (the farthest of them) is found; the next shift
+    is i (y_j + 0.866 r_j), so that consecutive disks cover a band about the axis, until
+    ``count`` underdamped pairs lie below the covered part of the axis, at most
+    ``2 count + 8`` shifts.  A cluster of overdamped modes (a Kelvin-Voigt layer's, at
+    s = -1/beta) fills a disk once and is passed.  The result keeps the modes
+    :func:`lowest_by_frequency` keeps, and the reach of the search (the damping ratio up
+    to which no mode could be missed).
 
     Raises
     ------
@@ -789,31 +920,53 @@ def lowest_state_eigenvalues(M: Matrix, C: Matrix, K: Matrix, count: int) -> np.
     --------
     >>> M, K = np.eye(2), np.array([[2.0, -1.0], [-1.0, 1.0]])
     >>> C = np.array([[0.3, 0.0], [0.0, 0.0]])
-    >>> s = lowest_state_eigenvalues(M, C, K, 1)
+    >>> found = lowest_state_eigenvalues(M, C, K, 1)
     >>> dense = point_state_eigenvalues(M, C, K)
-    >>> nearest = dense[np.argsort(np.abs(dense))][:2]
-    >>> bool(all(np.min(np.abs(s - v)) < 1e-10 for v in nearest))
+    >>> lowest = dense[np.argsort(np.abs(dense.imag))][:2]
+    >>> bool(all(np.min(np.abs(found.eigenvalues - v)) < 1e-10 for v in lowest))
     True
     """
     import scipy.sparse as sp
-    from scipy.sparse.linalg import LinearOperator, eigs, splu
+    from scipy.sparse.linalg import ArpackError
 
     n = M.shape[0]
-    M, C, K = (sp.csc_matrix(a) for a in (M, C, K))
-    eye = sp.identity(n, format="csc")
-    A = sp.bmat([[None, eye], [-K, -C]], format="csc")
-    B = sp.bmat([[eye, None], [None, M]], format="csc")
+    M, C, K = (sp.csc_matrix(a, dtype=float) for a in (M, C, K))
     scale = float(np.sqrt(abs(K).sum() / max(abs(M).sum(), 1e-300))) or 1.0
-    sigma = -1e-3 * scale
-    try:
-        lu = splu((A - sigma * B).tocsc())
-        # shift-invert: eigenvalues nu = 1 / (s - sigma) of (A - sigma B)^-1 B, largest first
-        op = LinearOperator((2 * n, 2 * n), matvec=lambda x: lu.solve(B @ x), dtype=float)
-        nu = eigs(op, k=min(2 * count, 2 * n - 2), which="LM", return_eigenvectors=False)
-    except (RuntimeError, ValueError) as exc:
-        raise AnalysisError(f"the sparse eigensolver for the complex modes failed: {exc}"
-                            ) from None
-    return order(sigma + 1.0 / nu)
+    wanted = min(2 * n - 2, max(count + 8, 16))
+    sigma = complex(-1e-6 * scale, 0.0)
+    found: list[np.ndarray] = []
+    shifts: list[complex] = []
+    radii: list[float] = []
+    complete = False
+    for _ in range(2 * count + 8):
+        try:
+            s = _nearest_state_eigenvalues(M, C, K, sigma, wanted)
+            if not s.size:
+                raise RuntimeError(f"no eigenvalue near {sigma:.6g} converged")
+        except (RuntimeError, ValueError, ArpackError) as exc:
+            raise AnalysisError(f"the sparse eigensolver for the complex modes failed: {exc}"
+                                ) from None
+        radius = float(np.max(np.abs(s - sigma)))
+        s = s[s.imag >= -REAL_TOLERANCE * np.abs(s)]      # one of each pair
+        seen = np.zeros(s.shape, dtype=bool)
+        for center, r in zip(shifts, radii):                # found by an earlier disk
+            seen |= np.abs(s - center) <= r * (1 + 1e-9)
+        found.append(s[~seen])
+        shifts.append(sigma)
+        radii.append(radius)
+        top = sigma.imag + 0.866 * radius
+        every = np.concatenate(found)
+        damped = np.sort(every.imag[~overdamped(every) & (every.imag > 0)])
+        if np.sum(damped <= top) >= count or wanted >= 2 * n - 2:
+            complete = True
+            break
+        sigma = complex(0.0, top)
+    every = np.concatenate(found)
+    every = np.concatenate([every, np.conj(every[every.imag > REAL_TOLERANCE * np.abs(every)])])
+    kept = lowest_by_frequency(every, count)
+    highest = float(np.max(kept.imag, initial=0.0))
+    return StateSearch(kept, np.array(shifts), np.array(radii),
+                       _reach(np.array(shifts), np.array(radii), highest), complete)
 
 
 # -- gyroscopic systems: the complex modes with their shapes ---------------------------------
@@ -1134,7 +1287,8 @@ __all__ = ["ZERO_EIGENVALUE", "ZERO_STATE", "STABILITY_TOLERANCE", "undamped_eig
            "require_finite", "largest_abs", "largest_entry", "accurate_product",
            "eigenvalue_bounds", "frequency_bounds", "lowest_modes", "mass_normalized_modes",
            "symmetric_eigenvalues", "point_state_eigenvalues", "state_modes",
-           "lowest_state_eigenvalues", "gyroscopic_modes", "lowest_gyroscopic_modes",
+           "lowest_state_eigenvalues", "StateSearch", "overdamped", "lowest_by_frequency",
+           "REAL_TOLERANCE", "gyroscopic_modes", "lowest_gyroscopic_modes",
            "gyroscopic_modes_near", "synchronous_speeds",
            "modal_assurance", "eigenvalues", "fundamental_strip", "factor_stiffness",
            "modes_below", "matrix_polynomial_roots"]

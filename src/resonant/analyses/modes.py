@@ -69,9 +69,11 @@ from ..modal import (
     damping_ratios,
     eigenvalue_bounds,
     frequency_bounds,
+    lowest_by_frequency,
     lowest_modes,
     lowest_state_eigenvalues,
     order,
+    overdamped,
     point_state_eigenvalues,
     undamped_eigen,
 )
@@ -134,7 +136,9 @@ class ModalAnalysis(FieldsJSON):
         mode for proportional damping), ordered by ``|s|``, then Im s.
     damping_ratios, damped_frequencies : ndarray
         Per mode (proportional damping), else per eigenvalue pair with
-        Im s >= 0 ordered by ``|s|``.
+        Im s >= 0 ordered by ``|s|``; with a ``count`` (and always for a large sparse
+        model) those of the ``count`` complex modes of lowest damped frequency, the
+        overdamped (real) eigenvalues counted apart (``overdamped``).
     proportional_damping : bool
         C is diagonalised by the undamped modes (always true without damping).
     rayleigh : tuple of float or None
@@ -184,7 +188,8 @@ class ModalAnalysis(FieldsJSON):
         freeze_fields(self)
 
     def _derived_json(self) -> dict[str, Any]:
-        return {"frequencies_hz": self.frequencies_hz.tolist()}
+        return {"frequencies_hz": self.frequencies_hz.tolist(),
+                "overdamped": self.overdamped.tolist()}
 
     @property
     def frequencies_hz(self) -> np.ndarray:
@@ -197,17 +202,27 @@ class ModalAnalysis(FieldsJSON):
         keep = int(np.sum(self.omega_squared[:count] >= 0))
         per_mode = len(self.damping_ratios) == len(self.natural_frequencies)
         eig = self.eigenvalues
+        zeta = self.damping_ratios[:keep if per_mode else count]
+        damped = self.damped_frequencies[:keep if per_mode else count]
         if self.proportional_damping:
             # two eigenvalues per kept mode: those of the modes' quadratic factors
             eig = eig[np.argsort(np.abs(eig), kind="stable")][:2 * count]
+        else:
+            # the count lowest by damped frequency; the overdamped ones counted apart
+            zeta, damped = _underdamped_ratios(lowest_by_frequency(eig, count))
         return replace(self, omega_squared=self.omega_squared[:count],
                        natural_frequencies=self.natural_frequencies[:keep],
                        mode_shapes=self.mode_shapes[:, :keep],
                        mass_normalised_modes=self.mass_normalised_modes[:, :keep],
                        frequency_errors=self.frequency_errors[:keep],
-                       eigenvalues=eig,
-                       damping_ratios=self.damping_ratios[:keep if per_mode else count],
-                       damped_frequencies=self.damped_frequencies[:keep if per_mode else count])
+                       eigenvalues=eig, damping_ratios=zeta, damped_frequencies=damped)
+
+    @property
+    def overdamped(self) -> np.ndarray:
+        """The real eigenvalues among ``eigenvalues`` (overdamped modes, damping ratio 1 or
+        more), in the one order: counted apart from the complex modes."""
+        result: np.ndarray = self.eigenvalues[overdamped(self.eigenvalues)].real
+        return result
 
     def _repr_html_(self) -> str:
         head = "".join(f"<th>{html.escape(q)}</th>" for q in self.coordinates[:12])
@@ -405,7 +420,7 @@ def modes(system: LinearSystem, count: int | None = None,
                         "undamped modes are those of the symmetric problem K phi = lambda M phi "
                         "as computed by a general eigensolver; see the complex eigenvalues")
     eigenvalues, damping_ratios, damped_freq, extra = _damped_modes(
-        M, C, K, lam, mass_phi, damped, proportional and symmetric, lanczos)
+        M, C, K, lam, mass_phi, damped, proportional and symmetric, lanczos, warnings)
     stability = _modal_stability(order(eigenvalues), lam, M, damped, lanczos, warnings)
     keep = lam >= 0
     return ModalAnalysis(
@@ -436,7 +451,7 @@ def _is_proportional(M: Matrix, C: Matrix, K: Matrix, mass_phi: np.ndarray, damp
 
 
 def _damped_modes(M: Matrix, C: Matrix, K: Matrix, lam: np.ndarray, mass_phi: np.ndarray,
-                  damped: bool, modal: bool, lanczos: bool
+                  damped: bool, modal: bool, lanczos: bool, warnings: list[str]
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
     """(eigenvalues, damping ratios, damped frequencies, what was added to the method):
     from the undamped modes where the damping is modal, else from the state-space
@@ -453,8 +468,22 @@ def _damped_modes(M: Matrix, C: Matrix, K: Matrix, lam: np.ndarray, mass_phi: np
     if not lanczos:
         eigenvalues = point_state_eigenvalues(M, C, K)
         return (eigenvalues, *damping_ratios(eigenvalues), "")
-    eigenvalues = lowest_state_eigenvalues(M, C, K, len(lam))
-    return (eigenvalues, *damping_ratios(eigenvalues), " + shift-invert Arnoldi (complex modes)")
+    search = lowest_state_eigenvalues(M, C, K, len(lam))
+    zeta, damped_freq = _underdamped_ratios(search.eigenvalues)
+    if not search.complete:
+        warnings.append(f"only {zeta.size} of the {len(lam)} complex modes asked for were "
+                        f"found within {search.shifts.size} shifts of the eigensolver")
+    if zeta.size and search.reach < min(1.0, 1.5 * float(np.max(zeta))):
+        warnings.append(
+            f"complex modes with a damping ratio above {search.reach:.2g} and a damped "
+            f"frequency below {float(np.max(damped_freq)):.6g} rad/s lie outside the "
+            "region searched and may be missing (a larger --count widens it)")
+    return (search.eigenvalues, zeta, damped_freq, " + shift-invert Arnoldi (complex modes)")
+
+
+def _underdamped_ratios(eigenvalues: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Damping ratios and damped frequencies of the eigenvalues that are not overdamped."""
+    return damping_ratios(eigenvalues[~overdamped(eigenvalues)])
 
 
 def _modal_stability(eigenvalues: np.ndarray, lam: np.ndarray, M: Matrix, damped: bool,
@@ -649,6 +678,24 @@ def _mode_table(result: ModalAnalysis, frequency: Shown) -> ResultTable:
     return ResultTable(header, rows, align="r" * len(header))
 
 
+def _complex_mode_lines(eigenvalues: np.ndarray) -> list[str]:
+    """The complex modes of lowest damped frequency (up to 20, in the one order), and the
+    overdamped (real) eigenvalues counted apart on a line of their own."""
+    real = overdamped(eigenvalues)
+    shown = lowest_by_frequency(eigenvalues[~real], 20)
+    out = ["non-proportional damping: eigenvalues s of the state matrix",
+           f"{'Re s':>14}  {'Im s':>14}  {'zeta':>8}"]
+    for s in shown[:2 * 20]:
+        if s.imag >= 0:
+            ratio = -s.real / abs(s) if abs(s) else 0.0
+            out.append(f"{s.real:14.6g}  {s.imag:14.6g}  {ratio:8.4g}")
+    if np.any(real):
+        values = np.sort(eigenvalues[real].real)
+        out.append(f"and {values.size} overdamped mode{'s' if values.size > 1 else ''} (real "
+                   f"s from {values[-1]:.6g} to {values[0]:.6g}, zeta >= 1; not listed)")
+    return out
+
+
 def modes_text(result: ModalAnalysis, units: ResultUnits | None = None) -> str:
     """The human-readable table of ``resonant modes``; the second frequency column is in
     the display unit of frequencies (``units.frequency``, Hz by default)."""
@@ -674,12 +721,7 @@ def modes_text(result: ModalAnalysis, units: ResultUnits | None = None) -> str:
         elif result.proportional_damping:
             out.append("proportional damping (K M^-1 C = C M^-1 K): the modes decouple C")
         else:
-            out.append("non-proportional damping: eigenvalues s of the state matrix")
-            out.append(f"{'Re s':>14}  {'Im s':>14}  {'zeta':>8}")
-            for s in result.eigenvalues[:2 * 20]:
-                if s.imag >= 0:
-                    ratio = -s.real / abs(s) if abs(s) else 0.0
-                    out.append(f"{s.real:14.6g}  {s.imag:14.6g}  {ratio:8.4g}")
+            out.extend(_complex_mode_lines(result.eigenvalues))
     out.append("")
     out.append(f"stability: {result.stability}   (method: {result.method})")
     return "\n".join(out) + "\n"
