@@ -427,7 +427,11 @@ def test_allocations_are_refused_before_they_happen(args):
     ({"frequency_hz": [1.0], "maximax": [1.0], "primary": [1.0], "residual": [1.0],
       "quantity": "z", "damping_ratio": 10**400, "duration_s": 1.0},
      "'damping_ratio' is a number beyond the floating-point range"),
-    ({"frequency_hz": [1.0] * 10, "maximax": [1.0] * 1_000_000}, "has shape (1000000,)"),
+    ({**{key: [1.0] * 10 for key in ("frequency_hz", "primary", "residual", "positive",
+                                      "negative")}, "maximax": [1.0] * 1_000_000,
+      "quantity": "absolute acceleration", "damping_ratio": 0.05, "Q": 10.0,
+      "duration_s": 1.0, "excitation_end_s": 0.5, "warnings": []},
+     "has shape (1000000,)"),
     ({"frequency_hz": "abc"}, "is a string"),
 ])
 def test_saved_spectrum_with_hostile_values(data, words):
