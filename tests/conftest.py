@@ -150,3 +150,18 @@ def without_units(text: str) -> str:
                 line = valued.group(1) + value + valued.group(3)
         out.append(line)
     return "\n".join(out)
+
+
+#: the modules that take longest (``pytest --durations``), started first: with two workers
+#: taking whole modules (``--dist loadscope``) a long module started last would run alone
+LONGEST_FIRST = ("test_docs_site.py", "test_condensed.py", "test_no_machine_paths.py",
+                 "test_nonlinear_special_points.py", "test_study_cluster.py",
+                 "test_architecture.py", "test_benchmarks_smoke.py", "test_study_nonlinear.py",
+                 "test_condensed_steps.py", "test_study.py")
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """The longest modules first (their tests in their own order), then the others as
+    collected."""
+    rank = {name: i for i, name in enumerate(LONGEST_FIRST)}
+    items.sort(key=lambda item: rank.get(item.path.name, len(rank)))
