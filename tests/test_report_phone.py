@@ -244,3 +244,28 @@ def test_a_figure_wider_than_a_phone_shows_its_scroll_cue(browser: Any,
         assert left < 235 and right > 245, (left, right)
     finally:
         page.close()
+
+
+def test_a_reader_in_dark_mode_sees_the_page_as_printed(browser: Any,
+                                                         reports: dict[str, Path]) -> None:
+    """The report is a document (``color-scheme: light``): in a dark colour scheme its page
+    stays white with dark text and its formulas keep their contrast, measured on the
+    rendered pixels of a formula (darker than 100 of 255 where it is drawn)."""
+    from PIL import Image, ImageStat
+
+    page = browser.new_page(viewport={"width": 1280, "height": 900}, color_scheme="dark")
+    try:
+        page.goto(reports["cart_pendulum"].resolve().as_uri())
+        colours = page.evaluate("""() => {
+            const main = getComputedStyle(document.querySelector('main'));
+            return [main.backgroundColor, main.color];
+        }""")
+        assert colours == ["rgb(255, 255, 255)", "rgb(29, 29, 31)"], colours
+        formula = page.query_selector(".equation .body")
+        assert formula is not None
+        formula.scroll_into_view_if_needed()
+        image = Image.open(io.BytesIO(formula.screenshot())).convert("L")
+        assert ImageStat.Stat(image).extrema[0][0] < 100   # the glyphs are drawn dark
+        assert ImageStat.Stat(image).median[0] > 235       # on the white page
+    finally:
+        page.close()
