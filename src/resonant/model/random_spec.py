@@ -36,7 +36,6 @@ from __future__ import annotations
 import difflib
 import math
 import os
-import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -59,9 +58,18 @@ from ..expressions import (
 from .csv_tables import read_csv_table
 from .files import FileRefused
 from .limits import MAX_FREQUENCY_HZ
-from .load_spec import check_input_dimension
+from .load_spec import check_input_dimension, quantity_parts, quantity_value
 from .matrix_files import read_vector_file
-from .units import Dimension, ModelUnits, UnitError, parse_unit, parse_with_unit
+from .units import (
+    DIMENSIONLESS,
+    FREQUENCY,
+    GRAVITY_IN_UNIT,
+    Dimension,
+    ModelUnits,
+    UnitError,
+    parse_unit,
+    parse_with_unit,
+)
 
 SECTION = "random"
 #: the options of ``[random]`` besides its tables
@@ -77,7 +85,6 @@ MAX_ROWS = 100_000
 MIN_TOLERANCE = 1e-10
 #: standard gravity (m/s^2): ``g`` in a spectral density's unit
 STANDARD_GRAVITY = 9.80665
-_G = re.compile(r"(?<![A-Za-z0-9_µμ])g(?![A-Za-z0-9_])")
 #: the density's unit dimension is (quantity)^2 * s (per Hz or per rad/s)
 PER_FREQUENCY = Dimension.of(s=1)
 
@@ -211,7 +218,7 @@ def _unit_factor(text: object, where: tuple[str, str, str], problems: list[Probl
                                 "\"(m/s^2)^2/Hz\" or \"N^2/Hz\"", *where))
         return None
     try:
-        unit = parse_unit(_G.sub("g0", text))
+        unit = parse_unit(GRAVITY_IN_UNIT.sub("g0", text))
     except UnitError as exc:
         problems.append(Problem(f"{exc}", *where))
         return None
@@ -234,8 +241,39 @@ def _unit_factor(text: object, where: tuple[str, str, str], problems: list[Probl
     return factor, root
 
 
-def _table(values: list, where: tuple[str, str, str], problems: list[Problem]
-           ) -> np.ndarray | None:
+def _cells(values: list, where: tuple[str, str, str], problems: list[Problem],
+           params: Sequence[str]) -> list:
+    """A table's rows with its texts read: a frequency with a unit (``"2 kHz"``), a density
+    as arithmetic of numbers in the input's ``unit`` (:func:`quantity_value`)."""
+    if not any(isinstance(x, str) for r in values if isinstance(r, list) for x in r):
+        return values
+    count = len(problems)
+    rows = []
+    for row in values:
+        if not (isinstance(row, list) and len(row) == 2):
+            rows.append(row)
+            continue
+        frequency = quantity_value(row[0], FREQUENCY, *where, problems, params)
+        density = row[1]
+        if isinstance(density, str):
+            parts = quantity_parts(density, *where, problems, params)
+            if parts is not None and parts[1] is not None:
+                problems.append(Problem(f"{printable(density, limit=40)!r}: a density in the "
+                                        "table is a number in the input's unit; give the "
+                                        "unit once, in the key unit", *where))
+            density = None if parts is None or parts[1] is not None else parts[0]
+        rows.append([frequency, density])
+        if len(problems) > count:    # one problem for a table, not one per row
+            break
+    return rows
+
+
+def _table(values: list, where: tuple[str, str, str], problems: list[Problem],
+           params: Sequence[str] = ()) -> np.ndarray | None:
+    count = len(problems)
+    values = _cells(values, where, problems, params) if len(values) <= MAX_ROWS else values
+    if len(problems) > count:
+        return None
     if len(values) > MAX_ROWS:
         problems.append(Problem(f"{len(values)} rows; a table is limited to {MAX_ROWS}", *where))
         return None
@@ -412,7 +450,7 @@ def _input(name: str, table: object, params: list[str], signals: Sequence[str],
         problems.append(Problem("missing 'values': a table [[Hz, density], ...], a number or "
                                 "an expression of f (Hz)", source, section))
     elif isinstance(values, list) or _is_file(values, TABLE_FILES):
-        array = _table(values, (source, section, "values"), problems) \
+        array = _table(values, (source, section, "values"), problems, params) \
             if isinstance(values, list) else \
             _table_file(str(values).strip(), files, (source, section, "values"), problems)
         if array is not None:
@@ -552,21 +590,43 @@ def parse_random(data: object, params: list[str], signals: Sequence[str],
     coherences = [_coherence(e, i, params, [str(n) for n in tables], source, problems)
                   for i, e in enumerate(entries)]
     _check_pairs_once(coherences, source, problems)
-    band = _band(data.get("band"), [i for i in inputs if i is not None], source, problems)
-    tolerance = data.get("tolerance", 1e-4)
-    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or \
-            not MIN_TOLERANCE <= tolerance < 1:
+    count_band = len(problems)
+    band_hz = _band_hz(data.get("band"), source, problems, params)
+    band = _band(band_hz, [i for i in inputs if i is not None], source, problems) \
+        if len(problems) == count_band else None
+    count_options = len(problems)
+    tolerance = quantity_value(data.get("tolerance", 1e-4), DIMENSIONLESS, source, SECTION,
+                               "tolerance", problems, params)
+    if len(problems) == count_options and (
+            isinstance(tolerance, bool) or not isinstance(tolerance, (int, float))
+            or not MIN_TOLERANCE <= tolerance < 1):
         problems.append(Problem(f"tolerance must be a number in [{MIN_TOLERANCE:g}, 1)", source,
                                 SECTION, "tolerance"))
-    lines = data.get("lines", 400)
-    if isinstance(lines, bool) or not isinstance(lines, int) or not 8 <= lines <= 1_000_000:
+    count_options = len(problems)
+    lines = quantity_value(data.get("lines", 400), DIMENSIONLESS, source, SECTION, "lines",
+                           problems, params)
+    if isinstance(lines, float) and lines.is_integer() and isinstance(data.get("lines"), str):
+        lines = int(lines)  # a whole number written as arithmetic ("2*500")
+    if len(problems) == count_options and (
+            isinstance(lines, bool) or not isinstance(lines, int) or not 8 <= lines <= 1_000_000):
         problems.append(Problem("lines must be an integer from 8 to 1000000", source, SECTION,
                                 "lines"))
     if len(problems) > count or band is None:
         return None
+    assert isinstance(tolerance, (int, float)) and isinstance(lines, int)
     return RandomSpec(tuple(i for i in inputs if i is not None),
                       tuple(c for c in coherences if c is not None), band, float(tolerance),
                       int(lines), source)
+
+
+def _band_hz(value: object, source: str, problems: list[Problem], params: Sequence[str]
+             ) -> object:
+    """``band`` with its texts read as frequencies in Hz (``["20 Hz", "2 kHz"]``), their
+    problems appended to ``problems``."""
+    if not (isinstance(value, list) and any(isinstance(v, str) for v in value)):
+        return value
+    return [quantity_value(v, FREQUENCY, source, SECTION, "band", problems, params)
+            for v in value]
 
 
 def _band(value: object, inputs: list[RandomInput], source: str, problems: list[Problem]
