@@ -8,9 +8,16 @@ quantity is a problem naming the file, the section and the key.
 
 from __future__ import annotations
 
+import math
+import re
+from pathlib import Path
+
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import resonant
+from conftest import run_cli
 from resonant.errors import ModelError
 from resonant.model import loads
 from resonant.studies import request
@@ -164,7 +171,7 @@ def test_number_keys_refuse_other_quantities(section: str, keys: str, message: s
     pattern = message if message.startswith(r"\[") else message.replace("[", r"\[").replace(
         "]", r"\]").replace("(", r"\(").replace(")", r"\)").replace("^", r"\^")
     assert caught.value.problems and any(
-        __import__("re").search(pattern, str(p)) for p in caught.value.problems), \
+        re.search(pattern, str(p)) for p in caught.value.problems), \
         [str(p) for p in caught.value.problems]
 
 
@@ -172,3 +179,25 @@ def test_an_amplitude_in_g_shows_accelerations_in_g() -> None:
     """``amplitude = "100 g"`` counts as an input given in g, like ``unit = "g"``."""
     assert _loaded("shock", 'amplitude = "100 g"').units.display["acceleration"].text == "g"
     assert _loaded("shock", "amplitude = 5").units is None
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(min_value=1e-6, max_value=1e3, allow_nan=False, allow_infinity=False))
+def test_a_number_and_its_text_give_one_value(x: float) -> None:
+    """Two routes, one answer: ``duration = x`` and ``duration = "x"`` bit for bit; and
+    ``"x ms"`` is x / 1000 to rounding (1e-15)."""
+    plain = _loaded("shock", f"duration = {x!r}\nstep = {x / 20!r}\namplitude = {x!r}")
+    text = _loaded("shock", f'duration = "{x!r}"\nstep = {x / 20!r}\namplitude = "{x!r}"')
+    milli = _loaded("shock", f'duration = "{x!r} ms"\nstep = "{x / 20!r} ms"')
+    assert text.shock_section.duration == plain.shock_section.duration == x
+    assert text.shock_section.amplitude == plain.shock_section.amplitude == x
+    assert math.isclose(milli.shock_section.duration, x / 1000, rel_tol=1e-15)
+
+
+def test_the_command_line_refuses_a_wrong_unit_with_exit_2(tmp_path: Path) -> None:
+    path = tmp_path / "m.toml"
+    path.write_text(BASE + "[shock]\n" + SECTIONS["shock"].replace(
+        "amplitude = 1", 'amplitude = "2*pi/w"'))
+    status, _, err = run_cli(["check", str(path)])
+    assert status == 2 and "Traceback" not in err
+    assert "[shock] amplitude: 'w' is a parameter: these keys take numbers with units" in err
