@@ -159,6 +159,8 @@ REFUSED = [
     ("random", 'band = [10, 100]\n[random.psd.F]\nvalues = [[10, "1 g^2/Hz"], [100, 1]]',
      r"\[random.psd.F\] values: '1 g\^2/Hz': a density in the table is a number in the "
      "input's unit"),
+    ("random", 'band = [10, 100]\n[random.psd.F]\nvalues = "0.01 g^2/Hz"',
+     r"\[random.psd.F\] values: '0.01 g\^2/Hz': a density takes no unit of its own"),
     ("random", 'band = [10, 100]\n[random.psd.F]\nvalues = [["10 s", 1], [100, 1]]',
      r"\[random.psd.F\] values: the unit s is not one of frequency"),
 ]
@@ -201,3 +203,21 @@ def test_the_command_line_refuses_a_wrong_unit_with_exit_2(tmp_path: Path) -> No
     status, _, err = run_cli(["check", str(path)])
     assert status == 2 and "Traceback" not in err
     assert "[shock] amplitude: 'w' is a parameter: these keys take numbers with units" in err
+
+
+@pytest.mark.parametrize("written, speed", [
+    ("6000 rpm", 200 * math.pi), ("2*3000 rpm", 200 * math.pi), ("100 rev/s", 200 * math.pi),
+    ("2*pi*100 rad/s", 200 * math.pi), ("2*pi*100", 200 * math.pi),
+])
+def test_campbell_speeds_take_arithmetic_and_units(written: str, speed: float) -> None:
+    """A speed is rad/s; rpm and rev/s hold their 2 pi (docs/units.md), to rounding."""
+    text = ('[parameters]\nW = 1\n[matrices]\nM = [[1]]\nK = [[1]]\nspeed = "W"\n'
+            f'[campbell]\nto = "{written}"\n')
+    assert loads(text).campbell_section.stop == pytest.approx(speed, rel=1e-12)
+
+
+def test_a_campbell_speed_refuses_a_parameter() -> None:
+    text = ('[parameters]\nW = 1\n[matrices]\nM = [[1]]\nK = [[1]]\nspeed = "W"\n'
+            '[campbell]\nto = "2*W"\n')
+    with pytest.raises(ModelError, match=r"\[campbell\] to: 'W' is a parameter: these keys take numbers"):
+        loads(text)

@@ -69,6 +69,7 @@ from .units import (
     UnitError,
     parse_unit,
     parse_with_unit,
+    split_value,
 )
 
 SECTION = "random"
@@ -461,16 +462,30 @@ def _input(name: str, table: object, params: list[str], signals: Sequence[str],
                                         "leave the floating-point range; give smaller values",
                                         source, section, "values"))
     else:
-        try:
-            expression = parse(values, allowed=[*params, "f"], file=source, section=section,
-                               key="values")
-            _no_primes(expression, (source, section, "values"), problems)
-        except ExpressionError as exc:
-            problems.extend(exc.problems)
+        expression = _density_expression(values, params, (source, section, "values"), problems)
     if len(problems) > count:
         return None
     return RandomInput(name, int(derivative), array, expression, factor, load, base,
                        str(table.get("unit", "")))
+
+
+def _density_expression(values: str | float, params: list[str], where: tuple[str, str, str],
+                        problems: list[Problem]) -> Expression | None:
+    """A density given as a number or an expression of f and the parameters, in the
+    input's unit (a unit of its own is refused: the key ``unit`` gives it)."""
+    if isinstance(values, str) and split_value(values)[1] is not None:
+        problems.append(Problem(f"{printable(values, limit=40)!r}: a density takes no unit of "
+                                "its own; give the number (or an expression of f) in the "
+                                "input's unit, and the unit once, in the key unit", *where))
+        return None
+    try:
+        expression = parse(values, allowed=[*params, "f"], file=where[0], section=where[1],
+                           key=where[2])
+    except ExpressionError as exc:
+        problems.extend(exc.problems)
+        return None
+    _no_primes(expression, where, problems)
+    return expression
 
 
 def _coherence(entry: object, index: int, params: list[str], names: list[str], source: str,
