@@ -134,6 +134,15 @@ def test_table_rows_take_frequencies_with_units() -> None:
     assert spec.table.tolist() == [[20.0, 1.0], [2000.0, 1.0]]
 
 
+def test_table_densities_take_a_unit_of_the_key_units_quantity() -> None:
+    """A density in g^2/Hz or per rad/s in a table whose key unit is (m/s^2)^2/Hz:
+    1 g^2/Hz = 9.80665^2 (m/s^2)^2/Hz, 1 per rad/s = 2 pi per Hz (to rounding, 1e-12)."""
+    model = _loaded("random", 'band = [20, 2000]\n[random.psd.F]\nunit = "(m/s^2)^2/Hz"\n'
+                    'values = [[20, "1 g^2/Hz"], [2000, "1 m^2/s^4/(rad/s)"]]')
+    (spec,) = model.random_section.inputs
+    assert spec.table[:, 1] == pytest.approx([9.80665 ** 2, 2 * math.pi], rel=1e-12)
+
+
 # (section, keys as written, the message): a unit of another quantity names the key and
 # the quantity expected; a parameter or another name is refused as such
 REFUSED = [
@@ -157,8 +166,12 @@ REFUSED = [
     ("random", 'band = ["20 Hz", "2 m"]', "[random] band: the unit m is not one of frequency "
      "(Hz); give it in Hz, kHz, rad/s or rpm"),
     ("random", 'band = [10, 100]\n[random.psd.F]\nvalues = [[10, "1 g^2/Hz"], [100, 1]]',
-     r"\[random.psd.F\] values: '1 g\^2/Hz': a density in the table is a number in the "
-     "input's unit"),
+     r"\[random.psd.F\] values: '1 g\^2/Hz': a density with a unit needs the input's key "
+     "unit"),
+    ("random", 'band = [10, 100]\n[random.psd.F]\nunit = "g^2/Hz"\n'
+     'values = [[10, "1 N^2/Hz"], [100, 1]]',
+     r"\[random.psd.F\] values: '1 N\^2/Hz': a density of N, but the key unit is one of "
+     r"m/s\^2; give it in a unit of that quantity"),
     ("random", 'band = [10, 100]\n[random.psd.F]\nvalues = "0.01 g^2/Hz"',
      r"\[random.psd.F\] values: '0.01 g\^2/Hz': a density takes no unit of its own"),
     ("random", 'band = [10, 100]\n[random.psd.F]\nvalues = [["10 s", 1], [100, 1]]',
@@ -219,5 +232,5 @@ def test_campbell_speeds_take_arithmetic_and_units(written: str, speed: float) -
 def test_a_campbell_speed_refuses_a_parameter() -> None:
     text = ('[parameters]\nW = 1\n[matrices]\nM = [[1]]\nK = [[1]]\nspeed = "W"\n'
             '[campbell]\nto = "2*W"\n')
-    with pytest.raises(ModelError, match=r"\[campbell\] to: 'W' is a parameter: these keys take numbers"):
+    with pytest.raises(ModelError, match=r"\[campbell\] to: 'W' is a parameter: these keys"):
         loads(text)

@@ -243,9 +243,11 @@ def _unit_factor(text: object, where: tuple[str, str, str], problems: list[Probl
 
 
 def _cells(values: list, where: tuple[str, str, str], problems: list[Problem],
-           params: Sequence[str]) -> list:
+           params: Sequence[str], unit: tuple[float, Dimension | None] | None) -> list:
     """A table's rows with its texts read: a frequency with a unit (``"2 kHz"``), a density
-    as arithmetic of numbers in the input's ``unit`` (:func:`quantity_value`)."""
+    as arithmetic of numbers in the input's ``unit`` (:func:`quantity_value`), or with a
+    density unit of that unit's quantity (``unit``: its SI factor and quantity; None where
+    the input has no key unit)."""
     if not any(isinstance(x, str) for r in values if isinstance(r, list) for x in r):
         return values
     count = len(problems)
@@ -255,24 +257,50 @@ def _cells(values: list, where: tuple[str, str, str], problems: list[Problem],
             rows.append(row)
             continue
         frequency = quantity_value(row[0], FREQUENCY, *where, problems, params)
-        density = row[1]
-        if isinstance(density, str):
-            parts = quantity_parts(density, *where, problems, params)
-            if parts is not None and parts[1] is not None:
-                problems.append(Problem(f"{printable(density, limit=40)!r}: a density in the "
-                                        "table is a number in the input's unit; give the "
-                                        "unit once, in the key unit", *where))
-            density = None if parts is None or parts[1] is not None else parts[0]
-        rows.append([frequency, density])
+        rows.append([frequency, _density_cell(row[1], where, problems, params, unit)])
         if len(problems) > count:    # one problem for a table, not one per row
             break
     return rows
 
 
+def _density_cell(density: object, where: tuple[str, str, str], problems: list[Problem],
+                  params: Sequence[str], unit: tuple[float, Dimension | None] | None
+                  ) -> object:
+    """A table's density: a number, arithmetic in the key unit, or a value with a density
+    unit of the key unit's quantity (converted to the key unit)."""
+    if not isinstance(density, str):
+        return density
+    text, own = split_value(density)
+    parts = quantity_parts(text, *where, problems, params)
+    if parts is None or own is None:
+        return None if parts is None else parts[0]
+    if unit is None:
+        problems.append(Problem(f"{printable(density, limit=40)!r}: a density with a unit "
+                                "needs the input's key unit (the unit of its other values)",
+                                *where))
+        return None
+    found = _unit_factor(own, where, problems)
+    if found is None:
+        return None
+    if found[1] != unit[1]:
+        problems.append(Problem(f"{printable(density, limit=40)!r}: a density of "
+                                f"{_root_text(found[1])}, but the key unit is one of "
+                                f"{_root_text(unit[1])}; give it in a unit of that quantity",
+                                *where))
+        return None
+    return parts[0] * found[0] / unit[0]
+
+
+def _root_text(quantity: Dimension | None) -> str:
+    return "an unknown quantity" if quantity is None else quantity.text() or "1"
+
+
 def _table(values: list, where: tuple[str, str, str], problems: list[Problem],
-           params: Sequence[str] = ()) -> np.ndarray | None:
+           params: Sequence[str] = (), unit: tuple[float, Dimension | None] | None = None
+           ) -> np.ndarray | None:
     count = len(problems)
-    values = _cells(values, where, problems, params) if len(values) <= MAX_ROWS else values
+    values = _cells(values, where, problems, params, unit) if len(values) <= MAX_ROWS \
+        else values
     if len(problems) > count:
         return None
     if len(values) > MAX_ROWS:
@@ -451,7 +479,8 @@ def _input(name: str, table: object, params: list[str], signals: Sequence[str],
         problems.append(Problem("missing 'values': a table [[Hz, density], ...], a number or "
                                 "an expression of f (Hz)", source, section))
     elif isinstance(values, list) or _is_file(values, TABLE_FILES):
-        array = _table(values, (source, section, "values"), problems, params) \
+        array = _table(values, (source, section, "values"), problems, params,
+                       (factor, quantity) if "unit" in table else None) \
             if isinstance(values, list) else \
             _table_file(str(values).strip(), files, (source, section, "values"), problems)
         if array is not None:
