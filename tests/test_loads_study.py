@@ -157,7 +157,7 @@ def test_a_sample_without_the_sections_fails_with_the_reason(tmp_path: Path) -> 
     ('[fatigue]\nk = 4\nC = 1e40\nC_range = 1e41\nduration = 10', "C_range", "one of"),
     ('[fatigue]\nk = 4\nC = 1e40\nduration = 10\nmethod = "rainflow"', "method",
      "narrowband, dirlik"),
-    ('[fatigue]\nk = "four"\nC = 1e40\nduration = 10', "k", "positive finite number"),
+    ('[fatigue]\nk = "four"\nC = 1e40\nduration = 10', "k", "'four' is not a number"),
 ])
 def test_bad_sections_name_file_section_and_key(tmp_path: Path, section: str, key: str,
                                                 said: str) -> None:

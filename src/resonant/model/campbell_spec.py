@@ -26,7 +26,8 @@ from dataclasses import dataclass
 from ..errors import Problem
 from ..expressions import ExpressionError
 from ..expressions.numeric import numeric_value
-from .units import parse_unit, parse_with_unit
+from .load_spec import quantity_parts
+from .units import FREQUENCY, Unit, parse_with_unit
 
 CAMPBELL_KEYS = ("from", "to", "points", "modes", "orders", "speed")
 #: the most grid speeds of a Campbell diagram
@@ -67,9 +68,10 @@ class CampbellSpec:
 
 
 def parse_speed(raw: object, source: str, section: str, key: str,
-                problems: list[Problem]) -> float | None:
-    """A speed: a number (rad/s) or text with a unit of angular speed (rpm, rad/s, rev/s);
-    Hz is refused (it would be read as cycles, not radians, per second).
+                problems: list[Problem], params: Sequence[str] = ()) -> float | None:
+    """A speed: a number (rad/s) or text of arithmetic with a unit of angular speed (rpm,
+    rad/s, rev/s; :func:`resonant.model.load_spec.quantity_parts`); Hz is refused (it
+    would be read as cycles, not radians, per second), and so are the ``params``.
 
     Examples
     --------
@@ -83,14 +85,19 @@ def parse_speed(raw: object, source: str, section: str, key: str,
         problems.append(Problem("must be a speed: a number (rad/s) or text such as "
                                 "\"3000 rpm\"", source, section, key))
         return None
-    try:
-        expression, given = parse_with_unit(raw, [], source, section, key)
-        value = float(numeric_value(expression, {}))
-    except (ExpressionError, ValueError, TypeError) as exc:
-        problems.append(Problem(f"not a speed: {exc}", source, section, key))
-        return None
-    if given is not None and (given[1].dimension != parse_unit("rad/s").dimension
-                              or given[1].cyclic):
+    unit: Unit | None = None
+    if isinstance(raw, str):    # arithmetic and a unit, as every quantity key reads them
+        parts = quantity_parts(raw, source, section, key, problems, params)
+        if parts is None:
+            return None
+        value, unit = parts
+    else:
+        try:
+            value = float(numeric_value(parse_with_unit(raw, [], source, section, key)[0], {}))
+        except (ExpressionError, ValueError, TypeError) as exc:
+            problems.append(Problem(f"not a speed: {exc}", source, section, key))
+            return None
+    if unit is not None and (unit.dimension != FREQUENCY or unit.cyclic):
         problems.append(Problem(f"{raw!r} is not an angular speed: use rpm, rad/s or rev/s "
                                 "(Hz is refused: it counts cycles, not radians)", source,
                                 section, key))
@@ -146,8 +153,9 @@ def parse_campbell(data: object, params: Sequence[str], source: str,
         if key not in CAMPBELL_KEYS:
             problems.append(Problem(f"unknown key; [campbell] takes {', '.join(CAMPBELL_KEYS)}",
                                     source, "campbell", str(key)))
-    start = parse_speed(data.get("from", 0), source, "campbell", "from", problems)
-    stop = parse_speed(data["to"], source, "campbell", "to", problems) if "to" in data else None
+    start = parse_speed(data.get("from", 0), source, "campbell", "from", problems, params)
+    stop = parse_speed(data["to"], source, "campbell", "to", problems, params) \
+        if "to" in data else None
     if "to" not in data:
         problems.append(Problem("missing: the highest speed", source, "campbell", "to"))
     if start is not None and stop is not None and stop <= start:

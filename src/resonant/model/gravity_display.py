@@ -35,17 +35,14 @@ Examples
 
 from __future__ import annotations
 
-import re
 from collections.abc import Mapping
 from dataclasses import replace
 from types import MappingProxyType
 from typing import Any
 
 from .random_spec import RandomSpec
-from .units import STANDARD_GRAVITY_UNIT, ModelUnits
+from .units import GRAVITY_IN_UNIT, STANDARD_GRAVITY_UNIT, ModelUnits, split_value
 
-#: ``g`` as a unit in a unit text (``"g^2/Hz"``, ``"g"``), not inside a name (``"kg"``)
-_G = re.compile(r"(?<![A-Za-z0-9_µμ])g(?![A-Za-z0-9_])")
 #: the sections that give one input with a ``unit`` key
 _INPUT_SECTIONS = ("shock", "periodic")
 
@@ -65,12 +62,16 @@ def given_in_g(random: RandomSpec | None, data: Mapping[str, Any]) -> bool:
     >>> given_in_g(None, {"shock": {"unit": "g"}}), given_in_g(None, {"shock": {"unit": "kg"}})
     (True, False)
     """
-    if random is not None and any(_G.search(u.unit) for u in random.inputs):
+    if random is not None and any(GRAVITY_IN_UNIT.search(u.unit) for u in random.inputs):
         return True
     for name in _INPUT_SECTIONS:
         section = data.get(name)
-        unit = section.get("unit") if isinstance(section, Mapping) else None
-        if isinstance(unit, str) and _G.search(unit):
+        if not isinstance(section, Mapping):
+            continue
+        unit, amplitude = section.get("unit"), section.get("amplitude")
+        if isinstance(amplitude, str) and unit is None:   # "50 g": the amplitude's own unit
+            unit = split_value(amplitude)[1]
+        if isinstance(unit, str) and GRAVITY_IN_UNIT.search(unit):
             return True
     return False
 

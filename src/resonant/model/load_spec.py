@@ -54,16 +54,31 @@ from __future__ import annotations
 
 import difflib
 import math
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass, field
 from typing import Any
+
+import numpy as np
 
 from ..errors import Problem, name_list, printable
 from ..expressions import Expression, ExpressionError, numeric_value, parse
 from .fourier_shapes import SHAPES
 from .limits import MAX_FREQUENCY_HZ
 from .pulses import PULSES
-from .units import Dimension, ModelUnits, UnitError, parse_unit, parse_with_unit
+from .units import (
+    ACCELERATION,
+    DIMENSIONLESS,
+    FREQUENCY,
+    GRAVITY_IN_UNIT,
+    TIME,
+    Dimension,
+    ModelUnits,
+    Unit,
+    UnitError,
+    parse_unit,
+    parse_with_unit,
+    split_value,
+)
 
 #: the spectral fatigue methods of ``[fatigue]`` (resonant.analyses.fatigue)
 FATIGUE_METHODS = ("narrowband", "dirlik", "tovo-benasciutti")
@@ -78,7 +93,7 @@ MAX_SHOCK_SAMPLES = 5_000_000
 #: standard gravity (m/s^2): ``g`` as the unit of a pulse's amplitude
 STANDARD_GRAVITY = 9.80665
 #: the quantity of a duration, a step, a period
-_TIME = Dimension.of(s=1)
+_TIME = TIME
 
 
 @dataclass(frozen=True)
@@ -213,49 +228,110 @@ def _scaled(value: float, factor: float, source: str, section: str, key: str,
 STRESS = Dimension.of(kg=1, m=-1, s=-2)
 
 
+def quantity_parts(raw: str, source: str, section: str, key: str, problems: list[Problem],
+                   params: Collection[str] = ()) -> tuple[float, Unit | None] | None:
+    """A text value of a load section's key: arithmetic of numbers with an optional unit
+    after a space (as in ``[parameters]``; ``g`` is standard gravity), as its SI value and
+    the unit given (None without one); None, and a problem, where the text is wrong.
+
+    Parameter names are refused (``params`` names them as such): these keys are read once,
+    when the model is loaded, not at each parameter value.
+
+    Examples
+    --------
+    >>> problems = []
+    >>> quantity_parts("2*25 g", "m.toml", "shock", "amplitude", problems)
+    (490.3325, Unit('g0'))
+    >>> quantity_parts("2*pi/w", "m.toml", "periodic", "period", problems, ["w"])
+    >>> print(problems[0])
+    m.toml: [periodic] period: 'w' is a parameter: these keys take numbers with units, \
+not parameters
+    """
+    text, unit_text = split_value(raw)
+    written = text if unit_text is None else f"{text} {GRAVITY_IN_UNIT.sub('g0', unit_text)}"
+    try:
+        expression, given = parse_with_unit(written, None, source, section, key)
+    except ExpressionError as exc:
+        problems.extend(exc.problems)
+        return None
+    names = sorted(name for name, _ in expression.names())
+    if names:
+        shown = printable(names[0], limit=30)
+        problems.append(Problem(
+            f"'{shown}' is a parameter: these keys take numbers with units, not parameters"
+            if names[0] in params else
+            f"'{shown}' is not a number: these keys take numbers with units (arithmetic of "
+            "numbers, a unit after a space)", source, section, key))
+        return None
+    try:
+        with np.errstate(all="ignore"):
+            value = float(numeric_value(expression, {}))
+    except (ArithmeticError, ValueError):
+        value = math.nan
+    if not math.isfinite(value):
+        problems.append(Problem(f"{_shown(raw)} is not a finite number", source, section, key))
+        return None
+    return value, None if given is None else given[1]
+
+
 def quantity_value(raw: object, dimension: Dimension, source: str, section: str, key: str,
-                   problems: list[Problem]) -> object:
+                   problems: list[Problem], params: Collection[str] = ()) -> object:
     """A key's value as a number in SI: a number as it is, or a text like ``"41.4 ms"``
-    or ``"2*60 s"`` (arithmetic of numbers, a unit of ``dimension`` after a space, as in
-    ``[parameters]``) converted to SI; the raw value where it is no text, None (and a
-    problem) where the text is wrong.
+    or ``"2*60 s"`` (:func:`quantity_parts`) with a unit of ``dimension`` converted to SI
+    (a frequency to Hz: ``"6000 rpm"`` is 100 Hz); the raw value where it is no text,
+    None (and a problem) where the text is wrong or its unit of another quantity.
 
     Examples
     --------
     >>> problems = []
     >>> quantity_value("1 h", Dimension.of(s=1), "m.toml", "fatigue", "duration", problems)
     3600.0
+    >>> quantity_value("6000 rpm", FREQUENCY, "m.toml", "random", "band", problems)
+    100.0
     >>> quantity_value("2 m", Dimension.of(s=1), "m.toml", "fatigue", "duration", problems)
     >>> print(problems[0])
     m.toml: [fatigue] duration: the unit m is not one of time (s); give it in s
     """
     if not isinstance(raw, str):
         return raw
-    try:
-        expression, given = parse_with_unit(raw, [], source, section, key)
-    except ExpressionError as exc:
-        problems.extend(exc.problems)
+    parts = quantity_parts(raw, source, section, key, problems, params)
+    if parts is None:
         return None
-    if given is not None and given[1].dimension != dimension:
-        problems.append(Problem(f"the unit {printable(given[1].text, limit=30)} is not one of "
-                                f"{_DIMENSION_NAMES.get(dimension, 'this quantity')} "
-                                f"({dimension.text() or '1'}); give it in "
-                                f"{dimension.text() or 'a number'}", source, section, key))
+    value, unit = parts
+    if unit is not None and unit.dimension != dimension:
+        problems.append(Problem(wrong_unit(unit, dimension), source, section, key))
         return None
-    value = float(numeric_value(expression, {}))
-    if not math.isfinite(value):
-        problems.append(Problem(f"{_shown(raw)} is not a finite number", source, section, key))
-        return None
-    return value
+    return value / (2 * math.pi) if dimension == FREQUENCY and unit is not None and \
+        not unit.cyclic else value
 
 
-#: how a message names a key's quantity
-_DIMENSION_NAMES = {Dimension.of(s=1): "time", STRESS: "stress", Dimension(): "a number"}
+def wrong_unit(unit: Unit, dimension: Dimension) -> str:
+    """The message for a unit given where a quantity of ``dimension`` is expected.
+
+    Examples
+    --------
+    >>> wrong_unit(parse_unit("kg"), FREQUENCY)
+    'the unit kg is not one of frequency (Hz); give it in Hz, kHz, rad/s or rpm'
+    """
+    name, how = _DIMENSION_NAMES.get(dimension, (f"{dimension.text()}",
+                                                 f"it in {dimension.text()}"))
+    shown = "g" if unit.text == "g0" else printable(unit.text.replace("g0", "g"), limit=30)
+    return f"the unit {shown} is not one of {name}; give {how}"
+
+
+#: how a message names a key's quantity, and how to give it
+_DIMENSION_NAMES = {
+    TIME: ("time (s)", "it in s"), STRESS: ("stress (Pa)", "it in Pa, MPa or GPa"),
+    FREQUENCY: ("frequency (Hz)", "it in Hz, kHz, rad/s or rpm"),
+    DIMENSIONLESS: ("a dimensionless quantity", "a number without a unit"),
+    ACCELERATION: ("acceleration (m/s^2)", "it in m/s^2 or g"),
+}
 
 
 def _positive(data: dict[Any, Any], key: str, source: str, section: str,
               problems: list[Problem], default: float | None = None,
-              dimension: Dimension | None = None) -> float | None:
+              dimension: Dimension | None = DIMENSIONLESS,
+              params: Collection[str] = ()) -> float | None:
     """A finite positive number (a missing key gives ``default``; None: required); with a
     ``dimension``, also a text with a unit (:func:`quantity_value`)."""
     raw = data.get(key, default)
@@ -264,7 +340,7 @@ def _positive(data: dict[Any, Any], key: str, source: str, section: str,
         return None
     if dimension is not None and isinstance(raw, str):
         count = len(problems)
-        raw = quantity_value(raw, dimension, source, section, key, problems)
+        raw = quantity_value(raw, dimension, source, section, key, problems, params)
         if len(problems) > count:
             return None
     value = _finite(raw)
@@ -314,9 +390,10 @@ def check_input_dimension(name: str, quantity: Dimension | None, derivative: int
 
 def _input(data: dict[Any, Any], signals: Sequence[str], coordinates: Sequence[str],
            source: str, section: str, problems: list[Problem],
-           units: ModelUnits | None = None) -> tuple[str, int, float]:
-    """(signal, derivative, unit factor) of a section giving one input; its unit checked
-    against the signal's dimension where the model's units know it."""
+           units: ModelUnits | None = None) -> tuple[str, int, float, Dimension | None]:
+    """(signal, derivative, unit factor, the unit's quantity or None) of a section giving
+    one input; its unit checked against the signal's dimension where the model's units
+    know it."""
     signal = data.get("signal")
     names = list(signals) + list(coordinates)
     if not isinstance(signal, str) or signal not in names:
@@ -351,7 +428,40 @@ def _input(data: dict[Any, Any], signals: Sequence[str], coordinates: Sequence[s
         if quantity is not None and isinstance(signal, str) and signal in names:
             check_input_dimension(signal, quantity, int(derivative), False, units,
                                   coordinates, (source, section, "unit"), problems)
-    return str(signal), int(derivative), factor
+    return str(signal), int(derivative), factor, quantity
+
+
+def _amplitude(raw: object, given: tuple[float, Dimension | None], load: tuple[str, int, bool],
+               units: ModelUnits | None, coordinates: Sequence[str],
+               where: tuple[str, str, str], problems: list[Problem], params: Sequence[str],
+               factor_of: str = "") -> float | None:
+    """A load's amplitude in SI: a number (or arithmetic) in the section's ``unit``
+    (``given``: its factor and quantity), or a value with its own unit
+    (:func:`quantity_parts`) of the input's quantity (times s for an impulse's area:
+    ``load`` is the signal, the derivative and whether the value is an area)."""
+    count = len(problems)
+    unit: Unit | None = None
+    value: float | None = _finite(raw)
+    if isinstance(raw, str):
+        parts = quantity_parts(raw, *where, problems, params)
+        value, unit = (None, None) if parts is None else parts
+    if len(problems) == count and (value is None or value == 0):
+        problems.append(Problem(f"must be a finite non-zero number{factor_of}, got "
+                                f"{_shown(raw)}", *where))
+    if len(problems) > count or value is None:
+        return None
+    if unit is None:
+        return _scaled(value, given[0], *where, problems)
+    signal, derivative, area = load
+    quantity = unit.dimension / TIME if area else unit.dimension
+    if given[1] is not None and quantity != given[1]:
+        problems.append(Problem(f"{wrong_unit(unit, given[1] * TIME if area else given[1])}"
+                                ", as the key unit says (or give the number alone, in "
+                                "that unit)", *where))
+        return None
+    check_input_dimension(signal, quantity, derivative, False, units, coordinates, where,
+                          problems)
+    return value if len(problems) == count else None
 
 
 def parse_periodic(data: object, params: Sequence[str], signals: Sequence[str],
@@ -396,8 +506,9 @@ def parse_periodic(data: object, params: Sequence[str], signals: Sequence[str],
         problems.append(Problem("expected a table", source, section))
         return None
     _unknown(data, PERIODIC_KEYS, source, section, problems)
-    signal, derivative, factor = _input(data, signals, coordinates, source, section, problems,
-                                        units)
+    signal, derivative, factor, quantity = _input(data, signals, coordinates, source, section,
+                                                  problems, units)
+    load = (signal, derivative, False)
     expression: Expression | None = None
     if "expression" in data:
         if "shape" in data:
@@ -418,30 +529,19 @@ def parse_periodic(data: object, params: Sequence[str], signals: Sequence[str],
                 problems.extend(exc.problems)
         shape: object = "expression"
         # the expression in the section's unit, scaled by its amplitude where one is given
-        raw_scale = data.get("amplitude", 1.0)
-        amplitude = _finite(raw_scale)
-        if amplitude is None or amplitude == 0:
-            problems.append(Problem(f"must be a finite non-zero number (a factor on the "
-                                    f"expression), got {_shown(raw_scale)}", source, section,
-                                    "amplitude"))
-            amplitude = None
-        else:
-            amplitude = _scaled(amplitude, factor, source, section, "amplitude", problems)
+        amplitude = _amplitude(data.get("amplitude", 1.0), (factor, quantity), load, units,
+                               coordinates, (source, section, "amplitude"), problems, params,
+                               " (a factor on the expression)")
     else:
         shape = data.get("shape")
         if shape not in SHAPES:
             problems.append(Problem(f"must be one of {', '.join(SHAPES)} (or give an "
                                     f"expression of t), got {_shown(shape)}", source, section,
                                     "shape"))
-        raw = data.get("amplitude")
-        amplitude = _finite(raw)
-        if amplitude is None or amplitude == 0:
-            problems.append(Problem(f"must be a finite non-zero number, got {_shown(raw)}",
-                                    source, section, "amplitude"))
-            amplitude = None
-        else:
-            amplitude = _scaled(amplitude, factor, source, section, "amplitude", problems)
-    period = _positive(data, "period", source, section, problems, dimension=_TIME)
+        amplitude = _amplitude(data.get("amplitude"), (factor, quantity), load, units,
+                               coordinates, (source, section, "amplitude"), problems, params)
+    period = _positive(data, "period", source, section, problems, dimension=_TIME,
+                       params=params)
     if period is not None and 1 / period > MAX_FREQUENCY_HZ:
         problems.append(Problem(
             f"a period of {period:g} s is a base frequency of {1 / period:g} Hz, above "
@@ -449,20 +549,24 @@ def parse_periodic(data: object, params: Sequence[str], signals: Sequence[str],
             "the floating-point range; give the period in seconds", source, section,
             "period"))
         period = None
-    tolerance = data.get("tolerance", 1e-2)
-    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or \
+    tolerance = quantity_value(data.get("tolerance", 1e-2), DIMENSIONLESS, source, section,
+                               "tolerance", problems, params)
+    if tolerance is None:
+        pass
+    elif isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or \
             not 1e-8 <= tolerance < 1:
         problems.append(Problem(f"must be a number in [1e-8, 1), got {_shown(tolerance)}", source,
                                 section, "tolerance"))
     if len(problems) > count:
         return None
-    assert amplitude is not None and period is not None
+    assert amplitude is not None and period is not None and isinstance(tolerance, (int, float))
     return PeriodicSpec(signal, derivative, str(shape), amplitude, period, float(tolerance),
                         expression, source)
 
 
 def parse_shock(data: object, signals: Sequence[str], coordinates: Sequence[str], source: str,
-                problems: list[Problem], units: ModelUnits | None = None) -> ShockSpec | None:
+                problems: list[Problem], units: ModelUnits | None = None,
+                params: Sequence[str] = ()) -> ShockSpec | None:
     """The ``[shock]`` section, its problems appended to ``problems``.
 
     Parameters
@@ -477,6 +581,8 @@ def parse_shock(data: object, signals: Sequence[str], coordinates: Sequence[str]
         Receives every problem found.
     units : ModelUnits, optional
         The model's units: a ``unit`` is checked against the signal's dimension.
+    params : sequence of str, optional
+        The parameters (named as such where a key is given one).
 
     Returns
     -------
@@ -497,31 +603,30 @@ def parse_shock(data: object, signals: Sequence[str], coordinates: Sequence[str]
         problems.append(Problem("expected a table", source, section))
         return None
     _unknown(data, SHOCK_KEYS, source, section, problems)
-    signal, derivative, factor = _input(data, signals, coordinates, source, section, problems,
-                                        units)
+    signal, derivative, factor, quantity = _input(data, signals, coordinates, source, section,
+                                                  problems, units)
     kind = data.get("pulse")
     if kind not in PULSES:
         problems.append(Problem(f"must be one of {', '.join(PULSES)}, got {_shown(kind)}", source,
                                 section, "pulse"))
-    raw = data.get("amplitude")
-    amplitude = _finite(raw)
-    if amplitude is None or amplitude == 0:
-        problems.append(Problem(f"must be a finite non-zero number, got {_shown(raw)}",
-                                source, section, "amplitude"))
-        amplitude = None
-    else:
-        amplitude = _scaled(amplitude, factor, source, section, "amplitude", problems)
-    duration = _positive(data, "duration", source, section, problems, dimension=_TIME)
+    amplitude = _amplitude(data.get("amplitude"), (factor, quantity),
+                           (signal, derivative, kind == "impulse"), units, coordinates,
+                           (source, section, "amplitude"), problems, params)
+    duration = _positive(data, "duration", source, section, problems, dimension=_TIME,
+                         params=params)
     # without a valid duration, a missing step or total (their defaults) is not a problem more
     step = _positive(data, "step", source, section, problems,
-                     None if duration is None else duration / 2000, _TIME) \
+                     None if duration is None else duration / 2000, _TIME, params) \
         if duration is not None or "step" in data else None
     total = _positive(data, "total", source, section, problems,
-                      None if duration is None else 3 * duration, _TIME) \
+                      None if duration is None else 3 * duration, _TIME, params) \
         if duration is not None or "total" in data else None
+    count_Q = len(problems)
     raw_Q = data.get("Q", 10.0)
-    Q = _finite(raw_Q)
-    if Q is None or Q <= 0.5:
+    Q = _finite(quantity_value(raw_Q, DIMENSIONLESS, source, section, "Q", problems, params))
+    if len(problems) > count_Q:
+        pass
+    elif Q is None or Q <= 0.5:
         problems.append(Problem(f"must be a number above 0.5 (Q = 1/(2 zeta)), got "
                                 f"{_shown(raw_Q)}", source, section, "Q"))
     if duration is not None and total is not None and total < duration:
@@ -546,7 +651,8 @@ def parse_shock(data: object, signals: Sequence[str], coordinates: Sequence[str]
                      total, Q, source)
 
 
-def parse_fatigue(data: object, source: str, problems: list[Problem]) -> FatigueSpec | None:
+def parse_fatigue(data: object, source: str, problems: list[Problem],
+                  params: Sequence[str] = ()) -> FatigueSpec | None:
     """The ``[fatigue]`` section, its problems appended to ``problems``.
 
     Parameters
@@ -557,6 +663,8 @@ def parse_fatigue(data: object, source: str, problems: list[Problem]) -> Fatigue
         The model file.
     problems : list of Problem
         Receives every problem found.
+    params : sequence of str, optional
+        The parameters (named as such where a key is given one).
 
     Returns
     -------
@@ -578,7 +686,7 @@ def parse_fatigue(data: object, source: str, problems: list[Problem]) -> Fatigue
         problems.append(Problem("expected a table", source, section))
         return None
     _unknown(data, FATIGUE_KEYS, source, section, problems)
-    k = _positive(data, "k", source, section, problems)
+    k = _positive(data, "k", source, section, problems, params=params)
     given = [g for g in ("C", "C_range", "amplitude") if g in data]
     C: float | None = None
     if len(given) != 1 or ("amplitude" in data) != ("cycles" in data):
@@ -587,7 +695,8 @@ def parse_fatigue(data: object, source: str, problems: list[Problem]) -> Fatigue
                                 ("cycles" if "cycles" in data and not given else "C")))
     else:
         value = _positive(data, given[0], source, section, problems,
-                          dimension=STRESS if given[0] == "amplitude" else None)
+                          dimension=STRESS if given[0] == "amplitude" else DIMENSIONLESS,
+                          params=params)
         if value is not None and k is not None:
             try:
                 if given[0] == "C":
@@ -596,7 +705,7 @@ def parse_fatigue(data: object, source: str, problems: list[Problem]) -> Fatigue
                     C = value / 2.0 ** k
                 else:
                     cycles = _positive(data, "cycles", source, section, problems,
-                                       dimension=Dimension())
+                                       params=params)
                     if cycles is not None:
                         C = cycles * value ** k
             except OverflowError:
@@ -609,7 +718,8 @@ def parse_fatigue(data: object, source: str, problems: list[Problem]) -> Fatigue
         problems.append(Problem(f"must be one of {', '.join(FATIGUE_METHODS)}, got "
                                 f"{_shown(method)}",
                                 source, section, "method"))
-    duration = _positive(data, "duration", source, section, problems, dimension=_TIME)
+    duration = _positive(data, "duration", source, section, problems, dimension=_TIME,
+                         params=params)
     if len(problems) > count:
         return None
     assert k is not None and C is not None and duration is not None
@@ -617,4 +727,5 @@ def parse_fatigue(data: object, source: str, problems: list[Problem]) -> Fatigue
 
 
 __all__ = ["FATIGUE_METHODS", "FatigueSpec", "PULSES", "PeriodicSpec", "SHAPES", "ShockSpec",
-           "parse_fatigue", "parse_periodic", "parse_shock"]
+           "parse_fatigue", "parse_periodic", "parse_shock", "quantity_parts", "quantity_value",
+           "wrong_unit"]

@@ -359,7 +359,7 @@ class _Builder:
             if "explore" in self.data else None
         random, shock, periodic = self.loads(param_names, list(signals), names, units)
         units = gravity_default(units, given_in_g(random, self.data))  # input in g: output too
-        fatigue, campbell = self.fatigue(), self.campbell(param_names, names, study,
+        fatigue, campbell = self.fatigue(param_names), self.campbell(param_names, names, study,
                                                           matrix_spec)
         measurement = self.measurement(list(signals), names, list(outputs))
         self.raise_problems(misplaced)
@@ -388,7 +388,7 @@ class _Builder:
                               Files(self.base_dir, tuple(self.allow_paths))) \
             if "random" in self.data else None
         shock = parse_shock(self.data["shock"], signals, names, self.source,
-                            self.problems, units) if "shock" in self.data else None
+                            self.problems, units, param_names) if "shock" in self.data else None
         periodic = parse_periodic(self.data["periodic"], param_names, signals, names,
                                   self.source, self.problems, units) \
             if "periodic" in self.data else None
@@ -401,10 +401,10 @@ class _Builder:
         return parse_measurement(self.data["measurement"], signals, names, outputs,
                                  self.source, self.problems)
 
-    def fatigue(self) -> FatigueSpec | None:
+    def fatigue(self, param_names: list[str]) -> FatigueSpec | None:
         if "fatigue" not in self.data:
             return None
-        return parse_fatigue(self.data["fatigue"], self.source, self.problems)
+        return parse_fatigue(self.data["fatigue"], self.source, self.problems, param_names)
 
     def campbell(self, param_names: list[str], coordinates: list[str],
                  study: StudySpec | None = None, matrices: MatrixSpec | None = None

@@ -36,7 +36,6 @@ from __future__ import annotations
 import difflib
 import math
 import os
-import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -59,9 +58,19 @@ from ..expressions import (
 from .csv_tables import read_csv_table
 from .files import FileRefused
 from .limits import MAX_FREQUENCY_HZ
-from .load_spec import check_input_dimension
+from .load_spec import check_input_dimension, quantity_parts, quantity_value
 from .matrix_files import read_vector_file
-from .units import Dimension, ModelUnits, UnitError, parse_unit, parse_with_unit
+from .units import (
+    DIMENSIONLESS,
+    FREQUENCY,
+    GRAVITY_IN_UNIT,
+    Dimension,
+    ModelUnits,
+    UnitError,
+    parse_unit,
+    parse_with_unit,
+    split_value,
+)
 
 SECTION = "random"
 #: the options of ``[random]`` besides its tables
@@ -77,7 +86,6 @@ MAX_ROWS = 100_000
 MIN_TOLERANCE = 1e-10
 #: standard gravity (m/s^2): ``g`` in a spectral density's unit
 STANDARD_GRAVITY = 9.80665
-_G = re.compile(r"(?<![A-Za-z0-9_µμ])g(?![A-Za-z0-9_])")
 #: the density's unit dimension is (quantity)^2 * s (per Hz or per rad/s)
 PER_FREQUENCY = Dimension.of(s=1)
 
@@ -211,7 +219,7 @@ def _unit_factor(text: object, where: tuple[str, str, str], problems: list[Probl
                                 "\"(m/s^2)^2/Hz\" or \"N^2/Hz\"", *where))
         return None
     try:
-        unit = parse_unit(_G.sub("g0", text))
+        unit = parse_unit(GRAVITY_IN_UNIT.sub("g0", text))
     except UnitError as exc:
         problems.append(Problem(f"{exc}", *where))
         return None
@@ -234,8 +242,67 @@ def _unit_factor(text: object, where: tuple[str, str, str], problems: list[Probl
     return factor, root
 
 
-def _table(values: list, where: tuple[str, str, str], problems: list[Problem]
+def _cells(values: list, where: tuple[str, str, str], problems: list[Problem],
+           params: Sequence[str], unit: tuple[float, Dimension | None] | None) -> list:
+    """A table's rows with its texts read: a frequency with a unit (``"2 kHz"``), a density
+    as arithmetic of numbers in the input's ``unit`` (:func:`quantity_value`), or with a
+    density unit of that unit's quantity (``unit``: its SI factor and quantity; None where
+    the input has no key unit)."""
+    if not any(isinstance(x, str) for r in values if isinstance(r, list) for x in r):
+        return values
+    count = len(problems)
+    rows = []
+    for row in values:
+        if not (isinstance(row, list) and len(row) == 2):
+            rows.append(row)
+            continue
+        frequency = quantity_value(row[0], FREQUENCY, *where, problems, params)
+        rows.append([frequency, _density_cell(row[1], where, problems, params, unit)])
+        if len(problems) > count:    # one problem for a table, not one per row
+            break
+    return rows
+
+
+def _density_cell(density: object, where: tuple[str, str, str], problems: list[Problem],
+                  params: Sequence[str], unit: tuple[float, Dimension | None] | None
+                  ) -> object:
+    """A table's density: a number, arithmetic in the key unit, or a value with a density
+    unit of the key unit's quantity (converted to the key unit)."""
+    if not isinstance(density, str):
+        return density
+    text, own = split_value(density)
+    parts = quantity_parts(text, *where, problems, params)
+    if parts is None or own is None:
+        return None if parts is None else parts[0]
+    if unit is None:
+        problems.append(Problem(f"{printable(density, limit=40)!r}: a density with a unit "
+                                "needs the input's key unit (the unit of its other values)",
+                                *where))
+        return None
+    found = _unit_factor(own, where, problems)
+    if found is None:
+        return None
+    if found[1] != unit[1]:
+        problems.append(Problem(f"{printable(density, limit=40)!r}: a density of "
+                                f"{_root_text(found[1])}, but the key unit is one of "
+                                f"{_root_text(unit[1])}; give it in a unit of that quantity",
+                                *where))
+        return None
+    return parts[0] * found[0] / unit[0]
+
+
+def _root_text(quantity: Dimension | None) -> str:
+    return "an unknown quantity" if quantity is None else quantity.text() or "1"
+
+
+def _table(values: list, where: tuple[str, str, str], problems: list[Problem],
+           params: Sequence[str] = (), unit: tuple[float, Dimension | None] | None = None
            ) -> np.ndarray | None:
+    count = len(problems)
+    values = _cells(values, where, problems, params, unit) if len(values) <= MAX_ROWS \
+        else values
+    if len(problems) > count:
+        return None
     if len(values) > MAX_ROWS:
         problems.append(Problem(f"{len(values)} rows; a table is limited to {MAX_ROWS}", *where))
         return None
@@ -412,7 +479,8 @@ def _input(name: str, table: object, params: list[str], signals: Sequence[str],
         problems.append(Problem("missing 'values': a table [[Hz, density], ...], a number or "
                                 "an expression of f (Hz)", source, section))
     elif isinstance(values, list) or _is_file(values, TABLE_FILES):
-        array = _table(values, (source, section, "values"), problems) \
+        array = _table(values, (source, section, "values"), problems, params,
+                       (factor, quantity) if "unit" in table else None) \
             if isinstance(values, list) else \
             _table_file(str(values).strip(), files, (source, section, "values"), problems)
         if array is not None:
@@ -423,16 +491,30 @@ def _input(name: str, table: object, params: list[str], signals: Sequence[str],
                                         "leave the floating-point range; give smaller values",
                                         source, section, "values"))
     else:
-        try:
-            expression = parse(values, allowed=[*params, "f"], file=source, section=section,
-                               key="values")
-            _no_primes(expression, (source, section, "values"), problems)
-        except ExpressionError as exc:
-            problems.extend(exc.problems)
+        expression = _density_expression(values, params, (source, section, "values"), problems)
     if len(problems) > count:
         return None
     return RandomInput(name, int(derivative), array, expression, factor, load, base,
                        str(table.get("unit", "")))
+
+
+def _density_expression(values: str | float, params: list[str], where: tuple[str, str, str],
+                        problems: list[Problem]) -> Expression | None:
+    """A density given as a number or an expression of f and the parameters, in the
+    input's unit (a unit of its own is refused: the key ``unit`` gives it)."""
+    if isinstance(values, str) and split_value(values)[1] is not None:
+        problems.append(Problem(f"{printable(values, limit=40)!r}: a density takes no unit of "
+                                "its own; give the number (or an expression of f) in the "
+                                "input's unit, and the unit once, in the key unit", *where))
+        return None
+    try:
+        expression = parse(values, allowed=[*params, "f"], file=where[0], section=where[1],
+                           key=where[2])
+    except ExpressionError as exc:
+        problems.extend(exc.problems)
+        return None
+    _no_primes(expression, where, problems)
+    return expression
 
 
 def _coherence(entry: object, index: int, params: list[str], names: list[str], source: str,
@@ -552,21 +634,43 @@ def parse_random(data: object, params: list[str], signals: Sequence[str],
     coherences = [_coherence(e, i, params, [str(n) for n in tables], source, problems)
                   for i, e in enumerate(entries)]
     _check_pairs_once(coherences, source, problems)
-    band = _band(data.get("band"), [i for i in inputs if i is not None], source, problems)
-    tolerance = data.get("tolerance", 1e-4)
-    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or \
-            not MIN_TOLERANCE <= tolerance < 1:
+    count_band = len(problems)
+    band_hz = _band_hz(data.get("band"), source, problems, params)
+    band = _band(band_hz, [i for i in inputs if i is not None], source, problems) \
+        if len(problems) == count_band else None
+    count_options = len(problems)
+    tolerance = quantity_value(data.get("tolerance", 1e-4), DIMENSIONLESS, source, SECTION,
+                               "tolerance", problems, params)
+    if len(problems) == count_options and (
+            isinstance(tolerance, bool) or not isinstance(tolerance, (int, float))
+            or not MIN_TOLERANCE <= tolerance < 1):
         problems.append(Problem(f"tolerance must be a number in [{MIN_TOLERANCE:g}, 1)", source,
                                 SECTION, "tolerance"))
-    lines = data.get("lines", 400)
-    if isinstance(lines, bool) or not isinstance(lines, int) or not 8 <= lines <= 1_000_000:
+    count_options = len(problems)
+    lines = quantity_value(data.get("lines", 400), DIMENSIONLESS, source, SECTION, "lines",
+                           problems, params)
+    if isinstance(lines, float) and lines.is_integer() and isinstance(data.get("lines"), str):
+        lines = int(lines)  # a whole number written as arithmetic ("2*500")
+    if len(problems) == count_options and (
+            isinstance(lines, bool) or not isinstance(lines, int) or not 8 <= lines <= 1_000_000):
         problems.append(Problem("lines must be an integer from 8 to 1000000", source, SECTION,
                                 "lines"))
     if len(problems) > count or band is None:
         return None
+    assert isinstance(tolerance, (int, float)) and isinstance(lines, int)
     return RandomSpec(tuple(i for i in inputs if i is not None),
                       tuple(c for c in coherences if c is not None), band, float(tolerance),
                       int(lines), source)
+
+
+def _band_hz(value: object, source: str, problems: list[Problem], params: Sequence[str]
+             ) -> object:
+    """``band`` with its texts read as frequencies in Hz (``["20 Hz", "2 kHz"]``), their
+    problems appended to ``problems``."""
+    if not (isinstance(value, list) and any(isinstance(v, str) for v in value)):
+        return value
+    return [quantity_value(v, FREQUENCY, source, SECTION, "band", problems, params)
+            for v in value]
 
 
 def _band(value: object, inputs: list[RandomInput], source: str, problems: list[Problem]

@@ -38,6 +38,7 @@ import numpy as np
 from ..errors import ModelError, Problem, name_list
 from ..expressions import ExpressionError, numeric_value
 from .campbell_spec import parse_speed
+from .load_spec import quantity_value
 from .options import MAX_GIVEN_HARMONICS
 from .units import FREQUENCY, ModelUnits, parse_with_unit
 
@@ -610,17 +611,9 @@ def _frequency_hz(text: str) -> float:
     >>> _frequency_hz("3 m")
     nan
     """
-    try:
-        expression, given = parse_with_unit(text, allowed=())
-    except ExpressionError:
-        return math.nan
-    value = float(numeric_value(expression, {}))
-    if given is None:
-        return value
-    unit = given[1]
-    if unit.dimension != FREQUENCY:
-        return math.nan
-    return value if unit.cyclic else value / (2 * math.pi)
+    problems: list[Problem] = []
+    value = quantity_value(text, FREQUENCY, "", "", "", problems)
+    return math.nan if problems or not isinstance(value, float) else value
 
 
 def _integer(reader: _Reader, raw: object, key: str, low: int, high: int) -> int | None:

@@ -588,6 +588,9 @@ DISPLAY_QUANTITIES = ("length", "angle", "frequency", "mass", "force", "time", "
 #: ``g`` as a display unit: standard gravity, an acceleration (as in a pulse's or a
 #: spectral density's unit), never the gram (nobody asks for a result in grams)
 STANDARD_GRAVITY_UNIT = Unit("g", Fraction("9.80665"), 0, ACCELERATION)
+#: ``g`` as a unit in a load's unit text (``"g^2/Hz"``, ``"50 g"``: standard gravity, read as
+#: ``g0``), not inside a name (``"kg"``)
+GRAVITY_IN_UNIT = re.compile(r"(?<![A-Za-z0-9_µμ])g(?![A-Za-z0-9_])")
 
 #: the quantity each dimension is shown as (its display unit chosen by that name)
 _DISPLAYED: dict[Dimension, str] = {
