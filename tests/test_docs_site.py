@@ -130,13 +130,14 @@ def test_every_example_has_a_gallery_page_with_its_figures(site: Path) -> None:
 @pytest.mark.parametrize("width", [375, 1280])
 def test_the_site_fits_a_phone_and_a_laptop(site: Path, width: int) -> None:
     """Chromium (Debian's, via Playwright) opens pages of the built site: none is wider
-    than the screen (a wide formula or table scrolls in its own box)."""
+    than the screen (a wide formula or table scrolls in its own box), and no entry of the
+    page's table of contents runs past its column (a long module name wraps)."""
     chromium = Path("/usr/bin/chromium")
     if not chromium.exists():
         pytest.skip("Debian's chromium (/usr/bin/chromium) is not installed")
     api = pytest.importorskip("playwright.sync_api")
     pages = ["index", "model-format", "sweeps", "studies", "explore", "gallery/index",
-             "generated/resonant.LinearSystem", "api"]
+             "generated/resonant.LinearSystem", "api", "random"]
     with api.sync_playwright() as p:
         browser = p.chromium.launch(executable_path=str(chromium), args=[
             "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking"])
@@ -146,8 +147,14 @@ def test_the_site_fits_a_phone_and_a_laptop(site: Path, width: int) -> None:
                 page.goto((site / f"{name}.html").as_uri())
                 overflow = page.evaluate("document.documentElement.scrollWidth"
                                          " - document.documentElement.clientWidth")
+                cut = page.evaluate("""() => [...document.querySelectorAll('.bd-toc code')]
+                    .filter(c => c.offsetParent !== null)
+                    .filter(c => c.getBoundingClientRect().right >
+                                 c.closest('.bd-toc').getBoundingClientRect().right + 1)
+                    .map(c => c.textContent)""")
                 page.close()
                 assert overflow <= 0, f"{name} is {overflow} px wider than {width} px"
+                assert cut == [], f"{name}: {cut} run past the table of contents"
         finally:
             browser.close()
 
