@@ -871,6 +871,12 @@
     const r = S.result;
     const names = [...S.shown].filter(s => r && r.pairs[s]);
     if (!r || !names.length) { ctx.fillStyle = "#5b5b60"; ctx.fillText("No stationary response.", 12, 24); return; }
+    if (names.every(s => !(r.amplitudes[s] > 0))) {  // free vibration: nothing to scale
+      ctx.fillStyle = "#5b5b60";
+      ctx.fillText("No excitation: the stationary response is zero.", 12, 24);
+      $("history-caption").textContent = "";
+      return;
+    }
     const T = periodOf(r), left = 96, right = 10, rows = names.length;
     const rowH = (h - 8) / rows;
     names.forEach((s, k) => {
@@ -881,7 +887,8 @@
       ctx.fillStyle = colourOf(s); ctx.textAlign = "right";
       ctx.fillText(symbolText(UNIT[s] || { name: s }), left - 6, mid - 2);
       ctx.fillStyle = "#5b5b60";
-      ctx.fillText(`±${fmt(amp / f, 3)} ${UNIT[s] ? unitText(UNIT[s].unit) : ""}`, left - 6, mid + 12);
+      ctx.fillText(r.amplitudes[s] > 0 ? `±${fmt(amp / f, 3)} ${UNIT[s] ? unitText(UNIT[s].unit) : ""}` : "0",
+                   left - 6, mid + 12);
       ctx.strokeStyle = colourOf(s); ctx.lineWidth = 1.5;
       ctx.beginPath();
       for (let j = 0; j <= 200; j++) {
