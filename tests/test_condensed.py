@@ -411,6 +411,43 @@ def test_reduced_linear_part_equals_the_full_matrices():
                for w in reduced.warnings)
 
 
+def test_a_reduced_linear_part_short_of_its_tolerance_falls_back_to_exact_receptances():
+    """Asked for 1e-13, beyond the rounding floor of the chain's conditioning (about 1e-11),
+    the reduced model stalls; the balance then takes the exact receptances (sparse solves)
+    and gives the branch of the full matrices, its stability included, to 1e-7 relative
+    (both exact: they differ by the rounding of the full matrices' eigenvectors), and says
+    what it did and what it cost."""
+    model, *_ = chain(40)
+    kwargs = dict(harmonics=2, points=12, linear=False)
+    exact = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, exact=True, **kwargs)
+    fallback = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, exact=False,
+                               tol=1e-13, **kwargs)
+    assert len(fallback.values) == len(exact.values)
+    np.testing.assert_allclose(fallback.values, exact.values, rtol=1e-7)
+    np.testing.assert_allclose(fallback.amplitudes["q40"], exact.amplitudes["q40"],
+                               rtol=1e-7)
+    assert (fallback.stable == exact.stable).all()
+    said = [w for w in fallback.warnings if "exact receptances" in w]
+    assert len(said) == 1 and "did not reach the tolerance 1e-13" in said[0]
+    assert "sparse LU solves" in said[0] and "--tol" in said[0]
+
+
+def test_exact_receptances_out_of_time_name_the_tolerance():
+    """Where the exact solves would run past the time limit the balance refuses (exit 3)
+    and names the options that help."""
+    import scipy.sparse as sp
+
+    from resonant.deadline import AnalysisTimeout, Deadline
+
+    late = Deadline(1e-9)
+    exact = condensed.ExactTransfers(sp.identity(2), None, sp.diags([4.0, 9.0]), np.eye(2),
+                                     [0, 1], "the reduced model did not reach 1e-06", late)
+    while not late.expired:
+        pass
+    with pytest.raises(AnalysisTimeout, match="--tol.*--timeout"):
+        exact(1.0)
+
+
 @pytest.mark.parametrize("entry, message", [
     ('coordinates = ["q9"]\nforce = "q9^3"', "unknown coordinate"),
     ('coordinates = ["q1"]\nkind = "gap"\ngap = 0.1', "stiffness is missing"),
