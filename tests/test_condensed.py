@@ -411,25 +411,52 @@ def test_reduced_linear_part_equals_the_full_matrices():
                for w in reduced.warnings)
 
 
-def test_a_reduced_linear_part_short_of_its_tolerance_falls_back_to_exact_receptances():
-    """Asked for 1e-13, beyond the rounding floor of the chain's conditioning (about 1e-11),
-    the reduced model stalls; the balance then takes the exact receptances (sparse solves)
-    and gives the branch of the full matrices, its stability included, to 1e-7 relative
-    (both exact: they differ by the rounding of the full matrices' eigenvectors), and says
-    what it did and what it cost."""
+def _stalled(monkeypatch, floor: float = 0.0) -> None:
+    """The reduced model of the linear part stops short of its tolerance, as on a plate
+    whose enrichment stalled at 1.5e-5 with exact solves accurate to far less (the
+    rounding floor ``floor``), and no basis of modes and Ritz vectors meets it."""
+    import dataclasses
+
+    real = condensed.reduced_model
+
+    def stalled(*args, **kwargs):
+        return dataclasses.replace(real(*args, **kwargs), converged=False, floor=floor,
+                                   reason="the residual stopped decreasing at 1.5e-05")
+
+    monkeypatch.setattr(condensed, "reduced_model", stalled)
+    monkeypatch.setattr(condensed, "modal_ritz_basis", lambda *args: None)
+
+
+def test_a_reduced_linear_part_short_of_its_tolerance_falls_back_to_exact_receptances(
+        monkeypatch):
+    """The balance then takes the exact receptances (sparse solves) and gives the branch
+    of the full matrices, its stability included, to 1e-7 relative (both exact: they
+    differ by the rounding of the full matrices' eigenvectors, 1e-9 here), and says what
+    it did and what it cost."""
     model, *_ = chain(40)
     kwargs = dict(harmonics=2, points=12, linear=False)
     exact = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, exact=True, **kwargs)
+    _stalled(monkeypatch)
     fallback = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, exact=False,
-                               tol=1e-13, **kwargs)
+                               **kwargs)
     assert len(fallback.values) == len(exact.values)
     np.testing.assert_allclose(fallback.values, exact.values, rtol=1e-7)
     np.testing.assert_allclose(fallback.amplitudes["q40"], exact.amplitudes["q40"],
                                rtol=1e-7)
     assert (fallback.stable == exact.stable).all()
     said = [w for w in fallback.warnings if "exact receptances" in w]
-    assert len(said) == 1 and "did not reach the tolerance 1e-13" in said[0]
+    assert len(said) == 1 and "did not reach the tolerance 1e-06" in said[0]
     assert "sparse LU solves" in said[0] and "--tol" in said[0]
+
+
+def test_a_reduced_linear_part_at_its_rounding_floor_is_refused(monkeypatch):
+    """Where the model's conditioning rounds every solve, exact ones included, above the
+    tolerance, exact receptances would be no better: exit 3 naming a tolerance to ask."""
+    model, *_ = chain(40)
+    _stalled(monkeypatch, floor=1e-4)
+    with pytest.raises(condensed.AnalysisError, match="round off as much: a tolerance above 0.0001 with --tol"):
+        condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, exact=False, harmonics=2,
+                        points=12, linear=False)
 
 
 def test_exact_receptances_out_of_time_name_the_tolerance():
@@ -444,8 +471,21 @@ def test_exact_receptances_out_of_time_name_the_tolerance():
                                      [0, 1], "the reduced model did not reach 1e-06", late)
     while not late.expired:
         pass
-    with pytest.raises(AnalysisTimeout, match="--tol.*--timeout"):
+    with pytest.raises(AnalysisTimeout, match="exceeded, after 0 sparse solves.*--tol.*--timeout"):
         exact(1.0)
+
+
+def test_exact_receptances_that_cannot_fit_the_time_are_refused_early(monkeypatch):
+    """A branch that needs more exact solves than the time left allows is refused after
+    the first few solves, with the estimate, not at the end of the time."""
+    model, *_ = chain(40)
+    _stalled(monkeypatch)
+    monkeypatch.setattr(condensed, "EXACT_SOLVES", 10**9)
+    from resonant.deadline import AnalysisTimeout, Deadline
+
+    with pytest.raises(AnalysisTimeout, match=r"need at least \d+ sparse solves.*--tol"):
+        condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, exact=False,
+                        harmonics=2, points=12, linear=False, deadline=Deadline(60))
 
 
 @pytest.mark.parametrize("entry, message", [

@@ -112,7 +112,14 @@ from .hb_solver import (
 )
 from .nonlinear_response import NonlinearResponse
 from .peaks import periodic_peak, series_peaks
-from .reduced import DEFAULT_TOL, modal_ritz_basis, reduced_model, symmetric, transfer_at
+from .reduced import (
+    DEFAULT_TOL,
+    ReducedModel,
+    modal_ritz_basis,
+    reduced_model,
+    symmetric,
+    transfer_at,
+)
 from .special_points import STABILITY_TOL, classify, special_points
 from .sweep import FrequencyResponse, sweep
 
@@ -150,6 +157,12 @@ NEWTON_TOL = 1e-10
 BAND_POINTS = 400
 #: frequencies whose exact receptances are kept (:class:`ExactTransfers`)
 EXACT_CACHE = 512
+#: exact solves per harmonic and per point asked of the branch, at the least (measured:
+#: 14 on a chain, the continuation taking more points than asked and several Newton
+#: iterations and a parameter derivative at each)
+EXACT_SOLVES = 10
+#: the exact solves timed before the branch's time is estimated
+EXACT_PROBE = 8
 
 
 # -- the linear part ----------------------------------------------------------------------
@@ -187,19 +200,36 @@ class ExactTransfers:
         self.M, self.C, self.K, self.B = M, C, K, B
         self.rows, self.why, self.deadline = rows, why, deadline
         self.solves, self.seconds = 0, 0.0
+        #: the fewest solves the branch will need (set by the caller; 0: unknown)
+        self.expected = 0
         self._cache: dict[float, np.ndarray] = {}
+
+    def _refuse(self, needed: str) -> AnalysisTimeout:
+        return AnalysisTimeout(
+            f"the exact receptances of the linear part ({self.why}) {needed} the time limit "
+            f"of {self.deadline.seconds:g} s: loosen the tolerance of the reduced model "
+            "(--tol, tol), ask for fewer harmonics or points, or allow more time (--timeout)")
+
+    def _check_time(self) -> None:
+        """Refuse once the time is up, and early where the solves still to come (at least
+        ``expected`` in all, at the mean time of the first :data:`EXACT_PROBE`) cannot fit."""
+        if self.deadline.expired:
+            raise self._refuse(f"exceeded, after {self.solves} sparse solves "
+                               f"({self.seconds:.3g} s),")
+        left = self.deadline.remaining()
+        if self.solves == EXACT_PROBE and left is not None and self.expected > self.solves:
+            need = self.seconds / self.solves * (self.expected - self.solves)
+            if need > left:
+                raise self._refuse(f"need at least {self.expected} sparse solves, about "
+                                   f"{need:.3g} s more at {self.seconds / self.solves:.2g} s "
+                                   f"each, {left:.3g} s left of")
 
     def __call__(self, w: float) -> np.ndarray:
         w = abs(float(w))
         found = self._cache.get(w)
         if found is not None:
             return found
-        if self.deadline.expired:
-            raise AnalysisTimeout(
-                f"the exact receptances of the linear part ({self.why}) exceeded the time "
-                f"limit of {self.deadline.seconds:g} s after {self.solves} sparse solves "
-                f"({self.seconds:.3g} s): loosen the tolerance of the reduced model (--tol, "
-                "tol), ask for fewer harmonics or points, or allow more time (--timeout)")
+        self._check_time()
         start = time.monotonic()
         try:
             with np.errstate(all="ignore"):
@@ -297,11 +327,8 @@ def linear_part(M: Matrix, C: Matrix, K: Matrix, loads: np.ndarray, nonlinear: S
             if rom.converged else None
         if basis is None and symmetric(M) and symmetric(K):
             basis = modal_ritz_basis(M, C, K, B, float(band.max()), rows, tol, deadline)
-        why = f"the reduced model did not reach the tolerance {tol:.2g}: {rom.reason}"
-        if basis is None and rom.V.shape[1] == 0:
-            raise AnalysisError(f"the reduced model of the linear part did not reach the "
-                                f"tolerance {tol:.2g}: {rom.reason}")
         if basis is None:
+            why = _exact_instead(rom, tol)
             finite = rom.estimated_error[np.isfinite(rom.estimated_error)]
             basis = rom.V, float(np.max(finite, initial=math.inf if finite.size == 0 else 0))
             exact_part = ExactTransfers(M, C, K, B, rows, why, deadline)
@@ -315,6 +342,20 @@ def linear_part(M: Matrix, C: Matrix, K: Matrix, loads: np.ndarray, nonlinear: S
     return LinearPart(mu, Vrows @ X[:r], Vrows @ X[r:], Rin, len(nl), error, r,
                       time.monotonic() - start, math.inf if exact else float(band.max()),
                       exact_part, why if exact_part is not None else "")
+
+
+def _exact_instead(rom: ReducedModel, tol: float) -> str:
+    """Why exact receptances replace the reduced model ``rom`` short of ``tol``; refused
+    where it has no vector to give the poles, or where its rounding floor (that of every
+    solve, exact ones included) lies above ``tol``."""
+    why = f"the reduced model did not reach the tolerance {tol:.2g}: {rom.reason}"
+    refusal = why.replace("reduced model", "reduced model of the linear part", 1)
+    if rom.floor > tol:
+        raise AnalysisError(f"{refusal} (exact solves round off as much: a tolerance above "
+                            f"{rom.floor:.2g} with --tol, or tol=)")
+    if rom.V.shape[1] == 0:
+        raise AnalysisError(refusal)
+    return why
 
 
 # -- the harmonic balance -----------------------------------------------------------------
@@ -1082,8 +1123,7 @@ def condensed_sweep(system: NonlinearSystem, param: str, start: float, stop: flo
     Wmax = max(setup.base(float(p)) for p in grid)
     names = tuple(coords[i] for i in nl + observed)
     balances = _Balances(setup, parts.elements, nl, observed, names, series, param, Wmax,
-                         samples,
-                         exact, tol, deadline)
+                         samples, exact, tol, deadline, points)
     limit = MAX_HARMONICS if samples is None else \
         max(harmonics, min(MAX_HARMONICS, samples // 4 - 1))
     hb, branch, failed = _branch(balances, harmonics, given is not None, start, stop, points,
@@ -1152,10 +1192,11 @@ class _Balances:
                  observed: list[int],
                  names: tuple[str, ...], series: OutputSeries | None, param: str,
                  Wmax: float, samples: int | None, exact: bool | None, tol: float,
-                 deadline: Deadline) -> None:
+                 deadline: Deadline, points: int = 0) -> None:
         self.setup, self.elements, self.nl, self.observed = setup, elements, nl, observed
         self.names, self.series, self.param, self.Wmax = names, series, param, Wmax
         self.samples, self.exact, self.tol, self.deadline = samples, exact, tol, deadline
+        self.points = points
         self.parts: list[LinearPart] = []
 
     def at(self, H: int) -> CondensedBalance:
@@ -1167,6 +1208,8 @@ class _Balances:
                               np.linspace(0.0, top, BAND_POINTS), exact=self.exact,
                               tol=self.tol, deadline=self.deadline)
             self.parts.append(lin)
+        if lin.exact is not None:
+            lin.exact.expected = EXACT_SOLVES * H * self.points
         N = self.samples or default_samples(self.elements, H)
         outputs = None
         if self.series is not None:

@@ -1445,6 +1445,9 @@ class ReducedModel:
     adjoint_residuals : ndarray
         (q,) the largest relative residual ||A(w) V y(w) - c|| / ||c|| over the band of
         each column c of ``adjoints`` (computed, not estimated; empty without).
+    floor : float
+        The largest rounding floor of the model's conditioning over the band: the
+        accuracy of any double-precision solve there, exact ones included (an estimate).
     """
 
     V: np.ndarray
@@ -1459,6 +1462,7 @@ class ReducedModel:
     expansion: tuple[float, ...]
     seconds: float
     adjoint_residuals: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    floor: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("V", "Mr", "Cr", "Kr", "Br", "estimated_error", "adjoint_residuals"):
@@ -1596,6 +1600,7 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
 
         ops.side = side
     errors, checks, expansion, reasons = [], [], [], []
+    floor = 0.0
     shared: tuple[_Projection, _Residual] | None = None
     model: _Enrichment | None = None
     try:
@@ -1612,6 +1617,7 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
                           if model.finite.any() else float("inf"))
             checks += model.checks
             expansion += model.expansion
+            floor = max(floor, float(np.max(model.floor, initial=0.0)))
             if model.reason:
                 reasons.append(model.reason)
         residuals = np.zeros(0)
@@ -1633,7 +1639,7 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
                                    "the estimated error stayed above the tolerance")
     return ReducedModel(V, Mr, Cr, Kr, _real_times(V.T, B), err, tuple(checks),
                         converged, reason, tuple(sorted(set(expansion))),
-                        time.monotonic() - start, residuals)
+                        time.monotonic() - start, residuals, floor)
 
 
 def _adjoint_point(ops: _Operators, w: np.ndarray) -> float:
