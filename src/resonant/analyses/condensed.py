@@ -100,6 +100,7 @@ from ..system.matrix_outputs import OutputSeries
 from ..system.nonlinear import LocalElements, NonlinearSystem
 from ..system.nonlinear_elements import ElementForces
 from .continuation import Branch, follow
+from .forward_error import Residuals
 from .hb_solver import (
     DEFAULT_HARMONICS,
     MAX_HARMONICS,
@@ -163,6 +164,9 @@ EXACT_CACHE = 512
 EXACT_SOLVES = 10
 #: the exact solves timed before the branch's time is estimated
 EXACT_PROBE = 8
+#: steps of iterative refinement of each exact solve (a plain LU rounds differently at
+#: each frequency, a residual not smooth in the frequency that stops the continuation)
+EXACT_REFINEMENTS = 2
 
 
 # -- the linear part ----------------------------------------------------------------------
@@ -203,6 +207,7 @@ class ExactTransfers:
         #: the fewest solves the branch will need (set by the caller; 0: unknown)
         self.expected = 0
         self._cache: dict[float, np.ndarray] = {}
+        self._residuals: Residuals | None = None
 
     def _refuse(self, needed: str) -> AnalysisTimeout:
         return AnalysisTimeout(
@@ -233,7 +238,11 @@ class ExactTransfers:
         start = time.monotonic()
         try:
             with np.errstate(all="ignore"):
-                result = np.asarray(transfer_at(self.M, self.C, self.K, self.B, w))[self.rows]
+                if self._residuals is None:
+                    self._residuals = Residuals(self.K, self.M,
+                                                self.C if self.C is not None else 0 * self.M)
+                result = transfer_at(self.M, self.C, self.K, self.B, w, EXACT_REFINEMENTS,
+                                     self._residuals)[self.rows]
         except RuntimeError:    # exactly singular (an undamped resonance, a free body at 0)
             result = np.full((len(self.rows), self.B.shape[1]), np.inf, dtype=complex)
         self.solves += 1
