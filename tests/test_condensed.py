@@ -411,6 +411,116 @@ def test_reduced_linear_part_equals_the_full_matrices():
                for w in reduced.warnings)
 
 
+def _stalled(monkeypatch, floor: float = 0.0) -> None:
+    """The reduced model of the linear part stops short of its tolerance, as on a plate
+    whose enrichment stalled at 1.5e-5 with exact solves accurate to far less (the
+    rounding floor ``floor``), and no basis of modes and Ritz vectors meets it."""
+    import dataclasses
+
+    real = condensed.reduced_model
+
+    def stalled(*args, **kwargs):
+        return dataclasses.replace(real(*args, **kwargs), converged=False, floor=floor,
+                                   reason="the residual stopped decreasing at 1.5e-05")
+
+    monkeypatch.setattr(condensed, "reduced_model", stalled)
+    monkeypatch.setattr(condensed, "modal_ritz_basis", lambda *args: None)
+
+
+def test_a_reduced_linear_part_short_of_its_tolerance_falls_back_to_exact_receptances(
+        monkeypatch):
+    """The balance then takes the exact receptances (sparse solves) and gives the branch
+    of the full matrices, its stability included, to 1e-7 relative (both exact: they
+    differ by the rounding of the full matrices' eigenvectors, 1e-9 here), and says what
+    it did and what it cost."""
+    model, *_ = chain(40)
+    kwargs = dict(harmonics=2, points=12, linear=False)
+    exact = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, exact=True, **kwargs)
+    _stalled(monkeypatch)
+    fallback = condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, exact=False,
+                               **kwargs)
+    assert len(fallback.values) == len(exact.values)
+    np.testing.assert_allclose(fallback.values, exact.values, rtol=1e-7)
+    np.testing.assert_allclose(fallback.amplitudes["q40"], exact.amplitudes["q40"],
+                               rtol=1e-7)
+    assert (fallback.stable == exact.stable).all()
+    said = [w for w in fallback.warnings if "exact receptances" in w]
+    assert len(said) == 1 and "did not reach the tolerance 1e-06" in said[0]
+    assert "sparse LU solves" in said[0] and "--tol" in said[0]
+
+
+def test_exact_receptances_are_smooth_in_the_frequency(monkeypatch):
+    """On an ill-conditioned beam (20 Hermite elements, floor about 1e-8) a plain sparse
+    LU rounds differently at each frequency: its central difference over 1e-6 w misses
+    dH/dw = -H (-2 w M + i C) H (dense, exact to its rounding) by about 3e-5, which
+    stops the continuation; refined in extended precision it meets it to 1e-6."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "examples"))
+    import make_beam
+
+    M, C, K = make_beam.beam_matrices(20)
+    tip = M.shape[0] - 2
+    B = np.zeros((M.shape[0], 1), dtype=complex)
+    B[tip] = 1.0
+    Md, Cd, Kd = (a.toarray() for a in (M, C, K))
+
+    def worst() -> float:
+        exact = condensed.ExactTransfers(M, C, K, B, [tip], "")
+        errors = []
+        for w in np.linspace(15.0, 40.0, 6):
+            h = 1e-6 * w
+            difference = (exact(w + h) - exact(w - h))[0, 0] / (2 * h)
+            A = Kd - w * w * Md + 1j * w * Cd
+            derivative = -np.linalg.solve(A, (-2 * w * Md + 1j * Cd) @ np.linalg.solve(A, B))
+            errors.append(abs(difference - derivative[tip, 0]) / abs(derivative[tip, 0]))
+        return max(errors)
+
+    assert worst() < 1e-6
+    monkeypatch.setattr(condensed, "EXACT_REFINEMENTS", 0)
+    assert worst() > 1e-6
+
+
+def test_a_reduced_linear_part_at_its_rounding_floor_is_refused(monkeypatch):
+    """Where the model's conditioning rounds every solve, exact ones included, above the
+    tolerance, exact receptances would be no better: exit 3 naming a tolerance to ask."""
+    model, *_ = chain(40)
+    _stalled(monkeypatch, floor=1e-4)
+    with pytest.raises(condensed.AnalysisError, match="round off as much: a tolerance above 0.0001 with --tol"):
+        condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, exact=False, harmonics=2,
+                        points=12, linear=False)
+
+
+def test_exact_receptances_out_of_time_name_the_tolerance():
+    """Where the exact solves would run past the time limit the balance refuses (exit 3)
+    and names the options that help."""
+    import scipy.sparse as sp
+
+    from resonant.deadline import AnalysisTimeout, Deadline
+
+    late = Deadline(1e-9)
+    exact = condensed.ExactTransfers(sp.identity(2), None, sp.diags([4.0, 9.0]), np.eye(2),
+                                     [0, 1], "the reduced model did not reach 1e-06", late)
+    while not late.expired:
+        pass
+    with pytest.raises(AnalysisTimeout, match="exceeded, after 0 sparse solves.*--tol.*--timeout"):
+        exact(1.0)
+
+
+def test_exact_receptances_that_cannot_fit_the_time_are_refused_early(monkeypatch):
+    """A branch that needs more exact solves than the time left allows is refused after
+    the first few solves, with the estimate, not at the end of the time."""
+    model, *_ = chain(40)
+    _stalled(monkeypatch)
+    monkeypatch.setattr(condensed, "EXACT_SOLVES", 10**9)
+    from resonant.deadline import AnalysisTimeout, Deadline
+
+    with pytest.raises(AnalysisTimeout, match=r"need at least \d+ sparse solves.*--tol"):
+        condensed_sweep(nonlinear_system(model), "w", 1.0, 2.4, exact=False,
+                        harmonics=2, points=12, linear=False, deadline=Deadline(60))
+
+
 @pytest.mark.parametrize("entry, message", [
     ('coordinates = ["q9"]\nforce = "q9^3"', "unknown coordinate"),
     ('coordinates = ["q1"]\nkind = "gap"\ngap = 0.1', "stiffness is missing"),

@@ -16,7 +16,9 @@ m(2H+1) real unknowns whatever n.  H_uu and H_uF come from one reduced-order
 model of the whole band 0 ... H W_max (:func:`resonant.analyses.reduced.
 reduced_model`, loads: F and a unit load at each nonlinear coordinate, its
 error estimate reported; modes and load-dependent Ritz vectors checked against exact
-solves where it does not converge), or, for models of at most :data:`EXACT_SIZE`
+solves where it does not converge; where neither reaches the tolerance, the exact
+receptances by one sparse solve per frequency, :class:`ExactTransfers`, with a warning
+of what they cost), or, for models of at most :data:`EXACT_SIZE`
 coordinates or ``exact=True``, from the full matrices.  The reduced (or full)
 system is diagonalized once (first-order form, poles mu_j), so each H(w) costs
 O(r m^2).
@@ -83,7 +85,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..arrays import Matrix
-from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
+from ..deadline import NO_DEADLINE, AnalysisTimeout, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
 from ..memory import budget, chunk_rows
 from ..modal import (
@@ -98,6 +100,7 @@ from ..system.matrix_outputs import OutputSeries
 from ..system.nonlinear import LocalElements, NonlinearSystem
 from ..system.nonlinear_elements import ElementForces
 from .continuation import Branch, follow
+from .forward_error import Residuals
 from .hb_solver import (
     DEFAULT_HARMONICS,
     MAX_HARMONICS,
@@ -110,7 +113,14 @@ from .hb_solver import (
 )
 from .nonlinear_response import NonlinearResponse
 from .peaks import periodic_peak, series_peaks
-from .reduced import DEFAULT_TOL, modal_ritz_basis, reduced_model, symmetric
+from .reduced import (
+    DEFAULT_TOL,
+    ReducedModel,
+    modal_ritz_basis,
+    reduced_model,
+    symmetric,
+    transfer_at,
+)
 from .special_points import STABILITY_TOL, classify, special_points
 from .sweep import FrequencyResponse, sweep
 
@@ -146,9 +156,102 @@ RESONANCE_BAND = 0.05
 NEWTON_TOL = 1e-10
 #: frequencies per unit of the band where the reduced model's error is checked
 BAND_POINTS = 400
+#: frequencies whose exact receptances are kept (:class:`ExactTransfers`)
+EXACT_CACHE = 512
+#: exact solves per harmonic and per point asked of the branch, at the least (measured:
+#: 14 on a chain, the continuation taking more points than asked and several Newton
+#: iterations and a parameter derivative at each)
+EXACT_SOLVES = 10
+#: the exact solves timed before the branch's time is estimated
+EXACT_PROBE = 8
+#: steps of iterative refinement of each exact solve (a plain LU rounds differently at
+#: each frequency, a residual not smooth in the frequency that stops the continuation)
+EXACT_REFINEMENTS = 2
 
 
 # -- the linear part ----------------------------------------------------------------------
+
+class ExactTransfers:
+    """Exact receptances of the kept rows, one sparse LU per frequency: what the condensed
+    balance uses where the reduced model of the linear part did not reach its tolerance.
+
+    ``self(w)`` is the (rows, m + p) transfer (K - w^2 M + i w C)^-1 B restricted to
+    ``rows`` (:func:`~resonant.analyses.reduced.transfer_at`), kept for the last
+    :data:`EXACT_CACHE` frequencies; ``solves`` and ``seconds`` count what it cost.
+
+    Parameters
+    ----------
+    M, C, K : sparse matrix or ndarray
+        (n, n).
+    B : ndarray
+        (n, m + p) unit loads at the nonlinear coordinates, then the external loads.
+    rows : list of int
+        The kept coordinates.
+    why : str
+        Why the reduced model was not used (named when the time runs out).
+    deadline : Deadline, optional
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> exact = ExactTransfers(sp.identity(2), None, sp.diags([4.0, 9.0]), np.eye(2), [1], "")
+    >>> exact(1.0).real.round(6).tolist(), exact.solves
+    ([[0.0, 0.125]], 1)
+    """
+
+    def __init__(self, M: Matrix, C: Matrix | None, K: Matrix, B: np.ndarray,
+                 rows: list[int], why: str, deadline: Deadline = NO_DEADLINE) -> None:
+        self.M, self.C, self.K, self.B = M, C, K, B
+        self.rows, self.why, self.deadline = rows, why, deadline
+        self.solves, self.seconds = 0, 0.0
+        #: the fewest solves the branch will need (set by the caller; 0: unknown)
+        self.expected = 0
+        self._cache: dict[float, np.ndarray] = {}
+        self._residuals: Residuals | None = None
+
+    def _refuse(self, needed: str) -> AnalysisTimeout:
+        return AnalysisTimeout(
+            f"the exact receptances of the linear part ({self.why}) {needed} the time limit "
+            f"of {self.deadline.seconds:g} s: loosen the tolerance of the reduced model "
+            "(--tol, tol), ask for fewer harmonics or points, or allow more time (--timeout)")
+
+    def _check_time(self) -> None:
+        """Refuse once the time is up, and early where the solves still to come (at least
+        ``expected`` in all, at the mean time of the first :data:`EXACT_PROBE`) cannot fit."""
+        if self.deadline.expired:
+            raise self._refuse(f"exceeded, after {self.solves} sparse solves "
+                               f"({self.seconds:.3g} s),")
+        left = self.deadline.remaining()
+        if self.solves == EXACT_PROBE and left is not None and self.expected > self.solves:
+            need = self.seconds / self.solves * (self.expected - self.solves)
+            if need > left:
+                raise self._refuse(f"need at least {self.expected} sparse solves, about "
+                                   f"{need:.3g} s more at {self.seconds / self.solves:.2g} s "
+                                   f"each, {left:.3g} s left of")
+
+    def __call__(self, w: float) -> np.ndarray:
+        w = abs(float(w))
+        found = self._cache.get(w)
+        if found is not None:
+            return found
+        self._check_time()
+        start = time.monotonic()
+        try:
+            with np.errstate(all="ignore"):
+                if self._residuals is None:
+                    self._residuals = Residuals(self.K, self.M,
+                                                self.C if self.C is not None else 0 * self.M)
+                result = transfer_at(self.M, self.C, self.K, self.B, w, EXACT_REFINEMENTS,
+                                     self._residuals)[self.rows]
+        except RuntimeError:    # exactly singular (an undamped resonance, a free body at 0)
+            result = np.full((len(self.rows), self.B.shape[1]), np.inf, dtype=complex)
+        self.solves += 1
+        self.seconds += time.monotonic() - start
+        if len(self._cache) >= EXACT_CACHE:
+            self._cache.pop(next(iter(self._cache)))
+        self._cache[w] = result
+        return result
+
 
 @dataclass(frozen=True)
 class LinearPart:
@@ -156,7 +259,9 @@ class LinearPart:
 
     ``transfer(w)`` is ``rows -> (nonlinear unit loads, external loads)`` at w:
     Lq diag(1/(i w - mu)) Rin.  ``rows`` are the nonlinear coordinates (first m)
-    then the observed ones.
+    then the observed ones.  With ``exact`` (a reduced model that did not reach its
+    tolerance) the transfers are its exact solves; the poles and residues, from that
+    reduced model, serve the stability analysis only.
     """
 
     mu: np.ndarray          # (2r,) poles
@@ -168,9 +273,13 @@ class LinearPart:
     size: int               # r
     seconds: float
     top: float = math.inf   # the highest frequency it holds for (a reduced model's band)
+    exact: ExactTransfers | None = None
+    why: str = ""           # why the exact transfers replace the reduced model's
 
     def transfer(self, w: float, rows: slice | np.ndarray = slice(None)) -> np.ndarray:
         """(rows, m + p) transfer at w (default: every kept row)."""
+        if self.exact is not None:
+            return self.exact(w)[rows]
         with np.errstate(all="ignore"):
             result: np.ndarray = (self.Lq[rows] / (1j * w - self.mu)) @ self.Rin
             return result
@@ -194,7 +303,9 @@ def linear_part(M: Matrix, C: Matrix, K: Matrix, loads: np.ndarray, nonlinear: S
     exact : bool, optional
         Use the full matrices (default: for n <= :data:`EXACT_SIZE`).
     tol : float
-        Tolerance of the reduced model.
+        Tolerance of the reduced model.  Where neither the reduced model nor a basis of
+        modes and Ritz vectors reaches it, the transfers are exact sparse solves
+        (:class:`ExactTransfers`) and the unconverged reduced model gives the poles.
 
     Returns
     -------
@@ -202,6 +313,7 @@ def linear_part(M: Matrix, C: Matrix, K: Matrix, loads: np.ndarray, nonlinear: S
     """
     start = time.monotonic()
     n = M.shape[0]
+    exact_part, why = None, ""
     nl = list(nonlinear)
     rows = nl + [i for i in observed if i not in nl]
     exact = n <= EXACT_SIZE if exact is None else exact
@@ -225,8 +337,10 @@ def linear_part(M: Matrix, C: Matrix, K: Matrix, loads: np.ndarray, nonlinear: S
         if basis is None and symmetric(M) and symmetric(K):
             basis = modal_ritz_basis(M, C, K, B, float(band.max()), rows, tol, deadline)
         if basis is None:
-            raise AnalysisError(f"the reduced model of the linear part did not reach the "
-                                f"tolerance {tol:.2g}: {rom.reason}")
+            why = _exact_instead(rom, tol)
+            finite = rom.estimated_error[np.isfinite(rom.estimated_error)]
+            basis = rom.V, float(np.max(finite, initial=math.inf if finite.size == 0 else 0))
+            exact_part = ExactTransfers(M, C, K, B, rows, why, deadline)
         V, error = basis
         Mr, Cr, Kr = (V.T @ (a @ V) for a in (M, C if C is not None else 0 * M, K))
         Br = V.T @ B
@@ -235,7 +349,22 @@ def linear_part(M: Matrix, C: Matrix, K: Matrix, loads: np.ndarray, nonlinear: S
     Vrows = np.eye(n)[rows] if V is None else V[rows]
     Rin = Xinv[:, r:] @ np.linalg.solve(Mr, Br)
     return LinearPart(mu, Vrows @ X[:r], Vrows @ X[r:], Rin, len(nl), error, r,
-                      time.monotonic() - start, math.inf if exact else float(band.max()))
+                      time.monotonic() - start, math.inf if exact else float(band.max()),
+                      exact_part, why if exact_part is not None else "")
+
+
+def _exact_instead(rom: ReducedModel, tol: float) -> str:
+    """Why exact receptances replace the reduced model ``rom`` short of ``tol``; refused
+    where it has no vector to give the poles, or where its rounding floor (that of every
+    solve, exact ones included) lies above ``tol``."""
+    why = f"the reduced model did not reach the tolerance {tol:.2g}: {rom.reason}"
+    refusal = why.replace("reduced model", "reduced model of the linear part", 1)
+    if rom.floor > tol:
+        raise AnalysisError(f"{refusal} (exact solves round off as much: a tolerance above "
+                            f"{rom.floor:.2g} with --tol, or tol=)")
+    if rom.V.shape[1] == 0:
+        raise AnalysisError(refusal)
+    return why
 
 
 # -- the harmonic balance -----------------------------------------------------------------
@@ -345,6 +474,10 @@ class CondensedBalance:
             if len(self._cache) > 64:
                 self._cache.clear()
             lin = self.linear
+            if lin.exact is not None:
+                self._cache[W] = np.array([lin.transfer(k * W, slice(0, self.m))
+                                           for k in range(self.H + 1)])
+                return self._cache[W]
             with np.errstate(all="ignore"):  # every harmonic at once (m rows: small)
                 ws = W * np.arange(self.H + 1)
                 self._cache[W] = (lin.Lq[None, :self.m] / (1j * ws[:, None, None] - lin.mu)
@@ -999,8 +1132,7 @@ def condensed_sweep(system: NonlinearSystem, param: str, start: float, stop: flo
     Wmax = max(setup.base(float(p)) for p in grid)
     names = tuple(coords[i] for i in nl + observed)
     balances = _Balances(setup, parts.elements, nl, observed, names, series, param, Wmax,
-                         samples,
-                         exact, tol, deadline)
+                         samples, exact, tol, deadline, points)
     limit = MAX_HARMONICS if samples is None else \
         max(harmonics, min(MAX_HARMONICS, samples // 4 - 1))
     hb, branch, failed = _branch(balances, harmonics, given is not None, start, stop, points,
@@ -1032,7 +1164,9 @@ def condensed_sweep(system: NonlinearSystem, param: str, start: float, stop: flo
     if hb.H > 1 and trunc > TRUNCATION_TOL:
         warnings.append(_truncation_warning(hb, coeffs, Ws, branch.p, given is not None,
                                             failed, elements))
-    if lin.error > 0:
+    if lin.exact is not None:
+        warnings.append(_exact_warning(lin))
+    elif lin.error > 0:
         warnings.append(f"linear part: reduced model of {lin.size} vectors, largest error "
                         f"{lin.error:.2g} of its transfer functions where checked against "
                         "exact solves (an estimate, not a bound)")
@@ -1048,6 +1182,16 @@ def condensed_sweep(system: NonlinearSystem, param: str, start: float, stop: flo
         outputs=series.names if series else (), output_coefficients=out_coeffs)
 
 
+def _exact_warning(lin: LinearPart) -> str:
+    """What the exact receptances that replaced the reduced model cost."""
+    assert lin.exact is not None
+    return (f"linear part: {lin.why}; the balance used the exact receptances instead "
+            f"({lin.exact.solves} sparse LU solves at the harmonics' frequencies, "
+            f"{lin.exact.seconds:.3g} s), the stability analysis that reduced model "
+            f"({lin.size} vectors, estimated error {lin.error:.2g}); a larger tolerance "
+            "(--tol) keeps the reduced model and is faster")
+
+
 class _Balances:
     """The condensed balance of one sweep at any H: the linear part built once per band
     (a reduced model holds up to the band it was built for, H W_max; the full matrices
@@ -1057,10 +1201,11 @@ class _Balances:
                  observed: list[int],
                  names: tuple[str, ...], series: OutputSeries | None, param: str,
                  Wmax: float, samples: int | None, exact: bool | None, tol: float,
-                 deadline: Deadline) -> None:
+                 deadline: Deadline, points: int = 0) -> None:
         self.setup, self.elements, self.nl, self.observed = setup, elements, nl, observed
         self.names, self.series, self.param, self.Wmax = names, series, param, Wmax
         self.samples, self.exact, self.tol, self.deadline = samples, exact, tol, deadline
+        self.points = points
         self.parts: list[LinearPart] = []
 
     def at(self, H: int) -> CondensedBalance:
@@ -1072,6 +1217,8 @@ class _Balances:
                               np.linspace(0.0, top, BAND_POINTS), exact=self.exact,
                               tol=self.tol, deadline=self.deadline)
             self.parts.append(lin)
+        if lin.exact is not None:
+            lin.exact.expected = EXACT_SOLVES * H * self.points
         N = self.samples or default_samples(self.elements, H)
         outputs = None
         if self.series is not None:
@@ -1215,4 +1362,5 @@ def _truncation_warning(hb: CondensedBalance, coeffs: np.ndarray, Ws: np.ndarray
 
 
 __all__ = ["condensed_sweep", "default_samples", "harmonic_resonance",
-           "CondensedBalance", "LinearPart", "linear_part", "EXACT_SIZE"]
+           "CondensedBalance", "LinearPart", "linear_part", "EXACT_SIZE",
+           "ExactTransfers"]

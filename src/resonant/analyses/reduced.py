@@ -88,6 +88,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..memory import budget
 from ..modal import factor_stiffness, modes_below
+from .forward_error import Residuals
 from .threads import blas_threads
 
 if TYPE_CHECKING:
@@ -1445,6 +1446,9 @@ class ReducedModel:
     adjoint_residuals : ndarray
         (q,) the largest relative residual ||A(w) V y(w) - c|| / ||c|| over the band of
         each column c of ``adjoints`` (computed, not estimated; empty without).
+    floor : float
+        The largest rounding floor of the model's conditioning over the band: the
+        accuracy of any double-precision solve there, exact ones included (an estimate).
     """
 
     V: np.ndarray
@@ -1459,6 +1463,7 @@ class ReducedModel:
     expansion: tuple[float, ...]
     seconds: float
     adjoint_residuals: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    floor: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("V", "Mr", "Cr", "Kr", "Br", "estimated_error", "adjoint_residuals"):
@@ -1596,6 +1601,7 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
 
         ops.side = side
     errors, checks, expansion, reasons = [], [], [], []
+    floor = 0.0
     shared: tuple[_Projection, _Residual] | None = None
     model: _Enrichment | None = None
     try:
@@ -1612,6 +1618,7 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
                           if model.finite.any() else float("inf"))
             checks += model.checks
             expansion += model.expansion
+            floor = max(floor, float(np.max(model.floor, initial=0.0)))
             if model.reason:
                 reasons.append(model.reason)
         residuals = np.zeros(0)
@@ -1633,7 +1640,7 @@ def reduced_model(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, w: np.ndarray,
                                    "the estimated error stayed above the tolerance")
     return ReducedModel(V, Mr, Cr, Kr, _real_times(V.T, B), err, tuple(checks),
                         converged, reason, tuple(sorted(set(expansion))),
-                        time.monotonic() - start, residuals)
+                        time.monotonic() - start, residuals, floor)
 
 
 def _adjoint_point(ops: _Operators, w: np.ndarray) -> float:
@@ -1763,10 +1770,16 @@ def modal_ritz_basis(M: Matrix, C: Matrix, K: Matrix, B: np.ndarray, top: float,
     return None
 
 
-def transfer_at(M: Matrix, C: Matrix | None, K: Matrix, B: np.ndarray, w: float
-                ) -> np.ndarray:
+def transfer_at(M: Matrix, C: Matrix | None, K: Matrix, B: np.ndarray, w: float,
+                refine: int = 0, residuals: Residuals | None = None) -> np.ndarray:
     """(K - w^2 M + i w C)^-1 B at one frequency by one sparse LU: the exact reference a
     reduced basis is checked against.
+
+    ``refine`` steps of iterative refinement with residuals in extended precision
+    (:meth:`~resonant.analyses.forward_error.Residuals.extended`, from ``residuals`` when
+    given; Higham 2002, ch. 12) make the answer accurate to about the unit roundoff
+    where the LU's own error, of the order of the condition number times it, would vary
+    from one frequency to the next.
 
     Examples
     --------
@@ -1779,7 +1792,16 @@ def transfer_at(M: Matrix, C: Matrix | None, K: Matrix, B: np.ndarray, w: float
     from scipy.sparse.linalg import splu
 
     A = sp.csc_matrix(K - w * w * M + (1j * w * C if C is not None else 0 * M))
-    return np.asarray(splu(A).solve(B))
+    lu = splu(A)
+    X = np.asarray(lu.solve(B))
+    if refine:
+        B = np.asarray(B, dtype=complex).reshape(X.shape)
+        res = residuals or Residuals(K, M, C if C is not None else 0 * M)
+        real = not np.iscomplexobj(A.data)
+        for _ in range(refine):
+            R = np.column_stack([res.extended(w, X[:, j], B[:, j]) for j in range(X.shape[1])])
+            X = X + (lu.solve(R.real) + 1j * lu.solve(R.imag) if real else lu.solve(R))
+    return X
 
 
 __all__ = ["reduced_response", "ReducedResponse", "reduced_model", "ReducedModel",
