@@ -44,6 +44,7 @@ import numpy as np
 
 from .arrays import Matrix
 from .errors import AnalysisError, ResonantError
+from .memory import dense_matrix
 
 #: |lambda| < ZERO_EIGENVALUE * max |lambda| of the point is a round-off zero
 ZERO_EIGENVALUE = 1e-12
@@ -161,8 +162,7 @@ def undamped_eigenvalues(M: Matrix, K: Matrix) -> np.ndarray:
     """
     import scipy.linalg
 
-    Md, Kd = (a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
-              for a in (M, K))
+    Md, Kd = (dense_matrix(a) for a in (M, K))
     diag = np.diag(Md)
     lower = 0
     rows, cols = np.nonzero(Kd)
@@ -1010,8 +1010,7 @@ def gyroscopic_modes(M: np.ndarray, C: np.ndarray, K: np.ndarray
     """
     import scipy.linalg
 
-    M, C, K = (np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
-               for a in (M, C, K))
+    M, C, K = (dense_matrix(a) for a in (M, C, K))
     require_finite("M, C or K", M, C, K)
     n = M.shape[0]
     try:
@@ -1137,8 +1136,7 @@ def synchronous_speeds(M: Matrix, G: Matrix, K: Matrix, order: float = 1.0
     """
     import scipy.linalg
 
-    M, G, K = (np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
-               for a in (M, G, K))
+    M, G, K = (dense_matrix(a) for a in (M, G, K))
     require_finite("M, G or K", M, G, K)
     lam, X = scipy.linalg.eig(K.astype(complex), order * order * M - 1j * order * G)
     scale = max(1.0, float(np.nanmax(np.abs(lam[np.isfinite(lam)]), initial=1.0)))

@@ -87,7 +87,7 @@ import numpy as np
 from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, AnalysisTimeout, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
-from ..memory import budget, chunk_rows
+from ..memory import budget, chunk_rows, dense_matrix
 from ..modal import (
     eigenvalues,
     fundamental_strip,
@@ -321,8 +321,7 @@ def linear_part(M: Matrix, C: Matrix, K: Matrix, loads: np.ndarray, nonlinear: S
     unit[nl, range(len(nl))] = 1.0
     B = np.hstack([unit, np.asarray(loads, dtype=complex).reshape(n, -1)])
     if exact:
-        dense = [a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
-                 for a in (M, C, K)]
+        dense = [dense_matrix(a) for a in (M, C, K)]
         V = None
         Mr, Cr, Kr = dense
         Br = B

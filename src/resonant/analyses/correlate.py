@@ -33,6 +33,7 @@ from ..charts import (
 )
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
+from ..memory import dense_matrix
 from ..modal import modal_assurance, undamped_eigen
 from ..model.measurement_spec import ChannelMap
 from ..model.units_display import ResultUnits, cyclic_shown
@@ -214,8 +215,7 @@ def model_shapes(system: LinearSystem, channels: Mapping[str, ChannelMap], *,
                                      f"'{c.name}'; mode shapes are compared at coordinates",
                                      system.source, "measurement.channels", channel))
         rows.append(num.coordinates.index(c.name))
-    M, K = (np.asarray(a.toarray() if hasattr(a, "toarray") else a, float)
-            for a in (num.M, num.K))
+    M, K = (dense_matrix(a) for a in (num.M, num.K))
     lam, phi = undamped_eigen(M, K)
     return np.sqrt(np.maximum(lam, 0.0)) / (2 * np.pi), phi[rows]
 

@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 
 from ..arrays import Matrix, freeze_fields
+from ..memory import dense_matrix
 from ..modal import ZERO_EIGENVALUE, symmetric_eigenvalues
 from ..system.base import LinearSystem, NumericEOM
 from .result_fields import FieldsJSON, saved
@@ -167,10 +168,6 @@ class MatrixChecks(FieldsJSON):
         return "\n".join(lines)
 
 
-def _dense(a: Matrix) -> np.ndarray:
-    return np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
-
-
 def _asymmetry(a: Matrix) -> float:
     scale = abs(a).max()
     if scale == 0:
@@ -288,8 +285,8 @@ def check_matrices(system: LinearSystem, *, nodes: Mapping[int, Sequence[float]]
     stiff_eigen: tuple[float, ...] = ()
     rigid: int | None = None
     if dense and present and not problems:
-        lam_m = symmetric_eigenvalues(_dense(num.M))
-        lam_k = symmetric_eigenvalues(_dense(num.K))
+        lam_m = symmetric_eigenvalues(dense_matrix(num.M))
+        lam_k = symmetric_eigenvalues(dense_matrix(num.K))
         mass_eigen = (float(lam_m[0]), float(lam_m[-1]))
         stiff_eigen = (float(lam_k[0]), float(lam_k[-1]))
         zero_k = ZERO_EIGENVALUE * 1e3 * max(abs(lam_k[-1]), 1e-300)

@@ -41,7 +41,7 @@ from collections.abc import Collection, Mapping, Sequence
 import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
-from ..memory import require
+from ..memory import dense_matrix, require
 from ..model.measurement_spec import ChannelMap
 from ..system.base import LinearSystem, NumericEOM
 from ..system.excitation import excitation_columns
@@ -56,10 +56,6 @@ ANALYTIC_LIMIT = 2000
 STACKED_LIMIT = 24
 #: relative step of the matrices' central differences
 _STEP = 1e-6
-
-
-def _dense(a: object) -> np.ndarray:
-    return np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
 
 
 def _loads(system: LinearSystem, num: NumericEOM, signals: Sequence[str],
@@ -123,7 +119,7 @@ def loads_depend_on(system: LinearSystem, signals: Sequence[str], names: Sequenc
 
 def _derivative(a: np.ndarray | object, up: int, down: int, h: float) -> np.ndarray | float:
     """The central difference of a batch's matrix of two points (0 when it is constant)."""
-    a = a.toarray() if hasattr(a, "toarray") else np.asarray(a)
+    a = dense_matrix(a, None)
     return (a[up] - a[down]) / (2 * h) if np.ndim(a) == 3 else 0.0
 
 

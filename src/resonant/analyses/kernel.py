@@ -67,7 +67,7 @@ import numpy as np
 from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
-from ..memory import require
+from ..memory import dense_matrix, require
 from ..modal import largest_abs
 from ..model.options import SWEEP_METHODS
 from ..system.batch import Batch, BatchHarmonic
@@ -486,16 +486,12 @@ def choose_method(batch_or_matrices: Batch, n_points: int = 1,
     elif lower + upper + 1 <= max(3, n // 10):
         return "banded"
     if n <= 3000:
-        M, C, K = (_dense(a) for a in (b.M, b.C, b.K))
+        M, C, K = (dense_matrix(a) for a in (b.M, b.C, b.K))
         if _symmetric(M) and _symmetric(K) and _symmetric(C) and _is_proportional(M, C, K):
             return "modal"
     if sparse:   # dense enough to consider the dense LU: the cheapest by the cost model
         return choose_direct(b, omega, costs)
     return "dense" if n <= 3000 else "sparse"
-
-
-def _dense(a: Matrix) -> np.ndarray:
-    return a.toarray() if hasattr(a, "toarray") else np.asarray(a)
 
 
 def _symmetric(a: np.ndarray) -> bool:
@@ -912,7 +908,7 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
                  Z: _Store, deadline: Deadline, condition: np.ndarray | None,
                  errors: Sampling | None = None) -> np.ndarray:
     N, n = w.shape[0], len(batch.coordinates)
-    M, C, K = (a.toarray() if hasattr(a, "toarray") else a for a in (batch.M, batch.C, batch.K))
+    M, C, K = (dense_matrix(a, None) for a in (batch.M, batch.C, batch.K))
     chunk = max(1, int(CHUNK_BYTES // (16 * n * n)))
     singular = np.zeros(N, dtype=bool)
     # no damping: A = K - w^2 M real, made complex by the solve (not where the exact
@@ -1348,7 +1344,7 @@ def _solve_modal(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
     """Superposition of all undamped modes (exact for proportional damping), checked."""
     import scipy.linalg
 
-    M, C, K = (_dense(a).astype(float) for a in (batch.M, batch.C, batch.K))
+    M, C, K = (dense_matrix(a).astype(float) for a in (batch.M, batch.C, batch.K))
     if not (_symmetric(M) and _symmetric(K) and _symmetric(C)):
         raise AnalysisError("method 'modal' needs symmetric M, C and K (no gyroscopic or "
                             "circulatory terms); use 'dense', 'banded' or 'sparse'")
@@ -1451,7 +1447,7 @@ class LineFactors:
         from scipy.linalg import lu_factor
         from scipy.linalg.lapack import zgbtrf
 
-        Md, Cd, Kd = (_dense(a) for a in (M, C, K))
+        Md, Cd, Kd = (dense_matrix(a) for a in (M, C, K))
         n = Kd.shape[0]
         self.w = np.asarray(w, dtype=float)
         w2 = (self.w ** 2)[:, None, None]

@@ -45,6 +45,7 @@ from ..charts import (
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..expressions import ExpressionError, numeric_value
+from ..memory import dense_matrix
 from ..modal import mass_normalized_modes, modal_assurance
 from ..model.measurement_spec import ChannelMap
 from ..model.units import parse_with_unit
@@ -242,8 +243,7 @@ class _Problem:
     def matrices(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         self.deadline.check("while updating the model", analysis=True)
         num = self.system.numeric(self.deadline, **dict(zip(self.names, map(float, p))))
-        return tuple(np.asarray(a.toarray() if hasattr(a, "toarray") else a, float)
-                     for a in (num.M, num.K))  # type: ignore[return-value]
+        return tuple(dense_matrix(a) for a in (num.M, num.K))  # type: ignore[return-value]
 
     def modes(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The paired model frequencies (Hz), eigenvalues and mass-normalized shapes."""

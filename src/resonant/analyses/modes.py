@@ -62,6 +62,7 @@ from ..charts import (
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, printable
 from ..expressions.notation import dollar_name
+from ..memory import dense_matrix
 from ..modal import (
     LIMITED_ACCURACY,
     accurate_product,
@@ -311,10 +312,6 @@ def _is_sparse(a: Matrix) -> TypeGuard[spmatrix | sparray]:
     return hasattr(a, "tocsr")
 
 
-def _dense(a: Matrix) -> np.ndarray:
-    return a.toarray() if _is_sparse(a) else np.asarray(a, dtype=float)
-
-
 def _symmetric(a: Matrix) -> bool:
     if _is_sparse(a):
         diff = abs(a - a.T)
@@ -405,7 +402,7 @@ def modes(system: LinearSystem, count: int | None = None,
         lam, phi, bounds = _lanczos(M, K, count)
         method = "shift-invert Lanczos"
     else:
-        M, C, K = _dense(M), _dense(C), _dense(K)
+        M, C, K = dense_matrix(M), dense_matrix(C), dense_matrix(K)
         check_mass_matrix(M, coordinates)
         lam, phi = undamped_eigen(M, K)
         bounds = _dense_bounds(M, K, lam, phi)

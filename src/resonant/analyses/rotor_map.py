@@ -43,7 +43,7 @@ from ..arrays import freeze_fields
 from ..charts import COLORS, Chart, Charted, Curve
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem
-from ..memory import require
+from ..memory import dense_matrix, require
 from ..modal import ZERO_STATE, gyroscopic_modes, synchronous_speeds
 from ..model.rotor import Bearing
 from ..system.base import LinearSystem, parameter_values
@@ -286,7 +286,7 @@ def critical_speed_map(system: LinearSystem, stiffness: Sequence[float] | np.nda
                                  system.source, "rotor", "shaft"))
     require(6 * 16.0 * n * n, f"the critical speed map of {n} coordinates", "use fewer "
             "shaft elements")
-    M, K0, G = (np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
+    M, K0, G = (dense_matrix(a)
                 for a in (spec.M, spec.K, spec.G if spec.G is not None else np.zeros((n, n))))
     base = _without_bearings(K0, spec.bearings)
     pattern = sum(_stiffness_pattern(b, n) for b in spec.bearings)
@@ -355,7 +355,7 @@ def _damped_map(system: LinearSystem, stiffness: np.ndarray, modes: int,
         return out
 
     def modes_at(speed: float, k: float) -> tuple[np.ndarray, np.ndarray]:
-        M, C, K = (np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
+        M, C, K = (dense_matrix(a)
                    for a in solver.matrices(np.array([speed]))[0])
         deadline.check("while computing the damped critical speed map", "stiffness",
                        analysis=True)

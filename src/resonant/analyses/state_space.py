@@ -40,10 +40,10 @@ from typing import Any
 
 import numpy as np
 
-from ..arrays import Matrix, freeze_fields
+from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
-from ..memory import require
+from ..memory import dense_matrix, require
 from ..modal import state_matrix
 from ..system.base import LinearSystem, NumericEOM, NumericOutput
 from ..system.excitation import excitation_columns
@@ -188,7 +188,7 @@ def state_space(system: LinearSystem, *, inputs: Sequence[str] | None = None,
     num = system.numeric(deadline, **dict(parameters or {}))
     n = num.n
     _check_size(num)
-    M, C, K = (_dense(a) for a in (num.M, num.C, num.K))
+    M, C, K = (dense_matrix(a) for a in (num.M, num.C, num.K))
     check_mass_matrix(M, num.coordinates)
     columns = excitation_columns(num, deadline=deadline)
     chosen = _inputs(num, columns, inputs)
@@ -261,10 +261,6 @@ def to_state_space(system: LinearSystem, *, inputs: Sequence[str] | None = None,
 
 
 # -- the pieces ---------------------------------------------------------------------------------
-
-def _dense(a: Matrix) -> np.ndarray:
-    return np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
-
 
 def _check_size(num: NumericEOM) -> None:
     n = num.n

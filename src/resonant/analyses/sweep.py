@@ -101,6 +101,7 @@ from ..charts import (
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, name_list, printable
 from ..expressions.notation import dollar_name
+from ..memory import dense_matrix
 from ..model.options import SweepOptions, chosen, names_tuple
 from ..model.units_display import (
     NO_UNIT,
@@ -120,7 +121,6 @@ from .kernel import (
     METHODS,
     SINGULAR_CONDITION,
     KernelResult,
-    _dense,
     _Progress,
     check_batch_mass,
     choose_method,
@@ -744,7 +744,7 @@ def sweep(system: LinearSystem, param: str, values: Sequence[float] | np.ndarray
     warnings.extend(_conditioning_warning(results, values, skipped_mask, param))
     scale = _frequency_scale(batch, values)
     natural = _natural_frequencies_of(batch)
-    if natural is not None and scale is not None and not np.any(_dense(batch.C)):
+    if natural is not None and scale is not None and not np.any(dense_matrix(batch.C)):
         warnings.extend(_undamped_warning(natural / scale, values, param))
     errors = [r.error for r in results if r.error is not None]
     used = [r.method for r in results]
@@ -874,7 +874,7 @@ def _natural_frequencies_of(batch: Batch) -> np.ndarray | None:
     if not (batch.constant and len(batch.coordinates) <= EAGER_EIGEN):
         return None
     try:
-        return _natural_frequencies(_dense(batch.M), _dense(batch.K))
+        return _natural_frequencies(dense_matrix(batch.M), dense_matrix(batch.K))
     except (np.linalg.LinAlgError, ValueError):
         return None
 

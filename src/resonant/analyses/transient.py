@@ -36,7 +36,7 @@ import numpy as np
 from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem, printable
-from ..memory import chunk_rows, require
+from ..memory import chunk_rows, dense_matrix, require
 from ..model.load_spec import ShockSpec
 from ..model.units_display import ResultUnits, shown_unit
 from ..system.base import LinearSystem, NumericEOM
@@ -227,8 +227,7 @@ def _state_space(system: LinearSystem, signal: str, derivative: int,
     """A, B (state), and the rows giving q'' = Pq X + pu u, for X = [q, q', w]."""
     num = system.numeric(deadline)
     n, m = num.n, derivative
-    M, C, K = (np.asarray(a.toarray() if hasattr(a, "toarray") else a, dtype=float)
-               for a in (num.M, num.C, num.K))
+    M, C, K = (dense_matrix(a) for a in (num.M, num.C, num.K))
     columns = excitation_columns(system, dict(num.parameters), deadline)
     loads = {order: c for (name, order), c in columns.items() if name == signal}
     if not loads and signal in num.coordinates:

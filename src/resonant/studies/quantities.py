@@ -45,6 +45,7 @@ from ..analyses.transient import shock_response
 from ..arrays import Matrix
 from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import ModelError, Problem, ResonantError
+from ..memory import dense_matrix
 from ..modal import (
     cholesky_lambdas,
     damping_ratio,
@@ -125,7 +126,7 @@ class Rows:
 def _stack(a: Matrix) -> np.ndarray:
     """A matrix as a stack: (N, n, n), or (1, n, n) when it is the same for every sample
     (so that what depends on it alone is computed once)."""
-    a = a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
+    a = dense_matrix(a)
     return a[None] if a.ndim == 2 else a
 
 

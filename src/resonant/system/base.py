@@ -37,7 +37,7 @@ from ..expressions.notation import (
     number_latex,
     vector_latex,
 )
-from ..memory import require
+from ..memory import dense_matrix, require
 from ..model import Model
 from ..model.options import SweepOptions
 from .batch import Batch, BatchHarmonic, Var, group_frequencies
@@ -648,7 +648,7 @@ class NumericEOM(LinearSystem):
         require(3.0 * 8 * n * n, f"dense M, C and K of {n} coordinates",
                 "this analysis works on dense matrices; modes (with a count), sweep and "
                 "random take the sparse ones, or reduce the model")
-        return replace(self, M=_dense(self.M), C=_dense(self.C), K=_dense(self.K))
+        return replace(self, M=dense_matrix(self.M), C=dense_matrix(self.C), K=dense_matrix(self.K))
 
     def evaluate(self, values: Mapping[str, Any], count: int,
                  deadline: Deadline = NO_DEADLINE) -> Batch:
@@ -712,10 +712,6 @@ class NumericEOM(LinearSystem):
 
     def _repr_latex_(self) -> str:
         return numeric_eom_latex(self)
-
-
-def _dense(a: Matrix) -> np.ndarray:
-    return a.toarray() if hasattr(a, "toarray") else np.asarray(a, dtype=float)
 
 
 def numeric_point(batch: Batch, i: int, system: LinearSystem | None = None,

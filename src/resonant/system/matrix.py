@@ -22,6 +22,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..derivation import LinearMap, SignalHarmonics, decompose_signals
 from ..errors import ModelError, Problem
 from ..expressions import Expression, Num, numeric_value
+from ..memory import dense_matrix
 from ..model import TIME, Model, symbol
 from ..model.rotor import SpeedTable
 from .base import LinearSystem
@@ -314,7 +315,7 @@ class MatrixEOM(LinearSystem):
         self._check_finite(omega, "speed")
         if omega.size == 1 and np.ndim(G) <= 2 and np.ndim(C) <= 2:
             return C + float(omega.reshape(-1)[0]) * G
-        dense = [a.toarray() if hasattr(a, "toarray") else np.asarray(a) for a in (C, G)]
+        dense = [dense_matrix(a, None) for a in (C, G)]
         return dense[0] + omega.reshape(-1, 1, 1) * dense[1]
 
     def _check_finite(self, array: npt.ArrayLike, key: str, section: str = "matrices") -> None:
