@@ -150,14 +150,19 @@ def sparse_chain_model(tmp_path: Path, n: int, sections: str) -> Path:
 
 
 def test_a_sparse_model_s_dense_analyses_and_many_lines_are_refused(tmp_path: Path) -> None:
-    """A 3,000-coordinate sparse chain under a 64 MiB budget: the simulation made M, C and
-    K dense (216 MiB) and the random response with 2 10^4 lines kept every coordinate at
+    """A 3,000-coordinate sparse chain under a 64 MiB budget: the simulation and the largest
+    shock responses made M, C and K dense (216 MiB) and the random response with 2 10^4 lines kept every coordinate at
     every frequency, in the reduced model's responses too (an internal MemoryError under
     the address-space limit); both are refused (exit 3) with the size, before the work."""
     path = sparse_chain_model(tmp_path, 3000, "[random]\nband = [0.1, 20]\nlines = 20000\n"
-                                              '[random.psd.W]\nvalues = 1\nload = "load.npy"\n')
+                                              '[random.psd.W]\nvalues = 1\nload = "load.npy"\n'
+                                              '[shock]\nsignal = "q3000"\npulse = "half-sine"\n'
+                                              "amplitude = 1\nduration = 0.01\nstep = 1e-4\n"
+                                              "total = 1\n")
     env = {"RESONANT_MEMORY": "64M"}
     code, _, err = run_limited(["simulate", path, "--duration", "10"], env=env)
     assert code == 3 and "dense M, C and K of 3000 coordinates" in err, err
     code, _, err = run_limited(["random", path], env=env)
     assert code == 3 and "x 3000 coordinates" in err and "above the budget" in err, err
+    code, _, err = run_limited(["srs", path, "--largest"], env=env)
+    assert code == 3 and "3000 x 3000 sparse matrix" in err, err
