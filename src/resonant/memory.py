@@ -23,10 +23,11 @@ from __future__ import annotations
 import math
 import os
 import re
-from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
+from .arrays import Matrix
 from .errors import AnalysisError, ModelError, Problem
 
 #: the budget without ``RESONANT_MEMORY``
@@ -109,13 +110,13 @@ def chunk_rows(row_bytes: float, total: int) -> int:
     return int(max(1, min(total, CHUNK_BYTES // max(row_bytes, 1.0))))
 
 
-def dense_matrix(a: Any, dtype: Any = float) -> np.ndarray:
+def dense_matrix(a: Matrix, dtype: npt.DTypeLike | None = float) -> np.ndarray:
     """``a`` as a dense array; a sparse matrix is refused (AnalysisError) where its dense
     form would be above the budget.
 
     Parameters
     ----------
-    a : array_like or scipy sparse matrix
+    a : ndarray or scipy sparse matrix
     dtype : numpy dtype, optional
         Of the result (None: the input's).
 
@@ -125,14 +126,14 @@ def dense_matrix(a: Any, dtype: Any = float) -> np.ndarray:
     >>> dense_matrix(sp.identity(2, format="csr")).tolist()
     [[1.0, 0.0], [0.0, 1.0]]
     """
-    if hasattr(a, "toarray"):
-        rows, columns = a.shape
-        require(float(np.dtype(dtype or a.dtype).itemsize) * rows * columns,
-                f"the dense form of a {rows} x {columns} sparse matrix",
-                "this analysis works on dense matrices; modes (with a count), sweep and "
-                "random take the sparse ones, or reduce the model")
-        return np.asarray(a.toarray(), dtype=dtype)
-    return np.asarray(a, dtype=dtype)
+    if isinstance(a, np.ndarray) or not hasattr(a, "toarray"):
+        return np.asarray(a, dtype=dtype)
+    rows, columns = a.shape
+    require(float(np.dtype(dtype or a.dtype).itemsize) * rows * columns,
+            f"the dense form of a {rows} x {columns} sparse matrix",
+            "this analysis works on dense matrices; modes (with a count), sweep and "
+            "random take the sparse ones, or reduce the model")
+    return np.asarray(a.toarray(), dtype=dtype)
 
 
 __all__ = ["DEFAULT_BUDGET", "CHUNK_BYTES", "budget", "size_text", "require", "chunk_rows",
