@@ -94,3 +94,38 @@ def test_the_command_lines_methods_are_the_records():
     sweep = parser._subparsers._group_actions[0].choices["sweep"]  # type: ignore[union-attr]
     method = next(a for a in sweep._actions if a.dest == "method")
     assert tuple(method.choices) == SWEEP_METHODS
+
+
+def test_the_methods_table_of_the_guide_is_the_code_table():
+    """docs/sweeps.md lists each method of ``SOLVE_METHODS`` with its own words: a new
+    method is one entry in the code, and the guide cannot drift from it."""
+    from pathlib import Path
+
+    from resonant.model.options import SOLVE_METHODS
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "sweeps.md").read_text(
+        encoding="utf-8")
+    rows = [line for line in text.splitlines() if line.startswith("| `")]
+    listed = {}
+    for row in rows:
+        cells = [cell.strip() for cell in row.strip("|").split("|")]
+        listed[cells[0].strip("`")] = (cells[1], cells[2])
+    for name, method in SOLVE_METHODS.items():
+        key = next(k for k in listed if k.split("`")[0] == name)
+        assert listed[key] == (method.does, method.exact), name
+    assert set(SWEEP_METHODS) == set(SOLVE_METHODS)
+
+
+def test_every_method_the_kernel_is_given_is_one_it_knows():
+    """An unknown method is refused by the kernel itself, not solved as another one."""
+    import numpy as np
+
+    from resonant.analyses.kernel import solve_harmonic
+    from resonant.system.batch import BatchHarmonic
+
+    eom = resonant.load(EXAMPLES / "cart_pendulum.toml").linearize()
+    batch = eom.batch("omega", np.array([1.0, 2.0]))
+    n = len(batch.coordinates)
+    harmonic = BatchHarmonic(np.array([1.0, 2.0]), np.zeros(n), np.ones(n))
+    with pytest.raises(AnalysisError, match="unknown method 'fastest'"):
+        solve_harmonic(batch, harmonic, "fastest")

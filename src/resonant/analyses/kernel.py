@@ -69,7 +69,7 @@ from ..deadline import NO_DEADLINE, Deadline, DeadlineExceeded
 from ..errors import AnalysisError
 from ..memory import dense_matrix, require
 from ..modal import largest_abs
-from ..model.options import SWEEP_METHODS
+from ..model.options import SOLVE_METHODS, SWEEP_METHODS
 from ..system.batch import Batch, BatchHarmonic
 from ..system.stability import check_mass_matrix
 from . import reduced as reduced_module
@@ -640,6 +640,9 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     (:func:`resonant.analyses.threads.blas_threads`: one thread for small matrices and
     never more than the idle cores).
     """
+    if method not in SOLVE_METHODS:
+        raise AnalysisError(f"unknown method '{method}'; choose one of "
+                            f"{', '.join(SWEEP_METHODS)}")
     n = len(batch.coordinates)
     # the largest dense call: an n x n LU (dense, modal) or the reduced basis' products
     with blas_threads(8.0 * min(float(n) ** 3, float(n) * 1e4)):
@@ -674,7 +677,7 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
         progress.advance(N)
         return KernelResult(np.zeros((N, len(keep)), dtype=complex), np.zeros(N, dtype=bool),
                             np.ones(N), False,
-                            method if method not in ("auto", "direct") else "dense",
+                            "dense" if SOLVE_METHODS[method].chooses else method,
                             forward_error=np.zeros(N) if forward_error else None)
     if rhs.ndim == 2 and np.all(rhs == rhs[:1]):
         rhs = rhs[0]
@@ -689,7 +692,7 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                             f"the tolerance {tol:.2g}; use method 'direct' for an exact solve")
         return result
     probe: dict[float, Any] = {}
-    if method in ("auto", "direct"):
+    if SOLVE_METHODS[method].chooses:
         # one measured factorization (in the band, at a frequency of w) for the choice,
         # reused by the reduced model or the sparse direct sweep
         costs, probe = _costs_and_probe(batch, w)

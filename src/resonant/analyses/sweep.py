@@ -102,7 +102,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, name_list, printable
 from ..expressions.notation import dollar_name
 from ..memory import dense_matrix
-from ..model.options import SweepOptions, chosen, names_tuple
+from ..model.options import SOLVE_METHODS, SweepOptions, chosen, names_tuple
 from ..model.units_display import (
     NO_UNIT,
     ResultUnits,
@@ -799,7 +799,7 @@ def _check_request(batch: Batch, names: Sequence[str], values: np.ndarray, metho
             f"{max(len(batch.harmonics), 1)} harmonic(s) = {results:.3g} results; a sweep is "
             f"limited to {MAX_SWEEP_RESULTS:.0e}: use fewer --points or report fewer "
             "quantities (--only)")
-    if method in ("banded", "sparse", "modal", "reduced") and not batch.constant:
+    if SOLVE_METHODS[method].constant_only and not batch.constant:
         raise AnalysisError(f"method '{method}' needs M, C and K that do not depend on "
                             f"'{param}'; use 'dense'")
 

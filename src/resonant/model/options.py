@@ -34,8 +34,57 @@ from typing import TypeVar
 
 from ..errors import AnalysisError
 
-#: the solution methods of a linear sweep (docs/sweeps.md)
-SWEEP_METHODS = ("auto", "direct", "dense", "banded", "sparse", "modal", "reduced")
+
+@dataclass(frozen=True)
+class SolveMethod:
+    """One way to solve (K - w^2 M + i w C) z = F: an entry of ``SOLVE_METHODS``.
+
+    Parameters
+    ----------
+    name : str
+        What a user writes (``method="banded"``, ``--method banded``).
+    does : str
+        What it does, in one sentence (the table of docs/sweeps.md).
+    exact : str
+        How exact its answer is (``"yes"``, ``"to the tolerance"``, ...).
+    chooses : bool
+        Whether it picks another method of the table by cost (``auto``, ``direct``)
+        instead of solving itself.
+    constant_only : bool
+        Whether it needs M, C and K that do not depend on the swept parameter (it
+        factorizes or reduces one matrix triple for every frequency).
+    """
+
+    name: str
+    does: str
+    exact: str
+    chooses: bool = False
+    constant_only: bool = False
+
+
+#: the solution methods of the harmonic kernel, each with its meaning, in the order the
+#: documentation lists them; a new method is one entry here and its solver in
+#: :func:`resonant.analyses.kernel.solve_harmonic`
+SOLVE_METHODS: Mapping[str, SolveMethod] = MappingProxyType({m.name: m for m in (
+    SolveMethod("dense", "a stack of complex matrices, one LAPACK solve per chunk of "
+                "frequencies", "yes"),
+    SolveMethod("banded", "LAPACK `gbsv` (`gtsv` for three diagonals) per frequency, for a "
+                "narrow band — in the coordinates' reverse Cuthill-McKee order where that is "
+                "narrower than the order given (an assembler's numbering can hide a beam's "
+                "band: a Timoshenko beam's 2,003 becomes 5)", "yes", constant_only=True),
+    SolveMethod("sparse", "a SuperLU factorization per frequency (fill-reducing ordering)",
+                "yes", constant_only=True),
+    SolveMethod("modal", "superposition of *all* undamped modes; checked against a direct "
+                "solve", "yes, for proportional damping", constant_only=True),
+    SolveMethod("reduced", "a reduced-order model accurate to `--tol` (below)",
+                "to the tolerance", constant_only=True),
+    SolveMethod("direct", "the cheapest of `dense`, `banded`, `sparse` by their estimated "
+                "cost", "yes", chooses=True),
+    SolveMethod("auto", "`reduced` where it pays and meets `--tol`, otherwise the exact "
+                "method `direct` would pick", "to the tolerance, or exact", chooses=True),
+)})
+#: the names of the solution methods, ``auto`` (the default) first
+SWEEP_METHODS = ("auto", *(name for name in SOLVE_METHODS if name != "auto"))
 #: the integrators of a simulation (:func:`scipy.integrate.solve_ivp` methods)
 INTEGRATORS = ("DOP853", "RK45", "LSODA", "Radau", "BDF")
 #: where a simulation started (``Simulation.start``) -> how its text and plots say it
@@ -299,5 +348,5 @@ def names_tuple(names: Sequence[str] | None) -> tuple[str, ...] | None:
 
 
 __all__ = ["SweepOptions", "BalanceOptions", "SimulationOptions", "chosen", "check_harmonics",
-           "names_tuple", "SWEEP_METHODS", "INTEGRATORS", "START_MODES", "START_KINDS",
-           "MAX_GIVEN_HARMONICS", "MIN_BRANCH_POINTS"]
+           "names_tuple", "SolveMethod", "SOLVE_METHODS", "SWEEP_METHODS", "INTEGRATORS",
+           "START_MODES", "START_KINDS", "MAX_GIVEN_HARMONICS", "MIN_BRANCH_POINTS"]
