@@ -91,3 +91,22 @@ def test_errors() -> None:
         backbone(load(DUFFING), amplitude=-1.0)
     with pytest.raises(AnalysisError, match="mode 3"):
         backbone(load(DUFFING), amplitude=1.0, modes=[3])
+
+
+def test_a_halved_step_grows_back(monkeypatch):
+    """After Newton fails once and the amplitude step is halved, the step grows again when
+    Newton converges: following a backbone takes a few Newton iterations per point, not a
+    creep of tiny steps (the two-DOF cubic model: 36,000 iterations before, ~500 now)."""
+    from resonant.analyses import backbone as module
+
+    calls = []
+    original = module._Free.system
+
+    def counted(self, y, A):
+        calls.append(A)
+        return original(self, y, A)
+
+    monkeypatch.setattr(module._Free, "system", counted)
+    curves = load(EXAMPLES / "two_dof_cubic.toml").backbone(harmonics=3, points=6)
+    assert [len(c.frequencies) for c in curves.curves] == [6, 6]
+    assert len(calls) < 2000, len(calls)

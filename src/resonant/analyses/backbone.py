@@ -277,6 +277,7 @@ def _follow(free: _Free, y0: np.ndarray, A0: float, targets: np.ndarray, deadlin
                 if trial > A_now:
                     slope = (y - y_now) / (trial - A_now)
                 A_now, y_now = trial, y
+                step *= 2   # a halved step grows back once Newton converges again
             else:
                 step /= 2
                 if step < 1e-9 * max(A, 1e-300):
