@@ -6,9 +6,9 @@ the model by its file name only.  Every bundled example is run by its *absolute*
 that applies to it -- ``solve``/``modes``/``energies`` ``--json`` and text, the report
 as HTML (and as Markdown and LaTeX for one model of each kind of content), the
 interactive page, the drawing, the study's Parquet file, ``--json`` and pictures, the
-exercise in every format (HTML, Markdown, LaTeX, Moodle XML, the JSON key) and ``grade --json`` -- and every byte written (text or
-binary: Parquet metadata, PNG and SVG metadata) and every printed text is searched for
-the repository's path, the home directory and the test's temporary directory (a terminal
+exercise in every format (HTML, Markdown, LaTeX, Moodle XML, the JSON key) and
+``grade --json`` -- and every byte written (text or binary: Parquet metadata, PNG and SVG
+metadata) and every printed text is searched for the repository's path, the home directory and the test's temporary directory (a terminal
 message may repeat the output path the user typed: that one is not counted).
 """
 
