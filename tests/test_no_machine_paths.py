@@ -1,15 +1,15 @@
 """No output of resonant carries an absolute path of the machine it ran on.
 
-A report, a page, a study file or an answer key is something one hands on: it names
-the model by its file name only.  Every bundled example is run by its *absolute* path
-(the worst case: the path the user typed is the full one) through every output format
-that applies to it -- ``solve``/``modes``/``energies`` ``--json`` and text, the report
-as HTML (and as Markdown and LaTeX for one model of each kind of content), the
-interactive page, the drawing, the study's Parquet file, ``--json`` and pictures, the
-exercise in every format (HTML, Markdown, LaTeX, Moodle XML, the JSON key) and
-``grade --json`` -- and every byte written (text or binary: Parquet metadata, PNG and SVG
-metadata) and every printed text is searched for the repository's path, the home directory and the test's temporary directory (a terminal
-message may repeat the output path the user typed: that one is not counted).
+A report, a page, a study file or an answer key is something one hands on: it names the
+model by its file name only. Every bundled example is run by its *absolute* path (the worst
+case: the path the user typed is the full one) through every output format that applies to
+it -- ``solve``/``modes``/``energies`` ``--json`` and text, the report as HTML (and as
+Markdown and LaTeX for one model of each kind of content), the interactive page, the
+drawing, the study's Parquet file, ``--json`` and pictures, the exercise in every format
+(HTML, Markdown, LaTeX, Moodle XML, the JSON key) and ``grade --json`` -- and every byte
+written (text or binary: Parquet metadata, PNG and SVG metadata) and every printed text is
+searched for the repository's path, the home directory and the test's temporary directory (a
+terminal message may repeat the output path the user typed: that one is not counted).
 """
 
 from __future__ import annotations
