@@ -603,7 +603,8 @@ def test_the_benchmark_runs_and_the_page_is_small(browser: Any) -> None:
 # -- the screenshots of docs/explore.md -------------------------------------------------------
 
 def write_screenshots() -> None:
-    """docs/explore-1280.png and docs/explore-375.png: the reference exercise's page."""
+    """docs/explore-1280.png and docs/explore-375.png: the reference exercise's page;
+    docs/explore-rotor-1280.png: the rotor panel of Friswell's Example 5.9.1, as it opens."""
     api = _playwright()
     with contextlib.ExitStack() as stack:
         folder = Path(stack.enter_context(tempfile.TemporaryDirectory()))
@@ -622,6 +623,16 @@ def write_screenshots() -> None:
             page.screenshot(path=str(target_png))
             page.close()
             _small_png(target_png)
+        rotor = folder / "friswell.html"
+        assert run_cli(["explore", EXAMPLES / "rotors" / "friswell_5_9_1.toml", "-o",
+                        rotor])[0] == 0
+        page = chromium.new_page(viewport={"width": 1280, "height": 900})
+        page.goto(rotor.resolve().as_uri())
+        page.wait_for_function("window.resonantRotor !== undefined")
+        target_png = DOCS / "explore-rotor-1280.png"
+        page.locator("#rotor-panel").screenshot(path=str(target_png))
+        page.close()
+        _small_png(target_png)
 
 
 def _small_png(path: Path) -> None:

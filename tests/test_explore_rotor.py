@@ -1,15 +1,19 @@
 """The explore page of a rotor (a model with ``[campbell]``) in a real browser: the speed
-slider, the unbalance orbits drawn at the current speed and the Campbell diagram with the
-current speed marked (docs/explore.md, Rotors).
+slider, the unbalance orbits drawn at the current speed, the bearing forces, the Campbell
+diagram with the current speed marked and the critical speed map (docs/explore.md,
+Rotors).
 
 The page's numbers are compared with the Python solve of the same model
-(``resonant.analyses.campbell.campbell`` and ``resonant.analyses.unbalance
-.unbalance_response`` at the diagram's speeds): the branches' frequencies, damping ratios
-and whirl are resonant's (to 1e-12, their JSON), the orbits' semi-axes are computed by the
-page from the complex amplitudes (to 1e-9, as the other explore tests). Headless
-Chromium (``/usr/bin/chromium``) through Playwright, every request refused; skipped with
-the reason where either is missing. Model: Friswell, Penny, Garvey & Lees (2010),
-Example 5.9.1 (examples/rotors/friswell_5_9_1.toml; 7 stations, a disc unbalance).
+(``resonant.analyses.campbell.campbell``, ``resonant.analyses.unbalance
+.unbalance_response`` at the diagram's speeds and ``resonant.analyses.rotor_map
+.critical_speed_map``): the branches' frequencies, damping ratios and whirl are
+resonant's (to 1e-12, their JSON), the orbits' semi-axes and the bearing forces'
+amplitudes are computed by the page from the complex amplitudes (to 1e-9, as the other
+explore tests), the maps are resonant's (to 1e-9). Headless Chromium
+(``/usr/bin/chromium``) through Playwright, every request refused; skipped with the
+reason where either is missing. Models: Friswell, Penny, Garvey & Lees (2010), Example
+5.9.1 (examples/rotors/friswell_5_9_1.toml; 7 stations, a disc unbalance, undamped
+bearings) and Example 5.9.5 (the same rotor on damped bearings: its damped map).
 """
 
 from __future__ import annotations
@@ -22,16 +26,20 @@ import pytest
 
 import test_explore_browser
 from conftest import EXAMPLES, run_cli
-from resonant.analyses.campbell import campbell
+from resonant.analyses.campbell import RPM, campbell
+from resonant.analyses.rotor_map import MAP_MODES, critical_speed_map
 from resonant.analyses.unbalance import unbalance_response
 from resonant.model import load
 from resonant.system import linear_system
+from resonant.views.explore import map_stiffness, rotor_data
 from test_explore_browser import REFERENCE, _changed, opened
 
 #: the browser of the explore tests (headless Chromium, one per module)
 browser = test_explore_browser.browser
 
 FRISWELL = EXAMPLES / "rotors" / "friswell_5_9_1.toml"
+DAMPED = EXAMPLES / "rotors" / "friswell_5_9_5.toml"
+JEFFCOTT = EXAMPLES / "rotors" / "jeffcott_rotor.toml"
 RTOL = 1e-9
 
 
@@ -72,7 +80,8 @@ def _fits(page: Any, width: int) -> None:
     overflow = page.page.evaluate(
         "document.documentElement.scrollWidth - document.documentElement.clientWidth")
     assert overflow <= 0, f"the page is {overflow} px wider than the screen"
-    for selector in ("#rotor-orbit", "#rotor-campbell", "#rotor-speed"):
+    for selector in ("#rotor-orbit", "#rotor-campbell", "#rotor-forces", "#rotor-map",
+                     "#rotor-speed"):
         box = page.page.locator(selector).bounding_box()
         assert box is not None and box["width"] > 100, selector
         assert box["x"] >= 0 and box["x"] + box["width"] <= width + 0.5, selector
@@ -125,6 +134,104 @@ def test_the_slider_moves_the_speed_and_the_marked_speed(browser: Any, rotor_pag
         # the current speed's line moved on the diagram, and the orbits were drawn again
         assert _changed(before_campbell, _pixels(page, "rotor-campbell")) > 0.002
         assert _changed(before_orbit, _pixels(page, "rotor-orbit")) > 0.002
+
+
+def test_the_bearing_forces_are_those_of_unbalance_response(
+        browser: Any, rotor_page: Path, solved: tuple[Any, Any]) -> None:
+    diagram, response = solved
+    assert response.bearings == ("bearing1", "bearing2")
+    with opened(browser, rotor_page) as page:
+        for k in (0, 3, len(diagram.speeds) // 2, len(diagram.speeds) - 1):
+            forces = _state(page, k)["bearing_forces"]
+            assert [f["bearing"] for f in forces] == list(response.bearings)
+            expected = response.bearing_force[k]
+            assert np.allclose([f["major"] for f in forces], expected, rtol=RTOL,
+                               atol=RTOL * float(np.max(expected)))
+            cell = page.page.locator('[data-key="rotor.force.1"]')
+            assert float(cell.get_attribute("data-value")) == pytest.approx(
+                expected[1], rel=RTOL, abs=RTOL * float(np.max(expected)))
+        # at rest the unbalance force m e Omega^2 is zero: so are the bearing forces
+        assert _state(page, 0)["bearing_forces"][0]["major"] == 0
+        text = page.page.locator("#rotor-panel").inner_text()
+        assert "The bearing forces at this speed" in text
+        assert "none (the unbalance force m e Ω² is zero)" in text
+
+
+def test_the_critical_speed_map_is_that_of_critical_speed_map(
+        browser: Any, rotor_page: Path, solved: tuple[Any, Any]) -> None:
+    diagram, _ = solved
+    system = linear_system(load(FRISWELL))
+    stiffness = map_stiffness([1e6])
+    assert stiffness[0] == 1e5 and stiffness[-1] == 1e9
+    expected = critical_speed_map(system, stiffness, modes=MAP_MODES, orders=diagram.orders)
+    with opened(browser, rotor_page) as page:
+        shown = _state(page)["map"]
+        assert shown["own"] == [1e6] and shown["shown"] == "undamped"
+        assert shown["damped"] is None          # undamped bearings: the two maps are one
+        undamped = shown["undamped"]
+        assert np.allclose(undamped["stiffness"], expected.stiffness, rtol=1e-15)
+        speeds = np.array(undamped["speeds"], dtype=float)
+        assert speeds.shape == expected.speeds.shape
+        assert np.allclose(speeds, expected.speeds, rtol=RTOL, equal_nan=True)
+        assert [[tuple(r) for r in block] for block in undamped["whirl"]] == \
+            [list(block) for block in expected.whirl]
+        # the chart drawn is resonant's: rpm, one curve per mode
+        drawn = np.array(undamped["drawn"], dtype=float)
+        assert np.allclose(drawn, expected.speeds[:, 0, :].T / RPM, rtol=RTOL, equal_nan=True)
+        # at the bearings' own stiffness the map's critical speeds are the Campbell
+        # diagram's (docs/rotors.md: 1e-8)
+        at = int(np.argmin(np.abs(np.log(stiffness / 1e6))))
+        tracked = sorted(c.speed for c in diagram.critical_speeds)
+        assert np.allclose(speeds[at, 0, :len(tracked)], tracked, rtol=1e-8)
+        caption = page.page.locator("#rotor-map-caption").inner_text()
+        assert "undamped critical speeds" in caption and "1e6 N/m" in caption
+        assert page.page.locator("#rotor-map-kind").is_hidden()
+
+
+def test_a_damped_rotor_has_its_damped_map_too(browser: Any, tmp_path: Path) -> None:
+    target = tmp_path / "damped.html"
+    assert run_cli(["explore", DAMPED, "-o", target])[0] == 0
+    system = linear_system(load(DAMPED))
+    orders = campbell(system).orders
+    expected = critical_speed_map(system, map_stiffness([1e6]), modes=MAP_MODES,
+                                  orders=orders, damped=True)
+    with opened(browser, target) as page:
+        before = _pixels(page, "rotor-map")
+        page.page.locator('#rotor-map-kind button[data-kind="damped"]').click()
+        shown = _state(page)["map"]
+        assert shown["shown"] == "damped"
+        assert _changed(before, _pixels(page, "rotor-map")) > 0.002
+        damped = shown["damped"]
+        assert np.allclose(np.array(damped["speeds"], dtype=float), expected.speeds,
+                           rtol=RTOL, equal_nan=True)
+        assert expected.damping_ratios is not None
+        assert np.allclose(np.array(damped["damping_ratios"], dtype=float),
+                           expected.damping_ratios, rtol=RTOL, equal_nan=True)
+        assert "damped critical speeds" in page.page.locator("#rotor-map-caption").inner_text()
+
+
+def test_the_page_opens_at_the_first_critical_speed(browser: Any, rotor_page: Path,
+                                                    solved: tuple[Any, Any]) -> None:
+    diagram, response = solved
+    # the file's speed is 0 rpm, where there is nothing to see: the page opens at the
+    # speed of the grid nearest the first critical speed (docs/explore.md)
+    first = min(c.speed for c in diagram.critical_speeds)
+    with opened(browser, rotor_page) as page:
+        shown = _state(page)
+        assert shown["index"] == int(np.argmin(np.abs(diagram.speeds - first)))
+        assert shown["speed"] > 0 and min(o["major"] for o in shown["orbits"]) > 0
+        assert "no motion" not in page.page.locator("#rotor-orbit-caption").inner_text()
+        # at 0 rpm the page says why nothing moves
+        _state(page, 0)
+        caption = page.page.locator("#rotor-orbit-caption").inner_text()
+        assert "at rest" in caption and "m e Ω² is zero" in caption
+
+
+def test_a_rotor_without_bearings_has_no_map_and_no_forces() -> None:
+    model = load(JEFFCOTT)
+    data = rotor_data(model, linear_system(model))
+    assert data is not None and data["orbits"] is not None
+    assert data["forces"] is None and data["map"] is None
 
 
 @pytest.mark.parametrize("width", [375])

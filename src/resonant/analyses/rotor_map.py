@@ -83,6 +83,11 @@ _WHIRL = Codec(lambda value: [[list(row) for row in block] for block in value], 
 MAX_MAP_COORDINATES = 2000
 #: the most coordinates of a damped map (dense complex modes at every speed it tries)
 MAX_DAMPED_MAP_COORDINATES = 400
+#: the bearing stiffness values of a map by default (N/m): from, to and how many,
+#: logarithmically spaced (``resonant speed-map``, the explore page)
+MAP_STIFFNESS = (1e5, 1e9, 17)
+#: the critical speeds per order of a map by default
+MAP_MODES = 4
 
 
 @dataclass(frozen=True)
@@ -415,4 +420,4 @@ def _changes(count: Callable[[float], int], low: float, high: float, at_low: int
 
 
 __all__ = ["critical_speed_map", "CriticalSpeedMap", "MAX_MAP_COORDINATES",
-           "MAX_DAMPED_MAP_COORDINATES"]
+           "MAX_DAMPED_MAP_COORDINATES", "MAP_STIFFNESS", "MAP_MODES"]

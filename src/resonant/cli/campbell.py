@@ -16,7 +16,7 @@ import numpy as np
 import resonant.cli.common as cli
 
 from ..analyses.campbell import campbell
-from ..analyses.rotor_map import critical_speed_map
+from ..analyses.rotor_map import MAP_MODES, MAP_STIFFNESS, critical_speed_map
 from ..analyses.unbalance import unbalance_response
 from ..errors import ModelError
 from ..model.campbell_spec import parse_speed
@@ -79,12 +79,13 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
     command = subparsers.add_parser(
         "speed-map", parents=[parent],
         help="a [rotor]'s undamped critical speeds against its bearings' stiffness")
-    command.add_argument("--stiffness", type=stiffness_value, default=(1e5, 1e9, 17),
+    low, high, count = MAP_STIFFNESS
+    command.add_argument("--stiffness", type=stiffness_value, default=MAP_STIFFNESS,
                          metavar="FROM:TO:N",
                          help="bearing stiffness values, N/m, spaced logarithmically "
-                              "(default 1e5:1e9:17)")
-    command.add_argument("--modes", type=cli.integer(1, 1000), default=4, metavar="K",
-                         help="critical speeds per order (default 4)")
+                              f"(default {_power(low)}:{_power(high)}:{count})")
+    command.add_argument("--modes", type=cli.integer(1, 1000), default=MAP_MODES, metavar="K",
+                         help=f"critical speeds per order (default {MAP_MODES})")
     command.add_argument("--orders", type=orders_value, metavar="R,...", default=(1.0,),
                          help="excitation orders (default 1)")
     command.add_argument("--damped", action="store_true",
@@ -94,6 +95,11 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser],
                          help="draw the map (log-log)")
     command.add_argument("--json", action="store_true", help="print one JSON object")
     command.set_defaults(run=run_speed_map)
+
+
+def _power(value: float) -> str:
+    """A power of ten as 1e5."""
+    return f"{value:.0e}".replace("e+0", "e").replace("e+", "e")
 
 
 def stiffness_value(text: str) -> tuple[float, float, int]:

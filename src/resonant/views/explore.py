@@ -42,6 +42,7 @@ from ..analyses.campbell import RPM, campbell
 from ..analyses.measured_match import MatchedTest
 from ..analyses.modes import modes
 from ..analyses.periodic_load import load_series, periodic_response
+from ..analyses.rotor_map import MAP_MODES, MAP_STIFFNESS, CriticalSpeedMap, critical_speed_map
 from ..analyses.stationary import stationary
 from ..analyses.sweep import response_axes, sweep
 from ..analyses.unbalance import unbalance_response
@@ -49,7 +50,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions.notation import name_latex
 from ..model import Model
-from ..model.rotor import SpeedTable
+from ..model.rotor import Bearing, SpeedTable
 from ..model.units_display import ResultUnits, result_units
 from ..system.base import LinearSystem
 from ..system.build import linear_system
@@ -611,6 +612,9 @@ def periodic_data(model: Model, system: LinearSystem, live: bool,
 
 #: the most stations whose orbits the rotor panel draws
 ROTOR_STATIONS = 12
+#: the most coordinates of a rotor whose damped critical speed map the page holds (dense
+#: complex modes at every speed it tries: about 1.5 s for Friswell's 28 coordinates)
+PAGE_DAMPED_MAP_COORDINATES = LIVE_LIMIT
 
 
 def _complex_json(array: np.ndarray) -> dict[str, list[Any]]:
@@ -618,14 +622,164 @@ def _complex_json(array: np.ndarray) -> dict[str, list[Any]]:
     return {"re": _finite(np.real(array)), "im": _finite(np.imag(array))}
 
 
+def rotor_start(speeds: np.ndarray, value: float, critical: list[float],
+                finite: np.ndarray) -> int:
+    """The speed the rotor panel opens at (its index in ``speeds``): the file's speed
+    where it is not 0, else the first critical speed in the range, else the middle of the
+    range -- the speed nearest to it whose orbits are finite (an undamped rotor's orbit is
+    unbounded at its critical speed).  At 0 rpm there is nothing to see: the unbalance
+    force m e Omega^2 is zero.
+
+    Parameters
+    ----------
+    speeds : ndarray
+        The speeds the slider steps through (rad/s).
+    value : float
+        The speed parameter's value in the file (rad/s).
+    critical : list of float
+        The critical speeds in the range (rad/s), lowest first.
+    finite : ndarray of bool
+        Per speed, whether every orbit there is finite.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> speeds, finite = np.linspace(0.0, 100.0, 11), np.ones(11, bool)
+    >>> rotor_start(speeds, 0.0, [41.0], finite), rotor_start(speeds, 0.0, [], finite)
+    (4, 5)
+    >>> rotor_start(speeds, 70.0, [41.0], finite), rotor_start(speeds, 0.0, [41.0], speeds != 40)
+    (7, 5)
+    """
+    target = value if value != 0 else (critical[0] if critical else
+                                       (speeds[0] + speeds[-1]) / 2)
+    distance = np.where(finite, np.abs(speeds - target), np.inf)
+    if not np.any(np.isfinite(distance)):
+        distance = np.abs(speeds - target)
+    return int(np.argmin(distance))
+
+
+def _own_stiffness(bearings: tuple[Bearing, ...]) -> list[float]:
+    """The bearings' direct stiffness values (kxx, kyy) given as numbers, each once."""
+    return sorted({float(v) for b in bearings for key, v in b.coefficients
+                   if key in ("kxx", "kyy") and isinstance(v, float) and v > 0})
+
+
+def map_stiffness(own: list[float]) -> np.ndarray:
+    """The stiffness values of the rotor panel's critical speed map: the range of
+    ``resonant speed-map`` (:data:`resonant.analyses.rotor_map.MAP_STIFFNESS`), widened to a
+    decade beyond the bearings' own direct stiffness where it lies outside, at the same
+    number of values per decade.
+
+    Parameters
+    ----------
+    own : list of float
+        The bearings' own direct stiffness values (N/m).
+
+    Returns
+    -------
+    ndarray
+
+    Examples
+    --------
+    >>> map_stiffness([1e6])[[0, -1]].tolist(), map_stiffness([3e9]).size
+    ([100000.0, 1000000000.0], 25)
+    """
+    low, high, count = MAP_STIFFNESS
+    per_decade = (count - 1) / math.log10(high / low)
+    if own:
+        low = min(low, 10.0 ** (math.floor(math.log10(own[0])) - 1))
+        high = max(high, 10.0 ** (math.ceil(math.log10(own[-1])) + 1))
+    return np.geomspace(low, high, round(per_decade * math.log10(high / low)) + 1)
+
+
+def _damped_bearings(bearings: tuple[Bearing, ...]) -> bool:
+    """Whether a bearing has damping or cross-coupled stiffness (what the damped map keeps)."""
+    return any(key not in ("kxx", "kyy") for b in bearings for key, _ in b.coefficients)
+
+
+def _map_json(result: CriticalSpeedMap) -> dict[str, Any]:
+    ratios = result.damping_ratios
+    return {"stiffness": result.stiffness.tolist(), "orders": list(result.orders),
+            "speeds": _finite(result.speeds),
+            "whirl": [[list(row) for row in block] for block in result.whirl],
+            "damping_ratios": _finite(ratios) if ratios is not None else None,
+            "chart": result.chart().to_dict()}
+
+
+def map_data(model: Model, system: LinearSystem, orders: tuple[float, ...],
+             deadline: Deadline = NO_DEADLINE) -> dict[str, Any] | None:
+    """The rotor panel's critical speed maps (None without a ``[rotor]`` with bearings):
+    the undamped map (:func:`resonant.analyses.rotor_map.critical_speed_map`) over
+    :func:`map_stiffness` for the Campbell diagram's orders and, where a bearing has damping
+    or cross-coupled stiffness and the rotor at most :data:`PAGE_DAMPED_MAP_COORDINATES`
+    coordinates, the damped map too; each with its chart as resonant draws it (``chart``,
+    rpm against N/m).  Where a map cannot be solved, ``note`` says why.
+
+    Parameters
+    ----------
+    model : Model
+    system : LinearSystem
+    orders : tuple of float
+        The excitation orders.
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    dict or None
+        ``own`` (the bearings' own direct stiffness, N/m), ``undamped`` and ``damped``
+        (each None or ``stiffness`` (N/m), ``orders``, ``speeds`` (rad/s; stiffness,
+        orders, modes), ``whirl``, ``damping_ratios`` (None undamped) and ``chart``
+        (``Chart.to_dict()``)) and ``note``.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/rotors/friswell_5_9_1.toml")
+    >>> data = map_data(model, model.linearize(), (1.0,))
+    >>> data["own"], len(data["undamped"]["stiffness"]), data["damped"]
+    ([1000000.0], 17, None)
+    """
+    bearings = model.matrices.bearings if model.matrices is not None else ()
+    if not bearings:
+        return None
+    own = _own_stiffness(bearings)
+    stiffness = map_stiffness(own)
+    out: dict[str, Any] = {"own": own, "undamped": None, "damped": None, "note": ""}
+    notes = []
+    try:
+        out["undamped"] = _map_json(critical_speed_map(system, stiffness, modes=MAP_MODES,
+                                                       orders=orders, deadline=deadline))
+    except ModelError as exc:
+        notes.append(f"no undamped critical speed map: {exc.problems[0].message}")
+    if _damped_bearings(bearings):
+        if system.n > PAGE_DAMPED_MAP_COORDINATES:
+            notes.append(f"no damped critical speed map on the page above "
+                         f"{PAGE_DAMPED_MAP_COORDINATES} coordinates (resonant speed-map "
+                         "--damped gives it)")
+        else:
+            try:
+                out["damped"] = _map_json(critical_speed_map(
+                    system, stiffness, modes=MAP_MODES, orders=orders, damped=True,
+                    deadline=deadline))
+            except ModelError as exc:
+                notes.append(f"no damped critical speed map: {exc.problems[0].message}")
+    out["note"] = "; ".join(notes)
+    return out
+
+
 def rotor_data(model: Model, system: LinearSystem, deadline: Deadline = NO_DEADLINE
                ) -> dict[str, Any] | None:
     """The rotor panel's data (None without a ``[campbell]`` section): the Campbell diagram
     over its range (:func:`resonant.analyses.campbell.campbell`: each branch's damped
     frequency, damping ratio and whirl at every speed, the critical speeds and the
-    threshold) and, with ``[[unbalance]]``, the unbalance orbits at the same speeds
+    threshold); with ``[[unbalance]]``, the unbalance orbits at the same speeds
     (:func:`resonant.analyses.unbalance.unbalance_response`, complex amplitudes X, Y of
-    each station, 0-pk), which the page's speed slider steps through.
+    each station, 0-pk) and the forces each bearing transmits there (complex amplitudes of
+    their x and y components), which the page's speed slider steps through; and the
+    critical speed map (:func:`map_data`).
 
     Parameters
     ----------
@@ -638,8 +792,10 @@ def rotor_data(model: Model, system: LinearSystem, deadline: Deadline = NO_DEADL
     dict or None
         JSON-ready: ``speed_parameter``, ``speeds`` (rad/s), ``frequencies``,
         ``damping_ratios``, ``whirl``, ``motion``, ``orders``, ``critical``, ``threshold``,
-        ``start`` (the index of the speed nearest the file's value) and ``orbits``
-        (``stations``, ``X``, ``Y``; None without ``[[unbalance]]``).
+        ``start`` (the index of the speed the slider starts at, :func:`rotor_start`),
+        ``orbits`` (``stations``, ``X``, ``Y``; None without ``[[unbalance]]``),
+        ``forces`` (``bearings``, ``FX``, ``FY``, N; None without ``[[unbalance]]`` or
+        bearings) and ``map`` (:func:`map_data`).
 
     Examples
     --------
@@ -656,7 +812,8 @@ def rotor_data(model: Model, system: LinearSystem, deadline: Deadline = NO_DEADL
     speeds = result.speeds
     name = result.speed_parameter
     value = float(model.parameter_values.get(name, speeds[0]))
-    orbits = None
+    orbits = forces = None
+    finite = np.ones(len(speeds), bool)
     if model.unbalances:
         response = unbalance_response(system, speeds, deadline=deadline)
         keep = slice(0, ROTOR_STATIONS)
@@ -665,7 +822,13 @@ def rotor_data(model: Model, system: LinearSystem, deadline: Deadline = NO_DEADL
                   "Y": _complex_json(response.Y[:, keep]),
                   "amount": [u.amount for u in response.unbalances],
                   "at": [u.station for u in response.unbalances]}
+        finite = np.all(np.isfinite(response.X) & np.isfinite(response.Y), axis=1)
+        if response.bearings:
+            forces = {"bearings": list(response.bearings),
+                      "FX": _complex_json(response.bearing_forces[..., 0]),
+                      "FY": _complex_json(response.bearing_forces[..., 1])}
     threshold = result.threshold
+    critical = [c.speed for c in result.critical_speeds]
     return {"speed_parameter": name, "rpm": RPM, "speeds": speeds.tolist(),
             "frequencies": _finite(result.frequencies),
             "damping_ratios": _finite(result.damping_ratios),
@@ -675,7 +838,9 @@ def rotor_data(model: Model, system: LinearSystem, deadline: Deadline = NO_DEADL
                           "whirl": c.whirl} for c in result.critical_speeds],
             "threshold": {"speed": threshold.speed, "verdict": threshold.verdict,
                           "mode": threshold.mode, "whirl": threshold.whirl},
-            "start": int(np.argmin(np.abs(speeds - value))), "orbits": orbits,
+            "start": rotor_start(speeds, value, sorted(critical), finite),
+            "orbits": orbits, "forces": forces,
+            "map": map_data(model, system, tuple(result.orders), deadline),
             "warnings": list(result.warnings)}
 
 
@@ -779,5 +944,5 @@ def explore_page(model: Model, system: LinearSystem | None = None,
 __all__ = ["ExplorePage", "check_page_size", "explore_page", "explore_data", "controls",
            "default_range",
            "frequency_parameter", "shown_names", "precomputed", "page_html", "script_json",
-           "rotor_data",
+           "rotor_data", "rotor_start", "map_stiffness", "map_data",
            "LIVE_LIMIT", "CURVE_POINTS"]

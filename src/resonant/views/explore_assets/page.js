@@ -1355,7 +1355,7 @@
   }
 
   // the page's helpers for the panels of other scripts (the rotor panel, rotor.js)
-  window.resonantPage = Object.freeze({ el, fmt, number, canvasContext, niceTicks, COLOURS, NOW, PARAMS });
+  window.resonantPage = Object.freeze({ el, fmt, number, canvasContext, niceTicks, logRange, COLOURS, NOW, PARAMS });
 
   // -- the script interface ------------------------------------------------------------------
   function jsonMatrix(a) {
