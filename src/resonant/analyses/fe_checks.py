@@ -35,6 +35,7 @@ import numpy as np
 from ..arrays import Matrix, freeze_fields
 from ..memory import dense_matrix
 from ..modal import ZERO_EIGENVALUE, symmetric_eigenvalues
+from ..model.op4_files import dof_of
 from ..system.base import LinearSystem, NumericEOM
 from .result_fields import FieldsJSON, saved
 
@@ -48,7 +49,6 @@ MASS_SOURCES = ("Nastran writes the mass matrix in a modal or dynamic solution (
                 "writes it to the .full file only in a modal, harmonic or transient "
                 "analysis (ANTYPE,MODAL), never in a static one; Abaqus in a *MATRIX "
                 "GENERATE step with MASS")
-_DIRECTIONS = ("ux", "uy", "uz", "rx", "ry", "rz")
 #: max |K T| / max |K| of a rigid translation above which the structure is not free
 RIGID_FORCE_TOLERANCE = 1e-8
 
@@ -177,12 +177,8 @@ def _asymmetry(a: Matrix) -> float:
 
 def _parse_dof(name: str) -> tuple[int, int] | None:
     """(node, direction 0..5) of ``n1042_uz``; None for other names (scalar points)."""
-    if not name.startswith("n") or "_" not in name:
-        return None
-    node, _, direction = name[1:].partition("_")
-    if not node.isdigit() or direction not in _DIRECTIONS:
-        return None
-    return int(node), _DIRECTIONS.index(direction)
+    dof = dof_of(name)
+    return (dof[0], dof[1] - 1) if dof is not None and dof[1] else None
 
 
 def rigid_body_modes(coordinates: Sequence[str],

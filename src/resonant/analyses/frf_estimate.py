@@ -60,7 +60,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem, printable
 from ..memory import require
 from ..model.measured import MeasuredData, MeasuredFunction
-from ..model.measurement_spec import ChannelMap, MeasurementSpec, match_channels
+from ..model.measurement_spec import ChannelMap, MeasurementSpec, match_channels, position_dofs
 from ..model.random_spec import RandomInput
 from ..model.units_display import ResultUnits, cyclic_shown
 from ..system.base import LinearSystem
@@ -162,13 +162,22 @@ class MeasuredFRF(FieldsJSON):
                     raise saved_data.error(f"has shape {np.shape(value)}, not {lines}",
                                            f"channels.{name}.{key}")
 
-    def to_measured(self, source: str = "frf") -> MeasuredData:
+    def to_measured(self, source: str = "frf", dofs: Mapping[str, tuple[int, int]] | None = None,
+                    excitation: str = "") -> MeasuredData:
         """The FRFs as measured functions (for :func:`resonant.model.measured.write_uff`).
 
         Parameters
         ----------
         source : str
             The name the data carries.
+        dofs : mapping, optional
+            Channel -> its (node, direction): each FRF's response, and under the name of
+            the excitation channel their reference
+            (:func:`resonant.model.measurement_spec.measurement_dofs`; default the
+            channels' positions, the reference after them,
+            :func:`resonant.model.measurement_spec.position_dofs`).
+        excitation : str, optional
+            The excitation channel (the key of the reference in ``dofs``).
 
         Returns
         -------
@@ -178,15 +187,18 @@ class MeasuredFRF(FieldsJSON):
         Examples
         --------
         >>> x = np.random.default_rng(0).standard_normal(2048)
-        >>> estimate_frf(x, {"y": 3 * x}, 0.01, segment=256).to_measured().names
-        ('y', 'y coherence')
+        >>> frfs = estimate_frf(x, {"y": 3 * x}, 0.01, segment=256).to_measured()
+        >>> frfs.names, frfs.functions[0].response, frfs.functions[0].reference
+        (('y', 'y coherence'), (1, 0), (2, 0))
         """
         f = np.asarray(self.frequency)
+        places = dict(dofs) if dofs is not None else position_dofs([*self.frf, excitation])
+        reference = places[excitation]
         frfs = [MeasuredFunction(k, "frf", f, np.asarray(h), "Hz", self.units.get(k, ""),
-                                 (n + 1, 3), (0, 3)) for n, (k, h) in enumerate(self.frf.items())]
+                                 places[k], reference) for k, h in self.frf.items()]
         coherences = [MeasuredFunction(f"{k} coherence", "coherence", f,
-                                       np.asarray(self.coherence[k]), "Hz", "", (n + 1, 3),
-                                       (0, 3)) for n, k in enumerate(self.frf)]
+                                       np.asarray(self.coherence[k]), "Hz", "", places[k],
+                                       reference) for k in self.frf]
         return MeasuredData(source, tuple(frfs + coherences))
 
     def chart(self, names: Sequence[str] | None = None,

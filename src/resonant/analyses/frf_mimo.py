@@ -44,7 +44,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..memory import require
 from ..model.measured import MeasuredData, MeasuredFunction
-from ..model.measurement_spec import MeasurementSpec, match_channels
+from ..model.measurement_spec import MeasurementSpec, match_channels, position_dofs
 from .frf_estimate import _band_lines, _clipping, _frames, _samples, _windows
 from .result_fields import FieldsJSON, saved
 
@@ -141,13 +141,12 @@ class MIMOFRF(FieldsJSON, Charted):
                                          f"{', '.join(names)})"))
         return np.asarray(self.H[:, self.outputs.index(output), self.inputs.index(input)])
 
-    def to_measured(self, source: str = "frf", units: Mapping[str, str] | None = None
-                    ) -> MeasuredData:
+    def to_measured(self, source: str = "frf", units: Mapping[str, str] | None = None,
+                    dofs: Mapping[str, tuple[int, int]] | None = None) -> MeasuredData:
         """The matrix as measured functions (for :func:`resonant.model.measured.write_uff`):
         one ``"frf"`` function per response and input, named :func:`pair_name`, its
-        response node the response's position and its reference node the input's (both
-        counted from 1); then the multiple coherence of each response
-        (``"a3 coherence"``).
+        response the response channel's node and direction and its reference the input
+        channel's; then the multiple coherence of each response (``"a3 coherence"``).
 
         Parameters
         ----------
@@ -155,6 +154,11 @@ class MIMOFRF(FieldsJSON, Charted):
             The name the data carries.
         units : mapping, optional
             Response -> the unit of its FRFs (``"m/s^2/N"``).
+        dofs : mapping, optional
+            Response or input channel -> its (node, direction)
+            (:func:`resonant.model.measurement_spec.measurement_dofs`); default their
+            positions among the responses and among the inputs, counted from 1, direction
+            0.
 
         Returns
         -------
@@ -165,16 +169,19 @@ class MIMOFRF(FieldsJSON, Charted):
         >>> x = np.random.default_rng(1).standard_normal((2, 2048))
         >>> r = estimate_frf_matrix({"u": x[0], "v": x[1]}, {"y": x[0] + x[1]}, 0.01,
         ...                         segment=256)
-        >>> r.to_measured().names
-        ('y/u', 'y/v', 'y coherence')
+        >>> frfs = r.to_measured()
+        >>> frfs.names, frfs.functions[1].response, frfs.functions[1].reference
+        (('y/u', 'y/v', 'y coherence'), (1, 0), (2, 0))
         """
         f = np.asarray(self.frequency)
         units = units or {}
+        places = dict(dofs) if dofs is not None else {**position_dofs(self.outputs),
+                                                      **position_dofs(self.inputs)}
         frfs = [MeasuredFunction(pair_name(out, inp), "frf", f, np.asarray(self.H[:, r, i]),
-                                 "Hz", units.get(out, ""), (r + 1, 0), (i + 1, 0))
+                                 "Hz", units.get(out, ""), places[out], places[inp])
                 for r, out in enumerate(self.outputs) for i, inp in enumerate(self.inputs)]
         coherences = [MeasuredFunction(f"{out} coherence", "coherence", f,
-                                       np.asarray(self.coherence[:, r]), "Hz", "", (r + 1, 0),
+                                       np.asarray(self.coherence[:, r]), "Hz", "", places[out],
                                        (0, 0)) for r, out in enumerate(self.outputs)]
         return MeasuredData(source, tuple(frfs + coherences))
 

@@ -25,7 +25,7 @@ import numpy as np
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..model.measured import MeasuredData, MeasuredFunction
-from ..model.measurement_spec import MeasurementSpec
+from ..model.measurement_spec import MeasurementSpec, measurement_dofs
 from ..system.base import LinearSystem
 from .transient import transient_response
 
@@ -121,11 +121,12 @@ def simulated_test(system: LinearSystem, spec: MeasurementSpec | None, *, record
                                   deadline=deadline)
     time = np.arange(len(force)) * step
     measured = force + input_noise * np.std(force) * rng.standard_normal(len(force))
+    dofs = measurement_dofs(spec, system.coordinates)
     functions = [MeasuredFunction(spec.excitation or "force", "time", time, measured, "s", "N",
-                                  (0, 0), (0, 0))]
-    for node, (channel, c) in enumerate(spec.channels.items(), start=1):
+                                  dofs[spec.excitation], (0, 0))]
+    for channel, c in spec.channels.items():
         y = np.asarray(response.history[c.name])
         y = y + noise * np.std(y) * rng.standard_normal(len(y))
-        functions.append(MeasuredFunction(channel, "time", time, y, "s", "m", (node, 3),
+        functions.append(MeasuredFunction(channel, "time", time, y, "s", "m", dofs[channel],
                                           (0, 0)))
     return MeasuredData("simulated test", tuple(functions))

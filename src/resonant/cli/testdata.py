@@ -41,7 +41,7 @@ from ..model.measured import (
     read_uff,
     write_uff,
 )
-from ..model.measurement_spec import MeasurementSpec, match_channels
+from ..model.measurement_spec import MeasurementSpec, match_channels, measurement_dofs
 from ..model.types import Model
 from ..studies.engine import engine_for
 from ..studies.multi_start import MAX_STARTS, multi_start_update
@@ -172,7 +172,8 @@ def _run_frf_matrix(args: argparse.Namespace, model: Model, spec: MeasurementSpe
         units = {c: f"{data.function(c).ordinate_unit}/{force}" if force and
                  data.function(c).ordinate_unit else "" for c in result.outputs}
         write_uff(cli.writable_output(args.save, "the FRF matrix"),
-                  result.to_measured(Path(args.save).name, units))
+                  result.to_measured(Path(args.save).name, units,
+                                     measurement_dofs(spec, model.coordinates)))
     if args.plot:
         result.plot(args.plot)
     return _emit(result, args, result.summary(), result.warnings)
@@ -191,7 +192,10 @@ def run_frf(args: argparse.Namespace) -> int:
                                   exponential=args.exponential, band=_band_of(args),
                                   deadline=deadline)
     if args.save:
-        write_uff(cli.writable_output(args.save, "the FRFs"), result.to_measured(args.save))
+        write_uff(cli.writable_output(args.save, "the FRFs"),
+                  result.to_measured(Path(args.save).name,
+                                     measurement_dofs(spec, model.coordinates),
+                                     spec.excitation))
     if args.plot:
         own = model_frf(linear_system(model, deadline), spec.input, result.frequency,
                         spec.channels, deadline=deadline) if spec.input else None

@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 
 from ..errors import ModelError, Problem, name_list, printable
+from .op4_files import dof_of
 
 #: the keys of ``[measurement]``
 MEASUREMENT_KEYS = ("excitation", "input", "channels")
@@ -46,7 +47,7 @@ MAX_CHANNELS = 4096
 MAX_INPUTS = 16
 
 __all__ = ["ChannelMap", "MeasurementSpec", "parse_measurement", "match_channels",
-           "MEASUREMENT_KEYS"]
+           "measurement_dofs", "position_dofs", "MEASUREMENT_KEYS"]
 
 
 @dataclass(frozen=True)
@@ -226,3 +227,74 @@ def match_channels(spec: MeasurementSpec, available: Sequence[str], source: str,
                                     f"{listed})", source, "measurement.channels", channel))
     if problems:
         raise ModelError(problems)
+
+
+def position_dofs(names: Sequence[str], after: int = 0) -> dict[str, tuple[int, int]]:
+    """The node and direction of places that no coordinate's name gives: their positions.
+
+    Parameters
+    ----------
+    names : sequence of str
+        The places (channels, or the quantities they measure) in order; a name repeated
+        keeps its first node.
+    after : int, optional
+        The nodes are counted from ``after + 1`` (past the nodes the model names).
+
+    Returns
+    -------
+    dict
+        Name -> (node, direction 0): the k-th distinct name at node ``after + k``.
+
+    Examples
+    --------
+    >>> position_dofs(["d1", "d2"]), position_dofs(["F", "x3", "F"], after=12)
+    ({'d1': (1, 0), 'd2': (2, 0)}, {'F': (13, 0), 'x3': (14, 0)})
+    """
+    distinct = list(dict.fromkeys(names))
+    return {name: (after + k, 0) for k, name in enumerate(distinct, start=1)}
+
+
+def measurement_dofs(spec: MeasurementSpec, coordinates: Sequence[str]
+                     ) -> dict[str, tuple[int, int]]:
+    """The node and direction (Universal File codes) of every channel of the section: what
+    ``resonant frf --save`` writes as each FRF's response and reference.
+
+    A channel measures a quantity (a response channel its coordinate or output, an
+    excitation channel its input).  A coordinate named by node and direction
+    (``n1042_uz``, :func:`resonant.model.op4_files.dof_of`) is at that node in that
+    direction (+Z for ``uz``); every other quantity at its position among the distinct
+    quantities, responses first, counted past the highest node the model's coordinates
+    name (:func:`position_dofs`), so that it names none of them.  Channels of one quantity
+    share its node: a driving point's response and reference are one.
+
+    Parameters
+    ----------
+    spec : MeasurementSpec
+    coordinates : sequence of str
+        The model's coordinates.
+
+    Returns
+    -------
+    dict
+        Channel (response or excitation) -> (node, direction).
+
+    Examples
+    --------
+    >>> spec = MeasurementSpec("hammer", "n12_uz", {"a": ChannelMap("n11_uz", 2),
+    ...                                             "y": ChannelMap("y")})
+    >>> measurement_dofs(spec, ["n11_uz", "n12_uz"])
+    {'a': (11, 3), 'y': (13, 0), 'hammer': (12, 3)}
+    >>> spec = MeasurementSpec("hammer", "F", {"d1": ChannelMap("x1"),
+    ...                                        "a1": ChannelMap("x1", 2)})
+    >>> measurement_dofs(spec, ["x1"])
+    {'d1': (1, 0), 'a1': (1, 0), 'hammer': (2, 0)}
+    """
+    known = set(coordinates)
+    after = max((dof[0] for dof in map(dof_of, coordinates) if dof is not None), default=0)
+    inputs = dict(spec.references) or {spec.excitation: spec.input}
+    measures = {**{c: m.name for c, m in spec.channels.items()}, **inputs}
+    named = {q: dof for q in measures.values() if q in known
+             and (dof := dof_of(q)) is not None}
+    places = {**position_dofs([q for q in measures.values() if q not in named], after),
+              **named}
+    return {channel: places[quantity] for channel, quantity in measures.items()}

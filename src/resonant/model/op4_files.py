@@ -288,6 +288,37 @@ def dof_names(pairs: np.ndarray) -> list[str]:
     return names
 
 
+def dof_of(name: str) -> tuple[int, int] | None:
+    """The node and component a coordinate's name gives, the inverse of :func:`dof_names`:
+    ``n1042_uz`` is (1042, 3), a scalar point ``n7`` is (7, 0); None for any other name.
+
+    The components 1..6 (ux uy uz rx ry rz) are also the Universal File's direction codes
+    (+X ... +RZ).
+
+    Parameters
+    ----------
+    name : str
+
+    Returns
+    -------
+    tuple of int or None
+
+    Examples
+    --------
+    >>> dof_of("n1042_uz"), dof_of("n7"), dof_of("x1"), dof_of("n1_uw")
+    ((1042, 3), (7, 0), None, None)
+    """
+    match = _DOF_NAME.fullmatch(name)
+    if match is None:
+        return None
+    node, direction = match.groups()
+    return int(node), _COMPONENTS[direction] if direction else 0
+
+
+_DOF_NAME = re.compile(r"n([0-9]+)(?:_(ux|uy|uz|rx|ry|rz))?")
+_COMPONENTS = {v: k for k, v in DIRECTIONS.items()}
+
+
 def write_op4(path: str | os.PathLike[str], matrices: dict[str, Any], *,
               binary: bool = True, sparse: str = "auto") -> None:
     """Write matrices to an OP4 file through pyYeti (tests, ``resonant import``).
@@ -313,5 +344,5 @@ def write_op4(path: str | os.PathLike[str], matrices: dict[str, Any], *,
     op4.write(str(Path(path)), matrices, binary=binary, sparse=sparse)
 
 
-__all__ = ["split_reference", "op4_directory", "read_op4_matrix", "dof_names", "write_op4",
-           "DIRECTIONS"]
+__all__ = ["split_reference", "op4_directory", "read_op4_matrix", "dof_names", "dof_of",
+           "write_op4", "DIRECTIONS"]

@@ -62,10 +62,14 @@ class SolveMethod:
     constant_only: bool = False
 
 
-#: the solution methods of the harmonic kernel, each with its meaning, in the order the
-#: documentation lists them; a new method is one entry here and its solver in
+#: the solution methods of the harmonic kernel, each with its meaning (``auto``, the
+#: default, first); a new method is one entry here and its solver in
 #: :func:`resonant.analyses.kernel.solve_harmonic`
 SOLVE_METHODS: Mapping[str, SolveMethod] = MappingProxyType({m.name: m for m in (
+    SolveMethod("auto", "`reduced` where it pays and meets `--tol`, otherwise the exact "
+                "method `direct` would pick", "to the tolerance, or exact", chooses=True),
+    SolveMethod("direct", "the cheapest of `dense`, `banded`, `sparse` by their estimated "
+                "cost", "yes", chooses=True),
     SolveMethod("dense", "a stack of complex matrices, one LAPACK solve per chunk of "
                 "frequencies", "yes"),
     SolveMethod("banded", "LAPACK `gbsv` (`gtsv` for three diagonals) per frequency, for a "
@@ -78,13 +82,9 @@ SOLVE_METHODS: Mapping[str, SolveMethod] = MappingProxyType({m.name: m for m in 
                 "solve", "yes, for proportional damping", constant_only=True),
     SolveMethod("reduced", "a reduced-order model accurate to `--tol` (below)",
                 "to the tolerance", constant_only=True),
-    SolveMethod("direct", "the cheapest of `dense`, `banded`, `sparse` by their estimated "
-                "cost", "yes", chooses=True),
-    SolveMethod("auto", "`reduced` where it pays and meets `--tol`, otherwise the exact "
-                "method `direct` would pick", "to the tolerance, or exact", chooses=True),
 )})
 #: the names of the solution methods, ``auto`` (the default) first
-SWEEP_METHODS = ("auto", *(name for name in SOLVE_METHODS if name != "auto"))
+SWEEP_METHODS = tuple(SOLVE_METHODS)
 #: the integrators of a simulation (:func:`scipy.integrate.solve_ivp` methods)
 INTEGRATORS = ("DOP853", "RK45", "LSODA", "Radau", "BDF")
 #: where a simulation started (``Simulation.start``) -> how its text and plots say it
