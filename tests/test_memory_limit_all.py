@@ -10,9 +10,8 @@ The model is a sparse Rayleigh-damped chain of 20,000 coordinates
 - ``resonant simulate chain.toml --duration 1000``: refused (exit 3, dense M, C and K);
 - ``resonant modes chain.toml``: finishes (the lowest modes of the sparse matrices);
 - ``resonant energies chain.toml``: finishes;
-- ``resonant random chain.toml``: expected to refuse (exit 3); today it ends in an
-  internal MemoryError (marked xfail, strict, until the estimate comes before the
-  allocation).
+- ``resonant random chain.toml``: refused (exit 3, the responses kept at every line),
+  before any reduced model is built for them.
 
 Not covered yet: ``srs`` (over 25 s on this model), ``sweep``, ``report``, ``explore``,
 a ``[shock]`` with huge durations (refused at load, exit 2, by the model's own check) and
@@ -56,7 +55,6 @@ def test_sparse_analyses_finish(chain: Path, command: str) -> None:
     assert code == 0, err
 
 
-@pytest.mark.xfail(strict=True, reason="random allocates its line blocks before estimating")
 def test_random_with_a_million_lines_is_refused(chain: Path) -> None:
     code, _, err = run_limited(["random", chain], timeout=25)
     clean(code, err)

@@ -651,7 +651,7 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
                                exact_condition=exact_condition, forward_error=forward_error)
 
 
-def _require_kept(N: int, keep: np.ndarray) -> None:
+def require_kept(N: int, keep: np.ndarray) -> None:
     """Every method returns the kept responses at every point: refused (above the memory
     budget) before any solve."""
     require(16.0 * N * len(keep), f"the responses kept ({N} frequencies x {len(keep)} "
@@ -669,7 +669,7 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     N = w.shape[0]
     n = len(batch.coordinates)
     keep = np.arange(n) if keep is None else keep
-    _require_kept(N, keep)
+    require_kept(N, keep)
     progress = progress or _Progress(N, False)
     warnings = [] if warnings is None else warnings
     rhs = np.asarray(h.F_C, dtype=complex) - 1j * np.asarray(h.F_S, dtype=float)
@@ -1523,5 +1523,6 @@ class LineFactors:
 __all__ = ["solve_harmonic", "KernelResult", "choose_method", "choose_direct", "direct_costs",
            "band_ordering", "BandOrdering",
            "reduced_budget", "reduced_points", "largest_abs", "closed_form_solve",
-           "check_batch_mass", "equilibration", "METHODS", "SINGULAR_CONDITION",
+           "check_batch_mass", "equilibration", "METHODS", "require_kept",
+           "SINGULAR_CONDITION",
            "LOSS_CONDITION", "DEFAULT_TOL", "LineFactors", "STACKED_LIMIT"]

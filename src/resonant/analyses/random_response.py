@@ -101,7 +101,7 @@ from ..system.output_map import output_map
 from ..system.stability import UNSTABLE, classify
 from ..tables import ResultTable, number_cell
 from .forward_error import accuracy_warning
-from .kernel import reduced_budget, solve_harmonic
+from .kernel import reduced_budget, require_kept, solve_harmonic
 from .reduced import FactorizationsAhead, ReducedModel, probe_frequency, reduced_model
 from .result_fields import FieldsJSON, saved
 from .results_json import optional_float
@@ -936,6 +936,7 @@ def random_response(system: LinearSystem, spec: RandomSpec | None = None,
 
     tol = spec.tolerance if tolerance is None else tolerance
     grid = _initial_grid(spec, num)
+    require_kept(len(grid), np.asarray(keep))   # every line's responses, before any reduction
     low, high = REDUCED_TOLERANCE_RANGE
     transfer.reduce(_checked_frequencies(grid), min(high, max(low, REDUCED_TOLERANCE * tol)))
     R = len(responses)
@@ -958,8 +959,7 @@ def random_response(system: LinearSystem, spec: RandomSpec | None = None,
     if not (np.all(np.isfinite(m0)) and np.all(np.isfinite(m2)) and np.all(np.isfinite(m4))):
         raise _out_of_range(spec)
     order = np.argsort(quad.f)
-    f = quad.f[order]
-    S = quad.S[order][:, :R]
+    f, S = quad.f[order], quad.S[order][:, :R]
     with np.errstate(divide="ignore", invalid="ignore"):
         nu0 = np.sqrt(m2 / m0)
         nup = np.sqrt(m4 / m2)
