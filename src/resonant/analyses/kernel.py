@@ -1026,8 +1026,18 @@ def _dynamic_matrix(K: np.ndarray, M: np.ndarray, C: np.ndarray, w: np.ndarray,
     N, n = len(w), K.shape[-1]
     if n > 2:
         ww = w[:, None, None]
-        A = K - ww**2 * M
-        result: np.ndarray = A if undamped else A + 1j * ww * C
+        if undamped:
+            result: np.ndarray = K - ww**2 * M
+            return result
+        # written into its real and imaginary parts: no complex temporaries (the stack's
+        # memory traffic, not LAPACK, was the cost of small matrices); the numbers of
+        # K - w^2 M + 1j w C, signed zeros too (+ 0.0: the complex product's zeros; they
+        # differ only where K is -0.0, M and w C zero and C negative)
+        result = np.empty(np.broadcast_shapes(ww.shape, K.shape, M.shape, C.shape),
+                          dtype=complex)
+        np.subtract(K, ww**2 * M, out=result.real)
+        np.multiply(ww, C, out=result.imag)
+        result.view(float)[...] += 0.0
         return result
     A = np.empty((N, n, n), dtype=float if undamped else complex)
     w2 = w**2
