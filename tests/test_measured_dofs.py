@@ -22,6 +22,7 @@ from conftest import run_cli
 from resonant.analyses.virtual_test import simulated_test
 from resonant.model.measured import MeasuredData, read_uff, write_uff
 from resonant.model.measurement_spec import ChannelMap, MeasurementSpec, measurement_dofs
+from test_testdata_cli import IMPACT  # the same hammer test's processing options
 
 pyuff = pytest.importorskip("pyuff")
 
@@ -50,8 +51,6 @@ top = "n3_uz"
 bottom = "n1_uz"
 middle = "n2_uz"
 """
-IMPACT = ["--window", "rectangular", "--segment", "4096", "--force-window", "0.05",
-          "--exponential", "0.01", "--from", "0.5", "--to", "15"]
 
 
 @pytest.fixture(scope="module")
