@@ -80,3 +80,27 @@ def test_damped_map_without_a_speed_range_is_refused() -> None:
     with pytest.raises(ModelError, match="needs a speed range") as info:
         loads(jeffcott(campbell=False), source="r.toml").critical_speed_map([1e6], damped=True)
     assert info.value.problems[0].key == "to"
+
+
+def test_damped_map_on_soft_damped_bearings_has_no_critical_speed_at_rest() -> None:
+    """Friswell et al. (2010) Example 5.9.5 on soft bearings (3e5 N/m, 3 kN s/m): its
+    lowest modes are overdamped at rest (real double roots), and the speed's gyroscopic
+    coupling splits each into a pair whose |Im s| grows from 0 with the speed.  Those meet
+    1x only at 0 rpm, which is no critical speed; every critical speed the map gives is one
+    where a mode's damped frequency equals the speed (checked on the state eigenvalues
+    there, to 1e-8), of a mode that is not overdamped."""
+    from pathlib import Path
+
+    text = (Path(__file__).parents[1] / "examples" / "rotors" / "friswell_5_9_5.toml"
+            ).read_text(encoding="utf-8")
+    model = loads(text, source="friswell_5_9_5.toml")
+    result = model.critical_speed_map([3e5], modes=4, damped=True)
+    speeds, ratios = result.speeds[0, 0], result.damping_ratios[0, 0]
+    assert np.all(np.isfinite(speeds)) and np.all(speeds > 10.0)  # rad/s; was 2e-6 (0 rpm)
+    assert np.all(ratios < 1.0)
+    soft = loads(text.replace('"1 MN/m"', '"0.3 MN/m"'), source="soft.toml")
+    campbell = soft.campbell(speeds=np.sort(speeds), modes=12)
+    for speed in speeds:
+        at = int(np.argmin(np.abs(campbell.speeds - speed)))
+        frequencies = np.abs(np.asarray(campbell.eigenvalues)[at].imag)
+        assert np.min(np.abs(frequencies - speed)) <= 1e-8 * speed

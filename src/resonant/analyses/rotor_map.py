@@ -44,7 +44,7 @@ from ..charts import COLORS, Chart, Charted, Curve
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem
 from ..memory import dense_matrix, require
-from ..modal import ZERO_STATE, gyroscopic_modes, synchronous_speeds
+from ..modal import ZERO_STATE, gyroscopic_modes, overdamped, synchronous_speeds
 from ..model.rotor import Bearing
 from ..system.base import LinearSystem, parameter_values
 from ..tables import ResultTable
@@ -81,6 +81,9 @@ _WHIRL = Codec(lambda value: [[list(row) for row in block] for block in value], 
 
 #: the most coordinates of a map (each stiffness is one dense complex eigenproblem)
 MAX_MAP_COORDINATES = 2000
+#: a damped critical speed's mode with |Im s| at most this fraction of |s| there is an
+#: overdamped root the speed's gyroscopic coupling split into a pair, not a critical speed
+SPLIT_ROOT = 1e-6
 #: the most coordinates of a damped map (dense complex modes at every speed it tries)
 MAX_DAMPED_MAP_COORDINATES = 400
 #: the bearing stiffness values of a map by default (N/m): from, to and how many,
@@ -366,7 +369,9 @@ def _damped_map(system: LinearSystem, stiffness: np.ndarray, modes: int,
                        analysis=True)
         s, q = gyroscopic_modes(M, C, K - direct(speed) + k * pattern)
         size = np.abs(s)
-        moving = size > ZERO_STATE * max(1.0, float(size.max(initial=0.0)))
+        # an overdamped (real) root has no damped frequency to cross r Omega: counted, its
+        # rounding-level |Im s| would put a critical speed at the grid's first speed, 0
+        moving = (size > ZERO_STATE * max(1.0, float(size.max(initial=0.0)))) & ~overdamped(s)
         return s[moving], q[:, moving]
 
     def above(speed: float, k: float, r: float) -> int:
@@ -381,26 +386,50 @@ def _damped_map(system: LinearSystem, stiffness: np.ndarray, modes: int,
             def count(w: float, k: float = float(k), r: float = r) -> int:
                 return above(w, k, r)
 
-            counts = [count(float(w)) for w in grid]
-            found: list[float] = []
-            for a, b, ca, cb in zip(grid[:-1], grid[1:], counts[:-1], counts[1:]):
-                if ca != cb and len(found) < modes:
-                    found += _changes(count, float(a), float(b), ca, cb, tolerance)
-            found = sorted(found)[:modes]
-            labels: list[str] = []
-            for j, speed in enumerate(found):
-                # the mode whose frequency is r Omega there (the next nearest for a second
-                # critical speed at the same place: a forward and a backward mode together)
-                repeat = sum(1 for x in found[:j] if x == speed)
-                s, q = modes_at(speed, float(k))
-                best = int(np.argsort(np.abs(np.abs(s.imag) - r * speed),
-                                      kind="stable")[min(repeat, len(s) - 1)])
-                out[i, o, j] = speed
-                ratios[i, o, j] = -s[best].real / abs(s[best])
-                labels.append(whirl_label(float(precession(q[:, [best]], pairs)[0])))
-            rows.append(tuple(labels + [""] * (modes - len(labels))))
+            def mode(w: float, k: float = float(k)) -> tuple[np.ndarray, np.ndarray]:
+                return modes_at(w, k)
+
+            found = _crossings(count, mode, grid, r, modes, tolerance, pairs)
+            for j, (speed, ratio, _) in enumerate(found):
+                out[i, o, j], ratios[i, o, j] = speed, ratio
+            rows.append(tuple([c[2] for c in found] + [""] * (modes - len(found))))
         whirl.append(tuple(rows))
     return CriticalSpeedMap(system.title, stiffness, orders, out, tuple(whirl), True, ratios)
+
+
+def _crossings(count: Callable[[float], int],
+               mode: Callable[[float], tuple[np.ndarray, np.ndarray]], grid: np.ndarray,
+               r: float, modes: int, tolerance: float,
+               pairs: Sequence[tuple[int, int]]
+               ) -> list[tuple[float, float, str]]:
+    """The lowest ``modes`` damped critical speeds of order ``r`` over ``grid``: each speed
+    where the count of modes above r Omega changes, its mode's damping ratio and whirl.
+
+    A change whose mode has a damped frequency below :data:`SPLIT_ROOT` of its |s| is no
+    critical speed: an overdamped root that the speed's gyroscopic coupling has just split
+    into a pair (|Im s| about proportional to Omega), met by r Omega at Omega = 0 only.
+    """
+    counts = [count(float(w)) for w in grid]
+    speeds: list[float] = []
+    for a, b, ca, cb in zip(grid[:-1], grid[1:], counts[:-1], counts[1:]):
+        if ca != cb:
+            speeds += _changes(count, float(a), float(b), ca, cb, tolerance)
+    speeds.sort()
+    found: list[tuple[float, float, str]] = []
+    for j, speed in enumerate(speeds):
+        if len(found) == modes:
+            break
+        # the mode whose frequency is r Omega there (the next nearest for a second critical
+        # speed at the same place: a forward and a backward mode together)
+        repeat = sum(1 for x in speeds[:j] if x == speed)
+        s, q = mode(speed)
+        best = int(np.argsort(np.abs(np.abs(s.imag) - r * speed),
+                              kind="stable")[min(repeat, len(s) - 1)])
+        if abs(s[best].imag) <= SPLIT_ROOT * abs(s[best]):
+            continue
+        found.append((speed, float(-s[best].real / abs(s[best])),
+                      whirl_label(float(precession(q[:, [best]], pairs)[0]))))
+    return found
 
 
 def _changes(count: Callable[[float], int], low: float, high: float, at_low: int,
@@ -420,4 +449,4 @@ def _changes(count: Callable[[float], int], low: float, high: float, at_low: int
 
 
 __all__ = ["critical_speed_map", "CriticalSpeedMap", "MAX_MAP_COORDINATES",
-           "MAX_DAMPED_MAP_COORDINATES", "MAP_STIFFNESS", "MAP_MODES"]
+           "MAX_DAMPED_MAP_COORDINATES", "MAP_STIFFNESS", "MAP_MODES", "SPLIT_ROOT"]

@@ -235,8 +235,8 @@
     }
     const C = shown.chart, damped = S.map === "damped";
     const now = R.speeds[S.k] / R.rpm;
-    // at most MAP_DECADES below the highest speed: a damped map's critical speeds near 0
-    // (a mode overdamped there, its damped frequency near 0) run off the bottom
+    // at most MAP_DECADES below the highest speed: a damped map's critical speed of a nearly
+    // critically damped mode (its damped frequency close to 0) runs off the bottom
     const values = C.curves.flatMap(c => c.y.map(num)).filter(v => v > 0);
     const highest = Math.max(...values, 0), cut = values.some(v => v < highest * Math.pow(10, -MAP_DECADES));
     const y = logRange(values.filter(v => v >= highest * Math.pow(10, -MAP_DECADES)));
@@ -269,7 +269,7 @@
       `, log-log, as resonant speed-map${damped ? " --damped" : ""} draws them` +
       (own ? `; dotted: the bearings' own stiffness (${own})` : "") +
       (inside ? `; the dark line: the current speed, ${fmt(now, 5)} rpm.` : `; the current speed, ${fmt(now, 5)} rpm, is outside the plot.`) +
-      (cut ? ` Critical speeds below ${fmt(highest * Math.pow(10, -MAP_DECADES), 3)} rpm run off the bottom (a mode overdamped on soft bearings has a damped frequency near 0).` : "") +
+      (cut ? ` Critical speeds below ${fmt(highest * Math.pow(10, -MAP_DECADES), 3)} rpm run off the bottom (a nearly critically damped mode on soft bearings has a damped frequency close to 0).` : "") +
       (M.note ? ` (${M.note}.)` : "");
   }
 
