@@ -234,6 +234,33 @@ def test_a_rotor_without_bearings_has_no_map_and_no_forces() -> None:
     assert data["forces"] is None and data["map"] is None
 
 
+def test_the_force_chart_draws_the_peaks_between_the_slider_speeds(
+        solved: tuple[Any, Any]) -> None:
+    """The force chart's curve is on its own finer grid: on Example 5.9.1's 200-rpm slider
+    the unbalance peak near 830 rpm falls between two speeds (41 N there; the curve
+    passes within 3 rpm of the undamped critical speed, where the force is unbounded,
+    and never at it); on 5.9.5's damped bearings the curve holds each damped 1x critical
+    speed, and the forces are those of unbalance_response at its speeds."""
+    diagram, response = solved
+    model = load(FRISWELL)
+    curve = rotor_data(model, linear_system(model))["forces"]["curve"]
+    speeds = np.array(curve["speeds"])
+    assert set(diagram.speeds) <= set(speeds) and len(speeds) >= 400
+    critical = [c.speed for c in diagram.critical_speeds if c.order == 1]
+    assert not set(critical) & set(speeds)
+    drawn = np.array(curve["major"], dtype=float)
+    assert np.nanmax(drawn) > 10 * np.max(response.bearing_force)
+    damped = load(DAMPED)
+    system = linear_system(damped)
+    curve = rotor_data(damped, system)["forces"]["curve"]
+    speeds = np.array(curve["speeds"])
+    for c in campbell(system).critical_speeds:
+        if c.order == 1:
+            assert c.speed in speeds
+    expected = unbalance_response(system, speeds).bearing_force.T
+    assert np.allclose(np.array(curve["major"], dtype=float), expected, rtol=1e-12, atol=0)
+
+
 @pytest.mark.parametrize("width", [375])
 def test_the_rotor_panel_fits_the_width(browser: Any, rotor_page: Path, width: int
                                         ) -> None:

@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from ..analyses.campbell import RPM, campbell
+from ..analyses.campbell import RPM, Campbell, campbell
 from ..analyses.measured_match import MatchedTest
 from ..analyses.modes import modes
 from ..analyses.periodic_load import load_series, periodic_response
@@ -612,6 +612,12 @@ def periodic_data(model: Model, system: LinearSystem, live: bool,
 
 #: the most stations whose orbits the rotor panel draws
 ROTOR_STATIONS = 12
+#: speeds of the bearing force chart at least, evenly over the slider's range (with the
+#: slider's speeds and the critical speeds of order 1, where an unbalance peaks)
+ROTOR_FORCE_POINTS = 400
+#: a 1x critical speed joins the force chart's speeds where its mode's damping ratio is
+#: above this (an undamped one is a singular solve)
+DAMPED_PEAK = 1e-9
 #: the most coordinates of a rotor whose damped critical speed map the page holds (dense
 #: complex modes at every speed it tries: about 1.5 s for Friswell's 28 coordinates)
 PAGE_DAMPED_MAP_COORDINATES = LIVE_LIMIT
@@ -770,6 +776,24 @@ def map_data(model: Model, system: LinearSystem, orders: tuple[float, ...],
     return out
 
 
+def _force_curve(system: LinearSystem, result: Campbell, deadline: Deadline
+                 ) -> dict[str, Any]:
+    """The bearing force chart's curve: the major semi-axis (0-pk, N) of each bearing's
+    force on a grid finer than the slider's (:data:`ROTOR_FORCE_POINTS`, the slider's
+    speeds and the 1x critical speeds of damped modes), so that a lightly damped peak
+    between two of the slider's speeds is drawn."""
+    speeds = result.speeds
+    zeta = np.asarray(result.damping_ratios)
+    # an undamped mode's critical speed is a singular solve (no finite peak to draw)
+    critical = [c.speed for c in result.critical_speeds if c.order == 1 and
+                zeta[int(np.argmin(np.abs(speeds - c.speed))), c.mode - 1] > DAMPED_PEAK]
+    grid = np.unique(np.concatenate([
+        speeds, np.linspace(speeds[0], speeds[-1], ROTOR_FORCE_POINTS), critical]))
+    response = unbalance_response(system, grid, deadline=deadline)
+    return {"speeds": grid.tolist(),
+            "major": _finite(np.asarray(response.bearing_force).T)}
+
+
 def rotor_data(model: Model, system: LinearSystem, deadline: Deadline = NO_DEADLINE
                ) -> dict[str, Any] | None:
     """The rotor panel's data (None without a ``[campbell]`` section): the Campbell diagram
@@ -826,7 +850,8 @@ def rotor_data(model: Model, system: LinearSystem, deadline: Deadline = NO_DEADL
         if response.bearings:
             forces = {"bearings": list(response.bearings),
                       "FX": _complex_json(response.bearing_forces[..., 0]),
-                      "FY": _complex_json(response.bearing_forces[..., 1])}
+                      "FY": _complex_json(response.bearing_forces[..., 1]),
+                      "curve": _force_curve(system, result, deadline)}
     threshold = result.threshold
     critical = [c.speed for c in result.critical_speeds]
     return {"speed_parameter": name, "rpm": RPM, "speeds": speeds.tolist(),

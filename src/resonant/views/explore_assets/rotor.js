@@ -202,14 +202,18 @@
       ctx.fillText(R.orbits ? "No [rotor] bearings: no bearing forces." : "No [[unbalance]] in the model: no bearing forces.", 12, 24);
       caption.textContent = ""; return;
     }
+    // the curve on its own finer grid (a lightly damped peak falls between the slider's
+    // speeds), the dots at the slider's speed
     const k = S.k, xs = R.speeds.map(v => v / factor);
-    const y = logRange(FORCES.flat());
+    const curve = R.forces.curve, cs = curve.speeds.map(v => v / factor);
+    const CURVES = curve.major.map(values => values.map(num));
+    const y = logRange(CURVES.flat().concat(FORCES.flat()));
     const f = frame(ctx, w, h, { x: [xs[0], xs[N - 1]], y, xlog: false, ylog: true,
       xlabel: `speed ${R.speed_parameter} (${unit})`, ylabel: "bearing force 0-pk (N)" });
     f.clip();
-    FORCES.forEach((values, i) => {
+    CURVES.forEach((values, i) => {
       ctx.strokeStyle = COLOURS[i % COLOURS.length]; ctx.lineWidth = 1.8;
-      polyline(ctx, f, xs, values, true);
+      polyline(ctx, f, cs, values, true);
     });
     const px = f.X(xs[k]);
     ctx.strokeStyle = NOW; ctx.lineWidth = 2;
