@@ -102,8 +102,15 @@ SINGULAR_CONDITION = 1e13
 LOSS_CONDITION = 1e8
 #: agreement required of modal superposition with a direct solve at the check points
 MODAL_TOLERANCE = 1e-10
-#: bytes of complex matrices built at once by the dense method
+#: bytes of complex matrices built at once by the modal method
 CHUNK_BYTES = 64 * 2**20
+#: bytes of the stack of dynamic matrices K - w^2 M + i w C the dense method builds and
+#: solves at once: about a core's cache, since building the stack is memory-bound (a stack
+#: of 64 MiB made the sweeps of 100 and 300 coordinates 1.5x and 1.4x a loop of zgesv, one
+#: of 2 MiB 1.26x and 1.15x; docs/performance.md)
+DENSE_STACK_BYTES = 2 * 2**20
+#: points of a banded sweep whose solutions are stored at once
+BAND_CHUNK = 64
 #: exact condition numbers (an SVD per point) up to this many coordinates ...
 EXACT_CONDITION = 64
 #: ... or, for a single point (the stationary solution), up to this many
@@ -912,7 +919,7 @@ def _solve_dense(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progre
                  errors: Sampling | None = None) -> np.ndarray:
     N, n = w.shape[0], len(batch.coordinates)
     M, C, K = (dense_matrix(a, None) for a in (batch.M, batch.C, batch.K))
-    chunk = max(1, int(CHUNK_BYTES // (16 * n * n)))
+    chunk = max(1, int(DENSE_STACK_BYTES // (16 * n * n)))
     singular = np.zeros(N, dtype=bool)
     # no damping: A = K - w^2 M real, made complex by the solve (not where the exact
     # condition numbers are wanted: a real SVD would round differently)
@@ -1234,19 +1241,24 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
         A, x, info = point(j)
         return error(j, A, x) if info == 0 else math.nan
 
+    # the solutions kept 64 points at a time: storing each point alone (its largest
+    # |component|, its damping fraction) cost more than a small band's LAPACK solve
+    chunk = np.empty((min(N, BAND_CHUNK), len(batch.coordinates)), dtype=complex)
     for i in range(N):
         A, x, info = point(i)
+        row = chunk[i % BAND_CHUNK]
         if info != 0:
             singular[i] = True
-            Z[i] = np.nan
+            row[:] = np.nan
         else:
-            Z[i] = x if order is None else x[position]   # (x[position[k]]: coordinate k)
+            row[:] = x if order is None else x[position]   # (x[position[k]]: coordinate k)
             if errors is not None:
-                errors.point(i, float(Z.largest[i]), partial(error, i, A, x), revisit)
-        if i % 64 == 63:
-            progress.advance(64)
+                errors.point(i, float(np.abs(row).max()), partial(error, i, A, x), revisit)
+        if i % BAND_CHUNK == BAND_CHUNK - 1 or i == N - 1:
+            start = i - i % BAND_CHUNK
+            Z[start:i + 1] = chunk[:i + 1 - start]
+            progress.advance(i + 1 - start)
             deadline.check("while solving the harmonic systems", analysis=True)
-    progress.advance(N % 64)
     return singular
 
 
