@@ -475,6 +475,46 @@ class Transfer:
             return [_Load(column, 0)]
         return found
 
+    def amplitudes(self, f: np.ndarray, loads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The inputs' complex amplitudes u that make up given loads, and what is left.
+
+        At each line, the least-squares u of ``loads = sum_j B_j(w) u_j``, B_j the load of a
+        unit input j (the sum of its columns times (i w)^power): the loads that the inputs
+        make are made exactly (to rounding) by their u, an input whose columns the loads do
+        not hold getting 0.  The columns are orthonormalized once (QR), so that a line
+        costs a solve of (columns x inputs).
+
+        Parameters
+        ----------
+        f : ndarray
+            The lines (Hz), (N,).
+        loads : ndarray
+            Complex generalized forces, (N, n) or (n,) for all lines
+            (:attr:`resonant.system.batch.BatchHarmonic.complex_load`).
+
+        Returns
+        -------
+        u : ndarray
+            (N, inputs) complex.
+        rest : ndarray
+            (N, n) complex: ``loads - sum_j B_j u_j``, the part of the loads no input makes.
+        """
+        w = 2 * np.pi * np.asarray(f, dtype=float).ravel()
+        b = np.broadcast_to(np.asarray(loads, dtype=complex), (len(w), self.num.n))
+        J = len(self.inputs)
+        if not self.columns:
+            return np.zeros((len(w), J), dtype=complex), np.array(b)
+        C = np.column_stack(self.columns)
+        Q, R = np.linalg.qr(C)
+        P = np.zeros((len(w), len(self.columns), J), dtype=complex)
+        for j, entry in enumerate(self.index):
+            for k, power in entry:
+                P[:, k, j] += (1j * w) ** power
+        c = b @ Q                       # (N, columns): the loads in the columns' basis
+        u = np.einsum("lji,li->lj", np.linalg.pinv(R @ P, rcond=1e-12), c)
+        made = np.einsum("lkj,lj->lk", P, u) @ C.T
+        return u, b - made
+
     def __call__(self, f: np.ndarray, outputs: Sequence[str]) -> np.ndarray:
         """H (len(f), responses, inputs): the kept coordinates, then ``outputs``."""
         return self.with_bound(f, outputs)[0]
