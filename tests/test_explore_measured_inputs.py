@@ -21,9 +21,12 @@ import numpy as np
 import pytest
 
 import resonant
+from conftest import run_cli
+from resonant.analyses.frf_mimo import pair_name
 from resonant.analyses.frf_update import input_amplitudes, model_frf_matrix
 from resonant.analyses.measured_match import MatchedTest
 from resonant.analyses.sweep import sweep
+from resonant.model.measured import MeasuredData, MeasuredFunction, write_uff
 from resonant.views.explore_measured import measured_overlay
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "chain3_lab.toml"
@@ -162,3 +165,36 @@ def test_one_input_is_the_single_input_scaling():
         before = np.abs(measured[:, r, 0]) * np.asarray(swept.amplitudes[name]) \
             / np.abs(H[:, r, 0])
         assert np.allclose(data["curves"][name], before, rtol=1e-12, atol=0), name
+
+
+def two_reference_file(path: Path, model: resonant.Model, excitation: list[str],
+                       nodes: list[int]) -> Path:
+    """The model's own FRF matrix as a binary Universal File, ``RESPONSE/INPUT`` (one
+    input: by the response channel), the reference of input j on ``nodes[j]``, +Z."""
+    pytest.importorskip("pyuff")
+    test = _test(model, excitation)
+    functions = tuple(MeasuredFunction(pair_name(c, e) if len(excitation) > 1 else c, "frf",
+                                       LINES, test.measured[:, k, j], "Hz", "m/N", (k + 1, 3),
+                                       (node, 3))
+                      for j, (e, node) in enumerate(zip(excitation, nodes, strict=True))
+                      for k, c in enumerate(test.responses))
+    write_uff(path, MeasuredData(path.name, functions), binary=True)
+    return path
+
+
+def test_the_command_line_says_why_no_points_are_drawn(tmp_path):
+    (tmp_path / "one.toml").write_text(two_loads_text(["shaker1"], ["x1"]))
+    model = resonant.load(tmp_path / "one.toml")
+    test = two_reference_file(tmp_path / "one.uff", model, ["shaker1"], [1])
+    status, _, err = run_cli(["explore", tmp_path / "one.toml", "-o", tmp_path / "p.html",
+                              "--test", test])
+    assert status == 0, err
+    # 6 N of the load's |(-10i, 0, 6)| N on x3: 6 / sqrt(136) = 51.4 %
+    assert ("warning: --test: no measured points: the model's load acts on x3 (51.4 % of it "
+            "at worst), which the test's input (shaker1) does not make") in err, err
+    (tmp_path / "two.toml").write_text(two_loads_text(["shaker1", "shaker3"], ["x1", "x3"]))
+    test = two_reference_file(tmp_path / "two.uff", resonant.load(tmp_path / "two.toml"),
+                              ["shaker1", "shaker3"], [1, 3])
+    status, _, err = run_cli(["explore", tmp_path / "two.toml", "-o", tmp_path / "p.html",
+                              "--test", test])
+    assert status == 0 and "warning" not in err, err
