@@ -22,6 +22,7 @@ import pytest
 
 import resonant
 from conftest import run_cli
+from resonant.analyses import random_response
 from resonant.analyses.frf_mimo import pair_name
 from resonant.analyses.frf_update import input_amplitudes, model_frf_matrix
 from resonant.analyses.measured_match import MatchedTest
@@ -119,9 +120,9 @@ def test_the_phases_count():
     system = model.linearize()
     test = _test(model, ["shaker1", "shaker3"])
     load = system.batch("omega", 2 * np.pi * LINES).harmonics[0].complex_load
-    u, rest = input_amplitudes(system, ["x1", "x3"], LINES, load)
+    u, left, worst = input_amplitudes(system, ["x1", "x3"], LINES, load)
     assert np.allclose(u, np.broadcast_to([-10j, 6.0], u.shape), rtol=1e-14)
-    assert float(np.abs(rest).max()) == 0.0
+    assert float(left.max()) == 0.0 and float(worst.max()) == 0.0
     magnitudes = np.abs(np.sum(test.measured[:, 2, :] * np.abs(u), axis=1))
     drawn = np.array(measured_overlay(test, model, system, "omega")["curves"]["x3"])
     assert np.max(np.abs(magnitudes / drawn - 1)) > 0.1
@@ -198,3 +199,17 @@ def test_the_command_line_says_why_no_points_are_drawn(tmp_path):
     status, _, err = run_cli(["explore", tmp_path / "two.toml", "-o", tmp_path / "p.html",
                               "--test", test])
     assert status == 0 and "warning" not in err, err
+
+
+def test_the_rest_is_formed_by_chunks_of_lines(monkeypatch):
+    """Chunks of 5 lines give what one chunk gives (the amplitudes, what is left and where)."""
+    model = _model(["shaker1"], ["x1"])
+    system = model.linearize()
+    load = system.batch("omega", 2 * np.pi * LINES).harmonics[0].complex_load
+    whole = input_amplitudes(system, ["x1"], LINES, load)
+    monkeypatch.setattr(random_response, "chunk_rows", lambda row_bytes, total: 5)
+    chunked = input_amplitudes(system, ["x1"], LINES, load)
+    for a, b in zip(whole, chunked, strict=True):
+        assert np.array_equal(a, b)
+    assert np.allclose(whole[0][:, 0], -10j) and np.allclose(whole[1], 6 / np.sqrt(136))
+    assert whole[2].tolist() == [0.0, 0.0, 6.0]

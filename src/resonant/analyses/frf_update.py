@@ -199,13 +199,13 @@ def _transfer(system: LinearSystem, signals: Sequence[str], names: Sequence[str]
 
 def input_amplitudes(system: LinearSystem, signals: Sequence[str], frequency: np.ndarray,
                      loads: np.ndarray, *, deadline: Deadline = NO_DEADLINE
-                     ) -> tuple[np.ndarray, np.ndarray]:
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The complex amplitude of each input in the model's loads at each line, and the part
     of the loads that no input makes (least squares,
     :meth:`resonant.analyses.random_response.Transfer.amplitudes`).
 
     With them the response to the loads is ``sum_j H_ij u_j`` (the FRFs of
-    :func:`model_frf_matrix` to the same inputs) wherever ``rest`` is zero.
+    :func:`model_frf_matrix` to the same inputs) wherever nothing is left.
 
     Parameters
     ----------
@@ -223,20 +223,23 @@ def input_amplitudes(system: LinearSystem, signals: Sequence[str], frequency: np
     -------
     u : ndarray
         (N, inputs) complex.
-    rest : ndarray
-        (N, n) complex, by coordinate.
+    left : ndarray
+        (N,): the part of the loads no input makes, relative (2-norms).
+    worst : ndarray
+        (n,): its largest magnitude on each coordinate over the lines.
 
     Examples
     --------
     >>> import resonant
     >>> system = resonant.load("examples/chain3_lab.toml").linearize()
-    >>> u, rest = input_amplitudes(system, ["x1", "F"], np.array([1.0]),
-    ...                            np.array([2.0, 0.0, 3j]))
-    >>> u.tolist(), float(abs(rest).max())
-    ([[(2+0j), 3j]], 0.0)
-    >>> u, rest = input_amplitudes(system, ["F"], np.array([1.0]), np.array([2.0, 0.0, 3j]))
-    >>> rest.tolist()            # the load on x1 is made by no input
-    [[(2+0j), 0j, 0j]]
+    >>> u, left, _ = input_amplitudes(system, ["x1", "F"], np.array([1.0]),
+    ...                               np.array([2.0, 0.0, 3j]))
+    >>> u.tolist(), left.tolist()
+    ([[(2+0j), 3j]], [0.0])
+    >>> u, left, worst = input_amplitudes(system, ["F"], np.array([1.0]),
+    ...                                   np.array([2.0, 0.0, 3j]))
+    >>> worst.tolist()           # the load on x1 is made by no input
+    [2.0, 0.0, 0.0]
     """
     transfer, _ = _transfer(system, signals, [], deadline, {})
     return transfer.amplitudes(np.asarray(frequency, dtype=float), loads)

@@ -117,8 +117,9 @@ def measured_overlay(test: MatchedTest, model: Model, system: LinearSystem,
         channels.setdefault(spec.channels[channel].name, (r, channel))
     names = [n for n in channels if n in (*system.coordinates, *model.outputs)]
     load = system.batch(frequency, values, deadline).harmonics[0].complex_load
-    u, rest = input_amplitudes(system, spec.model_inputs, f[keep], load, deadline=deadline)
-    note = _uncovered(rest, load, system.coordinates, test.inputs)
+    u, left, worst = input_amplitudes(system, spec.model_inputs, f[keep], load,
+                                      deadline=deadline)
+    note = _uncovered(left, worst, load, system.coordinates, test.inputs)
     curves: dict[str, list[float | None]] = {}
     for name in names if note is None else ():
         r, channel = channels[name]
@@ -130,22 +131,19 @@ def measured_overlay(test: MatchedTest, model: Model, system: LinearSystem,
             "note": note}
 
 
-def _uncovered(rest: np.ndarray, load: np.ndarray, coordinates: tuple[str, ...],
-               inputs: tuple[str, ...]) -> str | None:
-    """What the page says of a model load that no measured input makes (None: there is
-    none, above :data:`UNCOVERED` of the load at some line)."""
-    size = np.linalg.norm(np.broadcast_to(load, rest.shape), axis=1)
-    left = np.linalg.norm(rest, axis=1)
-    if not np.any(left > UNCOVERED * size):
+def _uncovered(left: np.ndarray, worst: np.ndarray, load: np.ndarray,
+               coordinates: tuple[str, ...], inputs: tuple[str, ...]) -> str | None:
+    """What the page says of a model load that no measured input makes (None: none above
+    :data:`UNCOVERED` of the load at any line)."""
+    if not np.any(left > UNCOVERED):
         return None
-    worst = np.max(np.abs(rest), axis=0)
+    largest = float(np.abs(load).max(initial=0.0))
     loaded = [coordinates[i] for i in np.argsort(-worst, kind="stable")
-              if worst[i] > UNCOVERED * float(size.max())]
+              if worst[i] > UNCOVERED * largest]
     shown = ", ".join(loaded[:SHOWN_COORDINATES]) + (", ..." if len(loaded)
                                                       > SHOWN_COORDINATES else "")
-    share = float(np.max(left / np.where(size > 0, size, 1.0)))
     return (f"no measured points: the model's load acts on {shown} "
-            f"({100 * share:.3g} % of it at worst), which the test's input"
+            f"({100 * float(left.max()):.3g} % of it at worst), which the test's input"
             f"{'s' if len(inputs) > 1 else ''} ({', '.join(inputs)}) do"
             f"{'' if len(inputs) > 1 else 'es'} not make, so its FRFs cannot give the "
             "response to it: map an input to each loaded coordinate ([measurement] input)")
