@@ -24,8 +24,10 @@ import pytest
 import resonant
 from conftest import run_cli
 from resonant.analyses.frf_update import model_frf_matrix
+from resonant.analyses.sweep import sweep
 from resonant.model.measured import MeasuredData, MeasuredFunction, write_uff
 from test_explore_browser import CHROMIUM, opened
+from test_explore_measured_inputs import two_loads_text, two_reference_file
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "chain3_lab.toml"
 LINES = np.linspace(0.5, 12.0, 47)
@@ -122,3 +124,41 @@ def test_no_measured_data_no_points(browser, tmp_path):
         state = page.page.evaluate("resonant.response()")
         assert state["measured"] is None
         assert "Open circles" not in page.page.inner_text("#response-caption")
+
+
+def test_two_references_are_summed_on_the_page(browser, tmp_path):
+    """The chain loaded on masses 1 and 3, a shaker at each: the page draws, at every line,
+    the sweep's amplitude (the test's FRFs being the model's own: sum_j H_ij u_j, to 1e-9);
+    a test with the shaker on mass 1 only draws nothing and says why in the caption."""
+    (tmp_path / "two.toml").write_text(two_loads_text(["shaker1", "shaker3"], ["x1", "x3"]))
+    two = resonant.load(tmp_path / "two.toml")
+    test = two_reference_file(tmp_path / "two.uff", two, ["shaker1", "shaker3"], [1, 3])
+    page_file = tmp_path / "two.html"
+    status, _, err = run_cli(["explore", tmp_path / "two.toml", "-o", page_file, "--test", test])
+    assert status == 0, err
+    swept = sweep(two.linearize(), "omega", 2 * np.pi * LINES, method="direct")
+    with opened(browser, page_file) as page:
+        drawn = page.page.evaluate("resonant.response()")["measured"]
+        assert sorted(drawn) == ["x1", "x2", "x3"]
+        for k, name in enumerate(("x1", "x2", "x3")):
+            points = np.array(drawn[name])
+            assert points.shape == (len(LINES), 4)
+            assert np.allclose(points[:, 0], 2 * np.pi * LINES, rtol=1e-12)
+            assert np.allclose(points[:, 1], swept.amplitudes[name], rtol=1e-9)
+            colour = page.page.evaluate(f"resonant.response().styles[{k}].colour")
+            found = [_colour_near(page.page, px, py, colour) for px, py in points[:, 2:]]
+            assert np.mean(found) >= 0.9, (name, colour)
+        caption = page.page.inner_text("#response-caption")
+        assert ("the FRFs to shaker1, shaker3, each times the model's load at its input, "
+                "summed (phases included), at the file's values") in caption, caption
+        page.page.screenshot(path=str(tmp_path / "two.png"))
+    (tmp_path / "one.toml").write_text(two_loads_text(["shaker1"], ["x1"]))
+    test = two_reference_file(tmp_path / "one.uff", resonant.load(tmp_path / "one.toml"),
+                              ["shaker1"], [1])
+    status, _, err = run_cli(["explore", tmp_path / "one.toml", "-o", page_file, "--test", test])
+    assert status == 0 and "no measured points" in err, err
+    with opened(browser, page_file) as page:
+        assert page.page.evaluate("resonant.response()")["measured"] == {}
+        caption = page.page.inner_text("#response-caption")
+        assert ("Measured (one.uff): no measured points: the model's load acts on x3") in caption
+        assert "Open circles" not in caption

@@ -16,9 +16,11 @@ import pytest
 
 import resonant
 from conftest import run_cli
+from resonant.analyses.frf_mimo import pair_name
 from resonant.analyses.frf_update import model_frf_matrix
 from resonant.analyses.measured_match import match_test
 from resonant.model.measured import MeasuredData, MeasuredFunction, write_uff
+from test_explore_measured_inputs import two_loads_text
 
 pytest.importorskip("pyuff")
 
@@ -147,3 +149,32 @@ def test_model_without_measurement_section(model, tmp_path):
     status, _, err = run_cli(["report", EXAMPLE, "-o", tmp_path / "r.html", "--test", test,
                               "--test", test])
     assert status == 2 and "--test takes one Universal File of FRFs, got 2" in err, err
+
+
+def test_two_references_are_named_and_drawn_once_each(tmp_path):
+    """A test of the chain loaded on masses 1 and 3 with a shaker at each: the section names
+    both references with the model's input each measures, gives a FRAC column to each and
+    a panel per reference (its title), the panels' one legend drawn once."""
+    (tmp_path / "two.toml").write_text(two_loads_text(["shaker1", "shaker3"], ["x1", "x3"]))
+    two = resonant.load(tmp_path / "two.toml")
+    H = model_frf_matrix(two.linearize(), ["x1", "x3"], LINES, two.measurement_section.channels)
+    functions = [MeasuredFunction(pair_name(name, shaker), "frf", LINES, H[:, k, j], "Hz",
+                                  "m/N", (k + 1, 3), (node, 3))
+                 for j, (shaker, node) in enumerate((("shaker1", 1), ("shaker3", 3)))
+                 for k, name in enumerate(("d1", "d2", "d3"))]
+    status, err, out = _report(tmp_path / "two.toml", _write(tmp_path / "two.uff", functions),
+                               tmp_path)
+    assert status == 0, err
+    section = out.read_text().split("Measured against model FRFs</h2>")[1]
+    assert ("3 response channels to 2 inputs (shaker1: the model&#x27;s x1; shaker3: the "
+            "model&#x27;s x3)") in section
+    assert "<th>FRAC to shaker1</th><th>FRAC to shaker3</th>" in section
+    assert section.count("<td>1</td>") == 6
+    figure = section.split("<figure>")[1]
+    assert "input shaker1" in figure and "input shaker3" in figure
+    matched = match_test(resonant.model.measured.read_uff(tmp_path / "two.uff"),
+                         two.measurement_section, two.linearize(), two.source)
+    chart = matched.chart()
+    assert [p.title for p in chart.panels] == ["input shaker1", "input shaker3"]
+    assert [p.legend for p in chart.panels] == ["best", "none"] and chart.legend == "below"
+    assert np.allclose(chart.panels[1].curves[4].y, np.abs(H[:, 2, 1]), rtol=1e-12)

@@ -69,7 +69,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 __all__ = ["FRFUpdate", "update_to_frf", "frac", "model_frf", "model_frf_matrix",
-           "RESIDUALS", "SENSITIVITIES"]
+           "input_amplitudes", "RESIDUALS", "SENSITIVITIES"]
 
 #: the residuals (module docstring)
 RESIDUALS = ("log", "complex")
@@ -172,19 +172,77 @@ def model_frf_matrix(system: LinearSystem, signals: Sequence[str], frequency: np
     [[1.0, 1.0], [1.0, 3.0]]
     """
     f = np.asarray(frequency, dtype=float)
+    transfer, outputs = _transfer(system, signals, sorted({c.name for c in channels.values()}),
+                                  deadline, values)
+    num = transfer.num
+    keep = transfer.keep
+    H = transfer(f, outputs)
+    order = [num.coordinates[i] for i in keep] + list(outputs)
+    iw = 2j * np.pi * f
+    return np.stack([H[:, order.index(c.name), :] * (iw ** c.derivative)[:, None]
+                     for c in channels.values()], axis=1)
+
+
+def _transfer(system: LinearSystem, signals: Sequence[str], names: Sequence[str],
+              deadline: Deadline, values: Mapping[str, float]) -> tuple[Transfer, list[str]]:
+    """The kernel's transfer from the inputs to the coordinates ``names`` hold, and the
+    outputs among them (a ModelError for an input that does not act on the model)."""
     num = system.numeric(deadline, **values)
-    names = sorted({c.name for c in channels.values()})
     keep, outputs = responses_to_solve(num, names)
     transfer = Transfer(system, num, [RandomInput(s, 0, None, None) for s in signals], keep,
                         "direct", deadline)
     if transfer.warnings:
         raise ModelError(Problem("; ".join(transfer.warnings), system.source, "measurement",
                                  "input"))
-    H = transfer(f, outputs)
-    order = [num.coordinates[i] for i in keep] + list(outputs)
-    iw = 2j * np.pi * f
-    return np.stack([H[:, order.index(c.name), :] * (iw ** c.derivative)[:, None]
-                     for c in channels.values()], axis=1)
+    return transfer, list(outputs)
+
+
+def input_amplitudes(system: LinearSystem, signals: Sequence[str], frequency: np.ndarray,
+                     loads: np.ndarray, *, deadline: Deadline = NO_DEADLINE
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The complex amplitude of each input in the model's loads at each line, and the part
+    of the loads that no input makes (least squares,
+    :meth:`resonant.analyses.random_response.Transfer.amplitudes`).
+
+    With them the response to the loads is ``sum_j H_ij u_j`` (the FRFs of
+    :func:`model_frf_matrix` to the same inputs) wherever nothing is left.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    signals : sequence of str
+        The inputs (signals of the model or coordinates).
+    frequency : ndarray
+        The lines (Hz), (N,).
+    loads : ndarray
+        The generalized forces' complex amplitudes at each line, (N, n) or (n,)
+        (:attr:`resonant.system.batch.BatchHarmonic.complex_load`).
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    u : ndarray
+        (N, inputs) complex.
+    left : ndarray
+        (N,): the part of the loads no input makes, relative (2-norms).
+    worst : ndarray
+        (n,): its largest magnitude on each coordinate over the lines.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> system = resonant.load("examples/chain3_lab.toml").linearize()
+    >>> u, left, _ = input_amplitudes(system, ["x1", "F"], np.array([1.0]),
+    ...                               np.array([2.0, 0.0, 3j]))
+    >>> u.tolist(), left.tolist()
+    ([[(2+0j), 3j]], [0.0])
+    >>> u, left, worst = input_amplitudes(system, ["F"], np.array([1.0]),
+    ...                                   np.array([2.0, 0.0, 3j]))
+    >>> worst.tolist()           # the load on x1 is made by no input
+    [2.0, 0.0, 0.0]
+    """
+    transfer, _ = _transfer(system, signals, [], deadline, {})
+    return transfer.amplitudes(np.asarray(frequency, dtype=float), loads)
 
 
 @dataclass(frozen=True)

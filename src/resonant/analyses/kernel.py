@@ -679,7 +679,7 @@ def _solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
     require_kept(N, keep)
     progress = progress or _Progress(N, False)
     warnings = [] if warnings is None else warnings
-    rhs = np.asarray(h.F_C, dtype=complex) - 1j * np.asarray(h.F_S, dtype=float)
+    rhs = h.complex_load
     if not np.any(rhs):
         progress.advance(N)
         return KernelResult(np.zeros((N, len(keep)), dtype=complex), np.zeros(N, dtype=bool),

@@ -117,7 +117,8 @@ class MatchedTest(FieldsJSON, Charted):
 
     def chart(self) -> Charts:
         """|H| of each response measured (solid) and the model's (dashed), a panel per
-        input.
+        input; with several, the panels' one legend once (over the first panel in SVG,
+        under the figure with matplotlib, where it hides no curve).
 
         Returns
         -------
@@ -126,6 +127,7 @@ class MatchedTest(FieldsJSON, Charted):
         f = np.asarray(self.frequency)
         xlim = (float(f[0]), float(f[-1]))
         unit = next((u for u in self.units if u), "")
+        several = len(self.inputs) > 1
         panels = []
         for i, name in enumerate(self.inputs):
             curves = []
@@ -135,12 +137,13 @@ class MatchedTest(FieldsJSON, Charted):
                                     f"{response} (measured)", color))
                 curves.append(Curve(f, np.abs(self.model[:, r, i]), f"{response} (model)",
                                     color, dash="3.7 1.6"))
-            title = f"input {name}" if len(self.inputs) > 1 else ""
+            title = f"input {name}" if several else ""
             panels.append(Chart(tuple(curves), "frequency [Hz]",
                                 f"|H| [{unit}]" if unit else "|H|", xlim, ylog=True,
-                                title=title))
+                                title=title, legend="none" if i else "best"))
         return Charts(tuple(panels), title=f"measured ({self.source}) and model FRFs",
-                      size=(7.0, 3.2 * len(panels)))
+                      size=(7.0, 3.2 * len(panels) + (0.8 if several else 0.0)),
+                      legend="below" if several else "panels")
 
     def _derived_json(self) -> dict[str, Any]:
         return {"frac": floats_json(self.frac)}
@@ -300,8 +303,7 @@ def match_test(data: MeasuredData, spec: MeasurementSpec, system: LinearSystem, 
             f"the model's natural frequencies, {low:.6g} to {high:.6g} Hz: a test of another "
             "structure, or a frequency axis in other units (rad/s for Hz?)", source,
             "measurement"))
-    signals = [s for _, s in spec.references] or [spec.input]
-    model = model_frf_matrix(system, signals, f, spec.channels, deadline=deadline)
+    model = model_frf_matrix(system, spec.model_inputs, f, spec.channels, deadline=deadline)
     return MatchedTest(data.source, f, H, model, tuple(spec.channels), tuple(inputs),
                        tuple(units[c] for c in spec.channels), (low, high))
 

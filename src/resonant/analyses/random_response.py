@@ -90,6 +90,7 @@ from ..charts import (
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem, name_list, printable
 from ..expressions import numeric_value
+from ..memory import chunk_rows
 from ..modal import point_state_eigenvalues
 from ..model.random_spec import STANDARD_GRAVITY, RandomInput, RandomSpec
 from ..model.units import Dimension
@@ -474,6 +475,61 @@ class Transfer:
             column[self.num.coordinates.index(u.name)] = 1.0
             return [_Load(column, 0)]
         return found
+
+    def amplitudes(self, f: np.ndarray, loads: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The inputs' complex amplitudes u that make up given loads, and what is left.
+
+        At each line, the least-squares u of ``loads = sum_j B_j(w) u_j``, B_j the load of a
+        unit input j (the sum of its columns times (i w)^power): the loads that the inputs
+        make are made exactly (to rounding) by their u, an input whose columns the loads do
+        not hold getting 0.  The columns are orthonormalized once (QR), so that a line
+        costs a solve of (columns x inputs); the rest ``loads - sum_j B_j u_j`` is formed a
+        chunk of lines at a time (:func:`resonant.memory.chunk_rows`).
+
+        Parameters
+        ----------
+        f : ndarray
+            The lines (Hz), (N,).
+        loads : ndarray
+            Complex generalized forces, (N, n) or (n,) for all lines
+            (:attr:`resonant.system.batch.BatchHarmonic.complex_load`).
+
+        Returns
+        -------
+        u : ndarray
+            (N, inputs) complex.
+        left : ndarray
+            (N,): the 2-norm of the rest, the part of the loads no input makes, over the
+            loads' (0 where there is no load).
+        worst : ndarray
+            (n,): the largest |rest| of each coordinate over the lines.
+        """
+        w = 2 * np.pi * np.asarray(f, dtype=float).ravel()
+        N, n, J = len(w), self.num.n, len(self.inputs)
+        b = np.broadcast_to(np.asarray(loads, dtype=complex), (N, n))
+        u = np.zeros((N, J), dtype=complex)
+        left, worst = np.zeros(N), np.zeros(n)
+        C = np.column_stack(self.columns) if self.columns else np.zeros((n, 0))
+        Q, R = np.linalg.qr(C)
+        P = np.zeros((N, C.shape[1], J), dtype=complex)
+        for j, entry in enumerate(self.index):
+            for k, power in entry:
+                P[:, k, j] += (1j * w) ** power
+        step = chunk_rows(16.0 * n, N)
+        for start in range(0, N, step):
+            rows = slice(start, start + step)
+            if C.shape[1]:
+                c = b[rows] @ Q                 # the loads in the columns' basis
+                u[rows] = np.einsum("lji,li->lj", np.linalg.pinv(R @ P[rows], rcond=1e-12),
+                                    c)
+                rest = b[rows] - np.einsum("lkj,lj->lk", P[rows], u[rows]) @ C.T
+            else:
+                rest = np.array(b[rows])
+            size = np.linalg.norm(b[rows], axis=1)
+            left[rows] = np.linalg.norm(rest, axis=1) / np.where(size > 0, size, 1.0)
+            worst = np.maximum(worst, np.abs(rest).max(axis=0, initial=0.0))
+        return u, left, worst
 
     def __call__(self, f: np.ndarray, outputs: Sequence[str]) -> np.ndarray:
         """H (len(f), responses, inputs): the kept coordinates, then ``outputs``."""

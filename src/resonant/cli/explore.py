@@ -48,6 +48,7 @@ def run_explore(args: argparse.Namespace) -> int:
     test = match_test_file(args.test, model, deadline) if args.test else None
     page = explore_page(model, deadline=deadline, measured=test)
     page.save(path)
+    common.warn(page.warnings)
     kind = "computed live in the browser" if page.live else "precomputed curves and modes"
     print(f"wrote {path} ({len(page.html) // 1024} kB, {kind})", file=sys.stderr)
     return 0

@@ -89,6 +89,16 @@ class MeasurementSpec:
     channels: Mapping[str, ChannelMap]
     references: tuple[tuple[str, str], ...] = ()
 
+    @property
+    def model_inputs(self) -> tuple[str, ...]:
+        """The model's signal or coordinate of each input, in order (the FRFs' columns).
+
+        Returns
+        -------
+        tuple of str
+        """
+        return tuple(s for _, s in self.references) or (self.input,)
+
 
 def parse_measurement(data: object, signals: Sequence[str], coordinates: Sequence[str],
                       outputs: Sequence[str], source: str, problems: list[Problem]

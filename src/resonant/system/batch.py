@@ -88,6 +88,17 @@ class BatchHarmonic:
     #: signal variable -> (S (N,), C (N,)), for outputs that depend on signals
     signals: dict[Var, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
 
+    @property
+    def complex_load(self) -> np.ndarray:
+        """The load as the kernel solves for it, F_C - i F_S ((N, n) or (n,) complex): the
+        generalized forces' complex amplitudes, Q = Re((F_C - i F_S) e^(i omega t)).
+
+        Returns
+        -------
+        ndarray
+        """
+        return np.asarray(self.F_C, dtype=complex) - 1j * np.asarray(self.F_S, dtype=float)
+
 
 @dataclass
 class Batch:

@@ -94,6 +94,9 @@ class ExplorePage:
         The model's title.
     live : bool
         True when the page computes from the model's equations (False: precomputed).
+    warnings : tuple of str, optional
+        What the page could not show (measured FRFs that cannot give the response to the
+        model's load: :func:`resonant.views.explore_measured.measured_overlay`'s note).
 
     Examples
     --------
@@ -105,6 +108,7 @@ class ExplorePage:
     html: str
     title: str
     live: bool
+    warnings: tuple[str, ...] = ()
 
     def saved(self, path: str | Path | None) -> ExplorePage:
         """The page itself, written to ``path`` first where one is given.
@@ -963,7 +967,9 @@ def explore_page(model: Model, system: LinearSystem | None = None,
     (True, True)
     """
     data, program = explore_data(model, system, deadline, measured)
-    return ExplorePage(page_html(data, program), model.title, bool(data["live"]))
+    note = data["measured"]["note"] if data.get("measured") else None
+    return ExplorePage(page_html(data, program), model.title, bool(data["live"]),
+                       (f"--test: {note}",) if note else ())
 
 
 __all__ = ["ExplorePage", "check_page_size", "explore_page", "explore_data", "controls",

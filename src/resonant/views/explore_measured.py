@@ -2,18 +2,25 @@
 (``resonant explore MODEL --test FILE.uff``, docs/explore.md).
 
 The page's curve is the amplitude of each coordinate or output against the excitation
-frequency's parameter, under the model's own load.  A measured FRF H of a channel (its
-quantity's derivative d, ``[measurement.channels]``) becomes the amplitude of that
-quantity under the same load at the file's parameter values:
+frequency's parameter, under the model's own load: at f, the generalized forces' complex
+amplitudes b(f) (:attr:`resonant.system.batch.BatchHarmonic.complex_load`, what the
+harmonic kernel solves for).  The measured FRFs H_ij of channel i (its quantity's
+derivative d, ``[measurement.channels]``) to each input j become the response to that load
+at the file's lines:
 
-    |x(f)| = |H(f)| / (2 pi f)^d * |x_model(f)| / |H_model(f) / (2 pi f)^d|
+    x_i(f) = sum_j H_ij(f) / (2 pi i f)^d * u_j(f)
 
-the model's amplitude over its own FRF being the load's amplitude at f (F0 for
-``F0*sin(omega*t)``; m e omega^2 for an unbalance).  Lines where the model's FRF is zero
-(below 1e-12 of its largest) or the response has no amplitude are left out.  This
-supposes that the model's load is the measured input; with several inputs the FRFs to the
-first are drawn.  The points stay where they are as the sliders move: the measurement does
-not change.
+u_j(f) being input j's complex amplitude in the model's load, phases included (for
+``F0*sin(omega*t)`` on the input's coordinate, F0 with a phase of -90 degrees; for an
+unbalance m e omega^2): the least-squares u of b(f) = sum_j B_j u_j, B_j the load of a
+unit input j (:func:`resonant.analyses.frf_update.input_amplitudes`).  An input where the
+model puts no load gets u_j = 0 and adds nothing.  With one input this is
+|H(f)| / (2 pi f)^d * |x_model(f)| / |H_model(f) / (2 pi f)^d|, the model's amplitude over
+its own FRF.  Where the model loads something that no measured input makes (a force on a
+coordinate no input covers, another signal), the measured FRFs cannot give the response
+to it: no points are drawn and the returned ``note`` (shown in the page's caption) says
+which coordinates it loads.  The points stay where they are as the sliders move: the
+measurement does not change.
 
 Examples
 --------
@@ -40,6 +47,7 @@ from typing import Any
 
 import numpy as np
 
+from ..analyses.frf_update import input_amplitudes
 from ..analyses.measured_match import MatchedTest
 from ..analyses.sweep import sweep
 from ..deadline import NO_DEADLINE, Deadline
@@ -49,8 +57,11 @@ from ..system.base import LinearSystem
 
 __all__ = ["measured_overlay", "measured_first"]
 
-#: the model's |H| below this fraction of its largest: an antiresonance, no scale there
-ZERO_FRF = 1e-12
+#: the part of the model's load that no measured input makes, relative to the load, above
+#: which the measured FRFs cannot give the page's response (rounding is some 1e-16)
+UNCOVERED = 1e-9
+#: the coordinates named in the note of a load no input makes
+SHOWN_COORDINATES = 4
 
 
 def _omega_per_value(system: LinearSystem, frequency: str, value: float,
@@ -86,8 +97,10 @@ def measured_overlay(test: MatchedTest, model: Model, system: LinearSystem,
     -------
     dict or None
         ``source``, ``values`` (the parameter at each line, SI), ``curves`` (quantity ->
-        amplitude at each line, SI; null where left out), ``channels`` (quantity -> its
-        channel) and ``input``; None without a frequency parameter.
+        amplitude at each line, SI; null where not finite; empty with a ``note``),
+        ``channels`` (quantity -> its channel), ``inputs`` (the excitation channels) and
+        ``note`` (None, or why no points are drawn: the model loads what no input makes);
+        None without a frequency parameter.
     """
     if frequency is None:
         return None
@@ -103,22 +116,37 @@ def measured_overlay(test: MatchedTest, model: Model, system: LinearSystem,
     for r, channel in enumerate(test.responses):
         channels.setdefault(spec.channels[channel].name, (r, channel))
     names = [n for n in channels if n in (*system.coordinates, *model.outputs)]
-    response = sweep(system, frequency, values, names=[n for n in names
-                                                       if n in system.coordinates],
-                     deadline=deadline)
-    curves = {}
-    for name in names:
+    load = system.batch(frequency, values, deadline).harmonics[0].complex_load
+    u, left, worst = input_amplitudes(system, spec.model_inputs, f[keep], load,
+                                      deadline=deadline)
+    note = _uncovered(left, worst, load, system.coordinates, test.inputs)
+    curves: dict[str, list[float | None]] = {}
+    for name in names if note is None else ():
         r, channel = channels[name]
-        derivative = spec.channels[channel].derivative
-        iw = (2 * np.pi * f[keep]) ** derivative
-        measured = np.abs(test.measured[keep, r, 0]) / iw
-        own = np.abs(test.model[keep, r, 0]) / iw
-        amplitude = np.asarray(response.amplitudes[name], dtype=float)
-        good = (own > ZERO_FRF * own.max(initial=0.0)) & np.isfinite(amplitude)
-        scaled = np.where(good, measured * amplitude / np.where(good, own, 1.0), np.nan)
-        curves[name] = [float(y) if np.isfinite(y) else None for y in scaled]
+        iw = (2j * np.pi * f[keep]) ** spec.channels[channel].derivative
+        response = np.abs(np.sum(test.measured[keep, r, :] * u, axis=1) / iw)
+        curves[name] = [float(y) if np.isfinite(y) else None for y in response]
     return {"source": test.source, "values": values.tolist(), "curves": curves,
-            "channels": {n: channels[n][1] for n in names}, "input": test.inputs[0]}
+            "channels": {n: channels[n][1] for n in names}, "inputs": list(test.inputs),
+            "note": note}
+
+
+def _uncovered(left: np.ndarray, worst: np.ndarray, load: np.ndarray,
+               coordinates: tuple[str, ...], inputs: tuple[str, ...]) -> str | None:
+    """What the page says of a model load that no measured input makes (None: none above
+    :data:`UNCOVERED` of the load at any line)."""
+    if not np.any(left > UNCOVERED):
+        return None
+    largest = float(np.abs(load).max(initial=0.0))
+    loaded = [coordinates[i] for i in np.argsort(-worst, kind="stable")
+              if worst[i] > UNCOVERED * largest]
+    shown = ", ".join(loaded[:SHOWN_COORDINATES]) + (", ..." if len(loaded)
+                                                      > SHOWN_COORDINATES else "")
+    return (f"no measured points: the model's load acts on {shown} "
+            f"({100 * float(left.max()):.3g} % of it at worst), which the test's input"
+            f"{'s' if len(inputs) > 1 else ''} ({', '.join(inputs)}) do"
+            f"{'' if len(inputs) > 1 else 'es'} not make, so its FRFs cannot give the "
+            "response to it: map an input to each loaded coordinate ([measurement] input)")
 
 
 def measured_first(test: MatchedTest, model: Model, shown: list[str], most: int) -> list[str]:

@@ -72,11 +72,16 @@ def measured_frfs(ctx: Context) -> list[Block]:
     if t is None:
         return []
     several = len(t.inputs) > 1
+    spec = ctx.model.measurement_section
+    mapped = dict(spec.references) if spec is not None else {}
+    inputs = (f"{len(t.inputs)} inputs (" + "; ".join(
+        f"{i}: the model's {mapped[i]}" if i in mapped else i for i in t.inputs) + ")"
+        if several else "1 input")
     blocks: list[Block] = [Heading("Measured against model FRFs")]
     blocks.append(paragraph(
         f"The file {t.source} holds the frequency response functions of "
         f"{len(t.responses)} response channel{'s' if len(t.responses) > 1 else ''} to "
-        f"{len(t.inputs)} input{'s' if several else ''}, at {len(t.frequency)} lines from "
+        f"{inputs}, at {len(t.frequency)} lines from "
         f"{_t(t.frequency[0])} to {_t(t.frequency[-1])} Hz (the model's natural frequencies: "
         f"{_t(t.band[0])} to {_t(t.band[1])} Hz).  Each is compared with the model's own FRF "
         "H at the same lines by the frequency response assurance criterion ",

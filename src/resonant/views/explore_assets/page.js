@@ -795,8 +795,9 @@
 
   // -- measured FRFs over the frequency response (resonant explore --test FILE) ---------------
   // D.measured: the parameter at each measured line (SI) and per name the measured amplitude
-  // under the model's load at the file's values (SI; null where left out); they stay as the
-  // sliders move.  Drawn as open circles in the name's colour.
+  // under the model's load at the file's values (SI; null where left out; none, with a note
+  // the caption shows, where the model loads what no measured input makes); they stay as
+  // the sliders move.  Drawn as open circles in the name's colour.
   const MEAS = D.measured;
   function measuredPoints(name, first, last) {
     if (!MEAS || !MEAS.curves[name]) return [];
@@ -828,8 +829,12 @@
   }
   function measuredCaption() {
     if (!MEAS) return "";
+    if (MEAS.note) return ` Measured (${MEAS.source}): ${MEAS.note}.`;
     const shown = Object.keys(MEAS.curves).map(s => `${symbolText(UNIT[s] || { symbol: s })} (${MEAS.channels[s]})`);
-    return ` Open circles: measured (${MEAS.source}) ${shown.join(", ")}, the FRFs to ${MEAS.input} times the model's load at the file's values; they stay as the sliders move.`;
+    const inputs = MEAS.inputs.length > 1
+      ? `the FRFs to ${MEAS.inputs.join(", ")}, each times the model's load at its input, summed (phases included),`
+      : `the FRFs to ${MEAS.inputs[0]} times the model's load,`;
+    return ` Open circles: measured (${MEAS.source}) ${shown.join(", ")}, ${inputs} at the file's values; they stay as the sliders move.`;
   }
 
   // a curve's dash pattern in pixels: the description's is in line widths (as matplotlib's)
