@@ -1241,9 +1241,21 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
         A, x, info = point(j)
         return error(j, A, x) if info == 0 else math.nan
 
-    # the solutions kept 64 points at a time: storing each point alone (its largest
-    # |component|, its damping fraction) cost more than a small band's LAPACK solve
-    chunk = np.empty((min(N, BAND_CHUNK), len(batch.coordinates)), dtype=complex)
+    _band_points(N, len(batch.coordinates), point, position if order is not None else None,
+                 Z, singular, errors, error, revisit, progress, deadline)
+    return singular
+
+
+def _band_points(N: int, n: int, point: Callable[[int], tuple[np.ndarray, np.ndarray, int]],
+                 position: np.ndarray | None, Z: _Store, singular: np.ndarray,
+                 errors: Sampling | None, error: Callable[..., float],
+                 revisit: Callable[[int], float], progress: _Progress,
+                 deadline: Deadline) -> None:
+    """Solve the band at every point (``point(i)``: A, x, info) and keep the solutions,
+    in the coordinates' order (``x[position]``), 64 points at a time: storing each point
+    alone (its largest component, its damping fraction) cost more than a small band's
+    LAPACK solve."""
+    chunk = np.empty((min(N, BAND_CHUNK), n), dtype=complex)
     for i in range(N):
         A, x, info = point(i)
         row = chunk[i % BAND_CHUNK]
@@ -1251,7 +1263,7 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
             singular[i] = True
             row[:] = np.nan
         else:
-            row[:] = x if order is None else x[position]   # (x[position[k]]: coordinate k)
+            row[:] = x if position is None else x[position]   # (x[position[k]]: coordinate k)
             if errors is not None:
                 errors.point(i, float(np.abs(row).max()), partial(error, i, A, x), revisit)
         if i % BAND_CHUNK == BAND_CHUNK - 1 or i == N - 1:
@@ -1259,7 +1271,6 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
             Z[start:i + 1] = chunk[:i + 1 - start]
             progress.advance(i + 1 - start)
             deadline.check("while solving the harmonic systems", analysis=True)
-    return singular
 
 
 def _band_residual(storage: list[np.ndarray], offset: int, lower: int, upper: int,
