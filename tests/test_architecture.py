@@ -412,8 +412,6 @@ def test_the_kernel_scan_is_not_vacuous() -> None:
 OWN_JSON = {
     # the linear sweep's keys merged in, and the branch grouped per point
     "NonlinearResponse": "the linear sweep's keys, the branch as one record per point",
-    # measured data
-    "ModalIdentification": "modes grouped per pole, the stabilization chart",
 }
 
 

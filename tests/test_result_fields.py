@@ -19,9 +19,16 @@ from resonant.analyses.correlate import Correlation, correlate_shapes
 from resonant.analyses.fatigue import ResponseFatigue
 from resonant.analyses.frf_mimo import MIMOFRF, estimate_frf_matrix
 from resonant.analyses.periodic import PeriodicSolution
-from resonant.analyses.result_fields import HARMONIC_LISTS, FieldsJSON, saved
+from resonant.analyses.result_fields import (
+    COMPLEX_NUMBER,
+    HARMONIC_LISTS,
+    PLAIN_NUMBER,
+    FieldsJSON,
+    saved,
+)
 from resonant.analyses.shock import ShockSpectrum
 from resonant.analyses.transient import ShockPeaks, TransientResponse
+from resonant.arrays import ComplexArray
 from resonant.cli import main
 from resonant.errors import AnalysisError
 from resonant.model.load_spec import ShockSpec
@@ -202,3 +209,48 @@ def test_numbers_saved_by_name_are_records_checked_by_key():
     del data["responses"]["x"]["rms"]
     with pytest.raises(AnalysisError, match="responses.x"):
         RandomResponse.from_dict(data)
+
+
+@dataclass(frozen=True)
+class _Poles(FieldsJSON):
+    """Records per index (two arrays and a tuple), a field written only with another."""
+
+    _records_order = {"modes": ("hz", "pole", "label")}
+    poles: np.ndarray = saved(records="modes", key="pole", codec=COMPLEX_NUMBER)
+    labels: tuple[str, ...] = saved(records="modes", key="label")
+    hz: np.ndarray = saved(records="modes", codec=PLAIN_NUMBER)
+    shapes: ComplexArray = saved(axes=(2, "poles"))
+    inputs: tuple[str, ...] = saved((), only_with="inputs")
+    gains: np.ndarray = saved(default_factory=lambda: np.zeros(0), axes=("inputs",),
+                              only_with="inputs")
+
+
+def test_records_per_index_and_fields_written_only_with_another():
+    """Fields of one ``records`` group are one object per index (in ``_records_order``),
+    a ``ComplexArray`` is saved complex even when real, and a field ``only_with`` another
+    is left out while that one is empty, and needed once it is not."""
+    r = _Poles(np.array([-1 + 2j, -0.5 + 3j]), ("a", "b"), np.array([0.3, 0.5]),
+               np.ones((2, 2)))
+    data = json.loads(json.dumps(r.to_dict()))
+    assert data == {"modes": [{"hz": 0.3, "pole": {"real": -1.0, "imag": 2.0}, "label": "a"},
+                              {"hz": 0.5, "pole": {"real": -0.5, "imag": 3.0}, "label": "b"}],
+                    "shapes": {"real": [[1.0, 1.0], [1.0, 1.0]],
+                               "imag": [[0.0, 0.0], [0.0, 0.0]]}}
+    back = _Poles.from_dict(data)
+    assert back.labels == ("a", "b") and back.poles.dtype == complex
+    np.testing.assert_array_equal(back.poles, r.poles)
+    assert back.shapes.dtype == complex and back.to_dict() == data
+    with_inputs = _Poles(r.poles, r.labels, r.hz, r.shapes, ("u",), np.array([2.0]))
+    data = with_inputs.to_dict()
+    assert list(data) == ["modes", "shapes", "inputs", "gains"]
+    assert _Poles.from_dict(data).gains.tolist() == [2.0]
+    with pytest.raises(AnalysisError, match="no key 'gains'"):
+        _Poles.from_dict({k: v for k, v in data.items() if k != "gains"})
+    data["modes"][1] = {"hz": 0.5, "label": "b"}
+    with pytest.raises(AnalysisError, match=r"no key 'pole' at 'modes\[1\]'"):
+        _Poles.from_dict(data)
+    data["modes"] = data["modes"][:1]
+    with pytest.raises(AnalysisError, match=r"'shapes.real' has shape \(2, 2\), not \(2, 1\)"):
+        _Poles.from_dict(data)
+    with pytest.raises(ValueError, match="_Poles.labels has 1 values, but its records"):
+        _Poles(r.poles, ("a",), r.hz, r.shapes).to_dict()

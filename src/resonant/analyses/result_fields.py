@@ -13,8 +13,10 @@ annotation                      JSON
 ``tuple[float, ...]``           a list of numbers
 ``tuple[int, ...]``             a list of whole numbers
 ``np.ndarray``                  nested lists (real) or ``{"real": ..., "imag": ...}`` (complex)
+``ComplexArray``                ``{"real": ..., "imag": ...}`` (also when the values are real)
 ``Mapping[str, float]``         an object of numbers
 ``Mapping[str, np.ndarray]``    an object of nested lists
+``Mapping[str, ComplexArray]``  an object of ``{"real": ..., "imag": ...}``
 ``Mapping[str, str]``           an object of strings
 ``Mapping[str, tuple[tuple[float, float], ...]]`` an object of lists of pairs
 a result class                  its ``to_dict()``
@@ -38,7 +40,13 @@ field, for the formats the command line's outputs fix:
 * ``saved(rows_by="names")``: an array written as an object, row ``i`` under the ``i``-th name
   of the field ``names`` (a mapping: its entries of those names, in their order);
 * ``saved(keys_of="other")``: not written; read back as the keys of the saved object of
-  the field ``other``.
+  the field ``other``;
+* ``saved(records="modes")``: one value per index; the fields of one ``records`` group are
+  written together as the list ``"modes"`` of one object per index (the fields' keys in
+  their order, or in the class's ``_records_order``),
+  ``{"modes": [{"frequency_hz": ..., "pole": ...}, ...]}``;
+* ``saved(only_with="inputs")``: written only when the field ``inputs`` is not empty (and
+  then needed by ``from_dict``; without it read as the default).
 
 Examples
 --------
@@ -76,8 +84,9 @@ import numpy.typing as npt
 from ..errors import AnalysisError
 from .results_json import Saved, complex_json, floats_json, optional_float
 
-__all__ = ["Codec", "FieldsJSON", "Framed", "saved", "COMPLEX_PAIRS", "HARMONIC_LISTS",
-           "PLAIN_NUMBER", "ROWS", "Shape", "frame_of"]
+__all__ = ["Codec", "FieldsJSON", "Framed", "saved", "COMPLEX_NUMBER", "COMPLEX_PAIRS",
+           "COUNT", "HARMONIC_LISTS", "PLAIN_NUMBER", "PLAIN_NUMBERS", "ROWS", "Shape",
+           "frame_of"]
 
 T = TypeVar("T", bound="FieldsJSON")
 
@@ -126,13 +135,18 @@ def _fixed(shape: Shape) -> tuple[int, ...] | None:
     return tuple(int(s) for s in shape if s is not None)
 
 
-def _array_read(saved: Saved, key: str, shape: Shape) -> np.ndarray:
+def _array_read(saved: Saved, key: str, shape: Shape, complex_only: bool = False
+                ) -> np.ndarray:
     fixed = _fixed(shape)
-    if isinstance(saved.value(key), Mapping):
+    if complex_only or isinstance(saved.value(key), Mapping):
         array = saved.complex(key, shape=fixed)
     else:
         array = saved.floats(key, shape=fixed)
     return array if fixed is not None or shape is None else _free_shape(saved, key, array, shape)
+
+
+def _complex_read(saved: Saved, key: str, shape: Shape) -> np.ndarray:
+    return _array_read(saved, key, shape, complex_only=True)
 
 
 def _free_shape(saved: Saved, key: str, array: np.ndarray, shape: tuple[int | None, ...]
@@ -150,6 +164,16 @@ def _free_shape(saved: Saved, key: str, array: np.ndarray, shape: tuple[int | No
 def _arrays_read(saved: Saved, key: str, shape: Shape) -> dict[str, Any]:
     inner = saved.mapping(key)
     return {str(k): _array_read(inner, str(k), shape) for k in inner.data}
+
+
+def _complex_arrays_read(saved: Saved, key: str, shape: Shape) -> dict[str, Any]:
+    inner = saved.mapping(key)
+    return {str(k): _complex_read(inner, str(k), shape) for k in inner.data}
+
+
+def _complex_number_read(saved: Saved, key: str, shape: Shape) -> complex:
+    parts = saved.mapping(key)
+    return complex(parts.number("real"), parts.number("imag"))
 
 
 def _pairs_write(value: npt.ArrayLike) -> list[list[float | None]]:
@@ -210,6 +234,13 @@ PLAIN_NUMBER = Codec(float, lambda s, k, shape: s.number(k))
 HARMONIC_LISTS = Codec(_harmonics_write, _harmonics_read)
 #: a real matrix saved transposed: one column (a mode, a point) a row
 ROWS = Codec(lambda value: floats_json(np.asarray(value, dtype=float).T), _rows_read)
+#: one complex number as ``{"real": ..., "imag": ...}`` (NaN as ``NaN``, as Python writes it)
+COMPLEX_NUMBER = Codec(lambda value: {"real": float(value.real), "imag": float(value.imag)},
+                       _complex_number_read)
+#: a whole number, 0 or more
+COUNT = Codec(int, lambda s, k, shape: s.integer(k, minimum=0))
+#: an object of numbers as Python's JSON writes them (NaN as ``NaN``)
+PLAIN_NUMBERS = Codec(dict, lambda s, k, shape: s.numbers_of(k))
 
 _TEXT = Codec(str, lambda s, k, shape: s.string(k))
 _FLAG = Codec(bool, lambda s, k, shape: s.boolean(k))
@@ -223,6 +254,9 @@ _ARRAY = Codec(_array_write, _array_read)
 _NUMBERS_BY_NAME = Codec(lambda v: {k: optional_float(x) for k, x in v.items()},
                          lambda s, k, shape: s.numbers_of(k))
 _ARRAYS_BY_NAME = Codec(lambda v: {k: _array_write(x) for k, x in v.items()}, _arrays_read)
+_COMPLEX = Codec(complex_json, _complex_read)
+_COMPLEX_BY_NAME = Codec(lambda v: {k: complex_json(x) for k, x in v.items()},
+                         _complex_arrays_read)
 _TEXTS_BY_NAME = Codec(dict, lambda s, k, shape: {
     str(name): s.mapping(k).string(str(name)) for name in s.mapping(k).data})
 
@@ -237,9 +271,10 @@ _BY_ANNOTATION: dict[str, Codec] = {
     "tuple[float,float]": _NUMBERS, "tuple[float,float,float]": _NUMBERS,
     "tuple[tuple[float,float],...]": Codec(lambda v: [[optional_float(a), optional_float(b)]
                                                       for a, b in v], _number_pairs_read),
-    "np.ndarray": _ARRAY, "FloatArray": _ARRAY, "ComplexArray": _ARRAY,
+    "np.ndarray": _ARRAY, "FloatArray": _ARRAY, "ComplexArray": _COMPLEX,
     "Mapping[str,float]": _NUMBERS_BY_NAME, "dict[str,float]": _NUMBERS_BY_NAME,
     "Mapping[str,np.ndarray]": _ARRAYS_BY_NAME, "dict[str,np.ndarray]": _ARRAYS_BY_NAME,
+    "Mapping[str,ComplexArray]": _COMPLEX_BY_NAME, "dict[str,ComplexArray]": _COMPLEX_BY_NAME,
     "Mapping[str,str]": _TEXTS_BY_NAME, "dict[str,str]": _TEXTS_BY_NAME,
     "Mapping[str,tuple[tuple[float,float],...]]": _PAIRS_BY_NAME,
 }
@@ -261,6 +296,8 @@ class _Saving:
     written: bool = True
     by_name: str | None = None
     missing: tuple[object, ...] = ()   # (the value written for a name the mapping lacks,)
+    records: str | None = None
+    only_with: str | None = None
 
 
 def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
@@ -268,7 +305,8 @@ def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
           required: bool = False, default_factory: Callable[[], object] | None = None,
           history: bool = False, rows_by: str | None = None, keys_of: str | None = None,
           inline: bool = False, written: bool = True, by_name: str | None = None,
-          missing: object = dataclasses.MISSING) -> Any:
+          missing: object = dataclasses.MISSING, records: str | None = None,
+          only_with: str | None = None) -> Any:
     """A dataclass field with the way it is saved (see the module's table).
 
     Parameters
@@ -304,6 +342,14 @@ def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
         order), under ``key``: ``{"responses": {"x": {"rms": ...}}}``.
     missing : optional
         With ``by_name``: written for a name the mapping lacks (else every name is there).
+    records : str, optional
+        A sequence (a tuple or an array) saved one value per index in the list ``records``
+        of one object per index, under ``key``, beside the other fields of that group (all
+        of one length); its ``codec`` (or, of a ``tuple[X, ...]``, X's form) saves one
+        value, ``axes`` gives one value's shape.
+    only_with : str, optional
+        Written only when the field ``only_with`` (this one's own name: itself) is not
+        empty; read as the default when that field is empty.
 
     Returns
     -------
@@ -311,7 +357,8 @@ def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
     """
     metadata = {"saved": _Saving(key, codec, axes, omit_none, required, history, rows_by,
                                  keys_of, inline, written, by_name,
-                                 () if missing is dataclasses.MISSING else (missing,))}
+                                 () if missing is dataclasses.MISSING else (missing,),
+                                 records, only_with)}
     if default_factory is not None:
         return dataclasses.field(default_factory=default_factory, metadata=metadata)
     return dataclasses.field(default=default, metadata=metadata)
@@ -407,19 +454,25 @@ class _Entry:
     by_name: str | None = None
     missing: tuple[object, ...] = ()
     mapping: bool = False   # a mapping field (rows_by: the entries of those names)
+    records: str | None = None
+    only_with: str | None = None
+    listed: bool = False    # a tuple field (records: read back as a tuple, else an array)
 
 
 def _element_codec(owner: type, field: dataclasses.Field[Any]) -> Codec:
-    """The codec of one value of a ``Mapping[str, X]`` field (``saved(by_name=...)``)."""
+    """The codec of one value of a ``Mapping[str, X]`` field (``saved(by_name=...)``) or of
+    a ``tuple[X, ...]`` field (``saved(records=...)``)."""
     saving: _Saving = field.metadata["saved"]
     if saving.codec is not None:
         return saving.codec
     text = re.sub(r"\s+", "", str(field.type))
-    match = re.fullmatch(r"(?:Mapping|dict)\[str,(.+)\]", text)
+    pattern = r"tuple\[(.+),\.\.\.\]" if saving.records else r"(?:Mapping|dict)\[str,(.+)\]"
+    match = re.fullmatch(pattern, text)
     codec = _BY_ANNOTATION.get(match.group(1)) if match else None
     if codec is None:
-        raise TypeError(f"{owner.__name__}.{field.name}: saved by name, but '{field.type}' "
-                        "is no mapping of a saved form")
+        how = "in records" if saving.records else "by name"
+        raise TypeError(f"{owner.__name__}.{field.name}: saved {how}, but '{field.type}' "
+                        "has no saved form of one value: give saved(codec=...)")
     return codec
 
 
@@ -432,16 +485,28 @@ def _entries(cls: type) -> tuple[_Entry, ...]:
         has_default = not saving.required and (f.default is not dataclasses.MISSING
                                                 or f.default_factory is not dataclasses.MISSING)
         codec = _TEXTS if saving.keys_of is not None else _element_codec(cls, f) \
-            if saving.by_name is not None else _codec_of(cls, f)
+            if saving.by_name is not None or saving.records is not None else _codec_of(cls, f)
         out.append(_Entry(f.name, saving.key or f.name, codec, saving.axes, has_default,
                           saving.omit_none, saving.history, saving.rows_by, saving.keys_of,
                           saving.inline, saving.by_name, saving.missing,
-                          bool(re.match(r"(Mapping|dict)\[", str(f.type)))))
+                          bool(re.match(r"(Mapping|dict)\[", str(f.type))), saving.records,
+                          saving.only_with, str(f.type).startswith("tuple[")))
     return tuple(out)
 
 
 def _length(value: Sized | np.ndarray) -> int:
     return int(np.shape(value)[0]) if isinstance(value, np.ndarray) else len(value)
+
+
+def _empty(value: Sized | np.ndarray | None) -> bool:
+    """No value at all (None, or no entry: an array of size 0, an empty sequence)."""
+    return value is None or (np.size(value) == 0 if isinstance(value, np.ndarray)
+                             else len(value) == 0)
+
+
+def _other(entry: _Entry) -> str | None:
+    """The field that says whether ``entry`` is written (``only_with``), if another."""
+    return None if entry.only_with in (None, entry.name) else entry.only_with
 
 
 class FieldsJSON:
@@ -466,6 +531,9 @@ class FieldsJSON:
     _json_order: ClassVar[tuple[str, ...]] = ()
     #: record group -> (the field listing its names, the records' keys in order)
     _by_name: ClassVar[Mapping[str, tuple[str, tuple[str, ...]]]] = {}
+    #: records group (``saved(records=...)``) -> its records' keys in order, where that
+    #: is not the order of the fields
+    _records_order: ClassVar[Mapping[str, tuple[str, ...]]] = {}
 
     def _derived_record(self, group: str, name: str) -> dict[str, Any]:
         """Keys written in the record of ``name`` in ``group`` for the reader (none)."""
@@ -492,7 +560,12 @@ class FieldsJSON:
         for entry in self._saved_fields():
             value = getattr(self, entry.name)
             if entry.keys_of is not None or (value is None and entry.omit_none) or \
-                    (entry.history and not history):
+                    (entry.history and not history) or \
+                    (entry.only_with is not None and _empty(getattr(self, entry.only_with))):
+                continue
+            if entry.records is not None:
+                _write_records(data.setdefault(entry.records, [{} for _ in value]), entry,
+                               value, type(self).__name__)
                 continue
             if entry.by_name is not None:
                 data.setdefault(entry.by_name, groups[entry.by_name])
@@ -517,6 +590,10 @@ class FieldsJSON:
         for group, (_, order) in self._by_name.items():
             data[group] = {name: _ordered(record, order, f"{type(self).__name__}.{group}")
                            for name, record in groups[group].items()}
+        for group, order in self._records_order.items():
+            if group in data:
+                data[group] = [_ordered(record, order, f"{type(self).__name__}.{group}")
+                               for record in data[group]]
         return _ordered(data, self._json_order, type(self).__name__)
 
     @classmethod
@@ -569,7 +646,15 @@ class FieldsJSON:
             if entry.by_name is not None:
                 values[entry.name] = _read_by_name(entry, saved_data.mapping(entry.by_name))
                 continue
-            if entry.key not in source and entry.has_default and not entry.inline:
+            if entry.records is not None:
+                shape = None if entry.axes is None else _shape(entry, values, source)
+                items = [entry.codec.read(r, entry.key, shape)
+                         for r in saved_data.records(entry.records)]
+                values[entry.name] = tuple(items) if entry.listed else np.array(items)
+                continue
+            other = _other(entry)
+            if entry.key not in source and entry.has_default and not entry.inline and \
+                    (other is None or _empty(values.get(other))):
                 continue
             shape = None if entry.axes is None else _shape(entry, values, source)
             if entry.rows_by is not None and not entry.mapping:
@@ -581,6 +666,16 @@ class FieldsJSON:
             return cls(**values)
         except (TypeError, ValueError) as exc:
             raise saved_data.error(f"does not make a {cls.__name__}: {exc}") from None
+
+
+def _write_records(records: list[dict[str, Any]], entry: _Entry, value: Sequence[Any],
+                   kind: str) -> None:
+    """Each value of the field ``entry`` into its record (``saved(records=...)``)."""
+    if len(records) != _length(value):
+        raise ValueError(f"{kind}.{entry.name} has {_length(value)} values, but its records "
+                         f"'{entry.records}' are {len(records)}")
+    for record, one in zip(records, value):
+        record[entry.key] = entry.codec.write(one)
 
 
 def _read_by_name(entry: _Entry, records: Saved) -> dict[str, Any]:
@@ -624,7 +719,7 @@ def _reading_order(entries: tuple[_Entry, ...]) -> list[_Entry]:
     waiting = list(entries)
     while waiting:
         ready = [e for e in waiting if all(not isinstance(a, str) or a in done or a not in names
-                                           for a in (*(e.axes or ()), e.keys_of))]
+                                           for a in (*(e.axes or ()), e.keys_of, _other(e)))]
         if not ready:   # a cycle of axes: read in field order (the check then says which)
             ready = waiting[:1]
         order += ready
