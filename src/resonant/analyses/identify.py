@@ -164,7 +164,7 @@ class ModalIdentification(Charted, FieldsJSON):
     #: the saved keys' order (resonant.analyses.result_fields.FieldsJSON)
     _json_order = ("modes", "channels", "shapes", "fit_error", "derivative", "stabilization",
                    "frequency_hz", "measured", "fitted", "warnings", "inputs", "participation")
-    _records_order = {"modes": ("frequency_hz", "damping_ratio", "pole")}
+    _group_order = {"modes": ("frequency_hz", "damping_ratio", "pole")}
 
     poles: np.ndarray = saved(records="modes", key="pole", codec=COMPLEX_NUMBER)
     frequency: np.ndarray = saved(records="modes", key="frequency_hz", codec=PLAIN_NUMBER)

@@ -32,8 +32,9 @@ reading, so that a hand-edited file is refused with the key and the shapes, not 
 What a class writes beside its fields (numbers derived for the reader of the JSON) comes
 from its ``_derived_json()``; ``from_dict`` reads the fields only, so the derived numbers are
 computed again, bit for bit.  The keys come in the order of the fields (the derived ones
-first), or in the order the class lists in ``_json_order``.  Three more ways of saving a
-field, for the formats the command line's outputs fix:
+first), or in the order the class lists in ``_json_order`` (``"..."`` there: the keys it
+does not list, in their order).  More ways of saving a field, for the formats the
+command line's outputs fix:
 
 * ``saved(history=True)``: written inside ``"history"``, and only by ``to_dict(history=True)``
   (a time history can be long); ``from_dict`` then needs it;
@@ -43,8 +44,13 @@ field, for the formats the command line's outputs fix:
   the field ``other``;
 * ``saved(records="modes")``: one value per index; the fields of one ``records`` group are
   written together as the list ``"modes"`` of one object per index (the fields' keys in
-  their order, or in the class's ``_records_order``),
-  ``{"modes": [{"frequency_hz": ..., "pole": ...}, ...]}``;
+  their order, or in the class's ``_group_order``),
+  ``{"modes": [{"frequency_hz": ..., "pole": ...}, ...]}``; the value of a mapping
+  field at an index is an object of its entries there, of an array field with
+  ``rows_by`` an object of its rows there by name (fields of one key merge these objects);
+* ``saved(inside="continuation")``: written inside the object ``"continuation"`` with the
+  other fields saved there (and the derived keys put there), in the order of the
+  ``_group_order`` of ``"continuation"``;
 * ``saved(only_with="inputs")``: written only when the field ``inputs`` is not empty (and
   then needed by ``from_dict``; without it read as the default).
 
@@ -74,6 +80,7 @@ from __future__ import annotations
 import dataclasses
 import re
 import sys
+from collections import Counter
 from collections.abc import Callable, Mapping, Sequence, Sized
 from dataclasses import dataclass
 from typing import Any, ClassVar, TypeVar
@@ -298,6 +305,7 @@ class _Saving:
     missing: tuple[object, ...] = ()   # (the value written for a name the mapping lacks,)
     records: str | None = None
     only_with: str | None = None
+    inside: str | None = None
 
 
 def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
@@ -306,7 +314,7 @@ def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
           history: bool = False, rows_by: str | None = None, keys_of: str | None = None,
           inline: bool = False, written: bool = True, by_name: str | None = None,
           missing: object = dataclasses.MISSING, records: str | None = None,
-          only_with: str | None = None) -> Any:
+          only_with: str | None = None, inside: str | None = None) -> Any:
     """A dataclass field with the way it is saved (see the module's table).
 
     Parameters
@@ -350,6 +358,9 @@ def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
     only_with : str, optional
         Written only when the field ``only_with`` (this one's own name: itself) is not
         empty; read as the default when that field is empty.
+    inside : str, optional
+        Written under ``key`` inside the object ``inside`` (beside the other fields saved
+        there).
 
     Returns
     -------
@@ -358,7 +369,7 @@ def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
     metadata = {"saved": _Saving(key, codec, axes, omit_none, required, history, rows_by,
                                  keys_of, inline, written, by_name,
                                  () if missing is dataclasses.MISSING else (missing,),
-                                 records, only_with)}
+                                 records, only_with, inside)}
     if default_factory is not None:
         return dataclasses.field(default_factory=default_factory, metadata=metadata)
     return dataclasses.field(default=default, metadata=metadata)
@@ -457,6 +468,7 @@ class _Entry:
     records: str | None = None
     only_with: str | None = None
     listed: bool = False    # a tuple field (records: read back as a tuple, else an array)
+    inside: str | None = None
 
 
 def _element_codec(owner: type, field: dataclasses.Field[Any]) -> Codec:
@@ -490,7 +502,8 @@ def _entries(cls: type) -> tuple[_Entry, ...]:
                           saving.omit_none, saving.history, saving.rows_by, saving.keys_of,
                           saving.inline, saving.by_name, saving.missing,
                           bool(re.match(r"(Mapping|dict)\[", str(f.type))), saving.records,
-                          saving.only_with, str(f.type).startswith("tuple[")))
+                          saving.only_with, str(f.type).startswith("tuple["),
+                          saving.inside))
     return tuple(out)
 
 
@@ -531,9 +544,9 @@ class FieldsJSON:
     _json_order: ClassVar[tuple[str, ...]] = ()
     #: record group -> (the field listing its names, the records' keys in order)
     _by_name: ClassVar[Mapping[str, tuple[str, tuple[str, ...]]]] = {}
-    #: records group (``saved(records=...)``) -> its records' keys in order, where that
-    #: is not the order of the fields
-    _records_order: ClassVar[Mapping[str, tuple[str, ...]]] = {}
+    #: group (``saved(records=...)``: its records; ``saved(inside=...)``: the object) ->
+    #: its keys in order, where that is not the order of the fields
+    _group_order: ClassVar[Mapping[str, tuple[str, ...]]] = {}
 
     def _derived_record(self, group: str, name: str) -> dict[str, Any]:
         """Keys written in the record of ``name`` in ``group`` for the reader (none)."""
@@ -564,8 +577,7 @@ class FieldsJSON:
                     (entry.only_with is not None and _empty(getattr(self, entry.only_with))):
                 continue
             if entry.records is not None:
-                _write_records(data.setdefault(entry.records, [{} for _ in value]), entry,
-                               value, type(self).__name__)
+                _write_records(data, entry, value, self)
                 continue
             if entry.by_name is not None:
                 data.setdefault(entry.by_name, groups[entry.by_name])
@@ -583,6 +595,8 @@ class FieldsJSON:
                 written = entry.codec.write(value)
             if entry.inline:
                 data.update(written)
+            elif entry.inside is not None:
+                data.setdefault(entry.inside, {})[entry.key] = written
             else:
                 (histories if entry.history else data)[entry.key] = written
         if histories:
@@ -590,10 +604,12 @@ class FieldsJSON:
         for group, (_, order) in self._by_name.items():
             data[group] = {name: _ordered(record, order, f"{type(self).__name__}.{group}")
                            for name, record in groups[group].items()}
-        for group, order in self._records_order.items():
-            if group in data:
-                data[group] = [_ordered(record, order, f"{type(self).__name__}.{group}")
-                               for record in data[group]]
+        for group, order in self._group_order.items():
+            kind = f"{type(self).__name__}.{group}"
+            if isinstance(data.get(group), list):
+                data[group] = [_ordered(record, order, kind) for record in data[group]]
+            elif group in data:
+                data[group] = _ordered(data[group], order, kind)
         return _ordered(data, self._json_order, type(self).__name__)
 
     @classmethod
@@ -635,7 +651,8 @@ class FieldsJSON:
             histories = saved_data.mapping("history")
         by_name = {e.name: e for e in entries}
         for entry in _reading_order(entries):
-            source = histories if entry.history else saved_data
+            source = histories if entry.history else saved_data.mapping(entry.inside) \
+                if entry.inside is not None else saved_data
             if entry.keys_of is not None:
                 of = by_name.get(entry.keys_of)
                 inner = saved_data.mapping(entry.keys_of) if entry.keys_of in cls._by_name \
@@ -648,9 +665,11 @@ class FieldsJSON:
                 continue
             if entry.records is not None:
                 shape = None if entry.axes is None else _shape(entry, values, source)
-                items = [entry.codec.read(r, entry.key, shape)
-                         for r in saved_data.records(entry.records)]
-                values[entry.name] = tuple(items) if entry.listed else np.array(items)
+                records = saved_data.records(entry.records)
+                if entry.has_default and records and not _in_record(entry, records[0],
+                                                                     values):
+                    continue
+                values[entry.name] = _read_records(entry, records, shape, values)
                 continue
             other = _other(entry)
             if entry.key not in source and entry.has_default and not entry.inline and \
@@ -668,14 +687,64 @@ class FieldsJSON:
             raise saved_data.error(f"does not make a {cls.__name__}: {exc}") from None
 
 
-def _write_records(records: list[dict[str, Any]], entry: _Entry, value: Sequence[Any],
-                   kind: str) -> None:
-    """Each value of the field ``entry`` into its record (``saved(records=...)``)."""
-    if len(records) != _length(value):
-        raise ValueError(f"{kind}.{entry.name} has {_length(value)} values, but its records "
-                         f"'{entry.records}' are {len(records)}")
-    for record, one in zip(records, value):
-        record[entry.key] = entry.codec.write(one)
+def _write_records(data: dict[str, Any], entry: _Entry,
+                   value: Mapping[str, np.ndarray] | Sequence[object] | np.ndarray,
+                   result: FieldsJSON) -> None:
+    """Each value of the field ``entry`` into its record (``saved(records=...)``): of a
+    mapping the object of its entries at that index, with ``rows_by`` the object of the
+    rows there by name (merged into an object another field wrote under the same key)."""
+    assert entry.records is not None
+    if isinstance(value, Mapping):
+        count = _length(next(iter(value.values()))) if value else \
+            len(data.get(entry.records, []))
+        items: list[Any] = [{k: v[i] for k, v in value.items()} for i in range(count)]
+    else:
+        items = list(value)
+    records = data.setdefault(entry.records, [{} for _ in items])
+    if len(records) != len(items):
+        raise ValueError(f"{type(result).__name__}.{entry.name} has {len(items)} values, but "
+                         f"its records '{entry.records}' are {len(records)}")
+    names = None if entry.rows_by is None else getattr(result, entry.rows_by)
+    for record, one in zip(records, items):
+        if names is None:
+            record[entry.key] = entry.codec.write(one)
+        else:
+            record.setdefault(entry.key, {}).update(
+                {name: entry.codec.write(row) for name, row in zip(names, one)})
+
+
+def _in_record(entry: _Entry, record: Saved, values: Mapping[str, Any]) -> bool:
+    """Whether a record holds the field ``entry`` (with ``rows_by``: its first row)."""
+    if entry.rows_by is None or entry.key not in record:
+        return entry.key in record
+    names: Sequence[str] = values.get(entry.rows_by) or ()
+    inner = record.value(entry.key)
+    return bool(names) and isinstance(inner, Mapping) and names[0] in inner
+
+
+def _read_records(entry: _Entry, records: list[Saved], shape: Shape,
+                  values: Mapping[str, Any]) -> Any:
+    """The field ``entry`` back from its records (see :func:`_write_records`)."""
+    if entry.rows_by is not None:
+        names = values.get(entry.rows_by, ())
+        read = [(record.mapping(entry.key), [np.asarray(entry.codec.read(
+            record.mapping(entry.key), str(n), shape)) for n in names]) for record in records]
+        shapes = Counter(row.shape for _, rows in read for row in rows)
+        if len(shapes) > 1:   # the row that differs from most
+            usual = shapes.most_common(1)[0][0]
+            inner, name, row = next((inner, n, row) for inner, rows in read
+                                    for n, row in zip(names, rows) if row.shape != usual)
+            raise inner.error(f"has shape {row.shape}, not {usual}", str(name))
+        return np.array([rows for _, rows in read]) if read else np.zeros((0, len(names)))
+    read = [entry.codec.read(record, entry.key, shape) for record in records]
+    if entry.mapping:
+        names = list(read[0]) if read else []
+        for record, one in zip(records, read):
+            for name in names:
+                if name not in one:
+                    record.mapping(entry.key).value(name)   # the error naming it
+        return {name: np.array([one[name] for one in read]) for name in names}
+    return tuple(read) if entry.listed else np.array(read)
 
 
 def _read_by_name(entry: _Entry, records: Saved) -> dict[str, Any]:
@@ -702,9 +771,13 @@ def _rows_by_name(entry: _Entry, saved_data: Saved, shape: Shape) -> np.ndarray:
 
 
 def _ordered(data: dict[str, Any], order: tuple[str, ...], kind: str) -> dict[str, Any]:
-    """``data`` with its keys in ``order`` (every key must be listed; unchanged without)."""
+    """``data`` with its keys in ``order`` (every key must be listed, or ``"..."`` stand for
+    those not listed; unchanged without)."""
     if not order:
         return data
+    if "..." in order:
+        rest = [key for key in data if key not in order]
+        order = tuple(k for o in order for k in (rest if o == "..." else [o]))
     unlisted = [key for key in data if key not in order]
     if unlisted:
         raise TypeError(f"{kind}._json_order does not list {unlisted}")
@@ -719,7 +792,8 @@ def _reading_order(entries: tuple[_Entry, ...]) -> list[_Entry]:
     waiting = list(entries)
     while waiting:
         ready = [e for e in waiting if all(not isinstance(a, str) or a in done or a not in names
-                                           for a in (*(e.axes or ()), e.keys_of, _other(e)))]
+                                           for a in (*(e.axes or ()), e.keys_of, _other(e),
+                                                     e.rows_by if e.records else None))]
         if not ready:   # a cycle of axes: read in field order (the check then says which)
             ready = waiting[:1]
         order += ready
