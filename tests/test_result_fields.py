@@ -19,9 +19,17 @@ from resonant.analyses.correlate import Correlation, correlate_shapes
 from resonant.analyses.fatigue import ResponseFatigue
 from resonant.analyses.frf_mimo import MIMOFRF, estimate_frf_matrix
 from resonant.analyses.periodic import PeriodicSolution
-from resonant.analyses.result_fields import HARMONIC_LISTS, FieldsJSON, saved
+from resonant.analyses.result_fields import (
+    COMPLEX_NUMBER,
+    HARMONIC_LISTS,
+    PLAIN_NUMBER,
+    PLAIN_NUMBERS,
+    FieldsJSON,
+    saved,
+)
 from resonant.analyses.shock import ShockSpectrum
 from resonant.analyses.transient import ShockPeaks, TransientResponse
+from resonant.arrays import ComplexArray
 from resonant.cli import main
 from resonant.errors import AnalysisError
 from resonant.model.load_spec import ShockSpec
@@ -202,3 +210,97 @@ def test_numbers_saved_by_name_are_records_checked_by_key():
     del data["responses"]["x"]["rms"]
     with pytest.raises(AnalysisError, match="responses.x"):
         RandomResponse.from_dict(data)
+
+
+@dataclass(frozen=True)
+class _Poles(FieldsJSON):
+    """Records per index (two arrays and a tuple), a field written only with another."""
+
+    _group_order = {"modes": ("hz", "pole", "label")}
+    poles: np.ndarray = saved(records="modes", key="pole", codec=COMPLEX_NUMBER)
+    labels: tuple[str, ...] = saved(records="modes", key="label")
+    hz: np.ndarray = saved(records="modes", codec=PLAIN_NUMBER)
+    shapes: ComplexArray = saved(axes=(2, "poles"))
+    inputs: tuple[str, ...] = saved((), only_with="inputs")
+    gains: np.ndarray = saved(default_factory=lambda: np.zeros(0), axes=("inputs",),
+                              only_with="inputs")
+
+
+def test_records_per_index_and_fields_written_only_with_another():
+    """Fields of one ``records`` group are one object per index (in ``_group_order``),
+    a ``ComplexArray`` is saved complex even when real, and a field ``only_with`` another
+    is left out while that one is empty, and needed once it is not."""
+    r = _Poles(np.array([-1 + 2j, -0.5 + 3j]), ("a", "b"), np.array([0.3, 0.5]),
+               np.ones((2, 2)))
+    data = json.loads(json.dumps(r.to_dict()))
+    assert data == {"modes": [{"hz": 0.3, "pole": {"real": -1.0, "imag": 2.0}, "label": "a"},
+                              {"hz": 0.5, "pole": {"real": -0.5, "imag": 3.0}, "label": "b"}],
+                    "shapes": {"real": [[1.0, 1.0], [1.0, 1.0]],
+                               "imag": [[0.0, 0.0], [0.0, 0.0]]}}
+    back = _Poles.from_dict(data)
+    assert back.labels == ("a", "b") and back.poles.dtype == complex
+    np.testing.assert_array_equal(back.poles, r.poles)
+    assert back.shapes.dtype == complex and back.to_dict() == data
+    with_inputs = _Poles(r.poles, r.labels, r.hz, r.shapes, ("u",), np.array([2.0]))
+    data = with_inputs.to_dict()
+    assert list(data) == ["modes", "shapes", "inputs", "gains"]
+    assert _Poles.from_dict(data).gains.tolist() == [2.0]
+    with pytest.raises(AnalysisError, match="no key 'gains'"):
+        _Poles.from_dict({k: v for k, v in data.items() if k != "gains"})
+    data["modes"][1] = {"hz": 0.5, "label": "b"}
+    with pytest.raises(AnalysisError, match=r"no key 'pole' at 'modes\[1\]'"):
+        _Poles.from_dict(data)
+    data["modes"] = data["modes"][:1]
+    with pytest.raises(AnalysisError, match=r"'shapes.real' has shape \(2, 2\), not \(2, 1\)"):
+        _Poles.from_dict(data)
+    with pytest.raises(ValueError, match="_Poles.labels has 1 values, but its records"):
+        _Poles(r.poles, ("a",), r.hz, r.shapes).to_dict()
+
+
+@dataclass(frozen=True)
+class _Branch(FieldsJSON):
+    """Records of a mapping and of named rows (two fields merged under one key), fields
+    inside one object beside a derived key there, and "..." in the key order."""
+
+    _json_order = ("...", "points", "rest")
+    _group_order = {"rest": ("names", "count", "extra")}
+    names: tuple[str, ...] = saved(inside="rest")
+    values: np.ndarray = saved(records="points", key="value", codec=PLAIN_NUMBER)
+    levels: dict[str, np.ndarray] = saved(records="points", codec=PLAIN_NUMBERS)
+    rows: np.ndarray = saved(records="points", key="rows", rows_by="names",
+                             codec=HARMONIC_LISTS)
+    extra: tuple[str, ...] = saved((), inside="rest")
+    more: np.ndarray | None = saved(None, records="points", key="rows", rows_by="extra",
+                                    codec=HARMONIC_LISTS, omit_none=True)
+
+    def _derived_json(self) -> dict:
+        return {"title": "t", "rest": {"count": len(self.values)}}
+
+
+def test_records_of_mappings_and_named_rows_and_fields_inside_an_object():
+    b = _Branch(("a",), np.array([1.0, 2.0]), {"x": np.array([3.0, 4.0])},
+                np.array([[[1.0, 2.0, 3.0]], [[4.0, 5.0, 6.0]]]), ("e",),
+                np.array([[[7.0, 8.0, 9.0]], [[0.5, 0.25, 0.0]]]))
+    data = json.loads(json.dumps(b.to_dict()))
+    assert data == {"title": "t", "points": [
+        {"value": 1.0, "levels": {"x": 3.0}, "rows": {"a": [[1.0], [2.0, 3.0]],
+                                                      "e": [[7.0], [8.0, 9.0]]}},
+        {"value": 2.0, "levels": {"x": 4.0}, "rows": {"a": [[4.0], [5.0, 6.0]],
+                                                      "e": [[0.5], [0.25, 0.0]]}}],
+        "rest": {"names": ["a"], "count": 2, "extra": ["e"]}}
+    back = _Branch.from_dict(data)
+    np.testing.assert_array_equal(back.rows, b.rows)
+    np.testing.assert_array_equal(back.more, b.more)
+    np.testing.assert_array_equal(back.levels["x"], b.levels["x"])
+    assert back.to_dict() == b.to_dict()
+    plain = _Branch(("a",), b.values, b.levels, b.rows)
+    assert _Branch.from_dict(plain.to_dict()).more is None
+    data["points"][1]["rows"]["a"] = [[4.0], [5.0]]
+    with pytest.raises(AnalysisError, match=r"'points\[1\].rows.a' has shape \(2,\), not \(3,"):
+        _Branch.from_dict(data)
+    del data["points"][0]["levels"]["x"]
+    data["points"][0]["levels"]["y"] = 1.0
+    with pytest.raises(AnalysisError, match=r"no key 'y' at 'points\[1\].levels'"):
+        _Branch.from_dict(data)
+    with pytest.raises(AnalysisError, match="no key 'names' at 'rest'"):
+        _Branch.from_dict({**data, "rest": {"count": 2}})

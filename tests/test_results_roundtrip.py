@@ -223,6 +223,19 @@ def test_sweep_round_trip(case):
         sweep.to_dict()
 
 
+def test_extrema_are_written_as_their_records():
+    """The peaks and antiresonances a sweep saves are its Extremum tuples' records (one
+    writer, ExtremaTable.to_list, for both)."""
+    absorber = resonant.load(EXAMPLES / "absorber.toml").linearize().sweep(
+        "k2", np.linspace(150, 950, 161))   # an antiresonance of x1 (tests/test_sweep.py)
+    sweeps = [SWEEPS["cart_pendulum"](), absorber]
+    assert sweeps[0].peaks and absorber.antiresonances
+    for sweep in sweeps:
+        data = _through_json(sweep.to_dict())
+        assert data["peaks"] == [e._asdict() for e in sweep.peaks]
+        assert data["antiresonances"] == [e._asdict() for e in sweep.antiresonances]
+
+
 def test_sweep_cases_cover_what_they_claim():
     """The cases above hold what they are named for (else the round trip tests less)."""
     assert SWEEPS["two-harmonics"]().response.shape[0] == 2

@@ -52,7 +52,7 @@ HOME_PAGES: dict[str, tuple[str, ...]] = {
                                    "MIMOFRF"),
     "resonant.analyses.frf_update": ("update_to_frf", "FRFUpdate"),
     "resonant.analyses.frf_estimate": ("estimate_frf", "frf_from_measurement",),
-    "resonant.analyses.identify": ("identify_modes", "identify_modes_matrix"),
+    "resonant.analyses.identify": ("identify_modes", "identify_modes_matrix", "Stabilization"),
     "resonant.analyses.correlate": ("correlate", "correlate_shapes",),
     "resonant.analyses.measured_match": ("match_test", "match_test_file", "MatchedTest",
                                          "check_correlation"),

@@ -39,12 +39,12 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
-from ..arrays import freeze_fields
+from ..arrays import ComplexArray, freeze_fields
 from ..charts import (
     COLORS,
     Chart,
@@ -60,7 +60,16 @@ from ..memory import require
 from ..modal import matrix_polynomial_roots, modal_assurance
 from ..model.units_display import ResultUnits, cyclic_shown
 from .frf_mimo import pair_name
-from .results_json import Saved, complex_json, floats_json
+from .result_fields import (
+    COMPLEX_NUMBER,
+    COUNT,
+    PLAIN_NUMBER,
+    PLAIN_NUMBERS,
+    Codec,
+    FieldsJSON,
+    saved,
+)
+from .results_json import Saved
 
 #: the stability criteria's defaults (relative frequency, relative damping, MAC)
 FREQUENCY_TOLERANCE, DAMPING_TOLERANCE, MAC_TOLERANCE = 0.01, 0.05, 0.98
@@ -71,8 +80,13 @@ __all__ = ["ModalIdentification", "Stabilization", "identify_modes", "lscf_poles
            "lsfd_residues", "identify_modes_matrix"]
 
 
+#: the stability flags of one order's poles, as a list of strings
+_FLAGS = Codec(lambda flags: list(map(str, flags)),
+               lambda reader, key, shape: np.array(reader.strings(key)))
+
+
 @dataclass(frozen=True)
-class Stabilization:
+class Stabilization(FieldsJSON):
     """The poles of every model order and their stability (the stabilization chart).
 
     Attributes
@@ -87,17 +101,20 @@ class Stabilization:
         The tolerances: ``frequency``, ``damping`` (relative) and ``mac``.
     """
 
-    orders: tuple[int, ...]
-    poles: tuple[np.ndarray, ...]
-    stable: tuple[np.ndarray, ...]
-    criteria: dict[str, float]
+    #: the saved keys' order (resonant.analyses.result_fields.FieldsJSON)
+    _json_order = ("criteria", "orders")
+
+    orders: tuple[int, ...] = saved(records="orders", key="order", codec=COUNT)
+    poles: tuple[ComplexArray, ...] = saved(records="orders", axes=(None,))
+    stable: tuple[np.ndarray, ...] = saved(records="orders", codec=_FLAGS)
+    criteria: dict[str, float] = saved(codec=PLAIN_NUMBERS)
 
     def __post_init__(self) -> None:
         freeze_fields(self)
 
 
 @dataclass(frozen=True)
-class ModalIdentification(Charted):
+class ModalIdentification(Charted, FieldsJSON):
     """Modes identified from FRFs: poles, shapes, the fit and the stabilization chart.
 
     Attributes
@@ -144,90 +161,45 @@ class ModalIdentification(Charted):
     [3.0, 0.02]
     """
 
-    poles: np.ndarray
-    frequency: np.ndarray
-    damping: np.ndarray
-    shapes: np.ndarray
-    channels: tuple[str, ...]
-    measured_frequency: np.ndarray
-    measured: dict[str, np.ndarray]
-    fitted: dict[str, np.ndarray]
-    errors: dict[str, float]
-    stabilization: Stabilization
-    derivative: int = 0
-    warnings: tuple[str, ...] = field(default=())
-    inputs: tuple[str, ...] = field(default=())
-    participation: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), complex))
+    #: the saved keys' order (resonant.analyses.result_fields.FieldsJSON)
+    _json_order = ("modes", "channels", "shapes", "fit_error", "derivative", "stabilization",
+                   "frequency_hz", "measured", "fitted", "warnings", "inputs", "participation")
+    _group_order = {"modes": ("frequency_hz", "damping_ratio", "pole")}
+
+    poles: np.ndarray = saved(records="modes", key="pole", codec=COMPLEX_NUMBER)
+    frequency: np.ndarray = saved(records="modes", key="frequency_hz", codec=PLAIN_NUMBER)
+    damping: np.ndarray = saved(records="modes", key="damping_ratio", codec=PLAIN_NUMBER)
+    shapes: ComplexArray = saved(axes=("channels", "poles"))
+    channels: tuple[str, ...] = saved()
+    measured_frequency: np.ndarray = saved(key="frequency_hz", axes=(None,))
+    measured: dict[str, ComplexArray] = saved(axes=("measured_frequency",))
+    fitted: dict[str, ComplexArray] = saved(axes=("measured_frequency",))
+    errors: dict[str, float] = saved(key="fit_error", codec=PLAIN_NUMBERS)
+    stabilization: Stabilization = saved()
+    derivative: int = saved(0, codec=COUNT, required=True)
+    warnings: tuple[str, ...] = ()
+    inputs: tuple[str, ...] = saved((), only_with="inputs")
+    participation: ComplexArray = saved(
+        default_factory=lambda: np.zeros((0, 0), complex), axes=("inputs", "poles"),
+        only_with="inputs")
 
     def __post_init__(self) -> None:
         freeze_fields(self)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form: the modes, the fit's errors and the stabilization chart.
-
-        Returns
-        -------
-        dict
-        """
-        st = self.stabilization
-        return {
-            "modes": [{"frequency_hz": float(f), "damping_ratio": float(z),
-                       "pole": {"real": float(p.real), "imag": float(p.imag)}}
-                      for f, z, p in zip(self.frequency, self.damping, self.poles)],
-            "channels": list(self.channels), "shapes": complex_json(self.shapes),
-            "fit_error": dict(self.errors), "derivative": self.derivative,
-            "stabilization": {"criteria": dict(st.criteria), "orders": [
-                {"order": n, "poles": complex_json(p), "stable": list(map(str, s))}
-                for n, p, s in zip(st.orders, st.poles, st.stable)]},
-            "frequency_hz": floats_json(self.measured_frequency),
-            "measured": {k: complex_json(v) for k, v in self.measured.items()},
-            "fitted": {k: complex_json(v) for k, v in self.fitted.items()},
-            "warnings": list(self.warnings),
-            **({"inputs": list(self.inputs),
-                "participation": complex_json(self.participation)} if self.inputs else {})}
-
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> ModalIdentification:
-        """The identification back from its :meth:`to_dict`.
-
-        Parameters
-        ----------
-        data : mapping
-
-        Returns
-        -------
-        ModalIdentification
-
-        Raises
-        ------
-        AnalysisError
-            For a missing or malformed key (named).
-        """
-        saved = Saved(data, "ModalIdentification")
-        modes = saved.records("modes")
-        poles = np.array([complex(m.mapping("pole").number("real"),
-                                  m.mapping("pole").number("imag")) for m in modes])
-        channels = saved.strings("channels")
-        f = saved.floats("frequency_hz", ndim=1)
-        st = saved.mapping("stabilization")
-        orders = st.records("orders")
-        stabilization = Stabilization(
-            tuple(o.integer("order", minimum=0) for o in orders),
-            tuple(o.complex("poles", ndim=1) for o in orders),
-            tuple(np.array(o.strings("stable")) for o in orders),
-            st.numbers_of("criteria"))
-        measured, fitted = saved.mapping("measured"), saved.mapping("fitted")
-        inputs = saved.strings("inputs", ())
-        keys = [pair_name(c, i) for c in channels for i in inputs] if inputs else channels
-        participation = saved.complex("participation", shape=(len(inputs), len(poles))) \
-            if inputs else np.zeros((0, len(poles)), complex)
-        return cls(poles, np.abs(poles) / (2 * np.pi), -poles.real / np.abs(poles),
-                   saved.complex("shapes", shape=(len(channels), len(poles))), channels, f,
-                   {k: measured.complex(k, shape=f.shape) for k in keys},
-                   {k: fitted.complex(k, shape=f.shape) for k in keys},
-                   saved.numbers_of("fit_error"), stabilization,
-                   saved.integer("derivative", minimum=0), saved.strings("warnings", ()),
-                   inputs, participation)
+    def _check_saved(cls, values: dict[str, Any], saved_data: Saved) -> None:
+        """The FRFs of every channel (and input) in their order, and a single reference's
+        participation of no input (read as for :func:`identify_modes`)."""
+        inputs = values.get("inputs", ())
+        keys = [pair_name(c, i) for c in values["channels"] for i in inputs] if inputs \
+            else list(values["channels"])
+        for name in ("measured", "fitted"):
+            frfs = saved_data.mapping(name)
+            for key in keys:
+                frfs.value(key)   # the error naming a missing one
+            values[name] = {key: values[name][key] for key in keys}
+        if not inputs:
+            values["participation"] = np.zeros((0, len(values["poles"])), complex)
 
     def chart(self) -> Charts:
         """The stabilization chart over the FRFs' sum, and the measured and fitted FRFs.

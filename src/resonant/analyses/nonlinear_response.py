@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..arrays import freeze_fields
+from ..arrays import ComplexArray, freeze_fields
 from ..charts import (
     COLORS,
     MAX_CURVES,
@@ -44,8 +44,16 @@ from ..errors import printable
 from ..expressions.notation import dollar_name
 from ..model.units_display import ResultUnits, Shown, curve_units, frequency_axis, unit_math
 from ..tables import ResultTable, number_column
-from .result_fields import HARMONIC_LISTS, Framed
-from .results_json import Saved, complex_json, floats_json
+from .result_fields import (
+    HARMONIC_LISTS,
+    PLAIN_NUMBER,
+    PLAIN_NUMBERS,
+    Codec,
+    FieldsJSON,
+    Framed,
+    saved,
+)
+from .results_json import Saved
 from .special_points import SpecialPoint
 from .sweep import FrequencyResponse
 
@@ -290,9 +298,14 @@ def nonlinear_text(response: NonlinearResponse, units: ResultUnits | None = None
 
 __all__ = ["NonlinearResponse"]
 
+#: H, saved as a whole number of at least 1
+_HARMONICS = Codec(int, lambda reader, key, shape: reader.integer(key, minimum=1))
+#: true or false per branch point
+_FLAG = Codec(bool, lambda reader, key, shape: reader.boolean(key))
+
 
 @dataclass(frozen=True)
-class NonlinearResponse(Framed):
+class NonlinearResponse(Framed, FieldsJSON):
     """The periodic steady state of the full equations, followed along a parameter.
 
     Attributes
@@ -338,41 +351,55 @@ class NonlinearResponse(Framed):
     Examples
     --------
     See :func:`resonant.analyses.harmonic_balance.nonlinear_sweep` and the module's example.
+    Its JSON (``resonant sweep --nonlinear --json``) comes back by ``from_dict``:
+
+    >>> import json, resonant
+    >>> r = resonant.load("examples/duffing.toml").nonlinear_sweep(
+    ...     "omega", 0.8, 1.2, harmonics=1, points=20)
+    >>> back = NonlinearResponse.from_dict(json.loads(json.dumps(r.to_dict())))
+    >>> back.to_dict() == r.to_dict()
+    True
     """
 
     #: the columns of to_frame() (resonant.analyses.result_fields.Framed)
     _frame = (("values", "{parameter}"), ("stable", "stable"),
               ("amplitudes", "amplitude:{key}"))
 
-    title: str
-    parameter: str
-    coordinates: tuple[str, ...]
-    values: np.ndarray
-    amplitudes: Mapping[str, np.ndarray]
-    coefficients: np.ndarray
-    base_frequencies: np.ndarray
-    stable: np.ndarray
-    multipliers: np.ndarray
-    special_points: tuple[SpecialPoint, ...]
-    harmonics: int
-    residual: float
-    truncation: float
-    start: float
-    stop: float
-    linear: FrequencyResponse | None = None
-    warnings: tuple[str, ...] = ()
-    outputs: tuple[str, ...] = ()
-    output_coefficients: np.ndarray | None = None
+    #: the saved form (resonant.analyses.result_fields.FieldsJSON): the linear sweep's keys
+    #: (when there is one) first, then the branch as one record per point, and the rest
+    #: of the result inside "continuation"
+    _json_order = ("...", "branch", "special_points", "harmonics", "residual", "truncation",
+                   "continuation")
+    _group_order = {"branch": ("value", "amplitudes", "stable", "harmonics"),
+                    "continuation": ("title", "parameter", "coordinates", "outputs",
+                                     "quantities", "output_coefficients", "base_frequencies",
+                                     "multipliers", "start", "stop", "warnings", "linear")}
+
+    title: str = saved(inside="continuation")
+    parameter: str = saved(inside="continuation")
+    coordinates: tuple[str, ...] = saved(inside="continuation")
+    values: np.ndarray = saved(records="branch", key="value", codec=PLAIN_NUMBER)
+    amplitudes: Mapping[str, np.ndarray] = saved(records="branch", codec=PLAIN_NUMBERS)
+    coefficients: np.ndarray = saved(records="branch", key="harmonics",
+                                     rows_by="coordinates", codec=HARMONIC_LISTS)
+    base_frequencies: np.ndarray = saved(inside="continuation", axes=("values",))
+    stable: np.ndarray = saved(records="branch", codec=_FLAG)
+    multipliers: ComplexArray = saved(inside="continuation", axes=(None, None))
+    special_points: tuple[SpecialPoint, ...] = saved()
+    harmonics: int = saved(codec=_HARMONICS)
+    residual: float = saved(codec=PLAIN_NUMBER)
+    truncation: float = saved(codec=PLAIN_NUMBER)
+    start: float = saved(inside="continuation", codec=PLAIN_NUMBER)
+    stop: float = saved(inside="continuation", codec=PLAIN_NUMBER)
+    linear: FrequencyResponse | None = saved(None, written=False)
+    warnings: tuple[str, ...] = saved((), inside="continuation", required=True)
+    outputs: tuple[str, ...] = saved((), inside="continuation", required=True)
+    output_coefficients: np.ndarray | None = saved(
+        None, records="branch", key="harmonics", rows_by="outputs", codec=HARMONIC_LISTS,
+        omit_none=True)
 
     def __post_init__(self) -> None:
         freeze_fields(self)
-
-    def harmonic_lists(self, i: int) -> dict[str, list[list[float]]]:
-        """``name -> [[a_0], [a_1, b_1], ...]`` of branch point i (coordinates, outputs)."""
-        rows = list(zip(self.coordinates, self.coefficients[i]))
-        if self.output_coefficients is not None:
-            rows += list(zip(self.outputs, self.output_coefficients[i]))
-        return {name: HARMONIC_LISTS.write(c) for name, c in rows}
 
     def peak(self) -> tuple[float, dict[str, float]] | None:
         """(value, amplitudes) of the largest stable amplitude of the first coordinate: its
@@ -390,113 +417,65 @@ class NonlinearResponse(Framed):
                 best = (p.value, dict(p.amplitudes))
         return best
 
-    def to_dict(self) -> dict[str, Any]:
-        """The linear sweep's keys (when there is one) and ``branch``, ``special_points``,
-        ``harmonics``, ``residual``, ``truncation``."""
+    def _derived_json(self) -> dict[str, Any]:
+        """The linear sweep's keys (when there is one; else the title and the parameter),
+        every warning (the linear sweep's, then the branch's) and, inside "continuation",
+        what :meth:`from_dict` needs to know of the fields."""
         data: dict[str, Any] = self.linear.to_dict() if self.linear is not None else {
             "title": self.title, "parameter": self.parameter}
         data["warnings"] = list(data.get("warnings", [])) + list(self.warnings)
-        data["branch"] = [
-            {"value": float(self.values[i]),
-             "amplitudes": {k: float(v[i]) for k, v in self.amplitudes.items()},
-             "stable": bool(self.stable[i]),
-             "harmonics": self.harmonic_lists(i)}
-            for i in range(self.values.size)]
-        data["special_points"] = [p.to_dict() for p in self.special_points]
-        data["harmonics"] = self.harmonics
-        data["residual"] = self.residual
-        data["truncation"] = self.truncation
-        # the rest of the result (the branch above holds the values, amplitudes, stability
-        # and coefficients), for from_dict
-        data["continuation"] = {
-            "title": self.title, "parameter": self.parameter,
-            "coordinates": list(self.coordinates), "outputs": list(self.outputs),
-            "quantities": list(self.amplitudes),
-            "output_coefficients": self.output_coefficients is not None,
-            "base_frequencies": floats_json(self.base_frequencies),
-            "multipliers": complex_json(self.multipliers),
-            "start": self.start, "stop": self.stop, "warnings": list(self.warnings),
-            "linear": self.linear is not None}
+        data["continuation"] = {"quantities": list(self.amplitudes),
+                                "output_coefficients": self.output_coefficients is not None,
+                                "linear": self.linear is not None}
         return data
 
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> NonlinearResponse:
-        """The branch back from its :meth:`to_dict` (the JSON of ``resonant sweep
-        --nonlinear``), with its linear sweep (:meth:`FrequencyResponse.from_dict`).
+    def _check_saved(cls, values: dict[str, Any], saved_data: Saved) -> None:
+        """The amplitudes of ``continuation.quantities`` in that order, the coefficients
+        2H+1 per name, the output harmonics when saved, and the linear sweep from the keys
+        beside the branch (its warnings those before the branch's).
 
         The values, amplitudes, stability and coefficients come from ``branch``, the rest
         from ``continuation``; finite numbers come back bit for bit (a multiplier that
         overflowed to infinity comes back as NaN).
-
-        Parameters
-        ----------
-        data : mapping
-            What :meth:`to_dict` gave (read back from JSON).
-
-        Returns
-        -------
-        NonlinearResponse
-
-        Raises
-        ------
-        AnalysisError
-            When a key is missing or holds the wrong kind of value (the message names it).
-
-        Examples
-        --------
-        >>> import json, resonant
-        >>> r = resonant.load("examples/duffing.toml").nonlinear_sweep(
-        ...     "omega", 0.8, 1.2, harmonics=1, points=20)
-        >>> back = NonlinearResponse.from_dict(json.loads(json.dumps(r.to_dict())))
-        >>> back.to_dict() == r.to_dict()
-        True
         """
-        saved = Saved(data, "NonlinearResponse")
-        rest = saved.mapping("continuation")
-        H = saved.integer("harmonics", minimum=1)
-        coordinates, outputs = rest.strings("coordinates"), rest.strings("outputs")
-        quantities = rest.strings("quantities")
-        points = saved.records("branch")
-        values = np.array([p.number("value") for p in points], dtype=float)
-        stable = np.array([p.boolean("stable") for p in points], dtype=bool)
-        amplitudes = {name: np.array([p.mapping("amplitudes").number(name) for p in points],
-                                     dtype=float) for name in quantities}
-
-        def coefficients(names: Sequence[str]) -> np.ndarray:
-            """(points, names, 2H+1) from the branch's ``[[a_0], [a_1, b_1], ...]``."""
-            out = np.empty((len(points), len(names), 2 * H + 1))
-            for i, p in enumerate(points):
-                lists = p.mapping("harmonics")
-                for j, name in enumerate(names):
-                    pairs = lists.value(name)
-                    flat = [c for pair in pairs for c in pair] if isinstance(pairs, list) and \
-                        all(isinstance(pair, list) for pair in pairs) else pairs
-                    out[i, j] = lists.array_of(flat, name, shape=(2 * H + 1,))
-            return out
-
-        own = rest.strings("warnings")
-        every = saved.strings("warnings")
+        rest = saved_data.mapping("continuation")
+        points = len(values["values"])
+        values["values"] = np.asarray(values["values"], dtype=float)
+        values["stable"] = np.asarray(values["stable"], dtype=bool)
+        amplitudes = values["amplitudes"]
+        branch = saved_data.records("branch")
+        for name in rest.strings("quantities"):
+            if name not in amplitudes:
+                if points:
+                    branch[0].mapping("amplitudes").value(name)   # the error naming it
+                amplitudes[name] = np.zeros(0)
+        values["amplitudes"] = MappingProxyType(
+            {name: amplitudes[name] for name in rest.strings("quantities")})
+        width = 2 * values["harmonics"] + 1
+        if not rest.boolean("output_coefficients"):
+            values["output_coefficients"] = None
+        elif "output_coefficients" not in values:   # saved, but of no output
+            if values["outputs"] and branch:
+                branch[0].mapping("harmonics").value(values["outputs"][0])  # names it
+            values["output_coefficients"] = np.zeros((points, 0, width))
+        for key, names in (("coefficients", "coordinates"), ("output_coefficients", "outputs")):
+            c = values.get(key)
+            if c is None:
+                continue
+            if c.size == 0:
+                values[key] = np.zeros((points, len(values[names]), width))
+            elif c.shape[-1] != width:
+                raise branch[0].mapping("harmonics").error(
+                    f"has shape {c.shape[-1:]}, not ({width},)", values[names][0])
+        own = values["warnings"]
+        every = saved_data.strings("warnings")
         if every[len(every) - len(own):] != own:
-            raise saved.error("has warnings that do not end with those of "
-                              "'continuation.warnings'", "warnings")
-        linear = None
+            raise saved_data.error("has warnings that do not end with those of "
+                                   "'continuation.warnings'", "warnings")
         if rest.boolean("linear"):
-            linear = FrequencyResponse.from_dict(
-                {**saved.data, "warnings": list(every[:len(every) - len(own)])})
-        return cls(
-            title=rest.string("title"), parameter=rest.string("parameter"),
-            coordinates=coordinates, values=values, amplitudes=MappingProxyType(amplitudes),
-            coefficients=coefficients(coordinates),
-            base_frequencies=rest.floats("base_frequencies", shape=(len(points),)),
-            stable=stable,
-            multipliers=rest.complex("multipliers", ndim=2),
-            special_points=tuple(SpecialPoint.read_saved(p)
-                                 for p in saved.records("special_points")),
-            harmonics=H, residual=saved.number("residual"),
-            truncation=saved.number("truncation"), start=rest.number("start"),
-            stop=rest.number("stop"), linear=linear, warnings=own, outputs=outputs,
-            output_coefficients=coefficients(outputs)
-            if rest.boolean("output_coefficients") else None)
+            values["linear"] = FrequencyResponse.from_dict(
+                {**saved_data.data, "warnings": list(every[:len(every) - len(own)])})
 
     def to_csv(self, path: str | Path) -> None:
         """One row per branch point: value, stable, the amplitudes."""

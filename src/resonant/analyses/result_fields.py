@@ -13,8 +13,10 @@ annotation                      JSON
 ``tuple[float, ...]``           a list of numbers
 ``tuple[int, ...]``             a list of whole numbers
 ``np.ndarray``                  nested lists (real) or ``{"real": ..., "imag": ...}`` (complex)
+``ComplexArray``                ``{"real": ..., "imag": ...}`` (also when the values are real)
 ``Mapping[str, float]``         an object of numbers
 ``Mapping[str, np.ndarray]``    an object of nested lists
+``Mapping[str, ComplexArray]``  an object of ``{"real": ..., "imag": ...}``
 ``Mapping[str, str]``           an object of strings
 ``Mapping[str, tuple[tuple[float, float], ...]]`` an object of lists of pairs
 a result class                  its ``to_dict()``
@@ -30,15 +32,27 @@ reading, so that a hand-edited file is refused with the key and the shapes, not 
 What a class writes beside its fields (numbers derived for the reader of the JSON) comes
 from its ``_derived_json()``; ``from_dict`` reads the fields only, so the derived numbers are
 computed again, bit for bit.  The keys come in the order of the fields (the derived ones
-first), or in the order the class lists in ``_json_order``.  Three more ways of saving a
-field, for the formats the command line's outputs fix:
+first), or in the order the class lists in ``_json_order`` (``"..."`` there: the keys it
+does not list, in their order).  More ways of saving a field, for the formats the
+command line's outputs fix:
 
 * ``saved(history=True)``: written inside ``"history"``, and only by ``to_dict(history=True)``
   (a time history can be long); ``from_dict`` then needs it;
 * ``saved(rows_by="names")``: an array written as an object, row ``i`` under the ``i``-th name
   of the field ``names`` (a mapping: its entries of those names, in their order);
 * ``saved(keys_of="other")``: not written; read back as the keys of the saved object of
-  the field ``other``.
+  the field ``other``;
+* ``saved(records="modes")``: one value per index; the fields of one ``records`` group are
+  written together as the list ``"modes"`` of one object per index (the fields' keys in
+  their order, or in the class's ``_group_order``),
+  ``{"modes": [{"frequency_hz": ..., "pole": ...}, ...]}``; the value of a mapping
+  field at an index is an object of its entries there, of an array field with
+  ``rows_by`` an object of its rows there by name (fields of one key merge these objects);
+* ``saved(inside="continuation")``: written inside the object ``"continuation"`` with the
+  other fields saved there (and the derived keys put there), in the order of the
+  ``_group_order`` of ``"continuation"``;
+* ``saved(only_with="inputs")``: written only when the field ``inputs`` is not empty (and
+  then needed by ``from_dict``; without it read as the default).
 
 Examples
 --------
@@ -66,6 +80,7 @@ from __future__ import annotations
 import dataclasses
 import re
 import sys
+from collections import Counter
 from collections.abc import Callable, Mapping, Sequence, Sized
 from dataclasses import dataclass
 from typing import Any, ClassVar, TypeVar
@@ -76,8 +91,9 @@ import numpy.typing as npt
 from ..errors import AnalysisError
 from .results_json import Saved, complex_json, floats_json, optional_float
 
-__all__ = ["Codec", "FieldsJSON", "Framed", "saved", "COMPLEX_PAIRS", "HARMONIC_LISTS",
-           "PLAIN_NUMBER", "ROWS", "Shape", "frame_of"]
+__all__ = ["Codec", "FieldsJSON", "Framed", "saved", "COMPLEX_NUMBER", "COMPLEX_PAIRS",
+           "COUNT", "HARMONIC_LISTS", "PLAIN_NUMBER", "PLAIN_NUMBERS", "ROWS", "Shape",
+           "frame_of"]
 
 T = TypeVar("T", bound="FieldsJSON")
 
@@ -126,13 +142,18 @@ def _fixed(shape: Shape) -> tuple[int, ...] | None:
     return tuple(int(s) for s in shape if s is not None)
 
 
-def _array_read(saved: Saved, key: str, shape: Shape) -> np.ndarray:
+def _array_read(saved: Saved, key: str, shape: Shape, complex_only: bool = False
+                ) -> np.ndarray:
     fixed = _fixed(shape)
-    if isinstance(saved.value(key), Mapping):
+    if complex_only or isinstance(saved.value(key), Mapping):
         array = saved.complex(key, shape=fixed)
     else:
         array = saved.floats(key, shape=fixed)
     return array if fixed is not None or shape is None else _free_shape(saved, key, array, shape)
+
+
+def _complex_read(saved: Saved, key: str, shape: Shape) -> np.ndarray:
+    return _array_read(saved, key, shape, complex_only=True)
 
 
 def _free_shape(saved: Saved, key: str, array: np.ndarray, shape: tuple[int | None, ...]
@@ -150,6 +171,16 @@ def _free_shape(saved: Saved, key: str, array: np.ndarray, shape: tuple[int | No
 def _arrays_read(saved: Saved, key: str, shape: Shape) -> dict[str, Any]:
     inner = saved.mapping(key)
     return {str(k): _array_read(inner, str(k), shape) for k in inner.data}
+
+
+def _complex_arrays_read(saved: Saved, key: str, shape: Shape) -> dict[str, Any]:
+    inner = saved.mapping(key)
+    return {str(k): _complex_read(inner, str(k), shape) for k in inner.data}
+
+
+def _complex_number_read(saved: Saved, key: str, shape: Shape) -> complex:
+    parts = saved.mapping(key)
+    return complex(parts.number("real"), parts.number("imag"))
 
 
 def _pairs_write(value: npt.ArrayLike) -> list[list[float | None]]:
@@ -210,6 +241,13 @@ PLAIN_NUMBER = Codec(float, lambda s, k, shape: s.number(k))
 HARMONIC_LISTS = Codec(_harmonics_write, _harmonics_read)
 #: a real matrix saved transposed: one column (a mode, a point) a row
 ROWS = Codec(lambda value: floats_json(np.asarray(value, dtype=float).T), _rows_read)
+#: one complex number as ``{"real": ..., "imag": ...}`` (NaN as ``NaN``, as Python writes it)
+COMPLEX_NUMBER = Codec(lambda value: {"real": float(value.real), "imag": float(value.imag)},
+                       _complex_number_read)
+#: a whole number, 0 or more
+COUNT = Codec(int, lambda s, k, shape: s.integer(k, minimum=0))
+#: an object of numbers as Python's JSON writes them (NaN as ``NaN``)
+PLAIN_NUMBERS = Codec(dict, lambda s, k, shape: s.numbers_of(k))
 
 _TEXT = Codec(str, lambda s, k, shape: s.string(k))
 _FLAG = Codec(bool, lambda s, k, shape: s.boolean(k))
@@ -223,6 +261,9 @@ _ARRAY = Codec(_array_write, _array_read)
 _NUMBERS_BY_NAME = Codec(lambda v: {k: optional_float(x) for k, x in v.items()},
                          lambda s, k, shape: s.numbers_of(k))
 _ARRAYS_BY_NAME = Codec(lambda v: {k: _array_write(x) for k, x in v.items()}, _arrays_read)
+_COMPLEX = Codec(complex_json, _complex_read)
+_COMPLEX_BY_NAME = Codec(lambda v: {k: complex_json(x) for k, x in v.items()},
+                         _complex_arrays_read)
 _TEXTS_BY_NAME = Codec(dict, lambda s, k, shape: {
     str(name): s.mapping(k).string(str(name)) for name in s.mapping(k).data})
 
@@ -237,9 +278,10 @@ _BY_ANNOTATION: dict[str, Codec] = {
     "tuple[float,float]": _NUMBERS, "tuple[float,float,float]": _NUMBERS,
     "tuple[tuple[float,float],...]": Codec(lambda v: [[optional_float(a), optional_float(b)]
                                                       for a, b in v], _number_pairs_read),
-    "np.ndarray": _ARRAY, "FloatArray": _ARRAY, "ComplexArray": _ARRAY,
+    "np.ndarray": _ARRAY, "FloatArray": _ARRAY, "ComplexArray": _COMPLEX,
     "Mapping[str,float]": _NUMBERS_BY_NAME, "dict[str,float]": _NUMBERS_BY_NAME,
     "Mapping[str,np.ndarray]": _ARRAYS_BY_NAME, "dict[str,np.ndarray]": _ARRAYS_BY_NAME,
+    "Mapping[str,ComplexArray]": _COMPLEX_BY_NAME, "dict[str,ComplexArray]": _COMPLEX_BY_NAME,
     "Mapping[str,str]": _TEXTS_BY_NAME, "dict[str,str]": _TEXTS_BY_NAME,
     "Mapping[str,tuple[tuple[float,float],...]]": _PAIRS_BY_NAME,
 }
@@ -261,6 +303,9 @@ class _Saving:
     written: bool = True
     by_name: str | None = None
     missing: tuple[object, ...] = ()   # (the value written for a name the mapping lacks,)
+    records: str | None = None
+    only_with: str | None = None
+    inside: str | None = None
 
 
 def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
@@ -268,7 +313,8 @@ def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
           required: bool = False, default_factory: Callable[[], object] | None = None,
           history: bool = False, rows_by: str | None = None, keys_of: str | None = None,
           inline: bool = False, written: bool = True, by_name: str | None = None,
-          missing: object = dataclasses.MISSING) -> Any:
+          missing: object = dataclasses.MISSING, records: str | None = None,
+          only_with: str | None = None, inside: str | None = None) -> Any:
     """A dataclass field with the way it is saved (see the module's table).
 
     Parameters
@@ -304,6 +350,17 @@ def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
         order), under ``key``: ``{"responses": {"x": {"rms": ...}}}``.
     missing : optional
         With ``by_name``: written for a name the mapping lacks (else every name is there).
+    records : str, optional
+        A sequence (a tuple or an array) saved one value per index in the list ``records``
+        of one object per index, under ``key``, beside the other fields of that group (all
+        of one length); its ``codec`` (or, of a ``tuple[X, ...]``, X's form) saves one
+        value, ``axes`` gives one value's shape.
+    only_with : str, optional
+        Written only when the field ``only_with`` (this one's own name: itself) is not
+        empty; read as the default when that field is empty.
+    inside : str, optional
+        Written under ``key`` inside the object ``inside`` (beside the other fields saved
+        there).
 
     Returns
     -------
@@ -311,7 +368,8 @@ def saved(default: object = dataclasses.MISSING, *, key: str | None = None,
     """
     metadata = {"saved": _Saving(key, codec, axes, omit_none, required, history, rows_by,
                                  keys_of, inline, written, by_name,
-                                 () if missing is dataclasses.MISSING else (missing,))}
+                                 () if missing is dataclasses.MISSING else (missing,),
+                                 records, only_with, inside)}
     if default_factory is not None:
         return dataclasses.field(default_factory=default_factory, metadata=metadata)
     return dataclasses.field(default=default, metadata=metadata)
@@ -407,19 +465,26 @@ class _Entry:
     by_name: str | None = None
     missing: tuple[object, ...] = ()
     mapping: bool = False   # a mapping field (rows_by: the entries of those names)
+    records: str | None = None
+    only_with: str | None = None
+    listed: bool = False    # a tuple field (records: read back as a tuple, else an array)
+    inside: str | None = None
 
 
 def _element_codec(owner: type, field: dataclasses.Field[Any]) -> Codec:
-    """The codec of one value of a ``Mapping[str, X]`` field (``saved(by_name=...)``)."""
+    """The codec of one value of a ``Mapping[str, X]`` field (``saved(by_name=...)``) or of
+    a ``tuple[X, ...]`` field (``saved(records=...)``)."""
     saving: _Saving = field.metadata["saved"]
     if saving.codec is not None:
         return saving.codec
     text = re.sub(r"\s+", "", str(field.type))
-    match = re.fullmatch(r"(?:Mapping|dict)\[str,(.+)\]", text)
+    pattern = r"tuple\[(.+),\.\.\.\]" if saving.records else r"(?:Mapping|dict)\[str,(.+)\]"
+    match = re.fullmatch(pattern, text)
     codec = _BY_ANNOTATION.get(match.group(1)) if match else None
     if codec is None:
-        raise TypeError(f"{owner.__name__}.{field.name}: saved by name, but '{field.type}' "
-                        "is no mapping of a saved form")
+        how = "in records" if saving.records else "by name"
+        raise TypeError(f"{owner.__name__}.{field.name}: saved {how}, but '{field.type}' "
+                        "has no saved form of one value: give saved(codec=...)")
     return codec
 
 
@@ -432,16 +497,29 @@ def _entries(cls: type) -> tuple[_Entry, ...]:
         has_default = not saving.required and (f.default is not dataclasses.MISSING
                                                 or f.default_factory is not dataclasses.MISSING)
         codec = _TEXTS if saving.keys_of is not None else _element_codec(cls, f) \
-            if saving.by_name is not None else _codec_of(cls, f)
+            if saving.by_name is not None or saving.records is not None else _codec_of(cls, f)
         out.append(_Entry(f.name, saving.key or f.name, codec, saving.axes, has_default,
                           saving.omit_none, saving.history, saving.rows_by, saving.keys_of,
                           saving.inline, saving.by_name, saving.missing,
-                          bool(re.match(r"(Mapping|dict)\[", str(f.type)))))
+                          bool(re.match(r"(Mapping|dict)\[", str(f.type))), saving.records,
+                          saving.only_with, str(f.type).startswith("tuple["),
+                          saving.inside))
     return tuple(out)
 
 
 def _length(value: Sized | np.ndarray) -> int:
     return int(np.shape(value)[0]) if isinstance(value, np.ndarray) else len(value)
+
+
+def _empty(value: Sized | np.ndarray | None) -> bool:
+    """No value at all (None, or no entry: an array of size 0, an empty sequence)."""
+    return value is None or (np.size(value) == 0 if isinstance(value, np.ndarray)
+                             else len(value) == 0)
+
+
+def _other(entry: _Entry) -> str | None:
+    """The field that says whether ``entry`` is written (``only_with``), if another."""
+    return None if entry.only_with in (None, entry.name) else entry.only_with
 
 
 class FieldsJSON:
@@ -466,6 +544,9 @@ class FieldsJSON:
     _json_order: ClassVar[tuple[str, ...]] = ()
     #: record group -> (the field listing its names, the records' keys in order)
     _by_name: ClassVar[Mapping[str, tuple[str, tuple[str, ...]]]] = {}
+    #: group (``saved(records=...)``: its records; ``saved(inside=...)``: the object) ->
+    #: its keys in order, where that is not the order of the fields
+    _group_order: ClassVar[Mapping[str, tuple[str, ...]]] = {}
 
     def _derived_record(self, group: str, name: str) -> dict[str, Any]:
         """Keys written in the record of ``name`` in ``group`` for the reader (none)."""
@@ -492,7 +573,11 @@ class FieldsJSON:
         for entry in self._saved_fields():
             value = getattr(self, entry.name)
             if entry.keys_of is not None or (value is None and entry.omit_none) or \
-                    (entry.history and not history):
+                    (entry.history and not history) or \
+                    (entry.only_with is not None and _empty(getattr(self, entry.only_with))):
+                continue
+            if entry.records is not None:
+                _write_records(data, entry, value, self)
                 continue
             if entry.by_name is not None:
                 data.setdefault(entry.by_name, groups[entry.by_name])
@@ -510,6 +595,8 @@ class FieldsJSON:
                 written = entry.codec.write(value)
             if entry.inline:
                 data.update(written)
+            elif entry.inside is not None:
+                data.setdefault(entry.inside, {})[entry.key] = written
             else:
                 (histories if entry.history else data)[entry.key] = written
         if histories:
@@ -517,6 +604,12 @@ class FieldsJSON:
         for group, (_, order) in self._by_name.items():
             data[group] = {name: _ordered(record, order, f"{type(self).__name__}.{group}")
                            for name, record in groups[group].items()}
+        for group, order in self._group_order.items():
+            kind = f"{type(self).__name__}.{group}"
+            if isinstance(data.get(group), list):
+                data[group] = [_ordered(record, order, kind) for record in data[group]]
+            elif group in data:
+                data[group] = _ordered(data[group], order, kind)
         return _ordered(data, self._json_order, type(self).__name__)
 
     @classmethod
@@ -558,7 +651,8 @@ class FieldsJSON:
             histories = saved_data.mapping("history")
         by_name = {e.name: e for e in entries}
         for entry in _reading_order(entries):
-            source = histories if entry.history else saved_data
+            source = histories if entry.history else saved_data.mapping(entry.inside) \
+                if entry.inside is not None else saved_data
             if entry.keys_of is not None:
                 of = by_name.get(entry.keys_of)
                 inner = saved_data.mapping(entry.keys_of) if entry.keys_of in cls._by_name \
@@ -569,7 +663,17 @@ class FieldsJSON:
             if entry.by_name is not None:
                 values[entry.name] = _read_by_name(entry, saved_data.mapping(entry.by_name))
                 continue
-            if entry.key not in source and entry.has_default and not entry.inline:
+            if entry.records is not None:
+                shape = None if entry.axes is None else _shape(entry, values, source)
+                records = saved_data.records(entry.records)
+                if entry.has_default and records and not _in_record(entry, records[0],
+                                                                     values):
+                    continue
+                values[entry.name] = _read_records(entry, records, shape, values)
+                continue
+            other = _other(entry)
+            if entry.key not in source and entry.has_default and not entry.inline and \
+                    (other is None or _empty(values.get(other))):
                 continue
             shape = None if entry.axes is None else _shape(entry, values, source)
             if entry.rows_by is not None and not entry.mapping:
@@ -581,6 +685,66 @@ class FieldsJSON:
             return cls(**values)
         except (TypeError, ValueError) as exc:
             raise saved_data.error(f"does not make a {cls.__name__}: {exc}") from None
+
+
+def _write_records(data: dict[str, Any], entry: _Entry,
+                   value: Mapping[str, np.ndarray] | Sequence[object] | np.ndarray,
+                   result: FieldsJSON) -> None:
+    """Each value of the field ``entry`` into its record (``saved(records=...)``): of a
+    mapping the object of its entries at that index, with ``rows_by`` the object of the
+    rows there by name (merged into an object another field wrote under the same key)."""
+    assert entry.records is not None
+    if isinstance(value, Mapping):
+        count = _length(next(iter(value.values()))) if value else \
+            len(data.get(entry.records, []))
+        items: list[Any] = [{k: v[i] for k, v in value.items()} for i in range(count)]
+    else:
+        items = list(value)
+    records = data.setdefault(entry.records, [{} for _ in items])
+    if len(records) != len(items):
+        raise ValueError(f"{type(result).__name__}.{entry.name} has {len(items)} values, but "
+                         f"its records '{entry.records}' are {len(records)}")
+    names = None if entry.rows_by is None else getattr(result, entry.rows_by)
+    for record, one in zip(records, items):
+        if names is None:
+            record[entry.key] = entry.codec.write(one)
+        else:
+            record.setdefault(entry.key, {}).update(
+                {name: entry.codec.write(row) for name, row in zip(names, one)})
+
+
+def _in_record(entry: _Entry, record: Saved, values: Mapping[str, Any]) -> bool:
+    """Whether a record holds the field ``entry`` (with ``rows_by``: its first row)."""
+    if entry.rows_by is None or entry.key not in record:
+        return entry.key in record
+    names: Sequence[str] = values.get(entry.rows_by) or ()
+    inner = record.value(entry.key)
+    return bool(names) and isinstance(inner, Mapping) and names[0] in inner
+
+
+def _read_records(entry: _Entry, records: list[Saved], shape: Shape,
+                  values: Mapping[str, Any]) -> Any:
+    """The field ``entry`` back from its records (see :func:`_write_records`)."""
+    if entry.rows_by is not None:
+        names = values.get(entry.rows_by, ())
+        read = [(record.mapping(entry.key), [np.asarray(entry.codec.read(
+            record.mapping(entry.key), str(n), shape)) for n in names]) for record in records]
+        shapes = Counter(row.shape for _, rows in read for row in rows)
+        if len(shapes) > 1:   # the row that differs from most
+            usual = shapes.most_common(1)[0][0]
+            inner, name, row = next((inner, n, row) for inner, rows in read
+                                    for n, row in zip(names, rows) if row.shape != usual)
+            raise inner.error(f"has shape {row.shape}, not {usual}", str(name))
+        return np.array([rows for _, rows in read]) if read else np.zeros((0, len(names)))
+    read = [entry.codec.read(record, entry.key, shape) for record in records]
+    if entry.mapping:
+        names = list(read[0]) if read else []
+        for record, one in zip(records, read):
+            for name in names:
+                if name not in one:
+                    record.mapping(entry.key).value(name)   # the error naming it
+        return {name: np.array([one[name] for one in read]) for name in names}
+    return tuple(read) if entry.listed else np.array(read)
 
 
 def _read_by_name(entry: _Entry, records: Saved) -> dict[str, Any]:
@@ -607,9 +771,13 @@ def _rows_by_name(entry: _Entry, saved_data: Saved, shape: Shape) -> np.ndarray:
 
 
 def _ordered(data: dict[str, Any], order: tuple[str, ...], kind: str) -> dict[str, Any]:
-    """``data`` with its keys in ``order`` (every key must be listed; unchanged without)."""
+    """``data`` with its keys in ``order`` (every key must be listed, or ``"..."`` stand for
+    those not listed; unchanged without)."""
     if not order:
         return data
+    if "..." in order:
+        rest = [key for key in data if key not in order]
+        order = tuple(k for o in order for k in (rest if o == "..." else [o]))
     unlisted = [key for key in data if key not in order]
     if unlisted:
         raise TypeError(f"{kind}._json_order does not list {unlisted}")
@@ -624,7 +792,8 @@ def _reading_order(entries: tuple[_Entry, ...]) -> list[_Entry]:
     waiting = list(entries)
     while waiting:
         ready = [e for e in waiting if all(not isinstance(a, str) or a in done or a not in names
-                                           for a in (*(e.axes or ()), e.keys_of))]
+                                           for a in (*(e.axes or ()), e.keys_of, _other(e),
+                                                     e.rows_by if e.records else None))]
         if not ready:   # a cycle of axes: read in field order (the check then says which)
             ready = waiting[:1]
         order += ready

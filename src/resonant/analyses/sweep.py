@@ -151,15 +151,14 @@ class Extremum(NamedTuple):
     ``value`` is the refined parameter value (parabolic interpolation through
     the three grid points around the extremum: on log amplitude for peaks, on
     amplitude squared for antiresonances); ``amplitude`` the interpolated value.
-    (A named tuple: a long sweep of a large model has tens of thousands.)
+    (A named tuple: a long sweep of a large model has tens of thousands.)  Its JSON
+    record, ``{"name": ..., "value": ..., "amplitude": ...}``, is ``_asdict()``; a
+    sweep's are written by :meth:`ExtremaTable.to_list`.
     """
 
     name: str
     value: float
     amplitude: float
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"name": self.name, "value": self.value, "amplitude": self.amplitude}
 
 
 @dataclass(frozen=True)
@@ -183,6 +182,8 @@ class ExtremaTable:
                          self.values.tolist(), self.amplitudes.tolist()))
 
     def to_list(self) -> list[dict[str, Any]]:
+        """The JSON records of the extrema, each an :class:`Extremum`'s ``_asdict()``
+        (written from the arrays: no tuple is built)."""
         names = self.names
         return [{"name": names[i], "value": v, "amplitude": a} for i, v, a in
                 zip(self.index.tolist(), self.values.tolist(), self.amplitudes.tolist())]
