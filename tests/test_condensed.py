@@ -436,6 +436,49 @@ def test_friction_verdict_does_not_depend_on_where_the_sweep_starts():
     np.testing.assert_allclose(ends[0], ends[1], rtol=1e-6)
 
 
+def _grid_model(tmp_path, force: float):
+    """The irregular 15 x 15 mass-spring grid of ``tests/test_reduced.py`` (225
+    coordinates, first frequency 26.8) with a stiff cubic mount (1e8 q^3) where its force
+    acts."""
+    import scipy.sparse as sp
+    from test_reduced import grid
+    M, C, K, f = grid(15)
+    for key, a in (("M", M), ("C", C), ("K", K)):
+        sp.save_npz(tmp_path / f"{key}.npz", a)
+    q = f"q{int(np.flatnonzero(f)[0]) + 1}"
+    (tmp_path / "grid.toml").write_text(
+        '[parameters]\nw = 1\n[matrices]\nM = "M.npz"\nC = "C.npz"\nK = "K.npz"\n'
+        f'[[harmonic]]\nomega = "w"\nF_C = {{ {q} = "{force!r}" }}\n'
+        f'[[nonlinear]]\nname = "mount"\ncoordinates = ["{q}"]\nforce = "1e8*{q}^3"\n')
+    from resonant.api import load
+    return load(tmp_path / "grid.toml"), q
+
+
+@pytest.mark.parametrize("structure", ["grid", "chain"])
+def test_small_forcing_gives_the_linear_response(structure, tmp_path):
+    """At small forcing the branch is the linear response (the exact sparse sweep at the
+    branch's values) to 1e-6 relative, on a 225-DOF grid through a reduced linear part
+    (its default tolerance, 1e-6) and on the 200-DOF chain through the full matrices;
+    what differs is the cubic's own effect: a tenth of the force, a hundredth of the
+    difference (measured: grid 9.2e-8 and 9.2e-10 at forces 1e-2 and 1e-3, chain 7.0e-8
+    and 7.8e-10 at 1e-6 and 1e-7; on the 10^4-DOF corpus grid and plate at a millionth
+    of their benchmark force, 5e-13 and 1.3e-11)."""
+    rel = []
+    for force in ((1e-2, 1e-3) if structure == "grid" else (1e-6, 1e-7)):
+        if structure == "grid":
+            model, q = _grid_model(tmp_path, force)
+            band, kwargs = (25.0, 29.0), {"exact": False}
+        else:
+            model, *_ = chain(200, force=force)
+            q, band, kwargs = "q200", (1.3, 1.8), {}
+        r = condensed_sweep(nonlinear_system(model), "w", *band, harmonics=3, points=12,
+                            linear=False, **kwargs)
+        linear = sweep(model.linearize(), "w", r.values, names=[q], method="sparse")
+        rel.append(float(np.max(np.abs(r.amplitudes[q] / linear.amplitudes[q] - 1))))
+    assert rel[0] < 1e-6
+    assert 70 < rel[0] / rel[1] < 130, rel
+
+
 def test_fast_modes_static_in_the_stability_give_the_same_verdicts(monkeypatch):
     """An 8-DOF chain with H = 7: Hill's matrix of every mode would have 240 rows, so the
     modes above 3 W_max enter as their static flexibility (2 of 8 modes stay dynamic).
