@@ -441,7 +441,9 @@ def _grid_model(tmp_path, force: float):
     coordinates, first frequency 26.8) with a stiff cubic mount (1e8 q^3) where its force
     acts."""
     import scipy.sparse as sp
+
     from test_reduced import grid
+
     M, C, K, f = grid(15)
     for key, a in (("M", M), ("C", C), ("K", K)):
         sp.save_npz(tmp_path / f"{key}.npz", a)
