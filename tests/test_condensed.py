@@ -436,6 +436,19 @@ def test_friction_verdict_does_not_depend_on_where_the_sweep_starts():
     np.testing.assert_allclose(ends[0], ends[1], rtol=1e-6)
 
 
+def test_friction_points_keep_the_modes_of_their_own_frequency():
+    """A 30-DOF chain with the Jenkins element (60 first-order modes, more than 40): each
+    point keeps the modes up to 3 W of its own W, so the second mode (|Im mu| 4.7) is
+    kept above W = 1.57 and not below; the points with fewer are padded with multipliers
+    0, not 1 (a padded exponent 0 read as a multiplier on the unit circle)."""
+    model, *_ = _jenkins_chain(30)
+    r = condensed_sweep(nonlinear_system(model), "w", 1.5, 1.6, harmonics=9, points=10,
+                        linear=False)
+    kept = (np.abs(r.multipliers) > 0).sum(axis=1)
+    assert set(kept) == {2, 4} and kept[0] == 2 and kept[-1] == 4
+    assert r.stable.all() and np.abs(r.multipliers).max() < 0.96
+
+
 def _grid_model(tmp_path, force: float):
     """The irregular 15 x 15 mass-spring grid of ``tests/test_reduced.py`` (225
     coordinates, first frequency 26.8) with a stiff cubic mount (1e8 q^3) where its force

@@ -49,9 +49,10 @@ one period by fourth-order Magnus steps, its eigenvalues the multipliers (cost
 linear in H, not cubic; equal verdicts, ``tests/test_condensed_monodromy.py``).
 Where friction elements slip, the linearization also carries each slider's shift
 (the element remembers it while it sticks again), and the exponents come from the
-monodromy matrix over the time samples themselves (:func:`_slider_monodromy`), the
-modes kept dynamic chosen by the point's own W: the same for one periodic motion
-whatever H and wherever the sweep started.
+monodromy matrix over the time samples themselves (:func:`_slider_monodromy`); with
+friction elements the modes kept dynamic are chosen by each point's own W
+(:func:`_slider_modes`): the same exponents for one periodic motion whatever H and
+wherever the sweep started.
 
 Examples
 --------
@@ -150,6 +151,9 @@ MONODROMY_STEPS = 128
 #: largest 1-norm it serves to the unit roundoff (Higham 2005, Table 2.3)
 PADE7 = (17297280.0, 8648640.0, 1995840.0, 277200.0, 25200.0, 1512.0, 56.0, 1.0)
 PADE7_THETA = 0.9504178996162932
+#: the exponent (a multiple of W) that pads a branch point with fewer kept modes than
+#: others: multiplier exp(-2 pi 1e6) = 0
+PAD_EXPONENT = -1e6
 #: least samples per period for elements with kinks (gap, friction)
 NONSMOOTH_SAMPLES = 2048
 #: with more samples than this many per harmonic coefficient the Jacobian's blocks come
@@ -628,7 +632,7 @@ class CondensedBalance:
         forces = self.forces(p)
         G0, G1 = forces.stiffness(U, Ud)                          # (m, m, N)
         sliders = forces.sliders(U) if forces.hysteretic else []
-        keep = _slider_modes(lin.mu, W) if sliders else self.dynamic
+        keep = _slider_modes(lin.mu, W) if forces.hysteretic else self.dynamic
         mu_s = lin.mu[keep]
         Cq, Cv = lin.Lq[:m, keep], lin.Lv[:m, keep]
         Bs = lin.Rin[keep, :m]
@@ -924,8 +928,9 @@ def _dynamic_modes(mu: np.ndarray, top: float, H: int) -> np.ndarray:
 
 
 def _slider_modes(mu: np.ndarray, W: float) -> np.ndarray:
-    """Which first-order modes :func:`_slider_monodromy` keeps dynamic at the base
-    frequency W: all of them up to :data:`MAX_DYNAMIC`, else those up to
+    """Which first-order modes the stability analysis of a model with friction elements
+    keeps dynamic at the base frequency W (:func:`_slider_monodromy`, or Hill's matrix
+    where every element sticks throughout): all of them up to :data:`MAX_DYNAMIC`, else those up to
     :data:`DYNAMIC_FACTOR` W (at most :data:`MAX_DYNAMIC`, the slowest).  Its cost does
     not grow with the harmonics, so neither H nor the sweep's range choose them: the
     exponents of one periodic motion are the same whichever branch finds it."""
@@ -1245,7 +1250,10 @@ def condensed_sweep(system: NonlinearSystem, param: str, start: float, stop: flo
         lam.append(hb.exponents(J, blocks))
     Ws = np.array([hb.base(p) for p in branch.p])
     width = max((v.size for v in lam), default=0)
-    lam_arr = np.array([np.pad(v, (0, width - v.size)) for v in lam])
+    # a point with fewer kept modes (friction: chosen by its own W) padded with exponents
+    # of multiplier 0, stable and never the one that crosses
+    lam_arr = np.array([np.pad(v, (0, width - v.size), constant_values=PAD_EXPONENT * Ws[i])
+                        for i, v in enumerate(lam)])
     mult = np.exp(lam_arr * (2 * np.pi / Ws)[:, None])
     stable = np.all(np.abs(mult) <= 1 + STABILITY_TOL, axis=1)
     amps = np.asarray(series_peaks(coeffs))
