@@ -2,6 +2,7 @@
 
     python benchmarks/bench_condensed_stability.py [--modes 40] [--harmonics 7,11,15]
     python benchmarks/bench_condensed_stability.py --plate 100
+    python benchmarks/bench_condensed_stability.py --friction 4
 
 For s first-order modes kept dynamic (poles -0.01 + i w_j, w_j spread over 1 ... 7 W,
 W = 1) and H harmonics, the periodic system eta' = A(t) eta with A's Fourier
@@ -17,6 +18,12 @@ coordinates (H = 7, omega 1.0 ... 2.4, 100 points asked), once with Hill's matri
 every point and once as ``condensed.py`` chooses (the monodromy matrix above
 ``MONODROMY_ROWS`` rows): CPU seconds of the sweep and of its exponents, and whether
 the verdicts and special points agree.
+
+With ``--friction N``: a chain of N masses with a Jenkins element at its tip that slips
+each period (omega 1.5 ... 1.6, H = 9): CPU per point of the exponents by the sliders'
+monodromy over the samples (``condensed._slider_monodromy``) and by the instantaneous
+tangent alone (the sliders left out: what the stability analysis did before, a
+different and wrong linear system), and the largest multiplier of each.
 """
 
 from __future__ import annotations
@@ -104,13 +111,68 @@ def plate(n: int) -> None:
           f"{points[0] == points[1]}")
 
 
+def friction(n: int) -> None:
+    import numpy as np
+
+    import resonant
+    from resonant.analyses import condensed
+    from resonant.system import nonlinear_system
+    from resonant.system.nonlinear_elements import ElementForces
+
+    K = (np.diag(np.r_[2 * np.ones(n - 1), 1.0]) - np.diag(np.ones(n - 1), 1)
+         - np.diag(np.ones(n - 1), -1)) * n
+    M = np.eye(n) / n
+    C = 0.02 * M + 0.002 * K
+
+    def rows(A: np.ndarray) -> str:
+        return "[" + ", ".join("[" + ", ".join(repr(float(v)) for v in r) + "]"
+                               for r in A) + "]"
+
+    force = [0.0] * n
+    force[-1] = 0.02
+    system = nonlinear_system(resonant.loads(
+        f"[parameters]\nw = 1\n[matrices]\nM = {rows(M)}\nK = {rows(K)}\nC = {rows(C)}\n"
+        f'[[harmonic]]\nomega = "w"\nF_C = {force}\n[[nonlinear]]\nname = "joint"\n'
+        f'coordinates = ["q{n}"]\nkind = "friction"\nstiffness = 3.0\n'
+        "slip_force = 0.004\n"))
+    original, sliders = condensed.CondensedBalance.exponents, ElementForces.sliders
+    spent = [0.0, 0]
+
+    def timed(self, J, blocks):
+        start = time.process_time()
+        lam = original(self, J, blocks)
+        spent[0] += time.process_time() - start
+        spent[1] += 1
+        return lam
+
+    condensed.CondensedBalance.exponents = timed
+    print("| route | coordinates | points | exponents a point | largest multiplier |")
+    print("| --- | ---: | ---: | ---: | ---: |")
+    try:
+        for name, patch in (("sliders' monodromy", False), ("tangent alone (before)", True)):
+            if patch:
+                ElementForces.sliders = lambda self, U: []
+            spent[:] = [0.0, 0]
+            r = condensed.condensed_sweep(system, "w", 1.5, 1.6, harmonics=9, points=10,
+                                          linear=False)
+            print(f"| {name} | {n} | {r.values.size} | {1e3 * spent[0] / spent[1]:.1f} ms | "
+                  f"{float(np.abs(r.multipliers).max()):.4f} |")
+    finally:
+        condensed.CondensedBalance.exponents, ElementForces.sliders = original, sliders
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--modes", type=int, default=40)
     parser.add_argument("--harmonics", default="7,11,15")
     parser.add_argument("--plate", type=int, default=0,
                         help="the plate of about this many coordinates instead")
+    parser.add_argument("--friction", type=int, default=0,
+                        help="the chain of this many masses with a Jenkins element instead")
     args = parser.parse_args(argv)
+    if args.friction:
+        friction(args.friction)
+        return 0
     if args.plate:
         plate(args.plate)
         return 0

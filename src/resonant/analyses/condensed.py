@@ -47,6 +47,12 @@ equations.  Where Hill's matrix would have more than :data:`MONODROMY_ROWS` rows
 through its monodromy matrix instead: the 2s x 2s state-transition matrix over
 one period by fourth-order Magnus steps, its eigenvalues the multipliers (cost
 linear in H, not cubic; equal verdicts, ``tests/test_condensed_monodromy.py``).
+Where friction elements slip, the linearization also carries each slider's shift
+(the element remembers it while it sticks again), and the exponents come from the
+monodromy matrix over the time samples themselves (:func:`_slider_monodromy`); with
+friction elements the modes kept dynamic are chosen by each point's own W
+(:func:`_slider_modes`): the same exponents for one periodic motion whatever H and
+wherever the sweep started.
 
 Examples
 --------
@@ -145,6 +151,9 @@ MONODROMY_STEPS = 128
 #: largest 1-norm it serves to the unit roundoff (Higham 2005, Table 2.3)
 PADE7 = (17297280.0, 8648640.0, 1995840.0, 277200.0, 25200.0, 1512.0, 56.0, 1.0)
 PADE7_THETA = 0.9504178996162932
+#: the exponent (a multiple of W) that pads a branch point with fewer kept modes than
+#: others: multiplier exp(-2 pi 1e6) = 0
+PAD_EXPONENT = -1e6
 #: least samples per period for elements with kinks (gap, friction)
 NONSMOOTH_SAMPLES = 2048
 #: with more samples than this many per harmonic coefficient the Jacobian's blocks come
@@ -620,8 +629,10 @@ class CondensedBalance:
         x, p, W = blocks
         lin, m, b = self.linear, self.m, self.basis
         U, Ud = self.samples(x, W)
-        G0, G1 = self.forces(p).stiffness(U, Ud)                  # (m, m, N)
-        keep = self.dynamic
+        forces = self.forces(p)
+        G0, G1 = forces.stiffness(U, Ud)                          # (m, m, N)
+        sliders = forces.sliders(U) if forces.hysteretic else []
+        keep = _slider_modes(lin.mu, W) if forces.hysteretic else self.dynamic
         mu_s = lin.mu[keep]
         Cq, Cv = lin.Lq[:m, keep], lin.Lv[:m, keep]
         Bs = lin.Rin[keep, :m]
@@ -636,6 +647,9 @@ class CondensedBalance:
         rhs = Cq[None] + np.einsum("ij,jkn,kl->nil", Rres, G1, Cv)
         T = np.linalg.solve(E, rhs)                               # (N, m, s)
         P = np.einsum("ijn,njk->nik", G0, T) + np.einsum("ijn,jk->nik", G1, Cv)
+        if sliders:  # the sliders' memory: the samples' own monodromy, whatever H
+            lam = _slider_monodromy(mu_s, Bs, Rres, G0, E, T, P, sliders, W)
+            return self._parity(J, lam, W)
         H = self.H
         spectrum = np.fft.fft(P, axis=0) / b.N                    # index k: e^{i k W t}
         offsets = np.arange(-2 * H, 2 * H + 1)
@@ -652,6 +666,11 @@ class CondensedBalance:
                 Q, Qinv = pairs
                 coef = Qinv @ coef @ Q
             lam = _monodromy(coef, W, H, s, real)
+        return self._parity(J, lam, W)
+
+    def _parity(self, J: np.ndarray, lam: np.ndarray, W: float) -> np.ndarray:
+        """The exponents ``lam`` with their count of real unstable ones matched to the
+        sign of det J against the branch's start (:func:`_match_parity`)."""
         sign = float(np.linalg.slogdet(J)[0])
         if self.reference is None:
             self.reference = (sign, _real_unstable(lam, W) % 2)
@@ -751,6 +770,74 @@ def _monodromy(coef: np.ndarray, W: float, H: int, s: int, real: bool = False
     return fundamental_strip(lam, lam.size)
 
 
+def _slider_monodromy(mu: np.ndarray, Bs: np.ndarray, Rres: np.ndarray, G0: np.ndarray,
+                      E: np.ndarray, T: np.ndarray, P: np.ndarray,
+                      sliders: list[tuple[np.ndarray, float, np.ndarray]], W: float
+                      ) -> np.ndarray:
+    """The s exponents of the linearization about a periodic motion in which friction
+    elements slip, from its monodromy matrix over the N samples of the period.
+
+    A perturbation moves a slipping element's slider with the motion and leaves it
+    where the element sticks again, so the force it adds while it sticks is
+    kt (du - dz), dz the slider's shift (the memory of the balance's Jacobian,
+    :meth:`~resonant.system.nonlinear_elements.ElementForces.sliders`), not the
+    kt du of the instantaneous tangent.  The state is the s kept modal coordinates eta
+    and each slipping element's dz (fixed while it sticks, reset to du at each sample
+    where it slips); A(t) is piecewise linear between the samples (each step the
+    exponential of the mean of its ends' A, second order where A is smooth), a slip's
+    reset at the end of its step.  The resets make the monodromy matrix singular: its
+    e smallest eigenvalues (zero to rounding) belong to the sliders and are dropped.
+    Depends on the samples only, not on the harmonics of Hill's matrix, whose Fourier
+    series of a stick-slip A(t) converges slowly (Gibbs).
+
+    Parameters
+    ----------
+    mu, Bs, Rres
+        The kept poles (s,), their inputs from the nonlinear coordinates (s, m) and the
+        fast modes' static flexibility (m, m).
+    G0, E, T, P
+        Per sample: the tangent stiffness (m, m, N), I - Rres G0 (N, m, m), the
+        nonlinear coordinates' displacement (N, m, s) and force (N, m, s) per eta.
+    sliders : list
+        As :meth:`~resonant.system.nonlinear_elements.ElementForces.sliders` gives them.
+    W : float
+        The base frequency.
+    """
+    s, N, e = mu.size, G0.shape[2], len(sliders)
+    bz = np.array([b for b, _, _ in sliders]).T                   # (m, e)
+    stick = np.array([st for _, _, st in sliders]).T              # (N, e)
+    Bz = bz[None] * (np.array([kt for _, kt, _ in sliders]) * stick)[:, None, :]
+    Tz = -np.linalg.solve(E, Rres[None] @ Bz)                     # (N, m, e)
+    Pz = np.einsum("ijn,njk->nik", G0, Tz) - Bz
+    pairs = _real_coordinates(mu)
+    Q, Qinv = pairs if pairs is not None else (np.eye(s), np.eye(s))
+    A = np.zeros((N, s + e, s + e), dtype=complex)
+    A[:, :s, :s] = Qinv @ (np.diag(mu)[None] - Bs[None] @ P) @ Q
+    A[:, :s, s:] = -Qinv @ (Bs[None] @ Pz)
+    reset = np.einsum("me,nmk->nek", bz, np.concatenate([T @ Q, Tz], axis=2))
+    dtype = float if pairs is not None else complex
+    if pairs is not None:
+        A, reset = A.real, reset.real
+    period = 2 * np.pi / W
+    h = period / N
+    chunk = chunk_rows(16.0 * 8 * (s + e) ** 2, N)
+    phi = np.eye(s + e, dtype=dtype)
+    for first in range(0, N, chunk):
+        n = np.arange(first, min(first + chunk, N))
+        step = _expm_small(h / 2 * (A[n] + A[(n + 1) % N]))
+        ends = (n + 1) % N
+        slips = ~stick[ends]                                      # (steps, e)
+        for j in range(e):  # the slider's row of the step's end, where it slips there
+            rows = np.flatnonzero(slips[:, j])
+            step[rows, s + j, :] = np.einsum("rk,rkl->rl", reset[ends[rows], j], step[rows])
+        phi = _product(step) @ phi
+    mult = eigenvalues(phi)
+    mult = mult[np.argsort(np.abs(mult), kind="stable")[e:]]
+    with np.errstate(divide="ignore"):
+        lam = np.log(np.where(mult == 0, 1e-300, mult)) / period
+    return fundamental_strip(lam, lam.size)
+
+
 def _monodromy_steps(coef: np.ndarray, W: float, H: int) -> int:
     """The Magnus steps over a period: at least :data:`MONODROMY_STEPS`, 16 per harmonic
     and 4 per unit of T |A|."""
@@ -834,6 +921,22 @@ def _dynamic_modes(mu: np.ndarray, top: float, H: int) -> np.ndarray:
     if mu.size * (2 * H + 1) <= SMALL_HILL:
         return np.ones(mu.size, dtype=bool)
     keep: np.ndarray = np.abs(mu.imag) <= DYNAMIC_FACTOR * top
+    if keep.sum() > MAX_DYNAMIC:
+        keep = np.zeros(mu.size, dtype=bool)
+        keep[np.argsort(np.abs(mu.imag), kind="stable")[:MAX_DYNAMIC]] = True
+    return keep
+
+
+def _slider_modes(mu: np.ndarray, W: float) -> np.ndarray:
+    """Which first-order modes the stability analysis of a model with friction elements
+    keeps dynamic at the base frequency W (:func:`_slider_monodromy`, or Hill's matrix
+    where every element sticks throughout): all of them up to :data:`MAX_DYNAMIC`, else those up to
+    :data:`DYNAMIC_FACTOR` W (at most :data:`MAX_DYNAMIC`, the slowest).  Its cost does
+    not grow with the harmonics, so neither H nor the sweep's range choose them: the
+    exponents of one periodic motion are the same whichever branch finds it."""
+    if mu.size <= MAX_DYNAMIC:
+        return np.ones(mu.size, dtype=bool)
+    keep: np.ndarray = np.abs(mu.imag) <= DYNAMIC_FACTOR * W
     if keep.sum() > MAX_DYNAMIC:
         keep = np.zeros(mu.size, dtype=bool)
         keep[np.argsort(np.abs(mu.imag), kind="stable")[:MAX_DYNAMIC]] = True
@@ -1147,7 +1250,10 @@ def condensed_sweep(system: NonlinearSystem, param: str, start: float, stop: flo
         lam.append(hb.exponents(J, blocks))
     Ws = np.array([hb.base(p) for p in branch.p])
     width = max((v.size for v in lam), default=0)
-    lam_arr = np.array([np.pad(v, (0, width - v.size)) for v in lam])
+    # a point with fewer kept modes (friction: chosen by its own W) padded with exponents
+    # of multiplier 0, stable and never the one that crosses
+    lam_arr = np.array([np.pad(v, (0, width - v.size), constant_values=PAD_EXPONENT * Ws[i])
+                        for i, v in enumerate(lam)])
     mult = np.exp(lam_arr * (2 * np.pi / Ws)[:, None])
     stable = np.all(np.abs(mult) <= 1 + STABILITY_TOL, axis=1)
     amps = np.asarray(series_peaks(coeffs))

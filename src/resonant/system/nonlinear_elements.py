@@ -213,11 +213,61 @@ class ElementForces:
     def stiffness(self, U: np.ndarray, Ud: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The instantaneous tangent stiffness and damping, shape (m, m, N) each.
 
-        For the friction element: kt while it sticks, zero while it slips (the
-        linearization of the march about the periodic motion).
+        For the friction element: kt while it sticks, zero while it slips.  This is
+        not the whole linearization of a friction element: a perturbation of the motion
+        also moves its slider while it slips, and the element remembers that shift while
+        it sticks again (:meth:`sliders` gives what a stability analysis needs for it).
         """
         _, G0, G1 = self.forces_and_tangent(U, Ud)
         return G0, G1
+
+    def sliders(self, U: np.ndarray) -> list[tuple[np.ndarray, float, np.ndarray]]:
+        """The friction elements that slip during the periodic motion, for the
+        linearization about it.
+
+        Perturbed by du, such an element's force changes by kt (du - dz) while it sticks,
+        dz the shift of its slider, fixed while it sticks and reset to du while it slips
+        (where the force stays at the slip force): the memory the instantaneous tangent
+        (:meth:`stiffness`) leaves out.  An element that sticks throughout is the spring
+        kt of :meth:`stiffness` alone.
+
+        Parameters
+        ----------
+        U : ndarray
+            (m, N) displacements of the local coordinates at the samples of one period.
+
+        Returns
+        -------
+        list of (ndarray, float, ndarray)
+            Per slipping element: its direction b (m,) in the local coordinates
+            (du = b . dU), kt, and where it sticks (N,) bool.
+
+        Examples
+        --------
+        >>> from resonant.model.nonlinear_elements import read_nonlinear_elements
+        >>> el = read_nonlinear_elements([{"coordinates": ["q1"], "kind": "friction",
+        ...                                "stiffness": 2.0, "slip_force": 0.5}],
+        ...                              [], ["q1"], "m.toml")
+        >>> t = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+        >>> [(b.tolist(), kt, stick.tolist()) for b, kt, stick in
+        ...  ElementForces(el, {}).sliders(np.cos(t)[None])]  # doctest: +NORMALIZE_WHITESPACE
+        [([1.0], 2.0, [False, True, False, False, False, True, False, False])]
+        """
+        m, _ = U.shape
+        out = []
+        for e, loc in zip(self.elements, self.local):
+            if e.kind != "friction":
+                continue
+            _, _, t = self._jenkins(e, self._relative(loc, U), None)
+            stick = t > 0
+            if stick.all():
+                continue
+            b = np.zeros(m)
+            b[loc[0]] = 1.0
+            if len(loc) == 2:
+                b[loc[1]] = -1.0
+            out.append((b, self._constant(e, "stiffness"), stick))
+        return out
 
     def forces_and_tangent(self, U: np.ndarray, Ud: np.ndarray
                            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
