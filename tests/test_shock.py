@@ -129,6 +129,34 @@ def test_damped_split_against_the_record_cut_at_the_pulse() -> None:
     assert split.residual == pytest.approx(ref.residual, rel=1e-12)
 
 
+def test_a_long_quiet_tail_is_free_vibration(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Where the signal stays zero up to the record's end the oscillators are stepped no
+    further (the response is the free vibration, whose extremes are exact): a record of
+    10^6 samples, two pulses in its first 300, gives the spectrum of the record cut where
+    its signal ends (the same filter on the same samples, so equal), after 301 samples."""
+    import resonant.analyses.shock as shock
+
+    step = TAU / 100
+    _, first = pulse("haversine", A, TAU, step, total=TAU)
+    record = np.zeros(1_000_000)
+    record[:len(first)] = first
+    record[200:300] = -0.3 * first[1:101]    # a second, smaller pulse after the first
+    lengths: list[int] = []
+    spy = shock._displacement_and_velocity
+    monkeypatch.setattr(shock, "_displacement_and_velocity",
+                        lambda a, *rest: lengths.append(len(a)) or spy(a, *rest))
+    f = [5.0, 60.0, 400.0]
+    # the first pulse's end (the second in the residual part, stepped sample by sample),
+    # then the second's (zero after it)
+    for end in (TAU, 300 * step):
+        long = shock_response_spectrum(record, step, f, Q=10, excitation_end=end)
+        cut = shock_response_spectrum(record[:301], step, f, Q=10, excitation_end=end)
+        for name in ("primary", "residual", "positive", "negative"):
+            assert getattr(long, name) == pytest.approx(getattr(cut, name), rel=1e-12)
+        assert long.duration == pytest.approx(step * (len(record) - 1), rel=1e-12)
+    assert lengths == [301] * 12, lengths
+
+
 def test_excitation_end_errors() -> None:
     _, a = pulse("half-sine", A, TAU, STEP * 100)
     with pytest.raises(AnalysisError, match="beyond the signal"):

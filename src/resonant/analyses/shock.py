@@ -23,10 +23,12 @@ the excitation lasts (0 <= t <= tau: a pulse's duration, or the record's end T f
 history unless its ``excitation_end`` is given), ``residual`` the largest after it (t >
 tau: the samples up to T and the free vibration from the state at T, whose extrema are
 found exactly; when the signal is zero after tau, the free vibration from the state at
-tau, exact), ``maximax`` the larger of the two; ``positive`` and ``negative`` are the
-largest positive response and the magnitude of the largest negative one over all time
-(maximax is the larger of these too).  Each extremum of the samples is refined by
-evaluating the exact response at 64 points within the two steps around it.
+tau, exact, and likewise from the sample on which the signal stays zero before T: a long
+quiet record costs no more than its excitation), ``maximax`` the larger of the two;
+``positive`` and ``negative`` are the largest positive response and the magnitude of
+the largest negative one over all time (maximax is the larger of these too).  Each
+extremum of the samples is refined by evaluating the exact response at 64 points within
+the two steps around it.
 
 Examples
 --------
@@ -469,31 +471,33 @@ def shock_response_spectrum(signal: Sequence[float] | np.ndarray, step: float,
         raise AnalysisError(f"the sampling step {step:g} s must be positive")
     if not len(f) or not np.isfinite(f).all() or (f <= 0).any():
         raise AnalysisError("the SRS frequencies must be positive numbers")
-    if len(a) * len(f) > MAX_WORK:
-        raise AnalysisError(f"{len(a)} samples x {len(f)} natural frequencies; a spectrum is "
-                            f"limited to {MAX_WORK:.3g}: fewer frequencies (points) or a "
-                            "shorter or coarser signal")
+    end = _split(excitation_end, step, len(a))
+    quiet = not a[end + 1:].any()   # the signal is zero after the excitation: free vibration
+    # only the samples up to where the signal stays zero are filtered: the response after
+    # them is the free vibration, whose extremes _free_extremes finds exactly
+    filtered = a[:_last_input(a, end) + 1]
+    if len(filtered) * len(f) > MAX_WORK:
+        raise AnalysisError(f"{len(filtered)} samples x {len(f)} natural frequencies; a "
+                            f"spectrum is limited to {MAX_WORK:.3g}: fewer frequencies "
+                            "(points) or a shorter or coarser signal")
     warnings = []
     if f.max() * step > 0.1:
         warnings.append(f"{1 / (f.max() * step):.3g} samples per cycle at {f.max():g} Hz: "
                         "the response is exact for the signal linear between samples, but "
                         "that signal may differ from the real one (ISO 18431-4 asks for "
                         "at least 10)")
-    end = _split(excitation_end, step, len(a))
-    quiet = not a[end + 1:].any()   # the signal is zero after the excitation: free vibration
     # the largest and smallest response while the excitation lasts and after it
     extremes = np.empty((len(f), 4))
     for i, fi in enumerate(f):
         deadline.check("while computing the shock response spectrum", analysis=True)
         s, c = _oscillator(float(fi), zeta)
         w = 2 * math.pi * float(fi)
-        z, v = _displacement_and_velocity(a, s, c, step)
+        z, v = _displacement_and_velocity(filtered, s, c, step)
         y = _combine(z, v, w, zeta, quantity)
-        oscillator = (a, z, v, y, s, c, w, zeta, quantity, step)
+        oscillator = (filtered, z, v, y, s, c, w, zeta, quantity, step)
         extremes[i, :2] = _sampled_extremes(oscillator, 0, end)
-        free = _free_extremes(_mode(z[end if quiet else -1], v[end if quiet else -1], s), s, w,
-                              zeta, quantity)
-        after = free if quiet else _sampled_extremes(oscillator, end, len(a) - 1)
+        free = _free_extremes(_mode(z[-1], v[-1], s), s, w, zeta, quantity)
+        after = free if quiet else _sampled_extremes(oscillator, end, len(filtered) - 1)
         extremes[i, 2:] = max(after[0], free[0]), min(after[1], free[1])
     if not np.isfinite(extremes).all():
         bad = float(f[~np.isfinite(extremes).all(axis=1)][0])
@@ -508,6 +512,16 @@ def shock_response_spectrum(signal: Sequence[float] | np.ndarray, step: float,
     return ShockSpectrum(f.copy(), np.maximum(primary, residual), primary, residual,
                          positive, negative, quantity, zeta, step * (len(a) - 1),
                          step * end, tuple(warnings))
+
+
+def _last_input(a: np.ndarray, end: int) -> int:
+    """The last sample the oscillators are stepped to: the excitation's ``end`` where the
+    signal is zero after it; else the first sample from which the signal stays zero (the
+    input, linear between samples, is zero from there on), or the record's last."""
+    if not a[end + 1:].any():
+        return end
+    last = end + 1 + int(np.flatnonzero(a[end + 1:])[-1])
+    return min(last + 1, len(a) - 1)
 
 
 def _sampled_extremes(oscillator: tuple[Any, ...], first: int, last: int
