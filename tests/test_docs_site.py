@@ -142,7 +142,7 @@ def test_the_site_fits_a_phone_and_a_laptop(site: Path, width: int) -> None:
     than the screen (a wide formula or table scrolls in its own box), no entry of the
     page's table of contents runs past its column (a long module name wraps), and no
     inline code name (in a paragraph, a heading, an API signature) runs past the screen's
-    edge, where the page cuts it off."""
+    edge, where the page cuts it off; a first visit logs no console error."""
     chromium = Path("/usr/bin/chromium")
     if not chromium.exists():
         pytest.skip("Debian's chromium (/usr/bin/chromium) is not installed")
@@ -156,6 +156,9 @@ def test_the_site_fits_a_phone_and_a_laptop(site: Path, width: int) -> None:
         try:
             for name in pages:
                 page = browser.new_page(viewport={"width": width, "height": 900})
+                errors: list[str] = []
+                page.on("console", lambda m, e=errors: e.append(m.text)
+                        if m.type == "error" else None)
                 page.goto((site / f"{name}.html").as_uri())
                 overflow = page.evaluate("document.documentElement.scrollWidth"
                                          " - document.documentElement.clientWidth")
@@ -169,6 +172,7 @@ def test_the_site_fits_a_phone_and_a_laptop(site: Path, width: int) -> None:
                 assert overflow <= 0, f"{name} is {overflow} px wider than {width} px"
                 assert cut == [], f"{name}: {cut} run past the table of contents"
                 assert beyond == [], f"{name}: {beyond} run past the screen's edge"
+                assert errors == [], f"{name}: console errors {errors}"
         finally:
             browser.close()
 
