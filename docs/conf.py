@@ -108,5 +108,7 @@ html_theme_options = {
     "show_nav_level": 1,
     "navigation_depth": 2,
 }
-html_context = {"repository": REPOSITORY}
+# follow the reader's system; unset, the theme logs "Got invalid theme mode" as a console
+# error on a first visit (no mode stored yet)
+html_context = {"repository": REPOSITORY, "default_mode": "auto"}
 html_sidebars = {"index": [], "install": [], "first-model": []}

@@ -127,23 +127,38 @@ def test_every_example_has_a_gallery_page_with_its_figures(site: Path) -> None:
     assert all(p.stat().st_size > 5_000 for p in images if p.name.startswith("duffing"))
 
 
+#: the inline code names and signature names whose right edge is past the screen's (outside
+#: code blocks and tables, which scroll or wrap in their own boxes)
+OFF_SCREEN = """() => [...document.querySelectorAll(
+    '.bd-article code span.pre, .bd-article dt.sig .sig-name, .bd-article dt.sig .sig-prename')]
+  .filter(c => c.offsetParent !== null && !c.closest('pre, table, .highlight'))
+  .filter(c => c.getBoundingClientRect().right > document.documentElement.clientWidth + 1)
+  .map(c => c.textContent)"""
+
+
 @pytest.mark.parametrize("width", [375, 1280])
 def test_the_site_fits_a_phone_and_a_laptop(site: Path, width: int) -> None:
     """Chromium (Debian's, via Playwright) opens pages of the built site: none is wider
-    than the screen (a wide formula or table scrolls in its own box), and no entry of the
-    page's table of contents runs past its column (a long module name wraps)."""
+    than the screen (a wide formula or table scrolls in its own box), no entry of the
+    page's table of contents runs past its column (a long module name wraps), and no
+    inline code name (in a paragraph, a heading, an API signature) runs past the screen's
+    edge, where the page cuts it off; a first visit logs no console error."""
     chromium = Path("/usr/bin/chromium")
     if not chromium.exists():
         pytest.skip("Debian's chromium (/usr/bin/chromium) is not installed")
     api = pytest.importorskip("playwright.sync_api")
     pages = ["index", "model-format", "sweeps", "studies", "explore", "gallery/index",
-             "generated/resonant.LinearSystem", "api", "random"]
+             "generated/resonant.LinearSystem", "api", "random",
+             "generated/resonant.analyses.random_response.RandomResponse"]
     with api.sync_playwright() as p:
         browser = p.chromium.launch(executable_path=str(chromium), args=[
             "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking"])
         try:
             for name in pages:
                 page = browser.new_page(viewport={"width": width, "height": 900})
+                errors: list[str] = []
+                page.on("console", lambda m, e=errors: e.append(m.text)
+                        if m.type == "error" else None)
                 page.goto((site / f"{name}.html").as_uri())
                 overflow = page.evaluate("document.documentElement.scrollWidth"
                                          " - document.documentElement.clientWidth")
@@ -152,9 +167,12 @@ def test_the_site_fits_a_phone_and_a_laptop(site: Path, width: int) -> None:
                     .filter(c => c.getBoundingClientRect().right >
                                  c.closest('.bd-toc').getBoundingClientRect().right + 1)
                     .map(c => c.textContent)""")
+                beyond = page.evaluate(OFF_SCREEN)
                 page.close()
                 assert overflow <= 0, f"{name} is {overflow} px wider than {width} px"
                 assert cut == [], f"{name}: {cut} run past the table of contents"
+                assert beyond == [], f"{name}: {beyond} run past the screen's edge"
+                assert errors == [], f"{name}: console errors {errors}"
         finally:
             browser.close()
 

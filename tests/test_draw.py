@@ -82,6 +82,15 @@ def test_cart_pendulum_geometry() -> None:
     assert {"$x_{1}$", "$x_{2}$", "$F(t)$", "$r(t)$", "$k$", "cart", "rod", "C"} <= set(texts)
 
 
+def test_two_letter_names_are_a_letter_with_an_index() -> None:
+    """The quarter car's ks, cs, kt, ct are drawn as k_s, c_s, k_t, c_t (italic letter,
+    subscript), as the report and the explore page write them, never upright "ks"."""
+    model = resonant.load(EXAMPLES / "parts" / "quarter_car.toml")
+    texts = set(labels(draw_mechanism(model)))
+    assert {"$k_{s}$", "$c_{s}$", "$k_{t}$", "$c_{t}$"} <= texts, texts
+    assert not {"$\\mathrm{ks}$", "$\\mathrm{cs}$", "ks", "cs"} & texts
+
+
 def test_pinned_rod_end_follows_parameters_and_equilibrium() -> None:
     """A rod at a nonzero reference angle: its end at l (sin a, -cos a) from the pin."""
     model = load_text("""

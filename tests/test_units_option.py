@@ -95,6 +95,30 @@ def test_numbers_are_converted():
     assert float(srs.splitlines()[-1].split()[1]) == pytest.approx(50.0, rel=2e-3)
 
 
+def test_fatigue_shows_stresses_in_mpa():
+    """``fatigue --units MPa``: the RMS in MPa (1 MPa = 1e6 Pa), the S-N curve's C for S in
+    MPa (N S^k = C, so C / (1e6)^k), the damage and the life unchanged."""
+    args = ["fatigue", "examples/bracket_fatigue.toml"]
+    status_a, pascal, err_a = run_cli(args)
+    status_b, mpa, err_b = run_cli([*args, "--units", "MPa"])
+    assert status_a == 0 and status_b == 0, err_a + err_b
+
+    def row(text: str) -> list[str]:
+        return next(line.split() for line in text.splitlines() if "dirlik" in line)
+
+    def curve(text: str) -> tuple[float, float]:
+        match = re.search(r"N S\^([0-9.]+) = ([-+0-9.e]+)", text)
+        assert match, text
+        return float(match.group(1)), float(match.group(2))
+
+    si, shown = row(pascal), row(mpa)
+    assert si[1] == "Pa" and shown[1] == "MPa"
+    assert float(shown[2]) == pytest.approx(float(si[2]) / 1e6, rel=1e-3)
+    assert shown[5:] == si[5:]                       # damage, life [s], life [h]
+    (k, c_si), (_, c_mpa) = curve(pascal), curve(mpa)
+    assert c_mpa == pytest.approx(c_si / 1e6 ** k, rel=1e-3) and "in MPa" in mpa
+
+
 def test_g_and_stresses_are_display_units():
     """``--units g`` is standard gravity (an acceleration, never the gram), MPa a stress."""
     chosen = display_units(["g", "MPa", "mm/s"])

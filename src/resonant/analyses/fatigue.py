@@ -42,6 +42,7 @@ from ..arrays import freeze_fields
 from ..charts import COLORS, Bar, Chart, Charted, Charts
 from ..errors import AnalysisError, name_list, printable
 from ..model.load_spec import FATIGUE_METHODS
+from ..model.units_display import ResultUnits, shown_unit
 from ..tables import ResultTable, number_cell
 from .result_fields import FieldsJSON, Framed, saved
 from .results_json import Saved
@@ -274,23 +275,33 @@ class ResponseFatigue(FieldsJSON, Charted):
     method: str
     warnings: tuple[str, ...] = ()
 
-    def table(self) -> ResultTable:
+    def table(self, units: ResultUnits | None = None) -> ResultTable:
         """Each response's RMS, and its damage and life by each method (:func:`fatigue_table`).
+
+        Parameters
+        ----------
+        units : ResultUnits, optional
+            The display units (``--units MPa``; default SI).
 
         Returns
         -------
         resonant.tables.ResultTable
         """
-        return fatigue_table(self)
+        return fatigue_table(self, units)
 
-    def summary(self) -> str:
+    def summary(self, units: ResultUnits | None = None) -> str:
         """The text ``resonant fatigue`` prints (:func:`fatigue_text`).
+
+        Parameters
+        ----------
+        units : ResultUnits, optional
+            The display units (``--units MPa``; default SI).
 
         Returns
         -------
         str
         """
-        return fatigue_text(self)
+        return fatigue_text(self, units=units)
 
     def chart(self) -> Charts:
         """The figure's description (:func:`fatigue_chart`).
@@ -368,13 +379,15 @@ def response_fatigue(response: RandomResponse, sn: SNCurve, duration: float, *,
                            tuple(dict.fromkeys(warned)))
 
 
-def fatigue_table(result: ResponseFatigue) -> ResultTable:
+def fatigue_table(result: ResponseFatigue, units: ResultUnits | None = None) -> ResultTable:
     """Each response's RMS, and its damage over the exposure and its life by each method
     (the model's method marked ``*``).
 
     Parameters
     ----------
     result : ResponseFatigue
+    units : ResultUnits, optional
+        The display units of the RMS (``--units MPa``; default SI).
 
     Returns
     -------
@@ -383,17 +396,19 @@ def fatigue_table(result: ResponseFatigue) -> ResultTable:
     rows = []
     for name in result.names:
         one = result.results[name]
+        shown = shown_unit(units, result.units.get(name, ""))
         for m in one.life:
             damage = None if one.damage is None else one.damage[m]
-            rows.append((printable(name, limit=40), result.units.get(name, "") or "SI",
-                         number_cell(one.rms), m + (" *" if m == result.method else ""),
+            rows.append((printable(name, limit=40), shown.text or "SI",
+                         number_cell(shown(one.rms)), m + (" *" if m == result.method else ""),
                          number_cell(damage), number_cell(one.life[m]),
                          number_cell(one.life[m] / 3600)))
     return ResultTable(("name", "unit", "RMS", "method", "damage", "life [s]", "life [h]"),
                        tuple(rows), align="llrlrrr")
 
 
-def fatigue_text(result: ResponseFatigue, warnings: bool = True) -> str:
+def fatigue_text(result: ResponseFatigue, warnings: bool = True,
+                 units: ResultUnits | None = None) -> str:
     """The fatigue damage of a model's stress responses as text: the S-N curve and the
     exposure, the table (:func:`fatigue_table`), the warnings.
 
@@ -402,6 +417,8 @@ def fatigue_text(result: ResponseFatigue, warnings: bool = True) -> str:
     result : ResponseFatigue
     warnings : bool
         End with the result's warnings (the command line writes them to standard error).
+    units : ResultUnits, optional
+        The display units (``--units MPa``: the RMS and the S-N curve's S; default SI).
 
     Returns
     -------
@@ -410,10 +427,13 @@ def fatigue_text(result: ResponseFatigue, warnings: bool = True) -> str:
     first = result.results[result.names[0]] if result.names else None
     lines = ["Fatigue under the [random] inputs (spectral methods, FLife)"]
     if first is not None:
-        lines.append(f"  S-N curve N S^{first.sn.k:g} = {first.sn.C:.4g} (S the stress "
-                     f"amplitude); exposure {first.duration or 0:.4g} s; "
-                     f"* the [fatigue] section's method")
-    lines.append(fatigue_table(result).text())
+        shown = shown_unit(units, result.units.get(result.names[0], ""))
+        # N S^k = C with S = factor S': N S'^k = C / factor^k
+        C = first.sn.C / shown.factor ** first.sn.k
+        lines.append(f"  S-N curve N S^{first.sn.k:g} = {C:.4g} (S the stress amplitude"
+                     + (f" in {shown.text}" if shown.text else "") + "); exposure "
+                     f"{first.duration or 0:.4g} s; * the [fatigue] section's method")
+    lines.append(fatigue_table(result, units).text())
     lines += [f"warning: {w}" for w in result.warnings] if warnings else []
     return "\n".join(lines) + "\n"
 

@@ -1164,6 +1164,20 @@ class _Axis:
                            * np.abs(self.resonances)))
 
 
+def _resonance_peaks(response: FrequencyResponse,
+                     axis: _Axis | None = None) -> list[Extremum]:
+    """The peaks that are resonances: near a natural frequency (:data:`RESONANCE_BAND`),
+    and each curve's highest (never left out); the others are local bumps between two
+    resonances.  The plot marks these and the text lists them as resonance peaks."""
+    if axis is None:
+        axis = _Axis(float, "", 1.0, bool(response.log), _resonances(response))
+    highest: dict[str, Extremum] = {}
+    for p in response.peaks:
+        if p.name not in highest or p.amplitude > highest[p.name].amplitude:
+            highest[p.name] = p
+    return [p for p in response.peaks if p is highest[p.name] or axis.resonant(p.value)]
+
+
 def _axis_span(x: np.ndarray, log: bool) -> float:
     finite = x[np.isfinite(x) & ((x > 0) if log else True)]
     if finite.size < 2:
@@ -1185,9 +1199,7 @@ def _extrema_marks(response: FrequencyResponse, name: str, color: str, floor: fl
     where its note does not overlap another), circles on the antiresonances (at the drawn
     floor for a true zero); ``unit`` shows an amplitude."""
     marks = []
-    own = [p for p in response.peaks if p.name == name]
-    highest = max(own, key=lambda p: p.amplitude, default=None)  # never left unmarked
-    peaks = [p for p in own if p is highest or axis.resonant(p.value)]
+    peaks = [p for p in _resonance_peaks(response, axis) if p.name == name]
     for p in peaks[:20]:
         value = axis.at(p.value)
         marks.append(Marker(value, unit(p.amplitude), color, "peak", "resonance peak"))
@@ -1365,8 +1377,14 @@ def sweep_text(result: FrequencyResponse, units: ResultUnits | None = None) -> s
         elif inside:
             out.append(f"the excitation meets a natural frequency at {result.parameter} = " +
                        ", ".join(f"{along(w * scale):.6g}" for w in inside[:20]) + unit)
-    for title, items in (("resonance peaks", result.peaks),
+    resonances = _resonance_peaks(result)
+    bumps = [p for p in result.peaks if p not in resonances]
+    for title, items in (("resonance peaks", resonances),
+                         ("other local maxima (between resonances, away from every natural "
+                          "frequency)", bumps),
                          ("antiresonances", result.antiresonances)):
+        if not items and title.startswith("other"):
+            continue
         out.append(f"{title}:")
         if not items:
             out.append("  none")

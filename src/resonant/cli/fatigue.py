@@ -135,7 +135,7 @@ def _spectral(args: argparse.Namespace, model: Model) -> int:
     if args.json:
         cli.emit_json(result.to_dict())
     else:
-        sys.stdout.write(fatigue_text(result, warnings=False))
+        sys.stdout.write(fatigue_text(result, warnings=False, units=cli.shown_units(args, model)))
     cli.warn(result.warnings)
     return 0
 

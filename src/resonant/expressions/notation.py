@@ -56,13 +56,21 @@ def name_latex(name: str, primes: int = 0) -> str:
 
     A trailing number or the part after the first underscore becomes a
     subscript; a Greek prefix followed by one or two letters (``thetaS``)
-    becomes a Greek letter with a subscript.
+    becomes a Greek letter with a subscript; a two-letter name is a letter with a
+    one-letter index, as textbooks write a suspension's stiffness ``ks`` -> :math:`k_{s}`.
+
+    Examples
+    --------
+    >>> name_latex("ks"), name_latex("mu"), name_latex("stroke")
+    ('k_{s}', '\\\\mu', '\\\\mathrm{stroke}')
     """
     base, _, sub = name.partition("_")
     if not sub:
         match = re.fullmatch(r"([A-Za-z]+?)([0-9]+)", base)
         if match:
             base, sub = match.groups()
+        elif re.fullmatch(r"[A-Za-z]{2}", base) and base not in GREEK and base not in VARIANTS:
+            base, sub = base[0], base[1]
         elif base not in GREEK and base not in VARIANTS:
             greek = next((g for g in sorted(GREEK, key=len, reverse=True)
                           if base.startswith(g) and 0 < len(base) - len(g) <= 2), None)
