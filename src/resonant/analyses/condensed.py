@@ -920,7 +920,13 @@ def _dynamic_modes(mu: np.ndarray, top: float, H: int) -> np.ndarray:
     times the highest base frequency ``top`` (at most :data:`MAX_DYNAMIC`, the slowest)."""
     if mu.size * (2 * H + 1) <= SMALL_HILL:
         return np.ones(mu.size, dtype=bool)
-    keep: np.ndarray = np.abs(mu.imag) <= DYNAMIC_FACTOR * top
+    return _slowest_below(mu, DYNAMIC_FACTOR * top)
+
+
+def _slowest_below(mu: np.ndarray, frequency: float) -> np.ndarray:
+    """The first-order modes up to ``frequency`` (|Im mu|), at most :data:`MAX_DYNAMIC` of
+    them, the slowest."""
+    keep: np.ndarray = np.abs(mu.imag) <= frequency
     if keep.sum() > MAX_DYNAMIC:
         keep = np.zeros(mu.size, dtype=bool)
         keep[np.argsort(np.abs(mu.imag), kind="stable")[:MAX_DYNAMIC]] = True
@@ -936,11 +942,7 @@ def _slider_modes(mu: np.ndarray, W: float) -> np.ndarray:
     exponents of one periodic motion are the same whichever branch finds it."""
     if mu.size <= MAX_DYNAMIC:
         return np.ones(mu.size, dtype=bool)
-    keep: np.ndarray = np.abs(mu.imag) <= DYNAMIC_FACTOR * W
-    if keep.sum() > MAX_DYNAMIC:
-        keep = np.zeros(mu.size, dtype=bool)
-        keep[np.argsort(np.abs(mu.imag), kind="stable")[:MAX_DYNAMIC]] = True
-    return keep
+    return _slowest_below(mu, DYNAMIC_FACTOR * W)
 
 
 def _real_unstable(lam: np.ndarray, W: float) -> int:
