@@ -154,7 +154,8 @@ def without_units(text: str) -> str:
 
 #: the modules that take longest (``pytest --durations``), started first: with two workers
 #: taking whole modules (``--dist loadscope``) a long module started last would run alone
-LONGEST_FIRST = ("test_docs_site.py", "test_condensed.py", "test_no_machine_paths.py",
+LONGEST_FIRST = ("test_docs_site.py", "test_condensed.py", "test_every_plot_option.py",
+                 "test_no_machine_paths.py",
                  "test_nonlinear_special_points.py", "test_study_cluster.py",
                  "test_architecture.py", "test_benchmarks_smoke.py", "test_study_nonlinear.py",
                  "test_condensed_steps.py", "test_study.py")

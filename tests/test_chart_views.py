@@ -338,3 +338,23 @@ def test_every_start_kind_is_described() -> None:
     assert set(START_MODES) - {"auto"} <= set(START_KINDS)
     for kind, words in START_KINDS.items():
         assert words in simulation_chart(replace(sim, start=kind)).title
+
+
+def test_a_simulation_of_many_coordinates_draws_those_that_move_most() -> None:
+    """A rotor's 28 coordinates once gave a 28-panel figure of 9,000 px; at most
+    MAX_CURVES panels are drawn, those whose largest deviation (SI) is largest, and the title
+    says how many of how many."""
+    from resonant.analyses.simulate import simulation_chart
+    from resonant.charts import MAX_CURVES
+    from resonant.expressions.notation import dollar_name
+
+    system = resonant.load(EXAMPLES / "rotors" / "friswell_5_9_1.toml").linearize()
+    sim = simulate(system, 0.01, initial={"disc1_x": 1e-3})
+    assert len(sim.names) > MAX_CURVES
+    chart = simulation_chart(sim)
+    assert len(chart.panels) == MAX_CURVES
+    assert f"{MAX_CURVES} of {len(sim.names)}" in chart.title
+    by_label = {dollar_name(n): n for n in sim.names}
+    drawn = {by_label[p.title.split(": ")[0]] for p in chart.panels}
+    size = {n: float(np.max(np.abs(sim.states[n]))) for n in sim.names}
+    assert min(size[n] for n in drawn) >= max(size[n] for n in set(sim.names) - drawn)

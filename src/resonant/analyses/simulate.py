@@ -59,6 +59,7 @@ import sympy
 from ..arrays import freeze_fields
 from ..charts import (
     COLORS,
+    MAX_CURVES,
     Chart,
     Charts,
     Curve,
@@ -781,7 +782,8 @@ def simulation_chart(sim: Simulation, units: Mapping[str, str] | ResultUnits | N
     t = time(np.asarray(sim.t, dtype=float))
     xlim = (float(t[0]), float(t[-1])) if t.size > 1 and t[-1] > t[0] else (0.0, 1.0)
     panels = []
-    for name in sim.names:
+    drawn = _largest_motions(sim)
+    for name in drawn:
         value = shown[name]
         curves = [Curve(t, value(np.asarray(sim.states[name], dtype=float)),
                         f"{kind} simulation", COLORS[0], 1.0)]
@@ -804,8 +806,23 @@ def simulation_chart(sim: Simulation, units: Mapping[str, str] | ResultUnits | N
                             title=f"{dollar_name(name)}: {text}"))
     start = START_KINDS[sim.start]
     title = printable(sim.title or "simulation", limit=80)
+    if len(drawn) < len(sim.names):  # said, never dropped without a word
+        start += (f"\n{len(drawn)} of {len(sim.names)} coordinates and outputs drawn: "
+                  "those that move most")
     return Charts(tuple(panels), f"{title} — {kind}, {start}",
                   size=(9.0, 1.2 + 2.1 * len(panels)), legend="below")
+
+
+def _largest_motions(sim: Simulation) -> list[str]:
+    """The names a simulation's figure draws: all of them, or the :data:`MAX_CURVES` whose
+    largest |deviation| (SI: metres beside radians) is largest (a rotor has dozens of
+    coordinates), in their order."""
+    if len(sim.names) <= MAX_CURVES:
+        return list(sim.names)
+    size = [float(np.nanmax(np.abs(np.asarray(sim.states[n], dtype=float)), initial=0.0))
+            for n in sim.names]
+    keep = set(np.argsort(-np.asarray(size), kind="stable")[:MAX_CURVES].tolist())
+    return [n for i, n in enumerate(sim.names) if i in keep]
 
 
 def history_chart(t: npt.ArrayLike, values: Mapping[str, Any],
