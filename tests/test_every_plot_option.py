@@ -1,4 +1,4 @@
-"""Every command's ``--plot`` on every bundled example it applies to (docs/cli.md): each
+"""Every command's ``--plot`` on every bundled example it applies to (docs/reference.md): each
 run ends with exit 0, or with exit 2 and an error that names the model's missing part,
 and never with an internal error (exit 1) or a traceback; where it succeeds, the picture
 is written.  A plot option once crashed on the README's own example (a start kind the
