@@ -406,6 +406,42 @@ def test_the_kernel_scan_is_not_vacuous() -> None:
     assert all(m in MODULE_NAMES for m in KERNEL_MODULES)
 
 
+def _reaches_past_the_system(tree: ast.AST) -> list[str]:
+    """Where a module reads a model's ``matrices`` or calls a system's private
+    ``_model()``: what it needs of a system belongs on the system's interface."""
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Attribute) and node.attr == "matrices" and \
+                isinstance(node.ctx, ast.Load) and not isinstance(node.value, ast.Call):
+            base = node.value
+            name = base.attr if isinstance(base, ast.Attribute) else getattr(base, "id", "")
+            if name in {"model", "m", "source_model"}:
+                found.append(f"line {node.lineno}: {name}.matrices")
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and \
+                node.func.attr == "_model":
+            found.append(f"line {node.lineno}: _model()")
+    return found
+
+
+ANALYSES = [(m, p) for m, p in MODULES if m.startswith("resonant.analyses")]
+
+
+@pytest.mark.parametrize("module, path", ANALYSES, ids=[m for m, _ in ANALYSES])
+def test_analyses_take_the_system_not_its_model(module: str, path: Path) -> None:
+    """An analysis asks its system (the given matrices, the speed, the bearings, the
+    parameters along a sweep), never the model behind it (docs/architecture.md)."""
+    found = _reaches_past_the_system(ast.parse(path.read_text(encoding="utf-8")))
+    assert not found, f"{module} (ask the LinearSystem / NonlinearSystem):\n" + \
+        "\n".join(found)
+
+
+def test_the_model_reach_scan_is_not_vacuous() -> None:
+    """The scan finds a model's matrices read and a private ``_model()`` call."""
+    text = "spec = system.model.matrices\nm = system._model()\n"
+    assert len(_reaches_past_the_system(ast.parse(text))) == 2
+    assert len(ANALYSES) > 40
+
+
 #: the results of resonant.analyses that still write their own to_dict / from_dict, each
 #: with why the fields-generic one (resonant.analyses.result_fields.FieldsJSON) does not
 #: save it yet (none now); every other result declares its fields and inherits both

@@ -325,8 +325,8 @@ def speed_parameter(system: LinearSystem, speed: str | None) -> str:
     'Omega'
     """
     model = system.model
-    if speed is None and model is not None and model.matrices is not None:
-        speed = model.matrices.speed
+    if speed is None:
+        speed = system.speed
     if speed is None:
         raise ModelError(Problem("the rotor's speed parameter is not named: give speed = "
                                  "\"NAME\" in [matrices] or the speed argument",

@@ -46,7 +46,7 @@ from ..errors import ModelError, Problem
 from ..memory import dense_matrix, require
 from ..modal import ZERO_STATE, gyroscopic_modes, overdamped, synchronous_speeds
 from ..model.rotor import Bearing
-from ..system.base import LinearSystem, parameter_values
+from ..system.base import LinearSystem
 from ..tables import ResultTable
 from .campbell import RPM, SPEED_TOLERANCE, speed_parameter
 from .result_fields import Codec, FieldsJSON, Shape, saved
@@ -267,8 +267,7 @@ def critical_speed_map(system: LinearSystem, stiffness: Sequence[float] | np.nda
     >>> (damped.speeds[0, 0] * 60 / (2 * np.pi)).round(1).tolist()     # rpm, 1x
     [830.8, 835.7]
     """
-    model = system.model
-    spec = model.matrices if model is not None else None
+    spec = system.given_matrices
     if spec is None or not spec.bearings:
         raise ModelError(Problem("the critical speed map needs a [rotor] with bearings",
                                  system.source, "rotor", "bearing"))
@@ -332,8 +331,6 @@ def _damped_map(system: LinearSystem, stiffness: np.ndarray, modes: int,
                 orders: tuple[float, ...], speeds: Sequence[float] | np.ndarray | None,
                 deadline: Deadline) -> CriticalSpeedMap:
     """:func:`critical_speed_map` with the bearings' damping and cross coupling kept."""
-    model = system.model
-    assert model is not None and model.matrices is not None
     n = system.n
     if n > MAX_DAMPED_MAP_COORDINATES:
         raise ModelError(Problem(f"the damped critical speed map is dense: at most "
@@ -343,7 +340,7 @@ def _damped_map(system: LinearSystem, stiffness: np.ndarray, modes: int,
     name = speed_parameter(system, None)
     require(8 * 16.0 * n * n, f"the damped critical speed map of {n} coordinates",
             "use fewer shaft elements")
-    bearings = model.matrices.bearings
+    bearings = system.bearings
     pattern = sum(_stiffness_pattern(b, n) for b in bearings)
     solver = ModeSolver(system, name, 1, deadline)
     pairs = whirl_pairs(system.coordinates)
@@ -352,7 +349,7 @@ def _damped_map(system: LinearSystem, stiffness: np.ndarray, modes: int,
     def direct(speed: float) -> np.ndarray:
         """The bearings' direct stiffness kxx, kyy at ``speed`` as assembled."""
         at = np.array([speed])
-        values = parameter_values(model, name, at)
+        values = system.parameters_along(name, at)
         out = np.zeros((n, n))
         for b in bearings:
             for key, value in b.coefficients:

@@ -44,7 +44,7 @@ from ..expressions.numeric import numeric_value
 from ..model.campbell_spec import Unbalance
 from ..model.rotor import Bearing, SpeedTable
 from ..model.units_display import ResultUnits, Shown, angular_shown, shown_unit
-from ..system.base import LinearSystem, parameter_values
+from ..system.base import LinearSystem
 from ..system.batch import BatchHarmonic
 from ..tables import ResultTable
 from .campbell import RPM, speed_parameter
@@ -334,10 +334,9 @@ def unbalance_response(system: LinearSystem, speeds: Sequence[float] | np.ndarra
                         "speed): NaN there")
     X = np.stack([Z[:, i] for _, i, _ in stations], axis=1)
     Y = np.stack([Z[:, j] for _, _, j in stations], axis=1)
-    bearings = model.matrices.bearings if model is not None and model.matrices is not None \
-        else ()
-    forces = np.stack([bearing_force(b, Z, values, parameter_values(model, name, values))
-                       for b in bearings], axis=1) if bearings and model is not None else \
+    bearings = system.bearings
+    forces = np.stack([bearing_force(b, Z, values, system.parameters_along(name, values))
+                       for b in bearings], axis=1) if bearings else \
         np.zeros((len(values), 0, 2), complex)
     return UnbalanceResponse(system.title, name, tuple(s for s, _, _ in stations), values,
                              X, Y, tuple(unbalances), tuple(warnings),

@@ -39,7 +39,9 @@ from ..expressions.notation import (
 )
 from ..memory import dense_matrix, require
 from ..model import Model
+from ..model.matrix_spec import MatrixSpec
 from ..model.options import SweepOptions
+from ..model.rotor import Bearing
 from .batch import Batch, BatchHarmonic, Var, group_frequencies
 from .latex import SymbolicEquations
 
@@ -87,6 +89,28 @@ class LinearSystem(ABC):
     def source(self) -> str:
         """The model file ("" without a model)."""
         return self.model.source if self.model is not None else ""
+
+    @property
+    def speed(self) -> str | None:
+        """The parameter that is a rotor's spin speed, as its ``[matrices]`` (or the
+        ``[rotor]`` it assembles) names it (docs/rotors.md); None where it names none."""
+        spec = self.given_matrices
+        return spec.speed if spec is not None else None
+
+    @property
+    def given_matrices(self) -> MatrixSpec | None:
+        """The ``[matrices]`` as given (M, C, K, G and the speed's terms before any
+        parameter is set), for an analysis that solves for a parameter inside them (the
+        undamped critical speed map solves for the speed); None for a system derived from
+        energies or made of numbers."""
+        return self.model.matrices if self.model is not None else None
+
+    @property
+    def bearings(self) -> tuple[Bearing, ...]:
+        """A ``[rotor]``'s bearings, each with its stiffness and damping at the speed
+        (:class:`resonant.model.rotor.Bearing`); () for a system without them."""
+        spec = self.given_matrices
+        return tuple(spec.bearings) if spec is not None else ()
 
     # -- numbers ---------------------------------------------------------------------------
     @abstractmethod
@@ -147,6 +171,22 @@ class LinearSystem(ABC):
         values = np.asarray(values, dtype=float)
         return self.evaluate(parameter_values(self._model(), param, values), len(values),
                              deadline)
+
+    def parameters_along(self, param: str, values: np.ndarray) -> dict[str, Any]:
+        """Every parameter's value with ``param`` set to the array ``values``
+        (:func:`parameter_values` of the model), for what is evaluated beside the matrices
+        (a bearing's speed-dependent coefficients).
+
+        Parameters
+        ----------
+        param : str
+        values : ndarray
+
+        Returns
+        -------
+        dict of str to float or ndarray
+        """
+        return parameter_values(self._model(), param, values)
 
     def parameter_samples(self, varied: Mapping[str, np.ndarray | float], count: int
                           ) -> tuple[dict[str, Any], np.ndarray, list[str]]:

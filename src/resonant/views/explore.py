@@ -752,7 +752,7 @@ def map_data(model: Model, system: LinearSystem, orders: tuple[float, ...],
     >>> data["own"], len(data["undamped"]["stiffness"]), data["damped"]
     ([1000000.0], 17, None)
     """
-    bearings = model.matrices.bearings if model.matrices is not None else ()
+    bearings = system.bearings
     if not bearings:
         return None
     own = _own_stiffness(bearings)
