@@ -144,13 +144,14 @@ def _branch(system: NonlinearSystem, param: str, start: float, stop: float,
     reference = system.reference(system.parameter_point(param, start))
     hb = HarmonicBalance(system, param, harmonics or DEFAULT_HARMONICS, reference=reference)
     x0 = _start(system, hb, start, deadline)
-    branch = _continue(hb, x0, start, stop, points, deadline)
+    branch = _continue(hb, x0, start, stop, points, deadline, relative=True)
     if harmonics is None:
         H = _more_harmonics(hb, branch)
         if H != hb.H:
             hb_new = HarmonicBalance(system, param, H, reference=reference)
             x0, _ = hb_new.newton(resize(x0, hb.n, hb.H, H), start, float(np.linalg.norm(x0)))
-            hb, branch = hb_new, _continue(hb_new, x0, start, stop, points, deadline)
+            hb, branch = hb_new, _continue(hb_new, x0, start, stop, points, deadline,
+                                           relative=True)
     return hb, branch
 
 
