@@ -34,8 +34,8 @@ import scipy.optimize
 from conftest import EXAMPLES, run_cli
 from resonant.analyses.harmonic_balance import NonlinearResponse, nonlinear_sweep
 from resonant.analyses.sweep import sweep
-from resonant.errors import AnalysisError
 from resonant.api import load, loads
+from resonant.errors import AnalysisError
 
 DUFFING = EXAMPLES / "duffing.toml"
 M, C, K, K3, F = 1.0, 0.1, 1.0, 0.5, 0.2
