@@ -10,7 +10,9 @@ References and tolerances:
   that input's FRFs alone do not show;
 * the 3-mass chain (examples/chain3_lab.toml, k = 1000 N/m, m = 1 kg, c = 8 N s/m: C = c/k K)
   driven at mass 3 and mass 1 through the kernel: omega_j = 2 sqrt(k/m) sin((2j-1) pi / 14),
-  zeta_j = c omega_j / (2 k), to 1e-6 and 1e-5;
+  zeta_j = c omega_j / (2 k), to 3e-6 and 1e-5 (the third mode's LSCF pole moves by up to
+  2e-6 with the model order and the BLAS build: measured 8e-7 to 2.1e-6 at orders 24-40 on
+  one machine, 1.2e-6 at order 30 on another; the first two to 1e-7);
 * updating to a 2-input FRF matrix of the chain at k1 = 1100, k2 = 950 N/m: both recovered to
   1e-6 (no noise), with analytic and with differenced sensitivities;
 * the analytic Jacobian (dH/dp = -H dZ/dp H) equals central differences of the FRF to 1e-6
@@ -116,7 +118,8 @@ def test_chain_matrix_from_the_kernel(chain):
     H = model_frf_matrix(chain, ["F", "x1"], f, CHANNELS)
     r = identify_modes_matrix(f, H, list(CHANNELS), ["hammer", "shaker"], max_order=30)
     omega = 2 * np.sqrt(1000.0) * np.sin((2 * np.arange(1, 4) - 1) * np.pi / 14)
-    np.testing.assert_allclose(r.frequency, omega / (2 * np.pi), rtol=1e-6)
+    np.testing.assert_allclose(r.frequency, omega / (2 * np.pi), rtol=3e-6)
+    np.testing.assert_allclose(r.frequency[:2], omega[:2] / (2 * np.pi), rtol=1e-7)
     np.testing.assert_allclose(r.damping, 8 * omega / 2000, atol=1e-5)
     # the residue matrix of a mode is reciprocal: L (to x3 and x1) ~ the shape at x3, x1
     shapes = np.asarray(r.shapes)

@@ -74,8 +74,10 @@ def test_the_reported_beam():
     assert np.all(red.error >= true), np.c_[w, true, red.error]
     assert true.max() < 1e-3
     assert not red.converged and "conditioning" in red.reason
-    # a tolerance above the floor is met, and certified
-    loose = reduced_response(s.M, s.C, s.K, s.b, w, tol=0.05)
+    # a tolerance above the floor is met, and certified; the estimate's floor on this mesh
+    # is 0.02 to 0.09 depending on the BLAS's summation order (the true error is below
+    # 1e-3), so the loose tolerance stands well above it
+    loose = reduced_response(s.M, s.C, s.K, s.b, w, tol=0.2)
     assert loose.converged and np.all(loose.error >= relative(loose.Z, ref))
 
 

@@ -168,7 +168,9 @@ class Campbell(FieldsJSON):
     orders : tuple of float
         The excitation orders.
     critical_speeds : tuple of CriticalSpeed
-        In ascending speed.
+        In ascending speed; speeds equal to the root's tolerance (the forward and
+        backward whirl of an isotropic rotor without gyroscopic coupling) backward first,
+        whatever order the eigen-solver gave the degenerate pair in.
     threshold : StabilityThreshold
         The onset of instability in the range.
     refined : int
@@ -337,6 +339,10 @@ def speed_parameter(system: LinearSystem, speed: str | None) -> str:
     return speed
 
 
+#: the order of critical speeds that are equal to the root's tolerance
+WHIRL_ORDER = {"backward": 0, "forward": 1, "none": 2}
+
+
 def _order_gap(order: float) -> Callable[[complex, float], float]:
     """omega_j - r Omega: zero at a critical speed of order r."""
     def gap(s: complex, speed: float) -> float:
@@ -359,7 +365,10 @@ def _critical_speeds(solver: ModeSolver, track: Tracked, orders: Sequence[float]
                 found.append(CriticalSpeed(speed, j + 1, float(r), abs(s.imag),
                                            whirl_label(float(precession(q[:, None],
                                                                         pairs)[0]))))
-    return sorted(found, key=lambda c: (c.speed, c.mode))
+    # a degenerate pair crosses at one speed up to rounding, and which of its two modes the
+    # solver numbers first is the platform's: the whirl orders it, not the rounding
+    return sorted(found, key=lambda c: (round(c.speed / tolerance), WHIRL_ORDER[c.whirl],
+                                        c.mode))
 
 
 def _continued(solver: ModeSolver, reference: np.ndarray, speed: float, target: complex
