@@ -355,9 +355,10 @@ def test_valid_expression_never_evaluates_code(monkeypatch):
     ("1" * 10_000, "too many digits"),
 ], ids=short)
 def test_limits_fail_fast(text, words):
-    start = time.perf_counter()
+    # CPU time: on a shared machine the wall clock also counts the other processes' turns
+    start = time.process_time()
     err = fails(text)
-    assert time.perf_counter() - start < 1
+    assert time.process_time() - start < 1
     assert words in err.reason
 
 
