@@ -258,7 +258,7 @@ class ModalAnalysis(FieldsJSON):
         """
         return modes_chart(self, count)
 
-    def plot(self, path: str | os.PathLike[str] | None = None, count: int | None = None,
+    def plot(self, path: str | os.PathLike[str] | None = None, count: int | None = 6,
              ax: Axes | None = None) -> Figure:
         """The mode shapes (:func:`resonant.analyses.modes.plot_modes`).
 
@@ -267,7 +267,8 @@ class ModalAnalysis(FieldsJSON):
         path : str or Path, optional
             Save the figure there (format from the suffix).
         count : int, optional
-            How many modes to draw (default: all).
+            How many modes to draw, lowest first (default 6, as ``resonant modes
+            --plot`` draws; None: all).
         ax : matplotlib.axes.Axes, optional
             Draw into the caller's axes.
 
