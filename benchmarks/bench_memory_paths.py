@@ -72,7 +72,8 @@ LIGHT = """
 import json, resource, sys, time
 import resonant
 from resonant.analyses.harmonic_balance import nonlinear_sweep
-model = resonant.loads(sys.argv[1])
+from resonant.system import nonlinear_system
+model = nonlinear_system(resonant.loads(sys.argv[1]))
 t = time.perf_counter()
 r = nonlinear_sweep(model, "w", 0.8, 1.2, harmonics=25, points=12, linear=False)
 print(json.dumps({"seconds": time.perf_counter() - t, "points": len(r.values),

@@ -20,15 +20,16 @@ import scipy.integrate
 
 from conftest import EXAMPLES, run_cli
 from resonant.analyses.backbone import Backbones, backbone
-from resonant.errors import AnalysisError
 from resonant.api import load
+from resonant.errors import AnalysisError
+from resonant.system import nonlinear_system
 
 DUFFING = EXAMPLES / "duffing.toml"
 M, K, K3 = 1.0, 1.0, 0.5
 
 
 def test_duffing_h1_classical_backbone() -> None:
-    result = backbone(load(DUFFING), amplitude=2.0, harmonics=1, points=40)
+    result = backbone(nonlinear_system(load(DUFFING)), amplitude=2.0, harmonics=1, points=40)
     (curve,) = result.curves
     X = curve.amplitude
     expected = np.sqrt(K / M + 0.75 * K3 * X ** 2 / M)
@@ -50,7 +51,7 @@ def _exact_frequency(A: float) -> float:
 
 
 def test_duffing_many_harmonics_exact_period() -> None:
-    result = backbone(load(DUFFING), amplitude=2.0, harmonics=13, points=10)
+    result = backbone(nonlinear_system(load(DUFFING)), amplitude=2.0, harmonics=13, points=10)
     (curve,) = result.curves
     for c, w, peak in zip(curve.coefficients[:, 0], curve.frequencies, curve.amplitudes["x"]):
         A = float(c[0] + c[1::2].sum())  # x(0): the phase condition puts the peak at t = 0
@@ -88,9 +89,9 @@ def test_cli() -> None:
 
 def test_errors() -> None:
     with pytest.raises(AnalysisError, match="amplitude"):
-        backbone(load(DUFFING), amplitude=-1.0)
+        backbone(nonlinear_system(load(DUFFING)), amplitude=-1.0)
     with pytest.raises(AnalysisError, match="mode 3"):
-        backbone(load(DUFFING), amplitude=1.0, modes=[3])
+        backbone(nonlinear_system(load(DUFFING)), amplitude=1.0, modes=[3])
 
 
 def test_a_halved_step_grows_back(monkeypatch):

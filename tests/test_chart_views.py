@@ -22,12 +22,14 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 import resonant
 import resonant.charts
 from conftest import EXAMPLES
-from resonant.analyses.backbone import backbone
+from resonant.analyses.backbone import backbone, backbones_chart
 from resonant.analyses.harmonic_balance import nonlinear_sweep
-from resonant.analyses.random_response import random_response
-from resonant.analyses.shock import pulse, shock_response_spectrum
-from resonant.analyses.simulate import simulate
-from resonant.report import plots
+from resonant.analyses.modes import modes_chart
+from resonant.analyses.nonlinear_response import nonlinear_response_chart
+from resonant.analyses.random_response import plot_random, random_chart, random_response
+from resonant.analyses.shock import plot_srs, pulse, shock_response_spectrum, srs_chart
+from resonant.analyses.simulate import simulate, simulation_chart
+from resonant.analyses.sweep import frequency_response_chart, plot_frequency_response
 from resonant.charts import (
     Chart,
     Charts,
@@ -37,14 +39,9 @@ from resonant.charts import (
     mathtext_label,
     plain_text,
 )
-from resonant.analyses.backbone import backbones_chart
-from resonant.analyses.nonlinear_response import nonlinear_response_chart
-from resonant.analyses.simulate import simulation_chart
-from resonant.analyses.modes import modes_chart
-from resonant.analyses.sweep import frequency_response_chart, plot_frequency_response
-from resonant.analyses.random_response import plot_random, random_chart
-from resonant.analyses.shock import plot_srs, srs_chart
 from resonant.model.units_display import result_units
+from resonant.report import plots
+from resonant.system import nonlinear_system
 
 SVG = "{http://www.w3.org/2000/svg}"
 
@@ -74,10 +71,10 @@ def descriptions() -> dict[str, Charts]:
             frf, plots.operating_frequency(solution), si),)),
         "report history": Charts((plots.history_figure(history),)),
         "nonlinear": Charts((nonlinear_response_chart(
-            nonlinear_sweep(duffing, "omega", 0.5, 2.5, harmonics=3, points=41),
+            nonlinear_sweep(nonlinear_system(duffing), "omega", 0.5, 2.5, harmonics=3, points=41),
             operating=(1.0, {"x": 0.8})),)),
-        "backbones": Charts((backbones_chart(backbone(duffing, amplitude=2.0, harmonics=1,
-                                                      points=20)),)),
+        "backbones": Charts((backbones_chart(backbone(nonlinear_system(duffing), amplitude=2.0,
+                                                      harmonics=1, points=20)),)),
         "modes": modes_chart(eom.modes(), count=2),
     }
 
@@ -330,8 +327,8 @@ def test_every_start_kind_is_described() -> None:
     """Every start a simulation reports has its words in the plot's title."""
     from dataclasses import replace
 
-    from resonant.model.options import START_KINDS, START_MODES
     from resonant.analyses.simulate import simulation_chart
+    from resonant.model.options import START_KINDS, START_MODES
 
     sim = simulate(resonant.load(EXAMPLES / "two_dof_free.toml").linearize(), 0.05,
                    initial={"x1": 0.01})

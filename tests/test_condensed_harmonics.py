@@ -14,12 +14,11 @@ import numpy as np
 import pytest
 
 from resonant.analyses import condensed
-from resonant.system import nonlinear_system
 from resonant.analyses.condensed import condensed_sweep
 from resonant.analyses.harmonic_balance import nonlinear_sweep
 from resonant.analyses.hb_solver import DEFAULT_HARMONICS, TRUNCATION_TOL
 from resonant.api import loads
-
+from resonant.system import nonlinear_system
 from test_condensed import DUFFING_ENERGY, DUFFING_MATRICES, chain
 
 RANGE = (1.4, 1.7)
@@ -98,8 +97,8 @@ def test_the_same_choice_as_the_full_balance():
     amplitudes at the branch's end to 1e-8."""
     condensed_ = condensed_sweep(nonlinear_system(loads(DUFFING_MATRICES)), "w", 0.4, 0.6,
                                  points=10, observe=["q1"], linear=False)
-    full = nonlinear_sweep(loads(DUFFING_ENERGY).linearize(), "w", 0.4, 0.6, points=10,
-                           linear=False)
+    full = nonlinear_sweep(nonlinear_system(loads(DUFFING_ENERGY).linearize()), "w", 0.4, 0.6,
+                           points=10, linear=False)
     assert condensed_.harmonics == full.harmonics > DEFAULT_HARMONICS
     assert condensed_.truncation == pytest.approx(full.truncation, rel=1e-8)
     assert condensed_.truncation <= TRUNCATION_TOL

@@ -61,8 +61,8 @@ def test_simulation_equals_that_of_the_energy_model():
 
 def test_backbones_equal_those_of_the_energy_model():
     """The free-vibration backbone curves of both models (1e-8)."""
-    mine = backbone(loads(MATRICES), 0.5, harmonics=3, points=8)
-    theirs = backbone(loads(ENERGY), 0.5, harmonics=3, points=8)
+    mine = backbone(nonlinear_system(loads(MATRICES)), 0.5, harmonics=3, points=8)
+    theirs = backbone(nonlinear_system(loads(ENERGY)), 0.5, harmonics=3, points=8)
     assert len(mine.curves) == len(theirs.curves) == 2
     for a, b in zip(mine.curves, theirs.curves):
         np.testing.assert_allclose(a.frequencies, b.frequencies, rtol=1e-8)
@@ -72,7 +72,8 @@ def test_full_balance_equals_the_condensed_one():
     """Harmonic balance of the matrix model's full equations against the balance
     condensed onto the element's coordinates: the same folds (1e-8 relative)."""
     model = loads(MATRICES)
-    full = full_sweep(model.linearize(), "w", 0.4, 2.2, harmonics=5, points=60, linear=False)
+    full = full_sweep(nonlinear_system(model.linearize()), "w", 0.4, 2.2, harmonics=5, points=60,
+                      linear=False)
     condensed = condensed_sweep(nonlinear_system(model), "w", 0.4, 2.2, harmonics=5, points=60,
                                 observe=["q1"], linear=False)
     folds = [sorted(s.value for s in r.special_points if s.kind == "fold")

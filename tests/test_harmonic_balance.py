@@ -36,6 +36,7 @@ from resonant.analyses.harmonic_balance import NonlinearResponse, nonlinear_swee
 from resonant.analyses.sweep import sweep
 from resonant.api import load, loads
 from resonant.errors import AnalysisError
+from resonant.system import nonlinear_system
 
 DUFFING = EXAMPLES / "duffing.toml"
 M, C, K, K3, F = 1.0, 0.1, 1.0, 0.5, 0.2
@@ -220,7 +221,7 @@ def test_errors(model) -> None:  # type: ignore[no-untyped-def]
     free = loads('[parameters]\nk = 1\n[coordinates]\nx = ""\n[signals]\nr = "exp(-t)"\n'
                  '[energy]\nT = "x\'^2/2"\nU = "k*x^2/2"\n[[force]]\ngeneralized = { x = "r" }')
     with pytest.raises(AnalysisError, match="periodic"):
-        nonlinear_sweep(free.linearize(), "k", 1.0, 2.0)
+        nonlinear_sweep(nonlinear_system(free.linearize()), "k", 1.0, 2.0)
     assert math.isfinite(model.parameter_values["omega"])
 
 
@@ -244,7 +245,8 @@ def test_the_steps_follow_the_amplitude_across_a_resonance() -> None:
     1,500 points (1,963 taken), to 1e-9: located by refinement, not by the step."""
     model = load(EXAMPLES / "two_dof_cubic.toml")
     low = 0.8725959346977146
-    branch = nonlinear_sweep(model, "omega", 0.5 * low, 2.5 * low, harmonics=3, points=150)
+    branch = nonlinear_sweep(nonlinear_system(model), "omega", 0.5 * low, 2.5 * low, harmonics=3,
+                             points=150)
     assert len(branch.values) < 600
     folds = sorted(p.value for p in branch.special_points if p.kind == "fold")
     assert folds == pytest.approx([0.9556022338876, 0.9693761728603], rel=1e-9)

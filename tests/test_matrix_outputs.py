@@ -16,13 +16,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from conftest import run_cli
+from resonant import loads
 from resonant.analyses.condensed import condensed_sweep
-from resonant.system import nonlinear_system
 from resonant.analyses.harmonic_balance import nonlinear_sweep
 from resonant.errors import ModelError
-from resonant import loads
-
-from conftest import run_cli
+from resonant.system import nonlinear_system
 
 MATRICES = '''
 [parameters]
@@ -114,8 +113,8 @@ def test_condensed_branch_carries_the_outputs_in_full():
     H = 5
     condensed = condensed_sweep(nonlinear_system(loads(MATRICES.format(nonlinear=ELEMENT))), "w",
                                 0.4, 2.2, harmonics=H, points=60, linear=False)
-    full = nonlinear_sweep(loads(ENERGY.format(cubic="k3")).linearize(), "w", 0.4, 2.2,
-                           harmonics=H, points=60, linear=False)
+    full = nonlinear_sweep(nonlinear_system(loads(ENERGY.format(cubic="k3")).linearize()), "w",
+                           0.4, 2.2, harmonics=H, points=60, linear=False)
     assert condensed.outputs == ("spring", "power", "accel")
     for name in ("q1", "q2", "spring", "power", "accel"):
         for end in (0, -1):

@@ -23,9 +23,9 @@ from conftest import EXAMPLES, run_cli
 from resonant.analyses.periodic import PeriodicSolution, periodic_solution
 from resonant.analyses.simulate import _periodic_start
 from resonant.analyses.time_integration import NonlinearDynamics
+from resonant.api import load
 from resonant.deadline import NO_DEADLINE
 from resonant.errors import AnalysisError
-from resonant.api import load
 from resonant.model import Model
 from resonant.system import nonlinear_system
 from resonant.system.nonlinear import reference_values
@@ -40,7 +40,7 @@ def model() -> Model:
 
 @pytest.fixture(scope="module")
 def periodic(model: Model) -> PeriodicSolution:
-    return periodic_solution(model)
+    return periodic_solution(nonlinear_system(model))
 
 
 def _flow(model: Model, y0: np.ndarray, T: float) -> np.ndarray:
@@ -130,7 +130,7 @@ def test_no_periodic_solution_is_said(model: Model) -> None:
     """Far from linear (Newton diverges): the run says there is no steady state to measure."""
     far = model.with_parameters(F0="400", omega="4")
     try:
-        periodic_solution(far)
+        periodic_solution(nonlinear_system(far))
     except AnalysisError:
         pass
     else:
@@ -145,7 +145,7 @@ def test_unstable_periodic_solution_is_not_started_on() -> None:
     real Floquet multiplier of about 15), so "auto" does not start on it and says that
     there is no steady state to measure."""
     exact = load(EXAMPLES / "cart_pendulum_exact.toml").with_parameters(F0="50", r0="0.1")
-    periodic = periodic_solution(exact)
+    periodic = periodic_solution(nonlinear_system(exact))
     assert not periodic.stable and np.abs(periodic.multipliers).max() > 10
     warnings: list[str] = []
     assert _periodic_start(nonlinear_system(exact), "auto", False, "marginally stable",

@@ -33,7 +33,7 @@ from resonant.analyses.sweep import FrequencyResponse
 from resonant.analyses.transient import TransientResponse, shock_response
 from resonant.errors import AnalysisError
 from resonant.model.load_spec import PeriodicSpec, ShockSpec
-from resonant.system import NumericEOM, NumericHarmonic
+from resonant.system import NumericEOM, NumericHarmonic, nonlinear_system
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
 MODELS = ["two_dof_free", "chain3_damped", "tuned_mass_damper", "cart_pendulum", "pendulum"]
@@ -565,9 +565,9 @@ def _saved(name):
         "rainflow": lambda: (RainflowDamage, rainflow_damage([0.0, 10.0, -5.0, 8.0, 0.0],
                                                              SNCurve(1e9, 3.0)).to_dict()),
         "periodic-solution": lambda: (PeriodicSolution, periodic_solution(
-            resonant.load(EXAMPLES / "two_dof_cubic.toml"), 2).to_dict()),
+            nonlinear_system(resonant.load(EXAMPLES / "two_dof_cubic.toml")), 2).to_dict()),
         "swept-state": lambda: (SweptState, swept_state(
-            resonant.load(EXAMPLES / "duffing.toml"), "omega", 0.5, 2.0,
+            nonlinear_system(resonant.load(EXAMPLES / "duffing.toml")), "omega", 0.5, 2.0,
             harmonics=3).to_dict()),
     }
     return results[name]()
@@ -682,7 +682,8 @@ def test_load_tables_hold_the_results_numbers():
 @pytest.mark.parametrize(("name", "harmonics"), [("duffing", 3), ("two_dof_cubic", 5),
                                                  ("cart_pendulum", None)])
 def test_periodic_solution_round_trip(name, harmonics):
-    solution = periodic_solution(resonant.load(EXAMPLES / f"{name}.toml"), harmonics)
+    solution = periodic_solution(nonlinear_system(resonant.load(EXAMPLES / f"{name}.toml")),
+                                 harmonics)
     back = PeriodicSolution.from_dict(_through_json(solution.to_dict()))
     assert back.to_dict() == solution.to_dict()
     np.testing.assert_array_equal(back.coefficients, solution.coefficients)
@@ -696,8 +697,8 @@ def test_periodic_solution_round_trip(name, harmonics):
 
 def test_swept_state_round_trip():
     """The state a slow sweep reaches past the Duffing oscillator's jump (one jump)."""
-    state = swept_state(resonant.load(EXAMPLES / "duffing.toml"), "omega", 0.5, 2.0,
-                        harmonics=3)
+    state = swept_state(nonlinear_system(resonant.load(EXAMPLES / "duffing.toml")), "omega",
+                        0.5, 2.0, harmonics=3)
     assert state.jumps
     back = SweptState.from_dict(_through_json(state.to_dict()))
     assert back.to_dict() == state.to_dict()

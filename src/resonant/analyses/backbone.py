@@ -64,12 +64,9 @@ from ..charts import (
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, printable
 from ..expressions.notation import dollar_name
-from ..model import Model
 from ..model.options import check_harmonics
 from ..model.units_display import NO_UNIT, ResultUnits, angular_shown
-from ..system.base import LinearSystem
-from ..system.build import nonlinear_system
-from ..system.nonlinear import NonlinearSystem
+from ..system.nonlinear import NonlinearSystem, nonlinear_only
 from ..system.stability import undamped_eigen
 from .hb_solver import NEWTON_MAX, NEWTON_TOL, HarmonicBalance
 from .result_fields import FieldsJSON, saved
@@ -347,7 +344,7 @@ def _curve(hb: HarmonicBalance, M: np.ndarray, mode: int, w0: float, shape: np.n
         coefficients=coeffs, damping=float(np.abs(Y[:, -1]).max())), residual
 
 
-def backbone(system: NonlinearSystem | LinearSystem | Model, amplitude: float | None = None, *,
+def backbone(system: NonlinearSystem, amplitude: float | None = None, *,
              harmonics: int | None = None, points: int | None = None,
              modes: list[int] | None = None, deadline: Deadline = NO_DEADLINE) -> Backbones:
     """Backbone curves of the modes: frequency of free vibration against amplitude.
@@ -355,8 +352,8 @@ def backbone(system: NonlinearSystem | LinearSystem | Model, amplitude: float | 
     Parameters
     ----------
     system : NonlinearSystem
-        The full equations (:func:`resonant.system.nonlinear_system`; a model or its
-        linear system is turned into one).
+        The full equations, compiled (:func:`resonant.system.nonlinear_system`;
+        ``model.backbone(...)`` compiles them for you).
     amplitude : float, optional
         The largest amplitude A (first-harmonic amplitude of each mode's reference
         coordinate).  Default: doubled from 1e-3 of the unit until the frequency has
@@ -373,7 +370,7 @@ def backbone(system: NonlinearSystem | LinearSystem | Model, amplitude: float | 
     -------
     Backbones
     """
-    system = nonlinear_system(system, deadline)
+    system = nonlinear_only(system, "backbone")
     points = DEFAULT_POINTS if points is None else points
     _check(system, amplitude, harmonics, points)
     num = system.linear.numeric(deadline).dense()

@@ -70,11 +70,8 @@ import numpy as np
 
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
-from ..model import Model
 from ..model.options import MAX_GIVEN_HARMONICS, BalanceOptions, chosen, names_tuple
-from ..system.base import LinearSystem
-from ..system.build import nonlinear_system
-from ..system.nonlinear import NonlinearSystem
+from ..system.nonlinear import NonlinearSystem, nonlinear_only
 from .condensed import condensed_sweep
 from .continuation import Branch
 from .continuation import follow as _continue
@@ -202,7 +199,7 @@ def _linear_sweep(system: NonlinearSystem, param: str, start: float, stop: float
         return None
 
 
-def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, start: float,
+def nonlinear_sweep(system: NonlinearSystem, param: str, start: float,
                     stop: float, *, harmonics: int | None = None, points: int = 101,
                     linear: bool = True, observe: Sequence[str] | None = None,
                     samples: int | None = None, exact: bool | None = None,
@@ -218,8 +215,9 @@ def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, 
 
     Parameters
     ----------
-    system : NonlinearSystem, LinearSystem or Model
-        The system, or the model it comes from.
+    system : NonlinearSystem
+        The full equations, compiled (:func:`resonant.system.nonlinear_system`;
+        ``model.nonlinear_sweep(...)`` compiles them for you).
     param : str
         Any parameter; when it sets an excitation frequency the base frequency follows.
     start, stop : float
@@ -251,14 +249,15 @@ def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, 
     Examples
     --------
     >>> import resonant
-    >>> r = nonlinear_sweep(resonant.load("examples/duffing.toml"), "omega", 0.8, 1.2,
-    ...                     harmonics=1, points=20)
+    >>> from resonant.system import nonlinear_system
+    >>> duffing = nonlinear_system(resonant.load("examples/duffing.toml"))
+    >>> r = nonlinear_sweep(duffing, "omega", 0.8, 1.2, harmonics=1, points=20)
     >>> r.harmonics, bool(r.values.size > 10)
     (1, True)
     """
     o = chosen(options, BalanceOptions(harmonics, points, linear, names_tuple(observe),
                                        samples, exact, tol))
-    full = nonlinear_system(system, deadline)
+    full = nonlinear_only(system, "the nonlinear sweep")
     if full.local_elements is not None:
         return condensed_sweep(full, param, start, stop, harmonics=o.harmonics,
                                points=o.points, observe=o.observe, samples=o.samples,
@@ -274,7 +273,7 @@ def nonlinear_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, 
                       linear=o.linear, deadline=deadline)
 
 
-def full_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, start: float,
+def full_sweep(system: NonlinearSystem, param: str, start: float,
                stop: float, *, harmonics: int | None = None, points: int = 101,
                linear: bool = True, deadline: Deadline = NO_DEADLINE) -> NonlinearResponse:
     """Follow the periodic steady state of the full equations from ``start`` to ``stop``.
@@ -282,8 +281,7 @@ def full_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, start
     Parameters
     ----------
     system : NonlinearSystem
-        The full equations (:func:`resonant.system.nonlinear_system`; a model or its
-        linear system is turned into one).
+        The full equations, compiled (:func:`resonant.system.nonlinear_system`).
     param : str
         Any parameter; when it sets an excitation frequency the base frequency follows.
     start, stop : float
@@ -309,7 +307,7 @@ def full_sweep(system: NonlinearSystem | LinearSystem | Model, param: str, start
         For a ``[matrices]`` model, a non-periodic excitation, an unknown parameter,
         or when Newton does not converge at the start.
     """
-    system = nonlinear_system(system, deadline)
+    system = nonlinear_only(system, "the full harmonic balance")
     _check(system, param, start, stop, harmonics, points)
     hb, branch = _branch(system, param, start, stop, harmonics, points, deadline)
     lam, Ws, amps, residual = _points(hb, branch, deadline)

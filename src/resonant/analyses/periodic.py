@@ -50,10 +50,7 @@ import numpy as np
 from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
-from ..model import Model
-from ..system.base import LinearSystem
-from ..system.build import nonlinear_system
-from ..system.nonlinear import NonlinearSystem
+from ..system.nonlinear import NonlinearSystem, nonlinear_only
 from .hb_solver import (
     DEFAULT_HARMONICS,
     TRUNCATION_TOL,
@@ -98,7 +95,9 @@ class PeriodicSolution(FieldsJSON):
     coordinate's coefficients as ``[[a_0], [a_1, b_1], ...]``, and read back:
 
     >>> import json, resonant
-    >>> s = periodic_solution(resonant.load("examples/duffing.toml"), harmonics=3)
+    >>> from resonant.system import nonlinear_system
+    >>> s = periodic_solution(nonlinear_system(resonant.load("examples/duffing.toml")),
+    ...                       harmonics=3)
     >>> s.to_dict()["coefficients"]["x"][0] == [s.coefficients[0, 0]]
     True
     >>> back = PeriodicSolution.from_dict(json.loads(json.dumps(s.to_dict())))
@@ -196,7 +195,7 @@ def _solve(system: NonlinearSystem, harmonics: int | None, deadline: Deadline
     return hb, x, solution
 
 
-def periodic_solution(system: NonlinearSystem | LinearSystem | Model,
+def periodic_solution(system: NonlinearSystem,
                       harmonics: int | None = None, *,
                       deadline: Deadline = NO_DEADLINE) -> PeriodicSolution:
     """The periodic solution of the full equations near the linear stationary solution.
@@ -204,8 +203,8 @@ def periodic_solution(system: NonlinearSystem | LinearSystem | Model,
     Parameters
     ----------
     system : NonlinearSystem
-        The full equations (:func:`resonant.system.nonlinear_system`; a model or its
-        linear system is turned into one), with a periodic excitation.
+        The full equations, compiled (:func:`resonant.system.nonlinear_system`), with a
+        periodic excitation.
     harmonics : int, optional
         H; default: 7, raised by 4 until the highest harmonics carry less than 1e-6 (at
         most 40).
@@ -222,7 +221,7 @@ def periodic_solution(system: NonlinearSystem | LinearSystem | Model,
         response is too far from linear, or there is no periodic solution nearby), for a
         ``[matrices]`` model or a non-periodic excitation.
     """
-    system = nonlinear_system(system, deadline)
+    system = nonlinear_only(system, "the periodic solution")
     if harmonics is not None and not 1 <= harmonics <= 200:
         raise AnalysisError(f"harmonics must be between 1 and 200, not {harmonics}")
     if not system.parameters:

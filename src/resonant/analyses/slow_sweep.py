@@ -56,8 +56,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError
 from ..model.options import check_harmonics
 from ..system.base import numeric_point
-from ..system.build import nonlinear_system
-from ..system.nonlinear import NonlinearSystem
+from ..system.nonlinear import NonlinearSystem, nonlinear_only
 from ..system.nonlinear_at import nonlinear_at
 from .continuation import Branch, follow, refine
 from .hb_solver import (
@@ -297,7 +296,7 @@ def _sweep(system: NonlinearSystem, hb: HarmonicBalance, start: float, value: fl
         jumps.append((float(p_leave), float(p_jump)))
 
 
-def swept_state(system: Any, param: str, start: float, value: float, *,
+def swept_state(system: NonlinearSystem, param: str, start: float, value: float, *,
                 harmonics: int | None = None, deadline: Deadline = NO_DEADLINE
                 ) -> SweptState:
     """The periodic steady state at ``param = value`` reached by a slow sweep up from
@@ -306,7 +305,7 @@ def swept_state(system: Any, param: str, start: float, value: float, *,
     Parameters
     ----------
     system : NonlinearSystem
-        The full equations (a model or its linear system is turned into one); for other
+        The full equations, compiled (:func:`resonant.system.nonlinear_system`); for other
         parameter values than the model's, :func:`resonant.system.nonlinear_at`.
     param : str
         The swept parameter (usually the excitation frequency).
@@ -343,7 +342,7 @@ def swept_state(system: Any, param: str, start: float, value: float, *,
     >>> round(state.amplitudes["x"], 4), len(state.jumps)
     (0.0666, 1)
     """
-    system = nonlinear_system(system, deadline)
+    system = nonlinear_only(system, "the slow sweep")
     _check(system, param, start, value, harmonics)
     reference = system.reference(system.parameter_point(param, start))
     hb = HarmonicBalance(system, param, harmonics or DEFAULT_HARMONICS, reference=reference)

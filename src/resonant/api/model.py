@@ -39,7 +39,7 @@ from ..model.options import BalanceOptions, SimulationOptions
 from ..report import write_report
 from ..studies.result import StudyResult
 from ..studies.run import study_of
-from ..system import LinearSystem, linear_system
+from ..system import LinearSystem, linear_system, nonlinear_system
 from ..views.display import model_html, model_latex
 from ..views.drawing import draw_mechanism
 from ..views.explore import ExplorePage, explore_page
@@ -216,10 +216,11 @@ class Model(model_types.Model):
         >>> r.parameter, r.harmonics
         ('omega', 1)
         """
+        deadline = deadline or NO_DEADLINE
         return nonlinear_sweep(
-            self.linearize(deadline=deadline), param, start, stop, harmonics=harmonics,
-            points=points, linear=linear, observe=observe, samples=samples, exact=exact,
-            tol=tol, deadline=deadline or NO_DEADLINE, options=options)
+            nonlinear_system(self.linearize(deadline=deadline), deadline), param, start, stop,
+            harmonics=harmonics, points=points, linear=linear, observe=observe,
+            samples=samples, exact=exact, tol=tol, deadline=deadline, options=options)
 
     def backbone(self, amplitude: float | None = None, *, harmonics: int | None = None,
                  points: int | None = None, modes: list[int] | None = None,
@@ -251,8 +252,9 @@ class Model(model_types.Model):
         >>> len(b.curves) >= 1
         True
         """
-        return backbone(self, amplitude, harmonics=harmonics, points=points,
-                                 modes=modes, deadline=deadline or NO_DEADLINE)
+        deadline = deadline or NO_DEADLINE
+        return backbone(nonlinear_system(self, deadline), amplitude, harmonics=harmonics,
+                        points=points, modes=modes, deadline=deadline)
 
     def study(self, vary: Mapping[str, Any] | None = None,
               quantities: Sequence[str] | None = None, *,

@@ -35,7 +35,7 @@ from ..errors import AnalysisError
 from ..model import Model
 from ..model.options import MAX_GIVEN_HARMONICS, SWEEP_METHODS, BalanceOptions, SweepOptions
 from ..model.units_display import ResultUnits, result_units
-from ..system import linear_system
+from ..system import linear_system, nonlinear_system
 
 #: the most harmonics a nonlinear analysis takes (the analyses' own limit)
 MAX_HARMONICS_OPTION = MAX_GIVEN_HARMONICS
@@ -116,8 +116,8 @@ def _run_backbones(args: argparse.Namespace, model: Model, deadline: Deadline) -
     """``modes --nonlinear``: :func:`resonant.analyses.backbone.backbone`."""
     if args.count is not None:
         raise AnalysisError("--count applies to the linear modes, not to --nonlinear")
-    result = backbone(model, args.amplitude, harmonics=args.harmonics, points=args.points,
-                      deadline=deadline)
+    result = backbone(nonlinear_system(model, deadline), args.amplitude,
+                      harmonics=args.harmonics, points=args.points, deadline=deadline)
     units = cli.shown_units(args, model)
     return _emit(args, result, lambda: result.summary(units),
                  lambda path: plot_backbones(result, path))
@@ -154,8 +154,9 @@ def _run_nonlinear(args: argparse.Namespace, model: Model) -> int:
     observe = [n.strip() for n in args.only.split(",") if n.strip()] if args.only else None
     options = BalanceOptions(harmonics=args.harmonics, points=args.points,
                              observe=None if observe is None else tuple(observe), tol=args.tol)
-    result = nonlinear_sweep(linear_system(model, deadline), args.param, args.start, args.stop,
-                             options=options, deadline=deadline)
+    result = nonlinear_sweep(nonlinear_system(linear_system(model, deadline), deadline),
+                             args.param, args.start, args.stop, options=options,
+                             deadline=deadline)
     units = result_units(model)
     return _emit(args, result, lambda: nonlinear_text(result, units),
                  lambda path: plot_nonlinear_response(result, path, units=units))

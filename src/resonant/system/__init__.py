@@ -21,11 +21,11 @@ from .batch import Batch, BatchHarmonic
 from .build import linear_system, nonlinear_system
 from .element_system import ElementSystem
 from .matrix import MatrixEOM
-from .nonlinear import EnergySystem, NonlinearSystem
+from .nonlinear import EnergySystem, NonlinearSystem, nonlinear_only
 from .nonlinear_at import NonlinearAt, nonlinear_at
 from .symbolic import LinearEOM
 
 __all__ = ["LinearSystem", "LinearEOM", "MatrixEOM", "NumericEOM", "NumericHarmonic",
            "NumericOutput", "Batch", "BatchHarmonic", "linear_system", "parameter_values",
            "NonlinearSystem", "EnergySystem", "ElementSystem", "nonlinear_system", "NonlinearAt",
-           "nonlinear_at"]
+           "nonlinear_at", "nonlinear_only"]

@@ -331,6 +331,42 @@ class NonlinearSystem(ABC):
         return cache
 
 
+def nonlinear_only(system: object, analysis: str) -> NonlinearSystem:
+    """``system`` itself when it is a :class:`NonlinearSystem`, else the error that says how
+    to make one: the analyses beyond small oscillations take the compiled system and
+    nothing else (compiled once by :func:`resonant.system.nonlinear_system`, or by the
+    model's own method, ``model.nonlinear_sweep(...)``, ``model.backbone(...)``).
+
+    Parameters
+    ----------
+    system : object
+        What the caller gave.
+    analysis : str
+        The analysis, for the message.
+
+    Returns
+    -------
+    NonlinearSystem
+
+    Raises
+    ------
+    AnalysisError
+        For anything else (a model, its linear system).
+
+    Examples
+    --------
+    >>> nonlinear_only(None, "backbone")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    resonant.errors.AnalysisError: backbone takes a NonlinearSystem, not NoneType: ...
+    """
+    if isinstance(system, NonlinearSystem):
+        return system
+    raise AnalysisError(f"{analysis} takes a NonlinearSystem, not {type(system).__name__}: "
+                        "make it with resonant.system.nonlinear_system(model) (or call the "
+                        "model's own method)")
+
+
 def _stack_at(values: Sequence[Any], shape: tuple[int, ...]) -> np.ndarray:
     """Values of a lambdified list at one instant (shape ()) or at samples of ``shape``."""
     if not shape:  # one instant: every value is a scalar (the integrator's hot path)
