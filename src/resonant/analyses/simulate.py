@@ -76,6 +76,7 @@ from ..errors import AnalysisError, ModelError, Problem, name_list, printable
 from ..expressions import parse, primed_names
 from ..expressions.notation import dollar_name
 from ..modal import point_state_eigenvalues
+from ..model.campbell_spec import with_unbalance_loads
 from ..model.options import START_KINDS, SimulationOptions, chosen
 from ..model.types import constant_prime_message
 from ..model.units_display import (
@@ -88,7 +89,9 @@ from ..model.units_display import (
     unit_suffix,
 )
 from ..system.base import LinearSystem, NumericEOM
+from ..system.build import linear_system as build_linear_system
 from ..system.build import nonlinear_system
+from ..system.matrix import MatrixEOM
 from ..system.nonlinear import NonlinearSystem
 from ..system.stability import (
     ASYMPTOTIC,
@@ -439,6 +442,29 @@ def parse_initial(coordinates: Sequence[str], values: Mapping[str, float],
 
 
 
+def _with_unbalance(system: LinearSystem | NonlinearSystem, deadline: Deadline,
+                    warnings: list[str]) -> LinearSystem | NonlinearSystem:
+    """A rotor's system with its ``[[unbalance]]`` as the rotating load m e Omega^2
+    (cos, sin)(Omega t + phi) at the model's speed: a ``[[harmonic]]`` of the model
+    (:func:`resonant.model.campbell_spec.with_unbalance_loads`), so that it takes the one
+    load path every harmonic load takes (docs/rotors.md)."""
+    model = system.model
+    if model is None or not model.unbalances or \
+            not isinstance(system.linear if isinstance(system, NonlinearSystem) else system,
+                           MatrixEOM):
+        return system
+    loaded = with_unbalance_loads(model)
+    if loaded is model:
+        return system
+    assert model.matrices is not None and model.matrices.speed is not None
+    speed = model.matrices.speed
+    if model.parameter_values.get(speed) == 0:
+        warnings.append(f"the rotor is at rest ({speed} = 0): its [[unbalance]] loads "
+                        f"nothing; give the speed (--set {speed}=...)")
+    return nonlinear_system(loaded, deadline) if isinstance(system, NonlinearSystem) \
+        else build_linear_system(loaded, deadline)
+
+
 def _systems(system: LinearSystem | NonlinearSystem, nonlinear: bool | None,
              deadline: Deadline) -> tuple[LinearSystem, NonlinearSystem | None]:
     """The linear system and, for a nonlinear run, the nonlinear one."""
@@ -717,8 +743,9 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
         given.start
     method, rtol, progress = given.method, given.rtol, given.progress
     periods = DEFAULT_PERIODS if given.periods is None else given.periods
-    linear_system, full = _systems(system, nonlinear, deadline)
     warnings: list[str] = []
+    linear_system, full = _systems(_with_unbalance(system, deadline, warnings), nonlinear,
+                                   deadline)
     num = linear_system.numeric(deadline).dense()
     check_mass_matrix(num.M, num.coordinates)
     scales = _Scales.of(num, periods)
