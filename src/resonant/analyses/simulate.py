@@ -809,7 +809,7 @@ def simulation_chart(sim: Simulation, units: Mapping[str, str] | ResultUnits | N
     t = time(np.asarray(sim.t, dtype=float))
     xlim = (float(t[0]), float(t[-1])) if t.size > 1 and t[-1] > t[0] else (0.0, 1.0)
     panels = []
-    drawn = _largest_motions(sim)
+    drawn = _largest_motions(sim, units)
     for name in drawn:
         value = shown[name]
         curves = [Curve(t, value(np.asarray(sim.states[name], dtype=float)),
@@ -827,29 +827,46 @@ def simulation_chart(sim: Simulation, units: Mapping[str, str] | ResultUnits | N
         kindof = "coordinate" if name in sim.coordinates else "output"
         unit = f" [{unit_text(value.text)}]" if value.text not in ("", "1") else ""
         panels.append(Chart(tuple(curves), f"time $t$ [{time.text}]",
-                            f"{dollar_name(name)}{unit} ({kindof}, deviation)", xlim,
+                            f"{dollar_name(name)}{unit}", xlim,
                             spans=(Span(time(float(sim.window[0])), time(float(sim.window[1])),
                                         "#e6e6e6", "amplitude window"),),
-                            title=f"{dollar_name(name)}: {text}"))
+                            title=f"{dollar_name(name)}: {kindof} deviation"
+                                  + (f"; {text}" if text else "")))
     start = START_KINDS[sim.start]
     title = printable(sim.title or "simulation", limit=80)
     if len(drawn) < len(sim.names):  # said, never dropped without a word
-        start += (f"\n{len(drawn)} of {len(sim.names)} coordinates and outputs drawn: "
-                  "those that move most")
+        start += f"\n{len(drawn)} of {len(sim.names)} drawn: {MOST_MOTION}"
     return Charts(tuple(panels), f"{title} — {kind}, {start}",
                   size=(9.0, 1.2 + 2.1 * len(panels)), legend="below")
 
 
-def _largest_motions(sim: Simulation) -> list[str]:
-    """The names a simulation's figure draws: all of them, or the :data:`MAX_CURVES` whose
-    largest |deviation| (SI: metres beside radians) is largest (a rotor has dozens of
-    coordinates), in their order."""
+def _largest_motions(sim: Simulation, units: Mapping[str, str] | ResultUnits | None = None
+                     ) -> list[str]:
+    """The names a simulation's figure draws: all of them, or the :data:`MAX_CURVES` that
+    move most (a rotor has dozens of coordinates), in their order.
+
+    A metre is not compared with a radian: each name's largest |deviation| is taken
+    relative to the largest of the names of its own SI unit (``units``; one kind where no
+    units are known), so the largest displacement and the largest tilt both rank 1; ties
+    keep the names' order.
+    """
     if len(sim.names) <= MAX_CURVES:
         return list(sim.names)
-    size = [float(np.nanmax(np.abs(np.asarray(sim.states[n], dtype=float)), initial=0.0))
-            for n in sim.names]
-    keep = set(np.argsort(-np.asarray(size), kind="stable")[:MAX_CURVES].tolist())
+    si = units.si if isinstance(units, ResultUnits) else (units or {})
+    size = {n: float(np.nanmax(np.abs(np.asarray(sim.states[n], dtype=float)), initial=0.0))
+            for n in sim.names}
+    largest: dict[str, float] = {}
+    for name, value in size.items():
+        kind = si.get(name, "")
+        largest[kind] = max(largest.get(kind, 0.0), value)
+    share = [size[n] / largest[si.get(n, "")] if largest[si.get(n, "")] > 0 else 0.0
+             for n in sim.names]
+    keep = set(np.argsort(-np.asarray(share), kind="stable")[:MAX_CURVES].tolist())
     return [n for i, n in enumerate(sim.names) if i in keep]
+
+
+#: the figure's note where it draws some of the names (the rule of :func:`_largest_motions`)
+MOST_MOTION = "those that move most relative to the largest of their unit (m, rad, ...)"
 
 
 def history_chart(t: npt.ArrayLike, values: Mapping[str, Any],
