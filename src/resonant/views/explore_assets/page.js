@@ -49,13 +49,12 @@
     return e;
   }
 
-  // LaTeX of a name (x_{1}, \varphi, \mathrm{stroke}) as [base, subscript] in Unicode
+  // LaTeX of a name (x_{1}, \varphi, \mathrm{stroke}) as [base, subscript] in Unicode.  The
+  // names come typeset from resonant (resonant.expressions.notation.name_latex: ks is
+  // already k_{s}); this only reads LaTeX, it has no naming rule of its own
   const GREEK = { alpha: "α", beta: "β", gamma: "γ", delta: "δ", epsilon: "ε", varepsilon: "ε", zeta: "ζ", eta: "η", theta: "θ", vartheta: "ϑ", iota: "ι", kappa: "κ", lambda: "λ", mu: "μ", nu: "ν", xi: "ξ", pi: "π", rho: "ρ", sigma: "σ", tau: "τ", upsilon: "υ", phi: "ϕ", varphi: "φ", chi: "χ", psi: "ψ", omega: "ω", Gamma: "Γ", Delta: "Δ", Theta: "Θ", Lambda: "Λ", Xi: "Ξ", Pi: "Π", Sigma: "Σ", Phi: "Φ", Psi: "Ψ", Omega: "Ω" };
   function latexText(text) {
-    // a two-letter name (ks, cs, kt) is a letter with a one-letter index, as k_s is written
-    const pair = text.match(/^\\mathrm\{([A-Za-z])([A-Za-z])\}$/);
-    if (pair && !GREEK[pair[1] + pair[2]]) return [pair[1], pair[2], ""];
-    let t = text.replace(/\\mathrm\{([^{}]*)\}/g, "$1").replace(/\\([A-Za-z]+)/g, (m, g) => GREEK[g] || g);
+    const t = text.replace(/\\mathrm\{([^{}]*)\}/g, "$1").replace(/\\([A-Za-z]+)/g, (m, g) => GREEK[g] || g);
     const m = t.match(/^(.*?)_\{([^{}]*)\}(.*)$/);
     return m ? [m[1], m[2], m[3]] : [t, "", ""];
   }
