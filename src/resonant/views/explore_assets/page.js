@@ -413,8 +413,11 @@
       if (!(e instanceof Error) || e.constructor !== Error) console.error(e);  // a bug, not the model
     }
     render();
+    for (const listener of LISTENERS) listener();
     S.timing = performance.now() - t0;
   }
+  // the panels of other scripts (rotor.js) that follow the sliders: called after each change
+  const LISTENERS = [];
 
   // -- controls ------------------------------------------------------------------------------
   const controlsOf = [];
@@ -1359,7 +1362,18 @@
   }
 
   // the page's helpers for the panels of other scripts (the rotor panel, rotor.js)
-  window.resonantPage = Object.freeze({ el, fmt, number, canvasContext, niceTicks, logRange, COLOURS, NOW, PARAMS });
+  // parametersWith: the parameters p at the sliders' values, those named in `fixed` set to
+  // theirs (a parameter defined by a formula then keeps the value given, as when typed)
+  function parametersWith(fixed) {
+    const v = Float64Array.from(S.v), o = Uint8Array.from(S.o);
+    for (const [name, x] of Object.entries(fixed)) {
+      const i = PARAMS.findIndex(c => c.name === name);
+      if (i >= 0) { v[i] = x; o[i] = 1; }
+    }
+    return parameters(v, o);
+  }
+  window.resonantPage = Object.freeze({ el, fmt, number, canvasContext, niceTicks, logRange, COLOURS, NOW, PARAMS,
+    LIVE, NUM, parametersWith, matricesAt, listen: f => { LISTENERS.push(f); } });
 
   // -- the script interface ------------------------------------------------------------------
   function jsonMatrix(a) {
