@@ -670,7 +670,9 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
     system : LinearSystem or NonlinearSystem
         The linear system of a model, or the full equations
         (:func:`resonant.system.nonlinear_system`: a model given by its
-        energies, or ``[matrices]`` with ``[[nonlinear]]`` elements).
+        energies, or ``[matrices]`` with ``[[nonlinear]]`` elements).  A rotor's
+        ``[[unbalance]]`` is integrated as the rotating load m e Omega^2 it is at the
+        speed parameter's value (docs/rotors.md, The unbalance in time).
     duration : float, optional
         End time in s.  Default: for an asymptotically stable system, long
         enough for the slowest transient to decay by ``exp(-12)``; otherwise
