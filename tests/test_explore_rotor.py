@@ -310,3 +310,20 @@ def test_the_orbits_and_bearing_forces_follow_the_parameter_sliders(
         note = page.page.locator("#rotor-follows").inner_text()
         assert "The orbits and bearing forces follow the parameter sliders" in note
         assert "critical speed map are resonant's at the file's parameter values" in note
+
+
+def test_a_precomputed_rotor_page_says_its_orbits_are_the_file_s(browser: Any,
+                                                                 tmp_path: Path) -> None:
+    """Example 5.9.1 in 12 elements (52 coordinates, above LIVE_LIMIT): the page is
+    precomputed, and the rotor panel says that its orbits and forces, like its Campbell
+    diagram, are resonant's at the file's values."""
+    path = tmp_path / "friswell_12.toml"
+    path.write_text(FRISWELL.read_text().replace("count = 6", "count = 12"))
+    target = tmp_path / "friswell_12.html"
+    status, _, err = run_cli(["explore", path, "-o", target])
+    assert status == 0, err
+    with opened(browser, target) as page:
+        follows = _state(page)["follows_sliders"]
+        assert not follows["orbits"] and not follows["bearing_forces"]
+        note = page.page.locator("#rotor-follows").inner_text()
+        assert "so are the orbits and bearing forces (this page is precomputed)" in note
