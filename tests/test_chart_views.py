@@ -339,19 +339,29 @@ def test_every_start_kind_is_described() -> None:
 
 def test_a_simulation_of_many_coordinates_draws_those_that_move_most() -> None:
     """A rotor's 28 coordinates once gave a 28-panel figure of 9,000 px; at most
-    MAX_CURVES panels are drawn, those whose largest deviation (SI) is largest, and the title
-    says how many of how many."""
-    from resonant.analyses.simulate import simulation_chart
+    MAX_CURVES panels are drawn, those that move most each relative to the largest of its
+    own unit (once ranked by SI sizes, metres against radians: the tilts of 1e-2 rad hid
+    the pushed disc's 1 mm), and the title says how many of how many and by what rule."""
+    from resonant.analyses.simulate import MOST_MOTION, simulation_chart
     from resonant.charts import MAX_CURVES
     from resonant.expressions.notation import dollar_name
+    from resonant.model.units_display import result_units
 
-    system = resonant.load(EXAMPLES / "rotors" / "friswell_5_9_1.toml").linearize()
-    sim = simulate(system, 0.01, initial={"disc1_x": 1e-3})
+    model = resonant.load(EXAMPLES / "rotors" / "friswell_5_9_1.toml")
+    sim = simulate(model.linearize(), 0.01, initial={"disc1_x": 1e-3})
     assert len(sim.names) > MAX_CURVES
-    chart = simulation_chart(sim)
+    units = result_units(model)
+    assert units is not None
+    chart = simulation_chart(sim, units)
     assert len(chart.panels) == MAX_CURVES
-    assert f"{MAX_CURVES} of {len(sim.names)}" in chart.title
+    assert f"{MAX_CURVES} of {len(sim.names)}" in chart.title and MOST_MOTION in chart.title
     by_label = {dollar_name(n): n for n in sim.names}
     drawn = {by_label[p.title.split(": ")[0]] for p in chart.panels}
     size = {n: float(np.max(np.abs(sim.states[n]))) for n in sim.names}
-    assert min(size[n] for n in drawn) >= max(size[n] for n in set(sim.names) - drawn)
+    largest = {u: max(size[n] for n in sim.names if units.si[n] == u)
+               for u in set(units.si.values())}
+    share = {n: size[n] / largest[units.si[n]] for n in sim.names}
+    assert min(share[n] for n in drawn) >= max(share[n] for n in set(sim.names) - drawn)
+    assert "disc1_x" in drawn and {units.si[n] for n in drawn} == {"m", "rad"}
+
+

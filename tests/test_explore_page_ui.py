@@ -285,6 +285,27 @@ def test_two_letter_names_are_a_letter_with_its_index(browser: Any,  # noqa: F81
     assert {"ks", "cs"} <= set(shown), shown
 
 
+def test_the_page_writes_names_as_resonant_typesets_them(browser: Any,  # noqa: F811
+                                                        quarter_car: Path,
+                                                        tmp_path: Path) -> None:
+    """One naming rule: the page reads the LaTeX resonant writes (name_latex) and has no
+    rule of its own; a page whose data said \\mathrm{ks} (upright ks) shows ks, not k_s
+    (once the page's script turned any two-letter \\mathrm name into a letter and its
+    index, a second copy of name_latex's rule)."""
+    text = quarter_car.read_text(encoding="utf-8")
+    assert '"symbol": "k_{s}"' in text
+    changed = tmp_path / "upright.html"
+    changed.write_text(text.replace('"symbol": "k_{s}"', '"symbol": "\\\\mathrm{ks}"'),
+                       encoding="utf-8")
+    with opened(browser, changed) as page:
+        names = page.page.evaluate("""() => [...document.querySelectorAll('#sliders .name')]
+            .map(n => [n.getAttribute('title'), n.querySelector('i').textContent,
+                       (n.querySelector('sub') || {}).textContent || ''])""")
+    shown = {title: (base, sub) for title, base, sub in names}
+    assert shown["ks"] == ("ks", ""), shown
+    assert shown["cs"] == ("c", "s"), shown
+
+
 def test_the_motion_heading_is_shown_on_a_phone(browser: Any,  # noqa: F811
                                                 written: dict[str, Path]) -> None:
     with opened(browser, written["cart_pendulum"], width=375) as page:

@@ -275,3 +275,55 @@ def test_a_model_without_campbell_has_no_rotor_panel(browser: Any, tmp_path: Pat
     with opened(browser, target) as page:
         assert page.page.locator("#rotor-panel").is_hidden()
         assert page.page.evaluate("typeof window.resonantRotor") == "undefined"
+
+
+def test_the_orbits_and_bearing_forces_follow_the_parameter_sliders(
+        browser: Any, tmp_path: Path) -> None:
+    """Example 5.9.1 with its bearings' stiffness a parameter kb: moved to 2 MN/m on the
+    page, the orbits and the bearing forces at the slider's speeds are those of
+    unbalance_response of the model with kb = 2 MN/m (1e-9; once they stayed the file's),
+    and the page says what follows the sliders and what is the file's (the Campbell
+    diagram, the modes, the map)."""
+    text = FRISWELL.read_text().replace('Omega = "0 rpm"', 'Omega = "0 rpm"\nkb = "1 MN/m"')
+    text = text.replace('kxx = "1 MN/m"', 'kxx = "kb"').replace('kyy = "1 MN/m"', 'kyy = "kb"')
+    path = tmp_path / "friswell_kb.toml"
+    path.write_text(text)
+    target = tmp_path / "friswell_kb.html"
+    status, _, err = run_cli(["explore", path, "-o", target])
+    assert status == 0, err
+    moved = tmp_path / "friswell_kb2.toml"
+    moved.write_text(text.replace('kb = "1 MN/m"', 'kb = "2 MN/m"'))
+    system = linear_system(load(moved))
+    with opened(browser, target) as page:
+        speeds = np.array(page.page.evaluate("resonantRotor.speeds()"))
+        response = unbalance_response(system, speeds)
+        page.page.evaluate("resonant.set({kb: 2e6})")
+        for k in (3, len(speeds) // 2, len(speeds) - 1):
+            shown = _state(page, k)
+            assert np.allclose([o["major"] for o in shown["orbits"]], response.major[k],
+                               rtol=RTOL)
+            expected = response.bearing_force[k]
+            assert np.allclose([f["major"] for f in shown["bearing_forces"]], expected,
+                               rtol=RTOL, atol=RTOL * float(np.max(expected)))
+            assert shown["follows_sliders"]["orbits"] and \
+                shown["follows_sliders"]["bearing_forces"], shown["follows_sliders"]
+        note = page.page.locator("#rotor-follows").inner_text()
+        assert "The orbits and bearing forces follow the parameter sliders" in note
+        assert "critical speed map are resonant's at the file's parameter values" in note
+
+
+def test_a_precomputed_rotor_page_says_its_orbits_are_the_file_s(browser: Any,
+                                                                 tmp_path: Path) -> None:
+    """Example 5.9.1 in 12 elements (52 coordinates, above LIVE_LIMIT): the page is
+    precomputed, and the rotor panel says that its orbits and forces, like its Campbell
+    diagram, are resonant's at the file's values."""
+    path = tmp_path / "friswell_12.toml"
+    path.write_text(FRISWELL.read_text().replace("count = 6", "count = 12"))
+    target = tmp_path / "friswell_12.html"
+    status, _, err = run_cli(["explore", path, "-o", target])
+    assert status == 0, err
+    with opened(browser, target) as page:
+        follows = _state(page)["follows_sliders"]
+        assert not follows["orbits"] and not follows["bearing_forces"]
+        note = page.page.locator("#rotor-follows").inner_text()
+        assert "so are the orbits and bearing forces (this page is precomputed)" in note

@@ -10,7 +10,7 @@ References:
 * a sine of amplitude S for n cycles: Miner's sum n S^k / C exactly (1e-12), the life
   T C / (n S^k);
 * units in ``[fatigue]``: ``amplitude = "100 MPa"``, ``duration = "1 h"`` are 1e8 Pa and
-  3600 s (exact).
+  3600 s (exact); ``--units MPa`` shows a history's ranges in MPa and C in MPa^k.
 """
 
 from __future__ import annotations
@@ -98,6 +98,23 @@ def test_rainflow_of_a_csv_history(tmp_path) -> None:  # type: ignore[no-untyped
     status, out, err = run_cli(["fatigue", BRACKET, "--csv", path])
     assert status == 0, err
     assert "the history repeated 360 times" in out and "Miner's damage 1e-05" in out
+
+
+def test_rainflow_text_and_plot_honour_units(tmp_path) -> None:  # type: ignore
+    """``--units MPa`` shows the history's ranges and the curve's C in MPa (C / 1e6^k),
+    as the spectral route does; the damage is the same number; --json stays SI."""
+    path = sine_history(tmp_path)
+    for model in ([], [BRACKET]):
+        status, out, err = run_cli(["fatigue", *model, "--csv", path, "--k", "3", "--C",
+                                    "1e30", "--units", "MPa", "--plot", tmp_path / "r.svg"])
+        assert status == 0, err
+        assert "N S^3 = 1e+12 (S the amplitude in MPa)" in out, out
+        assert "range [MPa]" in out and "183.3-200" in out and "Miner's damage 1e-05" in out
+        assert "range [MPa]" in (tmp_path / "r.svg").read_text()
+    status, out, err = run_cli(["fatigue", "--csv", path, "--k", "3", "--C", "1e30",
+                                "--units", "MPa", "--json"])
+    assert status == 0, err
+    assert max(json.loads(out)["ranges"]) == pytest.approx(2e8, rel=1e-12)
 
 
 def test_units_in_the_fatigue_section() -> None:

@@ -39,15 +39,28 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..arrays import freeze_fields
-from ..charts import COLORS, Bar, Chart, Charted, Charts
+from ..charts import (
+    COLORS,
+    Bar,
+    Chart,
+    Charted,
+    Charts,
+    PathArg,
+    check_plot_path,
+    draw_figure,
+    save_figure,
+)
 from ..errors import AnalysisError, name_list, printable
 from ..model.load_spec import FATIGUE_METHODS
-from ..model.units_display import ResultUnits, shown_unit
+from ..model.units_display import ResultUnits, Shown, shown_unit
 from ..tables import ResultTable, number_cell
 from .result_fields import FieldsJSON, Framed, saved
 from .results_json import Saved
 
 if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
     from .random_response import RandomResponse
 
 #: the spectral methods (FLife's Narrowband, Dirlik, TovoBenasciutti)
@@ -515,14 +528,14 @@ class RainflowDamage(Framed, FieldsJSON, Charted):
         """
         return duration / self.damage if self.damage > 0 else math.inf
 
-    def table(self, unit: str = "") -> ResultTable:
+    def table(self, unit: str | Shown = "") -> ResultTable:
         """The counted cycles by range (:data:`RANGE_BINS` bins at most): the cycles, the
         damage and its share.
 
         Parameters
         ----------
-        unit : str
-            The stress's unit, for the headings.
+        unit : str or Shown
+            The stress's unit, for the headings (a :class:`Shown` also converts).
 
         Returns
         -------
@@ -530,13 +543,13 @@ class RainflowDamage(Framed, FieldsJSON, Charted):
         """
         return rainflow_table(self, unit)
 
-    def summary(self, unit: str = "", duration: float | None = None) -> str:
+    def summary(self, unit: str | Shown = "", duration: float | None = None) -> str:
         """The text ``resonant fatigue --csv`` prints (:func:`rainflow_text`).
 
         Parameters
         ----------
-        unit : str
-            The stress's unit.
+        unit : str or Shown
+            The stress's unit (a :class:`Shown` also converts from SI).
         duration : float, optional
             The history's length (s): the life is given too.
 
@@ -546,19 +559,37 @@ class RainflowDamage(Framed, FieldsJSON, Charted):
         """
         return rainflow_text(self, unit, duration)
 
-    def chart(self, unit: str = "") -> Charts:
+    def chart(self, unit: str | Shown = "") -> Charts:
         """The figure's description (:func:`rainflow_chart`).
 
         Parameters
         ----------
-        unit : str
-            The stress's unit, for the labels.
+        unit : str or Shown
+            The stress's unit, for the labels (a :class:`Shown` also converts).
 
         Returns
         -------
         resonant.charts.Charts
         """
         return rainflow_chart(self, unit)
+
+    def plot(self, path: PathArg = None, ax: Axes | Sequence[Axes] | None = None,
+             unit: str | Shown = "") -> Figure:
+        """Draw :meth:`chart` (the stress in ``unit``) and write it to ``path`` where given.
+
+        Parameters
+        ----------
+        path : str or PathLike, optional
+        ax : matplotlib Axes or sequence of them, optional
+        unit : str or Shown
+            The stress's unit (a :class:`Shown` also converts the ranges from SI).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        check_plot_path(path)
+        return save_figure(draw_figure(self.chart(unit), ax), path)
 
 
 def rainflow_damage(stress: Sequence[float] | np.ndarray, sn: SNCurve) -> RainflowDamage:
@@ -619,15 +650,22 @@ def _range_bins(result: RainflowDamage) -> list[tuple[float, float, float, float
             if (index == b).any()]
 
 
-def rainflow_table(result: RainflowDamage, unit: str = "") -> ResultTable:
+def _stress_unit(unit: str | Shown) -> Shown:
+    """The display unit of a history's stress: a :class:`Shown` converts the SI (Pa)
+    numbers (``ResultUnits.of("Pa")``, ``--units MPa``), a text only labels them."""
+    return unit if isinstance(unit, Shown) else Shown(unit)
+
+
+def rainflow_table(result: RainflowDamage, unit: str | Shown = "") -> ResultTable:
     """A rainflow count by range bin: the bin, its cycles (half cycles 0.5), their damage
     and its share of the whole.
 
     Parameters
     ----------
     result : RainflowDamage
-    unit : str
-        The stress's unit, for the headings.
+    unit : str or Shown
+        The stress's unit, for the headings; a :class:`Shown` (``MPa``) also converts
+        the ranges from SI.
 
     Returns
     -------
@@ -641,24 +679,30 @@ def rainflow_table(result: RainflowDamage, unit: str = "") -> ResultTable:
        100-116.7       1  1.25e-07    20%
        183.3-200     0.5     5e-07    80%
     """
-    suffix = f" [{printable(unit, limit=20)}]" if unit else ""
-    rows = tuple((f"{number_cell(low)}-{number_cell(high)}", number_cell(cycles),
+    shown = _stress_unit(unit)
+    suffix = f" [{printable(shown.text, limit=20)}]" if shown.text else ""
+    rows = tuple((f"{number_cell(shown(low))}-{number_cell(shown(high))}", number_cell(cycles),
                   number_cell(damage, 3),
                   f"{100 * damage / result.damage:.3g}%" if result.damage > 0 else "-")
                  for low, high, cycles, damage in _range_bins(result))
     return ResultTable((f"range{suffix}", "cycles", "damage", "share"), rows, align="rrrr")
 
 
-def rainflow_text(result: RainflowDamage, unit: str = "", duration: float | None = None,
-                  warnings: bool = True) -> str:
+#: what the text calls the stress's unit where none is known (a history without units)
+THE_STRESS_UNIT = "the stress's unit"
+
+
+def rainflow_text(result: RainflowDamage, unit: str | Shown = "",
+                  duration: float | None = None, warnings: bool = True) -> str:
     """A rainflow count and Miner's damage as text: the S-N curve, the damage (and the
     life where the history's length is given), the cycles by range.
 
     Parameters
     ----------
     result : RainflowDamage
-    unit : str
-        The stress's unit.
+    unit : str or Shown
+        The stress's unit; a :class:`Shown` (``MPa``) also converts the ranges and the
+        S-N curve's C from SI.
     duration : float, optional
         The history's length (s).
     warnings : bool
@@ -674,9 +718,12 @@ def rainflow_text(result: RainflowDamage, unit: str = "", duration: float | None
     >>> print(rainflow_text(result, "Pa", 2.0).splitlines()[1])
       Miner's damage 6.25e-07 over the history (2 s); life 3.2e+06 s (888.9 h)
     """
-    shown = printable(unit, limit=20) or "the stress's unit"
+    shown = _stress_unit(unit)
+    # N S^k = C with S = factor S': N S'^k = C / factor^k
+    C = result.sn.C / shown.factor ** result.sn.k
     lines = [f"Rainflow counting (ASTM E1049) and Miner's rule: S-N curve N S^{result.sn.k:g} "
-             f"= {result.sn.C:.4g} (S the amplitude in {shown}); "
+             f"= {C:.4g} (S the amplitude in "
+             f"{printable(shown.text, limit=20) or THE_STRESS_UNIT}); "
              f"{result.counts.sum():g} cycles"]
     text = f"  Miner's damage {result.damage:.4g} over the history"
     if duration is not None:
@@ -689,15 +736,16 @@ def rainflow_text(result: RainflowDamage, unit: str = "", duration: float | None
     return "\n".join(lines) + "\n"
 
 
-def rainflow_chart(result: RainflowDamage, unit: str = "") -> Charts:
+def rainflow_chart(result: RainflowDamage, unit: str | Shown = "") -> Charts:
     """What the figure of a rainflow count shows: the cycles and their damage by range
     bin, as bars.
 
     Parameters
     ----------
     result : RainflowDamage
-    unit : str
-        The stress's unit, for the labels.
+    unit : str or Shown
+        The stress's unit, for the labels; a :class:`Shown` (``MPa``) also converts the
+        ranges from SI.
 
     Returns
     -------
@@ -709,8 +757,10 @@ def rainflow_chart(result: RainflowDamage, unit: str = "") -> Charts:
     >>> [p.ylabel for p in rainflow_chart(result, "Pa").panels]
     ['cycles', "Miner's damage"]
     """
-    bins = _range_bins(result)
-    label = f" [{printable(unit, limit=20)}]" if unit else ""
+    shown = _stress_unit(unit)
+    bins = [(shown(low), shown(high), cycles, damage)
+            for low, high, cycles, damage in _range_bins(result)]
+    label = f" [{printable(shown.text, limit=20)}]" if shown.text else ""
     x = np.array([(low + high) / 2 for low, high, _, _ in bins])
     width = (bins[0][1] - bins[0][0]) * 0.85 if bins else 1.0
     xlim = (0.0, bins[-1][1]) if bins else (0.0, 1.0)

@@ -76,6 +76,7 @@ from ..errors import AnalysisError, ModelError, Problem, name_list, printable
 from ..expressions import parse, primed_names
 from ..expressions.notation import dollar_name
 from ..modal import point_state_eigenvalues
+from ..model.campbell_spec import with_unbalance_loads
 from ..model.options import START_KINDS, SimulationOptions, chosen
 from ..model.types import constant_prime_message
 from ..model.units_display import (
@@ -88,7 +89,9 @@ from ..model.units_display import (
     unit_suffix,
 )
 from ..system.base import LinearSystem, NumericEOM
+from ..system.build import linear_system as build_linear_system
 from ..system.build import nonlinear_system
+from ..system.matrix import MatrixEOM
 from ..system.nonlinear import NonlinearSystem
 from ..system.stability import (
     ASYMPTOTIC,
@@ -439,6 +442,29 @@ def parse_initial(coordinates: Sequence[str], values: Mapping[str, float],
 
 
 
+def _with_unbalance(system: LinearSystem | NonlinearSystem, deadline: Deadline,
+                    warnings: list[str]) -> LinearSystem | NonlinearSystem:
+    """A rotor's system with its ``[[unbalance]]`` as the rotating load m e Omega^2
+    (cos, sin)(Omega t + phi) at the model's speed: a ``[[harmonic]]`` of the model
+    (:func:`resonant.model.campbell_spec.with_unbalance_loads`), so that it takes the one
+    load path every harmonic load takes (docs/rotors.md)."""
+    model = system.model
+    if model is None or not model.unbalances or \
+            not isinstance(system.linear if isinstance(system, NonlinearSystem) else system,
+                           MatrixEOM):
+        return system
+    loaded = with_unbalance_loads(model)
+    if loaded is model:
+        return system
+    assert model.matrices is not None and model.matrices.speed is not None
+    speed = model.matrices.speed
+    if model.parameter_values.get(speed) == 0:
+        warnings.append(f"the rotor is at rest ({speed} = 0): its [[unbalance]] loads "
+                        f"nothing; give the speed (--set {speed}=...)")
+    return nonlinear_system(loaded, deadline) if isinstance(system, NonlinearSystem) \
+        else build_linear_system(loaded, deadline)
+
+
 def _systems(system: LinearSystem | NonlinearSystem, nonlinear: bool | None,
              deadline: Deadline) -> tuple[LinearSystem, NonlinearSystem | None]:
     """The linear system and, for a nonlinear run, the nonlinear one."""
@@ -644,7 +670,9 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
     system : LinearSystem or NonlinearSystem
         The linear system of a model, or the full equations
         (:func:`resonant.system.nonlinear_system`: a model given by its
-        energies, or ``[matrices]`` with ``[[nonlinear]]`` elements).
+        energies, or ``[matrices]`` with ``[[nonlinear]]`` elements).  A rotor's
+        ``[[unbalance]]`` is integrated as the rotating load m e Omega^2 it is at the
+        speed parameter's value (docs/rotors.md, The unbalance in time).
     duration : float, optional
         End time in s.  Default: for an asymptotically stable system, long
         enough for the slowest transient to decay by ``exp(-12)``; otherwise
@@ -717,8 +745,9 @@ def simulate(system: LinearSystem | NonlinearSystem, duration: float | None = No
         given.start
     method, rtol, progress = given.method, given.rtol, given.progress
     periods = DEFAULT_PERIODS if given.periods is None else given.periods
-    linear_system, full = _systems(system, nonlinear, deadline)
     warnings: list[str] = []
+    linear_system, full = _systems(_with_unbalance(system, deadline, warnings), nonlinear,
+                                   deadline)
     num = linear_system.numeric(deadline).dense()
     check_mass_matrix(num.M, num.coordinates)
     scales = _Scales.of(num, periods)
@@ -782,7 +811,7 @@ def simulation_chart(sim: Simulation, units: Mapping[str, str] | ResultUnits | N
     t = time(np.asarray(sim.t, dtype=float))
     xlim = (float(t[0]), float(t[-1])) if t.size > 1 and t[-1] > t[0] else (0.0, 1.0)
     panels = []
-    drawn = _largest_motions(sim)
+    drawn = _largest_motions(sim, units)
     for name in drawn:
         value = shown[name]
         curves = [Curve(t, value(np.asarray(sim.states[name], dtype=float)),
@@ -800,29 +829,46 @@ def simulation_chart(sim: Simulation, units: Mapping[str, str] | ResultUnits | N
         kindof = "coordinate" if name in sim.coordinates else "output"
         unit = f" [{unit_text(value.text)}]" if value.text not in ("", "1") else ""
         panels.append(Chart(tuple(curves), f"time $t$ [{time.text}]",
-                            f"{dollar_name(name)}{unit} ({kindof}, deviation)", xlim,
+                            f"{dollar_name(name)}{unit}", xlim,
                             spans=(Span(time(float(sim.window[0])), time(float(sim.window[1])),
                                         "#e6e6e6", "amplitude window"),),
-                            title=f"{dollar_name(name)}: {text}"))
+                            title=f"{dollar_name(name)}: {kindof} deviation"
+                                  + (f"; {text}" if text else "")))
     start = START_KINDS[sim.start]
     title = printable(sim.title or "simulation", limit=80)
     if len(drawn) < len(sim.names):  # said, never dropped without a word
-        start += (f"\n{len(drawn)} of {len(sim.names)} coordinates and outputs drawn: "
-                  "those that move most")
+        start += f"\n{len(drawn)} of {len(sim.names)} drawn: {MOST_MOTION}"
     return Charts(tuple(panels), f"{title} — {kind}, {start}",
                   size=(9.0, 1.2 + 2.1 * len(panels)), legend="below")
 
 
-def _largest_motions(sim: Simulation) -> list[str]:
-    """The names a simulation's figure draws: all of them, or the :data:`MAX_CURVES` whose
-    largest |deviation| (SI: metres beside radians) is largest (a rotor has dozens of
-    coordinates), in their order."""
+def _largest_motions(sim: Simulation, units: Mapping[str, str] | ResultUnits | None = None
+                     ) -> list[str]:
+    """The names a simulation's figure draws: all of them, or the :data:`MAX_CURVES` that
+    move most (a rotor has dozens of coordinates), in their order.
+
+    A metre is not compared with a radian: each name's largest |deviation| is taken
+    relative to the largest of the names of its own SI unit (``units``; one kind where no
+    units are known), so the largest displacement and the largest tilt both rank 1; ties
+    keep the names' order.
+    """
     if len(sim.names) <= MAX_CURVES:
         return list(sim.names)
-    size = [float(np.nanmax(np.abs(np.asarray(sim.states[n], dtype=float)), initial=0.0))
-            for n in sim.names]
-    keep = set(np.argsort(-np.asarray(size), kind="stable")[:MAX_CURVES].tolist())
+    si = units.si if isinstance(units, ResultUnits) else (units or {})
+    size = {n: float(np.nanmax(np.abs(np.asarray(sim.states[n], dtype=float)), initial=0.0))
+            for n in sim.names}
+    largest: dict[str, float] = {}
+    for name, value in size.items():
+        kind = si.get(name, "")
+        largest[kind] = max(largest.get(kind, 0.0), value)
+    share = [size[n] / largest[si.get(n, "")] if largest[si.get(n, "")] > 0 else 0.0
+             for n in sim.names]
+    keep = set(np.argsort(-np.asarray(share), kind="stable")[:MAX_CURVES].tolist())
     return [n for i, n in enumerate(sim.names) if i in keep]
+
+
+#: the figure's note where it draws some of the names (the rule of :func:`_largest_motions`)
+MOST_MOTION = "those that move most relative to the largest of their unit (m, rad, ...)"
 
 
 def history_chart(t: npt.ArrayLike, values: Mapping[str, Any],

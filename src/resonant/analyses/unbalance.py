@@ -22,7 +22,6 @@ Examples
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -41,7 +40,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem
 from ..expressions import Expression
 from ..expressions.numeric import numeric_value
-from ..model.campbell_spec import Unbalance
+from ..model.campbell_spec import Unbalance, unbalance_columns
 from ..model.rotor import Bearing, SpeedTable
 from ..model.units_display import ResultUnits, Shown, angular_shown, shown_unit
 from ..system.base import LinearSystem
@@ -269,17 +268,9 @@ def _stations(system: LinearSystem) -> list[tuple[str, int, int]]:
 def _loads(system: LinearSystem, unbalances: Sequence[Unbalance], speeds: np.ndarray
            ) -> tuple[np.ndarray, np.ndarray]:
     """F_S and F_C (N, n) of the unbalances (F = F_C - i F_S, x = Re(z e^(i Omega t)))."""
-    index = {n: i for i, n in enumerate(system.coordinates)}
-    F_S, F_C = np.zeros((len(speeds), system.n)), np.zeros((len(speeds), system.n))
-    for u in unbalances:
-        x, y = (index[f"{u.station}_x"], index[f"{u.station}_y"]) if u.station else \
-            (index["x"], index["y"])
-        force = u.amount * speeds ** 2
-        F_C[:, x] += force * math.cos(u.phase)
-        F_S[:, x] -= force * math.sin(u.phase)
-        F_C[:, y] += force * math.sin(u.phase)
-        F_S[:, y] += force * math.cos(u.phase)
-    return F_S, F_C
+    s, c = unbalance_columns(unbalances, system.coordinates)
+    squared = speeds[:, None] ** 2
+    return squared * s, squared * c
 
 
 def unbalance_response(system: LinearSystem, speeds: Sequence[float] | np.ndarray | None = None,

@@ -146,8 +146,11 @@ def _rainflow(args: argparse.Namespace, model: Model | None) -> int:
     step, values = read_time_series(args.csv)
     length = step * (len(values) - 1)
     result = rainflow_damage(values, sn)
+    # the history is in Pa where units are known (the model's or --units), as C is
+    units = cli.shown_units(args, model)
+    unit = units.of("Pa") if units is not None else ""
     if args.plot:
-        result.plot(args.plot)
+        result.plot(args.plot, unit=unit)
     repeats = duration / length if duration is not None else 1.0
     if args.json:
         life = result.life(length)
@@ -155,7 +158,7 @@ def _rainflow(args: argparse.Namespace, model: Model | None) -> int:
                        "life_s": life if math.isfinite(life) else None,
                        "exposure_s": length * repeats, "exposure_damage": result.damage * repeats})
     else:
-        text = rainflow_text(result, duration=length, warnings=False)
+        text = rainflow_text(result, unit, duration=length, warnings=False)
         if duration is not None:
             text += (f"  over the exposure of {duration:.4g} s (the history repeated "
                      f"{repeats:.4g} times): damage {result.damage * repeats:.4g}\n")

@@ -21,13 +21,20 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
 
 from ..errors import Problem
-from ..expressions import ExpressionError
+from ..expressions import ExpressionError, parse
 from ..expressions.numeric import numeric_value
 from .load_spec import quantity_parts
+from .matrix_spec import Harmonic
 from .units import FREQUENCY, Unit, parse_with_unit
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .types import Model
 
 CAMPBELL_KEYS = ("from", "to", "points", "modes", "orders", "speed")
 #: the most grid speeds of a Campbell diagram
@@ -238,6 +245,66 @@ def parse_unbalances(data: object, coordinates: Sequence[str], source: str,
     return tuple(out)
 
 
+def unbalance_columns(unbalances: Sequence[Unbalance], coordinates: Sequence[str]
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """The sine and cosine columns of the unbalances' load per Omega^2: m e at angle phi
+    on a station spinning at Omega loads it with m e Omega^2 (cos(Omega t + phi),
+    sin(Omega t + phi)) = Omega^2 (c cos(Omega t) + s sin(Omega t)).
+
+    Returns
+    -------
+    s, c : ndarray
+        (n,) each, kg m (times Omega^2: N).
+
+    Examples
+    --------
+    >>> s, c = unbalance_columns([Unbalance("", 2.0, math.pi / 2)], ["x", "y"])
+    >>> s.round(12).tolist(), c.round(12).tolist()
+    ([-2.0, 0.0], [0.0, 2.0])
+    """
+    index = {n: i for i, n in enumerate(coordinates)}
+    s, c = np.zeros(len(coordinates)), np.zeros(len(coordinates))
+    for u in unbalances:
+        x, y = (index[f"{u.station}_x"], index[f"{u.station}_y"]) if u.station else \
+            (index["x"], index["y"])
+        # cos(W t + phi) = cos phi cos W t - sin phi sin W t; sin(W t + phi) likewise
+        c[x] += u.amount * math.cos(u.phase)
+        s[x] -= u.amount * math.sin(u.phase)
+        c[y] += u.amount * math.sin(u.phase)
+        s[y] += u.amount * math.cos(u.phase)
+    return s, c
+
+
+def with_unbalance_loads(model: Model) -> Model:
+    """The model with its ``[[unbalance]]`` as a ``[[harmonic]]`` load of circular
+    frequency the speed parameter Omega, F_S and F_C = Omega^2 :func:`unbalance_columns`:
+    the rotating load a time simulation integrates (docs/rotors.md).  The model itself
+    where it has no unbalance, no ``[matrices]`` (a ``[rotor]`` is one) or no speed
+    parameter.
+
+    Examples
+    --------
+    >>> from resonant.model import load
+    >>> rotor = with_unbalance_loads(load("examples/rotors/jeffcott_rotor.toml"))
+    >>> h = rotor.matrices.harmonics[-1]
+    >>> h.omega.text, [e.text for e in h.F_C]
+    ('Omega', ['0.0001*Omega^2', '0'])
+    """
+    spec = model.matrices
+    if not model.unbalances or spec is None or spec.speed is None:
+        return model
+    s, c = unbalance_columns(model.unbalances, model.coordinates)
+    speed = spec.speed
+
+    def column(values: np.ndarray) -> tuple[Any, ...]:
+        # a round-off term (sin of 0 deg written as 1e-17) is no load
+        return tuple(parse(f"{float(v)!r}*{speed}^2" if abs(v) > 1e-14 * np.abs(values).max()
+                           else "0") for v in values)
+
+    harmonic = Harmonic(parse(speed), column(s), column(c))
+    return replace(model, matrices=replace(spec, harmonics=(*spec.harmonics, harmonic)))
+
+
 def _constant(raw: object, source: str, section: str, key: str, problems: list[Problem],
               signed: bool = False) -> float | None:
     if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
@@ -257,4 +324,4 @@ def _constant(raw: object, source: str, section: str, key: str, problems: list[P
 
 
 __all__ = ["CampbellSpec", "parse_campbell", "parse_speed", "CAMPBELL_KEYS", "Unbalance",
-           "parse_unbalances", "UNBALANCE_KEYS"]
+           "parse_unbalances", "UNBALANCE_KEYS", "unbalance_columns", "with_unbalance_loads"]

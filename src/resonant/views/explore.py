@@ -50,6 +50,7 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem
 from ..expressions.notation import name_latex
 from ..model import Model
+from ..model.campbell_spec import unbalance_columns
 from ..model.rotor import Bearing, SpeedTable
 from ..model.units_display import ResultUnits, result_units
 from ..system.base import LinearSystem
@@ -845,17 +846,28 @@ def rotor_data(model: Model, system: LinearSystem, deadline: Deadline = NO_DEADL
     if model.unbalances:
         response = unbalance_response(system, speeds, deadline=deadline)
         keep = slice(0, ROTOR_STATIONS)
+        index = {q: i for i, q in enumerate(system.coordinates)}
+        s, c = unbalance_columns(response.unbalances, system.coordinates)
         orbits = {"stations": list(response.stations[keep]),
                   "X": _complex_json(response.X[:, keep]),
                   "Y": _complex_json(response.Y[:, keep]),
                   "amount": [u.amount for u in response.unbalances],
-                  "at": [u.station for u in response.unbalances]}
+                  "at": [u.station for u in response.unbalances],
+                  # what the page solves at the sliders' values: the rows of each station's
+                  # x, y and the load per Omega^2 (F = Omega^2 (c - i s))
+                  "rows": [[index[f"{st}_x" if st else "x"], index[f"{st}_y" if st else "y"]]
+                           for st in response.stations[keep]],
+                  "load": {"s": s.tolist(), "c": c.tolist()}}
         finite = np.all(np.isfinite(response.X) & np.isfinite(response.Y), axis=1)
         if response.bearings:
+            bearings = model.matrices.bearings if model.matrices is not None else ()
             forces = {"bearings": list(response.bearings),
                       "FX": _complex_json(response.bearing_forces[..., 0]),
                       "FY": _complex_json(response.bearing_forces[..., 1]),
-                      "curve": _force_curve(system, result, deadline)}
+                      "curve": _force_curve(system, result, deadline),
+                      "station": [list(b.station) for b in bearings],
+                      "pedestal": [list(b.pedestal) if b.pedestal is not None else None
+                                   for b in bearings]}
     threshold = result.threshold
     critical = [c.speed for c in result.critical_speeds]
     return {"speed_parameter": name, "rpm": RPM, "speeds": speeds.tolist(),

@@ -40,7 +40,7 @@ from ..derivation import decompose_signals
 from ..derivation.lagrange import signal_derivatives
 from ..model import Model, symbol
 from ..system.base import LinearSystem
-from .js_printer import js_function, js_number
+from .js_printer import NotPrintable, js_function, js_number
 from .sketch import SketchMotion
 
 Var = tuple[str, int]
@@ -382,7 +382,46 @@ def export_system(system: LinearSystem, motion: SketchMotion | None = None
         program.append(source)
         layout["signal_frequencies"] = count
         layout["signals"] = list(model.signals)
+    bearings = model.matrices.bearings if model.matrices is not None else ()
+    if bearings:
+        program.append(js_function("resonantBearings", bearing_expressions(bearings), names))
     return ExportedSystem("\n".join(program), layout)
+
+
+#: the coefficients of a bearing the force it transmits takes, in the order the page reads
+BEARING_KEYS = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
+
+
+def bearing_expressions(bearings: Sequence[Any]) -> list[sympy.Expr]:
+    """Every bearing's :data:`BEARING_KEYS` as expressions of the parameters (0 where not
+    given), for the page's bearing forces at the sliders' values
+    (:func:`resonant.analyses.unbalance.bearing_force` is the same force).
+
+    Raises
+    ------
+    resonant.views.js_printer.NotPrintable
+        For a coefficient tabulated in speed (the page refuses such a rotor before).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/rotors/friswell_5_9_1.toml")
+    >>> bearing_expressions(model.matrices.bearings)[:4]
+    [1000000.00000000, 0, 0, 1000000.00000000]
+    """
+    resolve = lambda name, primes: symbol(name)  # noqa: E731
+    out: list[sympy.Expr] = []
+    for bearing in bearings:
+        given = dict(bearing.coefficients)
+        for key in BEARING_KEYS:
+            value = given.get(key, 0.0)
+            if isinstance(value, (int, float)):
+                out.append(sympy.Float(value) if value else sympy.Integer(0))
+            elif hasattr(value, "to_sympy"):
+                out.append(value.to_sympy(resolve))
+            else:
+                raise NotPrintable(f"the bearing coefficient {bearing.name} {key} is a table")
+    return out
 
 
 def equilibrium_values(model: Model) -> list[float]:
@@ -413,4 +452,4 @@ def equilibrium_values(model: Model) -> list[float]:
 
 __all__ = ["ExportedSystem", "export_system", "system_expressions", "parameters_function",
            "motion_functions", "derived_parameters", "equilibrium_values", "matrix_parameters",
-           "js_number"]
+           "js_number", "bearing_expressions", "BEARING_KEYS"]

@@ -49,13 +49,12 @@
     return e;
   }
 
-  // LaTeX of a name (x_{1}, \varphi, \mathrm{stroke}) as [base, subscript] in Unicode
+  // LaTeX of a name (x_{1}, \varphi, \mathrm{stroke}) as [base, subscript] in Unicode.  The
+  // names come typeset from resonant (resonant.expressions.notation.name_latex: ks is
+  // already k_{s}); this only reads LaTeX, it has no naming rule of its own
   const GREEK = { alpha: "α", beta: "β", gamma: "γ", delta: "δ", epsilon: "ε", varepsilon: "ε", zeta: "ζ", eta: "η", theta: "θ", vartheta: "ϑ", iota: "ι", kappa: "κ", lambda: "λ", mu: "μ", nu: "ν", xi: "ξ", pi: "π", rho: "ρ", sigma: "σ", tau: "τ", upsilon: "υ", phi: "ϕ", varphi: "φ", chi: "χ", psi: "ψ", omega: "ω", Gamma: "Γ", Delta: "Δ", Theta: "Θ", Lambda: "Λ", Xi: "Ξ", Pi: "Π", Sigma: "Σ", Phi: "Φ", Psi: "Ψ", Omega: "Ω" };
   function latexText(text) {
-    // a two-letter name (ks, cs, kt) is a letter with a one-letter index, as k_s is written
-    const pair = text.match(/^\\mathrm\{([A-Za-z])([A-Za-z])\}$/);
-    if (pair && !GREEK[pair[1] + pair[2]]) return [pair[1], pair[2], ""];
-    let t = text.replace(/\\mathrm\{([^{}]*)\}/g, "$1").replace(/\\([A-Za-z]+)/g, (m, g) => GREEK[g] || g);
+    const t = text.replace(/\\mathrm\{([^{}]*)\}/g, "$1").replace(/\\([A-Za-z]+)/g, (m, g) => GREEK[g] || g);
     const m = t.match(/^(.*?)_\{([^{}]*)\}(.*)$/);
     return m ? [m[1], m[2], m[3]] : [t, "", ""];
   }
@@ -414,8 +413,11 @@
       if (!(e instanceof Error) || e.constructor !== Error) console.error(e);  // a bug, not the model
     }
     render();
+    for (const listener of LISTENERS) listener();
     S.timing = performance.now() - t0;
   }
+  // the panels of other scripts (rotor.js) that follow the sliders: called after each change
+  const LISTENERS = [];
 
   // -- controls ------------------------------------------------------------------------------
   const controlsOf = [];
@@ -1360,7 +1362,18 @@
   }
 
   // the page's helpers for the panels of other scripts (the rotor panel, rotor.js)
-  window.resonantPage = Object.freeze({ el, fmt, number, canvasContext, niceTicks, logRange, COLOURS, NOW, PARAMS });
+  // parametersWith: the parameters p at the sliders' values, those named in `fixed` set to
+  // theirs (a parameter defined by a formula then keeps the value given, as when typed)
+  function parametersWith(fixed) {
+    const v = Float64Array.from(S.v), o = Uint8Array.from(S.o);
+    for (const [name, x] of Object.entries(fixed)) {
+      const i = PARAMS.findIndex(c => c.name === name);
+      if (i >= 0) { v[i] = x; o[i] = 1; }
+    }
+    return parameters(v, o);
+  }
+  window.resonantPage = Object.freeze({ el, fmt, number, canvasContext, niceTicks, logRange, COLOURS, NOW, PARAMS,
+    LIVE, NUM, parametersWith, matricesAt, listen: f => { LISTENERS.push(f); } });
 
   // -- the script interface ------------------------------------------------------------------
   function jsonMatrix(a) {

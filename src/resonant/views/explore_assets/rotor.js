@@ -1,8 +1,9 @@
 // resonant explore: the rotor panel (a model with [campbell]).  Reads the page's data
 // (D.rotor, computed by resonant: resonant.views.explore.rotor_data): a speed slider over
 // the Campbell diagram's speeds, the unbalance orbits of the stations drawn at the current
-// speed (their semi-axes 0-pk computed here from the complex amplitudes X, Y), the forces
-// the bearings transmit (their amplitudes computed here from the complex x and y forces)
+// speed (their semi-axes 0-pk computed here from the complex amplitudes X, Y; on a live
+// page X, Y are solved here at the parameter sliders' values), the forces the bearings
+// transmit (their amplitudes computed here from the complex x and y forces, live likewise)
 // against speed, the Campbell diagram with the current speed marked, the modes at that
 // speed and the undamped critical speed map (drawn from resonant's chart of it).
 "use strict";
@@ -25,9 +26,80 @@
 
   // a number of the data: null (NaN in resonant's JSON: an unbounded response) is NaN
   const num = v => (v === null ? NaN : v);
+
+  // The orbits and the bearing forces follow the sliders on a live page: at each speed of
+  // the slider the unbalance response (K - W^2 M + i W C) z = W^2 (c - i s), M, C (with
+  // W G), K printed from the model at the sliders' values with the speed parameter at W
+  // (what resonant.analyses.unbalance.unbalance_response solves), and each bearing's force
+  // (K_b + i W C_b)(z_station - z_pedestal) with its coefficients printed
+  // (resonantBearings).  Elsewhere (a precomputed page) they are resonant's, at the file's
+  // values.  The Campbell diagram, its modes and the map are always the file's.
+  const LIVE = Boolean(H.LIVE && R.orbits && R.orbits.rows);
+  const BEARINGS = LIVE && R.forces && R.forces.station && typeof resonantBearings === "function";
+  // the complex amplitudes shown: {X, Y} per station, {FX, FY} per bearing ({re, im}[k][i])
+  // at every slider speed, and each bearing's force (0-pk) along the chart's finer grid
+  let O = R.orbits, F = R.forces, CURVE = R.forces ? R.forces.curve.major.map(v => v.map(num)) : [];
+  let ERROR = "";
+  function table(rows, cols) { return { re: rows.map(() => new Array(cols).fill(NaN)), im: rows.map(() => new Array(cols).fill(NaN)) }; }
+  // z of the unbalance at speed w (null where the solve is singular: an undamped critical speed)
+  function solveAt(w) {
+    const p = H.parametersWith({ [R.speed_parameter]: w });
+    const { M, C, K } = H.matricesAt(p);
+    const n = Math.round(Math.sqrt(M.length)), L = R.orbits.load;
+    const ar = new Float64Array(n * n), ai = new Float64Array(n * n);
+    for (let i = 0; i < n * n; i++) { ar[i] = K[i] - w * w * M[i]; ai[i] = w * C[i]; }
+    const z = H.NUM.complexSolve(n, ar, ai, L.c.map(v => w * w * v), L.s.map(v => -w * w * v));
+    return z.singular ? null : { re: z.re, im: z.im, coefficients: BEARINGS ? resonantBearings(p) : null };
+  }
+  // bearing b's x and y forces [fxr, fxi, fyr, fyi] at speed w from the response z
+  function bearingForce(z, b, w) {
+    const [ix, iy] = R.forces.station[b], ped = R.forces.pedestal[b];
+    const d = [ix, iy].map((i, j) => [z.re[i] - (ped ? z.re[ped[j]] : 0), z.im[i] - (ped ? z.im[ped[j]] : 0)]);
+    const k = z.coefficients.slice(8 * b, 8 * b + 8);  // kxx kxy kyx kyy cxx cxy cyx cyy
+    const out = [];
+    for (const r of [0, 1]) {
+      let fr = 0, fi = 0;
+      for (const c of [0, 1]) {
+        const kr = k[2 * r + c], ki = w * k[4 + 2 * r + c];
+        fr += kr * d[c][0] - ki * d[c][1]; fi += kr * d[c][1] + ki * d[c][0];
+      }
+      out.push(fr, fi);
+    }
+    return out;
+  }
+  function follow() {
+    if (!LIVE) return;
+    try {
+      const stations = R.orbits.rows, nb = BEARINGS ? R.forces.bearings.length : 0;
+      const o = { ...R.orbits, X: table(R.speeds, stations.length), Y: table(R.speeds, stations.length) };
+      const f = BEARINGS ? { ...R.forces, FX: table(R.speeds, nb), FY: table(R.speeds, nb) } : R.forces;
+      R.speeds.forEach((w, k) => {
+        const z = solveAt(w);
+        if (!z) return;
+        stations.forEach(([ix, iy], i) => {
+          o.X.re[k][i] = z.re[ix]; o.X.im[k][i] = z.im[ix]; o.Y.re[k][i] = z.re[iy]; o.Y.im[k][i] = z.im[iy];
+        });
+        for (let b = 0; b < nb; b++) {
+          const [xr, xi, yr, yi] = bearingForce(z, b, w);
+          f.FX.re[k][b] = xr; f.FX.im[k][b] = xi; f.FY.re[k][b] = yr; f.FY.im[k][b] = yi;
+        }
+      });
+      if (BEARINGS) {
+        CURVE = R.forces.bearings.map(() => new Array(R.forces.curve.speeds.length).fill(NaN));
+        R.forces.curve.speeds.forEach((w, j) => {
+          const z = solveAt(w);
+          if (z) for (let b = 0; b < nb; b++) CURVE[b][j] = ellipse(bearingForce(z, b, w)).major;
+        });
+      }
+      O = o; F = f; ERROR = "";
+    } catch (e) {
+      // the sliders' values make M, C or K not finite: the file's numbers stay, and say so
+      O = R.orbits; F = R.forces; CURVE = R.forces ? R.forces.curve.major.map(v => v.map(num)) : [];
+      ERROR = String(e.message || e);
+    }
+  }
   // the orbit of station i at speed k: x = Re(X e^(i theta)), y = Re(Y e^(i theta))
   function amplitudes(k, i) {
-    const O = R.orbits;
     return [O.X.re[k][i], O.X.im[k][i], O.Y.re[k][i], O.Y.im[k][i]].map(num);
   }
   // the ellipse x = Re(X e^(i theta)), y = Re(Y e^(i theta)): its forward and backward
@@ -40,7 +112,6 @@
   function semiAxes(k, i) { return ellipse(amplitudes(k, i)); }
   // the force bearing i transmits at speed k: the complex amplitudes of its x and y forces
   function forceAmplitudes(k, i) {
-    const F = R.forces;
     return [F.FX.re[k][i], F.FX.im[k][i], F.FY.re[k][i], F.FY.im[k][i]].map(num);
   }
   function forceState(k) {
@@ -51,7 +122,7 @@
     });
   }
   // each bearing's force (major semi-axis, 0-pk) at every speed, for its chart
-  const FORCES = R.forces ? R.forces.bearings.map((_, i) => R.speeds.map((_, k) => ellipse(forceAmplitudes(k, i)).major)) : [];
+  const forcesAtSpeeds = () => (R.forces ? R.forces.bearings.map((_, i) => R.speeds.map((_, k) => ellipse(forceAmplitudes(k, i)).major)) : []);
 
   function orbitState(k) {
     if (!R.orbits) return null;
@@ -70,6 +141,7 @@
       index: k, speed: R.speeds[k], speed_parameter: R.speed_parameter,
       frequencies: R.frequencies[k], damping_ratios: R.damping_ratios[k], whirl: R.whirl[k],
       orbits: orbitState(k), amplitude_convention: "0-pk (pk-pk = 2 x 0-pk)",
+      follows_sliders: { orbits: LIVE && !ERROR, bearing_forces: Boolean(BEARINGS) && !ERROR, note: followsText() },
       bearing_forces: forceState(k),
       map: R.map ? { own: R.map.own, shown: S.map, note: R.map.note, undamped: mapState(R.map.undamped), damped: mapState(R.map.damped) } : null,
       threshold: R.threshold, critical: R.critical }));
@@ -206,7 +278,7 @@
     // speeds), the dots at the slider's speed
     const k = S.k, xs = R.speeds.map(v => v / factor);
     const curve = R.forces.curve, cs = curve.speeds.map(v => v / factor);
-    const CURVES = curve.major.map(values => values.map(num));
+    const CURVES = CURVE, FORCES = forcesAtSpeeds();
     const y = logRange(CURVES.flat().concat(FORCES.flat()));
     const f = frame(ctx, w, h, { x: [xs[0], xs[N - 1]], y, xlog: false, ylog: true,
       xlabel: `speed ${R.speed_parameter} (${unit})`, ylabel: "bearing force 0-pk (N)" });
@@ -379,7 +451,18 @@
       number(b.minor, 6), number(2 * b.major, 6)]));
   }
 
+  // what follows the parameter sliders and what is the file's, said on the page
+  function followsText() {
+    const fixed = "The Campbell diagram, the modes at each speed and the critical speed map are resonant's at the file's parameter values (they do not follow the parameter sliders)";
+    if (!R.orbits) return `${fixed}.`;
+    if (ERROR) return `${fixed}; the orbits and bearing forces too, for now: at the sliders' values ${ERROR}.`;
+    if (!LIVE) return `${fixed}; so are the orbits and bearing forces (this page is precomputed).`;
+    if (R.forces && !BEARINGS) return `The orbits follow the parameter sliders (solved here at each speed); the bearing forces are resonant's at the file's values. ${fixed}.`;
+    return `The orbits${R.forces ? " and bearing forces" : ""} follow the parameter sliders (solved here at each speed of this slider). ${fixed}.`;
+  }
+
   function render() {
+    $("rotor-follows").textContent = followsText();
     $("rotor-speed-out").textContent = speedText(R.speeds[S.k]);
     $("rotor-speed").setAttribute("aria-valuetext", speedText(R.speeds[S.k]));
     drawOrbit();
@@ -426,5 +509,7 @@
     return state();
   }
   window.resonantRotor = Object.freeze({ state, set, showMap, speeds: () => R.speeds.slice() });
+  H.listen(() => { follow(); render(); });
+  follow();
   render();
 })();
