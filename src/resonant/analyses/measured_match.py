@@ -56,6 +56,7 @@ from ..model.op4_files import DIRECTIONS
 from ..model.types import Model
 from ..system.base import LinearSystem
 from ..system.build import linear_system
+from ..system.excitation import loaded_coordinates
 from .correlate import Correlation, model_shapes
 from .frf_mimo import frf_matrix_of, pair_name
 from .frf_update import frac, model_frf_matrix
@@ -90,6 +91,14 @@ class MatchedTest(FieldsJSON, Charted):
         The FRFs' unit of each response (``""`` where the file gives none).
     band : tuple of float
         The model's lowest and highest undamped natural frequency (Hz).
+    model_inputs : tuple of str
+        The model's signal or coordinate each input measures (``[measurement] input``), in
+        the inputs' order (empty: not known, a test made by hand).
+    acts_on : tuple of str
+        The coordinates each input's load acts on, ``", "``-separated: a coordinate input
+        its own, a signal those of its load columns
+        (:func:`resonant.system.excitation.loaded_coordinates`); ``""`` for a signal that
+        acts through outputs only.
     """
 
     source: str
@@ -100,9 +109,11 @@ class MatchedTest(FieldsJSON, Charted):
     inputs: tuple[str, ...] = ()
     units: tuple[str, ...] = ()
     band: tuple[float, ...] = saved((), key="band_hz")
+    model_inputs: tuple[str, ...] = ()
+    acts_on: tuple[str, ...] = ()
 
     _json_order = ("source", "frequency_hz", "measured", "model", "responses", "inputs",
-                   "units", "band_hz", "frac")
+                   "model_inputs", "acts_on", "units", "band_hz", "frac")
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -114,6 +125,36 @@ class MatchedTest(FieldsJSON, Charted):
         return np.array([[frac(self.measured[:, r, i], self.model[:, r, i])
                           for i in range(len(self.inputs))]
                          for r in range(len(self.responses))])
+
+    def input_label(self, i: int) -> str:
+        """What input ``i`` is in the model: ``"the model's x1"`` for a coordinate,
+        ``"the model's F1, on x1"`` for a signal (``"..., through outputs only"`` where it
+        loads no coordinate); ``""`` where the test does not say.
+
+        Parameters
+        ----------
+        i : int
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> f = np.array([1.0])
+        >>> test = MatchedTest("lab.uff", f, np.ones((1, 1, 2)), np.ones((1, 1, 2)), ("d1",),
+        ...                    ("hammer", "shaker"), ("m/N",), (1.0, 2.0), ("F", "x1"),
+        ...                    ("x3", "x1"))
+        >>> test.input_label(0), test.input_label(1)
+        ("the model's F, on x3", "the model's x1")
+        """
+        if i >= len(self.model_inputs):
+            return ""
+        name = self.model_inputs[i]
+        acts = self.acts_on[i] if i < len(self.acts_on) else name
+        if acts == name:
+            return f"the model's {name}"
+        return f"the model's {name}, " + (f"on {acts}" if acts else "through outputs only")
 
     def chart(self) -> Charts:
         """|H| of each response measured (solid) and the model's (dashed), a panel per
@@ -137,11 +178,14 @@ class MatchedTest(FieldsJSON, Charted):
                                     f"{response} (measured)", color))
                 curves.append(Curve(f, np.abs(self.model[:, r, i]), f"{response} (model)",
                                     color, dash="3.7 1.6"))
-            title = f"input {name}" if several else ""
+            label = self.input_label(i)
+            title = (f"input {name}" + (f" ({label})" if label else "")) if several else ""
             panels.append(Chart(tuple(curves), "frequency [Hz]",
                                 f"|H| [{unit}]" if unit else "|H|", xlim, ylog=True,
                                 title=title, legend="none" if i else "best"))
-        return Charts(tuple(panels), title=f"measured ({self.source}) and model FRFs",
+        to = "" if several or not self.inputs else f" to {self.inputs[0]}" + (
+            f" ({self.input_label(0)})" if self.input_label(0) else "")
+        return Charts(tuple(panels), title=f"measured ({self.source}) and model FRFs{to}",
                       size=(7.0, 3.2 * len(panels) + (0.8 if several else 0.0)),
                       legend="below" if several else "panels")
 
@@ -304,8 +348,11 @@ def match_test(data: MeasuredData, spec: MeasurementSpec, system: LinearSystem, 
             "structure, or a frequency axis in other units (rad/s for Hz?)", source,
             "measurement"))
     model = model_frf_matrix(system, spec.model_inputs, f, spec.channels, deadline=deadline)
+    acts = loaded_coordinates(system, spec.model_inputs, deadline)
     return MatchedTest(data.source, f, H, model, tuple(spec.channels), tuple(inputs),
-                       tuple(units[c] for c in spec.channels), (low, high))
+                       tuple(units[c] for c in spec.channels), (low, high),
+                       tuple(spec.model_inputs),
+                       tuple(", ".join(acts[m]) for m in spec.model_inputs))
 
 
 def check_correlation(correlation: Correlation, system: LinearSystem, name: str, *,

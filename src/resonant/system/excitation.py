@@ -16,7 +16,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -68,4 +68,48 @@ def excitation_columns(system: LinearSystem, values: Mapping[str, float] | None 
     return {var: np.asarray(flat[k].real, dtype=float) for k, var in enumerate(columns)}
 
 
-__all__ = ["excitation_columns"]
+def loaded_coordinates(system: LinearSystem, inputs: Sequence[str],
+                       deadline: Deadline = NO_DEADLINE) -> dict[str, tuple[str, ...]]:
+    """The coordinates each input's load acts on: a coordinate itself, a signal those where
+    one of its load columns (of any derivative order, :func:`excitation_columns` at the
+    model's values) is not zero.
+
+    A signal that only enters outputs (feedthrough) acts on none; so does a name that is
+    neither a signal nor a coordinate.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    inputs : sequence of str
+        Signals of the model or coordinates.
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    dict
+        Input -> its coordinates, in the system's order.
+
+    Examples
+    --------
+    >>> import resonant
+    >>> system = resonant.load("examples/chain3_lab.toml").linearize()
+    >>> loaded_coordinates(system, ["F", "x1"])
+    {'F': ('x3',), 'x1': ('x1',)}
+    """
+    coordinates = tuple(system.coordinates)
+    columns = excitation_columns(system, deadline=deadline) if any(
+        name not in coordinates for name in inputs) else {}
+    found: dict[str, tuple[str, ...]] = {}
+    for name in inputs:
+        if name in coordinates:
+            found[name] = (name,)
+            continue
+        loaded = np.zeros(len(coordinates), dtype=bool)
+        for (signal, _), column in columns.items():
+            if signal == name:
+                loaded |= np.asarray(column) != 0
+        found[name] = tuple(c for c, on in zip(coordinates, loaded, strict=True) if on)
+    return found
+
+
+__all__ = ["excitation_columns", "loaded_coordinates"]
