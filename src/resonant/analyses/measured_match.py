@@ -51,7 +51,7 @@ from ..charts import COLORS, Chart, Charted, Charts, Curve
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..model.measured import MeasuredData, MeasuredFunction, read_uff
-from ..model.measurement_spec import MeasurementSpec, match_channels
+from ..model.measurement_spec import MeasurementSpec, match_channels, measurement_dofs
 from ..model.op4_files import DIRECTIONS
 from ..model.types import Model
 from ..system.base import LinearSystem
@@ -65,7 +65,7 @@ from .result_fields import FieldsJSON, saved
 from .results_json import floats_json
 
 __all__ = ["MatchedTest", "match_test", "match_test_file", "model_band", "dof_label",
-           "check_correlation"]
+           "check_correlation", "saved_dofs"]
 
 #: the lowest modes computed for the band of a model above this many coordinates
 BAND_MODES = 20
@@ -216,6 +216,37 @@ def dof_label(node: int, direction: int) -> str:
     return f"n{int(node)}_{DIRECTIONS[code]}" if code in DIRECTIONS else f"n{int(node)}"
 
 
+def saved_dofs(spec: MeasurementSpec, system: LinearSystem,
+               deadline: Deadline = NO_DEADLINE) -> dict[str, tuple[int, int]]:
+    """The node and direction of every channel of ``[measurement]`` that a saved file
+    carries (:func:`resonant.model.measurement_spec.measurement_dofs`), an input that is a
+    signal traced to the coordinate its load acts on
+    (:func:`resonant.system.excitation.loaded_coordinates`).
+
+    Parameters
+    ----------
+    spec : MeasurementSpec
+    system : LinearSystem
+        The model's system.
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    dict
+        Channel (response or excitation) -> (node, direction).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/chain3_lab.toml")
+    >>> saved_dofs(model.measurement_section, model.linearize())   # the hammer's F on x3
+    {'d1': (1, 0), 'd2': (2, 0), 'd3': (3, 0), 'hammer': (3, 0)}
+    """
+    signals = [name for name in spec.model_inputs if name not in system.coordinates]
+    acts = loaded_coordinates(system, signals, deadline) if signals else {}
+    return measurement_dofs(spec, system.coordinates, acts)
+
+
 def model_band(system: LinearSystem, deadline: Deadline = NO_DEADLINE) -> tuple[float, float]:
     """The model's lowest and highest undamped natural frequency above zero (Hz).
 
@@ -283,24 +314,30 @@ def _frfs_of(data: MeasuredData, spec: MeasurementSpec, source: str
 
 
 def _check_dofs(named: dict[str, MeasuredFunction], spec: MeasurementSpec,
-                coordinates: Sequence[str], data: MeasuredData, source: str) -> None:
+                coordinates: Sequence[str], acts: dict[str, tuple[str, ...]],
+                data: MeasuredData, source: str) -> None:
     """A function's response (reference) node and direction that name a coordinate of the
-    model must name the channel's (the input's)."""
+    model must name the channel's (one the input's load acts on: ``acts``, input ->
+    coordinates; a signal input is traced through its load columns)."""
     known = set(coordinates)
     inputs = dict(spec.references) or {spec.excitation or "input": spec.input}
     problems = []
     for key, f in named.items():
         channel, _, excitation = key.rpartition("/")
-        checks = [("response", f.response, spec.channels[channel].name, "measurement.channels",
-                   channel), ("reference", f.reference, inputs.get(excitation, ""),
-                              "measurement", "input")]
-        for what, (node, direction), mapped, section, entry in checks:
+        given = inputs.get(excitation, "")
+        checks = [("response", f.response, spec.channels[channel].name,
+                   (spec.channels[channel].name,), "measurement.channels", channel),
+                  ("reference", f.reference, given, acts.get(given, (given,)), "measurement",
+                   "input")]
+        for what, (node, direction), mapped, places, section, entry in checks:
             label = dof_label(node, direction) if node > 0 else ""
-            if label in known and mapped in known and label != mapped:
+            if label in known and known.intersection(places) and label not in places:
+                where = mapped if places == (mapped,) else \
+                    f"{mapped}, whose load acts on {', '.join(places)}"
                 problems.append(Problem(
                     f"{printable(data.source)}: the {what} of FRF "
                     f"'{printable(f.name, limit=40)}' is node {node} direction {direction}, "
-                    f"the model's coordinate {label}; [measurement] maps it to {mapped} (map "
+                    f"the model's coordinate {label}; [measurement] maps it to {where} (map "
                     f"the {'channel' if what == 'response' else 'input'} to {label}, or "
                     "correct the file's node)", source, section, entry))
     if problems:
@@ -336,7 +373,8 @@ def match_test(data: MeasuredData, spec: MeasurementSpec, system: LinearSystem, 
         raise ModelError(Problem("the model's FRFs need the input they are measured to: name "
                                  "it (a signal or coordinate)", source, "measurement", "input"))
     inputs, named = _frfs_of(data, spec, source)
-    _check_dofs(named, spec, system.coordinates, data, source)
+    acts = loaded_coordinates(system, spec.model_inputs, deadline)
+    _check_dofs(named, spec, system.coordinates, acts, data, source)
     renamed = MeasuredData(data.source, tuple(dataclasses.replace(f, name=key)
                                               for key, f in named.items()))
     f, H, units = frf_matrix_of(renamed, list(spec.channels), inputs)
@@ -348,7 +386,6 @@ def match_test(data: MeasuredData, spec: MeasurementSpec, system: LinearSystem, 
             "structure, or a frequency axis in other units (rad/s for Hz?)", source,
             "measurement"))
     model = model_frf_matrix(system, spec.model_inputs, f, spec.channels, deadline=deadline)
-    acts = loaded_coordinates(system, spec.model_inputs, deadline)
     return MatchedTest(data.source, f, H, model, tuple(spec.channels), tuple(inputs),
                        tuple(units[c] for c in spec.channels), (low, high),
                        tuple(spec.model_inputs),

@@ -25,8 +25,9 @@ import numpy as np
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..model.measured import MeasuredData, MeasuredFunction
-from ..model.measurement_spec import MeasurementSpec, measurement_dofs
+from ..model.measurement_spec import MeasurementSpec
 from ..system.base import LinearSystem
+from .measured_match import saved_dofs
 from .transient import transient_response
 
 __all__ = ["simulated_test", "hammer_force"]
@@ -121,7 +122,7 @@ def simulated_test(system: LinearSystem, spec: MeasurementSpec | None, *, record
                                   deadline=deadline)
     time = np.arange(len(force)) * step
     measured = force + input_noise * np.std(force) * rng.standard_normal(len(force))
-    dofs = measurement_dofs(spec, system.coordinates)
+    dofs = saved_dofs(spec, system, deadline)
     functions = [MeasuredFunction(spec.excitation or "force", "time", time, measured, "s", "N",
                                   dofs[spec.excitation], (0, 0))]
     for channel, c in spec.channels.items():

@@ -31,6 +31,7 @@ from ..analyses.frf_estimate import ESTIMATORS, WINDOWS, frf_from_measurement, m
 from ..analyses.frf_mimo import frf_matrix_from_measurement, frf_matrix_of, pair_name
 from ..analyses.frf_update import RESIDUALS, update_to_frf
 from ..analyses.identify import ModalIdentification, identify_modes, identify_modes_matrix
+from ..analyses.measured_match import saved_dofs
 from ..analyses.model_update import update_parameters
 from ..deadline import Deadline
 from ..errors import ModelError, Problem, printable
@@ -41,7 +42,7 @@ from ..model.measured import (
     read_uff,
     write_uff,
 )
-from ..model.measurement_spec import MeasurementSpec, match_channels, measurement_dofs
+from ..model.measurement_spec import MeasurementSpec, match_channels
 from ..model.types import Model
 from ..studies.engine import engine_for
 from ..studies.multi_start import MAX_STARTS, multi_start_update
@@ -173,7 +174,7 @@ def _run_frf_matrix(args: argparse.Namespace, model: Model, spec: MeasurementSpe
                  data.function(c).ordinate_unit else "" for c in result.outputs}
         write_uff(cli.writable_output(args.save, "the FRF matrix"),
                   result.to_measured(Path(args.save).name, units,
-                                     measurement_dofs(spec, model.coordinates)))
+                                     saved_dofs(spec, linear_system(model, deadline), deadline)))
     if args.plot:
         result.plot(args.plot)
     return _emit(result, args, result.summary(), result.warnings)
@@ -194,7 +195,7 @@ def run_frf(args: argparse.Namespace) -> int:
     if args.save:
         write_uff(cli.writable_output(args.save, "the FRFs"),
                   result.to_measured(Path(args.save).name,
-                                     measurement_dofs(spec, model.coordinates),
+                                     saved_dofs(spec, linear_system(model, deadline), deadline),
                                      spec.excitation))
     if args.plot:
         own = model_frf(linear_system(model, deadline), spec.input, result.frequency,

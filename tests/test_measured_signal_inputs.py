@@ -1,0 +1,131 @@
+"""Measured references that are signals of the model, not coordinates (docs/testing.md,
+"Inputs that are signals"): traced through the excitation's load columns to the
+coordinates they load, so that the file's reference nodes are checked, the saved files
+carry the coordinate's node, the report names what each input loads, and the explore
+page's points are the sweep's amplitude.
+
+The model: the chain of tests/test_explore_measured_inputs.py (F0 sin on mass 1, 0.6 F0
+cos on mass 3) with its masses named as nodes 1-3 in +Z (``n1_uz``, the FE imports'
+names), so that a reference node names a coordinate.  Its test is its own FRF matrix to
+the two signals written as a binary Universal File (every bit kept): the overlay must be
+the sweep's amplitude at every line to 1e-9 relative (two kernel solves of the same
+equations; the rest is rounding), as for coordinate inputs.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import resonant
+from conftest import run_cli
+from resonant.analyses.frf_mimo import pair_name
+from resonant.analyses.frf_update import model_frf_matrix
+from resonant.analyses.measured_match import match_test, saved_dofs
+from resonant.analyses.sweep import sweep
+from resonant.analyses.virtual_test import simulated_test
+from resonant.model.measured import MeasuredData, MeasuredFunction, read_uff, write_uff
+from resonant.system.excitation import loaded_coordinates
+from resonant.views.explore_measured import measured_overlay
+from test_explore_measured_inputs import two_loads_text
+
+pytest.importorskip("pyuff")
+
+LINES = np.linspace(0.5, 12.0, 47)
+NODES = {"x1": "n1_uz", "x2": "n2_uz", "x3": "n3_uz"}
+
+
+def fe_text(excitation: list[str], inputs: list[str]) -> str:
+    """The two-load chain with node-named coordinates."""
+    text = two_loads_text(excitation, inputs)
+    for old, new in NODES.items():
+        text = text.replace(old, new)
+    return text
+
+
+def write_test(path, model: resonant.Model, excitation: list[str],
+               references: list[tuple[int, int]]) -> tuple[np.ndarray, object]:
+    """The model's own FRF matrix as a binary Universal File, input j's reference at
+    ``references[j]`` (node, direction); each response at its coordinate's node, +Z."""
+    spec = model.measurement_section
+    H = model_frf_matrix(model.linearize(), spec.model_inputs, LINES, spec.channels)
+    functions = tuple(MeasuredFunction(pair_name(c, e), "frf", LINES, H[:, k, j], "Hz", "m/N",
+                                       (k + 1, 3), ref)
+                      for j, (e, ref) in enumerate(zip(excitation, references, strict=True))
+                      for k, c in enumerate(spec.channels))
+    write_uff(path, MeasuredData(path.name, functions), binary=True)
+    return H, path
+
+
+@pytest.fixture()
+def fe_model(tmp_path):
+    path = tmp_path / "fe_two.toml"
+    path.write_text(fe_text(["shaker1", "shaker3"], ["F1", "F3"]))
+    return path, resonant.load(path)
+
+
+def test_a_signal_is_traced_to_the_coordinates_it_loads(fe_model):
+    _, model = fe_model
+    system = model.linearize()
+    assert loaded_coordinates(system, ["F1", "F3", "n2_uz"]) == {
+        "F1": ("n1_uz",), "F3": ("n3_uz",), "n2_uz": ("n2_uz",)}
+    # a saved file's reference is the node of the coordinate the signal loads
+    dofs = saved_dofs(model.measurement_section, system)
+    assert dofs["shaker1"] == (1, 3) and dofs["shaker3"] == (3, 3)
+    chain = resonant.load("examples/chain3_lab.toml")
+    data = simulated_test(chain.linearize(), chain.measurement_section, records=1,
+                          duration=1.0, step=1 / 64)
+    # the hammer's F acts on x3: a driving point, one node with channel d3
+    assert data.function("hammer").response == data.function("d3").response == (3, 0)
+
+
+def test_a_reference_node_that_names_another_coordinate_is_refused(fe_model, tmp_path):
+    path, model = fe_model
+    _, test = write_test(tmp_path / "swapped.uff", model, ["shaker1", "shaker3"],
+                         [(3, 3), (1, 3)])
+    status, _, err = run_cli(["report", path, "-o", tmp_path / "r.html", "--test", test,
+                              "--no-plots"])
+    assert status == 2 and "Traceback" not in err, err
+    assert ("[measurement] input: swapped.uff: the reference of FRF 'd1/shaker1' is node 3 "
+            "direction 3, the model's coordinate n3_uz; [measurement] maps it to F1, whose "
+            "load acts on n1_uz (map the input to n3_uz, or correct the file's node)") in err
+
+
+def test_signal_references_are_named_and_give_the_sweep(fe_model, tmp_path):
+    path, model = fe_model
+    H, test = write_test(tmp_path / "two.uff", model, ["shaker1", "shaker3"],
+                         [(1, 3), (3, 3)])
+    system = model.linearize()
+    matched = match_test(read_uff(test), model.measurement_section, system, model.source)
+    assert matched.model_inputs == ("F1", "F3") and matched.acts_on == ("n1_uz", "n3_uz")
+    assert [p.title for p in matched.chart().panels] == [
+        "input shaker1 (the model's F1, on n1_uz)", "input shaker3 (the model's F3, on n3_uz)"]
+    data = measured_overlay(matched, model, system, "omega")
+    assert data["note"] is None
+    swept = sweep(system, "omega", 2 * np.pi * LINES, method="direct")
+    for name in NODES.values():
+        assert np.allclose(data["curves"][name], swept.amplitudes[name], rtol=1e-9, atol=0)
+    status, _, err = run_cli(["report", path, "-o", tmp_path / "r.html", "--test", test,
+                              "--no-plots"])
+    assert status == 0, err
+    section = (tmp_path / "r.html").read_text().split("Measured against model FRFs</h2>")[1]
+    assert ("3 response channels to 2 inputs (shaker1: the model&#x27;s F1, on n1_uz; "
+            "shaker3: the model&#x27;s F3, on n3_uz)") in section
+
+
+def test_a_position_reference_is_not_checked(fe_model, tmp_path):
+    """A reference node past the model's nodes (direction 0) names no coordinate."""
+    _, model = fe_model
+    _, test = write_test(tmp_path / "positions.uff", model, ["shaker1", "shaker3"],
+                         [(4, 0), (5, 0)])
+    data = read_uff(test)
+    matched = match_test(data, model.measurement_section, model.linearize(), model.source)
+    assert matched.acts_on == ("n1_uz", "n3_uz")
+    moved = MeasuredData(data.source, tuple(dataclasses.replace(f, reference=(2, 3))
+                                            if f.name == "d2/shaker3" else f
+                                            for f in data.functions))
+    with pytest.raises(resonant.errors.ModelError, match="maps it to F3, whose load acts on "
+                       "n3_uz"):
+        match_test(moved, model.measurement_section, model.linearize(), model.source)
