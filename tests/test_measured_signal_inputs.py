@@ -23,7 +23,7 @@ import resonant
 from conftest import run_cli
 from resonant.analyses.frf_mimo import pair_name
 from resonant.analyses.frf_update import model_frf_matrix
-from resonant.analyses.measured_match import match_test, saved_dofs
+from resonant.analyses.measured_match import MatchedTest, match_test, saved_dofs
 from resonant.analyses.sweep import sweep
 from resonant.analyses.virtual_test import simulated_test
 from resonant.model.measured import MeasuredData, MeasuredFunction, read_uff, write_uff
@@ -129,3 +129,53 @@ def test_a_position_reference_is_not_checked(fe_model, tmp_path):
     with pytest.raises(resonant.errors.ModelError, match="maps it to F3, whose load acts on "
                        "n3_uz"):
         match_test(moved, model.measurement_section, model.linearize(), model.source)
+
+
+def feedthrough_text(excitation: list[str], inputs: list[str]) -> str:
+    """The two-load chain with a sensor channel v = x3 + E/2 that picks up the signal E
+    (e0 cos: crosstalk), which loads no mass: E acts through the output only."""
+    text = two_loads_text(excitation, inputs)
+    text = text.replace('omega = "30 rad/s"', 'omega = "30 rad/s"\ne0 = "0.002 m"')
+    text = text.replace('F3 = "0.6*F0*cos(omega*t)"',
+                        'F3 = "0.6*F0*cos(omega*t)"\nE = "e0*cos(omega*t)"')
+    text = text.replace("[measurement]\n", '[outputs]\nv = "x3 + 0.5*E"\n\n[measurement]\n')
+    return text.replace('d3 = "x3"', 'd3 = "x3"\nv = "v"')
+
+
+def own_test(model: resonant.Model, excitation: list[str]):
+    """The model's own FRF matrix as a measured test (MatchedTest by hand)."""
+    spec = model.measurement_section
+    H = model_frf_matrix(model.linearize(), spec.model_inputs, LINES, spec.channels)
+    return MatchedTest("crosstalk.uff", LINES, H, H, tuple(spec.channels), tuple(excitation),
+                       ("m/N",) * len(spec.channels), (2.24, 9.07))
+
+
+def test_an_input_through_outputs_only_gives_its_direct_term():
+    """E's FRF to v is the direct term 1/2 (to every mass 0); its amplitude in the model's
+    harmonic, e0, is its u: v's points are the sweep's |x3 + E/2| to 1e-9."""
+    excitation = ["shaker1", "shaker3", "pickup"]
+    model = resonant.loads(feedthrough_text(excitation, ["F1", "F3", "E"]), "crosstalk.toml")
+    system = model.linearize()
+    assert loaded_coordinates(system, ["E"]) == {"E": ()}
+    test = own_test(model, excitation)
+    assert np.allclose(test.measured[:, 3, 2], 0.5, rtol=1e-14)
+    data = measured_overlay(test, model, system, "omega")
+    assert data["note"] is None and set(data["curves"]) == {"x1", "x2", "x3", "v"}
+    swept = sweep(system, "omega", 2 * np.pi * LINES, method="direct")
+    for name in ("x1", "x2", "x3", "v"):
+        assert np.allclose(data["curves"][name], swept.amplitudes[name], rtol=1e-9,
+                           atol=0), name
+    assert np.max(np.abs(np.asarray(swept.amplitudes["v"])
+                         / np.asarray(swept.amplitudes["x3"]) - 1)) > 0.1   # E counts
+
+
+def test_an_output_through_a_signal_no_input_is_gets_no_points():
+    excitation = ["shaker1", "shaker3"]
+    model = resonant.loads(feedthrough_text(excitation, ["F1", "F3"]), "crosstalk.toml")
+    system = model.linearize()
+    data = measured_overlay(own_test(model, excitation), model, system, "omega")
+    assert set(data["curves"]) == {"x1", "x2", "x3"}
+    assert data["note"].startswith("no measured points for v (through E): the output "
+                                   "depends directly on a signal that no measured input is")
+    swept = sweep(system, "omega", 2 * np.pi * LINES, method="direct")
+    assert np.allclose(data["curves"]["x3"], swept.amplitudes["x3"], rtol=1e-9, atol=0)
