@@ -27,7 +27,8 @@ from resonant.analyses.measured_match import MatchedTest, match_test, saved_dofs
 from resonant.analyses.sweep import sweep
 from resonant.analyses.virtual_test import simulated_test
 from resonant.model.measured import MeasuredData, MeasuredFunction, read_uff, write_uff
-from resonant.system.excitation import loaded_coordinates
+from resonant.system.excitation import excitation_columns_along, loaded_coordinates
+from resonant.views import explore_measured
 from resonant.views.explore_measured import measured_overlay
 from test_explore_measured_inputs import two_loads_text
 
@@ -179,3 +180,57 @@ def test_an_output_through_a_signal_no_input_is_gets_no_points():
                                    "depends directly on a signal that no measured input is")
     swept = sweep(system, "omega", 2 * np.pi * LINES, method="direct")
     assert np.allclose(data["curves"]["x3"], swept.amplitudes["x3"], rtol=1e-9, atol=0)
+
+
+def moving_text(shape: bool = False) -> str:
+    """The two-load chain whose force on mass 1 grows as (omega/w0)^2 (the signal F1 times
+    a column that depends on the frequency parameter); with ``shape``, F1 also pushes mass
+    2 with a constant 0.5 (so that the column's shape, not only its size, moves)."""
+    text = two_loads_text(["shaker1", "shaker3"], ["F1", "F3"])
+    text = text.replace('omega = "30 rad/s"', 'omega = "30 rad/s"\nw0 = "30 rad/s"')
+    text = text.replace('vector = ["F1"]', 'vector = ["F1*(omega/w0)^2"]')
+    if shape:
+        text = text.replace("[measurement]\n", '[[force]]\nname = "F1 on mass 2"\n'
+                            'vector = ["0.5*F1"]\npoint = ["x2"]\n\n[measurement]\n')
+    return text
+
+
+def lab_test(model: resonant.Model, excitation: list[str]) -> MatchedTest:
+    """What a lab measures: at each line, the response per unit of each input with the
+    model's load columns at that line's omega (a kernel solve per line)."""
+    spec = model.measurement_section
+    system = model.linearize()
+    H = np.concatenate([model_frf_matrix(system, spec.model_inputs, [f], spec.channels,
+                                         omega=float(2 * np.pi * f)) for f in LINES])
+    return MatchedTest("lab.uff", LINES, H, H, tuple(spec.channels), tuple(excitation),
+                       ("m/N",) * len(spec.channels), (2.24, 9.07))
+
+
+@pytest.mark.parametrize("shape", [False, True])
+def test_a_load_that_depends_on_the_frequency_is_taken_at_each_line(shape):
+    """u_j from the columns at each line: the sweep's amplitude to 1e-9 (with the columns
+    at the model's omega the points were (omega/w0)^2 off, or not drawn at all)."""
+    model = resonant.loads(moving_text(shape), "moving.toml")
+    system = model.linearize()
+    along = excitation_columns_along(system, "omega", 2 * np.pi * LINES[:2])
+    assert np.allclose(along[("F1", 0)][:, 0], (2 * np.pi * LINES[:2] / 30.0) ** 2,
+                       rtol=1e-14)
+    data = measured_overlay(lab_test(model, ["shaker1", "shaker3"]), model, system, "omega")
+    assert data["note"] is None
+    swept = sweep(system, "omega", 2 * np.pi * LINES, method="direct")
+    for name in ("x1", "x2", "x3"):
+        assert np.allclose(data["curves"][name], swept.amplitudes[name], rtol=1e-9,
+                           atol=0), name
+
+
+def test_columns_not_had_at_each_line_give_a_specific_note(monkeypatch):
+    """A numerically derived system has its columns at the model's values only: the note
+    says that the input's load depends on the frequency parameter."""
+    model = resonant.loads(moving_text(True), "moving.toml")
+    monkeypatch.setattr(explore_measured, "excitation_columns_along",
+                        lambda *args, **kwargs: None)
+    data = measured_overlay(lab_test(model, ["shaker1", "shaker3"]), model,
+                            model.linearize(), "omega")
+    assert data["curves"] == {}
+    assert data["note"].startswith("no measured points: the load of the input F1 depends "
+                                   "on omega, the page's frequency parameter")

@@ -53,6 +53,7 @@ from typing import Any
 
 import numpy as np
 
+from ..analyses.frf_sensitivity import loads_depend_on
 from ..analyses.frf_update import input_amplitudes
 from ..analyses.measured_match import MatchedTest
 from ..analyses.sweep import sweep
@@ -61,7 +62,7 @@ from ..errors import ModelError, Problem
 from ..model import Model
 from ..system.base import LinearSystem
 from ..system.batch import BatchHarmonic
-from ..system.excitation import loaded_coordinates
+from ..system.excitation import excitation_columns, excitation_columns_along, loaded_coordinates
 
 __all__ = ["measured_overlay", "measured_first"]
 
@@ -128,11 +129,14 @@ def measured_overlay(test: MatchedTest, model: Model, system: LinearSystem,
     batch = system.batch(frequency, values, deadline)
     harmonic = batch.harmonics[0]
     load = harmonic.complex_load
+    along = _moving_columns(system, frequency, values, spec.model_inputs, deadline)
     u, left, worst = input_amplitudes(system, spec.model_inputs, f[keep], load,
-                                      deadline=deadline)
+                                      along=along or None, deadline=deadline)
     _through_outputs(u, harmonic, spec.model_inputs,
                      loaded_coordinates(system, spec.model_inputs, deadline))
     note = _uncovered(left, worst, load, system.coordinates, test.inputs)
+    if note is not None and along is None:
+        note = _moving_note(system, frequency, spec.model_inputs, deadline) or note
     # a load no input makes: no points; an output's direct term no input makes: none of it
     direct = _unmeasured_direct(batch.outputs, harmonic, names, spec.model_inputs)
     drawn = [n for n in names if n not in direct] if note is None else []
@@ -146,6 +150,38 @@ def measured_overlay(test: MatchedTest, model: Model, system: LinearSystem,
     return {"source": test.source, "values": values.tolist(), "curves": curves,
             "channels": {n: channels[n][1] for n in names}, "inputs": list(test.inputs),
             "note": note}
+
+
+def _moving_columns(system: LinearSystem, frequency: str, values: np.ndarray,
+                    inputs: Sequence[str], deadline: Deadline
+                    ) -> dict[tuple[str, int], np.ndarray] | None:
+    """The signal inputs' excitation columns at each line where they depend on the
+    frequency parameter (an input's load that grows with omega): {} where none does;
+    None where they cannot be had cheaply (a numerically derived system)."""
+    signals = {s for s in inputs if s not in system.coordinates}
+    if not signals:
+        return {}
+    columns = excitation_columns_along(system, frequency, values, deadline)
+    if columns is None:
+        return None
+    fixed = excitation_columns(system, deadline=deadline)
+    return {var: c for var, c in columns.items() if var[0] in signals
+            and not (var in fixed and np.array_equal(c, np.broadcast_to(fixed[var], c.shape)))}
+
+
+def _moving_note(system: LinearSystem, frequency: str, inputs: Sequence[str],
+                 deadline: Deadline) -> str | None:
+    """Where the load of an input depends on the frequency parameter and its columns
+    could not be had at each line: what the page says instead of the load's rest."""
+    signals = [s for s in inputs if s not in system.coordinates
+               and frequency in loads_depend_on(system, [s], [frequency], {}, deadline)]
+    if not signals:
+        return None
+    return (f"no measured points: the load of the input{'s' if len(signals) > 1 else ''} "
+            f"{', '.join(signals)} depends on {frequency}, the page's frequency parameter, "
+            "and this model's load columns (derived numerically) are known at its value "
+            f"only, not at each measured line: give the load's dependence on {frequency} "
+            "to the signal instead of its force vector")
 
 
 def _through_outputs(u: np.ndarray, harmonic: BatchHarmonic, inputs: Sequence[str],
