@@ -151,14 +151,18 @@ def own_test(model: resonant.Model, excitation: list[str]):
                        ("m/N",) * len(spec.channels), (2.24, 9.07))
 
 
-def test_an_input_through_outputs_only_gives_its_direct_term():
+def test_an_input_through_outputs_only_gives_its_direct_term(tmp_path):
     """E's FRF to v is the direct term 1/2 (to every mass 0); its amplitude in the model's
     harmonic, e0, is its u: v's points are the sweep's |x3 + E/2| to 1e-9."""
     excitation = ["shaker1", "shaker3", "pickup"]
     model = resonant.loads(feedthrough_text(excitation, ["F1", "F3", "E"]), "crosstalk.toml")
     system = model.linearize()
     assert loaded_coordinates(system, ["E"]) == {"E": ()}
-    test = own_test(model, excitation)
+    _, path = write_test(tmp_path / "crosstalk.uff", model, excitation,
+                         [(5, 0), (6, 0), (7, 0)])
+    test = match_test(read_uff(path), model.measurement_section, system, model.source)
+    assert test.acts_on == ("x1", "x3", "")
+    assert test.chart().panels[2].title == "input pickup (the model's E, through outputs only)"
     assert np.allclose(test.measured[:, 3, 2], 0.5, rtol=1e-14)
     data = measured_overlay(test, model, system, "omega")
     assert data["note"] is None and set(data["curves"]) == {"x1", "x2", "x3", "v"}

@@ -62,7 +62,7 @@ from ..errors import ModelError, Problem
 from ..model import Model
 from ..system.base import LinearSystem
 from ..system.batch import BatchHarmonic
-from ..system.excitation import excitation_columns, excitation_columns_along, loaded_coordinates
+from ..system.excitation import excitation_columns_along, loaded_coordinates
 
 __all__ = ["measured_overlay", "measured_first"]
 
@@ -164,9 +164,10 @@ def _moving_columns(system: LinearSystem, frequency: str, values: np.ndarray,
     columns = excitation_columns_along(system, frequency, values, deadline)
     if columns is None:
         return None
-    fixed = excitation_columns(system, deadline=deadline)
+    # a column the same at every line does not depend on the parameter: it is the one at
+    # the model's value, which the fixed columns' path uses
     return {var: c for var, c in columns.items() if var[0] in signals
-            and not (var in fixed and np.array_equal(c, np.broadcast_to(fixed[var], c.shape)))}
+            and not np.array_equal(c, np.broadcast_to(c[:1], c.shape))}
 
 
 def _moving_note(system: LinearSystem, frequency: str, inputs: Sequence[str],
