@@ -273,3 +273,21 @@ def test_a_simulated_random_test_with_two_references(fe_model, tmp_path):
         error = np.abs(np.asarray(data["curves"][name]) / (
             np.asarray(swept.amplitudes[name]) * np.sinc(f * step) ** 2) - 1)[band]
         assert np.median(error) < 0.01 and error.max() < 0.08, (name, error.max())
+
+
+def test_frf_save_writes_a_signal_reference_at_its_coordinate(tmp_path):
+    """``resonant frf --save`` on examples/chain3_lab.toml: the hammer's F loads x3, so
+    every FRF's reference is node 3, the node of channel d3's response (a driving point);
+    it was node 4, a position of its own."""
+    chain = resonant.load("examples/chain3_lab.toml")
+    data = simulated_test(chain.linearize(), chain.measurement_section, records=2,
+                          duration=16.0, step=1 / 256, seed=2)
+    write_uff(tmp_path / "impact.uff", data, binary=True)
+    status, _, err = run_cli(["frf", "examples/chain3_lab.toml", tmp_path / "impact.uff",
+                              "--window", "rectangular", "--segment", "4096",
+                              "--force-window", "0.05", "--exponential", "0.01",
+                              "--save", tmp_path / "frf.uff"])
+    assert status == 0, err
+    frfs = [f for f in read_uff(tmp_path / "frf.uff").functions if f.kind == "frf"]
+    assert {f.reference for f in frfs} == {(3, 0)}
+    assert {f.name: f.response for f in frfs} == {"d1": (1, 0), "d2": (2, 0), "d3": (3, 0)}

@@ -42,7 +42,7 @@ from ..model.measured import (
     read_uff,
     write_uff,
 )
-from ..model.measurement_spec import MeasurementSpec, match_channels
+from ..model.measurement_spec import MeasurementSpec, match_channels, measurement_dofs
 from ..model.types import Model
 from ..studies.engine import engine_for
 from ..studies.multi_start import MAX_STARTS, multi_start_update
@@ -174,10 +174,20 @@ def _run_frf_matrix(args: argparse.Namespace, model: Model, spec: MeasurementSpe
                  data.function(c).ordinate_unit else "" for c in result.outputs}
         write_uff(cli.writable_output(args.save, "the FRF matrix"),
                   result.to_measured(Path(args.save).name, units,
-                                     saved_dofs(spec, linear_system(model, deadline), deadline)))
+                                     _saved_dofs(model, spec, deadline)))
     if args.plot:
         result.plot(args.plot)
     return _emit(result, args, result.summary(), result.warnings)
+
+
+def _saved_dofs(model: Model, spec: MeasurementSpec, deadline: Deadline
+                ) -> dict[str, tuple[int, int]]:
+    """The nodes and directions ``--save`` writes; the system is built only where an input
+    is a signal, to trace it to the coordinate it loads (a large import's coordinate inputs
+    need none)."""
+    if all(name in model.coordinates for name in spec.model_inputs):
+        return measurement_dofs(spec, model.coordinates)
+    return saved_dofs(spec, linear_system(model, deadline), deadline)
 
 
 def run_frf(args: argparse.Namespace) -> int:
@@ -195,7 +205,7 @@ def run_frf(args: argparse.Namespace) -> int:
     if args.save:
         write_uff(cli.writable_output(args.save, "the FRFs"),
                   result.to_measured(Path(args.save).name,
-                                     saved_dofs(spec, linear_system(model, deadline), deadline),
+                                     _saved_dofs(model, spec, deadline),
                                      spec.excitation))
     if args.plot:
         own = model_frf(linear_system(model, deadline), spec.input, result.frequency,
