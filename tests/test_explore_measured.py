@@ -28,6 +28,7 @@ from resonant.analyses.sweep import sweep
 from resonant.model.measured import MeasuredData, MeasuredFunction, write_uff
 from test_explore_browser import CHROMIUM, opened
 from test_explore_measured_inputs import two_loads_text, two_reference_file
+from test_measured_signal_inputs import feedthrough_text, write_test
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "chain3_lab.toml"
 LINES = np.linspace(0.5, 12.0, 47)
@@ -162,3 +163,21 @@ def test_two_references_are_summed_on_the_page(browser, tmp_path):
         caption = page.page.inner_text("#response-caption")
         assert ("Measured (one.uff): no measured points: the model's load acts on x3") in caption
         assert "Open circles" not in caption
+
+
+def test_an_output_through_an_unmeasured_signal_is_left_out(browser, tmp_path):
+    """The two-load chain with a sensor channel v = x3 + E/2 that picks up a signal E no
+    input measures: the page draws the masses' points, none for v, and its caption says
+    both what is drawn and why v is not (tests/test_measured_signal_inputs.py)."""
+    (tmp_path / "v.toml").write_text(feedthrough_text(["shaker1", "shaker3"], ["F1", "F3"]))
+    model = resonant.load(tmp_path / "v.toml")
+    _, test = write_test(tmp_path / "v.uff", model, ["shaker1", "shaker3"], [(5, 0), (6, 0)])
+    page_file = tmp_path / "v.html"
+    status, _, err = run_cli(["explore", tmp_path / "v.toml", "-o", page_file, "--test", test])
+    assert status == 0 and "no measured points for v (through E)" in err, err
+    with opened(browser, page_file) as page:
+        assert sorted(page.page.evaluate("resonant.response()")["measured"]) == [
+            "x1", "x2", "x3"]
+        caption = page.page.inner_text("#response-caption")
+        assert "Open circles: measured (v.uff)" in caption, caption
+        assert "no measured points for v (through E)" in caption, caption

@@ -58,6 +58,8 @@ def test_matching_file_is_drawn_over_the_model(model, tmp_path):
     assert status == 0, err
     page = out.read_text()
     assert "Measured against model FRFs" in page and "FRAC to hammer" in page
+    # the input named from the result: the model's signal and the coordinate it loads
+    assert "3 response channels to 1 input (hammer: the model&#x27;s F, on x3)" in page
     assert "<td>1</td>" in page.replace(" ", "")
     matched = match_test(resonant.model.measured.read_uff(test), model.measurement_section,
                          model.linearize(), model.source)
@@ -67,13 +69,17 @@ def test_matching_file_is_drawn_over_the_model(model, tmp_path):
     # the figure: each response's measured |H| solid and the model's dashed
     curves = matched.chart().panels[0].curves
     assert [c.label for c in curves[:2]] == ["d1 (measured)", "d1 (model)"]
+    assert matched.model_inputs == ("F",) and matched.acts_on == ("x3",)
+    assert matched.chart().title == ("measured (lab.uff) and model FRFs to hammer (the "
+                                     "model's F, on x3)")
     assert curves[1].dash and np.allclose(curves[0].y, np.abs(matched.measured[:, 0, 0]))
     # saved by its fields: read back equal, with the FRAC written for the reader
     saved = json.loads(json.dumps(matched.to_dict()))
     assert list(saved) == ["source", "frequency_hz", "measured", "model", "responses",
-                           "inputs", "units", "band_hz", "frac"]
+                           "inputs", "model_inputs", "acts_on", "units", "band_hz", "frac"]
     again = type(matched).from_dict(saved)
     assert np.array_equal(again.measured, matched.measured) and again.band == matched.band
+    assert (again.model_inputs, again.acts_on) == (("F",), ("x3",))
 
 
 @pytest.mark.parametrize("case, expected", [
@@ -175,6 +181,7 @@ def test_two_references_are_named_and_drawn_once_each(tmp_path):
     matched = match_test(resonant.model.measured.read_uff(tmp_path / "two.uff"),
                          two.measurement_section, two.linearize(), two.source)
     chart = matched.chart()
-    assert [p.title for p in chart.panels] == ["input shaker1", "input shaker3"]
+    assert [p.title for p in chart.panels] == ["input shaker1 (the model's x1)",
+                                               "input shaker3 (the model's x3)"]
     assert [p.legend for p in chart.panels] == ["best", "none"] and chart.legend == "below"
     assert np.allclose(chart.panels[1].curves[4].y, np.abs(H[:, 2, 1]), rtol=1e-12)

@@ -198,7 +198,8 @@ def _transfer(system: LinearSystem, signals: Sequence[str], names: Sequence[str]
 
 
 def input_amplitudes(system: LinearSystem, signals: Sequence[str], frequency: np.ndarray,
-                     loads: np.ndarray, *, deadline: Deadline = NO_DEADLINE
+                     loads: np.ndarray, *, along: Mapping[tuple[str, int], np.ndarray]
+                     | None = None, deadline: Deadline = NO_DEADLINE
                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The complex amplitude of each input in the model's loads at each line, and the part
     of the loads that no input makes (least squares,
@@ -217,6 +218,9 @@ def input_amplitudes(system: LinearSystem, signals: Sequence[str], frequency: np
     loads : ndarray
         The generalized forces' complex amplitudes at each line, (N, n) or (n,)
         (:attr:`resonant.system.batch.BatchHarmonic.complex_load`).
+    along : mapping, optional
+        ``(signal, order) -> (N, n)``: excitation columns at each line, where they depend
+        on the parameter the lines sweep (default: the columns at the model's values).
     deadline : Deadline, optional
 
     Returns
@@ -242,7 +246,7 @@ def input_amplitudes(system: LinearSystem, signals: Sequence[str], frequency: np
     [2.0, 0.0, 0.0]
     """
     transfer, _ = _transfer(system, signals, [], deadline, {})
-    return transfer.amplitudes(np.asarray(frequency, dtype=float), loads)
+    return transfer.amplitudes(np.asarray(frequency, dtype=float), loads, along)
 
 
 @dataclass(frozen=True)

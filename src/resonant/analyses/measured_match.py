@@ -51,11 +51,12 @@ from ..charts import COLORS, Chart, Charted, Charts, Curve
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..model.measured import MeasuredData, MeasuredFunction, read_uff
-from ..model.measurement_spec import MeasurementSpec, match_channels
+from ..model.measurement_spec import MeasurementSpec, match_channels, measurement_dofs
 from ..model.op4_files import DIRECTIONS
 from ..model.types import Model
 from ..system.base import LinearSystem
 from ..system.build import linear_system
+from ..system.excitation import loaded_coordinates
 from .correlate import Correlation, model_shapes
 from .frf_mimo import frf_matrix_of, pair_name
 from .frf_update import frac, model_frf_matrix
@@ -64,7 +65,7 @@ from .result_fields import FieldsJSON, saved
 from .results_json import floats_json
 
 __all__ = ["MatchedTest", "match_test", "match_test_file", "model_band", "dof_label",
-           "check_correlation"]
+           "check_correlation", "saved_dofs"]
 
 #: the lowest modes computed for the band of a model above this many coordinates
 BAND_MODES = 20
@@ -90,6 +91,14 @@ class MatchedTest(FieldsJSON, Charted):
         The FRFs' unit of each response (``""`` where the file gives none).
     band : tuple of float
         The model's lowest and highest undamped natural frequency (Hz).
+    model_inputs : tuple of str
+        The model's signal or coordinate each input measures (``[measurement] input``), in
+        the inputs' order (empty: not known, a test made by hand).
+    acts_on : tuple of str
+        The coordinates each input's load acts on, ``", "``-separated: a coordinate input
+        its own, a signal those of its load columns
+        (:func:`resonant.system.excitation.loaded_coordinates`); ``""`` for a signal that
+        acts through outputs only.
     """
 
     source: str
@@ -100,9 +109,11 @@ class MatchedTest(FieldsJSON, Charted):
     inputs: tuple[str, ...] = ()
     units: tuple[str, ...] = ()
     band: tuple[float, ...] = saved((), key="band_hz")
+    model_inputs: tuple[str, ...] = ()
+    acts_on: tuple[str, ...] = ()
 
     _json_order = ("source", "frequency_hz", "measured", "model", "responses", "inputs",
-                   "units", "band_hz", "frac")
+                   "model_inputs", "acts_on", "units", "band_hz", "frac")
 
     def __post_init__(self) -> None:
         freeze_fields(self)
@@ -114,6 +125,36 @@ class MatchedTest(FieldsJSON, Charted):
         return np.array([[frac(self.measured[:, r, i], self.model[:, r, i])
                           for i in range(len(self.inputs))]
                          for r in range(len(self.responses))])
+
+    def input_label(self, i: int) -> str:
+        """What input ``i`` is in the model: ``"the model's x1"`` for a coordinate,
+        ``"the model's F1, on x1"`` for a signal (``"..., through outputs only"`` where it
+        loads no coordinate); ``""`` where the test does not say.
+
+        Parameters
+        ----------
+        i : int
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> f = np.array([1.0])
+        >>> test = MatchedTest("lab.uff", f, np.ones((1, 1, 2)), np.ones((1, 1, 2)), ("d1",),
+        ...                    ("hammer", "shaker"), ("m/N",), (1.0, 2.0), ("F", "x1"),
+        ...                    ("x3", "x1"))
+        >>> test.input_label(0), test.input_label(1)
+        ("the model's F, on x3", "the model's x1")
+        """
+        if i >= len(self.model_inputs):
+            return ""
+        name = self.model_inputs[i]
+        acts = self.acts_on[i] if i < len(self.acts_on) else name
+        if acts == name:
+            return f"the model's {name}"
+        return f"the model's {name}, " + (f"on {acts}" if acts else "through outputs only")
 
     def chart(self) -> Charts:
         """|H| of each response measured (solid) and the model's (dashed), a panel per
@@ -137,11 +178,14 @@ class MatchedTest(FieldsJSON, Charted):
                                     f"{response} (measured)", color))
                 curves.append(Curve(f, np.abs(self.model[:, r, i]), f"{response} (model)",
                                     color, dash="3.7 1.6"))
-            title = f"input {name}" if several else ""
+            label = self.input_label(i)
+            title = (f"input {name}" + (f" ({label})" if label else "")) if several else ""
             panels.append(Chart(tuple(curves), "frequency [Hz]",
                                 f"|H| [{unit}]" if unit else "|H|", xlim, ylog=True,
                                 title=title, legend="none" if i else "best"))
-        return Charts(tuple(panels), title=f"measured ({self.source}) and model FRFs",
+        to = "" if several or not self.inputs else f" to {self.inputs[0]}" + (
+            f" ({self.input_label(0)})" if self.input_label(0) else "")
+        return Charts(tuple(panels), title=f"measured ({self.source}) and model FRFs{to}",
                       size=(7.0, 3.2 * len(panels) + (0.8 if several else 0.0)),
                       legend="below" if several else "panels")
 
@@ -170,6 +214,37 @@ def dof_label(node: int, direction: int) -> str:
     """
     code = abs(int(direction))
     return f"n{int(node)}_{DIRECTIONS[code]}" if code in DIRECTIONS else f"n{int(node)}"
+
+
+def saved_dofs(spec: MeasurementSpec, system: LinearSystem,
+               deadline: Deadline = NO_DEADLINE) -> dict[str, tuple[int, int]]:
+    """The node and direction of every channel of ``[measurement]`` that a saved file
+    carries (:func:`resonant.model.measurement_spec.measurement_dofs`), an input that is a
+    signal traced to the coordinate its load acts on
+    (:func:`resonant.system.excitation.loaded_coordinates`).
+
+    Parameters
+    ----------
+    spec : MeasurementSpec
+    system : LinearSystem
+        The model's system.
+    deadline : Deadline, optional
+
+    Returns
+    -------
+    dict
+        Channel (response or excitation) -> (node, direction).
+
+    Examples
+    --------
+    >>> import resonant
+    >>> model = resonant.load("examples/chain3_lab.toml")
+    >>> saved_dofs(model.measurement_section, model.linearize())   # the hammer's F on x3
+    {'d1': (1, 0), 'd2': (2, 0), 'd3': (3, 0), 'hammer': (3, 0)}
+    """
+    signals = [name for name in spec.model_inputs if name not in system.coordinates]
+    acts = loaded_coordinates(system, signals, deadline) if signals else {}
+    return measurement_dofs(spec, system.coordinates, acts)
 
 
 def model_band(system: LinearSystem, deadline: Deadline = NO_DEADLINE) -> tuple[float, float]:
@@ -239,24 +314,30 @@ def _frfs_of(data: MeasuredData, spec: MeasurementSpec, source: str
 
 
 def _check_dofs(named: dict[str, MeasuredFunction], spec: MeasurementSpec,
-                coordinates: Sequence[str], data: MeasuredData, source: str) -> None:
+                coordinates: Sequence[str], acts: dict[str, tuple[str, ...]],
+                data: MeasuredData, source: str) -> None:
     """A function's response (reference) node and direction that name a coordinate of the
-    model must name the channel's (the input's)."""
+    model must name the channel's (one the input's load acts on: ``acts``, input ->
+    coordinates; a signal input is traced through its load columns)."""
     known = set(coordinates)
     inputs = dict(spec.references) or {spec.excitation or "input": spec.input}
     problems = []
     for key, f in named.items():
         channel, _, excitation = key.rpartition("/")
-        checks = [("response", f.response, spec.channels[channel].name, "measurement.channels",
-                   channel), ("reference", f.reference, inputs.get(excitation, ""),
-                              "measurement", "input")]
-        for what, (node, direction), mapped, section, entry in checks:
+        given = inputs.get(excitation, "")
+        checks = [("response", f.response, spec.channels[channel].name,
+                   (spec.channels[channel].name,), "measurement.channels", channel),
+                  ("reference", f.reference, given, acts.get(given, (given,)), "measurement",
+                   "input")]
+        for what, (node, direction), mapped, places, section, entry in checks:
             label = dof_label(node, direction) if node > 0 else ""
-            if label in known and mapped in known and label != mapped:
+            if label in known and known.intersection(places) and label not in places:
+                where = mapped if places == (mapped,) else \
+                    f"{mapped}, whose load acts on {', '.join(places)}"
                 problems.append(Problem(
                     f"{printable(data.source)}: the {what} of FRF "
                     f"'{printable(f.name, limit=40)}' is node {node} direction {direction}, "
-                    f"the model's coordinate {label}; [measurement] maps it to {mapped} (map "
+                    f"the model's coordinate {label}; [measurement] maps it to {where} (map "
                     f"the {'channel' if what == 'response' else 'input'} to {label}, or "
                     "correct the file's node)", source, section, entry))
     if problems:
@@ -292,7 +373,8 @@ def match_test(data: MeasuredData, spec: MeasurementSpec, system: LinearSystem, 
         raise ModelError(Problem("the model's FRFs need the input they are measured to: name "
                                  "it (a signal or coordinate)", source, "measurement", "input"))
     inputs, named = _frfs_of(data, spec, source)
-    _check_dofs(named, spec, system.coordinates, data, source)
+    acts = loaded_coordinates(system, spec.model_inputs, deadline)
+    _check_dofs(named, spec, system.coordinates, acts, data, source)
     renamed = MeasuredData(data.source, tuple(dataclasses.replace(f, name=key)
                                               for key, f in named.items()))
     f, H, units = frf_matrix_of(renamed, list(spec.channels), inputs)
@@ -305,7 +387,9 @@ def match_test(data: MeasuredData, spec: MeasurementSpec, system: LinearSystem, 
             "measurement"))
     model = model_frf_matrix(system, spec.model_inputs, f, spec.channels, deadline=deadline)
     return MatchedTest(data.source, f, H, model, tuple(spec.channels), tuple(inputs),
-                       tuple(units[c] for c in spec.channels), (low, high))
+                       tuple(units[c] for c in spec.channels), (low, high),
+                       tuple(spec.model_inputs),
+                       tuple(", ".join(acts[m]) for m in spec.model_inputs))
 
 
 def check_correlation(correlation: Correlation, system: LinearSystem, name: str, *,

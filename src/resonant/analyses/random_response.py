@@ -315,6 +315,9 @@ class _Load:
 
     column: np.ndarray
     power: int
+    #: the (signal, order) whose excitation column it is (None: a coordinate's unit load,
+    #: or a given load or base vector)
+    var: tuple[str, int] | None = None
 
 
 class Transfer:
@@ -466,7 +469,7 @@ class Transfer:
         if u.base:
             r = self._finite(self._vector(u.base), u, "base")
             return [_Load(-np.asarray(self.num.M @ r, dtype=float).ravel(), 0)]
-        found = [_Load(np.asarray(c, dtype=float), order - u.derivative)
+        found = [_Load(np.asarray(c, dtype=float), order - u.derivative, (name, order))
                  for (name, order), c in sorted(columns.items()) if name == u.name]
         if found or u.name in (self.num.model.signals if self.num.model is not None else ()):
             return found
@@ -476,7 +479,8 @@ class Transfer:
             return [_Load(column, 0)]
         return found
 
-    def amplitudes(self, f: np.ndarray, loads: np.ndarray
+    def amplitudes(self, f: np.ndarray, loads: np.ndarray,
+                   along: Mapping[tuple[str, int], np.ndarray] | None = None
                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The inputs' complex amplitudes u that make up given loads, and what is left.
 
@@ -494,6 +498,11 @@ class Transfer:
         loads : ndarray
             Complex generalized forces, (N, n) or (n,) for all lines
             (:attr:`resonant.system.batch.BatchHarmonic.complex_load`).
+        along : mapping, optional
+            ``(signal, order) -> (N, n)``: excitation columns that differ from line to
+            line (they depend on the parameter the lines sweep,
+            :func:`resonant.system.excitation.excitation_columns_along`), used in place
+            of the fixed ones; then each line solves its own least squares.
 
         Returns
         -------
@@ -508,6 +517,8 @@ class Transfer:
         w = 2 * np.pi * np.asarray(f, dtype=float).ravel()
         N, n, J = len(w), self.num.n, len(self.inputs)
         b = np.broadcast_to(np.asarray(loads, dtype=complex), (N, n))
+        if along:
+            return self._amplitudes_along(w, b, along)
         u = np.zeros((N, J), dtype=complex)
         left, worst = np.zeros(N), np.zeros(n)
         C = np.column_stack(self.columns) if self.columns else np.zeros((n, 0))
@@ -526,6 +537,30 @@ class Transfer:
                 rest = b[rows] - np.einsum("lkj,lj->lk", P[rows], u[rows]) @ C.T
             else:
                 rest = np.array(b[rows])
+            size = np.linalg.norm(b[rows], axis=1)
+            left[rows] = np.linalg.norm(rest, axis=1) / np.where(size > 0, size, 1.0)
+            worst = np.maximum(worst, np.abs(rest).max(axis=0, initial=0.0))
+        return u, left, worst
+
+    def _amplitudes_along(self, w: np.ndarray, b: np.ndarray,
+                          along: Mapping[tuple[str, int], np.ndarray]
+                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`amplitudes` with columns that change from line to line: the unit load
+        of each input at each line, B (lines, n, inputs), and a least squares per line."""
+        N, n, J = len(w), self.num.n, len(self.inputs)
+        u = np.zeros((N, J), dtype=complex)
+        left, worst = np.zeros(N), np.zeros(n)
+        step = chunk_rows(16.0 * n * (J + 2), N)
+        for start in range(0, N, step):
+            rows = slice(start, start + step)
+            B = np.zeros((len(w[rows]), n, J), dtype=complex)
+            for j, loads in enumerate(self.loads):
+                for load in loads:
+                    moving = along.get(load.var) if load.var is not None else None
+                    column = moving[rows] if moving is not None else load.column
+                    B[:, :, j] += (1j * w[rows])[:, None] ** load.power * column
+            u[rows] = np.einsum("lji,li->lj", np.linalg.pinv(B, rcond=1e-12), b[rows])
+            rest = b[rows] - np.einsum("lij,lj->li", B, u[rows])
             size = np.linalg.norm(b[rows], axis=1)
             left[rows] = np.linalg.norm(rest, axis=1) / np.where(size > 0, size, 1.0)
             worst = np.maximum(worst, np.abs(rest).max(axis=0, initial=0.0))

@@ -1,7 +1,9 @@
 """A simulated vibration test of a model: the histories a lab would record (docs/testing.md).
 
 Hammer hits (half-sine pulses at random instants, one per record) or a random force on the
-model's ``[measurement]`` input, the exact response of every mapped channel
+model's ``[measurement]`` input (with several inputs, an independent one on each, all at
+once: the data of the H1 matrix, :func:`resonant.analyses.frf_mimo.frf_matrix_from_measurement`),
+the exact response of every mapped channel
 (:func:`resonant.analyses.transient.transient_response`), and noise on the channels: the
 data that :func:`resonant.analyses.frf_estimate.frf_from_measurement` turns back into the
 model's FRFs, written as Universal Files by :func:`resonant.model.measured.write_uff`.
@@ -25,8 +27,9 @@ import numpy as np
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem, printable
 from ..model.measured import MeasuredData, MeasuredFunction
-from ..model.measurement_spec import MeasurementSpec, measurement_dofs
+from ..model.measurement_spec import MeasurementSpec
 from ..system.base import LinearSystem
+from .measured_match import saved_dofs
 from .transient import transient_response
 
 __all__ = ["simulated_test", "hammer_force"]
@@ -80,9 +83,10 @@ def simulated_test(system: LinearSystem, spec: MeasurementSpec | None, *, record
     ----------
     system : LinearSystem
     spec : MeasurementSpec
-        The model's ``[measurement]``: its input and channels.
+        The model's ``[measurement]``: its input (or inputs: one independent force on
+        each, all at once, the responses summed) and channels.
     records : int
-        Hits (one per record of ``duration``), or segments of a random test.
+        Hits (one per record of ``duration`` on each input), or segments of a random test.
     duration : float
         s, each record.
     step : float
@@ -97,7 +101,8 @@ def simulated_test(system: LinearSystem, spec: MeasurementSpec | None, *, record
     Returns
     -------
     MeasuredData
-        The excitation channel, then the response channels (SI).
+        The excitation channel (each, in the section's order), then the response
+        channels (SI).
 
     Raises
     ------
@@ -114,18 +119,29 @@ def simulated_test(system: LinearSystem, spec: MeasurementSpec | None, *, record
                                      "outputs", system.source, "measurement.channels", channel))
     samples = int(round(duration / step))
     rng = np.random.default_rng(seed)
-    force = rng.standard_normal(records * samples) if random else \
-        hammer_force(records, samples, step, seed=seed)
+    references = list(spec.references) or [(spec.excitation, spec.input)]
+    # one independent force per input (input j's hits drawn with seed + j); the response
+    # to all of them is the sum of the responses to each (the model is linear)
+    forces = [rng.standard_normal(records * samples) if random else
+              hammer_force(records, samples, step, seed=seed + j)
+              for j in range(len(references))]
     names = sorted({c.name for c in spec.channels.values()})
-    response = transient_response(system, spec.input, force, step, names=names,
-                                  deadline=deadline)
-    time = np.arange(len(force)) * step
-    measured = force + input_noise * np.std(force) * rng.standard_normal(len(force))
-    dofs = measurement_dofs(spec, system.coordinates)
-    functions = [MeasuredFunction(spec.excitation or "force", "time", time, measured, "s", "N",
-                                  dofs[spec.excitation], (0, 0))]
+    histories: dict[str, np.ndarray] = {}
+    for (_, name), force in zip(references, forces, strict=True):
+        response = transient_response(system, name, force, step, names=names,
+                                      deadline=deadline)
+        for quantity in names:
+            y = np.asarray(response.history[quantity], dtype=float)
+            histories[quantity] = histories[quantity] + y if quantity in histories else y
+    time = np.arange(records * samples) * step
+    dofs = saved_dofs(spec, system, deadline)
+    functions = []
+    for (channel, _), force in zip(references, forces, strict=True):
+        measured = force + input_noise * np.std(force) * rng.standard_normal(len(force))
+        functions.append(MeasuredFunction(channel or "force", "time", time, measured, "s",
+                                          "N", dofs[channel], (0, 0)))
     for channel, c in spec.channels.items():
-        y = np.asarray(response.history[c.name])
+        y = histories[c.name]
         y = y + noise * np.std(y) * rng.standard_normal(len(y))
         functions.append(MeasuredFunction(channel, "time", time, y, "s", "m", dofs[channel],
                                           (0, 0)))

@@ -31,6 +31,7 @@ from ..analyses.frf_estimate import ESTIMATORS, WINDOWS, frf_from_measurement, m
 from ..analyses.frf_mimo import frf_matrix_from_measurement, frf_matrix_of, pair_name
 from ..analyses.frf_update import RESIDUALS, update_to_frf
 from ..analyses.identify import ModalIdentification, identify_modes, identify_modes_matrix
+from ..analyses.measured_match import saved_dofs
 from ..analyses.model_update import update_parameters
 from ..deadline import Deadline
 from ..errors import ModelError, Problem, printable
@@ -173,10 +174,20 @@ def _run_frf_matrix(args: argparse.Namespace, model: Model, spec: MeasurementSpe
                  data.function(c).ordinate_unit else "" for c in result.outputs}
         write_uff(cli.writable_output(args.save, "the FRF matrix"),
                   result.to_measured(Path(args.save).name, units,
-                                     measurement_dofs(spec, model.coordinates)))
+                                     _saved_dofs(model, spec, deadline)))
     if args.plot:
         result.plot(args.plot)
     return _emit(result, args, result.summary(), result.warnings)
+
+
+def _saved_dofs(model: Model, spec: MeasurementSpec, deadline: Deadline
+                ) -> dict[str, tuple[int, int]]:
+    """The nodes and directions ``--save`` writes; the system is built only where an input
+    is a signal, to trace it to the coordinate it loads (a large import's coordinate inputs
+    need none)."""
+    if all(name in model.coordinates for name in spec.model_inputs):
+        return measurement_dofs(spec, model.coordinates)
+    return saved_dofs(spec, linear_system(model, deadline), deadline)
 
 
 def run_frf(args: argparse.Namespace) -> int:
@@ -194,7 +205,7 @@ def run_frf(args: argparse.Namespace) -> int:
     if args.save:
         write_uff(cli.writable_output(args.save, "the FRFs"),
                   result.to_measured(Path(args.save).name,
-                                     measurement_dofs(spec, model.coordinates),
+                                     _saved_dofs(model, spec, deadline),
                                      spec.excitation))
     if args.plot:
         own = model_frf(linear_system(model, deadline), spec.input, result.frequency,

@@ -264,7 +264,8 @@ def position_dofs(names: Sequence[str], after: int = 0) -> dict[str, tuple[int, 
     return {name: (after + k, 0) for k, name in enumerate(distinct, start=1)}
 
 
-def measurement_dofs(spec: MeasurementSpec, coordinates: Sequence[str]
+def measurement_dofs(spec: MeasurementSpec, coordinates: Sequence[str],
+                     acts_on: Mapping[str, Sequence[str]] | None = None
                      ) -> dict[str, tuple[int, int]]:
     """The node and direction (Universal File codes) of every channel of the section: what
     ``resonant frf --save`` writes as each FRF's response and reference.
@@ -275,13 +276,18 @@ def measurement_dofs(spec: MeasurementSpec, coordinates: Sequence[str]
     direction (+Z for ``uz``); every other quantity at its position among the distinct
     quantities, responses first, counted past the highest node the model's coordinates
     name (:func:`position_dofs`), so that it names none of them.  Channels of one quantity
-    share its node: a driving point's response and reference are one.
+    share its node: a driving point's response and reference are one.  An input that is
+    a signal whose load acts on one coordinate (``acts_on``) is at that coordinate.
 
     Parameters
     ----------
     spec : MeasurementSpec
     coordinates : sequence of str
         The model's coordinates.
+    acts_on : mapping, optional
+        Input (signal) -> the coordinates its load acts on
+        (:func:`resonant.system.excitation.loaded_coordinates`); without it, or where
+        there are none or several, a signal gets a position of its own.
 
     Returns
     -------
@@ -298,10 +304,14 @@ def measurement_dofs(spec: MeasurementSpec, coordinates: Sequence[str]
     ...                                        "a1": ChannelMap("x1", 2)})
     >>> measurement_dofs(spec, ["x1"])
     {'d1': (1, 0), 'a1': (1, 0), 'hammer': (2, 0)}
+    >>> measurement_dofs(spec, ["x1"], {"F": ("x1",)})     # F loads x1: a driving point
+    {'d1': (1, 0), 'a1': (1, 0), 'hammer': (1, 0)}
     """
     known = set(coordinates)
     after = max((dof[0] for dof in map(dof_of, coordinates) if dof is not None), default=0)
-    inputs = dict(spec.references) or {spec.excitation: spec.input}
+    traced = {name: acts[0] for name, acts in (acts_on or {}).items() if len(acts) == 1}
+    inputs = {channel: traced.get(name, name) for channel, name in
+              (dict(spec.references) or {spec.excitation: spec.input}).items()}
     measures = {**{c: m.name for c, m in spec.channels.items()}, **inputs}
     named = {q: dof for q in measures.values() if q in known
              and (dof := dof_of(q)) is not None}

@@ -14,7 +14,12 @@ u_j(f) being input j's complex amplitude in the model's load, phases included (f
 ``F0*sin(omega*t)`` on the input's coordinate, F0 with a phase of -90 degrees; for an
 unbalance m e omega^2): the least-squares u of b(f) = sum_j B_j u_j, B_j the load of a
 unit input j (:func:`resonant.analyses.frf_update.input_amplitudes`).  An input where the
-model puts no load gets u_j = 0 and adds nothing.  With one input this is
+model puts no load gets u_j = 0 and adds nothing, except a signal that loads no coordinate
+and enters outputs only (feedthrough, ``v = x3 + E/2``): its FRFs are the outputs' direct
+terms, and its u_j is the signal's own complex amplitude in the model's harmonic
+(:attr:`resonant.system.batch.BatchHarmonic.signals`).  An output with a direct term of a
+signal that no input is gets no points (the FRFs do not hold that term), and the
+``note`` names it; the others are drawn.  With one input this is
 |H(f)| / (2 pi f)^d * |x_model(f)| / |H_model(f) / (2 pi f)^d|, the model's amplitude over
 its own FRF.  Where the model loads something that no measured input makes (a force on a
 coordinate no input covers, another signal), the measured FRFs cannot give the response
@@ -43,10 +48,12 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
+from ..analyses.frf_sensitivity import loads_depend_on
 from ..analyses.frf_update import input_amplitudes
 from ..analyses.measured_match import MatchedTest
 from ..analyses.sweep import sweep
@@ -54,6 +61,8 @@ from ..deadline import NO_DEADLINE, Deadline
 from ..errors import ModelError, Problem
 from ..model import Model
 from ..system.base import LinearSystem
+from ..system.batch import BatchHarmonic
+from ..system.excitation import excitation_columns_along, loaded_coordinates
 
 __all__ = ["measured_overlay", "measured_first"]
 
@@ -99,8 +108,9 @@ def measured_overlay(test: MatchedTest, model: Model, system: LinearSystem,
         ``source``, ``values`` (the parameter at each line, SI), ``curves`` (quantity ->
         amplitude at each line, SI; null where not finite; empty with a ``note``),
         ``channels`` (quantity -> its channel), ``inputs`` (the excitation channels) and
-        ``note`` (None, or why no points are drawn: the model loads what no input makes);
-        None without a frequency parameter.
+        ``note`` (None, or why no points are drawn: the model loads what no input makes,
+        or an output depends directly on a signal no input is -- that output's points
+        left out); None without a frequency parameter.
     """
     if frequency is None:
         return None
@@ -116,12 +126,23 @@ def measured_overlay(test: MatchedTest, model: Model, system: LinearSystem,
     for r, channel in enumerate(test.responses):
         channels.setdefault(spec.channels[channel].name, (r, channel))
     names = [n for n in channels if n in (*system.coordinates, *model.outputs)]
-    load = system.batch(frequency, values, deadline).harmonics[0].complex_load
+    batch = system.batch(frequency, values, deadline)
+    harmonic = batch.harmonics[0]
+    load = harmonic.complex_load
+    along = _moving_columns(system, frequency, values, spec.model_inputs, deadline)
     u, left, worst = input_amplitudes(system, spec.model_inputs, f[keep], load,
-                                      deadline=deadline)
+                                      along=along or None, deadline=deadline)
+    _through_outputs(u, harmonic, spec.model_inputs,
+                     loaded_coordinates(system, spec.model_inputs, deadline))
     note = _uncovered(left, worst, load, system.coordinates, test.inputs)
+    if note is not None and along is None:
+        note = _moving_note(system, frequency, spec.model_inputs, deadline) or note
+    # a load no input makes: no points; an output's direct term no input makes: none of it
+    direct = _unmeasured_direct(batch.outputs, harmonic, names, spec.model_inputs)
+    drawn = [n for n in names if n not in direct] if note is None else []
+    note = note or (_direct_note(direct) if direct else None)
     curves: dict[str, list[float | None]] = {}
-    for name in names if note is None else ():
+    for name in drawn:
         r, channel = channels[name]
         iw = (2j * np.pi * f[keep]) ** spec.channels[channel].derivative
         response = np.abs(np.sum(test.measured[keep, r, :] * u, axis=1) / iw)
@@ -129,6 +150,88 @@ def measured_overlay(test: MatchedTest, model: Model, system: LinearSystem,
     return {"source": test.source, "values": values.tolist(), "curves": curves,
             "channels": {n: channels[n][1] for n in names}, "inputs": list(test.inputs),
             "note": note}
+
+
+def _moving_columns(system: LinearSystem, frequency: str, values: np.ndarray,
+                    inputs: Sequence[str], deadline: Deadline
+                    ) -> dict[tuple[str, int], np.ndarray] | None:
+    """The signal inputs' excitation columns at each line where they depend on the
+    frequency parameter (an input's load that grows with omega): {} where none does;
+    None where they cannot be had cheaply (a numerically derived system)."""
+    signals = {s for s in inputs if s not in system.coordinates}
+    if not signals:
+        return {}
+    columns = excitation_columns_along(system, frequency, values, deadline)
+    if columns is None:
+        return None
+    # a column the same at every line does not depend on the parameter: it is the one at
+    # the model's value, which the fixed columns' path uses
+    return {var: c for var, c in columns.items() if var[0] in signals
+            and not np.array_equal(c, np.broadcast_to(c[:1], c.shape))}
+
+
+def _moving_note(system: LinearSystem, frequency: str, inputs: Sequence[str],
+                 deadline: Deadline) -> str | None:
+    """Where the load of an input depends on the frequency parameter and its columns
+    could not be had at each line: what the page says instead of the load's rest."""
+    signals = [s for s in inputs if s not in system.coordinates
+               and frequency in loads_depend_on(system, [s], [frequency], {}, deadline)]
+    if not signals:
+        return None
+    return (f"no measured points: the load of the input{'s' if len(signals) > 1 else ''} "
+            f"{', '.join(signals)} depends on {frequency}, the page's frequency parameter, "
+            "and this model's load columns (derived numerically) are known at its value "
+            f"only, not at each measured line: give the load's dependence on {frequency} "
+            "to the signal instead of its force vector")
+
+
+def _through_outputs(u: np.ndarray, harmonic: BatchHarmonic, inputs: Sequence[str],
+                     acts: Mapping[str, tuple[str, ...]]) -> None:
+    """Give each signal input that loads no coordinate (it enters outputs only: their
+    direct term) its own complex amplitude in the model's harmonic, in place: there is no
+    load to find it in, and without it the outputs' direct terms would be left out."""
+    omega = np.asarray(harmonic.omega, dtype=float)
+    for j, name in enumerate(inputs):
+        if acts.get(name):
+            continue
+        for (signal, order), (S, C) in sorted(harmonic.signals.items()):
+            if signal == name:
+                # the (signal, order) variable's amplitude is (i omega)^order times the
+                # signal's; the lines have omega > 0
+                u[:, j] = (np.asarray(C) - 1j * np.asarray(S)) / (1j * omega) ** order
+                break
+
+
+def _unmeasured_direct(outputs: Mapping[str, tuple[np.ndarray, Mapping[Any, Any]]],
+                       harmonic: BatchHarmonic, names: Sequence[str], inputs: Sequence[str]
+                       ) -> dict[str, list[str]]:
+    """The outputs among ``names`` with a direct term of a signal that no input is (not
+    zero at the lines): output -> those signals.  The measured FRFs hold no such term, so
+    they cannot give these outputs' response."""
+    found: dict[str, list[str]] = {}
+    for name in names:
+        if name not in outputs:
+            continue
+        signals = set()
+        for var, coefficient in outputs[name][1].items():
+            if var not in harmonic.signals or var[0] in inputs:
+                continue
+            S, C = harmonic.signals[var]
+            if np.any(np.abs(coefficient) * np.abs(np.asarray(C) - 1j * np.asarray(S)) > 0):
+                signals.add(str(var[0]))
+        if signals:
+            found[name] = sorted(signals)
+    return found
+
+
+def _direct_note(direct: Mapping[str, list[str]]) -> str:
+    """What the page says of outputs left without points (:func:`_unmeasured_direct`)."""
+    parts = [f"{name} (through {', '.join(signals)})" for name, signals in direct.items()]
+    several = len(direct) > 1
+    return (f"no measured points for {'; '.join(parts)}: "
+            f"{'these outputs depend' if several else 'the output depends'} directly on a "
+            "signal that no measured input is, whose term the FRFs do not hold: map an "
+            "input to it ([measurement] input)")
 
 
 def _uncovered(left: np.ndarray, worst: np.ndarray, load: np.ndarray,

@@ -72,11 +72,12 @@ def measured_frfs(ctx: Context) -> list[Block]:
     if t is None:
         return []
     several = len(t.inputs) > 1
-    spec = ctx.model.measurement_section
-    mapped = dict(spec.references) if spec is not None else {}
-    inputs = (f"{len(t.inputs)} inputs (" + "; ".join(
-        f"{i}: the model's {mapped[i]}" if i in mapped else i for i in t.inputs) + ")"
-        if several else "1 input")
+    # what each input is in the model comes from the test itself (it names the model's
+    # input and the coordinates its load acts on)
+    named = [f"{name}: {t.input_label(i)}" if t.input_label(i) else name
+             for i, name in enumerate(t.inputs)]
+    inputs = (f"{len(t.inputs)} inputs ({'; '.join(named)})" if several
+              else f"1 input ({named[0]})" if t.inputs else "1 input")
     blocks: list[Block] = [Heading("Measured against model FRFs")]
     blocks.append(paragraph(
         f"The file {t.source} holds the frequency response functions of "

@@ -831,12 +831,13 @@
   }
   function measuredCaption() {
     if (!MEAS) return "";
-    if (MEAS.note) return ` Measured (${MEAS.source}): ${MEAS.note}.`;
+    // a note with no curves: no points at all; with some: those it names are left out
+    if (MEAS.note && !Object.keys(MEAS.curves).length) return ` Measured (${MEAS.source}): ${MEAS.note}.`;
     const shown = Object.keys(MEAS.curves).map(s => `${symbolText(UNIT[s] || { symbol: s })} (${MEAS.channels[s]})`);
     const inputs = MEAS.inputs.length > 1
       ? `the FRFs to ${MEAS.inputs.join(", ")}, each times the model's load at its input, summed (phases included),`
       : `the FRFs to ${MEAS.inputs[0]} times the model's load,`;
-    return ` Open circles: measured (${MEAS.source}) ${shown.join(", ")}, ${inputs} at the file's values; they stay as the sliders move.`;
+    return ` Open circles: measured (${MEAS.source}) ${shown.join(", ")}, ${inputs} at the file's values; they stay as the sliders move.` + (MEAS.note ? ` ${MEAS.note}.` : "");
   }
 
   // a curve's dash pattern in pixels: the description's is in line widths (as matplotlib's)
