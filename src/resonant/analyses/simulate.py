@@ -91,7 +91,6 @@ from ..model.units_display import (
 from ..system.base import LinearSystem, NumericEOM
 from ..system.build import linear_system as build_linear_system
 from ..system.build import nonlinear_system
-from ..system.matrix import MatrixEOM
 from ..system.nonlinear import NonlinearSystem
 from ..system.stability import (
     ASYMPTOTIC,
@@ -448,16 +447,14 @@ def _with_unbalance(system: LinearSystem | NonlinearSystem, deadline: Deadline,
     (cos, sin)(Omega t + phi) at the model's speed: a ``[[harmonic]]`` of the model
     (:func:`resonant.model.campbell_spec.with_unbalance_loads`), so that it takes the one
     load path every harmonic load takes (docs/rotors.md)."""
-    model = system.model
-    if model is None or not model.unbalances or \
-            not isinstance(system.linear if isinstance(system, NonlinearSystem) else system,
-                           MatrixEOM):
+    linear = system.linear if isinstance(system, NonlinearSystem) else system
+    model, speed = linear.model, linear.speed
+    if model is None or not model.unbalances or linear.given_matrices is None or \
+            speed is None:
         return system
     loaded = with_unbalance_loads(model)
     if loaded is model:
         return system
-    assert model.matrices is not None and model.matrices.speed is not None
-    speed = model.matrices.speed
     if model.parameter_values.get(speed) == 0:
         warnings.append(f"the rotor is at rest ({speed} = 0): its [[unbalance]] loads "
                         f"nothing; give the speed (--set {speed}=...)")
