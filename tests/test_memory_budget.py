@@ -11,8 +11,6 @@ interpreter, numpy and scipy take about half of it): before, these ended in
 from __future__ import annotations
 
 import os
-import resource
-import subprocess
 import sys
 from pathlib import Path
 
@@ -24,22 +22,19 @@ from resonant.errors import AnalysisError, ModelError
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 from bench_memory_paths import LIGHT_MODEL  # noqa: E402
 
+from limited_runner import run_resonant  # noqa: E402
+
 ADDRESS_SPACE = 2 << 30
 
 
 def run_limited(args: list[str], env: dict[str, str] | None = None, timeout: float = 240
                 ) -> tuple[int, str, str]:
-    """``resonant ARGS`` in a subprocess with at most ADDRESS_SPACE bytes of address
-    space, one BLAS thread."""
-
-    def limit() -> None:
-        resource.setrlimit(resource.RLIMIT_AS, (ADDRESS_SPACE, ADDRESS_SPACE))
-
+    """``resonant ARGS`` in a child process with at most ADDRESS_SPACE bytes of address
+    space, one BLAS thread (tests/limited_runner.py)."""
     environment = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
                        MKL_NUM_THREADS="1", **(env or {}))
-    code = "import sys\nfrom resonant.cli import main\nsys.exit(main(sys.argv[1:]))"
-    proc = subprocess.run([sys.executable, "-c", code, *map(str, args)], capture_output=True,
-                          text=True, timeout=timeout, preexec_fn=limit, env=environment)
+    proc = run_resonant(list(map(str, args)), memory=ADDRESS_SPACE, timeout=timeout,
+                        env=environment)
     return proc.returncode, proc.stdout, proc.stderr
 
 

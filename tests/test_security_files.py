@@ -11,11 +11,7 @@ test run or the machine.
 from __future__ import annotations
 
 import io
-import json
 import os
-import resource
-import subprocess
-import sys
 import zipfile
 from pathlib import Path
 
@@ -25,6 +21,7 @@ import scipy.io
 import scipy.sparse as sp
 
 from conftest import run_cli
+from limited_runner import run_resonant
 from resonant.api import load, loads
 from resonant.errors import ModelError
 from resonant.model import limits
@@ -43,39 +40,18 @@ def model(directory: Path, K: str = '"K.npz"', M: str = "[[1, 0, 0], [0, 1, 0], 
 
 
 def run_limited(args: list[str], timeout: float = 60) -> tuple[int, str, str]:
-    """``resonant ARGS`` in a subprocess with at most MEMORY bytes of address space."""
-
-    def limit() -> None:
-        resource.setrlimit(resource.RLIMIT_AS, (MEMORY, MEMORY))
-
+    """``resonant ARGS`` in a child process with at most MEMORY bytes of address space
+    (tests/limited_runner.py: one interpreter start for the session, a fork per run)."""
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
-    code = "import sys\nfrom resonant.cli import main\nsys.exit(main(sys.argv[1:]))"
-    proc = subprocess.run([sys.executable, "-c", code, *map(str, args)], capture_output=True,
-                          text=True, timeout=timeout, preexec_fn=limit, env=env)
+    proc = run_resonant(list(map(str, args)), memory=MEMORY, timeout=timeout, env=env)
     return proc.returncode, proc.stdout, proc.stderr
 
 
 def run_commands_limited(commands: list[list[str]], timeout: float = 60
                          ) -> list[tuple[int, str]]:
-    """Each of ``resonant COMMAND`` in one subprocess with at most MEMORY bytes of address
-    space (one interpreter start for all): (exit status, stderr) of each."""
-
-    def limit() -> None:
-        resource.setrlimit(resource.RLIMIT_AS, (MEMORY, MEMORY))
-
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
-    code = ("import contextlib, io, json, sys\nfrom resonant.cli import main\nout = []\n"
-            "for args in json.loads(sys.argv[1]):\n"
-            "    err = io.StringIO()\n"
-            "    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):\n"
-            "        status = main(args)\n"
-            "    out.append([status, err.getvalue()])\n"
-            "print(json.dumps(out))\n")
-    proc = subprocess.run([sys.executable, "-c", code, json.dumps(commands)],
-                          capture_output=True, text=True, timeout=timeout, preexec_fn=limit,
-                          env=env)
-    assert proc.returncode == 0, proc.stderr
-    return [(int(status), err) for status, err in json.loads(proc.stdout)]
+    """Each of ``resonant COMMAND`` in a child process with at most MEMORY bytes of address
+    space: (exit status, stderr) of each."""
+    return [(code, err) for code, _, err in (run_limited(c, timeout) for c in commands)]
 
 
 def refused(path: Path, *words: str, command: str = "solve", extra: tuple[str, ...] = ()

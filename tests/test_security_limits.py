@@ -8,8 +8,6 @@ bound; the others through ``resonant.cli.main`` in-process (``run_cli``).
 from __future__ import annotations
 
 import os
-import subprocess
-import sys
 import textwrap
 import time
 from pathlib import Path
@@ -17,11 +15,12 @@ from pathlib import Path
 import pytest
 
 from conftest import EXAMPLES, run_cli
-from resonant.analyses import time_integration
+from limited_runner import run_resonant
 from resonant.analyses import stationary as stationary_module
 from resonant.analyses import sweep as sweep_module
-from resonant.errors import ModelError, Problem, name_list, printable
+from resonant.analyses import time_integration
 from resonant.api import loads
+from resonant.errors import ModelError, Problem, name_list, printable
 from resonant.model import limits
 
 CHAIN = EXAMPLES / "chain3_damped.toml"
@@ -30,16 +29,11 @@ MEMORY = 1500 * 2**20  # bytes of address space for a heavy subprocess
 
 def run_limited(args: list[str], seconds: float = 90, memory: int = MEMORY
                 ) -> tuple[int, str, str, float]:
-    """``resonant ARGS`` in a subprocess under RLIMIT_AS; (status, stdout, stderr, seconds)."""
-    code = textwrap.dedent(f"""
-        import resource, sys
-        resource.setrlimit(resource.RLIMIT_AS, ({memory}, {memory}))
-        from resonant.cli import main
-        sys.exit(main({[str(a) for a in args]!r}))
-    """)
+    """``resonant ARGS`` in a child process under RLIMIT_AS (tests/limited_runner.py);
+    (status, stdout, stderr, seconds)."""
     started = time.monotonic()
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          timeout=seconds, env={**os.environ, "PYTHONWARNINGS": ""})
+    proc = run_resonant(list(map(str, args)), memory=memory, timeout=seconds,
+                        env={**os.environ, "PYTHONWARNINGS": ""})
     return proc.returncode, proc.stdout, proc.stderr, time.monotonic() - started
 
 
