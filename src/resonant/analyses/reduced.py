@@ -1194,6 +1194,7 @@ class _Enrichment:
         self.expansion: list[float] = []
         #: the exact solves at the expansion points that are frequencies of w, by index
         self.exact: dict[int, np.ndarray] = {}
+        self.exact_error: dict[int, float] = {}
         self.checks: list[tuple[float, float]] = []
         self.ratios: list[float] = []
         self.history: list[float] = []
@@ -1250,7 +1251,7 @@ class _Enrichment:
                     continue
                 self.expansion.append(float(s))
                 x0 = lu.solve(self.b)
-                self._keep_exact(float(s), x0)
+                self._keep_exact(lu, float(s), x0)
                 self.V = _extend(self.V, _krylov(self.ops, lu, self.b, s, self.moments,
                                                  self.deadline, x0), self.drop)
                 del lu
@@ -1304,17 +1305,20 @@ class _Enrichment:
         worst = int(np.argmax(candidates))
         return worst if np.isfinite(candidates[worst]) else None
 
-    def _keep_exact(self, s: float, x: np.ndarray) -> None:
+    def _keep_exact(self, lu: Solver, s: float, x: np.ndarray) -> None:
         """Keep the exact solve at an expansion point that is a frequency of the sweep,
-        while the kept solves take at most a tenth of the memory budget."""
+        with the estimate of its rounding error (:meth:`solve_error`), while the kept
+        solves take at most a tenth of the memory budget."""
         at = np.flatnonzero(self.w == s)
         if at.size and 16.0 * x.size * (len(self.exact) + 1) <= 0.1 * budget():
             self.exact[int(at[0])] = x
+            self.exact_error[int(at[0])] = self.solve_error(lu, s, x)
 
     def _measured_at_expansion(self) -> None:
         """At the expansion points that are frequencies of the sweep the exact solve is
-        known and is the response returned there (:meth:`result`): its error is the
-        rounding floor, not the residual's estimate.
+        known and is the response returned there (:meth:`result`): its error is that
+        solve's rounding error (:meth:`solve_error`, at least the floor), not the
+        residual's estimate.
 
         Near a sharp resonance the reduced response is not the exact one even where its
         basis holds it: the reduced matrices carry the rounding of V^T K V, which the
@@ -1324,9 +1328,9 @@ class _Enrichment:
         1e-6 whose peak was a validation, then an expansion point: reduced response
         3.3e-6 off, residual 9e-6, estimate 1.4e-4, where the exact solve was at hand;
         that one point kept the whole band above the tolerance."""
-        for i in self.exact:
+        for i, error in self.exact_error.items():
             if self.finite[i]:
-                self.estimate[i] = self.floor[i]
+                self.estimate[i] = max(self.floor[i], error)
 
     def gamma(self) -> float:
         """How far the true error has been seen above the residual, recently."""
