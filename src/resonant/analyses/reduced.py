@@ -158,7 +158,8 @@ class ReducedResponse:
     Attributes
     ----------
     Z : ndarray
-        z = V y at the kept coordinates, shape (N, kept); NaN at singular points.
+        z = V y at the kept coordinates, shape (N, kept) (at an expansion point that is
+        one of the frequencies, the exact solve made there); NaN at singular points.
     norms : ndarray
         ||z(w)||_2 of the whole response (all coordinates), shape (N,).
     residual : ndarray
