@@ -1,8 +1,9 @@
 """The ``resonant`` command line: parses arguments, calls the library, maps errors to exit codes.
 
 Exit status: 0 done, 2 invalid model, 3 analysis impossible (and 1 for an
-internal error, which is a bug; 141 when the reader of standard output went away). Errors are one or a few lines on standard
-error, never a traceback (set ``RESONANT_DEBUG=1`` to see one).
+internal error, which is a bug; 141 when the reader of standard output went away).
+Errors are one or a few lines on standard error, never a traceback (set
+``RESONANT_DEBUG=1`` to see one).
 """
 
 from __future__ import annotations
