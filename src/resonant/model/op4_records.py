@@ -356,6 +356,8 @@ def _broken_in(data: bytes, words: np.ndarray, good: np.ndarray, layout: _Binary
     """Where a broken record chain breaks: "in matrix NAME: " for the matrix whose header
     is the last before the break (the records ``good``), "" before the first header or
     where the headers cannot be told."""
+    if not len(good):   # (in the first record)
+        return ""
     column_field = _integers_at(words, good + 1, layout)
     name, at = "", 0
     try:
