@@ -235,6 +235,24 @@ def test_ansys_full_example_against_its_frequencies(tmp_path: Path) -> None:
                                rel=1e-9)
 
 
+def test_a_truncated_full_file_is_exit_2_not_a_crash(tmp_path: Path) -> None:
+    """ansys-mapdl-reader's example file.full cut short (inside its matrices, and 4 bytes
+    before the end of its data, ptrEND): exit 2 naming the file and the record past
+    the end, in a fresh process (the reader's compiled code aborted it with
+    ``std::bad_alloc``, exit 134, on the 5,000-byte cut)."""
+    pytest.importorskip("ansys.mapdl.reader")
+    from ansys.mapdl.reader import examples
+
+    data = Path(examples.fullfile).read_bytes()
+    for cut in (5000, 400_000, 801_592):
+        (tmp_path / "cut.full").write_bytes(data[:cut])
+        run = _cli("import", str(tmp_path / "cut.full"), "-o", str(tmp_path / "cut.toml"),
+                   "--force")
+        assert run.returncode == 2, (cut, run.returncode, run.stderr[-300:])
+        assert "cut.full" in run.stderr and "truncated" in run.stderr
+        assert f"the file has {cut} bytes" in run.stderr and "Traceback" not in run.stderr
+
+
 def test_ansys_full_without_mass_is_exit_2(tmp_path: Path, monkeypatch) -> None:
     """A static run's .full holds K only: the message names the file, M, and the analysis
     that writes a mass matrix (the reader's empty mass matrix stands in for such a file)."""

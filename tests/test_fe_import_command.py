@@ -51,6 +51,22 @@ def test_op4_with_dof_map_gives_named_coordinates_and_the_same_modes(
     assert np.allclose(frequencies, expected, rtol=1e-10)
 
 
+def test_a_dof_map_of_other_matrices_is_exit_2_not_dropped(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A DOFS matrix with fewer rows than K: refused, naming file, matrix and sizes (it
+    was passed over in silence: the model got q1 ... q6 and exit 0)."""
+    pytest.importorskip("pyyeti")
+    from resonant.model.op4_files import write_op4
+
+    K, M = _chain(6)
+    dofs = np.array([[100 + i, 3] for i in range(5)], dtype=float)
+    write_op4(tmp_path / "beam.op4", {"kaa": K, "maa": M, "dofs": dofs})
+    assert main(["import", str(tmp_path / "beam.op4")]) == 2
+    err = capsys.readouterr().err
+    assert "beam.op4" in err and "matrix DOFS" in err and "5 DOFs" in err and "6 rows" in err
+    assert "Traceback" not in err and not (tmp_path / "beam.toml").exists()
+
+
 def test_inboard_op4_matrices_found_by_nastran_names(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     shutil.copy(DATA / "op4" / "inboard.op4", tmp_path / "inboard.op4")

@@ -163,6 +163,30 @@ def test_truncated_binary_file_names_what_is_wrong() -> None:
         op4_entries(data[:len(data) // 2])
 
 
+@pytest.mark.parametrize("columns", [40, 5000])
+def test_a_record_broken_inside_a_matrix_names_the_matrix(tmp_path: Path, columns: int) -> None:
+    """Cut inside the column records of each matrix of a binary file (two sparse
+    matrices, one record per column: 40 columns walked record by record, 5,000 past
+    the 4,096 records walked one by one, by vectors; seven cuts in each matrix): the
+    message names that matrix.
+    (It named the file only: ``resonant import`` on a truncated file did not say which
+    matrix was damaged.)"""
+    import scipy.sparse as sp
+
+    chain = sp.diags([np.ones(columns - 1), 2.0 * np.ones(columns), np.ones(columns - 1)],
+                     [-1, 0, 1], format="csc")
+    path = tmp_path / "two.op4"
+    with numpy_print_options_kept():
+        op4.write(str(path), {"ka": chain, "kb": 3.0 * chain}, binary=True,
+                  sparse="bigmat")
+    data = path.read_bytes()
+    for entry in op4_entries(data):
+        for cut in range(entry.start + 1, entry.stop, max(1, (entry.stop - entry.start) // 7)):
+            # (a cut between two records: "matrix KA ends before its last column")
+            with pytest.raises(FileRefused, match=f"truncated .*matrix {entry.name.upper()}[: ]"):
+                op4_entries(data[:4 * cut])   # a whole word inside its records
+
+
 def test_many_ascii_numbers_parse_as_python_does() -> None:
     """Above _ARROW_NUMBERS numbers the ASCII values go through pyarrow's parser (when
     installed): the same doubles as Python's float() (correctly rounded), D exponents

@@ -73,6 +73,15 @@ from ..model.options import SOLVE_METHODS, SWEEP_METHODS
 from ..system.batch import Batch, BatchHarmonic
 from ..system.stability import check_mass_matrix
 from . import reduced as reduced_module
+from .bands import (
+    CALL_OVERHEAD,
+    BandOrdering,
+    band_lu_seconds,
+    band_ordering,
+    band_storage,
+    dense_bandwidths,
+    sparse_lu_floor,
+)
 from .forward_error import (
     EXTENDED_ABOVE,
     Residuals,
@@ -139,11 +148,9 @@ REDUCED_POINT_EVALUATE = 1.6e-9
 #: cost model of the direct solves (seconds): dense LU and banded LAPACK rates (real
 #: FLOP/s of the complex factorizations) and the per-point overhead of a Python call
 DENSE_RATE = 2e10
-BANDED_RATE = 1.5e10
 #: SuperLU's rate on the FLOPs counted from the structure of its factors (measured here
 #: 0.9-2.2 GFLOP/s on 2-D grids of 900 to 40,000 DOF)
 SPARSE_RATE = 1.5e9
-CALL_OVERHEAD = 2e-5
 
 
 @dataclass(frozen=True)
@@ -222,117 +229,6 @@ def check_batch_mass(batch: Batch, values: np.ndarray | None = None, param: str 
                                 "negative mass or inertia; the results there are not physical")
 
 
-def _entries(a: Matrix, position: np.ndarray | None = None
-             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Rows, columns and values of the nonzeros of a; ``position``: the new index of
-    every old one (a symmetric permutation)."""
-    if hasattr(a, "tocoo"):
-        coo = a.tocoo()
-        nonzero = coo.data != 0
-        rows, cols, values = coo.row[nonzero], coo.col[nonzero], coo.data[nonzero]
-    else:
-        rows, cols = np.nonzero(a)
-        values = np.asarray(a)[rows, cols]
-    if position is not None:
-        rows, cols = position[rows], position[cols]
-    return rows, cols, values
-
-
-def _bandwidths(*matrices: Matrix, position: np.ndarray | None = None) -> tuple[int, int]:
-    lower = upper = 0
-    for a in matrices:
-        if position is None and not hasattr(a, "tocoo"):
-            a_lower, a_upper = _dense_bandwidths(np.asarray(a) != 0)
-            lower, upper = max(lower, a_lower), max(upper, a_upper)
-            continue
-        rows, cols, _ = _entries(a, position)
-        if rows.size:
-            lower = max(lower, int((rows - cols).max()))
-            upper = max(upper, int((cols - rows).max()))
-    return lower, upper
-
-
-def _dense_bandwidths(pattern: np.ndarray) -> tuple[int, int]:
-    """The bandwidths of a dense boolean pattern from each row's first and last nonzero
-    column (no index arrays of every nonzero: 144 MB for a full 3,000 x 3,000)."""
-    filled = pattern.any(axis=1)
-    if not filled.any():
-        return 0, 0
-    rows = np.flatnonzero(filled)
-    first = pattern[rows].argmax(axis=1)
-    last = pattern.shape[1] - 1 - pattern[rows, ::-1].argmax(axis=1)
-    return max(0, int((rows - first).max())), max(0, int((last - rows).max()))
-
-
-@dataclass(frozen=True)
-class BandOrdering:
-    """The order of the coordinates a band solve takes, and its bandwidths there.
-
-    An assembler's numbering can make a narrow band wide (quadratic beam elements
-    with their midside unknowns numbered last: a bandwidth of n/2 where reverse
-    Cuthill-McKee finds 5), so the band is measured in the given order and in the
-    reverse Cuthill-McKee order of the pattern of M, C and K together, and the
-    narrower taken.
-
-    Attributes
-    ----------
-    order : ndarray of int or None
-        Coordinate ``order[i]`` is the i-th unknown of the band system (None: as
-        given).
-    lower, upper : int
-        Sub- and superdiagonals of the band.
-    """
-
-    order: np.ndarray | None
-    lower: int
-    upper: int
-
-    @property
-    def position(self) -> np.ndarray | None:
-        """The band system's index of every coordinate (the inverse of ``order``)."""
-        if self.order is None:
-            return None
-        position = np.empty_like(self.order)
-        position[self.order] = np.arange(self.order.size)
-        return position
-
-
-def band_ordering(*matrices: Matrix) -> BandOrdering:
-    """The narrower band of the given and the reverse Cuthill-McKee order.
-
-    Examples
-    --------
-    >>> import numpy as np, scipy.sparse as sp
-    >>> n = 40
-    >>> K = sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1])
-    >>> scrambled = np.random.default_rng(0).permutation(n)
-    >>> chain = K.tocsr()[scrambled][:, scrambled]
-    >>> band = band_ordering(chain)
-    >>> (band.lower, band.upper), band_ordering(K).order is None
-    ((1, 1), True)
-    """
-    lower, upper = _bandwidths(*matrices)
-    n = matrices[0].shape[0]
-    entries = max(int(a.nnz) if hasattr(a, "nnz") else int(np.count_nonzero(a))
-                  for a in matrices)
-    # (no order narrows a pattern with more than a quarter of its entries filled)
-    if lower + upper <= 2 or n < 3 or entries > n * n // 4:
-        return BandOrdering(None, lower, upper)
-    import scipy.sparse as sp
-    from scipy.sparse.csgraph import reverse_cuthill_mckee
-
-    pattern = sp.csr_matrix((n, n))
-    for a in matrices:
-        pattern = pattern + abs(sp.csr_matrix(a))
-    order = reverse_cuthill_mckee((pattern + pattern.T).tocsr(), symmetric_mode=True)
-    order = np.asarray(order, dtype=np.intp)
-    band = BandOrdering(order, 0, 0)
-    new_lower, new_upper = _bandwidths(*matrices, position=band.position)
-    if new_lower + new_upper >= lower + upper:
-        return BandOrdering(None, lower, upper)
-    return BandOrdering(order, new_lower, new_upper)
-
-
 def _is_proportional(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> bool:
     """C M^-1 K = K M^-1 C (Caughey & O'Kelly): the undamped modes diagonalize C."""
     if not np.any(C):
@@ -349,7 +245,8 @@ def direct_costs(batch: Batch, omega: np.ndarray | None = None) -> dict[str, flo
 
     ``dense``: (32/3) n^3 real FLOPs of a complex LU at :data:`DENSE_RATE`;
     ``banded``: 8 n kl (kl + ku + 1) FLOPs of LAPACK ``gbtrf`` at
-    :data:`BANDED_RATE` (less for narrow bands) plus the band storage;
+    :data:`resonant.analyses.bands.BANDED_RATE` (less for narrow bands) plus the band
+    storage (:func:`resonant.analyses.bands.band_lu_seconds`);
     ``sparse`` (sparse matrices only): from one *measured* SuperLU factorization
     (fill-reducing ordering, :func:`resonant.analyses.reduced.sparse_lu_options`)
     of A(s) at a frequency s inside the band
@@ -393,12 +290,10 @@ def _band_costs(batch: Batch) -> dict[str, float]:
     n = len(batch.coordinates)
     band = band_ordering(batch.M, batch.C, batch.K)
     lower, upper = band.lower, band.upper
-    band_rate = BANDED_RATE * min(1.0, 0.1 + (lower + upper) / 200)
     return {
         "dense": 32.0 / 3.0 * n ** 3 / DENSE_RATE + 16.0 * n * n * 4 / DENSE_RATE
         + CALL_OVERHEAD,
-        "banded": 8.0 * n * max(lower, 1) * (lower + upper + 1) / band_rate
-        + 2e-9 * n * (2 * lower + upper + 1) * 3 + CALL_OVERHEAD,
+        "banded": band_lu_seconds(n, lower, upper),
     }
 
 
@@ -424,7 +319,7 @@ def _measured_costs(batch: Batch, omega: np.ndarray | None
     M, C, K = (sp.csc_matrix(a) for a in (batch.M, batch.C, batch.K))
     pattern = (abs(K) + abs(M) + abs(C)).tocsc()
     # no sparse LU can do with less than its nonzeros and a call into SuperLU
-    floor = 3e-8 * pattern.nnz + 1e-4
+    floor = sparse_lu_floor(pattern.nnz)
     w = _batch_frequencies(batch, omega)
     if costs["banded"] <= floor or w.size == 0:
         return costs, None
@@ -1181,16 +1076,6 @@ def closed_form_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndar
     return x, hard
 
 
-def _band_storage(a: Matrix, upper: int, rows: int, offset: int,
-                  position: np.ndarray | None) -> np.ndarray:
-    """LAPACK band storage: ab[offset + upper + i - j, j] = a[i, j], in the band
-    system's order (``position``: see :class:`BandOrdering`)."""
-    ab = np.zeros((rows, a.shape[0]))
-    i, j, v = _entries(a, position)
-    np.add.at(ab, (offset + upper + i - j, j), v)
-    return ab
-
-
 def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progress,
                   Z: _Store, deadline: Deadline, errors: Sampling | None = None
                   ) -> np.ndarray:
@@ -1205,7 +1090,7 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     band_rhs = rhs if order is None else rhs[..., order]
     offset = 0
     if lower == upper == 1:  # tridiagonal: LAPACK gtsv (partial pivoting)
-        storage = [_band_storage(a, 1, 3, 0, position) for a in (batch.M, batch.C, batch.K)]
+        storage = [band_storage(a, 1, 3, 0, position) for a in (batch.M, batch.C, batch.K)]
         gtsv = lapack.get_lapack_funcs("gtsv", (np.zeros(1, complex),))
 
         def solve(ab: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, int]:
@@ -1217,7 +1102,7 @@ def _solve_banded(batch: Batch, w: np.ndarray, rhs: np.ndarray, progress: _Progr
     else:
         rows = 2 * lower + upper + 1  # gbsv needs lower extra rows for the LU fill-in
         offset = lower
-        storage = [_band_storage(a, upper, rows, lower, position)
+        storage = [band_storage(a, upper, rows, lower, position)
                    for a in (batch.M, batch.C, batch.K)]
         gbsv = lapack.get_lapack_funcs("gbsv", (np.zeros(1, complex),))
         gbtrs = lapack.get_lapack_funcs("gbtrs", (np.zeros(1, complex),))
@@ -1291,8 +1176,8 @@ def _band_points(N: int, n: int, point: Callable[[int], tuple[np.ndarray, np.nda
 def _band_residual(storage: list[np.ndarray], offset: int, lower: int, upper: int,
                    w: float, x: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``b - (K - w^2 M + i w C) x`` from the LAPACK band storages of M, C and K
-    (:func:`_band_storage`; x and b in the band's order), in double precision: each
-    diagonal's products, summed."""
+    (:func:`resonant.analyses.bands.band_storage`; x and b in the band's order), in double
+    precision: each diagonal's products, summed."""
     n = x.shape[0]
     products = []
     with np.errstate(all="ignore"):
@@ -1505,7 +1390,7 @@ class LineFactors:
         iw = 1j * self.w[:, None, None]
         self.kind = "stacked" if n <= (STACKED_LIMIT if stacked_limit is None
                                        else stacked_limit) else "dense"
-        self.lower, self.upper = _dense_bandwidths((Md != 0) | (Cd != 0) | (Kd != 0))
+        self.lower, self.upper = dense_bandwidths((Md != 0) | (Cd != 0) | (Kd != 0))
         self.factors: list[Any] = []
         if self.kind == "stacked":
             self.Z = Kd[None] - w2 * Md[None] + iw * Cd[None]

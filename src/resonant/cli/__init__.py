@@ -1,8 +1,9 @@
 """The ``resonant`` command line: parses arguments, calls the library, maps errors to exit codes.
 
 Exit status: 0 done, 2 invalid model, 3 analysis impossible (and 1 for an
-internal error, which is a bug). Errors are one or a few lines on standard
-error, never a traceback (set ``RESONANT_DEBUG=1`` to see one).
+internal error, which is a bug; 141 when the reader of standard output went away).
+Errors are one or a few lines on standard error, never a traceback (set
+``RESONANT_DEBUG=1`` to see one).
 """
 
 from __future__ import annotations
@@ -240,12 +241,27 @@ def _run(run: Callable[[argparse.Namespace], int], args: argparse.Namespace) -> 
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        return _reader_gone()
     except Exception as exc:  # a bug: say so in one line, never a traceback
         if os.environ.get("RESONANT_DEBUG"):
             raise
         print(f"internal error ({type(exc).__name__}: {printable(exc)}); this is a bug in "
               "resonant — rerun with RESONANT_DEBUG=1 for details", file=sys.stderr)
         return 1
+
+
+def _reader_gone() -> int:
+    """The reader of standard output went away (``resonant modes m.toml | head``): stop
+    quietly with the status of a program ended by SIGPIPE, 141 (it was reported as an
+    internal error, "a bug in resonant"); standard output goes to the null device so
+    that flushing it at exit does not fail again."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):   # (no file descriptor: nothing to flush)
+        pass
+    return 141
 
 
 def _printable_lines(text: str) -> str:

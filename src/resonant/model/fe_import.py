@@ -107,6 +107,12 @@ def guess_matrix(role: str, directory: Sequence[tuple[str, tuple[int, int], int]
         named = [n for n in fitting if "dof" in n or "uset" in n]
         tables = [n for n, (r, c) in real if c >= 3 and r > 1 and "uset" in n]  # bit masks
         chosen = named or fitting or tables
+        misfit = [(n, r) for n, (r, c) in real if c == 2 and "dof" in n and n not in fitting]
+        if not chosen and misfit:   # a DOF map of other matrices: not dropped in silence
+            name, rows = misfit[0]
+            raise FileRefused(f"matrix {name.upper()} looks like the DOF map but lists {rows} "
+                              f"DOFs where the matrices have {size} rows: it does not belong "
+                              "to them")
     else:
         square = {n: r for n, (r, c) in real if r == c and (size is None or r == size)}
         exact = [n for n in NASTRAN_NAMES[role] if n in square]

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import os
 import re
 from collections.abc import Iterator, Mapping
 from typing import Any
@@ -104,10 +105,27 @@ def _opened(path: str) -> Any:
     with _reader_failures_refused():
         full = reader.read_binary(path)
         rows = int(full._header["neqn"])
+        pointers = {key[3:]: int(value) for key, value in full._header.items()
+                    if key.startswith("ptr") and key[-1] not in "lh"}
+    _within_the_file(path, pointers)
     if rows > limits.MAX_MATRIX_DIMENSION:
         raise FileRefused(f"its matrices have {rows} rows; matrices are limited to "
                           f"{limits.MAX_MATRIX_DIMENSION}")
     return full
+
+
+def _within_the_file(path: str, pointers: Mapping[str, int]) -> None:
+    """Refuse a file that ends before the records its header points to (words of 4 bytes;
+    the data end at ``ptrEND``): ansys-mapdl-reader's compiled reader, given one, aborted
+    the process (``std::bad_alloc``) instead of raising."""
+    size = os.path.getsize(path)
+    end = pointers.get("END", 0)
+    beyond = {name: at for name, at in pointers.items() if at < 0 or 4 * at > size}
+    if end <= 0 or beyond:
+        name, at = next(iter(beyond.items())) if beyond else ("END", end)
+        raise FileRefused(f"it is truncated or not a valid ANSYS .full file (its header "
+                          f"puts the {name} record at byte {4 * at}, the file has {size} "
+                          "bytes)")
 
 
 def _load(path: str) -> tuple[np.ndarray, Any, Any]:

@@ -249,6 +249,19 @@ def _integers_at(words: np.ndarray, at: np.ndarray, layout: _Binary) -> np.ndarr
 _WALKED_RECORDS = 4096
 
 
+class _Broken(FileRefused):
+    """A record chain that breaks: ``good`` holds the word indices of the records before
+    the break (to name the matrix it breaks in)."""
+
+    def __init__(self, message: str, good: np.ndarray) -> None:
+        super().__init__(message)
+        self.good = good
+
+
+_BROKEN = (f"{_TRUNCATED} (a record ends before its length says, or its closing length "
+           "differs from its opening one)")
+
+
 def _chain(words: np.ndarray, first: int, stop: int) -> np.ndarray:
     """The word indices of the records from word ``first`` to word ``stop``, which the last
     record must end at: each record is its length, the payload, the length again.
@@ -263,14 +276,16 @@ def _chain(words: np.ndarray, first: int, stop: int) -> np.ndarray:
         length = view[at]
         closing = at + 1 + length // 4
         if length <= 0 or length % 4 or closing >= stop or view[closing] != length:
-            raise FileRefused(f"{_TRUNCATED} (a record ends before its length says, or "
-                              "its closing length differs from its opening one)")
+            raise _Broken(_BROKEN, np.array(found, dtype=np.int64))
         found.append(at)
         at = closing + 1
     walked = np.array(found, dtype=np.int64)
     if at == stop:
         return walked
-    return np.concatenate([walked, _chain_by_vectors(words, at, stop)])
+    try:
+        return np.concatenate([walked, _chain_by_vectors(words, at, stop)])
+    except _Broken as broken:
+        raise _Broken(str(broken), np.concatenate([walked, broken.good])) from None
 
 
 def _chain_by_vectors(words: np.ndarray, first: int, stop: int) -> np.ndarray:
@@ -285,14 +300,15 @@ def _chain_by_vectors(words: np.ndarray, first: int, stop: int) -> np.ndarray:
     candidates, closing = candidates[inside], closing[inside]
     candidates = candidates[words[closing] == words[candidates]]
     if not len(candidates) or candidates[0] != first:
-        raise FileRefused(f"{_TRUNCATED} (a record's closing length is not where its "
-                          "opening one says)")
+        raise _Broken(f"{_TRUNCATED} (a record's closing length is not where its opening "
+                      "one says)", np.zeros(0, dtype=np.int64))
     following = candidates + 2 + words[candidates] // 4
     found = np.minimum(np.searchsorted(candidates, following), len(candidates) - 1)
     ended, broken = len(candidates), len(candidates) + 1
     jump = np.where(candidates[found] == following, found,
                     np.where(following == stop, ended, broken))
     jump = np.concatenate([jump, [ended, broken]])
+    step = jump.copy()   # one record ahead (jump becomes 2**k records ahead)
     reached = np.zeros(len(jump), dtype=bool)
     reached[0] = True
     count = 1
@@ -303,14 +319,22 @@ def _chain_by_vectors(words: np.ndarray, first: int, stop: int) -> np.ndarray:
             break
         count = int(reached.sum())
     if reached[broken] or not reached[ended]:
-        raise FileRefused(f"{_TRUNCATED} (a record ends before its length says, or its "
-                          "closing length differs from its opening one)")
+        # the records before the break: those reached up to the one whose next is broken
+        good = np.flatnonzero(reached[:ended])
+        last = good[step[good] == broken]
+        good = good[good <= last[0]] if len(last) else good
+        raise _Broken(_BROKEN, candidates[good])
     return candidates[reached[:ended]]
 
 
 def _binary_entries(data: bytes, layout: _Binary) -> list[Op4Entry]:
     words = _words(data, layout)
-    records = _chain(words, 0, len(words))
+    try:
+        records = _chain(words, 0, len(words))
+    except _Broken as broken:   # named by the matrix whose records it breaks in
+        raise FileRefused(str(broken).replace(
+            f"{_TRUNCATED} (", f"{_TRUNCATED} ({_broken_in(data, words, broken.good, layout)}",
+            1)) from None
     column_field = _integers_at(words, records + 1, layout)
     entries = []
     at = 0
@@ -326,6 +350,28 @@ def _binary_entries(data: bytes, layout: _Binary) -> list[Op4Entry]:
                                 int(records[trailer])))
         at = trailer + 1
     return entries
+
+
+def _broken_in(data: bytes, words: np.ndarray, good: np.ndarray, layout: _Binary) -> str:
+    """Where a broken record chain breaks: "in matrix NAME: " for the matrix whose header
+    is the last before the break (the records ``good``), "" before the first header or
+    where the headers cannot be told."""
+    if not len(good):   # (in the first record)
+        return ""
+    column_field = _integers_at(words, good + 1, layout)
+    name, at = "", 0
+    try:
+        while at < len(good):
+            entry = _binary_header(data, int(good[at]), layout)
+            name = entry.name.upper()
+            after = column_field[at + 1:] > entry.columns
+            if not after.any():   # its trailer is not among the good records: broken in it
+                break
+            at += 2 + int(np.argmax(after))
+            name = ""   # (complete: the break comes after it, in the next header)
+    except FileRefused:
+        return ""
+    return f"in matrix {name}: " if name else "after the last complete matrix: "
 
 
 def _binary_header(data: bytes, at: int, layout: _Binary) -> Op4Entry:
@@ -378,8 +424,12 @@ def _binary_runs(words: np.ndarray, layout: _Binary, entry: Op4Entry) -> _Runs:
     vector step per string index: the i-th string of every sparse column at once)."""
     unit = layout.int_bytes // 4
     per_value = _value_format(layout, entry.kind)[0]
-    records = _chain(words, entry.start, entry.stop) if entry.stop > entry.start else \
-        np.zeros(0, dtype=np.int64)
+    try:
+        records = _chain(words, entry.start, entry.stop) if entry.stop > entry.start else \
+            np.zeros(0, dtype=np.int64)
+    except _Broken as broken:
+        raise FileRefused(str(broken).replace(
+            f"{_TRUNCATED} (", f"{_TRUNCATED} (in matrix {entry.name.upper()}: ", 1)) from None
     payload = words[records].astype(np.int64) // 4
     if np.any(payload < 3 * unit):
         raise FileRefused("a column record too short for its header")
