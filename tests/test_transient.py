@@ -122,8 +122,9 @@ FREE = TWO.replace("k1 = 1000", "k1 = 0").replace("c1 = 0.8", "c1 = 0")
 @pytest.mark.parametrize("samples", [2, 3, 127, 128, 129, 1000, 5001])
 def test_the_march_in_blocks_is_the_step_by_step_recursion(text: str, samples: int) -> None:
     """The march in blocks (analyses/transient.py, _march) against the plain recursion it
-    unrolls, at history lengths on both sides of a block (up to 128 samples) and with a
-    rigid-body mode (the free chain, whose Phi^k grow): the same numbers to 1e-12 of the
+    unrolls, with blocks of 1 to 128 samples (by the history's length and the names
+    asked for), histories that end inside a block and at its end, and with a rigid-body
+    mode (the free chain, whose Phi^k grow): the same numbers to 1e-12 of the
     largest |value| (rounding; both are exact for the input linear between samples)."""
     step = 1e-3
     u = 20 * np.sin(37 * step * np.arange(samples)) + 5

@@ -371,11 +371,15 @@ def _output_map(num: NumericEOM, A: np.ndarray, B: np.ndarray, signal: str, deri
 
 def _block_length(size: int, outputs: int, samples: int) -> int:
     """Samples per block of :func:`_march`: up to 128, fewer where the block's operators
-    (outputs x block x (states + block) numbers) would pass a chunk's memory or their
-    set-up (block x outputs x states^2) the march itself."""
+    (outputs x block x (states + block) numbers) would pass a chunk's memory, or where
+    their set-up -- block x (outputs + 2) x states^2 multiply-adds for R Phi^k and Phi^k G,
+    log2(block) x states^3 for Phi^L -- would pass a quarter of what the step-by-step
+    march costs (samples x states^2): a short history of a large model keeps L = 1, the
+    plain recursion."""
     length = 128
     while length > 1 and (8.0 * length * outputs * (size + length + 1) > CHUNK_BYTES
-                          or 8 * length * outputs > samples):
+                          or 4 * (length * (outputs + 2) + size * (length.bit_length() - 1))
+                          > samples):
         length //= 2
     return length
 
