@@ -22,6 +22,7 @@ from conftest import EXAMPLES
 from resonant.analyses.shock import pulse, shock_response_spectrum
 from resonant.analyses.transient import transient_response
 from resonant.api import load
+from resonant.deadline import Deadline
 from resonant.errors import AnalysisError
 from resonant.model import loads
 from resonant.system import linear_system
@@ -176,3 +177,18 @@ def test_a_step_force_over_many_blocks_is_the_closed_form() -> None:
     exact = F / k * (1 - np.exp(-zeta * w * t) * (np.cos(wd * t)
                                                   + zeta * w / wd * np.sin(wd * t)))
     assert np.abs(result.history["x"] - exact).max() < 1e-11 * F / k
+
+
+def test_the_march_checks_its_deadline_every_10000_samples_or_so() -> None:
+    """The march in blocks still checks the time limit as it goes (every 78 blocks of
+    128 samples here), not only before it starts."""
+    seen: list[str] = []
+
+    class Recorder(Deadline):
+        def check(self, what: str = "", *args: object, **kwargs: object) -> None:
+            seen.append(what)
+
+    u = np.ones(200_000)
+    transient_response(linear_system(loads(SDOF)), "F", u, 1e-4, deadline=Recorder())
+    marching = seen.count("while marching the transient response")
+    assert 200_000 // 10_000 <= marching <= 3 * 200_000 // 10_000, seen
