@@ -550,6 +550,11 @@ def solve_harmonic(batch: Batch, h: BatchHarmonic, method: str, *,
         raise AnalysisError(f"unknown method '{method}'; choose one of "
                             f"{', '.join(SWEEP_METHODS)}")
     n = len(batch.coordinates)
+    if n <= 2:  # closed forms, a 2 x 2 LU at most: no thread limit to set (nor, once per
+        # process, 10-30 ms of finding the BLAS libraries for it: a small study's share)
+        return _solve_harmonic(batch, h, method, progress=progress, warnings=warnings,
+                               keep=keep, deadline=deadline, tol=tol,
+                               exact_condition=exact_condition, forward_error=forward_error)
     # the largest dense call: an n x n LU (dense, modal) or the reduced basis' products
     with blas_threads(8.0 * min(float(n) ** 3, float(n) * 1e4)):
         return _solve_harmonic(batch, h, method, progress=progress, warnings=warnings,

@@ -21,7 +21,6 @@ from typing import Any, TypeAlias
 
 import numpy as np
 import sympy
-from scipy.linalg.lapack import dgesv as _gesv
 
 from ..deadline import Deadline
 from ..errors import AnalysisError
@@ -140,6 +139,11 @@ class NonlinearDynamics:
     """y = [q, q'] (absolute coordinates) of the full equations E(q, q', q'', s(t)) = 0."""
 
     def __init__(self, system: NonlinearSystem) -> None:
+        # imported here: a module-level import put scipy.linalg (0.1-0.2 s) into every
+        # command that imports this module, the linear studies' among them
+        from scipy.linalg.lapack import dgesv
+
+        self._gesv = dgesv
         self.system = system
         self.n = system.n
         self.pvals = system.parameter_values
@@ -154,7 +158,7 @@ class NonlinearDynamics:
             self._breakdown(t)
         # LAPACK's LU with partial pivoting, as numpy.linalg.solve, without its wrapping
         # (a quarter of the time of a small system's right-hand side)
-        _, _, a, info = _gesv(mass, -rest)
+        _, _, a, info = self._gesv(mass, -rest)
         if info > 0:
             raise Breakdown(t, "the mass matrix became singular")
         return np.concatenate([v, a])

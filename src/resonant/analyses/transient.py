@@ -36,7 +36,7 @@ import numpy as np
 from ..arrays import freeze_fields
 from ..deadline import NO_DEADLINE, Deadline
 from ..errors import AnalysisError, ModelError, Problem, printable
-from ..memory import chunk_rows, dense_matrix, require
+from ..memory import CHUNK_BYTES, chunk_rows, dense_matrix, require
 from ..model.load_spec import ShockSpec
 from ..model.units_display import ResultUnits, shown_unit
 from ..system.base import LinearSystem, NumericEOM
@@ -369,24 +369,82 @@ def _output_map(num: NumericEOM, A: np.ndarray, B: np.ndarray, signal: str, deri
     return rows, np.array(R).reshape(len(rows), size), np.array(D)
 
 
+def _block_length(size: int, outputs: int, samples: int) -> int:
+    """Samples per block of :func:`_march`: up to 128, fewer where the block's operators
+    (outputs x block x (states + block) numbers) would pass a chunk's memory, or where
+    their set-up -- block x (outputs + 2) x states^2 multiply-adds for R Phi^k and Phi^k G,
+    log2(block) x states^3 for Phi^L -- would pass a quarter of what the step-by-step
+    march costs (samples x states^2): a short history of a large model keeps L = 1, the
+    plain recursion."""
+    length = 128
+    while length > 1 and (8.0 * length * outputs * (size + length + 1) > CHUNK_BYTES
+                          or 4 * (length * (outputs + 2) + size * (length.bit_length() - 1))
+                          > samples):
+        length //= 2
+    return length
+
+
+def _block_operators(Phi: np.ndarray, G0: np.ndarray, G1: np.ndarray, R: np.ndarray,
+                     D: np.ndarray, length: int) -> tuple[np.ndarray, ...]:
+    """The exact maps of one block of L = ``length`` samples from its first state X_b and
+    its L + 1 inputs w = u[bL], ..., u[bL + L]: the outputs y[bL + k] = (R Phi^k) X_b +
+    sum_m T[m, k] w[m] (k < L) and the next block's state X_{b+1} = Phi^L X_b + S^T w,
+    unrolled from X[j+1] = Phi X[j] + G0 u[j] + G1 u[j+1].  Returns (R Phi^k) as a
+    states x (L outputs) matrix, T as (L + 1) x (L outputs), S and Phi^L."""
+    size, r = len(Phi), len(R)
+    RP = np.empty((length, r, size))   # R Phi^k
+    PG = np.empty((length, 2, size))   # Phi^p G0, Phi^p G1
+    RP[0], PG[0] = R, (G0, G1)
+    for k in range(1, length):
+        RP[k] = RP[k - 1] @ Phi
+        PG[k] = PG[k - 1] @ Phi.T
+    a = np.vstack([np.zeros((1, r)), RP @ G0])   # a[p + 1] = R Phi^p G0
+    b = RP @ G1                                  # b[p] = R Phi^p G1
+    m = np.arange(length + 1)[:, None]
+    d = np.arange(length)[None, :] - m           # k - m
+    ahead = d >= 0
+    T = np.where(ahead[..., None], a[np.clip(d, 0, length)], 0.0)
+    T += np.where((ahead & (m >= 1))[..., None], b[np.clip(d, 0, length - 1)], 0.0)
+    T[np.arange(length), np.arange(length)] += D
+    S = np.zeros((length + 1, size))
+    S[:length] += PG[::-1, 0]                    # m < L: Phi^(L-1-m) G0
+    S[1:] += PG[::-1, 1]                         # m >= 1: Phi^(L-m) G1
+    return (np.ascontiguousarray(RP.reshape(length * r, size).T),
+            T.reshape(length + 1, length * r), S, np.linalg.matrix_power(Phi, length))
+
+
 def _march(Phi: np.ndarray, G0: np.ndarray, G1: np.ndarray, u: np.ndarray, R: np.ndarray,
            D: np.ndarray, deadline: Deadline) -> np.ndarray:
-    """y[j] = R X[j] + D u[j] along X[j+1] = Phi X[j] + G0 u[j] + G1 u[j+1], X[0] = 0,
-    holding the states of one chunk of samples at a time (memory: the outputs only)."""
-    Y = np.empty((len(u), len(R)))
-    chunk = chunk_rows(8.0 * len(Phi), len(u))
-    buffer = np.zeros((chunk, len(Phi)))
-    state = np.zeros(len(Phi))
-    for start in range(0, len(u), chunk):
-        stop = min(start + chunk, len(u))
-        for j in range(start, stop):
-            if j % 10_000 == 0:
+    """y[j] = R X[j] + D u[j] along X[j+1] = Phi X[j] + G0 u[j] + G1 u[j+1], X[0] = 0.
+
+    The recursion is unrolled over blocks of L samples (:func:`_block_operators`): only
+    the blocks' first states are stepped one after the other (Phi^L), every output of a
+    block is two matrix products -- the same numbers to rounding, a step in a few
+    multiply-adds instead of a Python iteration.  A chunk of blocks is held at a time
+    (memory: the outputs only)."""
+    samples, size, r = len(u), len(Phi), len(R)
+    length = _block_length(size, r, samples)
+    blocks = -(-samples // length)
+    RP, T, S, PhiL = _block_operators(Phi, G0, G1, R, D, length)
+    padded = np.zeros(blocks * length + 1)
+    padded[:samples] = u
+    inputs = np.lib.stride_tricks.sliding_window_view(padded, length + 1)[::length]
+    Y = np.empty((blocks * length, r))
+    chunk = chunk_rows(8.0 * (2 * size + 2 * length * r), blocks)
+    every = max(1, 10_000 // length)
+    state = np.zeros(size)
+    for start in range(0, blocks, chunk):
+        stop = min(start + chunk, blocks)
+        W = inputs[start:stop]
+        F = W @ S
+        X = np.empty((stop - start, size))
+        for i in range(stop - start):
+            if (start + i) % every == 0:
                 deadline.check("while marching the transient response", analysis=True)
-            if j > 0:
-                state = Phi @ state + G0 * u[j - 1] + G1 * u[j]
-            buffer[j - start] = state
-        Y[start:stop] = buffer[:stop - start] @ R.T + np.outer(u[start:stop], D)
-    return Y
+            X[i] = state
+            state = PhiL @ state + F[i]
+        Y[start * length:stop * length] = (X @ RP + W @ T).reshape(-1, r)
+    return Y[:samples]
 
 
 def shock_response(system: LinearSystem, spec: ShockSpec | None = None, *,

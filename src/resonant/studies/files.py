@@ -278,12 +278,19 @@ class ResultWriter:
     empty : dict, optional
         The columns with no rows (names and types): written when a stopped study closes
         the writer before any row was, so that it leaves a file to resume.
+    keep : list of str, optional
+        Columns whose rows a Parquet writer also keeps as written (the kept rows of a
+        resume among them), for :meth:`kept_rows`: the rows as reading the file back
+        would give them, without reading it.
     """
 
     def __init__(self, path: str | os.PathLike[str], description: dict[str, Any],
-                 keep_rows: int = 0, empty: dict[str, np.ndarray] | None = None) -> None:
+                 keep_rows: int = 0, empty: dict[str, np.ndarray] | None = None,
+                 keep: list[str] | None = None) -> None:
         self.path = Path(path)
         self.empty = empty
+        self._keep = keep
+        self._kept: list[pyarrow.Table] = []
         self.part = self.path.with_name(self.path.name + ".part")
         self.description = description
         self.parquet = self.path.suffix.lower() == ".parquet"
@@ -330,8 +337,26 @@ class ResultWriter:
                     if str(f.type).startswith(("dictionary", "string"))]
             self._writer = pq.ParquetWriter(self.part, self._schema,
                                             use_dictionary=text or False)
-        self._writer.write_table(table.cast(self._schema))
+        table = table.cast(self._schema)
+        self._writer.write_table(table)
+        if self._keep is not None:
+            self._kept.append(table.select(self._keep))
         self.rows += table.num_rows
+
+    def kept_rows(self) -> Any:
+        """The kept columns of every row written, as a DataFrame: what ``pandas.read_parquet``
+        of those columns gives (the same types, categories for the text columns), or None
+        (a CSV file, no ``keep``, no rows).
+
+        Returns
+        -------
+        pandas.DataFrame or None
+        """
+        if not self._kept:
+            return None
+        import pyarrow as pa
+
+        return pa.concat_tables(self._kept).to_pandas()
 
     def write(self, columns: dict[str, np.ndarray]) -> None:
         """Append one chunk.

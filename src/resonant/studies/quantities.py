@@ -195,7 +195,9 @@ def responses(system: LinearSystem, values: Mapping[str, Any], count: int,
     keep_names = kept_coordinates(batch, coordinates)
     keep = np.array([batch.coordinates.index(q) for q in keep_names], dtype=int)
     method = "dense" if len(batch.coordinates) <= SMALL else "auto"
-    results = [solve_harmonic(batch, h, method, keep=keep, exact_condition=False)
+    # no forward-error estimates: a study keeps no column or warning of them (docs/studies.md)
+    results = [solve_harmonic(batch, h, method, keep=keep, exact_condition=False,
+                              forward_error=False)
                for h in batch.harmonics]
     if not results:
         zeros = np.zeros((count, len(names)))

@@ -376,6 +376,8 @@ class RunSummary:
         Where the chunks ran.
     seconds : float
     description : dict
+    table : pandas.DataFrame or None
+        The rows' ``keep`` columns as written (Parquet), or None.
 
     Examples
     --------
@@ -392,12 +394,14 @@ class RunSummary:
     where: str
     seconds: float
     description: dict[str, Any]
+    table: Any = None
 
 
 def run_study(job: StudyJob, output: str | os.PathLike[str], engine: Engine = AUTO, *,
               resume: bool = False, progress: bool | None = None,
               deadline: Deadline = NO_DEADLINE,
-              on_chunk: Callable[[dict[str, np.ndarray]], None] | None = None) -> RunSummary:
+              on_chunk: Callable[[dict[str, np.ndarray]], None] | None = None,
+              keep: list[str] | None = None) -> RunSummary:
     """Run a study and stream its rows to ``output`` (.parquet or .csv).
 
     Parameters
@@ -414,6 +418,9 @@ def run_study(job: StudyJob, output: str | os.PathLike[str], engine: Engine = AU
         Checked between chunks; when it passes, the file keeps the rows so far.
     on_chunk : callable, optional
         Also given every chunk's rows, in order.
+    keep : list of str, optional
+        Columns of a Parquet file's rows to return in ``RunSummary.table`` as written
+        (the file is not read back for them).
 
     Returns
     -------
@@ -436,7 +443,7 @@ def run_study(job: StudyJob, output: str | os.PathLike[str], engine: Engine = AU
     bar = _Bar(job.spec.size, sys.stderr.isatty() if progress is None else progress)
     bar.advance(kept)
     where = ["this process"]
-    writer = ResultWriter(path, expected, kept, empty_rows(job.spec))
+    writer = ResultWriter(path, expected, kept, empty_rows(job.spec), keep)
     start = time.perf_counter()
     stopped = False  # by an interrupt or the time limit: the file is left for a resume
     try:
@@ -454,7 +461,8 @@ def run_study(job: StudyJob, output: str | os.PathLike[str], engine: Engine = AU
         raise
     finally:
         writer.close(stopped)
-    return RunSummary(path, writer.rows, kept, where[0], time.perf_counter() - start, expected)
+    return RunSummary(path, writer.rows, kept, where[0], time.perf_counter() - start, expected,
+                      writer.kept_rows())
 
 
 def collect(job: StudyJob, engine: Engine = AUTO,
@@ -493,9 +501,11 @@ def collect(job: StudyJob, engine: Engine = AUTO,
 
     parts: list[dict[str, np.ndarray]] = []
     if output is not None:
+        # the rows as written (Parquet) instead of reading the file back
         summary = run_study(job, output, engine, resume=resume, progress=progress,
-                            deadline=deadline)
-        table = read_table(summary.path, columns)
+                            deadline=deadline, keep=columns or list(empty_rows(job.spec)))
+        table = summary.table if summary.table is not None else read_table(summary.path,
+                                                                            columns)
         where, found = summary.where, summary.description
     else:
         size = chunk_size(job.spec, system_of(job).n)
