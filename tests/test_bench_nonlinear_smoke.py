@@ -16,7 +16,8 @@ import bench_nonlinear  # noqa: E402
 
 def test_resonant_side_runs() -> None:
     wall, data = bench_nonlinear._run(bench_nonlinear.RESONANT)
-    assert data["points"] >= 200 and data["stability"] is True
+    # 150 asked; the steps follow the present amplitude, so the overhang takes a few more
+    assert data["points"] >= 150 and data["stability"] is True
     assert sorted(data["folds"]) == pytest.approx([1.200968, 1.354340], abs=1e-5)
     assert 0 < data["continuation"] <= data["call"] < wall
 
