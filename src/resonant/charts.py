@@ -1703,7 +1703,8 @@ def save_figure(fig: Figure, path: PathArg, *, dpi: float | str = FIGURE_DPI,
         bbox_inches = None
     raster = path.suffix.lower() == ".png" and not isinstance(dpi, str)
     try:
-        if engine is not None and raster and isinstance(fig.canvas, FigureCanvasAgg):
+        # the plain Agg canvas only: a GUI canvas would resize its window with the dpi
+        if engine is not None and raster and type(fig.canvas) is FigureCanvasAgg:
             _save_laid_out(fig, path, float(dpi), metadata)
         else:
             fig.savefig(path, dpi=dpi, bbox_inches=bbox_inches,
