@@ -18,21 +18,25 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from resonant.api import load
-from resonant.report import plots
 from resonant.charts import (
+    FIGURE_DPI,
     HEIGHT,
     WIDTH,
     Chart,
+    Charts,
     Curve,
     Marker,
     Rule,
     chart_svg,
     draw_chart,
+    draw_figure,
     log_ticks,
     nice_ticks,
+    save_figure,
     text_runs,
     tick_labels,
 )
+from resonant.report import plots
 
 SVG = "{http://www.w3.org/2000/svg}"
 finite = st.floats(-1e12, 1e12, allow_nan=False)
@@ -174,3 +178,37 @@ def test_both_drawings_show_the_same_chart(reference):
             np.testing.assert_array_equal(line.get_xdata(), curve.x)
         assert len(lines) == len(chart.curves) + len(chart.markers) + len(chart.rules)
         assert (ax.get_yscale() == "log") == chart.ylog
+
+
+def _two_panels() -> Charts:
+    curve = Curve(np.linspace(1.0, 10.0, 50), np.linspace(1.0, 10.0, 50) ** 2, "$x_{1}$")
+    chart = Chart((curve,), "excitation frequency $\\omega$ [rad/s]", "amplitude $X$ [m]",
+                  (1.0, 10.0), ylog=True)
+    return Charts((chart, chart), title="two panels")
+
+
+def test_a_laid_out_png_is_matplotlib_s_picture_drawn_once(tmp_path, monkeypatch):
+    """save_figure runs the constrained layout itself and prints with it fixed
+    (docs/performance.md, "Figures"): the PNG is, pixel for pixel, the one matplotlib's
+    savefig writes, the figure is drawn once instead of twice, and it keeps its layout
+    engine and dpi; "tight" does not pad a figure its layout engine already fits."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from PIL import Image
+
+    reference = draw_figure(_two_panels())
+    FigureCanvasAgg(reference)
+    reference.savefig(tmp_path / "reference.png", dpi=FIGURE_DPI)
+    fig = draw_figure(_two_panels())
+    engine, dpi = fig.get_layout_engine(), fig.dpi
+    draws = []
+    original = Figure.draw
+    monkeypatch.setattr(Figure, "draw", lambda self, r: (draws.append(r), original(self, r)))
+    save_figure(fig, tmp_path / "saved.png", bbox_inches="tight")
+    assert len(draws) == 1
+    assert fig.get_layout_engine() is engine and fig.dpi == dpi
+    saved = np.asarray(Image.open(tmp_path / "saved.png").convert("RGB"))
+    expected = np.asarray(Image.open(tmp_path / "reference.png").convert("RGB"))
+    assert saved.shape == expected.shape == (round(fig.get_figheight() * FIGURE_DPI),
+                                             round(fig.get_figwidth() * FIGURE_DPI), 3)
+    assert np.array_equal(saved, expected)

@@ -31,7 +31,7 @@ import html
 import math
 import os
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from functools import lru_cache
 from pathlib import Path
@@ -1671,10 +1671,18 @@ FIGURE_DPI = 150
 
 
 def save_figure(fig: Figure, path: PathArg, *, dpi: float | str = FIGURE_DPI,
-                bbox_inches: str | None = None) -> Figure:
+                bbox_inches: str | None = None,
+                metadata: Mapping[str, str | None] | None = None) -> Figure:
     """Write ``fig`` to ``path`` (nothing for None), attaching an Agg canvas if it has none,
-    and return it; ``dpi`` (default :data:`FIGURE_DPI`, one resolution for every figure)
-    and ``bbox_inches`` as :meth:`matplotlib.figure.Figure.savefig` takes them.
+    and return it; ``dpi`` (default :data:`FIGURE_DPI`, one resolution for every figure),
+    ``bbox_inches`` and ``metadata`` as :meth:`matplotlib.figure.Figure.savefig` takes them.
+
+    A figure with a layout engine (:func:`draw_figure`'s constrained layout) already fills
+    its size, so ``bbox_inches="tight"`` is not applied to it (measuring every text once
+    more cost 15-50 % of a save); a PNG of such a figure is laid out once at the file's
+    resolution and printed with the layout fixed, which spares the second, draw-disabled
+    pass over every artist that :meth:`~matplotlib.figure.Figure.savefig` makes to run
+    the layout (docs/performance.md, "Figures").
 
     Examples
     --------
@@ -1690,11 +1698,43 @@ def save_figure(fig: Figure, path: PathArg, *, dpi: float | str = FIGURE_DPI,
 
     if type(fig.canvas) is FigureCanvasBase:  # a bare Figure: give it a canvas to print on
         FigureCanvasAgg(fig)
+    engine = fig.get_layout_engine()
+    if engine is not None:
+        bbox_inches = None
+    raster = path.suffix.lower() == ".png" and not isinstance(dpi, str)
     try:
-        fig.savefig(path, dpi=dpi, bbox_inches=bbox_inches)
+        # the plain Agg canvas only: a GUI canvas would resize its window with the dpi
+        if engine is not None and raster and type(fig.canvas) is FigureCanvasAgg:
+            _save_laid_out(fig, path, float(dpi), metadata)
+        else:
+            fig.savefig(path, dpi=dpi, bbox_inches=bbox_inches,
+                        metadata=dict(metadata) if metadata is not None else None)
     except OSError as exc:
         raise AnalysisError(f"cannot write the plot '{path}': {exc.strerror or exc}") from None
     return fig
+
+
+def _save_laid_out(fig: Figure, path: Path, dpi: float,
+                   metadata: Mapping[str, str | None] | None) -> None:
+    """Run ``fig``'s layout engine at ``dpi`` (as savefig would, on the same Agg renderer)
+    and print the PNG with no engine, then give the figure its engine and dpi back."""
+    import matplotlib
+
+    engine = fig.get_layout_engine()
+    assert engine is not None
+    shown = fig.dpi
+    try:
+        fig.set_dpi(dpi)
+        engine.execute(fig)
+        # no engine at all (None; "none" leaves a placeholder, and savefig would run
+        # its draw-disabled pass for that one too)
+        with matplotlib.rc_context({"figure.autolayout": False,
+                                    "figure.constrained_layout.use": False}):
+            fig.set_layout_engine(None)
+        fig.savefig(path, dpi=dpi, metadata=dict(metadata) if metadata is not None else None)
+    finally:
+        fig.set_layout_engine(engine)
+        fig.set_dpi(shown)
 
 
 def draw_figure(charts: Charts | Chart, ax: Axes | Sequence[Axes] | None = None) -> Figure:

@@ -45,7 +45,15 @@ import sympy
 from ..analyses.simulate import history_chart
 from ..analyses.stationary import common_period
 from ..analyses.sweep import frequency_response_chart, sweep
-from ..charts import FIGURE_DPI, Chart, Charts, chart_svg, charts_svg, draw_chart, draw_figure
+from ..charts import (
+    Chart,
+    Charts,
+    chart_svg,
+    charts_svg,
+    draw_chart,
+    draw_figure,
+    save_figure,
+)
 from ..model.units_display import result_units
 from ..system.base import LinearSystem
 
@@ -290,7 +298,7 @@ def save(plot: PlotData, path, number: int) -> None:
 
     with matplotlib.rc_context({"svg.hashsalt": f"resonant-figure-{number}"}):
         metadata = {"Date": None} if str(path).endswith(".svg") else None
-        _figure(plot).savefig(path, metadata=metadata, dpi=FIGURE_DPI)
+        save_figure(_figure(plot), path, metadata=metadata)
 
 
 __all__ = ["TimeHistory", "DrawnPlot", "ChartedPlot", "PlotData", "described",
