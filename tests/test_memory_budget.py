@@ -161,3 +161,32 @@ def test_a_sparse_model_s_dense_analyses_and_many_lines_are_refused(tmp_path: Pa
     assert code == 3 and "x 3000 coordinates" in err and "above the budget" in err, err
     code, _, err = run_limited(["srs", path, "--largest"], env=env)
     assert code == 3 and "3000 x 3000 sparse matrix" in err, err
+
+
+def test_the_random_quadrature_s_error_estimate_is_chunked() -> None:
+    """The Simpson/Richardson estimate of every pair of lines made six arrays of the whole
+    grid's densities at once (a 3,168-DOF chain's ``random --json`` peaked at 2.3 GB with
+    0.4 GB of densities): it now takes the pairs a chunk at a time, its temporaries bounded
+    by ``resonant.memory.CHUNK_BYTES`` (32 MiB) whatever the grid."""
+    import tracemalloc
+
+    from resonant.analyses.random_response import _Quadrature, _refine
+    from resonant.deadline import NO_DEADLINE
+
+    responses = 400
+
+    def evaluate(f: np.ndarray) -> np.ndarray:   # smooth densities: no refinement round
+        return np.outer(1 / (1 + f), np.ones(responses))
+
+    quad = _Quadrature(evaluate, np.linspace(1, 100, 40_001), responses)
+    densities = quad.S.nbytes   # 256 MB of grid and middles
+    tracemalloc.start()
+    try:
+        before = tracemalloc.get_traced_memory()[0]
+        m0, relative, converged = _refine(quad, 1e-6, NO_DEADLINE)
+        extra = tracemalloc.get_traced_memory()[1] - before
+    finally:
+        tracemalloc.stop()
+    assert converged
+    assert m0 == pytest.approx(np.log(101 / 2), rel=1e-9)   # the integral of 1/(1 + f)
+    assert extra < 0.25 * densities, (extra, densities)

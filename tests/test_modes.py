@@ -238,3 +238,61 @@ def test_html_and_latex_repr():
     result = modes(load(EXAMPLES / "chain3_damped.toml"))
     assert "<table>" in result._repr_html_() and "rad/s" in result._repr_latex_()
     json.dumps(result.to_dict(), allow_nan=False)
+
+
+#: two unit masses joined by a stiff link (1e13 N/m), the first tied to the ground by a soft
+#: spring k0, a dashpot 1e-3 on each: the pair moves as one mass 2 on k0,
+#: omega_1^2 = k0 / 2 (1 + O(k0 / 1e13)), zeta_1 = (2e-3) / (2 * 2 * omega_1)
+STIFF_LINK = """
+title = "stiff link"
+[parameters]
+w = 0.5
+[matrices]
+M = [[1, 0], [0, 1]]
+K = [[{k}, -1e13], [-1e13, 1e13]]
+C = [[1e-3, 0], [0, 1e-3]]
+[[harmonic]]
+omega = "w"
+F_S = [1, 0]
+"""
+
+
+@pytest.mark.parametrize("k0", [1.0, 1e3])
+def test_a_soft_mode_beside_a_stiff_link(k0, tmp_path):
+    """omega_1 = sqrt(k0/2) was shown as a rigid-body mode of 0 rad/s (k0 = 1: below 1e-12
+    of the stiff mode's omega^2) and both systems as marginally stable, though M, C and K are
+    positive definite (Re s = -5e-4 is below 1e-9 of the largest |s|): now the mode's
+    frequency with the conditioning's warning, and asymptotically stable, in `modes` and in
+    `solve`.  Tolerance: 2 % for k0 = 1 (the residual's bound on its accuracy: 0.013 rad/s
+    of 0.707), 1e-6 for k0 = 1e3."""
+    path = tmp_path / "m.toml"
+    path.write_text(STIFF_LINK.format(k=1e13 + k0))
+    omega = math.sqrt(k0 / 2)
+    tol = 0.02 if k0 == 1 else 1e-6
+    code, out, err = run_cli(["modes", str(path), "--json"])
+    assert code == 0, err
+    data = json.loads(out)
+    assert data["natural_frequencies"][0] == pytest.approx(omega, rel=tol)
+    assert data["damping_ratios"][0] == pytest.approx(2e-3 / (4 * omega), rel=tol)
+    assert data["stability"] == "asymptotically stable"
+    if k0 == 1:
+        assert "limits the accuracy of 1 natural frequency" in " ".join(data["warnings"])
+    code, out, err = run_cli(["solve", str(path), "--json"])
+    assert code == 0, err
+    data = json.loads(out)
+    assert data["natural_frequencies"][0] == pytest.approx(omega, rel=tol)
+    assert data["stability"] == "asymptotically stable"
+
+
+def test_a_rigid_body_mode_of_a_stiff_free_system_stays_zero(tmp_path):
+    """The same pair without the ground spring is free: its rigid-body mode stays at 0 rad/s
+    and the system marginally stable (K is singular; the round-off of its zero eigenvalue,
+    of the order of eps 1e13, is no mode)."""
+    path = tmp_path / "m.toml"
+    path.write_text(STIFF_LINK.format(k=1e13).replace("F_S = [1, 0]", "F_S = [0, 0]"))
+    for command in ("modes", "solve"):
+        code, out, err = run_cli([command, str(path), "--json"])
+        assert code == 0, err
+        data = json.loads(out)
+        assert data["natural_frequencies"][0] == 0.0
+        assert data["stability"] == "marginally stable"

@@ -66,7 +66,6 @@ from ..memory import dense_matrix
 from ..modal import (
     LIMITED_ACCURACY,
     accurate_product,
-    clean_zeros,
     damping_ratios,
     eigenvalue_bounds,
     frequency_bounds,
@@ -86,9 +85,12 @@ from ..system.stability import (
     PROPORTIONAL_TOLERANCE,
     UNSTABLE,
     check_mass_matrix,
-    classify,
     mass_warning,
     rayleigh,
+    stiffness_eigenvalues,
+)
+from ..system.stability import (
+    stability as definite_stability,
 )
 from ..tables import ResultTable, number_cell, number_column
 from .result_fields import COMPLEX_PAIRS, ROWS, Codec, FieldsJSON, Shape, saved
@@ -408,7 +410,7 @@ def modes(system: LinearSystem, count: int | None = None,
         lam, phi = undamped_eigen(M, K)
         bounds = _dense_bounds(M, K, lam, phi)
         method = "dense"
-    lam = clean_zeros(lam)
+    lam = stiffness_eigenvalues(lam, K)
     errors = _frequency_errors(lam, bounds, warnings)
     mass_phi, unit_phi = _normalise(phi, M)
     fit = rayleigh(M, C, K) if damped and symmetric else (0.0, 0.0) if not damped else None
@@ -419,7 +421,7 @@ def modes(system: LinearSystem, count: int | None = None,
                         "as computed by a general eigensolver; see the complex eigenvalues")
     eigenvalues, damping_ratios, damped_freq, extra = _damped_modes(
         M, C, K, lam, mass_phi, damped, proportional and symmetric, lanczos, warnings)
-    stability = _modal_stability(order(eigenvalues), lam, M, damped, lanczos, warnings)
+    stability = _modal_stability(order(eigenvalues), lam, (M, C, K), damped, lanczos, warnings)
     keep = lam >= 0
     return ModalAnalysis(
         coordinates=coordinates, omega_squared=lam, natural_frequencies=np.sqrt(lam[keep]),
@@ -484,10 +486,12 @@ def _underdamped_ratios(eigenvalues: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return damping_ratios(eigenvalues[~overdamped(eigenvalues)])
 
 
-def _modal_stability(eigenvalues: np.ndarray, lam: np.ndarray, M: Matrix, damped: bool,
-                     lanczos: bool, warnings: list[str]) -> str:
+def _modal_stability(eigenvalues: np.ndarray, lam: np.ndarray,
+                     matrices: tuple[Matrix, Matrix, Matrix], damped: bool, lanczos: bool,
+                     warnings: list[str]) -> str:
     """The stability verdict, with the warnings that qualify it."""
-    stability = classify(eigenvalues)
+    M = matrices[0]
+    stability = definite_stability(eigenvalues, *matrices)
     if lanczos:
         warnings.append(f"stability judged from the lowest {len(lam)} modes only")
         if stability == ASYMPTOTIC and not damped:

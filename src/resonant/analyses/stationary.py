@@ -46,12 +46,14 @@ from ..system.batch import check_finite
 from ..system.output_map import output_map
 from ..system.stability import (
     UNSTABLE,
-    classify,
-    frequencies_from_eigenvalues,
     mass_warning,
     rayleigh,
+    stiffness_eigenvalues,
     undamped_eigen,
     undamped_eigenvalues,
+)
+from ..system.stability import (
+    stability as definite_stability,
 )
 from ..tables import ResultTable, number_cell
 from .forward_error import DIGITS_WANTED, ERROR_LIMIT
@@ -412,8 +414,9 @@ def stationary(system: LinearSystem, deadline: Deadline = NO_DEADLINE,
     deadline.check("while computing the eigenvalues", analysis=True)
     with blas_threads(8.0 * float(eom.n) ** 3):  # no more threads than idle cores
         lam, eigenvalues = _eigenvalues(sparse_eom, eom, large)
-    omegas = frequencies_from_eigenvalues(lam)
-    stability = classify(eigenvalues)
+    lam = stiffness_eigenvalues(lam, eom.K)  # (round-off zeros 0 unless K is definite)
+    omegas = np.sqrt(lam[lam >= 0])
+    stability = definite_stability(eigenvalues, eom.M, eom.C, eom.K)
     warnings += system_warnings(lam, stability, mass_definite=not _negative_mass(eom))
     if not eom.harmonic:
         warnings.append("the stationary solution needs signals that are sums of harmonics "

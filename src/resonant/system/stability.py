@@ -20,6 +20,7 @@ import numpy as np
 from ..arrays import Matrix
 from ..errors import AnalysisError
 from ..modal import (
+    clean_zeros,
     frequencies_from_eigenvalues,
     marginal,
     symmetric_eigenvalues,
@@ -93,6 +94,58 @@ def classify(eigenvalues: np.ndarray) -> str:
     return MARGINAL if marginal(eigenvalues) else ASYMPTOTIC
 
 
+def _definite(a: Matrix) -> bool:
+    """Whether a dense symmetric matrix is positive definite by a margin above its round-off:
+    a Cholesky factor of ``a - tau I``, tau = 10 n eps max|a| (a rigid-body mode's computed
+    eigenvalue, of the order of eps max|a|, does not pass)."""
+    if not isinstance(a, np.ndarray) or a.ndim != 2 or a.size == 0 or not is_symmetric(a) \
+            or not np.all(np.isfinite(a)):
+        return False
+    tau = 10 * a.shape[0] * np.finfo(float).eps * float(np.abs(a).max())
+    try:
+        np.linalg.cholesky(a - tau * np.eye(a.shape[0]))
+    except np.linalg.LinAlgError:
+        return False
+    return True
+
+
+def stiffness_eigenvalues(lam: np.ndarray, K: Matrix) -> np.ndarray:
+    """The eigenvalues omega^2 of K x = omega^2 M x with round-off zeros set to 0
+    (:func:`~resonant.modal.clean_zeros`), unless K is positive definite above its round-off
+    (then none is zero: a soft mode below 1e-12 of the stiffest one, beside a stiff link, was
+    shown as a rigid-body mode of 0 rad/s).
+
+    Examples
+    --------
+    >>> K = np.array([[1e13 + 1, -1e13], [-1e13, 1e13]])
+    >>> lam = undamped_eigen(np.eye(2), K)[0]
+    >>> float(clean_zeros(lam)[0]), round(float(stiffness_eigenvalues(lam, K)[0]), 2)
+    (0.0, 0.5)
+    """
+    return np.asarray(lam, dtype=float) if _definite(K) else clean_zeros(lam)
+
+
+def stability(eigenvalues: np.ndarray, M: Matrix, C: Matrix, K: Matrix) -> str:
+    """:func:`classify`, with the definite case decided exactly: symmetric M, C and K that are
+    all positive definite make every eigenvalue's real part negative (Thomson and Tait's
+    theorem: x^H (s^2 M + s C + K) x = 0 has roots with Re s < 0), however small the damping
+    ratios are against the eigenvalues' tolerance (a soft mode beside a stiff one: Re s of
+    the soft one is below 1e-9 of the largest |s|, and was called marginally stable).
+
+    Examples
+    --------
+    >>> from resonant.modal import point_state_eigenvalues
+    >>> M, C, K = np.eye(2), 1e-3 * np.eye(2), np.array([[1e13 + 500, -1e13], [-1e13, 1e13]])
+    >>> s = point_state_eigenvalues(M, C, K)
+    >>> classify(s), stability(s, M, C, K)
+    ('marginally stable', 'asymptotically stable')
+    """
+    verdict = classify(eigenvalues)
+    if verdict == MARGINAL and all(_definite(a) for a in (M, C, K)):
+        return ASYMPTOTIC
+    return verdict
+
+
 def rayleigh(M: Matrix, C: Matrix, K: Matrix) -> tuple[float, float] | None:
     """(a, b) with C = a M + b K to relative accuracy 1e-9, else None."""
     def dot(x: Matrix, y: Matrix) -> float:
@@ -120,5 +173,6 @@ def rayleigh(M: Matrix, C: Matrix, K: Matrix) -> tuple[float, float] | None:
 
 
 __all__ = ["natural_frequencies", "frequencies_from_eigenvalues", "undamped_eigen",
-           "classify", "undamped_eigenvalues", "rayleigh", "check_mass_matrix",
+           "classify", "stability", "stiffness_eigenvalues", "undamped_eigenvalues", "rayleigh",
+           "check_mass_matrix",
            "is_symmetric", "ASYMPTOTIC", "MARGINAL", "UNSTABLE"]
