@@ -103,7 +103,14 @@ from .peaks import sampled_peak
 from .periodic import PeriodicSolution, periodic_solution
 from .result_fields import FieldsJSON, Framed, saved
 from .stationary import StationarySolution, stationary
-from .time_integration import STIFF_RATIO, LinearDynamics, NonlinearDynamics, integrate
+from .time_integration import (
+    STIFF_RATIO,
+    LinearDynamics,
+    NonlinearDynamics,
+    dense_values,
+    integrate,
+    resolved_frequency,
+)
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -583,20 +590,27 @@ def _tolerance(q0: np.ndarray, v0: np.ndarray, solution: StationarySolution | No
 def _sample(dynamics: Any, result: Any, duration: float, window: tuple[float, float],
             highest: float, coordinates: tuple[str, ...], nonlinear: bool
             ) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, float]]:
-    """A uniform grid of the history, and the steady amplitudes on a finer one."""
-    count = int(min(MAX_SAMPLES, max(2001, duration * highest / (2 * math.pi)
+    """A uniform grid of the history, and the steady amplitudes on a finer one.
+
+    Both follow the highest frequency the integrator resolved (each in its span), not a
+    stiff mode that does not move: the steps of a model at rest span hundreds of periods
+    of its stiffest mode (``time_integration.resolved_frequency``).
+    """
+    shown = resolved_frequency(result.sol, highest)
+    count = int(min(MAX_SAMPLES, max(2001, duration * shown / (2 * math.pi)
                                      * SAMPLES_PER_PERIOD + 1)))
     t = np.linspace(0.0, duration, count)
     with np.errstate(all="ignore"):  # not finite: reported below
-        q, outputs = dynamics.evaluate(t, result.sol(t))
+        q, outputs = dynamics.evaluate(t, dense_values(result.sol, t))
     states = {c: q[i] for i, c in enumerate(coordinates)}
     states.update(outputs)
     length = window[1] - window[0]
-    fine = int(min(MAX_WINDOW_SAMPLES, max(5001, length * highest / (2 * math.pi)
+    shown = resolved_frequency(result.sol, highest, window[0])
+    fine = int(min(MAX_WINDOW_SAMPLES, max(5001, length * shown / (2 * math.pi)
                                            * WINDOW_SAMPLES_PER_PERIOD + 1)))
     tw = np.linspace(window[0], window[1], fine)
     with np.errstate(all="ignore"):
-        qw, outw = dynamics.evaluate(tw, result.sol(tw))
+        qw, outw = dynamics.evaluate(tw, dense_values(result.sol, tw))
     steady = {c: sampled_peak(qw[i]) for i, c in enumerate(coordinates)}
     steady.update({name: sampled_peak(y) for name, y in outw.items()})
     bad = [name for name, a in steady.items() if not math.isfinite(a)]

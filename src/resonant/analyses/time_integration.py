@@ -292,6 +292,52 @@ def _with_fallback(rhs: Counter, y0: np.ndarray, method: str, rtol: float, atol:
     return _solve(rhs, y0, method, rtol, atol), method
 
 
+#: points per call of one step's interpolant: its temporaries stay small (in cache, and in
+#: memory however many samples are asked for)
+DENSE_CHUNK = 4096
+#: a step of the integrator spans at most this many periods of anything its interpolant
+#: shows (a polynomial of degree d has at most d - 1 extrema: 7 for DOP853, 12 for LSODA)
+STEP_PERIODS = 8.0
+
+
+def dense_values(solution: Any, t: np.ndarray) -> np.ndarray:
+    """solve_ivp's dense output at the ascending times t, shape (states, len(t)).
+
+    The same values as ``solution(t)`` (a forward run's; each time goes to the step
+    scipy's ``OdeSolution`` picks: ``ts[j] < t <= ts[j + 1]``, the ends clipped), without
+    its per-point grouping in Python and its copies: each step's interpolant is called
+    once per :data:`DENSE_CHUNK` of the times inside it and writes into one array.
+    """
+    ts = np.asarray(solution.ts)
+    steps = len(solution.interpolants)
+    segment = np.searchsorted(ts, t, side=getattr(solution, "side", "left")) - 1
+    np.clip(segment, 0, steps - 1, out=segment)
+    edges = np.concatenate([[0], np.flatnonzero(np.diff(segment)) + 1, [t.size]]) \
+        if t.size else np.zeros(1, dtype=int)
+    states = np.asarray(solution.interpolants[0](ts[:1])).shape[0]
+    out = np.empty((states, t.size))
+    for a, b in zip(edges[:-1], edges[1:]):
+        interpolant = solution.interpolants[int(segment[a])]
+        for lo in range(int(a), int(b), DENSE_CHUNK):
+            hi = min(lo + DENSE_CHUNK, int(b))
+            out[:, lo:hi] = interpolant(t[lo:hi])
+    return out
+
+
+def resolved_frequency(solution: Any, highest: float, start: float = 0.0) -> float:
+    """The highest circular frequency the solution can show after ``start``.
+
+    ``highest``, unless the integrator's steps there are too long for it: a mode that
+    does not move (a stiff mode of a model at rest, below the tolerances) is not
+    followed, and sampling it would only multiply the samples of a smooth curve.
+    """
+    ts = np.asarray(solution.ts)
+    h = np.diff(ts)[ts[1:] > start]
+    if h.size == 0 or not float(h.min()) > 0:
+        return highest
+    return min(highest, 2 * math.pi * STEP_PERIODS / float(h.min()))
+
+
 def integrate(dynamics: Dynamics, y0: np.ndarray, duration: float, method: str, rtol: float,
               atol: np.ndarray, spread: float, coordinates: Sequence[str], nonlinear: bool,
               warnings: list[str], deadline: Deadline, progress: bool) -> tuple[Any, str]:
@@ -331,4 +377,5 @@ def integrate(dynamics: Dynamics, y0: np.ndarray, duration: float, method: str, 
     return result, method
 
 
-__all__ = ["LinearDynamics", "NonlinearDynamics", "integrate", "STIFF_RATIO"]
+__all__ = ["LinearDynamics", "NonlinearDynamics", "integrate", "dense_values",
+           "resolved_frequency", "STIFF_RATIO"]
