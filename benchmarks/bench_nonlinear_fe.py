@@ -146,8 +146,9 @@ def ROD_CONNECTORS(n: int) -> dict:  # noqa: N802 - a table of the rod's size
                      "dirs": [0], "g": 0.2, "k": 0.5}}
 
 
-def measure(n: int, points: int, directory: Path, structure: str = "rod") -> dict:
-    """One size: load, follow the branch, time it."""
+def measure(n: int, points: int, directory: Path, structure: str = "rod",
+            harmonics: int | None = None) -> dict:
+    """One size: load, follow the branch, time it (H = ``harmonics``, None: automatic)."""
     import resonant
     from resonant.analyses import condensed
     from resonant.system import nonlinear_system
@@ -168,7 +169,7 @@ def measure(n: int, points: int, directory: Path, structure: str = "rod") -> dic
     try:
         start, cpu = time.perf_counter(), time.process_time()
         result = condensed.condensed_sweep(system, "omega", 1.0, 2.4, points=points,
-                                           harmonics=HARMONICS, linear=False)
+                                           harmonics=harmonics, linear=False)
         seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
     finally:
         condensed.linear_part = original
@@ -371,6 +372,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--points", type=int, default=100,
                         help="about this many continuation steps across the range")
     parser.add_argument("--json", action="store_true", help="print JSON")
+    parser.add_argument("--harmonics", default=str(HARMONICS),
+                        help=f"H of the sizes' runs (default {HARMONICS}; 'auto': resonant's "
+                             "automatic choice, raised from 7 by the truncation)")
     parser.add_argument("--pyharm-sizes", default="",
                         help="comma-separated sizes (even) to run in both pyHarm and resonant")
     parser.add_argument("--pyharm-nldofs", action="store_true",
@@ -404,14 +408,15 @@ def main(argv: list[str] | None = None) -> int:
             return 0
     sizes = [int(s) for s in (args.sizes or "1000,3000,10000").split(",") if s.strip()]
     with tempfile.TemporaryDirectory() as tmp:
-        rows = [measure(n, args.points, Path(tmp), args.structure) for n in sizes]
+        H = None if args.harmonics == "auto" else int(args.harmonics)
+        rows = [measure(n, args.points, Path(tmp), args.structure, H) for n in sizes]
     if args.json:
         print(json.dumps(rows, indent=1))
         return 0
-    print(f"{'n':>8} {'total s':>8} {'CPU s':>7} {'ROM s':>7} {'ROM size':>8} {'points':>7} "
-          f"{'unstable':>8} {'folds':>5} {'ms/point':>8}")
+    print(f"{'n':>8} {'H':>3} {'total s':>8} {'CPU s':>7} {'ROM s':>7} {'ROM size':>8} "
+          f"{'points':>7} {'unstable':>8} {'folds':>5} {'ms/point':>8}")
     for r in rows:
-        print(f"{r['n']:>8} {r['seconds']:>8.2f} {r['cpu_seconds']:>7.2f} "
+        print(f"{r['n']:>8} {r['harmonics']:>3} {r['seconds']:>8.2f} {r['cpu_seconds']:>7.2f} "
               f"{r['reduced_model_seconds']:>7.2f} "
               f"{r['reduced_size']:>8} {r['branch_points']:>7} {r['unstable_points']:>8} "
               f"{r['folds']:>5} {r['per_point_ms']:>8.1f}")

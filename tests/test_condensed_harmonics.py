@@ -12,12 +12,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 
 from resonant.analyses import condensed
 from resonant.analyses.condensed import condensed_sweep
 from resonant.analyses.harmonic_balance import nonlinear_sweep
 from resonant.analyses.hb_solver import DEFAULT_HARMONICS, TRUNCATION_TOL
-from resonant.api import loads
+from resonant.api import load, loads
 from resonant.system import nonlinear_system
 from test_condensed import DUFFING_ENERGY, DUFFING_MATRICES, chain
 
@@ -137,3 +138,44 @@ def test_a_raise_that_fails_keeps_the_last_harmonics_and_says_why(monkeypatch):
     [warning] = [w for w in r.warnings if "highest harmonics" in w]
     assert ("with 11 harmonics, the automatic choice stopped there: no linear part for 15 "
             "harmonics (the reduced model did not reach the tolerance)") in warning
+
+
+def _rod(tmp_path, n: int) -> str:
+    """``benchmarks/bench_nonlinear_fe.py``'s rod of n masses 1/n on springs n (first
+    natural frequency pi/2), a cubic spring 2 q^3 at its tip and no stop: its model file."""
+    main = np.full(n, 2.0 * n)
+    main[-1] = n
+    K = sp.diags([np.full(n - 1, -1.0 * n), main, np.full(n - 1, -1.0 * n)], [-1, 0, 1],
+                 format="csr")
+    M = sp.identity(n, format="csr") / n
+    for name, A in (("M", M), ("K", K), ("C", (0.02 * M + 0.002 * K).tocsr())):
+        sp.save_npz(tmp_path / f"{name}.npz", A)
+    path = tmp_path / "rod.toml"
+    path.write_text(f'[parameters]\nomega = 1\n[matrices]\nM = "M.npz"\nC = "C.npz"\n'
+                    f'K = "K.npz"\n[[harmonic]]\nomega = "omega"\nF_C = {{ q{n} = "0.01" }}\n'
+                    f'[[nonlinear]]\nname = "spring"\ncoordinates = ["q{n}"]\n'
+                    f'force = "2*q{n}^3"\n', encoding="utf-8")
+    return str(path)
+
+
+def test_the_harmonics_tried_build_no_reduced_model(tmp_path, monkeypatch):
+    """A 450-coordinate rod (a reduced linear part) swept over 1.0 ... 2.4 rad/s: the
+    automatic choice raises H from 7 through 11 to 15, each H tried at one point with
+    exact receptances; reduced models are built for the bands of H = 7 and of the H
+    chosen only (also for 11 before: on a 2,500-coordinate grid that band alone took 8 s
+    and 15's 71 s, docs/performance-nonlinear.md), and the branch is the one the
+    raise through 11's reduced model gave (folds 1.62878 and 1.71563, measured before)."""
+    built = []
+    original = condensed.linear_part
+
+    def counted(*args, **kwargs):
+        part = original(*args, **kwargs)
+        built.append(float(args[6].max()))
+        return part
+
+    monkeypatch.setattr(condensed, "linear_part", counted)
+    r = condensed_sweep(nonlinear_system(load(_rod(tmp_path, 450))), "omega", 1.0, 2.4,
+                        points=30, linear=False)
+    assert r.harmonics == 15
+    assert built == pytest.approx([7 * 2.4 * 1.05, 15 * 2.4 * 1.05])
+    assert _folds(r) == pytest.approx([1.62878, 1.71563], abs=1e-5)

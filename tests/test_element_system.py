@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 
 from resonant.analyses.backbone import backbone
 from resonant.analyses.condensed import condensed_sweep
-from resonant.analyses.harmonic_balance import full_sweep
+from resonant.analyses.harmonic_balance import full_sweep, nonlinear_sweep
 from resonant.analyses.simulate import simulate
 from resonant.api import loads
 from resonant.errors import AnalysisError
@@ -80,6 +80,60 @@ def test_full_balance_equals_the_condensed_one():
              for r in (full, condensed)]
     assert len(folds[0]) == len(folds[1]) >= 2
     np.testing.assert_allclose(folds[0], folds[1], rtol=1e-8)
+
+
+def _chain(n: int) -> str:
+    """n unit masses in a fixed-free chain of unit springs, damping 0.02, a cubic spring
+    from the last to the ground, the load at the last."""
+    K = 2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+    K[-1, -1] = 1.0
+    rows = lambda A: str(A.tolist())  # noqa: E731
+    load = [0.0] * (n - 1) + [0.03]
+    return (f"[parameters]\nw = 0.5\n[matrices]\nM = {rows(np.eye(n))}\nK = {rows(K)}\n"
+            f"C = {rows(0.02 * np.eye(n))}\n[[harmonic]]\nomega = \"w\"\nF_C = {load}\n"
+            f"[[nonlinear]]\nname = \"cubic\"\ncoordinates = [\"q{n}\"]\n"
+            f"force = \"0.5*q{n}^3\"\n")
+
+
+@pytest.mark.parametrize("text, band, H", [
+    (MATRICES, (0.4, 2.2), 5),
+    (_chain(3), (0.3, 0.7), 3),
+])
+def test_both_balances_of_a_matrix_model_give_one_branch(text, band, H):
+    """The route :func:`~resonant.analyses.harmonic_balance.nonlinear_sweep` takes for a
+    matrix model (the balance condensed onto the element's coordinates) against the full
+    balance of every coordinate (docs/nonlinear.md, "Which balance"): the same folds
+    (1e-7 relative) and bifurcations (1e-3: located between points by the multipliers,
+    measured 6e-5 apart for the Neimark-Sacker point near 0.676), the same peak of the
+    element's coordinate (1e-7), and the same stability verdict at every point of one branch that lies on the other (amplitude
+    within 1e-6 at the same parameter value) away from the folds and bifurcations."""
+    system = nonlinear_system(loads(text))
+    full = full_sweep(system, "w", *band, harmonics=H, points=50, linear=False)
+    chosen = nonlinear_sweep(system, "w", *band, harmonics=H, points=50, linear=False)
+    q = chosen.coordinates[0]
+    special = [[s for s in r.special_points if s.kind != "peak"] for r in (full, chosen)]
+    assert [s.kind for s in special[0]] == [s.kind for s in special[1]]
+    assert any(s.kind == "fold" for s in special[0])
+    for a, b in zip(*special):  # a fold by the tangent, a bifurcation by the multipliers
+        assert a.value == pytest.approx(b.value, rel=1e-7 if a.kind == "fold" else 1e-3)
+    peaks = [max(s.value for s in r.special_points if s.kind == "peak" and s.quantity == q)
+             for r in (full, chosen)]
+    assert peaks[0] == pytest.approx(peaks[1], rel=1e-7)
+    assert (~chosen.stable).any()
+    near = np.array([s.value for s in special[0]])
+    compared = 0
+    for p, a, ok in zip(chosen.values, chosen.amplitudes[q], chosen.stable):
+        if np.min(np.abs(near - p)) < 0.01 * abs(p):
+            continue
+        # the full branch's amplitude at p on each of its pieces through p
+        v, b = full.values, full.amplitudes[q]
+        for i in np.flatnonzero((v[:-1] - p) * (v[1:] - p) <= 0):
+            t = (p - v[i]) / (v[i + 1] - v[i]) if v[i + 1] != v[i] else 0.0
+            if abs(b[i] + t * (b[i + 1] - b[i]) - a) <= 1e-3 * a and full.stable[i] == \
+                    full.stable[i + 1]:
+                assert full.stable[i] == ok, f"w = {p}"
+                compared += 1
+    assert compared >= 20
 
 
 def _full_equations(system):

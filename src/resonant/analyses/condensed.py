@@ -84,7 +84,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
@@ -1336,6 +1336,29 @@ class _Balances:
                                 H, N, self.param, self.names, self.Wmax, outputs)
 
 
+    def trial(self, H: int) -> CondensedBalance:
+        """The balance at H for the automatic choice of H, which solves one point at each
+        H tried: where no linear part built so far holds up to H W_max, the first one's
+        poles with exact receptances (H + 1 sparse solves at the point's W) instead of a
+        reduced model of the wider band (8 s at H = 11 and 71 s at H = 15 on a
+        2,500-coordinate grid, docs/performance-nonlinear.md), built for the H chosen only."""
+        top = H * self.Wmax * 1.05
+        if not self.parts or any(part.top >= top for part in self.parts):
+            return self.at(H)
+        first, setup = self.parts[0], self.setup
+        n = setup.M.shape[0]
+        rows = self.nl + [i for i in self.observed if i not in self.nl]
+        B = np.zeros((n, len(self.nl)), dtype=complex)
+        B[self.nl, range(len(self.nl))] = 1.0
+        B = np.hstack([B, np.asarray(setup.loads, dtype=complex).reshape(n, -1)])
+        exact = ExactTransfers(setup.M, setup.C, setup.K, B, rows,
+                               f"the automatic choice of H tried {H} harmonics", self.deadline)
+        lin = replace(first, exact=exact, top=math.inf)
+        N = self.samples or default_samples(self.elements, H)
+        return CondensedBalance(lin, setup.forces, setup.orders, setup.base, H, N, self.param,
+                                self.names, self.Wmax, None)
+
+
 def _coefficients(hb: CondensedBalance, branch: Branch) -> np.ndarray:
     """(points, kept rows, 2H+1) coefficients along the branch."""
     return np.array([hb.coefficients(x, p) for x, p in zip(branch.x, branch.p)])
@@ -1378,7 +1401,7 @@ def _raise(balances: _Balances, hb: CondensedBalance, x: np.ndarray, p: float, l
     def converge(x: np.ndarray, H: int) -> tuple[np.ndarray, bool]:
         nonlocal failed
         try:
-            trials[H] = balances.at(H)
+            trials[H] = balances.trial(H)
         except DeadlineExceeded:
             raise
         except AnalysisError as exc:
@@ -1395,7 +1418,14 @@ def _raise(balances: _Balances, hb: CondensedBalance, x: np.ndarray, p: float, l
 
     H, _ = raise_harmonics(x, hb.m, hb.H, converge, share, limit, lambda: deadline.check(
         "while raising the number of harmonics", analysis=True))
-    return trials[H], failed
+    if H == hb.H:
+        return hb, failed
+    try:  # the linear part of the band of the H chosen (the trials' were exact solves)
+        return balances.at(H), failed
+    except DeadlineExceeded:
+        raise
+    except AnalysisError as exc:
+        return hb, f"no linear part for {H} harmonics ({exc})"
 
 
 def _ordinal(k: int) -> str:
