@@ -17,7 +17,7 @@ import math
 import sys
 import time
 from collections.abc import Callable, Mapping, Sequence
-from typing import Any, TypeAlias
+from typing import Any, Protocol, TypeAlias
 
 import numpy as np
 import sympy
@@ -300,7 +300,15 @@ DENSE_CHUNK = 4096
 STEP_PERIODS = 8.0
 
 
-def dense_values(solution: Any, t: np.ndarray) -> np.ndarray:
+class DenseSolution(Protocol):
+    """What :func:`dense_values` and :func:`resolved_frequency` read of solve_ivp's dense
+    output (scipy's ``OdeSolution``): the step ends and each step's interpolant."""
+
+    ts: np.ndarray
+    interpolants: Sequence[Callable[[np.ndarray], np.ndarray]]
+
+
+def dense_values(solution: DenseSolution, t: np.ndarray) -> np.ndarray:
     """solve_ivp's dense output at the ascending times t, shape (states, len(t)).
 
     The same values as ``solution(t)`` (a forward run's; each time goes to the step
@@ -324,7 +332,8 @@ def dense_values(solution: Any, t: np.ndarray) -> np.ndarray:
     return out
 
 
-def resolved_frequency(solution: Any, highest: float, start: float = 0.0) -> float:
+def resolved_frequency(solution: DenseSolution, highest: float, start: float = 0.0
+                       ) -> float:
     """The highest circular frequency the solution can show after ``start``.
 
     ``highest``, unless the integrator's steps there are too long for it: a mode that
