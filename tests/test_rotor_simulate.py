@@ -25,7 +25,7 @@ from resonant.analyses.simulate import simulate
 from resonant.analyses.stationary import stationary
 from resonant.analyses.unbalance import unbalance_response
 from resonant.api import loads
-from resonant.model.campbell_spec import with_unbalance_loads
+from resonant.model.unbalance_loads import with_unbalance_loads
 from resonant.system import linear_system
 
 JEFFCOTT = EXAMPLES / "rotors" / "jeffcott_rotor.toml"

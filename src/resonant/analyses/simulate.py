@@ -76,9 +76,9 @@ from ..errors import AnalysisError, ModelError, Problem, name_list, printable
 from ..expressions import parse, primed_names
 from ..expressions.notation import dollar_name
 from ..modal import point_state_eigenvalues
-from ..model.campbell_spec import with_unbalance_loads
 from ..model.options import START_KINDS, SimulationOptions, chosen
 from ..model.types import constant_prime_message
+from ..model.unbalance_loads import with_unbalance_loads
 from ..model.units_display import (
     NO_UNIT,
     ResultUnits,
@@ -452,7 +452,7 @@ def _with_unbalance(system: LinearSystem | NonlinearSystem, deadline: Deadline,
                     warnings: list[str]) -> LinearSystem | NonlinearSystem:
     """A rotor's system with its ``[[unbalance]]`` as the rotating load m e Omega^2
     (cos, sin)(Omega t + phi) at the model's speed: a ``[[harmonic]]`` of the model
-    (:func:`resonant.model.campbell_spec.with_unbalance_loads`), so that it takes the one
+    (:func:`resonant.model.unbalance_loads.with_unbalance_loads`), so that it takes the one
     load path every harmonic load takes (docs/rotors.md)."""
     linear = system.linear if isinstance(system, NonlinearSystem) else system
     model, speed = linear.model, linear.speed

@@ -21,20 +21,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import Problem
-from ..expressions import ExpressionError, parse
+from ..expressions import ExpressionError
 from ..expressions.numeric import numeric_value
 from .load_spec import quantity_parts
-from .matrix_spec import Harmonic
 from .units import FREQUENCY, Unit, parse_with_unit
-
-if TYPE_CHECKING:  # pragma: no cover
-    from .types import Model
 
 CAMPBELL_KEYS = ("from", "to", "points", "modes", "orders", "speed")
 #: the most grid speeds of a Campbell diagram
@@ -275,36 +270,6 @@ def unbalance_columns(unbalances: Sequence[Unbalance], coordinates: Sequence[str
     return s, c
 
 
-def with_unbalance_loads(model: Model) -> Model:
-    """The model with its ``[[unbalance]]`` as a ``[[harmonic]]`` load of circular
-    frequency the speed parameter Omega, F_S and F_C = Omega^2 :func:`unbalance_columns`:
-    the rotating load a time simulation integrates (docs/rotors.md).  The model itself
-    where it has no unbalance, no ``[matrices]`` (a ``[rotor]`` is one) or no speed
-    parameter.
-
-    Examples
-    --------
-    >>> from resonant.model import load
-    >>> rotor = with_unbalance_loads(load("examples/rotors/jeffcott_rotor.toml"))
-    >>> h = rotor.matrices.harmonics[-1]
-    >>> h.omega.text, [e.text for e in h.F_C]
-    ('Omega', ['0.0001*Omega^2', '0'])
-    """
-    spec = model.matrices
-    if not model.unbalances or spec is None or spec.speed is None:
-        return model
-    s, c = unbalance_columns(model.unbalances, model.coordinates)
-    speed = spec.speed
-
-    def column(values: np.ndarray) -> tuple[Any, ...]:
-        # a round-off term (sin of 0 deg written as 1e-17) is no load
-        return tuple(parse(f"{float(v)!r}*{speed}^2" if abs(v) > 1e-14 * np.abs(values).max()
-                           else "0") for v in values)
-
-    harmonic = Harmonic(parse(speed), column(s), column(c))
-    return replace(model, matrices=replace(spec, harmonics=(*spec.harmonics, harmonic)))
-
-
 def _constant(raw: object, source: str, section: str, key: str, problems: list[Problem],
               signed: bool = False) -> float | None:
     if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
@@ -324,4 +289,4 @@ def _constant(raw: object, source: str, section: str, key: str, problems: list[P
 
 
 __all__ = ["CampbellSpec", "parse_campbell", "parse_speed", "CAMPBELL_KEYS", "Unbalance",
-           "parse_unbalances", "UNBALANCE_KEYS", "unbalance_columns", "with_unbalance_loads"]
+           "parse_unbalances", "UNBALANCE_KEYS", "unbalance_columns"]
